@@ -1,0 +1,1 @@
+"""2D piezoelastic finite-element model of the stator plate (scikit-fem)."""

@@ -1,0 +1,165 @@
+"""The reduced-order parameter set of a motor: one frozen dataclass shared by every source.
+
+The contact model (Li, Yao & Wu 2016, Eqs. 4-19) needs, for the stator's L1 and B2 modes,
+the modal mass, damping, stiffness and force factor, the mode-shape values at the two ends
+of the stator (``y = 0``: preload end, ``y = l``: contact tip), and the contact and slider
+constants. Whatever produced them (the paper's Table 2, beam theory, an FE model), they
+arrive here in the same shape and are validated once.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields, replace
+
+GRAVITY_M_S2 = 9.81
+"""Gravitational acceleration used for the slider weight on the linear guide (m/s^2)."""
+
+# Fields that must be strictly positive; all others must merely be finite.
+_POSITIVE = (
+    "M_l", "C_l", "K_l", "M_b", "C_b", "K_b", "k_contact", "M_slider", "mu_s", "mu_d",
+)
+_NON_NEGATIVE = ("mu_sd", "a_mu", "b_mu")
+
+
+@dataclass(frozen=True)
+class MotorParams:
+    """Reduced-order parameters of a two-mode (L1 + B2) linear ultrasonic motor.
+
+    Attributes
+    ----------
+    M_l, C_l, K_l : float
+        Modal mass (kg), damping (N s/m) and stiffness (N/m) of the L1 mode, Eq. 4.
+    A_l : float
+        L1 force factor (N/V): the modal force is ``A_l * V0 * sin(omega t)``.
+    phi_L0, phi_Ll : float
+        L1 mode shape at the preload end ``y = 0`` and at the contact tip ``y = l`` (-).
+    M_b, C_b, K_b : float
+        Modal mass (kg), damping (N s/m) and stiffness (N/m) of the B2 mode, Eq. 5.
+    A_b : float
+        B2 force factor (N/V). Its sign sets the direction of motion.
+    phi_B0, phi_Bl : float
+        B2 mode shape at ``y = 0`` and at the contact tip ``y = l`` (-).
+    k_contact : float
+        Equivalent normal contact stiffness k between tip and slider (N/m), Eq. 7.
+    M_slider : float
+        Slider mass M (kg), Eq. 6.
+    mu_s, mu_d : float
+        Static and (vibration-free) dynamic friction coefficients of the tip/slider interface.
+    mu_sd : float
+        Dynamic friction coefficient of the linear guide.
+    a_mu : float
+        Residual dynamic friction coefficient at large normal vibration amplitude, Eq. 11.
+    b_mu : float
+        Attenuation factor of Eq. 11 (1/m).
+    source : str
+        Where the numbers came from (free text, shown in reports).
+
+    Notes
+    -----
+    The load coefficients of the paper are derived, not stored:
+    ``eta_N = phi_L0 - phi_Ll`` and ``eta_T = phi_B0 - phi_Bl`` (Eqs. A.7-A.8).
+    """
+
+    M_l: float
+    C_l: float
+    K_l: float
+    A_l: float
+    phi_L0: float
+    phi_Ll: float
+    M_b: float
+    C_b: float
+    K_b: float
+    A_b: float
+    phi_B0: float
+    phi_Bl: float
+    k_contact: float
+    M_slider: float
+    mu_s: float
+    mu_d: float
+    mu_sd: float
+    a_mu: float
+    b_mu: float
+    source: str = "unspecified"
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            if f.name == "source":
+                continue
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise TypeError(f"MotorParams.{f.name} must be a real number, got {value!r}")
+            if not math.isfinite(value):
+                raise ValueError(f"MotorParams.{f.name} must be finite, got {value!r}")
+        for name in _POSITIVE:
+            if getattr(self, name) <= 0.0:
+                raise ValueError(f"MotorParams.{name} must be > 0, got {getattr(self, name)!r}")
+        for name in _NON_NEGATIVE:
+            if getattr(self, name) < 0.0:
+                raise ValueError(f"MotorParams.{name} must be >= 0, got {getattr(self, name)!r}")
+        if self.mu_d > self.mu_s:
+            raise ValueError(
+                f"MotorParams.mu_d must be <= mu_s (kinetic friction cannot exceed static), "
+                f"got mu_d={self.mu_d!r} > mu_s={self.mu_s!r}"
+            )
+        if self.a_mu > self.mu_d:
+            raise ValueError(
+                f"MotorParams.a_mu must lie in [0, mu_d={self.mu_d!r}] (Eq. 11 decays from mu_d "
+                f"to a_mu), got {self.a_mu!r}"
+            )
+        if self.phi_Ll == self.phi_L0:
+            raise ValueError(
+                "MotorParams.phi_Ll must differ from phi_L0: the L1 mode must stretch the stator "
+                "(eta_N = phi_L0 - phi_Ll = 0 leaves no normal coupling)"
+            )
+        if self.phi_Bl == 0.0:
+            raise ValueError(
+                "MotorParams.phi_Bl must be non-zero: the B2 mode must move the contact tip"
+            )
+
+    @property
+    def eta_N(self) -> float:
+        """Normal load coefficient ``phi_L(0) - phi_L(l)`` (-), Eq. A.7."""
+        return self.phi_L0 - self.phi_Ll
+
+    @property
+    def eta_T(self) -> float:
+        """Tangential load coefficient ``phi_B(0) - phi_B(l)`` (-), Eq. A.8."""
+        return self.phi_B0 - self.phi_Bl
+
+    @property
+    def f_L1_Hz(self) -> float:
+        """Undamped L1 natural frequency ``sqrt(K_l/M_l)/(2 pi)`` (Hz)."""
+        return math.sqrt(self.K_l / self.M_l) / (2.0 * math.pi)
+
+    @property
+    def f_B2_Hz(self) -> float:
+        """Undamped B2 natural frequency ``sqrt(K_b/M_b)/(2 pi)`` (Hz)."""
+        return math.sqrt(self.K_b / self.M_b) / (2.0 * math.pi)
+
+    @property
+    def zeta_L1(self) -> float:
+        """L1 modal damping ratio ``C_l / (2 sqrt(K_l M_l))`` (-)."""
+        return self.C_l / (2.0 * math.sqrt(self.K_l * self.M_l))
+
+    @property
+    def zeta_B2(self) -> float:
+        """B2 modal damping ratio ``C_b / (2 sqrt(K_b M_b))`` (-)."""
+        return self.C_b / (2.0 * math.sqrt(self.K_b * self.M_b))
+
+    def with_(self, **changes: float | str) -> MotorParams:
+        """Return a copy with some fields replaced (validated again)."""
+        return replace(self, **changes)
+
+    def to_dict(self) -> dict[str, float | str]:
+        """All stored fields plus the derived ``eta_N``, ``eta_T``, frequencies and ratios."""
+        d: dict[str, float | str] = asdict(self)
+        d.update(
+            eta_N=self.eta_N,
+            eta_T=self.eta_T,
+            f_L1_Hz=self.f_L1_Hz,
+            f_B2_Hz=self.f_B2_Hz,
+            zeta_L1=self.zeta_L1,
+            zeta_B2=self.zeta_B2,
+        )
+        return d
