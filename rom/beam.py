@@ -1,0 +1,571 @@
+"""Appendix A of Li, Yao & Wu (2016): modal constants of the stator from beam theory.
+
+The stator is a plate of length ``l`` (axis ``y``), width ``b_s`` (axis ``x``, the in-plane
+bending direction, Eq. 1: ``u1 = w``, ``u2 = u - x psi``) and thickness ``h_s`` (axis ``z``,
+the poling direction). The assumed modes are the free-free Euler-Bernoulli shapes of Eq. 3
+(:mod:`rom.mode_shapes`), so every constant below is a Rayleigh-Ritz integral of those
+shapes. The extracted text of Appendix A is garbled; the reading used here is (``A = b_s h_s``,
+``I = h_s b_s^3 / 12``, ``E3 = V0 / h_s``):
+
+* A.1 ``M_l = int rho A phi_L^2 dy`` (= ``rho A l / 2`` exactly).
+* A.2 ``M_b = int rho A phi_B^2 dy``.
+* A.3 ``K_l = int cE11 A (phi_L')^2 dy`` (the prime was lost; = ``cE11 A pi^2 / (2 l)``).
+* A.4 ``K_b = int cE11 I (phi_B'')^2 dy`` by default (``b2_stiffness="euler-bernoulli"``):
+  the strain energy of in-plane bending about the thickness axis, consistent with the
+  Euler-Bernoulli shapes of Eq. 3 and with the curvature in A.6. The printed
+  ``1/2 cE66 A (phi_B')^2`` is the shear energy of a Timoshenko beam whose rotation is set
+  to zero; it is available for comparison through :func:`b2_stiffness_readings`. The
+  option ``b2_stiffness="timoshenko"`` uses bending and shear (``kappa cE66 A int phi_B'^2``)
+  in series, i.e. the Ritz stiffness with the rotation condensed statically (the paper's
+  argument that the rotation is fast), together with the matching force factor.
+* A.5 ``A_l V0 = sum_e int_e e31 E3 (dphi_L/dy) dV``: the generalized force of the
+  piezoelectric stress ``e31 E3`` over the driven electrodes. Per electrode
+  ``[y1, y2] x [x1, x2]`` (through the full thickness) this is
+  ``e31 (x2 - x1) (phi_L(y2) - phi_L(y1)) V0`` (the prime was lost in A.5; without it the
+  integral vanishes over a full-length electrode and has units of N m / V).
+* A.6 ``A_b V0 = -sum_e int_e e31 E3 x phi_B''(y) dV``: axial piezo stress times the bending
+  strain ``-x phi_B''``; per electrode ``-e31 (x2^2 - x1^2) / 2 (phi_B'(y2) - phi_B'(y1)) V0``.
+  Over the full width ``int x dx = 0``: only an electrode pattern antisymmetric in ``x``
+  drives bending, and since ``phi_B''`` of B2 is antisymmetric about ``y = l/2`` the
+  diagonal quadrants (1 and 4) add up. The other diagonal flips the sign.
+* A.7 ``eta_N = phi_L(0) - phi_L(l)``, A.8 ``eta_T = phi_B(0) - phi_B(l)`` (Eq. 3 values).
+
+Damping cannot come from beam theory (the paper identified ``C_l``, ``C_b`` from measured
+tip amplitudes): ``C = 2 zeta sqrt(K M)`` with ``zeta`` from the Table 2 set by default.
+The contact tip is taken as rigid and massless (Section 3.1). See ``docs/beam.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import scipy.linalg
+
+from rom.mode_shapes import BETA2_L, phi_B, phi_L
+from rom.params import MotorParams
+from rom.table2 import TABLE1, table2
+
+SHEAR_FACTOR = 5.0 / 6.0
+"""Timoshenko shear correction factor of a rectangular section (-)."""
+
+_QUAD_POINTS = 64
+"""Gauss-Legendre points for the B2 integrals (converged to machine precision)."""
+
+B2Stiffness = Literal["euler-bernoulli", "timoshenko"]
+
+
+@dataclass(frozen=True)
+class Electrode:
+    """One driven electrode, through the full thickness, on a rectangle of the stator face.
+
+    Attributes
+    ----------
+    y_start, y_stop : float
+        Axial extent as fractions of the length ``l``, ``0 <= y_start < y_stop <= 1`` (-).
+        ``y = 0`` is the preload end, ``y = l`` the contact tip.
+    x_start, x_stop : float
+        Lateral extent as fractions of the width ``b_s`` measured from the centre line,
+        ``-0.5 <= x_start < x_stop <= 0.5`` (-). ``x`` is the bending direction (Eq. 1).
+    polarity : float
+        Sign (or relative amplitude) of the drive voltage on this electrode (-).
+    """
+
+    y_start: float
+    y_stop: float
+    x_start: float
+    x_stop: float
+    polarity: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("y_start", "y_stop", "x_start", "x_stop", "polarity"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"Electrode.{name} must be finite, got {getattr(self, name)!r}")
+        if not 0.0 <= self.y_start < self.y_stop <= 1.0:
+            raise ValueError(
+                "Electrode.y_start, y_stop must satisfy 0 <= y_start < y_stop <= 1 (fractions "
+                f"of the length), got {self.y_start!r}, {self.y_stop!r}"
+            )
+        if not -0.5 <= self.x_start < self.x_stop <= 0.5:
+            raise ValueError(
+                "Electrode.x_start, x_stop must satisfy -0.5 <= x_start < x_stop <= 0.5 "
+                f"(fractions of the width), got {self.x_start!r}, {self.x_stop!r}"
+            )
+
+
+ELECTRODE_LAYOUTS: dict[str, tuple[Electrode, ...]] = {
+    # Quadrant numbering used here (Fig. 1 of the paper does not fix x): 1 = preload half,
+    # x > 0; 2 = preload half, x < 0; 3 = tip half, x > 0; 4 = tip half, x < 0.
+    "quadrants-1-4": (Electrode(0.0, 0.5, 0.0, 0.5), Electrode(0.5, 1.0, -0.5, 0.0)),
+    "quadrants-2-3": (Electrode(0.0, 0.5, -0.5, 0.0), Electrode(0.5, 1.0, 0.0, 0.5)),
+    "full": (Electrode(0.0, 1.0, -0.5, 0.5),),
+}
+"""Named electrode layouts. The paper drives the diagonal quadrants 1 and 4."""
+
+
+@dataclass(frozen=True)
+class BeamConstants:
+    """Every Appendix A quantity of one beam, including the alternative B2 stiffnesses.
+
+    Attributes
+    ----------
+    area_m2, inertia_m4 : float
+        Cross-section ``A = b_s h_s`` (m^2) and in-plane second moment ``h_s b_s^3/12`` (m^4).
+    M_l, K_l, A_l : float
+        L1 modal mass (kg), stiffness (N/m), force factor (N/V).
+    M_b, A_b : float
+        B2 modal mass (kg), force factor (N/V) of the Euler-Bernoulli reading.
+    K_b_bending : float
+        ``int cE11 I phi_B''^2 dy``: Euler-Bernoulli bending stiffness (N/m).
+    K_b_shear : float
+        ``int kappa cE66 A phi_B'^2 dy`` with ``kappa = 5/6``: shear stiffness (N/m).
+    K_b_timoshenko : float
+        Bending and shear in series, ``1/K = 1/K_bend + 1/K_shear`` (N/m).
+    K_b_printed : float
+        The printed A.4, ``int 1/2 cE66 A phi_B'^2 dy`` (N/m).
+    A_b_timoshenko : float
+        Force factor consistent with ``K_b_timoshenko`` (N/V): the piezoelectric moment acts
+        on the rotation ``psi``, and condensing ``psi`` passes the fraction
+        ``K_shear / (K_bend + K_shear)`` of ``A_b`` to ``w``.
+    phi_L0, phi_Ll, phi_B0, phi_Bl : float
+        Eq. 3 tip values at ``y = 0`` and ``y = l`` (-).
+    """
+
+    area_m2: float
+    inertia_m4: float
+    M_l: float
+    K_l: float
+    A_l: float
+    M_b: float
+    A_b: float
+    K_b_bending: float
+    K_b_shear: float
+    K_b_timoshenko: float
+    K_b_printed: float
+    A_b_timoshenko: float
+    phi_L0: float
+    phi_Ll: float
+    phi_B0: float
+    phi_Bl: float
+
+
+@dataclass(frozen=True)
+class BeamFrequencies:
+    """Natural frequencies of the beam stator (Hz).
+
+    Attributes
+    ----------
+    f_L1_Hz : float
+        Rod L1 frequency ``sqrt(K_l/M_l)/(2 pi) = sqrt(cE11/rho)/(2 l)``.
+    f_B2_euler_bernoulli_Hz : float
+        ``sqrt(K_b_bending/M_b)/(2 pi)``, the Euler-Bernoulli B2 frequency of the assumed mode.
+    f_B2_condensed_Hz : float
+        ``sqrt(K_b_timoshenko/M_b)/(2 pi)``: one-mode Timoshenko estimate (no rotary inertia).
+    f_B2_timoshenko_Hz : float
+        Converged free-free Timoshenko B2 frequency (shear ``kappa = 5/6``, ``G = cE66``,
+        rotary inertia included), from :func:`timoshenko_b2_frequency`. For the record only.
+    f_B2_params_Hz : float
+        The B2 frequency of the :class:`MotorParams` built with the same options.
+    b2_stiffness : str
+        Which stiffness the :class:`MotorParams` uses.
+    """
+
+    f_L1_Hz: float
+    f_B2_euler_bernoulli_Hz: float
+    f_B2_condensed_Hz: float
+    f_B2_timoshenko_Hz: float
+    f_B2_params_Hz: float
+    b2_stiffness: str
+
+
+def _check_positive(name: str, value: float) -> float:
+    """Return ``value`` as float if it is finite and > 0, else raise a ValueError naming it."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise ValueError(f"{name} must be a finite number in (0, inf), got {value!r}")
+    v = float(value)
+    if not (math.isfinite(v) and v > 0.0):
+        raise ValueError(f"{name} must be a finite number in (0, inf), got {value!r}")
+    return v
+
+
+def _check_finite(name: str, value: float) -> float:
+    """Return ``value`` as float if it is finite, else raise a ValueError naming it."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise ValueError(f"{name} must be a finite number in (-inf, inf), got {value!r}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be a finite number in (-inf, inf), got {value!r}")
+    return v
+
+
+def _resolve_layout(electrode_layout: str | Sequence[Electrode]) -> tuple[Electrode, ...]:
+    """Turn a layout name or a sequence of :class:`Electrode` into a non-empty tuple."""
+    if isinstance(electrode_layout, str):
+        try:
+            return ELECTRODE_LAYOUTS[electrode_layout]
+        except KeyError:
+            raise ValueError(
+                f"electrode_layout must be one of {sorted(ELECTRODE_LAYOUTS)} or a sequence of "
+                f"Electrode, got {electrode_layout!r}"
+            ) from None
+    layout = tuple(electrode_layout)
+    if not layout or not all(isinstance(e, Electrode) for e in layout):
+        raise ValueError(
+            f"electrode_layout must be one of {sorted(ELECTRODE_LAYOUTS)} or a non-empty "
+            f"sequence of Electrode, got {electrode_layout!r}"
+        )
+    return layout
+
+
+def _gauss(length_m: float, n: int = _QUAD_POINTS) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes (m) and weights (m) on ``[0, l]``."""
+    xi, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * length_m * (xi + 1.0), 0.5 * length_m * w
+
+
+def beam_constants(
+    length_m: float = TABLE1["length_m"],
+    width_m: float = TABLE1["width_m"],
+    thickness_m: float = TABLE1["thickness_m"],
+    rho_kg_m3: float = TABLE1["rho_kg_m3"],
+    cE11_Pa: float = TABLE1["cE11_Pa"],
+    cE66_Pa: float = TABLE1["cE66_Pa"],
+    e31_C_m2: float = TABLE1["e31_C_m2"],
+    *,
+    electrode_layout: str | Sequence[Electrode] = "quadrants-1-4",
+) -> BeamConstants:
+    """Evaluate formulas A.1-A.8 (and the alternative readings of A.4) for one beam.
+
+    Parameters
+    ----------
+    length_m, width_m, thickness_m : float
+        Stator length ``l``, width ``b_s`` (bending direction) and thickness ``h_s`` (m), > 0.
+    rho_kg_m3 : float
+        Density (kg/m^3), > 0.
+    cE11_Pa, cE66_Pa : float
+        Short-circuit axial and shear stiffness constants (Pa), > 0.
+    e31_C_m2 : float
+        Piezoelectric stress constant (C/m^2), finite.
+    electrode_layout : str or sequence of Electrode
+        A key of :data:`ELECTRODE_LAYOUTS` or explicit electrodes.
+
+    Returns
+    -------
+    BeamConstants
+        The modal constants; see the module docstring for the formulas.
+
+    Raises
+    ------
+    ValueError
+        If a dimension or modulus is not finite and positive, ``e31`` is not finite, or the
+        layout is unknown.
+    """
+    l_ = _check_positive("length_m", length_m)
+    b = _check_positive("width_m", width_m)
+    h = _check_positive("thickness_m", thickness_m)
+    rho = _check_positive("rho_kg_m3", rho_kg_m3)
+    c11 = _check_positive("cE11_Pa", cE11_Pa)
+    c66 = _check_positive("cE66_Pa", cE66_Pa)
+    e31 = _check_finite("e31_C_m2", e31_C_m2)
+    layout = _resolve_layout(electrode_layout)
+
+    area = b * h
+    inertia = h * b**3 / 12.0
+    # A.1 and A.3 in closed form for phi_L = cos(pi y / l).
+    m_l = rho * area * l_ / 2.0
+    k_l = c11 * area * math.pi**2 / (2.0 * l_)
+    # A.2 and A.4 by Gauss-Legendre quadrature of the Eq. 3 shape.
+    y, w = _gauss(l_)
+    int_phi2 = float(np.sum(w * phi_B(y, l_) ** 2))
+    int_dphi2 = float(np.sum(w * phi_B(y, l_, 1) ** 2))
+    int_ddphi2 = float(np.sum(w * phi_B(y, l_, 2) ** 2))
+    m_b = rho * area * int_phi2
+    k_bend = c11 * inertia * int_ddphi2
+    k_shear = SHEAR_FACTOR * c66 * area * int_dphi2
+    k_timo = k_bend * k_shear / (k_bend + k_shear)
+    k_printed = 0.5 * c66 * area * int_dphi2
+    # A.5 and A.6, electrode by electrode (E3 = V0/h_s times the thickness h_s: h cancels).
+    a_l = 0.0
+    a_b = 0.0
+    for e in layout:
+        y1, y2 = e.y_start * l_, e.y_stop * l_
+        x1, x2 = e.x_start * b, e.x_stop * b
+        a_l += e.polarity * e31 * (x2 - x1) * float(phi_L(y2, l_) - phi_L(y1, l_))
+        a_b -= (
+            e.polarity * e31 * 0.5 * (x2**2 - x1**2)
+            * float(phi_B(y2, l_, 1) - phi_B(y1, l_, 1))
+        )
+    return BeamConstants(
+        area_m2=area,
+        inertia_m4=inertia,
+        M_l=m_l,
+        K_l=k_l,
+        A_l=a_l,
+        M_b=m_b,
+        A_b=a_b,
+        K_b_bending=k_bend,
+        K_b_shear=k_shear,
+        K_b_timoshenko=k_timo,
+        K_b_printed=k_printed,
+        A_b_timoshenko=a_b * k_shear / (k_bend + k_shear),
+        phi_L0=float(phi_L(0.0, l_)),
+        phi_Ll=float(phi_L(l_, l_)),
+        phi_B0=float(phi_B(0.0, l_)),
+        phi_Bl=float(phi_B(l_, l_)),
+    )
+
+
+def b2_stiffness_readings(**beam_kwargs: float) -> dict[str, float]:
+    """The candidate readings of A.4 (N/m) for one beam, keyed by a short description.
+
+    Parameters
+    ----------
+    **beam_kwargs
+        Geometry and material keywords of :func:`beam_constants`.
+    """
+    c = beam_constants(**beam_kwargs)
+    return {
+        "bending cE11 I int phi''^2 (Euler-Bernoulli)": c.K_b_bending,
+        "printed 1/2 cE66 A int phi'^2": c.K_b_printed,
+        "shear 5/6 cE66 A int phi'^2": c.K_b_shear,
+        "bending + shear in series (Timoshenko, condensed)": c.K_b_timoshenko,
+    }
+
+
+def beam_params(
+    length_m: float = TABLE1["length_m"],
+    width_m: float = TABLE1["width_m"],
+    thickness_m: float = TABLE1["thickness_m"],
+    rho_kg_m3: float = TABLE1["rho_kg_m3"],
+    cE11_Pa: float = TABLE1["cE11_Pa"],
+    cE66_Pa: float = TABLE1["cE66_Pa"],
+    e31_C_m2: float = TABLE1["e31_C_m2"],
+    *,
+    base: MotorParams | None = None,
+    damping_ratios: tuple[float, float] | None = None,
+    electrode_layout: str | Sequence[Electrode] = "quadrants-1-4",
+    b2_stiffness: B2Stiffness = "euler-bernoulli",
+) -> MotorParams:
+    """A :class:`MotorParams` whose stator constants come from Appendix A beam theory.
+
+    Parameters
+    ----------
+    length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa, e31_C_m2 : float
+        Geometry (m) and material (kg/m^3, Pa, C/m^2); defaults are Table 1.
+    base : MotorParams, optional
+        Source of the contact, slider and friction constants (``k_contact``, ``M_slider``,
+        ``mu_s``, ``mu_d``, ``mu_sd``, ``a_mu``, ``b_mu``) and of the default damping ratios.
+        Defaults to :func:`rom.table2.table2`.
+    damping_ratios : (float, float), optional
+        Modal damping ratios ``(zeta_L1, zeta_B2)``, each in (0, 1); ``C = 2 zeta sqrt(K M)``.
+        Defaults to ``(base.zeta_L1, base.zeta_B2)``.
+    electrode_layout : str or sequence of Electrode
+        Driven electrodes; default the paper's diagonal quadrants 1 and 4.
+    b2_stiffness : {"euler-bernoulli", "timoshenko"}
+        ``K_b`` used: the bending stiffness ``cE11 I int phi_B''^2`` (default) or bending and
+        shear in series with the consistent ``A_b_timoshenko`` (see :class:`BeamConstants`).
+
+    Returns
+    -------
+    MotorParams
+        The beam-theory parameter set (``source`` names the options).
+
+    Raises
+    ------
+    ValueError
+        For non-finite or non-positive geometry/moduli, damping ratios outside (0, 1), an
+        unknown layout or ``b2_stiffness``.
+    """
+    if b2_stiffness not in ("euler-bernoulli", "timoshenko"):
+        raise ValueError(
+            f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}"
+        )
+    c = beam_constants(
+        length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa, e31_C_m2,
+        electrode_layout=electrode_layout,
+    )
+    base = table2() if base is None else base
+    if not isinstance(base, MotorParams):
+        raise ValueError(f"base must be a MotorParams or None, got {type(base).__name__}")
+    if damping_ratios is None:
+        zeta_l, zeta_b = base.zeta_L1, base.zeta_B2
+    else:
+        try:
+            zeta_l, zeta_b = damping_ratios
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"damping_ratios must be a pair (zeta_L1, zeta_B2), got {damping_ratios!r}"
+            ) from None
+    for name, z in (("damping_ratios[0] (zeta_L1)", zeta_l), ("damping_ratios[1] (zeta_B2)",
+                                                             zeta_b)):
+        zf = _check_positive(name, z)
+        if zf >= 1.0:
+            raise ValueError(f"{name} must lie in (0, 1), got {z!r}")
+    if b2_stiffness == "euler-bernoulli":
+        k_b, a_b = c.K_b_bending, c.A_b
+    else:
+        k_b, a_b = c.K_b_timoshenko, c.A_b_timoshenko
+    layout_name = electrode_layout if isinstance(electrode_layout, str) else "custom electrodes"
+    return MotorParams(
+        M_l=c.M_l,
+        C_l=2.0 * float(zeta_l) * math.sqrt(c.K_l * c.M_l),
+        K_l=c.K_l,
+        A_l=c.A_l,
+        phi_L0=c.phi_L0,
+        phi_Ll=c.phi_Ll,
+        M_b=c.M_b,
+        C_b=2.0 * float(zeta_b) * math.sqrt(k_b * c.M_b),
+        K_b=k_b,
+        A_b=a_b,
+        phi_B0=c.phi_B0,
+        phi_Bl=c.phi_Bl,
+        k_contact=base.k_contact,
+        M_slider=base.M_slider,
+        mu_s=base.mu_s,
+        mu_d=base.mu_d,
+        mu_sd=base.mu_sd,
+        a_mu=base.a_mu,
+        b_mu=base.b_mu,
+        source=f"beam theory (Appendix A, K_b {b2_stiffness}, {layout_name})",
+    )
+
+
+def timoshenko_b2_frequency(
+    length_m: float = TABLE1["length_m"],
+    width_m: float = TABLE1["width_m"],
+    thickness_m: float = TABLE1["thickness_m"],
+    rho_kg_m3: float = TABLE1["rho_kg_m3"],
+    E_Pa: float = TABLE1["cE11_Pa"],
+    G_Pa: float = TABLE1["cE66_Pa"],
+    *,
+    shear_factor: float = SHEAR_FACTOR,
+    rotary_inertia: bool = True,
+    degree: int = 24,
+) -> float:
+    """Second free-free bending frequency of a Timoshenko beam, in-plane (Hz).
+
+    Rayleigh-Ritz with independent Legendre expansions (degree ``degree``) of the lateral
+    displacement ``w`` and the section rotation ``psi``; free ends need no constraint. The
+    first two eigenvalues are the rigid-body modes, the fourth is B2.
+
+    Parameters
+    ----------
+    length_m, width_m, thickness_m : float
+        Beam length, in-plane width (bending direction) and thickness (m), > 0.
+    rho_kg_m3 : float
+        Density (kg/m^3), > 0.
+    E_Pa, G_Pa : float
+        Axial and shear moduli (Pa), > 0 (the stator uses ``cE11`` and ``cE66``).
+    shear_factor : float
+        Shear correction factor ``kappa`` (-), > 0.
+    rotary_inertia : bool
+        Include the ``rho I psi_t^2`` kinetic energy.
+    degree : int
+        Highest Legendre degree of each field, >= 6.
+
+    Returns
+    -------
+    float
+        The B2 natural frequency (Hz).
+    """
+    l_ = _check_positive("length_m", length_m)
+    b = _check_positive("width_m", width_m)
+    h = _check_positive("thickness_m", thickness_m)
+    rho = _check_positive("rho_kg_m3", rho_kg_m3)
+    e_mod = _check_positive("E_Pa", E_Pa)
+    g_mod = _check_positive("G_Pa", G_Pa)
+    kappa = _check_positive("shear_factor", shear_factor)
+    if isinstance(degree, bool) or not isinstance(degree, int) or degree < 6:
+        raise ValueError(f"degree must be an integer in [6, inf), got {degree!r}")
+    area, inertia = b * h, h * b**3 / 12.0
+    n = degree + 1
+    xi, wq = np.polynomial.legendre.leggauss(degree + 2)
+    eye = np.eye(n)
+    p = np.polynomial.legendre.legvander(xi, degree)  # values
+    dp = np.stack([np.polynomial.legendre.legval(xi, np.polynomial.legendre.legder(eye[k]))
+                   for k in range(n)], axis=1)  # d/dxi
+    jac = 0.5 * l_  # dy = jac dxi
+    # Dimensionless unknowns: w / l and psi, derivatives d/dy = d/dxi / jac.
+    ppw = (p.T * wq) @ p * jac
+    dpw = (dp.T * wq) @ dp / jac
+    dpp = (dp.T * wq) @ p
+    ks = kappa * g_mod * area
+    # U = 1/2 int EI psi'^2 + ks (w' - psi)^2 with w = l * wt.
+    k_ww = ks * l_**2 * dpw
+    k_wp = -ks * l_ * dpp
+    k_pp = e_mod * inertia * dpw + ks * ppw
+    m_ww = rho * area * l_**2 * ppw
+    m_pp = (rho * inertia if rotary_inertia else 0.0) * ppw
+    k = np.block([[k_ww, k_wp], [k_wp.T, k_pp]])
+    m = np.block([[m_ww, np.zeros((n, n))], [np.zeros((n, n)), m_pp]])
+    # Without rotary inertia psi is condensed statically (its mass block is zero).
+    if not rotary_inertia:
+        k_red = k_ww - k_wp @ np.linalg.solve(k_pp, k_wp.T)
+        lam = scipy.linalg.eigh(k_red, m_ww, eigvals_only=True)
+    else:
+        lam = scipy.linalg.eigh(k, m, eigvals_only=True)
+    lam = np.sort(lam)
+    return float(math.sqrt(lam[3]) / (2.0 * math.pi))
+
+
+def beam_frequencies(
+    length_m: float = TABLE1["length_m"],
+    width_m: float = TABLE1["width_m"],
+    thickness_m: float = TABLE1["thickness_m"],
+    rho_kg_m3: float = TABLE1["rho_kg_m3"],
+    cE11_Pa: float = TABLE1["cE11_Pa"],
+    cE66_Pa: float = TABLE1["cE66_Pa"],
+    *,
+    b2_stiffness: B2Stiffness = "euler-bernoulli",
+) -> BeamFrequencies:
+    """L1 and B2 frequencies of the beam stator under each B2 theory (Hz).
+
+    Parameters
+    ----------
+    length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa : float
+        As in :func:`beam_params`.
+    b2_stiffness : {"euler-bernoulli", "timoshenko"}
+        The choice :func:`beam_params` would make; sets ``f_B2_params_Hz``.
+
+    Returns
+    -------
+    BeamFrequencies
+        ``f_L1_Hz``, the Euler-Bernoulli, condensed-Timoshenko and full Timoshenko B2
+        frequencies, and the one the parameter set uses.
+    """
+    if b2_stiffness not in ("euler-bernoulli", "timoshenko"):
+        raise ValueError(
+            f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}"
+        )
+    c = beam_constants(length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa, -1.0)
+    two_pi = 2.0 * math.pi
+    f_eb = math.sqrt(c.K_b_bending / c.M_b) / two_pi
+    f_cond = math.sqrt(c.K_b_timoshenko / c.M_b) / two_pi
+    return BeamFrequencies(
+        f_L1_Hz=math.sqrt(c.K_l / c.M_l) / two_pi,
+        f_B2_euler_bernoulli_Hz=f_eb,
+        f_B2_condensed_Hz=f_cond,
+        f_B2_timoshenko_Hz=timoshenko_b2_frequency(
+            length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa
+        ),
+        f_B2_params_Hz=f_eb if b2_stiffness == "euler-bernoulli" else f_cond,
+        b2_stiffness=b2_stiffness,
+    )
+
+
+def euler_bernoulli_b2_frequency(
+    length_m: float, width_m: float, thickness_m: float, rho_kg_m3: float, E_Pa: float
+) -> float:
+    """Closed-form free-free B2 frequency ``(beta2 l)^2 / (2 pi l^2) sqrt(EI / rho A)`` (Hz).
+
+    Uses the ``beta2 l`` printed under Eq. 3 and ``I = h_s b_s^3 / 12`` (in-plane bending).
+    """
+    l_ = _check_positive("length_m", length_m)
+    b = _check_positive("width_m", width_m)
+    _check_positive("thickness_m", thickness_m)  # cancels: I / A = b_s^2 / 12
+    rho = _check_positive("rho_kg_m3", rho_kg_m3)
+    e_mod = _check_positive("E_Pa", E_Pa)
+    return float(BETA2_L**2 / (2.0 * math.pi * l_**2) * math.sqrt(e_mod * b**2 / (12.0 * rho)))

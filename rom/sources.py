@@ -1,0 +1,93 @@
+"""Parameter-set sources by name: the one dispatch from a name to a :class:`MotorParams`.
+
+``table2`` is the paper's published set, ``beam`` the Appendix A beam theory
+(:func:`rom.beam.beam_params`), ``fem`` the finite-element reduction
+(:func:`rom.from_fem.fem_params`, imported lazily so that the FE stack is only loaded when
+asked for).
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from typing import Any
+
+from rom.params import MotorParams
+
+SOURCES = ("table2", "beam", "fem")
+"""Allowed source names, in display order."""
+
+
+class SourceUnavailableError(ValueError):
+    """A known source whose implementation cannot be imported (e.g. not written yet)."""
+
+
+def _table2(**kwargs: Any) -> MotorParams:
+    """The published set; it takes no options."""
+    if kwargs:
+        raise ValueError(f"source 'table2' takes no options, got {sorted(kwargs)}")
+    from rom.table2 import table2
+
+    return table2()
+
+
+def _beam(**kwargs: Any) -> MotorParams:
+    """Appendix A beam theory."""
+    from rom.beam import beam_params
+
+    return beam_params(**kwargs)
+
+
+def _fem(**kwargs: Any) -> MotorParams:
+    """FE reduction, imported lazily; missing module or function -> SourceUnavailableError."""
+    try:
+        module = importlib.import_module("rom.from_fem")
+    except ImportError as exc:
+        raise SourceUnavailableError(
+            f"source 'fem' is unavailable: cannot import rom.from_fem ({exc})"
+        ) from exc
+    fem_params = getattr(module, "fem_params", None)
+    if fem_params is None:
+        raise SourceUnavailableError(
+            "source 'fem' is unavailable: rom.from_fem has no fem_params()"
+        )
+    return fem_params(**kwargs)
+
+
+_DISPATCH: dict[str, Callable[..., MotorParams]] = {
+    "table2": _table2,
+    "beam": _beam,
+    "fem": _fem,
+}
+
+
+def get_params(source: str, **kwargs: Any) -> MotorParams:
+    """Build the parameter set of a named source.
+
+    Parameters
+    ----------
+    source : {"table2", "beam", "fem"}
+        Which source to use.
+    **kwargs
+        Options passed to the source's builder (none for ``table2``; see
+        :func:`rom.beam.beam_params` and ``rom.from_fem.fem_params``).
+
+    Returns
+    -------
+    MotorParams
+        The parameter set.
+
+    Raises
+    ------
+    ValueError
+        For an unknown source (the message lists the allowed names) or bad options.
+    SourceUnavailableError
+        (a ValueError) if the source's module cannot be imported.
+    """
+    try:
+        builder = _DISPATCH[source]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"source must be one of {', '.join(SOURCES)}, got {source!r}"
+        ) from None
+    return builder(**kwargs)

@@ -1,0 +1,54 @@
+"""``lusm compare``: the table2, beam and fem parameter sets side by side."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+from rom.compare import compare_sources
+from rom.sources import SOURCES
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``compare`` sub-command to the ``lusm`` parser."""
+    parser = subparsers.add_parser(
+        "compare",
+        help="compare the parameter sources side by side",
+        description="Frequencies, modal masses, stiffnesses, force factors, load "
+        "coefficients and damping of each source, with relative differences to the reference.",
+    )
+    parser.add_argument(
+        "--sources", nargs="+", choices=SOURCES, default=list(SOURCES),
+        help="sources to compare (default: all)",
+    )
+    parser.add_argument(
+        "--reference", choices=SOURCES, default="table2", help="reference source (default table2)"
+    )
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Build the comparison and print it."""
+    cmp = compare_sources(args.sources, reference=args.reference)
+    if args.json:
+        print(json.dumps(cmp.to_dict(), indent=2))
+        return
+    shown = [s for s in cmp.sources if s in cmp.values]
+    header = f"{'quantity':<10} {'unit':<6}" + "".join(f" {s:>12}" for s in shown)
+    header += "".join(f" {'d(' + s + ')':>10}" for s in shown if s != cmp.reference)
+    print(header)
+    for name, unit in cmp.quantities:
+        row = f"{name:<10} {unit:<6}" + "".join(f" {cmp.values[s][name]:>12.5g}" for s in shown)
+        for s in shown:
+            if s == cmp.reference:
+                continue
+            r = cmp.relative_difference[s][name]
+            row += f" {'n/a':>10}" if math.isnan(r) else f" {r:>+10.1%}"
+        print(row)
+    print(f"relative differences d(.) are to {cmp.reference}")
+    for s in shown:
+        print(f"{s}: {cmp.descriptions[s]}")
+    for s, reason in cmp.unavailable.items():
+        print(f"{s}: unavailable ({reason})")
