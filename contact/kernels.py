@@ -1,0 +1,471 @@
+"""numba kernels of the contact stage: plain arrays and floats in, plain arrays out.
+
+The integrator advances the piecewise-linear hybrid system of :mod:`contact.model` on a fixed
+time grid with the exact propagator ``expm(A_m dt)`` of the current mode. When a switching
+functional ``h . z`` becomes positive inside a step (or grazes zero between two samples, seen
+from the cubic Hermite interpolant of ``h`` and ``dh/dt``), the crossing is located (cubic
+estimate, then Newton on the exact Taylor-series flow), the state is advanced to it, the mode
+is switched by the rules of the switch model, and the rest of the step is integrated in the
+new mode. So the mode is state carried between steps, the stick band of the paper is never
+needed, and the only time-step dependence left is roundoff and the resolution of events that
+are closer together than a step.
+
+The thin typed wrapper is :func:`contact.simulate.simulate`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from contact.state import (
+    BACKWARD,
+    CONTACT,
+    DU,
+    DW,
+    DX,
+    ERR_CHATTER,
+    EV_CONTACT,
+    EV_GUIDE_RELEASE,
+    EV_NONE,
+    EV_SEPARATE,
+    EV_STICK_BREAK,
+    EV_VREL_ZERO,
+    EV_XDOT_ZERO,
+    F_FN,
+    F_HOLD,
+    F_NG_CONTACT,
+    F_NG_SEP,
+    F_VREL,
+    FORWARD,
+    HELD,
+    MAX_EVENTS,
+    N_STATE,
+    OK,
+    PHASE_SEPARATION,
+    SC_ABV,
+    SC_ALV,
+    SC_C_B,
+    SC_C_L,
+    SC_EPS,
+    SC_GAMMA_N,
+    SC_GAMMA_T,
+    SC_K,
+    SC_K_B,
+    SC_K_L,
+    SC_M,
+    SC_M_B,
+    SC_M_L,
+    SC_MU_D,
+    SC_MU_S,
+    SC_MU_SD,
+    SC_PHI_BL,
+    SC_PHI_LL,
+    SEPARATED,
+    SIN,
+    SLIP_NEG,
+    SLIP_POS,
+    STICK,
+    U,
+    W,
+    X,
+)
+
+N_TAYLOR = 14
+"""Terms of the Taylor series of expm(A tau) z used for partial steps (|lambda tau| <= 0.35)."""
+
+N_TRACE_COLS = 10
+"""Trace columns: t, x, dx, u_l, w_b, F_N, F_T, v_rel, y_tip, phase."""
+
+N_WORK = 6
+"""Work integrals: input, damping, normal on stator, tangential on stator, on slider, guide."""
+
+
+@njit(cache=True, inline="always")
+def _dot(a, z):
+    s = 0.0
+    for i in range(N_STATE):
+        s += a[i] * z[i]
+    return s
+
+
+@njit(cache=True, inline="always")
+def _matvec(m, z, out):
+    for i in range(N_STATE):
+        s = 0.0
+        for j in range(N_STATE):
+            s += m[i, j] * z[j]
+        out[i] = s
+
+
+@njit(cache=True)
+def _flow(a, z, tau, out, term, tmp):
+    """``out = expm(a tau) z`` by its Taylor series (tau is a fraction of one step)."""
+    for i in range(N_STATE):
+        term[i] = z[i]
+        out[i] = z[i]
+    for k in range(1, N_TAYLOR + 1):
+        _matvec(a, term, tmp)
+        f = tau / k
+        for i in range(N_STATE):
+            term[i] = tmp[i] * f
+            out[i] += term[i]
+
+
+@njit(cache=True)
+def _cubic(a, b, c, d, s):
+    return a + s * (b + s * (c + s * d))
+
+
+@njit(cache=True)
+def _first_crossing(h0, h1, d0, d1, H):
+    """First s in [0, 1] where the Hermite cubic of h becomes > 0, or -1.0 if none."""
+    if h0 > 0.0:
+        return 0.0
+    a = h0
+    b = H * d0
+    c = 3.0 * (h1 - h0) - 2.0 * H * d0 - H * d1
+    d = 2.0 * (h0 - h1) + H * d0 + H * d1
+    # split [0, 1] at the critical points so that the cubic is monotone on each piece
+    knots = np.empty(4)
+    nk = 0
+    knots[nk] = 0.0
+    nk += 1
+    qa, qb, qc = 3.0 * d, 2.0 * c, b
+    if qa != 0.0:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc > 0.0:
+            r = np.sqrt(disc)
+            s1 = (-qb - r) / (2.0 * qa)
+            s2 = (-qb + r) / (2.0 * qa)
+            if s1 > s2:
+                s1, s2 = s2, s1
+            if 0.0 < s1 < 1.0:
+                knots[nk] = s1
+                nk += 1
+            if 0.0 < s2 < 1.0:
+                knots[nk] = s2
+                nk += 1
+    elif qb != 0.0:
+        s1 = -qc / qb
+        if 0.0 < s1 < 1.0:
+            knots[nk] = s1
+            nk += 1
+    knots[nk] = 1.0
+    nk += 1
+    lo = 0.0
+    for i in range(1, nk):
+        hi = knots[i]
+        if _cubic(a, b, c, d, hi) > 0.0:
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                if _cubic(a, b, c, d, mid) > 0.0:
+                    hi = mid
+                else:
+                    lo = mid
+            return hi
+        lo = hi
+    return -1.0
+
+
+@njit(cache=True)
+def _tip_zero(z, guide, funcs, scalars):
+    """(tip, guide) once v_rel = 0 with the slider moving (``guide`` 1 or 2) or not (0).
+
+    Returns the stick mode if the force that keeps v_rel = 0 is within mu_s F_N, otherwise
+    the slip direction that force points to (the friction then acts the same way).
+    """
+    mu_s = scalars[SC_MU_S]
+    mu_sd = scalars[SC_MU_SD]
+    fn = _dot(funcs[F_FN], z)
+    if guide == HELD:
+        # tip and slider at rest together: can the guide and the interface both hold?
+        fh = _dot(funcs[F_HOLD], z)
+        ng = _dot(funcs[F_NG_CONTACT], z)
+        if abs(fh) <= mu_sd * ng:
+            if abs(fh) <= mu_s * fn:
+                return STICK, HELD
+            return (SLIP_POS if fh > 0.0 else SLIP_NEG), HELD
+        guide = FORWARD if fh > 0.0 else BACKWARD
+    fs = _dot(funcs[F_HOLD + guide], z)
+    if abs(fs) <= mu_s * fn:
+        return STICK, guide
+    return (SLIP_POS if fs > 0.0 else SLIP_NEG), guide
+
+
+@njit(cache=True)
+def _switch(mode, etype, z, funcs, scalars):
+    """New mode after event ``etype`` at state ``z``; may project ``z`` onto the new mode."""
+    contact = mode // 9
+    tip = (mode // 3) % 3
+    guide = mode % 3
+    mu_d = scalars[SC_MU_D]
+    mu_sd = scalars[SC_MU_SD]
+    if etype == EV_SEPARATE:
+        contact = SEPARATED
+        tip = SLIP_POS
+    elif etype == EV_CONTACT:
+        contact = CONTACT
+        vr = _dot(funcs[F_VREL], z)
+        if vr > scalars[SC_EPS]:
+            tip = SLIP_POS
+        elif vr < -scalars[SC_EPS]:
+            tip = SLIP_NEG
+        else:
+            # touching down inside the stick band (F_N = 0 here)
+            tip, guide = _tip_zero(z, guide, funcs, scalars)
+    elif etype == EV_VREL_ZERO:
+        tip, guide = _tip_zero(z, guide, funcs, scalars)
+    elif etype == EV_STICK_BREAK:
+        fs = _dot(funcs[F_HOLD + guide], z)
+        tip = SLIP_POS if fs > 0.0 else SLIP_NEG
+    elif etype == EV_XDOT_ZERO:
+        if contact == CONTACT and tip == STICK:
+            tip, guide = _tip_zero(z, HELD, funcs, scalars)
+        else:
+            ft = 0.0
+            ng = _dot(funcs[F_NG_SEP], z)
+            if contact == CONTACT:
+                fn = _dot(funcs[F_FN], z)
+                ft = mu_d * fn if tip == SLIP_POS else -mu_d * fn
+                ng = _dot(funcs[F_NG_CONTACT], z)
+            if abs(ft) <= mu_sd * ng:
+                guide = HELD
+            else:
+                guide = FORWARD if ft > 0.0 else BACKWARD
+    elif etype == EV_GUIDE_RELEASE:
+        if contact == CONTACT and tip == STICK:
+            fh = _dot(funcs[F_HOLD], z)
+            guide = FORWARD if fh > 0.0 else BACKWARD
+            tip, guide = _tip_zero(z, guide, funcs, scalars)
+        else:
+            fn = _dot(funcs[F_FN], z) if contact == CONTACT else 0.0
+            ft = mu_d * fn if tip == SLIP_POS else -mu_d * fn
+            guide = FORWARD if ft > 0.0 else BACKWARD
+    if contact == CONTACT and tip == STICK:
+        if guide == HELD:
+            z[DW] = 0.0
+            z[DX] = 0.0
+        else:
+            z[DX] = scalars[SC_PHI_BL] * z[DW]  # phi_B(l) dw_b: v_rel = 0 exactly
+    elif guide == HELD:
+        z[DX] = 0.0
+    return contact * 9 + tip * 3 + guide
+
+
+@njit(cache=True)
+def _phase(mode):
+    if mode // 9 == SEPARATED:
+        return PHASE_SEPARATION
+    return (mode // 3) % 3
+
+
+@njit(cache=True)
+def _record(buf, row, t, z, mode, fn_m, ft_m, funcs, phi_ll):
+    buf[row, 0] = t
+    buf[row, 1] = z[X]
+    buf[row, 2] = z[DX]
+    buf[row, 3] = z[U]
+    buf[row, 4] = z[W]
+    buf[row, 5] = _dot(fn_m[mode], z)
+    buf[row, 6] = _dot(ft_m[mode], z)
+    buf[row, 7] = _dot(funcs[F_VREL], z)
+    buf[row, 8] = phi_ll * z[U]
+    buf[row, 9] = _phase(mode)
+
+
+@njit(cache=True)
+def _powers(z, mode, fn_m, ft_m, ff_m, sc, out):
+    fn = _dot(fn_m[mode], z)
+    ft = _dot(ft_m[mode], z)
+    ff = _dot(ff_m[mode], z)
+    out[0] = z[SIN] * (sc[SC_ALV] * z[DU] + sc[SC_ABV] * z[DW])
+    out[1] = sc[SC_C_L] * z[DU] * z[DU] + sc[SC_C_B] * z[DW] * z[DW]
+    out[2] = sc[SC_GAMMA_N] * fn * z[DU]
+    out[3] = sc[SC_GAMMA_T] * ft * z[DW]
+    out[4] = ft * z[DX]
+    out[5] = ff * z[DX]
+
+
+@njit(cache=True)
+def stored_energy(z, mode, fn_m, sc):
+    """Kinetic + modal strain + contact-spring energy of the state (J)."""
+    fn = _dot(fn_m[mode], z)
+    e = 0.5 * (sc[SC_M_L] * z[DU] ** 2 + sc[SC_K_L] * z[U] ** 2 + sc[SC_M_B] * z[DW] ** 2)
+    e += 0.5 * (sc[SC_K_B] * z[W] ** 2 + sc[SC_M] * z[DX] ** 2)
+    if mode // 9 == CONTACT:
+        e += 0.5 * fn * fn / sc[SC_K]
+    return e
+
+
+@njit(cache=True)
+def _accumulate(za, zm, zb, mode, H, in_window, phase_time, work, fn_m, ft_m, ff_m, sc,
+                pa, pm, pb, energy):
+    if not in_window:
+        return
+    phase_time[_phase(mode)] += H
+    if energy:
+        _powers(za, mode, fn_m, ft_m, ff_m, sc, pa)
+        _powers(zm, mode, fn_m, ft_m, ff_m, sc, pm)
+        _powers(zb, mode, fn_m, ft_m, ff_m, sc, pb)
+        for i in range(N_WORK):
+            work[i] += H / 6.0 * (pa[i] + 4.0 * pm[i] + pb[i])
+
+
+@njit(cache=True, nogil=True)
+def integrate_switch_model(
+    z0, mode0, n_steps, dt, phi, phi_half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m,
+    funcs, scalars, win_start, decim, n_full, energy, max_events_per_step,
+):
+    """Integrate the hybrid switch model on a fixed grid with located events.
+
+    Parameters
+    ----------
+    z0 : (9,) float64 array
+        Initial state.
+    mode0 : int
+        Initial mode.
+    n_steps : int
+        Number of steps of length ``dt`` (s).
+    phi, phi_half : (18, 9, 9) arrays
+        ``expm(A_m dt)`` and ``expm(A_m dt / 2)``.
+    a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, scalars : arrays
+        The :class:`contact.model.HybridSystem` fields.
+    win_start : int
+        First step of the steady-state window over which metrics are accumulated.
+    decim : int
+        Store every ``decim``-th step in the decimated trace.
+    n_full : int
+        Store each of the last ``n_full`` steps in the full-resolution trace.
+    energy : bool
+        Accumulate the work integrals over the window.
+    max_events_per_step : int
+        More switches than this inside one step is reported as chattering.
+
+    Returns
+    -------
+    status, fail_step, trace, full, phase_time, work, stats, z_end, mode_end
+        ``stats = [x at window start, y_tip min, y_tip max, events, E at window start,
+        E at end]``.
+    """
+    z = z0.copy()
+    mode = mode0
+    z1 = np.empty(N_STATE)
+    zt = np.empty(N_STATE)
+    zm = np.empty(N_STATE)
+    term = np.empty(N_STATE)
+    tmp = np.empty(N_STATE)
+    pa = np.empty(N_WORK)
+    pm = np.empty(N_WORK)
+    pb = np.empty(N_WORK)
+    n_dec = n_steps // decim + 1
+    trace = np.empty((n_dec, 10))
+    full = np.empty((n_full + 1, 10))
+    phase_time = np.zeros(4)
+    work = np.zeros(N_WORK)
+    stats = np.zeros(6)
+    stats[1] = np.inf
+    stats[2] = -np.inf
+    phi_ll = scalars[SC_PHI_LL]
+    full_start = n_steps - n_full
+    _record(trace, 0, 0.0, z, mode, fn_m, ft_m, funcs, phi_ll)
+    if full_start == 0:
+        _record(full, 0, 0.0, z, mode, fn_m, ft_m, funcs, phi_ll)
+    if win_start == 0:
+        stats[0] = z[X]
+        stats[4] = stored_energy(z, mode, fn_m, scalars)
+    n_events = 0
+    status = OK
+    fail_step = -1
+    for n in range(n_steps):
+        in_window = n >= win_start
+        done = 0.0
+        count = 0
+        while True:
+            H = dt - done
+            if done == 0.0:
+                _matvec(phi[mode], z, z1)
+            else:
+                _flow(a[mode], z, H, z1, term, tmp)
+            s_min = 2.0
+            j_min = -1
+            for j in range(MAX_EVENTS):
+                et = ev_type[mode, j]
+                if et == EV_NONE:
+                    break
+                h0 = _dot(ev_h[mode, j], z)
+                h1 = _dot(ev_h[mode, j], z1)
+                d0 = _dot(ev_dh[mode, j], z)
+                d1 = _dot(ev_dh[mode, j], z1)
+                if h1 > 0.0 or (d0 > 0.0 and d1 < 0.0):
+                    s = _first_crossing(h0, h1, d0, d1, H)
+                    if s >= 0.0 and s < s_min:
+                        s_min = s
+                        j_min = j
+            if j_min < 0:
+                if energy and in_window:
+                    if done == 0.0:
+                        _matvec(phi_half[mode], z, zm)
+                    else:
+                        _flow(a[mode], z, 0.5 * H, zm, term, tmp)
+                _accumulate(z, zm, z1, mode, H, in_window, phase_time, work, fn_m, ft_m,
+                            ff_m, scalars, pa, pm, pb, energy)
+                for i in range(N_STATE):
+                    z[i] = z1[i]
+                break
+            # refine the crossing on the exact flow: Newton from the cubic estimate
+            tau = s_min * H
+            hv = ev_h[mode, j_min]
+            dv = ev_dh[mode, j_min]
+            if tau > 0.0:
+                for _ in range(3):
+                    _flow(a[mode], z, tau, zt, term, tmp)
+                    g = _dot(hv, zt)
+                    dg = _dot(dv, zt)
+                    if dg == 0.0:
+                        break
+                    t_new = tau - g / dg
+                    if t_new < 0.0:
+                        t_new = 0.0
+                    elif t_new > H:
+                        t_new = H
+                    if abs(t_new - tau) <= 1e-15 * dt:
+                        tau = t_new
+                        break
+                    tau = t_new
+                _flow(a[mode], z, tau, zt, term, tmp)
+                if energy and in_window:
+                    _flow(a[mode], z, 0.5 * tau, zm, term, tmp)
+                _accumulate(z, zm, zt, mode, tau, in_window, phase_time, work, fn_m, ft_m,
+                            ff_m, scalars, pa, pm, pb, energy)
+                for i in range(N_STATE):
+                    z[i] = zt[i]
+                done += tau
+            mode = _switch(mode, ev_type[mode, j_min], z, funcs, scalars)
+            n_events += 1
+            count += 1
+            if count > max_events_per_step:
+                status = ERR_CHATTER
+                fail_step = n
+                break
+            if done >= dt:
+                break
+        if status != OK:
+            break
+        t = (n + 1) * dt
+        if (n + 1) % decim == 0:
+            _record(trace, (n + 1) // decim, t, z, mode, fn_m, ft_m, funcs, phi_ll)
+        if n + 1 >= full_start:
+            _record(full, n + 1 - full_start, t, z, mode, fn_m, ft_m, funcs, phi_ll)
+        if n + 1 == win_start:
+            stats[0] = z[X]
+            stats[4] = stored_energy(z, mode, fn_m, scalars)
+        if in_window:
+            y = phi_ll * z[U]
+            if y < stats[1]:
+                stats[1] = y
+            if y > stats[2]:
+                stats[2] = y
+    stats[3] = n_events
+    stats[5] = stored_energy(z, mode, fn_m, scalars)
+    return status, fail_step, trace, full, phase_time, work, stats, z, mode

@@ -1,0 +1,301 @@
+"""The switch model of Eqs. 4-19 written as a piecewise-linear hybrid system.
+
+For a given parameter set and operating point every mode of the switch model (stick, slip in
+either direction, separation, each with the slider moving or held on its guide) is a linear
+ODE ``dz/dt = A_m z`` on the augmented state of :mod:`contact.state`, and every switching
+condition is the zero of a linear functional. This module builds those matrices and
+functionals once per run; :mod:`contact.kernels` integrates them.
+
+Conventions (see ``docs/contact.md``):
+
+* ``F_N = max(0, F_P + k (u_d - u_st))`` with ``u_d = (phi_L(l) - phi_L(0)) u_l`` and
+  ``u_st = eta_N F_P (phi_L(l) - phi_L(0)) / K_l`` (Eq. 7).
+* ``v_rel = phi_B(l) dw_b - dx`` (Eq. 8); ``F_T`` is the force of the tip on the slider
+  (Eq. 6) and its generalized force on B2 is ``gamma_T F_T`` with ``gamma_T = eta_T`` as
+  printed (``coupling="paper"``) or ``gamma_T = -phi_B(l)``, the reaction at the tip, which is
+  work-consistent (``coupling="consistent"``).
+* Guide friction ``F_f = -sign(dx) mu_sd N`` with ``N = F_N + M g`` in contact and ``M g`` when
+  separated (Eqs. 6, 19); at ``dx = 0`` the guide holds the slider while it can.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import expm
+
+from contact import state as S
+from rom.params import GRAVITY_M_S2, MotorParams
+
+COUPLINGS = ("paper", "consistent")
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """Drive and load of one simulation.
+
+    Attributes
+    ----------
+    voltage_V : float
+        Amplitude V0 of the drive voltage ``V0 sin(omega t)`` (V), >= 0.
+    preload_N : float
+        Preload F_P pressing the stator on the slider (N), >= 0.
+    frequency_Hz : float
+        Drive frequency f (Hz), > 0.
+    """
+
+    voltage_V: float
+    preload_N: float
+    frequency_Hz: float = 40e3
+
+    def __post_init__(self) -> None:
+        for name, low, strict in (
+            ("voltage_V", 0.0, False),
+            ("preload_N", 0.0, False),
+            ("frequency_Hz", 0.0, True),
+        ):
+            value = getattr(self, name)
+            if not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ValueError(f"{name} must be a finite number, got {value!r}")
+            if value < low or (strict and value == low):
+                op = ">" if strict else ">="
+                raise ValueError(f"{name} must be {op} {low:g}, got {value!r}")
+
+    @property
+    def omega(self) -> float:
+        """Drive circular frequency (rad/s)."""
+        return 2.0 * math.pi * self.frequency_Hz
+
+    @property
+    def period_s(self) -> float:
+        """Drive period (s)."""
+        return 1.0 / self.frequency_Hz
+
+
+@dataclass(frozen=True)
+class HybridSystem:
+    """Matrices and functionals of all modes for one run (built by :func:`build_system`).
+
+    Attributes
+    ----------
+    A : ndarray, shape (18, 9, 9)
+        Generator of each mode.
+    ev_h, ev_dh : ndarray, shape (18, 5, 9)
+        Event functionals (an event fires where ``ev_h . z`` becomes > 0) and their time
+        derivatives ``A^T ev_h``.
+    ev_type : ndarray of int, shape (18, 5)
+        Event type per slot (:data:`contact.state.EV_NONE` for an empty slot).
+    fn_m, ft_m, ff_m : ndarray, shape (18, 9)
+        Per mode: normal force, tangential force on the slider, guide force on the slider.
+    funcs : ndarray, shape (7, 9)
+        Mode-independent functionals (rows named ``F_*`` in :mod:`contact.state`).
+    scalars : ndarray
+        ``[mu_s, mu_d, mu_sd, phi_Ll, gamma_N, gamma_T, A_l V0, A_b V0, C_l, C_b, M_l, K_l,
+        M_b, K_b, M, k, omega]``.
+    z0 : ndarray, shape (9,)
+        Initial state: static equilibrium under the preload, slider at rest.
+    mode0 : int
+        Initial mode.
+    """
+
+    A: np.ndarray
+    ev_h: np.ndarray
+    ev_dh: np.ndarray
+    ev_type: np.ndarray
+    fn_m: np.ndarray
+    ft_m: np.ndarray
+    ff_m: np.ndarray
+    funcs: np.ndarray
+    scalars: np.ndarray
+    z0: np.ndarray
+    mode0: int
+
+    def propagators(self, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """Exact one-step and half-step propagators ``expm(A dt)``, ``expm(A dt/2)``."""
+        full = np.stack([expm(a * dt_s) for a in self.A])
+        half = np.stack([expm(a * (0.5 * dt_s)) for a in self.A])
+        return full, half
+
+
+def gamma_T(params: MotorParams, coupling: str) -> float:
+    """Generalized-force coefficient of F_T on the B2 coordinate for a coupling choice."""
+    if coupling == "paper":
+        return params.eta_T
+    if coupling == "consistent":
+        return -params.phi_Bl
+    raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
+
+
+def _unit(i: int) -> np.ndarray:
+    e = np.zeros(S.N_STATE)
+    e[i] = 1.0
+    return e
+
+
+def build_system(
+    params: MotorParams,
+    op: OperatingPoint,
+    mu_d_eff: float,
+    coupling: str = "paper",
+    stick_band_m_s: float = 1e-10,
+) -> HybridSystem:
+    """Build the hybrid system of Eqs. 4-19 for one parameter set and operating point.
+
+    Parameters
+    ----------
+    params : MotorParams
+        Reduced-order parameters.
+    op : OperatingPoint
+        Drive voltage, preload and frequency.
+    mu_d_eff : float
+        Dynamic friction coefficient used in slip (Eq. 11 already applied, or ``mu_d``).
+    coupling : {"paper", "consistent"}
+        Generalized force of F_T on B2: ``eta_T F_T`` (Eq. 5 as printed) or ``-phi_B(l) F_T``.
+    stick_band_m_s : float
+        The paper's epsilon (m/s). Stick is entered at located zeros of v_rel, so epsilon only
+        decides whether a tip touching down with ``|v_rel| <= epsilon`` is tested for stick.
+
+    Returns
+    -------
+    HybridSystem
+    """
+    p = params
+    g_T = gamma_T(p, coupling)
+    g_N = p.eta_N
+    if not (math.isfinite(stick_band_m_s) and stick_band_m_s >= 0.0):
+        raise ValueError(f"stick_band_m_s must be finite and >= 0, got {stick_band_m_s!r}")
+    if not (0.0 <= mu_d_eff <= p.mu_s):
+        raise ValueError(f"mu_d_eff must lie in [0, mu_s={p.mu_s}], got {mu_d_eff!r}")
+    e = [_unit(i) for i in range(S.N_STATE)]
+    dphi = p.phi_Ll - p.phi_L0
+    u_st = p.eta_N * op.preload_N * dphi / p.K_l
+    Mg = p.M_slider * GRAVITY_M_S2
+    phi = p.phi_Bl
+
+    fn = p.k_contact * dphi * e[S.U] + (op.preload_N - p.k_contact * u_st) * e[S.ONE]
+    ng_contact = fn + Mg * e[S.ONE]
+    ng_sep = Mg * e[S.ONE]
+    vrel = phi * e[S.DW] - e[S.DX]
+    denom = phi * g_T / p.M_b - 1.0 / p.M_slider  # < 0 for both couplings
+
+    def stick_force(gsign: float) -> np.ndarray:
+        # Eq. 10 generalized: the force keeping v_rel = 0, from phi*ddw_b = ddx.
+        ff = -gsign * p.mu_sd * ng_contact
+        b_part = (p.C_b * e[S.DW] + p.K_b * e[S.W] - p.A_b * op.voltage_V * e[S.SIN]) * (
+            phi / p.M_b
+        )
+        return (b_part + ff / p.M_slider) / denom
+
+    # tip and slider both at rest: B2 frozen, so 0 = -K_b w_b + A_b V sin + gamma_T F_T
+    hold = (p.K_b * e[S.W] - p.A_b * op.voltage_V * e[S.SIN]) / g_T
+    fs = [hold, stick_force(1.0), stick_force(-1.0)]
+    gsigns = (0.0, 1.0, -1.0)
+
+    A = np.zeros((S.N_MODES, S.N_STATE, S.N_STATE))
+    ev_h = np.zeros((S.N_MODES, S.MAX_EVENTS, S.N_STATE))
+    ev_type = np.full((S.N_MODES, S.MAX_EVENTS), S.EV_NONE, dtype=np.int64)
+    fn_m = np.zeros((S.N_MODES, S.N_STATE))
+    ft_m = np.zeros((S.N_MODES, S.N_STATE))
+    ff_m = np.zeros((S.N_MODES, S.N_STATE))
+    zero = np.zeros(S.N_STATE)
+
+    for contact in (S.SEPARATED, S.CONTACT):
+        for tip in (S.STICK, S.SLIP_POS, S.SLIP_NEG):
+            for guide in (S.HELD, S.FORWARD, S.BACKWARD):
+                m = S.mode_index(contact, tip, guide)
+                gs = gsigns[guide]
+                tip_stuck = contact == S.CONTACT and tip == S.STICK
+                held = guide == S.HELD
+                if contact == S.SEPARATED:
+                    fn_mode, ft, ng = zero, zero, ng_sep
+                elif tip == S.STICK:
+                    fn_mode, ft, ng = fn, fs[guide], ng_contact
+                else:
+                    sigma = 1.0 if tip == S.SLIP_POS else -1.0
+                    fn_mode, ft, ng = fn, sigma * mu_d_eff * fn, ng_contact
+                # a held slider is balanced by static guide friction
+                ff = -ft if held else -gs * p.mu_sd * ng
+                a = A[m]
+                a[S.U] = e[S.DU]
+                a[S.DU] = (
+                    -p.K_l * e[S.U] - p.C_l * e[S.DU] + p.A_l * op.voltage_V * e[S.SIN]
+                    + g_N * fn_mode
+                ) / p.M_l
+                if not (tip_stuck and held):
+                    a[S.W] = e[S.DW]
+                    a[S.DW] = (
+                        -p.K_b * e[S.W] - p.C_b * e[S.DW] + p.A_b * op.voltage_V * e[S.SIN]
+                        + g_T * ft
+                    ) / p.M_b
+                if not held:
+                    a[S.X] = e[S.DX]
+                    a[S.DX] = (ft + ff) / p.M_slider
+                a[S.SIN] = op.omega * e[S.COS]
+                a[S.COS] = -op.omega * e[S.SIN]
+                fn_m[m], ft_m[m], ff_m[m] = fn_mode, ft, ff
+
+                events: list[tuple[int, np.ndarray]] = []
+                if contact == S.CONTACT:
+                    events.append((S.EV_SEPARATE, -fn))
+                    if tip == S.STICK:
+                        events.append((S.EV_STICK_BREAK, fs[guide] - p.mu_s * fn))
+                        events.append((S.EV_STICK_BREAK, -fs[guide] - p.mu_s * fn))
+                    else:
+                        sigma = 1.0 if tip == S.SLIP_POS else -1.0
+                        events.append((S.EV_VREL_ZERO, -sigma * vrel))
+                else:
+                    events.append((S.EV_CONTACT, fn))
+                if held:
+                    events.append((S.EV_GUIDE_RELEASE, ft - p.mu_sd * ng))
+                    events.append((S.EV_GUIDE_RELEASE, -ft - p.mu_sd * ng))
+                else:
+                    events.append((S.EV_XDOT_ZERO, -gs * e[S.DX]))
+                for j, (etype, h) in enumerate(events):
+                    ev_type[m, j] = etype
+                    ev_h[m, j] = h
+
+    ev_dh = np.einsum("mkn,mjk->mjn", A, ev_h)  # d/dt (h . z) = h . A z = (A^T h) . z
+
+    funcs = np.zeros((S.N_FUNCS, S.N_STATE))
+    funcs[S.F_FN] = fn
+    funcs[S.F_NG_CONTACT] = ng_contact
+    funcs[S.F_VREL] = vrel
+    funcs[S.F_HOLD], funcs[S.F_FS1], funcs[S.F_FS2] = fs
+    funcs[S.F_NG_SEP] = ng_sep
+
+    scalars = np.array(  # order: the SC_* indices of contact.state
+        [
+            p.mu_s, mu_d_eff, p.mu_sd, p.phi_Ll, g_N, g_T,
+            p.A_l * op.voltage_V, p.A_b * op.voltage_V, p.C_l, p.C_b, p.M_l, p.K_l,
+            p.M_b, p.K_b, p.M_slider, p.k_contact, op.omega, g_N - p.eta_N,
+            stick_band_m_s, p.phi_Bl,
+        ]
+    )
+
+    z0 = np.zeros(S.N_STATE)
+    z0[S.U] = p.eta_N * op.preload_N / p.K_l  # static equilibrium: F_N = F_P
+    z0[S.COS] = 1.0
+    z0[S.ONE] = 1.0
+    in_contact = float(fn @ z0) > 0.0
+    mode0 = (
+        S.mode_index(S.CONTACT, S.STICK, S.HELD)
+        if in_contact
+        else S.mode_index(S.SEPARATED, S.SLIP_POS, S.HELD)
+    )
+    assert scalars.shape == (S.N_SCALARS,)
+    return HybridSystem(A, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, scalars, z0, mode0)
+
+
+def normal_force_zero_tip_displacement(params: MotorParams, preload_N: float) -> float:
+    """Critical tip normal displacement ``y_tip^c`` at which F_N reaches 0 (m), Eq. 21.
+
+    Generalizes ``-F_P/(2k) - eta_N F_P / K_l`` to any ``phi_L`` end values:
+    ``y_tip = phi_L(l) u_l`` with ``u_l`` solving ``F_P + k (u_d - u_st) = 0``.
+    """
+    p = params
+    dphi = p.phi_Ll - p.phi_L0
+    u_st = p.eta_N * preload_N * dphi / p.K_l
+    u_crit = (u_st - preload_N / p.k_contact) / dphi
+    return p.phi_Ll * u_crit

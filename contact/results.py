@@ -1,0 +1,137 @@
+"""Result types of the contact simulation: traces, steady-state metrics, energy balance."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact.state import PHASE_NAMES
+
+MOTION_CLASSES = (
+    "slip-separation",
+    "stick-slip",
+    "stick-slip-separation",
+    "pure-stick",
+    "pure-slip",
+)
+"""Motion classes: the paper's four (Section 4.3) and pure slip, which it does not show."""
+
+
+@dataclass(frozen=True)
+class Trace:
+    """Time traces of one run (all arrays share the length of ``t_s``).
+
+    Attributes
+    ----------
+    t_s : time (s); x_m : slider position (m); v_m_s : slider velocity (m/s);
+    u_l_m : L1 coordinate (m); w_b_m : B2 coordinate (m); F_N_N : normal force (N);
+    F_T_N : tangential force on the slider (N); v_rel_m_s : relative velocity (m/s);
+    y_tip_m : tip normal displacement ``phi_L(l) u_l`` (m);
+    phase : 0 stick, 1 slip with v_rel > 0, 2 slip with v_rel < 0, 3 separation.
+    """
+
+    t_s: np.ndarray
+    x_m: np.ndarray
+    v_m_s: np.ndarray
+    u_l_m: np.ndarray
+    w_b_m: np.ndarray
+    F_N_N: np.ndarray
+    F_T_N: np.ndarray
+    v_rel_m_s: np.ndarray
+    y_tip_m: np.ndarray
+    phase: np.ndarray
+
+    @classmethod
+    def from_array(cls, a: np.ndarray) -> Trace:
+        """Build from the kernel's (n, 10) array."""
+        return cls(*(np.ascontiguousarray(a[:, i]) for i in range(9)), a[:, 9].astype(np.int8))
+
+    def x_tip_m(self, phi_Bl: float) -> np.ndarray:
+        """Tangential tip displacement ``phi_B(l) w_b`` (m), abscissa of the paper's Fig. 12."""
+        return phi_Bl * self.w_b_m
+
+
+@dataclass(frozen=True)
+class SteadyState:
+    """Metrics over the steady-state window (the last periods of a run).
+
+    Attributes
+    ----------
+    velocity_m_s : float
+        Mean slider velocity over the window (m/s).
+    stick_fraction, slip_fraction, separation_fraction : float
+        Fractions of the window spent in each interface state (-); they sum to 1.
+    driving_slip_fraction, braking_slip_fraction : float
+        Slip split by whether v_rel has the sign of the mean slider velocity (driving) or not.
+    motion : str
+        One of :data:`MOTION_CLASSES`.
+    y_tip_min_m, y_tip_max_m : float
+        Extremes of the tip normal displacement in the window (m).
+    window_s : float
+        Length of the window (s).
+    previous_velocity_m_s : float
+        Mean velocity over the window before (m/s), from the decimated trace.
+    settled : bool
+        Whether the two windows agree within 1 % (+ 1e-4 m/s).
+    """
+
+    velocity_m_s: float
+    stick_fraction: float
+    slip_fraction: float
+    separation_fraction: float
+    driving_slip_fraction: float
+    braking_slip_fraction: float
+    motion: str
+    y_tip_min_m: float
+    y_tip_max_m: float
+    window_s: float
+    previous_velocity_m_s: float
+    settled: bool
+
+
+@dataclass(frozen=True)
+class EnergyBalance:
+    """Work integrals over the steady-state window (J), for the equations as implemented.
+
+    ``residual = dE - (input - damping + tangential_on_stator + tangential_on_slider + guide)``
+    with E the kinetic, modal-strain and contact-spring energy; the normal force's work on the
+    stator is exchanged with the contact spring and drops out. ``non_conservative`` is the
+    part of the tangential work that the paper's coupling ``eta_T F_T`` adds beyond the
+    reaction ``-phi_B(l) F_T`` at the tip (zero for the consistent coupling).
+    """
+
+    input_J: float
+    damping_J: float
+    normal_on_stator_J: float
+    tangential_on_stator_J: float
+    tangential_on_slider_J: float
+    guide_J: float
+    interface_dissipation_J: float
+    non_conservative_J: float
+    delta_energy_J: float
+    residual_J: float
+
+    @property
+    def relative_residual(self) -> float:
+        """``|residual| / input`` (-), NaN without input work."""
+        return abs(self.residual_J) / self.input_J if self.input_J > 0 else float("nan")
+
+
+def classify_motion(stick: float, slip: float, separation: float, threshold: float) -> str:
+    """Motion class from the phase fractions; a phase counts when its fraction > threshold."""
+    has_stick, has_slip, has_sep = stick > threshold, slip > threshold, separation > threshold
+    if has_stick and not has_slip and not has_sep:
+        return "pure-stick"
+    if has_stick and has_sep:
+        return "stick-slip-separation"
+    if has_stick:
+        return "stick-slip"
+    if has_sep:
+        return "slip-separation"
+    return "pure-slip"
+
+
+def phase_names() -> tuple[str, ...]:
+    """Names of the phase codes in :class:`Trace.phase`."""
+    return PHASE_NAMES
