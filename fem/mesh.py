@@ -1,0 +1,282 @@
+"""Structured quadrilateral meshes of the stator plate with tagged electrode subdomains.
+
+The mesh is a tensor-product grid of rectangles whose lines follow the electrode edges, so
+each element lies entirely under one electrode (tag 1..4) or in an unelectroded gap strip
+(tag 0). The geometry is always bilinear (rectangles are represented exactly); the element
+order (1: ``ElementQuad1``, 2: ``ElementQuad2``) is chosen when the model is assembled.
+
+File I/O goes through meshio. In a gmsh ``.msh`` file (written as MSH 4.1 ASCII; MSH 2.2 via
+``file_format='gmsh22'`` is also read) the electrodes are physical groups named
+``electrode_1`` .. ``electrode_4`` with physical tags 1..4 and the gap is the physical group
+``gap`` with tag :data:`GAP_PHYSICAL_TAG`; other formats carry an integer cell-data array
+``electrode`` (0 = gap).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from fem.geometry import ELECTRODES, PlateStator
+
+GAP_PHYSICAL_TAG = 10
+"""gmsh physical tag of the unelectroded gap strips."""
+
+_GAP_NAME = "gap"
+
+
+def _electrode_name(k: int) -> str:
+    return f"electrode_{k}"
+
+
+@dataclass(frozen=True, eq=False)
+class PlateMesh:
+    """A quadrilateral mesh of the plate and the electrode tag of every element.
+
+    Attributes
+    ----------
+    points_m : numpy.ndarray
+        Node coordinates, shape (2, n_nodes) (m): row 0 is x (width), row 1 is y (length).
+    quads : numpy.ndarray
+        Element connectivity, shape (4, n_elements), counter-clockwise.
+    electrode : numpy.ndarray
+        Electrode number (1..4) of each element, 0 for the unelectroded gap.
+    """
+
+    points_m: np.ndarray
+    quads: np.ndarray
+    electrode: np.ndarray
+
+    def __post_init__(self) -> None:
+        p = np.array(self.points_m, dtype=float)
+        t = np.array(self.quads, dtype=np.int64)
+        tags = np.array(self.electrode, dtype=np.int64)
+        if p.ndim != 2 or p.shape[0] != 2:
+            raise ValueError(f"PlateMesh.points_m must have shape (2, n), got {p.shape}")
+        if t.ndim != 2 or t.shape[0] != 4:
+            raise ValueError(f"PlateMesh.quads must have shape (4, n), got {t.shape}")
+        if tags.shape != (t.shape[1],):
+            raise ValueError("PlateMesh.electrode must hold one tag per element")
+        if np.any((tags < 0) | (tags > 4)):
+            raise ValueError("PlateMesh.electrode tags must lie in 0..4 (0 = gap)")
+        if not np.any(tags > 0):
+            raise ValueError("PlateMesh has no electroded element (all tags are 0)")
+        for a in (p, t, tags):
+            a.setflags(write=False)
+        object.__setattr__(self, "points_m", p)
+        object.__setattr__(self, "quads", t)
+        object.__setattr__(self, "electrode", tags)
+
+    @property
+    def n_elements(self) -> int:
+        """Number of quadrilaterals."""
+        return int(self.quads.shape[1])
+
+    def elements_of(self, electrode: int) -> np.ndarray:
+        """Indices of the elements under ``electrode`` (1..4; 0 for the gap)."""
+        return np.flatnonzero(self.electrode == electrode)
+
+    def bounding_box_m(self) -> tuple[float, float, float, float]:
+        """``(x_min, x_max, y_min, y_max)`` (m)."""
+        p = self.points_m
+        return (float(p[0].min()), float(p[0].max()), float(p[1].min()), float(p[1].max()))
+
+    def to_skfem(self):  # -> skfem.MeshQuad1
+        """The scikit-fem mesh (imported lazily) with subdomains ``electrode_k`` and ``gap``."""
+        from skfem import MeshQuad1
+
+        subdomains = {_electrode_name(k): self.elements_of(k) for k in ELECTRODES}
+        subdomains[_GAP_NAME] = self.elements_of(0)
+        subdomains = {k: v.astype(np.int32) for k, v in subdomains.items() if v.size}
+        return MeshQuad1(
+            np.ascontiguousarray(self.points_m),
+            np.ascontiguousarray(self.quads),
+            _subdomains=subdomains,
+        )
+
+
+def _segments(breaks: list[float], h_target: float) -> np.ndarray:
+    nodes = [breaks[0]]
+    for a, b in zip(breaks[:-1], breaks[1:], strict=True):
+        if b - a <= 0.0:
+            continue
+        n = max(1, math.ceil((b - a) / h_target - 1e-9))
+        nodes.extend(np.linspace(a, b, n + 1)[1:].tolist())
+    return np.array(nodes)
+
+
+def grid_lines_m(stator: PlateStator, refine: int) -> tuple[np.ndarray, np.ndarray]:
+    """x and y grid lines (m) of the structured mesh.
+
+    The target element size is ``min(W, l) / refine``; every segment between electrode edges
+    (including a gap strip) gets ``ceil(length / size)`` equal elements, at least one.
+    """
+    if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
+        raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
+    w, length, g = stator.width_m, stator.length_m, stator.electrode_gap_m
+    h = min(w, length) / int(refine)
+    xb = [-w / 2, -g / 2, g / 2, w / 2] if g > 0 else [-w / 2, 0.0, w / 2]
+    yb = [0.0, length / 2 - g / 2, length / 2 + g / 2, length] if g > 0 else [
+        0.0, length / 2, length
+    ]
+    return _segments(xb, h), _segments(yb, h)
+
+
+def structured_mesh(stator: PlateStator, refine: int = 4) -> PlateMesh:
+    """Structured rectangle mesh of ``stator`` with electrode-tagged elements.
+
+    Parameters
+    ----------
+    stator : PlateStator
+        Plate geometry and electrode gap.
+    refine : int
+        Elements per smaller plate dimension: the target element size is ``min(W, l)/refine``.
+
+    Returns
+    -------
+    PlateMesh
+    """
+    x, y = grid_lines_m(stator, refine)
+    nx, ny = len(x), len(y)
+    ix = np.arange(nx * ny).reshape(ny, nx)  # node (j, i) at (x[i], y[j])
+    a = ix[:-1, :-1].ravel()
+    b = ix[:-1, 1:].ravel()
+    c = ix[1:, 1:].ravel()
+    d = ix[1:, :-1].ravel()
+    quads = np.vstack((a, b, c, d))
+    X, Y = np.meshgrid(x, y)
+    points = np.vstack((X.ravel(), Y.ravel()))
+    xc = 0.25 * points[0, quads].sum(axis=0)
+    yc = 0.25 * points[1, quads].sum(axis=0)
+    return PlateMesh(points_m=points, quads=quads, electrode=stator.electrode_of(xc, yc))
+
+
+def write_mesh(mesh: PlateMesh, path: str | Path, file_format: str | None = None) -> Path:
+    """Write ``mesh`` with meshio; ``.msh`` files get gmsh physical groups for the electrodes.
+
+    Parameters
+    ----------
+    mesh : PlateMesh
+    path : str or Path
+        Output file; the format follows the suffix unless ``file_format`` is given.
+    file_format : str, optional
+        A meshio format name (e.g. ``'gmsh'`` for MSH 4.1, ``'gmsh22'``, ``'vtu'``).
+
+    Returns
+    -------
+    Path
+        The path written.
+    """
+    import meshio
+
+    path = Path(path)
+    pts = np.vstack((mesh.points_m, np.zeros(mesh.points_m.shape[1]))).T
+    cells = [("quad", mesh.quads.T.astype(np.int64))]
+    is_gmsh = (file_format or "").startswith("gmsh") or (
+        file_format is None and path.suffix == ".msh"
+    )
+    if is_gmsh:
+        # one cell block (= one gmsh entity) per physical group; MSH 4.1 links physical tags
+        # to entities, so every node is classified on one of these surfaces (gmsh:dim_tags)
+        phys = np.where(mesh.electrode > 0, mesh.electrode, GAP_PHYSICAL_TAG).astype(np.int32)
+        groups = [int(k) for k in np.unique(phys)]
+        cells = [("quad", mesh.quads[:, phys == k].T.astype(np.int64)) for k in groups]
+        tags = [np.full(int(np.sum(phys == k)), k, dtype=np.int32) for k in groups]
+        node_entity = np.zeros(pts.shape[0], dtype=np.int64)
+        for k in groups:  # the largest tag touching a node wins (so the gap owns nodes)
+            nodes = mesh.quads[:, phys == k].ravel()
+            node_entity[nodes] = np.maximum(node_entity[nodes], k)
+        dim_tags = np.column_stack((np.full(pts.shape[0], 2), node_entity))
+        field_data = {_electrode_name(k): np.array([k, 2]) for k in ELECTRODES}
+        field_data[_GAP_NAME] = np.array([GAP_PHYSICAL_TAG, 2])
+        m = meshio.Mesh(
+            pts,
+            cells,
+            point_data={"gmsh:dim_tags": dim_tags},
+            cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+            field_data=field_data,
+        )
+        meshio.write(path, m, file_format=file_format or "gmsh", binary=False)
+    else:
+        m = meshio.Mesh(pts, cells, cell_data={"electrode": [mesh.electrode.astype(np.int32)]})
+        meshio.write(path, m, file_format=file_format)
+    return path
+
+
+def _tags_from_meshio(m, n_quads: int, path: Path) -> np.ndarray:
+    """Electrode tag per quad from cell_sets, gmsh physical groups or an ``electrode`` array."""
+    quad_block = [i for i, blk in enumerate(m.cells) if blk.type == "quad"]
+    # 1. cell_sets named electrode_k (meshio fills them from gmsh physical names)
+    sets = getattr(m, "cell_sets", None) or {}
+    tags = np.zeros(n_quads, dtype=np.int64)
+    found = False
+    for k in ELECTRODES:
+        entry = sets.get(_electrode_name(k))
+        if entry is None:
+            continue
+        offset = 0
+        for i, blk in enumerate(m.cells):
+            if blk.type != "quad":
+                continue
+            idx = entry[i] if i < len(entry) and entry[i] is not None else []
+            idx = np.asarray(idx, dtype=np.int64)
+            if idx.size:
+                tags[offset + idx] = k
+                found = True
+            offset += len(blk.data)
+    if found:
+        return tags
+    # 2. gmsh:physical tags with names in field_data, or a plain 'electrode' array
+    for key in ("gmsh:physical", "electrode"):
+        if key not in m.cell_data:
+            continue
+        data = np.concatenate([np.asarray(m.cell_data[key][i]) for i in quad_block])
+        if key == "gmsh:physical":
+            names = {int(v[0]): name for name, v in m.field_data.items()}
+            if not any(name.startswith("electrode_") for name in names.values()):
+                continue
+            out = np.zeros(n_quads, dtype=np.int64)
+            for tag, name in names.items():
+                if name.startswith("electrode_"):
+                    out[data == tag] = int(name.split("_", 1)[1])
+            return out
+        return data.astype(np.int64)
+    raise ValueError(
+        f"mesh file {path} has no electrode tags: expected gmsh physical groups named "
+        f"electrode_1..electrode_4 or an integer cell-data array 'electrode'"
+    )
+
+
+def read_mesh(path: str | Path) -> PlateMesh:
+    """Read a quadrilateral plate mesh with electrode tags through meshio.
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist.
+    ValueError
+        If the file cannot be parsed, holds no quadrilaterals, or has no electrode tags.
+    """
+    import meshio
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"mesh file not found: {path}")
+    try:
+        m = meshio.read(path)
+    except Exception as exc:  # meshio raises many types (ReadError, KeyError, ...)
+        raise ValueError(f"could not read mesh file {path}: {exc}") from exc
+    quads = [blk.data for blk in m.cells if blk.type == "quad"]
+    if not quads:
+        raise ValueError(f"mesh file {path} holds no 'quad' cells (found "
+                         f"{sorted({blk.type for blk in m.cells})})")
+    t = np.concatenate(quads).T
+    tags = _tags_from_meshio(m, t.shape[1], path)
+    used = np.unique(t)
+    remap = -np.ones(m.points.shape[0], dtype=np.int64)
+    remap[used] = np.arange(used.size)
+    points = np.asarray(m.points)[used, :2].T
+    return PlateMesh(points_m=points, quads=remap[t], electrode=tags)

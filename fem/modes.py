@@ -1,0 +1,373 @@
+"""Natural modes of the plate: shift-invert eigensolution and identification of L1 and B2.
+
+L1 and B2 are found by their shape, never by their index in the spectrum:
+
+* symmetry about the length axis ``x = 0``: L1 is mirror-symmetric (``u_y`` even and ``u_x``
+  odd in x), B2 is mirror-antisymmetric (``u_x`` even, ``u_y`` odd);
+* correlation (MAC on a uniform sampling grid) with the reference shapes of Eq. 3:
+  ``u = (0, cos(pi y / l))`` for L1 and ``u = (phi_B(y), -x phi_B'(y))`` for B2;
+* B2 must have three nodes: its centre-line transverse displacement changes sign 3 times.
+
+Frequencies are reported for short circuit (all electrodes grounded) and open circuit
+(every electrode floating with zero charge); ``k_eff^2 = (f_open^2 - f_short^2) / f_open^2``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from fem.geometry import ELECTRODES, PlateStator
+from fem.material import PiezoMaterial, get_material, plane_stress
+from fem.model import PiezoPlateModel, plate_model
+
+N_SAMPLE_X = 9
+"""Sampling points across the width used for symmetry and correlation (odd: includes x=0)."""
+N_SAMPLE_Y = 61
+"""Sampling points along the length used for symmetry and correlation."""
+MIN_MAC = 0.5
+"""Smallest correlation with the reference shape accepted for an identified mode."""
+MIN_SYMMETRY = 0.9
+"""Smallest fraction of a mode's sampled energy in the expected symmetry class."""
+
+
+class ModeSolverError(RuntimeError):
+    """The eigensolver did not converge or L1/B2 could not be identified."""
+
+
+@dataclass(frozen=True, eq=False)
+class IdentifiedMode:
+    """One identified mode (L1 or B2).
+
+    Attributes
+    ----------
+    name : str
+        ``'L1'`` or ``'B2'``.
+    f_short_Hz, f_open_Hz : float
+        Short- and open-circuit natural frequencies (Hz).
+    k_eff : float
+        Effective electromechanical coupling factor (-).
+    shape : numpy.ndarray
+        Short-circuit mode shape (n_dofs,), mass-normalized (``shape^T M shape = 1`` kg).
+    mac : float
+        Correlation with the reference shape (-), in [0, 1].
+    symmetry : float
+        Fraction of the sampled energy in the expected symmetry class (-).
+    """
+
+    name: str
+    f_short_Hz: float
+    f_open_Hz: float
+    k_eff: float
+    shape: np.ndarray
+    mac: float
+    symmetry: float
+
+    def to_dict(self) -> dict[str, float]:
+        """Frequencies and coupling as a JSON-ready dictionary."""
+        return {"f_short_Hz": self.f_short_Hz, "f_open_Hz": self.f_open_Hz, "k_eff": self.k_eff}
+
+
+@dataclass(frozen=True, eq=False)
+class PlateModes:
+    """L1 and B2 of a plate, with the spectrum around them.
+
+    Attributes
+    ----------
+    L1, B2 : IdentifiedMode
+    frequencies_short_Hz, frequencies_open_Hz : numpy.ndarray
+        All computed frequencies near the shift, ascending (Hz).
+    dofs : int
+        Number of displacement degrees of freedom.
+    wall_time_s : float
+        Assembly plus both eigensolutions (s).
+    solve_time_s : float
+        Short-circuit eigensolution alone (s).
+    order, refine : int
+        Element order and mesh refinement.
+    """
+
+    L1: IdentifiedMode
+    B2: IdentifiedMode
+    frequencies_short_Hz: np.ndarray
+    frequencies_open_Hz: np.ndarray
+    dofs: int
+    wall_time_s: float
+    solve_time_s: float
+    order: int
+    refine: int
+
+
+def rod_frequency_estimate_Hz(stator: PlateStator, material: PiezoMaterial | str) -> float:
+    """Slender-rod L1 estimate ``c / (2 l)`` with the plane-stress modulus along y (Hz)."""
+    mat = get_material(material)
+    young = plane_stress(mat).young_modulus_Pa(1)
+    return math.sqrt(young / mat.rho_kg_m3) / (2.0 * stator.length_m)
+
+
+def _shift_invert(
+    K: sp.csr_matrix,
+    M: sp.csr_matrix,
+    sigma: float,
+    n_modes: int,
+    update: tuple[np.ndarray, np.ndarray] | None = None,
+    maxiter: int | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenpairs of ``(K + U D U^T) x = lambda M x`` nearest ``sigma`` (rad^2/s^2).
+
+    The low-rank open-circuit update is applied through the Woodbury identity on the sparse
+    LU factors of ``K - sigma M``, so ``K_open`` is never formed.
+    """
+    A = (K - sigma * M).tocsc()
+    try:
+        lu = sla.splu(A)
+    except RuntimeError as exc:  # exactly singular: sigma hit an eigenvalue
+        raise ModeSolverError(f"K - sigma M is singular at sigma={sigma:.6g}: {exc}") from exc
+    n = K.shape[0]
+    if update is None:
+        op = sla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
+        a_op = K
+    else:
+        U, D = update
+        AinvU = lu.solve(np.asarray(U, dtype=float))
+        cap = np.diag(1.0 / D) + U.T @ AinvU
+        cap_inv = np.linalg.inv(cap)
+
+        def solve(x: np.ndarray) -> np.ndarray:
+            y = lu.solve(np.asarray(x, dtype=float).ravel())
+            return y - AinvU @ (cap_inv @ (U.T @ y))
+
+        op = sla.LinearOperator((n, n), matvec=solve, dtype=float)
+        a_op = sla.LinearOperator(
+            (n, n), matvec=lambda x: K @ x + U @ (D * (U.T @ x)), dtype=float
+        )
+    k = min(n_modes, n - 2)
+    try:
+        w, v = sla.eigsh(a_op, k=k, M=M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter)
+    except sla.ArpackNoConvergence as exc:
+        raise ModeSolverError(
+            f"eigsh (shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
+            f"{len(exc.eigenvalues)} of {k} eigenpairs converged; try another f_center_Hz or "
+            f"a larger maxiter"
+        ) from exc
+    order = np.argsort(w)
+    return w[order], v[:, order]
+
+
+def natural_frequencies_Hz(
+    model: PiezoPlateModel,
+    n_modes: int = 8,
+    f_center_Hz: float = 0.0,
+    open_circuit: bool = False,
+    maxiter: int | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``n_modes`` natural frequencies (Hz) nearest ``f_center_Hz`` and their shapes.
+
+    ``f_center_Hz = 0`` uses a small negative shift so that the three rigid-body modes of the
+    free plate (at 0 Hz) are found although ``K`` is singular. Negative eigenvalues from
+    round-off are returned as negative frequencies ``-sqrt(|lambda|)/(2 pi)``.
+    """
+    if f_center_Hz > 0.0:
+        sigma = (2.0 * math.pi * f_center_Hz) ** 2
+    else:
+        sigma = -((2.0 * math.pi * 100.0) ** 2)
+    update = model.open_circuit_update(ELECTRODES) if open_circuit else None
+    w, v = _shift_invert(model.K, model.M, sigma, n_modes, update, maxiter)
+    return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
+
+
+def _sampling(model: PiezoPlateModel) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix]:
+    st = model.stator
+    inset = 1e-9
+    xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
+    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
+    X, Y = np.meshgrid(xs, ys)  # (ny, nx)
+    P = model.probe(np.vstack((X.ravel(), Y.ravel())))
+    return X, Y, P
+
+
+def _references(X: np.ndarray, Y: np.ndarray, length_m: float) -> dict[str, np.ndarray]:
+    from rom.mode_shapes import phi_B
+
+    zeros = np.zeros_like(X)
+    ref_l = np.stack((zeros, np.cos(np.pi * Y / length_m)))
+    ref_b = np.stack((phi_B(Y, length_m), -X * phi_B(Y, length_m, derivative=1)))
+    return {"L1": ref_l, "B2": ref_b}
+
+
+def _mac(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.sum(a * b) ** 2 / (np.sum(a * a) * np.sum(b * b)))
+
+
+def _symmetric_fraction(u: np.ndarray) -> float:
+    """Energy fraction of the sampled field ``u`` (2, ny, nx) that is mirror-symmetric in x."""
+    ux, uy = u
+    sym = np.stack(((ux - ux[:, ::-1]) / 2, (uy + uy[:, ::-1]) / 2))
+    total = float(np.sum(u * u))
+    return float(np.sum(sym * sym)) / total if total > 0 else 0.0
+
+
+def _sign_changes(values: np.ndarray, rel_tol: float = 1e-3) -> int:
+    v = values[np.abs(values) > rel_tol * np.max(np.abs(values))]
+    return int(np.sum(np.diff(np.sign(v)) != 0))
+
+
+def _identify(
+    model: PiezoPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray
+) -> dict[str, tuple[int, float, float]]:
+    """Index, MAC and symmetry fraction of L1 and B2 among the computed modes."""
+    X, Y, P = _sampling(model)
+    refs = _references(X, Y, model.stator.length_m)
+    sampled = (P @ shapes).reshape(2, *X.shape, -1)
+    centre = X.shape[1] // 2
+    f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
+    out: dict[str, tuple[int, float, float]] = {}
+    for name in ("L1", "B2"):
+        best: tuple[int, float, float] | None = None
+        for i in range(shapes.shape[1]):
+            if abs(freqs_Hz[i]) < f_floor:  # rigid-body mode
+                continue
+            u = sampled[..., i]
+            sym = _symmetric_fraction(u)
+            klass = sym if name == "L1" else 1.0 - sym
+            if klass < MIN_SYMMETRY:
+                continue
+            if name == "B2" and _sign_changes(u[0][:, centre]) != 3:
+                continue
+            mac = _mac(u, refs[name])
+            if mac >= MIN_MAC and (best is None or mac > best[1]):
+                best = (i, mac, klass)
+        if best is None:
+            raise ModeSolverError(
+                f"could not identify {name} among the {shapes.shape[1]} modes computed at "
+                f"{np.round(freqs_Hz, 1).tolist()} Hz (no mode with the {name} symmetry and a "
+                f"correlation >= {MIN_MAC} with the Eq. 3 shape)"
+            )
+        out[name] = best
+    return out
+
+
+def _solve_identified(
+    model: PiezoPlateModel,
+    f_center_Hz: float,
+    n_modes: int,
+    open_circuit: bool,
+    maxiter: int | None,
+) -> tuple[np.ndarray, np.ndarray, dict[str, tuple[int, float, float]]]:
+    last: ModeSolverError | None = None
+    for k in (n_modes, 2 * n_modes, 4 * n_modes):
+        f, v = natural_frequencies_Hz(model, k, f_center_Hz, open_circuit, maxiter)
+        try:
+            return f, v, _identify(model, f, v)
+        except ModeSolverError as exc:
+            last = exc
+            if k >= model.n_dofs - 2:
+                break
+    assert last is not None
+    raise last
+
+
+def modes_of_model(
+    model: PiezoPlateModel,
+    f_center_Hz: float | None = None,
+    n_modes: int = 8,
+    maxiter: int | None = None,
+    refine: int = 0,
+) -> PlateModes:
+    """Short- and open-circuit L1 and B2 of an assembled model.
+
+    Parameters
+    ----------
+    model : PiezoPlateModel
+    f_center_Hz : float, optional
+        Centre of the shift-invert search (Hz); default: the slender-rod L1 estimate
+        :func:`rod_frequency_estimate_Hz`.
+    n_modes : int
+        Modes computed near the shift (doubled up to twice if L1/B2 are not among them).
+    maxiter : int, optional
+        ARPACK iteration limit.
+    refine : int
+        Recorded in the result only.
+
+    Raises
+    ------
+    ModeSolverError
+        If eigsh does not converge or L1/B2 cannot be identified.
+    """
+    t0 = time.perf_counter()
+    fc = rod_frequency_estimate_Hz(model.stator, model.material) if f_center_Hz is None else (
+        f_center_Hz
+    )
+    fs, vs, ids = _solve_identified(model, fc, n_modes, False, maxiter)
+    t_short = time.perf_counter() - t0
+    fo, vo, ido = _solve_identified(model, fc, n_modes, True, maxiter)
+    modes = {}
+    for name in ("L1", "B2"):
+        i, mac, sym = ids[name]
+        f_short = float(fs[i])
+        f_open = float(fo[ido[name][0]])
+        k2 = (f_open**2 - f_short**2) / f_open**2
+        shape = vs[:, i] / math.sqrt(float(vs[:, i] @ (model.M @ vs[:, i])))
+        shape.setflags(write=False)
+        modes[name] = IdentifiedMode(
+            name=name,
+            f_short_Hz=f_short,
+            f_open_Hz=f_open,
+            k_eff=math.sqrt(max(k2, 0.0)),
+            shape=shape,
+            mac=mac,
+            symmetry=sym,
+        )
+    wall = time.perf_counter() - t0 + model.assembly_time_s
+    return PlateModes(
+        L1=modes["L1"],
+        B2=modes["B2"],
+        frequencies_short_Hz=fs,
+        frequencies_open_Hz=fo,
+        dofs=model.n_dofs,
+        wall_time_s=wall,
+        solve_time_s=t_short,
+        order=model.order,
+        refine=refine,
+    )
+
+
+DEFAULT_REFINE = 4
+"""Default mesh refinement (elements per plate width) of :func:`plate_modes`."""
+
+
+@lru_cache(maxsize=32)
+def _cached_modes(
+    stator: PlateStator, material: PiezoMaterial, order: int, refine: int
+) -> PlateModes:
+    model = plate_model(stator, material, order, refine)
+    return modes_of_model(model, refine=refine)
+
+
+def plate_modes(
+    stator: PlateStator | None = None,
+    material: PiezoMaterial | str = "pzt8",
+    order: int = 2,
+    refine: int = DEFAULT_REFINE,
+) -> PlateModes:
+    """L1 and B2 (short/open circuit, k_eff) of a plate on a structured mesh (cached).
+
+    Parameters
+    ----------
+    stator : PlateStator, optional
+        Default: the paper's 30 x 7.5 x 3 mm plate.
+    material : PiezoMaterial or str
+        ``'pzt8'`` or ``'paper'`` or a material.
+    order : int
+        Element order, 1 or 2.
+    refine : int
+        Elements per smaller plate dimension.
+    """
+    stator = PlateStator() if stator is None else stator
+    return _cached_modes(stator, get_material(material), int(order), int(refine))

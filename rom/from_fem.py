@@ -1,0 +1,132 @@
+"""Reduced-order parameters from the FE stator model (modal reduction onto L1 and B2).
+
+The ``fem`` package (scikit-fem) is imported inside :func:`fem_params` only, so importing
+:mod:`rom` never pulls in scikit-fem.
+
+Normalization (so that the FE modal coordinates mean what ``u_l`` and ``w_b`` mean in Eq. 2):
+
+* L1: the FE shape is scaled so that its axial displacement ``u_y`` at the preload point
+  (centre of the end ``y = 0``) equals Eq. 3's ``phi_L(0) = 1``;
+* B2: the FE shape is scaled so that its transverse displacement ``u_x`` at the contact tip
+  (centre of the end ``y = l``) equals Eq. 3's ``phi_B(l) = 2 |alpha2|`` (about 1.998).
+
+Then, with ``Phi`` the scaled short-circuit shape of each mode::
+
+    M = Phi^T M_FE Phi                  (kg)
+    K = omega_short^2 M                 (N/m)
+    A = Phi^T sum_{driven e} G_e        (N/V; driven electrodes at +V, the others grounded)
+    C = 2 zeta sqrt(K M)                (N s/m)
+
+and ``phi_L0, phi_Ll`` (``u_y``) and ``phi_B0, phi_Bl`` (``u_x``) are the FE values of the
+scaled shapes at the preload point and at the tip.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from rom.mode_shapes import phi_B, phi_L
+from rom.params import MotorParams
+from rom.table2 import table2
+
+
+def fem_params(
+    stator=None,
+    material="pzt8",
+    order: int = 2,
+    refine: int | None = None,
+    base: MotorParams | None = None,
+    damping_ratios: tuple[float, float] | None = None,
+) -> MotorParams:
+    """Modal reduction of the FE plate into a :class:`MotorParams`.
+
+    Parameters
+    ----------
+    stator : fem.geometry.PlateStator, optional
+        Plate geometry and drive electrodes; default: the paper's plate driven through 1 and 4.
+    material : str or fem.material.PiezoMaterial
+        ``'pzt8'`` (default) or ``'paper'``, or a material.
+    order : int
+        FE element order, 1 or 2.
+    refine : int, optional
+        Mesh refinement; default :data:`fem.modes.DEFAULT_REFINE`.
+    base : MotorParams, optional
+        Source of the contact, slider and friction constants (``k_contact``, ``M_slider``,
+        ``mu_s``, ``mu_d``, ``mu_sd``, ``a_mu``, ``b_mu``) and of the default damping ratios;
+        default :func:`rom.table2.table2`.
+    damping_ratios : (float, float), optional
+        Modal damping ratios ``(zeta_L1, zeta_B2)``; default ``(base.zeta_L1, base.zeta_B2)``.
+
+    Returns
+    -------
+    MotorParams
+    """
+    from fem.geometry import PlateStator
+    from fem.material import get_material
+    from fem.model import plate_model
+    from fem.modes import DEFAULT_REFINE, plate_modes
+
+    stator = PlateStator() if stator is None else stator
+    refine = DEFAULT_REFINE if refine is None else refine
+    base = table2() if base is None else base
+    if damping_ratios is None:
+        zeta_l, zeta_b = base.zeta_L1, base.zeta_B2
+    else:
+        zeta_l, zeta_b = (float(z) for z in damping_ratios)
+        for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
+            if not (math.isfinite(z) and z > 0.0):
+                raise ValueError(f"damping_ratios {name} must be a finite number > 0, got {z!r}")
+    mat = get_material(material)
+    modes = plate_modes(stator, mat, order, refine)
+    model = plate_model(stator, mat, order, refine)
+
+    length = stator.length_m
+    points = np.array([stator.preload_point_m, stator.tip_point_m]).T  # (2, 2)
+    P = model.probe(points)  # rows: ux(preload), ux(tip), uy(preload), uy(tip)
+    drive = model.coupling(stator.drive_electrodes)
+
+    def reduce(shape: np.ndarray, row: int, target: float, f_hz: float):
+        vals = P @ shape
+        if abs(vals[row]) < 1e-12 * np.max(np.abs(vals)) or vals[row] == 0.0:
+            raise ValueError("FE mode shape vanishes at the normalization point")
+        phi = shape * (target / vals[row])
+        vals = P @ phi
+        mass = float(phi @ (model.M @ phi))
+        stiff = (2.0 * math.pi * f_hz) ** 2 * mass
+        force = float(phi @ drive)
+        return mass, stiff, force, vals
+
+    m_l, k_l, a_l, v_l = reduce(modes.L1.shape, 2, float(phi_L(0.0, length)), modes.L1.f_short_Hz)
+    m_b, k_b, a_b, v_b = reduce(
+        modes.B2.shape, 1, float(phi_B(length, length)), modes.B2.f_short_Hz
+    )
+    return MotorParams(
+        M_l=m_l,
+        C_l=2.0 * zeta_l * math.sqrt(k_l * m_l),
+        K_l=k_l,
+        A_l=a_l,
+        phi_L0=float(v_l[2]),
+        phi_Ll=float(v_l[3]),
+        M_b=m_b,
+        C_b=2.0 * zeta_b * math.sqrt(k_b * m_b),
+        K_b=k_b,
+        A_b=a_b,
+        phi_B0=float(v_b[0]),
+        phi_Bl=float(v_b[1]),
+        k_contact=base.k_contact,
+        M_slider=base.M_slider,
+        mu_s=base.mu_s,
+        mu_d=base.mu_d,
+        mu_sd=base.mu_sd,
+        a_mu=base.a_mu,
+        b_mu=base.b_mu,
+        source=(
+            f"FE modal reduction (scikit-fem, plane stress, order {order}, refine {refine}, "
+            f"{modes.dofs} dofs) of a {stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} x "
+            f"{stator.thickness_m * 1e3:g} mm plate, material {mat.name}, drive electrodes "
+            f"{stator.drive_electrodes}; damping ratios ({zeta_l:.4g}, {zeta_b:.4g}); contact "
+            f"and friction constants from: {base.source}"
+        ),
+    )

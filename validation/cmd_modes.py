@@ -1,0 +1,71 @@
+"""``lusm modes``: L1/B2 short- and open-circuit frequencies and k_eff of the FE plate.
+
+Parse, call :func:`fem.modes.plate_modes`, print. No physics here; ``fem`` is imported when
+the command runs so that building the ``lusm`` parser never imports scikit-fem.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+
+def register(subparsers) -> None:
+    """Add the ``modes`` sub-command to the ``lusm`` parser."""
+    p = subparsers.add_parser(
+        "modes",
+        help="FE natural frequencies (short/open circuit) and k_eff of L1 and B2",
+        description="Plane-stress piezoelectric FE model of the stator plate: L1 and B2 "
+        "frequencies with all electrodes grounded (short) and floating (open), and k_eff.",
+    )
+    p.add_argument("--length-mm", type=float, default=30.0, help="plate length l (mm)")
+    p.add_argument("--width-mm", type=float, default=7.5, help="plate width b_s (mm)")
+    p.add_argument("--thickness-mm", type=float, default=3.0, help="plate thickness h_s (mm)")
+    p.add_argument("--gap-mm", type=float, default=0.5, help="electrode gap (mm)")
+    p.add_argument("--material", choices=("pzt8", "paper"), default="pzt8")
+    p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
+    p.add_argument("--refine", type=int, default=None, help="elements per plate width")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run ``lusm modes`` with parsed ``args``."""
+    from fem.geometry import PlateStator
+    from fem.material import get_material, plane_stress
+    from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
+
+    stator = PlateStator(
+        length_m=args.length_mm * 1e-3,
+        width_m=args.width_mm * 1e-3,
+        thickness_m=args.thickness_mm * 1e-3,
+        electrode_gap_m=args.gap_mm * 1e-3,
+    )
+    refine = DEFAULT_REFINE if args.refine is None else args.refine
+    material = get_material(args.material)
+    try:
+        res = plate_modes(stator, material, args.order, refine)
+    except ModeSolverError as exc:
+        raise ValueError(str(exc)) from exc
+    if args.json:
+        mat = material.to_dict()
+        mat["plane_stress"] = plane_stress(material).to_dict()
+        out = {
+            "L1": res.L1.to_dict(),
+            "B2": res.B2.to_dict(),
+            "dofs": res.dofs,
+            "wall_time_s": res.wall_time_s,
+            "order": args.order,
+            "refine": refine,
+            "material": mat,
+        }
+        print(json.dumps(out))
+        return
+    print(
+        f"plate {args.length_mm:g} x {args.width_mm:g} x {args.thickness_mm:g} mm, "
+        f"material {material.name}, order {args.order}, refine {refine}"
+    )
+    print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
+    for m in (res.L1, res.B2):
+        print(f"{m.name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")
+    print(f"dofs {res.dofs}, wall time {res.wall_time_s:.3f} s")
