@@ -267,7 +267,7 @@ def read_mesh(path: str | Path) -> PlateMesh:
         raise FileNotFoundError(f"mesh file not found: {path}")
     try:
         m = meshio.read(path)
-    except Exception as exc:  # meshio raises many types (ReadError, KeyError, ...)
+    except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
         raise ValueError(f"could not read mesh file {path}: {exc}") from exc
     quads = [blk.data for blk in m.cells if blk.type == "quad"]
     if not quads:

@@ -1,0 +1,227 @@
+"""Physics of the FE plate model: analytic limits, convergence, rigid modes, L1/B2 identity."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from fem.geometry import PlateStator
+from fem.material import get_material, plane_stress, pzt8
+from fem.mesh import structured_mesh
+from fem.model import build_model, plate_model
+from fem.modes import ModeSolverError, modes_of_model, natural_frequencies_Hz, plate_modes
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def timoshenko_free_free_Hz(length, E, G, kappa, rho, area, inertia, n_el=800, n=6):
+    """Free-free Timoshenko beam frequencies (Hz), 1D FE with 1-point shear integration."""
+    le = length / n_el
+    ndof = 2 * (n_el + 1)  # (w, psi) per node
+    kb = E * inertia / le * np.array([[0, 0, 0, 0], [0, 1, 0, -1], [0, 0, 0, 0], [0, -1, 0, 1]])
+    g = np.array([-1 / le, -0.5, 1 / le, -0.5])  # shear strain w' - psi at the midpoint
+    ke = kb + kappa * G * area * le * np.outer(g, g)
+    nm = le / 6 * np.array([[2, 1], [1, 2]])
+    me = np.zeros((4, 4))
+    me[np.ix_([0, 2], [0, 2])] = rho * area * nm
+    me[np.ix_([1, 3], [1, 3])] = rho * inertia * nm
+    dofs = 2 * np.arange(n_el)[:, None] + np.arange(4)[None, :]
+    r = np.repeat(dofs, 4, axis=1).ravel()
+    c = np.tile(dofs, (1, 4)).ravel()
+    K = sp.csc_matrix((np.tile(ke.ravel(), n_el), (r, c)), shape=(ndof, ndof))
+    M = sp.csc_matrix((np.tile(me.ravel(), n_el), (r, c)), shape=(ndof, ndof))
+    w = sla.eigsh(K, n, M, sigma=-1.0, return_eigenvectors=False)
+    return np.sort(np.sqrt(np.abs(w))) / (2 * np.pi)
+
+
+STRIP = PlateStator(length_m=30e-3, width_m=1.5e-3, thickness_m=3e-3, electrode_gap_m=0.0)
+"""A slender (l/W = 20) fully electroded strip: short circuit means E3 = 0 everywhere."""
+
+
+def test_slender_strip_L1_is_the_rod_frequency():
+    ps = plane_stress(pzt8())
+    c = math.sqrt(ps.young_modulus_Pa(1) / 7600.0)
+    f_rod = c / (2 * STRIP.length_m)  # ~56.4 kHz for 30 mm
+    res = plate_modes(STRIP, "pzt8", order=2, refine=2)
+    assert res.L1.f_short_Hz == pytest.approx(f_rod, rel=5e-4)
+    assert 55e3 < f_rod < 57.5e3
+
+
+def test_slender_strip_B2_is_the_timoshenko_frequency():
+    ps = plane_stress(pzt8())
+    E, G = ps.young_modulus_Pa(1), float(ps.c_Pa[2, 2])
+    s = np.linalg.inv(ps.c_Pa)
+    nu = -s[0, 1] / s[1, 1]
+    kappa = 10 * (1 + nu) / (12 + 11 * nu)  # Cowper, rectangle
+    W, h, L = STRIP.width_m, STRIP.thickness_m, STRIP.length_m
+    area, inertia = W * h, h * W**3 / 12
+    f_timo = timoshenko_free_free_Hz(L, E, G, kappa, 7600.0, area, inertia)[3]  # 2 rigid, B1
+    f_eb = 7.853205**2 / (2 * math.pi * L**2) * math.sqrt(E * inertia / (7600.0 * area))
+    res = plate_modes(STRIP, "pzt8", order=2, refine=2)
+    assert res.B2.f_short_Hz == pytest.approx(f_timo, rel=2e-3)
+    assert abs(res.B2.f_short_Hz / f_eb - 1) > 1e-2  # shear matters: Euler-Bernoulli is off
+
+
+def test_order2_converges_at_rate_four():
+    """Eigenvalue error of biquadratic elements ~ h^(2p) = h^4 on nested meshes."""
+    st = PlateStator(electrode_gap_m=0.0)
+    f = np.array(
+        [[(m := plate_modes(st, "pzt8", 2, r)).L1.f_short_Hz, m.B2.f_short_Hz] for r in (2, 4, 8)]
+    )
+    rate = np.log2(np.abs(f[0] - f[1]) / np.abs(f[1] - f[2]))
+    assert np.all(rate > 3.5), rate
+    assert np.all(rate < 4.5), rate
+
+
+def test_matrices_are_symmetric_and_mass_is_exact():
+    st = PlateStator()
+    for order in (1, 2):
+        m = plate_model(st, "pzt8", order, 3)
+        for A in (m.K, m.M, m.K_open()):
+            assert abs(A - A.T).max() <= 1e-12 * abs(A).max()
+        # total mass: rigid translation in x
+        ones = m.basis.project(lambda x: np.array([np.ones_like(x[0]), np.zeros_like(x[0])]))
+        mass = 7600.0 * st.length_m * st.width_m * st.thickness_m
+        assert ones @ (m.M @ ones) == pytest.approx(mass, rel=1e-12)
+        assert np.allclose(m.K @ ones, 0.0, atol=1e-6 * abs(m.K).max())
+
+
+def test_free_plate_has_three_rigid_body_modes():
+    m = plate_model(PlateStator(), "pzt8", 2, 3)
+    f, _ = natural_frequencies_Hz(m, n_modes=5, f_center_Hz=0.0)
+    assert np.all(np.abs(f[:3]) < 1.0)  # Hz; elastic modes are > 10 kHz
+    assert f[3] > 1e4
+
+
+@pytest.mark.parametrize("material", ["pzt8", "paper"])
+def test_open_circuit_is_stiffer_and_coupling_is_plausible(material):
+    res = plate_modes(PlateStator(), material, 2, 4)
+    for mode in (res.L1, res.B2):
+        assert mode.f_open_Hz > mode.f_short_Hz
+        assert 0.05 < mode.k_eff < 0.5
+    # k_eff consistent with its definition
+    k2 = (res.L1.f_open_Hz**2 - res.L1.f_short_Hz**2) / res.L1.f_open_Hz**2
+    assert res.L1.k_eff == pytest.approx(math.sqrt(k2))
+
+
+def test_L1_and_B2_are_identified_by_shape_when_their_order_swaps():
+    narrow = plate_modes(PlateStator(width_m=6e-3), "pzt8", 2, 3)
+    wide = plate_modes(PlateStator(width_m=9e-3), "pzt8", 2, 3)
+    assert narrow.B2.f_short_Hz < narrow.L1.f_short_Hz  # order: B2, L1
+    assert wide.B2.f_short_Hz > wide.L1.f_short_Hz  # order: L1, B2
+    for res in (narrow, wide):
+        assert res.L1.symmetry > 0.99 and res.B2.symmetry > 0.99
+        assert res.L1.mac > 0.9 and res.B2.mac > 0.9
+    # L1 hardly depends on the width, B2 scales roughly with it
+    assert wide.L1.f_short_Hz == pytest.approx(narrow.L1.f_short_Hz, rel=0.01)
+    assert wide.B2.f_short_Hz / narrow.B2.f_short_Hz > 1.15
+
+
+def test_non_convergence_is_a_clear_error():
+    m = plate_model(PlateStator(), "pzt8", 2, 3)
+    with pytest.raises(ModeSolverError, match="did not converge"):
+        modes_of_model(m, n_modes=20, maxiter=1)
+
+
+def test_mesh_from_file_gives_the_same_modes(tmp_path):
+    from fem.mesh import read_mesh, write_mesh
+
+    st = PlateStator()
+    path = write_mesh(structured_mesh(st, 3), tmp_path / "plate.msh")
+    m = build_model(read_mesh(path), st, "pzt8", 2)
+    res = modes_of_model(m)
+    ref = plate_modes(st, "pzt8", 2, 3)
+    assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=1e-10)
+    assert res.B2.f_open_Hz == pytest.approx(ref.B2.f_open_Hz, rel=1e-10)
+    with pytest.raises(ValueError, match="bounding box"):
+        build_model(read_mesh(path), PlateStator(width_m=8e-3), "pzt8", 2)
+
+
+def test_bad_model_inputs():
+    with pytest.raises(ValueError, match="order"):
+        plate_model(PlateStator(), "pzt8", 3, 3)
+    with pytest.raises(ValueError, match="material"):
+        plate_model(PlateStator(), "steel", 2, 3)
+    with pytest.raises(ValueError, match="refine"):
+        plate_model(PlateStator(), "pzt8", 2, 0)
+
+
+# --- modal reduction -------------------------------------------------------------------------
+
+
+def test_fem_params_normalization_and_drive_direction():
+    from rom.from_fem import fem_params
+    from rom.mode_shapes import phi_B
+    from rom.table2 import table2
+
+    p = fem_params(PlateStator(), "pzt8", order=2, refine=3)
+    res = plate_modes(PlateStator(), "pzt8", 2, 3)
+    assert p.phi_L0 == pytest.approx(1.0, rel=1e-12)
+    assert p.phi_Bl == pytest.approx(float(phi_B(30e-3, 30e-3)), rel=1e-12)
+    assert p.phi_Ll == pytest.approx(-1.0, rel=1e-2)  # L1 is antisymmetric about y = l/2
+    assert p.phi_B0 == pytest.approx(-p.phi_Bl, rel=1e-2)  # B2 too
+    assert p.f_L1_Hz == pytest.approx(res.L1.f_short_Hz, rel=1e-12)
+    assert p.f_B2_Hz == pytest.approx(res.B2.f_short_Hz, rel=1e-12)
+    t2 = table2()
+    assert p.zeta_L1 == pytest.approx(t2.zeta_L1) and p.zeta_B2 == pytest.approx(t2.zeta_B2)
+    assert p.k_contact == t2.k_contact and p.mu_s == t2.mu_s
+    # L1 modal mass ~ rho A l / 2 for phi_L = cos(pi y / l)
+    assert p.M_l == pytest.approx(7600 * 7.5e-3 * 3e-3 * 30e-3 / 2, rel=0.05)
+    # same sign pattern as Table 2 (A_l > 0, A_b < 0); the other diagonal reverses B2 only
+    assert p.A_l > 0 > p.A_b
+    q = fem_params(PlateStator().reversed(), "pzt8", order=2, refine=3)
+    assert q.A_l == pytest.approx(p.A_l, rel=1e-9)
+    assert q.A_b == pytest.approx(-p.A_b, rel=1e-9)
+    with pytest.raises(ValueError, match="damping_ratios"):
+        fem_params(PlateStator(), "pzt8", refine=3, damping_ratios=(0.0, 0.1))
+
+
+def test_force_factor_of_the_L1_mode_matches_the_rod_integral():
+    """A_l = (d31 / s11^E) b [phi_L]: Appendix A.5 for a laterally free rod (T1 = T3 = 0).
+
+    The rod's axial piezoelectric force per field is ``d31 / s11^E = e31* (1 - nu)``, not
+    ``e31`` (the lateral Poisson strain also produces charge/force through ``e32*``).
+    """
+    from rom.from_fem import fem_params
+
+    st = PlateStator(width_m=1.5e-3, electrode_gap_m=0.0, drive_electrodes=(1, 2, 3, 4))
+    p = fem_params(st, "pzt8", order=2, refine=2)
+    mat = get_material("pzt8")
+    s = np.linalg.inv(mat.cE_Pa)
+    d31 = float((mat.e_C_m2 @ s)[2, 0])
+    expected = d31 / s[0, 0] * st.width_m * (p.phi_Ll - p.phi_L0)  # int (d31/s11) b phi_L' dy
+    nu = -s[0, 1] / s[0, 0]
+    assert d31 / s[0, 0] == pytest.approx(plane_stress(mat).e31_C_m2 * (1 - nu), rel=1e-9)
+    assert p.A_l == pytest.approx(expected, rel=2e-3)
+
+
+def test_importing_rom_does_not_import_scikit_fem():
+    code = "import sys, rom, rom.from_fem; print('skfem' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"
+
+
+def test_cli_modes_json(capsys):
+    import json
+
+    from validation.cli import main
+
+    assert main(["modes", "--json", "--refine", "3"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out) >= {"L1", "B2", "dofs", "wall_time_s", "material"}
+    assert set(out["L1"]) == {"f_short_Hz", "f_open_Hz", "k_eff"}
+    assert np.array(out["material"]["cE_Pa"]).shape == (6, 6)
+    assert np.array(out["material"]["e_C_m2"]).shape == (3, 6)
+    assert np.array(out["material"]["epsS_F_m"]).shape == (3, 3)
+    assert out["material"]["rho_kg_m3"] == 7600.0
+    assert "plane_stress" in out["material"]
+    assert main(["modes", "--thickness-mm", "0"]) == 2
+    assert "thickness_m" in capsys.readouterr().err
