@@ -299,10 +299,8 @@ def stored_energy(z, mode, fn_m, sc):
 
 
 @njit(cache=True)
-def _accumulate(za, zm, zb, mode, H, in_window, phase_time, work, fn_m, ft_m, ff_m, sc,
+def _accumulate(za, zm, zb, mode, H, phase_time, work, fn_m, ft_m, ff_m, sc,
                 pa, pm, pb, energy):
-    if not in_window:
-        return
     phase_time[_phase(mode)] += H
     if energy:
         _powers(za, mode, fn_m, ft_m, ff_m, sc, pa)
@@ -374,6 +372,11 @@ def integrate_switch_model(
     if win_start == 0:
         stats[0] = z[X]
         stats[4] = stored_energy(z, mode, fn_m, scalars)
+    hc = np.zeros(MAX_EVENTS)
+    dc = np.zeros(MAX_EVENTS)
+    hn = np.zeros(MAX_EVENTS)
+    dn = np.zeros(MAX_EVENTS)
+    cached = False
     n_events = 0
     status = OK
     fail_step = -1
@@ -393,10 +396,16 @@ def integrate_switch_model(
                 et = ev_type[mode, j]
                 if et == EV_NONE:
                     break
-                h0 = _dot(ev_h[mode, j], z)
+                if cached:
+                    h0 = hc[j]
+                    d0 = dc[j]
+                else:
+                    h0 = _dot(ev_h[mode, j], z)
+                    d0 = _dot(ev_dh[mode, j], z)
                 h1 = _dot(ev_h[mode, j], z1)
-                d0 = _dot(ev_dh[mode, j], z)
                 d1 = _dot(ev_dh[mode, j], z1)
+                hn[j] = h1
+                dn[j] = d1
                 if h1 > 0.0 or (d0 > 0.0 and d1 < 0.0):
                     s = _first_crossing(h0, h1, d0, d1, H)
                     if s >= 0.0 and s < s_min:
@@ -408,11 +417,18 @@ def integrate_switch_model(
                         _matvec(phi_half[mode], z, zm)
                     else:
                         _flow(a[mode], z, 0.5 * H, zm, term, tmp)
-                _accumulate(z, zm, z1, mode, H, in_window, phase_time, work, fn_m, ft_m,
-                            ff_m, scalars, pa, pm, pb, energy)
+                if in_window:
+                    _accumulate(z, zm, z1, mode, H, phase_time, work, fn_m, ft_m, ff_m,
+                                scalars, pa, pm, pb, energy)
                 for i in range(N_STATE):
                     z[i] = z1[i]
+                # the end values of the switching functionals start the next step
+                for j in range(MAX_EVENTS):
+                    hc[j] = hn[j]
+                    dc[j] = dn[j]
+                cached = True
                 break
+            cached = False
             # refine the crossing on the exact flow: Newton from the cubic estimate
             tau = s_min * H
             hv = ev_h[mode, j_min]
@@ -436,8 +452,9 @@ def integrate_switch_model(
                 _flow(a[mode], z, tau, zt, term, tmp)
                 if energy and in_window:
                     _flow(a[mode], z, 0.5 * tau, zm, term, tmp)
-                _accumulate(z, zm, zt, mode, tau, in_window, phase_time, work, fn_m, ft_m,
-                            ff_m, scalars, pa, pm, pb, energy)
+                if in_window:
+                    _accumulate(z, zm, zt, mode, tau, phase_time, work, fn_m, ft_m, ff_m,
+                                scalars, pa, pm, pb, energy)
                 for i in range(N_STATE):
                     z[i] = zt[i]
                 done += tau
