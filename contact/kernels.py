@@ -169,6 +169,49 @@ def _first_crossing(h0, h1, d0, d1, H):
 
 
 @njit(cache=True)
+def _locate(a, z, hv, dv, H, s_est, h_end, zt, term, tmp, counter):
+    """Time in [0, H] just past the first zero of ``h(t) = hv . z(t)``, or -1.0 if none.
+
+    ``z(t)`` is the exact flow of ``a`` from ``z``; ``s_est`` is the cubic estimate (a
+    fraction of H) and ``h_end = h(H)``. Safeguarded Newton keeps a bracket
+    ``h(lo) <= 0 < h(hi)`` and returns ``hi``, so the state left in ``zt`` lies on the far
+    side of the surface and the next mode starts consistent. Without a sign change at the
+    step end (a grazing alarm) it returns -1.0 unless a positive value is found.
+    """
+    tol = 1e-11 * H
+    lo = 0.0
+    hi = H if h_end > 0.0 else -1.0
+    tau = s_est * H
+    for _ in range(60):
+        _flow(a, z, tau, zt, term, tmp)
+        counter[0] += 1
+        g = _dot(hv, zt)
+        if g > 0.0:
+            hi = tau
+        else:
+            lo = tau
+        if hi >= 0.0 and hi - lo <= tol:
+            break
+        dg = _dot(dv, zt)
+        t_new = tau - g / dg if dg > 0.0 else -1.0
+        if hi >= 0.0:
+            if g <= 0.0 and abs(t_new - tau) <= tol:
+                t_new = tau + tol  # converged from below: step just past the zero
+            if not (lo < t_new < hi):
+                t_new = 0.5 * (lo + hi)
+        elif not (tau < t_new <= H):
+            return -1.0  # h turns down before reaching zero: no crossing
+        tau = t_new
+    if hi < 0.0:
+        return -1.0
+    # land a little past the zero (1e-9 of a step) so that the sign of every force in the
+    # new mode is set by the physics, not by roundoff at the exact switching point
+    hi = min(hi + 1e-9 * H, H) if hi > 0.0 else hi
+    _flow(a, z, hi, zt, term, tmp)
+    return hi
+
+
+@njit(cache=True)
 def _tip_zero(z, guide, funcs, scalars):
     """(tip, guide) once v_rel = 0 with the slider moving (``guide`` 1 or 2) or not (0).
 
@@ -344,7 +387,7 @@ def integrate_switch_model(
     -------
     status, fail_step, trace, full, phase_time, work, stats, z_end, mode_end
         ``stats = [x at window start, y_tip min, y_tip max, events, E at window start,
-        E at end]``.
+        E at end, exact-flow evaluations spent locating events]``.
     """
     z = z0.copy()
     mode = mode0
@@ -361,7 +404,7 @@ def integrate_switch_model(
     full = np.empty((n_full + 1, 10))
     phase_time = np.zeros(4)
     work = np.zeros(N_WORK)
-    stats = np.zeros(6)
+    stats = np.zeros(7)
     stats[1] = np.inf
     stats[2] = -np.inf
     phi_ll = scalars[SC_PHI_LL]
@@ -372,6 +415,8 @@ def integrate_switch_model(
     if win_start == 0:
         stats[0] = z[X]
         stats[4] = stored_energy(z, mode, fn_m, scalars)
+    counter = np.zeros(2, dtype=np.int64)  # flows in event location, located events
+    s_est = np.zeros(MAX_EVENTS)
     hc = np.zeros(MAX_EVENTS)
     dc = np.zeros(MAX_EVENTS)
     hn = np.zeros(MAX_EVENTS)
@@ -390,9 +435,8 @@ def integrate_switch_model(
                 _matvec(phi[mode], z, z1)
             else:
                 _flow(a[mode], z, H, z1, term, tmp)
-            s_min = 2.0
-            j_min = -1
             for j in range(MAX_EVENTS):
+                s_est[j] = 2.0
                 et = ev_type[mode, j]
                 if et == EV_NONE:
                     break
@@ -408,9 +452,26 @@ def integrate_switch_model(
                 dn[j] = d1
                 if h1 > 0.0 or (d0 > 0.0 and d1 < 0.0):
                     s = _first_crossing(h0, h1, d0, d1, H)
-                    if s >= 0.0 and s < s_min:
-                        s_min = s
-                        j_min = j
+                    if s >= 0.0:
+                        s_est[j] = s
+            # earliest crossing confirmed on the exact flow (a grazing alarm may not be)
+            j_min = -1
+            tau = -1.0
+            while True:
+                j_best = -1
+                s_best = 2.0
+                for j in range(MAX_EVENTS):
+                    if s_est[j] < s_best:
+                        s_best = s_est[j]
+                        j_best = j
+                if j_best < 0:
+                    break
+                tau = _locate(a[mode], z, ev_h[mode, j_best], ev_dh[mode, j_best], H, s_best,
+                              hn[j_best], zt, term, tmp, counter)
+                if tau >= 0.0:
+                    j_min = j_best
+                    break
+                s_est[j_best] = 2.0
             if j_min < 0:
                 if energy and in_window:
                     if done == 0.0:
@@ -429,27 +490,8 @@ def integrate_switch_model(
                 cached = True
                 break
             cached = False
-            # refine the crossing on the exact flow: Newton from the cubic estimate
-            tau = s_min * H
-            hv = ev_h[mode, j_min]
-            dv = ev_dh[mode, j_min]
+            # zt holds the state just past the switching surface, at tau
             if tau > 0.0:
-                for _ in range(3):
-                    _flow(a[mode], z, tau, zt, term, tmp)
-                    g = _dot(hv, zt)
-                    dg = _dot(dv, zt)
-                    if dg == 0.0:
-                        break
-                    t_new = tau - g / dg
-                    if t_new < 0.0:
-                        t_new = 0.0
-                    elif t_new > H:
-                        t_new = H
-                    if abs(t_new - tau) <= 1e-15 * dt:
-                        tau = t_new
-                        break
-                    tau = t_new
-                _flow(a[mode], z, tau, zt, term, tmp)
                 if energy and in_window:
                     _flow(a[mode], z, 0.5 * tau, zm, term, tmp)
                 if in_window:
@@ -484,5 +526,6 @@ def integrate_switch_model(
             if y > stats[2]:
                 stats[2] = y
     stats[3] = n_events
+    stats[6] = counter[0]
     stats[5] = stored_energy(z, mode, fn_m, scalars)
     return status, fail_step, trace, full, phase_time, work, stats, z, mode
