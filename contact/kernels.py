@@ -71,6 +71,9 @@ from contact.state import (
     X,
 )
 
+STICK_FORWARD = CONTACT * 9 + STICK * 3 + FORWARD
+STICK_BACKWARD = CONTACT * 9 + STICK * 3 + BACKWARD
+
 N_TAYLOR = 14
 """Terms of the Taylor series of expm(A tau) z used for partial steps (|lambda tau| <= 0.35)."""
 
@@ -483,6 +486,8 @@ def integrate_switch_model(
                                 scalars, pa, pm, pb, energy)
                 for i in range(N_STATE):
                     z[i] = z1[i]
+                if mode == STICK_FORWARD or mode == STICK_BACKWARD:
+                    z[DX] = scalars[SC_PHI_BL] * z[DW]  # keep v_rel = 0 free of roundoff
                 # the end values of the switching functionals start the next step
                 for j in range(MAX_EVENTS):
                     hc[j] = hn[j]

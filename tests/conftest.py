@@ -1,0 +1,32 @@
+"""Shared fixtures: the published parameter set and a few cached contact runs."""
+
+from __future__ import annotations
+
+import functools
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:  # running from a checkout without installing
+    sys.path.insert(0, str(ROOT))
+
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+
+@pytest.fixture(scope="session")
+def paper_params():
+    from rom import table2
+
+    return table2()
+
+
+@functools.lru_cache(maxsize=None)
+def cached_run(voltage_V: float, preload_N: float, **kw):
+    """One contact run per distinct argument set for the whole session."""
+    from contact.simulate import simulate
+    from rom import table2
+
+    return simulate(table2(), voltage_V, preload_N, **kw)

@@ -1,0 +1,153 @@
+"""Physical laws and limits of the switch model on the published parameter set."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from contact.model import normal_force_zero_tip_displacement
+from contact.phase_plane import phase_plane
+from contact.simulate import normal_amplitude, simulate
+from contact.model import OperatingPoint
+from tests.conftest import cached_run
+
+
+def test_zero_voltage_leaves_slider_at_rest_in_pure_stick(paper_params):
+    r = simulate(paper_params, 0.0, 14.0, duration_s=0.005)
+    assert r.steady.motion == "pure-stick"
+    assert r.steady.stick_fraction == 1.0
+    assert np.all(r.trace.x_m == 0.0)
+    assert np.all(r.trace.v_m_s == 0.0)
+    # the normal force stays at the preload: the static equilibrium is exact
+    assert np.allclose(r.trace.F_N_N, 14.0, rtol=1e-12)
+
+
+def test_flipping_A_b_mirrors_the_motion(paper_params):
+    fwd = cached_run(200.0, 14.0)
+    rev = simulate(paper_params.with_(A_b=-paper_params.A_b), 200.0, 14.0)
+    assert fwd.steady.velocity_m_s != 0.0
+    assert rev.steady.velocity_m_s == pytest.approx(-fwd.steady.velocity_m_s, rel=1e-9)
+    assert rev.steady.stick_fraction == pytest.approx(fwd.steady.stick_fraction, abs=1e-9)
+
+
+def test_steady_velocity_converges_in_dt(paper_params):
+    coarse = cached_run(200.0, 14.0)
+    fine = simulate(paper_params, 200.0, 14.0, dt_s=2.5e-8)
+    v0, v1 = coarse.steady.velocity_m_s, fine.steady.velocity_m_s
+    assert abs(v1 - v0) < 0.005 * abs(v1)
+    assert abs(fine.steady.stick_fraction - coarse.steady.stick_fraction) < 0.005
+
+
+def test_results_do_not_depend_on_the_stick_band(paper_params):
+    runs = [simulate(paper_params, 200.0, 14.0, stick_band_m_s=eps) for eps in (1e-10, 1e-6)]
+    a, b = (r.steady for r in runs)
+    assert a.velocity_m_s == pytest.approx(b.velocity_m_s, rel=1e-9, abs=1e-12)
+    assert a.stick_fraction == pytest.approx(b.stick_fraction, abs=1e-9)
+    assert a.motion == b.motion
+
+
+def test_large_preload_gives_pure_stick_and_small_preload_no_stick():
+    heavy = cached_run(200.0, 40.0)
+    light = cached_run(200.0, 6.0)
+    assert heavy.steady.motion == "pure-stick"
+    assert abs(heavy.steady.velocity_m_s) < 1e-9
+    assert light.steady.stick_fraction == 0.0
+    assert light.steady.motion in ("pure-slip", "slip-separation")
+    assert light.steady.velocity_m_s > 0.01
+
+
+def test_velocity_grows_with_voltage_at_fixed_preload():
+    v = [cached_run(V, 14.0).steady.velocity_m_s for V in (150.0, 250.0, 350.0)]
+    assert v[0] < v[1] < v[2]
+
+
+def test_dead_zone_is_pure_stick():
+    r = cached_run(100.0, 14.0)
+    assert r.steady.motion == "pure-stick"
+    # in pure stick the tip carries the slider back and forth: no net motion, no slip
+    assert abs(r.steady.velocity_m_s) < 1e-9
+    assert np.all(r.window.v_rel_m_s == 0.0)
+
+
+def test_normal_amplitude_is_a_property_of_the_normal_dynamics(paper_params):
+    # Eqs. 4 + 7 do not involve the tangential state: the pre-pass amplitude equals the
+    # steady amplitude of the full run, whatever the friction
+    r = cached_run(300.0, 12.0)
+    a_full = 0.5 * (r.steady.y_tip_max_m - r.steady.y_tip_min_m)
+    a_pre = normal_amplitude(paper_params, OperatingPoint(300.0, 12.0))
+    assert a_pre == pytest.approx(a_full, rel=1e-6)
+    assert r.normal_amplitude_m == pytest.approx(a_pre, rel=1e-12)
+    mu = paper_params.a_mu + (paper_params.mu_d - paper_params.a_mu) * math.exp(
+        -paper_params.b_mu * a_pre
+    )
+    assert r.mu_d_eff == pytest.approx(mu, rel=1e-12)
+
+
+def test_normal_force_law_and_separation_line(paper_params):
+    r = cached_run(400.0, 14.0)
+    w = r.window
+    contact = w.phase != 3
+    # Eq. 7 in contact, zero in separation
+    assert np.all(w.F_N_N[contact] >= 0.0)
+    assert np.all(w.F_N_N[~contact] == 0.0)
+    # Eq. 21 for the paper's symmetric L1 shape
+    p = paper_params
+    y_c = -14.0 / (2 * p.k_contact) - p.eta_N * 14.0 / p.K_l
+    assert normal_force_zero_tip_displacement(p, 14.0) == pytest.approx(y_c, rel=1e-12)
+    # separation happens exactly left of L2, and the region S exists
+    pp = phase_plane(r)
+    assert pp.separation_region
+    sep = pp.phase == 3
+    assert np.all(pp.y_tip_m[sep] <= pp.y_c_m + 1e-15)
+    assert np.all(pp.y_tip_m[~sep] >= pp.y_c_m - 1e-15)
+    assert r.steady.separation_fraction > 0.0
+
+
+def test_no_separation_region_without_separation():
+    r = cached_run(200.0, 18.0)
+    pp = phase_plane(r)
+    assert not pp.separation_region
+    assert r.steady.separation_fraction == 0.0
+
+
+def test_coulomb_law_holds_along_the_trajectory(paper_params):
+    r = cached_run(200.0, 14.0)
+    w = r.window
+    mu_s, mu_d = paper_params.mu_s, r.mu_d_eff
+    stick, slip = w.phase == 0, (w.phase == 1) | (w.phase == 2)
+    assert np.all(np.abs(w.F_T_N[stick]) <= mu_s * w.F_N_N[stick] * (1 + 1e-9) + 1e-12)
+    assert np.allclose(np.abs(w.F_T_N[slip]), mu_d * w.F_N_N[slip], rtol=1e-12)
+    # slip friction pushes the slider the way the tip moves relative to it
+    assert np.all(np.sign(w.F_T_N[slip]) == np.sign(w.v_rel_m_s[slip]))
+    assert np.all(w.v_rel_m_s[stick] == 0.0)
+
+
+@pytest.mark.parametrize("coupling", ["paper", "consistent"])
+def test_energy_balance_closes(paper_params, coupling):
+    r = simulate(paper_params, 300.0, 12.0, coupling=coupling, energy=True)
+    e = r.energy
+    assert e.input_J > 0
+    assert e.relative_residual < 1e-6
+    # friction at the interface dissipates (Coulomb): -F_T v_rel >= 0
+    assert e.interface_dissipation_J > 0
+    if coupling == "consistent":
+        assert e.non_conservative_J == 0.0
+    else:
+        # B2 is antisymmetric, so eta_T = phi_B(0) - phi_B(l) ~ 2 (-phi_B(l)): the paper's
+        # coupling doubles the reaction on the stator (to the 1e-6 of Eq. 3's rounded root)
+        assert e.non_conservative_J == pytest.approx(0.5 * e.tangential_on_stator_J, rel=1e-5)
+
+
+def test_invalid_inputs_name_the_parameter(paper_params):
+    with pytest.raises(ValueError, match="voltage_V"):
+        simulate(paper_params, float("nan"), 14.0)
+    with pytest.raises(ValueError, match="preload_N"):
+        simulate(paper_params, 200.0, -1.0)
+    with pytest.raises(ValueError, match="dt_s"):
+        simulate(paper_params, 200.0, 14.0, dt_s=2e-6)
+    with pytest.raises(ValueError, match="duration_s"):
+        simulate(paper_params, 200.0, 14.0, duration_s=1e-4)
+    with pytest.raises(ValueError, match="coupling"):
+        simulate(paper_params, 200.0, 14.0, coupling="nope")
