@@ -51,17 +51,20 @@ class OperatingPoint:
     frequency_Hz: float = 40e3
 
     def __post_init__(self) -> None:
-        for name, low, strict in (
-            ("voltage_V", 0.0, False),
-            ("preload_N", 0.0, False),
-            ("frequency_Hz", 0.0, True),
+        for name, unit, strict in (
+            ("voltage_V", "V", False),
+            ("preload_N", "N", False),
+            ("frequency_Hz", "Hz", True),
         ):
             value = getattr(self, name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ValueError(f"{name} must be a finite number, got {value!r}")
-            if value < low or (strict and value == low):
-                op = ">" if strict else ">="
-                raise ValueError(f"{name} must be {op} {low:g}, got {value!r}")
+            allowed = f"{'> 0' if strict else '>= 0'} {unit}"
+            if (
+                not isinstance(value, (int, float))
+                or not math.isfinite(value)
+                or value < 0.0
+                or (strict and value == 0.0)
+            ):
+                raise ValueError(f"{name} must be a finite number {allowed}, got {value!r}")
 
     @property
     def omega(self) -> float:

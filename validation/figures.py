@@ -1,0 +1,168 @@
+"""Figures of the contact stage, after the paper's Figs. 9-25 (matplotlib, Agg, PNG).
+
+Every function takes results and a path, draws one labelled figure and returns the path.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from contact.maps import StickSlipMap
+from contact.phase_plane import phase_plane
+from contact.simulate import SimulationResult
+
+PHASE_COLORS = {0: "tab:green", 1: "tab:blue", 2: "tab:orange", 3: "tab:red"}
+PHASE_LABELS = {0: "stick", 1: "slip, v_rel > 0", 2: "slip, v_rel < 0", 3: "separation"}
+MAP_STYLE = {
+    "slip-separation": dict(marker="o", facecolors="none", edgecolors="k"),
+    "stick-slip": dict(marker="o", facecolors="k", edgecolors="k"),
+    "stick-slip-separation": dict(marker="s", facecolors="tab:purple", edgecolors="k"),
+    "pure-stick": dict(marker="*", facecolors="tab:red", edgecolors="tab:red"),
+    "pure-slip": dict(marker="^", facecolors="none", edgecolors="tab:blue"),
+}
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, path: Path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    _plt().close(fig)
+    return path
+
+
+def _title(r: SimulationResult) -> str:
+    return (f"V0 = {r.op.voltage_V:g} V, F_P = {r.op.preload_N:g} N, "
+            f"f = {r.op.frequency_Hz / 1e3:.4g} kHz ({r.params.source.split(',')[0]})")
+
+
+def slider_velocity(r: SimulationResult, path: Path) -> Path:
+    """Slider velocity against time (paper Fig. 9)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(r.trace.t_s * 1e3, r.trace.v_m_s, lw=0.6)
+    ax.axhline(r.steady.velocity_m_s, color="k", ls="--", lw=0.8,
+               label=f"steady mean {r.steady.velocity_m_s:.4g} m/s")
+    ax.set_xlabel("time t (ms)")
+    ax.set_ylabel("slider velocity dx/dt (m/s)")
+    ax.set_title(_title(r), fontsize=9)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def forces_and_relative_velocity(r: SimulationResult, path: Path, periods: float = 2.0) -> Path:
+    """F_T, the limits +-mu_s F_N and v_rel over the last periods (paper Figs. 10-11)."""
+    plt = _plt()
+    w = r.window
+    keep = w.t_s >= w.t_s[-1] - periods / r.op.frequency_Hz
+    t_us = w.t_s[keep] * 1e6
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True)
+    a1.plot(t_us, w.F_T_N[keep], label="tangential force F_T")
+    lim = r.params.mu_s * w.F_N_N[keep]
+    a1.plot(t_us, lim, "k--", lw=0.8, label="+/- mu_s F_N")
+    a1.plot(t_us, -lim, "k--", lw=0.8)
+    a1.set_ylabel("force (N)")
+    a1.legend(fontsize=8)
+    a2.plot(t_us, w.v_rel_m_s[keep], color="tab:purple")
+    for code, color in PHASE_COLORS.items():
+        sel = w.phase[keep] == code
+        if np.any(sel):
+            a2.scatter(t_us[sel], w.v_rel_m_s[keep][sel], s=3, color=color,
+                       label=PHASE_LABELS[code])
+    a2.set_xlabel("time t (us)")
+    a2.set_ylabel("relative velocity v_rel (m/s)")
+    a2.legend(fontsize=7, ncol=2)
+    a1.set_title(_title(r), fontsize=9)
+    return _save(fig, path)
+
+
+def hysteresis_loop(r: SimulationResult, path: Path) -> Path:
+    """Tangential force against tangential tip displacement (paper Fig. 12)."""
+    plt = _plt()
+    w = r.window
+    x_tip = w.x_tip_m(r.params.phi_Bl)
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    for code, color in PHASE_COLORS.items():
+        sel = w.phase == code
+        if np.any(sel):
+            ax.scatter(x_tip[sel] * 1e6, w.F_T_N[sel], s=3, color=color, label=PHASE_LABELS[code])
+    ax.set_xlabel("tangential tip displacement x_tip (um)")
+    ax.set_ylabel("tangential force F_T (N)")
+    ax.set_title(_title(r), fontsize=9)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def transformed_phase_plane(r: SimulationResult, path: Path) -> Path:
+    """Steady trajectory on the transformed phase plane with L1, L2 (paper Figs. 13-17)."""
+    plt = _plt()
+    pp = phase_plane(r)
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    ax.plot(pp.y_tip_m * 1e6, pp.v_rel_m_s, color="0.6", lw=0.5)
+    for code, color in PHASE_COLORS.items():
+        sel = pp.phase == code
+        if np.any(sel):
+            ax.scatter(pp.y_tip_m[sel] * 1e6, pp.v_rel_m_s[sel], s=3, color=color,
+                       label=PHASE_LABELS[code])
+    ax.axvline(pp.y_min_m * 1e6, color="k", ls="-", lw=0.8, label="L1: y_tip = y_min")
+    ax.axvline(pp.y_c_m * 1e6, color="k", ls="--", lw=0.8, label="L2: y_tip = y_c (Eq. 21)")
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xlabel("normal tip displacement y_tip (um)")
+    ax.set_ylabel("relative velocity v_rel (m/s)")
+    ax.set_title(f"{r.steady.motion}: " + _title(r), fontsize=9)
+    ax.legend(fontsize=7)
+    return _save(fig, path)
+
+
+def stick_slip_map(m: StickSlipMap, path: Path, title: str = "") -> Path:
+    """Motion class over voltage x preload (paper Figs. 18-19)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.5, 5))
+    ff, vv = np.meshgrid(m.preloads_N, m.voltages_V)
+    for cls, style in MAP_STYLE.items():
+        sel = m.motion == cls
+        if np.any(sel):
+            ax.scatter(ff[sel], vv[sel], s=40, label=cls, **style)
+    ax.set_xlabel("preload F_P (N)")
+    ax.set_ylabel("voltage amplitude V0 (V)")
+    ax.set_title(title or "stick-slip map", fontsize=9)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    return _save(fig, path)
+
+
+def curve(x: Sequence[float], ys: dict[str, Sequence[float]], xlabel: str, ylabel: str,
+          path: Path, title: str = "") -> Path:
+    """Line plot of several named series against one axis (Figs. 20-21, 24)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for name, y in ys.items():
+        ax.plot(x, y, "o-", ms=3, label=name)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def simulation_figures(r: SimulationResult, out_dir: Path, prefix: str = "") -> list[Path]:
+    """The figures ``lusm simulate --plot`` writes, in ``out_dir``."""
+    out = Path(out_dir)
+    return [
+        slider_velocity(r, out / f"{prefix}fig09_slider_velocity.png"),
+        forces_and_relative_velocity(r, out / f"{prefix}fig11_forces_vrel.png"),
+        hysteresis_loop(r, out / f"{prefix}fig12_hysteresis.png"),
+        transformed_phase_plane(r, out / f"{prefix}fig14_phase_plane.png"),
+    ]

@@ -1,0 +1,62 @@
+"""Plain-dict summaries of results: the one source of the numbers the CLI and report print."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+
+from contact.maps import StickSlipMap
+from contact.model import normal_force_zero_tip_displacement
+from contact.simulate import SimulationResult
+
+
+def simulation_summary(r: SimulationResult) -> dict:
+    """JSON-ready summary of one contact run (SI units in the keys)."""
+    s = r.steady
+    d = {
+        "source": r.params.source,
+        "voltage_V": r.op.voltage_V,
+        "preload_N": r.op.preload_N,
+        "frequency_Hz": r.op.frequency_Hz,
+        "duration_s": r.options.duration_s,
+        "dt_s": r.options.dt_s,
+        "coupling": r.options.coupling,
+        "ultrasonic_friction": r.options.ultrasonic_friction,
+        "steady_velocity_m_s": s.velocity_m_s,
+        "previous_window_velocity_m_s": s.previous_velocity_m_s,
+        "settled": s.settled,
+        "motion": s.motion,
+        "stick_fraction": s.stick_fraction,
+        "slip_fraction": s.slip_fraction,
+        "separation_fraction": s.separation_fraction,
+        "driving_slip_fraction": s.driving_slip_fraction,
+        "braking_slip_fraction": s.braking_slip_fraction,
+        "mu_d_effective": r.mu_d_eff,
+        "normal_amplitude_m": r.normal_amplitude_m,
+        "y_tip_min_m": s.y_tip_min_m,
+        "y_tip_c_m": normal_force_zero_tip_displacement(r.params, r.op.preload_N),
+        "steady_window_s": s.window_s,
+        "steps": r.steps,
+        "events": r.events,
+        "wall_time_s": r.wall_time_s,
+    }
+    if r.energy is not None:
+        e = asdict(r.energy)
+        e["relative_residual"] = r.energy.relative_residual
+        d["energy"] = e
+    return d
+
+
+def map_summary(m: StickSlipMap) -> dict:
+    """JSON-ready summary of a stick-slip map."""
+    return {
+        "voltages_V": m.voltages_V.tolist(),
+        "preloads_N": m.preloads_N.tolist(),
+        "motion": m.motion.tolist(),
+        "steady_velocity_m_s": m.velocity_m_s.tolist(),
+        "stick_fraction": m.stick_fraction.tolist(),
+        "separation_fraction": m.separation_fraction.tolist(),
+        "mu_d_effective": m.mu_d_eff.tolist(),
+        "settled": m.settled.tolist(),
+        "counts": m.counts(),
+        "wall_time_s": m.wall_time_s,
+    }
