@@ -84,6 +84,38 @@ class PlateMesh:
         p = self.points_m
         return (float(p[0].min()), float(p[0].max()), float(p[1].min()), float(p[1].max()))
 
+    def contains(self, points_m: np.ndarray, rel_tol: float = 1e-9) -> np.ndarray:
+        """Whether each point ``(x, y)`` (m), shape (2, n), lies in a (convex) element.
+
+        Points on an element edge count as inside within ``rel_tol`` times the mesh size.
+        """
+        from scipy.spatial import cKDTree
+
+        pts = np.atleast_2d(np.asarray(points_m, dtype=float))
+        x0, x1, y0, y1 = self.bounding_box_m()
+        tol = rel_tol * max(x1 - x0, y1 - y0)
+        corners = self.points_m[:, self.quads]  # (2, 4, n_elements)
+        nxt = np.roll(corners, -1, axis=1)
+
+        def inside(p: np.ndarray, cells: np.ndarray) -> np.ndarray:
+            a, b = corners[:, :, cells], nxt[:, :, cells]  # (2, 4, m, k)
+            edge = b - a
+            length = np.hypot(edge[0], edge[1])
+            rel = p[:, None, :, None] - a
+            cross = edge[0] * rel[1] - edge[1] * rel[0]
+            return np.all(cross >= -tol * length, axis=0)  # (m, k)
+
+        out = np.zeros(pts.shape[1], dtype=bool)
+        if pts.shape[1] == 0:
+            return out
+        k = min(8, self.n_elements)
+        tree = cKDTree(corners.mean(axis=1).T)
+        near = tree.query(pts.T, k)[1].reshape(pts.shape[1], k)
+        out = inside(pts, near).any(axis=1)
+        for i in np.flatnonzero(~out):  # rare: big neighbours; check every element
+            out[i] = bool(inside(pts[:, i : i + 1], np.arange(self.n_elements)[None]).any())
+        return out
+
     def to_skfem(self):  # -> skfem.MeshQuad1
         """The scikit-fem mesh (imported lazily) with subdomains ``electrode_k`` and ``gap``."""
         from skfem import MeshQuad1
