@@ -258,7 +258,10 @@ def _cached_model(
     stator: PlateStator, material: PiezoMaterial, order: int, refine: int
 ) -> PiezoPlateModel:
     t0 = time.perf_counter()
-    mesh = structured_mesh(stator, refine)
+    # a stator that carries its own mesh (fem.stator_file.MeshedStator) ignores ``refine``
+    mesh = getattr(stator, "mesh", None)
+    if mesh is None:
+        mesh = structured_mesh(stator, refine)
     model = build_model(mesh, stator, material, order)
     object.__setattr__(model, "assembly_time_s", time.perf_counter() - t0)
     return model

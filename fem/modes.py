@@ -182,14 +182,30 @@ def natural_frequencies_Hz(
     return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
 
 
-def _sampling(model: PiezoPlateModel) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix]:
+def _sampling(
+    model: PiezoPlateModel,
+) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, np.ndarray]:
+    """Sampling grid over the bounding box, probe matrix and mask of the points used.
+
+    On a non-rectangular mesh (chamfers, a protruding tip) grid points outside the mesh, and
+    their mirror images about ``x = 0``, are dropped: their rows of ``P`` are zero and the
+    mask (ny, nx) is False there.
+    """
     st = model.stator
     inset = 1e-9
     xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
     ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
     X, Y = np.meshgrid(xs, ys)  # (ny, nx)
-    P = model.probe(np.vstack((X.ravel(), Y.ravel())))
-    return X, Y, P
+    pts = np.vstack((X.ravel(), Y.ravel()))
+    inside = model.mesh.contains(pts).reshape(X.shape)
+    inside &= inside[:, ::-1]
+    if inside.all():
+        return X, Y, model.probe(pts), inside
+    idx = np.flatnonzero(inside.ravel())
+    sub = model.probe(pts[:, idx]).tocoo()
+    rows = np.concatenate((idx, pts.shape[1] + idx))[sub.row]
+    P = sp.csr_matrix((sub.data, (rows, sub.col)), shape=(2 * pts.shape[1], sub.shape[1]))
+    return X, Y, P, inside
 
 
 def _references(X: np.ndarray, Y: np.ndarray, length_m: float) -> dict[str, np.ndarray]:
@@ -222,8 +238,8 @@ def _identify(
     model: PiezoPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray
 ) -> dict[str, tuple[int, float, float]]:
     """Index, MAC and symmetry fraction of L1 and B2 among the computed modes."""
-    X, Y, P = _sampling(model)
-    refs = _references(X, Y, model.stator.length_m)
+    X, Y, P, inside = _sampling(model)
+    refs = {k: v * inside for k, v in _references(X, Y, model.stator.length_m).items()}
     sampled = (P @ shapes).reshape(2, *X.shape, -1)
     centre = X.shape[1] // 2
     f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
