@@ -130,3 +130,33 @@ def fem_params(
             f"and friction constants from: {base.source}"
         ),
     )
+
+
+def fem_params_from_file(path, **kwargs) -> MotorParams:
+    """:func:`fem_params` of the stator described by a TOML file (``fem.stator_file``).
+
+    Parameters
+    ----------
+    path : str or Path
+        Stator file; its geometry, drive electrodes, material, points and mesh are used.
+    **kwargs
+        Further :func:`fem_params` options (``order``, ``refine``, ``base``,
+        ``damping_ratios``; ``material`` overrides the file's). ``refine`` is ignored when
+        the file gives a mesh.
+
+    Returns
+    -------
+    MotorParams
+        Its ``source`` names the file.
+    """
+    from dataclasses import replace
+
+    from fem.stator_file import load_stator
+
+    if "stator" in kwargs:
+        raise ValueError("fem_params_from_file takes the stator from the file; drop 'stator'")
+    design = load_stator(path)
+    kwargs.setdefault("material", design.material)
+    params = fem_params(stator=design.stator, **kwargs)
+    mesh = f", mesh {design.mesh_path}" if design.mesh_path is not None else ""
+    return replace(params, source=f"stator file {path} ({design.name}{mesh}): {params.source}")

@@ -26,6 +26,16 @@ def register(subparsers) -> None:
     p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
     p.add_argument("--refine", type=int, default=None, help="elements per plate width")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument(
+        "--geometry", metavar="STATOR.toml", default=None,
+        help="stator file (fem.stator_file); its dimensions, electrodes, material and mesh "
+        "replace --length-mm/--width-mm/--thickness-mm/--gap-mm/--material",
+    )
+    p.add_argument(
+        "--export", metavar="FILE", default=None,
+        help="write the mesh with the mode shapes as point data (meshio format by extension, "
+        "e.g. modes.vtu for ParaView)",
+    )
     p.set_defaults(func=run)
 
 
@@ -35,18 +45,31 @@ def run(args: argparse.Namespace) -> None:
     from fem.material import get_material, plane_stress
     from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
 
-    stator = PlateStator(
-        length_m=args.length_mm * 1e-3,
-        width_m=args.width_mm * 1e-3,
-        thickness_m=args.thickness_mm * 1e-3,
-        electrode_gap_m=args.gap_mm * 1e-3,
-    )
+    if getattr(args, "geometry", None):
+        from fem.stator_file import load_stator
+
+        design = load_stator(args.geometry)
+        stator, material = design.stator, design.material
+        args.length_mm, args.width_mm = stator.length_m * 1e3, stator.width_m * 1e3
+        args.thickness_mm = stator.thickness_m * 1e3
+    else:
+        stator = PlateStator(
+            length_m=args.length_mm * 1e-3,
+            width_m=args.width_mm * 1e-3,
+            thickness_m=args.thickness_mm * 1e-3,
+            electrode_gap_m=args.gap_mm * 1e-3,
+        )
+        material = get_material(args.material)
     refine = DEFAULT_REFINE if args.refine is None else args.refine
-    material = get_material(args.material)
     try:
         res = plate_modes(stator, material, args.order, refine)
     except ModeSolverError as exc:
         raise ValueError(str(exc)) from exc
+    if getattr(args, "export", None):
+        from fem.export import export_modes
+        from fem.model import plate_model
+
+        export_modes(args.export, plate_model(stator, material, args.order, refine), res)
     if args.json:
         mat = material.to_dict()
         mat["plane_stress"] = plane_stress(material).to_dict()
@@ -58,6 +81,7 @@ def run(args: argparse.Namespace) -> None:
             "order": args.order,
             "refine": refine,
             "material": mat,
+            "geometry": getattr(args, "geometry", None),
         }
         print(json.dumps(out))
         return
@@ -65,6 +89,8 @@ def run(args: argparse.Namespace) -> None:
         f"plate {args.length_mm:g} x {args.width_mm:g} x {args.thickness_mm:g} mm, "
         f"material {material.name}, order {args.order}, refine {refine}"
     )
+    if getattr(args, "geometry", None):
+        print(f"stator file {args.geometry}: {design.name} (bounding box above)")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
     for m in (res.L1, res.B2):
         print(f"{m.name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")

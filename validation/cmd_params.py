@@ -19,12 +19,23 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--source", choices=SOURCES, default="table2", help="parameter source (default table2)"
     )
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    parser.add_argument(
+        "--geometry", metavar="STATOR.toml", default=None,
+        help="stator file for --source fem (rom.from_fem.fem_params_from_file)",
+    )
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:
     """Build the parameter set of ``args.source`` and print it."""
-    d = get_params(args.source).to_dict()
+    if getattr(args, "geometry", None):
+        if args.source != "fem":
+            raise ValueError(f"--geometry needs --source fem, got --source {args.source}")
+        from rom.from_fem import fem_params_from_file
+
+        d = fem_params_from_file(args.geometry).to_dict()
+    else:
+        d = get_params(args.source).to_dict()
     if args.json:
         print(json.dumps(d, indent=2))
         return

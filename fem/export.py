@@ -1,0 +1,112 @@
+"""Export the FE mesh with its mode shapes as point data (any meshio format; ParaView: vtu).
+
+Point data (vectors with three components, ``z = 0``, values at the mesh vertices; for
+order-2 elements the vertex values of the biquadratic field):
+
+* ``L1``, ``B2``: the identified short-circuit shapes, mass-normalized
+  (``u^T M u = 1`` kg, so the unit is m per sqrt(kg));
+* ``mode_00_<f>Hz``, ``mode_01_<f>Hz``, ...: every short-circuit mode computed near the
+  shift, in ascending frequency ``<f>`` (Hz, rounded), same normalization;
+* ``magnitude_L1``, ``magnitude_B2``: ``|u|`` (scalars, convenient for colouring).
+
+Cell data ``electrode`` (0 = gap). Field data ``f_<name>_Hz`` holds each exported mode's
+frequency where the format keeps field data (meshio's vtu writer does not; hence the
+frequencies in the names of the extra modes).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+
+def vertex_displacements(model, shape: np.ndarray) -> np.ndarray:
+    """Displacement ``(u_x, u_y)`` of a dof vector at the mesh vertices, shape (2, n_vertices)."""
+    dofs = model.basis.nodal_dofs  # (2, n_vertices): u_x and u_y dofs of each vertex
+    return np.asarray(shape)[dofs]
+
+
+def mode_fields(model, modes, n_modes: int = 8) -> tuple[dict[str, np.ndarray], dict]:
+    """Point-data arrays and their frequencies (Hz) for :func:`export_modes`.
+
+    Parameters
+    ----------
+    model : fem.model.PiezoPlateModel
+    modes : fem.modes.PlateModes
+        Identified L1/B2 of ``model``.
+    n_modes : int
+        Number of short-circuit modes near the L1 estimate to add (0: L1 and B2 only).
+
+    Returns
+    -------
+    fields : dict of str to numpy.ndarray
+        Name to (n_vertices, 3) vectors or (n_vertices,) magnitudes.
+    frequencies_Hz : dict of str to float
+    """
+    from fem.modes import natural_frequencies_Hz
+
+    fields: dict[str, np.ndarray] = {}
+    freqs: dict[str, float] = {}
+    for mode in (modes.L1, modes.B2):
+        u = vertex_displacements(model, mode.shape)
+        fields[mode.name] = np.column_stack((u.T, np.zeros(u.shape[1])))
+        fields[f"magnitude_{mode.name}"] = np.hypot(u[0], u[1])
+        freqs[mode.name] = float(mode.f_short_Hz)
+    if n_modes > 0:
+        fc = 0.5 * (modes.L1.f_short_Hz + modes.B2.f_short_Hz)
+        f, v = natural_frequencies_Hz(model, n_modes, fc)
+        for i in range(v.shape[1]):
+            shape = v[:, i] / np.sqrt(float(v[:, i] @ (model.M @ v[:, i])))
+            u = vertex_displacements(model, shape)
+            name = f"mode_{i:02d}_{f[i]:.0f}Hz"
+            fields[name] = np.column_stack((u.T, np.zeros(u.shape[1])))
+            freqs[name] = float(f[i])
+    return fields, freqs
+
+
+def export_modes(
+    path: str | Path, model, modes, n_modes: int = 8, file_format: str | None = None
+) -> Path:
+    """Write the mesh with mode shapes as point data through meshio.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file; the format follows the extension (``.vtu`` for ParaView, ``.xdmf``,
+        ``.vtk``, ...) unless ``file_format`` is given.
+    model : fem.model.PiezoPlateModel
+    modes : fem.modes.PlateModes
+    n_modes : int
+        Extra short-circuit modes near the L1/B2 pair (see :func:`mode_fields`).
+    file_format : str, optional
+        meshio format name.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    ValueError
+        If meshio cannot write that format.
+    """
+    import meshio
+
+    path = Path(path)
+    fields, freqs = mode_fields(model, modes, n_modes)
+    mesh = model.mesh
+    pts = np.column_stack((mesh.points_m.T, np.zeros(mesh.points_m.shape[1])))
+    out = meshio.Mesh(
+        pts,
+        [("quad", mesh.quads.T.astype(np.int64))],
+        point_data=fields,
+        cell_data={"electrode": [mesh.electrode.astype(np.int32)]},
+        field_data={f"f_{k}_Hz": np.array([v]) for k, v in freqs.items()},
+    )
+    try:
+        meshio.write(path, out, file_format=file_format)
+    except (Exception, SystemExit) as exc:  # meshio: KeyError/WriteError for unknown formats
+        raise ValueError(f"could not write {path} with meshio: {exc}") from exc
+    return path

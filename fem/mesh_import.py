@@ -1,0 +1,434 @@
+"""Import any planar 2D mesh that meshio reads as the stator planform (gmsh ``.msh`` first).
+
+Conventions (SI inside; see ``docs/designer.md``):
+
+* coordinates in metres (``unit='mm'`` scales a millimetre mesh), ``z = 0``; ``x`` across
+  the width centred on ``x = 0``, ``y`` along the length from the preload end ``y = 0``;
+* gmsh physical groups (MSH 4.1 ASCII/binary as written by gmsh >= 4 and ``meshio``'s
+  ``'gmsh'`` format; MSH 2.2, ``'gmsh22'``, is read too):
+
+  - surfaces ``electrode1`` .. ``electrode4`` (``electrode_1`` .. also accepted) and an
+    optional ``gap`` for unelectroded material; every surface cell must be in one of them;
+  - optional vertex groups ``tip`` and ``preload`` (one node each): the contact tip and the
+    preload point;
+  - curve groups and line cells are ignored (boundaries);
+
+* other formats (vtu, xdmf, ...) carry an integer cell array ``electrode`` (0 = no
+  electrode), as written by :func:`fem.mesh.write_mesh`.
+
+Cells: ``quad`` and ``triangle`` (and the straight-sided ``quad8``, ``quad9``,
+``triangle6``, whose mid-side nodes are dropped). The FE stage assembles on bilinear quads
+(``MeshQuad1`` with ``ElementQuad1``/``ElementQuad2``), so a mesh containing triangles is
+converted into an all-quad mesh of the same planform: every triangle is split into three
+quads through its centroid and edge midpoints and, in a mixed mesh, every quad into four, so
+the result is conforming. The electrode tag of a cell passes to its children.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from fem.geometry import ELECTRODES
+from fem.mesh import GAP_PHYSICAL_TAG, PlateMesh
+
+UNITS = {"m": 1.0, "mm": 1e-3}
+"""Mesh coordinate units accepted by :func:`read_stator_mesh` and their size in metres."""
+
+MAX_COORDINATE_M = 1.0
+"""Coordinates beyond this (m) are taken as a mesh drawn in millimetres."""
+
+SURFACE_TYPES = ("quad", "triangle", "quad8", "quad9", "triangle6")
+"""meshio cell types read as the planform."""
+
+IGNORED_TYPES = ("line", "line3", "vertex")
+"""meshio cell types that are not part of the planform (vertices may name points)."""
+
+POINT_GROUPS = ("tip", "preload")
+"""Names of the vertex physical groups."""
+
+TIP_PHYSICAL_TAG = 21
+"""Physical tag written for the ``tip`` vertex group."""
+PRELOAD_PHYSICAL_TAG = 22
+"""Physical tag written for the ``preload`` vertex group."""
+
+_ELECTRODE_RE = re.compile(r"^electrode_?(\d+)$", re.IGNORECASE)
+_ALLOWED = "electrode1..electrode4 (or electrode_1..electrode_4), gap, tip, preload"
+
+
+@dataclass(frozen=True, eq=False)
+class ImportedMesh:
+    """A planform mesh read from a file, with its named points.
+
+    Attributes
+    ----------
+    mesh : PlateMesh
+        All-quad mesh in metres with electrode tags (0 = unelectroded).
+    points_m : dict of str to (float, float)
+        Named points from vertex groups (``'tip'``, ``'preload'``), metres.
+    path : Path
+        The file read.
+    cell_types : tuple of str
+        The surface cell types found in the file.
+    converted : bool
+        True if triangles were split into quads.
+    """
+
+    mesh: PlateMesh
+    points_m: dict[str, tuple[float, float]] = field(default_factory=dict)
+    path: Path = Path()
+    cell_types: tuple[str, ...] = ()
+    converted: bool = False
+
+
+def _group_of(name: str, path: Path) -> int | str:
+    """Electrode number (1..4), 0 for ``gap``, or the point name; ValueError otherwise."""
+    key = name.strip()
+    match = _ELECTRODE_RE.match(key)
+    if match:
+        k = int(match.group(1))
+        if k not in ELECTRODES:
+            raise ValueError(
+                f"mesh file {path}: physical group {name!r} names electrode {k}, but the "
+                f"electrodes are numbered 1..4"
+            )
+        return k
+    if key.lower() == "gap":
+        return 0
+    if key.lower() in POINT_GROUPS:
+        return key.lower()
+    raise ValueError(f"mesh file {path}: unknown physical group {name!r}; allowed: {_ALLOWED}")
+
+
+def _straight_corners(cell_type: str, data: np.ndarray, pts: np.ndarray, path: Path):
+    """Corner connectivity of a second-order cell whose mid-side nodes sit mid-edge."""
+    n = 4 if cell_type.startswith("quad") else 3
+    corners = data[:, :n]
+    for j in range(n):
+        a, b = corners[:, j], corners[:, (j + 1) % n]
+        mid = 0.5 * (pts[a] + pts[b])
+        dev = np.linalg.norm(pts[data[:, n + j]] - mid, axis=1)
+        size = np.linalg.norm(pts[b] - pts[a], axis=1)
+        if np.any(dev > 1e-6 * size):
+            raise ValueError(
+                f"mesh file {path}: curved {cell_type} cells are not supported (mid-side "
+                f"nodes off the straight edges); export a first-order mesh"
+            )
+    return corners
+
+
+def _signed_area(pts: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """Shoelace area of polygons ``conn`` (n_cells, n_corners) over ``pts`` (n, 2)."""
+    x, y = pts[conn, 0], pts[conn, 1]
+    return 0.5 * np.sum(x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y, axis=1)
+
+
+def quadrangulate(
+    points_m: np.ndarray, triangles: np.ndarray, quads: np.ndarray,
+    tri_tags: np.ndarray, quad_tags: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Conforming all-quad mesh from triangles (3 quads each) and quads (4 each if mixed).
+
+    Parameters
+    ----------
+    points_m : numpy.ndarray
+        Node coordinates, shape (n, 2) (m).
+    triangles, quads : numpy.ndarray
+        Counter-clockwise connectivity, shapes (n_tri, 3) and (n_quad, 4).
+    tri_tags, quad_tags : numpy.ndarray
+        Electrode tag per cell.
+
+    Returns
+    -------
+    points_m : numpy.ndarray
+        (n', 2) nodes: the originals, then edge midpoints, then cell centroids.
+    quads : numpy.ndarray
+        (n_quads', 4) counter-clockwise.
+    tags : numpy.ndarray
+        Tag per new quad.
+    """
+    if triangles.shape[0] == 0:
+        return points_m, quads, quad_tags
+    cells = [triangles, quads] if quads.shape[0] else [triangles]
+    tags = [tri_tags, quad_tags] if quads.shape[0] else [tri_tags]
+    edges = np.concatenate(
+        [np.stack((c, np.roll(c, -1, axis=1)), axis=-1).reshape(-1, 2) for c in cells]
+    )
+    uniq, inverse = np.unique(np.sort(edges, axis=1), axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    n0 = points_m.shape[0]
+    mids = 0.5 * (points_m[uniq[:, 0]] + points_m[uniq[:, 1]])
+    new_pts = [points_m, mids]
+    out, out_tags = [], []
+    offset_edge = 0
+    next_node = n0 + uniq.shape[0]
+    for c, t in zip(cells, tags, strict=True):
+        k = c.shape[1]
+        emid = n0 + inverse[offset_edge : offset_edge + c.size].reshape(-1, k)
+        offset_edge += c.size
+        centre = np.arange(next_node, next_node + c.shape[0])
+        next_node += c.shape[0]
+        new_pts.append(points_m[c].mean(axis=1))
+        for j in range(k):  # child at corner j: corner, mid(j, j+1), centre, mid(j-1, j)
+            out.append(np.column_stack((c[:, j], emid[:, j], centre, emid[:, (j - 1) % k])))
+            out_tags.append(t)
+    return np.concatenate(new_pts), np.concatenate(out), np.concatenate(out_tags)
+
+
+def _read_meshio(path: Path):
+    import meshio
+
+    if not path.is_file():
+        raise FileNotFoundError(f"mesh file not found: {path}")
+    try:
+        return meshio.read(path)
+    except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
+        raise ValueError(f"could not read mesh file {path}: {exc}") from exc
+
+
+def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
+    """Read a planform mesh with electrode groups (and tip/preload vertices) through meshio.
+
+    Parameters
+    ----------
+    path : str or Path
+        Mesh file; gmsh ``.msh`` (MSH 4.1 or 2.2) or any meshio format with an integer cell
+        array ``electrode``.
+    unit : {'m', 'mm'}
+        Unit of the file's coordinates.
+
+    Returns
+    -------
+    ImportedMesh
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    ValueError
+        Unreadable file, unsupported cell type, unknown or unnamed physical group, no
+        electrode, a mesh that is not planar, looks like millimetres, or is not in the stator
+        frame (x centred, preload end at y = 0).
+    """
+    path = Path(path)
+    if unit not in UNITS:
+        raise ValueError(f"mesh unit must be one of {', '.join(UNITS)}, got {unit!r}")
+    m = _read_meshio(path)
+    pts3 = np.asarray(m.points, dtype=float)
+    if pts3.ndim != 2 or pts3.shape[0] == 0:
+        raise ValueError(f"mesh file {path} holds no points")
+    pts = pts3[:, :2] * UNITS[unit]
+    extent = float(np.max(np.abs(pts))) if pts.size else 0.0
+    if pts3.shape[1] > 2 and np.max(np.abs(pts3[:, 2])) * UNITS[unit] > 1e-9 * max(extent, 1e-12):
+        raise ValueError(f"mesh file {path} is not planar: z != 0 (a 2D mesh in z = 0 is needed)")
+
+    names: dict[tuple[int, int], str] = {}
+    for name, value in (m.field_data or {}).items():
+        v = np.atleast_1d(np.asarray(value)).astype(int)
+        names[(int(v[0]), int(v[1]) if v.size > 1 else 2)] = str(name)
+    physical = m.cell_data.get("gmsh:physical")
+    plain = m.cell_data.get("electrode")
+    sets = getattr(m, "cell_sets", None) or {}
+
+    polys: dict[int, list[np.ndarray]] = {3: [], 4: []}
+    poly_tags: dict[int, list[np.ndarray]] = {3: [], 4: []}
+    named_points: dict[str, tuple[float, float]] = {}
+    types_found: list[str] = []
+    for i, blk in enumerate(m.cells):
+        ctype, data = blk.type, np.asarray(blk.data, dtype=np.int64)
+        if ctype not in SURFACE_TYPES and ctype not in IGNORED_TYPES:
+            raise ValueError(
+                f"mesh file {path}: unsupported cell type {ctype!r}; supported: "
+                f"{', '.join(SURFACE_TYPES)} (plus ignored {', '.join(IGNORED_TYPES)})"
+            )
+        if ctype in ("line", "line3"):
+            continue
+        # group of every cell in the block
+        if physical is not None:
+            dim = 0 if ctype == "vertex" else 2
+            tags = np.asarray(physical[i], dtype=int)
+            groups = []
+            for tag in np.unique(tags):
+                name = names.get((int(tag), dim))
+                if name is None and not names:  # MSH without names: try cell_sets
+                    name = next(
+                        (n for n, s in sets.items()
+                         if not n.startswith("gmsh:") and i < len(s) and s[i] is not None
+                         and len(s[i]) and np.all(tags[np.asarray(s[i])] == tag)),
+                        None,
+                    )
+                if name is None:
+                    raise ValueError(
+                        f"mesh file {path}: physical tag {int(tag)} (dimension {dim}) has no "
+                        f"name; name the physical groups {_ALLOWED}"
+                    )
+                groups.append((tags == tag, _group_of(name, path)))
+        elif ctype == "vertex":
+            continue
+        elif plain is not None:
+            values = np.asarray(plain[i], dtype=int)
+            if np.any((values < 0) | (values > 4)):
+                raise ValueError(
+                    f"mesh file {path}: cell array 'electrode' must hold 0..4, found "
+                    f"{sorted(set(values.tolist()) - set(range(5)))}"
+                )
+            groups = [(values == v, int(v)) for v in np.unique(values)]
+        else:
+            raise ValueError(
+                f"mesh file {path} has no electrode tags: expected gmsh physical groups "
+                f"{_ALLOWED} or an integer cell-data array 'electrode'"
+            )
+        if ctype == "vertex":
+            for mask, group in groups:
+                if not isinstance(group, str):
+                    raise ValueError(
+                        f"mesh file {path}: vertex group {group!r} is not a point; vertex "
+                        f"groups must be named {' or '.join(POINT_GROUPS)}"
+                    )
+                nodes = np.unique(data[mask].ravel())
+                if nodes.size != 1 or group in named_points:
+                    raise ValueError(
+                        f"mesh file {path}: point group {group!r} must hold exactly one node"
+                    )
+                x, y = pts[nodes[0]]
+                named_points[group] = (float(x), float(y))
+            continue
+        if ctype in ("quad8", "quad9", "triangle6"):
+            data = _straight_corners(ctype, data, pts3[:, :2], path)
+        types_found.append(ctype)
+        k = data.shape[1]
+        tag_arr = np.zeros(data.shape[0], dtype=np.int64)
+        for mask, group in groups:
+            if isinstance(group, str):
+                raise ValueError(
+                    f"mesh file {path}: surface cells in group {group!r}; {group!r} must be "
+                    f"a vertex group"
+                )
+            tag_arr[mask] = group
+        polys[k].append(data)
+        poly_tags[k].append(tag_arr)
+
+    tri = np.concatenate(polys[3]) if polys[3] else np.zeros((0, 3), dtype=np.int64)
+    quad = np.concatenate(polys[4]) if polys[4] else np.zeros((0, 4), dtype=np.int64)
+    t_tri = np.concatenate(poly_tags[3]) if poly_tags[3] else np.zeros(0, dtype=np.int64)
+    t_quad = np.concatenate(poly_tags[4]) if poly_tags[4] else np.zeros(0, dtype=np.int64)
+    if tri.shape[0] + quad.shape[0] == 0:
+        found = sorted({blk.type for blk in m.cells})
+        raise ValueError(
+            f"mesh file {path} holds no surface cells ({', '.join(SURFACE_TYPES)}); found "
+            f"{found}"
+        )
+    if not (np.any(t_tri > 0) or np.any(t_quad > 0)):
+        raise ValueError(
+            f"mesh file {path} has no electrode: every surface cell is in the gap; put cells "
+            f"in the physical groups electrode1..electrode4"
+        )
+
+    # stator frame and units (on the nodes of surface cells only)
+    used = np.unique(np.concatenate((tri.ravel(), quad.ravel())))
+    up = pts[used]
+    size = float(np.max(np.abs(up)))
+    if size > MAX_COORDINATE_M:
+        raise ValueError(
+            f"mesh file {path}: coordinates up to {size:g} m (unit {unit!r}) - this looks like "
+            f"millimetres; set unit = \"mm\" in the [mesh] table or scale the mesh to metres"
+        )
+    x0, x1 = float(up[:, 0].min()), float(up[:, 0].max())
+    y0, y1 = float(up[:, 1].min()), float(up[:, 1].max())
+    tol = 1e-6 * max(x1 - x0, y1 - y0)
+    if abs(x0 + x1) > tol or abs(y0) > tol:
+        raise ValueError(
+            f"mesh file {path}: the mesh spans x = [{x0:g}, {x1:g}] m, y = [{y0:g}, {y1:g}] m; "
+            f"the stator frame needs x centred on 0 (width) and the preload end at y = 0"
+        )
+
+    # counter-clockwise orientation, no degenerate cells
+    for conn in (tri, quad):
+        if conn.shape[0] == 0:
+            continue
+        area = _signed_area(pts, conn)
+        if np.any(np.abs(area) <= 1e-12 * (x1 - x0) * (y1 - y0)):
+            raise ValueError(f"mesh file {path} has degenerate (zero-area) cells")
+        conn[area < 0] = conn[area < 0, ::-1]
+
+    p2, q2, tags = quadrangulate(pts, tri, quad, t_tri, t_quad)
+    used = np.unique(q2)
+    remap = -np.ones(p2.shape[0], dtype=np.int64)
+    remap[used] = np.arange(used.size)
+    mesh = PlateMesh(points_m=p2[used].T, quads=remap[q2].T, electrode=tags)
+    return ImportedMesh(
+        mesh=mesh,
+        points_m=named_points,
+        path=path,
+        cell_types=tuple(dict.fromkeys(types_found)),
+        converted=bool(tri.shape[0]),
+    )
+
+
+def write_stator_msh(
+    path: str | Path,
+    points: np.ndarray,
+    cells: dict[str, np.ndarray],
+    electrode: dict[str, np.ndarray],
+    point_nodes: dict[str, int] | None = None,
+    file_format: str = "gmsh",
+) -> Path:
+    """Write a planform mesh as gmsh MSH with the physical groups :func:`read_stator_mesh` reads.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output ``.msh`` file.
+    points : numpy.ndarray
+        Node coordinates, shape (n, 2), in metres or in the unit the stator file declares.
+    cells : dict of str to numpy.ndarray
+        meshio cell type (``'quad'``, ``'triangle'``) to connectivity (n_cells, k).
+    electrode : dict of str to numpy.ndarray
+        The same keys: electrode tag (0 = gap, 1..4) of every cell.
+    point_nodes : dict of str to int, optional
+        ``'tip'`` / ``'preload'`` to the index of their node.
+    file_format : {'gmsh', 'gmsh22'}
+        MSH 4.1 ASCII (default) or MSH 2.2 ASCII.
+
+    Returns
+    -------
+    Path
+    """
+    import meshio
+
+    path = Path(path)
+    pts = np.column_stack((np.asarray(points, dtype=float), np.zeros(len(points))))
+    blocks, phys = [], []
+    field_data: dict[str, np.ndarray] = {}
+    node_entity = np.zeros((pts.shape[0], 2), dtype=np.int64)
+    for ctype, conn in cells.items():
+        tags = np.asarray(electrode[ctype], dtype=int)
+        for k in np.unique(tags):
+            tag = int(k) if k > 0 else GAP_PHYSICAL_TAG
+            name = f"electrode{int(k)}" if k > 0 else "gap"
+            sel = np.asarray(conn)[tags == k]
+            blocks.append(meshio.CellBlock(ctype, sel.astype(np.int64)))
+            phys.append(np.full(sel.shape[0], tag, dtype=np.int32))
+            field_data[name] = np.array([tag, 2])
+            nodes = sel.ravel()
+            node_entity[nodes, 0] = 2
+            node_entity[nodes, 1] = np.maximum(node_entity[nodes, 1], tag)
+    point_tags = {"tip": TIP_PHYSICAL_TAG, "preload": PRELOAD_PHYSICAL_TAG}
+    for name, node in (point_nodes or {}).items():
+        tag = point_tags[name]
+        blocks.append(meshio.CellBlock("vertex", np.array([[int(node)]], dtype=np.int64)))
+        phys.append(np.array([tag], dtype=np.int32))
+        field_data[name] = np.array([tag, 0])
+        node_entity[int(node)] = (0, tag)
+    mesh = meshio.Mesh(
+        pts,
+        blocks,
+        point_data={"gmsh:dim_tags": node_entity},
+        cell_data={"gmsh:physical": phys, "gmsh:geometrical": phys},
+        field_data=field_data,
+    )
+    meshio.write(path, mesh, file_format=file_format, binary=False)
+    return path

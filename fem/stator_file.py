@@ -1,0 +1,470 @@
+"""Stator descriptions in TOML files: dimensions, electrodes, material, points, optional mesh.
+
+Lengths are millimetres in the file and metres inside. Schema (every table optional except
+``[plate]``; unknown keys are errors; see ``docs/designer.md``)::
+
+    name = "paper plate"                # free text
+
+    [plate]
+    length_mm = 30.0                    # along y; with a mesh: optional, must match it
+    width_mm = 7.5                      # across x; with a mesh: optional, must match it
+    thickness_mm = 3.0                  # required
+
+    [electrodes]
+    gap_mm = 0.5                        # quadrant layout of the generated mesh only
+    drive = [1, 4]                      # electrodes at +V (others grounded), numbers 1..4
+
+    [material]
+    name = "pzt8"                       # "pzt8" or "paper", or inline constants:
+    # base = "pzt8"                     # start from a named material and override
+    # cE_Pa = [[...6 rows of 6...]]     # stiffness at constant E (Pa), Voigt 11,22,33,23,13,12
+    # e_C_m2 = [[...3 rows of 6...]]    # piezoelectric stress constants (C/m^2)
+    # epsS_F_m = [[...3 rows of 3...]]  # permittivity at constant strain (F/m)
+    # rho_kg_m3 = 7600.0
+
+    [points]
+    tip_mm = [0.0, 30.0]                # default: the mesh's "tip" vertex, else (0, l)
+    preload_mm = [0.0, 0.0]             # default: the mesh's "preload" vertex, else (0, 0)
+
+    [mesh]
+    file = "plate.msh"                  # relative to the TOML file; replaces the rectangle
+    unit = "m"                          # unit of the mesh coordinates: "m" or "mm"
+
+Without ``[mesh]`` the stator is the rectangular :class:`fem.geometry.PlateStator` (meshed
+by :func:`fem.mesh.structured_mesh`), so a TOML plate and the same plate built in Python give
+identical models. With a mesh the stator is a :class:`MeshedStator`: a ``PlateStator`` whose
+length and width are the mesh's bounding box and which carries the mesh, the tip and the
+preload point; :func:`fem.model.plate_model` then assembles on that mesh.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import tomllib
+
+from fem.geometry import ELECTRODES, PlateStator
+from fem.material import MATERIAL_NAMES, PiezoMaterial, get_material
+from fem.mesh import PlateMesh
+
+MM = 1e-3
+"""One millimetre in metres."""
+
+_KEYS: dict[str, tuple[str, ...]] = {
+    "": ("name", "plate", "electrodes", "material", "points", "mesh"),
+    "plate": ("length_mm", "width_mm", "thickness_mm"),
+    "electrodes": ("gap_mm", "drive"),
+    "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
+    "points": ("tip_mm", "preload_mm"),
+    "mesh": ("file", "unit"),
+}
+
+
+@dataclass(frozen=True)
+class MeshedStator(PlateStator):
+    """A stator whose planform is a given mesh (a :class:`PlateStator` the FE stage accepts).
+
+    ``length_m`` and ``width_m`` are the mesh's bounding box (they set the sampling grid and
+    the reference shapes of the mode identification); ``electrode_gap_m`` is unused (the
+    mesh's tags define the electrodes).
+
+    Attributes
+    ----------
+    mesh : PlateMesh
+        The planform mesh (m) with electrode tags; :func:`fem.model.plate_model` uses it and
+        ignores ``refine``.
+    tip_m, preload_m : (float, float)
+        Contact tip and preload point ``(x, y)`` (m), inside the mesh.
+    mesh_file : str
+        Where the mesh came from (for reports).
+    """
+
+    mesh: PlateMesh | None = None
+    tip_m: tuple[float, float] = (0.0, 0.0)
+    preload_m: tuple[float, float] = (0.0, 0.0)
+    mesh_file: str = ""
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not isinstance(self.mesh, PlateMesh):
+            raise ValueError("MeshedStator.mesh must be a fem.mesh.PlateMesh")
+        for name in ("tip_m", "preload_m"):
+            pt = tuple(float(v) for v in getattr(self, name))
+            if len(pt) != 2 or not all(math.isfinite(v) for v in pt):
+                raise ValueError(f"MeshedStator.{name} must be a finite (x, y) pair (m)")
+            if not bool(self.mesh.contains(np.array(pt)[:, None])[0]):
+                raise ValueError(
+                    f"MeshedStator.{name} = ({pt[0] * 1e3:g}, {pt[1] * 1e3:g}) mm lies off the "
+                    f"mesh (bounding box {_bbox_mm(self.mesh)})"
+                )
+            object.__setattr__(self, name, pt)
+
+    @property
+    def tip_point_m(self) -> tuple[float, float]:
+        """Contact tip ``(x, y)`` (m)."""
+        return self.tip_m
+
+    @property
+    def preload_point_m(self) -> tuple[float, float]:
+        """Preload point ``(x, y)`` (m)."""
+        return self.preload_m
+
+    def electrode_of(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+        """Electrode tag of the mesh element containing each point (0: gap or outside)."""
+        x = np.asarray(x_m, dtype=float)
+        y = np.asarray(y_m, dtype=float)
+        shape = np.broadcast(x, y).shape
+        pts = np.vstack((np.broadcast_to(x, shape).ravel(), np.broadcast_to(y, shape).ravel()))
+        mesh = self.mesh
+        assert mesh is not None
+        out = np.zeros(pts.shape[1], dtype=int)
+        inside = mesh.contains(pts)
+        if np.any(inside):
+            cells = mesh.to_skfem().element_finder()(*pts[:, inside])
+            out[inside] = mesh.electrode[cells]
+        return out.reshape(shape)
+
+
+def _bbox_mm(mesh: PlateMesh) -> str:
+    x0, x1, y0, y1 = (v * 1e3 for v in mesh.bounding_box_m())
+    return f"x in [{x0:g}, {x1:g}] mm, y in [{y0:g}, {y1:g}] mm"
+
+
+@dataclass(frozen=True, eq=False)
+class StatorDesign:
+    """A stator loaded from a file: the FE geometry plus its material.
+
+    Attributes
+    ----------
+    name : str
+        The file's ``name`` (default: the file stem).
+    stator : PlateStator
+        A plain :class:`PlateStator` (no mesh file) or a :class:`MeshedStator`; pass it to
+        :func:`fem.modes.plate_modes`, :func:`fem.model.plate_model`,
+        :func:`rom.from_fem.fem_params`.
+    material : PiezoMaterial
+    path : Path or None
+        The TOML file.
+    mesh_path : Path or None
+        The mesh file, resolved.
+    """
+
+    name: str
+    stator: PlateStator
+    material: PiezoMaterial
+    path: Path | None = None
+    mesh_path: Path | None = None
+    notes: tuple[str, ...] = field(default=())
+
+    def model(self, order: int = 2, refine: int | None = None):
+        """The assembled :class:`fem.model.PiezoPlateModel` (cached)."""
+        from fem.model import plate_model
+        from fem.modes import DEFAULT_REFINE
+
+        return plate_model(self.stator, self.material, order, refine or DEFAULT_REFINE)
+
+    def modes(self, order: int = 2, refine: int | None = None):
+        """L1 and B2 (:class:`fem.modes.PlateModes`, cached); ``refine`` ignored with a mesh."""
+        from fem.modes import DEFAULT_REFINE, plate_modes
+
+        return plate_modes(self.stator, self.material, order, refine or DEFAULT_REFINE)
+
+
+def _where(table: str, key: str) -> str:
+    return f"[{table}] {key}" if table else key
+
+
+def _check_keys(data: dict[str, Any], table: str, src: str) -> None:
+    allowed = _KEYS[table]
+    for key in data:
+        if key not in allowed:
+            where = f"[{table}]" if table else "top level"
+            raise ValueError(
+                f"{src}: unknown key {key!r} at {where}; allowed: {', '.join(allowed)}"
+            )
+
+
+def _table(data: dict[str, Any], name: str, src: str, required: bool = False) -> dict:
+    value = data.get(name)
+    if value is None:
+        if required:
+            raise ValueError(f"{src}: missing table [{name}]")
+        return {}
+    if not isinstance(value, dict):
+        raise ValueError(f"{src}: {name} must be a table [{name}], got {value!r}")
+    _check_keys(value, name, src)
+    return value
+
+
+def _length_mm(
+    table: dict, tname: str, key: str, src: str, required: bool, upper_mm: float | None = None,
+    allow_zero: bool = False,
+) -> float | None:
+    if key not in table:
+        if required:
+            raise ValueError(f"{src}: missing {_where(tname, key)} (mm, a number > 0)")
+        return None
+    v = table[key]
+    ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    lower = "[0" if allow_zero else "(0"
+    upper = f"{upper_mm:g})" if upper_mm is not None else "inf)"
+    if not ok or v < 0 or (v == 0 and not allow_zero) or (upper_mm is not None and v >= upper_mm):
+        raise ValueError(
+            f"{src}: {_where(tname, key)} must lie in {lower}, {upper} mm, got {v!r}"
+        )
+    return float(v)
+
+
+def _point_mm(table: dict, key: str, src: str) -> tuple[float, float] | None:
+    if key not in table:
+        return None
+    v = table[key]
+    if (
+        not isinstance(v, list) or len(v) != 2
+        or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v)
+        or not all(math.isfinite(c) for c in v)
+    ):
+        raise ValueError(f"{src}: [points] {key} must be [x, y] in mm, got {v!r}")
+    return (float(v[0]) * MM, float(v[1]) * MM)
+
+
+def _drive(table: dict, src: str) -> tuple[int, ...]:
+    if "drive" not in table:
+        return PlateStator().drive_electrodes
+    v = table["drive"]
+    if not isinstance(v, list) or not v or not all(
+        isinstance(e, int) and not isinstance(e, bool) for e in v
+    ):
+        raise ValueError(
+            f"{src}: [electrodes] drive must be a non-empty list of electrode numbers "
+            f"1..4, got {v!r}"
+        )
+    for e in v:
+        if e not in ELECTRODES:
+            raise ValueError(
+                f"{src}: [electrodes] drive names electrode {e}, which is not on the plate; "
+                f"allowed electrode numbers 1..4"
+            )
+    if len(set(v)) != len(v):
+        raise ValueError(f"{src}: [electrodes] drive repeats an electrode: {v!r}")
+    return tuple(v)
+
+
+def _material(table: dict, src: str) -> PiezoMaterial:
+    if not table:
+        return get_material("pzt8")
+    inline = [k for k in ("cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3") if k in table]
+    if not inline:
+        if "base" in table:
+            raise ValueError(f"{src}: [material] base needs at least one inline constant")
+        name = table.get("name", "pzt8")
+        try:
+            return get_material(name)
+        except ValueError:
+            raise ValueError(
+                f"{src}: [material] name {name!r} is unknown; allowed: "
+                f"{', '.join(MATERIAL_NAMES)}, or inline constants cE_Pa, e_C_m2, epsS_F_m, "
+                f"rho_kg_m3 (optionally with base = \"pzt8\")"
+            ) from None
+    base_name = table.get("base")
+    if base_name is None:
+        missing = [k for k in ("cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3") if k not in table]
+        if missing:
+            raise ValueError(
+                f"{src}: [material] inline constants need {', '.join(missing)} (or base = "
+                f"\"pzt8\" to start from a named material)"
+            )
+        base = None
+    else:
+        try:
+            base = get_material(base_name)
+        except ValueError:
+            raise ValueError(
+                f"{src}: [material] base {base_name!r} is unknown; allowed: "
+                f"{', '.join(MATERIAL_NAMES)}"
+            ) from None
+    values: dict[str, Any] = {}
+    for key, shape in (("cE_Pa", (6, 6)), ("e_C_m2", (3, 6)), ("epsS_F_m", (3, 3))):
+        if key in table:
+            try:
+                arr = np.array(table[key], dtype=float)
+            except (TypeError, ValueError):
+                arr = None
+            if arr is None or arr.shape != shape:
+                raise ValueError(f"{src}: [material] {key} must be a {shape[0]}x{shape[1]} "
+                                 f"array of numbers")
+            values[key] = arr
+        else:
+            values[key] = getattr(base, key)
+    rho = table.get("rho_kg_m3", base.rho_kg_m3 if base is not None else None)
+    if not isinstance(rho, (int, float)) or isinstance(rho, bool) or not rho > 0:
+        raise ValueError(f"{src}: [material] rho_kg_m3 must be a number > 0, got {rho!r}")
+    name = str(table.get("name", "inline" if base is None else f"{base.name}-modified"))
+    source = str(table.get("source", f"inline constants in {src}"))
+    try:
+        return PiezoMaterial(
+            name=name, cE_Pa=values["cE_Pa"], e_C_m2=values["e_C_m2"],
+            epsS_F_m=values["epsS_F_m"], rho_kg_m3=float(rho), source=source,
+        )
+    except ValueError as exc:
+        raise ValueError(f"{src}: [material] {exc}") from None
+
+
+def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
+                 src: str = "stator") -> StatorDesign:
+    """Build a :class:`StatorDesign` from a parsed TOML document (see module docstring).
+
+    Parameters
+    ----------
+    data : dict
+        The TOML document as a dictionary.
+    base_dir : Path, optional
+        Directory that ``[mesh] file`` is relative to (default: the working directory).
+    src : str
+        Name used in error messages.
+
+    Raises
+    ------
+    ValueError
+        A message naming the offending key and its allowed range.
+    FileNotFoundError
+        If the mesh file does not exist.
+    """
+    _check_keys(data, "", src)
+    plate = _table(data, "plate", src, required=True)
+    elec = _table(data, "electrodes", src)
+    mat_t = _table(data, "material", src)
+    pts_t = _table(data, "points", src)
+    mesh_t = _table(data, "mesh", src)
+    name = data.get("name", src)
+    if not isinstance(name, str):
+        raise ValueError(f"{src}: name must be a string, got {name!r}")
+    material = _material(mat_t, src)
+    drive = _drive(elec, src)
+    thickness = _length_mm(plate, "plate", "thickness_mm", src, required=True)
+    tip = _point_mm(pts_t, "tip_mm", src)
+    preload = _point_mm(pts_t, "preload_mm", src)
+    assert thickness is not None
+
+    if not mesh_t:
+        length = _length_mm(plate, "plate", "length_mm", src, required=True)
+        width = _length_mm(plate, "plate", "width_mm", src, required=True)
+        assert length is not None and width is not None
+        gap_default = PlateStator().electrode_gap_m / MM
+        gap = _length_mm(elec, "electrodes", "gap_mm", src, required=False,
+                         upper_mm=min(length, width), allow_zero=True)
+        stator = PlateStator(
+            length_m=length * MM, width_m=width * MM, thickness_m=thickness * MM,
+            electrode_gap_m=(gap_default if gap is None else gap) * MM,
+            drive_electrodes=drive,
+        )
+        for key, pt, default in (("tip_mm", tip, stator.tip_point_m),
+                                 ("preload_mm", preload, stator.preload_point_m)):
+            if pt is None:
+                continue
+            if not np.allclose(pt, default, rtol=0.0, atol=1e-9 * length * MM):
+                raise ValueError(
+                    f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the "
+                    f"generated plate puts it at [{default[0] / MM:g}, {default[1] / MM:g}] "
+                    f"mm; give a mesh file ([mesh] file) for other points"
+                )
+        return StatorDesign(name=name, stator=stator, material=material)
+
+    from fem.mesh_import import UNITS, read_stator_mesh
+
+    if "file" not in mesh_t or not isinstance(mesh_t["file"], str):
+        raise ValueError(f"{src}: [mesh] file must be the path of a mesh file (a string)")
+    unit = mesh_t.get("unit", "m")
+    if unit not in UNITS:
+        raise ValueError(f"{src}: [mesh] unit must be one of {', '.join(UNITS)}, got {unit!r}")
+    if "gap_mm" in elec:
+        raise ValueError(
+            f"{src}: [electrodes] gap_mm applies to the generated plate only; with [mesh] "
+            f"file the mesh's electrode groups define the layout"
+        )
+    mesh_path = Path(mesh_t["file"])
+    if not mesh_path.is_absolute():
+        mesh_path = (base_dir or Path.cwd()) / mesh_path
+    if not mesh_path.is_file():
+        raise FileNotFoundError(f"{src}: [mesh] file {mesh_t['file']!r} not found ({mesh_path})")
+    imported = read_stator_mesh(mesh_path, unit=unit)
+    mesh = imported.mesh
+    x0, x1, y0, y1 = mesh.bounding_box_m()
+    for key, value_m in (("length_mm", y1 - y0), ("width_mm", x1 - x0)):
+        given = _length_mm(plate, "plate", key, src, required=False)
+        if given is not None and abs(given * MM - value_m) > 1e-6 * value_m:
+            raise ValueError(
+                f"{src}: [plate] {key} = {given:g} mm does not match the mesh's bounding box "
+                f"({value_m / MM:g} mm); lengths with a mesh are its overall extent"
+            )
+    present = {int(k) for k in np.unique(mesh.electrode) if k > 0}
+    for e in drive:
+        if e not in present:
+            raise ValueError(
+                f"{src}: [electrodes] drive names electrode {e}, which has no cells in "
+                f"{mesh_path.name} (electrodes present: {sorted(present)})"
+            )
+    tip = tip if tip is not None else imported.points_m.get("tip", (0.0, y1))
+    preload = preload if preload is not None else imported.points_m.get("preload", (0.0, 0.0))
+    for key, pt in (("tip_mm", tip), ("preload_mm", preload)):
+        if not bool(mesh.contains(np.array(pt)[:, None])[0]):
+            raise ValueError(
+                f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies off the "
+                f"mesh ({_bbox_mm(mesh)})"
+            )
+    stator = MeshedStator(
+        length_m=y1 - y0, width_m=x1 - x0, thickness_m=thickness * MM, electrode_gap_m=0.0,
+        drive_electrodes=drive, mesh=mesh, tip_m=tip, preload_m=preload,
+        mesh_file=str(mesh_path),
+    )
+    notes = (f"triangles split into quads ({', '.join(imported.cell_types)})",) if (
+        imported.converted
+    ) else ()
+    return StatorDesign(
+        name=name, stator=stator, material=material, mesh_path=mesh_path, notes=notes
+    )
+
+
+def load_stator(path: str | Path) -> StatorDesign:
+    """Read a stator TOML file (mm in the file, SI in the result).
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.toml`` file; ``[mesh] file`` is resolved relative to its directory.
+
+    Returns
+    -------
+    StatorDesign
+        ``.stator`` is what the FE stage takes, ``.material`` its material.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the TOML file or its mesh file does not exist.
+    ValueError
+        For bad TOML or bad values; the message names the key and the allowed range.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"stator file not found: {path}")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: not valid TOML: {exc}") from None
+    design = parse_stator(data, base_dir=path.parent, src=str(path))
+    if "name" not in data:
+        design = StatorDesign(
+            name=path.stem, stator=design.stator, material=design.material,
+            mesh_path=design.mesh_path, notes=design.notes, path=path,
+        )
+    else:
+        design = StatorDesign(
+            name=design.name, stator=design.stator, material=design.material,
+            mesh_path=design.mesh_path, notes=design.notes, path=path,
+        )
+    return design
