@@ -1,0 +1,110 @@
+"""The ``lusm simulate`` / ``lusm map`` command line: output contract and bad input."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import ROOT, cached_run
+
+MOTIONS = {"slip-separation", "stick-slip", "stick-slip-separation", "pure-stick", "pure-slip"}
+
+
+def lusm(*args: str, env: dict | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "validation.cli", *args],
+        cwd=ROOT, capture_output=True, text=True, env=env, timeout=600,
+    )
+
+
+def test_simulate_json_matches_the_library():
+    out = lusm("simulate", "--voltage", "200", "--preload", "14", "--json")
+    assert out.returncode == 0, out.stderr
+    d = json.loads(out.stdout)
+    for key in ("steady_velocity_m_s", "motion", "stick_fraction", "separation_fraction",
+                "mu_d_effective", "steps", "wall_time_s"):
+        assert key in d
+    assert d["motion"] in MOTIONS
+    lib = cached_run(200.0, 14.0)
+    # one source of truth: the CLI prints what the library computes
+    assert d["steady_velocity_m_s"] == lib.steady.velocity_m_s
+    assert d["stick_fraction"] == lib.steady.stick_fraction
+    assert d["steps"] == 500_000
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("--voltage", "nan", "--preload", "14"), "voltage_V"),
+        (("--voltage", "200", "--preload", "-1"), "preload_N"),
+        (("--voltage", "200", "--preload", "14", "--dt", "0"), "dt_s"),
+        (("--voltage", "200", "--preload", "14", "--dt", "2e-6"), "dt_s"),
+        (("--voltage", "200", "--preload", "14", "--duration", "1e-4"), "duration_s"),
+        (("--voltage", "200", "--preload", "14", "--frequency", "fast"), "--frequency"),
+        (("--voltage", "200", "--preload", "14", "--bogus"), "unrecognized"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2(args, needle):
+    out = lusm("simulate", *args)
+    assert out.returncode == 2
+    assert "Traceback" not in out.stderr
+    lines = [ln for ln in out.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1, out.stderr
+    assert needle in lines[0]
+
+
+def test_plot_writes_valid_non_blank_pngs(tmp_path: Path):
+    import numpy as np
+    from matplotlib.image import imread
+
+    out = lusm("simulate", "--voltage", "400", "--preload", "14", "--duration", "0.005",
+               "--plot", str(tmp_path), "--json")
+    assert out.returncode == 0, out.stderr
+    figs = json.loads(out.stdout)["figures"]
+    assert len(figs) == 4
+    for f in figs:
+        img = imread(f)
+        assert img.ndim == 3 and img.shape[0] > 100
+        assert float(np.std(img[..., :3])) > 0.01  # not a blank canvas
+
+
+def test_map_json_classifies_every_point():
+    out = lusm("map", "--voltages", "0,400", "--preloads", "6,40", "--duration", "0.01",
+               "--json")
+    assert out.returncode == 0, out.stderr
+    d = json.loads(out.stdout)
+    motion = d["motion"]
+    assert len(motion) == 2 and len(motion[0]) == 2
+    assert motion[0] == ["pure-stick", "pure-stick"]  # no voltage: no motion
+    assert "stick" in motion[1][1]  # a 40 N preload makes the tip stick part of the time
+    assert motion[1][0] in ("slip-separation", "pure-slip")  # 6 N: no stick at 400 V
+    v = d["steady_velocity_m_s"]
+    assert v[1][0] > v[1][1] > 0.0
+
+
+def test_contact_and_table2_do_not_import_the_fe_stack():
+    code = (
+        "import sys, contact.simulate, contact.maps, contact.reference, rom.table2, rom;"
+        "bad=[m for m in ('skfem','pyvista','vtk','meshio','fem') if m in sys.modules];"
+        "print(bad); sys.exit(1 if bad else 0)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 0, out.stdout + out.stderr
+
+
+def test_cold_numba_cache_gives_the_same_answer(tmp_path: Path):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba-cache")}
+    out = lusm("simulate", "--voltage", "200", "--preload", "14", "--duration", "0.002",
+               "--json", env=env)
+    assert out.returncode == 0, out.stderr
+    warm = lusm("simulate", "--voltage", "200", "--preload", "14", "--duration", "0.002",
+                "--json")
+    assert json.loads(out.stdout)["steady_velocity_m_s"] == json.loads(warm.stdout)[
+        "steady_velocity_m_s"]
+    assert any((tmp_path / "numba-cache").rglob("*.nbi"))  # the cold run wrote its cache
