@@ -1,0 +1,635 @@
+"""3D piezoelastic reference model of the stator plate (quadratic hexahedra, scikit-fem).
+
+The plate is meshed as a solid: ``x`` across the width (centred), ``y`` along the length
+(``0..l``), ``z`` through the thickness (``-h/2..h/2``, the poling axis). Unknowns are the
+three displacement components and the electric potential, all interpolated with the same
+quadratic hexahedron. The default element is the 20-node serendipity brick
+(``ElementHexS2``): on the rectangular boxes of this structured mesh it is as accurate as the
+27-node triquadratic brick (``ElementHex2``) for L1 and B2 (measured, ``docs/fem3d.md``) with
+about 35 % fewer nodes; ``element='hex27'`` selects the latter and ``order=1`` the trilinear
+``ElementHex1`` (which locks in bending; for comparison only).
+
+Constitutive law (IEEE e-form, ``fem.material``) with ``E = -grad(phi)``::
+
+    T = c^E S + e^T grad(phi)
+    D = e S - eps^S grad(phi)
+
+Weak form (virtual displacement ``v``, virtual potential ``psi``)::
+
+    int S(v)^T c^E S(u) + S(v)^T e^T grad(phi) dV + int rho v . u'' dV = 0
+    int grad(psi)^T (e S(u) - eps^S grad(phi)) dV = -sum_e psi_e Q_e
+
+where ``Q_e`` is the free charge on electrode ``e`` (the electrode is a conductor, the charge
+density on it is ``-D . n_out``). In matrix form, with ``K_uu``, ``K_uphi``, ``K_phiphi``::
+
+    M u'' + K_uu u + K_uphi phi = 0,       Q = K_phiphi phi - K_uphi^T u  (per electrode).
+
+Electrodes are equipotential surfaces: the bottom face ``z = -h/2`` is grounded
+(``phi = 0``); on the top face every potential node under quadrant ``e`` (closed region, the
+mesh lines follow the electrode edges) is tied to one unknown ``V_e``. The gap strips and the
+side faces are free surfaces (``D . n = 0``, the natural condition).
+
+* Short circuit: ``V_e = 0`` for all four electrodes.
+* Open circuit: each ``V_e`` is a free unknown and the natural condition of its equation is
+  ``Q_e = 0``: a floating electrode with zero net charge.
+
+The free potentials are condensed exactly inside the shift-invert operator: the saddle-point
+system ``[[K_uu - sigma M, K_uphi], [K_uphi^T, -K_phiphi]]`` is factorized once (sparse LU)
+and ``eigsh`` works on the displacements only, with ``K_cond = K_uu + K_uphi K_phiphi^-1
+K_uphi^T``. Sign convention: ``V_e`` is the potential of the top electrode; a positive ``V_e``
+makes ``E3 = -V/h``, the opposite of the 2D model's convention ``E3 = +V/h`` (frequencies and
+``k_eff`` do not depend on it).
+
+Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z = 0``
+(symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
+modes that are not symmetric through the thickness (out-of-plane bending, torsion).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from fem.geometry import ELECTRODES, PlateStator
+from fem.material import PiezoMaterial, get_material
+from fem.mesh import grid_lines_m
+from fem.modes import (
+    MIN_MAC,
+    MIN_SYMMETRY,
+    N_SAMPLE_X,
+    N_SAMPLE_Y,
+    IdentifiedMode,
+    ModeSolverError,
+    PlateModes,
+    _mac,
+    _references,
+    _sign_changes,
+    _symmetric_fraction,
+    rod_frequency_estimate_Hz,
+)
+
+ELEMENTS = ("hex20", "hex27")
+"""Quadratic bricks: 20-node serendipity (``ElementHexS2``), 27-node (``ElementHex2``)."""
+DEFAULT_ELEMENT = "hex20"
+"""Default quadratic brick (see the module docstring and ``docs/fem3d.md``)."""
+DEFAULT_REFINE_3D = 2
+"""Default in-plane refinement: elements per plate width, as in :func:`fem.mesh.grid_lines_m`."""
+DEFAULT_LAYERS = 2
+"""Default number of element layers through the thickness."""
+MIN_THICKNESS_SYMMETRY = 0.5
+"""Smallest energy fraction of a mode's sampled field that is symmetric through the thickness
+(in-plane class: ``u_x, u_y`` even in z, ``u_z`` odd) for it to be a candidate L1/B2. Not
+close to 1: with electrodes on the top face only, floating electrodes couple in-plane and
+out-of-plane motion, so an out-of-plane mode near B2 can hybridize with it (seen on thin
+plates); among candidates the largest ``MAC * thickness symmetry`` wins."""
+
+
+def _element(order: int, element: str):
+    from skfem import ElementHex1, ElementHex2, ElementHexS2
+
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 or 2, got {order!r}")
+    if order == 1:
+        return ElementHex1()
+    if element not in ELEMENTS:
+        raise ValueError(f"element must be one of {', '.join(ELEMENTS)}, got {element!r}")
+    return ElementHexS2() if element == "hex20" else ElementHex2()
+
+
+def _check_int(name: str, value: object, minimum: int = 1) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+@dataclass(frozen=True, eq=False)
+class SolidPlateModel:
+    """Assembled 3D piezoelastic matrices of the plate (treat as read-only).
+
+    Attributes
+    ----------
+    stator : PlateStator
+    material : PiezoMaterial
+    order : int
+        1 (trilinear) or 2 (quadratic).
+    element : str
+        ``'hex20'``, ``'hex27'`` (order 2) or ``'hex8'`` (order 1).
+    refine, layers : int
+        In-plane refinement (elements per width) and element layers through the thickness.
+    basis : skfem.CellBasis
+        Scalar basis; displacement dofs are blocked: ``u[c * N + i]`` is component ``c`` of
+        scalar dof ``i`` (``N = basis.N``), the potential uses the scalar dofs directly.
+    Kuu : scipy.sparse.csr_matrix
+        Elastic stiffness at constant field (N/m), shape (3N, 3N).
+    M : scipy.sparse.csr_matrix
+        Mass (kg), shape (3N, 3N).
+    Kuphi : scipy.sparse.csr_matrix
+        Piezoelectric coupling (N/V = C/m), shape (3N, N).
+    Kphiphi : scipy.sparse.csr_matrix
+        Dielectric stiffness (F), shape (N, N).
+    electrode_dofs : tuple of numpy.ndarray
+        Scalar dofs tied to electrodes 1..4 (top face).
+    ground_dofs : numpy.ndarray
+        Scalar dofs of the grounded bottom face.
+    assembly_time_s : float
+        Mesh and assembly wall time (s).
+    """
+
+    stator: PlateStator
+    material: PiezoMaterial
+    order: int
+    element: str
+    refine: int
+    layers: int
+    basis: object
+    Kuu: sp.csr_matrix
+    M: sp.csr_matrix
+    Kuphi: sp.csr_matrix
+    Kphiphi: sp.csr_matrix
+    electrode_dofs: tuple
+    ground_dofs: np.ndarray
+    assembly_time_s: float
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of scalar dofs (nodes) ``N``."""
+        return int(self.basis.N)
+
+    @property
+    def n_dofs(self) -> int:
+        """Displacement plus potential dofs before constraints, ``4 N``."""
+        return 4 * self.n_nodes
+
+    @property
+    def n_displacement_dofs(self) -> int:
+        """Displacement dofs ``3 N``."""
+        return 3 * self.n_nodes
+
+    def potential_map(self, open_circuit: bool) -> sp.csr_matrix:
+        """Matrix ``T`` (N x n_free): full nodal potentials ``phi = T phi_free``.
+
+        Bottom-face nodes are 0; electrode nodes are 0 (short) or share one column per
+        electrode (open, the column's unknown is ``V_e``); all other nodes are free.
+        """
+        n = self.n_nodes
+        fixed = np.zeros(n, dtype=bool)
+        fixed[self.ground_dofs] = True
+        for dofs in self.electrode_dofs:
+            fixed[dofs] = True
+        free = np.flatnonzero(~fixed)
+        rows = [free]
+        cols = [np.arange(free.size)]
+        ncol = free.size
+        if open_circuit:
+            for dofs in self.electrode_dofs:
+                rows.append(dofs)
+                cols.append(np.full(dofs.size, ncol))
+                ncol += 1
+        r = np.concatenate(rows)
+        c = np.concatenate(cols)
+        return sp.csr_matrix((np.ones(r.size), (r, c)), shape=(n, ncol))
+
+    def probe(self, points_m: np.ndarray) -> sp.csr_matrix:
+        """Matrix ``P`` (3 n_points, 3N): ``P @ u`` stacks ``u_x``, ``u_y``, ``u_z``."""
+        pts = np.atleast_2d(np.asarray(points_m, dtype=float))
+        if pts.shape[0] != 3:
+            pts = pts.T
+        p = self.basis.probes(pts).tocsr()
+        return sp.block_diag((p, p, p), format="csr")
+
+    def voltage_coupling_N_V(self, electrodes: tuple[int, ...]) -> np.ndarray:
+        """Force on the displacements per volt with ``electrodes`` at ``+1 V`` (N/V).
+
+        Uses the open-circuit potential map: with the listed electrodes at 1 V, all others and
+        the bottom at 0 V, the free potentials condensed statically (clamped, ``u = 0``).
+        """
+        if any(e not in ELECTRODES for e in electrodes):
+            raise ValueError(f"electrodes must be numbers in 1..4, got {electrodes!r}")
+        t_free = self.potential_map(open_circuit=False)
+        phi_imp = np.zeros(self.n_nodes)
+        for e in electrodes:
+            phi_imp[self.electrode_dofs[e - 1]] = 1.0
+        kff = (t_free.T @ self.Kphiphi @ t_free).tocsc()
+        rhs = -(t_free.T @ (self.Kphiphi @ phi_imp))
+        phi = phi_imp + t_free @ sla.spsolve(kff, rhs)
+        return -(self.Kuphi @ phi)
+
+
+def _voigt_B(grads: np.ndarray) -> np.ndarray:
+    """Strain-displacement array B (6, 3*nloc, nel, nqp) from scalar gradients (nloc, 3, ...).
+
+    Column ``c * nloc + a`` is component ``c`` of local function ``a``; Voigt order
+    11, 22, 33, 23, 13, 12 with engineering shear strains.
+    """
+    nloc = grads.shape[0]
+    B = np.zeros((6, 3 * nloc) + grads.shape[2:])
+    gx, gy, gz = grads[:, 0], grads[:, 1], grads[:, 2]
+    ux, uy, uz = slice(0, nloc), slice(nloc, 2 * nloc), slice(2 * nloc, 3 * nloc)
+    B[0, ux] = gx
+    B[1, uy] = gy
+    B[2, uz] = gz
+    B[3, uy] = gz
+    B[3, uz] = gy
+    B[4, ux] = gz
+    B[4, uz] = gx
+    B[5, ux] = gy
+    B[5, uy] = gx
+    return B
+
+
+def _coo(local: np.ndarray, rows: np.ndarray, cols: np.ndarray, shape) -> sp.csr_matrix:
+    """Global sparse matrix from element matrices ``local`` (a, b, nel)."""
+    r = np.broadcast_to(rows[:, None, :], local.shape)
+    c = np.broadcast_to(cols[None, :, :], local.shape)
+    return sp.coo_matrix((local.ravel(), (r.ravel(), c.ravel())), shape=shape).tocsr()
+
+
+def _hex_mesh(stator: PlateStator, refine: int, layers: int):
+    from skfem import MeshHex
+
+    x, y = grid_lines_m(stator, refine)
+    h = stator.thickness_m
+    z = np.linspace(-h / 2, h / 2, layers + 1)
+    return MeshHex.init_tensor(x, y, z)
+
+
+def build_solid_model(
+    stator: PlateStator,
+    material: PiezoMaterial | str = "pzt8",
+    order: int = 2,
+    refine: int = DEFAULT_REFINE_3D,
+    layers: int = DEFAULT_LAYERS,
+    element: str = DEFAULT_ELEMENT,
+) -> SolidPlateModel:
+    """Assemble the 3D model of ``stator`` on a structured brick mesh.
+
+    Parameters
+    ----------
+    stator : PlateStator
+        Geometry; its electrode gap must be > 0 (touching quadrants would be one conductor).
+    material : PiezoMaterial or str
+        Full 3D constants ``c^E``, ``e``, ``eps^S``; poling along z.
+    order : int
+        2 (quadratic, default) or 1 (trilinear).
+    refine : int
+        In-plane elements per plate width; the grid lines follow the electrode edges
+        (:func:`fem.mesh.grid_lines_m`).
+    layers : int
+        Element layers through the thickness.
+    element : str
+        ``'hex20'`` (default) or ``'hex27'``; ignored for order 1.
+
+    Raises
+    ------
+    ValueError
+        On a bad order, element, refine, layers or a zero electrode gap.
+    """
+    from skfem import CellBasis
+
+    t0 = time.perf_counter()
+    mat = get_material(material)
+    elem = _element(order, element)
+    refine = _check_int("refine", refine)
+    layers = _check_int("layers", layers)
+    if stator.electrode_gap_m <= 0.0:
+        raise ValueError(
+            "the 3D model needs electrode_gap_m > 0: with no gap the four quadrants touch and "
+            "form one conductor"
+        )
+    mesh = _hex_mesh(stator, refine, layers)
+    intorder = 2 * order + 1  # exact for K and M on the affine boxes of this mesh
+    basis = CellBasis(mesh, elem, intorder=intorder)
+    n = basis.N
+    grads = np.stack([basis.basis[i][0].grad for i in range(len(basis.basis))])
+    vals = np.stack([basis.basis[i][0].value for i in range(len(basis.basis))])
+    dx = basis.dx  # (nel, nqp) quadrature weights times Jacobian
+    B = _voigt_B(grads)  # (6, 3nloc, nel, nqp)
+    cB = np.einsum("IJ,Jaeq->Iaeq", mat.cE_Pa, B)
+    k_loc = np.einsum("Iaeq,Ibeq,eq->abe", B, cB, dx, optimize=True)
+    eB = np.einsum("kJ,Jaeq->kaeq", mat.e_C_m2, B)  # (3, 3nloc, nel, nqp): e S(v)
+    kup_loc = np.einsum("kaeq,kbeq,eq->abe", eB, grads.transpose(1, 0, 2, 3), dx, optimize=True)
+    epsg = np.einsum("kl,bleq->kbeq", mat.epsS_F_m, grads)
+    kpp_loc = np.einsum("akeq,kbeq,eq->abe", grads, epsg, dx, optimize=True)
+    m_loc = mat.rho_kg_m3 * np.einsum("aeq,beq,eq->abe", vals, vals, dx, optimize=True)
+    edofs = basis.element_dofs  # (nloc, nel)
+    udofs = np.concatenate([edofs + c * n for c in range(3)])  # (3nloc, nel)
+    Kuu = _coo(k_loc, udofs, udofs, (3 * n, 3 * n))
+    Kuphi = _coo(kup_loc, udofs, edofs, (3 * n, n))
+    Kphiphi = _coo(kpp_loc, edofs, edofs, (n, n))
+    Ms = _coo(m_loc, edofs, edofs, (n, n))
+    M = sp.block_diag((Ms, Ms, Ms), format="csr")
+    Kuu = (0.5 * (Kuu + Kuu.T)).tocsr()
+    Kphiphi = (0.5 * (Kphiphi + Kphiphi.T)).tocsr()
+    # electrodes: top-face dofs in the closed quadrant regions; bottom face grounded
+    h = stator.thickness_m
+    xyz = basis.doflocs
+    tol = 1e-9 * max(stator.length_m, stator.width_m, h)
+    top = np.flatnonzero(np.abs(xyz[2] - h / 2) < tol)
+    bottom = np.flatnonzero(np.abs(xyz[2] + h / 2) < tol)
+    closed = replace(stator, electrode_gap_m=max(stator.electrode_gap_m - 2 * tol, 0.0))
+    tags = closed.electrode_of(xyz[0, top], xyz[1, top])
+    electrode_dofs = tuple(top[tags == k] for k in ELECTRODES)
+    for k, d in zip(ELECTRODES, electrode_dofs, strict=True):
+        if d.size == 0:
+            raise ValueError(f"the mesh has no node under electrode {k}")
+        d.setflags(write=False)
+    bottom.setflags(write=False)
+    return SolidPlateModel(
+        stator=stator,
+        material=mat,
+        order=int(order),
+        element=element if order == 2 else "hex8",
+        refine=refine,
+        layers=layers,
+        basis=basis,
+        Kuu=Kuu,
+        M=M,
+        Kuphi=Kuphi.tocsr(),
+        Kphiphi=Kphiphi,
+        electrode_dofs=electrode_dofs,
+        ground_dofs=bottom,
+        assembly_time_s=time.perf_counter() - t0,
+    )
+
+
+@lru_cache(maxsize=8)
+def _cached_solid_model(
+    stator: PlateStator, material: PiezoMaterial, order: int, refine: int, layers: int,
+    element: str,
+) -> SolidPlateModel:
+    return build_solid_model(stator, material, order, refine, layers, element)
+
+
+def solid_model(
+    stator: PlateStator | None = None,
+    material: PiezoMaterial | str = "pzt8",
+    order: int = 2,
+    refine: int = DEFAULT_REFINE_3D,
+    layers: int = DEFAULT_LAYERS,
+    element: str = DEFAULT_ELEMENT,
+) -> SolidPlateModel:
+    """Cached :func:`build_solid_model` (default: the paper's plate, PZT-8, default mesh)."""
+    stator = PlateStator() if stator is None else stator
+    _element(order, element)
+    return _cached_solid_model(
+        stator, get_material(material), int(order), _check_int("refine", refine),
+        _check_int("layers", layers), element,
+    )
+
+
+_SPLU_OPTIONS = {
+    "permc_spec": "MMD_AT_PLUS_A",
+    "diag_pivot_thresh": 0.1,
+    "options": {"SymmetricMode": True},
+}
+"""SuperLU options for the symmetric (indefinite) saddle-point matrices: a symmetric
+minimum-degree ordering with preference for diagonal pivots is 3-5x faster than the default
+COLAMD here (measured) with the same residual."""
+
+
+def _condensed_operators(model: SolidPlateModel, sigma: float, open_circuit: bool):
+    """(OPinv, K_cond) linear operators on the displacements for shift ``sigma``."""
+    t = model.potential_map(open_circuit)
+    kup = (model.Kuphi @ t).tocsr()
+    kpp = (t.T @ model.Kphiphi @ t).tocsr()
+    nu = model.n_displacement_dofs
+    # potentials scaled so that both blocks have diagonals of similar size (|K_uu| ~ 1e10,
+    # |K_phiphi| ~ 1e-9): without it the LU residual is ~1e-3, with it ~1e-11
+    alpha = math.sqrt(float(model.Kuu.diagonal().mean()) / float(kpp.diagonal().mean()))
+    kup = kup * alpha
+    kpp = kpp * alpha**2
+    A = sp.bmat([[model.Kuu - sigma * model.M, kup], [kup.T, -kpp]], format="csc")
+    try:
+        lu = sla.splu(A, **_SPLU_OPTIONS)
+        lu_pp = sla.splu(kpp.tocsc(), **_SPLU_OPTIONS)
+    except RuntimeError as exc:
+        raise ModeSolverError(f"saddle-point matrix singular at sigma={sigma:.6g}: {exc}") from exc
+    n_phi = kpp.shape[0]
+
+    def opinv(x: np.ndarray) -> np.ndarray:
+        rhs = np.concatenate((np.asarray(x, dtype=float).ravel(), np.zeros(n_phi)))
+        return lu.solve(rhs)[:nu]
+
+    def kcond(x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float).ravel()
+        return model.Kuu @ x + kup @ lu_pp.solve(kup.T @ x)
+
+    op = sla.LinearOperator((nu, nu), matvec=opinv, dtype=float)
+    kop = sla.LinearOperator((nu, nu), matvec=kcond, dtype=float)
+    return op, kop
+
+
+def solid_frequencies_Hz(
+    model: SolidPlateModel,
+    n_modes: int = 10,
+    f_center_Hz: float = 0.0,
+    open_circuit: bool = False,
+    maxiter: int | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``n_modes`` natural frequencies (Hz) nearest ``f_center_Hz`` and their shapes.
+
+    Shapes are displacement vectors (3N). ``f_center_Hz = 0`` uses a small negative shift so
+    that the six rigid-body modes (short circuit) come out at 0 Hz. Negative eigenvalues from
+    round-off are returned as negative frequencies.
+    """
+    if f_center_Hz > 0.0:
+        sigma = (2.0 * math.pi * f_center_Hz) ** 2
+    else:
+        sigma = -((2.0 * math.pi * 100.0) ** 2)
+    op, kop = _condensed_operators(model, sigma, open_circuit)
+    k = min(int(n_modes), model.n_displacement_dofs - 2)
+    try:
+        w, v = sla.eigsh(kop, k=k, M=model.M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter)
+    except sla.ArpackNoConvergence as exc:
+        raise ModeSolverError(
+            f"eigsh (3D, shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
+            f"{len(exc.eigenvalues)} of {k} eigenpairs converged"
+        ) from exc
+    idx = np.argsort(w)
+    w, v = w[idx], v[:, idx]
+    return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
+
+
+def _sampling3d(model: SolidPlateModel):
+    st = model.stator
+    inset = 1e-9
+    xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
+    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
+    X, Y = np.meshgrid(xs, ys)
+    zt = 0.5 * st.thickness_m * (1.0 - inset)
+    probes = {}
+    for key, z in (("mid", 0.0), ("top", zt), ("bottom", -zt)):
+        pts = np.vstack((X.ravel(), Y.ravel(), np.full(X.size, z)))
+        probes[key] = model.probe(pts)
+    return X, Y, probes
+
+
+def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
+    """Energy fraction of (top, bottom) samples (3, ...) in the in-plane (z-symmetric) class."""
+    even = 0.5 * (top[:2] + bottom[:2])
+    odd = 0.5 * (top[2] - bottom[2])
+    total = 0.5 * float(np.sum(top * top) + np.sum(bottom * bottom))
+    sym = float(np.sum(even * even)) + float(np.sum(odd * odd))
+    return sym / total if total > 0 else 0.0
+
+
+def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
+    X, Y, probes = _sampling3d(model)
+    refs = _references(X, Y, model.stator.length_m)
+    sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
+    centre = X.shape[1] // 2
+    f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
+    out: dict[str, tuple[int, float, float]] = {}
+    for name in ("L1", "B2"):
+        best = None
+        for i in range(shapes.shape[1]):
+            if abs(freqs_Hz[i]) < f_floor:
+                continue
+            zsym = _thickness_symmetric_fraction(sampled["top"][..., i], sampled["bottom"][..., i])
+            if zsym < MIN_THICKNESS_SYMMETRY:
+                continue
+            u = sampled["mid"][:2, ..., i]
+            sym = _symmetric_fraction(u)
+            klass = sym if name == "L1" else 1.0 - sym
+            if klass < MIN_SYMMETRY:
+                continue
+            if name == "B2" and _sign_changes(u[0][:, centre]) != 3:
+                continue
+            mac = _mac(u, refs[name])
+            if mac >= MIN_MAC and (best is None or mac * zsym > best[1] * best[3]):
+                best = (i, mac, klass, zsym)
+        if best is None:
+            raise ModeSolverError(
+                f"could not identify {name} among the {shapes.shape[1]} 3D modes computed at "
+                f"{np.round(freqs_Hz, 1).tolist()} Hz"
+            )
+        out[name] = best[:3]
+    return out
+
+
+def _solve_identified3d(model, f_center_Hz, n_modes, open_circuit, maxiter):
+    last: ModeSolverError | None = None
+    for k in (n_modes, 2 * n_modes, 4 * n_modes):
+        f, v = solid_frequencies_Hz(model, k, f_center_Hz, open_circuit, maxiter)
+        try:
+            return f, v, _identify3d(model, f, v)
+        except ModeSolverError as exc:
+            last = exc
+    assert last is not None
+    raise last
+
+
+@dataclass(frozen=True, eq=False)
+class SolidModes(PlateModes):
+    """:class:`fem.modes.PlateModes` of the 3D model, plus its mesh description.
+
+    ``dofs`` counts the displacement and free potential unknowns of the short-circuit
+    problem; shapes are 3D displacement vectors (3N), mass-normalized. ``order`` is the
+    element order and ``refine`` the in-plane refinement.
+
+    Attributes
+    ----------
+    layers : int
+        Element layers through the thickness.
+    element : str
+        ``'hex20'``, ``'hex27'`` or ``'hex8'``.
+    """
+
+    layers: int = DEFAULT_LAYERS
+    element: str = DEFAULT_ELEMENT
+
+
+def modes_of_solid_model(
+    model: SolidPlateModel,
+    f_center_Hz: float | None = None,
+    n_modes: int = 10,
+    maxiter: int | None = None,
+) -> SolidModes:
+    """Short- and open-circuit L1 and B2 of an assembled 3D model (identified by shape).
+
+    Raises
+    ------
+    ModeSolverError
+        If eigsh does not converge or L1/B2 cannot be identified.
+    """
+    t0 = time.perf_counter()
+    fc = rod_frequency_estimate_Hz(model.stator, model.material) if f_center_Hz is None else (
+        f_center_Hz
+    )
+    fs, vs, ids = _solve_identified3d(model, fc, n_modes, False, maxiter)
+    t_short = time.perf_counter() - t0
+    fo, _, ido = _solve_identified3d(model, fc, n_modes, True, maxiter)
+    modes = {}
+    for name in ("L1", "B2"):
+        i, mac, sym = ids[name]
+        f_short = float(fs[i])
+        f_open = float(fo[ido[name][0]])
+        k2 = (f_open**2 - f_short**2) / f_open**2
+        shape = vs[:, i] / math.sqrt(float(vs[:, i] @ (model.M @ vs[:, i])))
+        shape.setflags(write=False)
+        modes[name] = IdentifiedMode(
+            name=name, f_short_Hz=f_short, f_open_Hz=f_open,
+            k_eff=math.sqrt(max(k2, 0.0)), shape=shape, mac=mac, symmetry=sym,
+        )
+    n_phi_free = model.potential_map(False).shape[1]
+    return SolidModes(
+        L1=modes["L1"],
+        B2=modes["B2"],
+        frequencies_short_Hz=fs,
+        frequencies_open_Hz=fo,
+        dofs=model.n_displacement_dofs + n_phi_free,
+        wall_time_s=time.perf_counter() - t0 + model.assembly_time_s,
+        solve_time_s=t_short,
+        order=model.order,
+        refine=model.refine,
+        layers=model.layers,
+        element=model.element,
+    )
+
+
+@lru_cache(maxsize=16)
+def _cached_solid_modes(
+    stator: PlateStator, material: PiezoMaterial, order: int, refine: int, layers: int,
+    element: str,
+) -> SolidModes:
+    model = build_solid_model(stator, material, order, refine, layers, element)
+    return modes_of_solid_model(model)
+
+
+def solid_modes(
+    stator: PlateStator | None = None,
+    material: PiezoMaterial | str = "pzt8",
+    order: int = 2,
+    refine: int = DEFAULT_REFINE_3D,
+    layers: int = DEFAULT_LAYERS,
+    element: str = DEFAULT_ELEMENT,
+) -> SolidModes:
+    """L1 and B2 (short/open circuit, k_eff) of the 3D plate (cached).
+
+    Parameters
+    ----------
+    stator : PlateStator, optional
+        Default: the paper's 30 x 7.5 x 3 mm plate.
+    material : PiezoMaterial or str
+        ``'pzt8'`` or ``'paper'`` or a material.
+    order : int
+        2 (quadratic, default) or 1.
+    refine : int
+        In-plane elements per plate width.
+    layers : int
+        Element layers through the thickness.
+    element : str
+        ``'hex20'`` (default) or ``'hex27'``.
+    """
+    stator = PlateStator() if stator is None else stator
+    _element(order, element)
+    return _cached_solid_modes(
+        stator, get_material(material), int(order), _check_int("refine", refine),
+        _check_int("layers", layers), element,
+    )
