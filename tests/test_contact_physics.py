@@ -151,3 +151,19 @@ def test_invalid_inputs_name_the_parameter(paper_params):
         simulate(paper_params, 200.0, 14.0, duration_s=1e-4)
     with pytest.raises(ValueError, match="coupling"):
         simulate(paper_params, 200.0, 14.0, coupling="nope")
+
+
+def test_literal_fixed_band_scheme_depends_on_epsilon_where_ours_does_not(paper_params):
+    from contact.literal import simulate_literal
+
+    ours = cached_run(200.0, 18.0)
+    lit = [
+        simulate_literal(paper_params, 200.0, 18.0, eps_m_s=eps, mu_d_eff=ours.mu_d_eff)
+        for eps in (1e-10, 1e-4)
+    ]
+    # with the paper's eps = 1e-10 a fixed step jumps over the stick band: no stick at all
+    assert lit[0].stick_fraction == 0.0
+    assert ours.steady.stick_fraction > 0.5
+    # a wide band recovers stick, at the price of an eps-dependent answer
+    assert lit[1].stick_fraction > 0.5
+    assert abs(lit[0].velocity_m_s - lit[1].velocity_m_s) > 0.2 * abs(lit[1].velocity_m_s)
