@@ -150,10 +150,10 @@ class _Solver:
                 res = plate_modes(st, self.material, self.order,
                                   DEFAULT_REFINE if self.refine is None else self.refine)
             else:
-                from fem.solid3d import solid_modes
+                from fem.solid3d import DEFAULT_REFINE_3D, solid_modes
 
                 res = solid_modes(st, self.material, self.order,
-                                  3 if self.refine is None else self.refine)
+                                  DEFAULT_REFINE_3D if self.refine is None else self.refine)
             self.cache[key] = res
             self.history.append((key[0], key[1], res.L1.f_short_Hz, res.B2.f_short_Hz))
         return self.cache[key]
@@ -226,7 +226,7 @@ def tune_plate(
     order : int
         Element order.
     refine : int, optional
-        Mesh refinement (default: the model's default; 3 for the 3D model).
+        Mesh refinement (default: the model's default).
     rel_tol : float
         Stop when both frequencies are within ``rel_tol`` of the target (-).
     max_iter : int

@@ -25,6 +25,11 @@ def register(subparsers) -> None:
     p.add_argument("--material", choices=("pzt8", "paper"), default="pzt8")
     p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
     p.add_argument("--refine", type=int, default=None, help="elements per plate width")
+    p.add_argument(
+        "--model", choices=("2d", "3d"), default="2d",
+        help="2d: plane-stress plate (default); 3d: piezoelastic brick reference (fem.solid3d)",
+    )
+    p.add_argument("--layers", type=int, default=None, help="3d: element layers through h")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument(
         "--geometry", metavar="STATOR.toml", default=None,
@@ -62,7 +67,16 @@ def run(args: argparse.Namespace) -> None:
         material = get_material(args.material)
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     try:
-        res = plate_modes(stator, material, args.order, refine)
+        if getattr(args, "model", "2d") == "3d":
+            from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+
+            if getattr(args, "export", None):
+                raise ValueError("--export is only available with --model 2d")
+            refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
+            layers = DEFAULT_LAYERS if args.layers is None else args.layers
+            res = solid_modes(stator, material, args.order, refine, layers)
+        else:
+            res = plate_modes(stator, material, args.order, refine)
     except ModeSolverError as exc:
         raise ValueError(str(exc)) from exc
     if getattr(args, "export", None):
@@ -82,12 +96,16 @@ def run(args: argparse.Namespace) -> None:
             "refine": refine,
             "material": mat,
             "geometry": getattr(args, "geometry", None),
+            "model": getattr(args, "model", "2d"),
         }
+        if getattr(args, "model", "2d") == "3d":
+            out["layers"], out["element"] = res.layers, res.element
         print(json.dumps(out))
         return
     print(
         f"plate {args.length_mm:g} x {args.width_mm:g} x {args.thickness_mm:g} mm, "
         f"material {material.name}, order {args.order}, refine {refine}"
+        + (f", 3D layers {res.layers} ({res.element})" if hasattr(res, "layers") else "")
     )
     if getattr(args, "geometry", None):
         print(f"stator file {args.geometry}: {design.name} (bounding box above)")
