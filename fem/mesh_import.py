@@ -221,9 +221,6 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     if pts3.ndim != 2 or pts3.shape[0] == 0:
         raise ValueError(f"mesh file {path} holds no points")
     pts = pts3[:, :2] * UNITS[unit]
-    extent = float(np.max(np.abs(pts))) if pts.size else 0.0
-    if pts3.shape[1] > 2 and np.max(np.abs(pts3[:, 2])) * UNITS[unit] > 1e-9 * max(extent, 1e-12):
-        raise ValueError(f"mesh file {path} is not planar: z != 0 (a 2D mesh in z = 0 is needed)")
 
     names: dict[tuple[int, int], str] = {}
     for name, value in (m.field_data or {}).items():
@@ -327,10 +324,12 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
             f"in the physical groups electrode1..electrode4"
         )
 
-    # stator frame and units (on the nodes of surface cells only)
+    # planar, stator frame and units (on the nodes of surface cells only)
     used = np.unique(np.concatenate((tri.ravel(), quad.ravel())))
     up = pts[used]
     size = float(np.max(np.abs(up)))
+    if pts3.shape[1] > 2 and np.max(np.abs(pts3[used, 2])) * UNITS[unit] > 1e-9 * size:
+        raise ValueError(f"mesh file {path} is not planar: z != 0 (a 2D mesh in z = 0 is needed)")
     if size > MAX_COORDINATE_M:
         raise ValueError(
             f"mesh file {path}: coordinates up to {size:g} m (unit {unit!r}) - this looks like "

@@ -1,0 +1,252 @@
+"""Stator TOML files and planform mesh import (fem.stator_file, fem.mesh_import)."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import fields
+
+import meshio
+import numpy as np
+import pytest
+
+from fem.geometry import PlateStator
+from fem.material import pzt8
+from fem.mesh import structured_mesh, write_mesh
+from fem.mesh_import import read_stator_mesh, write_stator_msh
+from fem.model import build_model
+from fem.modes import modes_of_model, plate_modes
+from fem.stator_file import MeshedStator, load_stator
+
+PLATE_TOML = """
+name = "a small plate"
+[plate]
+length_mm = 25.0
+width_mm = 6.0
+thickness_mm = 2.0
+[electrodes]
+gap_mm = 0.3
+drive = [2, 3]
+[material]
+name = "paper"
+"""
+
+
+def _write(tmp_path, text, name="stator.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _toml_matrix(a):
+    return "[" + ", ".join("[" + ", ".join(repr(float(v)) for v in row) + "]" for row in a) + "]"
+
+
+def test_toml_plate_is_the_programmatic_plate(tmp_path):
+    design = load_stator(_write(tmp_path, PLATE_TOML))
+    st = PlateStator(25e-3, 6e-3, 2e-3, 0.3e-3, (2, 3))
+    assert design.stator == st and type(design.stator) is PlateStator
+    assert design.material == plate_modes.__globals__["get_material"]("paper")
+    assert design.name == "a small plate"
+    # identical matrices, assembled independently of the caches, hence identical frequencies
+    # (up to ARPACK's random start vector: 1e-12)
+    ref_model = build_model(structured_mesh(st, 3), st, "paper", 2)
+    model = design.model(order=2, refine=3)
+    assert (model.K != ref_model.K).nnz == 0 and (model.M != ref_model.M).nnz == 0
+    np.testing.assert_array_equal(model.G, ref_model.G)
+    ref = modes_of_model(ref_model)
+    res = design.modes(order=2, refine=3)
+    for a, b in ((res.L1, ref.L1), (res.B2, ref.B2)):
+        assert a.f_short_Hz == pytest.approx(b.f_short_Hz, rel=1e-12)
+        assert a.f_open_Hz == pytest.approx(b.f_open_Hz, rel=1e-12)
+
+
+def test_inline_material_constants(tmp_path):
+    m = pzt8()
+    inline = (
+        "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\n"
+        f"name = \"mine\"\ncE_Pa = {_toml_matrix(m.cE_Pa)}\ne_C_m2 = {_toml_matrix(m.e_C_m2)}\n"
+        f"epsS_F_m = {_toml_matrix(m.epsS_F_m)}\nrho_kg_m3 = 7600.0\n"
+    )
+    d = load_stator(_write(tmp_path, inline))
+    np.testing.assert_array_equal(d.material.cE_Pa, m.cE_Pa)
+    assert d.material.name == "mine"
+    # base + override: f_short scales exactly as 1/sqrt(rho) (K does not depend on rho)
+    heavy = load_stator(_write(
+        tmp_path,
+        "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+        "[material]\nbase = \"pzt8\"\nrho_kg_m3 = 8000.0\n",
+        "heavy.toml",
+    ))
+    f0 = d.modes(refine=3).L1.f_short_Hz
+    f1 = heavy.modes(refine=3).L1.f_short_Hz
+    assert f1 / f0 == pytest.approx(math.sqrt(7600.0 / 8000.0), rel=1e-9)
+
+
+def _plate_msh(tmp_path, file_format="gmsh", names="electrode{k}", scale=1.0, name="p.msh"):
+    """The structured paper plate written with gmsh physical groups (tip/preload vertices)."""
+    st = PlateStator()
+    mesh = structured_mesh(st, 3)
+    pts = mesh.points_m.T * scale
+    tip = int(np.argmin(np.hypot(pts[:, 0], pts[:, 1] - 0.03 * scale)))
+    path = write_stator_msh(
+        tmp_path / name, pts, {"quad": mesh.quads.T}, {"quad": mesh.electrode},
+        {"tip": tip}, file_format=file_format,
+    )
+    if names != "electrode{k}":  # rename the groups in the file
+        text = path.read_text()
+        for k in range(1, 5):
+            text = text.replace(f'"electrode{k}"', '"' + names.format(k=k) + '"')
+        path.write_text(text)
+    return st, mesh, path
+
+
+@pytest.mark.parametrize("file_format", ["gmsh", "gmsh22"])
+def test_mesh_file_plate_equals_structured_plate(tmp_path, file_format):
+    st, mesh, path = _plate_msh(tmp_path, file_format)
+    head = path.read_text().splitlines()[1]
+    assert head.startswith("4.1" if file_format == "gmsh" else "2.2")
+    _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\n')
+    d = load_stator(tmp_path / "stator.toml")
+    assert isinstance(d.stator, MeshedStator)
+    assert d.stator.length_m == pytest.approx(30e-3) and d.stator.width_m == pytest.approx(7.5e-3)
+    tip = mesh.points_m[:, np.argmin(np.hypot(*(mesh.points_m - [[0.0], [0.03]])))]
+    np.testing.assert_allclose(d.stator.tip_point_m, tip, atol=1e-15)  # the 'tip' vertex
+    _assert_same_tags(d.stator.mesh, st)
+    res = d.modes()
+    ref = plate_modes(st, "pzt8", 2, 3)
+    assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=1e-10)
+    assert res.B2.f_open_Hz == pytest.approx(ref.B2.f_open_Hz, rel=1e-10)
+    # the mesh-based stator's electrode lookup agrees with the quadrant rule
+    x = np.array([2e-3, 2e-3, -2e-3, -2e-3, 0.0])
+    y = np.array([5e-3, 25e-3, 5e-3, 25e-3, 10e-3])
+    np.testing.assert_array_equal(d.stator.electrode_of(x, y), st.electrode_of(x, y))
+
+
+def test_fem_params_from_file_equals_fem_params(tmp_path):
+    from rom.from_fem import fem_params, fem_params_from_file
+
+    p = fem_params_from_file(_write(tmp_path, PLATE_TOML), refine=3)
+    q = fem_params(PlateStator(25e-3, 6e-3, 2e-3, 0.3e-3, (2, 3)), "paper", refine=3)
+    for f in fields(p):
+        if f.name != "source":
+            assert getattr(p, f.name) == getattr(q, f.name), f.name
+    assert "stator.toml" in p.source
+    with pytest.raises(ValueError, match="stator"):
+        fem_params_from_file(tmp_path / "stator.toml", stator=PlateStator())
+
+
+def _assert_same_tags(mesh, stator):
+    """Electrode tags of ``mesh`` follow the quadrant rule of ``stator`` (cell order free)."""
+    centre = mesh.points_m[:, mesh.quads].mean(axis=1)
+    np.testing.assert_array_equal(mesh.electrode, stator.electrode_of(*centre))
+
+
+def test_old_style_group_names_and_vtu_electrode_array(tmp_path):
+    st, mesh, path = _plate_msh(tmp_path, names="electrode_{k}")
+    _assert_same_tags(read_stator_mesh(path).mesh, st)
+    vtu = write_mesh(mesh, tmp_path / "p.vtu")  # integer cell array 'electrode'
+    imp = read_stator_mesh(vtu)
+    np.testing.assert_array_equal(imp.mesh.electrode, mesh.electrode)
+    assert imp.points_m == {}
+
+
+def test_millimetre_mesh_needs_its_unit(tmp_path):
+    _plate_msh(tmp_path, scale=1e3)
+    _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\n')
+    with pytest.raises(ValueError, match="looks like millimetres"):
+        load_stator(tmp_path / "stator.toml")
+    _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\nunit = "mm"\n')
+    assert load_stator(tmp_path / "stator.toml").stator.length_m == pytest.approx(0.03)
+
+
+BAD_TOML = [
+    ("[plate]\nlength_mm = -30\nwidth_mm = 7.5\nthickness_mm = 3",
+     r"\[plate\] length_mm.*\(0, inf\) mm"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5", r"missing \[plate\] thickness_mm"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[electrodes]\ngap_mm = 8",
+     r"\[electrodes\] gap_mm must lie in \[0, 7.5\) mm"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[electrodes]\ndrive = [1, 5]",
+     r"electrode 5, which is not on the plate; allowed electrode numbers 1..4"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nname = \"pzt5\"",
+     r"\[material\] name 'pzt5' is unknown; allowed: pzt8, paper"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nrho_kg_m3 = 7000",
+     r"inline constants need cE_Pa"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\nlenght_mm = 3",
+     r"unknown key 'lenght_mm' at \[plate\]; allowed: length_mm"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nnmae = 1",
+     r"unknown key 'nmae' at \[material\]"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[points]\ntip_mm = [0, 40]",
+     r"\[points\] tip_mm"),
+    ("[plate]\nthickness_mm = 3\n[mesh]\nfile = \"missing.msh\"", r"missing.msh"),
+    ("[plate\nlength_mm = 30", r"not valid TOML"),
+]
+
+
+@pytest.mark.parametrize(("text", "match"), BAD_TOML)
+def test_bad_stator_files_name_the_key(tmp_path, text, match):
+    with pytest.raises((ValueError, FileNotFoundError), match=match):
+        load_stator(_write(tmp_path, text))
+
+
+def test_bad_meshes(tmp_path):
+    _plate_msh(tmp_path)
+    base = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\n'
+    with pytest.raises(ValueError, match=r"length_mm = 31 mm does not match"):
+        load_stator(_write(tmp_path, base.replace("thickness_mm = 3", "thickness_mm = 3\n"
+                                                  "length_mm = 31")))
+    with pytest.raises(ValueError, match=r"\[points\] preload_mm .* lies off the mesh"):
+        load_stator(_write(tmp_path, base + "[points]\npreload_mm = [5.0, 0.0]\n"))
+    with pytest.raises(ValueError, match="gap_mm applies to the generated plate only"):
+        load_stator(_write(tmp_path, base + "[electrodes]\ngap_mm = 0.5\n"))
+    st = PlateStator()
+    mesh = structured_mesh(st, 2)
+    pts, quads = mesh.points_m.T, mesh.quads.T
+    # unknown physical group
+    p = write_stator_msh(tmp_path / "u.msh", pts, {"quad": quads}, {"quad": mesh.electrode})
+    p.write_text(p.read_text().replace('"gap"', '"foo"'))
+    with pytest.raises(ValueError, match="unknown physical group 'foo'"):
+        read_stator_mesh(p)
+    p.write_text(p.read_text().replace('"foo"', '"gap"').replace('"electrode1"', '"electrode5"'))
+    with pytest.raises(ValueError, match="electrode 5, but the electrodes are numbered 1..4"):
+        read_stator_mesh(p)
+    # no electrode at all
+    p = write_stator_msh(tmp_path / "n.msh", pts, {"quad": quads}, {"quad": 0 * mesh.electrode})
+    with pytest.raises(ValueError, match="has no electrode"):
+        read_stator_mesh(p)
+    # unsupported cells, not planar, not in the stator frame, no tags
+    m3 = meshio.Mesh(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]) * 1e-3,
+                     [("tetra", np.array([[0, 1, 2, 3]]))])
+    meshio.write(tmp_path / "t.vtu", m3)
+    with pytest.raises(ValueError, match="unsupported cell type 'tetra'"):
+        read_stator_mesh(tmp_path / "t.vtu")
+    shifted = meshio.Mesh(np.column_stack((pts + [0.01, 0.0], np.zeros(len(pts)))),
+                          [("quad", quads)], cell_data={"electrode": [mesh.electrode]})
+    meshio.write(tmp_path / "s.vtu", shifted)
+    with pytest.raises(ValueError, match="x centred on 0"):
+        read_stator_mesh(tmp_path / "s.vtu")
+    bare = meshio.Mesh(np.column_stack((pts, np.zeros(len(pts)))), [("quad", quads)])
+    meshio.write(tmp_path / "b.vtu", bare)
+    with pytest.raises(ValueError, match="no electrode tags"):
+        read_stator_mesh(tmp_path / "b.vtu")
+    with pytest.raises(FileNotFoundError):
+        read_stator_mesh(tmp_path / "nothing.msh")
+
+
+def test_cli_geometry(tmp_path, capsys):
+    from validation.cli import main
+
+    path = _write(tmp_path, PLATE_TOML)
+    assert main(["modes", "--geometry", str(path), "--refine", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    ref = load_stator(path).modes(refine=3)
+    assert out["L1"]["f_short_Hz"] == ref.L1.f_short_Hz
+    assert out["geometry"] == str(path)
+    assert main(["params", "--source", "fem", "--geometry", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["phi_L0"] == pytest.approx(1.0)
+    bad = _write(tmp_path, BAD_TOML[0][0], "bad.toml")
+    assert main(["modes", "--geometry", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "length_mm" in err
+    assert main(["params", "--geometry", str(path)]) == 2
+    assert "--source fem" in capsys.readouterr().err
