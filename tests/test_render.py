@@ -1,0 +1,125 @@
+"""Offscreen rendering of mode shapes (fem.render, lusm render) and mode export (fem.export)."""
+
+from __future__ import annotations
+
+import meshio
+import numpy as np
+import pytest
+
+pv = pytest.importorskip("pyvista")
+pv.OFF_SCREEN = True
+
+from fem.export import export_modes, vertex_displacements  # noqa: E402
+from fem.geometry import PlateStator  # noqa: E402
+from fem.model import plate_model  # noqa: E402
+from fem.modes import plate_modes  # noqa: E402
+from fem.render import mode_image, render_mode_gif, render_mode_png  # noqa: E402
+
+SMALL = (480, 200)
+
+
+@pytest.fixture(scope="module")
+def plate():
+    return plate_model(PlateStator(), "pzt8", 2, 4), plate_modes(PlateStator(), "pzt8", 2, 4)
+
+
+@pytest.fixture(scope="module")
+def images(plate):
+    model, modes = plate
+    return {
+        m.name: mode_image(model, m, decorations=False, window_size=SMALL).astype(float)
+        for m in (modes.L1, modes.B2)
+    }
+
+
+def _mirror_difference(img: np.ndarray) -> float:
+    """Mean absolute difference between an image and its mirror about the horizontal centre
+    line, which is the plate's long axis x = 0."""
+    return float(np.mean(np.abs(img - img[::-1])))
+
+
+def test_images_are_not_blank_and_differ(images):
+    for img in images.values():
+        assert img.shape == (SMALL[1], SMALL[0], 3)
+        assert img.std() > 20.0  # a white or single-colour image has std ~ 0
+        assert np.mean(np.all(img > 250, axis=-1)) > 0.2  # white background around the plate
+    assert np.mean(np.abs(images["L1"] - images["B2"])) > 10.0
+
+
+def test_L1_image_is_symmetric_about_the_long_axis_and_B2_is_not(images):
+    sym_l1 = _mirror_difference(images["L1"])
+    sym_b2 = _mirror_difference(images["B2"])
+    assert sym_l1 < 0.3 * sym_b2, (sym_l1, sym_b2)
+    # B2 bends the plate across the axis: its picture reaches further off-axis on one side
+    # in the preload-end quarter than the other (the deformed tip/preload ends move in x)
+    b2 = images["B2"]
+    coloured = ~np.all(b2 > 250, axis=-1) & ~np.all(np.abs(b2 - b2[..., :1]) < 8, axis=-1)
+    rows = np.flatnonzero(coloured[:, : SMALL[0] // 3].any(axis=1))
+    top, bottom = rows.min(), SMALL[1] - 1 - rows.max()
+    assert abs(top - bottom) > 3
+
+
+def test_png_and_gif_files(tmp_path, plate):
+    from PIL import Image
+
+    model, modes = plate
+    png = render_mode_png(tmp_path / "L1.png", model, modes.L1, window_size=SMALL)
+    with Image.open(png) as im:
+        assert im.format == "PNG" and im.size == SMALL
+        assert np.asarray(im.convert("RGB"), dtype=float).std() > 20.0
+    gif = render_mode_gif(tmp_path / "B2.gif", model, modes.B2, n_frames=4,
+                          window_size=SMALL, decorations=False)
+    with Image.open(gif) as im:
+        assert im.format == "GIF" and im.n_frames == 4
+        frames = []
+        for k in range(4):
+            im.seek(k)
+            frames.append(np.asarray(im.convert("RGB"), dtype=float))
+    # phase 0 and pi are mirror images (cos(pi) = -1 flips u_x): the B2 picture flips
+    np.testing.assert_array_less(5.0, np.mean(np.abs(frames[0] - frames[2])))
+    assert np.mean(np.abs(frames[0] - frames[2][::-1])) < 0.5 * np.mean(
+        np.abs(frames[0] - frames[2])
+    )
+
+
+def test_cli_render(tmp_path, capsys):
+    from validation.cli import main
+
+    assert main(["render", "--mode", "L1", "--out", str(tmp_path), "--refine", "3"]) == 0
+    assert (tmp_path / "L1.png").is_file() and not (tmp_path / "B2.png").exists()
+    assert str(tmp_path / "L1.png") in capsys.readouterr().out
+    assert main(["render", "--geometry", str(tmp_path / "none.toml")]) == 2
+
+
+@pytest.mark.parametrize("suffix", [".vtu", ".vtk"])
+def test_export_round_trips_the_mode_shapes(tmp_path, plate, suffix):
+    model, modes = plate
+    path = export_modes(tmp_path / f"modes{suffix}", model, modes, n_modes=6)
+    m = meshio.read(path)
+    np.testing.assert_allclose(m.points[:, :2].T, model.mesh.points_m, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(m.cells_dict["quad"].T, model.mesh.quads)
+    np.testing.assert_array_equal(np.concatenate(m.cell_data["electrode"]), model.mesh.electrode)
+    for mode in (modes.L1, modes.B2):
+        u = np.asarray(m.point_data[mode.name])
+        np.testing.assert_allclose(u[:, :2].T, vertex_displacements(model, mode.shape),
+                                   rtol=1e-12, atol=0)
+        assert np.all(u[:, 2] == 0.0)
+    # vertex values are the field itself: probing the FE field at the preload vertex agrees
+    i = int(np.argmin(np.hypot(*model.mesh.points_m)))
+    P = model.probe(model.mesh.points_m[:, [i]] * (1 - 1e-12))
+    np.testing.assert_allclose(P @ modes.L1.shape, m.point_data["L1"][i, :2], rtol=1e-9)
+    # the extra modes carry their frequencies; L1 and B2 are among them
+    extra = [k for k in m.point_data if k.startswith("mode_")]
+    assert len(extra) == 6
+    freqs = [float(k.split("_")[2][:-2]) for k in extra]
+    for mode in (modes.L1, modes.B2):
+        assert min(abs(f - mode.f_short_Hz) for f in freqs) < 1.0
+
+
+def test_cli_modes_export(tmp_path):
+    from validation.cli import main
+
+    out = tmp_path / "m.vtu"
+    assert main(["modes", "--refine", "3", "--export", str(out)]) == 0
+    assert {"L1", "B2"} <= set(meshio.read(out).point_data)
+    assert main(["modes", "--refine", "3", "--export", str(tmp_path / "m.unknownext")]) == 2
