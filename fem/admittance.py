@@ -31,7 +31,8 @@ writing the others quasi-statically::
 (``a_r = g^T phi_r``, ``K^+`` the flexibility on the elastic subspace): the static
 correction ``C_res = g^T K^+ g - sum_{r in R} a_r^2 / w_r^2``. Its error in the band is
 ``O((w / w_{R+1})^2) C_res`` (0.1-1.5 % of ``Y`` at 20-62 kHz with ``cutoff_factor = 3``,
-measured on the paper's plate), and it would leave ``Y / (j w) -> C0 + C_res`` instead of the clamped ``C0`` as ``w -> inf``.
+measured on the paper's plate), and it would leave ``Y / (j w) -> C0 + C_res`` instead of
+the clamped ``C0`` as ``w -> inf``.
 Both are fixed by lumping the unretained modes into one undamped *residual mode* that matches
 their first two moments::
 

@@ -1,0 +1,195 @@
+"""Sweeps of one plate dimension: the L1/B2 crossing (veering) diagram.
+
+Each point is one 2D FE modal solution (:func:`fem.modes.plate_modes`, cached); L1 and B2 are
+identified by shape at every point, so their branches are followed through the crossing. L1
+is mirror-symmetric and B2 mirror-antisymmetric about the plate's length axis: in a
+symmetric plate they do not interact and the branches cross (a true crossing, not a
+veering); any asymmetry (electrodes, tip) would turn it into a veering.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from fem.geometry import PlateStator
+from fem.material import PiezoMaterial, get_material
+
+PARAMETERS = ("width", "length")
+"""Dimensions that can be swept."""
+PROGRESS_MIN_POINTS = 20
+"""Sweeps with at least this many points show a tqdm progress bar (when ``progress``)."""
+
+
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """Frequencies of L1 and B2 along a sweep of one dimension.
+
+    Attributes
+    ----------
+    parameter : str
+        ``'width'`` or ``'length'``.
+    values_m : numpy.ndarray
+        Swept dimension (m).
+    f_L1_short_Hz, f_B2_short_Hz, f_L1_open_Hz, f_B2_open_Hz : numpy.ndarray
+        Identified frequencies (Hz), NaN where identification failed.
+    spectrum_Hz : tuple of numpy.ndarray
+        All short-circuit frequencies computed near the shift at each point (Hz).
+    base : PlateStator
+        The plate whose other dimensions were kept.
+    material : str
+    fe_solves : int
+        Number of FE modal solutions.
+    """
+
+    parameter: str
+    values_m: np.ndarray
+    f_L1_short_Hz: np.ndarray
+    f_B2_short_Hz: np.ndarray
+    f_L1_open_Hz: np.ndarray
+    f_B2_open_Hz: np.ndarray
+    spectrum_Hz: tuple
+    base: PlateStator
+    material: str
+    fe_solves: int
+
+    def crossings_m(self) -> np.ndarray:
+        """Values (m) where ``f_B2 - f_L1`` (short circuit) changes sign (linear interp.)."""
+        d = self.f_B2_short_Hz - self.f_L1_short_Hz
+        x = self.values_m
+        out = []
+        for i in range(d.size - 1):
+            if np.isfinite(d[i]) and np.isfinite(d[i + 1]) and d[i] * d[i + 1] < 0:
+                out.append(x[i] - d[i] * (x[i + 1] - x[i]) / (d[i + 1] - d[i]))
+            elif d[i] == 0.0:
+                out.append(x[i])
+        return np.array(out)
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready dictionary (mm and Hz)."""
+        return {
+            "parameter": self.parameter,
+            "values_mm": (self.values_m * 1e3).tolist(),
+            "f_L1_short_Hz": _nan_to_none(self.f_L1_short_Hz),
+            "f_B2_short_Hz": _nan_to_none(self.f_B2_short_Hz),
+            "f_L1_open_Hz": _nan_to_none(self.f_L1_open_Hz),
+            "f_B2_open_Hz": _nan_to_none(self.f_B2_open_Hz),
+            "crossings_mm": (self.crossings_m() * 1e3).tolist(),
+            "fe_solves": self.fe_solves,
+            "material": self.material,
+        }
+
+
+def _nan_to_none(a: np.ndarray) -> list:
+    return [None if not np.isfinite(v) else float(v) for v in a]
+
+
+def sweep_dimension(
+    parameter: str,
+    values_m: np.ndarray,
+    base: PlateStator | None = None,
+    material: PiezoMaterial | str = "pzt8",
+    order: int = 2,
+    refine: int | None = None,
+    progress: bool = False,
+) -> SweepResult:
+    """L1 and B2 frequencies while one dimension of ``base`` varies.
+
+    Parameters
+    ----------
+    parameter : str
+        ``'width'`` or ``'length'``.
+    values_m : array_like
+        Values of the dimension (m), each > 0.
+    base : PlateStator, optional
+        Default: the paper's plate.
+    material : PiezoMaterial or str
+    order, refine : int
+        2D mesh (default refine: :data:`fem.modes.DEFAULT_REFINE`).
+    progress : bool
+        Show a tqdm progress bar (on stderr) for sweeps of at least
+        :data:`PROGRESS_MIN_POINTS` points.
+
+    Raises
+    ------
+    ValueError
+        On an unknown parameter, an empty sweep or a value that makes an invalid plate.
+    """
+    from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
+
+    if parameter not in PARAMETERS:
+        raise ValueError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
+    values = np.atleast_1d(np.asarray(values_m, dtype=float))
+    if values.size == 0 or values.ndim != 1:
+        raise ValueError("values_m must be a non-empty 1D sequence")
+    base = PlateStator() if base is None else base
+    mat = get_material(material)
+    refine = DEFAULT_REFINE if refine is None else refine
+    stators = [replace(base, **{f"{parameter}_m": float(v)}) for v in values]  # validates
+    it = stators
+    if progress and len(stators) >= PROGRESS_MIN_POINTS:
+        from tqdm import tqdm
+
+        it = tqdm(stators, desc=f"sweep {parameter}", unit="solve")
+    rows = np.full((values.size, 4), np.nan)
+    spectra = []
+    for i, st in enumerate(it):
+        try:
+            res = plate_modes(st, mat, order, refine)
+        except ModeSolverError:
+            spectra.append(np.array([]))
+            continue
+        rows[i] = (res.L1.f_short_Hz, res.B2.f_short_Hz, res.L1.f_open_Hz, res.B2.f_open_Hz)
+        spectra.append(np.asarray(res.frequencies_short_Hz))
+    return SweepResult(
+        parameter=parameter,
+        values_m=values,
+        f_L1_short_Hz=rows[:, 0],
+        f_B2_short_Hz=rows[:, 1],
+        f_L1_open_Hz=rows[:, 2],
+        f_B2_open_Hz=rows[:, 3],
+        spectrum_Hz=tuple(spectra),
+        base=base,
+        material=mat.name,
+        fe_solves=values.size,
+    )
+
+
+def plot_sweep(result: SweepResult, path: str | Path) -> Path:
+    """PNG of L1 and B2 (short circuit) against the swept dimension, other modes in grey."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    x_mm = result.values_m * 1e3
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for xv, spec in zip(x_mm, result.spectrum_Hz, strict=True):
+        spec = spec[spec > 1.0]
+        ax.plot(np.full(spec.size, xv), spec * 1e-3, ".", color="0.75", ms=3)
+    ax.plot(x_mm, result.f_L1_short_Hz * 1e-3, "o-", color="C0", ms=3, label="L1 (short)")
+    ax.plot(x_mm, result.f_B2_short_Hz * 1e-3, "s-", color="C3", ms=3, label="B2 (short)")
+    other = "length" if result.parameter == "width" else "width"
+    fixed = getattr(result.base, f"{other}_m") * 1e3
+    ax.set_xlabel(f"plate {result.parameter} (mm)")
+    ax.set_ylabel("natural frequency (kHz)")
+    ax.set_title(f"L1/B2 vs {result.parameter}: {other} {fixed:g} mm, thickness "
+                 f"{result.base.thickness_m * 1e3:g} mm, {result.material} (grey: other modes)")
+    lo = np.nanmin(np.concatenate((result.f_L1_short_Hz, result.f_B2_short_Hz))) * 1e-3
+    hi = np.nanmax(np.concatenate((result.f_L1_short_Hz, result.f_B2_short_Hz))) * 1e-3
+    pad = 0.15 * (hi - lo) + 1.0
+    ax.set_ylim(lo - pad, hi + pad)
+    for xc in result.crossings_m() * 1e3:
+        ax.axvline(xc, color="0.4", ls=":", lw=1)
+        ax.annotate(f"crossing {xc:.3f} mm", (xc, lo - 0.9 * pad), fontsize=8,
+                    rotation=90, va="bottom", ha="right")
+    ax.legend()
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
