@@ -25,7 +25,8 @@ MAP_STYLE = {
 }
 
 
-def _plt():
+def pyplot():
+    """matplotlib.pyplot on the Agg backend (imported on first use)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -34,12 +35,13 @@ def _plt():
     return plt
 
 
-def _save(fig, path: Path) -> Path:
+def save(fig, path: Path) -> Path:
+    """Save a figure as PNG (creating its folder), close it, return the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
-    _plt().close(fig)
+    pyplot().close(fig)
     return path
 
 
@@ -50,7 +52,7 @@ def _title(r: SimulationResult) -> str:
 
 def slider_velocity(r: SimulationResult, path: Path) -> Path:
     """Slider velocity against time (paper Fig. 9)."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.plot(r.trace.t_s * 1e3, r.trace.v_m_s, lw=0.6)
     ax.axhline(r.steady.velocity_m_s, color="k", ls="--", lw=0.8,
@@ -59,12 +61,12 @@ def slider_velocity(r: SimulationResult, path: Path) -> Path:
     ax.set_ylabel("slider velocity dx/dt (m/s)")
     ax.set_title(_title(r), fontsize=9)
     ax.legend(fontsize=8)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def forces_and_relative_velocity(r: SimulationResult, path: Path, periods: float = 2.0) -> Path:
     """F_T, the limits +-mu_s F_N and v_rel over the last periods (paper Figs. 10-11)."""
-    plt = _plt()
+    plt = pyplot()
     w = r.window
     keep = w.t_s >= w.t_s[-1] - periods / r.op.frequency_Hz
     t_us = w.t_s[keep] * 1e6
@@ -85,12 +87,12 @@ def forces_and_relative_velocity(r: SimulationResult, path: Path, periods: float
     a2.set_ylabel("relative velocity v_rel (m/s)")
     a2.legend(fontsize=7, ncol=2)
     a1.set_title(_title(r), fontsize=9)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def hysteresis_loop(r: SimulationResult, path: Path) -> Path:
     """Tangential force against tangential tip displacement (paper Fig. 12)."""
-    plt = _plt()
+    plt = pyplot()
     w = r.window
     x_tip = w.x_tip_m(r.params.phi_Bl)
     fig, ax = plt.subplots(figsize=(6, 4.5))
@@ -102,12 +104,12 @@ def hysteresis_loop(r: SimulationResult, path: Path) -> Path:
     ax.set_ylabel("tangential force F_T (N)")
     ax.set_title(_title(r), fontsize=9)
     ax.legend(fontsize=8)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def transformed_phase_plane(r: SimulationResult, path: Path) -> Path:
     """Steady trajectory on the transformed phase plane with L1, L2 (paper Figs. 13-17)."""
-    plt = _plt()
+    plt = pyplot()
     pp = phase_plane(r)
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(pp.y_tip_m * 1e6, pp.v_rel_m_s, color="0.6", lw=0.5)
@@ -123,12 +125,12 @@ def transformed_phase_plane(r: SimulationResult, path: Path) -> Path:
     ax.set_ylabel("relative velocity v_rel (m/s)")
     ax.set_title(f"{r.steady.motion}: " + _title(r), fontsize=9)
     ax.legend(fontsize=7)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def stick_slip_map(m: StickSlipMap, path: Path, title: str = "") -> Path:
     """Motion class over voltage x preload (paper Figs. 18-19)."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.5, 5))
     ff, vv = np.meshgrid(m.preloads_N, m.voltages_V)
     for cls, style in MAP_STYLE.items():
@@ -139,13 +141,13 @@ def stick_slip_map(m: StickSlipMap, path: Path, title: str = "") -> Path:
     ax.set_ylabel("voltage amplitude V0 (V)")
     ax.set_title(title or "stick-slip map", fontsize=9)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def curve(x: Sequence[float], ys: dict[str, Sequence[float]], xlabel: str, ylabel: str,
           path: Path, title: str = "") -> Path:
     """Line plot of several named series against one axis (Figs. 20-21, 24)."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4))
     for name, y in ys.items():
         ax.plot(x, y, "o-", ms=3, label=name)
@@ -154,7 +156,7 @@ def curve(x: Sequence[float], ys: dict[str, Sequence[float]], xlabel: str, ylabe
     if title:
         ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def simulation_figures(r: SimulationResult, out_dir: Path, prefix: str = "") -> list[Path]:
