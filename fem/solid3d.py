@@ -309,7 +309,7 @@ def build_solid_model(
     basis = CellBasis(mesh, elem, intorder=intorder)
     n = basis.N
     grads = np.stack([basis.basis[i][0].grad for i in range(len(basis.basis))])
-    vals = np.stack([basis.basis[i][0].value for i in range(len(basis.basis))])
+    vals = np.stack([np.asarray(basis.basis[i][0]) for i in range(len(basis.basis))])
     dx = basis.dx  # (nel, nqp) quadrature weights times Jacobian
     B = _voigt_B(grads)  # (6, 3nloc, nel, nqp)
     cB = np.einsum("IJ,Jaeq->Iaeq", mat.cE_Pa, B)

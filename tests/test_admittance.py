@@ -1,0 +1,87 @@
+"""Admittance by modal superposition (fem.admittance) against direct harmonic solves."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from fem.admittance import (
+    direct_admittance_S,
+    modal_port,
+    plate_admittance,
+    resonance_pairs,
+)
+from fem.model import plate_model
+from fem.modes import plate_modes
+from validation.cli import main
+
+F_CHECK = np.array([1e3, 20e3, 50e3, 54.5e3, 56.9e3, 62e3])
+
+
+@pytest.fixture(scope="module")
+def model():
+    return plate_model()
+
+
+@pytest.mark.parametrize("zeta", [1e-3, 0.05])
+def test_modal_matches_direct_harmonic(model, zeta):
+    port = modal_port(model, 65e3, None, None, zeta, zeta, zeta)
+    y_direct = direct_admittance_S(model, port, F_CHECK)
+    y_modal = port.admittance_S(F_CHECK)
+    assert np.max(np.abs(y_modal / y_direct - 1)) < 1e-4
+    # without the residual mode the error is three orders larger
+    y_trunc = port.admittance_S(F_CHECK, residual=False)
+    assert np.max(np.abs(y_trunc / y_direct - 1)) > 1e-2
+
+
+def test_asymptotes(model):
+    port = modal_port(model, 65e3, None, None, 1e-3, 1e-3, 1e-3)
+    w = 2 * np.pi
+    # low frequency: free static capacitance; high frequency: clamped capacitance
+    c_low = (port.admittance_S(np.array([1.0])) / (1j * w))[0].real
+    assert c_low == pytest.approx(port.C_free_F, rel=1e-6)
+    c_high = (port.admittance_S(np.array([1e9])) / (1j * w * 1e9))[0].real
+    assert c_high == pytest.approx(port.C0_F, rel=1e-3)
+    assert port.C_free_F > port.C0_F
+    # the admittance of a passive port has a non-negative real part
+    y = port.admittance_S(np.linspace(40e3, 70e3, 301))
+    assert np.all(y.real >= -1e-15)
+
+
+def test_k_eff_from_resonance_pairs_matches_modal(model):
+    """All four electrodes in phase isolate L1; the B2 polarity (+ - - +) isolates B2."""
+    modes = plate_modes()
+    f = np.linspace(50e3, 62e3, 2401)
+    for name, pol in (("L1", (1, 1, 1, 1)), ("B2", (1, -1, -1, 1))):
+        port = modal_port(model, 62e3, (1, 2, 3, 4), pol, 1e-4, 1e-4, 1e-4)
+        (pair,) = [p for p in resonance_pairs(port, f) if p.mode == name]
+        m = getattr(modes, name)
+        assert pair.f_resonance_Hz == pytest.approx(m.f_short_Hz, rel=1e-4)
+        assert pair.f_antiresonance_Hz == pytest.approx(m.f_open_Hz, rel=2e-3)
+        assert pair.k_eff == pytest.approx(m.k_eff, rel=0.02)
+
+
+def test_default_drive_pairs_and_bad_input(model):
+    res = plate_admittance(zeta=1e-3)
+    names = [p.mode for p in res.pairs]
+    assert "L1" in names and "B2" in names
+    for p in res.pairs:
+        assert p.f_antiresonance_Hz > p.f_resonance_Hz
+    with pytest.raises(ValueError, match="f_min_Hz"):
+        plate_admittance(f_min_Hz=70e3, f_max_Hz=60e3)
+    with pytest.raises(ValueError, match="electrodes"):
+        modal_port(model, 65e3, (5,))
+    with pytest.raises(ValueError, match="polarity"):
+        modal_port(model, 65e3, (1, 4), (1, 2))
+    with pytest.raises(ValueError, match="zeta_L1"):
+        modal_port(model, 65e3, zeta_L1=-0.1)
+
+
+def test_cli_admittance(tmp_path, capsys):
+    assert main(["admittance", "--zeta", "0.002", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {p["mode"] for p in out["pairs"]} >= {"L1", "B2"}
+    assert (tmp_path / "admittance.png").stat().st_size > 1000
+    assert main(["admittance", "--f-min", "7e4", "--f-max", "6e4"]) == 2

@@ -1,0 +1,100 @@
+"""3D piezoelastic reference model (fem.solid3d): matrices, rigid modes, 2D vs 3D limits."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from fem.geometry import PlateStator
+from fem.modes import plate_modes
+from fem.solid3d import build_solid_model, solid_frequencies_Hz, solid_model, solid_modes
+from validation.cli import main
+
+COARSE = {"refine": 2, "layers": 2}
+
+
+@pytest.fixture(scope="module")
+def coarse_model():
+    return solid_model(PlateStator(), "pzt8", 2, **COARSE)
+
+
+def test_matrices_symmetric_and_mass_total(coarse_model):
+    m = coarse_model
+    for a in (m.Kuu, m.M, m.Kphiphi):
+        assert abs(a - a.T).max() <= 1e-12 * abs(a).max()
+    # total mass: a rigid translation along x carries rho * volume
+    n = m.n_nodes
+    tx = np.zeros(3 * n)
+    tx[:n] = 1.0
+    st = m.stator
+    vol = st.length_m * st.width_m * st.thickness_m
+    assert tx @ (m.M @ tx) == pytest.approx(7600.0 * vol, rel=1e-12)
+    # a uniform potential stores no energy and couples to nothing
+    ones = np.ones(n)
+    assert np.abs(m.Kphiphi @ ones).max() < 1e-12 * abs(m.Kphiphi).max()
+    assert np.abs(m.Kuphi @ ones).max() < 1e-9 * abs(m.Kuphi).max()
+
+
+def test_six_rigid_body_modes(coarse_model):
+    f, _ = solid_frequencies_Hz(coarse_model, n_modes=8, f_center_Hz=0.0)
+    assert np.all(np.abs(f[:6]) < 1.0)
+    assert f[6] > 5e3
+
+
+def test_electrodes_are_disjoint_and_on_top(coarse_model):
+    m = coarse_model
+    h = m.stator.thickness_m
+    all_dofs = np.concatenate(m.electrode_dofs)
+    assert all_dofs.size == np.unique(all_dofs).size
+    assert np.allclose(m.basis.doflocs[2, all_dofs], h / 2)
+    assert np.allclose(m.basis.doflocs[2, m.ground_dofs], -h / 2)
+
+
+def test_default_plate_3d_vs_2d_and_open_above_short():
+    r3 = solid_modes(PlateStator(), "pzt8")  # default 3D mesh
+    r2 = plate_modes(PlateStator(), "pzt8")
+    for name in ("L1", "B2"):
+        a, b = getattr(r3, name), getattr(r2, name)
+        assert a.f_open_Hz >= a.f_short_Hz
+        assert a.f_short_Hz == pytest.approx(b.f_short_Hz, rel=0.01)
+        assert a.f_open_Hz == pytest.approx(b.f_open_Hz, rel=0.02)
+        assert a.mac > 0.9
+    assert r3.dofs > 0 and r3.wall_time_s > 0
+
+
+def test_thin_plate_approaches_plane_stress():
+    """As h -> 0 plane stress becomes exact: the 3D/2D gap shrinks well below the 3 mm one."""
+    thick = PlateStator()
+    thin = PlateStator(thickness_m=0.1e-3)
+    errs = {}
+    for key, st in (("thick", thick), ("thin", thin)):
+        r3 = solid_modes(st, "pzt8", 2, 3, 1 if key == "thin" else 2)
+        r2 = plate_modes(st, "pzt8")
+        errs[key] = max(
+            abs(getattr(r3, n).__getattribute__(f) / getattr(r2, n).__getattribute__(f) - 1)
+            for n in ("L1", "B2") for f in ("f_short_Hz", "f_open_Hz")
+        )
+    assert errs["thin"] < 2e-3
+    assert errs["thin"] < errs["thick"] / 4
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="layers"):
+        solid_model(PlateStator(), layers=0)
+    with pytest.raises(ValueError, match="element"):
+        solid_model(PlateStator(), element="hex64")
+    with pytest.raises(ValueError, match="gap"):
+        build_solid_model(PlateStator(electrode_gap_m=0.0))
+
+
+def test_cli_modes_3d_json_keys(capsys):
+    assert main(["modes", "--model", "3d", "--refine", "2", "--layers", "2", "--json"]) == 0
+    out3 = json.loads(capsys.readouterr().out)
+    assert main(["modes", "--json"]) == 0
+    out2 = json.loads(capsys.readouterr().out)
+    assert set(out2) <= set(out3)
+    assert set(out3["L1"]) == set(out2["L1"]) == {"f_short_Hz", "f_open_Hz", "k_eff"}
+    assert out3["model"] == "3d" and out3["layers"] == 2
+    assert main(["modes", "--model", "3d", "--layers", "0"]) == 2
