@@ -2,7 +2,7 @@
 
 Each picture shows the deformed planform coloured by the displacement magnitude
 (``|u| / max|u|``), the undeformed outline (grey), the electrode outlines on the deformed
-shape (driven electrodes red, grounded ones white) and a title with the mode name and its
+shape (driven electrodes red, grounded ones black) and a title with the mode name and its
 short-circuit frequency. The plate is drawn with its length horizontal, preload end left and
 ``x > 0`` up, as in the sketch of :mod:`fem.geometry` ("1 2" above "3 4"); screen
 coordinates are ``(y, x)``, so the long axis ``x = 0`` is the horizontal centre line of the
@@ -114,7 +114,7 @@ class _Scene:
             P = model.probe(opts.reshape(2, -1))
             u = (P @ np.asarray(shape)).reshape(opts.shape) * self.scale
             poly = _lines(opts)
-            self.plotter.add_mesh(poly, color="red" if k in driven else "white", line_width=2)
+            self.plotter.add_mesh(poly, color="red" if k in driven else "black", line_width=2)
             self.electrode_lines.append((poly, opts, u))
         if decorations and title:
             self.plotter.add_title(title, font_size=12, color="black")
