@@ -400,33 +400,50 @@ def write_stator_msh(
 
     path = Path(path)
     pts = np.column_stack((np.asarray(points, dtype=float), np.zeros(len(points))))
-    blocks, phys = [], []
+    blocks, phys, geom = [], [], []
     field_data: dict[str, np.ndarray] = {}
     node_entity = np.zeros((pts.shape[0], 2), dtype=np.int64)
+    # one gmsh entity (its own geometrical tag) per cell block; MSH 4.1 ties physical tags to
+    # entities and meshio lists an entity only if some node is classified on it
     for ctype, conn in cells.items():
         tags = np.asarray(electrode[ctype], dtype=int)
         for k in np.unique(tags):
             tag = int(k) if k > 0 else GAP_PHYSICAL_TAG
             name = f"electrode{int(k)}" if k > 0 else "gap"
             sel = np.asarray(conn)[tags == k]
+            entity = len(blocks) + 1
             blocks.append(meshio.CellBlock(ctype, sel.astype(np.int64)))
             phys.append(np.full(sel.shape[0], tag, dtype=np.int32))
+            geom.append(np.full(sel.shape[0], entity, dtype=np.int32))
             field_data[name] = np.array([tag, 2])
-            nodes = sel.ravel()
-            node_entity[nodes, 0] = 2
-            node_entity[nodes, 1] = np.maximum(node_entity[nodes, 1], tag)
+            node_entity[sel.ravel()] = (2, entity)
     point_tags = {"tip": TIP_PHYSICAL_TAG, "preload": PRELOAD_PHYSICAL_TAG}
+    for name, node in (point_nodes or {}).items():
+        node_entity[int(node)] = (0, point_tags[name])
+    n_surface = len(blocks)
+    for i in range(n_surface):  # give every surface entity at least one node of its own
+        entity = i + 1
+        nodes = np.unique(blocks[i].data)
+        surface = node_entity[:, 0] == 2
+        if np.any(node_entity[nodes, 1][surface[nodes]] == entity):
+            continue
+        counts = np.bincount(node_entity[surface, 1], minlength=n_surface + 1)
+        owner = np.where(surface[nodes], node_entity[nodes, 1], 0)
+        free = nodes[surface[nodes] & (counts[owner] > 1)]
+        if free.size == 0:
+            raise ValueError(f"cannot classify a node on cell block {i} ({blocks[i].type})")
+        node_entity[free[0]] = (2, entity)
     for name, node in (point_nodes or {}).items():
         tag = point_tags[name]
         blocks.append(meshio.CellBlock("vertex", np.array([[int(node)]], dtype=np.int64)))
         phys.append(np.array([tag], dtype=np.int32))
+        geom.append(np.array([tag], dtype=np.int32))
         field_data[name] = np.array([tag, 0])
-        node_entity[int(node)] = (0, tag)
     mesh = meshio.Mesh(
         pts,
         blocks,
         point_data={"gmsh:dim_tags": node_entity},
-        cell_data={"gmsh:physical": phys, "gmsh:geometrical": phys},
+        cell_data={"gmsh:physical": phys, "gmsh:geometrical": geom},
         field_data=field_data,
     )
     meshio.write(path, mesh, file_format=file_format, binary=False)

@@ -250,3 +250,47 @@ def test_cli_geometry(tmp_path, capsys):
     assert len(err.splitlines()) == 1 and "length_mm" in err
     assert main(["params", "--geometry", str(path)]) == 2
     assert "--source fem" in capsys.readouterr().err
+
+
+def test_mixed_triangle_quad_mesh_is_conforming(tmp_path):
+    """Half the plate as quads, half as triangles: the converted mesh gives the plate's modes."""
+    st = PlateStator()
+    mesh = structured_mesh(st, 3)
+    q = mesh.quads.T
+    y = mesh.points_m[1, q].mean(axis=1)
+    split = y > 15e-3
+    tris = np.vstack((q[split][:, [0, 1, 2]], q[split][:, [0, 2, 3]]))
+    t_tags = np.concatenate((mesh.electrode[split], mesh.electrode[split]))
+    # clockwise input for half of the quads: orientation is repaired on reading
+    quads = q[~split].copy()
+    quads[::2] = quads[::2, ::-1]
+    path = write_stator_msh(tmp_path / "mixed.msh", mesh.points_m.T,
+                            {"quad": quads, "triangle": tris},
+                            {"quad": mesh.electrode[~split], "triangle": t_tags})
+    imp = read_stator_mesh(path)
+    assert imp.converted and set(imp.cell_types) == {"quad", "triangle"}
+    _assert_same_tags(imp.mesh, st)
+    sm = MeshedStator(length_m=30e-3, width_m=7.5e-3, thickness_m=3e-3, electrode_gap_m=0.0,
+                      mesh=imp.mesh, tip_m=(0.0, 30e-3), preload_m=(0.0, 0.0))
+    res = modes_of_model(build_model(imp.mesh, sm, "pzt8", 2))
+    ref = plate_modes(st, "pzt8", 2, 8)
+    assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=1e-4)
+    assert res.B2.f_short_Hz == pytest.approx(ref.B2.f_short_Hz, rel=1e-3)
+
+
+def test_unnamed_tags_and_non_planar_meshes(tmp_path):
+    mesh = structured_mesh(PlateStator(), 2)
+    pts, quads = mesh.points_m.T, mesh.quads.T
+    p = write_stator_msh(tmp_path / "u.msh", pts, {"quad": quads}, {"quad": mesh.electrode},
+                         file_format="gmsh22")
+    text = p.read_text()
+    p.write_text(text.replace('2 3 "electrode3"', '2 33 "electrode3"'))
+    with pytest.raises(ValueError, match="physical tag 3 .*has no name"):
+        read_stator_mesh(p)
+    bent = meshio.Mesh(np.column_stack((pts, 1e-3 * pts[:, 1])), [("quad", quads)],
+                       cell_data={"electrode": [mesh.electrode]})
+    meshio.write(tmp_path / "z.vtu", bent)
+    with pytest.raises(ValueError, match="not planar"):
+        read_stator_mesh(tmp_path / "z.vtu")
+    with pytest.raises(ValueError, match="unit must be one of m, mm"):
+        read_stator_mesh(p, unit="inch")
