@@ -71,9 +71,10 @@ class SteadyState:
     window_s : float
         Length of the window (s).
     previous_velocity_m_s : float
-        Mean velocity over the window before (m/s), from the decimated trace.
+        Mean velocity over an equal window ending a fifth of the run earlier (m/s), from
+        the decimated trace.
     settled : bool
-        Whether the two windows agree within 1 % (+ 1e-4 m/s).
+        Whether the two windows agree within 1 % (+ 1e-6 m/s).
     """
 
     velocity_m_s: float

@@ -272,13 +272,15 @@ def _steady_state(trace: Trace, phase_time: np.ndarray, stats: np.ndarray, windo
     frac = phase_time / total if total > 0 else np.array([1.0, 0.0, 0.0, 0.0])
     stick, slip_pos, slip_neg, sep = (float(f) for f in frac)
     driving, braking = (slip_pos, slip_neg) if v >= 0 else (slip_neg, slip_pos)
-    t_prev = t_end - 2 * window_s
-    if t_prev >= trace.t_s[0]:
-        x_prev = float(np.interp(t_prev, trace.t_s, trace.x_m))
-        v_prev = (stats[0] - x_prev) / window_s
+    # an earlier window, at least a fifth of the run before the last one, tells whether the
+    # slider is still accelerating
+    t_prev_end = t_end - max(window_s, 0.2 * t_end)
+    if t_prev_end - window_s >= trace.t_s[0]:
+        x_a, x_b = np.interp([t_prev_end - window_s, t_prev_end], trace.t_s, trace.x_m)
+        v_prev = float((x_b - x_a) / window_s)
     else:
         v_prev = float("nan")
-    settled = bool(abs(v - v_prev) <= 0.01 * abs(v) + 1e-4) if math.isfinite(v_prev) else False
+    settled = bool(abs(v - v_prev) <= 0.01 * abs(v) + 1e-6) if math.isfinite(v_prev) else False
     return SteadyState(
         velocity_m_s=float(v),
         stick_fraction=stick,

@@ -1,0 +1,31 @@
+"""``lusm report``: the main job, the default motor end to end (see :mod:`validation.report`)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``report`` sub-command to the ``lusm`` parser."""
+    p = subparsers.add_parser(
+        "report",
+        help="write the full report (parameter sets, paper reproduction, speed vs error, "
+        "hard cases)",
+        description="Run the default motor end to end and write index.md, index.html, "
+        "report.json and PNG figures.",
+    )
+    p.add_argument("--out", type=Path, default=Path("report"), help="output folder")
+    p.add_argument("--quick", action="store_true",
+                   help="coarser grids and shorter runs, same sections (~30 s)")
+    p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Write the report and print where it is."""
+    from validation.report import write_report
+
+    doc = write_report(args.out, quick=args.quick, progress=not args.no_progress)
+    print(f"report written to {args.out / 'index.md'} (and index.html, report.json) "
+          f"in {doc['wall_time_s']:.1f} s")
