@@ -208,8 +208,10 @@ class SolidPlateModel:
     def voltage_coupling_N_V(self, electrodes: tuple[int, ...]) -> np.ndarray:
         """Force on the displacements per volt with ``electrodes`` at ``+1 V`` (N/V).
 
-        Uses the open-circuit potential map: with the listed electrodes at 1 V, all others and
-        the bottom at 0 V, the free potentials condensed statically (clamped, ``u = 0``).
+        The listed electrodes are held at 1 V, the other electrodes and the bottom at 0 V; the
+        remaining nodal potentials are condensed statically with ``u = 0`` (clamped), and the
+        force is ``-K_uphi phi``. In this model's convention (``E3 = -V/h``) it has the
+        opposite sign of the 2D ``PiezoPlateModel.coupling``.
         """
         if any(e not in ELECTRODES for e in electrodes):
             raise ValueError(f"electrodes must be numbers in 1..4, got {electrodes!r}")
