@@ -148,8 +148,11 @@ def _shift_invert(
             (n, n), matvec=lambda x: K @ x + U @ (D * (U.T @ x)), dtype=float
         )
     k = min(n_modes, n - 2)
+    # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
+    v0 = np.random.default_rng(0).standard_normal(n)
     try:
-        w, v = sla.eigsh(a_op, k=k, M=M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter)
+        w, v = sla.eigsh(a_op, k=k, M=M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
+                         v0=v0)
     except sla.ArpackNoConvergence as exc:
         raise ModeSolverError(
             f"eigsh (shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "

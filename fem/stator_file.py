@@ -40,12 +40,12 @@ preload point; :func:`fem.model.plate_model` then assembles on that mesh.
 from __future__ import annotations
 
 import math
+import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import tomllib
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import MATERIAL_NAMES, PiezoMaterial, get_material

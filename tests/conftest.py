@@ -23,7 +23,7 @@ def paper_params():
     return table2()
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def cached_run(voltage_V: float, preload_N: float, **kw):
     """One contact run per distinct argument set for the whole session."""
     from contact.simulate import simulate

@@ -7,10 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from contact.model import normal_force_zero_tip_displacement
+from contact.model import OperatingPoint, normal_force_zero_tip_displacement
 from contact.phase_plane import phase_plane
 from contact.simulate import normal_amplitude, simulate
-from contact.model import OperatingPoint
 from tests.conftest import cached_run
 
 

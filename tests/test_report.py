@@ -1,0 +1,91 @@
+"""``lusm report --quick``: every section, valid figures, >= 12 hard cases, one source of truth."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.conftest import ROOT
+from validation.report import SECTIONS
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory) -> tuple[Path, dict]:
+    out = tmp_path_factory.mktemp("report")
+    proc = subprocess.run(
+        [sys.executable, "-m", "validation.cli", "report", "--quick", "--no-progress",
+         "--out", str(out)],
+        cwd=ROOT, capture_output=True, text=True, timeout=600,
+    )
+    assert proc.returncode == 0, proc.stderr
+    return out, json.loads((out / "report.json").read_text())
+
+
+def test_every_section_is_present(report):
+    out, doc = report
+    for s in SECTIONS:
+        assert doc[s], s
+    md = (out / "index.md").read_text()
+    for heading in ("## 1. Parameter sets", "## 2. Paper reproduction",
+                    "## 3. Speed against error", "## 4. Hard cases"):
+        assert heading in md
+    html = (out / "index.html").read_text()
+    n_tables = sum(1 for ln in md.splitlines() if ln.startswith("|---|"))
+    assert html.count("<table>") == n_tables > 0 and "<img" in html
+    assert set(doc["paper_reproduction"]) == {"table2", "beam", "fem"}
+
+
+def test_every_figure_is_a_valid_non_blank_png(report):
+    from matplotlib.image import imread
+
+    out, _ = report
+    md = (out / "index.md").read_text()
+    pngs = sorted((out / "figures").glob("*.png"))
+    assert len(pngs) >= 3 * 14 + 2
+    for png in pngs:
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        img = imread(png)
+        assert float(np.std(img[..., :3])) > 0.01, png.name
+        assert f"figures/{png.name}" in md  # every figure is shown
+
+
+def test_hard_cases_are_stable_or_fail_clearly_and_conserve_energy(report):
+    _, doc = report
+    rows = doc["hard_cases"]
+    assert len(rows) >= 12
+    for r in rows:
+        if r["expected_error"]:
+            assert r["status"].startswith("error: ")
+            continue
+        assert r["status"] == "stable", (r["name"], r["status"])
+        assert math.isfinite(r["velocity_m_s"])
+        if math.isfinite(r["energy_residual"]):  # NaN only without input work (0 V)
+            assert r["energy_residual"] < 0.01, r["name"]
+
+
+def test_report_numbers_match_the_cli(report):
+    _, doc = report
+
+    def lusm(*args):
+        p = subprocess.run([sys.executable, "-m", "validation.cli", *args, "--json"], cwd=ROOT,
+                           capture_output=True, text=True, timeout=300)
+        assert p.returncode == 0, p.stderr
+        return json.loads(p.stdout)
+
+    modes = lusm("modes")
+    fe = doc["parameter_sets"]["fe_modes"]
+    for m in ("L1", "B2"):
+        assert fe[m]["f_short_Hz"] == modes[m]["f_short_Hz"]
+        assert fe[m]["k_eff"] == modes[m]["k_eff"]
+    case = doc["paper_reproduction"]["table2"]["numbers"]["cases"]["200V_18N"]
+    sim = lusm("simulate", "--voltage", "200", "--preload", "18", "--duration", "0.01")
+    assert case["velocity_m_s"] == sim["steady_velocity_m_s"]
+    assert case["motion"] == sim["motion"]
+    assert doc["parameter_sets"]["comparison"]["values"]["fem"]["f_L1_Hz"] == pytest.approx(
+        modes["L1"]["f_short_Hz"], rel=1e-12)
