@@ -166,3 +166,22 @@ def test_literal_fixed_band_scheme_depends_on_epsilon_where_ours_does_not(paper_
     # a wide band recovers stick, at the price of an eps-dependent answer
     assert lit[1].stick_fraction > 0.5
     assert abs(lit[0].velocity_m_s - lit[1].velocity_m_s) > 0.2 * abs(lit[1].velocity_m_s)
+
+
+def test_drive_phase_rows_are_a_pure_rotation(paper_params):
+    # the kernel's matrix-vector product relies on it: the drive phase evolves on its own
+    from contact import state as S
+    from contact.model import build_system
+
+    for v, f in ((200.0, 14.0), (0.0, 0.0), (1000.0, 1.0)):
+        system = build_system(paper_params, OperatingPoint(v, f), paper_params.mu_d)
+        full, half = system.propagators(1e-7)
+        for arr in (system.A, full, half):
+            tail = arr[:, S.SIN:, :].copy()
+            tail[:, 0, S.SIN:S.ONE] = 0.0
+            tail[:, 1, S.SIN:S.ONE] = 0.0
+            tail[:, 2, S.ONE] = 0.0
+            assert np.all(tail == 0.0)
+        wt = 2 * np.pi * 40e3 * 1e-7
+        assert np.allclose(full[:, S.SIN, S.SIN], np.cos(wt), rtol=1e-14)
+        assert np.allclose(full[:, S.ONE, S.ONE], 1.0, rtol=0, atol=0)
