@@ -1,7 +1,9 @@
 """Stick-slip maps over voltage x preload (the paper's Figs. 18-19), run in parallel.
 
 Each point is an independent :func:`contact.simulate.simulate` call; the numba kernel releases
-the GIL, so a thread pool keeps every core busy without pickling parameter sets.
+the GIL, so a thread pool keeps every core busy without pickling parameter sets. BLAS is held
+to one thread meanwhile: the tiny 9 x 9 matrix exponentials do not need it, and OpenBLAS
+worker threads left spinning after each call would otherwise take the cores from the pool.
 """
 
 from __future__ import annotations
@@ -78,6 +80,7 @@ def stick_slip_map(
     progress : bool
         Show a tqdm progress bar on stderr.
     """
+    from threadpoolctl import threadpool_limits
     from tqdm import tqdm
 
     v = np.asarray(voltages_V, dtype=float)
@@ -94,7 +97,9 @@ def stick_slip_map(
     # compile (or load from cache) once before the threads start
     simulate(params, float(v[0]), float(f[0]), frequency_Hz,
              SimulationOptions(**{**opts.__dict__, "duration_s": 10 / frequency_Hz}))
-    with ThreadPoolExecutor(max_workers=n_workers) as pool:
+    with threadpool_limits(limits=1, user_api="blas"), ThreadPoolExecutor(
+        max_workers=n_workers
+    ) as pool:
         futures = {
             pool.submit(simulate, params, float(v[i]), float(f[j]), frequency_Hz, opts): (i, j)
             for i in range(v.size)
