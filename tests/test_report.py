@@ -89,3 +89,6 @@ def test_report_numbers_match_the_cli(report):
     assert case["motion"] == sim["motion"]
     assert doc["parameter_sets"]["comparison"]["values"]["fem"]["f_L1_Hz"] == pytest.approx(
         modes["L1"]["f_short_Hz"], rel=1e-12)
+    modes3d = lusm("modes", "--model", "3d")
+    f3d = doc["parameter_sets"]["plane_stress_vs_3d"]["f3d_Hz"]
+    assert f3d["B2_open"] == pytest.approx(modes3d["B2"]["f_open_Hz"], rel=1e-9)

@@ -67,7 +67,7 @@ def _parameter_sets(out: Path, progress: bool) -> tuple[list[str], dict, dict]:
     from rom.compare import compare_sources
     from rom.sources import get_params
 
-    st = _Stage("1/4 parameter sets", 3, progress)
+    st = _Stage("1/4 parameter sets", 4, progress)
     comp = compare_sources(("table2", "beam", "fem"))
     st.say("compare")
     modes = plate_modes(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
@@ -100,7 +100,47 @@ def _parameter_sets(out: Path, progress: bool) -> tuple[list[str], dict, dict]:
     data = {"comparison": comp.to_dict(),
             "fe_modes": {"L1": modes.L1.to_dict(), "B2": modes.B2.to_dict(),
                          "dofs": modes.dofs, "wall_time_s": modes.wall_time_s}}
+    md_3d, data["plane_stress_vs_3d"] = _plane_stress_vs_3d()
+    md += md_3d
     return md, data, params
+
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+"""Example stators shipped with a source checkout (absent from a wheel install)."""
+
+
+def _plane_stress_vs_3d() -> tuple[list[str], dict]:
+    """2D plane stress against the 3D piezoelastic model, and the example stators (2D)."""
+    from fem.plane_stress_error import plane_stress_error
+
+    e = plane_stress_error()
+    md = ["2D plane stress against the 3D piezoelastic reference (`docs/fem3d.md`; PZT-8, "
+          f"2D {e.dofs_2d} DOFs in {e.wall_time_2d_s:.2f} s, 3D quadratic bricks "
+          f"{e.dofs_3d} DOFs in {e.wall_time_3d_s:.2f} s; the same calls as "
+          "`lusm modes --model 2d|3d`):", ""]
+    rows = [[key.replace("_", " "), e.f2d_Hz[key], e.f3d_Hz[key],
+             f"{e.f2d_Hz[key] / e.f3d_Hz[key] - 1:+.2%}"] for key in e.f2d_Hz]
+    rows += [[f"{m} k_eff", e.k_eff_2d[m], e.k_eff_3d[m],
+              f"{e.k_eff_2d[m] / e.k_eff_3d[m] - 1:+.1%}"] for m in e.k_eff_2d]
+    md += _table(["quantity", "2D (Hz or -)", "3D (Hz or -)", "2D/3D - 1"], rows)
+    data = {"f2d_Hz": e.f2d_Hz, "f3d_Hz": e.f3d_Hz, "k_eff_2d": e.k_eff_2d,
+            "k_eff_3d": e.k_eff_3d, "examples": {}}
+    tomls = sorted(EXAMPLES.glob("*/stator.toml")) if EXAMPLES.is_dir() else []
+    if tomls:
+        from fem.stator_file import load_stator
+
+        ex_rows = []
+        for path in tomls:
+            m = load_stator(path).modes()
+            ex_rows.append([path.parent.name, m.L1.f_short_Hz, m.L1.f_open_Hz,
+                            m.B2.f_short_Hz, m.B2.f_open_Hz])
+            data["examples"][path.parent.name] = {"L1": m.L1.to_dict(), "B2": m.B2.to_dict()}
+        md += ["", "Example stators of `examples/` (2D; the 3D model covers rectangular "
+               "plates only; `lusm modes --geometry examples/<name>/stator.toml`):", ""]
+        md += _table(["stator", "L1 short (Hz)", "L1 open (Hz)", "B2 short (Hz)",
+                      "B2 open (Hz)"], ex_rows)
+    md.append("")
+    return md, data
 
 
 def _reproduction(params: dict, out: Path, quick: bool, progress: bool):
