@@ -108,3 +108,23 @@ def test_cold_numba_cache_gives_the_same_answer(tmp_path: Path):
     assert json.loads(out.stdout)["steady_velocity_m_s"] == json.loads(warm.stdout)[
         "steady_velocity_m_s"]
     assert any((tmp_path / "numba-cache").rglob("*.nbi"))  # the cold run wrote its cache
+
+
+def test_simulate_runs_any_parameter_set_at_its_own_frequency():
+    from contact.drive import auto_frequency
+    from rom.from_fem import fem_params_from_file
+
+    path = ROOT / "examples" / "tip_protrusion" / "stator.toml"
+    out = lusm("simulate", "--voltage", "300", "--preload", "5", "--geometry", str(path),
+               "--frequency", "auto", "--duration", "0.005", "--json")
+    assert out.returncode == 0, out.stderr
+    d = json.loads(out.stdout)
+    params = fem_params_from_file(path)
+    assert d["frequency_Hz"] == pytest.approx(auto_frequency(params), rel=1e-12)
+    # the operating point lies between the set's own L1 and B2 resonances (widened by 20 %)
+    lo, hi = sorted((params.f_L1_Hz, params.f_B2_Hz))
+    assert 0.8 * lo <= d["frequency_Hz"] <= 1.2 * hi
+    assert "tip_protrusion" in d["source"]
+    bad = lusm("simulate", "--voltage", "200", "--preload", "14", "--geometry",
+               str(ROOT / "no-such-stator.toml"))
+    assert bad.returncode == 2 and "not found" in bad.stderr
