@@ -292,6 +292,33 @@ def _solve_identified(
     raise last
 
 
+def pair_short_open(fs, vs, ids, fo, ido, M) -> dict[str, IdentifiedMode]:
+    """L1 and B2 from identified short- and open-circuit solutions (2D or 3D model).
+
+    ``fs, vs`` are the short-circuit frequencies (Hz) and shapes, ``ids``/``ido`` map each
+    mode name to ``(index, mac, symmetry)`` in the short/open solutions, ``fo`` the
+    open-circuit frequencies; shapes are mass-normalized with ``M``.
+    """
+    modes = {}
+    for name in ("L1", "B2"):
+        i, mac, sym = ids[name]
+        f_short = float(fs[i])
+        f_open = float(fo[ido[name][0]])
+        k2 = (f_open**2 - f_short**2) / f_open**2
+        shape = vs[:, i] / math.sqrt(float(vs[:, i] @ (M @ vs[:, i])))
+        shape.setflags(write=False)
+        modes[name] = IdentifiedMode(
+            name=name,
+            f_short_Hz=f_short,
+            f_open_Hz=f_open,
+            k_eff=math.sqrt(max(k2, 0.0)),
+            shape=shape,
+            mac=mac,
+            symmetry=sym,
+        )
+    return modes
+
+
 def modes_of_model(
     model: PiezoPlateModel,
     f_center_Hz: float | None = None,
@@ -326,23 +353,7 @@ def modes_of_model(
     fs, vs, ids = _solve_identified(model, fc, n_modes, False, maxiter)
     t_short = time.perf_counter() - t0
     fo, vo, ido = _solve_identified(model, fc, n_modes, True, maxiter)
-    modes = {}
-    for name in ("L1", "B2"):
-        i, mac, sym = ids[name]
-        f_short = float(fs[i])
-        f_open = float(fo[ido[name][0]])
-        k2 = (f_open**2 - f_short**2) / f_open**2
-        shape = vs[:, i] / math.sqrt(float(vs[:, i] @ (model.M @ vs[:, i])))
-        shape.setflags(write=False)
-        modes[name] = IdentifiedMode(
-            name=name,
-            f_short_Hz=f_short,
-            f_open_Hz=f_open,
-            k_eff=math.sqrt(max(k2, 0.0)),
-            shape=shape,
-            mac=mac,
-            symmetry=sym,
-        )
+    modes = pair_short_open(fs, vs, ids, fo, ido, model.M)
     wall = time.perf_counter() - t0 + model.assembly_time_s
     return PlateModes(
         L1=modes["L1"],

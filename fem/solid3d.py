@@ -66,13 +66,13 @@ from fem.modes import (
     MIN_SYMMETRY,
     N_SAMPLE_X,
     N_SAMPLE_Y,
-    IdentifiedMode,
     ModeSolverError,
     PlateModes,
     _mac,
     _references,
     _sign_changes,
     _symmetric_fraction,
+    pair_short_open,
     rod_frequency_estimate_Hz,
 )
 
@@ -569,18 +569,7 @@ def modes_of_solid_model(
     fs, vs, ids = _solve_identified3d(model, fc, n_modes, False, maxiter)
     t_short = time.perf_counter() - t0
     fo, _, ido = _solve_identified3d(model, fc, n_modes, True, maxiter)
-    modes = {}
-    for name in ("L1", "B2"):
-        i, mac, sym = ids[name]
-        f_short = float(fs[i])
-        f_open = float(fo[ido[name][0]])
-        k2 = (f_open**2 - f_short**2) / f_open**2
-        shape = vs[:, i] / math.sqrt(float(vs[:, i] @ (model.M @ vs[:, i])))
-        shape.setflags(write=False)
-        modes[name] = IdentifiedMode(
-            name=name, f_short_Hz=f_short, f_open_Hz=f_open,
-            k_eff=math.sqrt(max(k2, 0.0)), shape=shape, mac=mac, symmetry=sym,
-        )
+    modes = pair_short_open(fs, vs, ids, fo, ido, model.M)
     n_phi_free = model.potential_map(False).shape[1]
     return SolidModes(
         L1=modes["L1"],

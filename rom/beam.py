@@ -409,26 +409,10 @@ def beam_params(
     else:
         k_b, a_b = c.K_b_timoshenko, c.A_b_timoshenko
     layout_name = electrode_layout if isinstance(electrode_layout, str) else "custom electrodes"
-    return MotorParams(
-        M_l=c.M_l,
-        C_l=2.0 * float(zeta_l) * math.sqrt(c.K_l * c.M_l),
-        K_l=c.K_l,
-        A_l=c.A_l,
-        phi_L0=c.phi_L0,
-        phi_Ll=c.phi_Ll,
-        M_b=c.M_b,
-        C_b=2.0 * float(zeta_b) * math.sqrt(k_b * c.M_b),
-        K_b=k_b,
-        A_b=a_b,
-        phi_B0=c.phi_B0,
-        phi_Bl=c.phi_Bl,
-        k_contact=base.k_contact,
-        M_slider=base.M_slider,
-        mu_s=base.mu_s,
-        mu_d=base.mu_d,
-        mu_sd=base.mu_sd,
-        a_mu=base.a_mu,
-        b_mu=base.b_mu,
+    return MotorParams.from_modal(
+        M_l=c.M_l, K_l=c.K_l, A_l=c.A_l, phi_L0=c.phi_L0, phi_Ll=c.phi_Ll,
+        M_b=c.M_b, K_b=k_b, A_b=a_b, phi_B0=c.phi_B0, phi_Bl=c.phi_Bl,
+        damping_ratios=(float(zeta_l), float(zeta_b)), base=base,
         source=f"beam theory (Appendix A, K_b {b2_stiffness}, {layout_name})",
     )
 

@@ -102,26 +102,10 @@ def fem_params(
     m_b, k_b, a_b, v_b = reduce(
         modes.B2.shape, 1, float(phi_B(length, length)), modes.B2.f_short_Hz
     )
-    return MotorParams(
-        M_l=m_l,
-        C_l=2.0 * zeta_l * math.sqrt(k_l * m_l),
-        K_l=k_l,
-        A_l=a_l,
-        phi_L0=float(v_l[2]),
-        phi_Ll=float(v_l[3]),
-        M_b=m_b,
-        C_b=2.0 * zeta_b * math.sqrt(k_b * m_b),
-        K_b=k_b,
-        A_b=a_b,
-        phi_B0=float(v_b[0]),
-        phi_Bl=float(v_b[1]),
-        k_contact=base.k_contact,
-        M_slider=base.M_slider,
-        mu_s=base.mu_s,
-        mu_d=base.mu_d,
-        mu_sd=base.mu_sd,
-        a_mu=base.a_mu,
-        b_mu=base.b_mu,
+    return MotorParams.from_modal(
+        M_l=m_l, K_l=k_l, A_l=a_l, phi_L0=float(v_l[2]), phi_Ll=float(v_l[3]),
+        M_b=m_b, K_b=k_b, A_b=a_b, phi_B0=float(v_b[0]), phi_Bl=float(v_b[1]),
+        damping_ratios=(zeta_l, zeta_b), base=base,
         source=(
             f"FE modal reduction (scikit-fem, plane stress, order {order}, refine {refine}, "
             f"{modes.dofs} dofs) of a {stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} x "

@@ -147,6 +147,38 @@ class MotorParams:
         """B2 modal damping ratio ``C_b / (2 sqrt(K_b M_b))`` (-)."""
         return self.C_b / (2.0 * math.sqrt(self.K_b * self.M_b))
 
+    @classmethod
+    def from_modal(
+        cls,
+        *,
+        M_l: float,
+        K_l: float,
+        A_l: float,
+        phi_L0: float,
+        phi_Ll: float,
+        M_b: float,
+        K_b: float,
+        A_b: float,
+        phi_B0: float,
+        phi_Bl: float,
+        damping_ratios: tuple[float, float],
+        base: MotorParams,
+        source: str,
+    ) -> MotorParams:
+        """A stator's modal constants with viscous damping ``C = 2 zeta sqrt(K M)`` from
+        ``damping_ratios = (zeta_L1, zeta_B2)`` and the contact, slider and friction
+        constants of ``base`` (a modal model of the stator alone cannot give those)."""
+        zeta_l, zeta_b = damping_ratios
+        return cls(
+            M_l=M_l, C_l=2.0 * zeta_l * math.sqrt(K_l * M_l), K_l=K_l, A_l=A_l,
+            phi_L0=phi_L0, phi_Ll=phi_Ll,
+            M_b=M_b, C_b=2.0 * zeta_b * math.sqrt(K_b * M_b), K_b=K_b, A_b=A_b,
+            phi_B0=phi_B0, phi_Bl=phi_Bl,
+            k_contact=base.k_contact, M_slider=base.M_slider, mu_s=base.mu_s,
+            mu_d=base.mu_d, mu_sd=base.mu_sd, a_mu=base.a_mu, b_mu=base.b_mu,
+            source=source,
+        )
+
     def with_(self, **changes: float | str) -> MotorParams:
         """Return a copy with some fields replaced (validated again)."""
         return replace(self, **changes)
