@@ -292,15 +292,10 @@ def read_mesh(path: str | Path) -> PlateMesh:
     ValueError
         If the file cannot be parsed, holds no quadrilaterals, or has no electrode tags.
     """
-    import meshio
+    from fem.mesh_import import read_meshio
 
     path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"mesh file not found: {path}")
-    try:
-        m = meshio.read(path)
-    except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
-        raise ValueError(f"could not read mesh file {path}: {exc}") from exc
+    m = read_meshio(path)
     quads = [blk.data for blk in m.cells if blk.type == "quad"]
     if not quads:
         raise ValueError(f"mesh file {path} holds no 'quad' cells (found "

@@ -26,6 +26,8 @@ the result is conforming. The electrode tag of a cell passes to its children.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -178,13 +180,16 @@ def quadrangulate(
     return np.concatenate(new_pts), np.concatenate(out), np.concatenate(out_tags)
 
 
-def _read_meshio(path: Path):
+def read_meshio(path: Path):
+    """``meshio.read`` with one error type (ValueError, FileNotFoundError) and no stdout."""
     import meshio
 
     if not path.is_file():
         raise FileNotFoundError(f"mesh file not found: {path}")
     try:
-        return meshio.read(path)
+        # meshio's gmsh reader prints stray blank lines to stdout; keep CLI output clean
+        with contextlib.redirect_stdout(io.StringIO()):
+            return meshio.read(path)
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
         raise ValueError(f"could not read mesh file {path}: {exc}") from exc
 
@@ -216,7 +221,7 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     path = Path(path)
     if unit not in UNITS:
         raise ValueError(f"mesh unit must be one of {', '.join(UNITS)}, got {unit!r}")
-    m = _read_meshio(path)
+    m = read_meshio(path)
     pts3 = np.asarray(m.points, dtype=float)
     if pts3.ndim != 2 or pts3.shape[0] == 0:
         raise ValueError(f"mesh file {path} holds no points")
