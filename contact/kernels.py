@@ -446,7 +446,8 @@ def integrate_switch_model(
     pa = np.empty(N_WORK)
     pm = np.empty(N_WORK)
     pb = np.empty(N_WORK)
-    n_dec = n_steps // decim + 1
+    # every decim-th step, plus the final state when decim does not divide n_steps
+    n_dec = n_steps // decim + 1 + (1 if n_steps % decim else 0)
     trace = np.empty((n_dec, 10))
     full = np.empty((n_full + 1, 10))
     phase_time = np.zeros(4)
@@ -588,6 +589,8 @@ def integrate_switch_model(
                 stats[1] = lo_y
             if hi_y > stats[2]:
                 stats[2] = hi_y
+    if status == OK and n_steps % decim:
+        _record(trace, n_dec - 1, n_steps * dt, z, mode, fn_m, ft_m, funcs, phi_ll)
     stats[3] = n_events
     stats[6] = counter[0]
     stats[5] = stored_energy(z, mode, fn_m, scalars)

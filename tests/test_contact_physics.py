@@ -185,3 +185,13 @@ def test_drive_phase_rows_are_a_pure_rotation(paper_params):
         wt = 2 * np.pi * 40e3 * 1e-7
         assert np.allclose(full[:, S.SIN, S.SIN], np.cos(wt), rtol=1e-14)
         assert np.allclose(full[:, S.ONE, S.ONE], 1.0, rtol=0, atol=0)
+
+
+def test_trace_decimation_does_not_change_the_answer(paper_params):
+    # 123 000 steps: neither 7 nor 1 000 trace points divide it evenly
+    a = simulate(paper_params, 200.0, 14.0, duration_s=0.0123, max_trace_points=7)
+    b = simulate(paper_params, 200.0, 14.0, duration_s=0.0123, max_trace_points=100_000)
+    assert a.trace.t_s[-1] == b.trace.t_s[-1] == pytest.approx(0.0123, rel=1e-12)
+    assert a.trace.x_m[-1] == b.trace.x_m[-1]
+    assert a.steady.velocity_m_s == b.steady.velocity_m_s
+    assert len(a.trace.t_s) < 20 < len(b.trace.t_s)

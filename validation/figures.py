@@ -35,11 +35,15 @@ def pyplot():
     return plt
 
 
-def save(fig, path: Path) -> Path:
-    """Save a figure as PNG (creating its folder), close it, return the path."""
+def save(fig, path: Path, tight: bool = True) -> Path:
+    """Save a figure as PNG (creating its folder), close it, return the path.
+
+    ``tight=False`` keeps a layout set by hand (e.g. room for a figure legend).
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
+    if tight:
+        fig.tight_layout()
     fig.savefig(path, dpi=110)
     pyplot().close(fig)
     return path
