@@ -67,7 +67,9 @@ def run(args: argparse.Namespace) -> None:
         from validation.figures import stick_slip_map as plot_map
 
         name = "fig19_map_constant_mu.png" if args.no_ultrasonic_friction else "fig18_map.png"
-        summary["figure"] = str(plot_map(m, args.plot / name, params.source))
+        from validation.figures import set_label
+
+        summary["figure"] = str(plot_map(m, args.plot / name, set_label(params.source)))
     if args.json:
         print(json.dumps(summary, indent=2))
         return

@@ -49,9 +49,16 @@ def save(fig, path: Path, tight: bool = True) -> Path:
     return path
 
 
+def set_label(source: str) -> str:
+    """A short label of a parameter set's source text for titles."""
+    if source.startswith("Li, Yao & Wu"):
+        return "Table 2"
+    return source if len(source) <= 40 else source[:37] + "..."
+
+
 def _title(r: SimulationResult) -> str:
     return (f"V0 = {r.op.voltage_V:g} V, F_P = {r.op.preload_N:g} N, "
-            f"f = {r.op.frequency_Hz / 1e3:.4g} kHz ({r.params.source.split(',')[0]})")
+            f"f = {r.op.frequency_Hz / 1e3:.4g} kHz ({set_label(r.params.source)})")
 
 
 def slider_velocity(r: SimulationResult, path: Path) -> Path:

@@ -181,7 +181,7 @@ def reproduce(
         name = "fig18" if us else "fig19"
         figs[name] = str(figures.stick_slip_map(
             maps[us], out / f"{prefix}{name}_map.png",
-            f"{params.source.split(',')[0]}: mu_d {'Eq. 11' if us else 'constant'}"))
+            f"{figures.set_label(params.source)}: mu_d {'Eq. 11' if us else 'constant'}"))
     m18, m19 = maps[True], maps[False]
     corner_ok = m18.motion[0, -1] == "pure-stick" and "separation" in m18.motion[-1, 0]
     more_ss = m19.counts()["stick-slip"] >= m18.counts()["stick-slip"]
