@@ -1,4 +1,11 @@
-"""2D plane-stress model against the 3D piezoelastic reference, for the report."""
+"""2D plane-stress model against the 3D piezoelastic reference, for the report.
+
+Works for the rectangular :class:`fem.geometry.PlateStator` (2D structured quads, 3D
+structured bricks) and for stators with their own planform mesh
+(:class:`fem.stator_file.MeshedStator`, e.g. ``load_stator(path).stator``): the 2D model
+assembles on the planform mesh and the 3D model on its extrusion through the thickness
+(:func:`fem.solid3d.extruded_hex_mesh`); the refinements are then ignored, ``layers`` is not.
+"""
 
 from __future__ import annotations
 
@@ -67,10 +74,11 @@ def plane_stress_error(
     Parameters
     ----------
     stator : PlateStator, optional
-        Default: the paper's plate.
+        Default: the paper's plate. A ``MeshedStator`` is compared on its planform mesh
+        (2D) and the extrusion of that mesh (3D).
     material : PiezoMaterial or str
     refine_2d, refine_3d, layers : int, optional
-        Meshes (defaults of each model).
+        Meshes (defaults of each model); the refinements do not apply to a planform mesh.
     """
     from fem.modes import DEFAULT_REFINE, plate_modes
     from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes

@@ -42,9 +42,19 @@ K_uphi^T``. Sign convention: ``V_e`` is the potential of the top electrode; a po
 makes ``E3 = -V/h``, the opposite of the 2D model's convention ``E3 = +V/h`` (frequencies and
 ``k_eff`` do not depend on it).
 
+Stators that carry their own planform mesh (:class:`fem.stator_file.MeshedStator`: a
+protruding tip, chamfered corners, any imported quad mesh) are meshed by extruding that 2D
+mesh through the thickness in ``layers`` element layers (:func:`extruded_hex_mesh`); the top
+face of a top-layer brick belongs to electrode ``k`` when its 2D element is tagged ``k``
+(closed: the nodes on its edges too), top faces of gap elements (tag 0) are free, and
+``refine`` is ignored (as in 2D). A rectangular :class:`fem.geometry.PlateStator` keeps the
+structured box mesh.
+
 Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z = 0``
 (symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
-modes that are not symmetric through the thickness (out-of-plane bending, torsion).
+modes that are not symmetric through the thickness (out-of-plane bending, torsion). On a
+non-rectangular planform the sampling points outside the mesh (and their mirror images about
+``x = 0``) are dropped, as in :func:`fem.modes._sampling`.
 """
 
 from __future__ import annotations
@@ -60,7 +70,7 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material
-from fem.mesh import grid_lines_m
+from fem.mesh import PlateMesh, grid_lines_m
 from fem.modes import (
     MIN_MAC,
     MIN_SYMMETRY,
@@ -263,6 +273,80 @@ def _hex_mesh(stator: PlateStator, refine: int, layers: int):
     return MeshHex.init_tensor(x, y, z)
 
 
+def planform_mesh(stator: PlateStator) -> PlateMesh | None:
+    """The 2D planform mesh a stator carries (``MeshedStator.mesh``), else None."""
+    mesh = getattr(stator, "mesh", None)
+    return mesh if isinstance(mesh, PlateMesh) else None
+
+
+def extruded_hex_mesh(planform: PlateMesh, thickness_m: float, layers: int):
+    """Extrude a 2D quad mesh through ``-h/2 <= z <= h/2`` into ``layers`` layers of bricks.
+
+    Parameters
+    ----------
+    planform : PlateMesh
+        Counter-clockwise quads in the x-y plane (m).
+    thickness_m : float
+        Plate thickness ``h`` (m).
+    layers : int
+        Equal element layers through the thickness.
+
+    Returns
+    -------
+    skfem.MeshHex
+        Node ``j * n + i`` is 2D node ``i`` at level ``z_j``; brick ``j * n_el + e`` is 2D
+        element ``e`` in layer ``j`` (bottom layer first), so the top layer is the last
+        ``n_el`` bricks.
+    """
+    from skfem import MeshHex
+
+    layers = _check_int("layers", layers)
+    p2 = planform.points_m
+    n = p2.shape[1]
+    z = np.linspace(-thickness_m / 2, thickness_m / 2, layers + 1)
+    points = np.vstack((np.tile(p2, layers + 1), np.repeat(z, n)))
+    quads = planform.quads.copy()
+    x, y = p2[0, quads], p2[1, quads]
+    area2 = np.sum(x * np.roll(y, -1, axis=0) - np.roll(x, -1, axis=0) * y, axis=0)
+    quads[:, area2 < 0] = quads[::-1][:, area2 < 0]  # counter-clockwise (PlateMesh's rule)
+    a, b, c, d = quads
+    # skfem's MeshHex1 local order (reference nodes 000, 001, 010, 100, 011, 101, 110, 111),
+    # as MeshHex.init_tensor fills it (reference axes -> z, x, y): a counter-clockwise quad
+    # a-b-c-d gives the brick [a, d, b, a', c, d', b', c'] (primes one level up), with the
+    # same positive Jacobian as the structured box mesh
+    t = np.hstack([
+        np.vstack((a + lo, d + lo, b + lo, a + lo + n, c + lo, d + lo + n, b + lo + n,
+                   c + lo + n))
+        for lo in range(0, layers * n, n)
+    ])
+    return MeshHex(np.ascontiguousarray(points), np.ascontiguousarray(t, dtype=np.int32))
+
+
+def _planform_electrodes(
+    planform: PlateMesh, basis, thickness_m: float, layers: int, tol: float
+) -> tuple[np.ndarray, ...]:
+    """Top-face dofs of the bricks whose 2D element is tagged 1..4 (closed regions)."""
+    n_el = planform.n_elements
+    top_cells = np.arange((layers - 1) * n_el, layers * n_el)
+    on_top = np.abs(basis.doflocs[2] - thickness_m / 2) < tol
+    edofs = basis.element_dofs
+    out = []
+    for k in ELECTRODES:
+        cells = top_cells[planform.electrode == k]
+        dofs = np.unique(edofs[:, cells])
+        out.append(dofs[on_top[dofs]])
+    owner = np.zeros(basis.N, dtype=int)
+    for k, dofs in zip(ELECTRODES, out, strict=True):
+        clash = owner[dofs] > 0
+        if np.any(clash):
+            raise ValueError(
+                f"electrodes {int(owner[dofs][clash][0])} and {k} of the planform mesh touch "
+                f"(share a node) and would form one conductor; separate them by gap elements"
+            )
+        owner[dofs] = k
+    return tuple(out)
+
+
 def build_solid_model(
     stator: PlateStator,
     material: PiezoMaterial | str = "pzt8",
@@ -271,12 +355,17 @@ def build_solid_model(
     layers: int = DEFAULT_LAYERS,
     element: str = DEFAULT_ELEMENT,
 ) -> SolidPlateModel:
-    """Assemble the 3D model of ``stator`` on a structured brick mesh.
+    """Assemble the 3D model of ``stator`` on a quadratic brick mesh.
+
+    A stator carrying a planform mesh (:class:`fem.stator_file.MeshedStator`) is meshed by
+    :func:`extruded_hex_mesh` (``refine`` is then ignored) with the electrodes of its element
+    tags; a plain :class:`fem.geometry.PlateStator` by the structured box mesh.
 
     Parameters
     ----------
     stator : PlateStator
-        Geometry; its electrode gap must be > 0 (touching quadrants would be one conductor).
+        Geometry; its electrode gap must be > 0 (touching quadrants would be one conductor);
+        with a planform mesh, differently tagged electrodes must not share a node.
     material : PiezoMaterial or str
         Full 3D constants ``c^E``, ``e``, ``eps^S``; poling along z.
     order : int
@@ -292,7 +381,8 @@ def build_solid_model(
     Raises
     ------
     ValueError
-        On a bad order, element, refine, layers or a zero electrode gap.
+        On a bad order, element, refine, layers, a zero electrode gap (touching electrodes
+        of a planform mesh) or an electrode without a node.
     """
     from skfem import CellBasis
 
@@ -301,13 +391,19 @@ def build_solid_model(
     elem = _element(order, element)
     refine = _check_int("refine", refine)
     layers = _check_int("layers", layers)
-    if stator.electrode_gap_m <= 0.0:
+    planform = planform_mesh(stator)
+    if planform is None and stator.electrode_gap_m <= 0.0:
         raise ValueError(
             "the 3D model needs electrode_gap_m > 0: with no gap the four quadrants touch and "
             "form one conductor"
         )
-    mesh = _hex_mesh(stator, refine, layers)
-    intorder = 2 * order + 1  # exact for K and M on the affine boxes of this mesh
+    if planform is None:
+        mesh = _hex_mesh(stator, refine, layers)
+    else:
+        mesh = extruded_hex_mesh(planform, stator.thickness_m, layers)
+    # exact for K and M on the affine boxes of the structured mesh (on extruded general
+    # quads the integrands are rational; the same rule is accurate there)
+    intorder = 2 * order + 1
     basis = CellBasis(mesh, elem, intorder=intorder)
     n = basis.N
     grads = np.stack([basis.basis[i][0].grad for i in range(len(basis.basis))])
@@ -336,9 +432,12 @@ def build_solid_model(
     tol = 1e-9 * max(stator.length_m, stator.width_m, h)
     top = np.flatnonzero(np.abs(xyz[2] - h / 2) < tol)
     bottom = np.flatnonzero(np.abs(xyz[2] + h / 2) < tol)
-    closed = replace(stator, electrode_gap_m=max(stator.electrode_gap_m - 2 * tol, 0.0))
-    tags = closed.electrode_of(xyz[0, top], xyz[1, top])
-    electrode_dofs = tuple(top[tags == k] for k in ELECTRODES)
+    if planform is None:
+        closed = replace(stator, electrode_gap_m=max(stator.electrode_gap_m - 2 * tol, 0.0))
+        tags = closed.electrode_of(xyz[0, top], xyz[1, top])
+        electrode_dofs = tuple(top[tags == k] for k in ELECTRODES)
+    else:
+        electrode_dofs = _planform_electrodes(planform, basis, h, layers, tol)
     for k, d in zip(ELECTRODES, electrode_dofs, strict=True):
         if d.size == 0:
             raise ValueError(f"the mesh has no node under electrode {k}")
@@ -461,17 +560,34 @@ def solid_frequencies_Hz(
 
 
 def _sampling3d(model: SolidPlateModel):
+    """Sampling grid (ny, nx), probe matrices at mid-plane/top/bottom, mask of points used.
+
+    On a planform mesh, grid points outside it (and their mirror images about ``x = 0``) are
+    dropped: their rows of the probe matrices are zero and the mask is False there.
+    """
     st = model.stator
     inset = 1e-9
     xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
     ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
     X, Y = np.meshgrid(xs, ys)
     zt = 0.5 * st.thickness_m * (1.0 - inset)
+    planform = planform_mesh(st)
+    inside = np.ones(X.shape, dtype=bool)
+    if planform is not None:
+        inside = planform.contains(np.vstack((X.ravel(), Y.ravel()))).reshape(X.shape)
+        inside &= inside[:, ::-1]
+    idx = np.flatnonzero(inside.ravel())
     probes = {}
     for key, z in (("mid", 0.0), ("top", zt), ("bottom", -zt)):
         pts = np.vstack((X.ravel(), Y.ravel(), np.full(X.size, z)))
-        probes[key] = model.probe(pts)
-    return X, Y, probes
+        if inside.all():
+            probes[key] = model.probe(pts)
+            continue
+        sub = model.probe(pts[:, idx]).tocoo()  # rows: component * idx.size + point
+        comp, point = np.divmod(sub.row, idx.size)
+        rows = comp * X.size + idx[point]
+        probes[key] = sp.csr_matrix((sub.data, (rows, sub.col)), shape=(3 * X.size, sub.shape[1]))
+    return X, Y, probes, inside
 
 
 def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
@@ -484,8 +600,10 @@ def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
 
 
 def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
-    X, Y, probes = _sampling3d(model)
+    X, Y, probes, inside = _sampling3d(model)
     refs = _references(X, Y, model.stator.length_m)
+    if not inside.all():
+        refs = {k: v * inside for k, v in refs.items()}
     sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
     centre = X.shape[1] // 2
     f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
