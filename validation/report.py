@@ -33,6 +33,8 @@ def _fmt(x, digits: int = 4) -> str:
     if isinstance(x, float):
         if math.isnan(x):
             return "-"
+        if 1e3 <= abs(x) < 1e6:  # frequencies: keep 0.1 Hz
+            return f"{x:.1f}"
         return f"{x:.{digits}g}"
     return str(x)
 
