@@ -128,3 +128,10 @@ def test_simulate_runs_any_parameter_set_at_its_own_frequency():
     bad = lusm("simulate", "--voltage", "200", "--preload", "14", "--geometry",
                str(ROOT / "no-such-stator.toml"))
     assert bad.returncode == 2 and "not found" in bad.stderr
+
+
+def test_modes_refuses_plate_options_next_to_a_stator_file():
+    path = ROOT / "examples" / "chamfered" / "stator.toml"
+    out = lusm("modes", "--geometry", str(path), "--width-mm", "8")
+    assert out.returncode == 2
+    assert "--width-mm cannot be combined with --geometry" in out.stderr

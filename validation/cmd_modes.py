@@ -18,11 +18,13 @@ def register(subparsers) -> None:
         description="Plane-stress piezoelectric FE model of the stator plate: L1 and B2 "
         "frequencies with all electrodes grounded (short) and floating (open), and k_eff.",
     )
-    p.add_argument("--length-mm", type=float, default=30.0, help="plate length l (mm)")
-    p.add_argument("--width-mm", type=float, default=7.5, help="plate width b_s (mm)")
-    p.add_argument("--thickness-mm", type=float, default=3.0, help="plate thickness h_s (mm)")
-    p.add_argument("--gap-mm", type=float, default=0.5, help="electrode gap (mm)")
-    p.add_argument("--material", choices=("pzt8", "paper"), default="pzt8")
+    # plate options default to None so that mixing them with --geometry can be refused
+    p.add_argument("--length-mm", type=float, default=None, help="plate length l (mm), 30")
+    p.add_argument("--width-mm", type=float, default=None, help="plate width b_s (mm), 7.5")
+    p.add_argument("--thickness-mm", type=float, default=None,
+                   help="plate thickness h_s (mm), 3")
+    p.add_argument("--gap-mm", type=float, default=None, help="electrode gap (mm), 0.5")
+    p.add_argument("--material", choices=("pzt8", "paper"), default=None, help="pzt8")
     p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
     p.add_argument("--refine", type=int, default=None, help="elements per plate width")
     p.add_argument(
@@ -50,21 +52,33 @@ def run(args: argparse.Namespace) -> None:
     from fem.material import get_material, plane_stress
     from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
 
+    plate_options = {"--length-mm": args.length_mm, "--width-mm": args.width_mm,
+                     "--thickness-mm": args.thickness_mm, "--gap-mm": args.gap_mm,
+                     "--material": args.material}
     if getattr(args, "geometry", None):
         from fem.stator_file import load_stator
 
+        given = [name for name, value in plate_options.items() if value is not None]
+        if given:
+            raise ValueError(f"{', '.join(given)} cannot be combined with --geometry: the "
+                             "stator file sets the plate, electrodes and material")
         design = load_stator(args.geometry)
         stator, material = design.stator, design.material
         args.length_mm, args.width_mm = stator.length_m * 1e3, stator.width_m * 1e3
         args.thickness_mm = stator.thickness_m * 1e3
     else:
+        defaults = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3.0,
+                    "--gap-mm": 0.5, "--material": "pzt8"}
+        opts = {k: defaults[k] if v is None else v for k, v in plate_options.items()}
+        args.length_mm, args.width_mm = opts["--length-mm"], opts["--width-mm"]
+        args.thickness_mm = opts["--thickness-mm"]
         stator = PlateStator(
             length_m=args.length_mm * 1e-3,
             width_m=args.width_mm * 1e-3,
             thickness_m=args.thickness_mm * 1e-3,
-            electrode_gap_m=args.gap_mm * 1e-3,
+            electrode_gap_m=opts["--gap-mm"] * 1e-3,
         )
-        material = get_material(args.material)
+        material = get_material(opts["--material"])
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     try:
         if getattr(args, "model", "2d") == "3d":
@@ -102,9 +116,11 @@ def run(args: argparse.Namespace) -> None:
             out["layers"], out["element"] = res.layers, res.element
         print(json.dumps(out))
         return
+    meshed = getattr(args, "geometry", None) and design.mesh_path is not None
     print(
         f"plate {args.length_mm:g} x {args.width_mm:g} x {args.thickness_mm:g} mm, "
-        f"material {material.name}, order {args.order}, refine {refine}"
+        f"material {material.name}, order {args.order}, "
+        + ("mesh from the stator file" if meshed else f"refine {refine}")
         + (f", 3D layers {res.layers} ({res.element})" if hasattr(res, "layers") else "")
     )
     if getattr(args, "geometry", None):
