@@ -27,7 +27,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="use the constant mu_d instead of Eq. 11")
     p.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
                    help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
-    p.add_argument("--source", choices=SOURCES, default="table2", help="parameter set")
+    p.add_argument("--source", choices=SOURCES, default=None,
+                   help="parameter set (default table2; fem with --geometry)")
     p.add_argument("--geometry", type=Path, default=None,
                    help="stator TOML file (implies --source fem)")
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
@@ -37,15 +38,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def load_params(source: str, geometry: Path | None):
+def load_params(source: str | None, geometry: Path | None):
     """The parameter set named on the command line."""
     if geometry is not None:
+        if source not in (None, "fem"):
+            raise ValueError(f"--geometry needs --source fem, got --source {source}")
         from rom.from_fem import fem_params_from_file
 
         return fem_params_from_file(geometry)
     from rom.sources import get_params
 
-    return get_params(source)
+    return get_params(source or "table2")
 
 
 def parse_frequency(text: str, params) -> float:

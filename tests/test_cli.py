@@ -1,4 +1,4 @@
-"""The ``lusm simulate`` / ``lusm map`` command line: output contract and bad input."""
+"""The ``lusm`` command line: output contracts, parity with the library, bad input."""
 
 from __future__ import annotations
 
