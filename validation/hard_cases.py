@@ -131,6 +131,9 @@ def run_hard_cases(
          f"{v_graze:.1f} V)", lambda: sim(v_graze * 1.001, 14.0)),
         ("chattering near F_N = 0", "600 V / 1 N", lambda: sim(600.0, 1.0)),
         ("zero preload", "200 V / 0 N", lambda: sim(200.0, 0.0)),
+        ("separation chattering", f"600 V / 2 N, contact stiffness k x 1000 = "
+         f"{params.k_contact * 1e3:.3g} N/m (the tip bounces)",
+         lambda: sim(600.0, 2.0, params.with_(k_contact=params.k_contact * 1e3))),
         ("1000 V", "1000 V / 14 N", lambda: sim(1000.0, 14.0)),
         ("drive at L1 resonance", f"200 V / 14 N at f_L1 = {f_l1:.0f} Hz",
          lambda: sim(200.0, 14.0, frequency_Hz=f_l1)),
