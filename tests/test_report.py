@@ -92,3 +92,22 @@ def test_report_numbers_match_the_cli(report):
     modes3d = lusm("modes", "--model", "3d")
     f3d = doc["parameter_sets"]["plane_stress_vs_3d"]["f3d_Hz"]
     assert f3d["B2_open"] == pytest.approx(modes3d["B2"]["f_open_Hz"], rel=1e-9)
+
+
+def test_a_failed_report_leaves_nothing_half_written(tmp_path, monkeypatch):
+    from validation import report as rep
+
+    out = tmp_path / "r"
+    out.mkdir()
+    (out / "index.md").write_text("earlier report")
+
+    def boom(out_dir, quick, progress):
+        (out_dir / "figures" / "half.png").write_bytes(b"partial")
+        raise RuntimeError("interrupted")
+
+    monkeypatch.setattr(rep, "_parameter_sets", boom)
+    with pytest.raises(RuntimeError, match="interrupted"):
+        rep.write_report(out, quick=True, progress=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]  # no partial folder left
+    assert (out / "index.md").read_text() == "earlier report"
+    assert not (out / "figures").exists()

@@ -13,6 +13,8 @@ import json
 import math
 import os
 import platform
+import shutil
+import tempfile
 import time
 from dataclasses import asdict
 from pathlib import Path
@@ -308,12 +310,38 @@ def _hard_cases(params: dict, quick: bool, progress: bool):
     return md, [asdict(h) for h in rows]
 
 
+REPORT_FILES = ("index.md", "index.html", "report.json", "figures")
+"""What a report consists of inside its folder (replaced as a whole by a new report)."""
+
+
 def write_report(out_dir: Path, quick: bool = False, progress: bool = True) -> dict:
     """Write ``index.md``, ``index.html``, ``report.json`` and the figures into ``out_dir``.
 
-    Returns the JSON document.
+    The report is built in a temporary folder beside ``out_dir`` and moved in only when it is
+    complete, so a failed or interrupted run leaves no half-written report behind (and an
+    earlier report in ``out_dir`` untouched). Returns the JSON document.
     """
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--out must be a folder, got the file {out}")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}-partial-", dir=out.parent))
+    try:
+        doc = _build(tmp, quick, progress)
+        out.mkdir(exist_ok=True)
+        for name in REPORT_FILES:
+            target = out / name
+            if target.is_dir():
+                shutil.rmtree(target)
+            elif target.exists():
+                target.unlink()
+            (tmp / name).rename(target)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return doc
+
+
+def _build(out: Path, quick: bool, progress: bool) -> dict:
     (out / "figures").mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     md1, d1, params = _parameter_sets(out, quick, progress)
