@@ -22,7 +22,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
-from fem.mesh import grid_lines_m, structured_mesh  # noqa: E402
+from fem.mesh import max_element_size_m, structured_mesh  # noqa: E402
 from fem.model import build_model  # noqa: E402
 from fem.modes import DEFAULT_REFINE, modes_of_model  # noqa: E402
 
@@ -38,11 +38,6 @@ def run_once(stator: PlateStator, material: str, order: int, refine: int):
     res = modes_of_model(model, refine=refine)
     wall = time.perf_counter() - t0
     return res.L1.f_short_Hz, res.B2.f_short_Hz, res.dofs, wall, res.solve_time_s
-
-
-def h_max(stator: PlateStator, refine: int) -> float:
-    x, y = grid_lines_m(stator, refine)
-    return max(float(max(abs(x[1:] - x[:-1]))), float(max(abs(y[1:] - y[:-1]))))
 
 
 def richardson(f1: float, f2: float, h1: float, h2: float, rate: float) -> float:
@@ -66,12 +61,14 @@ def main(argv: list[str] | None = None) -> None:
             rows[(order, r)] = best
     r1, r2 = REFINES[2][-2:]
     ref = [
-        richardson(rows[(2, r1)][i], rows[(2, r2)][i], h_max(stator, r1), h_max(stator, r2), 4)
+        richardson(rows[(2, r1)][i], rows[(2, r2)][i],
+            max_element_size_m(stator, r1), max_element_size_m(stator, r2), 4)
         for i in (0, 1)
     ]
     q1, q2 = REFINES[1][-2:]
     ref1 = [
-        richardson(rows[(1, q1)][i], rows[(1, q2)][i], h_max(stator, q1), h_max(stator, q2), 2)
+        richardson(rows[(1, q1)][i], rows[(1, q2)][i],
+            max_element_size_m(stator, q1), max_element_size_m(stator, q2), 2)
         for i in (0, 1)
     ]
     print(f"material {args.material}, plate 30 x 7.5 x 3 mm, gap 0.5 mm")
@@ -88,7 +85,7 @@ def main(argv: list[str] | None = None) -> None:
         el, eb = abs(fl / ref[0] - 1), abs(fb / ref[1] - 1)
         mark = " *" if (el <= TARGET_REL and eb <= TARGET_REL and wall <= TARGET_TIME_S) else ""
         print(
-            f"{order:>5} {r:>6} {h_max(stator, r) * 1e3:>7.3f} {dofs:>7} {fl:>11.2f} "
+            f"{order:>5} {r:>6} {max_element_size_m(stator, r) * 1e3:>7.3f} {dofs:>7} {fl:>11.2f} "
             f"{el:>9.2e} {fb:>11.2f} {eb:>9.2e} {wall:>9.3f} {t_eig:>8.3f}{mark}"
         )
     print()

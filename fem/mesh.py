@@ -157,6 +157,12 @@ def grid_lines_m(stator: PlateStator, refine: int) -> tuple[np.ndarray, np.ndarr
     return _segments(xb, h), _segments(yb, h)
 
 
+def max_element_size_m(stator: PlateStator, refine: int) -> float:
+    """Largest element edge (m) of the structured mesh: the h of convergence studies."""
+    x, y = grid_lines_m(stator, refine)
+    return max(float(np.max(np.diff(x))), float(np.max(np.diff(y))))
+
+
 def structured_mesh(stator: PlateStator, refine: int = 4) -> PlateMesh:
     """Structured rectangle mesh of ``stator`` with electrode-tagged elements.
 

@@ -6,26 +6,8 @@ import argparse
 import json
 from pathlib import Path
 
-import numpy as np
-
 from rom.sources import SOURCES
-
-
-def parse_range(text: str, name: str) -> np.ndarray:
-    """``start:stop:step`` (stop included) or a comma-separated list, as floats."""
-    try:
-        if ":" in text:
-            start, stop, step = (float(v) for v in text.split(":"))
-            if not step > 0 or stop < start:
-                raise ValueError
-            n = int(np.floor((stop - start) / step + 1e-9)) + 1
-            return start + step * np.arange(n)
-        return np.array([float(v) for v in text.split(",")])
-    except ValueError:
-        raise ValueError(
-            f"{name} must be start:stop:step with step > 0 and stop >= start, or a comma "
-            f"list of numbers, got {text!r}"
-        ) from None
+from validation.ranges import parse_range
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -1,34 +1,16 @@
 """``lusm sweep``: L1 and B2 against the plate width or length (crossing diagram, PNG).
 
-Parse the ``a:b:step`` range (mm), call :func:`fem.sweep.sweep_dimension` and
-:func:`fem.sweep.plot_sweep`, print. No physics here.
+Parse the ``a:b:step`` range (mm, :mod:`validation.ranges`), call
+:func:`fem.sweep.sweep_dimension` and :func:`fem.sweep.plot_sweep`, print. No physics here.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import math
 from pathlib import Path
 
-import numpy as np
-
-
-def parse_range_mm(text: str) -> np.ndarray:
-    """``'a:b:step'`` (mm, ``b`` included when on the grid) as an array in metres."""
-    parts = str(text).split(":")
-    if len(parts) != 3:
-        raise ValueError(f"range must be a:b:step in mm, got {text!r}")
-    try:
-        a, b, step = (float(p) for p in parts)
-    except ValueError as exc:
-        raise ValueError(f"range must be a:b:step in mm (numbers), got {text!r}") from exc
-    if not all(math.isfinite(v) for v in (a, b, step)) or a <= 0 or b < a or step <= 0:
-        raise ValueError(f"range a:b:step needs 0 < a <= b and step > 0, got {text!r}")
-    n = int(math.floor((b - a) / step + 1e-9)) + 1
-    if n > 2000:
-        raise ValueError(f"range {text!r} has {n} points (limit 2000)")
-    return (a + step * np.arange(n)) * 1e-3
+from validation.ranges import parse_range
 
 
 def register(subparsers) -> None:
@@ -60,7 +42,9 @@ def run(args: argparse.Namespace) -> None:
     from fem.sweep import plot_sweep, sweep_dimension
 
     parameter = "width" if args.width_mm is not None else "length"
-    values = parse_range_mm(args.width_mm if parameter == "width" else args.length_mm)
+    option = "--width-mm" if parameter == "width" else "--length-mm"
+    values = 1e-3 * parse_range(args.width_mm if parameter == "width" else args.length_mm,
+                                option, allow_list=False, positive=True)
     base = PlateStator(
         length_m=args.fixed_length_mm * 1e-3,
         width_m=args.fixed_width_mm * 1e-3,

@@ -130,7 +130,7 @@ def fe_work_precision(
     ``reference_refines``. Wall time = mesh + assembly + short- and open-circuit solutions.
     """
     from fem.geometry import PlateStator
-    from fem.mesh import grid_lines_m, structured_mesh
+    from fem.mesh import max_element_size_m, structured_mesh
     from fem.model import build_model
     from fem.modes import modes_of_model
 
@@ -143,13 +143,9 @@ def fe_work_precision(
         res = modes_of_model(model, refine=refine)
         return res.L1.f_short_Hz, res.B2.f_short_Hz, res.dofs, time.perf_counter() - t0
 
-    def h(refine: int) -> float:
-        x, y = grid_lines_m(stator, refine)
-        return max(float(max(abs(x[1:] - x[:-1]))), float(max(abs(y[1:] - y[:-1]))))
-
     r1, r2 = reference_refines
     a, b = solve(2, r1), solve(2, r2)
-    ratio = (h(r1) / h(r2)) ** 4 - 1.0
+    ratio = (max_element_size_m(stator, r1) / max_element_size_m(stator, r2)) ** 4 - 1.0
     ref = [b[i] + (b[i] - a[i]) / ratio for i in (0, 1)]
     points = []
     for order, rs in refines.items():
