@@ -448,8 +448,8 @@ def integrate_switch_model(
     pb = np.empty(N_WORK)
     # every decim-th step, plus the final state when decim does not divide n_steps
     n_dec = n_steps // decim + 1 + (1 if n_steps % decim else 0)
-    trace = np.empty((n_dec, 10))
-    full = np.empty((n_full + 1, 10))
+    trace = np.empty((n_dec, N_TRACE_COLS))
+    full = np.empty((n_full + 1, N_TRACE_COLS))
     phase_time = np.zeros(4)
     work = np.zeros(N_WORK)
     stats = np.zeros(7)

@@ -6,8 +6,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact.state import PHASE_NAMES
-
 MOTION_CLASSES = (
     "slip-separation",
     "stick-slip",
@@ -132,7 +130,3 @@ def classify_motion(stick: float, slip: float, separation: float, threshold: flo
         return "slip-separation"
     return "pure-slip"
 
-
-def phase_names() -> tuple[str, ...]:
-    """Names of the phase codes in :class:`Trace.phase`."""
-    return PHASE_NAMES

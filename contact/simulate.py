@@ -302,7 +302,6 @@ def _energy_balance(params: MotorParams, opts: SimulationOptions, work: np.ndarr
     w_in, w_damp, w_ns, w_ts, w_tx, w_g = (float(w) for w in work)
     delta = float(stats[5] - stats[4])
     # tangential work split: the reaction -phi_B(l) F_T at the tip is the consistent part
-
     g_t = gamma_T(params, opts.coupling)
     consistent_ts = w_ts * (-params.phi_Bl / g_t)
     non_conservative = w_ts - consistent_ts

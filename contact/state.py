@@ -45,7 +45,6 @@ EV_GUIDE_RELEASE = 6
 
 # phase codes reported in traces
 PHASE_STICK, PHASE_SLIP_POS, PHASE_SLIP_NEG, PHASE_SEPARATION = 0, 1, 2, 3
-PHASE_NAMES = ("stick", "slip+", "slip-", "separation")
 
 # status codes returned by the kernel
 OK = 0
@@ -56,10 +55,6 @@ def mode_index(contact: int, tip: int, guide: int) -> int:
     """Encode a discrete mode as an integer in ``range(N_MODES)``."""
     return contact * 9 + tip * 3 + guide
 
-
-def mode_parts(mode: int) -> tuple[int, int, int]:
-    """Decode a mode integer into ``(contact, tip, guide)``."""
-    return mode // 9, (mode // 3) % 3, mode % 3
 
 # entries of the scalar parameter vector handed to the kernels
 (SC_MU_S, SC_MU_D, SC_MU_SD, SC_PHI_LL, SC_GAMMA_N, SC_GAMMA_T, SC_ALV, SC_ABV, SC_C_L,
