@@ -18,6 +18,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, default=Path("report"), help="output folder")
     p.add_argument("--quick", action="store_true",
                    help="coarser grids and shorter runs, same sections (~30 s)")
+    p.add_argument("--force", action="store_true",
+                   help="write into a non-empty folder that is not a report (files in the "
+                   "way are kept as NAME.bak-N; nothing is deleted)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     p.set_defaults(func=run)
 
@@ -26,6 +29,7 @@ def run(args: argparse.Namespace) -> None:
     """Write the report and print where it is."""
     from validation.report import write_report
 
-    doc = write_report(args.out, quick=args.quick, progress=not args.no_progress)
+    doc = write_report(args.out, quick=args.quick, progress=not args.no_progress,
+                       force=args.force)
     print(f"report written to {args.out / 'index.md'} (and index.html, report.json) "
           f"in {doc['wall_time_s']:.1f} s")

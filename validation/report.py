@@ -13,8 +13,6 @@ import json
 import math
 import os
 import platform
-import shutil
-import tempfile
 import time
 from dataclasses import asdict
 from pathlib import Path
@@ -23,6 +21,7 @@ import numpy as np
 
 from validation import figures
 from validation.markdown_html import to_html
+from validation.output_set import output_set
 
 SECTIONS = ("parameter_sets", "paper_reproduction", "speed_vs_error", "hard_cases")
 
@@ -310,35 +309,18 @@ def _hard_cases(params: dict, quick: bool, progress: bool):
     return md, [asdict(h) for h in rows]
 
 
-REPORT_FILES = ("index.md", "index.html", "report.json", "figures")
-"""What a report consists of inside its folder (replaced as a whole by a new report)."""
-
-
-def write_report(out_dir: Path, quick: bool = False, progress: bool = True) -> dict:
+def write_report(out_dir: Path, quick: bool = False, progress: bool = True,
+                 force: bool = False) -> dict:
     """Write ``index.md``, ``index.html``, ``report.json`` and the figures into ``out_dir``.
 
-    The report is built in a temporary folder beside ``out_dir`` and moved in only when it is
-    complete, so a failed or interrupted run leaves no half-written report behind (and an
-    earlier report in ``out_dir`` untouched). Returns the JSON document.
+    The report is built aside and moved in only when complete (:mod:`validation.output_set`):
+    a failed or interrupted run leaves ``out_dir`` as it was. An earlier report in
+    ``out_dir`` is replaced file by file; a non-empty folder that is not a report is refused
+    unless ``force``, and no file the report did not write is ever deleted. Returns the JSON
+    document.
     """
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"--out must be a folder, got the file {out}")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}-partial-", dir=out.parent))
-    try:
-        doc = _build(tmp, quick, progress)
-        out.mkdir(exist_ok=True)
-        for name in REPORT_FILES:
-            target = out / name
-            if target.is_dir():
-                shutil.rmtree(target)
-            elif target.exists():
-                target.unlink()
-            (tmp / name).rename(target)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return doc
+    with output_set(Path(out_dir), "report", "--out", force) as stage:
+        return _build(stage, quick, progress)
 
 
 def _build(out: Path, quick: bool, progress: bool) -> dict:

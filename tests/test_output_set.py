@@ -1,0 +1,98 @@
+"""Output sets never delete or overwrite a file lusm did not write, and never half-write."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import ROOT
+from validation.output_set import MARKER, OutputError, output_set
+
+
+def _write(stage: Path, files: dict[str, str]) -> None:
+    for rel, text in files.items():
+        (stage / rel).parent.mkdir(parents=True, exist_ok=True)
+        (stage / rel).write_text(text)
+
+
+def _snapshot(folder: Path) -> dict[str, str]:
+    return {p.relative_to(folder).as_posix(): p.read_text()
+            for p in folder.rglob("*") if p.is_file() and p.name != MARKER}
+
+
+def test_new_folder_gets_the_set_and_a_marker(tmp_path):
+    out = tmp_path / "a" / "b"
+    with output_set(out, "report") as stage:
+        _write(stage, {"index.md": "1", "figures/f.png": "x"})
+    assert _snapshot(out) == {"index.md": "1", "figures/f.png": "x"}
+    assert (out / MARKER).exists()
+    assert [p.name for p in tmp_path.rglob(".*partial*")] == []
+
+
+def test_a_report_replaces_only_its_own_files(tmp_path):
+    out = tmp_path / "r"
+    with output_set(out, "report") as stage:
+        _write(stage, {"index.md": "old", "figures/old.png": "o", "figures/keep.png": "k"})
+    (out / "figures" / "mine.txt").write_text("user")  # the user's file inside a report
+    (out / "notes.md").write_text("user notes")
+    with output_set(out, "report") as stage:
+        _write(stage, {"index.md": "new", "figures/keep.png": "k2"})
+    assert _snapshot(out) == {"index.md": "new", "figures/keep.png": "k2",
+                              "figures/mine.txt": "user", "notes.md": "user notes"}
+
+
+def test_a_folder_that_is_not_a_report_is_refused_and_left_alone(tmp_path):
+    out = tmp_path / "mine"
+    _write(out, {"index.md": "my index", "figures/plot.png": "my plot"})
+    before = _snapshot(out)
+    with pytest.raises(OutputError, match="--out .* did not write.*--force"):
+        with output_set(out, "report") as stage:
+            _write(stage, {"index.md": "report"})
+    assert _snapshot(out) == before
+
+
+def test_force_keeps_colliding_user_files_as_backups(tmp_path):
+    out = tmp_path / "mine"
+    _write(out, {"index.md": "my index", "figures/plot.png": "my plot"})
+    with output_set(out, "report", force=True) as stage:
+        _write(stage, {"index.md": "report", "figures/f.png": "fig"})
+    snap = _snapshot(out)
+    assert snap["index.md"] == "report" and snap["index.md.bak-1"] == "my index"
+    assert snap["figures/plot.png"] == "my plot" and snap["figures/f.png"] == "fig"
+
+
+def test_a_failure_leaves_the_folder_and_its_parents_as_they_were(tmp_path):
+    out = tmp_path / "new" / "nested"
+    with pytest.raises(RuntimeError):
+        with output_set(out, "report") as stage:
+            _write(stage, {"index.md": "half"})
+            raise RuntimeError("boom")
+    assert list(tmp_path.iterdir()) == []  # no parent folders, no staging folder
+
+
+@pytest.mark.parametrize("make", ["file", "below_file"])
+def test_a_file_where_the_folder_should_be_is_refused(tmp_path, make):
+    f = tmp_path / "f"
+    f.write_text("keep")
+    out = f if make == "file" else f / "sub"
+    with pytest.raises(OutputError, match="--out must be a folder"):
+        with output_set(out, "report"):
+            pass
+    assert f.read_text() == "keep"
+
+
+def test_lusm_report_refuses_a_users_folder_before_any_work(tmp_path):
+    (tmp_path / "figures").mkdir()
+    (tmp_path / "figures" / "precious.png").write_bytes(b"mine")
+    (tmp_path / "index.md").write_text("my notes")
+    proc = subprocess.run([sys.executable, "-m", "validation.cli", "report", "--quick",
+                           "--no-progress", "--out", str(tmp_path)],
+                          cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2
+    assert "--out" in proc.stderr and "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert (tmp_path / "figures" / "precious.png").read_bytes() == b"mine"
+    assert (tmp_path / "index.md").read_text() == "my notes"
