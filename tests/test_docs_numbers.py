@@ -1,0 +1,71 @@
+"""The numbers quoted in the README and docs/ are the ones the code computes today.
+
+Every marked number (``123.4<!--n:key-->``) must round-trip to ``docs/numbers.json`` at its
+printed precision; the cheap claims are recomputed here and must match ``numbers.json``; the
+README's findings quote no result without a marker.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+from tests.conftest import ROOT
+from validation.doc_numbers import CLAIMS, NUMBERS_JSON, claims_by_key, quotes
+
+DOC = json.loads(NUMBERS_JSON.read_text())
+
+
+def test_numbers_json_holds_exactly_the_claims():
+    assert set(DOC["numbers"]) == {c.key for c in CLAIMS}
+    assert DOC["machine"] and DOC["date"]
+
+
+def test_every_marked_number_equals_numbers_json_at_its_printed_precision():
+    qs = quotes(ROOT)
+    assert len(qs) >= 20
+    bad = []
+    for q in qs:
+        entry = DOC["numbers"].get(q.key)
+        if entry is None:
+            bad.append(f"{q.path}:{q.line}: unknown key {q.key}")
+        elif entry["value"] is None or not q.agrees(entry["value"]):
+            bad.append(f"{q.path}:{q.line}: {q.text} but {q.key} = {entry['value']!r} "
+                       f"(x{q.factor:g}); run python -m validation.doc_numbers --fill")
+    assert not bad, "\n".join(bad)
+
+
+def test_every_claim_is_quoted_somewhere():
+    quoted = {q.key for q in quotes(ROOT)}
+    assert {c.key for c in CLAIMS} <= quoted
+
+
+@pytest.mark.parametrize("key", [c.key for c in CLAIMS if c.cheap])
+def test_cheap_claims_recompute_to_numbers_json(key):
+    claim = claims_by_key()[key]
+    stored = DOC["numbers"][key]["value"]
+    value = claim.compute()
+    assert value == pytest.approx(stored, rel=claim.rel_tol, abs=1e-12), claim.command
+
+
+UNIT = r"(?:k?Hz|V|m/s|mm/s|µm|mm|N|%|ms|s)\b"
+NUMBER_WITH_UNIT = re.compile(r"(?<![\w.])\d[\d ]*(?:\.\d+)?(?:e-?\d+)?\s?" + UNIT)
+COVER = re.compile(r"<!--(?:n:\w+(?:\*[0-9.eE+-]+)?|paper|input)-->")
+
+
+def test_the_readme_findings_quote_no_unmarked_result():
+    text = (ROOT / "README.md").read_text()
+    section = text[text.index("## What it finds"):text.index("## Layout")]
+    unmarked = []
+    # A paper/input marker covers every number since the previous marker; an n:key marker
+    # only the number right before it (whose unit follows the marker).
+    pos = 0
+    for m in COVER.finditer(section):
+        chunk = section[pos:m.start()]
+        if m.group(0).startswith("<!--n:"):  # the marked number stands before its unit
+            unmarked += [n.group(0) for n in NUMBER_WITH_UNIT.finditer(chunk)]
+        pos = m.end()
+    unmarked += [n.group(0) for n in NUMBER_WITH_UNIT.finditer(section[pos:])]
+    assert not unmarked, unmarked

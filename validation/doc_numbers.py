@@ -1,0 +1,357 @@
+"""The numbers the README and ``docs/`` quote, computed in one place.
+
+Every result quoted in the documentation is a *claim* here: a key, the function that computes
+it, its unit, the command a reader runs to see it, and whether a test may recompute it
+(``cheap``: well under a second or two). ``python -m validation.doc_numbers`` computes them
+all and writes ``docs/numbers.json`` (with the machine and date); in the Markdown each quoted
+number carries an invisible marker right after it::
+
+    pure stick up to 139.1<!--n:dead_zone_14N_V--> V
+    L1 ≈ 56.5<!--n:fe2d_L1_short_Hz*1e-3--> kHz
+
+``*factor`` scales the stored value to the printed unit. ``tests/test_docs_numbers.py`` checks
+that every marked number equals ``numbers.json`` to the precision it is printed with, that
+every key exists, and recomputes the cheap claims against ``numbers.json``. To add a claim:
+add a :class:`Claim` to :data:`CLAIMS`, run the generator, mark the number in the Markdown.
+
+Timings are claims only as ratios measured in the same run (``*_ratio``), never as absolute
+seconds; the machine they were measured on is stored beside them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import re
+import statistics
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+NUMBERS_JSON = ROOT / "docs" / "numbers.json"
+"""Where the generator writes (in a source checkout)."""
+
+DOC_FILES = ("README.md", "docs/contact.md", "docs/fem.md", "docs/fem3d.md", "docs/beam.md",
+             "docs/designer.md", "docs/limits.md", "docs/steady.md", "docs/distributed.md")
+"""The Markdown files whose markers are checked and filled (those that exist)."""
+
+MARKER = re.compile(
+    r"(?P<num>[+\-−]?(?:\d{1,3}(?:[   ]\d{3})+|\d+)(?:\.\d+)?"
+    r"(?:e[+\-−]?\d+)?)<!--n:(?P<key>\w+)(?:\*(?P<factor>[0-9.eE+\-]+))?-->")
+"""A quoted number followed by its marker ``<!--n:key-->`` or ``<!--n:key*factor-->``."""
+
+
+@dataclass(frozen=True)
+class Quote:
+    """One marked number in a Markdown file."""
+
+    path: str
+    line: int
+    text: str
+    key: str
+    factor: float
+    start: int
+    end: int
+
+    @property
+    def printed(self) -> float:
+        """The value as printed."""
+        return float(re.sub(r"[   ]", "", self.text).replace("−", "-"))
+
+    @property
+    def half_ulp(self) -> float:
+        """Half a unit in the last printed digit: the rounding the text allows."""
+        mant, _, exp = self.text.lower().partition("e")
+        decimals = len(mant.partition(".")[2])
+        scale = 10.0 ** int(exp.replace("−", "-")) if exp else 1.0
+        return 0.5 * 10.0 ** -decimals * scale
+
+    def agrees(self, value: float) -> bool:
+        """Whether ``value`` (stored unit) rounds to the printed number."""
+        return abs(value * self.factor - self.printed) <= self.half_ulp * (1 + 1e-9) + 1e-300
+
+    def formatted(self, value: float) -> str:
+        """``value`` (stored unit) printed in the style of this quote."""
+        v = value * self.factor
+        mant, _, exp = self.text.lower().partition("e")
+        decimals = len(mant.partition(".")[2])
+        if exp:
+            out = f"{v:.{decimals}e}"
+            m, e = out.split("e")
+            out = f"{m}e{int(e)}"
+        else:
+            out = f"{v:.{decimals}f}"
+            sep = next((c for c in self.text if c in "   "), None)
+            if sep:
+                whole, dot, frac = out.lstrip("-").partition(".")
+                groups = []
+                while len(whole) > 3:
+                    groups.insert(0, whole[-3:])
+                    whole = whole[:-3]
+                out = ("-" if out.startswith("-") else "") + sep.join([whole, *groups])
+                out += dot + frac
+        if self.text.startswith("+") and v >= 0:
+            out = "+" + out
+        return out
+
+
+def quotes(root: Path = ROOT) -> list[Quote]:
+    """Every marked number in :data:`DOC_FILES`."""
+    found = []
+    for rel in DOC_FILES:
+        path = root / rel
+        if not path.exists():
+            continue
+        text = path.read_text()
+        for m in MARKER.finditer(text):
+            found.append(Quote(rel, text.count("\n", 0, m.start()) + 1, m.group("num"),
+                               m.group("key"), float(m.group("factor") or 1.0),
+                               m.start("num"), m.end("num")))
+    return found
+
+
+def fill(doc: dict, root: Path = ROOT) -> int:
+    """Rewrite every marked number from ``doc`` (a numbers.json document); returns changes."""
+    changed = 0
+    by_file: dict[str, list[Quote]] = {}
+    for q in quotes(root):
+        by_file.setdefault(q.path, []).append(q)
+    for rel, qs in by_file.items():
+        path = root / rel
+        text = path.read_text()
+        for q in sorted(qs, key=lambda q: -q.start):
+            value = doc["numbers"][q.key]["value"]
+            if value is None or q.agrees(value):
+                continue
+            text = text[:q.start] + q.formatted(value) + text[q.end:]
+            changed += 1
+        path.write_text(text)
+    return changed
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One quoted result.
+
+    Attributes
+    ----------
+    key : str
+        Name used by the Markdown markers.
+    unit : str
+        Unit of the stored value (SI, or ``-`` for ratios and fractions).
+    command : str
+        The command that shows the number to a reader.
+    compute : callable
+        Returns the value (no arguments; shared work is cached).
+    cheap : bool
+        Whether the test suite recomputes it.
+    rel_tol : float
+        Relative tolerance of that recomputation (it may run on another machine/BLAS).
+    """
+
+    key: str
+    unit: str
+    command: str
+    compute: Callable[[], float]
+    cheap: bool = False
+    rel_tol: float = 1e-6
+
+
+# --- shared computations (each done once per process) ------------------------------------
+
+
+@cache
+def _table2():
+    from rom import table2
+
+    return table2()
+
+
+@cache
+def _sim(voltage_V: float, preload_N: float, duration_s: float = 0.05,
+         coupling: str = "paper"):
+    from contact.simulate import simulate
+
+    return simulate(_table2(), voltage_V, preload_N, duration_s=duration_s, coupling=coupling)
+
+
+@cache
+def _fe2d():
+    from fem.geometry import PlateStator
+    from fem.material import get_material
+    from fem.modes import DEFAULT_REFINE, plate_modes
+
+    return plate_modes(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
+
+
+@cache
+def _fe_vs_3d():
+    from fem.plane_stress_error import plane_stress_error
+
+    return plane_stress_error()
+
+
+@cache
+def _beam():
+    from rom.sources import get_params
+
+    return get_params("beam")
+
+
+@cache
+def _fe_precision():
+    from fem.modes import DEFAULT_REFINE
+    from validation.work_precision import fe_work_precision
+
+    points, ref = fe_work_precision({2: (DEFAULT_REFINE, 16)})
+    default, fine = points
+    return max(default.error_L1, default.error_B2), fine.wall_time_s / default.wall_time_s
+
+
+@cache
+def _dead_zone_edge(preload_N: float, coupling: str = "paper") -> float:
+    from validation.hard_cases import dead_zone_edge
+
+    return dead_zone_edge(_table2(), preload_N, coupling=coupling)
+
+
+@cache
+def _speed_stick_slip() -> tuple[float, float]:
+    """(reference time / kernel time, |dv|/v) at 200 V / 14 N, 50 ms, dt = 1e-7 s."""
+    from contact.reference import reference_simulate
+
+    _sim(200.0, 14.0, 0.001)  # JIT / cache load
+    from contact.simulate import simulate
+
+    times = [simulate(_table2(), 200.0, 14.0).wall_time_s for _ in range(5)]
+    r = simulate(_table2(), 200.0, 14.0)
+    ref = reference_simulate(_table2(), 200.0, 14.0, mu_d_eff=r.mu_d_eff)
+    dv = abs(r.steady.velocity_m_s - ref.velocity_m_s) / abs(ref.velocity_m_s)
+    return ref.wall_time_s / statistics.median(times), dv
+
+
+# --- the claims --------------------------------------------------------------------------
+
+_MODES = "lusm modes --json"
+_SIM = "lusm simulate --voltage {v} --preload {f} --json"
+
+CLAIMS: tuple[Claim, ...] = (
+    Claim("table2_f_L1_Hz", "Hz", "lusm params --source table2",
+          lambda: _table2().f_L1_Hz, cheap=True, rel_tol=1e-12),
+    Claim("table2_f_B2_Hz", "Hz", "lusm params --source table2",
+          lambda: _table2().f_B2_Hz, cheap=True, rel_tol=1e-12),
+    Claim("beam_f_L1_Hz", "Hz", "lusm params --source beam",
+          lambda: _beam().f_L1_Hz, cheap=True, rel_tol=1e-9),
+    Claim("beam_f_B2_Hz", "Hz", "lusm params --source beam",
+          lambda: _beam().f_B2_Hz, cheap=True, rel_tol=1e-9),
+    Claim("fe2d_L1_short_Hz", "Hz", _MODES, lambda: _fe2d().L1.f_short_Hz, cheap=True,
+          rel_tol=1e-8),
+    Claim("fe2d_L1_open_Hz", "Hz", _MODES, lambda: _fe2d().L1.f_open_Hz, cheap=True,
+          rel_tol=1e-8),
+    Claim("fe2d_B2_short_Hz", "Hz", _MODES, lambda: _fe2d().B2.f_short_Hz, cheap=True,
+          rel_tol=1e-8),
+    Claim("fe2d_B2_open_Hz", "Hz", _MODES, lambda: _fe2d().B2.f_open_Hz, cheap=True,
+          rel_tol=1e-8),
+    Claim("fe2d_vs_3d_L1_short", "-", "lusm report (section 1, 2D vs 3D)",
+          lambda: _fe_vs_3d().relative_error["L1_short"]),
+    Claim("fe2d_vs_3d_L1_open", "-", "lusm report (section 1, 2D vs 3D)",
+          lambda: _fe_vs_3d().relative_error["L1_open"]),
+    Claim("fe2d_vs_3d_B2_short", "-", "lusm report (section 1, 2D vs 3D)",
+          lambda: _fe_vs_3d().relative_error["B2_short"]),
+    Claim("fe2d_vs_3d_B2_open", "-", "lusm report (section 1, 2D vs 3D)",
+          lambda: _fe_vs_3d().relative_error["B2_open"]),
+    Claim("fe2d_default_error", "-", "lusm report (section 3b, order 2 at the default refine)",
+          lambda: _fe_precision()[0]),
+    Claim("fe2d_default_time_ratio", "-",
+          "lusm report (section 3b, wall time of refine 16 over the default refine)",
+          lambda: _fe_precision()[1]),
+    Claim("dead_zone_14N_V", "V", "lusm report (section 4, dead-zone edge); "
+          "python -m validation.doc_numbers --show dead_zone_14N_V",
+          lambda: _dead_zone_edge(14.0), cheap=True, rel_tol=1e-3),
+    Claim("dead_zone_14N_vs_paper", "-", "dead_zone_14N_V / 120 V - 1 (paper, Fig. 24)",
+          lambda: _dead_zone_edge(14.0) / 120.0 - 1.0, cheap=True, rel_tol=1e-2),
+    Claim("dead_zone_14N_consistent_V", "V",
+          "python -m validation.doc_numbers --show dead_zone_14N_consistent_V",
+          lambda: _dead_zone_edge(14.0, "consistent"), cheap=True, rel_tol=1e-3),
+    Claim("v_200V_14N_m_s", "m/s", _SIM.format(v=200, f=14),
+          lambda: _sim(200.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-5),
+    Claim("v_400V_14N_m_s", "m/s", _SIM.format(v=400, f=14),
+          lambda: _sim(400.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-5),
+    Claim("v_400V_14N_settled_m_s", "m/s", _SIM.format(v=400, f=14) + " --duration 0.2",
+          lambda: _sim(400.0, 14.0, 0.2).steady.velocity_m_s, cheap=True, rel_tol=1e-5),
+    Claim("v_150V_14N_m_s", "m/s", _SIM.format(v=150, f=14),
+          lambda: _sim(150.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+    Claim("contact_speed_ratio", "-", "python benchmarks/contact_speed.py (200 V / 14 N row)",
+          lambda: _speed_stick_slip()[0]),
+    Claim("contact_vs_reference_dv", "-", "python benchmarks/contact_speed.py (dv/v column)",
+          lambda: _speed_stick_slip()[1]),
+)
+"""Every quoted result, in the order the generator computes them."""
+
+
+def claims_by_key() -> dict[str, Claim]:
+    """The claims indexed by key."""
+    return {c.key: c for c in CLAIMS}
+
+
+def machine() -> str:
+    """One line naming the machine the numbers were measured on."""
+    return (f"{os.cpu_count()} CPUs, {platform.machine()}, Python {platform.python_version()}, "
+            f"{platform.system()}")
+
+
+def compute(keys: list[str] | None = None) -> dict:
+    """Compute the claims (all, or ``keys``) into the ``numbers.json`` document."""
+    table = claims_by_key()
+    unknown = [k for k in keys or [] if k not in table]
+    if unknown:
+        raise ValueError(f"--show: unknown key {unknown[0]!r}; known: {', '.join(table)}")
+    numbers = {}
+    for key in keys or list(table):
+        c = table[key]
+        value = float(c.compute())
+        numbers[key] = {"value": value if math.isfinite(value) else None, "unit": c.unit,
+                        "command": c.command}
+    return {"generated_by": "python -m validation.doc_numbers",
+            "date": time.strftime("%Y-%m-%d", time.gmtime()), "machine": machine(),
+            "numbers": numbers}
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m validation.doc_numbers [--out docs/numbers.json] [--show KEY ...]``."""
+    ap = argparse.ArgumentParser(prog="python -m validation.doc_numbers",
+                                 description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=NUMBERS_JSON, help="where to write the JSON")
+    ap.add_argument("--show", nargs="+", metavar="KEY",
+                    help="compute and print these claims only (nothing written)")
+    ap.add_argument("--fill", action="store_true",
+                    help="rewrite the marked numbers in the docs from --out (no computing)")
+    args = ap.parse_args(argv)
+    if args.fill:
+        n = fill(json.loads(args.out.read_text()))
+        print(f"{n} quoted numbers updated from {args.out}")
+        return 0
+    try:
+        doc = compute(args.show)
+    except ValueError as exc:
+        print(f"doc_numbers: error: {exc}")
+        return 2
+    if args.show:
+        for key, entry in doc["numbers"].items():
+            print(f"{key} = {entry['value']:.6g} {entry['unit']}   ({entry['command']})")
+        return 0
+    tmp = args.out.with_name(args.out.name + ".partial")
+    tmp.write_text(json.dumps(doc, indent=1) + "\n")
+    os.replace(tmp, args.out)
+    print(f"{len(doc['numbers'])} numbers written to {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
