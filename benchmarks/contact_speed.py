@@ -1,9 +1,9 @@
 """Speed of the contact stage, measured after JIT, against the event-driven reference.
 
-Prints the wall time of one 50 ms run at dt = 1e-7 s (median of repeats), of a 9 x 9 stick-slip
-map (threads over all cores and serial), and the speed ratio to the solve_ivp reference
-measured in the same run, with the agreement of the two. Not a test: numbers depend on the
-machine. Run: ``python benchmarks/contact_speed.py [--quick]``.
+Prints the wall time of one 50 ms run at dt = 1e-7 s (median of repeats) with its switch
+counts, of a 9 x 9 stick-slip map (threads over all cores and serial), and the speed ratio to
+the solve_ivp reference measured in the same run, with the agreement of the two. Not a test:
+numbers depend on the machine. Run: ``python benchmarks/contact_speed.py [--quick]``.
 """
 
 from __future__ import annotations
@@ -34,7 +34,8 @@ def main() -> None:
     simulate(p, 200, 14, duration_s=0.001)  # JIT / cache load
 
     print(f"machine: {os.cpu_count()} CPUs")
-    print(f"{'case':<28}{'kernel ms':>10}{'ref s':>9}{'ratio':>9}{'dv/v':>10}{'d stick':>9}")
+    print(f"{'case':<28}{'kernel ms':>10}{'ref s':>9}{'ratio':>9}{'dv/v':>10}{'d stick':>9}"
+          f"{'switches':>10}{'ref sw.':>9}")
     repeats = 3 if args.quick else args.repeats
     for v, f in ((200, 10), (200, 14), (400, 14), (100, 14)):
         times = []
@@ -47,7 +48,8 @@ def main() -> None:
         ds = abs(r.steady.stick_fraction - ref.stick_fraction)
         name = f"{v} V / {f} N {r.steady.motion}"
         print(f"{name:<28}{t_k * 1e3:>10.1f}{ref.wall_time_s:>9.2f}"
-              f"{ref.wall_time_s / t_k:>9.0f}{dv:>10.1e}{ds:>9.1e}")
+              f"{ref.wall_time_s / t_k:>9.0f}{dv:>10.1e}{ds:>9.1e}{r.events:>10}"
+              f"{ref.n_events:>9}")
     print("kernel: 50 ms simulated at dt = 1e-7 s (500 000 steps) incl. the A_N pre-pass")
 
     n = 5 if args.quick else 9

@@ -246,3 +246,28 @@ def render_modes(
         if animate:
             written.append(render_mode_gif(out / f"{prefix}{name}.gif", model, mode, **kwargs))
     return written
+
+
+def mirror_difference(img: np.ndarray) -> float:
+    """Mean absolute pixel difference between an image and its mirror about the horizontal
+    centre line (the plate's long axis x = 0 in :func:`mode_image`'s orientation)."""
+    img = np.asarray(img, dtype=float)
+    return float(np.mean(np.abs(img - img[::-1])))
+
+
+def centre_line_offset_px(img: np.ndarray) -> float:
+    """90th percentile over the image columns of the distance (px) between the plate's
+    deformed centre line and the image's horizontal centre line.
+
+    The plate is every pixel that is not background or grey outline; per column (away from
+    the plate's ends), its centre line is halfway between its two edges. L1 keeps it on the
+    axis, B2 (bending) moves it off.
+    """
+    img = np.asarray(img, dtype=float)
+    grey = (np.ptp(img, axis=-1) < 30) & (img.mean(axis=-1) > 60)  # background, outline
+    coloured = ~grey  # the plate: viridis, red and black electrode outlines
+    count = coloured.sum(axis=0)
+    cols = np.flatnonzero(count > 0.5 * count.max())  # away from the ends
+    rows = [np.flatnonzero(coloured[:, c]) for c in cols]
+    mid = np.array([0.5 * (r[0] + r[-1]) for r in rows])  # between the two edges
+    return float(np.percentile(np.abs(mid - (img.shape[0] - 1) / 2), 90))

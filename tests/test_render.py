@@ -13,7 +13,13 @@ from fem.export import export_modes, vertex_displacements  # noqa: E402
 from fem.geometry import PlateStator  # noqa: E402
 from fem.model import plate_model  # noqa: E402
 from fem.modes import plate_modes  # noqa: E402
-from fem.render import mode_image, render_mode_gif, render_mode_png  # noqa: E402
+from fem.render import (  # noqa: E402
+    centre_line_offset_px,
+    mirror_difference,
+    mode_image,
+    render_mode_gif,
+    render_mode_png,
+)
 
 SMALL = (480, 200)
 
@@ -32,12 +38,6 @@ def images(plate):
     }
 
 
-def _mirror_difference(img: np.ndarray) -> float:
-    """Mean absolute difference between an image and its mirror about the horizontal centre
-    line, which is the plate's long axis x = 0."""
-    return float(np.mean(np.abs(img - img[::-1])))
-
-
 def test_images_are_not_blank_and_differ(images):
     for img in images.values():
         assert img.shape == (SMALL[1], SMALL[0], 3)
@@ -47,20 +47,12 @@ def test_images_are_not_blank_and_differ(images):
 
 
 def test_L1_image_is_symmetric_about_the_long_axis_and_B2_is_not(images):
-    sym_l1 = _mirror_difference(images["L1"])
-    sym_b2 = _mirror_difference(images["B2"])
+    sym_l1 = mirror_difference(images["L1"])
+    sym_b2 = mirror_difference(images["B2"])
     assert sym_l1 < 0.3 * sym_b2, (sym_l1, sym_b2)
-    # where they differ: the plate's deformed centre line (per image column, the middle of
-    # the coloured pixels) stays on the axis for L1 and leaves it for B2 (bending)
-    offsets = {}
-    for name, img in images.items():
-        grey = (np.ptp(img, axis=-1) < 30) & (img.mean(axis=-1) > 60)  # background, outline
-        coloured = ~grey  # the plate: viridis, red and black electrode outlines
-        count = coloured.sum(axis=0)
-        cols = np.flatnonzero(count > 0.5 * count.max())  # away from the ends
-        rows = [np.flatnonzero(coloured[:, c]) for c in cols]
-        mid = np.array([0.5 * (r[0] + r[-1]) for r in rows])  # between the two edges
-        offsets[name] = float(np.percentile(np.abs(mid - (SMALL[1] - 1) / 2), 90))
+    # where they differ: the plate's deformed centre line stays on the axis for L1 and leaves
+    # it for B2 (bending)
+    offsets = {name: centre_line_offset_px(img) for name, img in images.items()}
     assert offsets["L1"] < 1.5, offsets
     assert offsets["B2"] > 6.0, offsets
 

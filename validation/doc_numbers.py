@@ -163,6 +163,10 @@ class Claim:
     rel_tol: float = 1e-6
 
 
+_MODES = "lusm modes --json"
+_SIM = "lusm simulate --voltage {v} --preload {f} --json"
+
+
 # --- shared computations (each done once per process) ------------------------------------
 
 
@@ -178,7 +182,33 @@ def _sim(voltage_V: float, preload_N: float, duration_s: float = 0.05,
          coupling: str = "paper"):
     from contact.simulate import simulate
 
-    return simulate(_table2(), voltage_V, preload_N, duration_s=duration_s, coupling=coupling)
+    return simulate(_table2(), voltage_V, preload_N, duration_s=duration_s, coupling=coupling,
+                    energy=True)
+
+
+def _excess(voltage_V: float, preload_N: float) -> float:
+    e = _sim(voltage_V, preload_N).energy
+    return e.non_conservative_J / e.input_J if e.input_J > 0 else 0.0
+
+
+def _coupling_claims() -> tuple[Claim, ...]:
+    """Velocity and stick fraction of both couplings, and the paper's excess work."""
+    out = []
+    for v, f in ((200, 10), (200, 14), (200, 18), (200, 25), (400, 14)):
+        cmd = _SIM.format(v=v, f=f)
+        for cp in ("paper", "consistent"):
+            c = cmd + ("" if cp == "paper" else " --coupling consistent")
+            out.append(Claim(f"v_{v}V_{f}N_{cp}_m_s", "m/s", c,
+                             lambda v=v, f=f, cp=cp: _sim(v, f, 0.05, cp).steady.velocity_m_s,
+                             cheap=True, rel_tol=1e-4))
+            out.append(Claim(f"stick_{v}V_{f}N_{cp}", "-", c + " (stick_fraction)",
+                             lambda v=v, f=f, cp=cp: _sim(v, f, 0.05, cp).steady.stick_fraction,
+                             cheap=True, rel_tol=1e-4))
+        out.append(Claim(f"excess_{v}V_{f}N", "-",
+                         f"contact.simulate.simulate(table2(), {v}, {f}, energy=True).energy "
+                         "(non_conservative_J / input_J)",
+                         lambda v=v, f=f: _excess(v, f), cheap=True, rel_tol=1e-4))
+    return tuple(out)
 
 
 @cache
@@ -215,6 +245,63 @@ def _fe_precision():
 
 
 @cache
+def _render_measures() -> dict[str, float]:
+    """Mirror difference and centre-line offset of the L1/B2 pictures (tests' 480 x 200 px)."""
+    from fem.render import centre_line_offset_px, mirror_difference, mode_image
+
+    model = _fe2d_model()
+    out = {}
+    for m in (_fe2d().L1, _fe2d().B2):
+        img = mode_image(model, m, decorations=False, window_size=(480, 200))
+        out[f"{m.name}_mirror"] = mirror_difference(img)
+        out[f"{m.name}_offset"] = centre_line_offset_px(img)
+    return out
+
+
+@cache
+def _fe2d_model():
+    from fem.geometry import PlateStator
+    from fem.material import get_material
+    from fem.model import plate_model
+    from fem.modes import DEFAULT_REFINE
+
+    return plate_model(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
+
+
+@cache
+def _map_counts(ultrasonic_friction: bool = True, coupling: str = "paper") -> dict[str, int]:
+    """Motion-class counts of the 9 x 9 map of ``lusm map`` (50-450 V x 10-26 N)."""
+    import numpy as np
+
+    from contact.maps import stick_slip_map
+    from contact.simulate import SimulationOptions
+
+    m = stick_slip_map(_table2(), np.arange(50.0, 451.0, 50.0), np.arange(10.0, 27.0, 2.0),
+                       options=SimulationOptions(ultrasonic_friction=ultrasonic_friction,
+                                                 coupling=coupling), progress=False)
+    return m.counts()
+
+
+@cache
+def _work_precision() -> dict[str, float]:
+    """Velocity errors of the 200 V / 14 N case against solve_ivp at rtol 1e-11."""
+    from validation.work_precision import contact_work_precision
+
+    points, _ = contact_work_precision(_table2(), cases=((200.0, 14.0),))
+    out: dict[str, float] = {}
+    for p in points:
+        out[f"{p.method} {p.setting}"] = p.velocity_error
+    return out
+
+
+def _wp(prefix: str, setting: str | None = None, agg=max) -> float:
+    wp = _work_precision()
+    vals = [v for k, v in wp.items() if k.startswith(prefix) and (setting is None
+                                                                  or k.endswith(setting))]
+    return agg(vals)
+
+
+@cache
 def _dead_zone_edge(preload_N: float, coupling: str = "paper") -> float:
     from validation.hard_cases import dead_zone_edge
 
@@ -238,8 +325,6 @@ def _speed_stick_slip() -> tuple[float, float]:
 
 # --- the claims --------------------------------------------------------------------------
 
-_MODES = "lusm modes --json"
-_SIM = "lusm simulate --voltage {v} --preload {f} --json"
 
 CLAIMS: tuple[Claim, ...] = (
     Claim("table2_f_L1_Hz", "Hz", "lusm params --source table2",
@@ -287,10 +372,62 @@ CLAIMS: tuple[Claim, ...] = (
           lambda: _sim(400.0, 14.0, 0.2).steady.velocity_m_s, cheap=True, rel_tol=1e-5),
     Claim("v_150V_14N_m_s", "m/s", _SIM.format(v=150, f=14),
           lambda: _sim(150.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+    Claim("stick_200V_14N", "-", _SIM.format(v=200, f=14) + " (stick_fraction)",
+          lambda: _sim(200.0, 14.0).steady.stick_fraction, cheap=True, rel_tol=1e-4),
+    Claim("stick_200V_18N", "-", _SIM.format(v=200, f=18) + " (stick_fraction)",
+          lambda: _sim(200.0, 18.0).steady.stick_fraction, cheap=True, rel_tol=1e-4),
+    Claim("A_N_200V_14N_m", "m", _SIM.format(v=200, f=14) + " (normal_amplitude_m)",
+          lambda: _sim(200.0, 14.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
+    Claim("A_N_450V_14N_m", "m", _SIM.format(v=450, f=14) + " (normal_amplitude_m)",
+          lambda: _sim(450.0, 14.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
+    Claim("normal_swing_200V_14N_N", "N", "2 k A_N at 200 V / 14 N (lusm params; A_N above)",
+          lambda: 2 * _table2().k_contact * _sim(200.0, 14.0).normal_amplitude_m,
+          cheap=True, rel_tol=1e-6),
+    Claim("events_200V_14N", "-", _SIM.format(v=200, f=14) + " (events)",
+          lambda: float(_sim(200.0, 14.0).events), cheap=True, rel_tol=1e-3),
+    Claim("map_slip_separation", "-", "lusm map --json (counts)",
+          lambda: _map_counts().get("slip-separation", 0)),
+    Claim("map_stick_slip", "-", "lusm map --json (counts)",
+          lambda: _map_counts().get("stick-slip", 0)),
+    Claim("map_pure_stick", "-", "lusm map --json (counts)",
+          lambda: _map_counts().get("pure-stick", 0)),
+    Claim("map_pure_slip", "-", "lusm map --json (counts)",
+          lambda: _map_counts().get("pure-slip", 0)),
+    Claim("map_const_mu_stick_slip", "-", "lusm map --no-ultrasonic-friction --json (counts)",
+          lambda: _map_counts(False).get("stick-slip", 0)),
+    Claim("map_const_mu_pure_slip", "-", "lusm map --no-ultrasonic-friction --json (counts)",
+          lambda: _map_counts(False).get("pure-slip", 0)),
+    Claim("map_consistent_stick_slip", "-", "lusm map --coupling consistent --json (counts)",
+          lambda: _map_counts(True, "consistent").get("stick-slip", 0)),
+    Claim("map_consistent_pure_stick", "-", "lusm map --coupling consistent --json (counts)",
+          lambda: _map_counts(True, "consistent").get("pure-stick", 0)),
+    Claim("wp_event_dt_1250ns", "-", "lusm report (section 3a, event-located, dt = 1.25e-06 s)",
+          lambda: _wp("event", "dt = 1.25e-06 s")),
+    Claim("wp_event_dt_100ns", "-", "lusm report (section 3a, event-located, dt = 1e-07 s)",
+          lambda: _wp("event", "dt = 1e-07 s")),
+    Claim("wp_event_dt_25ns", "-", "lusm report (section 3a, event-located, dt = 2.5e-08 s)",
+          lambda: _wp("event", "dt = 2.5e-08 s")),
+    Claim("wp_literal_eps_paper_min", "-", "lusm report (section 3a, literal RK4, eps = 1e-10)",
+          lambda: _wp("literal RK4, eps = 1e-10", agg=min)),
+    Claim("wp_literal_eps_paper_max", "-", "lusm report (section 3a, literal RK4, eps = 1e-10)",
+          lambda: _wp("literal RK4, eps = 1e-10", agg=max)),
+    Claim("wp_literal_eps_wide_min", "-", "lusm report (section 3a, literal RK4, eps = 0.0001)",
+          lambda: _wp("literal RK4, eps = 0.0001", agg=min)),
+    Claim("wp_literal_eps_wide_max", "-", "lusm report (section 3a, literal RK4, eps = 0.0001)",
+          lambda: _wp("literal RK4, eps = 0.0001", agg=max)),
+    Claim("render_mirror_L1", "-", "python -m validation.doc_numbers --show render_mirror_L1",
+          lambda: _render_measures()["L1_mirror"]),
+    Claim("render_mirror_B2", "-", "python -m validation.doc_numbers --show render_mirror_B2",
+          lambda: _render_measures()["B2_mirror"]),
+    Claim("render_offset_L1_px", "px", "python -m validation.doc_numbers --show "
+          "render_offset_L1_px", lambda: _render_measures()["L1_offset"]),
+    Claim("render_offset_B2_px", "px", "python -m validation.doc_numbers --show "
+          "render_offset_B2_px", lambda: _render_measures()["B2_offset"]),
     Claim("contact_speed_ratio", "-", "python benchmarks/contact_speed.py (200 V / 14 N row)",
           lambda: _speed_stick_slip()[0]),
     Claim("contact_vs_reference_dv", "-", "python benchmarks/contact_speed.py (dv/v column)",
           lambda: _speed_stick_slip()[1]),
+    *_coupling_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
