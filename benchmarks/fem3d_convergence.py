@@ -9,8 +9,9 @@ eigensolutions).
 The sequence refines the plane and the thickness together (``refine = layers = s``); the
 reference extrapolates the two finest 20-node meshes with the eigenvalue rate of quadratic
 elements, ``h^4``: ``f_ref = f_2 + (f_2 - f_1) / ((h_1/h_2)^4 - 1)``, ``h`` being the largest
-element edge. Other meshes (the default ``refine=2, layers=2``, anisotropic ones, the
-27-node brick) are then compared with that reference.
+element edge. Other meshes (the default ``refine = DEFAULT_REFINE_3D, layers =
+DEFAULT_LAYERS`` of :mod:`fem.solid3d`, anisotropic ones, the 27-node brick) are then
+compared with that reference.
 
 Run: ``python benchmarks/fem3d_convergence.py [--max-level S] [--repeat N]``
 """

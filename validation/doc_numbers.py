@@ -269,6 +269,50 @@ def _fe2d_model():
 
 
 @cache
+def _order1_refine_for_target(target: float = 5e-4) -> float:
+    """Smallest order-1 refine whose L1 and B2 are both within ``target`` of the reference."""
+    from validation.work_precision import fe_work_precision
+
+    points, _ = fe_work_precision({1: tuple(range(28, 41))})
+    ok = [p.refine for p in points if max(p.error_L1, p.error_B2) <= target]
+    return float(min(ok)) if ok else float("nan")
+
+
+@cache
+def _gap_keff(model: str, gap_mm: float, refine: int | None = None,
+              layers: int | None = None) -> float:
+    """B2 k_eff of the paper plate with another electrode gap, 2D or 3D."""
+    from fem.geometry import PlateStator
+    from fem.material import get_material
+
+    stator = PlateStator(electrode_gap_m=gap_mm * 1e-3)
+    if model == "2d":
+        from fem.modes import DEFAULT_REFINE, plate_modes
+
+        return plate_modes(stator, get_material("pzt8"), 2, DEFAULT_REFINE).B2.k_eff
+    from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+
+    return solid_modes(stator, get_material("pzt8"), 2, refine or DEFAULT_REFINE_3D,
+                       layers or DEFAULT_LAYERS).B2.k_eff
+
+
+@cache
+def _isolated_pairs() -> dict[str, object]:
+    """Resonance pairs of the admittance with all four electrodes in phase (L1) and with the
+    B2 polarity (+ - - +), as in tests/test_admittance.py."""
+    import numpy as np
+
+    from fem.admittance import modal_port, resonance_pairs
+
+    f = np.linspace(50e3, 62e3, 2401)
+    out = {}
+    for name, pol in (("L1", (1, 1, 1, 1)), ("B2", (1, -1, -1, 1))):
+        port = modal_port(_fe2d_model(), 62e3, (1, 2, 3, 4), pol, 1e-4, 1e-4, 1e-4)
+        (out[name],) = [p for p in resonance_pairs(port, f) if p.mode == name]
+    return out
+
+
+@cache
 def _map_counts(ultrasonic_friction: bool = True, coupling: str = "paper") -> dict[str, int]:
     """Motion-class counts of the 9 x 9 map of ``lusm map`` (50-450 V x 10-26 N)."""
     import numpy as np
@@ -423,6 +467,29 @@ CLAIMS: tuple[Claim, ...] = (
           "render_offset_L1_px", lambda: _render_measures()["L1_offset"]),
     Claim("render_offset_B2_px", "px", "python -m validation.doc_numbers --show "
           "render_offset_B2_px", lambda: _render_measures()["B2_offset"]),
+    Claim("fe_order1_refine_target", "-",
+          "python -m validation.doc_numbers --show fe_order1_refine_target (order-1 refines "
+          "28-40 against the Richardson reference)", _order1_refine_for_target),
+    Claim("fe2d_B2_keff_gap002", "-", "lusm modes --gap-mm 0.02 --json",
+          lambda: _gap_keff("2d", 0.02), cheap=True, rel_tol=1e-6),
+    Claim("fe3d_B2_keff_gap002_default", "-", "lusm modes --model 3d --gap-mm 0.02 --json",
+          lambda: _gap_keff("3d", 0.02)),
+    Claim("fe3d_B2_keff_gap002_r4l4", "-",
+          "lusm modes --model 3d --gap-mm 0.02 --refine 4 --layers 4 --json",
+          lambda: _gap_keff("3d", 0.02, 4, 4)),
+    Claim("fe3d_B2_keff_gap002_r6l6", "-",
+          "lusm modes --model 3d --gap-mm 0.02 --refine 6 --layers 6 --json",
+          lambda: _gap_keff("3d", 0.02, 6, 6)),
+    Claim("adm_L1_isolated_fr_Hz", "Hz", "pytest tests/test_admittance.py (isolated L1)",
+          lambda: _isolated_pairs()["L1"].f_resonance_Hz, cheap=True, rel_tol=1e-6),
+    Claim("adm_L1_isolated_fa_Hz", "Hz", "pytest tests/test_admittance.py (isolated L1)",
+          lambda: _isolated_pairs()["L1"].f_antiresonance_Hz, cheap=True, rel_tol=1e-6),
+    Claim("adm_L1_isolated_keff", "-", "pytest tests/test_admittance.py (isolated L1)",
+          lambda: _isolated_pairs()["L1"].k_eff, cheap=True, rel_tol=1e-5),
+    Claim("adm_B2_isolated_keff", "-", "pytest tests/test_admittance.py (isolated B2)",
+          lambda: _isolated_pairs()["B2"].k_eff, cheap=True, rel_tol=1e-5),
+    Claim("fe2d_L1_keff", "-", _MODES, lambda: _fe2d().L1.k_eff, cheap=True, rel_tol=1e-6),
+    Claim("fe2d_B2_keff", "-", _MODES, lambda: _fe2d().B2.k_eff, cheap=True, rel_tol=1e-6),
     Claim("contact_speed_ratio", "-", "python benchmarks/contact_speed.py (200 V / 14 N row)",
           lambda: _speed_stick_slip()[0]),
     Claim("contact_vs_reference_dv", "-", "python benchmarks/contact_speed.py (dv/v column)",
