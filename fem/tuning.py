@@ -84,6 +84,8 @@ class TunedDesign:
         Material name.
     history : tuple of tuple
         ``(length_m, width_m, f_L1_Hz, f_B2_Hz)`` of every FE solve, in order (short circuit).
+    outer_iterations : int
+        Scale-and-recross iterations taken (1 when the first crossing already hits the target).
     """
 
     stator: PlateStator
@@ -95,6 +97,7 @@ class TunedDesign:
     model: str
     material: str
     history: tuple
+    outer_iterations: int = 0
 
     @property
     def relative_mismatch(self) -> float:
@@ -110,6 +113,7 @@ class TunedDesign:
             "gap_mm": self.stator.electrode_gap_m * 1e3,
             "target_frequency_Hz": self.target_frequency_Hz,
             "fe_solves": self.fe_solves,
+            "outer_iterations": self.outer_iterations,
             "relative_mismatch": self.relative_mismatch,
             "fix": self.fix,
             "model": self.model,
@@ -255,7 +259,9 @@ def tune_plate(
     base = PlateStator() if start is None else start
     solver = _Solver(base, mat, model, fix, order, refine)
     length, width = base.length_m, base.width_m
+    iterations = 0
     for _ in range(max_iter):
+        iterations += 1
         width = _crossing_width(solver, length, width, rel_tol)
         res = solver.modes(length, width)
         f_l, f_b = res.L1.f_short_Hz, res.B2.f_short_Hz
@@ -282,4 +288,5 @@ def tune_plate(
         model=model,
         material=mat.name,
         history=tuple(solver.history),
+        outer_iterations=iterations,
     )

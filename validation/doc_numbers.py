@@ -279,6 +279,13 @@ def _order1_refine_for_target(target: float = 5e-4) -> float:
 
 
 @cache
+def _tuned():
+    from fem.tuning import tune_plate
+
+    return tune_plate(40e3)
+
+
+@cache
 def _gap_keff(model: str, gap_mm: float, refine: int | None = None,
               layers: int | None = None) -> float:
     """B2 k_eff of the paper plate with another electrode gap, 2D or 3D."""
@@ -470,6 +477,15 @@ CLAIMS: tuple[Claim, ...] = (
     Claim("fe_order1_refine_target", "-",
           "python -m validation.doc_numbers --show fe_order1_refine_target (order-1 refines "
           "28-40 against the Richardson reference)", _order1_refine_for_target),
+    Claim("tune_length_m", "m", "lusm tune --target-frequency 40e3 --json",
+          lambda: _tuned().stator.length_m),
+    Claim("tune_width_m", "m", "lusm tune --target-frequency 40e3 --json",
+          lambda: _tuned().stator.width_m),
+    Claim("tune_fe_solves", "-", "lusm tune --target-frequency 40e3 --json (fe_solves)",
+          lambda: _tuned().fe_solves),
+    Claim("tune_outer_iterations", "-",
+          "lusm tune --target-frequency 40e3 --json (outer_iterations)",
+          lambda: _tuned().outer_iterations),
     Claim("fe2d_B2_keff_gap002", "-", "lusm modes --gap-mm 0.02 --json",
           lambda: _gap_keff("2d", 0.02), cheap=True, rel_tol=1e-6),
     Claim("fe3d_B2_keff_gap002_default", "-", "lusm modes --model 3d --gap-mm 0.02 --json",
