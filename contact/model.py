@@ -4,7 +4,7 @@ For a given parameter set and operating point every mode of the switch model (st
 either direction, separation, each with the slider moving or held on its guide) is a linear
 ODE ``dz/dt = A_m z`` on the augmented state of :mod:`contact.state`, and every switching
 condition is the zero of a linear functional. This module builds those matrices and
-functionals once per run; :mod:`contact.kernels` integrates them.
+functionals once per run; :mod:`contact.event_kernel` integrates them.
 
 Conventions (see ``docs/contact.md``):
 
@@ -120,6 +120,14 @@ class HybridSystem:
         full = np.stack([expm(a * dt_s) for a in self.A])
         half = np.stack([expm(a * (0.5 * dt_s)) for a in self.A])
         return full, half
+
+
+def static_deflection_m(params: MotorParams, preload_N: float) -> float:
+    """L1 coordinate of the static equilibrium under the preload (m), where F_N = F_P.
+
+    Every scheme starts from it: B2, slider and velocities at rest, ``V(0) = 0``.
+    """
+    return params.eta_N * preload_N / params.K_l
 
 
 def gamma_T(params: MotorParams, coupling: str) -> float:
@@ -278,7 +286,7 @@ def build_system(
     )
 
     z0 = np.zeros(S.N_STATE)
-    z0[S.U] = p.eta_N * op.preload_N / p.K_l  # static equilibrium: F_N = F_P
+    z0[S.U] = static_deflection_m(p, op.preload_N)
     z0[S.COS] = 1.0
     z0[S.ONE] = 1.0
     in_contact = float(fn @ z0) > 0.0

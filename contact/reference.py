@@ -1,5 +1,7 @@
 """Slow, independent reference of the switch model: event-driven ``scipy.integrate.solve_ivp``.
 
+Scheme ``method="reference"`` of :func:`contact.simulate.simulate`.
+
 The equations are written out here term by term from the paper (Eqs. 4-19), without the
 matrix form of :mod:`contact.model`, and integrated with an adaptive high-order method at
 tight tolerances. Every switch (separation, re-contact, v_rel = 0, stick break, slider
@@ -12,44 +14,18 @@ work-precision benchmark, and it counts steps and right-hand-side evaluations th
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from contact.model import OperatingPoint, gamma_T
+from contact.model import OperatingPoint, gamma_T, static_deflection_m
+from contact.results import SchemeOutput
 from contact.state import BACKWARD, FORWARD, HELD, SLIP_NEG, SLIP_POS, STICK
+from contact.window import RunWindow
 from rom.params import GRAVITY_M_S2, MotorParams
 
-
-@dataclass(frozen=True)
-class ReferenceResult:
-    """Steady-state metrics of a reference run.
-
-    Attributes
-    ----------
-    velocity_m_s : float
-        Mean slider velocity over the window (m/s).
-    stick_fraction, slip_fraction, separation_fraction : float
-        Fractions of the window in each interface state (-).
-    x_end_m : float
-        Final slider position (m).
-    n_steps, nfev, n_events : int
-        Accepted steps, right-hand-side evaluations and located switches.
-    wall_time_s : float
-        Wall time (s).
-    """
-
-    velocity_m_s: float
-    stick_fraction: float
-    slip_fraction: float
-    separation_fraction: float
-    x_end_m: float
-    n_steps: int
-    nfev: int
-    n_events: int
-    wall_time_s: float
+MAX_EVENTS = 10_000_000
+"""Switches after which a reference run is abandoned."""
 
 
 class _Motor:
@@ -211,41 +187,18 @@ class _Motor:
         return (contact, tip, guide), y
 
 
-def reference_simulate(
-    params: MotorParams,
-    voltage_V: float,
-    preload_N: float,
-    frequency_Hz: float = 40e3,
-    duration_s: float = 0.05,
-    mu_d_eff: float | None = None,
-    coupling: str = "paper",
-    steady_periods: int = 20,
-    rtol: float = 1e-10,
-    method: str = "DOP853",
-    max_events: int = 10_000_000,
-) -> ReferenceResult:
-    """Event-driven solution of the switch model from rest, with ``solve_ivp``.
+def solve_reference(params: MotorParams, op: OperatingPoint, opts, window: RunWindow,
+                    mu_d_eff: float) -> SchemeOutput:
+    """Event-driven solution from rest with ``solve_ivp`` (DOP853 at ``opts.rtol``).
 
-    Parameters
-    ----------
-    params, voltage_V, preload_N, frequency_Hz, duration_s, coupling
-        As for :func:`contact.simulate.simulate`.
-    mu_d_eff : float, optional
-        Dynamic friction coefficient in slip; defaults to ``params.mu_d`` (pass the fast
-        run's ``mu_d_eff`` to compare with Eq. 11 switched on).
-    steady_periods : int
-        Window (periods at the end) of the metrics.
-    rtol : float
-        Relative tolerance; absolute tolerances are scaled per state component.
-    method : str
-        ``solve_ivp`` method.
+    The scheme ``"reference"`` of :func:`contact.simulate.simulate`; it measures on the same
+    windows as the other schemes, exactly at their start and end times.
     """
-    op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz))
-    mu_d = params.mu_d if mu_d_eff is None else float(mu_d_eff)
-    motor = _Motor(params, op, mu_d, coupling)
+    rtol = opts.rtol
+    motor = _Motor(params, op, mu_d_eff, opts.coupling)
     p = params
     y = np.zeros(6)
-    y[0] = p.eta_N * op.preload_N / p.K_l
+    y[0] = static_deflection_m(p, op.preload_N)
     mode = (1, STICK, HELD) if motor.fn_arg(y) > 0 else (0, SLIP_POS, HELD)
     # amplitude scales of each component for the absolute tolerance
     u_scale = max(abs(p.A_l) * op.voltage_V / p.K_l, abs(y[0]), 1e-12) * 10
@@ -253,15 +206,15 @@ def reference_simulate(
     atol = rtol * np.array(
         [u_scale, u_scale * op.omega, w_scale, w_scale * op.omega, 1e-6, 1e-3]
     )
-    t_win = duration_s - min(steady_periods, duration_s * frequency_Hz / 2) / frequency_Hz
+    t_end, t_win = window.end_s, window.window_start_s
+    marks = sorted({m for m in (window.previous_start_s, window.previous_end_s, t_win)
+                    if 0.0 < m < t_end})
+    x_at = {0.0: 0.0}
     t = 0.0
-    x_win = None
-    phase_time = {"stick": 0.0, "slip": 0.0, "separation": 0.0}
+    phase_time = np.zeros(4)  # stick, slip v_rel > 0, slip v_rel < 0, separation
     n_steps = nfev = n_events = 0
-    t0 = time.perf_counter()
-    while t < duration_s:
-        stops = [s for s in (t_win, duration_s) if s > t]
-        t_stop = stops[0]
+    while t < t_end:
+        t_stop = next((m for m in marks if m > t), t_end)
         evs = motor.events(mode)
         funcs = []
         for _kind, f in evs:
@@ -271,7 +224,7 @@ def reference_simulate(
             ev.direction = 1.0
             funcs.append(ev)
         sol = solve_ivp(
-            motor.rhs, (t, t_stop), y, method=method, rtol=rtol, atol=atol,
+            motor.rhs, (t, t_stop), y, method="DOP853", rtol=rtol, atol=atol,
             events=funcs, args=(mode,), first_step=min(1e-8, (t_stop - t) / 2),
         )
         if sol.status < 0:
@@ -280,32 +233,30 @@ def reference_simulate(
         nfev += sol.nfev
         t_new = float(sol.t[-1])
         y_new = sol.y[:, -1].copy()
-        # accumulate phase time inside the window
         lo = max(t, t_win)
-        if t_new > lo:
-            name = "separation" if not mode[0] else ("stick" if mode[1] == STICK else "slip")
-            phase_time[name] += t_new - lo
-        if x_win is None and t_new >= t_win:  # segments stop at t_win exactly
-            x_win = float(y_new[4])
+        if t_new > lo:  # phase time inside the window
+            phase = 3 if not mode[0] else (0 if mode[1] == STICK else
+                                           1 if mode[1] == SLIP_POS else 2)
+            phase_time[phase] += t_new - lo
+        if sol.status == 0 and t_new in marks:  # segments stop at the marks exactly
+            x_at[t_new] = float(y_new[4])
         t, y = t_new, y_new
         if sol.status == 1:  # an event ended the segment
             hit = [i for i, te in enumerate(sol.t_events) if len(te)]
             kind = evs[hit[0]][0]
             mode, y = motor.switch(kind, t, y, mode)
             n_events += 1
-            if n_events > max_events:
-                raise RuntimeError("reference: too many events")
-    wall = time.perf_counter() - t0
-    window = duration_s - t_win
-    total = sum(phase_time.values())
-    return ReferenceResult(
-        velocity_m_s=float((y[4] - (x_win if x_win is not None else 0.0)) / window),
-        stick_fraction=phase_time["stick"] / total,
-        slip_fraction=phase_time["slip"] / total,
-        separation_fraction=phase_time["separation"] / total,
-        x_end_m=float(y[4]),
-        n_steps=n_steps,
-        nfev=nfev,
-        n_events=n_events,
-        wall_time_s=wall,
+            if n_events > MAX_EVENTS:
+                raise RuntimeError(f"reference: more than {MAX_EVENTS} switches (Zeno?) by "
+                                   f"t = {t:.6g} s")
+    x_win = x_at.get(t_win, 0.0)
+    if window.previous_start_s in x_at and window.previous_end_s in x_at:
+        v_prev = (x_at[window.previous_end_s] - x_at[window.previous_start_s]) / window.window_s
+    else:
+        v_prev = float("nan")
+    nan = float("nan")
+    return SchemeOutput(
+        velocity_m_s=float((y[4] - x_win) / window.window_s), previous_velocity_m_s=v_prev,
+        phase_time=phase_time, y_tip_min_m=nan, y_tip_max_m=nan, trace=None, window=None,
+        energy=None, steps=n_steps, events=n_events, nfev=nfev,
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -115,6 +116,59 @@ class EnergyBalance:
     def relative_residual(self) -> float:
         """``|residual| / input`` (-), NaN without input work."""
         return abs(self.residual_J) / self.input_J if self.input_J > 0 else float("nan")
+
+
+@dataclass(frozen=True)
+class SchemeOutput:
+    """What one scheme of :func:`contact.simulate.simulate` hands back (SI units).
+
+    ``phase_time`` is the time (s, or steps) spent in [stick, slip with v_rel > 0, slip with
+    v_rel < 0, separation] over the steady-state window; the other fields are those of
+    :class:`contact.simulate.SimulationResult` and :class:`SteadyState`. Schemes that do not
+    track a quantity give NaN (floats) or None.
+    """
+
+    velocity_m_s: float
+    previous_velocity_m_s: float
+    phase_time: np.ndarray
+    y_tip_min_m: float
+    y_tip_max_m: float
+    trace: Trace | None
+    window: Trace | None
+    energy: EnergyBalance | None
+    steps: int
+    events: int
+    nfev: int
+
+
+PHASE_THRESHOLD = 1e-4
+"""A phase counts in the motion class when it fills more than this fraction of the window."""
+
+
+def steady_metrics(velocity_m_s: float, previous_velocity_m_s: float, phase_time,
+                   y_tip_min_m: float, y_tip_max_m: float, window_s: float) -> SteadyState:
+    """The :class:`SteadyState` of a window from its mean velocities and phase times."""
+    phase_time = np.asarray(phase_time, dtype=float)
+    total = float(np.sum(phase_time))
+    frac = phase_time / total if total > 0 else np.array([1.0, 0.0, 0.0, 0.0])
+    stick, slip_pos, slip_neg, sep = (float(f) for f in frac)
+    v, v_prev = float(velocity_m_s), float(previous_velocity_m_s)
+    driving, braking = (slip_pos, slip_neg) if v >= 0 else (slip_neg, slip_pos)
+    settled = bool(abs(v - v_prev) <= 0.01 * abs(v) + 1e-6) if math.isfinite(v_prev) else False
+    return SteadyState(
+        velocity_m_s=v,
+        stick_fraction=stick,
+        slip_fraction=slip_pos + slip_neg,
+        separation_fraction=sep,
+        driving_slip_fraction=driving,
+        braking_slip_fraction=braking,
+        motion=classify_motion(stick, slip_pos + slip_neg, sep, PHASE_THRESHOLD),
+        y_tip_min_m=float(y_tip_min_m),
+        y_tip_max_m=float(y_tip_max_m),
+        window_s=float(window_s),
+        previous_velocity_m_s=v_prev,
+        settled=settled,
+    )
 
 
 def classify_motion(stick: float, slip: float, separation: float, threshold: float) -> str:

@@ -1,34 +1,51 @@
-"""Typed wrapper around the switch-model kernel: one call, one frozen result.
+"""The contact stage's one entry point: :func:`simulate`, one frozen result whatever the scheme.
+
+In the manner of ``scipy.integrate.solve_ivp``, ``method=`` picks a scheme from
+:data:`METHODS`; every scheme starts from the same static equilibrium, runs on the same time
+window (:mod:`contact.window`), uses the same dynamic friction coefficient (Eq. 11, from the
+A_N pre-pass) and returns the same :class:`SimulationResult` with its solver counters:
+
+* ``"event"`` (default): exact per-mode propagators with located switches, numba
+  (:mod:`contact.event_kernel`);
+* ``"reference"``: the equations written out term by term, ``solve_ivp`` with terminal events
+  (:mod:`contact.reference`), the slow yardstick;
+* ``"literal"``: the paper's fixed-step RK4 with the stick band (:mod:`contact.literal`), for
+  contrast only.
 
 >>> from rom import table2
 >>> from contact.simulate import simulate
 >>> r = simulate(table2(), voltage_V=200, preload_N=14)      # doctest: +SKIP
->>> r.steady.velocity_m_s, r.steady.motion                    # doctest: +SKIP
+>>> r.steady.velocity_m_s, r.steady.motion, r.events          # doctest: +SKIP
+>>> simulate(table2(), 200, 14, method="reference").nfev      # doctest: +SKIP
 """
 
 from __future__ import annotations
 
+import importlib
 import math
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from contact import kernels
+from contact import event_kernel
 from contact.friction import dynamic_friction
 from contact.model import COUPLINGS, HybridSystem, OperatingPoint, build_system, gamma_T
-from contact.results import EnergyBalance, SteadyState, Trace, classify_motion
+from contact.results import EnergyBalance, SchemeOutput, SteadyState, Trace, steady_metrics
 from contact.state import ERR_CHATTER, OK
+from contact.window import RunWindow, run_window
 from rom.params import MotorParams
-
-MIN_PERIODS = 10
-"""Shortest run accepted, in drive periods."""
 
 PRE_PASS_PERIODS = 60
 """Drive periods simulated to find the steady normal amplitude A_N of Eq. 11."""
 
-PHASE_THRESHOLD = 1e-4
-"""A phase counts in the motion class when it fills more than this fraction of the window."""
+METHODS = {
+    "event": "contact.simulate:_solve_event",
+    "reference": "contact.reference:solve_reference",
+    "literal": "contact.literal:solve_literal",
+}
+"""Schemes of :func:`simulate`: name -> ``module:function(params, op, options, window,
+mu_d_eff) -> SchemeOutput``, imported on first use (the reference pulls in SciPy)."""
 
 
 @dataclass(frozen=True)
@@ -46,7 +63,8 @@ class SimulationOptions:
     coupling : {"paper", "consistent"}
         Generalized force of F_T on B2 (see :mod:`contact.model`).
     stick_band_m_s : float
-        The paper's epsilon (m/s); see :func:`contact.model.build_system`.
+        The paper's epsilon (m/s); see :func:`contact.model.build_system`. The literal scheme
+        decides stick with it at every step.
     steady_periods : int
         Length of the steady-state window (periods), capped at half the run.
     full_periods : int
@@ -57,6 +75,9 @@ class SimulationOptions:
         Accumulate the work integrals of the energy balance over the window.
     max_events_per_step : int
         Switches allowed within one step before the run is declared chattering.
+    rtol : float
+        Relative tolerance of the ``reference`` scheme (absolute tolerances are scaled per
+        state component).
     """
 
     duration_s: float = 0.05
@@ -69,6 +90,7 @@ class SimulationOptions:
     max_trace_points: int = 20000
     energy: bool = False
     max_events_per_step: int = 64
+    rtol: float = 1e-10
 
     def __post_init__(self) -> None:
         for name in ("duration_s", "dt_s"):
@@ -80,64 +102,61 @@ class SimulationOptions:
         for name in ("steady_periods", "full_periods", "max_trace_points", "max_events_per_step"):
             if int(getattr(self, name)) < 1:
                 raise ValueError(f"{name} must be >= 1, got {getattr(self, name)!r}")
+        if not (isinstance(self.rtol, (int, float)) and 1e-14 <= self.rtol <= 1e-3):
+            raise ValueError(f"rtol must lie in [1e-14, 1e-3], got {self.rtol!r}")
+        if not (math.isfinite(self.stick_band_m_s) and self.stick_band_m_s >= 0):
+            raise ValueError(f"stick_band_m_s must be finite and >= 0, got "
+                             f"{self.stick_band_m_s!r}")
 
 
 @dataclass(frozen=True)
 class SimulationResult:
-    """Everything one run produced.
+    """Everything one run produced, whatever the scheme.
 
     Attributes
     ----------
     params : MotorParams
     op : OperatingPoint
     options : SimulationOptions
+    method : str
+        The scheme (a key of :data:`METHODS`).
     mu_d_eff : float
         Dynamic friction coefficient used in slip (-).
     normal_amplitude_m : float
-        A_N of Eq. 11 (m), from the pre-pass.
-    trace : Trace
-        Decimated trace of the whole run.
-    window : Trace
-        Every step of the last ``full_periods`` periods.
+        A_N of Eq. 11 (m), from the pre-pass (NaN for a scheme without it when Eq. 11 is off).
+    trace : Trace or None
+        Decimated trace of the whole run (``event`` only).
+    window : Trace or None
+        Every step of the last ``full_periods`` periods (``event`` only).
     steady : SteadyState
     energy : EnergyBalance or None
+        With ``options.energy`` (``event`` only).
     steps : int
-        Fixed steps taken (the pre-pass excluded).
+        Steps taken: fixed steps (``event``, ``literal``; the pre-pass excluded) or accepted
+        adaptive steps (``reference``).
     events : int
-        Mode switches located.
+        Mode switches: located (``event``, ``reference``) or between steps (``literal``).
+    nfev : int
+        Flow evaluations: propagator products plus exact-flow evaluations spent locating
+        events (``event``), right-hand-side evaluations (``reference``, ``literal``).
     wall_time_s : float
-        Wall time of the integration alone (s), pre-pass included.
+        Wall time of the integration (s), pre-pass included.
     """
 
     params: MotorParams
     op: OperatingPoint
     options: SimulationOptions
+    method: str
     mu_d_eff: float
     normal_amplitude_m: float
-    trace: Trace
-    window: Trace
+    trace: Trace | None
+    window: Trace | None
     steady: SteadyState
     energy: EnergyBalance | None
     steps: int
     events: int
+    nfev: int
     wall_time_s: float
-
-
-def check_time_step(op: OperatingPoint, options: SimulationOptions) -> int:
-    """Validate ``dt`` and the duration for a drive frequency; return the number of steps."""
-    dt_max = op.period_s / 20.0
-    if options.dt_s > dt_max * (1 + 1e-12):
-        raise ValueError(
-            f"dt_s must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at f = {op.frequency_Hz:g} Hz, "
-            f"got {options.dt_s!r}"
-        )
-    min_duration = MIN_PERIODS * op.period_s
-    if options.duration_s < min_duration * (1 - 1e-12):
-        raise ValueError(
-            f"duration_s must be >= {MIN_PERIODS} drive periods = {min_duration:.4g} s, "
-            f"got {options.duration_s!r}"
-        )
-    return int(round(options.duration_s / options.dt_s))
 
 
 def _check_spectrum(system: HybridSystem, dt_s: float) -> None:
@@ -152,14 +171,14 @@ def _check_spectrum(system: HybridSystem, dt_s: float) -> None:
 def _run(system: HybridSystem, n_steps: int, dt: float, win_start: int, decim: int,
          n_full: int, energy: bool, max_events: int):
     phi, phi_half = system.propagators(dt)
-    return kernels.integrate_switch_model(
+    return event_kernel.integrate_switch_model(
         system.z0, system.mode0, n_steps, dt, phi, phi_half, system.A, system.ev_h,
         system.ev_dh, system.ev_type, system.fn_m, system.ft_m, system.ff_m, system.funcs,
         system.scalars, win_start, decim, n_full, energy, max_events,
     )
 
 
-def _raise_status(status: int, fail_step: int, dt: float, op: OperatingPoint) -> None:
+def raise_status(status: int, fail_step: int, dt: float, op: OperatingPoint) -> None:
     if status == ERR_CHATTER:
         raise RuntimeError(
             f"contact chattering: more switches than allowed within one step at "
@@ -182,7 +201,7 @@ def normal_amplitude(
     n_steps = int(round(periods * op.period_s / dt_s))
     win_start = n_steps - max(1, n_steps // 3)
     out = _run(system, n_steps, dt_s, win_start, n_steps, 1, False, 64)
-    _raise_status(out[0], out[1], dt_s, op)
+    raise_status(out[0], out[1], dt_s, op)
     stats = out[6]
     return 0.5 * (stats[2] - stats[1])
 
@@ -193,6 +212,8 @@ def simulate(
     preload_N: float,
     frequency_Hz: float = 40e3,
     options: SimulationOptions | None = None,
+    *,
+    method: str = "event",
     **option_overrides: object,
 ) -> SimulationResult:
     """Simulate the stick-slip-separation switch model (Eqs. 4-19) from rest.
@@ -209,6 +230,8 @@ def simulate(
         Drive frequency (Hz), > 0.
     options : SimulationOptions, optional
         Numerical options; keyword overrides (``dt_s=...``) are applied on top.
+    method : str
+        A key of :data:`METHODS`: ``"event"`` (default), ``"reference"`` or ``"literal"``.
 
     Returns
     -------
@@ -221,79 +244,67 @@ def simulate(
     RuntimeError
         When the contact chatters beyond ``max_events_per_step`` within a step.
     """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz))
     opts = options or SimulationOptions()
     if option_overrides:
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})
-    n_steps = check_time_step(op, opts)
-    dt = opts.dt_s
-    steps_per_period = op.period_s / dt
-    n_periods = n_steps / steps_per_period
-    win_periods = min(opts.steady_periods, max(1, int(n_periods // 2)))
-    win_steps = int(round(win_periods * steps_per_period))
-    win_start = n_steps - win_steps
-    n_full = min(n_steps, int(round(min(opts.full_periods, win_periods) * steps_per_period)))
-    decim = max(1, int(math.ceil(n_steps / opts.max_trace_points)))
+    window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
+    module, _, name = METHODS[method].partition(":")
+    scheme = getattr(importlib.import_module(module), name)
 
     t0 = time.perf_counter()
     if opts.ultrasonic_friction:
-        a_n = normal_amplitude(params, op, dt)
+        a_n = normal_amplitude(params, op, opts.dt_s)
         mu_d_eff = dynamic_friction(params, a_n)
     else:
         a_n = float("nan")
         mu_d_eff = params.mu_d
+    out: SchemeOutput = scheme(params, op, opts, window, mu_d_eff)
+    wall = time.perf_counter() - t0
+    if not opts.ultrasonic_friction and math.isfinite(out.y_tip_max_m):
+        a_n = 0.5 * (out.y_tip_max_m - out.y_tip_min_m)
+    steady = steady_metrics(out.velocity_m_s, out.previous_velocity_m_s, out.phase_time,
+                            out.y_tip_min_m, out.y_tip_max_m, window.window_s)
+    return SimulationResult(
+        params=params, op=op, options=opts, method=method, mu_d_eff=mu_d_eff,
+        normal_amplitude_m=a_n, trace=out.trace, window=out.window, steady=steady,
+        energy=out.energy, steps=out.steps, events=out.events, nfev=out.nfev,
+        wall_time_s=wall,
+    )
+
+
+def _solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
+                 window: RunWindow, mu_d_eff: float) -> SchemeOutput:
+    """The event-located scheme (:mod:`contact.event_kernel`)."""
+    dt = window.dt_s
+    n_steps, win_start = window.n_steps, window.win_start
+    n_full = min(n_steps, int(round(min(opts.full_periods, window.window_periods)
+                                    * op.period_s / dt)))
+    decim = max(1, int(math.ceil(n_steps / opts.max_trace_points)))
     system = build_system(params, op, mu_d_eff, opts.coupling, opts.stick_band_m_s)
     _check_spectrum(system, dt)
     out = _run(system, n_steps, dt, win_start, decim, n_full, opts.energy,
                opts.max_events_per_step)
-    wall = time.perf_counter() - t0
     status, fail_step, trace_a, full_a, phase_time, work, stats, _, _ = out
-    _raise_status(status, fail_step, dt, op)
-    if not opts.ultrasonic_friction:
-        a_n = 0.5 * (stats[2] - stats[1])
-
+    raise_status(status, fail_step, dt, op)
     trace = Trace.from_array(trace_a)
-    window = Trace.from_array(full_a)
-    steady = _steady_state(trace, phase_time, stats, win_steps * dt, op)
-    energy = _energy_balance(params, opts, work, stats) if opts.energy else None
-    return SimulationResult(
-        params=params, op=op, options=opts, mu_d_eff=mu_d_eff, normal_amplitude_m=a_n,
-        trace=trace, window=window, steady=steady, energy=energy, steps=n_steps,
-        events=int(stats[3]), wall_time_s=wall,
-    )
-
-
-def _steady_state(trace: Trace, phase_time: np.ndarray, stats: np.ndarray, window_s: float,
-                  op: OperatingPoint) -> SteadyState:
-    t_end = trace.t_s[-1]
-    x_end = trace.x_m[-1]
-    v = (x_end - stats[0]) / window_s
-    total = float(np.sum(phase_time))
-    frac = phase_time / total if total > 0 else np.array([1.0, 0.0, 0.0, 0.0])
-    stick, slip_pos, slip_neg, sep = (float(f) for f in frac)
-    driving, braking = (slip_pos, slip_neg) if v >= 0 else (slip_neg, slip_pos)
+    v = (trace.x_m[-1] - stats[0]) / window.window_s
     # an earlier window, at least a fifth of the run before the last one, tells whether the
-    # slider is still accelerating
-    t_prev_end = t_end - max(window_s, 0.2 * t_end)
-    if t_prev_end - window_s >= trace.t_s[0]:
-        x_a, x_b = np.interp([t_prev_end - window_s, t_prev_end], trace.t_s, trace.x_m)
-        v_prev = float((x_b - x_a) / window_s)
+    # slider is still accelerating (from the decimated trace)
+    if window.previous_start_s >= trace.t_s[0]:
+        x_a, x_b = np.interp([window.previous_start_s, window.previous_end_s], trace.t_s,
+                             trace.x_m)
+        v_prev = float((x_b - x_a) / window.window_s)
     else:
         v_prev = float("nan")
-    settled = bool(abs(v - v_prev) <= 0.01 * abs(v) + 1e-6) if math.isfinite(v_prev) else False
-    return SteadyState(
-        velocity_m_s=float(v),
-        stick_fraction=stick,
-        slip_fraction=slip_pos + slip_neg,
-        separation_fraction=sep,
-        driving_slip_fraction=driving,
-        braking_slip_fraction=braking,
-        motion=classify_motion(stick, slip_pos + slip_neg, sep, PHASE_THRESHOLD),
-        y_tip_min_m=float(stats[1]),
-        y_tip_max_m=float(stats[2]),
-        window_s=float(window_s),
-        previous_velocity_m_s=float(v_prev),
-        settled=settled,
+    return SchemeOutput(
+        velocity_m_s=float(v), previous_velocity_m_s=v_prev, phase_time=phase_time,
+        y_tip_min_m=float(stats[1]), y_tip_max_m=float(stats[2]), trace=trace,
+        window=Trace.from_array(full_a),
+        energy=_energy_balance(params, opts, work, stats) if opts.energy else None,
+        steps=n_steps, events=int(stats[3]), nfev=n_steps + int(stats[6]),
     )
 
 

@@ -153,11 +153,9 @@ def test_invalid_inputs_name_the_parameter(paper_params):
 
 
 def test_literal_fixed_band_scheme_depends_on_epsilon_where_ours_does_not(paper_params):
-    from contact.literal import simulate_literal
-
     ours = cached_run(200.0, 18.0)
     lit = [
-        simulate_literal(paper_params, 200.0, 18.0, eps_m_s=eps, mu_d_eff=ours.mu_d_eff)
+        simulate(paper_params, 200.0, 18.0, method="literal", stick_band_m_s=eps).steady
         for eps in (1e-10, 1e-4)
     ]
     # with the paper's eps = 1e-10 a fixed step jumps over the stick band: no stick at all

@@ -96,10 +96,11 @@ def test_report_numbers_match_the_cli(report):
 
 def test_a_failed_report_leaves_nothing_half_written(tmp_path, monkeypatch):
     from validation import report as rep
+    from validation.output_set import output_set
 
     out = tmp_path / "r"
-    out.mkdir()
-    (out / "index.md").write_text("earlier report")
+    with output_set(out, "report") as stage:  # an earlier report, marked as lusm's
+        (stage / "index.md").write_text("earlier report")
 
     def boom(out_dir, quick, progress):
         (out_dir / "figures" / "half.png").write_bytes(b"partial")

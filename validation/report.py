@@ -227,7 +227,6 @@ def _fe_figure(points, out: Path) -> Path:
 
 
 def _speed(params: dict, out: Path, quick: bool, progress: bool):
-    from contact.reference import reference_simulate
     from contact.simulate import simulate
     from validation.work_precision import contact_work_precision, fe_work_precision
 
@@ -248,7 +247,7 @@ def _speed(params: dict, out: Path, quick: bool, progress: bool):
     times = [simulate(p, 200.0, 14.0, duration_s=dur).wall_time_s for _ in range(5)]
     t_kernel = float(np.median(times))
     r = simulate(p, 200.0, 14.0, duration_s=dur)
-    ref = reference_simulate(p, 200.0, 14.0, duration_s=dur, mu_d_eff=r.mu_d_eff)
+    ref = simulate(p, 200.0, 14.0, duration_s=dur, method="reference")
     st.say("timing")
     st.close()
     wp_png = _work_precision_figure(pts, out / "figures" / "work_precision_contact.png")
@@ -260,9 +259,9 @@ def _speed(params: dict, out: Path, quick: bool, progress: bool):
           f"One {dur * 1e3:g} ms run at 200 V / 14 N, dt = 1e-7 s "
           f"({r.steps} steps, {r.events} switches): **{t_kernel * 1e3:.1f} ms** (median of 5, "
           f"A_N pre-pass included); the event-driven `solve_ivp` reference (DOP853, rtol 1e-10): "
-          f"**{ref.wall_time_s:.2f} s** ({ref.n_steps} steps, {ref.nfev} evaluations), i.e. "
+          f"**{ref.wall_time_s:.2f} s** ({ref.steps} steps, {ref.nfev} evaluations), i.e. "
           f"**{ref.wall_time_s / t_kernel:.0f}x** slower; velocities "
-          f"{r.steady.velocity_m_s:.8g} vs {ref.velocity_m_s:.8g} m/s.", "",
+          f"{r.steady.velocity_m_s:.8g} vs {ref.steady.velocity_m_s:.8g} m/s.", "",
           "Errors against `solve_ivp` with events at rtol 1e-11 (reference figures in "
           "`report.json`). The paper's literal scheme (RK4, mode fixed per step from the stick "
           "band) is shown for contrast: with eps = 1e-10 it never enters stick.", ""]

@@ -13,8 +13,6 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from contact.literal import simulate_literal
-from contact.reference import reference_simulate
 from contact.simulate import simulate
 from rom.params import MotorParams
 
@@ -80,42 +78,41 @@ def contact_work_precision(
     say = progress or (lambda _m: None)
     points: list[PrecisionPoint] = []
     refs: dict = {}
-    simulate(params, 200.0, 14.0, frequency_Hz, duration_s=10 / frequency_Hz)  # JIT warm-up
-    simulate_literal(params, 200.0, 14.0, frequency_Hz, duration_s=10 / frequency_Hz)
+    for method in ("event", "literal"):  # JIT warm-up
+        simulate(params, 200.0, 14.0, frequency_Hz, duration_s=10 / frequency_Hz, method=method)
     for v, f in cases:
         case = f"{v:g} V / {f:g} N"
-        say(f"reference {case}")
-        mu = simulate(params, v, f, frequency_Hz, duration_s=duration_s).mu_d_eff
-        ref = reference_simulate(params, v, f, frequency_Hz, duration_s, mu_d_eff=mu,
-                                 rtol=1e-11)
-        refs[case] = {"velocity_m_s": ref.velocity_m_s, "stick_fraction": ref.stick_fraction,
-                      "steps": ref.n_steps, "nfev": ref.nfev, "events": ref.n_events,
-                      "wall_time_s": ref.wall_time_s}
 
-        def point(method: str, setting: str, vel: float, stick: float, wall: float,
-                  case: str = case, ref=ref) -> PrecisionPoint:
-            return PrecisionPoint(method, case, setting,
-                                  abs(vel - ref.velocity_m_s) / max(abs(ref.velocity_m_s), 1e-9),
-                                  abs(stick - ref.stick_fraction), wall)
+        def run(method: str, v: float = v, f: float = f, **kw):
+            return simulate(params, v, f, frequency_Hz, duration_s=duration_s, method=method,
+                            **kw)
+
+        say(f"reference {case}")
+        ref = run("reference", rtol=1e-11)
+        refs[case] = {"velocity_m_s": ref.steady.velocity_m_s,
+                      "stick_fraction": ref.steady.stick_fraction, "steps": ref.steps,
+                      "nfev": ref.nfev, "events": ref.events, "wall_time_s": ref.wall_time_s}
+
+        def point(label: str, setting: str, r, case: str = case, ref=ref) -> PrecisionPoint:
+            v_ref = ref.steady.velocity_m_s
+            return PrecisionPoint(
+                label, case, setting,
+                abs(r.steady.velocity_m_s - v_ref) / max(abs(v_ref), 1e-9),
+                abs(r.steady.stick_fraction - ref.steady.stick_fraction), r.wall_time_s)
 
         say(f"event-located kernel {case}")
         for dt in dts:
-            r = simulate(params, v, f, frequency_Hz, duration_s=duration_s, dt_s=dt)
             points.append(point("event-located (numba)", f"dt = {dt:.3g} s",
-                                r.steady.velocity_m_s, r.steady.stick_fraction, r.wall_time_s))
+                                run("event", dt_s=dt)))
         say(f"literal scheme {case}")
         for eps in literal_eps:
             for dt in literal_dts:
-                r = simulate_literal(params, v, f, frequency_Hz, duration_s, dt, eps, mu)
                 points.append(point(f"literal RK4, eps = {eps:g}", f"dt = {dt:.3g} s",
-                                    r.velocity_m_s, r.stick_fraction, r.wall_time_s))
+                                    run("literal", dt_s=dt, stick_band_m_s=eps)))
         say(f"solve_ivp {case}")
         for rtol in rtols:
-            t0 = time.perf_counter()
-            r = reference_simulate(params, v, f, frequency_Hz, duration_s, mu_d_eff=mu,
-                                   rtol=rtol)
             points.append(point("solve_ivp events (DOP853)", f"rtol = {rtol:g}",
-                                r.velocity_m_s, r.stick_fraction, time.perf_counter() - t0))
+                                run("reference", rtol=rtol)))
     return points, refs
 
 

@@ -1,4 +1,4 @@
-"""numba kernels of the contact stage: plain arrays and floats in, plain arrays out.
+"""The event-located switch-model kernel (numba): plain arrays and floats in and out.
 
 The integrator advances the piecewise-linear hybrid system of :mod:`contact.model` on a fixed
 time grid with the exact propagator ``expm(A_m dt)`` of the current mode. When a switching
@@ -10,7 +10,7 @@ new mode. So the mode is state carried between steps, the stick band of the pape
 needed, and the only time-step dependence left is roundoff and the resolution of events that
 are closer together than a step.
 
-The thin typed wrapper is :func:`contact.simulate.simulate`.
+The thin typed wrapper is :func:`contact.simulate.simulate` with ``method="event"``.
 """
 
 from __future__ import annotations
@@ -595,92 +595,3 @@ def integrate_switch_model(
     stats[6] = counter[0]
     stats[5] = stored_energy(z, mode, fn_m, scalars)
     return status, fail_step, trace, full, phase_time, work, stats, z, mode
-
-
-@njit(cache=True)
-def _literal_rhs(t, y, mode, fs_sign, p, out):
-    """Right-hand side of the paper's switch model in one of its modes (frozen per step).
-
-    ``p = [M_l, C_l, K_l, A_l V0, M_b, C_b, K_b, A_b V0, gamma_T, M, mu_s, mu_d, mu_sd, Mg,
-    k, F_P, dphi_L, u_st, eta_N, phi_Bl, omega]``; ``mode`` 0 stick, 1 transition, 2 slip,
-    3 separation; ``fs_sign`` the slip or transition direction.
-    """
-    s = np.sin(p[20] * t)
-    fn = p[15] + p[14] * (p[16] * y[0] - p[17])
-    if mode == 3 or fn <= 0.0:
-        fn = 0.0
-    ng = fn + p[13]
-    ff = 0.0
-    if y[5] > 0.0:
-        ff = -p[12] * ng
-    elif y[5] < 0.0:
-        ff = p[12] * ng
-    if mode == 0:
-        num = p[19] / p[4] * (p[5] * y[3] + p[6] * y[2] - p[7] * s) + ff / p[9]
-        ft = num / (p[19] * p[8] / p[4] - 1.0 / p[9])  # Eq. 10
-    elif mode == 1:
-        ft = fs_sign * p[10] * fn  # Eqs. 14-15
-    elif mode == 2:
-        ft = fs_sign * p[11] * fn  # Eqs. 16-17
-    else:
-        ft = 0.0  # Eqs. 18-19
-    out[0] = y[1]
-    out[1] = (-p[2] * y[0] - p[1] * y[1] + p[3] * s + p[18] * fn) / p[0]
-    out[2] = y[3]
-    out[3] = (-p[6] * y[2] - p[5] * y[3] + p[7] * s + p[8] * ft) / p[4]
-    out[4] = y[5]
-    out[5] = (ft + ff) / p[9]
-    return ft
-
-
-@njit(cache=True, nogil=True)
-def integrate_literal_switch(y0, n_steps, dt, p, eps, win_start):
-    """The paper's switch model taken literally: RK4, mode chosen at each step start.
-
-    Stick when ``|v_rel| <= eps`` and ``|F_s| <= mu_s F_N``, transition when
-    ``|v_rel| <= eps`` and ``|F_s| > mu_s F_N``, slip otherwise, separation when F_N <= 0
-    (Section 3.2). Returns ``(y_end, x_at_window_start, steps_per_mode[4])`` with the mode
-    counts over the window.
-    """
-    y = y0.copy()
-    k1 = np.empty(6)
-    k2 = np.empty(6)
-    k3 = np.empty(6)
-    k4 = np.empty(6)
-    yt = np.empty(6)
-    counts = np.zeros(4)
-    x_win = y[4] if win_start == 0 else 0.0
-    for n in range(n_steps):
-        t = n * dt
-        fn = p[15] + p[14] * (p[16] * y[0] - p[17])
-        v_rel = p[19] * y[3] - y[5]
-        fs_sign = 1.0
-        if fn <= 0.0:
-            mode = 3
-        elif abs(v_rel) <= eps:
-            fs = _literal_rhs(t, y, 0, 1.0, p, k1)
-            if abs(fs) <= p[10] * fn:
-                mode = 0
-            else:
-                mode = 1
-                fs_sign = 1.0 if fs > 0.0 else -1.0
-        else:
-            mode = 2
-            fs_sign = 1.0 if v_rel > 0.0 else -1.0
-        _literal_rhs(t, y, mode, fs_sign, p, k1)
-        for i in range(6):
-            yt[i] = y[i] + 0.5 * dt * k1[i]
-        _literal_rhs(t + 0.5 * dt, yt, mode, fs_sign, p, k2)
-        for i in range(6):
-            yt[i] = y[i] + 0.5 * dt * k2[i]
-        _literal_rhs(t + 0.5 * dt, yt, mode, fs_sign, p, k3)
-        for i in range(6):
-            yt[i] = y[i] + dt * k3[i]
-        _literal_rhs(t + dt, yt, mode, fs_sign, p, k4)
-        for i in range(6):
-            y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-        if n >= win_start:
-            counts[mode] += 1.0
-        if n + 1 == win_start:
-            x_win = y[4]
-    return y, x_win, counts

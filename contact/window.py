@@ -1,0 +1,85 @@
+"""The time grid of a run and where its steady-state windows lie, shared by every scheme."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from contact.model import OperatingPoint
+
+MIN_PERIODS = 10
+"""Shortest run accepted, in drive periods."""
+
+
+@dataclass(frozen=True)
+class RunWindow:
+    """Steps of a run and its two measuring windows.
+
+    Attributes
+    ----------
+    dt_s : float
+        Time step (s) of the fixed-step schemes (and the grid every scheme measures on).
+    n_steps : int
+        Steps of length ``dt_s``; the run ends at ``n_steps * dt_s`` (s).
+    window_periods : int
+        Length of the steady-state window in drive periods.
+    win_start : int
+        First step of the steady-state window (the last ``window_periods`` periods).
+    """
+
+    dt_s: float
+    n_steps: int
+    window_periods: int
+    win_start: int
+
+    @property
+    def end_s(self) -> float:
+        """End of the run (s)."""
+        return self.n_steps * self.dt_s
+
+    @property
+    def window_start_s(self) -> float:
+        """Start of the steady-state window (s)."""
+        return self.win_start * self.dt_s
+
+    @property
+    def window_s(self) -> float:
+        """Length of the steady-state window (s)."""
+        return (self.n_steps - self.win_start) * self.dt_s
+
+    @property
+    def previous_end_s(self) -> float:
+        """End of the earlier window, at least a fifth of the run before the end (s)."""
+        return self.end_s - max(self.window_s, 0.2 * self.end_s)
+
+    @property
+    def previous_start_s(self) -> float:
+        """Start of the earlier window (s); negative when the run is too short for one."""
+        return self.previous_end_s - self.window_s
+
+
+def check_time_step(op: OperatingPoint, duration_s: float, dt_s: float) -> int:
+    """Validate ``dt_s`` and ``duration_s`` for a drive frequency; return the number of steps."""
+    dt_max = op.period_s / 20.0
+    if dt_s > dt_max * (1 + 1e-12):
+        raise ValueError(
+            f"dt_s must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at f = {op.frequency_Hz:g} Hz, "
+            f"got {dt_s!r}"
+        )
+    min_duration = MIN_PERIODS * op.period_s
+    if duration_s < min_duration * (1 - 1e-12):
+        raise ValueError(
+            f"duration_s must be >= {MIN_PERIODS} drive periods = {min_duration:.4g} s, "
+            f"got {duration_s!r}"
+        )
+    return int(round(duration_s / dt_s))
+
+
+def run_window(op: OperatingPoint, duration_s: float, dt_s: float,
+               steady_periods: int) -> RunWindow:
+    """The grid and windows of a run: the last ``steady_periods`` periods (at most half)."""
+    n_steps = check_time_step(op, duration_s, dt_s)
+    steps_per_period = op.period_s / dt_s
+    win_periods = min(int(steady_periods), max(1, int((n_steps / steps_per_period) // 2)))
+    win_steps = int(round(win_periods * steps_per_period))
+    return RunWindow(dt_s=float(dt_s), n_steps=n_steps, window_periods=win_periods,
+                     win_start=n_steps - win_steps)
