@@ -248,7 +248,7 @@ def test_cli_geometry(tmp_path, capsys):
     assert main(["modes", "--geometry", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "length_mm" in err
-    assert main(["params", "--geometry", str(path)]) == 2
+    assert main(["params", "--source", "table2", "--geometry", str(path)]) == 2
     assert "--source fem" in capsys.readouterr().err
 
 
