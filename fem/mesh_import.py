@@ -46,9 +46,9 @@ MAX_COORDINATE_M = 1.0
 """Coordinates beyond this (m) are refused: a millimetre mesh read as metres, or a stator
 beyond the 1 m the tool accepts."""
 
-MIN_EXTENT_M = 1e-5
+MIN_EXTENT_M = 1e-4
 """A planform smaller than this (m) is refused: a metre mesh declared ``unit = "mm"``, or a
-stator below the 10 um the tool accepts."""
+stator below the 0.1 mm the tool accepts."""
 
 MAX_CELLS = 200_000
 """Largest mesh (quads after splitting triangles) accepted; the environment variable
@@ -498,7 +498,7 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     extent = float(np.max(np.ptp(up, axis=0)))
     if extent < MIN_EXTENT_M:
         hint = ('this looks like metres; set unit = "m" in the [mesh] table'
-                if unit == "mm" else "a stator is at least 10 um")
+                if unit == "mm" else "a stator is at least 0.1 mm")
         raise ValueError(
             f"mesh file {path}: the planform spans only {extent:g} m (unit {unit!r}), below "
             f"the {MIN_EXTENT_M:g} m limit; {hint}"

@@ -54,9 +54,9 @@ from fem.mesh import PlateMesh
 MM = 1e-3
 """One millimetre in metres."""
 
-PLATE_RANGE_MM = (0.01, 1000.0)
+PLATE_RANGE_MM = (0.1, 1000.0)
 """Allowed plate length, width and thickness (mm), the same as the ``lusm`` plate options
-(``validation.limits.PLATE_MM``): a continuum plate of 10 um to 1 m."""
+(``validation.limits.PLATE_MM``): a plate of 0.1 mm to 1 m."""
 
 _KEYS: dict[str, tuple[str, ...]] = {
     "": ("name", "plate", "electrodes", "material", "points", "mesh"),

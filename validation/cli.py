@@ -98,9 +98,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args, extra = parser.parse_known_args(argv)
     except SystemExit as exc:  # argparse's one-line error (2) or --help (0): a return code
         return exc.code if isinstance(exc.code, int) else 2
+    if extra:  # named by the sub-command, not by the top-level parser
+        print(f"lusm {args.command}: error: unrecognized arguments: {' '.join(extra)}",
+              file=sys.stderr)
+        return 2
     set_command(args.command)
     prog = f"lusm {args.command}"
     previous = None
@@ -109,6 +113,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ValueError:  # not the main thread (e.g. called from a worker): keep the default
         pass
     try:
+        from validation.limits import work_factor
+
+        work_factor()  # a bad LUSM_MAX_WORK is refused before any command runs
         args.func(args)
     except (KeyboardInterrupt, Terminated):
         print(f"{prog}: interrupted", file=sys.stderr)

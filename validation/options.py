@@ -100,7 +100,10 @@ def integer(option: str, lo: int, hi: int | None = None, work: bool = False):
             value = int(text)
         except ValueError:
             value = None
-        top = None if hi is None else (limits.work_bound(hi) if work else hi)
+        try:
+            top = None if hi is None else (limits.work_bound(hi) if work else hi)
+        except ValueError as exc:  # a bad LUSM_MAX_WORK
+            raise argparse.ArgumentTypeError(str(exc)) from None
         if value is None or value < lo or (top is not None and value > top):
             rng = f"[{lo}, {top}]" if top is not None else f">= {lo}"
             hint = f" ({limits.more_work_hint()})" if work and value is not None and (
