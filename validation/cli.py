@@ -53,6 +53,12 @@ class _Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = _NEGATIVE_NUMBER
 
+    def _get_values(self, action, arg_strings):  # noqa: D102 - argparse API
+        # argparse drops a "--" value (--voltage=--) and hands the option an empty list
+        if action.nargs is None and action.option_strings and arg_strings == ["--"]:
+            self.error(f"argument {action.option_strings[0]}: expected a value, got '--'")
+        return super()._get_values(action, arg_strings)
+
     def error(self, message: str) -> None:  # noqa: D102 - argparse API
         # our argument types name their option already: "argument --dt: --dt must ..." -> once
         message = re.sub(r"^argument (\S+): \1 ", r"\1 ", message)

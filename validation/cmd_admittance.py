@@ -63,7 +63,13 @@ def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
     from validation.cmd_modes import fe_failure
     from validation.errors import LusmError
-    from validation.options import figure_set, folder_arg, moved, stator_from_args
+    from validation.options import (
+        check_fe_size,
+        figure_set,
+        folder_arg,
+        moved,
+        stator_from_args,
+    )
 
     out = folder_arg(args.out, "--out")
     if out is not None:
@@ -80,6 +86,7 @@ def run(args: argparse.Namespace) -> None:
     from fem.modes import DEFAULT_REFINE, ModeSolverError
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
+    check_fe_size(choice.stator, refine)
     try:
         res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                args.points, electrodes=electrodes, zeta=args.zeta,

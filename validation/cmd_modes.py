@@ -58,13 +58,17 @@ def check_refine_3d(refine: int | None) -> None:
 
 def fe_failure(exc: Exception) -> ValueError:
     """A mode-solver or sparse-solver failure on an extreme plate, as bad input."""
-    return ValueError(f"the FE solve failed for this stator ({exc}); check the plate "
-                      "dimensions and --refine")
+    import re
+
+    text = re.sub(r"\[[^\]]{60,}\]", "[...]", " ".join(str(exc).split()))
+    return ValueError(f"the FE solve failed for this stator ({text}); check the plate "
+                      "(--geometry or --length-mm, --width-mm, --thickness-mm, --gap-mm) "
+                      "and --refine")
 
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm modes`` with parsed ``args``."""
-    from validation.options import stator_from_args
+    from validation.options import check_fe_size, stator_from_args
 
     choice = stator_from_args(args)
     stator, material = choice.stator, choice.material
@@ -76,13 +80,17 @@ def run(args: argparse.Namespace) -> None:
     from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
+    if args.model == "3d":
+        from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+
+        check_refine_3d(args.refine)
+        refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
+        layers = DEFAULT_LAYERS if args.layers is None else args.layers
+        check_fe_size(stator, refine, layers)
+    else:
+        check_fe_size(stator, refine)
     try:
         if args.model == "3d":
-            from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
-
-            check_refine_3d(args.refine)
-            refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
-            layers = DEFAULT_LAYERS if args.layers is None else args.layers
             res = solid_modes(stator, material, args.order, refine, layers)
         else:
             res = plate_modes(stator, material, args.order, refine)

@@ -33,7 +33,7 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
-    from validation.options import figure_set, moved, stator_from_args
+    from validation.options import check_fe_size, figure_set, moved, stator_from_args
     from validation.output_set import check_target
 
     out = folder_arg(args.out, "--out")
@@ -45,6 +45,7 @@ def run(args: argparse.Namespace) -> None:
     from fem.render import render_modes
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
+    check_fe_size(choice.stator, refine)
     try:
         modes = plate_modes(choice.stator, choice.material, args.order, refine)
     except (ModeSolverError, RuntimeError) as exc:

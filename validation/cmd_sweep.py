@@ -124,7 +124,10 @@ def run(args: argparse.Namespace) -> None:
     if base.electrode_gap_m >= smallest:
         raise LusmError(f"{option} {text}: the electrode gap {base.electrode_gap_m * 1e3:g} mm "
                         "must stay below every swept length and width", option)
-    replace(base, **{f"{parameter}_m": float(values_mm.min() * 1e-3)})  # validates
+    from validation.options import check_fe_size
+
+    for v in (values_mm.min(), values_mm.max()):  # the most elongated plates of the sweep
+        check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}), args.refine)
 
     from fem.sweep import plot_sweep, sweep_dimension
 

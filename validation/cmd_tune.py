@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> None:
     """Run ``lusm tune`` with parsed ``args``."""
     from validation.cmd_modes import check_refine_3d, fe_failure
     from validation.errors import LusmError
-    from validation.options import stator_from_args
+    from validation.options import check_fe_size, stator_from_args
 
     choice = stator_from_args(args)
     if choice.meshed:
@@ -47,6 +47,9 @@ def run(args: argparse.Namespace) -> None:
                         "--geometry")
     if args.model == "3d":
         check_refine_3d(args.refine)
+        check_fe_size(choice.stator, args.refine or 3, 3)
+    else:
+        check_fe_size(choice.stator, args.refine)
 
     from fem.modes import ModeSolverError
     from fem.tuning import tune_plate

@@ -62,6 +62,11 @@ MAX_REFINE_2D = 48
 """``--refine`` of the 2D model (default 4; 48 gives ~1e5 unknowns)."""
 MAX_REFINE_3D = 12
 """``--refine`` of the 3D model (default 3)."""
+MAX_FE_CELLS_2D = 20_000
+"""Elements of a generated 2D plate mesh (the default plate at --refine 48 has 9 700); long,
+narrow plates need many elements at a given --refine."""
+MAX_FE_CELLS_3D = 5_000
+"""Bricks of a generated 3D mesh (planform elements x layers; the default has 195)."""
 MAX_LAYERS = 16
 """``--layers`` of the 3D model (default 3)."""
 MAX_FREQUENCY_POINTS = 200_000

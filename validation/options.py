@@ -172,11 +172,14 @@ class StatorChoice:
         return self.design is not None and self.design.mesh_path is not None
 
 
-def check_plate_mm(length: float, width: float, thickness: float, gap: float) -> None:
+def check_plate_mm(length: float, width: float, thickness: float, gap: float,
+                   gap_given: bool = True) -> None:
     """Refuse an electrode gap that eats the plate; warn outside plane stress's validity."""
     if gap >= min(length, width):
-        raise LusmError(f"--gap-mm must be below the plate's length and width "
-                        f"(min {min(length, width):g} mm), got {gap:g}", "--gap-mm")
+        which = "--gap-mm" if gap_given else f"the default --gap-mm {gap:g}"
+        raise LusmError(f"{which} must be below the plate's --length-mm and --width-mm "
+                        f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
+                        "--gap-mm", "--gap-mm")
     ratio = thickness / min(length, width)
     if ratio > limits.PLANE_STRESS_RATIO:
         warn(f"--thickness-mm {thickness:g} is {ratio:.3g} x the plate's smaller in-plane "
@@ -208,11 +211,40 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
         return StatorChoice(st, design.material, design)
     mm = {o: getattr(args, o[2:].replace("-", "_"), None) for o in PLATE_OPTIONS}
     mm = {o: PLATE_DEFAULTS_MM[o] if v is None else v for o, v in mm.items()}
-    check_plate_mm(mm["--length-mm"], mm["--width-mm"], mm["--thickness-mm"], mm["--gap-mm"])
+    check_plate_mm(mm["--length-mm"], mm["--width-mm"], mm["--thickness-mm"], mm["--gap-mm"],
+                   gap_given=getattr(args, "gap_mm", None) is not None)
     stator = PlateStator(length_m=mm["--length-mm"] * 1e-3, width_m=mm["--width-mm"] * 1e-3,
                          thickness_m=mm["--thickness-mm"] * 1e-3,
                          electrode_gap_m=mm["--gap-mm"] * 1e-3)
     return StatorChoice(stator, get_material(getattr(args, "material", None) or "pzt8"))
+
+
+def check_fe_size(stator, refine: int | None, layers: int | None = None,
+                  option: str = "--refine") -> int:
+    """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
+
+    The count is exact for the generated plate (``fem.mesh.grid_lines_m``) and is the file's
+    for a stator with its own mesh (bounded when it is read). ``layers`` selects the 3D count.
+    """
+    if getattr(stator, "mesh", None) is not None:
+        n = int(stator.mesh.quads.shape[1])
+    else:
+        from fem.mesh import grid_lines_m
+        from fem.modes import DEFAULT_REFINE
+
+        x, y = grid_lines_m(stator, DEFAULT_REFINE if refine is None else refine)
+        n = (len(x) - 1) * (len(y) - 1)
+    if layers is not None:
+        n *= layers
+        top, what = limits.work_bound(limits.MAX_FE_CELLS_3D), "3D bricks"
+    else:
+        top, what = limits.work_bound(limits.MAX_FE_CELLS_2D), "2D elements"
+    if n > top:
+        shape = (f"{stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} mm plate")
+        raise LusmError(f"{option}: the {shape} needs {n} {what} here, above the limit {top}; "
+                        f"lower {option}{' or --layers' if layers else ''} or make the plate "
+                        f"less elongated ({limits.more_work_hint()})", option)
+    return n
 
 
 def load_design(path: str | Path):
