@@ -61,7 +61,7 @@ def _electrodes(text: str | None) -> tuple[int, ...] | None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
-    from validation.cmd_modes import fe_failure
+    from validation.cmd_modes import fe_failure, is_fe_failure
     from validation.errors import LusmError
     from validation.options import (
         check_fe_size,
@@ -91,8 +91,10 @@ def run(args: argparse.Namespace) -> None:
         res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                args.points, electrodes=electrodes, zeta=args.zeta,
                                order=args.order, refine=refine)
-    except (ModeSolverError, RuntimeError) as exc:
-        raise fe_failure(exc) from exc
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
     png = None
     if out is not None:
         with figure_set(out, "admittance", "--out", args.force) as stage:

@@ -56,6 +56,13 @@ def check_refine_3d(refine: int | None) -> None:
                         f"{refine} ({limits.more_work_hint()})", "--refine")
 
 
+def is_fe_failure(exc: BaseException) -> bool:
+    """A solver failure an extreme stator can cause (not a bug): the mode solver's or SuperLU's
+    ``RuntimeError``, or scikit-fem's point search giving up (a bare ``Exception``)."""
+    return isinstance(exc, RuntimeError) or (
+        type(exc) is Exception and "Newton iteration didn't converge" in str(exc))
+
+
 def fe_failure(exc: Exception) -> ValueError:
     """A mode-solver or sparse-solver failure on an extreme plate, as bad input."""
     import re
@@ -94,8 +101,10 @@ def run(args: argparse.Namespace) -> None:
             res = solid_modes(stator, material, args.order, refine, layers)
         else:
             res = plate_modes(stator, material, args.order, refine)
-    except (ModeSolverError, RuntimeError) as exc:
-        raise fe_failure(exc) from exc
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
     if export is not None:
         from fem.model import plate_model
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from validation.cmd_modes import add_fe_options, fe_failure
+from validation.cmd_modes import add_fe_options, fe_failure, is_fe_failure
 from validation.options import add_output_options, add_plate_options, folder_arg
 
 
@@ -48,8 +48,10 @@ def run(args: argparse.Namespace) -> None:
     check_fe_size(choice.stator, refine)
     try:
         modes = plate_modes(choice.stator, choice.material, args.order, refine)
-    except (ModeSolverError, RuntimeError) as exc:
-        raise fe_failure(exc) from exc
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
     model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
     with figure_set(out, "render", "--out", args.force) as stage:

@@ -131,8 +131,15 @@ def run(args: argparse.Namespace) -> None:
 
     from fem.sweep import plot_sweep, sweep_dimension
 
-    res = sweep_dimension(parameter, values_mm * 1e-3, base, material, order=args.order,
-                          refine=args.refine, progress=not args.json)
+    from validation.cmd_modes import fe_failure, is_fe_failure
+
+    try:
+        res = sweep_dimension(parameter, values_mm * 1e-3, base, material, order=args.order,
+                              refine=args.refine, progress=not args.json)
+    except Exception as exc:
+        if is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
     png = None
     if out is not None:
         with figure_set(out, "sweep", "--out", args.force) as stage:

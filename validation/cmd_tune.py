@@ -36,7 +36,7 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm tune`` with parsed ``args``."""
-    from validation.cmd_modes import check_refine_3d, fe_failure
+    from validation.cmd_modes import check_refine_3d, fe_failure, is_fe_failure
     from validation.errors import LusmError
     from validation.options import check_fe_size, stator_from_args
 
@@ -58,8 +58,10 @@ def run(args: argparse.Namespace) -> None:
         d = tune_plate(args.target_frequency, fix=args.fix, material=choice.material,
                        start=choice.stator, model=args.model, order=args.order,
                        refine=args.refine)
-    except (ModeSolverError, RuntimeError) as exc:
-        raise fe_failure(exc) from exc
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
     if args.json:
         print_json(d.to_dict())
         return

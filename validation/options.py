@@ -274,11 +274,19 @@ def fem_params_of(args: argparse.Namespace, source: str | None):
         if source not in (None, "fem"):
             raise LusmError(f"{what} needs --source fem, got --source {source}", "--source")
         choice = stator_from_args(args)  # checks the options and the file first
+        check_fe_size(choice.stator, None)
         from rom.from_fem import fem_params, fem_params_from_file
 
-        if choice.design is not None:
-            return fem_params_from_file(args.geometry)
-        return fem_params(choice.stator, choice.material)
+        try:
+            if choice.design is not None:
+                return fem_params_from_file(args.geometry)
+            return fem_params(choice.stator, choice.material)
+        except Exception as exc:  # mode solver, factorisation, point search on extreme plates
+            from validation.cmd_modes import fe_failure, is_fe_failure
+
+            if is_fe_failure(exc):
+                raise fe_failure(exc) from exc
+            raise
     from rom.sources import get_params
 
     return get_params(source or "table2")
