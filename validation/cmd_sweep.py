@@ -130,7 +130,6 @@ def run(args: argparse.Namespace) -> None:
         check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}), args.refine)
 
     from fem.sweep import plot_sweep, sweep_dimension
-
     from validation.cmd_modes import fe_failure, is_fe_failure
 
     try:
