@@ -65,6 +65,7 @@ def run(args: argparse.Namespace) -> None:
     from validation.errors import LusmError
     from validation.options import (
         check_fe_size,
+        check_output_folder,
         figure_set,
         folder_arg,
         moved,
@@ -73,9 +74,7 @@ def run(args: argparse.Namespace) -> None:
 
     out = folder_arg(args.out, "--out")
     if out is not None:
-        from validation.output_set import check_target
-
-        check_target(out, "admittance", "--out", args.force)
+        check_output_folder(out, "admittance", "--out", args.force)
     if not args.f_min < args.f_max:
         raise LusmError(f"--f-min must be below --f-max, got {args.f_min:g} and "
                         f"{args.f_max:g} Hz", "--f-min")

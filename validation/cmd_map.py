@@ -10,6 +10,7 @@ from validation.options import (
     add_drive_options,
     add_output_options,
     add_plate_options,
+    check_output_folder,
     check_run_size,
     fem_params_of,
     figure_set,
@@ -60,9 +61,7 @@ def run(args: argparse.Namespace) -> None:
     """Compute and print the map."""
     plot = folder_arg(args.plot, "--plot")
     if plot is not None:
-        from validation.output_set import check_target
-
-        check_target(plot, "map", "--plot", args.force)
+        check_output_folder(plot, "map", "--plot", args.force)
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
     warn_drive(float(volts.max()), float(loads.max()))

@@ -33,11 +33,15 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
-    from validation.options import check_fe_size, figure_set, moved, stator_from_args
-    from validation.output_set import check_target
-
+    from validation.options import (
+        check_fe_size,
+        check_output_folder,
+        figure_set,
+        moved,
+        stator_from_args,
+    )
     out = folder_arg(args.out, "--out")
-    check_target(out, "render", "--out", args.force)  # before any work
+    check_output_folder(out, "render", "--out", args.force)  # before any work
     choice = stator_from_args(args)
 
     from fem.model import plate_model

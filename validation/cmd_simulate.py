@@ -9,6 +9,7 @@ from validation.options import (
     add_drive_options,
     add_output_options,
     add_plate_options,
+    check_output_folder,
     check_run_size,
     fem_params_of,
     figure_set,
@@ -46,9 +47,7 @@ def run(args: argparse.Namespace) -> None:
     """Run one simulation and print its summary."""
     plot = folder_arg(args.plot, "--plot")
     if plot is not None:
-        from validation.output_set import check_target
-
-        check_target(plot, "simulate", "--plot", args.force)  # refuse before any work
+        check_output_folder(plot, "simulate", "--plot", args.force)  # refuse before any work
     warn_drive(args.voltage, args.preload)
     if args.frequency.strip().lower() != "auto":
         check_run_size(args.duration, args.dt, parse_frequency(args.frequency))

@@ -73,6 +73,7 @@ def run(args: argparse.Namespace) -> None:
 
     from validation.errors import LusmError
     from validation.options import (
+        check_output_folder,
         figure_set,
         folder_arg,
         load_design,
@@ -83,9 +84,7 @@ def run(args: argparse.Namespace) -> None:
 
     out = folder_arg(args.out, "--out")
     if out is not None:
-        from validation.output_set import check_target
-
-        check_target(out, "sweep", "--out", args.force)
+        check_output_folder(out, "sweep", "--out", args.force)
     try:
         parameter, option, text, fixed = _split(args)
     except _ap.ArgumentTypeError as exc:

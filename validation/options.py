@@ -413,6 +413,25 @@ def folder_arg(value: str | None, option: str) -> Path | None:
     return Path(value)
 
 
+def check_output_folder(target: Path, kind: str, option: str, force: bool = False) -> None:
+    """Refuse, before any work, an output folder the set could not be moved into or written.
+
+    :func:`validation.output_set.check_target` (a file, below a file, a non-empty folder lusm
+    did not write) plus: the nearest existing folder must be writable.
+    """
+    import os
+
+    from validation.output_set import OutputError, check_target
+
+    try:
+        check_target(target, kind, option, force)
+    except OutputError as exc:
+        raise LusmError(str(exc), option) from None
+    existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise LusmError(f"{option} {target}: the folder {existing} is not writable", option)
+
+
 @contextmanager
 def figure_set(target: Path, kind: str, option: str, force: bool = False) -> Iterator[Path]:
     """:func:`validation.output_set.output_set` with its failures as :class:`LusmError`."""
@@ -423,6 +442,9 @@ def figure_set(target: Path, kind: str, option: str, force: bool = False) -> Ite
             yield stage
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
+    except OSError as exc:  # a full disk, a folder made read-only meanwhile
+        raise LusmError(f"{option} {target}: cannot write ({exc.strerror or exc})",
+                        option) from None
 
 
 def moved(paths, stage: Path, target: Path) -> list[str]:
