@@ -393,3 +393,27 @@ def test_debug_env_shows_the_traceback():
                            "200", "--preload", "14", "--dt", "1e-13"], cwd=ROOT,
                           capture_output=True, text=True, env=env, timeout=120)
     assert proc.returncode != 0 and "Traceback" in proc.stderr
+
+
+def test_library_errors_are_mapped_to_the_option_that_sets_them():
+    from validation.errors import LusmError, user_error
+
+    e = user_error(ValueError("PlateStator.length_m must be a finite number > 0, got -1"))
+    assert isinstance(e, LusmError) and str(e).startswith("--length-mm: ")
+    assert user_error(ValueError("dt_s must be in (0, 1e-6] s")).option == "--dt"
+    assert user_error(ValueError("--voltage must be ...")).option is None  # already named
+    e = user_error(FileNotFoundError(2, "No such file or directory", "/x/y.png"))
+    assert str(e) == "cannot use /x/y.png: No such file or directory"
+    e = user_error(UnicodeDecodeError("utf-8", b"\xff", 0, 1, "invalid start byte"))
+    assert "UTF-8" in str(e) and "byte 0" in str(e)
+
+
+def test_an_export_is_moved_in_complete(tmp_path, capsys):
+    out = tmp_path / "new" / "m.vtu"
+    assert main(["modes", "--refine", "2", "--export", str(out)]) == 0
+    assert out.is_file() and sorted(p.name for p in out.parent.iterdir()) == ["m.vtu"]
+    capsys.readouterr()
+    assert main(["modes", "--refine", "2", "--export", str(out)]) == 2  # not overwritten
+    assert "already exists" in capsys.readouterr().err
+    assert main(["modes", "--refine", "2", "--export", str(out), "--force"]) == 0
+    assert sorted(p.name for p in out.parent.iterdir()) == ["m.vtu"]

@@ -108,7 +108,8 @@ def run(args: argparse.Namespace) -> None:
     if export is not None:
         from fem.model import plate_model
 
-        _write_export(export, plate_model(stator, material, args.order, refine), res)
+        _write_export(export, plate_model(stator, material, args.order, refine), res,
+                      args.force)
     L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
     if args.json:
         mat = material.to_dict()
@@ -177,20 +178,31 @@ def _export_target(text: str, force: bool):
     return path
 
 
-def _write_export(path, model, res) -> None:
-    """Write the export next to its target and move it in only when complete."""
+def _write_export(path, model, res, force: bool = False) -> None:
+    """Write the export (and any side file, e.g. the HDF5 of an .xdmf) in a staging folder
+    beside the target under its final name; move the files in only when all are written."""
     import os
+    import shutil
     import tempfile
 
     from fem.export import export_modes
+    from validation.errors import LusmError
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-partial-", suffix=path.suffix,
-                               dir=path.parent)
-    os.close(fd)
+    stage = tempfile.mkdtemp(prefix=f".{path.stem}-partial-", dir=path.parent)
     try:
-        export_modes(tmp, model, res)
-        os.replace(tmp, path)
+        staged = os.path.join(stage, path.name)
+        try:
+            export_modes(staged, model, res)
+        except (ValueError, OSError) as exc:  # name the user's file, not the staging one
+            raise LusmError(f"--export: {str(exc).replace(staged, str(path))}",
+                            "--export") from None
+        names = sorted(os.listdir(stage))
+        taken = [n for n in names if (path.parent / n).exists() and n != path.name]
+        if taken and not force:
+            raise LusmError(f"--export {path}: its side file {path.parent / taken[0]} already "
+                            "exists; choose a new name or pass --force", "--export")
+        for n in names:
+            os.replace(os.path.join(stage, n), path.parent / n)
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        shutil.rmtree(stage, ignore_errors=True)
