@@ -175,6 +175,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["--voltages", "[0, 2000] V"]),
     ("map-preloads-malformed", ["map", "--preloads", "a:b"], ["--preloads", "start:stop:step"]),
     ("map-preloads-negative", ["map", "--preloads=-1,2"], ["--preloads", "[0, 1000] N"]),
+    ("map-preloads-negative-separate", ["map", "--preloads", "-1,2"], ["--preloads"]),
+    ("map-voltages-negative-range", ["map", "--voltages", "-5:5:1"], ["--voltages"]),
     ("map-workers-negative", ["map", "--workers=-3"], ["--workers", "[1, 256]"]),
     ("map-workers-zero", ["map", "--workers", "0"], ["--workers"]),
     ("map-total-work", ["map", "--voltages", "0:400:1", "--preloads", "1:40:1"],

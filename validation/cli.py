@@ -40,10 +40,11 @@ DEBUG_ENV = "LUSM_DEBUG"
 """Set to 1 to see the traceback of an unexpected error."""
 
 # argparse takes "-1e-7" for an option (its own pattern knows only -1 and -1.5), so the user
-# gets "expected one argument"; accept every negative float as a value and let the option's
-# type give the real message.
+# gets "expected one argument"; accept every negative number, list or range ("-1e-7", "-1,2",
+# "-5:5:1") as a value and let the option's type give the real message. No option of lusm
+# starts with "-" and a digit.
 _NEGATIVE_NUMBER = re.compile(
-    r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+    r"^-(\d|\.\d)[\d.eE+\-:,]*$|^-(inf|infinity|nan)$", re.IGNORECASE)
 
 
 class _Parser(argparse.ArgumentParser):

@@ -208,6 +208,12 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
         if design.mesh_path is None:
             check_plate_mm(st.length_m * 1e3, st.width_m * 1e3, st.thickness_m * 1e3,
                            st.electrode_gap_m * 1e3)
+        else:  # the mesh's bounding box against the file's thickness
+            ratio = st.thickness_m / min(st.length_m, st.width_m)
+            if ratio > limits.PLANE_STRESS_RATIO:
+                warn(f"--geometry {path_name(args.geometry)}: thickness {st.thickness_m * 1e3:g} "
+                     f"mm is {ratio:.3g} x the mesh's smaller in-plane extent; the 2D "
+                     "plane-stress model assumes a thin plate; check with --model 3d")
         return StatorChoice(st, design.material, design)
     mm = {o: getattr(args, o[2:].replace("-", "_"), None) for o in PLATE_OPTIONS}
     mm = {o: PLATE_DEFAULTS_MM[o] if v is None else v for o, v in mm.items()}
@@ -245,6 +251,11 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
                         f"lower {option}{' or --layers' if layers else ''} or make the plate "
                         f"less elongated ({limits.more_work_hint()})", option)
     return n
+
+
+def path_name(path: str | Path) -> str:
+    """A path as the user typed it."""
+    return str(path)
 
 
 def load_design(path: str | Path):
