@@ -211,7 +211,7 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
         else:  # the mesh's bounding box against the file's thickness
             ratio = st.thickness_m / min(st.length_m, st.width_m)
             if ratio > limits.PLANE_STRESS_RATIO:
-                warn(f"--geometry {path_name(args.geometry)}: thickness {st.thickness_m * 1e3:g} "
+                warn(f"--geometry {args.geometry}: thickness {st.thickness_m * 1e3:g} "
                      f"mm is {ratio:.3g} x the mesh's smaller in-plane extent; the 2D "
                      "plane-stress model assumes a thin plate; check with --model 3d")
         return StatorChoice(st, design.material, design)
@@ -251,11 +251,6 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
                         f"lower {option}{' or --layers' if layers else ''} or make the plate "
                         f"less elongated ({limits.more_work_hint()})", option)
     return n
-
-
-def path_name(path: str | Path) -> str:
-    """A path as the user typed it."""
-    return str(path)
 
 
 def load_design(path: str | Path):
