@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import contextlib
 import io
+import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,7 +43,16 @@ UNITS = {"m": 1.0, "mm": 1e-3}
 """Mesh coordinate units accepted by :func:`read_stator_mesh` and their size in metres."""
 
 MAX_COORDINATE_M = 1.0
-"""Coordinates beyond this (m) are taken as a mesh drawn in millimetres."""
+"""Coordinates beyond this (m) are refused: a millimetre mesh read as metres, or a stator
+beyond the 1 m the tool accepts."""
+
+MIN_EXTENT_M = 1e-4
+"""A planform smaller than this (m) is refused: a metre mesh declared ``unit = "mm"``, or a
+stator below the 0.1 mm the tool accepts."""
+
+MAX_CELLS = 200_000
+"""Largest mesh (quads after splitting triangles) accepted; the environment variable
+``LUSM_MAX_WORK=N`` allows N times more (as for the other work bounds of ``lusm``)."""
 
 SURFACE_TYPES = ("quad", "triangle", "quad8", "quad9", "triangle6")
 """meshio cell types read as the planform."""
@@ -180,6 +191,142 @@ def quadrangulate(
     return np.concatenate(new_pts), np.concatenate(out), np.concatenate(out_tags)
 
 
+def _work_factor() -> float:
+    """``LUSM_MAX_WORK`` (>= 1; 1 when unset or invalid - the CLI reports invalid values)."""
+    try:
+        value = float(os.environ.get("LUSM_MAX_WORK", "") or 1.0)
+    except ValueError:
+        return 1.0
+    return value if math.isfinite(value) and value >= 1.0 else 1.0
+
+
+def _cells_text(ids: np.ndarray, limit: int = 6) -> str:
+    ids = np.unique(np.asarray(ids, dtype=np.int64))
+    text = ", ".join(str(int(i)) for i in ids[:limit])
+    return text + (f" and {ids.size - limit} more" if ids.size > limit else "")
+
+
+_CELL_NUMBERS = "(surface cells numbered from 0 in file order)"
+
+
+def _check_cells(pts: np.ndarray, tri: np.ndarray, quad: np.ndarray, id_tri: np.ndarray,
+                 id_quad: np.ndarray, path: Path, box_area: float) -> None:
+    """Refuse a planform that is not one valid, conforming, non-overlapping mesh.
+
+    Orients every cell counter-clockwise in place. Refused, naming the cells: zero-area cells;
+    non-convex or self-intersecting quads; duplicated cells; overlapping cells (an
+    edge used twice in one direction - a cell folded over its neighbour - or by more than two
+    cells); boundary edges that cross
+    or run into each other (overlaps, hanging nodes); parts that do not touch.
+    """
+    conns = [(c, i) for c, i in ((tri, id_tri), (quad, id_quad)) if c.shape[0]]
+    areas = [_signed_area(pts, c) for c, _ in conns]
+    tol = 1e-12 * box_area
+    bad = np.concatenate([i[np.abs(a) <= tol] for (c, i), a in zip(conns, areas, strict=True)])
+    if bad.size:
+        raise ValueError(f"mesh file {path} has degenerate (zero-area) cells {_cells_text(bad)} "
+                         f"{_CELL_NUMBERS}")
+    # Corner order alone is repaired (each cell made counter-clockwise); a cell that is really
+    # inverted or folded over its neighbour then traverses a shared edge in the same direction
+    # as that neighbour, which the edge check below refuses.
+    for (c, _), a in zip(conns, areas, strict=True):
+        c[a < 0] = c[a < 0, ::-1]
+    if quad.shape[0]:  # every corner of a quad must turn left (convex, not a bow tie)
+        p = pts[quad]
+        e1 = np.roll(p, -1, axis=1) - p
+        e0 = p - np.roll(p, 1, axis=1)
+        cross = e0[..., 0] * e1[..., 1] - e0[..., 1] * e1[..., 0]
+        concave = np.any(cross <= 1e-12 * box_area, axis=1)
+        if np.any(concave):
+            raise ValueError(f"mesh file {path} has non-convex or self-intersecting quads "
+                             f"{_cells_text(id_quad[concave])} {_CELL_NUMBERS}")
+    for c, i in conns:
+        key = np.sort(c, axis=1)
+        _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
+        if np.any(counts > 1):
+            _, inverse = np.unique(key, axis=0, return_inverse=True)
+            dup = i[np.isin(inverse.ravel(), np.flatnonzero(counts > 1))]
+            raise ValueError(f"mesh file {path} has duplicated cells {_cells_text(dup)} "
+                             f"{_CELL_NUMBERS}: the same corners appear more than once")
+    # directed edges: in a conforming, non-overlapping, consistently oriented mesh each
+    # appears once, and each undirected edge is used by at most two cells
+    edges = np.concatenate([np.stack((c, np.roll(c, -1, axis=1)), axis=-1).reshape(-1, 2)
+                            for c, _ in conns])
+    owner = np.concatenate([np.repeat(i, c.shape[1]) for c, i in conns])
+    _, inv_d, cnt_d = np.unique(edges, axis=0, return_inverse=True, return_counts=True)
+    inv_d = inv_d.ravel()
+    und = np.sort(edges, axis=1)
+    _, inv_u, cnt_u = np.unique(und, axis=0, return_inverse=True, return_counts=True)
+    inv_u = inv_u.ravel()
+    over = (cnt_d[inv_d] > 1) | (cnt_u[inv_u] > 2)
+    if np.any(over):
+        raise ValueError(f"mesh file {path} has overlapping (folded or inverted) cells "
+                         f"{_cells_text(owner[over])} {_CELL_NUMBERS}: an edge is shared the "
+                         "wrong way or by more than two cells")
+    boundary = cnt_u[inv_u] == 1
+    _check_boundary(pts, edges[boundary], owner[boundary], path)
+    # connectivity through shared nodes
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    n_cells = sum(c.shape[0] for c, _ in conns)
+    rows = np.concatenate([np.repeat(np.arange(c.shape[0]), c.shape[1]) + off for (c, _), off in
+                           zip(conns, np.cumsum([0] + [c.shape[0] for c, _ in conns])[:-1],
+                               strict=True)])
+    cols = np.concatenate([c.ravel() for c, _ in conns])
+    inc = coo_matrix((np.ones(rows.size), (rows, cols)),
+                     shape=(n_cells, pts.shape[0])).tocsr()
+    n_parts, label = connected_components(inc @ inc.T, directed=False)
+    if n_parts > 1:
+        ids = np.concatenate([i for _, i in conns])
+        sizes = np.bincount(label)
+        small = int(np.argmin(sizes))
+        raise ValueError(f"mesh file {path} has {n_parts} separate parts; cells "
+                         f"{_cells_text(ids[label == small])} {_CELL_NUMBERS} do not touch the "
+                         "rest of the stator")
+
+
+def _check_boundary(pts: np.ndarray, edges: np.ndarray, owner: np.ndarray, path: Path,
+                    max_edges: int = 20000) -> None:
+    """Boundary edges must not cross, and no boundary node may sit inside another edge."""
+    n = edges.shape[0]
+    if n < 2 or n > max_edges:
+        return
+    a, b = pts[edges[:, 0]], pts[edges[:, 1]]
+    scale = float(np.max(np.ptp(pts[np.unique(edges)], axis=0)))
+    eps = 1e-9 * scale
+
+    def orient(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (
+            q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+
+    chunk = max(1, 4_000_000 // n)
+    for s in range(0, n, chunk):
+        ai, bi = a[s:s + chunk, None, :], b[s:s + chunk, None, :]
+        aj, bj = a[None, :, :], b[None, :, :]
+        shared = (edges[s:s + chunk, None, :, None] == edges[None, :, None, :]).any(axis=(2, 3))
+        d1, d2 = orient(ai, bi, aj), orient(ai, bi, bj)
+        d3, d4 = orient(aj, bj, ai), orient(aj, bj, bi)
+        lens = np.hypot(*(bi - ai).transpose(2, 0, 1)) * np.hypot(*(bj - aj).transpose(2, 0, 1))
+        t = eps * lens / max(scale, 1e-300)
+        cross = (((d1 > t) & (d2 < -t)) | ((d1 < -t) & (d2 > t))) & (
+            ((d3 > t) & (d4 < -t)) | ((d3 < -t) & (d4 > t)))
+        # a node of edge j strictly inside edge i (collinear): a hanging node or an overlap
+        len2 = np.sum((bi - ai) ** 2, axis=-1)
+        margin = eps * np.sqrt(len2)
+        dot_a = np.sum((aj - ai) * (bi - ai), axis=-1)
+        dot_b = np.sum((bj - ai) * (bi - ai), axis=-1)
+        inside_a = (np.abs(d1) <= t) & (dot_a > margin) & (dot_a < len2 - margin)
+        inside_b = (np.abs(d2) <= t) & (dot_b > margin) & (dot_b < len2 - margin)
+        hit = (cross | inside_a | inside_b) & ~shared
+        if np.any(hit):
+            i, j = np.nonzero(hit)
+            cells = np.concatenate((owner[s + i], owner[j]))
+            raise ValueError(f"mesh file {path} has overlapping or non-conforming cells "
+                             f"{_cells_text(cells)} {_CELL_NUMBERS}: their boundary edges cross "
+                             "or meet inside an edge (every neighbour must share whole edges)")
+
+
 def read_meshio(path: Path):
     """``meshio.read`` with one error type (ValueError, FileNotFoundError) and no stdout."""
     import meshio
@@ -237,6 +384,8 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
 
     polys: dict[int, list[np.ndarray]] = {3: [], 4: []}
     poly_tags: dict[int, list[np.ndarray]] = {3: [], 4: []}
+    poly_ids: dict[int, list[np.ndarray]] = {3: [], 4: []}  # surface cell numbers, file order
+    n_surface = 0
     named_points: dict[str, tuple[float, float]] = {}
     types_found: list[str] = []
     for i, blk in enumerate(m.cells):
@@ -312,11 +461,15 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
             tag_arr[mask] = group
         polys[k].append(data)
         poly_tags[k].append(tag_arr)
+        poly_ids[k].append(np.arange(n_surface, n_surface + data.shape[0]))
+        n_surface += data.shape[0]
 
     tri = np.concatenate(polys[3]) if polys[3] else np.zeros((0, 3), dtype=np.int64)
     quad = np.concatenate(polys[4]) if polys[4] else np.zeros((0, 4), dtype=np.int64)
     t_tri = np.concatenate(poly_tags[3]) if poly_tags[3] else np.zeros(0, dtype=np.int64)
     t_quad = np.concatenate(poly_tags[4]) if poly_tags[4] else np.zeros(0, dtype=np.int64)
+    id_tri = np.concatenate(poly_ids[3]) if poly_ids[3] else np.zeros(0, dtype=np.int64)
+    id_quad = np.concatenate(poly_ids[4]) if poly_ids[4] else np.zeros(0, dtype=np.int64)
     if tri.shape[0] + quad.shape[0] == 0:
         found = sorted({blk.type for blk in m.cells})
         raise ValueError(
@@ -336,9 +489,27 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     if pts3.shape[1] > 2 and np.max(np.abs(pts3[used, 2])) * UNITS[unit] > 1e-9 * size:
         raise ValueError(f"mesh file {path} is not planar: z != 0 (a 2D mesh in z = 0 is needed)")
     if size > MAX_COORDINATE_M:
+        hint = ('this looks like millimetres; set unit = "mm" in the [mesh] table or scale the '
+                'mesh to metres') if unit == "m" else "a stator is at most 1 m"
         raise ValueError(
-            f"mesh file {path}: coordinates up to {size:g} m (unit {unit!r}) - this looks like "
-            f"millimetres; set unit = \"mm\" in the [mesh] table or scale the mesh to metres"
+            f"mesh file {path}: coordinates up to {size:g} m (unit {unit!r}), above the "
+            f"{MAX_COORDINATE_M:g} m limit; {hint}"
+        )
+    extent = float(np.max(np.ptp(up, axis=0)))
+    if extent < MIN_EXTENT_M:
+        hint = ('this looks like metres; set unit = "m" in the [mesh] table'
+                if unit == "mm" else "a stator is at least 0.1 mm")
+        raise ValueError(
+            f"mesh file {path}: the planform spans only {extent:g} m (unit {unit!r}), below "
+            f"the {MIN_EXTENT_M:g} m limit; {hint}"
+        )
+    factor = _work_factor()
+    n_quads = 3 * tri.shape[0] + (4 if tri.shape[0] else 1) * quad.shape[0]
+    if n_quads > MAX_CELLS * factor:
+        raise ValueError(
+            f"mesh file {path}: {n_quads} quads (after splitting triangles), above the limit "
+            f"{int(MAX_CELLS * factor)}; coarsen the mesh or set LUSM_MAX_WORK=N to allow N "
+            f"times more"
         )
     x0, x1 = float(up[:, 0].min()), float(up[:, 0].max())
     y0, y1 = float(up[:, 1].min()), float(up[:, 1].max())
@@ -349,14 +520,7 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
             f"the stator frame needs x centred on 0 (width) and the preload end at y = 0"
         )
 
-    # counter-clockwise orientation, no degenerate cells
-    for conn in (tri, quad):
-        if conn.shape[0] == 0:
-            continue
-        area = _signed_area(pts, conn)
-        if np.any(np.abs(area) <= 1e-12 * (x1 - x0) * (y1 - y0)):
-            raise ValueError(f"mesh file {path} has degenerate (zero-area) cells")
-        conn[area < 0] = conn[area < 0, ::-1]
+    _check_cells(pts, tri, quad, id_tri, id_quad, path, (x1 - x0) * (y1 - y0))
 
     p2, q2, tags = quadrangulate(pts, tri, quad, t_tri, t_quad)
     used = np.unique(q2)

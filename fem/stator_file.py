@@ -54,6 +54,10 @@ from fem.mesh import PlateMesh
 MM = 1e-3
 """One millimetre in metres."""
 
+PLATE_RANGE_MM = (0.1, 1000.0)
+"""Allowed plate length, width and thickness (mm), the same as the ``lusm`` plate options
+(``validation.limits.PLATE_MM``): a plate of 0.1 mm to 1 m."""
+
 _KEYS: dict[str, tuple[str, ...]] = {
     "": ("name", "plate", "electrodes", "material", "points", "mesh"),
     "plate": ("length_mm", "width_mm", "thickness_mm"),
@@ -204,15 +208,24 @@ def _length_mm(
     table: dict, tname: str, key: str, src: str, required: bool, upper_mm: float | None = None,
     allow_zero: bool = False,
 ) -> float | None:
+    """A length in mm: in ``PLATE_RANGE_MM``, or with ``allow_zero`` in ``[0, upper_mm)``."""
     if key not in table:
         if required:
-            raise ValueError(f"{src}: missing {_where(tname, key)} (mm, a number > 0)")
+            lo, hi = PLATE_RANGE_MM
+            raise ValueError(f"{src}: missing {_where(tname, key)} (mm, a number in "
+                             f"[{lo:g}, {hi:g}])")
         return None
     v = table[key]
     ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-    lower = "[0" if allow_zero else "(0"
+    if not allow_zero:
+        lo, hi = PLATE_RANGE_MM
+        if not ok or not lo <= v <= hi:
+            raise ValueError(f"{src}: {_where(tname, key)} must lie in [{lo:g}, {hi:g}] mm, "
+                             f"got {v!r}")
+        return float(v)
+    lower = "[0"
     upper = f"{upper_mm:g})" if upper_mm is not None else "inf)"
-    if not ok or v < 0 or (v == 0 and not allow_zero) or (upper_mm is not None and v >= upper_mm):
+    if not ok or v < 0 or (upper_mm is not None and v >= upper_mm):
         raise ValueError(
             f"{src}: {_where(tname, key)} must lie in {lower}, {upper} mm, got {v!r}"
         )
@@ -263,6 +276,8 @@ def _material(table: dict, src: str) -> PiezoMaterial:
             raise ValueError(f"{src}: [material] base needs at least one inline constant")
         name = table.get("name", "pzt8")
         try:
+            if not isinstance(name, str):
+                raise ValueError
             return get_material(name)
         except ValueError:
             raise ValueError(
@@ -281,6 +296,8 @@ def _material(table: dict, src: str) -> PiezoMaterial:
         base = None
     else:
         try:
+            if not isinstance(base_name, str):
+                raise ValueError
             base = get_material(base_name)
         except ValueError:
             raise ValueError(
@@ -301,8 +318,9 @@ def _material(table: dict, src: str) -> PiezoMaterial:
         else:
             values[key] = getattr(base, key)
     rho = table.get("rho_kg_m3", base.rho_kg_m3 if base is not None else None)
-    if not isinstance(rho, (int, float)) or isinstance(rho, bool) or not rho > 0:
-        raise ValueError(f"{src}: [material] rho_kg_m3 must be a number > 0, got {rho!r}")
+    if (not isinstance(rho, (int, float)) or isinstance(rho, bool) or not math.isfinite(rho)
+            or not rho > 0):
+        raise ValueError(f"{src}: [material] rho_kg_m3 must be a finite number > 0, got {rho!r}")
     name = str(table.get("name", "inline" if base is None else f"{base.name}-modified"))
     source = str(table.get("source", f"inline constants in {src}"))
     try:
@@ -379,7 +397,7 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
     if "file" not in mesh_t or not isinstance(mesh_t["file"], str):
         raise ValueError(f"{src}: [mesh] file must be the path of a mesh file (a string)")
     unit = mesh_t.get("unit", "m")
-    if unit not in UNITS:
+    if not isinstance(unit, str) or unit not in UNITS:
         raise ValueError(f"{src}: [mesh] unit must be one of {', '.join(UNITS)}, got {unit!r}")
     if "gap_mm" in elec:
         raise ValueError(
@@ -391,7 +409,10 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
         mesh_path = (base_dir or Path.cwd()) / mesh_path
     if not mesh_path.is_file():
         raise FileNotFoundError(f"{src}: [mesh] file {mesh_t['file']!r} not found ({mesh_path})")
-    imported = read_stator_mesh(mesh_path, unit=unit)
+    try:
+        imported = read_stator_mesh(mesh_path, unit=unit)
+    except ValueError as exc:
+        raise ValueError(f"{src}: [mesh] file: {exc}") from None
     mesh = imported.mesh
     x0, x1, y0, y1 = mesh.bounding_box_m()
     for key, value_m in (("length_mm", y1 - y0), ("width_mm", x1 - x0)):
@@ -411,7 +432,9 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
     tip = tip if tip is not None else imported.points_m.get("tip", (0.0, y1))
     preload = preload if preload is not None else imported.points_m.get("preload", (0.0, 0.0))
     for key, pt in (("tip_mm", tip), ("preload_mm", preload)):
-        if not bool(mesh.contains(np.array(pt)[:, None])[0]):
+        slack = 1e-9 * max(x1 - x0, y1 - y0)
+        in_box = x0 - slack <= pt[0] <= x1 + slack and y0 - slack <= pt[1] <= y1 + slack
+        if not in_box or not bool(mesh.contains(np.array(pt)[:, None])[0]):
             raise ValueError(
                 f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies off the "
                 f"mesh ({_bbox_mm(mesh)})"
@@ -450,10 +473,15 @@ def load_stator(path: str | Path) -> StatorDesign:
         For bad TOML or bad values; the message names the key and the allowed range.
     """
     path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"stator file {path} is a folder; name its .toml file")
     if not path.is_file():
         raise FileNotFoundError(f"stator file not found: {path}")
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a UTF-8 text file ({exc.reason} at byte {exc.start}); "
+                         "a stator file is TOML, saved as UTF-8") from None
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     design = parse_stator(data, base_dir=path.parent, src=str(path))

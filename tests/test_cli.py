@@ -40,11 +40,11 @@ def test_simulate_json_matches_the_library():
 @pytest.mark.parametrize(
     ("args", "needle"),
     [
-        (("--voltage", "nan", "--preload", "14"), "voltage_V"),
-        (("--voltage", "200", "--preload", "-1"), "preload_N"),
-        (("--voltage", "200", "--preload", "14", "--dt", "0"), "dt_s"),
-        (("--voltage", "200", "--preload", "14", "--dt", "2e-6"), "dt_s"),
-        (("--voltage", "200", "--preload", "14", "--duration", "1e-4"), "duration_s"),
+        (("--voltage", "nan", "--preload", "14"), "--voltage"),
+        (("--voltage", "200", "--preload", "-1"), "--preload"),
+        (("--voltage", "200", "--preload", "14", "--dt", "0"), "--dt"),
+        (("--voltage", "200", "--preload", "14", "--dt", "2e-6"), "--dt"),
+        (("--voltage", "200", "--preload", "14", "--duration", "1e-4"), "--duration"),
         (("--voltage", "200", "--preload", "14", "--frequency", "fast"), "--frequency"),
         (("--voltage", "200", "--preload", "14", "--bogus"), "unrecognized"),
     ],

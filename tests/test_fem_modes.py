@@ -224,4 +224,4 @@ def test_cli_modes_json(capsys):
     assert out["material"]["rho_kg_m3"] == 7600.0
     assert "plane_stress" in out["material"]
     assert main(["modes", "--thickness-mm", "0"]) == 2
-    assert "thickness_m" in capsys.readouterr().err
+    assert "--thickness-mm" in capsys.readouterr().err

@@ -1,18 +1,28 @@
 """The ``lusm`` command line: parse, call the library, print. No physics lives here.
 
 Each sub-command sits in its own ``validation/cmd_<name>.py`` module exposing
-``register(subparsers)``; this module only builds the parser and turns library errors
-(``ValueError`` with a message naming the parameter) into one-line errors with exit code 2.
+``register(subparsers)``; its library is imported inside its ``run`` so that building the
+parser (``lusm --help``) imports no numpy, scipy, numba or scikit-fem. Shared options live in
+:mod:`validation.options`, limits in :mod:`validation.limits`.
+
+Exit codes: 0 success; 2 for every user-facing failure (:class:`validation.errors.LusmError`,
+and the library's ``ValueError`` / ``OSError`` mapped by :func:`validation.errors.user_error`),
+printed as one line ``lusm <cmd>: error: ...``; 130 on Ctrl-C or SIGTERM (staging folders are
+removed by their ``finally`` blocks); 1 for an unexpected exception (a bug): one line naming
+it and asking for a report, the traceback only with ``LUSM_DEBUG=1``.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import re
+import signal
 import sys
 from collections.abc import Sequence
 
-COMMAND_MODULES = (
+COMMAND_MODULES = [
     "validation.cmd_simulate",
     "validation.cmd_map",
     "validation.cmd_modes",
@@ -23,19 +33,45 @@ COMMAND_MODULES = (
     "validation.cmd_tune",
     "validation.cmd_sweep",
     "validation.cmd_admittance",
-)
-"""Sub-command modules, registered in this order when they exist."""
+]
+"""Sub-command modules, registered in this order (a module that does not exist is skipped)."""
 
+DEBUG_ENV = "LUSM_DEBUG"
+"""Set to 1 to see the traceback of an unexpected error."""
 
-class UsageError(ValueError):
-    """Bad command-line input; reported as one line and exit code 2."""
+# argparse takes "-1e-7" for an option (its own pattern knows only -1 and -1.5), so the user
+# gets "expected one argument"; accept every negative number, list or range ("-1e-7", "-1,2",
+# "-5:5:1") as a value and let the option's type give the real message. No option of lusm
+# starts with "-" and a digit.
+_NEGATIVE_NUMBER = re.compile(
+    r"^-(\d|\.\d)[\d.eE+\-:,]*$|^-(inf|infinity|nan)$", re.IGNORECASE)
 
 
 class _Parser(argparse.ArgumentParser):
     """An ArgumentParser whose errors are one line (no usage dump) with exit code 2."""
 
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
+
+    def _get_values(self, action, arg_strings):  # noqa: D102 - argparse API
+        # argparse drops a "--" value (--voltage=--) and hands the option an empty list
+        if action.nargs is None and action.option_strings and arg_strings == ["--"]:
+            self.error(f"argument {action.option_strings[0]}: expected a value, got '--'")
+        return super()._get_values(action, arg_strings)
+
     def error(self, message: str) -> None:  # noqa: D102 - argparse API
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        # our argument types name their option already: "argument --dt: --dt must ..." -> once
+        message = re.sub(r"^argument (\S+): \1 ", r"\1 ", message)
+        self.exit(2, f"{self.prog}: error: {' '.join(message.split())}\n")
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that cleanup (``finally``) runs."""
+
+
+def _on_sigterm(signum, frame) -> None:  # pragma: no cover - exercised in a subprocess
+    raise Terminated
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -43,32 +79,70 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="lusm",
         description="Linear piezoelectric ultrasonic motor: FE stator, reduced-order "
-        "parameters and the stick-slip-separation contact model.",
+        "parameters and the stick-slip-separation contact model. Limits of every input: "
+        "docs/limits.md (LUSM_MAX_WORK=N allows N times more work).",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name in COMMAND_MODULES:
         try:
             module = importlib.import_module(name)
         except ModuleNotFoundError as exc:
-            if exc.name == name:  # sub-command not written yet
+            if exc.name == name:  # a command of another branch, not merged here
                 continue
             raise
         module.register(sub)
     return parser
 
 
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lusm`` console script; returns the process exit code."""
+    from validation.errors import LusmError, user_error
+    from validation.options import set_command
+
     parser = build_parser()
-    args = parser.parse_args(argv)
     try:
-        args.func(args)
-    except (ValueError, FileNotFoundError) as exc:
-        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        print(f"lusm {args.command}: error: {msg}", file=sys.stderr)
+        args, extra = parser.parse_known_args(argv)
+    except SystemExit as exc:  # argparse's one-line error (2) or --help (0): a return code
+        return exc.code if isinstance(exc.code, int) else 2
+    if extra:  # named by the sub-command, not by the top-level parser
+        print(f"lusm {args.command}: error: unrecognized arguments: {' '.join(extra)}",
+              file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
+    set_command(args.command)
+    prog = f"lusm {args.command}"
+    previous = None
+    try:
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    except ValueError:  # not the main thread (e.g. called from a worker): keep the default
+        pass
+    try:
+        from validation.limits import work_factor
+
+        work_factor()  # a bad LUSM_MAX_WORK is refused before any command runs
+        args.func(args)
+    except (KeyboardInterrupt, Terminated):
+        print(f"{prog}: interrupted", file=sys.stderr)
         return 130
+    except (LusmError, ValueError, OSError) as exc:
+        err = exc if isinstance(exc, LusmError) else user_error(exc)
+        print(f"{prog}: error: {_one_line(str(err))}", file=sys.stderr)
+        if os.environ.get(DEBUG_ENV):
+            raise
+        return 2
+    except Exception as exc:  # a bug: say so in one line, never silently
+        if os.environ.get(DEBUG_ENV):
+            raise
+        text = _one_line(str(exc))[:300]
+        print(f"{prog}: internal error: {type(exc).__name__}: {text} - please report it "
+              f"(run with {DEBUG_ENV}=1 for the traceback)", file=sys.stderr)
+        return 1
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
     return 0
 
 

@@ -7,8 +7,9 @@ Parse, call :func:`fem.admittance.plate_admittance` and
 from __future__ import annotations
 
 import argparse
-import json
-from pathlib import Path
+
+from validation import limits
+from validation.options import add_output_options, add_plate_options, integer, print_json, real
 
 
 def register(subparsers) -> None:
@@ -20,51 +21,87 @@ def register(subparsers) -> None:
         "by modal superposition with a residual mode; resonance/antiresonance pairs and the "
         "k_eff they imply; |Y| and phase plot.",
     )
-    p.add_argument("--f-min", type=float, default=45e3, metavar="HZ", help="band start (Hz)")
-    p.add_argument("--f-max", type=float, default=65e3, metavar="HZ", help="band end (Hz)")
-    p.add_argument("--points", type=int, default=2001, help="frequency points")
-    p.add_argument("--zeta", type=float, default=None,
-                   help="one damping ratio for all modes (default: the paper's zeta_L1, "
-                   "zeta_B2; 0.01 for other modes)")
+    f_lo, f_hi = limits.FREQUENCY_HZ
+    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=45e3,
+                   metavar="HZ", help="band start (Hz)")
+    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=65e3,
+                   metavar="HZ", help="band end (Hz)")
+    p.add_argument("--points", default=2001, metavar="N",
+                   type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
+                   help="frequency points")
+    p.add_argument("--zeta", type=real("--zeta", "", *limits.ZETA, lo_open=True, hi_open=True),
+                   default=None, help="one damping ratio for all modes (default: the paper's "
+                   "zeta_L1, zeta_B2; 0.01 for other modes)")
     p.add_argument("--electrodes", default=None, metavar="E[,E...]",
                    help="driven electrodes, e.g. 1,4 (default: the stator's drive)")
-    p.add_argument("--length-mm", type=float, default=30.0, help="plate length (mm)")
-    p.add_argument("--width-mm", type=float, default=7.5, help="plate width (mm)")
-    p.add_argument("--thickness-mm", type=float, default=3.0, help="plate thickness (mm)")
-    p.add_argument("--gap-mm", type=float, default=0.5, help="electrode gap (mm)")
-    p.add_argument("--material", choices=("pzt8", "paper"), default="pzt8")
-    p.add_argument("--out", default=".", metavar="DIR", help="output directory (PNG)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_plate_options(p)
+    from validation.cmd_modes import add_fe_options
+
+    add_fe_options(p)
+    add_output_options(p, folder="--out", folder_help="write the admittance plot (PNG) into "
+                       "DIR (default: no file)")
     p.set_defaults(func=run)
 
 
 def _electrodes(text: str | None) -> tuple[int, ...] | None:
+    from validation.errors import LusmError
+
     if text is None:
         return None
     try:
-        return tuple(int(t) for t in text.split(","))
-    except ValueError as exc:
-        raise ValueError(f"--electrodes must be comma-separated numbers, got {text!r}") from exc
+        values = tuple(int(t) for t in text.split(","))
+    except ValueError:
+        values = ()
+    if not values or any(e not in (1, 2, 3, 4) for e in values) or len(set(values)) != len(
+            values):
+        raise LusmError(f"--electrodes must be distinct electrode numbers 1..4 separated by "
+                        f"commas, e.g. 1,4, got {text!r}", "--electrodes")
+    return values
 
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
-    from fem.admittance import plate_admittance, plot_admittance
-    from fem.geometry import PlateStator
-
-    stator = PlateStator(
-        length_m=args.length_mm * 1e-3,
-        width_m=args.width_mm * 1e-3,
-        thickness_m=args.thickness_mm * 1e-3,
-        electrode_gap_m=args.gap_mm * 1e-3,
+    from validation.cmd_modes import fe_failure, is_fe_failure
+    from validation.errors import LusmError
+    from validation.options import (
+        check_fe_size,
+        check_output_folder,
+        figure_set,
+        folder_arg,
+        moved,
+        stator_from_args,
     )
-    res = plate_admittance(stator, args.material, args.f_min, args.f_max, args.points,
-                           electrodes=_electrodes(args.electrodes), zeta=args.zeta)
-    png = plot_admittance(res, Path(args.out) / "admittance.png")
+
+    out = folder_arg(args.out, "--out")
+    if out is not None:
+        check_output_folder(out, "admittance", "--out", args.force)
+    if not args.f_min < args.f_max:
+        raise LusmError(f"--f-min must be below --f-max, got {args.f_min:g} and "
+                        f"{args.f_max:g} Hz", "--f-min")
+    electrodes = _electrodes(args.electrodes)
+    choice = stator_from_args(args)
+
+    from fem.admittance import plate_admittance, plot_admittance
+    from fem.modes import DEFAULT_REFINE, ModeSolverError
+
+    refine = DEFAULT_REFINE if args.refine is None else args.refine
+    check_fe_size(choice.stator, refine)
+    try:
+        res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
+                               args.points, electrodes=electrodes, zeta=args.zeta,
+                               order=args.order, refine=refine)
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
+    png = None
+    if out is not None:
+        with figure_set(out, "admittance", "--out", args.force) as stage:
+            png = moved([plot_admittance(res, stage / "admittance.png")], stage, out)[0]
     if args.json:
-        out = res.to_dict()
-        out["png"] = str(png)
-        print(json.dumps(out))
+        d = res.to_dict()
+        d["png"] = png
+        print_json(d)
         return
     p = res.port
     print(f"electrodes {p.electrodes} driven, others grounded; band {args.f_min:g}-"
@@ -77,4 +114,5 @@ def run(args: argparse.Namespace) -> None:
     for q in res.pairs:
         print(f"{q.mode or '-':<5}{q.f_resonance_Hz:>12.1f}{q.f_antiresonance_Hz:>12.1f}"
               f"{q.k_eff:>9.4f}")
-    print(f"wrote {png}")
+    if png is not None:
+        print(f"wrote {png}")

@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 
-from rom.compare import compare_sources
-from rom.sources import SOURCES
+from validation.options import SOURCES, print_json
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -31,9 +29,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Build the comparison and print it."""
+    from rom.compare import compare_sources
+
     cmp = compare_sources(args.sources, reference=args.reference)
     if args.json:
-        print(json.dumps(cmp.to_dict(), indent=2))
+        print_json(cmp.to_dict(), indent=2)
         return
     shown = [s for s in cmp.sources if s in cmp.values]
     header = f"{'quantity':<10} {'unit':<6}" + "".join(f" {s:>12}" for s in shown)

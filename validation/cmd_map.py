@@ -3,11 +3,23 @@
 from __future__ import annotations
 
 import argparse
-import json
-from pathlib import Path
 
-from rom.sources import SOURCES
-from validation.ranges import parse_range
+from validation import limits
+from validation.options import (
+    SOURCES,
+    add_drive_options,
+    add_output_options,
+    add_plate_options,
+    check_output_folder,
+    check_run_size,
+    fem_params_of,
+    figure_set,
+    folder_arg,
+    integer,
+    moved,
+    print_json,
+    warn_drive,
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -17,48 +29,73 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="stick-slip map over voltage x preload (Figs. 18-19)",
         description="Classify the steady motion on a voltage x preload grid, in parallel.",
     )
-    p.add_argument("--voltages", default="50:450:50", help="V0 grid (V), start:stop:step")
-    p.add_argument("--preloads", default="10:26:2", help="F_P grid (N), start:stop:step")
-    p.add_argument("--frequency", type=float, default=40e3, help="drive frequency (Hz)")
-    p.add_argument("--duration", type=float, default=0.05, help="simulated time per point (s)")
-    p.add_argument("--dt", type=float, default=1e-7, help="time step (s)")
+    p.add_argument("--voltages", default="50:450:50",
+                   help=f"V0 grid (V), start:stop:step or a comma list, in "
+                   f"[0, {limits.VOLTAGE_V[1]:g}]")
+    p.add_argument("--preloads", default="10:26:2",
+                   help=f"F_P grid (N), start:stop:step or a comma list, in "
+                   f"[0, {limits.PRELOAD_N[1]:g}]")
+    add_drive_options(p, required=False, auto_frequency=False)
     p.add_argument("--no-ultrasonic-friction", action="store_true",
                    help="use the constant mu_d instead of Eq. 11 (Fig. 19)")
-    p.add_argument("--source", choices=SOURCES, default="table2", help="parameter set")
-    p.add_argument("--workers", type=int, default=None, help="threads (default: all cores)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write the map PNG")
+    p.add_argument("--source", choices=SOURCES, default=None,
+                   help="parameter set (default table2; fem with --geometry or a plate option)")
+    add_plate_options(p, note="; any of them selects --source fem")
+    p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
+                   help="threads (default: all cores)")
+    add_output_options(p, folder="--plot", folder_help="write the map PNG into DIR")
     p.set_defaults(func=run)
+
+
+def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
+    from validation.ranges import parse_range
+
+    values = parse_range(text, option)
+    lo, hi = bounds
+    if values.min() < lo or values.max() > hi:
+        raise ValueError(f"{option} must lie in [{lo:g}, {hi:g}] {unit}, got {text!r}")
+    return values
 
 
 def run(args: argparse.Namespace) -> None:
     """Compute and print the map."""
+    plot = folder_arg(args.plot, "--plot")
+    if plot is not None:
+        check_output_folder(plot, "map", "--plot", args.force)
+    volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
+    loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
+    warn_drive(float(volts.max()), float(loads.max()))
+    check_run_size(args.duration, args.dt, args.frequency, runs=volts.size * loads.size)
+    params = fem_params_of(args, args.source)
+
     from contact.maps import stick_slip_map
     from contact.simulate import SimulationOptions
-    from rom.sources import get_params
     from validation.summaries import map_summary
 
-    volts = parse_range(args.voltages, "--voltages")
-    loads = parse_range(args.preloads, "--preloads")
-    params = get_params(args.source)
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
                              ultrasonic_friction=not args.no_ultrasonic_friction)
-    m = stick_slip_map(params, volts, loads, args.frequency, opts, workers=args.workers)
+    try:
+        m = stick_slip_map(params, volts, loads, args.frequency, opts, workers=args.workers)
+    except RuntimeError as exc:  # the kernel's own refusal (chattering)
+        raise ValueError(str(exc)) from exc
     summary = map_summary(m)
-    if args.plot is not None:
+    if plot is not None:
+        from validation.figures import set_label
         from validation.figures import stick_slip_map as plot_map
 
         name = "fig19_map_constant_mu.png" if args.no_ultrasonic_friction else "fig18_map.png"
-        from validation.figures import set_label
-
-        summary["figure"] = str(plot_map(m, args.plot / name, set_label(params.source)))
+        with figure_set(plot, "map", "--plot", args.force) as stage:
+            png = plot_map(m, stage / name, set_label(params.source))
+            summary["figure"] = moved([png], stage, plot)[0]
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print_json(summary, indent=2)
         return
     short = {"slip-separation": "o", "stick-slip": "*", "stick-slip-separation": "S",
              "pure-stick": "#", "pure-slip": "-"}
     print("V0 \\ F_P " + " ".join(f"{f:>5g}" for f in m.preloads_N))
     for i, v in enumerate(m.voltages_V):
-        print(f"{v:>8g}  " + " ".join(f"{short[c]:>5}" for c in m.motion[i]))
+        print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
     print(f"counts: {m.counts()}  wall time {m.wall_time_s:.2f} s")
+    if "figure" in summary:
+        print(f"wrote {summary['figure']}")

@@ -1,13 +1,16 @@
 """``lusm modes``: L1/B2 short- and open-circuit frequencies and k_eff of the FE plate.
 
-Parse, call :func:`fem.modes.plate_modes`, print. No physics here; ``fem`` is imported when
-the command runs so that building the ``lusm`` parser never imports scikit-fem.
+Parse, call :func:`fem.modes.plate_modes` (or :func:`fem.solid3d.solid_modes`), print. No
+physics here; ``fem`` is imported when the command runs so that building the ``lusm`` parser
+never imports scikit-fem.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
+
+from validation import limits
+from validation.options import add_output_options, add_plate_options, integer, print_json
 
 
 def register(subparsers) -> None:
@@ -18,86 +21,96 @@ def register(subparsers) -> None:
         description="Plane-stress piezoelectric FE model of the stator plate: L1 and B2 "
         "frequencies with all electrodes grounded (short) and floating (open), and k_eff.",
     )
-    # plate options default to None so that mixing them with --geometry can be refused
-    p.add_argument("--length-mm", type=float, default=None, help="plate length l (mm), 30")
-    p.add_argument("--width-mm", type=float, default=None, help="plate width b_s (mm), 7.5")
-    p.add_argument("--thickness-mm", type=float, default=None,
-                   help="plate thickness h_s (mm), 3")
-    p.add_argument("--gap-mm", type=float, default=None, help="electrode gap (mm), 0.5")
-    p.add_argument("--material", choices=("pzt8", "paper"), default=None, help="pzt8")
-    p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
-    p.add_argument("--refine", type=int, default=None, help="elements per plate width")
+    add_plate_options(p)
+    add_fe_options(p)
     p.add_argument(
         "--model", choices=("2d", "3d"), default="2d",
         help="2d: plane-stress plate (default); 3d: piezoelastic brick reference (fem.solid3d)",
     )
-    p.add_argument("--layers", type=int, default=None, help="3d: element layers through h")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument(
-        "--geometry", metavar="STATOR.toml", default=None,
-        help="stator file (fem.stator_file); its dimensions, electrodes, material and mesh "
-        "replace --length-mm/--width-mm/--thickness-mm/--gap-mm/--material",
-    )
+    p.add_argument("--layers", type=integer("--layers", 1, limits.MAX_LAYERS, work=True),
+                   default=None, help="3d: element layers through h (default 3)")
+    add_output_options(p, folder=None)
     p.add_argument(
         "--export", metavar="FILE", default=None,
         help="write the mesh with the mode shapes as point data (meshio format by extension, "
-        "e.g. modes.vtu for ParaView)",
+        "e.g. modes.vtu for ParaView); an existing file is not overwritten unless --force",
     )
+    p.add_argument("--force", action="store_true", help="replace an existing --export file")
     p.set_defaults(func=run)
+
+
+def add_fe_options(p: argparse.ArgumentParser) -> None:
+    """``--order`` and ``--refine`` (bounded, see :mod:`validation.limits`)."""
+    p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
+    p.add_argument("--refine", type=integer("--refine", 1, limits.MAX_REFINE_2D, work=True),
+                   default=None, help="elements per plate width (2d default 4, 3d default 3)")
+
+
+def check_refine_3d(refine: int | None) -> None:
+    """The 3D model's tighter bound on ``--refine``."""
+    from validation.errors import LusmError
+
+    top = limits.work_bound(limits.MAX_REFINE_3D)
+    if refine is not None and refine > top:
+        raise LusmError(f"--refine with --model 3d must be an integer in [1, {top}], got "
+                        f"{refine} ({limits.more_work_hint()})", "--refine")
+
+
+def is_fe_failure(exc: BaseException) -> bool:
+    """A solver failure an extreme stator can cause (not a bug): the mode solver's or SuperLU's
+    ``RuntimeError``, or scikit-fem's point search giving up (a bare ``Exception``)."""
+    return isinstance(exc, RuntimeError) or (
+        type(exc) is Exception and "Newton iteration didn't converge" in str(exc))
+
+
+def fe_failure(exc: Exception) -> ValueError:
+    """A mode-solver or sparse-solver failure on an extreme plate, as bad input."""
+    import re
+
+    text = re.sub(r"\[[^\]]{60,}\]", "[...]", " ".join(str(exc).split()))
+    return ValueError(f"the FE solve failed for this stator ({text}); check the plate "
+                      "(--geometry or --length-mm, --width-mm, --thickness-mm, --gap-mm) "
+                      "and --refine")
 
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm modes`` with parsed ``args``."""
-    from fem.geometry import PlateStator
-    from fem.material import get_material, plane_stress
+    from validation.options import check_fe_size, stator_from_args
+
+    choice = stator_from_args(args)
+    stator, material = choice.stator, choice.material
+    if args.export and args.model == "3d":
+        raise ValueError("--export is only available with --model 2d")
+    export = _export_target(args.export, args.force) if args.export else None
+
+    from fem.material import plane_stress
     from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
 
-    plate_options = {"--length-mm": args.length_mm, "--width-mm": args.width_mm,
-                     "--thickness-mm": args.thickness_mm, "--gap-mm": args.gap_mm,
-                     "--material": args.material}
-    if getattr(args, "geometry", None):
-        from fem.stator_file import load_stator
-
-        given = [name for name, value in plate_options.items() if value is not None]
-        if given:
-            raise ValueError(f"{', '.join(given)} cannot be combined with --geometry: the "
-                             "stator file sets the plate, electrodes and material")
-        design = load_stator(args.geometry)
-        stator, material = design.stator, design.material
-        args.length_mm, args.width_mm = stator.length_m * 1e3, stator.width_m * 1e3
-        args.thickness_mm = stator.thickness_m * 1e3
-    else:
-        defaults = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3.0,
-                    "--gap-mm": 0.5, "--material": "pzt8"}
-        opts = {k: defaults[k] if v is None else v for k, v in plate_options.items()}
-        args.length_mm, args.width_mm = opts["--length-mm"], opts["--width-mm"]
-        args.thickness_mm = opts["--thickness-mm"]
-        stator = PlateStator(
-            length_m=args.length_mm * 1e-3,
-            width_m=args.width_mm * 1e-3,
-            thickness_m=args.thickness_mm * 1e-3,
-            electrode_gap_m=opts["--gap-mm"] * 1e-3,
-        )
-        material = get_material(opts["--material"])
     refine = DEFAULT_REFINE if args.refine is None else args.refine
-    try:
-        if getattr(args, "model", "2d") == "3d":
-            from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+    if args.model == "3d":
+        from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
-            if getattr(args, "export", None):
-                raise ValueError("--export is only available with --model 2d")
-            refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
-            layers = DEFAULT_LAYERS if args.layers is None else args.layers
+        check_refine_3d(args.refine)
+        refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
+        layers = DEFAULT_LAYERS if args.layers is None else args.layers
+        check_fe_size(stator, refine, layers)
+    else:
+        check_fe_size(stator, refine)
+    try:
+        if args.model == "3d":
             res = solid_modes(stator, material, args.order, refine, layers)
         else:
             res = plate_modes(stator, material, args.order, refine)
-    except ModeSolverError as exc:
-        raise ValueError(str(exc)) from exc
-    if getattr(args, "export", None):
-        from fem.export import export_modes
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
+    if export is not None:
         from fem.model import plate_model
 
-        export_modes(args.export, plate_model(stator, material, args.order, refine), res)
+        _write_export(export, plate_model(stator, material, args.order, refine), res,
+                      args.force)
+    L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
     if args.json:
         mat = material.to_dict()
         mat["plane_stress"] = plane_stress(material).to_dict()
@@ -109,23 +122,87 @@ def run(args: argparse.Namespace) -> None:
             "order": args.order,
             "refine": refine,
             "material": mat,
-            "geometry": getattr(args, "geometry", None),
-            "model": getattr(args, "model", "2d"),
+            "geometry": args.geometry,
+            "model": args.model,
+            "length_mm": L_mm, "width_mm": W_mm, "thickness_mm": H_mm,
         }
-        if getattr(args, "model", "2d") == "3d":
+        if args.model == "3d":
             out["layers"], out["element"] = res.layers, res.element
-        print(json.dumps(out))
+        if export is not None:
+            out["export"] = str(export)
+        print_json(out)
         return
-    meshed = getattr(args, "geometry", None) and design.mesh_path is not None
     print(
-        f"plate {args.length_mm:g} x {args.width_mm:g} x {args.thickness_mm:g} mm, "
+        f"plate {L_mm:g} x {W_mm:g} x {H_mm:g} mm, "
         f"material {material.name}, order {args.order}, "
-        + ("mesh from the stator file" if meshed else f"refine {refine}")
+        + ("mesh from the stator file" if choice.meshed else f"refine {refine}")
         + (f", 3D layers {res.layers} ({res.element})" if hasattr(res, "layers") else "")
     )
-    if getattr(args, "geometry", None):
-        print(f"stator file {args.geometry}: {design.name} (bounding box above)")
+    if choice.design is not None:
+        print(f"stator file {args.geometry}: {choice.design.name} (bounding box above)")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
     for m in (res.L1, res.B2):
         print(f"{m.name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")
     print(f"dofs {res.dofs}, wall time {res.wall_time_s:.3f} s")
+    if export is not None:
+        print(f"wrote {export}")
+
+
+def _export_target(text: str, force: bool):
+    """The ``--export`` file, checked before any work (a file, in an existing folder)."""
+    from pathlib import Path
+
+    from validation.errors import LusmError
+
+    if not text.strip():
+        raise LusmError("--export must name a file, got ''", "--export")
+    path = Path(text)
+    if path.is_dir():
+        raise LusmError(f"--export {path} is a folder; name a file such as modes.vtu",
+                        "--export")
+    for parent in path.parents:
+        if parent.exists() and not parent.is_dir():
+            raise LusmError(f"--export {path} sits below the file {parent}", "--export")
+        if parent.exists():
+            break
+    if (path.exists() or path.is_symlink()) and not force:
+        raise LusmError(f"--export {path} already exists; choose a new name or pass --force",
+                        "--export")
+    import meshio
+
+    try:
+        meshio.extension_to_filetypes[path.suffix.lower()]
+    except KeyError:
+        raise LusmError(f"--export {path}: unknown mesh format {path.suffix!r}; use e.g. "
+                        ".vtu, .vtk, .xdmf, .msh", "--export") from None
+    return path
+
+
+def _write_export(path, model, res, force: bool = False) -> None:
+    """Write the export (and any side file, e.g. the HDF5 of an .xdmf) in a staging folder
+    beside the target under its final name; move the files in only when all are written."""
+    import os
+    import shutil
+    import tempfile
+
+    from fem.export import export_modes
+    from validation.errors import LusmError
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    stage = tempfile.mkdtemp(prefix=f".{path.stem}-partial-", dir=path.parent)
+    try:
+        staged = os.path.join(stage, path.name)
+        try:
+            export_modes(staged, model, res)
+        except (ValueError, OSError) as exc:  # name the user's file, not the staging one
+            raise LusmError(f"--export: {str(exc).replace(staged, str(path))}",
+                            "--export") from None
+        names = sorted(os.listdir(stage))
+        taken = [n for n in names if (path.parent / n).exists() and n != path.name]
+        if taken and not force:
+            raise LusmError(f"--export {path}: its side file {path.parent / taken[0]} already "
+                            "exists; choose a new name or pass --force", "--export")
+        for n in names:
+            os.replace(os.path.join(stage, n), path.parent / n)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)

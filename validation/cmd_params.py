@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import json
 
-from rom.sources import SOURCES, get_params
+from validation.options import SOURCES, add_output_options, add_plate_options, print_json
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -16,28 +15,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Print every field of one reduced-order parameter set, SI units.",
     )
     parser.add_argument(
-        "--source", choices=SOURCES, default="table2", help="parameter source (default table2)"
+        "--source", choices=SOURCES, default=None,
+        help="parameter source (default table2; fem with --geometry or a plate option)",
     )
-    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
-    parser.add_argument(
-        "--geometry", metavar="STATOR.toml", default=None,
-        help="stator file for --source fem (rom.from_fem.fem_params_from_file)",
-    )
+    add_plate_options(parser, note="; any of them selects --source fem")
+    add_output_options(parser, folder=None)
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:
     """Build the parameter set of ``args.source`` and print it."""
-    if getattr(args, "geometry", None):
-        if args.source != "fem":
-            raise ValueError(f"--geometry needs --source fem, got --source {args.source}")
-        from rom.from_fem import fem_params_from_file
+    from validation.options import fem_params_of
 
-        d = fem_params_from_file(args.geometry).to_dict()
-    else:
-        d = get_params(args.source).to_dict()
+    d = fem_params_of(args, args.source).to_dict()
     if args.json:
-        print(json.dumps(d, indent=2))
+        print_json(d, indent=2)
         return
     width = max(len(k) for k in d)
     for key, value in d.items():

@@ -1,12 +1,16 @@
 """``lusm render``: offscreen PNGs (and GIF animations) of the L1/B2 mode shapes.
 
 Parse, call :mod:`fem.render`, print the files written. No physics here; ``fem`` and
-pyvista are imported when the command runs.
+pyvista are imported when the command runs. The pictures are built aside and moved into
+``--out`` complete (:mod:`validation.output_set`).
 """
 
 from __future__ import annotations
 
 import argparse
+
+from validation.cmd_modes import add_fe_options, fe_failure, is_fe_failure
+from validation.options import add_output_options, add_plate_options, folder_arg
 
 
 def register(subparsers) -> None:
@@ -19,38 +23,42 @@ def register(subparsers) -> None:
         "outlined (driven in red), mode name and frequency in the title.",
     )
     p.add_argument("--mode", choices=("L1", "B2", "all"), default="all", help="which mode")
-    p.add_argument("--out", default="renders", metavar="DIR", help="output directory")
     p.add_argument("--animate", action="store_true", help="also write one period as a GIF")
-    p.add_argument(
-        "--geometry", metavar="STATOR.toml", default=None,
-        help="stator file (default: the paper's 30 x 7.5 x 3 mm PZT-8 plate)",
-    )
-    p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
-    p.add_argument("--refine", type=int, default=None, help="elements per plate width")
+    add_plate_options(p)
+    add_fe_options(p)
+    add_output_options(p, folder="--out", default="renders", json_flag=False,
+                       folder_help="output folder (default renders)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
-    from fem.geometry import PlateStator
-    from fem.material import get_material
+    from validation.options import (
+        check_fe_size,
+        check_output_folder,
+        figure_set,
+        moved,
+        stator_from_args,
+    )
+    out = folder_arg(args.out, "--out")
+    check_output_folder(out, "render", "--out", args.force)  # before any work
+    choice = stator_from_args(args)
+
     from fem.model import plate_model
     from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
     from fem.render import render_modes
 
-    if args.geometry:
-        from fem.stator_file import load_stator
-
-        design = load_stator(args.geometry)
-        stator, material = design.stator, design.material
-    else:
-        stator, material = PlateStator(), get_material("pzt8")
     refine = DEFAULT_REFINE if args.refine is None else args.refine
+    check_fe_size(choice.stator, refine)
     try:
-        modes = plate_modes(stator, material, args.order, refine)
-    except ModeSolverError as exc:
-        raise ValueError(str(exc)) from exc
-    model = plate_model(stator, material, args.order, refine)
+        modes = plate_modes(choice.stator, choice.material, args.order, refine)
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
+    model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
-    for path in render_modes(model, modes, args.out, which, args.animate):
+    with figure_set(out, "render", "--out", args.force) as stage:
+        written = moved(render_modes(model, modes, stage, which, args.animate), stage, out)
+    for path in written:
         print(path)

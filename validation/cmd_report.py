@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -15,7 +14,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Run the default motor end to end and write index.md, index.html, "
         "report.json and PNG figures.",
     )
-    p.add_argument("--out", type=Path, default=Path("report"), help="output folder")
+    p.add_argument("--out", default="report", metavar="DIR", help="output folder")
     p.add_argument("--quick", action="store_true",
                    help="coarser grids and shorter runs, same sections (~30 s)")
     p.add_argument("--force", action="store_true",
@@ -27,9 +26,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Write the report and print where it is."""
+    from validation.options import check_output_folder, folder_arg
+    out = folder_arg(args.out, "--out")
+    check_output_folder(out, "report", "--out", args.force)  # before any work
     from validation.report import write_report
 
-    doc = write_report(args.out, quick=args.quick, progress=not args.no_progress,
+    doc = write_report(out, quick=args.quick, progress=not args.no_progress,
                        force=args.force)
-    print(f"report written to {args.out / 'index.md'} (and index.html, report.json) "
+    print(f"report written to {out / 'index.md'} (and index.html, report.json) "
           f"in {doc['wall_time_s']:.1f} s")

@@ -3,10 +3,22 @@
 from __future__ import annotations
 
 import argparse
-import json
-from pathlib import Path
 
-from rom.sources import SOURCES
+from validation.options import (
+    SOURCES,
+    add_drive_options,
+    add_output_options,
+    add_plate_options,
+    check_output_folder,
+    check_run_size,
+    fem_params_of,
+    figure_set,
+    folder_arg,
+    moved,
+    parse_frequency,
+    print_json,
+    warn_drive,
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -17,78 +29,60 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Simulate the slider driven by the stator tip: velocity, forces, "
         "stick/slip/separation phases, steady-state metrics.",
     )
-    p.add_argument("--voltage", type=float, required=True, help="drive amplitude V0 (V), >= 0")
-    p.add_argument("--preload", type=float, required=True, help="preload F_P (N), >= 0")
-    p.add_argument("--frequency", default="40e3",
-                   help="drive frequency (Hz), or 'auto' for the set's own operating point")
-    p.add_argument("--duration", type=float, default=0.05, help="simulated time (s)")
-    p.add_argument("--dt", type=float, default=1e-7, help="time step (s), <= 1/(20 f)")
+    add_drive_options(p)
     p.add_argument("--no-ultrasonic-friction", action="store_true",
                    help="use the constant mu_d instead of Eq. 11")
     p.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
                    help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
     p.add_argument("--source", choices=SOURCES, default=None,
-                   help="parameter set (default table2; fem with --geometry)")
-    p.add_argument("--geometry", type=Path, default=None,
-                   help="stator TOML file (implies --source fem)")
+                   help="parameter set (default table2; fem with --geometry or a plate option)")
+    add_plate_options(p, note="; any of them selects --source fem")
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--plot", type=Path, default=None, metavar="DIR",
-                   help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
+    add_output_options(p, folder="--plot",
+                       folder_help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
     p.set_defaults(func=run)
-
-
-def load_params(source: str | None, geometry: Path | None):
-    """The parameter set named on the command line."""
-    if geometry is not None:
-        if source not in (None, "fem"):
-            raise ValueError(f"--geometry needs --source fem, got --source {source}")
-        from rom.from_fem import fem_params_from_file
-
-        return fem_params_from_file(geometry)
-    from rom.sources import get_params
-
-    return get_params(source or "table2")
-
-
-def parse_frequency(text: str, params) -> float:
-    """A frequency in Hz, or the set's operating point for 'auto'."""
-    if text == "auto":
-        from contact.drive import auto_frequency
-
-        return auto_frequency(params)
-    try:
-        return float(text)
-    except ValueError:
-        raise ValueError(f"--frequency must be a number (Hz) or 'auto', got {text!r}") from None
 
 
 def run(args: argparse.Namespace) -> None:
     """Run one simulation and print its summary."""
+    plot = folder_arg(args.plot, "--plot")
+    if plot is not None:
+        check_output_folder(plot, "simulate", "--plot", args.force)  # refuse before any work
+    warn_drive(args.voltage, args.preload)
+    if args.frequency.strip().lower() != "auto":
+        check_run_size(args.duration, args.dt, parse_frequency(args.frequency))
+    params = fem_params_of(args, args.source)
+    freq = parse_frequency(args.frequency, params)
+    check_run_size(args.duration, args.dt, freq)
+
     from contact.simulate import simulate
     from validation.summaries import simulation_summary
 
-    params = load_params(args.source, args.geometry)
-    freq = parse_frequency(args.frequency, params)
-    r = simulate(
-        params, args.voltage, args.preload, freq,
-        duration_s=args.duration, dt_s=args.dt,
-        ultrasonic_friction=not args.no_ultrasonic_friction,
-        coupling=args.coupling, energy=args.energy,
-    )
+    try:
+        r = simulate(
+            params, args.voltage, args.preload, freq,
+            duration_s=args.duration, dt_s=args.dt,
+            ultrasonic_friction=not args.no_ultrasonic_friction,
+            coupling=args.coupling, energy=args.energy,
+        )
+    except RuntimeError as exc:  # the kernel's own refusal (chattering): bad input, not a bug
+        raise ValueError(str(exc)) from exc
     summary = simulation_summary(r)
-    if args.plot is not None:
+    if plot is not None:
         from validation.figures import simulation_figures
 
-        summary["figures"] = [str(p) for p in simulation_figures(r, args.plot)]
+        with figure_set(plot, "simulate", "--plot", args.force) as stage:
+            summary["figures"] = moved(simulation_figures(r, stage), stage, plot)
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print_json(summary, indent=2)
         return
     for key, value in summary.items():
-        if isinstance(value, dict):
+        if isinstance(value, dict | list):
             continue
         text = f"{value:.6g}" if isinstance(value, float) else str(value)
         print(f"{key:<30} {text}")
     if "energy" in summary:
         e = summary["energy"]
         print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")
+    for f in summary.get("figures", []):
+        print(f"wrote {f}")

@@ -1,16 +1,16 @@
 """``lusm sweep``: L1 and B2 against the plate width or length (crossing diagram, PNG).
 
-Parse the ``a:b:step`` range (mm, :mod:`validation.ranges`), call
-:func:`fem.sweep.sweep_dimension` and :func:`fem.sweep.plot_sweep`, print. No physics here.
+One of ``--width-mm`` / ``--length-mm`` is an ``a:b:step`` range (mm, :mod:`validation.ranges`),
+the other plate options are fixed values as on every stator command. Calls
+:func:`fem.sweep.sweep_dimension` and :func:`fem.sweep.plot_sweep`, prints. No physics here.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
-from pathlib import Path
 
-from validation.ranges import parse_range
+from validation import limits
+from validation.options import MATERIALS, add_output_options, print_json, real
 
 
 def register(subparsers) -> None:
@@ -19,48 +19,138 @@ def register(subparsers) -> None:
         "sweep",
         help="L1/B2 frequencies against the plate width or length (crossing diagram PNG)",
         description="Sweep one plate dimension, identify L1 and B2 by shape at each point and "
-        "plot their short-circuit frequencies (the crossing/veering diagram).",
+        "plot their short-circuit frequencies (the crossing/veering diagram). Give one of "
+        "--width-mm / --length-mm as a range A:B:STEP; the other is a fixed value.",
     )
-    g = p.add_mutually_exclusive_group(required=True)
-    g.add_argument("--width-mm", metavar="A:B:STEP", help="sweep the width (mm)")
-    g.add_argument("--length-mm", metavar="A:B:STEP", help="sweep the length (mm)")
-    p.add_argument("--length", type=float, default=30.0, dest="fixed_length_mm",
-                   help="length when sweeping the width (mm)")
-    p.add_argument("--width", type=float, default=7.5, dest="fixed_width_mm",
-                   help="width when sweeping the length (mm)")
-    p.add_argument("--thickness-mm", type=float, default=3.0, help="thickness (mm)")
-    p.add_argument("--gap-mm", type=float, default=0.5, help="electrode gap (mm)")
-    p.add_argument("--material", choices=("pzt8", "paper"), default="pzt8")
-    p.add_argument("--out", default=".", metavar="DIR", help="output directory (PNG)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    lo, hi = limits.PLATE_MM
+    g = p.add_argument_group("stator", "the paper's 30 x 7.5 x 3 mm PZT-8 plate unless "
+                             "--geometry or a plate option is given")
+    g.add_argument("--geometry", metavar="STATOR.toml", default=None,
+                   help="stator file without [mesh] (a plain plate) to sweep")
+    g.add_argument("--width-mm", metavar="MM|A:B:STEP", default=None,
+                   help="plate width (mm): a value, or the range to sweep")
+    g.add_argument("--length-mm", metavar="MM|A:B:STEP", default=None,
+                   help="plate length (mm): a value, or the range to sweep")
+    g.add_argument("--length", type=real("--length", "mm", lo, hi), default=None,
+                   dest="fixed_length_mm", help=argparse.SUPPRESS)  # old spelling
+    g.add_argument("--width", type=real("--width", "mm", lo, hi), default=None,
+                   dest="fixed_width_mm", help=argparse.SUPPRESS)  # old spelling
+    g.add_argument("--thickness-mm", type=real("--thickness-mm", "mm", lo, hi), default=None,
+                   help="plate thickness (mm), default 3")
+    g.add_argument("--gap-mm", type=real("--gap-mm", "mm", 0.0, hi), default=None,
+                   help="electrode gap (mm), default 0.5")
+    g.add_argument("--material", choices=MATERIALS, default=None, help="default pzt8")
+    from validation.cmd_modes import add_fe_options
+
+    add_fe_options(p)
+    add_output_options(p, folder="--out", folder_help="write the crossing diagram (PNG) "
+                       "into DIR (default: no file)")
     p.set_defaults(func=run)
+
+
+def _split(args: argparse.Namespace):
+    """(parameter, option, range text, fixed values in mm) from the two dimension options."""
+    from validation.errors import LusmError
+
+    ranges = [(o, getattr(args, o[2:].replace("-", "_"))) for o in ("--width-mm", "--length-mm")]
+    ranged = [(o, t) for o, t in ranges if t is not None and ":" in t]
+    if len(ranged) != 1:
+        raise LusmError("give exactly one of --width-mm / --length-mm as a range A:B:STEP (mm), "
+                        f"got {len(ranged)} ranges", "--width-mm")
+    option, text = ranged[0]
+    fixed = {}
+    for o, t in ranges:
+        if o == option or t is None:
+            continue
+        fixed[o] = real(o, "mm", *limits.PLATE_MM)(t) if t is not None else None
+    return ("width" if option == "--width-mm" else "length"), option, text, fixed
 
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm sweep`` with parsed ``args``."""
-    from fem.geometry import PlateStator
-    from fem.sweep import plot_sweep, sweep_dimension
+    import argparse as _ap
+    from dataclasses import replace
 
-    parameter = "width" if args.width_mm is not None else "length"
-    option = "--width-mm" if parameter == "width" else "--length-mm"
-    values = 1e-3 * parse_range(args.width_mm if parameter == "width" else args.length_mm,
-                                option, allow_list=False, positive=True)
-    base = PlateStator(
-        length_m=args.fixed_length_mm * 1e-3,
-        width_m=args.fixed_width_mm * 1e-3,
-        thickness_m=args.thickness_mm * 1e-3,
-        electrode_gap_m=args.gap_mm * 1e-3,
+    from validation.errors import LusmError
+    from validation.options import (
+        check_output_folder,
+        figure_set,
+        folder_arg,
+        load_design,
+        moved,
+        stator_from_args,
     )
-    res = sweep_dimension(parameter, values, base, args.material, progress=not args.json)
-    png = plot_sweep(res, Path(args.out) / f"sweep_{parameter}.png")
+    from validation.ranges import parse_range
+
+    out = folder_arg(args.out, "--out")
+    if out is not None:
+        check_output_folder(out, "sweep", "--out", args.force)
+    try:
+        parameter, option, text, fixed = _split(args)
+    except _ap.ArgumentTypeError as exc:
+        raise LusmError(str(exc)) from None
+    values_mm = parse_range(text, option, allow_list=False, positive=True)
+    lo, hi = limits.PLATE_MM
+    if values_mm.min() < lo or values_mm.max() > hi:
+        raise LusmError(f"{option} must lie in [{lo:g}, {hi:g}] mm, got {text!r}", option)
+    top = limits.work_bound(limits.MAX_SWEEP_POINTS)
+    if values_mm.size > top:
+        raise LusmError(f"{option} has {values_mm.size} points, above the limit {top} FE "
+                        f"solves ({limits.more_work_hint()})", option)
+    if args.fixed_length_mm is not None:
+        fixed.setdefault("--length-mm", args.fixed_length_mm)
+    if args.fixed_width_mm is not None:
+        fixed.setdefault("--width-mm", args.fixed_width_mm)
+    if args.geometry:
+        given = [o for o, v in fixed.items() if v is not None]
+        given += [o for o in ("--thickness-mm", "--gap-mm", "--material")
+                  if getattr(args, o[2:].replace("-", "_")) is not None]
+        if given:
+            raise LusmError(f"{', '.join(given)} cannot be combined with --geometry: the "
+                            "stator file sets the plate", given[0])
+        design = load_design(args.geometry)
+        if design.mesh_path is not None:
+            raise LusmError(f"--geometry {args.geometry} has its own mesh, which sweep cannot "
+                            "rescale; sweep a stator file without [mesh]", "--geometry")
+        base, material = design.stator, design.material
+    else:
+        ns = _ap.Namespace(geometry=None, thickness_mm=args.thickness_mm, gap_mm=args.gap_mm,
+                           material=args.material, length_mm=fixed.get("--length-mm"),
+                           width_mm=fixed.get("--width-mm"))
+        choice = stator_from_args(ns)
+        base, material = choice.stator, choice.material
+    smallest = min(base.length_m, base.width_m, values_mm.min() * 1e-3)
+    if base.electrode_gap_m >= smallest:
+        raise LusmError(f"{option} {text}: the electrode gap {base.electrode_gap_m * 1e3:g} mm "
+                        "must stay below every swept length and width", option)
+    from validation.options import check_fe_size
+
+    for v in (values_mm.min(), values_mm.max()):  # the most elongated plates of the sweep
+        check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}), args.refine)
+
+    from fem.sweep import plot_sweep, sweep_dimension
+    from validation.cmd_modes import fe_failure, is_fe_failure
+
+    try:
+        res = sweep_dimension(parameter, values_mm * 1e-3, base, material, order=args.order,
+                              refine=args.refine, progress=not args.json)
+    except Exception as exc:
+        if is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
+    png = None
+    if out is not None:
+        with figure_set(out, "sweep", "--out", args.force) as stage:
+            png = moved([plot_sweep(res, stage / f"sweep_{parameter}.png")], stage, out)[0]
     if args.json:
-        out = res.to_dict()
-        out["png"] = str(png)
-        print(json.dumps(out))
+        d = res.to_dict()
+        d["png"] = png
+        print_json(d)
         return
     print(f"{parameter} (mm){'L1 short (Hz)':>16}{'B2 short (Hz)':>16}")
     for v, fl, fb in zip(res.values_m, res.f_L1_short_Hz, res.f_B2_short_Hz, strict=True):
         print(f"{v * 1e3:>10.4g}{fl:>16.1f}{fb:>16.1f}")
     for xc in res.crossings_m():
         print(f"L1/B2 crossing at {parameter} {xc * 1e3:.4f} mm")
-    print(f"wrote {png}")
+    if png is not None:
+        print(f"wrote {png}")

@@ -6,7 +6,9 @@ Parse, call :func:`fem.tuning.tune_plate`, print. No physics here.
 from __future__ import annotations
 
 import argparse
-import json
+
+from validation import limits
+from validation.options import add_output_options, add_plate_options, print_json, real
 
 
 def register(subparsers) -> None:
@@ -15,42 +17,53 @@ def register(subparsers) -> None:
         "tune",
         help="design for degeneracy: length and width with f_L1 = f_B2 = target",
         description="Find the plate length and width at which the L1 and B2 modes coincide "
-        "(short circuit) at the target frequency, starting from the given plate.",
+        "(short circuit) at the target frequency, starting from the given plate (its "
+        "thickness, gap, electrodes and material are kept).",
     )
-    p.add_argument("--target-frequency", type=float, default=40e3, metavar="HZ",
+    p.add_argument("--target-frequency", default=40e3, metavar="HZ",
+                   type=real("--target-frequency", "Hz", *limits.TARGET_FREQUENCY_HZ),
                    help="common L1/B2 frequency wanted (Hz), default 40e3")
     p.add_argument("--fix", choices=("thickness", "thickness_ratio"), default="thickness",
                    help="keep the thickness (default) or the thickness/length ratio")
-    p.add_argument("--material", choices=("pzt8", "paper"), default="pzt8")
     p.add_argument("--model", choices=("2d", "3d"), default="2d", help="FE model")
-    p.add_argument("--length-mm", type=float, default=30.0, help="starting length (mm)")
-    p.add_argument("--width-mm", type=float, default=7.5, help="starting width (mm)")
-    p.add_argument("--thickness-mm", type=float, default=3.0, help="thickness (mm)")
-    p.add_argument("--gap-mm", type=float, default=0.5, help="electrode gap (mm), kept")
-    p.add_argument("--refine", type=int, default=None, help="mesh refinement")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_plate_options(p, note="; the length and width are starting values")
+    from validation.cmd_modes import add_fe_options
+
+    add_fe_options(p)
+    add_output_options(p, folder=None)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm tune`` with parsed ``args``."""
-    from fem.geometry import PlateStator
+    from validation.cmd_modes import check_refine_3d, fe_failure, is_fe_failure
+    from validation.errors import LusmError
+    from validation.options import check_fe_size, stator_from_args
+
+    choice = stator_from_args(args)
+    if choice.meshed:
+        raise LusmError(f"--geometry {args.geometry} has its own mesh, which tune cannot "
+                        "rescale; tune a stator file without [mesh] (a plain plate)",
+                        "--geometry")
+    if args.model == "3d":
+        check_refine_3d(args.refine)
+        check_fe_size(choice.stator, args.refine or 3, 3)
+    else:
+        check_fe_size(choice.stator, args.refine)
+
     from fem.modes import ModeSolverError
     from fem.tuning import tune_plate
 
-    start = PlateStator(
-        length_m=args.length_mm * 1e-3,
-        width_m=args.width_mm * 1e-3,
-        thickness_m=args.thickness_mm * 1e-3,
-        electrode_gap_m=args.gap_mm * 1e-3,
-    )
     try:
-        d = tune_plate(args.target_frequency, fix=args.fix, material=args.material,
-                       start=start, model=args.model, refine=args.refine)
-    except ModeSolverError as exc:
-        raise ValueError(str(exc)) from exc
+        d = tune_plate(args.target_frequency, fix=args.fix, material=choice.material,
+                       start=choice.stator, model=args.model, order=args.order,
+                       refine=args.refine)
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc) from exc
+        raise
     if args.json:
-        print(json.dumps(d.to_dict()))
+        print_json(d.to_dict())
         return
     st = d.stator
     print(f"target {d.target_frequency_Hz:g} Hz, material {d.material}, model {d.model}, "

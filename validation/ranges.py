@@ -6,8 +6,10 @@ import math
 
 import numpy as np
 
-MAX_POINTS = 2000
-"""Largest grid a command accepts."""
+from validation.limits import MAX_GRID_POINTS, more_work_hint, work_bound
+
+MAX_POINTS = MAX_GRID_POINTS
+"""Largest grid a command accepts (times ``LUSM_MAX_WORK``)."""
 
 
 def parse_range(text: str, name: str, *, allow_list: bool = True,
@@ -31,6 +33,14 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
         Naming the option and the allowed form.
     """
     form = "start:stop:step" + (" or a comma list of numbers" if allow_list else "")
+    top = work_bound(MAX_POINTS)
+
+    def too_many(n: float) -> ValueError:
+        return ValueError(f"{name} has {n:.6g} points, above the limit {top} "
+                          f"({more_work_hint()}), got {text!r}")
+
+    if text.count(",") >= top:
+        raise too_many(text.count(",") + 1)
     try:
         if ":" in text or not allow_list:
             parts = [float(v) for v in text.split(":")]
@@ -39,18 +49,23 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
             start, stop, step = parts
             if not all(math.isfinite(v) for v in parts) or step <= 0 or stop < start:
                 raise ValueError
-            n = int(math.floor((stop - start) / step + 1e-9)) + 1
+            ratio = (stop - start) / step  # may be inf: compared, never allocated
+            if not ratio + 1 <= top:
+                raise too_many(ratio + 1)
+            n = int(math.floor(ratio + 1e-9)) + 1
             values = start + step * np.arange(n)
         else:
             values = np.array([float(v) for v in text.split(",")])
             if not np.all(np.isfinite(values)):
                 raise ValueError
-    except ValueError:
+    except ValueError as exc:
+        if "above the limit" in str(exc):
+            raise
         raise ValueError(
             f"{name} must be {form} (finite, step > 0, stop >= start), got {text!r}"
         ) from None
     if positive and values.min() <= 0:
         raise ValueError(f"{name} must start above 0, got {text!r}")
-    if values.size > MAX_POINTS:
-        raise ValueError(f"{name} has {values.size} points (limit {MAX_POINTS}), got {text!r}")
+    if values.size > top:
+        raise too_many(values.size)
     return values

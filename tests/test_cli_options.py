@@ -1,0 +1,129 @@
+"""The ``lusm`` option layer: every stator command takes the same stator options, the parser is
+light, and fuzzed option values end in exit 0 or 2 with the option named - never a traceback."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from tests.conftest import ROOT
+from validation import limits
+from validation.cli import build_parser, main
+
+STATOR_COMMANDS = ("simulate", "map", "modes", "params", "render", "tune", "sweep",
+                   "admittance")
+"""Commands that use a stator (``report`` and ``compare`` run the paper's motor; see
+docs/limits.md)."""
+
+STATOR_OPTIONS = ("--geometry", "--length-mm", "--width-mm", "--thickness-mm", "--gap-mm",
+                  "--material")
+
+
+def _subparsers():
+    action = next(a for a in build_parser()._actions if a.dest == "command")
+    return action.choices
+
+
+def test_every_stator_command_takes_the_stator_options(capsys):
+    subs = _subparsers()
+    assert set(STATOR_COMMANDS) <= set(subs)
+    for name in STATOR_COMMANDS:
+        options = {o for a in subs[name]._actions for o in a.option_strings}
+        missing = [o for o in STATOR_OPTIONS if o not in options]
+        assert not missing, f"lusm {name} lacks {missing}"
+        assert main([name, "--help"]) == 0
+        text = capsys.readouterr().out
+        assert all(o in text for o in STATOR_OPTIONS), name
+    assert main(["--help"]) == 0
+    top = capsys.readouterr().out
+    assert all(name in top for name in STATOR_COMMANDS)
+
+
+def test_output_and_json_options_are_shared():
+    subs = _subparsers()
+    for name in ("simulate", "map", "modes", "params", "compare", "tune", "sweep",
+                 "admittance"):
+        assert "--json" in {o for a in subs[name]._actions for o in a.option_strings}, name
+    for name, folder in (("simulate", "--plot"), ("map", "--plot"), ("render", "--out"),
+                         ("sweep", "--out"), ("admittance", "--out"), ("report", "--out")):
+        options = {o for a in subs[name]._actions for o in a.option_strings}
+        assert {folder, "--force"} <= options, name
+
+
+def test_building_the_parser_imports_no_heavy_module():
+    code = ("import sys, validation.cli as c; c.build_parser();"
+            "heavy=[m for m in ('numpy','scipy','numba','skfem','pyvista','matplotlib',"
+            "'meshio','rom','fem','contact') if m in sys.modules]; print(heavy);"
+            "sys.exit(1 if heavy else 0)")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, timeout=60)
+    assert out.returncode == 0, out.stdout + out.stderr
+
+
+def test_the_parser_constants_match_the_library():
+    from fem.material import MATERIAL_NAMES
+    from fem.stator_file import PLATE_RANGE_MM
+    from rom.sources import SOURCES
+    from validation.options import MATERIALS
+    from validation.options import SOURCES as CLI_SOURCES
+
+    assert CLI_SOURCES == SOURCES and MATERIALS == MATERIAL_NAMES
+    assert PLATE_RANGE_MM == limits.PLATE_MM
+
+
+# --- property test ---------------------------------------------------------------------------
+
+NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -0.0, 5e-324, 1e-300, 1e-13, 1e-9, 1e-6, 1.0, 1e6, 1e9, 1e30, 1e300,
+                     -1.0, -1e-7]),
+    st.floats(min_value=1e-3, max_value=1e4),
+).map(repr)
+MALFORMED = st.sampled_from(["", "abc", "1e", "--", "1,2", "0x10", "1:2:3", "nan", "-inf",
+                             " 3", "3 mm", "１"])
+VALUES = st.one_of(NUMBERS, MALFORMED, st.integers(-10**12, 10**12).map(str))
+
+# command, option to fuzz, the other options (valid, small)
+TARGETS = [
+    ("simulate", o, ["--voltage", "200", "--preload", "14", "--duration", "0.0005"])
+    for o in ("--voltage", "--preload", "--frequency", "--duration", "--dt")
+] + [
+    ("map", o, ["--voltages", "100,300", "--preloads", "12", "--duration", "0.0005"])
+    for o in ("--frequency", "--duration", "--dt", "--workers", "--voltages", "--preloads")
+] + [
+    ("modes", o, ["--refine", "2"])
+    for o in ("--length-mm", "--width-mm", "--thickness-mm", "--gap-mm", "--refine")
+] + [
+    ("admittance", o, ["--refine", "2", "--points", "50"])
+    for o in ("--f-min", "--f-max", "--points", "--zeta")
+]
+
+
+@pytest.fixture
+def small_work(monkeypatch):
+    """Work bounds small enough that any accepted fuzzed run takes well under a second."""
+    monkeypatch.setattr(limits, "MAX_STEPS", 200_000)
+    monkeypatch.setattr(limits, "MAX_WINDOW_STEPS", 100_000)
+    monkeypatch.setattr(limits, "MAX_MAP_STEPS", 400_000)
+    monkeypatch.setattr(limits, "MAX_FE_CELLS_2D", 400)
+    monkeypatch.setattr(limits, "MAX_FREQUENCY_POINTS", 5000)
+
+
+@settings(max_examples=60, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(target=st.sampled_from(TARGETS), value=VALUES)
+def test_fuzzed_options_exit_0_or_2_naming_the_option(target, value, small_work, capsys):
+    command, option, rest = target
+    rest = [a for i, a in enumerate(rest) if a != option and (i == 0 or rest[i - 1] != option)]
+    rc = main([command, *rest, f"{option}={value}"])
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert rc in (0, 2), err
+    if rc == 2:
+        errors = [ln for ln in err.splitlines() if ": error: " in ln]
+        assert len(errors) == 1, err
+        assert option in errors[0], errors[0]

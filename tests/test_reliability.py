@@ -1,0 +1,421 @@
+"""Bad input across every ``lusm`` command: one line naming the option, exit 2, no work done.
+
+A table of named bad inputs (issue 12), each run in-process through ``validation.cli.main``;
+the stator files and meshes they need are written into ``tmp_path``. Every case is refused
+before any FE solve or time integration starts (the work bounds of ``validation.limits``), so
+the table runs in seconds.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.conftest import ROOT
+from validation.cli import main
+
+PLATE = "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+MESHED = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "{mesh}"\n'
+
+
+def _plate_mesh():
+    from fem.geometry import PlateStator
+    from fem.mesh import structured_mesh
+
+    m = structured_mesh(PlateStator(), 2)
+    return m.points_m.T.copy(), m.quads.T.copy(), m.electrode.copy()
+
+
+def _msh(folder: Path, name: str, pts, quads, tags) -> str:
+    from fem.mesh_import import write_stator_msh
+
+    write_stator_msh(folder / name, pts, {"quad": quads}, {"quad": tags})
+    return name
+
+
+def _meshes(folder: Path) -> dict[str, str]:
+    """Bad planform meshes, each a defect issue 12 names; returns name -> stator file."""
+    pts, quads, tags = _plate_mesh()
+    files: dict[str, tuple] = {}
+    files["duplicated"] = (pts, np.vstack((quads, quads[5])), np.append(tags, tags[5]))
+    folded = pts.copy()
+    inner = int(np.argmin(np.hypot(pts[:, 0] - 0.0, pts[:, 1] - 0.015)))
+    folded[inner, 1] += 0.02  # drag one inner node over its neighbours: cells fold over
+    files["folded"] = (folded, quads, tags)
+    y = pts[quads].mean(axis=1)[:, 1]
+    keep = (y < 0.012) | (y > 0.018)  # drop a band of cells: two separate parts
+    files["disconnected"] = (pts, quads[keep], tags[keep])
+    # a cell folded back over cell 4: it shares cell 4's first edge and lies inside it
+    a, b, c, d = quads[4]
+    inner2 = pts[[c, d]] * 0.5 + pts[[b, a]] * 0.5
+    files["overlap"] = (np.vstack((pts, inner2)),
+                        np.vstack((quads, [a, b, len(pts), len(pts) + 1])),
+                        np.append(tags, tags[4]))
+    bow = quads.copy()
+    bow[7] = bow[7, [0, 2, 1, 3]]  # a bow-tie quad
+    files["bowtie"] = (pts, bow, tags)
+    files["metre_as_mm"] = (pts, quads, tags)
+    files["ten_metres"] = (pts * 1e3 / 3, quads, tags)  # a 10 m plate in metres
+    out = {}
+    for name, (p, q, t) in files.items():
+        mesh = _msh(folder, f"{name}.msh", p, q, t)
+        text = MESHED.format(mesh=mesh) + ('unit = "mm"\n' if name == "metre_as_mm" else "")
+        (folder / f"{name}.toml").write_text(text)
+        out[name] = str(folder / f"{name}.toml")
+    good = _msh(folder, "good.msh", pts, quads, tags)
+    (folder / "tip_far.toml").write_text(MESHED.format(mesh=good)
+                                         + "[points]\ntip_mm = [0, 1e300]\n")
+    out["tip_far_mesh"] = str(folder / "tip_far.toml")
+    (folder / "meshed_ok.toml").write_text(MESHED.format(mesh=good))
+    out["meshed_ok"] = str(folder / "meshed_ok.toml")
+    return out
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory) -> dict[str, str]:
+    """Stator files, meshes and paths the cases refer to as ``{name}``."""
+    d = tmp_path_factory.mktemp("bad")
+    f: dict[str, str] = {}
+
+    def toml(name: str, text: str) -> None:
+        (d / f"{name}.toml").write_text(text)
+        f[name] = str(d / f"{name}.toml")
+
+    toml("plate", PLATE)
+    toml("unit_list", '[plate]\nthickness_mm = 3\n[mesh]\nfile = "x.msh"\nunit = ["m"]\n')
+    toml("tip_far", PLATE + "[points]\ntip_mm = [0, 1e300]\n")
+    toml("length_str", '[plate]\nlength_mm = "30"\nwidth_mm = 7.5\nthickness_mm = 3\n')
+    toml("huge", "[plate]\nlength_mm = 1e6\nwidth_mm = 7.5\nthickness_mm = 3\n")
+    toml("rho_inf", PLATE + '[material]\nbase = "pzt8"\nrho_kg_m3 = inf\n')
+    toml("material_list", PLATE + '[material]\nname = ["pzt8"]\n')
+    toml("drive_str", PLATE + '[electrodes]\ndrive = "1,4"\n')
+    (d / "utf16.toml").write_text(PLATE, encoding="utf-16")
+    f["utf16"] = str(d / "utf16.toml")
+    (d / "binary.toml").write_bytes(bytes(range(256)) * 4)
+    f["binary"] = str(d / "binary.toml")
+    (d / "a_file").write_text("keep")
+    f["file"] = str(d / "a_file")
+    f["below_file"] = str(d / "a_file" / "sub")
+    (d / "user").mkdir()
+    (d / "user" / "notes.txt").write_text("mine")
+    f["user_folder"] = str(d / "user")
+    f["folder"] = str(d)
+    f["missing"] = str(d / "missing.toml")
+    f["export_exists"] = str(d / "a_file")
+    f.update(_meshes(d))
+    return f
+
+
+# (name, argv, fragments the one error line must contain)
+CASES: list[tuple[str, list[str], list[str]]] = [
+    # simulate: operating point and time stepping
+    ("sim-dt-negative-separate", ["simulate", "--voltage", "200", "--preload", "14", "--dt",
+                                  "-1e-7"], ["--dt", "(0, 0.001] s"]),
+    ("sim-dt-1e-300", ["simulate", "--voltage", "200", "--preload", "14", "--dt", "1e-300"],
+     ["--dt", "time steps", "LUSM_MAX_WORK"]),
+    ("sim-dt-denormal", ["simulate", "--voltage", "200", "--preload", "14", "--dt", "5e-324"],
+     ["--dt", "time steps"]),
+    ("sim-dt-1e-13", ["simulate", "--voltage", "200", "--preload", "14", "--dt", "1e-13"],
+     ["--dt", "above the limit"]),
+    ("sim-dt-above-20-per-period", ["simulate", "--voltage", "200", "--preload", "14", "--dt",
+                                    "2e-6"], ["--dt", "1/(20 f)"]),
+    ("sim-duration-1000", ["simulate", "--voltage", "200", "--preload", "14", "--duration",
+                           "1000"], ["--duration", "(0, 10] s"]),
+    ("sim-duration-zero", ["simulate", "--voltage", "200", "--preload", "14", "--duration", "0"],
+     ["--duration"]),
+    ("sim-duration-short", ["simulate", "--voltage", "200", "--preload", "14", "--duration",
+                            "1e-4"], ["--duration", "10 drive periods"]),
+    ("sim-voltage-1e9", ["simulate", "--voltage", "1e9", "--preload", "14"],
+     ["--voltage", "[0, 2000] V"]),
+    ("sim-voltage-nan", ["simulate", "--voltage", "nan", "--preload", "14"], ["--voltage"]),
+    ("sim-voltage-inf", ["simulate", "--voltage", "inf", "--preload", "14"], ["--voltage"]),
+    ("sim-voltage-negative", ["simulate", "--voltage", "-5", "--preload", "14"], ["--voltage"]),
+    ("sim-preload-1e30", ["simulate", "--voltage", "200", "--preload", "1e30"],
+     ["--preload", "[0, 1000] N"]),
+    ("sim-preload-text", ["simulate", "--voltage", "200", "--preload", "much"], ["--preload"]),
+    ("sim-frequency-zero", ["simulate", "--voltage", "200", "--preload", "14", "--frequency",
+                            "0"], ["--frequency", "'auto'"]),
+    ("sim-frequency-text", ["simulate", "--voltage", "200", "--preload", "14", "--frequency",
+                            "fast"], ["--frequency"]),
+    ("sim-frequency-inf", ["simulate", "--voltage", "200", "--preload", "14", "--frequency",
+                           "inf"], ["--frequency"]),
+    ("sim-plot-empty", ["simulate", "--voltage", "200", "--preload", "14", "--plot", ""],
+     ["--plot", "folder"]),
+    ("sim-plot-is-file", ["simulate", "--voltage", "200", "--preload", "14", "--plot",
+                          "{file}"], ["--plot", "is a file"]),
+    ("sim-plot-below-file", ["simulate", "--voltage", "200", "--preload", "14", "--plot",
+                             "{below_file}"], ["--plot", "sits below the file"]),
+    ("sim-plot-user-folder", ["simulate", "--voltage", "200", "--preload", "14", "--plot",
+                              "{user_folder}"], ["--plot", "did not write", "--force"]),
+    ("sim-geometry-missing", ["simulate", "--voltage", "200", "--preload", "14", "--geometry",
+                              "{missing}"], ["--geometry", "not found"]),
+    ("sim-geometry-with-table2", ["simulate", "--voltage", "200", "--preload", "14",
+                                  "--source", "table2", "--geometry", "{plate}"],
+     ["--geometry", "--source fem"]),
+    ("sim-geometry-utf16", ["simulate", "--voltage", "200", "--preload", "14", "--geometry",
+                            "{utf16}"], ["--geometry", "utf16.toml", "UTF-8"]),
+    ("sim-geometry-binary", ["simulate", "--voltage", "200", "--preload", "14", "--geometry",
+                             "{binary}"], ["--geometry", "binary.toml"]),
+    ("sim-plate-option-with-geometry", ["simulate", "--voltage", "200", "--preload", "14",
+                                        "--geometry", "{plate}", "--length-mm", "30"],
+     ["--length-mm cannot be combined with --geometry"]),
+    ("sim-unknown-option", ["simulate", "--voltage", "200", "--preload", "14", "--bogus"],
+     ["unrecognized"]),
+    # map
+    ("map-frequency-zero", ["map", "--frequency", "0"], ["--frequency"]),
+    ("map-voltages-1e10-points", ["map", "--voltages", "0:1e10:1"], ["--voltages", "limit"]),
+    ("map-voltages-beyond-range", ["map", "--voltages", "0:5000:1000"],
+     ["--voltages", "[0, 2000] V"]),
+    ("map-preloads-malformed", ["map", "--preloads", "a:b"], ["--preloads", "start:stop:step"]),
+    ("map-preloads-negative", ["map", "--preloads=-1,2"], ["--preloads", "[0, 1000] N"]),
+    ("map-preloads-negative-separate", ["map", "--preloads", "-1,2"], ["--preloads"]),
+    ("map-voltages-negative-range", ["map", "--voltages", "-5:5:1"], ["--voltages"]),
+    ("map-workers-negative", ["map", "--workers=-3"], ["--workers", "[1, 256]"]),
+    ("map-workers-zero", ["map", "--workers", "0"], ["--workers"]),
+    ("map-total-work", ["map", "--voltages", "0:400:1", "--preloads", "1:40:1"],
+     ["time steps", "LUSM_MAX_WORK"]),
+    ("map-plot-is-file", ["map", "--plot", "{file}"], ["--plot", "is a file"]),
+    ("map-dt-tiny", ["map", "--dt", "1e-300"], ["--dt"]),
+    # modes: plate, FE size, export, stator files
+    ("modes-length-1e-6", ["modes", "--length-mm", "1e-6"], ["--length-mm", "[0.1, 1000] mm"]),
+    ("modes-thickness-zero", ["modes", "--thickness-mm", "0"], ["--thickness-mm"]),
+    ("modes-width-nan", ["modes", "--width-mm", "nan"], ["--width-mm"]),
+    ("modes-refine-100000", ["modes", "--refine", "100000"], ["--refine", "LUSM_MAX_WORK"]),
+    ("modes-layers-100000", ["modes", "--model", "3d", "--layers", "100000"], ["--layers"]),
+    ("modes-refine-3d", ["modes", "--model", "3d", "--refine", "40"], ["--refine", "--model 3d"]),
+    ("modes-gap-eats-plate", ["modes", "--gap-mm", "8"], ["--gap-mm", "7.5 mm"]),
+    ("modes-export-folder", ["modes", "--export", "{folder}"], ["--export", "folder"]),
+    ("modes-export-unknown-format", ["modes", "--export", "{folder}/m.unknownext"],
+     ["--export", "unknown mesh format"]),
+    ("modes-export-exists", ["modes", "--export", "{export_exists}"],
+     ["--export", "already exists"]),
+    ("modes-export-below-file", ["modes", "--export", "{below_file}/m.vtu"],
+     ["--export", "below the file"]),
+    ("modes-geometry-and-width", ["modes", "--geometry", "{plate}", "--width-mm", "8"],
+     ["--width-mm cannot be combined with --geometry"]),
+    ("modes-geometry-folder", ["modes", "--geometry", "{folder}"], ["--geometry", "folder"]),
+    ("stator-unit-list", ["modes", "--geometry", "{unit_list}"], ["[mesh] unit", "unit_list"]),
+    ("stator-tip-far", ["modes", "--geometry", "{tip_far}"], ["[points] tip_mm"]),
+    ("stator-length-string", ["modes", "--geometry", "{length_str}"],
+     ["[plate] length_mm", "length_str.toml"]),
+    ("stator-huge-plate", ["modes", "--geometry", "{huge}"], ["length_mm must lie in"]),
+    ("stator-rho-inf", ["modes", "--geometry", "{rho_inf}"], ["rho_kg_m3", "finite"]),
+    ("stator-material-list", ["modes", "--geometry", "{material_list}"], ["[material] name"]),
+    ("stator-drive-string", ["modes", "--geometry", "{drive_str}"], ["[electrodes] drive"]),
+    ("mesh-duplicated-cell", ["modes", "--geometry", "{duplicated}"],
+     ["duplicated cells"]),
+    ("mesh-folded", ["modes", "--geometry", "{folded}"], ["folded.msh", "cells"]),
+    ("mesh-disconnected", ["modes", "--geometry", "{disconnected}"], ["separate parts"]),
+    ("mesh-overlap", ["modes", "--geometry", "{overlap}"], ["overlapping", "folded"]),
+    ("mesh-bowtie", ["modes", "--geometry", "{bowtie}"], ["degenerate", "cells"]),
+    ("mesh-metre-declared-mm", ["modes", "--geometry", "{metre_as_mm}"], ["looks like metres"]),
+    ("mesh-ten-metres", ["modes", "--geometry", "{ten_metres}"], ["1 m limit"]),
+    ("mesh-tip-far", ["modes", "--geometry", "{tip_far_mesh}"], ["tip_mm", "off the mesh"]),
+    # params, compare
+    ("params-beam-with-geometry", ["params", "--source", "beam", "--geometry", "{plate}"],
+     ["--source fem"]),
+    ("params-table2-with-plate", ["params", "--source", "table2", "--length-mm", "30"],
+     ["--length-mm needs --source fem"]),
+    ("compare-unknown-source", ["compare", "--sources", "abc"], ["--sources", "invalid choice"]),
+    # report
+    ("report-out-empty", ["report", "--out", ""], ["--out", "folder"]),
+    ("report-out-file", ["report", "--out", "{file}"], ["--out", "is a file"]),
+    ("report-user-folder", ["report", "--out", "{user_folder}"], ["--out", "did not write"]),
+    # render
+    ("render-out-file", ["render", "--out", "{file}"], ["--out", "is a file"]),
+    ("render-refine-zero", ["render", "--refine", "0"], ["--refine"]),
+    ("render-geometry-missing", ["render", "--geometry", "{missing}"], ["not found"]),
+    ("render-thickness-huge", ["render", "--thickness-mm", "1e6"], ["--thickness-mm"]),
+    # tune
+    ("tune-target-zero", ["tune", "--target-frequency", "0"], ["--target-frequency"]),
+    ("tune-target-inf", ["tune", "--target-frequency", "inf"], ["--target-frequency"]),
+    ("tune-meshed-geometry", ["tune", "--geometry", "{meshed_ok}"], ["--geometry", "own mesh"]),
+    ("tune-refine-3d", ["tune", "--model", "3d", "--refine", "40"], ["--refine"]),
+    # sweep
+    ("sweep-1e9-points", ["sweep", "--width-mm", "1:1e9:1"], ["--width-mm", "limit"]),
+    ("sweep-two-ranges", ["sweep", "--width-mm", "6:8:1", "--length-mm", "28:30:1"],
+     ["exactly one"]),
+    ("sweep-no-range", ["sweep", "--width-mm", "8"], ["exactly one"]),
+    ("sweep-beyond-plate-range", ["sweep", "--width-mm", "1:2000:500"],
+     ["--width-mm must lie in"]),
+    ("sweep-too-many-solves", ["sweep", "--width-mm", "1:500:1"], ["FE solves"]),
+    ("sweep-out-empty", ["sweep", "--width-mm", "6:8:1", "--out", ""], ["--out"]),
+    ("sweep-gap-above-width", ["sweep", "--width-mm", "0.1:1:0.1"], ["electrode gap"]),
+    ("sweep-fixed-length-bad", ["sweep", "--width-mm", "6:8:1", "--length-mm", "-3"],
+     ["--length-mm"]),
+    ("sweep-meshed-geometry", ["sweep", "--width-mm", "6:8:1", "--geometry", "{meshed_ok}"],
+     ["--geometry"]),
+    # admittance
+    ("adm-points-1e9", ["admittance", "--points", "1000000000"], ["--points", "LUSM_MAX_WORK"]),
+    ("adm-fmin-above-fmax", ["admittance", "--f-min", "7e4", "--f-max", "6e4"],
+     ["--f-min", "--f-max"]),
+    ("adm-fmin-zero", ["admittance", "--f-min", "0"], ["--f-min"]),
+    ("adm-zeta-zero", ["admittance", "--zeta", "0"], ["--zeta"]),
+    ("adm-electrodes-5", ["admittance", "--electrodes", "1,5"], ["--electrodes"]),
+    ("adm-out-below-file", ["admittance", "--out", "{below_file}"], ["--out", "below the file"]),
+]
+
+
+def test_the_table_is_large_and_covers_every_command():
+    from validation.cli import build_parser
+
+    assert len(CASES) >= 60
+    assert len({name for name, _, _ in CASES}) == len(CASES)
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    assert {argv[0] for _, argv, _ in CASES} == set(sub.choices)
+
+
+@pytest.mark.parametrize(("argv", "fragments"), [c[1:] for c in CASES],
+                         ids=[c[0] for c in CASES])
+def test_bad_input_is_refused_in_one_line(argv, fragments, files, capsys):
+    args = [a.format(**files) for a in argv]
+    rc = main(args)
+    captured = capsys.readouterr()
+    lines = [ln for ln in captured.err.splitlines() if ln.strip()]
+    assert rc == 2, captured.err
+    assert "Traceback" not in captured.err
+    errors = [ln for ln in lines if ": error: " in ln]
+    assert len(errors) == 1 and errors[0] == lines[-1], captured.err
+    assert errors[0].startswith(f"lusm {argv[0]}: error: ")
+    for fragment in fragments:
+        assert fragment in errors[0], errors[0]
+
+
+def test_nothing_was_written_or_deleted_by_the_refusals(files):
+    assert Path(files["file"]).read_text() == "keep"
+    user = Path(files["user_folder"])
+    assert sorted(p.name for p in user.iterdir()) == ["notes.txt"]
+    assert not list(Path(files["folder"]).glob(".*partial*"))
+
+
+@pytest.mark.parametrize("name", ["duplicated", "overlap"])
+def test_the_named_cells_are_the_bad_ones(files, name):
+    """The cell numbers in the message index the file's surface cells (as meshio reads them)."""
+    import re
+
+    import meshio
+
+    from fem.stator_file import load_stator
+
+    with pytest.raises(ValueError) as info:
+        load_stator(files[name])
+    numbers = [int(n) for n in re.search(r"cells ([\d, ]+)", str(info.value)).group(1)
+               .split(",")]
+    m = meshio.read(Path(files[name]).with_suffix(".msh"))
+    cells = np.concatenate([b.data for b in m.cells if b.type == "quad"])
+    named = [frozenset(cells[n]) for n in numbers]
+    if name == "duplicated":
+        assert len(numbers) == 2 and named[0] == named[1]
+    else:  # the folded cell and the cells on its edge share that edge
+        shared = [len(p & q) for i, p in enumerate(named) for q in named[i + 1:]]
+        assert len(numbers) >= 2 and 2 in shared
+
+
+def test_a_valid_mesh_is_still_accepted(files):
+    from fem.stator_file import load_stator
+
+    design = load_stator(files["meshed_ok"])
+    assert design.stator.length_m == pytest.approx(0.03)
+
+
+def test_work_bounds_can_be_raised_on_purpose(monkeypatch, capsys):
+    # 2.5e7 steps: above the default bound, allowed with LUSM_MAX_WORK=2 (checked, not run)
+    from validation.options import check_run_size
+
+    with pytest.raises(ValueError, match="LUSM_MAX_WORK"):
+        check_run_size(0.05, 2e-9, 40e3)
+    monkeypatch.setenv("LUSM_MAX_WORK", "2")
+    assert check_run_size(0.05, 2e-9, 40e3) == 25_000_000
+    monkeypatch.setenv("LUSM_MAX_WORK", "lots")
+    assert main(["params"]) == 2
+    assert "LUSM_MAX_WORK" in capsys.readouterr().err
+
+
+def test_warnings_where_the_model_stops_meaning_anything(capsys):
+    from validation.options import check_plate_mm, warn_drive
+
+    check_plate_mm(30.0, 7.5, 20.0, 0.5)
+    warn_drive(900.0, 300.0)
+    warn_drive(0.0, 0.0)
+    err = capsys.readouterr().err
+    assert "plane-stress" in err and "--thickness-mm 20" in err
+    assert "--voltage 900" in err and "--preload 300" in err
+    assert "nothing moves" in err
+
+
+def test_json_is_valid_without_infinity(capsys):
+    import json
+
+    from validation.options import print_json
+
+    print_json({"a": float("inf"), "b": [float("nan"), 1.0], "c": np.float64(2.0)})
+    text = capsys.readouterr().out
+    assert json.loads(text) == {"a": None, "b": [None, 1.0], "c": 2.0}
+
+
+def test_an_unexpected_error_is_one_line_exit_1(monkeypatch, capsys):
+    import validation.cmd_params as cmd
+
+    def boom(args):
+        raise ZeroDivisionError("division by zero")
+
+    monkeypatch.setattr(cmd, "run", boom)  # a bug in a command
+    assert main(["params"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert "ZeroDivisionError" in err and "please report" in err and "LUSM_DEBUG" in err
+
+
+def test_sigterm_removes_the_staging_folder(tmp_path):
+    out = tmp_path / "r"
+    proc = subprocess.Popen([sys.executable, "-m", "validation.cli", "report", "--quick",
+                             "--no-progress", "--out", str(out)], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not list(tmp_path.glob(".*partial*")):
+        time.sleep(0.05)
+    assert list(tmp_path.glob(".*partial*")), "the report did not start staging"
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []  # no staging folder, no half report
+
+
+def test_debug_env_shows_the_traceback():
+    env = {**os.environ, "LUSM_DEBUG": "1"}
+    proc = subprocess.run([sys.executable, "-m", "validation.cli", "simulate", "--voltage",
+                           "200", "--preload", "14", "--dt", "1e-13"], cwd=ROOT,
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert proc.returncode != 0 and "Traceback" in proc.stderr
+
+
+def test_library_errors_are_mapped_to_the_option_that_sets_them():
+    from validation.errors import LusmError, user_error
+
+    e = user_error(ValueError("PlateStator.length_m must be a finite number > 0, got -1"))
+    assert isinstance(e, LusmError) and str(e).startswith("--length-mm: ")
+    assert user_error(ValueError("dt_s must be in (0, 1e-6] s")).option == "--dt"
+    assert user_error(ValueError("--voltage must be ...")).option is None  # already named
+    e = user_error(FileNotFoundError(2, "No such file or directory", "/x/y.png"))
+    assert str(e) == "cannot use /x/y.png: No such file or directory"
+    e = user_error(UnicodeDecodeError("utf-8", b"\xff", 0, 1, "invalid start byte"))
+    assert "UTF-8" in str(e) and "byte 0" in str(e)
+
+
+def test_an_export_is_moved_in_complete(tmp_path, capsys):
+    out = tmp_path / "new" / "m.vtu"
+    assert main(["modes", "--refine", "2", "--export", str(out)]) == 0
+    assert out.is_file() and sorted(p.name for p in out.parent.iterdir()) == ["m.vtu"]
+    capsys.readouterr()
+    assert main(["modes", "--refine", "2", "--export", str(out)]) == 2  # not overwritten
+    assert "already exists" in capsys.readouterr().err
+    assert main(["modes", "--refine", "2", "--export", str(out), "--force"]) == 0
+    assert sorted(p.name for p in out.parent.iterdir()) == ["m.vtu"]

@@ -1,0 +1,79 @@
+"""The one error type of the ``lusm`` command line, and how library errors become it.
+
+Library code (``fem``, ``rom``, ``contact``) cannot import :mod:`validation`; it raises
+``ValueError`` (or ``OSError`` for files) with a message naming its parameter in SI units
+(``PlateStator.length_m``, ``voltage_V``). The CLI layer checks what the user typed first, in
+the user's units, and raises :class:`LusmError` naming the option (``--length-mm``); whatever
+still comes up from the library is mapped by :func:`user_error` to one line that names the
+option when one is known. :func:`validation.cli.main` prints ``lusm <cmd>: error: <line>`` and
+exits with code 2 for every :class:`LusmError`.
+"""
+
+from __future__ import annotations
+
+import re
+
+
+class LusmError(ValueError):
+    """Bad input or an impossible request, reported as one line with exit code 2.
+
+    Parameters
+    ----------
+    message : str
+        One line naming the option the user typed and its allowed range.
+    option : str, optional
+        The option (``'--voltage'``), when one is to blame.
+    """
+
+    def __init__(self, message: str, option: str | None = None) -> None:
+        super().__init__(message)
+        self.option = option
+
+
+LIBRARY_NAMES: dict[str, str] = {
+    "voltage_V": "--voltage",
+    "preload_N": "--preload",
+    "frequency_Hz": "--frequency",
+    "dt_s": "--dt",
+    "duration_s": "--duration",
+    "max_workers": "--workers",
+    "PlateStator.length_m": "--length-mm",
+    "PlateStator.width_m": "--width-mm",
+    "PlateStator.thickness_m": "--thickness-mm",
+    "PlateStator.electrode_gap_m": "--gap-mm",
+    "target_frequency_Hz": "--target-frequency",
+    "n_points": "--points",
+    "f_min_Hz": "--f-min",
+    "refine": "--refine",
+    "layers": "--layers",
+}
+"""Library parameter names and the ``lusm`` option that sets them (first match wins)."""
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip()
+    line = text.splitlines()[0] if text else type(exc).__name__
+    return line
+
+
+def user_error(exc: BaseException) -> LusmError:
+    """A :class:`LusmError` for an exception that reached the CLI from the library.
+
+    ``OSError`` names the path and the operating system's reason; a ``ValueError`` that names a
+    library parameter gets the option that sets it prepended (``--voltage: voltage_V must
+    ...``) so the user sees what to change.
+    """
+    if isinstance(exc, LusmError):
+        return exc
+    if isinstance(exc, UnicodeDecodeError):
+        return LusmError(f"cannot read a file as UTF-8 text ({exc.reason} at byte "
+                         f"{exc.start}); save it as UTF-8")
+    if isinstance(exc, OSError):
+        where = f" {exc.filename}" if exc.filename else ""
+        reason = exc.strerror or _first_line(exc)
+        return LusmError(f"cannot use{where}: {reason}")
+    line = _first_line(exc)
+    for name, option in LIBRARY_NAMES.items():
+        if re.search(rf"(?<![\w.]){re.escape(name)}\b", line) and option not in line:
+            return LusmError(f"{option}: {line}", option)
+    return LusmError(line)

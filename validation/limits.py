@@ -1,0 +1,106 @@
+"""Every limit of the ``lusm`` inputs in one place: validity ranges and work bounds.
+
+Two kinds of limit (see ``docs/limits.md``):
+
+* **validity ranges** where the model means something (a plate from 10 um to 1 m, a drive
+  below the depoling field, a preload the contact can carry); beyond them the CLI refuses
+  with exit code 2, and near them it warns on stderr;
+* **work bounds** (time steps, map points, mesh refinement, frequency points, mesh cells),
+  checked before any array is allocated. They keep a typo (``--dt 1e-13``) from starting a
+  run of hours or tens of gigabytes. Ask for more on purpose with the environment variable
+  ``LUSM_MAX_WORK=N``: every work bound is multiplied by ``N`` (a number >= 1).
+
+Only the standard library is imported here, so that ``lusm --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+WORK_ENV = "LUSM_MAX_WORK"
+"""Environment variable multiplying every work bound (e.g. ``LUSM_MAX_WORK=10``)."""
+
+# --- validity ranges (user units) -------------------------------------------------------------
+PLATE_MM = (0.1, 1000.0)
+"""Plate length, width and thickness (mm): refused outside (and meshes outside it are taken
+as a wrong unit, see ``fem.mesh_import``)."""
+PLANE_STRESS_RATIO = 1.0
+"""Warn when thickness / min(length, width) exceeds this (plane stress needs a thin plate)."""
+VOLTAGE_V = (0.0, 2000.0)
+"""Drive amplitude V0 (V): refused outside. The linear piezoelectric model and PZT-8's
+polarisation do not survive fields of ~1 kV/mm; Table 2's motor runs at 50-450 V."""
+VOLTAGE_WARN_V = 600.0
+"""Warn above this drive amplitude (V): outside the paper's range, heating and nonlinearity."""
+PRELOAD_N = (0.0, 1000.0)
+"""Preload F_P (N): refused outside. Table 2's motor runs at 6-40 N."""
+PRELOAD_WARN_N = 100.0
+"""Warn above this preload (N)."""
+FREQUENCY_HZ = (1.0, 10e6)
+"""Drive frequency and frequency bands (Hz): refused outside."""
+DURATION_S = (0.0, 10.0)
+"""Simulated time (s), exclusive lower bound: refused outside (and bounded by the steps)."""
+WORKERS = (1, 256)
+"""Threads of ``lusm map``."""
+TARGET_FREQUENCY_HZ = (1e3, 10e6)
+"""``lusm tune --target-frequency`` (Hz)."""
+ZETA = (0.0, 1.0)
+"""Modal damping ratio of ``lusm admittance --zeta`` (-), exclusive bounds."""
+
+# --- work bounds (multiplied by LUSM_MAX_WORK) ------------------------------------------------
+MAX_STEPS = 20_000_000
+"""Time steps of one simulation (the default run takes 500 000, ~0.1 s)."""
+MAX_WINDOW_STEPS = 2_000_000
+"""Steps stored at full resolution (the last periods, 10 doubles each: 160 MB)."""
+MAX_MAP_STEPS = 400_000_000
+"""Time steps of a whole stick-slip map (points x steps; the default map takes 4e7)."""
+MAX_GRID_POINTS = 2000
+"""Points of a ``start:stop:step`` grid (``--voltages``, ``--preloads``, sweep ranges)."""
+MAX_SWEEP_POINTS = 200
+"""FE solves of one ``lusm sweep``."""
+MAX_REFINE_2D = 48
+"""``--refine`` of the 2D model (default 4; 48 gives ~1e5 unknowns)."""
+MAX_REFINE_3D = 12
+"""``--refine`` of the 3D model (default 3)."""
+MAX_FE_CELLS_2D = 20_000
+"""Elements of a generated 2D plate mesh (the default plate at --refine 48 has 9 700); long,
+narrow plates need many elements at a given --refine."""
+MAX_FE_CELLS_3D = 5_000
+"""Bricks of a generated 3D mesh (planform elements x layers; the default has 195)."""
+MAX_LAYERS = 16
+"""``--layers`` of the 3D model (default 3)."""
+MAX_FREQUENCY_POINTS = 200_000
+"""``lusm admittance --points``."""
+MAX_MESH_CELLS = 200_000
+"""Surface cells of an imported stator mesh (after splitting triangles into quads)."""
+
+
+def work_factor() -> float:
+    """The ``LUSM_MAX_WORK`` multiplier (1 when unset).
+
+    Raises
+    ------
+    ValueError
+        If the variable is set but not a finite number >= 1.
+    """
+    text = os.environ.get(WORK_ENV, "").strip()
+    if not text:
+        return 1.0
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value >= 1.0):
+        raise ValueError(f"{WORK_ENV} must be a number >= 1 (multiplies the work bounds), "
+                         f"got {text!r}")
+    return value
+
+
+def work_bound(limit: float) -> int:
+    """``limit`` times :func:`work_factor`, as an integer."""
+    return int(limit * work_factor())
+
+
+def more_work_hint() -> str:
+    """The sentence telling the user how to raise a work bound on purpose."""
+    return f"set {WORK_ENV}=N to allow N times more"

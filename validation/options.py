@@ -1,0 +1,492 @@
+"""Option groups shared by the ``lusm`` commands, and the helpers that turn them into inputs.
+
+* :func:`add_plate_options` - ``--geometry STATOR.toml`` and the plain-plate options
+  ``--length-mm --width-mm --thickness-mm --gap-mm --material`` (every command that uses a
+  stator); :func:`stator_from_args` builds the stator from them, in one place.
+* :func:`add_drive_options` - ``--voltage --preload --frequency`` (contact commands);
+  :func:`check_run_size` bounds the steps of a run before it starts.
+* :func:`add_output_options` - ``--json``, ``--plot DIR`` / ``--out DIR``, ``--force``;
+  :func:`print_json` writes valid JSON (no ``Infinity``), :func:`figure_set` builds an output
+  set aside and moves it in complete (:mod:`validation.output_set`).
+
+Argument types (:func:`real`, :func:`integer`) check the value where it is typed, so the
+message names the option and its range in the user's units. Only the standard library is
+imported at module level: building the parser must stay fast (``lusm --help``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from validation import limits
+from validation.errors import LusmError
+
+SOURCES = ("table2", "beam", "fem")
+"""Parameter sources (:data:`rom.sources.SOURCES`, repeated so the parser needs no numpy)."""
+
+MATERIALS = ("pzt8", "paper")
+"""Named materials (:data:`fem.material.MATERIAL_NAMES`)."""
+
+PLATE_DEFAULTS_MM = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3.0,
+                     "--gap-mm": 0.5}
+"""The paper's plate (mm), used when neither --geometry nor a plate option is given."""
+
+PLATE_OPTIONS = ("--length-mm", "--width-mm", "--thickness-mm", "--gap-mm")
+"""The plain-plate options every stator command takes."""
+
+
+def _fmt(v: float) -> str:
+    return f"{v:g}"
+
+
+def _range_text(lo: float | None, hi: float | None, lo_open: bool, hi_open: bool,
+                unit: str) -> str:
+    left = "(" if lo_open or lo is None else "["
+    right = ")" if hi_open or hi is None else "]"
+    a = "-inf" if lo is None else _fmt(lo)
+    b = "inf" if hi is None else _fmt(hi)
+    return f"{left}{a}, {b}{right}" + (f" {unit}" if unit else "")
+
+
+def real(option: str, unit: str = "", lo: float | None = None, hi: float | None = None,
+         lo_open: bool = False, hi_open: bool = False):
+    """An argparse ``type`` for a finite number in a range; messages name ``option``.
+
+    Parameters
+    ----------
+    option : str
+        The option (``'--voltage'``), for the message.
+    unit : str
+        Its unit as the user types it (``'V'``, ``'mm'``).
+    lo, hi : float, optional
+        Bounds; ``lo_open`` / ``hi_open`` make them exclusive.
+    """
+    allowed = _range_text(lo, hi, lo_open, hi_open, unit)
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{option} must be a number in {allowed}, got {text!r}") from None
+        bad = (not math.isfinite(value)
+               or (lo is not None and (value < lo or (lo_open and value == lo)))
+               or (hi is not None and (value > hi or (hi_open and value == hi))))
+        if bad:
+            raise argparse.ArgumentTypeError(f"{option} must be a number in {allowed}, "
+                                             f"got {text!r}")
+        return value
+
+    parse.__name__ = option  # argparse names the type in some messages
+    return parse
+
+
+def integer(option: str, lo: int, hi: int | None = None, work: bool = False):
+    """An argparse ``type`` for an integer in ``[lo, hi]``.
+
+    ``work=True`` makes ``hi`` a work bound, multiplied by ``LUSM_MAX_WORK``.
+    """
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        try:
+            top = None if hi is None else (limits.work_bound(hi) if work else hi)
+        except ValueError as exc:  # a bad LUSM_MAX_WORK
+            raise argparse.ArgumentTypeError(str(exc)) from None
+        if value is None or value < lo or (top is not None and value > top):
+            rng = f"[{lo}, {top}]" if top is not None else f">= {lo}"
+            hint = f" ({limits.more_work_hint()})" if work and value is not None and (
+                value > (top or value)) else ""
+            raise argparse.ArgumentTypeError(
+                f"{option} must be an integer in {rng}, got {text!r}{hint}")
+        return value
+
+    parse.__name__ = option
+    return parse
+
+
+# --- plate / geometry -------------------------------------------------------------------------
+
+def add_plate_options(p: argparse.ArgumentParser, *, material: bool = True,
+                      note: str = "") -> argparse._ArgumentGroup:
+    """``--geometry`` and the plain-plate options; all default to None (the paper's plate)."""
+    g = p.add_argument_group("stator", "the paper's 30 x 7.5 x 3 mm PZT-8 plate unless "
+                             "--geometry or a plate option is given" + note)
+    g.add_argument("--geometry", metavar="STATOR.toml", default=None,
+                   help="stator file (fem.stator_file): dimensions, electrodes, material, "
+                   "points, mesh; replaces the plate options")
+    lo, hi = limits.PLATE_MM
+    g.add_argument("--length-mm", type=real("--length-mm", "mm", lo, hi), default=None,
+                   help="plate length l (mm), default 30")
+    g.add_argument("--width-mm", type=real("--width-mm", "mm", lo, hi), default=None,
+                   help="plate width b_s (mm), default 7.5")
+    g.add_argument("--thickness-mm", type=real("--thickness-mm", "mm", lo, hi), default=None,
+                   help="plate thickness h_s (mm), default 3")
+    g.add_argument("--gap-mm", type=real("--gap-mm", "mm", 0.0, hi), default=None,
+                   help="electrode gap (mm), default 0.5")
+    if material:
+        g.add_argument("--material", choices=MATERIALS, default=None,
+                       help="plate material, default pzt8")
+    return g
+
+
+def plate_given(args: argparse.Namespace) -> list[str]:
+    """The plate options the user typed (not their defaults)."""
+    given = [o for o in PLATE_OPTIONS if getattr(args, o[2:].replace("-", "_"), None) is not None]
+    if getattr(args, "material", None) is not None:
+        given.append("--material")
+    return given
+
+
+@dataclass(frozen=True)
+class StatorChoice:
+    """The stator the options name.
+
+    Attributes
+    ----------
+    stator : fem.geometry.PlateStator
+        A plain plate or, from a stator file with a mesh, a ``MeshedStator``.
+    material : fem.material.PiezoMaterial
+    design : fem.stator_file.StatorDesign or None
+        The loaded stator file, if ``--geometry`` was given.
+    """
+
+    stator: Any
+    material: Any
+    design: Any = None
+
+    @property
+    def meshed(self) -> bool:
+        """True for a stator file with its own mesh."""
+        return self.design is not None and self.design.mesh_path is not None
+
+
+def check_plate_mm(length: float, width: float, thickness: float, gap: float,
+                   gap_given: bool = True) -> None:
+    """Refuse an electrode gap that eats the plate; warn outside plane stress's validity."""
+    if gap >= min(length, width):
+        which = "--gap-mm" if gap_given else f"the default --gap-mm {gap:g}"
+        raise LusmError(f"{which} must be below the plate's --length-mm and --width-mm "
+                        f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
+                        "--gap-mm", "--gap-mm")
+    ratio = thickness / min(length, width)
+    if ratio > limits.PLANE_STRESS_RATIO:
+        warn(f"--thickness-mm {thickness:g} is {ratio:.3g} x the plate's smaller in-plane "
+             f"dimension; the 2D plane-stress model assumes a thin plate (thickness below "
+             f"{limits.PLANE_STRESS_RATIO:g} x min(length, width)); check with --model 3d")
+
+
+def stator_from_args(args: argparse.Namespace) -> StatorChoice:
+    """The stator of ``--geometry`` or of the plate options (the paper's plate by default).
+
+    Raises
+    ------
+    LusmError
+        Plate options next to ``--geometry``, or an invalid plate, naming the option.
+    """
+    from fem.geometry import PlateStator
+    from fem.material import get_material
+
+    given = plate_given(args)
+    if getattr(args, "geometry", None):
+        if given:
+            raise LusmError(f"{', '.join(given)} cannot be combined with --geometry: the "
+                            "stator file sets the plate, electrodes and material", given[0])
+        design = load_design(args.geometry)
+        st = design.stator
+        if design.mesh_path is None:
+            check_plate_mm(st.length_m * 1e3, st.width_m * 1e3, st.thickness_m * 1e3,
+                           st.electrode_gap_m * 1e3)
+        else:  # the mesh's bounding box against the file's thickness
+            ratio = st.thickness_m / min(st.length_m, st.width_m)
+            if ratio > limits.PLANE_STRESS_RATIO:
+                warn(f"--geometry {args.geometry}: thickness {st.thickness_m * 1e3:g} "
+                     f"mm is {ratio:.3g} x the mesh's smaller in-plane extent; the 2D "
+                     "plane-stress model assumes a thin plate; check with --model 3d")
+        return StatorChoice(st, design.material, design)
+    mm = {o: getattr(args, o[2:].replace("-", "_"), None) for o in PLATE_OPTIONS}
+    mm = {o: PLATE_DEFAULTS_MM[o] if v is None else v for o, v in mm.items()}
+    check_plate_mm(mm["--length-mm"], mm["--width-mm"], mm["--thickness-mm"], mm["--gap-mm"],
+                   gap_given=getattr(args, "gap_mm", None) is not None)
+    stator = PlateStator(length_m=mm["--length-mm"] * 1e-3, width_m=mm["--width-mm"] * 1e-3,
+                         thickness_m=mm["--thickness-mm"] * 1e-3,
+                         electrode_gap_m=mm["--gap-mm"] * 1e-3)
+    return StatorChoice(stator, get_material(getattr(args, "material", None) or "pzt8"))
+
+
+def check_fe_size(stator, refine: int | None, layers: int | None = None,
+                  option: str = "--refine") -> int:
+    """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
+
+    The count is exact for the generated plate (``fem.mesh.grid_lines_m``) and is the file's
+    for a stator with its own mesh (bounded when it is read). ``layers`` selects the 3D count.
+    """
+    if getattr(stator, "mesh", None) is not None:
+        n = int(stator.mesh.quads.shape[1])
+    else:
+        from fem.mesh import grid_lines_m
+        from fem.modes import DEFAULT_REFINE
+
+        x, y = grid_lines_m(stator, DEFAULT_REFINE if refine is None else refine)
+        n = (len(x) - 1) * (len(y) - 1)
+    if layers is not None:
+        n *= layers
+        top, what = limits.work_bound(limits.MAX_FE_CELLS_3D), "3D bricks"
+    else:
+        top, what = limits.work_bound(limits.MAX_FE_CELLS_2D), "2D elements"
+    if n > top:
+        shape = (f"{stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} mm plate")
+        raise LusmError(f"{option}: the {shape} needs {n} {what} here, above the limit {top}; "
+                        f"lower {option}{' or --layers' if layers else ''} or make the plate "
+                        f"less elongated ({limits.more_work_hint()})", option)
+    return n
+
+
+def load_design(path: str | Path):
+    """:func:`fem.stator_file.load_stator` with every failure as one line naming the file."""
+    from fem.stator_file import load_stator
+
+    try:
+        return load_stator(path)
+    except LusmError:
+        raise
+    except (ValueError, OSError) as exc:
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        if str(path) not in text:
+            text = f"{path}: {text}"
+        raise LusmError(f"--geometry {text}", "--geometry") from None
+
+
+def fem_params_of(args: argparse.Namespace, source: str | None):
+    """The parameter set of ``--source`` and the stator options (``fem`` when a stator is named).
+
+    ``--geometry`` or a plate option selects the FE reduction of that stator; they cannot be
+    combined with ``--source table2`` or ``beam``.
+    """
+    named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
+    if named:
+        what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
+        if source not in (None, "fem"):
+            raise LusmError(f"{what} needs --source fem, got --source {source}", "--source")
+        choice = stator_from_args(args)  # checks the options and the file first
+        check_fe_size(choice.stator, None)
+        from rom.from_fem import fem_params, fem_params_from_file
+
+        try:
+            if choice.design is not None:
+                return fem_params_from_file(args.geometry)
+            return fem_params(choice.stator, choice.material)
+        except Exception as exc:  # mode solver, factorisation, point search on extreme plates
+            from validation.cmd_modes import fe_failure, is_fe_failure
+
+            if is_fe_failure(exc):
+                raise fe_failure(exc) from exc
+            raise
+    from rom.sources import get_params
+
+    return get_params(source or "table2")
+
+
+# --- drive ------------------------------------------------------------------------------------
+
+def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
+                      auto_frequency: bool = True) -> None:
+    """``--voltage --preload --frequency --duration --dt`` with their validity ranges."""
+    g = p.add_argument_group("drive", "operating point and time stepping")
+    if required:
+        g.add_argument("--voltage", type=real("--voltage", "V", *limits.VOLTAGE_V),
+                       required=True, help=f"drive amplitude V0 (V), in "
+                       f"[0, {limits.VOLTAGE_V[1]:g}]")
+        g.add_argument("--preload", type=real("--preload", "N", *limits.PRELOAD_N),
+                       required=True, help=f"preload F_P (N), in [0, {limits.PRELOAD_N[1]:g}]")
+    if auto_frequency:
+        g.add_argument("--frequency", default="40e3",
+                       help="drive frequency (Hz), or 'auto' for the set's own operating point")
+    else:
+        g.add_argument("--frequency", type=real("--frequency", "Hz", *limits.FREQUENCY_HZ),
+                       default=40e3, help="drive frequency (Hz)")
+    g.add_argument("--duration", default=0.05,
+                   type=real("--duration", "s", *limits.DURATION_S, lo_open=True),
+                   help="simulated time (s)")
+    g.add_argument("--dt", default=1e-7, type=real("--dt", "s", 0.0, 1e-3, lo_open=True),
+                   help="time step (s), <= 1/(20 f)")
+
+
+def parse_frequency(text: str | float, params=None) -> float:
+    """A drive frequency in Hz from ``--frequency`` (a number, or 'auto' with ``params``)."""
+    if isinstance(text, str) and text.strip().lower() == "auto" and params is not None:
+        from contact.drive import auto_frequency
+
+        return float(auto_frequency(params))
+    lo, hi = limits.FREQUENCY_HZ
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and lo <= value <= hi):
+        raise LusmError(f"--frequency must be a number in [{lo:g}, {hi:g}] Hz or 'auto', "
+                        f"got {text!r}", "--frequency")
+    return value
+
+
+def warn_drive(voltage_V: float | None, preload_N: float | None) -> None:
+    """Warn (stderr) for operating points outside the range where Table 2 was measured."""
+    if voltage_V == 0 and preload_N == 0:
+        warn("--voltage 0 and --preload 0: no drive and no contact force, nothing moves; "
+             "the motion class printed for this degenerate point has no meaning")
+    if voltage_V is not None and voltage_V > limits.VOLTAGE_WARN_V:
+        warn(f"--voltage {voltage_V:g} V is above {limits.VOLTAGE_WARN_V:g} V: the linear "
+             "piezoelectric model and the contact constants were not validated there")
+    if preload_N is not None and preload_N > limits.PRELOAD_WARN_N:
+        warn(f"--preload {preload_N:g} N is above {limits.PRELOAD_WARN_N:g} N: the contact "
+             "stiffness and friction constants were not validated there")
+
+
+def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
+                   runs: int = 1) -> int:
+    """Steps of one run; refuse runs beyond the work bounds before anything is allocated.
+
+    Raises
+    ------
+    LusmError
+        ``--dt`` above 1/(20 f), ``--duration`` below 10 periods, or more steps than
+        :data:`validation.limits.MAX_STEPS` (per run), :data:`~validation.limits.MAX_MAP_STEPS`
+        (all runs) or a full-resolution window above :data:`~validation.limits.MAX_WINDOW_STEPS`.
+    """
+    dt_max = 1.0 / (20.0 * frequency_Hz)
+    if dt_s > dt_max * (1 + 1e-12):
+        raise LusmError(f"--dt must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at --frequency "
+                        f"{frequency_Hz:g} Hz, got {dt_s:g}", "--dt")
+    periods = duration_s * frequency_Hz
+    if periods < 10 * (1 - 1e-12):
+        raise LusmError(f"--duration must be >= 10 drive periods = {10 / frequency_Hz:.4g} s "
+                        f"at --frequency {frequency_Hz:g} Hz, got {duration_s:g}", "--duration")
+    steps = duration_s / dt_s  # a float: inf or 1e300 are compared, never allocated
+    top = limits.work_bound(limits.MAX_STEPS)
+    if not steps <= top:
+        raise LusmError(f"--duration {duration_s:g} s / --dt {dt_s:g} s is {steps:.3g} time "
+                        f"steps, above the limit {top:.3g}; raise --dt or shorten --duration "
+                        f"({limits.more_work_hint()})", "--dt")
+    window = min(steps, 5.0 / (frequency_Hz * dt_s))  # the last 5 periods, every step
+    wtop = limits.work_bound(limits.MAX_WINDOW_STEPS)
+    if window > wtop:
+        raise LusmError(f"--dt {dt_s:g} s stores {window:.3g} steps of the last periods at full "
+                        f"resolution, above the limit {wtop:.3g}; raise --dt "
+                        f"({limits.more_work_hint()})", "--dt")
+    total = steps * runs
+    mtop = limits.work_bound(limits.MAX_MAP_STEPS)
+    if runs > 1 and total > mtop:
+        raise LusmError(f"{runs} grid points x {steps:.3g} steps = {total:.3g} time steps, above "
+                        f"the limit {mtop:.3g}; use fewer --voltages/--preloads points, a "
+                        f"shorter --duration or a larger --dt ({limits.more_work_hint()})",
+                        "--voltages")
+    return int(round(steps))
+
+
+# --- output -----------------------------------------------------------------------------------
+
+def add_output_options(p: argparse.ArgumentParser, *, folder: str | None = "--plot",
+                       folder_help: str = "write the figures (PNG) into DIR",
+                       default: str | None = None, json_flag: bool = True) -> None:
+    """``--json``, an output folder option (``--plot DIR`` or ``--out DIR``) and ``--force``."""
+    g = p.add_argument_group("output")
+    if json_flag:
+        g.add_argument("--json", action="store_true", help="print one JSON object")
+    if folder is not None:
+        g.add_argument(folder, default=default, metavar="DIR", help=folder_help)
+        g.add_argument("--force", action="store_true",
+                       help="write into a non-empty folder lusm did not write (files in the "
+                       "way are kept as NAME.bak-N; nothing is deleted)")
+
+
+def folder_arg(value: str | None, option: str) -> Path | None:
+    """The output folder of ``option``; refuse an empty name."""
+    if value is None:
+        return None
+    if not str(value).strip():
+        raise LusmError(f"{option} must name a folder, got ''", option)
+    return Path(value)
+
+
+def check_output_folder(target: Path, kind: str, option: str, force: bool = False) -> None:
+    """Refuse, before any work, an output folder the set could not be moved into or written.
+
+    :func:`validation.output_set.check_target` (a file, below a file, a non-empty folder lusm
+    did not write) plus: the nearest existing folder must be writable.
+    """
+    import os
+
+    from validation.output_set import OutputError, check_target
+
+    try:
+        check_target(target, kind, option, force)
+    except OutputError as exc:
+        raise LusmError(str(exc), option) from None
+    existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise LusmError(f"{option} {target}: the folder {existing} is not writable", option)
+
+
+@contextmanager
+def figure_set(target: Path, kind: str, option: str, force: bool = False) -> Iterator[Path]:
+    """:func:`validation.output_set.output_set` with its failures as :class:`LusmError`."""
+    from validation.output_set import OutputError, output_set
+
+    try:
+        with output_set(target, kind, option, force) as stage:
+            yield stage
+    except OutputError as exc:
+        raise LusmError(str(exc), option) from None
+    except OSError as exc:  # a full disk, a folder made read-only meanwhile
+        raise LusmError(f"{option} {target}: cannot write ({exc.strerror or exc})",
+                        option) from None
+
+
+def moved(paths, stage: Path, target: Path) -> list[str]:
+    """Where files written into ``stage`` live once the set is moved into ``target``."""
+    return [str(target / Path(p).relative_to(stage)) for p in paths]
+
+
+def _finite(obj: Any) -> Any:
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v) for v in obj]
+    if hasattr(obj, "tolist") and not isinstance(obj, (str, bytes)):  # numpy scalars, arrays
+        return _finite(obj.tolist())
+    if isinstance(obj, Path):
+        return str(obj)
+    return obj
+
+
+def print_json(obj: Any, indent: int | None = None) -> None:
+    """Print ``obj`` as valid JSON: NaN and infinities become ``null``."""
+    print(json.dumps(_finite(obj), indent=indent, allow_nan=False))
+
+
+# --- messages ---------------------------------------------------------------------------------
+
+_COMMAND = ["lusm"]
+
+
+def set_command(name: str) -> None:
+    """The command named in warnings (set by :func:`validation.cli.main`)."""
+    _COMMAND[0] = f"lusm {name}"
+
+
+def warn(message: str) -> None:
+    """One warning line on stderr: ``lusm <cmd>: warning: ...``."""
+    print(f"{_COMMAND[0]}: warning: {message}", file=sys.stderr)
