@@ -248,25 +248,22 @@ def modal_port(
         Driven electrodes (default: ``model.stator.drive_electrodes``); the others grounded.
     polarity : tuple of float, optional
         +1/-1 per driven electrode (default all +1).
-    zeta_L1, zeta_B2 : float, optional
-        Damping ratios of L1 and B2 (default: the paper's, ``rom.table2.table2()``).
+    zeta_L1, zeta_B2 : float
+        Damping ratios of L1 and B2 (-), required: the motor's damping is a property of the
+        parameter set (``rom``), which ``fem`` does not import; the CLI passes Table 2's.
     zeta_other : float
         Damping ratio of the other retained modes.
     cutoff_factor : float
         Retained band relative to ``f_max_Hz`` (>= 1).
     """
-    from fem.modes import _identify
+    from fem.modes import identify_modes
 
     if not (math.isfinite(f_max_Hz) and f_max_Hz > 0):
         raise ValueError(f"f_max_Hz must be > 0, got {f_max_Hz!r}")
     if not cutoff_factor >= 1.0:
         raise ValueError(f"cutoff_factor must be >= 1, got {cutoff_factor!r}")
     if zeta_L1 is None or zeta_B2 is None:
-        from rom.table2 import table2
-
-        base = table2()
-        zeta_L1 = base.zeta_L1 if zeta_L1 is None else zeta_L1
-        zeta_B2 = base.zeta_B2 if zeta_B2 is None else zeta_B2
+        raise ValueError("zeta_L1 and zeta_B2 are required (damping ratios of L1 and B2)")
     for name, z in (("zeta_L1", zeta_L1), ("zeta_B2", zeta_B2), ("zeta_other", zeta_other)):
         if not (math.isfinite(z) and 0.0 <= z < 1.0):
             raise ValueError(f"{name} must lie in [0, 1), got {z!r}")
@@ -303,7 +300,7 @@ def modal_port(
     fr, vr, ar = f[keep], v[:, keep], a_all[keep]
     names = [""] * fr.size
     try:
-        ids = _identify(model, fr, vr)
+        ids = identify_modes(model, fr, vr)
         for name, (i, _, _) in ids.items():
             names[i] = name
     except Exception:  # noqa: BLE001 - a port without L1/B2 in band is still valid
@@ -395,6 +392,8 @@ def plate_admittance(
     electrodes: tuple[int, ...] | None = None,
     polarity: tuple[float, ...] | None = None,
     zeta: float | None = None,
+    zeta_L1: float | None = None,
+    zeta_B2: float | None = None,
     order: int = 2,
     refine: int = 4,
     cutoff_factor: float = 6.0,
@@ -413,8 +412,10 @@ def plate_admittance(
     electrodes, polarity : tuple, optional
         Port definition (default: ``stator.drive_electrodes``, all +1).
     zeta : float, optional
-        One damping ratio for every mode; default: the paper's ``zeta_L1`` and ``zeta_B2``
-        (:func:`rom.table2.table2`) for L1 and B2 and :data:`DEFAULT_ZETA_OTHER` for others.
+        One damping ratio for every mode; otherwise ``zeta_L1`` and ``zeta_B2`` for L1 and B2
+        and :data:`DEFAULT_ZETA_OTHER` for the others.
+    zeta_L1, zeta_B2 : float, optional
+        Damping ratios of L1 and B2 (-), required unless ``zeta`` is given.
     order, refine : int
         2D mesh (see :func:`fem.model.plate_model`).
     cutoff_factor : float
@@ -427,7 +428,8 @@ def plate_admittance(
     if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 3:
         raise ValueError(f"n_points must be an integer >= 3, got {n_points!r}")
     model = plate_model(stator, material, order, refine)
-    kw = {} if zeta is None else {"zeta_L1": zeta, "zeta_B2": zeta, "zeta_other": zeta}
+    kw = ({"zeta_L1": zeta_L1, "zeta_B2": zeta_B2} if zeta is None
+          else {"zeta_L1": zeta, "zeta_B2": zeta, "zeta_other": zeta})
     port = modal_port(model, f_max_Hz, electrodes, polarity, cutoff_factor=cutoff_factor, **kw)
     f = np.linspace(f_min_Hz, f_max_Hz, int(n_points))
     return AdmittanceResult(f_Hz=f, Y_S=port.admittance_S(f), pairs=resonance_pairs(port, f),

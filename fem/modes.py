@@ -211,8 +211,9 @@ def _sampling(
     return X, Y, P, inside
 
 
-def _references(X: np.ndarray, Y: np.ndarray, length_m: float) -> dict[str, np.ndarray]:
-    from rom.mode_shapes import phi_B
+def reference_shapes(X: np.ndarray, Y: np.ndarray, length_m: float) -> dict[str, np.ndarray]:
+    """In-plane L1 and B2 reference fields of a free-free beam (Eq. 3) at sample points (m)."""
+    from fem.beam_shapes import phi_B
 
     zeros = np.zeros_like(X)
     ref_l = np.stack((zeros, np.cos(np.pi * Y / length_m)))
@@ -220,11 +221,12 @@ def _references(X: np.ndarray, Y: np.ndarray, length_m: float) -> dict[str, np.n
     return {"L1": ref_l, "B2": ref_b}
 
 
-def _mac(a: np.ndarray, b: np.ndarray) -> float:
+def modal_assurance(a: np.ndarray, b: np.ndarray) -> float:
+    """Modal assurance criterion of two sampled fields (0..1)."""
     return float(np.sum(a * b) ** 2 / (np.sum(a * a) * np.sum(b * b)))
 
 
-def _symmetric_fraction(u: np.ndarray) -> float:
+def symmetric_fraction(u: np.ndarray) -> float:
     """Energy fraction of the sampled field ``u`` (2, ny, nx) that is mirror-symmetric in x."""
     ux, uy = u
     sym = np.stack(((ux - ux[:, ::-1]) / 2, (uy + uy[:, ::-1]) / 2))
@@ -232,17 +234,18 @@ def _symmetric_fraction(u: np.ndarray) -> float:
     return float(np.sum(sym * sym)) / total if total > 0 else 0.0
 
 
-def _sign_changes(values: np.ndarray, rel_tol: float = 1e-3) -> int:
+def sign_changes(values: np.ndarray, rel_tol: float = 1e-3) -> int:
+    """Sign changes of ``values``, ignoring those below ``rel_tol`` of the largest."""
     v = values[np.abs(values) > rel_tol * np.max(np.abs(values))]
     return int(np.sum(np.diff(np.sign(v)) != 0))
 
 
-def _identify(
+def identify_modes(
     model: PiezoPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray
 ) -> dict[str, tuple[int, float, float]]:
     """Index, MAC and symmetry fraction of L1 and B2 among the computed modes."""
     X, Y, P, inside = _sampling(model)
-    refs = {k: v * inside for k, v in _references(X, Y, model.stator.length_m).items()}
+    refs = {k: v * inside for k, v in reference_shapes(X, Y, model.stator.length_m).items()}
     sampled = (P @ shapes).reshape(2, *X.shape, -1)
     centre = X.shape[1] // 2
     f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
@@ -253,13 +256,13 @@ def _identify(
             if abs(freqs_Hz[i]) < f_floor:  # rigid-body mode
                 continue
             u = sampled[..., i]
-            sym = _symmetric_fraction(u)
+            sym = symmetric_fraction(u)
             klass = sym if name == "L1" else 1.0 - sym
             if klass < MIN_SYMMETRY:
                 continue
-            if name == "B2" and _sign_changes(u[0][:, centre]) != 3:
+            if name == "B2" and sign_changes(u[0][:, centre]) != 3:
                 continue
-            mac = _mac(u, refs[name])
+            mac = modal_assurance(u, refs[name])
             if mac >= MIN_MAC and (best is None or mac > best[1]):
                 best = (i, mac, klass)
         if best is None:
@@ -283,7 +286,7 @@ def _solve_identified(
     for k in (n_modes, 2 * n_modes, 4 * n_modes):
         f, v = natural_frequencies_Hz(model, k, f_center_Hz, open_circuit, maxiter)
         try:
-            return f, v, _identify(model, f, v)
+            return f, v, identify_modes(model, f, v)
         except ModeSolverError as exc:
             last = exc
             if k >= model.n_dofs - 2:

@@ -78,12 +78,12 @@ from fem.modes import (
     N_SAMPLE_Y,
     ModeSolverError,
     PlateModes,
-    _mac,
-    _references,
-    _sign_changes,
-    _symmetric_fraction,
+    modal_assurance,
     pair_short_open,
+    reference_shapes,
     rod_frequency_estimate_Hz,
+    sign_changes,
+    symmetric_fraction,
 )
 
 ELEMENTS = ("hex20", "hex27")
@@ -601,7 +601,7 @@ def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
 
 def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
     X, Y, probes, inside = _sampling3d(model)
-    refs = _references(X, Y, model.stator.length_m)
+    refs = reference_shapes(X, Y, model.stator.length_m)
     if not inside.all():
         refs = {k: v * inside for k, v in refs.items()}
     sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
@@ -617,13 +617,13 @@ def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray
             if zsym < MIN_THICKNESS_SYMMETRY:
                 continue
             u = sampled["mid"][:2, ..., i]
-            sym = _symmetric_fraction(u)
+            sym = symmetric_fraction(u)
             klass = sym if name == "L1" else 1.0 - sym
             if klass < MIN_SYMMETRY:
                 continue
-            if name == "B2" and _sign_changes(u[0][:, centre]) != 3:
+            if name == "B2" and sign_changes(u[0][:, centre]) != 3:
                 continue
-            mac = _mac(u, refs[name])
+            mac = modal_assurance(u, refs[name])
             if mac >= MIN_MAC and (best is None or mac * zsym > best[1] * best[3]):
                 best = (i, mac, klass, zsym)
         if best is None:

@@ -3,7 +3,7 @@
 The stator is a plate of length ``l`` (axis ``y``), width ``b_s`` (axis ``x``, the in-plane
 bending direction, Eq. 1: ``u1 = w``, ``u2 = u - x psi``) and thickness ``h_s`` (axis ``z``,
 the poling direction). The assumed modes are the free-free Euler-Bernoulli shapes of Eq. 3
-(:mod:`rom.mode_shapes`), so every constant below is a Rayleigh-Ritz integral of those
+(:mod:`fem.beam_shapes`), so every constant below is a Rayleigh-Ritz integral of those
 shapes. The extracted text of Appendix A is garbled; the reading used here is (``A = b_s h_s``,
 ``I = h_s b_s^3 / 12``, ``E3 = V0 / h_s``):
 
@@ -45,7 +45,7 @@ from typing import Literal
 import numpy as np
 import scipy.linalg
 
-from rom.mode_shapes import BETA2_L, phi_B, phi_L
+from fem.beam_shapes import BETA2_L, phi_B, phi_L
 from rom.params import MotorParams
 from rom.table2 import TABLE1, table2
 

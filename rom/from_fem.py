@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from rom.mode_shapes import phi_B, phi_L
+from fem.beam_shapes import phi_B, phi_L
 from rom.params import MotorParams
 from rom.table2 import table2
 

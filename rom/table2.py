@@ -7,7 +7,7 @@ L1 frequency far above 40 kHz) are documented in ``docs/contact.md`` and ``docs/
 
 from __future__ import annotations
 
-from rom.mode_shapes import phi_B, phi_L
+from fem.beam_shapes import phi_B, phi_L
 from rom.params import MotorParams
 
 TABLE1 = {

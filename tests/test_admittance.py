@@ -72,9 +72,9 @@ def test_default_drive_pairs_and_bad_input(model):
     with pytest.raises(ValueError, match="f_min_Hz"):
         plate_admittance(f_min_Hz=70e3, f_max_Hz=60e3)
     with pytest.raises(ValueError, match="electrodes"):
-        modal_port(model, 65e3, (5,))
+        modal_port(model, 65e3, (5,), None, 0.01, 0.01)
     with pytest.raises(ValueError, match="polarity"):
-        modal_port(model, 65e3, (1, 4), (1, 2))
+        modal_port(model, 65e3, (1, 4), (1, 2), 0.01, 0.01)
     with pytest.raises(ValueError, match="zeta_L1"):
         modal_port(model, 65e3, zeta_L1=-0.1)
 

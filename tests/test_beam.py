@@ -8,6 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from fem.beam_shapes import BETA2_L
 from rom.beam import (
     ELECTRODE_LAYOUTS,
     Electrode,
@@ -18,7 +19,6 @@ from rom.beam import (
     euler_bernoulli_b2_frequency,
     timoshenko_b2_frequency,
 )
-from rom.mode_shapes import BETA2_L
 from rom.params import MotorParams
 from rom.table2 import TABLE1, table2
 
@@ -57,7 +57,7 @@ def test_B2_euler_bernoulli_frequency_is_analytic(l_, b, h, rho, c11):
 
 def test_B2_mass_of_eq3_shape():
     # Eq. 3 is the standard free-free shape scaled by -alpha2, whose mean square is 1.
-    from rom.mode_shapes import ALPHA2
+    from fem.beam_shapes import ALPHA2
 
     c = beam_constants(**GEOM, e31_C_m2=-5.2)
     rho_a_l = GEOM["rho_kg_m3"] * GEOM["width_m"] * GEOM["thickness_m"] * GEOM["length_m"]

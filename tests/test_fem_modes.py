@@ -157,8 +157,8 @@ def test_bad_model_inputs():
 
 
 def test_fem_params_normalization_and_drive_direction():
+    from fem.beam_shapes import phi_B
     from rom.from_fem import fem_params
-    from rom.mode_shapes import phi_B
     from rom.table2 import table2
 
     p = fem_params(PlateStator(), "pzt8", order=2, refine=3)

@@ -83,12 +83,15 @@ def run(args: argparse.Namespace) -> None:
 
     from fem.admittance import plate_admittance, plot_admittance
     from fem.modes import DEFAULT_REFINE, ModeSolverError
+    from rom.table2 import table2
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     check_fe_size(choice.stator, refine)
+    paper = table2()  # the motor's damping comes from the parameter set, not from fem
     try:
         res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                args.points, electrodes=electrodes, zeta=args.zeta,
+                               zeta_L1=paper.zeta_L1, zeta_B2=paper.zeta_B2,
                                order=args.order, refine=refine)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
