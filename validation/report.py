@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from validation import figures
-from validation.markdown_html import to_html
 from validation.output_set import output_set
+from validation.report_html import to_html
 
 SECTIONS = ("parameter_sets", "paper_reproduction", "speed_vs_error", "hard_cases")
 
