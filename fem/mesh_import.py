@@ -263,8 +263,8 @@ def _check_cells(pts: np.ndarray, tri: np.ndarray, quad: np.ndarray, id_tri: np.
         raise ValueError(f"mesh file {path} has overlapping (folded or inverted) cells "
                          f"{_cells_text(owner[over])} {_CELL_NUMBERS}: an edge is shared the "
                          "wrong way or by more than two cells")
-    boundary = cnt_u[inv_u] == 1
-    _check_boundary(pts, edges[boundary], owner[boundary], path)
+    first = np.unique(inv_u, return_index=True)[1]  # one occurrence of every edge
+    _check_crossings(pts, und[first], owner[first], path)
     # connectivity through shared nodes
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
@@ -286,45 +286,92 @@ def _check_cells(pts: np.ndarray, tri: np.ndarray, quad: np.ndarray, id_tri: np.
                          "rest of the stator")
 
 
-def _check_boundary(pts: np.ndarray, edges: np.ndarray, owner: np.ndarray, path: Path,
-                    max_edges: int = 20000) -> None:
-    """Boundary edges must not cross, and no boundary node may sit inside another edge."""
-    n = edges.shape[0]
-    if n < 2 or n > max_edges:
+def _candidate_pairs(lo: np.ndarray, hi: np.ndarray, max_pairs: int) -> np.ndarray | None:
+    """Pairs ``(i, j)``, ``i < j``, of boxes that share a bin of a uniform grid (broad phase).
+
+    ``lo``/``hi`` are integer bin ranges (n, 2). None if the grid would make too many pairs.
+    """
+    span = hi - lo + 1
+    counts = span[:, 0] * span[:, 1]
+    if counts.sum() > 50 * len(lo):
+        return None
+    idx = np.repeat(np.arange(len(lo)), counts)
+    k = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    bx = lo[idx, 0] + k % span[idx, 0]
+    by = lo[idx, 1] + k // span[idx, 0]
+    key = (bx - bx.min()) * (int(by.max() - by.min()) + 1) + (by - by.min())
+    order = np.argsort(key, kind="stable")
+    key, idx = key[order], idx[order]
+    starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
+    sizes = np.diff(np.r_[starts, key.size])
+    pairs = []
+    for size in np.unique(sizes[sizes > 1]):
+        group = starts[sizes == size]
+        iu, ju = np.triu_indices(int(size), 1)
+        pairs.append(np.stack((idx[group[:, None] + iu], idx[group[:, None] + ju]), -1)
+                     .reshape(-1, 2))
+        if sum(len(q) for q in pairs) > max_pairs:
+            return None
+    if not pairs:
+        return np.zeros((0, 2), dtype=np.int64)
+    pairs = np.sort(np.concatenate(pairs), axis=1)
+    return np.unique(pairs[pairs[:, 0] != pairs[:, 1]], axis=0)
+
+
+def _check_crossings(pts: np.ndarray, edges: np.ndarray, owner: np.ndarray, path: Path) -> None:
+    """No two edges of the mesh may cross, and no node may sit inside an edge.
+
+    In a conforming mesh edges meet only at shared end nodes; a crossing means overlapping
+    cells, a node inside an edge a hanging node (non-conforming neighbours). A uniform grid of
+    about one edge length finds the candidate pairs (linear in the mesh size).
+    """
+    if edges.shape[0] < 2:
         return
     a, b = pts[edges[:, 0]], pts[edges[:, 1]]
+    length = np.hypot(*(b - a).T)
+    h = float(np.median(length))
     scale = float(np.max(np.ptp(pts[np.unique(edges)], axis=0)))
-    eps = 1e-9 * scale
+    if not h > 0:
+        return
+    base = np.minimum(a, b).min(axis=0)
+    lo = np.floor((np.minimum(a, b) - base) / h).astype(np.int64)
+    hi = np.floor((np.maximum(a, b) - base) / h).astype(np.int64)
+    pairs = _candidate_pairs(lo, hi, max_pairs=20 * edges.shape[0])
+    if pairs is None or pairs.size == 0:
+        return
+    i, j = pairs[:, 0], pairs[:, 1]
+    shared = (edges[i][:, :, None] == edges[j][:, None, :]).any(axis=(1, 2))
+    i, j = i[~shared], j[~shared]
+    ai, bi, aj, bj = a[i], b[i], a[j], b[j]
 
     def orient(p, q, r):
-        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (
-            q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+        return (q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (
+            r[:, 0] - p[:, 0])
 
-    chunk = max(1, 4_000_000 // n)
-    for s in range(0, n, chunk):
-        ai, bi = a[s:s + chunk, None, :], b[s:s + chunk, None, :]
-        aj, bj = a[None, :, :], b[None, :, :]
-        shared = (edges[s:s + chunk, None, :, None] == edges[None, :, None, :]).any(axis=(2, 3))
-        d1, d2 = orient(ai, bi, aj), orient(ai, bi, bj)
-        d3, d4 = orient(aj, bj, ai), orient(aj, bj, bi)
-        lens = np.hypot(*(bi - ai).transpose(2, 0, 1)) * np.hypot(*(bj - aj).transpose(2, 0, 1))
-        t = eps * lens / max(scale, 1e-300)
-        cross = (((d1 > t) & (d2 < -t)) | ((d1 < -t) & (d2 > t))) & (
-            ((d3 > t) & (d4 < -t)) | ((d3 < -t) & (d4 > t)))
-        # a node of edge j strictly inside edge i (collinear): a hanging node or an overlap
-        len2 = np.sum((bi - ai) ** 2, axis=-1)
-        margin = eps * np.sqrt(len2)
-        dot_a = np.sum((aj - ai) * (bi - ai), axis=-1)
-        dot_b = np.sum((bj - ai) * (bi - ai), axis=-1)
-        inside_a = (np.abs(d1) <= t) & (dot_a > margin) & (dot_a < len2 - margin)
-        inside_b = (np.abs(d2) <= t) & (dot_b > margin) & (dot_b < len2 - margin)
-        hit = (cross | inside_a | inside_b) & ~shared
-        if np.any(hit):
-            i, j = np.nonzero(hit)
-            cells = np.concatenate((owner[s + i], owner[j]))
-            raise ValueError(f"mesh file {path} has overlapping or non-conforming cells "
-                             f"{_cells_text(cells)} {_CELL_NUMBERS}: their boundary edges cross "
-                             "or meet inside an edge (every neighbour must share whole edges)")
+    t = 1e-9 * length[i] * length[j]  # a relative tolerance on the cross products
+    d1, d2 = orient(ai, bi, aj), orient(ai, bi, bj)
+    d3, d4 = orient(aj, bj, ai), orient(aj, bj, bi)
+    cross = (((d1 > t) & (d2 < -t)) | ((d1 < -t) & (d2 > t))) & (
+        ((d3 > t) & (d4 < -t)) | ((d3 < -t) & (d4 > t)))
+    len2 = length[i] ** 2
+    margin = 1e-9 * scale * length[i]
+    dot_a = np.sum((aj - ai) * (bi - ai), axis=1)
+    dot_b = np.sum((bj - ai) * (bi - ai), axis=1)
+    inside = ((np.abs(d1) <= t) & (dot_a > margin) & (dot_a < len2 - margin)) | (
+        (np.abs(d2) <= t) & (dot_b > margin) & (dot_b < len2 - margin))
+    # the same with the roles of the two edges swapped
+    len2j = length[j] ** 2
+    marginj = 1e-9 * scale * length[j]
+    dot_ai = np.sum((ai - aj) * (bj - aj), axis=1)
+    dot_bi = np.sum((bi - aj) * (bj - aj), axis=1)
+    inside |= ((np.abs(d3) <= t) & (dot_ai > marginj) & (dot_ai < len2j - marginj)) | (
+        (np.abs(d4) <= t) & (dot_bi > marginj) & (dot_bi < len2j - marginj))
+    hit = cross | inside
+    if np.any(hit):
+        cells = np.concatenate((owner[i[hit]], owner[j[hit]]))
+        raise ValueError(f"mesh file {path} has overlapping or non-conforming cells "
+                         f"{_cells_text(cells)} {_CELL_NUMBERS}: their edges cross or meet "
+                         "inside an edge (every neighbour must share whole edges)")
 
 
 def read_meshio(path: Path):

@@ -58,6 +58,20 @@ def _meshes(folder: Path) -> dict[str, str]:
     files["overlap"] = (np.vstack((pts, inner2)),
                         np.vstack((quads, [a, b, len(pts), len(pts) + 1])),
                         np.append(tags, tags[4]))
+    # a cell hung on one node of cell 4 and laid across its neighbours
+    c4 = pts[quads[4]].mean(axis=0)
+    loose = c4 + np.array([[1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]) * 2.5e-3
+    files["overlap_vertex"] = (np.vstack((pts, loose)),
+                               np.vstack((quads, [quads[4, 2], *range(len(pts), len(pts) + 3)])),
+                               np.append(tags, tags[4]))
+    # cell 13 split in two through the middle of its first and third edges: the neighbours
+    # across those edges see a hanging node
+    a, b, c, d = quads[13]
+    mids = np.vstack(((pts[a] + pts[b]) / 2, (pts[c] + pts[d]) / 2))
+    m1, m2 = len(pts), len(pts) + 1
+    hung = np.vstack((np.delete(quads, 13, axis=0), [a, m1, m2, d], [m1, b, c, m2]))
+    files["hanging_node"] = (np.vstack((pts, mids)), hung,
+                             np.concatenate((np.delete(tags, 13), [tags[13]] * 2)))
     bow = quads.copy()
     bow[7] = bow[7, [0, 2, 1, 3]]  # a bow-tie quad
     files["bowtie"] = (pts, bow, tags)
@@ -214,6 +228,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("mesh-folded", ["modes", "--geometry", "{folded}"], ["folded.msh", "cells"]),
     ("mesh-disconnected", ["modes", "--geometry", "{disconnected}"], ["separate parts"]),
     ("mesh-overlap", ["modes", "--geometry", "{overlap}"], ["overlapping", "folded"]),
+    ("mesh-overlap-at-a-node", ["modes", "--geometry", "{overlap_vertex}"],
+     ["overlapping or non-conforming"]),
+    ("mesh-hanging-node", ["modes", "--geometry", "{hanging_node}"], ["non-conforming"]),
     ("mesh-bowtie", ["modes", "--geometry", "{bowtie}"], ["degenerate", "cells"]),
     ("mesh-metre-declared-mm", ["modes", "--geometry", "{metre_as_mm}"], ["looks like metres"]),
     ("mesh-ten-metres", ["modes", "--geometry", "{ten_metres}"], ["1 m limit"]),
