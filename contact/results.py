@@ -13,8 +13,11 @@ MOTION_CLASSES = (
     "stick-slip-separation",
     "pure-stick",
     "pure-slip",
+    "separated",
 )
-"""Motion classes: the paper's four (Section 4.3) and pure slip, which it does not show."""
+"""Motion classes: the paper's four (Section 4.3), pure slip, which it does not show, and
+``separated``: the tip never presses on the slider in the window (no stick, no slip), e.g.
+zero preload and zero voltage."""
 
 
 @dataclass(frozen=True)
@@ -180,6 +183,8 @@ def classify_motion(stick: float, slip: float, separation: float, threshold: flo
         return "stick-slip-separation"
     if has_stick:
         return "stick-slip"
+    if has_sep and not has_slip:
+        return "separated"
     if has_sep:
         return "slip-separation"
     return "pure-slip"

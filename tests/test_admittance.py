@@ -85,3 +85,11 @@ def test_cli_admittance(tmp_path, capsys):
     assert {p["mode"] for p in out["pairs"]} >= {"L1", "B2"}
     assert (tmp_path / "admittance.png").stat().st_size > 1000
     assert main(["admittance", "--f-min", "7e4", "--f-max", "6e4"]) == 2
+
+
+def test_modal_port_is_bit_identical_run_to_run(model):
+    """A fixed eigsh start vector: two identical calls give identical numbers."""
+    a = modal_port(model, 65e3, None, None, 0.01, 0.02)
+    b = modal_port(model, 65e3, None, None, 0.01, 0.02)
+    f = np.linspace(45e3, 65e3, 101)
+    assert np.array_equal(a.admittance_S(f), b.admittance_S(f))

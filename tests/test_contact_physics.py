@@ -193,3 +193,11 @@ def test_trace_decimation_does_not_change_the_answer(paper_params):
     assert a.trace.x_m[-1] == b.trace.x_m[-1]
     assert a.steady.velocity_m_s == b.steady.velocity_m_s
     assert len(a.trace.t_s) < 20 < len(b.trace.t_s)
+
+
+def test_no_drive_and_no_preload_is_separated_not_slip(paper_params):
+    """With F_P = 0 and V = 0 the tip only touches: no stick, no slip, nothing moves."""
+    r = simulate(paper_params, 0.0, 0.0, duration_s=0.002)
+    assert r.steady.motion == "separated"
+    assert r.steady.slip_fraction == 0.0 and r.steady.stick_fraction == 0.0
+    assert r.steady.velocity_m_s == 0.0

@@ -38,6 +38,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_drive_options(p, required=False, auto_frequency=False)
     p.add_argument("--no-ultrasonic-friction", action="store_true",
                    help="use the constant mu_d instead of Eq. 11 (Fig. 19)")
+    p.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
+                   help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
     p.add_argument("--source", choices=SOURCES, default=None,
                    help="parameter set (default table2; fem with --geometry or a plate option)")
     add_plate_options(p, note="; any of them selects --source fem")
@@ -73,7 +75,8 @@ def run(args: argparse.Namespace) -> None:
     from validation.summaries import map_summary
 
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
-                             ultrasonic_friction=not args.no_ultrasonic_friction)
+                             ultrasonic_friction=not args.no_ultrasonic_friction,
+                             coupling=args.coupling)
     try:
         m = stick_slip_map(params, volts, loads, args.frequency, opts, workers=args.workers)
     except RuntimeError as exc:  # the kernel's own refusal (chattering)
@@ -91,7 +94,7 @@ def run(args: argparse.Namespace) -> None:
         print_json(summary, indent=2)
         return
     short = {"slip-separation": "o", "stick-slip": "*", "stick-slip-separation": "S",
-             "pure-stick": "#", "pure-slip": "-"}
+             "pure-stick": "#", "pure-slip": "-", "separated": "."}
     print("V0 \\ F_P " + " ".join(f"{f:>5g}" for f in m.preloads_N))
     for i, v in enumerate(m.voltages_V):
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))

@@ -73,4 +73,5 @@ def run(args: argparse.Namespace) -> None:
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
     for name, m in (("L1", d.L1), ("B2", d.B2)):
         print(f"{name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")
-    print(f"|f_L1 - f_B2| / f = {d.relative_mismatch:.2e}, FE solves {d.fe_solves}")
+    print(f"|f_L1 - f_B2| / f = {d.relative_mismatch:.2e}, FE solves {d.fe_solves}, "
+          f"outer iterations {d.outer_iterations}")

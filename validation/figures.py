@@ -22,6 +22,7 @@ MAP_STYLE = {
     "stick-slip-separation": dict(marker="s", facecolors="tab:purple", edgecolors="k"),
     "pure-stick": dict(marker="*", facecolors="tab:red", edgecolors="tab:red"),
     "pure-slip": dict(marker="^", facecolors="none", edgecolors="tab:blue"),
+    "separated": dict(marker="x", facecolors="tab:gray", edgecolors="tab:gray"),
 }
 
 

@@ -343,8 +343,8 @@ def parse_frequency(text: str | float, params=None) -> float:
 def warn_drive(voltage_V: float | None, preload_N: float | None) -> None:
     """Warn (stderr) for operating points outside the range where Table 2 was measured."""
     if voltage_V == 0 and preload_N == 0:
-        warn("--voltage 0 and --preload 0: no drive and no contact force, nothing moves; "
-             "the motion class printed for this degenerate point has no meaning")
+        warn("--voltage 0 and --preload 0: no drive and no contact force, nothing moves "
+             "(motion class 'separated')")
     if voltage_V is not None and voltage_V > limits.VOLTAGE_WARN_V:
         warn(f"--voltage {voltage_V:g} V is above {limits.VOLTAGE_WARN_V:g} V: the linear "
              "piezoelectric model and the contact constants were not validated there")

@@ -24,7 +24,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import tempfile
+import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -118,9 +118,12 @@ def output_set(target: Path, kind: str, option: str = "--out",
             created.append(parent)
     stage_parent = next(p for p in [target.parent, *target.parent.parents] if p.exists())
     # Stage inside the nearest existing ancestor so the final move is a rename on one disk.
-    stage = Path(tempfile.mkdtemp(prefix=f".{target.name or 'out'}-partial-", dir=stage_parent))
+    # The name is chosen before the folder exists, so a signal landing anywhere (even inside
+    # the mkdir) still finds it in ``finally``.
+    stage = stage_parent / f".{target.name or 'out'}-partial-{uuid.uuid4().hex[:12]}"
     done = False
     try:
+        stage.mkdir()
         yield stage
         _commit(stage, target, kind, force)
         done = True
