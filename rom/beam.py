@@ -43,7 +43,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-import scipy.linalg
 
 from fem.beam_shapes import BETA2_L, phi_B, phi_L
 from rom.params import MotorParams
@@ -56,6 +55,49 @@ _QUAD_POINTS = 64
 """Gauss-Legendre points for the B2 integrals (converged to machine precision)."""
 
 B2Stiffness = Literal["euler-bernoulli", "timoshenko"]
+
+
+@dataclass(frozen=True)
+class BeamStator:
+    """The stator as a beam: geometry and the material constants beam theory uses.
+
+    Attributes
+    ----------
+    length_m, width_m, thickness_m : float
+        Length ``l``, width ``b_s`` (in-plane bending direction) and thickness ``h_s`` (m),
+        finite and > 0.
+    rho_kg_m3 : float
+        Density (kg/m^3), > 0.
+    cE11_Pa, cE66_Pa : float
+        Short-circuit axial and shear stiffness constants (Pa), > 0.
+    e31_C_m2 : float
+        Piezoelectric stress constant (C/m^2), finite.
+
+    Defaults are the paper's Table 1.
+    """
+
+    length_m: float = TABLE1["length_m"]
+    width_m: float = TABLE1["width_m"]
+    thickness_m: float = TABLE1["thickness_m"]
+    rho_kg_m3: float = TABLE1["rho_kg_m3"]
+    cE11_Pa: float = TABLE1["cE11_Pa"]
+    cE66_Pa: float = TABLE1["cE66_Pa"]
+    e31_C_m2: float = TABLE1["e31_C_m2"]
+
+    def __post_init__(self) -> None:
+        for name in ("length_m", "width_m", "thickness_m", "rho_kg_m3", "cE11_Pa", "cE66_Pa"):
+            object.__setattr__(self, name, _check_positive(name, getattr(self, name)))
+        object.__setattr__(self, "e31_C_m2", _check_finite("e31_C_m2", self.e31_C_m2))
+
+    @property
+    def area_m2(self) -> float:
+        """Cross-section ``b_s h_s`` (m^2)."""
+        return self.width_m * self.thickness_m
+
+    @property
+    def inertia_m4(self) -> float:
+        """Second moment of area for in-plane bending, ``h_s b_s^3 / 12`` (m^4)."""
+        return self.thickness_m * self.width_m**3 / 12.0
 
 
 @dataclass(frozen=True)
@@ -227,13 +269,7 @@ def _gauss(length_m: float, n: int = _QUAD_POINTS) -> tuple[np.ndarray, np.ndarr
 
 
 def beam_constants(
-    length_m: float = TABLE1["length_m"],
-    width_m: float = TABLE1["width_m"],
-    thickness_m: float = TABLE1["thickness_m"],
-    rho_kg_m3: float = TABLE1["rho_kg_m3"],
-    cE11_Pa: float = TABLE1["cE11_Pa"],
-    cE66_Pa: float = TABLE1["cE66_Pa"],
-    e31_C_m2: float = TABLE1["e31_C_m2"],
+    beam: BeamStator | None = None,
     *,
     electrode_layout: str | Sequence[Electrode] = "quadrants-1-4",
 ) -> BeamConstants:
@@ -241,14 +277,8 @@ def beam_constants(
 
     Parameters
     ----------
-    length_m, width_m, thickness_m : float
-        Stator length ``l``, width ``b_s`` (bending direction) and thickness ``h_s`` (m), > 0.
-    rho_kg_m3 : float
-        Density (kg/m^3), > 0.
-    cE11_Pa, cE66_Pa : float
-        Short-circuit axial and shear stiffness constants (Pa), > 0.
-    e31_C_m2 : float
-        Piezoelectric stress constant (C/m^2), finite.
+    beam : BeamStator, optional
+        Geometry and material (default: Table 1).
     electrode_layout : str or sequence of Electrode
         A key of :data:`ELECTRODE_LAYOUTS` or explicit electrodes.
 
@@ -263,17 +293,12 @@ def beam_constants(
         If a dimension or modulus is not finite and positive, ``e31`` is not finite, or the
         layout is unknown.
     """
-    l_ = _check_positive("length_m", length_m)
-    b = _check_positive("width_m", width_m)
-    h = _check_positive("thickness_m", thickness_m)
-    rho = _check_positive("rho_kg_m3", rho_kg_m3)
-    c11 = _check_positive("cE11_Pa", cE11_Pa)
-    c66 = _check_positive("cE66_Pa", cE66_Pa)
-    e31 = _check_finite("e31_C_m2", e31_C_m2)
+    beam = BeamStator() if beam is None else beam
+    l_, b = beam.length_m, beam.width_m
+    rho, c11, c66, e31 = beam.rho_kg_m3, beam.cE11_Pa, beam.cE66_Pa, beam.e31_C_m2
     layout = _resolve_layout(electrode_layout)
 
-    area = b * h
-    inertia = h * b**3 / 12.0
+    area, inertia = beam.area_m2, beam.inertia_m4
     # A.1 and A.3 in closed form for phi_L = cos(pi y / l).
     m_l = rho * area * l_ / 2.0
     k_l = c11 * area * math.pi**2 / (2.0 * l_)
@@ -318,15 +343,10 @@ def beam_constants(
     )
 
 
-def b2_stiffness_readings(**beam_kwargs: float) -> dict[str, float]:
-    """The candidate readings of A.4 (N/m) for one beam, keyed by a short description.
-
-    Parameters
-    ----------
-    **beam_kwargs
-        Geometry and material keywords of :func:`beam_constants`.
-    """
-    c = beam_constants(**beam_kwargs)
+def b2_stiffness_readings(beam: BeamStator | None = None) -> dict[str, float]:
+    """The candidate readings of A.4 (N/m) for one beam (default Table 1), keyed by a short
+    description."""
+    c = beam_constants(beam)
     return {
         "bending cE11 I int phi''^2 (Euler-Bernoulli)": c.K_b_bending,
         "printed 1/2 cE66 A int phi'^2": c.K_b_printed,
@@ -336,13 +356,7 @@ def b2_stiffness_readings(**beam_kwargs: float) -> dict[str, float]:
 
 
 def beam_params(
-    length_m: float = TABLE1["length_m"],
-    width_m: float = TABLE1["width_m"],
-    thickness_m: float = TABLE1["thickness_m"],
-    rho_kg_m3: float = TABLE1["rho_kg_m3"],
-    cE11_Pa: float = TABLE1["cE11_Pa"],
-    cE66_Pa: float = TABLE1["cE66_Pa"],
-    e31_C_m2: float = TABLE1["e31_C_m2"],
+    beam: BeamStator | None = None,
     *,
     base: MotorParams | None = None,
     damping_ratios: tuple[float, float] | None = None,
@@ -353,8 +367,8 @@ def beam_params(
 
     Parameters
     ----------
-    length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa, e31_C_m2 : float
-        Geometry (m) and material (kg/m^3, Pa, C/m^2); defaults are Table 1.
+    beam : BeamStator, optional
+        Geometry (m) and material (kg/m^3, Pa, C/m^2); default Table 1.
     base : MotorParams, optional
         Source of the contact, slider and friction constants (``k_contact``, ``M_slider``,
         ``mu_s``, ``mu_d``, ``mu_sd``, ``a_mu``, ``b_mu``) and of the default damping ratios.
@@ -383,10 +397,7 @@ def beam_params(
         raise ValueError(
             f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}"
         )
-    c = beam_constants(
-        length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa, e31_C_m2,
-        electrode_layout=electrode_layout,
-    )
+    c = beam_constants(beam, electrode_layout=electrode_layout)
     base = table2() if base is None else base
     if not isinstance(base, MotorParams):
         raise ValueError(f"base must be a MotorParams or None, got {type(base).__name__}")
@@ -417,91 +428,8 @@ def beam_params(
     )
 
 
-def timoshenko_b2_frequency(
-    length_m: float = TABLE1["length_m"],
-    width_m: float = TABLE1["width_m"],
-    thickness_m: float = TABLE1["thickness_m"],
-    rho_kg_m3: float = TABLE1["rho_kg_m3"],
-    E_Pa: float = TABLE1["cE11_Pa"],
-    G_Pa: float = TABLE1["cE66_Pa"],
-    *,
-    shear_factor: float = SHEAR_FACTOR,
-    rotary_inertia: bool = True,
-    degree: int = 24,
-) -> float:
-    """Second free-free bending frequency of a Timoshenko beam, in-plane (Hz).
-
-    Rayleigh-Ritz with independent Legendre expansions (degree ``degree``) of the lateral
-    displacement ``w`` and the section rotation ``psi``; free ends need no constraint. The
-    first two eigenvalues are the rigid-body modes, the fourth is B2.
-
-    Parameters
-    ----------
-    length_m, width_m, thickness_m : float
-        Beam length, in-plane width (bending direction) and thickness (m), > 0.
-    rho_kg_m3 : float
-        Density (kg/m^3), > 0.
-    E_Pa, G_Pa : float
-        Axial and shear moduli (Pa), > 0 (the stator uses ``cE11`` and ``cE66``).
-    shear_factor : float
-        Shear correction factor ``kappa`` (-), > 0.
-    rotary_inertia : bool
-        Include the ``rho I psi_t^2`` kinetic energy.
-    degree : int
-        Highest Legendre degree of each field, >= 6.
-
-    Returns
-    -------
-    float
-        The B2 natural frequency (Hz).
-    """
-    l_ = _check_positive("length_m", length_m)
-    b = _check_positive("width_m", width_m)
-    h = _check_positive("thickness_m", thickness_m)
-    rho = _check_positive("rho_kg_m3", rho_kg_m3)
-    e_mod = _check_positive("E_Pa", E_Pa)
-    g_mod = _check_positive("G_Pa", G_Pa)
-    kappa = _check_positive("shear_factor", shear_factor)
-    if isinstance(degree, bool) or not isinstance(degree, int) or degree < 6:
-        raise ValueError(f"degree must be an integer in [6, inf), got {degree!r}")
-    area, inertia = b * h, h * b**3 / 12.0
-    n = degree + 1
-    xi, wq = np.polynomial.legendre.leggauss(degree + 2)
-    eye = np.eye(n)
-    p = np.polynomial.legendre.legvander(xi, degree)  # values
-    dp = np.stack([np.polynomial.legendre.legval(xi, np.polynomial.legendre.legder(eye[k]))
-                   for k in range(n)], axis=1)  # d/dxi
-    jac = 0.5 * l_  # dy = jac dxi
-    # Dimensionless unknowns: w / l and psi, derivatives d/dy = d/dxi / jac.
-    ppw = (p.T * wq) @ p * jac
-    dpw = (dp.T * wq) @ dp / jac
-    dpp = (dp.T * wq) @ p
-    ks = kappa * g_mod * area
-    # U = 1/2 int EI psi'^2 + ks (w' - psi)^2 with w = l * wt.
-    k_ww = ks * l_**2 * dpw
-    k_wp = -ks * l_ * dpp
-    k_pp = e_mod * inertia * dpw + ks * ppw
-    m_ww = rho * area * l_**2 * ppw
-    m_pp = (rho * inertia if rotary_inertia else 0.0) * ppw
-    k = np.block([[k_ww, k_wp], [k_wp.T, k_pp]])
-    m = np.block([[m_ww, np.zeros((n, n))], [np.zeros((n, n)), m_pp]])
-    # Without rotary inertia psi is condensed statically (its mass block is zero).
-    if not rotary_inertia:
-        k_red = k_ww - k_wp @ np.linalg.solve(k_pp, k_wp.T)
-        lam = scipy.linalg.eigh(k_red, m_ww, eigvals_only=True)
-    else:
-        lam = scipy.linalg.eigh(k, m, eigvals_only=True)
-    lam = np.sort(lam)
-    return float(math.sqrt(lam[3]) / (2.0 * math.pi))
-
-
 def beam_frequencies(
-    length_m: float = TABLE1["length_m"],
-    width_m: float = TABLE1["width_m"],
-    thickness_m: float = TABLE1["thickness_m"],
-    rho_kg_m3: float = TABLE1["rho_kg_m3"],
-    cE11_Pa: float = TABLE1["cE11_Pa"],
-    cE66_Pa: float = TABLE1["cE66_Pa"],
+    beam: BeamStator | None = None,
     *,
     b2_stiffness: B2Stiffness = "euler-bernoulli",
 ) -> BeamFrequencies:
@@ -509,7 +437,7 @@ def beam_frequencies(
 
     Parameters
     ----------
-    length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa : float
+    beam : BeamStator, optional
         As in :func:`beam_params`.
     b2_stiffness : {"euler-bernoulli", "timoshenko"}
         The choice :func:`beam_params` would make; sets ``f_B2_params_Hz``.
@@ -524,7 +452,10 @@ def beam_frequencies(
         raise ValueError(
             f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}"
         )
-    c = beam_constants(length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa, -1.0)
+    from rom.timoshenko import timoshenko_b2_frequency
+
+    beam = BeamStator() if beam is None else beam
+    c = beam_constants(beam)
     two_pi = 2.0 * math.pi
     f_eb = math.sqrt(c.K_b_bending / c.M_b) / two_pi
     f_cond = math.sqrt(c.K_b_timoshenko / c.M_b) / two_pi
@@ -532,24 +463,19 @@ def beam_frequencies(
         f_L1_Hz=math.sqrt(c.K_l / c.M_l) / two_pi,
         f_B2_euler_bernoulli_Hz=f_eb,
         f_B2_condensed_Hz=f_cond,
-        f_B2_timoshenko_Hz=timoshenko_b2_frequency(
-            length_m, width_m, thickness_m, rho_kg_m3, cE11_Pa, cE66_Pa
-        ),
+        f_B2_timoshenko_Hz=timoshenko_b2_frequency(beam),
         f_B2_params_Hz=f_eb if b2_stiffness == "euler-bernoulli" else f_cond,
         b2_stiffness=b2_stiffness,
     )
 
 
-def euler_bernoulli_b2_frequency(
-    length_m: float, width_m: float, thickness_m: float, rho_kg_m3: float, E_Pa: float
-) -> float:
+def euler_bernoulli_b2_frequency(beam: BeamStator | None = None) -> float:
     """Closed-form free-free B2 frequency ``(beta2 l)^2 / (2 pi l^2) sqrt(EI / rho A)`` (Hz).
 
-    Uses the ``beta2 l`` printed under Eq. 3 and ``I = h_s b_s^3 / 12`` (in-plane bending).
+    Uses the ``beta2 l`` printed under Eq. 3, ``E = cE11`` and ``I = h_s b_s^3 / 12``
+    (in-plane bending; the thickness cancels in ``I / A``).
     """
-    l_ = _check_positive("length_m", length_m)
-    b = _check_positive("width_m", width_m)
-    _check_positive("thickness_m", thickness_m)  # cancels: I / A = b_s^2 / 12
-    rho = _check_positive("rho_kg_m3", rho_kg_m3)
-    e_mod = _check_positive("E_Pa", E_Pa)
-    return float(BETA2_L**2 / (2.0 * math.pi * l_**2) * math.sqrt(e_mod * b**2 / (12.0 * rho)))
+    beam = BeamStator() if beam is None else beam
+    l_ = beam.length_m
+    return float(BETA2_L**2 / (2.0 * math.pi * l_**2)
+                 * math.sqrt(beam.cE11_Pa * beam.inertia_m4 / (beam.rho_kg_m3 * beam.area_m2)))

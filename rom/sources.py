@@ -32,10 +32,14 @@ def _table2(**kwargs: Any) -> MotorParams:
 
 
 def _beam(**kwargs: Any) -> MotorParams:
-    """Appendix A beam theory."""
-    from rom.beam import beam_params
+    """Appendix A beam theory; geometry and material keywords build the :class:`BeamStator`."""
+    from dataclasses import fields
 
-    return beam_params(**kwargs)
+    from rom.beam import BeamStator, beam_params
+
+    names = {f.name for f in fields(BeamStator)}
+    beam = BeamStator(**{k: kwargs.pop(k) for k in list(kwargs) if k in names})
+    return beam_params(beam, **kwargs)
 
 
 def _fem(**kwargs: Any) -> MotorParams:
