@@ -439,9 +439,6 @@ def plate_admittance(
 
 def plot_admittance(result: AdmittanceResult, path: str | Path) -> Path:
     """PNG of ``|Y|`` (log scale) and its phase against frequency, pairs marked."""
-    import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     path = Path(path)

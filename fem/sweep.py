@@ -159,9 +159,6 @@ def sweep_dimension(
 
 def plot_sweep(result: SweepResult, path: str | Path) -> Path:
     """PNG of L1 and B2 (short circuit) against the swept dimension, other modes in grey."""
-    import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     path = Path(path)
