@@ -127,7 +127,3 @@ def reverse_drive(stator: PlateStator) -> PlateStator:
     drive = tuple(sorted(mirror[e] for e in stator.drive_electrodes))
     return replace(stator, drive_electrodes=drive)
 
-
-def paper_stator() -> PlateStator:
-    """The paper's stator: 30 x 7.5 x 3 mm, default gap, driven through electrodes 1 and 4."""
-    return PlateStator()

@@ -135,11 +135,6 @@ class PiezoPlateModel:
         """Number of displacement degrees of freedom."""
         return int(self.K.shape[0])
 
-    @property
-    def capacitance_matrix_F(self) -> np.ndarray:
-        """4x4 clamped capacitance matrix of the top electrodes (F), diagonal."""
-        return np.diag(self.C_F)
-
     def coupling(self, electrodes: tuple[int, ...]) -> np.ndarray:
         """Sum of the coupling vectors of ``electrodes`` driven at the same voltage (N/V)."""
         _check_electrodes(electrodes)
