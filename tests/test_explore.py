@@ -1,0 +1,209 @@
+"""``lusm explore``: studies on a LocalCluster against the same points computed in-process,
+resume after an interruption, a killed worker, and bad study files."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import numpy as np
+import pytest
+
+xr = pytest.importorskip("xarray")
+pytest.importorskip("distributed")
+
+from validation.explore import (  # noqa: E402
+    assemble,
+    compute_geometry,
+    explore,
+    local_cluster,
+    open_result,
+    parts_folder,
+    write_dataset,
+)
+from validation.study import load_study, study_from_dict  # noqa: E402
+
+TINY = {
+    "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
+                "no_load_velocity", "motion_class", "velocity"],
+    "study": {"name": "tiny"},
+    "axes": {
+        "length": {"start": "28 mm", "stop": "32 mm", "num": 3},
+        "width": ["7 mm", "8 mm"],
+        "voltage": ["200 V", "300 V"],
+        "preload": "6 N",
+        "load": ["0 N", "1 N"],
+    },
+    "solver": {"fe_order": 2, "fe_refine": 1, "duration": "4 ms", "dt": "100 ns"},
+}
+"""3 x 2 geometries x 2 voltages x 2 loads: one FE solve and 2 runs per task."""
+
+
+@pytest.fixture(scope="module")
+def study():
+    return study_from_dict(TINY)
+
+
+@pytest.fixture(scope="module")
+def reference(study, tmp_path_factory):
+    """The dataset of the same points computed one by one in this process, read back."""
+    parts = {i: compute_geometry(study, i) for i in range(study.n_geometries)}
+    for p in parts.values():
+        p.pop("task_time_s")
+    path = tmp_path_factory.mktemp("ref") / "ref.nc"
+    write_dataset(assemble(study, parts), path)
+    return open_result(path)
+
+
+@pytest.fixture(scope="module")
+def client():
+    from distributed import Client
+
+    cluster = local_cluster(2)
+    c = Client(cluster)
+    try:
+        yield c
+    finally:
+        c.close()
+        cluster.close()
+
+
+def test_cluster_equals_in_process(study, reference, client, tmp_path):
+    out = tmp_path / "study.nc"
+    r = explore(study, out, client=client, progress=False)
+    assert (r.computed, r.reused, r.workers) == (study.n_geometries, 0, 2)
+    ds = open_result(out)
+    xr.testing.assert_identical(ds, reference)  # bit-identical, NaN == NaN
+    assert not parts_folder(out).exists()  # the parts are gone once the dataset is in
+    # the labels mean what they say: one dimension per axis, SI units, provenance
+    assert ds["f_L1_short"].dims == ("length", "width", "thickness", "gap", "material")
+    assert ds["velocity"].dims[-4:] == ("material", "voltage", "preload", "load")
+    np.testing.assert_allclose(ds["length"].values, [28e-3, 30e-3, 32e-3])
+    assert ds["length"].attrs["units"] == "m" and ds["f_B2_open"].attrs["units"] == "Hz"
+    assert "fem_params" in ds.attrs["parameter_set_source"] and ds.attrs["lusm_version"]
+    np.testing.assert_array_equal(ds["split"], ds["f_B2_short"] - ds["f_L1_short"])
+    # open circuit stiffens both modes, and k_eff is the coupling of that shift
+    for m in ("L1", "B2"):
+        fs, fo = ds[f"f_{m}_short"].values, ds[f"f_{m}_open"].values
+        assert np.all(fo > fs)
+        np.testing.assert_allclose(ds[f"k_eff_{m}"], np.sqrt((fo**2 - fs**2) / fo**2),
+                                   rtol=1e-9)
+    # the L1 rod frequency falls like 1/length
+    f = ds["f_L1_short"].isel(width=0).values.ravel()
+    assert np.all(np.diff(f) < 0)
+    # the velocity at zero load is the no-load velocity (and NaN under load until
+    # contact.steady answers it)
+    np.testing.assert_array_equal(ds["velocity"].sel(load=0.0), ds["no_load_velocity"])
+
+
+class Interrupt(Exception):
+    pass
+
+
+def test_resume_after_interruption_is_identical(study, reference, client, tmp_path):
+    out = tmp_path / "study.nc"
+    seen = []
+
+    def stop_after_two(i):
+        seen.append(i)
+        if len(seen) == 2:
+            raise Interrupt
+
+    with pytest.raises(Interrupt):
+        explore(study, out, client=client, progress=False, on_part=stop_after_two)
+    assert not out.exists()
+    assert len(list(parts_folder(out).glob("g*.npz"))) == 2
+    with pytest.raises(ValueError, match="--resume"):  # no silent restart over the parts
+        explore(study, out, client=client, progress=False)
+    r = explore(study, out, client=client, progress=False, resume=True)
+    assert (r.reused, r.computed) == (2, study.n_geometries - 2)
+    xr.testing.assert_identical(open_result(out), reference)
+
+
+def test_resume_refuses_another_study(study, client, tmp_path):
+    out = tmp_path / "study.nc"
+    with pytest.raises(Interrupt):
+        explore(study, out, client=client, progress=False,
+                on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
+    other = study_from_dict({**TINY, "axes": {**TINY["axes"], "preload": "7 N"}})
+    with pytest.raises(ValueError, match="another study"):
+        explore(other, out, client=client, progress=False, resume=True)
+
+
+def test_killed_worker_loses_nothing(study, reference, tmp_path):
+    from distributed import Client
+
+    cluster = local_cluster(2)
+    c = Client(cluster)
+    killed = []
+
+    def kill_a_busy_worker(i):
+        if killed:
+            return
+        pids = c.run(os.getpid)
+        busy = [w for w, keys in c.processing().items() if keys] or list(pids)
+        killed.append(pids[busy[0]])
+        os.kill(pids[busy[0]], signal.SIGKILL)
+
+    try:
+        out = tmp_path / "study.nc"
+        r = explore(study, out, client=c, progress=False, on_part=kill_a_busy_worker)
+        assert killed and r.computed == study.n_geometries
+        xr.testing.assert_identical(open_result(out), reference)
+        c.wait_for_workers(2, timeout=60)
+        assert killed[0] not in c.run(os.getpid).values()  # it really died
+    finally:
+        c.close()
+        cluster.close()
+
+
+# --- bad study files ------------------------------------------------------------------------
+
+BAD = {
+    "unknown axis": ("[axes]\ndiameter = '3 mm'\n", "axes.diameter"),
+    "unit in the key": ("[axes]\nlength_mm = 30\n", "axes.length_mm"),
+    "empty list": ("[axes]\nwidth = []\n", "axes.width"),
+    "empty range": ("[axes]\nvoltage = { start = '300 V', stop = '100 V', step = '50 V' }\n",
+                    "axes.voltage"),
+    "unit-less number": ("[axes]\nlength = 30\n", "axes.length"),
+    "unit-less string": ("[axes]\npreload = '14'\n", "axes.preload"),
+    "wrong unit": ("[axes]\nvoltage = '200 mm'\n", "axes.voltage"),
+    "missing output": ("outputs = ['f_L1_short', 'torque']\n", "outputs[1]"),
+    "unit-less solver": ("[solver]\ndt = 1e-7\n", "solver.dt"),
+    "gap eats the plate": ("[axes]\nwidth = '2 mm'\ngap = '3 mm'\n", "axes.gap"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_study_file_names_the_key(name, tmp_path):
+    text, key = BAD[name]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(ValueError) as info:
+        load_study(path)
+    msg = str(info.value)
+    assert key in msg and "\n" not in msg
+
+
+@pytest.mark.parametrize("name", ["unknown axis", "unit-less number", "missing output"])
+def test_cli_bad_study_exit_2(name, tmp_path, capsys):
+    from validation.cli import main
+
+    text, key = BAD[name]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm explore: error:") and key in err and "\n" not in err
+    assert not (tmp_path / "r.nc").exists()
+
+
+def test_cli_never_overwrites_a_file(tmp_path, capsys):
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text("outputs = ['f_L1_short']\n")
+    out = tmp_path / "r.nc"
+    out.write_text("mine")
+    assert main(["explore", str(path), "--out", str(out)]) == 2
+    assert "--force" in capsys.readouterr().err and out.read_text() == "mine"
