@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -207,3 +208,56 @@ def test_cli_never_overwrites_a_file(tmp_path, capsys):
     out.write_text("mine")
     assert main(["explore", str(path), "--out", str(out)]) == 2
     assert "--force" in capsys.readouterr().err and out.read_text() == "mine"
+
+
+# --- what a task computes -------------------------------------------------------------------
+
+def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
+    import validation.explore as ex
+
+    def boom(*a, **k):
+        raise AssertionError("the contact model ran for an FE-only study")
+
+    monkeypatch.setattr(ex, "_motor_answers", boom)
+    s = study_from_dict({"outputs": ["f_B2_open", "k_eff"], "solver": {"fe_refine": 1}})
+    part = compute_geometry(s, 0)
+    assert str(part["status"]) == "ok" and np.isfinite(part["f_B2_open"])
+    ds = assemble(s, {0: part})
+    assert set(ds.data_vars) == {"f_B2_open", "k_eff_L1", "k_eff_B2", "status"}
+
+
+def test_fixed_frequencies_are_a_dimension():
+    s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
+                         "axes": {"frequency": ["52 kHz", "56 kHz"], "preload": "6 N"},
+                         "solver": {"fe_refine": 1, "duration": "2 ms"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    assert ds["no_load_velocity"].dims[-3:] == ("frequency", "voltage", "preload")
+    np.testing.assert_array_equal(ds["frequency"], [52e3, 56e3])
+    assert "f_drive" not in ds and ds["frequency"].attrs["units"] == "Hz"
+    # each frequency really drives its own run: the answers differ
+    v = ds["no_load_velocity"].values.ravel()
+    assert np.all(np.isfinite(v)) and v[0] != v[1]
+
+
+def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
+    import json
+
+    from validation.cli import main
+
+    path = tmp_path / "fe.toml"
+    path.write_text('outputs = ["f_L1_short", "split"]\n[axes]\n'
+                    'length = ["28 mm", "30 mm"]\nwidth = ["7 mm", "8 mm"]\n'
+                    '[solver]\nfe_refine = 1\n')
+    out, maps = tmp_path / "fe.nc", tmp_path / "maps"
+    address = client.scheduler.address
+    assert main(["explore", str(path), "--out", str(out), "--scheduler", address, "--json",
+                 "--plot", str(maps)]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["computed"] == 4 and summary["workers"] == 2
+    assert [Path(f).name for f in summary["figures"]] == ["split_length_width.png"]
+    assert (maps / "split_length_width.png").stat().st_size > 1000
+    ds = open_result(out)
+    s = load_study(path)
+    for i in range(4):
+        g = np.unravel_index(i, s.geometry_shape)
+        assert ds["split"].values[g] == compute_geometry(s, i)["split"]

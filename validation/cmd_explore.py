@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import sys
+from pathlib import Path
 
 from validation import limits
 from validation.options import (
@@ -55,9 +57,19 @@ def run(args: argparse.Namespace) -> None:
     plot = folder_arg(args.plot, "--plot")
     if plot is not None:
         check_output_folder(plot, "explore", "--plot", args.force)
-    result = explore(study, args.out, scheduler=args.scheduler,
-                     scheduler_file=args.scheduler_file, workers=args.workers,
-                     resume=args.resume, force=args.force, progress=not args.json)
+    try:
+        result = explore(study, args.out, scheduler=args.scheduler,
+                         scheduler_file=args.scheduler_file, workers=args.workers,
+                         resume=args.resume, force=args.force, progress=not args.json)
+    except KeyboardInterrupt:
+        from validation.explore import parts_folder
+
+        parts = parts_folder(Path(args.out))
+        if parts.exists():
+            done = len(list(parts.glob("g*.npz")))
+            print(f"lusm explore: {done} finished geometries are kept in {parts}; run the same "
+                  "command with --resume to continue", file=sys.stderr)
+        raise
     if plot is not None:
         from validation.explore import design_maps
 

@@ -53,6 +53,8 @@ STUDY_FILE = "study.json"
 DEFAULT_WORKERS = 2
 """Processes of the default LocalCluster (this project's machines have 2 cores)."""
 BLAS_ENV = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+CONNECT_TIMEOUT = "10s"
+"""How long to wait for an existing scheduler."""
 
 
 @dataclass(frozen=True)
@@ -252,7 +254,7 @@ def _read_part(folder: Path, index: int) -> dict[str, np.ndarray] | None:
         return None
 
 
-def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, dict]]:
+def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, dict], bool]:
     folder = parts_folder(out)
     stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text)}
     if folder.exists():
@@ -266,16 +268,18 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
         if old.get("fingerprint") != study.fingerprint:
             raise ValueError(f"--resume: {folder} belongs to another study (the study file "
                              "changed); remove that folder or restore the study")
+        created = False
     else:
         folder.mkdir(parents=True)
         (folder / STUDY_FILE).write_text(json.dumps(stamp, indent=1))
+        created = True
     done = {}
     for i in range(study.n_geometries):
         if _part_path(folder, i).exists():
             part = _read_part(folder, i)
             if part is not None:
                 done[i] = part
-    return folder, done
+    return folder, done, created
 
 
 def _remove_parts(folder: Path, n: int) -> None:
@@ -454,12 +458,19 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
 
     if scheduler and scheduler_file:
         raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
-    if scheduler:
-        return Client(scheduler, timeout="30s"), None
-    if scheduler_file:
-        if not Path(scheduler_file).is_file():
-            raise ValueError(f"--scheduler-file {scheduler_file} does not exist")
-        return Client(scheduler_file=scheduler_file, timeout="30s"), None
+    if scheduler_file and not Path(scheduler_file).is_file():
+        raise ValueError(f"--scheduler-file {scheduler_file} does not exist")
+    if scheduler or scheduler_file:
+        option, where = ("--scheduler", scheduler) if scheduler else \
+            ("--scheduler-file", scheduler_file)
+        try:
+            if scheduler:
+                return Client(scheduler, timeout=CONNECT_TIMEOUT), None
+            return Client(scheduler_file=scheduler_file, timeout=CONNECT_TIMEOUT), None
+        except (OSError, ValueError) as exc:  # refused, timed out, bad address
+            text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ValueError(f"{option} {where}: cannot connect to the dask scheduler "
+                             f"({text})") from None
     cluster = local_cluster(workers)
     return Client(cluster), cluster
 
@@ -509,13 +520,18 @@ def explore(
     out = Path(out)
     check_out(out, force)
     t0 = time.perf_counter()
-    folder, parts = _open_parts(study, out, resume)
+    folder, parts, created = _open_parts(study, out, resume)
     result = ExploreResult(out, study.n_geometries, study.n_drive_points, reused=len(parts))
     todo = [i for i in range(study.n_geometries) if i not in parts]
     own = None
     if todo:
         if client is None:
-            client, own = connect(scheduler, scheduler_file, workers)
+            try:
+                client, own = connect(scheduler, scheduler_file, workers)
+            except BaseException:
+                if created:  # nothing was computed: leave no trace
+                    _remove_parts(folder, study.n_geometries)
+                raise
         try:
             result.workers = len(client.scheduler_info()["workers"])
             run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
