@@ -523,11 +523,12 @@ def explore(
     folder, parts, created = _open_parts(study, out, resume)
     result = ExploreResult(out, study.n_geometries, study.n_drive_points, reused=len(parts))
     todo = [i for i in range(study.n_geometries) if i not in parts]
-    own = None
+    own = None  # the client (and cluster) made here, closed here
     if todo:
         if client is None:
             try:
-                client, own = connect(scheduler, scheduler_file, workers)
+                client, cluster = connect(scheduler, scheduler_file, workers)
+                own = (client, cluster)
             except BaseException:
                 if created:  # nothing was computed: leave no trace
                     _remove_parts(folder, study.n_geometries)
@@ -559,8 +560,9 @@ def explore(
                     f.cancel()
         finally:
             if own is not None:
-                client.close()
-                own.close()
+                own[0].close()
+                if own[1] is not None:
+                    own[1].close()
     ds = assemble(study, parts)
     write_dataset(ds, out, force)
     _remove_parts(folder, study.n_geometries)
