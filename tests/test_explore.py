@@ -261,3 +261,12 @@ def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
     for i in range(4):
         g = np.unravel_index(i, s.geometry_shape)
         assert ds["split"].values[g] == compute_geometry(s, i)["split"]
+
+
+def test_force_keeps_the_old_file(tmp_path):
+    s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
+    out = tmp_path / "r.nc"
+    out.write_text("mine")
+    write_dataset(assemble(s, {0: compute_geometry(s, 0)}), out, force=True)
+    assert (tmp_path / "r.nc.bak-1").read_text() == "mine"
+    assert open_result(out)["f_L1_short"].size == 1

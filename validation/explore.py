@@ -398,8 +398,6 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
     A file already at ``out`` is refused unless ``force``; with ``force`` it is kept as
     ``out.bak-N``, never deleted.
     """
-    from validation.output_set import _backup_name
-
     out = Path(out)
     check_out(out, force)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -407,10 +405,18 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
     try:
         ds.to_netcdf(tmp, engine="h5netcdf")
         if out.exists():
-            os.replace(out, _backup_name(out))
+            os.replace(out, _backup_of(out))
         os.replace(tmp, out)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def _backup_of(path: Path) -> Path:
+    """The first free ``NAME.bak-N`` beside ``path``."""
+    n = 1
+    while path.with_name(f"{path.name}.bak-{n}").exists():
+        n += 1
+    return path.with_name(f"{path.name}.bak-{n}")
 
 
 def check_out(out: Path, force: bool) -> None:
