@@ -83,7 +83,27 @@ def main() -> None:
     fe_only = study_from_dict({**STUDY, "outputs": ["f_L1_short", "split"]})
     t_fe = [_timed(fe_only, i) for i in range(5, 9)]  # plates not solved yet
 
+    # one drive point as the default `lusm simulate` runs it (50 ms), for the estimate
+    from contact.drive import auto_frequency
+    from contact.simulate import simulate
+    from fem.geometry import PlateStator
+    from rom.from_fem import fem_params
+
+    params = fem_params(PlateStator(), "pzt8", order=2, refine=2)
+    f = auto_frequency(params)
+    simulate(params, 200, 6, f, duration_s=5e-3)
+    reps = []
+    for _ in range(5):  # the shared machine makes single runs vary by up to 10x: best of 5
+        t0 = time.perf_counter()
+        simulate(params, 200, 6, f, duration_s=0.05, dt_s=1e-7)
+        reps.append(time.perf_counter() - t0)
+    point_50ms = min(reps)
+
     figures = {"tasks": n_tasks, "points": n_points,
+               "drive_point_5ms_s": (in_process_task_s - statistics.median(t_fe))
+               / study.n_drive_points,
+               "drive_point_50ms_s": point_50ms,
+               "drive_point_50ms_worst_of_5_s": max(reps),
                "drive_points_per_task": study.n_drive_points,
                "task_time_in_process_s": in_process_task_s,
                "fe_part_of_task_s": statistics.median(t_fe),
@@ -113,6 +133,8 @@ def main() -> None:
                 # wall time the workers were not running a task, per task (includes the
                 # client's part writes and the final dataset write)
                 "overhead_per_task_s": max(0.0, (r.wall_time_s * n - busy) / n_tasks),
+                "final_write_s": r.write_time_s,
+                "part_write_per_task_s": r.part_write_time_s / n_tasks,
                 "noop_round_trip_per_task_s": noop_per_task,
                 "result_bytes_per_task": r.result_bytes / n_tasks,
             }
@@ -130,7 +152,10 @@ def main() -> None:
         return
     print(f"study: {n_tasks} tasks (geometries) x {study.n_drive_points} drive points")
     print(f"one task in-process: {in_process_task_s * 1e3:.1f} ms "
-          f"(FE solve + reduction alone {figures['fe_part_of_task_s'] * 1e3:.1f} ms)")
+          f"(FE solve alone {figures['fe_part_of_task_s'] * 1e3:.1f} ms; a 5 ms drive point "
+          f"{figures['drive_point_5ms_s'] * 1e3:.1f} ms; a 50 ms drive point as lusm simulate "
+          f"runs it {figures['drive_point_50ms_s'] * 1e3:.1f} ms, best of 5; worst "
+          f"{figures['drive_point_50ms_worst_of_5_s'] * 1e3:.1f} ms)")
     print(f"study argument {figures['study_argument_bytes']} B per task")
     for n in (1, 2):
         w = figures[f"workers_{n}"]
@@ -138,7 +163,9 @@ def main() -> None:
               f" task {w['task_time_mean_s'] * 1e3:.1f} ms, overhead "
               f"{w['overhead_per_task_s'] * 1e3:.1f} ms/task, no-op round trip "
               f"{w['noop_round_trip_per_task_s'] * 1e3:.2f} ms/task, result "
-              f"{w['result_bytes_per_task']:.0f} B/task")
+              f"{w['result_bytes_per_task']:.0f} B/task; part write "
+              f"{w['part_write_per_task_s'] * 1e3:.2f} ms/task; final dataset write "
+              f"{w['final_write_s'] * 1e3:.0f} ms")
     print(f"speed-up 2 over 1 worker: {figures['speedup_2_over_1']:.2f}; datasets bit-identical: "
           f"{figures['bit_identical_1_vs_2_workers']}")
 

@@ -93,6 +93,10 @@ class ExploreResult:
         Bytes of the task results sent back to the client (pickled).
     workers : int
         Workers of the cluster when the study started.
+    write_time_s : float
+        Assembling and writing the dataset at the end (s).
+    part_write_time_s : float
+        The client's time writing part files, all parts together (s).
     figures : list of str
     """
 
@@ -105,6 +109,8 @@ class ExploreResult:
     task_times_s: list[float] = field(default_factory=list)
     result_bytes: int = 0
     workers: int = 0
+    write_time_s: float = 0.0
+    part_write_time_s: float = 0.0
     figures: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
@@ -553,7 +559,9 @@ def explore(
                     i = index[fut.key]
                     result.task_times_s.append(float(data["task_time_s"]))
                     result.result_bytes += len(pickle.dumps(data, protocol=5))
+                    tw = time.perf_counter()
                     _write_part(folder, i, data)
+                    result.part_write_time_s += time.perf_counter() - tw
                     parts[i] = {k: v for k, v in data.items() if k != "task_time_s"}
                     result.computed += 1
                     bar.update(1)
@@ -569,9 +577,11 @@ def explore(
                 own[0].close()
                 if own[1] is not None:
                     own[1].close()
+    t1 = time.perf_counter()
     ds = assemble(study, parts)
     write_dataset(ds, out, force)
     _remove_parts(folder, study.n_geometries)
+    result.write_time_s = time.perf_counter() - t1
     result.wall_time_s = time.perf_counter() - t0
     return result
 
