@@ -270,3 +270,14 @@ def test_force_keeps_the_old_file(tmp_path):
     write_dataset(assemble(s, {0: compute_geometry(s, 0)}), out, force=True)
     assert (tmp_path / "r.nc.bak-1").read_text() == "mine"
     assert open_result(out)["f_L1_short"].size == 1
+
+
+def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
+    import validation.explore as ex
+
+    monkeypatch.setattr(ex, "_version", lambda: "0.0.0-client")  # the workers say 0.1.0 etc.
+    s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
+    out = tmp_path / "r.nc"
+    with pytest.raises(ValueError, match="--scheduler: worker .* runs lusm"):
+        explore(s, out, scheduler=client.scheduler.address, progress=False)
+    assert not out.exists() and not parts_folder(out).exists()

@@ -49,6 +49,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Check the study and the outputs, run the study, print its summary."""
+    from validation.cli import Terminated
     from validation.explore import check_out, explore, open_result
     from validation.study import load_study
 
@@ -61,7 +62,7 @@ def run(args: argparse.Namespace) -> None:
         result = explore(study, args.out, scheduler=args.scheduler,
                          scheduler_file=args.scheduler_file, workers=args.workers,
                          resume=args.resume, force=args.force, progress=not args.json)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, Terminated):
         from validation.explore import parts_folder
 
         parts = parts_folder(Path(args.out))

@@ -487,6 +487,27 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
     return Client(cluster), cluster
 
 
+def package_version() -> str:
+    """The lusm version of this process (run on the workers to compare with the client)."""
+    return _version()
+
+
+def check_workers(client, option: str = "--scheduler") -> None:
+    """Refuse workers that cannot import lusm or run another version than this client."""
+    try:
+        versions = client.run(package_version)
+    except Exception as exc:  # ModuleNotFoundError on the worker, travelling back
+        raise ValueError(f"{option}: the workers cannot run lusm ({type(exc).__name__}: "
+                         f"{str(exc).splitlines()[0] if str(exc) else ''}); install lusm "
+                         "on every worker") from None
+    mine = _version()
+    other = {w: v for w, v in versions.items() if v != mine}
+    if other:
+        w, v = next(iter(other.items()))
+        raise ValueError(f"{option}: worker {w} runs lusm {v}, this client {mine}; install "
+                         "the same version everywhere")
+
+
 # --- the study --------------------------------------------------------------------------------
 
 def explore(
@@ -541,7 +562,11 @@ def explore(
             try:
                 client, cluster = connect(scheduler, scheduler_file, workers)
                 own = (client, cluster)
+                if cluster is None:  # someone else's workers: same lusm as ours?
+                    check_workers(client, "--scheduler" if scheduler else "--scheduler-file")
             except BaseException:
+                if own is not None:
+                    own[0].close()
                 if created:  # nothing was computed: leave no trace
                     _remove_parts(folder, study.n_geometries)
                 raise
