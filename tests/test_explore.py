@@ -281,3 +281,14 @@ def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
     with pytest.raises(ValueError, match="--scheduler: worker .* runs lusm"):
         explore(s, out, scheduler=client.scheduler.address, progress=False)
     assert not out.exists() and not parts_folder(out).exists()
+
+
+def test_a_failed_fe_solve_is_recorded_not_fatal():
+    # a 5 x 40 mm plate has no B2 (bending along the length) near its L1: the mode solver
+    # says so, and the study keeps going with NaN and the reason in ``status``
+    s = study_from_dict({"outputs": ["f_L1_short", "no_load_velocity"],
+                         "axes": {"length": "5 mm", "width": "40 mm"},
+                         "solver": {"fe_refine": 1, "duration": "1 ms"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    assert str(ds["status"].item()).startswith("FE: ModeSolverError")
+    assert np.isnan(ds["f_L1_short"].item()) and np.isnan(ds["no_load_velocity"]).all()
