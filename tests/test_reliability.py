@@ -277,6 +277,12 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("adm-zeta-zero", ["admittance", "--zeta", "0"], ["--zeta"]),
     ("adm-electrodes-5", ["admittance", "--electrodes", "1,5"], ["--electrodes"]),
     ("adm-out-below-file", ["admittance", "--out", "{below_file}"], ["--out", "below the file"]),
+    # explore (more in tests/test_explore.py)
+    ("explore-missing-study", ["explore", "{missing}", "--out", "r.nc"], ["missing.toml"]),
+    ("explore-stator-as-study", ["explore", "{plate}", "--out", "r.nc"],
+     ["plate is not a study section"]),
+    ("explore-workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"],
+     ["--workers"]),
 ]
 
 

@@ -33,6 +33,7 @@ COMMAND_MODULES = [
     "validation.cmd_tune",
     "validation.cmd_sweep",
     "validation.cmd_admittance",
+    "validation.cmd_explore",
 ]
 """Sub-command modules, registered in this order (a module that does not exist is skipped)."""
 

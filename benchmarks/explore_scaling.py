@@ -1,0 +1,174 @@
+"""Scaling of ``lusm explore`` on this machine: points/s with 1 and 2 workers, task cost,
+scheduler overhead per task, bytes moved; and the 1- and 2-worker datasets compared bit for bit.
+
+Run::
+
+    python benchmarks/explore_scaling.py            # ~1-2 min on 2 cores
+    python benchmarks/explore_scaling.py --json     # the same figures as JSON
+
+The study is the one of ``examples/studies/length_width.toml`` widened to 4 x 4 plates and
+2 voltages x 2 preloads (16 tasks x 4 drive points). Workers are warmed (imports, numba
+cache) before the clock starts, so the figures are the steady rate of a long study.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import pickle
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+STUDY = {
+    "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
+                "no_load_velocity", "motion_class"],
+    "study": {"name": "explore scaling benchmark"},
+    "axes": {
+        "length": {"start": "27 mm", "stop": "33 mm", "num": 4},
+        "width": {"start": "6.5 mm", "stop": "8.5 mm", "num": 4},
+        "voltage": ["200 V", "300 V"],
+        "preload": ["6 N", "10 N"],
+    },
+    "solver": {"fe_order": 2, "fe_refine": 2, "duration": "5 ms", "dt": "100 ns"},
+}
+
+
+def _noop(i):
+    return i
+
+
+def _warm(study):
+    """Import the stack and load the numba cache in this process, on a plate outside the
+    study (so that no FE solve of the study is cached before the clock starts)."""
+    from validation.explore import compute_geometry
+    from validation.study import study_from_dict
+
+    warm = {**STUDY, "axes": {**STUDY["axes"], "length": "25 mm", "width": "6 mm"}}
+    compute_geometry(study_from_dict(warm), 0)
+    return True
+
+
+def _timed(study, i):
+    from validation.explore import compute_geometry
+
+    return float(compute_geometry(study, i)["task_time_s"])
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--json", action="store_true")
+    args = p.parse_args()
+
+    from distributed import Client
+
+    from validation.explore import explore, local_cluster, open_result
+    from validation.study import study_from_dict
+
+    study = study_from_dict(STUDY)
+    n_tasks, n_points = study.n_geometries, study.n_geometries * study.n_drive_points
+
+    import h5netcdf  # noqa: F401 - the client's imports are not part of the study's time
+    import xarray  # noqa: F401
+
+    _warm(study)
+    t = [_timed(study, i) for i in range(1, 5)]
+    in_process_task_s = statistics.median(t)
+    # the FE part of a task alone (FE-only study of the same plates)
+    fe_only = study_from_dict({**STUDY, "outputs": ["f_L1_short", "split"]})
+    t_fe = [_timed(fe_only, i) for i in range(5, 9)]  # plates not solved yet
+
+    # one drive point as the default `lusm simulate` runs it (50 ms), for the estimate
+    from contact.drive import auto_frequency
+    from contact.simulate import simulate
+    from fem.geometry import PlateStator
+    from rom.from_fem import fem_params
+
+    params = fem_params(PlateStator(), "pzt8", order=2, refine=2)
+    f = auto_frequency(params)
+    simulate(params, 200, 6, f, duration_s=5e-3)
+    reps = []
+    for _ in range(5):  # the shared machine makes single runs vary by up to 10x: best of 5
+        t0 = time.perf_counter()
+        simulate(params, 200, 6, f, duration_s=0.05, dt_s=1e-7)
+        reps.append(time.perf_counter() - t0)
+    point_50ms = min(reps)
+
+    figures = {"tasks": n_tasks, "points": n_points,
+               "drive_point_5ms_s": (in_process_task_s - statistics.median(t_fe))
+               / study.n_drive_points,
+               "drive_point_50ms_s": point_50ms,
+               "drive_point_50ms_worst_of_5_s": max(reps),
+               "drive_points_per_task": study.n_drive_points,
+               "task_time_in_process_s": in_process_task_s,
+               "fe_part_of_task_s": statistics.median(t_fe),
+               "study_argument_bytes": len(pickle.dumps(study, protocol=5))}
+    datasets = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in (1, 2):
+            cluster = local_cluster(n)
+            client = Client(cluster)
+            try:
+                client.run(_warm, study)
+                t0 = time.perf_counter()
+                client.gather(client.map(_noop, range(1000), pure=False))
+                noop_per_task = (time.perf_counter() - t0) / 1000
+                out = Path(tmp) / f"w{n}.nc"
+                r = explore(study, out, client=client, progress=False)
+                datasets[n] = open_result(out)
+            finally:
+                client.close()
+                cluster.close()
+            busy = sum(r.task_times_s)
+            figures[f"workers_{n}"] = {
+                "wall_s": r.wall_time_s,
+                "points_per_s": n_points / r.wall_time_s,
+                "tasks_per_s": n_tasks / r.wall_time_s,
+                "task_time_mean_s": busy / n_tasks,
+                # wall time the workers were not running a task, per task (includes the
+                # client's part writes and the final dataset write)
+                "overhead_per_task_s": max(0.0, (r.wall_time_s * n - busy) / n_tasks),
+                "final_write_s": r.write_time_s,
+                "part_write_per_task_s": r.part_write_time_s / n_tasks,
+                "noop_round_trip_per_task_s": noop_per_task,
+                "result_bytes_per_task": r.result_bytes / n_tasks,
+            }
+    import xarray as xr
+
+    try:
+        xr.testing.assert_identical(datasets[1], datasets[2])
+        figures["bit_identical_1_vs_2_workers"] = True
+    except AssertionError:
+        figures["bit_identical_1_vs_2_workers"] = False
+    w1, w2 = figures["workers_1"], figures["workers_2"]
+    figures["speedup_2_over_1"] = w2["points_per_s"] / w1["points_per_s"]
+    if args.json:
+        print(json.dumps(figures, indent=2))
+        return
+    print(f"study: {n_tasks} tasks (geometries) x {study.n_drive_points} drive points")
+    print(f"one task in-process: {in_process_task_s * 1e3:.1f} ms "
+          f"(FE solve alone {figures['fe_part_of_task_s'] * 1e3:.1f} ms; a 5 ms drive point "
+          f"{figures['drive_point_5ms_s'] * 1e3:.1f} ms; a 50 ms drive point as lusm simulate "
+          f"runs it {figures['drive_point_50ms_s'] * 1e3:.1f} ms, best of 5; worst "
+          f"{figures['drive_point_50ms_worst_of_5_s'] * 1e3:.1f} ms)")
+    print(f"study argument {figures['study_argument_bytes']} B per task")
+    for n in (1, 2):
+        w = figures[f"workers_{n}"]
+        print(f"{n} worker(s): {w['points_per_s']:.1f} points/s, {w['tasks_per_s']:.2f} tasks/s,"
+              f" task {w['task_time_mean_s'] * 1e3:.1f} ms, overhead "
+              f"{w['overhead_per_task_s'] * 1e3:.1f} ms/task, no-op round trip "
+              f"{w['noop_round_trip_per_task_s'] * 1e3:.2f} ms/task, result "
+              f"{w['result_bytes_per_task']:.0f} B/task; part write "
+              f"{w['part_write_per_task_s'] * 1e3:.2f} ms/task; final dataset write "
+              f"{w['final_write_s'] * 1e3:.0f} ms")
+    print(f"speed-up 2 over 1 worker: {figures['speedup_2_over_1']:.2f}; datasets bit-identical: "
+          f"{figures['bit_identical_1_vs_2_workers']}")
+
+
+if __name__ == "__main__":
+    main()

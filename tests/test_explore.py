@@ -1,0 +1,294 @@
+"""``lusm explore``: studies on a LocalCluster against the same points computed in-process,
+resume after an interruption, a killed worker, and bad study files."""
+
+from __future__ import annotations
+
+import os
+import signal
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+xr = pytest.importorskip("xarray")
+pytest.importorskip("distributed")
+
+from validation.explore import (  # noqa: E402
+    assemble,
+    compute_geometry,
+    explore,
+    local_cluster,
+    open_result,
+    parts_folder,
+    write_dataset,
+)
+from validation.study import load_study, study_from_dict  # noqa: E402
+
+TINY = {
+    "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
+                "no_load_velocity", "motion_class", "velocity"],
+    "study": {"name": "tiny"},
+    "axes": {
+        "length": {"start": "28 mm", "stop": "32 mm", "num": 3},
+        "width": ["7 mm", "8 mm"],
+        "voltage": ["200 V", "300 V"],
+        "preload": "6 N",
+        "load": ["0 N", "1 N"],
+    },
+    "solver": {"fe_order": 2, "fe_refine": 1, "duration": "4 ms", "dt": "100 ns"},
+}
+"""3 x 2 geometries x 2 voltages x 2 loads: one FE solve and 2 runs per task."""
+
+
+@pytest.fixture(scope="module")
+def study():
+    return study_from_dict(TINY)
+
+
+@pytest.fixture(scope="module")
+def reference(study, tmp_path_factory):
+    """The dataset of the same points computed one by one in this process, read back."""
+    parts = {i: compute_geometry(study, i) for i in range(study.n_geometries)}
+    for p in parts.values():
+        p.pop("task_time_s")
+    path = tmp_path_factory.mktemp("ref") / "ref.nc"
+    write_dataset(assemble(study, parts), path)
+    return open_result(path)
+
+
+@pytest.fixture(scope="module")
+def client():
+    from distributed import Client
+
+    cluster = local_cluster(2)
+    c = Client(cluster)
+    try:
+        yield c
+    finally:
+        c.close()
+        cluster.close()
+
+
+def test_cluster_equals_in_process(study, reference, client, tmp_path):
+    out = tmp_path / "study.nc"
+    r = explore(study, out, client=client, progress=False)
+    assert (r.computed, r.reused, r.workers) == (study.n_geometries, 0, 2)
+    ds = open_result(out)
+    xr.testing.assert_identical(ds, reference)  # bit-identical, NaN == NaN
+    assert not parts_folder(out).exists()  # the parts are gone once the dataset is in
+    # the labels mean what they say: one dimension per axis, SI units, provenance
+    assert ds["f_L1_short"].dims == ("length", "width", "thickness", "gap", "material")
+    assert ds["velocity"].dims[-4:] == ("material", "voltage", "preload", "load")
+    np.testing.assert_allclose(ds["length"].values, [28e-3, 30e-3, 32e-3])
+    assert ds["length"].attrs["units"] == "m" and ds["f_B2_open"].attrs["units"] == "Hz"
+    assert "fem_params" in ds.attrs["parameter_set_source"] and ds.attrs["lusm_version"]
+    np.testing.assert_array_equal(ds["split"], ds["f_B2_short"] - ds["f_L1_short"])
+    # open circuit stiffens both modes, and k_eff is the coupling of that shift
+    for m in ("L1", "B2"):
+        fs, fo = ds[f"f_{m}_short"].values, ds[f"f_{m}_open"].values
+        assert np.all(fo > fs)
+        np.testing.assert_allclose(ds[f"k_eff_{m}"], np.sqrt((fo**2 - fs**2) / fo**2),
+                                   rtol=1e-9)
+    # the L1 rod frequency falls like 1/length
+    f = ds["f_L1_short"].isel(width=0).values.ravel()
+    assert np.all(np.diff(f) < 0)
+    # the velocity at zero load is the no-load velocity (and NaN under load until
+    # contact.steady answers it)
+    np.testing.assert_array_equal(ds["velocity"].sel(load=0.0), ds["no_load_velocity"])
+
+
+class Interrupt(Exception):
+    pass
+
+
+def test_resume_after_interruption_is_identical(study, reference, client, tmp_path):
+    out = tmp_path / "study.nc"
+    seen = []
+
+    def stop_after_two(i):
+        seen.append(i)
+        if len(seen) == 2:
+            raise Interrupt
+
+    with pytest.raises(Interrupt):
+        explore(study, out, client=client, progress=False, on_part=stop_after_two)
+    assert not out.exists()
+    assert len(list(parts_folder(out).glob("g*.npz"))) == 2
+    with pytest.raises(ValueError, match="--resume"):  # no silent restart over the parts
+        explore(study, out, client=client, progress=False)
+    r = explore(study, out, client=client, progress=False, resume=True)
+    assert (r.reused, r.computed) == (2, study.n_geometries - 2)
+    xr.testing.assert_identical(open_result(out), reference)
+
+
+def test_resume_refuses_another_study(study, client, tmp_path):
+    out = tmp_path / "study.nc"
+    with pytest.raises(Interrupt):
+        explore(study, out, client=client, progress=False,
+                on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
+    other = study_from_dict({**TINY, "axes": {**TINY["axes"], "preload": "7 N"}})
+    with pytest.raises(ValueError, match="another study"):
+        explore(other, out, client=client, progress=False, resume=True)
+
+
+def test_killed_worker_loses_nothing(study, reference, tmp_path):
+    from distributed import Client
+
+    cluster = local_cluster(2)
+    c = Client(cluster)
+    killed = []
+
+    def kill_a_busy_worker(i):
+        if killed:
+            return
+        pids = c.run(os.getpid)
+        busy = [w for w, keys in c.processing().items() if keys] or list(pids)
+        killed.append(pids[busy[0]])
+        os.kill(pids[busy[0]], signal.SIGKILL)
+
+    try:
+        out = tmp_path / "study.nc"
+        r = explore(study, out, client=c, progress=False, on_part=kill_a_busy_worker)
+        assert killed and r.computed == study.n_geometries
+        xr.testing.assert_identical(open_result(out), reference)
+        c.wait_for_workers(2, timeout=60)
+        assert killed[0] not in c.run(os.getpid).values()  # it really died
+    finally:
+        c.close()
+        cluster.close()
+
+
+# --- bad study files ------------------------------------------------------------------------
+
+BAD = {
+    "unknown axis": ("[axes]\ndiameter = '3 mm'\n", "axes.diameter"),
+    "unit in the key": ("[axes]\nlength_mm = 30\n", "axes.length_mm"),
+    "empty list": ("[axes]\nwidth = []\n", "axes.width"),
+    "empty range": ("[axes]\nvoltage = { start = '300 V', stop = '100 V', step = '50 V' }\n",
+                    "axes.voltage"),
+    "unit-less number": ("[axes]\nlength = 30\n", "axes.length"),
+    "unit-less string": ("[axes]\npreload = '14'\n", "axes.preload"),
+    "wrong unit": ("[axes]\nvoltage = '200 mm'\n", "axes.voltage"),
+    "missing output": ("outputs = ['f_L1_short', 'torque']\n", "outputs[1]"),
+    "unit-less solver": ("[solver]\ndt = 1e-7\n", "solver.dt"),
+    "gap eats the plate": ("[axes]\nwidth = '2 mm'\ngap = '3 mm'\n", "axes.gap"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_study_file_names_the_key(name, tmp_path):
+    text, key = BAD[name]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(ValueError) as info:
+        load_study(path)
+    msg = str(info.value)
+    assert key in msg and "\n" not in msg
+
+
+@pytest.mark.parametrize("name", ["unknown axis", "unit-less number", "missing output"])
+def test_cli_bad_study_exit_2(name, tmp_path, capsys):
+    from validation.cli import main
+
+    text, key = BAD[name]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm explore: error:") and key in err and "\n" not in err
+    assert not (tmp_path / "r.nc").exists()
+
+
+def test_cli_never_overwrites_a_file(tmp_path, capsys):
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text("outputs = ['f_L1_short']\n")
+    out = tmp_path / "r.nc"
+    out.write_text("mine")
+    assert main(["explore", str(path), "--out", str(out)]) == 2
+    assert "--force" in capsys.readouterr().err and out.read_text() == "mine"
+
+
+# --- what a task computes -------------------------------------------------------------------
+
+def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
+    import validation.explore as ex
+
+    def boom(*a, **k):
+        raise AssertionError("the contact model ran for an FE-only study")
+
+    monkeypatch.setattr(ex, "_motor_answers", boom)
+    s = study_from_dict({"outputs": ["f_B2_open", "k_eff"], "solver": {"fe_refine": 1}})
+    part = compute_geometry(s, 0)
+    assert str(part["status"]) == "ok" and np.isfinite(part["f_B2_open"])
+    ds = assemble(s, {0: part})
+    assert set(ds.data_vars) == {"f_B2_open", "k_eff_L1", "k_eff_B2", "status"}
+
+
+def test_fixed_frequencies_are_a_dimension():
+    s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
+                         "axes": {"frequency": ["52 kHz", "56 kHz"], "preload": "6 N"},
+                         "solver": {"fe_refine": 1, "duration": "2 ms"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    assert ds["no_load_velocity"].dims[-3:] == ("frequency", "voltage", "preload")
+    np.testing.assert_array_equal(ds["frequency"], [52e3, 56e3])
+    assert "f_drive" not in ds and ds["frequency"].attrs["units"] == "Hz"
+    # each frequency really drives its own run: the answers differ
+    v = ds["no_load_velocity"].values.ravel()
+    assert np.all(np.isfinite(v)) and v[0] != v[1]
+
+
+def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
+    import json
+
+    from validation.cli import main
+
+    path = tmp_path / "fe.toml"
+    path.write_text('outputs = ["f_L1_short", "split"]\n[axes]\n'
+                    'length = ["28 mm", "30 mm"]\nwidth = ["7 mm", "8 mm"]\n'
+                    '[solver]\nfe_refine = 1\n')
+    out, maps = tmp_path / "fe.nc", tmp_path / "maps"
+    address = client.scheduler.address
+    assert main(["explore", str(path), "--out", str(out), "--scheduler", address, "--json",
+                 "--plot", str(maps)]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["computed"] == 4 and summary["workers"] == 2
+    assert [Path(f).name for f in summary["figures"]] == ["split_length_width.png"]
+    assert (maps / "split_length_width.png").stat().st_size > 1000
+    ds = open_result(out)
+    s = load_study(path)
+    for i in range(4):
+        g = np.unravel_index(i, s.geometry_shape)
+        assert ds["split"].values[g] == compute_geometry(s, i)["split"]
+
+
+def test_force_keeps_the_old_file(tmp_path):
+    s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
+    out = tmp_path / "r.nc"
+    out.write_text("mine")
+    write_dataset(assemble(s, {0: compute_geometry(s, 0)}), out, force=True)
+    assert (tmp_path / "r.nc.bak-1").read_text() == "mine"
+    assert open_result(out)["f_L1_short"].size == 1
+
+
+def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
+    import validation.explore as ex
+
+    monkeypatch.setattr(ex, "_version", lambda: "0.0.0-client")  # the workers say 0.1.0 etc.
+    s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
+    out = tmp_path / "r.nc"
+    with pytest.raises(ValueError, match="--scheduler: worker .* runs lusm"):
+        explore(s, out, scheduler=client.scheduler.address, progress=False)
+    assert not out.exists() and not parts_folder(out).exists()
+
+
+def test_a_failed_fe_solve_is_recorded_not_fatal():
+    # a 5 x 40 mm plate has no B2 (bending along the length) near its L1: the mode solver
+    # says so, and the study keeps going with NaN and the reason in ``status``
+    s = study_from_dict({"outputs": ["f_L1_short", "no_load_velocity"],
+                         "axes": {"length": "5 mm", "width": "40 mm"},
+                         "solver": {"fe_refine": 1, "duration": "1 ms"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    assert str(ds["status"].item()).startswith("FE: ModeSolverError")
+    assert np.isnan(ds["f_L1_short"].item()) and np.isnan(ds["no_load_velocity"]).all()

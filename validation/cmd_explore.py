@@ -1,0 +1,89 @@
+"""``lusm explore``: a design-space study on dask.distributed (parse, call, print)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from validation import limits
+from validation.options import (
+    check_output_folder,
+    figure_set,
+    folder_arg,
+    integer,
+    moved,
+    print_json,
+)
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``explore`` sub-command to the ``lusm`` parser."""
+    p = subparsers.add_parser(
+        "explore",
+        help="design-space study (geometry x drive) on dask.distributed",
+        description="Run the study of a TOML file (axes, outputs, solver): one task per "
+        "geometry (FE solve, reduction, all its drive points) on a LocalCluster or an existing "
+        "dask scheduler; write a labelled netCDF dataset. See docs/distributed.md.",
+    )
+    p.add_argument("study", metavar="STUDY.toml", help="the study file")
+    p.add_argument("--out", required=True, metavar="FILE.nc", help="netCDF file to write")
+    p.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run from FILE.nc.parts/")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="tcp://HOST:8786",
+                       help="run on this dask scheduler instead of a LocalCluster")
+    where.add_argument("--scheduler-file", metavar="FILE",
+                       help="run on the dask scheduler described by this file")
+    p.add_argument("--workers", default=2, type=integer("--workers", *limits.WORKERS),
+                   help=f"processes of the LocalCluster (default 2), in "
+                   f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]")
+    p.add_argument("--plot", metavar="DIR",
+                   help="write design-space maps (PNG) over length x width into DIR")
+    p.add_argument("--json", action="store_true", help="print one JSON summary")
+    p.add_argument("--force", action="store_true",
+                   help="replace an existing FILE.nc (kept as FILE.nc.bak-N) and write into a "
+                   "non-empty --plot folder")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Check the study and the outputs, run the study, print its summary."""
+    from validation.cli import Terminated
+    from validation.explore import check_out, explore, open_result
+    from validation.study import load_study
+
+    study = load_study(args.study)
+    check_out(args.out, args.force)
+    plot = folder_arg(args.plot, "--plot")
+    if plot is not None:
+        check_output_folder(plot, "explore", "--plot", args.force)
+    try:
+        result = explore(study, args.out, scheduler=args.scheduler,
+                         scheduler_file=args.scheduler_file, workers=args.workers,
+                         resume=args.resume, force=args.force, progress=not args.json)
+    except (KeyboardInterrupt, Terminated):
+        from validation.explore import parts_folder
+
+        parts = parts_folder(Path(args.out))
+        if parts.exists():
+            done = len(list(parts.glob("g*.npz")))
+            print(f"lusm explore: {done} finished geometries are kept in {parts}; run the same "
+                  "command with --resume to continue", file=sys.stderr)
+        raise
+    if plot is not None:
+        from validation.explore import design_maps
+
+        ds = open_result(result.path)
+        with figure_set(plot, "explore", "--plot", args.force) as stage:
+            result.figures = moved(design_maps(ds, stage), stage, plot)
+    summary = result.to_dict()
+    if args.json:
+        print_json(summary, indent=2)
+        return
+    print(f"study {study.name!r}: {result.geometries} geometries x {result.drive_points} drive "
+          f"points; {result.computed} computed on {result.workers} workers, {result.reused} "
+          f"from an earlier run; {result.wall_time_s:.3g} s")
+    print(f"wrote {result.path}")
+    for f in result.figures:
+        print(f"wrote {f}")

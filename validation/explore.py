@@ -1,0 +1,677 @@
+"""Design-space exploration on dask.distributed: one task per geometry, labelled results.
+
+A :class:`validation.study.Study` spans geometry axes (length, width, thickness, gap,
+material) and drive axes (frequency, voltage, preload, load). :func:`explore` submits one
+task per geometry to a dask cluster (a :class:`distributed.LocalCluster` of processes by
+default, or any running scheduler); each task (:func:`compute_geometry`) runs the 2D FE
+modal solve once (:func:`fem.modes.plate_modes`), reduces it to a parameter set
+(:func:`rom.from_fem.fem_params`, which reuses the cached solve) and evaluates every drive
+point of that geometry (:func:`_motor_answers`).
+
+Nothing is lost:
+
+* every finished geometry is written by the client, as it arrives, to one small ``.npz``
+  file in ``<out>.parts/`` (written aside and renamed), so ``resume=True`` continues an
+  interrupted study and the final dataset is the same as an uninterrupted run's;
+* a worker process that dies mid-task loses nothing: the scheduler reruns its task elsewhere
+  (``distributed.scheduler.allowed-failures``);
+* results do not depend on the number of workers: each task is a pure function of the study
+  and its geometry index, BLAS is held to one thread, ARPACK starts from a fixed vector.
+
+The dataset (:func:`assemble`) has one dimension per axis, units in each variable's attrs and
+provenance (package version, parameter-set source, solver settings, the study itself) in the
+dataset's attrs; it is written to netCDF (h5netcdf engine) beside the target and renamed in.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+import sys
+import time
+import uuid
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from validation.study import AXIS_KIND, DRIVE_AXES, GEOMETRY_AXES, OUTPUTS, SI_UNIT, Study
+
+FE_SCALARS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff_L1", "k_eff_B2",
+              "split", "f_drive")
+"""Per-geometry numbers of a part file (Hz, or 1 for k_eff)."""
+MOTOR_ARRAYS = ("no_load_velocity", "stall_force", "peak_efficiency", "motion_class")
+"""Per-drive-point answers without the load dimension."""
+PARTS_SUFFIX = ".parts"
+"""Folder ``<out>.parts`` next to the output holds one file per finished geometry."""
+STUDY_FILE = "study.json"
+"""The study a parts folder belongs to (resume refuses another)."""
+DEFAULT_WORKERS = 2
+"""Processes of the default LocalCluster (this project's machines have 2 cores)."""
+BLAS_ENV = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+CONNECT_TIMEOUT = "10s"
+"""How long to wait for an existing scheduler."""
+
+
+@dataclass(frozen=True)
+class Drive:
+    """The drive points of one (frequency, voltage, preload) triple.
+
+    Attributes
+    ----------
+    voltage_V, preload_N, frequency_Hz : float
+    loads_N : tuple of float
+        Loads (N) at which the velocity is wanted.
+    """
+
+    voltage_V: float
+    preload_N: float
+    frequency_Hz: float
+    loads_N: tuple[float, ...]
+
+
+@dataclass
+class ExploreResult:
+    """What :func:`explore` did.
+
+    Attributes
+    ----------
+    path : Path
+        The written dataset.
+    geometries, drive_points : int
+        FE solves and drive points of the study (per geometry).
+    computed, reused : int
+        Geometries computed in this run and taken from an earlier, interrupted run.
+    wall_time_s : float
+    task_times_s : list of float
+        Wall time of each computed task, measured in the task (s).
+    result_bytes : int
+        Bytes of the task results sent back to the client (pickled).
+    workers : int
+        Workers of the cluster when the study started.
+    write_time_s : float
+        Assembling and writing the dataset at the end (s).
+    part_write_time_s : float
+        The client's time writing part files, all parts together (s).
+    figures : list of str
+    """
+
+    path: Path
+    geometries: int
+    drive_points: int
+    computed: int = 0
+    reused: int = 0
+    wall_time_s: float = 0.0
+    task_times_s: list[float] = field(default_factory=list)
+    result_bytes: int = 0
+    workers: int = 0
+    write_time_s: float = 0.0
+    part_write_time_s: float = 0.0
+    figures: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready summary."""
+        t = self.task_times_s
+        return {"out": str(self.path), "geometries": self.geometries,
+                "drive_points_per_geometry": self.drive_points,
+                "points": self.geometries * self.drive_points, "computed": self.computed,
+                "reused": self.reused, "workers": self.workers,
+                "wall_time_s": self.wall_time_s,
+                "task_time_mean_s": float(np.mean(t)) if t else None,
+                "result_bytes": self.result_bytes, "figures": self.figures}
+
+
+# --- one geometry ---------------------------------------------------------------------------
+
+def geometry_of(study: Study, index: int) -> dict[str, Any]:
+    """Axis values (SI, material name) of geometry ``index`` (C order over the axes)."""
+    idx = np.unravel_index(index, study.geometry_shape)
+    return {a: study.axes[a][int(i)] for a, i in zip(GEOMETRY_AXES, idx, strict=True)}
+
+
+def _motor_shape(study: Study) -> tuple[int, ...]:
+    return tuple(len(study.axes[a]) for a in study.drive_dims if a != "load")
+
+
+def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
+    """The motor's answer at one drive triple: the ONE place the contact model is called.
+
+    Returns ``no_load_velocity`` (m/s), ``stall_force`` (N), ``peak_efficiency`` (-),
+    ``motion_class`` (str) and ``velocity`` (m/s, one per load of ``drive.loads_N``).
+
+    TODO(contact.steady): switch to ``contact.steady.characteristic(params, V, F_P,
+    loads_N)`` (stall force, peak efficiency, velocity under load) once the steady-state
+    solver is merged; today the transient :func:`contact.simulate.simulate` gives the
+    no-load velocity and motion class, and the loaded answers are NaN.
+    """
+    from contact.simulate import simulate
+
+    r = simulate(params, drive.voltage_V, drive.preload_N, drive.frequency_Hz,
+                 method=solver.method, duration_s=solver.duration_s, dt_s=solver.dt_s,
+                 max_trace_points=2000)
+    v0 = float(r.steady.velocity_m_s)
+    velocity = np.array([v0 if load == 0.0 else math.nan for load in drive.loads_N])
+    return {"no_load_velocity": v0, "stall_force": math.nan, "peak_efficiency": math.nan,
+            "motion_class": r.steady.motion, "velocity": velocity}
+
+
+def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
+    """Everything the study wants of geometry ``index``: one FE solve, all drive points.
+
+    A pure function of its arguments (BLAS held to one thread), so the same on any worker.
+    A geometry whose FE solve or reduction fails gets NaN and its message in ``status``;
+    a drive point whose run fails gets NaN and the motion class ``"failed"``.
+    """
+    from threadpoolctl import threadpool_limits
+
+    t0 = time.perf_counter()
+    with threadpool_limits(limits=1):
+        out = _compute(study, index)
+    out["task_time_s"] = np.array(time.perf_counter() - t0)
+    return out
+
+
+def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
+    from fem.geometry import PlateStator
+    from fem.modes import plate_modes
+    from rom.from_fem import fem_params
+
+    g = geometry_of(study, index)
+    s = study.solver
+    mshape = _motor_shape(study)
+    n_load = len(study.axes["load"])
+    out: dict[str, np.ndarray] = {k: np.array(math.nan) for k in FE_SCALARS}
+    for k in MOTOR_ARRAYS[:-1]:
+        out[k] = np.full(mshape, math.nan)
+    out["motion_class"] = np.full(mshape, "", dtype="<U32")
+    out["velocity"] = np.full((*mshape, n_load), math.nan)
+    out["status"] = np.array("ok")
+    try:
+        stator = PlateStator(length_m=g["length"], width_m=g["width"],
+                             thickness_m=g["thickness"], electrode_gap_m=g["gap"])
+        modes = plate_modes(stator, g["material"], s.fe_order, s.fe_refine)
+        for m in ("L1", "B2"):
+            mode = getattr(modes, m)
+            out[f"f_{m}_short"] = np.array(mode.f_short_Hz)
+            out[f"f_{m}_open"] = np.array(mode.f_open_Hz)
+            out[f"k_eff_{m}"] = np.array(mode.k_eff)
+        out["split"] = np.array(modes.B2.f_short_Hz - modes.L1.f_short_Hz)
+        if not study.needs_motor:
+            return out
+        params = fem_params(stator, g["material"], order=s.fe_order, refine=s.fe_refine)
+        if study.auto_frequency:
+            from contact.drive import auto_frequency
+
+            out["f_drive"] = np.array(auto_frequency(params))
+    except (ValueError, RuntimeError, ArithmeticError) as exc:  # FE failure of this plate
+        out["status"] = np.array(f"FE: {type(exc).__name__}: {exc}".splitlines()[0][:300])
+        return out
+    freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
+    failures = []
+    for k, f in enumerate(freqs):
+        for i, v in enumerate(study.axes["voltage"]):
+            for j, p in enumerate(study.axes["preload"]):
+                at = (i, j) if study.auto_frequency else (k, i, j)
+                try:
+                    ans = _motor_answers(params, Drive(v, p, f, study.axes["load"]), s)
+                except (ValueError, RuntimeError) as exc:  # chattering, too large a step
+                    out["motion_class"][at] = "failed"
+                    failures.append(f"{v:g} V, {p:g} N, {f:.6g} Hz: {exc}".splitlines()[0])
+                    continue
+                for name in MOTOR_ARRAYS:
+                    out[name][at] = ans[name]
+                out["velocity"][at] = ans["velocity"]
+    if failures:
+        out["status"] = np.array(f"{len(failures)} drive point(s) failed; first: "
+                                 f"{failures[0]}"[:300])
+    return out
+
+
+# --- parts: one file per finished geometry ---------------------------------------------------
+
+def parts_folder(out: Path) -> Path:
+    """The folder of per-geometry files of an output ``out``."""
+    return out.with_name(out.name + PARTS_SUFFIX)
+
+
+def _part_path(folder: Path, index: int) -> Path:
+    return folder / f"g{index:07d}.npz"
+
+
+def _write_part(folder: Path, index: int, data: dict[str, np.ndarray]) -> None:
+    final = _part_path(folder, index)
+    tmp = folder / f".{final.name}-{uuid.uuid4().hex[:8]}"
+    with open(tmp, "wb") as fh:
+        np.savez(fh, **{k: v for k, v in data.items() if k != "task_time_s"})
+        fh.flush()
+        os.fsync(fh.fileno())
+    os.replace(tmp, final)  # a part is there complete or not at all
+
+
+def _read_part(folder: Path, index: int) -> dict[str, np.ndarray] | None:
+    try:
+        with np.load(_part_path(folder, index), allow_pickle=False) as z:
+            return {k: z[k] for k in z.files}
+    except (OSError, ValueError, EOFError):  # missing or torn: computed again
+        return None
+
+
+def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, dict], bool]:
+    folder = parts_folder(out)
+    stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text)}
+    if folder.exists():
+        if not resume:
+            raise ValueError(f"--out {out}: {folder} holds an unfinished run; pass --resume to "
+                             "continue it, or remove that folder to start over")
+        try:
+            old = json.loads((folder / STUDY_FILE).read_text())
+        except (OSError, ValueError):
+            old = {}
+        if old.get("fingerprint") != study.fingerprint:
+            raise ValueError(f"--resume: {folder} belongs to another study (the study file "
+                             "changed); remove that folder or restore the study")
+        created = False
+    else:
+        folder.mkdir(parents=True)
+        (folder / STUDY_FILE).write_text(json.dumps(stamp, indent=1))
+        created = True
+    done = {}
+    for i in range(study.n_geometries):
+        if _part_path(folder, i).exists():
+            part = _read_part(folder, i)
+            if part is not None:
+                done[i] = part
+    return folder, done, created
+
+
+def _remove_parts(folder: Path, n: int) -> None:
+    """Remove the files this module wrote, then the folder if nothing else is in it."""
+    for i in range(n):
+        _part_path(folder, i).unlink(missing_ok=True)
+    (folder / STUDY_FILE).unlink(missing_ok=True)
+    for stray in folder.glob(".g*.npz-*"):  # torn temporaries of ours
+        stray.unlink(missing_ok=True)
+    try:
+        folder.rmdir()
+    except OSError:
+        pass  # something of the user's is in it: left alone
+
+
+# --- the dataset ------------------------------------------------------------------------------
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("lusm")
+    except PackageNotFoundError:  # pragma: no cover - running from a bare checkout
+        return "unknown"
+
+
+def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
+    """The labelled :class:`xarray.Dataset` of a study from its per-geometry parts.
+
+    Dimensions: the geometry axes, then the drive axes (``frequency`` only when fixed);
+    coordinates in SI units (``units`` attrs); variables as asked by ``study.outputs``.
+    """
+    import xarray as xr
+
+    gdims = list(GEOMETRY_AXES)
+    mdims = [a for a in study.drive_dims if a != "load"]
+    gshape = study.geometry_shape
+    n = study.n_geometries
+    missing = [i for i in range(n) if i not in parts]
+    if missing:
+        raise ValueError(f"{len(missing)} geometries are missing (first: {missing[0]})")
+
+    def stack(name: str) -> np.ndarray:
+        arrs = [parts[i][name] for i in range(n)]
+        return np.stack(arrs).reshape(gshape + arrs[0].shape)
+
+    coords = {}
+    for a in GEOMETRY_AXES + DRIVE_AXES:
+        if a not in gdims + list(study.drive_dims) and a != "frequency":
+            continue
+        if a == "frequency" and study.auto_frequency:
+            continue
+        if a == "material":
+            coords[a] = (a, np.array(study.axes[a], dtype=object),
+                         {"long_name": "stator material"})
+        else:
+            coords[a] = (a, np.array(study.axes[a], dtype=float),
+                         {"units": SI_UNIT[AXIS_KIND[a]], "long_name": _AXIS_NAMES[a]})
+    data_vars = {}
+
+    def add(name: str, dims: list[str], values: np.ndarray, units: str, long_name: str):
+        attrs = {"long_name": long_name}
+        if units:
+            attrs["units"] = units
+        data_vars[name] = (dims, values, attrs)
+
+    for o in study.outputs:
+        unit, meaning = OUTPUTS[o]
+        if o == "k_eff":
+            for m in ("L1", "B2"):
+                add(f"k_eff_{m}", gdims, stack(f"k_eff_{m}"), unit, f"{m} {meaning}")
+        elif o in ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "split"):
+            add(o, gdims, stack(o), unit, meaning)
+        elif o == "velocity":
+            add(o, gdims + mdims + ["load"], stack(o), unit, meaning)
+        elif o == "motion_class":
+            add(o, gdims + mdims, stack(o).astype(object), unit, meaning)
+        else:
+            add(o, gdims + mdims, stack(o), unit, meaning)
+    if study.needs_motor and study.auto_frequency:
+        add("f_drive", gdims, stack("f_drive"), "Hz",
+            "drive frequency (auto: largest free tip ellipse, contact.drive.auto_frequency)")
+    add("status", gdims, stack("status").astype(object), "",
+        "'ok', or why the geometry or some of its drive points failed")
+    s = study.solver
+    attrs = {
+        "title": f"lusm explore: {study.name}",
+        "lusm_version": _version(),
+        "study_source": study.source,
+        "study": study.text,
+        "study_fingerprint": study.fingerprint,
+        "parameter_set_source": (
+            f"FE modal reduction per geometry (rom.from_fem.fem_params: scikit-fem plane "
+            f"stress, order {s.fe_order}, refine {s.fe_refine}); contact, slider, friction "
+            "and damping constants from rom.table2 (Li, Yao & Wu 2016, Table 2)"),
+        "fe_solver": f"fem.modes.plate_modes, order {s.fe_order}, refine {s.fe_refine}, "
+                     "shift-invert eigsh with a fixed start vector",
+        "motor_solver": (
+            f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
+            f"dt_s={s.dt_s:g}; stall_force, peak_efficiency and loaded velocity pending "
+            "contact.steady (NaN)"),
+        "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
+    }
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+_AXIS_NAMES = {"length": "plate length", "width": "plate width",
+               "thickness": "plate thickness", "gap": "electrode gap",
+               "frequency": "drive frequency", "voltage": "drive amplitude V0",
+               "preload": "preload F_P", "load": "load (braking force) on the slider"}
+
+
+def write_dataset(ds, out: Path, force: bool = False) -> None:
+    """Write ``ds`` to netCDF aside and rename it onto ``out``.
+
+    A file already at ``out`` is refused unless ``force``; with ``force`` it is kept as
+    ``out.bak-N``, never deleted.
+    """
+    out = Path(out)
+    check_out(out, force)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.name}-partial-{uuid.uuid4().hex[:12]}")
+    try:
+        ds.to_netcdf(tmp, engine="h5netcdf")
+        if out.exists():
+            os.replace(out, _backup_of(out))
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _backup_of(path: Path) -> Path:
+    """The first free ``NAME.bak-N`` beside ``path``."""
+    n = 1
+    while path.with_name(f"{path.name}.bak-{n}").exists():
+        n += 1
+    return path.with_name(f"{path.name}.bak-{n}")
+
+
+def check_out(out: Path, force: bool) -> None:
+    """Refuse, before any work, an output the dataset could not be written to."""
+    out = Path(out)
+    if out.suffix.lower() not in (".nc", ".nc4", ".h5"):
+        raise ValueError(f"--out {out}: write a netCDF file (.nc); zarr stores are not "
+                         "supported yet")
+    if out.is_dir():
+        raise ValueError(f"--out {out} is a folder; name a .nc file")
+    if out.exists() and not force:
+        raise ValueError(f"--out {out} exists; choose a new name or pass --force (the old "
+                         "file is kept as a .bak file)")
+    existing = next((p for p in [out.parent, *out.parent.parents] if p.exists()), Path.cwd())
+    if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
+        raise ValueError(f"--out {out}: {existing} is not a writable folder")
+
+
+# --- the cluster -------------------------------------------------------------------------------
+
+def worker_env() -> dict[str, str]:
+    """Environment of LocalCluster workers: one BLAS thread, the client's numba cache."""
+    env = {k: "1" for k in BLAS_ENV}
+    for k in ("NUMBA_CACHE_DIR", "PYTHONPATH", "LUSM_MAX_WORK"):
+        if os.environ.get(k):
+            env[k] = os.environ[k]
+    return env
+
+
+def local_cluster(n_workers: int = DEFAULT_WORKERS):
+    """A LocalCluster of ``n_workers`` processes with one thread each and no dashboard."""
+    from distributed import LocalCluster
+
+    return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                        dashboard_address=None, silence_logs=logging.ERROR, env=worker_env())
+
+
+def connect(scheduler: str | None = None, scheduler_file: str | None = None,
+            workers: int = DEFAULT_WORKERS):
+    """A client to ``scheduler`` / ``scheduler_file``, or to a new LocalCluster.
+
+    Returns ``(client, cluster)``; ``cluster`` is None for an existing scheduler.
+    """
+    from distributed import Client
+
+    if scheduler and scheduler_file:
+        raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
+    if scheduler_file and not Path(scheduler_file).is_file():
+        raise ValueError(f"--scheduler-file {scheduler_file} does not exist")
+    if scheduler or scheduler_file:
+        option, where = ("--scheduler", scheduler) if scheduler else \
+            ("--scheduler-file", scheduler_file)
+        try:
+            if scheduler:
+                return Client(scheduler, timeout=CONNECT_TIMEOUT), None
+            return Client(scheduler_file=scheduler_file, timeout=CONNECT_TIMEOUT), None
+        except (OSError, ValueError) as exc:  # refused, timed out, bad address
+            text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ValueError(f"{option} {where}: cannot connect to the dask scheduler "
+                             f"({text})") from None
+    cluster = local_cluster(workers)
+    return Client(cluster), cluster
+
+
+def package_version() -> str:
+    """The lusm version of this process (run on the workers to compare with the client)."""
+    return _version()
+
+
+def check_workers(client, option: str = "--scheduler") -> None:
+    """Refuse workers that cannot import lusm or run another version than this client."""
+    try:
+        versions = client.run(package_version)
+    except Exception as exc:  # ModuleNotFoundError on the worker, travelling back
+        raise ValueError(f"{option}: the workers cannot run lusm ({type(exc).__name__}: "
+                         f"{str(exc).splitlines()[0] if str(exc) else ''}); install lusm "
+                         "on every worker") from None
+    mine = _version()
+    other = {w: v for w, v in versions.items() if v != mine}
+    if other:
+        w, v = next(iter(other.items()))
+        raise ValueError(f"{option}: worker {w} runs lusm {v}, this client {mine}; install "
+                         "the same version everywhere")
+
+
+# --- the study --------------------------------------------------------------------------------
+
+def explore(
+    study: Study,
+    out: str | Path,
+    *,
+    client=None,
+    scheduler: str | None = None,
+    scheduler_file: str | None = None,
+    workers: int = DEFAULT_WORKERS,
+    resume: bool = False,
+    force: bool = False,
+    progress: bool = True,
+    on_part: Callable[[int], None] | None = None,
+) -> ExploreResult:
+    """Run a study on dask.distributed and write its dataset to ``out`` (netCDF).
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+        The ``.nc`` file to write; its parts go to ``<out>.parts/`` meanwhile.
+    client : distributed.Client, optional
+        Use this client (and its cluster); otherwise :func:`connect` with ``scheduler``,
+        ``scheduler_file`` or a LocalCluster of ``workers`` processes, closed at the end.
+    resume : bool
+        Continue from the parts of an interrupted run of the same study.
+    force : bool
+        Replace an existing ``out`` (kept as ``out.bak-N``).
+    progress : bool
+        Show a tqdm progress bar on stderr (geometries done).
+    on_part : callable, optional
+        Called with the geometry index after each part is written (tests interrupt here).
+
+    Returns
+    -------
+    ExploreResult
+    """
+    import pickle
+
+    from distributed import as_completed
+
+    out = Path(out)
+    check_out(out, force)
+    t0 = time.perf_counter()
+    folder, parts, created = _open_parts(study, out, resume)
+    result = ExploreResult(out, study.n_geometries, study.n_drive_points, reused=len(parts))
+    todo = [i for i in range(study.n_geometries) if i not in parts]
+    own = None  # the client (and cluster) made here, closed here
+    if todo:
+        if client is None:
+            try:
+                client, cluster = connect(scheduler, scheduler_file, workers)
+                own = (client, cluster)
+                if cluster is None:  # someone else's workers: same lusm as ours?
+                    check_workers(client, "--scheduler" if scheduler else "--scheduler-file")
+            except BaseException:
+                if own is not None:
+                    own[0].close()
+                if created:  # nothing was computed: leave no trace
+                    _remove_parts(folder, study.n_geometries)
+                raise
+        try:
+            result.workers = len(client.scheduler_info()["workers"])
+            run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
+            futures = [client.submit(compute_geometry, study, i, pure=False,
+                                     key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
+                       for i in todo]
+            index = {f.key: i for f, i in zip(futures, todo, strict=True)}
+            bar = _bar(len(todo) + len(parts), len(parts), progress)
+            try:
+                for fut in as_completed(futures):
+                    data = fut.result()
+                    i = index[fut.key]
+                    result.task_times_s.append(float(data["task_time_s"]))
+                    result.result_bytes += len(pickle.dumps(data, protocol=5))
+                    tw = time.perf_counter()
+                    _write_part(folder, i, data)
+                    result.part_write_time_s += time.perf_counter() - tw
+                    parts[i] = {k: v for k, v in data.items() if k != "task_time_s"}
+                    result.computed += 1
+                    bar.update(1)
+                    fut.release()
+                    if on_part is not None:
+                        on_part(i)
+            finally:
+                bar.close()
+                for f in futures:
+                    f.cancel()
+        finally:
+            if own is not None:
+                own[0].close()
+                if own[1] is not None:
+                    own[1].close()
+    t1 = time.perf_counter()
+    ds = assemble(study, parts)
+    write_dataset(ds, out, force)
+    _remove_parts(folder, study.n_geometries)
+    result.write_time_s = time.perf_counter() - t1
+    result.wall_time_s = time.perf_counter() - t0
+    return result
+
+
+def _bar(total: int, initial: int, enabled: bool):
+    from tqdm import tqdm
+
+    return tqdm(total=total, initial=initial, unit="geometry", file=sys.stderr,
+                disable=(not enabled) or None, desc="lusm explore", leave=False)
+
+
+def open_result(path: str | Path):
+    """Read a dataset written by :func:`explore` (loaded into memory, file closed)."""
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        return ds.load()
+
+
+# --- pictures ---------------------------------------------------------------------------------
+
+MAP_VARIABLES = ("no_load_velocity", "stall_force", "split")
+"""Variables drawn as length x width maps by :func:`design_maps`."""
+
+
+def design_maps(ds, folder: str | Path) -> list[Path]:
+    """PNG maps of :data:`MAP_VARIABLES` over length x width (other axes at their first value).
+
+    Returns the written files; a variable that is absent, all NaN, or a study without at
+    least two lengths and two widths gives no map.
+    """
+    from matplotlib.figure import Figure
+
+    folder = Path(folder)
+    written = []
+    if ds.sizes.get("length", 0) < 2 or ds.sizes.get("width", 0) < 2:
+        return written
+    for name in MAP_VARIABLES:
+        if name not in ds or not np.isfinite(ds[name].values.astype(float)).any():
+            continue
+        da = ds[name]
+        fixed = {d: 0 for d in da.dims if d not in ("length", "width")}
+        da = da.isel(fixed).transpose("length", "width")
+        where = ", ".join(_coord_text(ds, d) for d in fixed)
+        fig = Figure(figsize=(6.0, 4.5), layout="constrained")
+        ax = fig.add_subplot()
+        scale, unit = (1e3, "mm/s") if name == "no_load_velocity" else \
+            ((1e-3, "kHz") if name == "split" else (1.0, da.attrs.get("units", "")))
+        mesh = ax.pcolormesh(ds["width"].values * 1e3, ds["length"].values * 1e3,
+                             da.values * scale, shading="nearest", cmap="viridis")
+        fig.colorbar(mesh, ax=ax, label=f"{da.attrs.get('long_name', name)} ({unit})")
+        ax.set_xlabel("plate width (mm)")
+        ax.set_ylabel("plate length (mm)")
+        ax.set_title(f"{name}\nat {where}" if where else name, fontsize=8)
+        path = folder / f"{name}_length_width.png"
+        fig.savefig(path, dpi=120)
+        written.append(path)
+    return written
+
+
+def _coord_text(ds, dim: str) -> str:
+    v = ds[dim].values[0]
+    if dim == "material":
+        return f"material {v}"
+    unit = ds[dim].attrs.get("units", "")
+    if unit == "m":
+        return f"{dim} {v * 1e3:g} mm"
+    return f"{dim} {v:g} {unit}"

@@ -1,0 +1,441 @@
+"""One description of a design-space study: the study TOML file, parsed and checked.
+
+A study names its axes and the outputs it wants::
+
+    [study]
+    name = "length x width"
+
+    [axes]                                   # every number carries its unit
+    length = { start = "26 mm", stop = "34 mm", num = 3 }
+    width = ["6.5 mm", "7.5 mm", "8.5 mm"]
+    thickness = "3 mm"
+    gap = "0.5 mm"
+    material = "pzt8"                        # or a list: ["pzt8", "paper"]
+    frequency = "auto"                       # or "40 kHz", a list or a range
+    voltage = ["100 V", "200 V"]
+    preload = "14 N"
+    load = "0 N"
+
+    [solver]
+    fe_order = 2
+    fe_refine = 2
+    duration = "5 ms"
+    dt = "100 ns"
+
+    outputs = ["f_L1_short", "split", "no_load_velocity", "motion_class"]   # before [study]
+
+An axis is one quantity (``"30 mm"``), a list of them, or a range table with ``start``,
+``stop`` and either ``num`` (points, both ends included) or ``step``. The geometry axes
+(``length``, ``width``, ``thickness``, ``gap``, ``material``) make one FE solve each; the drive
+axes (``frequency``, ``voltage``, ``preload``, ``load``) are the drive points of each geometry.
+``frequency = "auto"`` drives each geometry at its own operating point
+(:func:`contact.drive.auto_frequency`) and adds no dimension.
+
+Every mistake (an unknown axis or output, an empty range, a number without its unit, a unit
+of the wrong kind) raises ``ValueError`` with one line naming the key (``axes.length``).
+Only the standard library is imported here.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from validation import limits
+
+GEOMETRY_AXES = ("length", "width", "thickness", "gap", "material")
+"""Axes that change the stator (one FE solve per combination), in dimension order."""
+DRIVE_AXES = ("frequency", "voltage", "preload", "load")
+"""Axes of the drive points of one geometry, in dimension order."""
+
+UNITS: dict[str, dict[str, float]] = {
+    "length": {"m": 1.0, "mm": 1e-3, "um": 1e-6},
+    "frequency": {"Hz": 1.0, "kHz": 1e3, "MHz": 1e6},
+    "voltage": {"V": 1.0, "kV": 1e3},
+    "force": {"N": 1.0, "mN": 1e-3, "kN": 1e3},
+    "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9},
+}
+"""Units accepted for each kind of quantity, and their factor to SI."""
+
+AXIS_KIND = {"length": "length", "width": "length", "thickness": "length", "gap": "length",
+             "frequency": "frequency", "voltage": "voltage", "preload": "force",
+             "load": "force"}
+"""Kind of quantity of each numeric axis (``material`` is a name)."""
+SI_UNIT = {"length": "m", "frequency": "Hz", "voltage": "V", "force": "N", "time": "s"}
+
+DEFAULT_AXES: dict[str, Any] = {
+    "length": "30 mm", "width": "7.5 mm", "thickness": "3 mm", "gap": "0.5 mm",
+    "material": "pzt8", "frequency": "auto", "voltage": "200 V", "preload": "14 N",
+    "load": "0 N",
+}
+"""The paper's plate and operating point, used for an axis the study does not name."""
+
+OUTPUTS: dict[str, tuple[str, str]] = {
+    "f_L1_short": ("Hz", "L1 natural frequency, electrodes short-circuited"),
+    "f_L1_open": ("Hz", "L1 natural frequency, electrodes open"),
+    "f_B2_short": ("Hz", "B2 natural frequency, electrodes short-circuited"),
+    "f_B2_open": ("Hz", "B2 natural frequency, electrodes open"),
+    "k_eff": ("1", "effective electromechanical coupling factor of L1 and B2"),
+    "split": ("Hz", "L1-B2 split f_B2_short - f_L1_short"),
+    "no_load_velocity": ("m/s", "steady slider velocity without load"),
+    "stall_force": ("N", "load at which the slider stops"),
+    "peak_efficiency": ("1", "largest mechanical/electrical efficiency along the characteristic"),
+    "motion_class": ("", "stick/slip/separation class of the unloaded steady state"),
+    "velocity": ("m/s", "steady slider velocity at the point's load"),
+}
+"""Outputs a study may ask for: name -> (unit, meaning)."""
+FE_OUTPUTS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split")
+"""Outputs that need only the FE solve (no contact model)."""
+
+SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": 2, "duration": "5 ms",
+                                   "dt": "100 ns", "method": "event"}
+"""Solver settings when the study gives none."""
+
+MAX_GEOMETRIES = 100_000
+"""FE solves of one study (multiplied by ``LUSM_MAX_WORK``)."""
+MAX_DRIVE_POINTS = 10_000
+"""Drive points of one geometry (multiplied by ``LUSM_MAX_WORK``)."""
+
+_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z]+)\s*$")
+
+
+@dataclass(frozen=True)
+class Solver:
+    """Solver settings of a study.
+
+    Attributes
+    ----------
+    fe_order, fe_refine : int
+        FE element order (1, 2) and mesh refinement (elements per smaller plate dimension).
+    duration_s, dt_s : float
+        Simulated time and time step of each drive point (s).
+    method : str
+        Contact scheme of :func:`contact.simulate.simulate`.
+    """
+
+    fe_order: int = 2
+    fe_refine: int = 2
+    duration_s: float = 5e-3
+    dt_s: float = 1e-7
+    method: str = "event"
+
+
+@dataclass(frozen=True)
+class Study:
+    """A parsed study: axes in SI units, wanted outputs, solver settings.
+
+    Attributes
+    ----------
+    name : str
+    axes : dict
+        Axis name -> tuple of values: SI floats (m, Hz, V, N) or material names. The
+        ``frequency`` axis is ``("auto",)`` for the auto rule.
+    outputs : tuple of str
+        Keys of :data:`OUTPUTS`, in the order of :data:`OUTPUTS`.
+    solver : Solver
+    source : str
+        The study file (or ``"<dict>"``), for provenance.
+    text : str
+        The study as canonical JSON (provenance and the resume check).
+    """
+
+    name: str
+    axes: dict[str, tuple]
+    outputs: tuple[str, ...]
+    solver: Solver
+    source: str = "<dict>"
+    text: str = field(default="", repr=False)
+
+    @property
+    def auto_frequency(self) -> bool:
+        """True when each geometry is driven at its own operating point."""
+        return self.axes["frequency"] == ("auto",)
+
+    @property
+    def geometry_shape(self) -> tuple[int, ...]:
+        """Sizes of the geometry axes, in :data:`GEOMETRY_AXES` order."""
+        return tuple(len(self.axes[a]) for a in GEOMETRY_AXES)
+
+    @property
+    def drive_dims(self) -> tuple[str, ...]:
+        """Drive dimensions of the dataset (``frequency`` only when it is not ``auto``)."""
+        return tuple(a for a in DRIVE_AXES if not (a == "frequency" and self.auto_frequency))
+
+    @property
+    def n_geometries(self) -> int:
+        """Number of FE solves."""
+        return math.prod(self.geometry_shape)
+
+    @property
+    def n_drive_points(self) -> int:
+        """Drive points of one geometry."""
+        return math.prod(len(self.axes[a]) for a in self.drive_dims)
+
+    @property
+    def needs_motor(self) -> bool:
+        """Whether any output needs the contact model."""
+        return any(o not in FE_OUTPUTS for o in self.outputs)
+
+    @property
+    def fingerprint(self) -> str:
+        """SHA-256 of the canonical study (what resume compares)."""
+        return hashlib.sha256(self.text.encode()).hexdigest()
+
+
+def _where(source: str) -> str:
+    return "" if source == "<dict>" else f"{source}: "
+
+
+def parse_quantity(value: Any, kind: str, key: str) -> float:
+    """A quantity string (``"30 mm"``) in SI units; ``key`` names it in the error."""
+    if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+        raise ValueError(f"{key} must be a quantity such as '1 {_example_unit(kind)}', "
+                         f"got {value!r}")
+    if not isinstance(value, str):
+        raise ValueError(f"{key}: the number {value!r} has no unit; write it as a string with "
+                         f"its unit, e.g. '{value} {_example_unit(kind)}' "
+                         f"(units: {', '.join(UNITS[kind])})")
+    m = _QUANTITY.match(value)
+    if m is None:
+        if re.match(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*$", value):
+            raise ValueError(f"{key}: the number {value!r} has no unit; write e.g. "
+                             f"'{value.strip()} {_example_unit(kind)}' "
+                             f"(units: {', '.join(UNITS[kind])})")
+        raise ValueError(f"{key} must be a number with a unit such as "
+                         f"'1 {_example_unit(kind)}', got {value!r}")
+    number, unit = float(m.group(1)), m.group(2)
+    if unit not in UNITS[kind]:
+        raise ValueError(f"{key}: unit {unit!r} is not a {kind}; use one of "
+                         f"{', '.join(UNITS[kind])}")
+    out = number * UNITS[kind][unit]
+    if not math.isfinite(out):
+        raise ValueError(f"{key} must be finite, got {value!r}")
+    return out
+
+
+def _example_unit(kind: str) -> str:
+    return {"length": "mm", "frequency": "kHz", "voltage": "V", "force": "N",
+            "time": "ms"}[kind]
+
+
+def _axis_values(name: str, raw: Any, key: str) -> tuple:
+    if name == "material":
+        items = raw if isinstance(raw, list) else [raw]
+        if not items:
+            raise ValueError(f"{key} is an empty list; name at least one material")
+        from validation.options import MATERIALS
+
+        for m in items:
+            if not isinstance(m, str) or m.strip().lower().replace("-", "") not in MATERIALS:
+                raise ValueError(f"{key} must name materials among {', '.join(MATERIALS)}, "
+                                 f"got {m!r}")
+        out = tuple(m.strip().lower().replace("-", "") for m in items)
+    elif name == "frequency" and isinstance(raw, str) and raw.strip().lower() == "auto":
+        return ("auto",)
+    else:
+        kind = AXIS_KIND[name]
+        if isinstance(raw, list):
+            if not raw:
+                raise ValueError(f"{key} is an empty list; give at least one value")
+            out = tuple(parse_quantity(v, kind, f"{key}[{i}]") for i, v in enumerate(raw))
+        elif isinstance(raw, dict):
+            out = _range(raw, kind, key)
+        else:
+            out = (parse_quantity(raw, kind, key),)
+        _check_range(name, out, key)
+    if len(set(out)) != len(out):
+        raise ValueError(f"{key} repeats a value; each value of an axis must be distinct")
+    return out
+
+
+def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
+    unknown = sorted(set(raw) - {"start", "stop", "num", "step"})
+    if unknown:
+        raise ValueError(f"{key}.{unknown[0]} is not a range key; use start, stop and num or "
+                         "step")
+    for k in ("start", "stop"):
+        if k not in raw:
+            raise ValueError(f"{key}.{k} is missing; a range needs start, stop and num or step")
+    start = parse_quantity(raw["start"], kind, f"{key}.start")
+    stop = parse_quantity(raw["stop"], kind, f"{key}.stop")
+    if ("num" in raw) == ("step" in raw):
+        raise ValueError(f"{key} needs exactly one of num or step")
+    if "num" in raw:
+        num = raw["num"]
+        if isinstance(num, bool) or not isinstance(num, int) or num < 1:
+            raise ValueError(f"{key}.num must be an integer >= 1, got {num!r}")
+        top = limits.work_bound(limits.MAX_GRID_POINTS)
+        if num > top:
+            raise ValueError(f"{key}.num must be <= {top}, got {num}")
+        if num == 1:
+            if start != stop:
+                raise ValueError(f"{key}.num = 1 needs start == stop")
+            return (start,)
+        return tuple(start + (stop - start) * i / (num - 1) for i in range(num))
+    step = parse_quantity(raw["step"], kind, f"{key}.step")
+    if step <= 0:
+        raise ValueError(f"{key}.step must be > 0, got {raw['step']!r}")
+    if stop < start:
+        raise ValueError(f"{key} is an empty range: stop {raw['stop']!r} is below start "
+                         f"{raw['start']!r}")
+    n = math.floor((stop - start) / step * (1 + 1e-12)) + 1
+    top = limits.work_bound(limits.MAX_GRID_POINTS)
+    if n > top:
+        raise ValueError(f"{key} has {n} points, above the limit {top}; use a larger step")
+    return tuple(start + i * step for i in range(n))
+
+
+def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
+    kind = AXIS_KIND[name]
+    if kind == "length":
+        lo = 0.0 if name == "gap" else limits.PLATE_MM[0] * 1e-3
+        hi = limits.PLATE_MM[1] * 1e-3
+        ok = all(lo <= v <= hi for v in values)
+        rng = f"[{lo * 1e3:g}, {hi * 1e3:g}] mm"
+    elif kind == "frequency":
+        lo, hi = limits.FREQUENCY_HZ
+        ok, rng = all(lo <= v <= hi for v in values), f"[{lo:g}, {hi:g}] Hz"
+    elif kind == "voltage":
+        lo, hi = limits.VOLTAGE_V
+        ok, rng = all(lo <= v <= hi for v in values), f"[{lo:g}, {hi:g}] V"
+    elif name == "preload":
+        lo, hi = limits.PRELOAD_N
+        ok, rng = all(lo <= v <= hi for v in values), f"[{lo:g}, {hi:g}] N"
+    else:  # load: a braking force, >= 0
+        ok, rng = all(0.0 <= v <= limits.PRELOAD_N[1] for v in values), \
+            f"[0, {limits.PRELOAD_N[1]:g}] N"
+    if not ok:
+        raise ValueError(f"{key} values must lie in {rng}, got {values!r} (SI)")
+
+
+def _solver(raw: dict, where: str) -> Solver:
+    unknown = sorted(set(raw) - set(SOLVER_DEFAULTS))
+    if unknown:
+        raise ValueError(f"{where}solver.{unknown[0]} is not a solver setting; use "
+                         f"{', '.join(SOLVER_DEFAULTS)}")
+    s = {**SOLVER_DEFAULTS, **raw}
+    for k in ("fe_order", "fe_refine"):
+        if isinstance(s[k], bool) or not isinstance(s[k], int):
+            raise ValueError(f"{where}solver.{k} must be an integer, got {s[k]!r}")
+    if s["fe_order"] not in (1, 2):
+        raise ValueError(f"{where}solver.fe_order must be 1 or 2, got {s['fe_order']!r}")
+    if not 1 <= s["fe_refine"] <= limits.MAX_REFINE_2D:
+        raise ValueError(f"{where}solver.fe_refine must lie in [1, {limits.MAX_REFINE_2D}], "
+                         f"got {s['fe_refine']!r}")
+    duration = parse_quantity(s["duration"], "time", f"{where}solver.duration")
+    dt = parse_quantity(s["dt"], "time", f"{where}solver.dt")
+    if not (0 < dt <= 1e-3):
+        raise ValueError(f"{where}solver.dt must lie in (0, 1 ms], got {s['dt']!r}")
+    if not (0 < duration <= limits.DURATION_S[1]):
+        raise ValueError(f"{where}solver.duration must lie in (0, {limits.DURATION_S[1]:g} s], "
+                         f"got {s['duration']!r}")
+    if s["method"] not in ("event", "reference", "literal"):
+        raise ValueError(f"{where}solver.method must be event, reference or literal, got "
+                         f"{s['method']!r}")
+    return Solver(s["fe_order"], s["fe_refine"], duration, dt, s["method"])
+
+
+def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
+    """Check a study given as the parsed TOML document and build a :class:`Study`.
+
+    Raises
+    ------
+    ValueError
+        One line naming the offending key (``axes.length``, ``outputs[2]``, ...).
+    """
+    where = _where(source)
+    unknown = sorted(set(doc) - {"study", "axes", "outputs", "solver"})
+    if unknown:
+        raise ValueError(f"{where}{unknown[0]} is not a study section; use study, axes, "
+                         "outputs and solver")
+    meta = doc.get("study", {})
+    if not isinstance(meta, dict) or sorted(set(meta) - {"name"}):
+        bad = sorted(set(meta) - {"name"}) if isinstance(meta, dict) else ["study"]
+        raise ValueError(f"{where}study.{bad[0]} is not a study key; use name")
+    name = str(meta.get("name", Path(source).stem if source != "<dict>" else "study"))
+    raw_axes = doc.get("axes", {})
+    if not isinstance(raw_axes, dict):
+        raise ValueError(f"{where}axes must be a table of axes")
+    allowed = GEOMETRY_AXES + DRIVE_AXES
+    for k in raw_axes:
+        if k not in allowed:
+            hint = ""
+            m = re.match(r"^(\w+?)_(mm|m|um|hz|khz|v|n)$", k, re.IGNORECASE)
+            if m and m.group(1) in allowed:
+                hint = f" (write '{m.group(1)} = \"30 {m.group(2)}\"': units go with values)"
+            raise ValueError(f"{where}axes.{k} is not an axis; use one of "
+                             f"{', '.join(allowed)}{hint}")
+    axes = {a: _axis_values(a, raw_axes.get(a, DEFAULT_AXES[a]), f"{where}axes.{a}")
+            for a in allowed}
+    for g in axes["gap"]:
+        smallest = min(min(axes["length"]), min(axes["width"]))
+        if g >= smallest:
+            raise ValueError(f"{where}axes.gap {g * 1e3:g} mm must be below every length and "
+                             f"width of the study (smallest {smallest * 1e3:g} mm)")
+    outputs = doc.get("outputs", list(OUTPUTS))
+    if not isinstance(outputs, list) or not outputs:
+        raise ValueError(f"{where}outputs must be a non-empty list among {', '.join(OUTPUTS)}")
+    for i, o in enumerate(outputs):
+        if o not in OUTPUTS:
+            raise ValueError(f"{where}outputs[{i}] {o!r} does not exist; use "
+                             f"{', '.join(OUTPUTS)}")
+    outputs = tuple(o for o in OUTPUTS if o in outputs)
+    raw_solver = doc.get("solver", {})
+    if not isinstance(raw_solver, dict):
+        raise ValueError(f"{where}solver must be a table")
+    solver = _solver(raw_solver, where)
+    study = Study(name, axes, outputs, solver, source)
+    _check_work(study, where)
+    text = json.dumps({"name": name, "axes": axes, "outputs": outputs,
+                       "solver": solver.__dict__}, sort_keys=True)
+    return Study(name, axes, outputs, solver, source, text)
+
+
+def _check_work(study: Study, where: str) -> None:
+    top = limits.work_bound(MAX_GEOMETRIES)
+    if study.n_geometries > top:
+        raise ValueError(f"{where}axes: {study.n_geometries} geometries (FE solves) is above "
+                         f"the limit {top} ({limits.more_work_hint()})")
+    top = limits.work_bound(MAX_DRIVE_POINTS)
+    if study.n_drive_points > top:
+        raise ValueError(f"{where}axes: {study.n_drive_points} drive points per geometry is "
+                         f"above the limit {top} ({limits.more_work_hint()})")
+    if study.needs_motor:
+        s = study.solver
+        steps = s.duration_s / s.dt_s
+        top = limits.work_bound(limits.MAX_STEPS)
+        if steps > top:
+            raise ValueError(f"{where}solver.duration / solver.dt is {steps:.3g} time steps "
+                             f"per drive point, above the limit {top:.3g}")
+        if not study.auto_frequency:
+            f_max = max(study.axes["frequency"])
+            if s.dt_s > 1.0 / (20.0 * f_max) * (1 + 1e-12):
+                raise ValueError(f"{where}solver.dt must be <= 1/(20 f) = "
+                                 f"{1 / (20 * f_max):.4g} s at axes.frequency {f_max:g} Hz")
+            if s.duration_s * min(study.axes["frequency"]) < 10:
+                raise ValueError(f"{where}solver.duration must cover >= 10 drive periods")
+
+
+def load_study(path: str | Path) -> Study:
+    """Read and check a study TOML file.
+
+    Raises
+    ------
+    ValueError
+        For a bad file: one line naming the file and the key.
+    OSError
+        If the file cannot be read.
+    """
+    path = Path(path)
+    text = path.read_text(encoding="utf-8")
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: not valid TOML ({exc})") from None
+    return study_from_dict(doc, str(path))
