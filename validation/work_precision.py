@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 from contact.simulate import simulate
 from rom.params import MotorParams
+from rom.table2 import PAPER_DRIVE_HZ
 
 
 @dataclass(frozen=True)
@@ -67,7 +68,7 @@ def contact_work_precision(
     literal_eps: tuple[float, ...] = (1e-10, 1e-4),
     rtols: tuple[float, ...] = (1e-6, 1e-8),
     duration_s: float = 0.05,
-    frequency_Hz: float = 40e3,
+    frequency_Hz: float = PAPER_DRIVE_HZ,
     progress: Callable[[str], None] | None = None,
 ) -> tuple[list[PrecisionPoint], dict]:
     """Error in steady velocity and stick fraction against wall time for each method.
