@@ -4,7 +4,8 @@ Times fresh processes (median of repeats, numba cache warm) of: an empty interpr
 ``import numba``, numba's array-math registry (which imports SciPy's BLAS wrappers),
 ``import contact.simulate``, one 1 ms contact run, ``lusm simulate --voltage 200 --preload 14
 --json`` (a 50 ms run) and ``lusm --help``, and prints each beside the 50 ms run's own
-integration time measured in the same session. Run: ``python benchmarks/startup.py``.
+integration time measured in the same session; and the propagators of one run (NumPy
+``contact.expm`` against ``scipy.linalg.expm``). Run: ``python benchmarks/startup.py``.
 """
 
 from __future__ import annotations
@@ -44,6 +45,35 @@ def wall(cmd: list[str], repeats: int) -> float:
     return statistics.median(times)
 
 
+def propagator_times(repeats: int = 5) -> tuple[float, float]:
+    """Median time (s) of the propagators of one run: NumPy ``expm_stack`` and SciPy's ``expm``.
+
+    Alike on a quiet machine; SciPy's goes through its own threaded OpenBLAS and was measured
+    at ~8 ms per 9 x 9 matrix on a busy one (``docs/contact.md`` 5.1), which is why
+    :mod:`contact.expm` exists.
+    """
+    import numpy as np
+    from scipy.linalg import expm
+
+    from contact.expm import expm_stack
+    from contact.model import OperatingPoint, build_system
+    from rom import table2
+
+    a = build_system(table2(), OperatingPoint(200.0, 14.0, 40e3), table2().mu_d).A * 1e-7
+
+    def timed(fn) -> float:
+        times = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t0)
+        return statistics.median(times)
+
+    t_np = timed(lambda: (expm_stack(a), expm_stack(0.5 * a)))
+    t_sp = timed(lambda: (np.stack([expm(m) for m in a]), np.stack([expm(0.5 * m) for m in a])))
+    return t_np, t_sp
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--repeats", type=int, default=7)
@@ -58,6 +88,10 @@ def main() -> None:
     print(f"machine: {os.cpu_count()} CPUs, {platform.machine()}, Python "
           f"{platform.python_version()}")
     print(f"integration of one 50 ms run (in process, after JIT): {integration * 1e3:.1f} ms")
+    t_np, t_sp = propagator_times()
+    print(f"propagators expm(A dt) of one run (2 x 18 matrices 9 x 9): contact.expm "
+          f"{t_np * 1e3:.2f} ms ({t_np / integration:.3f} x integration), scipy.linalg.expm "
+          f"one by one {t_sp * 1e3:.2f} ms ({t_sp / integration:.3f} x)")
     print(f"{'fresh process':<42}{'wall s':>8}{'x integration':>15}")
     for name, cmd in CASES:
         t = wall(cmd, args.repeats)
