@@ -113,6 +113,7 @@ def main(argv: Sequence[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     set_command(args.command)
+    os.environ.setdefault("MPLBACKEND", "Agg")  # figures are files: no display (GUIDE, plots)
     prog = f"lusm {args.command}"
     previous = None
     try:

@@ -27,10 +27,7 @@ MAP_STYLE = {
 
 
 def pyplot():
-    """matplotlib.pyplot on the Agg backend (imported on first use)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
+    """matplotlib.pyplot, imported on first use (the backend is the caller's: ``lusm`` sets Agg)."""
     import matplotlib.pyplot as plt
 
     return plt
