@@ -5,12 +5,15 @@ Times fresh processes (median of repeats, numba cache warm) of: an empty interpr
 ``import contact.simulate``, one 1 ms contact run, ``lusm simulate --voltage 200 --preload 14
 --json`` (a 50 ms run) and ``lusm --help``, and prints each beside the 50 ms run's own
 integration time measured in the same session; and the propagators of one run (NumPy
-``contact.expm`` against ``scipy.linalg.expm``). Run: ``python benchmarks/startup.py``.
+``contact.expm`` against ``scipy.linalg.expm``); and the stages of one fresh process (each
+import, numba's target set-up, the cached kernel load, the run). Run:
+``python benchmarks/startup.py``.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import platform
 import statistics
@@ -33,6 +36,42 @@ CASES = (
                                           "200", "--preload", "14", "--json"]),
     ("lusm --help", [PY, "-m", "validation.cli", "--help"]),
 )
+
+
+STAGES = """
+import json, sys, time
+t = [time.perf_counter()]
+import numpy
+t.append(time.perf_counter())
+import numba
+t.append(time.perf_counter())
+import scipy.linalg  # what numba's BLAS probe imports during its target set-up
+t.append(time.perf_counter())
+from numba.core.registry import cpu_target
+cpu_target.target_context.refresh()  # numba's own registries
+t.append(time.perf_counter())
+import contact.simulate as cs
+from rom import table2
+t.append(time.perf_counter())
+cs.simulate(table2(), 200.0, 14.0, duration_s=0.001)  # loads the cached kernel
+t.append(time.perf_counter())
+cs.simulate(table2(), 200.0, 14.0)
+t.append(time.perf_counter())
+print(json.dumps([b - a for a, b in zip(t, t[1:])]))
+"""
+STAGE_NAMES = ("import numpy", "import numba", "import scipy.linalg (numba's BLAS probe)",
+               "numba target set-up (own registries)", "import contact.simulate, rom",
+               "first call, 1 ms (cached kernel load)", "one 50 ms run (pre-pass + run)")
+
+
+def stages(repeats: int) -> list[float]:
+    """Median time (s) of each start-up stage, in fresh processes (see ``STAGES``)."""
+    runs = []
+    for _ in range(repeats):
+        out = subprocess.run([PY, "-c", STAGES], capture_output=True, check=True, text=True,
+                             cwd=Path(__file__).resolve().parents[1])
+        runs.append(json.loads(out.stdout))
+    return [statistics.median(col) for col in zip(*runs, strict=True)]
 
 
 def wall(cmd: list[str], repeats: int) -> float:
@@ -96,6 +135,9 @@ def main() -> None:
     for name, cmd in CASES:
         t = wall(cmd, args.repeats)
         print(f"{name:<42}{t:>8.3f}{t / integration:>15.1f}")
+    print(f"\n{'stages of one fresh process':<42}{'s':>8}")
+    for name, t in zip(STAGE_NAMES, stages(args.repeats), strict=True):
+        print(f"{name:<42}{t:>8.3f}")
 
 
 if __name__ == "__main__":
