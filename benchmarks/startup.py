@@ -61,16 +61,19 @@ print(json.dumps([b - a for a, b in zip(t, t[1:])]))
 """
 STAGE_NAMES = ("import numpy", "import numba", "import scipy.linalg (numba's BLAS probe)",
                "numba target set-up (own registries)", "import contact.simulate, rom",
-               "first call, 1 ms (cached kernel load)", "one 50 ms run (pre-pass + run)")
+               "first call, 1 ms (cached kernel load)", "one 50 ms run (pre-pass + run)",
+               "interpreter start + exit (final GC)")
 
 
 def stages(repeats: int) -> list[float]:
     """Median time (s) of each start-up stage, in fresh processes (see ``STAGES``)."""
     runs = []
     for _ in range(repeats):
+        t0 = time.perf_counter()
         out = subprocess.run([PY, "-c", STAGES], capture_output=True, check=True, text=True,
                              cwd=Path(__file__).resolve().parents[1])
-        runs.append(json.loads(out.stdout))
+        inside = json.loads(out.stdout)
+        runs.append([*inside, time.perf_counter() - t0 - sum(inside)])
     return [statistics.median(col) for col in zip(*runs, strict=True)]
 
 
