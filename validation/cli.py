@@ -103,6 +103,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     from validation.errors import LusmError, user_error
     from validation.options import set_command
 
+    # Figures are files: the CLI picks matplotlib's file backend, library code never does.
+    os.environ.setdefault("MPLBACKEND", "Agg")
     parser = build_parser()
     try:
         args, extra = parser.parse_known_args(argv)
@@ -113,7 +115,6 @@ def main(argv: Sequence[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     set_command(args.command)
-    os.environ.setdefault("MPLBACKEND", "Agg")  # figures are files: no display (GUIDE, plots)
     prog = f"lusm {args.command}"
     previous = None
     try:

@@ -27,7 +27,7 @@ MAP_STYLE = {
 
 
 def pyplot():
-    """matplotlib.pyplot, imported on first use (the backend is the caller's: ``lusm`` sets Agg)."""
+    """matplotlib.pyplot, imported on first use (the CLI sets the file backend, Agg)."""
     import matplotlib.pyplot as plt
 
     return plt
