@@ -7,7 +7,9 @@ uncached run (mesh + assembly + short- and open-circuit shift-invert eigensoluti
 
 Reference: Richardson extrapolation of the two finest order-2 meshes with the theoretical
 eigenvalue rate h^4 (``f_ref = f_2 + (f_2 - f_1) / ((h_1/h_2)^4 - 1)``); the order-1 sequence
-is also extrapolated on its own (rate h^2) as a cross-check.
+is also extrapolated on its own (rate h^2) as a cross-check. The study itself is
+:func:`validation.work_precision.fe_work_precision` (the report's FE section runs it on
+smaller meshes); this script runs it on the full sequences and prints the table.
 
 Run: ``python benchmarks/fem_convergence.py [--material pzt8|paper] [--repeat N]``
 """
@@ -16,32 +18,18 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
-from fem.mesh import max_element_size_m, structured_mesh  # noqa: E402
-from fem.model import build_model  # noqa: E402
-from fem.modes import DEFAULT_REFINE, modes_of_model  # noqa: E402
+from fem.mesh import max_element_size_m  # noqa: E402
+from fem.modes import DEFAULT_REFINE  # noqa: E402
+from validation.work_precision import fe_work_precision, richardson  # noqa: E402
 
 REFINES = {1: (4, 8, 16, 32, 64), 2: (2, 3, 4, 6, 8, 16, 32)}
 TARGET_REL = 5e-4
 TARGET_TIME_S = 0.5
-
-
-def run_once(stator: PlateStator, material: str, order: int, refine: int):
-    """One uncached solve; returns (L1 Hz, B2 Hz, dofs, wall s, short-only eigensolve s)."""
-    t0 = time.perf_counter()
-    model = build_model(structured_mesh(stator, refine), stator, material, order)
-    res = modes_of_model(model, refine=refine)
-    wall = time.perf_counter() - t0
-    return res.L1.f_short_Hz, res.B2.f_short_Hz, res.dofs, wall, res.solve_time_s
-
-
-def richardson(f1: float, f2: float, h1: float, h2: float, rate: float) -> float:
-    return f2 + (f2 - f1) / ((h1 / h2) ** rate - 1.0)
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -50,27 +38,13 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--repeat", type=int, default=3, help="timing repeats (best is kept)")
     args = ap.parse_args(argv)
     stator = PlateStator()
-    rows = {}
-    for order, refines in REFINES.items():
-        for r in refines:
-            best = None
-            for _ in range(args.repeat):
-                out = run_once(stator, args.material, order, r)
-                if best is None or out[3] < best[3]:
-                    best = out
-            rows[(order, r)] = best
-    r1, r2 = REFINES[2][-2:]
-    ref = [
-        richardson(rows[(2, r1)][i], rows[(2, r2)][i],
-            max_element_size_m(stator, r1), max_element_size_m(stator, r2), 4)
-        for i in (0, 1)
-    ]
+    points, ref_info = fe_work_precision(REFINES, REFINES[2][-2:], args.material, args.repeat)
+    ref = [ref_info["f_L1_Hz"], ref_info["f_B2_Hz"]]
+    rows = {(pt.order, pt.refine): pt for pt in points}
     q1, q2 = REFINES[1][-2:]
-    ref1 = [
-        richardson(rows[(1, q1)][i], rows[(1, q2)][i],
-            max_element_size_m(stator, q1), max_element_size_m(stator, q2), 2)
-        for i in (0, 1)
-    ]
+    h1, h2 = max_element_size_m(stator, q1), max_element_size_m(stator, q2)
+    ref1 = [richardson(getattr(rows[(1, q1)], f), getattr(rows[(1, q2)], f), h1, h2, 2)
+            for f in ("f_L1_Hz", "f_B2_Hz")]
     print(f"material {args.material}, plate 30 x 7.5 x 3 mm, gap 0.5 mm")
     print(f"Richardson reference (order 2, h^4): L1 {ref[0]:.2f} Hz, B2 {ref[1]:.2f} Hz")
     print(f"order-1 self-extrapolation (h^2):    L1 {ref1[0]:.2f} Hz, B2 {ref1[1]:.2f} Hz")
@@ -81,12 +55,14 @@ def main(argv: list[str] | None = None) -> None:
     )
     print(hdr)
     print("-" * len(hdr))
-    for (order, r), (fl, fb, dofs, wall, t_eig) in rows.items():
-        el, eb = abs(fl / ref[0] - 1), abs(fb / ref[1] - 1)
-        mark = " *" if (el <= TARGET_REL and eb <= TARGET_REL and wall <= TARGET_TIME_S) else ""
+    for pt in points:
+        ok = (pt.error_L1 <= TARGET_REL and pt.error_B2 <= TARGET_REL
+              and pt.wall_time_s <= TARGET_TIME_S)
         print(
-            f"{order:>5} {r:>6} {max_element_size_m(stator, r) * 1e3:>7.3f} {dofs:>7} {fl:>11.2f} "
-            f"{el:>9.2e} {fb:>11.2f} {eb:>9.2e} {wall:>9.3f} {t_eig:>8.3f}{mark}"
+            f"{pt.order:>5} {pt.refine:>6} {max_element_size_m(stator, pt.refine) * 1e3:>7.3f} "
+            f"{pt.dofs:>7} {pt.f_L1_Hz:>11.2f} {pt.error_L1:>9.2e} {pt.f_B2_Hz:>11.2f} "
+            f"{pt.error_B2:>9.2e} {pt.wall_time_s:>9.3f} {pt.eig_time_s:>8.3f}"
+            f"{' *' if ok else ''}"
         )
     print()
     print(

@@ -8,7 +8,6 @@ asked for).
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable
 from typing import Any
 
@@ -16,10 +15,6 @@ from rom.params import MotorParams
 
 SOURCES = ("table2", "beam", "fem")
 """Allowed source names, in display order."""
-
-
-class SourceUnavailableError(ValueError):
-    """A known source whose implementation cannot be imported (e.g. not written yet)."""
 
 
 def _table2(**kwargs: Any) -> MotorParams:
@@ -43,18 +38,9 @@ def _beam(**kwargs: Any) -> MotorParams:
 
 
 def _fem(**kwargs: Any) -> MotorParams:
-    """FE reduction, imported lazily; missing module or function -> SourceUnavailableError."""
-    try:
-        module = importlib.import_module("rom.from_fem")
-    except ImportError as exc:
-        raise SourceUnavailableError(
-            f"source 'fem' is unavailable: cannot import rom.from_fem ({exc})"
-        ) from exc
-    fem_params = getattr(module, "fem_params", None)
-    if fem_params is None:
-        raise SourceUnavailableError(
-            "source 'fem' is unavailable: rom.from_fem has no fem_params()"
-        )
+    """FE reduction, imported here so that only this source loads the FE stack."""
+    from rom.from_fem import fem_params
+
     return fem_params(**kwargs)
 
 
@@ -85,8 +71,8 @@ def get_params(source: str, **kwargs: Any) -> MotorParams:
     ------
     ValueError
         For an unknown source (the message lists the allowed names) or bad options.
-    SourceUnavailableError
-        (a ValueError) if the source's module cannot be imported.
+    ImportError
+        If the source needs a library that is not installed (the FE stack for ``fem``).
     """
     try:
         builder = _DISPATCH[source]

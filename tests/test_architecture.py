@@ -69,3 +69,21 @@ def test_the_checks_see_the_imports():
     """The scan finds the imports it is meant to judge (guards against a vacuous pass)."""
     found = {module for path in _sources("rom") for _l, module, _n in _imports(path)}
     assert "rom.params" in found and "fem.model" in found  # rom.from_fem builds on fem
+
+
+def test_the_contact_hot_path_imports_no_scipy_solvers():
+    """``lusm simulate``'s import path (event kernel, window, results, Table 2) loads no SciPy
+    solver module: the propagators are NumPy (``contact.expm``); ``solve_ivp`` and
+    ``minimize_scalar`` are imported only by the reference scheme and ``--frequency auto``."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, contact.simulate, rom.table2, rom.sources;"
+        "bad=sorted(m for m in sys.modules if m.startswith(('scipy.linalg', 'scipy.integrate',"
+        " 'scipy.optimize', 'scipy.sparse')));"
+        "print(bad); sys.exit(1 if bad else 0)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 0, out.stdout + out.stderr

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from contact.model import OperatingPoint
 from contact.simulate import SimulationResult, normal_amplitude, simulate
 from rom.params import MotorParams
+from rom.table2 import PAPER_DRIVE_HZ
 
 
 @dataclass(frozen=True)
@@ -70,7 +71,7 @@ def grazing_voltage(params: MotorParams, preload_N: float, frequency_Hz: float) 
     return (y_static - y_c) / per_volt
 
 
-def dead_zone_edge(params: MotorParams, preload_N: float, frequency_Hz: float = 40e3,
+def dead_zone_edge(params: MotorParams, preload_N: float, frequency_Hz: float = PAPER_DRIVE_HZ,
                    duration_s: float = 0.02, tol_V: float = 0.05,
                    coupling: str = "paper") -> float:
     """Lowest drive amplitude (V) at which the tip leaves pure stick, by bisection.
@@ -113,7 +114,7 @@ def _row(name: str, setting: str, fn: Callable[[], SimulationResult], expected_e
 
 def run_hard_cases(
     params: MotorParams,
-    frequency_Hz: float = 40e3,
+    frequency_Hz: float = PAPER_DRIVE_HZ,
     quick: bool = False,
     progress: Callable[[str], None] | None = None,
 ) -> list[HardCase]:

@@ -155,6 +155,7 @@ def _plane_stress_vs_3d(example_layers: int) -> tuple[list[str], dict]:
 
 def _reproduction(params: dict, out: Path, quick: bool, progress: bool):
     from contact.drive import auto_frequency
+    from rom.table2 import PAPER_DRIVE_HZ
     from validation.paper_repro import ReproSettings, reproduce
 
     settings = ReproSettings.quick() if quick else ReproSettings()
@@ -166,7 +167,7 @@ def _reproduction(params: dict, out: Path, quick: bool, progress: bool):
           f"{settings.duration_s * 1e3:g} ms at dt = 1e-7 s.", ""]
     data = {}
     for name, p in params.items():
-        freq = 40e3 if name == "table2" else auto_frequency(p)
+        freq = PAPER_DRIVE_HZ if name == "table2" else auto_frequency(p)
         st = _Stage(f"2/4 reproduction ({name})", 5, progress)
         rep = reproduce(p, freq, out / "figures", f"{name}_", settings, st.say)
         st.close()
