@@ -55,17 +55,33 @@ NUMBER_WITH_UNIT = re.compile(r"(?<![\w.])\d[\d ]*(?:\.\d+)?(?:e-?\d+)?\s?" + UN
 COVER = re.compile(r"<!--(?:n:\w+(?:\*[0-9.eE+-]+)?|paper|input)-->")
 
 
-def test_the_readme_findings_quote_no_unmarked_result():
-    text = (ROOT / "README.md").read_text()
-    section = text[text.index("## What it finds"):text.index("## Layout")]
+def _unmarked(text: str) -> list[str]:
+    """Numbers with a unit in ``text`` that no marker covers (fenced code blocks skipped).
+
+    A paper/input marker covers every number since the previous marker; an n:key marker only
+    the number right before it (whose unit follows the marker).
+    """
+    text = re.sub(r"```.*?```", "", text, flags=re.S)
     unmarked = []
-    # A paper/input marker covers every number since the previous marker; an n:key marker
-    # only the number right before it (whose unit follows the marker).
     pos = 0
-    for m in COVER.finditer(section):
-        chunk = section[pos:m.start()]
+    for m in COVER.finditer(text):
+        chunk = text[pos:m.start()]
         if m.group(0).startswith("<!--n:"):  # the marked number stands before its unit
             unmarked += [n.group(0) for n in NUMBER_WITH_UNIT.finditer(chunk)]
         pos = m.end()
-    unmarked += [n.group(0) for n in NUMBER_WITH_UNIT.finditer(section[pos:])]
-    assert not unmarked, unmarked
+    return unmarked + [n.group(0) for n in NUMBER_WITH_UNIT.finditer(text[pos:])]
+
+
+LINTED = ("README.md", "docs/beam.md", "docs/designer.md")
+"""Documents in which every number with a unit is a marked result or marked paper/input.
+(docs/contact.md quotes its operating points, 200 V / 14 N, too often to list them; its
+results are marked but it is not linted. Add a file here once its inputs are marked.)"""
+
+
+@pytest.mark.parametrize("rel", LINTED)
+def test_linted_docs_quote_no_unmarked_number_with_a_unit(rel):
+    assert not _unmarked((ROOT / rel).read_text()), rel
+
+
+def test_the_lint_sees_an_unmarked_result():
+    assert _unmarked("3 mm<!--input-->, 139.1<!--n:k--> V, f = 56 479.5 Hz") == ["56 479.5 Hz"]

@@ -565,6 +565,114 @@ def _designer_claims() -> tuple[Claim, ...]:
                        lambda k=k: _designer_numbers()[k]) for k in _DESIGNER_KEYS)
 
 
+# --- docs/contact.md: the remaining figures of sections 3-6 ------------------------------
+
+
+def _separation_voltage(preload_N: float) -> float:
+    """Voltage at which the tip first separates (V), from the 200 V run.
+
+    In contact Eqs. 4 + 7 are linear, so the tip's excursion from its static position scales
+    with the voltage: ``V_sep = 200 V (y_c - y_0)/(y_min - y_0)``.
+    """
+    from contact.model import normal_force_zero_tip_displacement
+
+    p = _table2()
+    r = _sim(200.0, preload_N)
+    y0 = p.phi_Ll * (p.phi_L0 - p.phi_Ll) * preload_N / p.K_l
+    y_c = normal_force_zero_tip_displacement(p, preload_N)
+    return 200.0 * (y_c - y0) / (float(r.window.y_tip_m.min()) - y0)
+
+
+@cache
+def _fine_map_counts(ultrasonic_friction: bool = True) -> dict[str, int]:
+    """Motion-class counts of ``lusm map --voltages 50:650:25 --preloads 2:30:1`` (725 points)."""
+    import numpy as np
+
+    from contact.maps import stick_slip_map
+    from contact.simulate import SimulationOptions
+
+    m = stick_slip_map(_table2(), np.arange(50.0, 651.0, 25.0), np.arange(2.0, 31.0, 1.0),
+                       options=SimulationOptions(ultrasonic_friction=ultrasonic_friction),
+                       progress=False)
+    return m.counts()
+
+
+@cache
+def _startup_ratios() -> dict[str, float]:
+    """Fresh-process wall times over one 50 ms integration (benchmarks/startup.py, 3 repeats)."""
+    import importlib.util
+    import subprocess
+
+    from contact.simulate import simulate
+
+    spec = importlib.util.spec_from_file_location("bench_startup",
+                                                  ROOT / "benchmarks" / "startup.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    simulate(_table2(), 200.0, 14.0, duration_s=0.001)
+    integration = statistics.median(simulate(_table2(), 200.0, 14.0).wall_time_s
+                                    for _ in range(5))
+    subprocess.run(bench.CASES[4][1], capture_output=True, check=True, cwd=ROOT)
+    keys = ("python", "numba", "arraymath", "contact", "run_1ms", "lusm_simulate", "lusm_help")
+    return {k: bench.wall(cmd, 3) / integration
+            for k, (_, cmd) in zip(keys, bench.CASES, strict=True)}
+
+
+def _contact_claims() -> tuple[Claim, ...]:
+    """Figures of docs/contact.md beyond the coupling table."""
+    sim = _SIM.format(v=200, f=14)
+    out = [
+        Claim("v_200V_14N_10ms_m_s", "m/s", sim + " --duration 0.01",
+              lambda: _sim(200.0, 14.0, 0.01).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+        Claim("v_200V_14N_20ms_m_s", "m/s", sim + " --duration 0.02",
+              lambda: _sim(200.0, 14.0, 0.02).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+        Claim("fig9_paper_over_v", "-", "0.03 m/s (paper, Fig. 9) / v_200V_14N_m_s",
+              lambda: 0.03 / _sim(200.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+        Claim("v_175V_14N_m_s", "m/s", _SIM.format(v=175, f=14),
+              lambda: _sim(175.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+        Claim("y_min_200V_14N_m", "m", "python -m validation.doc_numbers --show y_min_200V_14N_m "
+              "(lowest tip normal displacement of the steady window)",
+              lambda: float(_sim(200.0, 14.0).window.y_tip_m.min()), cheap=True, rel_tol=1e-5),
+        Claim("y_c_14N_m", "m", "contact.model.normal_force_zero_tip_displacement(table2(), 14)",
+              lambda: __import__("contact.model", fromlist=["x"])
+              .normal_force_zero_tip_displacement(_table2(), 14.0), cheap=True, rel_tol=1e-9),
+        Claim("separation_voltage_14N_V", "V",
+              "python -m validation.doc_numbers --show separation_voltage_14N_V",
+              lambda: _separation_voltage(14.0), cheap=True, rel_tol=1e-4),
+        Claim("dead_zone_14N_vs_experiment", "-", "dead_zone_14N_V / 100 V - 1 (paper, Fig. 24)",
+              lambda: _dead_zone_edge(14.0) / 100.0 - 1.0, cheap=True, rel_tol=1e-2),
+        Claim("steps_200V_14N", "-", sim + " (steps)",
+              lambda: float(_sim(200.0, 14.0).steps), cheap=True, rel_tol=1e-12),
+        Claim("energy_residual_200V_14N", "-",
+              "contact.simulate.simulate(table2(), 200, 14, energy=True).energy"
+              ".relative_residual", lambda: abs(_sim(200.0, 14.0).energy.relative_residual)),
+        Claim("auto_frequency_table2_Hz", "Hz", "lusm simulate --frequency auto --json",
+              lambda: __import__("contact.drive", fromlist=["x"]).auto_frequency(_table2()),
+              cheap=True, rel_tol=1e-6),
+        Claim("wp_event_stick_max", "-", "lusm report (section 3a, stick-fraction error)",
+              lambda: max(p.stick_error for p in __import__(
+                  "validation.work_precision", fromlist=["x"]).contact_work_precision(
+                  _table2(), cases=((200.0, 14.0),))[0] if p.method.startswith("event"))),
+    ]
+    for v, f in ((50, 14), (450, 14), (400, 10), (400, 26)):
+        out.append(Claim(f"mu_d_{v}V_{f}N", "-", _SIM.format(v=v, f=f) + " (mu_d_effective)",
+                         lambda v=v, f=f: _sim(float(v), float(f)).mu_d_eff, cheap=True,
+                         rel_tol=1e-5))
+    for ultrasonic, tag in ((True, ""), (False, "const_mu_")):
+        flag = "" if ultrasonic else " --no-ultrasonic-friction"
+        for cls in ("slip-separation", "stick-slip", "pure-stick", "pure-slip"):
+            out.append(Claim(
+                f"fine_map_{tag}{cls.replace('-', '_')}", "-",
+                f"lusm map --voltages 50:650:25 --preloads 2:30:1{flag} --json (counts)",
+                lambda u=ultrasonic, c=cls: _fine_map_counts(u).get(c, 0)))
+    for k in ("python", "numba", "arraymath", "contact", "run_1ms", "lusm_simulate",
+              "lusm_help"):
+        out.append(Claim(f"startup_{k}_ratio", "-",
+                         "python benchmarks/startup.py (x one 50 ms integration; here with 3 "
+                         "repeats)", lambda k=k: _startup_ratios()[k]))
+    return tuple(out)
+
+
 # --- the claims --------------------------------------------------------------------------
 
 
@@ -704,6 +812,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_coupling_claims(),
     *_beam_claims(),
     *_designer_claims(),
+    *_contact_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
