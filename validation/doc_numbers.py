@@ -654,6 +654,11 @@ def _contact_claims() -> tuple[Claim, ...]:
                   "validation.work_precision", fromlist=["x"]).contact_work_precision(
                   _table2(), cases=((200.0, 14.0),))[0] if p.method.startswith("event"))),
     ]
+    out.append(Claim("settle_400V_14N_s", "s", _SIM.format(v=400, f=14) + " --duration D "
+                     "(settled), D on a 25 ms grid",
+                     lambda: next(d * 1e-3 for d in range(50, 301, 25)
+                                  if _sim(400.0, 14.0, d * 1e-3).steady.settled),
+                     cheap=True, rel_tol=1e-9))
     for v, f in ((50, 14), (450, 14), (400, 10), (400, 26)):
         out.append(Claim(f"mu_d_{v}V_{f}N", "-", _SIM.format(v=v, f=f) + " (mu_d_effective)",
                          lambda v=v, f=f: _sim(float(v), float(f)).mu_d_eff, cheap=True,
