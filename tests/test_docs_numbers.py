@@ -50,7 +50,7 @@ def test_cheap_claims_recompute_to_numbers_json(key):
     assert value == pytest.approx(stored, rel=claim.rel_tol, abs=1e-12), claim.command
 
 
-UNIT = r"(?:k?Hz|V|m/s|mm/s|µm|mm|N|%|ms|s)\b"
+UNIT = r"(?:k?Hz|V|m/s|mm/s|µm|mm|N|%|ms|s)(?!\w)"
 NUMBER_WITH_UNIT = re.compile(r"(?<![\w.])\d[\d ]*(?:\.\d+)?(?:e-?\d+)?\s?" + UNIT)
 COVER = re.compile(r"<!--(?:n:\w+(?:\*[0-9.eE+-]+)?|paper|input)-->")
 
