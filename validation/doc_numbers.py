@@ -16,7 +16,12 @@ add a :class:`Claim` to :data:`CLAIMS`, mark the number in the Markdown, run
 ``python -m validation.doc_numbers --update KEY`` (only that claim; or no option for all of
 them) and then ``--fill``. A document joins the check by being listed in :data:`DOC_FILES`.
 The claims of ``docs/fem.md`` and ``docs/fem3d.md`` belong to the FE developer; add them the
-same way (``fe2d_*``, ``fe3d_*``, ``adm_*``).
+same way (``fe2d_*``, ``fe3d_*``, ``adm_*``). Numbers that are not results (the plate's
+``30 × 7.5 × 3 mm``, the paper's published values, test tolerances) end with
+``<!--input-->`` or ``<!--paper-->``, which covers every number since the previous marker;
+``LINTED`` in the test lists the documents in which every number with a unit must be covered
+(README.md, docs/contact.md, docs/beam.md, docs/designer.md; add fem.md and fem3d.md once
+marked). A marker never goes inside backticks (it would show on GitHub).
 
 Timings are claims only as ratios measured in the same run (``*_ratio``), never as absolute
 seconds; the machine they were measured on is stored beside them.
