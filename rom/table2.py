@@ -42,6 +42,9 @@ TABLE2 = {
 FRICTION_LAW = {"a_mu": 0.15, "b_mu_per_m": 1e6}
 """Eq. 11 constants chosen in Section 4.1 of the paper."""
 
+PAPER_ANSYS_HZ = {"L1": 39841.0, "B2": 40257.0}
+"""Natural frequencies the paper reports from ANSYS (Section 4) (Hz)."""
+
 PAPER_DRIVE_HZ = 40e3
 """Excitation frequency used throughout the paper's simulations (Hz)."""
 

@@ -12,7 +12,16 @@ number carries an invisible marker right after it::
 ``*factor`` scales the stored value to the printed unit. ``tests/test_docs_numbers.py`` checks
 that every marked number equals ``numbers.json`` to the precision it is printed with, that
 every key exists, and recomputes the cheap claims against ``numbers.json``. To add a claim:
-add a :class:`Claim` to :data:`CLAIMS`, run the generator, mark the number in the Markdown.
+add a :class:`Claim` to :data:`CLAIMS`, mark the number in the Markdown, run
+``python -m validation.doc_numbers --update KEY`` (only that claim; or no option for all of
+them) and then ``--fill``. A document joins the check by being listed in :data:`DOC_FILES`.
+The claims of ``docs/fem.md`` and ``docs/fem3d.md`` belong to the FE developer; add them the
+same way (``fe2d_*``, ``fe3d_*``, ``adm_*``). Numbers that are not results (the plate's
+``30 × 7.5 × 3 mm``, the paper's published values, test tolerances) end with
+``<!--input-->`` or ``<!--paper-->``, which covers every number since the previous marker;
+``LINTED`` in the test lists the documents in which every number with a unit must be covered
+(README.md, docs/contact.md, docs/beam.md, docs/designer.md; add fem.md and fem3d.md once
+marked). A marker never goes inside backticks (it would show on GitHub).
 
 Timings are claims only as ratios measured in the same run (``*_ratio``), never as absolute
 seconds; the machine they were measured on is stored beside them.
@@ -21,6 +30,7 @@ seconds; the machine they were measured on is stored beside them.
 from __future__ import annotations
 
 import argparse
+import fnmatch
 import json
 import math
 import os
@@ -373,6 +383,306 @@ def _speed_stick_slip() -> tuple[float, float]:
     return ref.wall_time_s / statistics.median(times), dv
 
 
+# --- docs/beam.md: Appendix A beam theory against Table 2 and the paper's ANSYS -----------
+
+
+@cache
+def _beam_numbers() -> dict[str, float]:
+    """Every figure of docs/beam.md, from rom.beam at its defaults (well under a second)."""
+    import numpy as np
+
+    from fem.beam_shapes import phi_B
+    from fem.material import get_material
+    from rom.beam import beam_constants, beam_frequencies, euler_bernoulli_b2_frequency
+    from rom.table2 import PAPER_ANSYS_HZ, TABLE1
+
+    c, f, b, t = beam_constants(), beam_frequencies(), _beam(), _table2()
+    rho, length = TABLE1["rho_kg_m3"], TABLE1["length_m"]
+    area = TABLE1["width_m"] * TABLE1["thickness_m"]
+
+    def hz(k: float) -> float:
+        return math.sqrt(k / c.M_b) / (2 * math.pi)
+
+    out = {"I_m4": c.inertia_m4, "phi_B_end": abs(c.phi_Bl), "eta_T": c.phi_B0 - c.phi_Bl,
+           "dphi_B_0_per_m": float(phi_B(0.0, length, 1)),
+           "dphi_B_mid_per_m": float(phi_B(length / 2, length, 1)),
+           "zeta_L1": t.C_l / (2 * math.sqrt(t.K_l * t.M_l)),
+           "zeta_B2": t.C_b / (2 * math.sqrt(t.K_b * t.M_b))}
+    out["Q_L1"], out["Q_B2"] = 1 / (2 * out["zeta_L1"]), 1 / (2 * out["zeta_B2"])
+    for name in ("M_l", "K_l", "C_l", "A_l", "M_b", "K_b", "C_b", "A_b"):
+        out[name] = getattr(b, name)
+        out[f"{name}_vs_t2"] = abs(getattr(b, name)) / abs(getattr(t, name)) - 1
+    rows = {"L1": f.f_L1_Hz, "B2_eb": f.f_B2_euler_bernoulli_Hz, "B2_printed": hz(c.K_b_printed),
+            "B2_shear": hz(c.K_b_shear), "B2_condensed": f.f_B2_condensed_Hz,
+            "B2_timoshenko": f.f_B2_timoshenko_Hz}
+    for name, value in rows.items():
+        mode = name[:2]
+        out[f"f_{name}_Hz"] = value
+        out[f"f_{name}_vs_t2"] = value / getattr(t, f"f_{mode}_Hz") - 1
+        out[f"f_{name}_vs_ansys"] = value / PAPER_ANSYS_HZ[mode] - 1
+    for name in ("printed", "shear", "timoshenko"):
+        k = getattr(c, f"K_b_{name}")
+        out[f"K_b_{name}"] = k
+        out[f"K_b_{name}_vs_t2"] = k / t.K_b - 1
+    out["A_b_timoshenko"] = c.A_b_timoshenko
+    out["EI_factor_to_t2"] = c.K_b_bending / t.K_b
+    out["c11_for_ansys_L1_Pa"] = rho * (2 * length * PAPER_ANSYS_HZ["L1"]) ** 2
+    out["c11_implied_by_t2_Pa"] = 2 * length * t.K_l / (area * math.pi**2)
+    out["M_l_t2_over_rhoAl"] = t.M_l / (rho * area * length)
+    s11 = float(np.linalg.inv(np.asarray(get_material("pzt8").cE_Pa))[0, 0])
+    out["pzt8_inv_sE11_Pa"] = 1 / s11
+    out["f_L1_free_sE11_Hz"] = math.sqrt(1 / s11 / rho) / (2 * length)
+    out["timoshenko_lowering"] = 1 - f.f_B2_timoshenko_Hz / f.f_B2_euler_bernoulli_Hz
+    out["A_l_t2_over_beam"] = t.A_l / b.A_l
+    out["A_l_full_electrode"] = 2 * b.A_l
+    out["A_l_t2_over_full"] = t.A_l / (2 * b.A_l)
+    out["rayleigh_vs_closed"] = abs(f.f_B2_euler_bernoulli_Hz / euler_bernoulli_b2_frequency() - 1)
+    return out
+
+
+_BEAM_UNITS = {"I_m4": "m^4", "dphi_B_0_per_m": "1/m", "dphi_B_mid_per_m": "1/m",
+               "M_l": "kg", "K_l": "N/m", "C_l": "N s/m", "A_l": "N/V", "M_b": "kg",
+               "K_b": "N/m", "C_b": "N s/m", "A_b": "N/V", "K_b_printed": "N/m",
+               "K_b_shear": "N/m", "K_b_timoshenko": "N/m", "A_b_timoshenko": "N/V",
+               "c11_for_ansys_L1_Pa": "Pa", "c11_implied_by_t2_Pa": "Pa", "pzt8_inv_sE11_Pa": "Pa",
+               "f_L1_free_sE11_Hz": "Hz", "A_l_full_electrode": "N/V"}
+_BEAM_KEYS = ("I_m4", "phi_B_end", "eta_T", "dphi_B_0_per_m", "dphi_B_mid_per_m", "zeta_L1",
+              "zeta_B2", "Q_L1", "Q_B2",
+              *(f"{n}{s}" for n in ("M_l", "K_l", "C_l", "A_l", "M_b", "K_b", "C_b", "A_b")
+                for s in ("", "_vs_t2")),
+              *(f"f_{n}{s}" for n in ("L1", "B2_eb", "B2_printed", "B2_shear", "B2_condensed",
+                                      "B2_timoshenko") for s in ("_Hz", "_vs_t2", "_vs_ansys")),
+              *(f"K_b_{n}{s}" for n in ("printed", "shear", "timoshenko") for s in ("", "_vs_t2")),
+              "A_b_timoshenko", "EI_factor_to_t2", "c11_for_ansys_L1_Pa", "c11_implied_by_t2_Pa",
+              "M_l_t2_over_rhoAl", "pzt8_inv_sE11_Pa", "f_L1_free_sE11_Hz", "timoshenko_lowering",
+              "A_l_t2_over_beam", "A_l_full_electrode", "A_l_t2_over_full", "rayleigh_vs_closed")
+"""Keys of :func:`_beam_numbers` (listed so that importing this module computes nothing)."""
+
+
+def _beam_claims() -> tuple[Claim, ...]:
+    """The docs/beam.md claims: cheap, recomputed by the tests to 1e-9."""
+    return tuple(Claim(f"beam_{k}", _BEAM_UNITS.get(k, "Hz" if k.endswith("_Hz") else "-"),
+                       f"python -m validation.doc_numbers --show beam_{k} "
+                       "(rom.beam; lusm compare, lusm params --source beam)",
+                       lambda k=k: _beam_numbers()[k], cheap=True, rel_tol=1e-9)
+                 for k in _BEAM_KEYS)
+
+
+# --- docs/designer.md: the example stators and their perturbation estimates --------------
+
+
+@cache
+def _designer_numbers() -> dict[str, float]:
+    """The table and estimates of docs/designer.md (examples/*, order 2; a few seconds).
+
+    The perturbation estimate is the one of tests/test_examples_stators.py: mass-only,
+    ``df/f = -+ 1/2 dm <|phi|^2>`` with the plain plate's mass-normalized shapes (refine 8).
+    """
+    import importlib.util
+    import tempfile
+
+    import numpy as np
+
+    from fem.geometry import PlateStator
+    from fem.mesh_import import read_stator_mesh, write_stator_msh
+    from fem.model import build_model, plate_model
+    from fem.modes import modes_of_model, plate_modes
+    from fem.stator_file import MeshedStator, load_stator
+
+    examples = ROOT / "examples"
+    rho_h = 7600.0 * 3e-3  # PZT-8 density x thickness (kg/m^2)
+    plain = plate_modes(PlateStator(), "pzt8", 2, 8)
+    model = plate_model(PlateStator(), "pzt8", 2, 8)
+    sets = {"plain": plain}
+    for name in ("tip_protrusion", "chamfered"):
+        sets[name] = load_stator(examples / name / "stator.toml").modes()
+    out: dict[str, float] = {}
+    for name, res in sets.items():
+        out[f"{name}_dofs"] = res.dofs
+        for mode in ("L1", "B2"):
+            m = getattr(res, mode)
+            out[f"{name}_{mode}_short_Hz"] = m.f_short_Hz
+            out[f"{name}_{mode}_open_Hz"] = m.f_open_Hz
+            out[f"{name}_{mode}_mac"] = m.mac
+            if name != "plain":
+                out[f"{name}_{mode}_shift"] = m.f_short_Hz / getattr(plain, mode).f_short_Hz - 1
+
+    def mean_sq(shape, points):
+        u = (model.probe(points) @ shape).reshape(2, -1)
+        return float(np.mean(np.sum(u * u, axis=0)))
+
+    xs = np.linspace(-1e-3, 1e-3, 21)
+    tip_end = np.vstack((xs, np.full_like(xs, 30e-3)))
+    c, w2, length = 1.5e-3, 3.75e-3, 30e-3
+    g = np.linspace(0.0, 1.0, 41)[1:-1]
+    u, v = np.meshgrid(g, g)
+    keep = u + v > 1.0
+    pts = [np.vstack((sx * (w2 - c + u[keep] * c), length - (c - v[keep] * c) if far
+                      else c - v[keep] * c)) for sx in (1.0, -1.0) for far in (False, True)]
+    corners = np.hstack(pts) * (1.0 - 1e-9)
+    for name, dm, where, sign in (("tip_protrusion", rho_h * 2e-3 * 1e-3, tip_end, -1.0),
+                                  ("chamfered", rho_h * 2 * c * c, corners, 1.0)):
+        for mode in ("L1", "B2"):
+            est = sign * 0.5 * dm * mean_sq(getattr(plain, mode).shape, where)
+            out[f"{name}_{mode}_estimate"] = est
+            out[f"{name}_{mode}_fe_over_estimate"] = out[f"{name}_{mode}_shift"] / est - 1
+
+    path = examples / "chamfered" / "make_mesh.py"
+    spec = importlib.util.spec_from_file_location("make_mesh_chamfered", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    nodes, tris, tags, points = script.chamfered_mesh(chamfer_m=0.0)
+    with tempfile.TemporaryDirectory() as tmp:
+        msh = write_stator_msh(Path(tmp) / "t.msh", nodes, {"triangle": tris},
+                               {"triangle": tags}, points, file_format="gmsh22")
+        imp = read_stator_mesh(msh)
+    st = MeshedStator(length_m=30e-3, width_m=7.5e-3, thickness_m=3e-3, electrode_gap_m=0.0,
+                      mesh=imp.mesh, tip_m=imp.points_m["tip"], preload_m=(0.0, 0.0))
+    tri = modes_of_model(build_model(imp.mesh, st, "pzt8", 2))
+    out["triangulated_dofs"] = tri.dofs
+    for mode in ("L1", "B2"):
+        out[f"triangulated_{mode}_rel"] = abs(getattr(tri, mode).f_short_Hz
+                                              / getattr(plain, mode).f_short_Hz - 1)
+    return out
+
+
+_DESIGNER_KEYS = (
+    *(f"{n}_{k}" for n in ("plain", "tip_protrusion", "chamfered") for k in (
+        "dofs", *(f"{m}_{q}" for m in ("L1", "B2") for q in ("short_Hz", "open_Hz", "mac")))),
+    *(f"{n}_{m}_{q}" for n in ("tip_protrusion", "chamfered") for m in ("L1", "B2")
+      for q in ("shift", "estimate", "fe_over_estimate")),
+    "triangulated_dofs", "triangulated_L1_rel", "triangulated_B2_rel")
+"""Keys of :func:`_designer_numbers` (listed so that importing this module computes nothing)."""
+
+
+def _designer_claims() -> tuple[Claim, ...]:
+    """The docs/designer.md claims (FE runs of the examples: not recomputed by the tests;
+    tests/test_examples_stators.py checks the same physics against bounds)."""
+    def cmd(k: str) -> str:
+        if k.startswith("plain"):
+            return "lusm modes --refine 8 --json"
+        for name in ("tip_protrusion", "chamfered"):
+            if k.startswith(name) and k.endswith(("Hz", "mac", "dofs", "shift")):
+                return f"lusm modes --geometry examples/{name}/stator.toml --json"
+        return f"python -m validation.doc_numbers --show designer_{k}"
+
+    return tuple(Claim(f"designer_{k}", "Hz" if k.endswith("Hz") else "-", cmd(k),
+                       lambda k=k: _designer_numbers()[k]) for k in _DESIGNER_KEYS)
+
+
+# --- docs/contact.md: the remaining figures of sections 3-6 ------------------------------
+
+
+def _separation_voltage(preload_N: float) -> float:
+    """Voltage at which the tip first separates (V), from the 200 V run.
+
+    In contact Eqs. 4 + 7 are linear, so the tip's excursion from its static position scales
+    with the voltage: ``V_sep = 200 V (y_c - y_0)/(y_min - y_0)``.
+    """
+    from contact.model import normal_force_zero_tip_displacement
+
+    p = _table2()
+    r = _sim(200.0, preload_N)
+    y0 = p.phi_Ll * (p.phi_L0 - p.phi_Ll) * preload_N / p.K_l
+    y_c = normal_force_zero_tip_displacement(p, preload_N)
+    return 200.0 * (y_c - y0) / (float(r.window.y_tip_m.min()) - y0)
+
+
+@cache
+def _fine_map_counts(ultrasonic_friction: bool = True) -> dict[str, int]:
+    """Motion-class counts of ``lusm map --voltages 50:650:25 --preloads 2:30:1`` (725 points)."""
+    import numpy as np
+
+    from contact.maps import stick_slip_map
+    from contact.simulate import SimulationOptions
+
+    m = stick_slip_map(_table2(), np.arange(50.0, 651.0, 25.0), np.arange(2.0, 31.0, 1.0),
+                       options=SimulationOptions(ultrasonic_friction=ultrasonic_friction),
+                       progress=False)
+    return m.counts()
+
+
+@cache
+def _startup_ratios() -> dict[str, float]:
+    """Fresh-process wall times over one 50 ms integration (benchmarks/startup.py, 3 repeats)."""
+    import importlib.util
+    import subprocess
+
+    from contact.simulate import simulate
+
+    spec = importlib.util.spec_from_file_location("bench_startup",
+                                                  ROOT / "benchmarks" / "startup.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    simulate(_table2(), 200.0, 14.0, duration_s=0.001)
+    integration = statistics.median(simulate(_table2(), 200.0, 14.0).wall_time_s
+                                    for _ in range(5))
+    subprocess.run(bench.CASES[4][1], capture_output=True, check=True, cwd=ROOT)
+    keys = ("python", "numba", "arraymath", "contact", "run_1ms", "lusm_simulate", "lusm_help")
+    return {k: bench.wall(cmd, 3) / integration
+            for k, (_, cmd) in zip(keys, bench.CASES, strict=True)}
+
+
+def _contact_claims() -> tuple[Claim, ...]:
+    """Figures of docs/contact.md beyond the coupling table."""
+    sim = _SIM.format(v=200, f=14)
+    out = [
+        Claim("v_200V_14N_10ms_m_s", "m/s", sim + " --duration 0.01",
+              lambda: _sim(200.0, 14.0, 0.01).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+        Claim("v_200V_14N_20ms_m_s", "m/s", sim + " --duration 0.02",
+              lambda: _sim(200.0, 14.0, 0.02).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+        Claim("fig9_paper_over_v", "-", "0.03 m/s (paper, Fig. 9) / v_200V_14N_m_s",
+              lambda: 0.03 / _sim(200.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+        Claim("v_175V_14N_m_s", "m/s", _SIM.format(v=175, f=14),
+              lambda: _sim(175.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
+        Claim("y_min_200V_14N_m", "m", "python -m validation.doc_numbers --show y_min_200V_14N_m "
+              "(lowest tip normal displacement of the steady window)",
+              lambda: float(_sim(200.0, 14.0).window.y_tip_m.min()), cheap=True, rel_tol=1e-5),
+        Claim("y_c_14N_m", "m", "contact.model.normal_force_zero_tip_displacement(table2(), 14)",
+              lambda: __import__("contact.model", fromlist=["x"])
+              .normal_force_zero_tip_displacement(_table2(), 14.0), cheap=True, rel_tol=1e-9),
+        Claim("separation_voltage_14N_V", "V",
+              "python -m validation.doc_numbers --show separation_voltage_14N_V",
+              lambda: _separation_voltage(14.0), cheap=True, rel_tol=1e-4),
+        Claim("dead_zone_14N_vs_experiment", "-", "dead_zone_14N_V / 100 V - 1 (paper, Fig. 24)",
+              lambda: _dead_zone_edge(14.0) / 100.0 - 1.0, cheap=True, rel_tol=1e-2),
+        Claim("steps_200V_14N", "-", sim + " (steps)",
+              lambda: float(_sim(200.0, 14.0).steps), cheap=True, rel_tol=1e-12),
+        Claim("energy_residual_200V_14N", "-",
+              "contact.simulate.simulate(table2(), 200, 14, energy=True).energy"
+              ".relative_residual", lambda: abs(_sim(200.0, 14.0).energy.relative_residual)),
+        Claim("auto_frequency_table2_Hz", "Hz", "lusm simulate --frequency auto --json",
+              lambda: __import__("contact.drive", fromlist=["x"]).auto_frequency(_table2()),
+              cheap=True, rel_tol=1e-6),
+        Claim("wp_event_stick_max", "-", "lusm report (section 3a, stick-fraction error)",
+              lambda: max(p.stick_error for p in __import__(
+                  "validation.work_precision", fromlist=["x"]).contact_work_precision(
+                  _table2(), cases=((200.0, 14.0),))[0] if p.method.startswith("event"))),
+    ]
+    out.append(Claim("settle_400V_14N_s", "s", _SIM.format(v=400, f=14) + " --duration D "
+                     "(settled), D on a 25 ms grid",
+                     lambda: next(d * 1e-3 for d in range(50, 301, 25)
+                                  if _sim(400.0, 14.0, d * 1e-3).steady.settled),
+                     cheap=True, rel_tol=1e-9))
+    for v, f in ((50, 14), (450, 14), (400, 10), (400, 26)):
+        out.append(Claim(f"mu_d_{v}V_{f}N", "-", _SIM.format(v=v, f=f) + " (mu_d_effective)",
+                         lambda v=v, f=f: _sim(float(v), float(f)).mu_d_eff, cheap=True,
+                         rel_tol=1e-5))
+    for ultrasonic, tag in ((True, ""), (False, "const_mu_")):
+        flag = "" if ultrasonic else " --no-ultrasonic-friction"
+        for cls in ("slip-separation", "stick-slip", "pure-stick", "pure-slip"):
+            out.append(Claim(
+                f"fine_map_{tag}{cls.replace('-', '_')}", "-",
+                f"lusm map --voltages 50:650:25 --preloads 2:30:1{flag} --json (counts)",
+                lambda u=ultrasonic, c=cls: _fine_map_counts(u).get(c, 0)))
+    for k in ("python", "numba", "arraymath", "contact", "run_1ms", "lusm_simulate",
+              "lusm_help"):
+        out.append(Claim(f"startup_{k}_ratio", "-",
+                         "python benchmarks/startup.py (x one 50 ms integration; here with 3 "
+                         "repeats)", lambda k=k: _startup_ratios()[k]))
+    return tuple(out)
+
+
 # --- the claims --------------------------------------------------------------------------
 
 
@@ -510,6 +820,9 @@ CLAIMS: tuple[Claim, ...] = (
     Claim("contact_vs_reference_dv", "-", "python benchmarks/contact_speed.py (dv/v column)",
           lambda: _speed_stick_slip()[1]),
     *_coupling_claims(),
+    *_beam_claims(),
+    *_designer_claims(),
+    *_contact_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
@@ -549,12 +862,30 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=NUMBERS_JSON, help="where to write the JSON")
     ap.add_argument("--show", nargs="+", metavar="KEY",
                     help="compute and print these claims only (nothing written)")
+    ap.add_argument("--update", nargs="+", metavar="PATTERN",
+                    help="recompute only the claims matching these keys or glob patterns "
+                         "(e.g. 'beam_*') and merge them into --out; the rest is kept")
     ap.add_argument("--fill", action="store_true",
                     help="rewrite the marked numbers in the docs from --out (no computing)")
     args = ap.parse_args(argv)
     if args.fill:
         n = fill(json.loads(args.out.read_text()))
         print(f"{n} quoted numbers updated from {args.out}")
+        return 0
+    if args.update:
+        keys = [k for k in claims_by_key() if any(fnmatch.fnmatchcase(k, p) for p in args.update)]
+        if not keys:
+            print(f"doc_numbers: error: --update {' '.join(args.update)} matches no claim")
+            return 2
+        fresh = compute(keys)
+        old = json.loads(args.out.read_text()) if args.out.exists() else {"numbers": {}}
+        numbers = {k: old["numbers"][k] for k in claims_by_key() if k in old["numbers"]}
+        numbers.update(fresh["numbers"])
+        doc = {**fresh, "numbers": {k: numbers[k] for k in claims_by_key() if k in numbers}}
+        if old.get("machine") not in (None, doc["machine"]):
+            doc["machine"] += f" (partly: {old['machine']}, {old.get('date')})"
+        args.out.write_text(json.dumps(doc, indent=1) + "\n")
+        print(f"{len(keys)} numbers updated in {args.out}")
         return 0
     try:
         doc = compute(args.show)
