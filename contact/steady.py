@@ -24,6 +24,7 @@ The load ``load_N`` is a constant force on the slider in -x: it opposes positive
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -73,6 +74,14 @@ class SteadyBranch:
         current times the voltage (the force factors are the current factors by reciprocity).
     output_power_W : float
         Mechanical output power ``load_N * velocity_m_s`` (W).
+    damping_power_W : float
+        Mean power dissipated by the modal damping C_l, C_b (W).
+    interface_power_W : float
+        Mean power lost at the contact interface (W): what leaves the stator through the tip
+        minus what reaches the slider; friction ``<F_T v_rel>`` with ``coupling="consistent"``,
+        plus the non-conservative work of the printed coupling with ``coupling="paper"``.
+    guide_power_W : float
+        Mean power dissipated by the guide friction, ``mu_sd (F_N + M g) |v|`` (W).
     from_rest : bool
         Whether a start from rest reaches this branch (averaged slow dynamics).
     """
@@ -85,6 +94,9 @@ class SteadyBranch:
     mean_FN_N: float
     input_power_W: float
     output_power_W: float
+    damping_power_W: float
+    interface_power_W: float
+    guide_power_W: float
     from_rest: bool
 
     @property
@@ -202,16 +214,22 @@ def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranc
     frac = o.phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     duration = float(np.sum(o.phase_time)) if span is None else span * sp.op.period_s
+    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in o.work)
     return SteadyBranch(
         velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
-        mean_FN_N=o.mean_FN_N, input_power_W=float(o.work[0]) / duration,
-        output_power_W=load * float(v), from_rest=False)
+        mean_FN_N=o.mean_FN_N, input_power_W=w_in / duration,
+        output_power_W=load * float(v), damping_power_W=w_damp / duration,
+        interface_power_W=-(w_ts + w_tx) / duration,
+        guide_power_W=sp.guide_N(o) * abs(float(v)), from_rest=False)
 
 
 def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch, ...], float]:
     """All steady states of the slow problem under ``load_N`` and the velocity from rest."""
     found: list[tuple[float, bool]] = []  # (velocity, stable)
-    for sign in (1.0, -1.0):
+    g_pos = sp.thrust(V_ZERO_M_S) - load_N
+    g_neg = sp.thrust(-V_ZERO_M_S) - load_N
+    # backward motion needs G(0-) < 0: only then is the negative side searched
+    for sign in (1.0, -1.0) if g_neg < 0 else (1.0,):
         vs = sign * _grid(sp.v_max_m_s)
         gs = [sp.thrust(v) - load_N for v in vs]
         for i in range(len(vs) - 1):
@@ -221,8 +239,6 @@ def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch
                 # stable where M dv/dt = G(v) pushes back towards the root
                 falling = (gs[i] > 0) if sign > 0 else (gs[i] < 0)
                 found.append((float(root), bool(falling)))
-    g_pos = sp.thrust(V_ZERO_M_S) - load_N
-    g_neg = sp.thrust(-V_ZERO_M_S) - load_N
     dead = g_pos <= 0.0 <= g_neg
     if g_pos > 0:
         cands = sorted(v for v, st in found if v > 0 and st)
@@ -232,21 +248,16 @@ def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch
         v_rest = cands[0] if cands else math.nan
     else:
         v_rest = 0.0
-    out = [dataclass_replace_from_rest(_branch(sp, v, load_N, st), v == v_rest)
+    out = [dataclasses.replace(_branch(sp, v, load_N, st), from_rest=v == v_rest)
            for v, st in found]
     if dead:
-        o = sp.orbit(V_ZERO_M_S)
+        sp.orbit(V_ZERO_M_S)
         base = _branch(sp, V_ZERO_M_S, load_N, True)
-        out.append(SteadyBranch(0.0, o.k, True, "dead-zone", base.mean_FT_N, base.mean_FN_N,
-                                base.input_power_W, 0.0, v_rest == 0.0))
+        out.append(dataclasses.replace(base, velocity_m_s=0.0, motion="dead-zone",
+                                       output_power_W=0.0, guide_power_W=0.0,
+                                       from_rest=v_rest == 0.0))
     out.sort(key=lambda b: b.velocity_m_s)
     return tuple(out), float(v_rest)
-
-
-def dataclass_replace_from_rest(b: SteadyBranch, from_rest: bool) -> SteadyBranch:
-    import dataclasses
-
-    return dataclasses.replace(b, from_rest=bool(from_rest))
 
 
 def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
