@@ -39,9 +39,15 @@ from contact.periodic_orbit import FastSystem, Orbit, fast_system, find_orbit
 from contact.results import PHASE_THRESHOLD, classify_motion
 from rom.params import GRAVITY_M_S2, MotorParams
 
-ACCURACIES = ("fast",)
-"""Accuracy levels. ``"fast"``: averaging (M -> infinity). The finite-mass correction
-(``"exact"``) is not implemented yet."""
+ACCURACIES = ("fast", "exact")
+"""Accuracy levels. ``"fast"``: averaging (M -> infinity), error O(1/M). ``"exact"``: every
+averaged branch polished by shooting the full model (finite M) and the start from rest decided
+by a transient of :data:`REST_TRANSIENT_PERIODS` periods polished by shooting, which also finds
+branches the averaging cannot see (multi-period slider-tip orbits at low speed)."""
+
+REST_TRANSIENT_PERIODS = 2000
+"""Drive periods of the transient from rest that decides the branch reached (accuracy
+"exact"); shooting then removes what is left of the transient."""
 
 V_ZERO_M_S = 1e-9
 """Slider speed (m/s) standing in for 0+ / 0- in the fast problem (stick at exactly v = 0 is
@@ -296,10 +302,102 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                         40e3 if frequency_Hz is None else float(frequency_Hz), float(load_N))
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
     branches, v_rest = branches_at_load(sp, op.load_N)
+    periods, newton = sp.periods, sp.newton_iterations
+    if accuracy == "exact":
+        branches, v_rest, more_periods, more_newton = _exact(sp, branches, coupling)
+        periods += more_periods
+        newton += more_newton
     return SteadyResult(op=op, branches=branches, velocity_m_s=v_rest, mu_d_eff=sp.mu_d_eff,
-                        accuracy=accuracy, orbits=len(sp.cache), periods=sp.periods,
-                        newton_iterations=sp.newton_iterations,
-                        wall_time_s=time.perf_counter() - t0)
+                        accuracy=accuracy, orbits=len(sp.cache), periods=periods,
+                        newton_iterations=newton, wall_time_s=time.perf_counter() - t0)
+
+
+def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBranch:
+    duration = fo.k * sp.op.period_s
+    total = float(np.sum(fo.phase_time))
+    frac = fo.phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
+    motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
+    w_in, w_damp, _, w_ts, w_tx, w_g = (float(w) for w in fo.work)
+    v = fo.velocity_m_s
+    load = sp.op.load_N
+    p = sp.params
+    mean_fn = float("nan")
+    return SteadyBranch(
+        velocity_m_s=v, k=fo.k, stable=stable, motion=motion, mean_FT_N=float("nan"),
+        mean_FN_N=mean_fn, input_power_W=w_in / duration, output_power_W=load * v,
+        damping_power_W=w_damp / duration, interface_power_W=-(w_ts + w_tx) / duration,
+        guide_power_W=-(w_g / duration) - load * v if p.mu_sd > 0 else 0.0,
+        from_rest=from_rest)
+
+
+def _exact(sp: SlowProblem, branches, coupling: str):
+    """Polish the averaged branches on the full model and decide the start from rest."""
+    from contact import state as S
+    from contact.full_orbit import full_system, run_periods, shoot
+
+    fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
+    periods = newton = 0
+    out: list[SteadyBranch] = []
+    for b in branches:
+        if b.motion == "dead-zone":
+            out.append(dataclasses.replace(b, from_rest=False))
+            continue
+        o = sp.orbit(b.velocity_m_s)
+        z = o.z.copy()
+        z[S.DX] = b.velocity_m_s
+        guide = S.FORWARD if b.velocity_m_s > 0 else S.BACKWARD
+        try:
+            fo = shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1))
+        except RuntimeError:
+            fo = None
+        if fo is not None:
+            periods += fo.periods
+            newton += fo.newton_iterations
+        if fo is not None and fo.k:
+            full = _full_branch(sp, fo, bool(fo.multiplier < 1.0), False)
+            out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
+        else:
+            out.append(dataclasses.replace(b, from_rest=False))
+    # the start from rest: a transient, then shooting for the orbit it approaches
+    s = fsys.system
+    z_end, m_end, _, _, _ = run_periods(fsys, s.z0, s.mode0, REST_TRANSIENT_PERIODS)
+    periods += REST_TRANSIENT_PERIODS
+    # the period the transient repeats with: smallest defect |y_(j+k) - y_j| over k <= 4
+    ys, zj, mj = [z_end[[0, 1, 2, 3, 5]]], z_end, m_end
+    for _ in range(4):
+        zj, mj, _, _, _ = run_periods(fsys, zj, mj, 1)
+        ys.append(zj[[0, 1, 2, 3, 5]])
+    periods += 4
+    scale = np.max(np.abs(np.array(ys)), axis=0) + 1e-30
+    k_best = 1 + int(np.argmin([np.max(np.abs(ys[k] - ys[0]) / scale) for k in (1, 2, 3, 4)]))
+    _, _, dist, _, _ = run_periods(fsys, z_end, m_end, 4 * k_best)
+    v_transient = dist / (4 * k_best * sp.op.period_s)
+    v_rest, fo = v_transient, None
+    try:
+        cand = shoot(fsys, z_end, m_end, k_best)
+        periods += cand.periods
+        newton += cand.newton_iterations
+        # accept the polished orbit only if the transient was heading for it
+        if cand.k and abs(cand.velocity_m_s - v_transient) <= 0.05 * abs(v_transient) + 1e-9:
+            v_rest, fo = cand.velocity_m_s, cand
+    except RuntimeError:
+        pass
+    held = abs(v_rest) <= 1e-12
+    match = [i for i, b in enumerate(out)
+             if abs(b.velocity_m_s - v_rest) <= 1e-6 * abs(v_rest) + 1e-12
+             or (held and b.motion == "dead-zone")]
+    if fo is None and not held:
+        # the transient had not settled on an orbit: the averaged choice stands
+        avg = [i for i, b in enumerate(branches) if b.from_rest]
+        if avg:
+            match = avg
+            v_rest = out[avg[0]].velocity_m_s
+    if match:
+        out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
+    elif fo is not None:
+        out.append(_full_branch(sp, fo, bool(fo.multiplier < 1.0), True))
+    out.sort(key=lambda b: b.velocity_m_s)
+    return tuple(out), (0.0 if held else v_rest), periods, newton
 
 
 def transient_reference(params: MotorParams, voltage_V: float, preload_N: float, *,
