@@ -53,7 +53,7 @@ V_ZERO_M_S = 1e-9
 """Slider speed (m/s) standing in for 0+ / 0- in the fast problem (stick at exactly v = 0 is
 degenerate there)."""
 
-SCAN_POINTS = 40
+SCAN_POINTS = 16
 """Velocities sampled on each side to bracket the roots of the slow equation."""
 
 

@@ -23,6 +23,7 @@ COMMAND_MODULES = (
     "validation.cmd_tune",
     "validation.cmd_sweep",
     "validation.cmd_admittance",
+    "validation.cmd_characteristic",
 )
 """Sub-command modules, registered in this order when they exist."""
 
