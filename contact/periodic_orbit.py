@@ -188,8 +188,9 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
         if contact == S.CONTACT and tip != S.STICK:
             tip = S.SLIP_POS if vrel > 0 else S.SLIP_NEG
         mode = S.mode_index(contact, tip, guide)
-        try:
-            return _find(fs, v, z, mode, tol, max_periods, warmup, max_k, average_periods)
+        try:  # a neighbouring orbit needs only a short warm-up
+            return _find(fs, v, z, mode, tol, max_periods, min(warmup, 5), max_k,
+                         average_periods)
         except RuntimeError:  # a start the kernel cannot leave cleanly: start afresh
             z, mode = _start(fs, v)
     return _find(fs, v, z, mode, tol, max_periods, warmup, max_k, average_periods)
