@@ -52,6 +52,11 @@ def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path
     for v0 in np.asarray(voltages_V, dtype=float):
         r = steady_state(params, v0, preload_N, accuracy=accuracy)
         for b in r.branches:
+            if b.motion == "dead-zone":
+                ax.plot(v0, 0.0, "ks", ms=6)
+                if b.from_rest:
+                    ax.plot(v0, 0.0, "o", mfc="none", mec="k", ms=11)
+                continue
             colour = f"C{min(max(b.k, 1), 4) - 1}"
             ax.plot(v0, b.velocity_m_s * 1e3, "o", color=colour,
                     mfc=colour if b.stable else "none", ms=6)
@@ -59,6 +64,7 @@ def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path
                 ax.plot(v0, b.velocity_m_s * 1e3, "o", mfc="none", mec="k", ms=11)
     for k in (1, 2, 3, 4):
         ax.plot([], [], "o", color=f"C{k - 1}", label=f"period-{k} orbit")
+    ax.plot([], [], "ks", label="dead zone (slider held)")
     ax.plot([], [], "o", mfc="none", mec="k", ms=11, label="reached from rest")
     ax.set_xlabel("drive voltage V0 (V)")
     ax.set_ylabel("steady slider velocity (mm/s)")
