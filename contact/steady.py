@@ -89,7 +89,10 @@ class SteadyBranch:
     guide_power_W : float
         Mean power dissipated by the guide friction, ``mu_sd (F_N + M g) |v|`` (W).
     from_rest : bool
-        Whether a start from rest reaches this branch (averaged slow dynamics).
+        Whether a start from rest reaches this branch (averaged slow dynamics with
+        ``accuracy="fast"``, a transient polished by shooting with ``"exact"``).
+    phase_fraction : tuple of float
+        Fractions of the orbit in stick, slip with v_rel > 0, slip with v_rel < 0, separation.
     """
 
     velocity_m_s: float
@@ -104,6 +107,7 @@ class SteadyBranch:
     interface_power_W: float
     guide_power_W: float
     from_rest: bool
+    phase_fraction: tuple[float, float, float, float] = (math.nan,) * 4
 
     @property
     def efficiency(self) -> float:
@@ -193,11 +197,17 @@ class SlowProblem:
 
 
 def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "paper",
-                 ultrasonic_friction: bool = True) -> SlowProblem:
-    """Set up the slow equation of one operating point (the load is applied by the caller)."""
+                 ultrasonic_friction: bool = True,
+                 mu_d_eff: float | None = None) -> SlowProblem:
+    """Set up the slow equation of one operating point (the load is applied by the caller).
+
+    ``mu_d_eff`` (-), when given, replaces the Eq. 11 pre-pass.
+    """
     if coupling not in COUPLINGS:
         raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
-    if ultrasonic_friction:
+    if mu_d_eff is not None:
+        mu = float(mu_d_eff)
+    elif ultrasonic_friction:
         from contact.simulate import normal_amplitude  # the same A_N pre-pass as transients
 
         mu = dynamic_friction(params, normal_amplitude(params, op))
@@ -226,7 +236,8 @@ def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranc
         mean_FN_N=o.mean_FN_N, input_power_W=w_in / duration,
         output_power_W=load * float(v), damping_power_W=w_damp / duration,
         interface_power_W=-(w_ts + w_tx) / duration,
-        guide_power_W=sp.guide_N(o) * abs(float(v)), from_rest=False)
+        guide_power_W=sp.guide_N(o) * abs(float(v)), from_rest=False,
+        phase_fraction=tuple(float(f) for f in frac))
 
 
 def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch, ...], float]:
@@ -327,7 +338,7 @@ def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBr
         mean_FN_N=mean_fn, input_power_W=w_in / duration, output_power_W=load * v,
         damping_power_W=w_damp / duration, interface_power_W=-(w_ts + w_tx) / duration,
         guide_power_W=-(w_g / duration) - load * v if p.mu_sd > 0 else 0.0,
-        from_rest=from_rest)
+        from_rest=from_rest, phase_fraction=tuple(float(f) for f in frac))
 
 
 def _exact(sp: SlowProblem, branches, coupling: str):
@@ -424,3 +435,27 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     frac = out.phase_time / max(float(np.sum(out.phase_time)), 1e-300)
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     return float(out.velocity_m_s), motion
+
+
+def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff: float):
+    """Adapter for the scheme table of :func:`contact.simulate.simulate` (``method="steady"``).
+
+    Returns a :class:`contact.results.SchemeOutput` for the branch reached from rest at the
+    ``"exact"`` level (``op.load_N`` applied; ``opts.coupling`` honoured). Traces, tip extrema
+    and the energy balance are not produced (None / NaN); ``steps`` and ``nfev`` count the
+    drive periods simulated times the steps per period.
+    """
+    from contact.periodic_orbit import STEPS_PER_PERIOD
+    from contact.results import SchemeOutput
+
+    sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff)
+    branches, v_rest = branches_at_load(sp, op.load_N)
+    branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling)
+    rest = [b for b in branches if b.from_rest]
+    frac = rest[0].phase_fraction if rest else (math.nan,) * 4
+    steps = (sp.periods + periods) * STEPS_PER_PERIOD
+    return SchemeOutput(
+        velocity_m_s=float(v_rest), previous_velocity_m_s=float(v_rest),
+        phase_time=np.asarray(frac, dtype=float) * window.window_s, y_tip_min_m=math.nan,
+        y_tip_max_m=math.nan, trace=None, window=None, energy=None, steps=int(steps),
+        events=0, nfev=int(steps))

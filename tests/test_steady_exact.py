@@ -38,3 +38,13 @@ def test_coexisting_branches_at_150_V_14_N(params):
     assert rest.k == 2
     one = next(b for b in stable if b.k == 1)
     assert one.velocity_m_s > 1.5 * rest.velocity_m_s
+
+
+def test_adapter_for_the_simulate_method_table(params, monkeypatch):
+    import contact.simulate as cs
+
+    monkeypatch.setitem(cs.METHODS, "steady", "contact.steady:solve_steady")
+    r = cs.simulate(params, 400, 14, method="steady")
+    v_t, motion_t = transient_reference(params, 400, 14, duration_s=0.3)
+    assert r.steady.velocity_m_s == pytest.approx(v_t, rel=1e-5)
+    assert r.steady.motion == motion_t and r.steady.settled
