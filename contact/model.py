@@ -44,11 +44,16 @@ class OperatingPoint:
         Preload F_P pressing the stator on the slider (N), >= 0.
     frequency_Hz : float
         Drive frequency f (Hz), > 0.
+    load_N : float
+        External load (N): a constant force of magnitude ``load_N`` on the slider pointing
+        in -x, i.e. opposing positive slider velocity (the drive direction of this model).
+        A negative value pushes the slider forward. Default 0.
     """
 
     voltage_V: float
     preload_N: float
     frequency_Hz: float = 40e3
+    load_N: float = 0.0
 
     def __post_init__(self) -> None:
         for name, unit, strict in (
@@ -65,6 +70,8 @@ class OperatingPoint:
                 or (strict and value == 0.0)
             ):
                 raise ValueError(f"{name} must be a finite number {allowed}, got {value!r}")
+        if not isinstance(self.load_N, (int, float)) or not math.isfinite(self.load_N):
+            raise ValueError(f"load_N must be a finite number (N), got {self.load_N!r}")
 
     @property
     def omega(self) -> float:
@@ -189,9 +196,13 @@ def build_system(
     vrel = phi * e[S.DW] - e[S.DX]
     denom = phi * g_T / p.M_b - 1.0 / p.M_slider  # < 0 for both couplings
 
+    # the external load acts on the slider like the guide does: both enter ff_m ("guide
+    # and load"), so the energy balance's guide work includes the load's work
+    load = op.load_N * e[S.ONE]
+
     def stick_force(gsign: float) -> np.ndarray:
         # Eq. 10 generalized: the force keeping v_rel = 0, from phi*ddw_b = ddx.
-        ff = -gsign * p.mu_sd * ng_contact
+        ff = -gsign * p.mu_sd * ng_contact - load
         b_part = (p.C_b * e[S.DW] + p.K_b * e[S.W] - p.A_b * op.voltage_V * e[S.SIN]) * (
             phi / p.M_b
         )
@@ -224,8 +235,8 @@ def build_system(
                 else:
                     sigma = 1.0 if tip == S.SLIP_POS else -1.0
                     fn_mode, ft, ng = fn, sigma * mu_d_eff * fn, ng_contact
-                # a held slider is balanced by static guide friction
-                ff = -ft if held else -gs * p.mu_sd * ng
+                # a held slider is balanced by static guide friction (and the load)
+                ff = -ft if held else -gs * p.mu_sd * ng - load
                 a = A[m]
                 a[S.U] = e[S.DU]
                 a[S.DU] = (
@@ -257,8 +268,8 @@ def build_system(
                 else:
                     events.append((S.EV_CONTACT, fn))
                 if held:
-                    events.append((S.EV_GUIDE_RELEASE, ft - p.mu_sd * ng))
-                    events.append((S.EV_GUIDE_RELEASE, -ft - p.mu_sd * ng))
+                    events.append((S.EV_GUIDE_RELEASE, ft - load - p.mu_sd * ng))
+                    events.append((S.EV_GUIDE_RELEASE, -ft + load - p.mu_sd * ng))
                 else:
                     events.append((S.EV_XDOT_ZERO, -gs * e[S.DX]))
                 for j, (etype, h) in enumerate(events):

@@ -34,6 +34,7 @@ COMMAND_MODULES = [
     "validation.cmd_sweep",
     "validation.cmd_admittance",
     "validation.cmd_explore",
+    "validation.cmd_characteristic",
 ]
 """Sub-command modules, registered in this order (a module that does not exist is skipped)."""
 

@@ -1,0 +1,68 @@
+"""Steady engine against settled transients: speed and error (issue 9).
+
+    python benchmarks/steady_speed.py            # one point, 200 V / 14 N
+    python benchmarks/steady_speed.py --map      # the 9 x 9 map, 50-450 V x 10-26 N
+
+The reference is the event scheme run from rest for ``--duration`` seconds (default 0.3 s,
+12 000 periods) and averaged over its last 400 periods: the settled transient. Times are wall
+times measured in the same run; the first call of each solver is made before timing (numba
+compilation excluded).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import numpy as np
+
+from contact.steady import steady_state, transient_reference
+from rom import table2
+
+
+def _point(params, v0, fp, duration):
+    t = time.perf_counter()
+    v_ref, motion = transient_reference(params, v0, fp, duration_s=duration)
+    t_ref = time.perf_counter() - t
+    row = {"voltage_V": v0, "preload_N": fp, "motion": motion, "transient_m_s": v_ref,
+           "transient_s": t_ref}
+    for acc in ("fast", "exact"):
+        t = time.perf_counter()
+        r = steady_state(params, v0, fp, accuracy=acc)
+        row[f"{acc}_s"] = time.perf_counter() - t
+        row[f"{acc}_m_s"] = r.velocity_m_s
+        row[f"{acc}_branches"] = len(r.branches)
+        scale = max(abs(v_ref), 1e-12)
+        row[f"{acc}_rel_error"] = abs(r.velocity_m_s - v_ref) / scale
+        row[f"{acc}_abs_error_m_s"] = abs(r.velocity_m_s - v_ref)
+    return row
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--map", action="store_true", help="run the 9 x 9 map")
+    ap.add_argument("--duration", type=float, default=0.3, help="transient length (s)")
+    args = ap.parse_args()
+    params = table2()
+    steady_state(params, 200, 14, accuracy="exact")  # warm the numba cache
+    transient_reference(params, 200, 14, duration_s=0.01, steady_periods=20)
+    points = ([(v, f) for v in np.linspace(50, 450, 9) for f in np.linspace(10, 26, 9)]
+              if args.map else [(200.0, 14.0)])
+    rows = [_point(params, float(v), float(f), args.duration) for v, f in points]
+    for r in rows:
+        print(json.dumps(r))
+    t_ref = sum(r["transient_s"] for r in rows)
+    for acc in ("fast", "exact"):
+        t = sum(r[f"{acc}_s"] for r in rows)
+        err = np.array([r[f"{acc}_rel_error"] for r in rows])
+        moving = np.array([abs(r["transient_m_s"]) > 1e-6 for r in rows])
+        print(f"{acc:>5}: {t:.3g} s against {t_ref:.3g} s transient -> speedup "
+              f"{t_ref / t:.3g}x; relative error on moving points: median "
+              f"{np.median(err[moving]) if moving.any() else float('nan'):.2e}, max "
+              f"{np.max(err[moving]) if moving.any() else float('nan'):.2e}; "
+              f"held points {int((~moving).sum())}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,109 @@
+"""The motor's speed-thrust characteristic, output power and efficiency from the steady engine.
+
+For each load the slider velocity is the steady branch a start from rest reaches
+(:func:`contact.steady.branches_at_load`); all loads share one cache of fast orbits, since the
+fast problem at fixed velocity does not depend on the load.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact.model import OperatingPoint
+from contact.steady import V_ZERO_M_S, branches_at_load, slow_problem
+from rom.params import MotorParams
+
+
+@dataclass(frozen=True)
+class Characteristic:
+    """Speed-thrust, power and efficiency curves at one voltage and preload.
+
+    Attributes
+    ----------
+    op : OperatingPoint
+        Voltage (V), preload (N), frequency (Hz); its load is 0.
+    no_load_velocity_m_s : float
+        Steady velocity from rest without load (m/s).
+    stall_force_N : float
+        Load at which the velocity from rest falls to zero (N): ``F_T(0+) - mu_sd (F_N + M g)``.
+    load_N, velocity_m_s, input_power_W, output_power_W, efficiency : ndarray
+        The curves: load (N), velocity from rest (m/s), electrical input power (W), mechanical
+        output power ``load * v`` (W) and their ratio (-).
+    wall_time_s : float
+    orbits : int
+        Fast-problem orbits solved.
+    """
+
+    op: OperatingPoint
+    no_load_velocity_m_s: float
+    stall_force_N: float
+    load_N: np.ndarray
+    velocity_m_s: np.ndarray
+    input_power_W: np.ndarray
+    output_power_W: np.ndarray
+    efficiency: np.ndarray
+    wall_time_s: float
+    orbits: int
+
+    def to_dict(self) -> dict:
+        """The JSON form of ``lusm characteristic --json``."""
+        return {
+            "no_load_velocity_m_s": float(self.no_load_velocity_m_s),
+            "stall_force_N": float(self.stall_force_N),
+            "curve": [
+                {"load_N": float(f), "velocity_m_s": float(v), "input_power_W": float(pi),
+                 "output_power_W": float(po), "efficiency": float(e)}
+                for f, v, pi, po, e in zip(self.load_N, self.velocity_m_s, self.input_power_W,
+                                           self.output_power_W, self.efficiency, strict=True)
+            ],
+        }
+
+
+def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
+                   loads_N=None, *, frequency_Hz: float | None = None,
+                   coupling: str = "paper", ultrasonic_friction: bool = True,
+                   points: int = 21) -> Characteristic:
+    """Speed-thrust characteristic at one operating point.
+
+    Parameters
+    ----------
+    params : MotorParams
+    voltage_V, preload_N : float
+        Drive amplitude (V) and preload (N).
+    loads_N : array_like, optional
+        Loads (N); by default ``points`` loads from 0 to the stall force.
+    frequency_Hz : float, optional
+        Drive frequency (Hz), 40 kHz when None.
+    coupling, ultrasonic_friction
+        As in :func:`contact.steady.steady_state`.
+
+    Returns
+    -------
+    Characteristic
+    """
+    t0 = time.perf_counter()
+    op = OperatingPoint(float(voltage_V), float(preload_N),
+                        40e3 if frequency_Hz is None else float(frequency_Hz))
+    sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
+    stall = max(sp.thrust(V_ZERO_M_S), 0.0)
+    if loads_N is None:
+        loads = np.linspace(0.0, stall, points)
+    else:
+        loads = np.asarray(loads_N, dtype=float).ravel()
+    v0 = branches_at_load(sp, 0.0)[1]
+    vel, p_in, p_out = [], [], []
+    for load in loads:
+        branches, v = branches_at_load(sp, float(load))
+        b = next(b for b in branches if b.from_rest) if any(b.from_rest for b in branches) \
+            else None
+        vel.append(v)
+        p_in.append(b.input_power_W if b else np.nan)
+        p_out.append(float(load) * v)
+    p_in_a, p_out_a = np.array(p_in), np.array(p_out)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eff = np.where(p_in_a > 0, p_out_a / p_in_a, np.nan)
+    return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
+                          eff, time.perf_counter() - t0, len(sp.cache))

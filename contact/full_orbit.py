@@ -1,0 +1,178 @@
+"""Periodic orbits of the full switch model (finite slider mass) by shooting.
+
+The averaged steady state of :mod:`contact.steady` is exact only as the slider mass tends to
+infinity. Here the slider velocity joins the shooting variables: Newton on
+``P^k(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b, dx)`` over k drive periods of the full
+model (finite M, guide friction, load), with the finite-difference Jacobian of the
+piecewise-affine map, started on an averaged orbit or on the end of a transient. The mean
+slider velocity of the orbit is its distance over kT. Components fixed by the mode (``dx = 0``
+while the guide holds, ``dx = phi_B(l) dw_b`` in stick) are dropped from the unknowns.
+
+The one-period map reuses :func:`contact.event_kernel.integrate_switch_model`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact import event_kernel
+from contact import state as S
+from contact.model import HybridSystem, OperatingPoint, build_system
+from contact.periodic_orbit import STEPS_PER_PERIOD
+from rom.params import MotorParams
+
+_Y = np.array([S.U, S.DU, S.W, S.DW, S.DX])
+
+
+@dataclass(frozen=True)
+class FullSystem:
+    """The full model of one operating point with its one-step propagators."""
+
+    system: HybridSystem
+    phi: np.ndarray
+    phi_half: np.ndarray
+    dt_s: float
+    period_s: float
+    phi_Bl: float
+
+
+def full_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
+                coupling: str = "paper") -> FullSystem:
+    """Build the full model (load included) for shooting."""
+    sys_ = build_system(params, op, mu_d_eff, coupling)
+    dt = op.period_s / STEPS_PER_PERIOD
+    phi, half = sys_.propagators(dt)
+    return FullSystem(sys_, phi, half, dt, op.period_s, params.phi_Bl)
+
+
+def run_periods(fs: FullSystem, z: np.ndarray, mode: int, periods: int, energy: bool = False):
+    """Advance ``periods`` drive periods; returns ``(z_end, mode_end, distance_m, work,
+    phase_time)`` with the position slot reset to 0 at the start."""
+    s = fs.system
+    z = np.array(z, dtype=float)
+    z[S.X] = 0.0
+    n = STEPS_PER_PERIOD * periods
+    out = event_kernel.integrate_switch_model(
+        z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
+        s.ft_m, s.ff_m, s.funcs, s.scalars, 0, n, 1, energy, 64)
+    status, _, _, _, phase_time, work, _, z_end, mode_end = out
+    if status != S.OK:
+        raise RuntimeError("contact chattering in the full-model shooting")
+    z_end = z_end.copy()
+    dist = float(z_end[S.X])
+    z_end[S.X] = 0.0
+    return z_end, int(mode_end), dist, work.copy(), phase_time.copy()
+
+
+def _consistent(fs: FullSystem, z: np.ndarray, mode: int) -> np.ndarray:
+    z = z.copy()
+    z[S.SIN], z[S.COS], z[S.ONE] = 0.0, 1.0, 1.0
+    stick = mode // 9 == S.CONTACT and (mode // 3) % 3 == S.STICK
+    held = mode % 3 == S.HELD
+    if stick and held:
+        z[S.DW] = 0.0
+        z[S.DX] = 0.0
+    elif stick:
+        z[S.DX] = fs.phi_Bl * z[S.DW]
+    elif held:
+        z[S.DX] = 0.0
+    return z
+
+
+def _free(mode: int) -> list[int]:
+    stick = mode // 9 == S.CONTACT and (mode // 3) % 3 == S.STICK
+    held = mode % 3 == S.HELD
+    if stick and held:
+        return [0, 1, 2]
+    if stick or held:
+        return [0, 1, 2, 3]
+    return [0, 1, 2, 3, 4]
+
+
+@dataclass(frozen=True)
+class FullOrbit:
+    """A k-periodic orbit of the full model.
+
+    Attributes
+    ----------
+    velocity_m_s : float
+        Mean slider velocity over the orbit (m/s).
+    k : int
+        Drive periods per orbit; 0 if shooting did not converge.
+    z : ndarray
+        Start state; ``mode`` its mode.
+    residual : float
+        Scaled periodicity defect.
+    periods, newton_iterations : int
+        Work spent.
+    work : ndarray
+        Work integrals over the orbit (J), see :mod:`contact.event_kernel`.
+    phase_time : ndarray
+        Time in stick, slip+, slip-, separation over the orbit (s).
+    multiplier : float
+        Largest modulus of the eigenvalues of the last Newton Jacobian of the k-period map
+        (Floquet multiplier): < 1 means the orbit is stable.
+    """
+
+    velocity_m_s: float
+    k: int
+    z: np.ndarray
+    mode: int
+    residual: float
+    periods: int
+    newton_iterations: int
+    work: np.ndarray
+    phase_time: np.ndarray
+    multiplier: float
+
+
+def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e-10,
+          max_newton: int = 25) -> FullOrbit:
+    """Newton on the k-period map of the full model from ``(z0, mode0)``."""
+    z, mode = _consistent(fs, np.asarray(z0, dtype=float), int(mode0)), int(mode0)
+    amp = np.array([abs(z[S.U]), 0.0, abs(z[S.W]), 0.0, 0.0]) + 1e-12
+    omega = 2 * np.pi / fs.period_s
+    amp[1], amp[3] = omega * amp[0], omega * amp[2]
+    amp[4] = max(abs(z[S.DX]), fs.phi_Bl * amp[3] * 1e-3, 1e-9)
+    periods, res = 0, np.inf
+    it = 0
+    mult = np.nan
+    for it in range(1, max_newton + 1):  # noqa: B007 - reported
+        z1, m1, dist, _, _ = run_periods(fs, z, mode, k)
+        z1 = _consistent(fs, z1, m1)
+        periods += k
+        g = z1[_Y] - z[_Y]
+        res = float(np.max(np.abs(g) / amp))
+        if m1 == mode and res <= tol:
+            break
+        free = _free(mode)
+        jac = np.zeros((5, 5))
+        for i in free:
+            zp = z.copy()
+            h = 1e-7 * amp[i]
+            zp[_Y[i]] += h
+            zq, _, _, _, _ = run_periods(fs, _consistent(fs, zp, mode), mode, k)
+            periods += k
+            jac[:, i] = (_consistent(fs, zq, m1)[_Y] - z1[_Y]) / h
+        sub = jac[np.ix_(free, free)]
+        mult = float(np.max(np.abs(np.linalg.eigvals(sub)))) if np.all(np.isfinite(sub)) \
+            else np.nan
+        mat = (jac - np.eye(5))[np.ix_(free, free)]
+        try:
+            step = np.linalg.solve(mat, -g[free])
+        except np.linalg.LinAlgError:
+            break
+        if m1 != mode:  # the mode at the section changed: continue from the image
+            z, mode = z1, m1
+            continue
+        zn = z.copy()
+        zn[_Y[free]] += step
+        z = _consistent(fs, zn, mode)
+    converged = res <= tol
+    z = _consistent(fs, z, mode)
+    _, _, dist, work, phase_time = run_periods(fs, z, mode, k, energy=True)
+    periods += k
+    return FullOrbit(dist / (k * fs.period_s), k if converged else 0, z, mode, res, periods,
+                     it, work, phase_time, mult)

@@ -1,0 +1,277 @@
+"""The fast problem: the periodic stator-tip orbit at a fixed slider velocity (M -> infinity).
+
+With the slider velocity held at ``v`` the switch model of :mod:`contact.model` is a hybrid
+system of the stator alone, forced with the drive period T. Its steady state is a periodic
+orbit; within each contact mode the flow is linear, so the one-period map is piecewise affine.
+The orbit is found by shooting: a few periods simulated period by period, then Newton on
+``P(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b)`` with the Jacobian of the piecewise-affine
+map by finite differences (exact inside one mode sequence), falling back to period-by-period
+iteration when Newton does not contract; period-k orbits are detected from the iterates.
+
+The one-period map reuses the event-located kernel :func:`contact.event_kernel.
+integrate_switch_model` on a modified system: the slider row of every generator is zeroed
+(``dx = v`` exactly) and the slider-position row integrates a force (``dx_state/dt = F``), so
+the kernel's exact propagators return the exact period integral of F_T (or F_N) in the
+position slot; guide friction is left out of the fast problem (it enters the slow equation).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact import event_kernel
+from contact import state as S
+from contact.model import HybridSystem, OperatingPoint, build_system
+from rom.params import MotorParams
+
+STEPS_PER_PERIOD = 250
+"""Fixed steps per drive period (dt = T / 250 = 1e-7 s at 40 kHz, the transient default)."""
+
+_Y = np.array([S.U, S.DU, S.W, S.DW])
+
+
+@dataclass(frozen=True)
+class FastSystem:
+    """The stator-only hybrid system at fixed slider velocity (built by :func:`fast_system`).
+
+    Attributes
+    ----------
+    ft_system, fn_system : HybridSystem
+        Same modes; the position slot integrates F_T (N s) or F_N (N s).
+    phi, phi_half : ndarray
+        One-step propagators ``expm(A dt)`` (same for both: only the X row differs, and that
+        row is read from each system's own propagators).
+    dt_s, period_s : float
+        Step (s) and drive period (s).
+    """
+
+    ft_system: HybridSystem
+    fn_system: HybridSystem
+    phi_ft: np.ndarray
+    phi_half_ft: np.ndarray
+    phi_fn: np.ndarray
+    phi_half_fn: np.ndarray
+    dt_s: float
+    period_s: float
+    phi_Bl: float
+
+
+def _integrating(system: HybridSystem, rows: np.ndarray) -> HybridSystem:
+    a = system.A.copy()
+    a[:, S.DX, :] = 0.0  # the slider velocity is a parameter of the fast problem
+    a[:, S.X, :] = rows  # the position slot integrates a force over time
+    ev_dh = np.einsum("mkn,mjk->mjn", a, system.ev_h)
+    return dataclasses.replace(system, A=a, ev_dh=ev_dh)
+
+
+def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
+                coupling: str = "paper") -> FastSystem:
+    """Build the fixed-velocity fast problem of one operating point (load and guide excluded)."""
+    # an effectively infinite slider with a frictionless guide: stick forces take their
+    # M -> infinity form; the slider row is zeroed below anyway
+    p_inf = params.with_(M_slider=1e12, mu_sd=0.0)
+    op0 = OperatingPoint(op.voltage_V, op.preload_N, op.frequency_Hz)
+    base = build_system(p_inf, op0, mu_d_eff, coupling)
+    ft_sys = _integrating(base, base.ft_m)
+    fn_sys = _integrating(base, base.fn_m)
+    dt = op.period_s / STEPS_PER_PERIOD
+    phi_ft, half_ft = ft_sys.propagators(dt)
+    phi_fn, half_fn = fn_sys.propagators(dt)
+    return FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
+                      params.phi_Bl)
+
+
+def period_map(fs: FastSystem, z: np.ndarray, mode: int, periods: int = 1, *,
+               integrand: str = "ft", energy: bool = False):
+    """Advance the fast problem by whole periods from ``z`` (x slot reset to 0).
+
+    Returns ``(z_end, mode_end, integral, work, phase_time, events)`` where ``integral`` is
+    the time integral of F_T or F_N (N s) over the periods and ``work`` the kernel's work
+    integrals (J) when ``energy``.
+    """
+    sys_, phi, half = ((fs.ft_system, fs.phi_ft, fs.phi_half_ft) if integrand == "ft"
+                       else (fs.fn_system, fs.phi_fn, fs.phi_half_fn))
+    z = np.array(z, dtype=float)
+    z[S.X] = 0.0
+    n = STEPS_PER_PERIOD * periods
+    out = event_kernel.integrate_switch_model(
+        z, mode, n, fs.dt_s, phi, half, sys_.A, sys_.ev_h, sys_.ev_dh, sys_.ev_type,
+        sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0, n, 1, energy, 64)
+    status, _, _, _, phase_time, work, stats, z_end, mode_end = out
+    if status != S.OK:
+        raise RuntimeError("contact chattering in the fixed-velocity fast problem")
+    z_end = z_end.copy()
+    integral = z_end[S.X]
+    z_end[S.X] = 0.0
+    return z_end, int(mode_end), float(integral), work.copy(), phase_time.copy(), int(stats[3])
+
+
+@dataclass(frozen=True)
+class Orbit:
+    """A periodic orbit of the fast problem at slider velocity ``velocity_m_s``.
+
+    Attributes
+    ----------
+    velocity_m_s : float
+        Fixed slider velocity v (m/s).
+    k : int
+        Period multiplicity (the orbit repeats every k drive periods); 0 if not converged.
+    z : ndarray, shape (9,)
+        State at the start of the orbit (drive phase 0).
+    mode : int
+        Mode at the start.
+    mean_FT_N, mean_FN_N : float
+        Exact time averages of F_T (tangential force on the slider) and F_N over k periods (N).
+    residual : float
+        Scaled periodicity defect ``|P^k(y) - y|`` (relative to the orbit amplitude).
+    periods : int
+        Drive periods simulated to find it (Newton's finite-difference runs included).
+    newton_iterations : int
+    phase_time : ndarray, shape (4,)
+        Time in stick, slip+, slip-, separation over the k periods (s).
+    work : ndarray, shape (6,)
+        Work integrals of :mod:`contact.event_kernel` over the k periods (J).
+    """
+
+    velocity_m_s: float
+    k: int
+    z: np.ndarray
+    mode: int
+    mean_FT_N: float
+    mean_FN_N: float
+    residual: float
+    periods: int
+    newton_iterations: int
+    phase_time: np.ndarray
+    work: np.ndarray
+
+
+def _start(fs: FastSystem, v: float) -> tuple[np.ndarray, int]:
+    sys_ = fs.ft_system
+    z = sys_.z0.copy()
+    z[S.DX] = v
+    guide = S.FORWARD if v >= 0 else S.BACKWARD
+    tip = S.SLIP_NEG if v > 0 else S.SLIP_POS
+    contact = S.CONTACT if float(sys_.funcs[S.F_FN] @ z) > 0 else S.SEPARATED
+    return z, S.mode_index(contact, tip, guide)
+
+
+def _consistent(fs: FastSystem, z: np.ndarray, mode: int, v: float) -> np.ndarray:
+    z = z.copy()
+    z[S.DX] = v
+    z[S.SIN], z[S.COS], z[S.ONE] = 0.0, 1.0, 1.0  # drive phase 0 at every period start
+    if mode // 9 == S.CONTACT and (mode // 3) % 3 == S.STICK:
+        z[S.DW] = v / fs.phi_Bl
+    return z
+
+
+def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: int | None = None,
+               *, tol: float = 1e-11, max_periods: int = 400, warmup: int = 20,
+               max_k: int = 4, average_periods: int = 200) -> Orbit:
+    """Periodic orbit of the fast problem at slider velocity ``v`` (m/s) by shooting.
+
+    ``z0, mode0`` (e.g. the orbit at a neighbouring velocity) start the search. When no
+    orbit of period <= ``max_k`` is found within ``max_periods`` periods the averages are
+    taken over the next ``average_periods`` periods and ``k`` is 0.
+    """
+    if z0 is None or mode0 is None:
+        z, mode = _start(fs, v)
+    else:
+        z, mode = np.array(z0, dtype=float), int(mode0)
+        guide = S.FORWARD if v >= 0 else S.BACKWARD
+        contact = mode // 9
+        tip = (mode // 3) % 3
+        vrel = fs.phi_Bl * z[S.DW] - v
+        if contact == S.CONTACT and tip != S.STICK:
+            tip = S.SLIP_POS if vrel > 0 else S.SLIP_NEG
+        mode = S.mode_index(contact, tip, guide)
+        try:  # a neighbouring orbit needs only a short warm-up
+            return _find(fs, v, z, mode, tol, max_periods, min(warmup, 5), max_k,
+                         average_periods)
+        except RuntimeError:  # a start the kernel cannot leave cleanly: start afresh
+            z, mode = _start(fs, v)
+    return _find(fs, v, z, mode, tol, max_periods, warmup, max_k, average_periods)
+
+
+def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_periods: int,
+          warmup: int, max_k: int, average_periods: int) -> Orbit:
+    z = _consistent(fs, z, mode, v)
+    periods = 0
+    for _ in range(warmup):
+        z, mode, *_ = period_map(fs, z, mode)
+        z = _consistent(fs, z, mode, v)
+        periods += 1
+    amp = np.array([max(np.max(np.abs(z[[S.U]])), 1e-12), 0.0,
+                    max(abs(z[S.W]), 1e-12), 0.0])
+    omega = 2 * np.pi / fs.period_s
+    amp[1], amp[3] = omega * amp[0], omega * amp[2]
+
+    def defect(y_a, y_b):
+        return float(np.max(np.abs(y_a - y_b) / amp))
+
+    newton_it = 0
+    history: list[np.ndarray] = [z[_Y].copy()]
+    modes: list[int] = [mode]
+    k_found = 0
+    res = np.inf
+    while periods < max_periods:
+        z1, m1, *_ = period_map(fs, z, mode)
+        z1 = _consistent(fs, z1, m1, v)
+        periods += 1
+        res = defect(z1[_Y], z[_Y])
+        if res <= tol and m1 == mode:
+            k_found = 1
+            break
+        # Newton on P(y) - y with a finite-difference Jacobian, inside the current mode
+        free = [i for i in range(4) if not (i == 3 and (mode // 3) % 3 == S.STICK
+                                            and mode // 9 == S.CONTACT)]
+        if newton_it < 12 and m1 == mode:
+            jac = np.zeros((4, 4))
+            for i in free:
+                zp = z.copy()
+                h = 1e-7 * amp[i]
+                zp[_Y[i]] += h
+                zq, _, *_ = period_map(fs, zp, mode)
+                periods += 1
+                jac[:, i] = (zq[_Y] - z1[_Y]) / h
+            g = z1[_Y] - z[_Y]
+            mat = (jac - np.eye(4))[np.ix_(free, free)]
+            try:
+                step = np.linalg.solve(mat, -g[free])
+            except np.linalg.LinAlgError:
+                step = None
+            newton_it += 1
+            if step is not None and np.all(np.isfinite(step)):
+                zn = z.copy()
+                zn[_Y[free]] += step
+                zn = _consistent(fs, zn, mode, v)
+                z2, m2, *_ = period_map(fs, zn, mode)
+                periods += 1
+                if m2 == mode and defect(_consistent(fs, z2, m2, v)[_Y], zn[_Y]) < res:
+                    z = zn
+                    continue
+        # period-by-period fallback, watching for period-k repetition
+        z, mode = z1, m1
+        history.append(z[_Y].copy())
+        modes.append(mode)
+        history, modes = history[-(max_k + 1):], modes[-(max_k + 1):]
+        for k in range(2, max_k + 1):
+            if len(history) > k and modes[-1] == modes[-1 - k] and \
+                    defect(history[-1], history[-1 - k]) <= tol:
+                k_found = k
+                break
+        if k_found:
+            break
+    # no k-periodic orbit found: the average over many periods (quasi-periodic or long-period
+    # stick-slip at the tip) stands in, flagged with k = 0
+    k = k_found if k_found else average_periods
+    z = _consistent(fs, z, mode, v)
+    _, _, int_ft, work, phase_time, _ = period_map(fs, z, mode, k, energy=True)
+    _, _, int_fn, *_ = period_map(fs, z, mode, k, integrand="fn")
+    periods += 2 * k
+    span = k * fs.period_s
+    return Orbit(float(v), k_found, z, mode, int_ft / span, int_fn / span, float(res), periods,
+                 newton_it, phase_time, work)

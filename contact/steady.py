@@ -1,0 +1,461 @@
+"""Steady states of the motor by averaging: fast periodic orbit at fixed v, slow equation in v.
+
+The slider (0.2 kg) is slow against the 40 kHz vibration, so the steady state separates into
+
+* the **fast problem** (:mod:`contact.periodic_orbit`): at a fixed slider velocity v the
+  stator-tip contact settles on a periodic orbit; its exact period averages F_T(v), F_N(v);
+* the **slow equation**: the mean slider acceleration vanishes,
+  ``G(v) = F_T(v) - sign(v) mu_sd (F_N + M g) - F_load = 0``. Every root is a branch; a root
+  is stable where ``G`` falls through zero; ``v = 0`` is a steady state (the dead zone, slider
+  held by the guide) when ``G(0-) >= 0 >= G(0+)``. A start from rest follows ``M dv/dt = G(v)``
+  from 0 to the first stable root on the side ``G(0)`` points to.
+
+``F_T(v) - sign(v) mu_sd (F_N + M g)`` at fixed v is the motor's speed-thrust characteristic
+(:mod:`contact.characteristic`). Averaging is exact as ``M -> infinity``; at finite M the
+error scales as 1/M (see ``docs/steady.md``).
+
+The load ``load_N`` is a constant force on the slider in -x: it opposes positive velocity.
+
+>>> from rom import table2
+>>> from contact.steady import steady_state
+>>> r = steady_state(table2(), 200, 14)          # doctest: +SKIP
+>>> r.velocity_m_s, r.branches                    # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from contact.drive import free_tip_amplitudes
+from contact.friction import dynamic_friction
+from contact.model import COUPLINGS, OperatingPoint
+from contact.periodic_orbit import FastSystem, Orbit, fast_system, find_orbit
+from contact.results import PHASE_THRESHOLD, classify_motion
+from rom.params import GRAVITY_M_S2, MotorParams
+
+ACCURACIES = ("fast", "exact")
+"""Accuracy levels. ``"fast"``: averaging (M -> infinity), error O(1/M). ``"exact"``: every
+averaged branch polished by shooting the full model (finite M) and the start from rest decided
+by a transient of :data:`REST_TRANSIENT_PERIODS` periods polished by shooting, which also finds
+branches the averaging cannot see (multi-period slider-tip orbits at low speed)."""
+
+REST_TRANSIENT_PERIODS = 2000
+"""Drive periods of the transient from rest that decides the branch reached (accuracy
+"exact"); shooting then removes what is left of the transient."""
+
+V_ZERO_M_S = 1e-9
+"""Slider speed (m/s) standing in for 0+ / 0- in the fast problem (stick at exactly v = 0 is
+degenerate there)."""
+
+SCAN_POINTS = 16
+"""Velocities sampled on each side to bracket the roots of the slow equation."""
+
+
+@dataclass(frozen=True)
+class SteadyBranch:
+    """One steady state of the motor.
+
+    Attributes
+    ----------
+    velocity_m_s : float
+        Mean slider velocity (m/s); 0 for the dead zone.
+    k : int
+        Period multiplicity of the tip orbit (repeats every k drive periods); 0 when no orbit
+        of period <= 4 was found and the averages are long-time means.
+    stable : bool
+        Whether the slow equation is stable there (``dG/dv < 0``; the dead zone is stable).
+    motion : str
+        Motion class of the tip orbit (:data:`contact.results.MOTION_CLASSES`) or
+        ``"dead-zone"`` (slider held).
+    mean_FT_N, mean_FN_N : float
+        Period averages of the tangential force on the slider and of the normal force (N).
+    input_power_W : float
+        Mean electrical input power (W): ``<V(t) (A_l du_l + A_b dw_b)>``, the motional
+        current times the voltage (the force factors are the current factors by reciprocity).
+    output_power_W : float
+        Mechanical output power ``load_N * velocity_m_s`` (W).
+    damping_power_W : float
+        Mean power dissipated by the modal damping C_l, C_b (W).
+    interface_power_W : float
+        Mean power lost at the contact interface (W): what leaves the stator through the tip
+        minus what reaches the slider; friction ``<F_T v_rel>`` with ``coupling="consistent"``,
+        plus the non-conservative work of the printed coupling with ``coupling="paper"``.
+    guide_power_W : float
+        Mean power dissipated by the guide friction, ``mu_sd (F_N + M g) |v|`` (W).
+    from_rest : bool
+        Whether a start from rest reaches this branch (averaged slow dynamics with
+        ``accuracy="fast"``, a transient polished by shooting with ``"exact"``).
+    phase_fraction : tuple of float
+        Fractions of the orbit in stick, slip with v_rel > 0, slip with v_rel < 0, separation.
+    """
+
+    velocity_m_s: float
+    k: int
+    stable: bool
+    motion: str
+    mean_FT_N: float
+    mean_FN_N: float
+    input_power_W: float
+    output_power_W: float
+    damping_power_W: float
+    interface_power_W: float
+    guide_power_W: float
+    from_rest: bool
+    phase_fraction: tuple[float, float, float, float] = (math.nan,) * 4
+
+    @property
+    def efficiency(self) -> float:
+        """Output over input power (-); NaN without input power."""
+        return self.output_power_W / self.input_power_W if self.input_power_W > 0 else math.nan
+
+
+@dataclass(frozen=True)
+class SteadyResult:
+    """All steady states at one operating point (:func:`steady_state`).
+
+    Attributes
+    ----------
+    op : OperatingPoint
+        Voltage (V), preload (N), frequency (Hz) and load (N).
+    branches : tuple of SteadyBranch
+        Every steady state found, by increasing velocity (unstable ones included).
+    velocity_m_s : float
+        Velocity of the branch a start from rest reaches (m/s).
+    mu_d_eff : float
+        Dynamic friction coefficient used in slip (-).
+    accuracy : str
+    orbits : int
+        Fast-problem orbits solved.
+    periods : int
+        Drive periods simulated in total (Newton's finite-difference runs included).
+    newton_iterations : int
+    wall_time_s : float
+    """
+
+    op: OperatingPoint
+    branches: tuple[SteadyBranch, ...]
+    velocity_m_s: float
+    mu_d_eff: float
+    accuracy: str
+    orbits: int
+    periods: int
+    newton_iterations: int
+    wall_time_s: float
+
+    @property
+    def from_rest(self) -> SteadyBranch:
+        """The branch a start from rest reaches."""
+        return next(b for b in self.branches if b.from_rest)
+
+
+@dataclass
+class SlowProblem:
+    """The slow equation of one operating point with a cache of fast orbits (mutable helper).
+
+    ``thrust(v)`` is ``F_T(v) - sign(v) mu_sd (F_N + M g)`` (N), the thrust the motor
+    delivers against a load at slider velocity v.
+    """
+
+    params: MotorParams
+    op: OperatingPoint
+    mu_d_eff: float
+    fs: FastSystem
+    v_max_m_s: float
+    cache: dict = field(default_factory=dict)
+    periods: int = 0
+    newton_iterations: int = 0
+
+    def orbit(self, v: float) -> Orbit:
+        if v in self.cache:
+            return self.cache[v]
+        # continuation: start from the cached orbit nearest in velocity on the same side
+        near = [w for w in self.cache if w * v > 0]
+        if near:
+            w = min(near, key=lambda w: abs(w - v))
+            o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode)
+        else:
+            o = find_orbit(self.fs, v)
+        self.periods += o.periods
+        self.newton_iterations += o.newton_iterations
+        self.cache[v] = o
+        return o
+
+    def guide_N(self, o: Orbit) -> float:
+        """Kinetic guide friction magnitude mu_sd (F_N + M g) (N)."""
+        p = self.params
+        return p.mu_sd * (o.mean_FN_N + p.M_slider * GRAVITY_M_S2)
+
+    def thrust(self, v: float) -> float:
+        o = self.orbit(v)
+        return o.mean_FT_N - math.copysign(1.0, v) * self.guide_N(o)
+
+
+def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "paper",
+                 ultrasonic_friction: bool = True,
+                 mu_d_eff: float | None = None) -> SlowProblem:
+    """Set up the slow equation of one operating point (the load is applied by the caller).
+
+    ``mu_d_eff`` (-), when given, replaces the Eq. 11 pre-pass.
+    """
+    if coupling not in COUPLINGS:
+        raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
+    if mu_d_eff is not None:
+        mu = float(mu_d_eff)
+    elif ultrasonic_friction:
+        from contact.simulate import normal_amplitude  # the same A_N pre-pass as transients
+
+        mu = dynamic_friction(params, normal_amplitude(params, op))
+    else:
+        mu = params.mu_d
+    fs = fast_system(params, op, mu, coupling)
+    _, b_amp = free_tip_amplitudes(params, op.frequency_Hz, op.voltage_V)
+    v_max = max(1.5 * float(b_amp) * op.omega, 1e-6)
+    return SlowProblem(params, op, mu, fs, v_max)
+
+
+def _grid(v_max: float) -> np.ndarray:
+    return np.concatenate([[V_ZERO_M_S], np.geomspace(1e-5 * v_max, v_max, SCAN_POINTS)])
+
+
+def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranch:
+    o = sp.orbit(v)
+    span = max(o.k, 1) if o.k else None
+    total = float(np.sum(o.phase_time))
+    frac = o.phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
+    motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
+    duration = float(np.sum(o.phase_time)) if span is None else span * sp.op.period_s
+    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in o.work)
+    return SteadyBranch(
+        velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
+        mean_FN_N=o.mean_FN_N, input_power_W=w_in / duration,
+        output_power_W=load * float(v), damping_power_W=w_damp / duration,
+        interface_power_W=-(w_ts + w_tx) / duration,
+        guide_power_W=sp.guide_N(o) * abs(float(v)), from_rest=False,
+        phase_fraction=tuple(float(f) for f in frac))
+
+
+def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch, ...], float]:
+    """All steady states of the slow problem under ``load_N`` and the velocity from rest."""
+    found: list[tuple[float, bool]] = []  # (velocity, stable)
+    g_pos = sp.thrust(V_ZERO_M_S) - load_N
+    g_neg = sp.thrust(-V_ZERO_M_S) - load_N
+    # backward motion needs G(0-) < 0: only then is the negative side searched
+    for sign in (1.0, -1.0) if g_neg < 0 else (1.0,):
+        vs = sign * _grid(sp.v_max_m_s)
+        gs = [sp.thrust(v) - load_N for v in vs]
+        for i in range(len(vs) - 1):
+            if gs[i] * gs[i + 1] < 0:
+                root = brentq(lambda v: sp.thrust(v) - load_N, vs[i], vs[i + 1],
+                              xtol=1e-12, rtol=1e-10)
+                # stable where M dv/dt = G(v) pushes back towards the root
+                falling = (gs[i] > 0) if sign > 0 else (gs[i] < 0)
+                found.append((float(root), bool(falling)))
+    dead = g_pos <= 0.0 <= g_neg
+    if g_pos > 0:
+        cands = sorted(v for v, st in found if v > 0 and st)
+        v_rest = cands[0] if cands else math.nan
+    elif g_neg < 0:
+        cands = sorted((v for v, st in found if v < 0 and st), reverse=True)
+        v_rest = cands[0] if cands else math.nan
+    else:
+        v_rest = 0.0
+    out = [dataclasses.replace(_branch(sp, v, load_N, st), from_rest=v == v_rest)
+           for v, st in found]
+    if dead:
+        sp.orbit(V_ZERO_M_S)
+        base = _branch(sp, V_ZERO_M_S, load_N, True)
+        out.append(dataclasses.replace(base, velocity_m_s=0.0, motion="dead-zone",
+                                       output_power_W=0.0, guide_power_W=0.0,
+                                       from_rest=v_rest == 0.0))
+    out.sort(key=lambda b: b.velocity_m_s)
+    return tuple(out), float(v_rest)
+
+
+def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
+                 frequency_Hz: float | None = None, load_N: float = 0.0,
+                 coupling: str = "paper", ultrasonic_friction: bool = True,
+                 accuracy: str = "fast") -> SteadyResult:
+    """Every steady state of the motor at one operating point, by averaging.
+
+    Parameters
+    ----------
+    params : MotorParams
+        Any parameter set.
+    voltage_V : float
+        Drive amplitude V0 (V), >= 0.
+    preload_N : float
+        Preload F_P (N), >= 0.
+    frequency_Hz : float, optional
+        Drive frequency (Hz); 40 kHz (the transient default) when None.
+    load_N : float
+        External load (N), a constant force opposing positive slider velocity.
+    coupling : {"paper", "consistent"}
+        See :func:`contact.model.build_system`.
+    ultrasonic_friction : bool
+        Apply Eq. 11 (same A_N pre-pass as the transient schemes).
+    accuracy : {"fast"}
+        ``"fast"``: the M -> infinity averaging (error ~ 1/M, see ``docs/steady.md``).
+
+    Returns
+    -------
+    SteadyResult
+    """
+    if accuracy not in ACCURACIES:
+        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
+    t0 = time.perf_counter()
+    op = OperatingPoint(float(voltage_V), float(preload_N),
+                        40e3 if frequency_Hz is None else float(frequency_Hz), float(load_N))
+    sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
+    branches, v_rest = branches_at_load(sp, op.load_N)
+    periods, newton = sp.periods, sp.newton_iterations
+    if accuracy == "exact":
+        branches, v_rest, more_periods, more_newton = _exact(sp, branches, coupling)
+        periods += more_periods
+        newton += more_newton
+    return SteadyResult(op=op, branches=branches, velocity_m_s=v_rest, mu_d_eff=sp.mu_d_eff,
+                        accuracy=accuracy, orbits=len(sp.cache), periods=periods,
+                        newton_iterations=newton, wall_time_s=time.perf_counter() - t0)
+
+
+def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBranch:
+    duration = fo.k * sp.op.period_s
+    total = float(np.sum(fo.phase_time))
+    frac = fo.phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
+    motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
+    w_in, w_damp, _, w_ts, w_tx, w_g = (float(w) for w in fo.work)
+    v = fo.velocity_m_s
+    load = sp.op.load_N
+    p = sp.params
+    mean_fn = float("nan")
+    return SteadyBranch(
+        velocity_m_s=v, k=fo.k, stable=stable, motion=motion, mean_FT_N=float("nan"),
+        mean_FN_N=mean_fn, input_power_W=w_in / duration, output_power_W=load * v,
+        damping_power_W=w_damp / duration, interface_power_W=-(w_ts + w_tx) / duration,
+        guide_power_W=-(w_g / duration) - load * v if p.mu_sd > 0 else 0.0,
+        from_rest=from_rest, phase_fraction=tuple(float(f) for f in frac))
+
+
+def _exact(sp: SlowProblem, branches, coupling: str):
+    """Polish the averaged branches on the full model and decide the start from rest."""
+    from contact import state as S
+    from contact.full_orbit import full_system, run_periods, shoot
+
+    fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
+    periods = newton = 0
+    out: list[SteadyBranch] = []
+    for b in branches:
+        if b.motion == "dead-zone":
+            out.append(dataclasses.replace(b, from_rest=False))
+            continue
+        o = sp.orbit(b.velocity_m_s)
+        z = o.z.copy()
+        z[S.DX] = b.velocity_m_s
+        guide = S.FORWARD if b.velocity_m_s > 0 else S.BACKWARD
+        try:
+            fo = shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1))
+        except RuntimeError:
+            fo = None
+        if fo is not None:
+            periods += fo.periods
+            newton += fo.newton_iterations
+        if fo is not None and fo.k:
+            full = _full_branch(sp, fo, bool(fo.multiplier < 1.0), False)
+            out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
+        else:
+            out.append(dataclasses.replace(b, from_rest=False))
+    # the start from rest: a transient, then shooting for the orbit it approaches
+    s = fsys.system
+    z_end, m_end, _, _, _ = run_periods(fsys, s.z0, s.mode0, REST_TRANSIENT_PERIODS)
+    periods += REST_TRANSIENT_PERIODS
+    # the period the transient repeats with: smallest defect |y_(j+k) - y_j| over k <= 4
+    ys, zj, mj = [z_end[[0, 1, 2, 3, 5]]], z_end, m_end
+    for _ in range(4):
+        zj, mj, _, _, _ = run_periods(fsys, zj, mj, 1)
+        ys.append(zj[[0, 1, 2, 3, 5]])
+    periods += 4
+    scale = np.max(np.abs(np.array(ys)), axis=0) + 1e-30
+    k_best = 1 + int(np.argmin([np.max(np.abs(ys[k] - ys[0]) / scale) for k in (1, 2, 3, 4)]))
+    _, _, dist, _, _ = run_periods(fsys, z_end, m_end, 4 * k_best)
+    v_transient = dist / (4 * k_best * sp.op.period_s)
+    v_rest, fo = v_transient, None
+    try:
+        cand = shoot(fsys, z_end, m_end, k_best)
+        periods += cand.periods
+        newton += cand.newton_iterations
+        # accept the polished orbit only if the transient was heading for it
+        if cand.k and abs(cand.velocity_m_s - v_transient) <= 0.05 * abs(v_transient) + 1e-9:
+            v_rest, fo = cand.velocity_m_s, cand
+    except RuntimeError:
+        pass
+    held = abs(v_rest) <= 1e-12
+    match = [i for i, b in enumerate(out)
+             if abs(b.velocity_m_s - v_rest) <= 1e-6 * abs(v_rest) + 1e-12
+             or (held and b.motion == "dead-zone")]
+    if fo is None and not held:
+        # the transient had not settled on an orbit: the averaged choice stands
+        avg = [i for i, b in enumerate(branches) if b.from_rest]
+        if avg:
+            match = avg
+            v_rest = out[avg[0]].velocity_m_s
+    if match:
+        out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
+    elif fo is not None:
+        out.append(_full_branch(sp, fo, bool(fo.multiplier < 1.0), True))
+    out.sort(key=lambda b: b.velocity_m_s)
+    return tuple(out), (0.0 if held else v_rest), periods, newton
+
+
+def transient_reference(params: MotorParams, voltage_V: float, preload_N: float, *,
+                        load_N: float = 0.0, frequency_Hz: float = 40e3,
+                        duration_s: float = 0.2, steady_periods: int = 400,
+                        coupling: str = "paper",
+                        ultrasonic_friction: bool = True) -> tuple[float, str]:
+    """Mean slider velocity (m/s) and motion class over the last ``steady_periods`` of a
+    transient from rest.
+
+    The slow reference of :func:`steady_state`: the event scheme of
+    :func:`contact.simulate.simulate` run with the load in the operating point.
+    """
+    from contact.simulate import SimulationOptions, _solve_event, normal_amplitude
+    from contact.window import run_window
+
+    op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz), float(load_N))
+    opts = SimulationOptions(duration_s=duration_s, steady_periods=steady_periods,
+                             coupling=coupling, ultrasonic_friction=ultrasonic_friction)
+    mu = (dynamic_friction(params, normal_amplitude(params, op)) if ultrasonic_friction
+          else params.mu_d)
+    window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
+    out = _solve_event(params, op, opts, window, mu)
+    frac = out.phase_time / max(float(np.sum(out.phase_time)), 1e-300)
+    motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
+    return float(out.velocity_m_s), motion
+
+
+def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff: float):
+    """Adapter for the scheme table of :func:`contact.simulate.simulate` (``method="steady"``).
+
+    Returns a :class:`contact.results.SchemeOutput` for the branch reached from rest at the
+    ``"exact"`` level (``op.load_N`` applied; ``opts.coupling`` honoured). Traces, tip extrema
+    and the energy balance are not produced (None / NaN); ``steps`` and ``nfev`` count the
+    drive periods simulated times the steps per period.
+    """
+    from contact.periodic_orbit import STEPS_PER_PERIOD
+    from contact.results import SchemeOutput
+
+    sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff)
+    branches, v_rest = branches_at_load(sp, op.load_N)
+    branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling)
+    rest = [b for b in branches if b.from_rest]
+    frac = rest[0].phase_fraction if rest else (math.nan,) * 4
+    steps = (sp.periods + periods) * STEPS_PER_PERIOD
+    return SchemeOutput(
+        velocity_m_s=float(v_rest), previous_velocity_m_s=float(v_rest),
+        phase_time=np.asarray(frac, dtype=float) * window.window_s, y_tip_min_m=math.nan,
+        y_tip_max_m=math.nan, trace=None, window=None, energy=None, steps=int(steps),
+        events=0, nfev=int(steps))

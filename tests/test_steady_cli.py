@@ -1,0 +1,39 @@
+"""``lusm characteristic``: JSON keys, the stall force against the curve, bad input."""
+
+import json
+
+import pytest
+
+from validation.cli import main
+
+
+def test_characteristic_json_curve_is_consistent(capsys):
+    assert main(["characteristic", "--voltage", "400", "--preload", "14",
+                 "--loads", "0:1.5:0.5", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "curve"}
+    curve = doc["curve"]
+    assert [row["load_N"] for row in curve] == pytest.approx([0.0, 0.5, 1.0, 1.5])
+    for row in curve:
+        assert set(row) == {"load_N", "velocity_m_s", "input_power_W", "output_power_W",
+                            "efficiency"}
+        assert row["output_power_W"] == pytest.approx(row["load_N"] * row["velocity_m_s"])
+    assert curve[0]["velocity_m_s"] == pytest.approx(doc["no_load_velocity_m_s"])
+    # all four loads are below the stall force, so the slider moves against each
+    assert doc["stall_force_N"] > 1.5 and all(row["velocity_m_s"] > 0 for row in curve)
+
+
+@pytest.mark.parametrize(
+    ("argv", "option"),
+    [(["--loads", "0:2:0"], "--loads"), (["--loads", "a:b"], "--loads"),
+     (["--loads", "0:1e9:1e-3"], "--loads")],
+)
+def test_bad_loads_give_one_line_and_exit_2(capsys, argv, option):
+    code = main(["characteristic", "--voltage", "400", "--preload", "14", *argv])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and option in err and len(err.splitlines()) == 1
+
+
+def test_negative_voltage_is_refused(capsys):
+    assert main(["characteristic", "--voltage", "-1", "--preload", "14"]) == 2
+    assert "--voltage" in capsys.readouterr().err

@@ -1,0 +1,111 @@
+"""``lusm characteristic``: speed-thrust, output power and efficiency from the steady engine."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from validation import limits
+from validation.options import (
+    SOURCES,
+    add_output_options,
+    add_plate_options,
+    check_output_folder,
+    fem_params_of,
+    figure_set,
+    folder_arg,
+    moved,
+    parse_frequency,
+    print_json,
+    real,
+    warn_drive,
+)
+
+MAX_LOADS = 1000
+"""Largest number of loads one call evaluates (work is bounded before it starts)."""
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``characteristic`` sub-command to the ``lusm`` parser."""
+    p = subparsers.add_parser(
+        "characteristic",
+        help="speed-thrust, output power and efficiency curves (steady engine)",
+        description="Steady slider velocity against load force, mechanical output power, "
+        "electrical input power and efficiency, the no-load velocity and the stall force, "
+        "from the averaged steady state (docs/steady.md).",
+    )
+    g = p.add_argument_group("drive", "operating point")
+    g.add_argument("--voltage", type=real("--voltage", "V", *limits.VOLTAGE_V), required=True,
+                   help=f"drive amplitude V0 (V), in [0, {limits.VOLTAGE_V[1]:g}]")
+    g.add_argument("--preload", type=real("--preload", "N", *limits.PRELOAD_N), required=True,
+                   help=f"preload F_P (N), in [0, {limits.PRELOAD_N[1]:g}]")
+    g.add_argument("--frequency", default="40e3",
+                   help="drive frequency (Hz), or 'auto' for the set's own operating point")
+    p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
+                   help="load forces (N), e.g. 0:2:0.1; default 21 loads from 0 to the stall "
+                   "force")
+    p.add_argument("--no-ultrasonic-friction", action="store_true",
+                   help="use the constant mu_d instead of Eq. 11")
+    p.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
+                   help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
+    p.add_argument("--source", choices=SOURCES, default=None,
+                   help="parameter set (default table2; fem with --geometry or a plate option)")
+    add_plate_options(p, note="; any of them selects --source fem")
+    add_output_options(p, folder="--plot", folder_help="write characteristic.png into DIR")
+    p.set_defaults(func=run)
+
+
+def parse_loads(text: str) -> list[float]:
+    """``START:STOP:STEP`` (N) as a list of loads, STOP included when on the grid."""
+    parts = text.split(":")
+    msg = (f"--loads must be START:STOP:STEP in N with finite START <= STOP, STEP > 0 and at "
+           f"most {MAX_LOADS} loads, got {text!r}")
+    if len(parts) != 3:
+        raise ValueError(msg)
+    try:
+        start, stop, step = (float(x) for x in parts)
+    except ValueError:
+        raise ValueError(msg) from None
+    if not all(math.isfinite(x) for x in (start, stop, step)) or step <= 0 or stop < start:
+        raise ValueError(msg)
+    n = int(math.floor((stop - start) / step + 1e-9)) + 1
+    if n > MAX_LOADS:
+        raise ValueError(msg)
+    return [start + i * step for i in range(n)]
+
+
+def run(args: argparse.Namespace) -> None:
+    """Compute the characteristic and print it."""
+    loads = parse_loads(args.loads) if args.loads is not None else None
+    plot = folder_arg(args.plot, "--plot")
+    if plot is not None:
+        check_output_folder(plot, "characteristic", "--plot", args.force)
+    warn_drive(args.voltage, args.preload)
+    if args.frequency.strip().lower() != "auto":
+        parse_frequency(args.frequency)  # refuse a bad number before any work
+    params = fem_params_of(args, args.source)
+    freq = parse_frequency(args.frequency, params)
+
+    from contact.characteristic import characteristic
+
+    char = characteristic(params, args.voltage, args.preload, loads, frequency_Hz=freq,
+                          coupling=args.coupling,
+                          ultrasonic_friction=not args.no_ultrasonic_friction)
+    doc = char.to_dict()
+    if plot is not None:
+        from validation.report_motor import characteristic_figure
+
+        with figure_set(plot, "characteristic", "--plot", args.force) as stage:
+            path = characteristic_figure(char, stage / "characteristic.png")
+            doc["figures"] = moved([path], stage, plot)
+    if args.json:
+        print_json(doc, indent=2)
+        return
+    print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
+    print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
+    print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} {'eff.':>8}")
+    for row in doc["curve"]:
+        print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} {row['input_power_W']:11.4g} "
+              f"{row['output_power_W']:11.4g} {row['efficiency']:8.4f}")
+    for f in doc.get("figures", []):
+        print(f"wrote {f}")
