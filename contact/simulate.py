@@ -10,7 +10,9 @@ A_N pre-pass) and returns the same :class:`SimulationResult` with its solver cou
 * ``"reference"``: the equations written out term by term, ``solve_ivp`` with terminal events
   (:mod:`contact.reference`), the slow yardstick;
 * ``"literal"``: the paper's fixed-step RK4 with the stick band (:mod:`contact.literal`), for
-  contrast only.
+  contrast only;
+* ``"steady"``: the steady state from rest found directly (averaging, finite-mass shooting,
+  :mod:`contact.steady`); no trace.
 
 >>> from rom import table2
 >>> from contact.simulate import simulate
@@ -40,9 +42,10 @@ PRE_PASS_PERIODS = 60
 """Drive periods simulated to find the steady normal amplitude A_N of Eq. 11."""
 
 METHODS = {
-    "event": "contact.simulate:_solve_event",
+    "event": "contact.simulate:solve_event",
     "reference": "contact.reference:solve_reference",
     "literal": "contact.literal:solve_literal",
+    "steady": "contact.steady:solve_steady",
 }
 """Schemes of :func:`simulate`: name -> ``module:function(params, op, options, window,
 mu_d_eff) -> SchemeOutput``, imported on first use (the reference pulls in SciPy)."""
@@ -231,7 +234,8 @@ def simulate(
     options : SimulationOptions, optional
         Numerical options; keyword overrides (``dt_s=...``) are applied on top.
     method : str
-        A key of :data:`METHODS`: ``"event"`` (default), ``"reference"`` or ``"literal"``.
+        A key of :data:`METHODS`: ``"event"`` (default), ``"reference"``, ``"literal"`` or
+        ``"steady"``.
 
     Returns
     -------
@@ -275,7 +279,7 @@ def simulate(
     )
 
 
-def _solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
+def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
                  window: RunWindow, mu_d_eff: float) -> SchemeOutput:
     """The event-located scheme (:mod:`contact.event_kernel`)."""
     dt = window.dt_s

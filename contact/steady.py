@@ -422,7 +422,7 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     The slow reference of :func:`steady_state`: the event scheme of
     :func:`contact.simulate.simulate` run with the load in the operating point.
     """
-    from contact.simulate import SimulationOptions, _solve_event, normal_amplitude
+    from contact.simulate import SimulationOptions, normal_amplitude, solve_event
     from contact.window import run_window
 
     op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz), float(load_N))
@@ -431,7 +431,7 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     mu = (dynamic_friction(params, normal_amplitude(params, op)) if ultrasonic_friction
           else params.mu_d)
     window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
-    out = _solve_event(params, op, opts, window, mu)
+    out = solve_event(params, op, opts, window, mu)
     frac = out.phase_time / max(float(np.sum(out.phase_time)), 1e-300)
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     return float(out.velocity_m_s), motion

@@ -43,5 +43,5 @@ def test_literal_scheme_counts_and_shares_the_result_type(paper_params):
 
 
 def test_unknown_method_is_refused(paper_params):
-    with pytest.raises(ValueError, match="method must be one of event, reference, literal"):
+    with pytest.raises(ValueError, match="method must be one of event, reference, literal, steady"):
         simulate(paper_params, 200.0, 14.0, method="rk45")

@@ -57,12 +57,12 @@ def test_transient_energy_balance_closes_with_a_load(params):
     # the load enters the slider's guide/load force rows, so the work-energy balance of the
     # transient must still close
     from contact.model import OperatingPoint
-    from contact.simulate import SimulationOptions, _solve_event
+    from contact.simulate import SimulationOptions, solve_event
     from contact.window import run_window
 
     op = OperatingPoint(400, 14, 40e3, 1.0)
     opts = SimulationOptions(duration_s=0.01, energy=True)
-    out = _solve_event(params, op, opts, run_window(op, 0.01, 1e-7, 20), params.mu_d)
+    out = solve_event(params, op, opts, run_window(op, 0.01, 1e-7, 20), params.mu_d)
     e = out.energy
     assert abs(e.residual_J) < 1e-6 * e.input_J
     assert e.guide_J < 0  # guide friction and the load both take energy from the slider
