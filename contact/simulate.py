@@ -217,6 +217,7 @@ def simulate(
     options: SimulationOptions | None = None,
     *,
     method: str = "event",
+    load_N: float = 0.0,
     **option_overrides: object,
 ) -> SimulationResult:
     """Simulate the stick-slip-separation switch model (Eqs. 4-19) from rest.
@@ -236,6 +237,10 @@ def simulate(
     method : str
         A key of :data:`METHODS`: ``"event"`` (default), ``"reference"``, ``"literal"`` or
         ``"steady"``.
+    load_N : float
+        External load on the slider (N), opposing positive velocity (see
+        :class:`contact.model.OperatingPoint`); the ``event`` and ``steady`` schemes model it,
+        the others refuse a nonzero load.
 
     Returns
     -------
@@ -250,7 +255,10 @@ def simulate(
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz))
+    if load_N and method in ("reference", "literal"):
+        raise ValueError(f"load_N is modelled by the event and steady schemes only, got "
+                         f"load_N={load_N!r} with method={method!r}")
+    op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz), float(load_N))
     opts = options or SimulationOptions()
     if option_overrides:
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})

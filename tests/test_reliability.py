@@ -278,6 +278,10 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("adm-electrodes-5", ["admittance", "--electrodes", "1,5"], ["--electrodes"]),
     ("adm-out-below-file", ["admittance", "--out", "{below_file}"], ["--out", "below the file"]),
     # explore (more in tests/test_explore.py)
+    ("sim-load-nan", ["simulate", "--voltage", "400", "--preload", "14", "--load-N", "nan"],
+     ["--load-N", "N"]),
+    ("sim-steady-plot", ["simulate", "--voltage", "400", "--preload", "14", "--steady",
+                         "--plot", "figs"], ["--plot", "--steady"]),
     ("characteristic-voltage-nan", ["characteristic", "--voltage", "nan", "--preload", "14"],
      ["--voltage", "[0, 2000] V"]),
     ("characteristic-frequency-0", ["characteristic", "--voltage", "400", "--preload", "14",

@@ -37,3 +37,23 @@ def test_bad_loads_give_one_line_and_exit_2(capsys, argv, option):
 def test_negative_voltage_is_refused(capsys):
     assert main(["characteristic", "--voltage", "-1", "--preload", "14"]) == 2
     assert "--voltage" in capsys.readouterr().err
+
+
+def test_simulate_steady_with_a_load_matches_a_settled_transient(capsys):
+    """lusm simulate --steady --load-N against the transient with the same load, settled."""
+    import json
+
+    from contact.simulate import simulate
+    from rom import table2
+    from validation.cli import main
+
+    assert main(["simulate", "--voltage", "400", "--preload", "14", "--load-N", "1",
+                 "--steady", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["method"] == "steady" and doc["load_N"] == 1.0
+    ref = simulate(table2(), 400.0, 14.0, load_N=1.0, duration_s=0.3)
+    assert ref.steady.settled
+    assert doc["steady_velocity_m_s"] == pytest.approx(ref.steady.velocity_m_s, rel=1e-4)
+    # the load slows the motor (below the no-load velocity of the same point)
+    assert doc["steady_velocity_m_s"] < 0.9 * simulate(table2(), 400.0, 14.0,
+                                                       method="steady").steady.velocity_m_s

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from validation import limits
+from validation.errors import LusmError
 from validation.options import (
     SOURCES,
     add_drive_options,
@@ -17,6 +19,7 @@ from validation.options import (
     moved,
     parse_frequency,
     print_json,
+    real,
     warn_drive,
 )
 
@@ -38,6 +41,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="parameter set (default table2; fem with --geometry or a plate option)")
     add_plate_options(p, note="; any of them selects --source fem")
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
+    p.add_argument("--load-N", dest="load_N", default=0.0,
+                   type=real("--load-N", "N", -limits.PRELOAD_N[1], limits.PRELOAD_N[1]),
+                   help="external load on the slider (N), opposing its motion")
+    p.add_argument("--steady", action="store_true",
+                   help="the steady state from rest found directly (docs/steady.md) instead "
+                   "of a transient; no figures")
     add_output_options(p, folder="--plot",
                        folder_help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
     p.set_defaults(func=run)
@@ -46,6 +55,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> None:
     """Run one simulation and print its summary."""
     plot = folder_arg(args.plot, "--plot")
+    if plot is not None and args.steady:
+        raise LusmError("--plot needs a transient (no time trace with --steady)", "--plot")
+    if args.energy and args.steady:
+        raise LusmError("--energy needs a transient (use lusm characteristic for the power "
+                        "balance of the steady state)", "--energy")
     if plot is not None:
         check_output_folder(plot, "simulate", "--plot", args.force)  # refuse before any work
     warn_drive(args.voltage, args.preload)
@@ -63,7 +77,8 @@ def run(args: argparse.Namespace) -> None:
             params, args.voltage, args.preload, freq,
             duration_s=args.duration, dt_s=args.dt,
             ultrasonic_friction=not args.no_ultrasonic_friction,
-            coupling=args.coupling, energy=args.energy,
+            coupling=args.coupling, energy=args.energy, load_N=args.load_N,
+            method="steady" if args.steady else "event",
         )
     except RuntimeError as exc:  # the kernel's own refusal (chattering): bad input, not a bug
         raise ValueError(str(exc)) from exc

@@ -17,6 +17,8 @@ def simulation_summary(r: SimulationResult) -> dict:
         "voltage_V": r.op.voltage_V,
         "preload_N": r.op.preload_N,
         "frequency_Hz": r.op.frequency_Hz,
+        "load_N": r.op.load_N,
+        "method": r.method,
         "duration_s": r.options.duration_s,
         "dt_s": r.options.dt_s,
         "coupling": r.options.coupling,
@@ -37,6 +39,7 @@ def simulation_summary(r: SimulationResult) -> dict:
         "steady_window_s": s.window_s,
         "steps": r.steps,
         "events": r.events,
+        "nfev": r.nfev,
         "wall_time_s": r.wall_time_s,
     }
     if r.energy is not None:
