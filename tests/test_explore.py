@@ -292,3 +292,21 @@ def test_a_failed_fe_solve_is_recorded_not_fatal():
     ds = assemble(s, {0: compute_geometry(s, 0)})
     assert str(ds["status"].item()).startswith("FE: ModeSolverError")
     assert np.isnan(ds["f_L1_short"].item()) and np.isnan(ds["no_load_velocity"]).all()
+
+
+def test_steady_method_gives_the_loaded_answers():
+    """solver.method = "steady": stall force, peak efficiency and velocity under load, from
+    the steady engine; the no-load point agrees with the characteristic's own zero load and
+    the velocity falls with the load."""
+    s = study_from_dict({
+        "outputs": ["no_load_velocity", "stall_force", "peak_efficiency", "velocity",
+                    "motion_class"],
+        "axes": {"voltage": "300 V", "preload": "6 N", "load": ["0 N", "0.2 N"]},
+        "solver": {"fe_refine": 1, "method": "steady"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    v0 = float(ds["no_load_velocity"].values.ravel()[0])
+    stall = float(ds["stall_force"].values.ravel()[0])
+    v = ds["velocity"].values.ravel()
+    assert v0 > 0 and stall > 0.2
+    assert v[0] == pytest.approx(v0, rel=1e-6) and 0 < v[1] < v[0]
+    assert 0 < float(ds["peak_efficiency"].values.ravel()[0]) < 1

@@ -143,11 +143,29 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     Returns ``no_load_velocity`` (m/s), ``stall_force`` (N), ``peak_efficiency`` (-),
     ``motion_class`` (str) and ``velocity`` (m/s, one per load of ``drive.loads_N``).
 
-    TODO(contact.steady): switch to ``contact.steady.characteristic(params, V, F_P,
-    loads_N)`` (stall force, peak efficiency, velocity under load) once the steady-state
-    solver is merged; today the transient :func:`contact.simulate.simulate` gives the
-    no-load velocity and motion class, and the loaded answers are NaN.
+    ``solver.method == "steady"``: the steady state from rest (:func:`contact.steady.
+    steady_state`, averaging level) and the speed-thrust characteristic (21 loads from 0 to
+    the stall force for the peak efficiency, and the study's loads). A transient method
+    gives the no-load velocity and motion class of a run from rest; the loaded answers are
+    then NaN.
     """
+    if solver.method == "steady":
+        from contact.characteristic import characteristic
+        from contact.steady import steady_state
+
+        res = steady_state(params, drive.voltage_V, drive.preload_N,
+                           frequency_Hz=drive.frequency_Hz)
+        curve = characteristic(params, drive.voltage_V, drive.preload_N, None,
+                               frequency_Hz=drive.frequency_Hz)
+        loaded = characteristic(params, drive.voltage_V, drive.preload_N,
+                                list(drive.loads_N), frequency_Hz=drive.frequency_Hz)
+        eff = np.asarray(curve.efficiency, dtype=float)
+        motion = res.from_rest.motion if res.branches else "failed"
+        return {"no_load_velocity": float(res.velocity_m_s),
+                "stall_force": float(curve.stall_force_N),
+                "peak_efficiency": float(np.nanmax(eff)) if np.isfinite(eff).any() else math.nan,
+                "motion_class": motion,
+                "velocity": np.asarray(loaded.velocity_m_s, dtype=float)}
     from contact.simulate import simulate
 
     r = simulate(params, drive.voltage_V, drive.preload_N, drive.frequency_Hz,

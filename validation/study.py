@@ -116,7 +116,11 @@ class Solver:
     duration_s, dt_s : float
         Simulated time and time step of each drive point (s).
     method : str
-        Contact scheme of :func:`contact.simulate.simulate`.
+        ``"steady"``: the motor answers from :mod:`contact.steady` and
+        :func:`contact.characteristic.characteristic` (stall force, peak efficiency, velocity
+        under load; ``duration``/``dt`` unused); otherwise a transient scheme of
+        :func:`contact.simulate.simulate`, which gives the no-load velocity and motion class
+        only (velocity under a load is then NaN).
     """
 
     fe_order: int = 2
@@ -335,9 +339,9 @@ def _solver(raw: dict, where: str) -> Solver:
     if not (0 < duration <= limits.DURATION_S[1]):
         raise ValueError(f"{where}solver.duration must lie in (0, {limits.DURATION_S[1]:g} s], "
                          f"got {s['duration']!r}")
-    if s["method"] not in ("event", "reference", "literal"):
-        raise ValueError(f"{where}solver.method must be event, reference or literal, got "
-                         f"{s['method']!r}")
+    if s["method"] not in ("steady", "event", "reference", "literal"):
+        raise ValueError(f"{where}solver.method must be steady, event, reference or literal, "
+                         f"got {s['method']!r}")
     return Solver(s["fe_order"], s["fe_refine"], duration, dt, s["method"])
 
 
