@@ -94,7 +94,7 @@ FE_OUTPUTS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "sp
 """Outputs that need only the FE solve (no contact model)."""
 
 SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": 2, "duration": "5 ms",
-                                   "dt": "100 ns", "method": "event"}
+                                   "dt": "100 ns", "method": "steady"}
 """Solver settings when the study gives none."""
 
 MAX_GEOMETRIES = 100_000
@@ -127,7 +127,7 @@ class Solver:
     fe_refine: int = 2
     duration_s: float = 5e-3
     dt_s: float = 1e-7
-    method: str = "event"
+    method: str = "steady"
 
 
 @dataclass(frozen=True)
