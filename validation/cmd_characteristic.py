@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
 from validation.options import (
     SOURCES,
+    add_drive_options,
     add_output_options,
     add_plate_options,
     check_output_folder,
@@ -17,7 +17,6 @@ from validation.options import (
     moved,
     parse_frequency,
     print_json,
-    real,
     warn_drive,
 )
 
@@ -34,13 +33,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "electrical input power and efficiency, the no-load velocity and the stall force, "
         "from the averaged steady state (docs/steady.md).",
     )
-    g = p.add_argument_group("drive", "operating point")
-    g.add_argument("--voltage", type=real("--voltage", "V", *limits.VOLTAGE_V), required=True,
-                   help=f"drive amplitude V0 (V), in [0, {limits.VOLTAGE_V[1]:g}]")
-    g.add_argument("--preload", type=real("--preload", "N", *limits.PRELOAD_N), required=True,
-                   help=f"preload F_P (N), in [0, {limits.PRELOAD_N[1]:g}]")
-    g.add_argument("--frequency", default="40e3",
-                   help="drive frequency (Hz), or 'auto' for the set's own operating point")
+    add_drive_options(p, time_steps=False)  # the steady engine needs no time step
     p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
                    help="load forces (N), e.g. 0:2:0.1; default 21 loads from 0 to the stall "
                    "force")

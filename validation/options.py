@@ -301,8 +301,9 @@ def fem_params_of(args: argparse.Namespace, source: str | None):
 # --- drive ------------------------------------------------------------------------------------
 
 def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
-                      auto_frequency: bool = True) -> None:
-    """``--voltage --preload --frequency --duration --dt`` with their validity ranges."""
+                      auto_frequency: bool = True, time_steps: bool = True) -> None:
+    """``--voltage --preload --frequency`` and (with ``time_steps``) ``--duration --dt``,
+    with their validity ranges."""
     g = p.add_argument_group("drive", "operating point and time stepping")
     if required:
         g.add_argument("--voltage", type=real("--voltage", "V", *limits.VOLTAGE_V),
@@ -316,6 +317,8 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
     else:
         g.add_argument("--frequency", type=real("--frequency", "Hz", *limits.FREQUENCY_HZ),
                        default=40e3, help="drive frequency (Hz)")
+    if not time_steps:
+        return
     g.add_argument("--duration", default=0.05,
                    type=real("--duration", "s", *limits.DURATION_S, lo_open=True),
                    help="simulated time (s)")
