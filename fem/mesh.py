@@ -5,18 +5,14 @@ each element lies entirely under one electrode (tag 1..4) or in an unelectroded 
 (tag 0). The geometry is always bilinear (rectangles are represented exactly); the element
 order (1: ``ElementQuad1``, 2: ``ElementQuad2``) is chosen when the model is assembled.
 
-File I/O goes through meshio. In a gmsh ``.msh`` file (written as MSH 4.1 ASCII; MSH 2.2 via
-``file_format='gmsh22'`` is also read) the electrodes are physical groups named
-``electrode_1`` .. ``electrode_4`` with physical tags 1..4 and the gap is the physical group
-``gap`` with tag :data:`GAP_PHYSICAL_TAG`; other formats carry an integer cell-data array
-``electrode`` (0 = gap).
+Files: :mod:`fem.mesh_io` reads and writes meshes (meshio; electrode groups ``electrode1``
+.. ``electrode4`` and ``gap``).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -25,11 +21,17 @@ from fem.geometry import ELECTRODES, PlateStator
 GAP_PHYSICAL_TAG = 10
 """gmsh physical tag of the unelectroded gap strips."""
 
-_GAP_NAME = "gap"
+GAP_NAME = "gap"
+"""Name of the unelectroded region (scikit-fem subdomain, gmsh physical group)."""
 
 
-def _electrode_name(k: int) -> str:
-    return f"electrode_{k}"
+def electrode_name(k: int) -> str:
+    """Name of electrode ``k`` (1..4) as a scikit-fem subdomain and a gmsh physical group.
+
+    The one convention written everywhere is ``electrode1`` .. ``electrode4``; readers also
+    accept ``electrode_1`` .. ``electrode_4`` (files written by lusm before 2026-11).
+    """
+    return f"electrode{k}"
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,11 +119,11 @@ class PlateMesh:
         return out
 
     def to_skfem(self):  # -> skfem.MeshQuad1
-        """The scikit-fem mesh (imported lazily) with subdomains ``electrode_k`` and ``gap``."""
+        """The scikit-fem mesh (imported lazily), subdomains ``electrode1..4`` and ``gap``."""
         from skfem import MeshQuad1
 
-        subdomains = {_electrode_name(k): self.elements_of(k) for k in ELECTRODES}
-        subdomains[_GAP_NAME] = self.elements_of(0)
+        subdomains = {electrode_name(k): self.elements_of(k) for k in ELECTRODES}
+        subdomains[GAP_NAME] = self.elements_of(0)
         subdomains = {k: v.astype(np.int32) for k, v in subdomains.items() if v.size}
         return MeshQuad1(
             np.ascontiguousarray(self.points_m),
@@ -190,126 +192,3 @@ def structured_mesh(stator: PlateStator, refine: int = 4) -> PlateMesh:
     xc = 0.25 * points[0, quads].sum(axis=0)
     yc = 0.25 * points[1, quads].sum(axis=0)
     return PlateMesh(points_m=points, quads=quads, electrode=stator.electrode_of(xc, yc))
-
-
-def write_mesh(mesh: PlateMesh, path: str | Path, file_format: str | None = None) -> Path:
-    """Write ``mesh`` with meshio; ``.msh`` files get gmsh physical groups for the electrodes.
-
-    Parameters
-    ----------
-    mesh : PlateMesh
-    path : str or Path
-        Output file; the format follows the suffix unless ``file_format`` is given.
-    file_format : str, optional
-        A meshio format name (e.g. ``'gmsh'`` for MSH 4.1, ``'gmsh22'``, ``'vtu'``).
-
-    Returns
-    -------
-    Path
-        The path written.
-    """
-    import meshio
-
-    path = Path(path)
-    pts = np.vstack((mesh.points_m, np.zeros(mesh.points_m.shape[1]))).T
-    cells = [("quad", mesh.quads.T.astype(np.int64))]
-    is_gmsh = (file_format or "").startswith("gmsh") or (
-        file_format is None and path.suffix == ".msh"
-    )
-    if is_gmsh:
-        # one cell block (= one gmsh entity) per physical group; MSH 4.1 links physical tags
-        # to entities, so every node is classified on one of these surfaces (gmsh:dim_tags)
-        phys = np.where(mesh.electrode > 0, mesh.electrode, GAP_PHYSICAL_TAG).astype(np.int32)
-        groups = [int(k) for k in np.unique(phys)]
-        cells = [("quad", mesh.quads[:, phys == k].T.astype(np.int64)) for k in groups]
-        tags = [np.full(int(np.sum(phys == k)), k, dtype=np.int32) for k in groups]
-        node_entity = np.zeros(pts.shape[0], dtype=np.int64)
-        for k in groups:  # the largest tag touching a node wins (so the gap owns nodes)
-            nodes = mesh.quads[:, phys == k].ravel()
-            node_entity[nodes] = np.maximum(node_entity[nodes], k)
-        dim_tags = np.column_stack((np.full(pts.shape[0], 2), node_entity))
-        field_data = {_electrode_name(k): np.array([k, 2]) for k in ELECTRODES}
-        field_data[_GAP_NAME] = np.array([GAP_PHYSICAL_TAG, 2])
-        m = meshio.Mesh(
-            pts,
-            cells,
-            point_data={"gmsh:dim_tags": dim_tags},
-            cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
-            field_data=field_data,
-        )
-        meshio.write(path, m, file_format=file_format or "gmsh", binary=False)
-    else:
-        m = meshio.Mesh(pts, cells, cell_data={"electrode": [mesh.electrode.astype(np.int32)]})
-        meshio.write(path, m, file_format=file_format)
-    return path
-
-
-def _tags_from_meshio(m, n_quads: int, path: Path) -> np.ndarray:
-    """Electrode tag per quad from cell_sets, gmsh physical groups or an ``electrode`` array."""
-    quad_block = [i for i, blk in enumerate(m.cells) if blk.type == "quad"]
-    # 1. cell_sets named electrode_k (meshio fills them from gmsh physical names)
-    sets = getattr(m, "cell_sets", None) or {}
-    tags = np.zeros(n_quads, dtype=np.int64)
-    found = False
-    for k in ELECTRODES:
-        entry = sets.get(_electrode_name(k))
-        if entry is None:
-            continue
-        offset = 0
-        for i, blk in enumerate(m.cells):
-            if blk.type != "quad":
-                continue
-            idx = entry[i] if i < len(entry) and entry[i] is not None else []
-            idx = np.asarray(idx, dtype=np.int64)
-            if idx.size:
-                tags[offset + idx] = k
-                found = True
-            offset += len(blk.data)
-    if found:
-        return tags
-    # 2. gmsh:physical tags with names in field_data, or a plain 'electrode' array
-    for key in ("gmsh:physical", "electrode"):
-        if key not in m.cell_data:
-            continue
-        data = np.concatenate([np.asarray(m.cell_data[key][i]) for i in quad_block])
-        if key == "gmsh:physical":
-            names = {int(v[0]): name for name, v in m.field_data.items()}
-            if not any(name.startswith("electrode_") for name in names.values()):
-                continue
-            out = np.zeros(n_quads, dtype=np.int64)
-            for tag, name in names.items():
-                if name.startswith("electrode_"):
-                    out[data == tag] = int(name.split("_", 1)[1])
-            return out
-        return data.astype(np.int64)
-    raise ValueError(
-        f"mesh file {path} has no electrode tags: expected gmsh physical groups named "
-        f"electrode_1..electrode_4 or an integer cell-data array 'electrode'"
-    )
-
-
-def read_mesh(path: str | Path) -> PlateMesh:
-    """Read a quadrilateral plate mesh with electrode tags through meshio.
-
-    Raises
-    ------
-    FileNotFoundError
-        If ``path`` does not exist.
-    ValueError
-        If the file cannot be parsed, holds no quadrilaterals, or has no electrode tags.
-    """
-    from fem.mesh_import import read_meshio
-
-    path = Path(path)
-    m = read_meshio(path)
-    quads = [blk.data for blk in m.cells if blk.type == "quad"]
-    if not quads:
-        raise ValueError(f"mesh file {path} holds no 'quad' cells (found "
-                         f"{sorted({blk.type for blk in m.cells})})")
-    t = np.concatenate(quads).T
-    tags = _tags_from_meshio(m, t.shape[1], path)
-    used = np.unique(t)
-    remap = -np.ones(m.points.shape[0], dtype=np.int64)
-    remap[used] = np.arange(used.size)
-    points = np.asarray(m.points)[used, :2].T
-    return PlateMesh(points_m=points, quads=remap[t], electrode=tags)

@@ -31,6 +31,7 @@ import scipy.sparse as sp
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
 from fem.mesh import PlateMesh, structured_mesh
+from fem.meshed_stator import planform_mesh
 
 ORDERS = (1, 2)
 """Supported element orders (bilinear ``ElementQuad1``, biquadratic ``ElementQuad2``)."""
@@ -253,8 +254,8 @@ def _cached_model(
     stator: PlateStator, material: PiezoMaterial, order: int, refine: int
 ) -> PiezoPlateModel:
     t0 = time.perf_counter()
-    # a stator that carries its own mesh (fem.stator_file.MeshedStator) ignores ``refine``
-    mesh = getattr(stator, "mesh", None)
+    # a stator that carries its own mesh (fem.meshed_stator.MeshedStator) ignores ``refine``
+    mesh = planform_mesh(stator)
     if mesh is None:
         mesh = structured_mesh(stator, refine)
     model = build_model(mesh, stator, material, order)

@@ -2,7 +2,7 @@
 
 Works for the rectangular :class:`fem.geometry.PlateStator` (2D structured quads, 3D
 structured bricks) and for stators with their own planform mesh
-(:class:`fem.stator_file.MeshedStator`, e.g. ``load_stator(path).stator``): the 2D model
+(:class:`fem.meshed_stator.MeshedStator`, e.g. ``load_stator(path).stator``): the 2D model
 assembles on the planform mesh and the 3D model on its extrusion through the thickness
 (:func:`fem.solid3d.extruded_hex_mesh`); the refinements are then ignored, ``layers`` is not.
 """

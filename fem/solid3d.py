@@ -42,7 +42,7 @@ K_uphi^T``. Sign convention: ``V_e`` is the potential of the top electrode; a po
 makes ``E3 = -V/h``, the opposite of the 2D model's convention ``E3 = +V/h`` (frequencies and
 ``k_eff`` do not depend on it).
 
-Stators that carry their own planform mesh (:class:`fem.stator_file.MeshedStator`: a
+Stators that carry their own planform mesh (:class:`fem.meshed_stator.MeshedStator`: a
 protruding tip, chamfered corners, any imported quad mesh) are meshed by extruding that 2D
 mesh through the thickness in ``layers`` element layers (:func:`extruded_hex_mesh`); the top
 face of a top-layer brick belongs to electrode ``k`` when its 2D element is tagged ``k``
@@ -71,6 +71,7 @@ import scipy.sparse.linalg as sla
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material
 from fem.mesh import PlateMesh, grid_lines_m
+from fem.meshed_stator import planform_mesh
 from fem.modes import (
     MIN_MAC,
     MIN_SYMMETRY,
@@ -273,12 +274,6 @@ def _hex_mesh(stator: PlateStator, refine: int, layers: int):
     return MeshHex.init_tensor(x, y, z)
 
 
-def planform_mesh(stator: PlateStator) -> PlateMesh | None:
-    """The 2D planform mesh a stator carries (``MeshedStator.mesh``), else None."""
-    mesh = getattr(stator, "mesh", None)
-    return mesh if isinstance(mesh, PlateMesh) else None
-
-
 def extruded_hex_mesh(planform: PlateMesh, thickness_m: float, layers: int):
     """Extrude a 2D quad mesh through ``-h/2 <= z <= h/2`` into ``layers`` layers of bricks.
 
@@ -357,7 +352,7 @@ def build_solid_model(
 ) -> SolidPlateModel:
     """Assemble the 3D model of ``stator`` on a quadratic brick mesh.
 
-    A stator carrying a planform mesh (:class:`fem.stator_file.MeshedStator`) is meshed by
+    A stator carrying a planform mesh (:class:`fem.meshed_stator.MeshedStator`) is meshed by
     :func:`extruded_hex_mesh` (``refine`` is then ignored) with the electrodes of its element
     tags; a plain :class:`fem.geometry.PlateStator` by the structured box mesh.
 

@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
-from fem.mesh_import import read_stator_mesh, write_stator_msh
+from fem.mesh_io import read_stator_mesh, write_stator_msh
+from fem.meshed_stator import MeshedStator
 from fem.model import build_model, plate_model
 from fem.modes import modes_of_model, plate_modes
-from fem.stator_file import MeshedStator, load_stator
+from fem.stator_file import load_stator
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 RHO_H = 7600.0 * 3e-3  # PZT-8 density times thickness (kg/m^2)

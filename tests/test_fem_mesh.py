@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator, reverse_drive
-from fem.mesh import PlateMesh, read_mesh, structured_mesh, write_mesh
+from fem.mesh import PlateMesh, structured_mesh
+from fem.mesh_io import read_stator_mesh, write_mesh
 
 
 @pytest.mark.parametrize("name", ["length_m", "width_m", "thickness_m"])
@@ -77,12 +78,12 @@ def test_mesh_roundtrip_keeps_electrode_tags(tmp_path, name, fmt, version):
     if version is not None:
         assert path.read_text().splitlines()[1].split()[0] == version
         m = meshio.read(path)
-        names = {"electrode_1", "electrode_2", "electrode_3", "electrode_4"}
+        names = {"electrode1", "electrode2", "electrode3", "electrode4"}
         assert names <= set(m.field_data)  # gmsh $PhysicalNames
         assert "gmsh:physical" in m.cell_data
         if version == "4.1":  # meshio turns MSH 4.1 physical groups into cell_sets
             assert names <= set(m.cell_sets)
-    assert _same(read_mesh(path), mesh)
+    assert _same(read_stator_mesh(path).mesh, mesh)
 
 
 def test_mesh_without_electrode_tags_is_rejected(tmp_path):
@@ -91,19 +92,30 @@ def test_mesh_without_electrode_tags_is_rejected(tmp_path):
     path = tmp_path / "untagged.msh"
     meshio.write(path, meshio.Mesh(pts, [("quad", mesh.quads.T)]), file_format="gmsh22",
                  binary=False)
-    with pytest.raises(ValueError, match="no electrode tags"):
-        read_mesh(path)
+    with pytest.raises(ValueError, match="name the physical groups electrode1"):
+        read_stator_mesh(path)
 
 
 def test_unreadable_or_missing_mesh_is_rejected(tmp_path):
     bad = tmp_path / "garbage.msh"
     bad.write_text("this is not a mesh\n")
     with pytest.raises(ValueError, match="could not read mesh file"):
-        read_mesh(bad)
+        read_stator_mesh(bad)
     with pytest.raises(FileNotFoundError):
-        read_mesh(tmp_path / "missing.msh")
+        read_stator_mesh(tmp_path / "missing.msh")
 
 
 def test_refine_must_be_a_positive_integer():
     with pytest.raises(ValueError, match="refine"):
         structured_mesh(PlateStator(), refine=0)
+
+
+def test_old_group_spelling_is_still_read(tmp_path):
+    """lusm writes ``electrode1..4``; files with ``electrode_1..4`` give the same tags."""
+    mesh = structured_mesh(PlateStator(), refine=2)
+    new = write_mesh(mesh, tmp_path / "new.msh", file_format="gmsh22")
+    old = tmp_path / "old.msh"
+    old.write_text(new.read_text().replace('"electrode', '"electrode_'))
+    assert '"electrode_3"' in old.read_text()
+    assert _same(read_stator_mesh(old).mesh, mesh)
+    assert _same(read_stator_mesh(new).mesh, mesh)

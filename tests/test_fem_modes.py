@@ -131,17 +131,17 @@ def test_non_convergence_is_a_clear_error():
 
 
 def test_mesh_from_file_gives_the_same_modes(tmp_path):
-    from fem.mesh import read_mesh, write_mesh
+    from fem.mesh_io import read_stator_mesh, write_mesh
 
     st = PlateStator()
     path = write_mesh(structured_mesh(st, 3), tmp_path / "plate.msh")
-    m = build_model(read_mesh(path), st, "pzt8", 2)
+    m = build_model(read_stator_mesh(path).mesh, st, "pzt8", 2)
     res = modes_of_model(m)
     ref = plate_modes(st, "pzt8", 2, 3)
     assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=1e-10)
     assert res.B2.f_open_Hz == pytest.approx(ref.B2.f_open_Hz, rel=1e-10)
     with pytest.raises(ValueError, match="bounding box"):
-        build_model(read_mesh(path), PlateStator(width_m=8e-3), "pzt8", 2)
+        build_model(read_stator_mesh(path).mesh, PlateStator(width_m=8e-3), "pzt8", 2)
 
 
 def test_bad_model_inputs():

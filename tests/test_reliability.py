@@ -34,7 +34,7 @@ def _plate_mesh():
 
 
 def _msh(folder: Path, name: str, pts, quads, tags) -> str:
-    from fem.mesh_import import write_stator_msh
+    from fem.mesh_io import write_stator_msh
 
     write_stator_msh(folder / name, pts, {"quad": quads}, {"quad": tags})
     return name

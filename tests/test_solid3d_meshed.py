@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
-from fem.mesh import PlateMesh, structured_mesh, write_mesh
-from fem.mesh_import import read_stator_mesh
+from fem.mesh import PlateMesh, structured_mesh
+from fem.mesh_io import read_stator_mesh, write_mesh
+from fem.meshed_stator import MeshedStator
 from fem.plane_stress_error import plane_stress_error
 from fem.solid3d import build_solid_model, extruded_hex_mesh, modes_of_solid_model
-from fem.stator_file import MeshedStator, load_stator
+from fem.stator_file import load_stator
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ("tip_protrusion", "chamfered")

@@ -1,4 +1,4 @@
-"""Stator TOML files and planform mesh import (fem.stator_file, fem.mesh_import)."""
+"""Stator TOML files and planform mesh import (fem.stator_file, fem.mesh_io)."""
 
 from __future__ import annotations
 
@@ -12,11 +12,12 @@ import pytest
 
 from fem.geometry import PlateStator
 from fem.material import pzt8
-from fem.mesh import structured_mesh, write_mesh
-from fem.mesh_import import read_stator_mesh, write_stator_msh
+from fem.mesh import structured_mesh
+from fem.mesh_io import read_stator_mesh, write_mesh, write_stator_msh
+from fem.meshed_stator import MeshedStator
 from fem.model import build_model
 from fem.modes import modes_of_model, plate_modes
-from fem.stator_file import MeshedStator, load_stator
+from fem.stator_file import load_stator
 
 PLATE_TOML = """
 name = "a small plate"

@@ -506,10 +506,11 @@ def _designer_numbers() -> dict[str, float]:
     import numpy as np
 
     from fem.geometry import PlateStator
-    from fem.mesh_import import read_stator_mesh, write_stator_msh
+    from fem.mesh_io import read_stator_mesh, write_stator_msh
+    from fem.meshed_stator import MeshedStator
     from fem.model import build_model, plate_model
     from fem.modes import modes_of_model, plate_modes
-    from fem.stator_file import MeshedStator, load_stator
+    from fem.stator_file import load_stator
 
     examples = ROOT / "examples"
     rho_h = 7600.0 * 3e-3  # PZT-8 density x thickness (kg/m^2)

@@ -24,7 +24,7 @@ WORK_ENV = "LUSM_MAX_WORK"
 # --- validity ranges (user units) -------------------------------------------------------------
 PLATE_MM = (0.1, 1000.0)
 """Plate length, width and thickness (mm): refused outside (and meshes outside it are taken
-as a wrong unit, see ``fem.mesh_import``)."""
+as a wrong unit, see ``fem.mesh_io``)."""
 PLANE_STRESS_RATIO = 1.0
 """Warn when thickness / min(length, width) exceeds this (plane stress needs a thin plate)."""
 VOLTAGE_V = (0.0, 2000.0)

@@ -232,8 +232,11 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     The count is exact for the generated plate (``fem.mesh.grid_lines_m``) and is the file's
     for a stator with its own mesh (bounded when it is read). ``layers`` selects the 3D count.
     """
-    if getattr(stator, "mesh", None) is not None:
-        n = int(stator.mesh.quads.shape[1])
+    from fem.meshed_stator import planform_mesh
+
+    mesh = planform_mesh(stator)
+    if mesh is not None:
+        n = int(mesh.quads.shape[1])
     else:
         from fem.mesh import grid_lines_m
         from fem.modes import DEFAULT_REFINE

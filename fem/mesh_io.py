@@ -14,7 +14,11 @@ Conventions (SI inside; see ``docs/designer.md``):
   - curve groups and line cells are ignored (boundaries);
 
 * other formats (vtu, xdmf, ...) carry an integer cell array ``electrode`` (0 = no
-  electrode), as written by :func:`fem.mesh.write_mesh`.
+  electrode), as written by :func:`write_mesh`.
+
+Writing: :func:`write_mesh` (a :class:`fem.mesh.PlateMesh`, any meshio format) and
+:func:`write_stator_msh` (any cells plus the ``tip``/``preload`` vertices) both name the
+groups ``electrode1`` .. ``electrode4`` and ``gap`` (:func:`fem.mesh.electrode_name`).
 
 Cells: ``quad`` and ``triangle`` (and the straight-sided ``quad8``, ``quad9``,
 ``triangle6``, whose mid-side nodes are dropped). The FE stage assembles on bilinear quads
@@ -37,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from fem.geometry import ELECTRODES
-from fem.mesh import GAP_PHYSICAL_TAG, PlateMesh
+from fem.mesh import GAP_NAME, GAP_PHYSICAL_TAG, PlateMesh, electrode_name
 
 UNITS = {"m": 1.0, "mm": 1e-3}
 """Mesh coordinate units accepted by :func:`read_stator_mesh` and their size in metres."""
@@ -625,7 +629,7 @@ def write_stator_msh(
         tags = np.asarray(electrode[ctype], dtype=int)
         for k in np.unique(tags):
             tag = int(k) if k > 0 else GAP_PHYSICAL_TAG
-            name = f"electrode{int(k)}" if k > 0 else "gap"
+            name = electrode_name(int(k)) if k > 0 else GAP_NAME
             sel = np.asarray(conn)[tags == k]
             entity = len(blocks) + 1
             blocks.append(meshio.CellBlock(ctype, sel.astype(np.int64)))
@@ -663,4 +667,38 @@ def write_stator_msh(
         field_data=field_data,
     )
     meshio.write(path, mesh, file_format=file_format, binary=False)
+    return path
+
+
+def write_mesh(mesh: PlateMesh, path: str | Path, file_format: str | None = None) -> Path:
+    """Write a plate mesh with meshio; gmsh files get the electrode physical groups.
+
+    Parameters
+    ----------
+    mesh : PlateMesh
+    path : str or Path
+        Output file; the format follows the suffix unless ``file_format`` is given.
+    file_format : str, optional
+        A meshio format name (``'gmsh'`` for MSH 4.1 ASCII, ``'gmsh22'``, ``'vtu'``, ...).
+        gmsh files carry the groups of :func:`write_stator_msh`; other formats an integer
+        cell-data array ``electrode`` (0 = gap). :func:`read_stator_mesh` reads both.
+
+    Returns
+    -------
+    Path
+        The path written.
+    """
+    import meshio
+
+    path = Path(path)
+    is_gmsh = (file_format or "").startswith("gmsh") or (
+        file_format is None and path.suffix == ".msh"
+    )
+    if is_gmsh:
+        return write_stator_msh(path, mesh.points_m.T, {"quad": mesh.quads.T},
+                                {"quad": mesh.electrode}, file_format=file_format or "gmsh")
+    pts = np.vstack((mesh.points_m, np.zeros(mesh.points_m.shape[1]))).T
+    cells = [("quad", mesh.quads.T.astype(np.int64))]
+    m = meshio.Mesh(pts, cells, cell_data={"electrode": [mesh.electrode.astype(np.int32)]})
+    meshio.write(path, m, file_format=file_format)
     return path
