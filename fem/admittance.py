@@ -66,7 +66,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import scipy.sparse.linalg as sla
@@ -435,31 +434,3 @@ def plate_admittance(
     f = np.linspace(f_min_Hz, f_max_Hz, int(n_points))
     return AdmittanceResult(f_Hz=f, Y_S=port.admittance_S(f), pairs=resonance_pairs(port, f),
                             port=port)
-
-
-def plot_admittance(result: AdmittanceResult, path: str | Path) -> Path:
-    """PNG of ``|Y|`` (log scale) and its phase against frequency, pairs marked."""
-    import matplotlib.pyplot as plt
-
-    path = Path(path)
-    f_k = result.f_Hz * 1e-3
-    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
-    ax1.semilogy(f_k, np.abs(result.Y_S), color="C0")
-    for p in result.pairs:
-        label = f" {p.mode}" if p.mode else ""
-        ax1.axvline(p.f_resonance_Hz * 1e-3, color="C3", lw=0.8, ls="--")
-        ax1.axvline(p.f_antiresonance_Hz * 1e-3, color="C2", lw=0.8, ls=":")
-        ax1.annotate(f"{label} k={p.k_eff:.3f}", (p.f_resonance_Hz * 1e-3, np.abs(
-            result.Y_S).max()), fontsize=8, va="top")
-    ax1.set_ylabel("|Y| (S)")
-    ax1.set_title(f"admittance of electrodes {result.port.electrodes} (others grounded)")
-    ax1.grid(True, which="both", alpha=0.3)
-    ax2.plot(f_k, np.degrees(np.angle(result.Y_S)), color="C1")
-    ax2.set_ylabel("phase of Y (deg)")
-    ax2.set_xlabel("frequency (kHz)")
-    ax2.grid(True, alpha=0.3)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path

@@ -10,7 +10,6 @@ veering); any asymmetry (electrodes, tip) would turn it into a veering.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from pathlib import Path
 
 import numpy as np
 
@@ -155,38 +154,3 @@ def sweep_dimension(
         material=mat.name,
         fe_solves=values.size,
     )
-
-
-def plot_sweep(result: SweepResult, path: str | Path) -> Path:
-    """PNG of L1 and B2 (short circuit) against the swept dimension, other modes in grey."""
-    import matplotlib.pyplot as plt
-
-    path = Path(path)
-    x_mm = result.values_m * 1e3
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for xv, spec in zip(x_mm, result.spectrum_Hz, strict=True):
-        spec = spec[spec > 1.0]
-        ax.plot(np.full(spec.size, xv), spec * 1e-3, ".", color="0.75", ms=3)
-    ax.plot(x_mm, result.f_L1_short_Hz * 1e-3, "o-", color="C0", ms=3, label="L1 (short)")
-    ax.plot(x_mm, result.f_B2_short_Hz * 1e-3, "s-", color="C3", ms=3, label="B2 (short)")
-    other = "length" if result.parameter == "width" else "width"
-    fixed = getattr(result.base, f"{other}_m") * 1e3
-    ax.set_xlabel(f"plate {result.parameter} (mm)")
-    ax.set_ylabel("natural frequency (kHz)")
-    ax.set_title(f"L1/B2 vs {result.parameter}: {other} {fixed:g} mm, thickness "
-                 f"{result.base.thickness_m * 1e3:g} mm, {result.material} (grey: other modes)")
-    lo = np.nanmin(np.concatenate((result.f_L1_short_Hz, result.f_B2_short_Hz))) * 1e-3
-    hi = np.nanmax(np.concatenate((result.f_L1_short_Hz, result.f_B2_short_Hz))) * 1e-3
-    pad = 0.15 * (hi - lo) + 1.0
-    ax.set_ylim(lo - pad, hi + pad)
-    for xc in result.crossings_m() * 1e3:
-        ax.axvline(xc, color="0.4", ls=":", lw=1)
-        ax.annotate(f"crossing {xc:.3f} mm", (xc, lo - 0.9 * pad), fontsize=8,
-                    rotation=90, va="bottom", ha="right")
-    ax.legend()
-    ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path

@@ -65,6 +65,16 @@ def test_no_module_imports_a_private_name_of_another():
     assert not bad, "\n".join(bad)
 
 
+@pytest.mark.parametrize("package", ("fem", "rom", "contact"))
+def test_only_validation_draws_plots(package):
+    """Plots are the presentation layer: matplotlib is imported in ``validation`` only (mode
+    pictures in ``fem.render`` use pyvista off screen, not matplotlib)."""
+    bad = [f"{path.relative_to(ROOT)}:{line} imports {module}"
+           for path in _sources(package) for line, module, _n in _imports(path)
+           if module.split(".")[0] == "matplotlib"]
+    assert not bad, "\n".join(bad)
+
+
 def test_the_checks_see_the_imports():
     """The scan finds the imports it is meant to judge (guards against a vacuous pass)."""
     found = {module for path in _sources("rom") for _l, module, _n in _imports(path)}

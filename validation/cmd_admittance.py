@@ -1,7 +1,7 @@
 """``lusm admittance``: electrical admittance of the driven electrodes (modal superposition).
 
 Parse, call :func:`fem.admittance.plate_admittance` and
-:func:`fem.admittance.plot_admittance`, print. No physics here.
+:func:`validation.fem_figures.admittance_figure`, print. No physics here.
 """
 
 from __future__ import annotations
@@ -81,9 +81,10 @@ def run(args: argparse.Namespace) -> None:
     electrodes = _electrodes(args.electrodes)
     choice = stator_from_args(args)
 
-    from fem.admittance import plate_admittance, plot_admittance
+    from fem.admittance import plate_admittance
     from fem.modes import DEFAULT_REFINE, ModeSolverError
     from rom.table2 import table2
+    from validation.fem_figures import admittance_figure
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     check_fe_size(choice.stator, refine)
@@ -100,7 +101,7 @@ def run(args: argparse.Namespace) -> None:
     png = None
     if out is not None:
         with figure_set(out, "admittance", "--out", args.force) as stage:
-            png = moved([plot_admittance(res, stage / "admittance.png")], stage, out)[0]
+            png = moved([admittance_figure(res, stage / "admittance.png")], stage, out)[0]
     if args.json:
         d = res.to_dict()
         d["png"] = png

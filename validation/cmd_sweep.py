@@ -2,7 +2,8 @@
 
 One of ``--width-mm`` / ``--length-mm`` is an ``a:b:step`` range (mm, :mod:`validation.ranges`),
 the other plate options are fixed values as on every stator command. Calls
-:func:`fem.sweep.sweep_dimension` and :func:`fem.sweep.plot_sweep`, prints. No physics here.
+:func:`fem.sweep.sweep_dimension` and :func:`validation.fem_figures.sweep_figure`, prints.
+No physics here.
 """
 
 from __future__ import annotations
@@ -128,8 +129,9 @@ def run(args: argparse.Namespace) -> None:
     for v in (values_mm.min(), values_mm.max()):  # the most elongated plates of the sweep
         check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}), args.refine)
 
-    from fem.sweep import plot_sweep, sweep_dimension
+    from fem.sweep import sweep_dimension
     from validation.cmd_modes import fe_failure, is_fe_failure
+    from validation.fem_figures import sweep_figure
 
     try:
         res = sweep_dimension(parameter, values_mm * 1e-3, base, material, order=args.order,
@@ -141,7 +143,7 @@ def run(args: argparse.Namespace) -> None:
     png = None
     if out is not None:
         with figure_set(out, "sweep", "--out", args.force) as stage:
-            png = moved([plot_sweep(res, stage / f"sweep_{parameter}.png")], stage, out)[0]
+            png = moved([sweep_figure(res, stage / f"sweep_{parameter}.png")], stage, out)[0]
     if args.json:
         d = res.to_dict()
         d["png"] = png

@@ -13,6 +13,7 @@ import numpy as np
 from contact.maps import StickSlipMap
 from contact.phase_plane import phase_plane
 from contact.simulate import SimulationResult
+from validation.plotting import pyplot, save
 
 PHASE_COLORS = {0: "tab:green", 1: "tab:blue", 2: "tab:orange", 3: "tab:red"}
 PHASE_LABELS = {0: "stick", 1: "slip, v_rel > 0", 2: "slip, v_rel < 0", 3: "separation"}
@@ -24,27 +25,6 @@ MAP_STYLE = {
     "pure-slip": dict(marker="^", facecolors="none", edgecolors="tab:blue"),
     "separated": dict(marker="x", facecolors="tab:gray", edgecolors="tab:gray"),
 }
-
-
-def pyplot():
-    """matplotlib.pyplot, imported on first use (the CLI sets the file backend, Agg)."""
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def save(fig, path: Path, tight: bool = True) -> Path:
-    """Save a figure as PNG (creating its folder), close it, return the path.
-
-    ``tight=False`` keeps a layout set by hand (e.g. room for a figure legend).
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if tight:
-        fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    pyplot().close(fig)
-    return path
 
 
 def set_label(source: str) -> str:
