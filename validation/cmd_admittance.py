@@ -65,16 +65,13 @@ def run(args: argparse.Namespace) -> None:
     from validation.errors import LusmError
     from validation.options import (
         check_fe_size,
-        check_output_folder,
         figure_set,
-        folder_arg,
         moved,
+        output_folder,
         stator_from_args,
     )
 
-    out = folder_arg(args.out, "--out")
-    if out is not None:
-        check_output_folder(out, "admittance", "--out", args.force)
+    out = output_folder(args, "admittance", "--out")
     if not args.f_min < args.f_max:
         raise LusmError(f"--f-min must be below --f-max, got {args.f_min:g} and "
                         f"{args.f_max:g} Hz", "--f-min")

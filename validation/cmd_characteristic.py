@@ -6,15 +6,13 @@ import argparse
 import math
 
 from validation.options import (
-    SOURCES,
     add_drive_options,
+    add_motor_options,
     add_output_options,
-    add_plate_options,
-    check_output_folder,
     fem_params_of,
     figure_set,
-    folder_arg,
     moved,
+    output_folder,
     parse_frequency,
     print_json,
     warn_drive,
@@ -37,13 +35,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
                    help="load forces (N), e.g. 0:2:0.1; default 21 loads from 0 to the stall "
                    "force")
-    p.add_argument("--no-ultrasonic-friction", action="store_true",
-                   help="use the constant mu_d instead of Eq. 11")
-    p.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
-                   help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
-    p.add_argument("--source", choices=SOURCES, default=None,
-                   help="parameter set (default table2; fem with --geometry or a plate option)")
-    add_plate_options(p, note="; any of them selects --source fem")
+    add_motor_options(p)
     add_output_options(p, folder="--plot", folder_help="write characteristic.png into DIR")
     p.set_defaults(func=run)
 
@@ -70,9 +62,7 @@ def parse_loads(text: str) -> list[float]:
 def run(args: argparse.Namespace) -> None:
     """Compute the characteristic and print it."""
     loads = parse_loads(args.loads) if args.loads is not None else None
-    plot = folder_arg(args.plot, "--plot")
-    if plot is not None:
-        check_output_folder(plot, "characteristic", "--plot", args.force)
+    plot = output_folder(args, "characteristic", "--plot")
     warn_drive(args.voltage, args.preload)
     if args.frequency.strip().lower() != "auto":
         parse_frequency(args.frequency)  # refuse a bad number before any work

@@ -8,11 +8,10 @@ from pathlib import Path
 
 from validation import limits
 from validation.options import (
-    check_output_folder,
     figure_set,
-    folder_arg,
     integer,
     moved,
+    output_folder,
     print_json,
 )
 
@@ -55,9 +54,7 @@ def run(args: argparse.Namespace) -> None:
 
     study = load_study(args.study)
     check_out(args.out, args.force)
-    plot = folder_arg(args.plot, "--plot")
-    if plot is not None:
-        check_output_folder(plot, "explore", "--plot", args.force)
+    plot = output_folder(args, "explore", "--plot")
     try:
         result = explore(study, args.out, scheduler=args.scheduler,
                          scheduler_file=args.scheduler_file, workers=args.workers,

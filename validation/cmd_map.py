@@ -6,17 +6,15 @@ import argparse
 
 from validation import limits
 from validation.options import (
-    SOURCES,
     add_drive_options,
+    add_motor_options,
     add_output_options,
-    add_plate_options,
-    check_output_folder,
     check_run_size,
     fem_params_of,
     figure_set,
-    folder_arg,
     integer,
     moved,
+    output_folder,
     print_json,
     warn_drive,
 )
@@ -36,13 +34,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help=f"F_P grid (N), start:stop:step or a comma list, in "
                    f"[0, {limits.PRELOAD_N[1]:g}]")
     add_drive_options(p, required=False, auto_frequency=False)
-    p.add_argument("--no-ultrasonic-friction", action="store_true",
-                   help="use the constant mu_d instead of Eq. 11 (Fig. 19)")
-    p.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
-                   help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
-    p.add_argument("--source", choices=SOURCES, default=None,
-                   help="parameter set (default table2; fem with --geometry or a plate option)")
-    add_plate_options(p, note="; any of them selects --source fem")
+    add_motor_options(p, friction_note=" (Fig. 19)")
     p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
                    help="threads (default: all cores)")
     add_output_options(p, folder="--plot", folder_help="write the map PNG into DIR")
@@ -61,9 +53,7 @@ def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
 
 def run(args: argparse.Namespace) -> None:
     """Compute and print the map."""
-    plot = folder_arg(args.plot, "--plot")
-    if plot is not None:
-        check_output_folder(plot, "map", "--plot", args.force)
+    plot = output_folder(args, "map", "--plot")
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
     warn_drive(float(volts.max()), float(loads.max()))

@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 
 from validation.cmd_modes import add_fe_options, fe_failure, is_fe_failure
-from validation.options import add_output_options, add_plate_options, folder_arg
+from validation.options import add_output_options, add_plate_options
 
 
 def register(subparsers) -> None:
@@ -35,13 +35,13 @@ def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
     from validation.options import (
         check_fe_size,
-        check_output_folder,
         figure_set,
         moved,
+        output_folder,
         stator_from_args,
     )
-    out = folder_arg(args.out, "--out")
-    check_output_folder(out, "render", "--out", args.force)  # before any work
+
+    out = output_folder(args, "render", "--out")  # refused before any work
     choice = stator_from_args(args)
 
     from fem.model import plate_model

@@ -26,9 +26,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Write the report and print where it is."""
-    from validation.options import check_output_folder, folder_arg
-    out = folder_arg(args.out, "--out")
-    check_output_folder(out, "report", "--out", args.force)  # before any work
+    from validation.options import output_folder
+
+    out = output_folder(args, "report", "--out")  # refused before any work
     from validation.report import write_report
 
     doc = write_report(out, quick=args.quick, progress=not args.no_progress,

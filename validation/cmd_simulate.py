@@ -7,16 +7,14 @@ import argparse
 from validation import limits
 from validation.errors import LusmError
 from validation.options import (
-    SOURCES,
     add_drive_options,
+    add_motor_options,
     add_output_options,
-    add_plate_options,
-    check_output_folder,
     check_run_size,
     fem_params_of,
     figure_set,
-    folder_arg,
     moved,
+    output_folder,
     parse_frequency,
     print_json,
     real,
@@ -33,13 +31,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "stick/slip/separation phases, steady-state metrics.",
     )
     add_drive_options(p)
-    p.add_argument("--no-ultrasonic-friction", action="store_true",
-                   help="use the constant mu_d instead of Eq. 11")
-    p.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
-                   help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
-    p.add_argument("--source", choices=SOURCES, default=None,
-                   help="parameter set (default table2; fem with --geometry or a plate option)")
-    add_plate_options(p, note="; any of them selects --source fem")
+    add_motor_options(p)
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
     p.add_argument("--load-N", dest="load_N", default=0.0,
                    type=real("--load-N", "N", -limits.PRELOAD_N[1], limits.PRELOAD_N[1]),
@@ -54,14 +46,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run one simulation and print its summary."""
-    plot = folder_arg(args.plot, "--plot")
-    if plot is not None and args.steady:
+    if args.plot is not None and args.steady:
         raise LusmError("--plot needs a transient (no time trace with --steady)", "--plot")
     if args.energy and args.steady:
         raise LusmError("--energy needs a transient (use lusm characteristic for the power "
                         "balance of the steady state)", "--energy")
-    if plot is not None:
-        check_output_folder(plot, "simulate", "--plot", args.force)  # refuse before any work
+    plot = output_folder(args, "simulate", "--plot")  # refused before any work
     warn_drive(args.voltage, args.preload)
     if args.frequency.strip().lower() != "auto":
         check_run_size(args.duration, args.dt, parse_frequency(args.frequency))

@@ -74,18 +74,15 @@ def run(args: argparse.Namespace) -> None:
 
     from validation.errors import LusmError
     from validation.options import (
-        check_output_folder,
         figure_set,
-        folder_arg,
         load_design,
         moved,
+        output_folder,
         stator_from_args,
     )
     from validation.ranges import parse_range
 
-    out = folder_arg(args.out, "--out")
-    if out is not None:
-        check_output_folder(out, "sweep", "--out", args.force)
+    out = output_folder(args, "sweep", "--out")
     try:
         parameter, option, text, fixed = _split(args)
     except _ap.ArgumentTypeError as exc:

@@ -141,6 +141,19 @@ def add_plate_options(p: argparse.ArgumentParser, *, material: bool = True,
     return g
 
 
+def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") -> None:
+    """The motor model: ``--no-ultrasonic-friction``, ``--coupling``, ``--source`` and the
+    stator options of :func:`add_plate_options` (every command that runs the contact model)."""
+    g = p.add_argument_group("motor model", "the parameter set and the contact model")
+    g.add_argument("--no-ultrasonic-friction", action="store_true",
+                   help="use the constant mu_d instead of Eq. 11" + friction_note)
+    g.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
+                   help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
+    g.add_argument("--source", choices=SOURCES, default=None,
+                   help="parameter set (default table2; fem with --geometry or a plate option)")
+    add_plate_options(p, note="; any of them selects --source fem")
+
+
 def plate_given(args: argparse.Namespace) -> list[str]:
     """The plate options the user typed (not their defaults)."""
     given = [o for o in PLATE_OPTIONS if getattr(args, o[2:].replace("-", "_"), None) is not None]
@@ -423,6 +436,15 @@ def folder_arg(value: str | None, option: str) -> Path | None:
     if not str(value).strip():
         raise LusmError(f"{option} must name a folder, got ''", option)
     return Path(value)
+
+
+def output_folder(args: argparse.Namespace, kind: str, option: str) -> Path | None:
+    """The folder the user gave with ``option`` (``--out``, ``--plot``), checked before any
+    work by :func:`check_output_folder`; None when the option was not given."""
+    target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
+    if target is not None:
+        check_output_folder(target, kind, option, bool(getattr(args, "force", False)))
+    return target
 
 
 def check_output_folder(target: Path, kind: str, option: str, force: bool = False) -> None:
