@@ -23,8 +23,10 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
-from fem.mesh import max_element_size_m  # noqa: E402
-from fem.modes import DEFAULT_REFINE  # noqa: E402
+from fem.mesh import (
+    DEFAULT_REFINE,  # noqa: E402
+    max_element_size_m,  # noqa: E402
+)
 from validation.work_precision import fe_work_precision, richardson  # noqa: E402
 
 REFINES = {1: (4, 8, 16, 32, 64), 2: (2, 3, 4, 6, 8, 16, 32)}

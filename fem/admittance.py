@@ -72,6 +72,7 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial
+from fem.mesh import DEFAULT_REFINE
 
 RIGID_BODY_LIMIT_HZ = 1.0
 """Modes below this frequency (Hz) are rigid-body modes."""
@@ -395,7 +396,7 @@ def plate_admittance(
     zeta_L1: float | None = None,
     zeta_B2: float | None = None,
     order: int = 2,
-    refine: int = 4,
+    refine: int = DEFAULT_REFINE,
     cutoff_factor: float = 6.0,
 ) -> AdmittanceResult:
     """Admittance ``Y(f)`` of the driven electrodes of a plate over ``[f_min, f_max]``.

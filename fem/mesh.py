@@ -21,6 +21,11 @@ from fem.geometry import ELECTRODES, PlateStator
 GAP_PHYSICAL_TAG = 10
 """gmsh physical tag of the unelectroded gap strips."""
 
+DEFAULT_REFINE = 4
+"""Default refinement of the structured mesh (elements per smaller plate dimension): the
+mesh of :func:`structured_mesh`, :func:`fem.model.plate_model` and :func:`fem.modes.plate_modes`
+unless told otherwise (its discretisation error is in ``docs/fem.md`` section 6)."""
+
 GAP_NAME = "gap"
 """Name of the unelectroded region (scikit-fem subdomain, gmsh physical group)."""
 
@@ -165,7 +170,7 @@ def max_element_size_m(stator: PlateStator, refine: int) -> float:
     return max(float(np.max(np.diff(x))), float(np.max(np.diff(y))))
 
 
-def structured_mesh(stator: PlateStator, refine: int = 4) -> PlateMesh:
+def structured_mesh(stator: PlateStator, refine: int = DEFAULT_REFINE) -> PlateMesh:
     """Structured rectangle mesh of ``stator`` with electrode-tagged elements.
 
     Parameters

@@ -30,7 +30,7 @@ import scipy.sparse as sp
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.mesh import PlateMesh, structured_mesh
+from fem.mesh import DEFAULT_REFINE, PlateMesh, structured_mesh
 from fem.meshed_stator import planform_mesh
 
 ORDERS = (1, 2)
@@ -267,7 +267,7 @@ def plate_model(
     stator: PlateStator | None = None,
     material: PiezoMaterial | str = "pzt8",
     order: int = 2,
-    refine: int = 4,
+    refine: int = DEFAULT_REFINE,
 ) -> PiezoPlateModel:
     """Structured-mesh model of ``stator`` (cached on its arguments).
 

@@ -25,6 +25,7 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
+from fem.mesh import DEFAULT_REFINE
 from fem.model import PiezoPlateModel, plate_model
 
 N_SAMPLE_X = 9
@@ -371,8 +372,6 @@ def modes_of_model(
     )
 
 
-DEFAULT_REFINE = 4
-"""Default mesh refinement (elements per plate width) of :func:`plate_modes`."""
 
 
 @lru_cache(maxsize=32)

@@ -80,7 +80,8 @@ def plane_stress_error(
     refine_2d, refine_3d, layers : int, optional
         Meshes (defaults of each model); the refinements do not apply to a planform mesh.
     """
-    from fem.modes import DEFAULT_REFINE, plate_modes
+    from fem.mesh import DEFAULT_REFINE
+    from fem.modes import plate_modes
     from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
     stator = PlateStator() if stator is None else stator

@@ -96,14 +96,15 @@ class StatorDesign:
 
     def model(self, order: int = 2, refine: int | None = None):
         """The assembled :class:`fem.model.PiezoPlateModel` (cached)."""
+        from fem.mesh import DEFAULT_REFINE
         from fem.model import plate_model
-        from fem.modes import DEFAULT_REFINE
 
         return plate_model(self.stator, self.material, order, refine or DEFAULT_REFINE)
 
     def modes(self, order: int = 2, refine: int | None = None):
         """L1 and B2 (:class:`fem.modes.PlateModes`, cached); ``refine`` ignored with a mesh."""
-        from fem.modes import DEFAULT_REFINE, plate_modes
+        from fem.mesh import DEFAULT_REFINE
+        from fem.modes import plate_modes
 
         return plate_modes(self.stator, self.material, order, refine or DEFAULT_REFINE)
 

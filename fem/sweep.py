@@ -106,7 +106,7 @@ def sweep_dimension(
         Default: the paper's plate.
     material : PiezoMaterial or str
     order, refine : int
-        2D mesh (default refine: :data:`fem.modes.DEFAULT_REFINE`).
+        2D mesh (default refine: :data:`fem.mesh.DEFAULT_REFINE`).
     progress : bool
         Show a tqdm progress bar (on stderr) for sweeps of at least
         :data:`PROGRESS_MIN_POINTS` points.
@@ -116,7 +116,8 @@ def sweep_dimension(
     ValueError
         On an unknown parameter, an empty sweep or a value that makes an invalid plate.
     """
-    from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
+    from fem.mesh import DEFAULT_REFINE
+    from fem.modes import ModeSolverError, plate_modes
 
     if parameter not in PARAMETERS:
         raise ValueError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")

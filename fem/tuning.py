@@ -149,7 +149,8 @@ class _Solver:
         if key not in self.cache:
             st = self.stator(*key)
             if self.model == "2d":
-                from fem.modes import DEFAULT_REFINE, plate_modes
+                from fem.mesh import DEFAULT_REFINE
+                from fem.modes import plate_modes
 
                 res = plate_modes(st, self.material, self.order,
                                   DEFAULT_REFINE if self.refine is None else self.refine)

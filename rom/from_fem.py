@@ -51,7 +51,7 @@ def fem_params(
     order : int
         FE element order, 1 or 2.
     refine : int, optional
-        Mesh refinement; default :data:`fem.modes.DEFAULT_REFINE`.
+        Mesh refinement; default :data:`fem.mesh.DEFAULT_REFINE`.
     base : MotorParams, optional
         Source of the contact, slider and friction constants (``k_contact``, ``M_slider``,
         ``mu_s``, ``mu_d``, ``mu_sd``, ``a_mu``, ``b_mu``) and of the default damping ratios;
@@ -65,8 +65,9 @@ def fem_params(
     """
     from fem.geometry import PlateStator
     from fem.material import get_material
+    from fem.mesh import DEFAULT_REFINE
     from fem.model import plate_model
-    from fem.modes import DEFAULT_REFINE, plate_modes
+    from fem.modes import plate_modes
 
     stator = PlateStator() if stator is None else stator
     refine = DEFAULT_REFINE if refine is None else refine

@@ -26,7 +26,8 @@ FE_PINS_HZ = {
 @pytest.fixture(scope="module")
 def fe_modes():
     from fem.geometry import PlateStator
-    from fem.modes import DEFAULT_REFINE, plate_modes
+    from fem.mesh import DEFAULT_REFINE
+    from fem.modes import plate_modes
 
     return plate_modes(PlateStator(), "pzt8", 2, DEFAULT_REFINE)
 

@@ -79,7 +79,8 @@ def run(args: argparse.Namespace) -> None:
     choice = stator_from_args(args)
 
     from fem.admittance import plate_admittance
-    from fem.modes import DEFAULT_REFINE, ModeSolverError
+    from fem.mesh import DEFAULT_REFINE
+    from fem.modes import ModeSolverError
     from rom.table2 import table2
     from validation.fem_figures import admittance_figure
 

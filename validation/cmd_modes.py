@@ -84,7 +84,8 @@ def run(args: argparse.Namespace) -> None:
     export = _export_target(args.export, args.force) if args.export else None
 
     from fem.material import plane_stress
-    from fem.modes import DEFAULT_REFINE, ModeSolverError, plate_modes
+    from fem.mesh import DEFAULT_REFINE
+    from fem.modes import ModeSolverError, plate_modes
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     if args.model == "3d":

@@ -247,7 +247,8 @@ def _coupling_claims() -> tuple[Claim, ...]:
 def _fe2d():
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from fem.modes import DEFAULT_REFINE, plate_modes
+    from fem.mesh import DEFAULT_REFINE
+    from fem.modes import plate_modes
 
     return plate_modes(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
 
@@ -268,7 +269,7 @@ def _beam():
 
 @cache
 def _fe_precision():
-    from fem.modes import DEFAULT_REFINE
+    from fem.mesh import DEFAULT_REFINE
     from validation.work_precision import fe_work_precision
 
     points, ref = fe_work_precision({2: (DEFAULT_REFINE, 16)})
@@ -294,8 +295,8 @@ def _render_measures() -> dict[str, float]:
 def _fe2d_model():
     from fem.geometry import PlateStator
     from fem.material import get_material
+    from fem.mesh import DEFAULT_REFINE
     from fem.model import plate_model
-    from fem.modes import DEFAULT_REFINE
 
     return plate_model(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
 
@@ -326,7 +327,8 @@ def _gap_keff(model: str, gap_mm: float, refine: int | None = None,
 
     stator = PlateStator(electrode_gap_m=gap_mm * 1e-3)
     if model == "2d":
-        from fem.modes import DEFAULT_REFINE, plate_modes
+        from fem.mesh import DEFAULT_REFINE
+        from fem.modes import plate_modes
 
         return plate_modes(stator, get_material("pzt8"), 2, DEFAULT_REFINE).B2.k_eff
     from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes

@@ -251,8 +251,7 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     if mesh is not None:
         n = int(mesh.quads.shape[1])
     else:
-        from fem.mesh import grid_lines_m
-        from fem.modes import DEFAULT_REFINE
+        from fem.mesh import DEFAULT_REFINE, grid_lines_m
 
         x, y = grid_lines_m(stator, DEFAULT_REFINE if refine is None else refine)
         n = (len(x) - 1) * (len(y) - 1)
