@@ -1,6 +1,11 @@
 """Stick-slip maps over voltage x preload (the paper's Figs. 18-19), run in parallel.
 
-Each point is an independent :func:`contact.simulate.simulate` call; the numba kernel releases
+Two methods (``method=``): ``"transient"`` runs each point from rest for the options' duration
+(:func:`contact.simulate.simulate`, the paper's way); ``"steady"`` finds each point's steady
+states directly (:func:`contact.steady.steady_state`) and reports the one a start from rest
+reaches, every stable branch, and the points it could not decide.
+
+Each point is an independent call; the numba kernel releases
 the GIL, so a thread pool keeps every core busy without pickling parameter sets. BLAS is held
 to one thread meanwhile: the tiny 9 x 9 matrix exponentials do not need it, and OpenBLAS
 worker threads left spinning after each call would otherwise take the cores from the pool.
@@ -8,6 +13,7 @@ worker threads left spinning after each call would otherwise take the cores from
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
@@ -15,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact.results import MOTION_CLASSES
+from contact.results import MOTION_CLASSES, PHASE_THRESHOLD, classify_motion
 from contact.simulate import SimulationOptions, simulate
 from rom.params import MotorParams
 
@@ -35,9 +41,19 @@ class StickSlipMap:
     velocity_m_s, stick_fraction, separation_fraction, mu_d_eff : ndarray
         Steady velocity (m/s), phase fractions (-) and the slip friction coefficient (-).
     settled : ndarray of bool
-        Whether each run reached a steady velocity.
+        Whether each run (transient or fallback) reached a steady velocity; True for every
+        point the steady engine decided.
     wall_time_s : float
         Wall time of the whole map (s).
+    method : str
+        ``"transient"`` or ``"steady"``.
+    branches : ndarray of object
+        ``"steady"``: per point, a tuple of every stable steady state as
+        ``(velocity_m_s, k, motion, from_rest)``; ``"transient"``: empty tuples.
+    fallback : ndarray of bool
+        ``"steady"``: the points the engine could not decide (the branch reached from rest has
+        no periodic tip orbit of period <= 4 outside the dead zone: creep), whose values come
+        from a transient of :data:`FALLBACK_DURATION_S` instead.
     """
 
     voltages_V: np.ndarray
@@ -49,10 +65,50 @@ class StickSlipMap:
     mu_d_eff: np.ndarray
     settled: np.ndarray
     wall_time_s: float
+    method: str = "transient"
+    branches: np.ndarray | None = None
+    fallback: np.ndarray | None = None
 
     def counts(self) -> dict[str, int]:
         """Number of grid points of each motion class."""
         return {m: int(np.sum(self.motion == m)) for m in MOTION_CLASSES}
+
+
+MAP_METHODS = ("transient", "steady")
+"""How a map point is computed: a run from rest, or the steady engine."""
+
+
+FALLBACK_DURATION_S = 0.3
+"""Transient run (s) standing in for a point the steady engine cannot decide (creep: the
+branch from rest has no periodic tip orbit of period <= 4)."""
+
+
+def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
+                  frequency_Hz: float, opts: SimulationOptions, accuracy: str):
+    """One map point from the steady engine, in the shape of a transient's steady metrics;
+    an undecided point falls back to a transient of :data:`FALLBACK_DURATION_S`."""
+    from contact.steady import steady_state
+
+    r = steady_state(params, voltage_V, preload_N, frequency_Hz=frequency_Hz,
+                     coupling=opts.coupling, ultrasonic_friction=opts.ultrasonic_friction,
+                     accuracy=accuracy)
+    b = r.from_rest
+    stable = tuple((float(x.velocity_m_s), int(x.k), x.motion, bool(x.from_rest))
+                   for x in r.branches if x.stable)
+    decided = bool(np.isfinite(r.velocity_m_s) and (b.k > 0 or b.motion == "dead-zone"))
+    if not decided:
+        long = dataclasses.replace(opts, duration_s=max(opts.duration_s, FALLBACK_DURATION_S))
+        t = simulate(params, voltage_V, preload_N, frequency_Hz, long)
+        st = t.steady
+        return (st.motion, st.velocity_m_s, st.stick_fraction, st.separation_fraction,
+                t.mu_d_eff, st.settled, stable, True)
+    if b.motion == "dead-zone":  # slider held, tip stuck to it: what a transient calls so
+        motion, frac = "pure-stick", (1.0, 0.0, 0.0, 0.0)
+    else:
+        frac = b.phase_fraction
+        motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
+    return (motion, float(r.velocity_m_s), float(frac[0]), float(frac[3]), r.mu_d_eff, True,
+            stable, False)
 
 
 def stick_slip_map(
@@ -63,8 +119,11 @@ def stick_slip_map(
     options: SimulationOptions | None = None,
     workers: int | None = None,
     progress: bool = True,
+    *,
+    method: str = "transient",
+    accuracy: str = "exact",
 ) -> StickSlipMap:
-    """Simulate every (voltage, preload) pair and classify its steady motion.
+    """Classify the steady motion of every (voltage, preload) pair.
 
     Parameters
     ----------
@@ -79,6 +138,11 @@ def stick_slip_map(
         Threads; defaults to the number of CPUs.
     progress : bool
         Show a tqdm progress bar on stderr.
+    method : {"transient", "steady"}
+        A run from rest of ``options.duration_s`` per point, or the steady engine
+        (:func:`contact.steady.steady_state`; ``options`` give coupling and friction only).
+    accuracy : {"fast", "exact"}
+        Level of the steady engine (``method="steady"``), see :data:`contact.steady.ACCURACIES`.
     """
     from threadpoolctl import threadpool_limits
     from tqdm import tqdm
@@ -87,35 +151,48 @@ def stick_slip_map(
     f = np.asarray(preloads_N, dtype=float)
     if v.ndim != 1 or f.ndim != 1 or v.size == 0 or f.size == 0:
         raise ValueError("voltages_V and preloads_N must be non-empty 1-D sequences")
+    if method not in MAP_METHODS:
+        raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")
     opts = options or SimulationOptions()
     shape = (v.size, f.size)
     motion = np.empty(shape, dtype=object)
     vel, stick, sep, mud = (np.empty(shape) for _ in range(4))
     settled = np.zeros(shape, dtype=bool)
+    branches = np.empty(shape, dtype=object)
+    branches.fill(())
+    fallback = np.zeros(shape, dtype=bool)
     n_workers = workers or os.cpu_count() or 1
     t0 = time.perf_counter()
     # compile (or load from cache) once before the threads start
+    warm = {"duration_s": 10 / frequency_Hz}
+    if method == "steady":  # the steady engine picks its own step
+        warm["dt_s"] = 1 / (250 * frequency_Hz)
     simulate(params, float(v[0]), float(f[0]), frequency_Hz,
-             SimulationOptions(**{**opts.__dict__, "duration_s": 10 / frequency_Hz}))
+             SimulationOptions(**{**opts.__dict__, **warm}))
+    if method == "steady":
+        def task(vi: float, fj: float):
+            return _steady_point(params, vi, fj, frequency_Hz, opts, accuracy)
+    else:
+        def task(vi: float, fj: float):
+            r = simulate(params, vi, fj, frequency_Hz, opts)
+            s = r.steady
+            return (s.motion, s.velocity_m_s, s.stick_fraction, s.separation_fraction,
+                    r.mu_d_eff, s.settled, (), False)
     with threadpool_limits(limits=1, user_api="blas"), ThreadPoolExecutor(
         max_workers=n_workers
     ) as pool:
         futures = {
-            pool.submit(simulate, params, float(v[i]), float(f[j]), frequency_Hz, opts): (i, j)
+            pool.submit(task, float(v[i]), float(f[j])): (i, j)
             for i in range(v.size)
             for j in range(f.size)
         }
-        bar = tqdm(total=len(futures), desc="stick-slip map", unit="run", disable=not progress)
+        bar = tqdm(total=len(futures), desc=f"stick-slip map ({method})", unit="point",
+                   disable=not progress)
         for fut in as_completed(futures):
             i, j = futures[fut]
-            r = fut.result()
-            motion[i, j] = r.steady.motion
-            vel[i, j] = r.steady.velocity_m_s
-            stick[i, j] = r.steady.stick_fraction
-            sep[i, j] = r.steady.separation_fraction
-            mud[i, j] = r.mu_d_eff
-            settled[i, j] = r.steady.settled
+            (motion[i, j], vel[i, j], stick[i, j], sep[i, j], mud[i, j], settled[i, j],
+             branches[i, j], fallback[i, j]) = fut.result()
             bar.update()
         bar.close()
     return StickSlipMap(v, f, motion.astype(str), vel, stick, sep, mud, settled,
-                        time.perf_counter() - t0)
+                        time.perf_counter() - t0, method, branches, fallback)

@@ -33,7 +33,8 @@ def test_every_section_is_present(report):
         assert doc[s], s
     md = (out / "index.md").read_text()
     for heading in ("## 1. Parameter sets", "## 2. Paper reproduction",
-                    "## 3. Speed against error", "## 4. Hard cases"):
+                    "## 3. Speed against error", "## 4. Hard cases",
+                    "## 5. Motor characteristics"):
         assert heading in md
     html = (out / "index.html").read_text()
     n_tables = sum(1 for ln in md.splitlines() if ln.startswith("|---|"))
@@ -89,6 +90,10 @@ def test_report_numbers_match_the_cli(report):
     assert case["motion"] == sim["motion"]
     assert doc["parameter_sets"]["comparison"]["values"]["fem"]["f_L1_Hz"] == pytest.approx(
         modes["L1"]["f_short_Hz"], rel=1e-12)
+    char = lusm("characteristic", "--voltage", "400", "--preload", "14")
+    rep = doc["motor_characteristics"]["table2"]["characteristics"]["400"]
+    assert rep["stall_force_N"] == char["stall_force_N"]
+    assert rep["no_load_velocity_m_s"] == char["no_load_velocity_m_s"]
     modes3d = lusm("modes", "--model", "3d")
     f3d = doc["parameter_sets"]["plane_stress_vs_3d"]["f3d_Hz"]
     assert f3d["B2_open"] == pytest.approx(modes3d["B2"]["f_open_Hz"], rel=1e-9)

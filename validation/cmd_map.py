@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from validation import limits
+from validation.errors import LusmError
 from validation.options import (
     add_drive_options,
     add_motor_options,
@@ -34,6 +35,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help=f"F_P grid (N), start:stop:step or a comma list, in "
                    f"[0, {limits.PRELOAD_N[1]:g}]")
     add_drive_options(p, required=False, auto_frequency=False)
+    p.add_argument("--method", choices=("steady", "transient"), default="steady",
+                   help="steady: each point's steady states found directly, every stable "
+                   "branch reported (docs/steady.md; --duration and --dt unused); transient: "
+                   "a run from rest of --duration per point (the paper's way)")
+    p.add_argument("--accuracy", choices=("fast", "exact"), default="exact",
+                   help="steady engine level: fast (averaging, slider mass -> infinity) or "
+                   "exact (finite slider mass, start from rest decided by a transient)")
     add_motor_options(p, friction_note=" (Fig. 19)")
     p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
                    help="threads (default: all cores)")
@@ -57,7 +65,16 @@ def run(args: argparse.Namespace) -> None:
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
     warn_drive(float(volts.max()), float(loads.max()))
-    check_run_size(args.duration, args.dt, args.frequency, runs=volts.size * loads.size)
+    if args.method == "transient":
+        check_run_size(args.duration, args.dt, args.frequency, runs=volts.size * loads.size)
+    else:  # --duration and --dt are unused but must still be sane values
+        check_run_size(args.duration, args.dt, args.frequency)
+    if args.method == "steady" and volts.size * loads.size > limits.work_bound(
+            limits.MAX_STEADY_POINTS):
+        raise LusmError(
+            f"--voltages x --preloads give {volts.size * loads.size} points; a steady map "
+            f"takes at most {limits.work_bound(limits.MAX_STEADY_POINTS)} "
+            f"({limits.more_work_hint()})", "--voltages")
     params = fem_params_of(args, args.source)
 
     from contact.maps import stick_slip_map
@@ -68,7 +85,8 @@ def run(args: argparse.Namespace) -> None:
                              ultrasonic_friction=not args.no_ultrasonic_friction,
                              coupling=args.coupling)
     try:
-        m = stick_slip_map(params, volts, loads, args.frequency, opts, workers=args.workers)
+        m = stick_slip_map(params, volts, loads, args.frequency, opts, workers=args.workers,
+                           method=args.method, accuracy=args.accuracy)
     except RuntimeError as exc:  # the kernel's own refusal (chattering)
         raise ValueError(str(exc)) from exc
     summary = map_summary(m)
@@ -89,6 +107,20 @@ def run(args: argparse.Namespace) -> None:
     for i, v in enumerate(m.voltages_V):
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
-    print(f"counts: {m.counts()}  wall time {m.wall_time_s:.2f} s")
+    print(f"counts: {m.counts()}  wall time {m.wall_time_s:.2f} s ({m.method}"
+          + (f", {args.accuracy})" if m.method == "steady" else f", {args.duration:g} s runs)"))
+    if m.method == "steady":
+        multi = [(float(m.voltages_V[i]), float(m.preloads_N[j]))
+                 for i in range(m.voltages_V.size) for j in range(m.preloads_N.size)
+                 if len(m.branches[i, j]) > 1]
+        if multi:
+            print("several stable steady states (the table shows the one reached from rest): "
+                  + ", ".join(f"{v:g} V/{f:g} N" for v, f in multi))
+        undecided = int(m.fallback.sum())
+        if undecided:
+            from contact.maps import FALLBACK_DURATION_S
+
+            print(f"undecided by the steady engine (creep, no periodic tip orbit): {undecided} "
+                  f"point(s), taken from {FALLBACK_DURATION_S:g} s transients (see --json)")
     if "figure" in summary:
         print(f"wrote {summary['figure']}")

@@ -54,6 +54,9 @@ MAX_WINDOW_STEPS = 2_000_000
 """Steps stored at full resolution (the last periods, 10 doubles each: 160 MB)."""
 MAX_MAP_STEPS = 400_000_000
 """Time steps of a whole stick-slip map (points x steps; the default map takes 4e7)."""
+MAX_STEADY_POINTS = 10_000
+"""Points of a steady-engine map (``lusm map --method steady``; up to ~0.5 s each, the
+default 9 x 9 map has 81)."""
 MAX_GRID_POINTS = 2000
 """Points of a ``start:stop:step`` grid (``--voltages``, ``--preloads``, sweep ranges)."""
 MAX_SWEEP_POINTS = 200

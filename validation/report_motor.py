@@ -1,56 +1,65 @@
-"""Figures of the motor's steady characteristics: speed-thrust/efficiency, branch diagram.
+"""The report's "Motor characteristics" section and its figures (steady engine).
 
-Library code: matplotlib is imported on use and no backend is chosen here (the CLI sets Agg).
+For each parameter set: speed-thrust, output power and efficiency at 200, 300 and 400 V, the
+settled stick-slip map from the steady engine, and (Table 2) the branch diagram at 14 N.
+Library code: matplotlib comes through :mod:`validation.plotting` (no backend chosen here).
 """
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 
 from contact.characteristic import Characteristic
 from rom.params import MotorParams
+from validation.plotting import pyplot, save
+
+CHARACTERISTIC_VOLTAGES_V = (200.0, 300.0, 400.0)
+"""Drive amplitudes of the report's speed-thrust curves (V)."""
+
+CHARACTERISTIC_PRELOAD_N = 14.0
+"""Preload of the report's speed-thrust curves and branch diagram (N), the paper's Fig. 20."""
 
 
-def characteristic_figure(char: Characteristic, path: Path) -> Path:
-    """Speed, output power and efficiency against load (PNG at ``path``)."""
-    import matplotlib.pyplot as plt
-
+def characteristic_figure(char: Characteristic | Sequence[Characteristic], path: Path,
+                          title: str = "") -> Path:
+    """Speed against load and efficiency against load, one line per voltage (PNG)."""
+    chars = [char] if isinstance(char, Characteristic) else list(char)
+    plt = pyplot()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    ax1.plot(char.load_N, char.velocity_m_s * 1e3, "o-")
+    for i, c in enumerate(chars):
+        label = f"{c.op.voltage_V:g} V"
+        ax1.plot(c.load_N, c.velocity_m_s * 1e3, "o-", ms=3, color=f"C{i}", label=label)
+        ax2.plot(c.load_N, c.efficiency * 100, "s-", ms=3, color=f"C{i}", label=label)
     ax1.set_xlabel("load force (N)")
-    ax1.set_ylabel("slider velocity (mm/s)")
-    ax1.set_title(f"speed-thrust, {char.op.voltage_V:g} V, {char.op.preload_N:g} N")
-    ax1.grid(True)
-    ax2.plot(char.load_N, char.output_power_W * 1e3, "o-", label="output power (mW)")
+    ax1.set_ylabel("steady slider velocity (mm/s)")
+    ax1.set_title("speed-thrust" + (f", {title}" if title else "")
+                  + f", F_P = {chars[0].op.preload_N:g} N")
     ax2.set_xlabel("load force (N)")
-    ax2.set_ylabel("output power (mW)")
-    ax3 = ax2.twinx()
-    ax3.plot(char.load_N, char.efficiency * 100, "s--", color="C1", label="efficiency (%)")
-    ax3.set_ylabel("efficiency (%)")
-    ax2.grid(True)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    ax2.set_ylabel("efficiency, output / electrical input (%)")
+    ax2.set_title("efficiency")
+    for ax in (ax1, ax2):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    return save(fig, path)
 
 
 def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path, *,
-                   accuracy: str = "exact") -> Path:
+                   accuracy: str = "exact", frequency_Hz: float | None = None) -> Path:
     """Every steady branch's velocity against voltage at one preload (PNG at ``path``).
 
     Stable branches are filled, unstable ones open; the branch a start from rest reaches is
     ringed; the period multiplicity k labels multi-period orbits.
     """
-    import matplotlib.pyplot as plt
-
     from contact.steady import steady_state
 
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for v0 in np.asarray(voltages_V, dtype=float):
-        r = steady_state(params, v0, preload_N, accuracy=accuracy)
+        r = steady_state(params, v0, preload_N, accuracy=accuracy, frequency_Hz=frequency_Hz)
         for b in r.branches:
             if b.motion == "dead-zone":
                 ax.plot(v0, 0.0, "ks", ms=6)
@@ -72,8 +81,107 @@ def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path
     ax.set_title(f"steady branches at F_P = {preload_N:g} N (open: unstable)")
     ax.grid(True)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save(fig, path)
+
+
+def _row(name: str, c: Characteristic) -> list:
+    eff = c.efficiency[np.isfinite(c.efficiency)]
+    best = float(eff.max()) if eff.size else float("nan")
+    at = float(c.load_N[np.nanargmax(c.efficiency)]) if eff.size else float("nan")
+    return [name, c.op.voltage_V, c.no_load_velocity_m_s * 1e3, c.stall_force_N,
+            c.input_power_W[0], best * 100, at]
+
+
+def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, float],
+                  out: Path, quick: bool, say: Callable[[str], None] = lambda _m: None,
+                  table: Callable[[list, list], list[str]] | None = None):
+    """Markdown lines and JSON data of "Motor characteristics" for each parameter set.
+
+    Parameters
+    ----------
+    params : dict
+        Parameter sets by name.
+    frequencies_Hz : dict
+        Drive frequency of each set (Hz).
+    out : Path
+        Report folder; figures go to ``out / "figures"``.
+    quick : bool
+        3 x 3 maps and a 50 V branch grid instead of 9 x 9 and 25 V.
+    say : callable
+        Progress callback, one call per finished item.
+    table : callable
+        The report's Markdown table builder ``table(header, rows)``.
+    """
+    from contact.characteristic import characteristic
+    from contact.maps import stick_slip_map
+    from contact.simulate import SimulationOptions
+    from validation.figures import stick_slip_map as map_figure
+
+    volts = np.arange(50.0, 451.0, 200.0 if quick else 50.0)
+    loads = np.arange(10.0, 27.0, 8.0 if quick else 2.0)
+    md = ["## 5. Motor characteristics", "",
+          "What each parameter set does as a motor, from the steady-state engine "
+          "(`docs/steady.md`): no transient is run except where the engine cannot decide. "
+          "Speed-thrust and efficiency at "
+          + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
+          + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic`: averaged level, "
+          "slider mass -> infinity, relative error ~1e-3); settled stick-slip maps over "
+          f"{volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: exact "
+          "level, the branch reached from rest). Efficiency is the mechanical output power "
+          "over the electrical input power (motional current times voltage). The paper's "
+          "coupling (eta_T F_T) is used throughout, with each set's own damping: FE and beam "
+          "sets borrow Table 2's damping ratios.", ""]
+    data: dict = {}
+    rows = []
+    for name, p in params.items():
+        f = frequencies_Hz[name]
+        t0 = time.perf_counter()
+        chars = [characteristic(p, v, CHARACTERISTIC_PRELOAD_N, frequency_Hz=f)
+                 for v in CHARACTERISTIC_VOLTAGES_V]
+        say(f"{name} characteristics")
+        fig_c = characteristic_figure(chars, out / "figures" / f"{name}_characteristic.png",
+                                      title=name)
+        m = stick_slip_map(p, volts, loads, f, SimulationOptions(), progress=False,
+                           method="steady")
+        say(f"{name} map")
+        fig_m = map_figure(m, out / "figures" / f"{name}_steady_map.png",
+                           f"{name}, steady engine, {f / 1e3:.4g} kHz")
+        rows += [_row(name, c) for c in chars]
+        data[name] = {
+            "frequency_Hz": f,
+            "characteristics": {f"{c.op.voltage_V:g}": c.to_dict() for c in chars},
+            "map": {"voltages_V": volts.tolist(), "preloads_N": loads.tolist(),
+                    "motion": m.motion.tolist(), "velocity_m_s": m.velocity_m_s.tolist(),
+                    "counts": m.counts(), "undecided": int(m.fallback.sum()),
+                    "several_branches": int(sum(len(b) > 1 for b in m.branches.flat)),
+                    "wall_time_s": m.wall_time_s},
+            "figures": {"characteristic": f"figures/{fig_c.name}",
+                        "map": f"figures/{fig_m.name}"},
+            "wall_time_s": time.perf_counter() - t0,
+        }
+    md += (table or (lambda h, r: []))(
+        ["set", "V0 (V)", "no-load velocity (mm/s)", "stall force (N)",
+         "input power at no load (W)", "peak efficiency (%)", "at load (N)"], rows)
+    md.append("")
+    for name, d in data.items():
+        mp = d["map"]
+        md += [f"### {name} at {d['frequency_Hz'] / 1e3:.4g} kHz", "",
+               f"Map: {mp['counts']}; {mp['several_branches']} point(s) with several stable "
+               f"steady states (the map shows the one reached from rest); {mp['undecided']} "
+               "point(s) the engine could not decide (creep), taken from 0.3 s transients; "
+               f"{mp['wall_time_s']:.1f} s.", "",
+               f"![{name} characteristic]({d['figures']['characteristic']})",
+               f"![{name} steady map]({d['figures']['map']})", ""]
+    if "table2" in params:
+        grid = np.arange(50.0, 451.0, 50.0 if quick else 25.0)
+        fig_b = branch_diagram(params["table2"], grid, CHARACTERISTIC_PRELOAD_N,
+                               out / "figures" / "table2_branches.png",
+                               frequency_Hz=frequencies_Hz["table2"])
+        say("branch diagram")
+        md += ["### Coexisting steady states (Table 2, 14 N)", "",
+               "Every steady state against voltage (exact level): where two stable branches "
+               "coexist the motor's speed depends on its history (hysteresis); the ringed one "
+               "is reached from rest.", "", f"![branches](figures/{fig_b.name})", ""]
+        data["branch_diagram"] = {"voltages_V": grid.tolist(),
+                                  "figure": f"figures/{fig_b.name}"}
+    return md, data

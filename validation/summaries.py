@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import asdict
 
+import numpy as np
+
 from contact.maps import StickSlipMap
 from contact.model import normal_force_zero_tip_displacement
 from contact.simulate import SimulationResult
@@ -50,8 +52,10 @@ def simulation_summary(r: SimulationResult) -> dict:
 
 
 def map_summary(m: StickSlipMap) -> dict:
-    """JSON-ready summary of a stick-slip map."""
-    return {
+    """JSON-ready summary of a stick-slip map (``"steady"`` maps add ``branches``: every stable
+    steady state per point, and ``undecided``: the (V, N) points the engine could not decide,
+    whose values come from a transient)."""
+    d = {
         "voltages_V": m.voltages_V.tolist(),
         "preloads_N": m.preloads_N.tolist(),
         "motion": m.motion.tolist(),
@@ -62,4 +66,12 @@ def map_summary(m: StickSlipMap) -> dict:
         "settled": m.settled.tolist(),
         "counts": m.counts(),
         "wall_time_s": m.wall_time_s,
+        "method": m.method,
     }
+    if m.method == "steady":
+        d["branches"] = [[[{"velocity_m_s": b[0], "k": b[1], "motion": b[2], "from_rest": b[3]}
+                           for b in m.branches[i, j]] for j in range(m.preloads_N.size)]
+                         for i in range(m.voltages_V.size)]
+        d["undecided"] = [[float(m.voltages_V[i]), float(m.preloads_N[j])]
+                          for i, j in zip(*np.nonzero(m.fallback), strict=True)]
+    return d

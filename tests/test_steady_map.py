@@ -1,0 +1,52 @@
+"""``stick_slip_map(method="steady")`` and ``lusm map``'s default against settled transients."""
+
+import json
+
+import numpy as np
+import pytest
+
+from contact.maps import stick_slip_map
+from contact.steady import transient_reference
+from rom import table2
+
+
+@pytest.fixture(scope="module")
+def steady_map():
+    # 100 V: dead zone; 150 V / 14 N: two stable branches; 200 and 300 V: stick-slip,
+    # 300 V / 10 N: slip-separation
+    return stick_slip_map(table2(), [100.0, 150.0, 200.0, 300.0], [10.0, 14.0], progress=False,
+                          method="steady", accuracy="exact")
+
+
+@pytest.mark.parametrize(("voltage_V", "preload_N"), [(200.0, 14.0), (300.0, 10.0),
+                                                      (150.0, 14.0), (100.0, 14.0)])
+def test_steady_map_points_match_settled_transients(steady_map, voltage_V, preload_N):
+    i = int(np.flatnonzero(steady_map.voltages_V == voltage_V)[0])
+    j = int(np.flatnonzero(steady_map.preloads_N == preload_N)[0])
+    v_t, motion_t = transient_reference(table2(), voltage_V, preload_N, duration_s=0.3)
+    assert steady_map.settled[i, j]
+    assert steady_map.motion[i, j] == motion_t
+    assert steady_map.velocity_m_s[i, j] == pytest.approx(v_t, rel=1e-5, abs=1e-12)
+
+
+def test_steady_map_reports_both_branches_at_150_V_14_N(steady_map):
+    i, j = 1, 1
+    stable = steady_map.branches[i, j]
+    assert len(stable) == 2
+    from_rest = [b for b in stable if b[3]]
+    assert len(from_rest) == 1 and from_rest[0][0] == pytest.approx(
+        steady_map.velocity_m_s[i, j], rel=1e-12)
+    assert {b[1] for b in stable} == {1, 2}  # a one-period and a two-period tip orbit
+
+
+def test_map_json_keeps_its_keys_and_adds_branches(capsys):
+    from validation.cli import main
+
+    assert main(["map", "--voltages", "150,300", "--preloads", "14", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    for key in ("voltages_V", "preloads_N", "motion", "steady_velocity_m_s", "stick_fraction",
+                "separation_fraction", "mu_d_effective", "settled", "counts", "wall_time_s"):
+        assert key in d
+    assert d["method"] == "steady"
+    assert len(d["branches"][0][0]) == 2 and len(d["branches"][1][0]) == 1
+    assert d["branches"][1][0][0]["from_rest"] is True
