@@ -20,11 +20,16 @@ same way (``fe2d_*``, ``fe3d_*``, ``adm_*``). Numbers that are not results (the 
 ``30 × 7.5 × 3 mm``, the paper's published values, test tolerances) end with
 ``<!--input-->`` or ``<!--paper-->``, which covers every number since the previous marker;
 ``LINTED`` in the test lists the documents in which every number with a unit must be covered
-(README.md, docs/contact.md, docs/beam.md, docs/designer.md; add fem.md and fem3d.md once
-marked). A marker never goes inside backticks (it would show on GitHub).
+(README.md, docs/contact.md, docs/beam.md, docs/designer.md, docs/limits.md, docs/steady.md,
+docs/distributed.md; add fem.md and fem3d.md once marked). A marker never goes inside
+backticks (it would show on GitHub).
 
-Timings are claims only as ratios measured in the same run (``*_ratio``), never as absolute
-seconds; the machine they were measured on is stored beside them.
+Timings are claims only as ratios measured in the same run (``*_ratio``, or the ratios of one
+benchmark run), never as absolute seconds; the machine they were measured on is stored beside
+them. Expensive claims (benchmarks of minutes: ``steady_map_*``, ``explore_*``) are not
+``cheap``, so the tests only check that the Markdown quotes ``numbers.json``; the claims of one
+benchmark share a ``batch`` and are computed together in one fresh process, so that
+``--update 'explore_*'`` runs the benchmark once.
 """
 
 from __future__ import annotations
@@ -1021,6 +1026,123 @@ def _limits_claims() -> tuple[Claim, ...]:
     )
 
 
+# --- docs/distributed.md: the scaling benchmark of lusm explore ---------------------------
+
+
+_WORKER_START = """
+import time
+t = time.perf_counter()
+import sys
+sys.path.insert(0, "benchmarks")
+from explore_scaling import STUDY, _warm
+from validation.study import study_from_dict
+_warm(study_from_dict(STUDY))
+print(time.perf_counter() - t)
+"""
+"""A worker's start in a fresh process: imports, numba kernels (compiled or loaded from the
+cache) and one task on a plate outside the study."""
+
+
+@cache
+def _explore_scaling() -> dict[str, float]:
+    """``python benchmarks/explore_scaling.py --json`` (one run) as ratios, and a worker's
+    start with a cold and a warm numba cache (a fresh ``NUMBA_CACHE_DIR``)."""
+    import subprocess
+    import sys
+    import tempfile
+
+    load = os.getloadavg()[0]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    run = subprocess.run([sys.executable, "benchmarks/explore_scaling.py", "--json"],
+                         capture_output=True, text=True, check=True, cwd=ROOT, env=env)
+    f = json.loads(run.stdout[run.stdout.index("{"):])
+    with tempfile.TemporaryDirectory() as tmp:
+        starts = [float(subprocess.run(
+            [sys.executable, "-c", _WORKER_START], capture_output=True, text=True, check=True,
+            cwd=ROOT, env={**env, "NUMBA_CACHE_DIR": tmp}).stdout.split()[-1])
+            for _ in range(2)]
+    result_100 = _explore_result_bytes_100()
+    task, fe = f["task_time_in_process_s"], f["fe_part_of_task_s"]
+    p5, p50 = f["drive_point_5ms_s"], f["drive_point_50ms_s"]
+    w1, w2 = f["workers_1"], f["workers_2"]
+    t100_5, t100_50 = fe + 100 * p5, fe + 100 * p50
+    return {
+        "fe_over_task": fe / task, "point5_over_task": p5 / task,
+        "point50_over_point5": p50 / p5,
+        "point50_worst_over_best": f["drive_point_50ms_worst_of_5_s"] / p50,
+        "w1_rate_over_in_process": w1["tasks_per_s"] * task,
+        "speedup_2_over_1": f["speedup_2_over_1"],
+        "w1_task_over_in_process": w1["task_time_mean_s"] / task,
+        "w2_task_over_in_process": w2["task_time_mean_s"] / task,
+        "noop_w1_over_task": w1["noop_round_trip_per_task_s"] / task,
+        "noop_w2_over_task": w2["noop_round_trip_per_task_s"] / task,
+        "part_write_over_task": w1["part_write_per_task_s"] / task,
+        "overhead_w1_over_task": w1["overhead_per_task_s"] / task,
+        "overhead_w2_over_task": w2["overhead_per_task_s"] / task,
+        "final_write_over_task": w1["final_write_s"] / task,
+        "task_over_noop": task / w1["noop_round_trip_per_task_s"],
+        "study_bytes": f["study_argument_bytes"],
+        "result_bytes": w1["result_bytes_per_task"],
+        "bit_identical": float(f["bit_identical_1_vs_2_workers"]),
+        "t100_5_over_fe": t100_5 / fe, "t100_50_over_fe": t100_50 / fe,
+        "t100_50_worst_over_fe": (fe + 100 * f["drive_point_50ms_worst_of_5_s"]) / fe,
+        "contact_share_100_5": 100 * p5 / t100_5,
+        "scheduler_share_100_5": max(w1["noop_round_trip_per_task_s"],
+                                     w2["noop_round_trip_per_task_s"]) / t100_5,
+        "result_kB_100": result_100 / 1e3,
+        "results_GB_1e4": result_100 * 1e4 / 1e9,
+        "load_average": load,
+        "cold_start_over_warm": starts[0] / starts[1],
+        "cold_start_share_5": starts[0] / (100 * t100_5),
+        "cold_start_share_50": starts[0] / (100 * t100_50),
+        "warm_start_share_5": starts[1] / (100 * t100_5),
+        "results_over_part_writes_50": 100 * w1["part_write_per_task_s"] / t100_50,
+        "results_over_part_writes_fe": 100 * w1["part_write_per_task_s"] / fe,
+    }
+
+
+def _explore_result_bytes_100() -> int:
+    """Pickled bytes of one task's result with 100 drive points (10 voltages x 10 preloads,
+    the benchmark's plate and solver), as ``lusm explore`` counts them."""
+    import pickle
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from explore_scaling import STUDY
+
+    from validation.explore import compute_geometry
+    from validation.study import study_from_dict
+
+    axes = {**STUDY["axes"], "length": "30 mm", "width": "7.5 mm",
+            "voltage": {"start": "100 V", "stop": "400 V", "num": 10},
+            "preload": {"start": "6 N", "stop": "15 N", "num": 10}}
+    return len(pickle.dumps(compute_geometry(study_from_dict({**STUDY, "axes": axes}), 0),
+                            protocol=5))
+
+
+_EXPLORE_UNITS = {"study_bytes": "B", "result_bytes": "B", "result_kB_100": "kB",
+                  "results_GB_1e4": "GB"}
+
+
+def _explore_claims() -> tuple[Claim, ...]:
+    """Figures of docs/distributed.md: one run of the scaling benchmark, in one process."""
+    cmd = ("python benchmarks/explore_scaling.py --json (benchmark, minutes; not run by the "
+           "tests), as ratios; python -m validation.doc_numbers --update 'explore_*'")
+    keys = ("fe_over_task", "point5_over_task", "point50_over_point5", "point50_worst_over_best",
+            "w1_rate_over_in_process", "speedup_2_over_1", "w1_task_over_in_process",
+            "w2_task_over_in_process", "noop_w1_over_task", "noop_w2_over_task",
+            "part_write_over_task", "overhead_w1_over_task", "overhead_w2_over_task",
+            "final_write_over_task", "task_over_noop", "study_bytes", "result_bytes",
+            "bit_identical", "t100_5_over_fe", "t100_50_over_fe", "t100_50_worst_over_fe",
+            "contact_share_100_5", "scheduler_share_100_5", "result_kB_100", "results_GB_1e4",
+            "load_average",
+            "cold_start_over_warm", "cold_start_share_5", "cold_start_share_50",
+            "warm_start_share_5", "results_over_part_writes_50", "results_over_part_writes_fe")
+    return tuple(Claim(f"explore_{k}", _EXPLORE_UNITS.get(k, "-"), cmd,
+                       lambda k=k: _explore_scaling()[k], batch="explore_scaling")
+                 for k in keys)
+
+
 # --- the claims --------------------------------------------------------------------------
 
 
@@ -1163,6 +1285,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_contact_claims(),
     *_steady_claims(),
     *_limits_claims(),
+    *_explore_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
