@@ -20,11 +20,16 @@ same way (``fe2d_*``, ``fe3d_*``, ``adm_*``). Numbers that are not results (the 
 ``30 × 7.5 × 3 mm``, the paper's published values, test tolerances) end with
 ``<!--input-->`` or ``<!--paper-->``, which covers every number since the previous marker;
 ``LINTED`` in the test lists the documents in which every number with a unit must be covered
-(README.md, docs/contact.md, docs/beam.md, docs/designer.md; add fem.md and fem3d.md once
-marked). A marker never goes inside backticks (it would show on GitHub).
+(README.md, docs/contact.md, docs/beam.md, docs/designer.md, docs/limits.md, docs/steady.md,
+docs/distributed.md; add fem.md and fem3d.md once marked). A marker never goes inside
+backticks (it would show on GitHub).
 
-Timings are claims only as ratios measured in the same run (``*_ratio``), never as absolute
-seconds; the machine they were measured on is stored beside them.
+Timings are claims only as ratios measured in the same run (``*_ratio``, or the ratios of one
+benchmark run), never as absolute seconds; the machine they were measured on is stored beside
+them. Expensive claims (benchmarks of minutes: ``steady_map_*``, ``explore_*``) are not
+``cheap``, so the tests only check that the Markdown quotes ``numbers.json``; the claims of one
+benchmark share a ``batch`` and are computed together in one fresh process, so that
+``--update 'explore_*'`` runs the benchmark once.
 """
 
 from __future__ import annotations
@@ -163,6 +168,10 @@ class Claim:
         Whether the test suite recomputes it.
     rel_tol : float
         Relative tolerance of that recomputation (it may run on another machine/BLAS).
+    batch : str
+        Claims sharing one expensive run (a benchmark): the generator computes all the claims
+        of a batch in one fresh process, so the run is made once and its timings are not
+        disturbed by the claims computed before it. Empty: no batch.
     """
 
     key: str
@@ -171,6 +180,7 @@ class Claim:
     compute: Callable[[], float]
     cheap: bool = False
     rel_tol: float = 1e-6
+    batch: str = ""
 
     @property
     def timing(self) -> bool:
@@ -183,16 +193,16 @@ class Claim:
         return self.key.endswith("_ratio") and not self.key.startswith("startup_")
 
 
-def _in_fresh_process(key: str) -> float:
-    """The value of claim ``key`` computed by a new interpreter."""
+def _in_fresh_process(keys: list[str]) -> list[float]:
+    """The values of the claims ``keys`` computed, in order, by one new interpreter."""
     import subprocess
     import sys
 
-    code = ("from validation.doc_numbers import claims_by_key; "
-            f"print(repr(float(claims_by_key()[{key!r}].compute())))")
+    code = ("from validation.doc_numbers import claims_by_key; t = claims_by_key(); "
+            f"[print(repr(float(t[k].compute()))) for k in {keys!r}]")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
-    return float(out.stdout.split()[-1])
+    return [float(v) for v in out.stdout.split()[-len(keys):]]
 
 
 _MODES = "lusm modes --json"
@@ -720,6 +730,422 @@ def _contact_claims() -> tuple[Claim, ...]:
     return tuple(out)
 
 
+# --- docs/steady.md: the steady engine against settled transients -----------------------
+
+
+@cache
+def _steady_point() -> dict[str, float]:
+    """The 200 V / 14 N row of ``python benchmarks/steady_speed.py``: velocities and the
+    transient's wall time over each steady level's (median of 3, numba warmed first)."""
+    from contact.steady import steady_state, transient_reference
+
+    p = _table2()
+    steady_state(p, 200, 14, accuracy="exact")
+    transient_reference(p, 200, 14, duration_s=0.01, steady_periods=20)
+    out: dict[str, float] = {}
+    times: dict[str, list[float]] = {"transient": [], "fast": [], "exact": []}
+    for _ in range(3):
+        t = time.perf_counter()
+        out["transient"] = transient_reference(p, 200, 14, duration_s=0.3)[0]
+        times["transient"].append(time.perf_counter() - t)
+        for acc in ("fast", "exact"):
+            t = time.perf_counter()
+            r = steady_state(p, 200, 14, accuracy=acc)
+            times[acc].append(time.perf_counter() - t)
+            out[acc] = r.velocity_m_s
+            out[f"{acc}_periods"] = r.periods
+    for acc in ("fast", "exact"):
+        out[f"{acc}_rel_error"] = abs(out[acc] - out["transient"]) / abs(out["transient"])
+        out[f"{acc}_speed_ratio"] = (statistics.median(times["transient"])
+                                     / statistics.median(times[acc]))
+    return out
+
+
+@cache
+def _steady_mass_error(voltage_V: float, mass_kg: float) -> float:
+    """|fast - exact| / exact at 14 N with slider mass ``mass_kg`` and mu_sd = 0."""
+    from contact.steady import steady_state
+
+    p = _table2().with_(M_slider=mass_kg, mu_sd=0.0)
+    fast = steady_state(p, voltage_V, 14).velocity_m_s
+    exact = steady_state(p, voltage_V, 14, accuracy="exact").velocity_m_s
+    return abs(fast - exact) / abs(exact)
+
+
+@cache
+def _steady_150() -> dict[str, float]:
+    """The coexisting branches at 150 V / 14 N (tests/test_steady_exact.py)."""
+    from contact.steady import steady_state, transient_reference
+
+    r = steady_state(_table2(), 150, 14, accuracy="exact")
+    stable = [b for b in r.branches if b.stable]
+    return {"rest": r.from_rest.velocity_m_s, "rest_k": r.from_rest.k,
+            "k1": next(b.velocity_m_s for b in stable if b.k == 1),
+            "transient": transient_reference(_table2(), 150, 14, duration_s=0.2)[0],
+            "fast": steady_state(_table2(), 150, 14).velocity_m_s}
+
+
+@cache
+def _steady_characteristic() -> dict[str, float]:
+    """``lusm characteristic --voltage 400 --preload 14 --loads 0:2:0.5``."""
+    import numpy as np
+
+    from contact.characteristic import characteristic
+    from validation.cmd_characteristic import parse_loads
+
+    c = characteristic(_table2(), 400, 14, parse_loads("0:2:0.5"))
+    i = int(np.nanargmax(c.efficiency))
+    return {"no_load": c.no_load_velocity_m_s, "stall": c.stall_force_N,
+            "peak_efficiency": float(c.efficiency[i]), "peak_load": float(c.load_N[i]),
+            "peak_input": float(c.input_power_W[i]), "peak_output": float(c.output_power_W[i])}
+
+
+@cache
+def _steady_branch_diagram() -> dict[str, float]:
+    """From-rest branch of the exact level at 14 N, 50-450 V in steps of 25 V; the last
+    held voltage, the first voltage of each moving class and a few velocities."""
+    from contact.steady import steady_state, transient_reference
+
+    rows = {v: steady_state(_table2(), v, 14, accuracy="exact") for v in range(50, 451, 25)}
+    motion = {v: r.from_rest.motion if r.velocity_m_s else "dead-zone" for v, r in rows.items()}
+    out = {"dead_zone_last_V": max(v for v, m in motion.items() if m == "dead-zone")}
+    for cls in ("stick-slip", "pure-slip", "slip-separation"):
+        vs = [v for v, m in motion.items() if m == cls]
+        out[f"{cls}_first_V"] = min(vs) if vs else math.nan
+        out[f"{cls}_last_V"] = max(vs) if vs else math.nan
+    for v in (175, 200, 400, 450):
+        out[f"v_{v}V"] = rows[v].velocity_m_s
+    out["transient_175V"] = transient_reference(_table2(), 175, 14, duration_s=0.3)[0]
+    return out
+
+
+_STEADY_MAP_LONG = ((400.0, 10.0), (450.0, 10.0), (450.0, 12.0), (450.0, 14.0))
+"""The high-voltage points of the 9 x 9 map whose 0.3 s transient has not settled."""
+
+
+@cache
+def _steady_map() -> dict[str, float]:
+    """``python benchmarks/steady_speed.py --map``: the 9 x 9 map (50-450 V x 10-26 N) of the
+    steady levels against a 0.3 s transient per point, wall times summed over the map."""
+    import numpy as np
+
+    from contact.steady import steady_state, transient_reference
+
+    p = _table2()
+    steady_state(p, 200, 14, accuracy="exact")
+    transient_reference(p, 200, 14, duration_s=0.01, steady_periods=20)
+    rows = []
+    t_sum = {"transient": 0.0, "fast": 0.0, "exact": 0.0}
+    for v in np.linspace(50, 450, 9):
+        for f in np.linspace(10, 26, 9):
+            t = time.perf_counter()
+            ref = transient_reference(p, float(v), float(f), duration_s=0.3)[0]
+            t_sum["transient"] += time.perf_counter() - t
+            row = {"V": float(v), "N": float(f), "ref": ref}
+            for acc in ("fast", "exact"):
+                t = time.perf_counter()
+                row[acc] = steady_state(p, float(v), float(f), accuracy=acc).velocity_m_s
+                t_sum[acc] += time.perf_counter() - t
+            rows.append(row)
+    moving = [r for r in rows if abs(r["ref"]) > 1e-6]
+    held = [r for r in rows if abs(r["ref"]) <= 1e-6]
+    out: dict[str, float] = {"moving": len(moving), "held": len(held)}
+    for acc in ("fast", "exact"):
+        err = np.array([abs(r[acc] - r["ref"]) / abs(r["ref"]) for r in moving])
+        out[f"{acc}_median"] = float(np.median(err))
+        out[f"{acc}_p90"] = float(np.percentile(err, 90))
+        out[f"{acc}_max"] = float(err.max())
+        out[f"{acc}_held_max_m_s"] = max(abs(r[acc]) for r in held)
+        out[f"{acc}_speed_ratio"] = t_sum["transient"] / t_sum[acc]
+    out["exact_within_1e-5"] = int(sum(abs(r["exact"] - r["ref"]) <= 1e-5 * abs(r["ref"])
+                                       for r in moving))
+    out["exact_within_1e-5_high_voltage"] = int(sum(
+        abs(r["exact"] - r["ref"]) > 1e-5 * abs(r["ref"]) and (r["V"], r["N"]) in _STEADY_MAP_LONG
+        for r in moving))
+    return out
+
+
+@cache
+def _steady_long(voltage_V: float, preload_N: float) -> dict[str, float]:
+    """Exact level against a 0.8 s transient at an unsettled point of the map."""
+    from contact.steady import steady_state, transient_reference
+
+    ref = transient_reference(_table2(), voltage_V, preload_N, duration_s=0.8)[0]
+    exact = steady_state(_table2(), voltage_V, preload_N, accuracy="exact").velocity_m_s
+    return {"transient": ref, "exact": exact, "rel": abs(exact - ref) / abs(ref)}
+
+
+@cache
+def _steady_creep(voltage_V: float, preload_N: float) -> dict[str, float]:
+    """A creep point of the map: 0.3 s transient and exact level."""
+    from contact.steady import steady_state, transient_reference
+
+    return {"transient": transient_reference(_table2(), voltage_V, preload_N,
+                                             duration_s=0.3)[0],
+            "exact": steady_state(_table2(), voltage_V, preload_N,
+                                  accuracy="exact").velocity_m_s}
+
+
+def _steady_claims() -> tuple[Claim, ...]:
+    """Figures of docs/steady.md."""
+    bench = "python benchmarks/steady_speed.py"
+    mapc = bench + " --map"
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    out = [
+        Claim("steady_200V_14N_transient_m_s", "m/s", bench + " (transient_m_s)",
+              lambda: _steady_point()["transient"], cheap=True, rel_tol=1e-6),
+        Claim("steady_200V_14N_fast_m_s", "m/s", bench + " (fast_m_s)",
+              lambda: _steady_point()["fast"], cheap=True, rel_tol=1e-6),
+        Claim("steady_200V_14N_exact_m_s", "m/s", bench + " (exact_m_s)",
+              lambda: _steady_point()["exact"], cheap=True, rel_tol=1e-6),
+        Claim("steady_200V_14N_fast_rel_error", "-", bench + " (fast_rel_error)",
+              lambda: _steady_point()["fast_rel_error"], cheap=True, rel_tol=1e-3),
+        Claim("steady_200V_14N_exact_rel_error", "-", bench + " (exact_rel_error)",
+              lambda: _steady_point()["exact_rel_error"]),
+        Claim("steady_200V_14N_fast_periods", "-",
+              "steady_state(table2(), 200, 14).periods", lambda: _steady_point()["fast_periods"],
+              cheap=True, rel_tol=1e-9),
+        Claim("steady_200V_14N_fast_speed_ratio", "-", bench + " (transient_s / fast_s; here "
+              "medians of 3)", lambda: _steady_point()["fast_speed_ratio"], batch="steady_point"),
+        Claim("steady_200V_14N_exact_speed_ratio", "-", bench + " (transient_s / exact_s; here "
+              "medians of 3)", lambda: _steady_point()["exact_speed_ratio"],
+              batch="steady_point"),
+        Claim("steady_150V_14N_rest_m_s", "m/s", ex.format(v=150, f=14) + ".velocity_m_s",
+              lambda: _steady_150()["rest"]),
+        Claim("steady_150V_14N_rest_k", "-", ex.format(v=150, f=14) + ".from_rest.k",
+              lambda: _steady_150()["rest_k"]),
+        Claim("steady_150V_14N_k1_m_s", "m/s", ex.format(v=150, f=14) + ".branches (k = 1)",
+              lambda: _steady_150()["k1"]),
+        Claim("steady_150V_14N_transient_m_s", "m/s",
+              "transient_reference(table2(), 150, 14, duration_s=0.2)",
+              lambda: _steady_150()["transient"]),
+        Claim("steady_150V_14N_fast_m_s", "m/s", "steady_state(table2(), 150, 14).velocity_m_s",
+              lambda: _steady_150()["fast"]),
+        Claim("steady_150V_14N_fast_vs_exact", "-", "steady_150V_14N_fast_m_s / "
+              "steady_150V_14N_rest_m_s - 1",
+              lambda: _steady_150()["fast"] / _steady_150()["rest"] - 1),
+    ]
+    for v, mass in ((200, 0.2), (200, 0.4), (200, 0.8), (400, 0.2), (400, 0.4), (400, 0.8)):
+        out.append(Claim(
+            f"steady_mass_error_{v}V_{int(mass * 10)}", "-",
+            f"python -m validation.doc_numbers --show steady_mass_error_{v}V_{int(mass * 10)} "
+            f"(|fast - exact| / exact, {v} V / 14 N, M_slider = {mass} kg, mu_sd = 0)",
+            lambda v=v, mass=mass: _steady_mass_error(float(v), mass)))
+    char = "lusm characteristic --voltage 400 --preload 14 --loads 0:2:0.5 --json"
+    for k, unit in (("no_load", "m/s"), ("stall", "N"), ("peak_efficiency", "-"),
+                    ("peak_load", "N"), ("peak_input", "W"), ("peak_output", "W")):
+        out.append(Claim(f"steady_char_400V_14N_{k}", unit, char,
+                         lambda k=k: _steady_characteristic()[k]))
+    diag = ("python -m validation.doc_numbers --show steady_branch_* (" + ex.format(v="V", f=14)
+            + " for V = 50, 75, ..., 450)")
+    for k, unit in (("dead_zone_last_V", "V"), ("stick-slip_first_V", "V"),
+                    ("stick-slip_last_V", "V"), ("pure-slip_first_V", "V"),
+                    ("pure-slip_last_V", "V"), ("slip-separation_first_V", "V"),
+                    ("v_175V", "m/s"), ("v_200V", "m/s"), ("v_400V", "m/s"), ("v_450V", "m/s"),
+                    ("transient_175V", "m/s")):
+        out.append(Claim(f"steady_branch_{k.replace('-', '_')}", unit, diag,
+                         lambda k=k: _steady_branch_diagram()[k]))
+    for k, unit in (("moving", "-"), ("held", "-"), ("fast_median", "-"), ("fast_p90", "-"),
+                    ("fast_max", "-"), ("fast_held_max_m_s", "m/s"), ("exact_median", "-"),
+                    ("exact_p90", "-"), ("exact_max", "-"), ("exact_held_max_m_s", "m/s"),
+                    ("exact_within_1e-5", "-"), ("exact_within_1e-5_high_voltage", "-"),
+                    ("fast_speed_ratio", "-"), ("exact_speed_ratio", "-")):
+        out.append(Claim(f"steady_map_{k.replace('-', '_')}", unit,
+                         mapc + " (benchmark, minutes; not run by the tests)",
+                         lambda k=k: _steady_map()[k], batch="steady_map"))
+    for v, f in ((450, 10), (450, 14)):
+        cmd = (f"transient_reference(table2(), {v}, {f}, duration_s=0.8) against "
+               + ex.format(v=v, f=f))
+        out.append(Claim(f"steady_long_{v}V_{f}N_rel", "-", cmd,
+                         lambda v=v, f=f: _steady_long(float(v), float(f))["rel"]))
+    out += [Claim("steady_long_450V_10N_transient_m_s", "m/s",
+                  "transient_reference(table2(), 450, 10, duration_s=0.8)",
+                  lambda: _steady_long(450.0, 10.0)["transient"]),
+            Claim("steady_long_450V_10N_exact_m_s", "m/s", ex.format(v=450, f=10),
+                  lambda: _steady_long(450.0, 10.0)["exact"])]
+    for v, f in ((100, 10), (200, 20)):
+        for k in ("transient", "exact"):
+            cmd = (f"transient_reference(table2(), {v}, {f}, duration_s=0.3)"
+                   if k == "transient" else ex.format(v=v, f=f))
+            out.append(Claim(f"steady_creep_{v}V_{f}N_{k}_m_s", "m/s", cmd,
+                             lambda v=v, f=f, k=k: _steady_creep(float(v), float(f))[k]))
+    return tuple(out)
+
+
+# --- docs/limits.md: the cost of the work bounds ------------------------------------------
+
+
+def _peak_MB(*args: str) -> float:
+    """Peak resident memory (MB) of ``python -m validation.cli ARGS`` (``/usr/bin/time -f %M``)."""
+    import subprocess
+    import sys
+
+    run = subprocess.run(["/usr/bin/time", "-f", "%M", sys.executable, "-m", "validation.cli",
+                          *args], capture_output=True, text=True, check=True, cwd=ROOT,
+                         env={**os.environ, "PYTHONPATH": str(ROOT)})
+    return int(run.stderr.split()[-1]) / 1024.0
+
+
+def _dt_bound_time_ratio() -> float:
+    """Wall time of the 2e7-step run (dt = 2.5e-9 s, the bound) over the default 5e5-step run
+    (200 V / 14 N, 50 ms), the integrations' own ``wall_time_s``, each the fastest of 3."""
+    from contact.simulate import simulate
+
+    _sim(200.0, 14.0, 0.001)
+    default = min(simulate(_table2(), 200.0, 14.0).wall_time_s for _ in range(3))
+    bound = min(simulate(_table2(), 200.0, 14.0, dt_s=2.5e-9).wall_time_s for _ in range(3))
+    return bound / default
+
+
+@cache
+def _refine48() -> dict[str, float]:
+    """Dofs and wall time of ``lusm modes --refine 48`` over the default refine's (fastest
+    of 3 at the default, one run at 48)."""
+    from fem.geometry import PlateStator
+    from fem.modes import DEFAULT_REFINE, plate_modes
+
+    default = min(plate_modes(PlateStator(), "pzt8", 2, DEFAULT_REFINE).wall_time_s
+                  for _ in range(3))
+    r = plate_modes(PlateStator(), "pzt8", 2, 48)
+    return {"dofs": r.dofs, "time_ratio": r.wall_time_s / default}
+
+
+def _limits_claims() -> tuple[Claim, ...]:
+    """Figures of docs/limits.md (the step bound and the largest 2D refine)."""
+    sim = "lusm simulate --voltage 200 --preload 14 --json"
+    return (
+        Claim("limits_dt_bound_time_ratio", "-", sim + " --dt 2.5e-9 (wall_time_s) over " + sim
+              + " (wall_time_s)", _dt_bound_time_ratio),
+        Claim("limits_dt_bound_peak_MB", "MB", "/usr/bin/time -f %M " + sim + " --dt 2.5e-9",
+              lambda: _peak_MB("simulate", "--voltage", "200", "--preload", "14", "--dt",
+                               "2.5e-9", "--json")),
+        Claim("limits_refine48_dofs", "-", "lusm modes --refine 48 --json (dofs)",
+              lambda: _refine48()["dofs"], batch="refine48"),
+        Claim("limits_refine48_time_ratio", "-", "lusm modes --refine 48 --json (wall_time_s) "
+              "over lusm modes --json (wall_time_s)", lambda: _refine48()["time_ratio"],
+              batch="refine48"),
+        Claim("limits_refine48_peak_MB", "MB", "/usr/bin/time -f %M lusm modes --refine 48 "
+              "--json", lambda: _peak_MB("modes", "--refine", "48", "--json")),
+    )
+
+
+# --- docs/distributed.md: the scaling benchmark of lusm explore ---------------------------
+
+
+_WORKER_START = """
+import time
+t = time.perf_counter()
+import sys
+sys.path.insert(0, "benchmarks")
+from explore_scaling import STUDY, _warm
+from validation.study import study_from_dict
+_warm(study_from_dict(STUDY))
+print(time.perf_counter() - t)
+"""
+"""A worker's start in a fresh process: imports, numba kernels (compiled or loaded from the
+cache) and one task on a plate outside the study."""
+
+
+@cache
+def _explore_scaling() -> dict[str, float]:
+    """``python benchmarks/explore_scaling.py --json`` (one run) as ratios, and a worker's
+    start with a cold and a warm numba cache (a fresh ``NUMBA_CACHE_DIR``)."""
+    import subprocess
+    import sys
+    import tempfile
+
+    load = os.getloadavg()[0]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    run = subprocess.run([sys.executable, "benchmarks/explore_scaling.py", "--json"],
+                         capture_output=True, text=True, check=True, cwd=ROOT, env=env)
+    f = json.loads(run.stdout[run.stdout.index("{"):])
+    with tempfile.TemporaryDirectory() as tmp:
+        starts = [float(subprocess.run(
+            [sys.executable, "-c", _WORKER_START], capture_output=True, text=True, check=True,
+            cwd=ROOT, env={**env, "NUMBA_CACHE_DIR": tmp}).stdout.split()[-1])
+            for _ in range(2)]
+    result_100 = _explore_result_bytes_100()
+    task, fe = f["task_time_in_process_s"], f["fe_part_of_task_s"]
+    p5, p50 = f["drive_point_5ms_s"], f["drive_point_50ms_s"]
+    w1, w2 = f["workers_1"], f["workers_2"]
+    t100_5, t100_50 = fe + 100 * p5, fe + 100 * p50
+    return {
+        "fe_over_task": fe / task, "point5_over_task": p5 / task,
+        "point50_over_point5": p50 / p5,
+        "point50_worst_over_best": f["drive_point_50ms_worst_of_5_s"] / p50,
+        "w1_rate_over_in_process": w1["tasks_per_s"] * task,
+        "speedup_2_over_1": f["speedup_2_over_1"],
+        "w1_task_over_in_process": w1["task_time_mean_s"] / task,
+        "w2_task_over_in_process": w2["task_time_mean_s"] / task,
+        "noop_w1_over_task": w1["noop_round_trip_per_task_s"] / task,
+        "noop_w2_over_task": w2["noop_round_trip_per_task_s"] / task,
+        "part_write_over_task": w1["part_write_per_task_s"] / task,
+        "overhead_w1_over_task": w1["overhead_per_task_s"] / task,
+        "overhead_w2_over_task": w2["overhead_per_task_s"] / task,
+        "final_write_over_task": w1["final_write_s"] / task,
+        "task_over_noop": task / w1["noop_round_trip_per_task_s"],
+        "study_bytes": f["study_argument_bytes"],
+        "result_bytes": w1["result_bytes_per_task"],
+        "bit_identical": float(f["bit_identical_1_vs_2_workers"]),
+        "t100_5_over_fe": t100_5 / fe, "t100_50_over_fe": t100_50 / fe,
+        "t100_50_worst_over_fe": (fe + 100 * f["drive_point_50ms_worst_of_5_s"]) / fe,
+        "contact_share_100_5": 100 * p5 / t100_5,
+        "scheduler_share_100_5": max(w1["noop_round_trip_per_task_s"],
+                                     w2["noop_round_trip_per_task_s"]) / t100_5,
+        "result_kB_100": result_100 / 1e3,
+        "results_GB_1e4": result_100 * 1e4 / 1e9,
+        "load_average": load,
+        "cold_start_over_warm": starts[0] / starts[1],
+        "cold_start_share_5": starts[0] / (100 * t100_5),
+        "cold_start_share_50": starts[0] / (100 * t100_50),
+        "warm_start_share_5": starts[1] / (100 * t100_5),
+        "results_over_part_writes_50": 100 * w1["part_write_per_task_s"] / t100_50,
+        "results_over_part_writes_fe": 100 * w1["part_write_per_task_s"] / fe,
+    }
+
+
+def _explore_result_bytes_100() -> int:
+    """Pickled bytes of one task's result with 100 drive points (10 voltages x 10 preloads,
+    the benchmark's plate and solver), as ``lusm explore`` counts them."""
+    import pickle
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from explore_scaling import STUDY
+
+    from validation.explore import compute_geometry
+    from validation.study import study_from_dict
+
+    axes = {**STUDY["axes"], "length": "30 mm", "width": "7.5 mm",
+            "voltage": {"start": "100 V", "stop": "400 V", "num": 10},
+            "preload": {"start": "6 N", "stop": "15 N", "num": 10}}
+    return len(pickle.dumps(compute_geometry(study_from_dict({**STUDY, "axes": axes}), 0),
+                            protocol=5))
+
+
+_EXPLORE_UNITS = {"study_bytes": "B", "result_bytes": "B", "result_kB_100": "kB",
+                  "results_GB_1e4": "GB"}
+
+
+def _explore_claims() -> tuple[Claim, ...]:
+    """Figures of docs/distributed.md: one run of the scaling benchmark, in one process."""
+    cmd = ("python benchmarks/explore_scaling.py --json (benchmark, minutes; not run by the "
+           "tests), as ratios; python -m validation.doc_numbers --update 'explore_*'")
+    keys = ("fe_over_task", "point5_over_task", "point50_over_point5", "point50_worst_over_best",
+            "w1_rate_over_in_process", "speedup_2_over_1", "w1_task_over_in_process",
+            "w2_task_over_in_process", "noop_w1_over_task", "noop_w2_over_task",
+            "part_write_over_task", "overhead_w1_over_task", "overhead_w2_over_task",
+            "final_write_over_task", "task_over_noop", "study_bytes", "result_bytes",
+            "bit_identical", "t100_5_over_fe", "t100_50_over_fe", "t100_50_worst_over_fe",
+            "contact_share_100_5", "scheduler_share_100_5", "result_kB_100", "results_GB_1e4",
+            "load_average",
+            "cold_start_over_warm", "cold_start_share_5", "cold_start_share_50",
+            "warm_start_share_5", "results_over_part_writes_50", "results_over_part_writes_fe")
+    return tuple(Claim(f"explore_{k}", _EXPLORE_UNITS.get(k, "-"), cmd,
+                       lambda k=k: _explore_scaling()[k], batch="explore_scaling")
+                 for k in keys)
+
+
 # --- the claims --------------------------------------------------------------------------
 
 
@@ -860,6 +1286,9 @@ CLAIMS: tuple[Claim, ...] = (
     *_beam_claims(),
     *_designer_claims(),
     *_contact_claims(),
+    *_steady_claims(),
+    *_limits_claims(),
+    *_explore_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
@@ -881,10 +1310,21 @@ def compute(keys: list[str] | None = None) -> dict:
     unknown = [k for k in keys or [] if k not in table]
     if unknown:
         raise ValueError(f"--show: unknown key {unknown[0]!r}; known: {', '.join(table)}")
+    wanted = keys or list(table)
+    batches: dict[str, list[str]] = {}
+    for key in wanted:
+        if table[key].batch:
+            batches.setdefault(table[key].batch, []).append(key)
+    values: dict[str, float] = {}
+    for batch_keys in batches.values():
+        values.update(zip(batch_keys, _in_fresh_process(batch_keys), strict=True))
     numbers = {}
-    for key in keys or list(table):
+    for key in wanted:
         c = table[key]
-        value = _in_fresh_process(key) if c.timing else float(c.compute())
+        if key in values:
+            value = values[key]
+        else:
+            value = _in_fresh_process([key])[0] if c.timing else float(c.compute())
         numbers[key] = {"value": value if math.isfinite(value) else None, "unit": c.unit,
                         "command": c.command}
     return {"generated_by": "python -m validation.doc_numbers",
@@ -898,7 +1338,8 @@ def main(argv: list[str] | None = None) -> int:
                                  description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=NUMBERS_JSON, help="where to write the JSON")
     ap.add_argument("--show", nargs="+", metavar="KEY",
-                    help="compute and print these claims only (nothing written)")
+                    help="compute and print these claims only (keys or glob patterns such "
+                         "as 'steady_branch_*'; nothing written)")
     ap.add_argument("--update", nargs="+", metavar="PATTERN",
                     help="recompute only the claims matching these keys or glob patterns "
                          "(e.g. 'beam_*') and merge them into --out; the rest is kept")
@@ -924,6 +1365,10 @@ def main(argv: list[str] | None = None) -> int:
         args.out.write_text(json.dumps(doc, indent=1) + "\n")
         print(f"{len(keys)} numbers updated in {args.out}")
         return 0
+    if args.show:  # keys or glob patterns
+        table = claims_by_key()
+        args.show = [k for p in args.show for k in ([p] if p in table else
+                                                    fnmatch.filter(list(table), p) or [p])]
     try:
         doc = compute(args.show)
     except ValueError as exc:
