@@ -249,6 +249,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("report-out-empty", ["report", "--out", ""], ["--out", "folder"]),
     ("report-out-file", ["report", "--out", "{file}"], ["--out", "is a file"]),
     ("report-user-folder", ["report", "--out", "{user_folder}"], ["--out", "did not write"]),
+    ("report-geometry-missing", ["report", "--geometry", "no_such_stator.toml"],
+     ["--geometry", "no_such_stator.toml"]),
+    ("report-length-tiny", ["report", "--length-mm", "1e-6"], ["--length-mm", "mm"]),
     # render
     ("render-out-file", ["render", "--out", "{file}"], ["--out", "is a file"]),
     ("render-refine-zero", ["render", "--refine", "0"], ["--refine"]),

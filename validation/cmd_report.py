@@ -1,8 +1,11 @@
-"""``lusm report``: the main job, the default motor end to end (see :mod:`validation.report`)."""
+"""``lusm report``: the main job, the default motor end to end (:mod:`validation.report`), or
+a designer's own stator with ``--geometry`` / plate options (:mod:`validation.report_design`)."""
 
 from __future__ import annotations
 
 import argparse
+
+from validation.options import add_plate_options
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -11,8 +14,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "report",
         help="write the full report (parameter sets, paper reproduction, speed vs error, "
         "hard cases)",
-        description="Run the default motor end to end and write index.md, index.html, "
-        "report.json and PNG figures.",
+        description="Run the default motor end to end (or, with --geometry or a plate "
+        "option, your stator: modes in 2D and 3D with pictures, reduced parameters, "
+        "admittance, speed against voltage, motor characteristics) and write index.md, "
+        "index.html, report.json and PNG figures.",
     )
     p.add_argument("--out", default="report", metavar="DIR", help="output folder")
     p.add_argument("--quick", action="store_true",
@@ -21,17 +26,26 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="write into a non-empty folder that is not a report (files in the "
                    "way are kept as NAME.bak-N; nothing is deleted)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
+    add_plate_options(p, note="; any of them reports on that stator instead")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:
     """Write the report and print where it is."""
-    from validation.options import output_folder
+    from validation.options import fem_params_of, output_folder, plate_given, stator_from_args
 
     out = output_folder(args, "report", "--out")  # refused before any work
-    from validation.report import write_report
+    if args.geometry or plate_given(args):
+        from validation.report_design import write_design_report
 
-    doc = write_report(out, quick=args.quick, progress=not args.no_progress,
-                       force=args.force)
+        choice = stator_from_args(args)
+        params = fem_params_of(args, "fem")
+        doc = write_design_report(out, choice, params, quick=args.quick,
+                                  progress=not args.no_progress, force=args.force)
+    else:
+        from validation.report import write_report
+
+        doc = write_report(out, quick=args.quick, progress=not args.no_progress,
+                           force=args.force)
     print(f"report written to {out / 'index.md'} (and index.html, report.json) "
           f"in {doc['wall_time_s']:.1f} s")

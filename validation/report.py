@@ -41,7 +41,7 @@ def _fmt(x, digits: int = 4) -> str:
     return str(x)
 
 
-def _table(header: list[str], rows: list[list]) -> list[str]:
+def markdown_table(header: list[str], rows: list[list]) -> list[str]:
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
         out.append("| " + " | ".join(_fmt(c).replace("|", "/") for c in r) + " |")
@@ -91,11 +91,11 @@ def _parameter_sets(out: Path, quick: bool, progress: bool) -> tuple[list[str], 
             d = comp.relative_difference[s].get(name, float("nan"))
             row.append(_fmt(v) if s == comp.reference else f"{_fmt(v)} ({d:+.1%})")
         rows.append(row)
-    md += _table(["quantity"] + list(comp.sources), rows)
+    md += markdown_table(["quantity"] + list(comp.sources), rows)
     md += ["", "FE modal analysis of the default plate (PZT-8, order 2, refine "
            f"{DEFAULT_REFINE}, {modes.dofs} DOFs, {modes.wall_time_s:.3f} s; the same call as "
            "`lusm modes`):", ""]
-    md += _table(["mode", "f_short (Hz)", "f_open (Hz)", "k_eff"],
+    md += markdown_table(["mode", "f_short (Hz)", "f_open (Hz)", "k_eff"],
                  [[m.name, m.f_short_Hz, m.f_open_Hz, m.k_eff] for m in (modes.L1, modes.B2)])
     md += ["", "The paper's ANSYS gives L1 39 841 Hz and B2 40 257 Hz; Table 2 implies "
            f"{comp.values['table2']['f_L1_Hz']:.0f} Hz and {comp.values['table2']['f_B2_Hz']:.0f}"
@@ -128,7 +128,7 @@ def _plane_stress_vs_3d(example_layers: int) -> tuple[list[str], dict]:
              f"{e.f2d_Hz[key] / e.f3d_Hz[key] - 1:+.2%}"] for key in e.f2d_Hz]
     rows += [[f"{m} k_eff", e.k_eff_2d[m], e.k_eff_3d[m],
               f"{e.k_eff_2d[m] / e.k_eff_3d[m] - 1:+.1%}"] for m in e.k_eff_2d]
-    md += _table(["quantity", "2D (Hz or -)", "3D (Hz or -)", "2D/3D - 1"], rows)
+    md += markdown_table(["quantity", "2D (Hz or -)", "3D (Hz or -)", "2D/3D - 1"], rows)
     data = {"f2d_Hz": e.f2d_Hz, "f3d_Hz": e.f3d_Hz, "k_eff_2d": e.k_eff_2d,
             "k_eff_3d": e.k_eff_3d, "examples": {}}
     tomls = sorted(EXAMPLES.glob("*/stator.toml")) if EXAMPLES.is_dir() else []
@@ -150,7 +150,7 @@ def _plane_stress_vs_3d(example_layers: int) -> tuple[list[str], dict]:
                f"extruded in {example_layers} layer(s) of quadratic bricks; "
                "`lusm modes --geometry examples/<name>/stator.toml [--model 3d --layers N]`):",
                ""]
-        md += _table(["stator", "frequency", "2D (Hz)", "3D (Hz)", "2D/3D - 1"], ex_rows)
+        md += markdown_table(["stator", "frequency", "2D (Hz)", "3D (Hz)", "2D/3D - 1"], ex_rows)
     md.append("")
     return md, data
 
@@ -176,7 +176,7 @@ def _reproduction(params: dict, out: Path, quick: bool, progress: bool):
         agree = sum(r.agrees for r in rep.rows)
         md += [f"### {name}: {p.source} at {freq / 1e3:.4g} kHz", "",
                f"{agree} of {len(rep.rows)} claims agree.", ""]
-        md += _table(["figure", "the paper says", "we get", "agrees?", "why not"],
+        md += markdown_table(["figure", "the paper says", "we get", "agrees?", "why not"],
                      [[r.figure, r.paper_says, r.we_get, "yes" if r.agrees else "no", r.reason]
                       for r in rep.rows])
         md += [""] + [f"![{k}](figures/{Path(v).name})" for k, v in rep.figures.items()] + [""]
@@ -268,14 +268,14 @@ def _speed(params: dict, out: Path, quick: bool, progress: bool):
           "Errors against `solve_ivp` with events at rtol 1e-11 (reference figures in "
           "`report.json`). The paper's literal scheme (RK4, mode fixed per step from the stick "
           "band) is shown for contrast: with eps = 1e-10 it never enters stick.", ""]
-    md += _table(["method", "case", "setting", "velocity error", "stick error", "wall (s)"],
+    md += markdown_table(["method", "case", "setting", "velocity error", "stick error", "wall (s)"],
                  [[q.method, q.case, q.setting, q.velocity_error, q.stick_error, q.wall_time_s]
                   for q in pts])
     md += ["", f"![contact work-precision](figures/{wp_png.name})", "",
            "### 3b. FE", "", f"Reference: {fe_ref['reference']}: L1 "
            f"{fe_ref['f_L1_Hz']:.2f} Hz, B2 {fe_ref['f_B2_Hz']:.2f} Hz (PZT-8, default plate). "
            "Order-1 quadrilaterals lock in bending: their B2 error stays large.", ""]
-    md += _table(["order", "refine", "DOFs", "L1 (Hz)", "B2 (Hz)", "L1 error", "B2 error",
+    md += markdown_table(["order", "refine", "DOFs", "L1 (Hz)", "B2 (Hz)", "L1 error", "B2 error",
                   "wall (s)"],
                  [[q.order, q.refine, q.dofs, q.f_L1_Hz, q.f_B2_Hz, q.error_L1, q.error_B2,
                    q.wall_time_s] for q in fe_pts])
@@ -301,7 +301,7 @@ def _hard_cases(params: dict, quick: bool, progress: bool):
           "guide work)| / input over the steady window, E = kinetic + modal strain + contact "
           "spring energy. Non-conservative: the work the paper's coupling eta_T F_T adds beyond "
           "the tip reaction −phi_B(l) F_T, over the input (`docs/contact.md` §2.3).", ""]
-    md += _table(["case", "setting", "status", "motion", "velocity (m/s)", "settled",
+    md += markdown_table(["case", "setting", "status", "motion", "velocity (m/s)", "settled",
                   "energy residual", "non-conservative", "switches", "wall (s)"],
                  [[h.name, h.setting, h.status if h.status == "stable" else
                    ("clear error (expected): " if h.expected_error else "ERROR: ")
@@ -316,7 +316,7 @@ def _motor(params: dict, d2: dict, out: Path, quick: bool, progress: bool):
 
     st = _Stage("5/5 motor characteristics", 2 * len(params) + 1, progress)
     freqs = {name: d2[name]["frequency_Hz"] for name in params}
-    md, data = motor_section(params, freqs, out, quick, st.say, _table)
+    md, data = motor_section(params, freqs, out, quick, st.say, markdown_table)
     st.close()
     return md, data
 

@@ -1,0 +1,57 @@
+"""``lusm report --geometry``: the report on a designer's stator (the tip example), complete."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from tests.conftest import ROOT
+
+TIP = ROOT / "examples" / "tip_protrusion" / "stator.toml"
+
+
+@pytest.fixture(scope="module")
+def design_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("design_report")
+    proc = subprocess.run(
+        [sys.executable, "-m", "validation.cli", "report", "--quick", "--no-progress",
+         "--geometry", str(TIP), "--out", str(out)],
+        cwd=ROOT, capture_output=True, text=True, timeout=900,
+    )
+    assert proc.returncode == 0, proc.stderr
+    return out, json.loads((out / "report.json").read_text())
+
+
+def test_every_section_and_figure_is_there(design_report):
+    from matplotlib.image import imread
+
+    out, doc = design_report
+    md = (out / "index.md").read_text()
+    for heading in ("## 1. Modes", "## 2. Reduced parameters", "## 3. Admittance",
+                    "## 4. Speed against voltage", "## 5. Motor characteristics"):
+        assert heading in md
+    assert "plate 31 x 7.5 x 3 mm" in md  # the design's own plate, not the paper's
+    pngs = sorted((out / "figures").glob("*.png"))
+    names = {p.name for p in pngs}
+    assert {"design_L1.png", "design_B2.png", "design_admittance.png",
+            "design_characteristic.png", "design_steady_map.png"} <= names
+    for png in pngs:
+        assert float(np.std(imread(png)[..., :3])) > 0.01, png.name
+        assert f"figures/{png.name}" in md
+
+
+def test_design_report_numbers_are_the_commands_numbers(design_report):
+    _, doc = design_report
+    p = subprocess.run([sys.executable, "-m", "validation.cli", "modes", "--geometry", str(TIP),
+                        "--json"], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    modes = json.loads(p.stdout)
+    for m in ("L1", "B2"):
+        assert doc["modes"]["2d"][m]["f_short_Hz"] == modes[m]["f_short_Hz"]
+    # the admittance band follows the design: it contains all four of its frequencies
+    lo, hi = doc["admittance"]["band_Hz"]
+    for m in ("L1", "B2"):
+        assert lo < modes[m]["f_short_Hz"] < modes[m]["f_open_Hz"] < hi
+    assert doc["parameters"]["phi_Bl"] != 0.0

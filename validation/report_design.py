@@ -1,0 +1,227 @@
+"""``lusm report --geometry``: the report on a designer's own stator, end to end.
+
+Sections: the stator and its modes in 2D and 3D (L1-B2 split, pictures of both modes), the
+reduced parameter set, the admittance around the design's modes, the steady speed against
+voltage, and the motor characteristics (speed-thrust, efficiency, steady map) of
+:mod:`validation.report_motor`. Built aside and moved in complete like the default report.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import fields
+from pathlib import Path
+
+import numpy as np
+
+from validation.output_set import output_set
+
+SPEED_PRELOAD_N = 14.0
+"""Preload of the speed-against-voltage table (N), the paper's Fig. 20."""
+
+BAND_HALF_WIDTH = 0.15
+"""The admittance band spans the design's L1 and B2 (short and open) widened by this
+fraction of their mean on each side."""
+
+_UNITS = {"M_l": "kg", "C_l": "N s/m", "K_l": "N/m", "A_l": "N/V", "phi_L0": "-",
+          "phi_Ll": "-", "M_b": "kg", "C_b": "N s/m", "K_b": "N/m", "A_b": "N/V",
+          "phi_B0": "-", "phi_Bl": "-", "k_contact": "N/m", "M_slider": "kg", "mu_s": "-",
+          "mu_d": "-", "mu_sd": "-", "a_mu": "-", "b_mu": "1/m"}
+
+
+def _describe(stator, material, label: str) -> str:
+    mm = 1e3
+    shape = (f"plate {stator.length_m * mm:g} x {stator.width_m * mm:g} x "
+             f"{stator.thickness_m * mm:g} mm")
+    mesh_file = getattr(stator, "mesh_file", "")
+    if mesh_file:
+        shape += f", planform mesh {Path(mesh_file).name}"
+    else:
+        shape += f", electrode gap {stator.electrode_gap_m * mm:g} mm"
+    return f"{label}: {shape}, {material.name}"
+
+
+def _modes_section(choice, out: Path, quick: bool, say):
+    from fem.mesh import DEFAULT_REFINE
+    from fem.model import plate_model
+    from fem.modes import plate_modes
+    from fem.render import render_modes
+    from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+
+    st, mat = choice.stator, choice.material
+    m2 = plate_modes(st, mat, 2, DEFAULT_REFINE)
+    say("2D modes")
+    m3 = solid_modes(st, mat, 2, max(DEFAULT_REFINE_3D - (1 if quick else 0), 1), DEFAULT_LAYERS)
+    say("3D modes")
+    pictures = render_modes(plate_model(st, mat, 2, DEFAULT_REFINE), m2, out / "figures",
+                            prefix="design_")
+    say("mode pictures")
+    rows, data = [], {"2d": {}, "3d": {}}
+    for name in ("L1", "B2"):
+        a, b = getattr(m2, name), getattr(m3, name)
+        rows.append([name, a.f_short_Hz, b.f_short_Hz, a.f_short_Hz / b.f_short_Hz - 1,
+                     a.f_open_Hz, b.f_open_Hz, a.k_eff, b.k_eff])
+        data["2d"][name], data["3d"][name] = a.to_dict(), b.to_dict()
+    split2 = m2.B2.f_short_Hz / m2.L1.f_short_Hz - 1
+    split3 = m3.B2.f_short_Hz / m3.L1.f_short_Hz - 1
+    data.update(split_2d=split2, split_3d=split3, dofs_2d=m2.dofs, dofs_3d=m3.dofs,
+                pictures=[f"figures/{p.name}" for p in pictures])
+    md = ["## 1. Modes", "",
+          f"2D plane-stress model (order 2, refine {DEFAULT_REFINE}, {m2.dofs} DOFs; "
+          f"`lusm modes --geometry ...`) and 3D piezoelectric solid ({m3.dofs} DOFs; "
+          "`lusm modes --model 3d --geometry ...`). Short circuit: all electrodes grounded; "
+          "open: the driven electrodes floating.", ""]
+    md += ["| mode | 2D short (Hz) | 3D short (Hz) | 2D/3D - 1 | 2D open (Hz) | 3D open (Hz) | "
+           "k_eff 2D | k_eff 3D |", "|---|---|---|---|---|---|---|---|"]
+    md += ["| " + " | ".join([r[0], f"{r[1]:.1f}", f"{r[2]:.1f}", f"{r[3]:+.2%}", f"{r[4]:.1f}",
+                              f"{r[5]:.1f}", f"{r[6]:.4f}", f"{r[7]:.4f}"]) + " |"
+           for r in rows]
+    md += ["", f"L1-B2 split f_B2/f_L1 - 1 (short circuit): **{split2:+.3%}** in 2D, "
+           f"**{split3:+.3%}** in 3D. A motor wants the two modes degenerate (`lusm tune`).", ""]
+    md += [f"![{p.stem}](figures/{p.name})" for p in pictures] + [""]
+    return md, data, m2
+
+
+def _params_section(params, label: str):
+    rows = [f"| {f.name} | {getattr(params, f.name):.6g} | {_UNITS.get(f.name, '')} |"
+            for f in fields(params) if f.name != "source"]
+    md = ["## 2. Reduced parameters", "",
+          f"`lusm params --geometry ...` ({params.source}). Modal frequencies "
+          f"f_L1 = {params.f_L1_Hz:.1f} Hz, f_B2 = {params.f_B2_Hz:.1f} Hz; damping ratios "
+          f"zeta_L1 = {params.zeta_L1:.4g}, zeta_B2 = {params.zeta_B2:.4g} (the damping in use: "
+          "every speed below depends on it).", "", "| parameter | value | unit |", "|---|---|---|"]
+    md += rows + [""]
+    data = {f.name: getattr(params, f.name) for f in fields(params)}
+    return md, data
+
+
+def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
+    from fem.admittance import plate_admittance
+    from validation.fem_figures import admittance_figure
+
+    fs = [modes2d.L1.f_short_Hz, modes2d.L1.f_open_Hz, modes2d.B2.f_short_Hz,
+          modes2d.B2.f_open_Hz]
+    pad = BAND_HALF_WIDTH * float(np.mean(fs))
+    f_lo, f_hi = min(fs) - pad, max(fs) + pad
+    res = plate_admittance(choice.stator, choice.material, f_lo, f_hi, 801 if quick else 4001,
+                           zeta_L1=params.zeta_L1, zeta_B2=params.zeta_B2)
+    png = admittance_figure(res, out / "figures" / "design_admittance.png")
+    md = ["## 3. Admittance", "",
+          f"Driven electrodes {res.port.electrodes}, band {f_lo / 1e3:.2f}-{f_hi / 1e3:.2f} kHz "
+          "(the design's modes +/- 15 %), the parameter set's damping "
+          f"(`lusm admittance --geometry ... --f-min {f_lo:.0f} --f-max {f_hi:.0f}`).", ""]
+    if res.pairs:
+        md += ["| mode | resonance (Hz) | antiresonance (Hz) | k_eff |", "|---|---|---|---|"]
+        md += [f"| {p.mode or 'unidentified'} | {p.f_resonance_Hz:.1f} | "
+               f"{p.f_antiresonance_Hz:.1f} | {p.k_eff:.4f} |" for p in res.pairs]
+    else:
+        md += ["No resonance/antiresonance pair is resolved in this band."]
+    md += ["", f"![admittance](figures/{png.name})", ""]
+    data = {"band_Hz": [f_lo, f_hi], "pairs": [
+        {"mode": p.mode, "f_resonance_Hz": p.f_resonance_Hz,
+         "f_antiresonance_Hz": p.f_antiresonance_Hz, "k_eff": p.k_eff} for p in res.pairs],
+        "figure": f"figures/{png.name}"}
+    return md, data
+
+
+def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say):
+    from contact.steady import steady_state
+    from validation.figures import curve
+
+    volts = np.arange(100.0, 451.0, 100.0 if quick else 50.0)
+    rows, vel = [], []
+    for v in volts:
+        r = steady_state(params, float(v), SPEED_PRELOAD_N, frequency_Hz=frequency_Hz,
+                         accuracy="exact")
+        b = r.from_rest
+        rows.append(f"| {v:g} | {r.velocity_m_s * 1e3:.4g} | {b.motion} | "
+                    f"{sum(x.stable for x in r.branches)} |")
+        vel.append(r.velocity_m_s * 1e3)
+    say("speed vs voltage")
+    png = curve(volts, {"steady velocity from rest": vel}, "drive voltage V0 (V)",
+                "slider velocity (mm/s)", out / "figures" / "design_speed_voltage.png",
+                f"F_P = {SPEED_PRELOAD_N:g} N, {frequency_Hz / 1e3:.4g} kHz")
+    md = ["## 4. Speed against voltage", "",
+          f"Steady velocity reached from rest at {SPEED_PRELOAD_N:g} N and "
+          f"{frequency_Hz / 1e3:.5g} kHz (the set's operating point, `--frequency auto`), "
+          "exact level of the steady engine (`lusm simulate --steady --geometry ... "
+          "--frequency auto`).", "",
+          "| V0 (V) | velocity (mm/s) | motion | stable steady states |", "|---|---|---|---|"]
+    md += rows + ["", f"![speed against voltage](figures/{png.name})", ""]
+    return md, {"voltages_V": volts.tolist(), "velocity_mm_s": vel,
+                "figure": f"figures/{png.name}"}
+
+
+def write_design_report(out_dir: Path, choice, params, quick: bool = False,
+                        progress: bool = True, force: bool = False) -> dict:
+    """Write the report on one stator (``index.md``, ``index.html``, ``report.json``, figures).
+
+    Parameters
+    ----------
+    out_dir : Path
+        Output folder (built aside, moved in complete; see :mod:`validation.output_set`).
+    choice : validation.options.StatorChoice
+        The stator and material the user named.
+    params : rom.params.MotorParams
+        The FE reduction of that stator (with the stator file's motor tables, if any).
+    quick : bool
+        Coarser grids, same sections.
+    progress : bool
+        Show a progress bar on stderr.
+    force : bool
+        Write into a non-empty folder lusm did not write (nothing is deleted).
+    """
+    with output_set(Path(out_dir), "report", "--out", force) as stage:
+        return _build(stage, choice, params, quick, progress)
+
+
+def _build(out: Path, choice, params, quick: bool, progress: bool) -> dict:
+    from tqdm import tqdm
+
+    from contact.drive import auto_frequency
+    from validation.report import markdown_table
+    from validation.report_html import to_html
+    from validation.report_motor import motor_section
+
+    (out / "figures").mkdir(parents=True, exist_ok=True)
+    bar = tqdm(total=10, desc="design report", unit="step", disable=not progress)
+
+    def say(msg: str) -> None:
+        bar.set_postfix_str(msg[:40])
+        bar.update()
+
+    t0 = time.perf_counter()
+    label = choice.design.name if getattr(choice, "design", None) is not None else "plate"
+    md1, d1, modes2d = _modes_section(choice, out, quick, say)
+    md2, d2 = _params_section(params, label)
+    md3, d3 = _admittance_section(choice, params, modes2d, out, quick)
+    say("admittance")
+    freq = auto_frequency(params)
+    md4, d4 = _speed_section(params, freq, out, quick, say)
+    md5, d5 = motor_section({"design": params}, {"design": freq}, out, quick, say, markdown_table)
+    md5[0] = "## 5. Motor characteristics"
+    bar.close()
+    wall = time.perf_counter() - t0
+    head = [f"# LUSM report: {_describe(choice.stator, choice.material, label)}", "",
+            f"Generated by `lusm report --geometry`{' --quick' if quick else ''} on "
+            f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} in {wall:.0f} s. Every "
+            "number here is also in `report.json`; `lusm report` without a stator reports on "
+            "the paper's motor.", ""]
+    md = "\n".join(head + md1 + md2 + md3 + md4 + md5)
+    doc = {"quick": quick, "wall_time_s": wall, "stator": _describe(choice.stator,
+                                                                     choice.material, label),
+           "modes": d1, "parameters": d2, "admittance": d3, "speed_vs_voltage": d4,
+           "motor_characteristics": d5}
+    (out / "index.md").write_text(md)
+    (out / "index.html").write_text(to_html(md, "LUSM design report"))
+    (out / "report.json").write_text(json.dumps(doc, indent=1, default=_json_default))
+    return doc
+
+
+def _json_default(o):
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    return str(o)
