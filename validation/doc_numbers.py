@@ -1036,6 +1036,10 @@ def _limits_claims() -> tuple[Claim, ...]:
     """Figures of docs/limits.md (the step bound and the largest 2D refine)."""
     sim = "lusm simulate --voltage 200 --preload 14 --json"
     return (
+        Claim("limits_reliability_cases", "-", "len(tests.test_reliability.CASES) (the named "
+              "bad inputs of python -m pytest tests/test_reliability.py)",
+              lambda: len(__import__("tests.test_reliability", fromlist=["x"]).CASES),
+              cheap=True, rel_tol=1e-12),
         Claim("limits_dt_bound_time_ratio", "-", sim + " --dt 2.5e-9 (wall_time_s) over " + sim
               + " (wall_time_s)", _dt_bound_time_ratio),
         Claim("limits_dt_bound_peak_MB", "MB", "/usr/bin/time -f %M " + sim + " --dt 2.5e-9",
