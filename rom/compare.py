@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+from rom.params import MotorParams
 from rom.sources import SOURCES, get_params
 
 QUANTITIES = (
@@ -76,7 +77,8 @@ class Comparison:
 
 
 def compare_sources(
-    sources: Sequence[str] = SOURCES, reference: str = "table2"
+    sources: Sequence[str] = SOURCES, reference: str = "table2",
+    given: Mapping[str, MotorParams] | None = None,
 ) -> Comparison:
     """Build each source's parameter set and tabulate it against ``reference``.
 
@@ -86,6 +88,9 @@ def compare_sources(
         Source names (see :data:`rom.sources.SOURCES`); the reference is added if missing.
     reference : str
         Source the relative differences refer to.
+    given : mapping of str to MotorParams, optional
+        Parameter sets to use instead of building a source (e.g. ``{"fem": fem_params(my
+        stator)}`` to compare a designer's stator with Table 2).
 
     Returns
     -------
@@ -107,7 +112,7 @@ def compare_sources(
     descriptions: dict[str, str] = {}
     for name in names:
         try:
-            params = get_params(name)
+            params = given[name] if given and name in given else get_params(name)
         except ImportError as exc:  # e.g. the FE stack of 'fem' not installed
             unavailable[name] = str(exc)
             continue

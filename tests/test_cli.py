@@ -136,3 +136,16 @@ def test_modes_refuses_plate_options_next_to_a_stator_file():
     out = lusm("modes", "--geometry", str(path), "--width-mm", "8")
     assert out.returncode == 2
     assert "--width-mm cannot be combined with --geometry" in out.stderr
+
+
+def test_compare_takes_the_designers_stator(capsys):
+    """``lusm compare --length-mm 36``: the fem column is the longer plate's (L1 ~ 1/l)."""
+    import json
+
+    from validation.cli import main
+
+    assert main(["compare", "--sources", "fem", "--json"]) == 0
+    base = json.loads(capsys.readouterr().out)["values"]["fem"]
+    assert main(["compare", "--sources", "fem", "--length-mm", "36", "--json"]) == 0
+    long = json.loads(capsys.readouterr().out)["values"]["fem"]
+    assert long["f_L1_Hz"] / base["f_L1_Hz"] == pytest.approx(30 / 36, rel=0.03)

@@ -249,6 +249,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("report-out-empty", ["report", "--out", ""], ["--out", "folder"]),
     ("report-out-file", ["report", "--out", "{file}"], ["--out", "is a file"]),
     ("report-user-folder", ["report", "--out", "{user_folder}"], ["--out", "did not write"]),
+    ("compare-geometry-missing", ["compare", "--geometry", "no_such_stator.toml"],
+     ["--geometry", "no_such_stator.toml"]),
     ("report-geometry-missing", ["report", "--geometry", "no_such_stator.toml"],
      ["--geometry", "no_such_stator.toml"]),
     ("report-length-tiny", ["report", "--length-mm", "1e-6"], ["--length-mm", "mm"]),

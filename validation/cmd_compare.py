@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation.options import SOURCES, print_json
+from validation.options import SOURCES, add_plate_options, fem_params_of, plate_given, print_json
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -24,6 +24,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--reference", choices=SOURCES, default="table2", help="reference source (default table2)"
     )
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    add_plate_options(parser, note="; any of them makes the fem column that stator's")
     parser.set_defaults(func=run)
 
 
@@ -31,7 +32,9 @@ def run(args: argparse.Namespace) -> None:
     """Build the comparison and print it."""
     from rom.compare import compare_sources
 
-    cmp = compare_sources(args.sources, reference=args.reference)
+    given = ({"fem": fem_params_of(args, "fem")} if args.geometry or plate_given(args)
+             else None)
+    cmp = compare_sources(args.sources, reference=args.reference, given=given)
     if args.json:
         print_json(cmp.to_dict(), indent=2)
         return
