@@ -15,9 +15,8 @@ from validation import limits
 from validation.cli import build_parser, main
 
 STATOR_COMMANDS = ("simulate", "map", "modes", "params", "render", "tune", "sweep",
-                   "admittance")
-"""Commands that use a stator (``report`` and ``compare`` run the paper's motor; see
-docs/limits.md)."""
+                   "admittance", "report", "compare", "characteristic")
+"""Commands that use a stator (``explore`` takes its stators from the study file)."""
 
 STATOR_OPTIONS = ("--geometry", "--length-mm", "--width-mm", "--thickness-mm", "--gap-mm",
                   "--material")
