@@ -15,6 +15,15 @@ from dataclasses import asdict, dataclass, fields, replace
 GRAVITY_M_S2 = 9.81
 """Gravitational acceleration used for the slider weight on the linear guide (m/s^2)."""
 
+PARAM_UNITS = {
+    "M_l": "kg", "C_l": "N s/m", "K_l": "N/m", "A_l": "N/V", "phi_L0": "-", "phi_Ll": "-",
+    "M_b": "kg", "C_b": "N s/m", "K_b": "N/m", "A_b": "N/V", "phi_B0": "-", "phi_Bl": "-",
+    "k_contact": "N/m", "M_slider": "kg", "mu_s": "-", "mu_d": "-", "mu_sd": "-", "a_mu": "-",
+    "b_mu": "1/m", "eta_N": "-", "eta_T": "-", "f_L1_Hz": "Hz", "f_B2_Hz": "Hz",
+    "zeta_L1": "-", "zeta_B2": "-",
+}
+"""SI unit of every key of :meth:`MotorParams.to_dict` (``source`` is text)."""
+
 # Fields that must be strictly positive; all others must merely be finite.
 _POSITIVE = (
     "M_l", "C_l", "K_l", "M_b", "C_b", "K_b", "k_contact", "M_slider", "mu_s", "mu_d",
@@ -195,3 +204,39 @@ class MotorParams:
             zeta_B2=self.zeta_B2,
         )
         return d
+
+    @classmethod
+    def from_dict(cls, d: dict) -> MotorParams:
+        """The parameter set of a :meth:`to_dict` dictionary (``lusm params --json``).
+
+        The derived keys (``eta_N``, ``eta_T``, ``f_L1_Hz``, ``f_B2_Hz``, ``zeta_L1``,
+        ``zeta_B2``) may be present; they must then agree with the stored fields to 1e-9
+        relative, so an edit of a derived value is refused instead of silently ignored.
+
+        Raises
+        ------
+        ValueError
+            Unknown or missing keys, or a derived value that disagrees (the message names it).
+        """
+        if not isinstance(d, dict):
+            raise ValueError(f"a parameter set must be a JSON object, got {type(d).__name__}")
+        stored = [f.name for f in fields(cls)]
+        derived = ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")
+        unknown = sorted(set(d) - set(stored) - set(derived))
+        if unknown:
+            raise ValueError(f"unknown key(s) {', '.join(unknown)}; a parameter set has "
+                             f"{', '.join(stored)}")
+        missing = [k for k in stored if k not in d and k != "source"]
+        if missing:
+            raise ValueError(f"missing key(s) {', '.join(missing)}")
+        params = cls(**{k: d[k] for k in stored if k in d})
+        for key in derived:
+            if key in d:
+                want = getattr(params, key)
+                got = d[key]
+                if not isinstance(got, (int, float)) or not math.isclose(
+                        float(got), want, rel_tol=1e-9, abs_tol=1e-300):
+                    raise ValueError(
+                        f"{key} = {got!r} disagrees with the stored fields ({want:.10g}); it is "
+                        "derived: edit the modal mass, damping, stiffness or mode shapes instead")
+        return params

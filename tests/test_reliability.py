@@ -251,6 +251,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("report-user-folder", ["report", "--out", "{user_folder}"], ["--out", "did not write"]),
     ("compare-geometry-missing", ["compare", "--geometry", "no_such_stator.toml"],
      ["--geometry", "no_such_stator.toml"]),
+    ("sim-params-missing", ["simulate", "--voltage", "200", "--preload", "14", "--params",
+                            "no_such_set.json"], ["--params", "no such file"]),
     ("report-geometry-missing", ["report", "--geometry", "no_such_stator.toml"],
      ["--geometry", "no_such_stator.toml"]),
     ("report-length-tiny", ["report", "--length-mm", "1e-6"], ["--length-mm", "mm"]),

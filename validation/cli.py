@@ -131,6 +131,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (KeyboardInterrupt, Terminated):
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader left (``lusm params | head``): stop quietly, as
+        # the Python docs advise, so that flushing stdout at exit does not fail again
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
     except (LusmError, ValueError, OSError) as exc:
         err = exc if isinstance(exc, LusmError) else user_error(exc)
         print(f"{prog}: error: {_one_line(str(err))}", file=sys.stderr)

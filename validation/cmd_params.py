@@ -31,7 +31,10 @@ def run(args: argparse.Namespace) -> None:
     if args.json:
         print_json(d, indent=2)
         return
+    from rom.params import PARAM_UNITS
+
     width = max(len(k) for k in d)
     for key, value in d.items():
         text = f"{value:.6g}" if isinstance(value, float) else str(value)
-        print(f"{key:<{width}}  {text}")
+        unit = PARAM_UNITS.get(key, "")
+        print(f"{key:<{width}}  {text:>12}  {unit}" if unit else f"{key:<{width}}  {text}")

@@ -151,7 +151,30 @@ def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") ->
                    help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
     g.add_argument("--source", choices=SOURCES, default=None,
                    help="parameter set (default table2; fem with --geometry or a plate option)")
+    g.add_argument("--params", metavar="PARAMS.json", default=None,
+                   help="a parameter set saved with 'lusm params --json' (edit its stored "
+                   "fields, e.g. C_l for the damping); replaces --source and the stator")
     add_plate_options(p, note="; any of them selects --source fem")
+
+
+def params_from_file(path_text: str):
+    """The :class:`rom.params.MotorParams` of a ``lusm params --json`` file (``--params``)."""
+    from rom.params import MotorParams
+
+    if not str(path_text).strip():
+        raise LusmError("--params must name a file, got ''", "--params")
+    path = Path(path_text)
+    if not path.is_file():
+        raise LusmError(f"--params {path_text}: no such file", "--params")
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise LusmError(f"--params {path_text}: not a JSON parameter set ({exc})",
+                        "--params") from None
+    try:
+        return MotorParams.from_dict(data)
+    except (TypeError, ValueError) as exc:
+        raise LusmError(f"--params {path_text}: {exc}", "--params") from None
 
 
 def plate_given(args: argparse.Namespace) -> list[str]:
@@ -290,6 +313,14 @@ def fem_params_of(args: argparse.Namespace, source: str | None):
     combined with ``--source table2`` or ``beam``.
     """
     named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
+    if getattr(args, "params", None) is not None:
+        clash = (["--geometry"] if getattr(args, "geometry", None) else []) + plate_given(args)
+        if source is not None:
+            clash.append("--source")
+        if clash:
+            raise LusmError(f"--params cannot be combined with {clash[0]}: the file is the "
+                            "whole parameter set", "--params")
+        return params_from_file(args.params)
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source not in (None, "fem"):

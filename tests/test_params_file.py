@@ -1,0 +1,63 @@
+"""``lusm simulate --params FILE``: a saved parameter set round-trips, and its edits act."""
+
+import json
+
+import pytest
+
+from rom import table2
+from rom.params import MotorParams
+from validation.cli import main
+
+
+def _run(capsys, *argv):
+    assert main(["simulate", "--voltage", "300", "--preload", "14", "--duration", "0.02",
+                 "--json", *argv]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_params_json_round_trips_into_simulate(tmp_path, capsys):
+    assert main(["params", "--json"]) == 0
+    path = tmp_path / "set.json"
+    path.write_text(capsys.readouterr().out)
+    assert MotorParams.from_dict(json.loads(path.read_text())) == table2()
+    direct = _run(capsys)
+    saved = _run(capsys, "--params", str(path))
+    assert saved["steady_velocity_m_s"] == direct["steady_velocity_m_s"]
+
+
+def test_lower_damping_in_the_file_moves_the_slider_faster(tmp_path, capsys):
+    """Halving both modal dampings raises the free tip amplitudes, hence the speed."""
+    d = {k: v for k, v in table2().to_dict().items()
+         if k not in ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")}
+    d["C_l"] *= 0.5
+    d["C_b"] *= 0.5
+    path = tmp_path / "light.json"
+    path.write_text(json.dumps(d))
+    base = _run(capsys)["steady_velocity_m_s"]
+    light = _run(capsys, "--params", str(path))["steady_velocity_m_s"]
+    assert light > 1.2 * base > 0
+
+
+@pytest.mark.parametrize(("content", "words"), [
+    ("not json", ["--params", "not a JSON parameter set"]),
+    ('{"M_l": 1}', ["--params", "missing key"]),
+    ("EDITED_ZETA", ["--params", "zeta_L1", "derived"]),
+])
+def test_bad_parameter_files_are_refused_in_one_line(tmp_path, capsys, content, words):
+    if content == "EDITED_ZETA":
+        d = table2().to_dict()
+        d["zeta_L1"] = 0.01
+        content = json.dumps(d)
+    path = tmp_path / "bad.json"
+    path.write_text(content)
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--params", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and all(w in err for w in words), err
+
+
+def test_params_cannot_be_combined_with_a_stator(tmp_path, capsys):
+    path = tmp_path / "set.json"
+    path.write_text(json.dumps(table2().to_dict()))
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--params", str(path),
+                 "--length-mm", "35"]) == 2
+    assert "--params cannot be combined with --length-mm" in capsys.readouterr().err
