@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rom.params import PARAM_UNITS
 from validation.output_set import output_set
 
 SPEED_PRELOAD_N = 14.0
@@ -24,10 +25,6 @@ BAND_HALF_WIDTH = 0.15
 """The admittance band spans the design's L1 and B2 (short and open) widened by this
 fraction of their mean on each side."""
 
-_UNITS = {"M_l": "kg", "C_l": "N s/m", "K_l": "N/m", "A_l": "N/V", "phi_L0": "-",
-          "phi_Ll": "-", "M_b": "kg", "C_b": "N s/m", "K_b": "N/m", "A_b": "N/V",
-          "phi_B0": "-", "phi_Bl": "-", "k_contact": "N/m", "M_slider": "kg", "mu_s": "-",
-          "mu_d": "-", "mu_sd": "-", "a_mu": "-", "b_mu": "1/m"}
 
 
 def _describe(stator, material, label: str) -> str:
@@ -84,7 +81,7 @@ def _modes_section(choice, out: Path, quick: bool, say):
 
 
 def _params_section(params, label: str):
-    rows = [f"| {f.name} | {getattr(params, f.name):.6g} | {_UNITS.get(f.name, '')} |"
+    rows = [f"| {f.name} | {getattr(params, f.name):.6g} | {PARAM_UNITS.get(f.name, '')} |"
             for f in fields(params) if f.name != "source"]
     md = ["## 2. Reduced parameters", "",
           f"`lusm params --geometry ...` ({params.source}). Modal frequencies "
