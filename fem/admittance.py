@@ -222,7 +222,11 @@ def _port_vectors(model, electrodes, polarity) -> tuple[np.ndarray, float, tuple
     if len(pol) != len(electrodes) or any(p not in (1.0, -1.0) for p in pol):
         raise ValueError(f"polarity must hold one +1/-1 per electrode, got {polarity!r}")
     g = sum(p * model.G[:, e - 1] for p, e in zip(pol, electrodes, strict=True))
-    c0 = float(sum(model.C_F[e - 1] for e in electrodes))
+    # clamped port capacitance p^T C p over the driven electrodes (the others grounded): the
+    # inter-electrode terms count when neighbours are wired with opposite polarity
+    idx = [e - 1 for e in electrodes]
+    p = np.asarray(pol, dtype=float)
+    c0 = float(p @ model.capacitance_matrix_F[np.ix_(idx, idx)] @ p)
     return np.asarray(g, dtype=float), c0, electrodes, pol
 
 
@@ -241,7 +245,7 @@ def modal_port(
     Parameters
     ----------
     model : fem.model.PiezoPlateModel
-        2D plate model (``K``, ``M``, ``G``, ``C_F``).
+        2D plate model (``K``, ``M``, ``G``, ``capacitance_matrix_F``).
     f_max_Hz : float
         Top of the band of interest (Hz); modes up to ``cutoff_factor * f_max_Hz`` are kept.
     electrodes : tuple of int, optional

@@ -22,6 +22,7 @@ Open circuit (floating electrodes, zero charge): ``V_e = -C_e^-1 G_e^T u`` and
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -95,6 +96,133 @@ def _coupling_form(e_star: np.ndarray):
     return form
 
 
+def _weighted_coupling_form(e_star: np.ndarray, weight):
+    """Coupling over a gap strip: ``integral B^T e*^T w(x, y) dA`` with ``w`` the fraction of
+    the electrode voltage on the gap's top face (thickness-averaged ``E3 = w V / h``)."""
+    from skfem import LinearForm
+    from skfem.helpers import sym_grad
+
+    e = np.asarray(e_star, dtype=float)
+
+    @LinearForm
+    def form(v, w):
+        sv = _voigt(sym_grad(v))
+        return weight(w.x[0], w.x[1]) * (e[0] * sv[0] + e[1] * sv[1] + e[2] * sv[2])
+
+    return form
+
+
+def _thickness_inertia_form(rho_h3_12: float, a: np.ndarray):
+    """Kinetic energy of the thickness motion ``u_z = z S3`` with ``S3 = -a . [S1, S2, S6]``:
+    ``rho h^3/12 integral (a . S(u)) (a . S(v)) dA`` (``docs/fem.md``, section 1)."""
+    from skfem import BilinearForm
+    from skfem.helpers import sym_grad
+
+    a = np.asarray(a, dtype=float)
+
+    @BilinearForm
+    def form(u, v, w):
+        su = _voigt(sym_grad(u))
+        sv = _voigt(sym_grad(v))
+        s3u = a[0] * su[0] + a[1] * su[1] + a[2] * su[2]
+        s3v = a[0] * sv[0] + a[1] * sv[1] + a[2] * sv[2]
+        return rho_h3_12 * s3u * s3v
+
+    return form
+
+
+GAP_MODELS = ("shorted", "open")
+"""Gap-strip models: ``'shorted'`` (default; the grounded neighbours short the strip, its
+material has the short-circuit stiffness and is driven by the neighbours' voltages through
+the cross-section potential, inter-electrode capacitances from :mod:`fem.capacitance`) and
+``'open'`` (the earlier model: ``D3 = 0`` in the strip, stiffness ``c*_open``, no coupling,
+diagonal capacitance matrix)."""
+
+GAP_VALIDITY_RATIO = 1.0 / 6.0
+"""Largest gap / thickness for which the shorted-gap 2D model is valid (``docs/fem.md``)."""
+
+
+class GapValidityWarning(UserWarning):
+    """The electrode gap is too wide for the 2D model; use the 3D model (``--model 3d``)."""
+
+
+def gap_validity_message(gap_m: float, thickness_m: float) -> str | None:
+    """One-line warning text when ``gap_m > thickness_m / 6``, else None."""
+    if gap_m <= GAP_VALIDITY_RATIO * thickness_m * (1.0 + 1e-9):
+        return None
+    return (
+        f"electrode gap {gap_m * 1e3:g} mm exceeds thickness/6 = "
+        f"{GAP_VALIDITY_RATIO * thickness_m * 1e3:.3g} mm: the 2D model is outside its validity "
+        f"(the gap strip is no longer shorted by its neighbours); use the 3D model "
+        f"(lusm modes --model 3d, fem.solid3d)"
+    )
+
+
+def stator_gap_validity_message(stator: PlateStator) -> str | None:
+    """:func:`gap_validity_message` for a stator (a meshed stator's gaps come from its mesh)."""
+    mesh = planform_mesh(stator)
+    gap = gap_layout(mesh).gap_m if mesh is not None else stator.electrode_gap_m
+    return gap_validity_message(gap, stator.thickness_m)
+
+
+@dataclass(frozen=True)
+class GapLayout:
+    """The two gap strips of a quadrant-electrode mesh, read from its electrode tags.
+
+    Attributes
+    ----------
+    x_mid_m, gap_x_m : float
+        Centre and width of the strip parallel to y (between 1, 2 at larger x and 3, 4) (m).
+    y_mid_m, gap_y_m : float
+        Centre and width of the strip parallel to x (between 2, 4 at larger y and 1, 3) (m).
+    x_lo_m, x_hi_m, y_lo_m, y_hi_m : float
+        Extent of the electroded area (m).
+    """
+
+    x_mid_m: float
+    gap_x_m: float
+    y_mid_m: float
+    gap_y_m: float
+    x_lo_m: float
+    x_hi_m: float
+    y_lo_m: float
+    y_hi_m: float
+
+    @property
+    def gap_m(self) -> float:
+        """The wider of the two gaps (m)."""
+        return max(self.gap_x_m, self.gap_y_m)
+
+    def in_strip(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+        """True for points inside a gap strip (within the electroded extent)."""
+        in_x = (np.abs(x_m - self.x_mid_m) < 0.5 * self.gap_x_m) & (y_m > self.y_lo_m) & (
+            y_m < self.y_hi_m)
+        in_y = (np.abs(y_m - self.y_mid_m) < 0.5 * self.gap_y_m) & (x_m > self.x_lo_m) & (
+            x_m < self.x_hi_m)
+        return in_x | in_y
+
+
+def gap_layout(mesh: PlateMesh) -> GapLayout:
+    """Gap strips of ``mesh`` from the node coordinates of its electrode elements."""
+    p = mesh.points_m
+
+    def nodes(tags):
+        el = np.flatnonzero(np.isin(mesh.electrode, tags))
+        return p[:, np.unique(mesh.quads[:, el])]
+
+    hi_x, lo_x = nodes((1, 2)), nodes((3, 4))
+    hi_y, lo_y = nodes((2, 4)), nodes((1, 3))
+    xa, xb = float(hi_x[0].min()), float(lo_x[0].max())
+    ya, yb = float(hi_y[1].min()), float(lo_y[1].max())
+    every = nodes(ELECTRODES)
+    return GapLayout(
+        x_mid_m=0.5 * (xa + xb), gap_x_m=max(xa - xb, 0.0),
+        y_mid_m=0.5 * (ya + yb), gap_y_m=max(ya - yb, 0.0),
+        x_lo_m=float(every[0].min()), x_hi_m=float(every[0].max()),
+        y_lo_m=float(every[1].min()), y_hi_m=float(every[1].max()),
+    )
+
+
 @dataclass(frozen=True, eq=False)
 class PiezoPlateModel:
     """Assembled matrices of the plate (treat them as read-only; results may be cached).
@@ -115,9 +243,25 @@ class PiezoPlateModel:
     G : numpy.ndarray
         Coupling vectors, shape (n_dofs, 4), column ``e-1`` for electrode e (N/V).
     C_F : numpy.ndarray
-        Clamped capacitances of electrodes 1..4 (F); the capacitance matrix is diagonal.
+        Diagonal of :attr:`capacitance_matrix_F`: clamped self-capacitances of electrodes
+        1..4 (F), each with the other electrodes grounded.
     assembly_time_s : float
         Wall time of mesh generation and assembly (s).
+    capacitance_matrix_F : numpy.ndarray
+        Clamped 4x4 Maxwell capacitance matrix (F), symmetric positive definite:
+        ``Q = G^T u + C V``; off-diagonal (negative) terms couple neighbouring electrodes
+        across the gaps. Default: ``diag(C_F)``.
+    gap_model : str
+        One of :data:`GAP_MODELS`.
+    thickness_inertia : bool
+        Whether ``M`` includes the thickness-motion inertia ``rho h^3/12 (dS3/dt)^2``.
+    M_uV : numpy.ndarray
+        Inertia coupling of the displacements to the electrode voltages, shape (n_dofs, 4)
+        (kg/V): the field part ``(e33/c33) E3`` of ``S3`` moves the faces too. Zero without
+        thickness inertia.
+    M_VV : numpy.ndarray
+        Inertia of the voltages, 4x4 (kg/V^2). The kinetic energy is
+        ``1/2 [u', V']^T [[M, M_uV], [M_uV^T, M_VV]] [u', V']``.
     """
 
     stator: PlateStator
@@ -130,6 +274,24 @@ class PiezoPlateModel:
     G: np.ndarray
     C_F: np.ndarray
     assembly_time_s: float
+    capacitance_matrix_F: np.ndarray | None = None
+    gap_model: str = "shorted"
+    thickness_inertia: bool = True
+    M_uV: np.ndarray | None = None
+    M_VV: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        n_e = len(ELECTRODES)
+        defaults = {
+            "capacitance_matrix_F": lambda: np.diag(np.asarray(self.C_F, dtype=float)),
+            "M_uV": lambda: np.zeros((self.K.shape[0], n_e)),
+            "M_VV": lambda: np.zeros((n_e, n_e)),
+        }
+        for name, make in defaults.items():
+            if getattr(self, name) is None:
+                arr = make()
+                arr.setflags(write=False)
+                object.__setattr__(self, name, arr)
 
     @property
     def n_dofs(self) -> int:
@@ -144,13 +306,52 @@ class PiezoPlateModel:
     def open_circuit_update(
         self, open_electrodes: tuple[int, ...] = ELECTRODES
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Low-rank factors ``(U, D)`` with ``K_open = K + U diag(D) U^T`` (``D = 1/C``)."""
+        """Low-rank factors ``(U, D)`` with ``K_open = K + U diag(D) U^T``.
+
+        The open electrodes float with zero charge, the others are grounded:
+        ``0 = G_o^T u + C_oo V_o``, so ``K_open = K + G_o C_oo^-1 G_o^T`` (Schur complement on
+        the open set). With the Cholesky factor ``C_oo = L L^T``, ``U = G_o L^-T`` and
+        ``D = 1``; for a diagonal ``C_oo`` this is ``U = G_o``, ``D = 1 / C``.
+        """
         _check_electrodes(open_electrodes)
         idx = [e - 1 for e in open_electrodes]
-        return self.G[:, idx], 1.0 / self.C_F[idx]
+        c_oo = self.capacitance_matrix_F[np.ix_(idx, idx)]
+        g_o = self.G[:, idx]
+        if np.count_nonzero(c_oo - np.diag(np.diag(c_oo))) == 0:
+            return g_o, 1.0 / np.diag(c_oo)
+        chol = np.linalg.cholesky(c_oo)
+        u = np.linalg.solve(chol, g_o.T).T  # G_o L^-T
+        return u, np.ones(len(idx))
+
+    def open_circuit_mass_update(
+        self, open_electrodes: tuple[int, ...] = ELECTRODES
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """Low-rank factors ``(W, S)`` with ``M_open = M + W S W^T``, or None if ``M_uV = 0``.
+
+        With ``V_o = -R u``, ``R = C_oo^-1 G_o^T``, the kinetic energy gives
+        ``M_open = M - M_uV R - R^T M_uV^T + R^T M_VV R``; ``W = [G_o, M_uV_o]`` and
+        ``S = [[C^-1 M_VV C^-1, -C^-1], [-C^-1, 0]]``.
+        """
+        _check_electrodes(open_electrodes)
+        idx = [e - 1 for e in open_electrodes]
+        m_uv = self.M_uV[:, idx]
+        if not np.any(m_uv):
+            return None
+        c_inv = np.linalg.inv(self.capacitance_matrix_F[np.ix_(idx, idx)])
+        m_vv = self.M_VV[np.ix_(idx, idx)]
+        S = np.block([[c_inv @ m_vv @ c_inv, -c_inv], [-c_inv, np.zeros_like(c_inv)]])
+        return np.hstack((self.G[:, idx], m_uv)), 0.5 * (S + S.T)
+
+    def M_open(self, open_electrodes: tuple[int, ...] = ELECTRODES) -> sp.csr_matrix:
+        """Open-circuit mass ``M + W S W^T`` (explicit; dense blocks)."""
+        upd = self.open_circuit_mass_update(open_electrodes)
+        if upd is None:
+            return self.M
+        W, S = upd
+        return (self.M + sp.csr_matrix(W @ S @ W.T)).tocsr()
 
     def K_open(self, open_electrodes: tuple[int, ...] = ELECTRODES) -> sp.csr_matrix:
-        """Open-circuit stiffness ``K + sum_e G_e G_e^T / C_e`` (explicit; dense blocks)."""
+        """Open-circuit stiffness ``K + G_o C_oo^-1 G_o^T`` (explicit; dense blocks)."""
         u, d = self.open_circuit_update(open_electrodes)
         return (self.K + sp.csr_matrix((u * d) @ u.T)).tocsr()
 
@@ -188,6 +389,8 @@ def build_model(
     stator: PlateStator,
     material: PiezoMaterial | str = "pzt8",
     order: int = 2,
+    gap_model: str = "shorted",
+    thickness_inertia: bool = True,
 ) -> PiezoPlateModel:
     """Assemble K, M, G and C on a given (possibly file-read) mesh.
 
@@ -201,9 +404,21 @@ def build_model(
         Material or its name (``'pzt8'``, ``'paper'``).
     order : int
         Element order, 1 or 2.
+    gap_model : str
+        ``'shorted'`` (default) or ``'open'`` (the earlier ``D3 = 0`` strips); see
+        :data:`GAP_MODELS` and ``docs/fem.md``.
+    thickness_inertia : bool
+        Add the inertia of the thickness motion ``u_z = z S3`` to ``M`` (default True).
+
+    Warns
+    -----
+    GapValidityWarning
+        With ``gap_model='shorted'`` and a gap wider than thickness/6.
     """
     from skfem import Basis, asm
 
+    if gap_model not in GAP_MODELS:
+        raise ValueError(f"gap_model must be one of {GAP_MODELS}, got {gap_model!r}")
     t0 = time.perf_counter()
     mat = get_material(material)
     elem = _element(order)
@@ -212,12 +427,30 @@ def build_model(
     h = stator.thickness_m
     skmesh = mesh.to_skfem()
     basis = Basis(skmesh, elem)
-    gap = mesh.elements_of(0)
     electroded = np.flatnonzero(mesh.electrode > 0)
-    K = asm(_stiffness_form(ps.c_Pa, h), basis.with_elements(electroded))
-    if gap.size:
-        K = K + asm(_stiffness_form(ps.c_open_Pa, h), basis.with_elements(gap))
+    untagged = mesh.elements_of(0)
+    layout = gap_layout(mesh)
+    shorted = gap_model == "shorted" and layout.gap_m > 0.0
+    if shorted:
+        message = gap_validity_message(layout.gap_m, h)
+        if message is not None:
+            warnings.warn(message, GapValidityWarning, stacklevel=2)
+        centres = mesh.points_m[:, mesh.quads[:, untagged]].mean(axis=1)
+        in_strip = layout.in_strip(centres[0], centres[1])
+        strips, other = untagged[in_strip], untagged[~in_strip]
+    else:
+        strips, other = untagged[:0], untagged
+    # electrodes and shorted strips: E3 = 0 in short circuit; unelectroded material away from
+    # the electrodes (a protruding tip) and the strips of the 'open' model: D3 = 0
+    K = asm(_stiffness_form(ps.c_Pa, h), basis.with_elements(np.concatenate((electroded,
+                                                                             strips))))
+    if other.size:
+        K = K + asm(_stiffness_form(ps.c_open_Pa, h), basis.with_elements(other))
     M = asm(_mass_form(mat.rho_kg_m3 * h), basis)
+    if thickness_inertia:
+        c = mat.cE_Pa
+        a = np.array([c[2, 0], c[2, 1], c[2, 5]]) / c[2, 2]  # S3 = -a . [S1, S2, S6]
+        M = M + asm(_thickness_inertia_form(mat.rho_kg_m3 * h**3 / 12.0, a), basis)
     G = np.zeros((basis.N, len(ELECTRODES)))
     C = np.zeros(len(ELECTRODES))
     for k in ELECTRODES:
@@ -231,10 +464,39 @@ def build_model(
     if np.any(C <= 0.0):
         missing = [k for k in ELECTRODES if C[k - 1] <= 0.0]
         raise ValueError(f"mesh has no elements under electrode(s) {missing}")
+    cap = np.diag(C)
+    weights = {k: (lambda x, y: np.zeros_like(x)) for k in ELECTRODES}
+    sub = basis.with_elements(strips) if strips.size else None
+    if shorted and sub is not None:
+        weights, cap = _gap_terms(layout, mat, h, C)
+        for k in ELECTRODES:
+            G[:, k - 1] += asm(_weighted_coupling_form(ps.e_C_m2, weights[k]), sub)
+        C = np.diag(cap).copy()
+    m_uv = np.zeros_like(G)
+    m_vv = np.zeros_like(cap)
+    if thickness_inertia:
+        # S3 = -a . S + b E3 with b = e33/c33 and E3 = sum_e w_e V_e / h: the kinetic energy
+        # rho h^3/12 (S3')^2 couples u' and V' (docs/fem.md, section 1)
+        c = mat.cE_Pa
+        b_h = float(mat.e_C_m2[2, 2] / c[2, 2]) / h
+        scale = mat.rho_kg_m3 * h**3 / 12.0
+        for k in ELECTRODES:
+            el = basis.with_elements(mesh.elements_of(k))
+            m_uv[:, k - 1] = -scale * b_h * asm(_coupling_form(a), el)
+            if sub is not None:
+                m_uv[:, k - 1] -= scale * b_h * asm(_weighted_coupling_form(a, weights[k]), sub)
+        xq = np.asarray(sub.global_coordinates()) if sub is not None else None
+        for i in ELECTRODES:
+            for j in ELECTRODES:
+                val = float(basis.with_elements(mesh.elements_of(i)).dx.sum()) if i == j else 0.0
+                if xq is not None:
+                    val += float(np.sum(weights[i](xq[0], xq[1]) * weights[j](xq[0], xq[1])
+                                        * sub.dx))
+                m_vv[i - 1, j - 1] = scale * b_h**2 * val
     K = (0.5 * (K + K.T)).tocsr()
     M = (0.5 * (M + M.T)).tocsr()
-    G.setflags(write=False)
-    C.setflags(write=False)
+    for arr in (G, C, cap, m_uv, m_vv):
+        arr.setflags(write=False)
     return PiezoPlateModel(
         stator=stator,
         material=mat,
@@ -246,19 +508,87 @@ def build_model(
         G=G,
         C_F=C,
         assembly_time_s=time.perf_counter() - t0,
+        capacitance_matrix_F=cap,
+        gap_model=gap_model,
+        thickness_inertia=bool(thickness_inertia),
+        M_uV=m_uv,
+        M_VV=m_vv,
     )
+
+
+def _gap_terms(layout: GapLayout, material: PiezoMaterial, thickness_m: float,
+               c_plate_F: np.ndarray):
+    """Gap weights ``w_e(x, y)`` and the 4x4 capacitance matrix of the shorted-gap model.
+
+    Each strip gets one cross-section solve (:func:`fem.capacitance.gap_cross_section`),
+    applied along its length. ``w_e`` is the product of the two strips' top-face potential
+    profiles (1 under electrode e, 0 under the others); it is exact in each strip away from
+    the crossing and interpolates in the g x g crossing. The capacitance matrix adds to the
+    parallel-plate diagonal ``c_plate_F`` each electrode's gap fringe (cross-section diagonal
+    minus its parallel-plate part) and puts the cross-section's mutual term ``c_ab`` (< 0)
+    between the neighbours across a strip, both per unit length times the length of the
+    electrode's edge along the strip. Diagonal neighbours (1-4, 2-3) meet only at the
+    crossing's corners; their coupling is neglected, like the crossing's own share.
+    """
+    from fem.capacitance import gap_cross_section, lateral_permittivity_F_m
+
+    ps = plane_stress(material)
+    eps_l = lateral_permittivity_F_m(material)
+    L = layout
+    x_a, x_b = L.x_mid_m + 0.5 * L.gap_x_m, L.x_mid_m - 0.5 * L.gap_x_m
+    y_a, y_b = L.y_mid_m + 0.5 * L.gap_y_m, L.y_mid_m - 0.5 * L.gap_y_m
+    cap = np.diag(np.asarray(c_plate_F, dtype=float))
+
+    def one(gap, width_a, width_b):
+        if gap <= 0.0:
+            return None
+        return gap_cross_section(float(gap), float(thickness_m), float(width_a),
+                                 float(width_b), eps_l, ps.eps33_F_m)
+
+    # strip parallel to y: a = electrodes 1, 2 (larger x); edges of length y_b - y_lo (1, 3)
+    # and y_hi - y_a (2, 4)
+    csx = one(L.gap_x_m, L.x_hi_m - x_a, x_b - L.x_lo_m)
+    # strip parallel to x: a = electrodes 2, 4 (larger y); edges x_hi - x_a (1, 2), x_b - x_lo
+    csy = one(L.gap_y_m, L.y_hi_m - y_a, y_b - L.y_lo_m)
+    if csx is not None:
+        for (ea, eb), length in (((1, 3), y_b - L.y_lo_m), ((2, 4), L.y_hi_m - y_a)):
+            cap[ea - 1, ea - 1] += csx.excess_F_m[0] * length
+            cap[eb - 1, eb - 1] += csx.excess_F_m[1] * length
+            cap[ea - 1, eb - 1] = cap[eb - 1, ea - 1] = csx.mutual_F_m * length
+    if csy is not None:
+        for (ea, eb), length in (((2, 1), L.x_hi_m - x_a), ((4, 3), x_b - L.x_lo_m)):
+            cap[ea - 1, ea - 1] += csy.excess_F_m[0] * length
+            cap[eb - 1, eb - 1] += csy.excess_F_m[1] * length
+            cap[ea - 1, eb - 1] = cap[eb - 1, ea - 1] = csy.mutual_F_m * length
+
+    def profile(cs, mid, side):
+        if cs is None:  # no strip in this direction: a step at the (zero-width) gap
+            return lambda t: ((t > mid) if side == "a" else (t < mid)).astype(float)
+        return lambda t: cs.weight(t - mid, side)
+
+    wxa, wxb = profile(csx, L.x_mid_m, "a"), profile(csx, L.x_mid_m, "b")
+    wya, wyb = profile(csy, L.y_mid_m, "a"), profile(csy, L.y_mid_m, "b")
+    weights = {
+        1: lambda x, y: wxa(x) * wyb(y),
+        2: lambda x, y: wxa(x) * wya(y),
+        3: lambda x, y: wxb(x) * wyb(y),
+        4: lambda x, y: wxb(x) * wya(y),
+    }
+    cap = 0.5 * (cap + cap.T)
+    return weights, cap
 
 
 @lru_cache(maxsize=16)
 def _cached_model(
-    stator: PlateStator, material: PiezoMaterial, order: int, refine: int
+    stator: PlateStator, material: PiezoMaterial, order: int, refine: int,
+    gap_model: str = "shorted", thickness_inertia: bool = True,
 ) -> PiezoPlateModel:
     t0 = time.perf_counter()
     # a stator that carries its own mesh (fem.meshed_stator.MeshedStator) ignores ``refine``
     mesh = planform_mesh(stator)
     if mesh is None:
         mesh = structured_mesh(stator, refine)
-    model = build_model(mesh, stator, material, order)
+    model = build_model(mesh, stator, material, order, gap_model, thickness_inertia)
     object.__setattr__(model, "assembly_time_s", time.perf_counter() - t0)
     return model
 
@@ -268,6 +598,8 @@ def plate_model(
     material: PiezoMaterial | str = "pzt8",
     order: int = 2,
     refine: int = DEFAULT_REFINE,
+    gap_model: str = "shorted",
+    thickness_inertia: bool = True,
 ) -> PiezoPlateModel:
     """Structured-mesh model of ``stator`` (cached on its arguments).
 
@@ -281,9 +613,16 @@ def plate_model(
         Element order, 1 or 2.
     refine : int
         Elements per smaller plate dimension (see :func:`fem.mesh.structured_mesh`).
+    gap_model : str
+        ``'shorted'`` (default) or ``'open'``: see :func:`build_model`.
+    thickness_inertia : bool
+        Include the thickness-motion inertia (default True).
     """
     stator = PlateStator() if stator is None else stator
     _element(order)  # validate before caching
     if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
         raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
-    return _cached_model(stator, get_material(material), int(order), int(refine))
+    if gap_model not in GAP_MODELS:
+        raise ValueError(f"gap_model must be one of {GAP_MODELS}, got {gap_model!r}")
+    return _cached_model(stator, get_material(material), int(order), int(refine), gap_model,
+                         bool(thickness_inertia))

@@ -119,11 +119,14 @@ def _shift_invert(
     n_modes: int,
     update: tuple[np.ndarray, np.ndarray] | None = None,
     maxiter: int | None = None,
+    mass_update: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Eigenpairs of ``(K + U D U^T) x = lambda M x`` nearest ``sigma`` (rad^2/s^2).
+    """Eigenpairs of ``(K + U D U^T) x = lambda (M + W S W^T) x`` nearest ``sigma``.
 
-    The low-rank open-circuit update is applied through the Woodbury identity on the sparse
-    LU factors of ``K - sigma M``, so ``K_open`` is never formed.
+    The low-rank open-circuit updates (stiffness ``U D U^T``, mass ``W S W^T``; either may be
+    None) are applied through the Woodbury identity on the sparse LU factors of
+    ``K - sigma M``, so ``K_open`` and ``M_open`` are never formed. Eigenvalues in
+    rad^2/s^2.
     """
     A = (K - sigma * M).tocsc()
     try:
@@ -131,28 +134,49 @@ def _shift_invert(
     except RuntimeError as exc:  # exactly singular: sigma hit an eigenvalue
         raise ModeSolverError(f"K - sigma M is singular at sigma={sigma:.6g}: {exc}") from exc
     n = K.shape[0]
-    if update is None:
-        op = sla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
-        a_op = K
-    else:
+    blocks_z, blocks_t = [], []
+    if update is not None:
         U, D = update
-        AinvU = lu.solve(np.asarray(U, dtype=float))
-        cap = np.diag(1.0 / D) + U.T @ AinvU
-        cap_inv = np.linalg.inv(cap)
+        blocks_z.append(np.asarray(U, dtype=float))
+        blocks_t.append(np.diag(np.asarray(D, dtype=float)))
+    if mass_update is not None:
+        W, S = mass_update
+        blocks_z.append(np.asarray(W, dtype=float))
+        blocks_t.append(-sigma * np.asarray(S, dtype=float))
+    a_op, m_op = K, M
+    if not blocks_z:
+        op = sla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
+    else:
+        # (A + Z T Z^T)^-1 = A^-1 - A^-1 Z (I + T Z^T A^-1 Z)^-1 T Z^T A^-1 (T may be singular)
+        Z = np.hstack(blocks_z)
+        T = np.zeros((Z.shape[1], Z.shape[1]))
+        i0 = 0
+        for t in blocks_t:
+            T[i0:i0 + t.shape[0], i0:i0 + t.shape[0]] = t
+            i0 += t.shape[0]
+        AinvZ = lu.solve(Z)
+        core = np.linalg.solve(np.eye(Z.shape[1]) + T @ (Z.T @ AinvZ), T)
 
         def solve(x: np.ndarray) -> np.ndarray:
             y = lu.solve(np.asarray(x, dtype=float).ravel())
-            return y - AinvU @ (cap_inv @ (U.T @ y))
+            return y - AinvZ @ (core @ (Z.T @ y))
 
         op = sla.LinearOperator((n, n), matvec=solve, dtype=float)
-        a_op = sla.LinearOperator(
-            (n, n), matvec=lambda x: K @ x + U @ (D * (U.T @ x)), dtype=float
-        )
+        if update is not None:
+            U, D = update
+            a_op = sla.LinearOperator(
+                (n, n), matvec=lambda x: K @ x + U @ (D * (U.T @ x)), dtype=float
+            )
+        if mass_update is not None:
+            W, S = mass_update
+            m_op = sla.LinearOperator(
+                (n, n), matvec=lambda x: M @ x + W @ (S @ (W.T @ x)), dtype=float
+            )
     k = min(n_modes, n - 2)
     # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
     v0 = np.random.default_rng(0).standard_normal(n)
     try:
-        w, v = sla.eigsh(a_op, k=k, M=M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
+        w, v = sla.eigsh(a_op, k=k, M=m_op, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
                          v0=v0)
     except sla.ArpackNoConvergence as exc:
         raise ModeSolverError(
@@ -182,7 +206,8 @@ def natural_frequencies_Hz(
     else:
         sigma = -((2.0 * math.pi * 100.0) ** 2)
     update = model.open_circuit_update(ELECTRODES) if open_circuit else None
-    w, v = _shift_invert(model.K, model.M, sigma, n_modes, update, maxiter)
+    mass_update = model.open_circuit_mass_update(ELECTRODES) if open_circuit else None
+    w, v = _shift_invert(model.K, model.M, sigma, n_modes, update, maxiter, mass_update)
     return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
 
 
@@ -376,9 +401,10 @@ def modes_of_model(
 
 @lru_cache(maxsize=32)
 def _cached_modes(
-    stator: PlateStator, material: PiezoMaterial, order: int, refine: int
+    stator: PlateStator, material: PiezoMaterial, order: int, refine: int,
+    gap_model: str = "shorted", thickness_inertia: bool = True,
 ) -> PlateModes:
-    model = plate_model(stator, material, order, refine)
+    model = plate_model(stator, material, order, refine, gap_model, thickness_inertia)
     return modes_of_model(model, refine=refine)
 
 
@@ -387,6 +413,8 @@ def plate_modes(
     material: PiezoMaterial | str = "pzt8",
     order: int = 2,
     refine: int = DEFAULT_REFINE,
+    gap_model: str = "shorted",
+    thickness_inertia: bool = True,
 ) -> PlateModes:
     """L1 and B2 (short/open circuit, k_eff) of a plate on a structured mesh (cached).
 
@@ -400,6 +428,11 @@ def plate_modes(
         Element order, 1 or 2.
     refine : int
         Elements per smaller plate dimension.
+    gap_model : str
+        ``'shorted'`` (default) or ``'open'`` (:func:`fem.model.build_model`).
+    thickness_inertia : bool
+        Include the thickness-motion inertia (default True).
     """
     stator = PlateStator() if stator is None else stator
-    return _cached_modes(stator, get_material(material), int(order), int(refine))
+    return _cached_modes(stator, get_material(material), int(order), int(refine), gap_model,
+                         bool(thickness_inertia))

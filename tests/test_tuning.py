@@ -43,8 +43,9 @@ def test_tuning_from_reversed_mode_order(tuned):
 
 def test_scaling_with_thickness_ratio(tuned):
     d = tune_plate(40e3, fix="thickness_ratio")
-    # 2D frequencies ignore h: same planform, h scaled with l
-    assert d.stator.length_m == pytest.approx(tuned.stator.length_m, rel=1e-6)
+    # the 2D frequencies depend on h only through the thickness inertia (~(h/l)^2, 7e-4 of
+    # L1 at h/l = 0.1): nearly the same planform, h scaled with l
+    assert d.stator.length_m == pytest.approx(tuned.stator.length_m, rel=1e-3)
     assert d.stator.thickness_m == pytest.approx(3e-3 * d.stator.length_m / 30e-3, rel=1e-9)
 
 

@@ -97,11 +97,19 @@ def run(args: argparse.Namespace) -> None:
         check_fe_size(stator, refine, layers)
     else:
         check_fe_size(stator, refine)
+    validity = None
     try:
         if args.model == "3d":
             res = solid_modes(stator, material, args.order, refine, layers)
         else:
-            res = plate_modes(stator, material, args.order, refine)
+            import warnings
+
+            from fem.model import GapValidityWarning, stator_gap_validity_message
+
+            validity = stator_gap_validity_message(stator)
+            with warnings.catch_warnings():  # reported once, below, on one line
+                warnings.simplefilter("ignore", GapValidityWarning)
+                res = plate_modes(stator, material, args.order, refine)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc
@@ -112,6 +120,10 @@ def run(args: argparse.Namespace) -> None:
         _write_export(export, plate_model(stator, material, args.order, refine), res,
                       args.force)
     L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
+    if validity is not None:
+        import sys
+
+        print(f"warning: {validity}", file=sys.stderr)
     if args.json:
         mat = material.to_dict()
         mat["plane_stress"] = plane_stress(material).to_dict()

@@ -1,0 +1,124 @@
+"""Issue 8 (FE fidelity): the 2D plate model against the 3D model, its gap validity range and
+its capacitance matrix."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from fem.capacitance import gap_cross_section, lateral_permittivity_F_m
+from fem.geometry import PlateStator
+from fem.material import plane_stress, pzt8
+from fem.mesh import structured_mesh
+from fem.model import GapValidityWarning, build_model, plate_model
+from fem.modes import modes_of_model, natural_frequencies_Hz, plate_modes
+
+
+def _model(gap_m: float, refine: int = 2, **kw):
+    st = PlateStator(electrode_gap_m=gap_m)
+    return build_model(structured_mesh(st, refine), st, "pzt8", 2, **kw)
+
+
+def test_2d_agrees_with_3d_on_the_default_plate():
+    """2D (refine 3) against the default 3D mesh (hex20, refine 3, 3 layers), gap 0.5 mm.
+
+    Stated tolerance: 1e-3 on the four frequencies (the 3D default mesh is itself within
+    5e-4 of its converged values, docs/fem3d.md) and 10 % on B2's k_eff (the 3D default mesh
+    gives 0.118 against 0.122 converged). The earlier 2D model was 1.4 % off on B2 open and
+    71 % on B2's k_eff.
+    """
+    from fem.solid3d import solid_modes
+
+    r3 = solid_modes(PlateStator())
+    r2 = plate_modes(PlateStator(), "pzt8", 2, 3)
+    for name in ("L1", "B2"):
+        m2, m3 = getattr(r2, name), getattr(r3, name)
+        assert m2.f_short_Hz == pytest.approx(m3.f_short_Hz, rel=1e-3)
+        assert m2.f_open_Hz == pytest.approx(m3.f_open_Hz, rel=1e-3)
+    assert r2.L1.k_eff == pytest.approx(r3.L1.k_eff, rel=0.02)
+    assert r2.B2.k_eff == pytest.approx(r3.B2.k_eff, rel=0.10)
+
+
+def test_gap_validity_warning():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", GapValidityWarning)
+        _model(0.5e-3)  # the default gap, exactly thickness/6: valid
+        _model(1e-3, gap_model="open")  # the earlier model makes no shorting claim
+    with pytest.warns(GapValidityWarning, match="outside its validity.*--model 3d"):
+        _model(1e-3)
+
+
+def test_cli_says_when_2d_is_outside_its_validity(capsys):
+    from validation.cli import main
+
+    assert main(["modes", "--gap-mm", "1"]) == 0
+    err = capsys.readouterr().err
+    assert len([ln for ln in err.splitlines() if "outside its validity" in ln]) == 1
+    assert "--model 3d" in err
+    assert main(["modes"]) == 0
+    assert "validity" not in capsys.readouterr().err
+
+
+def test_capacitance_matrix_is_spd_and_mutual_terms_shrink_with_the_gap():
+    mutual = []
+    for gap in (0.1e-3, 0.25e-3, 0.5e-3):
+        c = _model(gap).capacitance_matrix_F
+        assert np.array_equal(c, c.T)
+        assert np.all(np.linalg.eigvalsh(c) > 0.0)
+        assert c[0, 2] < 0.0 and c[0, 1] < 0.0  # neighbours across the two strips
+        assert c[0, 3] == 0.0  # diagonal neighbours meet only at the crossing's corners
+        mutual.append((-c[0, 2], -c[0, 1]))
+    mutual = np.array(mutual)
+    assert np.all(np.diff(mutual, axis=0) < 0.0), mutual
+    # quadrant to ground (row sum) stays near the parallel-plate value eps33* A / h
+    ps = plane_stress(pzt8())
+    c = _model(0.5e-3).capacitance_matrix_F
+    area = (7.5e-3 - 0.5e-3) / 2 * (30e-3 - 0.5e-3) / 2
+    assert c.sum(axis=1)[0] == pytest.approx(ps.eps33_F_m * area / 3e-3, rel=0.1)
+
+
+def test_zero_gap_and_open_gap_model_keep_a_diagonal_capacitance():
+    for m in (_model(0.0), _model(0.5e-3, gap_model="open")):
+        c = m.capacitance_matrix_F
+        assert np.array_equal(c, np.diag(m.C_F))
+
+
+def test_cross_section_is_converged_and_physical():
+    ps = plane_stress(pzt8())
+    args = (0.5e-3, 3e-3, 3.5e-3, 3.5e-3, lateral_permittivity_F_m(pzt8()), ps.eps33_F_m)
+    a, b = gap_cross_section(*args), gap_cross_section(*args, resolution=2)
+    assert np.allclose(a.c_F_m, b.c_F_m, rtol=1e-3)
+    assert a.mutual_F_m < 0.0 and np.all(a.excess_F_m > 0.0)
+    w = a.weight(np.array([-0.25e-3, 0.0, 0.25e-3, 1e-3]))
+    assert w[0] == pytest.approx(0.0, abs=1e-12) and w[2] == pytest.approx(1.0)
+    assert 0.4 < w[1] < 0.5  # the free gap face sags below the mean of its neighbours
+    assert w[3] == 1.0
+    # eps11^S + e15^2/c44 is eps11^T for PZT-8 (shear-free lateral field)
+    assert lateral_permittivity_F_m(pzt8()) == pytest.approx(1290 * 8.8541878128e-12, rel=1e-4)
+
+
+def test_open_circuit_condensation_matches_dense_solution():
+    """Woodbury shift-invert with the stiffness and mass updates = dense K_open, M_open."""
+    m = _model(0.5e-3)
+    f, _ = natural_frequencies_Hz(m, 10, 56e3, open_circuit=True)
+    w = sla.eigh(m.K_open().toarray(), m.M_open().toarray(), eigvals_only=True)
+    dense = np.sqrt(np.abs(w)) / (2 * math.pi)
+    for fi in f[np.abs(f) > 1e3]:
+        assert np.min(np.abs(dense - fi)) < 1e-6 * fi
+    # a subset floating, the others grounded: Schur complement on the open set
+    u, d = m.open_circuit_update((1, 3))
+    c = m.capacitance_matrix_F[np.ix_([0, 2], [0, 2])]
+    g = m.G[:, [0, 2]]
+    exact = g @ np.linalg.solve(c, g.T)
+    assert np.max(np.abs((u * d) @ u.T - exact)) < 1e-12 * np.max(np.abs(exact))
+
+
+def test_earlier_model_is_kept_as_an_option():
+    """``gap_model='open', thickness_inertia=False`` reproduces the numbers before issue 8."""
+    res = modes_of_model(plate_model(PlateStator(), "pzt8", 2, 4, "open", False))
+    assert res.L1.f_short_Hz == pytest.approx(56479.73, rel=2e-6)
+    assert res.B2.f_open_Hz == pytest.approx(55314.35, rel=2e-6)
