@@ -301,24 +301,58 @@ def identify_modes(
     return out
 
 
-def _solve_identified(
-    model: PiezoPlateModel,
-    f_center_Hz: float,
-    n_modes: int,
-    open_circuit: bool,
-    maxiter: int | None,
-) -> tuple[np.ndarray, np.ndarray, dict[str, tuple[int, float, float]]]:
-    last: ModeSolverError | None = None
-    for k in (n_modes, 2 * n_modes, 4 * n_modes):
-        f, v = natural_frequencies_Hz(model, k, f_center_Hz, open_circuit, maxiter)
-        try:
-            return f, v, identify_modes(model, f, v)
-        except ModeSolverError as exc:
-            last = exc
-            if k >= model.n_dofs - 2:
-                break
-    assert last is not None
-    raise last
+def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_modes: int,
+                     maxiter: int | None, max_modes: int | None = None):
+    """The one modal pipeline of the 2D and 3D models: L1 and B2, short and open circuit.
+
+    Shift-invert solves near ``f_center_Hz`` (default: the slender-rod L1 estimate) with
+    ``n_modes`` modes, retried with 2x and 4x as many until :func:`identify` finds L1 and B2,
+    then :func:`pair_short_open`.
+
+    Parameters
+    ----------
+    model : PiezoPlateModel or fem.solid3d.SolidPlateModel
+        Needs ``stator``, ``material`` and the mass matrix ``M``.
+    frequencies : callable
+        ``frequencies(model, k, f_center_Hz, open_circuit, maxiter) -> (f_Hz, shapes)``.
+    identify : callable
+        ``identify(model, f_Hz, shapes) -> {name: (index, mac, symmetry)}``; raises
+        :class:`ModeSolverError` when a mode is missing.
+    f_center_Hz : float or None
+    n_modes : int
+    maxiter : int or None
+        ARPACK iteration limit.
+    max_modes : int, optional
+        No retry asks for more modes than this (e.g. the number of unknowns minus 2).
+
+    Returns
+    -------
+    f_short_Hz, f_open_Hz, modes, solve_time_short_s
+        Both spectra, ``{"L1": IdentifiedMode, "B2": IdentifiedMode}`` and the wall time of
+        the short-circuit solve (s).
+    """
+    fc = rod_frequency_estimate_Hz(model.stator, model.material) if f_center_Hz is None else (
+        f_center_Hz
+    )
+
+    def solve(open_circuit: bool):
+        last: ModeSolverError | None = None
+        for k in (n_modes, 2 * n_modes, 4 * n_modes):
+            f, v = frequencies(model, k, fc, open_circuit, maxiter)
+            try:
+                return f, v, identify(model, f, v)
+            except ModeSolverError as exc:
+                last = exc
+                if max_modes is not None and k >= max_modes:
+                    break
+        assert last is not None
+        raise last
+
+    t0 = time.perf_counter()
+    fs, vs, ids = solve(False)
+    t_short = time.perf_counter() - t0
+    fo, _, ido = solve(True)
+    return fs, fo, pair_short_open(fs, vs, ids, fo, ido, model.M), t_short
 
 
 def pair_short_open(fs, vs, ids, fo, ido, M) -> dict[str, IdentifiedMode]:
@@ -376,13 +410,9 @@ def modes_of_model(
         If eigsh does not converge or L1/B2 cannot be identified.
     """
     t0 = time.perf_counter()
-    fc = rod_frequency_estimate_Hz(model.stator, model.material) if f_center_Hz is None else (
-        f_center_Hz
-    )
-    fs, vs, ids = _solve_identified(model, fc, n_modes, False, maxiter)
-    t_short = time.perf_counter() - t0
-    fo, vo, ido = _solve_identified(model, fc, n_modes, True, maxiter)
-    modes = pair_short_open(fs, vs, ids, fo, ido, model.M)
+    fs, fo, modes, t_short = solve_short_open(model, natural_frequencies_Hz, identify_modes,
+                                              f_center_Hz, n_modes, maxiter,
+                                              max_modes=model.n_dofs - 2)
     wall = time.perf_counter() - t0 + model.assembly_time_s
     return PlateModes(
         L1=modes["L1"],

@@ -80,10 +80,9 @@ from fem.modes import (
     ModeSolverError,
     PlateModes,
     modal_assurance,
-    pair_short_open,
     reference_shapes,
-    rod_frequency_estimate_Hz,
     sign_changes,
+    solve_short_open,
     symmetric_fraction,
 )
 
@@ -630,18 +629,6 @@ def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray
     return out
 
 
-def _solve_identified3d(model, f_center_Hz, n_modes, open_circuit, maxiter):
-    last: ModeSolverError | None = None
-    for k in (n_modes, 2 * n_modes, 4 * n_modes):
-        f, v = solid_frequencies_Hz(model, k, f_center_Hz, open_circuit, maxiter)
-        try:
-            return f, v, _identify3d(model, f, v)
-        except ModeSolverError as exc:
-            last = exc
-    assert last is not None
-    raise last
-
-
 @dataclass(frozen=True, eq=False)
 class SolidModes(PlateModes):
     """:class:`fem.modes.PlateModes` of the 3D model, plus its mesh description.
@@ -676,13 +663,8 @@ def modes_of_solid_model(
         If eigsh does not converge or L1/B2 cannot be identified.
     """
     t0 = time.perf_counter()
-    fc = rod_frequency_estimate_Hz(model.stator, model.material) if f_center_Hz is None else (
-        f_center_Hz
-    )
-    fs, vs, ids = _solve_identified3d(model, fc, n_modes, False, maxiter)
-    t_short = time.perf_counter() - t0
-    fo, _, ido = _solve_identified3d(model, fc, n_modes, True, maxiter)
-    modes = pair_short_open(fs, vs, ids, fo, ido, model.M)
+    fs, fo, modes, t_short = solve_short_open(model, solid_frequencies_Hz, _identify3d,
+                                              f_center_Hz, n_modes, maxiter)
     n_phi_free = model.potential_map(False).shape[1]
     return SolidModes(
         L1=modes["L1"],

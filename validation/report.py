@@ -353,8 +353,13 @@ def _build(out: Path, quick: bool, progress: bool) -> dict:
     doc = {"quick": quick, "wall_time_s": wall, "parameter_sets": d1,
            "paper_reproduction": d2, "speed_vs_error": d3, "hard_cases": d4,
            "motor_characteristics": d5}
+    return write_report_files(out, md, doc, "LUSM report")
+
+
+def write_report_files(out: Path, md: str, doc: dict, title: str) -> dict:
+    """Write a report's ``index.md``, its self-contained ``index.html`` and ``report.json``."""
     (out / "index.md").write_text(md)
-    (out / "index.html").write_text(to_html(md, "LUSM report"))
+    (out / "index.html").write_text(to_html(md, title))
     (out / "report.json").write_text(json.dumps(doc, indent=1, default=_json_default))
     return doc
 

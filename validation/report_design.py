@@ -8,7 +8,6 @@ voltage, and the motor characteristics (speed-thrust, efficiency, steady map) of
 
 from __future__ import annotations
 
-import json
 import time
 from dataclasses import fields
 from pathlib import Path
@@ -177,8 +176,7 @@ def _build(out: Path, choice, params, quick: bool, progress: bool) -> dict:
     from tqdm import tqdm
 
     from contact.drive import auto_frequency
-    from validation.report import markdown_table
-    from validation.report_html import to_html
+    from validation.report import markdown_table, write_report_files
     from validation.report_motor import motor_section
 
     (out / "figures").mkdir(parents=True, exist_ok=True)
@@ -210,15 +208,4 @@ def _build(out: Path, choice, params, quick: bool, progress: bool) -> dict:
                                                                      choice.material, label),
            "modes": d1, "parameters": d2, "admittance": d3, "speed_vs_voltage": d4,
            "motor_characteristics": d5}
-    (out / "index.md").write_text(md)
-    (out / "index.html").write_text(to_html(md, "LUSM design report"))
-    (out / "report.json").write_text(json.dumps(doc, indent=1, default=_json_default))
-    return doc
-
-
-def _json_default(o):
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    return str(o)
+    return write_report_files(out, md, doc, "LUSM design report")
