@@ -149,7 +149,8 @@ class ResonancePair:
     k_eff : float
         ``sqrt((f_a^2 - f_r^2) / f_a^2)`` (-).
     mode : str
-        Name of the nearest retained mode (``'L1'``, ``'B2'`` or ``''``).
+        The identified mode behind the peak (``'L1'``, ``'B2'``), ``'B2+L1 (merged)'`` when
+        both make one peak (heavy damping or coincident modes), or ``''``.
     """
 
     f_resonance_Hz: float
@@ -383,9 +384,29 @@ def resonance_pairs(port: ModalPort, f_Hz: np.ndarray) -> tuple[ResonancePair, .
         fr = _refine_extremum(port, f[i - 1], f[i + 1], -1.0)
         fa = _refine_extremum(port, f[j - 1], f[j + 1], +1.0)
         k2 = max((fa**2 - fr**2) / fa**2, 0.0)
-        near = int(np.argmin(np.abs(port.frequencies_Hz - fr)))
-        pairs.append(ResonancePair(fr, fa, math.sqrt(k2), port.mode_names[near]))
+        pairs.append(ResonancePair(fr, fa, math.sqrt(k2), _pair_label(port, fr, fa)))
     return tuple(pairs)
+
+
+def _pair_label(port: ModalPort, fr: float, fa: float) -> str:
+    """Name of the identified mode(s) behind a peak; ``"L1+B2 (merged)"`` when both lie in it.
+
+    A named mode belongs to the peak when its frequency lies within two half-power
+    bandwidths (``2 zeta f``) of the resonance-antiresonance interval: with heavy damping or
+    coincident frequencies the two modes make one peak, and labelling it with the nearer one
+    alone would hide the other.
+    """
+    inside = []
+    for name, fk, zk in zip(port.mode_names, port.frequencies_Hz, port.zeta, strict=True):
+        if name and fr - 2.0 * zk * fk <= fk <= fa + 2.0 * zk * fk:
+            inside.append(name)
+    named = sorted(set(inside))
+    if len(named) > 1:
+        return "+".join(named) + " (merged)"
+    if named:
+        return named[0]
+    near = int(np.argmin(np.abs(port.frequencies_Hz - fr)))
+    return port.mode_names[near]
 
 
 def plate_admittance(

@@ -93,3 +93,16 @@ def test_modal_port_is_bit_identical_run_to_run(model):
     b = modal_port(model, 65e3, None, None, 0.01, 0.02)
     f = np.linspace(45e3, 65e3, 101)
     assert np.array_equal(a.admittance_S(f), b.admittance_S(f))
+
+
+def test_merged_peaks_are_labelled_as_merged():
+    """Light damping resolves L1 and B2 as two pairs; Table 2's heavy damping merges them into
+    one peak, which must name both modes instead of the nearer one alone."""
+    from fem.admittance import plate_admittance
+    from fem.geometry import PlateStator
+
+    light = plate_admittance(PlateStator(), "pzt8", 45e3, 65e3, 2001, zeta=0.005)
+    assert [p.mode for p in light.pairs] == ["B2", "L1"]
+    heavy = plate_admittance(PlateStator(), "pzt8", 45e3, 65e3, 2001,
+                             zeta_L1=0.1169, zeta_B2=0.07095)
+    assert [p.mode for p in heavy.pairs] == ["B2+L1 (merged)"]

@@ -112,9 +112,12 @@ def run(args: argparse.Namespace) -> None:
     print(f"C0 (clamped) {p.C0_F:.4e} F, C_free (static) {p.C_free_F:.4e} F")
     if not res.pairs:
         print("no resonance/antiresonance pair resolved in the band (heavy damping?)")
-    print(f"{'mode':<5}{'f_r (Hz)':>12}{'f_a (Hz)':>12}{'k_eff':>9}")
+    w = max([5] + [len(q.mode) + 1 for q in res.pairs])
+    print(f"{'mode':<{w}}{'f_r (Hz)':>12}{'f_a (Hz)':>12}{'k_eff':>9}")
     for q in res.pairs:
-        print(f"{q.mode or '-':<5}{q.f_resonance_Hz:>12.1f}{q.f_antiresonance_Hz:>12.1f}"
+        print(f"{q.mode or '-':<{w}}{q.f_resonance_Hz:>12.1f}{q.f_antiresonance_Hz:>12.1f}"
               f"{q.k_eff:>9.4f}")
+    if any("merged" in q.mode for q in res.pairs):
+        print("merged: L1 and B2 make one peak at this damping; its k_eff is not either mode's")
     if png is not None:
         print(f"wrote {png}")
