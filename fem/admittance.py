@@ -409,6 +409,25 @@ def _pair_label(port: ModalPort, fr: float, fa: float) -> str:
     return port.mode_names[near]
 
 
+BAND_HALF_WIDTH = 0.15
+"""Default admittance band: the design's L1 and B2 (short and open) widened by this fraction
+of their mean frequency on each side."""
+
+
+def design_band_Hz(modes, half_width: float = BAND_HALF_WIDTH) -> tuple[float, float]:
+    """A frequency band (Hz) centred on a design's L1 and B2, short and open circuit.
+
+    Parameters
+    ----------
+    modes : fem.modes.PlateModes
+    half_width : float
+        Margin on each side as a fraction of the mean of the four frequencies (-).
+    """
+    fs = [modes.L1.f_short_Hz, modes.L1.f_open_Hz, modes.B2.f_short_Hz, modes.B2.f_open_Hz]
+    pad = half_width * float(np.mean(fs))
+    return max(min(fs) - pad, 0.5 * min(fs)), max(fs) + pad
+
+
 def plate_admittance(
     stator: PlateStator | None = None,
     material: PiezoMaterial | str = "pzt8",

@@ -106,3 +106,23 @@ def test_merged_peaks_are_labelled_as_merged():
     heavy = plate_admittance(PlateStator(), "pzt8", 45e3, 65e3, 2001,
                              zeta_L1=0.1169, zeta_B2=0.07095)
     assert [p.mode for p in heavy.pairs] == ["B2+L1 (merged)"]
+
+
+def test_default_band_follows_a_40_kHz_design(capsys):
+    """``lusm admittance --length-mm 42``: L1 near 40 kHz lies outside the old fixed 45-65 kHz
+    band; the default band is centred on the design's own modes and resolves both."""
+    import json
+
+    from fem.geometry import PlateStator
+    from fem.modes import plate_modes
+    from validation.cli import main
+
+    assert main(["admittance", "--length-mm", "42", "--zeta", "0.005", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    m = plate_modes(PlateStator(length_m=42e-3))
+    assert d["f_min_Hz"] < min(m.L1.f_short_Hz, m.B2.f_short_Hz)
+    assert d["f_max_Hz"] > max(m.L1.f_open_Hz, m.B2.f_open_Hz)
+    assert m.L1.f_short_Hz < 45e3
+    pairs = {p["mode"]: p for p in d["pairs"]}
+    assert set(pairs) == {"L1", "B2"}
+    assert pairs["L1"]["f_resonance_Hz"] == pytest.approx(m.L1.f_short_Hz, rel=0.01)

@@ -22,10 +22,12 @@ def register(subparsers) -> None:
         "k_eff they imply; |Y| and phase plot.",
     )
     f_lo, f_hi = limits.FREQUENCY_HZ
-    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=45e3,
-                   metavar="HZ", help="band start (Hz)")
-    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=65e3,
-                   metavar="HZ", help="band end (Hz)")
+    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band start (Hz); default: the design's L1 and B2 "
+                   "minus 15 %% of their mean")
+    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band end (Hz); default: the design's L1 and B2 plus "
+                   "15 %% of their mean")
     p.add_argument("--points", default=2001, metavar="N",
                    type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
                    help="frequency points")
@@ -72,7 +74,7 @@ def run(args: argparse.Namespace) -> None:
     )
 
     out = output_folder(args, "admittance", "--out")
-    if not args.f_min < args.f_max:
+    if args.f_min is not None and args.f_max is not None and not args.f_min < args.f_max:
         raise LusmError(f"--f-min must be below --f-max, got {args.f_min:g} and "
                         f"{args.f_max:g} Hz", "--f-min")
     electrodes = _electrodes(args.electrodes)
@@ -88,6 +90,17 @@ def run(args: argparse.Namespace) -> None:
     check_fe_size(choice.stator, refine)
     paper = table2()  # the motor's damping comes from the parameter set, not from fem
     try:
+        if args.f_min is None or args.f_max is None:  # centre the band on the design
+            from fem.admittance import design_band_Hz
+            from fem.modes import plate_modes
+
+            lo, hi = design_band_Hz(plate_modes(choice.stator, choice.material, args.order,
+                                                refine))
+            args.f_min = lo if args.f_min is None else args.f_min
+            args.f_max = hi if args.f_max is None else args.f_max
+            if not args.f_min < args.f_max:
+                raise LusmError(f"--f-min {args.f_min:g} Hz must lie below the band's end "
+                                f"{args.f_max:g} Hz", "--f-min")
         res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                args.points, electrodes=electrodes, zeta=args.zeta,
                                zeta_L1=paper.zeta_L1, zeta_B2=paper.zeta_B2,
@@ -111,7 +124,8 @@ def run(args: argparse.Namespace) -> None:
           f"{p.f_res_Hz:.0f} Hz")
     print(f"C0 (clamped) {p.C0_F:.4e} F, C_free (static) {p.C_free_F:.4e} F")
     if not res.pairs:
-        print("no resonance/antiresonance pair resolved in the band (heavy damping?)")
+        print("no resonance/antiresonance pair resolved in the band: widen it (--f-min, "
+              "--f-max) or, if the design's modes lie inside it, the damping merges them")
     w = max([5] + [len(q.mode) + 1 for q in res.pairs])
     print(f"{'mode':<{w}}{'f_r (Hz)':>12}{'f_a (Hz)':>12}{'k_eff':>9}")
     for q in res.pairs:

@@ -20,11 +20,6 @@ from validation.output_set import output_set
 SPEED_PRELOAD_N = 14.0
 """Preload of the speed-against-voltage table (N), the paper's Fig. 20."""
 
-BAND_HALF_WIDTH = 0.15
-"""The admittance band spans the design's L1 and B2 (short and open) widened by this
-fraction of their mean on each side."""
-
-
 
 def _describe(stator, material, label: str) -> str:
     mm = 1e3
@@ -93,13 +88,10 @@ def _params_section(params, label: str):
 
 
 def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
-    from fem.admittance import plate_admittance
+    from fem.admittance import design_band_Hz, plate_admittance
     from validation.fem_figures import admittance_figure
 
-    fs = [modes2d.L1.f_short_Hz, modes2d.L1.f_open_Hz, modes2d.B2.f_short_Hz,
-          modes2d.B2.f_open_Hz]
-    pad = BAND_HALF_WIDTH * float(np.mean(fs))
-    f_lo, f_hi = min(fs) - pad, max(fs) + pad
+    f_lo, f_hi = design_band_Hz(modes2d)
     res = plate_admittance(choice.stator, choice.material, f_lo, f_hi, 801 if quick else 4001,
                            zeta_L1=params.zeta_L1, zeta_B2=params.zeta_B2)
     png = admittance_figure(res, out / "figures" / "design_admittance.png")
