@@ -253,6 +253,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["--geometry", "no_such_stator.toml"]),
     ("sim-params-missing", ["simulate", "--voltage", "200", "--preload", "14", "--params",
                             "no_such_set.json"], ["--params", "no such file"]),
+    ("admittance-f-max-below-design-band", ["admittance", "--f-max", "1"],
+     ["--f-max", "leaves no band"]),
     ("report-geometry-missing", ["report", "--geometry", "no_such_stator.toml"],
      ["--geometry", "no_such_stator.toml"]),
     ("report-length-tiny", ["report", "--length-mm", "1e-6"], ["--length-mm", "mm"]),

@@ -96,11 +96,14 @@ def run(args: argparse.Namespace) -> None:
 
             lo, hi = design_band_Hz(plate_modes(choice.stator, choice.material, args.order,
                                                 refine))
+            given = "--f-min" if args.f_max is None else "--f-max"
             args.f_min = lo if args.f_min is None else args.f_min
             args.f_max = hi if args.f_max is None else args.f_max
             if not args.f_min < args.f_max:
-                raise LusmError(f"--f-min {args.f_min:g} Hz must lie below the band's end "
-                                f"{args.f_max:g} Hz", "--f-min")
+                raise LusmError(
+                    f"{given} {args.f_min if given == '--f-min' else args.f_max:g} Hz leaves "
+                    f"no band: the design's band is {lo:.0f}-{hi:.0f} Hz; give --f-min below "
+                    "--f-max", given)
         res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                args.points, electrodes=electrodes, zeta=args.zeta,
                                zeta_L1=paper.zeta_L1, zeta_B2=paper.zeta_B2,
