@@ -265,22 +265,29 @@ def _coo(local: np.ndarray, rows: np.ndarray, cols: np.ndarray, shape) -> sp.csr
 
 
 def _graded_lines(lines: np.ndarray, edges: list[float], gap_m: float, levels: int) -> np.ndarray:
-    """``lines`` plus lines at ``gap * 2^-k`` (k = 0 .. levels-1, outside: up to ``gap``)
-    on both sides of every electrode edge in ``edges``.
+    """``lines`` plus geometric lines on both sides of every electrode edge in ``edges``.
 
-    The potential is singular (``r^(1/2)``) at the electrode edges; geometric refinement
-    towards them restores the convergence rate that uniform meshes lose there.
+    The potential is singular (``r^(1/2)``) at the electrode edges and its fringe spreads
+    over every scale from the gap to the coarse element size, so the lines sit at distances
+    ``g 2^-k`` (k = 1 .. levels, inside the gap and outside it) and ``g 2^j`` (j = 0, 1, ...
+    outside, up to half the coarse spacing): elements grow geometrically away from the edge,
+    which restores the convergence that uniform meshes lose there.
     """
     lo, hi = float(lines.min()), float(lines.max())
+    coarse = float(np.max(np.diff(lines)))
+    fine = [gap_m * 0.5**k for k in range(1, levels + 1)]
+    far = []
+    d = gap_m
+    while d < 0.5 * coarse:
+        far.append(d)
+        d *= 2.0
     extra = []
     for e in edges:
-        for k in range(levels):
-            d = gap_m * 0.5 ** (k + 1)  # inside the gap: g/2 (its centre), g/4, ...
+        for d in fine:
             extra += [e - d, e + d]
-            d_out = gap_m * 0.5**k  # outside: g, g/2, ...
-            extra += [e - d_out, e + d_out]
-    pts = np.concatenate((lines, np.clip(extra, lo, hi)))
-    pts = np.unique(pts)
+        for d in far:
+            extra += [e - d, e + d]
+    pts = np.unique(np.concatenate((lines, np.clip(extra, lo, hi))))
     keep = np.concatenate(([True], np.diff(pts) > 1e-9 * (hi - lo)))
     return pts[keep]
 
@@ -296,9 +303,9 @@ def _hex_mesh(stator: PlateStator, refine: int, layers: int, edge_grading: int =
         half = stator.length_m / 2
         x = _graded_lines(x, [-g / 2, g / 2], g, edge_grading)
         y = _graded_lines(y, [half - g / 2, half + g / 2], g, edge_grading)
-        # the singular edges lie on the top face: grade the layers towards it
-        z_top = h / 2 - np.array([g * 0.5**k for k in range(edge_grading)])
-        z = np.unique(np.concatenate((z, z_top[z_top > -h / 2])))
+        # the singular edges lie on the top face: grade the layers towards it the same way
+        depth = _graded_lines(np.array([0.0, h]), [0.0], g, edge_grading)
+        z = np.unique(np.concatenate((z, h / 2 - depth[depth < h])))
         z = z[np.concatenate(([True], np.diff(z) > 1e-9 * h))]
     return MeshHex.init_tensor(x, y, z)
 
@@ -410,8 +417,9 @@ def build_solid_model(
         ``'hex20'`` (default) or ``'hex27'``; ignored for order 1.
     edge_grading : int
         Levels of geometric refinement towards the electrode edges (0: uniform mesh): lines
-        at ``g/2, g/4, ...`` inside the gap and ``g, g/2, ...`` outside it, and layers at the
-        same depths below the top face. Ignored for a planform mesh.
+        at ``g/2, ..., g/2^levels`` from each edge on both sides, and at ``g, 2g, 4g, ...``
+        outside up to half the coarse spacing; layers at the same depths below the top
+        face. Ignored for a planform mesh.
 
     Raises
     ------
