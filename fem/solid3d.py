@@ -591,8 +591,11 @@ def solid_frequencies_Hz(
         sigma = -((2.0 * math.pi * 100.0) ** 2)
     op, kop = _condensed_operators(model, sigma, open_circuit)
     k = min(int(n_modes), model.n_displacement_dofs - 2)
+    # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
+    v0 = np.random.default_rng(0).standard_normal(model.n_displacement_dofs)
     try:
-        w, v = sla.eigsh(kop, k=k, M=model.M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter)
+        w, v = sla.eigsh(kop, k=k, M=model.M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
+                         v0=v0)
     except sla.ArpackNoConvergence as exc:
         raise ModeSolverError(
             f"eigsh (3D, shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
