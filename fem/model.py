@@ -1,22 +1,31 @@
 """Assembly of the 2D plane-stress piezoelastic plate model (scikit-fem).
 
 Unknowns are the in-plane displacements ``(u_x, u_y)`` (m) of the mid-plane; the electrode
-voltages enter through the thickness field ``E3 = V/h`` under each electrode (the paper's
-Appendix A convention ``E3 = V0/h_s``: a positive voltage drives the field along the poling
-axis). With ``S = B u`` the in-plane strains ``[S1, S2, S6]`` (Voigt, engineering shear)::
+voltages enter through the thickness field ``E3`` (the paper's Appendix A convention
+``E3 = V0/h_s``: a positive voltage drives the field along the poling axis). With ``S = B u``
+the in-plane strains ``[S1, S2, S6]`` (Voigt, engineering shear)::
 
     K   = h  integral( B^T c* B ) dA          (short circuit, all electrodes grounded)
-    M   = h  integral( rho N^T N ) dA
-    G_e =    integral_e( B^T e*^T ) dA        (force per volt, N/V: integral B^T e*^T E3 dV / V)
-    C_e =    integral_e( eps33* / h ) dA      (clamped capacitance of electrode e, F)
+    M   = h  integral( rho N^T N ) dA + rho h^3/12 integral( B^T a a^T B ) dA
+    G_e =    integral( B^T e*^T w_e ) dA      (force per volt, N/V)
+    C   =    4x4 clamped Maxwell capacitance matrix (F)
 
-so that ``M u'' + K u = sum_e G_e V_e`` and the charge of electrode e is
-``Q_e = G_e^T u + C_e V_e``. In the unelectroded gap strips the free faces carry no charge:
-``D3 = 0``, which eliminates ``E3`` locally and stiffens the material to
-``c*_open = c* + e* e*^T / eps33*`` (no coupling vector, no capacitance there).
+so that ``M u'' + K u = sum_e G_e V_e`` and the charges are ``Q = G^T u + C V``
+(``docs/fem.md``, section 1):
 
-Open circuit (floating electrodes, zero charge): ``V_e = -C_e^-1 G_e^T u`` and
-``K_open = K + sum_e G_e C_e^-1 G_e^T`` over the open electrodes.
+* ``w_e(x, y)`` is the fraction of ``V_e`` on the top face: 1 under electrode e, 0 under the
+  others, the cross-section potential of :mod:`fem.capacitance` in the gap strips. The strips
+  are shorted by their grounded neighbours (valid for gaps up to thickness/6; beyond that
+  :class:`GapValidityWarning`) and take the short-circuit stiffness ``c*``;
+  ``gap_model='open'`` keeps the earlier ``D3 = 0`` strips (``c*_open``, no coupling).
+* ``C`` adds to the parallel-plate diagonal ``eps33* A_e / h`` the gap fringes and the
+  (negative) mutual capacitances across the strips, from one cross-section solve per strip.
+* The second mass term is the inertia of the thickness motion ``u_z = z S3`` with
+  ``S3 = -a . S + (e33/c33) E3``; its field part couples ``u`` and ``V`` (``M_uV``, ``M_VV``).
+
+Open circuit (floating electrodes, zero charge, the others grounded):
+``V_o = -C_oo^-1 G_o^T u``, ``K_open = K + G_o C_oo^-1 G_o^T`` and
+``M_open = M - M_uV R - R^T M_uV^T + R^T M_VV R`` with ``R = C_oo^-1 G_o^T``.
 """
 
 from __future__ import annotations
