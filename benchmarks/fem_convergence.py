@@ -11,7 +11,10 @@ is also extrapolated on its own (rate h^2) as a cross-check. The study itself is
 :func:`validation.work_precision.fe_work_precision` (the report's FE section runs it on
 smaller meshes); this script runs it on the full sequences and prints the table.
 
-Run: ``python benchmarks/fem_convergence.py [--material pzt8|paper] [--repeat N]``
+Run: ``python benchmarks/fem_convergence.py [--material pzt8|paper] [--repeat N] [--markdown]``
+(``--markdown``: the table of ``docs/fem.md`` section 6, with each wall time as a multiple of
+the default mesh's measured in the same run; ``python -m validation.doc_tables --update
+fe2d_convergence`` stores it for the docs).
 """
 
 from __future__ import annotations
@@ -38,6 +41,8 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--material", default="pzt8", choices=("pzt8", "paper"))
     ap.add_argument("--repeat", type=int, default=3, help="timing repeats (best is kept)")
+    ap.add_argument("--markdown", action="store_true",
+                    help="print the docs' Markdown table (wall times as ratios)")
     args = ap.parse_args(argv)
     stator = PlateStator()
     points, ref_info = fe_work_precision(REFINES, REFINES[2][-2:], args.material, args.repeat)
@@ -47,6 +52,9 @@ def main(argv: list[str] | None = None) -> None:
     h1, h2 = max_element_size_m(stator, q1), max_element_size_m(stator, q2)
     ref1 = [richardson(getattr(rows[(1, q1)], f), getattr(rows[(1, q2)], f), h1, h2, 2)
             for f in ("f_L1_Hz", "f_B2_Hz")]
+    if args.markdown:
+        print(markdown(points, ref, ref1, args.material))
+        return
     print(f"material {args.material}, plate 30 x 7.5 x 3 mm, gap 0.5 mm")
     print(f"Richardson reference (order 2, h^4): L1 {ref[0]:.2f} Hz, B2 {ref[1]:.2f} Hz")
     print(f"order-1 self-extrapolation (h^2):    L1 {ref1[0]:.2f} Hz, B2 {ref1[1]:.2f} Hz")
@@ -72,6 +80,35 @@ def main(argv: list[str] | None = None) -> None:
         f"(wall = mesh + assembly + short- and open-circuit eigensolutions; eig = short-circuit "
         f"eigensolution only). Default refine = {DEFAULT_REFINE}."
     )
+
+
+def _hz(f: float) -> str:
+    """``56 178.39``: a frequency with spaced thousands, as the docs print them."""
+    return f"{f:,.2f}".replace(",", " ")
+
+
+def markdown(points, ref: list[float], ref1: list[float], material: str) -> str:
+    """The docs' table: frequencies, errors, dofs and the wall time as a multiple of the
+    default mesh's (order 2, ``DEFAULT_REFINE``), measured in the same run."""
+    default = next(pt for pt in points if pt.order == 2 and pt.refine == DEFAULT_REFINE)
+    lines = [
+        f"Material {material}. Reference (Richardson, order 2, h⁴): L1 = {_hz(ref[0])} Hz, "
+        f"B2 = {_hz(ref[1])} Hz; order 1 extrapolated on its own (h²): {_hz(ref1[0])} / "
+        f"{_hz(ref1[1])} Hz. Wall = mesh, assembly, short- and open-circuit solutions (best "
+        f"of the repeats), as a multiple of the default mesh's.",
+        "",
+        "| order | refine | dofs | L1 (Hz) | err L1 | B2 (Hz) | err B2 | wall / default |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for pt in points:
+        cells = [str(pt.order), str(pt.refine), str(pt.dofs), f"{pt.f_L1_Hz:.2f}",
+                 f"{pt.error_L1:.2e}", f"{pt.f_B2_Hz:.2f}", f"{pt.error_B2:.2e}",
+                 f"{pt.wall_time_s / default.wall_time_s:.2g}"]
+        if pt is default:
+            cells[1] += " (default)"
+            cells = [f"**{c}**" for c in cells]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

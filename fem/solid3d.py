@@ -292,9 +292,15 @@ def _graded_lines(lines: np.ndarray, edges: list[float], gap_m: float, levels: i
     return pts[keep]
 
 
-def _hex_mesh(stator: PlateStator, refine: int, layers: int, edge_grading: int = 0):
-    from skfem import MeshHex
+def hex_grid_lines(stator: PlateStator, refine: int, layers: int, edge_grading: int = 0):
+    """The tensor lines ``(x, y, z)`` (m) of the structured brick mesh of a plate.
 
+    ``refine`` and ``layers`` give the uniform lines (the 2D mesh's in-plane lines,
+    ``layers`` equal layers); ``edge_grading > 0`` adds the geometric lines of
+    :func:`_graded_lines` towards the electrode edges in x and y and towards the top face
+    in z. The element count is ``(len(x) - 1) (len(y) - 1) (len(z) - 1)``, which lets a
+    caller bound the work before building anything.
+    """
     x, y = grid_lines_m(stator, refine)
     h = stator.thickness_m
     z = np.linspace(-h / 2, h / 2, layers + 1)
@@ -307,7 +313,13 @@ def _hex_mesh(stator: PlateStator, refine: int, layers: int, edge_grading: int =
         depth = _graded_lines(np.array([0.0, h]), [0.0], g, edge_grading)
         z = np.unique(np.concatenate((z, h / 2 - depth[depth < h])))
         z = z[np.concatenate(([True], np.diff(z) > 1e-9 * h))]
-    return MeshHex.init_tensor(x, y, z)
+    return x, y, z
+
+
+def _hex_mesh(stator: PlateStator, refine: int, layers: int, edge_grading: int = 0):
+    from skfem import MeshHex
+
+    return MeshHex.init_tensor(*hex_grid_lines(stator, refine, layers, edge_grading))
 
 
 def extruded_hex_mesh(planform: PlateMesh, thickness_m: float, layers: int):

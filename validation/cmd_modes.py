@@ -29,6 +29,11 @@ def register(subparsers) -> None:
     )
     p.add_argument("--layers", type=integer("--layers", 1, limits.MAX_LAYERS, work=True),
                    default=None, help="3d: element layers through h (default 3)")
+    p.add_argument("--edge-grading", type=integer("--edge-grading", 0, limits.MAX_EDGE_GRADING),
+                   default=0, metavar="LEVELS",
+                   help="3d: grade the mesh LEVELS times towards the electrode edges, where "
+                   "the potential is singular (default 0; 3 converges B2's k_eff to about "
+                   "1 %%, docs/fem3d.md section 1)")
     add_output_options(p, folder=None)
     p.add_argument(
         "--export", metavar="FILE", default=None,
@@ -75,6 +80,7 @@ def fe_failure(exc: Exception) -> ValueError:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm modes`` with parsed ``args``."""
+    from validation.errors import LusmError
     from validation.options import check_fe_size, stator_from_args
 
     choice = stator_from_args(args)
@@ -94,13 +100,23 @@ def run(args: argparse.Namespace) -> None:
         check_refine_3d(args.refine)
         refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
         layers = DEFAULT_LAYERS if args.layers is None else args.layers
-        check_fe_size(stator, refine, layers)
+        if args.edge_grading and choice.meshed:
+            raise LusmError(f"--edge-grading applies to the generated plate, not to the mesh "
+                            f"of --geometry {args.geometry}; grade that mesh itself",
+                            "--edge-grading")
+        check_fe_size(stator, refine, layers, "--edge-grading" if args.edge_grading else "--refine",
+                      edge_grading=args.edge_grading)
     else:
+        if args.edge_grading:
+            raise LusmError("--edge-grading applies to --model 3d only (the 2D model has "
+                            "no mesh across the electrode edges' singularity)",
+                            "--edge-grading")
         check_fe_size(stator, refine)
     validity = None
     try:
         if args.model == "3d":
-            res = solid_modes(stator, material, args.order, refine, layers)
+            res = solid_modes(stator, material, args.order, refine, layers,
+                              edge_grading=args.edge_grading)
         else:
             import warnings
 
@@ -141,6 +157,7 @@ def run(args: argparse.Namespace) -> None:
         }
         if args.model == "3d":
             out["layers"], out["element"] = res.layers, res.element
+            out["edge_grading"] = args.edge_grading
         if export is not None:
             out["export"] = str(export)
         print_json(out)
@@ -150,6 +167,7 @@ def run(args: argparse.Namespace) -> None:
         f"material {material.name}, order {args.order}, "
         + ("mesh from the stator file" if choice.meshed else f"refine {refine}")
         + (f", 3D layers {res.layers} ({res.element})" if hasattr(res, "layers") else "")
+        + (f", edge grading {args.edge_grading}" if args.edge_grading else "")
     )
     if choice.design is not None:
         print(f"stator file {args.geometry}: {choice.design.name} (bounding box above)")

@@ -72,6 +72,9 @@ MAX_FE_CELLS_3D = 5_000
 """Bricks of a generated 3D mesh (planform elements x layers; the default has 195)."""
 MAX_LAYERS = 16
 """``--layers`` of the 3D model (default 3)."""
+MAX_EDGE_GRADING = 6
+"""``--edge-grading`` of the 3D model (default 0): levels of lines at ``g 2^-k`` from the
+electrode edges; the brick count is bounded separately, before anything is built."""
 MAX_FREQUENCY_POINTS = 200_000
 """``lusm admittance --points``."""
 MAX_MESH_CELLS = 200_000

@@ -262,32 +262,41 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
 
 
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
-                  option: str = "--refine") -> int:
+                  option: str = "--refine", edge_grading: int = 0) -> int:
     """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
 
-    The count is exact for the generated plate (``fem.mesh.grid_lines_m``) and is the file's
-    for a stator with its own mesh (bounded when it is read). ``layers`` selects the 3D count.
+    The count is exact for the generated plate (``fem.mesh.grid_lines_m``, and
+    ``fem.solid3d.hex_grid_lines`` for a 3D mesh graded ``edge_grading`` times) and is the
+    file's for a stator with its own mesh (bounded when it is read). ``layers`` selects the
+    3D count.
     """
     from fem.meshed_stator import planform_mesh
 
     mesh = planform_mesh(stator)
     if mesh is not None:
-        n = int(mesh.quads.shape[1])
+        n = int(mesh.quads.shape[1]) * (layers or 1)
+    elif layers is not None and edge_grading:
+        from fem.solid3d import hex_grid_lines
+
+        lines = hex_grid_lines(stator, refine, layers, edge_grading)
+        n = math.prod(len(v) - 1 for v in lines)
     else:
         from fem.mesh import DEFAULT_REFINE, grid_lines_m
 
         x, y = grid_lines_m(stator, DEFAULT_REFINE if refine is None else refine)
-        n = (len(x) - 1) * (len(y) - 1)
+        n = (len(x) - 1) * (len(y) - 1) * (layers or 1)
     if layers is not None:
-        n *= layers
         top, what = limits.work_bound(limits.MAX_FE_CELLS_3D), "3D bricks"
     else:
         top, what = limits.work_bound(limits.MAX_FE_CELLS_2D), "2D elements"
     if n > top:
         shape = (f"{stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} mm plate")
+        names = [option] + (["--layers"] if layers else []) + (
+            ["--edge-grading"] if edge_grading and option != "--edge-grading" else [])
+        lower = " or ".join(names)
         raise LusmError(f"{option}: the {shape} needs {n} {what} here, above the limit {top}; "
-                        f"lower {option}{' or --layers' if layers else ''} or make the plate "
-                        f"less elongated ({limits.more_work_hint()})", option)
+                        f"lower {lower} or make the plate less elongated "
+                        f"({limits.more_work_hint()})", option)
     return n
 
 

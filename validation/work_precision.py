@@ -67,6 +67,16 @@ def richardson(f1: float, f2: float, h1_m: float, h2_m: float, rate: float) -> f
     return f2 + (f2 - f1) / ((h1_m / h2_m) ** rate - 1.0)
 
 
+def aitken(x0: float, x1: float, x2: float) -> float:
+    """Limit of a geometrically converging sequence from its last three terms (Aitken's
+    delta-squared); ``x2`` itself when the differences do not shrink with one sign (not, or
+    not yet, geometric)."""
+    d1, d2 = x1 - x0, x2 - x1
+    if d1 == d2 or d1 * d2 <= 0.0 or abs(d2) >= abs(d1):
+        return x2
+    return x2 - d2 * d2 / (d2 - d1)
+
+
 def contact_work_precision(
     params: MotorParams,
     cases: tuple[tuple[float, float], ...] = ((200.0, 14.0), (400.0, 14.0)),
