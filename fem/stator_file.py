@@ -31,7 +31,8 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     unit = "m"                          # unit of the mesh coordinates: "m" or "mm"
 
     # --- the motor around the stator (used when a parameter set is built: lusm simulate,
-    # --- map, characteristic, params, report; FE modes and admittance frequencies ignore it)
+    # --- map, characteristic, params, report; lusm admittance takes [damping]; the FE
+    # --- modes ignore them). Ranges: MOTOR_KEYS, DAMPING_RATIO_RANGE, Q_M_RANGE.
     [damping]                           # modal damping of L1 and B2; ONE of:
     zeta_L1 = 0.01                      #   both ratios (-), each in [1e-05, 1) ...
     zeta_B2 = 0.01
@@ -40,17 +41,17 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     # source = "table2"                 #   ... or Table 2's ratios (the default: no table)
 
     [contact]
-    k_contact_N_m = 1.7378e7            # normal contact stiffness k, Eq. 7 (N/m)
+    k_contact_N_m = 1.7378e7            # normal contact stiffness k, Eq. 7, [1e3, 1e10] N/m
 
     [slider]
-    M_slider_kg = 0.2                   # slider mass M, Eq. 6 (kg)
-    mu_sd = 0.04                        # dynamic friction coefficient of the linear guide (-)
+    M_slider_kg = 0.2                   # slider mass M, Eq. 6, [1e-4, 100] kg
+    mu_sd = 0.04                        # friction coefficient of the linear guide, [0, 2]
 
     [friction]                          # tip/slider interface, Eq. 11
-    mu_s = 0.5                          # static friction coefficient (-)
-    mu_d = 0.35                         # dynamic coefficient without vibration (-), <= mu_s
-    a_mu = 0.15                         # residual coefficient at large amplitude, <= mu_d
-    b_mu_per_m = 1e6                    # attenuation factor (1/m)
+    mu_s = 0.5                          # static friction coefficient, (0, 2]
+    mu_d = 0.35                         # dynamic, without vibration, (0, 2], <= mu_s
+    a_mu = 0.15                         # residual at large amplitude, [0, 2], <= mu_d
+    b_mu_per_m = 1e6                    # attenuation factor, [0, 1e9] 1/m
 
 Without ``[mesh]`` the stator is the rectangular :class:`fem.geometry.PlateStator` (meshed
 by :func:`fem.mesh.structured_mesh`), so a TOML plate and the same plate built in Python give
