@@ -143,6 +143,26 @@ def test_lighter_damping_in_the_file_moves_the_slider_faster(tmp_path):
     assert 1.6 < v[0.01] / v[0.02] < 2.4, v
 
 
+def test_guide_friction_from_the_file_acts_as_a_load(tmp_path):
+    """[slider] mu_sd raised by d adds the guide force d (F_P + M g) against the motion, the
+    same as an external load of that size on the file's set without the change."""
+    from contact.drive import auto_frequency
+    from rom.params import GRAVITY_M_S2
+
+    light = "[damping]\nzeta_L1 = 0.01\nzeta_B2 = 0.01\n[slider]\nM_slider_kg = 0.3\n"
+    p = fem_params_from_file(_write(tmp_path, light, "a.toml"), refine=REFINE)
+    q = fem_params_from_file(_write(tmp_path, light + "mu_sd = 0.06\n", "b.toml"),
+                             refine=REFINE)
+    assert q.mu_sd == 0.06 and p.mu_sd == table2().mu_sd == 0.04 and p.M_slider == 0.3
+    f = auto_frequency(p)
+    load = 0.02 * (14.0 + 0.3 * GRAVITY_M_S2)
+    moved = steady_state(q, 300.0, 14.0, frequency_Hz=f, accuracy="fast").velocity_m_s
+    loaded = steady_state(p, 300.0, 14.0, frequency_Hz=f, accuracy="fast",
+                          load_N=load).velocity_m_s
+    free = steady_state(p, 300.0, 14.0, frequency_Hz=f, accuracy="fast").velocity_m_s
+    assert moved == pytest.approx(loaded, rel=1e-9) and 0 < moved < free
+
+
 def test_cli_names_the_damping_beside_every_speed(tmp_path, capsys):
     light = ROOT / "examples" / "light_damping" / "stator.toml"
     base = ["--voltage", "300", "--preload", "14"]
@@ -164,6 +184,20 @@ def test_cli_names_the_damping_beside_every_speed(tmp_path, capsys):
                  "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["damping"]["zeta_B2"] == pytest.approx(table2().zeta_B2)
+    # a saved set names its file; compare names each set's origin
+    assert main(["params", "--geometry", str(light), "--json"]) == 0
+    saved = tmp_path / "set.json"
+    saved.write_text(capsys.readouterr().out)
+    assert main(["simulate", "--steady", "--frequency", "auto", "--params", str(saved),
+                 "--json", *base]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["damping"]["from"].startswith("params file")
+    assert doc["damping"]["zeta_L1"] == pytest.approx(0.01, rel=1e-9)
+    assert main(["compare", "--sources", "table2", "fem", "--geometry", str(light),
+                 "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert "[damping]" in doc["damping_from"]["fem"] and "Table 2" in doc["damping_from"][
+        "table2"]
 
 
 def test_cli_refuses_a_bad_damping_in_one_line(tmp_path, capsys):
