@@ -30,18 +30,52 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     file = "plate.msh"                  # relative to the TOML file; replaces the rectangle
     unit = "m"                          # unit of the mesh coordinates: "m" or "mm"
 
+    # --- the motor around the stator (used when a parameter set is built: lusm simulate,
+    # --- map, characteristic, params, report; lusm admittance takes [damping]; the FE
+    # --- modes ignore them). Ranges: MOTOR_KEYS, DAMPING_RATIO_RANGE, Q_M_RANGE.
+    [damping]                           # modal damping of L1 and B2; ONE of:
+    zeta_L1 = 0.01                      #   both ratios (-), each in [1e-05, 1) ...
+    zeta_B2 = 0.01
+    # Q_m = 500                         #   ... or the material's mechanical quality factor,
+                                        #   zeta_L1 = zeta_B2 = 1 / (2 Q_m), Q_m in (0.5, 5e4]
+    # source = "table2"                 #   ... or Table 2's ratios (the default: no table)
+
+    [contact]
+    k_contact_N_m = 1.7378e7            # normal contact stiffness k, Eq. 7, [1e3, 1e10] N/m
+
+    [slider]
+    M_slider_kg = 0.2                   # slider mass M, Eq. 6, [1e-4, 100] kg
+    mu_sd = 0.04                        # friction coefficient of the linear guide, [0, 2]
+
+    [friction]                          # tip/slider interface, Eq. 11
+    mu_s = 0.5                          # static friction coefficient, (0, 2]
+    mu_d = 0.35                         # dynamic, without vibration, (0, 2], <= mu_s
+    a_mu = 0.15                         # residual at large amplitude, [0, 2], <= mu_d
+    b_mu_per_m = 1e6                    # attenuation factor, [0, 1e9] 1/m
+
 Without ``[mesh]`` the stator is the rectangular :class:`fem.geometry.PlateStator` (meshed
 by :func:`fem.mesh.structured_mesh`), so a TOML plate and the same plate built in Python give
 identical models. With a mesh the stator is a :class:`MeshedStator`: a ``PlateStator`` whose
 length and width are the mesh's bounding box and which carries the mesh, the tip and the
 preload point; :func:`fem.model.plate_model` then assembles on that mesh.
+
+The four motor tables are carried as plain data (``fem`` knows nothing of the reduced-order
+model): :attr:`StatorDesign.motor` maps ``rom.params.MotorParams`` field names (``k_contact``,
+``M_slider``, ``mu_sd``, ``mu_s``, ``mu_d``, ``a_mu``, ``b_mu``) to SI values, and
+:attr:`StatorDesign.damping_ratios` holds ``(zeta_L1, zeta_B2)`` (None: the parameter source's
+default, Table 2's ratios). :func:`rom.from_fem.fem_params_from_file` applies them; every
+constant not given stays Table 2's (Li, Yao & Wu 2016, Tables 1-2 and Section 4.1). A
+``Q_m`` is turned into one viscous ratio for both modes, ``zeta = 1 / (2 Q_m)``: this assumes
+the stator's modal loss is the material's mechanical loss alone (no mounting or radiation
+loss) and the same for the extensional L1 and the bending B2 mode. Table 1's preload spring
+(4000 N/m) has no key: the model applies the preload as a constant force (``--preload``).
 """
 
 from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -58,13 +92,36 @@ PLATE_RANGE_MM = (0.1, 1000.0)
 """Allowed plate length, width and thickness (mm), the same as the ``lusm`` plate options
 (``validation.limits.PLATE_MM``): a plate of 0.1 mm to 1 m."""
 
+DAMPING_RATIO_RANGE = (1e-5, 1.0)
+"""Allowed ``[damping] zeta_L1, zeta_B2`` (-): ``[1e-5, 1)``, underdamped modes."""
+
+Q_M_RANGE = (0.5, 5e4)
+"""Allowed ``[damping] Q_m`` (-): ``(0.5, 5e4]``, i.e. ``zeta = 1/(2 Q_m)`` in
+:data:`DAMPING_RATIO_RANGE`."""
+
+MOTOR_KEYS: dict[str, dict[str, tuple[str, float, float, bool, str]]] = {
+    "contact": {"k_contact_N_m": ("k_contact", 1e3, 1e10, True, "N/m")},
+    "slider": {"M_slider_kg": ("M_slider", 1e-4, 100.0, True, "kg"),
+               "mu_sd": ("mu_sd", 0.0, 2.0, True, "")},
+    "friction": {"mu_s": ("mu_s", 0.0, 2.0, False, ""),
+                 "mu_d": ("mu_d", 0.0, 2.0, False, ""),
+                 "a_mu": ("a_mu", 0.0, 2.0, True, ""),
+                 "b_mu_per_m": ("b_mu", 0.0, 1e9, True, "1/m")},
+}
+"""Keys of the ``[contact]``, ``[slider]`` and ``[friction]`` tables: ``key -> (MotorParams
+field, lower bound, upper bound, lower bound allowed, unit)``. The upper bound is allowed; a
+lower bound of 0 that is not allowed means "> 0"."""
+
 _KEYS: dict[str, tuple[str, ...]] = {
-    "": ("name", "plate", "electrodes", "material", "points", "mesh"),
+    "": ("name", "plate", "electrodes", "material", "points", "mesh", "damping", "contact",
+         "slider", "friction"),
     "plate": ("length_mm", "width_mm", "thickness_mm"),
     "electrodes": ("gap_mm", "drive"),
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
     "points": ("tip_mm", "preload_mm"),
     "mesh": ("file", "unit"),
+    "damping": ("zeta_L1", "zeta_B2", "Q_m", "source"),
+    **{table: tuple(keys) for table, keys in MOTOR_KEYS.items()},
 }
 
 
@@ -85,6 +142,18 @@ class StatorDesign:
         The TOML file.
     mesh_path : Path or None
         The mesh file, resolved.
+    notes : tuple of str
+        Remarks on how the file was read (e.g. triangles split into quads).
+    damping_ratios : (float, float) or None
+        ``(zeta_L1, zeta_B2)`` (-) from ``[damping]``; None: no ratios in the file (the
+        parameter source's default, Table 2's).
+    damping_origin : str
+        What set the damping, for printing: ``'[damping] zeta_L1, zeta_B2'``,
+        ``'[damping] Q_m = 500 (zeta = 1/(2 Q_m))'``, ``'[damping] source = "table2"'`` or
+        ``''`` (no ``[damping]`` table).
+    motor : dict
+        ``MotorParams`` field name -> SI value from ``[contact]``, ``[slider]`` and
+        ``[friction]`` (empty: Table 2's constants).
     """
 
     name: str
@@ -93,6 +162,15 @@ class StatorDesign:
     path: Path | None = None
     mesh_path: Path | None = None
     notes: tuple[str, ...] = field(default=())
+    damping_ratios: tuple[float, float] | None = None
+    damping_origin: str = ""
+    motor: dict[str, float] = field(default_factory=dict)
+
+    def motor_keys(self) -> dict[str, str]:
+        """``MotorParams`` field -> the ``[table] key`` of the file that set it."""
+        where = {spec[0]: f"[{table}] {key}" for table, keys in MOTOR_KEYS.items()
+                 for key, spec in keys.items()}
+        return {name: where[name] for name in self.motor}
 
     def model(self, order: int = 2, refine: int | None = None):
         """The assembled :class:`fem.model.PiezoPlateModel` (cached)."""
@@ -263,6 +341,70 @@ def _material(table: dict, src: str) -> PiezoMaterial:
         raise ValueError(f"{src}: [material] {exc}") from None
 
 
+def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,
+            lo_closed: bool, hi_closed: bool, unit: str = "") -> float:
+    """A real number of ``table[key]`` in the interval; the message names ``[tname] key``."""
+    v = table[key]
+    ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    if ok:
+        ok = (v >= lo if lo_closed else v > lo) and (v <= hi if hi_closed else v < hi)
+    if not ok:
+        interval = f"{'[' if lo_closed else '('}{lo:g}, {hi:g}{']' if hi_closed else ')'}"
+        got = f"{v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)
+        raise ValueError(f"{src}: {_where(tname, key)} must be a number in {interval}"
+                         f"{' ' + unit if unit else ''}, got {got}")
+    return float(v)
+
+
+def _damping(table: dict, src: str) -> tuple[tuple[float, float] | None, str]:
+    """``(zeta_L1, zeta_B2)`` or None, and the origin text, of a ``[damping]`` table."""
+    if not table:
+        return None, ""
+    choices = ('give zeta_L1 and zeta_B2, or Q_m, or source = "table2"')
+    if "source" in table:
+        if table["source"] != "table2":
+            raise ValueError(f"{src}: [damping] source must be \"table2\" (Table 2's ratios), "
+                             f"got {table['source']!r}; or {choices}")
+        if len(table) > 1:
+            others = ", ".join(k for k in table if k != "source")
+            raise ValueError(f"{src}: [damping] source = \"table2\" cannot be combined with "
+                             f"{others}; {choices}")
+        return None, '[damping] source = "table2"'
+    if "Q_m" in table:
+        if len(table) > 1:
+            others = ", ".join(k for k in table if k != "Q_m")
+            raise ValueError(f"{src}: [damping] Q_m sets both modes (zeta = 1/(2 Q_m)) and "
+                             f"cannot be combined with {others}; {choices}")
+        q = _number(table, "damping", "Q_m", src, *Q_M_RANGE, False, True)
+        z = 1.0 / (2.0 * q)
+        return (z, z), f"[damping] Q_m = {q:g} (zeta = 1/(2 Q_m))"
+    missing = [k for k in ("zeta_L1", "zeta_B2") if k not in table]
+    if missing:
+        raise ValueError(f"{src}: [damping] {missing[0]} is missing; {choices}")
+    lo, hi = DAMPING_RATIO_RANGE
+    zl = _number(table, "damping", "zeta_L1", src, lo, hi, True, False)
+    zb = _number(table, "damping", "zeta_B2", src, lo, hi, True, False)
+    return (zl, zb), "[damping] zeta_L1, zeta_B2"
+
+
+def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
+    """``MotorParams`` overrides of the ``[contact]``, ``[slider]``, ``[friction]`` tables."""
+    out: dict[str, float] = {}
+    for tname, keys in MOTOR_KEYS.items():
+        table = _table(data, tname, src)
+        for key, (name, lo, hi, lo_closed, unit) in keys.items():
+            if key in table:
+                out[name] = _number(table, tname, key, src, lo, hi, lo_closed, True, unit)
+    fric = data.get("friction") or {}
+    if "mu_s" in out and "mu_d" in out and out["mu_d"] > out["mu_s"]:
+        raise ValueError(f"{src}: [friction] mu_d = {fric['mu_d']!r} must be <= [friction] "
+                         f"mu_s = {fric['mu_s']!r} (kinetic friction cannot exceed static)")
+    if "mu_d" in out and "a_mu" in out and out["a_mu"] > out["mu_d"]:
+        raise ValueError(f"{src}: [friction] a_mu = {fric['a_mu']!r} must be <= [friction] "
+                         f"mu_d = {fric['mu_d']!r} (Eq. 11 decays from mu_d to a_mu)")
+    return out
+
+
 def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
                  src: str = "stator") -> StatorDesign:
     """Build a :class:`StatorDesign` from a parsed TOML document (see module docstring).
@@ -289,6 +431,9 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
     mat_t = _table(data, "material", src)
     pts_t = _table(data, "points", src)
     mesh_t = _table(data, "mesh", src)
+    damping, damping_origin = _damping(_table(data, "damping", src), src)
+    motor = {"damping_ratios": damping, "damping_origin": damping_origin,
+             "motor": _motor(data, src)}
     name = data.get("name", src)
     if not isinstance(name, str):
         raise ValueError(f"{src}: name must be a string, got {name!r}")
@@ -321,7 +466,7 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
                     f"generated plate puts it at [{default[0] / MM:g}, {default[1] / MM:g}] "
                     f"mm; give a mesh file ([mesh] file) for other points"
                 )
-        return StatorDesign(name=name, stator=stator, material=material)
+        return StatorDesign(name=name, stator=stator, material=material, **motor)
 
     from fem.mesh_io import UNITS, read_stator_mesh
 
@@ -379,7 +524,7 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
         imported.converted
     ) else ()
     return StatorDesign(
-        name=name, stator=stator, material=material, mesh_path=mesh_path, notes=notes
+        name=name, stator=stator, material=material, mesh_path=mesh_path, notes=notes, **motor
     )
 
 
@@ -416,14 +561,4 @@ def load_stator(path: str | Path) -> StatorDesign:
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     design = parse_stator(data, base_dir=path.parent, src=str(path))
-    if "name" not in data:
-        design = StatorDesign(
-            name=path.stem, stator=design.stator, material=design.material,
-            mesh_path=design.mesh_path, notes=design.notes, path=path,
-        )
-    else:
-        design = StatorDesign(
-            name=design.name, stator=design.stator, material=design.material,
-            mesh_path=design.mesh_path, notes=design.notes, path=path,
-        )
-    return design
+    return replace(design, path=path, name=design.name if "name" in data else path.stem)

@@ -117,13 +117,56 @@ def fem_params(
     )
 
 
+def design_base(design, base: MotorParams | None = None) -> MotorParams:
+    """``base`` (default Table 2) with a stator file's ``[contact]``, ``[slider]`` and
+    ``[friction]`` constants (:attr:`fem.stator_file.StatorDesign.motor`) put in.
+
+    Raises
+    ------
+    ValueError
+        If the combination is not a valid parameter set (e.g. ``[friction] mu_d`` above
+        Table 2's ``mu_s``); the message names the file's ``[table] key``.
+    """
+    from dataclasses import replace
+
+    base = table2() if base is None else base
+    if not design.motor:
+        return base
+    keys = design.motor_keys()
+    given = ", ".join(f"{keys[k]} = {v:g}" for k, v in design.motor.items())
+    try:
+        return replace(base, **design.motor, source=f"{base.source}, with {given} from "
+                       f"{design.path or design.name}")
+    except ValueError as exc:
+        text = str(exc)
+        for name, where in keys.items():
+            text = text.replace(f"MotorParams.{name}", where)
+        raise ValueError(f"{design.path or design.name}: {text}") from None
+
+
+def design_damping(design, base: MotorParams | None = None) -> tuple[float, float] | None:
+    """The ``(zeta_L1, zeta_B2)`` a stator file asks for: its ``[damping]`` ratios,
+    Table 2's for ``source = "table2"``, or None (no ``[damping]``: the caller's default)."""
+    if design.damping_ratios is not None:
+        return design.damping_ratios
+    if design.damping_origin:  # source = "table2", explicitly
+        t2 = table2()
+        return (t2.zeta_L1, t2.zeta_B2)
+    return None
+
+
 def fem_params_from_file(path, **kwargs) -> MotorParams:
     """:func:`fem_params` of the stator described by a TOML file (``fem.stator_file``).
+
+    The file's motor tables are applied: ``[damping]`` sets the damping ratios (unless
+    ``damping_ratios`` is passed here), ``[contact]``, ``[slider]`` and ``[friction]``
+    replace those constants of ``base`` (default Table 2; see :func:`design_base`).
 
     Parameters
     ----------
     path : str or Path
-        Stator file; its geometry, drive electrodes, material, points and mesh are used.
+        Stator file; its geometry, drive electrodes, material, points, mesh and motor
+        tables are used.
     **kwargs
         Further :func:`fem_params` options (``order``, ``refine``, ``base``,
         ``damping_ratios``; ``material`` overrides the file's). ``refine`` is ignored when
@@ -132,7 +175,13 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
     Returns
     -------
     MotorParams
-        Its ``source`` names the file.
+        Its ``source`` names the file and where the damping came from.
+
+    Raises
+    ------
+    ValueError
+        For a bad file or motor constants that make no valid set (the message names the
+        file's ``[table] key``).
     """
     from dataclasses import replace
 
@@ -142,6 +191,16 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         raise ValueError("fem_params_from_file takes the stator from the file; drop 'stator'")
     design = load_stator(path)
     kwargs.setdefault("material", design.material)
+    kwargs["base"] = design_base(design, kwargs.get("base"))
+    ratios = design_damping(design)
+    if "damping_ratios" in kwargs:
+        damping = "damping ratios given by the caller"
+    elif ratios is not None:
+        kwargs["damping_ratios"] = ratios
+        damping = f"damping {design.damping_origin}"
+    else:
+        damping = "no [damping]: the base set's damping ratios"
     params = fem_params(stator=design.stator, **kwargs)
     mesh = f", mesh {design.mesh_path}" if design.mesh_path is not None else ""
-    return replace(params, source=f"stator file {path} ({design.name}{mesh}): {params.source}")
+    return replace(params, source=f"stator file {path} ({design.name}{mesh}; {damping}): "
+                   f"{params.source}")

@@ -110,6 +110,10 @@ def files(tmp_path_factory) -> dict[str, str]:
     toml("rho_inf", PLATE + '[material]\nbase = "pzt8"\nrho_kg_m3 = inf\n')
     toml("material_list", PLATE + '[material]\nname = ["pzt8"]\n')
     toml("drive_str", PLATE + '[electrodes]\ndrive = "1,4"\n')
+    toml("zeta_zero", PLATE + "[damping]\nzeta_L1 = 0\nzeta_B2 = 0.01\n")
+    toml("q_and_zeta", PLATE + "[damping]\nQ_m = 100\nzeta_L1 = 0.01\n")
+    toml("slider_heavy", PLATE + "[slider]\nM_slider_kg = 1e6\n")
+    toml("mu_d_above_mu_s", PLATE + "[friction]\nmu_d = 0.6\n")
     (d / "utf16.toml").write_text(PLATE, encoding="utf-16")
     f["utf16"] = str(d / "utf16.toml")
     (d / "binary.toml").write_bytes(bytes(range(256)) * 4)
@@ -232,6 +236,17 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("stator-rho-inf", ["modes", "--geometry", "{rho_inf}"], ["rho_kg_m3", "finite"]),
     ("stator-material-list", ["modes", "--geometry", "{material_list}"], ["[material] name"]),
     ("stator-drive-string", ["modes", "--geometry", "{drive_str}"], ["[electrodes] drive"]),
+    ("stator-damping-zero", ["simulate", "--voltage", "200", "--preload", "14", "--geometry",
+                             "{zeta_zero}"], ["--geometry", "[damping] zeta_L1", "[1e-05, 1)"]),
+    ("stator-damping-q-and-zeta", ["map", "--geometry", "{q_and_zeta}"],
+     ["--geometry", "[damping] Q_m", "cannot be combined with zeta_L1"]),
+    ("stator-slider-heavy", ["characteristic", "--voltage", "200", "--preload", "14",
+                             "--geometry", "{slider_heavy}"],
+     ["--geometry", "[slider] M_slider_kg", "[0.0001, 100] kg"]),
+    ("stator-mu-d-above-table2-mu-s", ["simulate", "--voltage", "200", "--preload", "14",
+                                       "--geometry", "{mu_d_above_mu_s}"],
+     ["--geometry", "[friction] mu_d must be <= mu_s"]),
+    ("params-damping-bad-q", ["params", "--geometry", "{q_and_zeta}"], ["[damping] Q_m"]),
     ("mesh-duplicated-cell", ["modes", "--geometry", "{duplicated}"],
      ["duplicated cells"]),
     ("mesh-folded", ["modes", "--geometry", "{folded}"], ["folded.msh", "cells"]),

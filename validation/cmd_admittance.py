@@ -32,8 +32,9 @@ def register(subparsers) -> None:
                    type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
                    help="frequency points")
     p.add_argument("--zeta", type=real("--zeta", "", *limits.ZETA, lo_open=True, hi_open=True),
-                   default=None, help="one damping ratio for all modes (default: the paper's "
-                   "zeta_L1, zeta_B2; 0.01 for other modes)")
+                   default=None, help="one damping ratio for all modes (default: the stator "
+                   "file's [damping], else the paper's zeta_L1, zeta_B2; 0.01 for other "
+                   "modes)")
     p.add_argument("--electrodes", default=None, metavar="E[,E...]",
                    help="driven electrodes, e.g. 1,4 (default: the stator's drive)")
     add_plate_options(p)
@@ -83,12 +84,19 @@ def run(args: argparse.Namespace) -> None:
     from fem.admittance import plate_admittance
     from fem.mesh import DEFAULT_REFINE
     from fem.modes import ModeSolverError
+    from rom.from_fem import design_damping
     from rom.table2 import table2
     from validation.fem_figures import admittance_figure
+    from validation.summaries import table2_damping
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     check_fe_size(choice.stator, refine)
-    paper = table2()  # the motor's damping comes from the parameter set, not from fem
+    # the motor's damping comes from the stator file's [damping] or from Table 2, not from fem
+    zetas = (choice.design and design_damping(choice.design)) or (
+        table2().zeta_L1, table2().zeta_B2)
+    origin = (f"stator file {args.geometry} {choice.design.damping_origin}"
+              if choice.design is not None and choice.design.damping_origin
+              else table2_damping())
     try:
         if args.f_min is None or args.f_max is None:  # centre the band on the design
             from fem.admittance import design_band_Hz
@@ -106,7 +114,7 @@ def run(args: argparse.Namespace) -> None:
                     "--f-max", given)
         res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                args.points, electrodes=electrodes, zeta=args.zeta,
-                               zeta_L1=paper.zeta_L1, zeta_B2=paper.zeta_B2,
+                               zeta_L1=zetas[0], zeta_B2=zetas[1],
                                order=args.order, refine=refine)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
@@ -116,9 +124,13 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         with figure_set(out, "admittance", "--out", args.force) as stage:
             png = moved([admittance_figure(res, stage / "admittance.png")], stage, out)[0]
+    damping = {"zeta_L1": zetas[0], "zeta_B2": zetas[1], "from": origin}
+    if args.zeta is not None:
+        damping = {"zeta_L1": args.zeta, "zeta_B2": args.zeta, "from": "--zeta (all modes)"}
     if args.json:
         d = res.to_dict()
         d["png"] = png
+        d["damping"] = damping
         print_json(d)
         return
     p = res.port
@@ -126,6 +138,8 @@ def run(args: argparse.Namespace) -> None:
           f"{args.f_max:g} Hz; {p.frequencies_Hz.size} modes + residual mode at "
           f"{p.f_res_Hz:.0f} Hz")
     print(f"C0 (clamped) {p.C0_F:.4e} F, C_free (static) {p.C_free_F:.4e} F")
+    print(f"damping zeta_L1 = {damping['zeta_L1']:.4g}, zeta_B2 = {damping['zeta_B2']:.4g} "
+          f"(from {damping['from']})")
     if not res.pairs:
         print("no resonance/antiresonance pair resolved in the band: widen it (--f-min, "
               "--f-max) or, if the design's modes lie inside it, the damping merges them")

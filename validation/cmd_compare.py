@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation.options import SOURCES, add_plate_options, fem_params_of, plate_given, print_json
+from validation.options import SOURCES, add_plate_options, motor_params_of, plate_given, print_json
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -31,12 +31,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> None:
     """Build the comparison and print it."""
     from rom.compare import compare_sources
+    from validation.summaries import borrowed_damping, table2_damping
 
-    given = ({"fem": fem_params_of(args, "fem")} if args.geometry or plate_given(args)
-             else None)
+    origins = {"table2": table2_damping(), "beam": borrowed_damping("beam"),
+               "fem": borrowed_damping("fem")}
+    given = None
+    if args.geometry or plate_given(args):
+        fem, origins["fem"] = motor_params_of(args, "fem")
+        given = {"fem": fem}
     cmp = compare_sources(args.sources, reference=args.reference, given=given)
     if args.json:
-        print_json(cmp.to_dict(), indent=2)
+        d = cmp.to_dict()
+        d["damping_from"] = {s: origins[s] for s in cmp.values}
+        print_json(d, indent=2)
         return
     shown = [s for s in cmp.sources if s in cmp.values]
     header = f"{'quantity':<10} {'unit':<6}" + "".join(f" {s:>12}" for s in shown)
@@ -53,5 +60,6 @@ def run(args: argparse.Namespace) -> None:
     print(f"relative differences d(.) are to {cmp.reference}")
     for s in shown:
         print(f"{s}: {cmp.descriptions[s]}")
+    print("damping ratios from: " + "; ".join(f"{s}: {origins[s]}" for s in shown))
     for s, reason in cmp.unavailable.items():
         print(f"{s}: unavailable ({reason})")

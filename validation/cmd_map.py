@@ -11,9 +11,9 @@ from validation.options import (
     add_motor_options,
     add_output_options,
     check_run_size,
-    fem_params_of,
     figure_set,
     integer,
+    motor_params_of,
     moved,
     output_folder,
     print_json,
@@ -75,11 +75,11 @@ def run(args: argparse.Namespace) -> None:
             f"--voltages x --preloads give {volts.size * loads.size} points; a steady map "
             f"takes at most {limits.work_bound(limits.MAX_STEADY_POINTS)} "
             f"({limits.more_work_hint()})", "--voltages")
-    params = fem_params_of(args, args.source)
+    params, damping_from = motor_params_of(args, args.source)
 
     from contact.maps import stick_slip_map
     from contact.simulate import SimulationOptions
-    from validation.summaries import map_summary
+    from validation.summaries import damping_line, damping_summary, map_summary
 
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
                              ultrasonic_friction=not args.no_ultrasonic_friction,
@@ -90,6 +90,7 @@ def run(args: argparse.Namespace) -> None:
     except RuntimeError as exc:  # the kernel's own refusal (chattering)
         raise ValueError(str(exc)) from exc
     summary = map_summary(m)
+    summary["damping"] = damping_summary(params, damping_from)
     if plot is not None:
         from validation.figures import set_label
         from validation.figures import stick_slip_map as plot_map
@@ -107,6 +108,7 @@ def run(args: argparse.Namespace) -> None:
     for i, v in enumerate(m.voltages_V):
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
+    print(damping_line(params, damping_from))
     print(f"counts: {m.counts()}  wall time {m.wall_time_s:.2f} s ({m.method}"
           + (f", {args.accuracy})" if m.method == "steady" else f", {args.duration:g} s runs)"))
     if m.method == "steady":

@@ -25,9 +25,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Build the parameter set of ``args.source`` and print it."""
-    from validation.options import fem_params_of
+    from validation.options import motor_params_of
 
-    d = fem_params_of(args, args.source).to_dict()
+    params, damping_from = motor_params_of(args, args.source)
+    d = params.to_dict()
     if args.json:
         print_json(d, indent=2)
         return
@@ -38,3 +39,6 @@ def run(args: argparse.Namespace) -> None:
         text = f"{value:.6g}" if isinstance(value, float) else str(value)
         unit = PARAM_UNITS.get(key, "")
         print(f"{key:<{width}}  {text:>12}  {unit}" if unit else f"{key:<{width}}  {text}")
+    from validation.summaries import damping_line
+
+    print(damping_line(params, damping_from))

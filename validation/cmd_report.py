@@ -32,16 +32,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Write the report and print where it is."""
-    from validation.options import fem_params_of, output_folder, plate_given, stator_from_args
+    from validation.options import motor_params_of, output_folder, plate_given, stator_from_args
 
     out = output_folder(args, "report", "--out")  # refused before any work
     if args.geometry or plate_given(args):
         from validation.report_design import write_design_report
 
         choice = stator_from_args(args)
-        params = fem_params_of(args, "fem")
+        params, damping_from = motor_params_of(args, "fem")
         doc = write_design_report(out, choice, params, quick=args.quick,
-                                  progress=not args.no_progress, force=args.force)
+                                  progress=not args.no_progress, force=args.force,
+                                  damping_from=damping_from)
     else:
         from validation.report import write_report
 

@@ -11,8 +11,8 @@ from validation.options import (
     add_motor_options,
     add_output_options,
     check_run_size,
-    fem_params_of,
     figure_set,
+    motor_params_of,
     moved,
     output_folder,
     parse_frequency,
@@ -55,12 +55,12 @@ def run(args: argparse.Namespace) -> None:
     warn_drive(args.voltage, args.preload)
     if args.frequency.strip().lower() != "auto":
         check_run_size(args.duration, args.dt, parse_frequency(args.frequency))
-    params = fem_params_of(args, args.source)
+    params, damping_from = motor_params_of(args, args.source)
     freq = parse_frequency(args.frequency, params)
     check_run_size(args.duration, args.dt, freq)
 
     from contact.simulate import simulate
-    from validation.summaries import simulation_summary
+    from validation.summaries import damping_line, damping_summary, simulation_summary
 
     try:
         r = simulate(
@@ -73,6 +73,7 @@ def run(args: argparse.Namespace) -> None:
     except RuntimeError as exc:  # the kernel's own refusal (chattering): bad input, not a bug
         raise ValueError(str(exc)) from exc
     summary = simulation_summary(r)
+    summary["damping"] = damping_summary(params, damping_from)
     if plot is not None:
         from validation.figures import simulation_figures
 
@@ -86,6 +87,7 @@ def run(args: argparse.Namespace) -> None:
             continue
         text = f"{value:.6g}" if isinstance(value, float) else str(value)
         print(f"{key:<30} {text}")
+    print(damping_line(params, damping_from))
     if "energy" in summary:
         e = summary["energy"]
         print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")

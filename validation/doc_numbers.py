@@ -615,6 +615,51 @@ def _designer_claims() -> tuple[Claim, ...]:
                        lambda k=k: _designer_numbers()[k]) for k in _DESIGNER_KEYS)
 
 
+# --- docs/designer.md: the motor tables of a stator file (examples/light_damping) ---------
+
+
+_LIGHT = "examples/light_damping/stator.toml"
+_MOTOR_CASES = (("paper", 14.0), ("consistent", 14.0), ("paper", 5.0))
+"""(coupling, preload N) of the light-damping comparison, all at 300 V."""
+
+
+@cache
+def _motor_tables() -> dict[str, float]:
+    """Steady speed from rest at 300 V, ``--frequency auto``, of the paper plate's FE set with
+    the light-damping example's ``[damping]`` (zeta = 0.01) and with Table 2's ratios, as
+    ``lusm simulate --steady --frequency auto`` prints them."""
+    from contact.drive import auto_frequency
+    from contact.simulate import simulate
+    from rom.from_fem import fem_params, fem_params_from_file
+
+    sets = {"light": fem_params_from_file(ROOT / _LIGHT), "t2": fem_params()}
+    out: dict[str, float] = {}
+    for coupling, preload in _MOTOR_CASES:
+        tag = f"{coupling}_{preload:g}N"
+        for name, p in sets.items():
+            r = simulate(p, 300.0, preload, auto_frequency(p), coupling=coupling,
+                         method="steady")
+            out[f"{name}_v_{tag}"] = r.steady.velocity_m_s
+        out[f"ratio_{tag}"] = out[f"light_v_{tag}"] / out[f"t2_v_{tag}"]
+    return out
+
+
+def _motor_claims() -> tuple[Claim, ...]:
+    """The docs/designer.md speeds of the light-damping example against Table 2's damping."""
+    out = []
+    for coupling, preload in _MOTOR_CASES:
+        tag = f"{coupling}_{preload:g}N"
+        opts = f"--voltage 300 --preload {preload:g} --coupling {coupling} --steady " \
+               "--frequency auto"
+        for name, unit, cmd in (
+                ("light_v", "m/s", f"lusm simulate --geometry {_LIGHT} {opts}"),
+                ("t2_v", "m/s", f"lusm simulate --length-mm 30 {opts}"),
+                ("ratio", "-", "the two velocities above")):
+            key = f"{name}_{tag}"
+            out.append(Claim(f"motor_{key}", unit, cmd, lambda k=key: _motor_tables()[k]))
+    return tuple(out)
+
+
 # --- docs/contact.md: the remaining figures of sections 3-6 ------------------------------
 
 
@@ -1331,6 +1376,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_coupling_claims(),
     *_beam_claims(),
     *_designer_claims(),
+    *_motor_claims(),
     *_contact_claims(),
     *_steady_claims(),
     *_limits_claims(),

@@ -319,8 +319,18 @@ def fem_params_of(args: argparse.Namespace, source: str | None):
     """The parameter set of ``--source`` and the stator options (``fem`` when a stator is named).
 
     ``--geometry`` or a plate option selects the FE reduction of that stator; they cannot be
-    combined with ``--source table2`` or ``beam``.
+    combined with ``--source table2`` or ``beam``. :func:`motor_params_of` also says where the
+    damping came from.
     """
+    return motor_params_of(args, source)[0]
+
+
+def motor_params_of(args: argparse.Namespace, source: str | None):
+    """:func:`fem_params_of` and where its damping ratios come from (text for
+    :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a
+    ``--params`` file."""
+    from validation.summaries import borrowed_damping, table2_damping
+
     named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
     if getattr(args, "params", None) is not None:
         clash = (["--geometry"] if getattr(args, "geometry", None) else []) + plate_given(args)
@@ -329,19 +339,32 @@ def fem_params_of(args: argparse.Namespace, source: str | None):
         if clash:
             raise LusmError(f"--params cannot be combined with {clash[0]}: the file is the "
                             "whole parameter set", "--params")
-        return params_from_file(args.params)
+        return (params_from_file(args.params),
+                f"params file {args.params} (its C_l, C_b)")
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source not in (None, "fem"):
             raise LusmError(f"{what} needs --source fem, got --source {source}", "--source")
         choice = stator_from_args(args)  # checks the options and the file first
         check_fe_size(choice.stator, None)
-        from rom.from_fem import fem_params, fem_params_from_file
+        from rom.from_fem import design_base, fem_params, fem_params_from_file
 
+        design = choice.design
+        if design is None:
+            origin = borrowed_damping("fem")
+        elif design.damping_origin:
+            origin = f"stator file {args.geometry} {design.damping_origin}"
+        else:
+            origin = f"{borrowed_damping('fem')}; stator file {args.geometry} has no [damping]"
+        if design is not None:
+            try:  # the motor tables against Table 2's other constants, before any FE work
+                design_base(design)
+            except ValueError as exc:
+                raise LusmError(f"--geometry {exc}", "--geometry") from None
         try:
-            if choice.design is not None:
-                return fem_params_from_file(args.geometry)
-            return fem_params(choice.stator, choice.material)
+            if design is not None:
+                return fem_params_from_file(args.geometry), origin
+            return fem_params(choice.stator, choice.material), origin
         except Exception as exc:  # mode solver, factorisation, point search on extreme plates
             from validation.cmd_modes import fe_failure, is_fe_failure
 
@@ -350,7 +373,8 @@ def fem_params_of(args: argparse.Namespace, source: str | None):
             raise
     from rom.sources import get_params
 
-    return get_params(source or "table2")
+    name = source or "table2"
+    return get_params(name), table2_damping() if name == "table2" else borrowed_damping(name)
 
 
 # --- drive ------------------------------------------------------------------------------------

@@ -16,6 +16,7 @@ import numpy as np
 
 from rom.params import PARAM_UNITS
 from validation.output_set import output_set
+from validation.summaries import damping_line, damping_summary
 
 SPEED_PRELOAD_N = 14.0
 """Preload of the speed-against-voltage table (N), the paper's Fig. 20."""
@@ -74,16 +75,19 @@ def _modes_section(choice, out: Path, quick: bool, say):
     return md, data, m2
 
 
-def _params_section(params, label: str):
+def _params_section(params, label: str, damping_from: str):
     rows = [f"| {f.name} | {getattr(params, f.name):.6g} | {PARAM_UNITS.get(f.name, '')} |"
             for f in fields(params) if f.name != "source"]
     md = ["## 2. Reduced parameters", "",
           f"`lusm params --geometry ...` ({params.source}). Modal frequencies "
           f"f_L1 = {params.f_L1_Hz:.1f} Hz, f_B2 = {params.f_B2_Hz:.1f} Hz; damping ratios "
-          f"zeta_L1 = {params.zeta_L1:.4g}, zeta_B2 = {params.zeta_B2:.4g} (the damping in use: "
-          "every speed below depends on it).", "", "| parameter | value | unit |", "|---|---|---|"]
+          f"zeta_L1 = {params.zeta_L1:.4g}, zeta_B2 = {params.zeta_B2:.4g}, from "
+          f"{damping_from} (the damping in use: every speed below depends on it; a stator "
+          "file's `[damping]` table sets it, `docs/designer.md`).", "",
+          "| parameter | value | unit |", "|---|---|---|"]
     md += rows + [""]
     data = {f.name: getattr(params, f.name) for f in fields(params)}
+    data["damping"] = damping_summary(params, damping_from)
     return md, data
 
 
@@ -113,7 +117,8 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
     return md, data
 
 
-def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say):
+def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say,
+                   damping_from: str = ""):
     from contact.steady import steady_state
     from validation.figures import curve
 
@@ -134,15 +139,17 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say):
           f"Steady velocity reached from rest at {SPEED_PRELOAD_N:g} N and "
           f"{frequency_Hz / 1e3:.5g} kHz (the set's operating point, `--frequency auto`), "
           "exact level of the steady engine (`lusm simulate --steady --geometry ... "
-          "--frequency auto`).", "",
+          f"--frequency auto`). The {damping_line(params, damping_from)}.", "",
           "| V0 (V) | velocity (mm/s) | motion | stable steady states |", "|---|---|---|---|"]
     md += rows + ["", f"![speed against voltage](figures/{png.name})", ""]
     return md, {"voltages_V": volts.tolist(), "velocity_mm_s": vel,
+                "damping": damping_summary(params, damping_from),
                 "figure": f"figures/{png.name}"}
 
 
 def write_design_report(out_dir: Path, choice, params, quick: bool = False,
-                        progress: bool = True, force: bool = False) -> dict:
+                        progress: bool = True, force: bool = False,
+                        damping_from: str = "the parameter set") -> dict:
     """Write the report on one stator (``index.md``, ``index.html``, ``report.json``, figures).
 
     Parameters
@@ -159,12 +166,15 @@ def write_design_report(out_dir: Path, choice, params, quick: bool = False,
         Show a progress bar on stderr.
     force : bool
         Write into a non-empty folder lusm did not write (nothing is deleted).
+    damping_from : str
+        Where the damping ratios of ``params`` came from, printed beside every speed.
     """
     with output_set(Path(out_dir), "report", "--out", force) as stage:
-        return _build(stage, choice, params, quick, progress)
+        return _build(stage, choice, params, quick, progress, damping_from)
 
 
-def _build(out: Path, choice, params, quick: bool, progress: bool) -> dict:
+def _build(out: Path, choice, params, quick: bool, progress: bool,
+           damping_from: str) -> dict:
     from tqdm import tqdm
 
     from contact.drive import auto_frequency
@@ -181,12 +191,13 @@ def _build(out: Path, choice, params, quick: bool, progress: bool) -> dict:
     t0 = time.perf_counter()
     label = choice.design.name if getattr(choice, "design", None) is not None else "plate"
     md1, d1, modes2d = _modes_section(choice, out, quick, say)
-    md2, d2 = _params_section(params, label)
+    md2, d2 = _params_section(params, label, damping_from)
     md3, d3 = _admittance_section(choice, params, modes2d, out, quick)
     say("admittance")
     freq = auto_frequency(params)
-    md4, d4 = _speed_section(params, freq, out, quick, say)
-    md5, d5 = motor_section({"design": params}, {"design": freq}, out, quick, say, markdown_table)
+    md4, d4 = _speed_section(params, freq, out, quick, say, damping_from)
+    md5, d5 = motor_section({"design": params}, {"design": freq}, out, quick, say, markdown_table,
+                            damping_from={"design": damping_from})
     md5[0] = "## 5. Motor characteristics"
     bar.close()
     wall = time.perf_counter() - t0

@@ -94,7 +94,8 @@ def _row(name: str, c: Characteristic) -> list:
 
 def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, float],
                   out: Path, quick: bool, say: Callable[[str], None] = lambda _m: None,
-                  table: Callable[[list, list], list[str]] | None = None):
+                  table: Callable[[list, list], list[str]] | None = None,
+                  damping_from: dict[str, str] | None = None):
     """Markdown lines and JSON data of "Motor characteristics" for each parameter set.
 
     Parameters
@@ -111,11 +112,20 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         Progress callback, one call per finished item.
     table : callable
         The report's Markdown table builder ``table(header, rows)``.
+    damping_from : dict, optional
+        Where each set's damping ratios came from (default: Table 2 for ``table2``, Table 2's
+        ratios borrowed for the others); named beside each set's speeds.
     """
     from contact.characteristic import characteristic
     from contact.maps import stick_slip_map
     from contact.simulate import SimulationOptions
     from validation.figures import stick_slip_map as map_figure
+    from validation.summaries import (
+        borrowed_damping,
+        damping_line,
+        damping_summary,
+        table2_damping,
+    )
 
     volts = np.arange(50.0, 451.0, 200.0 if quick else 50.0)
     loads = np.arange(10.0, 27.0, 8.0 if quick else 2.0)
@@ -129,8 +139,10 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
           f"{volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: exact "
           "level, the branch reached from rest). Efficiency is the mechanical output power "
           "over the electrical input power (motional current times voltage). The paper's "
-          "coupling (eta_T F_T) is used throughout, with each set's own damping: FE and beam "
-          "sets borrow Table 2's damping ratios.", ""]
+          "coupling (eta_T F_T) is used throughout, with each set's damping (named below: "
+          "the damping sets the scale of every speed).", ""]
+    origins = {name: (damping_from or {}).get(name) or (
+        table2_damping() if name == "table2" else borrowed_damping(name)) for name in params}
     data: dict = {}
     rows = []
     for name, p in params.items():
@@ -158,6 +170,7 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
             "figures": {"characteristic": f"figures/{fig_c.name}",
                         "map": f"figures/{fig_m.name}"},
             "wall_time_s": time.perf_counter() - t0,
+            "damping": damping_summary(p, origins[name]),
         }
     md += (table or (lambda h, r: []))(
         ["set", "V0 (V)", "no-load velocity (mm/s)", "stall force (N)",
@@ -166,6 +179,7 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
     for name, d in data.items():
         mp = d["map"]
         md += [f"### {name} at {d['frequency_Hz'] / 1e3:.4g} kHz", "",
+               f"The {damping_line(params[name], origins[name])}.", "",
                f"Map: {mp['counts']}; {mp['several_branches']} point(s) with several stable "
                f"steady states (the map shows the one reached from rest); {mp['undecided']} "
                "point(s) the engine could not decide (creep), taken from 0.3 s transients; "
