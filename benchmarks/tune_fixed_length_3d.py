@@ -10,12 +10,14 @@ degenerate width, the common frequency, the L1/B2 split and the FE solves; the s
 window of targets that a free thickness could reach at that length.
 
 Run: ``python benchmarks/tune_fixed_length_3d.py [--length-mm 35] [--thickness-mm 1 2 3 4 5]
-[--no-2d]``
+[--no-2d] [--json]`` (``--json``: the spans as a last line of JSON, for
+``python -m validation.doc_numbers --update 'tune_fixlen35_h_*'``)
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from pathlib import Path
@@ -56,8 +58,20 @@ def main(argv: list[str] | None = None) -> None:
     p.add_argument("--length-mm", type=float, default=35.0)
     p.add_argument("--thickness-mm", type=float, nargs="+", default=[1.0, 2.0, 3.0, 4.0, 5.0])
     p.add_argument("--no-2d", action="store_true", help="3D only")
+    p.add_argument("--json", action="store_true", help="end with the spans as JSON")
     a = p.parse_args(argv)
-    study(a.length_mm, a.thickness_mm, ("3d",) if a.no_2d else ("2d", "3d"))
+    models = ("3d",) if a.no_2d else ("2d", "3d")
+    out = study(a.length_mm, a.thickness_mm, models)
+    if a.json:
+        spans = {}
+        for model in models:
+            fs = [out[(model, h)].frequency_Hz for h in a.thickness_mm]
+            ws = [out[(model, h)].stator.width_m for h in a.thickness_mm]
+            spans[model] = {"frequency_span": (max(fs) - min(fs)) / min(fs),
+                            "width_span": (max(ws) - min(ws)) / min(ws),
+                            "max_split": max(out[(model, h)].relative_mismatch
+                                             for h in a.thickness_mm)}
+        print(json.dumps(spans))
 
 
 if __name__ == "__main__":
