@@ -151,6 +151,13 @@ def test_a_held_dimension_refuses_a_target_and_bad_fixes():
         tune_plate(fix=())
 
 
+def test_the_parser_offers_what_the_library_holds():
+    from fem.tuning import FIX_OPTIONS
+    from validation.cmd_tune import FIX_CHOICES
+
+    assert FIX_CHOICES == FIX_OPTIONS
+
+
 def test_meshed_stator_is_refused():
     from fem.stator_file import load_stator
     from tests.conftest import ROOT
