@@ -1,4 +1,4 @@
-"""Design for degeneracy: the plate length and width at which L1 and B2 coincide.
+"""Design for degeneracy: the plate dimensions at which L1 and B2 coincide.
 
 The first step of designing a standing-wave L1-B2 motor is to make the two modes share one
 frequency, the drive frequency. For a rectangular plate of fixed material:
@@ -11,14 +11,41 @@ frequency, the drive frequency. For a rectangular plate of fixed material:
   the scaling is only approximate.
 * **Shape.** ``L1`` depends mainly on the length (``~ c / 2l``), ``B2`` grows with the width
   (bending stiffness), so at a fixed length ``ln(f_B2 / f_L1)`` increases monotonically with
-  ``W`` and has one root: the crossing of the two branches.
+  ``W`` and has one root: the crossing of the two branches. At a fixed width it decreases
+  monotonically with ``l`` (``f_B2 / f_L1 ~ W / l``).
 
-Algorithm (:func:`tune_plate`): at the current length, bracket the width where
-``ln(f_B2/f_L1)`` changes sign (multiplicative steps of at most ``STEP_FACTOR``), solve with
-Brent's method; scale ``l`` and ``W`` by ``sqrt(f_L1 f_B2) / f_target``; repeat until both
-frequencies are within ``rel_tol`` of the target. L1 and B2 are identified by shape at every
-FE solve (:func:`fem.modes.plate_modes`), so the search is indifferent to which of the two is
-lower at the starting point. Each solve is counted.
+**What can be held** (``fix``, :data:`FIX_OPTIONS`). Two conditions, ``f_L1 = f_B2`` and
+``f_L1 = f_target``, need two free dimensions that move them. The thickness is not one of
+them: in 2D it moves the frequencies only through the thickness inertia (``~(h/l)^2``) and the
+gap's cross-section capacitances, and in 3D it is hardly more: at l = 35 mm the common
+frequency of the degenerate plate moves by 0.13 % (2D) and 0.17 % (3D) over h = 1-5 mm
+(``python benchmarks/tune_fixed_length_3d.py``, docs/designer.md), so a held length or width
+together with a free thickness could reach only targets in a window of a few tenths of a per
+cent. Hence:
+
+* ``fix="thickness"`` (default) or ``"thickness_ratio"`` (``h/l`` kept): ``l`` and ``W`` are
+  tuned so that L1 = B2 = ``target_frequency_Hz`` (40 kHz when not given).
+* ``fix="length"``: the length is kept exactly; the width is tuned until L1 = B2, and their
+  common frequency *follows from the length*: it is reported, and a target is refused
+  (``ValueError`` naming ``target_frequency_Hz``).
+* ``fix="width"``: the width is kept; the length is tuned until L1 = B2, frequency reported,
+  target refused likewise.
+* ``fix`` may be a tuple to say what the thickness does next to a held length or width,
+  e.g. ``("width", "thickness_ratio")``; without a thickness entry the thickness is held.
+  Holding both the length and the width leaves nothing that can make L1 and B2 meet and is
+  refused.
+
+Algorithm (:func:`tune_plate`): at the current length (width), bracket the width (length)
+where ``ln(f_B2/f_L1)`` changes sign (multiplicative steps of at most ``STEP_FACTOR``), solve
+with Brent's method. With a target, scale ``l`` and ``W`` by ``sqrt(f_L1 f_B2) / f_target``
+and repeat until both frequencies are within ``rel_tol`` of the target; with a held length or
+width one crossing is the answer. L1 and B2 are identified by shape at every FE solve
+(:func:`fem.modes.plate_modes`, or :func:`fem.solid3d.solid_modes` for ``model="3d"``), so
+the search is indifferent to which of the two is lower at the starting point. Each solve is
+counted.
+
+A stator with its own mesh (:class:`fem.meshed_stator.MeshedStator`, e.g. a plate with a
+contact tip) cannot be rescaled here and is refused; parametric features are another task.
 """
 
 from __future__ import annotations
@@ -31,14 +58,59 @@ import numpy as np
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial, get_material
 
-FIX_OPTIONS = ("thickness", "thickness_ratio")
-"""``'thickness'``: keep ``h`` fixed; ``'thickness_ratio'``: scale ``h`` with the plate."""
+FIX_OPTIONS = ("length", "width", "thickness", "thickness_ratio")
+"""What :func:`tune_plate` can hold: ``'length'``, ``'width'`` (keep that dimension exactly),
+``'thickness'`` (keep ``h``), ``'thickness_ratio'`` (scale ``h`` with the length)."""
+THICKNESS_RULES = ("thickness", "thickness_ratio")
+"""The entries of :data:`FIX_OPTIONS` that say what the thickness does (at most one)."""
 MODELS = ("2d", "3d")
 """FE models the tuning can use."""
+DEFAULT_TARGET_HZ = 40e3
+"""Target frequency (Hz) when the length and width are both free and none is given."""
 STEP_FACTOR = 1.15
-"""Multiplicative width step used to bracket the crossing."""
+"""Multiplicative step used to bracket the crossing."""
 MAX_BRACKET_STEPS = 30
 """Give up bracketing after this many steps."""
+MAX_LENGTH_OVER_WIDTH = 20.0
+"""Upper end of the length bracket (times the width) when the width is held (-)."""
+
+
+def normalize_fix(fix: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
+    """The canonical tuple of what is held: ``fix`` plus ``'thickness'`` if no thickness rule.
+
+    Parameters
+    ----------
+    fix : str or sequence of str
+        Entries of :data:`FIX_OPTIONS`.
+
+    Returns
+    -------
+    tuple of str
+        In :data:`FIX_OPTIONS` order; always contains exactly one of
+        :data:`THICKNESS_RULES`.
+
+    Raises
+    ------
+    ValueError
+        Unknown or repeated entries, both thickness rules, or both the length and the width.
+    """
+    items = (fix,) if isinstance(fix, str) else tuple(fix)
+    bad = [f for f in items if f not in FIX_OPTIONS]
+    if not items or bad:
+        raise ValueError(f"fix must be one or more of {', '.join(FIX_OPTIONS)}, got {fix!r}")
+    if len(set(items)) != len(items):
+        raise ValueError(f"fix names an entry twice: {fix!r}")
+    held = set(items)
+    if set(THICKNESS_RULES) <= held:
+        raise ValueError("fix cannot hold both the thickness and the thickness ratio; "
+                         "choose one")
+    if {"length", "width"} <= held:
+        raise ValueError("fix cannot hold both the length and the width: only the thickness "
+                         "would be left, and it moves L1 and B2 too little to make them meet; "
+                         "hold one of them")
+    if not held & set(THICKNESS_RULES):
+        held.add("thickness")
+    return tuple(f for f in FIX_OPTIONS if f in held)
 
 
 @dataclass(frozen=True)
@@ -69,15 +141,16 @@ class TunedDesign:
     Attributes
     ----------
     stator : PlateStator
-        The tuned plate (length, width; thickness per ``fix``; the starting gap and drive).
-    target_frequency_Hz : float
-        Requested common frequency (Hz).
+        The tuned plate (its held dimensions as given; the starting gap and drive).
+    target_frequency_Hz : float or None
+        Requested common frequency (Hz); None when a held length or width sets it.
     L1, B2 : ModeSummary
         Both modes of the tuned plate.
     fe_solves : int
         Number of FE modal solutions (short + open circuit counted as one).
     fix : str
-        What was held: see :data:`FIX_OPTIONS`.
+        What was held: entries of :data:`FIX_OPTIONS` joined by ``'+'`` (e.g.
+        ``'thickness'``, ``'length+thickness'``; see :func:`normalize_fix`).
     model : str
         ``'2d'`` or ``'3d'``.
     material : str
@@ -85,11 +158,15 @@ class TunedDesign:
     history : tuple of tuple
         ``(length_m, width_m, f_L1_Hz, f_B2_Hz)`` of every FE solve, in order (short circuit).
     outer_iterations : int
-        Scale-and-recross iterations taken (1 when the first crossing already hits the target).
+        Scale-and-recross iterations taken (1 when the first crossing already hits the target,
+        or with a held length or width).
+    tuned : tuple of str
+        The dimensions the search changed: ``('length', 'width')``, ``('width',)`` or
+        ``('length',)`` (the thickness follows the length with ``'thickness_ratio'``).
     """
 
     stator: PlateStator
-    target_frequency_Hz: float
+    target_frequency_Hz: float | None
     L1: ModeSummary
     B2: ModeSummary
     fe_solves: int
@@ -98,11 +175,19 @@ class TunedDesign:
     material: str
     history: tuple
     outer_iterations: int = 0
+    tuned: tuple = ("length", "width")
+
+    @property
+    def frequency_Hz(self) -> float:
+        """Common frequency ``sqrt(f_L1 f_B2)`` (short circuit) (Hz)."""
+        return math.sqrt(self.L1.f_short_Hz * self.B2.f_short_Hz)
 
     @property
     def relative_mismatch(self) -> float:
-        """``|f_L1 - f_B2| / f_target`` (short circuit) (-)."""
-        return abs(self.L1.f_short_Hz - self.B2.f_short_Hz) / self.target_frequency_Hz
+        """``|f_L1 - f_B2| / f`` (short circuit), ``f`` the target or, without one,
+        :attr:`frequency_Hz` (-)."""
+        f = self.frequency_Hz if self.target_frequency_Hz is None else self.target_frequency_Hz
+        return abs(self.L1.f_short_Hz - self.B2.f_short_Hz) / f
 
     def to_dict(self) -> dict[str, object]:
         """JSON-ready dictionary (the ``lusm tune --json`` keys)."""
@@ -112,10 +197,12 @@ class TunedDesign:
             "thickness_mm": self.stator.thickness_m * 1e3,
             "gap_mm": self.stator.electrode_gap_m * 1e3,
             "target_frequency_Hz": self.target_frequency_Hz,
+            "frequency_Hz": self.frequency_Hz,
             "fe_solves": self.fe_solves,
             "outer_iterations": self.outer_iterations,
             "relative_mismatch": self.relative_mismatch,
             "fix": self.fix,
+            "tuned": list(self.tuned),
             "model": self.model,
             "material": self.material,
             "L1": self.L1.to_dict(),
@@ -126,12 +213,12 @@ class TunedDesign:
 class _Solver:
     """Counts and memoizes FE modal solutions of plates that differ in length and width."""
 
-    def __init__(self, base: PlateStator, material: PiezoMaterial, model: str, fix: str,
-                 order: int, refine: int | None) -> None:
+    def __init__(self, base: PlateStator, material: PiezoMaterial, model: str,
+                 scale_thickness: bool, order: int, refine: int | None) -> None:
         self.base = base
         self.material = material
         self.model = model
-        self.fix = fix
+        self.scale_thickness = scale_thickness
         self.order = order
         self.refine = refine
         self.cache: dict[tuple[float, float], object] = {}
@@ -139,7 +226,7 @@ class _Solver:
 
     def stator(self, length_m: float, width_m: float) -> PlateStator:
         h = self.base.thickness_m
-        if self.fix == "thickness_ratio":
+        if self.scale_thickness and length_m != self.base.length_m:
             h = h * length_m / self.base.length_m
         return replace(self.base, length_m=float(length_m), width_m=float(width_m),
                        thickness_m=float(h))
@@ -168,42 +255,65 @@ class _Solver:
         return math.log(res.B2.f_short_Hz / res.L1.f_short_Hz)
 
 
-def _crossing_width(solver: _Solver, length_m: float, width_m: float, rel_tol: float) -> float:
-    """Width (m) at which ``f_B2 = f_L1`` for the given length: bracket, then Brent."""
+def _crossing(solver: _Solver, free: str, length_m: float, width_m: float,
+              rel_tol: float) -> float:
+    """The ``free`` dimension (``'width'`` or ``'length'``, m) at which ``f_B2 = f_L1``, the
+    other one held: bracket, then Brent.
+
+    ``ln(f_B2/f_L1)`` rises with the width and falls with the length.
+    """
     from scipy.optimize import brentq
 
-    w_min = 1.05 * solver.base.electrode_gap_m
-    w_max = length_m
-    w0 = min(max(width_m, w_min), w_max)
-    r0 = solver.log_ratio(length_m, w0)
+    if free == "width":
+        lo_bound, hi_bound = 1.05 * solver.base.electrode_gap_m, length_m
+        x0, rising = width_m, True
+
+        def f(x: float) -> float:
+            return solver.log_ratio(length_m, x)
+    else:
+        lo_bound = max(width_m, 1.05 * solver.base.electrode_gap_m)
+        hi_bound = MAX_LENGTH_OVER_WIDTH * width_m
+        x0, rising = length_m, False
+
+        def f(x: float) -> float:
+            return solver.log_ratio(x, width_m)
+
+    x0 = min(max(x0, lo_bound), hi_bound)
+    r0 = f(x0)
     if r0 == 0.0:
-        return w0
-    # d ln(f_B2/f_L1) / d ln(W) is about 0.7..1, so a step of 1.5 |r0| in ln W usually
+        return x0
+    # |d ln(f_B2/f_L1) / d ln x| is about 0.7..1, so a step of 1.5 |r0| in ln x usually
     # brackets the root at once; the step doubles (up to ln STEP_FACTOR) until it does
     step = min(max(1.5 * abs(r0), 1e-7), math.log(STEP_FACTOR))
-    sign = -1.0 if r0 > 0 else 1.0  # B2 above L1: narrow the plate
-    a, ra = w0, r0
+    sign = -1.0 if (r0 > 0) == rising else 1.0  # B2 above L1: narrow (lengthen) the plate
+    a, ra = x0, r0
     for _ in range(MAX_BRACKET_STEPS):
-        b = min(max(a * math.exp(sign * step), w_min), w_max)
+        b = min(max(a * math.exp(sign * step), lo_bound), hi_bound)
         step = min(2.0 * step, math.log(STEP_FACTOR))
         if b == a:
             break
-        rb = solver.log_ratio(length_m, b)
+        rb = f(b)
         if np.sign(rb) != np.sign(ra):
             lo, hi = (a, b) if a < b else (b, a)
-            # the root is a zero of ln(fB2/fL1); tolerance on W well below rel_tol
-            return brentq(lambda w: solver.log_ratio(length_m, w), lo, hi,
-                          xtol=0.1 * rel_tol * lo, rtol=0.1 * rel_tol)
+            # the root is a zero of ln(fB2/fL1); tolerance on x well below rel_tol
+            return brentq(f, lo, hi, xtol=0.1 * rel_tol * lo, rtol=0.1 * rel_tol)
         a, ra = b, rb
+    held = (f"length {length_m * 1e3:.4g} mm" if free == "width"
+            else f"width {width_m * 1e3:.4g} mm")
     raise ValueError(
-        f"could not bracket the L1/B2 crossing for length {length_m * 1e3:.4g} mm between "
-        f"widths {w_min * 1e3:.4g} and {w_max * 1e3:.4g} mm"
+        f"could not bracket the L1/B2 crossing for {held} between {free}s "
+        f"{lo_bound * 1e3:.4g} and {hi_bound * 1e3:.4g} mm"
     )
 
 
+def _crossing_width(solver: _Solver, length_m: float, width_m: float, rel_tol: float) -> float:
+    """Width (m) at which ``f_B2 = f_L1`` for the given length."""
+    return _crossing(solver, "width", length_m, width_m, rel_tol)
+
+
 def tune_plate(
-    target_frequency_Hz: float = 40e3,
-    fix: str = "thickness",
+    target_frequency_Hz: float | None = None,
+    fix: str | tuple[str, ...] = "thickness",
     material: PiezoMaterial | str = "pzt8",
     start: PlateStator | None = None,
     model: str = "2d",
@@ -212,20 +322,25 @@ def tune_plate(
     rel_tol: float = 1e-5,
     max_iter: int = 10,
 ) -> TunedDesign:
-    """Length and width at which L1 and B2 coincide at ``target_frequency_Hz``.
+    """Plate dimensions at which L1 and B2 coincide (at ``target_frequency_Hz`` if free).
 
     Parameters
     ----------
-    target_frequency_Hz : float
-        Common short-circuit frequency wanted (Hz), > 0.
-    fix : str
-        ``'thickness'`` (default: ``h`` kept at the starting value) or ``'thickness_ratio'``
-        (``h/l`` kept).
+    target_frequency_Hz : float, optional
+        Common short-circuit frequency wanted (Hz), > 0. With the length and width free the
+        default is :data:`DEFAULT_TARGET_HZ` (40 kHz). With a held length or width it must be
+        left out: the common frequency then follows from the held dimension and is reported.
+    fix : str or tuple of str
+        What is held (:data:`FIX_OPTIONS`, module docstring): ``'thickness'`` (default: ``h``
+        kept at the starting value), ``'thickness_ratio'`` (``h/l`` kept), ``'length'``
+        (width tuned), ``'width'`` (length tuned), or a tuple such as
+        ``('width', 'thickness_ratio')``. A held length or width keeps the thickness unless
+        ``'thickness_ratio'`` is named.
     material : PiezoMaterial or str
         ``'pzt8'`` (default), ``'paper'`` or a material.
     start : PlateStator, optional
-        Starting design (default: the paper's 30 x 7.5 x 3 mm plate); its thickness, gap and
-        drive electrodes are kept (thickness per ``fix``).
+        Starting design (default: the paper's 30 x 7.5 x 3 mm plate); its held dimensions,
+        thickness, gap and drive electrodes are kept. A stator with its own mesh is refused.
     model : str
         ``'2d'`` (plane stress, default) or ``'3d'`` (:mod:`fem.solid3d`, slower).
     order : int
@@ -233,7 +348,8 @@ def tune_plate(
     refine : int, optional
         Mesh refinement (default: the model's default).
     rel_tol : float
-        Stop when both frequencies are within ``rel_tol`` of the target (-).
+        Stop when both frequencies are within ``rel_tol`` of the target; with a held length
+        or width, the tolerance of the crossing (-).
     max_iter : int
         Maximum number of scale-and-recross iterations.
 
@@ -244,50 +360,77 @@ def tune_plate(
     Raises
     ------
     ValueError
-        On bad input, or if no crossing can be bracketed or the iteration does not converge.
+        On bad input (a target next to a held length or width included), or if no crossing
+        can be bracketed or the iteration does not converge.
     """
-    if not (isinstance(target_frequency_Hz, (int, float)) and math.isfinite(target_frequency_Hz)
-            and target_frequency_Hz > 0):
+    held = normalize_fix(fix)
+    fixed_dim = "length" if "length" in held else "width" if "width" in held else None
+    if target_frequency_Hz is not None and not (
+            isinstance(target_frequency_Hz, (int, float))
+            and math.isfinite(target_frequency_Hz) and target_frequency_Hz > 0):
         raise ValueError(f"target_frequency_Hz must be a finite number > 0, got "
                          f"{target_frequency_Hz!r}")
-    if fix not in FIX_OPTIONS:
-        raise ValueError(f"fix must be one of {', '.join(FIX_OPTIONS)}, got {fix!r}")
+    if fixed_dim is not None and target_frequency_Hz is not None:
+        other = "width" if fixed_dim == "length" else "length"
+        raise ValueError(
+            f"target_frequency_Hz cannot be imposed with the {fixed_dim} held (fix={fix!r}): "
+            f"the {other} "
+            f"makes L1 and B2 meet and their common frequency then follows from the "
+            f"{fixed_dim} (the thickness hardly moves it); leave the target out, or hold "
+            "only the thickness to tune length and width to a target")
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
     if not (0.0 < rel_tol < 1e-2):
         raise ValueError(f"rel_tol must lie in (0, 1e-2), got {rel_tol!r}")
     mat = get_material(material)
     base = PlateStator() if start is None else start
-    solver = _Solver(base, mat, model, fix, order, refine)
+    if getattr(base, "mesh", None) is not None:
+        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
+                         "tune_plate cannot rescale; start from a plain PlateStator")
+    solver = _Solver(base, mat, model, "thickness_ratio" in held, order, refine)
     length, width = base.length_m, base.width_m
-    iterations = 0
-    for _ in range(max_iter):
-        iterations += 1
-        width = _crossing_width(solver, length, width, rel_tol)
+    if fixed_dim is not None:
+        free = "width" if fixed_dim == "length" else "length"
+        x = _crossing(solver, free, length, width, rel_tol)
+        if free == "width":
+            width = x
+        else:
+            length = x
         res = solver.modes(length, width)
-        f_l, f_b = res.L1.f_short_Hz, res.B2.f_short_Hz
-        if (abs(f_l / target_frequency_Hz - 1) < rel_tol
-                and abs(f_b / target_frequency_Hz - 1) < rel_tol):
-            break
-        s = math.sqrt(f_l * f_b) / target_frequency_Hz
-        length, width = length * s, width * s
-        if width <= base.electrode_gap_m:
-            raise ValueError(
-                f"the tuned width {width * 1e3:.4g} mm would not exceed the electrode gap "
-                f"{base.electrode_gap_m * 1e3:.4g} mm; lower the target frequency"
-            )
+        iterations = 1
+        tuned: tuple[str, ...] = (free,)
+        target = None
     else:
-        raise ValueError(f"tune_plate did not converge in {max_iter} iterations "
-                         f"(last: L1 {f_l:.2f} Hz, B2 {f_b:.2f} Hz)")
+        target = DEFAULT_TARGET_HZ if target_frequency_Hz is None else float(target_frequency_Hz)
+        tuned = ("length", "width")
+        iterations = 0
+        for _ in range(max_iter):
+            iterations += 1
+            width = _crossing(solver, "width", length, width, rel_tol)
+            res = solver.modes(length, width)
+            f_l, f_b = res.L1.f_short_Hz, res.B2.f_short_Hz
+            if abs(f_l / target - 1) < rel_tol and abs(f_b / target - 1) < rel_tol:
+                break
+            s = math.sqrt(f_l * f_b) / target
+            length, width = length * s, width * s
+            if width <= base.electrode_gap_m:
+                raise ValueError(
+                    f"the tuned width {width * 1e3:.4g} mm would not exceed the electrode gap "
+                    f"{base.electrode_gap_m * 1e3:.4g} mm; lower the target frequency"
+                )
+        else:
+            raise ValueError(f"tune_plate did not converge in {max_iter} iterations "
+                             f"(last: L1 {f_l:.2f} Hz, B2 {f_b:.2f} Hz)")
     return TunedDesign(
         stator=solver.stator(length, width),
-        target_frequency_Hz=float(target_frequency_Hz),
+        target_frequency_Hz=target,
         L1=ModeSummary(res.L1.f_short_Hz, res.L1.f_open_Hz, res.L1.k_eff),
         B2=ModeSummary(res.B2.f_short_Hz, res.B2.f_open_Hz, res.B2.k_eff),
         fe_solves=len(solver.history),
-        fix=fix,
+        fix="+".join(held),
         model=model,
         material=mat.name,
         history=tuple(solver.history),
         outer_iterations=iterations,
+        tuned=tuned,
     )

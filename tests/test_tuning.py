@@ -53,7 +53,7 @@ def test_bad_tuning_input():
     with pytest.raises(ValueError, match="target_frequency_Hz"):
         tune_plate(-1.0)
     with pytest.raises(ValueError, match="fix"):
-        tune_plate(40e3, fix="width")
+        tune_plate(40e3, fix="height")
     with pytest.raises(ValueError, match="model"):
         tune_plate(40e3, model="1d")
 
@@ -80,3 +80,120 @@ def test_cli_tune_and_sweep(tmp_path, capsys):
     capsys.readouterr()
     assert main(["sweep", "--width-mm", "6:5:1"]) == 2
     assert main(["tune", "--target-frequency", "0"]) == 2
+
+
+# --- a held length or width (issue 13) ---------------------------------------------------------
+
+REFINE = 3  # small mesh: the checks below compare the tuning with re-solves on the same mesh
+
+
+def _resolve(stator, refine=REFINE):
+    """An independent FE solve of a design: a fresh model, not the tuning's cached solves."""
+    from fem.model import plate_model
+    from fem.modes import modes_of_model
+
+    return modes_of_model(plate_model(stator, "pzt8", 2, refine), refine=refine)
+
+
+@pytest.fixture(scope="module")
+def fixed_length():
+    return tune_plate(fix="length", start=PlateStator(length_m=35e-3), refine=REFINE)
+
+
+def test_fixed_length_is_kept_and_the_width_makes_l1_meet_b2(fixed_length):
+    d = fixed_length
+    assert d.stator.length_m == pytest.approx(35e-3, abs=1e-12 * 35e-3)
+    assert d.stator.thickness_m == 3e-3
+    assert d.fix == "length+thickness" and d.tuned == ("width",)
+    assert d.target_frequency_Hz is None
+    for res in (_resolve(d.stator), plate_modes(d.stator, refine=REFINE)):
+        split = abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz
+        assert split < 1e-5  # the crossing tolerance (rel_tol)
+    # a finer mesh moves the crossing by its discretization error only
+    fine = plate_modes(d.stator, refine=6)
+    assert abs(fine.L1.f_short_Hz - fine.B2.f_short_Hz) / fine.L1.f_short_Hz < 1e-3
+    # the reported frequency is that of the held length: L1 ~ c / 2l, about 1/l of the
+    # 30 mm plate's (1.7 % lower at the larger width, Poisson)
+    l1_30 = plate_modes(PlateStator(), refine=REFINE).L1.f_short_Hz
+    assert d.frequency_Hz == pytest.approx(l1_30 * 30 / 35, rel=0.03)
+
+
+def test_fixed_width_is_kept_and_the_length_makes_l1_meet_b2(fixed_length):
+    w = fixed_length.stator.width_m
+    d = tune_plate(fix=("width",), start=PlateStator(width_m=w), refine=REFINE)
+    assert d.stator.width_m == w and d.tuned == ("length",)
+    res = _resolve(d.stator)
+    assert abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz < 1e-5
+    # the crossing is one curve: at the width the fixed-length search found, the fixed-width
+    # search finds that length back
+    assert d.stator.length_m == pytest.approx(35e-3, rel=1e-5)
+
+
+def test_fixed_width_with_thickness_ratio_scales_h():
+    start = PlateStator(width_m=9e-3)
+    d = tune_plate(fix=("width", "thickness_ratio"), start=start, refine=REFINE)
+    assert d.fix == "width+thickness_ratio"
+    assert d.stator.thickness_m == pytest.approx(3e-3 * d.stator.length_m / 30e-3, rel=1e-12)
+
+
+def test_a_held_dimension_refuses_a_target_and_bad_fixes():
+    with pytest.raises(ValueError, match="target_frequency_Hz cannot be imposed with the length"):
+        tune_plate(40e3, fix="length")
+    with pytest.raises(ValueError, match="target_frequency_Hz cannot be imposed with the width"):
+        tune_plate(40e3, fix=("width", "thickness"))
+    with pytest.raises(ValueError, match="both the length and the width"):
+        tune_plate(fix=("length", "width"))
+    with pytest.raises(ValueError, match="thickness ratio"):
+        tune_plate(fix=("thickness", "thickness_ratio"))
+    with pytest.raises(ValueError, match="twice"):
+        tune_plate(fix=("length", "length"))
+    with pytest.raises(ValueError, match="fix must be"):
+        tune_plate(fix=())
+
+
+def test_the_parser_offers_what_the_library_holds():
+    from fem.tuning import FIX_OPTIONS
+    from validation.cmd_tune import FIX_CHOICES
+
+    assert FIX_CHOICES == FIX_OPTIONS
+
+
+def test_meshed_stator_is_refused():
+    from fem.stator_file import load_stator
+    from tests.conftest import ROOT
+
+    design = load_stator(ROOT / "examples" / "tip_protrusion" / "stator.toml")
+    with pytest.raises(ValueError, match="own mesh"):
+        tune_plate(fix="length", start=design.stator)
+
+
+def test_fixed_length_3d():
+    """3D, coarse mesh: the length is kept and L1 = B2 when re-solved on the same mesh."""
+    from fem.solid3d import build_solid_model, modes_of_solid_model
+
+    # start at the 2D crossing width (as a designer would): fewer 3D solves
+    d = tune_plate(fix="length", start=PlateStator(length_m=35e-3, width_m=9.5e-3), model="3d",
+                   refine=2)
+    assert d.stator.length_m == pytest.approx(35e-3, abs=1e-12 * 35e-3)
+    res = modes_of_solid_model(build_solid_model(d.stator, "pzt8", 2, 2))
+    assert abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz < 1e-5
+
+
+def test_cli_fixed_length(tmp_path, capsys):
+    assert main(["tune", "--fix", "length", "--length-mm", "35", "--refine", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["length_mm"] == pytest.approx(35.0, abs=1e-12)
+    assert out["target_frequency_Hz"] is None and out["tuned"] == ["width"]
+    assert out["relative_mismatch"] < 1e-5
+    # a plain stator file holds its own length the same way
+    (tmp_path / "s.toml").write_text("[plate]\nlength_mm = 35\nwidth_mm = 9\nthickness_mm = 3\n")
+    assert main(["tune", "--fix", "length", "--geometry", str(tmp_path / "s.toml"),
+                 "--refine", "3", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["width_mm"] == pytest.approx(out["width_mm"],
+                                                                           rel=1e-5)
+    assert main(["tune", "--fix", "length", "--length-mm", "35", "--refine", "3"]) == 0
+    text = capsys.readouterr().out
+    assert "plate 35.0000 x " in text and "common frequency" in text
+    assert main(["tune", "--fix", "length", "--target-frequency", "40e3"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--fix" in err and "--target-frequency" in err

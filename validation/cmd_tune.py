@@ -1,6 +1,9 @@
-"""``lusm tune``: plate length and width at which L1 and B2 coincide at a target frequency.
+"""``lusm tune``: plate dimensions at which L1 and B2 coincide.
 
-Parse, call :func:`fem.tuning.tune_plate`, print. No physics here.
+``--fix thickness`` (default) or ``thickness_ratio``: length and width tuned to the target
+frequency. ``--fix length`` (``width``): that dimension kept exactly, the other tuned until
+L1 = B2, the common frequency printed (a ``--target-frequency`` is refused: the held dimension
+sets it). Parse, call :func:`fem.tuning.tune_plate`, print. No physics here.
 """
 
 from __future__ import annotations
@@ -10,23 +13,42 @@ import argparse
 from validation import limits
 from validation.options import add_output_options, add_plate_options, print_json, real
 
+FIX_CHOICES = ("length", "width", "thickness", "thickness_ratio")
+"""``--fix`` entries (:data:`fem.tuning.FIX_OPTIONS`, repeated so the parser needs no numpy)."""
+
+
+def fix_list(text: str) -> tuple[str, ...]:
+    """``--fix``: one or more of :data:`FIX_CHOICES`, comma-separated."""
+    items = tuple(t.strip() for t in text.split(","))
+    if not all(items) or any(t not in FIX_CHOICES for t in items) or len(set(items)) < len(items):
+        raise argparse.ArgumentTypeError(
+            f"--fix must be one or more of {', '.join(FIX_CHOICES)} (comma-separated, each "
+            f"once), got {text!r}")
+    return items
+
 
 def register(subparsers) -> None:
     """Add the ``tune`` sub-command to the ``lusm`` parser."""
     p = subparsers.add_parser(
         "tune",
-        help="design for degeneracy: length and width with f_L1 = f_B2 = target",
-        description="Find the plate length and width at which the L1 and B2 modes coincide "
-        "(short circuit) at the target frequency, starting from the given plate (its "
-        "thickness, gap, electrodes and material are kept).",
+        help="design for degeneracy: dimensions with f_L1 = f_B2 (= target)",
+        description="Find the plate dimensions at which the L1 and B2 modes coincide (short "
+        "circuit), starting from the given plate (its gap, electrodes and material are "
+        "kept). By default the length and width are tuned to the target frequency at the "
+        "given thickness; --fix length (or width) keeps that dimension exactly and tunes the "
+        "other one, and the common frequency then follows from the held dimension.",
     )
-    p.add_argument("--target-frequency", default=40e3, metavar="HZ",
+    p.add_argument("--target-frequency", default=None, metavar="HZ",
                    type=real("--target-frequency", "Hz", *limits.TARGET_FREQUENCY_HZ),
-                   help="common L1/B2 frequency wanted (Hz), default 40e3")
-    p.add_argument("--fix", choices=("thickness", "thickness_ratio"), default="thickness",
-                   help="keep the thickness (default) or the thickness/length ratio")
+                   help="common L1/B2 frequency wanted (Hz), default 40e3; not with --fix "
+                   "length or width")
+    p.add_argument("--fix", type=fix_list, default=("thickness",), metavar="WHAT",
+                   help="what to hold, comma-separated: thickness (default; length and width "
+                   "tuned to the target), thickness_ratio (h/l kept), length (width tuned, "
+                   "frequency follows), width (length tuned, frequency follows); e.g. "
+                   "'width,thickness_ratio'")
     p.add_argument("--model", choices=("2d", "3d"), default="2d", help="FE model")
-    add_plate_options(p, note="; the length and width are starting values")
+    add_plate_options(p, note="; dimensions not held by --fix are starting values")
     from validation.cmd_modes import add_fe_options
 
     add_fe_options(p)
@@ -40,11 +62,28 @@ def run(args: argparse.Namespace) -> None:
     from validation.errors import LusmError
     from validation.options import check_fe_size, stator_from_args
 
+    fix = args.fix
+    held = [f for f in ("length", "width") if f in fix]
+    if len(held) == 2:
+        raise LusmError("--fix cannot hold both length and width: only the thickness would be "
+                        "left, and it moves L1 and B2 too little to make them meet; hold one "
+                        "of them", "--fix")
+    if "thickness" in fix and "thickness_ratio" in fix:
+        raise LusmError("--fix cannot hold both thickness and thickness_ratio; choose one",
+                        "--fix")
+    if held and args.target_frequency is not None:
+        other = "width" if held[0] == "length" else "length"
+        raise LusmError(f"--target-frequency cannot be combined with --fix {held[0]}: the "
+                        f"{other} is tuned until L1 = B2 and their common frequency follows "
+                        f"from the {held[0]}; leave out --target-frequency, or use --fix "
+                        "thickness to tune length and width to a target", "--target-frequency")
     choice = stator_from_args(args)
     if choice.meshed:
         raise LusmError(f"--geometry {args.geometry} has its own mesh, which tune cannot "
-                        "rescale; tune a stator file without [mesh] (a plain plate)",
-                        "--geometry")
+                        "rescale; tune its plate without the mesh's features instead with "
+                        "--length-mm, --width-mm, --thickness-mm "
+                        f"{choice.stator.thickness_m * 1e3:g} (add --fix length to keep the "
+                        "length), or a stator file without [mesh]", "--geometry")
     if args.model == "3d":
         check_refine_3d(args.refine)
         check_fe_size(choice.stator, args.refine or 3, 3)
@@ -55,7 +94,7 @@ def run(args: argparse.Namespace) -> None:
     from fem.tuning import tune_plate
 
     try:
-        d = tune_plate(args.target_frequency, fix=args.fix, material=choice.material,
+        d = tune_plate(args.target_frequency, fix=fix, material=choice.material,
                        start=choice.stator, model=args.model, order=args.order,
                        refine=args.refine)
     except Exception as exc:
@@ -66,12 +105,20 @@ def run(args: argparse.Namespace) -> None:
         print_json(d.to_dict())
         return
     st = d.stator
-    print(f"target {d.target_frequency_Hz:g} Hz, material {d.material}, model {d.model}, "
-          f"fixed {d.fix}")
+    if d.target_frequency_Hz is None:
+        print(f"no target: the {d.tuned[0]} is tuned until L1 = B2, the frequency follows; "
+              f"material {d.material}, model {d.model}, fixed {d.fix.replace('+', ', ')}")
+    else:
+        print(f"target {d.target_frequency_Hz:g} Hz, material {d.material}, model {d.model}, "
+              f"fixed {d.fix.replace('+', ', ')}")
     print(f"plate {st.length_m * 1e3:.4f} x {st.width_m * 1e3:.4f} x "
           f"{st.thickness_m * 1e3:.4g} mm (gap {st.electrode_gap_m * 1e3:g} mm)")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
     for name, m in (("L1", d.L1), ("B2", d.B2)):
         print(f"{name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")
-    print(f"|f_L1 - f_B2| / f = {d.relative_mismatch:.2e}, FE solves {d.fe_solves}, "
-          f"outer iterations {d.outer_iterations}")
+    if d.target_frequency_Hz is None:
+        print(f"common frequency {d.frequency_Hz:.1f} Hz, |f_L1 - f_B2| / f = "
+              f"{d.relative_mismatch:.2e}, FE solves {d.fe_solves}")
+    else:
+        print(f"|f_L1 - f_B2| / f = {d.relative_mismatch:.2e}, FE solves {d.fe_solves}, "
+              f"outer iterations {d.outer_iterations}")

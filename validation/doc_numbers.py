@@ -329,6 +329,39 @@ def _tuned():
 
 
 @cache
+def _tuned_fixed_length(model: str = "2d"):
+    """``lusm tune --fix length --length-mm 35 [--model 3d]``: the width tuned until L1 = B2."""
+    from fem.geometry import PlateStator
+    from fem.tuning import tune_plate
+
+    return tune_plate(fix="length", start=PlateStator(length_m=35e-3), model=model)
+
+
+@cache
+def _fixed_length_checks() -> dict[str, float]:
+    """The 2D fixed-length design re-solved on a finer 2D mesh and on the default 3D mesh."""
+    from fem.modes import plate_modes
+    from fem.solid3d import solid_modes
+
+    st = _tuned_fixed_length("2d").stator
+    fine, solid = plate_modes(st, refine=8), solid_modes(st)
+    return {"split_refine8": (fine.B2.f_short_Hz - fine.L1.f_short_Hz) / fine.L1.f_short_Hz,
+            "split_3d": (solid.B2.f_short_Hz - solid.L1.f_short_Hz) / solid.L1.f_short_Hz}
+
+
+@cache
+def _fixed_length_thickness_spans() -> dict[str, dict[str, float]]:
+    """``python benchmarks/tune_fixed_length_3d.py --json`` (h = 1..5 mm at l = 35 mm)."""
+    import subprocess
+    import sys
+
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    run = subprocess.run([sys.executable, "benchmarks/tune_fixed_length_3d.py", "--json"],
+                         capture_output=True, text=True, check=True, cwd=ROOT, env=env)
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+@cache
 def _gap_keff(model: str, gap_mm: float, refine: int | None = None,
               layers: int | None = None) -> float:
     """B2 k_eff of the paper plate with another electrode gap, 2D or 3D."""
@@ -1339,6 +1372,43 @@ CLAIMS: tuple[Claim, ...] = (
     Claim("tune_outer_iterations", "-",
           "lusm tune --target-frequency 40e3 --json (outer_iterations)",
           lambda: _tuned().outer_iterations),
+    Claim("tune_fixlen35_width_m", "m",
+          "python -m validation.cli tune --fix length --length-mm 35 --json (width_mm)",
+          lambda: _tuned_fixed_length().stator.width_m),
+    Claim("tune_fixlen35_frequency_Hz", "Hz",
+          "python -m validation.cli tune --fix length --length-mm 35 --json (frequency_Hz)",
+          lambda: _tuned_fixed_length().frequency_Hz),
+    Claim("tune_fixlen35_split", "-",
+          "python -m validation.cli tune --fix length --length-mm 35 --json "
+          "(relative_mismatch)", lambda: _tuned_fixed_length().relative_mismatch),
+    Claim("tune_fixlen35_fe_solves", "-",
+          "python -m validation.cli tune --fix length --length-mm 35 --json (fe_solves)",
+          lambda: _tuned_fixed_length().fe_solves),
+    Claim("tune_fixlen35_3d_width_m", "m",
+          "python -m validation.cli tune --fix length --length-mm 35 --model 3d --json "
+          "(width_mm)", lambda: _tuned_fixed_length("3d").stator.width_m),
+    Claim("tune_fixlen35_3d_frequency_Hz", "Hz",
+          "python -m validation.cli tune --fix length --length-mm 35 --model 3d --json "
+          "(frequency_Hz)", lambda: _tuned_fixed_length("3d").frequency_Hz),
+    Claim("tune_fixlen35_3d_split", "-",
+          "python -m validation.cli tune --fix length --length-mm 35 --model 3d --json "
+          "(relative_mismatch)", lambda: _tuned_fixed_length("3d").relative_mismatch),
+    Claim("tune_fixlen35_3d_fe_solves", "-",
+          "python -m validation.cli tune --fix length --length-mm 35 --model 3d --json "
+          "(fe_solves)", lambda: _tuned_fixed_length("3d").fe_solves),
+    Claim("tune_fixlen35_split_refine8", "-",
+          "python -m validation.doc_numbers --show tune_fixlen35_split_refine8 ((f_B2 - f_L1) "
+          "/ f_L1 of the 2D design on a refine-8 2D mesh)",
+          lambda: _fixed_length_checks()["split_refine8"]),
+    Claim("tune_fixlen35_split_3d", "-",
+          "python -m validation.doc_numbers --show tune_fixlen35_split_3d ((f_B2 - f_L1) / "
+          "f_L1 of the 2D design on the default 3D mesh)",
+          lambda: _fixed_length_checks()["split_3d"]),
+    *(Claim(f"tune_fixlen35_h_{k}_{m}", "-",
+            "python benchmarks/tune_fixed_length_3d.py --json (h = 1..5 mm at l = 35 mm; "
+            "about a minute)", lambda k=k, m=m: _fixed_length_thickness_spans()[m][k],
+            batch="tune_fixlen_h")
+      for m in ("2d", "3d") for k in ("frequency_span", "width_span")),
     Claim("fe2d_B2_keff_gap002", "-", "lusm modes --gap-mm 0.02 --json",
           lambda: _gap_keff("2d", 0.02), cheap=True, rel_tol=1e-6),
     Claim("fe3d_B2_keff_gap002_default", "-", "lusm modes --model 3d --gap-mm 0.02 --json",
