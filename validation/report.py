@@ -23,6 +23,9 @@ from validation import figures
 from validation.output_set import output_set
 from validation.report_html import to_html
 
+ROOT = Path(__file__).resolve().parents[1]
+"""The source checkout (where ``examples/`` lives)."""
+
 SECTIONS = ("parameter_sets", "paper_reproduction", "speed_vs_error", "hard_cases",
             "motor_characteristics")
 
@@ -322,12 +325,28 @@ def _hard_cases(params: dict, quick: bool, progress: bool):
     return md, [asdict(h) for h in rows]
 
 
-def _motor(params: dict, d2: dict, out: Path, quick: bool, progress: bool):
-    from validation.report_motor import motor_section
+TUNED_EXAMPLE = "examples/tuned_40k/stator.toml"
+"""The 40 kHz stator (``lusm tune`` at the paper's thickness and gap) that the motor section
+puts beside Table 2: the plate a designer would build for the paper's drive frequency."""
 
-    st = _Stage("5/5 motor characteristics", 2 * len(params) + 1, progress)
+
+def _motor(params: dict, d2: dict, out: Path, quick: bool, progress: bool):
+    from contact.drive import auto_frequency
+    from rom.from_fem import fem_params_from_file
+    from validation.report_motor import motor_section
+    from validation.summaries import borrowed_damping, table2_damping
+
     freqs = {name: d2[name]["frequency_Hz"] for name in params}
-    md, data = motor_section(params, freqs, out, quick, st.say, markdown_table)
+    origins = {"table2": table2_damping(), "beam": borrowed_damping("beam"),
+               "fem": borrowed_damping("fem")}
+    sets = dict(params)
+    example = ROOT / TUNED_EXAMPLE
+    if example.exists():  # a source checkout; an installed package has no examples/
+        sets["tuned_40k"] = fem_params_from_file(example)
+        freqs["tuned_40k"] = auto_frequency(sets["tuned_40k"])
+        origins["tuned_40k"] = f"{TUNED_EXAMPLE} [damping] source = \"table2\""
+    st = _Stage("5/5 motor characteristics", 2 * len(sets) + 1, progress)
+    md, data = motor_section(sets, freqs, out, quick, st.say, markdown_table, origins)
     st.close()
     return md, data
 
