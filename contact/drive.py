@@ -5,19 +5,10 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from rom.damping import free_tip_amplitudes
 from rom.params import MotorParams
 
-
-def free_tip_amplitudes(params: MotorParams, frequency_Hz: np.ndarray | float, voltage_V=1.0):
-    """Free (no contact) steady tip amplitudes (m) of the L1 and B2 modes at a frequency.
-
-    Returns ``(|phi_L(l) u_l|, |phi_B(l) w_b|)`` for the drive ``voltage_V sin(omega t)``.
-    """
-    p = params
-    w = 2 * np.pi * np.asarray(frequency_Hz, dtype=float)
-    ul = p.A_l * voltage_V / np.abs(p.K_l - p.M_l * w**2 + 1j * p.C_l * w)
-    wb = p.A_b * voltage_V / np.abs(p.K_b - p.M_b * w**2 + 1j * p.C_b * w)
-    return np.abs(p.phi_Ll * ul), np.abs(p.phi_Bl * wb)
+__all__ = ["auto_frequency", "free_tip_amplitudes"]
 
 
 def auto_frequency(params: MotorParams) -> float:

@@ -39,6 +39,10 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     # Q_m = 500                         #   ... or the material's mechanical quality factor,
                                         #   zeta_L1 = zeta_B2 = 1 / (2 Q_m), Q_m in (0.5, 5e4]
     # source = "table2"                 #   ... or Table 2's ratios (the default: no table)
+    # source = "paper_amplitudes"       #   ... or fitted, as the paper fitted Table 2's, so
+    # frequency_Hz = 40e3               #   that the free tip amplitudes at this drive
+                                        #   frequency (default 40 kHz) equal Table 2's at
+                                        #   the paper's 40 kHz (rom.damping)
 
     [contact]
     k_contact_N_m = 1.7378e7            # normal contact stiffness k, Eq. 7, [1e3, 1e10] N/m
@@ -99,6 +103,9 @@ Q_M_RANGE = (0.5, 5e4)
 """Allowed ``[damping] Q_m`` (-): ``(0.5, 5e4]``, i.e. ``zeta = 1/(2 Q_m)`` in
 :data:`DAMPING_RATIO_RANGE`."""
 
+IDENTIFY_FREQUENCY_RANGE_HZ = (1e3, 1e7)
+"""Allowed ``[damping] frequency_Hz`` of ``source = "paper_amplitudes"`` (Hz)."""
+
 MOTOR_KEYS: dict[str, dict[str, tuple[str, float, float, bool, str]]] = {
     "contact": {"k_contact_N_m": ("k_contact", 1e3, 1e10, True, "N/m")},
     "slider": {"M_slider_kg": ("M_slider", 1e-4, 100.0, True, "kg"),
@@ -120,7 +127,7 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
     "points": ("tip_mm", "preload_mm"),
     "mesh": ("file", "unit"),
-    "damping": ("zeta_L1", "zeta_B2", "Q_m", "source"),
+    "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz"),
     **{table: tuple(keys) for table, keys in MOTOR_KEYS.items()},
 }
 
@@ -149,8 +156,12 @@ class StatorDesign:
         parameter source's default, Table 2's).
     damping_origin : str
         What set the damping, for printing: ``'[damping] zeta_L1, zeta_B2'``,
-        ``'[damping] Q_m = 500 (zeta = 1/(2 Q_m))'``, ``'[damping] source = "table2"'`` or
-        ``''`` (no ``[damping]`` table).
+        ``'[damping] Q_m = 500 (zeta = 1/(2 Q_m))'``, ``'[damping] source = "table2"'``,
+        the identification's or ``''`` (no ``[damping]`` table).
+    damping_identify_Hz : float or None
+        ``source = "paper_amplitudes"``: the drive frequency (Hz) at which the damping is
+        fitted to Table 2's free tip amplitudes when the parameter set is built
+        (``rom.damping.identify_damping``); None otherwise.
     motor : dict
         ``MotorParams`` field name -> SI value from ``[contact]``, ``[slider]`` and
         ``[friction]`` (empty: Table 2's constants).
@@ -165,6 +176,7 @@ class StatorDesign:
     damping_ratios: tuple[float, float] | None = None
     damping_origin: str = ""
     motor: dict[str, float] = field(default_factory=dict)
+    damping_identify_Hz: float | None = None
 
     def motor_keys(self) -> dict[str, str]:
         """``MotorParams`` field -> the ``[table] key`` of the file that set it."""
@@ -356,20 +368,33 @@ def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,
     return float(v)
 
 
-def _damping(table: dict, src: str) -> tuple[tuple[float, float] | None, str]:
-    """``(zeta_L1, zeta_B2)`` or None, and the origin text, of a ``[damping]`` table."""
+def _damping(table: dict, src: str) -> tuple[tuple[float, float] | None, str, float | None]:
+    """``(zeta_L1, zeta_B2)`` or None, the origin text, and the identification frequency
+    (Hz, or None) of a ``[damping]`` table."""
     if not table:
-        return None, ""
-    choices = ('give zeta_L1 and zeta_B2, or Q_m, or source = "table2"')
+        return None, "", None
+    choices = ('give zeta_L1 and zeta_B2, or Q_m, or source = "table2" or '
+               '"paper_amplitudes"')
     if "source" in table:
-        if table["source"] != "table2":
-            raise ValueError(f"{src}: [damping] source must be \"table2\" (Table 2's ratios), "
-                             f"got {table['source']!r}; or {choices}")
-        if len(table) > 1:
-            others = ", ".join(k for k in table if k != "source")
-            raise ValueError(f"{src}: [damping] source = \"table2\" cannot be combined with "
-                             f"{others}; {choices}")
-        return None, '[damping] source = "table2"'
+        if table["source"] not in ("table2", "paper_amplitudes"):
+            raise ValueError(f"{src}: [damping] source must be \"table2\" (Table 2's ratios) "
+                             f"or \"paper_amplitudes\" (fitted to Table 2's free tip "
+                             f"amplitudes), got {table['source']!r}; or {choices}")
+        allowed = ("source", "frequency_Hz") if table["source"] == "paper_amplitudes" else (
+            "source",)
+        others = [k for k in table if k not in allowed]
+        if others:
+            raise ValueError(f"{src}: [damping] source = \"{table['source']}\" cannot be "
+                             f"combined with {', '.join(others)}; {choices}")
+        if table["source"] == "table2":
+            return None, '[damping] source = "table2"', None
+        f = (_number(table, "damping", "frequency_Hz", src, *IDENTIFY_FREQUENCY_RANGE_HZ,
+                     True, True, "Hz") if "frequency_Hz" in table else 40e3)
+        return None, (f'[damping] source = "paper_amplitudes" (at {f:g} Hz, fitted to '
+                      f'Table 2\'s free tip amplitudes at 40 kHz)'), f
+    if "frequency_Hz" in table:
+        raise ValueError(f'{src}: [damping] frequency_Hz belongs to source = '
+                         f'"paper_amplitudes"; {choices}')
     if "Q_m" in table:
         if len(table) > 1:
             others = ", ".join(k for k in table if k != "Q_m")
@@ -377,14 +402,14 @@ def _damping(table: dict, src: str) -> tuple[tuple[float, float] | None, str]:
                              f"cannot be combined with {others}; {choices}")
         q = _number(table, "damping", "Q_m", src, *Q_M_RANGE, False, True)
         z = 1.0 / (2.0 * q)
-        return (z, z), f"[damping] Q_m = {q:g} (zeta = 1/(2 Q_m))"
+        return (z, z), f"[damping] Q_m = {q:g} (zeta = 1/(2 Q_m))", None
     missing = [k for k in ("zeta_L1", "zeta_B2") if k not in table]
     if missing:
         raise ValueError(f"{src}: [damping] {missing[0]} is missing; {choices}")
     lo, hi = DAMPING_RATIO_RANGE
     zl = _number(table, "damping", "zeta_L1", src, lo, hi, True, False)
     zb = _number(table, "damping", "zeta_B2", src, lo, hi, True, False)
-    return (zl, zb), "[damping] zeta_L1, zeta_B2"
+    return (zl, zb), "[damping] zeta_L1, zeta_B2", None
 
 
 def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
@@ -431,9 +456,9 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
     mat_t = _table(data, "material", src)
     pts_t = _table(data, "points", src)
     mesh_t = _table(data, "mesh", src)
-    damping, damping_origin = _damping(_table(data, "damping", src), src)
+    damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src)
     motor = {"damping_ratios": damping, "damping_origin": damping_origin,
-             "motor": _motor(data, src)}
+             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src)}
     name = data.get("name", src)
     if not isinstance(name, str):
         raise ValueError(f"{src}: name must be a string, got {name!r}")

@@ -146,9 +146,12 @@ def design_base(design, base: MotorParams | None = None) -> MotorParams:
 
 def design_damping(design, base: MotorParams | None = None) -> tuple[float, float] | None:
     """The ``(zeta_L1, zeta_B2)`` a stator file asks for: its ``[damping]`` ratios,
-    Table 2's for ``source = "table2"``, or None (no ``[damping]``: the caller's default)."""
+    Table 2's for ``source = "table2"``, or None (no ``[damping]``: the caller's default;
+    ``source = "paper_amplitudes"``: fitted by :func:`fem_params_from_file`)."""
     if design.damping_ratios is not None:
         return design.damping_ratios
+    if design.damping_identify_Hz is not None:  # fitted once the set is built
+        return None
     if design.damping_origin:  # source = "table2", explicitly
         t2 = table2()
         return (t2.zeta_L1, t2.zeta_B2)
@@ -159,8 +162,10 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
     """:func:`fem_params` of the stator described by a TOML file (``fem.stator_file``).
 
     The file's motor tables are applied: ``[damping]`` sets the damping ratios (unless
-    ``damping_ratios`` is passed here), ``[contact]``, ``[slider]`` and ``[friction]``
-    replace those constants of ``base`` (default Table 2; see :func:`design_base`).
+    ``damping_ratios`` is passed here) or, with ``source = "paper_amplitudes"``, fits the
+    dampings to Table 2's free tip amplitudes (:func:`rom.damping.identify_damping`);
+    ``[contact]``, ``[slider]`` and ``[friction]`` replace those constants of ``base``
+    (default Table 2; see :func:`design_base`).
 
     Parameters
     ----------
@@ -201,6 +206,14 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
     else:
         damping = "no [damping]: the base set's damping ratios"
     params = fem_params(stator=design.stator, **kwargs)
+    if design.damping_identify_Hz is not None and "damping_ratios" not in kwargs:
+        from rom.damping import identify_damping
+
+        try:
+            params = identify_damping(params, design.damping_identify_Hz).params
+        except ValueError as exc:
+            raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {exc}") from None
+        damping = f"damping {design.damping_origin}"
     mesh = f", mesh {design.mesh_path}" if design.mesh_path is not None else ""
     return replace(params, source=f"stator file {path} ({design.name}{mesh}; {damping}): "
                    f"{params.source}")

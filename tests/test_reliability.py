@@ -112,6 +112,7 @@ def files(tmp_path_factory) -> dict[str, str]:
     toml("drive_str", PLATE + '[electrodes]\ndrive = "1,4"\n')
     toml("zeta_zero", PLATE + "[damping]\nzeta_L1 = 0\nzeta_B2 = 0.01\n")
     toml("q_and_zeta", PLATE + "[damping]\nQ_m = 100\nzeta_L1 = 0.01\n")
+    toml("amplitudes_unreachable", PLATE + "[damping]\nsource = \"paper_amplitudes\"\n")
     toml("slider_heavy", PLATE + "[slider]\nM_slider_kg = 1e6\n")
     toml("mu_d_above_mu_s", PLATE + "[friction]\nmu_d = 0.6\n")
     (d / "utf16.toml").write_text(PLATE, encoding="utf-16")
@@ -247,6 +248,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
                                        "--geometry", "{mu_d_above_mu_s}"],
      ["--geometry", "[friction] mu_d must be <= mu_s"]),
     ("params-damping-bad-q", ["params", "--geometry", "{q_and_zeta}"], ["[damping] Q_m"]),
+    ("simulate-damping-amplitudes-unreachable",
+     ["simulate", "--voltage", "200", "--preload", "14", "--geometry", "{amplitudes_unreachable}"],
+     ["[damping] source = \"paper_amplitudes\"", "even undamped", "natural frequency"]),
     ("mesh-duplicated-cell", ["modes", "--geometry", "{duplicated}"],
      ["duplicated cells"]),
     ("mesh-folded", ["modes", "--geometry", "{folded}"], ["folded.msh", "cells"]),

@@ -94,11 +94,12 @@ def test_report_numbers_match_the_cli(report):
     rep = doc["motor_characteristics"]["table2"]["characteristics"]["400"]
     assert rep["stall_force_N"] == char["stall_force_N"]
     assert rep["no_load_velocity_m_s"] == char["no_load_velocity_m_s"]
-    tuned = lusm("characteristic", "--voltage", "400", "--preload", "14", "--frequency", "auto",
-                 "--geometry", "examples/tuned_40k/stator.toml")
-    rep = doc["motor_characteristics"]["tuned_40k"]["characteristics"]["400"]
-    assert rep["stall_force_N"] == tuned["stall_force_N"]
-    assert rep["no_load_velocity_m_s"] == tuned["no_load_velocity_m_s"]
+    for name, toml in (("tuned_40k", "stator"), ("tuned_40k_fitted", "identified")):
+        tuned = lusm("characteristic", "--voltage", "400", "--preload", "14", "--frequency",
+                     "auto", "--geometry", f"examples/tuned_40k/{toml}.toml")
+        rep = doc["motor_characteristics"][name]["characteristics"]["400"]
+        assert rep["stall_force_N"] == tuned["stall_force_N"]
+        assert rep["no_load_velocity_m_s"] == tuned["no_load_velocity_m_s"]
     modes3d = lusm("modes", "--model", "3d")
     f3d = doc["parameter_sets"]["plane_stress_vs_3d"]["f3d_Hz"]
     assert f3d["B2_open"] == pytest.approx(modes3d["B2"]["f_open_Hz"], rel=1e-9)

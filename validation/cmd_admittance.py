@@ -94,6 +94,15 @@ def run(args: argparse.Namespace) -> None:
     # the motor's damping comes from the stator file's [damping] or from Table 2, not from fem
     zetas = (choice.design and design_damping(choice.design)) or (
         table2().zeta_L1, table2().zeta_B2)
+    if choice.design is not None and choice.design.damping_identify_Hz is not None:
+        from rom.from_fem import fem_params_from_file
+        from validation.errors import LusmError
+
+        try:  # the fit needs the reduced set: the file's masses, stiffnesses, force factors
+            fitted = fem_params_from_file(args.geometry)
+        except ValueError as exc:
+            raise LusmError(f"--geometry {exc}", "--geometry") from None
+        zetas = (fitted.zeta_L1, fitted.zeta_B2)
     origin = (f"stator file {args.geometry} {choice.design.damping_origin}"
               if choice.design is not None and choice.design.damping_origin
               else table2_damping())

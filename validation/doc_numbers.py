@@ -693,6 +693,40 @@ def _motor_claims() -> tuple[Claim, ...]:
     return tuple(out)
 
 
+_TUNED = "examples/tuned_40k/stator.toml"
+_FITTED = "examples/tuned_40k/identified.toml"
+
+
+@cache
+def _fitted_damping() -> dict[str, float]:
+    """The tuned 40 kHz plate with Table 2's damping ratios and with its damping fitted to
+    the paper's free tip amplitudes (docs/designer.md): ratios and the 400 V / 14 N
+    characteristic of each."""
+    from contact.characteristic import characteristic
+    from contact.drive import auto_frequency
+    from rom.from_fem import fem_params_from_file
+
+    out = {}
+    for tag, path in (("t2", _TUNED), ("fitted", _FITTED)):
+        p = fem_params_from_file(ROOT / path)
+        c = characteristic(p, 400.0, 14.0, frequency_Hz=auto_frequency(p))
+        out |= {f"{tag}_zeta_L1": p.zeta_L1, f"{tag}_zeta_B2": p.zeta_B2,
+                f"{tag}_v0": c.no_load_velocity_m_s, f"{tag}_stall": c.stall_force_N}
+    return out
+
+
+def _fitted_damping_claims() -> tuple[Claim, ...]:
+    """docs/designer.md: what fitting the damping to the paper's amplitudes changes."""
+    cmd = ("lusm characteristic --voltage 400 --preload 14 --frequency auto --geometry {f} "
+           "(the damping line and the no-load velocity, stall force)")
+    out = []
+    for tag, path in (("t2", _TUNED), ("fitted", _FITTED)):
+        for key, unit in (("zeta_L1", "-"), ("zeta_B2", "-"), ("v0", "m/s"), ("stall", "N")):
+            out.append(Claim(f"tuned40k_{tag}_{key}", unit, cmd.format(f=path),
+                             lambda k=f"{tag}_{key}": _fitted_damping()[k]))
+    return tuple(out)
+
+
 # --- docs/contact.md: the remaining figures of sections 3-6 ------------------------------
 
 
@@ -1446,6 +1480,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_coupling_claims(),
     *_beam_claims(),
     *_designer_claims(),
+    *_fitted_damping_claims(),
     *_motor_claims(),
     *_contact_claims(),
     *_steady_claims(),

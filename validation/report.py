@@ -325,9 +325,12 @@ def _hard_cases(params: dict, quick: bool, progress: bool):
     return md, [asdict(h) for h in rows]
 
 
-TUNED_EXAMPLE = "examples/tuned_40k/stator.toml"
+TUNED_EXAMPLES = {"tuned_40k": "examples/tuned_40k/stator.toml",
+                  "tuned_40k_fitted": "examples/tuned_40k/identified.toml"}
 """The 40 kHz stator (``lusm tune`` at the paper's thickness and gap) that the motor section
-puts beside Table 2: the plate a designer would build for the paper's drive frequency."""
+puts beside Table 2: the plate a designer would build for the paper's drive frequency, with
+Table 2's damping ratios and with its damping fitted, as the paper fitted Table 2's, to the
+paper's free tip amplitudes (``[damping] source = "paper_amplitudes"``, :mod:`rom.damping`)."""
 
 
 def _motor(params: dict, d2: dict, out: Path, quick: bool, progress: bool):
@@ -340,11 +343,14 @@ def _motor(params: dict, d2: dict, out: Path, quick: bool, progress: bool):
     origins = {"table2": table2_damping(), "beam": borrowed_damping("beam"),
                "fem": borrowed_damping("fem")}
     sets = dict(params)
-    example = ROOT / TUNED_EXAMPLE
-    if example.exists():  # a source checkout; an installed package has no examples/
-        sets["tuned_40k"] = fem_params_from_file(example)
-        freqs["tuned_40k"] = auto_frequency(sets["tuned_40k"])
-        origins["tuned_40k"] = f"{TUNED_EXAMPLE} [damping] source = \"table2\""
+    for name, rel in TUNED_EXAMPLES.items():
+        if not (ROOT / rel).exists():  # an installed package has no examples/
+            continue
+        from fem.stator_file import load_stator
+
+        sets[name] = fem_params_from_file(ROOT / rel)
+        freqs[name] = auto_frequency(sets[name])
+        origins[name] = f"{rel} {load_stator(ROOT / rel).damping_origin}"
     st = _Stage("5/5 motor characteristics", 2 * len(sets) + 1, progress)
     md, data = motor_section(sets, freqs, out, quick, st.say, markdown_table, origins)
     st.close()
