@@ -32,6 +32,28 @@ from rom.params import GRAVITY_M_S2, MotorParams
 COUPLINGS = ("paper", "consistent")
 
 
+def default_coupling(params: MotorParams) -> tuple[str, str]:
+    """The tangential coupling a parameter set is run with unless one is asked for, and why.
+
+    Table 2's own set keeps the paper's ``eta_T F_T`` (``"paper"``): it exists to reproduce
+    the paper. Every other set (FE, beam, a stator file, an edited set) gets the
+    work-consistent reaction ``-phi_B(l) F_T`` (``"consistent"``): the paper's coefficient
+    doubles the tip reaction on B2, so the interface does work that friction cannot
+    (``EnergyBalance.non_conservative_J``), and on stator-derived sets it makes the speed
+    non-monotone in the voltage (``docs/contact.md`` section 2.3 has the evidence).
+
+    Returns
+    -------
+    (str, str)
+        The coupling and a short reason for printing.
+    """
+    from rom.table2 import table2
+
+    if params == table2():
+        return "paper", "auto: Table 2's set reproduces the paper"
+    return "consistent", "auto: work-consistent for a set that is not Table 2's"
+
+
 @dataclass(frozen=True)
 class OperatingPoint:
     """Drive and load of one simulation.

@@ -9,6 +9,7 @@ from validation.options import (
     add_drive_options,
     add_motor_options,
     add_output_options,
+    coupling_of,
     figure_set,
     motor_params_of,
     moved,
@@ -67,16 +68,18 @@ def run(args: argparse.Namespace) -> None:
     if args.frequency.strip().lower() != "auto":
         parse_frequency(args.frequency)  # refuse a bad number before any work
     params, damping_from = motor_params_of(args, args.source)
+    coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
 
     from contact.characteristic import characteristic
-    from validation.summaries import damping_line, damping_summary
+    from validation.summaries import coupling_line, damping_line, damping_summary
 
     char = characteristic(params, args.voltage, args.preload, loads, frequency_Hz=freq,
-                          coupling=args.coupling,
+                          coupling=coupling,
                           ultrasonic_friction=not args.no_ultrasonic_friction)
     doc = char.to_dict()
     doc["damping"] = damping_summary(params, damping_from)
+    doc["coupling"], doc["coupling_from"] = coupling, coupling_from
     if plot is not None:
         from validation.report_motor import characteristic_figure
 
@@ -89,6 +92,7 @@ def run(args: argparse.Namespace) -> None:
     print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
     print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
     print(damping_line(params, damping_from))
+    print(coupling_line(coupling, coupling_from))
     print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} {'eff.':>8}")
     for row in doc["curve"]:
         print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} {row['input_power_W']:11.4g} "

@@ -11,6 +11,7 @@ from validation.options import (
     add_motor_options,
     add_output_options,
     check_run_size,
+    coupling_of,
     figure_set,
     integer,
     motor_params_of,
@@ -76,14 +77,15 @@ def run(args: argparse.Namespace) -> None:
             f"takes at most {limits.work_bound(limits.MAX_STEADY_POINTS)} "
             f"({limits.more_work_hint()})", "--voltages")
     params, damping_from = motor_params_of(args, args.source)
+    coupling, coupling_from = coupling_of(args, params)
 
     from contact.maps import stick_slip_map
     from contact.simulate import SimulationOptions
-    from validation.summaries import damping_line, damping_summary, map_summary
+    from validation.summaries import coupling_line, damping_line, damping_summary, map_summary
 
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
                              ultrasonic_friction=not args.no_ultrasonic_friction,
-                             coupling=args.coupling)
+                             coupling=coupling)
     try:
         m = stick_slip_map(params, volts, loads, args.frequency, opts, workers=args.workers,
                            method=args.method, accuracy=args.accuracy)
@@ -91,6 +93,7 @@ def run(args: argparse.Namespace) -> None:
         raise ValueError(str(exc)) from exc
     summary = map_summary(m)
     summary["damping"] = damping_summary(params, damping_from)
+    summary["coupling"], summary["coupling_from"] = coupling, coupling_from
     if plot is not None:
         from validation.figures import set_label
         from validation.figures import stick_slip_map as plot_map
@@ -109,6 +112,7 @@ def run(args: argparse.Namespace) -> None:
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
     print(damping_line(params, damping_from))
+    print(coupling_line(coupling, coupling_from))
     print(f"counts: {m.counts()}  wall time {m.wall_time_s:.2f} s ({m.method}"
           + (f", {args.accuracy})" if m.method == "steady" else f", {args.duration:g} s runs)"))
     if m.method == "steady":

@@ -11,6 +11,7 @@ from validation.options import (
     add_motor_options,
     add_output_options,
     check_run_size,
+    coupling_of,
     figure_set,
     motor_params_of,
     moved,
@@ -56,24 +57,31 @@ def run(args: argparse.Namespace) -> None:
     if args.frequency.strip().lower() != "auto":
         check_run_size(args.duration, args.dt, parse_frequency(args.frequency))
     params, damping_from = motor_params_of(args, args.source)
+    coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
     check_run_size(args.duration, args.dt, freq)
 
     from contact.simulate import simulate
-    from validation.summaries import damping_line, damping_summary, simulation_summary
+    from validation.summaries import (
+        coupling_line,
+        damping_line,
+        damping_summary,
+        simulation_summary,
+    )
 
     try:
         r = simulate(
             params, args.voltage, args.preload, freq,
             duration_s=args.duration, dt_s=args.dt,
             ultrasonic_friction=not args.no_ultrasonic_friction,
-            coupling=args.coupling, energy=args.energy, load_N=args.load_N,
+            coupling=coupling, energy=args.energy, load_N=args.load_N,
             method="steady" if args.steady else "event",
         )
     except RuntimeError as exc:  # the kernel's own refusal (chattering): bad input, not a bug
         raise ValueError(str(exc)) from exc
     summary = simulation_summary(r)
     summary["damping"] = damping_summary(params, damping_from)
+    summary["coupling"], summary["coupling_from"] = coupling, coupling_from
     if plot is not None:
         from validation.figures import simulation_figures
 
@@ -88,6 +96,7 @@ def run(args: argparse.Namespace) -> None:
         text = f"{value:.6g}" if isinstance(value, float) else str(value)
         print(f"{key:<30} {text}")
     print(damping_line(params, damping_from))
+    print(coupling_line(coupling, coupling_from))
     if "energy" in summary:
         e = summary["energy"]
         print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")

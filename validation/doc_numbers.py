@@ -727,6 +727,32 @@ def _fitted_damping_claims() -> tuple[Claim, ...]:
     return tuple(out)
 
 
+_COUPLING_VOLTS = (300, 350, 400)
+
+
+@cache
+def _coupling_speeds() -> dict[str, float]:
+    """Steady speeds from rest of the FE set (``--frequency auto``, 14 N) under both
+    couplings: the evidence of docs/contact.md 2.3 for the default of non-Table-2 sets."""
+    from contact.drive import auto_frequency
+    from contact.simulate import simulate
+    from rom.sources import get_params
+
+    p = get_params("fem")
+    f = auto_frequency(p)
+    return {f"{c}_{v}": simulate(p, float(v), 14.0, f, coupling=c,
+                                 method="steady").steady.velocity_m_s
+            for c in ("paper", "consistent") for v in _COUPLING_VOLTS}
+
+
+def _default_coupling_claims() -> tuple[Claim, ...]:
+    return tuple(
+        Claim(f"coupling_fem_{c}_{v}V", "m/s",
+              f"lusm simulate --source fem --voltage {v} --preload 14 --steady --frequency auto "
+              f"--coupling {c}", lambda k=f"{c}_{v}": _coupling_speeds()[k])
+        for c in ("paper", "consistent") for v in _COUPLING_VOLTS)
+
+
 # --- docs/contact.md: the remaining figures of sections 3-6 ------------------------------
 
 
@@ -1481,6 +1507,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_beam_claims(),
     *_designer_claims(),
     *_fitted_damping_claims(),
+    *_default_coupling_claims(),
     *_motor_claims(),
     *_contact_claims(),
     *_steady_claims(),

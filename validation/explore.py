@@ -141,7 +141,8 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     """The motor's answer at one drive triple: the ONE place the contact model is called.
 
     Returns ``no_load_velocity`` (m/s), ``stall_force`` (N), ``peak_efficiency`` (-),
-    ``motion_class`` (str) and ``velocity`` (m/s, one per load of ``drive.loads_N``).
+    ``motion_class`` (str) and ``velocity`` (m/s, one per load of ``drive.loads_N``). The
+    coupling is :func:`contact.model.default_coupling`'s: work-consistent for these FE sets.
 
     ``solver.method == "steady"``: the steady state from rest (:func:`contact.steady.
     steady_state`, averaging level) and the speed-thrust characteristic (21 loads from 0 to
@@ -149,16 +150,20 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     gives the no-load velocity and motion class of a run from rest; the loaded answers are
     then NaN.
     """
+    from contact.model import default_coupling
+
+    coupling = default_coupling(params)[0]  # consistent: a study's sets are FE sets
     if solver.method == "steady":
         from contact.characteristic import characteristic
         from contact.steady import steady_state
 
         res = steady_state(params, drive.voltage_V, drive.preload_N,
-                           frequency_Hz=drive.frequency_Hz)
+                           frequency_Hz=drive.frequency_Hz, coupling=coupling)
         curve = characteristic(params, drive.voltage_V, drive.preload_N, None,
-                               frequency_Hz=drive.frequency_Hz)
+                               frequency_Hz=drive.frequency_Hz, coupling=coupling)
         loaded = characteristic(params, drive.voltage_V, drive.preload_N,
-                                list(drive.loads_N), frequency_Hz=drive.frequency_Hz)
+                                list(drive.loads_N), frequency_Hz=drive.frequency_Hz,
+                                coupling=coupling)
         eff = np.asarray(curve.efficiency, dtype=float)
         motion = res.from_rest.motion if res.branches else "failed"
         return {"no_load_velocity": float(res.velocity_m_s),
@@ -170,7 +175,7 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
 
     r = simulate(params, drive.voltage_V, drive.preload_N, drive.frequency_Hz,
                  method=solver.method, duration_s=solver.duration_s, dt_s=solver.dt_s,
-                 max_trace_points=2000)
+                 max_trace_points=2000, coupling=coupling)
     v0 = float(r.steady.velocity_m_s)
     velocity = np.array([v0 if load == 0.0 else math.nan for load in drive.loads_N])
     return {"no_load_velocity": v0, "stall_force": math.nan, "peak_efficiency": math.nan,
@@ -406,6 +411,9 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
             f"dt_s={s.dt_s:g}; stall_force, peak_efficiency and loaded velocity pending "
             "contact.steady (NaN)"),
         "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
+        "coupling": "consistent (auto: the work-consistent tangential coupling of every set "
+                    "that is not Table 2's, contact.model.default_coupling; docs/contact.md "
+                    "2.3.1)",
     }
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 

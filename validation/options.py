@@ -147,14 +147,26 @@ def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") ->
     g = p.add_argument_group("motor model", "the parameter set and the contact model")
     g.add_argument("--no-ultrasonic-friction", action="store_true",
                    help="use the constant mu_d instead of Eq. 11" + friction_note)
-    g.add_argument("--coupling", choices=("paper", "consistent"), default="paper",
-                   help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T")
+    g.add_argument("--coupling", choices=("auto", "paper", "consistent"), default="auto",
+                   help="tangential force on B2: eta_T F_T (paper) or -phi_B(l) F_T "
+                   "(consistent); auto (default): paper for Table 2's set, consistent for "
+                   "every other set (docs/contact.md 2.3)")
     g.add_argument("--source", choices=SOURCES, default=None,
                    help="parameter set (default table2; fem with --geometry or a plate option)")
     g.add_argument("--params", metavar="PARAMS.json", default=None,
                    help="a parameter set saved with 'lusm params --json' (edit its stored "
                    "fields, e.g. C_l for the damping); replaces --source and the stator")
     add_plate_options(p, note="; any of them selects --source fem")
+
+
+def coupling_of(args: argparse.Namespace, params) -> tuple[str, str]:
+    """The coupling to run ``params`` with and where the choice came from: ``--coupling``
+    as typed, or for ``auto`` :func:`contact.model.default_coupling`."""
+    if getattr(args, "coupling", "auto") != "auto":
+        return args.coupling, "--coupling"
+    from contact.model import default_coupling
+
+    return default_coupling(params)
 
 
 def params_from_file(path_text: str):

@@ -119,14 +119,17 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
 
 def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say,
                    damping_from: str = ""):
+    from contact.model import default_coupling
     from contact.steady import steady_state
     from validation.figures import curve
+    from validation.summaries import coupling_line
 
+    coupling, coupling_why = default_coupling(params)
     volts = np.arange(100.0, 451.0, 100.0 if quick else 50.0)
     rows, vel = [], []
     for v in volts:
         r = steady_state(params, float(v), SPEED_PRELOAD_N, frequency_Hz=frequency_Hz,
-                         accuracy="exact")
+                         accuracy="exact", coupling=coupling)
         b = r.from_rest
         rows.append(f"| {v:g} | {r.velocity_m_s * 1e3:.4g} | {b.motion} | "
                     f"{sum(x.stable for x in r.branches)} |")
@@ -139,11 +142,13 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say,
           f"Steady velocity reached from rest at {SPEED_PRELOAD_N:g} N and "
           f"{frequency_Hz / 1e3:.5g} kHz (the set's operating point, `--frequency auto`), "
           "exact level of the steady engine (`lusm simulate --steady --geometry ... "
-          f"--frequency auto`). The {damping_line(params, damping_from)}.", "",
+          f"--frequency auto`). The {damping_line(params, damping_from)}; the "
+          f"{coupling_line(coupling, coupling_why)}.", "",
           "| V0 (V) | velocity (mm/s) | motion | stable steady states |", "|---|---|---|---|"]
     md += rows + ["", f"![speed against voltage](figures/{png.name})", ""]
     return md, {"voltages_V": volts.tolist(), "velocity_mm_s": vel,
                 "damping": damping_summary(params, damping_from),
+                "coupling": coupling, "coupling_from": coupling_why,
                 "figure": f"figures/{png.name}"}
 
 

@@ -118,10 +118,12 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
     """
     from contact.characteristic import characteristic
     from contact.maps import stick_slip_map
+    from contact.model import default_coupling
     from contact.simulate import SimulationOptions
     from validation.figures import stick_slip_map as map_figure
     from validation.summaries import (
         borrowed_damping,
+        coupling_line,
         damping_line,
         damping_summary,
         table2_damping,
@@ -138,9 +140,10 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
           "slider mass -> infinity, relative error ~1e-3); settled stick-slip maps over "
           f"{volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: exact "
           "level, the branch reached from rest). Efficiency is the mechanical output power "
-          "over the electrical input power (motional current times voltage). The paper's "
-          "coupling (eta_T F_T) is used throughout, with each set's damping (named below: "
-          "the damping sets the scale of every speed).", ""]
+          "over the electrical input power (motional current times voltage). Table 2's set "
+          "runs with the paper's coupling (eta_T F_T), every other set with the "
+          "work-consistent one (-phi_B(l) F_T; `docs/contact.md` 2.3); each set's damping "
+          "and coupling are named below (the damping sets the scale of every speed).", ""]
     origins = {name: (damping_from or {}).get(name) or (
         table2_damping() if name == "table2" else borrowed_damping(name)) for name in params}
     data: dict = {}
@@ -148,13 +151,14 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
     for name, p in params.items():
         f = frequencies_Hz[name]
         t0 = time.perf_counter()
-        chars = [characteristic(p, v, CHARACTERISTIC_PRELOAD_N, frequency_Hz=f)
-                 for v in CHARACTERISTIC_VOLTAGES_V]
+        coupling, coupling_why = default_coupling(p)
+        chars = [characteristic(p, v, CHARACTERISTIC_PRELOAD_N, frequency_Hz=f,
+                                coupling=coupling) for v in CHARACTERISTIC_VOLTAGES_V]
         say(f"{name} characteristics")
         fig_c = characteristic_figure(chars, out / "figures" / f"{name}_characteristic.png",
                                       title=name)
-        m = stick_slip_map(p, volts, loads, f, SimulationOptions(), progress=False,
-                           method="steady")
+        m = stick_slip_map(p, volts, loads, f, SimulationOptions(coupling=coupling),
+                           progress=False, method="steady")
         say(f"{name} map")
         fig_m = map_figure(m, out / "figures" / f"{name}_steady_map.png",
                            f"{name}, steady engine, {f / 1e3:.4g} kHz")
@@ -171,6 +175,7 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
                         "map": f"figures/{fig_m.name}"},
             "wall_time_s": time.perf_counter() - t0,
             "damping": damping_summary(p, origins[name]),
+            "coupling": coupling, "coupling_from": coupling_why,
         }
     md += (table or (lambda h, r: []))(
         ["set", "V0 (V)", "no-load velocity (mm/s)", "stall force (N)",
@@ -179,7 +184,8 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
     for name, d in data.items():
         mp = d["map"]
         md += [f"### {name} at {d['frequency_Hz'] / 1e3:.4g} kHz", "",
-               f"The {damping_line(params[name], origins[name])}.", "",
+               f"The {damping_line(params[name], origins[name])}; the "
+               f"{coupling_line(d['coupling'], d['coupling_from'])}.", "",
                f"Map: {mp['counts']}; {mp['several_branches']} point(s) with several stable "
                f"steady states (the map shows the one reached from rest); {mp['undecided']} "
                "point(s) the engine could not decide (creep), taken from 0.3 s transients; "

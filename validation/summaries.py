@@ -43,6 +43,11 @@ def damping_line(params: MotorParams, origin: str) -> str:
             f"(from {origin})")
 
 
+def coupling_line(coupling: str, why: str) -> str:
+    """One line naming the tangential coupling behind a printed speed and why it was used."""
+    return f"coupling {coupling} ({why})"
+
+
 def simulation_summary(r: SimulationResult) -> dict:
     """JSON-ready summary of one contact run (SI units in the keys)."""
     from contact.model import normal_force_zero_tip_displacement

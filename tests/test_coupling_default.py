@@ -1,0 +1,38 @@
+"""``--coupling auto``: the paper's coupling for Table 2's set, the work-consistent one for every
+other set (docs/contact.md 2.3.1), named in every output."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from contact.model import default_coupling
+from contact.simulate import simulate
+from rom.sources import get_params
+from rom.table2 import table2
+from validation.cli import main
+
+
+def test_rule():
+    assert default_coupling(table2())[0] == "paper"
+    assert default_coupling(get_params("beam"))[0] == "consistent"
+    # an edited Table 2 is not the paper's set any more
+    assert default_coupling(table2().with_(C_l=100.0))[0] == "consistent"
+
+
+@pytest.mark.parametrize(("extra", "coupling", "why"), [
+    ([], "paper", "auto"),
+    (["--source", "beam"], "consistent", "auto"),
+    (["--source", "beam", "--coupling", "paper"], "paper", "--coupling"),
+])
+def test_cli_runs_and_names_the_coupling(capsys, extra, coupling, why):
+    args = ["simulate", "--voltage", "300", "--preload", "14", "--duration", "0.005", *extra]
+    assert main([*args, "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["coupling"] == coupling and d["coupling_from"].startswith(why)
+    p = table2() if "beam" not in extra else get_params("beam")
+    r = simulate(p, 300.0, 14.0, duration_s=0.005, coupling=coupling)
+    assert d["steady_velocity_m_s"] == r.steady.velocity_m_s
+    assert main(args) == 0
+    assert f"coupling {coupling} (" in capsys.readouterr().out
