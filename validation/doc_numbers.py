@@ -704,12 +704,14 @@ def _fitted_damping() -> dict[str, float]:
     characteristic of each."""
     from contact.characteristic import characteristic
     from contact.drive import auto_frequency
+    from contact.model import default_coupling
     from rom.from_fem import fem_params_from_file
 
     out = {}
     for tag, path in (("t2", _TUNED), ("fitted", _FITTED)):
         p = fem_params_from_file(ROOT / path)
-        c = characteristic(p, 400.0, 14.0, frequency_Hz=auto_frequency(p))
+        c = characteristic(p, 400.0, 14.0, frequency_Hz=auto_frequency(p),
+                           coupling=default_coupling(p)[0])  # what the CLI runs: auto
         out |= {f"{tag}_zeta_L1": p.zeta_L1, f"{tag}_zeta_B2": p.zeta_B2,
                 f"{tag}_v0": c.no_load_velocity_m_s, f"{tag}_stall": c.stall_force_N}
     return out
