@@ -312,6 +312,42 @@ class PiezoPlateModel:
         _check_electrodes(electrodes)
         return self.G[:, [e - 1 for e in electrodes]].sum(axis=1)
 
+    def conductors(self, open_electrodes: tuple[int, ...] = ELECTRODES) -> list[list[int]]:
+        """The open electrodes grouped into conductors: quadrants with no gap strip between
+        them touch and float as one conductor (one potential, one net charge).
+
+        With a gap every quadrant is its own conductor. With no gap (``electrode_gap_m = 0``,
+        or a mesh whose electrode tags meet) the four quadrants are one electrode, so in open
+        circuit B2, whose charges cancel over the four, is not stiffened at all
+        (``k_eff = 0``), as in the 3D model and SfePy (``docs/fem3d.md`` section 5).
+        """
+        _check_electrodes(open_electrodes)
+        layout = gap_layout(self.mesh)
+        touching = []
+        if layout.gap_x_m <= 0.0:  # across x = 0: 1-3 and 2-4 meet
+            touching += [(1, 3), (2, 4)]
+        if layout.gap_y_m <= 0.0:  # across y = l/2: 1-2 and 3-4 meet
+            touching += [(1, 2), (3, 4)]
+        groups = [[e] for e in open_electrodes]
+        for a, b in touching:
+            ga = next((g for g in groups if a in g), None)
+            gb = next((g for g in groups if b in g), None)
+            if ga is not None and gb is not None and ga is not gb:
+                ga += gb
+                groups.remove(gb)
+        return [sorted(g) for g in groups]
+
+    def _ports(self, open_electrodes: tuple[int, ...]) -> tuple[list[int], np.ndarray]:
+        """Electrode columns of the open set and the incidence ``T`` (electrodes x
+        conductors) that sums them into :meth:`conductors`."""
+        idx = [e - 1 for e in open_electrodes]
+        groups = self.conductors(open_electrodes)
+        T = np.zeros((len(idx), len(groups)))
+        for j, g in enumerate(groups):
+            for e in g:
+                T[open_electrodes.index(e), j] = 1.0
+        return idx, T
+
     def open_circuit_update(
         self, open_electrodes: tuple[int, ...] = ELECTRODES
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -322,15 +358,14 @@ class PiezoPlateModel:
         the open set). With the Cholesky factor ``C_oo = L L^T``, ``U = G_o L^-T`` and
         ``D = 1``; for a diagonal ``C_oo`` this is ``U = G_o``, ``D = 1 / C``.
         """
-        _check_electrodes(open_electrodes)
-        idx = [e - 1 for e in open_electrodes]
-        c_oo = self.capacitance_matrix_F[np.ix_(idx, idx)]
-        g_o = self.G[:, idx]
+        idx, T = self._ports(tuple(open_electrodes))
+        c_oo = T.T @ self.capacitance_matrix_F[np.ix_(idx, idx)] @ T
+        g_o = self.G[:, idx] @ T
         if np.count_nonzero(c_oo - np.diag(np.diag(c_oo))) == 0:
             return g_o, 1.0 / np.diag(c_oo)
         chol = np.linalg.cholesky(c_oo)
         u = np.linalg.solve(chol, g_o.T).T  # G_o L^-T
-        return u, np.ones(len(idx))
+        return u, np.ones(T.shape[1])
 
     def open_circuit_mass_update(
         self, open_electrodes: tuple[int, ...] = ELECTRODES
@@ -341,15 +376,14 @@ class PiezoPlateModel:
         ``M_open = M - M_uV R - R^T M_uV^T + R^T M_VV R``; ``W = [G_o, M_uV_o]`` and
         ``S = [[C^-1 M_VV C^-1, -C^-1], [-C^-1, 0]]``.
         """
-        _check_electrodes(open_electrodes)
-        idx = [e - 1 for e in open_electrodes]
-        m_uv = self.M_uV[:, idx]
+        idx, T = self._ports(tuple(open_electrodes))
+        m_uv = self.M_uV[:, idx] @ T
         if not np.any(m_uv):
             return None
-        c_inv = np.linalg.inv(self.capacitance_matrix_F[np.ix_(idx, idx)])
-        m_vv = self.M_VV[np.ix_(idx, idx)]
+        c_inv = np.linalg.inv(T.T @ self.capacitance_matrix_F[np.ix_(idx, idx)] @ T)
+        m_vv = T.T @ self.M_VV[np.ix_(idx, idx)] @ T
         S = np.block([[c_inv @ m_vv @ c_inv, -c_inv], [-c_inv, np.zeros_like(c_inv)]])
-        return np.hstack((self.G[:, idx], m_uv)), 0.5 * (S + S.T)
+        return np.hstack((self.G[:, idx] @ T, m_uv)), 0.5 * (S + S.T)
 
     def M_open(self, open_electrodes: tuple[int, ...] = ELECTRODES) -> sp.csr_matrix:
         """Open-circuit mass ``M + W S W^T`` (explicit; dense blocks)."""

@@ -140,3 +140,23 @@ def test_cli_edge_grading_moves_3d_b2_coupling_towards_the_2d_model(capsys):
     k2, k_uniform, k_graded = out["2d", 0], out["3d", 0], out["3d", 1]
     assert k_uniform < k_graded < k2 * 1.05
     assert abs(k_graded - k2) < 0.5 * abs(k_uniform - k2)
+
+
+def test_touching_quadrants_float_as_one_conductor(monkeypatch):
+    """With no gap the four quadrants are one electrode: B2's charges cancel over it, so its
+    open circuit is its short circuit (k_eff = 0, as SfePy and physics say; docs/fem3d.md 5),
+    while L1, whose quadrants share one potential by symmetry anyway, is unchanged."""
+    from fem.model import PiezoPlateModel
+
+    st = PlateStator(electrode_gap_m=0.0)
+    model = plate_model(st, "pzt8", 2, 3)
+    assert model.conductors() == [[1, 2, 3, 4]]
+    assert plate_model(PlateStator(), "pzt8", 2, 3).conductors() == [[1], [2], [3], [4]]
+    merged = modes_of_model(model)
+    assert merged.B2.k_eff < 1e-6
+    assert merged.B2.f_open_Hz == pytest.approx(merged.B2.f_short_Hz, rel=1e-10)
+    monkeypatch.setattr(PiezoPlateModel, "conductors",
+                        lambda self, open_electrodes=(1, 2, 3, 4): [[e] for e in open_electrodes])
+    separate = modes_of_model(model)
+    assert separate.B2.k_eff > 0.1  # four isolated quadrants would couple B2
+    assert merged.L1.f_open_Hz == pytest.approx(separate.L1.f_open_Hz, rel=1e-9)
