@@ -5,7 +5,8 @@ open-source FE code with a piezoelasticity formulation. This script computes the
 plate (30 x 7.5 x 3 mm, PZT-8 of :func:`fem.material.pzt8`) at electrode gaps 0, 0.5 and
 2 mm with
 
-* the 2D model (:func:`fem.model.plate_model`, order 2, default refine 4);
+* the 2D model (:func:`fem.model.build_model` on the structured mesh, order 2, refine 4:
+  what :func:`fem.model.plate_model` caches);
 * the project's 3D model (:mod:`fem.solid3d`, hex20, default mesh and edge-graded meshes);
 * SfePy: its own assembly (terms ``dw_lin_elastic``, ``dw_dot``, ``dw_piezo_coupling``,
   ``dw_diffusion``) of the same 3D problem on tensor-product hexahedral meshes generated here,
@@ -34,16 +35,20 @@ three nodes for B2, MAC with the Eq. 3 shapes, thickness symmetry >= 0.5), sampl
 own field interpolation. k_eff = sqrt(1 - (f_short / f_open)^2).
 
 Reference: per gap, the finest project 3D graded mesh of the run (``--grading`` levels on
-refine = layers = 3); at gap 0, where that model does not run, the finest SfePy mesh. Every
-other row is compared with it; "equal accuracy" takes, per code, the fastest row within the
-tolerances (``--tol-f`` on the four frequencies, ``--tol-k`` on both k_eff) and reports the
-wall-time ratios, all measured in the same run (2 shared cores; indicative).
+refine = layers = 3, default 2); at gap 0, where that model does not run, the finest SfePy
+mesh (hex27, refine = layers = 6). Every other row is compared with it. "Equal accuracy"
+takes, per code and per tier of :data:`TIERS` (largest relative error of the four
+frequencies, of both k_eff), the row with the least CPU time that meets the tier and reports
+the time ratios; wall and CPU times are measured in the same run (2 shared cores: CPU time,
+``time.process_time``, is the less load-sensitive of the two). The reference is not exact:
+at gap 2 mm the L1 short-circuit frequency still rises by ~2e-4 per grading level (see
+``docs/fem3d.md``, "Peer check with SfePy").
 
 A first block checks the assembly: on the same mesh and element (default 3D mesh, hex20 and
 hex27) SfePy and ``fem.solid3d`` must give the same spectrum to round-off.
 
-Run: ``python benchmarks/fem_peer_sfepy.py [--grading G] [--tol-f F] [--tol-k K] [--quick]``
-(default: about 8 minutes on 2 shared cores).
+Run: ``python benchmarks/fem_peer_sfepy.py [--grading G] [--sfepy-grading S] [--quick]``
+(default: about 8 minutes on 2 shared cores, more under load).
 """
 
 from __future__ import annotations
@@ -432,14 +437,17 @@ def _fmt_gap(g: float) -> str:
     return f"{g * 1e3:g}"
 
 
+TIERS = ((1e-3, 0.05), (2e-4, 0.01))
+"""Equal-accuracy tiers: (largest relative error of the four frequencies, of both k_eff)."""
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--grading", type=int, default=1,
-                    help="edge-grading levels of the finest meshes (reference: project 3D)")
-    ap.add_argument("--tol-f", type=float, default=1e-3,
-                    help="equal-accuracy tolerance on the four frequencies (relative)")
-    ap.add_argument("--tol-k", type=float, default=0.05,
-                    help="equal-accuracy tolerance on both k_eff (relative)")
+    ap.add_argument("--grading", type=int, default=2,
+                    help="edge-grading levels of the project 3D meshes; the finest is the "
+                         "reference at gaps 0.5 and 2 mm")
+    ap.add_argument("--sfepy-grading", type=int, default=1,
+                    help="edge-grading levels of the SfePy meshes")
     ap.add_argument("--quick", action="store_true", help="coarse meshes only (smoke run)")
     args = ap.parse_args(argv)
     try:
@@ -453,7 +461,8 @@ def main(argv: list[str] | None = None) -> None:
     for line in same_mesh_check(mat):
         print("  " + line)
     print()
-    levels = 0 if args.quick else args.grading
+    levels_3d = 0 if args.quick else args.grading
+    levels_sf = 0 if args.quick else args.sfepy_grading
     rows: list[Row] = []
     refs: dict[float, Row] = {}
 
@@ -467,20 +476,17 @@ def main(argv: list[str] | None = None) -> None:
         st = PlateStator(electrode_gap_m=gap)
         add(row_2d(st, mat))
         if gap > 0:
-            add(row_3d(st, mat))
+            refs[gap] = add(row_3d(st, mat))
             add(sfepy_row(st, mat, 3, 3))
-            for lv in range(1, levels + 1):
+            for lv in range(1, levels_sf + 1):
                 add(sfepy_row(st, mat, 3, 3, lv))
-            for lv in range(1, levels + 1):
-                last = add(row_3d(st, mat, grading=lv))
-            refs[gap] = last if levels else rows[-2]
-        else:
-            add(sfepy_row(st, mat, 3, 3))
+            for lv in range(1, levels_3d + 1):
+                refs[gap] = add(row_3d(st, mat, grading=lv))
+        else:  # the project's 3D model rejects gap 0: SfePy on refined uniform meshes
+            refs[gap] = add(sfepy_row(st, mat, 3, 3))
             if not args.quick:
                 add(sfepy_row(st, mat, 4, 4))
                 refs[gap] = add(sfepy_row(st, mat, 6, 6))
-            else:
-                refs[gap] = rows[-1]
 
     print("| gap (mm) | model | mesh | dofs | L1 f_short (Hz) | L1 f_open (Hz) | B2 f_short (Hz) "
           "| B2 f_open (Hz) | k L1 | k B2 | max freq err | max k err | wall (s) | CPU (s) |")
@@ -493,33 +499,35 @@ def main(argv: list[str] | None = None) -> None:
               + " | ".join(f"{v:.1f}" for v in r.values[:4]) + " | "
               + " | ".join(f"{v:.4f}" for v in r.values[4:])
               + f" | {max(e[:4]):.1e} | {max(e[4:]):.1e} | {r.wall_s:.1f} | {r.cpu_s:.1f} |")
-    print()
+    print("\nmax freq err / max k err: largest relative difference from the reference (ref) of "
+          "the four frequencies / of the two k_eff (k_B2 = 0 at gap 0: absolute there)\n")
     for gap in GAPS_M:
         ref = refs[gap]
-        print(f"gap {_fmt_gap(gap)} mm, reference {ref.model} {ref.mesh}: fastest row within "
-              f"{args.tol_f:.0e} on the frequencies and {args.tol_k:.0%} on both k_eff")
-        best = {}
-        for r in rows:
-            if r.gap_m != gap or r is ref:
-                continue
-            e = _err(r, ref)
-            if max(e[:4]) <= args.tol_f and max(e[4:]) <= args.tol_k:
-                if r.model not in best or r.cpu_s < best[r.model].cpu_s:
+        for tol_f, tol_k in TIERS:
+            print(f"gap {_fmt_gap(gap)} mm, reference {ref.model} {ref.mesh}: fastest row (CPU) "
+                  f"within {tol_f:.0e} on the four frequencies and {tol_k:.0%} on both k_eff")
+            best = {}
+            for r in rows:
+                if r.gap_m != gap or r is ref:
+                    continue
+                e = _err(r, ref)
+                if max(e[:4]) <= tol_f and max(e[4:]) <= tol_k and (
+                        r.model not in best or r.cpu_s < best[r.model].cpu_s):
                     best[r.model] = r
-        for model in ("2D", "3D", "SfePy"):
-            if model in best:
-                r = best[model]
-                print(f"  {model}: {r.mesh}, {r.dofs} dofs, {r.wall_s:.1f} s wall, "
-                      f"{r.cpu_s:.1f} s CPU")
-            else:
-                print(f"  {model}: none (besides the reference)")
-        if "SfePy" in best:
-            for model in ("2D", "3D"):
+            for model in ("2D", "3D", "SfePy"):
                 if model in best:
-                    a, b = best["SfePy"], best[model]
-                    print(f"  SfePy / {model}: wall {a.wall_s / b.wall_s:.1f}x, "
-                          f"CPU {a.cpu_s / b.cpu_s:.1f}x")
-        print()
+                    r = best[model]
+                    print(f"  {model}: {r.mesh}, {r.dofs} dofs, {r.wall_s:.1f} s wall, "
+                          f"{r.cpu_s:.1f} s CPU")
+                else:
+                    print(f"  {model}: none (besides the reference)")
+            if "SfePy" in best:
+                for model in ("2D", "3D"):
+                    if model in best:
+                        a, b = best["SfePy"], best[model]
+                        print(f"  SfePy / {model}: wall {a.wall_s / b.wall_s:.1f}x, "
+                              f"CPU {a.cpu_s / b.cpu_s:.1f}x")
+            print()
 
 
 if __name__ == "__main__":
