@@ -81,3 +81,21 @@ def test_electrode_sets_follow_the_quadrants():
                           else (ys >= half + gap / 2 - 1e-12))
         # the gap strips carry top nodes that belong to no electrode
         assert joined.size < top.size
+
+
+def test_report_quotes_the_peer_summary_of_the_docs(tmp_path):
+    """The report's 2D-vs-3D section quotes docs/fem3d.md's block without running SfePy, and
+    quotes nothing when the block (or the file) is missing."""
+    from validation.report import PEER_END, PEER_START, peer_check_summary
+
+    lines = peer_check_summary()
+    doc = (ROOT / "docs" / "fem3d.md").read_text(encoding="utf-8")
+    block = doc[doc.index(PEER_START) + len(PEER_START):doc.index(PEER_END)]
+    table = [ln for ln in lines if ln.startswith("|")]
+    assert table and all(ln in block for ln in table)
+    assert any("benchmarks/fem_peer_sfepy.py" in ln for ln in lines)
+    assert sum(ln.startswith("|---|") for ln in lines) == 1
+    plain = tmp_path / "fem3d.md"
+    plain.write_text("# no summary here\n", encoding="utf-8")
+    assert peer_check_summary(plain) == []
+    assert peer_check_summary(tmp_path / "missing.md") == []
