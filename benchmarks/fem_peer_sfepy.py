@@ -86,7 +86,6 @@ GAPS_M = (0.0, 0.5e-3, 2e-3)
 SFEPY_TO_VOIGT = [0, 1, 2, 5, 4, 3]
 """SfePy's symmetric-tensor order is 11, 22, 33, 12, 13, 23; IEEE Voigt is 11, 22, 33, 23,
 13, 12 (both with engineering shear strains)."""
-KEYS = ("L1 fs", "L1 fo", "B2 fs", "B2 fo", "k L1", "k B2")
 
 
 @dataclass(frozen=True)
