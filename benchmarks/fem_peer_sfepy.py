@@ -25,8 +25,10 @@ reason): the open circuit is then one floating top electrode.
 What is SfePy's and what is ours. SfePy generates the fields, the element bases and the
 quadrature and assembles K_uu, M, K_uphi and K_phiphi (no boundary conditions). The
 electrode constraints (one unknown per floating electrode, the bottom at 0 V) and the
-eigensolution are applied here on those matrices: SfePy has no built-in floating
-equipotential electrode with zero net charge, so the free potentials are condensed exactly
+eigensolution are applied here on those matrices. SfePy offers no ready-made floating
+electrode with zero net charge (its example ``piezo_elastodynamic.py`` imposes an electrode
+potential weakly, with a Nitsche penalty; its ``multi_node_combination`` linear-combination
+condition might tie the nodes, not tried), so the free potentials are condensed exactly
 inside a shift-invert operator (LU of the saddle-point matrix ``[[K_uu - sigma M, K_uphi],
 [K_uphi^T, -K_phiphi]]``, ARPACK ``eigsh`` on the displacements with a fixed start vector),
 the same algebra as ``fem.solid3d`` but written separately below. L1 and B2 are identified by
