@@ -4,7 +4,9 @@ Sections: (1) the three parameter sets side by side with the FE modal table, (2)
 contact figures reproduced on each set with a verdict per claim, (3) speed against error of
 the contact integrators and of the FE meshes, (4) numerically hard cases with their energy
 balance. Every number comes from the same library calls that ``lusm simulate`` and
-``lusm modes`` make; nothing is copied.
+``lusm modes`` make; nothing is copied, with one labelled exception: the SfePy peer check of
+the 2D-vs-3D section is quoted from ``docs/fem3d.md`` (:func:`peer_check_summary`), because it
+needs the optional SfePy and minutes of 3D solves (``python benchmarks/fem_peer_sfepy.py``).
 """
 
 from __future__ import annotations
@@ -116,6 +118,31 @@ def _parameter_sets(out: Path, quick: bool, progress: bool) -> tuple[list[str], 
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 """Example stators shipped with a source checkout (absent from a wheel install)."""
+FEM3D_DOC = Path(__file__).resolve().parents[1] / "docs" / "fem3d.md"
+"""The 3D model's documentation (source checkout only), source of the peer-check summary."""
+PEER_START, PEER_END = "<!-- peer-summary:start -->", "<!-- peer-summary:end -->"
+"""Markers around the SfePy peer-check summary in ``docs/fem3d.md``."""
+
+
+def peer_check_summary(doc: Path = FEM3D_DOC) -> list[str]:
+    """Markdown lines quoting the SfePy peer-check summary of ``docs/fem3d.md``.
+
+    Static: the block between :data:`PEER_START` and :data:`PEER_END` is copied as written
+    (measured by ``python benchmarks/fem_peer_sfepy.py``, which needs the optional extra
+    ``peer``); SfePy is neither imported nor run. Empty when the document or the block is
+    missing (e.g. a wheel install without ``docs/``).
+    """
+    if not doc.is_file():
+        return []
+    text = doc.read_text(encoding="utf-8")
+    i, j = text.find(PEER_START), text.find(PEER_END)
+    if i < 0 or j < i:
+        return []
+    block = text[i + len(PEER_START):j].strip("\n").splitlines()
+    return ["", "Peer check against SfePy, an independent FE code: quoted from `docs/fem3d.md` "
+            "(\"Peer check with SfePy\"), not re-run by the report; measured by "
+            "`benchmarks/fem_peer_sfepy.py` (`pip install -e .[peer]`; command below).", "",
+            *block]
 
 
 def _plane_stress_vs_3d(example_layers: int) -> tuple[list[str], dict]:
@@ -156,6 +183,7 @@ def _plane_stress_vs_3d(example_layers: int) -> tuple[list[str], dict]:
                "`lusm modes --geometry examples/<name>/stator.toml [--model 3d --layers N]`):",
                ""]
         md += markdown_table(["stator", "frequency", "2D (Hz)", "3D (Hz)", "2D/3D - 1"], ex_rows)
+    md += peer_check_summary()
     md.append("")
     return md, data
 
