@@ -141,7 +141,7 @@ def peer_check_summary(doc: Path = FEM3D_DOC) -> list[str]:
     block = text[i + len(PEER_START):j].strip("\n").splitlines()
     return ["", "Peer check against SfePy, an independent FE code: quoted from `docs/fem3d.md` "
             "(\"Peer check with SfePy\"), not re-run by the report; measured by "
-            "`benchmarks/fem_peer_sfepy.py` (`pip install -e .[peer]`; command below).", "",
+            "`benchmarks/fem_peer_sfepy.py` (`pip install -e .[peer]`).", "",
             *block]
 
 
