@@ -10,7 +10,9 @@ image. The deformation is scaled so that the largest displacement is
 ``scale_fraction * length``.
 
 Rendering is always offscreen (``off_screen=True``); VTK >= 9.4 picks OSMesa or EGL at run
-time, so no X server is needed. GIFs are assembled from screenshots with Pillow (a
+time, so no X server is needed; on a machine with no display and libEGL installed,
+:func:`headless_window` selects EGL before VTK tries X (which would print a warning).
+GIFs are assembled from screenshots with Pillow (a
 matplotlib dependency), so imageio is not required.
 """
 
@@ -62,6 +64,27 @@ def outline_points(model, quads_idx: np.ndarray, n_per_edge: int = 6) -> np.ndar
     return pts + 1e-7 * (centre[:, :, None] - pts)
 
 
+def headless_window() -> str | None:
+    """Pick VTK's EGL render window on a machine with no display, before VTK creates one.
+
+    Without ``DISPLAY`` VTK >= 9.4 first tries its X window, prints ``bad X server
+    connection`` on stderr and only then falls back to EGL or OSMesa. When EGL is installed
+    and the user has not chosen a window (``VTK_DEFAULT_OPENGL_WINDOW``, the documented VTK
+    runtime setting), choose it directly, so rendering prints nothing. Returns the choice,
+    or None when VTK's own order is kept (a display, a user choice, or no libEGL).
+    """
+    import ctypes.util
+    import os
+
+    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or os.environ.get(
+            "VTK_DEFAULT_OPENGL_WINDOW"):
+        return None
+    if ctypes.util.find_library("EGL") is None:
+        return None
+    os.environ["VTK_DEFAULT_OPENGL_WINDOW"] = "vtkEGLRenderWindow"
+    return "vtkEGLRenderWindow"
+
+
 def _lines(points_2d: np.ndarray):
     """pyvista PolyData of polylines from (2, k, n) points given in model (x, y) coordinates."""
     import pyvista as pv
@@ -78,6 +101,7 @@ class _Scene:
     """One mode on one offscreen plotter; :meth:`frame` re-poses it at a phase."""
 
     def __init__(self, model, shape, title, window_size, scale_fraction, decorations, nrefs):
+        headless_window()
         import pyvista as pv
 
         self.model = model

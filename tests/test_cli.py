@@ -149,3 +149,22 @@ def test_compare_takes_the_designers_stator(capsys):
     assert main(["compare", "--sources", "fem", "--length-mm", "36", "--json"]) == 0
     long = json.loads(capsys.readouterr().out)["values"]["fem"]
     assert long["f_L1_Hz"] / base["f_L1_Hz"] == pytest.approx(30 / 36, rel=0.03)
+
+
+def test_modes_prints_the_split_and_the_identification(capsys):
+    """``lusm modes``: the L1-B2 split a designer tunes away, MAC and symmetry of each mode
+    (issue 13), in text and JSON, consistent with the library's result."""
+    from fem.geometry import PlateStator
+    from fem.modes import plate_modes
+    from validation.cli import main
+
+    assert main(["modes", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    r = plate_modes(PlateStator())
+    assert d["split_rel"] == pytest.approx(r.B2.f_short_Hz / r.L1.f_short_Hz - 1, rel=1e-12)
+    assert d["mac"] == pytest.approx({"L1": r.L1.mac, "B2": r.B2.mac})
+    assert all(0.9 < m <= 1.0 for m in d["mac"].values())
+    assert d["length_mm"] == 30.0 and d["width_mm"] == 7.5
+    assert main(["modes"]) == 0
+    text = capsys.readouterr().out
+    assert f"{d['split_rel']:+.3%}" in text and "MAC" in text

@@ -121,3 +121,23 @@ def test_cli_modes_export(tmp_path):
     assert main(["modes", "--refine", "3", "--export", str(out)]) == 0
     assert {"L1", "B2"} <= set(meshio.read(out).point_data)
     assert main(["modes", "--refine", "3", "--export", str(tmp_path / "m.unknownext")]) == 2
+
+
+def test_headless_render_prints_nothing_on_stderr(tmp_path):
+    """With no display, rendering selects EGL itself instead of letting VTK try X first and
+    print 'bad X server connection' (issue 13: no VTK warning on stderr)."""
+    import ctypes.util
+    import os
+    import subprocess
+    import sys
+
+    if ctypes.util.find_library("EGL") is None:
+        pytest.skip("no libEGL: VTK's own fallback order applies")
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")}
+    p = subprocess.run([sys.executable, "-m", "validation.cli", "render", "--out",
+                        str(tmp_path / "r"), "--mode", "L1"], capture_output=True, text=True,
+                       env=env, cwd=tmp_path, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert p.stderr == ""
+    assert (tmp_path / "r" / "L1.png").stat().st_size > 1000
