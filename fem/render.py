@@ -145,6 +145,16 @@ class _Scene:
         # camera: parallel projection centred on the long axis x = 0 (screen y = 0)
         x0, x1, y0, y1 = mesh.bounding_box_m()
         reach = scale_fraction * length
+        if decorations:  # a millimetre ruler along the length and the deformation scale
+            above = x1 + 1.4 * reach  # labels on the right of a->b: above, read from y0
+            self.plotter.add_ruler([y1, above, 0.0], [y0, above, 0.0], flip_range=True,
+                                   title="mm", scale=1e3, label_format="%.0f",
+                                   label_color="black", tick_color="black",
+                                   font_size_factor=0.5)
+            self.plotter.add_text(
+                f"largest displacement drawn at {scale_fraction:.0%} of the "
+                f"{length * 1e3:.4g} mm length", position="lower_left", font_size=7,
+                color="black")
         half_w = 0.5 * (y1 - y0) + reach
         half_h = max(x1, -x0) + reach
         aspect = window_size[0] / window_size[1]
