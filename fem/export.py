@@ -20,6 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
+RIGID_FRACTION = 1e-3
+"""Modes below this fraction of the L1/B2 frequency are rigid-body motions (0 Hz up to
+round-off) and are not exported."""
+
 
 def vertex_displacements(model, shape: np.ndarray) -> np.ndarray:
     """Displacement ``(u_x, u_y)`` of a dof vector at the mesh vertices, shape (2, n_vertices)."""
@@ -57,6 +61,8 @@ def mode_fields(model, modes, n_modes: int = 8) -> tuple[dict[str, np.ndarray], 
         fc = 0.5 * (modes.L1.f_short_Hz + modes.B2.f_short_Hz)
         f, v = natural_frequencies_Hz(model, n_modes, fc)
         for i in range(v.shape[1]):
+            if f[i] < RIGID_FRACTION * fc:  # a rigid-body motion of the free plate
+                continue
             shape = v[:, i] / np.sqrt(float(v[:, i] @ (model.M @ v[:, i])))
             u = vertex_displacements(model, shape)
             name = f"mode_{i:02d}_{f[i]:.0f}Hz"
@@ -108,5 +114,51 @@ def export_modes(
     try:
         meshio.write(path, out, file_format=file_format)
     except (Exception, SystemExit) as exc:  # meshio: KeyError/WriteError for unknown formats
+        raise ValueError(f"could not write {path} with meshio: {exc}") from exc
+    return path
+
+
+def export_solid_modes(path: str | Path, model, modes, file_format: str | None = None) -> Path:
+    """Write the 3D brick mesh with the L1 and B2 shapes as point data through meshio.
+
+    The shapes (mass-normalized short-circuit modes of :mod:`fem.solid3d`, m per sqrt(kg))
+    are written at the brick vertices as ``L1``, ``B2`` (vectors) and ``magnitude_L1``,
+    ``magnitude_B2``; the vertex order follows scikit-fem's own meshio converter
+    (:func:`skfem.io.meshio.to_meshio`), so ParaView reads ``.vtu`` hexahedra directly.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file (format by extension unless ``file_format`` is given).
+    model : fem.solid3d.SolidPlateModel
+    modes : fem.solid3d.SolidModes
+    file_format : str, optional
+        meshio format name.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    ValueError
+        If meshio cannot write that format.
+    """
+    import meshio
+    from skfem.io.meshio import to_meshio
+
+    path = Path(path)
+    basis = model.basis
+    vertices = basis.nodal_dofs[0]  # scalar dofs at the brick vertices
+    fields: dict[str, np.ndarray] = {}
+    for mode in (modes.L1, modes.B2):
+        u = np.asarray(mode.shape).reshape(3, basis.N)[:, vertices].T  # (n_vertices, 3)
+        fields[mode.name] = u
+        fields[f"magnitude_{mode.name}"] = np.linalg.norm(u, axis=1)
+    out = to_meshio(basis.mesh, point_data=fields, encode_cell_data=False)
+    try:
+        meshio.write(path, out, file_format=file_format)
+    except (Exception, SystemExit) as exc:
         raise ValueError(f"could not write {path} with meshio: {exc}") from exc
     return path

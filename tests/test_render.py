@@ -141,3 +141,32 @@ def test_headless_render_prints_nothing_on_stderr(tmp_path):
     assert p.returncode == 0, p.stderr
     assert p.stderr == ""
     assert (tmp_path / "r" / "L1.png").stat().st_size > 1000
+
+
+def test_exports_skip_rigid_body_modes_and_work_in_3d(tmp_path):
+    """``--export``: no rigid-body (0 Hz) mode among the extra 2D modes; with ``--model 3d`` a
+    VTU of hexahedra whose L1 is axial (u_y, antisymmetric about mid-length) and whose B2 is
+    transverse on the long axis (u_x there), as the modes are (issue 13)."""
+    import re
+
+    from validation.cli import main
+
+    out2 = tmp_path / "m2.vtu"
+    assert main(["modes", "--refine", "2", "--export", str(out2)]) == 0
+    freqs = [float(m.group(1)) for n in meshio.read(out2).point_data
+             if (m := re.fullmatch(r"mode_\d+_(\d+)Hz", n))]
+    assert freqs and min(freqs) > 1e3
+    out3 = tmp_path / "m3.vtu"
+    assert main(["modes", "--model", "3d", "--refine", "2", "--layers", "1", "--export",
+                 str(out3)]) == 0
+    m3 = meshio.read(out3)
+    assert m3.cells[0].type == "hexahedron"
+    y = m3.points[:, 1]
+    l1, b2 = m3.point_data["L1"], m3.point_data["B2"]
+    assert np.abs(l1[:, 1]).max() > 3 * np.abs(l1[:, 0]).max()
+    x = m3.points[:, 0]
+    axis = np.isclose(np.abs(x), np.abs(x).min())  # the points nearest the long axis
+    assert np.abs(b2[axis, 0]).max() > 3 * np.abs(b2[axis, 1]).max()  # bends across it
+    ends = np.isclose(y, y.min()) | np.isclose(y, y.max())
+    assert np.sign(l1[np.isclose(y, y.min()), 1]).mean() == -np.sign(
+        l1[np.isclose(y, y.max()), 1]).mean() and ends.any()

@@ -90,8 +90,6 @@ def run(args: argparse.Namespace) -> None:
 
     choice = stator_from_args(args)
     stator, material = choice.stator, choice.material
-    if args.export and args.model == "3d":
-        raise ValueError("--export is only available with --model 2d")
     export = _export_target(args.export, args.force) if args.export else None
 
     from fem.material import plane_stress
@@ -136,10 +134,19 @@ def run(args: argparse.Namespace) -> None:
             raise fe_failure(exc) from exc
         raise
     if export is not None:
-        from fem.model import plate_model
+        if args.model == "3d":
+            from fem.export import export_solid_modes
+            from fem.solid3d import build_solid_model
 
-        _write_export(export, plate_model(stator, material, args.order, refine), res,
-                      args.force)
+            model = build_solid_model(stator, material, args.order, refine, layers,
+                                      edge_grading=args.edge_grading)
+            _write_export(export, model, res, args.force, export_solid_modes)
+        else:
+            from fem.export import export_modes
+            from fem.model import plate_model
+
+            _write_export(export, plate_model(stator, material, args.order, refine), res,
+                          args.force, export_modes)
     L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
     if validity is not None:
         import sys
@@ -222,14 +229,14 @@ def _export_target(text: str, force: bool):
     return path
 
 
-def _write_export(path, model, res, force: bool = False) -> None:
-    """Write the export (and any side file, e.g. the HDF5 of an .xdmf) in a staging folder
-    beside the target under its final name; move the files in only when all are written."""
+def _write_export(path, model, res, force: bool, writer) -> None:
+    """Write the export with ``writer(path, model, res)`` (and any side file, e.g. the HDF5
+    of an .xdmf) in a staging folder beside the target under its final name; move the files
+    in only when all are written."""
     import os
     import shutil
     import tempfile
 
-    from fem.export import export_modes
     from validation.errors import LusmError
 
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -237,7 +244,7 @@ def _write_export(path, model, res, force: bool = False) -> None:
     try:
         staged = os.path.join(stage, path.name)
         try:
-            export_modes(staged, model, res)
+            writer(staged, model, res)
         except (ValueError, OSError) as exc:  # name the user's file, not the staging one
             raise LusmError(f"--export: {str(exc).replace(staged, str(path))}",
                             "--export") from None
