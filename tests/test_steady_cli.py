@@ -59,3 +59,15 @@ def test_simulate_steady_with_a_load_matches_a_settled_transient(capsys):
     # the load slows the motor (below the no-load velocity of the same point)
     assert doc["steady_velocity_m_s"] < 0.9 * simulate(table2(), 400.0, 14.0,
                                                        method="steady").steady.velocity_m_s
+
+
+def test_characteristic_takes_a_list_of_voltages(capsys):
+    """``--voltage 200,400``: one curve per voltage, each the single-voltage answer."""
+    assert main(["characteristic", "--voltage", "200,400", "--preload", "14",
+                 "--loads", "0:1:0.5", "--json"]) == 0
+    many = json.loads(capsys.readouterr().out)
+    assert many["voltages_V"] == [200.0, 400.0]
+    for v, doc in zip((200, 400), many["characteristics"], strict=True):
+        assert main(["characteristic", "--voltage", str(v), "--preload", "14",
+                     "--loads", "0:1:0.5", "--json"]) == 0
+        assert json.loads(capsys.readouterr().out) == doc

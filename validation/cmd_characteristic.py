@@ -32,7 +32,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "electrical input power and efficiency, the no-load velocity and the stall force, "
         "from the averaged steady state (docs/steady.md).",
     )
-    add_drive_options(p, time_steps=False)  # the steady engine needs no time step
+    add_drive_options(p, time_steps=False, voltage_list=True)  # steady: no time step
     p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
                    help="load forces (N), e.g. 0:2:0.1; default 21 loads from 0 to the stall "
                    "force")
@@ -61,10 +61,11 @@ def parse_loads(text: str) -> list[float]:
 
 
 def run(args: argparse.Namespace) -> None:
-    """Compute the characteristic and print it."""
+    """Compute the characteristic(s) and print them."""
     loads = parse_loads(args.loads) if args.loads is not None else None
     plot = output_folder(args, "characteristic", "--plot")
-    warn_drive(args.voltage, args.preload)
+    voltages = args.voltage  # a tuple: --voltage takes A,B,...
+    warn_drive(max(voltages), args.preload)
     if args.frequency.strip().lower() != "auto":
         parse_frequency(args.frequency)  # refuse a bad number before any work
     params, damping_from = motor_params_of(args, args.source)
@@ -74,28 +75,37 @@ def run(args: argparse.Namespace) -> None:
     from contact.characteristic import characteristic
     from validation.summaries import coupling_line, damping_line, damping_summary
 
-    char = characteristic(params, args.voltage, args.preload, loads, frequency_Hz=freq,
-                          coupling=coupling,
-                          ultrasonic_friction=not args.no_ultrasonic_friction)
-    doc = char.to_dict()
-    doc["damping"] = damping_summary(params, damping_from)
-    doc["coupling"], doc["coupling_from"] = coupling, coupling_from
+    chars = [characteristic(params, v, args.preload, loads, frequency_Hz=freq,
+                            coupling=coupling,
+                            ultrasonic_friction=not args.no_ultrasonic_friction)
+             for v in voltages]
+    docs = [c.to_dict() for c in chars]
+    for d in docs:
+        d["damping"] = damping_summary(params, damping_from)
+        d["coupling"], d["coupling_from"] = coupling, coupling_from
+    # one voltage: the characteristic itself; several: {"voltages_V", "characteristics"}
+    doc = docs[0] if len(docs) == 1 else {"voltages_V": list(voltages),
+                                          "characteristics": docs}
     if plot is not None:
         from validation.report_motor import characteristic_figure
 
         with figure_set(plot, "characteristic", "--plot", args.force) as stage:
-            path = characteristic_figure(char, stage / "characteristic.png")
+            path = characteristic_figure(chars if len(chars) > 1 else chars[0],
+                                         stage / "characteristic.png")
             doc["figures"] = moved([path], stage, plot)
     if args.json:
         print_json(doc, indent=2)
         return
-    print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
-    print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
+    for v, char, d in zip(voltages, chars, docs, strict=True):
+        if len(voltages) > 1:
+            print(f"--- {v:g} V")
+        print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
+        print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
+        print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} "
+              f"{'eff.':>8}")
+        for row in d["curve"]:
+            print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} "
+                  f"{row['input_power_W']:11.4g} {row['output_power_W']:11.4g} "
+                  f"{row['efficiency']:8.4f}")
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
-    print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} {'eff.':>8}")
-    for row in doc["curve"]:
-        print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} {row['input_power_W']:11.4g} "
-              f"{row['output_power_W']:11.4g} {row['efficiency']:8.4f}")
-    for f in doc.get("figures", []):
-        print(f"wrote {f}")

@@ -391,15 +391,40 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
 
 # --- drive ------------------------------------------------------------------------------------
 
+def real_list(option: str, unit: str, lo: float, hi: float, most: int):
+    """An argparse ``type`` for ``A,B,C``: at most ``most`` finite numbers in ``[lo, hi]``,
+    returned as a tuple; messages name ``option``."""
+    one = real(option, unit, lo, hi)
+
+    def parse(text: str) -> tuple[float, ...]:
+        items = [t for t in text.split(",")]
+        if not 1 <= len(items) <= most:
+            raise argparse.ArgumentTypeError(
+                f"{option} takes 1 to {most} comma-separated values in "
+                f"{_range_text(lo, hi, False, False, unit)}, got {text!r}")
+        return tuple(one(t.strip()) for t in items)
+
+    return parse
+
+
+MAX_VOLTAGES = 8
+"""Most voltages one ``lusm characteristic --voltage A,B,...`` call takes."""
+
+
 def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
-                      auto_frequency: bool = True, time_steps: bool = True) -> None:
+                      auto_frequency: bool = True, time_steps: bool = True,
+                      voltage_list: bool = False) -> None:
     """``--voltage --preload --frequency`` and (with ``time_steps``) ``--duration --dt``,
-    with their validity ranges."""
+    with their validity ranges; ``voltage_list``: ``--voltage`` takes ``A,B,...`` (a tuple)."""
     g = p.add_argument_group("drive", "operating point and time stepping")
     if required:
-        g.add_argument("--voltage", type=real("--voltage", "V", *limits.VOLTAGE_V),
-                       required=True, help=f"drive amplitude V0 (V), in "
-                       f"[0, {limits.VOLTAGE_V[1]:g}]")
+        vtype = (real_list("--voltage", "V", *limits.VOLTAGE_V, MAX_VOLTAGES) if voltage_list
+                 else real("--voltage", "V", *limits.VOLTAGE_V))
+        g.add_argument("--voltage", type=vtype, required=True,
+                       metavar="V[,V...]" if voltage_list else None,
+                       help=f"drive amplitude V0 (V), in [0, {limits.VOLTAGE_V[1]:g}]"
+                       + (f"; up to {MAX_VOLTAGES} comma-separated values, one curve each"
+                          if voltage_list else ""))
         g.add_argument("--preload", type=real("--preload", "N", *limits.PRELOAD_N),
                        required=True, help=f"preload F_P (N), in [0, {limits.PRELOAD_N[1]:g}]")
     if auto_frequency:
