@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> None:
         check_refine_3d(args.refine)
         refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
         layers = DEFAULT_LAYERS if args.layers is None else args.layers
-        if args.edge_grading and choice.meshed:
+        if args.edge_grading and (choice.meshed or choice.parametric):
             raise LusmError(f"--edge-grading applies to the generated plate, not to the mesh "
                             f"of --geometry {args.geometry}; grade that mesh itself",
                             "--edge-grading")
@@ -155,6 +155,11 @@ def run(args: argparse.Namespace) -> None:
             "model": args.model,
             "length_mm": L_mm, "width_mm": W_mm, "thickness_mm": H_mm,
         }
+        if choice.parametric:
+            out.update(tip_length_mm=stator.tip_length_m * 1e3,
+                       tip_width_mm=stator.tip_width_m * 1e3, chamfer_mm=stator.chamfer_m * 1e3,
+                       holes_mm=[[v * 1e3 for v in h] for h in stator.holes_m],
+                       mesh_size_mm=stator.element_size_m * 1e3)
         if args.model == "3d":
             out["layers"], out["element"] = res.layers, res.element
             out["edge_grading"] = args.edge_grading
@@ -162,15 +167,22 @@ def run(args: argparse.Namespace) -> None:
             out["export"] = str(export)
         print_json(out)
         return
+    from validation.summaries import plate_text
+
+    if choice.meshed:
+        mesh_text = "mesh from the stator file"
+    elif choice.parametric:
+        mesh_text = f"gmsh mesh, element size {stator.element_size_m * 1e3:g} mm"
+    else:
+        mesh_text = f"refine {refine}"
     print(
-        f"plate {L_mm:g} x {W_mm:g} x {H_mm:g} mm, "
-        f"material {material.name}, order {args.order}, "
-        + ("mesh from the stator file" if choice.meshed else f"refine {refine}")
+        f"{plate_text(stator)}, material {material.name}, order {args.order}, {mesh_text}"
         + (f", 3D layers {res.layers} ({res.element})" if hasattr(res, "layers") else "")
         + (f", edge grading {args.edge_grading}" if args.edge_grading else "")
     )
     if choice.design is not None:
-        print(f"stator file {args.geometry}: {choice.design.name} (bounding box above)")
+        what = "bounding box above" if choice.meshed else "dimensions above"
+        print(f"stator file {args.geometry}: {choice.design.name} ({what})")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
     for m in (res.L1, res.B2):
         print(f"{m.name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")

@@ -111,8 +111,9 @@ def run(args: argparse.Namespace) -> None:
     else:
         print(f"target {d.target_frequency_Hz:g} Hz, material {d.material}, model {d.model}, "
               f"fixed {d.fix.replace('+', ', ')}")
-    print(f"plate {st.length_m * 1e3:.4f} x {st.width_m * 1e3:.4f} x "
-          f"{st.thickness_m * 1e3:.4g} mm (gap {st.electrode_gap_m * 1e3:g} mm)")
+    from validation.summaries import plate_text
+
+    print(f"{plate_text(st, '.4f')} (gap {st.electrode_gap_m * 1e3:g} mm)")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
     for name, m in (("L1", d.L1), ("B2", d.B2)):
         print(f"{name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")
