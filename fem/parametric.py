@@ -28,10 +28,14 @@ Meshing (gmsh, OpenCASCADE kernel): the outline, the tip and the two gap strips 
 fragmented so that every electrode edge is a mesh line; holes are cut out; the surfaces are
 meshed with triangles (Frontal-Delaunay for quads) at twice the target size, recombined into
 quads (Blossom) and split once (``Mesh.SubdivisionAlgorithm = 1``), which gives an all-quad
-mesh with edges of about ``mesh_size_m`` (hole boundaries get at least
-:data:`HOLE_SEGMENTS` edges). Every element then lies under one electrode or in unelectroded
-material; its tag is read at its centroid. The mesh is cached per stator (the dataclass is
-hashable), so repeated commands and tuning steps do not remesh the same geometry.
+mesh with edges of about ``mesh_size_m``. Blossom can leave an inverted element next to a
+finely divided hole rim; the mesh is then checked (every element's signed area against its
+surface's orientation) and, if one is inverted, remeshed with triangles (Frontal-Delaunay),
+each split into three quads (:func:`fem.mesh_io.quadrangulate`, as for triangle mesh files).
+Hole rims get at least :data:`HOLE_SEGMENTS` edges. Every element lies under one electrode
+or in unelectroded material; its tag is read at its centroid. The mesh is cached per stator
+(the dataclass is hashable), so repeated commands and tuning steps do not remesh the same
+geometry.
 """
 
 from __future__ import annotations
@@ -44,6 +48,7 @@ import numpy as np
 
 from fem.geometry import PlateStator
 from fem.mesh import PlateMesh
+from fem.mesh_io import quadrangulate
 
 MESH_EXTRA = 'pip install "lusm[mesh]"'
 """How to install the optional mesher (gmsh's Python API from PyPI)."""
@@ -55,7 +60,7 @@ SIZE_DIVISIONS_RANGE = (1, 100)
 """Allowed element size: between ``min(l, W) / 100`` and ``min(l, W)``."""
 
 HOLE_SEGMENTS = 24
-"""Least number of mesh edges around a hole (gmsh's curvature-based size, before the split)."""
+"""Least number of mesh edges around a hole."""
 
 
 def _finite(value: object) -> bool:
@@ -228,6 +233,42 @@ def parametric_mesh(stator: ParametricStator) -> PlateMesh:
 @lru_cache(maxsize=32)
 def _cached_mesh(stator: ParametricStator) -> PlateMesh:
     gmsh = _import_gmsh()
+    xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=True)
+    if xy is None:  # Blossom left an inverted element: mesh with triangles instead
+        xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=False)
+    if xy is None:
+        raise ValueError("gmsh produced inverted elements for this geometry; change "
+                         "[mesh] size_mm slightly or use a mesh file")
+    cells = [c for c in (tri, quad) if c.shape[0]]
+    used = np.unique(np.concatenate([c.ravel() for c in cells]))
+    remap = -np.ones(xy.shape[0], dtype=np.int64)
+    remap[used] = np.arange(used.size)
+    xy, tri, quad = xy[used], remap[tri], remap[quad]
+
+    def tags_of(cells: np.ndarray) -> np.ndarray:
+        # mesh lines follow every electrode edge, so the centroid decides; the tip is bare
+        centre = xy[cells].mean(axis=1)
+        tags = PlateStator.electrode_of(stator, centre[:, 0], centre[:, 1])
+        tags[centre[:, 1] > stator.length_m] = 0
+        return tags
+
+    p2, q2, tags = quadrangulate(xy, tri, quad, tags_of(tri), tags_of(quad))
+    missing = [k for k in (1, 2, 3, 4) if not np.any(tags == k)]
+    if missing:
+        raise ValueError(f"the parametric mesh has no element under electrode(s) {missing} "
+                         f"(holes covering them?)")
+    return PlateMesh(points_m=p2.T, quads=q2.T, electrode=tags)
+
+
+def _signed_area(xy: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    p = xy[cells]
+    return 0.5 * np.sum(p[..., 0] * np.roll(p[..., 1], -1, axis=1)
+                        - np.roll(p[..., 0], -1, axis=1) * p[..., 1], axis=1)
+
+
+def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool):
+    """Nodes (n, 2) (m), counter-clockwise triangles (k, 3) and quads (m, 4); ``(None, None,
+    None)`` if an element came out inverted."""
     mm = 1e3  # gmsh works in millimetres (its tolerances are absolute)
     length, width = stator.length_m * mm, stator.width_m * mm
     gap, c = stator.electrode_gap_m * mm, stator.chamfer_m * mm
@@ -251,7 +292,6 @@ def _cached_mesh(stator: ParametricStator) -> PlateMesh:
         parts = [(2, occ.addPlaneSurface([occ.addCurveLoop(lines)]))]
         if tl > 0.0:
             parts.append((2, occ.addRectangle(-0.5 * tw, length, 0.0, tw, tl)))
-        tools = []
         if gap > 0.0:
             tools = [(2, occ.addRectangle(-0.5 * gap, 0.0, 0.0, gap, length)),
                      (2, occ.addRectangle(-w2, 0.5 * (length - gap), 0.0, width, gap))]
@@ -267,47 +307,55 @@ def _cached_mesh(stator: ParametricStator) -> PlateMesh:
                      for x, y, d in stator.holes_m]
             pieces, _ = occ.cut(pieces, disks)
         occ.synchronize()
+        # hole rims: a fixed number of edges (the split below halves them once more)
+        per_turn = HOLE_SEGMENTS // 2 if recombine else HOLE_SEGMENTS
+        for x, y, d in stator.holes_m:
+            r, e = 0.5 * d * mm, 1e-6 * max(length, width)
+            for _, curve in gmsh.model.getEntitiesInBoundingBox(
+                    x * mm - r - e, y * mm - r - e, -e, x * mm + r + e, y * mm + r + e, e, 1):
+                lo, hi = gmsh.model.getParametrizationBounds(1, curve)
+                turn = abs(hi[0] - lo[0]) / (2.0 * math.pi)
+                n = max(1, math.ceil(turn * per_turn - 1e-9),
+                        math.ceil(turn * 2.0 * math.pi * r / (2.0 * h) - 1e-9))
+                gmsh.model.mesh.setTransfiniteCurve(curve, n + 1)
         opt = gmsh.option.setNumber
-        opt("Mesh.MeshSizeMax", 2.0 * h)  # halved by the subdivision below
+        opt("Mesh.MeshSizeMax", 2.0 * h)  # split once below: edges of about h
         opt("Mesh.MeshSizeMin", 0.0)
-        opt("Mesh.MeshSizeFromCurvature", HOLE_SEGMENTS // 2 if stator.holes_m else 0)
-        opt("Mesh.Algorithm", 8)  # Frontal-Delaunay for quads
-        opt("Mesh.RecombineAll", 1)
-        opt("Mesh.RecombinationAlgorithm", 1)  # Blossom
-        opt("Mesh.SubdivisionAlgorithm", 1)  # all quads
-        opt("Mesh.Smoothing", 5)
+        opt("Mesh.Algorithm", 8 if recombine else 6)  # Frontal-Delaunay (for quads)
+        if recombine:
+            opt("Mesh.RecombineAll", 1)
+            opt("Mesh.RecombinationAlgorithm", 1)  # Blossom
+            opt("Mesh.SubdivisionAlgorithm", 1)  # every element into quads
         gmsh.model.mesh.generate(2)
         node_tags, coords, _ = gmsh.model.mesh.getNodes()
-        types, _, enodes = gmsh.model.mesh.getElements(2)
+        index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
+        index[np.asarray(node_tags, dtype=np.int64)] = np.arange(node_tags.size)
+        xy = np.asarray(coords, dtype=float).reshape(-1, 3)[:, :2] / mm
+        cells: dict[int, list[np.ndarray]] = {3: [], 4: []}
+        for _, surface in gmsh.model.getEntities(2):
+            types, _, enodes = gmsh.model.mesh.getElements(2, surface)
+            blocks = []
+            for t, nodes in zip(types, enodes, strict=True):
+                k = {2: 3, 3: 4}.get(int(t))
+                if k is None:
+                    raise ValueError(f"gmsh returned element type {t}; expected triangles "
+                                     "or quads")
+                blocks.append((k, index[np.asarray(nodes, dtype=np.int64).reshape(-1, k)]))
+            if not blocks:
+                continue
+            # one orientation per surface (its normal): flip a -z surface as a whole; an
+            # element of the other sign is inverted
+            areas = [_signed_area(xy, b) for _, b in blocks]
+            sign = np.sign(sum(float(a.sum()) for a in areas))
+            for (k, b), a in zip(blocks, areas, strict=True):
+                if np.any(a * sign <= 0.0):
+                    return None, None, None
+                cells[k].append(b if sign > 0 else b[:, ::-1])
     finally:
         if ours:
             gmsh.finalize()
         else:
             gmsh.model.remove()
-    quads = [np.asarray(n, dtype=np.int64).reshape(-1, 4) for t, n in
-             zip(types, enodes, strict=True) if t == 3]
-    if len(quads) != len(types) or not quads:
-        raise ValueError(f"gmsh returned element types {list(types)}; expected quads only "
-                         f"(type 3)")
-    q = np.concatenate(quads)
-    index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
-    index[np.asarray(node_tags, dtype=np.int64)] = np.arange(node_tags.size)
-    q = index[q]
-    xy = np.asarray(coords, dtype=float).reshape(-1, 3)[:, :2] / mm
-    used = np.unique(q)
-    remap = -np.ones(xy.shape[0], dtype=np.int64)
-    remap[used] = np.arange(used.size)
-    xy, q = xy[used], remap[q]
-    p = xy[q]  # (n, 4, 2)
-    area = 0.5 * np.sum(p[..., 0] * np.roll(p[..., 1], -1, axis=1)
-                        - np.roll(p[..., 0], -1, axis=1) * p[..., 1], axis=1)
-    q[area < 0] = q[area < 0][:, ::-1]  # counter-clockwise
-    centre = p.mean(axis=1)
-    # mesh lines follow every electrode edge, so the centroid decides; the tip is bare
-    tags = PlateStator.electrode_of(stator, centre[:, 0], centre[:, 1])
-    tags[centre[:, 1] > stator.length_m] = 0
-    missing = [k for k in (1, 2, 3, 4) if not np.any(tags == k)]
-    if missing:
-        raise ValueError(f"the parametric mesh has no element under electrode(s) {missing} "
-                         f"(holes covering them?)")
-    return PlateMesh(points_m=xy.T, quads=q.T, electrode=tags)
+    tri = np.concatenate(cells[3]) if cells[3] else np.zeros((0, 3), dtype=np.int64)
+    quad = np.concatenate(cells[4]) if cells[4] else np.zeros((0, 4), dtype=np.int64)
+    return xy, tri, quad
