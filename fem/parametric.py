@@ -179,6 +179,15 @@ class ParametricStator(PlateStator):
             inside &= np.hypot(x - hx, y - hy) >= 0.5 * d
         return np.where(inside, out, 0)
 
+    def features_mm(self) -> dict[str, object]:
+        """The features in millimetres (JSON keys ``tip_length_mm``, ``tip_width_mm``,
+        ``chamfer_mm``, ``holes_mm`` = ``[[x, y, diameter], ...]``, ``mesh_size_mm``)."""
+        mm = 1e3
+        return {"tip_length_mm": self.tip_length_m * mm, "tip_width_mm": self.tip_width_m * mm,
+                "chamfer_mm": self.chamfer_m * mm,
+                "holes_mm": [[v * mm for v in hole] for hole in self.holes_m],
+                "mesh_size_mm": self.element_size_m * mm}
+
     def features_text(self) -> str:
         """The features in millimetres for headers, e.g. ``' + tip 1 mm (2 mm wide)'``."""
         mm = 1e3
@@ -233,12 +242,15 @@ def parametric_mesh(stator: ParametricStator) -> PlateMesh:
 @lru_cache(maxsize=32)
 def _cached_mesh(stator: ParametricStator) -> PlateMesh:
     gmsh = _import_gmsh()
-    xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=True)
+    half = is_mirror_symmetric(stator)
+    xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=True, half=half)
     if xy is None:  # Blossom left an inverted element: mesh with triangles instead
-        xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=False)
+        xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=False, half=half)
     if xy is None:
         raise ValueError("gmsh produced inverted elements for this geometry; change "
                          "[mesh] size_mm slightly or use a mesh file")
+    if half:
+        xy, tri, quad = _mirror(xy, tri, quad, 1e-9 * max(stator.width_m, stator.length_m))
     cells = [c for c in (tri, quad) if c.shape[0]]
     used = np.unique(np.concatenate([c.ravel() for c in cells]))
     remap = -np.ones(xy.shape[0], dtype=np.int64)
@@ -260,15 +272,39 @@ def _cached_mesh(stator: ParametricStator) -> PlateMesh:
     return PlateMesh(points_m=p2.T, quads=q2.T, electrode=tags)
 
 
+def is_mirror_symmetric(stator: ParametricStator) -> bool:
+    """True if the planform is its own mirror image about ``x = 0`` (the holes are)."""
+    tol = 1e-9 * max(stator.width_m, stator.length_m)
+    holes = sorted(stator.holes_m)
+    mirrored = sorted((-x if abs(x) > tol else x, y, d) for x, y, d in stator.holes_m)
+    return all(np.allclose(a, b, rtol=0.0, atol=tol) for a, b in zip(holes, mirrored,
+                                                                     strict=True))
+
+
+def _mirror(xy: np.ndarray, tri: np.ndarray, quad: np.ndarray, tol: float):
+    """The half mesh ``x >= 0`` and its mirror image, sharing the nodes on ``x = 0``."""
+    on_axis = np.abs(xy[:, 0]) <= tol
+    xy = xy.copy()
+    xy[on_axis, 0] = 0.0
+    off = np.flatnonzero(~on_axis)
+    image = np.arange(xy.shape[0])
+    image[off] = xy.shape[0] + np.arange(off.size)
+    xy2 = np.vstack((xy, xy[off] * np.array([-1.0, 1.0])))
+    # a mirror image turns clockwise: reverse the node order
+    return (xy2, np.vstack((tri, image[tri][:, ::-1])),
+            np.vstack((quad, image[quad][:, ::-1])))
+
+
 def _signed_area(xy: np.ndarray, cells: np.ndarray) -> np.ndarray:
     p = xy[cells]
     return 0.5 * np.sum(p[..., 0] * np.roll(p[..., 1], -1, axis=1)
                         - np.roll(p[..., 0], -1, axis=1) * p[..., 1], axis=1)
 
 
-def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool):
-    """Nodes (n, 2) (m), counter-clockwise triangles (k, 3) and quads (m, 4); ``(None, None,
-    None)`` if an element came out inverted."""
+def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool, half: bool = False):
+    """Nodes (n, 2) (m), counter-clockwise triangles (k, 3) and quads (m, 4) of the planform
+    (with ``half``: of its part ``x >= 0``); ``(None, None, None)`` if an element came out
+    inverted."""
     mm = 1e3  # gmsh works in millimetres (its tolerances are absolute)
     length, width = stator.length_m * mm, stator.width_m * mm
     gap, c = stator.electrode_gap_m * mm, stator.chamfer_m * mm
@@ -306,6 +342,9 @@ def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool):
             disks = [(2, occ.addDisk(x * mm, y * mm, 0.0, 0.5 * d * mm, 0.5 * d * mm))
                      for x, y, d in stator.holes_m]
             pieces, _ = occ.cut(pieces, disks)
+        if half:
+            box = occ.addRectangle(0.0, -1.0, 0.0, w2 + 1.0, length + tl + 2.0)
+            pieces, _ = occ.intersect(pieces, [(2, box)])
         occ.synchronize()
         # hole rims: a fixed number of edges (the split below halves them once more)
         per_turn = HOLE_SEGMENTS // 2 if recombine else HOLE_SEGMENTS

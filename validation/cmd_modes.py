@@ -156,10 +156,7 @@ def run(args: argparse.Namespace) -> None:
             "length_mm": L_mm, "width_mm": W_mm, "thickness_mm": H_mm,
         }
         if choice.parametric:
-            out.update(tip_length_mm=stator.tip_length_m * 1e3,
-                       tip_width_mm=stator.tip_width_m * 1e3, chamfer_mm=stator.chamfer_m * 1e3,
-                       holes_mm=[[v * 1e3 for v in h] for h in stator.holes_m],
-                       mesh_size_mm=stator.element_size_m * 1e3)
+            out.update(stator.features_mm())
         if args.model == "3d":
             out["layers"], out["element"] = res.layers, res.element
             out["edge_grading"] = args.edge_grading
