@@ -224,8 +224,10 @@ def _import_gmsh():
     return gmsh
 
 
-def parametric_mesh(stator: ParametricStator) -> PlateMesh:
-    """The all-quad planform mesh of ``stator`` (m) with electrode tags (cached).
+def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:
+    """The all-quad planform mesh of ``stator`` (m) with electrode tags.
+
+    ``cached=False`` meshes anew (for timing); the default returns the cached mesh.
 
     Raises
     ------
@@ -236,7 +238,7 @@ def parametric_mesh(stator: ParametricStator) -> PlateMesh:
     """
     if not isinstance(stator, ParametricStator):
         raise TypeError("parametric_mesh needs a ParametricStator")
-    return _cached_mesh(stator)
+    return _cached_mesh(stator) if cached else _cached_mesh.__wrapped__(stator)
 
 
 @lru_cache(maxsize=32)
