@@ -221,6 +221,10 @@ def _import_gmsh():
     except ImportError:
         raise ImportError(f"meshing a stator with [tip], [chamfers] or [[holes]] needs gmsh's "
                           f"Python API: {MESH_EXTRA}") from None
+    except OSError as exc:  # the wheel's libgmsh links OpenGL/X11 libraries
+        raise ImportError(f"gmsh is installed but its library does not load ({exc}); install "
+                          "the OpenGL/X11 libraries it links (Debian/Ubuntu: apt-get install "
+                          "libglu1-mesa libxrender1 libxcursor1 libxft2 libxinerama1)") from None
     return gmsh
 
 
