@@ -456,11 +456,6 @@ def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
     return out
 
 
-def _feature_table(data: dict[str, Any], name: str, src: str) -> dict:
-    """A feature table (or, for ``holes``, each of its entries) with keys checked."""
-    return _table(data, name, src)
-
-
 def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float], float]]:
     """``[[holes]]`` entries: ``(number, centre (mm), diameter (mm))``."""
     value = data.get("holes")
@@ -514,8 +509,8 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
     gap = _length_mm(elec, "electrodes", "gap_mm", src, required=False,
                      upper_mm=min(length, width), allow_zero=True)
     gap = gap_default if gap is None else gap
-    tip_t = _feature_table(data, "tip", src)
-    cham_t = _feature_table(data, "chamfers", src)
+    tip_t = _table(data, "tip", src)
+    cham_t = _table(data, "chamfers", src)
     chamfer = 0.0
     if "chamfers" in data:
         if "size_mm" not in cham_t:

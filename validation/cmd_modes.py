@@ -101,9 +101,10 @@ def run(args: argparse.Namespace) -> None:
         refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
         layers = DEFAULT_LAYERS if args.layers is None else args.layers
         if args.edge_grading and (choice.meshed or choice.parametric):
+            hint = ("set its [mesh] size_mm instead" if choice.parametric
+                    else "grade that mesh itself")
             raise LusmError(f"--edge-grading applies to the generated plate, not to the mesh "
-                            f"of --geometry {args.geometry}; grade that mesh itself",
-                            "--edge-grading")
+                            f"of --geometry {args.geometry}; {hint}", "--edge-grading")
         check_fe_size(stator, refine, layers, "--edge-grading" if args.edge_grading else "--refine",
                       edge_grading=args.edge_grading)
     else:
