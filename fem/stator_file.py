@@ -25,6 +25,8 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     [points]
     tip_mm = [0.0, 30.0]                # default: the mesh's "tip" vertex, else (0, l)
     preload_mm = [0.0, 0.0]             # default: the mesh's "preload" vertex, else (0, 0)
+    mounts_mm = [[0.0, 15.0]]           # mounting points, on the planform: lusm modes prints
+                                        #   the L1 and B2 amplitude there (0 at a node)
 
     [mesh]
     file = "plate.msh"                  # relative to the TOML file; replaces the rectangle
@@ -147,7 +149,7 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "plate": ("length_mm", "width_mm", "thickness_mm"),
     "electrodes": ("gap_mm", "drive"),
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
-    "points": ("tip_mm", "preload_mm"),
+    "points": ("tip_mm", "preload_mm", "mounts_mm"),
     "mesh": ("file", "unit", "size_mm"),
     "tip": ("length_mm", "width_mm"),
     "chamfers": ("size_mm",),
@@ -187,6 +189,9 @@ class StatorDesign:
         ``source = "paper_amplitudes"``: the drive frequency (Hz) at which the damping is
         fitted to Table 2's free tip amplitudes when the parameter set is built
         (``rom.damping.identify_damping``); None otherwise.
+    mounts_m : tuple of (float, float)
+        ``[points] mounts_mm``: mounting points ``(x, y)`` (m) on the planform, where
+        ``lusm modes`` reports the modes' amplitude (a free stator is best held at nodes).
     motor : dict
         ``MotorParams`` field name -> SI value from ``[contact]``, ``[slider]`` and
         ``[friction]`` (empty: Table 2's constants).
@@ -202,6 +207,7 @@ class StatorDesign:
     damping_origin: str = ""
     motor: dict[str, float] = field(default_factory=dict)
     damping_identify_Hz: float | None = None
+    mounts_m: tuple[tuple[float, float], ...] = ()
 
     def motor_keys(self) -> dict[str, str]:
         """``MotorParams`` field -> the ``[table] key`` of the file that set it."""
@@ -573,6 +579,35 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
     return StatorDesign(name=name, stator=stator, material=material, notes=notes, **motor)
 
 
+def _mounts(data: dict[str, Any], design: StatorDesign, src: str):
+    """``[points] mounts_mm`` in metres, each checked to lie on the planform."""
+    from fem.meshed_stator import planform_mesh
+
+    value = (data.get("points") or {}).get("mounts_mm")
+    if value is None:
+        return ()
+    if not isinstance(value, list) or not value:
+        raise ValueError(f"{src}: [points] mounts_mm must be a list of [x, y] points in mm, "
+                         f"got {value!r}")
+    st = design.stator
+    mesh = planform_mesh(st)
+    out = []
+    for i, pt in enumerate(value, start=1):
+        xy = _point_mm({"mounts_mm": pt}, "mounts_mm", src, table_name="[points]")
+        assert xy is not None
+        x, y = xy
+        slack = 1e-9 * max(st.length_m, st.width_m)
+        if mesh is not None:
+            on = bool(mesh.contains(np.array(xy)[:, None])[0])
+        else:
+            on = abs(x) <= st.width_m / 2 + slack and -slack <= y <= st.length_m + slack
+        if not on:
+            raise ValueError(f"{src}: [points] mounts_mm point {i} = [{x / MM:g}, {y / MM:g}] "
+                             f"mm lies off the stator's planform")
+        out.append((x, y))
+    return tuple(out)
+
+
 def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
                  src: str = "stator") -> StatorDesign:
     """Build a :class:`StatorDesign` from a parsed TOML document (see module docstring).
@@ -593,6 +628,14 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
     FileNotFoundError
         If the mesh file does not exist.
     """
+    design = _parse_design(data, base_dir, src)
+    mounts = _mounts(data, design, src)
+    return replace(design, mounts_m=mounts) if mounts else design
+
+
+def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
+                  src: str = "stator") -> StatorDesign:
+    """:func:`parse_stator` without the mounting points."""
     _check_keys(data, "", src)
     plate = _table(data, "plate", src, required=True)
     elec = _table(data, "electrodes", src)

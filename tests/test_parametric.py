@@ -202,3 +202,25 @@ def test_tuning_that_pushes_a_hole_off_the_plate_is_refused_in_one_line(tmp_path
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     assert rc == 2 and len(err) == 1, err
     assert err[0].startswith("lusm tune: error: --geometry") and "no longer holds" in err[0]
+
+
+def test_mounting_points_report_the_mode_amplitude(tmp_path, capsys):
+    """[points] mounts_mm: the plate's centre is a node of both L1 (symmetric extension) and
+    B2 (antisymmetric bending) by symmetry, so the amplitude there vanishes; the end of the
+    plate moves with L1's largest amplitude; a point off the planform is refused."""
+    import json
+
+    path = tmp_path / "plate.toml"
+    path.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+                    "[points]\nmounts_mm = [[0, 15], [0, 30]]\n")
+    assert main(["modes", "--geometry", str(path), "--json"]) in (0, None)
+    centre, end = json.loads(capsys.readouterr().out)["mounts"]
+    assert centre["point_mm"] == [0.0, 15.0]
+    assert centre["L1"] < 1e-9 and centre["B2"] < 1e-9
+    assert end["L1"] > 0.8
+    with pytest.raises(ValueError, match=r"mounts_mm point 1 = \[2, 31\] mm lies off"):
+        parse_stator({"plate": PLATE, "chamfers": {"size_mm": 1},
+                      "points": {"mounts_mm": [[2, 31]]}}, src="s")
+    with pytest.raises(ValueError, match=r"mounts_mm point 1 = \[3.5, 0.2\] mm lies off"):
+        parse_stator({"plate": PLATE, "chamfers": {"size_mm": 1},
+                      "points": {"mounts_mm": [[3.5, 0.2]]}}, src="s")

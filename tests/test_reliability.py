@@ -123,6 +123,7 @@ def files(tmp_path_factory) -> dict[str, str]:
     toml("features_and_mesh_file", PLATE + '[chamfers]\nsize_mm = 1\n[mesh]\nfile = "x.msh"\n')
     toml("mesh_size_tiny", PLATE + "[chamfers]\nsize_mm = 1\n[mesh]\nsize_mm = 1e-3\n")
     toml("chamfered_plate", PLATE + "[chamfers]\nsize_mm = 1\n")
+    toml("mount_off", PLATE + "[chamfers]\nsize_mm = 1\n[points]\nmounts_mm = [[3.5, 0.2]]\n")
     (d / "utf16.toml").write_text(PLATE, encoding="utf-16")
     f["utf16"] = str(d / "utf16.toml")
     (d / "binary.toml").write_bytes(bytes(range(256)) * 4)
@@ -367,6 +368,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["--geometry", "[mesh] file", "gmsh"]),
     ("modes-mesh-size-tiny", ["modes", "--geometry", "{mesh_size_tiny}"],
      ["--geometry", "[mesh] size_mm", "[0.075, 7.5]"]),
+    ("modes-mount-off-the-plate", ["modes", "--geometry", "{mount_off}"],
+     ["--geometry", "[points] mounts_mm point 1", "off the stator's planform"]),
     ("modes-parametric-edge-grading", ["modes", "--model", "3d", "--edge-grading", "1",
                                        "--geometry", "{chamfered_plate}"], ["--edge-grading"]),
     ("explore-workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"],

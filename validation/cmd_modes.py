@@ -137,6 +137,7 @@ def run(args: argparse.Namespace) -> None:
         _write_export(export, plate_model(stator, material, args.order, refine), res,
                       args.force)
     L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
+    mounts = _mount_amplitudes(choice, material, args, refine, res)
     if validity is not None:
         import sys
 
@@ -158,6 +159,8 @@ def run(args: argparse.Namespace) -> None:
         }
         if choice.parametric:
             out.update(stator.features_mm())
+        if mounts:
+            out["mounts"] = mounts
         if args.model == "3d":
             out["layers"], out["element"] = res.layers, res.element
             out["edge_grading"] = args.edge_grading
@@ -185,8 +188,30 @@ def run(args: argparse.Namespace) -> None:
     for m in (res.L1, res.B2):
         print(f"{m.name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")
     print(f"dofs {res.dofs}, wall time {res.wall_time_s:.3f} s")
+    for i, m in enumerate(mounts, start=1):
+        x, y = m["point_mm"]
+        print(f"mount {i} at ({x:g}, {y:g}) mm: amplitude / largest L1 {m['L1']:.3g}, "
+              f"B2 {m['B2']:.3g} (0 at a node)")
     if export is not None:
         print(f"wrote {export}")
+
+
+def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
+    """``[points] mounts_mm`` of the stator file: L1 and B2 amplitude there (2D model)."""
+    design = choice.design
+    if design is None or not design.mounts_m or args.model == "3d":
+        return []
+    import numpy as np
+
+    from fem.model import plate_model
+    from fem.modes import amplitude_ratio
+
+    model = plate_model(choice.stator, material, args.order, refine)
+    pts = np.array(design.mounts_m).T
+    ratios = {name: amplitude_ratio(model, getattr(res, name).shape, pts)
+              for name in ("L1", "B2")}
+    return [{"point_mm": [x * 1e3, y * 1e3], "L1": float(ratios["L1"][i]),
+             "B2": float(ratios["B2"][i])} for i, (x, y) in enumerate(design.mounts_m)]
 
 
 def _export_target(text: str, force: bool):
