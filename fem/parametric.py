@@ -41,7 +41,7 @@ geometry.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -242,7 +242,9 @@ def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:
     """
     if not isinstance(stator, ParametricStator):
         raise TypeError("parametric_mesh needs a ParametricStator")
-    return _cached_mesh(stator) if cached else _cached_mesh.__wrapped__(stator)
+    # the cache key is the planform alone: thickness and drive do not change the mesh
+    key = replace(stator, thickness_m=1.0, drive_electrodes=(1, 4))
+    return _cached_mesh(key) if cached else _cached_mesh.__wrapped__(key)
 
 
 @lru_cache(maxsize=32)
