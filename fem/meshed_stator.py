@@ -3,7 +3,9 @@
 :class:`MeshedStator` is a :class:`fem.geometry.PlateStator` that carries its own planform
 mesh (read from a stator file's ``[mesh]`` table, :mod:`fem.stator_file`). The 2D model
 (:func:`fem.model.plate_model`) and the 3D model (:func:`fem.solid3d.build_solid_model`)
-ask :func:`planform_mesh` for it instead of generating the structured rectangle.
+ask :func:`planform_mesh` for it instead of generating the structured rectangle; a
+:class:`fem.parametric.ParametricStator` (a plate with a tip, chamfers, holes) gets its mesh
+there too, from gmsh.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import numpy as np
 
 from fem.geometry import PlateStator
 from fem.mesh import PlateMesh
+from fem.parametric import ParametricStator, parametric_mesh
 
 
 def bbox_mm(mesh: PlateMesh) -> str:
@@ -89,5 +92,16 @@ class MeshedStator(PlateStator):
 
 
 def planform_mesh(stator: PlateStator) -> PlateMesh | None:
-    """The planform mesh of a :class:`MeshedStator`; None for a plain (generated) plate."""
-    return stator.mesh if isinstance(stator, MeshedStator) else None
+    """The planform mesh of a :class:`MeshedStator` or of a
+    :class:`fem.parametric.ParametricStator` (meshed by gmsh, cached); None for a plain
+    (generated) plate."""
+    if isinstance(stator, MeshedStator):
+        return stator.mesh
+    if isinstance(stator, ParametricStator):
+        return parametric_mesh(stator)
+    return None
+
+
+def overall_length_m(stator: PlateStator) -> float:
+    """Extent of the planform along y (m): the plate length plus a parametric tip."""
+    return float(getattr(stator, "overall_length_m", stator.length_m))

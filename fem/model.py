@@ -41,7 +41,7 @@ import scipy.sparse as sp
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
 from fem.mesh import DEFAULT_REFINE, PlateMesh, structured_mesh
-from fem.meshed_stator import planform_mesh
+from fem.meshed_stator import overall_length_m, planform_mesh
 
 ORDERS = (1, 2)
 """Supported element orders (bilinear ``ElementQuad1``, biquadratic ``ElementQuad2``)."""
@@ -413,7 +413,7 @@ def _check_electrodes(electrodes: tuple[int, ...]) -> None:
 
 def _check_mesh_fits(mesh: PlateMesh, stator: PlateStator) -> None:
     x0, x1, y0, y1 = mesh.bounding_box_m()
-    w, length = stator.width_m, stator.length_m
+    w, length = stator.width_m, overall_length_m(stator)
     tol = 1e-9 * max(w, length)
     if (
         abs(x0 + w / 2) > tol
@@ -627,7 +627,8 @@ def _cached_model(
     gap_model: str = "shorted", thickness_inertia: bool = True,
 ) -> PiezoPlateModel:
     t0 = time.perf_counter()
-    # a stator that carries its own mesh (fem.meshed_stator.MeshedStator) ignores ``refine``
+    # a stator that carries its own mesh (fem.meshed_stator.MeshedStator) or a parametric
+    # one (fem.parametric.ParametricStator, meshed by gmsh) ignores ``refine``
     mesh = planform_mesh(stator)
     if mesh is None:
         mesh = structured_mesh(stator, refine)

@@ -466,3 +466,28 @@ def plate_modes(
     stator = PlateStator() if stator is None else stator
     return _cached_modes(stator, get_material(material), int(order), int(refine), gap_model,
                          bool(thickness_inertia))
+
+
+def amplitude_ratio(model, shape: np.ndarray, points_m: np.ndarray) -> np.ndarray:
+    """In-plane displacement amplitude of a mode at points, over its largest at the nodes.
+
+    Parameters
+    ----------
+    model : fem.model.PiezoPlateModel
+    shape : numpy.ndarray
+        A mode shape (dof vector).
+    points_m : numpy.ndarray
+        Points ``(x, y)`` (m), shape (2, n), on the planform.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``|u(point)| / max_nodes |u|`` (-), 0 at a node of the mode (a mounting point that
+        does not hold the mode back), 1 at its largest displacement.
+    """
+    def magnitude(pts: np.ndarray) -> np.ndarray:
+        u = (model.probe(pts) @ shape).reshape(2, -1)
+        return np.hypot(u[0], u[1])
+
+    peak = float(magnitude(model.mesh.points_m).max())
+    return magnitude(np.asarray(points_m, dtype=float)) / peak

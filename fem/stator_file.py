@@ -25,10 +25,26 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     [points]
     tip_mm = [0.0, 30.0]                # default: the mesh's "tip" vertex, else (0, l)
     preload_mm = [0.0, 0.0]             # default: the mesh's "preload" vertex, else (0, 0)
+    mounts_mm = [[0.0, 15.0]]           # mounting points, on the planform: lusm modes prints
+                                        #   the L1 and B2 amplitude there (0 at a node)
 
     [mesh]
     file = "plate.msh"                  # relative to the TOML file; replaces the rectangle
     unit = "m"                          # unit of the mesh coordinates: "m" or "mm"
+
+    # --- features of a parametric stator (any of these tables: the planform is meshed by
+    # --- gmsh, fem.parametric, pip install "lusm[mesh]"; not with [mesh] file)
+    [tip]                               # unelectroded protrusion centred on the end y = l
+    length_mm = 1.0                     #   beyond the plate's length, (0, [plate] length_mm]
+    width_mm = 2.0                      #   across, (0, width - 2 chamfers]
+    [chamfers]
+    size_mm = 1.5                       # 45-degree leg at all four corners,
+                                        #   (0, (min(length, width) - gap) / 2)
+    [[holes]]                           # through holes, one table each, inside the body
+    center_mm = [2.0, 5.0]              #   [x, y] (mm)
+    diameter_mm = 1.5                   #   > 0, clear of the outline and of other holes
+    # [mesh] size_mm = 0.5              # element size, [min(l, W)/100, min(l, W)],
+                                        #   default min(l, W) / 8
 
     # --- the motor around the stator (used when a parameter set is built: lusm simulate,
     # --- map, characteristic, params, report; lusm admittance takes [damping]; the FE
@@ -57,11 +73,16 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     a_mu = 0.15                         # residual at large amplitude, [0, 2], <= mu_d
     b_mu_per_m = 1e6                    # attenuation factor, [0, 1e9] 1/m
 
-Without ``[mesh]`` the stator is the rectangular :class:`fem.geometry.PlateStator` (meshed
-by :func:`fem.mesh.structured_mesh`), so a TOML plate and the same plate built in Python give
-identical models. With a mesh the stator is a :class:`MeshedStator`: a ``PlateStator`` whose
-length and width are the mesh's bounding box and which carries the mesh, the tip and the
-preload point; :func:`fem.model.plate_model` then assembles on that mesh.
+With a feature table the stator is a :class:`fem.parametric.ParametricStator`: the plate
+keeps its own length and width (the tip is added beyond ``y = l``; the tip point is the
+centre of the tip's end), the electrodes are the plate's quadrants (``[electrodes] gap_mm``
+applies) and gmsh meshes the planform when the file is read (cached per geometry).
+Without ``[mesh]`` or feature tables the stator is the rectangular
+:class:`fem.geometry.PlateStator` (meshed by :func:`fem.mesh.structured_mesh`), so a TOML
+plate and the same plate built in Python give identical models. With a mesh the stator is a
+:class:`MeshedStator`: a ``PlateStator`` whose length and width are the mesh's bounding box
+and which carries the mesh, the tip and the preload point; :func:`fem.model.plate_model`
+then assembles on that mesh.
 
 The four motor tables are carried as plain data (``fem`` knows nothing of the reduced-order
 model): :attr:`StatorDesign.motor` maps ``rom.params.MotorParams`` field names (``k_contact``,
@@ -106,6 +127,9 @@ Q_M_RANGE = (0.5, 5e4)
 IDENTIFY_FREQUENCY_RANGE_HZ = (1e3, 1e7)
 """Allowed ``[damping] frequency_Hz`` of ``source = "paper_amplitudes"`` (Hz)."""
 
+FEATURE_TABLES = ("tip", "chamfers", "holes")
+"""Tables that describe features of a parametric stator (meshed by gmsh, :mod:`fem.parametric`)."""
+
 MOTOR_KEYS: dict[str, dict[str, tuple[str, float, float, bool, str]]] = {
     "contact": {"k_contact_N_m": ("k_contact", 1e3, 1e10, True, "N/m")},
     "slider": {"M_slider_kg": ("M_slider", 1e-4, 100.0, True, "kg"),
@@ -120,13 +144,16 @@ field, lower bound, upper bound, lower bound allowed, unit)``. The upper bound i
 lower bound of 0 that is not allowed means "> 0"."""
 
 _KEYS: dict[str, tuple[str, ...]] = {
-    "": ("name", "plate", "electrodes", "material", "points", "mesh", "damping", "contact",
-         "slider", "friction"),
+    "": ("name", "plate", "electrodes", "material", "points", "mesh", "tip", "chamfers",
+         "holes", "damping", "contact", "slider", "friction"),
     "plate": ("length_mm", "width_mm", "thickness_mm"),
     "electrodes": ("gap_mm", "drive"),
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
-    "points": ("tip_mm", "preload_mm"),
-    "mesh": ("file", "unit"),
+    "points": ("tip_mm", "preload_mm", "mounts_mm"),
+    "mesh": ("file", "unit", "size_mm"),
+    "tip": ("length_mm", "width_mm"),
+    "chamfers": ("size_mm",),
+    "holes": ("center_mm", "diameter_mm"),
     "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz"),
     **{table: tuple(keys) for table, keys in MOTOR_KEYS.items()},
 }
@@ -162,6 +189,9 @@ class StatorDesign:
         ``source = "paper_amplitudes"``: the drive frequency (Hz) at which the damping is
         fitted to Table 2's free tip amplitudes when the parameter set is built
         (``rom.damping.identify_damping``); None otherwise.
+    mounts_m : tuple of (float, float)
+        ``[points] mounts_mm``: mounting points ``(x, y)`` (m) on the planform, where
+        ``lusm modes`` reports the modes' amplitude (a free stator is best held at nodes).
     motor : dict
         ``MotorParams`` field name -> SI value from ``[contact]``, ``[slider]`` and
         ``[friction]`` (empty: Table 2's constants).
@@ -177,6 +207,7 @@ class StatorDesign:
     damping_origin: str = ""
     motor: dict[str, float] = field(default_factory=dict)
     damping_identify_Hz: float | None = None
+    mounts_m: tuple[tuple[float, float], ...] = ()
 
     def motor_keys(self) -> dict[str, str]:
         """``MotorParams`` field -> the ``[table] key`` of the file that set it."""
@@ -253,7 +284,8 @@ def _length_mm(
     return float(v)
 
 
-def _point_mm(table: dict, key: str, src: str) -> tuple[float, float] | None:
+def _point_mm(table: dict, key: str, src: str,
+              table_name: str = "[points]") -> tuple[float, float] | None:
     if key not in table:
         return None
     v = table[key]
@@ -262,7 +294,7 @@ def _point_mm(table: dict, key: str, src: str) -> tuple[float, float] | None:
         or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v)
         or not all(math.isfinite(c) for c in v)
     ):
-        raise ValueError(f"{src}: [points] {key} must be [x, y] in mm, got {v!r}")
+        raise ValueError(f"{src}: {table_name} {key} must be [x, y] in mm, got {v!r}")
     return (float(v[0]) * MM, float(v[1]) * MM)
 
 
@@ -430,6 +462,152 @@ def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
     return out
 
 
+def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float], float]]:
+    """``[[holes]]`` entries: ``(number, centre (mm), diameter (mm))``."""
+    value = data.get("holes")
+    if value is None:
+        return []
+    if not isinstance(value, list) or not value or not all(isinstance(v, dict) for v in value):
+        raise ValueError(f"{src}: holes must be an array of tables [[holes]] with center_mm "
+                         f"and diameter_mm, got {value!r}")
+    out = []
+    for i, hole in enumerate(value, start=1):
+        where = f"[[holes]] #{i}"
+        for key in hole:
+            if key not in _KEYS["holes"]:
+                raise ValueError(f"{src}: unknown key {key!r} in {where}; allowed: "
+                                 f"{', '.join(_KEYS['holes'])}")
+        for key in _KEYS["holes"]:
+            if key not in hole:
+                raise ValueError(f"{src}: {where} needs {key} (center_mm = [x, y] in mm, "
+                                 f"diameter_mm > 0)")
+        c = _point_mm(hole, "center_mm", src, table_name=where)
+        d = hole["diameter_mm"]
+        if not (isinstance(d, (int, float)) and not isinstance(d, bool) and math.isfinite(d)
+                and d > 0):
+            raise ValueError(f"{src}: {where} diameter_mm must be a number > 0 mm, got {d!r}")
+        assert c is not None
+        out.append((i, (c[0] / MM, c[1] / MM), float(d)))
+    return out
+
+
+def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive, src, name,
+                material, motor) -> StatorDesign:
+    """A :class:`fem.parametric.ParametricStator` design from the feature tables."""
+    from fem.parametric import (
+        DEFAULT_SIZE_DIVISIONS,
+        SIZE_DIVISIONS_RANGE,
+        ParametricStator,
+        hole_clearance_m,
+        parametric_mesh,
+    )
+
+    tables = ", ".join(f"[{t}]" if t != "holes" else "[[holes]]" for t in FEATURE_TABLES)
+    for key in ("file", "unit"):
+        if key in mesh_t:
+            raise ValueError(f"{src}: [mesh] {key} cannot be combined with the feature tables "
+                             f"({tables}): those are meshed by gmsh; describe the whole "
+                             f"planform in the mesh file instead")
+    length = _length_mm(plate, "plate", "length_mm", src, required=True)
+    width = _length_mm(plate, "plate", "width_mm", src, required=True)
+    assert length is not None and width is not None
+    gap_default = PlateStator().electrode_gap_m / MM
+    gap = _length_mm(elec, "electrodes", "gap_mm", src, required=False,
+                     upper_mm=min(length, width), allow_zero=True)
+    gap = gap_default if gap is None else gap
+    tip_t = _table(data, "tip", src)
+    cham_t = _table(data, "chamfers", src)
+    chamfer = 0.0
+    if "chamfers" in data:
+        if "size_mm" not in cham_t:
+            raise ValueError(f"{src}: [chamfers] needs size_mm (the 45-degree leg, mm)")
+        c_max = 0.5 * (min(length, width) - gap)
+        chamfer = _number(cham_t, "chamfers", "size_mm", src, 0.0, c_max, False, False, "mm "
+                          "((min(length, width) - gap) / 2)")
+    tip_l = tip_w = 0.0
+    if "tip" in data:
+        for key in ("length_mm", "width_mm"):
+            if key not in tip_t:
+                raise ValueError(f"{src}: [tip] needs {key} (the protrusion beyond the plate's "
+                                 f"end: length_mm along the plate, width_mm across, centred)")
+        tip_l = _number(tip_t, "tip", "length_mm", src, 0.0, length, False, True,
+                        "mm ([plate] length_mm)")
+        tip_w = _number(tip_t, "tip", "width_mm", src, 0.0, width - 2 * chamfer, False, True,
+                        "mm ([plate] width_mm" + (" minus the chamfers)" if chamfer else ")"))
+    holes = []
+    for i, (x, y), d in _holes(data, src):
+        hole = (x * MM, y * MM, d * MM)
+        clear = hole_clearance_m(hole, width * MM, length * MM, chamfer * MM)
+        if clear <= 0.0:
+            raise ValueError(f"{src}: [[holes]] #{i} (diameter {d:g} mm at [{x:g}, {y:g}] "
+                             f"mm) reaches the plate's outline; a hole must lie inside the "
+                             f"plate body (x in [{-width / 2:g}, {width / 2:g}] mm, y in "
+                             f"[0, {length:g}] mm{', inside the chamfers' if chamfer else ''})")
+        for j, (ox, oy, od) in enumerate(holes, start=1):
+            if math.hypot(hole[0] - ox, hole[1] - oy) <= 0.5 * (hole[2] + od):
+                raise ValueError(f"{src}: [[holes]] #{i} overlaps [[holes]] #{j}")
+        holes.append(hole)
+    size = None
+    if "size_mm" in mesh_t:
+        lo, hi = (min(length, width) / n for n in SIZE_DIVISIONS_RANGE[::-1])
+        size = _number(mesh_t, "mesh", "size_mm", src, lo, hi, True, True,
+                       "mm (min(length, width) / 100 .. / 1)")
+    try:
+        stator = ParametricStator(
+            length_m=length * MM, width_m=width * MM, thickness_m=thickness * MM,
+            electrode_gap_m=gap * MM, drive_electrodes=drive, tip_length_m=tip_l * MM,
+            tip_width_m=tip_w * MM, chamfer_m=chamfer * MM, holes_m=tuple(holes),
+            mesh_size_m=None if size is None else size * MM,
+        )
+    except ValueError as exc:
+        raise ValueError(f"{src}: {exc}") from None
+    for key, pt, default in (("tip_mm", tip_pt, stator.tip_point_m),
+                             ("preload_mm", preload_pt, stator.preload_point_m)):
+        if pt is not None and not np.allclose(pt, default, rtol=0.0,
+                                               atol=1e-9 * length * MM):
+            raise ValueError(
+                f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the parametric "
+                f"stator puts it at [{default[0] / MM:g}, {default[1] / MM:g}] mm; give a "
+                f"mesh file ([mesh] file) for other points")
+    try:
+        mesh = parametric_mesh(stator)
+    except (ImportError, ValueError) as exc:
+        raise ValueError(f"{src}: {exc}") from None
+    size_text = (f"{stator.element_size_m / MM:g} mm" + ("" if size is not None else
+                 f" (min(length, width) / {DEFAULT_SIZE_DIVISIONS})"))
+    notes = (f"meshed by gmsh: {mesh.n_elements} quads, element size {size_text}",)
+    return StatorDesign(name=name, stator=stator, material=material, notes=notes, **motor)
+
+
+def _mounts(data: dict[str, Any], design: StatorDesign, src: str):
+    """``[points] mounts_mm`` in metres, each checked to lie on the planform."""
+    from fem.meshed_stator import planform_mesh
+
+    value = (data.get("points") or {}).get("mounts_mm")
+    if value is None:
+        return ()
+    if not isinstance(value, list) or not value:
+        raise ValueError(f"{src}: [points] mounts_mm must be a list of [x, y] points in mm, "
+                         f"got {value!r}")
+    st = design.stator
+    mesh = planform_mesh(st)
+    out = []
+    for i, pt in enumerate(value, start=1):
+        xy = _point_mm({"mounts_mm": pt}, "mounts_mm", src, table_name="[points]")
+        assert xy is not None
+        x, y = xy
+        slack = 1e-9 * max(st.length_m, st.width_m)
+        if mesh is not None:
+            on = bool(mesh.contains(np.array(xy)[:, None])[0])
+        else:
+            on = abs(x) <= st.width_m / 2 + slack and -slack <= y <= st.length_m + slack
+        if not on:
+            raise ValueError(f"{src}: [points] mounts_mm point {i} = [{x / MM:g}, {y / MM:g}] "
+                             f"mm lies off the stator's planform")
+        out.append((x, y))
+    return tuple(out)
+
+
 def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
                  src: str = "stator") -> StatorDesign:
     """Build a :class:`StatorDesign` from a parsed TOML document (see module docstring).
@@ -450,6 +628,14 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
     FileNotFoundError
         If the mesh file does not exist.
     """
+    design = _parse_design(data, base_dir, src)
+    mounts = _mounts(data, design, src)
+    return replace(design, mounts_m=mounts) if mounts else design
+
+
+def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
+                  src: str = "stator") -> StatorDesign:
+    """:func:`parse_stator` without the mounting points."""
     _check_keys(data, "", src)
     plate = _table(data, "plate", src, required=True)
     elec = _table(data, "electrodes", src)
@@ -469,6 +655,14 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
     preload = _point_mm(pts_t, "preload_mm", src)
     assert thickness is not None
 
+    features = [t for t in FEATURE_TABLES if t in data]
+    if features:
+        return _parametric(data, plate, elec, mesh_t, tip, preload, thickness, drive, src,
+                           name, material, motor)
+    if "size_mm" in mesh_t:
+        raise ValueError(f"{src}: [mesh] size_mm sets the gmsh mesh of a parametric stator "
+                         f"([tip], [chamfers] or [[holes]]); a plain plate is meshed by "
+                         f"--refine, a mesh file by itself")
     if not mesh_t:
         length = _length_mm(plate, "plate", "length_mm", src, required=True)
         width = _length_mm(plate, "plate", "width_mm", src, required=True)

@@ -44,8 +44,11 @@ width one crossing is the answer. L1 and B2 are identified by shape at every FE 
 the search is indifferent to which of the two is lower at the starting point. Each solve is
 counted.
 
-A stator with its own mesh (:class:`fem.meshed_stator.MeshedStator`, e.g. a plate with a
-contact tip) cannot be rescaled here and is refused; parametric features are another task.
+A stator with its own mesh (:class:`fem.meshed_stator.MeshedStator`, a mesh file) cannot be
+rescaled here and is refused. A parametric stator (:class:`fem.parametric.ParametricStator`:
+a tip, chamfers, holes) is rescaled like a plain plate: its plate length and width change,
+the features keep their size and position, and gmsh remeshes every plate tried (its element
+size is the file's ``[mesh] size_mm`` or ``min(l, W) / 8`` of each plate).
 """
 
 from __future__ import annotations
@@ -196,6 +199,7 @@ class TunedDesign:
             "width_mm": self.stator.width_m * 1e3,
             "thickness_mm": self.stator.thickness_m * 1e3,
             "gap_mm": self.stator.electrode_gap_m * 1e3,
+            **(self.stator.features_mm() if hasattr(self.stator, "features_mm") else {}),
             "target_frequency_Hz": self.target_frequency_Hz,
             "frequency_Hz": self.frequency_Hz,
             "fe_solves": self.fe_solves,

@@ -103,14 +103,20 @@ def fem_params(
     m_b, k_b, a_b, v_b = reduce(
         modes.B2.shape, 1, float(phi_B(length, length)), modes.B2.f_short_Hz
     )
+    features = stator.features_text() if hasattr(stator, "features_text") else ""
+    if hasattr(stator, "element_size_m"):  # fem.parametric.ParametricStator
+        mesh_text = f"gmsh mesh of element size {stator.element_size_m * 1e3:g} mm"
+    else:
+        mesh_text = f"refine {refine}"
     return MotorParams.from_modal(
         M_l=m_l, K_l=k_l, A_l=a_l, phi_L0=float(v_l[2]), phi_Ll=float(v_l[3]),
         M_b=m_b, K_b=k_b, A_b=a_b, phi_B0=float(v_b[0]), phi_Bl=float(v_b[1]),
         damping_ratios=(zeta_l, zeta_b), base=base,
         source=(
-            f"FE modal reduction (scikit-fem, plane stress, order {order}, refine {refine}, "
+            f"FE modal reduction (scikit-fem, plane stress, order {order}, {mesh_text}, "
             f"{modes.dofs} dofs) of a {stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} x "
-            f"{stator.thickness_m * 1e3:g} mm plate, material {mat.name}, drive electrodes "
+            f"{stator.thickness_m * 1e3:g} mm plate{features}, material {mat.name}, drive "
+            f"electrodes "
             f"{stator.drive_electrodes}; damping ratios ({zeta_l:.4g}, {zeta_b:.4g}); contact "
             f"and friction constants from: {base.source}"
         ),

@@ -115,6 +115,15 @@ def files(tmp_path_factory) -> dict[str, str]:
     toml("amplitudes_unreachable", PLATE + "[damping]\nsource = \"paper_amplitudes\"\n")
     toml("slider_heavy", PLATE + "[slider]\nM_slider_kg = 1e6\n")
     toml("mu_d_above_mu_s", PLATE + "[friction]\nmu_d = 0.6\n")
+    toml("tip_too_long", PLATE + "[tip]\nlength_mm = 40\nwidth_mm = 2\n")
+    toml("tip_no_width", PLATE + "[tip]\nlength_mm = 1\n")
+    toml("chamfer_huge", PLATE + "[chamfers]\nsize_mm = 4\n")
+    toml("hole_on_edge", PLATE + "[[holes]]\ncenter_mm = [3.5, 5]\ndiameter_mm = 1\n")
+    toml("hole_unknown_key", PLATE + "[[holes]]\ncenter_mm = [0, 5]\nradius_mm = 1\n")
+    toml("features_and_mesh_file", PLATE + '[chamfers]\nsize_mm = 1\n[mesh]\nfile = "x.msh"\n')
+    toml("mesh_size_tiny", PLATE + "[chamfers]\nsize_mm = 1\n[mesh]\nsize_mm = 1e-3\n")
+    toml("chamfered_plate", PLATE + "[chamfers]\nsize_mm = 1\n")
+    toml("mount_off", PLATE + "[chamfers]\nsize_mm = 1\n[points]\nmounts_mm = [[3.5, 0.2]]\n")
     (d / "utf16.toml").write_text(PLATE, encoding="utf-16")
     f["utf16"] = str(d / "utf16.toml")
     (d / "binary.toml").write_bytes(bytes(range(256)) * 4)
@@ -348,6 +357,25 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("explore-missing-study", ["explore", "{missing}", "--out", "r.nc"], ["missing.toml"]),
     ("explore-stator-as-study", ["explore", "{plate}", "--out", "r.nc"],
      ["plate is not a study section"]),
+    # parametric stator files (fem.parametric, meshed by gmsh)
+    ("modes-tip-too-long", ["modes", "--geometry", "{tip_too_long}"],
+     ["--geometry", "[tip] length_mm", "(0, 30]"]),
+    ("modes-tip-no-width", ["modes", "--geometry", "{tip_no_width}"],
+     ["--geometry", "[tip] needs width_mm"]),
+    ("modes-chamfer-huge", ["modes", "--geometry", "{chamfer_huge}"],
+     ["--geometry", "[chamfers] size_mm", "(0, 3.5)"]),
+    ("modes-hole-on-edge", ["modes", "--geometry", "{hole_on_edge}"],
+     ["--geometry", "[[holes]] #1", "outline"]),
+    ("modes-hole-unknown-key", ["modes", "--geometry", "{hole_unknown_key}"],
+     ["--geometry", "unknown key 'radius_mm' in [[holes]] #1"]),
+    ("modes-features-and-mesh-file", ["modes", "--geometry", "{features_and_mesh_file}"],
+     ["--geometry", "[mesh] file", "gmsh"]),
+    ("modes-mesh-size-tiny", ["modes", "--geometry", "{mesh_size_tiny}"],
+     ["--geometry", "[mesh] size_mm", "[0.075, 7.5]"]),
+    ("modes-mount-off-the-plate", ["modes", "--geometry", "{mount_off}"],
+     ["--geometry", "[points] mounts_mm point 1", "off the stator's planform"]),
+    ("modes-parametric-edge-grading", ["modes", "--model", "3d", "--edge-grading", "1",
+                                       "--geometry", "{chamfered_plate}"], ["--edge-grading"]),
     ("explore-workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"],
      ["--workers"]),
 ]

@@ -103,10 +103,11 @@ def run(args: argparse.Namespace) -> None:
         check_refine_3d(args.refine)
         refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
         layers = DEFAULT_LAYERS if args.layers is None else args.layers
-        if args.edge_grading and choice.meshed:
+        if args.edge_grading and (choice.meshed or choice.parametric):
+            hint = ("set its [mesh] size_mm instead" if choice.parametric
+                    else "grade that mesh itself")
             raise LusmError(f"--edge-grading applies to the generated plate, not to the mesh "
-                            f"of --geometry {args.geometry}; grade that mesh itself",
-                            "--edge-grading")
+                            f"of --geometry {args.geometry}; {hint}", "--edge-grading")
         check_fe_size(stator, refine, layers, "--edge-grading" if args.edge_grading else "--refine",
                       edge_grading=args.edge_grading)
     else:
@@ -148,6 +149,7 @@ def run(args: argparse.Namespace) -> None:
             _write_export(export, plate_model(stator, material, args.order, refine), res,
                           args.force, export_modes)
     L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
+    mounts = _mount_amplitudes(choice, material, args, refine, res)
     if validity is not None:
         import sys
 
@@ -170,6 +172,10 @@ def run(args: argparse.Namespace) -> None:
         out["split_rel"] = _split(res)
         out["mac"] = {m.name: m.mac for m in (res.L1, res.B2)}
         out["symmetry"] = {m.name: m.symmetry for m in (res.L1, res.B2)}
+        if choice.parametric:
+            out.update(stator.features_mm())
+        if mounts:
+            out["mounts"] = mounts
         if args.model == "3d":
             out["layers"], out["element"] = res.layers, res.element
             out["edge_grading"] = args.edge_grading
@@ -177,15 +183,22 @@ def run(args: argparse.Namespace) -> None:
             out["export"] = str(export)
         print_json(out)
         return
+    from validation.summaries import plate_text
+
+    if choice.meshed:
+        mesh_text = "mesh from the stator file"
+    elif choice.parametric:
+        mesh_text = f"gmsh mesh, element size {stator.element_size_m * 1e3:g} mm"
+    else:
+        mesh_text = f"refine {refine}"
     print(
-        f"plate {L_mm:g} x {W_mm:g} x {H_mm:g} mm, "
-        f"material {material.name}, order {args.order}, "
-        + ("mesh from the stator file" if choice.meshed else f"refine {refine}")
+        f"{plate_text(stator)}, material {material.name}, order {args.order}, {mesh_text}"
         + (f", 3D layers {res.layers} ({res.element})" if hasattr(res, "layers") else "")
         + (f", edge grading {args.edge_grading}" if args.edge_grading else "")
     )
     if choice.design is not None:
-        print(f"stator file {args.geometry}: {choice.design.name} (bounding box above)")
+        what = "bounding box above" if choice.meshed else "dimensions above"
+        print(f"stator file {args.geometry}: {choice.design.name} ({what})")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}{'MAC':>7}"
           f"{'symmetry':>10}")
     for m in (res.L1, res.B2):
@@ -195,8 +208,30 @@ def run(args: argparse.Namespace) -> None:
           "(MAC: correlation with the Eq. 3 shape; symmetry: energy share in the mode's "
           "mirror class; both 1 for a clean identification)")
     print(f"dofs {res.dofs}, wall time {res.wall_time_s:.3f} s")
+    for i, m in enumerate(mounts, start=1):
+        x, y = m["point_mm"]
+        print(f"mount {i} at ({x:g}, {y:g}) mm: amplitude / largest L1 {m['L1']:.3g}, "
+              f"B2 {m['B2']:.3g} (0 at a node)")
     if export is not None:
         print(f"wrote {export}")
+
+
+def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
+    """``[points] mounts_mm`` of the stator file: L1 and B2 amplitude there (2D model)."""
+    design = choice.design
+    if design is None or not design.mounts_m or args.model == "3d":
+        return []
+    import numpy as np
+
+    from fem.model import plate_model
+    from fem.modes import amplitude_ratio
+
+    model = plate_model(choice.stator, material, args.order, refine)
+    pts = np.array(design.mounts_m).T
+    ratios = {name: amplitude_ratio(model, getattr(res, name).shape, pts)
+              for name in ("L1", "B2")}
+    return [{"point_mm": [x * 1e3, y * 1e3], "L1": float(ratios["L1"][i]),
+             "B2": float(ratios["B2"][i])} for i, (x, y) in enumerate(design.mounts_m)]
 
 
 def _export_target(text: str, force: bool):

@@ -80,7 +80,8 @@ def run(args: argparse.Namespace) -> None:
     choice = stator_from_args(args)
     if choice.meshed:
         raise LusmError(f"--geometry {args.geometry} has its own mesh, which tune cannot "
-                        "rescale; tune its plate without the mesh's features instead with "
+                        "rescale; describe its features with [tip], [chamfers], [[holes]] "
+                        "(meshed by gmsh, rescaled by tune) or tune its plate with "
                         "--length-mm, --width-mm, --thickness-mm "
                         f"{choice.stator.thickness_m * 1e3:g} (add --fix length to keep the "
                         "length), or a stator file without [mesh]", "--geometry")
@@ -100,6 +101,11 @@ def run(args: argparse.Namespace) -> None:
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc
+        if choice.parametric and isinstance(exc, ValueError) and "ParametricStator" in str(exc):
+            raise LusmError(f"--geometry {args.geometry}: a plate tried while tuning no longer "
+                            f"holds the file's features ({exc}); tune rescales the plate but "
+                            "keeps the tip, chamfers and holes as given: move them inwards "
+                            "or hold a dimension with --fix length", "--geometry") from None
         raise
     if args.json:
         print_json(d.to_dict())
@@ -111,8 +117,9 @@ def run(args: argparse.Namespace) -> None:
     else:
         print(f"target {d.target_frequency_Hz:g} Hz, material {d.material}, model {d.model}, "
               f"fixed {d.fix.replace('+', ', ')}")
-    print(f"plate {st.length_m * 1e3:.4f} x {st.width_m * 1e3:.4f} x "
-          f"{st.thickness_m * 1e3:.4g} mm (gap {st.electrode_gap_m * 1e3:g} mm)")
+    from validation.summaries import plate_text
+
+    print(f"{plate_text(st, '.4f')} (gap {st.electrode_gap_m * 1e3:g} mm)")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
     for name, m in (("L1", d.L1), ("B2", d.B2)):
         print(f"{name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}")

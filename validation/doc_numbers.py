@@ -648,6 +648,87 @@ def _designer_claims() -> tuple[Claim, ...]:
                        lambda k=k: _designer_numbers()[k]) for k in _DESIGNER_KEYS)
 
 
+# --- docs/designer.md: parametric stators (fem.parametric, gmsh) ---------------------------
+
+
+@cache
+def _parametric_numbers() -> dict[str, float]:
+    """examples/tip_parametric against examples/tip_protrusion, [chamfers] against
+    examples/chamfered, the mesh cost, and fixed-length tuning of the tip stator (2D; the
+    tuned plate re-solved on a mesh twice as fine and in 3D)."""
+    from dataclasses import replace
+
+    from fem.modes import plate_modes
+    from fem.parametric import parametric_mesh
+    from fem.solid3d import solid_modes
+    from fem.stator_file import load_stator, parse_stator
+    from fem.tuning import tune_plate
+
+    ex = ROOT / "examples"
+    par = load_stator(ex / "tip_parametric" / "stator.toml")
+    msh = load_stator(ex / "tip_protrusion" / "stator.toml")
+    cham = parse_stator({"plate": {"length_mm": 30, "width_mm": 7.5, "thickness_mm": 3},
+                         "chamfers": {"size_mm": 1.5}}, src="chamfers")
+    cham_msh = load_stator(ex / "chamfered" / "stator.toml")
+    out: dict[str, float] = {}
+    rp, rm = par.modes(), msh.modes()
+    fine = plate_modes(replace(par.stator, mesh_size_m=par.stator.element_size_m / 4),
+                       par.material, 2)
+    rc, rcm = cham.modes(), cham_msh.modes()
+    out["tip_dofs"], out["tip_fine_dofs"], out["chamfer_dofs"] = rp.dofs, fine.dofs, rc.dofs
+    for mode in ("L1", "B2"):
+        f = getattr(rp, mode).f_short_Hz
+        out[f"tip_{mode}_short_Hz"] = f
+        out[f"tip_{mode}_rel_msh"] = abs(f / getattr(rm, mode).f_short_Hz - 1)
+        out[f"tip_{mode}_rel_fine"] = abs(f / getattr(fine, mode).f_short_Hz - 1)
+        out[f"chamfer_{mode}_short_Hz"] = getattr(rc, mode).f_short_Hz
+        out[f"chamfer_{mode}_rel_msh"] = abs(getattr(rc, mode).f_short_Hz
+                                             / getattr(rcm, mode).f_short_Hz - 1)
+    t0 = time.perf_counter()
+    for _ in range(5):
+        parametric_mesh(par.stator, cached=False)
+    t_mesh = (time.perf_counter() - t0) / 5
+    out["mesh_time_ratio"] = t_mesh / rp.wall_time_s  # rp: first solve in this process
+    d = tune_plate(None, fix="length", material=par.material, start=par.stator)
+    out["fixlen_width_m"] = d.stator.width_m
+    out["fixlen_frequency_Hz"] = d.frequency_Hz
+    out["fixlen_split"] = d.relative_mismatch
+    out["fixlen_fe_solves"] = d.fe_solves
+    f2 = plate_modes(replace(d.stator, mesh_size_m=d.stator.element_size_m / 2), par.material, 2)
+    out["fixlen_split_fine"] = f2.B2.f_short_Hz / f2.L1.f_short_Hz - 1
+    f3 = solid_modes(d.stator, par.material, 2)
+    out["fixlen_split_3d"] = f3.B2.f_short_Hz / f3.L1.f_short_Hz - 1
+    return out
+
+
+_PARAMETRIC_KEYS = (
+    "tip_dofs", "tip_fine_dofs", "chamfer_dofs",
+    *(f"{n}_{m}_{q}" for n, qs in (("tip", ("short_Hz", "rel_msh", "rel_fine")),
+                                   ("chamfer", ("short_Hz", "rel_msh")))
+      for m in ("L1", "B2") for q in qs),
+    "mesh_time_ratio", "fixlen_width_m", "fixlen_frequency_Hz", "fixlen_split",
+    "fixlen_fe_solves", "fixlen_split_fine", "fixlen_split_3d")
+"""Keys of :func:`_parametric_numbers`."""
+
+
+def _parametric_claims() -> tuple[Claim, ...]:
+    """The docs/designer.md claims on parametric stators (gmsh; about a minute with the 3D
+    solve, not recomputed by the tests; tests/test_parametric.py checks the same agreements
+    against bounds)."""
+    def cmd(k: str) -> str:
+        if k.startswith("tip_") and k.endswith(("short_Hz", "tip_dofs")):
+            return "lusm modes --geometry examples/tip_parametric/stator.toml --json"
+        if k.startswith("fixlen_") and k != "fixlen_split_fine" and k != "fixlen_split_3d":
+            return "lusm tune --geometry examples/tip_parametric/stator.toml --fix length --json"
+        return f"python -m validation.doc_numbers --show param_{k}"
+
+    def unit(k: str) -> str:
+        return "Hz" if k.endswith("Hz") else "m" if k.endswith("_m") else "-"
+
+    return tuple(Claim(f"param_{k}", unit(k), cmd(k), lambda k=k: _parametric_numbers()[k],
+                       batch="parametric") for k in _PARAMETRIC_KEYS)
+
+
 # --- docs/designer.md: the motor tables of a stator file (examples/light_damping) ---------
 
 
@@ -1508,6 +1589,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_coupling_claims(),
     *_beam_claims(),
     *_designer_claims(),
+    *_parametric_claims(),
     *_fitted_damping_claims(),
     *_default_coupling_claims(),
     *_motor_claims(),

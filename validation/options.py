@@ -204,7 +204,8 @@ class StatorChoice:
     Attributes
     ----------
     stator : fem.geometry.PlateStator
-        A plain plate or, from a stator file with a mesh, a ``MeshedStator``.
+        A plain plate or, from a stator file, a ``MeshedStator`` (a mesh file) or a
+        ``ParametricStator`` (feature tables, meshed by gmsh).
     material : fem.material.PiezoMaterial
     design : fem.stator_file.StatorDesign or None
         The loaded stator file, if ``--geometry`` was given.
@@ -218,6 +219,11 @@ class StatorChoice:
     def meshed(self) -> bool:
         """True for a stator file with its own mesh."""
         return self.design is not None and self.design.mesh_path is not None
+
+    @property
+    def parametric(self) -> bool:
+        """True for a stator file with features (``[tip]``, ...), meshed by gmsh."""
+        return hasattr(self.stator, "features_text")
 
 
 def check_plate_mm(length: float, width: float, thickness: float, gap: float,
@@ -302,7 +308,9 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     else:
         top, what = limits.work_bound(limits.MAX_FE_CELLS_2D), "2D elements"
     if n > top:
-        shape = (f"{stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} mm plate")
+        from validation.summaries import plate_text
+
+        shape = plate_text(stator)
         names = [option] + (["--layers"] if layers else []) + (
             ["--edge-grading"] if edge_grading and option != "--edge-grading" else [])
         lower = " or ".join(names)

@@ -168,7 +168,7 @@ def _plane_stress_vs_3d(example_layers: int) -> tuple[list[str], dict]:
         ex_rows = []
         for path in tomls:
             design = load_stator(path)
-            if design.mesh_path is None:  # a plain plate (e.g. light_damping): the 2D/3D above
+            if design.mesh_path is None:  # plain plates (the 2D/3D above) and parametric ones
                 continue
             ex = plane_stress_error(stator=design.stator, material=design.material,
                                     layers=example_layers)

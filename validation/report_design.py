@@ -16,7 +16,7 @@ import numpy as np
 
 from rom.params import PARAM_UNITS
 from validation.output_set import output_set
-from validation.summaries import damping_line, damping_summary
+from validation.summaries import damping_line, damping_summary, plate_text
 
 SPEED_PRELOAD_N = 14.0
 """Preload of the speed-against-voltage table (N), the paper's Fig. 20."""
@@ -24,11 +24,13 @@ SPEED_PRELOAD_N = 14.0
 
 def _describe(stator, material, label: str) -> str:
     mm = 1e3
-    shape = (f"plate {stator.length_m * mm:g} x {stator.width_m * mm:g} x "
-             f"{stator.thickness_m * mm:g} mm")
+    shape = plate_text(stator)
     mesh_file = getattr(stator, "mesh_file", "")
     if mesh_file:
         shape += f", planform mesh {Path(mesh_file).name}"
+    elif hasattr(stator, "element_size_m"):
+        shape += (f", electrode gap {stator.electrode_gap_m * mm:g} mm, gmsh mesh of element "
+                  f"size {stator.element_size_m * mm:g} mm")
     else:
         shape += f", electrode gap {stator.electrode_gap_m * mm:g} mm"
     return f"{label}: {shape}, {material.name}"

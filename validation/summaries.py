@@ -18,6 +18,18 @@ if TYPE_CHECKING:  # the contact stack is imported by the functions that need it
     from rom.params import MotorParams
 
 
+def plate_text(stator, fmt: str = "g") -> str:
+    """The stator's dimensions for headers: ``'plate 30 x 7.5 x 3 mm'``, and for a parametric
+    stator its features after the plate, e.g. ``'plate 35 x 9.617 x 3 mm + tip 1 mm (2 mm
+    wide), chamfers 1.5 mm'`` (the plate keeps its own length; the tip is added)."""
+    dims = (stator.length_m * 1e3, stator.width_m * 1e3)
+    text = (f"plate {dims[0]:{fmt}} x {dims[1]:{fmt}} x {stator.thickness_m * 1e3:.4g} mm"
+            if fmt != "g" else
+            f"plate {dims[0]:g} x {dims[1]:g} x {stator.thickness_m * 1e3:g} mm")
+    features = getattr(stator, "features_text", None)
+    return text + (features() if callable(features) else "")
+
+
 def table2_damping() -> str:
     """Origin text of the paper's damping (the ``table2`` set)."""
     return "Table 2 (Li, Yao & Wu 2016)"

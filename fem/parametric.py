@@ -1,0 +1,408 @@
+"""Parametric stators: the quadrant-electrode plate with a contact tip, chamfers and holes.
+
+:class:`ParametricStator` is a :class:`fem.geometry.PlateStator` with common features
+described by numbers (a stator file's ``[tip]``, ``[chamfers]`` and ``[[holes]]`` tables,
+:mod:`fem.stator_file`); :func:`parametric_mesh` meshes its planform through gmsh's Python
+API (the optional extra ``pip install "lusm[mesh]"``, imported only when a mesh is needed).
+
+Geometry (m; the frame of :mod:`fem.geometry`: ``x`` across the width, centred, ``y`` along
+the length from the preload end)::
+
+               chamfer c                          tip: t_w wide, t_l long
+      y=0    /-----------+-----------\\  y=l
+            |     1     |     2     |--+
+            +-----------+-----------+  |  <- unelectroded protrusion, centred on x = 0
+            |   3  (o)  |     4     |--+       (o) a through hole
+             \\-----------+-----------/
+     preload                              tip point (0, l + t_l)
+
+* the plate body keeps its own ``length_m`` (l) and ``width_m`` (W): the tip adds
+  ``tip_length_m`` beyond ``y = l`` (headers print "plate 30 x 7.5 x 3 mm + tip 1 mm");
+* the four quadrant electrodes and the gap strips (width ``electrode_gap_m``) are those of
+  :class:`PlateStator`, on the plate body only; the tip is unelectroded material (tag 0
+  outside the gap strips, so :func:`fem.model.gap_layout` reads the strips as before);
+* chamfers cut the four corners at 45 degrees with legs ``chamfer_m``;
+* holes go through the thickness (no electrode, no material) anywhere inside the body.
+
+Meshing (gmsh, OpenCASCADE kernel): the outline, the tip and the two gap strips are
+fragmented so that every electrode edge is a mesh line; holes are cut out; the surfaces are
+meshed with triangles (Frontal-Delaunay for quads) at twice the target size, recombined into
+quads (Blossom) and split once (``Mesh.SubdivisionAlgorithm = 1``), which gives an all-quad
+mesh with edges of about ``mesh_size_m``. Blossom can leave an inverted element next to a
+finely divided hole rim; the mesh is then checked (every element's signed area against its
+surface's orientation) and, if one is inverted, remeshed with triangles (Frontal-Delaunay),
+each split into three quads (:func:`fem.mesh_io.quadrangulate`, as for triangle mesh files).
+Hole rims get at least :data:`HOLE_SEGMENTS` edges. Every element lies under one electrode
+or in unelectroded material; its tag is read at its centroid. The mesh is cached per stator
+(the dataclass is hashable), so repeated commands and tuning steps do not remesh the same
+geometry.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+
+from fem.geometry import PlateStator
+from fem.mesh import PlateMesh
+from fem.mesh_io import quadrangulate
+
+MESH_EXTRA = 'pip install "lusm[mesh]"'
+"""How to install the optional mesher (gmsh's Python API from PyPI)."""
+
+DEFAULT_SIZE_DIVISIONS = 8
+"""Default target element size: ``min(l, W) / 8`` (0.9375 mm on the paper's 7.5 mm width)."""
+
+SIZE_DIVISIONS_RANGE = (1, 100)
+"""Allowed element size: between ``min(l, W) / 100`` and ``min(l, W)``."""
+
+HOLE_SEGMENTS = 24
+"""Least number of mesh edges around a hole."""
+
+
+def _finite(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(
+        value)
+
+
+@dataclass(frozen=True)
+class ParametricStator(PlateStator):
+    """A quadrant-electrode plate with a contact tip, corner chamfers and through holes.
+
+    Attributes
+    ----------
+    tip_length_m : float
+        Length of the protrusion beyond the end ``y = length_m`` (m); 0: no tip.
+    tip_width_m : float
+        Its width across x, centred on ``x = 0`` (m); > 0 when ``tip_length_m > 0``.
+    chamfer_m : float
+        Leg of the 45-degree chamfer at each of the four corners (m); 0: square corners.
+    holes_m : tuple of (float, float, float)
+        Through holes ``(x, y, diameter)`` (m), each inside the plate body.
+    mesh_size_m : float or None
+        Target element edge (m); None: ``min(length_m, width_m) / 8``.
+    """
+
+    tip_length_m: float = 0.0
+    tip_width_m: float = 0.0
+    chamfer_m: float = 0.0
+    holes_m: tuple[tuple[float, float, float], ...] = ()
+    mesh_size_m: float | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        length, width, gap = self.length_m, self.width_m, self.electrode_gap_m
+        for name in ("tip_length_m", "tip_width_m", "chamfer_m"):
+            v = getattr(self, name)
+            if not _finite(v) or v < 0.0:
+                raise ValueError(f"ParametricStator.{name} must be a finite number >= 0, "
+                                 f"got {v!r}")
+        c = self.chamfer_m
+        c_max = 0.5 * (min(width, length) - gap)
+        if c >= c_max:
+            raise ValueError(f"ParametricStator.chamfer_m must lie in [0, {c_max!r}) m "
+                             f"((min(width, length) - gap) / 2), got {c!r}")
+        if self.tip_length_m > 0.0:
+            flat = width - 2.0 * c
+            if not 0.0 < self.tip_width_m <= flat * (1 + 1e-12):
+                raise ValueError(f"ParametricStator.tip_width_m must lie in (0, {flat!r}] m "
+                                 f"(the end face between the chamfers), got "
+                                 f"{self.tip_width_m!r}")
+            if self.tip_length_m > length:
+                raise ValueError(f"ParametricStator.tip_length_m must lie in [0, {length!r}] "
+                                 f"m (the plate length), got {self.tip_length_m!r}")
+        elif self.tip_width_m != 0.0:
+            raise ValueError("ParametricStator.tip_width_m needs tip_length_m > 0")
+        holes = tuple(tuple(float(v) for v in hole) for hole in self.holes_m)
+        for i, hole in enumerate(holes):
+            if len(hole) != 3 or not all(math.isfinite(v) for v in hole) or hole[2] <= 0.0:
+                raise ValueError(f"ParametricStator.holes_m[{i}] must be (x, y, diameter) "
+                                 f"with a diameter > 0 (m), got {self.holes_m[i]!r}")
+            clear = hole_clearance_m(hole, width, length, c)
+            if clear <= 0.0:
+                raise ValueError(f"ParametricStator.holes_m[{i}] = {hole!r} m reaches the "
+                                 f"plate's outline (it must lie inside the plate body)")
+            for j, other in enumerate(holes[:i]):
+                if math.hypot(hole[0] - other[0], hole[1] - other[1]) <= 0.5 * (
+                        hole[2] + other[2]):
+                    raise ValueError(f"ParametricStator.holes_m[{i}] overlaps holes_m[{j}]")
+        object.__setattr__(self, "holes_m", holes)
+        if self.mesh_size_m is not None:
+            lo, hi = (min(width, length) / d for d in SIZE_DIVISIONS_RANGE[::-1])
+            if not _finite(self.mesh_size_m) or not lo <= self.mesh_size_m <= hi:
+                raise ValueError(f"ParametricStator.mesh_size_m must lie in [{lo:g}, {hi:g}] "
+                                 f"m (min(length, width) / 100 .. / 1), got "
+                                 f"{self.mesh_size_m!r}")
+
+    @property
+    def element_size_m(self) -> float:
+        """Target element edge of the planform mesh (m)."""
+        if self.mesh_size_m is not None:
+            return float(self.mesh_size_m)
+        return min(self.width_m, self.length_m) / DEFAULT_SIZE_DIVISIONS
+
+    @property
+    def overall_length_m(self) -> float:
+        """Plate length plus tip length (m): the planform's extent along y."""
+        return self.length_m + self.tip_length_m
+
+    @property
+    def tip_point_m(self) -> tuple[float, float]:
+        """Contact tip ``(x, y)``: the centre of the tip's end (m)."""
+        return (0.0, float(self.overall_length_m))
+
+    @property
+    def preload_point_m(self) -> tuple[float, float]:
+        """Preload point ``(x, y)``: centre of the end ``y = 0`` (m)."""
+        return (0.0, 0.0)
+
+    @property
+    def area_m2(self) -> float:
+        """Exact planform area (m^2): plate minus chamfers and holes, plus the tip."""
+        holes = sum(math.pi * d * d / 4.0 for _, _, d in self.holes_m)
+        return (self.length_m * self.width_m - 2.0 * self.chamfer_m ** 2
+                + self.tip_length_m * self.tip_width_m - holes)
+
+    def electrode_of(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+        """Electrode number (1..4) above points ``(x, y)``; 0 in gaps, tip, holes, outside."""
+        x = np.asarray(x_m, dtype=float)
+        y = np.asarray(y_m, dtype=float)
+        out = super().electrode_of(x, y)
+        c, w2, length = self.chamfer_m, 0.5 * self.width_m, self.length_m
+        inside = (np.abs(x) <= w2) & (y >= 0.0) & (y <= length)
+        if c > 0.0:
+            inside &= (np.abs(x) - (w2 - c)) + (c - np.minimum(y, length - y)) <= c
+        for hx, hy, d in self.holes_m:
+            inside &= np.hypot(x - hx, y - hy) >= 0.5 * d
+        return np.where(inside, out, 0)
+
+    def features_mm(self) -> dict[str, object]:
+        """The features in millimetres (JSON keys ``tip_length_mm``, ``tip_width_mm``,
+        ``chamfer_mm``, ``holes_mm`` = ``[[x, y, diameter], ...]``, ``mesh_size_mm``)."""
+        mm = 1e3
+        return {"tip_length_mm": self.tip_length_m * mm, "tip_width_mm": self.tip_width_m * mm,
+                "chamfer_mm": self.chamfer_m * mm,
+                "holes_mm": [[v * mm for v in hole] for hole in self.holes_m],
+                "mesh_size_mm": self.element_size_m * mm}
+
+    def features_text(self) -> str:
+        """The features in millimetres for headers, e.g. ``' + tip 1 mm (2 mm wide)'``."""
+        mm = 1e3
+        parts = []
+        if self.tip_length_m > 0.0:
+            parts.append(f" + tip {self.tip_length_m * mm:g} mm "
+                         f"({self.tip_width_m * mm:g} mm wide)")
+        if self.chamfer_m > 0.0:
+            parts.append(f", chamfers {self.chamfer_m * mm:g} mm")
+        if self.holes_m:
+            n = len(self.holes_m)
+            parts.append(f", {n} hole{'s' if n > 1 else ''}")
+        return "".join(parts)
+
+
+def hole_clearance_m(hole: tuple[float, float, float], width_m: float, length_m: float,
+                     chamfer_m: float) -> float:
+    """Distance (m) from a hole's rim to the nearest edge of the plate body (< 0: it cuts
+    the outline)."""
+    x, y, d = hole
+    w2 = 0.5 * width_m
+    dist = min(w2 - abs(x), y, length_m - y)
+    if chamfer_m > 0.0:  # the chamfer line |x| + (c - dist_end) = w2 of the nearest corner
+        dist = min(dist, (w2 - chamfer_m + min(y, length_m - y) - abs(x)) / math.sqrt(2.0))
+    return dist - 0.5 * d
+
+
+def _import_gmsh():
+    try:
+        import gmsh
+    except ImportError:
+        raise ImportError(f"meshing a stator with [tip], [chamfers] or [[holes]] needs gmsh's "
+                          f"Python API: {MESH_EXTRA}") from None
+    except OSError as exc:  # the wheel's libgmsh links OpenGL/X11 libraries
+        raise ImportError(f"gmsh is installed but its library does not load ({exc}); install "
+                          "the OpenGL/X11 libraries it links (Debian/Ubuntu: apt-get install "
+                          "libglu1-mesa libxrender1 libxcursor1 libxft2 libxinerama1)") from None
+    return gmsh
+
+
+def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:
+    """The all-quad planform mesh of ``stator`` (m) with electrode tags.
+
+    ``cached=False`` meshes anew (for timing); the default returns the cached mesh.
+
+    Raises
+    ------
+    ImportError
+        If gmsh is not installed (the message names ``pip install "lusm[mesh]"``).
+    ValueError
+        If the mesh leaves an electrode without elements (e.g. holes covering it).
+    """
+    if not isinstance(stator, ParametricStator):
+        raise TypeError("parametric_mesh needs a ParametricStator")
+    # the cache key is the planform alone: thickness and drive do not change the mesh
+    key = replace(stator, thickness_m=1.0, drive_electrodes=(1, 4))
+    return _cached_mesh(key) if cached else _cached_mesh.__wrapped__(key)
+
+
+@lru_cache(maxsize=32)
+def _cached_mesh(stator: ParametricStator) -> PlateMesh:
+    gmsh = _import_gmsh()
+    half = is_mirror_symmetric(stator)
+    xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=True, half=half)
+    if xy is None:  # Blossom left an inverted element: mesh with triangles instead
+        xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=False, half=half)
+    if xy is None:
+        raise ValueError("gmsh produced inverted elements for this geometry; change "
+                         "[mesh] size_mm slightly or use a mesh file")
+    if half:
+        xy, tri, quad = _mirror(xy, tri, quad, 1e-9 * max(stator.width_m, stator.length_m))
+    cells = [c for c in (tri, quad) if c.shape[0]]
+    used = np.unique(np.concatenate([c.ravel() for c in cells]))
+    remap = -np.ones(xy.shape[0], dtype=np.int64)
+    remap[used] = np.arange(used.size)
+    xy, tri, quad = xy[used], remap[tri], remap[quad]
+
+    def tags_of(cells: np.ndarray) -> np.ndarray:
+        # mesh lines follow every electrode edge, so the centroid decides; the tip is bare
+        centre = xy[cells].mean(axis=1)
+        tags = PlateStator.electrode_of(stator, centre[:, 0], centre[:, 1])
+        tags[centre[:, 1] > stator.length_m] = 0
+        return tags
+
+    p2, q2, tags = quadrangulate(xy, tri, quad, tags_of(tri), tags_of(quad))
+    missing = [k for k in (1, 2, 3, 4) if not np.any(tags == k)]
+    if missing:
+        raise ValueError(f"the parametric mesh has no element under electrode(s) {missing} "
+                         f"(holes covering them?)")
+    return PlateMesh(points_m=p2.T, quads=q2.T, electrode=tags)
+
+
+def is_mirror_symmetric(stator: ParametricStator) -> bool:
+    """True if the planform is its own mirror image about ``x = 0`` (the holes are)."""
+    tol = 1e-9 * max(stator.width_m, stator.length_m)
+    holes = sorted(stator.holes_m)
+    mirrored = sorted((-x if abs(x) > tol else x, y, d) for x, y, d in stator.holes_m)
+    return all(np.allclose(a, b, rtol=0.0, atol=tol) for a, b in zip(holes, mirrored,
+                                                                     strict=True))
+
+
+def _mirror(xy: np.ndarray, tri: np.ndarray, quad: np.ndarray, tol: float):
+    """The half mesh ``x >= 0`` and its mirror image, sharing the nodes on ``x = 0``."""
+    on_axis = np.abs(xy[:, 0]) <= tol
+    xy = xy.copy()
+    xy[on_axis, 0] = 0.0
+    off = np.flatnonzero(~on_axis)
+    image = np.arange(xy.shape[0])
+    image[off] = xy.shape[0] + np.arange(off.size)
+    xy2 = np.vstack((xy, xy[off] * np.array([-1.0, 1.0])))
+    # a mirror image turns clockwise: reverse the node order
+    return (xy2, np.vstack((tri, image[tri][:, ::-1])),
+            np.vstack((quad, image[quad][:, ::-1])))
+
+
+def _signed_area(xy: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    p = xy[cells]
+    return 0.5 * np.sum(p[..., 0] * np.roll(p[..., 1], -1, axis=1)
+                        - np.roll(p[..., 0], -1, axis=1) * p[..., 1], axis=1)
+
+
+def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool, half: bool = False):
+    """Nodes (n, 2) (m), counter-clockwise triangles (k, 3) and quads (m, 4) of the planform
+    (with ``half``: of its part ``x >= 0``); ``(None, None, None)`` if an element came out
+    inverted."""
+    mm = 1e3  # gmsh works in millimetres (its tolerances are absolute)
+    length, width = stator.length_m * mm, stator.width_m * mm
+    gap, c = stator.electrode_gap_m * mm, stator.chamfer_m * mm
+    tl, tw = stator.tip_length_m * mm, stator.tip_width_m * mm
+    h = stator.element_size_m * mm
+    w2 = 0.5 * width
+    ours = not gmsh.isInitialized()  # leave a caller's own gmsh session running
+    if ours:
+        gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("lusm_stator")
+        occ = gmsh.model.occ
+        if c > 0.0:
+            corners = [(-w2 + c, 0.0), (w2 - c, 0.0), (w2, c), (w2, length - c),
+                       (w2 - c, length), (-w2 + c, length), (-w2, length - c), (-w2, c)]
+        else:
+            corners = [(-w2, 0.0), (w2, 0.0), (w2, length), (-w2, length)]
+        pts = [occ.addPoint(x, y, 0.0) for x, y in corners]
+        lines = [occ.addLine(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+        parts = [(2, occ.addPlaneSurface([occ.addCurveLoop(lines)]))]
+        if tl > 0.0:
+            parts.append((2, occ.addRectangle(-0.5 * tw, length, 0.0, tw, tl)))
+        if gap > 0.0:
+            tools = [(2, occ.addRectangle(-0.5 * gap, 0.0, 0.0, gap, length)),
+                     (2, occ.addRectangle(-w2, 0.5 * (length - gap), 0.0, width, gap))]
+        else:  # zero gap: the quadrant boundaries are still mesh lines
+            tools = [(1, occ.addLine(occ.addPoint(0.0, 0.0, 0.0),
+                                     occ.addPoint(0.0, length, 0.0))),
+                     (1, occ.addLine(occ.addPoint(-w2, 0.5 * length, 0.0),
+                                     occ.addPoint(w2, 0.5 * length, 0.0)))]
+        pieces, _ = occ.fragment(parts, tools)
+        pieces = [p for p in pieces if p[0] == 2]
+        if stator.holes_m:
+            disks = [(2, occ.addDisk(x * mm, y * mm, 0.0, 0.5 * d * mm, 0.5 * d * mm))
+                     for x, y, d in stator.holes_m]
+            pieces, _ = occ.cut(pieces, disks)
+        if half:
+            box = occ.addRectangle(0.0, -1.0, 0.0, w2 + 1.0, length + tl + 2.0)
+            pieces, _ = occ.intersect(pieces, [(2, box)])
+        occ.synchronize()
+        # hole rims: a fixed number of edges (the split below halves them once more)
+        per_turn = HOLE_SEGMENTS // 2 if recombine else HOLE_SEGMENTS
+        for x, y, d in stator.holes_m:
+            r, e = 0.5 * d * mm, 1e-6 * max(length, width)
+            for _, curve in gmsh.model.getEntitiesInBoundingBox(
+                    x * mm - r - e, y * mm - r - e, -e, x * mm + r + e, y * mm + r + e, e, 1):
+                lo, hi = gmsh.model.getParametrizationBounds(1, curve)
+                turn = abs(hi[0] - lo[0]) / (2.0 * math.pi)
+                n = max(1, math.ceil(turn * per_turn - 1e-9),
+                        math.ceil(turn * 2.0 * math.pi * r / (2.0 * h) - 1e-9))
+                gmsh.model.mesh.setTransfiniteCurve(curve, n + 1)
+        opt = gmsh.option.setNumber
+        opt("Mesh.MeshSizeMax", 2.0 * h)  # split once below: edges of about h
+        opt("Mesh.MeshSizeMin", 0.0)
+        opt("Mesh.Algorithm", 8 if recombine else 6)  # Frontal-Delaunay (for quads)
+        if recombine:
+            opt("Mesh.RecombineAll", 1)
+            opt("Mesh.RecombinationAlgorithm", 1)  # Blossom
+            opt("Mesh.SubdivisionAlgorithm", 1)  # every element into quads
+        gmsh.model.mesh.generate(2)
+        node_tags, coords, _ = gmsh.model.mesh.getNodes()
+        index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
+        index[np.asarray(node_tags, dtype=np.int64)] = np.arange(node_tags.size)
+        xy = np.asarray(coords, dtype=float).reshape(-1, 3)[:, :2] / mm
+        cells: dict[int, list[np.ndarray]] = {3: [], 4: []}
+        for _, surface in gmsh.model.getEntities(2):
+            types, _, enodes = gmsh.model.mesh.getElements(2, surface)
+            blocks = []
+            for t, nodes in zip(types, enodes, strict=True):
+                k = {2: 3, 3: 4}.get(int(t))
+                if k is None:
+                    raise ValueError(f"gmsh returned element type {t}; expected triangles "
+                                     "or quads")
+                blocks.append((k, index[np.asarray(nodes, dtype=np.int64).reshape(-1, k)]))
+            if not blocks:
+                continue
+            # one orientation per surface (its normal): flip a -z surface as a whole; an
+            # element of the other sign is inverted
+            areas = [_signed_area(xy, b) for _, b in blocks]
+            sign = np.sign(sum(float(a.sum()) for a in areas))
+            for (k, b), a in zip(blocks, areas, strict=True):
+                if np.any(a * sign <= 0.0):
+                    return None, None, None
+                cells[k].append(b if sign > 0 else b[:, ::-1])
+    finally:
+        if ours:
+            gmsh.finalize()
+        else:
+            gmsh.model.remove()
+    tri = np.concatenate(cells[3]) if cells[3] else np.zeros((0, 3), dtype=np.int64)
+    quad = np.concatenate(cells[4]) if cells[4] else np.zeros((0, 4), dtype=np.int64)
+    return xy, tri, quad
