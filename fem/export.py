@@ -111,11 +111,7 @@ def export_modes(
         cell_data={"electrode": [mesh.electrode.astype(np.int32)]},
         field_data={f"f_{k}_Hz": np.array([v]) for k, v in freqs.items()},
     )
-    try:
-        meshio.write(path, out, file_format=file_format)
-    except (Exception, SystemExit) as exc:  # meshio: KeyError/WriteError for unknown formats
-        raise ValueError(f"could not write {path} with meshio: {exc}") from exc
-    return path
+    return _write(path, out, file_format)
 
 
 def export_solid_modes(path: str | Path, model, modes, file_format: str | None = None) -> Path:
@@ -145,7 +141,6 @@ def export_solid_modes(path: str | Path, model, modes, file_format: str | None =
     ValueError
         If meshio cannot write that format.
     """
-    import meshio
     from skfem.io.meshio import to_meshio
 
     path = Path(path)
@@ -157,8 +152,15 @@ def export_solid_modes(path: str | Path, model, modes, file_format: str | None =
         fields[mode.name] = u
         fields[f"magnitude_{mode.name}"] = np.linalg.norm(u, axis=1)
     out = to_meshio(basis.mesh, point_data=fields, encode_cell_data=False)
+    return _write(path, out, file_format)
+
+
+def _write(path: Path, out, file_format: str | None) -> Path:
+    """``meshio.write`` with every failure as ``ValueError`` naming the file."""
+    import meshio
+
     try:
         meshio.write(path, out, file_format=file_format)
-    except (Exception, SystemExit) as exc:
+    except (Exception, SystemExit) as exc:  # meshio: KeyError/WriteError for unknown formats
         raise ValueError(f"could not write {path} with meshio: {exc}") from exc
     return path

@@ -400,6 +400,17 @@ def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,
     return float(v)
 
 
+def _plate_mm(plate: dict, elec: dict, src: str) -> tuple[float, float, float]:
+    """Length, width and electrode gap (mm) of a generated plate (the gap defaults to the
+    paper's); each failure names its ``[table] key``."""
+    length = _length_mm(plate, "plate", "length_mm", src, required=True)
+    width = _length_mm(plate, "plate", "width_mm", src, required=True)
+    assert length is not None and width is not None
+    gap = _length_mm(elec, "electrodes", "gap_mm", src, required=False,
+                     upper_mm=min(length, width), allow_zero=True)
+    return length, width, PlateStator().electrode_gap_m / MM if gap is None else gap
+
+
 def _damping(table: dict, src: str) -> tuple[tuple[float, float] | None, str, float | None]:
     """``(zeta_L1, zeta_B2)`` or None, the origin text, and the identification frequency
     (Hz, or None) of a ``[damping]`` table."""
@@ -508,13 +519,7 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
             raise ValueError(f"{src}: [mesh] {key} cannot be combined with the feature tables "
                              f"({tables}): those are meshed by gmsh; describe the whole "
                              f"planform in the mesh file instead")
-    length = _length_mm(plate, "plate", "length_mm", src, required=True)
-    width = _length_mm(plate, "plate", "width_mm", src, required=True)
-    assert length is not None and width is not None
-    gap_default = PlateStator().electrode_gap_m / MM
-    gap = _length_mm(elec, "electrodes", "gap_mm", src, required=False,
-                     upper_mm=min(length, width), allow_zero=True)
-    gap = gap_default if gap is None else gap
+    length, width, gap = _plate_mm(plate, elec, src)
     tip_t = _table(data, "tip", src)
     cham_t = _table(data, "chamfers", src)
     chamfer = 0.0
@@ -664,15 +669,10 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                          f"([tip], [chamfers] or [[holes]]); a plain plate is meshed by "
                          f"--refine, a mesh file by itself")
     if not mesh_t:
-        length = _length_mm(plate, "plate", "length_mm", src, required=True)
-        width = _length_mm(plate, "plate", "width_mm", src, required=True)
-        assert length is not None and width is not None
-        gap_default = PlateStator().electrode_gap_m / MM
-        gap = _length_mm(elec, "electrodes", "gap_mm", src, required=False,
-                         upper_mm=min(length, width), allow_zero=True)
+        length, width, gap = _plate_mm(plate, elec, src)
         stator = PlateStator(
             length_m=length * MM, width_m=width * MM, thickness_m=thickness * MM,
-            electrode_gap_m=(gap_default if gap is None else gap) * MM,
+            electrode_gap_m=gap * MM,
             drive_electrodes=drive,
         )
         for key, pt, default in (("tip_mm", tip, stator.tip_point_m),
