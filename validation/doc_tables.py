@@ -97,7 +97,7 @@ TABLES: tuple[Table, ...] = (
     Table("fe_2d_vs_3d_stators", ("benchmarks/fem_2d_vs_3d.py", "--part", "stators")),
     Table("steady_work_precision", ("benchmarks/steady_work_precision.py",)),
     Table("fe_peer_sfepy", ("benchmarks/fem_peer_sfepy.py",), fence=True),
-    Table("fe_fidelity_graded", ("benchmarks/fem_fidelity.py", "--gaps-mm", "0.1", "0.5",
+    Table("fe_fidelity_graded", ("benchmarks/fem_fidelity.py", "--gaps-mm", "0.5",
                                  "--meshes", "3x3", "--graded", "1", "2", "3")),
 )
 """Every generated table."""
