@@ -210,6 +210,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
                                          "--preload", "14"], ["--voltage", "1 to 8"]),
     ("characteristic-voltage-in-list-bad", ["characteristic", "--voltage", "100,nan",
                                             "--preload", "14"], ["--voltage", "[0, 2000] V"]),
+    ("simulate-voltage-list-with-plot", ["simulate", "--voltage", "200,400", "--preload", "14",
+                                         "--plot", "plots_out"], ["--plot", "one --voltage"]),
     ("map-workers-zero", ["map", "--workers", "0"], ["--workers"]),
     ("map-total-work", ["map", "--method", "transient", "--voltages", "0:400:1",
                         "--preloads", "1:40:1"], ["time steps", "LUSM_MAX_WORK"]),

@@ -71,3 +71,16 @@ def test_characteristic_takes_a_list_of_voltages(capsys):
         assert main(["characteristic", "--voltage", str(v), "--preload", "14",
                      "--loads", "0:1:0.5", "--json"]) == 0
         assert json.loads(capsys.readouterr().out) == doc
+
+
+def test_simulate_takes_a_list_of_voltages(capsys):
+    """``lusm simulate --voltage 200,400``: one run per voltage, each the single-voltage run."""
+    args = ["--preload", "14", "--duration", "0.005", "--json"]
+    assert main(["simulate", "--voltage", "200,400", *args]) == 0
+    many = json.loads(capsys.readouterr().out)
+    assert many["voltages_V"] == [200.0, 400.0]
+    for v, doc in zip((200, 400), many["runs"], strict=True):
+        assert main(["simulate", "--voltage", str(v), *args]) == 0
+        one = json.loads(capsys.readouterr().out)
+        assert one["steady_velocity_m_s"] == doc["steady_velocity_m_s"]
+        assert one["voltage_V"] == doc["voltage_V"] == v

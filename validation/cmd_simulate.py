@@ -31,7 +31,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Simulate the slider driven by the stator tip: velocity, forces, "
         "stick/slip/separation phases, steady-state metrics.",
     )
-    add_drive_options(p)
+    add_drive_options(p, voltage_list=True)
     add_motor_options(p)
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
     p.add_argument("--load-N", dest="load_N", default=0.0,
@@ -46,7 +46,36 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> None:
-    """Run one simulation and print its summary."""
+    """Run one simulation per ``--voltage`` and print the summaries."""
+    voltages = args.voltage  # a tuple: --voltage takes A,B,...
+    if args.plot is not None and len(voltages) > 1:
+        raise LusmError("--plot takes one --voltage (one set of figures per run); got "
+                        f"{len(voltages)} voltages", "--plot")
+    if len(voltages) == 1:
+        args.voltage = voltages[0]
+        _run_one(args)
+        return
+    if args.json:
+        import contextlib
+        import io
+        import json
+
+        runs = []
+        for v in voltages:
+            args.voltage = v
+            buf = io.StringIO()
+            with contextlib.redirect_stdout(buf):
+                _run_one(args)
+            runs.append(json.loads(buf.getvalue()))
+        print_json({"voltages_V": list(voltages), "runs": runs}, indent=2)
+        return
+    for v in voltages:
+        print(f"--- {v:g} V")
+        args.voltage = v
+        _run_one(args)
+
+
+def _run_one(args: argparse.Namespace) -> None:
     if args.plot is not None and args.steady:
         raise LusmError("--plot needs a transient (no time trace with --steady)", "--plot")
     if args.energy and args.steady:
