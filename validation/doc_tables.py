@@ -84,6 +84,9 @@ TABLES: tuple[Table, ...] = (
           cheap=True, fence=True),
     Table("tune_40k_3d", ("-m", "validation.cli", "tune", "--target-frequency", "40e3",
                           "--model", "3d"), fence=True),
+    Table("tune_tip_3d", ("-m", "validation.cli", "tune", "--geometry",
+                          "examples/tip_parametric/stator.toml", "--fix", "length", "--model",
+                          "3d"), fence=True),
     Table("sweep_width", ("-m", "validation.cli", "sweep", "--width-mm", "6:10:0.25", "--out",
                           "out"), cheap=True, fence=True),
     Table("admittance_light", ("-m", "validation.cli", "admittance", "--zeta", "0.002",
@@ -131,7 +134,8 @@ def run(table: Table) -> dict[str, str]:
     import tempfile
 
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    argv = [str(ROOT / a) if a.startswith("benchmarks/") else a for a in table.argv]
+    argv = [str(ROOT / a) if a.startswith(("benchmarks/", "examples/")) else a
+            for a in table.argv]
     with tempfile.TemporaryDirectory(prefix="lusm-doc-table-") as tmp:
         out = subprocess.run([sys.executable, *argv], cwd=tmp, env=env, text=True,
                              capture_output=True, check=False)
