@@ -31,6 +31,11 @@ ELECTRODES = (1, 2, 3, 4)
 """Electrode numbers of the top face."""
 
 
+MIN_GAP_M = 1e-6
+"""Smallest non-zero electrode gap (m): 1 um, far below any printed or etched gap; a gap of
+0 means touching quadrants (one conductor)."""
+
+
 @dataclass(frozen=True)
 class PlateStator:
     """Rectangular piezoelectric stator plate with four quadrant electrodes.
@@ -63,6 +68,11 @@ class PlateStator:
         gap = self.electrode_gap_m
         if not isinstance(gap, (int, float)) or not np.isfinite(gap) or gap < 0.0:
             raise ValueError(f"PlateStator.electrode_gap_m must be >= 0, got {gap!r}")
+        if 0.0 < gap < MIN_GAP_M:
+            raise ValueError(
+                f"PlateStator.electrode_gap_m must be 0 (touching quadrants) or at least "
+                f"{MIN_GAP_M:g} m, got {gap!r}: the gap's cross-section solve grades its mesh "
+                "from a fraction of the gap to the plate's size")
         limit = min(self.width_m, self.length_m)
         if gap >= limit:
             raise ValueError(

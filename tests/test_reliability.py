@@ -212,6 +212,7 @@ CASES: list[tuple[str, list[str], list[str]]] = [
                                             "--preload", "14"], ["--voltage", "[0, 2000] V"]),
     ("simulate-voltage-list-with-plot", ["simulate", "--voltage", "200,400", "--preload", "14",
                                          "--plot", "plots_out"], ["--plot", "one --voltage"]),
+    ("modes-gap-subnormal", ["modes", "--gap-mm", "5e-324"], ["--gap-mm", "at least 0.001 mm"]),
     ("map-workers-zero", ["map", "--workers", "0"], ["--workers"]),
     ("map-total-work", ["map", "--method", "transient", "--voltages", "0:400:1",
                         "--preloads", "1:40:1"], ["time steps", "LUSM_MAX_WORK"]),

@@ -228,7 +228,13 @@ class StatorChoice:
 
 def check_plate_mm(length: float, width: float, thickness: float, gap: float,
                    gap_given: bool = True) -> None:
-    """Refuse an electrode gap that eats the plate; warn outside plane stress's validity."""
+    """Refuse an electrode gap that eats the plate or is too narrow to model; warn outside
+    plane stress's validity."""
+    from fem.geometry import MIN_GAP_M
+
+    if 0.0 < gap < MIN_GAP_M * 1e3:
+        raise LusmError(f"--gap-mm must be 0 (touching quadrants) or at least "
+                        f"{MIN_GAP_M * 1e3:g} mm, got {gap:g}", "--gap-mm")
     if gap >= min(length, width):
         which = "--gap-mm" if gap_given else f"the default --gap-mm {gap:g}"
         raise LusmError(f"{which} must be below the plate's --length-mm and --width-mm "
