@@ -46,43 +46,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> None:
-    """Run one simulation per ``--voltage`` and print the summaries."""
+    """Run one simulation per ``--voltage`` (one parameter set for all) and print them."""
     voltages = args.voltage  # a tuple: --voltage takes A,B,...
     if args.plot is not None and len(voltages) > 1:
         raise LusmError("--plot takes one --voltage (one set of figures per run); got "
                         f"{len(voltages)} voltages", "--plot")
-    if len(voltages) == 1:
-        args.voltage = voltages[0]
-        _run_one(args)
-        return
-    if args.json:
-        import contextlib
-        import io
-        import json
-
-        runs = []
-        for v in voltages:
-            args.voltage = v
-            buf = io.StringIO()
-            with contextlib.redirect_stdout(buf):
-                _run_one(args)
-            runs.append(json.loads(buf.getvalue()))
-        print_json({"voltages_V": list(voltages), "runs": runs}, indent=2)
-        return
-    for v in voltages:
-        print(f"--- {v:g} V")
-        args.voltage = v
-        _run_one(args)
-
-
-def _run_one(args: argparse.Namespace) -> None:
     if args.plot is not None and args.steady:
         raise LusmError("--plot needs a transient (no time trace with --steady)", "--plot")
     if args.energy and args.steady:
         raise LusmError("--energy needs a transient (use lusm characteristic for the power "
                         "balance of the steady state)", "--energy")
     plot = output_folder(args, "simulate", "--plot")  # refused before any work
-    warn_drive(args.voltage, args.preload)
+    for v in voltages:
+        warn_drive(v, args.preload)
     if args.frequency.strip().lower() != "auto":
         check_run_size(args.duration, args.dt, parse_frequency(args.frequency))
     params, damping_from = motor_params_of(args, args.source)
@@ -90,17 +66,45 @@ def _run_one(args: argparse.Namespace) -> None:
     freq = parse_frequency(args.frequency, params)
     check_run_size(args.duration, args.dt, freq)
 
+    from validation.summaries import coupling_line, damping_line, damping_summary
+
+    summaries = []
+    for v in voltages:
+        summary = _simulate(args, v, params, freq, coupling, plot)
+        summary["damping"] = damping_summary(params, damping_from)
+        summary["coupling"], summary["coupling_from"] = coupling, coupling_from
+        summaries.append(summary)
+    if args.json:
+        doc = summaries[0] if len(summaries) == 1 else {"voltages_V": list(voltages),
+                                                        "runs": summaries}
+        print_json(doc, indent=2)
+        return
+    for v, summary in zip(voltages, summaries, strict=True):
+        if len(voltages) > 1:
+            print(f"--- {v:g} V")
+        for key, value in summary.items():
+            if isinstance(value, dict | list):
+                continue
+            text = f"{value:.6g}" if isinstance(value, float) else str(value)
+            print(f"{key:<30} {text}")
+        print(damping_line(params, damping_from))
+        print(coupling_line(coupling, coupling_from))
+        if "energy" in summary:
+            e = summary["energy"]
+            print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")
+        for f in summary.get("figures", []):
+            print(f"wrote {f}")
+
+
+def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, coupling: str,
+              plot) -> dict:
+    """One run at ``voltage_V``: its summary (and its figures when ``plot`` is a folder)."""
     from contact.simulate import simulate
-    from validation.summaries import (
-        coupling_line,
-        damping_line,
-        damping_summary,
-        simulation_summary,
-    )
+    from validation.summaries import simulation_summary
 
     try:
         r = simulate(
-            params, args.voltage, args.preload, freq,
+            params, voltage_V, args.preload, freq,
             duration_s=args.duration, dt_s=args.dt,
             ultrasonic_friction=not args.no_ultrasonic_friction,
             coupling=coupling, energy=args.energy, load_N=args.load_N,
@@ -109,25 +113,9 @@ def _run_one(args: argparse.Namespace) -> None:
     except RuntimeError as exc:  # the kernel's own refusal (chattering): bad input, not a bug
         raise ValueError(str(exc)) from exc
     summary = simulation_summary(r)
-    summary["damping"] = damping_summary(params, damping_from)
-    summary["coupling"], summary["coupling_from"] = coupling, coupling_from
     if plot is not None:
         from validation.figures import simulation_figures
 
         with figure_set(plot, "simulate", "--plot", args.force) as stage:
             summary["figures"] = moved(simulation_figures(r, stage), stage, plot)
-    if args.json:
-        print_json(summary, indent=2)
-        return
-    for key, value in summary.items():
-        if isinstance(value, dict | list):
-            continue
-        text = f"{value:.6g}" if isinstance(value, float) else str(value)
-        print(f"{key:<30} {text}")
-    print(damping_line(params, damping_from))
-    print(coupling_line(coupling, coupling_from))
-    if "energy" in summary:
-        e = summary["energy"]
-        print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")
-    for f in summary.get("figures", []):
-        print(f"wrote {f}")
+    return summary
