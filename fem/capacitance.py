@@ -30,6 +30,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from fem.geometry import MIN_GAP_M
+
 
 @dataclass(frozen=True, eq=False)
 class GapCrossSection:
@@ -151,8 +153,6 @@ def gap_cross_section(
     g, h = float(gap_m), float(thickness_m)
     if not (g > 0.0 and h > 0.0 and width_a_m > 0.0 and width_b_m > 0.0):
         raise ValueError("gap, thickness and electrode widths must be > 0")
-    from fem.geometry import MIN_GAP_M
-
     if g < MIN_GAP_M:  # the graded mesh would need thousands of lines per micrometre decade
         raise ValueError(f"electrode gap {g:g} m is below {MIN_GAP_M:g} m: too narrow to model "
                          "(make it 0 for touching quadrants)")

@@ -370,12 +370,12 @@ def _motor(params: dict, d2: dict, out: Path, quick: bool, progress: bool):
     freqs = {name: d2[name]["frequency_Hz"] for name in params}
     origins = {"table2": table2_damping(), "beam": borrowed_damping("beam"),
                "fem": borrowed_damping("fem")}
+    from fem.stator_file import load_stator
+
     sets = dict(params)
     for name, rel in TUNED_EXAMPLES.items():
         if not (ROOT / rel).exists():  # an installed package has no examples/
             continue
-        from fem.stator_file import load_stator
-
         sets[name] = fem_params_from_file(ROOT / rel)
         freqs[name] = auto_frequency(sets[name])
         origins[name] = f"{rel} {load_stator(ROOT / rel).damping_origin}"
