@@ -320,8 +320,9 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
         names = [option] + (["--layers"] if layers else []) + (
             ["--edge-grading"] if edge_grading and option != "--edge-grading" else [])
         lower = " or ".join(names)
+        dims = "" if mesh is not None else " (--length-mm, --width-mm)"
         raise LusmError(f"{option}: the {shape} needs {n} {what} here, above the limit {top}; "
-                        f"lower {lower} or make the plate less elongated "
+                        f"lower {lower} or make the plate less elongated{dims} "
                         f"({limits.more_work_hint()})", option)
     return n
 
