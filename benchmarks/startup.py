@@ -35,6 +35,11 @@ CASES = (
     ("lusm simulate ... --json (50 ms)", [PY, "-m", "validation.cli", "simulate", "--voltage",
                                           "200", "--preload", "14", "--json"]),
     ("lusm --help", [PY, "-m", "validation.cli", "--help"]),
+    # the same command with Python's default collector threshold (lusm raises it: cli.main)
+    ("lusm simulate, default gc threshold", [
+        PY, "-c", "import gc, sys; gc.set_threshold = lambda *a: None; "
+        "from validation.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
+        "'--preload', '14', '--json']; sys.exit(main())"]),
 )
 
 

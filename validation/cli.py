@@ -102,6 +102,12 @@ def _one_line(text: str) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lusm`` console script; returns the process exit code."""
+    if argv is None:  # a fresh `lusm` process: its start is mostly imports (numba, SciPy)
+        import gc  # that allocate ~2e5 container objects and no garbage worth collecting;
+
+        # at the default threshold (700) the collector ran ~250 times through them, its
+        # older generations walking the growing graph (docs/contact.md section 5.1)
+        gc.set_threshold(100_000, 50, 100)
     from validation.errors import LusmError, user_error
     from validation.options import set_command
 
