@@ -205,8 +205,14 @@ def _reproduction(params: dict, out: Path, quick: bool, progress: bool):
           "Each of the paper's claims on the contact model, judged on each parameter set. "
           "Table 2 is driven at the paper's 40 kHz; beam theory and FE, whose modes lie far "
           "above 40 kHz, at their own operating point (`--frequency auto`: the frequency "
-          "maximizing the free tip ellipse, `contact.drive.auto_frequency`). Runs of "
-          f"{settings.duration_s * 1e3:g} ms at dt = 1e-7 s.", ""]
+          "maximizing the free tip ellipse, `contact.drive.auto_frequency`). "
+          + ("The judged numbers (velocities, motion classes, mu_d, the maps) are settled "
+             "values: the steady state a start from rest reaches, found by the steady engine "
+             "(`contact.steady`, exact level; section 5). The time traces and phase planes "
+             f"are runs of {settings.duration_s * 1e3:g} ms from rest at dt = 1e-7 s."
+             if settings.method == "steady" else
+             f"Every number comes from runs of {settings.duration_s * 1e3:g} ms from rest at "
+             "dt = 1e-7 s, judged as they end (not settled; `--quick`)."), ""]
     data = {}
     for name, p in params.items():
         freq = PAPER_DRIVE_HZ if name == "table2" else auto_frequency(p)
