@@ -13,14 +13,14 @@ The one-period map reuses :func:`contact.event_kernel.integrate_switch_model`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from contact import event_kernel
 from contact import state as S
 from contact.model import HybridSystem, OperatingPoint, build_system
-from contact.periodic_orbit import STEPS_PER_PERIOD
+from contact.periodic_orbit import ENERGY_STEPS_PER_PERIOD, steps_for
 from rom.params import MotorParams
 
 _Y = np.array([S.U, S.DU, S.W, S.DW, S.DX])
@@ -28,7 +28,9 @@ _Y = np.array([S.U, S.DU, S.W, S.DW, S.DX])
 
 @dataclass(frozen=True)
 class FullSystem:
-    """The full model of one operating point with its one-step propagators."""
+    """The full model of one operating point with its one-step propagators (``fine``: cache
+    of the propagators at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD`, the step of
+    the work integrals)."""
 
     system: HybridSystem
     phi: np.ndarray
@@ -36,27 +38,39 @@ class FullSystem:
     dt_s: float
     period_s: float
     phi_Bl: float
+    steps_per_period: int = 0
+    fine: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 def full_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
-                coupling: str = "paper") -> FullSystem:
-    """Build the full model (load included) for shooting."""
+                coupling: str = "paper", steps_per_period: int | None = None) -> FullSystem:
+    """Build the full model (load included) for shooting (steps per period as
+    :func:`contact.periodic_orbit.steps_for`)."""
     sys_ = build_system(params, op, mu_d_eff, coupling)
-    dt = op.period_s / STEPS_PER_PERIOD
+    n = steps_for(sys_, op.period_s, steps_per_period)
+    dt = op.period_s / n
     phi, half = sys_.propagators(dt)
-    return FullSystem(sys_, phi, half, dt, op.period_s, params.phi_Bl)
+    return FullSystem(sys_, phi, half, dt, op.period_s, params.phi_Bl, n)
 
 
 def run_periods(fs: FullSystem, z: np.ndarray, mode: int, periods: int, energy: bool = False):
     """Advance ``periods`` drive periods; returns ``(z_end, mode_end, distance_m, work,
-    phase_time)`` with the position slot reset to 0 at the start."""
+    phase_time)`` with the position slot reset to 0 at the start (work and phase time are
+    accumulated, and non-zero, only when ``energy``, at a step of at most
+    ``T / ENERGY_STEPS_PER_PERIOD``)."""
     s = fs.system
     z = np.array(z, dtype=float)
     z[S.X] = 0.0
-    n = STEPS_PER_PERIOD * periods
+    steps, dt, phi, half = fs.steps_per_period, fs.dt_s, fs.phi, fs.phi_half
+    if energy and steps < ENERGY_STEPS_PER_PERIOD:
+        steps, dt = ENERGY_STEPS_PER_PERIOD, fs.period_s / ENERGY_STEPS_PER_PERIOD
+        if "phi" not in fs.fine:
+            fs.fine["phi"] = s.propagators(dt)
+        phi, half = fs.fine["phi"]
+    n = steps * periods
     out = event_kernel.integrate_switch_model(
-        z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
-        s.ft_m, s.ff_m, s.funcs, s.scalars, 0, n, 1, energy, 64)
+        z, mode, n, dt, phi, half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
+        s.ft_m, s.ff_m, s.funcs, s.scalars, 0 if energy else n, n, 1, energy, 64)
     status, _, _, _, phase_time, work, _, z_end, mode_end = out
     if status != S.OK:
         raise RuntimeError("contact chattering in the full-model shooting")
@@ -176,3 +190,19 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
     periods += k
     return FullOrbit(dist / (k * fs.period_s), k if converged else 0, z, mode, res, periods,
                      it, work, phase_time, mult)
+
+
+def velocity_ripple(fs: FullSystem, z: np.ndarray, mode: int, k: int = 1) -> float:
+    """Peak-to-peak slider velocity over ``k`` periods from ``(z, mode)`` (m/s), sampled at
+    every step (a lower bound of the true ripple, within a step's change of it)."""
+    s = fs.system
+    z = np.array(z, dtype=float)
+    z[S.X] = 0.0
+    n = fs.steps_per_period * k
+    out = event_kernel.integrate_switch_model(
+        z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
+        s.ft_m, s.ff_m, s.funcs, s.scalars, n, 1, 1, False, 64)
+    if out[0] != S.OK:
+        raise RuntimeError("contact chattering in the full-model shooting")
+    dx = out[2][:, 2]
+    return float(np.max(dx) - np.min(dx))

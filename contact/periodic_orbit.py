@@ -18,7 +18,7 @@ position slot; guide friction is left out of the fast problem (it enters the slo
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -27,8 +27,17 @@ from contact import state as S
 from contact.model import HybridSystem, OperatingPoint, build_system
 from rom.params import MotorParams
 
-STEPS_PER_PERIOD = 250
-"""Fixed steps per drive period (dt = T / 250 = 1e-7 s at 40 kHz, the transient default)."""
+STEPS_PER_PERIOD = 25
+"""Fixed steps per drive period (dt = T / 25 = 1e-6 s at 40 kHz; the transient default is
+1e-7 s). The kernel's propagators are exact and its events located inside a step, so the
+step only sets the error of the event location: the steady velocity at 25 steps agrees with
+the 250-step one to a few 1e-8 (``python -m validation.doc_tables --update
+steady_work_precision``, docs/steady.md)."""
+
+ENERGY_STEPS_PER_PERIOD = 250
+"""Steps per period of the runs that integrate the work (power) of an orbit: the kernel's work
+integrals use Simpson's rule per step, whose relative error ~ (omega dt)^4 / 2880 is about
+1e-6 at 25 steps per period and 1e-10 at 250 (the energy balance closes to 1e-8)."""
 
 _Y = np.array([S.U, S.DU, S.W, S.DW])
 
@@ -46,6 +55,12 @@ class FastSystem:
         row is read from each system's own propagators).
     dt_s, period_s : float
         Step (s) and drive period (s).
+    phi_Bl : float
+        Bending slope factor at the tip phi_B(l) (-), as in :class:`rom.params.MotorParams`.
+    steps_per_period : int
+        Fixed steps per drive period of the kernel.
+    fine : dict
+        Cache of the propagators at :data:`ENERGY_STEPS_PER_PERIOD` (built on first use).
     """
 
     ft_system: HybridSystem
@@ -57,6 +72,8 @@ class FastSystem:
     dt_s: float
     period_s: float
     phi_Bl: float
+    steps_per_period: int = 0
+    fine: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 def _integrating(system: HybridSystem, rows: np.ndarray) -> HybridSystem:
@@ -68,8 +85,12 @@ def _integrating(system: HybridSystem, rows: np.ndarray) -> HybridSystem:
 
 
 def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
-                coupling: str = "paper") -> FastSystem:
-    """Build the fixed-velocity fast problem of one operating point (load and guide excluded)."""
+                coupling: str = "paper", steps_per_period: int | None = None) -> FastSystem:
+    """Build the fixed-velocity fast problem of one operating point (load and guide excluded).
+
+    ``steps_per_period`` defaults to :data:`STEPS_PER_PERIOD`, raised where the fastest mode
+    needs it (:func:`steps_for`).
+    """
     # an effectively infinite slider with a frictionless guide: stick forces take their
     # M -> infinity form; the slider row is zeroed below anyway
     p_inf = params.with_(M_slider=1e12, mu_sd=0.0)
@@ -77,29 +98,50 @@ def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     base = build_system(p_inf, op0, mu_d_eff, coupling)
     ft_sys = _integrating(base, base.ft_m)
     fn_sys = _integrating(base, base.fn_m)
-    dt = op.period_s / STEPS_PER_PERIOD
+    n = steps_for(base, op.period_s, steps_per_period)
+    dt = op.period_s / n
     phi_ft, half_ft = ft_sys.propagators(dt)
     phi_fn, half_fn = fn_sys.propagators(dt)
     return FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
-                      params.phi_Bl)
+                      params.phi_Bl, n)
+
+
+def steps_for(system: HybridSystem, period_s: float, steps_per_period: int | None = None) -> int:
+    """Steps per drive period: ``steps_per_period`` (default :data:`STEPS_PER_PERIOD`), at
+    least as many as keep ``rho(A) dt <= 1`` over all modes (the bound the transient scheme
+    checks: the kernel's Taylor flow of partial steps is exact to roundoff below it)."""
+    n = STEPS_PER_PERIOD if steps_per_period is None else int(steps_per_period)
+    rho = float(np.max(np.abs(np.linalg.eigvals(system.A))))
+    return max(n, int(np.ceil(rho * period_s)))
 
 
 def period_map(fs: FastSystem, z: np.ndarray, mode: int, periods: int = 1, *,
-               integrand: str = "ft", energy: bool = False):
+               integrand: str = "ft", energy: bool = False, window: bool | None = None):
     """Advance the fast problem by whole periods from ``z`` (x slot reset to 0).
 
     Returns ``(z_end, mode_end, integral, work, phase_time, events)`` where ``integral`` is
-    the time integral of F_T or F_N (N s) over the periods and ``work`` the kernel's work
-    integrals (J) when ``energy``.
+    the time integral of F_T or F_N (N s) over the periods, ``work`` the kernel's work
+    integrals (J) when ``energy`` and ``phase_time`` the time per phase (s) when ``window``
+    (default: ``energy``); both are zero otherwise.
     """
+    window = energy if window is None else window
     sys_, phi, half = ((fs.ft_system, fs.phi_ft, fs.phi_half_ft) if integrand == "ft"
                        else (fs.fn_system, fs.phi_fn, fs.phi_half_fn))
+    steps, dt = fs.steps_per_period, fs.dt_s
+    if energy and steps < ENERGY_STEPS_PER_PERIOD:  # work integrals need the finer step
+        steps, dt = ENERGY_STEPS_PER_PERIOD, fs.period_s / ENERGY_STEPS_PER_PERIOD
+        if integrand not in fs.fine:
+            fs.fine[integrand] = sys_.propagators(dt)
+        phi, half = fs.fine[integrand]
     z = np.array(z, dtype=float)
     z[S.X] = 0.0
-    n = STEPS_PER_PERIOD * periods
+    n = steps * periods
+    # the kernel's window (phase times, work) is opened only when asked for: it triples the
+    # cost of a step
     out = event_kernel.integrate_switch_model(
-        z, mode, n, fs.dt_s, phi, half, sys_.A, sys_.ev_h, sys_.ev_dh, sys_.ev_type,
-        sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0, n, 1, energy, 64)
+        z, mode, n, dt, phi, half, sys_.A, sys_.ev_h, sys_.ev_dh, sys_.ev_type,
+        sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0 if window else n, n, 1,
+        energy, 64)
     status, _, _, _, phase_time, work, stats, z_end, mode_end = out
     if status != S.OK:
         raise RuntimeError("contact chattering in the fixed-velocity fast problem")
@@ -133,7 +175,8 @@ class Orbit:
     phase_time : ndarray, shape (4,)
         Time in stick, slip+, slip-, separation over the k periods (s).
     work : ndarray, shape (6,)
-        Work integrals of :mod:`contact.event_kernel` over the k periods (J).
+        Work integrals of :mod:`contact.event_kernel` over the k periods (J); zero unless
+        asked for (:func:`find_orbit` ``energy=True``, or :func:`orbit_work`).
     """
 
     velocity_m_s: float
@@ -170,12 +213,13 @@ def _consistent(fs: FastSystem, z: np.ndarray, mode: int, v: float) -> np.ndarra
 
 def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: int | None = None,
                *, tol: float = 1e-11, max_periods: int = 400, warmup: int = 20,
-               max_k: int = 4, average_periods: int = 200) -> Orbit:
+               max_k: int = 4, average_periods: int = 200, energy: bool = False) -> Orbit:
     """Periodic orbit of the fast problem at slider velocity ``v`` (m/s) by shooting.
 
     ``z0, mode0`` (e.g. the orbit at a neighbouring velocity) start the search. When no
     orbit of period <= ``max_k`` is found within ``max_periods`` periods the averages are
-    taken over the next ``average_periods`` periods and ``k`` is 0.
+    taken over the next ``average_periods`` periods and ``k`` is 0. The work integrals
+    (:func:`orbit_work`) are computed only with ``energy``.
     """
     if z0 is None or mode0 is None:
         z, mode = _start(fs, v)
@@ -189,21 +233,23 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
             tip = S.SLIP_POS if vrel > 0 else S.SLIP_NEG
         mode = S.mode_index(contact, tip, guide)
         try:  # a neighbouring orbit needs only a short warm-up
-            return _find(fs, v, z, mode, tol, max_periods, min(warmup, 5), max_k,
-                         average_periods)
+            orbit = _find(fs, v, z, mode, tol, max_periods, min(warmup, 5), max_k,
+                          average_periods)
+            return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
         except RuntimeError:  # a start the kernel cannot leave cleanly: start afresh
             z, mode = _start(fs, v)
-    return _find(fs, v, z, mode, tol, max_periods, warmup, max_k, average_periods)
+    orbit = _find(fs, v, z, mode, tol, max_periods, warmup, max_k, average_periods)
+    return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
 
 
 def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_periods: int,
           warmup: int, max_k: int, average_periods: int) -> Orbit:
     z = _consistent(fs, z, mode, v)
     periods = 0
-    for _ in range(warmup):
-        z, mode, *_ = period_map(fs, z, mode)
+    if warmup:  # one kernel call: the drive phase is reset at its end only
+        z, mode, *_ = period_map(fs, z, mode, warmup)
         z = _consistent(fs, z, mode, v)
-        periods += 1
+        periods += warmup
     amp = np.array([max(np.max(np.abs(z[[S.U]])), 1e-12), 0.0,
                     max(abs(z[S.W]), 1e-12), 0.0])
     omega = 2 * np.pi / fs.period_s
@@ -269,9 +315,28 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
     # stick-slip at the tip) stands in, flagged with k = 0
     k = k_found if k_found else average_periods
     z = _consistent(fs, z, mode, v)
-    _, _, int_ft, work, phase_time, _ = period_map(fs, z, mode, k, energy=True)
+    _, _, int_ft, _, phase_time, _ = period_map(fs, z, mode, k, window=True)
     _, _, int_fn, *_ = period_map(fs, z, mode, k, integrand="fn")
     periods += 2 * k
     span = k * fs.period_s
-    return Orbit(float(v), k_found, z, mode, int_ft / span, int_fn / span, float(res), periods,
-                 newton_it, phase_time, work)
+    orbit = Orbit(float(v), k_found, z, mode, int_ft / span, int_fn / span, float(res),
+                  periods, newton_it, phase_time, np.zeros(event_kernel.N_WORK))
+    return orbit
+
+
+def orbit_work(fs: FastSystem, orbit: Orbit) -> np.ndarray:
+    """Work integrals (J) of :mod:`contact.event_kernel` over the orbit's k periods, at
+    :data:`ENERGY_STEPS_PER_PERIOD` steps per period (for ``k = 0`` over the periods the
+    averages were taken on, at the orbit's own step)."""
+    if orbit.k:
+        return period_map(fs, orbit.z, orbit.mode, orbit.k, energy=True)[3]
+    span = int(round(float(np.sum(orbit.phase_time)) / fs.period_s))
+    sys_ = fs.ft_system
+    z = np.array(orbit.z, dtype=float)
+    z[S.X] = 0.0
+    n = fs.steps_per_period * span
+    out = event_kernel.integrate_switch_model(
+        z, orbit.mode, n, fs.dt_s, fs.phi_ft, fs.phi_half_ft, sys_.A, sys_.ev_h, sys_.ev_dh,
+        sys_.ev_type, sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0, n, 1, True,
+        64)
+    return out[5].copy()
