@@ -39,6 +39,10 @@ ENERGY_STEPS_PER_PERIOD = 250
 integrals use Simpson's rule per step, whose relative error ~ (omega dt)^4 / 2880 is about
 1e-6 at 25 steps per period and 1e-10 at 250 (the energy balance closes to 1e-8)."""
 
+CHUNK_PERIODS = 20
+"""Periods run in one kernel call between the watches for period-k repetition once Newton
+has given up (slowly converging or long-period orbits at low slider speed)."""
+
 _Y = np.array([S.U, S.DU, S.W, S.DW])
 
 
@@ -263,6 +267,7 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
     modes: list[int] = [mode]
     k_found = 0
     res = np.inf
+    failures = 0
     while periods < max_periods:
         z1, m1, *_ = period_map(fs, z, mode)
         z1 = _consistent(fs, z1, m1, v)
@@ -274,7 +279,8 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
         # Newton on P(y) - y with a finite-difference Jacobian, inside the current mode
         free = [i for i in range(4) if not (i == 3 and (mode // 3) % 3 == S.STICK
                                             and mode // 9 == S.CONTACT)]
-        if newton_it < 12 and m1 == mode:
+        newton_on = newton_it < 12 and failures < 3
+        if newton_on and m1 == mode:
             jac = np.zeros((4, 4))
             for i in free:
                 zp = z.copy()
@@ -298,7 +304,9 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
                 periods += 1
                 if m2 == mode and defect(_consistent(fs, z2, m2, v)[_Y], zn[_Y]) < res:
                     z = zn
+                    failures = 0
                     continue
+            failures += 1  # three failed Newton steps in a row: period by period only
         # period-by-period fallback, watching for period-k repetition
         z, mode = z1, m1
         history.append(z[_Y].copy())
@@ -311,6 +319,13 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
                 break
         if k_found:
             break
+        if len(history) > max_k and not newton_on and periods + CHUNK_PERIODS < max_periods:
+            # Newton is spent and no period-k repetition in the last max_k periods: jump
+            # CHUNK_PERIODS periods in one kernel call before watching again
+            z, mode, *_ = period_map(fs, z, mode, CHUNK_PERIODS)
+            z = _consistent(fs, z, mode, v)
+            periods += CHUNK_PERIODS
+            history, modes = [z[_Y].copy()], [mode]
     # no k-periodic orbit found: the average over many periods (quasi-periodic or long-period
     # stick-slip at the tip) stands in, flagged with k = 0
     k = k_found if k_found else average_periods
