@@ -20,7 +20,7 @@ import numpy as np
 from contact import event_kernel
 from contact import state as S
 from contact.model import HybridSystem, OperatingPoint, build_system
-from contact.periodic_orbit import ENERGY_STEPS_PER_PERIOD, steps_for
+from contact.periodic_orbit import ENERGY_STEPS_PER_PERIOD, propagator_ladder, steps_for
 from rom.params import MotorParams
 
 _Y = np.array([S.U, S.DU, S.W, S.DW, S.DX])
@@ -49,8 +49,11 @@ def full_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     sys_ = build_system(params, op, mu_d_eff, coupling)
     n = steps_for(sys_, op.period_s, steps_per_period)
     dt = op.period_s / n
-    phi, half = sys_.propagators(dt)
-    return FullSystem(sys_, phi, half, dt, op.period_s, params.phi_Bl, n)
+    phi, half, fine = propagator_ladder(sys_, op.period_s, n)
+    fs = FullSystem(sys_, phi, half, dt, op.period_s, params.phi_Bl, n)
+    if fine is not None:
+        fs.fine["phi"] = fine
+    return fs
 
 
 def run_periods(fs: FullSystem, z: np.ndarray, mode: int, periods: int, energy: bool = False):

@@ -24,6 +24,7 @@ import numpy as np
 
 from contact import event_kernel
 from contact import state as S
+from contact.expm import expm_stack
 from contact.model import HybridSystem, OperatingPoint, build_system
 from rom.params import MotorParams
 
@@ -104,10 +105,44 @@ def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     fn_sys = _integrating(base, base.fn_m)
     n = steps_for(base, op.period_s, steps_per_period)
     dt = op.period_s / n
-    phi_ft, half_ft = ft_sys.propagators(dt)
-    phi_fn, half_fn = fn_sys.propagators(dt)
-    return FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
-                      params.phi_Bl, n)
+    phi_ft, half_ft, fine_ft = propagator_ladder(ft_sys, op.period_s, n)
+    phi_fn, half_fn, _ = propagator_ladder(fn_sys, op.period_s, n, fine=False)
+    fs = FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
+                    params.phi_Bl, n)
+    if fine_ft is not None:
+        fs.fine["ft"] = fine_ft
+    return fs
+
+
+def _power(stack: np.ndarray, k: int) -> np.ndarray:
+    """``stack[i] ** k`` (matrix power, k >= 1) by repeated squaring."""
+    out, base = None, stack
+    while k:
+        if k & 1:
+            out = base if out is None else np.matmul(out, base)
+        k >>= 1
+        if k:
+            base = np.matmul(base, base)
+    return out
+
+
+def propagator_ladder(system: HybridSystem, period_s: float, steps: int, *, fine: bool = True):
+    """One-step and half-step propagators at ``steps`` per period, and (``fine``) at
+    :data:`ENERGY_STEPS_PER_PERIOD`, from one matrix exponential per mode.
+
+    Returns ``(phi, phi_half, fine_pair)``: ``fine_pair = (phi_fine, phi_half_fine)`` or None
+    when the energy step is not a finer multiple of ``steps`` (or ``fine`` is False). The
+    coarser propagators are integer powers of ``expm(A dt_fine / 2)``: exact in exact
+    arithmetic, a few roundoffs apart from the direct exponentials.
+    """
+    ratio = ENERGY_STEPS_PER_PERIOD // steps
+    if fine and ratio >= 2 and ratio % 2 == 0 and ratio * steps == ENERGY_STEPS_PER_PERIOD:
+        half_f = expm_stack(system.A * (0.5 * period_s / ENERGY_STEPS_PER_PERIOD))
+        phi_f = np.matmul(half_f, half_f)
+        half = _power(phi_f, ratio // 2)
+        return np.matmul(half, half), half, (phi_f, half_f)
+    half = expm_stack(system.A * (0.5 * period_s / steps))
+    return np.matmul(half, half), half, None
 
 
 def steps_for(system: HybridSystem, period_s: float, steps_per_period: int | None = None) -> int:
@@ -181,6 +216,9 @@ class Orbit:
     work : ndarray, shape (6,)
         Work integrals of :mod:`contact.event_kernel` over the k periods (J); zero unless
         asked for (:func:`find_orbit` ``energy=True``, or :func:`orbit_work`).
+    jacobian : tuple or None
+        ``(J, mode)``: the last finite-difference Jacobian of the one-period map in
+        ``(u_l, du_l, w_b, dw_b)`` (-) and the mode it belongs to, for continuation.
     """
 
     velocity_m_s: float
@@ -194,6 +232,7 @@ class Orbit:
     newton_iterations: int
     phase_time: np.ndarray
     work: np.ndarray
+    jacobian: tuple | None = None
 
 
 def _start(fs: FastSystem, v: float) -> tuple[np.ndarray, int]:
@@ -217,13 +256,15 @@ def _consistent(fs: FastSystem, z: np.ndarray, mode: int, v: float) -> np.ndarra
 
 def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: int | None = None,
                *, tol: float = 1e-11, max_periods: int = 400, warmup: int = 20,
-               max_k: int = 4, average_periods: int = 200, energy: bool = False) -> Orbit:
+               max_k: int = 4, average_periods: int = 200, energy: bool = False,
+               jacobian: tuple | None = None) -> Orbit:
     """Periodic orbit of the fast problem at slider velocity ``v`` (m/s) by shooting.
 
     ``z0, mode0`` (e.g. the orbit at a neighbouring velocity) start the search. When no
     orbit of period <= ``max_k`` is found within ``max_periods`` periods the averages are
     taken over the next ``average_periods`` periods and ``k`` is 0. The work integrals
-    (:func:`orbit_work`) are computed only with ``energy``.
+    (:func:`orbit_work`) are computed only with ``energy``. ``jacobian`` (the
+    :attr:`Orbit.jacobian` of a neighbouring orbit) starts a chord Newton iteration.
     """
     if z0 is None or mode0 is None:
         z, mode = _start(fs, v)
@@ -238,7 +279,7 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
         mode = S.mode_index(contact, tip, guide)
         try:  # a neighbouring orbit needs only a short warm-up
             orbit = _find(fs, v, z, mode, tol, max_periods, min(warmup, 5), max_k,
-                          average_periods)
+                          average_periods, jacobian)
             return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
         except RuntimeError:  # a start the kernel cannot leave cleanly: start afresh
             z, mode = _start(fs, v)
@@ -247,7 +288,7 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
 
 
 def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_periods: int,
-          warmup: int, max_k: int, average_periods: int) -> Orbit:
+          warmup: int, max_k: int, average_periods: int, jac0=None) -> Orbit:
     z = _consistent(fs, z, mode, v)
     periods = 0
     if warmup:  # one kernel call: the drive phase is reset at its end only
@@ -268,27 +309,40 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
     k_found = 0
     res = np.inf
     failures = 0
+    # chord Newton: the Jacobian (of a neighbouring orbit, or of an earlier step) is reused
+    # while it contracts well and recomputed by finite differences when it does not
+    jac, jac_mode = (None, -1) if jac0 is None else (np.array(jac0[0]), int(jac0[1]))
+    pending = None  # P(z) already known: the image of an accepted Newton trial
+    int_ft = float("nan")
     while periods < max_periods:
-        z1, m1, *_ = period_map(fs, z, mode)
-        z1 = _consistent(fs, z1, m1, v)
-        periods += 1
+        if pending is None:
+            z1, m1, i1, *_ = period_map(fs, z, mode)
+            z1 = _consistent(fs, z1, m1, v)
+            periods += 1
+        else:
+            z1, m1, i1 = pending
+            pending = None
         res = defect(z1[_Y], z[_Y])
         if res <= tol and m1 == mode:
             k_found = 1
+            int_ft = i1
             break
         # Newton on P(y) - y with a finite-difference Jacobian, inside the current mode
         free = [i for i in range(4) if not (i == 3 and (mode // 3) % 3 == S.STICK
                                             and mode // 9 == S.CONTACT)]
         newton_on = newton_it < 12 and failures < 3
         if newton_on and m1 == mode:
-            jac = np.zeros((4, 4))
-            for i in free:
-                zp = z.copy()
-                h = 1e-7 * amp[i]
-                zp[_Y[i]] += h
-                zq, _, *_ = period_map(fs, zp, mode)
-                periods += 1
-                jac[:, i] = (zq[_Y] - z1[_Y]) / h
+            fresh = jac is None or jac_mode != mode
+            if fresh:
+                jac = np.zeros((4, 4))
+                for i in free:
+                    zp = z.copy()
+                    h = 1e-7 * amp[i]
+                    zp[_Y[i]] += h
+                    zq, _, *_ = period_map(fs, zp, mode)
+                    periods += 1
+                    jac[:, i] = (zq[_Y] - z1[_Y]) / h
+                jac_mode = mode
             g = z1[_Y] - z[_Y]
             mat = (jac - np.eye(4))[np.ix_(free, free)]
             try:
@@ -300,12 +354,21 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
                 zn = z.copy()
                 zn[_Y[free]] += step
                 zn = _consistent(fs, zn, mode, v)
-                z2, m2, *_ = period_map(fs, zn, mode)
+                z2, m2, i2, *_ = period_map(fs, zn, mode)
+                z2 = _consistent(fs, z2, m2, v)
                 periods += 1
-                if m2 == mode and defect(_consistent(fs, z2, m2, v)[_Y], zn[_Y]) < res:
+                res2 = defect(z2[_Y], zn[_Y])
+                if m2 == mode and res2 < res:
                     z = zn
+                    pending = (z2, m2, i2)
                     failures = 0
+                    if res2 > 0.1 * res:  # slow contraction: a fresh Jacobian next step
+                        jac = None
                     continue
+            jac = None
+            if not fresh:  # the reused Jacobian failed: retry from z with a fresh one
+                pending = (z1, m1, i1)
+                continue
             failures += 1  # three failed Newton steps in a row: period by period only
         # period-by-period fallback, watching for period-k repetition
         z, mode = z1, m1
@@ -330,12 +393,15 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
     # stick-slip at the tip) stands in, flagged with k = 0
     k = k_found if k_found else average_periods
     z = _consistent(fs, z, mode, v)
-    _, _, int_ft, _, phase_time, _ = period_map(fs, z, mode, k, window=True)
+    _, _, int_k, _, phase_time, _ = period_map(fs, z, mode, k, window=True)
+    if k != 1:
+        int_ft = int_k
     _, _, int_fn, *_ = period_map(fs, z, mode, k, integrand="fn")
     periods += 2 * k
     span = k * fs.period_s
     orbit = Orbit(float(v), k_found, z, mode, int_ft / span, int_fn / span, float(res),
-                  periods, newton_it, phase_time, np.zeros(event_kernel.N_WORK))
+                  periods, newton_it, phase_time, np.zeros(event_kernel.N_WORK),
+                  None if jac is None else (jac, jac_mode))
     return orbit
 
 

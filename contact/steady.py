@@ -187,7 +187,8 @@ class SlowProblem:
         near = [w for w in self.cache if w * v > 0]
         if near:
             w = min(near, key=lambda w: abs(w - v))
-            o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode)
+            o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode,
+                           jacobian=self.cache[w].jacobian)
         else:
             o = find_orbit(self.fs, v)
         self.periods += o.periods
