@@ -40,7 +40,7 @@ ENERGY_STEPS_PER_PERIOD = 250
 integrals use Simpson's rule per step, whose relative error ~ (omega dt)^4 / 2880 is about
 1e-6 at 25 steps per period and 1e-10 at 250 (the energy balance closes to 1e-8)."""
 
-CHUNK_PERIODS = 20
+CHUNK_PERIODS = 80
 """Periods run in one kernel call between the watches for period-k repetition once Newton
 has given up (slowly converging or long-period orbits at low slider speed)."""
 
@@ -212,7 +212,8 @@ class Orbit:
         Drive periods simulated to find it (Newton's finite-difference runs included).
     newton_iterations : int
     phase_time : ndarray, shape (4,)
-        Time in stick, slip+, slip-, separation over the k periods (s).
+        Time in stick, slip+, slip-, separation over the k periods (s); zero for ``k = 0``
+        (:func:`orbit_phases` computes them over the averaging periods).
     work : ndarray, shape (6,)
         Work integrals of :mod:`contact.event_kernel` over the k periods (J); zero unless
         asked for (:func:`find_orbit` ``energy=True``, or :func:`orbit_work`).
@@ -393,7 +394,8 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
     # stick-slip at the tip) stands in, flagged with k = 0
     k = k_found if k_found else average_periods
     z = _consistent(fs, z, mode, v)
-    _, _, int_k, _, phase_time, _ = period_map(fs, z, mode, k, window=True)
+    # phase times of the k = 0 average are left to orbit_phases (the window triples the cost)
+    _, _, int_k, _, phase_time, _ = period_map(fs, z, mode, k, window=bool(k_found))
     if k != 1:
         int_ft = int_k
     _, _, int_fn, *_ = period_map(fs, z, mode, k, integrand="fn")
@@ -405,13 +407,21 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
     return orbit
 
 
-def orbit_work(fs: FastSystem, orbit: Orbit) -> np.ndarray:
+def orbit_phases(fs: FastSystem, orbit: Orbit, average_periods: int = 200) -> np.ndarray:
+    """Time in stick, slip+, slip-, separation (s) over the orbit's k periods, or for ``k = 0``
+    over the ``average_periods`` periods its averages were taken on."""
+    if orbit.k:
+        return orbit.phase_time
+    return period_map(fs, orbit.z, orbit.mode, average_periods, window=True)[4]
+
+
+def orbit_work(fs: FastSystem, orbit: Orbit, average_periods: int = 200) -> np.ndarray:
     """Work integrals (J) of :mod:`contact.event_kernel` over the orbit's k periods, at
-    :data:`ENERGY_STEPS_PER_PERIOD` steps per period (for ``k = 0`` over the periods the
-    averages were taken on, at the orbit's own step)."""
+    :data:`ENERGY_STEPS_PER_PERIOD` steps per period (for ``k = 0`` over the
+    ``average_periods`` periods the averages were taken on, at the orbit's own step)."""
     if orbit.k:
         return period_map(fs, orbit.z, orbit.mode, orbit.k, energy=True)[3]
-    span = int(round(float(np.sum(orbit.phase_time)) / fs.period_s))
+    span = average_periods
     sys_ = fs.ft_system
     z = np.array(orbit.z, dtype=float)
     z[S.X] = 0.0

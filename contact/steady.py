@@ -35,7 +35,14 @@ from scipy.optimize import brentq
 from contact.drive import free_tip_amplitudes
 from contact.friction import dynamic_friction
 from contact.model import COUPLINGS, OperatingPoint
-from contact.periodic_orbit import FastSystem, Orbit, fast_system, find_orbit, orbit_work
+from contact.periodic_orbit import (
+    FastSystem,
+    Orbit,
+    fast_system,
+    find_orbit,
+    orbit_phases,
+    orbit_work,
+)
 from contact.results import PHASE_THRESHOLD, classify_motion
 from rom.params import GRAVITY_M_S2, MotorParams
 
@@ -236,10 +243,11 @@ def _grid(v_max: float) -> np.ndarray:
 def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranch:
     o = sp.orbit(v)
     span = max(o.k, 1) if o.k else None
-    total = float(np.sum(o.phase_time))
-    frac = o.phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
+    phase_time = orbit_phases(sp.fs, o)
+    total = float(np.sum(phase_time))
+    frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
-    duration = float(np.sum(o.phase_time)) if span is None else span * sp.op.period_s
+    duration = total if span is None else span * sp.op.period_s
     w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in orbit_work(sp.fs, o))
     return SteadyBranch(
         velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
@@ -381,6 +389,10 @@ def _exact(sp: SlowProblem, branches, coupling: str):
             out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
         else:
             out.append(dataclasses.replace(b, from_rest=False))
+    # the dead zone is the only steady state: a start from rest stays held (or, released by
+    # the start-up transient, finds no moving branch to settle on and is held again)
+    if len(branches) == 1 and branches[0].motion == "dead-zone":
+        return (dataclasses.replace(out[0], from_rest=True),), 0.0, periods, newton
     # one stable branch well above the slider's velocity ripple: a start from rest reaches it
     fo = shots[0] if len(branches) == 1 and shots else None
     if fo is not None and fo.k == 1 and branches[0].stable and fo.multiplier < 1.0:
