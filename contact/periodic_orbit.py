@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact import event_kernel
+from contact import event_kernel, orbit_kernel
 from contact import state as S
 from contact.expm import expm_stack
 from contact.model import HybridSystem, OperatingPoint, build_system
@@ -39,6 +39,12 @@ ENERGY_STEPS_PER_PERIOD = 250
 """Steps per period of the runs that integrate the work (power) of an orbit: the kernel's work
 integrals use Simpson's rule per step, whose relative error ~ (omega dt)^4 / 2880 is about
 1e-6 at 25 steps per period and 1e-10 at 250 (the energy balance closes to 1e-8)."""
+
+NEWTON_MAX = 12
+"""Newton steps at most per orbit search."""
+
+NEWTON_FAILURES = 3
+"""Failed Newton steps in a row after which the search goes period by period."""
 
 CHUNK_PERIODS = 80
 """Periods run in one kernel call between the watches for period-k repetition once Newton
@@ -301,95 +307,23 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
     omega = 2 * np.pi / fs.period_s
     amp[1], amp[3] = omega * amp[0], omega * amp[2]
 
-    def defect(y_a, y_b):
-        return float(np.max(np.abs(y_a - y_b) / amp))
-
-    newton_it = 0
-    history: list[np.ndarray] = [z[_Y].copy()]
-    modes: list[int] = [mode]
-    k_found = 0
-    res = np.inf
-    failures = 0
-    # chord Newton: the Jacobian (of a neighbouring orbit, or of an earlier step) is reused
-    # while it contracts well and recomputed by finite differences when it does not
-    jac, jac_mode = (None, -1) if jac0 is None else (np.array(jac0[0]), int(jac0[1]))
-    pending = None  # P(z) already known: the image of an accepted Newton trial
-    int_ft = float("nan")
-    while periods < max_periods:
-        if pending is None:
-            z1, m1, i1, *_ = period_map(fs, z, mode)
-            z1 = _consistent(fs, z1, m1, v)
-            periods += 1
-        else:
-            z1, m1, i1 = pending
-            pending = None
-        res = defect(z1[_Y], z[_Y])
-        if res <= tol and m1 == mode:
-            k_found = 1
-            int_ft = i1
-            break
-        # Newton on P(y) - y with a finite-difference Jacobian, inside the current mode
-        free = [i for i in range(4) if not (i == 3 and (mode // 3) % 3 == S.STICK
-                                            and mode // 9 == S.CONTACT)]
-        newton_on = newton_it < 12 and failures < 3
-        if newton_on and m1 == mode:
-            fresh = jac is None or jac_mode != mode
-            if fresh:
-                jac = np.zeros((4, 4))
-                for i in free:
-                    zp = z.copy()
-                    h = 1e-7 * amp[i]
-                    zp[_Y[i]] += h
-                    zq, _, *_ = period_map(fs, zp, mode)
-                    periods += 1
-                    jac[:, i] = (zq[_Y] - z1[_Y]) / h
-                jac_mode = mode
-            g = z1[_Y] - z[_Y]
-            mat = (jac - np.eye(4))[np.ix_(free, free)]
-            try:
-                step = np.linalg.solve(mat, -g[free])
-            except np.linalg.LinAlgError:
-                step = None
-            newton_it += 1
-            if step is not None and np.all(np.isfinite(step)):
-                zn = z.copy()
-                zn[_Y[free]] += step
-                zn = _consistent(fs, zn, mode, v)
-                z2, m2, i2, *_ = period_map(fs, zn, mode)
-                z2 = _consistent(fs, z2, m2, v)
-                periods += 1
-                res2 = defect(z2[_Y], zn[_Y])
-                if m2 == mode and res2 < res:
-                    z = zn
-                    pending = (z2, m2, i2)
-                    failures = 0
-                    if res2 > 0.1 * res:  # slow contraction: a fresh Jacobian next step
-                        jac = None
-                    continue
-            jac = None
-            if not fresh:  # the reused Jacobian failed: retry from z with a fresh one
-                pending = (z1, m1, i1)
-                continue
-            failures += 1  # three failed Newton steps in a row: period by period only
-        # period-by-period fallback, watching for period-k repetition
-        z, mode = z1, m1
-        history.append(z[_Y].copy())
-        modes.append(mode)
-        history, modes = history[-(max_k + 1):], modes[-(max_k + 1):]
-        for k in range(2, max_k + 1):
-            if len(history) > k and modes[-1] == modes[-1 - k] and \
-                    defect(history[-1], history[-1 - k]) <= tol:
-                k_found = k
-                break
-        if k_found:
-            break
-        if len(history) > max_k and not newton_on and periods + CHUNK_PERIODS < max_periods:
-            # Newton is spent and no period-k repetition in the last max_k periods: jump
-            # CHUNK_PERIODS periods in one kernel call before watching again
-            z, mode, *_ = period_map(fs, z, mode, CHUNK_PERIODS)
-            z = _consistent(fs, z, mode, v)
-            periods += CHUNK_PERIODS
-            history, modes = [z[_Y].copy()], [mode]
+    jac_in, jac_mode_in = ((np.zeros((4, 4)), -1) if jac0 is None
+                           else (np.array(jac0[0], dtype=float), int(jac0[1])))
+    sys_ = fs.ft_system
+    code, k_found, z, mode, res, periods, newton_it, int_ft, jac, jac_mode = \
+        orbit_kernel.search_orbit(
+            z, int(mode), float(v), amp, float(fs.phi_Bl), fs.steps_per_period, fs.dt_s,
+            fs.phi_ft, fs.phi_half_ft, sys_.A, sys_.ev_h, sys_.ev_dh, sys_.ev_type, sys_.fn_m,
+            sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, float(tol), int(max_periods),
+            int(periods), int(max_k), CHUNK_PERIODS, jac_in, jac_mode_in, NEWTON_MAX,
+            NEWTON_FAILURES)
+    if code == orbit_kernel.CHATTER:
+        raise RuntimeError("contact chattering in the fixed-velocity fast problem")
+    mode = int(mode)
+    k_found = int(k_found)
+    jac_mode = int(jac_mode)
+    if jac_mode < 0:
+        jac = None
     # no k-periodic orbit found: the average over many periods (quasi-periodic or long-period
     # stick-slip at the tip) stands in, flagged with k = 0
     k = k_found if k_found else average_periods

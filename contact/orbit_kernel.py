@@ -1,0 +1,225 @@
+"""Compiled shooting loop of the fixed-velocity fast problem (:mod:`contact.periodic_orbit`).
+
+One call runs the whole search for a periodic orbit of the one-period map at slider velocity
+``v``: chord Newton on ``P(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b)`` with a
+finite-difference Jacobian, the period-by-period fallback that watches for period-k
+repetition, and the multi-period jumps once Newton has given up. It is the Python loop of
+:func:`contact.periodic_orbit.find_orbit` moved into numba, step for step, so that the dozens
+of one-period kernel calls of a search cost no Python dispatch; each period is one call of
+:func:`contact.event_kernel.integrate_switch_model` with its window closed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from contact.event_kernel import integrate_switch_model
+from contact.state import CONTACT, COS, DU, DW, DX, ONE, SIN, STICK, U, W, X
+
+N_Y = 4
+"""Shooting variables (u_l, du_l, w_b, dw_b)."""
+
+FOUND, SEARCH_OVER, CHATTER = 1, 0, -1
+"""Return codes: an orbit of period <= max_k, none within max_periods, kernel chattering."""
+
+
+@njit(cache=True)
+def _y_index(i):
+    if i == 0:
+        return U
+    if i == 1:
+        return DU
+    if i == 2:
+        return W
+    return DW
+
+
+@njit(cache=True)
+def _consistent(z, mode, v, phi_bl):
+    z[DX] = v
+    z[SIN] = 0.0
+    z[COS] = 1.0
+    z[ONE] = 1.0
+    if mode // 9 == CONTACT and (mode // 3) % 3 == STICK:
+        z[DW] = v / phi_bl
+
+
+@njit(cache=True)
+def _defect(za, zb, amp):
+    d = 0.0
+    for i in range(N_Y):
+        j = _y_index(i)
+        e = abs(za[j] - zb[j]) / amp[i]
+        if e > d:
+            d = e
+    return d
+
+
+@njit(cache=True)
+def _period(z, mode, periods, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
+            ft_m, ff_m, funcs, sc):
+    """``periods`` drive periods from ``z`` (x slot reset); returns status, the consistent
+    end state, its mode and the integral in the x slot."""
+    zs = z.copy()
+    zs[X] = 0.0
+    steps = n * periods
+    out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
+                                 fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64)
+    z_end = out[7].copy()
+    integral = z_end[X]
+    z_end[X] = 0.0
+    m_end = out[8]
+    _consistent(z_end, m_end, v, phi_bl)
+    return out[0], z_end, m_end, integral
+
+
+@njit(cache=True)
+def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
+                 ft_m, ff_m, funcs, sc, tol, max_periods, periods0, max_k, chunk, jac0,
+                 jac_mode0, max_newton, max_failures):
+    """Search a periodic orbit from the consistent state ``z0`` in mode ``mode0``.
+
+    Returns ``(code, k, z, mode, residual, periods, newton_iterations, integral, jac,
+    jac_mode)``: ``integral`` is the x-slot integral over the last period from ``z`` when
+    ``k == 1`` (NaN otherwise); ``jac`` (4 x 4) and ``jac_mode`` the last Jacobian (mode -1
+    when none).
+    """
+    z = z0.copy()
+    mode = mode0
+    periods = periods0
+    newton_it = 0
+    failures = 0
+    res = np.inf
+    jac = jac0.copy()
+    jac_mode = jac_mode0
+    hist = np.zeros((max_k + 1, z.size))
+    hist_modes = np.zeros(max_k + 1, dtype=np.int64)
+    n_hist = 1
+    hist[0, :] = z
+    hist_modes[0] = mode
+    have_pending = False
+    z1 = z.copy()
+    m1 = mode
+    i1 = 0.0
+    integral = np.nan
+    free = np.zeros(N_Y, dtype=np.bool_)
+    while periods < max_periods:
+        if not have_pending:
+            st, z1, m1, i1 = _period(z, mode, 1, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh,
+                                     ev_type, fn_m, ft_m, ff_m, funcs, sc)
+            if st != 0:
+                return CHATTER, 0, z, mode, res, periods, newton_it, integral, jac, jac_mode
+            periods += 1
+        have_pending = False
+        res = _defect(z1, z, amp)
+        if res <= tol and m1 == mode:
+            return FOUND, 1, z, mode, res, periods, newton_it, i1, jac, jac_mode
+        stick = mode // 9 == CONTACT and (mode // 3) % 3 == STICK
+        n_free = 0
+        for i in range(N_Y):
+            free[i] = not (i == 3 and stick)
+            if free[i]:
+                n_free += 1
+        newton_on = newton_it < max_newton and failures < max_failures
+        if newton_on and m1 == mode:
+            fresh = jac_mode != mode
+            if fresh:
+                jac[:, :] = 0.0
+                for i in range(N_Y):
+                    if not free[i]:
+                        continue
+                    zp = z.copy()
+                    h = 1e-7 * amp[i]
+                    zp[_y_index(i)] += h
+                    # the perturbed start keeps its perturbation: no consistency reset
+                    zs = zp.copy()
+                    zs[X] = 0.0
+                    out = integrate_switch_model(zs, mode, n, dt, phi, half, a, ev_h, ev_dh,
+                                                 ev_type, fn_m, ft_m, ff_m, funcs, sc, n, n,
+                                                 1, False, 64)
+                    if out[0] != 0:
+                        return (CHATTER, 0, z, mode, res, periods, newton_it, integral, jac,
+                                jac_mode)
+                    zq = out[7]
+                    periods += 1
+                    for r in range(N_Y):
+                        jac[r, i] = (zq[_y_index(r)] - z1[_y_index(r)]) / h
+                jac_mode = mode
+            mat = np.zeros((n_free, n_free))
+            rhs = np.zeros(n_free)
+            ri = 0
+            for r in range(N_Y):
+                if not free[r]:
+                    continue
+                ci = 0
+                for c in range(N_Y):
+                    if not free[c]:
+                        continue
+                    mat[ri, ci] = jac[r, c] - (1.0 if r == c else 0.0)
+                    ci += 1
+                rhs[ri] = -(z1[_y_index(r)] - z[_y_index(r)])
+                ri += 1
+            ok = True
+            step = rhs
+            if abs(np.linalg.det(mat)) == 0.0:
+                ok = False
+            else:
+                step = np.linalg.solve(mat, rhs)
+                for i in range(n_free):
+                    if not np.isfinite(step[i]):
+                        ok = False
+            newton_it += 1
+            if ok:
+                zn = z.copy()
+                ri = 0
+                for i in range(N_Y):
+                    if free[i]:
+                        zn[_y_index(i)] += step[ri]
+                        ri += 1
+                _consistent(zn, mode, v, phi_bl)
+                st, z2, m2, i2 = _period(zn, mode, 1, v, phi_bl, n, dt, phi, half, a, ev_h,
+                                         ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc)
+                if st != 0:
+                    return CHATTER, 0, z, mode, res, periods, newton_it, integral, jac, jac_mode
+                periods += 1
+                res2 = _defect(z2, zn, amp)
+                if m2 == mode and res2 < res:
+                    z = zn
+                    z1, m1, i1 = z2, m2, i2
+                    have_pending = True
+                    failures = 0
+                    if res2 > 0.1 * res:  # slow contraction: a fresh Jacobian next step
+                        jac_mode = -1
+                    continue
+            jac_mode = -1
+            if not fresh:  # the reused Jacobian failed: retry from z with a fresh one
+                have_pending = True
+                continue
+            failures += 1  # three failed Newton steps in a row: period by period only
+        # period-by-period fallback, watching for period-k repetition
+        z = z1
+        mode = m1
+        if n_hist == max_k + 1:
+            for j in range(max_k):
+                hist[j, :] = hist[j + 1, :]
+                hist_modes[j] = hist_modes[j + 1]
+            n_hist = max_k
+        hist[n_hist, :] = z
+        hist_modes[n_hist] = mode
+        n_hist += 1
+        last = n_hist - 1
+        for k in range(2, max_k + 1):
+            if n_hist > k and hist_modes[last] == hist_modes[last - k] and \
+                    _defect(hist[last], hist[last - k], amp) <= tol:
+                return FOUND, k, z, mode, res, periods, newton_it, integral, jac, jac_mode
+        if n_hist > max_k and not newton_on and periods + chunk < max_periods:
+            st, z, mode, _ = _period(z, mode, chunk, v, phi_bl, n, dt, phi, half, a, ev_h,
+                                     ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc)
+            if st != 0:
+                return CHATTER, 0, z, mode, res, periods, newton_it, integral, jac, jac_mode
+            periods += chunk
+            hist[0, :] = z
+            hist_modes[0] = mode
+            n_hist = 1
+    return SEARCH_OVER, 0, z, mode, res, periods, newton_it, integral, jac, jac_mode
