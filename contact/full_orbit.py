@@ -8,7 +8,8 @@ piecewise-affine map, started on an averaged orbit or on the end of a transient.
 slider velocity of the orbit is its distance over kT. Components fixed by the mode (``dx = 0``
 while the guide holds, ``dx = phi_B(l) dw_b`` in stick) are dropped from the unknowns.
 
-The one-period map reuses :func:`contact.event_kernel.integrate_switch_model`.
+The one-period map reuses :func:`contact.event_kernel.integrate_switch_model`; the Newton loop
+runs compiled (:func:`contact.orbit_kernel.shoot_full`).
 """
 
 from __future__ import annotations
@@ -17,13 +18,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact import event_kernel
+from contact import event_kernel, orbit_kernel
 from contact import state as S
 from contact.model import HybridSystem, OperatingPoint, build_system
 from contact.periodic_orbit import ENERGY_STEPS_PER_PERIOD, propagator_ladder, steps_for
 from rom.params import MotorParams
-
-_Y = np.array([S.U, S.DU, S.W, S.DW, S.DX])
 
 
 @dataclass(frozen=True)
@@ -98,16 +97,6 @@ def _consistent(fs: FullSystem, z: np.ndarray, mode: int) -> np.ndarray:
     return z
 
 
-def _free(mode: int) -> list[int]:
-    stick = mode // 9 == S.CONTACT and (mode // 3) % 3 == S.STICK
-    held = mode % 3 == S.HELD
-    if stick and held:
-        return [0, 1, 2]
-    if stick or held:
-        return [0, 1, 2, 3]
-    return [0, 1, 2, 3, 4]
-
-
 @dataclass(frozen=True)
 class FullOrbit:
     """A k-periodic orbit of the full model.
@@ -153,40 +142,17 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
     omega = 2 * np.pi / fs.period_s
     amp[1], amp[3] = omega * amp[0], omega * amp[2]
     amp[4] = max(abs(z[S.DX]), fs.phi_Bl * amp[3] * 1e-3, 1e-9)
-    periods, res = 0, np.inf
-    it = 0
-    mult = np.nan
-    for it in range(1, max_newton + 1):  # noqa: B007 - reported
-        z1, m1, dist, _, _ = run_periods(fs, z, mode, k)
-        z1 = _consistent(fs, z1, m1)
-        periods += k
-        g = z1[_Y] - z[_Y]
-        res = float(np.max(np.abs(g) / amp))
-        if m1 == mode and res <= tol:
-            break
-        free = _free(mode)
-        jac = np.zeros((5, 5))
-        for i in free:
-            zp = z.copy()
-            h = 1e-7 * amp[i]
-            zp[_Y[i]] += h
-            zq, _, _, _, _ = run_periods(fs, _consistent(fs, zp, mode), mode, k)
-            periods += k
-            jac[:, i] = (_consistent(fs, zq, m1)[_Y] - z1[_Y]) / h
-        sub = jac[np.ix_(free, free)]
-        mult = float(np.max(np.abs(np.linalg.eigvals(sub)))) if np.all(np.isfinite(sub)) \
-            else np.nan
-        mat = (jac - np.eye(5))[np.ix_(free, free)]
-        try:
-            step = np.linalg.solve(mat, -g[free])
-        except np.linalg.LinAlgError:
-            break
-        if m1 != mode:  # the mode at the section changed: continue from the image
-            z, mode = z1, m1
-            continue
-        zn = z.copy()
-        zn[_Y[free]] += step
-        z = _consistent(fs, zn, mode)
+    s = fs.system
+    code, z, mode, res, periods, it, jac, free = orbit_kernel.shoot_full(
+        z, mode, int(k), amp, float(fs.phi_Bl), fs.steps_per_period, fs.dt_s, fs.phi,
+        fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m, s.ft_m, s.ff_m, s.funcs,
+        s.scalars, float(tol), int(max_newton))
+    if code == orbit_kernel.CHATTER:
+        raise RuntimeError("contact chattering in the full-model shooting")
+    mode, periods, it = int(mode), int(periods), int(it)
+    sub = jac[np.ix_(free, free)]
+    mult = (float(np.max(np.abs(np.linalg.eigvals(sub))))
+            if free.any() and np.all(np.isfinite(sub)) else np.nan)
     converged = res <= tol
     z = _consistent(fs, z, mode)
     _, _, dist, work, phase_time = run_periods(fs, z, mode, k, energy=True)

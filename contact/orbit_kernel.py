@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 from contact.event_kernel import integrate_switch_model
-from contact.state import CONTACT, COS, DU, DW, DX, ONE, SIN, STICK, U, W, X
+from contact.state import CONTACT, COS, DU, DW, DX, HELD, ONE, SIN, STICK, U, W, X
 
 N_Y = 4
 """Shooting variables (u_l, du_l, w_b, dw_b)."""
@@ -223,3 +223,131 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
             hist_modes[0] = mode
             n_hist = 1
     return SEARCH_OVER, 0, z, mode, res, periods, newton_it, integral, jac, jac_mode
+
+
+@njit(cache=True)
+def _full_consistent(z, mode, phi_bl):
+    z[SIN] = 0.0
+    z[COS] = 1.0
+    z[ONE] = 1.0
+    stick = mode // 9 == CONTACT and (mode // 3) % 3 == STICK
+    held = mode % 3 == HELD
+    if stick and held:
+        z[DW] = 0.0
+        z[DX] = 0.0
+    elif stick:
+        z[DX] = phi_bl * z[DW]
+    elif held:
+        z[DX] = 0.0
+
+
+@njit(cache=True)
+def _full_y(i):
+    if i < N_Y:
+        return _y_index(i)
+    return DX
+
+
+@njit(cache=True)
+def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
+               ft_m, ff_m, funcs, sc, tol, max_newton):
+    """Newton on the k-period map of the full model, ``y = (u_l, du_l, w_b, dw_b, dx)``:
+    the loop of :func:`contact.full_orbit.shoot` compiled.
+
+    Returns ``(code, z, mode, residual, periods, iterations, jac, free)``: ``code`` is
+    :data:`FOUND` when converged, :data:`SEARCH_OVER` when not, :data:`CHATTER` on kernel
+    chattering; ``jac`` (5 x 5) the last finite-difference Jacobian and ``free`` its free
+    components (NaN Jacobian when none was formed).
+    """
+    z = z0.copy()
+    mode = mode0
+    _full_consistent(z, mode, phi_bl)
+    periods = 0
+    res = np.inf
+    it = 0
+    steps = n * k
+    jac = np.full((N_Y + 1, N_Y + 1), np.nan)
+    free = np.zeros(N_Y + 1, dtype=np.bool_)
+    last_free = np.zeros(N_Y + 1, dtype=np.bool_)
+    for it in range(1, max_newton + 1):
+        zs = z.copy()
+        zs[X] = 0.0
+        out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
+                                     fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64)
+        if out[0] != 0:
+            return CHATTER, z, mode, res, periods, it, jac, last_free
+        z1 = out[7].copy()
+        z1[X] = 0.0
+        m1 = out[8]
+        _full_consistent(z1, m1, phi_bl)
+        periods += k
+        res = 0.0
+        for i in range(N_Y + 1):
+            e = abs(z1[_full_y(i)] - z[_full_y(i)]) / amp[i]
+            if e > res:
+                res = e
+        if m1 == mode and res <= tol:
+            return FOUND, z, mode, res, periods, it, jac, last_free
+        stick = mode // 9 == CONTACT and (mode // 3) % 3 == STICK
+        held = mode % 3 == HELD
+        n_free = 0
+        for i in range(N_Y + 1):
+            if stick and held:
+                free[i] = i < 3
+            elif stick or held:
+                free[i] = i < 4
+            else:
+                free[i] = True
+            if free[i]:
+                n_free += 1
+        jac[:, :] = 0.0
+        for i in range(N_Y + 1):
+            if not free[i]:
+                continue
+            zp = z.copy()
+            h = 1e-7 * amp[i]
+            zp[_full_y(i)] += h
+            _full_consistent(zp, mode, phi_bl)
+            zp[X] = 0.0
+            outp = integrate_switch_model(zp, mode, steps, dt, phi, half, a, ev_h, ev_dh,
+                                          ev_type, fn_m, ft_m, ff_m, funcs, sc, steps, steps,
+                                          1, False, 64)
+            if outp[0] != 0:
+                return CHATTER, z, mode, res, periods, it, jac, last_free
+            zq = outp[7].copy()
+            _full_consistent(zq, m1, phi_bl)
+            periods += k
+            for r in range(N_Y + 1):
+                jac[r, i] = (zq[_full_y(r)] - z1[_full_y(r)]) / h
+        last_free[:] = free
+        mat = np.zeros((n_free, n_free))
+        rhs = np.zeros(n_free)
+        ri = 0
+        finite = True
+        for r in range(N_Y + 1):
+            if not free[r]:
+                continue
+            ci = 0
+            for c in range(N_Y + 1):
+                if not free[c]:
+                    continue
+                mat[ri, ci] = jac[r, c] - (1.0 if r == c else 0.0)
+                if not np.isfinite(mat[ri, ci]):
+                    finite = False
+                ci += 1
+            rhs[ri] = -(z1[_full_y(r)] - z[_full_y(r)])
+            ri += 1
+        if not finite or np.linalg.det(mat) == 0.0:
+            break
+        step = np.linalg.solve(mat, rhs)
+        if m1 != mode:  # the mode at the section changed: continue from the image
+            z = z1
+            mode = m1
+            continue
+        ri = 0
+        for i in range(N_Y + 1):
+            if free[i]:
+                z[_full_y(i)] += step[ri]
+                ri += 1
+        _full_consistent(z, mode, phi_bl)
+    return SEARCH_OVER, z, mode, res, periods, it, jac, last_free

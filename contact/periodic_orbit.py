@@ -6,7 +6,8 @@ orbit; within each contact mode the flow is linear, so the one-period map is pie
 The orbit is found by shooting: a few periods simulated period by period, then Newton on
 ``P(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b)`` with the Jacobian of the piecewise-affine
 map by finite differences (exact inside one mode sequence), falling back to period-by-period
-iteration when Newton does not contract; period-k orbits are detected from the iterates.
+iteration when Newton does not contract; period-k orbits are detected from the iterates. The
+search loop runs compiled (:func:`contact.orbit_kernel.search_orbit`).
 
 The one-period map reuses the event-located kernel :func:`contact.event_kernel.
 integrate_switch_model` on a modified system: the slider row of every generator is zeroed
