@@ -351,3 +351,68 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
                 ri += 1
         _full_consistent(z, mode, phi_bl)
     return SEARCH_OVER, z, mode, res, periods, it, jac, last_free
+
+
+@njit(cache=True)
+def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half, a, ev_h,
+                        ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc, phi_fn, half_fn, a_fn,
+                        ev_dh_fn, tol, max_periods, max_k, chunk, jac0, jac_mode0,
+                        max_newton, max_failures, average_periods):
+    """Warm-up, :func:`search_orbit` and the period averages of one fast-problem orbit.
+
+    The arrays ``phi_fn, half_fn, a_fn, ev_dh_fn`` are those of the system whose x slot
+    integrates F_N (the other fields are shared). Returns ``(code, k, z, mode, residual,
+    periods, newton_iterations, int_ft, int_fn, phase_time, jac, jac_mode)``: the integrals
+    (N s) over k periods (over ``average_periods`` when k = 0; phase times then zero).
+    """
+    z = z0.copy()
+    mode = mode0
+    _consistent(z, mode, v, phi_bl)
+    periods = 0
+    nan4 = np.zeros(4)
+    if warmup > 0:  # one kernel call: the drive phase is reset at its end only
+        st, z, mode, _ = _period(z, mode, warmup, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh,
+                                 ev_type, fn_m, ft_m, ff_m, funcs, sc)
+        if st != 0:
+            return (CHATTER, 0, z, mode, np.inf, periods, 0, np.nan, np.nan, nan4, jac0,
+                    jac_mode0)
+        periods += warmup
+    amp = np.zeros(N_Y)
+    amp[0] = max(abs(z[U]), 1e-12)
+    amp[2] = max(abs(z[W]), 1e-12)
+    omega = 2.0 * np.pi / period_s
+    amp[1] = omega * amp[0]
+    amp[3] = omega * amp[2]
+    code, k, z, mode, res, periods, newton_it, int_ft, jac, jac_mode = search_orbit(
+        z, mode, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m,
+        funcs, sc, tol, max_periods, periods, max_k, chunk, jac0, jac_mode0, max_newton,
+        max_failures)
+    if code == CHATTER:
+        return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
+                jac_mode)
+    kk = k if k > 0 else average_periods
+    _consistent(z, mode, v, phi_bl)
+    steps = n * kk
+    zs = z.copy()
+    zs[X] = 0.0
+    # phase times of the k = 0 average are left to the caller (the window triples the cost)
+    out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
+                                 ft_m, ff_m, funcs, sc, 0 if k > 0 else steps, steps, 1, False,
+                                 64)
+    if out[0] != 0:
+        return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
+                jac_mode)
+    phase_time = out[4].copy()
+    if k != 1:
+        int_ft = out[7][X]
+    zs = z.copy()
+    zs[X] = 0.0
+    out2 = integrate_switch_model(zs, mode, steps, dt, phi_fn, half_fn, a_fn, ev_h, ev_dh_fn,
+                                  ev_type, fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False,
+                                  64)
+    if out2[0] != 0:
+        return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
+                jac_mode)
+    periods += 2 * kk
+    return (code, k, z, mode, res, periods, newton_it, int_ft, out2[7][X], phase_time, jac,
+            jac_mode)

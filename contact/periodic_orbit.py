@@ -51,9 +51,6 @@ CHUNK_PERIODS = 80
 """Periods run in one kernel call between the watches for period-k repetition once Newton
 has given up (slowly converging or long-period orbits at low slider speed)."""
 
-_Y = np.array([S.U, S.DU, S.W, S.DW])
-
-
 @dataclass(frozen=True)
 class FastSystem:
     """The stator-only hybrid system at fixed slider velocity (built by :func:`fast_system`).
@@ -253,15 +250,6 @@ def _start(fs: FastSystem, v: float) -> tuple[np.ndarray, int]:
     return z, S.mode_index(contact, tip, guide)
 
 
-def _consistent(fs: FastSystem, z: np.ndarray, mode: int, v: float) -> np.ndarray:
-    z = z.copy()
-    z[S.DX] = v
-    z[S.SIN], z[S.COS], z[S.ONE] = 0.0, 1.0, 1.0  # drive phase 0 at every period start
-    if mode // 9 == S.CONTACT and (mode // 3) % 3 == S.STICK:
-        z[S.DW] = v / fs.phi_Bl
-    return z
-
-
 def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: int | None = None,
                *, tol: float = 1e-11, max_periods: int = 400, warmup: int = 20,
                max_k: int = 4, average_periods: int = 200, energy: bool = False,
@@ -297,49 +285,25 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
 
 def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_periods: int,
           warmup: int, max_k: int, average_periods: int, jac0=None) -> Orbit:
-    z = _consistent(fs, z, mode, v)
-    periods = 0
-    if warmup:  # one kernel call: the drive phase is reset at its end only
-        z, mode, *_ = period_map(fs, z, mode, warmup)
-        z = _consistent(fs, z, mode, v)
-        periods += warmup
-    amp = np.array([max(np.max(np.abs(z[[S.U]])), 1e-12), 0.0,
-                    max(abs(z[S.W]), 1e-12), 0.0])
-    omega = 2 * np.pi / fs.period_s
-    amp[1], amp[3] = omega * amp[0], omega * amp[2]
-
     jac_in, jac_mode_in = ((np.zeros((4, 4)), -1) if jac0 is None
                            else (np.array(jac0[0], dtype=float), int(jac0[1])))
-    sys_ = fs.ft_system
-    code, k_found, z, mode, res, periods, newton_it, int_ft, jac, jac_mode = \
-        orbit_kernel.search_orbit(
-            z, int(mode), float(v), amp, float(fs.phi_Bl), fs.steps_per_period, fs.dt_s,
-            fs.phi_ft, fs.phi_half_ft, sys_.A, sys_.ev_h, sys_.ev_dh, sys_.ev_type, sys_.fn_m,
-            sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, float(tol), int(max_periods),
-            int(periods), int(max_k), CHUNK_PERIODS, jac_in, jac_mode_in, NEWTON_MAX,
-            NEWTON_FAILURES)
+    s, f = fs.ft_system, fs.fn_system
+    (code, k_found, z, mode, res, periods, newton_it, int_ft, int_fn, phase_time, jac,
+     jac_mode) = orbit_kernel.find_orbit_compiled(
+        np.asarray(z, dtype=float), int(mode), float(v), float(fs.phi_Bl), float(fs.period_s),
+        int(warmup), fs.steps_per_period, fs.dt_s, fs.phi_ft, fs.phi_half_ft, s.A, s.ev_h,
+        s.ev_dh, s.ev_type, s.fn_m, s.ft_m, s.ff_m, s.funcs, s.scalars, fs.phi_fn,
+        fs.phi_half_fn, f.A, f.ev_dh, float(tol), int(max_periods), int(max_k), CHUNK_PERIODS,
+        jac_in, jac_mode_in, NEWTON_MAX, NEWTON_FAILURES, int(average_periods))
     if code == orbit_kernel.CHATTER:
         raise RuntimeError("contact chattering in the fixed-velocity fast problem")
-    mode = int(mode)
-    k_found = int(k_found)
-    jac_mode = int(jac_mode)
-    if jac_mode < 0:
-        jac = None
-    # no k-periodic orbit found: the average over many periods (quasi-periodic or long-period
-    # stick-slip at the tip) stands in, flagged with k = 0
-    k = k_found if k_found else average_periods
-    z = _consistent(fs, z, mode, v)
-    # phase times of the k = 0 average are left to orbit_phases (the window triples the cost)
-    _, _, int_k, _, phase_time, _ = period_map(fs, z, mode, k, window=bool(k_found))
-    if k != 1:
-        int_ft = int_k
-    _, _, int_fn, *_ = period_map(fs, z, mode, k, integrand="fn")
-    periods += 2 * k
-    span = k * fs.period_s
-    orbit = Orbit(float(v), k_found, z, mode, int_ft / span, int_fn / span, float(res),
-                  periods, newton_it, phase_time, np.zeros(event_kernel.N_WORK),
-                  None if jac is None else (jac, jac_mode))
-    return orbit
+    k_found, jac_mode = int(k_found), int(jac_mode)
+    # no k-periodic orbit found (k = 0): the average over many periods (quasi-periodic or
+    # long-period stick-slip at the tip) stands in
+    span = (k_found if k_found else average_periods) * fs.period_s
+    return Orbit(float(v), k_found, z, int(mode), float(int_ft) / span, float(int_fn) / span,
+                 float(res), int(periods), int(newton_it), phase_time,
+                 np.zeros(event_kernel.N_WORK), None if jac_mode < 0 else (jac, jac_mode))
 
 
 def orbit_phases(fs: FastSystem, orbit: Orbit, average_periods: int = 200) -> np.ndarray:
