@@ -75,6 +75,28 @@ def main() -> None:
               f"held points {int((~moving).sum())}")
     if args.map:
         _map_line(params, rows, t_ref)
+    else:
+        _fixed_costs(params, rows[0], repeats)
+
+
+def _fixed_costs(params, row, repeats: int) -> None:
+    """What one steady point costs before any orbit is searched: the Eq. 11 pre-pass (the
+    A_N transient that fixes mu_d,eff exactly as the transient scheme does) and the fast and
+    full systems with their matrix exponentials; the speed-up cannot exceed the transient's
+    time over their sum."""
+    from contact.full_orbit import full_system
+    from contact.model import OperatingPoint
+    from contact.periodic_orbit import fast_system
+    from contact.simulate import normal_amplitude
+
+    op = OperatingPoint(row["voltage_V"], row["preload_N"], 40e3)
+    _, t_pre = _timed(lambda: normal_amplitude(params, op), max(repeats, 5))
+    _, t_sys = _timed(lambda: (fast_system(params, op, params.mu_d),
+                               full_system(params, op, params.mu_d)), max(repeats, 5))
+    t_ref = row["transient_s"]
+    print(f"fixed costs: Eq. 11 pre-pass = transient / {t_ref / t_pre:.3g}, systems and "
+          f"propagators = transient / {t_ref / t_sys:.3g} -> speed-up bound "
+          f"{t_ref / (t_pre + t_sys):.3g}x")
 
 
 def _map_line(params, rows, t_ref: float) -> None:
