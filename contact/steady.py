@@ -385,7 +385,10 @@ def _exact(sp: SlowProblem, branches, coupling: str):
             newton += fo.newton_iterations
         shots.append(fo)
         if fo is not None and fo.k:
-            full = _full_branch(sp, fo, bool(fo.multiplier < 1.0), False)
+            # no multiplier when the shot converged before forming a Jacobian: the averaged
+            # stability stands
+            stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else b.stable
+            full = _full_branch(sp, fo, stable, False)
             out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
         else:
             out.append(dataclasses.replace(b, from_rest=False))
@@ -438,7 +441,10 @@ def _exact(sp: SlowProblem, branches, coupling: str):
     if match:
         out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
     elif fo is not None:
-        out.append(_full_branch(sp, fo, bool(fo.multiplier < 1.0), True))
+        # a transient from rest settled on it: stable unless its multiplier says otherwise
+        # (none when the shot from the transient's end converged at once)
+        stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else True
+        out.append(_full_branch(sp, fo, stable, True))
     out.sort(key=lambda b: b.velocity_m_s)
     return tuple(out), (0.0 if held else v_rest), periods, newton
 
