@@ -6,7 +6,8 @@ finite-difference Jacobian, the period-by-period fallback that watches for perio
 repetition, and the multi-period jumps once Newton has given up. It is the Python loop of
 :func:`contact.periodic_orbit.find_orbit` moved into numba, step for step, so that the dozens
 of one-period kernel calls of a search cost no Python dispatch; each period is one call of
-:func:`contact.event_kernel.integrate_switch_model` with its window closed.
+:func:`contact.event_kernel.integrate_switch_model` with its window closed. Like that kernel,
+every function here releases the GIL (``nogil``): ``lusm map`` runs points on a thread pool.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ FOUND, SEARCH_OVER, CHATTER = 1, 0, -1
 """Return codes: an orbit of period <= max_k, none within max_periods, kernel chattering."""
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _y_index(i):
     if i == 0:
         return U
@@ -35,7 +36,7 @@ def _y_index(i):
     return DW
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _consistent(z, mode, v, phi_bl):
     z[DX] = v
     z[SIN] = 0.0
@@ -45,7 +46,7 @@ def _consistent(z, mode, v, phi_bl):
         z[DW] = v / phi_bl
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _defect(za, zb, amp):
     d = 0.0
     for i in range(N_Y):
@@ -56,7 +57,7 @@ def _defect(za, zb, amp):
     return d
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _period(z, mode, periods, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
             ft_m, ff_m, funcs, sc):
     """``periods`` drive periods from ``z`` (x slot reset); returns status, the consistent
@@ -74,7 +75,7 @@ def _period(z, mode, periods, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_ty
     return out[0], z_end, m_end, integral
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
                  ft_m, ff_m, funcs, sc, tol, max_periods, periods0, max_k, chunk, jac0,
                  jac_mode0, max_newton, max_failures):
@@ -225,7 +226,7 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
     return SEARCH_OVER, 0, z, mode, res, periods, newton_it, integral, jac, jac_mode
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _full_consistent(z, mode, phi_bl):
     z[SIN] = 0.0
     z[COS] = 1.0
@@ -241,14 +242,14 @@ def _full_consistent(z, mode, phi_bl):
         z[DX] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _full_y(i):
     if i < N_Y:
         return _y_index(i)
     return DX
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
                ft_m, ff_m, funcs, sc, tol, max_newton):
     """Newton on the k-period map of the full model, ``y = (u_l, du_l, w_b, dw_b, dx)``:
@@ -353,7 +354,7 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
     return SEARCH_OVER, z, mode, res, periods, it, jac, last_free
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half, a, ev_h,
                         ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc, phi_fn, half_fn, a_fn,
                         ev_dh_fn, tol, max_periods, max_k, chunk, jac0, jac_mode0,
