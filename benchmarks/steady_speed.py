@@ -5,8 +5,8 @@
 
 The reference is the event scheme run from rest for ``--duration`` seconds (default 0.3 s,
 12 000 periods) and averaged over its last 400 periods: the settled transient. Times are wall
-times measured in the same run; the first call of each solver is made before timing (numba
-compilation excluded).
+times measured in the same run, medians of ``--repeats`` calls (5 for the single point, 1 on
+the map); the first call of each solver is made before timing (numba compilation excluded).
 """
 
 from __future__ import annotations
@@ -21,16 +21,24 @@ from contact.steady import steady_state, transient_reference
 from rom import table2
 
 
-def _point(params, v0, fp, duration):
-    t = time.perf_counter()
-    v_ref, motion = transient_reference(params, v0, fp, duration_s=duration)
-    t_ref = time.perf_counter() - t
+def _timed(fn, repeats):
+    """``(result, median wall time)`` over ``repeats`` calls."""
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return out, float(np.median(times))
+
+
+def _point(params, v0, fp, duration, repeats=1):
+    (v_ref, motion), t_ref = _timed(
+        lambda: transient_reference(params, v0, fp, duration_s=duration), repeats)
     row = {"voltage_V": v0, "preload_N": fp, "motion": motion, "transient_m_s": v_ref,
            "transient_s": t_ref}
     for acc in ("fast", "exact"):
-        t = time.perf_counter()
-        r = steady_state(params, v0, fp, accuracy=acc)
-        row[f"{acc}_s"] = time.perf_counter() - t
+        r, row[f"{acc}_s"] = _timed(lambda acc=acc: steady_state(params, v0, fp, accuracy=acc),
+                                    repeats)
         row[f"{acc}_m_s"] = r.velocity_m_s
         row[f"{acc}_branches"] = len(r.branches)
         scale = max(abs(v_ref), 1e-12)
@@ -43,13 +51,16 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--map", action="store_true", help="run the 9 x 9 map")
     ap.add_argument("--duration", type=float, default=0.3, help="transient length (s)")
+    ap.add_argument("--repeats", type=int, default=None,
+                    help="timed repeats per point, medians reported (default 5, map 1)")
     args = ap.parse_args()
     params = table2()
     steady_state(params, 200, 14, accuracy="exact")  # warm the numba cache
     transient_reference(params, 200, 14, duration_s=0.01, steady_periods=20)
     points = ([(v, f) for v in np.linspace(50, 450, 9) for f in np.linspace(10, 26, 9)]
               if args.map else [(200.0, 14.0)])
-    rows = [_point(params, float(v), float(f), args.duration) for v, f in points]
+    repeats = args.repeats or (1 if args.map else 5)
+    rows = [_point(params, float(v), float(f), args.duration, repeats) for v, f in points]
     for r in rows:
         print(json.dumps(r))
     t_ref = sum(r["transient_s"] for r in rows)
@@ -64,6 +75,28 @@ def main() -> None:
               f"held points {int((~moving).sum())}")
     if args.map:
         _map_line(params, rows, t_ref)
+    else:
+        _fixed_costs(params, rows[0], repeats)
+
+
+def _fixed_costs(params, row, repeats: int) -> None:
+    """What one steady point costs before any orbit is searched: the Eq. 11 pre-pass (the
+    A_N transient that fixes mu_d,eff exactly as the transient scheme does) and the fast and
+    full systems with their matrix exponentials; the speed-up cannot exceed the transient's
+    time over their sum."""
+    from contact.full_orbit import full_system
+    from contact.model import OperatingPoint
+    from contact.periodic_orbit import fast_system
+    from contact.simulate import normal_amplitude
+
+    op = OperatingPoint(row["voltage_V"], row["preload_N"], 40e3)
+    _, t_pre = _timed(lambda: normal_amplitude(params, op), max(repeats, 5))
+    _, t_sys = _timed(lambda: (fast_system(params, op, params.mu_d),
+                               full_system(params, op, params.mu_d)), max(repeats, 5))
+    t_ref = row["transient_s"]
+    print(f"fixed costs: Eq. 11 pre-pass = transient / {t_ref / t_pre:.3g}, systems and "
+          f"propagators = transient / {t_ref / t_sys:.3g} -> speed-up bound "
+          f"{t_ref / (t_pre + t_sys):.3g}x")
 
 
 def _map_line(params, rows, t_ref: float) -> None:

@@ -8,27 +8,28 @@ piecewise-affine map, started on an averaged orbit or on the end of a transient.
 slider velocity of the orbit is its distance over kT. Components fixed by the mode (``dx = 0``
 while the guide holds, ``dx = phi_B(l) dw_b`` in stick) are dropped from the unknowns.
 
-The one-period map reuses :func:`contact.event_kernel.integrate_switch_model`.
+The one-period map reuses :func:`contact.event_kernel.integrate_switch_model`; the Newton loop
+runs compiled (:func:`contact.orbit_kernel.shoot_full`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact import event_kernel
+from contact import event_kernel, orbit_kernel
 from contact import state as S
 from contact.model import HybridSystem, OperatingPoint, build_system
-from contact.periodic_orbit import STEPS_PER_PERIOD
+from contact.periodic_orbit import ENERGY_STEPS_PER_PERIOD, propagator_ladder, steps_for
 from rom.params import MotorParams
-
-_Y = np.array([S.U, S.DU, S.W, S.DW, S.DX])
 
 
 @dataclass(frozen=True)
 class FullSystem:
-    """The full model of one operating point with its one-step propagators."""
+    """The full model of one operating point with its one-step propagators (``fine``: cache
+    of the propagators at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD`, the step of
+    the work integrals)."""
 
     system: HybridSystem
     phi: np.ndarray
@@ -36,27 +37,42 @@ class FullSystem:
     dt_s: float
     period_s: float
     phi_Bl: float
+    steps_per_period: int = 0
+    fine: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 def full_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
-                coupling: str = "paper") -> FullSystem:
-    """Build the full model (load included) for shooting."""
+                coupling: str = "paper", steps_per_period: int | None = None) -> FullSystem:
+    """Build the full model (load included) for shooting (steps per period as
+    :func:`contact.periodic_orbit.steps_for`)."""
     sys_ = build_system(params, op, mu_d_eff, coupling)
-    dt = op.period_s / STEPS_PER_PERIOD
-    phi, half = sys_.propagators(dt)
-    return FullSystem(sys_, phi, half, dt, op.period_s, params.phi_Bl)
+    n = steps_for(sys_, op.period_s, steps_per_period)
+    dt = op.period_s / n
+    phi, half, fine = propagator_ladder(sys_, op.period_s, n)
+    fs = FullSystem(sys_, phi, half, dt, op.period_s, params.phi_Bl, n)
+    if fine is not None:
+        fs.fine["phi"] = fine
+    return fs
 
 
 def run_periods(fs: FullSystem, z: np.ndarray, mode: int, periods: int, energy: bool = False):
     """Advance ``periods`` drive periods; returns ``(z_end, mode_end, distance_m, work,
-    phase_time)`` with the position slot reset to 0 at the start."""
+    phase_time)`` with the position slot reset to 0 at the start (work and phase time are
+    accumulated, and non-zero, only when ``energy``, at a step of at most
+    ``T / ENERGY_STEPS_PER_PERIOD``)."""
     s = fs.system
     z = np.array(z, dtype=float)
     z[S.X] = 0.0
-    n = STEPS_PER_PERIOD * periods
+    steps, dt, phi, half = fs.steps_per_period, fs.dt_s, fs.phi, fs.phi_half
+    if energy and steps < ENERGY_STEPS_PER_PERIOD:
+        steps, dt = ENERGY_STEPS_PER_PERIOD, fs.period_s / ENERGY_STEPS_PER_PERIOD
+        if "phi" not in fs.fine:
+            fs.fine["phi"] = s.propagators(dt)
+        phi, half = fs.fine["phi"]
+    n = steps * periods
     out = event_kernel.integrate_switch_model(
-        z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
-        s.ft_m, s.ff_m, s.funcs, s.scalars, 0, n, 1, energy, 64)
+        z, mode, n, dt, phi, half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
+        s.ft_m, s.ff_m, s.funcs, s.scalars, 0 if energy else n, n, 1, energy, 64)
     status, _, _, _, phase_time, work, _, z_end, mode_end = out
     if status != S.OK:
         raise RuntimeError("contact chattering in the full-model shooting")
@@ -79,16 +95,6 @@ def _consistent(fs: FullSystem, z: np.ndarray, mode: int) -> np.ndarray:
     elif held:
         z[S.DX] = 0.0
     return z
-
-
-def _free(mode: int) -> list[int]:
-    stick = mode // 9 == S.CONTACT and (mode // 3) % 3 == S.STICK
-    held = mode % 3 == S.HELD
-    if stick and held:
-        return [0, 1, 2]
-    if stick or held:
-        return [0, 1, 2, 3]
-    return [0, 1, 2, 3, 4]
 
 
 @dataclass(frozen=True)
@@ -136,43 +142,36 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
     omega = 2 * np.pi / fs.period_s
     amp[1], amp[3] = omega * amp[0], omega * amp[2]
     amp[4] = max(abs(z[S.DX]), fs.phi_Bl * amp[3] * 1e-3, 1e-9)
-    periods, res = 0, np.inf
-    it = 0
-    mult = np.nan
-    for it in range(1, max_newton + 1):  # noqa: B007 - reported
-        z1, m1, dist, _, _ = run_periods(fs, z, mode, k)
-        z1 = _consistent(fs, z1, m1)
-        periods += k
-        g = z1[_Y] - z[_Y]
-        res = float(np.max(np.abs(g) / amp))
-        if m1 == mode and res <= tol:
-            break
-        free = _free(mode)
-        jac = np.zeros((5, 5))
-        for i in free:
-            zp = z.copy()
-            h = 1e-7 * amp[i]
-            zp[_Y[i]] += h
-            zq, _, _, _, _ = run_periods(fs, _consistent(fs, zp, mode), mode, k)
-            periods += k
-            jac[:, i] = (_consistent(fs, zq, m1)[_Y] - z1[_Y]) / h
-        sub = jac[np.ix_(free, free)]
-        mult = float(np.max(np.abs(np.linalg.eigvals(sub)))) if np.all(np.isfinite(sub)) \
-            else np.nan
-        mat = (jac - np.eye(5))[np.ix_(free, free)]
-        try:
-            step = np.linalg.solve(mat, -g[free])
-        except np.linalg.LinAlgError:
-            break
-        if m1 != mode:  # the mode at the section changed: continue from the image
-            z, mode = z1, m1
-            continue
-        zn = z.copy()
-        zn[_Y[free]] += step
-        z = _consistent(fs, zn, mode)
+    s = fs.system
+    code, z, mode, res, periods, it, jac, free = orbit_kernel.shoot_full(
+        z, mode, int(k), amp, float(fs.phi_Bl), fs.steps_per_period, fs.dt_s, fs.phi,
+        fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m, s.ft_m, s.ff_m, s.funcs,
+        s.scalars, float(tol), int(max_newton))
+    if code == orbit_kernel.CHATTER:
+        raise RuntimeError("contact chattering in the full-model shooting")
+    mode, periods, it = int(mode), int(periods), int(it)
+    sub = jac[np.ix_(free, free)]
+    mult = (float(np.max(np.abs(np.linalg.eigvals(sub))))
+            if free.any() and np.all(np.isfinite(sub)) else np.nan)
     converged = res <= tol
     z = _consistent(fs, z, mode)
     _, _, dist, work, phase_time = run_periods(fs, z, mode, k, energy=True)
     periods += k
     return FullOrbit(dist / (k * fs.period_s), k if converged else 0, z, mode, res, periods,
                      it, work, phase_time, mult)
+
+
+def velocity_ripple(fs: FullSystem, z: np.ndarray, mode: int, k: int = 1) -> float:
+    """Peak-to-peak slider velocity over ``k`` periods from ``(z, mode)`` (m/s), sampled at
+    every step (a lower bound of the true ripple, within a step's change of it)."""
+    s = fs.system
+    z = np.array(z, dtype=float)
+    z[S.X] = 0.0
+    n = fs.steps_per_period * k
+    out = event_kernel.integrate_switch_model(
+        z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
+        s.ft_m, s.ff_m, s.funcs, s.scalars, n, 1, 1, False, 64)
+    if out[0] != S.OK:
+        raise RuntimeError("contact chattering in the full-model shooting")
+    dx = out[2][:, 2]
+    return float(np.max(dx) - np.min(dx))

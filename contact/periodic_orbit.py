@@ -6,7 +6,8 @@ orbit; within each contact mode the flow is linear, so the one-period map is pie
 The orbit is found by shooting: a few periods simulated period by period, then Newton on
 ``P(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b)`` with the Jacobian of the piecewise-affine
 map by finite differences (exact inside one mode sequence), falling back to period-by-period
-iteration when Newton does not contract; period-k orbits are detected from the iterates.
+iteration when Newton does not contract; period-k orbits are detected from the iterates. The
+search loop runs compiled (:func:`contact.orbit_kernel.search_orbit`).
 
 The one-period map reuses the event-located kernel :func:`contact.event_kernel.
 integrate_switch_model` on a modified system: the slider row of every generator is zeroed
@@ -18,20 +19,37 @@ position slot; guide friction is left out of the fast problem (it enters the slo
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact import event_kernel
+from contact import event_kernel, orbit_kernel
 from contact import state as S
+from contact.expm import expm_stack
 from contact.model import HybridSystem, OperatingPoint, build_system
 from rom.params import MotorParams
 
-STEPS_PER_PERIOD = 250
-"""Fixed steps per drive period (dt = T / 250 = 1e-7 s at 40 kHz, the transient default)."""
+STEPS_PER_PERIOD = 25
+"""Fixed steps per drive period (dt = T / 25 = 1e-6 s at 40 kHz; the transient default is
+1e-7 s). The kernel's propagators are exact and its events located inside a step, so the
+step only sets the error of the event location: the steady velocity at 25 steps agrees with
+the 250-step one to a few 1e-8 (``python -m validation.doc_tables --update
+steady_work_precision``, docs/steady.md)."""
 
-_Y = np.array([S.U, S.DU, S.W, S.DW])
+ENERGY_STEPS_PER_PERIOD = 250
+"""Steps per period of the runs that integrate the work (power) of an orbit: the kernel's work
+integrals use Simpson's rule per step, whose relative error ~ (omega dt)^4 / 2880 is about
+1e-6 at 25 steps per period and 1e-10 at 250 (the energy balance closes to 1e-8)."""
 
+NEWTON_MAX = 12
+"""Newton steps at most per orbit search."""
+
+NEWTON_FAILURES = 3
+"""Failed Newton steps in a row after which the search goes period by period."""
+
+CHUNK_PERIODS = 80
+"""Periods run in one kernel call between the watches for period-k repetition once Newton
+has given up (slowly converging or long-period orbits at low slider speed)."""
 
 @dataclass(frozen=True)
 class FastSystem:
@@ -46,6 +64,12 @@ class FastSystem:
         row is read from each system's own propagators).
     dt_s, period_s : float
         Step (s) and drive period (s).
+    phi_Bl : float
+        Bending slope factor at the tip phi_B(l) (-), as in :class:`rom.params.MotorParams`.
+    steps_per_period : int
+        Fixed steps per drive period of the kernel.
+    fine : dict
+        Cache of the propagators at :data:`ENERGY_STEPS_PER_PERIOD` (built on first use).
     """
 
     ft_system: HybridSystem
@@ -57,6 +81,8 @@ class FastSystem:
     dt_s: float
     period_s: float
     phi_Bl: float
+    steps_per_period: int = 0
+    fine: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 def _integrating(system: HybridSystem, rows: np.ndarray) -> HybridSystem:
@@ -68,8 +94,12 @@ def _integrating(system: HybridSystem, rows: np.ndarray) -> HybridSystem:
 
 
 def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
-                coupling: str = "paper") -> FastSystem:
-    """Build the fixed-velocity fast problem of one operating point (load and guide excluded)."""
+                coupling: str = "paper", steps_per_period: int | None = None) -> FastSystem:
+    """Build the fixed-velocity fast problem of one operating point (load and guide excluded).
+
+    ``steps_per_period`` defaults to :data:`STEPS_PER_PERIOD`, raised where the fastest mode
+    needs it (:func:`steps_for`).
+    """
     # an effectively infinite slider with a frictionless guide: stick forces take their
     # M -> infinity form; the slider row is zeroed below anyway
     p_inf = params.with_(M_slider=1e12, mu_sd=0.0)
@@ -77,29 +107,84 @@ def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     base = build_system(p_inf, op0, mu_d_eff, coupling)
     ft_sys = _integrating(base, base.ft_m)
     fn_sys = _integrating(base, base.fn_m)
-    dt = op.period_s / STEPS_PER_PERIOD
-    phi_ft, half_ft = ft_sys.propagators(dt)
-    phi_fn, half_fn = fn_sys.propagators(dt)
-    return FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
-                      params.phi_Bl)
+    n = steps_for(base, op.period_s, steps_per_period)
+    dt = op.period_s / n
+    phi_ft, half_ft, fine_ft = propagator_ladder(ft_sys, op.period_s, n)
+    phi_fn, half_fn, _ = propagator_ladder(fn_sys, op.period_s, n, fine=False)
+    fs = FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
+                    params.phi_Bl, n)
+    if fine_ft is not None:
+        fs.fine["ft"] = fine_ft
+    return fs
+
+
+def _power(stack: np.ndarray, k: int) -> np.ndarray:
+    """``stack[i] ** k`` (matrix power, k >= 1) by repeated squaring."""
+    out, base = None, stack
+    while k:
+        if k & 1:
+            out = base if out is None else np.matmul(out, base)
+        k >>= 1
+        if k:
+            base = np.matmul(base, base)
+    return out
+
+
+def propagator_ladder(system: HybridSystem, period_s: float, steps: int, *, fine: bool = True):
+    """One-step and half-step propagators at ``steps`` per period, and (``fine``) at
+    :data:`ENERGY_STEPS_PER_PERIOD`, from one matrix exponential per mode.
+
+    Returns ``(phi, phi_half, fine_pair)``: ``fine_pair = (phi_fine, phi_half_fine)`` or None
+    when the energy step is not a finer multiple of ``steps`` (or ``fine`` is False). The
+    coarser propagators are integer powers of ``expm(A dt_fine / 2)``: exact in exact
+    arithmetic, a few roundoffs apart from the direct exponentials.
+    """
+    ratio = ENERGY_STEPS_PER_PERIOD // steps
+    if fine and ratio >= 2 and ratio % 2 == 0 and ratio * steps == ENERGY_STEPS_PER_PERIOD:
+        half_f = expm_stack(system.A * (0.5 * period_s / ENERGY_STEPS_PER_PERIOD))
+        phi_f = np.matmul(half_f, half_f)
+        half = _power(phi_f, ratio // 2)
+        return np.matmul(half, half), half, (phi_f, half_f)
+    half = expm_stack(system.A * (0.5 * period_s / steps))
+    return np.matmul(half, half), half, None
+
+
+def steps_for(system: HybridSystem, period_s: float, steps_per_period: int | None = None) -> int:
+    """Steps per drive period: ``steps_per_period`` (default :data:`STEPS_PER_PERIOD`), at
+    least as many as keep ``rho(A) dt <= 1`` over all modes (the bound the transient scheme
+    checks: the kernel's Taylor flow of partial steps is exact to roundoff below it)."""
+    n = STEPS_PER_PERIOD if steps_per_period is None else int(steps_per_period)
+    rho = float(np.max(np.abs(np.linalg.eigvals(system.A))))
+    return max(n, int(np.ceil(rho * period_s)))
 
 
 def period_map(fs: FastSystem, z: np.ndarray, mode: int, periods: int = 1, *,
-               integrand: str = "ft", energy: bool = False):
+               integrand: str = "ft", energy: bool = False, window: bool | None = None):
     """Advance the fast problem by whole periods from ``z`` (x slot reset to 0).
 
     Returns ``(z_end, mode_end, integral, work, phase_time, events)`` where ``integral`` is
-    the time integral of F_T or F_N (N s) over the periods and ``work`` the kernel's work
-    integrals (J) when ``energy``.
+    the time integral of F_T or F_N (N s) over the periods, ``work`` the kernel's work
+    integrals (J) when ``energy`` and ``phase_time`` the time per phase (s) when ``window``
+    (default: ``energy``); both are zero otherwise.
     """
+    window = energy if window is None else window
     sys_, phi, half = ((fs.ft_system, fs.phi_ft, fs.phi_half_ft) if integrand == "ft"
                        else (fs.fn_system, fs.phi_fn, fs.phi_half_fn))
+    steps, dt = fs.steps_per_period, fs.dt_s
+    if energy and steps < ENERGY_STEPS_PER_PERIOD:  # work integrals need the finer step
+        steps, dt = ENERGY_STEPS_PER_PERIOD, fs.period_s / ENERGY_STEPS_PER_PERIOD
+        if integrand not in fs.fine:
+            fs.fine[integrand] = sys_.propagators(dt)
+        phi, half = fs.fine[integrand]
     z = np.array(z, dtype=float)
     z[S.X] = 0.0
-    n = STEPS_PER_PERIOD * periods
+    n = steps * periods
+    # the kernel's window (phase times, work) is opened only when asked for: it triples the
+    # cost of a step
     out = event_kernel.integrate_switch_model(
-        z, mode, n, fs.dt_s, phi, half, sys_.A, sys_.ev_h, sys_.ev_dh, sys_.ev_type,
-        sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0, n, 1, energy, 64)
+        z, mode, n, dt, phi, half, sys_.A, sys_.ev_h, sys_.ev_dh, sys_.ev_type,
+        sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0 if window else n, n, 1,
+        energy, 64)
     status, _, _, _, phase_time, work, stats, z_end, mode_end = out
     if status != S.OK:
         raise RuntimeError("contact chattering in the fixed-velocity fast problem")
@@ -131,9 +216,14 @@ class Orbit:
         Drive periods simulated to find it (Newton's finite-difference runs included).
     newton_iterations : int
     phase_time : ndarray, shape (4,)
-        Time in stick, slip+, slip-, separation over the k periods (s).
+        Time in stick, slip+, slip-, separation over the k periods (s); zero for ``k = 0``
+        (:func:`orbit_phases` computes them over the averaging periods).
     work : ndarray, shape (6,)
-        Work integrals of :mod:`contact.event_kernel` over the k periods (J).
+        Work integrals of :mod:`contact.event_kernel` over the k periods (J); zero unless
+        asked for (:func:`find_orbit` ``energy=True``, or :func:`orbit_work`).
+    jacobian : tuple or None
+        ``(J, mode)``: the last finite-difference Jacobian of the one-period map in
+        ``(u_l, du_l, w_b, dw_b)`` (-) and the mode it belongs to, for continuation.
     """
 
     velocity_m_s: float
@@ -147,6 +237,7 @@ class Orbit:
     newton_iterations: int
     phase_time: np.ndarray
     work: np.ndarray
+    jacobian: tuple | None = None
 
 
 def _start(fs: FastSystem, v: float) -> tuple[np.ndarray, int]:
@@ -159,23 +250,17 @@ def _start(fs: FastSystem, v: float) -> tuple[np.ndarray, int]:
     return z, S.mode_index(contact, tip, guide)
 
 
-def _consistent(fs: FastSystem, z: np.ndarray, mode: int, v: float) -> np.ndarray:
-    z = z.copy()
-    z[S.DX] = v
-    z[S.SIN], z[S.COS], z[S.ONE] = 0.0, 1.0, 1.0  # drive phase 0 at every period start
-    if mode // 9 == S.CONTACT and (mode // 3) % 3 == S.STICK:
-        z[S.DW] = v / fs.phi_Bl
-    return z
-
-
 def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: int | None = None,
                *, tol: float = 1e-11, max_periods: int = 400, warmup: int = 20,
-               max_k: int = 4, average_periods: int = 200) -> Orbit:
+               max_k: int = 4, average_periods: int = 200, energy: bool = False,
+               jacobian: tuple | None = None) -> Orbit:
     """Periodic orbit of the fast problem at slider velocity ``v`` (m/s) by shooting.
 
     ``z0, mode0`` (e.g. the orbit at a neighbouring velocity) start the search. When no
     orbit of period <= ``max_k`` is found within ``max_periods`` periods the averages are
-    taken over the next ``average_periods`` periods and ``k`` is 0.
+    taken over the next ``average_periods`` periods and ``k`` is 0. The work integrals
+    (:func:`orbit_work`) are computed only with ``energy``. ``jacobian`` (the
+    :attr:`Orbit.jacobian` of a neighbouring orbit) starts a chord Newton iteration.
     """
     if z0 is None or mode0 is None:
         z, mode = _start(fs, v)
@@ -189,89 +274,59 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
             tip = S.SLIP_POS if vrel > 0 else S.SLIP_NEG
         mode = S.mode_index(contact, tip, guide)
         try:  # a neighbouring orbit needs only a short warm-up
-            return _find(fs, v, z, mode, tol, max_periods, min(warmup, 5), max_k,
-                         average_periods)
+            orbit = _find(fs, v, z, mode, tol, max_periods, min(warmup, 5), max_k,
+                          average_periods, jacobian)
+            return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
         except RuntimeError:  # a start the kernel cannot leave cleanly: start afresh
             z, mode = _start(fs, v)
-    return _find(fs, v, z, mode, tol, max_periods, warmup, max_k, average_periods)
+    orbit = _find(fs, v, z, mode, tol, max_periods, warmup, max_k, average_periods)
+    return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
 
 
 def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_periods: int,
-          warmup: int, max_k: int, average_periods: int) -> Orbit:
-    z = _consistent(fs, z, mode, v)
-    periods = 0
-    for _ in range(warmup):
-        z, mode, *_ = period_map(fs, z, mode)
-        z = _consistent(fs, z, mode, v)
-        periods += 1
-    amp = np.array([max(np.max(np.abs(z[[S.U]])), 1e-12), 0.0,
-                    max(abs(z[S.W]), 1e-12), 0.0])
-    omega = 2 * np.pi / fs.period_s
-    amp[1], amp[3] = omega * amp[0], omega * amp[2]
+          warmup: int, max_k: int, average_periods: int, jac0=None) -> Orbit:
+    jac_in, jac_mode_in = ((np.zeros((4, 4)), -1) if jac0 is None
+                           else (np.array(jac0[0], dtype=float), int(jac0[1])))
+    s, f = fs.ft_system, fs.fn_system
+    (code, k_found, z, mode, res, periods, newton_it, int_ft, int_fn, phase_time, jac,
+     jac_mode) = orbit_kernel.find_orbit_compiled(
+        np.asarray(z, dtype=float), int(mode), float(v), float(fs.phi_Bl), float(fs.period_s),
+        int(warmup), fs.steps_per_period, fs.dt_s, fs.phi_ft, fs.phi_half_ft, s.A, s.ev_h,
+        s.ev_dh, s.ev_type, s.fn_m, s.ft_m, s.ff_m, s.funcs, s.scalars, fs.phi_fn,
+        fs.phi_half_fn, f.A, f.ev_dh, float(tol), int(max_periods), int(max_k), CHUNK_PERIODS,
+        jac_in, jac_mode_in, NEWTON_MAX, NEWTON_FAILURES, int(average_periods))
+    if code == orbit_kernel.CHATTER:
+        raise RuntimeError("contact chattering in the fixed-velocity fast problem")
+    k_found, jac_mode = int(k_found), int(jac_mode)
+    # no k-periodic orbit found (k = 0): the average over many periods (quasi-periodic or
+    # long-period stick-slip at the tip) stands in
+    span = (k_found if k_found else average_periods) * fs.period_s
+    return Orbit(float(v), k_found, z, int(mode), float(int_ft) / span, float(int_fn) / span,
+                 float(res), int(periods), int(newton_it), phase_time,
+                 np.zeros(event_kernel.N_WORK), None if jac_mode < 0 else (jac, jac_mode))
 
-    def defect(y_a, y_b):
-        return float(np.max(np.abs(y_a - y_b) / amp))
 
-    newton_it = 0
-    history: list[np.ndarray] = [z[_Y].copy()]
-    modes: list[int] = [mode]
-    k_found = 0
-    res = np.inf
-    while periods < max_periods:
-        z1, m1, *_ = period_map(fs, z, mode)
-        z1 = _consistent(fs, z1, m1, v)
-        periods += 1
-        res = defect(z1[_Y], z[_Y])
-        if res <= tol and m1 == mode:
-            k_found = 1
-            break
-        # Newton on P(y) - y with a finite-difference Jacobian, inside the current mode
-        free = [i for i in range(4) if not (i == 3 and (mode // 3) % 3 == S.STICK
-                                            and mode // 9 == S.CONTACT)]
-        if newton_it < 12 and m1 == mode:
-            jac = np.zeros((4, 4))
-            for i in free:
-                zp = z.copy()
-                h = 1e-7 * amp[i]
-                zp[_Y[i]] += h
-                zq, _, *_ = period_map(fs, zp, mode)
-                periods += 1
-                jac[:, i] = (zq[_Y] - z1[_Y]) / h
-            g = z1[_Y] - z[_Y]
-            mat = (jac - np.eye(4))[np.ix_(free, free)]
-            try:
-                step = np.linalg.solve(mat, -g[free])
-            except np.linalg.LinAlgError:
-                step = None
-            newton_it += 1
-            if step is not None and np.all(np.isfinite(step)):
-                zn = z.copy()
-                zn[_Y[free]] += step
-                zn = _consistent(fs, zn, mode, v)
-                z2, m2, *_ = period_map(fs, zn, mode)
-                periods += 1
-                if m2 == mode and defect(_consistent(fs, z2, m2, v)[_Y], zn[_Y]) < res:
-                    z = zn
-                    continue
-        # period-by-period fallback, watching for period-k repetition
-        z, mode = z1, m1
-        history.append(z[_Y].copy())
-        modes.append(mode)
-        history, modes = history[-(max_k + 1):], modes[-(max_k + 1):]
-        for k in range(2, max_k + 1):
-            if len(history) > k and modes[-1] == modes[-1 - k] and \
-                    defect(history[-1], history[-1 - k]) <= tol:
-                k_found = k
-                break
-        if k_found:
-            break
-    # no k-periodic orbit found: the average over many periods (quasi-periodic or long-period
-    # stick-slip at the tip) stands in, flagged with k = 0
-    k = k_found if k_found else average_periods
-    z = _consistent(fs, z, mode, v)
-    _, _, int_ft, work, phase_time, _ = period_map(fs, z, mode, k, energy=True)
-    _, _, int_fn, *_ = period_map(fs, z, mode, k, integrand="fn")
-    periods += 2 * k
-    span = k * fs.period_s
-    return Orbit(float(v), k_found, z, mode, int_ft / span, int_fn / span, float(res), periods,
-                 newton_it, phase_time, work)
+def orbit_phases(fs: FastSystem, orbit: Orbit, average_periods: int = 200) -> np.ndarray:
+    """Time in stick, slip+, slip-, separation (s) over the orbit's k periods, or for ``k = 0``
+    over the ``average_periods`` periods its averages were taken on."""
+    if orbit.k:
+        return orbit.phase_time
+    return period_map(fs, orbit.z, orbit.mode, average_periods, window=True)[4]
+
+
+def orbit_work(fs: FastSystem, orbit: Orbit, average_periods: int = 200) -> np.ndarray:
+    """Work integrals (J) of :mod:`contact.event_kernel` over the orbit's k periods, at
+    :data:`ENERGY_STEPS_PER_PERIOD` steps per period (for ``k = 0`` over the
+    ``average_periods`` periods the averages were taken on, at the orbit's own step)."""
+    if orbit.k:
+        return period_map(fs, orbit.z, orbit.mode, orbit.k, energy=True)[3]
+    span = average_periods
+    sys_ = fs.ft_system
+    z = np.array(orbit.z, dtype=float)
+    z[S.X] = 0.0
+    n = fs.steps_per_period * span
+    out = event_kernel.integrate_switch_model(
+        z, orbit.mode, n, fs.dt_s, fs.phi_ft, fs.phi_half_ft, sys_.A, sys_.ev_h, sys_.ev_dh,
+        sys_.ev_type, sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0, n, 1, True,
+        64)
+    return out[5].copy()

@@ -35,7 +35,14 @@ from scipy.optimize import brentq
 from contact.drive import free_tip_amplitudes
 from contact.friction import dynamic_friction
 from contact.model import COUPLINGS, OperatingPoint
-from contact.periodic_orbit import FastSystem, Orbit, fast_system, find_orbit
+from contact.periodic_orbit import (
+    FastSystem,
+    Orbit,
+    fast_system,
+    find_orbit,
+    orbit_phases,
+    orbit_work,
+)
 from contact.results import PHASE_THRESHOLD, classify_motion
 from rom.params import GRAVITY_M_S2, MotorParams
 
@@ -47,7 +54,16 @@ branches the averaging cannot see (multi-period slider-tip orbits at low speed).
 
 REST_TRANSIENT_PERIODS = 2000
 """Drive periods of the transient from rest that decides the branch reached (accuracy
-"exact"); shooting then removes what is left of the transient."""
+"exact"); shooting then removes what is left of the transient. Skipped where the branch is
+unique (:data:`UNIQUE_RIPPLE_FACTOR`)."""
+
+UNIQUE_RIPPLE_FACTOR = 20.0
+"""The exact level skips the transient from rest when the slow equation has exactly one
+steady state (no dead zone), stable, whose full-model orbit repeats every period with a
+Floquet multiplier below 1 and a mean slider speed above this many times the slider's
+peak-to-peak velocity ripple over the orbit. Multi-period branches that the averaging cannot
+see live where the ripple is comparable with the speed (150 V / 14 N: speed / ripple = 8;
+from 175 V: 29 and more, ``docs/steady.md``)."""
 
 V_ZERO_M_S = 1e-9
 """Slider speed (m/s) standing in for 0+ / 0- in the fast problem (stick at exactly v = 0 is
@@ -178,7 +194,8 @@ class SlowProblem:
         near = [w for w in self.cache if w * v > 0]
         if near:
             w = min(near, key=lambda w: abs(w - v))
-            o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode)
+            o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode,
+                           jacobian=self.cache[w].jacobian)
         else:
             o = find_orbit(self.fs, v)
         self.periods += o.periods
@@ -226,11 +243,12 @@ def _grid(v_max: float) -> np.ndarray:
 def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranch:
     o = sp.orbit(v)
     span = max(o.k, 1) if o.k else None
-    total = float(np.sum(o.phase_time))
-    frac = o.phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
+    phase_time = orbit_phases(sp.fs, o)
+    total = float(np.sum(phase_time))
+    frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
-    duration = float(np.sum(o.phase_time)) if span is None else span * sp.op.period_s
-    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in o.work)
+    duration = total if span is None else span * sp.op.period_s
+    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in orbit_work(sp.fs, o))
     return SteadyBranch(
         velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
         mean_FN_N=o.mean_FN_N, input_power_W=w_in / duration,
@@ -344,11 +362,12 @@ def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBr
 def _exact(sp: SlowProblem, branches, coupling: str):
     """Polish the averaged branches on the full model and decide the start from rest."""
     from contact import state as S
-    from contact.full_orbit import full_system, run_periods, shoot
+    from contact.full_orbit import full_system, run_periods, shoot, velocity_ripple
 
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
     periods = newton = 0
     out: list[SteadyBranch] = []
+    shots = []
     for b in branches:
         if b.motion == "dead-zone":
             out.append(dataclasses.replace(b, from_rest=False))
@@ -364,11 +383,27 @@ def _exact(sp: SlowProblem, branches, coupling: str):
         if fo is not None:
             periods += fo.periods
             newton += fo.newton_iterations
+        shots.append(fo)
         if fo is not None and fo.k:
-            full = _full_branch(sp, fo, bool(fo.multiplier < 1.0), False)
+            # no multiplier when the shot converged before forming a Jacobian: the averaged
+            # stability stands
+            stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else b.stable
+            full = _full_branch(sp, fo, stable, False)
             out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
         else:
             out.append(dataclasses.replace(b, from_rest=False))
+    # the dead zone is the only steady state: a start from rest stays held (or, released by
+    # the start-up transient, finds no moving branch to settle on and is held again)
+    if len(branches) == 1 and branches[0].motion == "dead-zone":
+        return (dataclasses.replace(out[0], from_rest=True),), 0.0, periods, newton
+    # one stable branch well above the slider's velocity ripple: a start from rest reaches it
+    fo = shots[0] if len(branches) == 1 and shots else None
+    if fo is not None and fo.k == 1 and branches[0].stable and fo.multiplier < 1.0:
+        ripple = velocity_ripple(fsys, fo.z, fo.mode, 1)
+        periods += 1
+        if abs(fo.velocity_m_s) > UNIQUE_RIPPLE_FACTOR * ripple:
+            return ((dataclasses.replace(out[0], from_rest=True),), fo.velocity_m_s, periods,
+                    newton)
     # the start from rest: a transient, then shooting for the orbit it approaches
     s = fsys.system
     z_end, m_end, _, _, _ = run_periods(fsys, s.z0, s.mode0, REST_TRANSIENT_PERIODS)
@@ -406,7 +441,10 @@ def _exact(sp: SlowProblem, branches, coupling: str):
     if match:
         out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
     elif fo is not None:
-        out.append(_full_branch(sp, fo, bool(fo.multiplier < 1.0), True))
+        # a transient from rest settled on it: stable unless its multiplier says otherwise
+        # (none when the shot from the transient's end converged at once)
+        stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else True
+        out.append(_full_branch(sp, fo, stable, True))
     out.sort(key=lambda b: b.velocity_m_s)
     return tuple(out), (0.0 if held else v_rest), periods, newton
 
@@ -445,7 +483,6 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     and the energy balance are not produced (None / NaN); ``steps`` and ``nfev`` count the
     drive periods simulated times the steps per period.
     """
-    from contact.periodic_orbit import STEPS_PER_PERIOD
     from contact.results import SchemeOutput
 
     sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff)
@@ -453,7 +490,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling)
     rest = [b for b in branches if b.from_rest]
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
-    steps = (sp.periods + periods) * STEPS_PER_PERIOD
+    steps = (sp.periods + periods) * sp.fs.steps_per_period
     return SchemeOutput(
         velocity_m_s=float(v_rest), previous_velocity_m_s=float(v_rest),
         phase_time=np.asarray(frac, dtype=float) * window.window_s, y_tip_min_m=math.nan,
