@@ -42,6 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from fem.geometry import PlateStator
+from fem.grid_ordering import nested_dissection_rank
 from fem.material import PiezoMaterial, get_material
 from fem.meshed_stator import planform_mesh
 from fem.modes import N_SAMPLE_X, N_SAMPLE_Y, solve_short_open
@@ -159,6 +160,20 @@ class QuarterPlateModel:
         r, c = np.concatenate(rows), np.concatenate(cols)
         return sp.csr_matrix((np.ones(r.size), (r, c)), shape=(n, ncol))
 
+    def saddle_point_order(self, open_circuit: bool) -> np.ndarray:
+        """Nested-dissection order of the saddle-point unknowns (free displacements, then the
+        free potentials of :meth:`potential_map`; the electrode's potential last)."""
+        n = int(self.basis.N)
+        mesh = self.basis.mesh
+        planes = tuple(np.unique(mesh.p[a]) for a in range(3))
+        rank = nested_dissection_rank(self.basis.doflocs, planes)
+        t = self.potential_map(open_circuit).tocsc()
+        free_phi = t.indices[t.indptr[:-1]]  # first node of each column
+        key = np.concatenate((rank[self.free_u % n], rank[free_phi]))
+        if t.shape[1] > 0 and np.diff(t.indptr)[-1] > 1:  # the floating electrode
+            key[-1] = n
+        return np.argsort(key, kind="stable")
+
     def unfold_probe(self, X: np.ndarray, Y: np.ndarray, z_m: float) -> sp.csr_matrix:
         """Matrix (3 X.size, n_free_u): the full-plate displacements at ``(X, Y, z_m)``.
 
@@ -272,7 +287,7 @@ def quarter_frequencies_Hz(
     kup = (model.Kuphi @ t).tocsr()
     kpp = (t.T @ model.Kphiphi @ t).tocsr()
     return saddle_point_frequencies_Hz(model.Kuu, model.M, kup, kpp, n_modes, f_center_Hz,
-                                       maxiter)
+                                       maxiter, model.saddle_point_order(open_circuit))
 
 
 def _identify_quarter(model: QuarterPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):

@@ -102,6 +102,7 @@ TABLES: tuple[Table, ...] = (
     Table("fe_peer_sfepy", ("benchmarks/fem_peer_sfepy.py",), fence=True),
     Table("fe_fidelity_graded", ("benchmarks/fem_fidelity.py", "--gaps-mm", "0.5",
                                  "--meshes", "3x3", "--graded", "1", "2", "3")),
+    Table("fe3d_narrow_gap", ("benchmarks/fem3d_narrow_gap.py",)),
 )
 """Every generated table."""
 
