@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from dataclasses import replace
 
 import numpy as np
@@ -90,3 +91,25 @@ def test_nested_dissection_is_a_permutation_with_separators_last():
     # the floating electrode's potential (the last unknown, coupled to the whole top face)
     # is eliminated last
     assert order[-1] == order.size - 1
+
+
+def test_cli_graded_3d_uses_the_quarter_model_with_the_full_models_results(capsys):
+    # a graded mesh of the plain plate already has lines on both symmetry planes, so
+    # `lusm modes --model 3d --edge-grading K` solves the quarter and must print the full
+    # model's numbers
+    from fem.solid3d import solid_modes
+    from validation.cli import main
+
+    args = ["modes", "--model", "3d", "--refine", "2", "--layers", "1", "--edge-grading", "1",
+            "--gap-mm", "1", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["quarter_model"] is True
+    full = solid_modes(replace(PlateStator(), electrode_gap_m=1e-3), refine=2, layers=1,
+                       edge_grading=1)
+    assert out["dofs"] < 0.6 * full.dofs
+    for name in ("L1", "B2"):
+        m = getattr(full, name)
+        assert out[name]["f_short_Hz"] == pytest.approx(m.f_short_Hz, rel=1e-8)
+        assert out[name]["f_open_Hz"] == pytest.approx(m.f_open_Hz, rel=1e-8)
+        assert out[name]["k_eff"] == pytest.approx(m.k_eff, rel=1e-6)
