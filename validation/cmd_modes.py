@@ -33,7 +33,8 @@ def register(subparsers) -> None:
                    default=0, metavar="LEVELS",
                    help="3d: grade the mesh LEVELS times towards the electrode edges, where "
                    "the potential is singular (default 0; 3 converges B2's k_eff to about "
-                   "1 %%, docs/fem3d.md section 1)")
+                   "1 %%, docs/fem3d.md section 1); the generated plate is then solved "
+                   "on a quarter by its mirror symmetry (same results, faster)")
     add_output_options(p, folder=None)
     p.add_argument(
         "--export", metavar="FILE", default=None,
