@@ -50,6 +50,10 @@ face of a top-layer brick belongs to electrode ``k`` when its 2D element is tagg
 ``refine`` is ignored (as in 2D). A rectangular :class:`fem.geometry.PlateStator` keeps the
 structured box mesh.
 
+:func:`saddle_point_frequencies_Hz` (the shift-invert driver), :func:`assemble_solid` and
+:func:`identify_sampled` are shared with the quarter-plate model of
+:mod:`fem.solid3d_symmetric`.
+
 Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z = 0``
 (symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
 modes that are not symmetric through the thickness (out-of-plane bending, torsion). On a
