@@ -302,7 +302,8 @@ def identify_modes(
 
 
 def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_modes: int,
-                     maxiter: int | None, max_modes: int | None = None):
+                     maxiter: int | None, max_modes: int | None = None,
+                     names: tuple[str, ...] = ("L1", "B2")):
     """The one modal pipeline of the 2D and 3D models: L1 and B2, short and open circuit.
 
     Shift-invert solves near ``f_center_Hz`` (default: the slender-rod L1 estimate) with
@@ -324,12 +325,14 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
         ARPACK iteration limit.
     max_modes : int, optional
         No retry asks for more modes than this (e.g. the number of unknowns minus 2).
+    names : tuple of str
+        The modes :func:`identify` returns (a symmetry-reduced model holds one of them).
 
     Returns
     -------
     f_short_Hz, f_open_Hz, modes, solve_time_short_s
-        Both spectra, ``{"L1": IdentifiedMode, "B2": IdentifiedMode}`` and the wall time of
-        the short-circuit solve (s).
+        Both spectra, ``{name: IdentifiedMode}`` (``"L1"``, ``"B2"`` by default) and the wall
+        time of the short-circuit solve (s).
     """
     fc = rod_frequency_estimate_Hz(model.stator, model.material) if f_center_Hz is None else (
         f_center_Hz
@@ -352,18 +355,20 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
     fs, vs, ids = solve(False)
     t_short = time.perf_counter() - t0
     fo, _, ido = solve(True)
-    return fs, fo, pair_short_open(fs, vs, ids, fo, ido, model.M), t_short
+    return fs, fo, pair_short_open(fs, vs, ids, fo, ido, model.M, names), t_short
 
 
-def pair_short_open(fs, vs, ids, fo, ido, M) -> dict[str, IdentifiedMode]:
+def pair_short_open(fs, vs, ids, fo, ido, M,
+                    names: tuple[str, ...] = ("L1", "B2")) -> dict[str, IdentifiedMode]:
     """L1 and B2 from identified short- and open-circuit solutions (2D or 3D model).
 
     ``fs, vs`` are the short-circuit frequencies (Hz) and shapes, ``ids``/``ido`` map each
     mode name to ``(index, mac, symmetry)`` in the short/open solutions, ``fo`` the
-    open-circuit frequencies; shapes are mass-normalized with ``M``.
+    open-circuit frequencies; shapes are mass-normalized with ``M``; ``names`` lists the
+    modes to pair.
     """
     modes = {}
-    for name in ("L1", "B2"):
+    for name in names:
         i, mac, sym = ids[name]
         f_short = float(fs[i])
         f_open = float(fo[ido[name][0]])

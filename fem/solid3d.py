@@ -50,6 +50,10 @@ face of a top-layer brick belongs to electrode ``k`` when its 2D element is tagg
 ``refine`` is ignored (as in 2D). A rectangular :class:`fem.geometry.PlateStator` keeps the
 structured box mesh.
 
+:func:`saddle_point_frequencies_Hz` (the shift-invert driver), :func:`assemble_solid` and
+:func:`identify_sampled` are shared with the quarter-plate model of
+:mod:`fem.solid3d_symmetric`.
+
 Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z = 0``
 (symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
 modes that are not symmetric through the thickness (out-of-plane bending, torsion). On a
@@ -398,6 +402,7 @@ def build_solid_model(
     layers: int = DEFAULT_LAYERS,
     element: str = DEFAULT_ELEMENT,
     edge_grading: int = 0,
+    grid_lines: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> SolidPlateModel:
     """Assemble the 3D model of ``stator`` on a quadratic brick mesh.
 
@@ -426,6 +431,11 @@ def build_solid_model(
         at ``g/2, ..., g/2^levels`` from each edge on both sides, and at ``g, 2g, 4g, ...``
         outside up to half the coarse spacing; layers at the same depths below the top
         face. Ignored for a planform mesh.
+    grid_lines : tuple of numpy.ndarray, optional
+        Explicit tensor lines ``(x, y, z)`` (m) of the structured mesh of a plain plate,
+        replacing those of ``refine``, ``layers`` and ``edge_grading`` (which are then only
+        recorded); they must span the plate and contain the electrode edges
+        (:func:`fem.solid3d_symmetric.quarter_grid_lines` mirrored gives such lines).
 
     Raises
     ------
@@ -433,11 +443,9 @@ def build_solid_model(
         On a bad order, element, refine, layers, a zero electrode gap (touching electrodes
         of a planform mesh) or an electrode without a node.
     """
-    from skfem import CellBasis
-
     t0 = time.perf_counter()
     mat = get_material(material)
-    elem = _element(order, element)
+    _element(order, element)
     refine = _check_int("refine", refine)
     layers = _check_int("layers", layers)
     planform = planform_mesh(stator)
@@ -446,35 +454,15 @@ def build_solid_model(
             "the 3D model needs electrode_gap_m > 0: with no gap the four quadrants touch and "
             "form one conductor"
         )
-    if planform is None:
+    if planform is None and grid_lines is not None:
+        from skfem import MeshHex
+
+        mesh = MeshHex.init_tensor(*(np.asarray(v, dtype=float) for v in grid_lines))
+    elif planform is None:
         mesh = _hex_mesh(stator, refine, layers, _check_int("edge_grading", edge_grading, 0))
     else:
         mesh = extruded_hex_mesh(planform, stator.thickness_m, layers)
-    # exact for K and M on the affine boxes of the structured mesh (on extruded general
-    # quads the integrands are rational; the same rule is accurate there)
-    intorder = 2 * order + 1
-    basis = CellBasis(mesh, elem, intorder=intorder)
-    n = basis.N
-    grads = np.stack([basis.basis[i][0].grad for i in range(len(basis.basis))])
-    vals = np.stack([np.asarray(basis.basis[i][0]) for i in range(len(basis.basis))])
-    dx = basis.dx  # (nel, nqp) quadrature weights times Jacobian
-    B = _voigt_B(grads)  # (6, 3nloc, nel, nqp)
-    cB = np.einsum("IJ,Jaeq->Iaeq", mat.cE_Pa, B)
-    k_loc = np.einsum("Iaeq,Ibeq,eq->abe", B, cB, dx, optimize=True)
-    eB = np.einsum("kJ,Jaeq->kaeq", mat.e_C_m2, B)  # (3, 3nloc, nel, nqp): e S(v)
-    kup_loc = np.einsum("kaeq,kbeq,eq->abe", eB, grads.transpose(1, 0, 2, 3), dx, optimize=True)
-    epsg = np.einsum("kl,bleq->kbeq", mat.epsS_F_m, grads)
-    kpp_loc = np.einsum("akeq,kbeq,eq->abe", grads, epsg, dx, optimize=True)
-    m_loc = mat.rho_kg_m3 * np.einsum("aeq,beq,eq->abe", vals, vals, dx, optimize=True)
-    edofs = basis.element_dofs  # (nloc, nel)
-    udofs = np.concatenate([edofs + c * n for c in range(3)])  # (3nloc, nel)
-    Kuu = _coo(k_loc, udofs, udofs, (3 * n, 3 * n))
-    Kuphi = _coo(kup_loc, udofs, edofs, (3 * n, n))
-    Kphiphi = _coo(kpp_loc, edofs, edofs, (n, n))
-    Ms = _coo(m_loc, edofs, edofs, (n, n))
-    M = sp.block_diag((Ms, Ms, Ms), format="csr")
-    Kuu = (0.5 * (Kuu + Kuu.T)).tocsr()
-    Kphiphi = (0.5 * (Kphiphi + Kphiphi.T)).tocsr()
+    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element)
     # electrodes: top-face dofs in the closed quadrant regions; bottom face grounded
     h = stator.thickness_m
     xyz = basis.doflocs
@@ -502,12 +490,64 @@ def build_solid_model(
         basis=basis,
         Kuu=Kuu,
         M=M,
-        Kuphi=Kuphi.tocsr(),
+        Kuphi=Kuphi,
         Kphiphi=Kphiphi,
         electrode_dofs=electrode_dofs,
         ground_dofs=bottom,
         assembly_time_s=time.perf_counter() - t0,
     )
+
+
+def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
+                   element: str = DEFAULT_ELEMENT):
+    """Piezoelastic matrices of a brick mesh, before any electrical or mechanical constraint.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshHex
+        Bricks (m); affine boxes are integrated exactly.
+    material : PiezoMaterial or str
+    order : int
+        2 (quadratic) or 1 (trilinear).
+    element : str
+        ``'hex20'`` or ``'hex27'`` (order 2).
+
+    Returns
+    -------
+    basis, Kuu, M, Kuphi, Kphiphi
+        The scalar ``skfem.CellBasis`` and the CSR matrices of :class:`SolidPlateModel`
+        (blocked displacement dofs ``u[c * N + i]``).
+    """
+    from skfem import CellBasis
+
+    mat = get_material(material)
+    elem = _element(order, element)
+    # exact for K and M on the affine boxes of the structured mesh (on extruded general
+    # quads the integrands are rational; the same rule is accurate there)
+    intorder = 2 * order + 1
+    basis = CellBasis(mesh, elem, intorder=intorder)
+    n = basis.N
+    grads = np.stack([basis.basis[i][0].grad for i in range(len(basis.basis))])
+    vals = np.stack([np.asarray(basis.basis[i][0]) for i in range(len(basis.basis))])
+    dx = basis.dx  # (nel, nqp) quadrature weights times Jacobian
+    B = _voigt_B(grads)  # (6, 3nloc, nel, nqp)
+    cB = np.einsum("IJ,Jaeq->Iaeq", mat.cE_Pa, B)
+    k_loc = np.einsum("Iaeq,Ibeq,eq->abe", B, cB, dx, optimize=True)
+    eB = np.einsum("kJ,Jaeq->kaeq", mat.e_C_m2, B)  # (3, 3nloc, nel, nqp): e S(v)
+    kup_loc = np.einsum("kaeq,kbeq,eq->abe", eB, grads.transpose(1, 0, 2, 3), dx, optimize=True)
+    epsg = np.einsum("kl,bleq->kbeq", mat.epsS_F_m, grads)
+    kpp_loc = np.einsum("akeq,kbeq,eq->abe", grads, epsg, dx, optimize=True)
+    m_loc = mat.rho_kg_m3 * np.einsum("aeq,beq,eq->abe", vals, vals, dx, optimize=True)
+    edofs = basis.element_dofs  # (nloc, nel)
+    udofs = np.concatenate([edofs + c * n for c in range(3)])  # (3nloc, nel)
+    Kuu = _coo(k_loc, udofs, udofs, (3 * n, 3 * n))
+    Kuphi = _coo(kup_loc, udofs, edofs, (3 * n, n))
+    Kphiphi = _coo(kpp_loc, edofs, edofs, (n, n))
+    Ms = _coo(m_loc, edofs, edofs, (n, n))
+    M = sp.block_diag((Ms, Ms, Ms), format="csr")
+    Kuu = (0.5 * (Kuu + Kuu.T)).tocsr()
+    Kphiphi = (0.5 * (Kphiphi + Kphiphi.T)).tocsr()
+    return basis, Kuu, M, Kuphi.tocsr(), Kphiphi
 
 
 @lru_cache(maxsize=8)
@@ -546,36 +586,93 @@ minimum-degree ordering with preference for diagonal pivots is 3-5x faster than 
 COLAMD here (measured) with the same residual."""
 
 
-def _condensed_operators(model: SolidPlateModel, sigma: float, open_circuit: bool):
+def _condensed_operators(Kuu, M, kup, kpp, sigma: float, row_order=None):
     """(OPinv, K_cond) linear operators on the displacements for shift ``sigma``."""
-    t = model.potential_map(open_circuit)
-    kup = (model.Kuphi @ t).tocsr()
-    kpp = (t.T @ model.Kphiphi @ t).tocsr()
-    nu = model.n_displacement_dofs
+    nu = Kuu.shape[0]
     # potentials scaled so that both blocks have diagonals of similar size (|K_uu| ~ 1e10,
     # |K_phiphi| ~ 1e-9): without it the LU residual is ~1e-3, with it ~1e-11
-    alpha = math.sqrt(float(model.Kuu.diagonal().mean()) / float(kpp.diagonal().mean()))
+    alpha = math.sqrt(float(Kuu.diagonal().mean()) / float(kpp.diagonal().mean()))
     kup = kup * alpha
     kpp = kpp * alpha**2
-    A = sp.bmat([[model.Kuu - sigma * model.M, kup], [kup.T, -kpp]], format="csc")
+    A = sp.bmat([[Kuu - sigma * M, kup], [kup.T, -kpp]], format="csc")
+    options = dict(_SPLU_OPTIONS)
+    if row_order is not None:
+        p = np.asarray(row_order)
+        A = A[p][:, p].tocsc()
+        options["permc_spec"] = "NATURAL"
     try:
-        lu = sla.splu(A, **_SPLU_OPTIONS)
         lu_pp = sla.splu(kpp.tocsc(), **_SPLU_OPTIONS)
+        lu = sla.splu(A, **options)
     except RuntimeError as exc:
         raise ModeSolverError(f"saddle-point matrix singular at sigma={sigma:.6g}: {exc}") from exc
+    del A
     n_phi = kpp.shape[0]
 
     def opinv(x: np.ndarray) -> np.ndarray:
         rhs = np.concatenate((np.asarray(x, dtype=float).ravel(), np.zeros(n_phi)))
-        return lu.solve(rhs)[:nu]
+        if row_order is None:
+            return lu.solve(rhs)[:nu]
+        y = np.empty_like(rhs)
+        y[p] = lu.solve(rhs[p])
+        return y[:nu]
 
     def kcond(x: np.ndarray) -> np.ndarray:
         x = np.asarray(x, dtype=float).ravel()
-        return model.Kuu @ x + kup @ lu_pp.solve(kup.T @ x)
+        return Kuu @ x + kup @ lu_pp.solve(kup.T @ x)
 
     op = sla.LinearOperator((nu, nu), matvec=opinv, dtype=float)
     kop = sla.LinearOperator((nu, nu), matvec=kcond, dtype=float)
     return op, kop
+
+
+def saddle_point_frequencies_Hz(
+    Kuu: sp.csr_matrix,
+    M: sp.csr_matrix,
+    Kuphi: sp.csr_matrix,
+    Kphiphi: sp.csr_matrix,
+    n_modes: int = 10,
+    f_center_Hz: float = 0.0,
+    maxiter: int | None = None,
+    row_order: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Natural frequencies (Hz) and shapes of ``M u'' + K_uu u + K_uphi phi = 0``,
+    ``K_uphi^T u = K_phiphi phi`` (the free potentials condensed), nearest ``f_center_Hz``.
+
+    The one shift-invert driver of the 3D models: the saddle-point matrix
+    ``[[K_uu - sigma M, K_uphi], [K_uphi^T, -K_phiphi]]`` is factorized once (sparse LU,
+    potentials scaled to the displacements' size) and ``eigsh`` runs on the displacements
+    with a fixed start vector (bit-identical runs). ``Kuphi`` and ``Kphiphi`` act on the free
+    potential unknowns only (fixed potentials eliminated, tied ones summed).
+    ``f_center_Hz = 0`` uses a small negative shift (rigid-body modes at 0 Hz); negative
+    eigenvalues from round-off come back as negative frequencies. ``row_order``, a
+    fill-reducing permutation of the saddle-point unknowns (displacements, then potentials),
+    replaces SuperLU's own column ordering (e.g. :mod:`fem.grid_ordering`).
+
+    Raises
+    ------
+    ModeSolverError
+        If the matrix is singular at the shift or eigsh does not converge.
+    """
+    if f_center_Hz > 0.0:
+        sigma = (2.0 * math.pi * f_center_Hz) ** 2
+    else:
+        sigma = -((2.0 * math.pi * 100.0) ** 2)
+    op, kop = _condensed_operators(Kuu, M, Kuphi, Kphiphi, sigma, row_order)
+    nu = Kuu.shape[0]
+    k = min(int(n_modes), nu - 2)
+    # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
+    v0 = np.random.default_rng(0).standard_normal(nu)
+    try:
+        w, v = sla.eigsh(kop, k=k, M=M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
+                         v0=v0)
+    except sla.ArpackNoConvergence as exc:
+        raise ModeSolverError(
+            f"eigsh (3D, shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
+            f"{len(exc.eigenvalues)} of {k} eigenpairs converged"
+        ) from exc
+    idx = np.argsort(w)
+    w, v = w[idx], v[:, idx]
+    return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
 
 
 def solid_frequencies_Hz(
@@ -589,27 +686,13 @@ def solid_frequencies_Hz(
 
     Shapes are displacement vectors (3N). ``f_center_Hz = 0`` uses a small negative shift so
     that the six rigid-body modes (short circuit) come out at 0 Hz. Negative eigenvalues from
-    round-off are returned as negative frequencies.
+    round-off are returned as negative frequencies (:func:`saddle_point_frequencies_Hz`).
     """
-    if f_center_Hz > 0.0:
-        sigma = (2.0 * math.pi * f_center_Hz) ** 2
-    else:
-        sigma = -((2.0 * math.pi * 100.0) ** 2)
-    op, kop = _condensed_operators(model, sigma, open_circuit)
-    k = min(int(n_modes), model.n_displacement_dofs - 2)
-    # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
-    v0 = np.random.default_rng(0).standard_normal(model.n_displacement_dofs)
-    try:
-        w, v = sla.eigsh(kop, k=k, M=model.M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
-                         v0=v0)
-    except sla.ArpackNoConvergence as exc:
-        raise ModeSolverError(
-            f"eigsh (3D, shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
-            f"{len(exc.eigenvalues)} of {k} eigenpairs converged"
-        ) from exc
-    idx = np.argsort(w)
-    w, v = w[idx], v[:, idx]
-    return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
+    t = model.potential_map(open_circuit)
+    kup = (model.Kuphi @ t).tocsr()
+    kpp = (t.T @ model.Kphiphi @ t).tocsr()
+    return saddle_point_frequencies_Hz(model.Kuu, model.M, kup, kpp, n_modes, f_center_Hz,
+                                       maxiter)
 
 
 def _sampling3d(model: SolidPlateModel):
@@ -654,16 +737,60 @@ def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
 
 def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
     X, Y, probes, inside = _sampling3d(model)
-    refs = reference_shapes(X, Y, model.stator.length_m)
+    sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
+    return identify_sampled(X, Y, sampled, inside, model.stator.length_m, freqs_Hz)
+
+
+def identify_sampled(
+    X: np.ndarray,
+    Y: np.ndarray,
+    sampled: dict[str, np.ndarray],
+    inside: np.ndarray,
+    length_m: float,
+    freqs_Hz: np.ndarray,
+    names: tuple[str, ...] = ("L1", "B2"),
+) -> dict[str, tuple[int, float, float]]:
+    """The 3D identification of L1/B2 from modes sampled on the full-plate grid.
+
+    Parameters
+    ----------
+    X, Y : numpy.ndarray
+        Sampling grid (ny, nx) of :mod:`fem.modes` (m).
+    sampled : dict
+        ``'mid'``, ``'top'``, ``'bottom'``: displacements (3, ny, nx, n_modes) (m) at
+        ``z = 0`` and just inside the top and bottom faces.
+    inside : numpy.ndarray
+        Mask (ny, nx) of the grid points used.
+    length_m : float
+        Plate length (m), for the Eq. 3 reference shapes.
+    freqs_Hz : numpy.ndarray
+        Frequencies (Hz) of the modes; those below 1e-3 of the largest are skipped.
+    names : tuple of str
+        The modes to identify.
+
+    Returns
+    -------
+    dict
+        ``{name: (index, mac, symmetry)}``: among modes with at least
+        :data:`MIN_THICKNESS_SYMMETRY` in the in-plane class, the :func:`fem.modes` rules
+        (x-symmetry class, three nodes for B2, ``MAC >= MIN_MAC``), largest
+        ``MAC * thickness symmetry``.
+
+    Raises
+    ------
+    ModeSolverError
+        If a mode is missing.
+    """
+    refs = reference_shapes(X, Y, length_m)
     if not inside.all():
         refs = {k: v * inside for k, v in refs.items()}
-    sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
+    n = sampled["mid"].shape[-1]
     centre = X.shape[1] // 2
     f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
     out: dict[str, tuple[int, float, float]] = {}
-    for name in ("L1", "B2"):
+    for name in names:
         best = None
-        for i in range(shapes.shape[1]):
+        for i in range(n):
             if abs(freqs_Hz[i]) < f_floor:
                 continue
             zsym = _thickness_symmetric_fraction(sampled["top"][..., i], sampled["bottom"][..., i])
@@ -681,7 +808,7 @@ def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray
                 best = (i, mac, klass, zsym)
         if best is None:
             raise ModeSolverError(
-                f"could not identify {name} among the {shapes.shape[1]} 3D modes computed at "
+                f"could not identify {name} among the {n} 3D modes computed at "
                 f"{np.round(freqs_Hz, 1).tolist()} Hz"
             )
         out[name] = best[:3]

@@ -102,6 +102,9 @@ TABLES: tuple[Table, ...] = (
     Table("fe_peer_sfepy", ("benchmarks/fem_peer_sfepy.py",), fence=True),
     Table("fe_fidelity_graded", ("benchmarks/fem_fidelity.py", "--gaps-mm", "0.5",
                                  "--meshes", "3x3", "--graded", "1", "2", "3")),
+    Table("fe3d_narrow_gap", ("benchmarks/fem3d_narrow_gap.py",)),
+    Table("fe3d_narrow_gap_base4", ("benchmarks/fem3d_narrow_gap.py", "--gaps-mm", "0.1", "0.02",
+                                    "--mesh", "4x4", "--gradings", "1")),
 )
 """Every generated table."""
 

@@ -286,19 +286,25 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
 
 
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
-                  option: str = "--refine", edge_grading: int = 0) -> int:
+                  option: str = "--refine", edge_grading: int = 0, quarter: bool = False) -> int:
     """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
 
     The count is exact for the generated plate (``fem.mesh.grid_lines_m``, and
-    ``fem.solid3d.hex_grid_lines`` for a 3D mesh graded ``edge_grading`` times) and is the
-    file's for a stator with its own mesh (bounded when it is read). ``layers`` selects the
-    3D count.
+    ``fem.solid3d.hex_grid_lines`` for a 3D mesh graded ``edge_grading`` times, or
+    ``fem.solid3d_symmetric.quarter_grid_lines`` with ``quarter``, the quarter-plate model)
+    and is the file's for a stator with its own mesh (bounded when it is read). ``layers``
+    selects the 3D count.
     """
     from fem.meshed_stator import planform_mesh
 
     mesh = planform_mesh(stator)
     if mesh is not None:
         n = int(mesh.quads.shape[1]) * (layers or 1)
+    elif layers is not None and quarter:
+        from fem.solid3d_symmetric import quarter_grid_lines
+
+        lines = quarter_grid_lines(stator, refine, layers, edge_grading)
+        n = math.prod(len(v) - 1 for v in lines)
     elif layers is not None and edge_grading:
         from fem.solid3d import hex_grid_lines
 
