@@ -80,8 +80,9 @@ def main() -> None:
 
 
 def _fixed_costs(params, row, repeats: int) -> None:
-    """What one steady point costs before any orbit is searched: the Eq. 11 pre-pass (the
-    A_N transient that fixes mu_d,eff exactly as the transient scheme does) and the fast and
+    """What one steady point costs before any orbit is searched: the Eq. 11 normal amplitude
+    A_N that fixes mu_d,eff as the transient scheme does (closed form where the tip does not
+    separate, else a 60-period pre-pass; :func:`contact.simulate.normal_amplitude`) and the fast and
     full systems with their matrix exponentials; the speed-up cannot exceed the transient's
     time over their sum."""
     from contact.full_orbit import full_system
@@ -94,7 +95,7 @@ def _fixed_costs(params, row, repeats: int) -> None:
     _, t_sys = _timed(lambda: (fast_system(params, op, params.mu_d),
                                full_system(params, op, params.mu_d)), max(repeats, 5))
     t_ref = row["transient_s"]
-    print(f"fixed costs: Eq. 11 pre-pass = transient / {t_ref / t_pre:.3g}, systems and "
+    print(f"fixed costs: Eq. 11 A_N = transient / {t_ref / t_pre:.3g}, systems and "
           f"propagators = transient / {t_ref / t_sys:.3g} -> speed-up bound "
           f"{t_ref / (t_pre + t_sys):.3g}x")
 

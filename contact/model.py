@@ -341,3 +341,31 @@ def normal_force_zero_tip_displacement(params: MotorParams, preload_N: float) ->
     u_st = p.eta_N * preload_N * dphi / p.K_l
     u_crit = (u_st - preload_N / p.k_contact) / dphi
     return p.phi_Ll * u_crit
+
+
+def linear_normal_amplitude(params: MotorParams, op: OperatingPoint) -> float | None:
+    """Steady normal tip amplitude A_N (m) of Eqs. 4 + 7 in closed form, or None.
+
+    While the tip stays in contact, Eq. 4 with the normal force of Eq. 7 is linear in
+    ``u_l`` (``eta_N F_N = eta_N (F_P - k u_st) - eta_N^2 k u_l``, since
+    ``phi_L(l) - phi_L(0) = -eta_N``): its periodic orbit under ``A_l V0 sin(omega t)`` is
+    harmonic with amplitude ``A_l V0 / |K_l + eta_N^2 k - M_l omega^2 + i C_l omega|``, and
+    ``A_N = |phi_L(l)|`` times that. The mean normal force of that orbit is ``F_P`` and its
+    swing ``k |eta_N| U``; when the swing reaches the mean the tip separates, the orbit is
+    not harmonic and None is returned (the caller then simulates the pre-pass of
+    :func:`contact.simulate.normal_amplitude`, its reference).
+    """
+    p = params
+    k_eff = p.K_l + p.eta_N ** 2 * p.k_contact
+    denom = abs(complex(k_eff - p.M_l * op.omega ** 2, p.C_l * op.omega))
+    if not denom > 0.0:
+        return None
+    u_amp = abs(p.A_l) * op.voltage_V / denom
+    dphi = p.phi_Ll - p.phi_L0
+    u_st = p.eta_N * op.preload_N * dphi / p.K_l
+    u_mean = p.eta_N * (op.preload_N - p.k_contact * u_st) / k_eff
+    fn_mean = op.preload_N + p.k_contact * (dphi * u_mean - u_st)
+    fn_swing = p.k_contact * abs(dphi) * u_amp
+    if not fn_swing < (1.0 - 1e-9) * fn_mean:  # separation (or touching zero): simulate
+        return None
+    return abs(p.phi_Ll) * u_amp
