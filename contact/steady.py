@@ -218,14 +218,14 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
                  mu_d_eff: float | None = None) -> SlowProblem:
     """Set up the slow equation of one operating point (the load is applied by the caller).
 
-    ``mu_d_eff`` (-), when given, replaces the Eq. 11 pre-pass.
+    ``mu_d_eff`` (-), when given, replaces Eq. 11's A_N and mu_d.
     """
     if coupling not in COUPLINGS:
         raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
     if mu_d_eff is not None:
         mu = float(mu_d_eff)
     elif ultrasonic_friction:
-        from contact.simulate import normal_amplitude  # the same A_N pre-pass as transients
+        from contact.simulate import normal_amplitude  # the same A_N as transients
 
         mu = dynamic_friction(params, normal_amplitude(params, op))
     else:
@@ -316,7 +316,7 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
     coupling : {"paper", "consistent"}
         See :func:`contact.model.build_system`.
     ultrasonic_friction : bool
-        Apply Eq. 11 (same A_N pre-pass as the transient schemes).
+        Apply Eq. 11 (same A_N as the transient schemes).
     accuracy : {"fast"}
         ``"fast"``: the M -> infinity averaging (error ~ 1/M, see ``docs/steady.md``).
 

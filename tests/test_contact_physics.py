@@ -71,7 +71,7 @@ def test_dead_zone_is_pure_stick():
 
 
 def test_normal_amplitude_is_a_property_of_the_normal_dynamics(paper_params):
-    # Eqs. 4 + 7 do not involve the tangential state: the pre-pass amplitude equals the
+    # Eqs. 4 + 7 do not involve the tangential state: the A_N used equals the
     # steady amplitude of the full run, whatever the friction
     r = cached_run(300.0, 12.0)
     a_full = 0.5 * (r.steady.y_tip_max_m - r.steady.y_tip_min_m)

@@ -61,7 +61,7 @@ def grazing_voltage(params: MotorParams, preload_N: float, frequency_Hz: float) 
     """Voltage (V) at which the tip just starts to separate (``y_min = y_c``).
 
     Below it the normal dynamics is linear (always in contact), so the tip amplitude is
-    proportional to V: one pre-pass at 1 V gives the slope.
+    proportional to V: the amplitude at 1 V gives the slope.
     """
     from contact.model import normal_force_zero_tip_displacement
 

@@ -308,7 +308,7 @@ def _speed(params: dict, out: Path, quick: bool, progress: bool):
           f"One {dur * 1e3:g} ms run at 200 V / 14 N, dt = 1e-7 s, Table 2 parameters "
           f"({_damping('table2', p)}; {r.steps} steps, {r.events} switches): "
           f"**{t_kernel * 1e3:.1f} ms** (median of 5, "
-          f"A_N pre-pass included); the event-driven `solve_ivp` reference (DOP853, rtol 1e-10): "
+          f"A_N included); the event-driven `solve_ivp` reference (DOP853, rtol 1e-10): "
           f"**{ref.wall_time_s:.2f} s** ({ref.steps} steps, {ref.nfev} evaluations), i.e. "
           f"**{ref.wall_time_s / t_kernel:.0f}x** slower; velocities "
           f"{r.steady.velocity_m_s:.8g} vs {ref.steady.velocity_m_s:.8g} m/s.", "",
