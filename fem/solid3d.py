@@ -124,6 +124,21 @@ def _check_int(name: str, value: object, minimum: int = 1) -> int:
     return int(value)
 
 
+def mesh_settings(order: object, element: str, refine: object, layers: object,
+                  edge_grading: object) -> tuple[int, str, int, int, int]:
+    """Validated, normalized 3D mesh arguments ``(order, element, refine, layers,
+    edge_grading)``, the key of the cached 3D models (full and quarter plate).
+
+    Raises
+    ------
+    ValueError
+        Naming the first bad argument and its allowed values.
+    """
+    _element(order, element)
+    return (int(order), element, _check_int("refine", refine), _check_int("layers", layers),
+            _check_int("edge_grading", edge_grading, 0))
+
+
 @dataclass(frozen=True, eq=False)
 class SolidPlateModel:
     """Assembled 3D piezoelastic matrices of the plate (treat as read-only).
@@ -569,11 +584,10 @@ def solid_model(
 ) -> SolidPlateModel:
     """Cached :func:`build_solid_model` (default: the paper's plate, PZT-8, default mesh)."""
     stator = PlateStator() if stator is None else stator
-    _element(order, element)
-    return _cached_solid_model(
-        stator, get_material(material), int(order), _check_int("refine", refine),
-        _check_int("layers", layers), element, _check_int("edge_grading", edge_grading, 0),
-    )
+    order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
+                                                            edge_grading)
+    return _cached_solid_model(stator, get_material(material), order, refine, layers, element,
+                               grading)
 
 
 _SPLU_OPTIONS = {
@@ -905,8 +919,7 @@ def solid_modes(
         Levels of mesh grading towards the electrode edges (:func:`build_solid_model`).
     """
     stator = PlateStator() if stator is None else stator
-    _element(order, element)
-    return _cached_solid_modes(
-        stator, get_material(material), int(order), _check_int("refine", refine),
-        _check_int("layers", layers), element, _check_int("edge_grading", edge_grading, 0),
-    )
+    order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
+                                                            edge_grading)
+    return _cached_solid_modes(stator, get_material(material), order, refine, layers, element,
+                               grading)

@@ -54,6 +54,7 @@ from fem.solid3d import (
     assemble_solid,
     hex_grid_lines,
     identify_sampled,
+    mesh_settings,
     saddle_point_frequencies_Hz,
 )
 
@@ -393,9 +394,7 @@ def symmetric_solid_modes(
         If a mode cannot be found.
     """
     stator = PlateStator() if stator is None else stator
-    for name, value, lo in (("refine", refine, 1), ("layers", layers, 1),
-                            ("edge_grading", edge_grading, 0)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
-            raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
-    return _cached_symmetric_modes(stator, get_material(material), int(order), int(refine),
-                                   int(layers), element, int(edge_grading))
+    order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
+                                                            edge_grading)
+    return _cached_symmetric_modes(stator, get_material(material), order, refine, layers,
+                                   element, grading)
