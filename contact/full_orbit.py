@@ -21,7 +21,7 @@ import numpy as np
 from contact import event_kernel, orbit_kernel
 from contact import state as S
 from contact.model import HybridSystem, OperatingPoint, build_system
-from contact.periodic_orbit import ENERGY_STEPS_PER_PERIOD, propagator_ladder, steps_for
+from contact.periodic_orbit import propagator_ladder, run_whole_periods, steps_for
 from rom.params import MotorParams
 
 
@@ -59,41 +59,16 @@ def run_periods(fs: FullSystem, z: np.ndarray, mode: int, periods: int, energy: 
     """Advance ``periods`` drive periods; returns ``(z_end, mode_end, distance_m, work,
     phase_time)`` with the position slot reset to 0 at the start (work and phase time are
     accumulated, and non-zero, only when ``energy``, at a step of at most
-    ``T / ENERGY_STEPS_PER_PERIOD``)."""
-    s = fs.system
-    z = np.array(z, dtype=float)
-    z[S.X] = 0.0
-    steps, dt, phi, half = fs.steps_per_period, fs.dt_s, fs.phi, fs.phi_half
-    if energy and steps < ENERGY_STEPS_PER_PERIOD:
-        steps, dt = ENERGY_STEPS_PER_PERIOD, fs.period_s / ENERGY_STEPS_PER_PERIOD
-        if "phi" not in fs.fine:
-            fs.fine["phi"] = s.propagators(dt)
-        phi, half = fs.fine["phi"]
-    n = steps * periods
-    out = event_kernel.integrate_switch_model(
-        z, mode, n, dt, phi, half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
-        s.ft_m, s.ff_m, s.funcs, s.scalars, 0 if energy else n, n, 1, energy, 64)
-    status, _, _, _, phase_time, work, _, z_end, mode_end = out
-    if status != S.OK:
-        raise RuntimeError("contact chattering in the full-model shooting")
-    z_end = z_end.copy()
-    dist = float(z_end[S.X])
-    z_end[S.X] = 0.0
-    return z_end, int(mode_end), dist, work.copy(), phase_time.copy()
+    ``T / ENERGY_STEPS_PER_PERIOD``; :func:`contact.periodic_orbit.run_whole_periods`)."""
+    return run_whole_periods(fs.system, z, mode, periods, steps=fs.steps_per_period,
+                             period_s=fs.period_s, phi=fs.phi, half=fs.phi_half, fine=fs.fine,
+                             key="phi", energy=energy, window=energy,
+                             what="the full-model shooting")[:5]
 
 
 def _consistent(fs: FullSystem, z: np.ndarray, mode: int) -> np.ndarray:
-    z = z.copy()
-    z[S.SIN], z[S.COS], z[S.ONE] = 0.0, 1.0, 1.0
-    stick = mode // 9 == S.CONTACT and (mode // 3) % 3 == S.STICK
-    held = mode % 3 == S.HELD
-    if stick and held:
-        z[S.DW] = 0.0
-        z[S.DX] = 0.0
-    elif stick:
-        z[S.DX] = fs.phi_Bl * z[S.DW]
-    elif held:
-        z[S.DX] = 0.0
+    z = np.array(z, dtype=float)
+    orbit_kernel.full_consistent(z, int(mode), float(fs.phi_Bl))
     return z
 
 

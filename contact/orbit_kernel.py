@@ -227,7 +227,9 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
 
 
 @njit(cache=True, nogil=True)
-def _full_consistent(z, mode, phi_bl):
+def full_consistent(z, mode, phi_bl):
+    """Make ``z`` consistent with ``mode`` in place: drive phase at t = 0, stick and guide
+    constraints on ``dw_b`` and the slider velocity ``dx`` (full model)."""
     z[SIN] = 0.0
     z[COS] = 1.0
     z[ONE] = 1.0
@@ -262,7 +264,7 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
     """
     z = z0.copy()
     mode = mode0
-    _full_consistent(z, mode, phi_bl)
+    full_consistent(z, mode, phi_bl)
     periods = 0
     res = np.inf
     it = 0
@@ -280,7 +282,7 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
         z1 = out[7].copy()
         z1[X] = 0.0
         m1 = out[8]
-        _full_consistent(z1, m1, phi_bl)
+        full_consistent(z1, m1, phi_bl)
         periods += k
         res = 0.0
         for i in range(N_Y + 1):
@@ -308,7 +310,7 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
             zp = z.copy()
             h = 1e-7 * amp[i]
             zp[_full_y(i)] += h
-            _full_consistent(zp, mode, phi_bl)
+            full_consistent(zp, mode, phi_bl)
             zp[X] = 0.0
             outp = integrate_switch_model(zp, mode, steps, dt, phi, half, a, ev_h, ev_dh,
                                           ev_type, fn_m, ft_m, ff_m, funcs, sc, steps, steps,
@@ -316,7 +318,7 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
             if outp[0] != 0:
                 return CHATTER, z, mode, res, periods, it, jac, last_free
             zq = outp[7].copy()
-            _full_consistent(zq, m1, phi_bl)
+            full_consistent(zq, m1, phi_bl)
             periods += k
             for r in range(N_Y + 1):
                 jac[r, i] = (zq[_full_y(r)] - z1[_full_y(r)]) / h
@@ -350,7 +352,7 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
             if free[i]:
                 z[_full_y(i)] += step[ri]
                 ri += 1
-        _full_consistent(z, mode, phi_bl)
+        full_consistent(z, mode, phi_bl)
     return SEARCH_OVER, z, mode, res, periods, it, jac, last_free
 
 

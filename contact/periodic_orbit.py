@@ -158,6 +158,50 @@ def steps_for(system: HybridSystem, period_s: float, steps_per_period: int | Non
     return max(n, int(np.ceil(rho * period_s)))
 
 
+def run_whole_periods(system: HybridSystem, z: np.ndarray, mode: int, periods: int, *,
+                      steps: int, period_s: float, phi: np.ndarray, half: np.ndarray,
+                      fine: dict, key: str, energy: bool = False, window: bool = False,
+                      what: str = "the fixed-velocity fast problem"):
+    """Advance ``system`` by whole drive periods from ``z`` (position slot reset to 0).
+
+    ``steps`` per period with the one- and half-step propagators ``phi``, ``half``; with
+    ``energy`` the step is refined to :data:`ENERGY_STEPS_PER_PERIOD` (work integrals need
+    it), whose propagators are cached in ``fine[key]``. The kernel's window (phase times,
+    and the work integrals with ``energy``) is opened only with ``window``: it triples the
+    cost of a step.
+
+    Returns ``(z_end, mode_end, x_end, work, phase_time, events)``: ``x_end`` is what the
+    position slot accumulated (the slider distance (m), or a force's time integral (N s) in
+    an integrating system), ``work`` the kernel's work integrals (J), ``phase_time`` the time
+    per phase (s); both zero when not asked for.
+
+    Raises
+    ------
+    RuntimeError
+        If the kernel chatters (``what`` names the problem).
+    """
+    dt = period_s / steps
+    if energy and steps < ENERGY_STEPS_PER_PERIOD:
+        steps, dt = ENERGY_STEPS_PER_PERIOD, period_s / ENERGY_STEPS_PER_PERIOD
+        if key not in fine:
+            fine[key] = system.propagators(dt)
+        phi, half = fine[key]
+    z = np.array(z, dtype=float)
+    z[S.X] = 0.0
+    n = steps * periods
+    out = event_kernel.integrate_switch_model(
+        z, mode, n, dt, phi, half, system.A, system.ev_h, system.ev_dh, system.ev_type,
+        system.fn_m, system.ft_m, system.ff_m, system.funcs, system.scalars,
+        0 if window else n, n, 1, energy, 64)
+    status, _, _, _, phase_time, work, stats, z_end, mode_end = out
+    if status != S.OK:
+        raise RuntimeError(f"contact chattering in {what}")
+    z_end = z_end.copy()
+    x_end = float(z_end[S.X])
+    z_end[S.X] = 0.0
+    return z_end, int(mode_end), x_end, work.copy(), phase_time.copy(), int(stats[3])
+
+
 def period_map(fs: FastSystem, z: np.ndarray, mode: int, periods: int = 1, *,
                integrand: str = "ft", energy: bool = False, window: bool | None = None):
     """Advance the fast problem by whole periods from ``z`` (x slot reset to 0).
@@ -165,33 +209,14 @@ def period_map(fs: FastSystem, z: np.ndarray, mode: int, periods: int = 1, *,
     Returns ``(z_end, mode_end, integral, work, phase_time, events)`` where ``integral`` is
     the time integral of F_T or F_N (N s) over the periods, ``work`` the kernel's work
     integrals (J) when ``energy`` and ``phase_time`` the time per phase (s) when ``window``
-    (default: ``energy``); both are zero otherwise.
+    (default: ``energy``); both are zero otherwise (:func:`run_whole_periods`).
     """
-    window = energy if window is None else window
     sys_, phi, half = ((fs.ft_system, fs.phi_ft, fs.phi_half_ft) if integrand == "ft"
                        else (fs.fn_system, fs.phi_fn, fs.phi_half_fn))
-    steps, dt = fs.steps_per_period, fs.dt_s
-    if energy and steps < ENERGY_STEPS_PER_PERIOD:  # work integrals need the finer step
-        steps, dt = ENERGY_STEPS_PER_PERIOD, fs.period_s / ENERGY_STEPS_PER_PERIOD
-        if integrand not in fs.fine:
-            fs.fine[integrand] = sys_.propagators(dt)
-        phi, half = fs.fine[integrand]
-    z = np.array(z, dtype=float)
-    z[S.X] = 0.0
-    n = steps * periods
-    # the kernel's window (phase times, work) is opened only when asked for: it triples the
-    # cost of a step
-    out = event_kernel.integrate_switch_model(
-        z, mode, n, dt, phi, half, sys_.A, sys_.ev_h, sys_.ev_dh, sys_.ev_type,
-        sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0 if window else n, n, 1,
-        energy, 64)
-    status, _, _, _, phase_time, work, stats, z_end, mode_end = out
-    if status != S.OK:
-        raise RuntimeError("contact chattering in the fixed-velocity fast problem")
-    z_end = z_end.copy()
-    integral = z_end[S.X]
-    z_end[S.X] = 0.0
-    return z_end, int(mode_end), float(integral), work.copy(), phase_time.copy(), int(stats[3])
+    return run_whole_periods(sys_, z, mode, periods, steps=fs.steps_per_period,
+                             period_s=fs.period_s, phi=phi, half=half, fine=fs.fine,
+                             key=integrand, energy=energy,
+                             window=energy if window is None else window)
 
 
 @dataclass(frozen=True)
