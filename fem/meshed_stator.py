@@ -91,6 +91,12 @@ class MeshedStator(PlateStator):
 
 
 
+def has_planform(stator: PlateStator) -> bool:
+    """Whether ``stator`` carries its own planform (:func:`planform_mesh` is not None),
+    decided without meshing it."""
+    return isinstance(stator, (MeshedStator, ParametricStator))
+
+
 def planform_mesh(stator: PlateStator) -> PlateMesh | None:
     """The planform mesh of a :class:`MeshedStator` or of a
     :class:`fem.parametric.ParametricStator` (meshed by gmsh, cached); None for a plain

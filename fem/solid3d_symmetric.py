@@ -44,7 +44,7 @@ import scipy.sparse as sp
 from fem.geometry import PlateStator
 from fem.grid_ordering import nested_dissection_rank
 from fem.material import PiezoMaterial, get_material
-from fem.meshed_stator import planform_mesh
+from fem.meshed_stator import has_planform
 from fem.modes import N_SAMPLE_X, N_SAMPLE_Y, solve_short_open
 from fem.solid3d import (
     DEFAULT_ELEMENT,
@@ -234,7 +234,7 @@ def build_quarter_model(
     t0 = time.perf_counter()
     if mode not in MODE_CLASSES:
         raise ValueError(f"mode must be one of {', '.join(MODE_CLASSES)}, got {mode!r}")
-    if planform_mesh(stator) is not None:
+    if has_planform(stator):
         raise ValueError("the quarter model needs a plain rectangular plate (its planform mesh "
                          "need not be symmetric); use fem.solid3d.build_solid_model")
     mat = get_material(material)
@@ -359,6 +359,13 @@ def modes_of_quarter_models(l1: QuarterPlateModel, b2: QuarterPlateModel, order:
         element=element if order == 2 else "hex8",
         edge_grading=edge_grading,
     )
+
+
+def quarter_model_applies(stator: PlateStator, edge_grading: int) -> bool:
+    """Whether :func:`symmetric_solid_modes` gives :func:`fem.solid3d.solid_modes`' results:
+    a plain plate (no planform mesh) on a graded mesh, whose first grading level puts lines
+    on both symmetry planes ``x = 0`` and ``y = l/2`` (the uniform default mesh has none)."""
+    return edge_grading > 0 and not has_planform(stator)
 
 
 @lru_cache(maxsize=16)

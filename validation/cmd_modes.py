@@ -110,11 +110,11 @@ def run(args: argparse.Namespace) -> None:
                     else "grade that mesh itself")
             raise LusmError(f"--edge-grading applies to the generated plate, not to the mesh "
                             f"of --geometry {args.geometry}; {hint}", "--edge-grading")
-        # graded meshes of the plain plate contain both symmetry planes (the first grading
-        # level puts lines at x = 0 and y = l/2), where the quarter-plate model gives the
-        # full model's results at about a quarter of the size
-        quarter = bool(args.edge_grading) and not (choice.meshed or choice.parametric) \
-            and export is None
+        from fem.solid3d_symmetric import quarter_model_applies
+
+        # the quarter-plate model gives the full model's results at about a quarter of the
+        # size; the export writes the full model's mesh
+        quarter = export is None and quarter_model_applies(stator, args.edge_grading)
         check_fe_size(stator, refine, layers, "--edge-grading" if args.edge_grading else "--refine",
                       edge_grading=args.edge_grading, quarter=quarter)
     else:
@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> None:
         check_fe_size(stator, refine)
     validity = None
     try:
-        if args.model == "3d" and quarter:
+        if quarter:
             from fem.solid3d_symmetric import symmetric_solid_modes
 
             res = symmetric_solid_modes(stator, material, args.order, refine, layers,
@@ -208,7 +208,7 @@ def run(args: argparse.Namespace) -> None:
         f"{plate_text(stator)}, material {material.name}, order {args.order}, {mesh_text}"
         + (f", 3D layers {res.layers} ({res.element})" if hasattr(res, "layers") else "")
         + (f", edge grading {args.edge_grading}" if args.edge_grading else "")
-        + (" (quarter-plate model, mirror symmetry)" if args.model == "3d" and quarter else "")
+        + (" (quarter-plate model, mirror symmetry)" if quarter else "")
     )
     if choice.design is not None:
         what = "bounding box above" if choice.meshed else "dimensions above"
