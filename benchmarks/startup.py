@@ -40,6 +40,12 @@ CASES = (
         PY, "-c", "import gc, sys; gc.set_threshold = lambda *a: None; "
         "from validation.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
         "'--preload', '14', '--json']; sys.exit(main())"]),
+    # the same command letting numba's BLAS probe import scipy.linalg whole (validation.fast_start)
+    ("lusm simulate, whole scipy.linalg", [
+        PY, "-c", "import sys; from validation import fast_start; "
+        "fast_start.load_blas_probe = lambda: False; "
+        "from validation.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
+        "'--preload', '14', '--json']; sys.exit(main())"]),
 )
 
 
@@ -50,7 +56,7 @@ import numpy
 t.append(time.perf_counter())
 import numba
 t.append(time.perf_counter())
-import scipy.linalg  # what numba's BLAS probe imports during its target set-up
+import scipy.linalg  # numba's BLAS probe imports it whole (lusm loads one module instead)
 t.append(time.perf_counter())
 from numba.core.registry import cpu_target
 cpu_target.target_context.refresh()  # numba's own registries
@@ -143,6 +149,7 @@ def main() -> None:
     for name, cmd in CASES:
         t = wall(cmd, args.repeats)
         print(f"{name:<42}{t:>8.3f}{t / integration:>15.1f}")
+    print("(the lusm rows run the console-script path, validation.cli.main() with argv None)")
     print(f"\n{'stages of one fresh process':<42}{'s':>8}")
     for name, t in zip(STAGE_NAMES, stages(args.repeats), strict=True):
         print(f"{name:<42}{t:>8.3f}")

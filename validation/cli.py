@@ -103,11 +103,9 @@ def _one_line(text: str) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lusm`` console script; returns the process exit code."""
     if argv is None:  # a fresh `lusm` process: its start is mostly imports (numba, SciPy)
-        import gc  # that allocate ~2e5 container objects and no garbage worth collecting;
+        from validation import fast_start
 
-        # at the default threshold (700) the collector ran ~250 times through them, its
-        # older generations walking the growing graph (docs/contact.md section 5.1)
-        gc.set_threshold(100_000, 50, 100)
+        fast_start.prepare_process()
     from validation.errors import LusmError, user_error
     from validation.options import set_command
 
@@ -123,6 +121,8 @@ def main(argv: Sequence[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     set_command(args.command)
+    if argv is None:  # past --help: every command imports NumPy and most run numba
+        fast_start.load_blas_probe()
     prog = f"lusm {args.command}"
     previous = None
     try:
@@ -158,10 +158,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
-        if argv is None:  # the process ends next: its final garbage collection would walk
-            import gc  # numba's object graph (~0.2 s of a 0.7 s `lusm simulate`); skip it
-
-            gc.freeze()
+        if argv is None:
+            fast_start.finish_process()
     return 0
 
 

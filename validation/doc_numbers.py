@@ -869,18 +869,14 @@ def _fine_map_counts(ultrasonic_friction: bool = True) -> dict[str, int]:
 
 
 _STARTUP_KEYS = ("python", "numba", "arraymath", "contact", "run_1ms", "lusm_simulate",
-                 "lusm_help", "lusm_simulate_default_gc")
+                 "lusm_help", "lusm_simulate_default_gc", "lusm_simulate_whole_linalg")
 """Names of the rows of benchmarks/startup.py's ``CASES``, in order."""
 
 
 @cache
-def _startup_ratios() -> dict[str, float]:
-    """Fresh-process wall times over one 50 ms integration (benchmarks/startup.py's cases).
-
-    All rows share one denominator, the fastest of 7 integrations in a fresh process with BLAS
-    held to one thread; each row is the fastest of 3 fresh processes (minima, not medians: on
-    a shared machine a run can lose a time slice ten times its length).
-    """
+def _startup_seconds() -> dict[str, float]:
+    """Fresh-process wall times (s) of benchmarks/startup.py's cases, fastest of 3, and the
+    denominator of :func:`_startup_ratios` under the key ``"integration"``."""
     import importlib.util
     import subprocess
     import sys
@@ -896,9 +892,21 @@ def _startup_ratios() -> dict[str, float]:
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, cwd=ROOT, env=env)
-    integration = float(run.stdout.split()[-1])
-    return {k: min(bench.wall(cmd, 1) for _ in range(3)) / integration
-            for k, (_, cmd) in zip(_STARTUP_KEYS, bench.CASES, strict=True)}
+    out = {k: min(bench.wall(cmd, 1) for _ in range(3))
+           for k, (_, cmd) in zip(_STARTUP_KEYS, bench.CASES, strict=True)}
+    out["integration"] = float(run.stdout.split()[-1])
+    return out
+
+
+def _startup_ratios() -> dict[str, float]:
+    """Fresh-process wall times over one 50 ms integration (benchmarks/startup.py's cases).
+
+    All rows share one denominator, the fastest of 7 integrations in a fresh process with BLAS
+    held to one thread; each row is the fastest of 3 fresh processes (minima, not medians: on
+    a shared machine a run can lose a time slice ten times its length).
+    """
+    sec = _startup_seconds()
+    return {k: sec[k] / sec["integration"] for k in _STARTUP_KEYS}
 
 
 def _contact_claims() -> tuple[Claim, ...]:
@@ -958,6 +966,10 @@ def _contact_claims() -> tuple[Claim, ...]:
                          "python benchmarks/startup.py (x one 50 ms integration; here the "
                          "fastest of 3 processes over the fastest of 7 runs)",
                          lambda k=k: _startup_ratios()[k]))
+    for k in ("lusm_simulate", "lusm_help"):
+        out.append(Claim(f"startup_{k}_s", "s",
+                         "python benchmarks/startup.py (wall s; here the fastest of 3 fresh "
+                         "processes)", lambda k=k: _startup_seconds()[k]))
     return tuple(out)
 
 
