@@ -47,6 +47,14 @@ NEWTON_MAX = 12
 NEWTON_FAILURES = 3
 """Failed Newton steps in a row after which the search goes period by period."""
 
+SEARCH_PERIODS = 200
+"""Drive periods at most that :func:`find_orbit` spends looking for an orbit of period
+<= ``max_k`` (warm-up, Newton's runs and the period-by-period watch)."""
+
+AVERAGE_PERIODS = 100
+"""Drive periods the averages of an orbit without a short period (``k = 0``) are taken over,
+after the search (long stick phases dragged by the slider at low speed)."""
+
 CHUNK_PERIODS = 80
 """Periods run in one kernel call between the watches for period-k repetition once Newton
 has given up (slowly converging or long-period orbits at low slider speed)."""
@@ -276,8 +284,8 @@ def _start(fs: FastSystem, v: float) -> tuple[np.ndarray, int]:
 
 
 def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: int | None = None,
-               *, tol: float = 1e-11, max_periods: int = 400, warmup: int = 20,
-               max_k: int = 4, average_periods: int = 200, energy: bool = False,
+               *, tol: float = 1e-11, max_periods: int = SEARCH_PERIODS, warmup: int = 20,
+               max_k: int = 4, average_periods: int = AVERAGE_PERIODS, energy: bool = False,
                jacobian: tuple | None = None) -> Orbit:
     """Periodic orbit of the fast problem at slider velocity ``v`` (m/s) by shooting.
 
@@ -331,7 +339,7 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
                  np.zeros(event_kernel.N_WORK), None if jac_mode < 0 else (jac, jac_mode))
 
 
-def orbit_phases(fs: FastSystem, orbit: Orbit, average_periods: int = 200) -> np.ndarray:
+def orbit_phases(fs: FastSystem, orbit: Orbit, average_periods: int = AVERAGE_PERIODS) -> np.ndarray:
     """Time in stick, slip+, slip-, separation (s) over the orbit's k periods, or for ``k = 0``
     over the ``average_periods`` periods its averages were taken on."""
     if orbit.k:
@@ -339,7 +347,7 @@ def orbit_phases(fs: FastSystem, orbit: Orbit, average_periods: int = 200) -> np
     return period_map(fs, orbit.z, orbit.mode, average_periods, window=True)[4]
 
 
-def orbit_work(fs: FastSystem, orbit: Orbit, average_periods: int = 200) -> np.ndarray:
+def orbit_work(fs: FastSystem, orbit: Orbit, average_periods: int = AVERAGE_PERIODS) -> np.ndarray:
     """Work integrals (J) of :mod:`contact.event_kernel` over the orbit's k periods, at
     :data:`ENERGY_STEPS_PER_PERIOD` steps per period (for ``k = 0`` over the
     ``average_periods`` periods the averages were taken on, at the orbit's own step)."""

@@ -69,8 +69,18 @@ V_ZERO_M_S = 1e-9
 """Slider speed (m/s) standing in for 0+ / 0- in the fast problem (stick at exactly v = 0 is
 degenerate there)."""
 
-SCAN_POINTS = 16
-"""Velocities sampled on each side to bracket the roots of the slow equation."""
+SCAN_PER_DECADE = 3
+"""Velocities sampled per decade of slider speed to bracket the roots of the slow equation
+(the former 16 points over five decades, 10**(1/3) apart)."""
+
+SCAN_FLOOR_FACTOR = 1.0
+"""The scan's lowest sampled speed, in units of the slider's velocity-ripple scale
+``mu_d_eff F_P / (M omega)`` (:func:`ripple_scale`). Below it the slider's velocity swings by
+more than its mean inside one drive period, so the averaging (M -> infinity) no longer
+describes the motor, and the tip's fast orbit at fixed v is a slow stick-drag sawtooth with
+no short period whose averages cost 800 periods per sample and do not converge. Roots below
+it are still found (one bracket from 0+ to the floor): they are the creep points, which the
+exact level reports as such (``docs/steady.md``)."""
 
 
 @dataclass(frozen=True)
@@ -183,6 +193,7 @@ class SlowProblem:
     mu_d_eff: float
     fs: FastSystem
     v_max_m_s: float
+    v_floor_m_s: float
     cache: dict = field(default_factory=dict)
     periods: int = 0
     newton_iterations: int = 0
@@ -233,11 +244,24 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     fs = fast_system(params, op, mu, coupling)
     _, b_amp = free_tip_amplitudes(params, op.frequency_Hz, op.voltage_V)
     v_max = max(1.5 * float(b_amp) * op.omega, 1e-6)
-    return SlowProblem(params, op, mu, fs, v_max)
+    floor = min(max(SCAN_FLOOR_FACTOR * ripple_scale(params, op, mu), 1e-5 * v_max),
+                0.1 * v_max)
+    return SlowProblem(params, op, mu, fs, v_max, floor)
 
 
-def _grid(v_max: float) -> np.ndarray:
-    return np.concatenate([[V_ZERO_M_S], np.geomspace(1e-5 * v_max, v_max, SCAN_POINTS)])
+def ripple_scale(params: MotorParams, op: OperatingPoint, mu_d_eff: float) -> float:
+    """Velocity-ripple scale of the slider (m/s): ``mu_d_eff F_P / (M omega)``.
+
+    The velocity amplitude a tangential force swinging by the tip's sliding friction at the
+    preload gives the slider at the drive frequency. At 200 V / 14 N on Table 2's set it is
+    about twice the ripple of the full model's orbit (``full_orbit.velocity_ripple``).
+    """
+    return mu_d_eff * op.preload_N / (params.M_slider * op.omega)
+
+
+def _grid(v_floor: float, v_max: float) -> np.ndarray:
+    n = max(2, 1 + math.ceil(SCAN_PER_DECADE * math.log10(v_max / v_floor) - 1e-9))
+    return np.concatenate([[V_ZERO_M_S], np.geomspace(v_floor, v_max, n)])
 
 
 def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranch:
@@ -265,7 +289,7 @@ def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch
     g_neg = sp.thrust(-V_ZERO_M_S) - load_N
     # backward motion needs G(0-) < 0: only then is the negative side searched
     for sign in (1.0, -1.0) if g_neg < 0 else (1.0,):
-        vs = sign * _grid(sp.v_max_m_s)
+        vs = sign * _grid(sp.v_floor_m_s, sp.v_max_m_s)
         gs = [sp.thrust(v) - load_N for v in vs]
         for i in range(len(vs) - 1):
             if gs[i] * gs[i + 1] < 0:
@@ -364,6 +388,10 @@ def _exact(sp: SlowProblem, branches, coupling: str):
     from contact import state as S
     from contact.full_orbit import full_system, run_periods, shoot, velocity_ripple
 
+    # the dead zone is the only steady state: a start from rest stays held (or, released by
+    # the start-up transient, finds no moving branch to settle on and is held again)
+    if len(branches) == 1 and branches[0].motion == "dead-zone":
+        return (dataclasses.replace(branches[0], from_rest=True),), 0.0, 0, 0
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
     periods = newton = 0
     out: list[SteadyBranch] = []
@@ -392,10 +420,6 @@ def _exact(sp: SlowProblem, branches, coupling: str):
             out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
         else:
             out.append(dataclasses.replace(b, from_rest=False))
-    # the dead zone is the only steady state: a start from rest stays held (or, released by
-    # the start-up transient, finds no moving branch to settle on and is held again)
-    if len(branches) == 1 and branches[0].motion == "dead-zone":
-        return (dataclasses.replace(out[0], from_rest=True),), 0.0, periods, newton
     # one stable branch well above the slider's velocity ripple: a start from rest reaches it
     fo = shots[0] if len(branches) == 1 and shots else None
     if fo is not None and fo.k == 1 and branches[0].stable and fo.multiplier < 1.0:
@@ -473,6 +497,28 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     frac = out.phase_time / max(float(np.sum(out.phase_time)), 1e-300)
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     return float(out.velocity_m_s), motion
+
+
+def settled_duration(params: MotorParams, voltage_V: float, preload_N: float, *,
+                     start_s: float = 0.3, max_s: float = 2.4, rel_tol: float = 1e-6,
+                     abs_tol_m_s: float = 1e-9, **kwargs) -> tuple[float, bool]:
+    """Shortest transient length on a doubling ladder whose velocity is settled.
+
+    Runs :func:`transient_reference` for ``start_s``, ``2 start_s``, ... and returns the first
+    length D whose velocity agrees with the run of length 2D to ``rel_tol`` (or
+    ``abs_tol_m_s`` m/s, for held points), with ``True``; ``(start_s, False)`` when no length
+    up to ``max_s`` / 2 settles (creep points below the slider's velocity ripple).
+    ``kwargs`` go to :func:`transient_reference`. The settled reference of the steady
+    engine's benchmarks (``benchmarks/steady_speed.py``).
+    """
+    d = float(start_s)
+    v = transient_reference(params, voltage_V, preload_N, duration_s=d, **kwargs)[0]
+    while 2.0 * d <= max_s * (1.0 + 1e-12):
+        v2 = transient_reference(params, voltage_V, preload_N, duration_s=2.0 * d, **kwargs)[0]
+        if abs(v2 - v) <= max(rel_tol * abs(v2), abs_tol_m_s):
+            return d, True
+        d, v = 2.0 * d, v2
+    return float(start_s), False
 
 
 def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff: float):
