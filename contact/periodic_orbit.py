@@ -339,7 +339,8 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
                  np.zeros(event_kernel.N_WORK), None if jac_mode < 0 else (jac, jac_mode))
 
 
-def orbit_phases(fs: FastSystem, orbit: Orbit, average_periods: int = AVERAGE_PERIODS) -> np.ndarray:
+def orbit_phases(fs: FastSystem, orbit: Orbit,
+                 average_periods: int = AVERAGE_PERIODS) -> np.ndarray:
     """Time in stick, slip+, slip-, separation (s) over the orbit's k periods, or for ``k = 0``
     over the ``average_periods`` periods its averages were taken on."""
     if orbit.k:

@@ -25,8 +25,9 @@ tables printed by a benchmark are not claims but generated blocks
 (it would show on GitHub).
 
 Timings are claims only as ratios measured in the same run (``*_ratio``, or the ratios of one
-benchmark run), never as absolute seconds; the machine they were measured on is stored beside
-them. Expensive claims (benchmarks of minutes: ``steady_map_*``, ``explore_*``) are not
+benchmark run), never as absolute seconds, with one exception: the wall times of a fresh
+``lusm`` process (``startup_*_s``), because the start-up target is itself absolute; the
+machine they were measured on is stored beside them. Expensive claims (benchmarks of minutes: ``steady_map_*``, ``explore_*``) are not
 ``cheap``, so the tests only check that the Markdown quotes ``numbers.json``; the claims of one
 benchmark share a ``batch`` and are computed together in one fresh process, so that
 ``--update 'explore_*'`` runs the benchmark once.
@@ -1075,6 +1076,31 @@ guarantee there is only "creeping")."""
 
 
 @cache
+def _steady_scan() -> dict[str, float]:
+    """``python benchmarks/steady_scan_budget.py``: the former scan against the present one."""
+    m = _bench("steady_scan_budget").measure()
+    out = {"time_ratio": m["time_ratio"], "differ": len(m["differ"]),
+           "k0_samples": m["k0_samples"], "g_change_max": m["g_change_max"],
+           "sign_changes": m["sign_changes"]}
+    for name in ("former", "now"):
+        s = m[name]
+        out.update({f"{name}_orbits": s["orbits"], f"{name}_k0": s["k0"],
+                    f"{name}_periods": s["periods"],
+                    f"{name}_k0_share": s["k0_periods"] / s["periods"]})
+    return out
+
+
+@cache
+def _ripple_scale_14N() -> float:
+    """``contact.steady.ripple_scale`` of Table 2's set at 200 V / 14 N (m/s)."""
+    from contact.model import OperatingPoint
+    from contact.steady import slow_problem
+
+    sp = slow_problem(_table2(), OperatingPoint(200.0, 14.0, 40e3))
+    return sp.v_floor_m_s
+
+
+@cache
 def _steady_map() -> dict[str, float]:
     """``python benchmarks/steady_speed.py --map``: the 9 x 9 map (50-450 V x 10-26 N) of the
     steady levels against a settled transient per point (the benchmark's rows), wall times
@@ -1211,6 +1237,18 @@ def _steady_claims() -> tuple[Claim, ...]:
         out.append(Claim(f"steady_map_{k.replace('-', '_')}", unit,
                          mapc + " (benchmark, minutes; not run by the tests)",
                          lambda k=k: _steady_map()[k], batch="steady_map"))
+    scan = "python benchmarks/steady_scan_budget.py"
+    for k in ("differ", "k0_samples", "g_change_max", "sign_changes", "former_orbits",
+              "former_k0", "former_periods", "former_k0_share", "now_orbits", "now_k0",
+              "now_periods", "now_k0_share"):
+        out.append(Claim(f"steady_scan_{k}", "-", scan, lambda k=k: _steady_scan()[k],
+                         batch="steady_scan"))
+    out.append(Claim("steady_scan_time_ratio", "-", scan + " (time former / now)",
+                     lambda: _steady_scan()["time_ratio"], batch="steady_scan"))
+    out.append(Claim("steady_ripple_scale_200V_14N_m_s", "m/s",
+                     "contact.steady.slow_problem(table2(), OperatingPoint(200, 14, 40e3))"
+                     ".v_floor_m_s (ripple_scale)", _ripple_scale_14N, cheap=True,
+                     rel_tol=1e-9))
     for v, f in ((100, 10), (200, 20)):
         for k in ("transient", "exact"):
             cmd = (f"transient_reference(table2(), {v}, {f}, duration_s=0.3)"
