@@ -50,3 +50,13 @@ def test_map_json_keeps_its_keys_and_adds_branches(capsys):
     assert d["method"] == "steady"
     assert len(d["branches"][0][0]) == 2 and len(d["branches"][1][0]) == 1
     assert d["branches"][1][0][0]["from_rest"] is True
+
+
+def test_creep_point_is_decided_on_the_full_model(steady_map):
+    # 100 V / 10 N: the slider creeps below its velocity ripple, stopping and starting inside
+    # every period, on a slider-tip orbit of ten periods; no transient fallback is needed
+    i, j = 0, 0
+    assert not steady_map.fallback[i, j]
+    v_t, _ = transient_reference(table2(), 100.0, 10.0, duration_s=0.3)
+    assert steady_map.velocity_m_s[i, j] == pytest.approx(v_t, rel=1e-6)
+    assert [b[1] for b in steady_map.branches[i, j] if b[3]] == [10]
