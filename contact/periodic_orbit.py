@@ -47,7 +47,7 @@ NEWTON_MAX = 12
 NEWTON_FAILURES = 3
 """Failed Newton steps in a row after which the search goes period by period."""
 
-SEARCH_PERIODS = 200
+SEARCH_PERIODS = 120
 """Drive periods at most that :func:`find_orbit` spends looking for an orbit of period
 <= ``max_k`` (warm-up, Newton's runs and the period-by-period watch)."""
 
