@@ -117,8 +117,15 @@ def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     fn_sys = _integrating(base, base.fn_m)
     n = steps_for(base, op.period_s, steps_per_period)
     dt = op.period_s / n
-    phi_ft, half_ft, fine_ft = propagator_ladder(ft_sys, op.period_s, n)
-    phi_fn, half_fn, _ = propagator_ladder(fn_sys, op.period_s, n, fine=False)
+    # both systems differ only in the x row, which nothing reads: one exponential of the
+    # generator bordered by the F_N row gives both propagator sets
+    bordered = np.zeros((S.N_MODES, S.N_STATE + 1, S.N_STATE + 1))
+    bordered[:, :S.N_STATE, :S.N_STATE] = ft_sys.A
+    bordered[:, S.N_STATE, :S.N_STATE] = fn_sys.A[:, S.X, :]
+    phi_b, half_b, fine_b = _ladder(bordered, op.period_s, n, True)
+    phi_ft, phi_fn = _split(phi_b)
+    half_ft, half_fn = _split(half_b)
+    fine_ft = None if fine_b is None else (_split(fine_b[0])[0], _split(fine_b[1])[0])
     fs = FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
                     params.phi_Bl, n)
     if fine_ft is not None:
@@ -138,6 +145,17 @@ def _power(stack: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
+def _split(bordered: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The F_T and F_N systems' propagators from those of the bordered generator (the x
+    column of both generators is zero, so its exponential's x-x entry is 1 in both)."""
+    n = S.N_STATE
+    ft = np.ascontiguousarray(bordered[:, :n, :n])
+    fn = ft.copy()
+    fn[:, S.X, :] = bordered[:, n, :n]
+    fn[:, S.X, S.X] = 1.0
+    return ft, fn
+
+
 def propagator_ladder(system: HybridSystem, period_s: float, steps: int, *, fine: bool = True):
     """One-step and half-step propagators at ``steps`` per period, and (``fine``) at
     :data:`ENERGY_STEPS_PER_PERIOD`, from one matrix exponential per mode.
@@ -147,13 +165,18 @@ def propagator_ladder(system: HybridSystem, period_s: float, steps: int, *, fine
     coarser propagators are integer powers of ``expm(A dt_fine / 2)``: exact in exact
     arithmetic, a few roundoffs apart from the direct exponentials.
     """
+    return _ladder(system.A, period_s, steps, fine)
+
+
+def _ladder(a: np.ndarray, period_s: float, steps: int, fine: bool):
+    """:func:`propagator_ladder` of the generator stack ``a``."""
     ratio = ENERGY_STEPS_PER_PERIOD // steps
     if fine and ratio >= 2 and ratio % 2 == 0 and ratio * steps == ENERGY_STEPS_PER_PERIOD:
-        half_f = expm_stack(system.A * (0.5 * period_s / ENERGY_STEPS_PER_PERIOD))
+        half_f = expm_stack(a * (0.5 * period_s / ENERGY_STEPS_PER_PERIOD))
         phi_f = np.matmul(half_f, half_f)
         half = _power(phi_f, ratio // 2)
         return np.matmul(half, half), half, (phi_f, half_f)
-    half = expm_stack(system.A * (0.5 * period_s / steps))
+    half = expm_stack(a * (0.5 * period_s / steps))
     return np.matmul(half, half), half, None
 
 
