@@ -51,7 +51,7 @@ SEARCH_PERIODS = 120
 """Drive periods at most that :func:`find_orbit` spends looking for an orbit of period
 <= ``max_k`` (warm-up, Newton's runs and the period-by-period watch)."""
 
-AVERAGE_PERIODS = 100
+AVERAGE_PERIODS = 80
 """Drive periods the averages of an orbit without a short period (``k = 0``) are taken over,
 after the search (long stick phases dragged by the slider at low speed)."""
 
