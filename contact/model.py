@@ -243,6 +243,14 @@ def build_system(
     ff_m = np.zeros((S.N_MODES, S.N_STATE))
     zero = np.zeros(S.N_STATE)
 
+    # Each mode's rows depend on its normal force (2 kinds) and tangential force (6 kinds):
+    # they are computed once per kind (the same expressions, so the same bits) and shared.
+    slip = {1.0: 1.0 * mu_d_eff * fn, -1.0: -1.0 * mu_d_eff * fn}
+    l_row = {id(f): (-p.K_l * e[S.U] - p.C_l * e[S.DU] + p.A_l * op.voltage_V * e[S.SIN]
+                     + g_N * f) / p.M_l for f in (zero, fn)}
+    b_row = {id(f): (-p.K_b * e[S.W] - p.C_b * e[S.DW] + p.A_b * op.voltage_V * e[S.SIN]
+                     + g_T * f) / p.M_b for f in (zero, *fs, *slip.values())}
+    sin_row, cos_row = op.omega * e[S.COS], -op.omega * e[S.SIN]
     for contact in (S.SEPARATED, S.CONTACT):
         for tip in (S.STICK, S.SLIP_POS, S.SLIP_NEG):
             for guide in (S.HELD, S.FORWARD, S.BACKWARD):
@@ -255,27 +263,20 @@ def build_system(
                 elif tip == S.STICK:
                     fn_mode, ft, ng = fn, fs[guide], ng_contact
                 else:
-                    sigma = 1.0 if tip == S.SLIP_POS else -1.0
-                    fn_mode, ft, ng = fn, sigma * mu_d_eff * fn, ng_contact
+                    fn_mode, ft, ng = fn, slip[1.0 if tip == S.SLIP_POS else -1.0], ng_contact
                 # a held slider is balanced by static guide friction (and the load)
                 ff = -ft if held else -gs * p.mu_sd * ng - load
                 a = A[m]
                 a[S.U] = e[S.DU]
-                a[S.DU] = (
-                    -p.K_l * e[S.U] - p.C_l * e[S.DU] + p.A_l * op.voltage_V * e[S.SIN]
-                    + g_N * fn_mode
-                ) / p.M_l
+                a[S.DU] = l_row[id(fn_mode)]
                 if not (tip_stuck and held):
                     a[S.W] = e[S.DW]
-                    a[S.DW] = (
-                        -p.K_b * e[S.W] - p.C_b * e[S.DW] + p.A_b * op.voltage_V * e[S.SIN]
-                        + g_T * ft
-                    ) / p.M_b
+                    a[S.DW] = b_row[id(ft)]
                 if not held:
                     a[S.X] = e[S.DX]
                     a[S.DX] = (ft + ff) / p.M_slider
-                a[S.SIN] = op.omega * e[S.COS]
-                a[S.COS] = -op.omega * e[S.SIN]
+                a[S.SIN] = sin_row
+                a[S.COS] = cos_row
                 fn_m[m], ft_m[m], ff_m[m] = fn_mode, ft, ff
 
                 events: list[tuple[int, np.ndarray]] = []
