@@ -21,68 +21,56 @@ slider's velocity-ripple scale (``contact.steady.ripple_scale``), 200 + 100 peri
 from __future__ import annotations
 
 import dataclasses
-import functools
 import time
 
 import numpy as np
 
 import contact.steady as st
 from contact.model import OperatingPoint
-from contact.periodic_orbit import find_orbit
 from rom import table2
 
-FORMER = {"max_periods": 400, "average_periods": 200}
 LOW_SPEED_POINTS = ((50, 14), (50, 22), (50, 26), (100, 10), (100, 18), (150, 14), (200, 20),
                     (250, 26))
 
 
-def _former_grid(v_floor: float, v_max: float) -> np.ndarray:
-    del v_floor
-    return np.concatenate([[st.V_ZERO_M_S], np.geomspace(1e-5 * v_max, v_max, 16)])
+def _former(sp: st.SlowProblem) -> st.SlowProblem:
+    """The former scan of the same slow problem: floor 1e-5 of the top speed (16 velocities
+    over five decades, the same density) and 400 + 200 periods per orbit, empty cache."""
+    return dataclasses.replace(sp, v_floor_m_s=1e-5 * sp.v_max_m_s, search_periods=400,
+                               average_periods=200, cache={}, periods=0, newton_iterations=0)
 
 
 def _solve(params, volts, loads, former: bool):
     """Stable branches per point, orbit statistics and wall time of one scan variant."""
-    saved = st._grid, st.find_orbit
-    if former:
-        st._grid = _former_grid
-        st.find_orbit = functools.partial(find_orbit, **FORMER)
-    try:
-        rows, stats = {}, {"orbits": 0, "k0": 0, "periods": 0, "k0_periods": 0}
-        t0 = time.perf_counter()
-        for v in volts:
-            for f in loads:
-                sp = st.slow_problem(params, OperatingPoint(float(v), float(f), 40e3, 0.0))
-                branches, v_rest = st.branches_at_load(sp, 0.0)
-                rows[(v, f)] = (v_rest, [b.velocity_m_s for b in branches if b.stable])
-                for o in sp.cache.values():
-                    stats["orbits"] += 1
-                    stats["periods"] += o.periods
-                    if o.k == 0:
-                        stats["k0"] += 1
-                        stats["k0_periods"] += o.periods
-        stats["time_s"] = time.perf_counter() - t0
-        return rows, stats
-    finally:
-        st._grid, st.find_orbit = saved
+    rows, stats = {}, {"orbits": 0, "k0": 0, "periods": 0, "k0_periods": 0}
+    t0 = time.perf_counter()
+    for v in volts:
+        for f in loads:
+            sp = st.slow_problem(params, OperatingPoint(float(v), float(f), 40e3, 0.0))
+            if former:
+                sp = _former(sp)
+            branches, v_rest = st.branches_at_load(sp, 0.0)
+            rows[(v, f)] = (v_rest, [b.velocity_m_s for b in branches if b.stable])
+            for o in sp.cache.values():
+                stats["orbits"] += 1
+                stats["periods"] += o.periods
+                if o.k == 0:
+                    stats["k0"] += 1
+                    stats["k0_periods"] += o.periods
+    stats["time_s"] = time.perf_counter() - t0
+    return rows, stats
 
 
 def _g_change(params) -> tuple[int, float, int]:
-    """k = 0 samples, largest relative change of G and sign changes, former against now."""
+    """k = 0 samples, largest relative change of G and sign changes, former budget against
+    now on the present scan's velocities."""
     n, worst, flips = 0, 0.0, 0
     for v0, f in LOW_SPEED_POINTS:
-        op = OperatingPoint(float(v0), float(f), 40e3, 0.0)
-        now = st.slow_problem(params, op)
-        vs = st._grid(now.v_floor_m_s, now.v_max_m_s)
-        g_now = [now.thrust(v) for v in vs]
-        saved = st.find_orbit
-        st.find_orbit = functools.partial(find_orbit, **FORMER)
-        try:
-            old = dataclasses.replace(now, cache={})
-            g_old = [old.thrust(v) for v in vs]
-        finally:
-            st.find_orbit = saved
-        for v, a, b in zip(vs, g_old, g_now, strict=True):
+        now = st.slow_problem(params, OperatingPoint(float(v0), float(f), 40e3, 0.0))
+        old = dataclasses.replace(_former(now), v_floor_m_s=now.v_floor_m_s)
+        vs = st.scan_grid(now.v_floor_m_s, now.v_max_m_s)
+        for v in vs:
+            a, b = old.thrust(v), now.thrust(v)
             if now.cache[v].k == 0 or old.cache[v].k == 0:
                 n += 1
                 worst = max(worst, abs(b - a) / max(abs(a), 1e-12))

@@ -35,7 +35,9 @@ def _timed(fn, repeats):
     return out, float(np.median(times))
 
 
-def _point(params, v0, fp, duration, repeats=1):
+def point(params, v0, fp, duration, repeats=1):
+    """One row: the settled transient (timed at its settled length) and both steady levels
+    (medians of ``repeats`` timed calls), velocities, errors and times."""
     length, settled = settled_duration(params, v0, fp, start_s=duration)
     (v_ref, motion), t_ref = _timed(
         lambda: transient_reference(params, v0, fp, duration_s=length), repeats)
@@ -66,7 +68,7 @@ def main() -> None:
     points = ([(v, f) for v in np.linspace(50, 450, 9) for f in np.linspace(10, 26, 9)]
               if args.map else [(200.0, 14.0)])
     repeats = args.repeats or (1 if args.map else 5)
-    rows = [_point(params, float(v), float(f), args.duration, repeats) for v, f in points]
+    rows = [point(params, float(v), float(f), args.duration, repeats) for v, f in points]
     for r in rows:
         print(json.dumps(r))
     t_ref = sum(r["transient_s"] for r in rows)

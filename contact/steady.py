@@ -36,6 +36,8 @@ from contact.drive import free_tip_amplitudes
 from contact.friction import dynamic_friction
 from contact.model import COUPLINGS, OperatingPoint
 from contact.periodic_orbit import (
+    AVERAGE_PERIODS,
+    SEARCH_PERIODS,
     FastSystem,
     Orbit,
     fast_system,
@@ -192,7 +194,9 @@ class SlowProblem:
     """The slow equation of one operating point with a cache of fast orbits (mutable helper).
 
     ``thrust(v)`` is ``F_T(v) - sign(v) mu_sd (F_N + M g)`` (N), the thrust the motor
-    delivers against a load at slider velocity v.
+    delivers against a load at slider velocity v. The scan runs from ``v_floor_m_s`` to
+    ``v_max_m_s`` (m/s, :func:`scan_grid`); ``search_periods`` and ``average_periods`` are
+    the budget of each orbit (:func:`contact.periodic_orbit.find_orbit`).
     """
 
     params: MotorParams
@@ -204,6 +208,8 @@ class SlowProblem:
     cache: dict = field(default_factory=dict)
     periods: int = 0
     newton_iterations: int = 0
+    search_periods: int = SEARCH_PERIODS
+    average_periods: int = AVERAGE_PERIODS
 
     def orbit(self, v: float) -> Orbit:
         if v in self.cache:
@@ -213,9 +219,11 @@ class SlowProblem:
         if near:
             w = min(near, key=lambda w: abs(w - v))
             o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode,
-                           jacobian=self.cache[w].jacobian)
+                           jacobian=self.cache[w].jacobian, max_periods=self.search_periods,
+                           average_periods=self.average_periods)
         else:
-            o = find_orbit(self.fs, v)
+            o = find_orbit(self.fs, v, max_periods=self.search_periods,
+                           average_periods=self.average_periods)
         self.periods += o.periods
         self.newton_iterations += o.newton_iterations
         self.cache[v] = o
@@ -266,7 +274,9 @@ def ripple_scale(params: MotorParams, op: OperatingPoint, mu_d_eff: float) -> fl
     return mu_d_eff * op.preload_N / (params.M_slider * op.omega)
 
 
-def _grid(v_floor: float, v_max: float) -> np.ndarray:
+def scan_grid(v_floor: float, v_max: float) -> np.ndarray:
+    """Slider velocities (m/s) the slow equation is sampled at on one side: 0+ and
+    :data:`SCAN_PER_DECADE` per decade from ``v_floor`` to ``v_max``, both included."""
     n = max(2, 1 + math.ceil(SCAN_PER_DECADE * math.log10(v_max / v_floor) - 1e-9))
     return np.concatenate([[V_ZERO_M_S], np.geomspace(v_floor, v_max, n)])
 
@@ -274,12 +284,13 @@ def _grid(v_floor: float, v_max: float) -> np.ndarray:
 def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranch:
     o = sp.orbit(v)
     span = max(o.k, 1) if o.k else None
-    phase_time = orbit_phases(sp.fs, o)
+    phase_time = orbit_phases(sp.fs, o, sp.average_periods)
     total = float(np.sum(phase_time))
     frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     duration = total if span is None else span * sp.op.period_s
-    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in orbit_work(sp.fs, o))
+    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in orbit_work(sp.fs, o,
+                                                                   sp.average_periods))
     return SteadyBranch(
         velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
         mean_FN_N=o.mean_FN_N, input_power_W=w_in / duration,
@@ -300,7 +311,7 @@ def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch
     g_neg = o0.mean_FT_N + sp.guide_N(o0) - load_N
     # backward motion needs G(0-) < 0: only then is the negative side searched
     for sign in (1.0, -1.0) if g_neg < 0 else (1.0,):
-        vs = sign * _grid(sp.v_floor_m_s, sp.v_max_m_s)
+        vs = sign * scan_grid(sp.v_floor_m_s, sp.v_max_m_s)
         gs = [sp.thrust(v) - load_N for v in vs]
         for i in range(len(vs) - 1):
             if gs[i] * gs[i + 1] < 0:

@@ -1113,7 +1113,7 @@ def _steady_map() -> dict[str, float]:
     p = _table2()
     steady_state(p, 200, 14, accuracy="exact")
     transient_reference(p, 200, 14, duration_s=0.01, steady_periods=20)
-    rows = [bench._point(p, float(v), float(f), 0.3) for v in np.linspace(50, 450, 9)
+    rows = [bench.point(p, float(v), float(f), 0.3) for v in np.linspace(50, 450, 9)
             for f in np.linspace(10, 26, 9)]
     moving = [r for r in rows if abs(r["transient_m_s"]) > 1e-6]
     held = [r for r in rows if abs(r["transient_m_s"]) <= 1e-6]
