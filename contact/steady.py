@@ -86,9 +86,9 @@ SCAN_FLOOR_FACTOR = 1.0
 ``mu_d_eff F_P / (M omega)`` (:func:`ripple_scale`). Below it the slider's velocity swings by
 more than its mean inside one drive period, so the averaging (M -> infinity) no longer
 describes the motor, and the tip's fast orbit at fixed v is a slow stick-drag sawtooth with
-no short period whose averages cost 800 periods per sample and do not converge. Roots below
-it are still found (one bracket from 0+ to the floor): they are the creep points, which the
-exact level reports as such (``docs/steady.md``)."""
+no short period, whose samples are the scan's most expensive ones and give only finite-time
+averages. A root below it is still bracketed (from 0+ to the floor); at the exact level the
+full model's orbit from rest decides such a point (the creep points, ``docs/steady.md``)."""
 
 
 @dataclass(frozen=True)
@@ -216,14 +216,13 @@ class SlowProblem:
             return self.cache[v]
         # continuation: start from the cached orbit nearest in velocity on the same side
         near = [w for w in self.cache if w * v > 0]
+        budget = {"max_periods": self.search_periods, "average_periods": self.average_periods}
         if near:
             w = min(near, key=lambda w: abs(w - v))
             o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode,
-                           jacobian=self.cache[w].jacobian, max_periods=self.search_periods,
-                           average_periods=self.average_periods)
+                           jacobian=self.cache[w].jacobian, **budget)
         else:
-            o = find_orbit(self.fs, v, max_periods=self.search_periods,
-                           average_periods=self.average_periods)
+            o = find_orbit(self.fs, v, **budget)
         self.periods += o.periods
         self.newton_iterations += o.newton_iterations
         self.cache[v] = o
@@ -540,7 +539,7 @@ def settled_duration(params: MotorParams, voltage_V: float, preload_N: float, *,
     Runs :func:`transient_reference` for ``start_s``, ``2 start_s``, ... and returns the first
     length D whose velocity agrees with the run of length 2D to ``rel_tol`` (or
     ``abs_tol_m_s`` m/s, for held points), with ``True``; ``(start_s, False)`` when no length
-    up to ``max_s`` / 2 settles (creep points below the slider's velocity ripple).
+    up to ``max_s`` / 2 settles (a point still drifting; none on the 9 x 9 map).
     ``kwargs`` go to :func:`transient_reference`. The settled reference of the steady
     engine's benchmarks (``benchmarks/steady_speed.py``).
     """
