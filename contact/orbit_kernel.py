@@ -58,6 +58,27 @@ def _defect(za, zb, amp):
 
 
 @njit(cache=True, nogil=True)
+def _broyden(jac, za, zb, pa, pb, amp):
+    """Broyden's rank-one secant update of the one-period map's Jacobian ``jac`` (in place)
+    from the step ``za -> zb`` and its images ``pa -> pb``, in variables scaled by ``amp``
+    (so that displacements and velocities weigh alike): ``J += (dP - J s) s^T / |s|^2``."""
+    s = np.zeros(N_Y)
+    ss = 0.0
+    for i in range(N_Y):
+        s[i] = zb[_y_index(i)] - za[_y_index(i)]
+        ss += (s[i] / amp[i]) ** 2
+    if ss == 0.0:
+        return
+    for r in range(N_Y):
+        js = 0.0
+        for c in range(N_Y):
+            js += jac[r, c] * s[c]
+        err = (pb[_y_index(r)] - pa[_y_index(r)]) - js
+        for c in range(N_Y):
+            jac[r, c] += err * s[c] / (amp[c] * amp[c] * ss)
+
+
+@njit(cache=True, nogil=True)
 def _period(z, mode, periods, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
             ft_m, ff_m, funcs, sc):
     """``periods`` drive periods from ``z`` (x slot reset); returns status, the consistent
@@ -105,6 +126,7 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
     i1 = 0.0
     integral = np.nan
     free = np.zeros(N_Y, dtype=np.bool_)
+    slow = 0
     while periods < max_periods:
         if not have_pending:
             st, z1, m1, i1 = _period(z, mode, 1, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh,
@@ -186,12 +208,20 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
                 periods += 1
                 res2 = _defect(z2, zn, amp)
                 if m2 == mode and res2 < res:
+                    _broyden(jac, z, zn, z1, z2, amp)
                     z = zn
                     z1, m1, i1 = z2, m2, i2
                     have_pending = True
                     failures = 0
-                    if res2 > 0.1 * res:  # slow contraction: a fresh Jacobian next step
-                        jac_mode = -1
+                    if res2 > 0.1 * res:
+                        # slow contraction: the secant update gets one more step, then a
+                        # fresh Jacobian
+                        slow += 1
+                        if slow >= 2:
+                            jac_mode = -1
+                            slow = 0
+                    else:
+                        slow = 0
                     continue
             jac_mode = -1
             if not fresh:  # the reused Jacobian failed: retry from z with a fresh one
@@ -396,27 +426,32 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
     kk = k if k > 0 else average_periods
     _consistent(z, mode, v, phi_bl)
     steps = n * kk
-    zs = z.copy()
-    zs[X] = 0.0
-    # phase times of the k = 0 average are left to the caller (the window triples the cost)
-    out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
-                                 ft_m, ff_m, funcs, sc, 0 if k > 0 else steps, steps, 1, False,
-                                 64)
-    if out[0] != 0:
-        return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
-                jac_mode)
-    phase_time = out[4].copy()
+    phase_time = np.zeros(4)
     if k != 1:
+        # the search's last period gave the F_T integral of a one-period orbit only
+        zs = z.copy()
+        zs[X] = 0.0
+        out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
+                                     fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64)
+        if out[0] != 0:
+            return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
+                    jac_mode)
         int_ft = out[7][X]
+        periods += kk
     zs = z.copy()
     zs[X] = 0.0
+    # the F_N run also gives the phase times (the two systems differ only in the x row,
+    # which no switching functional reads); those of the k = 0 average are left to the
+    # caller (the window triples the cost of a step)
     out2 = integrate_switch_model(zs, mode, steps, dt, phi_fn, half_fn, a_fn, ev_h, ev_dh_fn,
-                                  ev_type, fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False,
-                                  64)
+                                  ev_type, fn_m, ft_m, ff_m, funcs, sc, 0 if k > 0 else steps,
+                                  steps, 1, False, 64)
     if out2[0] != 0:
         return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
                 jac_mode)
-    periods += 2 * kk
+    if k > 0:
+        phase_time = out2[4].copy()
+    periods += kk
     return (code, k, z, mode, res, periods, newton_it, int_ft, out2[7][X], phase_time, jac,
             jac_mode)
 

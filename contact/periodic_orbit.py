@@ -330,7 +330,7 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
             tip = S.SLIP_POS if vrel > 0 else S.SLIP_NEG
         mode = S.mode_index(contact, tip, guide)
         try:  # a neighbouring orbit needs only a short warm-up
-            orbit = _find(fs, v, z, mode, tol, max_periods, min(warmup, 5), max_k,
+            orbit = _find(fs, v, z, mode, tol, max_periods, min(warmup, 0), max_k,
                           average_periods, jacobian)
             return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
         except RuntimeError:  # a start the kernel cannot leave cleanly: start afresh

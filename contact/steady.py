@@ -90,6 +90,22 @@ no short period, whose samples are the scan's most expensive ones and give only 
 averages. A root below it is still bracketed (from 0+ to the floor); at the exact level the
 full model's orbit from rest decides such a point (the creep points, ``docs/steady.md``)."""
 
+ORBIT_TOL = 1e-11
+"""Scaled periodicity defect at which a fast orbit is accepted (``accuracy="fast"``: the
+averaged roots are the answer, to about 1e-10)."""
+
+ROOT_RTOL = 1e-10
+"""Relative tolerance of Brent's method on a root of the slow equation (``"fast"``)."""
+
+EXACT_ORBIT_TOL = 1e-8
+"""Orbit defect of the slow equation's scan at ``accuracy="exact"``. There the averaged roots
+only start the full model's Newton iteration (which converges to 1e-10 by itself) and differ
+from its answer by the O(1/M) averaging error (1e-4 to 1e-3 on Table 2's set): G needs the
+accuracy of its sign, not of the root."""
+
+EXACT_ROOT_RTOL = 1e-6
+"""Relative tolerance of Brent's method at ``accuracy="exact"`` (see :data:`EXACT_ORBIT_TOL`)."""
+
 
 @dataclass(frozen=True)
 class SteadyBranch:
@@ -210,13 +226,16 @@ class SlowProblem:
     newton_iterations: int = 0
     search_periods: int = SEARCH_PERIODS
     average_periods: int = AVERAGE_PERIODS
+    orbit_tol: float = ORBIT_TOL
+    root_rtol: float = ROOT_RTOL
 
     def orbit(self, v: float) -> Orbit:
         if v in self.cache:
             return self.cache[v]
         # continuation: start from the cached orbit nearest in velocity on the same side
         near = [w for w in self.cache if w * v > 0]
-        budget = {"max_periods": self.search_periods, "average_periods": self.average_periods}
+        budget = {"max_periods": self.search_periods, "average_periods": self.average_periods,
+                  "tol": self.orbit_tol}
         if near:
             w = min(near, key=lambda w: abs(w - v))
             o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode,
@@ -239,12 +258,15 @@ class SlowProblem:
 
 
 def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "paper",
-                 ultrasonic_friction: bool = True,
-                 mu_d_eff: float | None = None) -> SlowProblem:
+                 ultrasonic_friction: bool = True, mu_d_eff: float | None = None,
+                 accuracy: str = "fast") -> SlowProblem:
     """Set up the slow equation of one operating point (the load is applied by the caller).
 
-    ``mu_d_eff`` (-), when given, replaces Eq. 11's A_N and mu_d.
+    ``mu_d_eff`` (-), when given, replaces Eq. 11's A_N and mu_d. ``accuracy`` sets the
+    tolerances of the orbits and roots (:data:`ORBIT_TOL`, :data:`EXACT_ORBIT_TOL`).
     """
+    if accuracy not in ACCURACIES:
+        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     if coupling not in COUPLINGS:
         raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
     if mu_d_eff is not None:
@@ -260,7 +282,9 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     v_max = max(1.5 * float(b_amp) * op.omega, 1e-6)
     floor = min(max(SCAN_FLOOR_FACTOR * ripple_scale(params, op, mu), 1e-5 * v_max),
                 0.1 * v_max)
-    return SlowProblem(params, op, mu, fs, v_max, floor)
+    tols = ((ORBIT_TOL, ROOT_RTOL) if accuracy == "fast"
+            else (EXACT_ORBIT_TOL, EXACT_ROOT_RTOL))
+    return SlowProblem(params, op, mu, fs, v_max, floor, orbit_tol=tols[0], root_rtol=tols[1])
 
 
 def ripple_scale(params: MotorParams, op: OperatingPoint, mu_d_eff: float) -> float:
@@ -282,7 +306,10 @@ def scan_grid(v_floor: float, v_max: float) -> np.ndarray:
     return np.concatenate([[V_ZERO_M_S], np.geomspace(v_floor, v_max, n)])
 
 
-def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranch:
+def _branch(sp: SlowProblem, v: float, load: float, stable: bool,
+            energy: bool = True) -> SteadyBranch:
+    """The averaged branch at the root ``v``; without ``energy`` its powers (which take a
+    run at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD`) are NaN."""
     o = sp.orbit(v)
     span = max(o.k, 1) if o.k else None
     phase_time = orbit_phases(sp.fs, o, sp.average_periods)
@@ -290,8 +317,8 @@ def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranc
     frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     duration = total if span is None else span * sp.op.period_s
-    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in orbit_work(sp.fs, o,
-                                                                   sp.average_periods))
+    work = orbit_work(sp.fs, o, sp.average_periods) if energy else np.full(6, math.nan)
+    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in work)
     return SteadyBranch(
         velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
         mean_FN_N=o.mean_FN_N, input_power_W=w_in / duration,
@@ -301,8 +328,11 @@ def _branch(sp: SlowProblem, v: float, load: float, stable: bool) -> SteadyBranc
         phase_fraction=tuple(float(f) for f in frac))
 
 
-def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch, ...], float]:
-    """All steady states of the slow problem under ``load_N`` and the velocity from rest."""
+def branches_at_load(sp: SlowProblem, load_N: float, *,
+                     energy: bool = True) -> tuple[tuple[SteadyBranch, ...], float]:
+    """All steady states of the slow problem under ``load_N`` and the velocity from rest.
+
+    Without ``energy`` the branches' powers are NaN (:func:`_branch`)."""
     found: list[tuple[float, bool]] = []  # (velocity, stable)
     # G(0-) from the orbit at 0+: the fast problem has no guide (it enters G only), and the
     # tip's orbits at +-V_ZERO_M_S differ by a drift of 2e-9 m/s (on the 81 map points and
@@ -317,7 +347,7 @@ def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch
         for i in range(len(vs) - 1):
             if gs[i] * gs[i + 1] < 0:
                 root = brentq(lambda v: sp.thrust(v) - load_N, vs[i], vs[i + 1],
-                              xtol=1e-12, rtol=1e-10)
+                              xtol=1e-12, rtol=sp.root_rtol)
                 # stable where M dv/dt = G(v) pushes back towards the root
                 falling = (gs[i] > 0) if sign > 0 else (gs[i] < 0)
                 found.append((float(root), bool(falling)))
@@ -330,11 +360,11 @@ def branches_at_load(sp: SlowProblem, load_N: float) -> tuple[tuple[SteadyBranch
         v_rest = cands[0] if cands else math.nan
     else:
         v_rest = 0.0
-    out = [dataclasses.replace(_branch(sp, v, load_N, st), from_rest=v == v_rest)
+    out = [dataclasses.replace(_branch(sp, v, load_N, st, energy), from_rest=v == v_rest)
            for v, st in found]
     if dead:
         sp.orbit(V_ZERO_M_S)
-        base = _branch(sp, V_ZERO_M_S, load_N, True)
+        base = _branch(sp, V_ZERO_M_S, load_N, True, energy)
         out.append(dataclasses.replace(base, velocity_m_s=0.0, motion="dead-zone",
                                        output_power_W=0.0, guide_power_W=0.0,
                                        from_rest=v_rest == 0.0))
@@ -376,8 +406,10 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
     t0 = time.perf_counter()
     op = OperatingPoint(float(voltage_V), float(preload_N),
                         40e3 if frequency_Hz is None else float(frequency_Hz), float(load_N))
-    sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
-    branches, v_rest = branches_at_load(sp, op.load_N)
+    sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
+                      accuracy=accuracy)
+    # the exact level replaces the averaged branches' powers by the full model's
+    branches, v_rest = branches_at_load(sp, op.load_N, energy=accuracy == "fast")
     periods, newton = sp.periods, sp.newton_iterations
     if accuracy == "exact":
         branches, v_rest, more_periods, more_newton = _exact(sp, branches, coupling)
@@ -406,6 +438,18 @@ def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBr
         from_rest=from_rest, phase_fraction=tuple(float(f) for f in frac))
 
 
+def _powered(sp: SlowProblem, b: SteadyBranch) -> SteadyBranch:
+    """The averaged branch ``b`` with its input, damping and interface powers (the exact
+    level scans without them and needs them only for the branches it keeps averaged)."""
+    if not math.isnan(b.input_power_W):
+        return b
+    v = V_ZERO_M_S if b.motion == "dead-zone" else b.velocity_m_s
+    w = _branch(sp, v, sp.op.load_N, b.stable)
+    return dataclasses.replace(b, input_power_W=w.input_power_W,
+                               damping_power_W=w.damping_power_W,
+                               interface_power_W=w.interface_power_W)
+
+
 def _exact(sp: SlowProblem, branches, coupling: str):
     """Polish the averaged branches on the full model and decide the start from rest."""
     from contact import state as S
@@ -414,14 +458,14 @@ def _exact(sp: SlowProblem, branches, coupling: str):
     # the dead zone is the only steady state: a start from rest stays held (or, released by
     # the start-up transient, finds no moving branch to settle on and is held again)
     if len(branches) == 1 and branches[0].motion == "dead-zone":
-        return (dataclasses.replace(branches[0], from_rest=True),), 0.0, 0, 0
+        return (dataclasses.replace(_powered(sp, branches[0]), from_rest=True),), 0.0, 0, 0
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
     periods = newton = 0
     out: list[SteadyBranch] = []
     shots = []
     for b in branches:
         if b.motion == "dead-zone":
-            out.append(dataclasses.replace(b, from_rest=False))
+            out.append(dataclasses.replace(_powered(sp, b), from_rest=False))
             continue
         o = sp.orbit(b.velocity_m_s)
         z = o.z.copy()
@@ -442,7 +486,7 @@ def _exact(sp: SlowProblem, branches, coupling: str):
             full = _full_branch(sp, fo, stable, False)
             out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
         else:
-            out.append(dataclasses.replace(b, from_rest=False))
+            out.append(dataclasses.replace(_powered(sp, b), from_rest=False))
     # one stable branch well above the slider's velocity ripple: a start from rest reaches it
     fo = shots[0] if len(branches) == 1 and shots else None
     if fo is not None and fo.k == 1 and branches[0].stable and fo.multiplier < 1.0:
@@ -563,8 +607,8 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     """
     from contact.results import SchemeOutput
 
-    sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff)
-    branches, v_rest = branches_at_load(sp, op.load_N)
+    sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff, accuracy="exact")
+    branches, v_rest = branches_at_load(sp, op.load_N, energy=False)
     branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling)
     rest = [b for b in branches if b.from_rest]
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
