@@ -40,3 +40,20 @@ def test_period_average_of_normal_force_is_the_preload_without_separation(params
     # mean normal force exactly the preload when the tip never separates
     b = steady_state(params, 200, 14).from_rest
     assert b.mean_FN_N == pytest.approx(14.0, rel=1e-10)
+
+
+@pytest.mark.parametrize("load_N", [0.0, 1.0])
+def test_spectral_radius_of_the_mechanical_block_is_the_whole_generators(params, load_N):
+    """The step rule's spectral radius, taken from the mechanical block and the drive
+    rotation, equals that of the whole 9 x 9 generators (block triangular) on the full and
+    the fixed-velocity systems."""
+    import numpy as np
+
+    from contact.model import OperatingPoint, build_system
+    from contact.periodic_orbit import fast_system, spectral_radius
+
+    op = OperatingPoint(400.0, 14.0, 40e3, load_N)
+    for a in (build_system(params, op, params.mu_d).A,
+              fast_system(params, op, params.mu_d).ft_system.A):
+        whole = float(np.max(np.abs(np.linalg.eigvals(a))))
+        assert spectral_radius(a) == pytest.approx(whole, rel=1e-12)
