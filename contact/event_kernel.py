@@ -165,11 +165,10 @@ def _first_crossing(h0, h1, d0, d1, H):
     b = H * d0
     c = 3.0 * (h1 - h0) - 2.0 * H * d0 - H * d1
     d = 2.0 * (h0 - h1) + H * d0 + H * d1
-    # split [0, 1] at the critical points so that the cubic is monotone on each piece
-    knots = np.empty(4)
-    nk = 0
-    knots[nk] = 0.0
-    nk += 1
+    # split [0, 1] at the critical points so that the cubic is monotone on each piece (no
+    # array: this runs for every grazing alarm of every switching functional)
+    k1 = 2.0
+    k2 = 2.0
     qa, qb, qc = 3.0 * d, 2.0 * c, b
     if qa != 0.0:
         disc = qb * qb - 4.0 * qa * qc
@@ -180,23 +179,25 @@ def _first_crossing(h0, h1, d0, d1, H):
             if s1 > s2:
                 s1, s2 = s2, s1
             if 0.0 < s1 < 1.0:
-                knots[nk] = s1
-                nk += 1
+                k1 = s1
             if 0.0 < s2 < 1.0:
-                knots[nk] = s2
-                nk += 1
+                if k1 > 1.0:
+                    k1 = s2
+                else:
+                    k2 = s2
     elif qb != 0.0:
         s1 = -qc / qb
         if 0.0 < s1 < 1.0:
-            knots[nk] = s1
-            nk += 1
-    knots[nk] = 1.0
-    nk += 1
+            k1 = s1
     lo = 0.0
-    for i in range(1, nk):
-        hi = knots[i]
+    for i in range(3):
+        hi = k1 if i == 0 else (k2 if i == 1 else 1.0)
+        if hi > 1.0:
+            continue
         if _cubic(a, b, c, d, hi) > 0.0:
-            for _ in range(60):
+            # bisection to 1e-9 of the step: the exact-flow Newton of _locate refines it
+            # (the cubic itself is only accurate to ~(omega dt)^4)
+            for _ in range(30):
                 mid = 0.5 * (lo + hi)
                 if _cubic(a, b, c, d, mid) > 0.0:
                     hi = mid

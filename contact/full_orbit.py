@@ -55,14 +55,17 @@ def full_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     return fs
 
 
-def run_periods(fs: FullSystem, z: np.ndarray, mode: int, periods: int, energy: bool = False):
+def run_periods(fs: FullSystem, z: np.ndarray, mode: int, periods: int, energy: bool = False,
+                window: bool | None = None):
     """Advance ``periods`` drive periods; returns ``(z_end, mode_end, distance_m, work,
-    phase_time)`` with the position slot reset to 0 at the start (work and phase time are
-    accumulated, and non-zero, only when ``energy``, at a step of at most
-    ``T / ENERGY_STEPS_PER_PERIOD``; :func:`contact.periodic_orbit.run_whole_periods`)."""
+    phase_time)`` with the position slot reset to 0 at the start (work is accumulated, and
+    non-zero, only when ``energy``, at a step of at most ``T / ENERGY_STEPS_PER_PERIOD``;
+    phase time only with ``window``, default ``energy``;
+    :func:`contact.periodic_orbit.run_whole_periods`)."""
     return run_whole_periods(fs.system, z, mode, periods, steps=fs.steps_per_period,
                              period_s=fs.period_s, phi=fs.phi, half=fs.phi_half, fine=fs.fine,
-                             key="phi", energy=energy, window=energy,
+                             key="phi", energy=energy,
+                             window=energy if window is None else window,
                              what="the full-model shooting")[:5]
 
 
@@ -110,8 +113,12 @@ class FullOrbit:
 
 
 def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e-10,
-          max_newton: int = 25) -> FullOrbit:
-    """Newton on the k-period map of the full model from ``(z0, mode0)``."""
+          max_newton: int = 25, energy: bool = True) -> FullOrbit:
+    """Newton on the k-period map of the full model from ``(z0, mode0)``.
+
+    The orbit's work integrals take a run at
+    :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
+    ``energy`` they are NaN (the phase times are kept)."""
     z, mode = _consistent(fs, np.asarray(z0, dtype=float), int(mode0)), int(mode0)
     amp = np.array([abs(z[S.U]), 0.0, abs(z[S.W]), 0.0, 0.0]) + 1e-12
     omega = 2 * np.pi / fs.period_s
@@ -130,7 +137,9 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
             if free.any() and np.all(np.isfinite(sub)) else np.nan)
     converged = res <= tol
     z = _consistent(fs, z, mode)
-    _, _, dist, work, phase_time = run_periods(fs, z, mode, k, energy=True)
+    _, _, dist, work, phase_time = run_periods(fs, z, mode, k, energy=energy, window=True)
+    if not energy:
+        work = np.full(event_kernel.N_WORK, np.nan)
     periods += k
     return FullOrbit(dist / (k * fs.period_s), k if converged else 0, z, mode, res, periods,
                      it, work, phase_time, mult)

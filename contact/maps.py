@@ -91,7 +91,7 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
 
     r = steady_state(params, voltage_V, preload_N, frequency_Hz=frequency_Hz,
                      coupling=opts.coupling, ultrasonic_friction=opts.ultrasonic_friction,
-                     accuracy=accuracy)
+                     accuracy=accuracy, energy=False)  # a map shows no powers
     b = r.from_rest
     stable = tuple((float(x.velocity_m_s), int(x.k), x.motion, bool(x.from_rest))
                    for x in r.branches if x.stable)

@@ -237,8 +237,16 @@ class SlowProblem:
         budget = {"max_periods": self.search_periods, "average_periods": self.average_periods,
                   "tol": self.orbit_tol}
         if near:
-            w = min(near, key=lambda w: abs(w - v))
-            o = find_orbit(self.fs, v, self.cache[w].z, self.cache[w].mode,
+            near.sort(key=lambda w: abs(w - v))
+            w = near[0]
+            z = self.cache[w].z
+            if len(near) > 1:
+                # secant predictor along the branch from the two nearest one-period orbits
+                # with the same mode at the section (extrapolating or interpolating in v)
+                a, b = self.cache[w], self.cache[near[1]]
+                if a.k == b.k == 1 and a.mode == b.mode:
+                    z = a.z + (a.z - b.z) * ((v - w) / (w - near[1]))
+            o = find_orbit(self.fs, v, z, self.cache[w].mode,
                            jacobian=self.cache[w].jacobian, **budget)
         else:
             o = find_orbit(self.fs, v, **budget)
@@ -375,7 +383,7 @@ def branches_at_load(sp: SlowProblem, load_N: float, *,
 def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                  frequency_Hz: float | None = None, load_N: float = 0.0,
                  coupling: str = "paper", ultrasonic_friction: bool = True,
-                 accuracy: str = "fast") -> SteadyResult:
+                 accuracy: str = "fast", energy: bool = True) -> SteadyResult:
     """Every steady state of the motor at one operating point, by averaging.
 
     Parameters
@@ -394,8 +402,14 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
         See :func:`contact.model.build_system`.
     ultrasonic_friction : bool
         Apply Eq. 11 (same A_N as the transient schemes).
-    accuracy : {"fast"}
-        ``"fast"``: the M -> infinity averaging (error ~ 1/M, see ``docs/steady.md``).
+    accuracy : {"fast", "exact"}
+        ``"fast"``: the M -> infinity averaging (error ~ 1/M, see ``docs/steady.md``);
+        ``"exact"``: every branch shot on the full model (finite M) and the branch reached
+        from rest decided on it.
+    energy : bool
+        Compute each branch's powers (input, damping, interface, guide), one run per branch
+        at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
+        it they are NaN (velocities, periods, stability and phase fractions are the same).
 
     Returns
     -------
@@ -409,10 +423,10 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
                       accuracy=accuracy)
     # the exact level replaces the averaged branches' powers by the full model's
-    branches, v_rest = branches_at_load(sp, op.load_N, energy=accuracy == "fast")
+    branches, v_rest = branches_at_load(sp, op.load_N, energy=energy and accuracy == "fast")
     periods, newton = sp.periods, sp.newton_iterations
     if accuracy == "exact":
-        branches, v_rest, more_periods, more_newton = _exact(sp, branches, coupling)
+        branches, v_rest, more_periods, more_newton = _exact(sp, branches, coupling, energy)
         periods += more_periods
         newton += more_newton
     return SteadyResult(op=op, branches=branches, velocity_m_s=v_rest, mu_d_eff=sp.mu_d_eff,
@@ -438,10 +452,10 @@ def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBr
         from_rest=from_rest, phase_fraction=tuple(float(f) for f in frac))
 
 
-def _powered(sp: SlowProblem, b: SteadyBranch) -> SteadyBranch:
+def _powered(sp: SlowProblem, b: SteadyBranch, energy: bool = True) -> SteadyBranch:
     """The averaged branch ``b`` with its input, damping and interface powers (the exact
     level scans without them and needs them only for the branches it keeps averaged)."""
-    if not math.isnan(b.input_power_W):
+    if not energy or not math.isnan(b.input_power_W):
         return b
     v = V_ZERO_M_S if b.motion == "dead-zone" else b.velocity_m_s
     w = _branch(sp, v, sp.op.load_N, b.stable)
@@ -450,7 +464,7 @@ def _powered(sp: SlowProblem, b: SteadyBranch) -> SteadyBranch:
                                interface_power_W=w.interface_power_W)
 
 
-def _exact(sp: SlowProblem, branches, coupling: str):
+def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
     """Polish the averaged branches on the full model and decide the start from rest."""
     from contact import state as S
     from contact.full_orbit import full_system, run_periods, shoot, velocity_ripple
@@ -458,21 +472,22 @@ def _exact(sp: SlowProblem, branches, coupling: str):
     # the dead zone is the only steady state: a start from rest stays held (or, released by
     # the start-up transient, finds no moving branch to settle on and is held again)
     if len(branches) == 1 and branches[0].motion == "dead-zone":
-        return (dataclasses.replace(_powered(sp, branches[0]), from_rest=True),), 0.0, 0, 0
+        return ((dataclasses.replace(_powered(sp, branches[0], energy), from_rest=True),), 0.0,
+                0, 0)
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
     periods = newton = 0
     out: list[SteadyBranch] = []
     shots = []
     for b in branches:
         if b.motion == "dead-zone":
-            out.append(dataclasses.replace(_powered(sp, b), from_rest=False))
+            out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
             continue
         o = sp.orbit(b.velocity_m_s)
         z = o.z.copy()
         z[S.DX] = b.velocity_m_s
         guide = S.FORWARD if b.velocity_m_s > 0 else S.BACKWARD
         try:
-            fo = shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1))
+            fo = shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1), energy=energy)
         except RuntimeError:
             fo = None
         if fo is not None:
@@ -486,7 +501,7 @@ def _exact(sp: SlowProblem, branches, coupling: str):
             full = _full_branch(sp, fo, stable, False)
             out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
         else:
-            out.append(dataclasses.replace(_powered(sp, b), from_rest=False))
+            out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
     # one stable branch well above the slider's velocity ripple: a start from rest reaches it
     fo = shots[0] if len(branches) == 1 and shots else None
     if fo is not None and fo.k == 1 and branches[0].stable and fo.multiplier < 1.0:
@@ -514,7 +529,7 @@ def _exact(sp: SlowProblem, branches, coupling: str):
     v_transient = dist / (4 * k_best * sp.op.period_s)
     v_rest, fo = v_transient, None
     try:
-        cand = shoot(fsys, z_end, m_end, k_best)
+        cand = shoot(fsys, z_end, m_end, k_best, energy=energy)
         periods += cand.periods
         newton += cand.newton_iterations
         # accept the polished orbit only if the transient was heading for it
@@ -609,7 +624,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
 
     sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff, accuracy="exact")
     branches, v_rest = branches_at_load(sp, op.load_N, energy=False)
-    branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling)
+    branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling, energy=False)
     rest = [b for b in branches if b.from_rest]
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
     steps = (sp.periods + periods) * sp.fs.steps_per_period
