@@ -106,6 +106,30 @@ def _fixed_costs(params, row, repeats: int) -> None:
     print(f"fixed costs: Eq. 11 A_N = transient / {t_ref / t_pre:.3g}, systems and "
           f"propagators = transient / {t_ref / t_sys:.3g} -> speed-up bound "
           f"{t_ref / (t_pre + t_sys):.3g}x")
+    from contact.steady import steady_state
+
+    periods = steady_state(params, row["voltage_V"], row["preload_N"], accuracy="exact").periods
+    per_period = kernel_seconds_per_period(params, row["voltage_V"], row["preload_N"])
+    print(f"period floor: the exact level simulates {periods} drive periods, "
+          f"{per_period * 1e6:.3g} us each in the kernel -> speed-up bound "
+          f"{t_ref / (periods * per_period):.3g}x with everything else free")
+
+
+def kernel_seconds_per_period(params, voltage_V: float, preload_N: float,
+                              periods: int = 200) -> float:
+    """Wall time (s) of one drive period of the fast problem's kernel at 25 steps per period,
+    on the orbit at the operating point's steady velocity (median of 5 runs of ``periods``
+    periods, window closed): the unit of work of every orbit search."""
+    from contact.model import OperatingPoint
+    from contact.periodic_orbit import period_map
+    from contact.steady import slow_problem, steady_state
+
+    v = steady_state(params, voltage_V, preload_N).velocity_m_s
+    sp = slow_problem(params, OperatingPoint(voltage_V, preload_N, 40e3, 0.0))
+    o = sp.orbit(v)
+    period_map(sp.fs, o.z, o.mode, periods, window=False)
+    _, t = _timed(lambda: period_map(sp.fs, o.z, o.mode, periods, window=False), 5)
+    return t / periods
 
 
 def _map_line(params, rows, t_ref: float) -> None:

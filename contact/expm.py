@@ -1,14 +1,12 @@
-"""Matrix exponential of a stack of small dense matrices, compiled (scaling and squaring).
+"""Matrix exponential of a stack of small dense matrices, in NumPy (scaling and squaring).
 
 The switch model's exact propagators are ``expm(A dt)`` of eighteen 9 x 9 mode matrices.
 ``scipy.linalg.expm`` computes them correctly but, called once per matrix, it goes through
 SciPy's own OpenBLAS, whose threads cost milliseconds per 9 x 9 call on a busy two-core
 machine (0.56 s of a 0.65 s ``simulate`` call measured on this project's machine; 0.3 ms
-with ``OPENBLAS_NUM_THREADS=1``). Batched NumPy products of the whole stack did the same work
-in about 0.2 ms, most of it the per-call cost of NumPy on 9 x 9 operands (a steady point
-builds two systems); the same algorithm compiled with numba (plain loops over the stack, no
-BLAS) takes about a tenth of that. ``scipy.linalg.expm`` stays the reference it is tested
-against (``tests/test_contact_expm.py``).
+with ``OPENBLAS_NUM_THREADS=1``). Batched NumPy products of the whole stack do the same work
+in well under a millisecond whatever the thread setting. ``scipy.linalg.expm`` stays the
+reference it is tested against (``tests/test_contact_expm.py``).
 
 Algorithm: Higham (2005), "The scaling and squaring method for the matrix exponential
 revisited", SIAM J. Matrix Anal. Appl. 26(4) 1179-1193 -- the diagonal Pade approximant of
@@ -25,28 +23,23 @@ magnitudes and the largest norm): the mode matrices share their structure.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 # theta_m of Higham (2005), Table 2.3: the largest 1-norm for which the degree-m Pade
 # approximant is accurate to double precision without scaling
-_THETA = np.array([1.495585217958292e-2, 2.539398330063230e-1, 9.504178996162932e-1,
-                   2.097847961257068e0])
-_DEGREES = np.array([3, 5, 7, 9])
+_THETA = ((3, 1.495585217958292e-2), (5, 2.539398330063230e-1), (7, 9.504178996162932e-1),
+          (9, 2.097847961257068e0))
 _THETA_13 = 5.371920351148152e0
-# Pade numerator coefficients b_0..b_m (Higham 2005, Eq. 2.2 / Algorithm 2.3), one row per
-# degree 3, 5, 7, 9, 13, zero-padded
-_B = np.zeros((5, 14))
-for _row, _coef in enumerate((
-    (120.0, 60.0, 12.0, 1.0),
-    (30240.0, 15120.0, 3360.0, 420.0, 30.0, 1.0),
-    (17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0),
-    (17643225600.0, 8821612800.0, 2075673600.0, 302702400.0, 30270240.0, 2162160.0,
-     110880.0, 3960.0, 90.0, 1.0),
-    (64764752532480000.0, 32382376266240000.0, 7771770303897600.0, 1187353796428800.0,
-     129060195264000.0, 10559470521600.0, 670442572800.0, 33522128640.0, 1323241920.0,
-     40840800.0, 960960.0, 16380.0, 182.0, 1.0),
-)):
-    _B[_row, :len(_coef)] = _coef
+# Pade numerator coefficients b_0..b_m (Higham 2005, Eq. 2.2 / Algorithm 2.3)
+_B = {
+    3: (120.0, 60.0, 12.0, 1.0),
+    5: (30240.0, 15120.0, 3360.0, 420.0, 30.0, 1.0),
+    7: (17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0),
+    9: (17643225600.0, 8821612800.0, 2075673600.0, 302702400.0, 30270240.0, 2162160.0,
+        110880.0, 3960.0, 90.0, 1.0),
+    13: (64764752532480000.0, 32382376266240000.0, 7771770303897600.0, 1187353796428800.0,
+         129060195264000.0, 10559470521600.0, 670442572800.0, 33522128640.0, 1323241920.0,
+         40840800.0, 960960.0, 16380.0, 182.0, 1.0),
+}
 
 
 def expm_stack(a: np.ndarray) -> np.ndarray:
@@ -55,7 +48,7 @@ def expm_stack(a: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     a : ndarray, shape (n, k, k) or (k, k)
-        Real square matrices.
+        Real or complex square matrices.
 
     Returns
     -------
@@ -68,189 +61,79 @@ def expm_stack(a: np.ndarray) -> np.ndarray:
         a = a[None]
     if a.ndim != 3 or a.shape[1] != a.shape[2]:
         raise ValueError(f"expm_stack needs square matrices, got shape {a.shape}")
-    if np.iscomplexobj(a):
-        raise ValueError("expm_stack takes real matrices")
-    out = _expm_kernel(np.ascontiguousarray(a, dtype=np.float64), _THETA, _DEGREES,
-                       _THETA_13, _B)
-    return out[0] if single else out
-
-
-@njit(cache=True, nogil=True)
-def _expm_kernel(a, theta, degrees, theta_13, coef):
-    """The stack's exponentials: one ``D``, one degree and one ``s`` for the whole stack (from
-    the elementwise largest magnitudes and the largest 1-norm), each matrix in turn."""
-    n, k, _ = a.shape
-    out = np.empty_like(a)
-    if n == 0:
-        return out
-    big = np.zeros((k, k))
-    for i in range(n):
-        for r in range(k):
-            for c in range(k):
-                big[r, c] = max(big[r, c], abs(a[i, r, c]))
-    d = _balance(big, 2.0)
-    b = np.empty_like(a)  # D^-1 A D
-    norm = 0.0
-    for i in range(n):
-        for r in range(k):
-            for c in range(k):
-                b[i, r, c] = a[i, r, c] * (d[c] / d[r])
-        for c in range(k):
-            col = 0.0
-            for r in range(k):
-                col += abs(b[i, r, c])
-            norm = max(norm, col)
-    row = 4
+    d = _balance(np.max(np.abs(a), axis=0)) if a.size else np.ones(a.shape[1])
+    a = a * (d[None, :] / d[:, None])  # D^-1 A D
+    eye = np.broadcast_to(np.eye(a.shape[1], dtype=a.dtype), a.shape)
+    norm = float(np.max(np.abs(a).sum(axis=1))) if a.size else 0.0  # largest 1-norm
     s = 0
-    for j in range(theta.size):
-        if norm <= theta[j]:
-            row = j
+    for m, theta in _THETA:
+        if norm <= theta:
+            u, v = _pade_low(a, eye, _B[m])
             break
-    if row == 4 and norm > theta_13:
-        s = int(np.ceil(np.log2(norm / theta_13)))
-    scale = 2.0 ** -s
-    m = degrees[row] if row < 4 else 13
-    x = np.empty((k, k))
-    u = np.empty((k, k))
-    v = np.empty((k, k))
-    t1 = np.empty((k, k))
-    t2 = np.empty((k, k))
-    p2 = np.empty((k, k))
-    p4 = np.empty((k, k))
-    p6 = np.empty((k, k))
-    bc = coef[row]
-    for i in range(n):
-        for r in range(k):
-            for c in range(k):
-                x[r, c] = b[i, r, c] * scale
-        _matmul(x, x, p2)
-        if m == 13:
-            _matmul(p2, p2, p4)
-            _matmul(p2, p4, p6)
-            for r in range(k):
-                for c in range(k):
-                    t1[r, c] = bc[13] * p6[r, c] + bc[11] * p4[r, c] + bc[9] * p2[r, c]
-            _matmul(p6, t1, t2)
-            for r in range(k):
-                for c in range(k):
-                    t2[r, c] += bc[7] * p6[r, c] + bc[5] * p4[r, c] + bc[3] * p2[r, c]
-                t2[r, r] += bc[1]
-            _matmul(x, t2, u)
-            for r in range(k):
-                for c in range(k):
-                    t1[r, c] = bc[12] * p6[r, c] + bc[10] * p4[r, c] + bc[8] * p2[r, c]
-            _matmul(p6, t1, v)
-            for r in range(k):
-                for c in range(k):
-                    v[r, c] += bc[6] * p6[r, c] + bc[4] * p4[r, c] + bc[2] * p2[r, c]
-                v[r, r] += bc[0]
-        else:
-            # odd and even parts: sums of b_(2j+1) A^2j and b_2j A^2j, the odd one times A
-            for r in range(k):
-                for c in range(k):
-                    t1[r, c] = 0.0
-                    v[r, c] = 0.0
-                t1[r, r] = bc[1]
-                v[r, r] = bc[0]
-            p4[:, :] = p2
-            for j in range(1, (m - 1) // 2 + 1):
-                for r in range(k):
-                    for c in range(k):
-                        t1[r, c] += bc[2 * j + 1] * p4[r, c]
-                        v[r, c] += bc[2 * j] * p4[r, c]
-                if 2 * j + 2 < m:
-                    _matmul(p4, p2, p6)
-                    p4[:, :] = p6
-            _matmul(x, t1, u)
-        for r in range(k):
-            for c in range(k):
-                t1[r, c] = v[r, c] - u[r, c]
-                t2[r, c] = v[r, c] + u[r, c]
-        _solve(t1, t2)  # t2 <- (V - U)^-1 (V + U)
-        for _ in range(s):
-            _matmul(t2, t2, t1)
-            t2[:, :] = t1
-        for r in range(k):
-            for c in range(k):
-                out[i, r, c] = t2[r, c] * (d[r] / d[c])  # D expm(B) D^-1
-    return out
+    else:
+        if norm > _THETA_13:
+            s = int(np.ceil(np.log2(norm / _THETA_13)))
+            a = a / 2.0**s
+        u, v = _pade_13(a, eye)
+    r = np.linalg.solve(v - u, v + u)
+    for _ in range(s):
+        r = r @ r
+    r = r * (d[:, None] / d[None, :])  # D expm(B) D^-1
+    return r[0] if single else r
 
 
-@njit(cache=True, nogil=True)
-def _matmul(x, y, out):
-    k = x.shape[0]
-    for r in range(k):
-        for c in range(k):
-            acc = 0.0
-            for j in range(k):
-                acc += x[r, j] * y[j, c]
-            out[r, c] = acc
-
-
-@njit(cache=True, nogil=True)
-def _solve(m, rhs):
-    """``rhs <- m^-1 rhs`` by Gaussian elimination with partial pivoting (``m`` destroyed)."""
-    k = m.shape[0]
-    for col in range(k):
-        p = col
-        for r in range(col + 1, k):
-            if abs(m[r, col]) > abs(m[p, col]):
-                p = r
-        if p != col:
-            for c in range(k):
-                m[col, c], m[p, c] = m[p, c], m[col, c]
-                rhs[col, c], rhs[p, c] = rhs[p, c], rhs[col, c]
-        piv = m[col, col]
-        for r in range(col + 1, k):
-            f = m[r, col] / piv
-            if f != 0.0:
-                for c in range(col, k):
-                    m[r, c] -= f * m[col, c]
-                for c in range(k):
-                    rhs[r, c] -= f * rhs[col, c]
-    for col in range(k - 1, -1, -1):
-        for c in range(k):
-            acc = rhs[col, c]
-            for j in range(col + 1, k):
-                acc -= m[col, j] * rhs[j, c]
-            rhs[col, c] = acc / m[col, col]
-
-
-@njit(cache=True, nogil=True)
-def _balance(m, radix):
+def _balance(m: np.ndarray, radix: float = 2.0) -> np.ndarray:
     """Diagonal ``d`` (powers of ``radix``) equalising row and column norms of ``D^-1 M D``.
 
     Parlett & Reinsch (1969), as in EISPACK ``balanc`` / LAPACK ``gebal`` without permutation.
+    The sweeps run on Python floats: for the 9 x 9 matrices of the contact model they are
+    several times faster than NumPy calls on rows of nine (each call's overhead dominates).
     """
-    n = m.shape[0]
-    b = m.copy()
-    d = np.ones(n)
+    b = [[float(x) for x in row] for row in np.asarray(m, dtype=float)]
+    n = len(b)
+    d = [1.0] * n
     for _sweep in range(64):
         converged = True
         for i in range(n):
-            c = 0.0
-            r = 0.0
-            for j in range(n):
-                if j != i:
-                    c += b[j, i]
-                    r += b[i, j]
+            c = sum(b[j][i] for j in range(n)) - b[i][i]
+            r = sum(b[i]) - b[i][i]
             if c == 0.0 or r == 0.0:
                 continue
-            s = c + r
-            f = 1.0
+            s, f = c + r, 1.0
             while c < r / radix:
-                f *= radix
-                c *= radix * radix
+                f, c = f * radix, c * radix * radix
             while c >= r * radix:
-                f /= radix
-                c /= radix * radix
+                f, c = f / radix, c / (radix * radix)
             if (c + r) / f < 0.95 * s:  # c is now c0 f^2: new norms c0 f + r / f
                 converged = False
                 d[i] *= f
                 for j in range(n):
-                    b[j, i] *= f
-                for j in range(n):
-                    b[i, j] /= f
+                    b[j][i] *= f
+                b[i] = [x / f for x in b[i]]
         if converged:
             break
-    return d
+    return np.array(d)
+
+
+def _pade_low(a: np.ndarray, eye: np.ndarray, b: tuple[float, ...]):
+    """Odd and even parts ``U``, ``V`` of the degree-3..9 Pade numerator."""
+    a2 = a @ a
+    powers = [eye, a2]  # A^0, A^2, A^4, ...
+    while 2 * len(powers) < len(b):
+        powers.append(powers[-1] @ a2)
+    odd = sum(b[2 * k + 1] * p for k, p in enumerate(powers))
+    even = sum(b[2 * k] * p for k, p in enumerate(powers))
+    return a @ odd, even
+
+
+def _pade_13(a: np.ndarray, eye: np.ndarray):
+    """Odd and even parts ``U``, ``V`` of the degree-13 Pade numerator (Higham 2005)."""
+    b = _B[13]
+    a2 = a @ a
+    a4 = a2 @ a2
+    a6 = a2 @ a4
+    u = a @ (a6 @ (b[13] * a6 + b[11] * a4 + b[9] * a2)
+             + b[7] * a6 + b[5] * a4 + b[3] * a2 + b[1] * eye)
+    v = a6 @ (b[12] * a6 + b[10] * a4 + b[8] * a2) + b[6] * a6 + b[4] * a4 + b[2] * a2 \
+        + b[0] * eye
+    return u, v

@@ -1009,6 +1009,9 @@ def _steady_point() -> dict[str, float]:
         out[f"{acc}_rel_error"] = abs(out[acc] - out["transient"]) / abs(out["transient"])
         out[f"{acc}_speed_ratio"] = (statistics.median(times["transient"])
                                      / statistics.median(times[acc]))
+    per_period = _bench("steady_speed").kernel_seconds_per_period(p, 200.0, 14.0)
+    out["period_floor_ratio"] = (statistics.median(times["transient"])
+                                 / (out["exact_periods"] * per_period))
     return out
 
 
@@ -1185,6 +1188,12 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_200V_14N_fast_periods", "-",
               "steady_state(table2(), 200, 14).periods", lambda: _steady_point()["fast_periods"],
               cheap=True, rel_tol=1e-9),
+        Claim("steady_200V_14N_exact_periods", "-",
+              'steady_state(table2(), 200, 14, accuracy="exact").periods',
+              lambda: _steady_point()["exact_periods"], cheap=True, rel_tol=1e-9),
+        Claim("steady_200V_14N_period_floor_ratio", "-", bench + " (last line: the settled "
+              "transient over the exact level's periods at the kernel's cost per period)",
+              lambda: _steady_point()["period_floor_ratio"], batch="steady_point"),
         Claim("steady_200V_14N_fast_speed_ratio", "-", bench + " (transient_s / fast_s; here "
               "medians of 3)", lambda: _steady_point()["fast_speed_ratio"], batch="steady_point"),
         Claim("steady_200V_14N_exact_speed_ratio", "-", bench + " (transient_s / exact_s; here "
