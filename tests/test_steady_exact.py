@@ -48,3 +48,20 @@ def test_adapter_for_the_simulate_method_table(params, monkeypatch):
     v_t, motion_t = transient_reference(params, 400, 14, duration_s=0.3)
     assert r.steady.velocity_m_s == pytest.approx(v_t, rel=1e-5)
     assert r.steady.motion == motion_t and r.steady.settled
+
+
+@pytest.mark.parametrize(("voltage_V", "preload_N"), [(150, 14), (400, 14), (50, 26)])
+def test_without_energy_runs_the_branches_are_the_same(params, voltage_V, preload_N):
+    """energy=False (lusm map, simulate --steady) skips only the work runs: the same
+    branches and motion, and NaN powers instead of the energy balance's. The orbit's last
+    run is then at 25 instead of 250 steps per period, so its distance and phase times move
+    by the event-location error only (a few 1e-8 at most, docs/steady.md "Step")."""
+    full = steady_state(params, voltage_V, preload_N, accuracy="exact")
+    lean = steady_state(params, voltage_V, preload_N, accuracy="exact", energy=False)
+    assert [(b.k, b.stable, b.motion, b.from_rest) for b in lean.branches] == \
+        [(b.k, b.stable, b.motion, b.from_rest) for b in full.branches]
+    for a, b in zip(lean.branches, full.branches, strict=True):
+        assert a.velocity_m_s == pytest.approx(b.velocity_m_s, rel=5e-8, abs=1e-15)
+        assert a.phase_fraction == pytest.approx(b.phase_fraction, abs=1e-8)
+    assert all(b.input_power_W > 0 for b in full.branches)
+    assert all(b.input_power_W != b.input_power_W for b in lean.branches)  # NaN
