@@ -2,11 +2,12 @@
 
 One call runs the whole search for a periodic orbit of the one-period map at slider velocity
 ``v``: chord Newton on ``P(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b)`` with a
-finite-difference Jacobian, the period-by-period fallback that watches for period-k
-repetition, and the multi-period jumps once Newton has given up. It is the Python loop of
-:func:`contact.periodic_orbit.find_orbit` moved into numba, step for step, so that the dozens
-of one-period kernel calls of a search cost no Python dispatch; each period is one call of
-:func:`contact.event_kernel.integrate_switch_model` with its window closed. Like that kernel,
+finite-difference Jacobian corrected by Broyden's secant updates, the period-by-period
+fallback that watches for period-k repetition, and the multi-period jumps once Newton has
+given up. It began as the Python loop of :func:`contact.periodic_orbit.find_orbit` moved into
+numba, so that the dozens of one-period kernel calls of a search cost no Python dispatch;
+each period is one call of :func:`contact.event_kernel.integrate_switch_model` with its
+window closed. Like that kernel,
 every function here releases the GIL (``nogil``): ``lusm map`` runs points on a thread pool.
 """
 

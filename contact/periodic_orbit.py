@@ -3,10 +3,12 @@
 With the slider velocity held at ``v`` the switch model of :mod:`contact.model` is a hybrid
 system of the stator alone, forced with the drive period T. Its steady state is a periodic
 orbit; within each contact mode the flow is linear, so the one-period map is piecewise affine.
-The orbit is found by shooting: a few periods simulated period by period, then Newton on
-``P(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b)`` with the Jacobian of the piecewise-affine
-map by finite differences (exact inside one mode sequence), falling back to period-by-period
-iteration when Newton does not contract; period-k orbits are detected from the iterates. The
+The orbit is found by shooting: a few periods simulated period by period (none when the
+search continues from a neighbouring orbit), then Newton on ``P(y) - y = 0`` for
+``y = (u_l, du_l, w_b, dw_b)`` with the Jacobian of the piecewise-affine map by finite
+differences (exact inside one mode sequence), reused and corrected by Broyden's updates,
+falling back to period-by-period iteration when Newton does not contract; period-k orbits are
+detected from the iterates. The
 search loop runs compiled (:func:`contact.orbit_kernel.search_orbit`).
 
 The one-period map reuses the event-located kernel :func:`contact.event_kernel.
@@ -324,7 +326,8 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
                jacobian: tuple | None = None) -> Orbit:
     """Periodic orbit of the fast problem at slider velocity ``v`` (m/s) by shooting.
 
-    ``z0, mode0`` (e.g. the orbit at a neighbouring velocity) start the search. When no
+    ``z0, mode0`` (e.g. the orbit at a neighbouring velocity) start the search without the
+    ``warmup`` periods, which only a fresh start from rest runs. When no
     orbit of period <= ``max_k`` is found within ``max_periods`` periods the averages are
     taken over the next ``average_periods`` periods and ``k`` is 0. The work integrals
     (:func:`orbit_work`) are computed only with ``energy``. ``jacobian`` (the
@@ -341,9 +344,9 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
         if contact == S.CONTACT and tip != S.STICK:
             tip = S.SLIP_POS if vrel > 0 else S.SLIP_NEG
         mode = S.mode_index(contact, tip, guide)
-        try:  # a neighbouring orbit needs only a short warm-up
-            orbit = _find(fs, v, z, mode, tol, max_periods, min(warmup, 0), max_k,
-                          average_periods, jacobian)
+        try:  # a neighbouring orbit needs no warm-up: Newton starts from it
+            orbit = _find(fs, v, z, mode, tol, max_periods, 0, max_k, average_periods,
+                          jacobian)
             return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
         except RuntimeError:  # a start the kernel cannot leave cleanly: start afresh
             z, mode = _start(fs, v)
