@@ -20,7 +20,6 @@ Conventions (see ``docs/contact.md``):
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 
@@ -234,56 +233,71 @@ def build_system(
     # tip and slider both at rest: B2 frozen, so 0 = -K_b w_b + A_b V sin + gamma_T F_T
     hold = (p.K_b * e[S.W] - p.A_b * op.voltage_V * e[S.SIN]) / g_T
     fs = [hold, stick_force(1.0), stick_force(-1.0)]
+    gsigns = (0.0, 1.0, -1.0)
+
+    A = np.zeros((S.N_MODES, S.N_STATE, S.N_STATE))
+    ev_h = np.zeros((S.N_MODES, S.MAX_EVENTS, S.N_STATE))
+    ev_type = np.full((S.N_MODES, S.MAX_EVENTS), S.EV_NONE, dtype=np.int64)
+    fn_m = np.zeros((S.N_MODES, S.N_STATE))
+    ft_m = np.zeros((S.N_MODES, S.N_STATE))
+    ff_m = np.zeros((S.N_MODES, S.N_STATE))
     zero = np.zeros(S.N_STATE)
-    base = {"zero": zero, "fn": fn, "ng_sep": ng_sep, "ng_contact": ng_contact,
-            ("slip", 1.0): 1.0 * mu_d_eff * fn, ("slip", -1.0): -1.0 * mu_d_eff * fn,
-            **{("fs", g): f for g, f in enumerate(fs)}}
 
-    def row(key) -> np.ndarray:
-        """The row named ``key`` in :func:`_layout` (each row kind once per call)."""
-        if key in base:
-            return base[key]
-        kind = key[0]
-        if kind == "e":
-            r = e[key[1]]
-        elif kind == "l_row":
-            r = (-p.K_l * e[S.U] - p.C_l * e[S.DU] + p.A_l * op.voltage_V * e[S.SIN]
-                 + g_N * row(key[1])) / p.M_l
-        elif kind == "b_row":
-            r = (-p.K_b * e[S.W] - p.C_b * e[S.DW] + p.A_b * op.voltage_V * e[S.SIN]
-                 + g_T * row(key[1])) / p.M_b
-        elif kind == "ff":  # guide friction of a moving slider, and the load
-            r = -key[1] * p.mu_sd * row(key[2]) - load
-        elif kind == "held":  # a held slider is balanced by static guide friction (and load)
-            r = -row(key[1])
-        elif kind == "dx":
-            r = (row(key[1]) + row(key[2])) / p.M_slider
-        elif kind == "sin_row":
-            r = op.omega * e[S.COS]
-        elif kind == "cos_row":
-            r = -op.omega * e[S.SIN]
-        elif kind == "separate":
-            r = -fn
-        elif kind == "break":
-            r = (fs[key[2]] if key[1] > 0 else -fs[key[2]]) - p.mu_s * fn
-        elif kind == "vrel":
-            r = -key[1] * vrel
-        elif kind == "release":
-            ft, ng = row(key[2]), row(key[3])
-            r = ft - load - p.mu_sd * ng if key[1] > 0 else -ft + load - p.mu_sd * ng
-        elif kind == "xdot":
-            r = -key[1] * e[S.DX]
-        else:  # pragma: no cover - _layout names only the kinds above
-            raise KeyError(key)
-        base[key] = r
-        return r
+    # Each mode's rows depend on its normal force (2 kinds) and tangential force (6 kinds):
+    # they are computed once per kind (the same expressions, so the same bits) and shared.
+    slip = {1.0: 1.0 * mu_d_eff * fn, -1.0: -1.0 * mu_d_eff * fn}
+    l_row = {id(f): (-p.K_l * e[S.U] - p.C_l * e[S.DU] + p.A_l * op.voltage_V * e[S.SIN]
+                     + g_N * f) / p.M_l for f in (zero, fn)}
+    b_row = {id(f): (-p.K_b * e[S.W] - p.C_b * e[S.DW] + p.A_b * op.voltage_V * e[S.SIN]
+                     + g_T * f) / p.M_b for f in (zero, *fs, *slip.values())}
+    sin_row, cos_row = op.omega * e[S.COS], -op.omega * e[S.SIN]
+    for contact in (S.SEPARATED, S.CONTACT):
+        for tip in (S.STICK, S.SLIP_POS, S.SLIP_NEG):
+            for guide in (S.HELD, S.FORWARD, S.BACKWARD):
+                m = S.mode_index(contact, tip, guide)
+                gs = gsigns[guide]
+                tip_stuck = contact == S.CONTACT and tip == S.STICK
+                held = guide == S.HELD
+                if contact == S.SEPARATED:
+                    fn_mode, ft, ng = zero, zero, ng_sep
+                elif tip == S.STICK:
+                    fn_mode, ft, ng = fn, fs[guide], ng_contact
+                else:
+                    fn_mode, ft, ng = fn, slip[1.0 if tip == S.SLIP_POS else -1.0], ng_contact
+                # a held slider is balanced by static guide friction (and the load)
+                ff = -ft if held else -gs * p.mu_sd * ng - load
+                a = A[m]
+                a[S.U] = e[S.DU]
+                a[S.DU] = l_row[id(fn_mode)]
+                if not (tip_stuck and held):
+                    a[S.W] = e[S.DW]
+                    a[S.DW] = b_row[id(ft)]
+                if not held:
+                    a[S.X] = e[S.DX]
+                    a[S.DX] = (ft + ff) / p.M_slider
+                a[S.SIN] = sin_row
+                a[S.COS] = cos_row
+                fn_m[m], ft_m[m], ff_m[m] = fn_mode, ft, ff
 
-    keys, a_idx, ev_idx, ev_type, fn_idx, ft_idx, ff_idx = _layout()
-    rows = np.stack([row(k) for k in keys])
-    A = rows[a_idx]
-    ev_h = rows[ev_idx]
-    fn_m, ft_m, ff_m = rows[fn_idx], rows[ft_idx], rows[ff_idx]
-    ev_type = ev_type.copy()
+                events: list[tuple[int, np.ndarray]] = []
+                if contact == S.CONTACT:
+                    events.append((S.EV_SEPARATE, -fn))
+                    if tip == S.STICK:
+                        events.append((S.EV_STICK_BREAK, fs[guide] - p.mu_s * fn))
+                        events.append((S.EV_STICK_BREAK, -fs[guide] - p.mu_s * fn))
+                    else:
+                        sigma = 1.0 if tip == S.SLIP_POS else -1.0
+                        events.append((S.EV_VREL_ZERO, -sigma * vrel))
+                else:
+                    events.append((S.EV_CONTACT, fn))
+                if held:
+                    events.append((S.EV_GUIDE_RELEASE, ft - load - p.mu_sd * ng))
+                    events.append((S.EV_GUIDE_RELEASE, -ft + load - p.mu_sd * ng))
+                else:
+                    events.append((S.EV_XDOT_ZERO, -gs * e[S.DX]))
+                for j, (etype, h) in enumerate(events):
+                    ev_type[m, j] = etype
+                    ev_h[m, j] = h
 
     ev_dh = np.matmul(ev_h, A)  # d/dt (h . z) = h . A z = (A^T h) . z
 
@@ -315,81 +329,6 @@ def build_system(
     )
     assert scalars.shape == (S.N_SCALARS,)
     return HybridSystem(A, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, scalars, z0, mode0)
-
-
-@functools.lru_cache(maxsize=1)
-def _layout():
-    """Which row goes where in the 18 modes of :func:`build_system` (Eqs. 4-19).
-
-    Depends on the mode enumeration only, so it is made once: every generator row, event
-    functional and force row is named by a key whose value :func:`build_system` computes
-    once per call, and the arrays are gathered from those rows. Returns ``(keys, a_idx,
-    ev_idx, ev_type, fn_idx, ft_idx, ff_idx)``: index arrays into ``keys`` (0 is the zero
-    row) shaped like ``A`` without its last axis, ``ev_h`` likewise, and the event types.
-    """
-    keys: list = ["zero"]
-    where: dict = {"zero": 0}
-
-    def k(key) -> int:
-        if key not in where:
-            where[key] = len(keys)
-            keys.append(key)
-        return where[key]
-
-    a_idx = np.zeros((S.N_MODES, S.N_STATE), dtype=np.int64)
-    ev_idx = np.zeros((S.N_MODES, S.MAX_EVENTS), dtype=np.int64)
-    ev_type = np.full((S.N_MODES, S.MAX_EVENTS), S.EV_NONE, dtype=np.int64)
-    fn_idx = np.zeros(S.N_MODES, dtype=np.int64)
-    ft_idx = np.zeros(S.N_MODES, dtype=np.int64)
-    ff_idx = np.zeros(S.N_MODES, dtype=np.int64)
-    gsigns = (0.0, 1.0, -1.0)
-    for contact in (S.SEPARATED, S.CONTACT):
-        for tip in (S.STICK, S.SLIP_POS, S.SLIP_NEG):
-            for guide in (S.HELD, S.FORWARD, S.BACKWARD):
-                m = S.mode_index(contact, tip, guide)
-                gs = gsigns[guide]
-                tip_stuck = contact == S.CONTACT and tip == S.STICK
-                held = guide == S.HELD
-                if contact == S.SEPARATED:
-                    fn_mode, ft, ng = "zero", "zero", "ng_sep"
-                elif tip == S.STICK:
-                    fn_mode, ft, ng = "fn", ("fs", guide), "ng_contact"
-                else:
-                    fn_mode, ft, ng = "fn", ("slip", 1.0 if tip == S.SLIP_POS else -1.0), \
-                        "ng_contact"
-                ff = ("held", ft) if held else ("ff", gs, ng)
-                a_idx[m, S.U] = k(("e", S.DU))
-                a_idx[m, S.DU] = k(("l_row", fn_mode))
-                if not (tip_stuck and held):
-                    a_idx[m, S.W] = k(("e", S.DW))
-                    a_idx[m, S.DW] = k(("b_row", ft))
-                if not held:
-                    a_idx[m, S.X] = k(("e", S.DX))
-                    a_idx[m, S.DX] = k(("dx", ft, ff))
-                a_idx[m, S.SIN] = k(("sin_row",))
-                a_idx[m, S.COS] = k(("cos_row",))
-                fn_idx[m], ft_idx[m], ff_idx[m] = k(fn_mode), k(ft), k(ff)
-
-                events: list[tuple[int, object]] = []
-                if contact == S.CONTACT:
-                    events.append((S.EV_SEPARATE, ("separate",)))
-                    if tip == S.STICK:
-                        events.append((S.EV_STICK_BREAK, ("break", 1, guide)))
-                        events.append((S.EV_STICK_BREAK, ("break", -1, guide)))
-                    else:
-                        events.append((S.EV_VREL_ZERO,
-                                       ("vrel", 1.0 if tip == S.SLIP_POS else -1.0)))
-                else:
-                    events.append((S.EV_CONTACT, "fn"))
-                if held:
-                    events.append((S.EV_GUIDE_RELEASE, ("release", 1, ft, ng)))
-                    events.append((S.EV_GUIDE_RELEASE, ("release", -1, ft, ng)))
-                else:
-                    events.append((S.EV_XDOT_ZERO, ("xdot", gs)))
-                for j, (etype, key) in enumerate(events):
-                    ev_type[m, j] = etype
-                    ev_idx[m, j] = k(key)
-    return tuple(keys), a_idx, ev_idx, ev_type, fn_idx, ft_idx, ff_idx
 
 
 def normal_force_zero_tip_displacement(params: MotorParams, preload_N: float) -> float:

@@ -8,8 +8,8 @@ search continues from a neighbouring orbit), then Newton on ``P(y) - y = 0`` for
 ``y = (u_l, du_l, w_b, dw_b)`` with the Jacobian of the piecewise-affine map by finite
 differences (exact inside one mode sequence), reused and corrected by Broyden's updates,
 falling back to period-by-period iteration when Newton does not contract; period-k orbits are
-detected from the iterates. The
-search loop runs compiled (:func:`contact.orbit_kernel.search_orbit`).
+detected from the iterates. The search loop runs compiled
+(:func:`contact.orbit_kernel.search_orbit`).
 
 The one-period map reuses the event-located kernel :func:`contact.event_kernel.
 integrate_switch_model` on a modified system: the slider row of every generator is zeroed

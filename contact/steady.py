@@ -415,8 +415,6 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
     -------
     SteadyResult
     """
-    if accuracy not in ACCURACIES:
-        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     t0 = time.perf_counter()
     op = OperatingPoint(float(voltage_V), float(preload_N),
                         40e3 if frequency_Hz is None else float(frequency_Hz), float(load_N))
