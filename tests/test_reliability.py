@@ -510,6 +510,34 @@ def test_sigterm_removes_the_staging_folder(tmp_path):
     assert list(tmp_path.iterdir()) == []  # no staging folder, no half report
 
 
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_python_swallows_still_stops_the_command(signum, monkeypatch, tmp_path,
+                                                           capsys):
+    # A handler that runs inside a __del__ or weakref callback (importlib's module locks have
+    # one) cannot propagate its exception: Python prints "Exception ignored" and carries on.
+    import validation.cmd_params as cmd
+    from validation.output_set import output_set
+
+    class SignalOnCollect:
+        def __del__(self):
+            signal.raise_signal(signum)
+
+    def command(args):
+        with output_set(tmp_path / "out", "figures") as stage:
+            (stage / "a.png").write_bytes(b"x")
+            obj = SignalOnCollect()
+            del obj  # the signal's exception is swallowed here
+            (stage / "b.png").write_bytes(b"y")  # so the command goes on
+
+    monkeypatch.setattr(cmd, "run", command)
+    assert main(["params"]) == 130
+    err = capsys.readouterr().err
+    assert err.strip() == "lusm params: interrupted"  # no "Exception ignored", no traceback
+    assert list(tmp_path.iterdir()) == []  # nothing moved in, no staging folder left
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
 def test_debug_env_shows_the_traceback():
     env = {**os.environ, "LUSM_DEBUG": "1"}
     proc = subprocess.run([sys.executable, "-m", "validation.cli", "simulate", "--voltage",

@@ -8,8 +8,9 @@ parser (``lusm --help``) imports no numpy, scipy, numba or scikit-fem. Shared op
 Exit codes: 0 success; 2 for every user-facing failure (:class:`validation.errors.LusmError`,
 and the library's ``ValueError`` / ``OSError`` mapped by :func:`validation.errors.user_error`),
 printed as one line ``lusm <cmd>: error: ...``; 130 on Ctrl-C or SIGTERM (staging folders are
-removed by their ``finally`` blocks); 1 for an unexpected exception (a bug): one line naming
-it and asking for a report, the traceback only with ``LUSM_DEBUG=1``.
+removed by their ``finally`` blocks; a signal Python had to swallow is re-raised before any
+output is moved in, :mod:`validation.interrupts`); 1 for an unexpected exception (a bug): one
+line naming it and asking for a report, the traceback only with ``LUSM_DEBUG=1``.
 """
 
 from __future__ import annotations
@@ -18,7 +19,6 @@ import argparse
 import importlib
 import os
 import re
-import signal
 import sys
 from collections.abc import Sequence
 
@@ -68,14 +68,6 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {' '.join(message.split())}\n")
 
 
-class Terminated(BaseException):
-    """SIGTERM, raised in the main thread so that cleanup (``finally``) runs."""
-
-
-def _on_sigterm(signum, frame) -> None:  # pragma: no cover - exercised in a subprocess
-    raise Terminated
-
-
 def build_parser() -> argparse.ArgumentParser:
     """The full ``lusm`` parser with every available sub-command."""
     parser = _Parser(
@@ -106,7 +98,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         from validation import fast_start
 
         fast_start.prepare_process()
-    from validation.errors import LusmError, user_error
     from validation.options import set_command
 
     # Figures are files: the CLI picks matplotlib's file backend, library code never does.
@@ -123,18 +114,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     set_command(args.command)
     if argv is None:  # past --help: every command imports NumPy and most run numba
         fast_start.load_blas_probe()
+    return _run(args, argv)
+
+
+def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
+    """Run the parsed command; map every way it can end to an exit code and one line."""
+    from validation import interrupts
+    from validation.errors import LusmError, user_error
+
     prog = f"lusm {args.command}"
-    previous = None
-    try:
-        previous = signal.signal(signal.SIGTERM, _on_sigterm)
-    except ValueError:  # not the main thread (e.g. called from a worker): keep the default
-        pass
     try:
         from validation.limits import work_factor
 
-        work_factor()  # a bad LUSM_MAX_WORK is refused before any command runs
-        args.func(args)
-    except (KeyboardInterrupt, Terminated):
+        with interrupts.handlers():
+            work_factor()  # a bad LUSM_MAX_WORK is refused before any command runs
+            args.func(args)
+            interrupts.checkpoint()  # a signal Python had to swallow still ends the command
+    except (KeyboardInterrupt, interrupts.Terminated):
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:  # the reader left (``lusm params | head``): stop quietly, as
@@ -156,9 +152,9 @@ def main(argv: Sequence[str] | None = None) -> int:
               f"(run with {DEBUG_ENV}=1 for the traceback)", file=sys.stderr)
         return 1
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
         if argv is None:
+            from validation import fast_start
+
             fast_start.finish_process()
     return 0
 

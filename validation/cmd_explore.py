@@ -48,8 +48,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Check the study and the outputs, run the study, print its summary."""
-    from validation.cli import Terminated
     from validation.explore import check_out, explore, open_result
+    from validation.interrupts import Terminated
     from validation.study import load_study
 
     study = load_study(args.study)

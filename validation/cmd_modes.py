@@ -287,6 +287,7 @@ def _write_export(path, model, res, force: bool, writer) -> None:
     import tempfile
 
     from validation.errors import LusmError
+    from validation.interrupts import checkpoint
 
     path.parent.mkdir(parents=True, exist_ok=True)
     stage = tempfile.mkdtemp(prefix=f".{path.stem}-partial-", dir=path.parent)
@@ -302,6 +303,7 @@ def _write_export(path, model, res, force: bool, writer) -> None:
         if taken and not force:
             raise LusmError(f"--export {path}: its side file {path.parent / taken[0]} already "
                             "exists; choose a new name or pass --force", "--export")
+        checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
         for n in names:
             os.replace(os.path.join(stage, n), path.parent / n)
     finally:

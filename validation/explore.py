@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from validation.interrupts import checkpoint
 from validation.study import AXIS_KIND, DRIVE_AXES, GEOMETRY_AXES, OUTPUTS, SI_UNIT, Study
 
 FE_SCALARS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff_L1", "k_eff_B2",
@@ -436,6 +437,7 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
     tmp = out.with_name(f".{out.name}-partial-{uuid.uuid4().hex[:12]}")
     try:
         ds.to_netcdf(tmp, engine="h5netcdf")
+        checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
         if out.exists():
             os.replace(out, _backup_of(out))
         os.replace(tmp, out)

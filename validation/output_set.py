@@ -138,6 +138,9 @@ def output_set(target: Path, kind: str, option: str = "--out",
 
 
 def _commit(stage: Path, target: Path, kind: str, force: bool) -> None:
+    from validation.interrupts import checkpoint
+
+    checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
     new_files = _files_below(stage)
     if not target.exists() or (target.is_dir() and not any(target.iterdir())):
         target.parent.mkdir(parents=True, exist_ok=True)
