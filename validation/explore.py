@@ -619,6 +619,7 @@ def explore(
                     result.computed += 1
                     bar.update(1)
                     fut.release()
+                    checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
                     if on_part is not None:
                         on_part(i)
             finally:

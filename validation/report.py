@@ -62,6 +62,9 @@ class _Stage:
         self.bar = tqdm(total=total, desc=name, unit="step", disable=not enabled, leave=True)
 
     def say(self, msg: str) -> None:
+        from validation.interrupts import checkpoint
+
+        checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: stop at the next step
         self.bar.set_postfix_str(msg[:40])
         self.bar.update()
 
