@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.model import OperatingPoint
-from contact.steady import V_ZERO_M_S, branches_at_load, slow_problem
+from contact.steady import V_ZERO_M_S, branches_at_load, holding_range_N, slow_problem
 from rom.params import MotorParams
 
 
@@ -31,7 +31,13 @@ class Characteristic:
         Load at which the velocity from rest falls to zero (N): ``F_T(0+) - mu_sd (F_N + M g)``.
     load_N, velocity_m_s, input_power_W, output_power_W, efficiency : ndarray
         The curves: load (N), velocity from rest (m/s), electrical input power (W), mechanical
-        output power ``load * v`` (W) and their ratio (-).
+        output power ``load * v`` (W) and their ratio (-). The velocity is NaN at a load the
+        slider runs away under (outside ``holding_range_N``, or wherever a start from rest
+        reaches no steady state).
+    holding_range_N : tuple of float
+        Loads (N) the driven motor holds at the tip's full slip
+        (:func:`contact.steady.holding_range_N`): beyond the upper one it is pushed backward
+        without bound, below the lower one (a load pushing it forward) forward.
     wall_time_s : float
     orbits : int
         Fast-problem orbits solved.
@@ -45,6 +51,7 @@ class Characteristic:
     input_power_W: np.ndarray
     output_power_W: np.ndarray
     efficiency: np.ndarray
+    holding_range_N: tuple[float, float]
     wall_time_s: float
     orbits: int
 
@@ -53,6 +60,7 @@ class Characteristic:
         return {
             "no_load_velocity_m_s": float(self.no_load_velocity_m_s),
             "stall_force_N": float(self.stall_force_N),
+            "holding_range_N": [float(f) for f in self.holding_range_N],
             "curve": [
                 {"load_N": float(f), "velocity_m_s": float(v), "input_power_W": float(pi),
                  "output_power_W": float(po), "efficiency": float(e)}
@@ -105,5 +113,6 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
     with np.errstate(divide="ignore", invalid="ignore"):
         eff = np.where(p_in_a > 0, p_out_a / p_in_a, np.nan)
+    hold = tuple(float(f) for f in holding_range_N(sp))
     return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
-                          eff, time.perf_counter() - t0, len(sp.cache))
+                          eff, hold, time.perf_counter() - t0, len(sp.cache))

@@ -55,6 +55,7 @@ from contact.state import (
     SC_K,
     SC_K_B,
     SC_K_L,
+    SC_LOAD,
     SC_M,
     SC_M_B,
     SC_M_L,
@@ -270,14 +271,16 @@ def _tip_zero(z, guide, funcs, scalars):
     mu_sd = scalars[SC_MU_SD]
     fn = _dot(funcs[F_FN], z)
     if guide == HELD:
-        # tip and slider at rest together: can the guide and the interface both hold?
+        # tip and slider at rest together: can the guide and the interface both hold? The
+        # guide holds the slider against the tip's force and the load together.
         fh = _dot(funcs[F_HOLD], z)
         ng = _dot(funcs[F_NG_CONTACT], z)
-        if abs(fh) <= mu_sd * ng:
+        net = fh - scalars[SC_LOAD]
+        if abs(net) <= mu_sd * ng:
             if abs(fh) <= mu_s * fn:
                 return STICK, HELD
             return (SLIP_POS if fh > 0.0 else SLIP_NEG), HELD
-        guide = FORWARD if fh > 0.0 else BACKWARD
+        guide = FORWARD if net > 0.0 else BACKWARD
     fs = _dot(funcs[F_HOLD + guide], z)
     if abs(fs) <= mu_s * fn:
         return STICK, guide
@@ -292,6 +295,7 @@ def _switch(mode, etype, z, funcs, scalars):
     guide = mode % 3
     mu_d = scalars[SC_MU_D]
     mu_sd = scalars[SC_MU_SD]
+    load = scalars[SC_LOAD]  # on the slider in -x, beside the tip's force
     if etype == EV_SEPARATE:
         contact = SEPARATED
         tip = SLIP_POS
@@ -320,19 +324,19 @@ def _switch(mode, etype, z, funcs, scalars):
                 fn = _dot(funcs[F_FN], z)
                 ft = mu_d * fn if tip == SLIP_POS else -mu_d * fn
                 ng = _dot(funcs[F_NG_CONTACT], z)
-            if abs(ft) <= mu_sd * ng:
+            if abs(ft - load) <= mu_sd * ng:
                 guide = HELD
             else:
-                guide = FORWARD if ft > 0.0 else BACKWARD
+                guide = FORWARD if ft - load > 0.0 else BACKWARD
     elif etype == EV_GUIDE_RELEASE:
         if contact == CONTACT and tip == STICK:
             fh = _dot(funcs[F_HOLD], z)
-            guide = FORWARD if fh > 0.0 else BACKWARD
+            guide = FORWARD if fh - load > 0.0 else BACKWARD
             tip, guide = _tip_zero(z, guide, funcs, scalars)
         else:
             fn = _dot(funcs[F_FN], z) if contact == CONTACT else 0.0
             ft = mu_d * fn if tip == SLIP_POS else -mu_d * fn
-            guide = FORWARD if ft > 0.0 else BACKWARD
+            guide = FORWARD if ft - load > 0.0 else BACKWARD
     if contact == CONTACT and tip == STICK:
         if guide == HELD:
             z[DW] = 0.0

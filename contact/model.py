@@ -313,7 +313,7 @@ def build_system(
             p.mu_s, mu_d_eff, p.mu_sd, p.phi_Ll, g_N, g_T,
             p.A_l * op.voltage_V, p.A_b * op.voltage_V, p.C_l, p.C_b, p.M_l, p.K_l,
             p.M_b, p.K_b, p.M_slider, p.k_contact, op.omega, g_N - p.eta_N,
-            stick_band_m_s, p.phi_Bl,
+            stick_band_m_s, p.phi_Bl, op.load_N,
         ]
     )
 

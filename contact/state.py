@@ -59,5 +59,5 @@ def mode_index(contact: int, tip: int, guide: int) -> int:
 # entries of the scalar parameter vector handed to the kernels
 (SC_MU_S, SC_MU_D, SC_MU_SD, SC_PHI_LL, SC_GAMMA_N, SC_GAMMA_T, SC_ALV, SC_ABV, SC_C_L,
  SC_C_B, SC_M_L, SC_K_L, SC_M_B, SC_K_B, SC_M, SC_K, SC_OMEGA, SC_GN_EXCESS, SC_EPS,
- SC_PHI_BL) = range(20)
-N_SCALARS = 20
+ SC_PHI_BL, SC_LOAD) = range(21)
+N_SCALARS = 21

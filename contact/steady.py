@@ -177,7 +177,9 @@ class SteadyResult:
     branches : tuple of SteadyBranch
         Every steady state found, by increasing velocity (unstable ones included).
     velocity_m_s : float
-        Velocity of the branch a start from rest reaches (m/s).
+        Velocity of the branch a start from rest reaches (m/s); NaN when a start from rest
+        reaches none: the slider runs away (the load, or a load pushing it forward, exceeds
+        the thrust the motor can hold against it, :func:`holding_range_N`).
     mu_d_eff : float
         Dynamic friction coefficient used in slip (-).
     accuracy : str
@@ -200,9 +202,9 @@ class SteadyResult:
     wall_time_s: float
 
     @property
-    def from_rest(self) -> SteadyBranch:
-        """The branch a start from rest reaches."""
-        return next(b for b in self.branches if b.from_rest)
+    def from_rest(self) -> SteadyBranch | None:
+        """The branch a start from rest reaches; None when the slider runs away."""
+        return next((b for b in self.branches if b.from_rest), None)
 
 
 @dataclass
@@ -305,6 +307,29 @@ def ripple_scale(params: MotorParams, op: OperatingPoint, mu_d_eff: float) -> fl
     times its mean.
     """
     return mu_d_eff * op.preload_N / (params.M_slider * op.omega)
+
+
+def holding_range_N(sp: SlowProblem) -> tuple[float, float]:
+    """Loads (N) between which the slider cannot run away: the thrust at ``+v_max`` and at
+    ``-v_max`` (``v_max`` = 1.5 x the free tip's tangential speed, the scan's end).
+
+    Beyond the tip's speed the tip slips one way throughout contact, so the thrust no longer
+    depends on v: a load above the upper bound (below the lower one) leaves ``G < 0``
+    (``> 0``) for every faster backward (forward) velocity, and a slider past the last root
+    on that side accelerates without bound. At 400 V / 14 N on Table 2's set: about
+    -4.4 N to 4.4 N, the tip's sliding friction plus the guide's.
+    """
+    return sp.thrust(sp.v_max_m_s), sp.thrust(-sp.v_max_m_s)
+
+
+def runaway_message(sp: SlowProblem, load_N: float) -> str:
+    """One line saying that the slider runs away from rest under ``load_N`` and why."""
+    low, high = holding_range_N(sp)
+    op = sp.op
+    way = "backward" if load_N > 0 else "forward"
+    return (f"load_N = {load_N:g} N: no steady state from rest at {op.voltage_V:g} V / "
+            f"{op.preload_N:g} N, the slider runs away {way} (the motor holds loads from "
+            f"{low:.4g} to {high:.4g} N at the tip's full slip)")
 
 
 def scan_grid(v_floor: float, v_max: float) -> np.ndarray:
@@ -540,11 +565,14 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
              if abs(b.velocity_m_s - v_rest) <= 1e-6 * abs(v_rest) + 1e-12
              or (held and b.motion == "dead-zone")]
     if fo is None and not held:
-        # the transient had not settled on an orbit: the averaged choice stands
+        # the transient had not settled on an orbit: the averaged choice stands; with none
+        # (the slow equation has no root a start from rest stops at) the slider runs away
         avg = [i for i, b in enumerate(branches) if b.from_rest]
         if avg:
             match = avg
             v_rest = out[avg[0]].velocity_m_s
+        else:
+            v_rest = math.nan
     if match:
         out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
     elif fo is not None:
@@ -623,6 +651,8 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff, accuracy="exact")
     branches, v_rest = branches_at_load(sp, op.load_N, energy=False)
     branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling, energy=False)
+    if math.isnan(v_rest):
+        raise ValueError(runaway_message(sp, op.load_N))
     rest = [b for b in branches if b.from_rest]
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
     steps = (sp.periods + periods) * sp.fs.steps_per_period

@@ -101,9 +101,14 @@ def run(args: argparse.Namespace) -> None:
             print(f"--- {v:g} V")
         print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
         print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
+        low, high = char.holding_range_N
+        print(f"{'holds loads (N)':<26} {low:.4g} to {high:.4g}")
         print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} "
               f"{'eff.':>8}")
         for row in d["curve"]:
+            if math.isnan(row["velocity_m_s"]):  # no steady state from rest
+                print(f"{row['load_N']:10.4g} {'runs away':>12}")
+                continue
             print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} "
                   f"{row['input_power_W']:11.4g} {row['output_power_W']:11.4g} "
                   f"{row['efficiency']:8.4f}")

@@ -1055,6 +1055,26 @@ def _steady_characteristic() -> dict[str, float]:
 
 
 @cache
+def _steady_load_limits() -> dict[str, float]:
+    """Loads at 400 V / 14 N (docs/steady.md "Loads the motor cannot carry")."""
+    from contact.characteristic import characteristic
+    from contact.steady import V_ZERO_M_S, steady_state, transient_reference
+
+    c = characteristic(_table2(), 400, 14, [3.5])
+    r = steady_state(_table2(), 400, 14, load_N=3.5, accuracy="exact", energy=False)
+    from contact.model import OperatingPoint
+    from contact.steady import slow_problem
+
+    sp = slow_problem(_table2(), OperatingPoint(400.0, 14.0, 40e3))
+    o = sp.orbit(V_ZERO_M_S)
+    return {"holding_low": c.holding_range_N[0], "holding_high": c.holding_range_N[1],
+            "guide_hold": o.mean_FT_N + sp.guide_N(o),
+            "back_m_s": r.velocity_m_s,
+            "back_transient_m_s": transient_reference(_table2(), 400, 14, load_N=3.5,
+                                                      duration_s=1.2)[0]}
+
+
+@cache
 def _steady_branch_diagram() -> dict[str, float]:
     """From-rest branch of the exact level at 14 N, 50-450 V in steps of 25 V; the last
     held voltage, the first voltage of each moving class and a few velocities."""
@@ -1225,6 +1245,18 @@ def _steady_claims() -> tuple[Claim, ...]:
                     ("peak_load", "N"), ("peak_input", "W"), ("peak_output", "W")):
         out.append(Claim(f"steady_char_400V_14N_{k}", unit, char,
                          lambda k=k: _steady_characteristic()[k]))
+    limits = "lusm characteristic --voltage 400 --preload 14 --loads 3:6:1 --json"
+    for k, unit, cmd in (
+            ("holding_low", "N", limits + " (holding_range_N)"),
+            ("holding_high", "N", limits + " (holding_range_N)"),
+            ("guide_hold", "N", "python -m validation.doc_numbers --show steady_load_400V_14N_"
+             "guide_hold (F_T(0+) + mu_sd (F_N + M g), the load a held slider resists)"),
+            ("back_m_s", "m/s", 'steady_state(table2(), 400, 14, load_N=3.5, accuracy="exact")'
+             ".velocity_m_s"),
+            ("back_transient_m_s", "m/s",
+             "transient_reference(table2(), 400, 14, load_N=3.5, duration_s=1.2)")):
+        out.append(Claim(f"steady_load_400V_14N_{k}", unit, cmd,
+                         lambda k=k: _steady_load_limits()[k]))
     diag = ("python -m validation.doc_numbers --show steady_branch_* (" + ex.format(v="V", f=14)
             + " for V = 50, 75, ..., 450)")
     for k, unit in (("dead_zone_last_V", "V"), ("stick-slip_first_V", "V"),

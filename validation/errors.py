@@ -33,6 +33,7 @@ class LusmError(ValueError):
 LIBRARY_NAMES: dict[str, str] = {
     "voltage_V": "--voltage",
     "preload_N": "--preload",
+    "load_N": "--load-N",
     "frequency_Hz": "--frequency",
     "dt_s": "--dt",
     "duration_s": "--duration",

@@ -166,7 +166,7 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
                                 list(drive.loads_N), frequency_Hz=drive.frequency_Hz,
                                 coupling=coupling)
         eff = np.asarray(curve.efficiency, dtype=float)
-        motion = res.from_rest.motion if res.branches else "failed"
+        motion = res.from_rest.motion if res.from_rest is not None else "failed"
         return {"no_load_velocity": float(res.velocity_m_s),
                 "stall_force": float(curve.stall_force_N),
                 "peak_efficiency": float(np.nanmax(eff)) if np.isfinite(eff).any() else math.nan,

@@ -1,0 +1,100 @@
+"""Loads the motor cannot carry: held by the tip's static friction, pushed back, run away.
+
+The guide's hold decisions of the event kernel include the load (a held slider is released
+in the direction of the tip's force minus the load), and the steady engine says when a start
+from rest reaches no steady state. Each test has an independent reference: Coulomb's static
+limit, the constant acceleration of a slider dragged in full slip, or a settled transient.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from contact.model import GRAVITY_M_S2, OperatingPoint
+from contact.simulate import simulate
+from contact.steady import holding_range_N, slow_problem, steady_state, transient_reference
+from rom import table2
+from validation.cli import main
+
+
+@pytest.fixture(scope="module")
+def params():
+    return table2()
+
+
+def test_undriven_motor_holds_a_load_below_its_static_friction(params):
+    # V0 = 0: tip and guide hold together up to mu_s F_P + mu_sd (F_P + M g) = 7.6 N; 1 N
+    # exceeds the guide's share alone (0.64 N), so the tip's stick must carry the rest
+    r = simulate(params, 0.0, 14.0, load_N=1.0, duration_s=0.01)
+    assert r.steady.velocity_m_s == 0.0 and r.steady.motion == "pure-stick"
+    s = steady_state(params, 0.0, 14.0, load_N=1.0, accuracy="exact", energy=False)
+    assert s.velocity_m_s == 0.0
+
+
+def test_undriven_slider_dragged_past_static_friction_accelerates_as_coulomb_says(params):
+    # above the static limit the tip slips backward throughout: the slider's acceleration is
+    # (F - mu_d F_P - mu_sd (F_P + M g)) / M (Eq. 11 leaves mu_d as it is without vibration)
+    p, fp, load = params, 14.0, 10.0
+    assert load > p.mu_s * fp + p.mu_sd * (fp + p.M_slider * GRAVITY_M_S2)
+    v = [simulate(p, 0.0, fp, load_N=load, duration_s=d).steady.velocity_m_s
+         for d in (0.01, 0.02)]
+    a = (v[1] - v[0]) / 0.01
+    expect = -(load - p.mu_d * fp - p.mu_sd * (fp + p.M_slider * GRAVITY_M_S2)) / p.M_slider
+    assert a == pytest.approx(expect, rel=1e-3)
+
+
+def test_holding_range_is_full_slip_friction_plus_the_guide(params):
+    # past the tip's speed the tip slips one way throughout contact: F_T = -+mu_d_eff F_N
+    sp = slow_problem(params, OperatingPoint(400.0, 14.0, 40e3), accuracy="exact")
+    low, high = holding_range_N(sp)
+    for v, bound in ((sp.v_max_m_s, low), (-sp.v_max_m_s, high)):
+        o = sp.orbit(v)
+        friction = -math.copysign(1.0, v) * sp.mu_d_eff * o.mean_FN_N
+        assert o.mean_FT_N == pytest.approx(friction, rel=1e-9)
+        assert bound == pytest.approx(friction - math.copysign(1.0, v) * sp.guide_N(o),
+                                      rel=1e-12)
+
+
+def test_a_load_beyond_the_holding_range_runs_away(params):
+    sp = slow_problem(params, OperatingPoint(400.0, 14.0, 40e3))
+    load = holding_range_N(sp)[1] + 0.5
+    for accuracy in ("fast", "exact"):
+        r = steady_state(params, 400, 14, load_N=load, accuracy=accuracy, energy=False)
+        assert math.isnan(r.velocity_m_s) and r.from_rest is None
+    # the transient: the slider keeps accelerating backward, by at least half of what the
+    # 0.5 N excess alone would give it over 0.1 s
+    v = [transient_reference(params, 400, 14, load_N=load, duration_s=d, steady_periods=40)[0]
+         for d in (0.1, 0.2)]
+    assert v[1] - v[0] < -0.5 * 0.5 / params.M_slider * 0.1 and v[0] < 0
+
+
+def test_motor_pushed_back_by_a_load_matches_a_settled_transient(params):
+    # between the guide's hold and the holding range: the slider settles moving backward
+    r = steady_state(params, 400, 14, load_N=3.5, accuracy="exact", energy=False)
+    ref, motion = transient_reference(params, 400, 14, load_N=3.5, duration_s=1.2)
+    assert r.velocity_m_s < 0 and r.from_rest.motion == motion
+    assert r.velocity_m_s == pytest.approx(ref, rel=1e-6)
+
+
+def test_cli_names_the_load_when_the_slider_runs_away(capsys):
+    code = main(["simulate", "--voltage", "400", "--preload", "14", "--load-N", "6",
+                 "--steady"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1
+    assert "--load-N" in err and "runs away backward" in err
+
+
+def test_characteristic_marks_loads_it_cannot_hold(params, capsys):
+    code = main(["characteristic", "--voltage", "400", "--preload", "14", "--loads",
+                 "4:6:1", "--json"])
+    assert code == 0
+    import json
+
+    doc = json.loads(capsys.readouterr().out)
+    low, high = doc["holding_range_N"]
+    assert low < 0 < high
+    for row in doc["curve"]:
+        beyond = row["load_N"] > high
+        assert (row["velocity_m_s"] is None) == beyond
+    assert np.isfinite(high)
