@@ -49,6 +49,10 @@ from contact.results import PHASE_THRESHOLD, classify_motion
 from rom.params import GRAVITY_M_S2, MotorParams
 
 ACCURACIES = ("fast", "exact")
+
+HELD_M_S = 1e-12
+"""Full-model orbits whose mean slider speed is at most this (m/s, roundoff of a slider at
+rest) hold the slider: they are reported as the dead zone, with velocity 0."""
 """Accuracy levels. ``"fast"``: averaging (M -> infinity), error O(1/M). ``"exact"``: every
 averaged branch polished by shooting the full model (finite M) and the start from rest decided
 by a transient of :data:`REST_TRANSIENT_PERIODS` periods polished by shooting, which also finds
@@ -467,6 +471,13 @@ def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBr
     load = sp.op.load_N
     p = sp.params
     mean_fn = float("nan")
+    if abs(v) <= HELD_M_S:  # the slider is held (by the guide, or by the tip's stiction)
+        return SteadyBranch(
+            velocity_m_s=0.0, k=fo.k, stable=stable, motion="dead-zone",
+            mean_FT_N=float("nan"), mean_FN_N=mean_fn, input_power_W=w_in / duration,
+            output_power_W=0.0, damping_power_W=w_damp / duration,
+            interface_power_W=-(w_ts + w_tx) / duration, guide_power_W=0.0,
+            from_rest=from_rest, phase_fraction=tuple(float(f) for f in frac))
     return SteadyBranch(
         velocity_m_s=v, k=fo.k, stable=stable, motion=motion, mean_FT_N=float("nan"),
         mean_FN_N=mean_fn, input_power_W=w_in / duration, output_power_W=load * v,
@@ -544,10 +555,14 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         zj, mj, _, _, _ = run_periods(fsys, zj, mj, 1)
         ys.append(zj[[0, 1, 2, 3, 5]])
     periods += REST_MAX_K
-    scale = np.max(np.abs(np.array(ys)), axis=0) + 1e-30
-    defects = np.array([np.max(np.abs(ys[k] - ys[0]) / scale)
-                        for k in range(1, REST_MAX_K + 1)])
-    k_best = 1 + int(np.argmax(defects <= 10.0 * defects.min()))
+    ys_arr = np.array(ys) / np.array([1.0, sp.op.omega, 1.0, sp.op.omega, sp.op.omega])
+    scale = np.max(np.abs(ys_arr), axis=0) + 1e-30
+    diffs = np.array([np.abs(ys_arr[k] - ys_arr[0]) for k in range(1, REST_MAX_K + 1)])
+    defects = np.max(diffs / scale, axis=1)
+    # a state repeating to 1e-9 of the orbit's size repeats (a held slider's state does with
+    # every k: its coordinates at rest carry only roundoff, which the tenfold rule would match)
+    repeats = np.max(diffs, axis=1) <= 1e-9 * scale.max()
+    k_best = 1 + int(np.argmax((defects <= 10.0 * defects.min()) | repeats))
     _, _, dist, _, _ = run_periods(fsys, z_end, m_end, 4 * k_best)
     v_transient = dist / (4 * k_best * sp.op.period_s)
     v_rest, fo = v_transient, None
@@ -560,7 +575,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
             v_rest, fo = cand.velocity_m_s, cand
     except RuntimeError:
         pass
-    held = abs(v_rest) <= 1e-12
+    held = abs(v_rest) <= HELD_M_S
     match = [i for i, b in enumerate(out)
              if abs(b.velocity_m_s - v_rest) <= 1e-6 * abs(v_rest) + 1e-12
              or (held and b.motion == "dead-zone")]
@@ -586,6 +601,11 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         # full model's orbit from rest stands for them
         out = [b for b in out if b.from_rest or b.k > 0 or b.motion == "dead-zone"
                or abs(b.velocity_m_s) >= sp.v_floor_m_s]
+    # one dead zone: a held orbit found by shooting is the averaged dead zone's full-model twin
+    dead = [b for b in out if b.motion == "dead-zone"]
+    if len(dead) > 1:
+        keep = dataclasses.replace(dead[0], from_rest=any(b.from_rest for b in dead))
+        out = [b for b in out if b.motion != "dead-zone"] + [keep]
     out.sort(key=lambda b: b.velocity_m_s)
     return tuple(out), (0.0 if held else v_rest), periods, newton
 
