@@ -37,7 +37,8 @@ class Characteristic:
     holding_range_N : tuple of float
         Loads (N) the driven motor holds at the tip's full slip
         (:func:`contact.steady.holding_range_N`): beyond the upper one it is pushed backward
-        without bound, below the lower one (a load pushing it forward) forward.
+        without bound, below the lower one (a load pushing it forward) forward. NaN where
+        the tip does not slide throughout at the scan's end (e.g. no drive).
     wall_time_s : float
     orbits : int
         Fast-problem orbits solved.
@@ -82,7 +83,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     voltage_V, preload_N : float
         Drive amplitude (V) and preload (N).
     loads_N : array_like, optional
-        Loads (N); by default ``points`` loads from 0 to the stall force.
+        Loads (N); by default ``points`` loads from 0 to the stall force (only 0 where the
+        motor is in its dead zone: stall force 0).
     frequency_Hz : float, optional
         Drive frequency (Hz), 40 kHz when None.
     coupling, ultrasonic_friction
@@ -97,8 +99,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                         40e3 if frequency_Hz is None else float(frequency_Hz))
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
     stall = max(sp.thrust(V_ZERO_M_S), 0.0)
-    if loads_N is None:
-        loads = np.linspace(0.0, stall, points)
+    if loads_N is None:  # held without load (dead zone): the one load 0
+        loads = np.linspace(0.0, stall, points) if stall > 0 else np.zeros(1)
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
     v0 = branches_at_load(sp, 0.0)[1]

@@ -317,13 +317,22 @@ def holding_range_N(sp: SlowProblem) -> tuple[float, float]:
     """Loads (N) between which the slider cannot run away: the thrust at ``+v_max`` and at
     ``-v_max`` (``v_max`` = 1.5 x the free tip's tangential speed, the scan's end).
 
-    Beyond the tip's speed the tip slips one way throughout contact, so the thrust no longer
-    depends on v: a load above the upper bound (below the lower one) leaves ``G < 0``
-    (``> 0``) for every faster backward (forward) velocity, and a slider past the last root
-    on that side accelerates without bound. At 400 V / 14 N on Table 2's set: about
-    -4.4 N to 4.4 N, the tip's sliding friction plus the guide's.
+    Where the orbit at that end slides one way throughout contact (no stick, no slip the
+    other way), the thrust no longer depends on v beyond it: a load above the upper bound
+    (below the lower one) leaves ``G < 0`` (``> 0``) for every faster backward (forward)
+    velocity, and a slider past the last root on that side accelerates without bound. At
+    400 V / 14 N on Table 2's set: about -4.5 N to 4.5 N, the tip's sliding friction plus the
+    guide's. A bound whose orbit still sticks (no drive, or too little to make the tip outrun
+    the slider) is NaN: there the tip's stiction, which the averaging does not see, decides.
     """
-    return sp.thrust(sp.v_max_m_s), sp.thrust(-sp.v_max_m_s)
+    bounds = []
+    for v in (sp.v_max_m_s, -sp.v_max_m_s):
+        o = sp.orbit(v)
+        phase = orbit_phases(sp.fs, o, sp.average_periods)
+        against = phase[1] if v > 0 else phase[2]  # slip the slider's way, or stick
+        full_slip = phase[0] + against <= 1e-12 * float(np.sum(phase))
+        bounds.append(sp.thrust(v) if full_slip else math.nan)
+    return bounds[0], bounds[1]
 
 
 def runaway_message(sp: SlowProblem, load_N: float) -> str:
@@ -331,9 +340,10 @@ def runaway_message(sp: SlowProblem, load_N: float) -> str:
     low, high = holding_range_N(sp)
     op = sp.op
     way = "backward" if load_N > 0 else "forward"
+    held = (f" (the motor holds loads from {low:.4g} to {high:.4g} N at the tip's full slip)"
+            if math.isfinite(low) and math.isfinite(high) else "")
     return (f"load_N = {load_N:g} N: no steady state from rest at {op.voltage_V:g} V / "
-            f"{op.preload_N:g} N, the slider runs away {way} (the motor holds loads from "
-            f"{low:.4g} to {high:.4g} N at the tip's full slip)")
+            f"{op.preload_N:g} N, the slider runs away {way}{held}")
 
 
 def scan_grid(v_floor: float, v_max: float) -> np.ndarray:

@@ -102,7 +102,8 @@ def run(args: argparse.Namespace) -> None:
         print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
         print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
         low, high = char.holding_range_N
-        print(f"{'holds loads (N)':<26} {low:.4g} to {high:.4g}")
+        if math.isfinite(low) and math.isfinite(high):
+            print(f"{'holds loads (N)':<26} {low:.4g} to {high:.4g}")
         print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} "
               f"{'eff.':>8}")
         for row in d["curve"]:
