@@ -100,3 +100,13 @@ def test_characteristic_marks_loads_it_cannot_hold(params, capsys):
         beyond = row["load_N"] > high
         assert (row["velocity_m_s"] is None) == beyond
     assert np.isfinite(high)
+
+
+def test_undriven_motor_has_no_characteristic_and_no_sliding_limit(params):
+    from contact.characteristic import characteristic
+
+    # no drive: held without load (stall 0), and the tip never outruns the slider, so the
+    # kinetic limit does not apply (its stiction, 7.6 N above, holds instead)
+    c = characteristic(params, 0.0, 14.0)
+    assert c.stall_force_N == 0.0 and list(c.load_N) == [0.0] and c.velocity_m_s[0] == 0.0
+    assert all(math.isnan(f) for f in c.holding_range_N)
