@@ -93,15 +93,12 @@ def _fixed_costs(params, row, repeats: int) -> None:
     separate, else a 60-period pre-pass; :func:`contact.simulate.normal_amplitude`) and the fast and
     full systems with their matrix exponentials; the speed-up cannot exceed the transient's
     time over their sum."""
-    from contact.full_orbit import full_system
     from contact.model import OperatingPoint
-    from contact.periodic_orbit import fast_system
     from contact.simulate import normal_amplitude
 
     op = OperatingPoint(row["voltage_V"], row["preload_N"], 40e3)
     _, t_pre = _timed(lambda: normal_amplitude(params, op), max(repeats, 5))
-    _, t_sys = _timed(lambda: (fast_system(params, op, params.mu_d),
-                               full_system(params, op, params.mu_d)), max(repeats, 5))
+    t_sys = setup_seconds(params, row["voltage_V"], row["preload_N"], max(repeats, 5))
     t_ref = row["transient_s"]
     print(f"fixed costs: Eq. 11 A_N = transient / {t_ref / t_pre:.3g}, systems and "
           f"propagators = transient / {t_ref / t_sys:.3g} -> speed-up bound "
@@ -113,6 +110,22 @@ def _fixed_costs(params, row, repeats: int) -> None:
     print(f"period floor: the exact level simulates {periods} drive periods, "
           f"{per_period * 1e6:.3g} us each in the kernel -> speed-up bound "
           f"{t_ref / (periods * per_period):.3g}x with everything else free")
+    print(f"systems and periods together: speed-up bound "
+          f"{t_ref / (t_sys + periods * per_period):.3g}x")
+
+
+def setup_seconds(params, voltage_V: float, preload_N: float, repeats: int = 5) -> float:
+    """Wall time (s, median of ``repeats``) of the fast and the full system of one operating
+    point with their matrix exponentials: what every steady point pays before its first
+    orbit (``steady_state(..., accuracy="exact")`` builds both)."""
+    from contact.full_orbit import full_system
+    from contact.model import OperatingPoint
+    from contact.periodic_orbit import fast_system
+
+    op = OperatingPoint(voltage_V, preload_N, 40e3)
+    _, t = _timed(lambda: (fast_system(params, op, params.mu_d),
+                           full_system(params, op, params.mu_d)), repeats)
+    return t
 
 
 def kernel_seconds_per_period(params, voltage_V: float, preload_N: float,

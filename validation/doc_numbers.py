@@ -1009,9 +1009,13 @@ def _steady_point() -> dict[str, float]:
         out[f"{acc}_rel_error"] = abs(out[acc] - out["transient"]) / abs(out["transient"])
         out[f"{acc}_speed_ratio"] = (statistics.median(times["transient"])
                                      / statistics.median(times[acc]))
-    per_period = _bench("steady_speed").kernel_seconds_per_period(p, 200.0, 14.0)
-    out["period_floor_ratio"] = (statistics.median(times["transient"])
-                                 / (out["exact_periods"] * per_period))
+    bench = _bench("steady_speed")
+    per_period = bench.kernel_seconds_per_period(p, 200.0, 14.0)
+    t_ref = statistics.median(times["transient"])
+    out["period_floor_ratio"] = t_ref / (out["exact_periods"] * per_period)
+    t_setup = bench.setup_seconds(p, 200.0, 14.0)
+    out["setup_floor_ratio"] = t_ref / t_setup
+    out["joint_floor_ratio"] = t_ref / (t_setup + out["exact_periods"] * per_period)
     return out
 
 
@@ -1214,6 +1218,12 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_200V_14N_period_floor_ratio", "-", bench + " (last line: the settled "
               "transient over the exact level's periods at the kernel's cost per period)",
               lambda: _steady_point()["period_floor_ratio"], batch="steady_point"),
+        Claim("steady_200V_14N_setup_floor_ratio", "-", bench + " (the line 'fixed costs': "
+              "the settled transient over the fast and full systems with their exponentials)",
+              lambda: _steady_point()["setup_floor_ratio"], batch="steady_point"),
+        Claim("steady_200V_14N_joint_floor_ratio", "-", bench + " (the settled transient over "
+              "the systems plus the exact level's periods at the kernel's cost per period)",
+              lambda: _steady_point()["joint_floor_ratio"], batch="steady_point"),
         Claim("steady_200V_14N_fast_speed_ratio", "-", bench + " (transient_s / fast_s; here "
               "medians of 3)", lambda: _steady_point()["fast_speed_ratio"], batch="steady_point"),
         Claim("steady_200V_14N_exact_speed_ratio", "-", bench + " (transient_s / exact_s; here "
