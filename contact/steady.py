@@ -50,6 +50,18 @@ from rom.params import GRAVITY_M_S2, MotorParams
 
 ACCURACIES = ("fast", "exact")
 
+REST_MEAN_PERIODS = 400
+"""Periods of the full model, after the transient from rest, whose mean velocity stands for a
+start from rest that settles on no orbit of period <= :data:`REST_MAX_K`."""
+
+HOLD_CHECK_PERIODS = 100
+"""Periods of each of the three blocks whose mean velocities decide whether a slider in the
+averaged dead zone stays held from rest (:func:`_held_from_rest`)."""
+
+HOLD_CHECK_FACTOR = 1e-5
+"""A slider whose mean speed from rest stays below this fraction of the ripple scale is held
+(:func:`_held_from_rest`)."""
+
 HELD_M_S = 1e-12
 """Full-model orbits whose mean slider speed is at most this (m/s, roundoff of a slider at
 rest) hold the slider: they are reported as the dead zone, with velocity 0."""
@@ -496,6 +508,24 @@ def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBr
         from_rest=from_rest, phase_fraction=tuple(float(f) for f in frac))
 
 
+def _mean_branch(sp: SlowProblem, v: float, work: np.ndarray, phase_time: np.ndarray,
+                 n_periods: int) -> SteadyBranch:
+    """The long mean of the full model's transient from rest, where it repeats with no
+    period up to :data:`REST_MAX_K` (k = 0; powers NaN without the work integrals)."""
+    duration = n_periods * sp.op.period_s
+    total = float(np.sum(phase_time))
+    frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
+    motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
+    w_in, w_damp, _, w_ts, w_tx, w_g = (float(w) for w in work)
+    load = sp.op.load_N
+    return SteadyBranch(
+        velocity_m_s=float(v), k=0, stable=True, motion=motion, mean_FT_N=math.nan,
+        mean_FN_N=math.nan, input_power_W=w_in / duration, output_power_W=load * float(v),
+        damping_power_W=w_damp / duration, interface_power_W=-(w_ts + w_tx) / duration,
+        guide_power_W=(-(w_g / duration) - load * float(v) if sp.params.mu_sd > 0 else 0.0),
+        from_rest=True, phase_fraction=tuple(float(f) for f in frac))
+
+
 def _powered(sp: SlowProblem, b: SteadyBranch, energy: bool = True) -> SteadyBranch:
     """The averaged branch ``b`` with its input, damping and interface powers (the exact
     level scans without them and needs them only for the branches it keeps averaged)."""
@@ -508,23 +538,55 @@ def _powered(sp: SlowProblem, b: SteadyBranch, energy: bool = True) -> SteadyBra
                                interface_power_W=w.interface_power_W)
 
 
+def _held_from_rest(sp: SlowProblem, fsys) -> bool:
+    """Whether the full model's slider, started from rest, stays in place.
+
+    Three blocks of :data:`HOLD_CHECK_PERIODS` periods give three mean velocities; their
+    Aitken extrapolation (the last one where they are not converging geometrically) must be
+    at most :data:`HOLD_CHECK_FACTOR` times the ripple scale (about 1e-9 m/s, the settled
+    references' own tolerance for a held point). A held slider rocks with its stuck tip
+    while the start-up drift decays geometrically (on Table 2's map to 1e-10 m/s or, at
+    50 V / 26 N, by a factor of about 6 per block); a creep under a load keeps its speed
+    (1e-4 m/s and more).
+    """
+    from contact.full_orbit import run_periods
+
+    s = fsys.system
+    z, mode, v = s.z0, s.mode0, []
+    for _ in range(3):
+        z, mode, dist, _, _ = run_periods(fsys, z, mode, HOLD_CHECK_PERIODS)
+        v.append(dist / (HOLD_CHECK_PERIODS * sp.op.period_s))
+    d1, d2 = v[1] - v[0], v[2] - v[1]
+    limit = v[2]
+    if d2 != d1 and abs(d2) < abs(d1):  # converging: Aitken's delta-squared
+        limit = v[2] - d2 * d2 / (d2 - d1)
+    return abs(limit) <= HOLD_CHECK_FACTOR * sp.v_floor_m_s
+
+
 def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
     """Polish the averaged branches on the full model and decide the start from rest."""
     from contact import state as S
     from contact.full_orbit import full_system, run_periods, shoot, velocity_ripple
 
-    # the dead zone is the only steady state: a start from rest stays held (or, released by
-    # the start-up transient, finds no moving branch to settle on and is held again)
-    if len(branches) == 1 and branches[0].motion == "dead-zone":
-        return ((dataclasses.replace(_powered(sp, branches[0], energy), from_rest=True),), 0.0,
-                0, 0)
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
     periods = newton = 0
+    # the dead zone is the only steady state of the slow equation: a start from rest stays
+    # held if the full model says so. The averages can hide a creep: under a load the
+    # guide's hold can give way for part of every period, and the slider then walks
+    # backward below its velocity ripple, where the averaging does not hold.
+    released = False  # the full model's slider left the averaged dead zone from rest
+    if len(branches) == 1 and branches[0].motion == "dead-zone":
+        periods += 3 * HOLD_CHECK_PERIODS
+        if _held_from_rest(sp, fsys):
+            return ((dataclasses.replace(_powered(sp, branches[0], energy), from_rest=True),),
+                    0.0, periods, 0)
+        released = True
     out: list[SteadyBranch] = []
     shots = []
     for b in branches:
         if b.motion == "dead-zone":
-            out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
+            if not released:  # else not a steady state of the full model
+                out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
             continue
         o = sp.orbit(b.velocity_m_s)
         z = o.z.copy()
@@ -589,15 +651,31 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
     match = [i for i, b in enumerate(out)
              if abs(b.velocity_m_s - v_rest) <= 1e-6 * abs(v_rest) + 1e-12
              or (held and b.motion == "dead-zone")]
+    from_mean = False
     if fo is None and not held:
-        # the transient had not settled on an orbit: the averaged choice stands; with none
-        # (the slow equation has no root a start from rest stops at) the slider runs away
+        # the transient had not settled on an orbit of k <= REST_MAX_K periods. The averaged
+        # choice stands where the averaging holds (above the ripple scale) and the transient
+        # agrees with it; with no averaged choice (the slow equation has no root a start from
+        # rest stops at) the slider runs away; otherwise (a creep below the ripple scale, or
+        # an irregular one) the transient's long mean is the answer, as a k = 0 branch
         avg = [i for i, b in enumerate(branches) if b.from_rest]
-        if avg:
-            match = avg
-            v_rest = out[avg[0]].velocity_m_s
-        else:
+        if not avg:
             v_rest = math.nan
+        else:
+            _, _, dist, work, phase = run_periods(fsys, z_end, m_end, REST_MEAN_PERIODS,
+                                                  energy=energy, window=True)
+            if not energy:
+                work = np.full(len(work), math.nan)
+            periods += REST_MEAN_PERIODS
+            v_mean = dist / (REST_MEAN_PERIODS * sp.op.period_s)
+            v_avg = branches[avg[0]].velocity_m_s
+            if (abs(v_avg) >= sp.v_floor_m_s
+                    and abs(v_avg - v_mean) <= 0.05 * abs(v_mean)):
+                match = avg
+                v_rest = out[avg[0]].velocity_m_s
+            else:
+                match, v_rest, from_mean = [], v_mean, True
+                out.append(_mean_branch(sp, v_mean, work, phase, REST_MEAN_PERIODS))
     if match:
         out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
     elif fo is not None:
@@ -605,7 +683,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         # (none when the shot from the transient's end converged at once)
         stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else True
         out.append(_full_branch(sp, fo, stable, True))
-    if fo is not None:
+    if fo is not None or from_mean:
         # averaged roots below the ripple scale that no full-model orbit confirms are not
         # steady states of the finite-mass motor (the averaging does not hold there); the
         # full model's orbit from rest stands for them

@@ -1079,6 +1079,23 @@ def _steady_load_limits() -> dict[str, float]:
 
 
 @cache
+def _steady_load_hard() -> dict[str, float]:
+    """Close stable orbits and an irregular creep under a load (docs/steady.md, Limits)."""
+    from contact.steady import steady_state, transient_reference
+
+    p = _table2()
+    multi = steady_state(p, 75, 15, load_N=5.0, accuracy="exact", energy=False)
+    creep = steady_state(p, 75.3, 14.73, load_N=4.74, accuracy="exact", energy=False)
+    out = {"multi_exact": multi.velocity_m_s, "multi_k": multi.from_rest.k,
+           "multi_transient": transient_reference(p, 75, 15, load_N=5.0, duration_s=0.3)[0],
+           "creep_exact": creep.velocity_m_s,
+           "creep_transient": transient_reference(p, 75.3, 14.73, load_N=4.74,
+                                                  duration_s=1.2)[0]}
+    out["multi_gap"] = abs(out["multi_exact"] / out["multi_transient"] - 1)
+    return out
+
+
+@cache
 def _steady_branch_diagram() -> dict[str, float]:
     """From-rest branch of the exact level at 14 N, 50-450 V in steps of 25 V; the last
     held voltage, the first voltage of each moving class and a few velocities."""
@@ -1267,6 +1284,12 @@ def _steady_claims() -> tuple[Claim, ...]:
              "transient_reference(table2(), 400, 14, load_N=3.5, duration_s=1.2)")):
         out.append(Claim(f"steady_load_400V_14N_{k}", unit, cmd,
                          lambda k=k: _steady_load_limits()[k]))
+    hard = "python -m validation.doc_numbers --show 'steady_load_hard_*'"
+    for k, unit in (("multi_exact", "m/s"), ("multi_k", "-"), ("multi_transient", "m/s"),
+                    ("multi_gap", "-"), ("creep_exact", "m/s"), ("creep_transient", "m/s")):
+        out.append(Claim(f"steady_load_hard_{k}", unit, hard + " (75 V / 15 N / 5 N and "
+                         "75.3 V / 14.73 N / 4.74 N, exact level and transients)",
+                         lambda k=k: _steady_load_hard()[k]))
     diag = ("python -m validation.doc_numbers --show steady_branch_* (" + ex.format(v="V", f=14)
             + " for V = 50, 75, ..., 450)")
     for k, unit in (("dead_zone_last_V", "V"), ("stick-slip_first_V", "V"),
