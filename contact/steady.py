@@ -387,6 +387,13 @@ def _branch(sp: SlowProblem, v: float, load: float, stable: bool,
         phase_fraction=tuple(float(f) for f in frac))
 
 
+def _dead_zone(sp: SlowProblem, load_N: float, energy: bool, from_rest: bool) -> SteadyBranch:
+    """The dead zone (slider held, velocity 0) with the averaged orbit at 0+ for its tip."""
+    base = _branch(sp, V_ZERO_M_S, load_N, True, energy)
+    return dataclasses.replace(base, velocity_m_s=0.0, motion="dead-zone", output_power_W=0.0,
+                               guide_power_W=0.0, from_rest=from_rest)
+
+
 def branches_at_load(sp: SlowProblem, load_N: float, *,
                      energy: bool = True) -> tuple[tuple[SteadyBranch, ...], float]:
     """All steady states of the slow problem under ``load_N`` and the velocity from rest.
@@ -422,11 +429,7 @@ def branches_at_load(sp: SlowProblem, load_N: float, *,
     out = [dataclasses.replace(_branch(sp, v, load_N, st, energy), from_rest=v == v_rest)
            for v, st in found]
     if dead:
-        sp.orbit(V_ZERO_M_S)
-        base = _branch(sp, V_ZERO_M_S, load_N, True, energy)
-        out.append(dataclasses.replace(base, velocity_m_s=0.0, motion="dead-zone",
-                                       output_power_W=0.0, guide_power_W=0.0,
-                                       from_rest=v_rest == 0.0))
+        out.append(_dead_zone(sp, load_N, energy, from_rest=v_rest == 0.0))
     out.sort(key=lambda b: b.velocity_m_s)
     return tuple(out), float(v_rest)
 
@@ -683,6 +686,10 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         # (none when the shot from the transient's end converged at once)
         stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else True
         out.append(_full_branch(sp, fo, stable, True))
+    if held and not any(b.from_rest for b in out):
+        # held at the end of the transient from rest, with no held orbit confirmed by
+        # shooting: the dead zone, with the averaged orbit at 0+ for its tip
+        out.append(_dead_zone(sp, sp.op.load_N, energy, from_rest=True))
     if fo is not None or from_mean:
         # averaged roots below the ripple scale that no full-model orbit confirms are not
         # steady states of the finite-mass motor (the averaging does not hold there); the
