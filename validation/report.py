@@ -343,7 +343,7 @@ def _speed(params: dict, out: Path, quick: bool, progress: bool):
 def _hard_cases(params: dict, quick: bool, progress: bool):
     from validation.hard_cases import run_hard_cases
 
-    st = _Stage("4/5 hard cases", 18, progress)
+    st = _Stage("4/5 hard cases", 20, progress)
     rows = run_hard_cases(params["table2"], quick=quick, progress=st.say)
     st.close()
     md = ["## 4. Hard cases", "",
