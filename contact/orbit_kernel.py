@@ -146,6 +146,8 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
             if free[i]:
                 n_free += 1
         newton_on = newton_it < max_newton and failures < max_failures
+        fd_ok = True
+        fresh = False
         if newton_on and m1 == mode:
             fresh = jac_mode != mode
             if fresh:
@@ -162,14 +164,19 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
                     out = integrate_switch_model(zs, mode, n, dt, phi, half, a, ev_h, ev_dh,
                                                  ev_type, fn_m, ft_m, ff_m, funcs, sc, n, n,
                                                  1, False, 64)
-                    if out[0] != 0:
-                        return (CHATTER, 0, z, mode, res, periods, newton_it, integral, jac,
-                                jac_mode)
-                    zq = out[7]
                     periods += 1
+                    if out[0] != 0:
+                        # a perturbed start off the orbit can chatter where the orbit does
+                        # not: no Jacobian this time, the period-by-period iteration goes on
+                        fd_ok = False
+                        break
+                    zq = out[7]
                     for r in range(N_Y):
                         jac[r, i] = (zq[_y_index(r)] - z1[_y_index(r)]) / h
-                jac_mode = mode
+                jac_mode = mode if fd_ok else -1
+        if newton_on and m1 == mode and not fd_ok:
+            failures += 1
+        elif newton_on and m1 == mode:
             mat = np.zeros((n_free, n_free))
             rhs = np.zeros(n_free)
             ri = 0
@@ -204,10 +211,9 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
                 _consistent(zn, mode, v, phi_bl)
                 st, z2, m2, i2 = _period(zn, mode, 1, v, phi_bl, n, dt, phi, half, a, ev_h,
                                          ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc)
-                if st != 0:
-                    return CHATTER, 0, z, mode, res, periods, newton_it, integral, jac, jac_mode
                 periods += 1
-                res2 = _defect(z2, zn, amp)
+                # a Newton trial that chatters is a failed step, not a failed search
+                res2 = _defect(z2, zn, amp) if st == 0 else np.inf
                 if m2 == mode and res2 < res:
                     _broyden(jac, z, zn, z1, z2, amp)
                     z = zn

@@ -57,3 +57,16 @@ def test_spectral_radius_of_the_mechanical_block_is_the_whole_generators(params,
               fast_system(params, op, params.mu_d).ft_system.A):
         whole = float(np.max(np.abs(np.linalg.eigvals(a))))
         assert spectral_radius(a) == pytest.approx(whole, rel=1e-12)
+
+
+def test_a_newton_trial_that_chatters_does_not_end_the_search():
+    # beam set at 40 kHz, 50 V / 12 N: a Newton trial of the scan's orbit at 7.5e-4 m/s chatters
+    # where the orbit does not; the search went down with it ("contact chattering")
+    from rom.sources import get_params
+
+    p = get_params("beam")
+    for accuracy in ("fast", "exact"):
+        r = steady_state(p, 50, 12, coupling="consistent", accuracy=accuracy, energy=False)
+        assert r.velocity_m_s == 0.0 and r.from_rest.motion == "dead-zone"
+    v, motion = transient_reference(p, 50, 12, coupling="consistent", duration_s=0.1)
+    assert abs(v) < 1e-12 and motion == "pure-stick"
