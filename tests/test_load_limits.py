@@ -136,3 +136,14 @@ def test_creep_without_load_where_the_averages_say_held():
     ref = transient_reference(p, 300, 14, coupling="consistent", duration_s=0.3)[0]
     assert fast.velocity_m_s == 0.0
     assert ref > 0 and exact.velocity_m_s == pytest.approx(ref, rel=1e-6)
+
+
+def test_under_a_load_the_start_from_rest_is_decided_on_the_full_model(params):
+    # 61.6 V / 6.78 N pushed back by 2.2 N: the averaging sees one branch (period 1, far above
+    # the velocity ripple), but a start from rest settles on a period-2 orbit at a quarter of
+    # its speed; the exact level runs the start from rest under a load and reports both
+    r = steady_state(params, 61.6, 6.78, load_N=2.2, accuracy="exact", energy=False)
+    ref = transient_reference(params, 61.6, 6.78, load_N=2.2, duration_s=0.3)[0]
+    assert r.velocity_m_s == pytest.approx(ref, rel=1e-6) and r.from_rest.k == 2
+    others = [b for b in r.branches if not b.from_rest and b.stable]
+    assert [b.k for b in others] == [1] and others[0].velocity_m_s < 3 * ref < 0

@@ -1092,6 +1092,9 @@ def _steady_load_hard() -> dict[str, float]:
            "creep_transient": transient_reference(p, 75.3, 14.73, load_N=4.74,
                                                   duration_s=1.2)[0]}
     out["multi_gap"] = abs(out["multi_exact"] / out["multi_transient"] - 1)
+    p2 = steady_state(p, 61.6, 6.78, load_N=2.2, accuracy="exact", energy=False)
+    out["p2_rest_m_s"] = p2.velocity_m_s
+    out["p2_k1_m_s"] = next(b.velocity_m_s for b in p2.branches if b.k == 1 and b.stable)
     return out
 
 
@@ -1315,9 +1318,11 @@ def _steady_claims() -> tuple[Claim, ...]:
                          lambda k=k: _steady_hidden_creep()[k]))
     hard = "python -m validation.doc_numbers --show 'steady_load_hard_*'"
     for k, unit in (("multi_exact", "m/s"), ("multi_k", "-"), ("multi_transient", "m/s"),
-                    ("multi_gap", "-"), ("creep_exact", "m/s"), ("creep_transient", "m/s")):
-        out.append(Claim(f"steady_load_hard_{k}", unit, hard + " (75 V / 15 N / 5 N and "
-                         "75.3 V / 14.73 N / 4.74 N, exact level and transients)",
+                    ("multi_gap", "-"), ("creep_exact", "m/s"), ("creep_transient", "m/s"),
+                    ("p2_rest_m_s", "m/s"), ("p2_k1_m_s", "m/s")):
+        out.append(Claim(f"steady_load_hard_{k}", unit, hard + " (75 V / 15 N / 5 N, "
+                         "75.3 V / 14.73 N / 4.74 N and 61.6 V / 6.78 N / 2.2 N, exact level "
+                         "and transients)",
                          lambda k=k: _steady_load_hard()[k]))
     diag = ("python -m validation.doc_numbers --show steady_branch_* (" + ex.format(v="V", f=14)
             + " for V = 50, 75, ..., 450)")
