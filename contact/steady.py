@@ -56,11 +56,11 @@ start from rest that settles on no orbit of period <= :data:`REST_MAX_K`."""
 
 HOLD_CHECK_PERIODS = 100
 """Periods of each of the three blocks whose mean velocities decide whether a slider in the
-averaged dead zone stays held from rest (:func:`_held_from_rest`)."""
+averaged dead zone stays held from rest (:func:`_held_from`)."""
 
 HOLD_CHECK_FACTOR = 1e-5
 """A slider whose mean speed from rest stays below this fraction of the ripple scale is held
-(:func:`_held_from_rest`)."""
+(:func:`_held_from`)."""
 
 HELD_M_S = 1e-12
 """Full-model orbits whose mean slider speed is at most this (m/s, roundoff of a slider at
@@ -542,8 +542,8 @@ def _powered(sp: SlowProblem, b: SteadyBranch, energy: bool = True) -> SteadyBra
                                interface_power_W=w.interface_power_W)
 
 
-def _held_from_rest(sp: SlowProblem, fsys) -> bool:
-    """Whether the full model's slider, started from rest, stays in place.
+def _held_from(sp: SlowProblem, fsys, z: np.ndarray, mode: int) -> bool:
+    """Whether the full model's slider, started from ``(z, mode)``, stays in place.
 
     Three blocks of :data:`HOLD_CHECK_PERIODS` periods give three mean velocities; their
     Aitken extrapolation (the last one where they are not converging geometrically) must be
@@ -555,8 +555,7 @@ def _held_from_rest(sp: SlowProblem, fsys) -> bool:
     """
     from contact.full_orbit import run_periods
 
-    s = fsys.system
-    z, mode, v = s.z0, s.mode0, []
+    v = []
     for _ in range(3):
         z, mode, dist, _, _ = run_periods(fsys, z, mode, HOLD_CHECK_PERIODS)
         v.append(dist / (HOLD_CHECK_PERIODS * sp.op.period_s))
@@ -581,7 +580,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
     released = False  # the full model's slider left the averaged dead zone from rest
     if len(branches) == 1 and branches[0].motion == "dead-zone":
         periods += 3 * HOLD_CHECK_PERIODS
-        if _held_from_rest(sp, fsys):
+        if _held_from(sp, fsys, fsys.system.z0, fsys.system.mode0):
             return ((dataclasses.replace(_powered(sp, branches[0], energy), from_rest=True),),
                     0.0, periods, 0)
         released = True
@@ -679,8 +678,14 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
                 work = np.full(len(work), math.nan)
             periods += REST_MEAN_PERIODS
             v_rest = dist / (REST_MEAN_PERIODS * sp.op.period_s)
-            match, from_mean = [], True
-            out.append(_mean_branch(sp, v_rest, work, phase, REST_MEAN_PERIODS))
+            if abs(v_rest) <= 1e-3 * sp.v_floor_m_s:
+                # a slow drift, not yet a creep: held if it dies out (the dead zone below)
+                periods += 3 * HOLD_CHECK_PERIODS
+                if _held_from(sp, fsys, z_end, m_end):
+                    v_rest, held = 0.0, True
+            if not held:
+                match, from_mean = [], True
+                out.append(_mean_branch(sp, v_rest, work, phase, REST_MEAN_PERIODS))
     if match:
         out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
     elif fo is not None:
