@@ -54,6 +54,11 @@ REST_MEAN_PERIODS = 400
 """Periods of the full model, after the transient from rest, whose mean velocity stands for a
 start from rest that settles on no orbit of period <= :data:`REST_MAX_K`."""
 
+REST_SETTLED_RTOL = 1e-6
+"""Two consecutive :data:`REST_MEAN_PERIODS` windows after the transient from rest whose mean
+velocities agree to this (relative) make its mean the answer where shooting confirmed no
+orbit."""
+
 HOLD_CHECK_PERIODS = 100
 """Periods of each of the three blocks whose mean velocities decide whether a slider in the
 averaged dead zone stays held from rest (:func:`_held_from`)."""
@@ -659,33 +664,39 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
              or (held and b.motion == "dead-zone")]
     from_mean = False
     if fo is None and not held:
-        # the transient had not settled on an orbit of k <= REST_MAX_K periods (or not yet:
-        # a fast slider needs far more than its 2 000 periods). The averaged choice stands
-        # where the averaging holds (above the ripple scale); with no averaged choice (the
-        # slow equation has no root a start from rest stops at) the slider runs away; below
-        # the ripple scale (a creep, regular or not) the transient's long mean is the
-        # answer, as a k = 0 branch
+        # the transient settled on no orbit of k <= REST_MAX_K periods that shooting could
+        # confirm: a quasi-periodic or irregular motion, or a fast slider that 2 000 periods
+        # have not settled. Two more windows tell which: where their mean velocities agree
+        # (REST_SETTLED_RTOL), or below the ripple scale (where the averaging does not hold),
+        # the transient's mean is the answer, as a k = 0 branch; otherwise the averaged
+        # choice stands. With no averaged choice (no root a start from rest stops at) the
+        # slider runs away.
         avg = [i for i, b in enumerate(branches) if b.from_rest]
         if not avg:
             v_rest = math.nan
-        elif abs(branches[avg[0]].velocity_m_s) >= sp.v_floor_m_s:
-            match = avg
-            v_rest = out[avg[0]].velocity_m_s
         else:
-            _, _, dist, work, phase = run_periods(fsys, z_end, m_end, REST_MEAN_PERIODS,
+            z_a, m_a, dist_a, _, _ = run_periods(fsys, z_end, m_end, REST_MEAN_PERIODS)
+            _, _, dist, work, phase = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS,
                                                   energy=energy, window=True)
             if not energy:
                 work = np.full(len(work), math.nan)
-            periods += REST_MEAN_PERIODS
-            v_rest = dist / (REST_MEAN_PERIODS * sp.op.period_s)
-            if abs(v_rest) <= 1e-3 * sp.v_floor_m_s:
-                # a slow drift, not yet a creep: held if it dies out (the dead zone below)
-                periods += 3 * HOLD_CHECK_PERIODS
-                if _held_from(sp, fsys, z_end, m_end):
-                    v_rest, held = 0.0, True
-            if not held:
-                match, from_mean = [], True
-                out.append(_mean_branch(sp, v_rest, work, phase, REST_MEAN_PERIODS))
+            periods += 2 * REST_MEAN_PERIODS
+            v_a = dist_a / (REST_MEAN_PERIODS * sp.op.period_s)
+            v_mean = dist / (REST_MEAN_PERIODS * sp.op.period_s)
+            settled = abs(v_mean - v_a) <= REST_SETTLED_RTOL * abs(v_mean)
+            if settled or abs(branches[avg[0]].velocity_m_s) < sp.v_floor_m_s:
+                v_rest = v_mean
+                if abs(v_rest) <= 1e-3 * sp.v_floor_m_s:
+                    # a slow drift, not yet a creep: held if it dies out (the dead zone)
+                    periods += 3 * HOLD_CHECK_PERIODS
+                    if _held_from(sp, fsys, z_end, m_end):
+                        v_rest, held = 0.0, True
+                if not held:
+                    match, from_mean = [], True
+                    out.append(_mean_branch(sp, v_rest, work, phase, REST_MEAN_PERIODS))
+            else:
+                match = avg
+                v_rest = out[avg[0]].velocity_m_s
     if match:
         out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
     elif fo is not None:
