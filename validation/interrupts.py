@@ -53,11 +53,6 @@ def _hide_swallowed_signal(unraisable) -> None:
     _outer_hook(unraisable)
 
 
-def interrupted() -> bool:
-    """True once SIGTERM or Ctrl-C has arrived inside :func:`handlers`."""
-    return _pending is not None
-
-
 def checkpoint() -> None:
     """Raise the recorded signal's exception (:class:`Terminated` or ``KeyboardInterrupt``),
     if one arrived, so that no output is moved in after the user asked to stop."""
@@ -67,7 +62,8 @@ def checkpoint() -> None:
 
 @contextmanager
 def handlers() -> Iterator[None]:
-    """Install the recording SIGTERM / SIGINT handlers for the duration of a command.
+    """Install the recording SIGTERM / SIGINT handlers for the duration of a command; the
+    record is cleared on the way out.
 
     Outside the main thread (a command called from a worker) nothing is installed. SIGINT is
     only taken over from Python's own ``default_int_handler``, never from a handler someone
@@ -76,7 +72,10 @@ def handlers() -> Iterator[None]:
     global _pending, _outer_hook
     _pending = None
     if threading.current_thread() is not threading.main_thread():
-        yield
+        try:
+            yield
+        finally:
+            _pending = None
         return
     previous_term = signal.signal(signal.SIGTERM, _on_sigterm)
     previous_int = None
@@ -87,6 +86,7 @@ def handlers() -> Iterator[None]:
     try:
         yield
     finally:
+        _pending = None  # a later command (or library call) in this process starts clean
         signal.signal(signal.SIGTERM, previous_term)
         if previous_int is not None:
             signal.signal(signal.SIGINT, previous_int)
