@@ -13,7 +13,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.model import OperatingPoint
-from contact.steady import V_ZERO_M_S, branches_at_load, holding_range_N, slow_problem
+from contact.steady import (
+    ACCURACIES,
+    V_ZERO_M_S,
+    branches_at_load,
+    holding_range_N,
+    slow_problem,
+    steady_state,
+)
 from rom.params import MotorParams
 
 
@@ -39,6 +46,10 @@ class Characteristic:
         (:func:`contact.steady.holding_range_N`): beyond the upper one it is pushed backward
         without bound, below the lower one (a load pushing it forward) forward. NaN where
         the tip does not slide throughout at the scan's end (e.g. no drive).
+    accuracy : str
+        Level of the velocities and powers (:data:`contact.steady.ACCURACIES`). The stall
+        force, the holding range and the default loads come from the averaged slow equation
+        at either level.
     wall_time_s : float
     orbits : int
         Fast-problem orbits solved.
@@ -53,6 +64,7 @@ class Characteristic:
     output_power_W: np.ndarray
     efficiency: np.ndarray
     holding_range_N: tuple[float, float]
+    accuracy: str
     wall_time_s: float
     orbits: int
 
@@ -62,6 +74,7 @@ class Characteristic:
             "no_load_velocity_m_s": float(self.no_load_velocity_m_s),
             "stall_force_N": float(self.stall_force_N),
             "holding_range_N": [float(f) for f in self.holding_range_N],
+            "accuracy": self.accuracy,
             "curve": [
                 {"load_N": float(f), "velocity_m_s": float(v), "input_power_W": float(pi),
                  "output_power_W": float(po), "efficiency": float(e)}
@@ -74,7 +87,7 @@ class Characteristic:
 def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                    loads_N=None, *, frequency_Hz: float | None = None,
                    coupling: str = "paper", ultrasonic_friction: bool = True,
-                   points: int = 21) -> Characteristic:
+                   points: int = 21, accuracy: str = "fast") -> Characteristic:
     """Speed-thrust characteristic at one operating point.
 
     Parameters
@@ -89,12 +102,20 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         Drive frequency (Hz), 40 kHz when None.
     coupling, ultrasonic_friction
         As in :func:`contact.steady.steady_state`.
+    accuracy : {"fast", "exact"}
+        ``"fast"``: every load from one cache of averaged orbits (the M -> infinity
+        averaging); ``"exact"``: :func:`contact.steady.steady_state` at the exact level per
+        load (finite slider mass, the start from rest on the full model: creeps, holds by
+        the tip's stiction and multi-period starts under a load that the averaging cannot
+        see; about a 2 000-period transient per loaded point).
 
     Returns
     -------
     Characteristic
     """
     t0 = time.perf_counter()
+    if accuracy not in ACCURACIES:
+        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     op = OperatingPoint(float(voltage_V), float(preload_N),
                         40e3 if frequency_Hz is None else float(frequency_Hz))
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
@@ -103,18 +124,29 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         loads = np.linspace(0.0, stall, points) if stall > 0 else np.zeros(1)
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
-    v0 = branches_at_load(sp, 0.0)[1]
+
+    def from_rest(load: float) -> tuple[float, float]:
+        """Velocity (m/s) and input power (W) of the start from rest under ``load``."""
+        if accuracy == "exact":
+            r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
+                             load_N=load, coupling=coupling,
+                             ultrasonic_friction=ultrasonic_friction, accuracy="exact")
+            b = r.from_rest
+            return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
+        branches, v = branches_at_load(sp, load)
+        b = next((b for b in branches if b.from_rest), None)
+        return v, (b.input_power_W if b is not None else np.nan)
+
+    v0 = from_rest(0.0)[0]
     vel, p_in, p_out = [], [], []
     for load in loads:
-        branches, v = branches_at_load(sp, float(load))
-        b = next(b for b in branches if b.from_rest) if any(b.from_rest for b in branches) \
-            else None
+        v, p = from_rest(float(load))
         vel.append(v)
-        p_in.append(b.input_power_W if b else np.nan)
+        p_in.append(p)
         p_out.append(float(load) * v)
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
     with np.errstate(divide="ignore", invalid="ignore"):
         eff = np.where(p_in_a > 0, p_out_a / p_in_a, np.nan)
     hold = tuple(float(f) for f in holding_range_N(sp))
     return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
-                          eff, hold, time.perf_counter() - t0, len(sp.cache))
+                          eff, hold, accuracy, time.perf_counter() - t0, len(sp.cache))

@@ -66,3 +66,14 @@ def test_transient_energy_balance_closes_with_a_load(params):
     e = out.energy
     assert abs(e.residual_J) < 1e-6 * e.input_J
     assert e.guide_J < 0  # guide friction and the load both take energy from the slider
+
+
+def test_exact_characteristic_follows_transients_with_the_load(params):
+    # the finite-mass level against a settled transient with the load; the averaged level
+    # differs by its O(1/M) error, which the exact one removes
+    fast = characteristic(params, 200, 14, [0.2])
+    exact = characteristic(params, 200, 14, [0.2], accuracy="exact")
+    ref = transient_reference(params, 200, 14, load_N=0.2, duration_s=0.3)[0]
+    assert exact.accuracy == "exact" and exact.velocity_m_s[0] == pytest.approx(ref, rel=1e-6)
+    assert abs(fast.velocity_m_s[0] / ref - 1) > 1e-4
+    assert exact.input_power_W[0] > 0 and exact.efficiency[0] > 0

@@ -11,8 +11,9 @@ def test_characteristic_json_curve_is_consistent(capsys):
     assert main(["characteristic", "--voltage", "400", "--preload", "14",
                  "--loads", "0:1.5:0.5", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "holding_range_N", "curve",
-                        "damping", "coupling", "coupling_from"}
+    assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "holding_range_N", "accuracy",
+                        "curve", "damping", "coupling", "coupling_from"}
+    assert doc["accuracy"] == "fast"
     assert doc["coupling"] == "paper"  # auto: Table 2's set reproduces the paper
     curve = doc["curve"]
     assert [row["load_N"] for row in curve] == pytest.approx([0.0, 0.5, 1.0, 1.5])

@@ -30,12 +30,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="speed-thrust, output power and efficiency curves (steady engine)",
         description="Steady slider velocity against load force, mechanical output power, "
         "electrical input power and efficiency, the no-load velocity and the stall force, "
-        "from the averaged steady state (docs/steady.md).",
+        "from the steady engine, averaged (--accuracy fast) or on the finite-mass motor "
+        "(--accuracy exact) (docs/steady.md).",
     )
     add_drive_options(p, time_steps=False, voltage_list=True)  # steady: no time step
     p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
                    help="load forces (N), e.g. 0:2:0.1; default 21 loads from 0 to the stall "
                    "force")
+    p.add_argument("--accuracy", choices=("fast", "exact"), default="fast",
+                   help="fast: the averaged steady state, all loads from one set of orbits "
+                   "(default); exact: the finite-mass motor from rest at every load "
+                   "(docs/steady.md)")
     add_motor_options(p)
     add_output_options(p, folder="--plot", folder_help="write characteristic.png into DIR")
     p.set_defaults(func=run)
@@ -78,7 +83,8 @@ def run(args: argparse.Namespace) -> None:
     try:
         chars = [characteristic(params, v, args.preload, loads, frequency_Hz=freq,
                                 coupling=coupling,
-                                ultrasonic_friction=not args.no_ultrasonic_friction)
+                                ultrasonic_friction=not args.no_ultrasonic_friction,
+                                accuracy=args.accuracy)
                  for v in voltages]
     except RuntimeError as exc:  # the kernel's own refusal (chattering): as lusm simulate
         raise ValueError(str(exc)) from exc
@@ -104,6 +110,7 @@ def run(args: argparse.Namespace) -> None:
             print(f"--- {v:g} V")
         print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
         print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
+        print(f"{'accuracy':<26} {char.accuracy}")
         low, high = char.holding_range_N
         if math.isfinite(low) and math.isfinite(high):
             print(f"{'holds loads (N)':<26} {low:.4g} to {high:.4g}")
