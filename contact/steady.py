@@ -492,47 +492,44 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                         newton_iterations=newton, wall_time_s=time.perf_counter() - t0)
 
 
-def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBranch:
-    duration = fo.k * sp.op.period_s
-    total = float(np.sum(fo.phase_time))
-    frac = fo.phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
-    motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
-    w_in, w_damp, _, w_ts, w_tx, w_g = (float(w) for w in fo.work)
-    v = fo.velocity_m_s
-    load = sp.op.load_N
-    p = sp.params
-    mean_fn = float("nan")
-    if abs(v) <= HELD_M_S:  # the slider is held (by the guide, or by the tip's stiction)
-        return SteadyBranch(
-            velocity_m_s=0.0, k=fo.k, stable=stable, motion="dead-zone",
-            mean_FT_N=float("nan"), mean_FN_N=mean_fn, input_power_W=w_in / duration,
-            output_power_W=0.0, damping_power_W=w_damp / duration,
-            interface_power_W=-(w_ts + w_tx) / duration, guide_power_W=0.0,
-            from_rest=from_rest, phase_fraction=tuple(float(f) for f in frac))
-    return SteadyBranch(
-        velocity_m_s=v, k=fo.k, stable=stable, motion=motion, mean_FT_N=float("nan"),
-        mean_FN_N=mean_fn, input_power_W=w_in / duration, output_power_W=load * v,
-        damping_power_W=w_damp / duration, interface_power_W=-(w_ts + w_tx) / duration,
-        guide_power_W=-(w_g / duration) - load * v if p.mu_sd > 0 else 0.0,
-        from_rest=from_rest, phase_fraction=tuple(float(f) for f in frac))
-
-
-def _mean_branch(sp: SlowProblem, v: float, work: np.ndarray, phase_time: np.ndarray,
-                 n_periods: int) -> SteadyBranch:
-    """The long mean of the full model's transient from rest, where it repeats with no
-    period up to :data:`REST_MAX_K` (k = 0; powers NaN without the work integrals)."""
+def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndarray,
+                phase_time: np.ndarray, stable: bool, from_rest: bool,
+                held: bool) -> SteadyBranch:
+    """A branch measured on ``n_periods`` periods of the full model: mean velocity ``v``
+    (m/s), work integrals ``work`` (J) and phase times (s); ``held``: the dead zone, at
+    velocity 0 with no output or guide power."""
     duration = n_periods * sp.op.period_s
     total = float(np.sum(phase_time))
     frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     w_in, w_damp, _, w_ts, w_tx, w_g = (float(w) for w in work)
     load = sp.op.load_N
+    v = float(v)
+    if held:
+        v, motion, output, guide = 0.0, "dead-zone", 0.0, 0.0
+    else:
+        output = load * v
+        guide = -(w_g / duration) - load * v if sp.params.mu_sd > 0 else 0.0
     return SteadyBranch(
-        velocity_m_s=float(v), k=0, stable=True, motion=motion, mean_FT_N=math.nan,
-        mean_FN_N=math.nan, input_power_W=w_in / duration, output_power_W=load * float(v),
+        velocity_m_s=v, k=k, stable=stable, motion=motion, mean_FT_N=math.nan,
+        mean_FN_N=math.nan, input_power_W=w_in / duration, output_power_W=output,
         damping_power_W=w_damp / duration, interface_power_W=-(w_ts + w_tx) / duration,
-        guide_power_W=(-(w_g / duration) - load * float(v) if sp.params.mu_sd > 0 else 0.0),
-        from_rest=True, phase_fraction=tuple(float(f) for f in frac))
+        guide_power_W=guide, from_rest=from_rest,
+        phase_fraction=tuple(float(f) for f in frac))
+
+
+def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBranch:
+    """The branch of a shot full-model orbit; one that holds the slider (``|v| <=
+    HELD_M_S``: by the guide, or by the tip's stiction) is the dead zone."""
+    return _run_branch(sp, fo.velocity_m_s, fo.k, fo.k, fo.work, fo.phase_time, stable,
+                       from_rest, held=abs(fo.velocity_m_s) <= HELD_M_S)
+
+
+def _mean_branch(sp: SlowProblem, v: float, work: np.ndarray, phase_time: np.ndarray,
+                 n_periods: int) -> SteadyBranch:
+    """The long mean of the full model's transient from rest, where it repeats with no
+    period up to :data:`REST_MAX_K` (k = 0; powers NaN without the work integrals)."""
+    return _run_branch(sp, v, 0, n_periods, work, phase_time, True, True, held=False)
 
 
 def _powered(sp: SlowProblem, b: SteadyBranch, energy: bool = True) -> SteadyBranch:
