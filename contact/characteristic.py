@@ -125,8 +125,15 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
 
+    solved: dict[float, tuple[float, float]] = {}  # the no-load point is usually a load too
+
     def from_rest(load: float) -> tuple[float, float]:
         """Velocity (m/s) and input power (W) of the start from rest under ``load``."""
+        if load not in solved:
+            solved[load] = _from_rest(load)
+        return solved[load]
+
+    def _from_rest(load: float) -> tuple[float, float]:
         if accuracy == "exact":
             r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
                              load_N=load, coupling=coupling,
