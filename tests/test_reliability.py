@@ -538,6 +538,30 @@ def test_a_signal_python_swallows_still_stops_the_command(signum, monkeypatch, t
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
+def test_an_error_caused_by_a_signal_is_the_interruption(monkeypatch, tmp_path, capsys):
+    # a signal landing inside a numba call comes back from the dispatcher as "SystemError:
+    # ... returned a result with an exception set" (seen with Ctrl-C in lusm characteristic):
+    # the command must end as interrupted (130), not as an internal error (1)
+    import validation.cmd_params as cmd
+    from validation.output_set import output_set
+
+    class SignalOnCollect:
+        def __del__(self):
+            signal.raise_signal(signal.SIGTERM)
+
+    def command(args):
+        with output_set(tmp_path / "out", "figures") as stage:
+            (stage / "a.png").write_bytes(b"x")
+            obj = SignalOnCollect()
+            del obj
+            raise SystemError("CPUDispatcher(...) returned a result with an exception set")
+
+    monkeypatch.setattr(cmd, "run", command)
+    assert main(["params"]) == 130
+    assert capsys.readouterr().err.strip() == "lusm params: interrupted"
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_debug_env_shows_the_traceback():
     env = {**os.environ, "LUSM_DEBUG": "1"}
     proc = subprocess.run([sys.executable, "-m", "validation.cli", "simulate", "--voltage",

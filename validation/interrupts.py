@@ -9,8 +9,10 @@ then finish and move its output in as if nothing had happened.
 So the handlers here also *record* the signal. :func:`checkpoint` re-raises a recorded
 signal; the commit step of every output set calls it before moving files in, and the CLI
 calls it when a command returns, so a swallowed signal still ends in exit code 130 with
-nothing moved in. The swallowed exception's traceback is not printed (:data:`sys.unraisablehook`
-filters it; every other unraisable exception is reported as before).
+nothing moved in; any other exception that ends a command after a signal (a signal inside a
+numba call surfaces as a ``SystemError``) is replaced by the signal's. The swallowed
+exception's traceback is not printed (:data:`sys.unraisablehook` filters it; every other
+unraisable exception is reported as before).
 """
 
 from __future__ import annotations
@@ -85,6 +87,13 @@ def handlers() -> Iterator[None]:
     sys.unraisablehook = _hide_swallowed_signal
     try:
         yield
+    except BaseException as exc:
+        # whatever the interruption turned into is the interruption: a signal landing in a
+        # compiled (numba) call comes back as "SystemError: ... returned a result with an
+        # exception set"
+        if _pending is not None and not isinstance(exc, _pending):
+            raise _pending from exc
+        raise
     finally:
         _pending = None  # a later command (or library call) in this process starts clean
         signal.signal(signal.SIGTERM, previous_term)
