@@ -20,6 +20,7 @@ import numpy as np
 
 from contact import event_kernel, orbit_kernel
 from contact import state as S
+from contact.errors import ChatteringError
 from contact.model import HybridSystem, OperatingPoint, build_system
 from contact.periodic_orbit import propagator_ladder, run_whole_periods, steps_for
 from rom.params import MotorParams
@@ -130,7 +131,7 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
         fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m, s.ft_m, s.ff_m, s.funcs,
         s.scalars, float(tol), int(max_newton))
     if code == orbit_kernel.CHATTER:
-        raise RuntimeError("contact chattering in the full-model shooting")
+        raise ChatteringError("contact chattering in the full-model shooting")
     mode, periods, it = int(mode), int(periods), int(it)
     sub = jac[np.ix_(free, free)]
     mult = (float(np.max(np.abs(np.linalg.eigvals(sub))))
@@ -156,6 +157,6 @@ def velocity_ripple(fs: FullSystem, z: np.ndarray, mode: int, k: int = 1) -> flo
         z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
         s.ft_m, s.ff_m, s.funcs, s.scalars, n, 1, 1, False, 64)
     if out[0] != S.OK:
-        raise RuntimeError("contact chattering in the full-model shooting")
+        raise ChatteringError("contact chattering in the full-model shooting")
     dx = out[2][:, 2]
     return float(np.max(dx) - np.min(dx))

@@ -27,6 +27,7 @@ import numpy as np
 
 from contact import event_kernel, orbit_kernel
 from contact import state as S
+from contact.errors import ChatteringError
 from contact.expm import expm_stack
 from contact.model import HybridSystem, OperatingPoint, build_system
 from rom.params import MotorParams
@@ -222,7 +223,7 @@ def run_whole_periods(system: HybridSystem, z: np.ndarray, mode: int, periods: i
 
     Raises
     ------
-    RuntimeError
+    contact.errors.ChatteringError
         If the kernel chatters (``what`` names the problem).
     """
     dt = period_s / steps
@@ -240,7 +241,7 @@ def run_whole_periods(system: HybridSystem, z: np.ndarray, mode: int, periods: i
         0 if window else n, n, 1, energy, 64)
     status, _, _, _, phase_time, work, stats, z_end, mode_end = out
     if status != S.OK:
-        raise RuntimeError(f"contact chattering in {what}")
+        raise ChatteringError(f"contact chattering in {what}")
     z_end = z_end.copy()
     x_end = float(z_end[S.X])
     z_end[S.X] = 0.0
@@ -348,7 +349,7 @@ def find_orbit(fs: FastSystem, v: float, z0: np.ndarray | None = None, mode0: in
             orbit = _find(fs, v, z, mode, tol, max_periods, 0, max_k, average_periods,
                           jacobian)
             return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
-        except RuntimeError:  # a start the kernel cannot leave cleanly: start afresh
+        except ChatteringError:  # a start the kernel cannot leave cleanly: start afresh
             z, mode = _start(fs, v)
     orbit = _find(fs, v, z, mode, tol, max_periods, warmup, max_k, average_periods)
     return dataclasses.replace(orbit, work=orbit_work(fs, orbit)) if energy else orbit
@@ -367,7 +368,7 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
         fs.phi_half_fn, f.A, f.ev_dh, float(tol), int(max_periods), int(max_k), CHUNK_PERIODS,
         jac_in, jac_mode_in, NEWTON_MAX, NEWTON_FAILURES, int(average_periods))
     if code == orbit_kernel.CHATTER:
-        raise RuntimeError("contact chattering in the fixed-velocity fast problem")
+        raise ChatteringError("contact chattering in the fixed-velocity fast problem")
     k_found, jac_mode = int(k_found), int(jac_mode)
     # no k-periodic orbit found (k = 0): the average over many periods (quasi-periodic or
     # long-period stick-slip at the tip) stands in

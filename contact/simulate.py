@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact import event_kernel
+from contact.errors import ChatteringError
 from contact.friction import dynamic_friction
 from contact.model import (
     COUPLINGS,
@@ -190,7 +191,7 @@ def _run(system: HybridSystem, n_steps: int, dt: float, win_start: int, decim: i
 
 def raise_status(status: int, fail_step: int, dt: float, op: OperatingPoint) -> None:
     if status == ERR_CHATTER:
-        raise RuntimeError(
+        raise ChatteringError(
             f"contact chattering: more switches than allowed within one step at "
             f"t = {fail_step * dt:.6g} s (V0 = {op.voltage_V:g} V, F_P = {op.preload_N:g} N); "
             f"reduce dt_s or raise max_events_per_step"
@@ -266,7 +267,7 @@ def simulate(
     ------
     ValueError
         On invalid input, naming the parameter and its allowed range.
-    RuntimeError
+    contact.errors.ChatteringError
         When the contact chatters beyond ``max_events_per_step`` within a step.
     """
     if method not in METHODS:

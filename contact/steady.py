@@ -33,6 +33,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.drive import free_tip_amplitudes
+from contact.errors import ChatteringError
 from contact.friction import dynamic_friction
 from contact.model import COUPLINGS, OperatingPoint
 from contact.periodic_orbit import (
@@ -599,7 +600,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         guide = S.FORWARD if b.velocity_m_s > 0 else S.BACKWARD
         try:
             fo = shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1), energy=energy)
-        except RuntimeError:
+        except ChatteringError:
             fo = None
         if fo is not None:
             periods += fo.periods
@@ -653,7 +654,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         # accept the polished orbit only if the transient was heading for it
         if cand.k and abs(cand.velocity_m_s - v_transient) <= 0.05 * abs(v_transient) + 1e-9:
             v_rest, fo = cand.velocity_m_s, cand
-    except RuntimeError:
+    except ChatteringError:
         pass
     held = abs(v_rest) <= HELD_M_S
     match = [i for i, b in enumerate(out)

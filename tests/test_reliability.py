@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from contact.errors import ChatteringError
 from tests.conftest import ROOT
 from validation.cli import main
 
@@ -592,3 +593,24 @@ def test_an_export_is_moved_in_complete(tmp_path, capsys):
     assert "already exists" in capsys.readouterr().err
     assert main(["modes", "--refine", "2", "--export", str(out), "--force"]) == 0
     assert sorted(p.name for p in out.parent.iterdir()) == ["m.vtu"]
+
+
+@pytest.mark.parametrize("exc, code, words", [
+    (ChatteringError("contact chattering: more switches than allowed within one step"), 2,
+     ["error: contact chattering"]),
+    (RuntimeError("f(a) and f(b) must have different signs"), 1,
+     ["RuntimeError", "please report"]),
+])
+def test_the_kernels_refusal_is_bad_input_but_other_runtime_errors_are_bugs(
+        exc, code, words, monkeypatch, capsys):
+    # the kernel's chattering is a property of the operating point (exit 2, one line); any
+    # other RuntimeError from the library (a SciPy root finder giving up) is not the user's
+    import contact.simulate
+
+    def refuse(*args, **kwargs):
+        raise exc
+
+    monkeypatch.setattr(contact.simulate, "simulate", refuse)
+    assert main(["simulate", "--voltage", "200", "--preload", "14"]) == code
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and all(w in err for w in words), err

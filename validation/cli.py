@@ -6,7 +6,8 @@ parser (``lusm --help``) imports no numpy, scipy, numba or scikit-fem. Shared op
 :mod:`validation.options`, limits in :mod:`validation.limits`.
 
 Exit codes: 0 success; 2 for every user-facing failure (:class:`validation.errors.LusmError`,
-and the library's ``ValueError`` / ``OSError`` mapped by :func:`validation.errors.user_error`),
+and the library's ``ValueError`` / ``OSError`` / :class:`contact.errors.ChatteringError`, the
+kernel's refusal of an operating point, mapped by :func:`validation.errors.user_error`),
 printed as one line ``lusm <cmd>: error: ...``; 130 on Ctrl-C or SIGTERM (staging folders are
 removed by their ``finally`` blocks; a signal Python had to swallow is re-raised before any
 output is moved in, :mod:`validation.interrupts`); 1 for an unexpected exception (a bug): one
@@ -119,6 +120,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
     """Run the parsed command; map every way it can end to an exit code and one line."""
+    from contact.errors import ChatteringError
     from validation import interrupts
     from validation.errors import LusmError, user_error
 
@@ -138,7 +140,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 1
-    except (LusmError, ValueError, OSError) as exc:
+    except (LusmError, ValueError, OSError, ChatteringError) as exc:
         err = exc if isinstance(exc, LusmError) else user_error(exc)
         print(f"{prog}: error: {_one_line(str(err))}", file=sys.stderr)
         if os.environ.get(DEBUG_ENV):

@@ -102,16 +102,13 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     from contact.simulate import simulate
     from validation.summaries import simulation_summary
 
-    try:
-        r = simulate(
-            params, voltage_V, args.preload, freq,
-            duration_s=args.duration, dt_s=args.dt,
-            ultrasonic_friction=not args.no_ultrasonic_friction,
-            coupling=coupling, energy=args.energy, load_N=args.load_N,
-            method="steady" if args.steady else "event",
-        )
-    except RuntimeError as exc:  # the kernel's own refusal (chattering): bad input, not a bug
-        raise ValueError(str(exc)) from exc
+    r = simulate(
+        params, voltage_V, args.preload, freq,
+        duration_s=args.duration, dt_s=args.dt,
+        ultrasonic_friction=not args.no_ultrasonic_friction,
+        coupling=coupling, energy=args.energy, load_N=args.load_N,
+        method="steady" if args.steady else "event",
+    )
     summary = simulation_summary(r)
     if plot is not None:
         from validation.figures import simulation_figures

@@ -1,0 +1,16 @@
+"""The contact stage's own failure: the switch model chattering.
+
+A kernel run refuses to go on when more mode switches than allowed fall within one time step
+(a Zeno-like accumulation the fixed-step event search cannot resolve). That refusal is a
+property of the operating point and the step, not a bug, so the command line reports it as
+bad input (one line, exit 2). Making it a class of its own lets the CLI map exactly this
+failure, while any other ``RuntimeError`` (a SciPy solver giving up, a bug) keeps its own
+report. It subclasses ``RuntimeError`` so callers that caught the former bare
+``RuntimeError`` still catch it.
+"""
+
+from __future__ import annotations
+
+
+class ChatteringError(RuntimeError):
+    """The switch-model kernel met more switches within one step than it allows."""
