@@ -246,8 +246,10 @@ def _locate(a, z, hv, dv, H, s_est, h_end, zt, term, tmp, counter):
                 t_new = 0.5 * (lo + hi)
             elif abs(t_new - tau) <= 1e-6 * H:
                 # the next Newton correction would be ~1e-12 H: step just past the zero
-                t_new = min(t_new + past, hi)
+                t_new += past
                 landing = True
+                if t_new >= hi:  # hi itself may be past the zero by roundoff only
+                    return _land(a, z, hv, min(t_new, H), hi, zt, term, tmp, counter)
         elif not (tau < t_new <= H):
             return -1.0  # h turns down before reaching zero: no crossing
         elif abs(t_new - tau) <= 1e-6 * H:
@@ -256,6 +258,26 @@ def _locate(a, z, hv, dv, H, s_est, h_end, zt, term, tmp, counter):
         tau = t_new
     if hi < 0.0:
         return -1.0
+    # the bracket holds the zero to within `past`: land `past` beyond it, as Newton does
+    return _land(a, z, hv, min(hi + past, H), hi, zt, term, tmp, counter)
+
+
+@njit(cache=True)
+def _land(a, z, hv, tau, hi, zt, term, tmp, counter):
+    """State ``zt`` at ``tau``, a little past a zero known to lie before ``hi <= tau``, if
+    ``h`` is still positive there; else at ``hi`` (h turned down again: a graze).
+
+    ``h(hi) > 0`` may hold by roundoff only (a few 1e-16 of the force); the next mode's own
+    functionals compute the same force by other rows and may then disagree on the side,
+    e.g. a guide released by the held mode whose slider's acceleration is -1e-15 in the
+    moving mode, which stops it at once and holds it again at the same instant: chattering.
+    ``past`` (1e-9 of a step) beyond the zero the sign is the physics'.
+    """
+    if tau > hi:
+        _flow(a, z, tau, zt, term, tmp)
+        counter[0] += 1
+        if _dot(hv, zt) > 0.0:
+            return tau
     _flow(a, z, hi, zt, term, tmp)
     return hi
 
