@@ -364,7 +364,7 @@ def _switch(mode, etype, z, funcs, scalars):
             z[DW] = 0.0
             z[DX] = 0.0
         else:
-            z[DX] = scalars[SC_PHI_BL] * z[DW]  # phi_B(l) dw_b: v_rel = 0 exactly
+            z[DW] = z[DX] / scalars[SC_PHI_BL]  # v_rel = phi_B(l) dw_b - dx = 0 exactly
     elif guide == HELD:
         z[DX] = 0.0
     return contact * 9 + tip * 3 + guide
@@ -567,7 +567,7 @@ def integrate_switch_model(
                 for i in range(N_STATE):
                     z[i] = z1[i]
                 if mode == STICK_FORWARD or mode == STICK_BACKWARD:
-                    z[DX] = scalars[SC_PHI_BL] * z[DW]  # keep v_rel = 0 free of roundoff
+                    z[DW] = z[DX] / scalars[SC_PHI_BL]  # keep v_rel = 0 free of roundoff
                 # the end values of the switching functionals start the next step
                 for j in range(MAX_EVENTS):
                     hc[j] = hn[j]

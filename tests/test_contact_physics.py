@@ -39,6 +39,20 @@ def test_steady_velocity_converges_in_dt(paper_params):
     assert abs(fine.steady.stick_fraction - coarse.steady.stick_fraction) < 0.005
 
 
+def test_the_settled_speed_does_not_depend_on_the_step(paper_params):
+    # the kernel's propagators are exact, so the settled speed depends on the step only
+    # through the event landing (1e-9 of a step past each zero). A slip -> stick event used to
+    # set the heavy slider's velocity to the light tip's there: a kick of the tip's
+    # acceleration times the landing delay every period, which the slider integrates over its
+    # slow settling, 3.4e-8 of the speed at dt = 1e-7 s against 1e-6 s. The tip's velocity is
+    # now set to the slider's
+    from contact.simulate import SimulationOptions
+
+    v = [simulate(paper_params, 200.0, 14.0, options=SimulationOptions(
+        duration_s=0.3, dt_s=dt, steady_periods=400)).steady.velocity_m_s for dt in (1e-6, 1e-7)]
+    assert v[0] == pytest.approx(v[1], rel=5e-9)
+
+
 def test_results_do_not_depend_on_the_stick_band(paper_params):
     runs = [simulate(paper_params, 200.0, 14.0, stick_band_m_s=eps) for eps in (1e-10, 1e-6)]
     a, b = (r.steady for r in runs)
