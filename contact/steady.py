@@ -725,19 +725,22 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
                         load_N: float = 0.0, frequency_Hz: float = 40e3,
                         duration_s: float = 0.2, steady_periods: int = 400,
                         coupling: str = "paper",
-                        ultrasonic_friction: bool = True) -> tuple[float, str]:
+                        ultrasonic_friction: bool = True,
+                        dt_s: float | None = None) -> tuple[float, str]:
     """Mean slider velocity (m/s) and motion class over the last ``steady_periods`` of a
     transient from rest.
 
     The slow reference of :func:`steady_state`: the event scheme of
-    :func:`contact.simulate.simulate` run with the load in the operating point.
+    :func:`contact.simulate.simulate` run with the load in the operating point, at the
+    step ``dt_s`` (s; default that of :class:`contact.simulate.SimulationOptions`).
     """
     from contact.simulate import SimulationOptions, normal_amplitude, solve_event
     from contact.window import run_window
 
     op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz), float(load_N))
+    step = {} if dt_s is None else {"dt_s": float(dt_s)}
     opts = SimulationOptions(duration_s=duration_s, steady_periods=steady_periods,
-                             coupling=coupling, ultrasonic_friction=ultrasonic_friction)
+                             coupling=coupling, ultrasonic_friction=ultrasonic_friction, **step)
     mu = (dynamic_friction(params, normal_amplitude(params, op)) if ultrasonic_friction
           else params.mu_d)
     window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)

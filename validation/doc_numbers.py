@@ -994,11 +994,16 @@ def _steady_point() -> dict[str, float]:
     steady_state(p, 200, 14, accuracy="exact")
     transient_reference(p, 200, 14, duration_s=0.01, steady_periods=20)
     out: dict[str, float] = {}
-    times: dict[str, list[float]] = {"transient": [], "fast": [], "exact": []}
+    times: dict[str, list[float]] = {"transient": [], "coarse": [], "fast": [], "exact": []}
+    bench = _bench("steady_speed")
+    coarse_dt = 1.0 / (40e3 * bench.COARSE_STEPS)
     for _ in range(3):
         t = time.perf_counter()
         out["transient"] = transient_reference(p, 200, 14, duration_s=0.3)[0]
         times["transient"].append(time.perf_counter() - t)
+        t = time.perf_counter()
+        out["coarse"] = transient_reference(p, 200, 14, duration_s=0.3, dt_s=coarse_dt)[0]
+        times["coarse"].append(time.perf_counter() - t)
         for acc in ("fast", "exact"):
             t = time.perf_counter()
             r = steady_state(p, 200, 14, accuracy=acc)
@@ -1009,9 +1014,12 @@ def _steady_point() -> dict[str, float]:
         out[f"{acc}_rel_error"] = abs(out[acc] - out["transient"]) / abs(out["transient"])
         out[f"{acc}_speed_ratio"] = (statistics.median(times["transient"])
                                      / statistics.median(times[acc]))
-    bench = _bench("steady_speed")
-    per_period = bench.kernel_seconds_per_period(p, 200.0, 14.0)
     t_ref = statistics.median(times["transient"])
+    out["coarse_rel_error"] = abs(out["coarse"] - out["transient"]) / abs(out["transient"])
+    out["coarse_speed_ratio"] = t_ref / statistics.median(times["coarse"])
+    out["exact_vs_coarse_ratio"] = (statistics.median(times["coarse"])
+                                    / statistics.median(times["exact"]))
+    per_period = bench.kernel_seconds_per_period(p, 200.0, 14.0)
     out["period_floor_ratio"] = t_ref / (out["exact_periods"] * per_period)
     t_setup = bench.setup_seconds(p, 200.0, 14.0)
     out["setup_floor_ratio"] = t_ref / t_setup
@@ -1213,6 +1221,10 @@ def _steady_map() -> dict[str, float]:
         out[f"{acc}_held_max_m_s"] = max(abs(r[f"{acc}_m_s"]) for r in held)
         out[f"{acc}_speed_ratio"] = t_ref / sum(r[f"{acc}_s"] for r in rows)
     out["exact_within_1e-5"] = int(sum(r["exact_rel_error"] <= 1e-5 for r in moving))
+    t_coarse = sum(r["coarse_s"] for r in rows)
+    out["coarse_speed_ratio"] = t_ref / t_coarse
+    out["exact_vs_coarse_ratio"] = t_coarse / sum(r["exact_s"] for r in rows)
+    out["coarse_max"] = max(r["coarse_rel_error"] for r in moving)
     # what ``lusm map`` runs: stick_slip_map(method="steady"), exact level with the transient
     # fallback on undecided points, one worker like the serial references above
     from contact.maps import stick_slip_map
@@ -1283,6 +1295,15 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_200V_14N_exact_speed_ratio", "-", bench + " (transient_s / exact_s; here "
               "medians of 3)", lambda: _steady_point()["exact_speed_ratio"],
               batch="steady_point"),
+        Claim("steady_200V_14N_coarse_rel_error", "-", bench + " (the line 'coarse "
+              "transient': the settled transient at 20 steps per period against 250)",
+              lambda: _steady_point()["coarse_rel_error"], batch="steady_point"),
+        Claim("steady_200V_14N_coarse_speed_ratio", "-", bench + " (transient_s / coarse_s; "
+              "here medians of 3)", lambda: _steady_point()["coarse_speed_ratio"],
+              batch="steady_point"),
+        Claim("steady_200V_14N_exact_vs_coarse_ratio", "-", bench + " (coarse_s / exact_s; "
+              "here medians of 3)", lambda: _steady_point()["exact_vs_coarse_ratio"],
+              batch="steady_point"),
         Claim("steady_150V_14N_rest_m_s", "m/s", ex.format(v=150, f=14) + ".velocity_m_s",
               lambda: _steady_150()["rest"]),
         Claim("steady_150V_14N_rest_k", "-", ex.format(v=150, f=14) + ".from_rest.k",
@@ -1352,7 +1373,9 @@ def _steady_claims() -> tuple[Claim, ...]:
                     ("ref_unsettled", "-"), ("fast_max_noncreep", "-"),
                     ("fast_speed_ratio", "-"), ("exact_speed_ratio", "-"),
                     ("cli_speed_ratio", "-"), ("cli_worst_moving", "-"),
-                    ("cli_undecided", "-"), ("cli_held_max_m_s", "m/s")):
+                    ("cli_undecided", "-"), ("cli_held_max_m_s", "m/s"),
+                    ("coarse_speed_ratio", "-"), ("exact_vs_coarse_ratio", "-"),
+                    ("coarse_max", "-")):
         out.append(Claim(f"steady_map_{k.replace('-', '_')}", unit,
                          mapc + " (benchmark, minutes; not run by the tests)",
                          lambda k=k: _steady_map()[k], batch="steady_map"))
