@@ -1,4 +1,4 @@
-"""The contact stage's own failure: the switch model chattering.
+"""The contact stage's own refusals: the switch model chattering, a slider that runs away.
 
 A kernel run refuses to go on when more mode switches than allowed fall within one time step
 (a Zeno-like accumulation the fixed-step event search cannot resolve). That refusal is a
@@ -14,3 +14,20 @@ from __future__ import annotations
 
 class ChatteringError(RuntimeError):
     """The switch-model kernel met more switches within one step than it allows."""
+
+
+class RunawayError(ValueError):
+    """No steady state from rest: the load (or a load pushing the slider forward) exceeds what
+    the motor holds, so the slider keeps accelerating. A ``ValueError`` (the operating point
+    has no answer); its message names ``load_N`` and the range of loads the motor holds.
+
+    Attributes
+    ----------
+    reason : str
+        The message without the operating point: which way the slider runs away and the
+        loads (N) the motor holds.
+    """
+
+    def __init__(self, message: str, reason: str = "") -> None:
+        super().__init__(message)
+        self.reason = reason or message

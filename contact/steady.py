@@ -33,7 +33,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.drive import free_tip_amplitudes
-from contact.errors import ChatteringError
+from contact.errors import ChatteringError, RunawayError
 from contact.friction import dynamic_friction
 from contact.model import COUPLINGS, OperatingPoint
 from contact.periodic_orbit import (
@@ -354,15 +354,16 @@ def holding_range_N(sp: SlowProblem) -> tuple[float, float]:
     return bounds[0], bounds[1]
 
 
-def runaway_message(sp: SlowProblem, load_N: float) -> str:
-    """One line saying that the slider runs away from rest under ``load_N`` and why."""
+def runaway_error(sp: SlowProblem, load_N: float) -> RunawayError:
+    """The error saying that the slider runs away from rest under ``load_N`` and why."""
     low, high = holding_range_N(sp)
     op = sp.op
     way = "backward" if load_N > 0 else "forward"
     held = (f" (the motor holds loads from {low:.4g} to {high:.4g} N at the tip's full slip)"
             if math.isfinite(low) and math.isfinite(high) else "")
-    return (f"load_N = {load_N:g} N: no steady state from rest at {op.voltage_V:g} V / "
-            f"{op.preload_N:g} N, the slider runs away {way}{held}")
+    reason = f"the slider runs away {way}{held}"
+    return RunawayError(f"load_N = {load_N:g} N: no steady state from rest at "
+                        f"{op.voltage_V:g} V / {op.preload_N:g} N, {reason}", reason)
 
 
 def scan_grid(v_floor: float, v_max: float) -> np.ndarray:
@@ -786,7 +787,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     branches, v_rest = branches_at_load(sp, op.load_N, energy=False)
     branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling, energy=False)
     if math.isnan(v_rest):
-        raise ValueError(runaway_message(sp, op.load_N))
+        raise runaway_error(sp, op.load_N)
     rest = [b for b in branches if b.from_rest]
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
     steps = (sp.periods + periods) * sp.fs.steps_per_period

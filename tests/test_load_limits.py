@@ -87,6 +87,23 @@ def test_cli_names_the_load_when_the_slider_runs_away(capsys):
     assert "--load-N" in err and "runs away backward" in err
 
 
+def test_a_list_of_voltages_reports_each_runaway_and_goes_on(params, capsys):
+    # 5 N lies inside the holding range at 100 V and beyond it at 400 V (the range narrows as
+    # the tip's slip speed grows): a sweep reports both, not an error at the first
+    import json
+
+    top = [holding_range_N(slow_problem(params, OperatingPoint(v, 14.0, 40e3)))[1]
+           for v in (100.0, 400.0)]
+    assert top[1] < 5.0 < top[0]
+    code = main(["simulate", "--voltage", "100,400", "--preload", "14", "--load-N", "5",
+                 "--steady", "--json"])
+    runs = json.loads(capsys.readouterr().out)["runs"]
+    assert code == 0 and [r["voltage_V"] for r in runs] == [100.0, 400.0]
+    assert math.isfinite(runs[0]["steady_velocity_m_s"]) and "runs_away" not in runs[0]
+    assert runs[1]["steady_velocity_m_s"] is None
+    assert "runs away backward" in runs[1]["runs_away"]
+
+
 def test_characteristic_marks_loads_it_cannot_hold(params, capsys):
     code = main(["characteristic", "--voltage", "400", "--preload", "14", "--loads",
                  "4:6:1", "--json"])

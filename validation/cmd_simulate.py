@@ -66,11 +66,21 @@ def run(args: argparse.Namespace) -> None:
     freq = parse_frequency(args.frequency, params)
     check_run_size(args.duration, args.dt, freq)
 
+    from contact.errors import RunawayError
     from validation.summaries import coupling_line, damping_line, damping_summary
 
     summaries = []
     for v in voltages:
-        summary = _simulate(args, v, params, freq, coupling, plot)
+        try:
+            summary = _simulate(args, v, params, freq, coupling, plot)
+        except RunawayError as exc:
+            if len(voltages) == 1:
+                raise
+            # a list is a sweep: the voltages the motor cannot hold the load at are answers
+            # too (as the loads of lusm characteristic), not the end of the command
+            summary = {"voltage_V": v, "preload_N": args.preload, "load_N": args.load_N,
+                       "method": "steady", "steady_velocity_m_s": float("nan"),
+                       "runs_away": exc.reason}
         summary["damping"] = damping_summary(params, damping_from)
         summary["coupling"], summary["coupling_from"] = coupling, coupling_from
         summaries.append(summary)
