@@ -11,10 +11,13 @@ def params():
     return table2()
 
 
-def test_exact_level_matches_a_long_transient_to_1e_6(params):
+def test_exact_level_matches_a_long_transient(params):
+    # the issue asks 1e-6. Both run exact propagators (the exact level at 25 steps per period,
+    # the transient at 250), so they agree far better unless a step-dependent bias creeps in:
+    # the stick projection that kicked the slider put 3.1e-7 between them at commit b58f8d2
     r = steady_state(params, 200, 14, accuracy="exact")
     v_t, _ = transient_reference(params, 200, 14, duration_s=0.3)
-    assert r.velocity_m_s == pytest.approx(v_t, rel=1e-6)
+    assert r.velocity_m_s == pytest.approx(v_t, rel=1e-8)
 
 
 def test_averaging_error_scales_as_one_over_slider_mass(params):
