@@ -181,7 +181,9 @@ class _Motor:
             if guide == HELD:
                 y[3] = y[5] = 0.0
             else:
-                y[5] = p.phi_Bl * y[3]
+                # v_rel = 0 imposed on the light tip, not on the heavy slider, as the kernel
+                # does: the event state may lie a hair past the zero (docs/contact.md §3)
+                y[3] = y[5] / p.phi_Bl
         elif guide == HELD:
             y[5] = 0.0
         return (contact, tip, guide), y
