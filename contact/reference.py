@@ -181,9 +181,13 @@ class _Motor:
             if guide == HELD:
                 y[3] = y[5] = 0.0
             else:
-                # v_rel = 0 imposed on the light tip, not on the heavy slider, as the kernel
-                # does: the event state may lie a hair past the zero (docs/contact.md §3)
-                y[3] = y[5] / p.phi_Bl
+                # v_rel = 0 set on the lighter of tip and slider, as the kernel does
+                # (event_kernel._stick_exact): the event state may lie a hair past the zero
+                # (docs/contact.md §3)
+                if p.phi_Bl**2 * p.M_slider >= p.M_b:
+                    y[3] = y[5] / p.phi_Bl
+                else:
+                    y[5] = p.phi_Bl * y[3]
         elif guide == HELD:
             y[5] = 0.0
         return (contact, tip, guide), y

@@ -53,6 +53,26 @@ def test_the_settled_speed_does_not_depend_on_the_step(paper_params):
     assert v[0] == pytest.approx(v[1], rel=5e-9)
 
 
+@pytest.mark.parametrize("mass_kg", [0.2, 1e-3])
+def test_entering_stick_corrects_the_lighter_body(paper_params, mass_kg):
+    # v_rel = 0 is imposed by moving the lighter of tip (M_b / phi_B(l)^2, 1.25 g here) and
+    # slider; the heavier keeps its velocity (a 0.2 kg slider, or a 1 g one)
+    from contact import state as S
+    from contact.event_kernel import _stick_exact
+    from contact.model import build_system
+
+    p = paper_params.with_(M_slider=mass_kg)
+    sc = build_system(p, OperatingPoint(200.0, 14.0), p.mu_d).scalars
+    z = np.zeros(S.N_STATE)
+    z[S.DW], z[S.DX] = 1e-3, 2.1e-3
+    before = z.copy()
+    _stick_exact(z, sc)
+    assert p.phi_Bl * z[S.DW] - z[S.DX] == pytest.approx(0.0, abs=1e-18)
+    tip_lighter = p.M_b / p.phi_Bl**2 < mass_kg
+    kept = S.DX if tip_lighter else S.DW
+    assert z[kept] == before[kept]
+
+
 def test_results_do_not_depend_on_the_stick_band(paper_params):
     runs = [simulate(paper_params, 200.0, 14.0, stick_band_m_s=eps) for eps in (1e-10, 1e-6)]
     a, b = (r.steady for r in runs)
