@@ -13,7 +13,22 @@ from __future__ import annotations
 
 
 class ChatteringError(RuntimeError):
-    """The switch-model kernel met more switches within one step than it allows."""
+    """The switch-model kernel met more switches within one step than it allows.
+
+    Parameters
+    ----------
+    situation : str
+        Where and when it happened.
+    step_remedy : bool
+        Whether a smaller time step of the run may resolve it (a transient at the caller's
+        ``dt_s``; the steady engine chooses its own step).
+    """
+
+    def __init__(self, situation: str, step_remedy: bool = False) -> None:
+        super().__init__(situation + ("; reduce dt_s or raise max_events_per_step"
+                                      if step_remedy else ""))
+        self.situation = situation
+        self.step_remedy = step_remedy
 
 
 class RunawayError(ValueError):

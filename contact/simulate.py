@@ -193,8 +193,8 @@ def raise_status(status: int, fail_step: int, dt: float, op: OperatingPoint) -> 
     if status == ERR_CHATTER:
         raise ChatteringError(
             f"contact chattering: more switches than allowed within one step at "
-            f"t = {fail_step * dt:.6g} s (V0 = {op.voltage_V:g} V, F_P = {op.preload_N:g} N); "
-            f"reduce dt_s or raise max_events_per_step"
+            f"t = {fail_step * dt:.6g} s (V0 = {op.voltage_V:g} V, F_P = {op.preload_N:g} N)",
+            step_remedy=True,
         )
     if status != OK:  # pragma: no cover - no other codes exist
         raise RuntimeError(f"switch-model kernel failed with status {status}")

@@ -742,8 +742,8 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     step = {} if dt_s is None else {"dt_s": float(dt_s)}
     opts = SimulationOptions(duration_s=duration_s, steady_periods=steady_periods,
                              coupling=coupling, ultrasonic_friction=ultrasonic_friction, **step)
-    mu = (dynamic_friction(params, normal_amplitude(params, op)) if ultrasonic_friction
-          else params.mu_d)
+    mu = (dynamic_friction(params, normal_amplitude(params, op, opts.dt_s))
+          if ultrasonic_friction else params.mu_d)  # as simulate() at this step
     window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
     out = solve_event(params, op, opts, window, mu)
     frac = out.phase_time / max(float(np.sum(out.phase_time)), 1e-300)

@@ -596,8 +596,10 @@ def test_an_export_is_moved_in_complete(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("exc, code, words", [
-    (ChatteringError("contact chattering: more switches than allowed within one step"), 2,
-     ["error: contact chattering"]),
+    (ChatteringError("contact chattering: more switches than allowed within one step",
+                     step_remedy=True), 2, ["error: contact chattering", "smaller --dt"]),
+    (ChatteringError("contact chattering in the full-model shooting"), 2,
+     ["error: contact chattering in the full-model shooting"]),
     (RuntimeError("f(a) and f(b) must have different signs"), 1,
      ["RuntimeError", "please report"]),
 ])
@@ -614,3 +616,4 @@ def test_the_kernels_refusal_is_bad_input_but_other_runtime_errors_are_bugs(
     assert main(["simulate", "--voltage", "200", "--preload", "14"]) == code
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and all(w in err for w in words), err
+    assert "max_events_per_step" not in err and "dt_s" not in err  # the CLI's words only

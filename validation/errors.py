@@ -66,6 +66,12 @@ def user_error(exc: BaseException) -> LusmError:
     """
     if isinstance(exc, LusmError):
         return exc
+    from contact.errors import ChatteringError
+
+    if isinstance(exc, ChatteringError):  # the remedy in the CLI's words
+        if exc.step_remedy:
+            return LusmError(f"{exc.situation}; a smaller --dt may resolve it", "--dt")
+        return LusmError(exc.situation)
     if isinstance(exc, UnicodeDecodeError):
         return LusmError(f"cannot read a file as UTF-8 text ({exc.reason} at byte "
                          f"{exc.start}); save it as UTF-8")
