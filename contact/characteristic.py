@@ -35,7 +35,11 @@ class Characteristic:
     no_load_velocity_m_s : float
         Steady velocity from rest without load (m/s).
     stall_force_N : float
-        Load at which the velocity from rest falls to zero (N): ``F_T(0+) - mu_sd (F_N + M g)``.
+        Load at which the velocity from rest falls to zero (N), signed as ``load_N``:
+        ``F_T(0+) - mu_sd (F_N + M g)`` for a motor that drives the slider forward, and
+        ``F_T(0-) + mu_sd (F_N + M g)`` (negative: a load pushing the slider forward) for one
+        that drives it backward, as the same motor with ``A_b`` reversed does; 0 in the dead
+        zone.
     load_N, velocity_m_s, input_power_W, output_power_W, efficiency : ndarray
         The curves: load (N), velocity from rest (m/s), electrical input power (W), mechanical
         output power ``load * v`` (W) and their ratio (-). The velocity is NaN at a load the
@@ -96,8 +100,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     voltage_V, preload_N : float
         Drive amplitude (V) and preload (N).
     loads_N : array_like, optional
-        Loads (N); by default ``points`` loads from 0 to the stall force (only 0 where the
-        motor is in its dead zone: stall force 0).
+        Loads (N); by default ``points`` loads from 0 to the stall force (negative for a motor
+        that drives the slider backward; only 0 where the motor is in its dead zone: stall
+        force 0).
     frequency_Hz : float, optional
         Drive frequency (Hz), 40 kHz when None.
     coupling, ultrasonic_friction
@@ -119,9 +124,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     op = OperatingPoint(float(voltage_V), float(preload_N),
                         40e3 if frequency_Hz is None else float(frequency_Hz))
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
-    stall = max(sp.thrust(V_ZERO_M_S), 0.0)
+    stall = _stall_force(sp)
     if loads_N is None:  # held without load (dead zone): the one load 0
-        loads = np.linspace(0.0, stall, points) if stall > 0 else np.zeros(1)
+        loads = np.linspace(0.0, stall, points) if stall != 0.0 else np.zeros(1)
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
 
@@ -150,10 +155,25 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         v, p = from_rest(float(load))
         vel.append(v)
         p_in.append(p)
-        p_out.append(float(load) * v)
+        p_out.append(float(load) * v + 0.0)  # + 0.0: 0 W at no load, not -0 W backward
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
     with np.errstate(divide="ignore", invalid="ignore"):
         eff = np.where(p_in_a > 0, p_out_a / p_in_a, np.nan)
     hold = tuple(float(f) for f in holding_range_N(sp))
     return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0, len(sp.cache))
+
+
+def _stall_force(sp) -> float:
+    """The load (N, signed as ``load_N``) that stops the motor in the direction it drives the
+    slider from rest: the averaged thrust at 0+ where that is positive, at 0- where that is
+    negative (a motor driving backward, e.g. one with ``A_b`` reversed), else 0 (the guide
+    and the tip hold the slider: the dead zone)."""
+    # G(0-) from the orbit at 0+, as contact.steady.branches_at_load takes it, so that the
+    # stall load is exactly where that function's dead zone begins on either side
+    o0 = sp.orbit(V_ZERO_M_S)
+    forward = o0.mean_FT_N - sp.guide_N(o0)
+    if forward > 0.0:
+        return float(forward)
+    backward = o0.mean_FT_N + sp.guide_N(o0)
+    return float(backward) if backward < 0.0 else 0.0

@@ -389,7 +389,7 @@ def _branch(sp: SlowProblem, v: float, load: float, stable: bool,
     return SteadyBranch(
         velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
         mean_FN_N=o.mean_FN_N, input_power_W=w_in / duration,
-        output_power_W=load * float(v), damping_power_W=w_damp / duration,
+        output_power_W=load * float(v) + 0.0, damping_power_W=w_damp / duration,
         interface_power_W=-(w_ts + w_tx) / duration,
         guide_power_W=sp.guide_N(o) * abs(float(v)), from_rest=False,
         phase_fraction=tuple(float(f) for f in frac))
@@ -510,7 +510,7 @@ def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndar
     if held:
         v, motion, output, guide = 0.0, "dead-zone", 0.0, 0.0
     else:
-        output = load * v
+        output = load * v + 0.0  # + 0.0: 0 W at no load, not -0 W backward
         guide = -(w_g / duration) - load * v if sp.params.mu_sd > 0 else 0.0
     return SteadyBranch(
         velocity_m_s=v, k=k, stable=stable, motion=motion, mean_FT_N=math.nan,
