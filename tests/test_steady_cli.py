@@ -85,3 +85,21 @@ def test_simulate_takes_a_list_of_voltages(capsys):
         one = json.loads(capsys.readouterr().out)
         assert one["steady_velocity_m_s"] == doc["steady_velocity_m_s"]
         assert one["voltage_V"] == doc["voltage_V"] == v
+
+
+def test_map_takes_the_sets_own_frequency(capsys):
+    # --frequency auto, as simulate and characteristic take it: the beam set's resonances lie
+    # far above 40 kHz; the map's point equals the steady state at that frequency
+    from contact.drive import auto_frequency
+    from contact.steady import steady_state
+    from rom.sources import get_params
+
+    assert main(["map", "--source", "beam", "--frequency", "auto", "--voltages", "200",
+                 "--preloads", "14", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    p = get_params("beam")
+    f = auto_frequency(p)
+    assert doc["frequency_Hz"] == pytest.approx(f, rel=1e-12) and f > 50e3
+    ref = steady_state(p, 200, 14, frequency_Hz=f, coupling="consistent", accuracy="exact",
+                       energy=False)
+    assert doc["steady_velocity_m_s"][0][0] == pytest.approx(ref.velocity_m_s, rel=1e-9)

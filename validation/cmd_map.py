@@ -17,6 +17,7 @@ from validation.options import (
     motor_params_of,
     moved,
     output_folder,
+    parse_frequency,
     print_json,
     warn_drive,
 )
@@ -35,7 +36,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--preloads", default="10:26:2",
                    help=f"F_P grid (N), start:stop:step or a comma list, in "
                    f"[0, {limits.PRELOAD_N[1]:g}]")
-    add_drive_options(p, required=False, auto_frequency=False)
+    add_drive_options(p, required=False)
     p.add_argument("--method", choices=("steady", "transient"), default="steady",
                    help="steady: each point's steady states found directly, every stable "
                    "branch reported (docs/steady.md; --duration and --dt unused); transient: "
@@ -60,16 +61,22 @@ def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
     return values
 
 
+def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> None:
+    if args.method == "transient":
+        check_run_size(args.duration, args.dt, frequency_Hz, runs=volts.size * loads.size)
+    else:  # --duration and --dt are unused but must still be sane values
+        check_run_size(args.duration, args.dt, frequency_Hz)
+
+
 def run(args: argparse.Namespace) -> None:
     """Compute and print the map."""
     plot = output_folder(args, "map", "--plot")
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
     warn_drive(float(volts.max()), float(loads.max()))
-    if args.method == "transient":
-        check_run_size(args.duration, args.dt, args.frequency, runs=volts.size * loads.size)
-    else:  # --duration and --dt are unused but must still be sane values
-        check_run_size(args.duration, args.dt, args.frequency)
+    auto = args.frequency.strip().lower() == "auto"
+    if not auto:  # refused before any work; 'auto' needs the parameter set first
+        _check_size(args, volts, loads, parse_frequency(args.frequency))
     if args.method == "steady" and volts.size * loads.size > limits.work_bound(
             limits.MAX_STEADY_POINTS):
         raise LusmError(
@@ -78,6 +85,9 @@ def run(args: argparse.Namespace) -> None:
             f"({limits.more_work_hint()})", "--voltages")
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
+    freq = parse_frequency(args.frequency, params)
+    if auto:
+        _check_size(args, volts, loads, freq)
 
     from contact.maps import stick_slip_map
     from contact.simulate import SimulationOptions
@@ -86,11 +96,12 @@ def run(args: argparse.Namespace) -> None:
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
                              ultrasonic_friction=not args.no_ultrasonic_friction,
                              coupling=coupling)
-    m = stick_slip_map(params, volts, loads, args.frequency, opts, workers=args.workers,
+    m = stick_slip_map(params, volts, loads, freq, opts, workers=args.workers,
                        method=args.method, accuracy=args.accuracy)
     summary = map_summary(m)
     summary["damping"] = damping_summary(params, damping_from)
     summary["coupling"], summary["coupling_from"] = coupling, coupling_from
+    summary["frequency_Hz"] = freq
     if plot is not None:
         from validation.figures import set_label
         from validation.figures import stick_slip_map as plot_map
@@ -110,6 +121,7 @@ def run(args: argparse.Namespace) -> None:
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
+    print(f"frequency {freq:.6g} Hz" + (" (auto: the set's own operating point)" if auto else ""))
     print(f"counts: {m.counts()}  wall time {m.wall_time_s:.2f} s ({m.method}"
           + (f", {args.accuracy})" if m.method == "steady" else f", {args.duration:g} s runs)"))
     if m.method == "steady":
