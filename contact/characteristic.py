@@ -91,7 +91,8 @@ class Characteristic:
 def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                    loads_N=None, *, frequency_Hz: float | None = None,
                    coupling: str = "paper", ultrasonic_friction: bool = True,
-                   points: int = 21, accuracy: str = "fast") -> Characteristic:
+                   points: int = 21, accuracy: str = "fast",
+                   progress: bool = False) -> Characteristic:
     """Speed-thrust characteristic at one operating point.
 
     Parameters
@@ -113,6 +114,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         load (finite slider mass, the start from rest on the full model: creeps, holds by
         the tip's stiction and multi-period starts under a load that the averaging cannot
         see; about a 2 000-period transient per loaded point).
+    progress : bool
+        Show a tqdm progress bar over the loads on stderr once the curve takes more than a
+        second (the exact level's curves do).
 
     Returns
     -------
@@ -149,9 +153,12 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         b = next((b for b in branches if b.from_rest), None)
         return v, (b.input_power_W if b is not None else np.nan)
 
+    from tqdm import tqdm
+
     v0 = from_rest(0.0)[0]
     vel, p_in, p_out = [], [], []
-    for load in loads:
+    for load in tqdm(loads, desc=f"characteristic {op.voltage_V:g} V", unit="load",
+                     disable=not progress, delay=1.0, leave=False):
         v, p = from_rest(float(load))
         vel.append(v)
         p_in.append(p)

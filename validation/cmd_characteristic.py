@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> None:
     chars = [characteristic(params, v, args.preload, loads, frequency_Hz=freq,
                             coupling=coupling,
                             ultrasonic_friction=not args.no_ultrasonic_friction,
-                            accuracy=args.accuracy)
+                            accuracy=args.accuracy, progress=True)
              for v in voltages]
     docs = [c.to_dict() for c in chars]
     for d in docs:
