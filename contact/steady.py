@@ -753,13 +753,15 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
 
 def settled_duration(params: MotorParams, voltage_V: float, preload_N: float, *,
                      start_s: float = 0.3, max_s: float = 2.4, rel_tol: float = 1e-6,
-                     abs_tol_m_s: float = 1e-9, **kwargs) -> tuple[float, bool]:
+                     abs_tol_m_s: float = HELD_M_S, **kwargs) -> tuple[float, bool]:
     """Shortest transient length on a doubling ladder whose velocity is settled.
 
     Runs :func:`transient_reference` for ``start_s``, ``2 start_s``, ... and returns the first
     length D whose velocity agrees with the run of length 2D to ``rel_tol`` (or
-    ``abs_tol_m_s`` m/s, for held points), with ``True``; ``(start_s, False)`` when no length
-    up to ``max_s`` / 2 settles (a point still drifting; none on the 9 x 9 map).
+    ``abs_tol_m_s`` m/s, for held points: :data:`HELD_M_S`), with ``True``; ``(start_s,
+    False)`` when no length up to ``max_s`` / 2 settles (a point still drifting; none on the
+    9 x 9 map). The floor was 1e-9 m/s, which let a creep near 1e-5 m/s pass at 1e-4
+    relative; on the 9 x 9 map no length changed with the lower floor.
     ``kwargs`` go to :func:`transient_reference`. The settled reference of the steady
     engine's benchmarks (``benchmarks/steady_speed.py``).
     """
