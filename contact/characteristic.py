@@ -7,6 +7,7 @@ fast problem at fixed velocity does not depend on the load.
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass
 
@@ -15,7 +16,6 @@ import numpy as np
 from contact.model import OperatingPoint
 from contact.steady import (
     ACCURACIES,
-    V_ZERO_M_S,
     branches_at_load,
     holding_range_N,
     slow_problem,
@@ -134,15 +134,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
 
-    solved: dict[float, tuple[float, float]] = {}  # the no-load point is usually a load too
-
+    @functools.cache  # the no-load point is usually one of the loads too
     def from_rest(load: float) -> tuple[float, float]:
         """Velocity (m/s) and input power (W) of the start from rest under ``load``."""
-        if load not in solved:
-            solved[load] = _from_rest(load)
-        return solved[load]
-
-    def _from_rest(load: float) -> tuple[float, float]:
         if accuracy == "exact":
             r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
                              load_N=load, coupling=coupling,
@@ -176,11 +170,9 @@ def _stall_force(sp) -> float:
     slider from rest: the averaged thrust at 0+ where that is positive, at 0- where that is
     negative (a motor driving backward, e.g. one with ``A_b`` reversed), else 0 (the guide
     and the tip hold the slider: the dead zone)."""
-    # G(0-) from the orbit at 0+, as contact.steady.branches_at_load takes it, so that the
-    # stall load is exactly where that function's dead zone begins on either side
-    o0 = sp.orbit(V_ZERO_M_S)
-    forward = o0.mean_FT_N - sp.guide_N(o0)
+    # as contact.steady.branches_at_load takes them, so that the stall load is exactly
+    # where that function's dead zone begins on either side
+    forward, backward = sp.thrust_at_rest()
     if forward > 0.0:
         return float(forward)
-    backward = o0.mean_FT_N + sp.guide_N(o0)
     return float(backward) if backward < 0.0 else 0.0

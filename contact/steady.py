@@ -289,6 +289,17 @@ class SlowProblem:
         o = self.orbit(v)
         return o.mean_FT_N - math.copysign(1.0, v) * self.guide_N(o)
 
+    def thrust_at_rest(self) -> tuple[float, float]:
+        """``(G(0+), G(0-))`` (N): the thrust as the slider leaves rest forward and backward.
+
+        Both come from the orbit at 0+: the fast problem has no guide (it enters G only), and
+        the tip's orbits at +-V_ZERO_M_S differ by a drift of 2e-9 m/s (on the 81 map points
+        and the 14 N line the branches are the same to 1e-9 as with an orbit at -V_ZERO_M_S).
+        The slider is held without load where ``G(0+) <= 0 <= G(0-)``.
+        """
+        o = self.orbit(V_ZERO_M_S)
+        return o.mean_FT_N - self.guide_N(o), o.mean_FT_N + self.guide_N(o)
+
 
 def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "paper",
                  ultrasonic_friction: bool = True, mu_d_eff: float | None = None,
@@ -408,12 +419,7 @@ def branches_at_load(sp: SlowProblem, load_N: float, *,
 
     Without ``energy`` the branches' powers are NaN (:func:`_branch`)."""
     found: list[tuple[float, bool]] = []  # (velocity, stable)
-    # G(0-) from the orbit at 0+: the fast problem has no guide (it enters G only), and the
-    # tip's orbits at +-V_ZERO_M_S differ by a drift of 2e-9 m/s (on the 81 map points and
-    # the 14 N line the branches are the same to 1e-9 as with an orbit at -V_ZERO_M_S)
-    o0 = sp.orbit(V_ZERO_M_S)
-    g_pos = o0.mean_FT_N - sp.guide_N(o0) - load_N
-    g_neg = o0.mean_FT_N + sp.guide_N(o0) - load_N
+    g_pos, g_neg = (g - load_N for g in sp.thrust_at_rest())
     # backward motion needs G(0-) < 0: only then is the negative side searched
     for sign in (1.0, -1.0) if g_neg < 0 else (1.0,):
         vs = sign * scan_grid(sp.v_floor_m_s, sp.v_max_m_s)

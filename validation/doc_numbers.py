@@ -996,13 +996,13 @@ def _steady_point() -> dict[str, float]:
     out: dict[str, float] = {}
     times: dict[str, list[float]] = {"transient": [], "coarse": [], "fast": [], "exact": []}
     bench = _bench("steady_speed")
-    coarse_dt = 1.0 / (40e3 * bench.COARSE_STEPS)
     for _ in range(3):
         t = time.perf_counter()
         out["transient"] = transient_reference(p, 200, 14, duration_s=0.3)[0]
         times["transient"].append(time.perf_counter() - t)
         t = time.perf_counter()
-        out["coarse"] = transient_reference(p, 200, 14, duration_s=0.3, dt_s=coarse_dt)[0]
+        out["coarse"] = transient_reference(p, 200, 14, duration_s=0.3,
+                                             dt_s=bench.COARSE_DT_S)[0]
         times["coarse"].append(time.perf_counter() - t)
         for acc in ("fast", "exact"):
             t = time.perf_counter()
@@ -1070,17 +1070,14 @@ def _steady_characteristic() -> dict[str, float]:
 def _steady_load_limits() -> dict[str, float]:
     """Loads at 400 V / 14 N (docs/steady.md "Loads the motor cannot carry")."""
     from contact.characteristic import characteristic
-    from contact.steady import V_ZERO_M_S, steady_state, transient_reference
+    from contact.model import OperatingPoint
+    from contact.steady import slow_problem, steady_state, transient_reference
 
     c = characteristic(_table2(), 400, 14, [3.5])
     r = steady_state(_table2(), 400, 14, load_N=3.5, accuracy="exact", energy=False)
-    from contact.model import OperatingPoint
-    from contact.steady import slow_problem
-
     sp = slow_problem(_table2(), OperatingPoint(400.0, 14.0, 40e3))
-    o = sp.orbit(V_ZERO_M_S)
     return {"holding_low": c.holding_range_N[0], "holding_high": c.holding_range_N[1],
-            "guide_hold": o.mean_FT_N + sp.guide_N(o),
+            "guide_hold": sp.thrust_at_rest()[1],
             "back_m_s": r.velocity_m_s,
             "back_transient_m_s": transient_reference(_table2(), 400, 14, load_N=3.5,
                                                       duration_s=1.2)[0]}
