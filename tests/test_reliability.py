@@ -617,3 +617,27 @@ def test_the_kernels_refusal_is_bad_input_but_other_runtime_errors_are_bugs(
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and all(w in err for w in words), err
     assert "max_events_per_step" not in err and "dt_s" not in err  # the CLI's words only
+
+
+@pytest.mark.parametrize("exc, code, last", [
+    (KeyboardInterrupt(), 130, "lusm params: interrupted"),
+    (ValueError("voltage_V must be a finite number >= 0 V, got nan"), 2,
+     "lusm params: error: --voltage: voltage_V must be a finite number >= 0 V, got nan"),
+])
+def test_the_last_line_is_its_own_after_an_open_progress_bar(exc, code, last, monkeypatch,
+                                                             capsys):
+    # a bar left open by an interrupted loop has no line end: the command's one line was
+    # printed after its text (seen with Ctrl-C during lusm map)
+    from tqdm import tqdm
+
+    import validation.cmd_params as cmd
+
+    def command(args):
+        bar = tqdm(total=10, desc="work", file=sys.stderr)
+        bar.update(3)
+        raise exc
+
+    monkeypatch.setattr(cmd, "run", command)
+    assert main(["params"]) == code
+    err = capsys.readouterr().err
+    assert err.endswith("\n") and err.splitlines()[-1] == last

@@ -118,6 +118,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     return _run(args, argv)
 
 
+def _say(line: str) -> None:
+    """Print the one line a command ends with on stderr, on a line of its own.
+
+    A progress bar the command left open (it was interrupted or failed inside the loop) is
+    closed first: its text has no line end, so the line would otherwise be printed after it,
+    and on a terminal over it. Only bars of an already imported tqdm are looked at.
+    """
+    tqdm_module = sys.modules.get("tqdm")
+    if tqdm_module is not None:
+        for bar in list(getattr(tqdm_module.tqdm, "_instances", ())):
+            bar.close()
+    print(line, file=sys.stderr)
+
+
 def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
     """Run the parsed command; map every way it can end to an exit code and one line."""
     from contact.errors import ChatteringError
@@ -133,7 +147,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
             args.func(args)
             interrupts.checkpoint()  # a signal Python had to swallow still ends the command
     except (KeyboardInterrupt, interrupts.Terminated):
-        print(f"{prog}: interrupted", file=sys.stderr)
+        _say(f"{prog}: interrupted")
         return 130
     except BrokenPipeError:  # the reader left (``lusm params | head``): stop quietly, as
         # the Python docs advise, so that flushing stdout at exit does not fail again
@@ -142,7 +156,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
         return 1
     except (LusmError, ValueError, OSError, ChatteringError) as exc:
         err = exc if isinstance(exc, LusmError) else user_error(exc)
-        print(f"{prog}: error: {_one_line(str(err))}", file=sys.stderr)
+        _say(f"{prog}: error: {_one_line(str(err))}")
         if os.environ.get(DEBUG_ENV):
             raise
         return 2
@@ -150,8 +164,8 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
         if os.environ.get(DEBUG_ENV):
             raise
         text = _one_line(str(exc))[:300]
-        print(f"{prog}: internal error: {type(exc).__name__}: {text} - please report it "
-              f"(run with {DEBUG_ENV}=1 for the traceback)", file=sys.stderr)
+        _say(f"{prog}: internal error: {type(exc).__name__}: {text} - please report it "
+             f"(run with {DEBUG_ENV}=1 for the traceback)")
         return 1
     finally:
         if argv is None:
