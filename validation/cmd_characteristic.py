@@ -11,6 +11,7 @@ from validation.options import (
     add_output_options,
     coupling_of,
     figure_set,
+    known_frequency,
     motor_params_of,
     moved,
     output_folder,
@@ -71,8 +72,7 @@ def run(args: argparse.Namespace) -> None:
     plot = output_folder(args, "characteristic", "--plot")
     voltages = args.voltage  # a tuple: --voltage takes A,B,...
     warn_drive(max(voltages), args.preload)
-    if args.frequency.strip().lower() != "auto":
-        parse_frequency(args.frequency)  # refuse a bad number before any work
+    known_frequency(args.frequency)  # a bad number refused before any work
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)

@@ -14,6 +14,7 @@ from validation.options import (
     coupling_of,
     figure_set,
     integer,
+    known_frequency,
     motor_params_of,
     moved,
     output_folder,
@@ -74,9 +75,9 @@ def run(args: argparse.Namespace) -> None:
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
     warn_drive(float(volts.max()), float(loads.max()))
-    auto = args.frequency.strip().lower() == "auto"
-    if not auto:  # refused before any work; 'auto' needs the parameter set first
-        _check_size(args, volts, loads, parse_frequency(args.frequency))
+    known = known_frequency(args.frequency)
+    if known is not None:  # refused before any work; 'auto' needs the parameter set first
+        _check_size(args, volts, loads, known)
     if args.method == "steady" and volts.size * loads.size > limits.work_bound(
             limits.MAX_STEADY_POINTS):
         raise LusmError(
@@ -86,7 +87,7 @@ def run(args: argparse.Namespace) -> None:
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
-    if auto:
+    if known is None:
         _check_size(args, volts, loads, freq)
 
     from contact.maps import stick_slip_map
@@ -121,7 +122,8 @@ def run(args: argparse.Namespace) -> None:
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
-    print(f"frequency {freq:.6g} Hz" + (" (auto: the set's own operating point)" if auto else ""))
+    auto_note = " (auto: the set's own operating point)" if known is None else ""
+    print(f"frequency {freq:.6g} Hz{auto_note}")
     print(f"counts: {m.counts()}  wall time {m.wall_time_s:.2f} s ({m.method}"
           + (f", {args.accuracy})" if m.method == "steady" else f", {args.duration:g} s runs)"))
     if m.method == "steady":

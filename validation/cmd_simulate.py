@@ -13,6 +13,7 @@ from validation.options import (
     check_run_size,
     coupling_of,
     figure_set,
+    known_frequency,
     motor_params_of,
     moved,
     output_folder,
@@ -59,8 +60,9 @@ def run(args: argparse.Namespace) -> None:
     plot = output_folder(args, "simulate", "--plot")  # refused before any work
     for v in voltages:
         warn_drive(v, args.preload)
-    if args.frequency.strip().lower() != "auto":
-        check_run_size(args.duration, args.dt, parse_frequency(args.frequency))
+    known = known_frequency(args.frequency)  # 'auto' needs the parameter set first
+    if known is not None:
+        check_run_size(args.duration, args.dt, known)
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)

@@ -480,6 +480,14 @@ def parse_frequency(text: str | float, params=None) -> float:
     return value
 
 
+def known_frequency(text: str | float) -> float | None:
+    """``--frequency`` in Hz before the parameter set is known: None for 'auto' (which needs
+    the set), else the number, a bad one refused at once (before any work)."""
+    if isinstance(text, str) and text.strip().lower() == "auto":
+        return None
+    return parse_frequency(text)
+
+
 def warn_drive(voltage_V: float | None, preload_N: float | None) -> None:
     """Warn (stderr) for operating points outside the range where Table 2 was measured."""
     if voltage_V == 0 and preload_N == 0:
