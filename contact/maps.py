@@ -188,11 +188,18 @@ def stick_slip_map(
         }
         bar = tqdm(total=len(futures), desc=f"stick-slip map ({method})", unit="point",
                    disable=not progress)
-        for fut in as_completed(futures):
-            i, j = futures[fut]
-            (motion[i, j], vel[i, j], stick[i, j], sep[i, j], mud[i, j], settled[i, j],
-             branches[i, j], fallback[i, j]) = fut.result()
-            bar.update()
-        bar.close()
+        try:
+            for fut in as_completed(futures):
+                i, j = futures[fut]
+                (motion[i, j], vel[i, j], stick[i, j], sep[i, j], mud[i, j], settled[i, j],
+                 branches[i, j], fallback[i, j]) = fut.result()
+                bar.update()
+        except BaseException:
+            # an interrupt or a failed point: drop the points not started, or leaving the
+            # block would wait for every one of them (tens of seconds on a large map)
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        finally:
+            bar.close()
     return StickSlipMap(v, f, motion.astype(str), vel, stick, sep, mud, settled,
                         time.perf_counter() - t0, method, branches, fallback)
