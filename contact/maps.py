@@ -97,7 +97,12 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
                    for x in r.branches if x.stable)
     decided = bool(np.isfinite(r.velocity_m_s) and (b.k > 0 or b.motion == "dead-zone"))
     if not decided:
-        long = dataclasses.replace(opts, duration_s=max(opts.duration_s, FALLBACK_DURATION_S))
+        # within the drive period's limits whatever the map's options (the steady map does
+        # not check them against the frequency)
+        period = 1.0 / frequency_Hz
+        long = dataclasses.replace(
+            opts, duration_s=max(opts.duration_s, FALLBACK_DURATION_S, 10 * period),
+            dt_s=min(opts.dt_s, period / 20))
         t = simulate(params, voltage_V, preload_N, frequency_Hz, long)
         st = t.steady
         return (st.motion, st.velocity_m_s, st.stick_fraction, st.separation_fraction,
@@ -163,12 +168,6 @@ def stick_slip_map(
     fallback = np.zeros(shape, dtype=bool)
     n_workers = workers or os.cpu_count() or 1
     t0 = time.perf_counter()
-    # compile (or load from cache) once before the threads start
-    warm = {"duration_s": 10 / frequency_Hz}
-    if method == "steady":  # the steady engine picks its own step
-        warm["dt_s"] = 1 / (250 * frequency_Hz)
-    simulate(params, float(v[0]), float(f[0]), frequency_Hz,
-             SimulationOptions(**{**opts.__dict__, **warm}))
     if method == "steady":
         def task(vi: float, fj: float):
             return _steady_point(params, vi, fj, frequency_Hz, opts, accuracy)
@@ -178,6 +177,12 @@ def stick_slip_map(
             s = r.steady
             return (s.motion, s.velocity_m_s, s.stick_fraction, s.separation_fraction,
                     r.mu_d_eff, s.settled, (), False)
+    # compile (or load from cache) once before the threads start: the first point, kept
+    # (the steady engine's own step, not --dt, which a frequency far from 40 kHz refuses)
+    first = task(float(v[0]), float(f[0])) if method == "steady" else None
+    if first is None:
+        simulate(params, float(v[0]), float(f[0]), frequency_Hz,
+                 SimulationOptions(**{**opts.__dict__, "duration_s": 10 / frequency_Hz}))
     with threadpool_limits(limits=1, user_api="blas"), ThreadPoolExecutor(
         max_workers=n_workers
     ) as pool:
@@ -185,9 +190,14 @@ def stick_slip_map(
             pool.submit(task, float(v[i]), float(f[j])): (i, j)
             for i in range(v.size)
             for j in range(f.size)
+            if first is None or (i, j) != (0, 0)
         }
-        bar = tqdm(total=len(futures), desc=f"stick-slip map ({method})", unit="point",
+        bar = tqdm(total=v.size * f.size, desc=f"stick-slip map ({method})", unit="point",
                    disable=not progress)
+        if first is not None:
+            (motion[0, 0], vel[0, 0], stick[0, 0], sep[0, 0], mud[0, 0], settled[0, 0],
+             branches[0, 0], fallback[0, 0]) = first
+            bar.update()
         try:
             for fut in as_completed(futures):
                 i, j = futures[fut]

@@ -43,7 +43,7 @@ from contact.model import (
 )
 from contact.results import EnergyBalance, SchemeOutput, SteadyState, Trace, steady_metrics
 from contact.state import ERR_CHATTER, OK
-from contact.window import RunWindow, run_window
+from contact.window import MIN_PERIODS, RunWindow, run_window
 from rom.params import MotorParams
 
 PRE_PASS_PERIODS = 60
@@ -279,13 +279,24 @@ def simulate(
     opts = options or SimulationOptions()
     if option_overrides:
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})
-    window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
+    dt_a_n = opts.dt_s
+    if method == "steady":
+        # the steady engine takes its own step and length: duration_s and dt_s are not
+        # used (checked against the frequency, the defaults would refuse a drive below
+        # 200 Hz or above 500 kHz); the window only carries the phase fractions, and Eq. 11's
+        # pre-pass (separating points) takes 250 steps per period (1e-7 s at 40 kHz, the
+        # transients' default)
+        window = run_window(op, MIN_PERIODS * op.period_s, op.period_s / 20.0,
+                            opts.steady_periods)
+        dt_a_n = op.period_s / 250.0
+    else:
+        window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
     module, _, name = METHODS[method].partition(":")
     scheme = getattr(importlib.import_module(module), name)
 
     t0 = time.perf_counter()
     if opts.ultrasonic_friction:
-        a_n = normal_amplitude(params, op, opts.dt_s)
+        a_n = normal_amplitude(params, op, dt_a_n)
         mu_d_eff = dynamic_friction(params, a_n)
     else:
         a_n = float("nan")

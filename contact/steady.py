@@ -113,6 +113,10 @@ no short period, whose samples are the scan's most expensive ones and give only 
 averages. A root below it is still bracketed (from 0+ to the floor); at the exact level the
 full model's orbit from rest decides such a point (the creep points, ``docs/steady.md``)."""
 
+MAX_STEPS_PER_PERIOD = 20_000
+"""Steps per drive period above which the steady engine refuses: it resolves the fastest
+mode of the contact model in every period, and thousands of periods at a drive far below it
+would take minutes (Table 2's set at 14 N: below about 15 Hz; 50 Hz takes 2 s)."""
 ORBIT_TOL = 1e-11
 """Scaled periodicity defect at which a fast orbit is accepted (``accuracy="fast"``: the
 averaged roots are the answer, to about 1e-10)."""
@@ -322,6 +326,11 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     else:
         mu = params.mu_d
     fs = fast_system(params, op, mu, coupling)
+    if fs.steps_per_period > MAX_STEPS_PER_PERIOD:
+        raise ValueError(
+            f"frequency_Hz = {op.frequency_Hz:g} Hz is too far below the stator's fastest mode "
+            f"for the steady engine: {fs.steps_per_period} steps per drive period, above "
+            f"{MAX_STEPS_PER_PERIOD} (it resolves that mode in every period)")
     _, b_amp = free_tip_amplitudes(params, op.frequency_Hz, op.voltage_V)
     v_max = max(1.5 * float(b_amp) * op.omega, 1e-6)
     floor = min(max(SCAN_FLOOR_FACTOR * ripple_scale(params, op, mu), 1e-5 * v_max),

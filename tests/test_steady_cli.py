@@ -103,3 +103,35 @@ def test_map_takes_the_sets_own_frequency(capsys):
     ref = steady_state(p, 200, 14, frequency_Hz=f, coupling="consistent", accuracy="exact",
                        energy=False)
     assert doc["steady_velocity_m_s"][0][0] == pytest.approx(ref.velocity_m_s, rel=1e-9)
+
+
+@pytest.mark.parametrize("frequency_Hz", [100.0, 1e6])
+def test_steady_commands_do_not_check_the_transients_step(capsys, frequency_Hz):
+    # --steady and the steady map take their own step: the default --duration (0.05 s) is
+    # under 10 periods at 100 Hz and the default --dt (1e-7 s) over 1/(20 f) at 1 MHz, which
+    # refused these drives though nobody typed either option. The answer is a transient's
+    # at a step and length valid there (far from resonance the slider stays held)
+    from contact.simulate import SimulationOptions, simulate
+    from rom import table2
+
+    freq = f"{frequency_Hz:g}"
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--frequency", freq,
+                 "--steady", "--json"]) == 0
+    steady = json.loads(capsys.readouterr().out)
+    assert main(["map", "--voltages", "200", "--preloads", "14", "--frequency", freq,
+                 "--json"]) == 0
+    mapped = json.loads(capsys.readouterr().out)
+    t = simulate(table2(), 200, 14, frequency_Hz,
+                 SimulationOptions(duration_s=max(0.05, 20 / frequency_Hz),
+                                   dt_s=min(1e-7, 1 / (20 * frequency_Hz))))
+    assert t.steady.motion == steady["motion"] == mapped["motion"][0][0]
+    assert abs(steady["steady_velocity_m_s"] - t.steady.velocity_m_s) <= 1e-9
+    assert mapped["steady_velocity_m_s"][0][0] == pytest.approx(steady["steady_velocity_m_s"],
+                                                                abs=1e-12)
+
+
+def test_a_drive_too_slow_for_the_steady_engine_is_refused_in_one_line(capsys):
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--frequency", "1",
+                 "--steady"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--frequency" in err[0] and "steps per drive period" in err[0]

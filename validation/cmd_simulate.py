@@ -61,12 +61,13 @@ def run(args: argparse.Namespace) -> None:
     for v in voltages:
         warn_drive(v, args.preload)
     known = known_frequency(args.frequency)  # 'auto' needs the parameter set first
-    if known is not None:
+    if known is not None and not args.steady:  # --steady uses neither --duration nor --dt
         check_run_size(args.duration, args.dt, known)
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
-    check_run_size(args.duration, args.dt, freq)
+    if not args.steady:
+        check_run_size(args.duration, args.dt, freq)
 
     from contact.errors import RunawayError
     from validation.summaries import coupling_line, damping_line, damping_summary

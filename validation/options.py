@@ -501,6 +501,18 @@ def warn_drive(voltage_V: float | None, preload_N: float | None) -> None:
              "stiffness and friction constants were not validated there")
 
 
+def check_steps(duration_s: float, dt_s: float) -> float:
+    """Time steps of one run of ``duration_s`` at ``dt_s`` (a float: inf or 1e300 are
+    compared, never allocated); refused above :data:`validation.limits.MAX_STEPS`."""
+    steps = duration_s / dt_s
+    top = limits.work_bound(limits.MAX_STEPS)
+    if not steps <= top:
+        raise LusmError(f"--duration {duration_s:g} s / --dt {dt_s:g} s is {steps:.3g} time "
+                        f"steps, above the limit {top:.3g}; raise --dt or shorten --duration "
+                        f"({limits.more_work_hint()})", "--dt")
+    return steps
+
+
 def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
                    runs: int = 1) -> int:
     """Steps of one run; refuse runs beyond the work bounds before anything is allocated.
@@ -520,12 +532,7 @@ def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
     if periods < 10 * (1 - 1e-12):
         raise LusmError(f"--duration must be >= 10 drive periods = {10 / frequency_Hz:.4g} s "
                         f"at --frequency {frequency_Hz:g} Hz, got {duration_s:g}", "--duration")
-    steps = duration_s / dt_s  # a float: inf or 1e300 are compared, never allocated
-    top = limits.work_bound(limits.MAX_STEPS)
-    if not steps <= top:
-        raise LusmError(f"--duration {duration_s:g} s / --dt {dt_s:g} s is {steps:.3g} time "
-                        f"steps, above the limit {top:.3g}; raise --dt or shorten --duration "
-                        f"({limits.more_work_hint()})", "--dt")
+    steps = check_steps(duration_s, dt_s)
     window = min(steps, 5.0 / (frequency_Hz * dt_s))  # the last 5 periods, every step
     wtop = limits.work_bound(limits.MAX_WINDOW_STEPS)
     if window > wtop:
