@@ -42,7 +42,8 @@ class Characteristic:
         zone.
     load_N, velocity_m_s, input_power_W, output_power_W, efficiency : ndarray
         The curves: load (N), velocity from rest (m/s), electrical input power (W), mechanical
-        output power ``load * v`` (W) and their ratio (-). The velocity is NaN at a load the
+        output power ``load * v`` (W) and their ratio (-), NaN where the motor takes
+        mechanical power in (output power < 0). The velocity is NaN at a load the
         slider runs away under (outside ``holding_range_N``, or wherever a start from rest
         reaches no steady state).
     holding_range_N : tuple of float
@@ -51,9 +52,11 @@ class Characteristic:
         without bound, below the lower one (a load pushing it forward) forward. NaN where
         the tip does not slide throughout at the scan's end (e.g. no drive).
     accuracy : str
-        Level of the velocities and powers (:data:`contact.steady.ACCURACIES`). The stall
-        force, the holding range and the default loads come from the averaged slow equation
-        at either level.
+        Level of the velocities, powers, stall force and default loads
+        (:data:`contact.steady.ACCURACIES`). At ``"exact"`` the stall force is where the full
+        model's velocity from rest crosses zero, beyond the averaged one: the finite slider
+        creeps on through the band the averaging calls held. The holding range comes from
+        the averaged slow equation at either level.
     wall_time_s : float
     orbits : int
         Fast-problem orbits solved.
@@ -128,11 +131,6 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     op = OperatingPoint(float(voltage_V), float(preload_N),
                         40e3 if frequency_Hz is None else float(frequency_Hz))
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
-    stall = _stall_force(sp)
-    if loads_N is None:  # held without load (dead zone): the one load 0
-        loads = np.linspace(0.0, stall, points) if stall != 0.0 else np.zeros(1)
-    else:
-        loads = np.asarray(loads_N, dtype=float).ravel()
 
     @functools.cache  # the no-load point is usually one of the loads too
     def from_rest(load: float) -> tuple[float, float]:
@@ -150,6 +148,14 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     from tqdm import tqdm
 
     v0 = from_rest(0.0)[0]
+    stall = _stall_force(sp)
+    if accuracy == "exact":
+        stall = _full_model_stall_force(lambda load: from_rest(load)[0], v0, stall,
+                                        sp.thrust_at_rest())
+    if loads_N is None:  # held without load (dead zone): the one load 0
+        loads = np.linspace(0.0, stall, points) if stall != 0.0 else np.zeros(1)
+    else:
+        loads = np.asarray(loads_N, dtype=float).ravel()
     vel, p_in, p_out = [], [], []
     for load in tqdm(loads, desc=f"characteristic {op.voltage_V:g} V", unit="load",
                      disable=not progress, delay=1.0, leave=False):
@@ -159,7 +165,10 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         p_out.append(float(load) * v + 0.0)  # + 0.0: 0 W at no load, not -0 W backward
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
     with np.errstate(divide="ignore", invalid="ignore"):
-        eff = np.where(p_in_a > 0, p_out_a / p_in_a, np.nan)
+        # defined where the motor works as a motor: electrical power in, mechanical power
+        # out. A load pushing the slider along (or driving it backward) puts mechanical
+        # power in too, and a ratio of the two is no efficiency (it came out below 0)
+        eff = np.where((p_in_a > 0) & (p_out_a >= 0), p_out_a / p_in_a, np.nan)
     hold = tuple(float(f) for f in holding_range_N(sp))
     return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0, len(sp.cache))
@@ -176,3 +185,48 @@ def _stall_force(sp) -> float:
     if forward > 0.0:
         return float(forward)
     return float(backward) if backward < 0.0 else 0.0
+
+
+def _full_model_stall_force(velocity, v0: float, averaged: float,
+                            thrust_at_rest: tuple[float, float]) -> float:
+    """The smallest load (N, signed as ``load_N``) under which the full model's start from
+    rest no longer moves the slider the way it drives it without load; 0 if it is held.
+
+    ``velocity(load)`` is the exact level's velocity from rest (m/s, NaN for a run-away).
+    Where the tip separates, the guide's hold drops with the normal force within every
+    period, and the slider creeps through the band the averaged slow equation calls held
+    (``averaged`` to ``G(0-)``): the full model's stall force lies inside it (Table 2's set,
+    400 V / 14 N: 2.18 N against the averaged 1.735 N). A held band (velocity within
+    :data:`contact.steady.HELD_M_S` of 0) counts as stopped, so its lower end is found; a
+    creep crossing 0 is found by ``brentq`` to 1e-9 relative.
+    """
+    import math
+
+    from scipy.optimize import brentq
+
+    from contact.steady import HELD_M_S
+
+    if not abs(v0) > HELD_M_S:
+        return 0.0
+    s = math.copysign(1.0, v0)
+
+    def moving(load: float) -> float:
+        # > 0 while the slider still moves the way it is driven; held, reversed or run
+        # away: < 0 (held as a small negative, so that the held band's lower end is a root)
+        v = s * velocity(load)
+        return v if v > HELD_M_S else (min(v, -HELD_M_S) if math.isfinite(v) else -1.0)
+
+    lo, hi = 0.0, averaged
+    if averaged == 0.0 or moving(averaged) > 0:
+        # the averaging stops the slider too early: search up to where its motion reverses
+        # (the other side's thrust at rest), then beyond it in steps of the averaged stall
+        lo = averaged
+        hi = thrust_at_rest[1] if s > 0 else thrust_at_rest[0]
+        step = abs(hi - lo) or abs(averaged) or 1.0
+        for _ in range(20):
+            if moving(hi) <= 0:
+                break
+            lo, hi = hi, hi + s * step
+        else:
+            return math.nan
+    return float(brentq(moving, lo, hi, xtol=1e-12, rtol=1e-9))
