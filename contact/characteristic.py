@@ -8,14 +8,17 @@ fast problem at fixed velocity does not depend on the load.
 from __future__ import annotations
 
 import functools
+import math
 import time
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from contact.model import OperatingPoint
 from contact.steady import (
     ACCURACIES,
+    HELD_M_S,
     branches_at_load,
     holding_range_N,
     slow_problem,
@@ -35,11 +38,12 @@ class Characteristic:
     no_load_velocity_m_s : float
         Steady velocity from rest without load (m/s).
     stall_force_N : float
-        Load at which the velocity from rest falls to zero (N), signed as ``load_N``:
-        ``F_T(0+) - mu_sd (F_N + M g)`` for a motor that drives the slider forward, and
-        ``F_T(0-) + mu_sd (F_N + M g)`` (negative: a load pushing the slider forward) for one
-        that drives it backward, as the same motor with ``A_b`` reversed does; 0 in the dead
-        zone.
+        Load at which the velocity from rest falls to zero (N), signed as ``load_N``. At the
+        fast level ``F_T(0+) - mu_sd (F_N + M g)`` for a motor that drives the slider
+        forward, and ``F_T(0-) + mu_sd (F_N + M g)`` (negative: a load pushing the slider
+        forward) for one that drives it backward, as the same motor with ``A_b`` reversed
+        does; 0 in the dead zone. At the exact level the full model's zero crossing beyond
+        it (``accuracy``).
     load_N, velocity_m_s, input_power_W, output_power_W, efficiency : ndarray
         The curves: load (N), velocity from rest (m/s), electrical input power (W), mechanical
         output power ``load * v`` (W) and their ratio (-), NaN where the motor takes
@@ -193,19 +197,15 @@ def _full_model_stall_force(velocity, v0: float, averaged: float,
     rest no longer moves the slider the way it drives it without load; 0 if it is held.
 
     ``velocity(load)`` is the exact level's velocity from rest (m/s, NaN for a run-away).
-    Where the tip separates, the guide's hold drops with the normal force within every
-    period, and the slider creeps through the band the averaged slow equation calls held
-    (``averaged`` to ``G(0-)``): the full model's stall force lies inside it (Table 2's set,
-    400 V / 14 N: 2.18 N against the averaged 1.735 N). A held band (velocity within
+    The finite slider follows the tip's force within every period, not only its average:
+    in stick (and, where the tip separates, as the guide's hold drops with the normal force)
+    it is pulled on, and it creeps through the band the averaged slow equation calls held
+    (``averaged`` to ``G(0-)``). The full model's stall force lies inside that band (Table
+    2's set at 14 N: 2.16 N against the averaged 1.735 N at 400 V, 0.945 N against 0.408 N
+    at 200 V; ``lusm characteristic --accuracy exact``). A held band (velocity within
     :data:`contact.steady.HELD_M_S` of 0) counts as stopped, so its lower end is found; a
     creep crossing 0 is found by ``brentq`` to 1e-9 relative.
     """
-    import math
-
-    from scipy.optimize import brentq
-
-    from contact.steady import HELD_M_S
-
     if not abs(v0) > HELD_M_S:
         return 0.0
     s = math.copysign(1.0, v0)

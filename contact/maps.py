@@ -177,10 +177,13 @@ def stick_slip_map(
             s = r.steady
             return (s.motion, s.velocity_m_s, s.stick_fraction, s.separation_fraction,
                     r.mu_d_eff, s.settled, (), False)
-    # compile (or load from cache) once before the threads start: the first point, kept
-    # (the steady engine's own step, not --dt, which a frequency far from 40 kHz refuses)
-    first = task(float(v[0]), float(f[0])) if method == "steady" else None
-    if first is None:
+    # compile (or load from cache) once before the threads start. Steady: the first point
+    # itself, kept (at the engine's own step; a warm-up transient at T/250 fails the step
+    # check far below 40 kHz). Transient: a 10-period run at the map's step
+    first = None
+    if method == "steady":
+        first = task(float(v[0]), float(f[0]))
+    else:
         simulate(params, float(v[0]), float(f[0]), frequency_Hz,
                  SimulationOptions(**{**opts.__dict__, "duration_s": 10 / frequency_Hz}))
     with threadpool_limits(limits=1, user_api="blas"), ThreadPoolExecutor(

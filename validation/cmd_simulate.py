@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> None:
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
-    if not args.steady:
+    if known is None and not args.steady:  # a number was checked above
         check_run_size(args.duration, args.dt, freq)
 
     from contact.errors import RunawayError

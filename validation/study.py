@@ -410,8 +410,9 @@ def _check_work(study: Study, where: str) -> None:
     if study.n_drive_points > top:
         raise ValueError(f"{where}axes: {study.n_drive_points} drive points per geometry is "
                          f"above the limit {top} ({limits.more_work_hint()})")
-    if study.needs_motor and study.solver.method != "steady":  # the steady engine's step
-        s = study.solver                                      # is its own
+    # the steady engine takes its own step: solver.duration and solver.dt are not used
+    if study.needs_motor and study.solver.method != "steady":
+        s = study.solver
         steps = s.duration_s / s.dt_s
         top = limits.work_bound(limits.MAX_STEPS)
         if steps > top:
