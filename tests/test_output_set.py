@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -40,8 +41,57 @@ def test_a_report_replaces_only_its_own_files(tmp_path):
     (out / "notes.md").write_text("user notes")
     with output_set(out, "report") as stage:
         _write(stage, {"index.md": "new", "figures/keep.png": "k2"})
+    # the earlier set's figure the new one does not write is kept, not deleted
     assert _snapshot(out) == {"index.md": "new", "figures/keep.png": "k2",
+                              "figures/old.png": "o",
                               "figures/mine.txt": "user", "notes.md": "user notes"}
+
+
+def test_an_earlier_sets_file_stays_lusms_to_replace(tmp_path):
+    # a sweep over length, then one over width, then length again: both figures are kept,
+    # and the third run replaces the first one's figure without a backup (it is unchanged)
+    out = tmp_path / "s"
+    for axis, text in [("length", "L1"), ("width", "W"), ("length", "L2")]:
+        with output_set(out, "figures") as stage:
+            _write(stage, {f"sweep_{axis}.png": text})
+    assert _snapshot(out) == {"sweep_length.png": "L2", "sweep_width.png": "W"}
+
+
+def test_a_file_the_user_edited_is_kept_as_a_backup(tmp_path, capsys):
+    out = tmp_path / "r"
+    with output_set(out, "figures") as stage:
+        _write(stage, {"B2.png": "lusm", "sub/a.txt": "lusm"})
+    (out / "B2.png").write_text("annotated by the user")
+    with output_set(out, "figures") as stage:
+        _write(stage, {"B2.png": "new", "sub/a.txt": "new"})
+    assert _snapshot(out) == {"B2.png": "new", "B2.png.bak-1": "annotated by the user",
+                              "sub/a.txt": "new"}
+    assert "B2.png.bak-1" in capsys.readouterr().err
+
+
+def test_a_marker_without_hashes_never_costs_a_file(tmp_path):
+    # a marker from before hashes were recorded cannot tell an edit: the old file is kept
+    out = tmp_path / "r"
+    _write(out, {"B2.png": "maybe edited", MARKER: '{"kind": "figures", "files": ["B2.png"]}'})
+    with output_set(out, "figures") as stage:
+        _write(stage, {"B2.png": "new"})
+    assert _snapshot(out) == {"B2.png": "new", "B2.png.bak-1": "maybe edited"}
+
+
+@pytest.mark.parametrize("entry", ["../victim.txt", "ABSOLUTE", "sub/../../victim.txt",
+                                   "link/victim.txt", "", ".", "./B2.png"])
+def test_a_planted_marker_cannot_reach_outside_the_folder(tmp_path, entry):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    out = tmp_path / "r"
+    out.mkdir()
+    (out / "link").symlink_to(tmp_path, target_is_directory=True)
+    name = str(victim) if entry == "ABSOLUTE" else entry
+    (out / MARKER).write_text(json.dumps({"kind": "figures", "files": [name, "B2.png"]}))
+    with output_set(out, "figures", force=True) as stage:
+        _write(stage, {"B2.png": "new", "victim.txt": "new"})
+    assert victim.read_text() == "precious"
+    assert (out / "victim.txt").read_text() == "new"
 
 
 def test_a_folder_that_is_not_a_report_is_refused_and_left_alone(tmp_path):

@@ -591,8 +591,10 @@ def test_an_export_is_moved_in_complete(tmp_path, capsys):
     capsys.readouterr()
     assert main(["modes", "--refine", "2", "--export", str(out)]) == 2  # not overwritten
     assert "already exists" in capsys.readouterr().err
+    first = out.read_bytes()
     assert main(["modes", "--refine", "2", "--export", str(out), "--force"]) == 0
-    assert sorted(p.name for p in out.parent.iterdir()) == ["m.vtu"]
+    assert sorted(p.name for p in out.parent.iterdir()) == ["m.vtu", "m.vtu.bak-1"]
+    assert (out.parent / "m.vtu.bak-1").read_bytes() == first  # --force keeps the old file
 
 
 @pytest.mark.parametrize("exc, code, words", [

@@ -8,6 +8,7 @@ never imports scikit-fem.
 from __future__ import annotations
 
 import argparse
+import sys
 
 from validation import limits
 from validation.options import add_output_options, add_plate_options, integer, print_json
@@ -41,7 +42,8 @@ def register(subparsers) -> None:
         help="write the mesh with the mode shapes as point data (meshio format by extension, "
         "e.g. modes.vtu for ParaView); an existing file is not overwritten unless --force",
     )
-    p.add_argument("--force", action="store_true", help="replace an existing --export file")
+    p.add_argument("--force", action="store_true",
+                   help="write --export over an existing file (the old one is kept as .bak-N)")
     p.set_defaults(func=run)
 
 
@@ -288,6 +290,7 @@ def _write_export(path, model, res, force: bool, writer) -> None:
 
     from validation.errors import LusmError
     from validation.interrupts import checkpoint
+    from validation.output_set import backup_name
 
     path.parent.mkdir(parents=True, exist_ok=True)
     stage = tempfile.mkdtemp(prefix=f".{path.stem}-partial-", dir=path.parent)
@@ -305,6 +308,11 @@ def _write_export(path, model, res, force: bool, writer) -> None:
                             "exists; choose a new name or pass --force", "--export")
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
         for n in names:
-            os.replace(os.path.join(stage, n), path.parent / n)
+            dst = path.parent / n
+            if dst.exists() or dst.is_symlink():  # --force: the old file is kept, not lost
+                backup = backup_name(dst)
+                os.replace(dst, backup)
+                print(f"lusm modes: kept the earlier {dst} as {backup.name}", file=sys.stderr)
+            os.replace(os.path.join(stage, n), dst)
     finally:
         shutil.rmtree(stage, ignore_errors=True)

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from validation.interrupts import checkpoint
+from validation.output_set import backup_name
 from validation.study import AXIS_KIND, DRIVE_AXES, GEOMETRY_AXES, OUTPUTS, SI_UNIT, Study
 
 FE_SCALARS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff_L1", "k_eff_B2",
@@ -439,18 +440,10 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
         ds.to_netcdf(tmp, engine="h5netcdf")
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
         if out.exists():
-            os.replace(out, _backup_of(out))
+            os.replace(out, backup_name(out))
         os.replace(tmp, out)
     finally:
         tmp.unlink(missing_ok=True)
-
-
-def _backup_of(path: Path) -> Path:
-    """The first free ``NAME.bak-N`` beside ``path``."""
-    n = 1
-    while path.with_name(f"{path.name}.bak-{n}").exists():
-        n += 1
-    return path.with_name(f"{path.name}.bak-{n}")
 
 
 def check_out(out: Path, force: bool) -> None:

@@ -2,18 +2,27 @@
 
 Every command that writes more than one file (a report, a folder of figures, an export) writes
 them into a staging folder beside the target, and only when all of them exist moves them in.
-A folder that lusm wrote carries a marker, :data:`MARKER`, listing the files it wrote; a new
-output set may replace those files and nothing else.
+A folder that lusm wrote carries a marker, :data:`MARKER`, listing the files it wrote with the
+SHA-256 of each as written; a new output set may replace those files, as long as they are still
+what lusm wrote, and nothing else.
 
 The rules, for a target folder ``DIR``:
 
 * ``DIR`` does not exist, or is empty: the set is moved in, with its marker.
-* ``DIR`` holds a marker of the same kind: the files that marker lists are replaced; files the
-  user added beside them are left as they are. A user file standing where the new set wants to
-  write is refused (or, with ``force``, kept under a ``.bak-N`` name).
+* ``DIR`` holds a marker of the same kind: a file it lists that the new set writes again is
+  replaced if its content is still what lusm wrote; if the user edited it (or the marker has no
+  hash for it) it is kept as ``NAME.bak-N``. Files of the earlier set that the new one does not
+  write stay where they are (a second ``lusm sweep`` over another axis keeps the first one's
+  figure), and stay listed as lusm's. Files the user added beside them are left as they are. A
+  user file standing where the new set wants to write is refused (or, with ``force``, kept
+  under a ``.bak-N`` name).
 * ``DIR`` is non-empty and has no marker of this kind: refused, unless ``force``; with
   ``force`` the set is written beside the user's files, and any of them whose name the set
-  needs is renamed to ``NAME.bak-N`` first. Nothing is ever deleted that lusm did not write.
+  needs is renamed to ``NAME.bak-N`` first.
+
+Nothing is ever deleted. A marker is only trusted for plain relative names inside ``DIR``: an
+entry such as ``../x`` or ``/home/u/x`` (a hand-edited or planted marker) is ignored, so no file
+outside the folder is ever touched.
 
 A failure or interruption at any point before the move leaves ``DIR`` exactly as it was, and
 the staging folder is removed.
@@ -21,9 +30,11 @@ the staging folder is removed.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
+import sys
 import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -48,13 +59,63 @@ def _read_marker(folder: Path) -> dict | None:
     return doc
 
 
+def _safe_name(folder: Path, name: object) -> bool:
+    """Whether a marker entry is a plain relative path that stays inside ``folder``.
+
+    Rejects absolute paths, ``..`` parts, empty or ``.`` parts, the marker itself, and names
+    that a symlinked folder inside ``folder`` would lead outside it.
+    """
+    if not isinstance(name, str) or not name or "\\" in name or "\x00" in name:
+        return False
+    parts = name.split("/")
+    if name.startswith("/") or any(p in ("", ".", "..") for p in parts) or name == MARKER:
+        return False
+    root = folder.resolve()
+    parent = (folder / name).parent.resolve()
+    return parent == root or root in parent.parents
+
+
+def _digest(path: Path) -> str | None:
+    """SHA-256 of a regular file's content; None for a symlink, folder or unreadable file."""
+    if path.is_symlink() or not path.is_file():
+        return None
+    try:
+        with path.open("rb") as f:
+            return hashlib.file_digest(f, "sha256").hexdigest()
+    except OSError:
+        return None
+
+
+def _ours(folder: Path, kind: str) -> dict[str, str | None]:
+    """Files the marker of ``kind`` in ``folder`` lists, each with its hash as written.
+
+    Unsafe entries are dropped; an entry without a recorded hash maps to None (a marker
+    written before hashes were kept), so it is never taken as unchanged.
+    """
+    marker = _read_marker(folder)
+    if marker is None or marker.get("kind") != kind:
+        return {}
+    hashes = marker.get("sha256")
+    hashes = hashes if isinstance(hashes, dict) else {}
+    return {f: (hashes.get(f) if isinstance(hashes.get(f), str) else None)
+            for f in marker["files"] if _safe_name(folder, f)}
+
+
+def _write_marker(folder: Path, kind: str, hashes: dict[str, str | None]) -> None:
+    files = sorted(hashes)
+    doc = {"kind": kind, "files": files,
+           "sha256": {f: hashes[f] for f in files if hashes[f] is not None}}
+    (folder / MARKER).write_text(json.dumps(doc, indent=1))
+
+
 def _files_below(folder: Path) -> list[str]:
     """Relative POSIX paths of every file (not folder) below ``folder``, sorted."""
     return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*")
                   if p.is_file() or p.is_symlink())
 
 
-def _backup_name(path: Path) -> Path:
+def backup_name(path: Path) -> Path:
+    """The first free ``NAME.bak-N`` beside ``path`` (N = 1, 2, ...)."""
     n = 1
     while True:
         candidate = path.with_name(f"{path.name}.bak-{n}")
@@ -142,52 +203,46 @@ def _commit(stage: Path, target: Path, kind: str, force: bool) -> None:
 
     checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
     new_files = _files_below(stage)
+    new_hashes = {f: _digest(stage / f) for f in new_files}
     if not target.exists() or (target.is_dir() and not any(target.iterdir())):
         target.parent.mkdir(parents=True, exist_ok=True)
-        (stage / MARKER).write_text(json.dumps({"kind": kind, "files": new_files}, indent=1))
+        _write_marker(stage, kind, new_hashes)
         if target.exists():
             target.rmdir()  # empty: nothing of the user's is in it
         os.replace(stage, target)
         stage.mkdir()  # so the caller's cleanup has something to remove
         return
-    marker = _read_marker(target)
-    ours = set(marker["files"]) if marker and marker.get("kind") == kind else set()
+    ours = _ours(target, kind)
     # Re-check now that the work is done: the folder may have changed meanwhile.
     if not ours and not force:
         check_target(target, kind, force=False)
-    collisions = [f for f in new_files if (target / f).exists() and f not in ours]
+    collisions = [f for f in new_files
+                  if (target / f).exists() or (target / f).is_symlink()]
     # A folder in the way of a new file, or a file in the way of a new folder, collides too.
     for f in new_files:
         for parent in Path(f).parents:
             p = target / parent
-            if str(parent) != "." and p.exists() and not p.is_dir():
+            if str(parent) != "." and (p.is_symlink() or (p.exists() and not p.is_dir())):
                 collisions.append(parent.as_posix())
-    if collisions and not force:
-        raise OutputError(f"--out {target} already holds {collisions[0]!r}, which lusm did not "
+    # lusm's own earlier file, unchanged since it was written, is simply replaced; one the
+    # user edited (or whose hash the marker lacks) is kept aside like any user file.
+    replace = {f for f in collisions if f in new_hashes
+               and f in ours and ours[f] is not None and _digest(target / f) == ours[f]}
+    edited = sorted({f for f in collisions if f in ours} - replace)
+    foreign = sorted(set(collisions) - set(ours))
+    if foreign and not force:
+        raise OutputError(f"--out {target} already holds {foreign[0]!r}, which lusm did not "
                           "write; move it away or pass --force (it is kept as a .bak file)")
-    for f in sorted(set(collisions)):
-        os.replace(target / f, _backup_name(target / f))
-    for f in ours:  # lusm's own earlier files: replaced by the new set
-        p = target / f
-        if p.is_file() or p.is_symlink():
-            p.unlink()
+    for f in [*edited, *foreign]:
+        backup = backup_name(target / f)
+        os.replace(target / f, backup)
+        print(f"lusm: kept {target / f} as {backup.name} (it is not what lusm wrote there)",
+              file=sys.stderr)
     for f in new_files:
         dst = target / f
         dst.parent.mkdir(parents=True, exist_ok=True)
         os.replace(stage / f, dst)
-    _prune_empty(target, {str(Path(f).parent) for f in ours})
-    (target / MARKER).write_text(json.dumps({"kind": kind, "files": new_files}, indent=1))
-
-
-def _prune_empty(target: Path, folders: set[str]) -> None:
-    """Remove folders an earlier set of ours left empty (deepest first; never the target)."""
-    for rel in sorted(folders, key=lambda s: -len(Path(s).parts)):
-        if rel in ("", "."):
-            continue
-        p = target / rel
-        while p != target:
-            try:
-                p.rmdir()
-            except OSError:
-                break
-            p = p.parent
+    # Earlier files the new set did not rewrite stay, and stay lusm's.
+    kept = {f: h for f, h in ours.items() if f not in new_hashes and f not in edited
+            and f not in foreign and (target / f).is_file()}
+    _write_marker(target, kind, {**kept, **new_hashes})
