@@ -310,3 +310,47 @@ def test_steady_method_gives_the_loaded_answers():
     assert v0 > 0 and stall > 0.2
     assert v[0] == pytest.approx(v0, rel=1e-6) and 0 < v[1] < v[0]
     assert 0 < float(ds["peak_efficiency"].values.ravel()[0]) < 1
+
+
+def test_ctrl_c_to_the_process_group_prints_one_line_per_fact(tmp_path):
+    # a terminal's Ctrl-C reaches the client and every worker process: only the client may
+    # answer (workers printed their KeyboardInterrupt tracebacks, the scheduler its cancelled
+    # gathers: 66 lines), and the finished parts are kept for --resume
+    import subprocess
+    import sys
+    import time
+
+    from tests.conftest import ROOT
+
+    path = tmp_path / "study.toml"  # TINY over 40 lengths
+    path.write_text("""outputs = ["f_L1_short", "no_load_velocity", "velocity"]
+[axes]
+length = { start = "28 mm", stop = "32 mm", num = 40 }
+width = ["7 mm", "8 mm"]
+voltage = ["200 V", "300 V"]
+preload = "6 N"
+load = ["0 N", "1 N"]
+[solver]
+fe_order = 2
+fe_refine = 1
+duration = "4 ms"
+dt = "100 ns"
+""")
+    out = tmp_path / "r.nc"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "validation.cli", "explore", str(path), "--out", str(out),
+         ], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    parts = parts_folder(out)
+    deadline = time.monotonic() + 120
+    while not list(parts.glob("g*.npz")) and time.monotonic() < deadline \
+            and proc.poll() is None:
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    lines = err.strip().splitlines()
+    assert lines[-1] == "lusm explore: interrupted", err
+    assert len(lines) == 2 and "--resume" in lines[0], err  # nothing from dask
+    assert list(parts.glob("g*.npz")) and not out.exists()

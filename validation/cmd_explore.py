@@ -71,9 +71,14 @@ def run(args: argparse.Namespace) -> None:
     if plot is not None:
         from validation.explore import design_maps
 
-        ds = open_result(result.path)
-        with figure_set(plot, "explore", "--plot", args.force) as stage:
-            result.figures = moved(design_maps(ds, stage), stage, plot)
+        try:
+            ds = open_result(result.path)
+            with figure_set(plot, "explore", "--plot", args.force) as stage:
+                result.figures = moved(design_maps(ds, stage), stage, plot)
+        except (KeyboardInterrupt, Terminated):
+            print(f"lusm explore: {result.path} is complete; the --plot maps were not written",
+                  file=sys.stderr)
+            raise
     summary = result.to_dict()
     if args.json:
         print_json(summary, indent=2)

@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from validation.interrupts import checkpoint
+from validation.interrupts import checkpoint, quiet_logs_after_signal
 from validation.output_set import backup_name
 from validation.study import AXIS_KIND, DRIVE_AXES, GEOMETRY_AXES, OUTPUTS, SI_UNIT, Study
 
@@ -474,11 +474,46 @@ def worker_env() -> dict[str, str]:
 
 
 def local_cluster(n_workers: int = DEFAULT_WORKERS):
-    """A LocalCluster of ``n_workers`` processes with one thread each and no dashboard."""
+    """A LocalCluster of ``n_workers`` processes with one thread each and no dashboard.
+
+    The worker processes ignore SIGINT: a terminal's Ctrl-C goes to the whole process group,
+    and each worker would print its own KeyboardInterrupt traceback while the client is
+    already stopping them (the client closes them on the way out). An ignored signal stays
+    ignored across the spawn's exec, and Python then installs no KeyboardInterrupt handler
+    (a blocked mask would not do: the spawn clears it). SIGINT is also blocked while the
+    cluster starts, so a Ctrl-C in those seconds is not lost: it is delivered, and the
+    cluster closed, as soon as the start returns.
+    """
+    import signal
+    import threading
+
     from distributed import LocalCluster
 
-    return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                        dashboard_address=None, silence_logs=logging.ERROR, env=worker_env())
+    def start():
+        # no dashboard; the scheduler's plain HTTP routes on a free local port, not 8787
+        # (a second cluster on the machine printed "Port 8787 is already in use")
+        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                            dashboard_address=None, silence_logs=logging.ERROR,
+                            env=worker_env(),
+                            scheduler_kwargs={"dashboard": False,
+                                              "dashboard_address": "127.0.0.1:0"})
+
+    if threading.current_thread() is not threading.main_thread():
+        return start()  # signal dispositions belong to the main thread
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    cluster = None
+    try:
+        cluster = start()
+    finally:
+        signal.signal(signal.SIGINT, handler)
+        try:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a pending Ctrl-C raises here
+        except BaseException:
+            if cluster is not None:
+                cluster.close()
+            raise
+    return cluster
 
 
 def connect(scheduler: str | None = None, scheduler_file: str | None = None,
@@ -578,52 +613,58 @@ def explore(
     result = ExploreResult(out, study.n_geometries, study.n_drive_points, reused=len(parts))
     todo = [i for i in range(study.n_geometries) if i not in parts]
     own = None  # the client (and cluster) made here, closed here
-    if todo:
-        if client is None:
+    # after a Ctrl-C, dask's teardown of the cancelled work is not news: keep stderr to our line
+    with quiet_logs_after_signal("distributed", "tornado", "tornado.application"):
+        if todo:
+            if client is None:
+                try:
+                    client, cluster = connect(scheduler, scheduler_file, workers)
+                    own = (client, cluster)
+                    if cluster is None:  # someone else's workers: same lusm as ours?
+                        check_workers(client, "--scheduler" if scheduler else "--scheduler-file")
+                except BaseException:
+                    if own is not None:
+                        own[0].close()
+                    if created:  # nothing was computed: leave no trace
+                        _remove_parts(folder, study.n_geometries)
+                    raise
             try:
-                client, cluster = connect(scheduler, scheduler_file, workers)
-                own = (client, cluster)
-                if cluster is None:  # someone else's workers: same lusm as ours?
-                    check_workers(client, "--scheduler" if scheduler else "--scheduler-file")
+                result.workers = len(client.scheduler_info()["workers"])
+                run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
+                futures = [client.submit(compute_geometry, study, i, pure=False,
+                                         key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
+                           for i in todo]
+                index = {f.key: i for f, i in zip(futures, todo, strict=True)}
+                bar = _bar(len(todo) + len(parts), len(parts), progress)
+                try:
+                    for fut in as_completed(futures):
+                        data = fut.result()
+                        i = index[fut.key]
+                        result.task_times_s.append(float(data["task_time_s"]))
+                        result.result_bytes += len(pickle.dumps(data, protocol=5))
+                        tw = time.perf_counter()
+                        _write_part(folder, i, data)
+                        result.part_write_time_s += time.perf_counter() - tw
+                        parts[i] = {k: v for k, v in data.items() if k != "task_time_s"}
+                        result.computed += 1
+                        bar.update(1)
+                        fut.release()
+                        checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
+                        if on_part is not None:
+                            on_part(i)
+                finally:
+                    bar.close()
+                    for f in futures:
+                        f.cancel()
             except BaseException:
-                if own is not None:
-                    own[0].close()
-                if created:  # nothing was computed: leave no trace
+                if created and result.computed == 0:  # nothing was computed: leave no trace
                     _remove_parts(folder, study.n_geometries)
                 raise
-        try:
-            result.workers = len(client.scheduler_info()["workers"])
-            run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
-            futures = [client.submit(compute_geometry, study, i, pure=False,
-                                     key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
-                       for i in todo]
-            index = {f.key: i for f, i in zip(futures, todo, strict=True)}
-            bar = _bar(len(todo) + len(parts), len(parts), progress)
-            try:
-                for fut in as_completed(futures):
-                    data = fut.result()
-                    i = index[fut.key]
-                    result.task_times_s.append(float(data["task_time_s"]))
-                    result.result_bytes += len(pickle.dumps(data, protocol=5))
-                    tw = time.perf_counter()
-                    _write_part(folder, i, data)
-                    result.part_write_time_s += time.perf_counter() - tw
-                    parts[i] = {k: v for k, v in data.items() if k != "task_time_s"}
-                    result.computed += 1
-                    bar.update(1)
-                    fut.release()
-                    checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
-                    if on_part is not None:
-                        on_part(i)
             finally:
-                bar.close()
-                for f in futures:
-                    f.cancel()
-        finally:
-            if own is not None:
-                own[0].close()
-                if own[1] is not None:
-                    own[1].close()
+                if own is not None:
+                    own[0].close()
+                    if own[1] is not None:
+                        own[1].close()
     t1 = time.perf_counter()
     ds = assemble(study, parts)
     write_dataset(ds, out, force)

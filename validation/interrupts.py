@@ -17,6 +17,7 @@ unraisable exception is reported as before).
 
 from __future__ import annotations
 
+import logging
 import signal
 import sys
 import threading
@@ -60,6 +61,41 @@ def checkpoint() -> None:
     if one arrived, so that no output is moved in after the user asked to stop."""
     if _pending is not None:
         raise _pending
+
+
+def pending() -> bool:
+    """Whether a Ctrl-C or SIGTERM arrived since :func:`handlers` was entered."""
+    return _pending is not None
+
+
+class QuietAfterSignal(logging.Filter):
+    """A logging filter that drops every record once a signal is pending.
+
+    Libraries that run an event loop in another thread (dask.distributed) log the teardown
+    of their interrupted work (cancelled gathers, callbacks that lost their future) as
+    errors; after the user asked to stop, those are noise, not news.
+    """
+
+    def filter(self, record: logging.LogRecord) -> bool:  # noqa: A003 - logging's name
+        return _pending is None
+
+
+@contextmanager
+def quiet_logs_after_signal(*names: str) -> Iterator[None]:
+    """Attach :class:`QuietAfterSignal` to the handlers of the loggers ``names`` (and their
+    own records), for the duration of the block."""
+    quiet = QuietAfterSignal()
+    attached = []
+    for name in names:
+        logger = logging.getLogger(name)
+        for target in [logger, *logger.handlers]:
+            target.addFilter(quiet)
+            attached.append(target)
+    try:
+        yield
+    finally:
+        for target in attached:
+            target.removeFilter(quiet)
 
 
 @contextmanager
