@@ -455,9 +455,16 @@ def test_work_bounds_can_be_raised_on_purpose(monkeypatch, capsys):
         check_run_size(0.05, 2e-9, 40e3)
     monkeypatch.setenv("LUSM_MAX_WORK", "2")
     assert check_run_size(0.05, 2e-9, 40e3) == 25_000_000
-    monkeypatch.setenv("LUSM_MAX_WORK", "lots")
-    assert main(["params"]) == 2
-    assert "LUSM_MAX_WORK" in capsys.readouterr().err
+    # a bad factor is the variable's fault, even when an option's bound would have used it
+    # first (it was blamed on --refine), and a huge one is refused, not an OverflowError
+    for value in ["lots", "0", "1e308", "inf"]:
+        monkeypatch.setenv("LUSM_MAX_WORK", value)
+        for argv in (["params"], ["modes", "--refine", "3"]):
+            assert main(argv) == 2
+            err = capsys.readouterr().err.strip()
+            assert err.startswith("lusm: error: LUSM_MAX_WORK must be a number in "
+                                  "[1, 1000000]"), err
+            assert len(err.splitlines()) == 1 and repr(value) in err
 
 
 def test_warnings_where_the_model_stops_meaning_anything(capsys):
@@ -643,3 +650,16 @@ def test_the_last_line_is_its_own_after_an_open_progress_bar(exc, code, last, mo
     assert main(["params"]) == code
     err = capsys.readouterr().err
     assert err.endswith("\n") and err.splitlines()[-1] == last
+
+
+def test_a_ctrl_c_before_the_command_starts_is_one_line(monkeypatch, capsys):
+    # Ctrl-C during the first fraction of a second (imports, the BLAS probe, parsing) printed
+    # a KeyboardInterrupt traceback: it is the same interruption as later on
+    import validation.cli as cli
+
+    def interrupted():
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "build_parser", interrupted)
+    assert main(["params"]) == 130
+    assert capsys.readouterr().err.strip() == "lusm: interrupted"

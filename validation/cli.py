@@ -95,6 +95,15 @@ def _one_line(text: str) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lusm`` console script; returns the process exit code."""
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:  # a Ctrl-C before the command's own handlers are in place
+        # (imports, the BLAS probe, parsing): nothing has been written yet
+        _say("lusm: interrupted")
+        return 130
+
+
+def _main(argv: Sequence[str] | None) -> int:
     if argv is None:  # a fresh `lusm` process: its start is mostly imports (numba, SciPy)
         from validation import fast_start
 
@@ -103,6 +112,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     # Figures are files: the CLI picks matplotlib's file backend, library code never does.
     os.environ.setdefault("MPLBACKEND", "Agg")
+    from validation.limits import work_factor
+
+    try:  # before parsing: options' bounds use it, and the fault is not theirs
+        work_factor()
+    except ValueError as exc:
+        print(f"lusm: error: {exc}", file=sys.stderr)
+        return 2
     parser = build_parser()
     try:
         args, extra = parser.parse_known_args(argv)
@@ -140,10 +156,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
 
     prog = f"lusm {args.command}"
     try:
-        from validation.limits import work_factor
-
         with interrupts.handlers():
-            work_factor()  # a bad LUSM_MAX_WORK is refused before any command runs
             args.func(args)
             interrupts.checkpoint()  # a signal Python had to swallow still ends the command
     except (KeyboardInterrupt, interrupts.Terminated):

@@ -81,13 +81,18 @@ MAX_MESH_CELLS = 200_000
 """Surface cells of an imported stator mesh (after splitting triangles into quads)."""
 
 
+MAX_WORK_FACTOR = 1e6
+"""Largest ``LUSM_MAX_WORK``: a million times the default bounds is already years of work, and
+beyond it the bounds stop being integers a check can compare (1e308 overflowed)."""
+
+
 def work_factor() -> float:
     """The ``LUSM_MAX_WORK`` multiplier (1 when unset).
 
     Raises
     ------
     ValueError
-        If the variable is set but not a finite number >= 1.
+        If the variable is set but not a number in [1, :data:`MAX_WORK_FACTOR`].
     """
     text = os.environ.get(WORK_ENV, "").strip()
     if not text:
@@ -96,9 +101,9 @@ def work_factor() -> float:
         value = float(text)
     except ValueError:
         value = math.nan
-    if not (math.isfinite(value) and value >= 1.0):
-        raise ValueError(f"{WORK_ENV} must be a number >= 1 (multiplies the work bounds), "
-                         f"got {text!r}")
+    if not (math.isfinite(value) and 1.0 <= value <= MAX_WORK_FACTOR):
+        raise ValueError(f"{WORK_ENV} must be a number in [1, {MAX_WORK_FACTOR:.0f}] "
+                         f"(multiplies the work bounds), got {text!r}")
     return value
 
 
