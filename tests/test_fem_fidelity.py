@@ -101,6 +101,19 @@ def test_cross_section_is_converged_and_physical():
     assert lateral_permittivity_F_m(pzt8()) == pytest.approx(1290 * 8.8541878128e-12, rel=1e-4)
 
 
+def test_a_thick_blocks_cross_section_stays_small_and_converged():
+    # deep below the electrodes the potential is linear through the thickness: elements grow
+    # there, so a 1 m block (lusm modes --thickness-mm 1000) is not 50 s and 3 GB of mesh, and
+    # stays converged against a mesh twice as fine
+    ps = plane_stress(pzt8())
+    eps = (lateral_permittivity_F_m(pzt8()), ps.eps33_F_m)
+    thin = gap_cross_section(0.5e-3, 3e-3, 3.5e-3, 3.5e-3, *eps)
+    thick = [gap_cross_section(0.5e-3, 1.0, 3.5e-3, 3.5e-3, *eps, resolution=r)
+             for r in (1, 2)]
+    assert thick[0].n_dofs < 3 * thin.n_dofs
+    assert np.allclose(thick[0].c_F_m, thick[1].c_F_m, rtol=1e-3)
+
+
 def test_open_circuit_condensation_matches_dense_solution():
     """Woodbury shift-invert with the stiffness and mass updates = dense K_open, M_open."""
     m = _model(0.5e-3)
