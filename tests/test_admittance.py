@@ -126,3 +126,27 @@ def test_default_band_follows_a_40_kHz_design(capsys):
     pairs = {p["mode"]: p for p in d["pairs"]}
     assert set(pairs) == {"L1", "B2"}
     assert pairs["L1"]["f_resonance_Hz"] == pytest.approx(m.L1.f_short_Hz, rel=0.01)
+
+
+@pytest.mark.parametrize("f_Hz", [60e3, 390e3, 1.8e6])
+def test_the_mode_count_from_inertia_matches_the_eigensolve(model, f_Hz):
+    # Sylvester's law of inertia (negative pivots of K - w^2 M) against the eigenvalues
+    import math
+
+    import scipy.sparse.linalg as sla
+
+    from fem.admittance import modes_below
+
+    n = model.K.shape[0]
+    w = sla.eigsh(model.K, k=n - 2, M=model.M, sigma=-(2 * math.pi * 100.0) ** 2,
+                  which="LM", v0=np.random.default_rng(0).standard_normal(n))[0]
+    f = np.sign(w) * np.sqrt(np.abs(w)) / (2 * math.pi)
+    assert modes_below(model.K, model.M, f_Hz) == int(np.sum(f < f_Hz))
+
+
+def test_a_band_beyond_the_mesh_is_refused_before_the_eigensolve(capsys):
+    # modes up to 6 x 10 MHz on a fine mesh: the whole spectrum, which took minutes
+    assert main(["admittance", "--f-min", "1e4", "--f-max", "1e7", "--refine", "12"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm admittance: error: --f-max 1e+07 Hz") and "LUSM_MAX_WORK" in err
+    assert len(err.splitlines()) == 1

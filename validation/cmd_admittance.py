@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> None:
     electrodes = _electrodes(args.electrodes)
     choice = stator_from_args(args)
 
-    from fem.admittance import plate_admittance
+    from fem.admittance import TooManyModesError, plate_admittance
     from fem.mesh import DEFAULT_REFINE
     from fem.modes import ModeSolverError
     from rom.from_fem import design_damping
@@ -124,7 +124,13 @@ def run(args: argparse.Namespace) -> None:
         res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                args.points, electrodes=electrodes, zeta=args.zeta,
                                zeta_L1=zetas[0], zeta_B2=zetas[1],
-                               order=args.order, refine=refine)
+                               order=args.order, refine=refine,
+                               max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
+    except TooManyModesError as exc:
+        raise LusmError(
+            f"--f-max {args.f_max:g} Hz: the modes kept up to 6 x --f-max "
+            f"({exc.f_cut_Hz:.4g} Hz) number {exc.n_modes} on this mesh, above the limit "
+            f"{exc.max_modes}; lower --f-max ({limits.more_work_hint()})", "--f-max") from None
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc

@@ -75,6 +75,9 @@ MAX_LAYERS = 16
 MAX_EDGE_GRADING = 6
 """``--edge-grading`` of the 3D model (default 0): levels of lines at ``g 2^-k`` from the
 electrode edges; the brick count is bounded separately, before anything is built."""
+MAX_ADMITTANCE_MODES = 800
+"""Modes ``lusm admittance`` computes below 6 x --f-max (the default band needs ~50; 730 took
+2 s, 2 500 took 70 s: ARPACK's work grows as their square)."""
 MAX_FREQUENCY_POINTS = 200_000
 """``lusm admittance --points``."""
 MAX_MESH_CELLS = 200_000
