@@ -135,3 +135,17 @@ def test_a_drive_too_slow_for_the_steady_engine_is_refused_in_one_line(capsys):
                  "--steady"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--frequency" in err[0] and "steps per drive period" in err[0]
+
+
+@pytest.mark.parametrize("loads, words", [
+    ("0:1e9:1", ["--loads", "above the limit 2000", "LUSM_MAX_WORK"]),
+    ("0:2000:500", ["--loads must lie in [-1000, 1000] N"]),
+    ("2:1:0.1", ["--loads must be start:stop:step"]),
+])
+def test_characteristic_loads_are_bounded_like_the_other_grids(loads, words, capsys):
+    from validation.cli import main
+
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
+                 loads]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and all(w in err for w in words), err

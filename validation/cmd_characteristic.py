@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from validation import limits
 from validation.options import (
     add_drive_options,
     add_motor_options,
@@ -19,9 +20,6 @@ from validation.options import (
     print_json,
     warn_drive,
 )
-
-MAX_LOADS = 1000
-"""Largest number of loads one call evaluates (work is bounded before it starts)."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -48,22 +46,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def parse_loads(text: str) -> list[float]:
-    """``START:STOP:STEP`` (N) as a list of loads, STOP included when on the grid."""
-    parts = text.split(":")
-    msg = (f"--loads must be START:STOP:STEP in N with finite START <= STOP, STEP > 0 and at "
-           f"most {MAX_LOADS} loads, got {text!r}")
-    if len(parts) != 3:
-        raise ValueError(msg)
-    try:
-        start, stop, step = (float(x) for x in parts)
-    except ValueError:
-        raise ValueError(msg) from None
-    if not all(math.isfinite(x) for x in (start, stop, step)) or step <= 0 or stop < start:
-        raise ValueError(msg)
-    n = int(math.floor((stop - start) / step + 1e-9)) + 1
-    if n > MAX_LOADS:
-        raise ValueError(msg)
-    return [start + i * step for i in range(n)]
+    """``START:STOP:STEP`` (N) as a list of loads, STOP included when on the grid.
+
+    At most :data:`validation.limits.MAX_GRID_POINTS` loads (times ``LUSM_MAX_WORK``), each
+    within the load range of ``lusm simulate --load-N``.
+    """
+    from validation.ranges import parse_range
+
+    loads = parse_range(text, "--loads", allow_list=False)
+    top = limits.PRELOAD_N[1]
+    if max(abs(float(x)) for x in loads) > top:
+        raise ValueError(f"--loads must lie in [{-top:g}, {top:g}] N (the range of "
+                         f"simulate --load-N), got {text!r}")
+    return [float(x) for x in loads]
 
 
 def run(args: argparse.Namespace) -> None:
