@@ -354,3 +354,13 @@ dt = "100 ns"
     assert lines[-1] == "lusm explore: interrupted", err
     assert len(lines) == 2 and "--resume" in lines[0], err  # nothing from dask
     assert list(parts.glob("g*.npz")) and not out.exists()
+
+
+def test_a_studys_contact_solves_are_bounded_in_all():
+    # 1000 geometries x 2000 drive points: each bound alone allows it, the 2e6 contact solves
+    # together are refused before any work; the same grid without motor outputs is FE only
+    axes = {"length": {"start": "28 mm", "stop": "32 mm", "num": 1000},
+            "voltage": {"start": "100 V", "stop": "300 V", "num": 2000}}
+    with pytest.raises(ValueError, match="2000000 contact solves is above the limit 1000000"):
+        study_from_dict({"outputs": ["no_load_velocity"], "axes": axes})
+    assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000

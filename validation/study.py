@@ -101,6 +101,10 @@ MAX_GEOMETRIES = 100_000
 """FE solves of one study (multiplied by ``LUSM_MAX_WORK``)."""
 MAX_DRIVE_POINTS = 10_000
 """Drive points of one geometry (multiplied by ``LUSM_MAX_WORK``)."""
+MAX_STUDY_POINTS = 1_000_000
+"""Drive points of a whole study, geometries x drive points (multiplied by ``LUSM_MAX_WORK``):
+each is a contact solve (steady: milliseconds to ~0.5 s; transient: seconds), so the two
+bounds above together allowed 1e9 of them."""
 
 _QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z]+)\s*$")
 
@@ -409,6 +413,12 @@ def _check_work(study: Study, where: str) -> None:
     top = limits.work_bound(MAX_DRIVE_POINTS)
     if study.n_drive_points > top:
         raise ValueError(f"{where}axes: {study.n_drive_points} drive points per geometry is "
+                         f"above the limit {top} ({limits.more_work_hint()})")
+    top = limits.work_bound(MAX_STUDY_POINTS)
+    total = study.n_geometries * study.n_drive_points
+    if study.needs_motor and total > top:
+        raise ValueError(f"{where}axes: {study.n_geometries} geometries x "
+                         f"{study.n_drive_points} drive points = {total} contact solves is "
                          f"above the limit {top} ({limits.more_work_hint()})")
     # the steady engine takes its own step: solver.duration and solver.dt are not used
     if study.needs_motor and study.solver.method != "steady":
