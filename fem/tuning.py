@@ -315,6 +315,18 @@ def _crossing_width(solver: _Solver, length_m: float, width_m: float, rel_tol: f
     return _crossing(solver, "width", length_m, width_m, rel_tol)
 
 
+def bar_length_m(material: PiezoMaterial | str, f_Hz: float) -> float:
+    """Length (m) of a free bar whose first longitudinal mode is at ``f_Hz`` (Hz).
+
+    ``c / (2 f)`` with the bar speed ``c = sqrt(1 / (s^E_22 rho))`` along the plate's length:
+    the L1 of a slender plate, a first estimate of what a target asks for (56.4 kHz at the
+    paper's 30 mm against the 2D model's 56.2 kHz).
+    """
+    mat = get_material(material)
+    s22 = float(np.linalg.inv(mat.cE_Pa)[1, 1])
+    return math.sqrt(1.0 / (s22 * mat.rho_kg_m3)) / (2.0 * float(f_Hz))
+
+
 def tune_plate(
     target_frequency_Hz: float | None = None,
     fix: str | tuple[str, ...] = "thickness",

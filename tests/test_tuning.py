@@ -197,3 +197,15 @@ def test_cli_fixed_length(tmp_path, capsys):
     assert main(["tune", "--fix", "length", "--target-frequency", "40e3"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--fix" in err and "--target-frequency" in err
+
+
+def test_a_target_whose_plate_no_command_accepts_is_refused(capsys):
+    # 1 kHz asks for a plate about 1.7 m long: tune printed it, every other command refused it
+    from fem.tuning import bar_length_m
+    from validation.cli import main
+
+    assert bar_length_m("pzt8", 56.18e3) == pytest.approx(0.030, rel=0.01)  # the paper's L1
+    assert main(["tune", "--target-frequency", "1000"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm tune: error: --target-frequency 1000 Hz") and "mm" in err
+    assert len(err.splitlines()) == 1

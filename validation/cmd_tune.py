@@ -92,7 +92,20 @@ def run(args: argparse.Namespace) -> None:
         check_fe_size(choice.stator, args.refine)
 
     from fem.modes import ModeSolverError
-    from fem.tuning import tune_plate
+    from fem.tuning import bar_length_m, tune_plate
+
+    if args.target_frequency is not None:  # length and width tuned (held ones refused above)
+        # before any FE solve: a target whose plate is far outside the accepted sizes (the
+        # bar estimate is within a few % of the tuned length; the margin leaves the edge
+        # cases to the check after tuning)
+        est_mm = bar_length_m(choice.material, args.target_frequency) * 1e3
+        lo, hi = limits.PLATE_MM
+        if not lo / 1.2 <= est_mm <= 1.2 * hi:
+            raise LusmError(
+                f"--target-frequency {args.target_frequency:g} Hz: asks for a plate about "
+                f"{est_mm:.4g} mm long, outside the [{lo:g}, {hi:g}] mm the other commands "
+                f"accept; targets from about {args.target_frequency * est_mm / hi:.4g} to "
+                f"{args.target_frequency * est_mm / lo:.4g} Hz fit", "--target-frequency")
 
     try:
         d = tune_plate(args.target_frequency, fix=fix, material=choice.material,
@@ -107,6 +120,7 @@ def run(args: argparse.Namespace) -> None:
                             "keeps the tip, chamfers and holes as given: move them inwards "
                             "or hold a dimension with --fix length", "--geometry") from None
         raise
+    _check_tuned_plate(d, args.target_frequency)
     if args.json:
         print_json(d.to_dict())
         return
@@ -129,3 +143,29 @@ def run(args: argparse.Namespace) -> None:
     else:
         print(f"|f_L1 - f_B2| / f = {d.relative_mismatch:.2e}, FE solves {d.fe_solves}, "
               f"outer iterations {d.outer_iterations}")
+
+
+def _check_tuned_plate(d, target_Hz: float | None) -> None:
+    """Refuse a tuned plate that the other commands would refuse (outside ``PLATE_MM``).
+
+    A plate's frequencies scale as 1 / (its size) at a held thickness, so the message
+    estimates the targets whose plate fits from the one found.
+    """
+    from validation.errors import LusmError
+
+    st = d.stator
+    dims = {"length": st.length_m * 1e3, "width": st.width_m * 1e3,
+            "thickness": st.thickness_m * 1e3}
+    lo, hi = limits.PLATE_MM
+    bad = {k: v for k, v in dims.items() if not lo <= v <= hi}
+    if not bad:
+        return
+    name, value = next(iter(bad.items()))
+    option = "--target-frequency" if target_Hz is not None else "--fix"
+    where = ""
+    if target_Hz is not None:
+        size = max(dims["length"], dims["width"])
+        where = (f"; targets from about {target_Hz * size / hi:.4g} Hz give a plate within "
+                 f"{hi:g} mm")
+    raise LusmError(f"{option}: the tuned plate's {name} is {value:.4g} mm, outside the "
+                    f"[{lo:g}, {hi:g}] mm the other commands accept{where}", option)
