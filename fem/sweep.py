@@ -41,6 +41,8 @@ class SweepResult:
     material : str
     fe_solves : int
         Number of FE modal solutions.
+    failures : tuple of str
+        Why L1 and B2 were not identified at each point ('' where they were).
     """
 
     parameter: str
@@ -53,6 +55,7 @@ class SweepResult:
     base: PlateStator
     material: str
     fe_solves: int
+    failures: tuple = ()
 
     def crossings_m(self) -> np.ndarray:
         """Values (m) where ``f_B2 - f_L1`` (short circuit) changes sign (linear interp.)."""
@@ -78,6 +81,7 @@ class SweepResult:
             "crossings_mm": (self.crossings_m() * 1e3).tolist(),
             "fe_solves": self.fe_solves,
             "material": self.material,
+            "failures": [f or None for f in self.failures],
         }
 
 
@@ -135,11 +139,13 @@ def sweep_dimension(
         it = tqdm(stators, desc=f"sweep {parameter}", unit="solve")
     rows = np.full((values.size, 4), np.nan)
     spectra = []
+    failures = [""] * values.size
     for i, st in enumerate(it):
         try:
             res = plate_modes(st, mat, order, refine)
-        except ModeSolverError:
+        except ModeSolverError as exc:
             spectra.append(np.array([]))
+            failures[i] = str(exc)
             continue
         rows[i] = (res.L1.f_short_Hz, res.B2.f_short_Hz, res.L1.f_open_Hz, res.B2.f_open_Hz)
         spectra.append(np.asarray(res.frequencies_short_Hz))
@@ -154,4 +160,5 @@ def sweep_dimension(
         base=base,
         material=mat.name,
         fe_solves=values.size,
+        failures=tuple(failures),
     )

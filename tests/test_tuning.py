@@ -209,3 +209,23 @@ def test_a_target_whose_plate_no_command_accepts_is_refused(capsys):
     err = capsys.readouterr().err.strip()
     assert err.startswith("lusm tune: error: --target-frequency 1000 Hz") and "mm" in err
     assert len(err.splitlines()) == 1
+
+
+def test_a_sweep_says_where_l1_and_b2_were_not_found(capsys):
+    # plates far shorter than wide have no L1/B2 of the paper's shape: a sweep that found
+    # them nowhere exited 0 with rows of nan; one that missed some said nothing
+    from fem.sweep import sweep_dimension
+    from validation.cli import main
+
+    res = sweep_dimension("length", np.array([3e-3, 30e-3]))
+    assert res.failures[0] and not res.failures[1]
+    assert np.isnan(res.f_L1_short_Hz[0]) and np.isfinite(res.f_L1_short_Hz[1])
+    assert main(["sweep", "--length-mm", "2:4:1", "--width-mm", "7.5"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm sweep: error: --length-mm: L1 and B2 were identified at no "
+                          "point") and len(err.splitlines()) == 1
+    assert main(["sweep", "--length-mm", "3:30:27", "--width-mm", "7.5", "--json"]) == 0
+    cap = capsys.readouterr()
+    assert "warning: --length-mm: L1 and B2 were not identified at 1 of 2 points" in cap.err
+    doc = json.loads(cap.out)
+    assert doc["failures"][0] and doc["failures"][1] is None

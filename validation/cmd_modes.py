@@ -76,13 +76,17 @@ def is_fe_failure(exc: BaseException) -> bool:
         type(exc) is Exception and "Newton iteration didn't converge" in str(exc))
 
 
-def fe_failure(exc: Exception) -> ValueError:
-    """A mode-solver or sparse-solver failure on an extreme plate, as bad input."""
+def short_reason(exc: Exception | str) -> str:
+    """The solver's message on one line, long lists of numbers shortened to ``[...]``."""
     import re
 
-    text = re.sub(r"\[[^\]]{60,}\]", "[...]", " ".join(str(exc).split()))
-    return ValueError(f"the FE solve failed for this stator ({text}); check the plate "
-                      "(--geometry or --length-mm, --width-mm, --thickness-mm, --gap-mm) "
+    return re.sub(r"\[[^\]]{60,}\]", "[...]", " ".join(str(exc).split()))
+
+
+def fe_failure(exc: Exception) -> ValueError:
+    """A mode-solver or sparse-solver failure on an extreme plate, as bad input."""
+    return ValueError(f"the FE solve failed for this stator ({short_reason(exc)}); check the "
+                      "plate (--geometry or --length-mm, --width-mm, --thickness-mm, --gap-mm) "
                       "and --refine")
 
 

@@ -9,6 +9,7 @@ No physics here.
 from __future__ import annotations
 
 import argparse
+import math
 
 from validation import limits
 from validation.options import MATERIALS, add_output_options, print_json, real
@@ -137,6 +138,7 @@ def run(args: argparse.Namespace) -> None:
         if is_fe_failure(exc):
             raise fe_failure(exc) from exc
         raise
+    _report_failures(res, parameter)
     png = None
     if out is not None:
         with figure_set(out, "sweep", "--out", args.force) as stage:
@@ -148,8 +150,30 @@ def run(args: argparse.Namespace) -> None:
         return
     print(f"{parameter} (mm){'L1 short (Hz)':>16}{'B2 short (Hz)':>16}")
     for v, fl, fb in zip(res.values_m, res.f_L1_short_Hz, res.f_B2_short_Hz, strict=True):
-        print(f"{v * 1e3:>10.4g}{fl:>16.1f}{fb:>16.1f}")
+        cells = [f"{x:>16.1f}" if math.isfinite(x) else f"{'-':>16}" for x in (fl, fb)]
+        print(f"{v * 1e3:>10.4g}{''.join(cells)}")
     for xc in res.crossings_m():
         print(f"L1/B2 crossing at {parameter} {xc * 1e3:.4f} mm")
     if png is not None:
         print(f"wrote {png}")
+
+
+def _report_failures(res, parameter: str) -> None:
+    """Refuse a sweep where no point gave L1 and B2; warn about the points that did not."""
+    from validation.cmd_modes import short_reason
+    from validation.errors import LusmError
+    from validation.options import warn
+
+    bad = [i for i, f in enumerate(res.failures) if f]
+    if not bad:
+        return
+    where = ", ".join(f"{res.values_m[i] * 1e3:g}" for i in bad[:6]) + \
+        (", ..." if len(bad) > 6 else "")
+    option = f"--{parameter}-mm"
+    reason = short_reason(res.failures[bad[0]])
+    if len(bad) == len(res.failures):
+        raise LusmError(f"{option}: L1 and B2 were identified at no point of the sweep "
+                        f"({where} mm); at {res.values_m[0] * 1e3:g} mm: {reason}", option)
+    warn(f"{option}: L1 and B2 were not identified at {len(bad)} of {len(res.failures)} "
+         f"points ({where} mm; '-' in the table, a gap in the figure); at "
+         f"{res.values_m[bad[0]] * 1e3:g} mm: {reason}")
