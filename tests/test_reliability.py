@@ -663,3 +663,13 @@ def test_a_ctrl_c_before_the_command_starts_is_one_line(monkeypatch, capsys):
     monkeypatch.setattr(cli, "build_parser", interrupted)
     assert main(["params"]) == 130
     assert capsys.readouterr().err.strip() == "lusm: interrupted"
+
+
+def test_library_warnings_are_one_line_naming_the_command(capsys):
+    # the 2D model's validity warning came out in Python's form: the library's file and line,
+    # the warning's class, then the statement that raised it
+    assert main(["params", "--source", "fem", "--gap-mm", "2"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err and all(line.startswith("lusm params: warning: ") for line in err), err
+    assert any("electrode gap 2 mm exceeds thickness/6" in line for line in err)
+    assert not any("GapValidityWarning" in line or ".py:" in line for line in err)

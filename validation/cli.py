@@ -17,11 +17,13 @@ line naming it and asking for a report, the traceback only with ``LUSM_DEBUG=1``
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import re
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Iterator, Sequence
 
 COMMAND_MODULES = [
     "validation.cmd_simulate",
@@ -148,6 +150,28 @@ def _say(line: str) -> None:
     print(line, file=sys.stderr)
 
 
+@contextlib.contextmanager
+def _one_line_warnings(prog: str) -> Iterator[None]:
+    """Show every Python warning a command raises as one line, ``lusm <cmd>: warning: ...``,
+    once per message: not Python's two-line form with a library's file, line and source
+    (``fem/model.py:635: GapValidityWarning: ...`` and the statement under it).
+    ``LUSM_DEBUG=1`` keeps Python's form."""
+    if os.environ.get(DEBUG_ENV):
+        yield
+        return
+    seen: set[str] = set()
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        text = _one_line(str(message))
+        if text not in seen:
+            seen.add(text)
+            _say(f"{prog}: warning: {text}")
+
+    with warnings.catch_warnings():  # restores showwarning (and the filters) on the way out
+        warnings.showwarning = show
+        yield
+
+
 def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
     """Run the parsed command; map every way it can end to an exit code and one line."""
     from contact.errors import ChatteringError
@@ -156,7 +180,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
 
     prog = f"lusm {args.command}"
     try:
-        with interrupts.handlers():
+        with interrupts.handlers(), _one_line_warnings(prog):
             args.func(args)
             interrupts.checkpoint()  # a signal Python had to swallow still ends the command
     except (KeyboardInterrupt, interrupts.Terminated):
