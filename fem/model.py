@@ -403,7 +403,70 @@ class PiezoPlateModel:
         pts = np.atleast_2d(np.asarray(points_m, dtype=float))
         if pts.shape[0] != 2:
             pts = pts.T
-        return self.basis.probes(pts).tocsr()
+        try:
+            return self.basis.probes(pts).tocsr()
+        except Exception as exc:  # noqa: BLE001 - scikit-fem raises a bare Exception here
+            # its Newton inverse of the quad map can stall on a micrometre gap strip beside
+            # millimetre elements (--gap-mm 0.001); a parallelogram's map is affine and
+            # inverted exactly instead
+            if "Newton" not in str(exc):
+                raise
+            probe = parallelogram_probes(self.basis, pts)
+            if probe is None:
+                raise
+            return probe
+
+
+def parallelogram_probes(basis, pts: np.ndarray, chunk: int = 2_000_000) -> sp.csr_matrix | None:
+    """``basis.probes(pts)`` for a mesh of parallelogram quads, with the exact inverse map.
+
+    The quad map ``x = p0 + X (p1 - p0) + Y (p3 - p0)`` of a parallelogram is affine, so the
+    reference coordinates of a point follow from a 2x2 solve: no Newton iteration. Returns
+    None when a cell is not a parallelogram (the caller keeps scikit-fem's answer).
+
+    Parameters
+    ----------
+    basis : skfem.CellBasis
+        A basis on a ``MeshQuad1``.
+    pts : numpy.ndarray
+        Points (2, n) in m, inside the mesh.
+    chunk : int
+        Most point x cell pairs tested at once (memory).
+    """
+    mesh = basis.mesh
+    p, t = mesh.p, mesh.t
+    if t.shape[0] != 4:
+        return None
+    p0, e1, e3 = p[:, t[0]], p[:, t[1]] - p[:, t[0]], p[:, t[3]] - p[:, t[0]]
+    size = np.maximum(np.hypot(*e1), np.hypot(*e3))
+    if np.any(np.abs(p[:, t[2]] - (p0 + e1 + e3)).max(axis=0) > 1e-9 * size):
+        return None
+    det = e1[0] * e3[1] - e1[1] * e3[0]
+    n = pts.shape[1]
+    cells = np.full(n, -1)
+    ref = np.zeros((2, n))
+    step = max(1, chunk // t.shape[1])
+    tol = 1e-10
+    for a in range(0, n, step):
+        d = pts[:, a:a + step, None] - p0[:, None, :]  # (2, points, cells)
+        X = (d[0] * e3[1] - d[1] * e3[0]) / det
+        Y = (e1[0] * d[1] - e1[1] * d[0]) / det
+        inside = (X >= -tol) & (X <= 1 + tol) & (Y >= -tol) & (Y <= 1 + tol)
+        found = inside.any(axis=1)
+        first = np.argmax(inside, axis=1)
+        rows = np.arange(first.size)
+        cells[a:a + step] = np.where(found, first, -1)
+        ref[0, a:a + step] = X[rows, first]
+        ref[1, a:a + step] = Y[rows, first]
+    if np.any(cells < 0):
+        raise ValueError("a probe point lies outside the mesh")
+    X = np.clip(ref, 0.0, 1.0)[:, :, None]
+    phis = np.array([basis.elem.gbasis(basis.mapping, X, k, tind=cells)[0]
+                     for k in range(basis.Nbfun)]).flatten()
+    comp = int(np.prod(basis._base_tensor_order))
+    rows = np.tile(np.arange(comp * n, dtype=np.int32), basis.Nbfun)
+    cols = basis.element_dofs[:, np.tile(cells, comp)].flatten()
+    return sp.coo_matrix((phis, (rows, cols)), shape=(comp * n, basis.N)).tocsr()
 
 
 def _check_electrodes(electrodes: tuple[int, ...]) -> None:
