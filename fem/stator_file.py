@@ -106,7 +106,7 @@ from typing import Any
 
 import numpy as np
 
-from fem.geometry import ELECTRODES, PlateStator
+from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import MATERIAL_NAMES, PiezoMaterial, get_material
 from fem.meshed_stator import MeshedStator, bbox_mm
 
@@ -281,6 +281,9 @@ def _length_mm(
         raise ValueError(
             f"{src}: {_where(tname, key)} must lie in {lower}, {upper} mm, got {v!r}"
         )
+    if 0 < v < MIN_GAP_M / MM:  # said here in the file's unit, not by PlateStator in m
+        raise ValueError(f"{src}: {_where(tname, key)} must be 0 (touching quadrants) or at "
+                         f"least {MIN_GAP_M / MM:g} mm, got {v!r}")
     return float(v)
 
 

@@ -167,6 +167,10 @@ BAD_TOML = [
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5", r"missing \[plate\] thickness_mm"),
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[electrodes]\ngap_mm = 8",
      r"\[electrodes\] gap_mm must lie in \[0, 7.5\) mm"),
+    # below the smallest gap the file's own unit, not PlateStator's metres
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[electrodes]\n"
+     "gap_mm = 0.0001", r"\[electrodes\] gap_mm must be 0 \(touching quadrants\) or at least "
+     r"0.001 mm, got 0.0001$"),
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[electrodes]\ndrive = [1, 5]",
      r"electrode 5, which is not on the plate; allowed electrode numbers 1..4"),
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nname = \"pzt5\"",
