@@ -113,6 +113,10 @@ from fem.meshed_stator import MeshedStator, bbox_mm
 MM = 1e-3
 """One millimetre in metres."""
 
+DENSITY_RANGE_KG_M3 = (100.0, 50_000.0)
+"""``[material] rho_kg_m3`` accepted: from foams to beyond osmium (22 590). Outside it the
+frequencies leave every range the solvers are set for (1e-30 gave 5e21 Hz; 1e30 left ARPACK
+printing to the terminal)."""
 PLATE_RANGE_MM = (0.1, 1000.0)
 """Allowed plate length, width and thickness (mm), the same as the ``lusm`` plate options
 (``validation.limits.PLATE_MM``): a plate of 0.1 mm to 1 m."""
@@ -374,9 +378,11 @@ def _material(table: dict, src: str) -> PiezoMaterial:
         else:
             values[key] = getattr(base, key)
     rho = table.get("rho_kg_m3", base.rho_kg_m3 if base is not None else None)
+    lo, hi = DENSITY_RANGE_KG_M3
     if (not isinstance(rho, (int, float)) or isinstance(rho, bool) or not math.isfinite(rho)
-            or not rho > 0):
-        raise ValueError(f"{src}: [material] rho_kg_m3 must be a finite number > 0, got {rho!r}")
+            or not lo <= rho <= hi):
+        raise ValueError(f"{src}: [material] rho_kg_m3 must lie in [{lo:g}, {hi:g}] kg/m^3 "
+                         f"(solids; PZT-8 is 7600), got {rho!r}")
     name = str(table.get("name", "inline" if base is None else f"{base.name}-modified"))
     source = str(table.get("source", f"inline constants in {src}"))
     try:

@@ -177,6 +177,9 @@ BAD_TOML = [
      r"\[material\] name 'pzt5' is unknown; allowed: pzt8, paper"),
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nrho_kg_m3 = 7000",
      r"inline constants need cE_Pa"),
+    # densities no solid has: 1e-30 gave L1 at 5e21 Hz, 1e30 ARPACK's noise on the terminal
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nbase = \"pzt8\"\n"
+     "rho_kg_m3 = 1e-30", r"\[material\] rho_kg_m3 must lie in \[100, 50000\] kg/m\^3"),
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\nlenght_mm = 3",
      r"unknown key 'lenght_mm' at \[plate\]; allowed: length_mm"),
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nnmae = 1",
