@@ -172,6 +172,9 @@ BAD = {
     "missing output": ("outputs = ['f_L1_short', 'torque']\n", "outputs[1]"),
     "unit-less solver": ("[solver]\ndt = 1e-7\n", "solver.dt"),
     "gap eats the plate": ("[axes]\nwidth = '2 mm'\ngap = '3 mm'\n", "axes.gap"),
+    # said in the file's unit: it was "got (2.0,) (SI)"
+    "length too long": ("[axes]\nlength = ['30 mm', '2000 mm']\n",
+                        "axes.length values must lie in [0.1, 1000] mm, got 2000 mm"),
 }
 
 

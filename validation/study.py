@@ -300,26 +300,25 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
 
 
 def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
+    """Refuse a value outside the CLI's range for the axis, in the range's unit (mm, Hz, V,
+    N): lengths are stored in m but written, and reported, in mm."""
     kind = AXIS_KIND[name]
+    scale, unit = 1.0, {"frequency": "Hz", "voltage": "V"}.get(kind, "N")
     if kind == "length":
-        lo = 0.0 if name == "gap" else limits.PLATE_MM[0] * 1e-3
-        hi = limits.PLATE_MM[1] * 1e-3
-        ok = all(lo <= v <= hi for v in values)
-        rng = f"[{lo * 1e3:g}, {hi * 1e3:g}] mm"
+        scale, unit = 1e3, "mm"
+        lo, hi = (0.0 if name == "gap" else limits.PLATE_MM[0]), limits.PLATE_MM[1]
     elif kind == "frequency":
         lo, hi = limits.FREQUENCY_HZ
-        ok, rng = all(lo <= v <= hi for v in values), f"[{lo:g}, {hi:g}] Hz"
     elif kind == "voltage":
         lo, hi = limits.VOLTAGE_V
-        ok, rng = all(lo <= v <= hi for v in values), f"[{lo:g}, {hi:g}] V"
     elif name == "preload":
         lo, hi = limits.PRELOAD_N
-        ok, rng = all(lo <= v <= hi for v in values), f"[{lo:g}, {hi:g}] N"
     else:  # load: a braking force, >= 0
-        ok, rng = all(0.0 <= v <= limits.PRELOAD_N[1] for v in values), \
-            f"[0, {limits.PRELOAD_N[1]:g}] N"
-    if not ok:
-        raise ValueError(f"{key} values must lie in {rng}, got {values!r} (SI)")
+        lo, hi = 0.0, limits.PRELOAD_N[1]
+    bad = [v for v in values if not lo <= v * scale <= hi]
+    if bad:
+        raise ValueError(f"{key} values must lie in [{lo:g}, {hi:g}] {unit}, got "
+                         f"{bad[0] * scale:g} {unit}")
 
 
 def _solver(raw: dict, where: str) -> Solver:
