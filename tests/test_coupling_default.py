@@ -36,3 +36,26 @@ def test_cli_runs_and_names_the_coupling(capsys, extra, coupling, why):
     assert d["steady_velocity_m_s"] == r.steady.velocity_m_s
     assert main(args) == 0
     assert f"coupling {coupling} (" in capsys.readouterr().out
+
+
+def test_an_edited_copy_of_table2_is_told_why_its_speed_jumps(tmp_path, capsys):
+    # a 1e-6 edit of a saved Table 2 set switched auto to the consistent coupling and the
+    # speed several-fold, silently; the rule stands, the user is told
+    assert main(["params", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    for k in ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2"):
+        d.pop(k)
+    path = tmp_path / "t2.json"
+    path.write_text(json.dumps(d))
+    args = ["simulate", "--params", str(path), "--voltage", "200", "--preload", "14",
+            "--duration", "0.005", "--json"]
+    assert main(args) == 0
+    assert "warning" not in capsys.readouterr().err  # the unedited copy is Table 2's set
+    d["C_l"] *= 1 + 1e-6
+    path.write_text(json.dumps(d))
+    assert main(args) == 0
+    cap = capsys.readouterr()
+    assert json.loads(cap.out)["coupling"] == "consistent"
+    assert "edited copy of Table 2's" in cap.err and "--coupling paper" in cap.err
+    assert main([*args, "--coupling", "paper"]) == 0
+    assert "warning" not in capsys.readouterr().err

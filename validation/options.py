@@ -165,8 +165,17 @@ def coupling_of(args: argparse.Namespace, params) -> tuple[str, str]:
     if getattr(args, "coupling", "auto") != "auto":
         return args.coupling, "--coupling"
     from contact.model import default_coupling
+    from rom.table2 import table2
 
-    return default_coupling(params)
+    coupling, why = default_coupling(params)
+    if coupling != "paper" and params.source == table2().source:
+        # an edited copy of Table 2 (a --params file): the rule switches the coupling, which
+        # alone changes the speed several-fold; say so rather than let it pass for the edit
+        warn("this set is an edited copy of Table 2's (its source is still Table 2's), so "
+             "--coupling auto runs the work-consistent coupling, not the paper's that Table "
+             "2's own runs use; add --coupling paper to see the effect of the edit alone "
+             "(docs/contact.md 2.3.1)")
+    return coupling, why
 
 
 def params_from_file(path_text: str):
