@@ -107,11 +107,10 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
         st = t.steady
         return (st.motion, st.velocity_m_s, st.stick_fraction, st.separation_fraction,
                 t.mu_d_eff, st.settled, stable, True)
-    if b.motion == "dead-zone":  # slider held, tip stuck to it: what a transient calls so
-        motion, frac = "pure-stick", (1.0, 0.0, 0.0, 0.0)
-    else:
-        frac = b.phase_fraction
-        motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
+    # a dead zone's orbit is the held slider's: the tip stuck to it, or with no preload and
+    # no drive never pressing on it (separated, as the transient says)
+    frac = b.phase_fraction
+    motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     return (motion, float(r.velocity_m_s), float(frac[0]), float(frac[3]), r.mu_d_eff, True,
             stable, False)
 

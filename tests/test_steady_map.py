@@ -88,3 +88,16 @@ def test_an_interrupted_map_does_not_compute_the_points_left(monkeypatch, worker
         stick_slip_map(table2(), np.linspace(50, 450, 10), np.linspace(10, 26, 10),
                        workers=workers, method="steady", progress=False)
     assert len(calls) < 10  # those started before the failure was seen; 100 without the fix
+
+
+def test_steady_and_transient_maps_classify_the_edges_alike():
+    # no drive and no preload: the tip never presses (separated), which the steady map
+    # called pure-stick; a held slider under a preload is pure-stick in both
+    from contact.maps import stick_slip_map
+    from rom.table2 import table2
+
+    v, f = np.array([0.0, 100.0]), np.array([0.0, 14.0])
+    steady = stick_slip_map(table2(), v, f, method="steady", progress=False)
+    transient = stick_slip_map(table2(), v, f, method="transient", progress=False)
+    assert steady.motion[0][0] == "separated"
+    assert np.array_equal(steady.motion, transient.motion)
