@@ -137,7 +137,9 @@ class ModalPort:
         wr = 2.0 * math.pi * self.frequencies_Hz
         terms = self.a_N_V**2 / (wr**2 - w**2 + 2j * self.zeta * wr * w)
         c = self.C0_F + terms.sum(axis=-1)
-        if residual and self.C_res_F > 0.0:
+        if residual and self.C_res_F > 0.0 and math.isinf(self.f_res_Hz):
+            c = c + self.C_res_F  # a static remainder
+        elif residual and self.C_res_F > 0.0:
             w_res2 = (2.0 * math.pi * self.f_res_Hz) ** 2
             c = c + self.C_res_F * w_res2 / (w_res2 - w[..., 0] ** 2)
         return 1j * w[..., 0] * c
@@ -357,12 +359,16 @@ def modal_port(
     moment1 = float(g @ x) - float(np.sum(a_all[low] ** 2 / (w[low] - sigma)))
     moment2 = float(x @ (M @ x)) - float(np.sum(a_all[low] ** 2 / (w[low] - sigma) ** 2))
     keep = (f >= RIGID_BODY_LIMIT_HZ) & low
-    if moment1 > 0.0 and moment2 > 0.0:
-        w_res2 = sigma + moment1 / moment2
+    w_res2 = sigma + moment1 / moment2 if moment1 > 0.0 and moment2 > 0.0 else -math.inf
+    if w_res2 >= (2.0 * math.pi * f_cut) ** 2:
         c_res = moment1 * (w_res2 - sigma) / w_res2  # A_res / W_res^2 with A_res = m1^2/m2
         f_res = math.sqrt(w_res2) / (2.0 * math.pi)
-    else:  # every mode retained: nothing left over
-        c_res, f_res = 0.0, math.inf
+    else:
+        # every mode retained (nothing left over), or the moments are the roundoff of two
+        # nearly equal sums: the truncated modes all lie above the cut, so a residual mode
+        # below it is not theirs (it appeared inside a wide band as a spurious resonance);
+        # what is left is at most a static capacitance
+        c_res, f_res = max(moment1, 0.0), math.inf
     fr, vr, ar = f[keep], v[:, keep], a_all[keep]
     names = [""] * fr.size
     try:
