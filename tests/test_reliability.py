@@ -232,6 +232,7 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-edge-grading-9", ["modes", "--model", "3d", "--edge-grading", "9"],
      ["--edge-grading", "[0, 6]"]),
     ("modes-edge-grading-2d", ["modes", "--edge-grading", "1"], ["--edge-grading", "3d"]),
+    ("modes-layers-2d", ["modes", "--layers", "5"], ["--layers", "3d"]),  # was ignored
     ("modes-edge-grading-too-fine", ["modes", "--model", "3d", "--edge-grading", "6",
                                      "--gap-mm", "0.001"], ["--edge-grading", "bricks"]),
     ("modes-refine-3d", ["modes", "--model", "3d", "--refine", "40"], ["--refine", "--model 3d"]),

@@ -92,3 +92,17 @@ def test_fem_source_dispatches_to_fem_params(monkeypatch: pytest.MonkeyPatch):
         get_params("fem")
     c = compare_sources()
     assert "fem" in c.unavailable and "table2" in c.values
+
+
+def test_compare_puts_both_stator_columns_on_the_plate_given(capsys):
+    # --length-mm changed the fem column only; the beam column stayed the paper's plate
+    import json
+
+    from rom.sources import get_params
+    from validation.cli import main
+
+    assert main(["compare", "--length-mm", "40", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    beam40 = get_params("beam", length_m=0.040)
+    assert d["values"]["beam"]["f_L1_Hz"] == pytest.approx(beam40.f_L1_Hz, rel=1e-12)
+    assert beam40.f_L1_Hz < get_params("beam").f_L1_Hz  # a longer bar rings lower

@@ -124,6 +124,9 @@ def run(args: argparse.Namespace) -> None:
         check_fe_size(stator, refine, layers, "--edge-grading" if args.edge_grading else "--refine",
                       edge_grading=args.edge_grading, quarter=quarter)
     else:
+        if args.layers is not None:
+            raise LusmError("--layers applies to --model 3d only (the 2D model has no mesh "
+                            "through the thickness)", "--layers")
         if args.edge_grading:
             raise LusmError("--edge-grading applies to --model 3d only (the 2D model has "
                             "no mesh across the electrode edges' singularity)",
