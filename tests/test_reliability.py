@@ -674,3 +674,19 @@ def test_library_warnings_are_one_line_naming_the_command(capsys):
     assert err and all(line.startswith("lusm params: warning: ") for line in err), err
     assert any("electrode gap 2 mm exceeds thickness/6" in line for line in err)
     assert not any("GapValidityWarning" in line or ".py:" in line for line in err)
+
+
+def test_an_export_into_a_folder_it_cannot_write_names_the_users_file(tmp_path, monkeypatch,
+                                                                      capsys):
+    # the message named the staging folder's random name (".m-partial-xxxx")
+    import tempfile
+
+    def denied(*args, dir=None, **kwargs):
+        raise PermissionError(13, "Permission denied", os.path.join(dir, ".m-partial-abc"))
+
+    monkeypatch.setattr(tempfile, "mkdtemp", denied)
+    out = tmp_path / "ro" / "m.vtu"
+    assert main(["modes", "--refine", "2", "--export", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"lusm modes: error: --export {out}: cannot write into {out.parent} " \
+                  "(Permission denied)"

@@ -299,8 +299,12 @@ def _write_export(path, model, res, force: bool, writer) -> None:
     from validation.interrupts import checkpoint
     from validation.output_set import backup_name
 
-    path.parent.mkdir(parents=True, exist_ok=True)
-    stage = tempfile.mkdtemp(prefix=f".{path.stem}-partial-", dir=path.parent)
+    try:  # a read-only folder: name the user's file, not the staging folder's random name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        stage = tempfile.mkdtemp(prefix=f".{path.stem}-partial-", dir=path.parent)
+    except OSError as exc:
+        raise LusmError(f"--export {path}: cannot write into {path.parent} "
+                        f"({exc.strerror or exc})", "--export") from None
     try:
         staged = os.path.join(stage, path.name)
         try:
