@@ -149,3 +149,14 @@ def test_characteristic_loads_are_bounded_like_the_other_grids(loads, words, cap
                  loads]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and all(w in err for w in words), err
+
+
+def test_simulate_steady_reports_no_run_length_it_did_not_use(capsys):
+    from validation.cli import main
+
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["method"] == "steady" and d["duration_s"] is None and d["dt_s"] is None
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady"]) == 0
+    out = capsys.readouterr().out
+    assert "duration_s" not in out and "dt_s" not in out

@@ -72,8 +72,9 @@ def simulation_summary(r: SimulationResult) -> dict:
         "frequency_Hz": r.op.frequency_Hz,
         "load_N": r.op.load_N,
         "method": r.method,
-        "duration_s": r.options.duration_s,
-        "dt_s": r.options.dt_s,
+        # the steady engine takes its own step and length: none of the user's to report
+        "duration_s": None if r.method == "steady" else r.options.duration_s,
+        "dt_s": None if r.method == "steady" else r.options.dt_s,
         "coupling": r.options.coupling,
         "ultrasonic_friction": r.options.ultrasonic_friction,
         "steady_velocity_m_s": s.velocity_m_s,
