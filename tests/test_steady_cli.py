@@ -160,3 +160,19 @@ def test_simulate_steady_reports_no_run_length_it_did_not_use(capsys):
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady"]) == 0
     out = capsys.readouterr().out
     assert "duration_s" not in out and "dt_s" not in out
+
+
+@pytest.mark.parametrize("load, way", [("1000", "backward"), ("-1000", "forward")])
+def test_a_transient_under_a_load_the_motor_cannot_hold_says_so(load, way, capsys):
+    # it printed -250 m/s as the "steady velocity" without a word; the steady engine refuses
+    from validation.cli import main
+
+    args = ["simulate", "--voltage", "200", "--preload", "14", "--load-N", load,
+            "--duration", "0.01"]
+    assert main([*args, "--json"]) == 0
+    cap = capsys.readouterr()
+    d = json.loads(cap.out)
+    assert not d["settled"] and (d["steady_velocity_m_s"] < 0) == (way == "backward")
+    assert f"runs away {way}" in cap.err and len(cap.err.strip().splitlines()) == 1
+    assert main([*args[:-2], "--steady"]) == 2  # the steady engine: no steady state
+    assert f"runs away {way}" in capsys.readouterr().err

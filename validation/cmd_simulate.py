@@ -20,6 +20,7 @@ from validation.options import (
     parse_frequency,
     print_json,
     real,
+    warn,
     warn_drive,
 )
 
@@ -124,9 +125,32 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
         method="steady" if args.steady else "event",
     )
     summary = simulation_summary(r)
+    if args.load_N and not args.steady and not r.steady.settled:
+        _warn_runaway(r, coupling, not args.no_ultrasonic_friction)
     if plot is not None:
         from validation.figures import simulation_figures
 
         with figure_set(plot, "simulate", "--plot", args.force) as stage:
             summary["figures"] = moved(simulation_figures(r, stage), stage, plot)
     return summary
+
+
+def _warn_runaway(r, coupling: str, ultrasonic_friction: bool) -> None:
+    """Warn when a transient's load is beyond what the motor can hold: the slider is still
+    accelerating at the end, and the velocity printed is where the run stopped (the steady
+    engine refuses such a load; a transient reported -250 m/s at --load-N 1000)."""
+    import math
+
+    from contact.steady import holding_range_N, slow_problem
+
+    sp = slow_problem(r.params, r.op, coupling=coupling,
+                      ultrasonic_friction=ultrasonic_friction, mu_d_eff=r.mu_d_eff)
+    low, high = holding_range_N(sp)
+    load = r.op.load_N
+    if not (math.isfinite(low) and math.isfinite(high)) or low <= load <= high:
+        return
+    way = "backward" if load > high else "forward"
+    warn(f"--load-N {load:g} N is beyond the loads the motor holds at {r.op.voltage_V:g} V / "
+         f"{r.op.preload_N:g} N ({low:.4g} to {high:.4g} N at the tip's full slip): the slider "
+         f"runs away {way} and has no steady state; the velocity printed is where the run "
+         "stopped")
