@@ -126,3 +126,16 @@ def test_fuzzed_options_exit_0_or_2_naming_the_option(target, value, small_work,
         errors = [ln for ln in err.splitlines() if ": error: " in ln]
         assert len(errors) == 1, err
         assert option in errors[0], errors[0]
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["characteristic", "--voltage", "200,300,200", "--preload", "14"],
+     "--voltage lists 200 V more than once"),
+    (["map", "--voltages", "100,100", "--preloads", "14"], "--voltages lists 100 more than once"),
+])
+def test_a_value_listed_twice_is_refused_not_computed_twice(argv, words, capsys):
+    from validation.cli import main
+
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1

@@ -432,7 +432,12 @@ def real_list(option: str, unit: str, lo: float, hi: float, most: int):
             raise argparse.ArgumentTypeError(
                 f"{option} takes 1 to {most} comma-separated values in "
                 f"{_range_text(lo, hi, False, False, unit)}, got {text!r}")
-        return tuple(one(t.strip()) for t in items)
+        values = tuple(one(t.strip()) for t in items)
+        twice = sorted({v for v in values if values.count(v) > 1})
+        if twice:  # a typo more likely than a wish to compute the same curve twice
+            raise argparse.ArgumentTypeError(
+                f"{option} lists {twice[0]:g} {unit} more than once, got {text!r}")
+        return values
 
     return parse
 

@@ -66,6 +66,9 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
         ) from None
     if positive and values.min() <= 0:
         raise ValueError(f"{name} must start above 0, got {text!r}")
+    uniq, counts = np.unique(values, return_counts=True)
+    if np.any(counts > 1):  # a typo more likely than a wish to compute a point twice
+        raise ValueError(f"{name} lists {uniq[counts > 1][0]:g} more than once, got {text!r}")
     if values.size > top:
         raise too_many(values.size)
     return values
