@@ -20,6 +20,7 @@ import numpy as np
 
 from contact import event_kernel, orbit_kernel
 from contact import state as S
+from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.model import HybridSystem, OperatingPoint, build_system
 from contact.periodic_orbit import propagator_ladder, run_whole_periods, steps_for
@@ -126,7 +127,7 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
     amp[1], amp[3] = omega * amp[0], omega * amp[2]
     amp[4] = max(abs(z[S.DX]), fs.phi_Bl * amp[3] * 1e-3, 1e-9)
     s = fs.system
-    code, z, mode, res, periods, it, jac, free = orbit_kernel.shoot_full(
+    code, z, mode, res, periods, it, jac, free = call_held(orbit_kernel.shoot_full,
         z, mode, int(k), amp, float(fs.phi_Bl), fs.steps_per_period, fs.dt_s, fs.phi,
         fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m, s.ft_m, s.ff_m, s.funcs,
         s.scalars, float(tol), int(max_newton))
@@ -153,7 +154,7 @@ def velocity_ripple(fs: FullSystem, z: np.ndarray, mode: int, k: int = 1) -> flo
     z = np.array(z, dtype=float)
     z[S.X] = 0.0
     n = fs.steps_per_period * k
-    out = event_kernel.integrate_switch_model(
+    out = call_held(event_kernel.integrate_switch_model,
         z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
         s.ft_m, s.ff_m, s.funcs, s.scalars, n, 1, 1, False, 64)
     if out[0] != S.OK:

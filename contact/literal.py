@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from contact import literal_kernel as lk
+from contact.deferred_signals import call_held
 from contact.model import OperatingPoint, gamma_T, static_deflection_m
 from contact.results import SchemeOutput
 from contact.window import RunWindow
@@ -48,7 +49,7 @@ def solve_literal(params: MotorParams, op: OperatingPoint, opts, window: RunWind
     marks = np.array([window.win_start,
                       int(round(window.previous_start_s / dt)),
                       int(round(window.previous_end_s / dt))], dtype=np.int64)
-    y, x_marks, counts, n_switches, nfev = lk.integrate_literal_switch(
+    y, x_marks, counts, n_switches, nfev = call_held(lk.integrate_literal_switch,
         y0, window.n_steps, dt, pack_parameters(params, op, mu_d_eff, opts.coupling),
         float(opts.stick_band_m_s), window.win_start, marks)
     v_prev = ((x_marks[2] - x_marks[1]) / window.window_s if window.previous_start_s >= 0

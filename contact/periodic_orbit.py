@@ -27,6 +27,7 @@ import numpy as np
 
 from contact import event_kernel, orbit_kernel
 from contact import state as S
+from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.expm import expm_stack
 from contact.model import HybridSystem, OperatingPoint, build_system
@@ -235,7 +236,7 @@ def run_whole_periods(system: HybridSystem, z: np.ndarray, mode: int, periods: i
     z = np.array(z, dtype=float)
     z[S.X] = 0.0
     n = steps * periods
-    out = event_kernel.integrate_switch_model(
+    out = call_held(event_kernel.integrate_switch_model,
         z, mode, n, dt, phi, half, system.A, system.ev_h, system.ev_dh, system.ev_type,
         system.fn_m, system.ft_m, system.ff_m, system.funcs, system.scalars,
         0 if window else n, n, 1, energy, 64)
@@ -361,7 +362,7 @@ def _find(fs: FastSystem, v: float, z: np.ndarray, mode: int, tol: float, max_pe
                            else (np.array(jac0[0], dtype=float), int(jac0[1])))
     s, f = fs.ft_system, fs.fn_system
     (code, k_found, z, mode, res, periods, newton_it, int_ft, int_fn, phase_time, jac,
-     jac_mode) = orbit_kernel.find_orbit_compiled(
+     jac_mode) = call_held(orbit_kernel.find_orbit_compiled,
         np.asarray(z, dtype=float), int(mode), float(v), float(fs.phi_Bl), float(fs.period_s),
         int(warmup), fs.steps_per_period, fs.dt_s, fs.phi_ft, fs.phi_half_ft, s.A, s.ev_h,
         s.ev_dh, s.ev_type, s.fn_m, s.ft_m, s.ff_m, s.funcs, s.scalars, fs.phi_fn,
@@ -398,7 +399,7 @@ def orbit_work(fs: FastSystem, orbit: Orbit, average_periods: int = AVERAGE_PERI
     z = np.array(orbit.z, dtype=float)
     z[S.X] = 0.0
     n = fs.steps_per_period * span
-    out = event_kernel.integrate_switch_model(
+    out = call_held(event_kernel.integrate_switch_model,
         z, orbit.mode, n, fs.dt_s, fs.phi_ft, fs.phi_half_ft, sys_.A, sys_.ev_h, sys_.ev_dh,
         sys_.ev_type, sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0, n, 1, True,
         64)
