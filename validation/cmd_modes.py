@@ -77,10 +77,18 @@ def is_fe_failure(exc: BaseException) -> bool:
 
 
 def short_reason(exc: Exception | str) -> str:
-    """The solver's message on one line, long lists of numbers shortened to ``[...]``."""
+    """The solver's message on one line, a long list of numbers shortened to its range
+    (``[801078.0, ..., 889047.7]`` becomes ``[801078 ... 889048]``)."""
     import re
 
-    return re.sub(r"\[[^\]]{60,}\]", "[...]", " ".join(str(exc).split()))
+    def shorten(m: re.Match) -> str:
+        try:
+            values = [float(v) for v in m.group(0)[1:-1].split(",")]
+        except ValueError:
+            return "[...]"
+        return f"[{min(values) + 0.0:.6g} ... {max(values) + 0.0:.6g}]"  # no "-0"
+
+    return re.sub(r"\[[^\]]{60,}\]", shorten, " ".join(str(exc).split()))
 
 
 def fe_failure(exc: Exception) -> ValueError:
