@@ -632,7 +632,7 @@ def test_the_kernels_refusal_is_bad_input_but_other_runtime_errors_are_bugs(
 @pytest.mark.parametrize("exc, code, last", [
     (KeyboardInterrupt(), 130, "lusm params: interrupted"),
     (ValueError("voltage_V must be a finite number >= 0 V, got nan"), 2,
-     "lusm params: error: --voltage: voltage_V must be a finite number >= 0 V, got nan"),
+     "lusm params: error: --voltage must be a finite number >= 0 V, got nan"),
 ])
 def test_the_last_line_is_its_own_after_an_open_progress_bar(exc, code, last, monkeypatch,
                                                              capsys):
@@ -690,3 +690,16 @@ def test_an_export_into_a_folder_it_cannot_write_names_the_users_file(tmp_path, 
     err = capsys.readouterr().err.strip()
     assert err == f"lusm modes: error: --export {out}: cannot write into {out.parent} " \
                   "(Permission denied)"
+
+
+def test_library_names_become_the_options_the_user_typed():
+    # "--frequency: frequency_Hz = 1 Hz ..." and "use dt_s <= ..." named internals
+    from validation.errors import user_error
+
+    e = user_error(ValueError("frequency_Hz = 1 Hz is too far below the fastest mode"))
+    assert str(e) == "--frequency 1 Hz is too far below the fastest mode"
+    assert e.option == "--frequency"
+    e = user_error(ValueError("dt_s = 1e-07 s is too coarse; use dt_s <= 8.5e-10 s"))
+    assert str(e) == "--dt 1e-07 s is too coarse; use --dt <= 8.5e-10 s"
+    e = user_error(ValueError("PlateStator.length_m must be > 0, got -1"))  # m, not mm
+    assert str(e) == "--length-mm: PlateStator.length_m must be > 0, got -1"

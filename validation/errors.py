@@ -50,6 +50,12 @@ LIBRARY_NAMES: dict[str, str] = {
 }
 """Library parameter names and the ``lusm`` option that sets them (first match wins)."""
 
+SAME_UNITS = frozenset({"voltage_V", "preload_N", "load_N", "frequency_Hz", "dt_s",
+                        "duration_s", "max_workers", "target_frequency_Hz", "n_points",
+                        "f_min_Hz", "refine", "layers"})
+"""Library names whose option takes the same unit: a message's ``frequency_Hz = 1 Hz`` reads
+``--frequency 1 Hz`` (lengths stay as they are: the library's are in m, the options in mm)."""
+
 
 def _first_line(exc: BaseException) -> str:
     text = str(exc).strip()
@@ -80,7 +86,12 @@ def user_error(exc: BaseException) -> LusmError:
         reason = exc.strerror or _first_line(exc)
         return LusmError(f"cannot use{where}: {reason}")
     line = _first_line(exc)
+    blamed = None
     for name, option in LIBRARY_NAMES.items():
-        if re.search(rf"(?<![\w.]){re.escape(name)}\b", line) and option not in line:
-            return LusmError(f"{option}: {line}", option)
-    return LusmError(line)
+        if re.search(rf"(?<![\w.]){re.escape(name)}\b", line):
+            blamed = blamed or option
+            if name in SAME_UNITS:  # say it as the user typed it: "--frequency 1 Hz"
+                line = re.sub(rf"(?<![\w.]){re.escape(name)}\b(\s*=)?", option, line)
+    if blamed is None:
+        return LusmError(line)
+    return LusmError(line if blamed in line else f"{blamed}: {line}", blamed)
