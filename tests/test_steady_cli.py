@@ -176,3 +176,30 @@ def test_a_transient_under_a_load_the_motor_cannot_hold_says_so(load, way, capsy
     assert f"runs away {way}" in cap.err and len(cap.err.strip().splitlines()) == 1
     assert main([*args[:-2], "--steady"]) == 2  # the steady engine: no steady state
     assert f"runs away {way}" in capsys.readouterr().err
+
+
+def test_a_steady_study_is_bounded_by_its_cost_at_the_drive_frequency(capsys):
+    # a point costs in proportion to its steps per period: 10 000 points at 20 Hz were
+    # accepted (hours); the refusal names the option and how many would fit
+    from validation.cli import main
+
+    assert main(["map", "--frequency", "20", "--voltages", "50:446:4",
+                 "--preloads", "10:25.84:0.16"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm map: error: --voltages: 10000 points at 20 Hz") and \
+        "at most 33 here" in err
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--frequency", "20",
+                 "--loads", "0:1.999:0.001"]) == 2
+    assert "--loads: 2000 loads x voltages at 20 Hz" in capsys.readouterr().err
+
+
+def test_the_fast_level_says_when_the_averaging_does_not_hold(capsys):
+    # at 100 Hz the averaged no-load velocity is far below the slider's ripple
+    from validation.cli import main
+
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--frequency",
+                 "100", "--loads", "0:0.1:0.1", "--json"]) == 0
+    assert "the averaging behind --accuracy fast does not hold" in capsys.readouterr().err
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
+                 "0:0.1:0.1", "--json"]) == 0
+    assert "warning" not in capsys.readouterr().err

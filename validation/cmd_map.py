@@ -11,6 +11,7 @@ from validation.options import (
     add_motor_options,
     add_output_options,
     check_run_size,
+    check_steady_work,
     check_steps,
     coupling_of,
     figure_set,
@@ -93,6 +94,9 @@ def run(args: argparse.Namespace) -> None:
     freq = parse_frequency(args.frequency, params)
     if known is None:
         _check_size(args, volts, loads, freq)
+    if args.method == "steady":  # a point's cost grows as the drive frequency falls
+        check_steady_work(volts.size * loads.size, params, freq, coupling, "points",
+                          "--voltages")
 
     from contact.maps import stick_slip_map
     from contact.simulate import SimulationOptions

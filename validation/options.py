@@ -294,6 +294,22 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
     return StatorChoice(stator, get_material(getattr(args, "material", None) or "pzt8"))
 
 
+def check_steady_work(solves: int, params, frequency_Hz: float, coupling: str,
+                      what: str, option: str) -> None:
+    """Refuse, before any work, a steady study above :data:`limits.MAX_STEADY_WORK`: ``solves``
+    steady points (or loads) at ``frequency_Hz``, each costing its steps per drive period.
+    ``what`` says what was counted; the message names ``option``."""
+    from contact.steady import steps_per_period
+
+    n = steps_per_period(params, frequency_Hz, coupling)
+    top = limits.work_bound(limits.MAX_STEADY_WORK)
+    if solves * n > top:
+        raise LusmError(
+            f"{option}: {solves} {what} at {frequency_Hz:g} Hz, {n} steps per drive period each, "
+            f"is above the steady engine's limit of {top} (at most {max(top // n, 1)} here; "
+            f"{limits.more_work_hint()})", option)
+
+
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
                   option: str = "--refine", edge_grading: int = 0, quarter: bool = False) -> int:
     """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
