@@ -12,6 +12,10 @@ from tests.conftest import ROOT
 TIP = ROOT / "examples" / "tip_protrusion" / "stator.toml"
 
 
+def _not_json(name: str):
+    raise AssertionError(f"report.json holds {name}, which is not JSON")
+
+
 @pytest.fixture(scope="module")
 def design_report(tmp_path_factory):
     out = tmp_path_factory.mktemp("design_report")
@@ -21,7 +25,8 @@ def design_report(tmp_path_factory):
         cwd=ROOT, capture_output=True, text=True, timeout=900,
     )
     assert proc.returncode == 0, proc.stderr
-    return out, json.loads((out / "report.json").read_text())
+    # strict JSON: a bare NaN (Python's default) is refused by every other reader
+    return out, json.loads((out / "report.json").read_text(), parse_constant=_not_json)
 
 
 def test_every_section_and_figure_is_there(design_report):

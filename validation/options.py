@@ -666,9 +666,15 @@ def _finite(obj: Any) -> Any:
     return obj
 
 
+def json_text(obj: Any, indent: int | None = None) -> str:
+    """``obj`` as valid JSON text: NaN and infinities become ``null`` (Python's ``json``
+    writes a bare ``NaN``, which no JSON reader accepts)."""
+    return json.dumps(_finite(obj), indent=indent, allow_nan=False)
+
+
 def print_json(obj: Any, indent: int | None = None) -> None:
     """Print ``obj`` as valid JSON: NaN and infinities become ``null``."""
-    print(json.dumps(_finite(obj), indent=indent, allow_nan=False))
+    print(json_text(obj, indent))
 
 
 # --- messages ---------------------------------------------------------------------------------

@@ -11,7 +11,6 @@ needs the optional SfePy and minutes of 3D solves (``python benchmarks/fem_peer_
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import platform
@@ -433,13 +432,7 @@ def write_report_files(out: Path, md: str, doc: dict, title: str) -> dict:
     """Write a report's ``index.md``, its self-contained ``index.html`` and ``report.json``."""
     (out / "index.md").write_text(md)
     (out / "index.html").write_text(to_html(md, title))
-    (out / "report.json").write_text(json.dumps(doc, indent=1, default=_json_default))
+    from validation.options import json_text
+
+    (out / "report.json").write_text(json_text(doc, indent=1))  # NaN as null: valid JSON
     return doc
-
-
-def _json_default(o):
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON serializable: {type(o).__name__}")
