@@ -146,3 +146,29 @@ def test_lusm_report_refuses_a_users_folder_before_any_work(tmp_path):
     assert len(proc.stderr.strip().splitlines()) == 1
     assert (tmp_path / "figures" / "precious.png").read_bytes() == b"mine"
     assert (tmp_path / "index.md").read_text() == "my notes"
+
+
+def test_a_marker_that_is_a_link_is_never_written_through(tmp_path):
+    # the marker was written into the link's target: the user's file became lusm's JSON
+    precious = tmp_path / "precious.txt"
+    precious.write_text("precious")
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / MARKER).symlink_to(precious)
+    with pytest.raises(OutputError, match="did not write"):  # not lusm's marker
+        with output_set(out, "figures") as stage:
+            _write(stage, {"a.png": "x"})
+    with output_set(out, "figures", force=True) as stage:
+        _write(stage, {"a.png": "x"})
+    assert precious.read_text() == "precious"
+    assert (out / f"{MARKER}.bak-1").is_symlink() and not (out / MARKER).is_symlink()
+
+
+def test_a_marker_listing_nothing_usable_is_refused_before_any_work(tmp_path):
+    from validation.output_set import check_target
+
+    out = tmp_path / "o"
+    _write(out, {"admittance.png": "mine",
+                 MARKER: json.dumps({"kind": "admittance", "files": [1, "../x"]})})
+    with pytest.raises(OutputError, match="did not write"):
+        check_target(out, "admittance")

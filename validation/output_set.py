@@ -50,6 +50,8 @@ class OutputError(ValueError):
 
 def _read_marker(folder: Path) -> dict | None:
     path = folder / MARKER
+    if path.is_symlink() or not path.is_file():  # a link is the user's, never lusm's marker
+        return None
     try:
         doc = json.loads(path.read_text())
     except (OSError, ValueError):
@@ -105,7 +107,13 @@ def _write_marker(folder: Path, kind: str, hashes: dict[str, str | None]) -> Non
     files = sorted(hashes)
     doc = {"kind": kind, "files": files,
            "sha256": {f: hashes[f] for f in files if hashes[f] is not None}}
-    (folder / MARKER).write_text(json.dumps(doc, indent=1))
+    path = folder / MARKER
+    if path.is_symlink() or (path.exists() and not path.is_file()):
+        # never write through a link (into whatever it points at): keep it aside
+        backup = backup_name(path)
+        os.replace(path, backup)
+        print(f"lusm: kept {path} as {backup.name} (it is not lusm's marker)", file=sys.stderr)
+    path.write_text(json.dumps(doc, indent=1))
 
 
 def _files_below(folder: Path) -> list[str]:
@@ -146,7 +154,9 @@ def check_target(target: Path, kind: str, option: str = "--out", force: bool = F
             break
     if target.is_dir() and any(target.iterdir()) and not force:
         marker = _read_marker(target)
-        if marker is None or marker.get("kind") != kind:
+        others = [p for p in target.iterdir() if p.name != MARKER]
+        if marker is None or marker.get("kind") != kind or (others and not _ours(target, kind)):
+            # no marker of ours, or one that lists nothing usable (hand-edited, planted)
             raise OutputError(
                 f"{option} {target} is a non-empty folder that lusm {kind} did not write; "
                 "choose a new or empty folder, or pass --force to write beside its files "
