@@ -172,3 +172,18 @@ def test_a_marker_listing_nothing_usable_is_refused_before_any_work(tmp_path):
                  MARKER: json.dumps({"kind": "admittance", "files": [1, "../x"]})})
     with pytest.raises(OutputError, match="did not write"):
         check_target(out, "admittance")
+
+
+def test_a_link_to_a_folder_is_written_through_and_a_dangling_one_refused(tmp_path):
+    # a link to an empty folder failed after the work ("cannot write (Not a directory)")
+    from validation.output_set import check_target
+
+    (tmp_path / "real").mkdir()
+    (tmp_path / "link").symlink_to(tmp_path / "real", target_is_directory=True)
+    with output_set(tmp_path / "link", "figures") as stage:
+        _write(stage, {"a.png": "x"})
+    assert _snapshot(tmp_path / "real") == {"a.png": "x"}
+    assert (tmp_path / "link").is_symlink()
+    (tmp_path / "dangling").symlink_to(tmp_path / "nowhere")
+    with pytest.raises(OutputError, match="does not exist"):
+        check_target(tmp_path / "dangling", "figures")

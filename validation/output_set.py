@@ -142,6 +142,9 @@ def check_target(target: Path, kind: str, option: str = "--out", force: bool = F
         write as a ``kind`` (and ``force`` is not set). The message names ``option``.
     """
     target = Path(target)
+    if target.is_symlink() and not target.exists():
+        raise OutputError(f"{option} {target} is a link to {os.readlink(target)}, which does "
+                          "not exist; name a folder")
     if str(target) in ("", "."):
         if not force and target.resolve().exists() and any(target.resolve().iterdir()):
             raise OutputError(f"{option} must name a folder, got {str(target)!r} "
@@ -183,6 +186,8 @@ def output_set(target: Path, kind: str, option: str = "--out",
     """
     target = Path(target)
     check_target(target, kind, option, force)
+    if target.is_symlink():  # a link to a folder: the set goes into the folder it names
+        target = target.resolve()
     created: list[Path] = []  # parent folders this call made, removed again on failure
     for parent in reversed([target, *target.parents]):
         if not parent.exists():
