@@ -233,6 +233,12 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["--edge-grading", "[0, 6]"]),
     ("modes-edge-grading-2d", ["modes", "--edge-grading", "1"], ["--edge-grading", "3d"]),
     ("modes-layers-2d", ["modes", "--layers", "5"], ["--layers", "3d"]),  # was ignored
+    # work of many solves together, and of one graded 3D mesh (each ran for minutes)
+    ("modes-3d-edge-grading-6", ["modes", "--model", "3d", "--edge-grading", "6"],
+     ["--edge-grading", "3000 3D bricks", "limit 2000"]),
+    ("tune-refine-48", ["tune", "--refine", "48"], ["--refine", "15 FE solves", "100000"]),
+    ("sweep-refine-48", ["sweep", "--width-mm", "6:9:0.1", "--refine", "48"],
+     ["--refine", "31 FE solves", "100000"]),
     ("modes-edge-grading-too-fine", ["modes", "--model", "3d", "--edge-grading", "6",
                                      "--gap-mm", "0.001"], ["--edge-grading", "bricks"]),
     ("modes-refine-3d", ["modes", "--model", "3d", "--refine", "40"], ["--refine", "--model 3d"]),

@@ -122,10 +122,11 @@ def run(args: argparse.Namespace) -> None:
     if base.electrode_gap_m >= smallest:
         raise LusmError(f"{option} {text}: the electrode gap {base.electrode_gap_m * 1e3:g} mm "
                         "must stay below every swept length and width", option)
-    from validation.options import check_fe_size
+    from validation.options import check_fe_size, check_fe_work
 
-    for v in (values_mm.min(), values_mm.max()):  # the most elongated plates of the sweep
-        check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}), args.refine)
+    cells = [check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}), args.refine)
+             for v in (values_mm.min(), values_mm.max())]  # the sweep's two extremes
+    check_fe_work(max(cells), values_mm.size, False, "--refine")
 
     from fem.sweep import sweep_dimension
     from validation.cmd_modes import fe_failure, is_fe_failure

@@ -60,7 +60,7 @@ def run(args: argparse.Namespace) -> None:
     """Run ``lusm tune`` with parsed ``args``."""
     from validation.cmd_modes import check_refine_3d, fe_failure, is_fe_failure
     from validation.errors import LusmError
-    from validation.options import check_fe_size, stator_from_args
+    from validation.options import check_fe_size, check_fe_work, stator_from_args
 
     fix = args.fix
     held = [f for f in ("length", "width") if f in fix]
@@ -87,9 +87,11 @@ def run(args: argparse.Namespace) -> None:
                         "length), or a stator file without [mesh]", "--geometry")
     if args.model == "3d":
         check_refine_3d(args.refine)
-        check_fe_size(choice.stator, args.refine or 3, 3)
+        cells = check_fe_size(choice.stator, args.refine or 3, 3)
     else:
-        check_fe_size(choice.stator, args.refine)
+        cells = check_fe_size(choice.stator, args.refine)
+    # a tuning solves the plate many times over: counted before it starts
+    check_fe_work(cells, limits.TUNE_SOLVES, args.model == "3d", "--refine")
 
     from fem.modes import ModeSolverError
     from fem.tuning import bar_length_m, tune_plate

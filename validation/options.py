@@ -310,6 +310,19 @@ def check_steady_work(solves: int, params, frequency_Hz: float, coupling: str,
             f"{limits.more_work_hint()})", option)
 
 
+def check_fe_work(cells: int, solves: int, three_d: bool, option: str) -> None:
+    """Refuse a command whose FE solves together exceed the work bound: ``solves`` meshes of
+    ``cells`` elements (or bricks) on average. Each mesh is also bounded alone
+    (:func:`check_fe_size`); a sweep or a tuning multiplies it."""
+    top = limits.work_bound(limits.MAX_FE_WORK_3D if three_d else limits.MAX_FE_WORK_2D)
+    if cells * solves > top:
+        what = "3D bricks" if three_d else "elements"
+        raise LusmError(
+            f"{option}: {solves} FE solves of about {cells} {what} each ({cells * solves}) is "
+            f"above the limit {top} for one command; lower {option} or solve fewer plates "
+            f"({limits.more_work_hint()})", option)
+
+
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
                   option: str = "--refine", edge_grading: int = 0, quarter: bool = False) -> int:
     """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
