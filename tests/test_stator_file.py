@@ -177,6 +177,10 @@ BAD_TOML = [
      r"\[material\] name 'pzt5' is unknown; allowed: pzt8, paper"),
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nrho_kg_m3 = 7000",
      r"inline constants need cE_Pa"),
+    # a coupling 1e5 times PZT-8's gave a clamped capacitance of 0.78 F without a word
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nbase = \"pzt8\"\n"
+     "e_C_m2 = [[0,0,0,0,1e6,0],[0,0,0,1e6,0,0],[1e6,1e6,1e6,0,0,0]]",
+     r"\[material\] e_C_m2's largest entry must lie in \[0, 100\] C/m\^2"),
     # densities no solid has: 1e-30 gave L1 at 5e21 Hz, 1e30 ARPACK's noise on the terminal
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nbase = \"pzt8\"\n"
      "rho_kg_m3 = 1e-30", r"\[material\] rho_kg_m3 must lie in \[100, 50000\] kg/m\^3"),
