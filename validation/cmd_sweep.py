@@ -113,9 +113,18 @@ def run(args: argparse.Namespace) -> None:
                             "rescale; sweep a stator file without [mesh]", "--geometry")
         base, material = design.stator, design.material
     else:
+        from fem.geometry import PlateStator
+
+        gap_mm = PlateStator().electrode_gap_m * 1e3 if args.gap_mm is None else args.gap_mm
+        if gap_mm >= values_mm.min():  # said of the sweep, not of one plate
+            raise LusmError(f"{option} {text}: the electrode gap {gap_mm:g} mm must stay "
+                            "below every swept length and width", option)
+        # the swept dimension at its smallest: the thin-plate check is the sweep's worst plate
+        # (it was made on the default 7.5 mm width whatever the widths swept)
+        dims = {**fixed, f"--{parameter}-mm": float(values_mm.min())}
         ns = _ap.Namespace(geometry=None, thickness_mm=args.thickness_mm, gap_mm=args.gap_mm,
-                           material=args.material, length_mm=fixed.get("--length-mm"),
-                           width_mm=fixed.get("--width-mm"))
+                           material=args.material, length_mm=dims.get("--length-mm"),
+                           width_mm=dims.get("--width-mm"))
         choice = stator_from_args(ns)
         base, material = choice.stator, choice.material
     smallest = min(base.length_m, base.width_m, values_mm.min() * 1e-3)
