@@ -139,3 +139,19 @@ def test_a_value_listed_twice_is_refused_not_computed_twice(argv, words, capsys)
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and len(err.splitlines()) == 1
+
+
+def test_options_that_do_nothing_here_are_said_so(capsys):
+    # accepted and silently ignored before
+    from validation.cli import main
+
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady", "--dt",
+                 "1e-12", "--json"]) == 0
+    assert "--dt has no effect: --steady takes its own step" in capsys.readouterr().err
+    assert main(["map", "--method", "transient", "--accuracy", "fast", "--voltages", "100",
+                 "--preloads", "14", "--duration", "0.001", "--json"]) == 0
+    assert "--accuracy has no effect" in capsys.readouterr().err
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady", "--json"]) == 0
+    assert "no effect" not in capsys.readouterr().err  # defaults are not the user's
+    assert main(["compare", "--sources", "table2", "--length-mm", "20"]) == 2
+    assert "add fem or beam to --sources" in capsys.readouterr().err

@@ -110,7 +110,7 @@ def _main(argv: Sequence[str] | None) -> int:
         from validation import fast_start
 
         fast_start.prepare_process()
-    from validation.options import set_command
+    from validation.options import set_command, set_typed
 
     # Figures are files: the CLI picks matplotlib's file backend, library code never does.
     os.environ.setdefault("MPLBACKEND", "Agg")
@@ -131,6 +131,7 @@ def _main(argv: Sequence[str] | None) -> int:
               file=sys.stderr)
         return 2
     set_command(args.command)
+    set_typed(sys.argv[1:] if argv is None else argv)
     if argv is None:  # past --help: every command imports NumPy and most run numba
         fast_start.load_blas_probe()
     return _run(args, argv)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from validation.errors import LusmError
 from validation.options import SOURCES, add_plate_options, motor_params_of, plate_given, print_json
 
 
@@ -37,6 +38,11 @@ def run(args: argparse.Namespace) -> None:
     origins = {"table2": table2_damping(), "beam": borrowed_damping("beam"),
                "fem": borrowed_damping("fem")}
     given = None
+    stator_options = (["--geometry"] if args.geometry else []) + plate_given(args)
+    if stator_options and not {"fem", "beam"} & set(args.sources):
+        raise LusmError(f"{stator_options[0]} sets the stator of the fem and beam columns, "
+                        f"and --sources {' '.join(args.sources)} shows neither; add fem or "
+                        "beam to --sources", stator_options[0])
     if args.geometry or plate_given(args):
         fem, origins["fem"] = motor_params_of(args, "fem")
         given = {"fem": fem}

@@ -23,6 +23,7 @@ from validation.options import (
     parse_frequency,
     print_json,
     warn_drive,
+    warn_unused,
 )
 
 
@@ -42,7 +43,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_drive_options(p, required=False)
     p.add_argument("--method", choices=("steady", "transient"), default="steady",
                    help="steady: each point's steady states found directly, every stable "
-                   "branch reported (docs/steady.md; --duration and --dt unused); transient: "
+                   "branch reported (docs/steady.md; --duration and --dt serve only the "
+                   "transient of a point it cannot decide); transient: "
                    "a run from rest of --duration per point (the paper's way)")
     p.add_argument("--accuracy", choices=("fast", "exact"), default="exact",
                    help="steady engine level: fast (averaging, slider mass -> infinity) or "
@@ -76,10 +78,15 @@ def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> 
 
 def run(args: argparse.Namespace) -> None:
     """Compute and print the map."""
+    if args.method == "transient":
+        warn_unused(("--accuracy",), "it sets the steady engine's level; --method transient "
+                    "runs every point from rest")
     plot = output_folder(args, "map", "--plot")
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
-    warn_drive(float(volts.max()), float(loads.max()))
+    # the 0 V / 0 N case only when the map is that single point
+    warn_drive(float(volts.max()), float(loads.max()), voltage_option="--voltages",
+               preload_option="--preloads")
     known = known_frequency(args.frequency)
     if known is not None:  # refused before any work; 'auto' needs the parameter set first
         _check_size(args, volts, loads, known)

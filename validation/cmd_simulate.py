@@ -22,6 +22,7 @@ from validation.options import (
     real,
     warn,
     warn_drive,
+    warn_unused,
 )
 
 
@@ -58,6 +59,8 @@ def run(args: argparse.Namespace) -> None:
     if args.energy and args.steady:
         raise LusmError("--energy needs a transient (use lusm characteristic for the power "
                         "balance of the steady state)", "--energy")
+    if args.steady:
+        warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
     plot = output_folder(args, "simulate", "--plot")  # refused before any work
     for v in voltages:
         warn_drive(v, args.preload)

@@ -20,7 +20,7 @@ import argparse
 import json
 import math
 import sys
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -531,17 +531,19 @@ def known_frequency(text: str | float) -> float | None:
     return parse_frequency(text)
 
 
-def warn_drive(voltage_V: float | None, preload_N: float | None) -> None:
-    """Warn (stderr) for operating points outside the range where Table 2 was measured."""
+def warn_drive(voltage_V: float | None, preload_N: float | None, *,
+               voltage_option: str = "--voltage", preload_option: str = "--preload") -> None:
+    """Warn (stderr) for operating points outside the range where Table 2 was measured; the
+    options are named as the command spells them (``--voltages`` for a map)."""
     if voltage_V == 0 and preload_N == 0:
-        warn("--voltage 0 and --preload 0: no drive and no contact force, nothing moves "
-             "(motion class 'separated')")
+        warn(f"{voltage_option} 0 and {preload_option} 0: no drive and no contact force, "
+             "nothing moves (motion class 'separated')")
     if voltage_V is not None and voltage_V > limits.VOLTAGE_WARN_V:
-        warn(f"--voltage {voltage_V:g} V is above {limits.VOLTAGE_WARN_V:g} V: the linear "
-             "piezoelectric model and the contact constants were not validated there")
+        warn(f"{voltage_option} {voltage_V:g} V is above {limits.VOLTAGE_WARN_V:g} V: the "
+             "linear piezoelectric model and the contact constants were not validated there")
     if preload_N is not None and preload_N > limits.PRELOAD_WARN_N:
-        warn(f"--preload {preload_N:g} N is above {limits.PRELOAD_WARN_N:g} N: the contact "
-             "stiffness and friction constants were not validated there")
+        warn(f"{preload_option} {preload_N:g} N is above {limits.PRELOAD_WARN_N:g} N: the "
+             "contact stiffness and friction constants were not validated there")
 
 
 def check_steps(duration_s: float, dt_s: float) -> float:
@@ -693,6 +695,28 @@ def print_json(obj: Any, indent: int | None = None) -> None:
 # --- messages ---------------------------------------------------------------------------------
 
 _COMMAND = ["lusm"]
+
+
+_TYPED: set[str] = set()
+
+
+def set_typed(argv: Sequence[str]) -> None:
+    """Record the options the user typed (``--dt``, ``--dt=1e-7``), so that a command can tell
+    an option given on purpose from its default (set by :func:`validation.cli.main`)."""
+    _TYPED.clear()
+    _TYPED.update(a.split("=", 1)[0] for a in argv if a.startswith("--"))
+
+
+def typed(option: str) -> bool:
+    """Whether the user typed ``option`` on the command line."""
+    return option in _TYPED
+
+
+def warn_unused(options: Sequence[str], why: str) -> None:
+    """Warn that the typed ones among ``options`` have no effect, and why."""
+    given = [o for o in options if typed(o)]
+    if given:
+        warn(f"{' and '.join(given)} {'has' if len(given) == 1 else 'have'} no effect: {why}")
 
 
 def set_command(name: str) -> None:
