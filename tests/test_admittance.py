@@ -161,3 +161,10 @@ def test_a_residual_mode_is_never_below_the_cut(model):
     assert port.f_res_Hz >= 6 * f_max
     f = np.array([20e3, 300e3, 1.2e6])
     assert np.allclose(port.admittance_S(f), direct_admittance_S(model, port, f), rtol=1e-6)
+
+
+def test_a_band_beyond_what_the_mesh_resolves_is_said_so(capsys):
+    assert main(["admittance", "--f-min", "1e4", "--f-max", "1e6", "--json"]) == 0
+    assert "frequencies that high are not converged" in capsys.readouterr().err
+    assert main(["admittance", "--json"]) == 0
+    assert "warning" not in capsys.readouterr().err

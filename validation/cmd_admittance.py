@@ -7,6 +7,7 @@ Parse, call :func:`fem.admittance.plate_admittance` and
 from __future__ import annotations
 
 import argparse
+import math
 
 from validation import limits
 from validation.options import add_output_options, add_plate_options, integer, print_json, real
@@ -135,6 +136,7 @@ def run(args: argparse.Namespace) -> None:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc
         raise
+    _warn_unresolved(res, args.f_max, refine)
     png = None
     if out is not None:
         with figure_set(out, "admittance", "--out", args.force) as stage:
@@ -149,9 +151,10 @@ def run(args: argparse.Namespace) -> None:
         print_json(d)
         return
     p = res.port
+    rest = (f" + residual mode at {p.f_res_Hz:.0f} Hz" if math.isfinite(p.f_res_Hz)
+            else "" if p.C_res_F == 0.0 else " + a static remainder")
     print(f"electrodes {p.electrodes} driven, others grounded; band {args.f_min:g}-"
-          f"{args.f_max:g} Hz; {p.frequencies_Hz.size} modes + residual mode at "
-          f"{p.f_res_Hz:.0f} Hz")
+          f"{args.f_max:g} Hz; {p.frequencies_Hz.size} modes{rest}")
     print(f"C0 (clamped) {p.C0_F:.4e} F, C_free (static) {p.C_free_F:.4e} F")
     print(f"damping zeta_L1 = {damping['zeta_L1']:.4g}, zeta_B2 = {damping['zeta_B2']:.4g} "
           f"(from {damping['from']})")
@@ -167,3 +170,21 @@ def run(args: argparse.Namespace) -> None:
         print("merged: L1 and B2 make one peak at this damping; its k_eff is not either mode's")
     if png is not None:
         print(f"wrote {png}")
+
+
+UNRESOLVED_SHARE = 0.25
+"""Share of a mesh's modes below which its frequencies are taken as converged: the top of a
+discrete spectrum (here above a quarter of the unknowns) is the mesh's, not the plate's."""
+
+
+def _warn_unresolved(res, f_max_Hz: float, refine: int) -> None:
+    """Warn when the band reaches modes the mesh cannot resolve (a 1 MHz band on the default
+    mesh listed resonances up to 0.95 MHz from elements 1.9 mm long)."""
+    from validation.options import warn
+
+    port = res.port
+    n = int(port.g_N_V.size)
+    k = sum(1 for f in port.frequencies_Hz if f <= f_max_Hz)
+    if k > UNRESOLVED_SHARE * n:
+        warn(f"--f-max {f_max_Hz:g} Hz reaches mode {k} of the mesh's {n} (--refine {refine}): "
+             f"frequencies that high are not converged; raise --refine, or lower --f-max")

@@ -180,9 +180,9 @@ def run(args: argparse.Namespace) -> None:
     L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
     mounts = _mount_amplitudes(choice, material, args, refine, res)
     if validity is not None:
-        import sys
+        from validation.options import warn
 
-        print(f"warning: {validity}", file=sys.stderr)
+        warn(validity)  # "lusm modes: warning: ...", as every command's
     if args.json:
         mat = material.to_dict()
         mat["plane_stress"] = plane_stress(material).to_dict()
