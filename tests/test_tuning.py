@@ -238,3 +238,12 @@ def test_a_sweep_checks_the_thin_plate_rule_on_its_own_plates(capsys):
 
     assert main(["sweep", "--width-mm", "6:9:1", "--thickness-mm", "10", "--json"]) == 0
     assert "--thickness-mm 10 is 1.67 x" in capsys.readouterr().err
+
+
+def test_tune_warns_once_about_the_tuned_plate(capsys):
+    # each iteration's plate warned with its own thickness: three near-identical lines
+    from validation.cli import main
+
+    assert main(["tune", "--fix", "width,thickness_ratio", "--json"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lusm tune: warning: the tuned plate: "), err

@@ -109,10 +109,16 @@ def run(args: argparse.Namespace) -> None:
                 f"accept; targets from about {args.target_frequency * est_mm / hi:.4g} to "
                 f"{args.target_frequency * est_mm / lo:.4g} Hz fit", "--target-frequency")
 
+    import warnings
+
+    from fem.model import GapValidityWarning, stator_gap_validity_message
+
     try:
-        d = tune_plate(args.target_frequency, fix=fix, material=choice.material,
-                       start=choice.stator, model=args.model, order=args.order,
-                       refine=args.refine)
+        with warnings.catch_warnings():  # said once, of the tuned plate, not per iteration
+            warnings.simplefilter("ignore", GapValidityWarning)
+            d = tune_plate(args.target_frequency, fix=fix, material=choice.material,
+                           start=choice.stator, model=args.model, order=args.order,
+                           refine=args.refine)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc
@@ -123,6 +129,11 @@ def run(args: argparse.Namespace) -> None:
                             "or hold a dimension with --fix length", "--geometry") from None
         raise
     _check_tuned_plate(d, args.target_frequency)
+    validity = stator_gap_validity_message(d.stator) if args.model == "2d" else None
+    if validity is not None:
+        from validation.options import warn
+
+        warn(f"the tuned plate: {validity}")
     if args.json:
         print_json(d.to_dict())
         return
