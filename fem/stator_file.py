@@ -406,8 +406,8 @@ def _material(table: dict, src: str) -> PiezoMaterial:
             name=name, cE_Pa=values["cE_Pa"], e_C_m2=values["e_C_m2"],
             epsS_F_m=values["epsS_F_m"], rho_kg_m3=float(rho), source=source,
         )
-    except ValueError as exc:
-        raise ValueError(f"{src}: [material] {exc}") from None
+    except ValueError as exc:  # the file's key, not the class's attribute name
+        raise ValueError(f"{src}: [material] {str(exc).replace('PiezoMaterial.', '')}") from None
 
 
 def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,

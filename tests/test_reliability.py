@@ -669,7 +669,7 @@ def test_a_ctrl_c_before_the_command_starts_is_one_line(monkeypatch, capsys):
 
     monkeypatch.setattr(cli, "build_parser", interrupted)
     assert main(["params"]) == 130
-    assert capsys.readouterr().err.strip() == "lusm: interrupted"
+    assert capsys.readouterr().err.strip() == "lusm params: interrupted"
 
 
 def test_library_warnings_are_one_line_naming_the_command(capsys):

@@ -101,7 +101,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _main(argv)
     except KeyboardInterrupt:  # a Ctrl-C before the command's own handlers are in place
         # (imports, the BLAS probe, parsing): nothing has been written yet
-        _say("lusm: interrupted")
+        words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
+        name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
+        _say(f"{name}: interrupted")
         return 130
 
 

@@ -185,6 +185,9 @@ def params_from_file(path_text: str):
     if not str(path_text).strip():
         raise LusmError("--params must name a file, got ''", "--params")
     path = Path(path_text)
+    if path.is_dir():
+        raise LusmError(f"--params {path_text} is a folder; name a file saved with "
+                        "'lusm params --json'", "--params")
     if not path.is_file():
         raise LusmError(f"--params {path_text}: no such file", "--params")
     try:
