@@ -302,9 +302,13 @@ def check_steady_work(solves: int, params, frequency_Hz: float, coupling: str,
     """Refuse, before any work, a steady study above :data:`limits.MAX_STEADY_WORK`: ``solves``
     steady points (or loads) at ``frequency_Hz``, each costing its steps per drive period.
     ``what`` says what was counted; the message names ``option``."""
-    from contact.steady import steps_per_period
+    from contact.steady import MAX_STEPS_PER_PERIOD, steps_per_period
 
     n = steps_per_period(params, frequency_Hz, coupling)
+    if n > MAX_STEPS_PER_PERIOD:  # no point at all: the drive frequency is to blame
+        raise LusmError(f"--frequency {frequency_Hz:g} Hz is too far below the stator's fastest "
+                        f"mode for the steady engine: {n} steps per drive period, above "
+                        f"{MAX_STEPS_PER_PERIOD}", "--frequency")
     top = limits.work_bound(limits.MAX_STEADY_WORK)
     if solves * n > top:
         raise LusmError(
