@@ -23,28 +23,51 @@ from contextlib import contextmanager
 HELD = (signal.SIGINT, signal.SIGTERM)
 """The signals held back."""
 
+_MAIN = threading.main_thread()
+_caught: list[int] = []
+"""Signals received while held (shared by nested holds; delivered by the outermost)."""
+
+
+def _record(signum, frame) -> None:  # pragma: no cover - exercised by signals
+    _caught.append(signum)
+
 
 @contextmanager
 def deferred_signals() -> Iterator[None]:
     """Hold SIGINT and SIGTERM for the block; deliver the first one received afterwards."""
-    if threading.current_thread() is not threading.main_thread():
+    if threading.current_thread() is not _MAIN:
         yield
         return
-    caught: list[int] = []
-
-    def record(signum, frame) -> None:  # pragma: no cover - exercised by signals
-        caught.append(signum)
-
-    previous = {}
+    previous = _hold()
     try:
-        for s in HELD:
-            previous[s] = signal.signal(s, record)
         yield
     finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        if caught:
-            _deliver(caught[0], previous.get(caught[0]))
+        _release(previous)
+
+
+def call_held(kernel, *args):
+    """``kernel(*args)`` with SIGINT and SIGTERM held (:func:`deferred_signals` without the
+    generator: the steady engine makes ~20 such calls per point)."""
+    if threading.current_thread() is not _MAIN:
+        return kernel(*args)
+    previous = _hold()
+    try:
+        return kernel(*args)
+    finally:
+        _release(previous)
+
+
+def _hold() -> tuple:
+    return signal.signal(signal.SIGINT, _record), signal.signal(signal.SIGTERM, _record)
+
+
+def _release(previous: tuple) -> None:
+    signal.signal(signal.SIGINT, previous[0])
+    signal.signal(signal.SIGTERM, previous[1])
+    if _caught and previous[0] is not _record:  # the outermost hold delivers
+        signum = _caught[0]
+        _caught.clear()
+        _deliver(signum, previous[0] if signum == signal.SIGINT else previous[1])
 
 
 def _deliver(signum: int, handler) -> None:
@@ -56,9 +79,3 @@ def _deliver(signum: int, handler) -> None:
             raise KeyboardInterrupt
         signal.raise_signal(signum)  # the default action (SIGTERM ends the process)
     # SIG_IGN, or a handler not set from Python (None): nothing to do
-
-
-def call_held(kernel, *args):
-    """``kernel(*args)`` under :func:`deferred_signals`."""
-    with deferred_signals():
-        return kernel(*args)

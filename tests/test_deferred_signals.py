@@ -58,3 +58,20 @@ def test_ctrl_c_during_the_event_kernel_is_a_keyboard_interrupt():
                           text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert proc.stdout.strip() == "interrupted" and "SystemError" not in proc.stderr
+
+
+def test_nested_holds_deliver_once_at_the_outermost():
+    from contact.deferred_signals import call_held
+
+    order = []
+
+    def inner():
+        signal.raise_signal(signal.SIGINT)
+        order.append("inner kernel returned")
+
+    with pytest.raises(KeyboardInterrupt):
+        with deferred_signals():
+            call_held(inner)
+            order.append("outer block goes on")
+    assert order == ["inner kernel returned", "outer block goes on"]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
