@@ -159,6 +159,14 @@ def _write(path: Path, out, file_format: str | None) -> Path:
     """``meshio.write`` with every failure as ``ValueError`` naming the file."""
     import meshio
 
+    if file_format is None and Path(path).suffix.lower() == ".msh":
+        # meshio's first choice for .msh is ANSYS, which drops the point data: the mode
+        # shapes need gmsh's format ($NodeData), which is also what .msh means to most
+        file_format = "gmsh"
+    if file_format == "gmsh" and out.field_data:
+        # gmsh's field data is physical groups ([tag, dim]); the frequencies stored there for
+        # VTK made meshio print "Field data contains entry that cannot be processed"
+        out.field_data = {}
     try:
         meshio.write(path, out, file_format=file_format)
     except (Exception, SystemExit) as exc:  # meshio: KeyError/WriteError for unknown formats

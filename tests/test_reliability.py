@@ -709,3 +709,15 @@ def test_library_names_become_the_options_the_user_typed():
     assert str(e) == "--dt 1e-07 s is too coarse; use --dt <= 8.5e-10 s"
     e = user_error(ValueError("PlateStator.length_m must be > 0, got -1"))  # m, not mm
     assert str(e) == "--length-mm: PlateStator.length_m must be > 0, got -1"
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["modes", "--geometry", ""], "--geometry"), (["params", "--geometry", ""], "--geometry"),
+    (["modes", "--export", ""], "--export"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--params", ""], "--params"),
+])
+def test_an_empty_path_is_refused_not_read_as_not_given(argv, option, capsys):
+    # "" ran the default plate (and --export "" wrote nothing) with exit 0
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"{option} must name" in err and len(err.splitlines()) == 1

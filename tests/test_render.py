@@ -89,7 +89,7 @@ def test_cli_render(tmp_path, capsys):
     assert main(["render", "--geometry", str(tmp_path / "none.toml")]) == 2
 
 
-@pytest.mark.parametrize("suffix", [".vtu", ".vtk"])
+@pytest.mark.parametrize("suffix", [".vtu", ".vtk", ".msh"])  # .msh: gmsh's, not ANSYS's
 def test_export_round_trips_the_mode_shapes(tmp_path, plate, suffix):
     model, modes = plate
     path = export_modes(tmp_path / f"modes{suffix}", model, modes, n_modes=6)

@@ -134,6 +134,13 @@ def _main(argv: Sequence[str] | None) -> int:
         return 2
     set_command(args.command)
     set_typed(sys.argv[1:] if argv is None else argv)
+    for attr, option, what in (("geometry", "--geometry", "a stator file"),
+                               ("params", "--params", "a parameter file")):
+        value = getattr(args, attr, None)
+        if value is not None and not str(value).strip():  # "" read as "not given" before
+            print(f"lusm {args.command}: error: {option} must name {what}, got {value!r}",
+                  file=sys.stderr)
+            return 2
     if argv is None:  # past --help: every command imports NumPy and most run numba
         fast_start.load_blas_probe()
     return _run(args, argv)

@@ -105,7 +105,7 @@ def run(args: argparse.Namespace) -> None:
 
     choice = stator_from_args(args)
     stator, material = choice.stator, choice.material
-    export = _export_target(args.export, args.force) if args.export else None
+    export = _export_target(args.export, args.force) if args.export is not None else None
 
     from fem.material import plane_stress
     from fem.mesh import DEFAULT_REFINE

@@ -271,6 +271,8 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
     from fem.material import get_material
 
     given = plate_given(args)
+    if getattr(args, "geometry", None) is not None and not str(args.geometry).strip():
+        raise LusmError("--geometry must name a stator file, got ''", "--geometry")
     if getattr(args, "geometry", None):
         if given:
             raise LusmError(f"{', '.join(given)} cannot be combined with --geometry: the "
