@@ -367,3 +367,19 @@ def test_a_studys_contact_solves_are_bounded_in_all():
     with pytest.raises(ValueError, match="2000000 contact solves is above the limit 1000000"):
         study_from_dict({"outputs": ["no_load_velocity"], "axes": axes})
     assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
+
+
+def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path, capsys):
+    # every failure sat silently in the dataset's 'status' with exit 0
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["10 mm", "30 mm"]\n')
+    assert main(["explore", str(path), "--out", str(tmp_path / "a.nc"), "--workers", "1"]) == 0
+    err = capsys.readouterr().err
+    assert "1 of 2 geometries did not compute fully" in err and "variable 'status'" in err
+    path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["10 mm", "11 mm"]\n')
+    assert main(["explore", str(path), "--out", str(tmp_path / "b.nc"), "--workers", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "no geometry of the study computed fully (2 of 2" in err
+    assert (tmp_path / "b.nc").exists()  # the statuses are kept for the user to read

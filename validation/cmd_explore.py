@@ -13,6 +13,7 @@ from validation.options import (
     moved,
     output_folder,
     print_json,
+    warn,
 )
 
 
@@ -68,6 +69,7 @@ def run(args: argparse.Namespace) -> None:
             print(f"lusm explore: {done} finished geometries are kept in {parts}; run the same "
                   "command with --resume to continue", file=sys.stderr)
         raise
+    _report_failures(open_result(result.path), result.path)
     if plot is not None:
         from validation.explore import design_maps
 
@@ -75,6 +77,9 @@ def run(args: argparse.Namespace) -> None:
             ds = open_result(result.path)
             with figure_set(plot, "explore", "--plot", args.force) as stage:
                 result.figures = moved(design_maps(ds, stage), stage, plot)
+            if not result.figures:
+                warn("--plot: no map drawn (the maps need at least two lengths and two "
+                     "widths and a finite value among them)")
         except (KeyboardInterrupt, Terminated):
             print(f"lusm explore: {result.path} is complete; the --plot maps were not written",
                   file=sys.stderr)
@@ -89,3 +94,23 @@ def run(args: argparse.Namespace) -> None:
     print(f"wrote {result.path}")
     for f in result.figures:
         print(f"wrote {f}")
+
+
+def _report_failures(ds, path) -> None:
+    """Say which geometries did not compute fully (their reasons are in the dataset's
+    ``status``); refuse a study where none did (it exited 0 with a dataset of NaN)."""
+    from validation.errors import LusmError
+
+    status = [str(x) for x in ds["status"].values.ravel()]
+    bad = [x for x in status if x != "ok"]
+    if not bad:
+        return
+    from validation.cmd_modes import short_reason
+
+    first = short_reason(bad[0]).replace("dt_s", "solver.dt").replace("frequency_Hz",
+                                                                       "frequency")
+    if len(bad) == len(status):
+        raise LusmError(f"no geometry of the study computed fully ({len(bad)} of {len(status)}; "
+                        f"each one's reason is in {path}, variable 'status'); first: {first}")
+    warn(f"{len(bad)} of {len(status)} geometries did not compute fully (each one's reason is "
+         f"in {path}, variable 'status'); first: {first}")

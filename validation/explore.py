@@ -490,10 +490,13 @@ def local_cluster(n_workers: int = DEFAULT_WORKERS):
     from distributed import LocalCluster
 
     def start():
-        # no dashboard; the scheduler's plain HTTP routes on a free local port, not 8787
+        # the workers' own logs stay quiet (CRITICAL): a task's failure comes back to the client
+        # as its exception, and at shutdown a worker's heartbeat to the closed scheduler logged
+        # a CommClosedError traceback after "wrote ...". No dashboard; the scheduler's plain
+        # HTTP routes on a free local port, not 8787
         # (a second cluster on the machine printed "Port 8787 is already in use")
         return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                            dashboard_address=None, silence_logs=logging.ERROR,
+                            dashboard_address=None, silence_logs=logging.CRITICAL,
                             env=worker_env(),
                             scheduler_kwargs={"dashboard": False,
                                               "dashboard_address": "127.0.0.1:0"})
