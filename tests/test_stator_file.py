@@ -322,3 +322,17 @@ def test_a_hole_on_the_centreline_solves(tmp_path):
     assert res.L1.mac > 0.9 and res.B2.mac > 0.9
     ref = plate_modes(load_stator(_write(tmp_path, text.format(x=0.2))).stator, on.material)
     assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=0.01)  # nearby hole
+
+
+def test_a_stator_files_fine_mesh_is_blamed_on_its_size_not_on_refine(tmp_path, capsys):
+    # "--refine: ... lower --refine" from commands that have no --refine (lusm report)
+    from validation.cli import main
+
+    pytest.importorskip("gmsh")
+    path = _write(tmp_path, "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+                  "[mesh]\nsize_mm = 0.075\n[[holes]]\ncenter_mm = [0.0, 15.0]\n"
+                  "diameter_mm = 1.0\n")
+    assert main(["modes", "--geometry", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm modes: error: --geometry: the stator's mesh needs")
+    assert "[mesh] size_mm" in err and "--refine" not in err

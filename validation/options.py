@@ -366,6 +366,13 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
         top, what = limits.work_bound(limits.MAX_FE_CELLS_3D), "3D bricks"
     else:
         top, what = limits.work_bound(limits.MAX_FE_CELLS_2D), "2D elements"
+    if n > top and mesh is not None:  # the stator file's mesh: --refine plays no part
+        from fem.parametric import ParametricStator
+
+        fix = ("coarsen its [mesh] size_mm" if isinstance(stator, ParametricStator)
+               else "use a coarser mesh file")
+        raise LusmError(f"--geometry: the stator's mesh needs {n} {what} here, above the limit "
+                        f"{top}; {fix} ({limits.more_work_hint()})", "--geometry")
     if n > top:
         from validation.summaries import plate_text
 
