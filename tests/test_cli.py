@@ -168,3 +168,10 @@ def test_modes_prints_the_split_and_the_identification(capsys):
     assert main(["modes"]) == 0
     text = capsys.readouterr().out
     assert f"{d['split_rel']:+.3%}" in text and "MAC" in text
+
+
+def test_version(capsys):
+    from validation.cli import main
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.startswith("lusm ")

@@ -172,6 +172,7 @@ BAD = {
     "missing output": ("outputs = ['f_L1_short', 'torque']\n", "outputs[1]"),
     "unit-less solver": ("[solver]\ndt = 1e-7\n", "solver.dt"),
     "gap eats the plate": ("[axes]\nwidth = '2 mm'\ngap = '3 mm'\n", "axes.gap"),
+    "output twice": ("outputs = ['f_L1_short', 'f_L1_short']\n", "outputs[1]"),
     # said in the file's unit: it was "got (2.0,) (SI)"
     "length too long": ("[axes]\nlength = ['30 mm', '2000 mm']\n",
                         "axes.length values must lie in [0.1, 1000] mm, got 2000 mm"),
@@ -383,3 +384,17 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
     err = capsys.readouterr().err.strip()
     assert "no geometry of the study computed fully (2 of 2" in err
     assert (tmp_path / "b.nc").exists()  # the statuses are kept for the user to read
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["explore", "", "--out", "x.nc"], "STUDY.toml must name a study file, got ''"),
+    (["explore", "{study}", "--out", ""], "--out must name a netCDF file (.nc), got ''"),
+])
+def test_explore_names_an_empty_argument(argv, words, tmp_path, capsys):
+    from validation.cli import main
+
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["f_L1_short"]\n')
+    assert main([a.replace("{study}", str(study)) for a in argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1

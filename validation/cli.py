@@ -71,6 +71,16 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {' '.join(message.split())}\n")
 
 
+def _version() -> str:
+    """The installed package's version (read from its metadata: no heavy import)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("lusm")
+    except PackageNotFoundError:  # a source tree that is not installed
+        return "unknown"
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full ``lusm`` parser with every available sub-command."""
     parser = _Parser(
@@ -79,6 +89,7 @@ def build_parser() -> argparse.ArgumentParser:
         "parameters and the stick-slip-separation contact model. Limits of every input: "
         "docs/limits.md (LUSM_MAX_WORK=N allows N times more work).",
     )
+    parser.add_argument("--version", action="version", version=f"lusm {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name in COMMAND_MODULES:
         try:

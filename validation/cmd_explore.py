@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from validation import limits
+from validation.errors import LusmError
 from validation.options import (
     figure_set,
     integer,
@@ -53,6 +54,8 @@ def run(args: argparse.Namespace) -> None:
     from validation.interrupts import Terminated
     from validation.study import load_study
 
+    if not args.study.strip():
+        raise LusmError(f"STUDY.toml must name a study file, got {args.study!r}")
     study = load_study(args.study)
     check_out(args.out, args.force)
     plot = output_folder(args, "explore", "--plot")
@@ -99,7 +102,6 @@ def run(args: argparse.Namespace) -> None:
 def _report_failures(ds, path) -> None:
     """Say which geometries did not compute fully (their reasons are in the dataset's
     ``status``); refuse a study where none did (it exited 0 with a dataset of NaN)."""
-    from validation.errors import LusmError
 
     status = [str(x) for x in ds["status"].values.ravel()]
     bad = [x for x in status if x != "ok"]

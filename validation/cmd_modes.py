@@ -23,7 +23,7 @@ def register(subparsers) -> None:
         "frequencies with all electrodes grounded (short) and floating (open), and k_eff.",
     )
     add_plate_options(p)
-    add_fe_options(p)
+    add_fe_options(p, three_d=True)
     p.add_argument(
         "--model", choices=("2d", "3d"), default="2d",
         help="2d: plane-stress plate (default); 3d: piezoelastic brick reference (fem.solid3d)",
@@ -52,11 +52,13 @@ def _split(res) -> float:
     return res.B2.f_short_Hz / res.L1.f_short_Hz - 1.0
 
 
-def add_fe_options(p: argparse.ArgumentParser) -> None:
-    """``--order`` and ``--refine`` (bounded, see :mod:`validation.limits`)."""
+def add_fe_options(p: argparse.ArgumentParser, three_d: bool = False) -> None:
+    """``--order`` and ``--refine`` (bounded, see :mod:`validation.limits`); ``three_d``: the
+    command also has ``--model 3d``, whose default refine the help names too."""
     p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
     p.add_argument("--refine", type=integer("--refine", 1, limits.MAX_REFINE_2D, work=True),
-                   default=None, help="elements per plate width (2d default 4, 3d default 3)")
+                   default=None, help="elements per plate width (default 4"
+                   + (", 3 with --model 3d)" if three_d else ")"))
 
 
 def check_refine_3d(refine: int | None) -> None:

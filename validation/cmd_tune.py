@@ -51,7 +51,7 @@ def register(subparsers) -> None:
     add_plate_options(p, note="; dimensions not held by --fix are starting values")
     from validation.cmd_modes import add_fe_options
 
-    add_fe_options(p)
+    add_fe_options(p, three_d=True)
     add_output_options(p, folder=None)
     p.set_defaults(func=run)
 

@@ -448,6 +448,8 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
 
 def check_out(out: Path, force: bool) -> None:
     """Refuse, before any work, an output the dataset could not be written to."""
+    if not str(out).strip():
+        raise ValueError(f"--out must name a netCDF file (.nc), got {str(out)!r}")
     out = Path(out)
     if out.suffix.lower() not in (".nc", ".nc4", ".h5"):
         raise ValueError(f"--out {out}: write a netCDF file (.nc); zarr stores are not "

@@ -392,6 +392,8 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
         if o not in OUTPUTS:
             raise ValueError(f"{where}outputs[{i}] {o!r} does not exist; use "
                              f"{', '.join(OUTPUTS)}")
+        if o in outputs[:i]:  # as a repeated axis value is: a typo, most likely
+            raise ValueError(f"{where}outputs[{i}] {o!r} is listed twice")
     outputs = tuple(o for o in OUTPUTS if o in outputs)
     raw_solver = doc.get("solver", {})
     if not isinstance(raw_solver, dict):
