@@ -74,15 +74,16 @@ def run(args: argparse.Namespace) -> None:
         raise
     _report_failures(open_result(result.path), result.path)
     if plot is not None:
-        from validation.explore import design_maps
+        from validation.explore import design_maps, drawable_maps
 
         try:
             ds = open_result(result.path)
-            with figure_set(plot, "explore", "--plot", args.force) as stage:
-                result.figures = moved(design_maps(ds, stage), stage, plot)
-            if not result.figures:
-                warn("--plot: no map drawn (the maps need at least two lengths and two "
-                     "widths and a finite value among them)")
+            if not drawable_maps(ds):  # nothing to draw: no folder made either
+                warn(f"--plot {plot}: no map to draw (the maps need at least two lengths and "
+                     "two widths and a finite value among them); nothing written")
+            else:
+                with figure_set(plot, "explore", "--plot", args.force) as stage:
+                    result.figures = moved(design_maps(ds, stage), stage, plot)
         except (KeyboardInterrupt, Terminated):
             print(f"lusm explore: {result.path} is complete; the --plot maps were not written",
                   file=sys.stderr)

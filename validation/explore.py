@@ -700,6 +700,15 @@ MAP_VARIABLES = ("no_load_velocity", "stall_force", "split")
 """Variables drawn as length x width maps by :func:`design_maps`."""
 
 
+def drawable_maps(ds) -> list[str]:
+    """The :data:`MAP_VARIABLES` :func:`design_maps` can draw: present, not all NaN, over at
+    least two lengths and two widths."""
+    if ds.sizes.get("length", 0) < 2 or ds.sizes.get("width", 0) < 2:
+        return []
+    return [name for name in MAP_VARIABLES
+            if name in ds and np.isfinite(ds[name].values.astype(float)).any()]
+
+
 def design_maps(ds, folder: str | Path) -> list[Path]:
     """PNG maps of :data:`MAP_VARIABLES` over length x width (other axes at their first value).
 
@@ -710,11 +719,7 @@ def design_maps(ds, folder: str | Path) -> list[Path]:
 
     folder = Path(folder)
     written = []
-    if ds.sizes.get("length", 0) < 2 or ds.sizes.get("width", 0) < 2:
-        return written
-    for name in MAP_VARIABLES:
-        if name not in ds or not np.isfinite(ds[name].values.astype(float)).any():
-            continue
+    for name in drawable_maps(ds):
         da = ds[name]
         fixed = {d: 0 for d in da.dims if d not in ("length", "width")}
         da = da.isel(fixed).transpose("length", "width")
