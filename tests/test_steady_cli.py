@@ -203,3 +203,14 @@ def test_the_fast_level_says_when_the_averaging_does_not_hold(capsys):
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
                  "0:0.1:0.1", "--json"]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_characteristic_names_its_operating_point(capsys):
+    # with --frequency auto the frequency used was nowhere in the output
+    from validation.cli import main
+
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--source", "beam",
+                 "--frequency", "auto", "--loads", "0:0.1:0.1", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["voltage_V"] == 200 and d["preload_N"] == 14 and d["frequency_from"] == "auto"
+    assert d["frequency_Hz"] > 1e3

@@ -85,9 +85,11 @@ def run(args: argparse.Namespace) -> None:
                             accuracy=args.accuracy, progress=True)
              for v in voltages]
     if args.accuracy == "fast":
-        _warn_below_ripple(params, chars)
+        _warn_fast_level(params, chars, coupling, not args.no_ultrasonic_friction)
     docs = [c.to_dict() for c in chars]
-    for d in docs:
+    for c, d in zip(chars, docs, strict=True):  # the operating point, as simulate gives it
+        d.update(voltage_V=c.op.voltage_V, preload_N=c.op.preload_N,
+                 frequency_Hz=c.op.frequency_Hz, frequency_from=args.frequency)
         d["damping"] = damping_summary(params, damping_from)
         d["coupling"], d["coupling_from"] = coupling, coupling_from
     # one voltage: the characteristic itself; several: {"voltages_V", "characteristics"}
@@ -103,12 +105,19 @@ def run(args: argparse.Namespace) -> None:
     if args.json:
         print_json(doc, indent=2)
         return
+    for f in doc.get("figures", []):
+        print(f"wrote {f}")
     for v, char, d in zip(voltages, chars, docs, strict=True):
         if len(voltages) > 1:
             print(f"--- {v:g} V")
+        print(f"{'drive':<26} {v:g} V, {args.preload:g} N, {char.op.frequency_Hz:.6g} Hz"
+              + (" (auto)" if args.frequency == "auto" else ""))
         print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
         print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
-        print(f"{'accuracy':<26} {char.accuracy}")
+        print(f"{'accuracy':<26} {char.accuracy}" + (
+            " (averaged, slider mass -> infinity: which steady state a start from rest "
+            "reaches on the real slider, --accuracy exact decides)"
+            if char.accuracy == "fast" else ""))
         low, high = char.holding_range_N
         if math.isfinite(low) and math.isfinite(high):
             print(f"{'holds loads (N)':<26} {low:.4g} to {high:.4g}")
@@ -125,18 +134,33 @@ def run(args: argparse.Namespace) -> None:
     print(coupling_line(coupling, coupling_from))
 
 
-def _warn_below_ripple(params, chars) -> None:
-    """Warn where the averaged no-load velocity is below the slider's velocity ripple: there
-    the slider is not slow against the drive period, the averaging behind ``--accuracy fast``
-    does not hold, and the finite-mass motor can do something else (at 20 Hz the fast level
-    gave 1.8e-6 m/s and a 1.18 N stall force where the exact one holds the slider)."""
-    from contact.steady import ripple_scale
+def _warn_fast_level(params, chars, coupling: str, ultrasonic_friction: bool) -> None:
+    """Warn where the fast level's from-rest answer is not to be trusted: an averaged no-load
+    velocity below the slider's velocity ripple (the slider is not slow against the drive
+    period: at 20 Hz the fast level gave 1.8e-6 m/s and a 1.18 N stall force where the exact
+    one holds the slider; on the fem set at 200 V / 14 N it held the slider where the
+    finite-mass motor creeps at 7e-5 m/s), or several stable steady states at no load (which
+    one a start from rest reaches, the averaging cannot tell: at 30 kHz it reported
+    0.0124 m/s where a transient settles at 1.1e-4 m/s)."""
+    from contact.steady import ripple_scale, steady_state
 
     for c in chars:
-        ripple = ripple_scale(params, c.op, params.mu_d)
+        op = c.op
+        ripple = ripple_scale(params, op, params.mu_d)
         v = abs(float(c.no_load_velocity_m_s))
-        if 0.0 < v < ripple:
-            warn(f"at {c.op.voltage_V:g} V and {c.op.frequency_Hz:g} Hz the averaged no-load "
-                 f"velocity {v:.3g} m/s is below the slider's velocity ripple (about "
-                 f"{ripple:.2g} m/s per drive period): the averaging behind --accuracy fast "
-                 "does not hold; --accuracy exact runs the finite-mass motor")
+        where = f"at {op.voltage_V:g} V and {op.frequency_Hz:g} Hz"
+        if v < ripple:
+            warn(f"{where} the averaged no-load velocity {v:.3g} m/s is below the slider's "
+                 f"velocity ripple (about {ripple:.2g} m/s per drive period): the averaging "
+                 "behind --accuracy fast does not hold; --accuracy exact runs the finite-mass "
+                 "motor")
+            continue
+        r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
+                         coupling=coupling, ultrasonic_friction=ultrasonic_friction,
+                         accuracy="fast")
+        stable = [b for b in r.branches if b.stable]
+        if len(stable) > 1:
+            speeds = ", ".join(f"{b.velocity_m_s:.3g}" for b in stable)
+            warn(f"{where} {len(stable)} steady states coexist at no load ({speeds} m/s): the "
+                 "fast level cannot tell which a start from rest reaches; --accuracy exact "
+                 "decides it on the finite-mass motor")
