@@ -12,7 +12,8 @@ def test_characteristic_json_curve_is_consistent(capsys):
                  "--loads", "0:1.5:0.5", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "holding_range_N", "accuracy",
-                        "curve", "damping", "coupling", "coupling_from"}
+                        "curve", "damping", "coupling", "coupling_from", "voltage_V",
+                        "preload_N", "frequency_Hz", "frequency_from"}
     assert doc["accuracy"] == "fast"
     assert doc["coupling"] == "paper"  # auto: Table 2's set reproduces the paper
     curve = doc["curve"]
