@@ -195,10 +195,51 @@ def params_from_file(path_text: str):
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise LusmError(f"--params {path_text}: not a JSON parameter set ({exc})",
                         "--params") from None
+    derived = ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")
     try:
-        return MotorParams.from_dict(data)
+        stored = {k: v for k, v in data.items() if k not in derived} \
+            if isinstance(data, dict) else data
+        params = MotorParams.from_dict(stored)
     except (TypeError, ValueError) as exc:
         raise LusmError(f"--params {path_text}: {exc}", "--params") from None
+    # the derived keys follow the stored fields: an edit of C_l leaves a stale zeta_L1, which
+    # was refused although the help says to edit C_l; recomputed, and said so
+    for key in derived:
+        got, want = data.get(key), getattr(params, key)
+        if isinstance(got, (int, float)) and not math.isclose(float(got), want, rel_tol=1e-9):
+            warn(f"--params {path_text}: {key} = {got:.6g} in the file is derived; recomputed "
+                 f"from the stored fields as {want:.6g} (to change it, edit "
+                 f"{_SOURCES_OF[key]})")
+    _check_params_ranges(params, path_text)
+    return params
+
+
+_SOURCES_OF = {"eta_N": "phi_L0, phi_Ll", "eta_T": "phi_B0, phi_Bl",
+               "f_L1_Hz": "M_l, K_l", "zeta_L1": "M_l, K_l, C_l",
+               "f_B2_Hz": "M_b, K_b", "zeta_B2": "M_b, K_b, C_b"}
+"""The stored fields each derived key of a parameter file follows."""
+
+
+def _check_params_ranges(params, path_text: str) -> None:
+    """The ranges a stator file holds the same quantities to (``[contact]``, ``[slider]``,
+    ``[friction]``, ``[damping]``): a --params file skipped them (k_contact = 1e15 N/m,
+    damping ratios of 7e-7 were run)."""
+    from fem.stator_file import DAMPING_RATIO_RANGE, MOTOR_KEYS
+
+    for table in MOTOR_KEYS.values():
+        for field, lo, hi, lo_ok, unit in table.values():
+            v = float(getattr(params, field))
+            if not (v >= lo if lo_ok else v > lo) or v > hi:
+                raise LusmError(f"--params {path_text}: {field} must lie in "
+                                f"{'[' if lo_ok else '('}{lo:g}, {hi:g}] {unit}".rstrip()
+                                + f", got {v:g}", "--params")
+    lo, hi = DAMPING_RATIO_RANGE
+    for field in ("zeta_L1", "zeta_B2"):
+        v = float(getattr(params, field))
+        if not lo <= v < hi:
+            raise LusmError(f"--params {path_text}: {field} = {v:.3g} (from the masses, "
+                            f"stiffnesses and dampings) must lie in [{lo:g}, {hi:g})",
+                            "--params")
 
 
 def plate_given(args: argparse.Namespace) -> list[str]:
