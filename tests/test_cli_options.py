@@ -155,3 +155,13 @@ def test_options_that_do_nothing_here_are_said_so(capsys):
     assert "no effect" not in capsys.readouterr().err  # defaults are not the user's
     assert main(["compare", "--sources", "table2", "--length-mm", "20"]) == 2
     assert "add fem or beam to --sources" in capsys.readouterr().err
+
+
+def test_grid_values_carry_no_float_leftovers():
+    # "-0.3:0.3:0.1" printed a load of 5.551e-17 and "0:0.9:0.3" gave 0.8999999999999999
+    from validation.ranges import parse_range
+
+    assert list(parse_range("-0.3:0.3:0.1", "--loads", allow_list=False))[3] == 0.0
+    assert list(parse_range("0:0.9:0.3", "--voltages")) == [0.0, 0.3, 0.6, 0.9]
+    v = parse_range("-4.9:0:0.7", "--loads", allow_list=False)
+    assert v[-1] == 0.0 and str(v[-1]) == "0.0"
