@@ -215,3 +215,16 @@ def test_characteristic_names_its_operating_point(capsys):
     d = json.loads(capsys.readouterr().out)
     assert d["voltage_V"] == 200 and d["preload_N"] == 14 and d["frequency_from"] == "auto"
     assert d["frequency_Hz"] > 1e3
+
+
+def test_an_unsettled_transient_says_so(capsys):
+    # 300 V / 14 N at the default 50 ms: settled False in the table and nothing on stderr
+    from validation.cli import main
+
+    assert main(["simulate", "--voltage", "300", "--preload", "14", "--json"]) == 0
+    cap = capsys.readouterr()
+    assert json.loads(cap.out)["settled"] is False
+    assert "has not settled within --duration 0.05 s" in cap.err
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--json"]) == 0
+    cap = capsys.readouterr()
+    assert json.loads(cap.out)["settled"] is True and "warning" not in cap.err

@@ -128,8 +128,13 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
         method="steady" if args.steady else "event",
     )
     summary = simulation_summary(r)
-    if args.load_N and not args.steady and not r.steady.settled:
-        _warn_runaway(r, coupling, not args.no_ultrasonic_friction)
+    if not args.steady and not r.steady.settled:
+        if not (args.load_N and _warn_runaway(r, coupling, not args.no_ultrasonic_friction)):
+            st = r.steady
+            warn(f"at {voltage_V:g} V the slider has not settled within --duration "
+                 f"{args.duration:g} s (the last window's mean velocity {st.velocity_m_s:.4g} "
+                 f"m/s, an earlier one's {st.previous_velocity_m_s:.4g} m/s): the printed "
+                 "velocity is not the steady one; give a longer --duration, or --steady")
     if plot is not None:
         from validation.figures import simulation_figures
 
@@ -138,10 +143,11 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     return summary
 
 
-def _warn_runaway(r, coupling: str, ultrasonic_friction: bool) -> None:
+def _warn_runaway(r, coupling: str, ultrasonic_friction: bool) -> bool:
     """Warn when a transient's load is beyond what the motor can hold: the slider is still
     accelerating at the end, and the velocity printed is where the run stopped (the steady
-    engine refuses such a load; a transient reported -250 m/s at --load-N 1000)."""
+    engine refuses such a load; a transient reported -250 m/s at --load-N 1000). Returns
+    whether it warned."""
     import math
 
     from contact.steady import holding_range_N, slow_problem
@@ -151,9 +157,10 @@ def _warn_runaway(r, coupling: str, ultrasonic_friction: bool) -> None:
     low, high = holding_range_N(sp)
     load = r.op.load_N
     if not (math.isfinite(low) and math.isfinite(high)) or low <= load <= high:
-        return
+        return False
     way = "backward" if load > high else "forward"
     warn(f"--load-N {load:g} N is beyond the loads the motor holds at {r.op.voltage_V:g} V / "
          f"{r.op.preload_N:g} N ({low:.4g} to {high:.4g} N at the tip's full slip): the slider "
          f"runs away {way} and has no steady state; the velocity printed is where the run "
          "stopped")
+    return True
