@@ -102,12 +102,18 @@ def run(args: argparse.Namespace) -> None:
         # cases to the check after tuning)
         est_mm = bar_length_m(choice.material, args.target_frequency) * 1e3
         lo, hi = limits.PLATE_MM
-        if not lo / 1.2 <= est_mm <= 1.2 * hi:
+        # the shortest plate: within the range, and wide enough for the electrode gap (a
+        # tuned plate is about 0.27 times as wide as long: 11.4 x 42.1 mm at 40 kHz)
+        shortest = max(lo, choice.stator.electrode_gap_m * 1e3 / TUNED_ASPECT)
+        if not shortest / 1.2 <= est_mm <= 1.2 * hi:
             raise LusmError(
                 f"--target-frequency {args.target_frequency:g} Hz: asks for a plate about "
-                f"{est_mm:.4g} mm long, outside the [{lo:g}, {hi:g}] mm the other commands "
-                f"accept; targets from about {args.target_frequency * est_mm / hi:.4g} to "
-                f"{args.target_frequency * est_mm / lo:.4g} Hz fit", "--target-frequency")
+                f"{est_mm:.4g} mm long, outside the [{shortest:.3g}, {hi:g}] mm that the other "
+                f"commands accept and the gap allows; targets from about "
+                f"{args.target_frequency * est_mm / hi:.4g} to "
+                f"{args.target_frequency * est_mm / shortest:.4g} Hz fit (the upper end set "
+                f"by the {choice.stator.electrode_gap_m * 1e3:g} mm electrode gap)",
+                "--target-frequency")
 
     import warnings
 
@@ -156,6 +162,10 @@ def run(args: argparse.Namespace) -> None:
     else:
         print(f"|f_L1 - f_B2| / f = {d.relative_mismatch:.2e}, FE solves {d.fe_solves}, "
               f"outer iterations {d.outer_iterations}")
+
+
+TUNED_ASPECT = 0.27
+"""Width over length of a plate tuned to L1 = B2 (11.43 / 42.13 mm at 40 kHz, PZT-8, 3 mm)."""
 
 
 def _check_tuned_plate(d, target_Hz: float | None) -> None:
