@@ -106,3 +106,17 @@ def test_compare_puts_both_stator_columns_on_the_plate_given(capsys):
     beam40 = get_params("beam", length_m=0.040)
     assert d["values"]["beam"]["f_L1_Hz"] == pytest.approx(beam40.f_L1_Hz, rel=1e-12)
     assert beam40.f_L1_Hz < get_params("beam").f_L1_Hz  # a longer bar rings lower
+
+
+def test_params_and_compare_agree_on_a_beam_of_the_plate_given(capsys):
+    # params --source beam --length-mm 40 was refused ("needs --source fem") while compare
+    # showed that beam
+    import json
+
+    from validation.cli import main
+
+    assert main(["params", "--source", "beam", "--length-mm", "40", "--json"]) == 0
+    params = json.loads(capsys.readouterr().out)
+    assert main(["compare", "--length-mm", "40", "--json"]) == 0
+    compare = json.loads(capsys.readouterr().out)
+    assert params["f_L1_Hz"] == compare["values"]["beam"]["f_L1_Hz"]

@@ -471,8 +471,17 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
                 f"params file {args.params} (its C_l, C_b)")
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
+        if source == "beam" and not getattr(args, "geometry", None):
+            # Appendix A's beam of the plate's length, width and thickness (Table 1's
+            # constants), as lusm compare's beam column
+            from rom.sources import get_params
+
+            st = stator_from_args(args).stator
+            return (get_params("beam", length_m=st.length_m, width_m=st.width_m,
+                               thickness_m=st.thickness_m), borrowed_damping("beam"))
         if source not in (None, "fem"):
-            raise LusmError(f"{what} needs --source fem, got --source {source}", "--source")
+            raise LusmError(f"{what} needs --source fem (or beam, for plate options), got "
+                            f"--source {source}", "--source")
         choice = stator_from_args(args)  # checks the options and the file first
         check_fe_size(choice.stator, None)
         from rom.from_fem import design_base, fem_params, fem_params_from_file
