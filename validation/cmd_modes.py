@@ -56,7 +56,9 @@ def add_fe_options(p: argparse.ArgumentParser, three_d: bool = False) -> None:
     """``--order`` and ``--refine`` (bounded, see :mod:`validation.limits`); ``three_d``: the
     command also has ``--model 3d``, whose default refine the help names too."""
     p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
-    p.add_argument("--refine", type=integer("--refine", 1, limits.MAX_REFINE_2D, work=True),
+    note = f" (at most {limits.MAX_REFINE_3D} with --model 3d)" if three_d else ""
+    p.add_argument("--refine", type=integer("--refine", 1, limits.MAX_REFINE_2D, work=True,
+                                            note=note),
                    default=None, help="elements per plate width (default 4"
                    + (", 3 with --model 3d)" if three_d else ")"))
 

@@ -89,10 +89,12 @@ def real(option: str, unit: str = "", lo: float | None = None, hi: float | None 
     return parse
 
 
-def integer(option: str, lo: int, hi: int | None = None, work: bool = False):
+def integer(option: str, lo: int, hi: int | None = None, work: bool = False,
+            note: str = ""):
     """An argparse ``type`` for an integer in ``[lo, hi]``.
 
-    ``work=True`` makes ``hi`` a work bound, multiplied by ``LUSM_MAX_WORK``.
+    ``work=True`` makes ``hi`` a work bound, multiplied by ``LUSM_MAX_WORK``; ``note`` follows
+    the range in the message (another mode's narrower range, say).
     """
 
     def parse(text: str) -> int:
@@ -109,7 +111,7 @@ def integer(option: str, lo: int, hi: int | None = None, work: bool = False):
             hint = f" ({limits.more_work_hint()})" if work and value is not None and (
                 value > (top or value)) else ""
             raise argparse.ArgumentTypeError(
-                f"{option} must be an integer in {rng}, got {text!r}{hint}")
+                f"{option} must be an integer in {rng}{note}, got {text!r}{hint}")
         return value
 
     parse.__name__ = option
