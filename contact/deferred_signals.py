@@ -75,7 +75,7 @@ def _release(previous: tuple | None) -> None:
         return
     signal.signal(signal.SIGINT, previous[0])
     signal.signal(signal.SIGTERM, previous[1])
-    if _caught and previous[0] is not _record:  # the outermost hold delivers
+    if _caught:  # only the outermost hold gets here
         signum = _caught[0]
         _caught.clear()
         _deliver(signum, previous[0] if signum == signal.SIGINT else previous[1])

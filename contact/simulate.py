@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact import event_kernel
-from contact.deferred_signals import deferred_signals
+from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.friction import dynamic_friction
 from contact.model import (
@@ -183,12 +183,12 @@ def _check_spectrum(system: HybridSystem, dt_s: float) -> None:
 def _run(system: HybridSystem, n_steps: int, dt: float, win_start: int, decim: int,
          n_full: int, energy: bool, max_events: int):
     phi, phi_half = system.propagators(dt)
-    with deferred_signals():  # a Ctrl-C during the kernel is raised after it returns
-        return event_kernel.integrate_switch_model(
-            system.z0, system.mode0, n_steps, dt, phi, phi_half, system.A, system.ev_h,
-            system.ev_dh, system.ev_type, system.fn_m, system.ft_m, system.ff_m, system.funcs,
-            system.scalars, win_start, decim, n_full, energy, max_events,
-        )
+    return call_held(  # a Ctrl-C during the kernel is raised after it returns
+        event_kernel.integrate_switch_model,
+        system.z0, system.mode0, n_steps, dt, phi, phi_half, system.A, system.ev_h,
+        system.ev_dh, system.ev_type, system.fn_m, system.ft_m, system.ff_m, system.funcs,
+        system.scalars, win_start, decim, n_full, energy, max_events,
+    )
 
 
 def raise_status(status: int, fail_step: int, dt: float, op: OperatingPoint) -> None:

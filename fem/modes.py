@@ -250,20 +250,29 @@ def _sampling(
     X, Y = np.meshgrid(xs, ys)  # (ny, nx)
     pts = np.vstack((X.ravel(), Y.ravel()))
     inside = model.mesh.contains(pts).reshape(X.shape)
-    # scikit-fem's point location works on the mesh's own (polygonal) edges, which can miss
-    # a grid point that the nominal outline counts inside (next to a hole on the centreline:
-    # "Point is outside of the mesh"); such points are dropped like those outside
-    flat = inside.ravel()
-    flat[flat] = _locatable(model, pts[:, flat])
-    inside = flat.reshape(X.shape)
     inside &= inside[:, ::-1]
+    try:
+        return X, Y, _probe_where(model, pts, inside), inside
+    except ValueError:
+        # scikit-fem's point location works on the mesh's own (polygonal) edges, which can
+        # miss a grid point that the nominal outline counts inside (next to a hole on the
+        # centreline: "Point is outside of the mesh"); such points are dropped like those
+        # outside. Searched for only then: most meshes never get here
+        flat = inside.ravel()
+        flat[flat] = _locatable(model, pts[:, flat])
+        inside = flat.reshape(X.shape)
+        inside &= inside[:, ::-1]
+        return X, Y, _probe_where(model, pts, inside), inside
+
+
+def _probe_where(model: PiezoPlateModel, pts: np.ndarray, inside: np.ndarray) -> sp.csr_matrix:
+    """The probe matrix of ``pts`` with zero rows where ``inside`` is False."""
     if inside.all():
-        return X, Y, model.probe(pts), inside
+        return model.probe(pts)
     idx = np.flatnonzero(inside.ravel())
     sub = model.probe(pts[:, idx]).tocoo()
     rows = np.concatenate((idx, pts.shape[1] + idx))[sub.row]
-    P = sp.csr_matrix((sub.data, (rows, sub.col)), shape=(2 * pts.shape[1], sub.shape[1]))
-    return X, Y, P, inside
+    return sp.csr_matrix((sub.data, (rows, sub.col)), shape=(2 * pts.shape[1], sub.shape[1]))
 
 
 def reference_shapes(X: np.ndarray, Y: np.ndarray, length_m: float) -> dict[str, np.ndarray]:

@@ -113,9 +113,9 @@ from fem.meshed_stator import MeshedStator, bbox_mm
 MM = 1e-3
 """One millimetre in metres."""
 
-MATERIAL_RANGES = {"cE_Pa": (0.1, 1000.0, 1e9), "e_C_m2": (0.0, 100.0, 1.0),
-                   "epsS_F_m": (1.0, 1e5, 8.8541878128e-12)}
-"""Accepted size of inline ``[material]`` constants (lower, upper, unit scale): the largest
+MATERIAL_RANGES = {"cE_Pa": (0.1, 1000.0, 1e9, "GPa"), "e_C_m2": (0.0, 100.0, 1.0, "C/m^2"),
+                   "epsS_F_m": (1.0, 1e5, 8.8541878128e-12, "eps0")}
+"""Accepted size of inline ``[material]`` constants (lower, upper, unit scale, unit): the largest
 diagonal stiffness in GPa, the largest piezoelectric constant in C/m^2, the largest diagonal
 permittivity in units of eps0. e = 1e6 C/m^2 (1e5 times PZT-8's) gave a clamped capacitance of
 0.78 F."""
@@ -382,10 +382,9 @@ def _material(table: dict, src: str) -> PiezoMaterial:
             if arr is None or arr.shape != shape:
                 raise ValueError(f"{src}: [material] {key} must be a {shape[0]}x{shape[1]} "
                                  f"array of numbers")
-            lo, hi, scale = MATERIAL_RANGES[key]
+            lo, hi, scale, unit = MATERIAL_RANGES[key]
             size = np.max(np.abs(np.diag(arr))) if key != "e_C_m2" else np.max(np.abs(arr))
             if not (np.all(np.isfinite(arr)) and lo <= size / scale <= hi):
-                unit = {"cE_Pa": "GPa", "e_C_m2": "C/m^2", "epsS_F_m": "eps0"}[key]
                 raise ValueError(f"{src}: [material] {key}'s largest "
                                  f"{'entry' if key == 'e_C_m2' else 'diagonal entry'} must lie "
                                  f"in [{lo:g}, {hi:g}] {unit} (solid piezoelectrics; PZT-8: "

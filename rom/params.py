@@ -31,6 +31,10 @@ _POSITIVE = (
 _NON_NEGATIVE = ("mu_sd", "a_mu", "b_mu")
 
 
+DERIVED_KEYS = ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")
+"""Keys of :meth:`MotorParams.to_dict` computed from the stored fields, not stored."""
+
+
 @dataclass(frozen=True)
 class MotorParams:
     """Reduced-order parameters of a two-mode (L1 + B2) linear ultrasonic motor.
@@ -221,7 +225,7 @@ class MotorParams:
         if not isinstance(d, dict):
             raise ValueError(f"a parameter set must be a JSON object, got {type(d).__name__}")
         stored = [f.name for f in fields(cls)]
-        derived = ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")
+        derived = DERIVED_KEYS
         unknown = sorted(set(d) - set(stored) - set(derived))
         if unknown:
             raise ValueError(f"unknown key(s) {', '.join(unknown)}; a parameter set has "

@@ -48,13 +48,10 @@ def run(args: argparse.Namespace) -> None:
         given = {"fem": fem}
         if "beam" in args.sources:
             # the beam column follows the plate too (it stayed the paper's 30 x 7.5 x 3 mm,
-            # so --length-mm changed one column of two); Table 1's beam constants
-            from rom.sources import get_params
-            from validation.options import stator_from_args
+            # so --length-mm changed one column of two)
+            from validation.options import beam_of_plate
 
-            st = stator_from_args(args).stator
-            given["beam"] = get_params("beam", length_m=st.length_m, width_m=st.width_m,
-                                       thickness_m=st.thickness_m)
+            given["beam"] = beam_of_plate(args)
     cmp = compare_sources(args.sources, reference=args.reference, given=given)
     if args.json:
         d = cmp.to_dict()

@@ -8,7 +8,6 @@ never imports scikit-fem.
 from __future__ import annotations
 
 import argparse
-import sys
 
 from validation import limits
 from validation.options import add_output_options, add_plate_options, integer, print_json
@@ -309,7 +308,7 @@ def _write_export(path, model, res, force: bool, writer) -> None:
 
     from validation.errors import LusmError
     from validation.interrupts import checkpoint
-    from validation.output_set import backup_name
+    from validation.output_set import keep_aside
 
     try:  # a read-only folder: name the user's file, not the staging folder's random name
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -333,9 +332,7 @@ def _write_export(path, model, res, force: bool, writer) -> None:
         for n in names:
             dst = path.parent / n
             if dst.exists() or dst.is_symlink():  # --force: the old file is kept, not lost
-                backup = backup_name(dst)
-                os.replace(dst, backup)
-                print(f"lusm modes: kept the earlier {dst} as {backup.name}", file=sys.stderr)
+                keep_aside(dst, "--force")
             os.replace(os.path.join(stage, n), dst)
     finally:
         shutil.rmtree(stage, ignore_errors=True)

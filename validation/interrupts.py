@@ -63,11 +63,6 @@ def checkpoint() -> None:
         raise _pending
 
 
-def pending() -> bool:
-    """Whether a Ctrl-C or SIGTERM arrived since :func:`handlers` was entered."""
-    return _pending is not None
-
-
 class QuietAfterSignal(logging.Filter):
     """A logging filter that drops every record once a signal is pending.
 

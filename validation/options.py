@@ -197,7 +197,8 @@ def params_from_file(path_text: str):
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise LusmError(f"--params {path_text}: not a JSON parameter set ({exc})",
                         "--params") from None
-    derived = ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")
+    from rom.params import DERIVED_KEYS as derived
+
     try:
         stored = {k: v for k, v in data.items() if k not in derived} \
             if isinstance(data, dict) else data
@@ -314,8 +315,6 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
     from fem.material import get_material
 
     given = plate_given(args)
-    if getattr(args, "geometry", None) is not None and not str(args.geometry).strip():
-        raise LusmError("--geometry must name a stator file, got ''", "--geometry")
     if getattr(args, "geometry", None):
         if given:
             raise LusmError(f"{', '.join(given)} cannot be combined with --geometry: the "
@@ -455,6 +454,17 @@ def fem_params_of(args: argparse.Namespace, source: str | None):
     return motor_params_of(args, source)[0]
 
 
+def beam_of_plate(args: argparse.Namespace):
+    """Appendix A's beam of the length, width and thickness the options (or --geometry)
+    name, with Table 1's constants: ``--source beam`` with plate options, and compare's beam
+    column."""
+    from rom.sources import get_params
+
+    st = stator_from_args(args).stator
+    return get_params("beam", length_m=st.length_m, width_m=st.width_m,
+                      thickness_m=st.thickness_m)
+
+
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
     :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a
@@ -474,13 +484,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source == "beam" and not getattr(args, "geometry", None):
-            # Appendix A's beam of the plate's length, width and thickness (Table 1's
-            # constants), as lusm compare's beam column
-            from rom.sources import get_params
-
-            st = stator_from_args(args).stator
-            return (get_params("beam", length_m=st.length_m, width_m=st.width_m,
-                               thickness_m=st.thickness_m), borrowed_damping("beam"))
+            return beam_of_plate(args), borrowed_damping("beam")
         if source not in (None, "fem"):
             raise LusmError(f"{what} needs --source fem (or beam, for plate options), got "
                             f"--source {source}", "--source")

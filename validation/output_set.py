@@ -110,9 +110,7 @@ def _write_marker(folder: Path, kind: str, hashes: dict[str, str | None]) -> Non
     path = folder / MARKER
     if path.is_symlink() or (path.exists() and not path.is_file()):
         # never write through a link (into whatever it points at): keep it aside
-        backup = backup_name(path)
-        os.replace(path, backup)
-        print(f"lusm: kept {path} as {backup.name} (it is not lusm's marker)", file=sys.stderr)
+        keep_aside(path, "it is not lusm's marker")
     path.write_text(json.dumps(doc, indent=1))
 
 
@@ -130,6 +128,15 @@ def backup_name(path: Path) -> Path:
         if not candidate.exists() and not candidate.is_symlink():
             return candidate
         n += 1
+
+
+def keep_aside(path: Path, why: str) -> Path:
+    """Rename ``path`` (a file or a link, never followed) to its :func:`backup_name` and say
+    so on stderr, with ``why``; returns the new name."""
+    backup = backup_name(path)
+    os.replace(path, backup)
+    print(f"lusm: kept {path} as {backup.name} ({why})", file=sys.stderr)
+    return backup
 
 
 def check_target(target: Path, kind: str, option: str = "--out", force: bool = False) -> None:
@@ -249,10 +256,7 @@ def _commit(stage: Path, target: Path, kind: str, force: bool) -> None:
         raise OutputError(f"--out {target} already holds {foreign[0]!r}, which lusm did not "
                           "write; move it away or pass --force (it is kept as a .bak file)")
     for f in [*edited, *foreign]:
-        backup = backup_name(target / f)
-        os.replace(target / f, backup)
-        print(f"lusm: kept {target / f} as {backup.name} (it is not what lusm wrote there)",
-              file=sys.stderr)
+        keep_aside(target / f, "it is not what lusm wrote there")
     for f in new_files:
         dst = target / f
         dst.parent.mkdir(parents=True, exist_ok=True)
