@@ -14,7 +14,7 @@ def test_characteristic_json_curve_is_consistent(capsys):
     assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "holding_range_N", "accuracy",
                         "curve", "damping", "coupling", "coupling_from", "voltage_V",
                         "preload_N", "frequency_Hz", "frequency_from"}
-    assert doc["accuracy"] == "fast"
+    assert doc["accuracy"] == "exact"  # the default: the finite-mass motor from rest
     assert doc["coupling"] == "paper"  # auto: Table 2's set reproduces the paper
     curve = doc["curve"]
     assert [row["load_N"] for row in curve] == pytest.approx([0.0, 0.5, 1.0, 1.5])
@@ -25,6 +25,25 @@ def test_characteristic_json_curve_is_consistent(capsys):
     assert curve[0]["velocity_m_s"] == pytest.approx(doc["no_load_velocity_m_s"])
     # all four loads are below the stall force, so the slider moves against each
     assert doc["stall_force_N"] > 1.5 and all(row["velocity_m_s"] > 0 for row in curve)
+
+
+def test_the_default_characteristic_is_what_a_start_from_rest_reaches(capsys):
+    """At 30 kHz the averaged (fast) level's only branch runs at 0.0124 m/s while the motor
+    started from rest creeps at 1.1e-4 m/s: the default must give the motor's value."""
+    from contact.steady import transient_reference
+    from rom import table2
+
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--frequency",
+                 "30000", "--loads", "0:0.1:0.1", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    # from rest, 0.3 s (9 000 periods, settled to 1e-9 by 1.2 s), last 400 periods' mean
+    ref, _ = transient_reference(table2(), 200.0, 14.0, frequency_Hz=30e3, duration_s=0.3)
+    assert ref < 1e-3
+    assert doc["no_load_velocity_m_s"] == pytest.approx(ref, rel=1e-5)
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--frequency",
+                 "30000", "--loads", "0:0.1:0.1", "--json", "--accuracy", "fast"]) == 0
+    fast = json.loads(capsys.readouterr().out)["no_load_velocity_m_s"]
+    assert fast > 50 * ref  # what the default used to print
 
 
 @pytest.mark.parametrize(
@@ -199,10 +218,10 @@ def test_the_fast_level_says_when_the_averaging_does_not_hold(capsys):
     from validation.cli import main
 
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--frequency",
-                 "100", "--loads", "0:0.1:0.1", "--json"]) == 0
+                 "100", "--loads", "0:0.1:0.1", "--json", "--accuracy", "fast"]) == 0
     assert "the averaging behind --accuracy fast does not hold" in capsys.readouterr().err
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
-                 "0:0.1:0.1", "--json"]) == 0
+                 "0:0.1:0.1", "--json", "--accuracy", "fast"]) == 0
     assert "warning" not in capsys.readouterr().err
 
 

@@ -38,10 +38,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
                    help="load forces (N), e.g. 0:2:0.1; default 21 loads from 0 to the stall "
                    "force")
-    p.add_argument("--accuracy", choices=("fast", "exact"), default="fast",
-                   help="fast: the averaged steady state, all loads from one set of orbits "
-                   "(default); exact: the finite-mass motor from rest at every load "
-                   "(docs/steady.md)")
+    p.add_argument("--accuracy", choices=("fast", "exact"), default="exact",
+                   help="exact: the finite-mass motor from rest at every load (default); "
+                   "fast: the averaged steady state (slider mass -> infinity), all loads "
+                   "from one set of orbits, about half the time, but blind to the creeps "
+                   "and holds a start from rest can end in (docs/steady.md)")
     add_motor_options(p)
     add_output_options(p, folder="--plot", folder_help="write characteristic.png into DIR")
     p.set_defaults(func=run)

@@ -136,8 +136,9 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
           "(`docs/steady.md`): no transient is run except where the engine cannot decide. "
           "Speed-thrust and efficiency at "
           + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
-          + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic`: averaged level, "
-          "slider mass -> infinity, relative error ~1e-3); settled stick-slip maps over "
+          + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic --accuracy fast`: "
+          "averaged level, slider mass -> infinity, relative error ~1e-3); settled "
+          "stick-slip maps over "
           f"{volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: exact "
           "level, the branch reached from rest). Efficiency is the mechanical output power "
           "over the electrical input power (motional current times voltage). Table 2's set "
