@@ -26,6 +26,7 @@ import scipy.sparse.linalg as sla
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
 from fem.mesh import DEFAULT_REFINE
+from fem.meshed_stator import overall_length_m
 from fem.model import PiezoPlateModel, plate_model
 
 N_SAMPLE_X = 9
@@ -36,6 +37,11 @@ MIN_MAC = 0.5
 """Smallest correlation with the reference shape accepted for an identified mode."""
 MIN_SYMMETRY = 0.9
 """Smallest fraction of a mode's sampled energy in the expected symmetry class."""
+
+PAIR_MAC = 0.9
+"""Least mass-weighted MAC between a short-circuit mode and the open-circuit mode paired with
+it (the electrodes' open circuit stiffens a mode, it does not reshape it: 0.99+ on the
+paper's plate)."""
 
 
 class ModeSolverError(RuntimeError):
@@ -106,10 +112,11 @@ class PlateModes:
 
 
 def rod_frequency_estimate_Hz(stator: PlateStator, material: PiezoMaterial | str) -> float:
-    """Slender-rod L1 estimate ``c / (2 l)`` with the plane-stress modulus along y (Hz)."""
+    """Slender-rod L1 estimate ``c / (2 l)`` with the plane-stress modulus along y (Hz); ``l``
+    is the stator's whole extent along y, a protruding tip included."""
     mat = get_material(material)
     young = plane_stress(mat).young_modulus_Pa(1)
-    return math.sqrt(young / mat.rho_kg_m3) / (2.0 * stator.length_m)
+    return math.sqrt(young / mat.rho_kg_m3) / (2.0 * overall_length_m(stator))
 
 
 def _shift_invert(
@@ -246,7 +253,9 @@ def _sampling(
     st = model.stator
     inset = 1e-9
     xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
-    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
+    # the whole extent along y: a protruding tip belongs to the vibrating body (a 10 mm tip as
+    # wide as the plate makes a 40 mm bar, whose L1 and B2 the 30 mm shapes misidentified)
+    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * overall_length_m(st)
     X, Y = np.meshgrid(xs, ys)  # (ny, nx)
     pts = np.vstack((X.ravel(), Y.ravel()))
     inside = model.mesh.contains(pts).reshape(X.shape)
@@ -309,7 +318,8 @@ def identify_modes(
 ) -> dict[str, tuple[int, float, float]]:
     """Index, MAC and symmetry fraction of L1 and B2 among the computed modes."""
     X, Y, P, inside = _sampling(model)
-    refs = {k: v * inside for k, v in reference_shapes(X, Y, model.stator.length_m).items()}
+    refs = {k: v * inside
+            for k, v in reference_shapes(X, Y, overall_length_m(model.stator)).items()}
     sampled = (P @ shapes).reshape(2, *X.shape, -1)
     centre = X.shape[1] // 2
     f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
@@ -392,24 +402,43 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
     t0 = time.perf_counter()
     fs, vs, ids = solve(False)
     t_short = time.perf_counter() - t0
-    fo, _, ido = solve(True)
-    return fs, fo, pair_short_open(fs, vs, ids, fo, ido, model.M, names), t_short
+    fo, vo, ido = solve(True)
+    return fs, fo, pair_short_open(fs, vs, ids, fo, ido, model.M, names, vo), t_short
 
 
-def pair_short_open(fs, vs, ids, fo, ido, M,
-                    names: tuple[str, ...] = ("L1", "B2")) -> dict[str, IdentifiedMode]:
+def mass_mac(a: np.ndarray, b: np.ndarray, M) -> float:
+    """Mass-weighted modal assurance of two shapes (0..1): 1 for the same mode."""
+    ab = float(a @ (M @ b))
+    return ab * ab / (float(a @ (M @ a)) * float(b @ (M @ b)))
+
+
+def pair_short_open(fs, vs, ids, fo, ido, M, names: tuple[str, ...] = ("L1", "B2"),
+                    vo: np.ndarray | None = None) -> dict[str, IdentifiedMode]:
     """L1 and B2 from identified short- and open-circuit solutions (2D or 3D model).
 
     ``fs, vs`` are the short-circuit frequencies (Hz) and shapes, ``ids``/``ido`` map each
     mode name to ``(index, mac, symmetry)`` in the short/open solutions, ``fo`` the
     open-circuit frequencies; shapes are mass-normalized with ``M``; ``names`` lists the
-    modes to pair.
+    modes to pair. With the open-circuit shapes ``vo``, the open mode is the one with the
+    short mode's own shape (mass-weighted MAC >= :data:`PAIR_MAC`): where the reference
+    shape picked another mode (a stator whose modes mix, e.g. a long narrow tip), their
+    frequencies made a k_eff of 0.62 out of two different modes. No open mode with that shape
+    is a :class:`ModeSolverError`.
     """
     modes = {}
     for name in names:
         i, mac, sym = ids[name]
         f_short = float(fs[i])
-        f_open = float(fo[ido[name][0]])
+        j = ido[name][0]
+        if vo is not None and mass_mac(vs[:, i], vo[:, j], M) < PAIR_MAC:
+            macs = [mass_mac(vs[:, i], vo[:, c], M) for c in range(vo.shape[1])]
+            j = int(np.argmax(macs))
+            if macs[j] < PAIR_MAC:
+                raise ModeSolverError(
+                    f"could not pair {name} in open circuit: no open-circuit mode has the "
+                    f"shape of the short-circuit {name} at {f_short:.1f} Hz (best "
+                    f"correlation {macs[j]:.2f} < {PAIR_MAC}, at {float(fo[j]):.1f} Hz)")
+        f_open = float(fo[j])
         k2 = (f_open**2 - f_short**2) / f_open**2
         shape = vs[:, i] / math.sqrt(float(vs[:, i] @ (M @ vs[:, i])))
         shape.setflags(write=False)

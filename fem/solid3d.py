@@ -75,7 +75,7 @@ import scipy.sparse.linalg as sla
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material
 from fem.mesh import PlateMesh, grid_lines_m
-from fem.meshed_stator import planform_mesh
+from fem.meshed_stator import overall_length_m, planform_mesh
 from fem.modes import (
     MIN_MAC,
     MIN_SYMMETRY,
@@ -466,8 +466,8 @@ def build_solid_model(
     planform = planform_mesh(stator)
     if planform is None and stator.electrode_gap_m <= 0.0:
         raise ValueError(
-            "the 3D model needs electrode_gap_m > 0: with no gap the four quadrants touch and "
-            "form one conductor"
+            "PlateStator.electrode_gap_m must be > 0 in the 3D model: with no gap the four "
+            "quadrants touch and form one conductor"
         )
     if planform is None and grid_lines is not None:
         from skfem import MeshHex
@@ -718,7 +718,7 @@ def _sampling3d(model: SolidPlateModel):
     st = model.stator
     inset = 1e-9
     xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
-    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
+    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * overall_length_m(st)
     X, Y = np.meshgrid(xs, ys)
     zt = 0.5 * st.thickness_m * (1.0 - inset)
     planform = planform_mesh(st)
@@ -752,7 +752,7 @@ def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
 def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
     X, Y, probes, inside = _sampling3d(model)
     sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
-    return identify_sampled(X, Y, sampled, inside, model.stator.length_m, freqs_Hz)
+    return identify_sampled(X, Y, sampled, inside, overall_length_m(model.stator), freqs_Hz)
 
 
 def identify_sampled(

@@ -224,3 +224,32 @@ def test_mounting_points_report_the_mode_amplitude(tmp_path, capsys):
     with pytest.raises(ValueError, match=r"mounts_mm point 1 = \[3.5, 0.2\] mm lies off"):
         parse_stator({"plate": PLATE, "chamfers": {"size_mm": 1},
                       "points": {"mounts_mm": [[3.5, 0.2]]}}, src="s")
+
+
+def test_a_tip_as_wide_as_the_plate_vibrates_with_it():
+    """A 10 mm tip as wide as the 30 mm plate makes a 40 mm bar: its L1 and B2 are the 40 mm
+    plate's (the 30 mm reference shapes picked a 59 kHz mode as B2, against 34.7 kHz)."""
+    tipped = ParametricStator(tip_length_m=10e-3, tip_width_m=7.5e-3)
+    f_tip, res = _freqs(tipped)
+    f_bar, _ = _freqs(PlateStator(length_m=40e-3))
+    # the electrodes cover 30 mm of the 40: the modes stay within 1 % of the bare bar's
+    assert f_tip == pytest.approx(f_bar, rel=0.01)
+    for m in (res.L1, res.B2):  # each open-circuit partner is the same mode, stiffened
+        assert m.f_short_Hz < m.f_open_Hz < 1.05 * m.f_short_Hz
+
+
+def test_open_circuit_partner_is_chosen_by_shape():
+    """pair_short_open takes the open-circuit mode with the short mode's shape even where
+    the reference-shape identification named another (two modes, open order swapped)."""
+    from fem.modes import ModeSolverError, pair_short_open
+
+    M = np.eye(4)
+    vs = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]]).T
+    vo = np.array([[0, 0.99, 0.1, 0], [0.99, 0, 0, 0.1]]).T  # the same two shapes, swapped
+    fs, fo = np.array([100.0, 200.0]), np.array([205.0, 101.0])
+    ids = {"L1": (0, 0.9, 1.0)}
+    found = pair_short_open(fs, vs, ids, fo, {"L1": (0, 0.9, 1.0)}, M, ("L1",), vo)
+    assert found["L1"].f_open_Hz == 101.0  # by shape; the named index gave 205 Hz
+    unrelated = np.array([[0, 0, 1.0, 0], [0, 0, 0, 1.0]]).T
+    with pytest.raises(ModeSolverError, match="could not pair L1"):
+        pair_short_open(fs, vs, ids, fo, {"L1": (0, 0.9, 1.0)}, M, ("L1",), unrelated)

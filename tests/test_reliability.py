@@ -198,6 +198,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("sim-unknown-option", ["simulate", "--voltage", "200", "--preload", "14", "--bogus"],
      ["unrecognized"]),
     # map
+    ("modes-3d-gap-zero", ["modes", "--model", "3d", "--gap-mm", "0"],
+     ["--gap-mm must be at least 0.001 mm with --model 3d, got 0"]),
     ("map-frequency-zero", ["map", "--frequency", "0"], ["--frequency"]),
     ("map-voltages-1e10-points", ["map", "--voltages", "0:1e10:1"], ["--voltages", "limit"]),
     ("map-voltages-beyond-range", ["map", "--voltages", "0:5000:1000"],
@@ -477,6 +479,8 @@ def test_work_bounds_can_be_raised_on_purpose(monkeypatch, capsys):
 def test_warnings_where_the_model_stops_meaning_anything(capsys):
     from validation.options import check_plate_mm, warn_drive
 
+    check_plate_mm(30.0, 7.5, 20.0, 0.5, three_d=True)  # the 3D model has no such limit
+    assert capsys.readouterr().err == ""
     check_plate_mm(30.0, 7.5, 20.0, 0.5)
     warn_drive(900.0, 300.0)
     warn_drive(0.0, 0.0)
@@ -709,6 +713,9 @@ def test_library_names_become_the_options_the_user_typed():
     assert str(e) == "--dt 1e-07 s is too coarse; use --dt <= 8.5e-10 s"
     e = user_error(ValueError("PlateStator.length_m must be > 0, got -1"))  # m, not mm
     assert str(e) == "--length-mm: PlateStator.length_m must be > 0, got -1"
+    # a message that already names the option is left alone ("----refine" before)
+    e = user_error(ValueError("check the plate and --refine"))
+    assert str(e) == "check the plate and --refine"
 
 
 @pytest.mark.parametrize("argv, option", [

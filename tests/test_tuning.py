@@ -247,3 +247,13 @@ def test_tune_warns_once_about_the_tuned_plate(capsys):
     assert main(["tune", "--fix", "width,thickness_ratio", "--json"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("lusm tune: warning: the tuned plate: "), err
+
+
+def test_a_tuned_thick_plate_gets_the_thin_plate_warning_modes_gives(capsys):
+    """At 500 kHz the 3 mm plate is tuned to 3.13 x 0.82 mm: 3.7 x thicker than wide, where
+    the 3D model splits L1 and B2 by 18 %; tune said nothing while modes warned."""
+    assert main(["tune", "--target-frequency", "5e5", "--json"]) == 0
+    out = capsys.readouterr()
+    d = json.loads(out.out)
+    assert d["thickness_mm"] > d["width_mm"]
+    assert "plane-stress model assumes a thin plate" in out.err

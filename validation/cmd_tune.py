@@ -135,11 +135,19 @@ def run(args: argparse.Namespace) -> None:
                             "or hold a dimension with --fix length", "--geometry") from None
         raise
     _check_tuned_plate(d, args.target_frequency)
-    validity = stator_gap_validity_message(d.stator) if args.model == "2d" else None
-    if validity is not None:
+    if args.model == "2d":
         from validation.options import warn
 
-        warn(f"the tuned plate: {validity}")
+        validity = stator_gap_validity_message(d.stator)
+        if validity is not None:
+            warn(f"the tuned plate: {validity}")
+        st = d.stator
+        ratio = st.thickness_m / min(st.length_m, st.width_m)
+        if ratio > limits.PLANE_STRESS_RATIO:  # what modes says of the same plate
+            warn(f"the tuned plate: thickness {st.thickness_m * 1e3:g} mm is {ratio:.3g} x "
+                 "its smaller in-plane dimension; the 2D plane-stress model assumes a thin "
+                 f"plate (thickness below {limits.PLANE_STRESS_RATIO:g} x min(length, "
+                 "width)); check with --model 3d")
     if args.json:
         print_json(d.to_dict())
         return

@@ -88,10 +88,10 @@ def user_error(exc: BaseException) -> LusmError:
     line = _first_line(exc)
     blamed = None
     for name, option in LIBRARY_NAMES.items():
-        if re.search(rf"(?<![\w.]){re.escape(name)}\b", line):
+        if re.search(rf"(?<![\w.-]){re.escape(name)}\b", line):
             blamed = blamed or option
             if name in SAME_UNITS:  # say it as the user typed it: "--frequency 1 Hz"
-                line = re.sub(rf"(?<![\w.]){re.escape(name)}\b(\s*=)?", option, line)
+                line = re.sub(rf"(?<![\w.-]){re.escape(name)}\b(\s*=)?", option, line)
     if blamed is None:
         return LusmError(line)
     return LusmError(line if blamed in line else f"{blamed}: {line}", blamed)

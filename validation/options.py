@@ -283,11 +283,15 @@ class StatorChoice:
 
 
 def check_plate_mm(length: float, width: float, thickness: float, gap: float,
-                   gap_given: bool = True) -> None:
+                   gap_given: bool = True, three_d: bool = False) -> None:
     """Refuse an electrode gap that eats the plate or is too narrow to model; warn outside
-    plane stress's validity."""
+    plane stress's validity (the 2D model's; ``three_d``: the 3D model, which needs a gap)."""
     from fem.geometry import MIN_GAP_M
 
+    if three_d and gap == 0.0:
+        raise LusmError(f"--gap-mm must be at least {MIN_GAP_M * 1e3:g} mm with --model 3d, "
+                        "got 0: with no gap the four quadrants touch and form one conductor",
+                        "--gap-mm")
     if 0.0 < gap < MIN_GAP_M * 1e3:
         raise LusmError(f"--gap-mm must be 0 (touching quadrants) or at least "
                         f"{MIN_GAP_M * 1e3:g} mm, got {gap:g}", "--gap-mm")
@@ -297,7 +301,7 @@ def check_plate_mm(length: float, width: float, thickness: float, gap: float,
                         f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
                         "--gap-mm", "--gap-mm")
     ratio = thickness / min(length, width)
-    if ratio > limits.PLANE_STRESS_RATIO:
+    if ratio > limits.PLANE_STRESS_RATIO and not three_d:
         warn(f"--thickness-mm {thickness:g} is {ratio:.3g} x the plate's smaller in-plane "
              f"dimension; the 2D plane-stress model assumes a thin plate (thickness below "
              f"{limits.PLANE_STRESS_RATIO:g} x min(length, width)); check with --model 3d")
@@ -315,6 +319,7 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
     from fem.material import get_material
 
     given = plate_given(args)
+    three_d = getattr(args, "model", None) == "3d"
     if getattr(args, "geometry", None):
         if given:
             raise LusmError(f"{', '.join(given)} cannot be combined with --geometry: the "
@@ -323,8 +328,8 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
         st = design.stator
         if design.mesh_path is None:
             check_plate_mm(st.length_m * 1e3, st.width_m * 1e3, st.thickness_m * 1e3,
-                           st.electrode_gap_m * 1e3)
-        else:  # the mesh's bounding box against the file's thickness
+                           st.electrode_gap_m * 1e3, three_d=three_d)
+        elif not three_d:  # the mesh's bounding box against the file's thickness
             ratio = st.thickness_m / min(st.length_m, st.width_m)
             if ratio > limits.PLANE_STRESS_RATIO:
                 warn(f"--geometry {args.geometry}: thickness {st.thickness_m * 1e3:g} "
@@ -334,7 +339,7 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
     mm = {o: getattr(args, o[2:].replace("-", "_"), None) for o in PLATE_OPTIONS}
     mm = {o: PLATE_DEFAULTS_MM[o] if v is None else v for o, v in mm.items()}
     check_plate_mm(mm["--length-mm"], mm["--width-mm"], mm["--thickness-mm"], mm["--gap-mm"],
-                   gap_given=getattr(args, "gap_mm", None) is not None)
+                   gap_given=getattr(args, "gap_mm", None) is not None, three_d=three_d)
     stator = PlateStator(length_m=mm["--length-mm"] * 1e-3, width_m=mm["--width-mm"] * 1e-3,
                          thickness_m=mm["--thickness-mm"] * 1e-3,
                          electrode_gap_m=mm["--gap-mm"] * 1e-3)
