@@ -123,6 +123,32 @@ def test_cli_modes_export(tmp_path):
     assert main(["modes", "--refine", "3", "--export", str(tmp_path / "m.unknownext")]) == 2
 
 
+@pytest.mark.parametrize("suffix", [".stl", ".ply"])
+def test_formats_that_drop_the_shapes_are_refused(tmp_path, suffix, capsys):
+    # .stl wrote a 15-byte file (triangles only) and .ply dropped the vectors, both "wrote"
+    from validation.cli import main
+
+    assert main(["modes", "--refine", "3", "--export", str(tmp_path / f"m{suffix}")]) == 2
+    assert "cannot carry the mode shapes" in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())
+
+
+def test_an_xdmf_kept_by_force_still_reads_its_own_data(tmp_path, capsys):
+    """--force keeps m.xdmf and m.h5 as .bak-1; the kept .xdmf must read the kept .h5 (it
+    pointed at the new m.h5 and showed the new plate)."""
+    pytest.importorskip("h5py")
+    from validation.cli import main
+
+    out = tmp_path / "m.xdmf"
+    assert main(["modes", "--refine", "3", "--export", str(out)]) == 0
+    assert main(["modes", "--refine", "3", "--width-mm", "8", "--export", str(out),
+                 "--force"]) == 0
+    width = {f: np.ptp(meshio.read(tmp_path / f, file_format="xdmf").points[:, 0])
+             for f in ("m.xdmf", "m.xdmf.bak-1")}
+    assert width["m.xdmf"] == pytest.approx(8e-3)
+    assert width["m.xdmf.bak-1"] == pytest.approx(7.5e-3)
+
+
 def test_headless_render_prints_nothing_on_stderr(tmp_path):
     """With no display, rendering selects EGL itself instead of letting VTK try X first and
     print 'bad X server connection' (issue 13: no VTK warning on stderr)."""

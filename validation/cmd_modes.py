@@ -288,14 +288,36 @@ def _export_target(text: str, force: bool):
     if (path.exists() or path.is_symlink()) and not force:
         raise LusmError(f"--export {path} already exists; choose a new name or pass --force",
                         "--export")
-    import meshio
+    suffix = path.suffix.lower()
+    if suffix not in EXPORT_SUFFIXES:
+        import meshio
 
-    try:
-        meshio.extension_to_filetypes[path.suffix.lower()]
-    except KeyError:
-        raise LusmError(f"--export {path}: unknown mesh format {path.suffix!r}; use e.g. "
-                        ".vtu, .vtk, .xdmf, .msh", "--export") from None
+        what = ("cannot carry the mode shapes (quadrilateral or brick cells with vectors at "
+                "the points)" if suffix in meshio.extension_to_filetypes
+                else "is not a mesh format")
+        said = f"{suffix} {what}" if suffix else "has no format suffix"
+        raise LusmError(f"--export {path}: {said}; use one of {', '.join(EXPORT_SUFFIXES)}",
+                        "--export")
     return path
+
+
+def _relink_kept_xdmf(xdmf, renamed: dict[str, str]) -> None:
+    """Point a kept-aside .xdmf at its own kept-aside HDF5 file: ``renamed`` maps the side
+    files' names to their backups'. Without it ``modes.xdmf.bak-1`` read the new run's
+    ``modes.h5`` (the old export was unreadable although both files were kept)."""
+    if xdmf is None:
+        return
+    text = xdmf.read_text(encoding="utf-8")
+    for old, new in renamed.items():
+        if old.lower().endswith(".h5"):
+            text = text.replace(f"{old}:", f"{new}:")
+    xdmf.write_text(text, encoding="utf-8")
+
+
+EXPORT_SUFFIXES = (".vtu", ".vtk", ".xdmf", ".msh")
+"""Formats ``--export`` writes: those that carry the quads (bricks) and the shapes as point
+vectors, round-tripped by the tests. meshio also writes .stl (an empty file: triangles only)
+and .ply (the vectors dropped), which said "wrote" and exited 0."""
 
 
 def _write_export(path, model, res, force: bool, writer) -> None:
@@ -329,10 +351,13 @@ def _write_export(path, model, res, force: bool, writer) -> None:
             raise LusmError(f"--export {path}: its side file {path.parent / taken[0]} already "
                             "exists; choose a new name or pass --force", "--export")
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
+        kept = {}
         for n in names:
             dst = path.parent / n
             if dst.exists() or dst.is_symlink():  # --force: the old file is kept, not lost
-                keep_aside(dst, "--force")
+                kept[n] = keep_aside(dst, "--force")
             os.replace(os.path.join(stage, n), dst)
+        if path.suffix.lower() == ".xdmf":
+            _relink_kept_xdmf(kept.get(path.name), {n: b.name for n, b in kept.items()})
     finally:
         shutil.rmtree(stage, ignore_errors=True)
