@@ -162,7 +162,9 @@ def run(args: argparse.Namespace) -> None:
         print("no resonance/antiresonance pair resolved in the band: widen it (--f-min, "
               "--f-max) or, if the design's modes lie inside it, the damping merges them")
     w = max([5] + [len(q.mode) + 1 for q in res.pairs])
-    print(f"{'mode':<{w}}{'f_r (Hz)':>12}{'f_a (Hz)':>12}{'k_eff':>9}")
+    # series / parallel resonance (max Re Y, max Re 1/Y), not the |Y| extrema: those move
+    # with the damping (IEEE Std 176)
+    print(f"{'mode':<{w}}{'f_s (Hz)':>12}{'f_p (Hz)':>12}{'k_eff':>9}")
     for q in res.pairs:
         print(f"{q.mode or '-':<{w}}{q.f_resonance_Hz:>12.1f}{q.f_antiresonance_Hz:>12.1f}"
               f"{q.k_eff:>9.4f}")

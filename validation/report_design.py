@@ -106,14 +106,16 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
           "(the design's modes +/- 15 %), the parameter set's damping "
           f"(`lusm admittance --geometry ... --f-min {f_lo:.0f} --f-max {f_hi:.0f}`).", ""]
     if res.pairs:
-        md += ["| mode | resonance (Hz) | antiresonance (Hz) | k_eff |", "|---|---|---|---|"]
+        md += ["| mode | series resonance f_s (Hz) | parallel resonance f_p (Hz) | k_eff |",
+               "|---|---|---|---|"]
         md += [f"| {p.mode or 'unidentified'} | {p.f_resonance_Hz:.1f} | "
                f"{p.f_antiresonance_Hz:.1f} | {p.k_eff:.4f} |" for p in res.pairs]
-        md += ["", "These k_eff are the driven port's, from the peaks of |Y| with the other "
+        md += ["", "These k_eff are the driven port's, from f_s (max Re Y) and f_p (max "
+               "Re 1/Y) with the other "
                "electrodes grounded and each mode's damping and its neighbours' in the way; "
                "the modes table's are the plate's own, from its natural frequencies with all "
                "four electrodes shorted and all open. The two differ by definition (on the "
-               "paper's plate with light damping: L1 0.208 here against 0.267, B2 0.175 "
+               "paper's plate with light damping: L1 0.155 here against 0.267, B2 0.092 "
                "against 0.127, `lusm admittance` and `lusm modes` on "
                "`examples/light_damping/stator.toml`)."]
     else:
