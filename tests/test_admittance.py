@@ -186,3 +186,17 @@ def test_k_eff_does_not_move_with_the_damping():
         # the |Y| extrema moved apart by far more
         spread = (high.f_min_abs_Hz - high.f_max_abs_Hz) / (low.f_min_abs_Hz - low.f_max_abs_Hz)
         assert spread > 1.2
+
+
+def test_a_grid_too_coarse_for_the_design_modes_is_said_so(capsys):
+    """--f-min 1 --f-max 1e6 --points 101 (a 10 kHz step) finds no pair of L1 or B2 at
+    54-56 kHz: it listed the others without a word. The default band says nothing."""
+    from validation.cli import main
+
+    assert main(["admittance", "--f-min", "1", "--f-max", "1e6", "--points", "101",
+                 "--json"]) == 0
+    out = capsys.readouterr()
+    assert {p["mode"] for p in json.loads(out.out)["pairs"]}.isdisjoint({"L1", "B2"})
+    assert "B2 (54137 Hz) and L1 (56178 Hz) lie in the band but no resonance pair" in out.err
+    assert main(["admittance", "--json"]) == 0
+    assert "warning" not in capsys.readouterr().err

@@ -137,6 +137,7 @@ def run(args: argparse.Namespace) -> None:
             raise fe_failure(exc) from exc
         raise
     _warn_unresolved(res, args.f_max, refine)
+    _warn_missed(res, args.f_min, args.f_max, args.points)
     png = None
     if out is not None:
         with figure_set(out, "admittance", "--out", args.force) as stage:
@@ -177,6 +178,25 @@ def run(args: argparse.Namespace) -> None:
 UNRESOLVED_SHARE = 0.25
 """Share of a mesh's modes below which its frequencies are taken as converged: the top of a
 discrete spectrum (here above a quarter of the unknowns) is the mesh's, not the plate's."""
+
+
+def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
+    """Warn when L1 or B2 lies in the band but no resonance pair found on the grid is theirs
+    (``--f-min 1 --f-max 1e7``: a 5 kHz step listed pairs from 177 kHz up, without a word
+    about the design's modes at 54-56 kHz)."""
+    from validation.options import warn
+
+    port = res.port
+    seen = "+".join(q.mode for q in res.pairs)
+    missed = [f"{name} ({f:.0f} Hz)"
+              for name, f in zip(port.mode_names, port.frequencies_Hz, strict=True)
+              if name and f_min_Hz <= f <= f_max_Hz and name not in seen]
+    if missed:
+        step = (f_max_Hz - f_min_Hz) / (points - 1)
+        warn(f"--points {points}: {' and '.join(missed)} lie{'s' if len(missed) == 1 else ''} "
+             f"in the band but no resonance pair on this grid (step {step:.4g} Hz) is "
+             f"{'its' if len(missed) == 1 else 'theirs'}; raise --points or narrow the band "
+             "(--f-min, --f-max)")
 
 
 def _warn_unresolved(res, f_max_Hz: float, refine: int) -> None:
