@@ -1076,6 +1076,18 @@ def _steady_characteristic() -> dict[str, float]:
 
 
 @cache
+def _steady_load_edge() -> dict[str, float]:
+    """Just past the averaged holding range at 100 V / 14 N: the finite-mass motor settles."""
+    from contact.model import OperatingPoint
+    from contact.simulate import simulate
+    from contact.steady import holding_range_N, slow_problem
+
+    high = holding_range_N(slow_problem(_table2(), OperatingPoint(100.0, 14.0, 40e3)))[1]
+    r = simulate(_table2(), 100.0, 14.0, load_N=5.22, duration_s=2.0)
+    return {"high": high, "beyond": r.steady.velocity_m_s if r.steady.settled else math.nan}
+
+
+@cache
 def _steady_load_limits() -> dict[str, float]:
     """Loads at 400 V / 14 N (docs/steady.md "Loads the motor cannot carry")."""
     from contact.characteristic import characteristic
@@ -1354,6 +1366,12 @@ def _steady_claims() -> tuple[Claim, ...]:
              "transient_reference(table2(), 400, 14, load_N=3.5, duration_s=1.2)")):
         out.append(Claim(f"steady_load_400V_14N_{k}", unit, cmd,
                          lambda k=k: _steady_load_limits()[k]))
+    edge = "lusm characteristic --voltage 100 --preload 14 --loads 5:5.2:0.1 (holds loads)"
+    out += [Claim("steady_load_100V_14N_holding_high", "N", edge,
+                  lambda: _steady_load_edge()["high"]),
+            Claim("steady_load_100V_14N_beyond_m_s", "m/s",
+                  "lusm simulate --voltage 100 --preload 14 --load-N 5.22 --duration 2 --json",
+                  lambda: _steady_load_edge()["beyond"])]
     creep = ("python -m validation.doc_numbers --show 'steady_hidden_creep_*' (beam and FE "
              "sets, 9 x 9 grid 50-450 V x 10-26 N at 40 kHz, consistent coupling: held by the "
              "fast level, moving at the exact level)")
