@@ -480,6 +480,7 @@ def test_warnings_where_the_model_stops_meaning_anything(capsys):
     from validation.options import check_plate_mm, warn_drive
 
     check_plate_mm(30.0, 7.5, 20.0, 0.5, three_d=True)  # the 3D model has no such limit
+    warn_drive(0.0, 0.0, load_N=0.1)  # the load pushes the slider: it moves
     assert capsys.readouterr().err == ""
     check_plate_mm(30.0, 7.5, 20.0, 0.5)
     warn_drive(900.0, 300.0)

@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> None:
         warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
     plot = output_folder(args, "simulate", "--plot")  # refused before any work
     for v in voltages:
-        warn_drive(v, args.preload)
+        warn_drive(v, args.preload, load_N=args.load_N)
     known = known_frequency(args.frequency)  # 'auto' needs the parameter set first
     if known is not None and not args.steady:  # --steady uses neither --duration nor --dt
         check_run_size(args.duration, args.dt, known)

@@ -609,10 +609,12 @@ def known_frequency(text: str | float) -> float | None:
 
 
 def warn_drive(voltage_V: float | None, preload_N: float | None, *,
-               voltage_option: str = "--voltage", preload_option: str = "--preload") -> None:
+               voltage_option: str = "--voltage", preload_option: str = "--preload",
+               load_N: float = 0.0) -> None:
     """Warn (stderr) for operating points outside the range where Table 2 was measured; the
-    options are named as the command spells them (``--voltages`` for a map)."""
-    if voltage_V == 0 and preload_N == 0:
+    options are named as the command spells them (``--voltages`` for a map). With a load
+    (N) the slider is pushed even without drive or contact: nothing is said of that."""
+    if voltage_V == 0 and preload_N == 0 and not load_N:
         warn(f"{voltage_option} 0 and {preload_option} 0: no drive and no contact force, "
              "nothing moves (motion class 'separated')")
     if voltage_V is not None and voltage_V > limits.VOLTAGE_WARN_V:
