@@ -80,3 +80,19 @@ def test_an_edit_of_a_stored_field_carries_its_derived_keys_along(tmp_path, caps
 
     ref = simulate(table2().with_(C_l=100.0), 200, 14, 40e3, method="steady")
     assert v_file == ref.steady.velocity_m_s
+
+
+def test_a_bad_value_names_the_files_key(tmp_path, capsys):
+    # "MotorParams.K_l must be finite" named the dataclass; the file's key is K_l
+    import json
+
+    from rom import table2
+    from validation.cli import main
+
+    d = table2().to_dict()
+    d["K_l"] = "nan"
+    f = tmp_path / "bad.json"
+    f.write_text(json.dumps(d))
+    assert main(["simulate", "--params", str(f), "--voltage", "200", "--preload", "14"]) == 2
+    err = capsys.readouterr().err
+    assert "key K_l must be a real number" in err and "MotorParams" not in err

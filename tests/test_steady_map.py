@@ -101,3 +101,18 @@ def test_steady_and_transient_maps_classify_the_edges_alike():
     transient = stick_slip_map(table2(), v, f, method="transient", progress=False)
     assert steady.motion[0][0] == "separated"
     assert np.array_equal(steady.motion, transient.motion)
+
+
+def test_a_transient_map_says_which_points_did_not_settle(capsys):
+    """200 V / 0 N is still accelerating after the default 0.05 s (0.067 m/s against the
+    steady 0.116 m/s): the map flagged it only in its JSON, simulate warns of the same run."""
+    import json
+
+    from validation.cli import main
+
+    assert main(["map", "--voltages", "0,200", "--preloads", "0,14", "--method", "transient",
+                 "--json"]) == 0
+    out = capsys.readouterr()
+    settled = json.loads(out.out)["settled"]
+    assert settled == [[True, True], [False, True]]
+    assert "1 point(s) not settled within --duration 0.05 s (200 V/0 N)" in out.err

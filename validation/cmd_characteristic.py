@@ -130,7 +130,7 @@ def run(args: argparse.Namespace) -> None:
                 continue
             print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} "
                   f"{row['input_power_W']:11.4g} {row['output_power_W']:11.4g} "
-                  f"{row['efficiency']:8.4f}")
+                  f"{row['efficiency']:8.4g}")
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
 

@@ -115,6 +115,17 @@ def run(args: argparse.Namespace) -> None:
     m = stick_slip_map(params, volts, loads, freq, opts, workers=args.workers,
                        method=args.method, accuracy=args.accuracy)
     summary = map_summary(m)
+    if m.method == "transient" and not m.settled.all():  # as simulate warns of one run
+        import numpy as np
+
+        from validation.options import warn
+
+        pts = [f"{float(m.voltages_V[i]):g} V/{float(m.preloads_N[j]):g} N"
+               for i, j in zip(*np.nonzero(~m.settled), strict=True)]
+        warn(f"{len(pts)} point(s) not settled within --duration {args.duration:g} s ("
+             + ", ".join(pts[:5]) + (", ..." if len(pts) > 5 else "") + "): their velocity "
+             "is not the steady one (JSON 'settled'); give a longer --duration, or --method "
+             "steady")
     summary["damping"] = damping_summary(params, damping_from)
     summary["coupling"], summary["coupling_from"] = coupling, coupling_from
     summary["frequency_Hz"] = freq

@@ -203,8 +203,9 @@ def params_from_file(path_text: str):
         stored = {k: v for k, v in data.items() if k not in derived} \
             if isinstance(data, dict) else data
         params = MotorParams.from_dict(stored)
-    except (TypeError, ValueError) as exc:
-        raise LusmError(f"--params {path_text}: {exc}", "--params") from None
+    except (TypeError, ValueError) as exc:  # the file's key, not the dataclass's field
+        text = str(exc).replace("MotorParams.", "key ")
+        raise LusmError(f"--params {path_text}: {text}", "--params") from None
     # the derived keys follow the stored fields: an edit of C_l leaves a stale zeta_L1, which
     # was refused although the help says to edit C_l; recomputed, and said so
     for key in derived:
