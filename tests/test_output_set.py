@@ -187,3 +187,15 @@ def test_a_link_to_a_folder_is_written_through_and_a_dangling_one_refused(tmp_pa
     (tmp_path / "dangling").symlink_to(tmp_path / "nowhere")
     with pytest.raises(OutputError, match="does not exist"):
         check_target(tmp_path / "dangling", "figures")
+
+
+def test_another_commands_folder_is_named_as_such(tmp_path):
+    # "a folder that lusm characteristic did not write" read as if lusm had not written it
+    from validation.output_set import check_target
+
+    out = tmp_path / "figs"
+    with output_set(out, "simulate") as stage:
+        _write(stage, {"fig9.png": "x"})
+    with pytest.raises(OutputError, match="holds the output of lusm simulate, not of lusm "
+                                          "characteristic"):
+        check_target(out, "characteristic", "--plot")

@@ -247,7 +247,7 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-gap-eats-plate", ["modes", "--gap-mm", "8"], ["--gap-mm", "7.5 mm"]),
     ("modes-export-folder", ["modes", "--export", "{folder}"], ["--export", "folder"]),
     ("modes-export-unknown-format", ["modes", "--export", "{folder}/m.unknownext"],
-     ["--export", "unknown mesh format"]),
+     ["--export", ".unknownext is not a mesh format; use one of .vtu"]),
     ("modes-export-exists", ["modes", "--export", "{export_exists}"],
      ["--export", "already exists"]),
     ("modes-export-below-file", ["modes", "--export", "{below_file}/m.vtu"],

@@ -167,10 +167,13 @@ def check_target(target: Path, kind: str, option: str = "--out", force: bool = F
         others = [p for p in target.iterdir() if p.name != MARKER]
         if marker is None or marker.get("kind") != kind or (others and not _ours(target, kind)):
             # no marker of ours, or one that lists nothing usable (hand-edited, planted)
+            other = marker.get("kind") if marker is not None else None
+            whose = (f"holds the output of lusm {other}, not of lusm {kind}"
+                     if isinstance(other, str) and other != kind and other.isidentifier()
+                     else f"is a non-empty folder that lusm {kind} did not write")
             raise OutputError(
-                f"{option} {target} is a non-empty folder that lusm {kind} did not write; "
-                "choose a new or empty folder, or pass --force to write beside its files "
-                "(nothing of yours is deleted)")
+                f"{option} {target} {whose}; choose a new or empty folder, or pass --force "
+                "to write beside its files (nothing of yours is deleted)")
 
 
 @contextmanager
