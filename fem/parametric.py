@@ -122,9 +122,12 @@ class ParametricStator(PlateStator):
                 raise ValueError(f"ParametricStator.holes_m[{i}] must be (x, y, diameter) "
                                  f"with a diameter > 0 (m), got {self.holes_m[i]!r}")
             clear = hole_clearance_m(hole, width, length, c)
-            if clear <= 0.0:
-                raise ValueError(f"ParametricStator.holes_m[{i}] = {hole!r} m reaches the "
-                                 f"plate's outline (it must lie inside the plate body)")
+            if clear <= 0.0:  # said in mm too: a sweep or a tuning meets it on its own plates
+                raise ValueError(
+                    f"ParametricStator.holes_m[{i}] = {hole!r} m reaches the plate's outline "
+                    f"(it must lie inside the plate body): hole {i + 1}, {hole[2] * 1e3:g} mm "
+                    f"across at [{hole[0] * 1e3:g}, {hole[1] * 1e3:g}] mm, on a "
+                    f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
             for j, other in enumerate(holes[:i]):
                 if math.hypot(hole[0] - other[0], hole[1] - other[1]) <= 0.5 * (
                         hole[2] + other[2]):

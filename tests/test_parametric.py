@@ -202,6 +202,19 @@ def test_tuning_that_pushes_a_hole_off_the_plate_is_refused_in_one_line(tmp_path
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     assert rc == 2 and len(err) == 1, err
     assert err[0].startswith("lusm tune: error: --geometry") and "no longer holds" in err[0]
+    assert "1 mm across at [" in err[0] and "holes_m" not in err[0]  # the file's terms
+
+
+def test_a_sweep_that_pushes_a_hole_off_the_plate_blames_its_range(tmp_path, capsys):
+    # it printed "ParametricStator.holes_m[2] = (0.002, 0.0225, 0.0015) m reaches ..."
+    path = tmp_path / "holes.toml"
+    path.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+                    "[[holes]]\ncenter_mm = [2, 22.5]\ndiameter_mm = 1.5\n")
+    assert main(["sweep", "--geometry", str(path), "--length-mm", "20:30:5"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm sweep: error: --length-mm 20:30:5: a plate of the sweep")
+    assert "hole 1, 1.5 mm across at [2, 22.5] mm, on a 20 x 7.5 mm plate" in err
+    assert "holes_m" not in err
 
 
 def test_mounting_points_report_the_mode_amplitude(tmp_path, capsys):

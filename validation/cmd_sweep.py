@@ -133,8 +133,19 @@ def run(args: argparse.Namespace) -> None:
                         "must stay below every swept length and width", option)
     from validation.options import check_fe_size, check_fe_work
 
-    cells = [check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}), args.refine)
-             for v in (values_mm.min(), values_mm.max())]  # the sweep's two extremes
+    try:  # the sweep's two extremes, which also hold the features if any plate does
+        cells = [check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}),
+                               args.refine) for v in (values_mm.min(), values_mm.max())]
+    except ValueError as exc:
+        if not str(exc).startswith("ParametricStator."):
+            raise
+        # a plate of the sweep no longer holds the file's features: the range is to blame
+        from validation.errors import feature_reason
+
+        raise LusmError(f"{option} {text}: a plate of the sweep no longer holds the features "
+                        f"of --geometry {args.geometry} ({feature_reason(exc)}); the sweep "
+                        "keeps the tip, chamfers and holes as given: sweep a range whose "
+                        "plates keep them", option) from None
     check_fe_work(max(cells), values_mm.size, False, "--refine")
 
     from fem.sweep import sweep_dimension

@@ -129,10 +129,13 @@ def run(args: argparse.Namespace) -> None:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc
         if choice.parametric and isinstance(exc, ValueError) and "ParametricStator" in str(exc):
+            from validation.errors import feature_reason
+
             raise LusmError(f"--geometry {args.geometry}: a plate tried while tuning no longer "
-                            f"holds the file's features ({exc}); tune rescales the plate but "
-                            "keeps the tip, chamfers and holes as given: move them inwards "
-                            "or hold a dimension with --fix length", "--geometry") from None
+                            f"holds the file's features ({feature_reason(exc)}); tune "
+                            "rescales the plate but keeps the tip, chamfers and holes as "
+                            "given: move them inwards or hold a dimension with --fix length",
+                            "--geometry") from None
         raise
     _check_tuned_plate(d, args.target_frequency)
     if args.model == "2d":

@@ -95,3 +95,10 @@ def user_error(exc: BaseException) -> LusmError:
     if blamed is None:
         return LusmError(line)
     return LusmError(line if blamed in line else f"{blamed}: {line}", blamed)
+
+
+def feature_reason(exc: BaseException) -> str:
+    """A parametric stator's refusal in the stator file's terms (mm, hole numbers) where the
+    library gave them after its SI text, as for the holes; else the text as it is."""
+    text = str(exc)
+    return text.split("): ", 1)[-1] if "): hole " in text else text
