@@ -227,6 +227,7 @@ class _Solver:
         self.refine = refine
         self.cache: dict[tuple[float, float], object] = {}
         self.history: list[tuple[float, float, float, float]] = []
+        self.bar = None  # a tqdm bar counting the solves, when asked for
 
     def stator(self, length_m: float, width_m: float) -> PlateStator:
         h = self.base.thickness_m
@@ -252,6 +253,10 @@ class _Solver:
                                   DEFAULT_REFINE_3D if self.refine is None else self.refine)
             self.cache[key] = res
             self.history.append((key[0], key[1], res.L1.f_short_Hz, res.B2.f_short_Hz))
+            if self.bar is not None:
+                self.bar.set_postfix_str(f"L1 {res.L1.f_short_Hz:.0f} Hz, "
+                                         f"B2 {res.B2.f_short_Hz:.0f} Hz", refresh=False)
+                self.bar.update()
         return self.cache[key]
 
     def log_ratio(self, length_m: float, width_m: float) -> float:
@@ -337,6 +342,7 @@ def tune_plate(
     refine: int | None = None,
     rel_tol: float = 1e-5,
     max_iter: int = 10,
+    progress: bool = False,
 ) -> TunedDesign:
     """Plate dimensions at which L1 and B2 coincide (at ``target_frequency_Hz`` if free).
 
@@ -368,6 +374,8 @@ def tune_plate(
         or width, the tolerance of the crossing (-).
     max_iter : int
         Maximum number of scale-and-recross iterations.
+    progress : bool
+        Show a progress bar of the FE solves (after a second; a tuning takes 10-40 solves).
 
     Returns
     -------
@@ -404,6 +412,22 @@ def tune_plate(
         raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
                          "tune_plate cannot rescale; start from a plain PlateStator")
     solver = _Solver(base, mat, model, "thickness_ratio" in held, order, refine)
+    if progress:
+        from tqdm import tqdm
+
+        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False)
+    try:
+        return _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, model, rel_tol,
+                     max_iter)
+    finally:
+        if solver.bar is not None:
+            solver.bar.close()
+
+
+def _tune(solver: _Solver, base: PlateStator, mat: PiezoMaterial, held: tuple[str, ...],
+          fixed_dim: str | None, target_frequency_Hz: float | None, model: str,
+          rel_tol: float, max_iter: int) -> TunedDesign:
+    """The iteration of :func:`tune_plate` on a prepared ``solver``."""
     length, width = base.length_m, base.width_m
     if fixed_dim is not None:
         free = "width" if fixed_dim == "length" else "length"
