@@ -198,6 +198,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("sim-unknown-option", ["simulate", "--voltage", "200", "--preload", "14", "--bogus"],
      ["unrecognized"]),
     # map
+    ("modes-3d-layers-too-many-bricks", ["modes", "--model", "3d", "--layers", "16",
+                                         "--refine", "8"],
+     ["--layers: the plate 30 x 7.5 x 3 mm needs 4752 3D bricks", "lower --layers or --refine"]),
     ("modes-3d-gap-zero", ["modes", "--model", "3d", "--gap-mm", "0"],
      ["--gap-mm must be at least 0.001 mm with --model 3d, got 0"]),
     ("map-frequency-zero", ["map", "--frequency", "0"], ["--frequency"]),

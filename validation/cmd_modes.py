@@ -132,8 +132,14 @@ def run(args: argparse.Namespace) -> None:
         # the quarter-plate model gives the full model's results at about a quarter of the
         # size; the export writes the full model's mesh
         quarter = export is None and quarter_model_applies(stator, args.edge_grading)
-        check_fe_size(stator, refine, layers, "--edge-grading" if args.edge_grading else "--refine",
-                      edge_grading=args.edge_grading, quarter=quarter)
+        from validation.options import typed
+
+        # blame what the user typed: "--refine: ... needs 2106 bricks" after --layers 8 read
+        # as if --refine had been given
+        blamed = next((o for o in ("--edge-grading", "--layers", "--refine") if typed(o)),
+                      "--edge-grading" if args.edge_grading else "--refine")
+        check_fe_size(stator, refine, layers, blamed, edge_grading=args.edge_grading,
+                      quarter=quarter)
     else:
         if args.layers is not None:
             raise LusmError("--layers applies to --model 3d only (the 2D model has no mesh "

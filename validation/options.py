@@ -425,8 +425,9 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
         from validation.summaries import plate_text
 
         shape = plate_text(stator)
-        names = [option] + (["--layers"] if layers else []) + (
-            ["--edge-grading"] if edge_grading and option != "--edge-grading" else [])
+        names = [option] + [o for o, used in (("--refine", True), ("--layers", bool(layers)),
+                                              ("--edge-grading", bool(edge_grading)))
+                            if used and o != option]
         lower = " or ".join(names)
         dims = "" if mesh is not None else " (--length-mm, --width-mm)"
         raise LusmError(f"{option}: the {shape} needs {n} {what} here, above the limit {top}; "
