@@ -103,14 +103,17 @@ def run(args: argparse.Namespace) -> None:
         est_mm = bar_length_m(choice.material, args.target_frequency) * 1e3
         lo, hi = limits.PLATE_MM
         # the shortest plate: within the range, and wide enough for the electrode gap (a
-        # tuned plate is about 0.27 times as wide as long: 11.4 x 42.1 mm at 40 kHz)
-        shortest = max(lo, choice.stator.electrode_gap_m * 1e3 / TUNED_ASPECT)
-        if not shortest / 1.2 <= est_mm <= 1.2 * hi:
+        # tuned plate is about 0.27 times as wide as long: 11.4 x 42.1 mm at 40 kHz) with
+        # GAP_MARGIN to spare: narrower electrodes lose L1 (the 3 mm plate tuned to 7e5 Hz
+        # and above failed after 10-50 FE solves, 6e5 Hz gives 0.63 mm, 1.25 x the gap)
+        shortest = max(lo, GAP_MARGIN * choice.stator.electrode_gap_m * 1e3 / TUNED_ASPECT)
+        longest = hi  # the bar estimate is within a few % of the tuned length
+        if not shortest <= est_mm <= longest:
             raise LusmError(
                 f"--target-frequency {args.target_frequency:g} Hz: asks for a plate about "
                 f"{est_mm:.4g} mm long, outside the [{shortest:.3g}, {hi:g}] mm that the other "
                 f"commands accept and the gap allows; targets from about "
-                f"{args.target_frequency * est_mm / hi:.4g} to "
+                f"{args.target_frequency * est_mm / longest:.4g} to "
                 f"{args.target_frequency * est_mm / shortest:.4g} Hz fit (the upper end set "
                 f"by the {choice.stator.electrode_gap_m * 1e3:g} mm electrode gap)",
                 "--target-frequency")
@@ -177,6 +180,8 @@ def run(args: argparse.Namespace) -> None:
 
 TUNED_ASPECT = 0.27
 """Width over length of a plate tuned to L1 = B2 (11.43 / 42.13 mm at 40 kHz, PZT-8, 3 mm)."""
+GAP_MARGIN = 1.5
+"""Least tuned width over the electrode gap a target is accepted for, before any FE solve."""
 
 
 def _check_tuned_plate(d, target_Hz: float | None) -> None:
