@@ -147,6 +147,26 @@ ELECTRODE_LAYOUTS: dict[str, tuple[Electrode, ...]] = {
 }
 """Named electrode layouts. The paper drives the diagonal quadrants 1 and 4."""
 
+_PLATE_QUADRANTS: dict[int, Electrode] = {
+    1: Electrode(0.0, 0.5, 0.0, 0.5),    # preload half, x > 0
+    2: Electrode(0.5, 1.0, 0.0, 0.5),    # tip half, x > 0
+    3: Electrode(0.0, 0.5, -0.5, 0.0),   # preload half, x < 0
+    4: Electrode(0.5, 1.0, -0.5, 0.0),   # tip half, x < 0
+}
+
+
+def plate_layout(drive_electrodes: Sequence[int]) -> tuple[Electrode, ...]:
+    """The electrodes a plate stator drives, numbered as the FE plate numbers them
+    (``fem.geometry.PlateStator.electrode_of``: 1, 2 at x > 0, 1, 3 in the preload half),
+    as beam electrodes. The FE plate's ``(1, 4)`` is :data:`ELECTRODE_LAYOUTS`'s
+    ``"quadrants-1-4"`` and its ``(2, 3)`` is ``"quadrants-2-3"``: the same regions, whose
+    names number the quadrants differently."""
+    try:
+        return tuple(_PLATE_QUADRANTS[int(e)] for e in drive_electrodes)
+    except KeyError:
+        raise ValueError(f"drive_electrodes must be plate electrodes 1..4, got "
+                         f"{tuple(drive_electrodes)!r}") from None
+
 
 @dataclass(frozen=True)
 class BeamConstants:

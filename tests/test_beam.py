@@ -195,3 +195,36 @@ def test_other_bad_inputs():
         Electrode(0.0, 0.5, 0.0, 0.7)
     with pytest.raises(ValueError, match="degree"):
         timoshenko_b2_frequency(degree=2)
+
+
+def test_a_plate_drive_maps_onto_the_same_beam_regions():
+    """The FE plate's electrodes (1, 2 at x > 0; 1, 3 in the preload half) as beam
+    electrodes: (1, 4) is the paper's layout, (2, 3) the other diagonal, whose bending force
+    factor has the opposite sign; compare's beam column kept (1, 4) for a plate driving 2, 3."""
+    from rom.beam import ELECTRODE_LAYOUTS, beam_params, plate_layout
+
+    assert plate_layout((1, 4)) == ELECTRODE_LAYOUTS["quadrants-1-4"]
+    assert set(plate_layout((2, 3))) == set(ELECTRODE_LAYOUTS["quadrants-2-3"])
+    a, b = beam_params(electrode_layout=plate_layout((1, 4))), beam_params(
+        electrode_layout=plate_layout((2, 3)))
+    assert b.A_b == pytest.approx(-a.A_b, rel=1e-12) and b.A_l == pytest.approx(a.A_l)
+    with pytest.raises(ValueError, match="1..4"):
+        plate_layout((5,))
+
+
+def test_compare_drives_the_beam_through_the_plates_electrodes(tmp_path, capsys):
+    import json
+
+    from validation.cli import main
+
+    f = tmp_path / "plate.toml"
+    f.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+                 "[electrodes]\ndrive = [2, 3]\n")
+    assert main(["params", "--source", "beam", "--json", "--material", "pzt8"]) == 0
+    out = capsys.readouterr()
+    paper = json.loads(out.out)
+    assert "--material has no effect" in out.err
+    assert main(["compare", "--geometry", str(f), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    beam = doc["values"]["beam"] if "values" in doc else doc["beam"]
+    assert beam["A_b"] == pytest.approx(-paper["A_b"], rel=1e-9)

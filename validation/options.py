@@ -465,11 +465,14 @@ def beam_of_plate(args: argparse.Namespace):
     """Appendix A's beam of the length, width and thickness the options (or --geometry)
     name, with Table 1's constants: ``--source beam`` with plate options, and compare's beam
     column."""
+    from rom.beam import plate_layout
     from rom.sources import get_params
 
     st = stator_from_args(args).stator
+    # the plate's own drive: a stator file driving 2, 3 had the beam driven through 1, 4
     return get_params("beam", length_m=st.length_m, width_m=st.width_m,
-                      thickness_m=st.thickness_m)
+                      thickness_m=st.thickness_m,
+                      electrode_layout=plate_layout(st.drive_electrodes))
 
 
 def motor_params_of(args: argparse.Namespace, source: str | None):
@@ -479,6 +482,9 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     from validation.summaries import borrowed_damping, table2_damping
 
     named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
+    if source == "beam":
+        warn_unused(("--material",), "Appendix A's beam takes Table 1's constants (density, "
+                    "cE11, cE66, e31) whatever the plate's material")
     if getattr(args, "params", None) is not None:
         clash = (["--geometry"] if getattr(args, "geometry", None) else []) + plate_given(args)
         if source is not None:
