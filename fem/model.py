@@ -167,11 +167,15 @@ def gap_validity_message(gap_m: float, thickness_m: float) -> str | None:
     )
 
 
+def stator_gap_m(stator: PlateStator) -> float:
+    """The electrode gap (m): a meshed stator's comes from its mesh's gap strips."""
+    mesh = planform_mesh(stator)
+    return gap_layout(mesh).gap_m if mesh is not None else stator.electrode_gap_m
+
+
 def stator_gap_validity_message(stator: PlateStator) -> str | None:
     """:func:`gap_validity_message` for a stator (a meshed stator's gaps come from its mesh)."""
-    mesh = planform_mesh(stator)
-    gap = gap_layout(mesh).gap_m if mesh is not None else stator.electrode_gap_m
-    return gap_validity_message(gap, stator.thickness_m)
+    return gap_validity_message(stator_gap_m(stator), stator.thickness_m)
 
 
 @dataclass(frozen=True)

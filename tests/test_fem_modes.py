@@ -256,3 +256,20 @@ def test_exact_probes_of_parallelograms_match_scikit_fem_and_rescue_a_micrometre
         b = plate_modes(PlateStator(electrode_gap_m=1.23e-6))
     assert a.L1.f_short_Hz == pytest.approx(b.L1.f_short_Hz, rel=1e-6)
     assert a.B2.f_short_Hz == pytest.approx(b.B2.f_short_Hz, rel=1e-6)
+
+
+def test_json_gives_the_gap_and_the_swept_values_as_typed(capsys):
+    """modes --json had no gap (a mesh file's comes from its gap strips), and sweep --json
+    gave 26.000000000000004 mm for 26 (mm -> m -> mm)."""
+    import json
+
+    from tests.conftest import ROOT
+    from validation.cli import main
+
+    assert main(["modes", "--geometry", str(ROOT / "examples/chamfered/stator.toml"),
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["gap_mm"] == pytest.approx(0.5, abs=1e-9)
+    assert main(["modes", "--gap-mm", "0.3", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["gap_mm"] == 0.3
+    assert main(["sweep", "--length-mm", "18:26:4", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["values_mm"] == [18.0, 22.0, 26.0]

@@ -193,6 +193,8 @@ def run(args: argparse.Namespace) -> None:
 
         warn(validity)  # "lusm modes: warning: ...", as every command's
     if args.json:
+        from fem.model import stator_gap_m
+
         mat = material.to_dict()
         mat["plane_stress"] = plane_stress(material).to_dict()
         out = {
@@ -206,6 +208,7 @@ def run(args: argparse.Namespace) -> None:
             "geometry": args.geometry,
             "model": args.model,
             "length_mm": L_mm, "width_mm": W_mm, "thickness_mm": H_mm,
+            "gap_mm": float(f"{stator_gap_m(stator) * 1e3:.12g}"),  # mesh roundoff off
         }
         out["split_rel"] = _split(res)
         out["mac"] = {m.name: m.mac for m in (res.L1, res.B2)}

@@ -166,6 +166,7 @@ def run(args: argparse.Namespace) -> None:
             png = moved([sweep_figure(res, stage / f"sweep_{parameter}.png")], stage, out)[0]
     if args.json:
         d = res.to_dict()
+        d["values_mm"] = [float(v) for v in values_mm]  # as typed: no 26.000000000000004
         d["png"] = png
         print_json(d)
         return
