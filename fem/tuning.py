@@ -415,7 +415,8 @@ def tune_plate(
     if progress:
         from tqdm import tqdm
 
-        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False)
+        # disable=None: on a terminal only (a log or a pipe gets no carriage-return lines)
+        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
     try:
         return _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, model, rel_tol,
                      max_iter)

@@ -127,7 +127,7 @@ def run(args: argparse.Namespace) -> None:
             warnings.simplefilter("ignore", GapValidityWarning)
             d = tune_plate(args.target_frequency, fix=fix, material=choice.material,
                            start=choice.stator, model=args.model, order=args.order,
-                           refine=args.refine, progress=not args.json)
+                           refine=args.refine, progress=True)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc
