@@ -370,6 +370,21 @@ def test_a_studys_contact_solves_are_bounded_in_all():
     assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
 
 
+def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
+    # a 30 x 1 mm plate at fe_refine 48 (69 120 elements) ran for minutes at 2.8 GB; lusm modes
+    # refuses the same plate at once
+    from fem.geometry import PlateStator
+    from fem.mesh import grid_lines_m
+
+    x, y = grid_lines_m(PlateStator(length_m=30e-3, width_m=1e-3), 48)
+    cells = (len(x) - 1) * (len(y) - 1)
+    with pytest.raises(ValueError, match=f"30 x 1 mm plate of the study needs {cells} 2D "
+                                         "elements, above the limit 20000"):
+        study_from_dict({"axes": {"length": ["28 mm", "30 mm"], "width": ["1 mm", "7 mm"]},
+                         "solver": {"fe_refine": 48}})
+    assert study_from_dict({"axes": {"width": ["1 mm", "7 mm"]}}).n_geometries == 2
+
+
 def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path, capsys):
     # every failure sat silently in the dataset's 'status' with exit 0
     from validation.cli import main

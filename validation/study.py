@@ -406,11 +406,38 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     return Study(name, axes, outputs, solver, source, text)
 
 
+def _largest_mesh(study: Study) -> tuple[int, float, float]:
+    """Elements of the study's largest 2D mesh and its length and width (m): the mesh grows
+    with the plate's elongation, so one of the four corners of the length x width grid (at
+    the smallest gap, which adds the most grid lines) has it."""
+    from fem.geometry import PlateStator
+    from fem.mesh import grid_lines_m
+
+    ax = study.axes
+    gap = min(ax["gap"])
+    best = (0, 0.0, 0.0)
+    for length in (min(ax["length"]), max(ax["length"])):
+        for width in (min(ax["width"]), max(ax["width"])):
+            x, y = grid_lines_m(PlateStator(length_m=length, width_m=width,
+                                            electrode_gap_m=gap), study.solver.fe_refine)
+            best = max(best, ((len(x) - 1) * (len(y) - 1), length, width))
+    return best
+
+
 def _check_work(study: Study, where: str) -> None:
     top = limits.work_bound(MAX_GEOMETRIES)
     if study.n_geometries > top:
         raise ValueError(f"{where}axes: {study.n_geometries} geometries (FE solves) is above "
                          f"the limit {top} ({limits.more_work_hint()})")
+    # each FE mesh is bounded as lusm modes bounds it (a 30 x 1 mm plate at fe_refine 48 ran
+    # for minutes at 2.8 GB where modes refuses at once)
+    cells, length, width = _largest_mesh(study)
+    top = limits.work_bound(limits.MAX_FE_CELLS_2D)
+    if cells > top:
+        raise ValueError(f"{where}solver.fe_refine {study.solver.fe_refine}: the "
+                         f"{length * 1e3:g} x {width * 1e3:g} mm plate of the study needs "
+                         f"{cells} 2D elements, above the limit {top}; lower solver.fe_refine "
+                         f"or make the plates less elongated ({limits.more_work_hint()})")
     top = limits.work_bound(MAX_DRIVE_POINTS)
     if study.n_drive_points > top:
         raise ValueError(f"{where}axes: {study.n_drive_points} drive points per geometry is "
