@@ -316,6 +316,27 @@ def test_steady_method_gives_the_loaded_answers():
     assert 0 < float(ds["peak_efficiency"].values.ravel()[0]) < 1
 
 
+def test_a_studys_motor_answers_are_the_clis_at_the_same_plate(capsys):
+    """The study's stall force and no-load velocity are lusm characteristic's (exact level by
+    default, as the CLI); the study used the averaged level: half the stall force at 400 V."""
+    import json
+
+    from validation.cli import main
+
+    s = study_from_dict({
+        "outputs": ["no_load_velocity", "stall_force"],
+        "axes": {"voltage": "400 V", "preload": "14 N"},
+        "solver": {"fe_refine": 2, "method": "steady"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    assert main(["characteristic", "--voltage", "400", "--preload", "14", "--frequency",
+                 "auto", "--length-mm", "30", "--loads", "0:0.1:0.1", "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    # --refine: the CLI's fem set uses the FE default (4), the study its fe_refine (2)
+    assert float(ds["stall_force"].item()) == pytest.approx(cli["stall_force_N"], rel=0.05)
+    assert float(ds["no_load_velocity"].item()) == pytest.approx(cli["no_load_velocity_m_s"],
+                                                                rel=0.05)
+
+
 def test_ctrl_c_to_the_process_group_prints_one_line_per_fact(tmp_path):
     # a terminal's Ctrl-C reaches the client and every worker process: only the client may
     # answer (workers printed their KeyboardInterrupt tracebacks, the scheduler its cancelled

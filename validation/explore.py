@@ -147,7 +147,7 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     coupling is :func:`contact.model.default_coupling`'s: work-consistent for these FE sets.
 
     ``solver.method == "steady"``: the steady state from rest (:func:`contact.steady.
-    steady_state`, averaging level) and the speed-thrust characteristic (21 loads from 0 to
+    steady_state`, at ``solver.accuracy``) and the speed-thrust characteristic (21 loads from 0 to
     the stall force for the peak efficiency, and the study's loads). A transient method
     gives the no-load velocity and motion class of a run from rest; the loaded answers are
     then NaN.
@@ -159,13 +159,15 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
         from contact.characteristic import characteristic
         from contact.steady import steady_state
 
+        acc = solver.accuracy  # the CLI's default level, exact, unless the study says fast
         res = steady_state(params, drive.voltage_V, drive.preload_N,
-                           frequency_Hz=drive.frequency_Hz, coupling=coupling)
+                           frequency_Hz=drive.frequency_Hz, coupling=coupling, accuracy=acc)
         curve = characteristic(params, drive.voltage_V, drive.preload_N, None,
-                               frequency_Hz=drive.frequency_Hz, coupling=coupling)
+                               frequency_Hz=drive.frequency_Hz, coupling=coupling,
+                               accuracy=acc)
         loaded = characteristic(params, drive.voltage_V, drive.preload_N,
                                 list(drive.loads_N), frequency_Hz=drive.frequency_Hz,
-                                coupling=coupling)
+                                coupling=coupling, accuracy=acc)
         eff = np.asarray(curve.efficiency, dtype=float)
         motion = res.from_rest.motion if res.from_rest is not None else "failed"
         return {"no_load_velocity": float(res.velocity_m_s),
@@ -411,9 +413,12 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         "fe_solver": f"fem.modes.plate_modes, order {s.fe_order}, refine {s.fe_refine}, "
                      "shift-invert eigsh with a fixed start vector",
         "motor_solver": (
+            f"contact.steady.steady_state and contact.characteristic.characteristic, "
+            f"accuracy={s.accuracy} (solver.duration and solver.dt unused)"
+            if s.method == "steady" else
             f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
-            f"dt_s={s.dt_s:g}; stall_force, peak_efficiency and loaded velocity pending "
-            "contact.steady (NaN)"),
+            f"dt_s={s.dt_s:g}, from rest, not checked for settling; stall_force, "
+            "peak_efficiency and loaded velocity need method = \"steady\" (NaN)"),
         "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
         "coupling": "consistent (auto: the work-consistent tangential coupling of every set "
                     "that is not Table 2's, contact.model.default_coupling; docs/contact.md "
