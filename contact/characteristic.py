@@ -132,8 +132,16 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     t0 = time.perf_counter()
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
-    op = OperatingPoint(float(voltage_V), float(preload_N),
-                        40e3 if frequency_Hz is None else float(frequency_Hz))
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 2:
+        raise ValueError(f"points must be an integer >= 2, got {points!r}")
+    if loads_N is not None:
+        # a NaN load fell into the dead zone of the fast level and came out as 0 m/s
+        loads_arr = np.asarray(loads_N)
+        if loads_arr.dtype.kind not in "biuf" or loads_arr.dtype.kind == "b" or \
+                not np.all(np.isfinite(loads_arr)):
+            raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
+    op = OperatingPoint(voltage_V, preload_N,
+                        40e3 if frequency_Hz is None else frequency_Hz)
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
 
     @functools.cache  # the no-load point is usually one of the loads too

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contact.model import OperatingPoint
 from contact.results import MOTION_CLASSES, PHASE_THRESHOLD, classify_motion
 from contact.simulate import SimulationOptions, simulate
 from rom.params import MotorParams
@@ -157,6 +158,11 @@ def stick_slip_map(
         raise ValueError("voltages_V and preloads_N must be non-empty 1-D sequences")
     if method not in MAP_METHODS:
         raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")
+    from contact.steady import ACCURACIES
+
+    if accuracy not in ACCURACIES:
+        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
+    OperatingPoint(0.0, 0.0, frequency_Hz)  # the frequency checked before it is used
     opts = options or SimulationOptions()
     shape = (v.size, f.size)
     motion = np.empty(shape, dtype=object)

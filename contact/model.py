@@ -21,6 +21,7 @@ Conventions (see ``docs/contact.md``):
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -85,15 +86,21 @@ class OperatingPoint:
         ):
             value = getattr(self, name)
             allowed = f"{'> 0' if strict else '>= 0'} {unit}"
+            # NumPy scalars are numbers (np.int64(200) was refused); True is not 1 V
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise ValueError(f"{name} must be a finite number {allowed}, got {value!r}")
+            value = float(value)
+            object.__setattr__(self, name, value)
             if (
-                not isinstance(value, (int, float))
-                or not math.isfinite(value)
+                not math.isfinite(value)
                 or value < 0.0
                 or (strict and value == 0.0)
             ):
                 raise ValueError(f"{name} must be a finite number {allowed}, got {value!r}")
-        if not isinstance(self.load_N, (int, float)) or not math.isfinite(self.load_N):
+        if isinstance(self.load_N, bool) or not isinstance(self.load_N, numbers.Real) \
+                or not math.isfinite(self.load_N):
             raise ValueError(f"load_N must be a finite number (N), got {self.load_N!r}")
+        object.__setattr__(self, "load_N", float(self.load_N))
 
     @property
     def omega(self) -> float:

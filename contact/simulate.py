@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import numbers
 import time
 from dataclasses import dataclass
 
@@ -107,8 +108,13 @@ class SimulationOptions:
     def __post_init__(self) -> None:
         for name in ("duration_s", "dt_s"):
             v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) \
+                    or v <= 0:
+                raise ValueError(f"{name} must be a finite number > 0 (s), got {v!r}")
+            object.__setattr__(self, name, float(v))
+        for name in ("ultrasonic_friction", "energy"):  # 'False' is a true string
+            if not isinstance(getattr(self, name), (bool, np.bool_)):
+                raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
         if self.coupling not in COUPLINGS:
             raise ValueError(f"coupling must be one of {COUPLINGS}, got {self.coupling!r}")
         for name in ("steady_periods", "full_periods", "max_trace_points", "max_events_per_step"):
@@ -277,7 +283,7 @@ def simulate(
     if load_N and method in ("reference", "literal"):
         raise ValueError(f"load_N is modelled by the event and steady schemes only, got "
                          f"load_N={load_N!r} with method={method!r}")
-    op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz), float(load_N))
+    op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
     opts = options or SimulationOptions()
     if option_overrides:
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})

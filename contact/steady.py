@@ -316,6 +316,9 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     """
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
+    if not isinstance(ultrasonic_friction, (bool, np.bool_)):  # 'no' is a true string
+        raise TypeError(f"ultrasonic_friction must be True or False, got "
+                        f"{ultrasonic_friction!r}")
     if coupling not in COUPLINGS:
         raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
     if mu_d_eff is not None:
@@ -520,8 +523,8 @@ def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                   accuracy: str = "fast", energy: bool = True) -> SteadyResult:
     """:func:`steady_state` without the signal hold."""
     t0 = time.perf_counter()
-    op = OperatingPoint(float(voltage_V), float(preload_N),
-                        40e3 if frequency_Hz is None else float(frequency_Hz), float(load_N))
+    op = OperatingPoint(voltage_V, preload_N,
+                        40e3 if frequency_Hz is None else frequency_Hz, load_N)
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
                       accuracy=accuracy)
     # the exact level replaces the averaged branches' powers by the full model's
@@ -780,7 +783,7 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     from contact.simulate import SimulationOptions, normal_amplitude, solve_event
     from contact.window import run_window
 
-    op = OperatingPoint(float(voltage_V), float(preload_N), float(frequency_Hz), float(load_N))
+    op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
     step = {} if dt_s is None else {"dt_s": float(dt_s)}
     opts = SimulationOptions(duration_s=duration_s, steady_periods=steady_periods,
                              coupling=coupling, ultrasonic_friction=ultrasonic_friction, **step)

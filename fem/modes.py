@@ -110,6 +110,14 @@ class PlateModes:
     order: int
     refine: int
 
+    def __post_init__(self) -> None:
+        # a cached result is shared by every caller: its arrays are read-only, as the mode
+        # shapes are (a caller's m.frequencies_short_Hz[:] = 0 changed every later call's)
+        for name in ("frequencies_short_Hz", "frequencies_open_Hz"):
+            a = np.array(getattr(self, name), dtype=float)
+            a.setflags(write=False)
+            object.__setattr__(self, name, a)
+
 
 def rod_frequency_estimate_Hz(stator: PlateStator, material: PiezoMaterial | str) -> float:
     """Slender-rod L1 estimate ``c / (2 l)`` with the plane-stress modulus along y (Hz); ``l``
@@ -536,6 +544,9 @@ def plate_modes(
         Include the thickness-motion inertia (default True).
     """
     stator = PlateStator() if stator is None else stator
+    for name, value in (("order", order), ("refine", refine)):  # 2.5 ran as 2
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
     return _cached_modes(stator, get_material(material), int(order), int(refine), gap_model,
                          bool(thickness_inertia))
 

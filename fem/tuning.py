@@ -406,6 +406,8 @@ def tune_plate(
         raise ValueError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
     if not (0.0 < rel_tol < 1e-2):
         raise ValueError(f"rel_tol must lie in (0, 1e-2), got {rel_tol!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
+        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
     mat = get_material(material)
     base = PlateStator() if start is None else start
     if getattr(base, "mesh", None) is not None:

@@ -10,6 +10,7 @@ arrive here in the same shape and are validated once.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import asdict, dataclass, fields, replace
 
 GRAVITY_M_S2 = 9.81
@@ -100,8 +101,11 @@ class MotorParams:
             if f.name == "source":
                 continue
             value = getattr(self, f.name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
+            # NumPy scalars are real numbers too (np.float32(0.2) was refused); bool is not
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise TypeError(f"MotorParams.{f.name} must be a real number, got {value!r}")
+            value = float(value)
+            object.__setattr__(self, f.name, value)
             if not math.isfinite(value):
                 raise ValueError(f"MotorParams.{f.name} must be finite, got {value!r}")
         for name in _POSITIVE:

@@ -273,3 +273,22 @@ def test_json_gives_the_gap_and_the_swept_values_as_typed(capsys):
     assert json.loads(capsys.readouterr().out)["gap_mm"] == 0.3
     assert main(["sweep", "--length-mm", "18:26:4", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["values_mm"] == [18.0, 22.0, 26.0]
+
+
+def test_a_cached_result_cannot_be_changed_by_a_caller():
+    # plate_modes returns one cached object: m.frequencies_short_Hz[:] = 0 changed every later
+    # call's (and a sweep's) frequencies
+    from fem.modes import plate_modes
+
+    m = plate_modes()
+    with pytest.raises(ValueError, match="read-only"):
+        m.frequencies_short_Hz[:] = 0
+    assert plate_modes() is m and m.frequencies_short_Hz.max() > 0
+
+
+@pytest.mark.parametrize("refine", [2.5, 0, True])
+def test_refine_is_a_whole_number(refine):
+    from fem.modes import plate_modes
+
+    with pytest.raises(ValueError, match="refine must be an integer >= 1"):
+        plate_modes(refine=refine)

@@ -257,3 +257,9 @@ def test_a_tuned_thick_plate_gets_the_thin_plate_warning_modes_gives(capsys):
     d = json.loads(out.out)
     assert d["thickness_mm"] > d["width_mm"]
     assert "plane-stress model assumes a thin plate" in out.err
+
+
+def test_max_iter_must_allow_an_iteration():
+    # max_iter=0 was an UnboundLocalError
+    with pytest.raises(ValueError, match="max_iter must be an integer >= 1"):
+        tune_plate(4e4, max_iter=0)

@@ -1,0 +1,70 @@
+"""The library's entry points refuse what is not a value of their parameter, in one
+ValueError/TypeError naming it, and take NumPy scalars as the numbers they are (found by
+exploratory testing of the Python API; each case gave a silent wrong answer or an obscure
+error before)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from contact.characteristic import characteristic
+from contact.maps import stick_slip_map
+from contact.model import OperatingPoint
+from contact.simulate import simulate
+from contact.steady import steady_state
+from rom import table2
+
+
+@pytest.mark.parametrize("loads", [[float("nan"), 0.1], "0.1", [True]])
+def test_a_load_that_is_not_a_finite_number_is_refused(loads):
+    # a NaN load fell into the fast level's dead zone and came out as 0 m/s
+    with pytest.raises(ValueError, match="loads_N must be finite numbers"):
+        characteristic(table2(), 200, 14, loads_N=loads)
+
+
+def test_a_characteristic_needs_two_points():
+    with pytest.raises(ValueError, match="points must be an integer >= 2"):
+        characteristic(table2(), 200, 14, points=0)
+
+
+@pytest.mark.parametrize("kw", [{"ultrasonic_friction": "False"}, {"energy": "no"}])
+def test_a_string_is_not_a_flag(kw):
+    # 'False' is a true string: Eq. 11 was applied (mu_d_eff 0.306, not 0.35)
+    with pytest.raises(TypeError, match="must be True or False"):
+        simulate(table2(), 200, 14, duration_s=1e-3, **kw)
+    with pytest.raises(TypeError, match="ultrasonic_friction must be True or False"):
+        steady_state(table2(), 200, 14, ultrasonic_friction="no")
+
+
+@pytest.mark.parametrize("voltage", [True, "200", np.array([200.0])])
+def test_a_voltage_is_a_real_number(voltage):
+    # True ran at 1 V, '200' at 200 V
+    with pytest.raises(ValueError, match="voltage_V must be a finite number >= 0 V"):
+        OperatingPoint(voltage, 14.0)
+    with pytest.raises(ValueError, match="voltage_V"):
+        simulate(table2(), voltage, 14, duration_s=1e-3)
+
+
+def test_numpy_scalars_are_numbers():
+    # np.int64(200) and np.float32 were refused as "not a finite number"
+    op = OperatingPoint(np.int64(200), np.float32(14.0))
+    assert (op.voltage_V, op.preload_N) == (200.0, 14.0)
+    assert type(op.voltage_V) is float
+    a = simulate(table2(), np.int64(200), 14, duration_s=1e-3, dt_s=np.float32(1e-7))
+    b = simulate(table2(), 200.0, 14.0, duration_s=1e-3, dt_s=float(np.float32(1e-7)))
+    assert a.steady.velocity_m_s == b.steady.velocity_m_s
+    p = table2()
+    assert p.with_(M_slider=np.float32(0.25)).M_slider == pytest.approx(0.25)
+
+
+@pytest.mark.parametrize("f", [0, -4e4, float("nan"), "4e4"])
+def test_a_map_checks_its_frequency_first(f):
+    # 0 was a ZeroDivisionError, -4e4 blamed duration_s
+    with pytest.raises(ValueError, match="frequency_Hz must be a finite number > 0 Hz"):
+        stick_slip_map(table2(), [200], [14], frequency_Hz=f)
+
+
+def test_a_map_checks_its_accuracy_with_any_method():
+    with pytest.raises(ValueError, match="accuracy must be one of"):
+        stick_slip_map(table2(), [200], [14], method="transient", accuracy="slow")
