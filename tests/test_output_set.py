@@ -199,3 +199,22 @@ def test_another_commands_folder_is_named_as_such(tmp_path):
     with pytest.raises(OutputError, match="holds the output of lusm simulate, not of lusm "
                                           "characteristic"):
         check_target(out, "characteristic", "--plot")
+
+
+def test_a_subfolder_that_is_a_link_is_kept_aside_whole_with_force(tmp_path):
+    # report --force into a report whose figures/ was a link to another folder: the link was
+    # kept aside, then figures/a.png (reached through it) could not be, and the new set was
+    # lost halfway with the old index.md pointing nowhere
+    elsewhere = tmp_path / "vf"
+    _write(elsewhere, {"a.png": "old figure"})
+    out = tmp_path / "o"
+    _write(out, {"index.md": "old"})
+    (out / "figures").symlink_to(elsewhere)
+    with output_set(out, "report", force=True) as stage:
+        _write(stage, {"index.md": "new", "figures/a.png": "new figure"})
+    assert (out / "index.md").read_text() == "new"
+    assert (out / "figures").is_dir() and not (out / "figures").is_symlink()
+    assert (out / "figures" / "a.png").read_text() == "new figure"
+    assert (out / "figures.bak-1").is_symlink()
+    assert (elsewhere / "a.png").read_text() == "old figure"  # the user's folder untouched
+    assert (out / "index.md.bak-1").read_text() == "old"

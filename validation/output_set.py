@@ -258,7 +258,12 @@ def _commit(stage: Path, target: Path, kind: str, force: bool) -> None:
     if foreign and not force:
         raise OutputError(f"--out {target} already holds {foreign[0]!r}, which lusm did not "
                           "write; move it away or pass --force (it is kept as a .bak file)")
-    for f in [*edited, *foreign]:
+    aside = sorted({*edited, *foreign})
+    # a folder (or a link to one) kept aside takes its contents with it: a file below it is
+    # not kept aside again (figures/ as a link: figures/a.png then no longer existed, the
+    # move failed halfway and the new report was lost)
+    aside = [f for f in aside if not any(Path(f).is_relative_to(g) for g in aside if g != f)]
+    for f in aside:
         keep_aside(target / f, "it is not what lusm wrote there")
     for f in new_files:
         dst = target / f
