@@ -434,3 +434,26 @@ def test_explore_names_an_empty_argument(argv, words, tmp_path, capsys):
     assert main([a.replace("{study}", str(study)) for a in argv]) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and len(err.splitlines()) == 1
+
+
+def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):
+    # a truncated .npz raised zipfile.BadZipFile through --resume: "internal error"
+    from validation.explore import _part_path, _read_part, _write_part
+
+    _write_part(tmp_path, 0, {"f_L1_short": np.array(1.0), "task_time_s": np.array(0.1)})
+    assert _read_part(tmp_path, 0)["f_L1_short"] == 1.0
+    path = _part_path(tmp_path, 0)
+    path.write_bytes(path.read_bytes()[:40])
+    assert _read_part(tmp_path, 0) is None
+
+
+def test_plot_naming_the_dataset_is_refused_before_the_study_runs(tmp_path, capsys):
+    # --out same.nc --plot same.nc ran the whole study, then refused --plot
+    from tests.conftest import ROOT
+    from validation.cli import main
+
+    out = tmp_path / "same.nc"
+    assert main(["explore", str(ROOT / "examples/studies/length_width.toml"), "--out",
+                 str(out), "--plot", str(out)]) == 2
+    assert "--plot" in capsys.readouterr().err and not out.exists()
+    assert not list(tmp_path.iterdir())

@@ -59,6 +59,10 @@ def run(args: argparse.Namespace) -> None:
     study = load_study(args.study)
     check_out(args.out, args.force)
     plot = output_folder(args, "explore", "--plot")
+    if plot is not None and Path(plot).resolve() == Path(args.out).resolve():
+        # it ran the whole study, wrote the dataset, then refused --plot as not a folder
+        raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
+                        "their own", "--plot")
     try:
         result = explore(study, args.out, scheduler=args.scheduler,
                          scheduler_file=args.scheduler_file, workers=args.workers,

@@ -32,6 +32,7 @@ import os
 import sys
 import time
 import uuid
+import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -285,8 +286,8 @@ def _read_part(folder: Path, index: int) -> dict[str, np.ndarray] | None:
     try:
         with np.load(_part_path(folder, index), allow_pickle=False) as z:
             return {k: z[k] for k in z.files}
-    except (OSError, ValueError, EOFError):  # missing or torn: computed again
-        return None
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # missing or torn: computed
+        return None  # again (a truncated part was an internal error of --resume)
 
 
 def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, dict], bool]:
@@ -679,8 +680,14 @@ def explore(
                         own[1].close()
     t1 = time.perf_counter()
     ds = assemble(study, parts)
-    write_dataset(ds, out, force)
-    _remove_parts(folder, study.n_geometries)
+    from contact.deferred_signals import deferred_signals
+
+    # the dataset and the removal of the parts are one step: a Ctrl-C between them left a
+    # complete dataset beside a half-removed parts folder, and --resume and --force each
+    # sent the user to the other; a signal now lands after both
+    with deferred_signals():
+        write_dataset(ds, out, force)
+        _remove_parts(folder, study.n_geometries)
     result.write_time_s = time.perf_counter() - t1
     result.wall_time_s = time.perf_counter() - t0
     return result
