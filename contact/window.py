@@ -71,7 +71,19 @@ def check_time_step(op: OperatingPoint, duration_s: float, dt_s: float) -> int:
             f"duration_s must be >= {MIN_PERIODS} drive periods = {min_duration:.4g} s, "
             f"got {duration_s!r}"
         )
-    return int(round(duration_s / dt_s))
+    steps = duration_s / dt_s
+    if not steps <= MAX_RUN_STEPS:
+        raise ValueError(
+            f"duration_s / dt_s = {duration_s!r} s / {dt_s!r} s is {steps:.3g} time steps, "
+            f"above {MAX_RUN_STEPS:.0e}: about a minute of compiled kernel per 1e9 steps, "
+            "during which Ctrl-C waits for the kernel; shorten duration_s or raise dt_s")
+    return int(round(steps))
+
+
+MAX_RUN_STEPS = 1_000_000_000
+"""Most time steps of one run. A kernel holds Ctrl-C until it returns
+(:mod:`contact.deferred_signals`): ``dt_s=1e-12`` asked for 5e10 steps that nothing could
+stop, and ``dt_s=1e-15`` failed allocating its grid."""
 
 
 def run_window(op: OperatingPoint, duration_s: float, dt_s: float,

@@ -68,3 +68,11 @@ def test_a_map_checks_its_frequency_first(f):
 def test_a_map_checks_its_accuracy_with_any_method():
     with pytest.raises(ValueError, match="accuracy must be one of"):
         stick_slip_map(table2(), [200], [14], method="transient", accuracy="slow")
+
+
+@pytest.mark.parametrize("dt", [1e-12, 1e-15])
+def test_a_run_nothing_could_stop_is_refused(dt):
+    # 5e10 steps ran past SIGTERM for minutes (the kernel holds signals); 5e13 was a
+    # MemoryError allocating the grid
+    with pytest.raises(ValueError, match="time steps, above 1e\\+09"):
+        simulate(table2(), 200, 14, dt_s=dt)
