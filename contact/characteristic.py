@@ -95,6 +95,10 @@ class Characteristic:
         }
 
 
+MAX_POINTS = 10_000
+"""Most default loads of one curve (``points``): 1e9 ran for minutes before anything."""
+
+
 def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                    loads_N=None, *, frequency_Hz: float | None = None,
                    coupling: str = "paper", ultrasonic_friction: bool = True,
@@ -132,8 +136,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     t0 = time.perf_counter()
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
-    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 2:
-        raise ValueError(f"points must be an integer >= 2, got {points!r}")
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
+            not 2 <= points <= MAX_POINTS:
+        raise ValueError(f"points must be an integer in [2, {MAX_POINTS}], got {points!r}")
     if loads_N is not None:
         # a NaN load fell into the dead zone of the fast level and came out as 0 m/s
         loads_arr = np.asarray(loads_N)

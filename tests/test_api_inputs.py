@@ -23,9 +23,10 @@ def test_a_load_that_is_not_a_finite_number_is_refused(loads):
         characteristic(table2(), 200, 14, loads_N=loads)
 
 
-def test_a_characteristic_needs_two_points():
-    with pytest.raises(ValueError, match="points must be an integer >= 2"):
-        characteristic(table2(), 200, 14, points=0)
+@pytest.mark.parametrize("points", [0, 10**9, 2.5])
+def test_a_characteristic_has_a_bounded_number_of_points(points):
+    with pytest.raises(ValueError, match="points must be an integer in \\[2, 10000\\]"):
+        characteristic(table2(), 200, 14, points=points)
 
 
 @pytest.mark.parametrize("kw", [{"ultrasonic_friction": "False"}, {"energy": "no"}])
