@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> None:
     from rom.from_fem import design_damping
     from rom.table2 import table2
     from validation.fem_figures import admittance_figure
-    from validation.summaries import table2_damping
+    from validation.summaries import borrowed_damping
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     check_fe_size(choice.stator, refine)
@@ -106,7 +106,7 @@ def run(args: argparse.Namespace) -> None:
         zetas = (fitted.zeta_L1, fitted.zeta_B2)
     origin = (f"stator file {args.geometry} {choice.design.damping_origin}"
               if choice.design is not None and choice.design.damping_origin
-              else table2_damping())
+              else borrowed_damping("fem"))  # the plate's modes with Table 2's ratios
     try:
         if args.f_min is None or args.f_max is None:  # centre the band on the design
             from fem.admittance import design_band_Hz
