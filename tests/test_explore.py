@@ -457,3 +457,13 @@ def test_plot_naming_the_dataset_is_refused_before_the_study_runs(tmp_path, caps
                  str(out), "--plot", str(out)]) == 2
     assert "--plot" in capsys.readouterr().err and not out.exists()
     assert not list(tmp_path.iterdir())
+
+
+def test_a_study_of_thick_plates_gets_the_thin_plate_warning(capsys):
+    # a 0.6 mm wide, 3 mm thick plate was "ok" without the warning modes gives
+    from validation.cmd_explore import _warn_thick
+
+    _warn_thick(study_from_dict({"axes": {"width": ["0.6 mm", "7.5 mm"]}}))
+    assert "5 x the study's smallest in-plane size" in capsys.readouterr().err
+    _warn_thick(study_from_dict({"axes": {"width": ["6 mm", "7.5 mm"]}}))
+    assert capsys.readouterr().err == ""

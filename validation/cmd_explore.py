@@ -57,6 +57,7 @@ def run(args: argparse.Namespace) -> None:
     if not args.study.strip():
         raise LusmError(f"STUDY.toml must name a study file, got {args.study!r}")
     study = load_study(args.study)
+    _warn_thick(study)
     check_out(args.out, args.force)
     plot = output_folder(args, "explore", "--plot")
     if plot is not None and Path(plot).resolve() == Path(args.out).resolve():
@@ -102,6 +103,18 @@ def run(args: argparse.Namespace) -> None:
     print(f"wrote {result.path}")
     for f in result.figures:
         print(f"wrote {f}")
+
+
+def _warn_thick(study) -> None:
+    """The thin-plate warning modes gives, for the study's thickest plate against its
+    narrowest (a 0.6 mm wide, 3 mm thick plate was "ok" without a word)."""
+    ax = study.axes
+    ratio = max(ax["thickness"]) / min(min(ax["length"]), min(ax["width"]))
+    if ratio > limits.PLANE_STRESS_RATIO:
+        warn(f"{study.source}: thickness up to {max(ax['thickness']) * 1e3:g} mm is {ratio:.3g} "
+             "x the study's smallest in-plane size; the 2D plane-stress model assumes a thin "
+             f"plate (thickness below {limits.PLANE_STRESS_RATIO:g} x min(length, width)); "
+             "check such plates with lusm modes --model 3d")
 
 
 def _report_failures(ds, path) -> None:
