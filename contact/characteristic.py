@@ -80,7 +80,9 @@ class Characteristic:
     orbits: int
 
     def to_dict(self) -> dict:
-        """The JSON form of ``lusm characteristic --json``."""
+        """The fields of ``lusm characteristic --json``, as Python floats: NaN stays NaN
+        (a load the slider runs away under, an undefined efficiency or holding bound); the
+        CLI writes it as ``null``, ``json.dumps(..., allow_nan=False)`` refuses it."""
         return {
             "no_load_velocity_m_s": float(self.no_load_velocity_m_s),
             "stall_force_N": float(self.stall_force_N),
