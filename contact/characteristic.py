@@ -24,7 +24,7 @@ from contact.steady import (
     slow_problem,
     steady_state,
 )
-from rom.params import MotorParams
+from rom.params import MotorParams, require_params
 
 
 @dataclass(frozen=True)
@@ -136,6 +136,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     Characteristic
     """
     t0 = time.perf_counter()
+    require_params(params)
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \

@@ -24,7 +24,7 @@ import numpy as np
 from contact.model import OperatingPoint
 from contact.results import MOTION_CLASSES, PHASE_THRESHOLD, classify_motion
 from contact.simulate import SimulationOptions, simulate
-from rom.params import MotorParams
+from rom.params import MotorParams, require_params
 
 
 @dataclass(frozen=True)
@@ -156,6 +156,7 @@ def stick_slip_map(
     f = np.asarray(preloads_N, dtype=float)
     if v.ndim != 1 or f.ndim != 1 or v.size == 0 or f.size == 0:
         raise ValueError("voltages_V and preloads_N must be non-empty 1-D sequences")
+    require_params(params)
     if method not in MAP_METHODS:
         raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")
     from contact.steady import ACCURACIES
@@ -164,6 +165,9 @@ def stick_slip_map(
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     OperatingPoint(0.0, 0.0, frequency_Hz)  # the frequency checked before it is used
     opts = options or SimulationOptions()
+    if not isinstance(opts, SimulationOptions):  # a dict was "has no attribute 'dt_s'"
+        raise TypeError(f"options must be a SimulationOptions (or keyword overrides such as "
+                        f"dt_s=...), got {type(options).__name__}")
     shape = (v.size, f.size)
     motion = np.empty(shape, dtype=object)
     vel, stick, sep, mud = (np.empty(shape) for _ in range(4))

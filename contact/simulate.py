@@ -46,7 +46,7 @@ from contact.model import (
 from contact.results import EnergyBalance, SchemeOutput, SteadyState, Trace, steady_metrics
 from contact.state import ERR_CHATTER, OK
 from contact.window import MIN_PERIODS, RunWindow, run_window
-from rom.params import MotorParams
+from rom.params import MotorParams, require_params
 
 PRE_PASS_PERIODS = 60
 """Drive periods simulated to find the steady normal amplitude A_N of Eq. 11."""
@@ -278,6 +278,7 @@ def simulate(
     contact.errors.ChatteringError
         When the contact chatters beyond ``max_events_per_step`` within a step.
     """
+    require_params(params)
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if load_N and method in ("reference", "literal"):
@@ -285,6 +286,9 @@ def simulate(
                          f"load_N={load_N!r} with method={method!r}")
     op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
     opts = options or SimulationOptions()
+    if not isinstance(opts, SimulationOptions):  # a dict was "has no attribute 'dt_s'"
+        raise TypeError(f"options must be a SimulationOptions (or keyword overrides such as "
+                        f"dt_s=...), got {type(options).__name__}")
     if option_overrides:
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})
     dt_a_n = opts.dt_s

@@ -48,7 +48,7 @@ from contact.periodic_orbit import (
     orbit_work,
 )
 from contact.results import PHASE_THRESHOLD, classify_motion
-from rom.params import GRAVITY_M_S2, MotorParams
+from rom.params import GRAVITY_M_S2, MotorParams, require_params
 
 ACCURACIES = ("fast", "exact")
 
@@ -314,6 +314,7 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     ``mu_d_eff`` (-), when given, replaces Eq. 11's A_N and mu_d. ``accuracy`` sets the
     tolerances of the orbits and roots (:data:`ORBIT_TOL`, :data:`EXACT_ORBIT_TOL`).
     """
+    require_params(params)
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     if not isinstance(ultrasonic_friction, (bool, np.bool_)):  # 'no' is a true string

@@ -79,7 +79,8 @@ class PlateStator:
                 f"PlateStator.electrode_gap_m must lie in [0, {limit!r}) m "
                 f"(min of width and length), got {gap!r}: the gap leaves no electrode"
             )
-        drive = tuple(self.drive_electrodes)
+        drive = (tuple(self.drive_electrodes) if isinstance(self.drive_electrodes, (tuple, list))
+                 else ())  # an int was "'int' object is not iterable"
         if len(drive) == 0 or any(
             isinstance(e, bool) or not isinstance(e, (int, np.integer)) or e not in ELECTRODES
             for e in drive

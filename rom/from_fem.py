@@ -75,6 +75,9 @@ def fem_params(
     if damping_ratios is None:
         zeta_l, zeta_b = base.zeta_L1, base.zeta_B2
     else:
+        if np.ndim(damping_ratios) != 1 or len(damping_ratios) != 2:
+            raise ValueError(f"damping_ratios must be (zeta_L1, zeta_B2), two numbers in "
+                             f"(0, 1), got {damping_ratios!r}")
         zeta_l, zeta_b = (float(z) for z in damping_ratios)
         for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
             if not (math.isfinite(z) and z > 0.0):

@@ -248,3 +248,14 @@ class MotorParams:
                         f"{key} = {got!r} disagrees with the stored fields ({want:.10g}); it is "
                         "derived: edit the modal mass, damping, stiffness or mode shapes instead")
         return params
+
+
+def require_params(params: object) -> MotorParams:
+    """``params`` if it is a :class:`MotorParams`, else a TypeError saying how to make one (a
+    dict or None reached the kernels' set-up as an AttributeError on ``K_l``)."""
+    if not isinstance(params, MotorParams):
+        raise TypeError(f"params must be a rom.params.MotorParams (rom.table2(), "
+                        f"rom.sources.get_params(...) or MotorParams.from_dict(d)), got "
+                        f"{type(params).__name__}")
+    return params
+

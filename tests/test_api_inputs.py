@@ -77,3 +77,28 @@ def test_a_run_nothing_could_stop_is_refused(dt):
     # MemoryError allocating the grid
     with pytest.raises(ValueError, match="time steps, above 1e\\+09"):
         simulate(table2(), 200, 14, dt_s=dt)
+
+
+@pytest.mark.parametrize("entry", [
+    lambda p: simulate(p, 200, 14), lambda p: steady_state(p, 200, 14),
+    lambda p: characteristic(p, 200, 14), lambda p: stick_slip_map(p, [200], [14])])
+@pytest.mark.parametrize("params", [None, "table2"])
+def test_params_must_be_a_parameter_set(entry, params):
+    # None or a dict reached the set-up as AttributeError: 'K_l'
+    with pytest.raises(TypeError, match="params must be a rom.params.MotorParams"):
+        entry(table2().to_dict() if params == "table2" else params)
+
+
+def test_options_must_be_simulation_options():
+    with pytest.raises(TypeError, match="options must be a SimulationOptions"):
+        simulate(table2(), 200, 14, options={"dt_s": 1e-7})
+
+
+def test_plate_and_reduction_inputs_name_themselves():
+    from fem.geometry import PlateStator
+    from rom.from_fem import fem_params
+
+    with pytest.raises(ValueError, match="drive_electrodes must be a non-empty tuple"):
+        PlateStator(drive_electrodes=1)
+    with pytest.raises(ValueError, match="damping_ratios must be \\(zeta_L1, zeta_B2\\)"):
+        fem_params(damping_ratios=(0.01,))
