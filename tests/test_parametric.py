@@ -266,3 +266,12 @@ def test_open_circuit_partner_is_chosen_by_shape():
     unrelated = np.array([[0, 0, 1.0, 0], [0, 0, 0, 1.0]]).T
     with pytest.raises(ModeSolverError, match="could not pair L1"):
         pair_short_open(fs, vs, ids, fo, {"L1": (0, 0.9, 1.0)}, M, ("L1",), unrelated)
+
+
+def test_refine_with_a_stator_files_mesh_is_said_to_do_nothing(capsys):
+    # modes, render and admittance ran the file's (or gmsh's) mesh whatever --refine said
+    stator = str(EXAMPLES / "tip_parametric" / "stator.toml")
+    assert main(["modes", "--geometry", stator, "--refine", "8", "--json"]) == 0
+    assert "--refine has no effect" in capsys.readouterr().err
+    assert main(["modes", "--geometry", stator, "--json"]) == 0
+    assert "warning" not in capsys.readouterr().err

@@ -336,7 +336,14 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
                 warn(f"--geometry {args.geometry}: thickness {st.thickness_m * 1e3:g} "
                      f"mm is {ratio:.3g} x the mesh's smaller in-plane extent; the 2D "
                      "plane-stress model assumes a thin plate; check with --model 3d")
-        return StatorChoice(st, design.material, design)
+        choice = StatorChoice(st, design.material, design)
+        if (choice.meshed or choice.parametric) and not three_d:
+            # the 2D model solves on the file's mesh (or gmsh's, sized by [mesh] size_mm):
+            # modes, render, admittance ran the same mesh whatever --refine said
+            warn_unused(("--refine",), f"--geometry {args.geometry} is meshed by "
+                        + ("gmsh at its [mesh] size_mm (default min(length, width) / 8)"
+                           if choice.parametric else "its own mesh file"))
+        return choice
     mm = {o: getattr(args, o[2:].replace("-", "_"), None) for o in PLATE_OPTIONS}
     mm = {o: PLATE_DEFAULTS_MM[o] if v is None else v for o, v in mm.items()}
     check_plate_mm(mm["--length-mm"], mm["--width-mm"], mm["--thickness-mm"], mm["--gap-mm"],
