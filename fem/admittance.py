@@ -210,6 +210,16 @@ class AdmittanceResult:
     pairs: tuple
     port: ModalPort
 
+    def unpaired_modes(self) -> list[tuple[str, float]]:
+        """``(name, f_short_Hz)`` of the identified modes (L1, B2) inside the band that no
+        resonance pair found on the grid belongs to: the grid is too coarse for them (a
+        5 kHz step over 1 Hz-10 MHz listed neither), or their peak is too weak to resolve."""
+        seen = "+".join(q.mode for q in self.pairs)
+        lo, hi = float(self.f_Hz[0]), float(self.f_Hz[-1])
+        return [(name, float(f))
+                for name, f in zip(self.port.mode_names, self.port.frequencies_Hz, strict=True)
+                if name and lo <= f <= hi and name not in seen]
+
     def to_dict(self) -> dict[str, object]:
         """JSON-ready summary (no arrays of the sweep)."""
         p = self.port

@@ -186,11 +186,7 @@ def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
     about the design's modes at 54-56 kHz)."""
     from validation.options import warn
 
-    port = res.port
-    seen = "+".join(q.mode for q in res.pairs)
-    missed = [f"{name} ({f:.0f} Hz)"
-              for name, f in zip(port.mode_names, port.frequencies_Hz, strict=True)
-              if name and f_min_Hz <= f <= f_max_Hz and name not in seen]
+    missed = [f"{name} ({f:.0f} Hz)" for name, f in res.unpaired_modes()]
     if missed:
         step = (f_max_Hz - f_min_Hz) / (points - 1)
         warn(f"--points {points}: {' and '.join(missed)} lie{'s' if len(missed) == 1 else ''} "

@@ -120,6 +120,13 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
                "`examples/light_damping/stator.toml`)."]
     else:
         md += ["No resonance/antiresonance pair is resolved in this band."]
+    missed = res.unpaired_modes()  # as lusm admittance warns
+    if missed:
+        md += ["", " and ".join(f"{n} ({f:.0f} Hz)" for n, f in missed)
+               + " lie in the band, but no resonance pair on this grid is "
+               + ("its" if len(missed) == 1 else "theirs")
+               + ": the grid is too coarse for them or their peak too weak to resolve "
+               "(`lusm admittance --points` with more points)."]
     md += ["", f"![admittance](figures/{png.name})", ""]
     data = {"band_Hz": [f_lo, f_hi], "pairs": [
         {"mode": p.mode, "f_resonance_Hz": p.f_resonance_Hz,
