@@ -460,8 +460,8 @@ def check_out(out: Path, force: bool) -> None:
         raise ValueError(f"--out must name a netCDF file (.nc), got {str(out)!r}")
     out = Path(out)
     if out.suffix.lower() not in (".nc", ".nc4", ".h5"):
-        raise ValueError(f"--out {out}: write a netCDF file (.nc); zarr stores are not "
-                         "supported yet")
+        zarr = "; zarr stores are not supported yet" if out.suffix.lower() == ".zarr" else ""
+        raise ValueError(f"--out {out}: name a netCDF file (.nc, .nc4 or .h5){zarr}")
     if out.is_dir():
         raise ValueError(f"--out {out} is a folder; name a .nc file")
     if out.exists() and not force:
