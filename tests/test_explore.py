@@ -467,3 +467,18 @@ def test_a_study_of_thick_plates_gets_the_thin_plate_warning(capsys):
     assert "5 x the study's smallest in-plane size" in capsys.readouterr().err
     _warn_thick(study_from_dict({"axes": {"width": ["6 mm", "7.5 mm"]}}))
     assert capsys.readouterr().err == ""
+
+
+def test_a_transient_point_that_did_not_settle_is_said_so(tmp_path, capsys):
+    # 200 V / 0 N accelerates for longer than 5 ms: its velocity was stored as the steady
+    # one without a word (simulate warns of the same run)
+    from validation.cmd_explore import _report_failures
+
+    s = study_from_dict({"axes": {"voltage": "200 V", "preload": ["0 N", "14 N"]},
+                         "solver": {"method": "event", "duration": "5 ms"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    status = str(ds["status"].item())
+    assert status.startswith("1 drive point(s) not settled within solver.duration 0.005 s")
+    assert "200 V, 0 N" in status
+    _report_failures(ds, tmp_path / "r.nc")  # a warning, not a refusal
+    assert "did not settle" in capsys.readouterr().err

@@ -184,7 +184,8 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     v0 = float(r.steady.velocity_m_s)
     velocity = np.array([v0 if load == 0.0 else math.nan for load in drive.loads_N])
     return {"no_load_velocity": v0, "stall_force": math.nan, "peak_efficiency": math.nan,
-            "motion_class": r.steady.motion, "velocity": velocity}
+            "motion_class": r.steady.motion, "velocity": velocity,
+            "settled": bool(r.steady.settled)}
 
 
 def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
@@ -241,7 +242,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         out["status"] = np.array(short_reason(f"FE: {type(exc).__name__}: {exc}")[:300])
         return out
     freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
-    failures = []
+    failures, unsettled = [], []
     for k, f in enumerate(freqs):
         for i, v in enumerate(study.axes["voltage"]):
             for j, p in enumerate(study.axes["preload"]):
@@ -255,9 +256,16 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
                 for name in MOTOR_ARRAYS:
                     out[name][at] = ans[name]
                 out["velocity"][at] = ans["velocity"]
+                if not ans.get("settled", True):
+                    unsettled.append(f"{v:g} V, {p:g} N, {f:.6g} Hz")
     if failures:
         out["status"] = np.array(f"{len(failures)} drive point(s) failed; first: "
                                  f"{failures[0]}"[:300])
+    elif unsettled:  # a transient's velocity where it stopped, not the steady one
+        out["status"] = np.array(
+            f"{len(unsettled)} drive point(s) not settled within solver.duration "
+            f"{s.duration_s:g} s (their velocity is where the run stopped; a longer duration "
+            f"or method = \"steady\"); first: {unsettled[0]}"[:300])
     return out
 
 
@@ -418,7 +426,8 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
             f"accuracy={s.accuracy} (solver.duration and solver.dt unused)"
             if s.method == "steady" else
             f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
-            f"dt_s={s.dt_s:g}, from rest, not checked for settling; stall_force, "
+            f"dt_s={s.dt_s:g}, from rest (a point that did not settle is named in status); "
+            "stall_force, "
             "peak_efficiency and loaded velocity need method = \"steady\" (NaN)"),
         "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
         "coupling": "consistent (auto: the work-consistent tangential coupling of every set "
