@@ -427,8 +427,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
             if s.method == "steady" else
             f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
             f"dt_s={s.dt_s:g}, from rest (a point that did not settle is named in status); "
-            "stall_force, "
-            "peak_efficiency and loaded velocity need method = \"steady\" (NaN)"),
+            "stall_force, peak_efficiency and loaded velocity need method = \"steady\" (NaN)"),
         "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
         "coupling": "consistent (auto: the work-consistent tangential coupling of every set "
                     "that is not Table 2's, contact.model.default_coupling; docs/contact.md "
