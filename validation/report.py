@@ -68,6 +68,9 @@ class _Stage:
         self.bar.update()
 
     def close(self) -> None:
+        # the steps a stage takes vary (quick runs, sets): the bar ends full, not at 4/5
+        self.bar.total = self.bar.n
+        self.bar.refresh()
         self.bar.close()
 
 
@@ -223,7 +226,7 @@ def _reproduction(params: dict, out: Path, quick: bool, progress: bool):
     data = {}
     for name, p in params.items():
         freq = PAPER_DRIVE_HZ if name == "table2" else auto_frequency(p)
-        st = _Stage(f"2/5 reproduction ({name})", 5, progress)
+        st = _Stage(f"2/5 reproduction ({name})", 4, progress)
         rep = reproduce(p, freq, out / "figures", f"{name}_", settings, st.say)
         st.close()
         agree = sum(r.agrees for r in rep.rows)
