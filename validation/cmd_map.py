@@ -150,7 +150,8 @@ def run(args: argparse.Namespace) -> None:
     print(coupling_line(coupling, coupling_from))
     auto_note = " (auto: the set's own operating point)" if known is None else ""
     print(f"frequency {freq:.6g} Hz{auto_note}")
-    print(f"counts: {m.counts()}  wall time {m.wall_time_s:.2f} s ({m.method}"
+    counts = ", ".join(f"{c} {n}" for c, n in m.counts().items() if n)
+    print(f"points: {counts}; wall time {m.wall_time_s:.2f} s ({m.method}"
           + (f", {args.accuracy})" if m.method == "steady" else f", {args.duration:g} s runs)"))
     if m.method == "steady":
         multi = [(float(m.voltages_V[i]), float(m.preloads_N[j]))
