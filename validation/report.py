@@ -230,7 +230,8 @@ def _reproduction(params: dict, out: Path, quick: bool, progress: bool):
         rep = reproduce(p, freq, out / "figures", f"{name}_", settings, st.say)
         st.close()
         agree = sum(r.agrees for r in rep.rows)
-        md += [f"### {name}: {p.source} at {freq / 1e3:.4g} kHz, paper's coupling", "",
+        md += [f"### {name}, driven at {freq / 1e3:.4g} kHz with the paper's coupling", "",
+               f"Parameter set: {p.source}.", "",
                f"{agree} of {len(rep.rows)} claims agree. The {_damping(name, p)}.", ""]
         md += markdown_table(["figure", "the paper says", "we get", "agrees?", "why not"],
                      [[r.figure, r.paper_says, r.we_get, "yes" if r.agrees else "no", r.reason]
