@@ -140,9 +140,10 @@ def _warn_fast_level(params, chars, coupling: str, ultrasonic_friction: bool) ->
     velocity below the slider's velocity ripple (the slider is not slow against the drive
     period: at 20 Hz the fast level gave 1.8e-6 m/s and a 1.18 N stall force where the exact
     one holds the slider; on the fem set at 200 V / 14 N it held the slider where the
-    finite-mass motor creeps at 7e-5 m/s), or several stable steady states at no load (which
-    one a start from rest reaches, the averaging cannot tell: at 30 kHz it reported
-    0.0124 m/s where a transient settles at 1.1e-4 m/s)."""
+    finite-mass motor creeps at 7e-5 m/s), or a no-load velocity the finite-mass motor does
+    not reach from rest: the exact level's no-load point (one steady point, milliseconds at
+    the stator's resonance) is compared. At 30 kHz the fast level found one branch at
+    0.0124 m/s, where a start from rest creeps at 1.1e-4 m/s, and nothing was said."""
     from contact.steady import ripple_scale, steady_state
 
     for c in chars:
@@ -158,10 +159,11 @@ def _warn_fast_level(params, chars, coupling: str, ultrasonic_friction: bool) ->
             continue
         r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
                          coupling=coupling, ultrasonic_friction=ultrasonic_friction,
-                         accuracy="fast")
-        stable = [b for b in r.branches if b.stable]
-        if len(stable) > 1:
-            speeds = ", ".join(f"{b.velocity_m_s:.3g}" for b in stable)
-            warn(f"{where} {len(stable)} steady states coexist at no load ({speeds} m/s): the "
-                 "fast level cannot tell which a start from rest reaches; --accuracy exact "
-                 "decides it on the finite-mass motor")
+                         accuracy="exact", energy=False)
+        exact = float(r.velocity_m_s)
+        # beyond the averaging's O(1/M) error (1e-3 at 200 V): another steady state
+        if abs(exact - float(c.no_load_velocity_m_s)) > 0.05 * max(abs(exact), ripple):
+            warn(f"{where} the averaged no-load velocity {c.no_load_velocity_m_s:.3g} m/s is "
+                 f"not the one the finite-mass motor reaches from rest ({exact:.3g} m/s, "
+                 "--accuracy exact, the default): several steady states coexist and the "
+                 "averaging cannot tell which a start from rest reaches")
