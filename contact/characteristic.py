@@ -24,7 +24,7 @@ from contact.steady import (
     slow_problem,
     steady_state,
 )
-from rom.params import MotorParams, require_params
+from rom.params import MotorParams
 
 
 @dataclass(frozen=True)
@@ -136,7 +136,6 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     Characteristic
     """
     t0 = time.perf_counter()
-    require_params(params)
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
@@ -145,8 +144,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     if loads_N is not None:
         # a NaN load fell into the dead zone of the fast level and came out as 0 m/s
         loads_arr = np.asarray(loads_N)
-        if loads_arr.dtype.kind not in "biuf" or loads_arr.dtype.kind == "b" or \
-                not np.all(np.isfinite(loads_arr)):
+        if loads_arr.dtype.kind not in "iuf" or not np.all(np.isfinite(loads_arr)):
             raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
     op = OperatingPoint(voltage_V, preload_N,
                         40e3 if frequency_Hz is None else frequency_Hz)

@@ -23,7 +23,7 @@ import numpy as np
 
 from contact.model import OperatingPoint
 from contact.results import MOTION_CLASSES, PHASE_THRESHOLD, classify_motion
-from contact.simulate import SimulationOptions, simulate
+from contact.simulate import SimulationOptions, options_or_default, simulate
 from rom.params import MotorParams, require_params
 
 
@@ -164,10 +164,7 @@ def stick_slip_map(
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     OperatingPoint(0.0, 0.0, frequency_Hz)  # the frequency checked before it is used
-    opts = options or SimulationOptions()
-    if not isinstance(opts, SimulationOptions):  # a dict was "has no attribute 'dt_s'"
-        raise TypeError(f"options must be a SimulationOptions (or keyword overrides such as "
-                        f"dt_s=...), got {type(options).__name__}")
+    opts = options_or_default(options)
     shape = (v.size, f.size)
     motion = np.empty(shape, dtype=object)
     vel, stick, sep, mud = (np.empty(shape) for _ in range(4))

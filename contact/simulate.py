@@ -127,6 +127,17 @@ class SimulationOptions:
                              f"{self.stick_band_m_s!r}")
 
 
+def options_or_default(options: SimulationOptions | None) -> SimulationOptions:
+    """``options``, or the defaults for None; anything else is a TypeError naming it (a dict
+    was "has no attribute 'dt_s'" deep in a scheme)."""
+    if options is None:
+        return SimulationOptions()
+    if not isinstance(options, SimulationOptions):
+        raise TypeError(f"options must be a SimulationOptions (or keyword overrides such as "
+                        f"dt_s=...), got {type(options).__name__}")
+    return options
+
+
 @dataclass(frozen=True)
 class SimulationResult:
     """Everything one run produced, whatever the scheme.
@@ -285,10 +296,7 @@ def simulate(
         raise ValueError(f"load_N is modelled by the event and steady schemes only, got "
                          f"load_N={load_N!r} with method={method!r}")
     op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
-    opts = options or SimulationOptions()
-    if not isinstance(opts, SimulationOptions):  # a dict was "has no attribute 'dt_s'"
-        raise TypeError(f"options must be a SimulationOptions (or keyword overrides such as "
-                        f"dt_s=...), got {type(options).__name__}")
+    opts = options_or_default(options)
     if option_overrides:
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})
     dt_a_n = opts.dt_s

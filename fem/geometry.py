@@ -79,8 +79,10 @@ class PlateStator:
                 f"PlateStator.electrode_gap_m must lie in [0, {limit!r}) m "
                 f"(min of width and length), got {gap!r}: the gap leaves no electrode"
             )
-        drive = (tuple(self.drive_electrodes) if isinstance(self.drive_electrodes, (tuple, list))
-                 else ())  # an int was "'int' object is not iterable"
+        try:  # any sequence of numbers (a NumPy array too); an int is refused below
+            drive = tuple(self.drive_electrodes)
+        except TypeError:  # it was "'int' object is not iterable"
+            drive = ()
         if len(drive) == 0 or any(
             isinstance(e, bool) or not isinstance(e, (int, np.integer)) or e not in ELECTRODES
             for e in drive
