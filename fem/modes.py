@@ -249,6 +249,23 @@ def _locatable(model: PiezoPlateModel, pts: np.ndarray) -> np.ndarray:
     return found
 
 
+SAMPLE_INSET = 1e-9
+"""Relative inset of the sampling grid from the stator's outline (points on it are ambiguous)."""
+
+
+def sampling_grid(stator: PlateStator) -> tuple[np.ndarray, np.ndarray]:
+    """The (ny, nx) sampling grid ``X, Y`` (m) of mode identification, 2D and 3D alike.
+
+    It spans the width and the whole extent along y: a protruding tip belongs to the
+    vibrating body (a 10 mm tip as wide as the plate makes a 40 mm bar, whose L1 and B2 the
+    30 mm shapes misidentified).
+    """
+    xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * stator.width_m * (1.0 - SAMPLE_INSET)
+    ys = ((np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * SAMPLE_INSET) + SAMPLE_INSET)
+          * overall_length_m(stator))
+    return np.meshgrid(xs, ys)
+
+
 def _sampling(
     model: PiezoPlateModel,
 ) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, np.ndarray]:
@@ -258,13 +275,7 @@ def _sampling(
     their mirror images about ``x = 0``, are dropped: their rows of ``P`` are zero and the
     mask (ny, nx) is False there.
     """
-    st = model.stator
-    inset = 1e-9
-    xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
-    # the whole extent along y: a protruding tip belongs to the vibrating body (a 10 mm tip as
-    # wide as the plate makes a 40 mm bar, whose L1 and B2 the 30 mm shapes misidentified)
-    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * overall_length_m(st)
-    X, Y = np.meshgrid(xs, ys)  # (ny, nx)
+    X, Y = sampling_grid(model.stator)
     pts = np.vstack((X.ravel(), Y.ravel()))
     inside = model.mesh.contains(pts).reshape(X.shape)
     inside &= inside[:, ::-1]

@@ -79,12 +79,12 @@ from fem.meshed_stator import overall_length_m, planform_mesh
 from fem.modes import (
     MIN_MAC,
     MIN_SYMMETRY,
-    N_SAMPLE_X,
-    N_SAMPLE_Y,
+    SAMPLE_INSET,
     ModeSolverError,
     PlateModes,
     modal_assurance,
     reference_shapes,
+    sampling_grid,
     sign_changes,
     solve_short_open,
     symmetric_fraction,
@@ -716,11 +716,8 @@ def _sampling3d(model: SolidPlateModel):
     dropped: their rows of the probe matrices are zero and the mask is False there.
     """
     st = model.stator
-    inset = 1e-9
-    xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
-    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * overall_length_m(st)
-    X, Y = np.meshgrid(xs, ys)
-    zt = 0.5 * st.thickness_m * (1.0 - inset)
+    X, Y = sampling_grid(st)
+    zt = 0.5 * st.thickness_m * (1.0 - SAMPLE_INSET)
     planform = planform_mesh(st)
     inside = np.ones(X.shape, dtype=bool)
     if planform is not None:

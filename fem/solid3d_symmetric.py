@@ -45,7 +45,7 @@ from fem.geometry import PlateStator
 from fem.grid_ordering import nested_dissection_rank
 from fem.material import PiezoMaterial, get_material
 from fem.meshed_stator import has_planform
-from fem.modes import N_SAMPLE_X, N_SAMPLE_Y, solve_short_open
+from fem.modes import SAMPLE_INSET, sampling_grid, solve_short_open
 from fem.solid3d import (
     DEFAULT_ELEMENT,
     DEFAULT_LAYERS,
@@ -293,11 +293,8 @@ def quarter_frequencies_Hz(
 
 def _identify_quarter(model: QuarterPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
     st = model.stator
-    inset = 1e-9
-    xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
-    ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
-    X, Y = np.meshgrid(xs, ys)
-    zt = 0.5 * st.thickness_m * (1.0 - inset)
+    X, Y = sampling_grid(st)  # a plain plate: its length is its whole extent
+    zt = 0.5 * st.thickness_m * (1.0 - SAMPLE_INSET)
     sampled = {key: (model.unfold_probe(X, Y, z) @ shapes).reshape(3, *X.shape, -1)
                for key, z in (("mid", 0.0), ("top", zt), ("bottom", -zt))}
     return identify_sampled(X, Y, sampled, np.ones(X.shape, dtype=bool), st.length_m,
