@@ -15,6 +15,7 @@ from validation.options import (
     output_folder,
     print_json,
     warn,
+    warn_thin_plate,
 )
 
 
@@ -109,12 +110,11 @@ def _warn_thick(study) -> None:
     """The thin-plate warning modes gives, for the study's thickest plate against its
     narrowest (a 0.6 mm wide, 3 mm thick plate was "ok" without a word)."""
     ax = study.axes
-    ratio = max(ax["thickness"]) / min(min(ax["length"]), min(ax["width"]))
-    if ratio > limits.PLANE_STRESS_RATIO:
-        warn(f"{study.source}: thickness up to {max(ax['thickness']) * 1e3:g} mm is {ratio:.3g} "
-             "x the study's smallest in-plane size; the 2D plane-stress model assumes a thin "
-             f"plate (thickness below {limits.PLANE_STRESS_RATIO:g} x min(length, width)); "
-             "check such plates with lusm modes --model 3d")
+    thick = max(ax["thickness"]) * 1e3
+    warn_thin_plate(f"{study.source}: thickness up to {thick:g} mm", thick,
+                    min(min(ax["length"]), min(ax["width"])) * 1e3,
+                    "the study's smallest in-plane size",
+                    "check such plates with lusm modes --model 3d")
 
 
 def _report_failures(ds, path) -> None:

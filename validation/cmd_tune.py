@@ -147,13 +147,12 @@ def run(args: argparse.Namespace) -> None:
         validity = stator_gap_validity_message(d.stator)
         if validity is not None:
             warn(f"the tuned plate: {validity}")
-        st = d.stator
-        ratio = st.thickness_m / min(st.length_m, st.width_m)
-        if ratio > limits.PLANE_STRESS_RATIO:  # what modes says of the same plate
-            warn(f"the tuned plate: thickness {st.thickness_m * 1e3:g} mm is {ratio:.3g} x "
-                 "its smaller in-plane dimension; the 2D plane-stress model assumes a thin "
-                 f"plate (thickness below {limits.PLANE_STRESS_RATIO:g} x min(length, "
-                 "width)); check with --model 3d")
+        from validation.options import warn_thin_plate
+
+        st = d.stator  # what modes says of the same plate
+        warn_thin_plate(f"the tuned plate: thickness {st.thickness_m * 1e3:g} mm",
+                        st.thickness_m * 1e3, min(st.length_m, st.width_m) * 1e3,
+                        "its smaller in-plane dimension")
     if args.json:
         print_json(d.to_dict())
         return

@@ -301,11 +301,21 @@ def check_plate_mm(length: float, width: float, thickness: float, gap: float,
         raise LusmError(f"{which} must be below the plate's --length-mm and --width-mm "
                         f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
                         "--gap-mm", "--gap-mm")
-    ratio = thickness / min(length, width)
-    if ratio > limits.PLANE_STRESS_RATIO and not three_d:
-        warn(f"--thickness-mm {thickness:g} is {ratio:.3g} x the plate's smaller in-plane "
-             f"dimension; the 2D plane-stress model assumes a thin plate (thickness below "
-             f"{limits.PLANE_STRESS_RATIO:g} x min(length, width)); check with --model 3d")
+    if not three_d:
+        warn_thin_plate(f"--thickness-mm {thickness:g}", thickness, min(length, width),
+                        "the plate's smaller in-plane dimension")
+
+
+def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, against: str,
+                    remedy: str = "check with --model 3d") -> None:
+    """The 2D model's validity warning, for the plain plate, a stator file's mesh, a tuned
+    plate and a study alike: ``subject`` is ``thickness / inplane`` times ``against``, above
+    :data:`limits.PLANE_STRESS_RATIO`."""
+    ratio = thickness_mm / inplane_mm
+    if ratio > limits.PLANE_STRESS_RATIO:
+        warn(f"{subject} is {ratio:.3g} x {against}; the 2D plane-stress model assumes a thin "
+             f"plate (thickness below {limits.PLANE_STRESS_RATIO:g} x min(length, width)); "
+             f"{remedy}")
 
 
 def stator_from_args(args: argparse.Namespace) -> StatorChoice:
@@ -331,11 +341,10 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
             check_plate_mm(st.length_m * 1e3, st.width_m * 1e3, st.thickness_m * 1e3,
                            st.electrode_gap_m * 1e3, three_d=three_d)
         elif not three_d:  # the mesh's bounding box against the file's thickness
-            ratio = st.thickness_m / min(st.length_m, st.width_m)
-            if ratio > limits.PLANE_STRESS_RATIO:
-                warn(f"--geometry {args.geometry}: thickness {st.thickness_m * 1e3:g} "
-                     f"mm is {ratio:.3g} x the mesh's smaller in-plane extent; the 2D "
-                     "plane-stress model assumes a thin plate; check with --model 3d")
+            warn_thin_plate(f"--geometry {args.geometry}: thickness "
+                            f"{st.thickness_m * 1e3:g} mm", st.thickness_m * 1e3,
+                            min(st.length_m, st.width_m) * 1e3,
+                            "the mesh's smaller in-plane extent")
         choice = StatorChoice(st, design.material, design)
         if (choice.meshed or choice.parametric) and not three_d:
             # the 2D model solves on the file's mesh (or gmsh's, sized by [mesh] size_mm):
