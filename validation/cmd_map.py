@@ -22,6 +22,7 @@ from validation.options import (
     output_folder,
     parse_frequency,
     print_json,
+    warn,
     warn_drive,
     warn_unused,
 )
@@ -116,9 +117,7 @@ def run(args: argparse.Namespace) -> None:
                        method=args.method, accuracy=args.accuracy)
     summary = map_summary(m)
     if m.method == "transient" and not m.settled.all():  # as simulate warns of one run
-        import numpy as np
-
-        from validation.options import warn
+        import numpy as np  # here: lusm map --help loads no NumPy
 
         pts = [f"{float(m.voltages_V[i]):g} V/{float(m.preloads_N[j]):g} N"
                for i, j in zip(*np.nonzero(~m.settled), strict=True)]
