@@ -129,7 +129,7 @@ def _report_failures(ds, path) -> None:
     bad = [x for x in status if x != "ok" and x not in slow]
     if not bad:
         return
-    from validation.cmd_modes import short_reason
+    from validation.errors import short_reason
 
     first = short_reason(bad[0]).replace("dt_s", "solver.dt").replace("frequency_Hz",
                                                                        "frequency")

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 
 from validation import limits
+from validation.errors import short_reason
 from validation.options import add_output_options, add_plate_options, integer, print_json
 
 
@@ -77,21 +78,6 @@ def is_fe_failure(exc: BaseException) -> bool:
     ``RuntimeError``, or scikit-fem's point search giving up (a bare ``Exception``)."""
     return isinstance(exc, RuntimeError) or (
         type(exc) is Exception and "Newton iteration didn't converge" in str(exc))
-
-
-def short_reason(exc: Exception | str) -> str:
-    """The solver's message on one line, a long list of numbers shortened to its range
-    (``[801078.0, ..., 889047.7]`` becomes ``[801078 ... 889048]``)."""
-    import re
-
-    def shorten(m: re.Match) -> str:
-        try:
-            values = [float(v) for v in m.group(0)[1:-1].split(",")]
-        except ValueError:
-            return "[...]"
-        return f"[{min(values) + 0.0:.6g} ... {max(values) + 0.0:.6g}]"  # no "-0"
-
-    return re.sub(r"\[[^\]]{60,}\]", shorten, " ".join(str(exc).split()))
 
 
 def fe_failure(exc: Exception) -> ValueError:

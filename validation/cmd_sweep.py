@@ -182,8 +182,7 @@ def run(args: argparse.Namespace) -> None:
 
 def _report_failures(res, parameter: str) -> None:
     """Refuse a sweep where no point gave L1 and B2; warn about the points that did not."""
-    from validation.cmd_modes import short_reason
-    from validation.errors import LusmError
+    from validation.errors import LusmError, short_reason
     from validation.options import warn
 
     bad = [i for i, f in enumerate(res.failures) if f]

@@ -102,3 +102,18 @@ def feature_reason(exc: BaseException) -> str:
     library gave them after its SI text, as for the holes; else the text as it is."""
     text = str(exc)
     return text.split("): ", 1)[-1] if "): hole " in text else text
+
+
+def short_reason(exc: Exception | str) -> str:
+    """The solver's message on one line, a long list of numbers shortened to its range
+    (``[801078.0, ..., 889047.7]`` becomes ``[801078 ... 889048]``)."""
+    import re
+
+    def shorten(m: re.Match) -> str:
+        try:
+            values = [float(v) for v in m.group(0)[1:-1].split(",")]
+        except ValueError:
+            return "[...]"
+        return f"[{min(values) + 0.0:.6g} ... {max(values) + 0.0:.6g}]"  # no "-0"
+
+    return re.sub(r"\[[^\]]{60,}\]", shorten, " ".join(str(exc).split()))

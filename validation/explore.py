@@ -237,7 +237,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
 
             out["f_drive"] = np.array(auto_frequency(params))
     except (ValueError, RuntimeError, ArithmeticError) as exc:  # FE failure of this plate
-        from validation.cmd_modes import short_reason  # a list of 32 frequencies: its range
+        from validation.errors import short_reason  # a list of 32 frequencies: its range
 
         out["status"] = np.array(short_reason(f"FE: {type(exc).__name__}: {exc}")[:300])
         return out
