@@ -140,11 +140,12 @@ class ModalPort:
         wr = 2.0 * math.pi * self.frequencies_Hz
         terms = self.a_N_V**2 / (wr**2 - w**2 + 2j * self.zeta * wr * w)
         c = self.C0_F + terms.sum(axis=-1)
-        if residual and self.C_res_F > 0.0 and math.isinf(self.f_res_Hz):
-            c = c + self.C_res_F  # a static remainder
-        elif residual and self.C_res_F > 0.0:
-            w_res2 = (2.0 * math.pi * self.f_res_Hz) ** 2
-            c = c + self.C_res_F * w_res2 / (w_res2 - w[..., 0] ** 2)
+        if residual and self.C_res_F > 0.0:
+            if math.isinf(self.f_res_Hz):
+                c = c + self.C_res_F  # a static remainder
+            else:
+                w_res2 = (2.0 * math.pi * self.f_res_Hz) ** 2
+                c = c + self.C_res_F * w_res2 / (w_res2 - w[..., 0] ** 2)
         return 1j * w[..., 0] * c
 
 
