@@ -86,6 +86,42 @@ class PlateMesh:
         """Indices of the elements under ``electrode`` (1..4; 0 for the gap)."""
         return np.flatnonzero(self.electrode == electrode)
 
+    def quadrant_problem(self) -> str | None:
+        """Why the electrode tags are not the quadrants of :mod:`fem.geometry` (None if they are).
+
+        The 2D model reads its gap strips and which quadrants touch from the tags' places
+        (:func:`fem.model.gap_layout`), and the beam and the drive diagonals assume Fig. 1's
+        numbering: 1, 2 at ``x > 0`` and 3, 4 at ``x < 0``; 2, 4 toward the tip (larger y)
+        and 1, 3 toward the preload end. Quadrants may touch (no gap) but not overlap.
+        """
+        p = self.points_m
+        x0, x1, y0, y1 = self.bounding_box_m()
+        tol = 1e-9 * max(x1 - x0, y1 - y0)
+
+        def nodes(tags):
+            el = np.flatnonzero(np.isin(self.electrode, tags))
+            return p[:, np.unique(self.quads[:, el])]
+
+        for axis, name, (hi, lo), (where_hi, where_lo) in (
+            (0, "x", ((1, 2), (3, 4)), ("x > 0", "x < 0")),
+            (1, "y", ((2, 4), (1, 3)), ("the tip's half", "the preload end's half")),
+        ):
+            a, b = nodes(hi), nodes(lo)
+            missing = [t for t, n in ((hi, a), (lo, b)) if n.shape[1] == 0]
+            if missing:
+                return (f"no electrode among {missing[0][0]}, {missing[0][1]}: a stator needs "
+                        f"the four quadrant electrodes (1, 2 at x > 0, 3, 4 at x < 0; 2, 4 on "
+                        f"the tip's half, 1, 3 on the preload end's half), at least one on "
+                        f"each side of both centre lines")
+            if b[axis].max() > a[axis].min() + tol:
+                return (f"electrodes {hi[0]}, {hi[1]} must lie on {where_hi} and {lo[0]}, "
+                        f"{lo[1]} on {where_lo} ({'width' if axis == 0 else 'length'} "
+                        f"direction {name}), but {lo[0]}, {lo[1]} reach {name} = "
+                        f"{b[axis].max() * 1e3:.4g} mm and {hi[0]}, {hi[1]} start at {name} = "
+                        f"{a[axis].min() * 1e3:.4g} mm; number the quadrants as in the "
+                        f"paper's Fig. 1 (docs/designer.md, mesh conventions)")
+        return None
+
     def bounding_box_m(self) -> tuple[float, float, float, float]:
         """``(x_min, x_max, y_min, y_max)`` (m)."""
         p = self.points_m

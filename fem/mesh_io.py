@@ -578,6 +578,9 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     remap = -np.ones(p2.shape[0], dtype=np.int64)
     remap[used] = np.arange(used.size)
     mesh = PlateMesh(points_m=p2[used].T, quads=remap[q2].T, electrode=tags)
+    problem = mesh.quadrant_problem()
+    if problem is not None:
+        raise ValueError(f"mesh file {path}: {problem}")
     return ImportedMesh(
         mesh=mesh,
         points_m=named_points,

@@ -216,7 +216,16 @@ class GapLayout:
 
 
 def gap_layout(mesh: PlateMesh) -> GapLayout:
-    """Gap strips of ``mesh`` from the node coordinates of its electrode elements."""
+    """Gap strips of ``mesh`` from the node coordinates of its electrode elements.
+
+    Raises
+    ------
+    ValueError
+        If the tags are not the plate's quadrants (:meth:`fem.mesh.PlateMesh.quadrant_problem`).
+    """
+    problem = mesh.quadrant_problem()
+    if problem is not None:
+        raise ValueError(f"the mesh's electrode tags: {problem}")
     p = mesh.points_m
 
     def nodes(tags):

@@ -336,3 +336,28 @@ def test_a_stator_files_fine_mesh_is_blamed_on_its_size_not_on_refine(tmp_path, 
     err = capsys.readouterr().err.strip()
     assert err.startswith("lusm modes: error: --geometry: the stator's mesh needs")
     assert "[mesh] size_mm" in err and "--refine" not in err
+
+
+@pytest.mark.parametrize("relabel, match", [
+    # 1, 2 <-> 3, 4: the mirror image across the length axis (a different wiring on paper)
+    ([0, 3, 4, 1, 2], r"electrodes 1, 2 must lie on x > 0 and 3, 4 on x < 0"),
+    # 1 <-> 2, 3 <-> 4: the tip's and the preload end's halves swapped
+    ([0, 2, 1, 4, 3], r"electrodes 2, 4 must lie on the tip's half"),
+    # two electrodes along the length: no quadrant at x < 0
+    ([0, 1, 2, 1, 2], r"no electrode among 3, 4"),
+])
+def test_electrode_tags_must_be_the_quadrants_of_fig1(tmp_path, relabel, match):
+    """The 2D model reads its gap strips from where the tags lie. A mirrored numbering gave
+    B2 f_open = f_short (k_eff 0) without a word, and a two-electrode mesh a NumPy error."""
+    mesh = structured_mesh(PlateStator(), 2)
+    tags = np.array(relabel)[mesh.electrode]
+    p = write_stator_msh(tmp_path / "r.msh", mesh.points_m.T, {"quad": mesh.quads.T},
+                         {"quad": tags})
+    with pytest.raises(ValueError, match=match):
+        read_stator_mesh(p)
+    from fem.mesh import PlateMesh
+    from fem.model import gap_layout
+
+    with pytest.raises(ValueError, match=match):
+        gap_layout(PlateMesh(mesh.points_m, mesh.quads, tags))
+    assert mesh.quadrant_problem() is None
