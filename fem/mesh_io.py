@@ -384,12 +384,16 @@ def read_meshio(path: Path):
 
     if not path.is_file():
         raise FileNotFoundError(f"mesh file not found: {path}")
+    said = io.StringIO()
     try:
-        # meshio's gmsh reader prints stray blank lines to stdout; keep CLI output clean
-        with contextlib.redirect_stdout(io.StringIO()):
+        # meshio's gmsh reader prints stray blank lines to stdout, and a file no reader takes
+        # is reported on stderr before a SystemExit(1): keep both, the reason goes in the error
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(said):
             return meshio.read(path)
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
-        raise ValueError(f"could not read mesh file {path}: {exc}") from exc
+        printed = " ".join(said.getvalue().split()).removeprefix("Error: ")
+        reason = printed if isinstance(exc, SystemExit) and printed else str(exc)
+        raise ValueError(f"could not read mesh file {path}: {reason}") from exc
 
 
 def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
@@ -471,7 +475,14 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
         elif ctype == "vertex":
             continue
         elif plain is not None:
-            values = np.asarray(plain[i], dtype=int)
+            raw = np.asarray(plain[i])
+            if raw.ndim != 1 or not np.issubdtype(raw.dtype, np.number) \
+                    or not np.all(np.isfinite(raw)) or np.any(raw != np.round(raw)):
+                bad = raw.ravel()[:3].tolist() if raw.size else []
+                raise ValueError(
+                    f"mesh file {path}: cell array 'electrode' must hold one integer 0..4 per "
+                    f"cell, found {raw.dtype} values such as {bad}")
+            values = raw.astype(int)
             if np.any((values < 0) | (values > 4)):
                 raise ValueError(
                     f"mesh file {path}: cell array 'electrode' must hold 0..4, found "

@@ -797,7 +797,7 @@ def load_stator(path: str | Path) -> StatorDesign:
     if not path.is_file():
         raise FileNotFoundError(f"stator file not found: {path}")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except UnicodeDecodeError as exc:
         raise ValueError(f"{path}: not a UTF-8 text file ({exc.reason} at byte {exc.start}); "
                          "a stator file is TOML, saved as UTF-8") from None

@@ -361,3 +361,28 @@ def test_electrode_tags_must_be_the_quadrants_of_fig1(tmp_path, relabel, match):
     with pytest.raises(ValueError, match=match):
         gap_layout(PlateMesh(mesh.points_m, mesh.quads, tags))
     assert mesh.quadrant_problem() is None
+
+
+def test_a_stator_file_saved_with_a_bom_is_the_same_plate(tmp_path):
+    """Windows editors save UTF-8 with a byte-order mark; it was refused as bad TOML."""
+    text = "[plate]\nlength_mm = 25\nwidth_mm = 6\nthickness_mm = 2\n"
+    plain = load_stator(_write(tmp_path, text, "a.toml"))
+    bom = tmp_path / "b.toml"
+    bom.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    assert load_stator(bom).stator == plain.stator
+
+
+def test_unreadable_and_fractional_meshes_say_why_in_one_message(tmp_path, capsys):
+    """meshio printed its reason on stderr and raised SystemExit(1): the error ended in ': 1'.
+    A float 'electrode' array was truncated (1.9 read as 1)."""
+    (tmp_path / "g.vtu").write_bytes(b"x")
+    with pytest.raises(ValueError, match=r"could not read mesh file .*g\.vtu: Couldn't read"):
+        read_stator_mesh(tmp_path / "g.vtu")
+    assert capsys.readouterr().err == ""
+    mesh = structured_mesh(PlateStator(), 2)
+    m = meshio.Mesh(np.column_stack((mesh.points_m.T, np.zeros(mesh.points_m.shape[1]))),
+                    [("quad", mesh.quads.T)],
+                    cell_data={"electrode": [mesh.electrode - 0.1 * (mesh.electrode > 0)]})
+    meshio.write(tmp_path / "f.vtu", m)
+    with pytest.raises(ValueError, match="must hold one integer 0..4 per cell"):
+        read_stator_mesh(tmp_path / "f.vtu")

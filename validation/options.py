@@ -193,7 +193,7 @@ def params_from_file(path_text: str):
     if not path.is_file():
         raise LusmError(f"--params {path_text}: no such file", "--params")
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise LusmError(f"--params {path_text}: not a JSON parameter set ({exc})",
                         "--params") from None

@@ -486,7 +486,7 @@ def load_study(path: str | Path) -> Study:
         If the file cannot be read.
     """
     path = Path(path)
-    text = path.read_text(encoding="utf-8")
+    text = path.read_text(encoding="utf-8-sig")
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
