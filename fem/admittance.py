@@ -294,6 +294,7 @@ def _port_vectors(model, electrodes, polarity) -> tuple[np.ndarray, float, tuple
     pol = (1.0,) * len(electrodes) if polarity is None else tuple(float(p) for p in polarity)
     if len(pol) != len(electrodes) or any(p not in (1.0, -1.0) for p in pol):
         raise ValueError(f"polarity must hold one +1/-1 per electrode, got {polarity!r}")
+    model.check_wiring(dict(zip(electrodes, pol, strict=True)))
     g = sum(p * model.G[:, e - 1] for p, e in zip(pol, electrodes, strict=True))
     # clamped port capacitance p^T C p over the driven electrodes (the others grounded): the
     # inter-electrode terms count when neighbours are wired with opposite polarity

@@ -178,6 +178,10 @@ def stator_gap_validity_message(stator: PlateStator) -> str | None:
     return gap_validity_message(stator_gap_m(stator), stator.thickness_m)
 
 
+class ShortedDriveError(ValueError):
+    """A drive that puts two voltages on touching electrodes (one conductor)."""
+
+
 @dataclass(frozen=True)
 class GapLayout:
     """The two gap strips of a quadrant-electrode mesh, read from its electrode tags.
@@ -323,7 +327,33 @@ class PiezoPlateModel:
     def coupling(self, electrodes: tuple[int, ...]) -> np.ndarray:
         """Sum of the coupling vectors of ``electrodes`` driven at the same voltage (N/V)."""
         _check_electrodes(electrodes)
+        self.check_wiring({e: 1.0 for e in electrodes})
         return self.G[:, [e - 1 for e in electrodes]].sum(axis=1)
+
+    def check_wiring(self, voltages: dict[int, float]) -> None:
+        """Refuse a drive that puts two voltages on one conductor.
+
+        ``voltages`` maps driven electrodes to their (relative) voltage; the others are
+        grounded. Quadrants with no gap strip between them are one conductor
+        (:meth:`conductors`): driving 1 and 4 against grounded 2 and 3 on a plate without
+        gaps shorts the source, and the force factors of such a drive mean nothing.
+
+        Raises
+        ------
+        ValueError
+            Naming the touching electrodes and their voltages.
+        """
+        for group in self.conductors():
+            levels = {float(voltages.get(e, 0.0)) for e in group}
+            if len(levels) > 1:
+                wired = ", ".join(
+                    f"{e} {'grounded' if voltages.get(e, 0.0) == 0 else 'driven'}"
+                    + ("" if voltages.get(e, 0.0) in (0.0, 1.0) else " (-V)")
+                    for e in group)
+                raise ShortedDriveError(
+                    f"electrodes {wired} touch (no gap strip between them) and are one "
+                    f"conductor, which cannot hold two voltages: the drive would short; give "
+                    f"the electrodes a gap (electrode gap > 0)")
 
     def conductors(self, open_electrodes: tuple[int, ...] = ELECTRODES) -> list[list[int]]:
         """The open electrodes grouped into conductors: quadrants with no gap strip between

@@ -175,6 +175,26 @@ def test_touching_quadrants_float_as_one_conductor(monkeypatch):
     assert merged.L1.f_open_Hz == pytest.approx(separate.L1.f_open_Hz, rel=1e-9)
 
 
+def test_a_drive_across_touching_electrodes_is_refused(capsys):
+    """One conductor cannot be driven at V on 1, 4 and grounded on 2, 3: ``params`` gave
+    A_b = -0.080 N/V and ``admittance`` a B2 peak with k_eff 0.19 for that short circuit,
+    while ``modes`` (one conductor) gave B2 k_eff 0. Driving all four together is a wiring
+    that exists."""
+    from fem.admittance import modal_port
+    from fem.model import ShortedDriveError
+    from validation.cli import main
+
+    model = plate_model(PlateStator(electrode_gap_m=0.0), "pzt8", 2, 2)
+    with pytest.raises(ShortedDriveError, match=r"1 driven, 2 grounded, 3 grounded, 4 driven"):
+        model.coupling((1, 4))
+    with pytest.raises(ShortedDriveError, match="cannot hold two voltages"):
+        modal_port(model, 60e3, (1, 2, 3, 4), (1, -1, -1, 1), 1e-3, 1e-3)
+    assert np.allclose(model.coupling((1, 2, 3, 4)), model.G.sum(axis=1))
+    assert main(["params", "--source", "fem", "--gap-mm", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("lusm params: error: --gap-mm 0")
+
+
 def test_wide_electrodes_on_a_thin_plate_keep_the_cross_section_small():
     # 500 mm electrodes on a 0.1 mm plate: 30 000 lines at the near-gap size took 16 GB and
     # crashed; beyond 5 thicknesses the field is the plate's own and the elements grow

@@ -86,6 +86,14 @@ def user_error(exc: BaseException) -> LusmError:
         reason = exc.strerror or _first_line(exc)
         return LusmError(f"cannot use{where}: {reason}")
     line = _first_line(exc)
+    if type(exc).__name__ == "ShortedDriveError":  # fem.model's, by name: no FE import here
+        from validation.options import typed
+
+        option = next((o for o in ("--gap-mm", "--geometry") if typed(o)), None)
+        where = {"--gap-mm": "--gap-mm 0 (a drive needs a gap of at least 0.001 mm)",
+                 "--geometry": "--geometry (its [electrodes] gap_mm = 0, or a mesh whose "
+                               "electrode tags touch)"}.get(option, "the stator")
+        return LusmError(f"{where}: {line}", option)
     blamed = None
     for name, option in LIBRARY_NAMES.items():
         if re.search(rf"(?<![\w.-]){re.escape(name)}\b", line):
