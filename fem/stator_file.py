@@ -432,7 +432,14 @@ def _plate_mm(plate: dict, elec: dict, src: str) -> tuple[float, float, float]:
     assert length is not None and width is not None
     gap = _length_mm(elec, "electrodes", "gap_mm", src, required=False,
                      upper_mm=min(length, width), allow_zero=True)
-    return length, width, PlateStator().electrode_gap_m / MM if gap is None else gap
+    if gap is None:
+        gap = PlateStator().electrode_gap_m / MM
+        if gap >= min(length, width):  # said in the file's terms, not by PlateStator in m
+            raise ValueError(
+                f"{src}: the default {_where('electrodes', 'gap_mm')} {gap:g} mm leaves no "
+                f"electrode on a plate {min(length, width):g} mm wide; set "
+                f"{_where('electrodes', 'gap_mm')} in [0, {min(length, width):g}) mm")
+    return length, width, gap
 
 
 def _damping(table: dict, src: str) -> tuple[tuple[float, float] | None, str, float | None]:

@@ -386,3 +386,21 @@ def test_unreadable_and_fractional_meshes_say_why_in_one_message(tmp_path, capsy
     meshio.write(tmp_path / "f.vtu", m)
     with pytest.raises(ValueError, match="must hold one integer 0..4 per cell"):
         read_stator_mesh(tmp_path / "f.vtu")
+
+
+@pytest.mark.parametrize("text, extra, expected", [
+    # the default gap on a plate narrower than it: PlateStator's metres were printed
+    ("length_mm = 1000\nwidth_mm = 0.1\nthickness_mm = 0.1\n", [],
+     "the default [electrodes] gap_mm 0.5 mm leaves no electrode"),
+    # the 3D model's gap: '--gap-mm', which the user did not type, was named
+    ("length_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[electrodes]\ngap_mm = 0\n",
+     ["--model", "3d"], "[electrodes] gap_mm must be at least 0.001 mm with --model 3d"),
+])
+def test_stator_file_plates_are_refused_in_the_files_terms(tmp_path, capsys, text, extra,
+                                                           expected):
+    from validation.cli import main
+
+    path = _write(tmp_path, "[plate]\n" + text)
+    assert main(["modes", "--geometry", str(path), *extra]) == 2
+    err = capsys.readouterr().err
+    assert expected in err and "--gap-mm" not in err and err.count("\n") == 1

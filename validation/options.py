@@ -284,25 +284,35 @@ class StatorChoice:
 
 
 def check_plate_mm(length: float, width: float, thickness: float, gap: float,
-                   gap_given: bool = True, three_d: bool = False) -> None:
+                   gap_given: bool = True, three_d: bool = False,
+                   file: str | None = None) -> None:
     """Refuse an electrode gap that eats the plate or is too narrow to model; warn outside
-    plane stress's validity (the 2D model's; ``three_d``: the 3D model, which needs a gap)."""
+    plane stress's validity (the 2D model's; ``three_d``: the 3D model, which needs a gap).
+    With ``file`` (a ``--geometry`` stator file) the messages name its keys, not the plate
+    options the user did not type."""
     from fem.geometry import MIN_GAP_M
 
+    if file is None:
+        where, option = "", "--gap-mm"
+        gap_name, dims, thick = "--gap-mm", "--length-mm and --width-mm", "--thickness-mm"
+    else:
+        where, option = f"--geometry {file}: ", "--geometry"
+        gap_name, dims, thick = ("[electrodes] gap_mm", "[plate] length_mm and width_mm",
+                                 "[plate] thickness_mm")
     if three_d and gap == 0.0:
-        raise LusmError(f"--gap-mm must be at least {MIN_GAP_M * 1e3:g} mm with --model 3d, "
-                        "got 0: with no gap the four quadrants touch and form one conductor",
-                        "--gap-mm")
+        raise LusmError(f"{where}{gap_name} must be at least {MIN_GAP_M * 1e3:g} mm with "
+                        "--model 3d, got 0: with no gap the four quadrants touch and form one "
+                        "conductor", option)
     if 0.0 < gap < MIN_GAP_M * 1e3:
-        raise LusmError(f"--gap-mm must be 0 (touching quadrants) or at least "
-                        f"{MIN_GAP_M * 1e3:g} mm, got {gap:g}", "--gap-mm")
+        raise LusmError(f"{where}{gap_name} must be 0 (touching quadrants) or at least "
+                        f"{MIN_GAP_M * 1e3:g} mm, got {gap:g}", option)
     if gap >= min(length, width):
-        which = "--gap-mm" if gap_given else f"the default --gap-mm {gap:g}"
-        raise LusmError(f"{which} must be below the plate's --length-mm and --width-mm "
+        which = gap_name if gap_given else f"the default {gap_name} {gap:g}"
+        raise LusmError(f"{where}{which} must be below the plate's {dims} "
                         f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
-                        "--gap-mm", "--gap-mm")
+                        f"{gap_name}", option)
     if not three_d:
-        warn_thin_plate(f"--thickness-mm {thickness:g}", thickness, min(length, width),
+        warn_thin_plate(f"{where}{thick} {thickness:g}", thickness, min(length, width),
                         "the plate's smaller in-plane dimension")
 
 
@@ -339,7 +349,7 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
         st = design.stator
         if design.mesh_path is None:
             check_plate_mm(st.length_m * 1e3, st.width_m * 1e3, st.thickness_m * 1e3,
-                           st.electrode_gap_m * 1e3, three_d=three_d)
+                           st.electrode_gap_m * 1e3, three_d=three_d, file=args.geometry)
         elif not three_d:  # the mesh's bounding box against the file's thickness
             warn_thin_plate(f"--geometry {args.geometry}: thickness "
                             f"{st.thickness_m * 1e3:g} mm", st.thickness_m * 1e3,
@@ -445,7 +455,8 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
                                               ("--edge-grading", bool(edge_grading)))
                             if used and o != option]
         lower = " or ".join(names)
-        dims = "" if mesh is not None else " (--length-mm, --width-mm)"
+        dims = (" (the stator file's [plate] length_mm, width_mm)" if typed("--geometry")
+                else " (--length-mm, --width-mm)")
         raise LusmError(f"{option}: the {shape} needs {n} {what} here, above the limit {top}; "
                         f"lower {lower} or make the plate less elongated{dims} "
                         f"({limits.more_work_hint()})", option)
