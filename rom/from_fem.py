@@ -147,9 +147,14 @@ def design_base(design, base: MotorParams | None = None) -> MotorParams:
         return replace(base, **design.motor, source=f"{base.source}, with {given} from "
                        f"{design.path or design.name}")
     except ValueError as exc:
+        import re
+
         text = str(exc)
-        for name, where in keys.items():
-            text = text.replace(f"MotorParams.{name}", where)
+        given_keys = {name: where for name, where in keys.items() if name in design.motor}
+        for name, where in given_keys.items():  # the file's keys, bare or qualified
+            text = re.sub(rf"(?<![\w\[])(MotorParams\.)?{re.escape(name)}\b", where, text)
+        # what the file did not set comes from the base set (mu_s alone: Table 2's mu_d)
+        text = text.replace("MotorParams.", "the base set's ")
         raise ValueError(f"{design.path or design.name}: {text}") from None
 
 

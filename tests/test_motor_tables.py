@@ -110,6 +110,10 @@ def test_friction_against_table2_names_the_key(tmp_path):
     design = load_stator(_write(tmp_path, "[friction]\nmu_d = 0.6\n"))
     with pytest.raises(ValueError, match=r"\[friction\] mu_d must be <= mu_s"):
         design_base(design)
+    # mu_s alone below Table 2's mu_d: the file's key, and the base set's for the other
+    design = load_stator(_write(tmp_path, "[friction]\nmu_s = 0.2\n", "s.toml"))
+    with pytest.raises(ValueError, match=r"the base set's mu_d must be <= \[friction\] mu_s"):
+        design_base(design)
 
 
 def test_free_tip_amplitude_at_resonance_goes_as_one_over_zeta(tmp_path):
