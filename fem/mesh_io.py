@@ -578,7 +578,8 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     tol = 1e-6 * max(x1 - x0, y1 - y0)
     if abs(x0 + x1) > tol or abs(y0) > tol:
         raise ValueError(
-            f"mesh file {path}: the mesh spans x = [{x0:g}, {x1:g}] m, y = [{y0:g}, {y1:g}] m; "
+            f"mesh file {path}: the mesh spans x = [{x0 / UNITS[unit]:g}, {x1 / UNITS[unit]:g}] "
+            f"{unit}, y = [{y0 / UNITS[unit]:g}, {y1 / UNITS[unit]:g}] {unit}; "
             f"the stator frame needs x centred on 0 (width) and the preload end at y = 0"
         )
 

@@ -109,6 +109,8 @@ def fem_params(
     features = stator.features_text() if hasattr(stator, "features_text") else ""
     if hasattr(stator, "element_size_m"):  # fem.parametric.ParametricStator
         mesh_text = f"gmsh mesh of element size {stator.element_size_m * 1e3:g} mm"
+    elif getattr(stator, "mesh", None) is not None:  # fem.meshed_stator: the file's mesh
+        mesh_text = "the stator file's mesh"
     else:
         mesh_text = f"refine {refine}"
     return MotorParams.from_modal(

@@ -237,6 +237,11 @@ def test_bad_meshes(tmp_path):
     meshio.write(tmp_path / "s.vtu", shifted)
     with pytest.raises(ValueError, match="x centred on 0"):
         read_stator_mesh(tmp_path / "s.vtu")
+    # said in the file's unit: the same mesh in mm spans x = [6.25, 13.75] mm
+    shifted.points = shifted.points * 1e3
+    meshio.write(tmp_path / "s.vtu", shifted)
+    with pytest.raises(ValueError, match=r"spans x = \[6.25, 13.75\] mm"):
+        read_stator_mesh(tmp_path / "s.vtu", unit="mm")
     bare = meshio.Mesh(np.column_stack((pts, np.zeros(len(pts)))), [("quad", quads)])
     meshio.write(tmp_path / "b.vtu", bare)
     with pytest.raises(ValueError, match="no electrode tags"):

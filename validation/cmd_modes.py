@@ -189,7 +189,9 @@ def run(args: argparse.Namespace) -> None:
             "dofs": res.dofs,
             "wall_time_s": res.wall_time_s,
             "order": args.order,
-            "refine": refine,
+            # a stator file's own mesh (or gmsh's) is not refined: the 2D model solves it
+            "refine": (None if (choice.meshed or choice.parametric) and args.model != "3d"
+                       else refine),
             "material": mat,
             "geometry": args.geometry,
             "model": args.model,
