@@ -190,8 +190,13 @@ class SteadyBranch:
 
     @property
     def efficiency(self) -> float:
-        """Output over input power (-); NaN without input power."""
-        return self.output_power_W / self.input_power_W if self.input_power_W > 0 else math.nan
+        """Output over input power (-), where the motor works as a motor (electrical power
+        in, mechanical power out); NaN elsewhere, as :attr:`contact.characteristic.
+        Characteristic.efficiency`: a load pushing the slider along puts mechanical power in
+        too, and the ratio is no efficiency (it came out at -0.54)."""
+        if self.input_power_W > 0 and self.output_power_W >= 0:
+            return self.output_power_W / self.input_power_W
+        return math.nan
 
 
 @dataclass(frozen=True)

@@ -119,3 +119,10 @@ def test_efficiency_is_defined_only_where_the_motor_delivers_work(params):
     assert np.isnan(c.efficiency[0]) and np.isnan(c.efficiency[2])
     assert c.output_power_W[0] < 0 and c.output_power_W[2] < 0
     assert 0 < c.efficiency[1] < 1
+    # a steady branch says the same (SteadyBranch.efficiency was -0.057 at 3.5 N)
+    from contact.steady import steady_state
+
+    for load, defined in ((3.5, False), (0.5, True)):
+        b = steady_state(params, 400, 14, load_N=load).from_rest
+        assert (b.output_power_W >= 0) == defined
+        assert np.isfinite(b.efficiency) == defined
