@@ -452,7 +452,7 @@ def _accumulate(za, zm, zb, mode, H, phase_time, work, fn_m, ft_m, ff_m, sc,
 @njit(cache=True, nogil=True)
 def integrate_switch_model(
     z0, mode0, n_steps, dt, phi, phi_half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m,
-    funcs, scalars, win_start, decim, n_full, energy, max_events_per_step,
+    funcs, scalars, win_start, decim, n_full, energy, max_events_per_step, marks, mark_x,
 ):
     """Integrate the hybrid switch model on a fixed grid with located events.
 
@@ -478,6 +478,12 @@ def integrate_switch_model(
         Accumulate the work integrals over the window.
     max_events_per_step : int
         More switches than this inside one step is reported as chattering.
+    marks : (m,) int64 array
+        Steps, ascending, at whose end the slider position is wanted (0: the start).
+    mark_x : (m,) float64 array
+        Filled with the slider position x (m) at each of ``marks`` (left as it is for a step
+        beyond the run). The earlier window of :func:`contact.simulate.solve_event` is read
+        there exactly, not interpolated from the decimated trace.
 
     Returns
     -------
@@ -512,6 +518,11 @@ def integrate_switch_model(
     if win_start == 0:
         stats[0] = z[X]
         stats[4] = stored_energy(z, mode, fn_m, scalars)
+    n_marks = marks.size
+    j_mark = 0
+    while j_mark < n_marks and marks[j_mark] <= 0:
+        mark_x[j_mark] = z[X]
+        j_mark += 1
     counter = np.zeros(2, dtype=np.int64)  # flows in event location, located events
     s_est = np.zeros(MAX_EVENTS)
     hc = np.zeros(MAX_EVENTS)
@@ -626,6 +637,9 @@ def integrate_switch_model(
         if n + 1 == win_start:
             stats[0] = z[X]
             stats[4] = stored_energy(z, mode, fn_m, scalars)
+        while j_mark < n_marks and marks[j_mark] == n + 1:
+            mark_x[j_mark] = z[X]
+            j_mark += 1
         if in_window:
             y = phi_ll * z[U]
             if du_start * z[DU] < 0.0:

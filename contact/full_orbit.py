@@ -156,7 +156,7 @@ def velocity_ripple(fs: FullSystem, z: np.ndarray, mode: int, k: int = 1) -> flo
     n = fs.steps_per_period * k
     out = call_held(event_kernel.integrate_switch_model,
         z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
-        s.ft_m, s.ff_m, s.funcs, s.scalars, n, 1, 1, False, 64)
+        s.ft_m, s.ff_m, s.funcs, s.scalars, n, 1, 1, False, 64, np.empty(0, np.int64), np.empty(0))
     if out[0] != S.OK:
         raise ChatteringError("contact chattering in the full-model shooting")
     dx = out[2][:, 2]

@@ -88,7 +88,8 @@ def _period(z, mode, periods, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_ty
     zs[X] = 0.0
     steps = n * periods
     out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
-                                 fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64)
+                                 fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64,
+                                 np.empty(0, np.int64), np.empty(0))
     z_end = out[7].copy()
     integral = z_end[X]
     z_end[X] = 0.0
@@ -163,7 +164,8 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
                     zs[X] = 0.0
                     out = integrate_switch_model(zs, mode, n, dt, phi, half, a, ev_h, ev_dh,
                                                  ev_type, fn_m, ft_m, ff_m, funcs, sc, n, n,
-                                                 1, False, 64)
+                                                 1, False, 64, np.empty(0, np.int64),
+                                                 np.empty(0))
                     periods += 1
                     if out[0] != 0:
                         # a perturbed start off the orbit can chatter where the orbit does
@@ -313,7 +315,8 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
         zs = z.copy()
         zs[X] = 0.0
         out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
-                                     fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64)
+                                     fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64,
+                                     np.empty(0, np.int64), np.empty(0))
         if out[0] != 0:
             return CHATTER, z, mode, res, periods, it, jac, last_free
         z1 = out[7].copy()
@@ -351,7 +354,8 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
             zp[X] = 0.0
             outp = integrate_switch_model(zp, mode, steps, dt, phi, half, a, ev_h, ev_dh,
                                           ev_type, fn_m, ft_m, ff_m, funcs, sc, steps, steps,
-                                          1, False, 64)
+                                          1, False, 64, np.empty(0, np.int64),
+                                          np.empty(0))
             if outp[0] != 0:
                 return CHATTER, z, mode, res, periods, it, jac, last_free
             zq = outp[7].copy()
@@ -439,7 +443,8 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
         zs = z.copy()
         zs[X] = 0.0
         out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
-                                     fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64)
+                                     fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64,
+                                     np.empty(0, np.int64), np.empty(0))
         if out[0] != 0:
             return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
                     jac_mode)
@@ -452,7 +457,8 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
     # caller (the window triples the cost of a step)
     out2 = integrate_switch_model(zs, mode, steps, dt, phi_fn, half_fn, a_fn, ev_h, ev_dh_fn,
                                   ev_type, fn_m, ft_m, ff_m, funcs, sc, 0 if k > 0 else steps,
-                                  steps, 1, False, 64)
+                                  steps, 1, False, 64,
+                                  np.empty(0, np.int64), np.empty(0))
     if out2[0] != 0:
         return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
                 jac_mode)

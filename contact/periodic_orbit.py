@@ -239,7 +239,7 @@ def run_whole_periods(system: HybridSystem, z: np.ndarray, mode: int, periods: i
     out = call_held(event_kernel.integrate_switch_model,
         z, mode, n, dt, phi, half, system.A, system.ev_h, system.ev_dh, system.ev_type,
         system.fn_m, system.ft_m, system.ff_m, system.funcs, system.scalars,
-        0 if window else n, n, 1, energy, 64)
+        0 if window else n, n, 1, energy, 64, np.empty(0, np.int64), np.empty(0))
     status, _, _, _, phase_time, work, stats, z_end, mode_end = out
     if status != S.OK:
         raise ChatteringError(f"contact chattering in {what}")
@@ -402,5 +402,5 @@ def orbit_work(fs: FastSystem, orbit: Orbit, average_periods: int = AVERAGE_PERI
     out = call_held(event_kernel.integrate_switch_model,
         z, orbit.mode, n, fs.dt_s, fs.phi_ft, fs.phi_half_ft, sys_.A, sys_.ev_h, sys_.ev_dh,
         sys_.ev_type, sys_.fn_m, sys_.ft_m, sys_.ff_m, sys_.funcs, sys_.scalars, 0, n, 1, True,
-        64)
+        64, np.empty(0, np.int64), np.empty(0))
     return out[5].copy()

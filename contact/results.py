@@ -73,10 +73,10 @@ class SteadyState:
     window_s : float
         Length of the window (s).
     previous_velocity_m_s : float
-        Mean velocity over an equal window ending a fifth of the run earlier (m/s), from
-        the decimated trace.
+        Mean velocity over an equal window ending a fifth of the run earlier (m/s), with both
+        ends marked in the run (NaN for a run too short for it).
     settled : bool
-        Whether the two windows agree within 1 % (+ 1e-6 m/s).
+        Whether the two windows agree within 1 % (+ :data:`SETTLED_ABS_M_S`).
     """
 
     velocity_m_s: float
@@ -144,6 +144,11 @@ class SchemeOutput:
     nfev: int
 
 
+SETTLED_ABS_M_S = 1e-9
+"""Absolute floor (m/s) of the ``settled`` test, for a held slider whose window means are
+roundoff. It was 1e-6 m/s, which passed creeps of a few um/s whose two windows differed by
+10-18 %; a creep is now judged by the 1 % like any other speed."""
+
 PHASE_THRESHOLD = 1e-4
 """A phase counts in the motion class when it fills more than this fraction of the window."""
 
@@ -157,7 +162,8 @@ def steady_metrics(velocity_m_s: float, previous_velocity_m_s: float, phase_time
     stick, slip_pos, slip_neg, sep = (float(f) for f in frac)
     v, v_prev = float(velocity_m_s), float(previous_velocity_m_s)
     driving, braking = (slip_pos, slip_neg) if v >= 0 else (slip_neg, slip_pos)
-    settled = bool(abs(v - v_prev) <= 0.01 * abs(v) + 1e-6) if math.isfinite(v_prev) else False
+    settled = (bool(abs(v - v_prev) <= 0.01 * abs(v) + SETTLED_ABS_M_S)
+               if math.isfinite(v_prev) else False)
     return SteadyState(
         velocity_m_s=v,
         stick_fraction=stick,

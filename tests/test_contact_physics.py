@@ -235,3 +235,23 @@ def test_no_drive_and_no_preload_is_separated_not_slip(paper_params):
     assert r.steady.motion == "separated"
     assert r.steady.slip_fraction == 0.0 and r.steady.stick_fraction == 0.0
     assert r.steady.velocity_m_s == 0.0
+
+
+def test_the_earlier_window_is_the_shorter_runs_window(paper_params):
+    """``previous_velocity_m_s`` is the mean over the window ending a fifth of the run earlier:
+    exactly the last window of a run that ends there (the same steps from rest). It was read
+    off the decimated trace, 0.5-2 % off at creep speeds, where ``settled`` then said True
+    for windows 10-18 % apart."""
+    # 101 000 steps stored every 6th: the earlier window's ends (steps 75 800, 80 800) are
+    # not on the decimated trace
+    run = simulate(paper_params, 200, 14, duration_s=0.0101)
+    shorter = simulate(paper_params, 200, 14, duration_s=0.00808)  # 0.0101 - 0.2 * 0.0101
+    assert run.steady.previous_velocity_m_s == pytest.approx(shorter.steady.velocity_m_s,
+                                                             rel=1e-12)
+    # still accelerating at 10 ms: the windows differ by 6 %, and a creep speed is judged
+    # relatively too (the old 1e-6 m/s floor would pass a 1e-5 m/s creep 10 % apart)
+    assert not run.steady.settled
+    from contact.results import steady_metrics
+
+    creep = steady_metrics(1.0e-5, 1.1e-5, [1.0, 0, 0, 0], 0.0, 0.0, 1e-3)
+    assert not creep.settled
