@@ -91,10 +91,17 @@ def fem_params(
     P = model.probe(points)  # rows: ux(preload), ux(tip), uy(preload), uy(tip)
     drive = model.coupling(stator.drive_electrodes)
 
-    def reduce(shape: np.ndarray, row: int, target: float, f_hz: float):
+    def reduce(shape: np.ndarray, row: int, target: float, f_hz: float, name: str):
         vals = P @ shape
         if abs(vals[row]) < 1e-12 * np.max(np.abs(vals)) or vals[row] == 0.0:
-            raise ValueError("FE mode shape vanishes at the normalization point")
+            # row 2: L1's u_y at the preload point; row 1: B2's u_x at the tip
+            point, where, xy = (("preload", stator.preload_point_m, "y") if row == 2
+                                else ("tip", stator.tip_point_m, "x"))
+            raise ValueError(
+                f"the {name} mode's {xy} displacement vanishes at the {point} point "
+                f"({where[0] * 1e3:g}, {where[1] * 1e3:g}) mm (a node of the mode), where "
+                f"the reduction normalises it; the {point} point ([points] {point}_mm in a "
+                f"stator file) must lie where {name} moves in {xy}, e.g. on the plate's end")
         phi = shape * (target / vals[row])
         vals = P @ phi
         mass = float(phi @ (model.M @ phi))
@@ -102,9 +109,10 @@ def fem_params(
         force = float(phi @ drive)
         return mass, stiff, force, vals
 
-    m_l, k_l, a_l, v_l = reduce(modes.L1.shape, 2, float(phi_L(0.0, length)), modes.L1.f_short_Hz)
+    m_l, k_l, a_l, v_l = reduce(modes.L1.shape, 2, float(phi_L(0.0, length)),
+                                modes.L1.f_short_Hz, "L1")
     m_b, k_b, a_b, v_b = reduce(
-        modes.B2.shape, 1, float(phi_B(length, length)), modes.B2.f_short_Hz
+        modes.B2.shape, 1, float(phi_B(length, length)), modes.B2.f_short_Hz, "B2"
     )
     features = stator.features_text() if hasattr(stator, "features_text") else ""
     if hasattr(stator, "element_size_m"):  # fem.parametric.ParametricStator

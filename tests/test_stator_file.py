@@ -409,3 +409,16 @@ def test_stator_file_plates_are_refused_in_the_files_terms(tmp_path, capsys, tex
     assert main(["modes", "--geometry", str(path), *extra]) == 2
     err = capsys.readouterr().err
     assert expected in err and "--gap-mm" not in err and err.count("\n") == 1
+
+
+def test_a_tip_on_a_node_of_b2_names_the_point(tmp_path):
+    """B2 is antisymmetric about the plate's middle: a tip there has no B2 motion to
+    normalise. The error said 'FE mode shape vanishes at the normalization point'."""
+    from rom.from_fem import fem_params_from_file
+
+    _plate_msh(tmp_path)
+    path = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\n'
+                  "[points]\ntip_mm = [0.0, 15.0]\n")
+    with pytest.raises(ValueError, match=r"B2 mode's x displacement vanishes at the tip point "
+                                         r"\(0, 15\) mm .*\[points\] tip_mm"):
+        fem_params_from_file(path, refine=2)
