@@ -122,6 +122,12 @@ class PlateMesh:
                         f"paper's Fig. 1 (docs/designer.md, mesh conventions)")
         return None
 
+    def electroded_box_m(self) -> tuple[float, float, float, float]:
+        """``(x_min, x_max, y_min, y_max)`` (m) of the electroded elements: the plate body
+        without an unelectroded protrusion (a contact tip)."""
+        p = self.points_m[:, np.unique(self.quads[:, self.electrode > 0])]
+        return (float(p[0].min()), float(p[0].max()), float(p[1].min()), float(p[1].max()))
+
     def bounding_box_m(self) -> tuple[float, float, float, float]:
         """``(x_min, x_max, y_min, y_max)`` (m)."""
         p = self.points_m

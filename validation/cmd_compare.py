@@ -26,7 +26,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
     add_plate_options(parser, note="; any of them makes the fem column that stator's and "
-                      "the beam column a beam of its length, width and thickness")
+                      "the beam column a beam of its length, width and thickness (a stator file "
+                      "with a mesh or features: its electroded body)")
     parser.set_defaults(func=run)
 
 
