@@ -418,10 +418,35 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
         assert last is not None
         raise last
 
+    def solve_open(vs: np.ndarray, ids: dict):
+        """The open circuit, identified afresh or, where that fails, by the short-circuit
+        modes' own shapes: on a wide plate (30 x 16 mm) the open B2 correlated 0.497 with the
+        Eq. 3 shape, under MIN_MAC, where the short B2 had 0.508; the open mode is the short
+        one stiffened, so its shape is the test (:func:`pair_short_open` checks it)."""
+        last: ModeSolverError | None = None
+        for k in (n_modes, 2 * n_modes, 4 * n_modes):
+            f, v = frequencies(model, k, fc, True, maxiter)
+            try:
+                return f, v, identify(model, f, v)
+            except ModeSolverError as exc:
+                last = exc
+            by_shape = {}
+            for name in names:
+                macs = [mass_mac(vs[:, ids[name][0]], v[:, c], model.M)
+                        for c in range(v.shape[1])]
+                if max(macs) >= PAIR_MAC:
+                    by_shape[name] = (int(np.argmax(macs)), math.nan, math.nan)
+            if len(by_shape) == len(names):
+                return f, v, by_shape
+            if max_modes is not None and k >= max_modes:
+                break
+        assert last is not None
+        raise last
+
     t0 = time.perf_counter()
     fs, vs, ids = solve(False)
     t_short = time.perf_counter() - t0
-    fo, vo, ido = solve(True)
+    fo, vo, ido = solve_open(vs, ids)
     return fs, fo, pair_short_open(fs, vs, ids, fo, ido, model.M, names, vo), t_short
 
 
