@@ -310,3 +310,14 @@ def test_a_wide_plates_open_b2_is_paired_by_its_shape(monkeypatch):
     for name in ("L1", "B2"):
         a, b = getattr(paired, name), getattr(fresh, name)
         assert a.f_short_Hz == b.f_short_Hz and a.f_open_Hz == b.f_open_Hz
+
+
+def test_a_plate_too_wide_for_a_beam_b2_is_told_so(capsys):
+    """At 30 x 17 mm no mode has B2's beam shape: the error said to check --refine, which
+    changes nothing there."""
+    from validation.cli import main
+
+    assert main(["modes", "--width-mm", "17"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "could not identify B2" in err
+    assert "wider than about half its length" in err and "--refine" not in err

@@ -82,7 +82,14 @@ def is_fe_failure(exc: BaseException) -> bool:
 
 def fe_failure(exc: Exception) -> ValueError:
     """A mode-solver or sparse-solver failure on an extreme plate, as bad input."""
-    return ValueError(f"the FE solve failed for this stator ({short_reason(exc)}); check the "
+    reason = short_reason(exc)
+    if "could not identify" in reason:  # a mode-shape test, which no --refine changes
+        return ValueError(
+            f"L1 and B2 were not found for this stator ({reason}): they are identified as the "
+            "free-free beam modes of Eq. 3, which a plate wider than about half its length "
+            "(30 x 16 mm is the widest paper-length plate that passes) or with a large "
+            "feature does not have; check the plate (--geometry or --length-mm, --width-mm)")
+    return ValueError(f"the FE solve failed for this stator ({reason}); check the "
                       "plate (--geometry or --length-mm, --width-mm, --thickness-mm, --gap-mm) "
                       "and --refine")
 
