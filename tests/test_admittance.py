@@ -108,6 +108,26 @@ def test_merged_peaks_are_labelled_as_merged():
     assert [p.mode for p in heavy.pairs] == ["B2+L1 (merged)"]
 
 
+def test_a_mode_the_port_cannot_drive_is_no_part_of_a_peak():
+    """Four electrodes in phase drive L1 only (B2 is antisymmetric across the width): its
+    peak was labelled "B2+L1 (merged)" on an 8.5 mm plate, where B2 lies between L1's
+    resonance and antiresonance, and a warning said the grid had missed B2's pair."""
+    from fem.admittance import MIN_PORT_COUPLING, plate_admittance
+    from fem.geometry import PlateStator
+
+    st = PlateStator(width_m=8.5e-3)
+    both = plate_admittance(st, "pzt8", 47e3, 67e3, 2001, (1, 2, 3, 4), zeta=1e-3)
+    k = dict(zip(both.port.mode_names, both.port.coupling(), strict=True))
+    assert k["B2"] < 1e-6 * k["L1"] and k["L1"] > 0.2
+    assert [p.mode for p in both.pairs] == ["L1"] and both.unpaired_modes() == []
+    diagonal = plate_admittance(st, "pzt8", 47e3, 67e3, 2001, (1, 4), zeta=1e-3)
+    k = dict(zip(diagonal.port.mode_names, diagonal.port.coupling(), strict=True))
+    assert min(k.values()) > 100 * MIN_PORT_COUPLING
+    # the port's coupling is the pair's k_eff of an isolated mode: L1's, within 1 %
+    assert both.pairs[0].k_eff == pytest.approx(
+        dict(zip(both.port.mode_names, both.port.coupling(), strict=True))["L1"], rel=1e-2)
+
+
 def test_default_band_follows_a_40_kHz_design(capsys):
     """``lusm admittance --length-mm 42``: L1 near 40 kHz lies outside the old fixed 45-65 kHz
     band; the default band is centred on the design's own modes and resolves both."""
