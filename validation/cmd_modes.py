@@ -143,6 +143,17 @@ def run(args: argparse.Namespace) -> None:
                             "--edge-grading")
         check_fe_size(stator, refine)
     validity = None
+    if args.model == "3d" and not args.edge_grading and not (choice.meshed
+                                                             or choice.parametric):
+        from fem.solid3d import gap_element_ratio
+        from validation.options import warn
+
+        ratio = gap_element_ratio(stator, refine, layers)
+        if ratio > NARROW_GAP_RATIO:
+            warn(f"--model 3d: the ungraded mesh's elements beside the "
+                 f"{stator.electrode_gap_m * 1e3:g} mm electrode gap are {ratio:.0f} x wider "
+                 f"than it: open-circuit B2 and its k_eff come out too low (docs/fem3d.md); "
+                 f"add --edge-grading 1 or more")
     try:
         if quarter:
             from fem.solid3d_symmetric import symmetric_solid_modes
@@ -162,6 +173,12 @@ def run(args: argparse.Namespace) -> None:
                 warnings.simplefilter("ignore", GapValidityWarning)
                 res = plate_modes(stator, material, args.order, refine)
     except Exception as exc:
+        if (args.model == "3d" and not args.edge_grading and "could not pair" in str(exc)
+                and not (choice.meshed or choice.parametric)):
+            # an open mode mixed with an out-of-plane one across an unresolved gap
+            raise ValueError(f"{short_reason(exc)}; the 3D mesh does not resolve the "
+                             f"{stator.electrode_gap_m * 1e3:g} mm electrode gap: add "
+                             "--edge-grading 1 or more") from exc
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc
         raise
@@ -319,6 +336,12 @@ def _relink_kept_xdmf(xdmf, renamed: dict[str, str]) -> None:
 
 
 EXPORT_SUFFIXES = (".vtu", ".vtk", ".xdmf", ".msh")
+
+NARROW_GAP_RATIO = 10.0
+"""``lusm modes --model 3d`` without ``--edge-grading`` warns when the elements beside the
+electrode gap are more than this many times wider than the gap
+(:func:`fem.solid3d.gap_element_ratio`; 4.9 on the paper's plate, whose default mesh is
+documented in docs/fem3d.md)."""
 """Formats ``--export`` writes: those that carry the quads (bricks) and the shapes as point
 vectors, round-tripped by the tests. meshio also writes .stl (an empty file: triangles only)
 and .ply (the vectors dropped), which said "wrote" and exited 0."""
