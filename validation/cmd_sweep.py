@@ -174,8 +174,12 @@ def run(args: argparse.Namespace) -> None:
     for v, fl, fb in zip(res.values_m, res.f_L1_short_Hz, res.f_B2_short_Hz, strict=True):
         cells = [f"{x:>16.1f}" if math.isfinite(x) else f"{'-':>16}" for x in (fl, fb)]
         print(f"{v * 1e3:>10.4g}{''.join(cells)}")
-    for xc in res.crossings_m():
-        print(f"L1/B2 crossing at {parameter} {xc * 1e3:.4f} mm")
+    for xc, err in res.crossing_estimates_m():
+        # as many decimals as the interpolation supports (cubic against linear)
+        digits = min(4, max(1, 1 - math.floor(math.log10(err * 1e3)))) if err > 0 else 4
+        print(f"L1/B2 crossing at {parameter} {xc * 1e3:.{digits}f} mm (+- "
+              f"{err * 1e3:.1g} mm between the grid points: cubic against linear "
+              f"interpolation; lusm tune solves for it)")
     if png is not None:
         print(f"wrote {png}")
 
