@@ -788,7 +788,8 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     (1e-7 s) rounded to a whole number of steps per drive period (250 at 40 kHz, where it is
     that step). A window of whole periods then starts at the orbit's own phase. With
     283.66 steps per period (35 254 Hz) it cut up to half a step off the window, and the
-    slider's ripple biased the mean by 2e-6 (1e-3 at a creep under a load).
+    slider's ripple biased the mean by 3e-6 (1.6e-5 at a creep under a load, found at
+    44 066 Hz).
     """
     from contact.simulate import SimulationOptions, normal_amplitude, solve_event
     from contact.window import run_window

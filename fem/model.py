@@ -340,8 +340,8 @@ class PiezoPlateModel:
 
         Raises
         ------
-        ValueError
-            Naming the touching electrodes and their voltages.
+        ShortedDriveError
+            A ``ValueError`` naming the touching electrodes and their voltages.
         """
         for group in self.conductors():
             levels = {float(voltages.get(e, 0.0)) for e in group}
