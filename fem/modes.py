@@ -405,7 +405,9 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
         f_center_Hz
     )
 
-    def solve(open_circuit: bool):
+    def solve(open_circuit: bool, by_shape=None):
+        """Identify the modes of one circuit, with 2x and 4x as many if they are missing;
+        ``by_shape(v)`` gives the identification where :func:`identify` fails (or None)."""
         last: ModeSolverError | None = None
         for k in (n_modes, 2 * n_modes, 4 * n_modes):
             f, v = frequencies(model, k, fc, open_circuit, maxiter)
@@ -413,40 +415,34 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
                 return f, v, identify(model, f, v)
             except ModeSolverError as exc:
                 last = exc
-                if max_modes is not None and k >= max_modes:
-                    break
-        assert last is not None
-        raise last
-
-    def solve_open(vs: np.ndarray, ids: dict):
-        """The open circuit, identified afresh or, where that fails, by the short-circuit
-        modes' own shapes: on a wide plate (30 x 16 mm) the open B2 correlated 0.497 with the
-        Eq. 3 shape, under MIN_MAC, where the short B2 had 0.508; the open mode is the short
-        one stiffened, so its shape is the test (:func:`pair_short_open` checks it)."""
-        last: ModeSolverError | None = None
-        for k in (n_modes, 2 * n_modes, 4 * n_modes):
-            f, v = frequencies(model, k, fc, True, maxiter)
-            try:
-                return f, v, identify(model, f, v)
-            except ModeSolverError as exc:
-                last = exc
-            by_shape = {}
-            for name in names:
-                macs = [mass_mac(vs[:, ids[name][0]], v[:, c], model.M)
-                        for c in range(v.shape[1])]
-                if max(macs) >= PAIR_MAC:
-                    by_shape[name] = (int(np.argmax(macs)), math.nan, math.nan)
-            if len(by_shape) == len(names):
-                return f, v, by_shape
+            found = by_shape(v) if by_shape is not None else None
+            if found is not None:
+                return f, v, found
             if max_modes is not None and k >= max_modes:
                 break
         assert last is not None
         raise last
 
+    def shapes_of(vs: np.ndarray, ids: dict):
+        """The open-circuit modes with the short-circuit modes' own shapes (mass MAC >=
+        :data:`PAIR_MAC`), or None: on a wide plate (30 x 16 mm) the open B2 correlated 0.497
+        with the Eq. 3 shape, under MIN_MAC, where the short B2 had 0.508; the open mode is
+        the short one stiffened, so its shape is the test (:func:`pair_short_open`)."""
+        def by_shape(v: np.ndarray) -> dict | None:
+            out = {}
+            for name in names:
+                macs = [mass_mac(vs[:, ids[name][0]], v[:, c], model.M)
+                        for c in range(v.shape[1])]
+                if max(macs) < PAIR_MAC:
+                    return None
+                out[name] = (int(np.argmax(macs)), math.nan, math.nan)
+            return out
+        return by_shape
+
     t0 = time.perf_counter()
     fs, vs, ids = solve(False)
     t_short = time.perf_counter() - t0
-    fo, vo, ido = solve_open(vs, ids)
+    fo, vo, ido = solve(True, shapes_of(vs, ids))
     return fs, fo, pair_short_open(fs, vs, ids, fo, ido, model.M, names, vo), t_short
 
 
