@@ -405,6 +405,13 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
         if o in outputs[:i]:  # as a repeated axis value is: a typo, most likely
             raise ValueError(f"{where}outputs[{i}] {o!r} is listed twice")
     outputs = tuple(o for o in OUTPUTS if o in outputs)
+    motor = [o for o in outputs if o not in FE_OUTPUTS]
+    if motor and 0.0 in axes["gap"]:
+        # one conductor cannot be driven at V on 1, 4 and grounded on 2, 3 (fem.model
+        # ShortedDriveError): refused here, not once per geometry after its FE solve
+        raise ValueError(f"{where}axes.gap 0 mm makes the four electrodes one conductor, "
+                         f"which the motor outputs ({', '.join(motor)}) would drive as a short "
+                         "circuit; give a gap of at least 0.001 mm, or ask for FE outputs only")
     raw_solver = doc.get("solver", {})
     if not isinstance(raw_solver, dict):
         raise ValueError(f"{where}solver must be a table")
