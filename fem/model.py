@@ -352,8 +352,7 @@ class PiezoPlateModel:
                     for e in group)
                 raise ShortedDriveError(
                     f"electrodes {wired} touch (no gap strip between them) and are one "
-                    f"conductor, which cannot hold two voltages: the drive would short; give "
-                    f"the electrodes a gap (electrode gap > 0)")
+                    f"conductor, which cannot hold two voltages: the drive would short")
 
     def conductors(self, open_electrodes: tuple[int, ...] = ELECTRODES) -> list[list[int]]:
         """The open electrodes grouped into conductors: quadrants with no gap strip between

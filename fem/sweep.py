@@ -9,6 +9,7 @@ veering); any asymmetry (electrodes, tip) would turn it into a veering.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -68,7 +69,8 @@ class SweepResult:
 
         The value is the root of the cubic through up to four grid points around the sign
         change (the line through the two bracketing ones where no neighbour is finite), and
-        the uncertainty the distance to the linear root: a 4 mm grid put the crossing of a
+        the uncertainty the distance to the linear root (NaN with only the two bracketing
+        points, where there is one estimate): a 4 mm grid put the crossing of a
         25 x 4 x 2 mm plate's length at 14.97 mm by the line, 0.21 mm from the bisected
         14.754 mm. ``lusm tune`` solves for the crossing itself.
         """
@@ -94,7 +96,9 @@ class SweepResult:
                          and x[i] <= r.real <= x[i + 1]]
                 if len(roots) == 1:
                     best = roots[0]
-            out.append((float(best), float(abs(best - linear))))
+            # two points give one line: no second estimate, no uncertainty (NaN)
+            err = abs(best - linear) if len(idx) > 2 else math.nan
+            out.append((float(best), float(err)))
         return out
 
     def to_dict(self) -> dict[str, object]:
@@ -107,7 +111,8 @@ class SweepResult:
             "f_L1_open_Hz": _nan_to_none(self.f_L1_open_Hz),
             "f_B2_open_Hz": _nan_to_none(self.f_B2_open_Hz),
             "crossings_mm": (self.crossings_m() * 1e3).tolist(),
-            "crossing_uncertainties_mm": [u * 1e3 for _, u in self.crossing_estimates_m()],
+            "crossing_uncertainties_mm": [u * 1e3 if math.isfinite(u) else None
+                                          for _, u in self.crossing_estimates_m()],
             "fe_solves": self.fe_solves,
             "material": self.material,
             "failures": [f or None for f in self.failures],

@@ -193,6 +193,10 @@ def test_a_drive_across_touching_electrodes_is_refused(capsys):
     assert main(["params", "--source", "fem", "--gap-mm", "0"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("lusm params: error: --gap-mm 0")
+    # the beam drives the same quadrants: the same short circuit
+    assert main(["params", "--source", "beam", "--gap-mm", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "would short" in err
 
 
 def test_wide_electrodes_on_a_thin_plate_keep_the_cross_section_small():

@@ -84,6 +84,10 @@ def test_the_sweeps_crossing_is_the_tuned_one_within_its_stated_uncertainty():
     linear = x[i] - d[i] * (x[i + 1] - x[i]) / (d[i + 1] - d[i])
     assert abs(xc - tuned) < 0.2 * abs(linear - tuned)
     assert abs(xc - tuned) <= err == pytest.approx(abs(xc - linear))
+    # two points are one line: no uncertainty is claimed (it printed +- 0 mm, 0.0056 mm off)
+    two = sweep_dimension("width", np.array([8.0, 8.5]) * 1e-3)
+    ((_, err2),) = two.crossing_estimates_m()
+    assert np.isnan(err2) and two.to_dict()["crossing_uncertainties_mm"] == [None]
 
 
 def test_cli_tune_and_sweep(tmp_path, capsys):

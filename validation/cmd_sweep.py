@@ -175,8 +175,13 @@ def run(args: argparse.Namespace) -> None:
         cells = [f"{x:>16.1f}" if math.isfinite(x) else f"{'-':>16}" for x in (fl, fb)]
         print(f"{v * 1e3:>10.4g}{''.join(cells)}")
     for xc, err in res.crossing_estimates_m():
-        # as many decimals as the interpolation supports (cubic against linear)
-        digits = min(4, max(1, 1 - math.floor(math.log10(err * 1e3)))) if err > 0 else 4
+        if not math.isfinite(err):  # two grid points: one line, no error estimate
+            print(f"L1/B2 crossing at {parameter} {xc * 1e3:.4g} mm (linear between two "
+                  f"grid points, error unknown: sweep more points around it, or lusm tune "
+                  f"solves for it)")
+            continue
+        # to the decimal of the uncertainty's leading digit (cubic against linear)
+        digits = min(4, max(1, -math.floor(math.log10(err * 1e3)))) if err > 0 else 4
         print(f"L1/B2 crossing at {parameter} {xc * 1e3:.{digits}f} mm (+- "
               f"{err * 1e3:.1g} mm between the grid points: cubic against linear "
               f"interpolation; lusm tune solves for it)")

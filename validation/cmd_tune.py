@@ -77,7 +77,8 @@ def run(args: argparse.Namespace) -> None:
                         f"{other} is tuned until L1 = B2 and their common frequency follows "
                         f"from the {held[0]}; leave out --target-frequency, or use --fix "
                         "thickness to tune length and width to a target", "--target-frequency")
-    choice = stator_from_args(args)
+    # the start plate's thickness ratio is not the tuned plate's: that one is checked below
+    choice = stator_from_args(args, warn_thin=False)
     if choice.meshed:
         raise LusmError(f"--geometry {args.geometry} has its own mesh, which tune cannot "
                         "rescale; describe its features with [tip], [chamfers], [[holes]] "

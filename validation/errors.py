@@ -90,10 +90,13 @@ def user_error(exc: BaseException) -> LusmError:
         from validation.options import typed
 
         option = next((o for o in ("--gap-mm", "--geometry") if typed(o)), None)
-        where = {"--gap-mm": "--gap-mm 0 (a drive needs a gap of at least 0.001 mm)",
-                 "--geometry": "--geometry (its [electrodes] gap_mm = 0, or a mesh whose "
-                               "electrode tags touch)"}.get(option, "the stator")
-        return LusmError(f"{where}: {line}", option)
+        where, fix = {
+            "--gap-mm": ("--gap-mm 0", "give --gap-mm of at least 0.001 mm"),
+            "--geometry": ("--geometry (its [electrodes] gap_mm = 0, or a mesh whose electrode "
+                           "tags touch)", "give [electrodes] gap_mm of at least 0.001 mm, or "
+                           "a mesh with gap strips"),
+        }.get(option, ("the stator", "give the electrodes a gap of at least 0.001 mm"))
+        return LusmError(f"{where}: {line}; {fix}", option)
     blamed = None
     for name, option in LIBRARY_NAMES.items():
         if re.search(rf"(?<![\w.-]){re.escape(name)}\b", line):

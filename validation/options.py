@@ -285,7 +285,7 @@ class StatorChoice:
 
 def check_plate_mm(length: float, width: float, thickness: float, gap: float,
                    gap_given: bool = True, three_d: bool = False,
-                   file: str | None = None) -> None:
+                   file: str | None = None, thin_warning: bool = True) -> None:
     """Refuse an electrode gap that eats the plate or is too narrow to model; warn outside
     plane stress's validity (the 2D model's; ``three_d``: the 3D model, which needs a gap).
     With ``file`` (a ``--geometry`` stator file) the messages name its keys, not the plate
@@ -311,24 +311,24 @@ def check_plate_mm(length: float, width: float, thickness: float, gap: float,
         raise LusmError(f"{where}{which} must be below the plate's {dims} "
                         f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
                         f"{gap_name}", option)
-    if not three_d:
+    if not three_d and thin_warning:
         warn_thin_plate(f"{where}{thick} {thickness:g}", thickness, min(length, width),
                         "the plate's smaller in-plane dimension")
 
 
 def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, against: str,
-                    remedy: str = "check with --model 3d") -> None:
+                    remedy: str = "check it with lusm modes --model 3d") -> None:
     """The 2D model's validity warning, for the plain plate, a stator file's mesh, a tuned
     plate and a study alike: ``subject`` is ``thickness / inplane`` times ``against``, above
     :data:`limits.PLANE_STRESS_RATIO`."""
     ratio = thickness_mm / inplane_mm
     if ratio > limits.PLANE_STRESS_RATIO:
         warn(f"{subject} is {ratio:.3g} x {against}; the 2D plane-stress model assumes a thin "
-             f"plate (thickness below {limits.PLANE_STRESS_RATIO:g} x min(length, width)); "
-             f"{remedy}")
+             f"plate (thickness below {limits.PLANE_STRESS_RATIO:g} x min(length, width); its "
+             f"B2 is 0.08 % below the 3D model's at 0.8 on a 25 x 5 mm plate); {remedy}")
 
 
-def stator_from_args(args: argparse.Namespace) -> StatorChoice:
+def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> StatorChoice:
     """The stator of ``--geometry`` or of the plate options (the paper's plate by default).
 
     Raises
@@ -349,8 +349,9 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
         st = design.stator
         if design.mesh_path is None:
             check_plate_mm(st.length_m * 1e3, st.width_m * 1e3, st.thickness_m * 1e3,
-                           st.electrode_gap_m * 1e3, three_d=three_d, file=args.geometry)
-        elif not three_d:  # the mesh's bounding box against the file's thickness
+                           st.electrode_gap_m * 1e3, three_d=three_d,
+                           file=args.geometry, thin_warning=warn_thin)
+        elif not three_d and warn_thin:  # the mesh's bounding box against the thickness
             warn_thin_plate(f"--geometry {args.geometry}: thickness "
                             f"{st.thickness_m * 1e3:g} mm", st.thickness_m * 1e3,
                             min(st.length_m, st.width_m) * 1e3,
@@ -366,7 +367,8 @@ def stator_from_args(args: argparse.Namespace) -> StatorChoice:
     mm = {o: getattr(args, o[2:].replace("-", "_"), None) for o in PLATE_OPTIONS}
     mm = {o: PLATE_DEFAULTS_MM[o] if v is None else v for o, v in mm.items()}
     check_plate_mm(mm["--length-mm"], mm["--width-mm"], mm["--thickness-mm"], mm["--gap-mm"],
-                   gap_given=getattr(args, "gap_mm", None) is not None, three_d=three_d)
+                   gap_given=getattr(args, "gap_mm", None) is not None,
+                   three_d=three_d, thin_warning=warn_thin)
     stator = PlateStator(length_m=mm["--length-mm"] * 1e-3, width_m=mm["--width-mm"] * 1e-3,
                          thickness_m=mm["--thickness-mm"] * 1e-3,
                          electrode_gap_m=mm["--gap-mm"] * 1e-3)
@@ -498,6 +500,13 @@ def beam_of_plate(args: argparse.Namespace):
     from rom.sources import get_params
 
     st = stator_from_args(args).stator
+    if st.electrode_gap_m == 0.0:  # as fem.model.ShortedDriveError for the FE set
+        where = ("--geometry (its [electrodes] gap_mm = 0)" if getattr(args, "geometry", None)
+                 else "--gap-mm 0")
+        raise LusmError(f"{where}: the four electrodes touch and are one conductor, which the "
+                        f"beam's drive of {', '.join(map(str, st.drive_electrodes))} against the "
+                        "others would short; give a gap of at least 0.001 mm",
+                        "--geometry" if getattr(args, "geometry", None) else "--gap-mm")
     length, width = st.length_m, st.width_m
     if has_planform(st):
         # the electroded body, as a parametric stator's length is: a mesh file's bounding
