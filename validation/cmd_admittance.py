@@ -154,7 +154,8 @@ def run(args: argparse.Namespace) -> None:
     p = res.port
     rest = (f" + residual mode at {p.f_res_Hz:.0f} Hz" if math.isfinite(p.f_res_Hz)
             else "" if p.C_res_F == 0.0 else " + a static remainder")
-    print(f"electrodes {p.electrodes} driven, others grounded; band {args.f_min:g}-"
+    print(f"electrodes {', '.join(map(str, p.electrodes))} driven, others grounded; band "
+          f"{args.f_min:g}-"
           f"{args.f_max:g} Hz; {p.frequencies_Hz.size} modes{rest}")
     print(f"C0 (clamped) {p.C0_F:.4e} F, C_free (static) {p.C_free_F:.4e} F")
     print(f"damping zeta_L1 = {damping['zeta_L1']:.4g}, zeta_B2 = {damping['zeta_B2']:.4g} "
@@ -190,9 +191,9 @@ def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
     if missed:
         step = (f_max_Hz - f_min_Hz) / (points - 1)
         warn(f"--points {points}: {' and '.join(missed)} lie{'s' if len(missed) == 1 else ''} "
-             f"in the band but no resonance pair on this grid (step {step:.4g} Hz) is "
-             f"{'its' if len(missed) == 1 else 'theirs'}; raise --points or narrow the band "
-             "(--f-min, --f-max)")
+             f"in the band but no resonance pair on this grid (step {step:.4g} Hz) belongs "
+             f"to {'it' if len(missed) == 1 else 'them'}; raise --points or narrow the band "
+             "(--f-min, --f-max), or the damping merges it into a neighbour's peak")
 
 
 def _warn_unresolved(res, f_max_Hz: float, refine: int) -> None:
