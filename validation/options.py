@@ -500,11 +500,17 @@ def beam_of_plate(args: argparse.Namespace):
     from rom.sources import get_params
 
     st = stator_from_args(args).stator
-    if st.electrode_gap_m == 0.0:  # as fem.model.ShortedDriveError for the FE set
-        where = ("--geometry (its [electrodes] gap_mm = 0)" if getattr(args, "geometry", None)
-                 else "--gap-mm 0")
-        raise LusmError(f"{where}: the four electrodes touch and are one conductor, which the "
-                        f"beam's drive of {', '.join(map(str, st.drive_electrodes))} against the "
+    gaps = (st.electrode_gap_m,)
+    if has_planform(st):  # the file's mesh carries its gap strips (electrode_gap_m is 0)
+        from fem.model import gap_layout
+
+        layout = gap_layout(planform_mesh(st))
+        gaps = (layout.gap_x_m, layout.gap_y_m)
+    if min(gaps) <= 0.0:  # as fem.model.ShortedDriveError for the FE set
+        where = ("--geometry (its [electrodes] gap_mm = 0, or a mesh whose electrode tags "
+                 "touch)" if getattr(args, "geometry", None) else "--gap-mm 0")
+        raise LusmError(f"{where}: touching electrodes are one conductor, which the beam's "
+                        f"drive of {', '.join(map(str, st.drive_electrodes))} against the "
                         "others would short; give a gap of at least 0.001 mm",
                         "--geometry" if getattr(args, "geometry", None) else "--gap-mm")
     length, width = st.length_m, st.width_m
