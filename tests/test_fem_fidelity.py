@@ -199,6 +199,18 @@ def test_a_drive_across_touching_electrodes_is_refused(capsys):
     assert err.count("\n") == 1 and "would short" in err
 
 
+
+def test_the_plane_stress_warning_is_the_fe_models_not_the_beams(capsys):
+    """A 5 mm plate is 0.67 x its width: the 2D model warns, the beam (not plane stress) did
+    too."""
+    from validation.cli import main
+
+    assert main(["params", "--source", "beam", "--thickness-mm", "5"]) == 0
+    assert "plane-stress" not in capsys.readouterr().err
+    assert main(["params", "--source", "fem", "--thickness-mm", "5"]) == 0
+    assert "plane-stress" in capsys.readouterr().err
+
+
 def test_wide_electrodes_on_a_thin_plate_keep_the_cross_section_small():
     # 500 mm electrodes on a 0.1 mm plate: 30 000 lines at the near-gap size took 16 GB and
     # crashed; beyond 5 thicknesses the field is the plate's own and the elements grow

@@ -499,7 +499,8 @@ def beam_of_plate(args: argparse.Namespace):
     from rom.beam import plate_layout
     from rom.sources import get_params
 
-    st = stator_from_args(args).stator
+    # the 2D plane-stress warning is the FE model's: the beam is not plane stress
+    st = stator_from_args(args, warn_thin=False).stator
     gaps = (st.electrode_gap_m,)
     if has_planform(st):  # the file's mesh carries its gap strips (electrode_gap_m is 0)
         from fem.model import gap_layout
