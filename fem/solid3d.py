@@ -340,7 +340,7 @@ def gap_element_ratio(stator: PlateStator, refine: int, layers: int) -> float:
     the gap (-): the largest of the in-plane neighbours of the gap strips and the layer
     thickness, over the gap width. The singular potential at the electrode edges lives on
     the gap's scale; at 30 x 7.5 x 3 mm with the 0.5 mm gap the default mesh has a ratio of
-    2 and B2's k_eff 5 % low (docs/fem3d.md, mesh study), and narrow gaps with ratios of
+    4.9 and B2's k_eff 5 % low (docs/fem3d.md, mesh study), and narrow gaps with ratios of
     tens gave 6-29 % and open-circuit B2 modes mixed with out-of-plane ones. ``inf`` for a
     plate without a gap."""
     g = stator.electrode_gap_m

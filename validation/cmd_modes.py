@@ -143,8 +143,10 @@ def run(args: argparse.Namespace) -> None:
                             "--edge-grading")
         check_fe_size(stator, refine)
     validity = None
-    if args.model == "3d" and not args.edge_grading and not (choice.meshed
-                                                             or choice.parametric):
+    # the generated plate's brick mesh, ungraded: one element across the gap
+    ungraded_3d = args.model == "3d" and not args.edge_grading and not (choice.meshed
+                                                                        or choice.parametric)
+    if ungraded_3d:
         from fem.solid3d import gap_element_ratio
         from validation.options import warn
 
@@ -173,8 +175,7 @@ def run(args: argparse.Namespace) -> None:
                 warnings.simplefilter("ignore", GapValidityWarning)
                 res = plate_modes(stator, material, args.order, refine)
     except Exception as exc:
-        if (args.model == "3d" and not args.edge_grading and "could not pair" in str(exc)
-                and not (choice.meshed or choice.parametric)):
+        if ungraded_3d and "could not pair" in str(exc):
             # an open mode mixed with an out-of-plane one across an unresolved gap
             raise ValueError(f"{short_reason(exc)}; the 3D mesh does not resolve the "
                              f"{stator.electrode_gap_m * 1e3:g} mm electrode gap: add "
@@ -336,15 +337,15 @@ def _relink_kept_xdmf(xdmf, renamed: dict[str, str]) -> None:
 
 
 EXPORT_SUFFIXES = (".vtu", ".vtk", ".xdmf", ".msh")
+"""Formats ``--export`` writes: those that carry the quads (bricks) and the shapes as point
+vectors, round-tripped by the tests. meshio also writes .stl (an empty file: triangles only)
+and .ply (the vectors dropped), which said "wrote" and exited 0."""
 
 NARROW_GAP_RATIO = 10.0
 """``lusm modes --model 3d`` without ``--edge-grading`` warns when the elements beside the
 electrode gap are more than this many times wider than the gap
 (:func:`fem.solid3d.gap_element_ratio`; 4.9 on the paper's plate, whose default mesh is
 documented in docs/fem3d.md)."""
-"""Formats ``--export`` writes: those that carry the quads (bricks) and the shapes as point
-vectors, round-tripped by the tests. meshio also writes .stl (an empty file: triangles only)
-and .ply (the vectors dropped), which said "wrote" and exited 0."""
 
 
 def _write_export(path, model, res, force: bool, writer) -> None:
