@@ -507,13 +507,13 @@ def beam_of_plate(args: argparse.Namespace):
 
         layout = gap_layout(planform_mesh(st))
         gaps = (layout.gap_x_m, layout.gap_y_m)
-    if min(gaps) <= 0.0:  # as fem.model.ShortedDriveError for the FE set
-        where = ("--geometry (its [electrodes] gap_mm = 0, or a mesh whose electrode tags "
-                 "touch)" if getattr(args, "geometry", None) else "--gap-mm 0")
-        raise LusmError(f"{where}: touching electrodes are one conductor, which the beam's "
-                        f"drive of {', '.join(map(str, st.drive_electrodes))} against the "
-                        "others would short; give a gap of at least 0.001 mm",
-                        "--geometry" if getattr(args, "geometry", None) else "--gap-mm")
+    if min(gaps) <= 0.0:  # the FE set's refusal: validation.errors.user_error words it
+        from fem.model import ShortedDriveError
+
+        raise ShortedDriveError(
+            f"electrodes {', '.join(map(str, st.drive_electrodes))} driven touch the grounded "
+            "ones (no gap strip between them) and are one conductor, which cannot hold two "
+            "voltages: the beam's drive would short")
     length, width = st.length_m, st.width_m
     if has_planform(st):
         # the electroded body, as a parametric stator's length is: a mesh file's bounding
