@@ -431,11 +431,10 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
         def by_shape(v: np.ndarray) -> dict | None:
             out = {}
             for name in names:
-                macs = [mass_mac(vs[:, ids[name][0]], v[:, c], model.M)
-                        for c in range(v.shape[1])]
-                if max(macs) < PAIR_MAC:
+                j, mac = best_shape_match(vs[:, ids[name][0]], v, model.M)
+                if mac < PAIR_MAC:
                     return None
-                out[name] = (int(np.argmax(macs)), math.nan, math.nan)
+                out[name] = (j, math.nan, math.nan)
             return out
         return by_shape
 
@@ -450,6 +449,13 @@ def mass_mac(a: np.ndarray, b: np.ndarray, M) -> float:
     """Mass-weighted modal assurance of two shapes (0..1): 1 for the same mode."""
     ab = float(a @ (M @ b))
     return ab * ab / (float(a @ (M @ a)) * float(b @ (M @ b)))
+
+
+def best_shape_match(a: np.ndarray, shapes: np.ndarray, M) -> tuple[int, float]:
+    """Index of the column of ``shapes`` most like ``a`` (:func:`mass_mac`) and that MAC."""
+    macs = [mass_mac(a, shapes[:, c], M) for c in range(shapes.shape[1])]
+    j = int(np.argmax(macs))
+    return j, macs[j]
 
 
 def pair_short_open(fs, vs, ids, fo, ido, M, names: tuple[str, ...] = ("L1", "B2"),
@@ -471,13 +477,12 @@ def pair_short_open(fs, vs, ids, fo, ido, M, names: tuple[str, ...] = ("L1", "B2
         f_short = float(fs[i])
         j = ido[name][0]
         if vo is not None and mass_mac(vs[:, i], vo[:, j], M) < PAIR_MAC:
-            macs = [mass_mac(vs[:, i], vo[:, c], M) for c in range(vo.shape[1])]
-            j = int(np.argmax(macs))
-            if macs[j] < PAIR_MAC:
+            j, mac_open = best_shape_match(vs[:, i], vo, M)
+            if mac_open < PAIR_MAC:
                 raise ModeSolverError(
                     f"could not pair {name} in open circuit: no open-circuit mode has the "
                     f"shape of the short-circuit {name} at {f_short:.1f} Hz (best "
-                    f"correlation {macs[j]:.2f} < {PAIR_MAC}, at {float(fo[j]):.1f} Hz)")
+                    f"correlation {mac_open:.2f} < {PAIR_MAC}, at {float(fo[j]):.1f} Hz)")
         f_open = float(fo[j])
         k2 = (f_open**2 - f_short**2) / f_open**2
         shape = vs[:, i] / math.sqrt(float(vs[:, i] @ (M @ vs[:, i])))
