@@ -103,6 +103,7 @@ class SweepResult:
 
     def to_dict(self) -> dict[str, object]:
         """JSON-ready dictionary (mm and Hz)."""
+        crossings = self.crossing_estimates_m()
         return {
             "parameter": self.parameter,
             "values_mm": (self.values_m * 1e3).tolist(),
@@ -110,9 +111,9 @@ class SweepResult:
             "f_B2_short_Hz": _nan_to_none(self.f_B2_short_Hz),
             "f_L1_open_Hz": _nan_to_none(self.f_L1_open_Hz),
             "f_B2_open_Hz": _nan_to_none(self.f_B2_open_Hz),
-            "crossings_mm": (self.crossings_m() * 1e3).tolist(),
+            "crossings_mm": [x * 1e3 for x, _ in crossings],
             "crossing_uncertainties_mm": [u * 1e3 if math.isfinite(u) else None
-                                          for _, u in self.crossing_estimates_m()],
+                                          for _, u in crossings],
             "fe_solves": self.fe_solves,
             "material": self.material,
             "failures": [f or None for f in self.failures],

@@ -108,13 +108,12 @@ def run(args: argparse.Namespace) -> None:
         # GAP_MARGIN to spare: narrower electrodes lose L1 (the 3 mm plate tuned to 7e5 Hz
         # and above failed after 10-50 FE solves, 6e5 Hz gives 0.63 mm, 1.25 x the gap)
         shortest = max(lo, GAP_MARGIN * choice.stator.electrode_gap_m * 1e3 / TUNED_ASPECT)
-        longest = hi  # the bar estimate is within a few % of the tuned length
-        if not shortest <= est_mm <= longest:
+        if not shortest <= est_mm <= hi:  # the bar estimate is within a few % of the length
             raise LusmError(
                 f"--target-frequency {args.target_frequency:g} Hz: asks for a plate about "
                 f"{est_mm:.4g} mm long, outside the [{shortest:.3g}, {hi:g}] mm that the other "
                 f"commands accept and the gap allows; targets from about "
-                f"{args.target_frequency * est_mm / longest:.4g} to "
+                f"{args.target_frequency * est_mm / hi:.4g} to "
                 f"{args.target_frequency * est_mm / shortest:.4g} Hz fit (the upper end set "
                 f"by the {choice.stator.electrode_gap_m * 1e3:g} mm electrode gap)",
                 "--target-frequency")
@@ -143,13 +142,11 @@ def run(args: argparse.Namespace) -> None:
         raise
     _check_tuned_plate(d, args.target_frequency)
     if args.model == "2d":
-        from validation.options import warn
+        from validation.options import warn, warn_thin_plate
 
         validity = stator_gap_validity_message(d.stator)
         if validity is not None:
             warn(f"the tuned plate: {validity}")
-        from validation.options import warn_thin_plate
-
         st = d.stator  # what modes says of the same plate
         warn_thin_plate(f"the tuned plate: thickness {st.thickness_m * 1e3:g} mm",
                         st.thickness_m * 1e3, min(st.length_m, st.width_m) * 1e3,
