@@ -21,6 +21,7 @@ from contact.steady import (
     HELD_M_S,
     branches_at_load,
     holding_range_N,
+    motor_efficiency,
     slow_problem,
     steady_state,
 )
@@ -182,11 +183,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         p_in.append(p)
         p_out.append(float(load) * v + 0.0)  # + 0.0: 0 W at no load, not -0 W backward
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # defined where the motor works as a motor: electrical power in, mechanical power
-        # out. A load pushing the slider along (or driving it backward) puts mechanical
-        # power in too, and a ratio of the two is no efficiency (it came out below 0)
-        eff = np.where((p_in_a > 0) & (p_out_a >= 0), p_out_a / p_in_a, np.nan)
+    eff = motor_efficiency(p_in_a, p_out_a)  # it came out below 0 under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))
     return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0, len(sp.cache))

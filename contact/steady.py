@@ -190,13 +190,20 @@ class SteadyBranch:
 
     @property
     def efficiency(self) -> float:
-        """Output over input power (-), where the motor works as a motor (electrical power
-        in, mechanical power out); NaN elsewhere, as :attr:`contact.characteristic.
-        Characteristic.efficiency`: a load pushing the slider along puts mechanical power in
-        too, and the ratio is no efficiency (it came out at -0.54)."""
-        if self.input_power_W > 0 and self.output_power_W >= 0:
-            return self.output_power_W / self.input_power_W
-        return math.nan
+        """Output over input power (-), :func:`motor_efficiency` (NaN where the motor does
+        not work as a motor; it came out at -0.54 under a load pushing the slider)."""
+        return float(motor_efficiency(self.input_power_W, self.output_power_W))
+
+
+def motor_efficiency(input_power_W, output_power_W):
+    """Output over input power (-), element-wise, where the motor works as a motor
+    (electrical power in, mechanical power out); NaN elsewhere: a load pushing the slider
+    along, or driving it backward, puts mechanical power in too, and a ratio of the two is no
+    efficiency. The rule of :class:`SteadyBranch` and of the speed-thrust characteristic."""
+    p_in = np.asarray(input_power_W, dtype=float)
+    p_out = np.asarray(output_power_W, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where((p_in > 0) & (p_out >= 0), p_out / p_in, np.nan)
 
 
 @dataclass(frozen=True)
