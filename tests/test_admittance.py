@@ -220,3 +220,26 @@ def test_a_grid_too_coarse_for_the_design_modes_is_said_so(capsys):
     assert "B2 (54137 Hz) and L1 (56178 Hz) lie in the band but no resonance pair" in out.err
     assert main(["admittance", "--json"]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_a_mode_damping_leaves_without_a_peak_is_told_apart_from_a_coarse_grid(capsys):
+    """One quadrant (electrode 1) with Table 2's damping: B2's coupling (k_r^2 0.0056) is far
+    below its damping (0.071), and neither B2 nor L1 has a resonance pair on any grid. The
+    warning told the user to raise --points, which cannot help. Reference: a grid 100 times
+    finer over the whole band finds no pair either, while a lighter damping finds both."""
+    kw = dict(f_min_Hz=45.8e3, f_max_Hz=66.7e3, n_points=2001, electrodes=(1,))
+    heavy = plate_admittance(zeta_L1=0.1169, zeta_B2=0.07095, **kw)
+    assert sorted(n for n, _ in heavy.peakless_modes()) == ["B2", "L1"]
+    assert heavy.unpaired_modes() == []
+    fine = np.linspace(heavy.f_Hz[0], heavy.f_Hz[-1], 200_001)
+    assert resonance_pairs(heavy.port, fine) == ()
+    light = plate_admittance(zeta=0.01, **kw)
+    assert [p.mode for p in light.pairs] == ["B2", "L1"] and light.peakless_modes() == []
+    # the coarse grid's modes have a peak: they stay the grid's (and the --points warning)
+    coarse = plate_admittance(zeta=0.01, f_min_Hz=1.0, f_max_Hz=1e6, n_points=101)
+    assert [n for n, _ in coarse.unpaired_modes()] and coarse.peakless_modes() == []
+
+    assert main(["admittance", "--electrodes", "1"]) == 0
+    err = capsys.readouterr().err
+    assert "no resonance peak through electrode 1 at this damping" in err
+    assert "--zeta" in err and "--points" not in err

@@ -161,8 +161,9 @@ def run(args: argparse.Namespace) -> None:
     print(f"damping zeta_L1 = {damping['zeta_L1']:.4g}, zeta_B2 = {damping['zeta_B2']:.4g} "
           f"(from {damping['from']})")
     if not res.pairs:
-        print("no resonance/antiresonance pair resolved in the band: widen it (--f-min, "
-              "--f-max) or, if the design's modes lie inside it, the damping merges them")
+        print("no resonance/antiresonance pair resolved in the band: "
+              + ("the damping leaves the design's modes without a peak (the warning above)"
+                 if res.peakless_modes() else "widen it (--f-min, --f-max)"))
     w = max([5] + [len(q.mode) + 1 for q in res.pairs])
     # series / parallel resonance (max Re Y, max Re 1/Y), not the |Y| extrema: those move
     # with the damping (IEEE Std 176)
@@ -193,7 +194,20 @@ def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
         warn(f"--points {points}: {' and '.join(missed)} lie{'s' if len(missed) == 1 else ''} "
              f"in the band but no resonance pair on this grid (step {step:.4g} Hz) belongs "
              f"to {'it' if len(missed) == 1 else 'them'}; raise --points or narrow the band "
-             "(--f-min, --f-max), or the damping merges it into a neighbour's peak")
+             "(--f-min, --f-max)")
+    flat = res.peakless_modes()
+    if flat:
+        port = res.port
+        named = {n: (z, k) for n, z, k in zip(port.mode_names, port.zeta, port.coupling(),
+                                                strict=True) if n}
+        one = len(flat) == 1
+        modes = " and ".join(f"{n} ({f:.0f} Hz, zeta {named[n][0]:.3g}, coupling k "
+                             f"{named[n][1]:.3g})" for n, f in flat)
+        wires = f"electrode{'s' if len(port.electrodes) > 1 else ''} " + ", ".join(
+            map(str, port.electrodes))
+        warn(f"{modes} {'has' if one else 'have'} no resonance peak through {wires} at this "
+             f"damping, on any grid: the coupling is too weak against the damping; a lighter "
+             f"--zeta resolves {'it' if one else 'them'}")
 
 
 def _warn_unresolved(res, f_max_Hz: float, refine: int) -> None:

@@ -125,8 +125,14 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
         md += ["", " and ".join(f"{n} ({f:.0f} Hz)" for n, f in missed)
                + " lie in the band, but no resonance pair on this grid is "
                + ("its" if len(missed) == 1 else "theirs")
-               + ": the grid is too coarse for them or their peak too weak to resolve "
+               + ": the grid is too coarse for them "
                "(`lusm admittance --points` with more points)."]
+    flat = res.peakless_modes()
+    if flat:
+        md += ["", " and ".join(f"{n} ({f:.0f} Hz)" for n, f in flat)
+               + (" has" if len(flat) == 1 else " have") + " no resonance peak through this "
+               "port at this damping, on any grid: the coupling is too weak against the "
+               "damping (`lusm admittance --zeta` with lighter damping resolves it)."]
     md += ["", f"![admittance](figures/{png.name})", ""]
     data = {"band_Hz": [f_lo, f_hi], "pairs": [
         {"mode": p.mode, "f_resonance_Hz": p.f_resonance_Hz,
