@@ -335,18 +335,25 @@ def hex_grid_lines(stator: PlateStator, refine: int, layers: int, edge_grading: 
     return x, y, z
 
 
-def gap_element_ratio(stator: PlateStator, refine: int, layers: int) -> float:
-    """How much larger the ungraded brick mesh's elements beside the electrode gap are than
-    the gap (-): the largest of the in-plane neighbours of the gap strips and the layer
+def gap_element_ratio(stator: PlateStator, refine: int, layers: int,
+                      edge_grading: int = 0) -> float:
+    """How much larger the brick mesh's elements beside the electrode gap are than the gap
+    (-): the largest of the in-plane neighbours of the gap strips and the top layer's
     thickness, over the gap width. The singular potential at the electrode edges lives on
     the gap's scale; at 30 x 7.5 x 3 mm with the 0.5 mm gap the default mesh has a ratio of
     4.9 and B2's k_eff 5 % low (docs/fem3d.md, mesh study), and narrow gaps with ratios of
-    tens gave 6-29 % and open-circuit B2 modes mixed with out-of-plane ones. ``inf`` for a
-    plate without a gap."""
+    tens gave 6-29 % and open-circuit B2 modes mixed with out-of-plane ones. A stator with a
+    planform mesh is measured on that mesh (its elements touching a gap strip's edges, the
+    narrower strip) and its layers (:func:`planform_layer_lines`): the parametric tip's plate
+    at a 0.05 mm gap has 20 from its 1 mm layers, and B2's k_eff 0.067 against 0.101 in 2D.
+    ``inf`` for a plate without a gap."""
+    planform = planform_mesh(stator)
+    if planform is not None:
+        return _planform_gap_ratio(planform, stator.thickness_m, layers, edge_grading)
     g = stator.electrode_gap_m
     if g <= 0.0:
         return math.inf
-    x, y, _ = hex_grid_lines(stator, refine, layers)
+    x, y, z = hex_grid_lines(stator, refine, layers, edge_grading)
     widths = []
     for lines, centre in ((x, 0.0), (y, stator.length_m / 2)):
         dx = np.diff(lines)
@@ -355,8 +362,74 @@ def gap_element_ratio(stator: PlateStator, refine: int, layers: int) -> float:
         for i in gap_cells:
             widths += [dx[j] for j in (i - 1, i + 1) if 0 <= j < dx.size
                        and abs(mid[j] - centre) >= g / 2]
-    widths.append(stator.thickness_m / layers)
+    widths.append(float(z[-1] - z[-2]))
     return float(max(widths) / g)
+
+
+def planform_gap_m(planform: PlateMesh) -> float:
+    """The narrower positive gap strip of a quadrant mesh (m); 0 if the electrodes touch."""
+    from fem.model import gap_layout
+
+    lay = gap_layout(planform)
+    gaps = [g for g in (lay.gap_x_m, lay.gap_y_m) if g > 0.0]
+    return min(gaps) if gaps else 0.0
+
+
+def _planform_gap_ratio(planform: PlateMesh, thickness_m: float, layers: int,
+                        edge_grading: int) -> float:
+    return max(planform_gap_ratios(planform, thickness_m, layers, edge_grading))
+
+
+def planform_gap_ratios(planform: PlateMesh, thickness_m: float, layers: int,
+                        edge_grading: int = 0) -> tuple[float, float]:
+    """``(in_plane, layer)``: the planform's widest electroded element touching a gap
+    strip's edge and the top layer's thickness (:func:`planform_layer_lines`), each over the
+    narrower gap strip (-); ``(inf, inf)`` when the electrodes touch. The first is the mesh
+    file's (or gmsh's) to refine, the second ``edge_grading``'s."""
+    from fem.model import gap_layout
+
+    g = planform_gap_m(planform)
+    if g <= 0.0:
+        return math.inf, math.inf
+    lay = gap_layout(planform)
+    p = planform.points_m
+    tol = 1e-9 * float(np.ptp(p[0]) + np.ptp(p[1]))
+    quads = planform.quads
+    electroded = planform.electrode > 0
+    widths = [0.0]
+    for axis, mid, gap in ((0, lay.x_mid_m, lay.gap_x_m), (1, lay.y_mid_m, lay.gap_y_m)):
+        if gap <= 0.0:
+            continue
+        coord = p[axis, quads]  # (4, n_el)
+        touches = np.zeros(quads.shape[1], dtype=bool)
+        for e in (mid - gap / 2, mid + gap / 2):
+            touches |= np.any(np.abs(coord - e) < tol, axis=0)
+        sel = touches & electroded
+        if np.any(sel):
+            widths.append(float(np.max(np.ptp(coord[:, sel], axis=0))))
+    z = planform_layer_lines(planform, thickness_m, layers, edge_grading)
+    return max(widths) / g, float(z[-1] - z[-2]) / g
+
+
+def planform_layer_lines(planform: PlateMesh, thickness_m: float, layers: int,
+                         edge_grading: int = 0) -> np.ndarray:
+    """The levels ``z`` (m) of a planform mesh's extrusion: ``layers`` equal layers, plus,
+    with ``edge_grading > 0``, the generated plate's geometric levels below the top face
+    (:func:`_graded_lines`) on the scale of the mesh's narrower gap strip. The in-plane mesh
+    is the file's (or gmsh's) to grade; the layers are this module's, and at a narrow gap it
+    is their thickness that misses the electrode edges' singular field (the parametric tip's
+    plate at 0.05 mm: B2's k_eff 0.067 on 1 mm layers, 0.0678 with the planform's elements
+    halved, 0.093 with one level of graded layers; 2D 0.101)."""
+    layers = _check_int("layers", layers)
+    edge_grading = _check_int("edge_grading", edge_grading, 0)
+    h = float(thickness_m)
+    z = np.linspace(-h / 2, h / 2, layers + 1)
+    g = planform_gap_m(planform) if edge_grading > 0 else 0.0
+    if g > 0.0:
+        depth = _graded_lines(np.array([0.0, h]), [0.0], g, edge_grading)
+        z = np.unique(np.concatenate((z, h / 2 - depth[depth < h])))
+        z = z[np.concatenate(([True], np.diff(z) > 1e-9 * h))]
+    return z
 
 
 def _hex_mesh(stator: PlateStator, refine: int, layers: int, edge_grading: int = 0):
@@ -365,7 +438,8 @@ def _hex_mesh(stator: PlateStator, refine: int, layers: int, edge_grading: int =
     return MeshHex.init_tensor(*hex_grid_lines(stator, refine, layers, edge_grading))
 
 
-def extruded_hex_mesh(planform: PlateMesh, thickness_m: float, layers: int):
+def extruded_hex_mesh(planform: PlateMesh, thickness_m: float, layers: int,
+                      z_m: np.ndarray | None = None):
     """Extrude a 2D quad mesh through ``-h/2 <= z <= h/2`` into ``layers`` layers of bricks.
 
     Parameters
@@ -376,6 +450,9 @@ def extruded_hex_mesh(planform: PlateMesh, thickness_m: float, layers: int):
         Plate thickness ``h`` (m).
     layers : int
         Equal element layers through the thickness.
+    z_m : numpy.ndarray, optional
+        The levels (m), increasing from ``-h/2`` to ``h/2`` (:func:`planform_layer_lines`);
+        they replace the ``layers`` equal layers.
 
     Returns
     -------
@@ -389,7 +466,9 @@ def extruded_hex_mesh(planform: PlateMesh, thickness_m: float, layers: int):
     layers = _check_int("layers", layers)
     p2 = planform.points_m
     n = p2.shape[1]
-    z = np.linspace(-thickness_m / 2, thickness_m / 2, layers + 1)
+    z = (np.linspace(-thickness_m / 2, thickness_m / 2, layers + 1) if z_m is None
+         else np.asarray(z_m, dtype=float))
+    layers = z.size - 1
     points = np.vstack((np.tile(p2, layers + 1), np.repeat(z, n)))
     quads = planform.quads.copy()
     x, y = p2[0, quads], p2[1, quads]
@@ -469,7 +548,8 @@ def build_solid_model(
         Levels of geometric refinement towards the electrode edges (0: uniform mesh): lines
         at ``g/2, ..., g/2^levels`` from each edge on both sides, and at ``g, 2g, 4g, ...``
         outside up to half the coarse spacing; layers at the same depths below the top
-        face. Ignored for a planform mesh.
+        face. For a planform mesh only the layers are graded, on the scale of its narrower
+        gap strip (:func:`planform_layer_lines`); its in-plane mesh is the file's.
     grid_lines : tuple of numpy.ndarray, optional
         Explicit tensor lines ``(x, y, z)`` (m) of the structured mesh of a plain plate,
         replacing those of ``refine``, ``layers`` and ``edge_grading`` (which are then only
@@ -500,7 +580,9 @@ def build_solid_model(
     elif planform is None:
         mesh = _hex_mesh(stator, refine, layers, _check_int("edge_grading", edge_grading, 0))
     else:
-        mesh = extruded_hex_mesh(planform, stator.thickness_m, layers)
+        levels = planform_layer_lines(planform, stator.thickness_m, layers,
+                                      _check_int("edge_grading", edge_grading, 0))
+        mesh = extruded_hex_mesh(planform, stator.thickness_m, layers, levels)
     basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element)
     # electrodes: top-face dofs in the closed quadrant regions; bottom face grounded
     h = stator.thickness_m
@@ -513,7 +595,7 @@ def build_solid_model(
         tags = closed.electrode_of(xyz[0, top], xyz[1, top])
         electrode_dofs = tuple(top[tags == k] for k in ELECTRODES)
     else:
-        electrode_dofs = _planform_electrodes(planform, basis, h, layers, tol)
+        electrode_dofs = _planform_electrodes(planform, basis, h, levels.size - 1, tol)
     for k, d in zip(ELECTRODES, electrode_dofs, strict=True):
         if d.size == 0:
             raise ValueError(f"the mesh has no node under electrode {k}")

@@ -394,8 +394,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["--geometry", "[mesh] size_mm", "[0.075, 7.5]"]),
     ("modes-mount-off-the-plate", ["modes", "--geometry", "{mount_off}"],
      ["--geometry", "[points] mounts_mm point 1", "off the stator's planform"]),
-    ("modes-parametric-edge-grading", ["modes", "--model", "3d", "--edge-grading", "1",
-                                       "--geometry", "{chamfered_plate}"], ["--edge-grading"]),
+    ("modes-parametric-edge-grading-2d", ["modes", "--edge-grading", "1",
+                                          "--geometry", "{chamfered_plate}"],
+     ["--edge-grading", "--model 3d only"]),
     ("explore-workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"],
      ["--workers"]),
 ]

@@ -115,11 +115,6 @@ def run(args: argparse.Namespace) -> None:
         check_refine_3d(args.refine)
         refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
         layers = DEFAULT_LAYERS if args.layers is None else args.layers
-        if args.edge_grading and (choice.meshed or choice.parametric):
-            hint = ("set its [mesh] size_mm instead" if choice.parametric
-                    else "grade that mesh itself")
-            raise LusmError(f"--edge-grading applies to the generated plate, not to the mesh "
-                            f"of --geometry {args.geometry}; {hint}", "--edge-grading")
         from fem.solid3d_symmetric import quarter_model_applies
 
         # the quarter-plate model gives the full model's results at about a quarter of the
@@ -143,19 +138,27 @@ def run(args: argparse.Namespace) -> None:
                             "--edge-grading")
         check_fe_size(stator, refine)
     validity = None
-    # the generated plate's brick mesh, ungraded: one element across the gap
-    ungraded_3d = args.model == "3d" and not args.edge_grading and not (choice.meshed
-                                                                        or choice.parametric)
-    if ungraded_3d:
+    # elements much wider than the electrode gap beside it (ungraded generated plates,
+    # planform meshes whose layers are thick against a narrow gap)
+    coarse_gap = None
+    if args.model == "3d":
         from fem.solid3d import gap_element_ratio
-        from validation.options import warn
 
-        ratio = gap_element_ratio(stator, refine, layers)
+        ratio = gap_element_ratio(stator, refine, layers, args.edge_grading)
         if ratio > NARROW_GAP_RATIO:
-            warn(f"--model 3d: the ungraded mesh's elements beside the "
-                 f"{stator.electrode_gap_m * 1e3:g} mm electrode gap are {ratio:.0f} x wider "
-                 f"than it: open-circuit B2 and its k_eff come out too low (docs/fem3d.md); "
-                 f"add --edge-grading 1 or more")
+            from fem.meshed_stator import planform_mesh
+            from fem.solid3d import planform_gap_m, planform_gap_ratios
+            from validation.options import warn
+
+            pf = planform_mesh(stator)
+            gap_mm = (stator.electrode_gap_m if pf is None else planform_gap_m(pf)) * 1e3
+            coarse_gap = _coarse_gap_remedy(
+                choice, args.edge_grading,
+                None if pf is None else planform_gap_ratios(pf, stator.thickness_m, layers,
+                                                            args.edge_grading))
+            warn(f"--model 3d: the mesh's elements beside the {gap_mm:g} mm electrode gap "
+                 f"are {ratio:.0f} x wider than it: open-circuit B2 and its k_eff come out "
+                 f"too low (docs/fem3d.md); {coarse_gap}")
     try:
         if quarter:
             from fem.solid3d_symmetric import symmetric_solid_modes
@@ -175,11 +178,10 @@ def run(args: argparse.Namespace) -> None:
                 warnings.simplefilter("ignore", GapValidityWarning)
                 res = plate_modes(stator, material, args.order, refine)
     except Exception as exc:
-        if ungraded_3d and "could not pair" in str(exc):
+        if coarse_gap is not None and "could not pair" in str(exc):
             # an open mode mixed with an out-of-plane one across an unresolved gap
             raise ValueError(f"{short_reason(exc)}; the 3D mesh does not resolve the "
-                             f"{stator.electrode_gap_m * 1e3:g} mm electrode gap: add "
-                             "--edge-grading 1 or more") from exc
+                             f"electrode gap: {coarse_gap}") from exc
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc) from exc
         raise
@@ -342,10 +344,29 @@ vectors, round-tripped by the tests. meshio also writes .stl (an empty file: tri
 and .ply (the vectors dropped), which said "wrote" and exited 0."""
 
 NARROW_GAP_RATIO = 10.0
-"""``lusm modes --model 3d`` without ``--edge-grading`` warns when the elements beside the
-electrode gap are more than this many times wider than the gap
+"""``lusm modes --model 3d`` warns when the elements beside the electrode gap (in-plane
+neighbours and the top layer) are more than this many times wider than the gap
 (:func:`fem.solid3d.gap_element_ratio`; 4.9 on the paper's plate, whose default mesh is
 documented in docs/fem3d.md)."""
+
+
+def _coarse_gap_remedy(choice, edge_grading: int,
+                       planform_ratios: tuple[float, float] | None) -> str:
+    """What refines the 3D mesh at the electrode gap: more ``--edge-grading`` levels; for a
+    planform mesh (``planform_ratios``, :func:`fem.solid3d.planform_gap_ratios`) they grade
+    only its layers, and its in-plane elements are the file's to refine."""
+    more = (f"raise --edge-grading above {edge_grading}" if edge_grading
+            else "add --edge-grading 1 or more")
+    if planform_ratios is None:
+        return more
+    in_plane, layer = planform_ratios
+    fixes = []
+    if layer > NARROW_GAP_RATIO:
+        fixes.append(f"{more} (it grades the layers)")
+    if in_plane > NARROW_GAP_RATIO:
+        fixes.append("refine the stator file's [mesh] size_mm" if choice.parametric
+                     else "refine the mesh file at the gap")
+    return " and ".join(fixes)
 
 
 def _write_export(path, model, res, force: bool, writer) -> None:

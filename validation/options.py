@@ -421,7 +421,12 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     from fem.meshed_stator import planform_mesh
 
     mesh = planform_mesh(stator)
-    if mesh is not None:
+    if mesh is not None and layers is not None and edge_grading:
+        from fem.solid3d import planform_layer_lines  # graded layers (the 3D model's)
+
+        n = int(mesh.quads.shape[1]) * (planform_layer_lines(mesh, stator.thickness_m, layers,
+                                                             edge_grading).size - 1)
+    elif mesh is not None:
         n = int(mesh.quads.shape[1]) * (layers or 1)
     elif layers is not None and quarter:
         from fem.solid3d_symmetric import quarter_grid_lines
@@ -447,6 +452,9 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
 
         fix = ("coarsen its [mesh] size_mm" if isinstance(stator, ParametricStator)
                else "use a coarser mesh file")
+        if layers is not None:  # the 3D layers are the command's: name those typed
+            given = [o for o in ("--edge-grading", "--layers") if typed(o)]
+            fix = f"lower {' or '.join(given)} or {fix}" if given else fix
         raise LusmError(f"--geometry: the stator's mesh needs {n} {what} here, above the limit "
                         f"{top}; {fix} ({limits.more_work_hint()})", "--geometry")
     if n > top:
