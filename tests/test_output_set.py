@@ -218,3 +218,65 @@ def test_a_subfolder_that_is_a_link_is_kept_aside_whole_with_force(tmp_path):
     assert (out / "figures.bak-1").is_symlink()
     assert (elsewhere / "a.png").read_text() == "old figure"  # the user's folder untouched
     assert (out / "index.md.bak-1").read_text() == "old"
+
+
+def test_an_empty_folder_stays_the_users_folder(tmp_path):
+    """An existing empty folder was removed and the staging folder renamed in its place: its
+    mode (a private 0700 folder came back 0755), group and inode were lost, and so was the
+    shell's current folder. The files now move into it."""
+    import os
+    import stat
+
+    out = tmp_path / "shared"
+    out.mkdir()
+    out.chmod(0o2750)
+    before = out.stat()
+    with output_set(out, "figures") as stage:
+        _write(stage, {"a.png": "1", "sub/b.png": "2"})
+    after = out.stat()
+    assert (after.st_ino, stat.S_IMODE(after.st_mode)) == (before.st_ino,
+                                                          stat.S_IMODE(before.st_mode))
+    assert _snapshot(out) == {"a.png": "1", "sub/b.png": "2"} and (out / MARKER).exists()
+    assert [p.name for p in tmp_path.rglob(".*partial*")] == []
+    # the current folder, empty: the set lands in it (the staging folder had made it
+    # non-empty, and the finished set was refused as "the current folder, which is not
+    # empty")
+    cwd = tmp_path / "cwd"
+    cwd.mkdir()
+    old = os.getcwd()
+    os.chdir(cwd)
+    try:
+        with output_set(Path("."), "figures", "--plot") as stage:
+            _write(stage, {"c.png": "3"})
+    finally:
+        os.chdir(old)
+    assert _snapshot(cwd) == {"c.png": "3"}
+
+
+def test_a_users_file_named_like_the_marker_is_kept_under_force(tmp_path):
+    """--force into the user's folder overwrote their own .lusm-output.json; and another
+    command's marker (render's set written into sweep's folder) vanished with its list."""
+    out = tmp_path / "d"
+    out.mkdir()
+    (out / MARKER).write_text("my data")
+    with output_set(out, "sweep", force=True) as stage:
+        _write(stage, {"s.png": "1"})
+    assert (out / f"{MARKER}.bak-1").read_text() == "my data"
+    assert json.loads((out / MARKER).read_text())["kind"] == "sweep"
+    with output_set(out, "render", force=True) as stage:
+        _write(stage, {"r.png": "2"})
+    assert json.loads((out / f"{MARKER}.bak-2").read_text())["kind"] == "sweep"
+    assert json.loads((out / MARKER).read_text())["kind"] == "render"
+
+
+def test_a_refusal_after_the_work_names_the_option_typed(tmp_path):
+    """A user's file standing where a set in a folder lusm wrote wants to write: the
+    refusal named --out when the user had typed --plot."""
+    out = tmp_path / "m"
+    with output_set(out, "figures", "--plot") as stage:
+        _write(stage, {"a.png": "1"})
+    (out / "b.png").write_text("mine")
+    with pytest.raises(OutputError, match="^--plot "):
+        with output_set(out, "figures", "--plot") as stage:
+            _write(stage, {"a.png": "1", "b.png": "2"})
+    assert (out / "b.png").read_text() == "mine"

@@ -8,7 +8,8 @@ what lusm wrote, and nothing else.
 
 The rules, for a target folder ``DIR``:
 
-* ``DIR`` does not exist, or is empty: the set is moved in, with its marker.
+* ``DIR`` does not exist: the set is moved in, with its marker. ``DIR`` is empty: its files
+  are moved into it (the folder, its owner and mode stay the user's).
 * ``DIR`` holds a marker of the same kind: a file it lists that the new set writes again is
   replaced if its content is still what lusm wrote; if the user edited it (or the marker has no
   hash for it) it is kept as ``NAME.bak-N``. Files of the earlier set that the new one does not
@@ -111,6 +112,12 @@ def _write_marker(folder: Path, kind: str, hashes: dict[str, str | None]) -> Non
     if path.is_symlink() or (path.exists() and not path.is_file()):
         # never write through a link (into whatever it points at): keep it aside
         keep_aside(path, "it is not lusm's marker")
+    elif path.exists():
+        earlier = _read_marker(folder)
+        if earlier is None:  # a file of the user's by that name (--force into their folder)
+            keep_aside(path, "it is not lusm's marker")
+        elif earlier.get("kind") != kind:  # another command's set: its list is kept too
+            keep_aside(path, f"the marker of lusm {earlier.get('kind')}'s files")
     path.write_text(json.dumps(doc, indent=1))
 
 
@@ -198,6 +205,10 @@ def output_set(target: Path, kind: str, option: str = "--out",
     check_target(target, kind, option, force)
     if target.is_symlink():  # a link to a folder: the set goes into the folder it names
         target = target.resolve()
+    if str(target) in ("", "."):
+        # the current folder: stage beside it, not inside it (inside, the staging folder
+        # made it non-empty and the finished set was refused)
+        target = Path(os.path.abspath(target))
     created: list[Path] = []  # parent folders this call made, removed again on failure
     for parent in reversed([target, *target.parents]):
         if not parent.exists():
@@ -211,7 +222,7 @@ def output_set(target: Path, kind: str, option: str = "--out",
     try:
         stage.mkdir()
         yield stage
-        _commit(stage, target, kind, force)
+        _commit(stage, target, kind, force, option)
         done = True
     finally:
         shutil.rmtree(stage, ignore_errors=True)
@@ -223,24 +234,25 @@ def output_set(target: Path, kind: str, option: str = "--out",
                     pass
 
 
-def _commit(stage: Path, target: Path, kind: str, force: bool) -> None:
+def _commit(stage: Path, target: Path, kind: str, force: bool, option: str = "--out") -> None:
     from validation.interrupts import checkpoint
 
     checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
     new_files = _files_below(stage)
     new_hashes = {f: _digest(stage / f) for f in new_files}
-    if not target.exists() or (target.is_dir() and not any(target.iterdir())):
+    if not target.exists():
         target.parent.mkdir(parents=True, exist_ok=True)
         _write_marker(stage, kind, new_hashes)
-        if target.exists():
-            target.rmdir()  # empty: nothing of the user's is in it
         os.replace(stage, target)
         stage.mkdir()  # so the caller's cleanup has something to remove
         return
+    # an existing folder, empty or not, is the user's: the files move into it (replacing
+    # an empty one by the staging folder lost its owner, group, mode and the shell's
+    # current folder)
     ours = _ours(target, kind)
     # Re-check now that the work is done: the folder may have changed meanwhile.
     if not ours and not force:
-        check_target(target, kind, force=False)
+        check_target(target, kind, option, force=False)
     collisions = [f for f in new_files
                   if (target / f).exists() or (target / f).is_symlink()]
     # A folder in the way of a new file, or a file in the way of a new folder, collides too.
@@ -256,7 +268,7 @@ def _commit(stage: Path, target: Path, kind: str, force: bool) -> None:
     edited = sorted({f for f in collisions if f in ours} - replace)
     foreign = sorted(set(collisions) - set(ours))
     if foreign and not force:
-        raise OutputError(f"--out {target} already holds {foreign[0]!r}, which lusm did not "
+        raise OutputError(f"{option} {target} already holds {foreign[0]!r}, which lusm did not "
                           "write; move it away or pass --force (it is kept as a .bak file)")
     aside = sorted({*edited, *foreign})
     # a folder (or a link to one) kept aside takes its contents with it: a file below it is
