@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from contact import state as state_module
+from contact.numba_cache import depend_on
 from contact.state import (
     BACKWARD,
     CONTACT,
@@ -658,3 +660,7 @@ def integrate_switch_model(
     stats[6] = counter[0]
     stats[5] = stored_energy(z, mode, fn_m, scalars)
     return status, fail_step, trace, full, phase_time, work, stats, z, mode
+
+
+# the kernel inlines contact.state's layout constants: an edit there must recompile it
+depend_on(globals(), state_module)

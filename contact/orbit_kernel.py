@@ -17,6 +17,7 @@ import numpy as np
 from numba import njit
 
 from contact.event_kernel import integrate_switch_model
+from contact.numba_cache import depend_on
 from contact.state import CONTACT, COS, DU, DW, DX, HELD, ONE, SIN, STICK, U, W, X
 
 N_Y = 4
@@ -469,31 +470,10 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
             jac_mode)
 
 
-def _cache_depends_on(*modules) -> None:
-    """Make the on-disk numba cache of this module's functions stale when ``modules`` change.
-
-    numba keys a cached function on its own source file only, while the code it caches
-    contains the functions it calls from other modules (here the event kernel) and the
-    constants it imports (here :mod:`contact.state`): an edit of those would otherwise keep
-    serving the old machine code (numba documents this limitation). The source stamp each
-    cache index is checked against is extended by the stamps (mtime, size) of ``modules``.
-    Relies on numba's cache internals; where they differ the cache behaves as numba's own.
-    """
-    import os
-
-    extra = tuple((os.stat(m.__file__).st_mtime, os.stat(m.__file__).st_size)
-                  for m in modules)
-    for obj in list(globals().values()):
-        cache_file = getattr(getattr(obj, "_cache", None), "_cache_file", None)
-        stamp = getattr(cache_file, "_source_stamp", None)
-        if stamp is not None:
-            cache_file._source_stamp = (stamp, extra)
-
-
 def _dependencies():
     from contact import event_kernel, state
 
     return event_kernel, state
 
 
-_cache_depends_on(*_dependencies())
+depend_on(globals(), *_dependencies())

@@ -1,0 +1,48 @@
+"""The compiled kernels' disk caches go stale with the modules whose code they inline."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+from tests.conftest import ROOT
+
+
+def test_an_edit_of_the_state_layout_recompiles_the_event_kernel(tmp_path):
+    """Swapping two scalar indices in contact/state.py (a copy of the package) kept serving
+    the event kernel's old machine code from the disk cache: the velocity of the old layout
+    until the cache was removed (found by exploratory testing). The probe: the velocity
+    after the edit equals a cold-cache run of the edited source, and differs from the
+    original's."""
+    pkg = tmp_path / "pkg"
+    shutil.copytree(ROOT / "contact", pkg / "contact",
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(ROOT / "rom", pkg / "rom", ignore=shutil.ignore_patterns("__pycache__"))
+    probe = textwrap.dedent("""
+        from contact.simulate import simulate
+        from rom import table2
+        r = simulate(table2(), 200, 14, duration_s=2e-3)
+        print(repr(r.steady.velocity_m_s))
+    """)
+
+    def run(cache: Path) -> str:
+        env = {**os.environ, "PYTHONPATH": str(pkg), "NUMBA_CACHE_DIR": str(cache)}
+        out = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True,
+                             text=True, check=True, cwd=tmp_path)
+        return out.stdout.strip()
+
+    original = run(tmp_path / "cache")
+    state = pkg / "contact" / "state.py"
+    text = state.read_text()
+    assert "(SC_MU_S, SC_MU_D, " in text
+    state.write_text(text.replace("(SC_MU_S, SC_MU_D, ", "(SC_MU_D, SC_MU_S, ", 1))
+    st = state.stat()
+    os.utime(state, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))  # a later edit
+    edited_warm = run(tmp_path / "cache")
+    edited_cold = run(tmp_path / "cold")
+    assert edited_cold != original
+    assert edited_warm == edited_cold
