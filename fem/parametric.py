@@ -312,6 +312,28 @@ def _signed_area(xy: np.ndarray, cells: np.ndarray) -> np.ndarray:
                         - np.roll(p[..., 0], -1, axis=1) * p[..., 1], axis=1)
 
 
+def _initialize_keeping_signals(gmsh) -> None:
+    """``gmsh.initialize`` with the process's signal handlers as they were.
+
+    gmsh resets SIGTERM (and SIGPIPE's ignore) to the default in C even with
+    ``interruptible=False``, while Python's ``signal.getsignal`` still reports the old
+    handler: a SIGTERM then killed ``lusm render`` or ``lusm report`` of a parametric stator
+    outright, without a message and with its staging folder left behind. The handlers are
+    installed again (in the main thread, the only one that may).
+    """
+    import signal
+    import threading
+
+    names = ("SIGINT", "SIGTERM", "SIGPIPE")
+    main = threading.current_thread() is threading.main_thread()
+    saved = {getattr(signal, n): signal.getsignal(getattr(signal, n)) for n in names
+             if hasattr(signal, n)} if main else {}
+    gmsh.initialize(interruptible=False)
+    for sig, handler in saved.items():
+        if handler is not None:
+            signal.signal(sig, handler)
+
+
 def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool, half: bool = False):
     """Nodes (n, 2) (m), counter-clockwise triangles (k, 3) and quads (m, 4) of the planform
     (with ``half``: of its part ``x >= 0``); ``(None, None, None)`` if an element came out
@@ -324,7 +346,7 @@ def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool, half: bool = Fal
     w2 = 0.5 * width
     ours = not gmsh.isInitialized()  # leave a caller's own gmsh session running
     if ours:
-        gmsh.initialize(interruptible=False)
+        _initialize_keeping_signals(gmsh)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("lusm_stator")

@@ -275,3 +275,30 @@ def test_refine_with_a_stator_files_mesh_is_said_to_do_nothing(capsys):
     assert "--refine has no effect" in capsys.readouterr().err
     assert main(["modes", "--geometry", stator, "--json"]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_meshing_keeps_the_sigterm_handler(tmp_path):
+    """gmsh.initialize resets SIGTERM to the default in C while Python still reports its
+    handler: SIGTERM then killed `lusm render` of a parametric stator without a message,
+    leaving its staging folder. The kernel's own view (/proc/self/status, SigCgt) is the
+    reference, in a fresh process."""
+    import subprocess
+    import textwrap
+
+    if not Path("/proc/self/status").exists():
+        pytest.skip("needs Linux's /proc")
+    probe = textwrap.dedent("""
+        import signal
+        signal.signal(signal.SIGTERM, lambda *a: None)
+        def caught():
+            for line in open("/proc/self/status"):
+                if line.startswith("SigCgt"):
+                    return bool(int(line.split()[1], 16) & (1 << (signal.SIGTERM - 1)))
+        from fem.parametric import ParametricStator, parametric_mesh
+        before = caught()
+        parametric_mesh(ParametricStator(tip_length_m=1e-3, tip_width_m=2e-3))
+        print(before, caught())
+    """)
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True, cwd=tmp_path)
+    assert out.stdout.split() == ["True", "True"]
