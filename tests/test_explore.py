@@ -299,6 +299,12 @@ def test_a_failed_fe_solve_is_recorded_not_fatal():
     ds = assemble(s, {0: compute_geometry(s, 0)})
     assert str(ds["status"].item()).startswith("FE: ModeSolverError")
     assert np.isnan(ds["f_L1_short"].item()) and np.isnan(ds["no_load_velocity"]).all()
+    # its drive points are "failed", as documented (they read "", which a filter missed)
+    s = study_from_dict({"outputs": ["f_L1_short", "motion_class"],
+                         "axes": {"length": "5 mm", "width": "40 mm"},
+                         "solver": {"fe_refine": 1, "duration": "1 ms"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    assert set(np.asarray(ds["motion_class"]).ravel()) == {"failed"}
 
 
 def test_steady_method_gives_the_loaded_answers():
@@ -485,3 +491,59 @@ def test_a_transient_point_that_did_not_settle_is_said_so(tmp_path, capsys):
     assert "200 V, 0 N" in status
     _report_failures(ds, tmp_path / "r.nc")  # a warning, not a refusal
     assert "did not settle" in capsys.readouterr().err
+
+
+def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
+        study, reference, client, monkeypatch, tmp_path):
+    """Parts computed before an upgrade (or an edit of an editable checkout) were mixed
+    into the resumed dataset, labelled with the new version; a part that loads but lacks
+    an array ended the finished study with an internal error (KeyError). The same study
+    under another file name (name = the stem) is the same study."""
+    import validation.explore as ex
+
+    out = tmp_path / "study.nc"
+    with pytest.raises(Interrupt):
+        explore(study, out, client=client, progress=False,
+                on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
+    renamed = study_from_dict({**TINY, "study": {"name": "tiny, copied"}})
+    assert renamed.fingerprint == study.fingerprint
+    monkeypatch.setattr(ex, "code_digest", lambda: "f" * 64)
+    with pytest.raises(ValueError, match="--resume: .* other lusm code"):
+        explore(renamed, out, client=client, progress=False, resume=True)
+    monkeypatch.undo()
+    part = next(parts_folder(out).glob("g*.npz"))
+    with np.load(part) as z:
+        data = {k: z[k] for k in z.files if k != "velocity"}
+    np.savez(part, **data)
+    r = explore(renamed, out, client=client, progress=False, resume=True)
+    assert (r.reused, r.computed) == (0, study.n_geometries)
+    got = open_result(out)
+    for name in ("velocity", "f_L1_short", "motion_class"):
+        xr.testing.assert_identical(got[name], reference[name])
+
+
+def test_a_worker_with_other_code_is_refused_by_its_result(study, monkeypatch, tmp_path):
+    """check_workers runs once, before the tasks: a worker joining an external scheduler
+    later computed with its own lusm, silently. Each result now carries its code's digest
+    (here a worker's is made to differ, in process)."""
+    import validation.explore as ex
+
+    s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
+    part = compute_geometry(s, 0)
+    assert str(part["code_sha256"]) == ex.code_digest()
+    from distributed import Client
+
+    with Client(processes=False, n_workers=1, threads_per_worker=1,
+                dashboard_address=None) as c:
+        # the worker (in process here) returns a result stamped by other code
+        monkeypatch.setattr(ex, "compute_geometry",
+                            lambda st, i: {**_real_compute(st, i), "code_sha256": np.array("1")})
+        with pytest.raises(ValueError, match="other lusm code"):
+            explore(s, tmp_path / "r.nc", client=c, progress=False)
+    assert not (tmp_path / "r.nc").exists()
+
+
+def _real_compute(st, i):
+    from validation.explore import _compute
+
+    return {**_compute(st, i), "task_time_s": np.array(0.0)}

@@ -25,6 +25,7 @@ dataset's attrs; it is written to netCDF (h5netcdf engine) beside the target and
 
 from __future__ import annotations
 
+import hashlib
 import json
 import logging
 import math
@@ -35,6 +36,7 @@ import uuid
 import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -201,6 +203,7 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
     with threadpool_limits(limits=1):
         out = _compute(study, index)
     out["task_time_s"] = np.array(time.perf_counter() - t0)
+    out["code_sha256"] = np.array(code_digest())  # the client compares it with its own
     return out
 
 
@@ -211,14 +214,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
 
     g = geometry_of(study, index)
     s = study.solver
-    mshape = _motor_shape(study)
-    n_load = len(study.axes["load"])
-    out: dict[str, np.ndarray] = {k: np.array(math.nan) for k in FE_SCALARS}
-    for k in MOTOR_ARRAYS[:-1]:
-        out[k] = np.full(mshape, math.nan)
-    out["motion_class"] = np.full(mshape, "", dtype="<U32")
-    out["velocity"] = np.full((*mshape, n_load), math.nan)
-    out["status"] = np.array("ok")
+    out = _empty_outputs(study)
     try:
         stator = PlateStator(length_m=g["length"], width_m=g["width"],
                              thickness_m=g["thickness"], electrode_gap_m=g["gap"])
@@ -240,6 +236,8 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         from validation.errors import short_reason  # a list of 32 frequencies: its range
 
         out["status"] = np.array(short_reason(f"FE: {type(exc).__name__}: {exc}")[:300])
+        if study.needs_motor:  # every drive point of the plate failed with it (it read '')
+            out["motion_class"][...] = "failed"
         return out
     freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
     failures, unsettled = [], []
@@ -269,11 +267,46 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     return out
 
 
+def _empty_outputs(study: Study) -> dict[str, np.ndarray]:
+    """A geometry's outputs before it is computed: NaN, ``""`` and status ``"ok"``, in the
+    shapes a part must have."""
+    mshape = _motor_shape(study)
+    n_load = len(study.axes["load"])
+    out: dict[str, np.ndarray] = {k: np.array(math.nan) for k in FE_SCALARS}
+    for k in MOTOR_ARRAYS[:-1]:
+        out[k] = np.full(mshape, math.nan)
+    out["motion_class"] = np.full(mshape, "", dtype="<U32")
+    out["velocity"] = np.full((*mshape, n_load), math.nan)
+    out["status"] = np.array("ok")
+    return out
+
+
+@lru_cache(maxsize=1)
+def code_digest() -> str:
+    """SHA-256 of this process's lusm source (the .py files of fem, rom, contact and
+    validation, by relative path): what a resumed run and every worker must share. The
+    version number alone let a resumed run mix parts computed before an upgrade (or an edit
+    of an editable checkout) into a dataset labelled with the new version."""
+    import importlib
+
+    h = hashlib.sha256()
+    for name in ("fem", "rom", "contact", "validation"):
+        root = Path(importlib.import_module(name).__file__).parent
+        for f in sorted(root.rglob("*.py")):
+            h.update(f"{name}/{f.relative_to(root).as_posix()}\0".encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()
+
+
 # --- parts: one file per finished geometry ---------------------------------------------------
 
 def parts_folder(out: Path) -> Path:
     """The folder of per-geometry files of an output ``out``."""
     return out.with_name(out.name + PARTS_SUFFIX)
+
+
+TASK_EXTRAS = ("task_time_s", "code_sha256")
+"""What a task returns beside the geometry's outputs (not written into its part)."""
 
 
 def _part_path(folder: Path, index: int) -> Path:
@@ -284,23 +317,34 @@ def _write_part(folder: Path, index: int, data: dict[str, np.ndarray]) -> None:
     final = _part_path(folder, index)
     tmp = folder / f".{final.name}-{uuid.uuid4().hex[:8]}"
     with open(tmp, "wb") as fh:
-        np.savez(fh, **{k: v for k, v in data.items() if k != "task_time_s"})
+        np.savez(fh, **{k: v for k, v in data.items() if k not in TASK_EXTRAS})
         fh.flush()
         os.fsync(fh.fileno())
     os.replace(tmp, final)  # a part is there complete or not at all
 
 
-def _read_part(folder: Path, index: int) -> dict[str, np.ndarray] | None:
+def _read_part(folder: Path, index: int,
+               template: dict[str, np.ndarray] | None = None) -> dict[str, np.ndarray] | None:
+    """A part as written, or None (computed again) when it is missing, torn, or its arrays
+    are not those of ``template`` (:func:`_empty_outputs`: the same names, shapes and
+    kinds; a part without ``velocity`` ended a finished study with an internal error)."""
     try:
         with np.load(_part_path(folder, index), allow_pickle=False) as z:
-            return {k: z[k] for k in z.files}
+            part = {k: z[k] for k in z.files}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # missing or torn: computed
         return None  # again (a truncated part was an internal error of --resume)
+    if template is not None and (
+            set(part) != set(template)
+            or any(part[k].shape != v.shape or part[k].dtype.kind != v.dtype.kind
+                   for k, v in template.items())):
+        return None
+    return part
 
 
 def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, dict], bool]:
     folder = parts_folder(out)
-    stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text)}
+    stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text),
+             "lusm_version": _version(), "code_sha256": code_digest()}
     if folder.exists():
         if not resume:
             raise ValueError(f"--out {out}: {folder} holds an unfinished run; pass --resume to "
@@ -309,18 +353,26 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
             old = json.loads((folder / STUDY_FILE).read_text())
         except (OSError, ValueError):
             old = {}
-        if old.get("fingerprint") != study.fingerprint:
+        if not isinstance(old, dict) or old.get("fingerprint") != study.fingerprint:
             raise ValueError(f"--resume: {folder} belongs to another study (the study file "
                              "changed); remove that folder or restore the study")
+        if old.get("code_sha256") != stamp["code_sha256"]:
+            raise ValueError(
+                f"--resume: {folder} was computed by other lusm code (lusm "
+                f"{old.get('lusm_version', 'unknown')}, code "
+                f"{str(old.get('code_sha256', 'unrecorded'))[:12]}; this is lusm {_version()}, "
+                f"code {stamp['code_sha256'][:12]}): resuming would mix both in one dataset; "
+                "remove that folder to start over")
         created = False
     else:
         folder.mkdir(parents=True)
         (folder / STUDY_FILE).write_text(json.dumps(stamp, indent=1))
         created = True
     done = {}
+    template = _empty_outputs(study)
     for i in range(study.n_geometries):
         if _part_path(folder, i).exists():
-            part = _read_part(folder, i)
+            part = _read_part(folder, i, template)
             if part is not None:
                 done[i] = part
     return folder, done, created
@@ -661,12 +713,20 @@ def explore(
                     for fut in as_completed(futures):
                         data = fut.result()
                         i = index[fut.key]
+                        if str(data.get("code_sha256")) != code_digest():
+                            # a worker that joined after check_workers, with other code
+                            where = ("--scheduler" if scheduler else "--scheduler-file"
+                                     if scheduler_file else "the local cluster")
+                            raise ValueError(
+                                f"{where}: a worker computed geometry {i} with other lusm "
+                                f"code ({str(data.get('code_sha256'))[:12]}, this client "
+                                f"{code_digest()[:12]}); install the same lusm everywhere")
                         result.task_times_s.append(float(data["task_time_s"]))
                         result.result_bytes += len(pickle.dumps(data, protocol=5))
                         tw = time.perf_counter()
                         _write_part(folder, i, data)
                         result.part_write_time_s += time.perf_counter() - tw
-                        parts[i] = {k: v for k, v in data.items() if k != "task_time_s"}
+                        parts[i] = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
                         result.computed += 1
                         bar.update(1)
                         fut.release()

@@ -199,8 +199,13 @@ class Study:
 
     @property
     def fingerprint(self) -> str:
-        """SHA-256 of the canonical study (what resume compares)."""
-        return hashlib.sha256(self.text.encode()).hexdigest()
+        """SHA-256 of the canonical study without its name (what resume compares): the name
+        defaults to the file's stem, and a copy of the same study under another file name
+        was refused as "the study file changed"."""
+        doc = json.loads(self.text) if self.text else {}
+        if isinstance(doc, dict):
+            doc.pop("name", None)
+        return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
 
 def _where(source: str) -> str:
