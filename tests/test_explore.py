@@ -547,3 +547,23 @@ def _real_compute(st, i):
     from validation.explore import _compute
 
     return {**_compute(st, i), "task_time_s": np.array(0.0)}
+
+
+def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
+    """A listener that accepts and never answers hung past dask's 10 s timeout (still
+    waiting at 45 s); a scheduler file of '{}' was an internal AssertionError."""
+    import socket
+
+    import validation.explore as ex
+
+    monkeypatch.setattr(ex, "CONNECT_DEADLINE_S", 1.0)
+    with socket.socket() as srv:
+        srv.bind(("127.0.0.1", 0))
+        srv.listen(1)
+        port = srv.getsockname()[1]
+        with pytest.raises(ValueError, match=r"^--scheduler tcp://.*no answer within 1 s"):
+            ex.connect(scheduler=f"tcp://127.0.0.1:{port}")
+    bad = tmp_path / "s.json"
+    bad.write_text("{}")
+    with pytest.raises(ValueError, match="^--scheduler-file .*cannot connect"):
+        ex.connect(scheduler_file=str(bad))

@@ -60,6 +60,32 @@ DEFAULT_WORKERS = 2
 BLAS_ENV = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 CONNECT_TIMEOUT = "10s"
 """How long to wait for an existing scheduler."""
+CONNECT_DEADLINE_S = 15.0
+"""Wall-clock bound (s) on connecting to it: dask's own timeout does not cover a listener
+that accepts and never answers (it waited past 45 s)."""
+
+
+def _within(fn: Callable[[], Any], seconds: float) -> Any:
+    """``fn()``, or TimeoutError after ``seconds`` (s) of wall time; ``fn`` runs in a daemon
+    thread, abandoned (not stopped) when it overruns."""
+    import threading
+
+    box: dict[str, Any] = {}
+
+    def run() -> None:
+        try:
+            box["value"] = fn()
+        except BaseException as exc:  # noqa: BLE001 - re-raised in the caller's thread
+            box["error"] = exc
+
+    worker = threading.Thread(target=run, daemon=True, name="lusm-connect")
+    worker.start()
+    worker.join(seconds)
+    if worker.is_alive():
+        raise TimeoutError(f"no answer within {seconds:g} s")
+    if "error" in box:
+        raise box["error"]
+    return box["value"]
 
 
 @dataclass(frozen=True)
@@ -606,12 +632,16 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
             ("--scheduler-file", scheduler_file)
         try:
             if scheduler:
-                return Client(scheduler, timeout=CONNECT_TIMEOUT), None
-            return Client(scheduler_file=scheduler_file, timeout=CONNECT_TIMEOUT), None
-        except (OSError, ValueError) as exc:  # refused, timed out, bad address
+                return _within(lambda: Client(scheduler, timeout=CONNECT_TIMEOUT),
+                               CONNECT_DEADLINE_S), None
+            return _within(lambda: Client(scheduler_file=scheduler_file,
+                                          timeout=CONNECT_TIMEOUT), CONNECT_DEADLINE_S), None
+        except Exception as exc:  # noqa: BLE001 - refused, timed out, bad address, or not
+            # dask at all: an SSH banner read as a message length (MemoryError), a scheduler
+            # file of '{}' (AssertionError); each is the address's fault, not lusm's
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             raise ValueError(f"{option} {where}: cannot connect to the dask scheduler "
-                             f"({text})") from None
+                             f"({text[:200]})") from None
     cluster = local_cluster(workers)
     return Client(cluster), cluster
 
