@@ -567,3 +567,24 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
     bad.write_text("{}")
     with pytest.raises(ValueError, match="^--scheduler-file .*cannot connect"):
         ex.connect(scheduler_file=str(bad))
+
+
+def test_a_signal_after_the_dataset_is_written_says_it_is_complete(monkeypatch, tmp_path,
+                                                                     capsys):
+    """A SIGTERM landing just after the dataset was in place said only "interrupted"
+    (exit 130), and a rerun then refused the complete file."""
+    import validation.cmd_explore as ce
+    from validation.cli import main
+
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
+
+    def stop(*_):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(ce, "_report_failures", stop)
+    out = tmp_path / "r.nc"
+    assert main(["explore", str(study), "--out", str(out), "--workers", "1"]) == 130
+    err = capsys.readouterr().err
+    assert f"{out} is complete" in err and open_result(out)["f_L1_short"].size == 1
+    assert not parts_folder(out).exists()

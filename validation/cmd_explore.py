@@ -65,10 +65,12 @@ def run(args: argparse.Namespace) -> None:
         # it ran the whole study, wrote the dataset, then refused --plot as not a folder
         raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
                         "their own", "--plot")
+    before = _file_stamp(Path(args.out))
     try:
         result = explore(study, args.out, scheduler=args.scheduler,
                          scheduler_file=args.scheduler_file, workers=args.workers,
                          resume=args.resume, force=args.force, progress=not args.json)
+        _report_failures(open_result(result.path), result.path)
     except (KeyboardInterrupt, Terminated):
         from validation.explore import parts_folder
 
@@ -77,8 +79,13 @@ def run(args: argparse.Namespace) -> None:
             done = len(list(parts.glob("g*.npz")))
             print(f"lusm explore: {done} finished geometries are kept in {parts}; run the same "
                   "command with --resume to continue", file=sys.stderr)
+        elif _file_stamp(Path(args.out)) not in (None, before):
+            # the dataset and the parts' removal are one step: this run finished it (a
+            # signal just after said only "interrupted", and a rerun refused the file)
+            print(f"lusm explore: {args.out} is complete"
+                  + ("; the --plot maps were not written" if plot is not None else ""),
+                  file=sys.stderr)
         raise
-    _report_failures(open_result(result.path), result.path)
     if plot is not None:
         from validation.explore import design_maps, drawable_maps
 
@@ -104,6 +111,15 @@ def run(args: argparse.Namespace) -> None:
     print(f"wrote {result.path}")
     for f in result.figures:
         print(f"wrote {f}")
+
+
+def _file_stamp(path: Path) -> tuple[int, int] | None:
+    """``(inode, mtime_ns)`` of a file, None when there is none: whether a run wrote it."""
+    try:
+        st = path.stat()
+    except OSError:
+        return None
+    return st.st_ino, st.st_mtime_ns
 
 
 def _warn_thick(study) -> None:
