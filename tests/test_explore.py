@@ -588,3 +588,41 @@ def test_a_signal_after_the_dataset_is_written_says_it_is_complete(monkeypatch, 
     err = capsys.readouterr().err
     assert f"{out} is complete" in err and open_result(out)["f_L1_short"].size == 1
     assert not parts_folder(out).exists()
+
+
+def test_a_ctrl_c_while_the_cluster_starts_is_not_lost(monkeypatch):
+    """The client ignored SIGINT while the LocalCluster started (so that the workers
+    inherited the ignore); a Ctrl-C that the kernel delivered to one of dask's threads in
+    those seconds was thrown away, and the study ran to the end with exit 0. Now the start
+    records it and raises it once the cluster is closed again; the workers still ignore
+    SIGINT (the kernel's view, /proc/PID/status)."""
+    import distributed
+
+    real = distributed.LocalCluster
+    made = []
+
+    def interrupted_start(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)  # lands while the cluster starts
+        made.append(real(*args, **kwargs))
+        return made[-1]
+
+    monkeypatch.setattr(distributed, "LocalCluster", interrupted_start)
+    with pytest.raises(KeyboardInterrupt):
+        local_cluster(1)
+    assert made and made[0].status.name == "closed"
+    monkeypatch.undo()
+    if not Path("/proc/self/status").exists():
+        return
+    from distributed import Client
+
+    cluster = local_cluster(1)
+    try:
+        with Client(cluster) as c:
+            pid = next(iter(c.run(os.getpid).values()))
+        status = Path(f"/proc/{pid}/status").read_text()
+        ignored = int(next(ln for ln in status.splitlines()
+                           if ln.startswith("SigIgn")).split()[1], 16)
+        assert ignored & (1 << (signal.SIGINT - 1))
+    finally:
+        cluster.close()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

@@ -35,6 +35,7 @@ import time
 import uuid
 import zipfile
 from collections.abc import Callable
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -574,11 +575,14 @@ def local_cluster(n_workers: int = DEFAULT_WORKERS):
 
     The worker processes ignore SIGINT: a terminal's Ctrl-C goes to the whole process group,
     and each worker would print its own KeyboardInterrupt traceback while the client is
-    already stopping them (the client closes them on the way out). An ignored signal stays
-    ignored across the spawn's exec, and Python then installs no KeyboardInterrupt handler
-    (a blocked mask would not do: the spawn clears it). SIGINT is also blocked while the
-    cluster starts, so a Ctrl-C in those seconds is not lost: it is delivered, and the
-    cluster closed, as soon as the start returns.
+    already stopping them (the client closes them on the way out). They are spawned through
+    a wrapper that ignores SIGINT before it executes Python (:func:`_workers_ignoring_sigint`;
+    an ignored signal stays ignored across exec, and Python then installs no
+    KeyboardInterrupt handler). The client
+    itself keeps catching SIGINT while the cluster starts, but only records it: a Ctrl-C in
+    those seconds closes the new cluster and is raised as soon as the start returns. (It
+    used to ignore SIGINT itself meanwhile, with the signal blocked in its main thread: the
+    threads dask starts did not block it, and a Ctrl-C delivered to one of them was lost.)
     """
     import signal
     import threading
@@ -597,22 +601,55 @@ def local_cluster(n_workers: int = DEFAULT_WORKERS):
                             scheduler_kwargs={"dashboard": False,
                                               "dashboard_address": "127.0.0.1:0"})
 
-    if threading.current_thread() is not threading.main_thread():
-        return start()  # signal dispositions belong to the main thread
-    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    cluster = None
-    try:
-        cluster = start()
-    finally:
-        signal.signal(signal.SIGINT, handler)
+    with _workers_ignoring_sigint():
+        if threading.current_thread() is not threading.main_thread():
+            return start()  # signal dispositions belong to the main thread
+        pending: list[int] = []
+        handler = signal.signal(signal.SIGINT, lambda signum, frame: pending.append(signum))
         try:
-            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a pending Ctrl-C raises here
-        except BaseException:
-            if cluster is not None:
-                cluster.close()
-            raise
+            cluster = start()
+        finally:
+            signal.signal(signal.SIGINT, handler)
+    if pending:
+        cluster.close()
+        raise KeyboardInterrupt
     return cluster
+
+
+_WRAPPER: list[str] = []
+"""The spawn wrapper of :func:`_workers_ignoring_sigint`, once written (this process)."""
+
+
+@contextmanager
+def _workers_ignoring_sigint():
+    """Meanwhile, multiprocessing spawns its children through a shell wrapper that ignores
+    SIGINT and then executes this Python (``multiprocessing.set_executable``; the previous
+    executable is restored after). The wrapper lives in a private temporary folder, removed
+    at exit. POSIX only; elsewhere nothing changes."""
+    import atexit
+    import multiprocessing
+    import multiprocessing.spawn
+    import shlex
+    import shutil
+    import stat
+    import tempfile
+
+    if os.name != "posix" or not Path("/bin/sh").exists():
+        yield
+        return
+    if not _WRAPPER:
+        folder = tempfile.mkdtemp(prefix="lusm-spawn-")
+        atexit.register(shutil.rmtree, folder, True)
+        path = Path(folder) / "python-ignoring-sigint"
+        path.write_text(f"#!/bin/sh\ntrap '' INT\nexec {shlex.quote(sys.executable)} \"$@\"\n")
+        path.chmod(stat.S_IRWXU)
+        _WRAPPER.append(str(path))
+    before = multiprocessing.spawn.get_executable()
+    multiprocessing.set_executable(_WRAPPER[0])
+    try:
+        yield
+    finally:
+        multiprocessing.set_executable(before)
 
 
 def connect(scheduler: str | None = None, scheduler_file: str | None = None,
