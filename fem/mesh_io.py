@@ -382,8 +382,12 @@ def read_meshio(path: Path):
     """``meshio.read`` with one error type (ValueError, FileNotFoundError) and no stdout."""
     import meshio
 
+    if path.is_dir():
+        raise ValueError(f"mesh file {path} is a folder, not a file")
     if not path.is_file():
         raise FileNotFoundError(f"mesh file not found: {path}")
+    if path.stat().st_size == 0:
+        raise ValueError(f"could not read mesh file {path}: it is empty")
     said = io.StringIO()
     try:
         # meshio's gmsh reader prints stray blank lines to stdout, and a file no reader takes
@@ -393,6 +397,8 @@ def read_meshio(path: Path):
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
         printed = " ".join(said.getvalue().split()).removeprefix("Error: ")
         reason = printed if isinstance(exc, SystemExit) and printed else str(exc)
+        if not isinstance(exc, SystemExit):  # a reader's own failure: numpy's words
+            reason = f"malformed or truncated ({reason})"
         raise ValueError(f"could not read mesh file {path}: {reason}") from exc
 
 
@@ -427,6 +433,11 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     pts3 = np.asarray(m.points, dtype=float)
     if pts3.ndim != 2 or pts3.shape[0] == 0:
         raise ValueError(f"mesh file {path} holds no points")
+    bad = np.flatnonzero(~np.all(np.isfinite(pts3), axis=1))
+    if bad.size:  # it read as a tip "off the mesh (x in [nan, nan] mm)", or as millimetres
+        raise ValueError(f"mesh file {path}: node {int(bad[0])} has a non-finite coordinate "
+                         f"({', '.join(f'{v:g}' for v in pts3[bad[0]])}); "
+                         f"{bad.size} node(s) in all")
     pts = pts3[:, :2] * UNITS[unit]
 
     names: dict[tuple[int, int], str] = {}

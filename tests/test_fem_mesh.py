@@ -119,3 +119,37 @@ def test_old_group_spelling_is_still_read(tmp_path):
     assert '"electrode_3"' in old.read_text()
     assert _same(read_stator_mesh(old).mesh, mesh)
     assert _same(read_stator_mesh(new).mesh, mesh)
+
+
+def test_broken_mesh_files_are_named_for_what_is_wrong(tmp_path):
+    """A folder read as "file not found", an empty file as "need at least one array to
+    concatenate", and a NaN coordinate as the tip lying "off the mesh (x in [nan, nan])"
+    or an infinite one as "this looks like millimetres" (exploratory testing)."""
+    from fem.geometry import PlateStator
+    from fem.mesh import structured_mesh
+    from fem.mesh_io import write_mesh
+
+    (tmp_path / "adir").mkdir()
+    with pytest.raises(ValueError, match="is a folder, not a file"):
+        read_stator_mesh(tmp_path / "adir")
+    (tmp_path / "empty.msh").write_text("")
+    with pytest.raises(ValueError, match="empty.msh: it is empty"):
+        read_stator_mesh(tmp_path / "empty.msh")
+    good = write_mesh(structured_mesh(PlateStator(), 2), tmp_path / "p.msh")
+    text = good.read_text()
+    cut = tmp_path / "cut.msh"
+    cut.write_text(text[: len(text) // 2])
+    with pytest.raises(ValueError, match="could not read mesh file .*cut.msh"):
+        read_stator_mesh(cut)
+    for value in ("nan", "inf"):
+        lines = text.splitlines()
+        start = lines.index("$Nodes")
+        # the first coordinate line after the node tags of the first entity block
+        i = next(k for k in range(start + 3, len(lines)) if len(lines[k].split()) == 3
+                 and "." in lines[k])
+        x, y, z = lines[i].split()
+        lines[i] = f"{value} {y} {z}"
+        bad = tmp_path / f"{value}.msh"
+        bad.write_text("\n".join(lines) + "\n")
+        with pytest.raises(ValueError, match="non-finite coordinate"):
+            read_stator_mesh(bad)
