@@ -6,6 +6,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -165,3 +166,17 @@ def test_grid_values_carry_no_float_leftovers():
     assert list(parse_range("0:0.9:0.3", "--voltages")) == [0.0, 0.3, 0.6, 0.9]
     v = parse_range("-4.9:0:0.7", "--loads", allow_list=False)
     assert v[-1] == 0.0 and str(v[-1]) == "0.0"
+
+
+def test_a_range_with_a_tiny_step_stays_finite():
+    """0:1e-300:1e-303 rounded to 315 decimals: NumPy's overflow turned the values into NaN
+    (with its warnings printed) and the error blamed a NaN the user never typed."""
+    import warnings
+
+    from validation.ranges import parse_range
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        v = parse_range("0:1e-300:1e-303", "--voltages")
+    assert np.all(np.isfinite(v)) and v.size == 1001 and v[-1] == pytest.approx(1e-300)
+    assert np.all(np.diff(v) > 0)

@@ -55,7 +55,9 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
             n = int(math.floor(ratio + 1e-9)) + 1
             values = start + step * np.arange(n)
             # to 12 digits of the step: -0.3 + 3 x 0.1 is 0, not 5.6e-17, and 3 x 0.3 is 0.9
-            values = np.round(values, 12 - math.floor(math.log10(step))) + 0.0  # no -0
+            decimals = 12 - math.floor(math.log10(step))
+            if decimals <= 300:  # beyond, 10**decimals overflows and the values read NaN
+                values = np.round(values, decimals) + 0.0  # no -0
         else:
             values = np.array([float(v) for v in text.split(",")])
             if not np.all(np.isfinite(values)):
