@@ -118,6 +118,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
 
 
+def _ignore_further_ctrl_c() -> None:
+    """Ignore SIGINT from here to the process's exit. After "interrupted" only the clean-up
+    runs (closing explore's cluster at exit); a second Ctrl-C there printed two tracebacks
+    from ``threading._shutdown`` and the ``close_clusters`` exit hook."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _main(argv: Sequence[str] | None) -> int:
     if argv is None:  # a fresh `lusm` process: its start is mostly imports (numba, SciPy)
         from validation import fast_start
@@ -206,6 +215,8 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
             interrupts.checkpoint()  # a signal Python had to swallow still ends the command
     except (KeyboardInterrupt, interrupts.Terminated):
         _say(f"{prog}: interrupted")
+        if argv is None:  # a console-script process: its clean-up is all that is left
+            _ignore_further_ctrl_c()
         return 130
     except BrokenPipeError:  # the reader left (``lusm params | head``): stop quietly, as
         # the Python docs advise, so that flushing stdout at exit does not fail again
