@@ -298,6 +298,24 @@ class TooManyModesError(ValueError):
         self.f_cut_Hz, self.n_modes, self.max_modes = f_cut_Hz, n_modes, max_modes
 
 
+def check_mode_count(model, f_max_Hz: float, cutoff_factor: float = 6.0,
+                     max_modes: int | None = None) -> int | None:
+    """The modes of ``model`` below ``cutoff_factor * f_max_Hz`` (:func:`modes_below`, one
+    sparse factorization), or None when the count is not available.
+
+    Raises
+    ------
+    TooManyModesError
+        More than ``max_modes`` of them: before any eigensolve (``lusm admittance`` checks
+        it before the design's own modes are solved for its band).
+    """
+    f_cut = cutoff_factor * f_max_Hz
+    count = modes_below(model.K, model.M, f_cut)  # known before any eigensolve: bounded work
+    if count is not None and max_modes is not None and count > max_modes:
+        raise TooManyModesError(f_cut, count, int(max_modes))
+    return count
+
+
 def modes_below(K, M, f_Hz: float) -> int | None:
     """How many eigenvalues of ``K x = w^2 M x`` lie below ``(2 pi f_Hz)^2``, or None.
 
@@ -396,13 +414,11 @@ def modal_port(
     g, c0, electrodes, pol = _port_vectors(model, electrodes, polarity)
     K, M = model.K, model.M
     n = K.shape[0]
+    f_cut = cutoff_factor * f_max_Hz
+    count = check_mode_count(model, f_max_Hz, cutoff_factor, max_modes)
     sigma = -((2.0 * math.pi * 100.0) ** 2)
     lu = sla.splu((K - sigma * M).tocsc())
     opinv = sla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
-    f_cut = cutoff_factor * f_max_Hz
-    count = modes_below(K, M, f_cut)  # known before any eigensolve: bounded work
-    if count is not None and max_modes is not None and count > max_modes:
-        raise TooManyModesError(f_cut, count, int(max_modes))
     top = n - 2 if max_modes is None else min(n - 2, max(int(max_modes), 1))
     # one mode above the cut shows the band is complete; without a count, grow from 24
     k = min(count + 1, n - 2) if count is not None else min(24, top)

@@ -108,6 +108,13 @@ def run(args: argparse.Namespace) -> None:
               if choice.design is not None and choice.design.damping_origin
               else borrowed_damping("fem"))  # the plate's modes with Table 2's ratios
     try:
+        if args.f_max is not None:  # bounded before the design's modes are solved too
+            from fem.admittance import check_mode_count
+            from fem.model import plate_model
+
+            check_mode_count(plate_model(choice.stator, choice.material, args.order, refine),
+                             args.f_max,
+                             max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
         if args.f_min is None or args.f_max is None:  # centre the band on the design
             from fem.admittance import design_band_Hz
             from fem.modes import plate_modes
