@@ -161,6 +161,8 @@ def test_killed_worker_loses_nothing(study, reference, tmp_path):
 # --- bad study files ------------------------------------------------------------------------
 
 BAD = {
+    "study not a table": ('study = "x"\n', "study must be a table"),
+    "study name a number": ("[study]\nname = 3\n", "study.name must be a non-empty string"),
     "unknown axis": ("[axes]\ndiameter = '3 mm'\n", "axes.diameter"),
     "unit in the key": ("[axes]\nlength_mm = 30\n", "axes.length_mm"),
     "empty list": ("[axes]\nwidth = []\n", "axes.width"),
@@ -191,6 +193,13 @@ def test_bad_study_file_names_the_key(name, tmp_path):
         load_study(path)
     msg = str(info.value)
     assert key in msg and "\n" not in msg
+
+
+def test_a_study_file_that_is_not_text_is_named(tmp_path):
+    path = tmp_path / "bin.toml"
+    path.write_bytes(b"\xff\xfe\x00binary")
+    with pytest.raises(ValueError, match=r"bin\.toml: not UTF-8 text"):
+        load_study(path)
 
 
 @pytest.mark.parametrize("name", ["unknown axis", "unit-less number", "missing output"])

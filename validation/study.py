@@ -377,9 +377,14 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
         raise ValueError(f"{where}{unknown[0]} is not a study section; use study, axes, "
                          "outputs and solver")
     meta = doc.get("study", {})
-    if not isinstance(meta, dict) or sorted(set(meta) - {"name"}):
-        bad = sorted(set(meta) - {"name"}) if isinstance(meta, dict) else ["study"]
+    if not isinstance(meta, dict):  # `study = "x"` said "study.study is not a study key"
+        raise ValueError(f"{where}study must be a table ([study] with name = \"...\"), got "
+                         f"{meta!r}")
+    if sorted(set(meta) - {"name"}):
+        bad = sorted(set(meta) - {"name"})
         raise ValueError(f"{where}study.{bad[0]} is not a study key; use name")
+    if "name" in meta and not (isinstance(meta["name"], str) and meta["name"].strip()):
+        raise ValueError(f"{where}study.name must be a non-empty string, got {meta['name']!r}")
     name = str(meta.get("name", Path(source).stem if source != "<dict>" else "study"))
     raw_axes = doc.get("axes", {})
     if not isinstance(raw_axes, dict):
@@ -498,7 +503,11 @@ def load_study(path: str | Path) -> Study:
         If the file cannot be read.
     """
     path = Path(path)
-    text = path.read_text(encoding="utf-8-sig")
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError as exc:  # the message did not name the file
+        raise ValueError(f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason}); a study "
+                         "file is TOML") from None
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
