@@ -635,3 +635,18 @@ def test_a_ctrl_c_while_the_cluster_starts_is_not_lost(monkeypatch):
     finally:
         cluster.close()
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_a_workers_warning_is_said_once_by_the_client(tmp_path, capsys):
+    """A 1 mm gap on a 3 mm plate is outside the 2D model's validity: the warning printed on
+    the worker's stderr as a raw Python warning with its source line, once per geometry."""
+    from validation.cli import main
+
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["f_L1_short"]\n[axes]\ngap = "1 mm"\n'
+                     'length = ["29 mm", "30 mm"]\n[solver]\nfe_refine = 1\n')
+    assert main(["explore", str(study), "--out", str(tmp_path / "r.nc"), "--workers",
+                 "1"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("lusm explore: warning: electrode gap 1 mm exceeds") == 1, err
+    assert "GapValidityWarning" not in err

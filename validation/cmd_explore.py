@@ -70,6 +70,8 @@ def run(args: argparse.Namespace) -> None:
         result = explore(study, args.out, scheduler=args.scheduler,
                          scheduler_file=args.scheduler_file, workers=args.workers,
                          resume=args.resume, force=args.force, progress=not args.json)
+        for text in result.warnings:  # said once each, as every command says a warning
+            warn(text)
         _report_failures(open_result(result.path), result.path)
     except (KeyboardInterrupt, Terminated):
         from validation.explore import parts_folder

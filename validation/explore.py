@@ -130,6 +130,9 @@ class ExploreResult:
     part_write_time_s : float
         The client's time writing part files, all parts together (s).
     figures : list of str
+    warnings : list of str
+        The distinct warnings the computed tasks raised on their workers (the caller says
+        them; they printed on the workers' stderr as raw Python warnings with a source line).
     """
 
     path: Path
@@ -144,6 +147,7 @@ class ExploreResult:
     write_time_s: float = 0.0
     part_write_time_s: float = 0.0
     figures: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready summary."""
@@ -154,7 +158,8 @@ class ExploreResult:
                 "reused": self.reused, "workers": self.workers,
                 "wall_time_s": self.wall_time_s,
                 "task_time_mean_s": float(np.mean(t)) if t else None,
-                "result_bytes": self.result_bytes, "figures": self.figures}
+                "result_bytes": self.result_bytes, "figures": self.figures,
+                "warnings": self.warnings}
 
 
 # --- one geometry ---------------------------------------------------------------------------
@@ -224,12 +229,17 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
     A geometry whose FE solve or reduction fails gets NaN and its message in ``status``;
     a drive point whose run fails gets NaN and the motion class ``"failed"``.
     """
+    import warnings
+
     from threadpoolctl import threadpool_limits
 
     t0 = time.perf_counter()
-    with threadpool_limits(limits=1):
+    with threadpool_limits(limits=1), warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         out = _compute(study, index)
     out["task_time_s"] = np.array(time.perf_counter() - t0)
+    out["warnings"] = np.array(sorted({" ".join(str(w.message).split()) for w in caught}),
+                               dtype=str)
     out["code_sha256"] = np.array(code_digest())  # the client compares it with its own
     return out
 
@@ -332,7 +342,7 @@ def parts_folder(out: Path) -> Path:
     return out.with_name(out.name + PARTS_SUFFIX)
 
 
-TASK_EXTRAS = ("task_time_s", "code_sha256")
+TASK_EXTRAS = ("task_time_s", "code_sha256", "warnings")
 """What a task returns beside the geometry's outputs (not written into its part)."""
 
 
@@ -789,6 +799,8 @@ def explore(
                                 f"code ({str(data.get('code_sha256'))[:12]}, this client "
                                 f"{code_digest()[:12]}); install the same lusm everywhere")
                         result.task_times_s.append(float(data["task_time_s"]))
+                        result.warnings += [w for w in map(str, data.get("warnings", ()))
+                                            if w not in result.warnings]
                         result.result_bytes += len(pickle.dumps(data, protocol=5))
                         tw = time.perf_counter()
                         _write_part(folder, i, data)
