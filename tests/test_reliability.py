@@ -233,6 +233,10 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-thickness-zero", ["modes", "--thickness-mm", "0"], ["--thickness-mm"]),
     ("modes-width-nan", ["modes", "--width-mm", "nan"], ["--width-mm"]),
     ("modes-refine-100000", ["modes", "--refine", "100000"], ["--refine", "LUSM_MAX_WORK"]),
+    # the plate typed, --refine not: the message led with --refine
+    ("modes-elongated-default-mesh", ["modes", "--length-mm", "1000", "--width-mm", "1",
+                                      "--gap-mm", "0.1"],
+     ["--length-mm: the plate 1000 x 1 x 3 mm", "at the default mesh"]),
     ("modes-layers-100000", ["modes", "--model", "3d", "--layers", "100000"], ["--layers"]),
     ("modes-edge-grading-9", ["modes", "--model", "3d", "--edge-grading", "9"],
      ["--edge-grading", "[0, 6]"]),

@@ -461,6 +461,13 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
         from validation.summaries import plate_text
 
         shape = plate_text(stator)
+        dims_typed = [o for o in ("--length-mm", "--width-mm") if typed(o)]
+        if not typed(option) and dims_typed and not typed("--geometry"):
+            # the user gave the plate, not the mesh option: blame what they typed
+            raise LusmError(
+                f"{dims_typed[0]}: the {shape} needs {n} {what} at the default mesh, above "
+                f"the limit {top}; make the plate less elongated ({', '.join(dims_typed)}) "
+                f"or give a lower {option} ({limits.more_work_hint()})", dims_typed[0])
         names = [option] + [o for o, used in (("--refine", True), ("--layers", bool(layers)),
                                               ("--edge-grading", bool(edge_grading)))
                             if used and o != option]
