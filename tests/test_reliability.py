@@ -138,6 +138,9 @@ def files(tmp_path_factory) -> dict[str, str]:
     f["folder"] = str(d)
     f["missing"] = str(d / "missing.toml")
     f["export_exists"] = str(d / "a_file")
+    (d / "side").mkdir()
+    (d / "side" / "modes.h5").write_text("the user's")
+    f["xdmf_with_side_file"] = str(d / "side" / "modes.xdmf")
     f.update(_meshes(d))
     return f
 
@@ -234,6 +237,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-width-nan", ["modes", "--width-mm", "nan"], ["--width-mm"]),
     ("modes-refine-100000", ["modes", "--refine", "100000"], ["--refine", "LUSM_MAX_WORK"]),
     # the plate typed, --refine not: the message led with --refine
+    # an XDMF export's HDF5 side file in the way: it was refused only after the FE solve
+    ("modes-export-side-file", ["modes", "--export", "{xdmf_with_side_file}"],
+     ["--export", "side file", "already exists"]),
     ("modes-elongated-default-mesh", ["modes", "--length-mm", "1000", "--width-mm", "1",
                                       "--gap-mm", "0.1"],
      ["--length-mm: the plate 1000 x 1 x 3 mm", "at the default mesh"]),

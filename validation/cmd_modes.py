@@ -312,6 +312,11 @@ def _export_target(text: str, force: bool):
     if (path.exists() or path.is_symlink()) and not force:
         raise LusmError(f"--export {path} already exists; choose a new name or pass --force",
                         "--export")
+    side = path.with_suffix(".h5")  # meshio's XDMF writer puts the arrays beside it
+    if path.suffix.lower() == ".xdmf" and (side.exists() or side.is_symlink()) and not force:
+        # it was refused only after the FE solve
+        raise LusmError(f"--export {path}: its side file {side} already exists; choose a new "
+                        "name or pass --force", "--export")
     suffix = path.suffix.lower()
     if suffix not in EXPORT_SUFFIXES:
         import meshio
