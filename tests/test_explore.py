@@ -650,3 +650,18 @@ def test_a_workers_warning_is_said_once_by_the_client(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("lusm explore: warning: electrode gap 1 mm exceeds") == 1, err
     assert "GapValidityWarning" not in err
+
+
+def test_an_interrupt_before_any_geometry_leaves_no_folder_it_made(monkeypatch, tmp_path):
+    """`--out new1/sub/x.nc` interrupted while connecting left an empty new1/sub/."""
+    import validation.explore as ex
+
+    def interrupted(*_a, **_k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(ex, "connect", interrupted)
+    s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
+    (tmp_path / "mine").mkdir()
+    with pytest.raises(KeyboardInterrupt):
+        explore(s, tmp_path / "mine" / "new1" / "sub" / "x.nc", progress=False)
+    assert [p.name for p in tmp_path.rglob("*")] == ["mine"]

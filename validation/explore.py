@@ -415,17 +415,19 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
     return folder, done, created
 
 
-def _remove_parts(folder: Path, n: int) -> None:
-    """Remove the files this module wrote, then the folder if nothing else is in it."""
+def _remove_parts(folder: Path, n: int, made: list[Path] = ()) -> None:
+    """Remove the files this module wrote, then the folder if nothing else is in it, then
+    the folders ``made`` above it (deepest first) that are still empty."""
     for i in range(n):
         _part_path(folder, i).unlink(missing_ok=True)
     (folder / STUDY_FILE).unlink(missing_ok=True)
     for stray in folder.glob(".g*.npz-*"):  # torn temporaries of ours
         stray.unlink(missing_ok=True)
-    try:
-        folder.rmdir()
-    except OSError:
-        pass  # something of the user's is in it: left alone
+    for f in (folder, *made):
+        try:
+            f.rmdir()
+        except OSError:
+            break  # something of the user's is in it (or it is gone): left alone
 
 
 # --- the dataset ------------------------------------------------------------------------------
@@ -759,6 +761,9 @@ def explore(
     out = Path(out)
     check_out(out, force)
     t0 = time.perf_counter()
+    # folders above --out that this run makes: removed again, if still empty, when it stops
+    # before computing anything (an interrupted `--out new/sub/x.nc` left new/sub/ behind)
+    made = [p for p in Path(os.path.abspath(out)).parents if not p.exists()]
     folder, parts, created = _open_parts(study, out, resume)
     result = ExploreResult(out, study.n_geometries, study.n_drive_points, reused=len(parts))
     todo = [i for i in range(study.n_geometries) if i not in parts]
@@ -776,7 +781,7 @@ def explore(
                     if own is not None:
                         own[0].close()
                     if created:  # nothing was computed: leave no trace
-                        _remove_parts(folder, study.n_geometries)
+                        _remove_parts(folder, study.n_geometries, made)
                     raise
             try:
                 result.workers = len(client.scheduler_info()["workers"])
@@ -818,7 +823,7 @@ def explore(
                         f.cancel()
             except BaseException:
                 if created and result.computed == 0:  # nothing was computed: leave no trace
-                    _remove_parts(folder, study.n_geometries)
+                    _remove_parts(folder, study.n_geometries, made)
                 raise
             finally:
                 if own is not None:
