@@ -665,3 +665,12 @@ def test_an_interrupt_before_any_geometry_leaves_no_folder_it_made(monkeypatch, 
     with pytest.raises(KeyboardInterrupt):
         explore(s, tmp_path / "mine" / "new1" / "sub" / "x.nc", progress=False)
     assert [p.name for p in tmp_path.rglob("*")] == ["mine"]
+
+
+def test_an_fe_only_dataset_carries_no_drive_coordinates():
+    """An FE-only study's dataset had voltage, preload and load coordinates and a
+    motor_solver attribute, though no contact model ran."""
+    s = study_from_dict({"outputs": ["f_L1_short", "split"], "solver": {"fe_refine": 1}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    assert not {"voltage", "preload", "load", "frequency"} & set(ds.coords)
+    assert "motor_solver" not in ds.attrs

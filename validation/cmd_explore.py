@@ -107,9 +107,11 @@ def run(args: argparse.Namespace) -> None:
     if args.json:
         print_json(summary, indent=2)
         return
-    print(f"study {study.name!r}: {result.geometries} geometries x {result.drive_points} drive "
-          f"points; {result.computed} computed on {result.workers} workers, {result.reused} "
-          f"from an earlier run; {result.wall_time_s:.3g} s")
+    drive = (f" x {result.drive_points} drive points" if study.needs_motor
+             else " (FE outputs only)")
+    print(f"study {study.name!r}: {result.geometries} geometries{drive}; {result.computed} "
+          f"computed on {result.workers} workers, {result.reused} from an earlier run; "
+          f"{result.wall_time_s:.3g} s")
     print(f"wrote {result.path}")
     for f in result.figures:
         print(f"wrote {f}")

@@ -234,8 +234,9 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
     from threadpoolctl import threadpool_limits
 
     t0 = time.perf_counter()
+    # the filters stay the worker's own ("always" recorded ResourceWarnings too, whose
+    # sources a record keeps alive: a semaphore then leaked at the interrupted shutdown)
     with threadpool_limits(limits=1), warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
         out = _compute(study, index)
     out["task_time_s"] = np.array(time.perf_counter() - t0)
     out["warnings"] = np.array(sorted({" ".join(str(w.message).split()) for w in caught}),
@@ -465,6 +466,8 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
     for a in GEOMETRY_AXES + DRIVE_AXES:
         if a not in gdims + list(study.drive_dims) and a != "frequency":
             continue
+        if a in DRIVE_AXES and not study.needs_motor:  # an FE-only study drives nothing
+            continue
         if a == "frequency" and study.auto_frequency:
             continue
         if a == "material":
@@ -524,6 +527,10 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
                     "that is not Table 2's, contact.model.default_coupling; docs/contact.md "
                     "2.3.1)",
     }
+    if not study.needs_motor:  # FE outputs only: no contact model ran
+        for k in ("motor_solver", "frequency_rule", "coupling"):
+            del attrs[k]
+        attrs["parameter_set_source"] = "none: FE outputs only"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
