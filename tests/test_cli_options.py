@@ -180,3 +180,49 @@ def test_a_range_with_a_tiny_step_stays_finite():
         v = parse_range("0:1e-300:1e-303", "--voltages")
     assert np.all(np.isfinite(v)) and v.size == 1001 and v[-1] == pytest.approx(1e-300)
     assert np.all(np.diff(v) > 0)
+
+
+def test_the_default_step_divides_the_drive_period(capsys):
+    """At --frequency auto (39 810.5 Hz on Table 2) the default 1e-7 s step cut the
+    averaging windows mid-period: a held slider (130 V / 14 N, inside the dead zone) read
+    1.4e-9 m/s, "not settled", at every --duration. The default step now divides the period
+    (1e-7 s itself at 40 kHz, bit for bit), and the held slider reads zero to roundoff."""
+    import json
+    import math
+
+    from validation.options import DEFAULT_DT_S, time_step_s
+
+    assert time_step_s(None, 40e3) == DEFAULT_DT_S and time_step_s(2e-7, 39e3) == 2e-7
+    for f in (39810.5, 35254.0, 47700.6, 1234.5):
+        dt = time_step_s(None, f)
+        n = (1.0 / f) / dt
+        assert dt <= DEFAULT_DT_S and abs(n - round(n)) < 1e-9 and math.ceil(
+            (1.0 / f) / DEFAULT_DT_S - 1e-9) == round(n)
+    assert main(["simulate", "--voltage", "130", "--preload", "14", "--frequency", "auto",
+                 "--duration", "0.1", "--json"]) == 0
+    out = capsys.readouterr()
+    doc = json.loads(out.out)
+    assert doc["settled"] is True and abs(doc["steady_velocity_m_s"]) < 1e-12, out.err
+    assert "not settled" not in out.err
+
+
+def test_the_default_frequency_far_from_a_sets_modes_is_said(capsys):
+    """The FE set's modes lie near 55 kHz: at the default 40 kHz its free tip ellipse is
+    0.14 of the one at its own operating point (contact.drive.auto_frequency), and a stator
+    file at 47.7 kHz gave 0.3 % of its no-load speed there, without a word. Table 2 at
+    40 kHz (its own point is 39.8 kHz) and a typed frequency stay silent."""
+    from contact.drive import auto_frequency, free_tip_amplitudes
+    from rom.sources import get_params
+    from validation.options import WEAK_DRIVE_SHARE
+
+    p = get_params("fem")
+    a0, b0 = free_tip_amplitudes(p, auto_frequency(p))
+    a, b = free_tip_amplitudes(p, 40e3)
+    assert a * b < WEAK_DRIVE_SHARE * a0 * b0
+    argv = ["simulate", "--voltage", "200", "--preload", "14", "--steady", "--json"]
+    assert main(argv + ["--source", "fem"]) == 0
+    assert "--frequency: the default 40000 Hz is far from this set's modes" in \
+        capsys.readouterr().err
+    for extra in ([], ["--source", "fem", "--frequency", "40000"]):
+        assert main(argv + extra) == 0
+        assert "far from this set's modes" not in capsys.readouterr().err

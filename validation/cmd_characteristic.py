@@ -20,6 +20,7 @@ from validation.options import (
     parse_frequency,
     print_json,
     warn,
+    warn_default_frequency,
     warn_drive,
 )
 
@@ -74,6 +75,7 @@ def run(args: argparse.Namespace) -> None:
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
+    warn_default_frequency(params, freq)
     check_steady_work(len(voltages) * (len(loads) if loads else 21), params, freq, coupling,
                       "loads x voltages", "--loads" if loads else "--frequency")
 

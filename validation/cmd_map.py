@@ -23,6 +23,7 @@ from validation.options import (
     parse_frequency,
     print_json,
     warn,
+    warn_default_frequency,
     warn_drive,
     warn_unused,
 )
@@ -68,6 +69,9 @@ def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
 
 
 def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> None:
+    from validation.options import time_step_s
+
+    args.dt = time_step_s(args.dt, frequency_Hz)  # a whole number of steps per period
     if args.method == "transient":
         check_run_size(args.duration, args.dt, frequency_Hz, runs=volts.size * loads.size)
     else:
@@ -100,6 +104,7 @@ def run(args: argparse.Namespace) -> None:
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
+    warn_default_frequency(params, freq)
     if known is None:
         _check_size(args, volts, loads, freq)
     if args.method == "steady":  # a point's cost grows as the drive frequency falls

@@ -20,7 +20,9 @@ from validation.options import (
     parse_frequency,
     print_json,
     real,
+    time_step_s,
     warn,
+    warn_default_frequency,
     warn_drive,
     warn_unused,
 )
@@ -65,11 +67,15 @@ def run(args: argparse.Namespace) -> None:
     for v in voltages:
         warn_drive(v, args.preload, load_N=args.load_N)
     known = known_frequency(args.frequency)  # 'auto' needs the parameter set first
+    typed_dt = args.dt
     if known is not None and not args.steady:  # --steady uses neither --duration nor --dt
+        args.dt = time_step_s(typed_dt, known)
         check_run_size(args.duration, args.dt, known)
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
+    warn_default_frequency(params, freq)
+    args.dt = time_step_s(typed_dt, freq)
     if known is None and not args.steady:  # a number was checked above
         check_run_size(args.duration, args.dt, freq)
 

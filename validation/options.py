@@ -653,8 +653,9 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
     g.add_argument("--duration", default=0.05,
                    type=real("--duration", "s", *limits.DURATION_S, lo_open=True),
                    help="simulated time (s)")
-    g.add_argument("--dt", default=1e-7, type=real("--dt", "s", 0.0, 1e-3, lo_open=True),
-                   help="time step (s), <= 1/(20 f)")
+    g.add_argument("--dt", default=None, type=real("--dt", "s", 0.0, 1e-3, lo_open=True),
+                   help="time step (s), <= 1/(20 f); default 1e-7 s, or just below it so "
+                        "that a drive period is a whole number of steps")
 
 
 def parse_frequency(text: str | float, params=None) -> float:
@@ -697,6 +698,23 @@ def warn_drive(voltage_V: float | None, preload_N: float | None, *,
     if preload_N is not None and preload_N > limits.PRELOAD_WARN_N:
         warn(f"{preload_option} {preload_N:g} N is above {limits.PRELOAD_WARN_N:g} N: the "
              "contact stiffness and friction constants were not validated there")
+
+
+DEFAULT_DT_S = 1e-7
+"""The transients' default time step (s): 250 steps per period at 40 kHz."""
+
+
+def time_step_s(dt_s: float | None, frequency_Hz: float) -> float:
+    """``--dt`` as typed, or by default the largest step up to :data:`DEFAULT_DT_S` that
+    makes the drive period a whole number of steps (s), and 1e-7 s itself where it does
+    (40 kHz: 250 steps, bit for bit the former default). A step that does not divide the
+    period cut the averaging windows mid-period: off 40 kHz a held slider's window means
+    read +-1e-9 m/s and `lusm simulate` said "not settled" at every --duration."""
+    if dt_s is not None:
+        return float(dt_s)
+    period = 1.0 / float(frequency_Hz)
+    n = math.ceil(period / DEFAULT_DT_S * (1.0 - 1e-12))
+    return DEFAULT_DT_S if abs(n * DEFAULT_DT_S - period) <= 1e-12 * period else period / n
 
 
 def check_steps(duration_s: float, dt_s: float) -> float:
@@ -863,6 +881,32 @@ def set_typed(argv: Sequence[str]) -> None:
 def typed(option: str) -> bool:
     """Whether the user typed ``option`` on the command line."""
     return option in _TYPED
+
+
+WEAK_DRIVE_SHARE = 0.5
+"""Share of its own operating point's free tip ellipse (area, :func:`contact.drive.
+auto_frequency`) below which the default drive frequency is said to miss a set's modes."""
+
+
+def warn_default_frequency(params, frequency_Hz: float) -> None:
+    """Warn when ``--frequency`` was left at its default and the set's free tip ellipse
+    there is below :data:`WEAK_DRIVE_SHARE` of the one at its own operating point: a stator
+    file with modes at 47.7 kHz gave a stall force of 0.26 N and a no-load speed of 5.7e-5
+    m/s at the default 40 kHz, without a word, where `--frequency auto` gives 1.40 N and
+    0.041 m/s. A frequency the user typed is theirs."""
+    if typed("--frequency"):
+        return
+    from contact.drive import auto_frequency, free_tip_amplitudes
+
+    best = auto_frequency(params)
+    a0, b0 = free_tip_amplitudes(params, best)
+    a, b = free_tip_amplitudes(params, frequency_Hz)
+    share = float(a * b) / float(a0 * b0) if a0 * b0 > 0 else 1.0
+    if share < WEAK_DRIVE_SHARE:
+        warn(f"--frequency: the default {frequency_Hz:g} Hz is far from this set's modes (L1 "
+             f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the free tip ellipse "
+             f"there is {share:.2g} of the one at its own operating point, {best:.0f} Hz; "
+             f"--frequency auto drives it there")
 
 
 def warn_unused(options: Sequence[str], why: str) -> None:
