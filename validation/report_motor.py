@@ -137,7 +137,11 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
           "Speed-thrust and efficiency at "
           + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
           + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic --accuracy fast`: "
-          "averaged level, slider mass -> infinity, relative error ~1e-3); settled "
+          "averaged level, slider mass -> infinity; the moving speeds within about 1e-3 of "
+          "the finite-mass motor, but not the stall force: past the averaged stall force the "
+          "full model's slider still creeps forward, and its stall force, `lusm "
+          "characteristic` at its default exact level, can lie tens of per cent higher, "
+          "Table 2 at 400 V: 1.735 N averaged, 2.16 N exact; docs/steady.md); settled "
           "stick-slip maps over "
           f"{volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: exact "
           "level, the branch reached from rest). Efficiency is the mechanical output power "
