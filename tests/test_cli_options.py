@@ -226,3 +226,21 @@ def test_the_default_frequency_far_from_a_sets_modes_is_said(capsys):
     for extra in ([], ["--source", "fem", "--frequency", "40000"]):
         assert main(argv + extra) == 0
         assert "far from this set's modes" not in capsys.readouterr().err
+
+
+def test_a_drive_that_excites_no_b2_is_said(tmp_path, capsys):
+    """Four electrodes in phase drive L1 only (B2 is antisymmetric across the width): A_b
+    came out 1.6e-15 N/V and simulate, characteristic and --frequency auto went on without a
+    word. The diagonal pair of the paper stays silent."""
+    import json
+
+    path = tmp_path / "all4.toml"
+    path.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+                    "[electrodes]\ngap_mm = 0.5\ndrive = [1, 2, 3, 4]\n")
+    assert main(["params", "--source", "fem", "--geometry", str(path), "--json"]) == 0
+    out = capsys.readouterr()
+    p = json.loads(out.out)
+    assert abs(p["A_b"]) < 1e-9 * abs(p["A_l"])
+    assert "electrodes 1, 2, 3, 4 excites no B2" in out.err
+    assert main(["params", "--source", "fem", "--json"]) == 0
+    assert "excites no" not in capsys.readouterr().err
