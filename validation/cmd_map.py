@@ -146,7 +146,8 @@ def run(args: argparse.Namespace) -> None:
         return
     short = {"slip-separation": "o", "stick-slip": "*", "stick-slip-separation": "S",
              "pure-stick": "#", "pure-slip": "-", "separated": "."}
-    print("V0 \\ F_P " + " ".join(f"{f:>5g}" for f in m.preloads_N))
+    print("V0 (V) \\ F_P (N)")
+    print(f"{'':>8}  " + " ".join(f"{f:>5g}" for f in m.preloads_N))
     for i, v in enumerate(m.voltages_V):
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))

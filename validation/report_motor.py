@@ -191,7 +191,8 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         md += [f"### {name} at {d['frequency_Hz'] / 1e3:.4g} kHz", "",
                f"The {damping_line(params[name], origins[name])}; the "
                f"{coupling_line(d['coupling'], d['coupling_from'])}.", "",
-               f"Map: {mp['counts']}; {mp['several_branches']} point(s) with several stable "
+               "Map: " + ", ".join(f"{n} {c}" for c, n in mp["counts"].items() if n)
+               + f" point(s); {mp['several_branches']} point(s) with several stable "
                f"steady states (the map shows the one reached from rest); {mp['undecided']} "
                "point(s) the engine could not decide (creep), taken from 0.3 s transients; "
                f"{mp['wall_time_s']:.1f} s.", "",
