@@ -422,3 +422,19 @@ def test_a_tip_on_a_node_of_b2_names_the_point(tmp_path):
     with pytest.raises(ValueError, match=r"B2 mode's x displacement vanishes at the tip point "
                                          r"\(0, 15\) mm .*\[points\] tip_mm"):
         fem_params_from_file(path, refine=2)
+
+
+def test_the_gap_validity_warning_is_in_the_files_terms(tmp_path, capsys):
+    """A stator file's gap above thickness/6 was warned about as "electrode gap 0.8 mm
+    exceeds thickness/6", while the file's keys are [electrodes] gap_mm and [plate]
+    thickness_mm; the plate options keep the library's words."""
+    from validation.cli import main
+
+    path = tmp_path / "wg.toml"
+    path.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 1.5\n"
+                    "[electrodes]\ngap_mm = 0.8\n")
+    assert main(["modes", "--geometry", str(path), "--json"]) == 0
+    err = capsys.readouterr().err
+    assert "[electrodes] gap_mm" in err and "[plate] thickness_mm / 6 = 0.25 mm" in err
+    assert main(["modes", "--gap-mm", "0.8", "--thickness-mm", "1.5", "--json"]) == 0
+    assert "electrode gap 0.8 mm exceeds thickness/6" in capsys.readouterr().err

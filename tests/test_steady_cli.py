@@ -249,3 +249,16 @@ def test_an_unsettled_transient_says_so(capsys):
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--json"]) == 0
     cap = capsys.readouterr()
     assert json.loads(cap.out)["settled"] is True and "warning" not in cap.err
+
+
+def test_a_nan_efficiency_is_explained(capsys):
+    """A load that assists the motion (-0.2 N) has negative output power and efficiency
+    NaN (contact.steady.motor_efficiency); the table printed 'nan' without a word."""
+    from validation.cli import main
+
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
+                 "-0.2:0.2:0.2", "--accuracy", "fast"]) == 0
+    out = capsys.readouterr().out
+    row = next(ln for ln in out.splitlines() if ln.strip().startswith("-0.2"))
+    assert float(row.split()[3]) < 0 and row.split()[4] == "nan"
+    assert "eff. nan: negative mechanical output" in out

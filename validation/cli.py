@@ -192,7 +192,9 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
     seen: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
-        text = _one_line(str(message))
+        from validation.options import in_file_terms
+
+        text = in_file_terms(_one_line(str(message)))
         if text not in seen:
             seen.add(text)
             _say(f"{prog}: warning: {text}")

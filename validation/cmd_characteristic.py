@@ -133,6 +133,10 @@ def run(args: argparse.Namespace) -> None:
             print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} "
                   f"{row['input_power_W']:11.4g} {row['output_power_W']:11.4g} "
                   f"{row['efficiency']:8.4g}")
+        if any(math.isnan(r["efficiency"]) and not math.isnan(r["velocity_m_s"])
+               for r in d["curve"]):
+            print("eff. nan: negative mechanical output there (P_out < 0: the load assists "
+                  "the motion, or the slider runs backward against it)")
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
 

@@ -943,4 +943,19 @@ def set_command(name: str) -> None:
 
 def warn(message: str) -> None:
     """One warning line on stderr: ``lusm <cmd>: warning: ...``."""
-    print(f"{_COMMAND[0]}: warning: {message}", file=sys.stderr)
+    print(f"{_COMMAND[0]}: warning: {in_file_terms(message)}", file=sys.stderr)
+
+
+def in_file_terms(message: str) -> str:
+    """A library warning in a stator file's terms when the user gave ``--geometry``: the 2D
+    model's gap-validity warning spoke of "electrode gap 0.8 mm exceeds thickness/6" where
+    the file's keys are ``[electrodes] gap_mm`` (or its mesh's gap strips) and
+    ``[plate] thickness_mm``."""
+    if not typed("--geometry"):
+        return message
+    import re
+
+    return re.sub(r"^electrode gap (\S+) mm exceeds thickness/6 = (\S+) mm",
+                  r"the stator file's electrode gap (\1 mm: [electrodes] gap_mm, or its "
+                  r"mesh's gap strips) exceeds its [plate] thickness_mm / 6 = \2 mm",
+                  message)
