@@ -236,7 +236,10 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         try:
             params = identify_damping(params, design.damping_identify_Hz).params
         except ValueError as exc:
-            raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {exc}") from None
+            text = str(exc).replace("identify at a drive frequency nearer to it",
+                                    "set the file's damping.frequency_Hz nearer to it")
+            raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {text}") \
+                from None
         damping = f"damping {design.damping_origin}"
     mesh = f", mesh {design.mesh_path}" if design.mesh_path is not None else ""
     return replace(params, source=f"stator file {path} ({design.name}{mesh}; {damping}): "
