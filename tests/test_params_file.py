@@ -80,6 +80,11 @@ def test_an_edit_of_a_stored_field_carries_its_derived_keys_along(tmp_path, caps
 
     ref = simulate(table2().with_(C_l=100.0), 200, 14, 40e3, method="steady")
     assert v_file == ref.steady.velocity_m_s
+    # the source line says the set was edited (it still described the set before the edit)
+    from validation.options import params_from_file
+
+    assert params_from_file(str(path)).source.endswith(
+        f"[edited in {path}: zeta_L1 {table2().with_(C_l=100.0).zeta_L1:.4g}]")
 
 
 def test_a_bad_value_names_the_files_key(tmp_path, capsys):

@@ -170,7 +170,7 @@ def coupling_of(args: argparse.Namespace, params) -> tuple[str, str]:
     from rom.table2 import table2
 
     coupling, why = default_coupling(params)
-    if coupling != "paper" and params.source == table2().source:
+    if coupling != "paper" and params.source.split(" [edited in ")[0] == table2().source:
         # an edited copy of Table 2 (a --params file): the rule switches the coupling, which
         # alone changes the speed several-fold; say so rather than let it pass for the edit
         warn("this set is an edited copy of Table 2's (its source is still Table 2's), so "
@@ -208,12 +208,19 @@ def params_from_file(path_text: str):
         raise LusmError(f"--params {path_text}: {text}", "--params") from None
     # the derived keys follow the stored fields: an edit of C_l leaves a stale zeta_L1, which
     # was refused although the help says to edit C_l; recomputed, and said so
+    edited = []
     for key in derived:
         got, want = data.get(key), getattr(params, key)
         if isinstance(got, (int, float)) and not math.isclose(float(got), want, rel_tol=1e-9):
             warn(f"--params {path_text}: {key} = {got:.6g} in the file is derived; recomputed "
                  f"from the stored fields as {want:.6g} (to change it, edit "
                  f"{_SOURCES_OF[key]})")
+            edited.append(f"{key} {want:.4g}")
+    if edited:  # the source text still described the set before the edit ("damping 0.01")
+        from dataclasses import replace
+
+        params = replace(params, source=f"{params.source} [edited in {path_text}: "
+                                        f"{', '.join(edited)}]")
     _check_params_ranges(params, path_text)
     return params
 
