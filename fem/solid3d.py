@@ -321,18 +321,25 @@ def hex_grid_lines(stator: PlateStator, refine: int, layers: int, edge_grading: 
     caller bound the work before building anything.
     """
     x, y = grid_lines_m(stator, refine)
-    h = stator.thickness_m
-    z = np.linspace(-h / 2, h / 2, layers + 1)
     g = stator.electrode_gap_m
     if edge_grading > 0 and g > 0.0:
         half = stator.length_m / 2
         x = _graded_lines(x, [-g / 2, g / 2], g, edge_grading)
         y = _graded_lines(y, [half - g / 2, half + g / 2], g, edge_grading)
-        # the singular edges lie on the top face: grade the layers towards it the same way
-        depth = _graded_lines(np.array([0.0, h]), [0.0], g, edge_grading)
+    return x, y, _layer_levels(stator.thickness_m, layers, g, edge_grading)
+
+
+def _layer_levels(h: float, layers: int, gap_m: float, edge_grading: int) -> np.ndarray:
+    """``layers`` equal layers through ``-h/2 <= z <= h/2`` (m), plus, with
+    ``edge_grading > 0`` and a gap, :func:`_graded_lines`' levels below the top face: the
+    singular electrode edges lie on it, and the layers are graded towards it the way the
+    in-plane lines are towards the edges."""
+    z = np.linspace(-h / 2, h / 2, layers + 1)
+    if edge_grading > 0 and gap_m > 0.0:
+        depth = _graded_lines(np.array([0.0, h]), [0.0], gap_m, edge_grading)
         z = np.unique(np.concatenate((z, h / 2 - depth[depth < h])))
         z = z[np.concatenate(([True], np.diff(z) > 1e-9 * h))]
-    return x, y, z
+    return z
 
 
 def gap_element_ratio(stator: PlateStator, refine: int, layers: int,
@@ -349,7 +356,7 @@ def gap_element_ratio(stator: PlateStator, refine: int, layers: int,
     ``inf`` for a plate without a gap."""
     planform = planform_mesh(stator)
     if planform is not None:
-        return _planform_gap_ratio(planform, stator.thickness_m, layers, edge_grading)
+        return max(planform_gap_ratios(planform, stator.thickness_m, layers, edge_grading))
     g = stator.electrode_gap_m
     if g <= 0.0:
         return math.inf
@@ -370,14 +377,12 @@ def planform_gap_m(planform: PlateMesh) -> float:
     """The narrower positive gap strip of a quadrant mesh (m); 0 if the electrodes touch."""
     from fem.model import gap_layout
 
-    lay = gap_layout(planform)
-    gaps = [g for g in (lay.gap_x_m, lay.gap_y_m) if g > 0.0]
+    return _narrower_gap_m(gap_layout(planform))
+
+
+def _narrower_gap_m(layout) -> float:
+    gaps = [g for g in (layout.gap_x_m, layout.gap_y_m) if g > 0.0]
     return min(gaps) if gaps else 0.0
-
-
-def _planform_gap_ratio(planform: PlateMesh, thickness_m: float, layers: int,
-                        edge_grading: int) -> float:
-    return max(planform_gap_ratios(planform, thickness_m, layers, edge_grading))
 
 
 def planform_gap_ratios(planform: PlateMesh, thickness_m: float, layers: int,
@@ -388,10 +393,10 @@ def planform_gap_ratios(planform: PlateMesh, thickness_m: float, layers: int,
     file's (or gmsh's) to refine, the second ``edge_grading``'s."""
     from fem.model import gap_layout
 
-    g = planform_gap_m(planform)
+    lay = gap_layout(planform)
+    g = _narrower_gap_m(lay)
     if g <= 0.0:
         return math.inf, math.inf
-    lay = gap_layout(planform)
     p = planform.points_m
     tol = 1e-9 * float(np.ptp(p[0]) + np.ptp(p[1]))
     quads = planform.quads
@@ -407,7 +412,8 @@ def planform_gap_ratios(planform: PlateMesh, thickness_m: float, layers: int,
         sel = touches & electroded
         if np.any(sel):
             widths.append(float(np.max(np.ptp(coord[:, sel], axis=0))))
-    z = planform_layer_lines(planform, thickness_m, layers, edge_grading)
+    z = _layer_levels(float(thickness_m), _check_int("layers", layers), g,
+                      _check_int("edge_grading", edge_grading, 0))
     return max(widths) / g, float(z[-1] - z[-2]) / g
 
 
@@ -422,14 +428,8 @@ def planform_layer_lines(planform: PlateMesh, thickness_m: float, layers: int,
     halved, 0.093 with one level of graded layers; 2D 0.101)."""
     layers = _check_int("layers", layers)
     edge_grading = _check_int("edge_grading", edge_grading, 0)
-    h = float(thickness_m)
-    z = np.linspace(-h / 2, h / 2, layers + 1)
     g = planform_gap_m(planform) if edge_grading > 0 else 0.0
-    if g > 0.0:
-        depth = _graded_lines(np.array([0.0, h]), [0.0], g, edge_grading)
-        z = np.unique(np.concatenate((z, h / 2 - depth[depth < h])))
-        z = z[np.concatenate(([True], np.diff(z) > 1e-9 * h))]
-    return z
+    return _layer_levels(float(thickness_m), layers, g, edge_grading)
 
 
 def _hex_mesh(stator: PlateStator, refine: int, layers: int, edge_grading: int = 0):
