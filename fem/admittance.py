@@ -74,6 +74,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse.linalg as sla
@@ -225,7 +226,7 @@ class AdmittanceResult:
         resonance pair found on the grid belongs to although they have one at this damping:
         the grid is too coarse for them (a 5 kHz step over 1 Hz-10 MHz listed neither).
         Modes whose damping leaves no peak on any grid are :meth:`peakless_modes`."""
-        return [(name, f) for name, f, peak in self._missed() if peak]
+        return [(name, f) for name, f, peak in self._missed if peak]
 
     def peakless_modes(self) -> list[tuple[str, float]]:
         """``(name, f_short_Hz)`` of the identified modes inside the band that the port
@@ -233,14 +234,16 @@ class AdmittanceResult:
         is too weak for it (roughly ``k_r^2`` below ``zeta``; one quadrant of the paper's
         plate with Table 2's damping: B2 ``k_r^2`` 0.0056 against ``zeta`` 0.071). A finer
         grid cannot find them; lighter damping can."""
-        return [(name, f) for name, f, peak in self._missed() if not peak]
+        return [(name, f) for name, f, peak in self._missed if not peak]
 
+    @cached_property
     def _missed(self) -> list[tuple[str, float, bool]]:
         """Identified, driven modes in the band without a pair on the grid, each with
         whether a pair of theirs exists at all: the pairs on a local grid across ten
         half-power bandwidths each side of the mode and its antiresonance, 100 points per
         bandwidth (4 001 to 20 001 points; where the cap binds the coupling far exceeds the
-        damping and the peak is the grid's to find), searched as on the user's grid."""
+        damping and the peak is the grid's to find), searched as on the user's grid. Kept:
+        the command and the report ask for both lists, and the no-pair line again."""
         seen = "+".join(q.mode for q in self.pairs)
         lo, hi = float(self.f_Hz[0]), float(self.f_Hz[-1])
         port = self.port
