@@ -81,37 +81,38 @@ def test_the_checks_see_the_imports():
     assert "rom.params" in found and "fem.model" in found  # rom.from_fem builds on fem
 
 
+def _exits_clean(code: str) -> None:
+    """Run ``code`` in a fresh interpreter (imports counted from zero); it exits 0 when its
+    check holds, and prints what it found otherwise."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 0, out.stdout + out.stderr
+
+
 def test_the_default_frequency_check_imports_no_optimizer():
     """`lusm simulate` at the default 40 kHz checks how far that is from the set's modes
     (validation.options.warn_default_frequency); asking contact.drive.auto_frequency for it
     imported scipy.optimize (0.36 s) into every default run. On Table 2's set, whose own
     point is 39.8 kHz, the grid's best decides without the optimizer."""
-    import subprocess
-    import sys
-
     code = (
         "import sys, validation.options as o; from rom import table2;"
         "o.warn_default_frequency(table2(), 40e3);"
         "sys.exit(1 if 'scipy.optimize' in sys.modules else 0)"
     )
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
-                         text=True, timeout=120)
-    assert out.returncode == 0, out.stdout + out.stderr
+    _exits_clean(code)
 
 
 def test_the_contact_hot_path_imports_no_scipy_solvers():
     """``lusm simulate``'s import path (event kernel, window, results, Table 2) loads no SciPy
     solver module: the propagators are NumPy (``contact.expm``); ``solve_ivp`` and
     ``minimize_scalar`` are imported only by the reference scheme and ``--frequency auto``."""
-    import subprocess
-    import sys
-
     code = (
         "import sys, contact.simulate, rom.table2, rom.sources;"
         "bad=sorted(m for m in sys.modules if m.startswith(('scipy.linalg', 'scipy.integrate',"
         " 'scipy.optimize', 'scipy.sparse')));"
         "print(bad); sys.exit(1 if bad else 0)"
     )
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
-                         text=True, timeout=120)
-    assert out.returncode == 0, out.stdout + out.stderr
+    _exits_clean(code)
