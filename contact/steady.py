@@ -791,22 +791,20 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
 
     The slow reference of :func:`steady_state`: the event scheme of
     :func:`contact.simulate.simulate` run with the load in the operating point, at the
-    step ``dt_s`` (s). By default, the step of :class:`contact.simulate.SimulationOptions`
-    (1e-7 s) rounded to a whole number of steps per drive period (250 at 40 kHz, where it is
-    that step). A window of whole periods then starts at the orbit's own phase. With
-    283.66 steps per period (35 254 Hz) it cut up to half a step off the window, and the
-    slider's ripple biased the mean by 3e-6 (1.6e-5 at a creep under a load, found at
-    44 066 Hz).
+    step ``dt_s`` (s). By default, :func:`contact.window.period_step_s` of the step of
+    :class:`contact.simulate.SimulationOptions` (1e-7 s): the largest step up to it that
+    makes the drive period a whole number of steps (250 at 40 kHz, where it is that step),
+    the rule of the CLI's default ``--dt``. A window of whole periods then starts at the
+    orbit's own phase. With 283.66 steps per period (35 254 Hz) it cut up to half a step off
+    the window, and the slider's ripple biased the mean by 3e-6 (1.6e-5 at a creep under a
+    load, found at 44 066 Hz).
     """
     from contact.simulate import SimulationOptions, normal_amplitude, solve_event
-    from contact.window import run_window
+    from contact.window import period_step_s, run_window
 
     op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
     if dt_s is None:
-        dt_s = SimulationOptions().dt_s
-        per_period = op.period_s / dt_s
-        if abs(per_period - round(per_period)) > 1e-9 * per_period:  # 40 kHz keeps 1e-7 s
-            dt_s = op.period_s / max(20, round(per_period))
+        dt_s = period_step_s(op.period_s, SimulationOptions().dt_s)
     step = {"dt_s": float(dt_s)}
     opts = SimulationOptions(duration_s=duration_s, steady_periods=steady_periods,
                              coupling=coupling, ultrasonic_friction=ultrasonic_friction, **step)

@@ -2,12 +2,34 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from contact.model import OperatingPoint
 
 MIN_PERIODS = 10
 """Shortest run accepted, in drive periods."""
+
+MIN_STEPS_PER_PERIOD = 20
+"""Fewest fixed steps per drive period accepted (:func:`check_time_step`)."""
+
+
+def period_step_s(period_s: float, nominal_dt_s: float) -> float:
+    """The largest step up to ``nominal_dt_s`` (s) that makes the drive period ``period_s``
+    (s) a whole number of steps, at least :data:`MIN_STEPS_PER_PERIOD` of them.
+
+    ``nominal_dt_s`` itself where it divides the period (40 kHz at 1e-7 s: 250 steps, bit for
+    bit). A step that does not divide the period cuts the averaging windows mid-period, and
+    the slider's ripple then biases their means (3e-6 at 35 254 Hz; a held slider read
+    +-1e-9 m/s and never "settled"). Rounding up, never down, keeps the step at or below the
+    nominal one; the floor of 20 steps keeps a default step inside :func:`check_time_step`'s
+    range at drive frequencies above 1/(20 ``nominal_dt_s``) (500 kHz at 1e-7 s), where the
+    default had been refused as if the user had typed it.
+    """
+    n = max(MIN_STEPS_PER_PERIOD, math.ceil(period_s / nominal_dt_s * (1.0 - 1e-12)))
+    if n * nominal_dt_s == period_s or abs(n * nominal_dt_s - period_s) <= 1e-12 * period_s:
+        return float(nominal_dt_s)
+    return period_s / n
 
 
 @dataclass(frozen=True)
@@ -59,7 +81,7 @@ class RunWindow:
 
 def check_time_step(op: OperatingPoint, duration_s: float, dt_s: float) -> int:
     """Validate ``dt_s`` and ``duration_s`` for a drive frequency; return the number of steps."""
-    dt_max = op.period_s / 20.0
+    dt_max = op.period_s / MIN_STEPS_PER_PERIOD
     if dt_s > dt_max * (1 + 1e-12):
         raise ValueError(
             f"dt_s must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at f = {op.frequency_Hz:g} Hz, "

@@ -198,6 +198,13 @@ def test_the_default_step_divides_the_drive_period(capsys):
         n = (1.0 / f) / dt
         assert dt <= DEFAULT_DT_S and abs(n - round(n)) < 1e-9 and math.ceil(
             (1.0 / f) / DEFAULT_DT_S - 1e-9) == round(n)
+    # Above 500 kHz the 1e-7 s default left fewer than the 20 steps per period that --dt
+    # allows, and the user who typed no --dt was told "--dt must be in (0, 5e-08] s ...,
+    # got 1e-07". The default now takes 20 steps there, and the run goes through.
+    assert time_step_s(None, 1e6) == 5e-8 and time_step_s(None, 1e7) == 5e-9
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--frequency", "1e6",
+                 "--duration", "1e-4", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["steps"] == 2000
     assert main(["simulate", "--voltage", "130", "--preload", "14", "--frequency", "auto",
                  "--duration", "0.1", "--json"]) == 0
     out = capsys.readouterr()

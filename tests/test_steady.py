@@ -31,7 +31,7 @@ def test_steady_velocity_matches_settled_transient(params, voltage_V, preload_N,
 def test_the_reference_window_is_whole_periods_off_40_kHz(params):
     """At 35 254 Hz a 1e-7 s step gives 283.66 steps per period: the reference's window was
     cut mid-period and the slider's ripple biased its mean by 2.9e-6 against the exact level.
-    With the step rounded to 284 per period the two agree to 1e-9."""
+    With the step rounded up to 284 per period the two agree to 1e-9."""
     exact = steady_state(params, 545.8, 6.07, frequency_Hz=35254, accuracy="exact")
     ref, _ = transient_reference(params, 545.8, 6.07, frequency_Hz=35254, duration_s=0.3)
     assert exact.from_rest.k == 1

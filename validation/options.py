@@ -713,16 +713,15 @@ DEFAULT_DT_S = 1e-7
 
 
 def time_step_s(dt_s: float | None, frequency_Hz: float) -> float:
-    """``--dt`` as typed, or by default the largest step up to :data:`DEFAULT_DT_S` that
-    makes the drive period a whole number of steps (s), and 1e-7 s itself where it does
-    (40 kHz: 250 steps, bit for bit the former default). A step that does not divide the
-    period cut the averaging windows mid-period: off 40 kHz a held slider's window means
-    read +-1e-9 m/s and `lusm simulate` said "not settled" at every --duration."""
+    """``--dt`` as typed (s), or by default :func:`contact.window.period_step_s` of
+    :data:`DEFAULT_DT_S`: the largest step up to 1e-7 s that makes the drive period a whole
+    number of steps, at least 20 (40 kHz: 250 steps of 1e-7 s, bit for bit the former
+    default)."""
     if dt_s is not None:
         return float(dt_s)
-    period = 1.0 / float(frequency_Hz)
-    n = math.ceil(period / DEFAULT_DT_S * (1.0 - 1e-12))
-    return DEFAULT_DT_S if abs(n * DEFAULT_DT_S - period) <= 1e-12 * period else period / n
+    from contact.window import period_step_s
+
+    return period_step_s(1.0 / float(frequency_Hz), DEFAULT_DT_S)
 
 
 def check_steps(duration_s: float, dt_s: float) -> float:
