@@ -108,7 +108,9 @@ def run(args: argparse.Namespace) -> None:
               if choice.design is not None and choice.design.damping_origin
               else borrowed_damping("fem"))  # the plate's modes with Table 2's ratios
     try:
-        if args.f_max is not None:  # bounded before the design's modes are solved too
+        if args.f_max is not None and args.f_min is None:
+            # bounded before the design's modes are solved for --f-min's default (with both
+            # bounds typed, plate_admittance counts them first itself)
             from fem.admittance import check_mode_count
             from fem.model import plate_model
 
