@@ -179,9 +179,13 @@ def test_simulate_steady_reports_no_run_length_it_did_not_use(capsys):
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["method"] == "steady" and d["duration_s"] is None and d["dt_s"] is None
+    # nor windows or tip extremes it has not: they had read "y_tip_min_m nan" and the
+    # default run's window, 0.000125 s, as if measured
+    unused = ("previous_window_velocity_m_s", "y_tip_min_m", "steady_window_s")
+    assert all(d[k] is None for k in unused) and d["settled"] is True
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady"]) == 0
     out = capsys.readouterr().out
-    assert "duration_s" not in out and "dt_s" not in out
+    assert not any(k in out for k in ("duration_s", "dt_s", *unused)) and "nan" not in out
 
 
 @pytest.mark.parametrize("load, way", [("1000", "backward"), ("-1000", "forward")])

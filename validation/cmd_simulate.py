@@ -106,9 +106,8 @@ def run(args: argparse.Namespace) -> None:
         if len(voltages) > 1:
             print(f"--- {v:g} V")
         for key, value in summary.items():
-            if isinstance(value, dict | list) or (value is None and key in ("duration_s",
-                                                                             "dt_s")):
-                continue  # nested tables, and the steady engine's unused run length and step
+            if isinstance(value, dict | list) or value is None:
+                continue  # nested tables, and what the steady engine has not (run length, ...)
             text = f"{value:.6g}" if isinstance(value, float) else str(value)
             print(f"{key:<30} {text}")
         print(damping_line(params, damping_from))

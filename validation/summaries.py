@@ -61,10 +61,13 @@ def coupling_line(coupling: str, why: str) -> str:
 
 
 def simulation_summary(r: SimulationResult) -> dict:
-    """JSON-ready summary of one contact run (SI units in the keys)."""
+    """JSON-ready summary of one contact run (SI units in the keys; ``None`` where the
+    method has no such value: the steady engine's run length, step, windows and tip
+    extremes)."""
     from contact.model import normal_force_zero_tip_displacement
 
     s = r.steady
+    steady = r.method == "steady"
     d = {
         "source": r.params.source,
         "voltage_V": r.op.voltage_V,
@@ -73,12 +76,14 @@ def simulation_summary(r: SimulationResult) -> dict:
         "load_N": r.op.load_N,
         "method": r.method,
         # the steady engine takes its own step and length: none of the user's to report
-        "duration_s": None if r.method == "steady" else r.options.duration_s,
-        "dt_s": None if r.method == "steady" else r.options.dt_s,
+        "duration_s": None if steady else r.options.duration_s,
+        "dt_s": None if steady else r.options.dt_s,
         "coupling": r.options.coupling,
         "ultrasonic_friction": r.options.ultrasonic_friction,
         "steady_velocity_m_s": s.velocity_m_s,
-        "previous_window_velocity_m_s": s.previous_velocity_m_s,
+        # the steady engine shoots an orbit: no windows to compare and no tip trace to take
+        # the extremes of (it had printed the run's default window and y_tip_min_m nan)
+        "previous_window_velocity_m_s": None if steady else s.previous_velocity_m_s,
         "settled": s.settled,
         "motion": s.motion,
         "stick_fraction": s.stick_fraction,
@@ -88,9 +93,9 @@ def simulation_summary(r: SimulationResult) -> dict:
         "braking_slip_fraction": s.braking_slip_fraction,
         "mu_d_effective": r.mu_d_eff,
         "normal_amplitude_m": r.normal_amplitude_m,
-        "y_tip_min_m": s.y_tip_min_m,
+        "y_tip_min_m": None if steady else s.y_tip_min_m,
         "y_tip_c_m": normal_force_zero_tip_displacement(r.params, r.op.preload_N),
-        "steady_window_s": s.window_s,
+        "steady_window_s": None if steady else s.window_s,
         "steps": r.steps,
         "events": r.events,
         "nfev": r.nfev,
