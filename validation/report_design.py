@@ -68,13 +68,22 @@ def _modes_section(choice, out: Path, quick: bool, say):
           "open: the driven electrodes floating.", ""]
     md += ["| mode | 2D short (Hz) | 3D short (Hz) | 2D/3D - 1 | 2D open (Hz) | 3D open (Hz) | "
            "k_eff 2D | k_eff 3D |", "|---|---|---|---|---|---|---|---|"]
-    md += ["| " + " | ".join([r[0], f"{r[1]:.1f}", f"{r[2]:.1f}", f"{r[3]:+.2%}", f"{r[4]:.1f}",
-                              f"{r[5]:.1f}", f"{r[6]:.4f}", f"{r[7]:.4f}"]) + " |"
-           for r in rows]
-    md += ["", f"L1-B2 split f_B2/f_L1 - 1 (short circuit): **{split2:+.3%}** in 2D, "
-           f"**{split3:+.3%}** in 3D. A motor wants the two modes degenerate (`lusm tune`).", ""]
+    md += ["| " + " | ".join([r[0], f"{r[1]:.1f}", f"{r[2]:.1f}", _signed_percent(r[3], 2),
+                              f"{r[4]:.1f}", f"{r[5]:.1f}", f"{r[6]:.4f}", f"{r[7]:.4f}"])
+           + " |" for r in rows]
+    md += ["", "L1-B2 split f_B2/f_L1 - 1 (short circuit): "
+           f"**{_signed_percent(split2, 3)}** in 2D, **{_signed_percent(split3, 3)}** in 3D. "
+           "A motor wants the two modes degenerate (`lusm tune`).", ""]
     md += [f"![{p.stem}](figures/{p.name})" for p in pictures] + [""]
     return md, data, m2
+
+
+def _signed_percent(x: float, decimals: int) -> str:
+    """``x`` (a ratio) in per cent with its sign, in two significant figures where
+    ``decimals`` would round it to zero: a 2D/3D difference of -3e-5 had read "-0.00%"."""
+    if x != 0 and abs(x) * 100 < 0.5 * 10.0 ** -decimals:
+        return f"{x * 100:+.1e}%"
+    return f"{x:+.{decimals}%}"
 
 
 def _params_section(params, label: str, damping_from: str):
