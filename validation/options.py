@@ -598,6 +598,9 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
 
             if is_fe_failure(exc):
                 raise fe_failure(exc) from exc
+            if design is not None and isinstance(exc, ValueError) and str(exc).startswith(
+                    str(args.geometry)):  # the file's own terms (its damping identification)
+                raise LusmError(f"--geometry {exc}", "--geometry") from None
             raise
         warn_unexcited_mode(params, choice.stator.drive_electrodes)
         return params, origin
