@@ -74,8 +74,26 @@ def _modes_section(choice, out: Path, quick: bool, say):
     md += ["", "L1-B2 split f_B2/f_L1 - 1 (short circuit): "
            f"**{_signed_percent(split2, 3)}** in 2D, **{_signed_percent(split3, 3)}** in 3D. "
            "A motor wants the two modes degenerate (`lusm tune`).", ""]
+    data["gap_validity"], note = _validity_note(st)
+    md += note
     md += [f"![{p.stem}](figures/{p.name})" for p in pictures] + [""]
     return md, data, m2
+
+
+def _validity_note(stator) -> tuple[str | None, list[str]]:
+    """The 2D model's gap-validity warning (:func:`fem.model.stator_gap_validity_message`) and
+    its paragraph for section 1: said on stderr during the run, but the report outlives the
+    run, and a designer reading it had no sign that its 2D rows were out of range."""
+    from fem.model import stator_gap_validity_message
+    from validation.options import in_file_terms
+
+    validity = stator_gap_validity_message(stator)
+    if validity is None:
+        return None, []
+    return validity, [f"**The 2D model is outside its validity for this stator**: "
+                      f"{in_file_terms(validity)}. The 2D rows, and the reduced set and motor "
+                      "sections built on them, carry that error; the 3D columns are the "
+                      "reference.", ""]
 
 
 def _signed_percent(x: float, decimals: int) -> str:
