@@ -258,6 +258,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
                                      "--gap-mm", "0.001"], ["--edge-grading", "bricks"]),
     ("modes-refine-3d", ["modes", "--model", "3d", "--refine", "40"], ["--refine", "--model 3d"]),
     ("modes-gap-eats-plate", ["modes", "--gap-mm", "8"], ["--gap-mm", "7.5 mm"]),
+    # the parse range alone ([0, 1000] mm) hid the rest of the rule
+    ("modes-gap-huge", ["modes", "--gap-mm", "1e9"],
+     ["--gap-mm", "[0, 1000] mm", "below the plate's length and width"]),
     ("modes-export-folder", ["modes", "--export", "{folder}"], ["--export", "folder"]),
     ("modes-export-unknown-format", ["modes", "--export", "{folder}/m.unknownext"],
      ["--export", ".unknownext is not a mesh format; use one of .vtu"]),

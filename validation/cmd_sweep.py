@@ -12,7 +12,7 @@ import argparse
 import math
 
 from validation import limits
-from validation.options import MATERIALS, add_output_options, print_json, real
+from validation.options import GAP_RULE, MATERIALS, add_output_options, print_json, real
 
 
 def register(subparsers) -> None:
@@ -39,8 +39,8 @@ def register(subparsers) -> None:
                    dest="fixed_width_mm", help=argparse.SUPPRESS)  # old spelling
     g.add_argument("--thickness-mm", type=real("--thickness-mm", "mm", lo, hi), default=None,
                    help="plate thickness (mm), default 3")
-    g.add_argument("--gap-mm", type=real("--gap-mm", "mm", 0.0, hi), default=None,
-                   help="electrode gap (mm), default 0.5")
+    g.add_argument("--gap-mm", type=real("--gap-mm", "mm", 0.0, hi, rule=GAP_RULE),
+                   default=None, help="electrode gap (mm), default 0.5")
     g.add_argument("--material", choices=MATERIALS, default=None, help="default pzt8")
     from validation.cmd_modes import add_fe_options
 

@@ -40,6 +40,8 @@ PLATE_DEFAULTS_MM = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3
 """The paper's plate (mm), used when neither --geometry nor a plate option is given."""
 
 PLATE_OPTIONS = ("--length-mm", "--width-mm", "--thickness-mm", "--gap-mm")
+GAP_RULE = "0, or at least 0.001 mm and below the plate's length and width"
+"""The rest of ``--gap-mm``'s rule (docs/limits.md), said with its parse range."""
 """The plain-plate options every stator command takes."""
 
 
@@ -57,7 +59,7 @@ def _range_text(lo: float | None, hi: float | None, lo_open: bool, hi_open: bool
 
 
 def real(option: str, unit: str = "", lo: float | None = None, hi: float | None = None,
-         lo_open: bool = False, hi_open: bool = False):
+         lo_open: bool = False, hi_open: bool = False, rule: str = ""):
     """An argparse ``type`` for a finite number in a range; messages name ``option``.
 
     Parameters
@@ -68,8 +70,11 @@ def real(option: str, unit: str = "", lo: float | None = None, hi: float | None 
         Its unit as the user types it (``'V'``, ``'mm'``).
     lo, hi : float, optional
         Bounds; ``lo_open`` / ``hi_open`` make them exclusive.
+    rule : str
+        What else a value must satisfy, checked later against the other options (said with
+        the range, so that one refusal names the whole rule).
     """
-    allowed = _range_text(lo, hi, lo_open, hi_open, unit)
+    allowed = _range_text(lo, hi, lo_open, hi_open, unit) + (f" ({rule})" if rule else "")
 
     def parse(text: str) -> float:
         try:
@@ -135,8 +140,8 @@ def add_plate_options(p: argparse.ArgumentParser, *, material: bool = True,
                    help="plate width b_s (mm), default 7.5")
     g.add_argument("--thickness-mm", type=real("--thickness-mm", "mm", lo, hi), default=None,
                    help="plate thickness h_s (mm), default 3")
-    g.add_argument("--gap-mm", type=real("--gap-mm", "mm", 0.0, hi), default=None,
-                   help="electrode gap (mm), default 0.5")
+    g.add_argument("--gap-mm", type=real("--gap-mm", "mm", 0.0, hi, rule=GAP_RULE),
+                   default=None, help="electrode gap (mm), default 0.5")
     if material:
         g.add_argument("--material", choices=MATERIALS, default=None,
                        help="plate material, default pzt8")
