@@ -761,6 +761,24 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         # (none when the shot from the transient's end converged at once)
         stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else True
         out.append(_full_branch(sp, fo, stable, True))
+    if (not held and math.isfinite(v_rest) and abs(v_rest) < sp.v_floor_m_s
+            and not any(b.motion == "dead-zone" for b in out)):
+        # a creep below the slider's velocity ripple: a held orbit (the slider rocking with
+        # no net travel) can coexist with it where the averaged G(0+) > 0 and the start from
+        # rest creeps, so neither search sees it (252 V / 25.64 N / 40 414 Hz: a 15-period
+        # creep from rest beside a held orbit with Floquet multiplier 0.75). One period shot
+        # from the transient's end finds it; the hold check confirms it.
+        try:
+            h = shoot(fsys, z_end, m_end, 1, energy=energy)
+        except ChatteringError:
+            h = None
+        if h is not None:
+            periods += h.periods
+            newton += h.newton_iterations
+            if h.k == 1 and abs(h.velocity_m_s) <= HELD_M_S and h.multiplier < 1.0:
+                periods += 3 * HOLD_CHECK_PERIODS
+                if _held_from(sp, fsys, h.z, h.mode):
+                    out.append(_full_branch(sp, h, True, False))
     if held and not any(b.from_rest for b in out):
         # held at the end of the transient from rest, with no held orbit confirmed by
         # shooting: the dead zone, with the averaged orbit at 0+ for its tip

@@ -68,3 +68,32 @@ def test_without_energy_runs_the_branches_are_the_same(params, voltage_V, preloa
         assert a.phase_fraction == pytest.approx(b.phase_fraction, abs=1e-8)
     assert all(b.input_power_W > 0 for b in full.branches)
     assert all(b.input_power_W != b.input_power_W for b in lean.branches)  # NaN
+
+
+def test_a_held_orbit_beside_a_creep_from_rest_is_a_branch(params):
+    """252 V / 25.64 N / 40 414 Hz (found by exploratory testing): a start from rest creeps on
+    a 15-period orbit below the slider's velocity ripple, and a held orbit (the slider
+    rocking with no net travel) coexists with it. The averages see neither (G(0+) > 0), so
+    the engine reported the creep alone. Independent checks: the transient from rest creeps
+    at the reported speed, and the full model started on the held orbit stays held over
+    10 000 periods of plain integration."""
+    from contact.full_orbit import full_system, run_periods, shoot
+    from contact.model import OperatingPoint
+    from contact.steady import REST_TRANSIENT_PERIODS, slow_problem
+
+    f = 40414.0
+    r = steady_state(params, 252, 25.64, frequency_Hz=f, accuracy="exact")
+    held = [b for b in r.branches if b.motion == "dead-zone"]
+    creep = r.from_rest
+    assert len(held) == 1 and held[0].stable and not held[0].from_rest
+    assert creep.k > 1 and creep.velocity_m_s > 0
+    # averaged over whole orbits: 26 of 15 periods (400 periods read 1 % off)
+    v_t, _ = transient_reference(params, 252, 25.64, frequency_Hz=f, duration_s=0.3,
+                                 steady_periods=26 * creep.k)
+    assert creep.velocity_m_s == pytest.approx(v_t, rel=1e-6)
+    op = OperatingPoint(252, 25.64, f)
+    fs = full_system(params, op, slow_problem(params, op, accuracy="exact").mu_d_eff, "paper")
+    z, m, _, _, _ = run_periods(fs, fs.system.z0, fs.system.mode0, REST_TRANSIENT_PERIODS)
+    h = shoot(fs, z, m, 1, energy=False)
+    _, _, dist, _, _ = run_periods(fs, h.z, h.mode, 10_000)
+    assert abs(dist) / (10_000 * op.period_s) < 1e-12
