@@ -265,4 +265,10 @@ def test_a_nan_efficiency_is_explained(capsys):
     out = capsys.readouterr().out
     row = next(ln for ln in out.splitlines() if ln.strip().startswith("-0.2"))
     assert float(row.split()[3]) < 0 and row.split()[4] == "nan"
-    assert "eff. nan: negative mechanical output" in out
+    assert "eff. nan: negative mechanical output" in out and "no electrical input" not in out
+    # undriven, the output is 0 W and the input too: the note had blamed a negative output
+    assert main(["characteristic", "--voltage", "0", "--preload", "14"]) == 0
+    out = capsys.readouterr().out
+    row = next(ln for ln in out.splitlines() if ln.split()[:1] == ["0"])
+    assert float(row.split()[2]) == 0.0 and row.split()[4] == "nan"
+    assert "eff. nan: no electrical input" in out and "negative mechanical" not in out

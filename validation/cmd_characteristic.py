@@ -133,10 +133,16 @@ def run(args: argparse.Namespace) -> None:
             print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} "
                   f"{row['input_power_W']:11.4g} {row['output_power_W']:11.4g} "
                   f"{row['efficiency']:8.4g}")
-        if any(math.isnan(r["efficiency"]) and not math.isnan(r["velocity_m_s"])
-               for r in d["curve"]):
-            print("eff. nan: negative mechanical output there (P_out < 0: the load assists "
-                  "the motion, or the slider runs backward against it)")
+        undefined = [r for r in d["curve"]
+                     if math.isnan(r["efficiency"]) and not math.isnan(r["velocity_m_s"])]
+        why = []  # one reason per kind of row (at 0 V it is the input, not the output)
+        if any(r["output_power_W"] < 0 for r in undefined):
+            why.append("negative mechanical output (P_out < 0: the load assists the "
+                       "motion, or the slider runs backward against it)")
+        if any(not r["input_power_W"] > 0 for r in undefined):
+            why.append("no electrical input (P_in <= 0: an undriven motor)")
+        if why:
+            print("eff. nan: " + "; or ".join(why))
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
 
