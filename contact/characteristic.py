@@ -24,6 +24,7 @@ from contact.steady import (
     motor_efficiency,
     slow_problem,
     steady_state,
+    warn_irregular,
 )
 from rom.params import MotorParams
 
@@ -151,6 +152,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                         40e3 if frequency_Hz is None else frequency_Hz)
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
 
+    irregular: dict[float, object] = {}  # load -> branch from rest with no short period
+
     @functools.cache  # the no-load point is usually one of the loads too
     def from_rest(load: float) -> tuple[float, float]:
         """Velocity (m/s) and input power (W) of the start from rest under ``load``."""
@@ -159,6 +162,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                              load_N=load, coupling=coupling,
                              ultrasonic_friction=ultrasonic_friction, accuracy="exact")
             b = r.from_rest
+            if b is not None and b.k == 0:
+                irregular[load] = b
             return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
         branches, v = branches_at_load(sp, load)
         b = next((b for b in branches if b.from_rest), None)
@@ -182,6 +187,13 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         vel.append(v)
         p_in.append(p)
         p_out.append(float(load) * v + 0.0)  # + 0.0: 0 W at no load, not -0 W backward
+    shown = {float(f): irregular[float(f)] for f in loads if float(f) in irregular}
+    if shown:  # one word for the curve: the rows that are long-time means, not orbits
+        worst = max(shown.values(), key=lambda b: b.velocity_error_m_s
+                    / max(abs(b.velocity_m_s), 1e-300))
+        warn_irregular(worst, f"under the loads {', '.join(f'{f:g}' for f in shown)} N "
+                       f"(the least certain, {next(f for f, b in shown.items() if b is worst):g}"
+                       " N, shown)")
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
     eff = motor_efficiency(p_in_a, p_out_a)  # it came out below 0 under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))

@@ -56,6 +56,13 @@ REST_MEAN_PERIODS = 400
 """Periods of the full model, after the transient from rest, whose mean velocity stands for a
 start from rest that settles on no orbit of period <= :data:`REST_MAX_K`."""
 
+REST_MEAN_BLOCKS = 10
+"""Windows of :data:`REST_MEAN_PERIODS` periods whose mean velocities give an irregular
+creep's velocity and its standard error (:attr:`SteadyBranch.velocity_error_m_s`): a motion
+that repeats with no period up to :data:`REST_MAX_K` and whose windows do not agree. One
+window's mean had stood for it, 10 % off a long transient's on a chaotic creep whose
+windows scatter by 20 %."""
+
 REST_SETTLED_RTOL = 1e-6
 """Two consecutive :data:`REST_MEAN_PERIODS` windows after the transient from rest whose mean
 velocities agree to this (relative) make its mean the answer where shooting confirmed no
@@ -172,6 +179,11 @@ class SteadyBranch:
         ``accuracy="fast"``, a transient polished by shooting with ``"exact"``).
     phase_fraction : tuple of float
         Fractions of the orbit in stick, slip with v_rel > 0, slip with v_rel < 0, separation.
+    velocity_error_m_s : float
+        Standard error of ``velocity_m_s`` (m/s) where it is a long-time mean of an irregular
+        motion (``k = 0``, from the scatter of :data:`REST_MEAN_BLOCKS` window means); 0 for
+        an orbit (k >= 1, to the engine's tolerance) and for a mean whose windows agree to
+        :data:`REST_SETTLED_RTOL`; NaN where not estimated (the fast level's averages).
     """
 
     velocity_m_s: float
@@ -187,6 +199,7 @@ class SteadyBranch:
     guide_power_W: float
     from_rest: bool
     phase_fraction: tuple[float, float, float, float] = (math.nan,) * 4
+    velocity_error_m_s: float = 0.0
 
     @property
     def efficiency(self) -> float:
@@ -437,7 +450,8 @@ def _branch(sp: SlowProblem, v: float, load: float, stable: bool,
         output_power_W=load * float(v) + 0.0, damping_power_W=w_damp / duration,
         interface_power_W=-(w_ts + w_tx) / duration,
         guide_power_W=sp.guide_N(o) * abs(float(v)), from_rest=False,
-        phase_fraction=tuple(float(f) for f in frac))
+        phase_fraction=tuple(float(f) for f in frac),
+        velocity_error_m_s=0.0 if o.k else math.nan)
 
 
 def _dead_zone(sp: SlowProblem, load_N: float, energy: bool, from_rest: bool) -> SteadyBranch:
@@ -586,10 +600,12 @@ def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBr
 
 
 def _mean_branch(sp: SlowProblem, v: float, work: np.ndarray, phase_time: np.ndarray,
-                 n_periods: int) -> SteadyBranch:
+                 n_periods: int, error_m_s: float) -> SteadyBranch:
     """The long mean of the full model's transient from rest, where it repeats with no
-    period up to :data:`REST_MAX_K` (k = 0; powers NaN without the work integrals)."""
-    return _run_branch(sp, v, 0, n_periods, work, phase_time, True, True, held=False)
+    period up to :data:`REST_MAX_K` (k = 0; powers NaN without the work integrals, which
+    cover ``n_periods``; ``error_m_s`` the mean's standard error)."""
+    b = _run_branch(sp, v, 0, n_periods, work, phase_time, True, True, held=False)
+    return dataclasses.replace(b, velocity_error_m_s=float(error_m_s))
 
 
 def _powered(sp: SlowProblem, b: SteadyBranch, energy: bool = True) -> SteadyBranch:
@@ -732,15 +748,33 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         if not avg:
             v_rest = math.nan
         else:
+            window_s = REST_MEAN_PERIODS * sp.op.period_s
+            # the velocities always at the engine's own step, the work integrals on a run of
+            # their own: with energy=True the mean of a chaotic creep had come from a run at
+            # the energy step, another trajectory, and moved by 4 % with the flag
             z_a, m_a, dist_a, _, _ = run_periods(fsys, z_end, m_end, REST_MEAN_PERIODS)
-            _, _, dist, work, phase = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS,
-                                                  energy=energy, window=True)
-            if not energy:
-                work = np.full(len(work), math.nan)
+            z_b, m_b, dist, _, phase = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS,
+                                                   window=True)
             periods += 2 * REST_MEAN_PERIODS
-            v_a = dist_a / (REST_MEAN_PERIODS * sp.op.period_s)
-            v_mean = dist / (REST_MEAN_PERIODS * sp.op.period_s)
+            means = [dist_a / window_s, dist / window_s]
+            v_a, v_mean = means
             settled = abs(v_mean - v_a) <= REST_SETTLED_RTOL * abs(v_mean)
+            error = 0.0
+            if not settled and abs(branches[avg[0]].velocity_m_s) < sp.v_floor_m_s:
+                # an irregular creep: the mean of more windows, with its standard error
+                for _ in range(REST_MEAN_BLOCKS - 2):
+                    z_b, m_b, dist, _, ph = run_periods(fsys, z_b, m_b, REST_MEAN_PERIODS,
+                                                        window=True)
+                    means.append(dist / window_s)
+                    phase = phase + ph
+                periods += (REST_MEAN_BLOCKS - 2) * REST_MEAN_PERIODS
+                v_mean = float(np.mean(means))
+                error = float(np.std(means, ddof=1) / math.sqrt(len(means)))
+            if energy:
+                work = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS, energy=True)[3]
+                periods += REST_MEAN_PERIODS
+            else:
+                work = np.full(6, math.nan)
             if settled or abs(branches[avg[0]].velocity_m_s) < sp.v_floor_m_s:
                 v_rest = v_mean
                 if abs(v_rest) <= 1e-3 * sp.v_floor_m_s:
@@ -750,7 +784,8 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
                         v_rest, held = 0.0, True
                 if not held:
                     match, from_mean = [], True
-                    out.append(_mean_branch(sp, v_rest, work, phase, REST_MEAN_PERIODS))
+                    out.append(_mean_branch(sp, v_rest, work, phase, REST_MEAN_PERIODS,
+                                            error))
             else:
                 match = avg
                 v_rest = out[avg[0]].velocity_m_s
@@ -859,6 +894,31 @@ def settled_duration(params: MotorParams, voltage_V: float, preload_N: float, *,
     return float(start_s), False
 
 
+IRREGULAR_RTOL = 0.01
+"""Standard error (relative) up to which an irregular creep's mean counts as settled, the
+transient's own 1 % rule (:func:`contact.results.steady_metrics`)."""
+
+
+class IrregularMotionWarning(UserWarning):
+    """The motion from rest repeats with no period up to :data:`REST_MAX_K`: its velocity is a
+    long-time mean with a standard error, not an orbit's."""
+
+
+def warn_irregular(b: SteadyBranch, where: str) -> None:
+    """Say that the branch from rest ``b`` (``k = 0``) is a long-time mean, and how good."""
+    import warnings
+
+    if math.isfinite(b.velocity_error_m_s) and b.velocity_error_m_s > 0:
+        how = (f"a mean over {REST_MEAN_BLOCKS * REST_MEAN_PERIODS} periods, standard error "
+               f"{b.velocity_error_m_s:.2g} m/s "
+               f"({b.velocity_error_m_s / max(abs(b.velocity_m_s), 1e-300):.1%})")
+    else:
+        how = f"a mean over {REST_MEAN_PERIODS} periods whose windows agree to 1e-6"
+    warnings.warn(f"{where} the motion from rest repeats with no period up to {REST_MAX_K} "
+                  f"drive periods: its velocity {b.velocity_m_s:.4g} m/s is {how}; a long "
+                  "transient is the reference there", IrregularMotionWarning, stacklevel=3)
+
+
 def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff: float):
     """Adapter for the scheme table of :func:`contact.simulate.simulate` (``method="steady"``).
 
@@ -877,8 +937,14 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     rest = [b for b in branches if b.from_rest]
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
     steps = (sp.periods + periods) * sp.fs.steps_per_period
+    previous = float(v_rest)
+    if rest and rest[0].k == 0:
+        load = f" under {op.load_N:g} N" if op.load_N else ""
+        warn_irregular(rest[0], f"at {op.voltage_V:g} V / {op.preload_N:g} N{load}")
+        if not rest[0].velocity_error_m_s <= IRREGULAR_RTOL * abs(rest[0].velocity_m_s):
+            previous = math.nan  # not settled: the mean is not known to 1 %
     return SchemeOutput(
-        velocity_m_s=float(v_rest), previous_velocity_m_s=float(v_rest),
+        velocity_m_s=float(v_rest), previous_velocity_m_s=previous,
         phase_time=np.asarray(frac, dtype=float) * window.window_s, y_tip_min_m=math.nan,
         y_tip_max_m=math.nan, trace=None, window=None, energy=None, steps=int(steps),
         events=0, nfev=int(steps))
