@@ -226,14 +226,15 @@ def natural_frequencies_Hz(
     return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
 
 
-def _locatable(model: PiezoPlateModel, pts: np.ndarray) -> np.ndarray:
-    """Which of ``pts`` (2, n) scikit-fem's element finder locates in the mesh.
+def locatable(basis, pts: np.ndarray) -> np.ndarray:
+    """Which of ``pts`` (dim, n) scikit-fem's element finder locates in ``basis``'s mesh (2D
+    plate or 3D solid).
 
     One call when all are found; otherwise the set is halved until the few points it cannot
     locate are isolated (a handful of calls per such point).
     """
     found = np.ones(pts.shape[1], dtype=bool)
-    finder = model.basis.mesh.element_finder(mapping=model.basis.mapping)
+    finder = basis.mesh.element_finder(mapping=basis.mapping)
     stack = [np.arange(pts.shape[1])]
     while stack:
         idx = stack.pop()
@@ -287,7 +288,7 @@ def _sampling(
         # centreline: "Point is outside of the mesh"); such points are dropped like those
         # outside. Searched for only then: most meshes never get here
         flat = inside.ravel()
-        flat[flat] = _locatable(model, pts[:, flat])
+        flat[flat] = locatable(model.basis, pts[:, flat])
         inside = flat.reshape(X.shape)
         inside &= inside[:, ::-1]
         return X, Y, _probe_where(model, pts, inside), inside

@@ -82,6 +82,7 @@ from fem.modes import (
     SAMPLE_INSET,
     ModeSolverError,
     PlateModes,
+    locatable,
     modal_assurance,
     reference_shapes,
     sampling_grid,
@@ -829,9 +830,30 @@ def _sampling3d(model: SolidPlateModel):
     if planform is not None:
         inside = planform.contains(np.vstack((X.ravel(), Y.ravel()))).reshape(X.shape)
         inside &= inside[:, ::-1]
+    levels = (("mid", 0.0), ("top", zt), ("bottom", -zt))
+    try:
+        return X, Y, _probes3d(model, X, Y, inside, levels), inside
+    except ValueError:
+        # scikit-fem locates points on the mesh's own (polygonal) edges, which can miss a
+        # grid point the nominal outline counts inside (beside a hole on the centre line:
+        # "Point is outside of the mesh" after the whole 3D solve); such points are dropped
+        # like those outside, as in 2D (fem.modes._sampling)
+        flat = inside.ravel()
+        for _, z in levels:
+            pts = np.vstack((X.ravel(), Y.ravel(), np.full(X.size, z)))
+            flat[flat] = locatable(model.basis, pts[:, flat])
+        inside = flat.reshape(X.shape)
+        inside &= inside[:, ::-1]
+        return X, Y, _probes3d(model, X, Y, inside, levels), inside
+
+
+def _probes3d(model: SolidPlateModel, X: np.ndarray, Y: np.ndarray, inside: np.ndarray,
+              levels) -> dict[str, sp.csr_matrix]:
+    """Probe matrices of the grid points where ``inside`` at each ``(key, z)`` of ``levels``,
+    with zero rows elsewhere."""
     idx = np.flatnonzero(inside.ravel())
     probes = {}
-    for key, z in (("mid", 0.0), ("top", zt), ("bottom", -zt)):
+    for key, z in levels:
         pts = np.vstack((X.ravel(), Y.ravel(), np.full(X.size, z)))
         if inside.all():
             probes[key] = model.probe(pts)
@@ -840,7 +862,7 @@ def _sampling3d(model: SolidPlateModel):
         comp, point = np.divmod(sub.row, idx.size)
         rows = comp * X.size + idx[point]
         probes[key] = sp.csr_matrix((sub.data, (rows, sub.col)), shape=(3 * X.size, sub.shape[1]))
-    return X, Y, probes, inside
+    return probes
 
 
 def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:

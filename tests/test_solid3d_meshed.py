@@ -143,3 +143,27 @@ def test_graded_layers_bring_a_narrow_gap_planform_towards_2d(capsys):
     k = [solid_modes(st, "pzt8", 2, 3, 3, edge_grading=e).B2.k_eff for e in (0, 1, 2)]
     assert abs(k[1] - k2) < 0.5 * abs(k[0] - k2)
     assert abs(k[2] - k[1]) < 1e-3 * k2 * 10 and k[0] < 0.85 * k2 < k[1]
+
+
+def test_holes_on_the_centre_line_keep_the_3d_sampling(tmp_path):
+    """Two holes on the centre line (found by exploratory testing): the 3D solve ran 45 s and
+    then stopped with "Point is outside of the mesh." -- sampling points on the holes'
+    outline, inside the nominal circle test but outside the mesh's polygonal edges. They are
+    dropped as in 2D; every kept point is one scikit-fem locates at all three levels."""
+    from fem.modes import locatable
+    from fem.solid3d import _sampling3d
+
+    (tmp_path / "hc.toml").write_text(
+        'name = "holes on the centre line"\n[plate]\nlength_mm = 30.0\nwidth_mm = 7.5\n'
+        "thickness_mm = 3.0\n[electrodes]\ngap_mm = 0.5\n[[holes]]\ncenter_mm = [0.0, 7.0]\n"
+        "diameter_mm = 2.0\n[[holes]]\ncenter_mm = [0.0, 23.0]\ndiameter_mm = 2.0\n"
+        "[mesh]\nsize_mm = 0.9\n")
+    design = load_stator(tmp_path / "hc.toml")
+    model = build_solid_model(design.stator, design.material, 2, 1, 2)
+    X, Y, probes, inside = _sampling3d(model)
+    assert 0.8 * inside.size < inside.sum() < inside.size
+    zt = 0.5 * design.stator.thickness_m * (1 - 1e-9)
+    for z in (0.0, zt, -zt):
+        pts = np.vstack((X[inside], Y[inside], np.full(int(inside.sum()), z)))
+        assert locatable(model.basis, pts).all()
+    assert all(p.shape[0] == 3 * X.size for p in probes.values())
