@@ -226,7 +226,15 @@ class AdmittanceResult:
         resonance pair found on the grid belongs to although they have one at this damping:
         the grid is too coarse for them (a 5 kHz step over 1 Hz-10 MHz listed neither).
         Modes whose damping leaves no peak on any grid are :meth:`peakless_modes`."""
-        return [(name, f) for name, f, peak in self._missed if peak]
+        return [(name, f) for name, f, state, _ in self._missed if state == "grid"]
+
+    def band_cut_modes(self) -> list[tuple[str, float, tuple[float, float]]]:
+        """``(name, f_short_Hz, (f_m_Hz, f_n_Hz))`` of the identified modes inside the band
+        whose pair reaches beyond it: the maximum of ``|Y|`` ``f_m`` or the minimum after it
+        ``f_n`` (Hz, the pair's ``f_max_abs_Hz``, ``f_min_abs_Hz``) lies outside, and no grid
+        inside the band finds it (B2 at 54 137 Hz in a 54 000-54 300 Hz band: its minimum is
+        at 54 381 Hz). The band must be widened to include both, not the grid refined."""
+        return [(name, f, need) for name, f, state, need in self._missed if state == "band"]
 
     def peakless_modes(self) -> list[tuple[str, float]]:
         """``(name, f_short_Hz)`` of the identified modes inside the band that the port
@@ -234,16 +242,18 @@ class AdmittanceResult:
         is too weak for it (roughly ``k_r^2`` below ``zeta``; one quadrant of the paper's
         plate with Table 2's damping: B2 ``k_r^2`` 0.0056 against ``zeta`` 0.071). A finer
         grid cannot find them; lighter damping can."""
-        return [(name, f) for name, f, peak in self._missed if not peak]
+        return [(name, f) for name, f, state, _ in self._missed if state == "peakless"]
 
     @cached_property
-    def _missed(self) -> list[tuple[str, float, bool]]:
-        """Identified, driven modes in the band without a pair on the grid, each with
-        whether a pair of theirs exists at all: the pairs on a local grid across ten
-        half-power bandwidths each side of the mode and its antiresonance, 100 points per
-        bandwidth (4 001 to 20 001 points; where the cap binds the coupling far exceeds the
-        damping and the peak is the grid's to find), searched as on the user's grid. Kept:
-        the command and the report ask for both lists, and the no-pair line again."""
+    def _missed(self) -> list[tuple[str, float, str, tuple[float, float]]]:
+        """Identified, driven modes in the band without a pair on the grid, each with why:
+        ``"grid"`` (a pair of theirs lies in the band: the grid is too coarse), ``"band"``
+        (their pair reaches beyond the band; with the span it needs, Hz) or ``"peakless"``
+        (no pair at this damping). The pairs are those on a local grid across ten half-power
+        bandwidths each side of the mode and its antiresonance, 100 points per bandwidth
+        (4 001 to 20 001 points; where the cap binds the coupling far exceeds the damping and
+        the peak is the grid's to find), searched as on the user's grid. Kept: the command
+        and the report ask for the lists, and the no-pair line again."""
         seen = "+".join(q.mode for q in self.pairs)
         lo, hi = float(self.f_Hz[0]), float(self.f_Hz[-1])
         port = self.port
@@ -257,9 +267,12 @@ class AdmittanceResult:
             width = 2.0 * half + k * k * f
             local = np.linspace(max(f - half, 0.5 * f), f + half + k * k * f,
                                 int(min(20001, max(4001, 50.0 * width / max(z * f, 1e-300)))))
-            peak = any(name in q.mode.split(" ")[0].split("+")
-                       for q in resonance_pairs(port, local))
-            out.append((name, float(f), peak))
+            own = [q for q in resonance_pairs(port, local)
+                   if name in q.mode.split(" ")[0].split("+")]
+            inside = [q for q in own if lo <= q.f_max_abs_Hz and q.f_min_abs_Hz <= hi]
+            state = "grid" if inside else "band" if own else "peakless"
+            need = (own[0].f_max_abs_Hz, own[0].f_min_abs_Hz) if own else (lo, hi)
+            out.append((name, float(f), state, need))
         return out
 
     def to_dict(self) -> dict[str, object]:

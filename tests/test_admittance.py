@@ -222,6 +222,26 @@ def test_a_grid_too_coarse_for_the_design_modes_is_said_so(capsys):
     assert "warning" not in capsys.readouterr().err
 
 
+def test_a_pair_cut_by_the_band_asks_for_a_wider_band_not_more_points(capsys):
+    """--f-min 54000 --f-max 54300 --zeta 0.001: B2 (54 137 Hz) lies in the band, its
+    antiresonance (54 369 Hz) does not. The warning said "raise --points or narrow the band"
+    while the text said "widen it", and 20 001 points found nothing either. Now the warning
+    names --f-max; the reference: the band widened to 54 500 Hz finds B2's pair on the same
+    grid step."""
+    from validation.cli import main
+
+    base = ["admittance", "--f-min", "54000", "--zeta", "0.001"]
+    for points in ("11", "20001"):
+        assert main([*base, "--f-max", "54300", "--points", points, "--json"]) == 0
+        out = capsys.readouterr()
+        assert "B2" not in {p["mode"] for p in json.loads(out.out)["pairs"]}
+        assert "--f-max: B2 (54137 Hz) lies in the band but its resonance pair reaches " \
+            "beyond it" in out.err and "raise --points" not in out.err
+    assert main([*base, "--f-max", "54500", "--points", "33334", "--json"]) == 0
+    out = capsys.readouterr()
+    assert "B2" in {p["mode"] for p in json.loads(out.out)["pairs"]} and "warning" not in out.err
+
+
 def test_a_mode_damping_leaves_without_a_peak_is_told_apart_from_a_coarse_grid(capsys):
     """One quadrant (electrode 1) with Table 2's damping: B2's coupling (k_r^2 0.0056) is far
     below its damping (0.071), and neither B2 nor L1 has a resonance pair on any grid. The

@@ -171,7 +171,9 @@ def run(args: argparse.Namespace) -> None:
           f"(from {damping['from']})")
     if not res.pairs:
         print("no resonance/antiresonance pair resolved in the band: "
-              + ("the damping leaves the design's modes without a peak (the warning above)"
+              + ("the grid is too coarse for the design's modes (the warning above)"
+                 if res.unpaired_modes() else
+                 "the damping leaves the design's modes without a peak (the warning above)"
                  if res.peakless_modes() else "widen it (--f-min, --f-max)"))
     w = max([5] + [len(q.mode) + 1 for q in res.pairs])
     # series / parallel resonance (max Re Y, max Re 1/Y), not the |Y| extrema: those move
@@ -204,6 +206,13 @@ def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
              f"in the band but no resonance pair on this grid (step {step:.4g} Hz) belongs "
              f"to {'it' if len(missed) == 1 else 'them'}; raise --points or narrow the band "
              "(--f-min, --f-max)")
+    for name, f, (f_m, f_n) in res.band_cut_modes():
+        edges = [o for o, cut in (("--f-min", f_m < f_min_Hz), ("--f-max", f_n > f_max_Hz))
+                 if cut]
+        warn(f"{' and '.join(edges)}: {name} ({f:.0f} Hz) lies in the band but its resonance "
+             f"pair reaches beyond it (the peak of |Y| at {f_m:.0f} Hz, the minimum after it "
+             f"at {f_n:.0f} Hz); widen the band to include both (no --points finds the pair "
+             "inside it)")
     flat = res.peakless_modes()
     if flat:
         port = res.port
