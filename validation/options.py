@@ -337,7 +337,8 @@ def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, agains
     if ratio > limits.PLANE_STRESS_RATIO:
         warn(f"{subject} is {ratio:.3g} x {against}; the 2D plane-stress model assumes a thin "
              f"plate (thickness below {limits.PLANE_STRESS_RATIO:g} x min(length, width); its "
-             f"B2 is 0.08 % below the 3D model's at 0.8 on a 25 x 5 mm plate); {remedy}")
+             f"B2 is 0.08 % below the 3D model's at 0.8 on a 25 x 5 mm plate, 0.6 % off with "
+             f"its k_eff 9 % high at 1.3, the 3 mm plate tuned to 2e5 Hz); {remedy}")
 
 
 def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> StatorChoice:
