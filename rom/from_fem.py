@@ -234,12 +234,17 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         from rom.damping import identify_damping
 
         try:
-            params = identify_damping(params, design.damping_identify_Hz).params
+            fitted = identify_damping(params, design.damping_identify_Hz).params
         except ValueError as exc:
             text = str(exc).replace("identify at a drive frequency nearer to it",
                                     "set the file's damping.frequency_Hz nearer to it")
             raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {text}") \
                 from None
+        # the reduction's description named the ratios it started from (Table 2's), not the
+        # fitted ones the set carries
+        before = f"damping ratios ({params.zeta_L1:.4g}, {params.zeta_B2:.4g})"
+        after = f"damping ratios ({fitted.zeta_L1:.4g}, {fitted.zeta_B2:.4g}), fitted"
+        params = replace(fitted, source=fitted.source.replace(before, after))
         damping = f"damping {design.damping_origin}"
     mesh = f", mesh {design.mesh_path}" if design.mesh_path is not None else ""
     return replace(params, source=f"stator file {path} ({design.name}{mesh}; {damping}): "

@@ -63,6 +63,9 @@ def test_stator_file_fits_the_damping_and_every_command_uses_it(capsys):
     assert main(["params", "--geometry", FITTED, "--json"]) in (0, None)
     d = json.loads(capsys.readouterr().out)
     assert d["zeta_L1"] == pytest.approx(expected.zeta_L1, rel=1e-12)
+    # its description named the ratios the fit started from (Table 2's 0.1169, 0.07095)
+    ratios = f"damping ratios ({expected.zeta_L1:.4g}, {expected.zeta_B2:.4g}), fitted"
+    assert ratios in d["source"] and "(0.1169, 0.07095)" not in d["source"]
     assert main(["characteristic", "--voltage", "300", "--preload", "14", "--frequency",
                  "auto", "--geometry", FITTED, "--loads", "0:0.5:0.5"]) in (0, None)
     assert "paper_amplitudes" in capsys.readouterr().out

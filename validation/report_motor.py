@@ -36,8 +36,9 @@ def characteristic_figure(char: Characteristic | Sequence[Characteristic], path:
         ax2.plot(c.load_N, c.efficiency * 100, "s-", ms=3, color=f"C{i}", label=label)
     ax1.set_xlabel("load force (N)")
     ax1.set_ylabel("steady slider velocity (mm/s)")
+    level = {"exact": "exact level", "fast": "averaged level"}.get(chars[0].accuracy, "")
     ax1.set_title("speed-thrust" + (f", {title}" if title else "")
-                  + f", F_P = {chars[0].op.preload_N:g} N")
+                  + f", F_P = {chars[0].op.preload_N:g} N, {level}")
     ax2.set_xlabel("load force (N)")
     ax2.set_ylabel("efficiency, output / electrical input (%)")
     ax2.set_title("efficiency")
@@ -136,13 +137,12 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
           "(`docs/steady.md`): no transient is run except where the engine cannot decide. "
           "Speed-thrust and efficiency at "
           + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
-          + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic --accuracy fast`: "
-          "averaged level, slider mass -> infinity; the moving speeds within about 1e-3 of "
-          "the finite-mass motor, but not the stall force: past the averaged stall force the "
-          "full model's slider still creeps forward, and its stall force, `lusm "
-          "characteristic` at its default exact level, can lie tens of per cent higher, "
-          "Table 2 at 400 V: 1.735 N averaged, 2.16 N exact; docs/steady.md); settled "
-          "stick-slip maps over "
+          + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic --frequency F`, "
+          "F each set's frequency below: the exact level, the finite-mass motor from rest. "
+          "The averaged level, `--accuracy fast`, puts the stall force where the averaged "
+          "slider stops, while the full model's still creeps forward: up to several times "
+          "lower on these sets, and a held slider where the full model creeps; "
+          "docs/steady.md); settled stick-slip maps over "
           f"{volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: exact "
           "level, the branch reached from rest). Efficiency is the mechanical output power "
           "over the electrical input power (motional current times voltage). Table 2's set "
@@ -157,8 +157,12 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         f = frequencies_Hz[name]
         t0 = time.perf_counter()
         coupling, coupling_why = default_coupling(p)
+        # the exact level, as the command's default: the averaged one had put the FE set's
+        # stall force at 400 V at 0.476 N where the finite-mass motor holds 1.014 N, and its
+        # 200 V point held where the motor creeps
         chars = [characteristic(p, v, CHARACTERISTIC_PRELOAD_N, frequency_Hz=f,
-                                coupling=coupling) for v in CHARACTERISTIC_VOLTAGES_V]
+                                coupling=coupling, accuracy="exact")
+                 for v in CHARACTERISTIC_VOLTAGES_V]
         say(f"{name} characteristics")
         fig_c = characteristic_figure(chars, out / "figures" / f"{name}_characteristic.png",
                                       title=name)
