@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 import os
 import platform
+import re
 import time
 from dataclasses import asdict
 from pathlib import Path
@@ -143,7 +144,8 @@ def peer_check_summary(doc: Path = FEM3D_DOC) -> list[str]:
     i, j = text.find(PEER_START), text.find(PEER_END)
     if i < 0 or j < i:
         return []
-    block = text[i + len(PEER_START):j].strip("\n").splitlines()
+    # without the docs' number markers (<!--input-->, <!--n:key-->), which the HTML showed
+    block = re.sub(r"<!--.*?-->", "", text[i + len(PEER_START):j]).strip("\n").splitlines()
     return ["", "Peer check against SfePy, an independent FE code: quoted from `docs/fem3d.md` "
             "(\"Peer check with SfePy\"), not re-run by the report; measured by "
             "`benchmarks/fem_peer_sfepy.py` (`pip install -e .[peer]`).", "",

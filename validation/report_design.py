@@ -65,7 +65,7 @@ def _modes_section(choice, out: Path, quick: bool, say):
           f"2D plane-stress model (order 2, refine {DEFAULT_REFINE}, {m2.dofs} DOFs; "
           f"`lusm modes --geometry ...`) and 3D piezoelectric solid ({m3.dofs} DOFs; "
           "`lusm modes --model 3d --geometry ...`). Short circuit: all electrodes grounded; "
-          "open: the driven electrodes floating.", ""]
+          "open: all four electrodes floating.", ""]
     md += ["| mode | 2D short (Hz) | 3D short (Hz) | 2D/3D - 1 | 2D open (Hz) | 3D open (Hz) | "
            "k_eff 2D | k_eff 3D |", "|---|---|---|---|---|---|---|---|"]
     md += ["| " + " | ".join([r[0], f"{r[1]:.1f}", f"{r[2]:.1f}", _signed_percent(r[3], 2),
