@@ -43,7 +43,7 @@ class Comparison:
     values : dict
         ``values[source][quantity]``; only sources that could be built.
     relative_difference : dict
-        ``(value - reference) / |reference|`` per source and quantity (``nan`` if the
+        ``value / reference - 1`` per source and quantity (``nan`` if the
         reference is zero or unavailable).
     unavailable : dict
         ``unavailable[source]`` is the reason a source could not be built.
@@ -125,7 +125,9 @@ def compare_sources(
         rel[name] = {}
         for q, _ in QUANTITIES:
             r = math.nan if ref is None else ref[q]
-            rel[name][q] = (vals[q] - r) / abs(r) if r and not math.isnan(r) else math.nan
+            # value / reference - 1: negative where the magnitude is smaller, for negative
+            # quantities too (A_b: beam -0.0646 against Table 2's -0.1246 read "+48.2 %")
+            rel[name][q] = vals[q] / r - 1.0 if r and not math.isnan(r) else math.nan
     return Comparison(
         reference=reference,
         sources=names,

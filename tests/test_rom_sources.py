@@ -42,8 +42,12 @@ def test_compare_reference_is_zero_difference():
     for q, _ in QUANTITIES:
         assert c.relative_difference["table2"][q] == 0.0
         ref = c.values["table2"][q]
-        expected = (c.values["beam"][q] - ref) / abs(ref)
+        expected = c.values["beam"][q] / ref - 1
         assert c.relative_difference["beam"][q] == pytest.approx(expected)
+    # the negative A_b: the beam's smaller magnitude reads as a negative difference (it read
+    # +48.2 % with (value - ref) / |ref|)
+    assert abs(c.values["beam"]["A_b"]) < abs(c.values["table2"]["A_b"])
+    assert c.relative_difference["beam"]["A_b"] < 0
     json.dumps(c.to_dict())
 
 

@@ -501,7 +501,7 @@ def _beam_numbers() -> dict[str, float]:
     out["Q_L1"], out["Q_B2"] = 1 / (2 * out["zeta_L1"]), 1 / (2 * out["zeta_B2"])
     for name in ("M_l", "K_l", "C_l", "A_l", "M_b", "K_b", "C_b", "A_b"):
         out[name] = getattr(b, name)
-        out[f"{name}_vs_t2"] = (getattr(b, name) - getattr(t, name)) / abs(getattr(t, name))
+        out[f"{name}_vs_t2"] = getattr(b, name) / getattr(t, name) - 1  # as lusm compare
     rows = {"L1": f.f_L1_Hz, "B2_eb": f.f_B2_euler_bernoulli_Hz, "B2_printed": hz(c.K_b_printed),
             "B2_shear": hz(c.K_b_shear), "B2_condensed": f.f_B2_condensed_Hz,
             "B2_timoshenko": f.f_B2_timoshenko_Hz}
