@@ -64,12 +64,12 @@ def test_design_report_numbers_are_the_commands_numbers(design_report):
 
 def test_a_difference_below_the_printed_decimals_keeps_its_size_and_sign():
     """A 2D/3D difference of -3e-5 read "-0.00%" in the modes table: a sign without a size."""
-    from validation.report_design import _signed_percent
+    from validation.summaries import signed_percent
 
     for x, d in ((-3e-5, 2), (4e-7, 3), (-0.0123, 2), (0.01, 3)):
-        text = _signed_percent(x, d)
+        text = signed_percent(x, d)
         assert float(text.rstrip("%")) == pytest.approx(100 * x, rel=0.05), text
-    assert _signed_percent(0.0, 2) == "+0.00%"
+    assert signed_percent(0.0, 2) == "+0.00%"
 
 
 def test_the_report_repeats_the_2d_validity_warning(design_report):

@@ -24,6 +24,7 @@ import numpy as np
 from validation import figures
 from validation.output_set import output_set
 from validation.report_html import to_html
+from validation.summaries import signed_percent
 
 ROOT = Path(__file__).resolve().parents[1]
 """The source checkout (where ``examples/`` lives)."""
@@ -100,7 +101,7 @@ def _parameter_sets(out: Path, quick: bool, progress: bool) -> tuple[list[str], 
         for s in comp.sources:
             v = comp.values[s].get(name, float("nan"))
             d = comp.relative_difference[s].get(name, float("nan"))
-            row.append(_fmt(v) if s == comp.reference else f"{_fmt(v)} ({d:+.1%})")
+            row.append(_fmt(v) if s == comp.reference else f"{_fmt(v)} ({signed_percent(d, 1)})")
         rows.append(row)
     md += markdown_table(["quantity"] + list(comp.sources), rows)
     md += ["", "FE modal analysis of the default plate (PZT-8, order 2, refine "
@@ -162,9 +163,9 @@ def _plane_stress_vs_3d(example_layers: int) -> tuple[list[str], dict]:
           f"{e.dofs_3d} DOFs in {e.wall_time_3d_s:.2f} s; the same calls as "
           "`lusm modes --model 2d|3d`):", ""]
     rows = [[key.replace("_", " "), e.f2d_Hz[key], e.f3d_Hz[key],
-             f"{e.f2d_Hz[key] / e.f3d_Hz[key] - 1:+.2%}"] for key in e.f2d_Hz]
+             signed_percent(e.f2d_Hz[key] / e.f3d_Hz[key] - 1, 2)] for key in e.f2d_Hz]
     rows += [[f"{m} k_eff", e.k_eff_2d[m], e.k_eff_3d[m],
-              f"{e.k_eff_2d[m] / e.k_eff_3d[m] - 1:+.1%}"] for m in e.k_eff_2d]
+              signed_percent(e.k_eff_2d[m] / e.k_eff_3d[m] - 1, 1)] for m in e.k_eff_2d]
     md += markdown_table(["quantity", "2D (Hz or -)", "3D (Hz or -)", "2D/3D - 1"], rows)
     data = {"f2d_Hz": e.f2d_Hz, "f3d_Hz": e.f3d_Hz, "k_eff_2d": e.k_eff_2d,
             "k_eff_3d": e.k_eff_3d, "examples": {}}
@@ -181,7 +182,8 @@ def _plane_stress_vs_3d(example_layers: int) -> tuple[list[str], dict]:
                                     layers=example_layers)
             for key in ex.f2d_Hz:
                 ex_rows.append([path.parent.name, key.replace("_", " "), ex.f2d_Hz[key],
-                                ex.f3d_Hz[key], f"{ex.f2d_Hz[key] / ex.f3d_Hz[key] - 1:+.2%}"])
+                                ex.f3d_Hz[key],
+                                signed_percent(ex.f2d_Hz[key] / ex.f3d_Hz[key] - 1, 2)])
             data["examples"][path.parent.name] = {
                 "f2d_Hz": ex.f2d_Hz, "f3d_Hz": ex.f3d_Hz, "k_eff_2d": ex.k_eff_2d,
                 "k_eff_3d": ex.k_eff_3d, "layers": example_layers, "dofs_3d": ex.dofs_3d}

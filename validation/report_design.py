@@ -16,7 +16,7 @@ import numpy as np
 
 from rom.params import PARAM_UNITS
 from validation.output_set import output_set
-from validation.summaries import damping_line, damping_summary, plate_text
+from validation.summaries import damping_line, damping_summary, plate_text, signed_percent
 
 SPEED_PRELOAD_N = 14.0
 """Preload of the speed-against-voltage table (N), the paper's Fig. 20."""
@@ -68,11 +68,11 @@ def _modes_section(choice, out: Path, quick: bool, say):
           "open: all four electrodes floating.", ""]
     md += ["| mode | 2D short (Hz) | 3D short (Hz) | 2D/3D - 1 | 2D open (Hz) | 3D open (Hz) | "
            "k_eff 2D | k_eff 3D |", "|---|---|---|---|---|---|---|---|"]
-    md += ["| " + " | ".join([r[0], f"{r[1]:.1f}", f"{r[2]:.1f}", _signed_percent(r[3], 2),
+    md += ["| " + " | ".join([r[0], f"{r[1]:.1f}", f"{r[2]:.1f}", signed_percent(r[3], 2),
                               f"{r[4]:.1f}", f"{r[5]:.1f}", f"{r[6]:.4f}", f"{r[7]:.4f}"])
            + " |" for r in rows]
     md += ["", "L1-B2 split f_B2/f_L1 - 1 (short circuit): "
-           f"**{_signed_percent(split2, 3)}** in 2D, **{_signed_percent(split3, 3)}** in 3D. "
+           f"**{signed_percent(split2, 3)}** in 2D, **{signed_percent(split3, 3)}** in 3D. "
            "A motor wants the two modes degenerate (`lusm tune`).", ""]
     data["gap_validity"], note = _validity_note(st)
     md += note
@@ -94,14 +94,6 @@ def _validity_note(stator) -> tuple[str | None, list[str]]:
                       f"{in_file_terms(validity)}. The 2D rows, and the reduced set and motor "
                       "sections built on them, carry that error; the 3D columns are the "
                       "reference.", ""]
-
-
-def _signed_percent(x: float, decimals: int) -> str:
-    """``x`` (a ratio) in per cent with its sign, in two significant figures where
-    ``decimals`` would round it to zero: a 2D/3D difference of -3e-5 had read "-0.00%"."""
-    if x != 0 and abs(x) * 100 < 0.5 * 10.0 ** -decimals:
-        return f"{x * 100:+.1e}%"
-    return f"{x:+.{decimals}%}"
 
 
 def _params_section(params, label: str, damping_from: str):

@@ -132,3 +132,11 @@ def map_summary(m: StickSlipMap) -> dict:
         d["undecided"] = [[float(m.voltages_V[i]), float(m.preloads_N[j])]
                           for i, j in zip(*np.nonzero(m.fallback), strict=True)]
     return d
+
+
+def signed_percent(x: float, decimals: int) -> str:
+    """``x`` (a ratio) in per cent with its sign, in two significant figures where
+    ``decimals`` would round it to zero: a 2D/3D difference of -3e-5 had read "-0.00%"."""
+    if x != 0 and abs(x) * 100 < 0.5 * 10.0 ** -decimals:
+        return f"{x * 100:+.1e}%"
+    return f"{x:+.{decimals}%}"
