@@ -421,16 +421,10 @@ def check_fe_work(cells: int, solves: int, three_d: bool, option: str) -> None:
             f"({limits.more_work_hint()})", option)
 
 
-def check_fe_size(stator, refine: int | None, layers: int | None = None,
-                  option: str = "--refine", edge_grading: int = 0, quarter: bool = False) -> int:
-    """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
-
-    The count is exact for the generated plate (``fem.mesh.grid_lines_m``, and
-    ``fem.solid3d.hex_grid_lines`` for a 3D mesh graded ``edge_grading`` times, or
-    ``fem.solid3d_symmetric.quarter_grid_lines`` with ``quarter``, the quarter-plate model)
-    and is the file's for a stator with its own mesh (bounded when it is read). ``layers``
-    selects the 3D count.
-    """
+def fe_cell_count(stator, refine: int | None, layers: int | None = None,
+                  edge_grading: int = 0, quarter: bool = False) -> int:
+    """Elements (``layers`` None) or 3D bricks of the FE mesh ``stator`` and ``refine`` make,
+    as :func:`check_fe_size` counts them against the bounds (the report states them too)."""
     from fem.meshed_stator import planform_mesh
 
     mesh = planform_mesh(stator)
@@ -456,6 +450,23 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
 
         x, y = grid_lines_m(stator, DEFAULT_REFINE if refine is None else refine)
         n = (len(x) - 1) * (len(y) - 1) * (layers or 1)
+    return n
+
+
+def check_fe_size(stator, refine: int | None, layers: int | None = None,
+                  option: str = "--refine", edge_grading: int = 0, quarter: bool = False) -> int:
+    """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
+
+    The count is exact for the generated plate (``fem.mesh.grid_lines_m``, and
+    ``fem.solid3d.hex_grid_lines`` for a 3D mesh graded ``edge_grading`` times, or
+    ``fem.solid3d_symmetric.quarter_grid_lines`` with ``quarter``, the quarter-plate model)
+    and is the file's for a stator with its own mesh (bounded when it is read). ``layers``
+    selects the 3D count.
+    """
+    from fem.meshed_stator import planform_mesh
+
+    mesh = planform_mesh(stator)
+    n = fe_cell_count(stator, refine, layers, edge_grading, quarter)
     if layers is not None:
         top, what = limits.work_bound(limits.MAX_FE_CELLS_3D), "3D bricks"
     else:
