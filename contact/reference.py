@@ -212,6 +212,15 @@ def solve_reference(params: MotorParams, op: OperatingPoint, opts, window: RunWi
     atol = rtol * np.array(
         [u_scale, u_scale * op.omega, w_scale, w_scale * op.omega, 1e-6, 1e-3]
     )
+    # an event fires once its function exceeds roundoff of its own scale, not at zero:
+    # solve_ivp counts g = 0 -> 0 as a crossing, and with no drive and no preload (0 V /
+    # 0 N) the normal force is exactly 0, so "contact" and "separate" fired in turn at the
+    # same instant, forever (the event kernel's landing past the zero, docs/contact.md §3,
+    # is the same rule)
+    force_tol = 1e-12 * (op.preload_N + motor.Mg + (abs(p.A_l) + abs(p.A_b)) * op.voltage_V)
+    speed_tol = 1e-12 * op.omega * (u_scale + w_scale)
+    tol = {"separate": force_tol, "contact": force_tol, "break": force_tol,
+           "release": force_tol, "vrel": speed_tol, "xdot": speed_tol}
     t_end, t_win = window.end_s, window.window_start_s
     marks = sorted({m for m in (window.previous_start_s, window.previous_end_s, t_win)
                     if 0.0 < m < t_end})
@@ -223,9 +232,9 @@ def solve_reference(params: MotorParams, op: OperatingPoint, opts, window: RunWi
         t_stop = next((m for m in marks if m > t), t_end)
         evs = motor.events(mode)
         funcs = []
-        for _kind, f in evs:
-            def ev(tt, yy, _mode, f=f):
-                return f(tt, yy)
+        for kind, f in evs:
+            def ev(tt, yy, _mode, f=f, tol=tol[kind]):
+                return f(tt, yy) - tol
             ev.terminal = True
             ev.direction = 1.0
             funcs.append(ev)

@@ -45,3 +45,15 @@ def test_literal_scheme_counts_and_shares_the_result_type(paper_params):
 def test_unknown_method_is_refused(paper_params):
     with pytest.raises(ValueError, match="method must be one of event, reference, literal, steady"):
         simulate(paper_params, 200.0, 14.0, method="rk45")
+
+
+def test_the_reference_undriven_without_preload_is_separated_at_once(paper_params):
+    """0 V / 0 N (found by API testing): the normal force is exactly zero, solve_ivp counts
+    0 -> 0 as a crossing, and "contact" and "separate" fired in turn at t = 0 without end
+    (54 000 solver calls in 40 s, none advancing time). Events now fire past roundoff of
+    their own scale; the reference agrees with the event scheme: separated, at rest."""
+    ev = simulate(paper_params, 0.0, 0.0, duration_s=2.5e-4)
+    ref = simulate(paper_params, 0.0, 0.0, duration_s=2.5e-4, method="reference")
+    assert ref.steady.motion == ev.steady.motion == "separated"
+    assert ref.steady.velocity_m_s == ev.steady.velocity_m_s == 0.0
+    assert ref.events == ev.events == 0
