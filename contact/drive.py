@@ -26,7 +26,13 @@ def grid_frequency(params: MotorParams) -> tuple[float, float]:
     a check that needs only the ellipse's size stays off the optimizer's import."""
     f1, f2 = sorted((params.f_L1_Hz, params.f_B2_Hz))
     grid = np.linspace(0.8 * f1, 1.2 * f2, GRID_POINTS)
-    best = grid[int(np.argmax([tip_ellipse_area(params, f) for f in grid]))]
+    area = np.array([tip_ellipse_area(params, f) for f in grid])
+    if not np.max(area) > 0.0:
+        # one force factor zero: no ellipse anywhere, and the argmax of zeros was the
+        # grid's first point, returned as an operating frequency
+        raise ValueError(f"the set drives no tip ellipse (A_l = {params.A_l:g}, A_b = "
+                         f"{params.A_b:g} N/V): no operating frequency; drive both modes")
+    best = grid[int(np.argmax(area))]
     return float(best), float(grid[1] - grid[0])
 
 

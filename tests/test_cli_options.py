@@ -251,3 +251,29 @@ def test_a_drive_that_excites_no_b2_is_said(tmp_path, capsys):
     assert "electrodes 1, 2, 3, 4 excites no B2" in out.err
     assert main(["params", "--source", "fem", "--json"]) == 0
     assert "excites no" not in capsys.readouterr().err
+
+
+def test_a_set_that_drives_no_ellipse_has_no_operating_frequency(tmp_path, capsys):
+    """A_b = 0 (the beam set with one full electrode, or a --params file): the free tip
+    ellipse is zero at every frequency, and auto_frequency returned the first point of its
+    grid (54 442 Hz for the beam set) as the operating frequency."""
+    import json
+
+    from contact.drive import auto_frequency
+    from rom.sources import get_params
+
+    with pytest.raises(ValueError, match="drives no tip ellipse"):
+        auto_frequency(get_params("beam", electrode_layout="full"))
+    assert main(["params", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    d = {k: v for k, v in d.items()
+         if k not in ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")}
+    d["A_b"] = 0.0
+    (tmp_path / "p.json").write_text(json.dumps(d))
+    args = ["--params", str(tmp_path / "p.json"), "--voltage", "200", "--preload", "14"]
+    assert main(["simulate", *args, "--frequency", "auto", "--duration", "0.002"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("lusm simulate: error: --frequency auto: the set drives no tip")
+    # at a given frequency it is a motor that does not move: answered, not refused
+    assert main(["characteristic", *args, "--loads", "0:0.1:0.1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["no_load_velocity_m_s"] == 0.0

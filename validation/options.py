@@ -691,7 +691,10 @@ def parse_frequency(text: str | float, params=None) -> float:
     if isinstance(text, str) and text.strip().lower() == "auto" and params is not None:
         from contact.drive import auto_frequency
 
-        return float(auto_frequency(params))
+        try:
+            return float(auto_frequency(params))
+        except ValueError as exc:  # a set that drives no tip ellipse has no operating point
+            raise LusmError(f"--frequency auto: {exc}", "--frequency") from None
     lo, hi = limits.FREQUENCY_HZ
     try:
         value = float(text)
@@ -945,6 +948,8 @@ def warn_default_frequency(params, frequency_Hz: float) -> None:
     from contact.drive import auto_frequency, grid_frequency, tip_ellipse_area
 
     at_drive = tip_ellipse_area(params, frequency_Hz)
+    if not at_drive > 0.0 and not tip_ellipse_area(params, params.f_B2_Hz) > 0.0:
+        return  # no ellipse at any frequency (a force factor zero): no better frequency
     # the grid's best first: a drive well inside the threshold needs no optimizer (its
     # import alone cost every default `lusm simulate` 0.36 s); the refined best is at least
     # the grid's, so the share it gives can only be smaller
