@@ -165,12 +165,31 @@ def static_deflection_m(params: MotorParams, preload_N: float) -> float:
 
 
 def gamma_T(params: MotorParams, coupling: str) -> float:
-    """Generalized-force coefficient of F_T on the B2 coordinate for a coupling choice."""
+    """Generalized-force coefficient of F_T on the B2 coordinate for a coupling choice.
+
+    Raises
+    ------
+    ValueError
+        An unknown coupling, or one under which no tangential force keeps a stuck tip stuck:
+        ``gamma_T = 0`` (``phi_B0 == phi_Bl`` with the paper's coupling), or
+        ``phi_Bl gamma_T / M_b`` not below ``1 / M_slider``. The stick force divides by
+        both; with ``phi_B0`` next to ``phi_Bl`` the literal scheme returned 6.6e30 m/s and
+        the event scheme a time-step or chattering error that blamed ``dt_s``.
+    """
     if coupling == "paper":
-        return params.eta_T
-    if coupling == "consistent":
-        return -params.phi_Bl
-    raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
+        g = params.eta_T
+    elif coupling == "consistent":
+        g = -params.phi_Bl
+    else:
+        raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
+    p = params
+    if g == 0.0 or not p.phi_Bl * g * p.M_slider <= (1.0 - 1e-6) * p.M_b:
+        raise ValueError(
+            f"phi_B0 = {p.phi_B0!r}, phi_Bl = {p.phi_Bl!r} with coupling={coupling!r} give "
+            f"gamma_T = {g:.4g} (the tip force on B2): it must be non-zero and "
+            f"phi_Bl * gamma_T / M_b below 1 / M_slider = {1.0 / p.M_slider:.4g} 1/kg (got "
+            f"{p.phi_Bl * g / p.M_b:.4g}), or no tangential force keeps a stuck tip stuck")
+    return g
 
 
 def _unit(i: int) -> np.ndarray:
@@ -249,7 +268,7 @@ def build_system(
     ng_contact = fn + Mg * e[S.ONE]
     ng_sep = Mg * e[S.ONE]
     vrel = phi * e[S.DW] - e[S.DX]
-    denom = phi * g_T / p.M_b - 1.0 / p.M_slider  # < 0 for both couplings
+    denom = phi * g_T / p.M_b - 1.0 / p.M_slider  # < 0 for both couplings, on sane sets
 
     # the external load acts on the slider like the guide does: both enter ff_m ("guide
     # and load"), so the energy balance's guide work includes the load's work

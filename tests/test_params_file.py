@@ -101,3 +101,26 @@ def test_a_bad_value_names_the_files_key(tmp_path, capsys):
     assert main(["simulate", "--params", str(f), "--voltage", "200", "--preload", "14"]) == 2
     err = capsys.readouterr().err
     assert "key K_l must be a real number" in err and "MotorParams" not in err
+
+
+def test_a_set_with_no_stick_force_is_refused_by_every_scheme(tmp_path, capsys):
+    """phi_B0 at phi_Bl makes the paper's gamma_T zero, and phi_B0 a little above it makes
+    phi_Bl gamma_T / M_b reach 1 / M_slider: the stick force divides by both. The literal
+    scheme returned 6.6e30 m/s, the event scheme blamed dt_s (found by API testing). Every
+    scheme now refuses the set, and the CLI names the file."""
+    from contact.simulate import simulate
+
+    t = table2()
+    bad = (t.with_(phi_B0=t.phi_Bl),
+           t.with_(phi_B0=t.phi_Bl + t.M_b / (t.M_slider * t.phi_Bl)))
+    for q in bad:
+        for method in ("event", "literal", "reference"):
+            with pytest.raises(ValueError, match="no tangential force keeps a stuck tip"):
+                simulate(q, 200, 14, duration_s=1e-3, method=method, coupling="paper")
+    d = {k: v for k, v in bad[0].to_dict().items()
+         if k not in ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")}
+    (tmp_path / "p.json").write_text(json.dumps(d))
+    assert main(["simulate", "--params", str(tmp_path / "p.json"), "--voltage", "200",
+                 "--preload", "14", "--coupling", "paper", "--duration", "0.002"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith(f"lusm simulate: error: --params {tmp_path / 'p.json'}: phi_B0")

@@ -168,13 +168,24 @@ def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") ->
 
 def coupling_of(args: argparse.Namespace, params) -> tuple[str, str]:
     """The coupling to run ``params`` with and where the choice came from: ``--coupling``
-    as typed, or for ``auto`` :func:`contact.model.default_coupling`."""
-    if getattr(args, "coupling", "auto") != "auto":
-        return args.coupling, "--coupling"
-    from contact.model import default_coupling
+    as typed, or for ``auto`` :func:`contact.model.default_coupling`; refused, naming the
+    option behind the set, where the set has no stick force under it
+    (:func:`contact.model.gamma_T`)."""
+    from contact.model import default_coupling, gamma_T
     from rom.table2 import table2
 
-    coupling, why = default_coupling(params)
+    if getattr(args, "coupling", "auto") != "auto":
+        coupling, why = args.coupling, "--coupling"
+    else:
+        coupling, why = default_coupling(params)
+    try:
+        gamma_T(params, coupling)
+    except ValueError as exc:
+        option = next((o for o in ("--params", "--geometry") if typed(o)), "--coupling")
+        given = getattr(args, option.lstrip("-"), None) if option != "--coupling" else None
+        raise LusmError(f"{option}{f' {given}' if given else ''}: {exc}", option) from None
+    if why == "--coupling":
+        return coupling, why
     if coupling != "paper" and params.source.split(" [edited in ")[0] == table2().source:
         # an edited copy of Table 2 (a --params file): the rule switches the coupling, which
         # alone changes the speed several-fold; say so rather than let it pass for the edit
