@@ -14,6 +14,7 @@ worker threads left spinning after each call would otherwise take the cores from
 from __future__ import annotations
 
 import dataclasses
+import numbers
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
@@ -172,6 +173,11 @@ def stick_slip_map(
     branches = np.empty(shape, dtype=object)
     branches.fill(())
     fallback = np.zeros(shape, dtype=bool)
+    if workers is not None and (isinstance(workers, bool)
+                                or not isinstance(workers, numbers.Integral) or workers < 1):
+        # 0 used every CPU and -1 gave the thread pool's own message
+        raise ValueError(f"workers must be an integer >= 1 or None (every CPU), got "
+                         f"{workers!r}")
     n_workers = workers or os.cpu_count() or 1
     t0 = time.perf_counter()
     if method == "steady":

@@ -118,12 +118,21 @@ class SimulationOptions:
         if self.coupling not in COUPLINGS:
             raise ValueError(f"coupling must be one of {COUPLINGS}, got {self.coupling!r}")
         for name in ("steady_periods", "full_periods", "max_trace_points", "max_events_per_step"):
-            if int(getattr(self, name)) < 1:
-                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)!r}")
-        if not (isinstance(self.rtol, (int, float)) and 1e-14 <= self.rtol <= 1e-3):
+            v = getattr(self, name)
+            # an integer, stored as one: NaN had been a numpy conversion error, '100' a
+            # TypeError deep in a scheme, and 2.5 or True were kept as typed in r.options
+            if isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < 1:
+                raise ValueError(f"{name} must be an integer >= 1, got {v!r}")
+            object.__setattr__(self, name, int(v))
+        for name in ("rtol", "stick_band_m_s"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, numbers.Real):
+                raise TypeError(f"{name} must be a number, got {v!r}")
+            object.__setattr__(self, name, float(v))
+        if not 1e-14 <= self.rtol <= 1e-3:
             raise ValueError(f"rtol must lie in [1e-14, 1e-3], got {self.rtol!r}")
         if not (math.isfinite(self.stick_band_m_s) and self.stick_band_m_s >= 0):
-            raise ValueError(f"stick_band_m_s must be finite and >= 0, got "
+            raise ValueError(f"stick_band_m_s must be finite and >= 0 (m/s), got "
                              f"{self.stick_band_m_s!r}")
 
 

@@ -80,8 +80,8 @@ def fem_params(
                              f"(0, 1), got {damping_ratios!r}")
         zeta_l, zeta_b = (float(z) for z in damping_ratios)
         for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
-            if not (math.isfinite(z) and z > 0.0):
-                raise ValueError(f"damping_ratios {name} must be a finite number > 0, got {z!r}")
+            if not (math.isfinite(z) and 0.0 < z < 1.0):  # under-damped, as beam_params
+                raise ValueError(f"damping_ratios {name} must lie in (0, 1), got {z!r}")
     mat = get_material(material)
     modes = plate_modes(stator, mat, order, refine)
     model = plate_model(stator, mat, order, refine)

@@ -125,3 +125,44 @@ def test_drives_beyond_any_stator_are_refused_not_run():
     v_max = MAX_STATIC_DEFLECTION_M / max(abs(p.A_l) / p.K_l, abs(p.A_b) / p.K_b)
     assert v_max > 5e3 * 2000
     assert simulate(p, 2000, 14, duration_s=1e-3).steady.velocity_m_s > 0
+
+
+@pytest.mark.parametrize("kw", [{"steady_periods": float("nan")}, {"steady_periods": 2.5},
+                                {"max_trace_points": "100"}, {"max_events_per_step": True},
+                                {"full_periods": float("inf")}])
+def test_simulation_options_integers_are_integers(kw):
+    """NaN was numpy's "cannot convert float NaN to integer", inf an OverflowError, '100' a
+    TypeError deep in a scheme, and 2.5 or True were stored as typed (found by API testing)."""
+    from contact.simulate import SimulationOptions
+
+    with pytest.raises(ValueError, match=f"{next(iter(kw))} must be an integer >= 1"):
+        SimulationOptions(**kw)
+
+
+def test_simulation_options_numbers_are_numbers():
+    import numpy as np
+
+    from contact.simulate import SimulationOptions
+
+    with pytest.raises(TypeError, match="stick_band_m_s must be a number"):
+        SimulationOptions(stick_band_m_s="0")
+    o = SimulationOptions(rtol=np.float32(1e-8), steady_periods=np.int64(5))  # numpy scalars
+    assert type(o.rtol) is float and type(o.steady_periods) is int
+
+
+def test_fem_damping_ratios_are_under_damped_as_the_beam_sets():
+    """fem_params took zeta_L1 = 5 (it checked > 0 only; its own message said (0, 1))."""
+    from rom.from_fem import fem_params
+
+    with pytest.raises(ValueError, match=r"zeta_L1 must lie in \(0, 1\)"):
+        fem_params(damping_ratios=(5.0, 0.05))
+
+
+@pytest.mark.parametrize("workers", [0, -1, 2.0, True])
+def test_map_workers_are_a_positive_integer(workers):
+    """workers=0 used every CPU silently; -1 gave the thread pool's message."""
+    from contact.maps import stick_slip_map
+    from rom import table2
+
+    with pytest.raises(ValueError, match="workers must be an integer >= 1"):
+        stick_slip_map(table2(), [200.0], [14.0], workers=workers)
