@@ -339,6 +339,7 @@ def _switch(mode, etype, z, funcs, scalars):
     contact = mode // 9
     tip = (mode // 3) % 3
     guide = mode % 3
+    was_stuck = contact == CONTACT and tip == STICK
     mu_d = scalars[SC_MU_D]
     mu_sd = scalars[SC_MU_SD]
     load = scalars[SC_LOAD]  # on the slider in -x, beside the tip's force
@@ -389,6 +390,21 @@ def _switch(mode, etype, z, funcs, scalars):
             z[DX] = 0.0
         else:
             _stick_exact(z, scalars)
+    elif contact == CONTACT and was_stuck:
+        # The tip leaves stick for slip: it starts slipping from v_rel = 0, the constraint
+        # that held until now, in the direction of the stick force (docs/contact.md 2.1).
+        # The stick state carries v_rel = phi_B(l) dw_b - dx only to roundoff (an ulp of
+        # dx, either sign); the new slip mode's v_rel-zero functional -sigma v_rel must start
+        # on its surface, not past it: a positive ulp fired it at once, _tip_zero chose the
+        # same slip again from the unchanged state, and so on at the same instant (a stick
+        # break just before a separation, where the slip flow's end-of-step v_rel turns
+        # back: "contact chattering"). Exactly 0 in the functional's own arithmetic, the
+        # slider taking the ulp (a held slider and its tip are at rest together).
+        if guide == HELD:
+            z[DX] = 0.0
+            z[DW] = 0.0
+        else:
+            z[DX] = scalars[SC_PHI_BL] * z[DW]
     elif guide == HELD:
         z[DX] = 0.0
     return contact * 9 + tip * 3 + guide

@@ -104,7 +104,7 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
         period = 1.0 / frequency_Hz
         long = dataclasses.replace(
             opts, duration_s=max(opts.duration_s, FALLBACK_DURATION_S, 10 * period),
-            dt_s=min(opts.dt_s, period / 20))
+            dt_s=None if opts.dt_s is None else min(opts.dt_s, period / 20))
         t = simulate(params, voltage_V, preload_N, frequency_Hz, long)
         st = t.steady
         return (st.motion, st.velocity_m_s, st.stick_fraction, st.separation_fraction,

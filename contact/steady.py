@@ -852,12 +852,17 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     the window, and the slider's ripple biased the mean by 3e-6 (1.6e-5 at a creep under a
     load, found at 44 066 Hz).
     """
-    from contact.simulate import SimulationOptions, normal_amplitude, solve_event
+    from contact.simulate import (
+        DEFAULT_DT_S,
+        SimulationOptions,
+        normal_amplitude,
+        solve_event,
+    )
     from contact.window import period_step_s, run_window
 
     op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
     if dt_s is None:
-        dt_s = period_step_s(op.period_s, SimulationOptions().dt_s)
+        dt_s = period_step_s(op.period_s, DEFAULT_DT_S)
     step = {"dt_s": float(dt_s)}
     opts = SimulationOptions(duration_s=duration_s, steady_periods=steady_periods,
                              coupling=coupling, ultrasonic_friction=ultrasonic_friction, **step)

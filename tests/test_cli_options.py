@@ -190,9 +190,17 @@ def test_the_default_step_divides_the_drive_period(capsys):
     import json
     import math
 
+    from contact.simulate import DEFAULT_DT_S as LIBRARY_DT_S
+    from contact.simulate import SimulationOptions, simulate
+    from rom import table2
     from validation.options import DEFAULT_DT_S, time_step_s
 
     assert time_step_s(None, 40e3) == DEFAULT_DT_S and time_step_s(2e-7, 39e3) == 2e-7
+    # the library runs the same rule by default (it kept 1e-7 s at every frequency, and a
+    # held slider's window means off 40 kHz read -3.7e-11 m/s; found by API testing)
+    assert LIBRARY_DT_S == DEFAULT_DT_S and SimulationOptions().dt_s is None
+    r = simulate(table2(), 100, 14, 35254.0, duration_s=0.01)
+    assert r.options.dt_s == time_step_s(None, 35254.0) and abs(r.steady.velocity_m_s) < 1e-15
     for f in (39810.5, 35254.0, 47700.6, 1234.5):
         dt = time_step_s(None, f)
         n = (1.0 / f) / dt

@@ -220,3 +220,38 @@ def test_wide_electrodes_on_a_thin_plate_keep_the_cross_section_small():
     assert a.n_dofs < 50_000
     assert np.allclose(a.c_F_m, b.c_F_m, rtol=1e-3)
     assert a.parallel_plate_F_m[0] < a.c_F_m[0, 0] < 1.01 * a.parallel_plate_F_m[0]
+
+
+def test_electrodes_set_back_from_the_edges_are_said_to_leave_the_2d_model():
+    """A planform whose quadrant electrodes stop 0.5 mm short of every edge (found by
+    exploratory testing): the 2D model took the border as open-circuit material and put L1
+    0.59 % and B2 1.23 % above the 3D model, B2 k_eff 18 % below, without a word. The share
+    of the outline along such material decides: every edge here, 5 % for a protruding tip
+    (examples/tip_protrusion), none on the generated plate."""
+    from fem.mesh import PlateMesh
+    from fem.meshed_stator import planform_mesh
+    from fem.model import (
+        BORDER_SHARE,
+        UnelectrodedBorderWarning,
+        build_model,
+        gap_layout,
+        unelectroded_outline_share,
+    )
+    from fem.stator_file import load_stator
+    from tests.conftest import ROOT
+
+    st = PlateStator()
+    plain = structured_mesh(st, 8)
+    c = plain.points_m[:, plain.quads].mean(axis=1)
+    rim = ((np.abs(c[0]) > 0.5 * st.width_m - 0.5e-3) | (c[1] < 0.5e-3)
+           | (c[1] > st.length_m - 0.5e-3))
+    bordered = PlateMesh(plain.points_m, plain.quads, np.where(rim, 0, plain.electrode))
+    assert unelectroded_outline_share(bordered, gap_layout(bordered)) == pytest.approx(1.0)
+    assert unelectroded_outline_share(plain, gap_layout(plain)) == 0.0
+    tip = planform_mesh(load_stator(ROOT / "examples" / "tip_protrusion" / "stator.toml").stator)
+    assert 0 < unelectroded_outline_share(tip, gap_layout(tip)) < BORDER_SHARE
+    with pytest.warns(UnelectrodedBorderWarning, match="100% of the plate's outline"):
+        build_model(bordered, st)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnelectrodedBorderWarning)
+        build_model(plain, st)

@@ -1658,7 +1658,9 @@ CLAIMS: tuple[Claim, ...] = (
     Claim("fe2d_default_error", "-", "lusm report (section 3b, order 2 at the default refine)",
           lambda: _fe_precision()[0]),
     Claim("fe2d_default_time_ratio", "-",
-          "lusm report (section 3b, wall time of refine 16 over the default refine)",
+          "python -m validation.doc_numbers --show fe2d_default_time_ratio (order 2, wall "
+          "time of refine 16 over the default refine, validation.work_precision."
+          "fe_work_precision({2: (4, 16)}); the report's section 3b stops at refine 6)",
           lambda: _fe_precision()[1]),
     Claim("dead_zone_14N_V", "V", "lusm report (section 4, dead-zone edge); "
           "python -m validation.doc_numbers --show dead_zone_14N_V",
