@@ -259,6 +259,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-refine-3d", ["modes", "--model", "3d", "--refine", "40"], ["--refine", "--model 3d"]),
     ("modes-gap-eats-plate", ["modes", "--gap-mm", "8"], ["--gap-mm", "7.5 mm"]),
     # the parse range alone ([0, 1000] mm) hid the rest of the rule
+    # the staging folder's name (/proc/.x-partial-...) had stood for the user's folder
+    ("report-out-unwritable", ["report", "--out", "/proc/lusm-x", "--quick"],
+     ["--out /proc/lusm-x: cannot write there"]),
     ("modes-gap-huge", ["modes", "--gap-mm", "1e9"],
      ["--gap-mm", "[0, 1000] mm", "below the plate's length and width"]),
     ("modes-export-folder", ["modes", "--export", "{folder}"], ["--export", "folder"]),

@@ -220,7 +220,13 @@ def output_set(target: Path, kind: str, option: str = "--out",
     stage = stage_parent / f".{target.name or 'out'}-partial-{uuid.uuid4().hex[:12]}"
     done = False
     try:
-        stage.mkdir()
+        try:
+            stage.mkdir()
+        except OSError as exc:  # name the user's folder and option, not the staging name
+            from validation.errors import LusmError
+
+            raise LusmError(f"{option} {target}: cannot write there ({exc.strerror or exc})",
+                            option) from None
         yield stage
         _commit(stage, target, kind, force, option)
         done = True
