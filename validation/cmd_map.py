@@ -139,7 +139,13 @@ def run(args: argparse.Namespace) -> None:
 
         name = "fig19_map_constant_mu.png" if args.no_ultrasonic_friction else "fig18_map.png"
         with figure_set(plot, "map", "--plot", args.force) as stage:
-            png = plot_map(m, stage / name, set_label(params.source))
+            # the method in the title: a 10 ms transient map with unsettled points was the
+            # same picture as the settled steady one
+            how = (f"steady engine ({args.accuracy} level)" if m.method == "steady" else
+                   f"transients of {args.duration:g} s from rest"
+                   + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
+            png = plot_map(m, stage / name,
+                           f"{set_label(params.source)}, {freq / 1e3:.4g} kHz, {how}")
             summary["figure"] = moved([png], stage, plot)[0]
     if args.json:
         print_json(summary, indent=2)
