@@ -59,22 +59,32 @@ def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
+    # one colour per class of orbit, in the legend only where drawn (it had listed period-3
+    # and period-4 orbits that no point had, and drawn k = 0 means as period-1 orbits)
+    classes = {1: ("C0", "period-1 orbit"), 2: ("C1", "period-2 orbit"),
+               3: ("C2", "period-3 orbit"), 4: ("C3", "period-4 or longer orbit"),
+               0: ("C4", "no period up to 16 (long mean)")}
+    drawn, held = set(), False
     for v0 in np.asarray(voltages_V, dtype=float):
         r = steady_state(params, v0, preload_N, accuracy=accuracy, frequency_Hz=frequency_Hz)
         for b in r.branches:
             if b.motion == "dead-zone":
                 ax.plot(v0, 0.0, "ks", ms=6)
+                held = True
                 if b.from_rest:
                     ax.plot(v0, 0.0, "o", mfc="none", mec="k", ms=11)
                 continue
-            colour = f"C{min(max(b.k, 1), 4) - 1}"
+            k = min(b.k, 4)
+            drawn.add(k)
+            colour = classes[k][0]
             ax.plot(v0, b.velocity_m_s * 1e3, "o", color=colour,
                     mfc=colour if b.stable else "none", ms=6)
             if b.from_rest:
                 ax.plot(v0, b.velocity_m_s * 1e3, "o", mfc="none", mec="k", ms=11)
-    for k in (1, 2, 3, 4):
-        ax.plot([], [], "o", color=f"C{k - 1}", label=f"period-{k} orbit")
-    ax.plot([], [], "ks", label="dead zone (slider held)")
+    for k in sorted(drawn, key=lambda k: (k == 0, k)):
+        ax.plot([], [], "o", color=classes[k][0], label=classes[k][1])
+    if held:
+        ax.plot([], [], "ks", label="dead zone (slider held)")
     ax.plot([], [], "o", mfc="none", mec="k", ms=11, label="reached from rest")
     ax.set_xlabel("drive voltage V0 (V)")
     ax.set_ylabel("steady slider velocity (mm/s)")
