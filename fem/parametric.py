@@ -104,13 +104,19 @@ class ParametricStator(PlateStator):
         c_max = 0.5 * (min(width, length) - gap)
         if c >= c_max:
             raise ValueError(f"ParametricStator.chamfer_m must lie in [0, {c_max!r}) m "
-                             f"((min(width, length) - gap) / 2), got {c!r}")
+                             f"((min(width, length) - gap) / 2), got {c!r}): [chamfers] "
+                             f"size_mm {c * 1e3:g} mm must be below {c_max * 1e3:.4g} mm, "
+                             f"half the plate's smaller side less the gap, on a "
+                             f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
         if self.tip_length_m > 0.0:
             flat = width - 2.0 * c
             if not 0.0 < self.tip_width_m <= flat * (1 + 1e-12):
                 raise ValueError(f"ParametricStator.tip_width_m must lie in (0, {flat!r}] m "
                                  f"(the end face between the chamfers), got "
-                                 f"{self.tip_width_m!r}")
+                                 f"{self.tip_width_m!r}): [tip] width_mm "
+                                 f"{self.tip_width_m * 1e3:g} mm must be at most the "
+                                 f"{flat * 1e3:.4g} mm end face between the chamfers, on a "
+                                 f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
             if self.tip_length_m > length:
                 raise ValueError(f"ParametricStator.tip_length_m must lie in [0, {length!r}] "
                                  f"m (the plate length), got {self.tip_length_m!r}")

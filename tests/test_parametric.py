@@ -215,6 +215,14 @@ def test_a_sweep_that_pushes_a_hole_off_the_plate_blames_its_range(tmp_path, cap
     assert err.startswith("lusm sweep: error: --length-mm 20:30:5: a plate of the sweep")
     assert "hole 1, 1.5 mm across at [2, 22.5] mm, on a 20 x 7.5 mm plate" in err
     assert "holes_m" not in err
+    # a chamfer no longer fitting a narrower plate: "ParametricStator.chamfer_m must lie in
+    # [0, 0.00075) m" in metres and library names (found by exploratory testing)
+    path.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+                    "[chamfers]\nsize_mm = 1.5\n")
+    assert main(["sweep", "--geometry", str(path), "--width-mm", "2:3:0.5"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "[chamfers] size_mm 1.5 mm must be below 0.75 mm" in err and "on a 30 x 2 mm" in err
+    assert "chamfer_m" not in err
 
 
 def test_mounting_points_report_the_mode_amplitude(tmp_path, capsys):

@@ -112,7 +112,10 @@ def feature_reason(exc: BaseException) -> str:
     """A parametric stator's refusal in the stator file's terms (mm, hole numbers) where the
     library gave them after its SI text, as for the holes; else the text as it is."""
     text = str(exc)
-    return text.split("): ", 1)[-1] if "): hole " in text else text
+    for mark in ("): hole ", "): [chamfers] ", "): [tip] "):
+        if mark in text:
+            return text.split("): ", 1)[-1]
+    return text
 
 
 def short_reason(exc: Exception | str) -> str:
