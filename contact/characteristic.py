@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contact.model import OperatingPoint
+from contact.model import OperatingPoint, resolve_coupling
 from contact.steady import (
     ACCURACIES,
     HELD_M_S,
@@ -26,7 +26,7 @@ from contact.steady import (
     steady_state,
     warn_irregular,
 )
-from rom.params import MotorParams
+from rom.params import MotorParams, require_params
 
 
 @dataclass(frozen=True)
@@ -105,7 +105,7 @@ MAX_POINTS = 10_000
 
 def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                    loads_N=None, *, frequency_Hz: float | None = None,
-                   coupling: str = "paper", ultrasonic_friction: bool = True,
+                   coupling: str = "auto", ultrasonic_friction: bool = True,
                    points: int = 21, accuracy: str = "fast",
                    progress: bool = False) -> Characteristic:
     """Speed-thrust characteristic at one operating point.
@@ -148,6 +148,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         loads_arr = np.asarray(loads_N)
         if loads_arr.dtype.kind not in "iuf" or not np.all(np.isfinite(loads_arr)):
             raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
+    require_params(params)
+    coupling = resolve_coupling(params, coupling)  # "auto": as the CLI's
     op = OperatingPoint(voltage_V, preload_N,
                         40e3 if frequency_Hz is None else frequency_Hz)
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
@@ -162,7 +164,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                              load_N=load, coupling=coupling,
                              ultrasonic_friction=ultrasonic_friction, accuracy="exact")
             b = r.from_rest
-            if b is not None and b.k == 0:
+            if b is not None and b.k == 0 and b.motion != "dead-zone":
                 irregular[load] = b
             return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
         branches, v = branches_at_load(sp, load)

@@ -55,6 +55,18 @@ def default_coupling(params: MotorParams) -> tuple[str, str]:
     return "consistent", "auto: work-consistent for a set that is not Table 2's"
 
 
+def resolve_coupling(params: MotorParams, coupling: str) -> str:
+    """``coupling`` itself, or for ``"auto"`` (every entry point's default, as the CLI's)
+    :func:`default_coupling` of ``params``. The library defaulted to ``"paper"`` for every
+    set while the CLI ran non-Table-2 sets with the consistent coupling: the beam set at
+    300 V / 14 N was held in ``simulate`` and moved at 4.1e-5 m/s in ``lusm simulate``."""
+    if coupling == "auto":
+        return default_coupling(params)[0]
+    if coupling not in COUPLINGS:
+        raise ValueError(f"coupling must be one of {COUPLINGS + ('auto',)}, got {coupling!r}")
+    return coupling
+
+
 @dataclass(frozen=True)
 class OperatingPoint:
     """Drive and load of one simulation.
@@ -176,6 +188,8 @@ def gamma_T(params: MotorParams, coupling: str) -> float:
         both; with ``phi_B0`` next to ``phi_Bl`` the literal scheme returned 6.6e30 m/s and
         the event scheme a time-step or chattering error that blamed ``dt_s``.
     """
+    if coupling == "auto":  # every scheme takes the entry points' default as they do
+        coupling = default_coupling(params)[0]
     if coupling == "paper":
         g = params.eta_T
     elif coupling == "consistent":

@@ -42,6 +42,7 @@ from contact.model import (
     build_system,
     gamma_T,
     linear_normal_amplitude,
+    resolve_coupling,
 )
 from contact.results import EnergyBalance, SchemeOutput, SteadyState, Trace, steady_metrics
 from contact.state import ERR_CHATTER, OK
@@ -82,8 +83,11 @@ class SimulationOptions:
         means; :func:`simulate` stores the step it ran in the result's ``options``.
     ultrasonic_friction : bool
         Apply Eq. 11 (amplitude-dependent mu_d); otherwise slip uses ``mu_d``.
-    coupling : {"paper", "consistent"}
-        Generalized force of F_T on B2 (see :mod:`contact.model`).
+    coupling : {"auto", "paper", "consistent"}
+        Generalized force of F_T on B2 (see :mod:`contact.model`); ``"auto"`` (the
+        default, as the CLI's): :func:`contact.model.default_coupling`, the paper's for
+        Table 2's own set and the consistent one for every other. :func:`simulate` stores
+        the one it ran in the result's ``options``.
     stick_band_m_s : float
         The paper's epsilon (m/s); see :func:`contact.model.build_system`. The literal scheme
         decides stick with it at every step.
@@ -105,7 +109,7 @@ class SimulationOptions:
     duration_s: float = 0.05
     dt_s: float | None = None
     ultrasonic_friction: bool = True
-    coupling: str = "paper"
+    coupling: str = "auto"
     stick_band_m_s: float = 1e-10
     steady_periods: int = 20
     full_periods: int = 5
@@ -126,8 +130,9 @@ class SimulationOptions:
         for name in ("ultrasonic_friction", "energy"):  # 'False' is a true string
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
-        if self.coupling not in COUPLINGS:
-            raise ValueError(f"coupling must be one of {COUPLINGS}, got {self.coupling!r}")
+        if self.coupling not in (*COUPLINGS, "auto"):
+            raise ValueError(f"coupling must be one of {(*COUPLINGS, 'auto')}, got "
+                             f"{self.coupling!r}")
         for name in ("steady_periods", "full_periods", "max_trace_points", "max_events_per_step"):
             v = getattr(self, name)
             # an integer, stored as one: NaN had been a numpy conversion error, '100' a
@@ -322,6 +327,8 @@ def simulate(
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})
     if opts.dt_s is None:
         opts = replace(opts, dt_s=period_step_s(op.period_s, DEFAULT_DT_S))
+    if opts.coupling == "auto":  # the result's options say which coupling ran
+        opts = replace(opts, coupling=resolve_coupling(params, "auto"))
     dt_a_n = opts.dt_s
     if method == "steady":
         # the steady engine takes its own step and length: duration_s and dt_s are not

@@ -36,7 +36,7 @@ from contact.deferred_signals import deferred_signals
 from contact.drive import free_tip_amplitudes
 from contact.errors import ChatteringError, RunawayError
 from contact.friction import dynamic_friction
-from contact.model import COUPLINGS, OperatingPoint
+from contact.model import OperatingPoint, resolve_coupling
 from contact.periodic_orbit import (
     AVERAGE_PERIODS,
     SEARCH_PERIODS,
@@ -345,8 +345,7 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     if not isinstance(ultrasonic_friction, (bool, np.bool_)):  # 'no' is a true string
         raise TypeError(f"ultrasonic_friction must be True or False, got "
                         f"{ultrasonic_friction!r}")
-    if coupling not in COUPLINGS:
-        raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
+    coupling = resolve_coupling(params, coupling)
     if mu_d_eff is not None:
         mu = float(mu_d_eff)
     elif ultrasonic_friction:
@@ -498,7 +497,7 @@ def branches_at_load(sp: SlowProblem, load_N: float, *,
 
 def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                  frequency_Hz: float | None = None, load_N: float = 0.0,
-                 coupling: str = "paper", ultrasonic_friction: bool = True,
+                 coupling: str = "auto", ultrasonic_friction: bool = True,
                  accuracy: str = "fast", energy: bool = True) -> SteadyResult:
     """Every steady state of the motor at one operating point, by averaging.
 
@@ -514,8 +513,9 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
         Drive frequency (Hz); 40 kHz (the transient default) when None.
     load_N : float
         External load (N), a constant force opposing positive slider velocity.
-    coupling : {"paper", "consistent"}
-        See :func:`contact.model.build_system`.
+    coupling : {"auto", "paper", "consistent"}
+        See :func:`contact.model.build_system`; ``"auto"`` (default, as the CLI's):
+        :func:`contact.model.default_coupling`.
     ultrasonic_friction : bool
         Apply Eq. 11 (same A_N as the transient schemes).
     accuracy : {"fast", "exact"}
@@ -546,10 +546,12 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
 
 def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                   frequency_Hz: float | None = None, load_N: float = 0.0,
-                  coupling: str = "paper", ultrasonic_friction: bool = True,
+                  coupling: str = "auto", ultrasonic_friction: bool = True,
                   accuracy: str = "fast", energy: bool = True) -> SteadyResult:
     """:func:`steady_state` without the signal hold."""
     t0 = time.perf_counter()
+    require_params(params)
+    coupling = resolve_coupling(params, coupling)
     op = OperatingPoint(voltage_V, preload_N,
                         40e3 if frequency_Hz is None else frequency_Hz, load_N)
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
@@ -836,7 +838,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
 def transient_reference(params: MotorParams, voltage_V: float, preload_N: float, *,
                         load_N: float = 0.0, frequency_Hz: float = 40e3,
                         duration_s: float = 0.2, steady_periods: int = 400,
-                        coupling: str = "paper",
+                        coupling: str = "auto",
                         ultrasonic_friction: bool = True,
                         dt_s: float | None = None) -> tuple[float, str]:
     """Mean slider velocity (m/s) and motion class over the last ``steady_periods`` of a
@@ -860,6 +862,7 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     )
     from contact.window import period_step_s, run_window
 
+    coupling = resolve_coupling(params, coupling)
     op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
     if dt_s is None:
         dt_s = period_step_s(op.period_s, DEFAULT_DT_S)
@@ -943,7 +946,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
     steps = (sp.periods + periods) * sp.fs.steps_per_period
     previous = float(v_rest)
-    if rest and rest[0].k == 0:
+    if rest and rest[0].k == 0 and rest[0].motion != "dead-zone":  # a held slider is held
         load = f" under {op.load_N:g} N" if op.load_N else ""
         warn_irregular(rest[0], f"at {op.voltage_V:g} V / {op.preload_N:g} N{load}")
         if not rest[0].velocity_error_m_s <= IRREGULAR_RTOL * abs(rest[0].velocity_m_s):

@@ -25,7 +25,8 @@ def test_zero_voltage_leaves_slider_at_rest_in_pure_stick(paper_params):
 
 def test_flipping_A_b_mirrors_the_motion(paper_params):
     fwd = cached_run(200.0, 14.0)
-    rev = simulate(paper_params.with_(A_b=-paper_params.A_b), 200.0, 14.0)
+    # an edited Table 2 runs the consistent coupling by default ("auto"): the paper's here
+    rev = simulate(paper_params.with_(A_b=-paper_params.A_b), 200.0, 14.0, coupling="paper")
     assert fwd.steady.velocity_m_s != 0.0
     assert rev.steady.velocity_m_s == pytest.approx(-fwd.steady.velocity_m_s, rel=1e-9)
     assert rev.steady.stick_fraction == pytest.approx(fwd.steady.stick_fraction, abs=1e-9)

@@ -59,3 +59,24 @@ def test_an_edited_copy_of_table2_is_told_why_its_speed_jumps(tmp_path, capsys):
     assert "edited copy of Table 2's" in cap.err and "--coupling paper" in cap.err
     assert main([*args, "--coupling", "paper"]) == 0
     assert "edited copy" not in capsys.readouterr().err
+
+
+def test_the_library_runs_the_clis_coupling_by_default():
+    """The library's entry points defaulted to the paper's coupling for every set while the
+    CLI ran non-Table-2 sets with the consistent one: the same input gave a held slider in
+    simulate and 4.1e-5 m/s in lusm simulate (found by API testing). Now both say "auto"."""
+    from contact.simulate import SimulationOptions, simulate
+    from contact.steady import steady_state
+    from rom import table2
+    from rom.sources import get_params
+
+    beam = get_params("beam")
+    r = simulate(beam, 300, 14, duration_s=0.005)
+    assert r.options.coupling == "consistent" and SimulationOptions().coupling == "auto"
+    explicit = simulate(beam, 300, 14, duration_s=0.005, coupling="consistent")
+    assert r.steady.velocity_m_s == explicit.steady.velocity_m_s
+    assert simulate(table2(), 200, 14, duration_s=0.005).options.coupling == "paper"
+    auto = steady_state(beam, 300, 14, accuracy="exact", energy=False)
+    cons = steady_state(beam, 300, 14, accuracy="exact", energy=False, coupling="consistent")
+    paper = steady_state(beam, 300, 14, accuracy="exact", energy=False, coupling="paper")
+    assert auto.velocity_m_s == cons.velocity_m_s != paper.velocity_m_s

@@ -78,7 +78,8 @@ def test_an_edit_of_a_stored_field_carries_its_derived_keys_along(tmp_path, caps
     v_file = json.loads(cap.out)["steady_velocity_m_s"]
     from contact.simulate import simulate
 
-    ref = simulate(table2().with_(C_l=100.0), 200, 14, 40e3, method="steady")
+    ref = simulate(table2().with_(C_l=100.0), 200, 14, 40e3, method="steady",
+                   coupling="paper")  # as --coupling paper above
     assert v_file == ref.steady.velocity_m_s
     # the source line says the set was edited (it still described the set before the edit)
     from validation.options import params_from_file

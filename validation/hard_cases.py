@@ -119,13 +119,17 @@ def run_hard_cases(
     progress: Callable[[str], None] | None = None,
 ) -> list[HardCase]:
     """Run the hard scenarios on one parameter set (at least 12)."""
+    from contact.model import resolve_coupling
+
     say = progress or (lambda _m: None)
+    coupling = resolve_coupling(params, "auto")  # the set's rule, kept for its edited copies
     dur = 0.01 if quick else 0.05
     long_run = 0.1 if quick else 1.0
 
     def sim(v: float, f: float, p: MotorParams = params, **kw) -> SimulationResult:
         kw.setdefault("duration_s", dur)
         kw.setdefault("energy", True)
+        kw.setdefault("coupling", coupling)  # the set's own, also for its edited copies
         return simulate(p, v, f, kw.pop("frequency_Hz", frequency_Hz), **kw)
 
     v_graze = grazing_voltage(params, 14.0, frequency_Hz)
