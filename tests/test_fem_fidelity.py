@@ -246,10 +246,10 @@ def test_electrodes_set_back_from_the_edges_are_said_to_leave_the_2d_model():
     rim = ((np.abs(c[0]) > 0.5 * st.width_m - 0.5e-3) | (c[1] < 0.5e-3)
            | (c[1] > st.length_m - 0.5e-3))
     bordered = PlateMesh(plain.points_m, plain.quads, np.where(rim, 0, plain.electrode))
-    assert unelectroded_outline_share(bordered, gap_layout(bordered)) == pytest.approx(1.0)
-    assert unelectroded_outline_share(plain, gap_layout(plain)) == 0.0
+    assert unelectroded_outline_share(bordered, gap_layout(bordered), 0.5e-3) == pytest.approx(1.0)
+    assert unelectroded_outline_share(plain, gap_layout(plain), 0.5e-3) == 0.0
     tip = planform_mesh(load_stator(ROOT / "examples" / "tip_protrusion" / "stator.toml").stator)
-    assert 0 < unelectroded_outline_share(tip, gap_layout(tip)) < BORDER_SHARE
+    assert 0 < unelectroded_outline_share(tip, gap_layout(tip), 0.5e-3) < BORDER_SHARE
     with pytest.warns(UnelectrodedBorderWarning, match="100% of the plate's outline"):
         build_model(bordered, st)
     with warnings.catch_warnings():
