@@ -36,6 +36,12 @@ MIN_GAP_M = 1e-6
 0 means touching quadrants (one conductor)."""
 
 
+MAX_SIZE_M = 10.0
+"""Largest plate dimension (m) the stator classes accept: ten times the CLI's 1000 mm, room
+for a tuning's trial plates; millimetres typed as metres (``length_m=30``) are refused (a
+30 m plate had run 29 s of FE into NaN)."""
+
+
 @dataclass(frozen=True)
 class PlateStator:
     """Rectangular piezoelectric stator plate with four quadrant electrodes.
@@ -65,6 +71,9 @@ class PlateStator:
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or not np.isfinite(value) or value <= 0.0:
                 raise ValueError(f"PlateStator.{name} must be a finite number > 0, got {value!r}")
+            if value > MAX_SIZE_M:  # millimetres typed as metres: a 30 m plate
+                raise ValueError(f"PlateStator.{name} must lie in (0, {MAX_SIZE_M:g}] m, got "
+                                 f"{value!r} (sizes are in metres: 30 mm is 0.03)")
         gap = self.electrode_gap_m
         if not isinstance(gap, (int, float)) or not np.isfinite(gap) or gap < 0.0:
             raise ValueError(f"PlateStator.electrode_gap_m must be >= 0, got {gap!r}")

@@ -45,6 +45,7 @@ from typing import Literal
 import numpy as np
 
 from fem.beam_shapes import BETA2_L, phi_B, phi_L
+from fem.geometry import MAX_SIZE_M
 from rom.params import MotorParams
 from rom.table2 import TABLE1, table2
 
@@ -87,6 +88,11 @@ class BeamStator:
     def __post_init__(self) -> None:
         for name in ("length_m", "width_m", "thickness_m", "rho_kg_m3", "cE11_Pa", "cE66_Pa"):
             object.__setattr__(self, name, _check_positive(name, getattr(self, name)))
+        for name in ("length_m", "width_m", "thickness_m"):
+            if getattr(self, name) > MAX_SIZE_M:  # millimetres typed as metres
+                raise ValueError(f"BeamStator.{name} must lie in (0, {MAX_SIZE_M:g}] m, got "
+                                 f"{getattr(self, name)!r} (sizes are in metres: 30 mm is "
+                                 "0.03)")
         object.__setattr__(self, "e31_C_m2", _check_finite("e31_C_m2", self.e31_C_m2))
 
     @property

@@ -166,3 +166,15 @@ def test_map_workers_are_a_positive_integer(workers):
 
     with pytest.raises(ValueError, match="workers must be an integer >= 1"):
         stick_slip_map(table2(), [200.0], [14.0], workers=workers)
+
+
+@pytest.mark.parametrize("cls", ["fem.geometry:PlateStator", "rom.beam:BeamStator"])
+def test_millimetres_typed_as_metres_are_refused(cls):
+    """PlateStator(length_m=30) was a 30 m plate: sweep_dimension ran 29 s of FE into NaN."""
+    import importlib
+
+    module, name = cls.split(":")
+    stator = getattr(importlib.import_module(module), name)
+    with pytest.raises(ValueError, match=r"length_m must lie in \(0, 10\] m.*30 mm is 0.03"):
+        stator(length_m=30)
+    assert stator(length_m=0.03).length_m == 0.03
