@@ -27,6 +27,7 @@ import importlib
 import math
 import numbers
 import time
+import warnings
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -357,6 +358,14 @@ def simulate(
         a_n = 0.5 * (out.y_tip_max_m - out.y_tip_min_m)
     steady = steady_metrics(out.velocity_m_s, out.previous_velocity_m_s, out.phase_time,
                             out.y_tip_min_m, out.y_tip_max_m, window.window_s)
+    if op.load_N and method != "steady" and not steady.settled:
+        from contact.steady import RunawayWarning, transient_runaway
+
+        reason = transient_runaway(params, op, opts.coupling, opts.ultrasonic_friction,
+                                   mu_d_eff)
+        if reason is not None:  # the steady scheme refuses such a load; a transient says so
+            warnings.warn(f"{reason}; the velocity is where the run stopped", RunawayWarning,
+                          stacklevel=2)
     return SimulationResult(
         params=params, op=op, options=opts, method=method, mu_d_eff=mu_d_eff,
         normal_amplitude_m=a_n, trace=out.trace, window=out.window, steady=steady,

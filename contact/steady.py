@@ -411,6 +411,29 @@ def holding_range_N(sp: SlowProblem) -> tuple[float, float]:
     return bounds[0], bounds[1]
 
 
+class RunawayWarning(UserWarning):
+    """A transient under a load beyond what the motor holds: the slider accelerates until
+    the run ends, and its velocity is where the run stopped (``simulate`` warns)."""
+
+
+def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
+                      ultrasonic_friction: bool, mu_d_eff: float) -> str | None:
+    """Why a run under ``op.load_N`` has no steady state: the load lies beyond
+    :func:`holding_range_N` (None when it does not, or when there is no load). A transient
+    at 1000 N had reported -250 m/s, pure slip, as its velocity."""
+    if not op.load_N:
+        return None
+    sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
+                      mu_d_eff=mu_d_eff)
+    low, high = holding_range_N(sp)
+    if not (math.isfinite(low) and math.isfinite(high)) or low <= op.load_N <= high:
+        return None
+    way = "backward" if op.load_N > high else "forward"
+    return (f"load_N = {op.load_N:g} N is beyond the loads the motor holds at "
+            f"{op.voltage_V:g} V / {op.preload_N:g} N ({low:.4g} to {high:.4g} N at the tip's "
+            f"full slip): the slider runs away {way} and has no steady state")
+
+
 def runaway_error(sp: SlowProblem, load_N: float) -> RunawayError:
     """The error saying that the slider runs away from rest under ``load_N`` and why."""
     low, high = holding_range_N(sp)

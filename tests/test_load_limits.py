@@ -245,3 +245,19 @@ def test_a_chaotic_creep_is_not_called_settled(capsys):
     cap = capsys.readouterr()
     assert json.loads(cap.out)["settled"] is False
     assert "no period up to 16" in cap.err and "standard error" in cap.err
+
+
+def test_the_library_transient_says_when_the_slider_runs_away(params):
+    """simulate(..., load_N=1000) returned -247.5 m/s as a "pure-slip" velocity, the only
+    hint settled=False; the CLI alone warned (found by API testing). The library now warns,
+    with the holding range the steady engine refuses beyond; a load inside it is quiet."""
+    import warnings
+
+    from contact.steady import RunawayWarning
+
+    with pytest.warns(RunawayWarning, match=r"load_N = 1000 N is beyond .* runs away backward"):
+        r = simulate(params, 200, 14, load_N=1000, duration_s=0.01)
+    assert not r.steady.settled and r.steady.velocity_m_s < -1.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RunawayWarning)
+        simulate(params, 200, 14, load_N=0.2, duration_s=0.01)

@@ -122,19 +122,33 @@ def run(args: argparse.Namespace) -> None:
 def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, coupling: str,
               plot) -> dict:
     """One run at ``voltage_V``: its summary (and its figures when ``plot`` is a folder)."""
+    import warnings
+
     from contact.simulate import simulate
+    from contact.steady import RunawayWarning
     from validation.summaries import simulation_summary
 
-    r = simulate(
-        params, voltage_V, args.preload, freq,
-        duration_s=args.duration, dt_s=args.dt,
-        ultrasonic_friction=not args.no_ultrasonic_friction,
-        coupling=coupling, energy=args.energy, load_N=args.load_N,
-        method="steady" if args.steady else "event",
-    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RunawayWarning)
+        r = simulate(
+            params, voltage_V, args.preload, freq,
+            duration_s=args.duration, dt_s=args.dt,
+            ultrasonic_friction=not args.no_ultrasonic_friction,
+            coupling=coupling, energy=args.energy, load_N=args.load_N,
+            method="steady" if args.steady else "event",
+        )
+    runaway = False
+    for w in caught:  # the library's runaway in the options' terms; the others as they are
+        if issubclass(w.category, RunawayWarning):
+            runaway = True
+            warn(str(w.message).replace(f"load_N = {args.load_N:g} N", f"--load-N "
+                                        f"{args.load_N:g} N").replace(
+                "the velocity is where", "the velocity printed is where"))
+        else:
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     summary = simulation_summary(r)
     if not args.steady and not r.steady.settled:
-        if not (args.load_N and _warn_runaway(r, coupling, not args.no_ultrasonic_friction)):
+        if not runaway:
             st = r.steady
             warn(f"at {voltage_V:g} V the slider has not settled within --duration "
                  f"{args.duration:g} s (the last window's mean velocity {st.velocity_m_s:.4g} "
@@ -146,26 +160,3 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
         with figure_set(plot, "simulate", "--plot", args.force) as stage:
             summary["figures"] = moved(simulation_figures(r, stage), stage, plot)
     return summary
-
-
-def _warn_runaway(r, coupling: str, ultrasonic_friction: bool) -> bool:
-    """Warn when a transient's load is beyond what the motor can hold: the slider is still
-    accelerating at the end, and the velocity printed is where the run stopped (the steady
-    engine refuses such a load; a transient reported -250 m/s at --load-N 1000). Returns
-    whether it warned."""
-    import math
-
-    from contact.steady import holding_range_N, slow_problem
-
-    sp = slow_problem(r.params, r.op, coupling=coupling,
-                      ultrasonic_friction=ultrasonic_friction, mu_d_eff=r.mu_d_eff)
-    low, high = holding_range_N(sp)
-    load = r.op.load_N
-    if not (math.isfinite(low) and math.isfinite(high)) or low <= load <= high:
-        return False
-    way = "backward" if load > high else "forward"
-    warn(f"--load-N {load:g} N is beyond the loads the motor holds at {r.op.voltage_V:g} V / "
-         f"{r.op.preload_N:g} N ({low:.4g} to {high:.4g} N at the tip's full slip): the slider "
-         f"runs away {way} and has no steady state; the velocity printed is where the run "
-         "stopped")
-    return True
