@@ -226,7 +226,7 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         damping = "damping ratios given by the caller"
     elif ratios is not None:
         kwargs["damping_ratios"] = ratios
-        damping = f"damping {design.damping_origin}"
+        damping = f"damping from {design.damping_origin}"
     else:
         damping = "no [damping]: the base set's damping ratios"
     params = fem_params(stator=design.stator, **kwargs)
@@ -245,7 +245,7 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         before = f"damping ratios ({params.zeta_L1:.4g}, {params.zeta_B2:.4g})"
         after = f"damping ratios ({fitted.zeta_L1:.4g}, {fitted.zeta_B2:.4g}), fitted"
         params = replace(fitted, source=fitted.source.replace(before, after))
-        damping = f"damping {design.damping_origin}"
+        damping = f"damping from {design.damping_origin}"
     mesh = f", mesh {design.mesh_path}" if design.mesh_path is not None else ""
     return replace(params, source=f"stator file {path} ({design.name}{mesh}; {damping}): "
                    f"{params.source}")

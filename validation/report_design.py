@@ -34,7 +34,8 @@ def _describe(stator, material, label: str) -> str:
                   f"size {stator.element_size_m * mm:g} mm")
     else:
         shape += f", electrode gap {stator.electrode_gap_m * mm:g} mm"
-    return f"{label}: {shape}, {material.name}"
+    # a stator without a name is its plate: "plate: plate 30 x ..." had said it twice
+    return f"{shape}, {material.name}" if label == "plate" else f"{label}: {shape}, {material.name}"
 
 
 def _modes_section(choice, out: Path, quick: bool, say):

@@ -209,7 +209,7 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
                + f" point(s); {mp['several_branches']} point(s) with several stable "
                f"steady states (the map shows the one reached from rest); {mp['undecided']} "
                "point(s) the engine could not decide (creep), taken from 0.3 s transients; "
-               f"{mp['wall_time_s']:.1f} s.", "",
+               f"computed in {mp['wall_time_s']:.1f} s.", "",
                f"![{name} characteristic]({d['figures']['characteristic']})",
                f"![{name} steady map]({d['figures']['map']})", ""]
     if "table2" in params:
