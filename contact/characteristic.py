@@ -255,3 +255,38 @@ def _full_model_stall_force(velocity, v0: float, averaged: float,
         else:
             return math.nan
     return float(brentq(moving, lo, hi, xtol=1e-12, rtol=1e-9))
+
+
+def averaging_doubt(params: MotorParams, char: Characteristic, *, coupling: str = "auto",
+                    ultrasonic_friction: bool = True) -> str | None:
+    """Why the averaged (``accuracy="fast"``) no-load answer of ``char`` is not to be
+    trusted, or None.
+
+    Two reasons: its no-load velocity lies below the slider's velocity ripple (the ripple
+    scale with Eq. 11's friction, :attr:`contact.steady.SlowProblem.v_floor_m_s`: the
+    slider is not slow against the drive period; at 20 Hz the fast level gave 1.8e-6 m/s and
+    a 1.18 N stall force where the finite-mass motor is held), or the finite-mass motor
+    reaches another steady state from rest (the exact level's no-load point, compared beyond
+    the averaging's O(1/M) error: at 30 kHz the fast level found one branch at 0.0124 m/s
+    where a start from rest creeps at 1.1e-4 m/s). Formerly the CLI's own check, with the
+    ripple from the static mu_d.
+    """
+    op = char.op
+    sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
+    ripple = sp.v_floor_m_s
+    v = abs(float(char.no_load_velocity_m_s))
+    where = f"at {op.voltage_V:g} V and {op.frequency_Hz:g} Hz"
+    if v < ripple:
+        return (f"{where} the averaged no-load velocity {v:.3g} m/s is below the slider's "
+                f"velocity ripple (about {ripple:.2g} m/s per drive period): the averaging "
+                "does not hold there; the exact level runs the finite-mass motor")
+    r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
+                     coupling=coupling, ultrasonic_friction=ultrasonic_friction,
+                     accuracy="exact", energy=False)
+    exact = float(r.velocity_m_s)
+    if abs(exact - float(char.no_load_velocity_m_s)) > 0.05 * max(abs(exact), ripple):
+        return (f"{where} the averaged no-load velocity {char.no_load_velocity_m_s:.3g} m/s "
+                f"is not the one the finite-mass motor reaches from rest ({exact:.3g} m/s, "
+                "the exact level): several steady states coexist and the averaging cannot "
+                "tell which a start from rest reaches")
+    return None

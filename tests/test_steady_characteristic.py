@@ -145,3 +145,19 @@ def test_efficiency_is_defined_only_where_the_motor_delivers_work(params):
         b = steady_state(params, 400, 14, load_N=load).from_rest
         assert (b.output_power_W >= 0) == defined
         assert np.isfinite(b.efficiency) == defined
+
+
+def test_the_averaging_doubt_is_the_librarys(params):
+    """The check behind `lusm characteristic --accuracy fast`'s warnings lived in the CLI,
+    with the ripple from the static mu_d: at 30 kHz the averaged no-load branch (0.0124 m/s)
+    is not the creep a start from rest reaches (1.1e-4 m/s, a transient's); at 400 V / 14 N
+    and 40 kHz the two levels agree and nothing is said."""
+    from contact.characteristic import averaging_doubt
+
+    c30 = characteristic(params, 200, 14, [0.0], frequency_Hz=30e3, coupling="paper")
+    doubt = averaging_doubt(params, c30, coupling="paper")
+    assert doubt is not None and "not the one the finite-mass motor reaches" in doubt
+    ref, _ = transient_reference(params, 200.0, 14.0, frequency_Hz=30e3, duration_s=0.3)
+    assert ref < 0.02 * c30.no_load_velocity_m_s
+    c400 = characteristic(params, 400, 14, [0.0], coupling="paper")
+    assert averaging_doubt(params, c400, coupling="paper") is None

@@ -148,34 +148,16 @@ def run(args: argparse.Namespace) -> None:
 
 
 def _warn_fast_level(params, chars, coupling: str, ultrasonic_friction: bool) -> None:
-    """Warn where the fast level's from-rest answer is not to be trusted: an averaged no-load
-    velocity below the slider's velocity ripple (the slider is not slow against the drive
-    period: at 20 Hz the fast level gave 1.8e-6 m/s and a 1.18 N stall force where the exact
-    one holds the slider; on the fem set at 200 V / 14 N it held the slider where the
-    finite-mass motor creeps at 7e-5 m/s), or a no-load velocity the finite-mass motor does
-    not reach from rest: the exact level's no-load point (one steady point, milliseconds at
-    the stator's resonance) is compared. At 30 kHz the fast level found one branch at
-    0.0124 m/s, where a start from rest creeps at 1.1e-4 m/s, and nothing was said."""
-    from contact.steady import ripple_scale, steady_state
+    """Say :func:`contact.characteristic.averaging_doubt` of each curve in the options'
+    terms."""
+    from contact.characteristic import averaging_doubt
 
     for c in chars:
-        op = c.op
-        ripple = ripple_scale(params, op, params.mu_d)
-        v = abs(float(c.no_load_velocity_m_s))
-        where = f"at {op.voltage_V:g} V and {op.frequency_Hz:g} Hz"
-        if v < ripple:
-            warn(f"{where} the averaged no-load velocity {v:.3g} m/s is below the slider's "
-                 f"velocity ripple (about {ripple:.2g} m/s per drive period): the averaging "
-                 "behind --accuracy fast does not hold; --accuracy exact runs the finite-mass "
-                 "motor")
-            continue
-        r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
-                         coupling=coupling, ultrasonic_friction=ultrasonic_friction,
-                         accuracy="exact", energy=False)
-        exact = float(r.velocity_m_s)
-        # beyond the averaging's O(1/M) error (1e-3 at 200 V): another steady state
-        if abs(exact - float(c.no_load_velocity_m_s)) > 0.05 * max(abs(exact), ripple):
-            warn(f"{where} the averaged no-load velocity {c.no_load_velocity_m_s:.3g} m/s is "
-                 f"not the one the finite-mass motor reaches from rest ({exact:.3g} m/s, "
-                 "--accuracy exact, the default): several steady states coexist and the "
-                 "averaging cannot tell which a start from rest reaches")
+        doubt = averaging_doubt(params, c, coupling=coupling,
+                                ultrasonic_friction=ultrasonic_friction)
+        if doubt is not None:
+            warn(doubt.replace("the averaging does not hold there; the exact level runs",
+                               "the averaging behind --accuracy fast does not hold; "
+                               "--accuracy exact runs")
+                 .replace("the exact level): several",
+                          "--accuracy exact, the default): several"))
