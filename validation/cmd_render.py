@@ -59,6 +59,9 @@ def run(args: argparse.Namespace) -> None:
         raise
     model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
+    from validation.interrupts import import_held
+
+    import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
     with figure_set(out, "render", "--out", args.force) as stage:
         written = moved(render_modes(model, modes, stage, which, args.animate), stage, out)
     for path in written:

@@ -56,6 +56,22 @@ def _hide_swallowed_signal(unraisable) -> None:
     _outer_hook(unraisable)
 
 
+def import_held(name: str) -> None:
+    """Import module ``name`` with SIGINT and SIGTERM held, delivered once it is done.
+
+    A SIGTERM landing inside VTK's import (``pyvista``, about a second) crashed the
+    interpreter (exit 139, found by exploratory testing of ``lusm render``) and left the
+    staging folder; the handler's exception must not unwind through a half-loaded
+    extension module.
+    """
+    import importlib
+
+    from contact.deferred_signals import deferred_signals
+
+    with deferred_signals():
+        importlib.import_module(name)
+
+
 def checkpoint() -> None:
     """Raise the recorded signal's exception (:class:`Terminated` or ``KeyboardInterrupt``),
     if one arrived, so that no output is moved in after the user asked to stop."""

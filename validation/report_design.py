@@ -51,6 +51,9 @@ def _modes_section(choice, out: Path, quick: bool, say):
     refine3 = max(DEFAULT_REFINE_3D - (1 if quick else 0), 1)
     m3 = solid_modes(st, mat, 2, refine3, DEFAULT_LAYERS)
     say("3D modes")
+    from validation.interrupts import import_held
+
+    import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
     pictures = render_modes(plate_model(st, mat, 2, DEFAULT_REFINE), m2, out / "figures",
                             prefix="design_")
     say("mode pictures")
