@@ -88,7 +88,9 @@ def fe_failure(exc: Exception) -> ValueError:
             f"L1 and B2 were not found for this stator ({reason}): they are identified as the "
             "free-free beam modes of Eq. 3, which a plate wider than about half its length "
             "(30 x 16 mm is the widest paper-length plate that passes) or with a large "
-            "feature does not have; check the plate (--geometry or --length-mm, --width-mm)")
+            "feature does not have, and which a feature off the centre line (a hole, a tip) "
+            "mixes into one another where their frequencies cross; check the plate "
+            "(--geometry or --length-mm, --width-mm), or keep such features symmetric")
     return ValueError(f"the FE solve failed for this stator ({reason}); check the "
                       "plate (--geometry or --length-mm, --width-mm, --thickness-mm, --gap-mm) "
                       "and --refine")
