@@ -426,12 +426,20 @@ def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
                       mu_d_eff=mu_d_eff)
     low, high = holding_range_N(sp)
-    if not (math.isfinite(low) and math.isfinite(high)) or low <= op.load_N <= high:
+    what = "at the tip's full slip"
+    if not (math.isfinite(low) and math.isfinite(high)):
+        # no full slip at either end (an undriven or weakly driven tip sticks): the most the
+        # tip's stiction and the guide can hold, static friction on both (0 V / 20 N under
+        # 50 N ran away without a word)
+        p = params
+        hold = p.mu_s * op.preload_N + p.mu_sd * (op.preload_N + p.M_slider * GRAVITY_M_S2)
+        low, high, what = -hold, hold, "the tip's and the guide's static friction"
+    if low <= op.load_N <= high:
         return None
     way = "backward" if op.load_N > high else "forward"
     return (f"load_N = {op.load_N:g} N is beyond the loads the motor holds at "
-            f"{op.voltage_V:g} V / {op.preload_N:g} N ({low:.4g} to {high:.4g} N at the tip's "
-            f"full slip): the slider runs away {way} and has no steady state")
+            f"{op.voltage_V:g} V / {op.preload_N:g} N ({low:.4g} to {high:.4g} N, {what}): "
+            f"the slider runs away {way} and has no steady state")
 
 
 def runaway_error(sp: SlowProblem, load_N: float) -> RunawayError:
