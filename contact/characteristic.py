@@ -193,9 +193,13 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     if shown:  # one word for the curve: the rows that are long-time means, not orbits
         worst = max(shown.values(), key=lambda b: b.velocity_error_m_s
                     / max(abs(b.velocity_m_s), 1e-300))
-        warn_irregular(worst, f"under the loads {', '.join(f'{f:g}' for f in shown)} N "
-                       f"(the least certain, {next(f for f, b in shown.items() if b is worst):g}"
-                       " N, shown)")
+        if len(shown) == 1:
+            where = f"under the load {next(iter(shown)):g} N"
+        else:
+            least = next(f for f, b in shown.items() if b is worst)
+            where = (f"under the loads {', '.join(f'{f:g}' for f in shown)} N (the least "
+                     f"certain, {least:g} N, shown)")
+        warn_irregular(worst, where)
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
     eff = motor_efficiency(p_in_a, p_out_a)  # it came out below 0 under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))

@@ -237,6 +237,9 @@ def test_a_pair_cut_by_the_band_asks_for_a_wider_band_not_more_points(capsys):
         assert "B2" not in {p["mode"] for p in json.loads(out.out)["pairs"]}
         assert "--f-max: B2 (54137 Hz) lies in the band but its resonance pair reaches " \
             "beyond it" in out.err and "raise --points" not in out.err
+        missed = json.loads(out.out)["missed_modes"]  # the warning's content in the JSON
+        assert [(m["mode"], m["why"]) for m in missed] == [("B2", "band")]
+        assert missed[0]["f_min_abs_Y_Hz"] > 54300
     assert main([*base, "--f-max", "54500", "--points", "33334", "--json"]) == 0
     out = capsys.readouterr()
     assert "B2" in {p["mode"] for p in json.loads(out.out)["pairs"]} and "warning" not in out.err

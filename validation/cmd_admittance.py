@@ -158,6 +158,14 @@ def run(args: argparse.Namespace) -> None:
         d = res.to_dict()
         d["png"] = png
         d["damping"] = damping
+        # the design's modes in the band without a pair, and why (the warnings' content):
+        # "grid" (too coarse), "band" (the pair reaches beyond it), "peakless" (the damping)
+        d["missed_modes"] = (
+            [{"mode": n, "f_short_Hz": f, "why": "grid"} for n, f in res.unpaired_modes()]
+            + [{"mode": n, "f_short_Hz": f, "why": "band", "f_max_abs_Y_Hz": fm,
+                "f_min_abs_Y_Hz": fn} for n, f, (fm, fn) in res.band_cut_modes()]
+            + [{"mode": n, "f_short_Hz": f, "why": "peakless"}
+               for n, f in res.peakless_modes()])
         print_json(d)
         return
     p = res.port
@@ -177,8 +185,9 @@ def run(args: argparse.Namespace) -> None:
                  if res.peakless_modes() else "widen it (--f-min, --f-max)"))
     w = max([5] + [len(q.mode) + 1 for q in res.pairs])
     # series / parallel resonance (max Re Y, max Re 1/Y), not the |Y| extrema: those move
-    # with the damping (IEEE Std 176)
-    print(f"{'mode':<{w}}{'f_s (Hz)':>12}{'f_p (Hz)':>12}{'k_eff':>9}")
+    # with the damping (IEEE Std 176); no header over an empty table
+    if res.pairs:
+        print(f"{'mode':<{w}}{'f_s (Hz)':>12}{'f_p (Hz)':>12}{'k_eff':>9}")
     for q in res.pairs:
         print(f"{q.mode or '-':<{w}}{q.f_resonance_Hz:>12.1f}{q.f_antiresonance_Hz:>12.1f}"
               f"{q.k_eff:>9.4f}")

@@ -112,8 +112,9 @@ def run(args: argparse.Namespace) -> None:
         if not shortest <= est_mm <= hi:  # the bar estimate is within a few % of the length
             raise LusmError(
                 f"--target-frequency {args.target_frequency:g} Hz: asks for a plate about "
-                f"{est_mm:.4g} mm long, outside the [{shortest:.3g}, {hi:g}] mm that the other "
-                f"commands accept and the gap allows; targets from about "
+                f"{est_mm:.4g} mm long, outside the [{shortest:.3g}, {hi:g}] mm that the "
+                f"plate range and the electrode-width rule (electrodes at least "
+                f"{ELECTRODE_GAP_RATIO:g} gaps wide) allow; targets from about "
                 f"{args.target_frequency * est_mm / hi:.4g} to "
                 f"{args.target_frequency * est_mm / shortest:.4g} Hz fit (the upper end set "
                 f"by the {choice.stator.electrode_gap_m * 1e3:g} mm electrode gap)",
