@@ -146,6 +146,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     if loads_N is not None:
         # a NaN load fell into the dead zone of the fast level and came out as 0 m/s
         loads_arr = np.asarray(loads_N)
+        if loads_arr.ndim > 1:  # a nested list was flattened without a word
+            raise ValueError(f"loads_N must be a sequence of loads (N), got shape "
+                             f"{loads_arr.shape}")
         if loads_arr.dtype.kind not in "iuf" or not np.all(np.isfinite(loads_arr)):
             raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
     require_params(params)

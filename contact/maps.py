@@ -124,7 +124,7 @@ def stick_slip_map(
     frequency_Hz: float = 40e3,
     options: SimulationOptions | None = None,
     workers: int | None = None,
-    progress: bool = True,
+    progress: bool = False,
     *,
     method: str = "transient",
     accuracy: str = "exact",
@@ -143,7 +143,8 @@ def stick_slip_map(
     workers : int, optional
         Threads; defaults to the number of CPUs.
     progress : bool
-        Show a tqdm progress bar on stderr.
+        Show a tqdm progress bar on stderr (off by default, as the other entry points: a
+        library call drew one uninvited; ``lusm map`` turns it on).
     method : {"transient", "steady"}
         A run from rest of ``options.duration_s`` per point, or the steady engine
         (:func:`contact.steady.steady_state`; ``options`` give coupling and friction only).

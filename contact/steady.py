@@ -582,6 +582,8 @@ def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
     """:func:`steady_state` without the signal hold."""
     t0 = time.perf_counter()
     require_params(params)
+    if not isinstance(energy, (bool, np.bool_)):  # "no" is a true string
+        raise TypeError(f"energy must be True or False, got {energy!r}")
     coupling = resolve_coupling(params, coupling)
     op = OperatingPoint(voltage_V, preload_N,
                         40e3 if frequency_Hz is None else frequency_Hz, load_N)

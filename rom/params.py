@@ -99,6 +99,8 @@ class MotorParams:
     def __post_init__(self) -> None:
         for f in fields(self):
             if f.name == "source":
+                if not isinstance(self.source, str):  # 5 or None were kept as given
+                    raise TypeError(f"MotorParams.source must be text, got {self.source!r}")
                 continue
             value = getattr(self, f.name)
             # NumPy scalars are real numbers too (np.float32(0.2) was refused); bool is not

@@ -178,3 +178,24 @@ def test_millimetres_typed_as_metres_are_refused(cls):
     with pytest.raises(ValueError, match=r"length_m must lie in \(0, 10\] m.*30 mm is 0.03"):
         stator(length_m=30)
     assert stator(length_m=0.03).length_m == 0.03
+
+
+def test_smaller_api_inputs_are_checked():
+    """Found by API testing: MotorParams kept source=5; steady_state took energy="no" as
+    True; characteristic flattened a nested list of loads; stick_slip_map drew a progress
+    bar on stderr by default (the other entry points do not)."""
+    import inspect
+
+    from contact.characteristic import characteristic
+    from contact.maps import stick_slip_map
+    from contact.steady import steady_state
+    from rom import table2
+    from rom.params import MotorParams
+
+    with pytest.raises(TypeError, match="MotorParams.source must be text"):
+        MotorParams(**{**table2().__dict__, "source": 5})
+    with pytest.raises(TypeError, match="energy must be True or False"):
+        steady_state(table2(), 200, 14, energy="no")
+    with pytest.raises(ValueError, match="loads_N must be a sequence of loads"):
+        characteristic(table2(), 200, 14, loads_N=[[0.0, 0.1]])
+    assert inspect.signature(stick_slip_map).parameters["progress"].default is False

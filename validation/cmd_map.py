@@ -118,7 +118,7 @@ def run(args: argparse.Namespace) -> None:
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
                              ultrasonic_friction=not args.no_ultrasonic_friction,
                              coupling=coupling)
-    m = stick_slip_map(params, volts, loads, freq, opts, workers=args.workers,
+    m = stick_slip_map(params, volts, loads, freq, opts, workers=args.workers, progress=True,
                        method=args.method, accuracy=args.accuracy)
     summary = map_summary(m)
     if m.method == "transient" and not m.settled.all():  # as simulate warns of one run
