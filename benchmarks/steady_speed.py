@@ -160,7 +160,7 @@ def kernel_seconds_per_period(params, voltage_V: float, preload_N: float,
     from contact.periodic_orbit import period_map
     from contact.steady import slow_problem, steady_state
 
-    v = steady_state(params, voltage_V, preload_N).velocity_m_s
+    v = steady_state(params, voltage_V, preload_N, accuracy="fast").velocity_m_s
     sp = slow_problem(params, OperatingPoint(voltage_V, preload_N, 40e3, 0.0))
     o = sp.orbit(v)
     period_map(sp.fs, o.z, o.mode, periods, window=False)

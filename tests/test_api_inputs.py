@@ -20,13 +20,13 @@ from rom import table2
 def test_a_load_that_is_not_a_finite_number_is_refused(loads):
     # a NaN load fell into the fast level's dead zone and came out as 0 m/s
     with pytest.raises(ValueError, match="loads_N must be finite numbers"):
-        characteristic(table2(), 200, 14, loads_N=loads)
+        characteristic(table2(), 200, 14, loads_N=loads, accuracy="fast")
 
 
 @pytest.mark.parametrize("points", [0, 10**9, 2.5])
 def test_a_characteristic_has_a_bounded_number_of_points(points):
     with pytest.raises(ValueError, match="points must be an integer in \\[2, 10000\\]"):
-        characteristic(table2(), 200, 14, points=points)
+        characteristic(table2(), 200, 14, points=points, accuracy="fast")
 
 
 @pytest.mark.parametrize("kw", [{"ultrasonic_friction": "False"}, {"energy": "no"}])
@@ -35,7 +35,7 @@ def test_a_string_is_not_a_flag(kw):
     with pytest.raises(TypeError, match="must be True or False"):
         simulate(table2(), 200, 14, duration_s=1e-3, **kw)
     with pytest.raises(TypeError, match="ultrasonic_friction must be True or False"):
-        steady_state(table2(), 200, 14, ultrasonic_friction="no")
+        steady_state(table2(), 200, 14, ultrasonic_friction="no", accuracy="fast")
 
 
 @pytest.mark.parametrize("voltage", [True, "200", np.array([200.0])])
@@ -80,8 +80,9 @@ def test_a_run_nothing_could_stop_is_refused(dt):
 
 
 @pytest.mark.parametrize("entry", [
-    lambda p: simulate(p, 200, 14), lambda p: steady_state(p, 200, 14),
-    lambda p: characteristic(p, 200, 14), lambda p: stick_slip_map(p, [200], [14])])
+    lambda p: simulate(p, 200, 14), lambda p: steady_state(p, 200, 14, accuracy="fast"),
+    lambda p: characteristic(p, 200, 14, accuracy="fast"),
+    lambda p: stick_slip_map(p, [200], [14])])
 @pytest.mark.parametrize("params", [None, "table2"])
 def test_params_must_be_a_parameter_set(entry, params):
     # None or a dict reached the set-up as AttributeError: 'K_l'
@@ -120,7 +121,7 @@ def test_drives_beyond_any_stator_are_refused_not_run():
         with pytest.raises(ValueError, match=rf"{name} = .* deflects the stator statically"):
             simulate(p, kwargs["voltage_V"], kwargs["preload_N"], duration_s=1e-3)
         with pytest.raises(ValueError, match=rf"{name} = "):
-            steady_state(p, kwargs["voltage_V"], kwargs["preload_N"])
+            steady_state(p, kwargs["voltage_V"], kwargs["preload_N"], accuracy="fast")
     # the bound sits far above the CLI's 2000 V: 0.01 m at 1.7e7 V on Table 2's set
     v_max = MAX_STATIC_DEFLECTION_M / max(abs(p.A_l) / p.K_l, abs(p.A_b) / p.K_b)
     assert v_max > 5e3 * 2000
@@ -195,7 +196,7 @@ def test_smaller_api_inputs_are_checked():
     with pytest.raises(TypeError, match="MotorParams.source must be text"):
         MotorParams(**{**table2().__dict__, "source": 5})
     with pytest.raises(TypeError, match="energy must be True or False"):
-        steady_state(table2(), 200, 14, energy="no")
+        steady_state(table2(), 200, 14, energy="no", accuracy="fast")
     with pytest.raises(ValueError, match="loads_N must be a sequence of loads"):
-        characteristic(table2(), 200, 14, loads_N=[[0.0, 0.1]])
+        characteristic(table2(), 200, 14, loads_N=[[0.0, 0.1]], accuracy="fast")
     assert inspect.signature(stick_slip_map).parameters["progress"].default is False

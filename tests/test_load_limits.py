@@ -127,7 +127,7 @@ def test_undriven_motor_has_no_characteristic_and_no_sliding_limit(params):
 
     # no drive: held without load (stall 0), and the tip never outruns the slider, so the
     # kinetic limit does not apply (its stiction, 7.6 N above, holds instead)
-    c = characteristic(params, 0.0, 14.0)
+    c = characteristic(params, 0.0, 14.0, accuracy="fast")
     assert c.stall_force_N == 0.0 and list(c.load_N) == [0.0] and c.velocity_m_s[0] == 0.0
     assert all(math.isnan(f) for f in c.holding_range_N)
 
@@ -136,7 +136,7 @@ def test_backward_creep_that_the_averaging_calls_held(params):
     # under a load beyond the stall force the guide's hold gives way for part of every
     # period and the slider walks backward below its velocity ripple: the averages say held
     # (fast level), the full model from rest (exact level) follows the transient
-    fast = steady_state(params, 400, 24, load_N=3.1, energy=False)
+    fast = steady_state(params, 400, 24, load_N=3.1, energy=False, accuracy="fast")
     exact = steady_state(params, 400, 24, load_N=3.1, accuracy="exact", energy=False)
     ref = transient_reference(params, 400, 24, load_N=3.1, duration_s=0.3)[0]
     assert fast.velocity_m_s == 0.0
@@ -151,7 +151,7 @@ def test_creep_without_load_where_the_averages_say_held():
     from rom.sources import get_params
 
     p = get_params("beam")
-    fast = steady_state(p, 300, 14, coupling="consistent", energy=False)
+    fast = steady_state(p, 300, 14, coupling="consistent", energy=False, accuracy="fast")
     exact = steady_state(p, 300, 14, coupling="consistent", accuracy="exact", energy=False)
     ref = transient_reference(p, 300, 14, coupling="consistent", duration_s=0.3)[0]
     assert fast.velocity_m_s == 0.0

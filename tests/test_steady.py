@@ -20,7 +20,7 @@ def params():
     [(200, 14, "stick-slip"), (300, 18, "pure-slip"), (400, 14, "slip-separation")],
 )
 def test_steady_velocity_matches_settled_transient(params, voltage_V, preload_N, motion):
-    r = steady_state(params, voltage_V, preload_N)
+    r = steady_state(params, voltage_V, preload_N, accuracy="fast")
     v_t, motion_t = transient_reference(params, voltage_V, preload_N, duration_s=0.3)
     b = r.from_rest
     assert b.stable and b.k == 1
@@ -39,7 +39,7 @@ def test_the_reference_window_is_whole_periods_off_40_kHz(params):
 
 
 def test_dead_zone_holds_the_slider_like_the_transient(params):
-    r = steady_state(params, 50, 26)
+    r = steady_state(params, 50, 26, accuracy="fast")
     v_t, _ = transient_reference(params, 50, 26, duration_s=0.1)
     assert r.velocity_m_s == 0.0 and r.from_rest.motion == "dead-zone"
     assert abs(v_t) < 1e-9
@@ -48,7 +48,7 @@ def test_dead_zone_holds_the_slider_like_the_transient(params):
 def test_period_average_of_normal_force_is_the_preload_without_separation(params):
     # L1 is linear while in contact: <K_l u> = eta_N <F_N> and the static deflection make the
     # mean normal force exactly the preload when the tip never separates
-    b = steady_state(params, 200, 14).from_rest
+    b = steady_state(params, 200, 14, accuracy="fast").from_rest
     assert b.mean_FN_N == pytest.approx(14.0, rel=1e-10)
 
 

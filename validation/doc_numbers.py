@@ -809,7 +809,8 @@ def _fitted_damping() -> dict[str, float]:
     for tag, path in (("t2", _TUNED), ("fitted", _FITTED)):
         p = fem_params_from_file(ROOT / path)
         c = characteristic(p, 400.0, 14.0, frequency_Hz=auto_frequency(p),
-                           coupling=default_coupling(p)[0])  # what the CLI runs: auto
+                           coupling=default_coupling(p)[0],  # what the CLI runs: auto
+                           accuracy="fast")
         out |= {f"{tag}_zeta_L1": p.zeta_L1, f"{tag}_zeta_B2": p.zeta_B2,
                 f"{tag}_v0": c.no_load_velocity_m_s, f"{tag}_stall": c.stall_force_N}
     return out
@@ -1051,7 +1052,7 @@ def _steady_mass_error(voltage_V: float, mass_kg: float) -> float:
 
     p = _table2().with_(M_slider=mass_kg, mu_sd=0.0)
     kw = {"coupling": "paper"}  # Table 2's, which "auto" gives only the unedited set
-    fast = steady_state(p, voltage_V, 14, **kw).velocity_m_s
+    fast = steady_state(p, voltage_V, 14, accuracy="fast", **kw).velocity_m_s
     exact = steady_state(p, voltage_V, 14, accuracy="exact", **kw).velocity_m_s
     return abs(fast - exact) / abs(exact)
 
@@ -1066,7 +1067,7 @@ def _steady_150() -> dict[str, float]:
     return {"rest": r.from_rest.velocity_m_s, "rest_k": r.from_rest.k,
             "k1": next(b.velocity_m_s for b in stable if b.k == 1),
             "transient": transient_reference(_table2(), 150, 14, duration_s=0.2)[0],
-            "fast": steady_state(_table2(), 150, 14).velocity_m_s}
+            "fast": steady_state(_table2(), 150, 14, accuracy="fast").velocity_m_s}
 
 
 @cache
@@ -1086,7 +1087,7 @@ def _steady_characteristic() -> dict[str, float]:
     from contact.characteristic import characteristic
     from validation.cmd_characteristic import parse_loads
 
-    c = characteristic(_table2(), 400, 14, parse_loads("0:2:0.5"))
+    c = characteristic(_table2(), 400, 14, parse_loads("0:2:0.5"), accuracy="fast")
     i = int(np.nanargmax(c.efficiency))
     return {"no_load": c.no_load_velocity_m_s, "stall": c.stall_force_N,
             "peak_efficiency": float(c.efficiency[i]), "peak_load": float(c.load_N[i]),
@@ -1112,7 +1113,7 @@ def _steady_load_limits() -> dict[str, float]:
     from contact.model import OperatingPoint
     from contact.steady import slow_problem, steady_state, transient_reference
 
-    c = characteristic(_table2(), 400, 14, [3.5])
+    c = characteristic(_table2(), 400, 14, [3.5], accuracy="fast")
     r = steady_state(_table2(), 400, 14, load_N=3.5, accuracy="exact", energy=False)
     sp = slow_problem(_table2(), OperatingPoint(400.0, 14.0, 40e3))
     return {"holding_low": c.holding_range_N[0], "holding_high": c.holding_range_N[1],
@@ -1148,7 +1149,8 @@ def _steady_load_hard() -> dict[str, float]:
     q = steady_state(fe, 293.6, 24.12, accuracy="exact", energy=False, **kw)
     ref = transient_reference(fe, 293.6, 24.12, duration_s=0.6, steady_periods=1200, **kw)[0]
     out["quasi_k"] = q.from_rest.k
-    out["quasi_avg_m_s"] = steady_state(fe, 293.6, 24.12, energy=False, **kw).velocity_m_s
+    out["quasi_avg_m_s"] = steady_state(fe, 293.6, 24.12, energy=False, accuracy="fast",
+                                        **kw).velocity_m_s
     out["quasi_slower"] = 1 - ref / out["quasi_avg_m_s"]
     out["quasi_error"] = abs(q.velocity_m_s / ref - 1)
     return out
@@ -1169,7 +1171,7 @@ def _steady_hidden_creep() -> dict[str, float]:
         for v in np.linspace(50, 450, 9):
             for f in np.linspace(10, 26, 9):
                 kw = {"coupling": "consistent", "energy": False}
-                if steady_state(p, float(v), float(f), **kw).velocity_m_s != 0.0:
+                if steady_state(p, float(v), float(f), accuracy="fast", **kw).velocity_m_s != 0.0:
                     continue
                 ex = steady_state(p, float(v), float(f), accuracy="exact", **kw)
                 if ex.velocity_m_s != 0.0:
@@ -1313,7 +1315,8 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_200V_14N_exact_rel_error", "-", bench + " (exact_rel_error)",
               lambda: _steady_point()["exact_rel_error"]),
         Claim("steady_200V_14N_fast_periods", "-",
-              "steady_state(table2(), 200, 14).periods", lambda: _steady_point()["fast_periods"],
+              'steady_state(table2(), 200, 14, accuracy="fast").periods',
+              lambda: _steady_point()["fast_periods"],
               cheap=True, rel_tol=1e-9),
         Claim("steady_200V_14N_exact_periods", "-",
               'steady_state(table2(), 200, 14, accuracy="exact").periods',
@@ -1350,7 +1353,8 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_150V_14N_transient_m_s", "m/s",
               "transient_reference(table2(), 150, 14, duration_s=0.2)",
               lambda: _steady_150()["transient"]),
-        Claim("steady_150V_14N_fast_m_s", "m/s", "steady_state(table2(), 150, 14).velocity_m_s",
+        Claim("steady_150V_14N_fast_m_s", "m/s",
+              'steady_state(table2(), 150, 14, accuracy="fast").velocity_m_s',
               lambda: _steady_150()["fast"]),
         Claim("char_30kHz_fast_no_load_m_s", "m/s",
               "lusm characteristic --voltage 200 --preload 14 --frequency 30000 --accuracy fast",
