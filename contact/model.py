@@ -31,6 +31,8 @@ from contact.expm import expm_stack
 from rom.params import GRAVITY_M_S2, MotorParams
 
 COUPLINGS = ("paper", "consistent")
+COUPLING_CHOICES = (*COUPLINGS, "auto")
+"""What the entry points accept: a coupling, or ``"auto"`` (:func:`resolve_coupling`)."""
 
 
 def default_coupling(params: MotorParams) -> tuple[str, str]:
@@ -63,7 +65,7 @@ def resolve_coupling(params: MotorParams, coupling: str) -> str:
     if coupling == "auto":
         return default_coupling(params)[0]
     if coupling not in COUPLINGS:
-        raise ValueError(f"coupling must be one of {COUPLINGS + ('auto',)}, got {coupling!r}")
+        raise ValueError(f"coupling must be one of {COUPLING_CHOICES}, got {coupling!r}")
     return coupling
 
 
@@ -188,14 +190,8 @@ def gamma_T(params: MotorParams, coupling: str) -> float:
         both; with ``phi_B0`` next to ``phi_Bl`` the literal scheme returned 6.6e30 m/s and
         the event scheme a time-step or chattering error that blamed ``dt_s``.
     """
-    if coupling == "auto":  # every scheme takes the entry points' default as they do
-        coupling = default_coupling(params)[0]
-    if coupling == "paper":
-        g = params.eta_T
-    elif coupling == "consistent":
-        g = -params.phi_Bl
-    else:
-        raise ValueError(f"coupling must be one of {COUPLINGS}, got {coupling!r}")
+    coupling = resolve_coupling(params, coupling)  # "auto" too, as every entry point takes it
+    g = params.eta_T if coupling == "paper" else -params.phi_Bl
     p = params
     if g == 0.0 or not p.phi_Bl * g * p.M_slider <= (1.0 - 1e-6) * p.M_b:
         raise ValueError(

@@ -37,7 +37,7 @@ from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.friction import dynamic_friction
 from contact.model import (
-    COUPLINGS,
+    COUPLING_CHOICES,
     HybridSystem,
     OperatingPoint,
     build_system,
@@ -131,8 +131,8 @@ class SimulationOptions:
         for name in ("ultrasonic_friction", "energy"):  # 'False' is a true string
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
-        if self.coupling not in (*COUPLINGS, "auto"):
-            raise ValueError(f"coupling must be one of {(*COUPLINGS, 'auto')}, got "
+        if self.coupling not in COUPLING_CHOICES:
+            raise ValueError(f"coupling must be one of {COUPLING_CHOICES}, got "
                              f"{self.coupling!r}")
         for name in ("steady_periods", "full_periods", "max_trace_points", "max_events_per_step"):
             v = getattr(self, name)

@@ -27,7 +27,7 @@ def period_step_s(period_s: float, nominal_dt_s: float) -> float:
     default had been refused as if the user had typed it.
     """
     n = max(MIN_STEPS_PER_PERIOD, math.ceil(period_s / nominal_dt_s * (1.0 - 1e-12)))
-    if n * nominal_dt_s == period_s or abs(n * nominal_dt_s - period_s) <= 1e-12 * period_s:
+    if abs(n * nominal_dt_s - period_s) <= 1e-12 * period_s:
         return float(nominal_dt_s)
     return period_s / n
 
