@@ -169,7 +169,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                              load_N=load, coupling=coupling,
                              ultrasonic_friction=ultrasonic_friction, accuracy="exact")
             b = r.from_rest
-            if b is not None and b.k == 0 and b.motion != "dead-zone":
+            if b is not None and b.irregular:
                 irregular[load] = b
             return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
         branches, v = branches_at_load(sp, load)

@@ -35,6 +35,7 @@ from scipy.optimize import brentq
 from contact.deferred_signals import deferred_signals
 from contact.drive import free_tip_amplitudes
 from contact.errors import ChatteringError, RunawayError
+from contact.event_kernel import N_WORK
 from contact.friction import dynamic_friction
 from contact.model import OperatingPoint, resolve_coupling
 from contact.periodic_orbit import (
@@ -200,6 +201,12 @@ class SteadyBranch:
     from_rest: bool
     phase_fraction: tuple[float, float, float, float] = (math.nan,) * 4
     velocity_error_m_s: float = 0.0
+
+    @property
+    def irregular(self) -> bool:
+        """A moving motion that repeats with no short period (``k = 0``, not the dead zone):
+        its velocity is a long-time mean (:attr:`velocity_error_m_s`), not an orbit's."""
+        return self.k == 0 and self.motion != "dead-zone"
 
     @property
     def efficiency(self) -> float:
@@ -472,7 +479,7 @@ def _branch(sp: SlowProblem, v: float, load: float, stable: bool,
     frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     duration = total if span is None else span * sp.op.period_s
-    work = orbit_work(sp.fs, o, sp.average_periods) if energy else np.full(6, math.nan)
+    work = orbit_work(sp.fs, o, sp.average_periods) if energy else np.full(N_WORK, math.nan)
     w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in work)
     return SteadyBranch(
         velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
@@ -797,8 +804,11 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
             means = [dist_a / window_s, dist / window_s]
             v_a, v_mean = means
             settled = abs(v_mean - v_a) <= REST_SETTLED_RTOL * abs(v_mean)
+            # below the ripple scale the averaging does not hold: the full model's mean
+            # stands even unsettled (an irregular creep)
+            creep = abs(branches[avg[0]].velocity_m_s) < sp.v_floor_m_s
             error = 0.0
-            if not settled and abs(branches[avg[0]].velocity_m_s) < sp.v_floor_m_s:
+            if not settled and creep:
                 # an irregular creep: the mean of more windows, with its standard error
                 for _ in range(REST_MEAN_BLOCKS - 2):
                     z_b, m_b, dist, _, ph = run_periods(fsys, z_b, m_b, REST_MEAN_PERIODS,
@@ -812,8 +822,8 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
                 work = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS, energy=True)[3]
                 periods += REST_MEAN_PERIODS
             else:
-                work = np.full(6, math.nan)
-            if settled or abs(branches[avg[0]].velocity_m_s) < sp.v_floor_m_s:
+                work = np.full(N_WORK, math.nan)
+            if settled or creep:
                 v_rest = v_mean
                 if abs(v_rest) <= 1e-3 * sp.v_floor_m_s:
                     # a slow drift, not yet a creep: held if it dies out (the dead zone)
@@ -982,7 +992,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
     steps = (sp.periods + periods) * sp.fs.steps_per_period
     previous = float(v_rest)
-    if rest and rest[0].k == 0 and rest[0].motion != "dead-zone":  # a held slider is held
+    if rest and rest[0].irregular:
         load = f" under {op.load_N:g} N" if op.load_N else ""
         warn_irregular(rest[0], f"at {op.voltage_V:g} V / {op.preload_N:g} N{load}")
         if not rest[0].velocity_error_m_s <= IRREGULAR_RTOL * abs(rest[0].velocity_m_s):
