@@ -285,3 +285,15 @@ def test_a_set_that_drives_no_ellipse_has_no_operating_frequency(tmp_path, capsy
     # at a given frequency it is a motor that does not move: answered, not refused
     assert main(["characteristic", *args, "--loads", "0:0.1:0.1", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["no_load_velocity_m_s"] == 0.0
+
+
+def test_library_warnings_name_the_options_of_their_assignments():
+    """The one-line warning printer says a library message's ``load_N = 50 N`` as
+    ``--load-N 50 N`` (cmd_simulate had rewritten the runaway warning by hand); a word like
+    "refine" in a sentence is not an assignment and stays as it is."""
+    from validation.errors import assignments_as_options
+
+    assert assignments_as_options("load_N = 50 N is beyond") == "--load-N 50 N is beyond"
+    assert assignments_as_options("at frequency_Hz=3e4 Hz") == "at --frequency 3e4 Hz"
+    text = "refine the stator file's mesh; voltage_V of the drive"
+    assert assignments_as_options(text) == text

@@ -192,9 +192,10 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
     seen: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
+        from validation.errors import assignments_as_options
         from validation.options import in_file_terms
 
-        text = in_file_terms(_one_line(str(message)))
+        text = in_file_terms(assignments_as_options(_one_line(str(message))))
         if text not in seen:
             seen.add(text)
             _say(f"{prog}: warning: {text}")

@@ -137,15 +137,10 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
             coupling=coupling, energy=args.energy, load_N=args.load_N,
             method="steady" if args.steady else "event",
         )
-    runaway = False
-    for w in caught:  # the library's runaway in the options' terms; the others as they are
-        if issubclass(w.category, RunawayWarning):
-            runaway = True
-            warn(str(w.message).replace(f"load_N = {args.load_N:g} N", f"--load-N "
-                                        f"{args.load_N:g} N").replace(
-                "the velocity is where", "the velocity printed is where"))
-        else:
-            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    for w in caught:  # said as every warning is (the one-line form names --load-N)
+        warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    # a runaway is why the run did not settle: its warning replaces the "not settled" one
+    runaway = any(issubclass(w.category, RunawayWarning) for w in caught)
     summary = simulation_summary(r)
     if not args.steady and not r.steady.settled:
         if not runaway:

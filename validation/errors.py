@@ -108,6 +108,15 @@ def user_error(exc: BaseException) -> LusmError:
     return LusmError(line if blamed in line else f"{blamed}: {line}", blamed)
 
 
+def assignments_as_options(text: str) -> str:
+    """A library message's ``name = value`` in the options' terms, for the names whose option
+    takes the same unit: ``load_N = 50 N`` reads ``--load-N 50 N`` (the one-line warnings;
+    only the assignment form, so that a word like "refine" in a sentence stays a word)."""
+    for name in SAME_UNITS:
+        text = re.sub(rf"(?<![\w.-]){re.escape(name)}\s*=\s*", f"{LIBRARY_NAMES[name]} ", text)
+    return text
+
+
 def feature_reason(exc: BaseException) -> str:
     """A parametric stator's refusal in the stator file's terms (mm, hole numbers) where the
     library gave them after its SI text, as for the holes; else the text as it is."""
