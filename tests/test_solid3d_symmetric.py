@@ -113,3 +113,21 @@ def test_cli_graded_3d_uses_the_quarter_model_with_the_full_models_results(capsy
         assert out[name]["f_short_Hz"] == pytest.approx(m.f_short_Hz, rel=1e-8)
         assert out[name]["f_open_Hz"] == pytest.approx(m.f_open_Hz, rel=1e-8)
         assert out[name]["k_eff"] == pytest.approx(m.k_eff, rel=1e-6)
+
+
+def test_ungraded_3d_run_says_its_k_eff_is_low_and_grading_raises_it(capsys):
+    # `lusm modes --model 3d` on its default (ungraded) mesh prints a note that B2's k_eff
+    # is low; the note's claim: one grading level raises it by more than 3 %
+    from validation.cli import main
+
+    def run(*extra):
+        assert main(["modes", "--model", "3d", *extra]) == 0
+        out = capsys.readouterr().out
+        row = next(line for line in out.splitlines() if line.startswith("B2 "))
+        return out, float(row.split()[3])
+
+    plain, k_plain = run()
+    graded, k_graded = run("--edge-grading", "1")
+    assert "k_eff on an ungraded 3D mesh is low" in plain
+    assert "ungraded" not in graded
+    assert k_graded > 1.03 * k_plain
