@@ -223,6 +223,14 @@ def _table2():
 
 
 @cache
+def _free_tip_amplitudes(voltage_V: float) -> tuple[float, float]:
+    """Table 2's free (no preload) L1 and B2 tip amplitudes (m) at 40 kHz."""
+    from rom.damping import free_tip_amplitudes
+
+    a_l, a_b = free_tip_amplitudes(_table2(), 40e3, voltage_V)
+    return float(a_l), float(a_b)
+
+
 def _sim(voltage_V: float, preload_N: float, duration_s: float = 0.05,
          coupling: str = "paper"):
     from contact.simulate import simulate
@@ -1691,6 +1699,10 @@ CLAIMS: tuple[Claim, ...] = (
           lambda: _sim(200.0, 14.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
     Claim("A_N_450V_14N_m", "m", _SIM.format(v=450, f=14) + " (normal_amplitude_m)",
           lambda: _sim(450.0, 14.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
+    Claim("free_L1_tip_200V_m", "m", "python -c \"from rom.damping import free_tip_amplitudes; "
+          "from rom import table2; print(free_tip_amplitudes(table2(), 40e3, 200.0))\" (L1, "
+          "the first)",
+          lambda: _free_tip_amplitudes(200.0)[0], cheap=True, rel_tol=1e-9),
     Claim("normal_swing_200V_14N_N", "N", "2 k A_N at 200 V / 14 N (lusm params; A_N above)",
           lambda: 2 * _table2().k_contact * _sim(200.0, 14.0).normal_amplitude_m,
           cheap=True, rel_tol=1e-6),
