@@ -817,8 +817,7 @@ def _fitted_damping() -> dict[str, float]:
     for tag, path in (("t2", _TUNED), ("fitted", _FITTED)):
         p = fem_params_from_file(ROOT / path)
         c = characteristic(p, 400.0, 14.0, frequency_Hz=auto_frequency(p),
-                           coupling=default_coupling(p)[0],  # what the CLI runs: auto
-                           accuracy="fast")
+                           coupling=default_coupling(p)[0])  # the CLI's: auto, exact
         out |= {f"{tag}_zeta_L1": p.zeta_L1, f"{tag}_zeta_B2": p.zeta_B2,
                 f"{tag}_v0": c.no_load_velocity_m_s, f"{tag}_stall": c.stall_force_N}
     return out
@@ -827,7 +826,7 @@ def _fitted_damping() -> dict[str, float]:
 def _fitted_damping_claims() -> tuple[Claim, ...]:
     """docs/designer.md: what fitting the damping to the paper's amplitudes changes."""
     cmd = ("lusm characteristic --voltage 400 --preload 14 --frequency auto --geometry {f} "
-           "--accuracy fast (the damping line and the no-load velocity, stall force)")
+           "(the damping line and the no-load velocity, stall force)")
     out = []
     for tag, path in (("t2", _TUNED), ("fitted", _FITTED)):
         for key, unit in (("zeta_L1", "-"), ("zeta_B2", "-"), ("v0", "m/s"), ("stall", "N")):
