@@ -114,6 +114,11 @@ def _motion_row(fig: str, v: float, f: float, paper: str, r: SimulationResult,
     return ClaimRow(fig, f"{v:g} V / {f:g} N: {paper}", we_get, ok, reason)
 
 
+DEAD_ZONE_REL = 0.1
+"""Fig. 24's dead-zone edge counts as reproduced within this share of the paper's simulated
+120 V: half the gap between it and the ~100 V the paper measured."""
+
+
 def _within(value: float, target: float, rel: float) -> bool:
     return abs(value - target) <= rel * abs(target)
 
@@ -249,12 +254,20 @@ def reproduce(
     moving = volts[np.abs(vel) > 1e-6]
     edge = float(moving.min()) if moving.size else float("nan")
     stuck_below = volts[volts < edge] if moving.size else volts
-    dz_ok = moving.size > 0 and 100.0 <= float(stuck_below.max()) <= 150.0
+    # judged on the edge itself, bisected to 0.5 V (section 4 bisects it to 0.05 V): on the
+    # 25 V grid "no motion up to 125 V, moving from 150 V" read as the paper's 120 V while
+    # the edge lies at 139 V
+    from validation.hard_cases import dead_zone_edge
+
+    bisected = dead_zone_edge(params, 14.0, frequency_Hz, 0.01, tol_V=0.5, coupling="paper")
+    dz_ok = bool(np.isfinite(bisected)) and _within(bisected, 120.0, DEAD_ZONE_REL)
     rows.append(ClaimRow(
         "Fig. 24", "dead zone: no motion up to about 120 V (simulation; ~100 V measured), 14 N",
         f"no motion up to {float(stuck_below.max()) if stuck_below.size else 0:g} V, moving "
-        f"from {edge:g} V",
-        bool(dz_ok), "" if dz_ok else "the dead-zone edge lies elsewhere on this set",
+        f"from {edge:g} V on the grid; "
+        + (f"edge {bisected:.1f} V by bisection ({bisected / 120.0 - 1.0:+.0%})"
+           if np.isfinite(bisected) else "pure stick up to 1000 V"),
+        dz_ok, "" if dz_ok else "the dead-zone edge lies elsewhere on this set",
     ))
     if 400.0 in volts:
         r400 = sweep[list(volts).index(400.0)]
