@@ -43,9 +43,15 @@ def pack_parameters(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
 def solve_literal(params: MotorParams, op: OperatingPoint, opts, window: RunWindow,
                   mu_d_eff: float) -> SchemeOutput:
     """Run the literal fixed-step, fixed-band switch model from the static equilibrium."""
+    from contact.model import build_system
+    from contact.simulate import check_spectrum
+
+    dt = window.dt_s
+    # the event scheme's step bound: RK4 above it returned NaN labelled "pure-slip" (a contact
+    # stiffness of 1e12 N/m at 1e-7 s)
+    check_spectrum(build_system(params, op, mu_d_eff, opts.coupling), dt)
     y0 = np.zeros(6)
     y0[0] = static_deflection_m(params, op.preload_N)
-    dt = window.dt_s
     marks = np.array([window.win_start,
                       int(round(window.previous_start_s / dt)),
                       int(round(window.previous_end_s / dt))], dtype=np.int64)

@@ -226,7 +226,14 @@ class SimulationResult:
     wall_time_s: float
 
 
-def _check_spectrum(system: HybridSystem, dt_s: float) -> None:
+def check_spectrum(system: HybridSystem, dt_s: float) -> None:
+    """Refuse a step ``dt_s`` (s) above the inverse spectral radius of the system's modes.
+
+    Raises
+    ------
+    ValueError
+        Naming ``dt_s`` and the largest step the fastest mode allows.
+    """
     rho = max(float(np.max(np.abs(np.linalg.eigvals(a)))) for a in system.A)
     if rho * dt_s > 1.0:  # the Taylor flow of partial steps is exact to roundoff below 1
         raise ValueError(
@@ -371,6 +378,11 @@ def simulate(
     if load_N and method in ("reference", "literal"):
         raise ValueError(f"load_N is modelled by the event and steady schemes only, got "
                          f"load_N={load_N!r} with method={method!r}")
+    if method != "event" and (option_overrides.get("energy")
+                              or (options is not None and options.energy)):
+        # it came back as energy=None without a word (steady: SteadyResult's powers)
+        raise ValueError(f"energy=True is computed by method='event' only, got "
+                         f"method={method!r}")
     op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
     opts = options_or_default(options)
     if option_overrides:
@@ -432,7 +444,7 @@ def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions
                                     * op.period_s / dt)))
     decim = max(1, int(math.ceil(n_steps / opts.max_trace_points)))
     system = build_system(params, op, mu_d_eff, opts.coupling, opts.stick_band_m_s)
-    _check_spectrum(system, dt)
+    check_spectrum(system, dt)
     # an earlier window, at least a fifth of the run before the last one, tells whether the
     # slider is still accelerating: its ends are marked in the kernel (interpolating the
     # decimated trace put them 0.5-2 % off at creep speeds, and at 10-18 % the flag said

@@ -200,3 +200,22 @@ def test_smaller_api_inputs_are_checked():
     with pytest.raises(ValueError, match="loads_N must be a sequence of loads"):
         characteristic(table2(), 200, 14, loads_N=[[0.0, 0.1]], accuracy="fast")
     assert inspect.signature(stick_slip_map).parameters["progress"].default is False
+
+
+@pytest.mark.parametrize("k_contact", [1e12, 1e13])
+def test_the_literal_scheme_refuses_a_step_its_fastest_mode_does_not_allow(k_contact):
+    """RK4 beyond its stability returned v = nan labelled "pure-slip" at the default step;
+    the event scheme refused the same step. Both refuse it now, naming dt_s."""
+    from dataclasses import replace
+
+    stiff = replace(table2(), k_contact=k_contact)
+    for method in ("event", "literal"):
+        with pytest.raises(ValueError, match=r"dt_s = 1e-07 s is too large .* use dt_s <="):
+            simulate(stiff, 200.0, 14.0, method=method)
+
+
+@pytest.mark.parametrize("method", ["literal", "reference", "steady"])
+def test_energy_is_refused_where_it_is_not_computed(method):
+    # energy=True came back as energy=None without a word
+    with pytest.raises(ValueError, match="energy=True is computed by method='event' only"):
+        simulate(table2(), 200.0, 14.0, method=method, energy=True, duration_s=0.005)
