@@ -117,8 +117,17 @@ class EnergyBalance:
 
     @property
     def relative_residual(self) -> float:
-        """``|residual| / input`` (-), NaN without input work."""
-        return abs(self.residual_J) / self.input_J if self.input_J > 0 else float("nan")
+        """``|residual|`` over the largest term of the balance (-), NaN when all are 0.
+
+        The terms are the input, damping, tangential (stator and slider) and guide work and
+        the energy change. In a steady window the input is the largest; where a load does
+        the work (a slider running away) the input alone made a roundoff-level residual read
+        5.6e-7 against 5.8e-12 of the largest term.
+        """
+        scale = max(abs(self.input_J), abs(self.damping_J), abs(self.tangential_on_stator_J),
+                    abs(self.tangential_on_slider_J), abs(self.guide_J),
+                    abs(self.delta_energy_J))
+        return abs(self.residual_J) / scale if scale > 0 else float("nan")
 
 
 @dataclass(frozen=True)
