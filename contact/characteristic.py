@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from contact.drive import default_drive_Hz
 from contact.model import OperatingPoint, resolve_coupling
 from contact.steady import (
     ACCURACIES,
@@ -156,7 +157,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     require_params(params)
     coupling = resolve_coupling(params, coupling)  # "auto": as the CLI's
     op = OperatingPoint(voltage_V, preload_N,
-                        40e3 if frequency_Hz is None else frequency_Hz)
+                        default_drive_Hz(params, frequency_Hz))
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
 
     irregular: dict[float, object] = {}  # load -> branch from rest with no short period

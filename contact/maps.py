@@ -121,7 +121,7 @@ def stick_slip_map(
     params: MotorParams,
     voltages_V: np.ndarray,
     preloads_N: np.ndarray,
-    frequency_Hz: float = 40e3,
+    frequency_Hz: float | None = None,
     options: SimulationOptions | None = None,
     workers: int | None = None,
     progress: bool = False,
@@ -136,8 +136,9 @@ def stick_slip_map(
     params : MotorParams
     voltages_V, preloads_N : array_like
         Grid axes (V, N).
-    frequency_Hz : float
-        Drive frequency (Hz).
+    frequency_Hz : float, optional
+        Drive frequency (Hz); default the paper's 40 kHz, with
+        :class:`contact.drive.WeakDriveWarning` when that misses the set's modes.
     options : SimulationOptions, optional
         Options of every run.
     workers : int, optional
@@ -165,7 +166,10 @@ def stick_slip_map(
 
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
-    OperatingPoint(0.0, 0.0, frequency_Hz)  # the frequency checked before it is used
+    from contact.drive import default_drive_Hz
+
+    # once for the map, not per point; the frequency checked before it is used
+    frequency_Hz = OperatingPoint(0.0, 0.0, default_drive_Hz(params, frequency_Hz)).frequency_Hz
     opts = options_or_default(options)
     shape = (v.size, f.size)
     motion = np.empty(shape, dtype=object)

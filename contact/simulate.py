@@ -332,7 +332,7 @@ def simulate(
     params: MotorParams,
     voltage_V: float,
     preload_N: float,
-    frequency_Hz: float = 40e3,
+    frequency_Hz: float | None = None,
     options: SimulationOptions | None = None,
     *,
     method: str = "event",
@@ -349,8 +349,9 @@ def simulate(
         Drive amplitude V0 (V), >= 0.
     preload_N : float
         Preload F_P (N), >= 0.
-    frequency_Hz : float
-        Drive frequency (Hz), > 0.
+    frequency_Hz : float, optional
+        Drive frequency (Hz), > 0; default the paper's 40 kHz, with
+        :class:`contact.drive.WeakDriveWarning` when that misses the set's modes.
     options : SimulationOptions, optional
         Numerical options; keyword overrides (``dt_s=...``) are applied on top.
     method : str
@@ -383,7 +384,9 @@ def simulate(
         # it came back as energy=None without a word (steady: SteadyResult's powers)
         raise ValueError(f"energy=True is computed by method='event' only, got "
                          f"method={method!r}")
-    op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
+    from contact.drive import default_drive_Hz
+
+    op = OperatingPoint(voltage_V, preload_N, default_drive_Hz(params, frequency_Hz), load_N)
     opts = options_or_default(options)
     if option_overrides:
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})

@@ -33,7 +33,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.deferred_signals import deferred_signals
-from contact.drive import free_tip_amplitudes
+from contact.drive import default_drive_Hz, free_tip_amplitudes
 from contact.errors import ChatteringError, RunawayError
 from contact.event_kernel import N_WORK
 from contact.friction import dynamic_friction
@@ -596,7 +596,7 @@ def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
         raise TypeError(f"energy must be True or False, got {energy!r}")
     coupling = resolve_coupling(params, coupling)
     op = OperatingPoint(voltage_V, preload_N,
-                        40e3 if frequency_Hz is None else frequency_Hz, load_N)
+                        default_drive_Hz(params, frequency_Hz, 4), load_N)
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
                       accuracy=accuracy)
     # the exact level replaces the averaged branches' powers by the full model's

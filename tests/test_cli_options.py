@@ -226,9 +226,8 @@ def test_the_default_frequency_far_from_a_sets_modes_is_said(capsys):
     0.14 of the one at its own operating point (contact.drive.auto_frequency), and a stator
     file at 47.7 kHz gave 0.3 % of its no-load speed there, without a word. Table 2 at
     40 kHz (its own point is 39.8 kHz) and a typed frequency stay silent."""
-    from contact.drive import auto_frequency, free_tip_amplitudes
+    from contact.drive import WEAK_DRIVE_SHARE, auto_frequency, free_tip_amplitudes
     from rom.sources import get_params
-    from validation.options import WEAK_DRIVE_SHARE
 
     p = get_params("fem")
     a0, b0 = free_tip_amplitudes(p, auto_frequency(p))

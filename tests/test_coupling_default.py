@@ -32,7 +32,7 @@ def test_cli_runs_and_names_the_coupling(capsys, extra, coupling, why):
     d = json.loads(capsys.readouterr().out)
     assert d["coupling"] == coupling and d["coupling_from"].startswith(why)
     p = table2() if "beam" not in extra else get_params("beam")
-    r = simulate(p, 300.0, 14.0, duration_s=0.005, coupling=coupling)
+    r = simulate(p, 300.0, 14.0, 40e3, duration_s=0.005, coupling=coupling)  # the CLI's
     assert d["steady_velocity_m_s"] == r.steady.velocity_m_s
     assert main(args) == 0
     assert f"coupling {coupling} (" in capsys.readouterr().out
@@ -71,12 +71,13 @@ def test_the_library_runs_the_clis_coupling_by_default():
     from rom.sources import get_params
 
     beam = get_params("beam")
-    r = simulate(beam, 300, 14, duration_s=0.005)
+    r = simulate(beam, 300, 14, 40e3, duration_s=0.005)  # at the CLI's default drive
     assert r.options.coupling == "consistent" and SimulationOptions().coupling == "auto"
-    explicit = simulate(beam, 300, 14, duration_s=0.005, coupling="consistent")
+    explicit = simulate(beam, 300, 14, 40e3, duration_s=0.005, coupling="consistent")
     assert r.steady.velocity_m_s == explicit.steady.velocity_m_s
     assert simulate(table2(), 200, 14, duration_s=0.005).options.coupling == "paper"
-    auto = steady_state(beam, 300, 14, accuracy="exact", energy=False)
-    cons = steady_state(beam, 300, 14, accuracy="exact", energy=False, coupling="consistent")
-    paper = steady_state(beam, 300, 14, accuracy="exact", energy=False, coupling="paper")
+    kw = {"frequency_Hz": 40e3, "accuracy": "exact", "energy": False}
+    auto = steady_state(beam, 300, 14, **kw)
+    cons = steady_state(beam, 300, 14, **kw, coupling="consistent")
+    paper = steady_state(beam, 300, 14, **kw, coupling="paper")
     assert auto.velocity_m_s == cons.velocity_m_s != paper.velocity_m_s

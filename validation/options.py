@@ -944,34 +944,18 @@ def warn_unexcited_mode(params, electrodes) -> None:
                  f"diagonal pair ([electrodes] drive = [1, 4] or [2, 3])")
 
 
-WEAK_DRIVE_SHARE = 0.5
-"""Share of its own operating point's free tip ellipse (area, :func:`contact.drive.
-auto_frequency`) below which the default drive frequency is said to miss a set's modes."""
-
-
 def warn_default_frequency(params, frequency_Hz: float) -> None:
     """Warn when ``--frequency`` was left at its default and the set's free tip ellipse
-    there is below :data:`WEAK_DRIVE_SHARE` of the one at its own operating point: a stator
-    file with modes at 47.7 kHz gave a stall force of 0.26 N and a no-load speed of 5.7e-5
-    m/s at the default 40 kHz, without a word, where `--frequency auto` gives 1.40 N and
-    0.041 m/s. A frequency the user typed is theirs."""
+    there is below :data:`contact.drive.WEAK_DRIVE_SHARE` of the one at its own operating
+    point (:func:`contact.drive.drive_share`): a stator file with modes at 47.7 kHz gave a
+    stall force of 0.26 N and a no-load speed of 5.7e-5 m/s at the default 40 kHz, without a
+    word, where `--frequency auto` gives 1.40 N and 0.041 m/s. A frequency the user typed
+    is theirs."""
     if typed("--frequency"):
         return
-    from contact.drive import auto_frequency, grid_frequency, tip_ellipse_area
+    from contact.drive import WEAK_DRIVE_SHARE, drive_share
 
-    at_drive = tip_ellipse_area(params, frequency_Hz)
-    if not at_drive > 0.0 and not tip_ellipse_area(params, params.f_B2_Hz) > 0.0:
-        return  # no ellipse at any frequency (a force factor zero): no better frequency
-    # the grid's best first: a drive well inside the threshold needs no optimizer (its
-    # import alone cost every default `lusm simulate` 0.36 s); the refined best is at least
-    # the grid's, so the share it gives can only be smaller
-    best = grid_frequency(params)[0]
-    top = tip_ellipse_area(params, best)
-    if top > 0 and at_drive >= 1.01 * WEAK_DRIVE_SHARE * top:
-        return
-    best = auto_frequency(params)
-    top = tip_ellipse_area(params, best)
-    share = at_drive / top if top > 0 else 1.0
+    share, best = drive_share(params, frequency_Hz)
     if share < WEAK_DRIVE_SHARE:
         warn(f"--frequency: the default {frequency_Hz:g} Hz is far from this set's modes (L1 "
              f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the free tip ellipse "
