@@ -73,6 +73,14 @@ def _meshes(folder: Path) -> dict[str, str]:
     hung = np.vstack((np.delete(quads, 13, axis=0), [a, m1, m2, d], [m1, b, c, m2]))
     files["hanging_node"] = (np.vstack((pts, mids)), hung,
                              np.concatenate((np.delete(tags, 13), [tags[13]] * 2)))
+    # the cells above y = 15.25 mm, x < 0 on their own copies of the nodes there: an unmerged
+    # seam (a crack), which was accepted and moved L1 by 11 %
+    on = np.flatnonzero((np.abs(pts[:, 1] - 15.25e-3) < 1e-12) & (pts[:, 0] < 0))
+    above = pts[quads].mean(axis=1)[:, 1] > 15.25e-3
+    copy = np.arange(len(pts))
+    copy[on] = len(pts) + np.arange(on.size)
+    seam = np.where(above[:, None], copy[quads], quads)
+    files["seam"] = (np.vstack((pts, pts[on])), seam, tags)
     bow = quads.copy()
     bow[7] = bow[7, [0, 2, 1, 3]]  # a bow-tie quad
     files["bowtie"] = (pts, bow, tags)
@@ -306,6 +314,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["overlapping or non-conforming"]),
     ("mesh-hanging-node", ["modes", "--geometry", "{hanging_node}"], ["non-conforming"]),
     ("mesh-bowtie", ["modes", "--geometry", "{bowtie}"], ["degenerate", "cells"]),
+    ("mesh-unmerged-seam", ["modes", "--geometry", "{seam}"],
+     ["seam.msh", "4 nodes used by its cells that coincide with another node", "y = 15.25 mm",
+      "merge the duplicate nodes"]),
     ("mesh-metre-declared-mm", ["modes", "--geometry", "{metre_as_mm}"], ["looks like metres"]),
     ("mesh-ten-metres", ["modes", "--geometry", "{ten_metres}"], ["1 m limit"]),
     ("mesh-tip-far", ["modes", "--geometry", "{tip_far_mesh}"], ["tip_mm", "off the mesh"]),
