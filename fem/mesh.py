@@ -89,7 +89,9 @@ class PlateMesh:
     def quadrant_problem(self) -> str | None:
         """Why the electrode tags are not the quadrants of :mod:`fem.geometry` (None if they are).
 
-        The 2D model reads its gap strips and which quadrants touch from the tags' places
+        All four electrodes need cells: the 2D model gives each its own capacitance
+        (area / thickness) and coupling column, which an empty electrode leaves singular. The
+        2D model reads its gap strips and which quadrants touch from the tags' places
         (:func:`fem.model.gap_layout`), and the beam and the drive diagonals assume Fig. 1's
         numbering: 1, 2 at ``x > 0`` and 3, 4 at ``x < 0``; 2, 4 toward the tip (larger y)
         and 1, 3 toward the preload end. Quadrants may touch (no gap) but not overlap.
@@ -97,6 +99,15 @@ class PlateMesh:
         p = self.points_m
         x0, x1, y0, y1 = self.bounding_box_m()
         tol = 1e-9 * max(x1 - x0, y1 - y0)
+        # a mesh with electrodes 1 and 4 only has one on each side of both centre lines, and
+        # failed later in the model as "mesh has no elements under electrode(s) [2, 3]"
+        missing = [k for k in ELECTRODES if not np.any(self.electrode == k)]
+        if missing:
+            return (f"no cells under electrode{'s' if len(missing) > 1 else ''} "
+                    f"{', '.join(map(str, missing))}: a stator needs all four quadrant "
+                    f"electrodes 1..4 (1, 2 at x > 0, 3, 4 at x < 0; 2, 4 on the tip's half, "
+                    f"1, 3 on the preload end's half), each with cells (tags "
+                    f"{', '.join(electrode_name(k) for k in ELECTRODES)})")
 
         def nodes(tags):
             el = np.flatnonzero(np.isin(self.electrode, tags))
@@ -107,12 +118,6 @@ class PlateMesh:
             (1, "y", ((2, 4), (1, 3)), ("the tip's half", "the preload end's half")),
         ):
             a, b = nodes(hi), nodes(lo)
-            missing = [t for t, n in ((hi, a), (lo, b)) if n.shape[1] == 0]
-            if missing:
-                return (f"no electrode among {missing[0][0]}, {missing[0][1]}: a stator needs "
-                        f"the four quadrant electrodes (1, 2 at x > 0, 3, 4 at x < 0; 2, 4 on "
-                        f"the tip's half, 1, 3 on the preload end's half), at least one on "
-                        f"each side of both centre lines")
             if b[axis].max() > a[axis].min() + tol:
                 return (f"electrodes {hi[0]}, {hi[1]} must lie on {where_hi} and {lo[0]}, "
                         f"{lo[1]} on {where_lo} ({'width' if axis == 0 else 'length'} "

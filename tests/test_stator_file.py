@@ -350,7 +350,11 @@ def test_a_stator_files_fine_mesh_is_blamed_on_its_size_not_on_refine(tmp_path, 
     # 1 <-> 2, 3 <-> 4: the tip's and the preload end's halves swapped
     ([0, 2, 1, 4, 3], r"electrodes 2, 4 must lie on the tip's half"),
     # two electrodes along the length: no quadrant at x < 0
-    ([0, 1, 2, 1, 2], r"no electrode among 3, 4"),
+    ([0, 1, 2, 1, 2], r"no cells under electrodes 3, 4: a stator needs all four"),
+    # one electrode on each side of both centre lines, but 2 and 3 missing: the model failed
+    # with "mesh has no elements under electrode(s) [2, 3]", naming no file or rule
+    ([0, 1, 0, 0, 4], r"no cells under electrodes 2, 3: a stator needs all four quadrant "
+                      r"electrodes 1..4 .*electrode1, electrode2, electrode3, electrode4"),
 ])
 def test_electrode_tags_must_be_the_quadrants_of_fig1(tmp_path, relabel, match):
     """The 2D model reads its gap strips from where the tags lie. A mirrored numbering gave
