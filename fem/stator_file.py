@@ -755,16 +755,30 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                 f"{src}: [electrodes] drive names electrode {e}, which has no cells in "
                 f"{mesh_path.name} (electrodes present: {sorted(present)})"
             )
-    tip = tip if tip is not None else imported.points_m.get("tip", (0.0, y1))
-    preload = preload if preload is not None else imported.points_m.get("preload", (0.0, 0.0))
-    for key, pt in (("tip_mm", tip), ("preload_mm", preload)):
+    points: dict[str, tuple[float, float]] = {}
+    for group, key, given, default in (("tip", "tip_mm", tip, (0.0, y1)),
+                                       ("preload", "preload_mm", preload, (0.0, 0.0))):
+        pt = given if given is not None else imported.points_m.get(group, default)
         slack = 1e-9 * max(x1 - x0, y1 - y0)
         in_box = x0 - slack <= pt[0] <= x1 + slack and y0 - slack <= pt[1] <= y1 + slack
         if not in_box or not bool(mesh.contains(np.array(pt)[:, None])[0]):
+            at = f"[{pt[0] / MM:g}, {pt[1] / MM:g}] mm"
+            # say where the point came from: a mesh's vertex group off its cells was
+            # reported as a [points] key the file did not have
+            if given is not None:
+                raise ValueError(f"{src}: [points] {key} = {at} lies off the mesh "
+                                 f"({bbox_mm(mesh)})")
+            if group in imported.points_m:
+                raise ValueError(
+                    f"{src}: the {group!r} vertex group of the mesh file {mesh_path.name} is "
+                    f"at {at}, off the mesh's cells ({bbox_mm(mesh)}); put its node on the "
+                    f"planform or set [points] {key}")
             raise ValueError(
-                f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies off the "
-                f"mesh ({bbox_mm(mesh)})"
-            )
+                f"{src}: the default {group} point {at} (no [points] {key}, no {group!r} vertex "
+                f"group in {mesh_path.name}) lies off the mesh's cells ({bbox_mm(mesh)}); set "
+                f"[points] {key} or add a {group!r} vertex group to the mesh")
+        points[group] = pt
+    tip, preload = points["tip"], points["preload"]
     stator = MeshedStator(
         length_m=y1 - y0, width_m=x1 - x0, thickness_m=thickness * MM, electrode_gap_m=0.0,
         drive_electrodes=drive, mesh=mesh, tip_m=tip, preload_m=preload,

@@ -99,6 +99,14 @@ def _meshes(folder: Path) -> dict[str, str]:
     (folder / "tip_far.toml").write_text(MESHED.format(mesh=good)
                                          + "[points]\ntip_mm = [0, 1e300]\n")
     out["tip_far_mesh"] = str(folder / "tip_far.toml")
+    # the mesh's own 'tip' vertex on a node no cell uses: named as "[points] tip_mm" in a
+    # file without [points]
+    from fem.mesh_io import write_stator_msh
+
+    write_stator_msh(folder / "tip_vertex_far.msh", np.vstack((pts, [[0.0, 0.04]])),
+                     {"quad": quads}, {"quad": tags}, {"tip": len(pts)})
+    (folder / "tip_vertex_far.toml").write_text(MESHED.format(mesh="tip_vertex_far.msh"))
+    out["tip_vertex_far"] = str(folder / "tip_vertex_far.toml")
     (folder / "meshed_ok.toml").write_text(MESHED.format(mesh=good))
     out["meshed_ok"] = str(folder / "meshed_ok.toml")
     return out
@@ -326,6 +334,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("mesh-metre-declared-mm", ["modes", "--geometry", "{metre_as_mm}"], ["looks like metres"]),
     ("mesh-ten-metres", ["modes", "--geometry", "{ten_metres}"], ["1 m limit"]),
     ("mesh-tip-far", ["modes", "--geometry", "{tip_far_mesh}"], ["tip_mm", "off the mesh"]),
+    ("mesh-tip-vertex-far", ["modes", "--geometry", "{tip_vertex_far}"],
+     ["tip_vertex_far.toml: the 'tip' vertex group of the mesh file tip_vertex_far.msh is at "
+      "[0, 40] mm, off the mesh's cells", "set [points] tip_mm"]),
     # params, compare
     ("params-beam-with-geometry", ["params", "--source", "beam", "--geometry", "{plate}"],
      ["--source fem"]),

@@ -507,3 +507,36 @@ def test_duplicate_nodes_no_cell_uses_are_still_accepted(tmp_path):
     imp = read_stator_mesh(path)
     assert imp.mesh.points_m.shape == mesh.points_m.shape
     _assert_same_tags(imp.mesh, PlateStator())
+
+
+def test_a_point_off_the_mesh_names_where_it_came_from(tmp_path):
+    """A mesh's 'tip' vertex off its cells was reported as "[points] tip_mm = [0, 40] mm lies
+    off the mesh" in a file without a [points] table (exploratory testing)."""
+    mesh = structured_mesh(PlateStator(), 2)
+    pts, quads = mesh.points_m.T, mesh.quads.T
+    far = np.vstack((pts, [[0.0, 0.04]]))  # a node no cell uses, 10 mm beyond the tip end
+    write_stator_msh(tmp_path / "far.msh", far, {"quad": quads}, {"quad": mesh.electrode},
+                     {"tip": len(pts)})
+    path = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "far.msh"\n')
+    with pytest.raises(ValueError) as err:
+        load_stator(path)
+    text = str(err.value)
+    assert "[points]" not in text.split(";")[0], text
+    assert ("the 'tip' vertex group of the mesh file far.msh is at [0, 40] mm, off the mesh's "
+            "cells (x in [-3.75, 3.75] mm, y in [0, 30] mm); put its node on the planform or "
+            "set [points] tip_mm") in text
+    # no vertex group: the default preload point (0, 0), here in a notch of the preload end
+    centre = pts[quads].mean(axis=1)
+    notch = (np.abs(centre[:, 0]) < 1e-6) & (centre[:, 1] < 5e-3)
+    assert notch.sum() == 1
+    write_stator_msh(tmp_path / "notch.msh", pts, {"quad": quads[~notch]},
+                     {"quad": mesh.electrode[~notch]})
+    path = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "notch.msh"\n')
+    with pytest.raises(ValueError, match=r"the default preload point \[0, 0\] mm \(no \[points\] "
+                       r"preload_mm, no 'preload' vertex group in notch.msh\) lies off the "
+                       r"mesh's cells .*; set \[points\] preload_mm or add a 'preload' vertex"):
+        load_stator(path)
+    # given in [points]: named as before
+    with pytest.raises(ValueError, match=r"\[points\] preload_mm = \[0, 0\] mm lies off"):
+        load_stator(_write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "notch.msh"\n'
+                           '[points]\npreload_mm = [0, 0]\n'))
