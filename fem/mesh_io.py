@@ -76,6 +76,15 @@ _ELECTRODE_RE = re.compile(r"^electrode_?(\d+)$", re.IGNORECASE)
 _ALLOWED = "electrode1..electrode4 (or electrode_1..electrode_4), gap, tip, preload"
 
 
+def _no_group_message(path: Path, what: str) -> str:
+    """The refusal of gmsh elements outside every physical group, ``what`` saying which."""
+    return (f"mesh file {path}: {what} no physical group (gmsh writes such elements with "
+            f"Mesh.SaveAll = 1, or when the model has no physical groups); put the surfaces in "
+            f"physical groups named electrode1..electrode4 (or electrode_1..electrode_4) and "
+            f"gap, the optional tip and preload vertices in groups named tip and preload, and "
+            f"save with Mesh.SaveAll = 0")
+
+
 @dataclass(frozen=True, eq=False)
 class ImportedMesh:
     """A planform mesh read from a file, with its named points.
@@ -439,6 +448,11 @@ def read_meshio(path: Path):
         with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(said):
             return meshio.read(path)
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
+        if str(exc).startswith("Incompatible cell data 'gmsh:physical'"):
+            # MSH 4.1 ties physical tags to entities; meshio cannot read a file in which only
+            # some entities have one (gmsh's Mesh.SaveAll = 1 writes the others too)
+            raise ValueError(_no_group_message(path, "some of its elements belong to")) \
+                from None
         printed = " ".join(said.getvalue().split()).removeprefix("Error: ")
         reason = printed if isinstance(exc, SystemExit) and printed else str(exc)
         if not isinstance(exc, SystemExit):  # a reader's own failure: numpy's words
@@ -492,6 +506,23 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     physical = m.cell_data.get("gmsh:physical")
     plain = m.cell_data.get("electrode")
     sets = getattr(m, "cell_sets", None) or {}
+    is_gmsh = path.suffix.lower() == ".msh" or any(k.startswith("gmsh:") for k in m.cell_data)
+    if physical is not None and (0, 2) not in names and (0, 0) not in names:
+        # MSH 2.2 writes physical tag 0 for an element outside every physical group (with
+        # Mesh.SaveAll = 1 gmsh writes all elements so, even those of named groups): said
+        # once for the file, not as "physical tag 0 (dimension 0) has no name"
+        counts = {kind: sum(int(np.count_nonzero(np.asarray(physical[i]) == 0))
+                            for i, blk in enumerate(m.cells) if blk.type in types)
+                  for kind, types in (("surface cells", SURFACE_TYPES), ("vertices", ("vertex",)))}
+        total = sum(len(blk.data) for blk in m.cells if blk.type in SURFACE_TYPES)
+        if counts["surface cells"]:
+            n = counts["surface cells"]
+            raise ValueError(_no_group_message(
+                path, f"all {n} of its surface cells belong to" if n == total else
+                f"{n} of its {total} surface cells belong to"))
+        if counts["vertices"]:
+            raise ValueError(_no_group_message(
+                path, f"{counts['vertices']} of its vertex elements belong to"))
 
     polys: dict[int, list[np.ndarray]] = {3: [], 4: []}
     poly_tags: dict[int, list[np.ndarray]] = {3: [], 4: []}
@@ -545,6 +576,8 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
                     f"{sorted(set(values.tolist()) - set(range(5)))}"
                 )
             groups = [(values == v, int(v)) for v in np.unique(values)]
+        elif is_gmsh:  # MSH 4.1 without any physical group: meshio gives no tags at all
+            raise ValueError(_no_group_message(path, "its elements belong to"))
         else:
             raise ValueError(
                 f"mesh file {path} has no electrode tags: expected gmsh physical groups "

@@ -540,3 +540,57 @@ def test_a_point_off_the_mesh_names_where_it_came_from(tmp_path):
     with pytest.raises(ValueError, match=r"\[points\] preload_mm = \[0, 0\] mm lies off"):
         load_stator(_write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "notch.msh"\n'
                            '[points]\npreload_mm = [0, 0]\n'))
+
+
+def _gmsh_quadrants(path, version, groups, save_all):
+    """The paper's plate as four touching quadrants meshed by gmsh (mm), written as MSH
+    ``version`` with or without the electrode physical groups and with ``Mesh.SaveAll``."""
+    gmsh = pytest.importorskip("gmsh")
+    from fem.parametric import _initialize_keeping_signals
+
+    _initialize_keeping_signals(gmsh)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("quadrants")
+        occ = gmsh.model.occ
+        rects = [occ.addRectangle(x, y, 0, 3.75, 15) for x in (-3.75, 0) for y in (0, 15)]
+        occ.fragment([(2, rects[0])], [(2, r) for r in rects[1:]])
+        occ.synchronize()
+        if groups:
+            for _, tag in gmsh.model.getEntities(2):
+                x, y, _ = occ.getCenterOfMass(2, tag)
+                k = (1 if y < 15 else 2) if x > 0 else (3 if y < 15 else 4)
+                gmsh.model.addPhysicalGroup(2, [tag], k, name=f"electrode{k}")
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 2.0)
+        gmsh.model.mesh.generate(2)
+        gmsh.option.setNumber("Mesh.MshFileVersion", version)
+        gmsh.option.setNumber("Mesh.SaveAll", int(save_all))
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+    return path
+
+
+@pytest.mark.parametrize("version", [2.2, 4.1])
+@pytest.mark.parametrize("kind", ["save_all", "no_groups"])
+def test_elements_without_a_physical_group_say_so_in_both_formats(tmp_path, capsys, version,
+                                                                  kind):
+    """gmsh's Mesh.SaveAll read as "malformed or truncated (Incompatible cell data
+    'gmsh:physical' ...)" in MSH 4.1 and as "physical tag 0 (dimension 0) has no name" in
+    MSH 2.2, as did a 2.2 mesh without groups (exploratory testing)."""
+    from validation.cli import main
+
+    mesh = _gmsh_quadrants(tmp_path / "q.msh", version, groups=kind == "save_all",
+                           save_all=kind == "save_all")
+    assert _gmsh_quadrants(tmp_path / "ok.msh", version, True, False)  # the groups alone: read
+    ok = read_stator_mesh(tmp_path / "ok.msh", unit="mm")
+    assert set(np.unique(ok.mesh.electrode)) == {1, 2, 3, 4}
+    path = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "q.msh"\nunit = "mm"\n')
+    assert main(["modes", "--geometry", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert f"[mesh] file: mesh file {mesh}: " in err
+    assert "belong to no physical group (gmsh writes such elements with Mesh.SaveAll = 1, " \
+           "or when the model has no physical groups)" in err
+    assert "physical groups named electrode1..electrode4" in err and "Mesh.SaveAll = 0" in err
+    assert "malformed" not in err and "has no name" not in err
