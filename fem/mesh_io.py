@@ -76,6 +76,11 @@ _ELECTRODE_RE = re.compile(r"^electrode_?(\d+)$", re.IGNORECASE)
 _ALLOWED = "electrode1..electrode4 (or electrode_1..electrode_4), gap, tip, preload"
 
 
+_FORMATS = (".msh (gmsh MSH 4.1 or 2.2) or, with an integer cell array 'electrode', another "
+            "format meshio reads (.vtu, .vtk, .xdmf, ...)")
+"""The mesh files read, for messages."""
+
+
 def _no_group_message(path: Path, what: str) -> str:
     """The refusal of gmsh elements outside every physical group, ``what`` saying which."""
     return (f"mesh file {path}: {what} no physical group (gmsh writes such elements with "
@@ -448,6 +453,12 @@ def read_meshio(path: Path):
         with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(said):
             return meshio.read(path)
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
+        if str(exc).startswith("Could not deduce file format"):  # meshio goes by the name
+            what = ("has no extension" if not path.suffix else
+                    f"has the extension {path.suffix!r}, which names no format meshio reads")
+            raise ValueError(
+                f"mesh file {path} {what}: the extension gives the mesh's format; name it "
+                f"{_FORMATS}") from None
         if str(exc).startswith("Incompatible cell data 'gmsh:physical'"):
             # MSH 4.1 ties physical tags to entities; meshio cannot read a file in which only
             # some entities have one (gmsh's Mesh.SaveAll = 1 writes the others too)

@@ -733,6 +733,9 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     mesh_path = Path(mesh_t["file"])
     if not mesh_path.is_absolute():
         mesh_path = (base_dir or Path.cwd()) / mesh_path
+    if mesh_path.is_dir():  # was "not found", which sent the user looking for a path
+        raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is a folder ({mesh_path}); "
+                         f"name the mesh file, e.g. \"plate.msh\"")
     if not mesh_path.is_file():
         raise FileNotFoundError(f"{src}: [mesh] file {mesh_t['file']!r} not found ({mesh_path})")
     try:

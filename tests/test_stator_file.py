@@ -594,3 +594,37 @@ def test_elements_without_a_physical_group_say_so_in_both_formats(tmp_path, caps
            "or when the model has no physical groups)" in err
     assert "physical groups named electrode1..electrode4" in err and "Mesh.SaveAll = 0" in err
     assert "malformed" not in err and "has no name" not in err
+
+
+MESHED_PLATE = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "{mesh}"\n'
+
+
+@pytest.mark.parametrize("text, expected", [
+    # a folder was "not found"
+    pytest.param(MESHED_PLATE.format(mesh="."),
+                 "[mesh] file '.' is a folder ({dir}); name the mesh file, e.g. \"plate.msh\"",
+                 id="mesh-folder"),
+    # no or an unknown extension: "malformed or truncated (Could not deduce file format ...)"
+    pytest.param(MESHED_PLATE.format(mesh="plate"),
+                 "[mesh] file: mesh file {dir}/plate has no extension: the extension gives the "
+                 "mesh's format; name it .msh (gmsh MSH 4.1 or 2.2) or, with an integer cell "
+                 "array 'electrode', another format meshio reads (.vtu, .vtk, .xdmf, ...)",
+                 id="mesh-no-extension"),
+    pytest.param(MESHED_PLATE.format(mesh="plate.mymesh"),
+                 "mesh file {dir}/plate.mymesh has the extension '.mymesh', which names no "
+                 "format meshio reads: the extension gives the mesh's format; name it .msh",
+                 id="mesh-unknown-extension"),
+])
+def test_small_mistakes_are_named_for_what_they_are(tmp_path, capsys, text, expected):
+    """Each of these was refused with a message about something else (exploratory testing)."""
+    from validation.cli import main
+
+    _, _, msh = _plate_msh(tmp_path)
+    for name in ("plate", "plate.mymesh"):  # a good gmsh mesh under a name meshio cannot place
+        (tmp_path / name).write_bytes(msh.read_bytes())
+    path = _write(tmp_path, text)
+    assert main(["modes", "--geometry", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith(f"lusm modes: error: --geometry {path}: ")
+    assert expected.format(dir=tmp_path) in err, err
