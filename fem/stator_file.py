@@ -622,9 +622,10 @@ def _mounts(data: dict[str, Any], design: StatorDesign, src: str):
     value = (data.get("points") or {}).get("mounts_mm")
     if value is None:
         return ()
-    if not isinstance(value, list) or not value:
-        raise ValueError(f"{src}: [points] mounts_mm must be a list of [x, y] points in mm, "
-                         f"got {value!r}")
+    # a flat [0, 15] (one point without its list) was refused as "must be [x, y] in mm, got 0"
+    if not isinstance(value, list) or not value or not all(isinstance(pt, list) for pt in value):
+        raise ValueError(f"{src}: [points] mounts_mm must be a list of [x, y] pairs in mm, "
+                         f"e.g. [[0, 15]] for one point, got {value!r}")
     st = design.stator
     mesh = planform_mesh(st)
     out = []

@@ -614,6 +614,10 @@ MESHED_PLATE = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "{mesh}"\n'
                  "mesh file {dir}/plate.mymesh has the extension '.mymesh', which names no "
                  "format meshio reads: the extension gives the mesh's format; name it .msh",
                  id="mesh-unknown-extension"),
+    # one point without its list: "must be [x, y] in mm, got 0"
+    pytest.param(MESHED_PLATE.format(mesh="p.msh") + "[points]\nmounts_mm = [0, 15]\n",
+                 "[points] mounts_mm must be a list of [x, y] pairs in mm, e.g. [[0, 15]] for "
+                 "one point, got [0, 15]", id="mounts-flat-list"),
 ])
 def test_small_mistakes_are_named_for_what_they_are(tmp_path, capsys, text, expected):
     """Each of these was refused with a message about something else (exploratory testing)."""
