@@ -679,6 +679,10 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     mat_t = _table(data, "material", src)
     pts_t = _table(data, "points", src)
     mesh_t = _table(data, "mesh", src)
+    if "mesh" in data and not mesh_t:  # was read as no mesh: "missing [plate] length_mm"
+        raise ValueError(f"{src}: [mesh] is empty; give it file = \"plate.msh\" (a mesh file, "
+                         f"with unit = \"m\" or \"mm\"), or size_mm (the element size of a "
+                         f"parametric stator: [tip], [chamfers], [[holes]]), or remove the table")
     damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src)
     motor = {"damping_ratios": damping, "damping_origin": damping_origin,
              "damping_identify_Hz": identify_Hz, "motor": _motor(data, src)}

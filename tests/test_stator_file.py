@@ -618,6 +618,13 @@ MESHED_PLATE = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "{mesh}"\n'
     pytest.param(MESHED_PLATE.format(mesh="p.msh") + "[points]\nmounts_mm = [0, 15]\n",
                  "[points] mounts_mm must be a list of [x, y] pairs in mm, e.g. [[0, 15]] for "
                  "one point, got [0, 15]", id="mounts-flat-list"),
+    # an empty [mesh] was read as no mesh: "missing [plate] length_mm"
+    pytest.param("[plate]\nthickness_mm = 3\n[mesh]\n",
+                 "[mesh] is empty; give it file = \"plate.msh\" (a mesh file, with unit = \"m\" "
+                 "or \"mm\"), or size_mm (the element size of a parametric stator: [tip], "
+                 "[chamfers], [[holes]]), or remove the table", id="mesh-empty-table"),
+    pytest.param(PLATE_TOML + "[chamfers]\nsize_mm = 1\n[mesh]\n", "[mesh] is empty;",
+                 id="mesh-empty-table-parametric"),
 ])
 def test_small_mistakes_are_named_for_what_they_are(tmp_path, capsys, text, expected):
     """Each of these was refused with a message about something else (exploratory testing)."""
