@@ -21,6 +21,7 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     # e_C_m2 = [[...3 rows of 6...]]    # piezoelectric stress constants (C/m^2)
     # epsS_F_m = [[...3 rows of 3...]]  # permittivity at constant strain (F/m)
     # rho_kg_m3 = 7600.0
+    # source = "datasheet X"            # where inline constants come from (inline only)
 
     [points]
     tip_mm = [0.0, 30.0]                # default: the mesh's "tip" vertex, else (0, l)
@@ -343,6 +344,12 @@ def _material(table: dict, src: str) -> PiezoMaterial:
         if "base" in table:
             raise ValueError(f"{src}: [material] base needs at least one inline constant")
         name = table.get("name", "pzt8")
+        if "source" in table:  # was dropped without a word: a named material has its own
+            raise ValueError(
+                f"{src}: [material] source describes inline constants (cE_Pa, e_C_m2, "
+                f"epsS_F_m, rho_kg_m3) and cannot be combined with name = {name!r} alone, "
+                f"whose source is fixed; remove source, or give constants inline (with "
+                f"base = {name!r} to start from it)")
         try:
             if not isinstance(name, str):
                 raise ValueError

@@ -625,6 +625,12 @@ MESHED_PLATE = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "{mesh}"\n'
                  "[chamfers], [[holes]]), or remove the table", id="mesh-empty-table"),
     pytest.param(PLATE_TOML + "[chamfers]\nsize_mm = 1\n[mesh]\n", "[mesh] is empty;",
                  id="mesh-empty-table-parametric"),
+    # a source next to a named material was dropped without a word
+    pytest.param(PLATE_TOML.replace('name = "paper"', 'name = "pzt8"\nsource = "my datasheet"'),
+                 "[material] source describes inline constants (cE_Pa, e_C_m2, epsS_F_m, "
+                 "rho_kg_m3) and cannot be combined with name = 'pzt8' alone, whose source is "
+                 "fixed; remove source, or give constants inline (with base = 'pzt8' to start "
+                 "from it)", id="material-source-with-name"),
 ])
 def test_small_mistakes_are_named_for_what_they_are(tmp_path, capsys, text, expected):
     """Each of these was refused with a message about something else (exploratory testing)."""
