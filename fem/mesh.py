@@ -170,6 +170,19 @@ class PlateMesh:
             out[i] = bool(inside(pts[:, i : i + 1], np.arange(self.n_elements)[None]).any())
         return out
 
+    def outline_distance_m(self, point_m) -> float:
+        """Distance (m) from a point ``(x, y)`` (m) to the planform's outline: the edges that
+        belong to one element only (holes' edges included)."""
+        edges = np.stack([self.quads, np.roll(self.quads, -1, axis=0)])  # (2, 4, n)
+        edges = np.sort(edges.reshape(2, -1), axis=0).T
+        uniq, count = np.unique(edges, axis=0, return_counts=True)
+        a, b = (self.points_m[:, uniq[count == 1, i]] for i in (0, 1))  # (2, m)
+        p = np.asarray(point_m, dtype=float)[:, None]
+        d = b - a
+        t = np.clip(np.sum((p - a) * d, axis=0) / np.maximum(np.sum(d * d, axis=0), 1e-300),
+                    0.0, 1.0)
+        return float(np.min(np.hypot(*(a + t * d - p))))
+
     def to_skfem(self):  # -> skfem.MeshQuad1
         """The scikit-fem mesh (imported lazily), subdomains ``electrode1..4`` and ``gap``."""
         from skfem import MeshQuad1

@@ -101,6 +101,7 @@ from __future__ import annotations
 
 import math
 import tomllib
+import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -170,6 +171,15 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz"),
     **{table: tuple(keys) for table, keys in MOTOR_KEYS.items()},
 }
+
+
+OUTLINE_TOLERANCE = 1e-6
+"""A tip or preload point farther than this share of the planform's size from its outline
+gets :class:`InteriorPointWarning`."""
+
+
+class InteriorPointWarning(UserWarning):
+    """A stator file's tip or preload point lies inside the planform, not on its outline."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -792,6 +802,19 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                 f"{src}: the default {group} point {at} (no [points] {key}, no {group!r} vertex "
                 f"group in {mesh_path.name}) lies off the mesh's cells ({bbox_mm(mesh)}); set "
                 f"[points] {key} or add a {group!r} vertex group to the mesh")
+        inside = mesh.outline_distance_m(pt)
+        if inside > OUTLINE_TOLERANCE * max(x1 - x0, y1 - y0):
+            # a tip 1 mm inside the plate was taken as given: B2 was normalised there and M_b
+            # went from 0.0089 to 0.0155 kg without a word
+            origin = (f"[points] {key}" if given is not None else
+                      f"the {group!r} vertex group" if group in imported.points_m else
+                      f"the default {group} point")
+            what = ("the contact tip touches the slider" if group == "tip" else
+                    "the preload presses")
+            warnings.warn(InteriorPointWarning(
+                f"{src}: {origin} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies "
+                f"{inside / MM:.3g} mm inside the planform, off its outline, where {what}; "
+                f"the reduction normalises its mode there"), stacklevel=3)
         points[group] = pt
     tip, preload = points["tip"], points["preload"]
     stator = MeshedStator(

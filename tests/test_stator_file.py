@@ -416,6 +416,7 @@ def test_stator_file_plates_are_refused_in_the_files_terms(tmp_path, capsys, tex
     assert expected in err and "--gap-mm" not in err and err.count("\n") == 1
 
 
+@pytest.mark.filterwarnings("ignore::fem.stator_file.InteriorPointWarning")
 def test_a_tip_on_a_node_of_b2_names_the_point(tmp_path):
     """B2 is antisymmetric about the plate's middle: a tip there has no B2 motion to
     normalise. The error said 'FE mode shape vanishes at the normalization point'."""
@@ -430,6 +431,7 @@ def test_a_tip_on_a_node_of_b2_names_the_point(tmp_path):
         fem_params_from_file(path, refine=2)
 
 
+@pytest.mark.filterwarnings("ignore::fem.stator_file.InteriorPointWarning")
 def test_a_preload_point_on_a_node_of_l1_is_refused_not_reduced(tmp_path):
     """L1's centre is a node of its y motion. The FE value there is not exactly 0 (1.3e-8 of
     the largest on a user's gmsh plate), and the reduction normalised L1 by it: M_l came out
@@ -645,3 +647,32 @@ def test_small_mistakes_are_named_for_what_they_are(tmp_path, capsys, text, expe
     assert err.count("\n") == 1 and "Traceback" not in err
     assert err.startswith(f"lusm modes: error: --geometry {path}: ")
     assert expected.format(dir=tmp_path) in err, err
+
+
+def test_a_tip_inside_the_planform_is_warned_about_and_the_points_are_printed(tmp_path,
+                                                                              capsys):
+    """A tip 1 mm inside the plate was taken as given (B2 normalised there, M_b 0.0089 ->
+    0.0155 kg) without a word, and no command said which tip and preload points it used.
+    The warning gives the distance to the outline; modes prints and --json lists both."""
+    import warnings
+
+    from fem.stator_file import InteriorPointWarning, load_stator
+    from validation.cli import main
+
+    _plate_msh(tmp_path)
+    inside = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\n'
+                    "[points]\ntip_mm = [0.0, 29.0]\n")
+    with pytest.warns(InteriorPointWarning, match=r"tip_mm = \[0, 29\] mm lies 1 mm inside"):
+        load_stator(inside)
+    end = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\n', "end.toml")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InteriorPointWarning)
+        load_stator(end)
+    assert main(["modes", "--geometry", str(inside), "--json"]) == 0
+    out = capsys.readouterr()
+    d = json.loads(out.out)
+    assert d["tip_mm"] == [0.0, 29.0] and d["preload_mm"] == [0.0, 0.0]
+    assert "lies 1 mm inside the planform" in out.err and out.err.count("\n") == 1
+    assert main(["modes", "--geometry", str(end)]) == 0
+    # the file's tip vertex: the mesh node nearest (0, 30) mm, on the gap strip's edge
+    assert "tip (-0.25, 30) mm, preload (0, 0) mm" in capsys.readouterr().out

@@ -227,6 +227,10 @@ def run(args: argparse.Namespace) -> None:
             "length_mm": L_mm, "width_mm": W_mm, "thickness_mm": H_mm,
             "gap_mm": float(f"{stator_gap_m(stator) * 1e3:.12g}"),  # mesh roundoff off
         }
+        # where the reduction (lusm params --source fem) normalises L1 and B2; a stator file
+        # may move them, and nothing said which points were used
+        out["tip_mm"] = [float(f"{c * 1e3:.12g}") for c in stator.tip_point_m]
+        out["preload_mm"] = [float(f"{c * 1e3:.12g}") for c in stator.preload_point_m]
         out["split_rel"] = _split(res)
         out["mac"] = {m.name: m.mac for m in (res.L1, res.B2)}
         out["symmetry"] = {m.name: m.symmetry for m in (res.L1, res.B2)}
@@ -258,7 +262,10 @@ def run(args: argparse.Namespace) -> None:
     )
     if choice.design is not None:
         what = "bounding box above" if choice.meshed else "dimensions above"
-        print(f"stator file {args.geometry}: {choice.design.name} ({what})")
+        tip, pre = ((f"{x * 1e3:g}, {y * 1e3:g}") for x, y in (stator.tip_point_m,
+                                                                 stator.preload_point_m))
+        print(f"stator file {args.geometry}: {choice.design.name} ({what}); tip ({tip}) mm, "
+              f"preload ({pre}) mm")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}{'MAC':>7}"
           f"{'symmetry':>10}")
     for m in (res.L1, res.B2):
