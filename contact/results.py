@@ -20,7 +20,7 @@ MOTION_CLASSES = (
 zero preload and zero voltage."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Trace:
     """Time traces of one run (all arrays share the length of ``t_s``).
 
@@ -43,6 +43,12 @@ class Trace:
     v_rel_m_s: np.ndarray
     y_tip_m: np.ndarray
     phase: np.ndarray
+
+    def __post_init__(self) -> None:
+        # frozen means frozen: `trace.x_m[:] = 0` changed a returned result in place
+        for value in self.__dict__.values():
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
 
     @classmethod
     def from_array(cls, a: np.ndarray) -> Trace:
@@ -117,20 +123,21 @@ class EnergyBalance:
 
     @property
     def relative_residual(self) -> float:
-        """``|residual|`` over the largest term of the balance (-), NaN when all are 0.
+        """``|residual|`` over the largest work that drives the balance (-), NaN without any.
 
-        The terms are the input, damping, tangential (stator and slider) and guide work and
-        the energy change. In a steady window the input is the largest; where a load does
-        the work (a slider running away) the input alone made a roundoff-level residual read
-        5.6e-7 against 5.8e-12 of the largest term.
+        Those are the electrical input, the tangential (stator and slider) and guide work and
+        the energy change; the damping is fed by them (at 0 V it holds roundoff alone). In a
+        steady window the input is the largest; where a load does the work (a slider running
+        away) the input alone made a roundoff-level residual read 5.6e-7 against 5.8e-12 of
+        the slider's work.
         """
-        scale = max(abs(self.input_J), abs(self.damping_J), abs(self.tangential_on_stator_J),
+        scale = max(abs(self.input_J), abs(self.tangential_on_stator_J),
                     abs(self.tangential_on_slider_J), abs(self.guide_J),
                     abs(self.delta_energy_J))
         return abs(self.residual_J) / scale if scale > 0 else float("nan")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SchemeOutput:
     """What one scheme of :func:`contact.simulate.simulate` hands back (SI units).
 

@@ -176,7 +176,7 @@ def options_or_default(options: SimulationOptions | None) -> SimulationOptions:
     return options
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SimulationResult:
     """Everything one run produced, whatever the scheme.
 

@@ -151,8 +151,9 @@ def test_creep_without_load_where_the_averages_say_held():
     from rom.sources import get_params
 
     p = get_params("beam")
-    fast = steady_state(p, 300, 14, coupling="consistent", energy=False, accuracy="fast")
-    exact = steady_state(p, 300, 14, coupling="consistent", accuracy="exact", energy=False)
+    kw = {"frequency_Hz": 40e3, "coupling": "consistent", "energy": False}
+    fast = steady_state(p, 300, 14, accuracy="fast", **kw)
+    exact = steady_state(p, 300, 14, accuracy="exact", **kw)
     ref = transient_reference(p, 300, 14, coupling="consistent", duration_s=0.3)[0]
     assert fast.velocity_m_s == 0.0
     assert ref > 0 and exact.velocity_m_s == pytest.approx(ref, rel=1e-6)
@@ -210,10 +211,11 @@ def test_a_slow_orbit_far_from_the_averaged_root_is_found_on_the_full_model():
 
     p = get_params("fem")
     kw = {"load_N": -1.15, "coupling": "consistent"}
-    r = steady_state(p, 293.6, 24.12, accuracy="exact", energy=False, **kw)
+    r = steady_state(p, 293.6, 24.12, frequency_Hz=40e3, accuracy="exact", energy=False, **kw)
     ref = transient_reference(p, 293.6, 24.12, duration_s=0.3, steady_periods=1200, **kw)[0]
     assert r.from_rest.k == 1 and r.velocity_m_s == pytest.approx(ref, rel=1e-6)
-    fast = steady_state(p, 293.6, 24.12, accuracy="fast", energy=False, **kw)
+    fast = steady_state(p, 293.6, 24.12, frequency_Hz=40e3, accuracy="fast", energy=False,
+                        **kw)
     assert fast.velocity_m_s > 1.05 * ref > 0
 
 
@@ -226,10 +228,10 @@ def test_a_held_slider_at_the_guides_limit_does_not_chatter():
     from rom.sources import get_params
 
     p = get_params("beam")
-    r = simulate(p, 7.6, 8.0, duration_s=0.4, load_N=1.04, coupling="consistent")
+    r = simulate(p, 7.6, 8.0, 40e3, duration_s=0.4, load_N=1.04, coupling="consistent")
     assert r.steady.motion == "pure-stick" and abs(r.steady.velocity_m_s) < 1e-9
-    s = steady_state(p, 7.6, 8.0, load_N=1.04, coupling="consistent", accuracy="exact",
-                     energy=False)
+    s = steady_state(p, 7.6, 8.0, frequency_Hz=40e3, load_N=1.04, coupling="consistent",
+                     accuracy="exact", energy=False)
     assert s.velocity_m_s == 0.0 and s.from_rest.motion == "dead-zone"
 
 
