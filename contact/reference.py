@@ -20,6 +20,7 @@ event functions, the guards' derivatives among them, not included).
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable
 
 import numpy as np
@@ -29,7 +30,7 @@ from scipy.optimize import brentq
 from contact.model import OperatingPoint, gamma_T, static_deflection_m
 from contact.results import SchemeOutput
 from contact.state import BACKWARD, FORWARD, HELD, SLIP_NEG, SLIP_POS, STICK
-from contact.window import RunWindow
+from contact.window import MIN_PERIODS, RunWindow
 from rom.params import GRAVITY_M_S2, MotorParams
 
 Guard = Callable[[float, np.ndarray], float]
@@ -38,6 +39,63 @@ the current mode."""
 
 MAX_EVENTS = 10_000_000
 """Switches after which a reference run is abandoned."""
+
+MAX_REFERENCE_PERIODS = 20_000
+"""Most drive periods (``duration_s * frequency_Hz``) of one reference run, times
+``LUSM_MAX_WORK``.
+
+The reference restarts ``solve_ivp`` at every switch, a few times per period, and costs about
+3-4 ms of CPU per period on Table 2's set (200 V / 14 N at 40 kHz, and at 10 MHz). The
+longest run the tests, docs, benchmarks and ``lusm report`` ask of it is the default 50 ms
+at 40 kHz, 2 000 periods (7-12 s); the bound is ten times that, a minute or two. The default
+50 ms at 10 MHz (500 000 periods, about 1e6 restarts and half an hour) is refused before it
+starts (:func:`check_reference_work`)."""
+
+WORK_ENV = "LUSM_MAX_WORK"
+"""Environment variable multiplying the work bounds of ``lusm`` (docs/limits.md)."""
+
+
+def _work_factor() -> float:
+    """``LUSM_MAX_WORK`` (>= 1; 1 when unset or invalid: the CLI reports invalid values)."""
+    try:
+        value = float(os.environ.get(WORK_ENV, "") or 1.0)
+    except ValueError:
+        return 1.0
+    return value if math.isfinite(value) and value >= 1.0 else 1.0
+
+
+def check_reference_work(op: OperatingPoint, duration_s: float) -> float:
+    """Refuse a reference run longer than :data:`MAX_REFERENCE_PERIODS` drive periods.
+
+    Parameters
+    ----------
+    op : OperatingPoint
+        The drive (its frequency sets the period).
+    duration_s : float
+        Length of the run (s).
+
+    Returns
+    -------
+    float
+        The number of drive periods of the run.
+
+    Raises
+    ------
+    ValueError
+        Naming ``duration_s`` and ``frequency_Hz`` with the range each may take given the
+        other, when the run exceeds the bound (times ``LUSM_MAX_WORK``).
+    """
+    periods = duration_s * op.frequency_Hz
+    top = MAX_REFERENCE_PERIODS * _work_factor()
+    if not periods <= top:
+        f, d = op.frequency_Hz, duration_s
+        raise ValueError(
+            f"method='reference' runs {MIN_PERIODS} to {top:.6g} drive periods: duration_s "
+            f"must lie in [{MIN_PERIODS / f:.4g}, {top / f:.4g}] s at frequency_Hz = {f:g} Hz, "
+            f"or frequency_Hz in [{MIN_PERIODS / d:.4g}, {top / d:.4g}] Hz for duration_s = "
+            f"{d:g} s (got {periods:.4g} periods, a few solve_ivp restarts each); use the "
+            f"event scheme for long runs, or set {WORK_ENV}=N to allow N times more")
+    return periods
 
 
 class _Motor:
@@ -245,8 +303,10 @@ def solve_reference(params: MotorParams, op: OperatingPoint, opts, window: RunWi
     """Event-driven solution from rest with ``solve_ivp`` (DOP853 at ``opts.rtol``).
 
     The scheme ``"reference"`` of :func:`contact.simulate.simulate`; it measures on the same
-    windows as the other schemes, exactly at their start and end times.
+    windows as the other schemes, exactly at their start and end times. A run of more than
+    :data:`MAX_REFERENCE_PERIODS` drive periods is refused (:func:`check_reference_work`).
     """
+    check_reference_work(op, window.end_s)
     rtol = opts.rtol
     motor = _Motor(params, op, mu_d_eff, opts.coupling)
     p = params

@@ -406,6 +406,10 @@ def simulate(
         dt_a_n = op.period_s / 250.0
     else:
         window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
+    if method == "reference":  # its work bound, before the A_N pre-pass starts
+        from contact.reference import check_reference_work
+
+        check_reference_work(op, window.end_s)
     module, _, name = METHODS[method].partition(":")
     scheme = getattr(importlib.import_module(module), name)
 

@@ -75,3 +75,31 @@ def test_the_reference_sees_the_brief_separations_past_the_onset(paper_params, r
     # 5e-8 and 3e-10 in the velocity); the kernel's is ~1e-9
     assert abs(ref.steady.separation_fraction - ev.steady.separation_fraction) <= 1e3 * rtol
     assert ref.steady.velocity_m_s == pytest.approx(ev.steady.velocity_m_s, rel=1e2 * rtol)
+
+
+def test_a_reference_run_beyond_its_work_bound_is_refused_before_it_starts(
+        paper_params, monkeypatch):
+    """The default 50 ms at 10 MHz is 500 000 drive periods, about 1e6 solve_ivp restarts
+    (~24 min, found by an audit): refused at once, naming both inputs and their ranges. The
+    longest reference the tests, docs and benchmarks run (50 ms at 40 kHz) is 2 000."""
+    import time
+
+    from contact.model import OperatingPoint
+    from contact.reference import MAX_REFERENCE_PERIODS, check_reference_work
+
+    monkeypatch.delenv("LUSM_MAX_WORK", raising=False)
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=(
+            r"^method='reference' runs 10 to 20000 drive periods: duration_s must lie in "
+            r"\[1e-06, 0\.002\] s at frequency_Hz = 1e\+07 Hz, or frequency_Hz in "
+            r"\[200, 4e\+05\] Hz for duration_s = 0\.05 s \(got 5e\+05 periods")):
+        simulate(paper_params, 200.0, 14.0, 1e7, method="reference")
+    assert time.perf_counter() - t0 < 5.0  # before the A_N pre-pass and the integration
+    op = OperatingPoint(200.0, 14.0, 40e3)
+    assert MAX_REFERENCE_PERIODS == 20_000
+    assert check_reference_work(op, 0.05) == pytest.approx(2000)  # the default run
+    assert check_reference_work(op, 0.5) == pytest.approx(20_000)
+    with pytest.raises(ValueError, match="duration_s must lie in"):
+        check_reference_work(op, 0.51)
+    monkeypatch.setenv("LUSM_MAX_WORK", "2")  # asked for on purpose
+    assert check_reference_work(op, 1.0) == pytest.approx(40_000)

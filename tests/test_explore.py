@@ -181,6 +181,10 @@ BAD = {
     # said in the file's unit: it was "got (2.0,) (SI)"
     "length too long": ("[axes]\nlength = ['30 mm', '2000 mm']\n",
                         "axes.length values must lie in [0.1, 1000] mm, got 2000 mm"),
+    # contact.reference.MAX_REFERENCE_PERIODS: refused by the file, not by every point
+    "reference too long": ("[axes]\nfrequency = '40 kHz'\n[solver]\nmethod = 'reference'\n"
+                           "duration = '1 s'\n",
+                           "solver.duration must be <= 0.5 s (20000 drive periods)"),
 }
 
 

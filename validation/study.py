@@ -490,6 +490,15 @@ def _check_work(study: Study, where: str) -> None:
                                  f"{1 / (20 * f_max):.4g} s at axes.frequency {f_max:g} Hz")
             if s.duration_s * min(study.axes["frequency"]) < 10:
                 raise ValueError(f"{where}solver.duration must cover >= 10 drive periods")
+            if s.method == "reference":  # refused by every point otherwise, after the FE
+                from contact.reference import MAX_REFERENCE_PERIODS
+
+                top = limits.work_bound(MAX_REFERENCE_PERIODS)
+                if s.duration_s * f_max > top:
+                    raise ValueError(
+                        f"{where}solver.duration must be <= {top / f_max:.4g} s ({top} drive "
+                        f"periods) at axes.frequency {f_max:g} Hz with solver.method "
+                        f"'reference', got {s.duration_s:g} s ({limits.more_work_hint()})")
 
 
 def load_study(path: str | Path) -> Study:
