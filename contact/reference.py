@@ -98,6 +98,10 @@ def check_reference_work(op: OperatingPoint, duration_s: float) -> float:
     return periods
 
 
+_DIRECTION = {HELD: 0.0, FORWARD: 1.0, BACKWARD: -1.0}
+"""Sign of the slider's motion in each guide mode."""
+
+
 class _Motor:
     """Forces and right-hand sides of Eqs. 4-19 for one parameter set and operating point."""
 
@@ -107,16 +111,19 @@ class _Motor:
         self.dphi = p.phi_Ll - p.phi_L0
         self.u_st = p.eta_N * op.preload_N * self.dphi / p.K_l  # Eq. 7
         self.Mg = p.M_slider * GRAVITY_M_S2
+        # the drive's amplitude and circular frequency, read once: the right-hand side runs
+        # about 12 times per step and OperatingPoint.omega is a property
+        self.V0, self.omega = op.voltage_V, op.omega
         self._zero_state = np.zeros(6)
         self._rate_key: tuple | None = None
         self._rate = self._zero_state
 
     def drive(self, t: float) -> float:
-        return self.op.voltage_V * math.sin(self.op.omega * t)
+        return self.V0 * math.sin(self.omega * t)
 
     def drive_rate(self, t: float) -> float:
         """Time derivative of :meth:`drive` (V/s)."""
-        return self.op.voltage_V * self.op.omega * math.cos(self.op.omega * t)
+        return self.V0 * self.omega * math.cos(self.omega * t)
 
     def fn_arg(self, y: np.ndarray) -> float:
         """``F_P + k (u_d - u_st)``: the normal force while in contact (Eq. 7)."""
@@ -145,7 +152,7 @@ class _Motor:
         """(F_N, F_T, F_f) in a mode ``(contact, tip, guide)`` at drive voltage ``v``."""
         contact, tip, guide = mode
         p = self.p
-        direction = {HELD: 0.0, FORWARD: 1.0, BACKWARD: -1.0}[guide]
+        direction = _DIRECTION[guide]
         if not contact:
             fn, ft = 0.0, 0.0
         else:
