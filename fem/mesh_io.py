@@ -436,6 +436,50 @@ def _check_crossings(pts: np.ndarray, edges: np.ndarray, owner: np.ndarray, path
                          "inside an edge (every neighbour must share whole edges)")
 
 
+def _check_msh41_groups(path: Path) -> None:
+    """Refuse an ASCII MSH 4.1 surface entity in more than one physical group.
+
+    MSH 4.1 ties physical tags to entities, and meshio keeps one tag per entity: a surface in
+    both ``electrode1`` and ``gap`` was read as one of them without a word (MSH 2.2 writes such
+    elements twice, which the duplicated-cell check refuses). Binary files and other formats
+    are left to the reader.
+    """
+    if path.suffix.lower() != ".msh":
+        return
+    try:
+        with open(path, encoding="ascii") as fh:
+            head = [fh.readline() for _ in range(3)]
+            if head[0].strip() != "$MeshFormat" or not head[1].startswith("4.1 0"):
+                return  # MSH 2.2, or binary 4.1
+            names: dict[str, str] = {}  # surface physical tag -> its name
+            for line in fh:
+                if line.strip() == "$Entities":
+                    break
+                words = line.split(maxsplit=2)
+                if len(words) == 3 and words[0] == "2" and words[2].startswith('"'):
+                    names[words[1]] = words[2].strip().strip('"')
+            else:
+                return
+            counts = [int(c) for c in fh.readline().split()[:4]]
+            for dim, n in enumerate(counts):
+                for _ in range(n):
+                    words = fh.readline().split()
+                    at = 4 if dim == 0 else 7  # tag, then a point or a bounding box
+                    n_phys = int(words[at])
+                    if dim == 2 and n_phys > 1:
+                        tags = ", ".join(names.get(t, f"tag {t}")
+                                         for t in words[at + 1: at + 1 + n_phys])
+                        raise ValueError(
+                            f"mesh file {path}: surface entity {words[0]} belongs to "
+                            f"{n_phys} physical groups ({tags}); a surface must be in one "
+                            f"of electrode1..electrode4 and gap only (MSH 4.1 keeps one tag "
+                            f"per entity, so the others would be lost)")
+    except (UnicodeDecodeError, ValueError, IndexError) as exc:
+        if isinstance(exc, ValueError) and str(exc).startswith("mesh file"):
+            raise
+        return  # not plain ASCII 4.1 entities: the reader reports what it finds
+
+
 def read_meshio(path: Path):
     """``meshio.read`` with one error type (ValueError, FileNotFoundError) and no stdout."""
     import meshio
@@ -500,6 +544,7 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     if unit not in UNITS:
         raise ValueError(f"mesh unit must be one of {', '.join(UNITS)}, got {unit!r}")
     m = read_meshio(path)
+    _check_msh41_groups(path)
     pts3 = np.asarray(m.points, dtype=float)
     if pts3.ndim != 2 or pts3.shape[0] == 0:
         raise ValueError(f"mesh file {path} holds no points")

@@ -676,3 +676,20 @@ def test_a_tip_inside_the_planform_is_warned_about_and_the_points_are_printed(tm
     assert main(["modes", "--geometry", str(end)]) == 0
     # the file's tip vertex: the mesh node nearest (0, 30) mm, on the gap strip's edge
     assert "tip (-0.25, 30) mm, preload (0, 0) mm" in capsys.readouterr().out
+
+
+def test_a_msh41_surface_in_two_physical_groups_is_refused(tmp_path):
+    """MSH 4.1 ties physical tags to entities and meshio keeps one per entity: a surface in
+    both electrode1 and gap ran as one of them without a word (MSH 2.2 writes its cells
+    twice, which the duplicated-cell check refuses)."""
+    from fem.mesh_io import read_stator_mesh
+
+    _, _, path = _plate_msh(tmp_path)
+    text = path.read_text()
+    one = "\n2 0 0 0 0 0 0 1 1 0\n"  # surface entity 2: physical group 1 (electrode1)
+    assert text.count(one) == 1
+    read_stator_mesh(path)  # as written: one group per surface
+    path.write_text(text.replace(one, "\n2 0 0 0 0 0 0 2 1 10 0\n"))  # and gap (tag 10)
+    with pytest.raises(ValueError, match=r"surface entity 2 belongs to 2 physical groups "
+                                         r"\(electrode1, gap\)"):
+        read_stator_mesh(path)
