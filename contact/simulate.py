@@ -29,6 +29,7 @@ import numbers
 import time
 import warnings
 from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -57,8 +58,18 @@ PRE_PASS_SETTLE = 1e-9
 """Share of the start's transient left where the pre-pass's window (its last third) begins:
 the pre-pass is long enough for the L1 vibration to decay to it (:func:`pre_pass_periods`)."""
 MAX_PRE_PASS_PERIODS = 20_000
-"""Longest pre-pass (drive periods); a stator damped too lightly to settle within it gets
-:class:`UnsettledAmplitudeWarning` (about 5e-4 of critical damping at 40 kHz)."""
+"""Longest pre-pass (drive periods): reached below zeta_L1 of about 2.5e-4 at a drive at
+L1's resonance, where its window starts with up to 1e-6 of the start transient left; more
+(below about 1.6e-4) gets :class:`UnsettledAmplitudeWarning` (:data:`UNSETTLED_SHARE`)."""
+UNSETTLED_SHARE = 1e-6
+"""Share of the start transient left at the pre-pass window's start above which A_N is
+said to be unsettled."""
+MAX_PRE_PASS_STEPS = 20_000_000
+"""Most steps of a pre-pass at the caller's step (the CLI's bound on a run,
+``validation.limits.MAX_STEPS``); beyond, it takes :data:`PRE_PASS_STEPS_PER_PERIOD`."""
+PRE_PASS_STEPS_PER_PERIOD = 250
+"""Steps per drive period of a pre-pass too long at the caller's step (the default step's
+share at 40 kHz; its A_N error is about 1e-9)."""
 
 
 class UnsettledAmplitudeWarning(UserWarning):
@@ -294,7 +305,11 @@ def normal_amplitude(
     reference), runs Eqs. 4 + 7 (with separation) from rest for ``periods`` drive periods
     (default :func:`pre_pass_periods`, long enough to settle); the last third is the
     window. The tangential state does not enter, so friction settings and the coupling do
-    not matter.
+    not matter. The step is ``dt_s`` unless the pre-pass would then take more than
+    :data:`MAX_PRE_PASS_STEPS`; it then takes :data:`PRE_PASS_STEPS_PER_PERIOD` per period
+    (the kernel's propagators are exact: only event location depends on the step). Results
+    are cached per set and operating point: a characteristic asks for the same A_N at every
+    load.
 
     Warns
     -----
@@ -309,12 +324,26 @@ def normal_amplitude(
         periods = pre_pass_periods(params, op)
         rate = params.C_l / (2.0 * params.M_l)
         left = math.exp(-rate * op.period_s * periods * 2.0 / 3.0) if rate > 0.0 else 1.0
-        if left > PRE_PASS_SETTLE * 1e3:  # capped far short of settling
+        if left > UNSETTLED_SHARE:  # capped far short of settling
             warnings.warn(UnsettledAmplitudeWarning(
-                f"Eq. 11's normal amplitude A_N comes from a {periods}-period pre-pass in "
-                f"which the L1 vibration (zeta_L1 = {params.zeta_L1:.3g}) has not settled "
-                f"({left:.2g} of its start transient left): mu_d,eff is uncertain"),
-                stacklevel=2)
+                f"Eq. 11's normal amplitude A_N comes from a {periods}-period pre-pass whose "
+                f"window starts with {left:.2g} of the L1 start transient left (zeta_L1 = "
+                f"{params.zeta_L1:.3g}, too light to settle within {MAX_PRE_PASS_PERIODS} "
+                f"periods): A_N and mu_d,eff may be off by about that share; damp L1 more, "
+                f"or set ultrasonic_friction = False for a constant mu_d"), stacklevel=3)
+    if periods * op.period_s / dt_s > MAX_PRE_PASS_STEPS:
+        # a light stator at a low drive frequency: 1e8 steps at 1e-7 s and 1 kHz, five times
+        # what the run itself may take
+        dt_s = max(dt_s, op.period_s / PRE_PASS_STEPS_PER_PERIOD)
+    return _pre_pass(params, op.voltage_V, op.preload_N, op.frequency_Hz, float(dt_s),
+                     int(periods))
+
+
+@lru_cache(maxsize=256)
+def _pre_pass(params: MotorParams, voltage_V: float, preload_N: float, frequency_Hz: float,
+              dt_s: float, periods: int) -> float:
+    """The A_N pre-pass of :func:`normal_amplitude` (m), once per set, point, step, length."""
+    op = OperatingPoint(voltage_V, preload_N, frequency_Hz)
     # the normal coordinate does not see F_T: any coupling the set accepts builds the same
     # normal motion ("paper" refused a set with phi_B0 = phi_Bl asked to run "consistent")
     coupling = "consistent" if params.phi_Bl else "paper"

@@ -78,3 +78,28 @@ def test_the_pre_pass_does_not_depend_on_the_coupling():
     assert normal_amplitude(flat, op) == normal_amplitude(p, op)
     run = simulate(flat, 400.0, 14.0, duration_s=0.01, coupling="consistent")
     assert run.normal_amplitude_m == normal_amplitude(p, op)
+
+
+def test_a_long_pre_pass_is_bounded_and_computed_once():
+    """Table 2 with C_l / 1e4 driven at 1 kHz (2000 V / 0.02 N, separating): the settling
+    pre-pass at the transient's 1e-7 s would take 1e8 steps (14 s, five times the bound
+    on a run); it takes 250 steps per period instead, the same A_N as asking for that step.
+    A characteristic asks for A_N at every load: the pre-pass runs once per point."""
+    from dataclasses import replace
+
+    from contact import simulate as sim
+    from contact.characteristic import characteristic
+
+    p = table2()
+    light = replace(p, C_l=p.C_l * 1e-4)
+    op = OperatingPoint(2000.0, 0.02, 1000.0)
+    assert linear_normal_amplitude(light, op) is None
+    periods = sim.pre_pass_periods(light, op)
+    assert periods * op.period_s / 1e-7 > sim.MAX_PRE_PASS_STEPS
+    a = normal_amplitude(light, op, 1e-7)
+    assert a == normal_amplitude(light, op, op.period_s / sim.PRE_PASS_STEPS_PER_PERIOD)
+    sim._pre_pass.cache_clear()
+    characteristic(p, 400.0, 14.0, loads_N=[0.0, 0.1, 0.2], frequency_Hz=40e3,
+                   coupling="paper")  # the exact level: 49 asks at this separating point
+    info = sim._pre_pass.cache_info()
+    assert info.misses == 1 and info.hits >= 3
