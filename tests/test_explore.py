@@ -446,8 +446,12 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
     path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["10 mm", "11 mm"]\n')
     assert main(["explore", str(path), "--out", str(tmp_path / "b.nc"), "--workers", "1"]) == 2
     err = capsys.readouterr().err.strip()
-    assert "no geometry of the study computed fully (2 of 2" in err
-    assert (tmp_path / "b.nc").exists()  # the statuses are kept for the user to read
+    assert "no geometry of the study computed fully (2 of 2" in err and "\n" not in err
+    # no dataset of NaN at --out (a corrected rerun refused it as existing); the parts, each
+    # with its reason, are kept and said to be
+    assert not (tmp_path / "b.nc").exists()
+    assert len(list(parts_folder(tmp_path / "b.nc").glob("g*.npz"))) == 2
+    assert f"kept in {parts_folder(tmp_path / 'b.nc')}" in err
 
 
 @pytest.mark.parametrize("argv, words", [
@@ -684,3 +688,78 @@ def test_an_fe_only_dataset_carries_no_drive_coordinates():
     ds = assemble(s, {0: compute_geometry(s, 0)})
     assert not {"voltage", "preload", "load", "frequency"} & set(ds.coords)
     assert "motor_solver" not in ds.attrs
+
+
+def test_a_transient_study_runs_as_lusm_simulate_by_default(capsys):
+    """method = "event" ran 5 ms at exactly 100 ns where lusm simulate runs 50 ms with a step
+    that divides the drive period: the same plate and drive now give simulate's numbers."""
+    import json
+
+    from validation.cli import main
+
+    s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
+                         "axes": {"voltage": "200 V", "preload": "14 N"},
+                         "solver": {"method": "event"}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    assert main(["simulate", "--source", "fem", "--frequency", "auto", "--voltage", "200",
+                 "--preload", "14", "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    assert cli["duration_s"] == s.solver.duration_s and cli["dt_s"] == s.solver.step_s(
+        float(ds["f_drive"].item()))
+    assert float(ds["f_drive"].item()) == cli["frequency_Hz"]
+    assert float(ds["no_load_velocity"].item()) == cli["steady_velocity_m_s"]
+    assert ds["motion_class"].item() == cli["motion"]
+    assert "dividing the drive period" in ds.attrs["motor_solver"]
+
+
+@pytest.mark.parametrize("solver, axes, words", [
+    # a fixed frequency: each is checked as lusm simulate checks it
+    ({"method": "event", "dt": "1 ms"}, {"frequency": "40 kHz"},
+     "solver.dt 1 ms must be at most 1/(20 f) = 1.25 us at axes.frequency 40 kHz"),
+    ({"method": "event", "duration": "100 us"}, {"frequency": ["40 kHz", "80 kHz"]},
+     "solver.duration 100 us must cover at least 10 drive periods, 250 us at axes.frequency "
+     "40 kHz"),
+    # auto: what no frequency could make valid (10 periods at the most 1/(20 dt) allows)
+    ({"method": "event", "dt": "1 ms"}, {},
+     "solver.duration 50 ms is shorter than 10 drive periods at every frequency solver.dt "
+     "1 ms allows (up to 1/(20 dt) = 50 Hz, axes.frequency auto): give solver.duration >= "
+     "200 ms"),
+    ({"method": "event", "duration": "0.5 us"}, {},
+     "solver.duration 500 ns is shorter than 10 drive periods at every drive frequency up to "
+     "10 MHz"),
+])
+def test_transient_settings_no_point_could_run_are_refused_before_any_work(solver, axes,
+                                                                            words):
+    """They were refused per drive point after every FE solve, in the library's words
+    ('duration_s ... 9.999999999999999e-06'), and a dataset of NaN was written."""
+    with pytest.raises(ValueError) as info:
+        study_from_dict({"outputs": ["no_load_velocity"], "axes": axes, "solver": solver})
+    assert str(info.value) == words or str(info.value).startswith(words), str(info.value)
+
+
+@pytest.mark.parametrize("solver, axes, words", [
+    # auto: the plate's own frequency is known after its FE solve only
+    ({"method": "event", "duration": "10 us"}, {},
+     "solver.duration 10 us must cover at least 10 drive periods, "),
+    # the steady engine's bound depends on the plate's fastest mode (the FE set)
+    ({"method": "steady"}, {"frequency": "10 Hz"},
+     "axes.frequency 10 Hz is too far below this plate's fastest mode for the steady engine"),
+])
+def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
+        solver, axes, words, client, tmp_path, capsys):
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    lines = [f'{k} = "{v}"' for k, v in axes.items()]
+    path.write_text('outputs = ["no_load_velocity"]\n[axes]\nlength = ["29 mm", "30 mm"]\n'
+                    + "\n".join(lines) + "\n[solver]\nfe_refine = 1\n"
+                    + "\n".join(f'{k} = "{v}"' for k, v in solver.items()) + "\n")
+    out = tmp_path / "r.nc"
+    assert main(["explore", str(path), "--out", str(out), "--scheduler",
+                 client.scheduler.address]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and words in err, err
+    assert "no geometry of the study computed fully (2 of 2)" in err
+    assert "_s" not in err.split("; no dataset")[0]  # no library parameter names
+    assert not out.exists() and f"kept in {parts_folder(out)}" in err
+    assert len(list(parts_folder(out).glob("g*.npz"))) == 2

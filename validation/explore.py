@@ -212,9 +212,11 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
                 "velocity": np.asarray(loaded.velocity_m_s, dtype=float)}
     from contact.simulate import simulate
 
+    # lusm simulate's step: the study's dt, else the period-dividing default
     r = simulate(params, drive.voltage_V, drive.preload_N, drive.frequency_Hz,
-                 method=solver.method, duration_s=solver.duration_s, dt_s=solver.dt_s,
-                 max_trace_points=2000, coupling=coupling)
+                 method=solver.method, duration_s=solver.duration_s,
+                 dt_s=solver.step_s(drive.frequency_Hz), max_trace_points=2000,
+                 coupling=coupling)
     v0 = float(r.steady.velocity_m_s)
     velocity = np.array([v0 if load == 0.0 else math.nan for load in drive.loads_N])
     return {"no_load_velocity": v0, "stall_force": math.nan, "peak_efficiency": math.nan,
@@ -280,9 +282,16 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
     failures, unsettled = [], []
     for k, f in enumerate(freqs):
+        # what the single-point commands refuse before they run, said in the study's keys
+        # (it was the library's 'duration_s ... 9.999999999999999e-06', once per point)
+        reason = _drive_problem(study, params, f)
         for i, v in enumerate(study.axes["voltage"]):
             for j, p in enumerate(study.axes["preload"]):
                 at = (i, j) if study.auto_frequency else (k, i, j)
+                if reason is not None:
+                    out["motion_class"][at] = "failed"
+                    failures.append(reason)
+                    continue
                 try:
                     ans = _motor_answers(params, Drive(v, p, f, study.axes["load"]), s)
                 except (ValueError, RuntimeError) as exc:  # chattering, too large a step
@@ -295,14 +304,39 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
                 if not ans.get("settled", True):
                     unsettled.append(f"{v:g} V, {p:g} N, {f:.6g} Hz")
     if failures:
-        out["status"] = np.array(f"{len(failures)} drive point(s) failed; first: "
-                                 f"{failures[0]}"[:300])
+        same = len(set(failures)) == 1  # one reason for all (the plate's, _drive_problem)
+        out["status"] = np.array(f"{len(failures)} drive point(s) failed"
+                                 f"{': ' if same else '; first: '}{failures[0]}"[:300])
     elif unsettled:  # a transient's velocity where it stopped, not the steady one
         out["status"] = np.array(
             f"{len(unsettled)} drive point(s) not settled within solver.duration "
             f"{s.duration_s:g} s (their velocity is where the run stopped; a longer duration "
             f"or method = \"steady\"); first: {unsettled[0]}"[:300])
     return out
+
+
+def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
+    """Why no drive point of this plate can run at ``frequency_Hz`` (Hz), in the study's keys
+    and units, or None: a transient's step and length (:func:`validation.study.
+    transient_problem`, as ``lusm simulate`` checks them), or a frequency too far below the
+    plate's fastest mode for the steady engine (as ``lusm characteristic`` checks it; that
+    mode is the FE set's, so it is known only here)."""
+    from validation.study import show, transient_problem
+
+    at = (f"the auto drive frequency {show(frequency_Hz, 'frequency')} of this plate"
+          if study.auto_frequency else f"axes.frequency {show(frequency_Hz, 'frequency')}")
+    if study.solver.method != "steady":
+        return transient_problem(study.solver, frequency_Hz, at)
+    from contact.model import default_coupling
+    from contact.steady import MAX_STEPS_PER_PERIOD, steps_per_period
+
+    n = steps_per_period(params, frequency_Hz, default_coupling(params)[0])
+    if n > MAX_STEPS_PER_PERIOD:
+        return (f"{at} is too far below this plate's fastest mode for the "
+                f"steady engine (solver.method = \"steady\"): {n} steps per drive period, "
+                f"above {MAX_STEPS_PER_PERIOD}; give a higher axes.frequency or a transient "
+                "solver.method")
+    return None
 
 
 def _empty_outputs(study: Study) -> dict[str, np.ndarray]:
@@ -520,7 +554,10 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
             f"accuracy={s.accuracy} (solver.duration and solver.dt unused)"
             if s.method == "steady" else
             f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
-            f"dt_s={s.dt_s:g}, from rest (a point that did not settle is named in status); "
+            + (f"dt_s={s.dt_s:g}" if s.dt_s is not None else
+               "dt_s=the largest step up to 1e-07 s dividing the drive period "
+               "(validation.options.time_step_s, as lusm simulate)")
+            + ", from rest (a point that did not settle is named in status); "
             "stall_force, peak_efficiency and loaded velocity need method = \"steady\" (NaN)"),
         "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
         "coupling": "consistent (auto: the work-consistent tangential coupling of every set "
@@ -837,6 +874,7 @@ def explore(
                     own[0].close()
                     if own[1] is not None:
                         own[1].close()
+    _refuse_if_nothing_computed(study, parts, folder)
     t1 = time.perf_counter()
     ds = assemble(study, parts)
     from contact.deferred_signals import deferred_signals
@@ -850,6 +888,33 @@ def explore(
     result.write_time_s = time.perf_counter() - t1
     result.wall_time_s = time.perf_counter() - t0
     return result
+
+
+def computed_fully(status: str) -> bool:
+    """Whether a geometry's ``status`` says it computed fully: ``"ok"``, or drive points a
+    transient left unsettled (their velocity is where the run stopped: said, not refused)."""
+    return status == "ok" or " not settled within " in status
+
+
+class NothingComputedError(ValueError):
+    """No geometry of a study computed fully: no dataset is written, the parts are kept."""
+
+
+def _refuse_if_nothing_computed(study: Study, parts: dict[int, dict], folder: Path) -> None:
+    """Refuse to write a dataset of NaN: when no geometry computed fully, the parts (each
+    with its reason in ``status``) stay in ``folder`` and nothing is written to ``--out`` (a
+    dataset of NaN there made the corrected rerun refuse the existing file)."""
+    from validation.errors import short_reason
+
+    status = [str(parts[i]["status"]) for i in sorted(parts)]
+    if not status or any(computed_fully(x) for x in status):
+        return
+    raise NothingComputedError(
+        f"no geometry of the study computed fully ({len(status)} of {study.n_geometries}); "
+        f"first: {short_reason(status[0])}; no dataset was written, and "
+        + ("the part (its reason in its 'status') is" if len(status) == 1 else
+           f"the {len(status)} parts (each one's reason in its 'status') are")
+        + f" kept in {folder}; remove that folder to run a corrected study")
 
 
 def _bar(total: int, initial: int, enabled: bool):

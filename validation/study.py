@@ -19,6 +19,8 @@ A study names its axes and the outputs it wants::
     [solver]
     fe_order = 2
     fe_refine = 4
+    method = "steady"                        # or a transient: "event", ...
+    duration = "50 ms"                       # a transient's run (lusm simulate's default)
 
     outputs = ["f_L1_short", "split", "no_load_velocity", "motion_class"]   # before [study]
 
@@ -98,9 +100,12 @@ holds them equal). A default of 2 put the paper's plate's auto drive frequency 1
 145 Hz above the single-point commands' and a stall force 11 % low."""
 
 SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": FE_REFINE_DEFAULT,
-                                   "duration": "5 ms", "dt": "100 ns", "method": "steady",
+                                   "duration": "50 ms", "dt": None, "method": "steady",
                                    "accuracy": "exact"}
-"""Solver settings when the study gives none."""
+"""Solver settings when the study gives none: those of the single-point commands. A
+transient runs ``lusm simulate``'s 50 ms, and without ``dt`` its step is simulate's rule
+(:func:`validation.options.time_step_s`: the largest step up to 100 ns that divides the drive
+period); the study had run 5 ms at exactly 100 ns."""
 
 MAX_GEOMETRIES = 100_000
 """FE solves of one study (multiplied by ``LUSM_MAX_WORK``)."""
@@ -122,8 +127,11 @@ class Solver:
     ----------
     fe_order, fe_refine : int
         FE element order (1, 2) and mesh refinement (elements per smaller plate dimension).
-    duration_s, dt_s : float
-        Simulated time and time step of each drive point (s).
+    duration_s : float
+        Simulated time of each transient drive point (s).
+    dt_s : float or None
+        Time step of each transient drive point (s); None: ``lusm simulate``'s default rule
+        at the point's frequency (:meth:`step_s`).
     method : str
         ``"steady"``: the motor answers from :mod:`contact.steady` and
         :func:`contact.characteristic.characteristic` (stall force, peak efficiency, velocity
@@ -140,10 +148,18 @@ class Solver:
 
     fe_order: int = 2
     fe_refine: int = FE_REFINE_DEFAULT
-    duration_s: float = 5e-3
-    dt_s: float = 1e-7
+    duration_s: float = 0.05
+    dt_s: float | None = None
     method: str = "steady"
     accuracy: str = "exact"
+
+    def step_s(self, frequency_Hz: float) -> float:
+        """The time step (s) of a transient at ``frequency_Hz`` (Hz): ``dt_s`` as the study
+        gives it, else the largest step up to 100 ns that makes the drive period a whole
+        number of steps (:func:`validation.options.time_step_s`, as ``lusm simulate``)."""
+        from validation.options import time_step_s
+
+        return time_step_s(self.dt_s, frequency_Hz)
 
 
 @dataclass(frozen=True)
@@ -353,8 +369,8 @@ def _solver(raw: dict, where: str) -> Solver:
         raise ValueError(f"{where}solver.fe_refine must lie in [1, {limits.MAX_REFINE_2D}], "
                          f"got {s['fe_refine']!r}")
     duration = parse_quantity(s["duration"], "time", f"{where}solver.duration")
-    dt = parse_quantity(s["dt"], "time", f"{where}solver.dt")
-    if not (0 < dt <= 1e-3):
+    dt = None if s["dt"] is None else parse_quantity(s["dt"], "time", f"{where}solver.dt")
+    if dt is not None and not (0 < dt <= 1e-3):
         raise ValueError(f"{where}solver.dt must lie in (0, 1 ms], got {s['dt']!r}")
     if not (0 < duration <= limits.DURATION_S[1]):
         raise ValueError(f"{where}solver.duration must lie in (0, {limits.DURATION_S[1]:g} s], "
@@ -482,28 +498,94 @@ def _check_work(study: Study, where: str) -> None:
                          f"above the limit {top} ({limits.more_work_hint()})")
     # the steady engine takes its own step: solver.duration and solver.dt are not used
     if study.needs_motor and study.solver.method != "steady":
-        s = study.solver
-        steps = s.duration_s / s.dt_s
-        top = limits.work_bound(limits.MAX_STEPS)
-        if steps > top:
-            raise ValueError(f"{where}solver.duration / solver.dt is {steps:.3g} time steps "
-                             f"per drive point, above the limit {top:.3g}")
-        if not study.auto_frequency:
-            f_max = max(study.axes["frequency"])
-            if s.dt_s > 1.0 / (20.0 * f_max) * (1 + 1e-12):
-                raise ValueError(f"{where}solver.dt must be <= 1/(20 f) = "
-                                 f"{1 / (20 * f_max):.4g} s at axes.frequency {f_max:g} Hz")
-            if s.duration_s * min(study.axes["frequency"]) < 10:
-                raise ValueError(f"{where}solver.duration must cover >= 10 drive periods")
-            if s.method == "reference":  # refused by every point otherwise, after the FE
-                from contact.reference import MAX_REFERENCE_PERIODS
+        _check_transient(study, where)
 
-                top = limits.work_bound(MAX_REFERENCE_PERIODS)
-                if s.duration_s * f_max > top:
-                    raise ValueError(
-                        f"{where}solver.duration must be <= {top / f_max:.4g} s ({top} drive "
-                        f"periods) at axes.frequency {f_max:g} Hz with solver.method "
-                        f"'reference', got {s.duration_s:g} s ({limits.more_work_hint()})")
+
+def show(value: float, kind: str) -> str:
+    """``value`` (SI) as a study writes it: in the largest unit of :data:`UNITS` ``[kind]`` that
+    keeps the number at least 1, to 4 significant digits (``1e-05`` s is ``"10 us"``)."""
+    units = sorted(UNITS[kind].items(), key=lambda u: u[1])
+    name, factor = units[0]
+    for n, f in units:
+        if abs(value) >= f * (1 - 1e-9):
+            name, factor = n, f
+    return f"{value / factor:.4g} {name}"
+
+
+def transient_problem(solver: Solver, frequency_Hz: float, at: str) -> str | None:
+    """Why a transient drive point at ``frequency_Hz`` (Hz) cannot run, in the study's keys and
+    units, or None: the checks of ``lusm simulate`` (:func:`validation.options.check_run_size`):
+    a step of at most 1/(20 f), at least 10 drive periods, and the work bounds on the steps of a
+    run and of its full-resolution window. ``at`` names the frequency (``"axes.frequency
+    40 kHz"``, ``"the auto drive frequency 54.24 kHz of this plate"``)."""
+    f = float(frequency_Hz)
+    dt = solver.step_s(f)
+    if solver.dt_s is not None and dt > 1.0 / (20.0 * f) * (1 + 1e-12):
+        return (f"solver.dt {show(dt, 'time')} must be at most 1/(20 f) = "
+                f"{show(1 / (20 * f), 'time')} at {at}")
+    if solver.duration_s * f < 10 * (1 - 1e-12):
+        return (f"solver.duration {show(solver.duration_s, 'time')} must cover at least 10 "
+                f"drive periods, {show(10 / f, 'time')} at {at}")
+    steps = solver.duration_s / dt
+    top = limits.work_bound(limits.MAX_STEPS)
+    if steps > top:
+        return (f"solver.duration / solver.dt is {steps:.3g} time steps per drive point at {at}, "
+                f"above the limit {top:.3g}; shorten solver.duration or raise solver.dt "
+                f"({limits.more_work_hint()})")
+    if solver.method == "reference":  # refused by every point otherwise, after the FE
+        from contact.reference import MAX_REFERENCE_PERIODS
+
+        rtop = limits.work_bound(MAX_REFERENCE_PERIODS)
+        if solver.duration_s * f > rtop:
+            return (f"solver.duration {show(solver.duration_s, 'time')} must be at most "
+                    f"{show(rtop / f, 'time')} ({rtop:g} drive periods) with solver.method "
+                    f"'reference' at {at} ({limits.more_work_hint()})")
+    window = min(steps, 5.0 / (f * dt))  # the last 5 periods, every step (as simulate's)
+    wtop = limits.work_bound(limits.MAX_WINDOW_STEPS)
+    if window > wtop:
+        return (f"solver.dt {show(dt, 'time')} stores {window:.3g} steps of the last periods at "
+                f"full resolution at {at}, above the limit {wtop:.3g}; raise solver.dt "
+                f"({limits.more_work_hint()})")
+    return None
+
+
+def _check_transient(study: Study, where: str) -> None:
+    """Refuse, before any FE solve, the transient settings no drive point could run with: at
+    fixed frequencies each one is checked as ``lusm simulate`` checks it; with ``frequency =
+    "auto"`` (known only after each plate's FE solve) what no frequency of the CLI's range
+    could make valid (each plate's own frequency is checked in its task, before its drive
+    points)."""
+    s = study.solver
+    if not study.auto_frequency:
+        for f in study.axes["frequency"]:
+            reason = transient_problem(s, f, f"axes.frequency {show(f, 'frequency')}")
+            if reason is not None:
+                raise ValueError(f"{where}{reason}")
+        return
+    hi = limits.FREQUENCY_HZ[1]
+    if s.dt_s is not None:
+        top = min(hi, 1.0 / (20.0 * s.dt_s))  # the highest frequency this step can resolve
+        if s.duration_s * top < 10 * (1 - 1e-12):
+            raise ValueError(
+                f"{where}solver.duration {show(s.duration_s, 'time')} is shorter than 10 drive "
+                f"periods at every frequency solver.dt {show(s.dt_s, 'time')} allows (up to "
+                f"1/(20 dt) = {show(top, 'frequency')}, axes.frequency auto): give "
+                f"solver.duration >= {show(10 / top, 'time')} or a smaller solver.dt")
+        steps = s.duration_s / s.dt_s
+    else:
+        if s.duration_s * hi < 10 * (1 - 1e-12):
+            raise ValueError(
+                f"{where}solver.duration {show(s.duration_s, 'time')} is shorter than 10 drive "
+                f"periods at every drive frequency up to {show(hi, 'frequency')} "
+                f"(axes.frequency auto): give solver.duration >= {show(10 / hi, 'time')}")
+        from validation.options import DEFAULT_DT_S
+
+        steps = s.duration_s / DEFAULT_DT_S  # the default step is at most 100 ns
+    top = limits.work_bound(limits.MAX_STEPS)
+    if steps > top:
+        raise ValueError(f"{where}solver.duration / solver.dt is at least {steps:.3g} time "
+                         f"steps per drive point, above the limit {top:.3g}; shorten "
+                         f"solver.duration or raise solver.dt ({limits.more_work_hint()})")
 
 
 def load_study(path: str | Path) -> Study:
