@@ -763,3 +763,33 @@ def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
     assert "_s" not in err.split("; no dataset")[0]  # no library parameter names
     assert not out.exists() and f"kept in {parts_folder(out)}" in err
     assert len(list(parts_folder(out).glob("g*.npz"))) == 2
+
+
+def test_a_task_makes_no_semaphore_a_terminated_worker_would_leak():
+    """The characteristic's tqdm bar (disabled) made a multiprocessing RLock, a named
+    semaphore registered with the client's resource_tracker, in every worker; a worker the
+    nanny terminated at a Ctrl-C's close, or one that crashed, never unlinked it, and the
+    tracker printed "There appear to be N leaked semaphore objects" after the run (also after
+    one that then finished with exit 0). A task now registers none."""
+    import subprocess
+    import sys
+
+    from tests.conftest import ROOT
+
+    code = """
+import multiprocessing
+import multiprocessing.resource_tracker as rt
+multiprocessing.set_start_method("spawn")  # a LocalCluster worker's (names its semaphores)
+made = []
+rt.register = lambda name, rtype: made.append(rtype)
+from validation.explore import compute_geometry
+from validation.study import study_from_dict
+s = study_from_dict({"outputs": ["stall_force"], "solver": {"fe_refine": 1},
+                     "axes": {"voltage": "200 V", "preload": "6 N"}})
+part = compute_geometry(s, 0)
+print(float(part["stall_force"].ravel()[0]) > 0, made)
+"""
+    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split("\n")[0] == "True []", run.stdout

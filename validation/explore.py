@@ -236,6 +236,7 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
     from threadpoolctl import threadpool_limits
 
     t0 = time.perf_counter()
+    _thread_lock_for_bars()
     # the filters stay the worker's own ("always" recorded ResourceWarnings too, whose
     # sources a record keeps alive: a semaphore then leaked at the interrupted shutdown)
     with threadpool_limits(limits=1), warnings.catch_warnings(record=True) as caught:
@@ -245,6 +246,26 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
                                dtype=str)
     out["code_sha256"] = np.array(code_digest())  # the client compares it with its own
     return out
+
+
+def _thread_lock_for_bars() -> None:
+    """Give tqdm a thread lock in this process before any bar is made.
+
+    tqdm makes a multiprocessing RLock, a named POSIX semaphore registered with the
+    client's resource_tracker, with the first bar, even a disabled one (those of
+    :func:`contact.characteristic.characteristic`). A worker process that does not exit
+    by itself never unlinks it: the nanny terminates a worker busy in a task when a Ctrl-C
+    or SIGTERM closes the cluster, and a crashed worker is gone. The tracker then printed
+    "resource_tracker: There appear to be N leaked semaphore objects" on the client's
+    stderr after the run, even after one that ended with exit 0. A worker's bars are never
+    shown and its tasks run one at a time in one thread, so a thread lock is enough.
+    """
+    import threading
+
+    from tqdm import tqdm
+
+    if "_lock" not in vars(tqdm):  # not made yet: tqdm.get_lock would make the semaphore
+        tqdm.set_lock(threading.RLock())
 
 
 def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
