@@ -793,3 +793,44 @@ print(float(part["stall_force"].ravel()[0]) > 0, made)
                          text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     assert run.stdout.split("\n")[0] == "True []", run.stdout
+
+
+def test_a_scheduler_that_cannot_import_lusm_is_refused_in_one_line(tmp_path, capsys):
+    """The scheduler unpickles every task: without lusm the first submission ended in
+    "internal error: RuntimeError: Error during deserialization of the task graph ... please
+    report it" (exit 1). It is asked before any task now."""
+    import subprocess
+    import sys
+    import time
+
+    from validation.cli import main
+
+    file = tmp_path / "sched.json"
+    code = ("import sys\n"
+            "for m in ('validation', 'fem', 'rom', 'contact'):\n"
+            "    sys.modules[m] = None  # this scheduler cannot import lusm\n"
+            f"sys.argv = ['dask-scheduler', '--scheduler-file', {str(file)!r}, '--port', '0',\n"
+            "            '--no-dashboard', '--host', '127.0.0.1']\n"
+            "from distributed.cli.dask_scheduler import main\n"
+            "main()\n")
+    proc = subprocess.Popen([sys.executable, "-c", code], cwd=tmp_path,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 60
+        while not file.exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        time.sleep(0.5)  # the file is written before the scheduler listens
+        study = tmp_path / "s.toml"
+        study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
+        out = tmp_path / "r.nc"
+        assert main(["explore", str(study), "--out", str(out), "--scheduler-file",
+                     str(file)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1, err
+        assert err.startswith("lusm explore: error: --scheduler-file: the dask scheduler "
+                              "cannot run lusm (ModuleNotFoundError"), err
+        assert "install lusm on the scheduler" in err
+        assert not out.exists() and not parts_folder(out).exists()
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)

@@ -765,6 +765,27 @@ def package_version() -> str:
     return _version()
 
 
+def check_scheduler(client, option: str = "--scheduler") -> None:
+    """Refuse a scheduler that cannot import lusm or runs another version than this client.
+
+    The scheduler unpickles every task (its function is :func:`compute_geometry`, pickled
+    by reference), so without lusm it failed the first submission with dask's "Error during
+    deserialization of the task graph", an internal error here. Asked once before any task
+    (``client.run_on_scheduler`` of the package version), it is one line naming ``option``.
+    """
+    try:
+        version = client.run_on_scheduler(package_version)
+    except Exception as exc:  # noqa: BLE001 - ModuleNotFoundError on the scheduler, travelling
+        # back (or whatever else stops it from running lusm's function): its fault, not ours
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        raise ValueError(f"{option}: the dask scheduler cannot run lusm ({type(exc).__name__}: "
+                         f"{text[:200]}); install lusm on the scheduler too (it unpickles "
+                         "every task), at this client's version") from None
+    if version != _version():
+        raise ValueError(f"{option}: the dask scheduler runs lusm {version}, this client "
+                         f"{_version()}; install the same version everywhere")
+
+
 def check_workers(client, option: str = "--scheduler") -> None:
     """Refuse workers that cannot import lusm or run another version than this client."""
     try:
@@ -840,8 +861,10 @@ def explore(
                 try:
                     client, cluster = connect(scheduler, scheduler_file, workers)
                     own = (client, cluster)
-                    if cluster is None:  # someone else's workers: same lusm as ours?
-                        check_workers(client, "--scheduler" if scheduler else "--scheduler-file")
+                    if cluster is None:  # someone else's cluster: same lusm as ours?
+                        option = "--scheduler" if scheduler else "--scheduler-file"
+                        check_scheduler(client, option)
+                        check_workers(client, option)
                 except BaseException:
                     if own is not None:
                         own[0].close()
