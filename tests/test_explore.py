@@ -834,3 +834,23 @@ def test_a_scheduler_that_cannot_import_lusm_is_refused_in_one_line(tmp_path, ca
     finally:
         proc.terminate()
         proc.wait(timeout=30)
+
+
+def test_a_studys_motion_class_is_simulate_steadys(capsys):
+    """The study took the steady branch's own word, "dead-zone", where lusm simulate --steady
+    says "pure-stick" (and "separated" at 0 V and 0 N) for the same held slider."""
+    import json
+
+    from validation.cli import main
+
+    s = study_from_dict({"outputs": ["motion_class"],
+                         "axes": {"voltage": ["0 V", "100 V"], "preload": ["0 N", "14 N"]}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    got = {}
+    for v, p in ((0, 0), (100, 14), (0, 14), (100, 0)):
+        assert main(["simulate", "--steady", "--source", "fem", "--frequency", "auto",
+                     "--voltage", str(v), "--preload", str(p), "--json"]) == 0
+        cli = json.loads(capsys.readouterr().out)["motion"]
+        got[v, p] = ds["motion_class"].sel(voltage=float(v), preload=float(p)).item()
+        assert got[v, p] == cli, (v, p, got[v, p], cli)
+    assert got[0, 0] == "separated" and got[100, 14] == "pure-stick"

@@ -86,7 +86,8 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "no_load_velocity": ("m/s", "steady slider velocity without load"),
     "stall_force": ("N", "load at which the slider stops"),
     "peak_efficiency": ("1", "largest mechanical/electrical efficiency along the characteristic"),
-    "motion_class": ("", "stick/slip/separation class of the unloaded steady state"),
+    "motion_class": ("", "stick/slip/separation class of the unloaded steady state "
+                         "(lusm simulate's)"),
     "velocity": ("m/s", "steady slider velocity at the point's load"),
 }
 """Outputs a study may ask for: name -> (unit, meaning)."""
