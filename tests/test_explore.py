@@ -184,7 +184,14 @@ BAD = {
     # contact.reference.MAX_REFERENCE_PERIODS: refused by the file, not by every point
     "reference too long": ("[axes]\nfrequency = '40 kHz'\n[solver]\nmethod = 'reference'\n"
                            "duration = '1 s'\n",
-                           "solver.duration must be <= 0.5 s (20000 drive periods)"),
+                           "solver.duration 1 s must be at most 500 ms (20000 drive periods) with solver.method 'reference'"),
+    # --gap-mm's range in the study's words: it failed per geometry after its FE setup, as
+    # "--gap-mm: PlateStator.electrode_gap_m must be 0 ... or at least 1e-06 m"
+    "gap too narrow to model": ("[axes]\ngap = ['0.5 mm', '0.0001 mm']\n",
+                                "axes.gap values must be 0 or lie in [0.001, 1000] mm, got "
+                                "0.0001 mm"),
+    "gap negative": ("[axes]\ngap = '-0.1 mm'\n",
+                     "axes.gap values must be 0 or lie in [0.001, 1000] mm, got -0.1 mm"),
 }
 
 

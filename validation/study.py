@@ -349,6 +349,18 @@ def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
         lo, hi = limits.PRELOAD_N
     else:  # load: a braking force, >= 0
         lo, hi = 0.0, limits.PRELOAD_N[1]
+    if name == "gap":
+        # 0 (touching quadrants) or the CLI's --gap-mm range: below 1 um the gap's
+        # cross-section solve cannot be modelled (it failed per geometry, after the FE
+        # setup, as '--gap-mm: PlateStator.electrode_gap_m must be 0 ... 1e-06 m')
+        from fem.geometry import MIN_GAP_M
+
+        lo = MIN_GAP_M * 1e3
+        bad = [v for v in values if v != 0.0 and not lo <= v * scale <= hi]
+        if bad:
+            raise ValueError(f"{key} values must be 0 or lie in [{lo:g}, {hi:g}] {unit}, got "
+                             f"{bad[0] * scale:g} {unit}")
+        return
     bad = [v for v in values if not lo <= v * scale <= hi]
     if bad:
         raise ValueError(f"{key} values must lie in [{lo:g}, {hi:g}] {unit}, got "
