@@ -861,3 +861,25 @@ def test_a_studys_motion_class_is_simulate_steadys(capsys):
         got[v, p] = ds["motion_class"].sel(voltage=float(v), preload=float(p)).item()
         assert got[v, p] == cli, (v, p, got[v, p], cli)
     assert got[0, 0] == "separated" and got[100, 14] == "pure-stick"
+
+
+def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
+        client, monkeypatch, tmp_path, capsys):
+    """--plot /sys/maps failed after the study with only its error: the user was not told
+    the dataset at --out had been written."""
+    import validation.cmd_explore as ce
+    from validation.cli import main
+
+    def refused(*_a, **_k):
+        raise OSError(1, "Operation not permitted")
+
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["split"]\n[axes]\nlength = ["29 mm", "30 mm"]\n'
+                     'width = ["7 mm", "8 mm"]\n[solver]\nfe_refine = 1\n')
+    monkeypatch.setattr(ce, "figure_set", refused)  # as a folder the user cannot write
+    out = tmp_path / "r.nc"
+    assert main(["explore", str(study), "--out", str(out), "--scheduler",
+                 client.scheduler.address, "--plot", str(tmp_path / "maps")]) == 2
+    err = capsys.readouterr().err
+    assert f"{out} is complete; the --plot maps were not written" in err
+    assert open_result(out)["split"].size == 4

@@ -99,7 +99,9 @@ def run(args: argparse.Namespace) -> None:
             else:
                 with figure_set(plot, "explore", "--plot", args.force) as stage:
                     result.figures = moved(design_maps(ds, stage), stage, plot)
-        except (KeyboardInterrupt, Terminated):
+        except (KeyboardInterrupt, Terminated, LusmError, ValueError, OSError):
+            # the study's result is not lost with its maps (a --plot folder that cannot be
+            # written, /sys/maps, said only the error)
             print(f"lusm explore: {result.path} is complete; the --plot maps were not written",
                   file=sys.stderr)
             raise
