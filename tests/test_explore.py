@@ -167,7 +167,12 @@ BAD = {
     "unit in the key": ("[axes]\nlength_mm = 30\n", "axes.length_mm"),
     "empty list": ("[axes]\nwidth = []\n", "axes.width"),
     "empty range": ("[axes]\nvoltage = { start = '300 V', stop = '100 V', step = '50 V' }\n",
-                    "axes.voltage"),
+                    "axes.voltage is an empty range: stop '100 V' is below start '300 V'"),
+    # the same range with num was taken silently, in descending order
+    "descending range with num": (
+        "[axes]\nvoltage = { start = '300 V', stop = '100 V', num = 3 }\n",
+        "axes.voltage is an empty range: stop '100 V' is below start '300 V'; a range "
+        "ascends"),
     "unit-less number": ("[axes]\nlength = 30\n", "axes.length"),
     "unit-less string": ("[axes]\npreload = '14'\n", "axes.preload"),
     "wrong unit": ("[axes]\nvoltage = '200 mm'\n", "axes.voltage"),

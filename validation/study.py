@@ -24,7 +24,7 @@ A study names its axes and the outputs it wants::
 
     outputs = ["f_L1_short", "split", "no_load_velocity", "motion_class"]   # before [study]
 
-An axis is one quantity (``"30 mm"``), a list of them, or a range table with ``start``,
+An axis is one quantity (``"30 mm"``), a list of them, or an ascending range table with ``start``,
 ``stop`` and either ``num`` (points, both ends included) or ``step``. The geometry axes
 (``length``, ``width``, ``thickness``, ``gap``, ``material``) make one FE solve each; the drive
 axes (``frequency``, ``voltage``, ``preload``, ``load``) are the drive points of each geometry.
@@ -308,6 +308,10 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
     stop = parse_quantity(raw["stop"], kind, f"{key}.stop")
     if ("num" in raw) == ("step" in raw):
         raise ValueError(f"{key} needs exactly one of num or step")
+    if stop < start:  # with num as with step (num took it silently, in descending order)
+        raise ValueError(f"{key} is an empty range: stop {raw['stop']!r} is below start "
+                         f"{raw['start']!r}; a range ascends from start to stop (a list takes "
+                         "its values in any order)")
     if "num" in raw:
         num = raw["num"]
         if isinstance(num, bool) or not isinstance(num, int) or num < 1:
@@ -323,9 +327,6 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
     step = parse_quantity(raw["step"], kind, f"{key}.step")
     if step <= 0:
         raise ValueError(f"{key}.step must be > 0, got {raw['step']!r}")
-    if stop < start:
-        raise ValueError(f"{key} is an empty range: stop {raw['stop']!r} is below start "
-                         f"{raw['start']!r}")
     n = math.floor((stop - start) / step * (1 + 1e-12)) + 1
     top = limits.work_bound(limits.MAX_GRID_POINTS)
     if n > top:
