@@ -888,3 +888,32 @@ def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
     err = capsys.readouterr().err
     assert f"{out} is complete; the --plot maps were not written" in err
     assert open_result(out)["split"].size == 4
+
+
+def test_a_study_gives_the_clis_drive_warnings_once(tmp_path, capsys):
+    """lusm simulate and characteristic warn above 600 V, above 100 N and at 0 V with 0 N; a
+    study of such points said nothing."""
+    from validation.cli import main
+    from validation.cmd_explore import _warn_drive
+
+    _warn_drive(study_from_dict({"axes": {"voltage": ["0 V", "200 V", "700 V"],
+                                          "preload": ["0 N", "150 N"]}}))
+    err = [line.split(" warning: ", 1)[1]
+           for line in capsys.readouterr().err.strip().splitlines()]
+    assert err == [
+        "axes.voltage 700 V is above 600 V: the linear piezoelectric model and the contact "
+        "constants were not validated there",
+        "axes.preload 150 N is above 100 N: the contact stiffness and friction constants were "
+        "not validated there",
+        "axes.voltage 0 and axes.preload 0: no drive and no contact force, nothing moves "
+        "(motion class 'separated')"], err
+    _warn_drive(study_from_dict({"outputs": ["f_L1_short"],  # drives nothing
+                                 "axes": {"voltage": "700 V"}}))
+    _warn_drive(study_from_dict({"axes": {"voltage": ["0 V", "200 V"], "preload": "14 N"}}))
+    assert capsys.readouterr().err == ""
+    # said by the command, before it runs (here it then refuses an existing --out)
+    study = tmp_path / "s.toml"
+    study.write_text('[axes]\nvoltage = "700 V"\n')
+    (tmp_path / "r.nc").write_text("mine")
+    assert main(["explore", str(study), "--out", str(tmp_path / "r.nc")]) == 2
+    assert "axes.voltage 700 V is above 600 V" in capsys.readouterr().err

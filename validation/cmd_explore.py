@@ -15,6 +15,7 @@ from validation.options import (
     output_folder,
     print_json,
     warn,
+    warn_drive,
     warn_thin_plate,
 )
 
@@ -59,6 +60,7 @@ def run(args: argparse.Namespace) -> None:
         raise LusmError(f"STUDY.toml must name a study file, got {args.study!r}")
     study = load_study(args.study)
     _warn_thick(study)
+    _warn_drive(study)
     check_out(args.out, args.force)
     plot = output_folder(args, "explore", "--plot")
     if plot is not None and Path(plot).resolve() == Path(args.out).resolve():
@@ -126,6 +128,21 @@ def _file_stamp(path: Path) -> tuple[int, int] | None:
     except OSError:
         return None
     return st.st_ino, st.st_mtime_ns
+
+
+def _warn_drive(study) -> None:
+    """The drive warnings of the single-point commands (:func:`validation.options.warn_drive`),
+    once per study, for the axis values that trigger them: the largest voltage above 600 V,
+    the largest preload above 100 N, and 0 V with 0 N. A study that drives nothing (FE
+    outputs only) gets none. A study of 700 V and 0 V / 0 N points said nothing."""
+    if not study.needs_motor:
+        return
+    ax = study.axes
+    names = {"voltage_option": "axes.voltage", "preload_option": "axes.preload"}
+    v, p = max(ax["voltage"]), max(ax["preload"])
+    warn_drive(v, p, **names)
+    if 0.0 in ax["voltage"] and 0.0 in ax["preload"] and (v, p) != (0.0, 0.0):
+        warn_drive(0.0, 0.0, **names)  # the unloaded 0 V / 0 N point (said above if alone)
 
 
 def _warn_thick(study) -> None:
