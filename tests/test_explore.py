@@ -453,8 +453,9 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["10 mm", "30 mm"]\n')
     assert main(["explore", str(path), "--out", str(tmp_path / "a.nc"), "--workers", "1"]) == 0
-    err = capsys.readouterr().err
+    out, err = capsys.readouterr()
     assert "1 of 2 geometries did not compute fully" in err and "variable 'status'" in err
+    assert "computed on 1 worker, " in out  # it said "on 1 workers"
     path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["10 mm", "11 mm"]\n')
     assert main(["explore", str(path), "--out", str(tmp_path / "b.nc"), "--workers", "1"]) == 2
     err = capsys.readouterr().err.strip()
@@ -917,3 +918,109 @@ def test_a_study_gives_the_clis_drive_warnings_once(tmp_path, capsys):
     (tmp_path / "r.nc").write_text("mine")
     assert main(["explore", str(study), "--out", str(tmp_path / "r.nc")]) == 2
     assert "axes.voltage 700 V is above 600 V" in capsys.readouterr().err
+
+
+def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch):
+    """_motor_answers called characteristic a second time for the study's loads even when
+    they were all on its 21-load curve (0 N always is); the velocities are those of a
+    characteristic at the study's loads either way, to the bit."""
+    import contact.characteristic as cc
+    from contact.model import default_coupling
+    from validation.explore import Drive, _motor_answers
+
+    s = study_from_dict({"outputs": ["velocity"], "solver": {"fe_refine": 1},
+                         "axes": {"voltage": "300 V", "preload": "6 N"}})
+    from fem.geometry import PlateStator
+    from rom.from_fem import fem_params
+
+    params = fem_params(PlateStator(), "pzt8", order=2, refine=1)
+    f = 54e3
+    real, calls = cc.characteristic, []
+
+    def counted(*a, **k):
+        calls.append(a[3])
+        return real(*a, **k)
+
+    monkeypatch.setattr(cc, "characteristic", counted)
+    ans = _motor_answers(params, Drive(300.0, 6.0, f, (0.0,)), s.solver)
+    assert calls == [None]  # the curve only
+    calls.clear()
+    ans2 = _motor_answers(params, Drive(300.0, 6.0, f, (0.0, 0.2)), s.solver)
+    assert calls == [None, [0.2]]  # the curve, then the load not on it
+    monkeypatch.undo()
+    direct = cc.characteristic(params, 300.0, 6.0, [0.0, 0.2], frequency_Hz=f,
+                               coupling=default_coupling(params)[0])
+    np.testing.assert_array_equal(ans2["velocity"], direct.velocity_m_s)
+    assert ans["velocity"][0] == direct.velocity_m_s[0] > 0
+
+
+def test_workers_is_refused_with_an_existing_scheduler(tmp_path, capsys):
+    """--workers was taken and silently ignored with --scheduler / --scheduler-file."""
+    from validation.cli import main
+
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["f_L1_short"]\n')
+    assert main(["explore", str(study), "--out", str(tmp_path / "r.nc"), "--scheduler",
+                 "tcp://127.0.0.1:9", "--workers", "4"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--workers sets the processes of the LocalCluster; with --scheduler" in err
+    assert len(err.splitlines()) == 1 and not list(tmp_path.glob("r.nc*"))
+
+
+def test_k_eff_long_names_name_their_mode():
+    """k_eff_L1's long_name read "L1 effective ... coupling factor of L1 and B2"."""
+    s = study_from_dict({"outputs": ["k_eff"], "solver": {"fe_refine": 1}})
+    ds = assemble(s, {0: compute_geometry(s, 0)})
+    for m in ("L1", "B2"):
+        assert ds[f"k_eff_{m}"].attrs["long_name"] == \
+            f"effective electromechanical coupling factor of {m}"
+
+
+def test_a_parts_folder_without_its_study_file_is_not_called_another_studys(tmp_path):
+    s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
+    out = tmp_path / "r.nc"
+    parts_folder(out).mkdir()
+    with pytest.raises(ValueError, match=r"^--resume: .*r\.nc\.parts has no study\.json, so "
+                                         "it is not the parts folder of a lusm explore run"):
+        explore(s, out, resume=True, progress=False)
+
+
+@pytest.mark.skipif(not Path("/sys/kernel").is_dir(), reason="needs Linux's sysfs")
+def test_an_out_whose_parts_cannot_be_written_names_the_option(tmp_path, capsys):
+    """--out /sys/x.nc said "cannot use /sys/x.nc.parts: Operation not permitted"."""
+    from validation.cli import main
+
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["f_L1_short"]\n')
+    assert main(["explore", str(study), "--out", "/sys/x.nc"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm explore: error: --out /sys/x.nc: cannot write its parts "
+                          "folder /sys/x.nc.parts"), err
+
+
+def test_an_error_after_finished_geometries_says_they_are_kept(client, monkeypatch, tmp_path,
+                                                               capsys):
+    """An error exit after some geometries were done said only the error; the parts were
+    there for --resume, unsaid (an interrupt says it)."""
+    import validation.explore as ex
+    from validation.cli import main
+
+    real, written = ex._write_part, []
+
+    def full_after_one(folder, i, data):
+        if written:
+            raise OSError(28, "No space left on device")
+        written.append(i)
+        real(folder, i, data)
+
+    monkeypatch.setattr(ex, "_write_part", full_after_one)
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["29 mm", "30 mm"]\n'
+                     '[solver]\nfe_refine = 1\n')
+    out = tmp_path / "r.nc"
+    assert main(["explore", str(study), "--out", str(out), "--scheduler",
+                 client.scheduler.address]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[0] == (f"lusm explore: 1 finished geometry is kept in {parts_folder(out)}; run "
+                      "the same command with --resume to continue once the cause is fixed")
+    assert "No space left on device" in err[1] and len(err) == 2

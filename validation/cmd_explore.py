@@ -38,9 +38,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="run on this dask scheduler instead of a LocalCluster")
     where.add_argument("--scheduler-file", metavar="FILE",
                        help="run on the dask scheduler described by this file")
-    p.add_argument("--workers", default=2, type=integer("--workers", *limits.WORKERS),
+    p.add_argument("--workers", default=None, type=integer("--workers", *limits.WORKERS),
                    help=f"processes of the LocalCluster (default 2), in "
-                   f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]")
+                   f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]; not with --scheduler or "
+                   "--scheduler-file (that cluster has its own workers)")
     p.add_argument("--plot", metavar="DIR",
                    help="write design-space maps (PNG) over length x width into DIR")
     p.add_argument("--json", action="store_true", help="print one JSON summary")
@@ -52,10 +53,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Check the study and the outputs, run the study, print its summary."""
-    from validation.explore import check_out, explore, open_result
+    from validation.explore import (
+        DEFAULT_WORKERS,
+        NothingComputedError,
+        check_out,
+        explore,
+        open_result,
+        parts_folder,
+    )
     from validation.interrupts import Terminated
     from validation.study import load_study
 
+    if args.workers is not None and (args.scheduler or args.scheduler_file):
+        # it was taken and ignored: the existing cluster's workers ran the study
+        option = "--scheduler" if args.scheduler else "--scheduler-file"
+        raise LusmError(f"--workers sets the processes of the LocalCluster; with {option} the "
+                        "study runs on that cluster's own workers: drop --workers", "--workers")
     if not args.study.strip():
         raise LusmError(f"STUDY.toml must name a study file, got {args.study!r}")
     study = load_study(args.study)
@@ -68,27 +81,36 @@ def run(args: argparse.Namespace) -> None:
         raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
                         "their own", "--plot")
     before = _file_stamp(Path(args.out))
+    parts = parts_folder(Path(args.out))
+    parts_before = _count_parts(parts)
     try:
         result = explore(study, args.out, scheduler=args.scheduler,
-                         scheduler_file=args.scheduler_file, workers=args.workers,
+                         scheduler_file=args.scheduler_file,
+                         workers=DEFAULT_WORKERS if args.workers is None else args.workers,
                          resume=args.resume, force=args.force, progress=not args.json)
         for text in result.warnings:  # said once each, as every command says a warning
             warn(text)
         _report_failures(open_result(result.path), result.path)
+    except NothingComputedError:
+        raise  # its message says where the parts are kept
     except (KeyboardInterrupt, Terminated):
-        from validation.explore import parts_folder
-
-        parts = parts_folder(Path(args.out))
         if parts.exists():
-            done = len(list(parts.glob("g*.npz")))
-            print(f"lusm explore: {done} finished geometries are kept in {parts}; run the same "
-                  "command with --resume to continue", file=sys.stderr)
+            print(f"lusm explore: {_geometries(_count_parts(parts))} kept in {parts}; run the "
+                  "same command with --resume to continue", file=sys.stderr)
         elif _file_stamp(Path(args.out)) not in (None, before):
             # the dataset and the parts' removal are one step: this run finished it (a
             # signal just after said only "interrupted", and a rerun refused the file)
             print(f"lusm explore: {args.out} is complete"
                   + ("; the --plot maps were not written" if plot is not None else ""),
                   file=sys.stderr)
+        raise
+    except Exception:
+        # an error after this run finished geometries (a worker of other code, workers
+        # lost beyond dask's allowed failures): they are kept, as after an interrupt
+        done = _count_parts(parts)
+        if done and done != parts_before:
+            print(f"lusm explore: {_geometries(done)} kept in {parts}; run the same command "
+                  "with --resume to continue once the cause is fixed", file=sys.stderr)
         raise
     if plot is not None:
         from validation.explore import design_maps, drawable_maps
@@ -114,11 +136,21 @@ def run(args: argparse.Namespace) -> None:
     drive = (f" x {result.drive_points} drive points" if study.needs_motor
              else " (FE outputs only)")
     print(f"study {study.name!r}: {result.geometries} geometries{drive}; {result.computed} "
-          f"computed on {result.workers} workers, {result.reused} from an earlier run; "
-          f"{result.wall_time_s:.3g} s")
+          f"computed on {result.workers} worker{'' if result.workers == 1 else 's'}, "
+          f"{result.reused} from an earlier run; {result.wall_time_s:.3g} s")
     print(f"wrote {result.path}")
     for f in result.figures:
         print(f"wrote {f}")
+
+
+def _count_parts(folder: Path) -> int:
+    """Finished geometries in a parts folder (0 when there is none)."""
+    return len(list(folder.glob("g*.npz"))) if folder.is_dir() else 0
+
+
+def _geometries(n: int) -> str:
+    """``"1 finished geometry is"`` / ``"3 finished geometries are"``."""
+    return f"{n} finished geometry is" if n == 1 else f"{n} finished geometries are"
 
 
 def _file_stamp(path: Path) -> tuple[int, int] | None:

@@ -183,7 +183,8 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
 
     ``solver.method == "steady"``: the steady state from rest (:func:`contact.steady.
     steady_state`, at ``solver.accuracy``) and the speed-thrust characteristic (21 loads from 0 to
-    the stall force for the peak efficiency, and the study's loads). A transient method
+    the stall force for the peak efficiency; a second one only for the study's loads that are
+    not among those 21). A transient method
     gives the no-load velocity and motion class of a run from rest; the loaded answers are
     then NaN.
     """
@@ -200,16 +201,24 @@ def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
         curve = characteristic(params, drive.voltage_V, drive.preload_N, None,
                                frequency_Hz=drive.frequency_Hz, coupling=coupling,
                                accuracy=acc)
-        loaded = characteristic(params, drive.voltage_V, drive.preload_N,
-                                list(drive.loads_N), frequency_Hz=drive.frequency_Hz,
-                                coupling=coupling, accuracy=acc)
+        # a load on the 21-load curve (0 N always is) has its velocity there: the same
+        # start from rest; only the others cost a second characteristic
+        at = {float(f): float(v) for f, v in zip(curve.load_N, curve.velocity_m_s,
+                                                  strict=True)}
+        missing = [f for f in drive.loads_N if float(f) not in at]
+        if missing:
+            loaded = characteristic(params, drive.voltage_V, drive.preload_N, missing,
+                                    frequency_Hz=drive.frequency_Hz, coupling=coupling,
+                                    accuracy=acc)
+            at.update(zip(map(float, loaded.load_N), map(float, loaded.velocity_m_s),
+                          strict=True))
         eff = np.asarray(curve.efficiency, dtype=float)
         motion = _motion_class(res.from_rest, res.velocity_m_s)
         return {"no_load_velocity": float(res.velocity_m_s),
                 "stall_force": float(curve.stall_force_N),
                 "peak_efficiency": float(np.nanmax(eff)) if np.isfinite(eff).any() else math.nan,
                 "motion_class": motion,
-                "velocity": np.asarray(loaded.velocity_m_s, dtype=float)}
+                "velocity": np.array([at[float(f)] for f in drive.loads_N], dtype=float)}
     from contact.simulate import simulate
 
     # lusm simulate's step: the study's dt, else the period-dividing default
@@ -456,6 +465,10 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
         if not resume:
             raise ValueError(f"--out {out}: {folder} holds an unfinished run; pass --resume to "
                              "continue it, or remove that folder to start over")
+        if not (folder / STUDY_FILE).is_file():  # it was said to be "another study's"
+            raise ValueError(f"--resume: {folder} has no {STUDY_FILE}, so it is not the parts "
+                             "folder of a lusm explore run; move it away or choose another "
+                             "--out")
         try:
             old = json.loads((folder / STUDY_FILE).read_text())
         except (OSError, ValueError):
@@ -472,8 +485,12 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
                 "remove that folder to start over")
         created = False
     else:
-        folder.mkdir(parents=True)
-        (folder / STUDY_FILE).write_text(json.dumps(stamp, indent=1))
+        try:
+            folder.mkdir(parents=True)
+            (folder / STUDY_FILE).write_text(json.dumps(stamp, indent=1))
+        except OSError as exc:  # /sys/x.nc: the message named the path, not the option
+            raise ValueError(f"--out {out}: cannot write its parts folder {folder} "
+                             f"({exc.strerror or exc})") from None
         created = True
     done = {}
     template = _empty_outputs(study)
@@ -557,7 +574,9 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         unit, meaning = OUTPUTS[o]
         if o == "k_eff":
             for m in ("L1", "B2"):
-                add(f"k_eff_{m}", gdims, stack(f"k_eff_{m}"), unit, f"{m} {meaning}")
+                # one mode each (it read "L1 effective ... coupling factor of L1 and B2")
+                add(f"k_eff_{m}", gdims, stack(f"k_eff_{m}"), unit,
+                    f"effective electromechanical coupling factor of {m}")
         elif o in ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "split"):
             add(o, gdims, stack(o), unit, meaning)
         elif o == "velocity":

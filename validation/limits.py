@@ -46,7 +46,7 @@ FREQUENCY_HZ = (1.0, 10e6)
 DURATION_S = (0.0, 10.0)
 """Simulated time (s), exclusive lower bound: refused outside (and bounded by the steps)."""
 WORKERS = (1, 256)
-"""Threads of ``lusm map``."""
+"""Threads of ``lusm map``; processes of ``lusm explore``'s LocalCluster."""
 TARGET_FREQUENCY_HZ = (1e3, 10e6)
 """``lusm tune --target-frequency`` (Hz)."""
 ZETA = (0.0, 1.0)
