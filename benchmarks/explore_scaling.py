@@ -65,7 +65,7 @@ def _timed(study, i):
 
 def _drive_point_times(study, indices) -> list[float]:
     """Wall time (s) of each drive point of the geometries ``indices``, timed directly: the
-    one call a task makes per point (:func:`validation.explore._motor_answers`), on the
+    one call a task makes per point (:func:`validation.explore.motor_answers`), on the
     plate's parameter set at its auto frequency, in this process. (The figure had been the
     median full task minus the median FE-only task of other plates, over the points: two
     medians of different plates, whose difference is not a point's cost.)"""
@@ -74,7 +74,7 @@ def _drive_point_times(study, indices) -> list[float]:
     from contact.drive import auto_frequency
     from fem.geometry import PlateStator
     from rom.from_fem import fem_params
-    from validation.explore import Drive, _motor_answers, geometry_of
+    from validation.explore import Drive, geometry_of, motor_answers
 
     s = study.solver
     times = []
@@ -88,7 +88,7 @@ def _drive_point_times(study, indices) -> list[float]:
             for v in study.axes["voltage"]:
                 for p in study.axes["preload"]:
                     t0 = time.perf_counter()
-                    _motor_answers(params, Drive(v, p, f, study.axes["load"]), s)
+                    motor_answers(params, Drive(v, p, f, study.axes["load"]), s)
                     times.append(time.perf_counter() - t0)
     return times
 
@@ -115,16 +115,13 @@ def main() -> None:
     # caches (the model, the modes, the gap's cross-section) are emptied before each, so
     # that both solve everything (other plates for the FE part had put it at half the task
     # on one run and at 0.9 of it on the next)
-    from fem.capacitance import gap_cross_section
-    from fem.model import _cached_model
-    from fem.modes import _cached_modes
+    from fem.modes import clear_caches
 
     fe_only = study_from_dict({**STUDY, "outputs": ["f_L1_short", "split"]})
     t, t_fe = [], []
     for i in range(1, 5):
         for which, times in ((fe_only, t_fe), (study, t)):
-            for cached in (_cached_model, _cached_modes, gap_cross_section):
-                cached.cache_clear()
+            clear_caches()
             times.append(_timed(which, i))
     in_process_task_s = statistics.median(t)
 

@@ -807,6 +807,12 @@ def _cached_model(
     return model
 
 
+def clear_model_cache() -> None:
+    """Forget the models :func:`plate_model` cached in this process: the next model of a plate
+    is assembled again (benchmarks time a cold solve with it)."""
+    _cached_model.cache_clear()
+
+
 def plate_model(
     stator: PlateStator | None = None,
     material: PiezoMaterial | str = "pzt8",

@@ -556,6 +556,20 @@ def _cached_modes(
     return modes_of_model(model, refine=refine)
 
 
+def clear_caches() -> None:
+    """Forget every FE result this process cached for a plate: its modes
+    (:func:`plate_modes`), its model (:func:`fem.model.plate_model`) and its gap
+    cross-sections (:func:`fem.capacitance.gap_cross_section`). The next solve of a plate is
+    then a cold one, as a study's first solve of it (``benchmarks/explore_scaling.py`` times
+    a task and its FE part on the same plates with it)."""
+    from fem.capacitance import gap_cross_section
+    from fem.model import clear_model_cache
+
+    _cached_modes.cache_clear()
+    clear_model_cache()
+    gap_cross_section.cache_clear()
+
+
 def plate_modes(
     stator: PlateStator | None = None,
     material: PiezoMaterial | str = "pzt8",

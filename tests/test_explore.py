@@ -250,7 +250,7 @@ def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
     def boom(*a, **k):
         raise AssertionError("the contact model ran for an FE-only study")
 
-    monkeypatch.setattr(ex, "_motor_answers", boom)
+    monkeypatch.setattr(ex, "motor_answers", boom)
     s = study_from_dict({"outputs": ["f_B2_open", "k_eff"], "solver": {"fe_refine": 1}})
     part = compute_geometry(s, 0)
     assert str(part["status"]) == "ok" and np.isfinite(part["f_B2_open"])
@@ -921,12 +921,12 @@ def test_a_study_gives_the_clis_drive_warnings_once(tmp_path, capsys):
 
 
 def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch):
-    """_motor_answers called characteristic a second time for the study's loads even when
+    """motor_answers called characteristic a second time for the study's loads even when
     they were all on its 21-load curve (0 N always is); the velocities are those of a
     characteristic at the study's loads either way, to the bit."""
     import contact.characteristic as cc
     from contact.model import default_coupling
-    from validation.explore import Drive, _motor_answers
+    from validation.explore import Drive, motor_answers
 
     s = study_from_dict({"outputs": ["velocity"], "solver": {"fe_refine": 1},
                          "axes": {"voltage": "300 V", "preload": "6 N"}})
@@ -942,10 +942,10 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
         return real(*a, **k)
 
     monkeypatch.setattr(cc, "characteristic", counted)
-    ans = _motor_answers(params, Drive(300.0, 6.0, f, (0.0,)), s.solver)
+    ans = motor_answers(params, Drive(300.0, 6.0, f, (0.0,)), s.solver)
     assert calls == [None]  # the curve only
     calls.clear()
-    ans2 = _motor_answers(params, Drive(300.0, 6.0, f, (0.0, 0.2)), s.solver)
+    ans2 = motor_answers(params, Drive(300.0, 6.0, f, (0.0, 0.2)), s.solver)
     assert calls == [None, [0.2]]  # the curve, then the load not on it
     monkeypatch.undo()
     direct = cc.characteristic(params, 300.0, 6.0, [0.0, 0.2], frequency_Hz=f,

@@ -6,7 +6,7 @@ task per geometry to a dask cluster (a :class:`distributed.LocalCluster` of proc
 default, or any running scheduler); each task (:func:`compute_geometry`) runs the 2D FE
 modal solve once (:func:`fem.modes.plate_modes`), reduces it to a parameter set
 (:func:`rom.from_fem.fem_params`, which reuses the cached solve) and evaluates every drive
-point of that geometry (:func:`_motor_answers`).
+point of that geometry (:func:`motor_answers`).
 
 Nothing is lost:
 
@@ -174,7 +174,7 @@ def _motor_shape(study: Study) -> tuple[int, ...]:
     return tuple(len(study.axes[a]) for a in study.drive_dims if a != "load")
 
 
-def _motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
+def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     """The motor's answer at one drive triple: the ONE place the contact model is called.
 
     Returns ``no_load_velocity`` (m/s), ``stall_force`` (N), ``peak_efficiency`` (-),
@@ -337,7 +337,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
                     failures.append(reason)
                     continue
                 try:
-                    ans = _motor_answers(params, Drive(v, p, f, study.axes["load"]), s)
+                    ans = motor_answers(params, Drive(v, p, f, study.axes["load"]), s)
                 except (ValueError, RuntimeError) as exc:  # chattering, too large a step
                     out["motion_class"][at] = "failed"
                     failures.append(f"{v:g} V, {p:g} N, {f:.6g} Hz: {exc}".splitlines()[0])
