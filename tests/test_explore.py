@@ -189,7 +189,8 @@ BAD = {
     # contact.reference.MAX_REFERENCE_PERIODS: refused by the file, not by every point
     "reference too long": ("[axes]\nfrequency = '40 kHz'\n[solver]\nmethod = 'reference'\n"
                            "duration = '1 s'\n",
-                           "solver.duration 1 s must be at most 500 ms (20000 drive periods) with solver.method 'reference'"),
+                           "solver.duration 1 s must be at most 500 ms (20000 drive periods) "
+                           "with solver.method 'reference'"),
     # --gap-mm's range in the study's words: it failed per geometry after its FE setup, as
     # "--gap-mm: PlateStator.electrode_gap_m must be 0 ... or at least 1e-06 m"
     "gap too narrow to model": ("[axes]\ngap = ['0.5 mm', '0.0001 mm']\n",
