@@ -102,7 +102,7 @@ def default_drive_Hz(params: MotorParams, frequency_Hz: float | None,
     share, best = _default_share(params)
     if share < WEAK_DRIVE_SHARE:
         warnings.warn(WeakDriveWarning(
-            f"frequency_Hz: the default {PAPER_DRIVE_HZ:g} Hz is far from this set's modes (L1 "
+            f"frequency_Hz: the default {PAPER_DRIVE_HZ:g} Hz misses this set's modes (L1 "
             f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the free tip ellipse "
             f"there is {share:.2g} of the one at its own operating point, {best:.0f} Hz "
             f"(contact.drive.auto_frequency)"), stacklevel=stacklevel)

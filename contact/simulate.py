@@ -408,17 +408,17 @@ def simulate(
     if load_N and method in ("reference", "literal"):
         raise ValueError(f"load_N is modelled by the event and steady schemes only, got "
                          f"load_N={load_N!r} with method={method!r}")
-    if method != "event" and (option_overrides.get("energy")
-                              or (options is not None and options.energy)):
-        # it came back as energy=None without a word (steady: SteadyResult's powers)
-        raise ValueError(f"energy=True is computed by method='event' only, got "
-                         f"method={method!r}")
+
     from contact.drive import default_drive_Hz
 
     op = OperatingPoint(voltage_V, preload_N, default_drive_Hz(params, frequency_Hz), load_N)
     opts = options_or_default(options)
     if option_overrides:
         opts = SimulationOptions(**{**opts.__dict__, **option_overrides})
+    if method != "event" and opts.energy:  # the override wins, and its type is checked
+        # it came back as energy=None without a word (steady: SteadyResult's powers)
+        raise ValueError(f"energy=True is computed by method='event' only, got "
+                         f"method={method!r}")
     if opts.dt_s is None:
         opts = replace(opts, dt_s=period_step_s(op.period_s, DEFAULT_DT_S))
     if opts.coupling == "auto":  # the result's options say which coupling ran

@@ -882,7 +882,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
 
 
 def transient_reference(params: MotorParams, voltage_V: float, preload_N: float, *,
-                        load_N: float = 0.0, frequency_Hz: float = 40e3,
+                        load_N: float = 0.0, frequency_Hz: float | None = None,
                         duration_s: float = 0.2, steady_periods: int = 400,
                         coupling: str = "auto",
                         ultrasonic_friction: bool = True,
@@ -909,7 +909,7 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     from contact.window import period_step_s, run_window
 
     coupling = resolve_coupling(params, coupling)
-    op = OperatingPoint(voltage_V, preload_N, frequency_Hz, load_N)
+    op = OperatingPoint(voltage_V, preload_N, default_drive_Hz(params, frequency_Hz), load_N)
     if dt_s is None:
         dt_s = period_step_s(op.period_s, DEFAULT_DT_S)
     step = {"dt_s": float(dt_s)}

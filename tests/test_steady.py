@@ -79,5 +79,6 @@ def test_a_newton_trial_that_chatters_does_not_end_the_search():
         r = steady_state(p, 50, 12, frequency_Hz=40e3, coupling="consistent",
                          accuracy=accuracy, energy=False)
         assert r.velocity_m_s == 0.0 and r.from_rest.motion == "dead-zone"
-    v, motion = transient_reference(p, 50, 12, coupling="consistent", duration_s=0.1)
+    v, motion = transient_reference(p, 50, 12, frequency_Hz=40e3, coupling="consistent",
+                                    duration_s=0.1)
     assert abs(v) < 1e-12 and motion == "pure-stick"

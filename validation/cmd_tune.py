@@ -9,6 +9,7 @@ sets it). Parse, call :func:`fem.tuning.tune_plate`, print. No physics here.
 from __future__ import annotations
 
 import argparse
+import math
 
 from validation import limits
 from validation.options import add_output_options, add_plate_options, print_json, real
@@ -117,9 +118,10 @@ def run(args: argparse.Namespace) -> None:
                 f"{asked_mm:.4g} mm long, outside the [{shortest:.3g}, {hi:g}] mm that the "
                 f"plate range and the electrode-width rule (electrodes at least "
                 f"{ELECTRODE_GAP_RATIO:g} gaps wide) allow; targets from about "
-                f"{args.target_frequency * est_mm / hi:.4g} to "
-                f"{args.target_frequency * near_top_mm / shortest:.4g} Hz fit (the upper end "
-                f"set by the {choice.stator.electrode_gap_m * 1e3:g} mm electrode gap)",
+                f"{_inward(args.target_frequency * est_mm / hi, up=True):.4g} to "
+                f"{_inward(args.target_frequency * near_top_mm / shortest):.4g} Hz fit (the "
+                f"upper end set by the {choice.stator.electrode_gap_m * 1e3:g} mm electrode "
+                f"gap)",
                 "--target-frequency")
 
     import warnings
@@ -179,8 +181,10 @@ def run(args: argparse.Namespace) -> None:
               f"outer iterations {d.outer_iterations}")
 
 
-TUNED_ASPECT = 0.27
-"""Width over length of a plate tuned to L1 = B2 (11.43 / 42.13 mm at 40 kHz, PZT-8, 3 mm)."""
+TUNED_ASPECT = 0.2696
+"""Width over length of a plate tuned to L1 = B2 where the electrode rule binds (2.000 x
+7.418 mm at 2.2465e5 Hz, PZT-8, 3 mm; 11.43 / 42.13 = 0.2713 at 40 kHz): with 0.27 the check
+before the solves quoted targets up to 2.248e5 Hz, which the tuned plate then refused."""
 TUNED_LENGTH_OVER_BAR = 0.985
 """Tuned length over the bar estimate (:func:`fem.tuning.bar_length_m`) near the electrode
 rule's upper end: 7.4403 mm against 7.5503 mm at 2.24e5 Hz (3 mm PZT-8 plate; 0.996 at
@@ -192,6 +196,13 @@ checked on the estimate before any FE solve and on the tuned plate. Against the 
 3 mm plate tuned to 2e5 Hz (electrodes 1.76 gaps wide) is 0.06 % off in L1 and 0.6 % in B2;
 to 3e5 Hz (0.97 gaps) 0.46 % and 0.44 %, its B2 k_eff 15 % high; to 4e5 Hz (0.57 gaps) B2 is
 8.8 % off. The former check asked the plate, not its electrodes, to be 1.5 gaps wide."""
+
+
+def _inward(value: float, up: bool = False) -> float:
+    """``value`` rounded to 4 significant digits towards the inside of a quoted range (``up``
+    for its lower end): '.4g' rounded outwards, and both ends quoted were refused."""
+    q = 10.0 ** (math.floor(math.log10(abs(value))) - 3)
+    return (math.ceil if up else math.floor)(value / q * (1 - 1e-12 if up else 1 + 1e-12)) * q
 
 
 def _least_width_mm(gap_m: float) -> float:
@@ -222,7 +233,7 @@ def _check_tuned_plate(d, target_Hz: float | None) -> None:
             f"wide, its electrodes {electrode:.3g} mm beside the "
             f"{st.electrode_gap_m * 1e3:g} mm gap, less than the {ELECTRODE_GAP_RATIO:g} x "
             f"the gap the 2D model needs (docs/limits.md); targets up to about "
-            f"{target_Hz * dims['width'] / least:.4g} Hz fit", "--target-frequency")
+            f"{_inward(target_Hz * dims['width'] / least):.4g} Hz fit", "--target-frequency")
     if not bad:
         return
     name, value = next(iter(bad.items()))
@@ -230,7 +241,8 @@ def _check_tuned_plate(d, target_Hz: float | None) -> None:
     where = ""
     if target_Hz is not None:
         size = max(dims["length"], dims["width"])
-        where = (f"; targets from about {target_Hz * size / hi:.4g} Hz give a plate within "
+        where = (f"; targets from about {_inward(target_Hz * size / hi, up=True):.4g} Hz give "
+                 f"a plate within "
                  f"{hi:g} mm")
     raise LusmError(f"{option}: the tuned plate's {name} is {value:.4g} mm, outside the "
                     f"[{lo:g}, {hi:g}] mm the other commands accept{where}", option)

@@ -957,7 +957,7 @@ def warn_default_frequency(params, frequency_Hz: float) -> None:
 
     share, best = drive_share(params, frequency_Hz)
     if share < WEAK_DRIVE_SHARE:
-        warn(f"--frequency: the default {frequency_Hz:g} Hz is far from this set's modes (L1 "
+        warn(f"--frequency: the default {frequency_Hz:g} Hz misses this set's modes (L1 "
              f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the free tip ellipse "
              f"there is {share:.2g} of the one at its own operating point, {best:.0f} Hz; "
              f"--frequency auto drives it there")
