@@ -814,7 +814,8 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
             warnings.warn(InteriorPointWarning(
                 f"{src}: {origin} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies "
                 f"{inside / MM:.3g} mm inside the planform, off its outline, where {what}; "
-                f"the reduction normalises its mode there"), stacklevel=3)
+                f"the reduction normalises its mode there: move it onto the outline (the "
+                f"plate's end) unless the part is meant to act inside"), stacklevel=3)
         points[group] = pt
     tip, preload = points["tip"], points["preload"]
     stator = MeshedStator(

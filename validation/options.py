@@ -629,6 +629,9 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
             if design is not None and isinstance(exc, ValueError) and str(exc).startswith(
                     str(args.geometry)):  # the file's own terms (its damping identification)
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
+            if design is not None and isinstance(exc, ValueError) and "[points]" in str(exc):
+                # a tip or preload point at a node of its mode: the file's [points] key
+                raise LusmError(f"--geometry {args.geometry}: {exc}", "--geometry") from None
             raise
         warn_unexcited_mode(params, choice.stator.drive_electrodes)
         return params, origin
