@@ -296,3 +296,6 @@ def test_library_warnings_name_the_options_of_their_assignments():
     assert assignments_as_options("at frequency_Hz=3e4 Hz") == "at --frequency 3e4 Hz"
     text = "refine the stator file's mesh; voltage_V of the drive"
     assert assignments_as_options(text) == text
+    # the switch of the unsettled-A_N warning's remedy
+    assert (assignments_as_options("or set ultrasonic_friction = False for a constant mu_d")
+            == "or pass --no-ultrasonic-friction for a constant mu_d")

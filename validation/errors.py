@@ -114,7 +114,8 @@ def assignments_as_options(text: str) -> str:
     only the assignment form, so that a word like "refine" in a sentence stays a word)."""
     for name in SAME_UNITS:
         text = re.sub(rf"(?<![\w.-]){re.escape(name)}\s*=\s*", f"{LIBRARY_NAMES[name]} ", text)
-    return text
+    # a switch: the unsettled-A_N warning's remedy
+    return re.sub(r"set ultrasonic_friction\s*=\s*False", "pass --no-ultrasonic-friction", text)
 
 
 def feature_reason(exc: BaseException) -> str:
