@@ -172,11 +172,9 @@ class PlateMesh:
 
     def outline_distance_m(self, point_m) -> float:
         """Distance (m) from a point ``(x, y)`` (m) to the planform's outline: the edges that
-        belong to one element only (holes' edges included)."""
-        edges = np.stack([self.quads, np.roll(self.quads, -1, axis=0)])  # (2, 4, n)
-        edges = np.sort(edges.reshape(2, -1), axis=0).T
-        uniq, count = np.unique(edges, axis=0, return_counts=True)
-        a, b = (self.points_m[:, uniq[count == 1, i]] for i in (0, 1))  # (2, m)
+        belong to one element only (holes' edges included, :func:`boundary_edges`)."""
+        edges, _ = boundary_edges(self.quads)
+        a, b = (self.points_m[:, edges[:, i]] for i in (0, 1))  # (2, m)
         p = np.asarray(point_m, dtype=float)[:, None]
         d = b - a
         t = np.clip(np.sum((p - a) * d, axis=0) / np.maximum(np.sum(d * d, axis=0), 1e-300),
@@ -195,6 +193,17 @@ class PlateMesh:
             np.ascontiguousarray(self.quads),
             _subdomains=subdomains,
         )
+
+
+def boundary_edges(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The boundary edges of a set of quads (4, m): node pairs (k, 2) of the edges that belong
+    to one quad only, in that quad's orientation, and the quad (column) owning each."""
+    edges = np.stack((quads, np.roll(quads, -1, axis=0)), axis=-1).reshape(-1, 2)  # (4m, 2)
+    owner = np.tile(np.arange(quads.shape[1]), 4)
+    key = np.sort(edges, axis=1)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    single = counts[inverse.ravel()] == 1
+    return edges[single], owner[single]
 
 
 def _segments(breaks: list[float], h_target: float) -> np.ndarray:

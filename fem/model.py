@@ -40,7 +40,7 @@ import scipy.sparse as sp
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.mesh import DEFAULT_REFINE, PlateMesh, structured_mesh
+from fem.mesh import DEFAULT_REFINE, PlateMesh, boundary_edges, structured_mesh
 from fem.meshed_stator import overall_length_m, planform_mesh
 
 ORDERS = (1, 2)
@@ -198,14 +198,9 @@ def unelectroded_outline_share(mesh: PlateMesh, layout: GapLayout, near_m: float
     from scipy.spatial import cKDTree
 
     q = mesh.quads
-    edges = np.concatenate([np.sort(np.stack((q[i], q[(i + 1) % 4])), axis=0)
-                            for i in range(4)], axis=1)  # (2, 4 n): element e's at e + k n
-    owner = np.tile(np.arange(q.shape[1]), 4)
-    _, first, counts = np.unique(edges, axis=1, return_index=True, return_counts=True)
-    outline = first[counts == 1]  # boundary edges: in one element only
+    edges, el = boundary_edges(q)  # the outline: edges in one element only, and that element
     p = mesh.points_m
-    length = np.linalg.norm(p[:, edges[0, outline]] - p[:, edges[1, outline]], axis=0)
-    el = owner[outline]
+    length = np.linalg.norm(p[:, edges[:, 0]] - p[:, edges[:, 1]], axis=0)
     centres = p[:, q[:, el]].mean(axis=1)
     bare = (mesh.electrode[el] == 0) & ~layout.in_strip(centres[0], centres[1])
     if bare.any():

@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from fem.mesh import boundary_edges
+
 WINDOW_SIZE = (1200, 520)
 """Default image size (pixels, width x height)."""
 SCALE_FRACTION = 0.06
@@ -37,16 +39,6 @@ def _refined_field(model, shape: np.ndarray, nrefs: int):
     return np.asarray(mesh_r.p), np.asarray(mesh_r.t), np.vstack((vx, vy))
 
 
-def _edges_of(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Boundary edges (k, 2) of a set of quads (4, m) and the quad owning each edge."""
-    edges = np.stack((quads, np.roll(quads, -1, axis=0)), axis=-1).reshape(-1, 2)  # (4m, 2)
-    owner = np.tile(np.arange(quads.shape[1]), 4)
-    key = np.sort(edges, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    single = counts[inverse.ravel()] == 1
-    return edges[single], owner[single]
-
-
 def outline_points(model, quads_idx: np.ndarray, n_per_edge: int = 6) -> np.ndarray:
     """Points along the boundary of the elements ``quads_idx``, shape (2, n_edges, n) (m).
 
@@ -55,7 +47,7 @@ def outline_points(model, quads_idx: np.ndarray, n_per_edge: int = 6) -> np.ndar
     """
     mesh = model.mesh
     quads = mesh.quads[:, quads_idx]
-    edges, owner = _edges_of(quads)
+    edges, owner = boundary_edges(quads)
     p = mesh.points_m
     s = np.linspace(0.0, 1.0, n_per_edge)
     a, b = p[:, edges[:, 0]], p[:, edges[:, 1]]
