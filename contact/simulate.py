@@ -275,6 +275,11 @@ def raise_status(status: int, fail_step: int, dt: float, op: OperatingPoint) -> 
         raise RuntimeError(f"switch-model kernel failed with status {status}")
 
 
+def _l1_decay_rate(params: MotorParams) -> float:
+    """Decay rate (1/s) of the L1 coordinate's free transient, ``C_l / (2 M_l)``."""
+    return params.C_l / (2.0 * params.M_l)
+
+
 def pre_pass_periods(params: MotorParams, op: OperatingPoint) -> int:
     """Drive periods of the A_N pre-pass: at least :data:`PRE_PASS_PERIODS`, and 1.5 times
     the periods in which the L1 vibration's start transient decays to
@@ -286,7 +291,7 @@ def pre_pass_periods(params: MotorParams, op: OperatingPoint) -> int:
     60 stay; at zeta_L1 = 0.01 it takes about 330, and a fixed 60-period pre-pass put A_N
     7 % above the settled amplitude (84 % at zeta_L1 = 0.001).
     """
-    rate = params.C_l / (2.0 * params.M_l)  # 1/s
+    rate = _l1_decay_rate(params)
     if not rate > 0.0:
         return MAX_PRE_PASS_PERIODS
     settle = math.log(1.0 / PRE_PASS_SETTLE) / (rate * op.period_s)
@@ -322,7 +327,7 @@ def normal_amplitude(
             return a_n
     if periods is None:
         periods = pre_pass_periods(params, op)
-        rate = params.C_l / (2.0 * params.M_l)
+        rate = _l1_decay_rate(params)
         left = math.exp(-rate * op.period_s * periods * 2.0 / 3.0) if rate > 0.0 else 1.0
         if left > UNSETTLED_SHARE:  # capped far short of settling
             warnings.warn(UnsettledAmplitudeWarning(
