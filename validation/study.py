@@ -341,7 +341,7 @@ def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
     scale, unit = 1.0, {"frequency": "Hz", "voltage": "V"}.get(kind, "N")
     if kind == "length":
         scale, unit = 1e3, "mm"
-        lo, hi = (0.0 if name == "gap" else limits.PLATE_MM[0]), limits.PLATE_MM[1]
+        lo, hi = limits.PLATE_MM  # a gap's lower end: below
     elif kind == "frequency":
         lo, hi = limits.FREQUENCY_HZ
     elif kind == "voltage":
