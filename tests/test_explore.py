@@ -196,6 +196,8 @@ BAD = {
     "gap too narrow to model": ("[axes]\ngap = ['0.5 mm', '0.0001 mm']\n",
                                 "axes.gap values must be 0 or lie in [0.001, 1000] mm, got "
                                 "0.0001 mm"),
+    "friction switch as text": ("[solver]\nultrasonic_friction = 'no'\n",
+                                "solver.ultrasonic_friction must be true or false"),
     "gap negative": ("[axes]\ngap = '-0.1 mm'\n",
                      "axes.gap values must be 0 or lie in [0.001, 1000] mm, got -0.1 mm"),
 }
@@ -1025,3 +1027,31 @@ def test_an_error_after_finished_geometries_says_they_are_kept(client, monkeypat
     assert err[0] == (f"lusm explore: 1 finished geometry is kept in {parts_folder(out)}; run "
                       "the same command with --resume to continue once the cause is fixed")
     assert "No space left on device" in err[1] and len(err) == 2
+
+
+def test_a_study_can_take_the_constant_dynamic_friction():
+    """``[solver] ultrasonic_friction = false`` is the single-point commands'
+    ``--no-ultrasonic-friction``: the study had no way to say it, while the unsettled-A_N
+    warning a worker raises named that switch. The answer is the steady engine's with the
+    constant mu_d, to the bit, and differs from Eq. 11's (mu_d,eff < mu_d changes the thrust);
+    the warning's remedy is said in the study file's terms."""
+    from contact.model import default_coupling
+    from contact.steady import steady_state
+    from rom import table2
+    from validation.cmd_explore import in_study_terms
+    from validation.explore import Drive, motor_answers
+
+    params = table2()
+    coupling = default_coupling(params)[0]
+    answers = {}
+    for uf in (True, False):
+        s = study_from_dict({"outputs": ["no_load_velocity"],
+                             "solver": {"ultrasonic_friction": uf, "accuracy": "fast"}})
+        answers[uf] = motor_answers(params, Drive(300.0, 14.0, 40e3, (0.0,)), s.solver)
+        direct = steady_state(params, 300.0, 14.0, frequency_Hz=40e3, coupling=coupling,
+                              accuracy="fast", ultrasonic_friction=uf)
+        assert answers[uf]["no_load_velocity"] == direct.velocity_m_s
+    assert answers[False]["no_load_velocity"] != answers[True]["no_load_velocity"]
+    text = in_study_terms("damp L1 more, or set ultrasonic_friction = False for a constant mu_d")
+    assert text.endswith("set ultrasonic_friction = false in the study's [solver] for a "
+                         "constant mu_d")

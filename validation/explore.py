@@ -196,11 +196,13 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
         from contact.steady import steady_state
 
         acc = solver.accuracy  # the CLI's default level, exact, unless the study says fast
+        uf = solver.ultrasonic_friction
         res = steady_state(params, drive.voltage_V, drive.preload_N,
-                           frequency_Hz=drive.frequency_Hz, coupling=coupling, accuracy=acc)
+                           frequency_Hz=drive.frequency_Hz, coupling=coupling, accuracy=acc,
+                           ultrasonic_friction=uf)
         curve = characteristic(params, drive.voltage_V, drive.preload_N, None,
                                frequency_Hz=drive.frequency_Hz, coupling=coupling,
-                               accuracy=acc)
+                               accuracy=acc, ultrasonic_friction=uf)
         # a load on the 21-load curve (0 N always is) has its velocity there: the same
         # start from rest; only the others cost a second characteristic
         at = {float(f): float(v) for f, v in zip(curve.load_N, curve.velocity_m_s,
@@ -209,7 +211,7 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
         if missing:
             loaded = characteristic(params, drive.voltage_V, drive.preload_N, missing,
                                     frequency_Hz=drive.frequency_Hz, coupling=coupling,
-                                    accuracy=acc)
+                                    accuracy=acc, ultrasonic_friction=uf)
             at.update(zip(map(float, loaded.load_N), map(float, loaded.velocity_m_s),
                           strict=True))
         eff = np.asarray(curve.efficiency, dtype=float)
@@ -225,7 +227,7 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     r = simulate(params, drive.voltage_V, drive.preload_N, drive.frequency_Hz,
                  method=solver.method, duration_s=solver.duration_s,
                  dt_s=solver.step_s(drive.frequency_Hz), max_trace_points=2000,
-                 coupling=coupling)
+                 coupling=coupling, ultrasonic_friction=solver.ultrasonic_friction)
     v0 = float(r.steady.velocity_m_s)
     velocity = np.array([v0 if load == 0.0 else math.nan for load in drive.loads_N])
     return {"no_load_velocity": v0, "stall_force": math.nan, "peak_efficiency": math.nan,
@@ -617,9 +619,12 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         "coupling": "consistent (auto: the work-consistent tangential coupling of every set "
                     "that is not Table 2's, contact.model.default_coupling; docs/contact.md "
                     "2.3.1)",
+        "friction": ("Eq. 11 ultrasonic friction reduction (mu_d,eff)"
+                     if s.ultrasonic_friction else "constant mu_d (solver.ultrasonic_friction "
+                     "= false)"),
     }
     if not study.needs_motor:  # FE outputs only: no contact model ran
-        for k in ("motor_solver", "frequency_rule", "coupling"):
+        for k in ("motor_solver", "frequency_rule", "coupling", "friction"):
             del attrs[k]
         attrs["parameter_set_source"] = "none: FE outputs only"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)

@@ -102,7 +102,7 @@ holds them equal). A default of 2 put the paper's plate's auto drive frequency 1
 
 SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": FE_REFINE_DEFAULT,
                                    "duration": "50 ms", "dt": None, "method": "steady",
-                                   "accuracy": "exact"}
+                                   "accuracy": "exact", "ultrasonic_friction": True}
 """Solver settings when the study gives none: those of the single-point commands. A
 transient runs ``lusm simulate``'s 50 ms, and without ``dt`` its step is simulate's rule
 (:func:`validation.options.time_step_s`: the largest step up to 100 ns that divides the drive
@@ -145,6 +145,10 @@ class Solver:
         ``"fast"`` (averaged, slider mass -> infinity: about half the time, blind to creeps
         and holds below the slider's velocity ripple; at 400 V its stall force on the paper's
         plate was half the exact one).
+    ultrasonic_friction : bool
+        Eq. 11's ultrasonic reduction of the dynamic friction coefficient (True, as every
+        single-point command by default); False takes the constant ``mu_d``, as their
+        ``--no-ultrasonic-friction``.
     """
 
     fe_order: int = 2
@@ -153,6 +157,7 @@ class Solver:
     dt_s: float | None = None
     method: str = "steady"
     accuracy: str = "exact"
+    ultrasonic_friction: bool = True
 
     def step_s(self, frequency_Hz: float) -> float:
         """The time step (s) of a transient at ``frequency_Hz`` (Hz): ``dt_s`` as the study
@@ -395,7 +400,11 @@ def _solver(raw: dict, where: str) -> Solver:
     if s["accuracy"] not in ("fast", "exact"):
         raise ValueError(f"{where}solver.accuracy must be fast or exact, got "
                          f"{s['accuracy']!r}")
-    return Solver(s["fe_order"], s["fe_refine"], duration, dt, s["method"], s["accuracy"])
+    if not isinstance(s["ultrasonic_friction"], bool):
+        raise ValueError(f"{where}solver.ultrasonic_friction must be true or false, got "
+                         f"{s['ultrasonic_friction']!r}")
+    return Solver(s["fe_order"], s["fe_refine"], duration, dt, s["method"], s["accuracy"],
+                  s["ultrasonic_friction"])
 
 
 def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
