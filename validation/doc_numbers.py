@@ -202,7 +202,11 @@ def _in_fresh_process(keys: list[str]) -> list[float]:
     code = ("from validation.doc_numbers import claims_by_key; t = claims_by_key(); "
             f"[print(repr(float(t[k].compute()))) for k in {keys!r}]")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
+                         cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    if out.returncode:  # the child's own last line (an ImportError of a missing install, ...)
+        last = (out.stderr.strip().splitlines() or ["no output"])[-1]
+        raise SystemExit(f"doc_numbers: the fresh process for {', '.join(keys)} failed "
+                         f"(exit {out.returncode}): {last}")
     return [float(v) for v in out.stdout.split()[-len(keys):]]
 
 
