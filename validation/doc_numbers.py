@@ -194,6 +194,13 @@ class Claim:
         return self.key.endswith("_ratio") and not self.key.startswith("startup_")
 
 
+def _mean_normal_force(voltage_V: float, preload_N: float) -> float:
+    """The period mean of F_N (N) on the orbit a start from rest reaches (Table 2's set)."""
+    from contact.steady import steady_state
+
+    return steady_state(_table2(), voltage_V, preload_N, energy=False).from_rest.mean_FN_N
+
+
 def _in_fresh_process(keys: list[str]) -> list[float]:
     """The values of the claims ``keys`` computed, in order, by one new interpreter."""
     import subprocess
@@ -1721,6 +1728,11 @@ CLAIMS: tuple[Claim, ...] = (
           "from rom import table2; print(free_tip_amplitudes(table2(), 40e3, 200.0))\" (L1, "
           "the first)",
           lambda: _free_tip_amplitudes(200.0)[0], cheap=True, rel_tol=1e-9),
+    *(Claim(f"mean_FN_{v}V_{f}N_N", "N", f"python -c \"from contact.steady import "
+            f"steady_state; from rom import table2; print(steady_state(table2(), {v}, {f}, "
+            "energy=False).from_rest.mean_FN_N)\"",
+            lambda v=v, f=f: _mean_normal_force(v, f), rel_tol=1e-6)
+      for v, f in ((400, 14), (450, 6), (450, 2))),
     Claim("normal_swing_200V_14N_N", "N", "2 k A_N at 200 V / 14 N (lusm params; A_N above)",
           lambda: 2 * _table2().k_contact * _sim(200.0, 14.0).normal_amplitude_m,
           cheap=True, rel_tol=1e-6),
