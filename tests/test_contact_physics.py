@@ -82,6 +82,21 @@ def test_results_do_not_depend_on_the_stick_band(paper_params):
     assert a.motion == b.motion
 
 
+def test_a_wide_stick_band_at_a_touchdown_slides_the_way_the_tip_moves(paper_params):
+    """At a touchdown F_N = 0, so no stick force is within mu_s F_N: inside a wide band
+    (0.03 m/s at 400 V / 14 N, slip-separation) the tip slipped the way the stick force
+    pointed against its own v_rel, whose zero fired again at once: ChatteringError, whatever
+    the step. It slides the way it moves, and the band, which only decides stick, changes
+    nothing the default band does not give."""
+    runs = [simulate(paper_params, 400.0, 14.0, duration_s=0.01, stick_band_m_s=eps)
+            for eps in (1e-10, 0.03, 0.1)]
+    ref = runs[0].steady
+    assert ref.motion == "slip-separation"
+    for r in runs[1:]:
+        assert r.steady.velocity_m_s == pytest.approx(ref.velocity_m_s, rel=1e-9)
+        assert r.steady.separation_fraction == pytest.approx(ref.separation_fraction, abs=1e-9)
+
+
 def test_large_preload_gives_pure_stick_and_small_preload_no_stick():
     heavy = cached_run(200.0, 40.0)
     light = cached_run(200.0, 6.0)
