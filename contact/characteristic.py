@@ -17,6 +17,7 @@ from scipy.optimize import brentq
 
 from contact.drive import default_drive_Hz
 from contact.model import OperatingPoint, resolve_coupling
+from contact.results import FrozenArrays
 from contact.steady import (
     ACCURACIES,
     HELD_M_S,
@@ -30,8 +31,8 @@ from contact.steady import (
 from rom.params import MotorParams, require_params
 
 
-@dataclass(frozen=True)
-class Characteristic:
+@dataclass(frozen=True, eq=False)
+class Characteristic(FrozenArrays):
     """Speed-thrust, power and efficiency curves at one voltage and preload.
 
     Attributes

@@ -23,13 +23,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.model import OperatingPoint
-from contact.results import MOTION_CLASSES, PHASE_THRESHOLD, classify_motion
+from contact.results import MOTION_CLASSES, PHASE_THRESHOLD, FrozenArrays, classify_motion
 from contact.simulate import SimulationOptions, options_or_default, simulate
 from rom.params import MotorParams, require_params
 
 
-@dataclass(frozen=True)
-class StickSlipMap:
+@dataclass(frozen=True, eq=False)
+class StickSlipMap(FrozenArrays):
     """Motion class and steady metrics on a voltage x preload grid.
 
     Arrays have shape ``(len(voltages_V), len(preloads_N))``.
@@ -155,6 +155,10 @@ def stick_slip_map(
     from threadpoolctl import threadpool_limits
     from tqdm import tqdm
 
+    for name, axis in (("voltages_V", voltages_V), ("preloads_N", preloads_N)):
+        # as simulate's voltage_V: [True] ran at 1 V and ["200"] at 200 V
+        if np.asarray(axis).dtype.kind not in "iuf":
+            raise ValueError(f"{name} must be real numbers, got {axis!r}")
     v = np.asarray(voltages_V, dtype=float)
     f = np.asarray(preloads_N, dtype=float)
     if v.ndim != 1 or f.ndim != 1 or v.size == 0 or f.size == 0:
@@ -170,7 +174,7 @@ def stick_slip_map(
 
     # once for the map, not per point; the frequency checked before it is used
     frequency_Hz = OperatingPoint(0.0, 0.0, default_drive_Hz(params, frequency_Hz)).frequency_Hz
-    opts = options_or_default(options)
+    opts = options_or_default(options, overrides=False)
     shape = (v.size, f.size)
     motion = np.empty(shape, dtype=object)
     vel, stick, sep, mud = (np.empty(shape) for _ in range(4))

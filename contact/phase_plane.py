@@ -12,11 +12,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.model import normal_force_zero_tip_displacement
+from contact.results import FrozenArrays
 from contact.simulate import SimulationResult
 
 
-@dataclass(frozen=True)
-class PhasePlane:
+@dataclass(frozen=True, eq=False)
+class PhasePlane(FrozenArrays):
     """Steady-state trajectory on the transformed phase plane.
 
     Attributes
@@ -46,8 +47,18 @@ class PhasePlane:
 
 
 def phase_plane(result: SimulationResult) -> PhasePlane:
-    """Phase-plane trajectory of the stored steady-state window of a run."""
+    """Phase-plane trajectory of the stored steady-state window of a run.
+
+    Raises
+    ------
+    ValueError
+        The run stored no window at every step: only ``method="event"`` does.
+    """
     w = result.window
+    if w is None:  # it was an AttributeError on None
+        raise ValueError(f"phase_plane needs the steady-state window at every step, which "
+                         f"only method='event' stores; this run used method="
+                         f"{result.method!r}")
     y_c = normal_force_zero_tip_displacement(result.params, result.op.preload_N)
     return PhasePlane(
         y_tip_m=w.y_tip_m,

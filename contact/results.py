@@ -20,8 +20,25 @@ MOTION_CLASSES = (
 zero preload and zero voltage."""
 
 
+class FrozenArrays:
+    """Base of the frozen result dataclasses that carry arrays (declare them with
+    ``eq=False``: ``==`` of arrays has no truth value, so they compare and hash by identity).
+
+    Each array field becomes the result's own read-only copy: frozen means frozen, and a
+    caller's array stays the caller's (``trace.x_m[:] = 0`` changed a returned trace; a
+    characteristic kept the caller's ``loads`` array, so editing it relabelled the curve).
+    """
+
+    def __post_init__(self) -> None:
+        for name, value in list(vars(self).items()):
+            if isinstance(value, np.ndarray):
+                own = np.array(value)
+                own.setflags(write=False)
+                object.__setattr__(self, name, own)
+
+
 @dataclass(frozen=True, eq=False)
-class Trace:
+class Trace(FrozenArrays):
     """Time traces of one run (all arrays share the length of ``t_s``).
 
     Attributes
@@ -43,12 +60,6 @@ class Trace:
     v_rel_m_s: np.ndarray
     y_tip_m: np.ndarray
     phase: np.ndarray
-
-    def __post_init__(self) -> None:
-        # frozen means frozen: `trace.x_m[:] = 0` changed a returned result in place
-        for value in self.__dict__.values():
-            if isinstance(value, np.ndarray):
-                value.setflags(write=False)
 
     @classmethod
     def from_array(cls, a: np.ndarray) -> Trace:

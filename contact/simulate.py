@@ -176,14 +176,18 @@ class SimulationOptions:
                              f"{self.stick_band_m_s!r}")
 
 
-def options_or_default(options: SimulationOptions | None) -> SimulationOptions:
+def options_or_default(options: SimulationOptions | None,
+                       overrides: bool = True) -> SimulationOptions:
     """``options``, or the defaults for None; anything else is a TypeError naming it (a dict
-    was "has no attribute 'dt_s'" deep in a scheme)."""
+    was "has no attribute 'dt_s'" deep in a scheme). ``overrides``: whether the caller also
+    takes keyword overrides (``simulate`` does, ``stick_slip_map`` not), which the message
+    then suggests."""
     if options is None:
         return SimulationOptions()
     if not isinstance(options, SimulationOptions):
-        raise TypeError(f"options must be a SimulationOptions (or keyword overrides such as "
-                        f"dt_s=...), got {type(options).__name__}")
+        how = " (or keyword overrides such as dt_s=...)" if overrides else ""
+        raise TypeError(f"options must be a SimulationOptions{how}, got "
+                        f"{type(options).__name__}")
     return options
 
 

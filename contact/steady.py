@@ -165,7 +165,13 @@ class SteadyBranch:
         Motion class of the tip orbit (:data:`contact.results.MOTION_CLASSES`) or
         ``"dead-zone"`` (slider held).
     mean_FT_N, mean_FN_N : float
-        Period averages of the tangential force on the slider and of the normal force (N).
+        Period averages of the tangential force on the slider and of the normal force (N),
+        from the averaged (fast) problem's orbit at this velocity, which integrates them
+        exactly; at ``accuracy="exact"`` a full-model orbit that polishes an averaged branch
+        carries that branch's averages (they differ from the finite-mass orbit's by the
+        averaging's O(1/M) error), and one found only on the full model (an orbit from rest
+        of period k >= 2 that the averaging does not see, or a long mean with ``k = 0``) has
+        NaN: the full model's kernel integrates work and phase times, not forces.
     input_power_W : float
         Mean electrical input power (W): ``<V(t) (A_l du_l + A_b dw_b)>``, the motional
         current times the voltage (the force factors are the current factors by reciprocity).

@@ -251,3 +251,49 @@ def test_the_default_drive_warns_where_it_misses_the_sets_modes():
         warnings.simplefilter("error")
         simulate(beam, 200.0, 14.0, 40e3, duration_s=0.005)
         simulate(table2(), 200.0, 14.0, duration_s=0.005)
+
+
+def test_results_own_read_only_arrays_and_compare_by_identity():
+    """A characteristic kept the caller's ``loads`` array (editing it relabelled the curve
+    beside velocities computed at the old loads), its arrays were writable, and ``==`` raised
+    (the truth value of an array); a map likewise kept the caller's voltages."""
+    p = table2()
+    loads = np.array([0.0, 0.2])
+    c = characteristic(p, 300, 14, loads, accuracy="fast")
+    loads[1] = 99.0
+    assert c.load_N[1] == 0.2 and not c.load_N.flags.writeable
+    with pytest.raises(ValueError):
+        c.velocity_m_s[0] = 0.0
+    again = characteristic(p, 300, 14, [0.0, 0.2], accuracy="fast")
+    assert c == c and c != again and len({c, again}) == 2
+    volts = np.array([200.0])
+    m = stick_slip_map(p, volts, [14.0], method="steady", accuracy="fast", workers=1)
+    volts[0] = 1.0
+    assert m.voltages_V[0] == 200.0 and not m.velocity_m_s.flags.writeable
+    assert m == m and hash(m) == hash(m)
+
+
+@pytest.mark.parametrize("axis", [[True], ["200"]])
+def test_a_maps_axes_are_real_numbers(axis):
+    # as simulate's voltage: [True] ran at 1 V and ["200"] at 200 V
+    with pytest.raises(ValueError, match="voltages_V must be real numbers"):
+        stick_slip_map(table2(), axis, [14.0])
+    with pytest.raises(ValueError, match="preloads_N must be real numbers"):
+        stick_slip_map(table2(), [200.0], axis)
+
+
+def test_a_maps_options_message_offers_no_keyword_overrides():
+    # stick_slip_map takes none; the message simulate gives suggested them
+    with pytest.raises(TypeError) as info:
+        stick_slip_map(table2(), [200.0], [14.0], options={"dt_s": 1e-7})
+    assert "keyword" not in str(info.value) and "SimulationOptions" in str(info.value)
+
+
+def test_the_phase_plane_names_the_method_that_stores_its_window():
+    # any other scheme's result failed with an AttributeError on None
+    from contact.phase_plane import phase_plane
+
+    r = simulate(table2(), 200, 14, duration_s=2e-3, method="literal")
+    with pytest.raises(ValueError, match="only method='event' stores; this run used "
+                                         "method='literal'"):
+        phase_plane(r)

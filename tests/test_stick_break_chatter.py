@@ -7,6 +7,7 @@ ulp of dx above zero; the slip mode's v_rel-zero event fired at once, and the sa
 chosen again from the unchanged state, at the same instant, until the switch limit.
 """
 
+import numpy as np
 import pytest
 
 from contact import event_kernel as ek
@@ -38,13 +39,17 @@ def test_leaving_stick_starts_slip_on_its_vrel_surface(params):
     stick_bwd = S.mode_index(S.CONTACT, S.STICK, S.BACKWARD)
     z = s.z0.copy()  # the failing step's stick state: v_rel = +1 ulp of dx by roundoff
     z[S.DW], z[S.DX] = -0.011118751186049488, -0.02222025337149489
-    assert ek._dot(s.funcs[S.F_VREL], z) > 0.0
+    v_rel = ek._dot(s.funcs[S.F_VREL], z)
+    ulp = np.spacing(abs(z[S.DX]))
+    # roundoff: 1 ulp of dx with the FE set of the day it was found, 3 with today's
+    # NumPy/SciPy (phi_B(l) moves in its last digits with the eigensolver)
+    assert 0.0 < v_rel <= 4 * ulp
     zz = z.copy()
     m = ek._switch(stick_bwd, S.EV_STICK_BREAK, zz, s.funcs, s.scalars)
     assert (m // 3) % 3 != S.STICK
     j = list(s.ev_type[m]).index(S.EV_VREL_ZERO)
     assert ek._dot(s.ev_h[m, j], zz) == 0.0  # on the surface, not past it by roundoff
-    assert abs(zz[S.DX] - z[S.DX]) <= 1e-17  # the slider took an ulp, no more
+    assert abs(zz[S.DX] - z[S.DX]) <= v_rel + ulp  # the slider took that roundoff, no more
 
 
 @pytest.mark.parametrize("load_N", [-1.0, -1.47])
