@@ -285,6 +285,30 @@ def test_refine_with_a_stator_files_mesh_is_said_to_do_nothing(capsys):
     assert "warning" not in capsys.readouterr().err
 
 
+def test_refine_is_said_to_do_nothing_in_3d_and_in_a_sweep(capsys):
+    """The 3D model extrudes a stator file's mesh and sweep re-meshes a parametric stator by
+    gmsh: both ran the same mesh whatever --refine said, without a word (the 3D JSON even
+    reported "refine": 7), so a convergence study over --refine looked converged. The
+    reference: the dofs are the same with and without --refine."""
+    import json
+
+    meshed = str(EXAMPLES / "tip_protrusion" / "stator.toml")
+    dofs = []
+    for extra in ([], ["--refine", "7"]):
+        args = ["modes", "--model", "3d", "--layers", "1", "--geometry", meshed, "--json"]
+        assert main(args + extra) == 0
+        out = capsys.readouterr()
+        doc = json.loads(out.out)
+        dofs.append(doc["dofs"])
+        assert doc["refine"] is None
+        assert ("--refine has no effect" in out.err) == bool(extra)
+    assert dofs[0] == dofs[1]
+    stator = str(EXAMPLES / "tip_parametric" / "stator.toml")
+    assert main(["sweep", "--geometry", stator, "--width-mm", "7.5:7.5:1", "--refine", "40",
+                 "--json"]) == 0
+    assert "--refine has no effect" in capsys.readouterr().err
+
+
 def test_meshing_keeps_the_sigterm_handler(tmp_path):
     """gmsh.initialize resets SIGTERM to the default in C while Python still reports its
     handler: SIGTERM then killed `lusm render` of a parametric stator without a message,

@@ -218,9 +218,9 @@ def run(args: argparse.Namespace) -> None:
             "dofs": res.dofs,
             "wall_time_s": res.wall_time_s,
             "order": args.order,
-            # a stator file's own mesh (or gmsh's) is not refined: the 2D model solves it
-            "refine": (None if (choice.meshed or choice.parametric) and args.model != "3d"
-                       else refine),
+            # a stator file's own mesh (or gmsh's) is not refined: the 2D model solves it,
+            # the 3D model extrudes it
+            "refine": None if choice.meshed or choice.parametric else refine,
             "material": mat,
             "geometry": args.geometry,
             "model": args.model,

@@ -75,11 +75,13 @@ def run(args: argparse.Namespace) -> None:
 
     from validation.errors import LusmError
     from validation.options import (
+        StatorChoice,
         figure_set,
         load_design,
         moved,
         output_folder,
         stator_from_args,
+        warn_refine_unused,
     )
     from validation.ranges import parse_range
 
@@ -112,6 +114,7 @@ def run(args: argparse.Namespace) -> None:
             raise LusmError(f"--geometry {args.geometry} has its own mesh, which sweep cannot "
                             "rescale; sweep a stator file without [mesh]", "--geometry")
         base, material = design.stator, design.material
+        warn_refine_unused(StatorChoice(base, material, design), args.geometry)
     else:
         from fem.geometry import PlateStator
 

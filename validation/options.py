@@ -381,12 +381,7 @@ def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> Sta
                             min(st.length_m, st.width_m) * 1e3,
                             "the mesh's smaller in-plane extent")
         choice = StatorChoice(st, design.material, design)
-        if (choice.meshed or choice.parametric) and not three_d:
-            # the 2D model solves on the file's mesh (or gmsh's, sized by [mesh] size_mm):
-            # modes, render, admittance ran the same mesh whatever --refine said
-            warn_unused(("--refine",), f"--geometry {args.geometry} is meshed by "
-                        + ("gmsh at its [mesh] size_mm (default min(length, width) / 8)"
-                           if choice.parametric else "its own mesh file"))
+        warn_refine_unused(choice, args.geometry)
         return choice
     mm = {o: getattr(args, o[2:].replace("-", "_"), None) for o in PLATE_OPTIONS}
     mm = {o: PLATE_DEFAULTS_MM[o] if v is None else v for o, v in mm.items()}
@@ -397,6 +392,17 @@ def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> Sta
                          thickness_m=mm["--thickness-mm"] * 1e-3,
                          electrode_gap_m=mm["--gap-mm"] * 1e-3)
     return StatorChoice(stator, get_material(getattr(args, "material", None) or "pzt8"))
+
+
+def warn_refine_unused(choice: StatorChoice, geometry: str) -> None:
+    """Warn that ``--refine`` has no effect on a stator file that carries its mesh or is
+    meshed by gmsh: the 2D model solves on that mesh and the 3D model extrudes it (modes,
+    render, admittance and sweep ran the same mesh whatever --refine said; a convergence
+    study over --refine looked converged)."""
+    if choice.meshed or choice.parametric:
+        warn_unused(("--refine",), f"--geometry {geometry} is meshed by "
+                    + ("gmsh at its [mesh] size_mm (default min(length, width) / 8)"
+                       if choice.parametric else "its own mesh file"))
 
 
 def check_steady_work(solves: int, params, frequency_Hz: float, coupling: str,
