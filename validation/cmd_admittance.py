@@ -65,7 +65,7 @@ def _electrodes(text: str | None) -> tuple[int, ...] | None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
-    from validation.cmd_modes import fe_failure, is_fe_failure
+    from validation.cmd_modes import fe_failure, is_fe_failure, warn_linear_elements
     from validation.errors import LusmError
     from validation.options import (
         check_fe_size,
@@ -75,6 +75,7 @@ def run(args: argparse.Namespace) -> None:
         stator_from_args,
     )
 
+    warn_linear_elements(args)
     out = output_folder(args, "admittance", "--out")
     if args.f_min is not None and args.f_max is not None and not args.f_min < args.f_max:
         raise LusmError(f"--f-min must be below --f-max, got {args.f_min:g} and "

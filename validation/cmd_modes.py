@@ -55,12 +55,26 @@ def _split(res) -> float:
 def add_fe_options(p: argparse.ArgumentParser, three_d: bool = False) -> None:
     """``--order`` and ``--refine`` (bounded, see :mod:`validation.limits`); ``three_d``: the
     command also has ``--model 3d``, whose default refine the help names too."""
-    p.add_argument("--order", type=int, choices=(1, 2), default=2, help="element order")
+    p.add_argument("--order", type=int, choices=(1, 2), default=2,
+                   help="element order (default 2; 1 locks in bending: B2 several %% high)")
     note = f" (at most {limits.MAX_REFINE_3D} with --model 3d)" if three_d else ""
     p.add_argument("--refine", type=integer("--refine", 1, limits.MAX_REFINE_2D, work=True,
                                             note=note),
                    default=None, help="elements per plate width (default 4"
                    + (", 3 with --model 3d)" if three_d else ")"))
+
+
+def warn_linear_elements(args: argparse.Namespace) -> None:
+    """``--order 1``: linear elements lock in bending, so B2 comes out too stiff by
+    several per cent on the default mesh (docs/fem.md §6: 3.3 % on the paper's plate in 2D,
+    more in 3D, where L1 and B2 can swap), and a tuned plate with it; the command said
+    nothing (``--help`` only said "element order")."""
+    if getattr(args, "order", None) == 1:
+        from validation.options import warn
+
+        warn("--order 1: linear elements lock in bending, so B2 comes out several per cent "
+             "too stiff on the default mesh (3.3 % on the paper's plate, docs/fem.md §6) and "
+             "tuned dimensions move with it; use --order 2 (the default) for a design")
 
 
 def check_refine_3d(refine: int | None) -> None:
@@ -101,6 +115,7 @@ def run(args: argparse.Namespace) -> None:
     from validation.errors import LusmError
     from validation.options import check_fe_size, stator_from_args
 
+    warn_linear_elements(args)
     choice = stator_from_args(args)
     stator, material = choice.stator, choice.material
     export = _export_target(args.export, args.force) if args.export is not None else None

@@ -33,6 +33,7 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
+    from validation.cmd_modes import warn_linear_elements
     from validation.options import (
         check_fe_size,
         figure_set,
@@ -41,6 +42,7 @@ def run(args: argparse.Namespace) -> None:
         stator_from_args,
     )
 
+    warn_linear_elements(args)
     out = output_folder(args, "render", "--out")  # refused before any work
     choice = stator_from_args(args)
 

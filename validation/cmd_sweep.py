@@ -73,6 +73,7 @@ def run(args: argparse.Namespace) -> None:
     import argparse as _ap
     from dataclasses import replace
 
+    from validation.cmd_modes import warn_linear_elements
     from validation.errors import LusmError
     from validation.options import (
         StatorChoice,
@@ -85,6 +86,7 @@ def run(args: argparse.Namespace) -> None:
     )
     from validation.ranges import parse_range
 
+    warn_linear_elements(args)
     out = output_folder(args, "sweep", "--out")
     try:
         parameter, option, text, fixed = _split(args)

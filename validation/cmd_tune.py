@@ -59,10 +59,16 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm tune`` with parsed ``args``."""
-    from validation.cmd_modes import check_refine_3d, fe_failure, is_fe_failure
+    from validation.cmd_modes import (
+        check_refine_3d,
+        fe_failure,
+        is_fe_failure,
+        warn_linear_elements,
+    )
     from validation.errors import LusmError
     from validation.options import check_fe_size, check_fe_work, stator_from_args
 
+    warn_linear_elements(args)
     fix = args.fix
     held = [f for f in ("length", "width") if f in fix]
     if len(held) == 2:
