@@ -123,6 +123,7 @@ def files(tmp_path_factory) -> dict[str, str]:
         f[name] = str(d / f"{name}.toml")
 
     toml("plate", PLATE)
+    f["chamfered_example"] = str(ROOT / "examples" / "chamfered" / "stator.toml")
     toml("unit_list", '[plate]\nthickness_mm = 3\n[mesh]\nfile = "x.msh"\nunit = ["m"]\n')
     toml("tip_far", PLATE + "[points]\ntip_mm = [0, 1e300]\n")
     toml("length_str", '[plate]\nlength_mm = "30"\nwidth_mm = 7.5\nthickness_mm = 3\n')
@@ -442,6 +443,11 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-parametric-edge-grading-2d", ["modes", "--edge-grading", "1",
                                           "--geometry", "{chamfered_plate}"],
      ["--edge-grading", "--model 3d only"]),
+    # a stator file's mesh above the 3D bound: fewer layers fit, which it did not say (the
+    # docs' own `lusm modes --model 3d --geometry examples/chamfered/stator.toml`)
+    ("modes-3d-file-mesh-too-many-bricks", ["modes", "--model", "3d", "--geometry",
+                                            "{chamfered_example}"],
+     ["--geometry", "2988 3D bricks", "lower --layers (3) or use a coarser mesh file"]),
     ("explore-workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"],
      ["--workers"]),
 ]

@@ -493,9 +493,9 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
 
         fix = ("coarsen its [mesh] size_mm" if isinstance(stator, ParametricStator)
                else "use a coarser mesh file")
-        if layers is not None:  # the 3D layers are the command's: name those typed
-            given = [o for o in ("--edge-grading", "--layers") if typed(o)]
-            fix = f"lower {' or '.join(given)} or {fix}" if given else fix
+        if layers is not None:  # the 3D layers are the command's: fewer fit (typed or not)
+            given = [o for o in ("--edge-grading",) if typed(o)] + [f"--layers ({layers})"]
+            fix = f"lower {' or '.join(given)} or {fix}"
         raise LusmError(f"--geometry: the stator's mesh needs {n} {what} here, above the limit "
                         f"{top}; {fix} ({limits.more_work_hint()})", "--geometry")
     if n > top:
