@@ -228,3 +228,22 @@ def test_compare_drives_the_beam_through_the_plates_electrodes(tmp_path, capsys)
     doc = json.loads(capsys.readouterr().out)
     beam = doc["values"]["beam"] if "values" in doc else doc["beam"]
     assert beam["A_b"] == pytest.approx(-paper["A_b"], rel=1e-9)
+
+
+def test_the_beams_gap_is_said_not_to_enter_its_force_factors(capsys):
+    """Appendix A's beam drives whole quadrants: --gap-mm 0.5 and 2 gave the same A_l,
+    labelled as the plate's electrodes, without a word. The FE set is the reference that
+    does see the gap (a wider gap, less electrode, smaller A_l)."""
+    import json
+
+    from validation.cli import main
+
+    a_l = {}
+    for src in ("beam", "fem"):
+        for gap in ("0.5", "2"):
+            assert main(["params", "--source", src, "--gap-mm", gap, "--json"]) == 0
+            out = capsys.readouterr()
+            a_l[src, gap] = json.loads(out.out)["A_l"]
+            assert ("gap's width does not enter" in out.err) == (src == "beam")
+    assert a_l["beam", "0.5"] == a_l["beam", "2"]
+    assert a_l["fem", "2"] < 0.95 * a_l["fem", "0.5"]

@@ -570,6 +570,10 @@ def beam_of_plate(args: argparse.Namespace):
             f"electrodes {', '.join(map(str, st.drive_electrodes))} driven touch the grounded "
             "ones (no gap strip between them) and are one conductor, which cannot hold two "
             "voltages: the beam's drive would short")
+    if typed("--gap-mm"):  # 0.5 and 2 mm gave the same A_l without a word
+        warn("--gap-mm: Appendix A's beam drives whole quadrants, so the gap's width does not "
+             "enter its force factors (a gap of 0, one conductor, is refused); the FE set "
+             "models the gap")
     length, width = st.length_m, st.width_m
     if has_planform(st):
         # the electroded body, as a parametric stator's length is: a mesh file's bounding
