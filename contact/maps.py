@@ -85,6 +85,12 @@ FALLBACK_DURATION_S = 0.3
 branch from rest has no periodic tip orbit of period <= 4)."""
 
 
+def fallback_duration_s(duration_s: float, frequency_Hz: float) -> float:
+    """Length (s) of the transient that stands in for an undecided point of a steady map:
+    the map's ``duration_s``, at least :data:`FALLBACK_DURATION_S` and 10 drive periods."""
+    return max(duration_s, FALLBACK_DURATION_S, 10.0 / frequency_Hz)
+
+
 def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
                   frequency_Hz: float, opts: SimulationOptions, accuracy: str):
     """One map point from the steady engine, in the shape of a transient's steady metrics;
@@ -103,7 +109,7 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
         # not check them against the frequency)
         period = 1.0 / frequency_Hz
         long = dataclasses.replace(
-            opts, duration_s=max(opts.duration_s, FALLBACK_DURATION_S, 10 * period),
+            opts, duration_s=fallback_duration_s(opts.duration_s, frequency_Hz),
             dt_s=None if opts.dt_s is None else min(opts.dt_s, period / 20))
         t = simulate(params, voltage_V, preload_N, frequency_Hz, long)
         st = t.steady

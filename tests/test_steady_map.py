@@ -116,3 +116,19 @@ def test_a_transient_map_says_which_points_did_not_settle(capsys):
     settled = json.loads(out.out)["settled"]
     assert settled == [[True, True], [False, True]]
     assert "1 point(s) not settled within --duration 0.05 s (200 V/0 N)" in out.err
+
+
+def test_an_undecided_points_transient_is_said_at_its_length(capsys):
+    """20 V / 2 N creeps with no short tip orbit: the steady map runs a transient there, of
+    --duration when that is longer than 0.3 s, and said "taken from 0.3 s transients"
+    whatever ran. The reference: the JSON's velocity equals a 2 s transient's."""
+    from contact.simulate import simulate
+    from validation.cli import main
+
+    assert main(["map", "--voltages", "20", "--preloads", "2", "--duration", "2"]) == 0
+    assert "taken from 2 s transients" in capsys.readouterr().out
+    assert main(["map", "--voltages", "20", "--preloads", "2", "--duration", "2",
+                 "--json"]) == 0
+    v = json.loads(capsys.readouterr().out)["steady_velocity_m_s"][0][0]
+    ref = simulate(table2(), 20.0, 2.0, duration_s=2.0).steady.velocity_m_s
+    assert v == pytest.approx(ref, rel=1e-12)

@@ -173,9 +173,11 @@ def run(args: argparse.Namespace) -> None:
                   + ", ".join(f"{v:g} V/{f:g} N" for v, f in multi))
         undecided = int(m.fallback.sum())
         if undecided:
-            from contact.maps import FALLBACK_DURATION_S
+            from contact.maps import fallback_duration_s
 
+            # it said 0.3 s where a longer --duration ran
             print(f"undecided by the steady engine (creep, no periodic tip orbit): {undecided} "
-                  f"point(s), taken from {FALLBACK_DURATION_S:g} s transients (see --json)")
+                  f"point(s), taken from {fallback_duration_s(args.duration, freq):g} s "
+                  "transients (see --json)")
     if "figure" in summary:
         print(f"wrote {summary['figure']}")
