@@ -762,6 +762,39 @@ def test_an_export_into_a_folder_it_cannot_write_names_the_users_file(tmp_path, 
                   "(Permission denied)"
 
 
+def test_an_export_that_cannot_be_written_whole_is_refused_and_leaves_nothing(tmp_path):
+    """Under a file-size limit meshio's XDMF writer lost its HDF5 writes in h5py's
+    finalizers: tracebacks, "wrote m.xdmf", exit 0, and a truncated m.h5 moved in that meshio
+    cannot read. The limit is set in the child (Python ignores SIGXFSZ: writes fail EFBIG)."""
+    out = tmp_path / "x" / "m.xdmf"
+    code = ("import resource; resource.setrlimit(resource.RLIMIT_FSIZE, (30720, 30720)); "
+            "from validation.cli import main; raise SystemExit(main(['modes', '--refine', '2', "
+            f"'--export', {str(out)!r}]))")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       cwd=ROOT, timeout=300)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().splitlines() == [
+        f"lusm modes: error: --export: cannot write {out} whole (File too large)"]
+    assert not out.parent.exists() or list(out.parent.iterdir()) == []
+
+
+def test_an_export_into_a_folder_it_cannot_write_is_refused_before_the_solve(tmp_path,
+                                                                             monkeypatch,
+                                                                             capsys):
+    # it was refused only after the FE solve (30 s of a 3D model)
+    import fem.modes
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved before checking the export's folder")
+
+    monkeypatch.setattr(fem.modes, "plate_modes", no_solve)
+    monkeypatch.setattr(os, "access", lambda path, mode: False)
+    out = tmp_path / "m.vtu"
+    assert main(["modes", "--export", str(out)]) == 2
+    assert capsys.readouterr().err.strip() == (
+        f"lusm modes: error: --export {out}: cannot write into {tmp_path} (permission denied)")
+
+
 def test_library_names_become_the_options_the_user_typed():
     # "--frequency: frequency_Hz = 1 Hz ..." and "use dt_s <= ..." named internals
     from validation.errors import user_error

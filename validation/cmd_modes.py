@@ -341,6 +341,13 @@ def _export_target(text: str, force: bool):
     if (path.exists() or path.is_symlink()) and not force:
         raise LusmError(f"--export {path} already exists; choose a new name or pass --force",
                         "--export")
+    import os
+
+    folder = next((p for p in path.absolute().parents if p.exists()), None)
+    if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
+        # it was refused only after the FE solve (30 s of a 3D model)
+        raise LusmError(f"--export {path}: cannot write into {folder} (permission denied)",
+                        "--export")
     side = path.with_suffix(".h5")  # meshio's XDMF writer puts the arrays beside it
     if path.suffix.lower() == ".xdmf" and (side.exists() or side.is_symlink()) and not force:
         # it was refused only after the FE solve
@@ -403,6 +410,43 @@ def _coarse_gap_remedy(choice, edge_grading: int,
     return " and ".join(fixes)
 
 
+def _written_whole(writer, staged: str, model, res) -> None:
+    """``writer(staged, model, res)``, and the file read back: raise ``OSError`` where it
+    could not be written whole.
+
+    meshio's XDMF writer leaves its HDF5 file to h5py's finalizers, whose write errors (a
+    full disk, a file-size limit) Python only prints, as "Exception ignored in" tracebacks:
+    the command said "wrote m.xdmf", exit 0, beside a truncated ``m.h5`` that meshio cannot
+    read. Those errors are collected here instead, and every format is read back."""
+    import gc
+    import io
+    import os
+    import sys
+
+    import meshio
+
+    lost: list[BaseException] = []
+    hook, err = sys.unraisablehook, sys.stderr
+    sys.unraisablehook = lambda u: lost.append(u.exc_value)
+    sys.stderr = said = io.StringIO()  # Cython prints a finalizer's traceback itself
+    try:
+        writer(staged, model, res)
+        gc.collect()  # the finalizers run here, while the hook listens
+    finally:
+        sys.unraisablehook, sys.stderr = hook, err
+    if lost:
+        code = getattr(lost[0], "errno", None)
+        reason = os.strerror(code) if code else str(lost[0]).splitlines()[0]
+        raise OSError(f"cannot write {staged} whole ({reason})")
+    if said.getvalue():  # not a failure: what the writer said stays said
+        print(said.getvalue(), end="", file=sys.stderr)
+    try:
+        meshio.read(staged)
+    except Exception as exc:  # any reader failure means the file is not whole
+        raise OSError(f"{staged} does not read back ({type(exc).__name__}: "
+                      f"{str(exc).splitlines()[0] if str(exc) else ''})") from None
+
+
 def _write_export(path, model, res, force: bool, writer) -> None:
     """Write the export with ``writer(path, model, res)`` (and any side file, e.g. the HDF5
     of an .xdmf) in a staging folder beside the target under its final name; move the files
@@ -424,7 +468,7 @@ def _write_export(path, model, res, force: bool, writer) -> None:
     try:
         staged = os.path.join(stage, path.name)
         try:
-            writer(staged, model, res)
+            _written_whole(writer, staged, model, res)
         except (ValueError, OSError) as exc:  # name the user's file, not the staging one
             raise LusmError(f"--export: {str(exc).replace(staged, str(path))}",
                             "--export") from None
