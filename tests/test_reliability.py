@@ -795,6 +795,23 @@ def test_an_export_into_a_folder_it_cannot_write_is_refused_before_the_solve(tmp
         f"lusm modes: error: --export {out}: cannot write into {tmp_path} (permission denied)")
 
 
+def test_a_report_that_cannot_be_written_names_its_folder(tmp_path, monkeypatch, capsys):
+    """A file-size limit while the report's set was written said "cannot use: File too
+    large", naming neither --out nor the folder (the other commands say both)."""
+    import errno
+
+    import validation.report
+
+    def full(out, **kwargs):
+        raise OSError(errno.EFBIG, os.strerror(errno.EFBIG))
+
+    monkeypatch.setattr(validation.report, "write_report", full)
+    out = tmp_path / "r"
+    assert main(["report", "--out", str(out)]) == 2
+    assert capsys.readouterr().err.strip() == (
+        f"lusm report: error: --out {out}: cannot write (File too large)")
+
+
 def test_library_names_become_the_options_the_user_typed():
     # "--frequency: frequency_Hz = 1 Hz ..." and "use dt_s <= ..." named internals
     from validation.errors import user_error

@@ -4,6 +4,8 @@ a designer's own stator with ``--geometry`` / plate options (:mod:`validation.re
 from __future__ import annotations
 
 import argparse
+import os
+from pathlib import Path
 
 from validation.options import add_plate_options
 
@@ -32,9 +34,27 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Write the report and print where it is."""
-    from validation.options import motor_params_of, output_folder, plate_given, stator_from_args
+    from validation.errors import LusmError
+    from validation.options import output_folder
 
     out = output_folder(args, "report", "--out")  # refused before any work
+    try:
+        doc = _write(args, out)
+    except OSError as exc:
+        # a full disk or a file-size limit while the set is written: it said "cannot use:
+        # File too large", naming neither --out nor the folder
+        where = Path(os.fsdecode(exc.filename)).absolute() if exc.filename else None
+        if where is not None and out.absolute().parent not in (where, *where.parents):
+            raise  # not the report's own files
+        raise LusmError(f"--out {out}: cannot write ({exc.strerror or exc})", "--out") from None
+    print(f"report written to {out / 'index.md'} (and index.html, report.json) "
+          f"in {doc['wall_time_s']:.1f} s")
+
+
+def _write(args: argparse.Namespace, out: Path) -> dict:
+    """The plate's design report (a stator named) or the paper's report, into ``out``."""
+    from validation.options import motor_params_of, plate_given, stator_from_args
+
     if args.geometry or plate_given(args):
         from validation.report_design import write_design_report
 
@@ -48,5 +68,4 @@ def run(args: argparse.Namespace) -> None:
 
         doc = write_report(out, quick=args.quick, progress=not args.no_progress,
                            force=args.force)
-    print(f"report written to {out / 'index.md'} (and index.html, report.json) "
-          f"in {doc['wall_time_s']:.1f} s")
+    return doc
