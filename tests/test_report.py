@@ -134,3 +134,19 @@ def test_a_failed_report_leaves_nothing_half_written(tmp_path, monkeypatch):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]  # no partial folder left
     assert (out / "index.md").read_text() == "earlier report"
     assert not (out / "figures").exists()
+
+
+def test_a_report_names_a_path_that_is_not_utf8(tmp_path):
+    """A stator file whose name is not UTF-8 (Latin-1 bytes, decoded by Python with
+    surrogate escapes) failed the whole report at its very end, when index.md was written:
+    the files are written with the name's bytes escaped, and the JSON stays valid."""
+    import json
+    import os
+
+    from validation.report import write_report_files
+
+    name = os.fsdecode(b"/x/st\xfe.toml")
+    write_report_files(tmp_path, f"# r\n\n`{name}`\n", {"geometry": name}, "r")
+    assert "st\\udcfe.toml" in (tmp_path / "index.md").read_text(encoding="utf-8")
+    assert json.loads((tmp_path / "report.json").read_text())["geometry"] == name
+    assert "st\\udcfe.toml" in (tmp_path / "index.html").read_text(encoding="utf-8")

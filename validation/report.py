@@ -453,10 +453,13 @@ def _build(out: Path, quick: bool, progress: bool) -> dict:
 
 
 def write_report_files(out: Path, md: str, doc: dict, title: str) -> dict:
-    """Write a report's ``index.md``, its self-contained ``index.html`` and ``report.json``."""
-    (out / "index.md").write_text(md)
-    (out / "index.html").write_text(to_html(md, title))
+    """Write a report's ``index.md``, its self-contained ``index.html`` and ``report.json``
+    (UTF-8; a path that is not, as ``st\udcfe.toml`` from a Latin-1 name, is written with
+    backslash escapes: it failed the whole report at its very end)."""
+    text = {"encoding": "utf-8", "errors": "backslashreplace"}
+    (out / "index.md").write_text(md, **text)
+    (out / "index.html").write_text(to_html(md, title), **text)
     from validation.options import json_text
 
-    (out / "report.json").write_text(json_text(doc, indent=1))  # NaN as null: valid JSON
+    (out / "report.json").write_text(json_text(doc, indent=1), **text)  # NaN as null
     return doc
