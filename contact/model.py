@@ -20,6 +20,7 @@ Conventions (see ``docs/contact.md``):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 from dataclasses import dataclass
@@ -390,6 +391,13 @@ def build_system(
         else S.mode_index(S.SEPARATED, S.SLIP_POS, S.HELD)
     )
     assert scalars.shape == (S.N_SCALARS,)
+    if not all(np.isfinite(m).all() for m in (A, ev_h, fn_m, ft_m, ff_m, funcs)):
+        # an overflow (phi_Bl = 1e300 in a --params file) failed deep in a NumPy eigensolver,
+        # "Array must not contain infs or NaNs", naming nothing
+        name, value = max(((f.name, getattr(p, f.name)) for f in dataclasses.fields(p)
+                           if isinstance(getattr(p, f.name), float)), key=lambda nv: abs(nv[1]))
+        raise ValueError(f"the parameter set's mode matrices overflow (not finite); its largest "
+                         f"value is {name} = {value:g}, out of any stator's scale")
     return HybridSystem(A, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, scalars, z0, mode0)
 
 

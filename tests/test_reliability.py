@@ -124,6 +124,13 @@ def files(tmp_path_factory) -> dict[str, str]:
 
     toml("plate", PLATE)
     f["chamfered_example"] = str(ROOT / "examples" / "chamfered" / "stator.toml")
+    import json
+    from dataclasses import asdict, replace
+
+    from rom import table2
+
+    (d / "overflow.json").write_text(json.dumps(asdict(replace(table2(), phi_Bl=1e300))))
+    f["params_overflow"] = str(d / "overflow.json")
     toml("unit_list", '[plate]\nthickness_mm = 3\n[mesh]\nfile = "x.msh"\nunit = ["m"]\n')
     toml("tip_far", PLATE + "[points]\ntip_mm = [0, 1e300]\n")
     toml("length_str", '[plate]\nlength_mm = "30"\nwidth_mm = 7.5\nthickness_mm = 3\n')
@@ -352,6 +359,13 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["--geometry", "no_such_stator.toml"]),
     ("sim-params-missing", ["simulate", "--voltage", "200", "--preload", "14", "--params",
                             "no_such_set.json"], ["--params", "no such file"]),
+    # a device is not a set ("no such file" before)
+    ("sim-params-device", ["simulate", "--voltage", "200", "--preload", "14", "--params",
+                           "/dev/null"], ["--params /dev/null: not a regular file"]),
+    # an overflow failed deep in NumPy, "Array must not contain infs or NaNs", naming nothing
+    ("sim-params-overflow", ["simulate", "--voltage", "200", "--preload", "14", "--duration",
+                             "0.001", "--params", "{params_overflow}"],
+     ["--params: the parameter set's mode matrices overflow", "phi_Bl = 1e+300"]),
     ("admittance-f-max-below-design-band", ["admittance", "--f-max", "1"],
      ["--f-max", "leaves no band"]),
     ("report-geometry-missing", ["report", "--geometry", "no_such_stator.toml"],

@@ -97,6 +97,11 @@ def user_error(exc: BaseException) -> LusmError:
                            "a mesh with gap strips"),
         }.get(option, ("the stator", "give the electrodes a gap of at least 0.001 mm"))
         return LusmError(f"{where}: {line}; {fix}", option)
+    if line.startswith("the parameter set's mode matrices overflow"):
+        from validation.options import typed
+
+        if typed("--params"):  # the file's values: it named nothing, from deep in NumPy
+            return LusmError(f"--params: {line}", "--params")
     blamed = None
     for name, option in LIBRARY_NAMES.items():
         if re.search(rf"(?<![\w.-]){re.escape(name)}\b", line):

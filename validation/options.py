@@ -206,8 +206,9 @@ def params_from_file(path_text: str):
     if path.is_dir():
         raise LusmError(f"--params {path_text} is a folder; name a file saved with "
                         "'lusm params --json'", "--params")
-    if not path.is_file():
-        raise LusmError(f"--params {path_text}: no such file", "--params")
+    if not path.is_file():  # /dev/zero was "no such file" too
+        what = "not a regular file" if path.exists() else "no such file"
+        raise LusmError(f"--params {path_text}: {what}", "--params")
     try:
         data = json.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
