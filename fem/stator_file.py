@@ -94,7 +94,8 @@ constant not given stays Table 2's (Li, Yao & Wu 2016, Tables 1-2 and Section 4.
 ``Q_m`` is turned into one viscous ratio for both modes, ``zeta = 1 / (2 Q_m)``: this assumes
 the stator's modal loss is the material's mechanical loss alone (no mounting or radiation
 loss) and the same for the extensional L1 and the bending B2 mode. Table 1's preload spring
-(4000 N/m) has no key: the model applies the preload as a constant force (``--preload``).
+(4000 N/m) has no key: the model applies the preload through a fixed stator base, as the
+paper's Eq. 7 does (``--preload``; docs/contact.md 2.5).
 """
 
 from __future__ import annotations
@@ -130,6 +131,9 @@ printing to the terminal)."""
 PLATE_RANGE_MM = (0.1, 1000.0)
 """Allowed plate length, width and thickness (mm), the same as the ``lusm`` plate options
 (``validation.limits.PLATE_MM``): a plate of 0.1 mm to 1 m."""
+
+MAX_STATOR_FILE_BYTES = 1_000_000
+"""Largest stator file (bytes) read: a TOML description is a few kB."""
 
 DAMPING_RATIO_RANGE = (1e-5, 1.0)
 """Allowed ``[damping] zeta_L1, zeta_B2`` (-): ``[1e-5, 1)``, underdamped modes."""
@@ -856,6 +860,11 @@ def load_stator(path: str | Path) -> StatorDesign:
         raise ValueError(f"stator file {path} is a folder; name its .toml file")
     if not path.is_file():
         raise FileNotFoundError(f"stator file not found: {path}")
+    size = path.stat().st_size
+    if size > MAX_STATOR_FILE_BYTES:  # a 512 MB file was read whole, 1.1 GB of memory
+        raise ValueError(f"stator file {path} has {size} bytes, above "
+                         f"{MAX_STATOR_FILE_BYTES} for a TOML description (its mesh goes in "
+                         "the file [mesh] file names)")
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except UnicodeDecodeError as exc:

@@ -131,6 +131,9 @@ def files(tmp_path_factory) -> dict[str, str]:
 
     (d / "overflow.json").write_text(json.dumps(asdict(replace(table2(), phi_Bl=1e300))))
     f["params_overflow"] = str(d / "overflow.json")
+    with open(d / "huge.toml", "wb") as fh:  # sparse: no disk used
+        fh.truncate(2_000_000)
+    f["huge_sparse"] = str(d / "huge.toml")
     toml("unit_list", '[plate]\nthickness_mm = 3\n[mesh]\nfile = "x.msh"\nunit = ["m"]\n')
     toml("tip_far", PLATE + "[points]\ntip_mm = [0, 1e300]\n")
     toml("length_str", '[plate]\nlength_mm = "30"\nwidth_mm = 7.5\nthickness_mm = 3\n')
@@ -359,6 +362,11 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["--geometry", "no_such_stator.toml"]),
     ("sim-params-missing", ["simulate", "--voltage", "200", "--preload", "14", "--params",
                             "no_such_set.json"], ["--params", "no such file"]),
+    # read whole before: a 512 MB file took 1.1 GB of memory
+    ("sim-params-huge", ["simulate", "--voltage", "200", "--preload", "14", "--params",
+                         "{huge_sparse}"], ["--params", "bytes, above 1000000"]),
+    ("modes-geometry-huge", ["modes", "--geometry", "{huge_sparse}"],
+     ["--geometry", "bytes, above 1000000"]),
     # a device is not a set ("no such file" before)
     ("sim-params-device", ["simulate", "--voltage", "200", "--preload", "14", "--params",
                            "/dev/null"], ["--params /dev/null: not a regular file"]),

@@ -196,6 +196,10 @@ def coupling_of(args: argparse.Namespace, params) -> tuple[str, str]:
     return coupling, why
 
 
+MAX_PARAMS_FILE_BYTES = 1_000_000
+"""Largest ``--params`` file (bytes) read: a parameter set is about 1 kB."""
+
+
 def params_from_file(path_text: str):
     """The :class:`rom.params.MotorParams` of a ``lusm params --json`` file (``--params``)."""
     from rom.params import MotorParams
@@ -209,6 +213,10 @@ def params_from_file(path_text: str):
     if not path.is_file():  # /dev/zero was "no such file" too
         what = "not a regular file" if path.exists() else "no such file"
         raise LusmError(f"--params {path_text}: {what}", "--params")
+    size = path.stat().st_size
+    if size > MAX_PARAMS_FILE_BYTES:  # a 512 MB file was read whole, 1.1 GB of memory
+        raise LusmError(f"--params {path_text} has {size} bytes, above "
+                        f"{MAX_PARAMS_FILE_BYTES} for a parameter set (about 1 kB)", "--params")
     try:
         data = json.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
