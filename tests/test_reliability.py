@@ -131,9 +131,9 @@ def files(tmp_path_factory) -> dict[str, str]:
 
     (d / "overflow.json").write_text(json.dumps(asdict(replace(table2(), phi_Bl=1e300))))
     f["params_overflow"] = str(d / "overflow.json")
-    with open(d / "huge.toml", "wb") as fh:  # sparse: no disk used
+    with open(d / "huge_sparse.toml", "wb") as fh:  # sparse: no disk used
         fh.truncate(2_000_000)
-    f["huge_sparse"] = str(d / "huge.toml")
+    f["huge_sparse"] = str(d / "huge_sparse.toml")
     toml("unit_list", '[plate]\nthickness_mm = 3\n[mesh]\nfile = "x.msh"\nunit = ["m"]\n')
     toml("tip_far", PLATE + "[points]\ntip_mm = [0, 1e300]\n")
     toml("length_str", '[plate]\nlength_mm = "30"\nwidth_mm = 7.5\nthickness_mm = 3\n')
