@@ -26,6 +26,9 @@ from fem.mesh import boundary_edges
 
 WINDOW_SIZE = (1200, 520)
 """Default image size (pixels, width x height)."""
+DECORATED_BAND = 0.67
+"""Share of the view's half-height, on each side of the long axis, left to the plate and its
+ruler between the title (top) and the colour bar (bottom) of a decorated picture."""
 SCALE_FRACTION = 0.06
 """Default largest displayed displacement as a fraction of the plate length."""
 _MAG = "displacement magnitude / max"
@@ -156,7 +159,15 @@ class _Scene:
         cam.focal_point = centre
         cam.position = (centre[0], 0.0, 10.0 * length)
         cam.up = (0.0, 1.0, 0.0)
-        cam.parallel_scale = 1.08 * max(half_h, half_w / aspect) * (1.25 if decorations else 1)
+        scale = 1.08 * max(half_h, half_w / aspect) * (1.25 if decorations else 1)
+        if decorations:
+            # the title takes about the top quarter of the half-height and the colour bar the
+            # bottom third: the ruler (and its labels) and the deformed plate stay between
+            # them. A plate wider than about 0.4 of its length had the ruler drawn through
+            # the title and the plate over the bar's label; narrower plates are bound by
+            # their length and keep their view.
+            scale = max(scale, above / DECORATED_BAND, half_h / DECORATED_BAND)
+        cam.parallel_scale = scale
         cam.clipping_range = (length, 20.0 * length)
 
     def frame(self, phase_rad: float) -> None:

@@ -196,3 +196,27 @@ def test_exports_skip_rigid_body_modes_and_work_in_3d(tmp_path):
     ends = np.isclose(y, y.min()) | np.isclose(y, y.max())
     assert np.sign(l1[np.isclose(y, y.min()), 1]).mean() == -np.sign(
         l1[np.isclose(y, y.max()), 1]).mean() and ends.any()
+
+
+@pytest.mark.parametrize("width_mm", [12.0, 16.0])
+def test_a_wide_plates_ruler_and_plate_stay_between_title_and_colour_bar(width_mm):
+    """From a width of about 0.4 of the length the mm ruler was drawn through the title and
+    the plate over the colour bar's label. Measured on the default picture: the title ends
+    about a quarter of the half-height below the top, the bar begins a third above the
+    bottom. The ruler's line and the deformed plate at either extreme of its swing must stay
+    inside that band; the default plate keeps its view (bound by its length)."""
+    from fem.render import DECORATED_BAND, SCALE_FRACTION, WINDOW_SIZE, _Scene, _title
+
+    st = PlateStator(width_m=width_mm * 1e-3)
+    model, modes = plate_model(st, "pzt8", 2, 4), plate_modes(st, "pzt8", 2, 4)
+    for mode in (modes.L1, modes.B2):
+        scene = _Scene(model, mode.shape, _title(mode, st), WINDOW_SIZE, SCALE_FRACTION,
+                       True, 1)
+        try:
+            half = scene.plotter.camera.parallel_scale
+            swing = np.abs(scene.pts[0]) + np.abs(scene.disp[0])  # across the width (m)
+            ruler = 0.5 * st.width_m + 1.4 * SCALE_FRACTION * st.length_m
+            assert swing.max() <= DECORATED_BAND * half
+            assert ruler <= DECORATED_BAND * half
+        finally:
+            scene.close()
