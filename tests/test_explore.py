@@ -221,6 +221,64 @@ def test_a_study_file_that_is_not_text_is_named(tmp_path):
         load_study(path)
 
 
+def _fifo_with_a_study(tmp_path):
+    """A FIFO a thread writes a valid study into: read, it loads (as it did before the file
+    type was checked); the writer's open waits for a reader, so the test opens one after."""
+    import threading
+
+    fifo = tmp_path / "s.toml"
+    os.mkfifo(fifo)
+
+    def write():
+        try:
+            with open(fifo, "w") as fh:  # waits for a reader
+                fh.write('outputs = ["f_L1_short"]\n')
+        except BrokenPipeError:  # _release's reader was gone before the write
+            pass
+
+    threading.Thread(target=write, daemon=True).start()
+    return fifo
+
+
+def _release(path):
+    """Let a FIFO's writer thread finish (it waits for a reader), without blocking here."""
+    if path.is_fifo():
+        os.close(os.open(path, os.O_RDONLY | os.O_NONBLOCK))
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo") or not Path("/dev/null").exists(),
+                    reason="needs POSIX devices and FIFOs")
+@pytest.mark.parametrize("kind, words", [
+    # /dev/zero and /dev/urandom were read until memory ran out (24 GB, killed); /dev/null
+    # is the same kind of file without the danger, and read as an empty study it loaded
+    ("device", "/dev/null: is a character device, not a study file; give a regular TOML "
+               "file of at most 1 MB"),
+    ("fifo", "s.toml: is a FIFO (named pipe), not a study file"),  # it waited for ever
+    ("large", "s.toml: 1100000 bytes is above the 1 MB a study file may have"),  # it ran
+])
+def test_a_study_path_that_is_not_a_small_regular_file_is_refused_unread(kind, words,
+                                                                         tmp_path, capsys):
+    from validation.cli import main
+
+    if kind == "device":
+        path = Path("/dev/null")
+    elif kind == "fifo":
+        path = _fifo_with_a_study(tmp_path)
+    else:  # valid TOML (comments), so only its size can refuse it
+        path = tmp_path / "s.toml"
+        path.write_text(("#" * 99 + "\n") * 11_000)  # 1.1 MB of comments
+    try:
+        with pytest.raises(ValueError) as info:
+            load_study(path)
+        assert words in str(info.value) and "\n" not in str(info.value)
+        assert main(["explore", str(path), "--out", str(tmp_path / "r.nc")]) == 2
+    finally:
+        _release(path)
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lusm explore: error: ") and words in err, err
+    assert len(err.splitlines()) == 1 and not list(tmp_path.glob("r.nc*"))
+
+
 @pytest.mark.parametrize("name", ["unknown axis", "unit-less number", "missing output"])
 def test_cli_bad_study_exit_2(name, tmp_path, capsys):
     from validation.cli import main
