@@ -365,6 +365,40 @@ def test_force_keeps_the_old_file(tmp_path):
     assert open_result(out)["f_L1_short"].size == 1
 
 
+@pytest.mark.skipif(not hasattr(signal, "SIGXFSZ"), reason="needs POSIX file size limits")
+def test_a_dataset_the_disk_refuses_is_one_error_and_leaves_no_staging_file(tmp_path):
+    """Under a file size limit (ulimit -f 16) HDF5's own write failed in h5py's close, which
+    h5netcdf's __del__ ran again at exit: a segmentation fault (exit 139) after the error
+    line, a flood of HDF5 tracebacks, and the .X.nc-partial-* staging file left beside the
+    target. A subprocess, since that limit is per process (and the crash took it down)."""
+    import subprocess
+    import sys
+
+    from tests.conftest import ROOT
+
+    code = """
+import resource, sys
+from pathlib import Path
+import numpy as np, xarray as xr
+from validation.explore import write_dataset
+ds = xr.Dataset({"v": ("x", np.arange(20_000.0))}, attrs={"title": "160 kB"})
+resource.setrlimit(resource.RLIMIT_FSIZE, (16384, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
+try:
+    write_dataset(ds, Path(sys.argv[1]))
+except ValueError as exc:  # what the CLI says in one line, with exit code 2
+    print(exc, file=sys.stderr)
+    sys.exit(2)
+"""
+    out = tmp_path / "r.nc"
+    run = subprocess.run([sys.executable, "-c", code, str(out)], cwd=ROOT,
+                         capture_output=True, text=True, timeout=120)
+    err = run.stderr.strip()
+    assert run.returncode == 2, (run.returncode, err[-2000:])
+    assert err.startswith(f"--out {out}: cannot write the dataset (File too large"), err
+    assert len(err.splitlines()) == 1, err
+    assert not list(tmp_path.iterdir())  # no staging file, no dataset
+
+
 def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
     import validation.explore as ex
 

@@ -641,13 +641,42 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
 
     A file already at ``out`` is refused unless ``force``; with ``force`` it is kept as
     ``out.bak-N``, never deleted.
+
+    HDF5 builds the file in memory (``to_netcdf()`` without a path gives its bytes) and this
+    process writes those bytes to the staging file: a disk that refuses them (full, or a file
+    size limit) is then an ``OSError`` of an ordinary write. Written by HDF5 itself, such a
+    failure broke h5py's close half way; h5netcdf's ``__del__`` closed the file again at exit
+    and the process died of a segmentation fault (exit 139, after the error line), with a
+    flood of HDF5 tracebacks and the staging file left beside the target. The bytes are as
+    large as the file (a study at the work bounds writes some tens of MB).
+
+    Raises
+    ------
+    ValueError
+        If ``out`` is refused (:func:`check_out`) or the dataset cannot be written there:
+        one line naming ``--out`` and the system's reason; no staging file is left.
     """
+    import dask
+
     out = Path(out)
     check_out(out, force)
+    # memory only: nothing of HDF5 touches the disk. xarray locks the target on the active
+    # dask scheduler; with a distributed Client alive in this process that is a
+    # distributed.Lock named by the in-memory buffer, which the scheduler refused ("Semaphore
+    # or Lock <_io.BytesIO ...> not known"). The dataset is NumPy, not dask: no scheduler runs
+    with dask.config.set(scheduler="synchronous"):
+        data = ds.to_netcdf(engine="h5netcdf")
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_name(f".{out.name}-partial-{uuid.uuid4().hex[:12]}")
     try:
-        ds.to_netcdf(tmp, engine="h5netcdf")
+        try:
+            with open(tmp, "xb") as fh:  # closed (and its error raised) before the unlink
+                fh.write(data)
+                fh.flush()
+                os.fsync(fh.fileno())
+        except OSError as exc:
+            raise ValueError(f"--out {out}: cannot write the dataset "
+                             f"({exc.strerror or exc}; {len(data)} bytes)") from None
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
         if out.exists():
             os.replace(out, backup_name(out))
