@@ -526,6 +526,65 @@ def test_a_studys_contact_solves_are_bounded_in_all():
     assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
 
 
+def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
+    """100 voltages x 100 preloads of 2 s event runs (2e11 time steps, hours) were taken where
+    lusm map --method transient refuses 4e8; a steady study was allowed 1e6 contact solves
+    whatever each cost, where the steady map allows 5e5 solves x steps per drive period."""
+    from validation.study import STEADY_MIN_STEPS_PER_PERIOD
+
+    axes = {"voltage": {"start": "1 V", "stop": "100 V", "num": 100},
+            "preload": {"start": "1 N", "stop": "100 N", "num": 100}}
+    big = {"outputs": ["no_load_velocity"], "axes": axes,
+           "solver": {"method": "event", "duration": "2 s"}}
+    with pytest.raises(ValueError) as info:
+        study_from_dict(big)
+    assert str(info.value) == (
+        "axes: 1 geometry x 10000 drive points x at least 2e+07 steps each (solver.duration / "
+        "solver.dt) = 2e+11 time steps, above the limit 4e+08; use fewer geometries or "
+        "axes.voltage/axes.preload points, a shorter solver.duration or larger solver.dt, or "
+        "set LUSM_MAX_WORK=N to allow N times more")
+    # the steady engine: 1 + 21 solves per drive point (the state from rest, the 21-load
+    # characteristic; one more per load other than 0 N), at least 25 steps per period each
+    steady = {"outputs": ["no_load_velocity"], "axes": {
+        **axes, "preload": {"start": "1 N", "stop": "50 N", "num": 50}, "load": ["0 N", "1 N"]}}
+    with pytest.raises(ValueError, match=r"^axes: 1 geometry x 5000 drive points x 23 steady "
+                                         r"solves x at least 25 steps per drive period = "
+                                         r"2\.88e\+06, above the steady limit 5e\+05; "):
+        study_from_dict(steady)
+    # the same count as lusm map's; LUSM_MAX_WORK raises it as every work bound
+    monkeypatch.setenv("LUSM_MAX_WORK", "500")
+    assert study_from_dict(big).n_drive_points == 10_000
+    assert study_from_dict(steady).n_drive_points == 10_000
+    from contact.periodic_orbit import STEPS_PER_PERIOD
+
+    assert STEADY_MIN_STEPS_PER_PERIOD == STEPS_PER_PERIOD  # written out, not imported
+
+
+def test_a_plates_steady_work_is_bounded_before_its_drive_points(monkeypatch):
+    """A steady point's steps per drive period depend on the plate's FE set (416 at 1 kHz on
+    this plate, against 25 at 40 kHz): the study's reading counts 25, each plate its own
+    before its drive points, as the steady map does before its points."""
+    import validation.explore as ex
+
+    def no_contact(*args, **kwargs):
+        raise AssertionError("a drive point ran")
+
+    monkeypatch.setattr(ex, "motor_answers", no_contact)
+    s = study_from_dict({"outputs": ["no_load_velocity"], "solver": {"fe_refine": 1},
+                         "axes": {"length": ["28 mm", "30 mm"], "frequency": "1 kHz",
+                                  "voltage": {"start": "100 V", "stop": "490 V",
+                                              "num": 40}}})
+    part = compute_geometry(s, 0)
+    status = str(part["status"])
+    assert status.startswith("40 drive point(s) failed: axes: 2 geometries x 40 drive points "
+                             "x 22 steady solves x "), status
+    assert "steps per drive period (this plate's, at axes.frequency 1 kHz) = " in status
+    assert status.endswith("above the steady limit 5e+05; use fewer geometries or "
+                           "axes.voltage/axes.preload points, a higher axes.frequency, or set "
+                           "LUSM_MAX_WORK=N to allow N times more"), status
+    assert (part["motion_class"] == "failed").all()
+
+
 def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
     # a 30 x 1 mm plate at fe_refine 48 (69 120 elements) ran for minutes at 2.8 GB; lusm modes
     # refuses the same plate at once

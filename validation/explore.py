@@ -327,10 +327,14 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         return out
     freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
     failures, unsettled = [], []
+    # what the single-point commands refuse before they run, said in the study's keys
+    # (it was the library's 'duration_s ... 9.999999999999999e-06', once per point)
+    reasons = [_drive_problem(study, params, f) for f in freqs]
+    # the work of the plate's runs, known only now: refused before any of them
+    work = _plate_work_problem(study, params, [f for f, r in zip(freqs, reasons, strict=True)
+                                               if r is None])
     for k, f in enumerate(freqs):
-        # what the single-point commands refuse before they run, said in the study's keys
-        # (it was the library's 'duration_s ... 9.999999999999999e-06', once per point)
-        reason = _drive_problem(study, params, f)
+        reason = reasons[k] or work
         for i, v in enumerate(study.axes["voltage"]):
             for j, p in enumerate(study.axes["preload"]):
                 at = (i, j) if study.auto_frequency else (k, i, j)
@@ -350,9 +354,11 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
                 if not ans.get("settled", True):
                     unsettled.append(f"{v:g} V, {p:g} N, {f:.6g} Hz")
     if failures:
-        same = len(set(failures)) == 1  # one reason for all (the plate's, _drive_problem)
+        # one reason for all (the plate's: _drive_problem, _plate_work_problem), whole: the
+        # work reason with its remedies is some 280 characters
+        same = len(set(failures)) == 1
         out["status"] = np.array(f"{len(failures)} drive point(s) failed"
-                                 f"{': ' if same else '; first: '}{failures[0]}"[:300])
+                                 f"{': ' if same else '; first: '}{failures[0]}"[:400])
     elif unsettled:  # a transient's velocity where it stopped, not the steady one
         out["status"] = np.array(
             f"{len(unsettled)} drive point(s) not settled within solver.duration "
@@ -383,6 +389,40 @@ def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
                 f"above {MAX_STEPS_PER_PERIOD}; give a higher axes.frequency or a transient "
                 "solver.method")
     return None
+
+
+def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
+    """Why this plate's drive points at ``freqs`` (Hz) are more contact work than the study
+    may have, or None: the study's bound (:func:`validation.study.contact_work_problem`) with
+    every geometry taken as costly as this one. What the study's reading could not know: the
+    steady engine's steps per drive period on this plate's FE set
+    (:func:`contact.steady.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
+    plate at fe_refine 1), and a transient's default step at an auto frequency."""
+    from validation.study import contact_work_problem, show, steady_solves
+
+    if not freqs:
+        return None
+    s = study.solver
+    per_f = len(study.axes["voltage"]) * len(study.axes["preload"])  # runs per frequency
+    if s.method == "steady":
+        from contact.model import default_coupling
+        from contact.steady import steps_per_period
+
+        coupling = default_coupling(params)[0]
+        n = [steps_per_period(params, f, coupling) for f in freqs]
+        k = steady_solves(study)
+        slow = freqs[int(np.argmax(n))]
+        at = (f"the auto drive frequency {show(slow, 'frequency')}" if study.auto_frequency
+              else f"axes.frequency {show(slow, 'frequency')}")
+        detail = (f"{per_f * len(freqs)} drive points x {k} steady solves x "
+                  + (f"{n[0]} steps per drive period (this plate's, at {at})" if len(n) == 1
+                     else f"{sum(n) / len(n):.4g} steps per drive period (this plate's mean; "
+                     f"{max(n)} at {at})"))
+        return contact_work_problem(study, per_f * k * sum(n), detail)
+    steps = [s.duration_s / s.step_s(f) for f in freqs]
+    detail = (f"{per_f * len(freqs)} drive points x {sum(steps) / len(steps):.3g} steps each "
+              "(this plate's)")
+    return contact_work_problem(study, per_f * sum(steps), detail)
 
 
 def _empty_outputs(study: Study) -> dict[str, np.ndarray]:

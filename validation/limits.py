@@ -58,14 +58,17 @@ MAX_STEPS = 20_000_000
 MAX_WINDOW_STEPS = 2_000_000
 """Steps stored at full resolution (the last periods, 10 doubles each: 160 MB)."""
 MAX_MAP_STEPS = 400_000_000
-"""Time steps of a whole stick-slip map (points x steps; the default map takes 4e7)."""
+"""Time steps of a whole stick-slip map (points x steps; the default map takes 4e7), and of
+a transient ``lusm explore`` study (geometries x drive points x steps)."""
 MAX_STEADY_POINTS = 10_000
 """Points of a steady-engine map (``lusm map --method steady``; up to ~0.5 s each, the
 default 9 x 9 map has 81)."""
 MAX_STEADY_WORK = 500_000
 """Steady solves x steps per drive period of one command (a steady map's points, a
-characteristic's loads x voltages): a point costs in proportion to its steps per period (25 at
-40 kHz, 10 000 points allowed; 14 923 at 20 Hz, where a point takes 1.5 s: 33 allowed)."""
+characteristic's loads x voltages, a steady ``lusm explore`` study's geometries x drive points
+x their solves, :func:`validation.study.steady_solves`): a point costs in proportion to its
+steps per period (25 at 40 kHz, 10 000 points allowed; 14 923 at 20 Hz, where a point takes
+1.5 s: 33 allowed)."""
 MAX_GRID_POINTS = 2000
 """Points of a ``start:stop:step`` grid (``--voltages``, ``--preloads``, sweep ranges)."""
 MAX_SWEEP_POINTS = 200

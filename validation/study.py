@@ -117,6 +117,15 @@ MAX_STUDY_POINTS = 1_000_000
 each is a contact solve (steady: milliseconds to ~0.5 s; transient: seconds), so the two
 bounds above together allowed 1e9 of them."""
 
+CURVE_LOADS = 21
+"""Loads of the characteristic a steady drive point runs (:func:`contact.characteristic.
+characteristic`'s default), for its stall force and peak efficiency."""
+STEADY_MIN_STEPS_PER_PERIOD = 25
+"""The fewest steps per drive period the steady engine takes on any set
+(``contact.periodic_orbit.STEPS_PER_PERIOD``, written out so that reading a study imports no
+kernel module): a study's steady work is at least its solves times this, before any plate's
+own figure (:func:`contact.steady.steps_per_period`) is known."""
+
 _QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z]+)\s*$")
 
 
@@ -495,6 +504,79 @@ def _largest_mesh(study: Study) -> tuple[int, float, float]:
     return best
 
 
+def drive_triples(study: Study) -> int:
+    """(frequency, voltage, preload) triples of one geometry: its contact runs. The loads do
+    not multiply them: a transient's run answers the no-load point, and a steady triple's
+    loads are counted in :func:`steady_solves`."""
+    return study.n_drive_points // len(study.axes["load"])
+
+
+def steady_solves(study: Study) -> int:
+    """Steady solves of one drive triple, counted as ``lusm characteristic`` counts them (one
+    per load of a characteristic): the steady state from rest, the :data:`CURVE_LOADS`-load
+    characteristic, and one for each of the study's loads other than 0 N (a second
+    characteristic; a load that happens to fall on the first curve costs nothing)."""
+    return 1 + CURVE_LOADS + sum(1 for f in study.axes["load"] if f != 0.0)
+
+
+def contact_work_problem(study: Study, plate_work: float, detail: str) -> str | None:
+    """Why the contact work of a study is above its bound, in the study's keys, or None.
+
+    ``plate_work`` is one plate's work: time steps of all its transient runs, or, with the
+    steady method, its steady solves times their steps per drive period. The study is taken
+    as :attr:`Study.n_geometries` plates like it and held to the bound of the same work in
+    ``lusm map`` (:data:`validation.limits.MAX_MAP_STEPS`, :data:`~validation.limits.
+    MAX_STEADY_WORK`). ``detail`` says how ``plate_work`` was counted.
+    """
+    total = study.n_geometries * plate_work
+    steady = study.solver.method == "steady"
+    top = limits.work_bound(limits.MAX_STEADY_WORK if steady else limits.MAX_MAP_STEPS)
+    if total <= top:
+        return None
+    g = study.n_geometries
+    fix = (("a higher axes.frequency, " if not study.auto_frequency else "") if steady
+           else "a shorter solver.duration or larger solver.dt, ")
+    # one line short enough for a geometry's status (300 characters) with its prefix
+    return (f"axes: {g} geometr{'y' if g == 1 else 'ies'} x {detail} = {total:.3g}"
+            f"{'' if steady else ' time steps'}, above the {'steady ' if steady else ''}limit "
+            f"{top:.3g}; use fewer geometries or axes.voltage/axes.preload points, {fix}or "
+            f"{limits.more_work_hint()}")
+
+
+def _check_contact_work(study: Study, where: str) -> None:
+    """Refuse, before any FE solve, a study whose contact runs together are above the bound
+    ``lusm map`` has for the same work: a 100 x 100 voltage x preload study of 2 s event
+    runs (2e11 time steps, hours) was taken where ``lusm map --method transient`` refuses
+    4e8. Transient steps are known here except for an auto frequency without solver.dt
+    (counted at the default step's upper end, 100 ns: at least as many); a steady solve's
+    steps per drive period depend on the plate's FE set, so they are counted at the fewest
+    the engine takes (:data:`STEADY_MIN_STEPS_PER_PERIOD`), and each plate's own figure is
+    checked in its task, before its drive points (``validation.explore``)."""
+    s = study.solver
+    n = len(study.axes["voltage"]) * len(study.axes["preload"])
+    if s.method == "steady":
+        k = steady_solves(study)
+        detail = (f"{drive_triples(study)} drive points x {k} steady solves x at least "
+                  f"{STEADY_MIN_STEPS_PER_PERIOD} steps per drive period")
+        work = drive_triples(study) * k * STEADY_MIN_STEPS_PER_PERIOD
+    elif study.auto_frequency:
+        from validation.options import DEFAULT_DT_S
+
+        steps = s.duration_s / (s.dt_s if s.dt_s is not None else DEFAULT_DT_S)
+        least = "" if s.dt_s is not None else "at least "
+        detail = (f"{n} drive points x {least}{steps:.3g} steps each (solver.duration / "
+                  "solver.dt)")
+        work = n * steps
+    else:
+        steps = [s.duration_s / s.step_s(f) for f in study.axes["frequency"]]
+        detail = (f"{n} drive points x {sum(steps):.3g} steps over axes.frequency "
+                  "(solver.duration / solver.dt)")
+        work = n * sum(steps)
+    reason = contact_work_problem(study, work, detail)
+    if reason is not None:
+        raise ValueError(f"{where}{reason}")
+
+
 def _check_work(study: Study, where: str) -> None:
     top = limits.work_bound(MAX_GEOMETRIES)
     if study.n_geometries > top:
@@ -521,7 +603,9 @@ def _check_work(study: Study, where: str) -> None:
                          f"above the limit {top} ({limits.more_work_hint()})")
     # the steady engine takes its own step: solver.duration and solver.dt are not used
     if study.needs_motor and study.solver.method != "steady":
-        _check_transient(study, where)
+        _check_transient(study, where)  # each run first: its message is the more precise
+    if study.needs_motor:
+        _check_contact_work(study, where)
 
 
 def show(value: float, kind: str) -> str:
