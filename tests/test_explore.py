@@ -399,6 +399,22 @@ except ValueError as exc:  # what the CLI says in one line, with exit code 2
     assert not list(tmp_path.iterdir())  # no staging file, no dataset
 
 
+@pytest.mark.skipif(os.name != "posix", reason="needs file names of arbitrary bytes")
+def test_a_study_path_that_is_not_utf8_is_stored_readably(tmp_path):
+    """A study at b'st\\xfe.toml' computed every geometry, then the dataset's write failed
+    on its path in study_source (and on the name it gives, in title): "'utf-8' codec can't
+    encode character '\\udcfe'"; --resume failed the same way (one assemble for both)."""
+    path = Path(os.fsdecode(bytes(tmp_path) + b"/st\xfe.toml"))
+    path.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
+    s = load_study(path)
+    out = tmp_path / "r.nc"
+    write_dataset(assemble(s, {0: compute_geometry(s, 0)}), out)
+    attrs = open_result(out).attrs
+    assert attrs["study_source"] == os.fsdecode(tmp_path) + "/st\\xfe.toml"
+    assert attrs["title"] == "lusm explore: st\\xfe"
+    assert os.fsencode(attrs["study_source"].replace("\\xfe", "\udcfe")) == bytes(path)
+
+
 def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
     import validation.explore as ex
 

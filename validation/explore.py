@@ -667,7 +667,22 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         for k in ("motor_solver", "frequency_rule", "coupling", "friction"):
             del attrs[k]
         attrs["parameter_set_source"] = "none: FE outputs only"
+    # the study's path (and the name it gives by default) may hold bytes that are not UTF-8
+    attrs = {k: storable_text(v) for k, v in attrs.items()}
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def storable_text(text: str) -> str:
+    """``text`` as a netCDF attribute can hold it (UTF-8): a file name's bytes that are not
+    UTF-8, which Python keeps as lone surrogates (``'st\\udcfe.toml'``), written as
+    ``\\xNN`` (``'st\\xfe.toml'``), so the path stays readable and exact. The write failed
+    on them with "'utf-8' codec can't encode character '\\udcfe'" after every geometry of the
+    study had been computed (and again under --resume)."""
+    try:
+        raw = os.fsencode(text)  # a path's undecodable bytes back as they were
+    except UnicodeEncodeError:  # a lone surrogate no file name decodes to
+        raw = text.encode("utf-8", "backslashreplace")
+    return raw.decode("utf-8", "backslashreplace")
 
 
 _AXIS_NAMES = {"length": "plate length", "width": "plate width",
