@@ -640,15 +640,25 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
 @pytest.mark.parametrize("argv, words", [
     (["explore", "", "--out", "x.nc"], "STUDY.toml must name a study file, got ''"),
     (["explore", "{study}", "--out", ""], "--out must name a netCDF file (.nc), got ''"),
+    # '' was "no scheduler": the study ran on a LocalCluster, and with --workers it passed
+    # the check that forbids --workers with a scheduler
+    (["explore", "{study}", "--out", "{tmp}/r.nc", "--scheduler", ""],
+     "--scheduler must name a dask scheduler address (tcp://HOST:8786), got ''"),
+    (["explore", "{study}", "--out", "{tmp}/r.nc", "--scheduler", "", "--workers", "1"],
+     "--scheduler must name a dask scheduler address (tcp://HOST:8786), got ''"),
+    (["explore", "{study}", "--out", "{tmp}/r.nc", "--scheduler-file", ""],
+     "--scheduler-file must name a dask scheduler file, got ''"),
 ])
 def test_explore_names_an_empty_argument(argv, words, tmp_path, capsys):
     from validation.cli import main
 
     study = tmp_path / "s.toml"
-    study.write_text('outputs = ["f_L1_short"]\n')
-    assert main([a.replace("{study}", str(study)) for a in argv]) == 2
+    study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
+    argv = [a.replace("{study}", str(study)).replace("{tmp}", str(tmp_path)) for a in argv]
+    assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and len(err.splitlines()) == 1
+    assert not list(tmp_path.glob("r.nc*"))
 
 
 def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):

@@ -859,6 +859,9 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
     """
     from distributed import Client
 
+    for option, value in (("--scheduler", scheduler), ("--scheduler-file", scheduler_file)):
+        if value is not None and not str(value).strip():  # not "no scheduler": a mistake
+            raise ValueError(f"{option} must name a dask scheduler, got {value!r}")
     if scheduler and scheduler_file:
         raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
     if scheduler_file and not Path(scheduler_file).is_file():
