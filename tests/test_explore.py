@@ -415,6 +415,28 @@ def test_a_study_path_that_is_not_utf8_is_stored_readably(tmp_path):
     assert os.fsencode(attrs["study_source"].replace("\\xfe", "\udcfe")) == bytes(path)
 
 
+def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, capsys):
+    """--out naming a link to nowhere passed check_out (exists() follows the link) and the
+    dataset was renamed over the link, silently; lusm modes --export refuses it."""
+    from validation.cli import main
+    from validation.explore import check_out
+
+    out = tmp_path / "d.nc"
+    out.symlink_to("nowhere.nc")
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
+    assert main(["explore", str(study), "--out", str(out), "--workers", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == (f"lusm explore: error: --out {out} exists, a symbolic link to nowhere.nc, "
+                   "which does not exist; choose a new name or pass --force (the link is kept "
+                   "as a .bak file)"), err
+    assert os.readlink(out) == "nowhere.nc" and not parts_folder(out).exists()
+    check_out(out, force=True)  # --force takes it, and keeps the link aside
+    write_dataset(xr.Dataset({"v": ("x", np.arange(3.0))}), out, force=True)
+    assert os.readlink(tmp_path / "d.nc.bak-1") == "nowhere.nc"
+    assert not out.is_symlink() and open_result(out)["v"].size == 3
+
+
 def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
     import validation.explore as ex
 

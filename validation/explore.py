@@ -733,7 +733,7 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
             raise ValueError(f"--out {out}: cannot write the dataset "
                              f"({exc.strerror or exc}; {len(data)} bytes)") from None
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
-        if out.exists():
+        if out.exists() or out.is_symlink():  # a link (dangling or not) itself, not its file
             os.replace(out, backup_name(out))
         os.replace(tmp, out)
     finally:
@@ -753,6 +753,11 @@ def check_out(out: Path, force: bool) -> None:
     if out.exists() and not force:
         raise ValueError(f"--out {out} exists; choose a new name or pass --force (the old "
                          "file is kept as a .bak file)")
+    if out.is_symlink() and not out.exists() and not force:
+        # a link to nowhere is the user's too: the dataset was renamed over it, silently
+        raise ValueError(f"--out {out} exists, a symbolic link to {os.readlink(out)}, which "
+                         "does not exist; choose a new name or pass --force (the link is kept "
+                         "as a .bak file)")
     existing = next((p for p in [out.parent, *out.parent.parents] if p.exists()), Path.cwd())
     if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
         raise ValueError(f"--out {out}: {existing} is not a writable folder")
