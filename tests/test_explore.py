@@ -1254,3 +1254,13 @@ def test_a_study_can_take_the_constant_dynamic_friction():
     text = in_study_terms("damp L1 more, or set ultrasonic_friction = False for a constant mu_d")
     assert text.endswith("set ultrasonic_friction = false in the study's [solver] for a "
                          "constant mu_d")
+
+
+def test_a_one_plate_study_says_one_geometry(tmp_path, capsys):
+    # "study 's': 1 geometries (FE outputs only)"
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
+    assert main(["explore", str(path), "--out", str(tmp_path / "a.nc"), "--workers", "1"]) == 0
+    assert "study 's': 1 geometry (FE outputs only); " in capsys.readouterr().out

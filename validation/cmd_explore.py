@@ -142,9 +142,13 @@ def run(args: argparse.Namespace) -> None:
     if args.json:
         print_json(summary, indent=2)
         return
-    drive = (f" x {result.drive_points} drive points" if study.needs_motor
-             else " (FE outputs only)")
-    print(f"study {study.name!r}: {result.geometries} geometries{drive}; {result.computed} "
+    def plural(n: int, word: str, many: str) -> str:
+        return f"{n} {word if n == 1 else many}"
+
+    drive = (f" x {plural(result.drive_points, 'drive point', 'drive points')}"
+             if study.needs_motor else " (FE outputs only)")
+    print(f"study {study.name!r}: {plural(result.geometries, 'geometry', 'geometries')}"
+          f"{drive}; {result.computed} "
           f"computed on {result.workers} worker{'' if result.workers == 1 else 's'}, "
           f"{result.reused} from an earlier run; {result.wall_time_s:.3g} s")
     print(f"wrote {result.path}")
