@@ -82,6 +82,7 @@ def run(args: argparse.Namespace) -> None:
         moved,
         output_folder,
         stator_from_args,
+        warn_holes,
         warn_refine_unused,
     )
     from validation.ranges import parse_range
@@ -117,6 +118,7 @@ def run(args: argparse.Namespace) -> None:
                             "rescale; sweep a stator file without [mesh]", "--geometry")
         base, material = design.stator, design.material
         warn_refine_unused(StatorChoice(base, material, design), args.geometry)
+        warn_holes(base, f"--geometry {args.geometry}")
     else:
         from fem.geometry import PlateStator
 

@@ -98,6 +98,7 @@ TABLES: tuple[Table, ...] = (
     Table("fe3d_convergence", ("benchmarks/fem3d_convergence.py",)),
     Table("fe_2d_vs_3d_plate", ("benchmarks/fem_2d_vs_3d.py", "--part", "plate")),
     Table("fe_2d_vs_3d_stators", ("benchmarks/fem_2d_vs_3d.py", "--part", "stators")),
+    Table("fe_holes_2d_3d", ("benchmarks/fem_holes_2d_3d.py",)),
     Table("steady_work_precision", ("benchmarks/steady_work_precision.py",)),
     Table("fe_peer_sfepy", ("benchmarks/fem_peer_sfepy.py",), fence=True),
     Table("fe_fidelity_graded", ("benchmarks/fem_fidelity.py", "--gaps-mm", "0.5",
