@@ -101,3 +101,31 @@ def test_the_3d_column_names_the_call_that_reproduces_it():
     with pytest.raises(LusmError):
         check_fe_size(chamfered, 3, 3)
     assert _command_3d(chamfered, 3).startswith("LUSM_MAX_WORK=2 lusm modes --model 3d")
+
+
+def test_the_mode_pictures_are_drawn_with_the_signals_held(monkeypatch, tmp_path):
+    """A SIGTERM landing in VTK's rendering crashed the design report (exit 139, 2 of about
+    90 tries) and left its staging folder: the pictures (about a second) are drawn with
+    SIGINT and SIGTERM held, delivered once they are done."""
+    import signal
+
+    import fem.render
+    from contact import deferred_signals
+    from fem.geometry import PlateStator
+    from fem.material import get_material
+    from validation.options import StatorChoice
+    from validation.report_design import _modes_section
+
+    class Drawn(Exception):
+        pass
+
+    def draw(*args, **kwargs):
+        held = signal.getsignal(signal.SIGTERM) is deferred_signals._record
+        raise Drawn(held)
+
+    monkeypatch.setattr(fem.render, "render_modes", draw)
+    with pytest.raises(Drawn) as info:
+        _modes_section(StatorChoice(PlateStator(), get_material("pzt8")), tmp_path, True,
+                       lambda text: None)
+    assert info.value.args == (True,)
+    assert signal.getsignal(signal.SIGTERM) is not deferred_signals._record  # released

@@ -51,11 +51,14 @@ def _modes_section(choice, out: Path, quick: bool, say):
     refine3 = max(DEFAULT_REFINE_3D - (1 if quick else 0), 1)
     m3 = solid_modes(st, mat, 2, refine3, DEFAULT_LAYERS)
     say("3D modes")
+    from contact.deferred_signals import deferred_signals
     from validation.interrupts import import_held
 
     import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
-    pictures = render_modes(plate_model(st, mat, 2, DEFAULT_REFINE), m2, out / "figures",
-                            prefix="design_")
+    model = plate_model(st, mat, 2, DEFAULT_REFINE)
+    with deferred_signals():  # about a second; a SIGTERM inside VTK's rendering crashed the
+        # report (exit 139, 2 of about 90 tries) and left its staging folder
+        pictures = render_modes(model, m2, out / "figures", prefix="design_")
     say("mode pictures")
     rows, data = [], {"2d": {}, "3d": {}}
     for name in ("L1", "B2"):
