@@ -123,6 +123,9 @@ def files(tmp_path_factory) -> dict[str, str]:
         f[name] = str(d / f"{name}.toml")
 
     toml("plate", PLATE)
+    for size in ("07", "085"):
+        toml(f"hole_mesh_{size}", PLATE + f"[mesh]\nsize_mm = {size[0]}.{size[1:]}\n"
+             "[[holes]]\ncenter_mm = [0, 15]\ndiameter_mm = 1\n")
     f["chamfered_example"] = str(ROOT / "examples" / "chamfered" / "stator.toml")
     import json
     from dataclasses import asdict, replace
@@ -470,6 +473,14 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-3d-file-mesh-too-many-bricks", ["modes", "--model", "3d", "--geometry",
                                             "{chamfered_example}"],
      ["--geometry", "2988 3D bricks", "lower --layers (3) or use a coarser mesh file"]),
+    # tune has no --layers and does not refine a gmsh-meshed stator: its remedies named both
+    ("tune-3d-file-mesh-too-many-bricks", ["tune", "--geometry", "{hole_mesh_07}", "--fix",
+                                           "length", "--model", "3d"],
+     ["--geometry: the stator's mesh needs 2670 3D bricks here, above the limit 2000; "
+      "coarsen its [mesh] size_mm"]),
+    ("tune-3d-file-mesh-too-much-work", ["tune", "--geometry", "{hole_mesh_085}", "--fix",
+                                         "length", "--model", "3d"],
+     ["--geometry: 15 FE solves of about 1734 3D bricks", "coarsen its [mesh] size_mm or"]),
     ("explore-workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"],
      ["--workers"]),
 ]

@@ -153,7 +153,7 @@ def run(args: argparse.Namespace) -> None:
                         f"of --geometry {args.geometry} ({feature_reason(exc)}); the sweep "
                         "keeps the tip, chamfers and holes as given: sweep a range whose "
                         "plates keep them", option) from None
-    check_fe_work(max(cells), values_mm.size, False, "--refine")
+    check_fe_work(max(cells), values_mm.size, False, "--refine", base)
 
     from fem.sweep import sweep_dimension
     from validation.cmd_modes import fe_failure, is_fe_failure

@@ -95,11 +95,11 @@ def run(args: argparse.Namespace) -> None:
                         "length), or a stator file without [mesh]", "--geometry")
     if args.model == "3d":
         check_refine_3d(args.refine)
-        cells = check_fe_size(choice.stator, args.refine or 3, 3)
+        cells = check_fe_size(choice.stator, args.refine or 3, 3, layers_option=False)
     else:
         cells = check_fe_size(choice.stator, args.refine)
     # a tuning solves the plate many times over: counted before it starts
-    check_fe_work(cells, limits.TUNE_SOLVES, args.model == "3d", "--refine")
+    check_fe_work(cells, limits.TUNE_SOLVES, args.model == "3d", "--refine", choice.stator)
 
     from fem.modes import ModeSolverError
     from fem.tuning import bar_length_m, tune_plate
@@ -154,7 +154,10 @@ def run(args: argparse.Namespace) -> None:
         raise
     _check_tuned_plate(d, args.target_frequency)
     if args.model == "2d":
-        from validation.options import warn, warn_thin_plate
+        from validation.options import warn, warn_holes, warn_thin_plate
+
+        # the tuned plate's holes, as modes warns of them: 2D tunes them softer than 3D
+        warn_holes(d.stator, "the tuned plate")
 
         validity = stator_gap_validity_message(d.stator)
         if validity is not None:

@@ -460,16 +460,25 @@ def check_steady_work(solves: int, params, frequency_Hz: float, coupling: str,
             f"{limits.more_work_hint()})", option)
 
 
-def check_fe_work(cells: int, solves: int, three_d: bool, option: str) -> None:
+def check_fe_work(cells: int, solves: int, three_d: bool, option: str,
+                  stator=None) -> None:
     """Refuse a command whose FE solves together exceed the work bound: ``solves`` meshes of
     ``cells`` elements (or bricks) on average. Each mesh is also bounded alone
-    (:func:`check_fe_size`); a sweep or a tuning multiplies it."""
+    (:func:`check_fe_size`); a sweep or a tuning multiplies it. A parametric ``stator`` is
+    meshed by gmsh at its ``[mesh] size_mm``, which ``--refine`` does not change: the
+    message then names --geometry and that key (it said "lower --refine" beside the
+    warning that --refine has no effect)."""
+    from fem.parametric import ParametricStator
+
     top = limits.work_bound(limits.MAX_FE_WORK_3D if three_d else limits.MAX_FE_WORK_2D)
     if cells * solves > top:
         what = "3D bricks" if three_d else "elements"
+        fix = f"lower {option}"
+        if isinstance(stator, ParametricStator):
+            option, fix = "--geometry", "coarsen its [mesh] size_mm"
         raise LusmError(
             f"{option}: {solves} FE solves of about {cells} {what} each ({cells * solves}) is "
-            f"above the limit {top} for one command; lower {option} or solve fewer plates "
+            f"above the limit {top} for one command; {fix} or solve fewer plates "
             f"({limits.more_work_hint()})", option)
 
 
@@ -506,14 +515,16 @@ def fe_cell_count(stator, refine: int | None, layers: int | None = None,
 
 
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
-                  option: str = "--refine", edge_grading: int = 0, quarter: bool = False) -> int:
+                  option: str = "--refine", edge_grading: int = 0, quarter: bool = False,
+                  layers_option: bool = True) -> int:
     """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
 
     The count is exact for the generated plate (``fem.mesh.grid_lines_m``, and
     ``fem.solid3d.hex_grid_lines`` for a 3D mesh graded ``edge_grading`` times, or
     ``fem.solid3d_symmetric.quarter_grid_lines`` with ``quarter``, the quarter-plate model)
     and is the file's for a stator with its own mesh (bounded when it is read). ``layers``
-    selects the 3D count.
+    selects the 3D count; ``layers_option``: whether the command has ``--layers`` to name
+    (``tune --model 3d`` takes three layers and has none).
     """
     from fem.meshed_stator import planform_mesh
 
@@ -528,9 +539,11 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
 
         fix = ("coarsen its [mesh] size_mm" if isinstance(stator, ParametricStator)
                else "use a coarser mesh file")
-        if layers is not None:  # the 3D layers are the command's: fewer fit (typed or not)
-            given = [o for o in ("--edge-grading",) if typed(o)] + [f"--layers ({layers})"]
-            fix = f"lower {' or '.join(given)} or {fix}"
+        if layers is not None:  # the 3D layers: fewer fit, where the command has --layers
+            given = [o for o in ("--edge-grading",) if typed(o)]
+            if layers_option:
+                given.append(f"--layers ({layers})")
+            fix = f"lower {' or '.join(given)} or {fix}" if given else fix
         raise LusmError(f"--geometry: the stator's mesh needs {n} {what} here, above the limit "
                         f"{top}; {fix} ({limits.more_work_hint()})", "--geometry")
     if n > top:
