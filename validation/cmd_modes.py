@@ -97,7 +97,9 @@ def is_fe_failure(exc: BaseException) -> bool:
 def fe_failure(exc: Exception) -> ValueError:
     """A mode-solver or sparse-solver failure on an extreme plate, as bad input."""
     reason = short_reason(exc)
-    if "could not identify" in reason:  # a mode-shape test, which no --refine changes
+    # mode-shape tests, which no --refine changes (pairing an off-centre hole's open-circuit
+    # L1 with its short-circuit shape failed as "check ... and --refine")
+    if "could not identify" in reason or "could not pair" in reason:
         return ValueError(
             f"L1 and B2 were not found for this stator ({reason}): they are identified as the "
             "free-free beam modes of Eq. 3, which a plate wider than about half its length "
