@@ -129,3 +129,27 @@ def test_the_mode_pictures_are_drawn_with_the_signals_held(monkeypatch, tmp_path
                        lambda text: None)
     assert info.value.args == (True,)
     assert signal.getsignal(signal.SIGTERM) is not deferred_signals._record  # released
+
+
+def test_the_admittance_command_the_report_names_gives_its_numbers(design_report, capsys):
+    """The report named `lusm admittance ... --f-min 50774 --f-max 74098` but used 801 points
+    and the unrounded band: the command's f_s and f_p differed in the 8th digit. It names
+    the points and the band as it used them, and that command gives the report's pairs."""
+    import re
+
+    from validation.cli import main
+
+    out, doc = design_report
+    md = (out / "index.md").read_text()
+    m = re.search(r"lusm admittance --geometry \.\.\. (--f-min \S+ --f-max \S+ --points \d+)",
+                  md)
+    assert m is not None
+    assert main(["admittance", "--geometry", str(TIP), *m.group(1).split(), "--json",
+                 "--out", str(out.parent / "adm")]) == 0
+    cmd = json.loads(capsys.readouterr().out)
+    report_pairs = doc["admittance"]["pairs"] if "admittance" in doc else None
+    assert report_pairs is not None
+    keys = ("f_resonance_Hz", "f_antiresonance_Hz", "k_eff")
+    got = {p["mode"]: tuple(p[k] for k in keys) for p in cmd["pairs"]}
+    want = {p["mode"]: tuple(p[k] for k in keys) for p in report_pairs}
+    assert got == want

@@ -145,13 +145,16 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
     from validation.fem_figures import admittance_figure
 
     f_lo, f_hi = design_band_Hz(modes2d)
-    res = plate_admittance(choice.stator, choice.material, f_lo, f_hi, 801 if quick else 4001,
+    points = 801 if quick else 4001
+    res = plate_admittance(choice.stator, choice.material, f_lo, f_hi, points,
                            zeta_L1=params.zeta_L1, zeta_B2=params.zeta_B2)
     png = admittance_figure(res, out / "figures" / "design_admittance.png")
     md = ["## 3. Admittance", "",
           f"Driven electrodes {res.port.electrodes}, band {f_lo / 1e3:.2f}-{f_hi / 1e3:.2f} kHz "
           "(the design's modes +/- 15 %), the parameter set's damping "
-          f"(`lusm admittance --geometry ... --f-min {f_lo:.0f} --f-max {f_hi:.0f}`).", ""]
+          # the points too: the command's default 2001 moved f_s/f_p in the 8th digit
+          f"(`lusm admittance --geometry ... --f-min {float(f_lo)!r} --f-max {float(f_hi)!r} "
+          f"--points {points}`).", ""]
     if res.pairs:
         md += ["| mode | series resonance f_s (Hz) | parallel resonance f_p (Hz) | k_eff |",
                "|---|---|---|---|"]
