@@ -145,19 +145,3 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
     periods += k
     return FullOrbit(dist / (k * fs.period_s), k if converged else 0, z, mode, res, periods,
                      it, work, phase_time, mult)
-
-
-def velocity_ripple(fs: FullSystem, z: np.ndarray, mode: int, k: int = 1) -> float:
-    """Peak-to-peak slider velocity over ``k`` periods from ``(z, mode)`` (m/s), sampled at
-    every step (a lower bound of the true ripple, within a step's change of it)."""
-    s = fs.system
-    z = np.array(z, dtype=float)
-    z[S.X] = 0.0
-    n = fs.steps_per_period * k
-    out = call_held(event_kernel.integrate_switch_model,
-        z, mode, n, fs.dt_s, fs.phi, fs.phi_half, s.A, s.ev_h, s.ev_dh, s.ev_type, s.fn_m,
-        s.ft_m, s.ff_m, s.funcs, s.scalars, n, 1, 1, False, 64, np.empty(0, np.int64), np.empty(0))
-    if out[0] != S.OK:
-        raise ChatteringError("contact chattering in the full-model shooting")
-    dx = out[2][:, 2]
-    return float(np.max(dx) - np.min(dx))

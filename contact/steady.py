@@ -390,8 +390,8 @@ def ripple_scale(params: MotorParams, op: OperatingPoint, mu_d_eff: float) -> fl
     The velocity amplitude a tangential force swinging by the tip's sliding friction at the
     preload gives the slider at the drive frequency. At 200 V / 14 N on Table 2's set it is
     8.5e-5 m/s, a third of the peak-to-peak ripple of the full model's orbit there (2.6e-4
-    m/s, ``full_orbit.velocity_ripple``): below it the slider's velocity swings by several
-    times its mean.
+    m/s, sampled at every step of the shot orbit): below it the slider's velocity swings by
+    several times its mean.
     """
     return mu_d_eff * op.preload_N / (params.M_slider * op.omega)
 
