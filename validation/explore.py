@@ -373,10 +373,10 @@ def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
     transient_problem`, as ``lusm simulate`` checks them), or a frequency too far below the
     plate's fastest mode for the steady engine (as ``lusm characteristic`` checks it; that
     mode is the FE set's, so it is known only here)."""
-    from validation.study import show, transient_problem
+    from validation.study import transient_problem
 
-    at = (f"the auto drive frequency {show(frequency_Hz, 'frequency')} of this plate"
-          if study.auto_frequency else f"axes.frequency {show(frequency_Hz, 'frequency')}")
+    at = _frequency_named(study, frequency_Hz) + (" of this plate" if study.auto_frequency
+                                                 else "")
     if study.solver.method != "steady":
         return transient_problem(study.solver, frequency_Hz, at)
     from contact.model import default_coupling
@@ -391,6 +391,15 @@ def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
     return None
 
 
+def _frequency_named(study: Study, frequency_Hz: float) -> str:
+    """A drive frequency (Hz) in the study's terms: its axis value, or the auto rule's."""
+    from validation.study import show
+
+    shown = show(frequency_Hz, "frequency")
+    return (f"the auto drive frequency {shown}" if study.auto_frequency
+            else f"axes.frequency {shown}")
+
+
 def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     """Why this plate's drive points at ``freqs`` (Hz) are more contact work than the study
     may have, or None: the study's bound (:func:`validation.study.contact_work_problem`) with
@@ -398,7 +407,7 @@ def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     steady engine's steps per drive period on this plate's FE set
     (:func:`contact.steady.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
     plate at fe_refine 1), and a transient's default step at an auto frequency."""
-    from validation.study import contact_work_problem, show, steady_solves
+    from validation.study import contact_work_problem, steady_solves
 
     if not freqs:
         return None
@@ -411,9 +420,7 @@ def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
         coupling = default_coupling(params)[0]
         n = [steps_per_period(params, f, coupling) for f in freqs]
         k = steady_solves(study)
-        slow = freqs[int(np.argmax(n))]
-        at = (f"the auto drive frequency {show(slow, 'frequency')}" if study.auto_frequency
-              else f"axes.frequency {show(slow, 'frequency')}")
+        at = _frequency_named(study, freqs[int(np.argmax(n))])
         detail = (f"{per_f * len(freqs)} drive points x {k} steady solves x "
                   + (f"{n[0]} steps per drive period (this plate's, at {at})" if len(n) == 1
                      else f"{sum(n) / len(n):.4g} steps per drive period (this plate's mean; "
