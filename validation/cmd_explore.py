@@ -58,6 +58,7 @@ def run(args: argparse.Namespace) -> None:
         DEFAULT_WORKERS,
         NothingComputedError,
         check_out,
+        check_scheduler_names,
         explore,
         open_result,
         parts_folder,
@@ -65,14 +66,10 @@ def run(args: argparse.Namespace) -> None:
     from validation.interrupts import Terminated
     from validation.study import load_study
 
-    for option, value, what in (("--scheduler", args.scheduler, "a dask scheduler address "
-                                 "(tcp://HOST:8786)"),
-                                ("--scheduler-file", args.scheduler_file,
-                                 "a dask scheduler file")):
-        if value is not None and not value.strip():
-            # '' read as "no scheduler": the study ran on a LocalCluster without a word, and
-            # --scheduler '' --workers 1 passed the check below
-            raise LusmError(f"{option} must name {what}, got {value!r}", option)
+    try:  # before anything else: '' passed the --workers check below
+        check_scheduler_names(args.scheduler, args.scheduler_file)
+    except ValueError as exc:
+        raise LusmError(str(exc), str(exc).split()[0]) from None
     if args.workers is not None and (args.scheduler or args.scheduler_file):
         # it was taken and ignored: the existing cluster's workers ran the study
         option = "--scheduler" if args.scheduler else "--scheduler-file"

@@ -871,9 +871,7 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
     """
     from distributed import Client
 
-    for option, value in (("--scheduler", scheduler), ("--scheduler-file", scheduler_file)):
-        if value is not None and not str(value).strip():  # not "no scheduler": a mistake
-            raise ValueError(f"{option} must name a dask scheduler, got {value!r}")
+    check_scheduler_names(scheduler, scheduler_file)
     if scheduler and scheduler_file:
         raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
     if scheduler_file and not Path(scheduler_file).is_file():
@@ -900,6 +898,23 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
 def package_version() -> str:
     """The lusm version of this process (run on the workers to compare with the client)."""
     return _version()
+
+
+def check_scheduler_names(scheduler: str | None, scheduler_file: str | None) -> None:
+    """Refuse an empty ``--scheduler`` or ``--scheduler-file``: ``''`` read as "no
+    scheduler", and the study ran on a LocalCluster without a word (with ``--workers 1`` it
+    also passed the check that forbids --workers with a scheduler).
+
+    Raises
+    ------
+    ValueError
+        Starting with the option's name.
+    """
+    for option, value, what in (("--scheduler", scheduler,
+                                 "a dask scheduler address (tcp://HOST:8786)"),
+                                ("--scheduler-file", scheduler_file, "a dask scheduler file")):
+        if value is not None and not str(value).strip():
+            raise ValueError(f"{option} must name {what}, got {value!r}")
 
 
 def check_scheduler(client, option: str = "--scheduler") -> None:
