@@ -596,6 +596,13 @@ def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
     from contact.periodic_orbit import STEPS_PER_PERIOD
 
     assert STEADY_MIN_STEPS_PER_PERIOD == STEPS_PER_PERIOD  # written out, not imported
+    import inspect
+
+    from contact.characteristic import characteristic
+    from validation.study import CURVE_LOADS
+
+    # the loads a study's steady point counts are characteristic's default curve
+    assert inspect.signature(characteristic).parameters["points"].default == CURVE_LOADS
 
 
 def test_a_plates_steady_work_is_bounded_before_its_drive_points(monkeypatch):
