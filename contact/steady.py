@@ -37,6 +37,7 @@ from contact.drive import default_drive_Hz, free_tip_amplitudes
 from contact.errors import ChatteringError, RunawayError
 from contact.event_kernel import N_WORK
 from contact.friction import dynamic_friction
+from contact.from_rest import probe_from_rest
 from contact.model import OperatingPoint, resolve_coupling
 from contact.periodic_orbit import (
     AVERAGE_PERIODS,
@@ -249,6 +250,13 @@ class SteadyResult:
         Drive periods simulated in total (Newton's finite-difference runs included).
     newton_iterations : int
     wall_time_s : float
+    rest_periods : int
+        Drive periods of the full model run from rest to decide the branch a start from rest
+        reaches (included in ``periods``): the run out of the slider's ripple zone
+        (:mod:`contact.from_rest`), or the transient from rest of
+        :data:`REST_TRANSIENT_PERIODS` where that run leaves the decision to it, or the hold
+        check of a slider the averages hold. 0 at the fast level, which decides on the
+        averages.
     """
 
     op: OperatingPoint
@@ -260,6 +268,7 @@ class SteadyResult:
     periods: int
     newton_iterations: int
     wall_time_s: float
+    rest_periods: int = 0
 
     @property
     def from_rest(self) -> SteadyBranch | None:
@@ -601,14 +610,16 @@ def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                       accuracy=accuracy)
     # the exact level replaces the averaged branches' powers by the full model's
     branches, v_rest = branches_at_load(sp, op.load_N, energy=energy and accuracy == "fast")
-    periods, newton = sp.periods, sp.newton_iterations
+    periods, newton, rest_periods = sp.periods, sp.newton_iterations, 0
     if accuracy == "exact":
-        branches, v_rest, more_periods, more_newton = _exact(sp, branches, coupling, energy)
+        branches, v_rest, more_periods, more_newton, rest_periods = _exact(sp, branches,
+                                                                          coupling, energy)
         periods += more_periods
         newton += more_newton
     return SteadyResult(op=op, branches=branches, velocity_m_s=v_rest, mu_d_eff=sp.mu_d_eff,
                         accuracy=accuracy, orbits=len(sp.cache), periods=periods,
-                        newton_iterations=newton, wall_time_s=time.perf_counter() - t0)
+                        newton_iterations=newton, wall_time_s=time.perf_counter() - t0,
+                        rest_periods=rest_periods)
 
 
 def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndarray,
@@ -705,6 +716,75 @@ def _held_from(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
     return math.log(v[0] / v[2]) >= HOLD_DECAY_EXPONENT * math.log(t2 / t0)
 
 
+def _shoot_probe(fsys, probe, energy: bool):
+    """The full model's orbit at the root the run from rest found on its sheet
+    (:func:`contact.from_rest.probe_from_rest`), or None where there is none or the shot
+    does not confirm it: no convergence, an unstable orbit, or a mean velocity more than
+    5 % from the averaged root (another orbit). Returns ``(orbit, periods, newton)``."""
+    from contact import state as S
+    from contact.full_orbit import shoot
+
+    o = probe.orbit
+    if o is None:
+        return None, 0, 0
+    v = o.velocity_m_s
+    z = o.z.copy()
+    z[S.DX] = v
+    guide = S.FORWARD if v > 0 else S.BACKWARD
+    try:
+        fo = shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1), energy=energy)
+    except ChatteringError:
+        return None, 0, 0
+    # no multiplier when the shot converged before forming a Jacobian: the sheet's root is
+    # stable (the slow flow stops there), and so is the orbit
+    stable = not (fo.multiplier >= 1.0)
+    ok = fo.k and stable and abs(fo.velocity_m_s - v) <= 0.05 * abs(v)
+    return (fo if ok else None), fo.periods, fo.newton_iterations
+
+
+def _transient_from_rest(sp: SlowProblem, fsys, z, mode, done: int, energy: bool):
+    """The transient from rest (``done`` of its :data:`REST_TRANSIENT_PERIODS` periods already
+    run, ending at ``(z, mode)``) and the orbit it approaches by shooting.
+
+    Returns ``(z_end, mode_end, v_rest, orbit, periods, newton)``: the state at the end of
+    the transient, the velocity (m/s) of the shot orbit where shooting confirms the
+    transient's recent mean to 5 %, else that mean, with the orbit or None, and the work."""
+    from contact.full_orbit import run_periods, shoot
+
+    periods = newton = 0
+    z_end, m_end, _, _, _ = run_periods(fsys, z, mode, REST_TRANSIENT_PERIODS - done)
+    periods += REST_TRANSIENT_PERIODS - done
+    # the period the transient repeats with: the smallest k <= REST_MAX_K whose defect
+    # |y_(j+k) - y_j| is within tenfold of the smallest (multiples of the period repeat too)
+    ys, zj, mj = [z_end[[0, 1, 2, 3, 5]]], z_end, m_end
+    for _ in range(REST_MAX_K):
+        zj, mj, _, _, _ = run_periods(fsys, zj, mj, 1)
+        ys.append(zj[[0, 1, 2, 3, 5]])
+    periods += REST_MAX_K
+    ys_arr = np.array(ys) / np.array([1.0, sp.op.omega, 1.0, sp.op.omega, sp.op.omega])
+    scale = np.max(np.abs(ys_arr), axis=0) + 1e-30
+    diffs = np.array([np.abs(ys_arr[k] - ys_arr[0]) for k in range(1, REST_MAX_K + 1)])
+    defects = np.max(diffs / scale, axis=1)
+    # a state repeating to 1e-9 of the orbit's size repeats (a held slider's state does with
+    # every k: its coordinates at rest carry only roundoff, which the tenfold rule would match)
+    repeats = np.max(diffs, axis=1) <= 1e-9 * scale.max()
+    k_best = 1 + int(np.argmax((defects <= 10.0 * defects.min()) | repeats))
+    _, _, dist, _, _ = run_periods(fsys, z_end, m_end, 4 * k_best)
+    periods += 4 * k_best
+    v_transient = dist / (4 * k_best * sp.op.period_s)
+    v_rest, fo = v_transient, None
+    try:
+        cand = shoot(fsys, z_end, m_end, k_best, energy=energy)
+        periods += cand.periods
+        newton += cand.newton_iterations
+        # accept the polished orbit only if the transient was heading for it
+        if cand.k and abs(cand.velocity_m_s - v_transient) <= 0.05 * abs(v_transient) + 1e-9:
+            v_rest, fo = cand.velocity_m_s, cand
+    except ChatteringError:
+        pass
+    return z_end, m_end, v_rest, fo, periods, newton
+
+
 def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
     """Polish the averaged branches on the full model and decide the start from rest."""
     from contact import state as S
@@ -721,7 +801,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         periods += 3 * HOLD_CHECK_PERIODS
         if _held_from(sp, fsys, fsys.system.z0, fsys.system.mode0):
             return ((dataclasses.replace(_powered(sp, branches[0], energy), from_rest=True),),
-                    0.0, periods, 0)
+                    0.0, periods, 0, periods)
         released = True
     out: list[SteadyBranch] = []
     for b in branches:
@@ -748,42 +828,27 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
             out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
         else:
             out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
-    # the start from rest: a transient, then shooting for the orbit it approaches. Always,
-    # also where the averages see one stable branch far above the slider's velocity ripple:
-    # the full model can have a slower orbit the averaging cannot see that catches a start
-    # from rest (a tuned 60 kHz stator at 140 V / 14 N: stick-slip at 6.23e-3 m/s from rest,
-    # where the averages' only branch, pure slip at 1.36e-2 m/s, had been reported as reached
-    # from rest without a transient)
-    s = fsys.system
-    z_end, m_end, _, _, _ = run_periods(fsys, s.z0, s.mode0, REST_TRANSIENT_PERIODS)
-    periods += REST_TRANSIENT_PERIODS
-    # the period the transient repeats with: the smallest k <= REST_MAX_K whose defect
-    # |y_(j+k) - y_j| is within tenfold of the smallest (multiples of the period repeat too)
-    ys, zj, mj = [z_end[[0, 1, 2, 3, 5]]], z_end, m_end
-    for _ in range(REST_MAX_K):
-        zj, mj, _, _, _ = run_periods(fsys, zj, mj, 1)
-        ys.append(zj[[0, 1, 2, 3, 5]])
-    periods += REST_MAX_K
-    ys_arr = np.array(ys) / np.array([1.0, sp.op.omega, 1.0, sp.op.omega, sp.op.omega])
-    scale = np.max(np.abs(ys_arr), axis=0) + 1e-30
-    diffs = np.array([np.abs(ys_arr[k] - ys_arr[0]) for k in range(1, REST_MAX_K + 1)])
-    defects = np.max(diffs / scale, axis=1)
-    # a state repeating to 1e-9 of the orbit's size repeats (a held slider's state does with
-    # every k: its coordinates at rest carry only roundoff, which the tenfold rule would match)
-    repeats = np.max(diffs, axis=1) <= 1e-9 * scale.max()
-    k_best = 1 + int(np.argmax((defects <= 10.0 * defects.min()) | repeats))
-    _, _, dist, _, _ = run_periods(fsys, z_end, m_end, 4 * k_best)
-    v_transient = dist / (4 * k_best * sp.op.period_s)
-    v_rest, fo = v_transient, None
-    try:
-        cand = shoot(fsys, z_end, m_end, k_best, energy=energy)
-        periods += cand.periods
-        newton += cand.newton_iterations
-        # accept the polished orbit only if the transient was heading for it
-        if cand.k and abs(cand.velocity_m_s - v_transient) <= 0.05 * abs(v_transient) + 1e-9:
-            v_rest, fo = cand.velocity_m_s, cand
-    except ChatteringError:
-        pass
+    # the start from rest: the full model out of the ripple zone and the averaged sheet it
+    # is on (contact.from_rest), else a transient from rest and shooting for the orbit it
+    # approaches. Not the scan's own first root: the full model from rest can take another
+    # sheet of the slow equation (a tuned 60 kHz stator at 140 V / 14 N: stick-slip at
+    # 6.23e-3 m/s from rest, where the scan's only branch, pure slip at 1.36e-2 m/s, had been
+    # reported as reached from rest without a transient)
+    probe = probe_from_rest(sp, fsys)
+    periods += probe.periods
+    newton += probe.newton_iterations
+    fo, more, more_newton = _shoot_probe(fsys, probe, energy)
+    periods += more
+    newton += more_newton
+    if fo is not None:
+        v_rest, z_end, m_end = fo.velocity_m_s, probe.z, probe.mode
+        rest_periods = probe.full_periods
+    else:
+        z_end, m_end, v_rest, fo, more, more_newton = _transient_from_rest(
+            sp, fsys, probe.z, probe.mode, probe.full_periods, energy)
+        periods += more
+        newton += more_newton
+        rest_periods = REST_TRANSIENT_PERIODS
     held = abs(v_rest) <= HELD_M_S
     match = [i for i, b in enumerate(out)
              if abs(b.velocity_m_s - v_rest) <= 1e-6 * abs(v_rest) + 1e-12
@@ -886,7 +951,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
         keep = dataclasses.replace(dead[0], from_rest=any(b.from_rest for b in dead))
         out = [b for b in out if b.motion != "dead-zone"] + [keep]
     out.sort(key=lambda b: b.velocity_m_s)
-    return tuple(out), (0.0 if held else v_rest), periods, newton
+    return tuple(out), (0.0 if held else v_rest), periods, newton, rest_periods
 
 
 def transient_reference(params: MotorParams, voltage_V: float, preload_N: float, *,
@@ -993,7 +1058,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
 
     sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff, accuracy="exact")
     branches, v_rest = branches_at_load(sp, op.load_N, energy=False)
-    branches, v_rest, periods, _ = _exact(sp, branches, opts.coupling, energy=False)
+    branches, v_rest, periods, _, _ = _exact(sp, branches, opts.coupling, energy=False)
     if math.isnan(v_rest):
         raise runaway_error(sp, op.load_N)
     rest = [b for b in branches if b.from_rest]

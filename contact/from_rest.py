@@ -1,0 +1,194 @@
+"""The branch a start from rest reaches: the full model out of the ripple zone, then the sheet.
+
+The averaged slow equation of :mod:`contact.steady` can be many-valued: at one slider velocity
+the fixed-velocity fast problem can have several stable orbits (a stick-slip and a pure-slip
+orbit, say), each a *sheet* ``G(v)`` of its own, and the scan follows one of them. Which sheet a
+start from rest is on is decided while the slider is slower than its velocity ripple, where the
+averaging does not hold (a tuned 60 kHz stator at 140 V / 14 N: the full model from rest takes
+the stick-slip sheet, the fixed-velocity problem from rest the pure-slip one).
+
+So the full model itself is run from rest, in blocks of :data:`PROBE_BLOCK_PERIODS`, until the
+slider is :data:`PROBE_FACTOR` times faster than the ripple scale. There the fast orbit the
+full model is on is found by shooting from its state, and the premise of the averaging is
+checked on the full model's own next :data:`TRACK_BLOCKS` blocks: the slider's velocity must
+change as ``M dv/dt = G(v)`` on that sheet says, to :data:`TRACK_RTOL`. The sheet is then
+followed by continuation in the direction ``G`` pushes the slider (steps of
+:data:`SHEET_STEP` in v, halved at a jump of the orbit's period or phase fractions) to its
+first root, the stable steady state a slider moving along it stops at. A fold on the way
+(the sheet ends and the slider falls to another one, which only the full model can choose), a
+slider that stays in the ripple zone for :data:`PROBE_PERIODS` periods, or a failed check
+leaves the decision to the transient from rest (:mod:`contact.steady`), which continues this
+run. The caller shoots the full model from the root (:func:`contact.full_orbit.shoot`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy.optimize import brentq
+
+from contact import state as S
+from contact.full_orbit import FullSystem, run_periods
+from contact.periodic_orbit import Orbit, find_orbit, orbit_phases
+
+if TYPE_CHECKING:  # the slow problem lives in contact.steady, which imports this module
+    from contact.steady import SlowProblem
+
+PROBE_FACTOR = 20.0
+"""The probe leaves the full model once the slider is this many times faster than the scan's
+floor (the ripple scale ``mu_d_eff F_P / (M omega)``, :func:`contact.steady.ripple_scale`):
+the slider's velocity then swings by about 5 % of its value in a period."""
+
+PROBE_BLOCK_PERIODS = 10
+"""Drive periods per block of the full model's run from rest (and of the tracking check)."""
+
+PROBE_PERIODS = 400
+"""Periods of the full model from rest after which a slider still in the ripple zone (a
+creep, the dead zone, a slow period-k orbit) is left to the transient from rest."""
+
+TRACK_BLOCKS = 2
+"""Blocks of the full model, after the slider leaves the ripple zone, on which the sheet's
+slow flow is checked."""
+
+TRACK_RTOL = 0.2
+"""Largest relative difference between the full model's velocity change over a block and
+the sheet's ``G(v) / M`` times the block's duration. On 450 points of four parameter sets
+the accepted ones differed by at most 0.18 (the stator lagging a slider that still
+accelerates: Q_m = 60 at 60 kHz); the one wrong sheet met (Table 2 at 126.9 V / 14.72 N under
+-1.57 N, whose start from rest settles on a slower period-2 orbit) differed by 0.63."""
+
+SHEET_STEP = 1.25
+"""Continuation ratio in |v| along the sheet (halved in log v at a jump, down to
+:data:`SHEET_MIN_STEP`)."""
+
+SHEET_MIN_STEP = 1.002
+"""Smallest continuation ratio: a jump still there is a fold of the sheet."""
+
+PHASE_JUMP = 0.1
+"""Change of any phase fraction (stick, slip+, slip-, separation) between neighbouring orbits
+taken as a jump to another sheet."""
+
+
+@dataclass(frozen=True)
+class RestProbe:
+    """What the run from rest found (:func:`probe_from_rest`).
+
+    Attributes
+    ----------
+    orbit : Orbit or None
+        The averaged orbit at the sheet's root (its velocity ``orbit.velocity_m_s``, m/s);
+        None when the transient from rest has to decide.
+    z, mode : ndarray, int
+        The full model's state where the run from rest stopped, ``full_periods`` drive
+        periods after rest (the transient from rest goes on from there).
+    full_periods : int
+        Periods of the full model run from rest.
+    periods, newton_iterations : int
+        All the work: the full model's periods plus the fast problem's (Newton's runs).
+    reason : str
+        Why the probe left the decision to the transient, or how it found the root.
+    """
+
+    orbit: Orbit | None
+    z: np.ndarray
+    mode: int
+    full_periods: int
+    periods: int
+    newton_iterations: int
+    reason: str
+
+
+def _fractions(sp: SlowProblem, o: Orbit) -> np.ndarray:
+    phase = orbit_phases(sp.fs, o, sp.average_periods)
+    total = float(np.sum(phase))
+    return phase / total if total > 0 else phase
+
+
+def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
+    """Run the full model from rest out of the ripple zone and follow the sheet it is on.
+
+    ``sp`` is the operating point's slow problem (its tolerances and load), ``fsys`` its full
+    model. See the module's docstring for the method and the cases it leaves to the
+    transient from rest.
+    """
+    work = {"periods": 0, "newton": 0}
+    load = sp.op.load_N
+
+    def orbit(v: float, near: Orbit | None, z=None, mode=None) -> Orbit:
+        if near is not None:
+            z, mode = near.z, near.mode
+        o = find_orbit(sp.fs, v, z, mode, tol=sp.orbit_tol, max_periods=sp.search_periods,
+                       average_periods=sp.average_periods,
+                       jacobian=None if near is None else near.jacobian)
+        work["periods"] += o.periods
+        work["newton"] += o.newton_iterations
+        return o
+
+    def thrust(o: Orbit) -> float:  # G(v) - F_load (N) on the sheet
+        return o.mean_FT_N - math.copysign(1.0, o.velocity_m_s) * sp.guide_N(o) - load
+
+    s = fsys.system
+    z, mode, n = s.z0, s.mode0, 0
+    threshold = PROBE_FACTOR * sp.v_floor_m_s
+
+    def give_up(reason: str) -> RestProbe:
+        return RestProbe(None, z, mode, n, n + work["periods"], work["newton"], reason)
+
+    while abs(z[S.DX]) <= threshold:
+        if n >= PROBE_PERIODS:
+            return give_up(f"the slider stays below {PROBE_FACTOR:g} x the ripple scale")
+        z, mode, _, _, _ = run_periods(fsys, z, mode, PROBE_BLOCK_PERIODS)
+        n += PROBE_BLOCK_PERIODS
+    # the sheet the full model is on, and whether the slider moves as its slow flow says
+    sheet = orbit(float(z[S.DX]), None, z, mode)
+    if not sheet.k:
+        return give_up("no periodic fast orbit where the slider left the ripple zone")
+    mass, period = sp.params.M_slider, sp.op.period_s
+    worst = 0.0
+    for _ in range(TRACK_BLOCKS):
+        v0 = float(z[S.DX])
+        z, mode, _, _, _ = run_periods(fsys, z, mode, PROBE_BLOCK_PERIODS)
+        n += PROBE_BLOCK_PERIODS
+        v1 = float(z[S.DX])
+        mid = orbit(0.5 * (v0 + v1), sheet)
+        if mid.k != sheet.k:
+            return give_up("the fast orbit changed its period while the slider left the "
+                           "ripple zone")
+        sheet = mid
+        predicted = thrust(mid) / mass * PROBE_BLOCK_PERIODS * period
+        worst = max(worst, abs((v1 - v0) - predicted) / max(abs(predicted), 1e-300))
+    if worst > TRACK_RTOL:
+        return give_up(f"the slider does not follow the sheet's slow flow (off by "
+                       f"{worst:.2g})")
+    prev = orbit(float(z[S.DX]), sheet)
+    if prev.k != sheet.k:
+        return give_up("the fast orbit changed its period while the slider left the "
+                       "ripple zone")
+    g = thrust(prev)
+    frac = _fractions(sp, prev)
+    base = SHEET_STEP if g * prev.velocity_m_s > 0 else 1.0 / SHEET_STEP
+    ratio = base
+    while True:
+        v = prev.velocity_m_s * ratio
+        if abs(v) < 0.5 * threshold or abs(v) > sp.v_max_m_s:
+            return give_up("the sheet leaves the scanned velocities")
+        nxt = orbit(v, prev)
+        frac_n = _fractions(sp, nxt) if nxt.k else frac
+        if nxt.k != prev.k or np.max(np.abs(frac_n - frac)) > PHASE_JUMP:
+            if abs(math.log(ratio)) <= math.log(SHEET_MIN_STEP):
+                return give_up(f"the sheet folds at {v:.4g} m/s")
+            ratio = math.sqrt(ratio)
+            continue
+        g_n = thrust(nxt)
+        if g_n * g <= 0.0:
+            root = brentq(lambda w, a=prev: thrust(orbit(w, a)), prev.velocity_m_s, v,
+                          xtol=1e-12, rtol=sp.root_rtol)
+            found = orbit(root, prev)
+            return RestProbe(found, z, mode, n, n + work["periods"], work["newton"],
+                             f"the sheet's root, slow flow followed to {worst:.2g}")
+        prev, frac, g = nxt, frac_n, g_n
+        if abs(math.log(ratio)) < abs(math.log(base)):
+            ratio *= ratio  # back towards the full step after a halving

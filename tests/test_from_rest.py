@@ -1,0 +1,81 @@
+"""The branch a start from rest reaches: the full model's run out of the slider's ripple zone
+and the averaged sheet it is on (contact.from_rest), each case against a transient from rest."""
+
+import math
+
+import pytest
+
+from contact import from_rest
+from contact.from_rest import PROBE_PERIODS, probe_from_rest
+from contact.full_orbit import full_system
+from contact.model import OperatingPoint, resolve_coupling
+from contact.steady import (
+    REST_TRANSIENT_PERIODS,
+    slow_problem,
+    steady_state,
+    transient_reference,
+)
+from rom import table2
+
+
+@pytest.fixture(scope="module")
+def params():
+    return table2()
+
+
+def _probe(params, voltage_V, preload_N, load_N=0.0):
+    coupling = resolve_coupling(params, "auto")  # as steady_state's default
+    op = OperatingPoint(voltage_V, preload_N, 40e3, load_N)
+    sp = slow_problem(params, op, coupling=coupling, accuracy="exact")
+    return probe_from_rest(sp, full_system(params, op, sp.mu_d_eff, coupling))
+
+
+@pytest.mark.parametrize(("voltage_V", "preload_N"), [(200, 14), (300, 18)])
+def test_the_sheet_from_rest_gives_the_settled_transient(params, voltage_V, preload_N):
+    # stick-slip and pure slip: the run from rest leaves the ripple zone within the probe's
+    # budget, and the orbit shot at its sheet's root is the one a 0.3 s transient settles on
+    r = steady_state(params, voltage_V, preload_N, energy=False)
+    ref, _ = transient_reference(params, voltage_V, preload_N, duration_s=0.3)
+    assert r.rest_periods <= PROBE_PERIODS < REST_TRANSIENT_PERIODS
+    assert r.velocity_m_s == pytest.approx(ref, rel=1e-8)
+
+
+def test_a_slider_that_leaves_its_sheet_is_left_to_the_transient(params, monkeypatch):
+    """126.9 V / 14.72 N under -1.57 N: the full model leaves the ripple zone on a period-1
+    sheet whose root is stable, but its slider accelerates at about half the rate that sheet
+    predicts and settles on a slower period-2 orbit. The tracking check sends the point to
+    the transient from rest; without it the probe answers with the faster orbit."""
+    probe = _probe(params, 126.9, 14.72, -1.57)
+    assert probe.orbit is None and "does not follow" in probe.reason
+    r = steady_state(params, 126.9, 14.72, load_N=-1.57, energy=False)
+    ref, _ = transient_reference(params, 126.9, 14.72, load_N=-1.57, duration_s=0.3)
+    assert r.rest_periods == REST_TRANSIENT_PERIODS and r.from_rest.k == 2
+    assert r.velocity_m_s == pytest.approx(ref, rel=1e-6)
+    monkeypatch.setattr(from_rest, "TRACK_RTOL", math.inf)
+    unchecked = steady_state(params, 126.9, 14.72, load_N=-1.57, energy=False)
+    assert unchecked.rest_periods < REST_TRANSIENT_PERIODS
+    assert unchecked.from_rest.k == 1 and unchecked.velocity_m_s > 1.3 * ref
+
+
+def test_a_sheet_that_folds_before_its_root_is_left_to_the_transient():
+    # the FE set at 159.48 V / 9.85 N under 2.622 N: the period-1 sheet the slider leaves the
+    # ripple zone on ends before its root; a start from rest goes on to another orbit
+    from rom.sources import get_params
+
+    p = get_params("fem")
+    probe = _probe(p, 159.48, 9.85, 2.622)
+    assert probe.orbit is None and "folds" in probe.reason
+    r = steady_state(p, 159.48, 9.85, frequency_Hz=40e3, load_N=2.622, energy=False)
+    ref, _ = transient_reference(p, 159.48, 9.85, frequency_Hz=40e3, load_N=2.622,
+                                 duration_s=0.3)
+    assert r.rest_periods == REST_TRANSIENT_PERIODS
+    assert r.velocity_m_s == pytest.approx(ref, rel=1e-6)
+
+
+def test_a_slider_held_in_the_ripple_zone_is_left_to_the_transient(params):
+    # 150 V / 14 N: the start from rest settles on a period-2 orbit at 8.4e-4 m/s, ten
+    # ripple scales, below the probe's threshold of twenty
+    probe = _probe(params, 150, 14)
+    assert probe.orbit is None and probe.full_periods == PROBE_PERIODS
+    r = steady_state(params, 150, 14, energy=False)
+    assert r.rest_periods == REST_TRANSIENT_PERIODS and r.from_rest.k == 2
