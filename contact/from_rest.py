@@ -90,6 +90,8 @@ class RestProbe:
         All the work: the full model's periods plus the fast problem's (Newton's runs).
     reason : str
         Why the probe left the decision to the transient, or how it found the root.
+    track_error : float
+        Largest relative difference of the tracking check (NaN where it was not reached).
     """
 
     orbit: Orbit | None
@@ -99,6 +101,7 @@ class RestProbe:
     periods: int
     newton_iterations: int
     reason: str
+    track_error: float = math.nan
 
 
 def _fractions(sp: SlowProblem, o: Orbit) -> np.ndarray:
@@ -134,8 +137,10 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
     z, mode, n = s.z0, s.mode0, 0
     threshold = PROBE_FACTOR * sp.v_floor_m_s
 
+    worst = math.nan
+
     def give_up(reason: str) -> RestProbe:
-        return RestProbe(None, z, mode, n, n + work["periods"], work["newton"], reason)
+        return RestProbe(None, z, mode, n, n + work["periods"], work["newton"], reason, worst)
 
     while abs(z[S.DX]) <= threshold:
         if n >= PROBE_PERIODS:
@@ -188,7 +193,7 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
                           xtol=1e-12, rtol=sp.root_rtol)
             found = orbit(root, prev)
             return RestProbe(found, z, mode, n, n + work["periods"], work["newton"],
-                             f"the sheet's root, slow flow followed to {worst:.2g}")
+                             f"the sheet's root, slow flow followed to {worst:.2g}", worst)
         prev, frac, g = nxt, frac_n, g_n
         if abs(math.log(ratio)) < abs(math.log(base)):
             ratio *= ratio  # back towards the full step after a halving

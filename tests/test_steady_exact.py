@@ -1,5 +1,7 @@
 """Finite-mass ("exact") steady states and coexisting branches against long transients."""
 
+from pathlib import Path
+
 import pytest
 
 from contact.steady import steady_state, transient_reference
@@ -99,29 +101,10 @@ def test_a_held_orbit_beside_a_creep_from_rest_is_a_branch(params):
     assert abs(dist) / (10_000 * op.period_s) < 1e-12
 
 
-TUNED_60K = """name = "a designer's tuned 60 kHz stator"
-[plate]
-length_mm = 25.6938
-width_mm = 6.6025
-thickness_mm = 2.5
-[electrodes]
-gap_mm = 0.4
-[material]
-name = "paper"
-[tip]
-length_mm = 0.8
-width_mm = 1.6
-[chamfers]
-size_mm = 0.8
-[[holes]]
-center_mm = [0.0, 12.0]
-diameter_mm = 1.2
-[damping]
-Q_m = 60
-"""
+TUNED_60K = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
 
 
-def test_a_slower_orbit_the_averaging_cannot_see_catches_the_start_from_rest(tmp_path):
+def test_a_slower_orbit_the_averaging_cannot_see_catches_the_start_from_rest():
     """Found by exploratory testing on a designer's stator: at 140 V / 14 N, no load, the
     averages see one stable branch (pure slip at 1.36e-2 m/s, far above the slider's
     velocity ripple), which the exact level took as reached from rest without a transient;
@@ -134,9 +117,7 @@ def test_a_slower_orbit_the_averaging_cannot_see_catches_the_start_from_rest(tmp
     from contact.drive import auto_frequency
     from rom.from_fem import fem_params_from_file
 
-    path = tmp_path / "tuned.toml"
-    path.write_text(TUNED_60K)
-    p = fem_params_from_file(path)
+    p = fem_params_from_file(TUNED_60K)
     f = auto_frequency(p)
     r = steady_state(p, 140, 14, frequency_Hz=f, energy=False)
     ref, motion = transient_reference(p, 140, 14, frequency_Hz=f, duration_s=0.1)

@@ -1247,6 +1247,17 @@ def _steady_scan() -> dict[str, float]:
 
 
 @cache
+def _steady_from_rest() -> dict[str, float]:
+    """``python benchmarks/steady_from_rest.py``: the start from rest decided by the run out
+    of the ripple zone against the transient from rest, on 620 points of four sets."""
+    t = _bench("steady_from_rest").measure(progress=False)["total"]
+    return {"points": t["points"], "probe_decided": t["probe_decided"], "differ": t["differ"],
+            "track_max_accepted": t["track_max_accepted"],
+            "track_min_rejected": t["track_min_rejected"],
+            "periods_ratio": t["periods_transient"] / t["periods_probe"]}
+
+
+@cache
 def _ripple_scale_14N() -> float:
     """``contact.steady.ripple_scale`` of Table 2's set at 200 V / 14 N (m/s)."""
     from contact.model import OperatingPoint
@@ -1469,6 +1480,11 @@ def _steady_claims() -> tuple[Claim, ...]:
                          batch="steady_scan"))
     out.append(Claim("steady_scan_time_ratio", "-", scan + " (time former / now)",
                      lambda: _steady_scan()["time_ratio"], batch="steady_scan"))
+    rest = "python benchmarks/steady_from_rest.py (benchmark, minutes; not run by the tests)"
+    for k in ("points", "probe_decided", "differ", "track_max_accepted", "track_min_rejected",
+              "periods_ratio"):
+        out.append(Claim(f"steady_from_rest_{k}", "-", rest,
+                         lambda k=k: _steady_from_rest()[k], batch="steady_from_rest"))
     out.append(Claim("steady_ripple_scale_200V_14N_m_s", "m/s",
                      "contact.steady.ripple_scale(table2(), OperatingPoint(200, 14, 40e3), "
                      "mu_d_eff of slow_problem)", _ripple_scale_14N, cheap=True,
