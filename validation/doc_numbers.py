@@ -1257,6 +1257,13 @@ def _steady_from_rest() -> dict[str, float]:
             "periods_ratio": t["periods_transient"] / t["periods_probe"]}
 
 
+def _rest_periods_200V_14N() -> float:
+    """Periods of the full model from rest that decide the branch reached at 200 V / 14 N."""
+    from contact.steady import steady_state
+
+    return float(steady_state(_table2(), 200, 14, energy=False).rest_periods)
+
+
 @cache
 def _ripple_scale_14N() -> float:
     """``contact.steady.ripple_scale`` of Table 2's set at 200 V / 14 N (m/s)."""
@@ -1485,6 +1492,9 @@ def _steady_claims() -> tuple[Claim, ...]:
               "periods_ratio"):
         out.append(Claim(f"steady_from_rest_{k}", "-", rest,
                          lambda k=k: _steady_from_rest()[k], batch="steady_from_rest"))
+    out.append(Claim("steady_200V_14N_rest_periods", "-",
+                     "steady_state(table2(), 200, 14).rest_periods",
+                     _rest_periods_200V_14N, cheap=True, rel_tol=0.0))
     out.append(Claim("steady_ripple_scale_200V_14N_m_s", "m/s",
                      "contact.steady.ripple_scale(table2(), OperatingPoint(200, 14, 40e3), "
                      "mu_d_eff of slow_problem)", _ripple_scale_14N, cheap=True,
