@@ -7,8 +7,11 @@ The slider (0.2 kg) is slow against the 40 kHz vibration, so the steady state se
 * the **slow equation**: the mean slider acceleration vanishes,
   ``G(v) = F_T(v) - sign(v) mu_sd (F_N + M g) - F_load = 0``. Every root is a branch; a root
   is stable where ``G`` falls through zero; ``v = 0`` is a steady state (the dead zone, slider
-  held by the guide) when ``G(0-) >= 0 >= G(0+)``. A start from rest follows ``M dv/dt = G(v)``
-  from 0 to the first stable root on the side ``G(0)`` points to.
+  held by the guide) when ``G(0-) >= 0 >= G(0+)``. At the fast level a start from rest follows
+  ``M dv/dt = G(v)`` from 0 to the first stable root on the side ``G(0)`` points to; the
+  exact level decides it on the full model (:mod:`contact.from_rest`): ``G`` can be
+  many-valued, and which sheet a start from rest takes is decided below the slider's
+  velocity ripple, where the averaging does not hold.
 
 ``F_T(v) - sign(v) mu_sd (F_N + M g)`` at fixed v is the motor's speed-thrust characteristic
 (:mod:`contact.characteristic`). Averaging is exact as ``M -> infinity``; at finite M the
@@ -87,12 +90,15 @@ HELD_M_S = 1e-12
 rest) hold the slider: they are reported as the dead zone, with velocity 0."""
 """Accuracy levels. ``"fast"``: averaging (M -> infinity), error O(1/M). ``"exact"``: every
 averaged branch polished by shooting the full model (finite M) and the start from rest decided
-by a transient of :data:`REST_TRANSIENT_PERIODS` periods polished by shooting, which also finds
-branches the averaging cannot see (multi-period slider-tip orbits at low speed)."""
+on the full model: its run out of the slider's ripple zone and the averaged sheet it is on
+(:mod:`contact.from_rest`), or else a transient of :data:`REST_TRANSIENT_PERIODS` periods
+polished by shooting, which also finds branches the averaging cannot see (multi-period
+slider-tip orbits at low speed)."""
 
 REST_TRANSIENT_PERIODS = 2000
 """Drive periods of the transient from rest that decides the branch reached (accuracy
-"exact"); shooting then removes what is left of the transient."""
+"exact") where the run out of the ripple zone cannot (:mod:`contact.from_rest`; the
+transient goes on from that run); shooting then removes what is left of the transient."""
 
 REST_MAX_K = 16
 """Longest period (in drive periods) the exact level looks for at the end of the transient

@@ -1249,7 +1249,7 @@ def _steady_scan() -> dict[str, float]:
 @cache
 def _steady_from_rest() -> dict[str, float]:
     """``python benchmarks/steady_from_rest.py``: the start from rest decided by the run out
-    of the ripple zone against the transient from rest, on 620 points of four sets."""
+    of the ripple zone against the transient from rest, on 617 points of five parameter sets."""
     t = _bench("steady_from_rest").measure(progress=False)["total"]
     return {"points": t["points"], "probe_decided": t["probe_decided"], "differ": t["differ"],
             "track_max_accepted": t["track_max_accepted"],
