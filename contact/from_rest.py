@@ -31,6 +31,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact import state as S
+from contact.errors import ChatteringError
 from contact.full_orbit import FullSystem, run_periods
 from contact.periodic_orbit import Orbit, find_orbit, orbit_phases
 
@@ -67,9 +68,16 @@ SHEET_STEP = 1.25
 SHEET_MIN_STEP = 1.002
 """Smallest continuation ratio: a jump still there is a fold of the sheet."""
 
+SHEET_MAX_STEPS = 200
+"""Continuation steps at most along the sheet (Table 2's map at 450 V takes about 25)."""
+
 PHASE_JUMP = 0.1
 """Change of any phase fraction (stick, slip+, slip-, separation) between neighbouring orbits
 taken as a jump to another sheet."""
+
+
+class _Chatter(Exception):
+    """The fast problem chatters at a velocity of the root search (args: the velocity)."""
 
 
 @dataclass(frozen=True)
@@ -115,17 +123,23 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
 
     ``sp`` is the operating point's slow problem (its tolerances and load), ``fsys`` its full
     model. See the module's docstring for the method and the cases it leaves to the
-    transient from rest.
+    transient from rest. A chattering fast problem leaves the decision to the transient too
+    (a chattering full model raises, as the transient would).
     """
     work = {"periods": 0, "newton": 0}
     load = sp.op.load_N
 
-    def orbit(v: float, near: Orbit | None, z=None, mode=None) -> Orbit:
+    def orbit(v: float, near: Orbit | None, z=None, mode=None) -> Orbit | None:
+        """The fast orbit at ``v`` continued from ``near`` (or from a full-model state);
+        None where the fast problem chatters."""
         if near is not None:
             z, mode = near.z, near.mode
-        o = find_orbit(sp.fs, v, z, mode, tol=sp.orbit_tol, max_periods=sp.search_periods,
-                       average_periods=sp.average_periods,
-                       jacobian=None if near is None else near.jacobian)
+        try:
+            o = find_orbit(sp.fs, v, z, mode, tol=sp.orbit_tol,
+                           max_periods=sp.search_periods, average_periods=sp.average_periods,
+                           jacobian=None if near is None else near.jacobian)
+        except ChatteringError:
+            return None
         work["periods"] += o.periods
         work["newton"] += o.newton_iterations
         return o
@@ -149,7 +163,7 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
         n += PROBE_BLOCK_PERIODS
     # the sheet the full model is on, and whether the slider moves as its slow flow says
     sheet = orbit(float(z[S.DX]), None, z, mode)
-    if not sheet.k:
+    if sheet is None or not sheet.k:
         return give_up("no periodic fast orbit where the slider left the ripple zone")
     mass, period = sp.params.M_slider, sp.op.period_s
     worst = 0.0
@@ -159,7 +173,7 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
         n += PROBE_BLOCK_PERIODS
         v1 = float(z[S.DX])
         mid = orbit(0.5 * (v0 + v1), sheet)
-        if mid.k != sheet.k:
+        if mid is None or mid.k != sheet.k:
             return give_up("the fast orbit changed its period while the slider left the "
                            "ripple zone")
         sheet = mid
@@ -169,18 +183,20 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
         return give_up(f"the slider does not follow the sheet's slow flow (off by "
                        f"{worst:.2g})")
     prev = orbit(float(z[S.DX]), sheet)
-    if prev.k != sheet.k:
+    if prev is None or prev.k != sheet.k:
         return give_up("the fast orbit changed its period while the slider left the "
                        "ripple zone")
     g = thrust(prev)
     frac = _fractions(sp, prev)
     base = SHEET_STEP if g * prev.velocity_m_s > 0 else 1.0 / SHEET_STEP
     ratio = base
-    while True:
+    for _ in range(SHEET_MAX_STEPS):
         v = prev.velocity_m_s * ratio
         if abs(v) < 0.5 * threshold or abs(v) > sp.v_max_m_s:
             return give_up("the sheet leaves the scanned velocities")
         nxt = orbit(v, prev)
+        if nxt is None:
+            return give_up(f"the fast problem chatters at {v:.4g} m/s on the sheet")
         frac_n = _fractions(sp, nxt) if nxt.k else frac
         if nxt.k != prev.k or np.max(np.abs(frac_n - frac)) > PHASE_JUMP:
             if abs(math.log(ratio)) <= math.log(SHEET_MIN_STEP):
@@ -189,11 +205,24 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
             continue
         g_n = thrust(nxt)
         if g_n * g <= 0.0:
-            root = brentq(lambda w, a=prev: thrust(orbit(w, a)), prev.velocity_m_s, v,
-                          xtol=1e-12, rtol=sp.root_rtol)
+            def g_at(w: float, a: Orbit = prev) -> float:
+                o = orbit(w, a)
+                if o is None:
+                    raise _Chatter(w)
+                return thrust(o)
+
+            try:
+                root = brentq(g_at, prev.velocity_m_s, v, xtol=1e-12, rtol=sp.root_rtol)
+            except _Chatter as exc:
+                return give_up(f"the fast problem chatters at {exc.args[0]:.4g} m/s on the "
+                               f"sheet")
             found = orbit(root, prev)
+            if found is None or found.k != prev.k:
+                return give_up(f"the fast orbit changed its period at the sheet's root "
+                               f"({root:.4g} m/s)")
             return RestProbe(found, z, mode, n, n + work["periods"], work["newton"],
                              f"the sheet's root, slow flow followed to {worst:.2g}", worst)
         prev, frac, g = nxt, frac_n, g_n
         if abs(math.log(ratio)) < abs(math.log(base)):
             ratio *= ratio  # back towards the full step after a halving
+    return give_up(f"no root within {SHEET_MAX_STEPS} continuation steps along the sheet")

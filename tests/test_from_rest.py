@@ -79,3 +79,20 @@ def test_a_slider_held_in_the_ripple_zone_is_left_to_the_transient(params):
     assert probe.orbit is None and probe.full_periods == PROBE_PERIODS
     r = steady_state(params, 150, 14, energy=False)
     assert r.rest_periods == REST_TRANSIENT_PERIODS and r.from_rest.k == 2
+
+
+def test_a_chattering_fast_problem_is_left_to_the_transient(params, monkeypatch):
+    # the probe's fast orbits can meet a chattering contact the transient does not: the
+    # point is then decided by the transient from rest, not lost
+    from contact.errors import ChatteringError
+
+    def chatters(*args, **kwargs):
+        raise ChatteringError("contact chattering in the fixed-velocity fast problem")
+
+    monkeypatch.setattr(from_rest, "find_orbit", chatters)
+    probe = _probe(params, 200, 14)
+    assert probe.orbit is None and "no periodic fast orbit" in probe.reason
+    r = steady_state(params, 200, 14, energy=False)
+    ref, _ = transient_reference(params, 200, 14, duration_s=0.3)
+    assert r.rest_periods == REST_TRANSIENT_PERIODS
+    assert r.velocity_m_s == pytest.approx(ref, rel=1e-8)
