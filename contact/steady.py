@@ -1052,6 +1052,30 @@ def warn_irregular(b: SteadyBranch, where: str) -> None:
                   "transient is the reference there", IrregularMotionWarning, stacklevel=3)
 
 
+class CoexistingBranchesWarning(UserWarning):
+    """The operating point has stable steady states besides the one a start from rest
+    reaches: a slider started on one of them (or driven there by a change of voltage or load)
+    stays there, so the motor's speed depends on its history (hysteresis)."""
+
+
+def warn_coexisting(branches, v_rest: float, op: OperatingPoint) -> None:
+    """Name the stable branches a start from rest does not reach (a one-point answer, such
+    as ``lusm simulate --steady``, reports only the one it does)."""
+    import warnings
+
+    others = [b for b in branches if b.stable and not b.from_rest]
+    if not others or not math.isfinite(v_rest):
+        return
+    what = "; ".join(f"{b.velocity_m_s:.4g} m/s ({b.motion}"
+                     + (f", period {b.k}" if b.k > 1 else "") + ")" for b in others)
+    load = f" under {op.load_N:g} N" if op.load_N else ""
+    many = "other stable steady states" if len(others) > 1 else "another stable steady state"
+    warnings.warn(f"at {op.voltage_V:g} V / {op.preload_N:g} N{load} the motor has {many}"
+                  f" besides the {v_rest:.4g} m/s a start from rest reaches: {what}; a slider "
+                  "brought there stays (lusm map lists every branch)",
+                  CoexistingBranchesWarning, stacklevel=3)
+
+
 def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff: float):
     """Adapter for the scheme table of :func:`contact.simulate.simulate` (``method="steady"``).
 
@@ -1070,6 +1094,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     rest = [b for b in branches if b.from_rest]
     frac = rest[0].phase_fraction if rest else (math.nan,) * 4
     steps = (sp.periods + periods) * sp.fs.steps_per_period
+    warn_coexisting(branches, float(v_rest), op)
     previous = float(v_rest)
     if rest and rest[0].irregular:
         load = f" under {op.load_N:g} N" if op.load_N else ""

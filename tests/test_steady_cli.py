@@ -272,3 +272,34 @@ def test_a_nan_efficiency_is_explained(capsys):
     row = next(ln for ln in out.splitlines() if ln.split()[:1] == ["0"])
     assert float(row.split()[2]) == 0.0 and row.split()[4] == "nan"
     assert "eff. nan: no electrical input" in out and "negative mechanical" not in out
+
+
+def test_simulate_steady_names_the_stable_branches_a_start_from_rest_does_not_reach(capsys):
+    """At 150 V / 14 N a period-1 branch is stable beside the period-2 one reached from rest
+    (docs/steady.md): a one-point answer names it, with the velocity a settled transient
+    started on that branch keeps; at 200 V / 14 N there is one branch and no word."""
+    from contact import state as S
+    from contact.full_orbit import full_system, run_periods
+    from contact.model import OperatingPoint
+    from contact.steady import slow_problem, steady_state
+    from rom import table2
+
+    assert main(["simulate", "--voltage", "150", "--preload", "14", "--steady", "--json"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "another stable steady state" in err[0]
+    other = float(err[0].split("reaches: ")[1].split(" m/s")[0])
+    r = steady_state(table2(), 150, 14, energy=False)
+    k1 = next(b for b in r.branches if b.stable and not b.from_rest)
+    assert other == pytest.approx(k1.velocity_m_s, rel=1e-3)  # printed to 4 figures
+    # a slider put on that orbit stays there: 4 000 periods of the full model (0.1 s) keep it
+    op = OperatingPoint(150.0, 14.0, 40e3)
+    sp = slow_problem(table2(), op, coupling="paper", accuracy="exact")
+    fsys = full_system(table2(), op, sp.mu_d_eff, "paper")
+    o = sp.orbit(k1.velocity_m_s)
+    z = o.z.copy()
+    z[S.DX] = k1.velocity_m_s
+    z, m, _, _, _ = run_periods(fsys, z, o.mode - o.mode % 3 + S.FORWARD, 4000)
+    _, _, dist, _, _ = run_periods(fsys, z, m, 400)
+    assert dist / (400 / 40e3) == pytest.approx(k1.velocity_m_s, rel=1e-3)
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady"]) == 0
+    assert capsys.readouterr().err == ""
