@@ -855,18 +855,22 @@ def load_stator(path: str | Path) -> StatorDesign:
     ValueError
         For bad TOML or bad values; the message names the key and the allowed range.
     """
+    from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
+
     path = Path(path)
     if path.is_dir():
         raise ValueError(f"stator file {path} is a folder; name its .toml file")
-    if not path.is_file():
+    if not path.exists():
         raise FileNotFoundError(f"stator file not found: {path}")
-    size = path.stat().st_size
-    if size > MAX_STATOR_FILE_BYTES:  # a 512 MB file was read whole, 1.1 GB of memory
-        raise ValueError(f"stator file {path} has {size} bytes, above "
-                         f"{MAX_STATOR_FILE_BYTES} for a TOML description (its mesh goes in "
-                         "the file [mesh] file names)")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
+        # bounded: a 512 MB file was read whole (1.1 GB of memory), a FIFO would block
+        data = tomllib.loads(read_small_text(path, MAX_STATOR_FILE_BYTES))
+    except NotRegularFile as exc:
+        raise ValueError(f"stator file {path} is {exc.what}, not a TOML file") from None
+    except FileTooLarge as exc:
+        raise ValueError(f"stator file {path} has {exc.size} bytes, above "
+                         f"{MAX_STATOR_FILE_BYTES} for a TOML description (its mesh goes in "
+                         "the file [mesh] file names)") from None
     except UnicodeDecodeError as exc:
         raise ValueError(f"{path}: not a UTF-8 text file ({exc.reason} at byte {exc.start}); "
                          "a stator file is TOML, saved as UTF-8") from None

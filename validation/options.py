@@ -206,19 +206,24 @@ def params_from_file(path_text: str):
 
     if not str(path_text).strip():
         raise LusmError("--params must name a file, got ''", "--params")
+    from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
+
     path = Path(path_text)
     if path.is_dir():
         raise LusmError(f"--params {path_text} is a folder; name a file saved with "
                         "'lusm params --json'", "--params")
-    if not path.is_file():  # /dev/zero was "no such file" too
-        what = "not a regular file" if path.exists() else "no such file"
-        raise LusmError(f"--params {path_text}: {what}", "--params")
-    size = path.stat().st_size
-    if size > MAX_PARAMS_FILE_BYTES:  # a 512 MB file was read whole, 1.1 GB of memory
-        raise LusmError(f"--params {path_text} has {size} bytes, above "
-                        f"{MAX_PARAMS_FILE_BYTES} for a parameter set (about 1 kB)", "--params")
+    if not path.exists():
+        raise LusmError(f"--params {path_text}: no such file", "--params")
     try:
-        data = json.loads(path.read_text(encoding="utf-8-sig"))
+        # bounded: a 512 MB file was read whole (1.1 GB of memory), a FIFO would block
+        data = json.loads(read_small_text(path, MAX_PARAMS_FILE_BYTES))
+    except NotRegularFile as exc:  # /dev/zero was "no such file"
+        raise LusmError(f"--params {path_text}: not a regular file ({exc.what})",
+                        "--params") from None
+    except FileTooLarge as exc:
+        raise LusmError(f"--params {path_text} has {exc.size} bytes, above "
+                        f"{MAX_PARAMS_FILE_BYTES} for a parameter set (about 1 kB)",
+                        "--params") from None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise LusmError(f"--params {path_text}: not a JSON parameter set ({exc})",
                         "--params") from None

@@ -702,11 +702,7 @@ was read until memory ran out (24 GB, killed) and a FIFO waited for ever."""
 
 def _read_study_text(path: Path) -> str:
     """The text of the study file ``path``, refused unless it is a regular file of at most
-    :data:`MAX_STUDY_BYTES`.
-
-    The file is opened without blocking (a FIFO swapped in after the check opens at once) and
-    checked again on its descriptor, and at most one byte more than the cap is read: a device
-    or a growing file cannot make this read unbounded.
+    :data:`MAX_STUDY_BYTES` (read boundedly: :func:`fem.small_file.read_small_text`).
 
     Raises
     ------
@@ -716,37 +712,17 @@ def _read_study_text(path: Path) -> str:
     OSError
         If the file does not exist or cannot be opened.
     """
-    import os
-    import stat
+    from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
 
-    def kind(mode: int) -> str | None:
-        if stat.S_ISREG(mode):
-            return None
-        return next((name for test, name in (
-            (stat.S_ISDIR, "a folder"), (stat.S_ISCHR, "a character device"),
-            (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
-            (stat.S_ISSOCK, "a socket")) if test(mode)), "not a regular file")
-
-    def refuse_kind(what: str) -> ValueError:
-        return ValueError(f"{path}: is {what}, not a study file; give a regular TOML file "
-                          f"of at most {MAX_STUDY_BYTES / 1e6:g} MB")
-
-    what = kind(os.stat(path).st_mode)  # before opening: opening a FIFO would block
-    if what is not None:
-        raise refuse_kind(what)
-    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    with os.fdopen(fd, "rb") as fh:
-        st = os.fstat(fh.fileno())
-        what = kind(st.st_mode)  # the path may have been replaced since the stat
-        if what is not None:
-            raise refuse_kind(what)
-        data = fh.read(MAX_STUDY_BYTES + 1)
-    if len(data) > MAX_STUDY_BYTES:
-        raise ValueError(f"{path}: {max(st.st_size, len(data))} bytes is above the "
-                         f"{MAX_STUDY_BYTES / 1e6:g} MB a study file may have (a study is a few "
-                         "kB of TOML): is it the study file?")
     try:
-        return data.decode("utf-8-sig")
+        return read_small_text(path, MAX_STUDY_BYTES)
+    except NotRegularFile as exc:
+        raise ValueError(f"{path}: is {exc.what}, not a study file; give a regular TOML file "
+                         f"of at most {MAX_STUDY_BYTES / 1e6:g} MB") from None
+    except FileTooLarge as exc:
+        raise ValueError(f"{path}: {exc.size} bytes is above the "
+                         f"{MAX_STUDY_BYTES / 1e6:g} MB a study file may have (a study is a few "
+                         "kB of TOML): is it the study file?") from None
     except UnicodeDecodeError as exc:  # the message did not name the file
         raise ValueError(f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason}); a study "
                          "file is TOML") from None
