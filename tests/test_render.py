@@ -220,3 +220,25 @@ def test_a_wide_plates_ruler_and_plate_stay_between_title_and_colour_bar(width_m
             assert ruler <= DECORATED_BAND * half
         finally:
             scene.close()
+
+
+def test_lusm_render_draws_with_the_signals_held(monkeypatch, tmp_path):
+    """A Ctrl-C inside VTK's rendering (about three seconds with --animate) printed VTK
+    errors: the pictures are drawn with SIGINT and SIGTERM held, delivered once they are
+    done, and nothing is moved in."""
+    import signal
+
+    import fem.render
+    from contact import deferred_signals
+    from validation.cli import main
+
+    seen = []
+
+    def draw(*args, **kwargs):
+        seen.append(signal.getsignal(signal.SIGINT) is deferred_signals._record)
+        return []
+
+    monkeypatch.setattr(fem.render, "render_modes", draw)
+    assert main(["render", "--animate", "--refine", "4", "--out", str(tmp_path / "r")]) == 0
+    assert seen == [True]
+    assert signal.getsignal(signal.SIGINT) is not deferred_signals._record  # released

@@ -61,10 +61,16 @@ def run(args: argparse.Namespace) -> None:
         raise
     model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
+    from contact.deferred_signals import deferred_signals
     from validation.interrupts import import_held
 
     import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
     with figure_set(out, "render", "--out", args.force) as stage:
-        written = moved(render_modes(model, modes, stage, which, args.animate), stage, out)
+        # a signal inside VTK's rendering printed VTK errors or crashed it (as the design
+        # report's pictures, exit 139): drawn with SIGINT/SIGTERM held, delivered once they
+        # are done (about a second, three with --animate), when the staging is discarded
+        with deferred_signals():
+            pictures = render_modes(model, modes, stage, which, args.animate)
+        written = moved(pictures, stage, out)
     for path in written:
         print(path)
