@@ -217,9 +217,11 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
                 return give_up(f"the fast problem chatters at {exc.args[0]:.4g} m/s on the "
                                f"sheet")
             found = orbit(root, prev)
-            if found is None or found.k != prev.k:
-                return give_up(f"the fast orbit changed its period at the sheet's root "
-                               f"({root:.4g} m/s)")
+            if (found is None or found.k != prev.k
+                    or np.max(np.abs(_fractions(sp, found) - frac)) > PHASE_JUMP):
+                # Brent's iterates continue from one end; one that jumped to another sheet
+                # leaves a root that is not this sheet's
+                return give_up(f"the root search left the sheet at {root:.4g} m/s")
             return RestProbe(found, z, mode, n, n + work["periods"], work["newton"],
                              f"the sheet's root, slow flow followed to {worst:.2g}", worst)
         prev, frac, g = nxt, frac_n, g_n
