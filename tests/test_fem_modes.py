@@ -323,6 +323,23 @@ def test_a_plate_too_wide_for_a_beam_b2_is_told_so(capsys):
     assert "wider than about half its length" in err and "--refine" not in err
 
 
+def test_a_plate_too_slender_for_an_l1_b2_pair_is_told_why(capsys):
+    """A 1000 x 1 mm plate was told it was "wider than about half its length". Its B2 lies
+    far below the modes solved near L1: the message gives beam theory's ratio, and B2 put
+    there (below even the highest mode solved, over the ratio) lies below the lowest one."""
+    from validation.cli import main
+
+    assert main(["modes", "--length-mm", "1000", "--width-mm", "1", "--thickness-mm", "1",
+                 "--refine", "1"]) == 2  # the coarsest mesh: 10 s, the default's 24 s
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "could not identify B2" in err
+    assert "1000 times longer than wide" in err and "wider than about half" not in err
+    ratio = float(err.split("B2 near 1/")[1].split(" ")[0])
+    assert ratio == pytest.approx(176.5, rel=5e-3)  # pi sqrt(12) L / (7.8532^2 w), 3 figures
+    low, high = (float(x) for x in err.split("computed at [")[1].split("]")[0].split(" ... "))
+    assert high / ratio < low  # L1 is among the modes solved, B2 below all of them
+
+
 def test_linear_elements_are_said_to_lock_in_bending(capsys):
     """``--order 1`` gave B2 several per cent high without a word (and a tuned width 0.5 mm
     off). The warning's claim against a converged order-2 mesh: B2 of the default order-1

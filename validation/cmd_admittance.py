@@ -144,7 +144,7 @@ def run(args: argparse.Namespace) -> None:
             f"{exc.max_modes}; lower --f-max ({limits.more_work_hint()})", "--f-max") from None
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
-            raise fe_failure(exc) from exc
+            raise fe_failure(exc, choice.stator) from exc
         raise
     _warn_unresolved(res, args.f_max, refine)
     _warn_missed(res, args.f_min, args.f_max, args.points)

@@ -8,6 +8,7 @@ never imports scikit-fem.
 from __future__ import annotations
 
 import argparse
+import math
 
 from validation import limits
 from validation.errors import short_reason
@@ -94,11 +95,37 @@ def is_fe_failure(exc: BaseException) -> bool:
         type(exc) is Exception and "Newton iteration didn't converge" in str(exc))
 
 
-def fe_failure(exc: Exception) -> ValueError:
-    """A mode-solver or sparse-solver failure on an extreme plate, as bad input."""
+SLENDER_L_OVER_W = 17.0
+"""Length over width beyond which free-free Euler-Bernoulli beam theory puts B2 below a third
+of L1's frequency (``f_L1 / f_B2 = pi sqrt(12) L / (7.853^2 w) = 0.1765 L / w``, whatever the
+material): the modes solved near L1 do not reach B2."""
+
+
+def _slender_clause(stator) -> str | None:
+    """Why a slender plate has no L1/B2 pair, or None (``stator``: anything with
+    ``length_m`` and ``width_m``, or None)."""
+    length, width = getattr(stator, "length_m", None), getattr(stator, "width_m", None)
+    if not (length and width) or length / width <= SLENDER_L_OVER_W:
+        return None
+    ratio = math.pi * math.sqrt(12.0) * length / (7.8532**2 * width)
+    return (f"a {length * 1e3:g} x {width * 1e3:g} mm plate is {length / width:.4g} times "
+            f"longer than wide, and free-free beam theory puts its B2 near 1/{ratio:.3g} of "
+            "L1's frequency, below the modes solved near L1: an L1/B2 motor needs the two "
+            "close (the paper's 30 x 7.5 mm plate has them about 1 % apart), a width of about a "
+            "quarter of the length")
+
+
+def fe_failure(exc: Exception, stator=None) -> ValueError:
+    """A mode-solver or sparse-solver failure on an extreme plate, as bad input (``stator``,
+    when given, lets a slender plate's message say why B2 is missing)."""
     reason = short_reason(exc)
     # mode-shape tests, which no --refine changes (pairing an off-centre hole's open-circuit
     # L1 with its short-circuit shape failed as "check ... and --refine")
+    slender = _slender_clause(stator)
+    if slender and ("could not identify" in reason or "could not pair" in reason):
+        # a 1000 x 1 mm plate was told "wider than about half its length"
+        return ValueError(f"L1 and B2 were not found for this stator ({reason}): {slender}; "
+                          "check the plate (--geometry or --length-mm, --width-mm)")
     if "could not identify" in reason or "could not pair" in reason:
         return ValueError(
             f"L1 and B2 were not found for this stator ({reason}): they are identified as the "
@@ -202,7 +229,7 @@ def run(args: argparse.Namespace) -> None:
             raise ValueError(f"{short_reason(exc)}; the 3D mesh does not resolve the "
                              f"electrode gap: {coarse_gap}") from exc
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
-            raise fe_failure(exc) from exc
+            raise fe_failure(exc, stator) from exc
         raise
     if export is not None:
         if args.model == "3d":

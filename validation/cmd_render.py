@@ -57,7 +57,7 @@ def run(args: argparse.Namespace) -> None:
         modes = plate_modes(choice.stator, choice.material, args.order, refine)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
-            raise fe_failure(exc) from exc
+            raise fe_failure(exc, choice.stator) from exc
         raise
     model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)

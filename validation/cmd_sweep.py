@@ -164,7 +164,7 @@ def run(args: argparse.Namespace) -> None:
                               refine=args.refine, progress=not args.json)
     except Exception as exc:
         if is_fe_failure(exc):
-            raise fe_failure(exc) from exc
+            raise fe_failure(exc, base) from exc
         raise
     _report_failures(res, parameter)
     png = None

@@ -142,7 +142,7 @@ def run(args: argparse.Namespace) -> None:
                            refine=args.refine, progress=True)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
-            raise fe_failure(exc) from exc
+            raise fe_failure(exc, choice.stator) from exc
         if choice.parametric and isinstance(exc, ValueError) and "ParametricStator" in str(exc):
             from validation.errors import feature_reason
 

@@ -688,7 +688,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
             from validation.cmd_modes import fe_failure, is_fe_failure
 
             if is_fe_failure(exc):
-                raise fe_failure(exc) from exc
+                raise fe_failure(exc, choice.stator) from exc
             if design is not None and isinstance(exc, ValueError) and str(exc).startswith(
                     str(args.geometry)):  # the file's own terms (its damping identification)
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
