@@ -6,8 +6,8 @@
 The exact level decides the branch a start from rest reaches by running the full model out of
 the slider's ripple zone and following the averaged sheet it is on (:mod:`contact.from_rest`),
 and leaves the decision to the transient from rest where that run cannot decide. Here every
-point is solved twice, with the probe and with it switched off (``PROBE_FACTOR = inf``: the
-transient from rest decides, as before the probe), on
+point is solved twice, with the probe and with ``rest="transient"`` (the transient from rest
+decides, as before the probe), on
 
 * the 9 x 9 maps (50-450 V x 10-26 N, 40 kHz, no load) of Table 2's, the beam and the FE sets;
 * Table 2's 14 N line, 10-450 V;
@@ -84,9 +84,10 @@ def _sources() -> dict[str, tuple[object, float]]:
     return out
 
 
-def _solve(params, f_Hz: float, v: float, f: float, load: float):
+def _solve(params, f_Hz: float, v: float, f: float, load: float, rest: str = "probe"):
     try:
-        return steady_state(params, v, f, frequency_Hz=f_Hz, load_N=load, energy=False)
+        return steady_state(params, v, f, frequency_Hz=f_Hz, load_N=load, energy=False,
+                            rest=rest)
     except RunawayError:
         return None
 
@@ -119,12 +120,7 @@ def measure(progress: bool = True) -> dict:
             probe = from_rest.probe_from_rest(sp, full_system(params, op, sp.mu_d_eff,
                                                               coupling))
             with_probe = _solve(params, f_Hz, v, f, load)
-            saved = from_rest.PROBE_FACTOR
-            from_rest.PROBE_FACTOR = math.inf
-            try:
-                without = _solve(params, f_Hz, v, f, load)
-            finally:
-                from_rest.PROBE_FACTOR = saved
+            without = _solve(params, f_Hz, v, f, load, rest="transient")
             row["points"] += 1
             if probe.orbit is not None and with_probe is not None \
                     and with_probe.rest_periods == probe.full_periods:

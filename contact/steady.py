@@ -95,6 +95,10 @@ on the full model: its run out of the slider's ripple zone and the averaged shee
 polished by shooting, which also finds branches the averaging cannot see (multi-period
 slider-tip orbits at low speed)."""
 
+REST_METHODS = ("probe", "transient")
+"""How the exact level decides the branch a start from rest reaches (:func:`steady_state`
+``rest=``)."""
+
 REST_TRANSIENT_PERIODS = 2000
 """Drive periods of the transient from rest that decides the branch reached (accuracy
 "exact") where the run out of the ripple zone cannot (:mod:`contact.from_rest`; the
@@ -551,7 +555,8 @@ def branches_at_load(sp: SlowProblem, load_N: float, *,
 def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                  frequency_Hz: float | None = None, load_N: float = 0.0,
                  coupling: str = "auto", ultrasonic_friction: bool = True,
-                 accuracy: str = "exact", energy: bool = True) -> SteadyResult:
+                 accuracy: str = "exact", energy: bool = True,
+                 rest: str = "probe") -> SteadyResult:
     """Every steady state of the motor at one operating point, by averaging and shooting.
 
     Parameters
@@ -582,6 +587,14 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
         Compute each branch's powers (input, damping, interface, guide), one run per branch
         at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
         it they are NaN (velocities, periods, stability and phase fractions are the same).
+    rest : {"probe", "transient"}
+        How the exact level decides the branch a start from rest reaches: ``"probe"`` (the
+        default) by the full model's run out of the slider's ripple zone and the averaged
+        sheet it is on, with the transient where that run cannot decide
+        (:mod:`contact.from_rest`; several times faster, a heuristic with known failures,
+        docs/steady.md); ``"transient"`` by a transient from rest of
+        :data:`REST_TRANSIENT_PERIODS` periods at every point (the reference the probe is
+        measured against). Ignored at the fast level.
 
     Returns
     -------
@@ -597,18 +610,21 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
         return _steady_state(params, voltage_V, preload_N, frequency_Hz=frequency_Hz,
                              load_N=load_N, coupling=coupling,
                              ultrasonic_friction=ultrasonic_friction, accuracy=accuracy,
-                             energy=energy)
+                             energy=energy, rest=rest)
 
 
 def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
                   frequency_Hz: float | None = None, load_N: float = 0.0,
                   coupling: str = "auto", ultrasonic_friction: bool = True,
-                  accuracy: str = "exact", energy: bool = True) -> SteadyResult:
+                  accuracy: str = "exact", energy: bool = True,
+                  rest: str = "probe") -> SteadyResult:
     """:func:`steady_state` without the signal hold."""
     t0 = time.perf_counter()
     require_params(params)
     if not isinstance(energy, (bool, np.bool_)):  # "no" is a true string
         raise TypeError(f"energy must be True or False, got {energy!r}")
+    if rest not in REST_METHODS:
+        raise ValueError(f"rest must be one of {REST_METHODS}, got {rest!r}")
     coupling = resolve_coupling(params, coupling)
     op = OperatingPoint(voltage_V, preload_N,
                         default_drive_Hz(params, frequency_Hz, 4), load_N)
@@ -618,8 +634,8 @@ def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
     branches, v_rest = branches_at_load(sp, op.load_N, energy=energy and accuracy == "fast")
     periods, newton, rest_periods = sp.periods, sp.newton_iterations, 0
     if accuracy == "exact":
-        branches, v_rest, more_periods, more_newton, rest_periods = _exact(sp, branches,
-                                                                          coupling, energy)
+        branches, v_rest, more_periods, more_newton, rest_periods = _exact(
+            sp, branches, coupling, energy, rest)
         periods += more_periods
         newton += more_newton
     return SteadyResult(op=op, branches=branches, velocity_m_s=v_rest, mu_d_eff=sp.mu_d_eff,
@@ -791,7 +807,8 @@ def _transient_from_rest(sp: SlowProblem, fsys, z, mode, done: int, energy: bool
     return z_end, m_end, v_rest, fo, periods, newton
 
 
-def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
+def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
+           rest: str = "probe"):
     """Polish the averaged branches on the full model and decide the start from rest."""
     from contact import state as S
     from contact.full_orbit import full_system, run_periods, shoot
@@ -840,18 +857,22 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True):
     # sheet of the slow equation (a tuned 60 kHz stator at 140 V / 14 N: stick-slip at
     # 6.23e-3 m/s from rest, where the scan's only branch, pure slip at 1.36e-2 m/s, had been
     # reported as reached from rest without a transient)
-    probe = probe_from_rest(sp, fsys)
-    periods += probe.periods
-    newton += probe.newton_iterations
-    fo, more, more_newton = _shoot_probe(fsys, probe, energy)
-    periods += more
-    newton += more_newton
+    if rest == "probe":
+        probe = probe_from_rest(sp, fsys)
+        periods += probe.periods
+        newton += probe.newton_iterations
+        fo, more, more_newton = _shoot_probe(fsys, probe, energy)
+        periods += more
+        newton += more_newton
+        z0, m0, done = probe.z, probe.mode, probe.full_periods
+    else:  # rest == "transient": the transient from rest decides at every point
+        fo, z0, m0, done = None, fsys.system.z0, fsys.system.mode0, 0
     if fo is not None:
-        v_rest, z_end, m_end = fo.velocity_m_s, probe.z, probe.mode
-        rest_periods = probe.full_periods
+        v_rest, z_end, m_end = fo.velocity_m_s, z0, m0
+        rest_periods = done
     else:
         z_end, m_end, v_rest, fo, more, more_newton = _transient_from_rest(
-            sp, fsys, probe.z, probe.mode, probe.full_periods, energy)
+            sp, fsys, z0, m0, done, energy)
         periods += more
         newton += more_newton
         rest_periods = REST_TRANSIENT_PERIODS
