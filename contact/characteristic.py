@@ -21,6 +21,7 @@ from contact.results import FrozenArrays
 from contact.steady import (
     ACCURACIES,
     HELD_M_S,
+    REST_METHODS,
     branches_at_load,
     holding_range_N,
     motor_efficiency,
@@ -109,7 +110,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                    loads_N=None, *, frequency_Hz: float | None = None,
                    coupling: str = "auto", ultrasonic_friction: bool = True,
                    points: int = 21, accuracy: str = "exact",
-                   progress: bool = False) -> Characteristic:
+                   progress: bool = False, rest: str = "probe") -> Characteristic:
     """Speed-thrust characteristic at one operating point.
 
     Parameters
@@ -136,6 +137,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     progress : bool
         Show a tqdm progress bar over the loads on stderr once the curve takes more than a
         second (the exact level's curves do).
+    rest : {"probe", "transient"}
+        How the exact level decides the start from rest under each load
+        (:func:`contact.steady.steady_state`).
 
     Returns
     -------
@@ -144,6 +148,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     t0 = time.perf_counter()
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
+    if rest not in REST_METHODS:
+        raise ValueError(f"rest must be one of {REST_METHODS}, got {rest!r}")
     if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
             not 2 <= points <= MAX_POINTS:
         raise ValueError(f"points must be an integer in [2, {MAX_POINTS}], got {points!r}")
@@ -169,7 +175,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         if accuracy == "exact":
             r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
                              load_N=load, coupling=coupling,
-                             ultrasonic_friction=ultrasonic_friction, accuracy="exact")
+                             ultrasonic_friction=ultrasonic_friction, accuracy="exact",
+                             rest=rest)
             b = r.from_rest
             if b is not None and b.irregular:
                 irregular[load] = b

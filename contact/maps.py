@@ -92,14 +92,15 @@ def fallback_duration_s(duration_s: float, frequency_Hz: float) -> float:
 
 
 def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
-                  frequency_Hz: float, opts: SimulationOptions, accuracy: str):
+                  frequency_Hz: float, opts: SimulationOptions, accuracy: str,
+                  rest: str = "probe"):
     """One map point from the steady engine, in the shape of a transient's steady metrics;
     an undecided point falls back to a transient of :data:`FALLBACK_DURATION_S`."""
     from contact.steady import steady_state
 
     r = steady_state(params, voltage_V, preload_N, frequency_Hz=frequency_Hz,
                      coupling=opts.coupling, ultrasonic_friction=opts.ultrasonic_friction,
-                     accuracy=accuracy, energy=False)  # a map shows no powers
+                     accuracy=accuracy, energy=False, rest=rest)  # a map shows no powers
     b = r.from_rest
     stable = tuple((float(x.velocity_m_s), int(x.k), x.motion, bool(x.from_rest))
                    for x in r.branches if x.stable)
@@ -134,6 +135,7 @@ def stick_slip_map(
     *,
     method: str = "transient",
     accuracy: str = "exact",
+    rest: str = "probe",
 ) -> StickSlipMap:
     """Classify the steady motion of every (voltage, preload) pair.
 
@@ -157,6 +159,8 @@ def stick_slip_map(
         (:func:`contact.steady.steady_state`; ``options`` give coupling and friction only).
     accuracy : {"fast", "exact"}
         Level of the steady engine (``method="steady"``), see :data:`contact.steady.ACCURACIES`.
+    rest : {"probe", "transient"}
+        How the exact level decides the start from rest (:func:`contact.steady.steady_state`).
     """
     from threadpoolctl import threadpool_limits
     from tqdm import tqdm
@@ -176,6 +180,10 @@ def stick_slip_map(
 
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
+    from contact.steady import REST_METHODS
+
+    if rest not in REST_METHODS:
+        raise ValueError(f"rest must be one of {REST_METHODS}, got {rest!r}")
     from contact.drive import default_drive_Hz
 
     # once for the map, not per point; the frequency checked before it is used
@@ -197,7 +205,7 @@ def stick_slip_map(
     t0 = time.perf_counter()
     if method == "steady":
         def task(vi: float, fj: float):
-            return _steady_point(params, vi, fj, frequency_Hz, opts, accuracy)
+            return _steady_point(params, vi, fj, frequency_Hz, opts, accuracy, rest)
     else:
         def task(vi: float, fj: float):
             r = simulate(params, vi, fj, frequency_Hz, opts)

@@ -116,3 +116,27 @@ def test_rest_transient_decides_where_the_probe_is_known_to_miss():
     assert probe.velocity_m_s > 1.03 * ref  # the documented miss
     with pytest.raises(ValueError, match="rest must be one of"):
         steady_state(p, 1000, 10, rest="shortcut")
+
+
+def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys):
+    # the same point from lusm characteristic: --rest transient gives the transient's value
+    import json
+
+    from validation.cli import main
+
+    argv = ["characteristic", "--source", "beam", "--voltage", "1000", "--preload", "10",
+            "--loads=-1:-1:1", "--json"]
+    assert main([*argv, "--rest", "transient"]) == 0
+    strict = json.loads(capsys.readouterr().out)["curve"][0]["velocity_m_s"]
+    assert main(argv) == 0
+    probe = json.loads(capsys.readouterr().out)["curve"][0]["velocity_m_s"]
+    from rom.sources import get_params
+
+    ref, _ = transient_reference(get_params("beam"), 1000, 10, load_N=-1.0, duration_s=0.4)
+    assert strict == pytest.approx(ref, rel=1e-6) and probe > 1.03 * ref
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads", "0:0:1",
+                 "--accuracy", "fast", "--rest", "transient"]) == 0
+    assert "--rest has no effect" in capsys.readouterr().err
+    assert main(["map", "--voltages", "200", "--preloads", "14", "--rest", "never"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--rest" in err[0]

@@ -22,6 +22,7 @@ from validation.options import (
     warn,
     warn_default_frequency,
     warn_drive,
+    warn_unused,
 )
 
 
@@ -44,6 +45,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "fast: the averaged steady state (slider mass -> infinity), all loads "
                    "from one set of orbits, about half the time, but blind to the creeps "
                    "and holds a start from rest can end in (docs/steady.md)")
+    p.add_argument("--rest", choices=("probe", "transient"), default="probe",
+                   help="how --accuracy exact decides the branch a start from rest reaches: "
+                   "probe (default) runs the full model out of the slider's ripple zone and "
+                   "follows the averaged sheet it is on, with a transient where it cannot "
+                   "decide; transient runs a 2 000-period transient from rest at every point, "
+                   "slower, the reference (docs/steady.md, 'The start from rest')")
     add_motor_options(p)
     add_output_options(p, folder="--plot", folder_help="write characteristic.png into DIR")
     p.set_defaults(func=run)
@@ -67,6 +74,8 @@ def parse_loads(text: str) -> list[float]:
 
 def run(args: argparse.Namespace) -> None:
     """Compute the characteristic(s) and print them."""
+    if args.accuracy == "fast":
+        warn_unused(("--rest",), "it sets how --accuracy exact decides the start from rest")
     loads = parse_loads(args.loads) if args.loads is not None else None
     plot = output_folder(args, "characteristic", "--plot")
     voltages = args.voltage  # a tuple: --voltage takes A,B,...
@@ -85,7 +94,7 @@ def run(args: argparse.Namespace) -> None:
     chars = [characteristic(params, v, args.preload, loads, frequency_Hz=freq,
                             coupling=coupling,
                             ultrasonic_friction=not args.no_ultrasonic_friction,
-                            accuracy=args.accuracy, progress=True)
+                            accuracy=args.accuracy, progress=True, rest=args.rest)
              for v in voltages]
     if args.accuracy == "fast":
         _warn_fast_level(params, chars, coupling, not args.no_ultrasonic_friction)

@@ -50,7 +50,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "a run from rest of --duration per point (the paper's way)")
     p.add_argument("--accuracy", choices=("fast", "exact"), default="exact",
                    help="steady engine level: fast (averaging, slider mass -> infinity) or "
-                   "exact (finite slider mass, start from rest decided by a transient)")
+                   "exact (finite slider mass, start from rest decided on the full model)")
+    p.add_argument("--rest", choices=("probe", "transient"), default="probe",
+                   help="how --accuracy exact decides the branch a start from rest reaches: "
+                   "probe (default) runs the full model out of the slider's ripple zone and "
+                   "follows the averaged sheet it is on, with a transient where it cannot "
+                   "decide; transient runs a 2 000-period transient from rest at every point, "
+                   "slower, the reference (docs/steady.md, 'The start from rest')")
     add_motor_options(p, friction_note=" (Fig. 19)")
     p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
                    help="threads (default: all cores)")
@@ -84,8 +90,10 @@ def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> 
 def run(args: argparse.Namespace) -> None:
     """Compute and print the map."""
     if args.method == "transient":
-        warn_unused(("--accuracy",), "it sets the steady engine's level; --method transient "
-                    "runs every point from rest")
+        warn_unused(("--accuracy", "--rest"), "they set the steady engine; --method "
+                    "transient runs every point from rest")
+    elif args.accuracy == "fast":
+        warn_unused(("--rest",), "it sets how --accuracy exact decides the start from rest")
     plot = output_folder(args, "map", "--plot")
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
@@ -119,7 +127,7 @@ def run(args: argparse.Namespace) -> None:
                              ultrasonic_friction=not args.no_ultrasonic_friction,
                              coupling=coupling)
     m = stick_slip_map(params, volts, loads, freq, opts, workers=args.workers, progress=True,
-                       method=args.method, accuracy=args.accuracy)
+                       method=args.method, accuracy=args.accuracy, rest=args.rest)
     summary = map_summary(m)
     if m.method == "transient" and not m.settled.all():  # as simulate warns of one run
         import numpy as np  # here: lusm map --help loads no NumPy
