@@ -198,6 +198,8 @@ BAD = {
                                 "0.0001 mm"),
     "friction switch as text": ("[solver]\nultrasonic_friction = 'no'\n",
                                 "solver.ultrasonic_friction must be true or false"),
+    "rest unknown": ("[solver]\nrest = 'shortcut'\n",
+                     "solver.rest must be probe or transient, got 'shortcut'"),
     "gap negative": ("[axes]\ngap = '-0.1 mm'\n",
                      "axes.gap values must be 0 or lie in [0.001, 1000] mm, got -0.1 mm"),
 }
@@ -1271,3 +1273,29 @@ def test_a_one_plate_study_says_one_geometry(tmp_path, capsys):
     path.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
     assert main(["explore", str(path), "--out", str(tmp_path / "a.nc"), "--workers", "1"]) == 0
     assert "study 's': 1 geometry (FE outputs only); " in capsys.readouterr().out
+
+
+def test_solver_rest_reaches_every_steady_call(monkeypatch):
+    """[solver] rest = "transient" is the commands' --rest transient: the no-load point and
+    both characteristics of a drive point take it."""
+    import contact.characteristic
+    import contact.steady
+    from rom import table2
+    from validation.explore import Drive, motor_answers
+    from validation.study import Solver
+
+    seen = []
+    real = contact.steady.steady_state
+
+    def spy(*args, **kwargs):
+        seen.append(kwargs.get("rest"))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(contact.steady, "steady_state", spy)
+    monkeypatch.setattr(contact.characteristic, "steady_state", spy)
+    ans = motor_answers(table2(), Drive(200.0, 14.0, 40e3, (0.0, 0.123)),
+                        Solver(rest="transient"))
+    assert seen and set(seen) == {"transient"}
+    ref = real(table2(), 200, 14, frequency_Hz=40e3, energy=False,
+               rest="transient")
+    assert ans["no_load_velocity"] == pytest.approx(ref.velocity_m_s, rel=1e-12)

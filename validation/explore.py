@@ -196,13 +196,13 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
         from contact.steady import steady_state
 
         acc = solver.accuracy  # the CLI's default level, exact, unless the study says fast
-        uf = solver.ultrasonic_friction
+        uf, rest = solver.ultrasonic_friction, solver.rest
         res = steady_state(params, drive.voltage_V, drive.preload_N,
                            frequency_Hz=drive.frequency_Hz, coupling=coupling, accuracy=acc,
-                           ultrasonic_friction=uf)
+                           ultrasonic_friction=uf, rest=rest)
         curve = characteristic(params, drive.voltage_V, drive.preload_N, None,
                                frequency_Hz=drive.frequency_Hz, coupling=coupling,
-                               accuracy=acc, ultrasonic_friction=uf)
+                               accuracy=acc, ultrasonic_friction=uf, rest=rest)
         # a load on the 21-load curve (0 N always is) has its velocity there: the same
         # start from rest; only the others cost a second characteristic
         at = {float(f): float(v) for f, v in zip(curve.load_N, curve.velocity_m_s,
@@ -211,7 +211,7 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
         if missing:
             loaded = characteristic(params, drive.voltage_V, drive.preload_N, missing,
                                     frequency_Hz=drive.frequency_Hz, coupling=coupling,
-                                    accuracy=acc, ultrasonic_friction=uf)
+                                    accuracy=acc, ultrasonic_friction=uf, rest=rest)
             at.update(zip(map(float, loaded.load_N), map(float, loaded.velocity_m_s),
                           strict=True))
         eff = np.asarray(curve.efficiency, dtype=float)
@@ -654,7 +654,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
                      "shift-invert eigsh with a fixed start vector",
         "motor_solver": (
             f"contact.steady.steady_state and contact.characteristic.characteristic, "
-            f"accuracy={s.accuracy} (solver.duration and solver.dt unused)"
+            f"accuracy={s.accuracy}, rest={s.rest} (solver.duration and solver.dt unused)"
             if s.method == "steady" else
             f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
             + (f"dt_s={s.dt_s:g}" if s.dt_s is not None else

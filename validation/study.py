@@ -102,7 +102,8 @@ holds them equal). A default of 2 put the paper's plate's auto drive frequency 1
 
 SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": FE_REFINE_DEFAULT,
                                    "duration": "50 ms", "dt": None, "method": "steady",
-                                   "accuracy": "exact", "ultrasonic_friction": True}
+                                   "accuracy": "exact", "ultrasonic_friction": True,
+                                   "rest": "probe"}
 """Solver settings when the study gives none: those of the single-point commands. A
 transient runs ``lusm simulate``'s 50 ms, and without ``dt`` its step is simulate's rule
 (:func:`validation.options.time_step_s`: the largest step up to 100 ns that divides the drive
@@ -158,6 +159,10 @@ class Solver:
         Eq. 11's ultrasonic reduction of the dynamic friction coefficient (True, as every
         single-point command by default); False takes the constant ``mu_d``, as their
         ``--no-ultrasonic-friction``.
+    rest : str
+        How the exact level decides the branch a start from rest reaches: ``"probe"`` (the
+        default, as the commands') or ``"transient"`` (their ``--rest transient``;
+        :func:`contact.steady.steady_state`).
     """
 
     fe_order: int = 2
@@ -167,6 +172,7 @@ class Solver:
     method: str = "steady"
     accuracy: str = "exact"
     ultrasonic_friction: bool = True
+    rest: str = "probe"
 
     def step_s(self, frequency_Hz: float) -> float:
         """The time step (s) of a transient at ``frequency_Hz`` (Hz): ``dt_s`` as the study
@@ -409,11 +415,13 @@ def _solver(raw: dict, where: str) -> Solver:
     if s["accuracy"] not in ("fast", "exact"):
         raise ValueError(f"{where}solver.accuracy must be fast or exact, got "
                          f"{s['accuracy']!r}")
+    if s["rest"] not in ("probe", "transient"):
+        raise ValueError(f"{where}solver.rest must be probe or transient, got {s['rest']!r}")
     if not isinstance(s["ultrasonic_friction"], bool):
         raise ValueError(f"{where}solver.ultrasonic_friction must be true or false, got "
                          f"{s['ultrasonic_friction']!r}")
     return Solver(s["fe_order"], s["fe_refine"], duration, dt, s["method"], s["accuracy"],
-                  s["ultrasonic_friction"])
+                  s["ultrasonic_friction"], s["rest"])
 
 
 def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
