@@ -1093,7 +1093,9 @@ def warn_coexisting(branches, v_rest: float, op: OperatingPoint) -> None:
     many = "other stable steady states" if len(others) > 1 else "another stable steady state"
     warnings.warn(f"at {op.voltage_V:g} V / {op.preload_N:g} N{load} the motor has {many}"
                   f" besides the {v_rest:.4g} m/s a start from rest reaches: {what}; a slider "
-                  "brought there stays (lusm map lists every branch)",
+                  "brought there stays ("
+                  + ("steady_state(...).branches lists every branch under a load)"
+                     if op.load_N else "lusm map lists every branch)"),
                   CoexistingBranchesWarning, stacklevel=3)
 
 

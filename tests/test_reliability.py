@@ -910,3 +910,34 @@ def test_the_small_file_reader_checks_what_it_reads_not_only_the_size_reported(t
         read_small_text(proc, 10)
     (tmp_path / "ok.toml").write_bytes("\ufeffname = 'x'\n".encode())
     assert read_small_text(tmp_path / "ok.toml", 100) == "name = 'x'\n"
+
+
+def test_a_ctrl_c_after_the_command_is_done_is_ignored():
+    # a Ctrl-C during the interpreter's shutdown, right after lusm modes or lusm render had
+    # printed their last line, printed a KeyboardInterrupt traceback from threading._shutdown
+    # and exited 0: once the command is done, SIGINT is ignored to the end of the process
+    code = ("import signal, sys\n"
+            "from validation.cli import main\n"
+            "sys.argv = ['lusm', 'params', '--json']\n"
+            "rc = main()\n"
+            "print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)\n"
+            "sys.exit(rc)\n")
+    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, timeout=120)
+    assert run.returncode == 0 and run.stdout.strip().splitlines()[-1] == "True"
+
+
+def test_unreadable_inputs_are_named_as_such(tmp_path, capsys):
+    # a dangling study link said "cannot use dangling: No such file or directory"; a
+    # non-UTF-8 --params file quoted Python's codec message
+    link = tmp_path / "study.toml"
+    link.symlink_to(tmp_path / "missing.toml")
+    assert main(["explore", str(link), "--out", str(tmp_path / "o.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no such study file (a symbolic link to a missing file)" in err[0]
+    bad = tmp_path / "p.json"
+    bad.write_bytes(b"\xff\xfe{}")
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--params", str(bad)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--params" in err[0] and "not UTF-8 text (byte 0" in err[0]
+    assert "codec" not in err[0]

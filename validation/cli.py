@@ -109,13 +109,19 @@ def _one_line(text: str) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lusm`` console script; returns the process exit code."""
     try:
-        return _main(argv)
+        code = _main(argv)
     except KeyboardInterrupt:  # a Ctrl-C before the command's own handlers are in place
         # (imports, the BLAS probe, parsing): nothing has been written yet
         words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
         name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
         _say(f"{name}: interrupted")
         return 130
+    if argv is None:
+        # the command is done: a Ctrl-C during the interpreter's shutdown printed a
+        # KeyboardInterrupt traceback from threading._shutdown or an atexit hook (lusm
+        # modes, lusm render right after their last line) and still exited 0
+        _ignore_further_ctrl_c()
+    return code
 
 
 def _ignore_further_ctrl_c() -> None:

@@ -90,8 +90,8 @@ def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> 
 def run(args: argparse.Namespace) -> None:
     """Compute and print the map."""
     if args.method == "transient":
-        warn_unused(("--accuracy", "--rest"), "they set the steady engine; --method "
-                    "transient runs every point from rest")
+        warn_unused(("--accuracy", "--rest"), "--method transient runs every point from "
+                    "rest, without the steady engine")
     elif args.accuracy == "fast":
         warn_unused(("--rest",), "it sets how --accuracy exact decides the start from rest")
     plot = output_folder(args, "map", "--plot")

@@ -654,7 +654,8 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
                      "shift-invert eigsh with a fixed start vector",
         "motor_solver": (
             f"contact.steady.steady_state and contact.characteristic.characteristic, "
-            f"accuracy={s.accuracy}, rest={s.rest} (solver.duration and solver.dt unused)"
+            f"accuracy={s.accuracy}" + (f", rest={s.rest}" if s.accuracy == "exact" else "")
+            + " (solver.duration and solver.dt unused)"
             if s.method == "steady" else
             f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
             + (f"dt_s={s.dt_s:g}" if s.dt_s is not None else

@@ -224,7 +224,14 @@ def params_from_file(path_text: str):
         raise LusmError(f"--params {path_text} has {exc.size} bytes, above "
                         f"{MAX_PARAMS_FILE_BYTES} for a parameter set (about 1 kB)",
                         "--params") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+    except OSError as exc:  # it said "not a JSON parameter set" of a file it could not read
+        raise LusmError(f"--params {path_text}: cannot read it ({exc.strerror or exc})",
+                        "--params") from None
+    except UnicodeDecodeError as exc:
+        raise LusmError(f"--params {path_text}: not UTF-8 text (byte {exc.start}: "
+                        f"{exc.reason}); save it with 'lusm params --json'",
+                        "--params") from None
+    except json.JSONDecodeError as exc:
         raise LusmError(f"--params {path_text}: not a JSON parameter set ({exc})",
                         "--params") from None
     from rom.params import DERIVED_KEYS as derived

@@ -724,6 +724,9 @@ def _read_study_text(path: Path) -> str:
 
     try:
         return read_small_text(path, MAX_STUDY_BYTES)
+    except FileNotFoundError:  # a dangling link said "cannot use dangling: No such file"
+        link = " (a symbolic link to a missing file)" if path.is_symlink() else ""
+        raise ValueError(f"{path}: no such study file{link}") from None
     except NotRegularFile as exc:
         raise ValueError(f"{path}: is {exc.what}, not a study file; give a regular TOML file "
                          f"of at most {MAX_STUDY_BYTES / 1e6:g} MB") from None
