@@ -198,6 +198,7 @@ BAD = {
                                 "0.0001 mm"),
     "friction switch as text": ("[solver]\nultrasonic_friction = 'no'\n",
                                 "solver.ultrasonic_friction must be true or false"),
+    "empty file": ("# only a comment\n", "the study file is empty"),
     "rest unknown": ("[solver]\nrest = 'shortcut'\n",
                      "solver.rest must be probe or transient, got 'shortcut'"),
     "gap negative": ("[axes]\ngap = '-0.1 mm'\n",

@@ -756,4 +756,7 @@ def load_study(path: str | Path) -> Study:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not valid TOML ({exc})") from None
+    if not doc:  # an empty file (or only comments) ran the whole default study silently
+        raise ValueError(f"{path}: the study file is empty; give at least its [axes] (see "
+                         "examples/studies/length_width.toml)")
     return study_from_dict(doc, str(path))
