@@ -13,8 +13,9 @@ def test_characteristic_json_curve_is_consistent(capsys):
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "holding_range_N", "accuracy",
                         "curve", "damping", "coupling", "coupling_from", "voltage_V",
-                        "preload_N", "frequency_Hz", "frequency_from"}
+                        "preload_N", "frequency_Hz", "frequency_from", "rest"}
     assert doc["accuracy"] == "exact"  # the default: the finite-mass motor from rest
+    assert doc["rest"] == "probe"  # decided by the run out of the ripple zone (--rest)
     assert doc["coupling"] == "paper"  # auto: Table 2's set reproduces the paper
     curve = doc["curve"]
     assert [row["load_N"] for row in curve] == pytest.approx([0.0, 0.5, 1.0, 1.5])

@@ -104,6 +104,8 @@ def run(args: argparse.Namespace) -> None:
                  frequency_Hz=c.op.frequency_Hz, frequency_from=args.frequency)
         d["damping"] = damping_summary(params, damping_from)
         d["coupling"], d["coupling_from"] = coupling, coupling_from
+        if args.accuracy == "exact":  # how the start from rest was decided (--rest)
+            d["rest"] = args.rest
     # one voltage: the characteristic itself; several: {"voltages_V", "characteristics"}
     doc = docs[0] if len(docs) == 1 else {"voltages_V": list(voltages),
                                           "characteristics": docs}

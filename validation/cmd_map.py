@@ -141,6 +141,10 @@ def run(args: argparse.Namespace) -> None:
     summary["damping"] = damping_summary(params, damping_from)
     summary["coupling"], summary["coupling_from"] = coupling, coupling_from
     summary["frequency_Hz"] = freq
+    if m.method == "steady":  # the engine's level, and how the start from rest was decided
+        summary["accuracy"] = args.accuracy
+        if args.accuracy == "exact":
+            summary["rest"] = args.rest
     if plot is not None:
         from validation.figures import set_label
         from validation.figures import stick_slip_map as plot_map
