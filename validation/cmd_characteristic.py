@@ -10,6 +10,7 @@ from validation.options import (
     add_drive_options,
     add_motor_options,
     add_output_options,
+    add_rest_option,
     check_steady_work,
     coupling_of,
     figure_set,
@@ -45,12 +46,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "fast: the averaged steady state (slider mass -> infinity), all loads "
                    "from one set of orbits, about half the time, but blind to the creeps "
                    "and holds a start from rest can end in (docs/steady.md)")
-    p.add_argument("--rest", choices=("probe", "transient"), default="probe",
-                   help="how --accuracy exact decides the branch a start from rest reaches: "
-                   "probe (default) runs the full model out of the slider's ripple zone and "
-                   "follows the averaged sheet it is on, with a transient where it cannot "
-                   "decide; transient runs a 2 000-period transient from rest at every point, "
-                   "slower, the reference (docs/steady.md, 'The start from rest')")
+    add_rest_option(p)
     add_motor_options(p)
     add_output_options(p, folder="--plot", folder_help="write characteristic.png into DIR")
     p.set_defaults(func=run)

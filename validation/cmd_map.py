@@ -10,6 +10,7 @@ from validation.options import (
     add_drive_options,
     add_motor_options,
     add_output_options,
+    add_rest_option,
     check_run_size,
     check_steady_work,
     check_steps,
@@ -51,12 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--accuracy", choices=("fast", "exact"), default="exact",
                    help="steady engine level: fast (averaging, slider mass -> infinity) or "
                    "exact (finite slider mass, start from rest decided on the full model)")
-    p.add_argument("--rest", choices=("probe", "transient"), default="probe",
-                   help="how --accuracy exact decides the branch a start from rest reaches: "
-                   "probe (default) runs the full model out of the slider's ripple zone and "
-                   "follows the averaged sheet it is on, with a transient where it cannot "
-                   "decide; transient runs a 2 000-period transient from rest at every point, "
-                   "slower, the reference (docs/steady.md, 'The start from rest')")
+    add_rest_option(p)
     add_motor_options(p, friction_note=" (Fig. 19)")
     p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
                    help="threads (default: all cores)")

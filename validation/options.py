@@ -148,6 +148,17 @@ def add_plate_options(p: argparse.ArgumentParser, *, material: bool = True,
     return g
 
 
+def add_rest_option(p: argparse.ArgumentParser) -> None:
+    """``--rest probe|transient``: how the steady engine's exact level decides the branch a
+    start from rest reaches (:func:`contact.steady.steady_state` ``rest=``)."""
+    p.add_argument("--rest", choices=("probe", "transient"), default="probe",
+                   help="how --accuracy exact decides the branch a start from rest reaches: "
+                   "probe (default) runs the full model out of the slider's ripple zone and "
+                   "follows the averaged sheet it is on, with a transient where it cannot "
+                   "decide; transient runs a 2 000-period transient from rest at every point, "
+                   "slower, the reference (docs/steady.md, 'The start from rest')")
+
+
 def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") -> None:
     """The motor model: ``--no-ultrasonic-friction``, ``--coupling``, ``--source`` and the
     stator options of :func:`add_plate_options` (every command that runs the contact model)."""
@@ -217,23 +228,20 @@ def params_from_file(path_text: str):
     try:
         # bounded: a 512 MB file was read whole (1.1 GB of memory), a FIFO would block
         data = json.loads(read_small_text(path, MAX_PARAMS_FILE_BYTES))
-    except NotRegularFile as exc:  # /dev/zero was "no such file"
-        raise LusmError(f"--params {path_text}: not a regular file ({exc.what})",
-                        "--params") from None
-    except FileTooLarge as exc:
-        raise LusmError(f"--params {path_text} has {exc.size} bytes, above "
-                        f"{MAX_PARAMS_FILE_BYTES} for a parameter set (about 1 kB)",
-                        "--params") from None
-    except OSError as exc:  # it said "not a JSON parameter set" of a file it could not read
-        raise LusmError(f"--params {path_text}: cannot read it ({exc.strerror or exc})",
-                        "--params") from None
-    except UnicodeDecodeError as exc:
-        raise LusmError(f"--params {path_text}: not UTF-8 text (byte {exc.start}: "
-                        f"{exc.reason}); save it with 'lusm params --json'",
-                        "--params") from None
-    except json.JSONDecodeError as exc:
-        raise LusmError(f"--params {path_text}: not a JSON parameter set ({exc})",
-                        "--params") from None
+    except (OSError, ValueError) as exc:  # NotRegularFile, FileTooLarge, decoding: ValueError
+        if isinstance(exc, NotRegularFile):  # /dev/zero was "no such file"
+            why = f": not a regular file ({exc.what})"
+        elif isinstance(exc, FileTooLarge):
+            why = (f" has {exc.size} bytes, above {MAX_PARAMS_FILE_BYTES} for a parameter set "
+                   "(about 1 kB)")
+        elif isinstance(exc, OSError):  # it said "not a JSON parameter set" of a file it
+            why = f": cannot read it ({exc.strerror or exc})"  # could not read
+        elif isinstance(exc, UnicodeDecodeError):
+            why = (f": not UTF-8 text (byte {exc.start}: {exc.reason}); save it with "
+                   "'lusm params --json'")
+        else:
+            why = f": not a JSON parameter set ({exc})"
+        raise LusmError(f"--params {path_text}{why}", "--params") from None
     from rom.params import DERIVED_KEYS as derived
 
     try:
