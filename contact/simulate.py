@@ -128,6 +128,9 @@ class SimulationOptions:
     rtol : float
         Relative tolerance of the ``reference`` scheme (absolute tolerances are scaled per
         state component).
+    rest : {"probe", "transient"}
+        How the ``steady`` scheme decides the branch a start from rest reaches
+        (:func:`contact.steady.steady_state` ``rest=``); unused by the transient schemes.
     """
 
     duration_s: float = 0.05
@@ -141,6 +144,7 @@ class SimulationOptions:
     energy: bool = False
     max_events_per_step: int = 64
     rtol: float = 1e-10
+    rest: str = "probe"
 
     def __post_init__(self) -> None:
         for name in ("duration_s", "dt_s"):
@@ -154,6 +158,10 @@ class SimulationOptions:
         for name in ("ultrasonic_friction", "energy"):  # 'False' is a true string
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
+        from contact.steady import REST_METHODS
+
+        if self.rest not in REST_METHODS:
+            raise ValueError(f"rest must be one of {REST_METHODS}, got {self.rest!r}")
         if self.coupling not in COUPLING_CHOICES:
             raise ValueError(f"coupling must be one of {COUPLING_CHOICES}, got "
                              f"{self.coupling!r}")

@@ -1111,7 +1111,8 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
 
     sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff, accuracy="exact")
     branches, v_rest = branches_at_load(sp, op.load_N, energy=False)
-    branches, v_rest, periods, _, _ = _exact(sp, branches, opts.coupling, energy=False)
+    branches, v_rest, periods, _, _ = _exact(sp, branches, opts.coupling, energy=False,
+                                             rest=opts.rest)
     if math.isnan(v_rest):
         raise runaway_error(sp, op.load_N)
     rest = [b for b in branches if b.from_rest]

@@ -10,6 +10,7 @@ from validation.options import (
     add_drive_options,
     add_motor_options,
     add_output_options,
+    add_rest_option,
     check_run_size,
     coupling_of,
     figure_set,
@@ -45,6 +46,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--steady", action="store_true",
                    help="the steady state from rest found directly (docs/steady.md) instead "
                    "of a transient; no figures")
+    add_rest_option(p)
     add_output_options(p, folder="--plot",
                        folder_help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
     p.set_defaults(func=run)
@@ -63,6 +65,8 @@ def run(args: argparse.Namespace) -> None:
                         "balance of the steady state)", "--energy")
     if args.steady:
         warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
+    else:
+        warn_unused(("--rest",), "it sets how --steady decides the start from rest")
     plot = output_folder(args, "simulate", "--plot")  # refused before any work
     for v in voltages:
         warn_drive(v, args.preload, load_N=args.load_N)
@@ -135,7 +139,7 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
             duration_s=args.duration, dt_s=args.dt,
             ultrasonic_friction=not args.no_ultrasonic_friction,
             coupling=coupling, energy=args.energy, load_N=args.load_N,
-            method="steady" if args.steady else "event",
+            method="steady" if args.steady else "event", rest=args.rest,
         )
     for w in caught:  # said as every warning is (the one-line form names --load-N)
         warnings.showwarning(w.message, w.category, w.filename, w.lineno)

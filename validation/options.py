@@ -152,11 +152,11 @@ def add_rest_option(p: argparse.ArgumentParser) -> None:
     """``--rest probe|transient``: how the steady engine's exact level decides the branch a
     start from rest reaches (:func:`contact.steady.steady_state` ``rest=``)."""
     p.add_argument("--rest", choices=("probe", "transient"), default="probe",
-                   help="how --accuracy exact decides the branch a start from rest reaches: "
-                   "probe (default) runs the full model out of the slider's ripple zone and "
-                   "follows the averaged sheet it is on, with a transient where it cannot "
-                   "decide; transient runs a 2 000-period transient from rest at every point, "
-                   "slower, the reference (docs/steady.md, 'The start from rest')")
+                   help="how the exact steady engine decides the branch a start from rest "
+                   "reaches: probe (default) runs the full model out of the slider's ripple "
+                   "zone and follows the averaged sheet it is on, with a transient where it "
+                   "cannot decide; transient runs a 2 000-period transient from rest at every "
+                   "point, slower, the reference (docs/steady.md, 'The start from rest')")
 
 
 def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") -> None:
