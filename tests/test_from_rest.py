@@ -142,3 +142,23 @@ def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys):
     assert main(["map", "--voltages", "200", "--preloads", "14", "--rest", "never"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--rest" in err[0]
+
+
+def test_simulate_steady_takes_rest_too(capsys):
+    # the single-point steady answer: --rest transient at the known miss gives the
+    # transient's value, as lusm map and lusm characteristic do
+    import json
+
+    from contact.simulate import SimulationOptions
+    from rom.sources import get_params
+    from validation.cli import main
+
+    argv = ["simulate", "--source", "beam", "--voltage", "1000", "--preload", "10",
+            "--load-N=-1", "--frequency", "40000", "--steady", "--json"]
+    assert main([*argv, "--rest", "transient"]) == 0
+    v = json.loads(capsys.readouterr().out)["steady_velocity_m_s"]
+    ref, _ = transient_reference(get_params("beam"), 1000, 10, load_N=-1.0, frequency_Hz=40e3,
+                                 duration_s=0.4)
+    assert v == pytest.approx(ref, rel=1e-6)
+    with pytest.raises(ValueError, match="rest must be one of"):
+        SimulationOptions(rest="never")
