@@ -16,12 +16,11 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.drive import default_drive_Hz
-from contact.model import OperatingPoint, resolve_coupling
+from contact.model import OperatingPoint, check_rest, resolve_coupling
 from contact.results import FrozenArrays
 from contact.steady import (
     ACCURACIES,
     HELD_M_S,
-    REST_METHODS,
     branches_at_load,
     holding_range_N,
     motor_efficiency,
@@ -148,8 +147,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     t0 = time.perf_counter()
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
-    if rest not in REST_METHODS:
-        raise ValueError(f"rest must be one of {REST_METHODS}, got {rest!r}")
+    check_rest(rest)
     if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
             not 2 <= points <= MAX_POINTS:
         raise ValueError(f"points must be an integer in [2, {MAX_POINTS}], got {points!r}")

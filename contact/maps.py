@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact.model import OperatingPoint
+from contact.model import OperatingPoint, check_rest
 from contact.results import MOTION_CLASSES, PHASE_THRESHOLD, FrozenArrays, classify_motion
 from contact.simulate import SimulationOptions, options_or_default, simulate
 from rom.params import MotorParams, require_params
@@ -180,10 +180,7 @@ def stick_slip_map(
 
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
-    from contact.steady import REST_METHODS
-
-    if rest not in REST_METHODS:
-        raise ValueError(f"rest must be one of {REST_METHODS}, got {rest!r}")
+    check_rest(rest)
     from contact.drive import default_drive_Hz
 
     # once for the map, not per point; the frequency checked before it is used

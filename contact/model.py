@@ -35,6 +35,18 @@ COUPLINGS = ("paper", "consistent")
 COUPLING_CHOICES = (*COUPLINGS, "auto")
 """What the entry points accept: a coupling, or ``"auto"`` (:func:`resolve_coupling`)."""
 
+REST_METHODS = ("probe", "transient")
+"""How the steady engine's exact level decides the branch a start from rest reaches
+(:func:`contact.steady.steady_state` ``rest=``). Here, not in :mod:`contact.steady`: the
+transient's options check it, and importing the steady engine for that loaded its compiled
+orbit kernels and ``scipy.optimize`` into every transient run."""
+
+
+def check_rest(rest: str) -> None:
+    """Refuse a ``rest=`` that is not one of :data:`REST_METHODS`."""
+    if rest not in REST_METHODS:
+        raise ValueError(f"rest must be one of {REST_METHODS}, got {rest!r}")
+
 
 def default_coupling(params: MotorParams) -> tuple[str, str]:
     """The tangential coupling a parameter set is run with unless one is asked for, and why.

@@ -42,6 +42,7 @@ from contact.model import (
     HybridSystem,
     OperatingPoint,
     build_system,
+    check_rest,
     gamma_T,
     linear_normal_amplitude,
     resolve_coupling,
@@ -158,10 +159,7 @@ class SimulationOptions:
         for name in ("ultrasonic_friction", "energy"):  # 'False' is a true string
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
-        from contact.steady import REST_METHODS
-
-        if self.rest not in REST_METHODS:
-            raise ValueError(f"rest must be one of {REST_METHODS}, got {self.rest!r}")
+        check_rest(self.rest)
         if self.coupling not in COUPLING_CHOICES:
             raise ValueError(f"coupling must be one of {COUPLING_CHOICES}, got "
                              f"{self.coupling!r}")

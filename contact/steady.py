@@ -41,7 +41,7 @@ from contact.errors import ChatteringError, RunawayError
 from contact.event_kernel import N_WORK
 from contact.friction import dynamic_friction
 from contact.from_rest import probe_from_rest
-from contact.model import OperatingPoint, resolve_coupling
+from contact.model import OperatingPoint, check_rest, resolve_coupling
 from contact.periodic_orbit import (
     AVERAGE_PERIODS,
     SEARCH_PERIODS,
@@ -94,10 +94,6 @@ on the full model: its run out of the slider's ripple zone and the averaged shee
 (:mod:`contact.from_rest`), or else a transient of :data:`REST_TRANSIENT_PERIODS` periods
 polished by shooting, which also finds branches the averaging cannot see (multi-period
 slider-tip orbits at low speed)."""
-
-REST_METHODS = ("probe", "transient")
-"""How the exact level decides the branch a start from rest reaches (:func:`steady_state`
-``rest=``)."""
 
 REST_TRANSIENT_PERIODS = 2000
 """Drive periods of the transient from rest that decides the branch reached (accuracy
@@ -623,8 +619,7 @@ def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
     require_params(params)
     if not isinstance(energy, (bool, np.bool_)):  # "no" is a true string
         raise TypeError(f"energy must be True or False, got {energy!r}")
-    if rest not in REST_METHODS:
-        raise ValueError(f"rest must be one of {REST_METHODS}, got {rest!r}")
+    check_rest(rest)
     coupling = resolve_coupling(params, coupling)
     op = OperatingPoint(voltage_V, preload_N,
                         default_drive_Hz(params, frequency_Hz, 4), load_N)
