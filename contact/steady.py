@@ -733,25 +733,32 @@ def _held_from(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
     return math.log(v[0] / v[2]) >= HOLD_DECAY_EXPONENT * math.log(t2 / t0)
 
 
-def _shoot_probe(fsys, probe, energy: bool):
-    """The full model's orbit at the root the run from rest found on its sheet
-    (:func:`contact.from_rest.probe_from_rest`), or None where there is none or the shot
-    does not confirm it: no convergence, an unstable orbit, or a mean velocity more than
-    5 % from the averaged root (another orbit). Returns ``(orbit, periods, newton)``."""
+def _shoot_averaged(fsys, o: Orbit, energy: bool):
+    """The full model shot from the averaged orbit ``o`` (its state with the slider moving
+    at ``o``'s velocity, over ``o``'s period), or None where the kernel chatters."""
     from contact import state as S
     from contact.full_orbit import shoot
 
-    o = probe.orbit
-    if o is None:
-        return None, 0, 0
     v = o.velocity_m_s
     z = o.z.copy()
     z[S.DX] = v
     guide = S.FORWARD if v > 0 else S.BACKWARD
     try:
-        fo = shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1), energy=energy)
+        return shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1), energy=energy)
     except ChatteringError:
+        return None
+
+
+def _shoot_probe(fsys, probe, energy: bool):
+    """The full model's orbit at the root the run from rest found on its sheet
+    (:func:`contact.from_rest.probe_from_rest`), or None where there is none or the shot
+    does not confirm it: no convergence, an unstable orbit, or a mean velocity more than
+    5 % from the averaged root (another orbit). Returns ``(orbit, periods, newton)``."""
+    o = probe.orbit
+    fo = None if o is None else _shoot_averaged(fsys, o, energy)
+    if fo is None:
         return None, 0, 0
+    v = o.velocity_m_s
     # no multiplier when the shot converged before forming a Jacobian: the sheet's root is
     # stable (the slow flow stops there), and so is the orbit
     stable = not (fo.multiplier >= 1.0)
@@ -805,7 +812,6 @@ def _transient_from_rest(sp: SlowProblem, fsys, z, mode, done: int, energy: bool
 def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
            rest: str = "probe"):
     """Polish the averaged branches on the full model and decide the start from rest."""
-    from contact import state as S
     from contact.full_orbit import full_system, run_periods, shoot
 
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
@@ -827,14 +833,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
             if not released:  # else not a steady state of the full model
                 out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
             continue
-        o = sp.orbit(b.velocity_m_s)
-        z = o.z.copy()
-        z[S.DX] = b.velocity_m_s
-        guide = S.FORWARD if b.velocity_m_s > 0 else S.BACKWARD
-        try:
-            fo = shoot(fsys, z, o.mode - o.mode % 3 + guide, max(o.k, 1), energy=energy)
-        except ChatteringError:
-            fo = None
+        fo = _shoot_averaged(fsys, sp.orbit(b.velocity_m_s), energy)
         if fo is not None:
             periods += fo.periods
             newton += fo.newton_iterations
