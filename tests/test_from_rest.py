@@ -98,7 +98,17 @@ def test_a_chattering_fast_problem_is_left_to_the_transient(params, monkeypatch)
     assert r.velocity_m_s == pytest.approx(ref, rel=1e-8)
 
 
-def test_rest_transient_decides_where_the_probe_is_known_to_miss():
+@pytest.fixture(scope="module")
+def beam_miss_ref():
+    """The settled transient (0.4 s) at the probe's known miss: the beam set at 1000 V /
+    10 N under -1 N, 40 kHz (m/s); three tests compare with it."""
+    from rom.sources import get_params
+
+    return transient_reference(get_params("beam"), 1000, 10, load_N=-1.0, frequency_Hz=40e3,
+                               duration_s=0.4)[0]
+
+
+def test_rest_transient_decides_where_the_probe_is_known_to_miss(beam_miss_ref):
     """A known failure of the probe (docs/steady.md, "The start from rest"): the beam set at
     1000 V / 10 N under -1 N. The slider follows its sheet out of the ripple zone, then
     settles 5 % below the sheet's root on another stable orbit; the probe answers with the
@@ -108,7 +118,7 @@ def test_rest_transient_decides_where_the_probe_is_known_to_miss():
 
     p = get_params("beam")
     kw = {"load_N": -1.0, "frequency_Hz": 40e3}  # the failure is at 40 kHz, below the modes
-    ref, _ = transient_reference(p, 1000, 10, duration_s=0.4, **kw)
+    ref = beam_miss_ref
     strict = steady_state(p, 1000, 10, energy=False, rest="transient", **kw)
     assert strict.rest_periods == REST_TRANSIENT_PERIODS
     assert strict.velocity_m_s == pytest.approx(ref, rel=1e-6)
@@ -119,7 +129,7 @@ def test_rest_transient_decides_where_the_probe_is_known_to_miss():
         steady_state(p, 1000, 10, rest="shortcut")
 
 
-def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys):
+def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys, beam_miss_ref):
     # the same point from lusm characteristic: --rest transient gives the transient's value
     import json
 
@@ -131,10 +141,8 @@ def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys):
     strict = json.loads(capsys.readouterr().out)["curve"][0]["velocity_m_s"]
     assert main(argv) == 0
     probe = json.loads(capsys.readouterr().out)["curve"][0]["velocity_m_s"]
-    from rom.sources import get_params
 
-    ref, _ = transient_reference(get_params("beam"), 1000, 10, load_N=-1.0, frequency_Hz=40e3,
-                                 duration_s=0.4)
+    ref = beam_miss_ref
     assert strict == pytest.approx(ref, rel=1e-6) and probe > 1.03 * ref
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads", "0:0:1",
                  "--accuracy", "fast", "--rest", "transient"]) == 0
@@ -144,21 +152,19 @@ def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys):
     assert len(err) == 1 and "--rest" in err[0]
 
 
-def test_simulate_steady_takes_rest_too(capsys):
+def test_simulate_steady_takes_rest_too(capsys, beam_miss_ref):
     # the single-point steady answer: --rest transient at the known miss gives the
     # transient's value, as lusm map and lusm characteristic do
     import json
 
     from contact.simulate import SimulationOptions
-    from rom.sources import get_params
     from validation.cli import main
 
     argv = ["simulate", "--source", "beam", "--voltage", "1000", "--preload", "10",
             "--load-N=-1", "--frequency", "40000", "--steady", "--json"]
     assert main([*argv, "--rest", "transient"]) == 0
     v = json.loads(capsys.readouterr().out)["steady_velocity_m_s"]
-    ref, _ = transient_reference(get_params("beam"), 1000, 10, load_N=-1.0, frequency_Hz=40e3,
-                                 duration_s=0.4)
+    ref = beam_miss_ref
     assert v == pytest.approx(ref, rel=1e-6)
     with pytest.raises(ValueError, match="rest must be one of"):
         SimulationOptions(rest="never")
