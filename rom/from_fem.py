@@ -224,13 +224,30 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         For a bad file or motor constants that make no valid set (the message names the
         file's ``[table] key``).
     """
-    from dataclasses import replace
-
     from fem.stator_file import load_stator
 
     if "stator" in kwargs:
         raise ValueError("fem_params_from_file takes the stator from the file; drop 'stator'")
-    design = load_stator(path)
+    return fem_params_from_design(load_stator(path), **kwargs)
+
+
+def fem_params_from_design(design, stator=None, **kwargs) -> MotorParams:
+    """:func:`fem_params` of a loaded stator file (:class:`fem.stator_file.StatorDesign`),
+    with its motor tables applied as :func:`fem_params_from_file` describes.
+
+    Parameters
+    ----------
+    design : fem.stator_file.StatorDesign
+    stator : fem.geometry.PlateStator, optional
+        The plate to reduce instead of ``design.stator``: the file's plate with other
+        dimensions (a design-space study varies them, ``validation.explore``), its features,
+        material and motor tables kept.
+    **kwargs
+        As :func:`fem_params_from_file`.
+    """
+    from dataclasses import replace
+
+    path = design.path or design.name
     kwargs.setdefault("material", design.material)
     kwargs["base"] = design_base(design, kwargs.get("base"))
     ratios = design_damping(design)
@@ -241,7 +258,7 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         damping = f"damping from {design.damping_origin}"
     else:
         damping = "no [damping]: the base set's damping ratios"
-    params = fem_params(stator=design.stator, **kwargs)
+    params = fem_params(stator=design.stator if stator is None else stator, **kwargs)
     if design.damping_identify_Hz is not None and "damping_ratios" not in kwargs:
         from rom.damping import identify_damping
 

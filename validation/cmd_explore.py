@@ -79,6 +79,7 @@ def run(args: argparse.Namespace) -> None:
         raise LusmError(f"STUDY.toml must name a study file, got {args.study!r}")
     study = load_study(args.study)
     _warn_thick(study)
+    _warn_holes(study)
     _warn_drive(study)
     check_out(args.out, args.force)
     plot = output_folder(args, "explore", "--plot")
@@ -204,6 +205,22 @@ def _warn_thick(study) -> None:
                     min(min(ax["length"]), min(ax["width"])) * 1e3,
                     "the study's smallest in-plane size",
                     "check such plates with lusm modes --model 3d")
+
+
+def _warn_holes(study) -> None:
+    """The single-point commands' warning for a through hole of the study's stator file
+    (:func:`validation.options.warn_holes`), said for its smallest, thickest plate, where the
+    hole weighs most."""
+    if study.stator is None or not getattr(study.stator.stator, "holes_m", ()):
+        return
+    from dataclasses import replace
+
+    from validation.options import warn_holes
+
+    ax = study.axes
+    plate = replace(study.stator.stator, length_m=min(ax["length"]), width_m=min(ax["width"]),
+                    thickness_m=max(ax["thickness"]), electrode_gap_m=ax["gap"][0])
+    warn_holes(plate, f"study.stator {study.stator.path}")
 
 
 def _report_failures(ds, path) -> None:

@@ -1691,6 +1691,32 @@ def _explore_claims() -> tuple[Claim, ...]:
                  for k in keys)
 
 
+@cache
+def _tuned_length_study() -> dict[str, float]:
+    """``lusm explore examples/studies/tuned_60k_length.toml``'s answers, each geometry computed
+    in this process (``compute_geometry``, as a worker computes it): the L1-B2 split and the
+    stall force at the shortest and the longest plate."""
+    from validation.explore import compute_geometry
+    from validation.study import load_study
+
+    study = load_study(ROOT / "examples" / "studies" / "tuned_60k_length.toml")
+    parts = [compute_geometry(study, i) for i in range(study.n_geometries)]
+    out = {}
+    for end, part in (("short", parts[0]), ("long", parts[-1])):
+        out[f"split_{end}_Hz"] = float(part["split"])
+        out[f"stall_{end}_N"] = float(part["stall_force"].ravel()[0])
+    return out
+
+
+def _tuned_length_claims() -> tuple[Claim, ...]:
+    """docs/distributed.md, "A designer's stator file": the example study of the tuned stator."""
+    cmd = ("lusm explore examples/studies/tuned_60k_length.toml --out t60.nc (variables split "
+           "and stall_force at the first and last length)")
+    return tuple(Claim(f"study_t60_{k}", k.rsplit("_", 1)[1], cmd,
+                       lambda k=k: _tuned_length_study()[k], batch="study_t60")
+                 for k in ("split_short_Hz", "split_long_Hz", "stall_short_N", "stall_long_N"))
+
+
 # --- the claims --------------------------------------------------------------------------
 
 
@@ -1901,6 +1927,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_steady_claims(),
     *_limits_claims(),
     *_explore_claims(),
+    *_tuned_length_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 

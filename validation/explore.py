@@ -293,18 +293,34 @@ def _thread_lock_for_bars() -> None:
         tqdm.set_lock(threading.RLock())
 
 
-def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
+def plate_of(study: Study, g: dict[str, Any]):
+    """The stator and material of one geometry's axis values ``g`` (:func:`geometry_of`): the
+    paper's plain plate, or the study's stator file with its plate's dimensions replaced
+    (tip, chamfers, holes, electrodes and points kept, as ``lusm sweep --geometry``)."""
+    from dataclasses import replace
+
     from fem.geometry import PlateStator
+
+    dims = {"length_m": g["length"], "width_m": g["width"], "thickness_m": g["thickness"],
+            "electrode_gap_m": g["gap"]}
+    if study.stator is None:
+        return PlateStator(**dims), g["material"]
+    base = study.stator.stator
+    if all(getattr(base, k) == v for k, v in dims.items()):
+        return base, study.stator.material  # the file's own plate (and its own mesh)
+    return replace(base, **dims), study.stator.material
+
+
+def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     from fem.modes import plate_modes
-    from rom.from_fem import fem_params
+    from rom.from_fem import fem_params, fem_params_from_design
 
     g = geometry_of(study, index)
     s = study.solver
     out = _empty_outputs(study)
     try:
-        stator = PlateStator(length_m=g["length"], width_m=g["width"],
-                             thickness_m=g["thickness"], electrode_gap_m=g["gap"])
-        modes = plate_modes(stator, g["material"], s.fe_order, s.fe_refine)
+        stator, material = plate_of(study, g)
+        modes = plate_modes(stator, material, s.fe_order, s.fe_refine)
         for m in ("L1", "B2"):
             mode = getattr(modes, m)
             out[f"f_{m}_short"] = np.array(mode.f_short_Hz)
@@ -313,7 +329,11 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         out["split"] = np.array(modes.B2.f_short_Hz - modes.L1.f_short_Hz)
         if not study.needs_motor:
             return out
-        params = fem_params(stator, g["material"], order=s.fe_order, refine=s.fe_refine)
+        if study.stator is None:
+            params = fem_params(stator, material, order=s.fe_order, refine=s.fe_refine)
+        else:  # the file's damping and motor tables too, as the single-point commands
+            params = fem_params_from_design(study.stator, stator, order=s.fe_order,
+                                            refine=s.fe_refine)
         if study.auto_frequency:
             from contact.drive import auto_frequency
 
@@ -524,7 +544,8 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
             old = {}
         if not isinstance(old, dict) or old.get("fingerprint") != study.fingerprint:
             raise ValueError(f"--resume: {folder} belongs to another study (the study file "
-                             "changed); remove that folder or restore the study")
+                             "or its study.stator file changed); remove that folder or restore "
+                             "the study")
         if old.get("code_sha256") != stamp["code_sha256"]:
             raise ValueError(
                 f"--resume: {folder} was computed by other lusm code (lusm "
@@ -646,10 +667,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         "study_source": study.source,
         "study": study.text,
         "study_fingerprint": study.fingerprint,
-        "parameter_set_source": (
-            f"FE modal reduction per geometry (rom.from_fem.fem_params: scikit-fem plane "
-            f"stress, order {s.fe_order}, refine {s.fe_refine}); contact, slider, friction "
-            "and damping constants from rom.table2 (Li, Yao & Wu 2016, Table 2)"),
+        "parameter_set_source": _parameter_set_source(study),
         "fe_solver": f"fem.modes.plate_modes, order {s.fe_order}, refine {s.fe_refine}, "
                      "shift-invert eigsh with a fixed start vector",
         "motor_solver": (
@@ -671,6 +689,14 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
                      if s.ultrasonic_friction else "constant mu_d (solver.ultrasonic_friction "
                      "= false)"),
     }
+    if study.stator is not None:
+        d = study.stator
+        stamp = json.loads(study.text)["stator"]
+        attrs["stator_file"] = stamp["file"]
+        attrs["stator_name"] = d.name
+        attrs["stator_sha256"] = stamp["sha256"]
+        if d.mesh_path is not None:
+            attrs["stator_mesh_file"] = str(d.mesh_path)
     if not study.needs_motor:  # FE outputs only: no contact model ran
         for k in ("motor_solver", "frequency_rule", "coupling", "friction"):
             del attrs[k]
@@ -678,6 +704,28 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
     # the study's path (and the name it gives by default) may hold bytes that are not UTF-8
     attrs = {k: storable_text(v) for k, v in attrs.items()}
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _parameter_set_source(study: Study) -> str:
+    """How each geometry's parameter set is built, for the dataset's attributes."""
+    s = study.solver
+    fe = (f"FE modal reduction per geometry (rom.from_fem.fem_params: scikit-fem plane stress, "
+          f"order {s.fe_order}, refine {s.fe_refine}")
+    d = study.stator
+    if d is None:
+        return (f"{fe}); contact, slider, friction and damping constants from rom.table2 "
+                "(Li, Yao & Wu 2016, Table 2)")
+    from fem.meshed_stator import has_planform
+
+    if has_planform(d.stator):  # its mesh: the file's, or gmsh at its [mesh] size_mm
+        fe = fe.replace(f", refine {s.fe_refine}", ", the stator file's planform mesh")
+    damping = (f"damping from {d.damping_origin}" if d.damping_origin
+               else "no [damping]: Table 2's damping ratios")
+    motor = ("; " + ", ".join(f"{where} from the file" for where in d.motor_keys().values())
+             if d.motor else "")
+    return (f"{fe}) of stator file {d.path} ({d.name}), its plate dimensions from the "
+            f"geometry axes; {damping}{motor}; the other contact, slider and friction "
+            "constants from rom.table2 (Li, Yao & Wu 2016, Table 2)")
 
 
 def storable_text(text: str) -> str:

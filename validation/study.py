@@ -31,9 +31,16 @@ axes (``frequency``, ``voltage``, ``preload``, ``load``) are the drive points of
 ``frequency = "auto"`` drives each geometry at its own operating point
 (:func:`contact.drive.auto_frequency`) and adds no dimension.
 
+``[study] stator = "FILE.toml"`` starts every plate from a stator file
+(:func:`fem.stator_file.load_stator`, a relative path from the study file's folder): its
+features, material, damping and motor tables; ``length``, ``width``, ``thickness`` and
+``gap`` vary its plate and default to the file's values; ``material`` is refused with it, and
+every dimension axis with a stator that has its own mesh file.
+
 Every mistake (an unknown axis or output, an empty range, a number without its unit, a unit
 of the wrong kind) raises ``ValueError`` with one line naming the key (``axes.length``).
-Only the standard library is imported here.
+Only the standard library is imported at module level (a stator file and the mesh bound load
+the FE modules they need when a study asks for them).
 """
 
 from __future__ import annotations
@@ -200,6 +207,10 @@ class Study:
         The study file (or ``"<dict>"``), for provenance.
     text : str
         The study as canonical JSON (provenance and the resume check).
+    stator : fem.stator_file.StatorDesign or None
+        ``[study] stator``: the stator file the plates start from (its features, material,
+        damping and motor tables; the geometry axes vary its plate), or None: the paper's
+        plain plate with Table 2's motor constants.
     """
 
     name: str
@@ -208,6 +219,7 @@ class Study:
     solver: Solver
     source: str = "<dict>"
     text: str = field(default="", repr=False)
+    stator: Any = field(default=None, repr=False, compare=False)
 
     @property
     def auto_frequency(self) -> bool:
@@ -247,6 +259,8 @@ class Study:
         doc = json.loads(self.text) if self.text else {}
         if isinstance(doc, dict):
             doc.pop("name", None)
+            # the stator file's contents count, not where it lies
+            doc.get("stator", {}).pop("file", None)
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
 
@@ -441,9 +455,9 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     if not isinstance(meta, dict):  # `study = "x"` said "study.study is not a study key"
         raise ValueError(f"{where}study must be a table ([study] with name = \"...\"), got "
                          f"{meta!r}")
-    if sorted(set(meta) - {"name"}):
-        bad = sorted(set(meta) - {"name"})
-        raise ValueError(f"{where}study.{bad[0]} is not a study key; use name")
+    if sorted(set(meta) - {"name", "stator"}):
+        bad = sorted(set(meta) - {"name", "stator"})
+        raise ValueError(f"{where}study.{bad[0]} is not a study key; use name or stator")
     if "name" in meta and not (isinstance(meta["name"], str) and meta["name"].strip()):
         raise ValueError(f"{where}study.name must be a non-empty string, got {meta['name']!r}")
     name = str(meta.get("name", Path(source).stem if source != "<dict>" else "study"))
@@ -459,7 +473,14 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
                 hint = f" (write '{m.group(1)} = \"30 {m.group(2)}\"': units go with values)"
             raise ValueError(f"{where}axes.{k} is not an axis; use one of "
                              f"{', '.join(allowed)}{hint}")
-    axes = {a: _axis_values(a, raw_axes.get(a, DEFAULT_AXES[a]), f"{where}axes.{a}")
+    design, stamp = (None, None) if "stator" not in meta else _stator(meta["stator"], source,
+                                                                       where)
+    if design is not None:
+        _check_stator_axes(design, raw_axes, where)
+    # an axis the study does not name: the stator file's plate, else the paper's
+    own = {} if design is None else _stator_values(design)
+    axes = {a: own[a] if a in own and a not in raw_axes
+            else _axis_values(a, raw_axes.get(a, DEFAULT_AXES[a]), f"{where}axes.{a}")
             for a in allowed}
     for g in axes["gap"]:
         smallest = min(min(axes["length"]), min(axes["width"]))
@@ -487,29 +508,132 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     if not isinstance(raw_solver, dict):
         raise ValueError(f"{where}solver must be a table")
     solver = _solver(raw_solver, where)
-    study = Study(name, axes, outputs, solver, source)
+    study = Study(name, axes, outputs, solver, source, stator=design)
+    if design is not None:
+        _check_stator_plates(study, where)
     _check_work(study, where)
-    text = json.dumps({"name": name, "axes": axes, "outputs": outputs,
-                       "solver": solver.__dict__}, sort_keys=True)
-    return Study(name, axes, outputs, solver, source, text)
+    canonical = {"name": name, "axes": axes, "outputs": outputs, "solver": solver.__dict__}
+    if stamp is not None:
+        canonical["stator"] = stamp
+    text = json.dumps(canonical, sort_keys=True)
+    return Study(name, axes, outputs, solver, source, text, design)
+
+
+def _stator(value: Any, source: str, where: str):
+    """``[study] stator``: the loaded :class:`fem.stator_file.StatorDesign` and its stamp
+    (the file's path and the SHA-256 of the file and of its mesh file, what resume compares).
+    A relative path is taken from the study file's folder (the working directory for a study
+    given as a dict)."""
+    if not (isinstance(value, str) and value.strip()):
+        raise ValueError(f"{where}study.stator must name a stator TOML file (docs/designer.md), "
+                         f"got {value!r}")
+    from fem.stator_file import load_stator
+
+    path = Path(value)
+    if not path.is_absolute() and source != "<dict>":
+        path = Path(source).parent / path
+    try:
+        design = load_stator(path)
+        stamp = {"file": str(path), "sha256": _file_sha256(path)}
+        if design.mesh_path is not None:
+            stamp["mesh_sha256"] = _file_sha256(design.mesh_path)
+    except (ValueError, OSError) as exc:
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        if str(path) not in text:
+            text = f"{path}: {text}"
+        raise ValueError(f"{where}study.stator {text}") from None
+    return design, stamp
+
+
+def _file_sha256(path: Path) -> str:
+    """SHA-256 of a file, read in blocks (a mesh file may be megabytes)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+STATOR_AXES = ("length", "width", "thickness", "gap")
+"""Geometry axes that vary a stator file's plate (its features, material and motor kept)."""
+
+
+def _stator_values(design) -> dict[str, tuple]:
+    """The geometry axes' values of a stator file's own plate (SI, material name)."""
+    st = design.stator
+    return {"length": (st.length_m,), "width": (st.width_m,), "thickness": (st.thickness_m,),
+            "gap": (st.electrode_gap_m,), "material": (design.material.name,)}
+
+
+def _check_stator_axes(design, raw_axes: dict, where: str) -> None:
+    """Refuse the geometry axes a stator file cannot take: ``material`` (the file sets it)
+    and, for a stator with a mesh file of its own, every dimension (a study cannot rescale
+    a mesh)."""
+    if "material" in raw_axes:
+        raise ValueError(f"{where}axes.material cannot be combined with study.stator: the "
+                         f"stator file {design.path} sets the material; drop axes.material")
+    given = [a for a in STATOR_AXES if a in raw_axes]
+    if given and design.mesh_path is not None:
+        raise ValueError(f"{where}axes.{given[0]} cannot vary study.stator {design.path}: it has "
+                         f"its own mesh ({design.mesh_path}), which a study cannot rescale; "
+                         "drop the geometry axes, or give a stator file without [mesh] file")
+
+
+def _check_stator_plates(study: Study, where: str) -> None:
+    """Refuse, before any FE solve, a study whose plates no longer hold the stator file's
+    features (tip, chamfers, holes: kept as the file gives them, as ``lusm sweep --geometry``
+    keeps them), naming the axes of the first plate that does not."""
+    from dataclasses import replace
+
+    design, ax = study.stator, study.axes
+    base = design.stator
+    for length in ax["length"]:
+        for width in ax["width"]:
+            for gap in ax["gap"]:
+                dims = {"length_m": length, "width_m": width, "electrode_gap_m": gap}
+                if all(getattr(base, k) == v for k, v in dims.items()):
+                    continue  # the file's own plate, checked when it was read
+                try:
+                    replace(base, **dims)
+                except ValueError as exc:
+                    reason = str(exc).splitlines()[0]
+                    raise ValueError(
+                        f"{where}axes: the {length * 1e3:g} x {width * 1e3:g} mm plate with a "
+                        f"{gap * 1e3:g} mm gap no longer holds the features of study.stator "
+                        f"{design.path} ({reason}); the study keeps its tip, chamfers and "
+                        "holes as given: choose axes whose plates keep them") from None
 
 
 def _largest_mesh(study: Study) -> tuple[int, float, float]:
     """Elements of the study's largest 2D mesh and its length and width (m): the mesh grows
     with the plate's elongation, so one of the four corners of the length x width grid (at
-    the smallest gap, which adds the most grid lines) has it."""
+    the smallest gap, which adds the most grid lines) has it. A stator file's planform mesh
+    (gmsh, at its ``[mesh] size_mm``) grows with the area: the largest corner has it; one of
+    its own mesh file is the file's, whatever the axes."""
+    from dataclasses import replace
+
     from fem.geometry import PlateStator
-    from fem.mesh import grid_lines_m
+    from validation.options import fe_cell_count
 
     ax = study.axes
     gap = min(ax["gap"])
+    base = PlateStator() if study.stator is None else study.stator.stator
     best = (0, 0.0, 0.0)
     for length in (min(ax["length"]), max(ax["length"])):
         for width in (min(ax["width"]), max(ax["width"])):
-            x, y = grid_lines_m(PlateStator(length_m=length, width_m=width,
-                                            electrode_gap_m=gap), study.solver.fe_refine)
-            best = max(best, ((len(x) - 1) * (len(y) - 1), length, width))
+            dims = {"length_m": length, "width_m": width, "electrode_gap_m": gap}
+            plate = base if all(getattr(base, k) == v for k, v in dims.items()) \
+                else replace(base, **dims)
+            best = max(best, (fe_cell_count(plate, study.solver.fe_refine), length, width))
     return best
+
+
+def _planform(design) -> bool:
+    """Whether a stator file's plate is meshed from its planform (a mesh file, or gmsh for
+    its features), where ``solver.fe_refine`` plays no part."""
+    from fem.meshed_stator import has_planform
+
+    return has_planform(design.stator)
 
 
 def drive_triples(study: Study) -> int:
@@ -594,6 +718,11 @@ def _check_work(study: Study, where: str) -> None:
     # for minutes at 2.8 GB where modes refuses at once)
     cells, length, width = _largest_mesh(study)
     top = limits.work_bound(limits.MAX_FE_CELLS_2D)
+    if cells > top and study.stator is not None and _planform(study.stator):
+        raise ValueError(f"{where}study.stator {study.stator.path}: the {length * 1e3:g} x "
+                         f"{width * 1e3:g} mm plate of the study needs {cells} 2D elements, "
+                         f"above the limit {top}; coarsen the stator file's mesh "
+                         f"({limits.more_work_hint()})")
     if cells > top:
         raise ValueError(f"{where}solver.fe_refine {study.solver.fe_refine}: the "
                          f"{length * 1e3:g} x {width * 1e3:g} mm plate of the study needs "
