@@ -359,6 +359,26 @@ def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
         assert ds["split"].values[g] == compute_geometry(s, i)["split"]
 
 
+def test_a_stator_study_runs_on_the_clusters_workers_as_in_process(client, tmp_path, capsys):
+    """``[study] stator``: the loaded stator file travels with the study to the workers (a
+    remote worker need not see the file), and they give the in-process bits."""
+    from validation.cli import main
+
+    stator = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
+    path = tmp_path / "st.toml"
+    path.write_text(f'outputs = ["f_L1_short", "split"]\n[study]\nstator = "{stator}"\n'
+                    '[axes]\nlength = ["25 mm", "26 mm"]\n')
+    out = tmp_path / "st.nc"
+    assert main(["explore", str(path), "--out", str(out), "--scheduler",
+                 client.scheduler.address]) == 0
+    capsys.readouterr()
+    ds = open_result(out)
+    s = load_study(path)
+    assert ds.attrs["stator_file"] == str(stator)
+    for i in range(2):
+        assert ds["split"].values.ravel()[i] == compute_geometry(s, i)["split"]
+
+
 def test_force_keeps_the_old_file(tmp_path):
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
     out = tmp_path / "r.nc"
