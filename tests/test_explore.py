@@ -1320,3 +1320,50 @@ def test_solver_rest_reaches_every_steady_call(monkeypatch):
     ref = real(table2(), 200, 14, frequency_Hz=40e3, energy=False,
                rest="transient")
     assert ans["no_load_velocity"] == pytest.approx(ref.velocity_m_s, rel=1e-12)
+
+
+def _synthetic(sizes: dict[str, int]):
+    """A study-shaped dataset with the given axis sizes (the others of length 1): the
+    no-load velocity varies with every axis, the split with the geometry only."""
+    import xarray as xr
+
+    from validation.study import GEOMETRY_AXES
+
+    dims = ["length", "width", "thickness", "gap", "material", "voltage", "preload"]
+    coords = {}
+    for d in dims:
+        n = sizes.get(d, 1)
+        if d == "material":
+            coords[d] = (d, np.array(["pzt8"] * n, dtype=object))
+        else:
+            unit = "m" if d in GEOMETRY_AXES else {"voltage": "V", "preload": "N"}[d]
+            coords[d] = (d, np.linspace(1.0, 2.0, n) * (1e-3 if unit == "m" else 100.0),
+                         {"units": unit, "long_name": d})
+    shape = [sizes.get(d, 1) for d in dims]
+    gdims = [d for d in dims if d in GEOMETRY_AXES]
+    return xr.Dataset({
+        "no_load_velocity": (dims, np.random.default_rng(0).random(shape),
+                             {"units": "m/s", "long_name": "v"}),
+        "split": (gdims, np.random.default_rng(1).random(shape[:len(gdims)]),
+                  {"units": "Hz", "long_name": "split"})}, coords=coords)
+
+
+@pytest.mark.parametrize("sizes, files", [
+    ({"length": 3, "width": 2, "voltage": 2},
+     ["no_load_velocity_length_width.png", "split_length_width.png"]),
+    ({"length": 3, "voltage": 2}, ["no_load_velocity_length_voltage.png", "split_length.png"]),
+    ({"voltage": 3, "preload": 2}, ["no_load_velocity_voltage_preload.png"]),
+    ({"thickness": 4}, ["no_load_velocity_thickness.png", "split_thickness.png"]),
+    ({"material": 2}, []),
+])
+def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
+    """Maps over length x width where both vary, else over the first two axes along which
+    a variable varies, else its curve over the one axis: a study of one length axis (a
+    designer's stator at several lengths) drew nothing."""
+    from validation.explore import design_maps, drawable_maps
+
+    ds = _synthetic(sizes)
+    assert bool(drawable_maps(ds)) == bool(files)
+    written = design_maps(ds, tmp_path)
+    assert sorted(p.name for p in written) == sorted(files)
+    assert all(p.stat().st_size > 1000 for p in written)

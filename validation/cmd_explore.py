@@ -44,7 +44,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]; not with --scheduler or "
                    "--scheduler-file (that cluster has its own workers)")
     p.add_argument("--plot", metavar="DIR",
-                   help="write design-space maps (PNG) over length x width into DIR")
+                   help="write figures (PNG) of the no-load velocity, stall force and L1-B2 split "
+                   "into DIR: maps over length x width (or the first two axes that vary), "
+                   "curves over a single varying axis")
     p.add_argument("--json", action="store_true", help="print one JSON summary")
     p.add_argument("--force", action="store_true",
                    help="replace an existing FILE.nc (kept as FILE.nc.bak-N) and write into a "
@@ -125,8 +127,8 @@ def run(args: argparse.Namespace) -> None:
         try:
             ds = open_result(result.path)
             if not drawable_maps(ds):  # nothing to draw: no folder made either
-                warn(f"--plot {plot}: no map to draw (the maps need at least two lengths and "
-                     "two widths and a finite value among them); nothing written")
+                warn(f"--plot {plot}: nothing to draw (a figure needs a plate or drive axis "
+                     "with at least two values and a finite answer along it); nothing written")
             else:
                 with figure_set(plot, "explore", "--plot", args.force) as stage:
                     result.figures = moved(design_maps(ds, stage), stage, plot)

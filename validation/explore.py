@@ -1180,44 +1180,75 @@ def open_result(path: str | Path):
 # --- pictures ---------------------------------------------------------------------------------
 
 MAP_VARIABLES = ("no_load_velocity", "stall_force", "split")
-"""Variables drawn as length x width maps by :func:`design_maps`."""
+"""Variables drawn by :func:`design_maps`."""
+
+PLOT_DIMS = ("length", "width", "thickness", "gap", "frequency", "voltage", "preload")
+"""Numeric dimensions a study's figures are drawn over, in the order they are chosen."""
+
+
+def plot_dims(ds, name: str) -> tuple[str, ...]:
+    """The dimensions :func:`design_maps` draws variable ``name`` over: length x width where
+    both vary (the design-space map), else the first two of :data:`PLOT_DIMS` along which it
+    has at least two values (a map), else the first one (a curve); empty when none."""
+    varied = [d for d in PLOT_DIMS if d in ds[name].dims and ds.sizes[d] >= 2]
+    if "length" in varied and "width" in varied:
+        return ("length", "width")
+    return tuple(varied[:2])
 
 
 def drawable_maps(ds) -> list[str]:
-    """The :data:`MAP_VARIABLES` :func:`design_maps` can draw: present, not all NaN, over at
-    least two lengths and two widths."""
-    if ds.sizes.get("length", 0) < 2 or ds.sizes.get("width", 0) < 2:
-        return []
+    """The :data:`MAP_VARIABLES` :func:`design_maps` can draw: present, along at least one
+    numeric axis of two values or more (:func:`plot_dims`), not all NaN."""
     return [name for name in MAP_VARIABLES
-            if name in ds and np.isfinite(ds[name].values.astype(float)).any()]
+            if name in ds and plot_dims(ds, name)
+            and np.isfinite(ds[name].values.astype(float)).any()]
+
+
+def _axis_scale(ds, dim: str) -> tuple[float, str]:
+    """Factor and unit a coordinate is drawn in: mm for lengths, kHz for frequencies."""
+    unit = ds[dim].attrs.get("units", "")
+    return {"m": (1e3, "mm"), "Hz": (1e-3, "kHz")}.get(unit, (1.0, unit))
 
 
 def design_maps(ds, folder: str | Path) -> list[Path]:
-    """PNG maps of :data:`MAP_VARIABLES` over length x width (other axes at their first value).
+    """PNG figures of :data:`MAP_VARIABLES`, each over its dimensions of :func:`plot_dims`:
+    maps over two (length x width for a design-space study), curves over one; the other
+    dimensions at their first value.
 
-    Returns the written files; a variable that is absent, all NaN, or a study without at
-    least two lengths and two widths gives no map.
+    Returns the written files (``{name}_{dim}[_{dim}].png``); a variable that is absent, all
+    NaN, or without a numeric axis of at least two values, gives none.
     """
     from matplotlib.figure import Figure
 
     folder = Path(folder)
     written = []
     for name in drawable_maps(ds):
+        dims = plot_dims(ds, name)
         da = ds[name]
-        fixed = {d: 0 for d in da.dims if d not in ("length", "width")}
-        da = da.isel(fixed).transpose("length", "width")
+        fixed = {d: 0 for d in da.dims if d not in dims}
+        da = da.isel(fixed).transpose(*dims)
         where = ", ".join(_coord_text(ds, d) for d in fixed)
         fig = Figure(figsize=(6.0, 4.5), layout="constrained")
         ax = fig.add_subplot()
         scale, unit = (1e3, "mm/s") if name == "no_load_velocity" else \
             ((1e-3, "kHz") if name == "split" else (1.0, da.attrs.get("units", "")))
-        mesh = ax.pcolormesh(ds["width"].values * 1e3, ds["length"].values * 1e3,
-                             da.values * scale, shading="nearest", cmap="viridis")
-        fig.colorbar(mesh, ax=ax, label=f"{da.attrs.get('long_name', name)} ({unit})")
-        ax.set_xlabel("plate width (mm)")
-        ax.set_ylabel("plate length (mm)")
+        label = f"{da.attrs.get('long_name', name)} ({unit})"
+        (fy, uy) = _axis_scale(ds, dims[0])
+        ylabel = f"{ds[dims[0]].attrs.get('long_name', dims[0])} ({uy})"
+        if len(dims) == 2:
+            fx, ux = _axis_scale(ds, dims[1])
+            mesh = ax.pcolormesh(ds[dims[1]].values * fx, ds[dims[0]].values * fy,
+                                 da.values * scale, shading="nearest", cmap="viridis")
+            fig.colorbar(mesh, ax=ax, label=label)
+            ax.set_xlabel(f"{ds[dims[1]].attrs.get('long_name', dims[1])} ({ux})")
+            ax.set_ylabel(ylabel)
+        else:  # one axis varies: the answer against it
+            ax.plot(ds[dims[0]].values * fy, da.values * scale, "o-")
+            ax.set_xlabel(ylabel)
+            ax.set_ylabel(label)
+            ax.grid(True, alpha=0.3)
         ax.set_title(f"{name}\nat {where}" if where else name, fontsize=8)
-        path = folder / f"{name}_length_width.png"
+        path = folder / f"{name}_{'_'.join(dims)}.png"
         fig.savefig(path, dpi=120)
         written.append(path)
     return written
