@@ -17,28 +17,33 @@ TUNED = EXAMPLES / "tuned_60k" / "stator.toml"
 MESHED = EXAMPLES / "chamfered" / "stator.toml"
 
 
-def test_a_stator_study_is_the_single_point_commands_on_its_file_bit_for_bit(capsys):
+@pytest.mark.parametrize("stator, volts, damping", [(TUNED, 140, "Q_m = 60"),
+                                                     (MESHED, 300, "Table 2's ratios")])
+def test_a_stator_study_is_the_single_point_commands_on_its_file_bit_for_bit(
+        stator, volts, damping, capsys):
     """The file's plate, material, holes, tip, chamfers and its own damping (Q_m = 60, not
     Table 2's ratios, which move the no-load velocity) reach the study: its answers are lusm
-    characteristic's and lusm modes' on the same file."""
+    characteristic's and lusm modes' on the same file. A file with its own mesh too: its
+    plate's nominal gap (0) had refused every motor output as a short circuit."""
     from validation.cli import main
 
-    s = study_from_dict({"study": {"stator": str(TUNED)},
+    s = study_from_dict({"study": {"stator": str(stator)},
                          "outputs": ["f_B2_short", "no_load_velocity", "stall_force"],
-                         "axes": {"voltage": "140 V", "preload": "14 N"}})
+                         "axes": {"voltage": f"{volts} V", "preload": "14 N"}})
     ds = assemble(s, {0: compute_geometry(s, 0)})
     assert str(ds["status"].item()) == "ok"
-    assert main(["characteristic", "--geometry", str(TUNED), "--voltage", "140", "--preload",
-                 "14", "--frequency", "auto", "--loads", "0:0.1:0.1", "--json"]) == 0
+    assert damping in ds.attrs["damping"]
+    assert main(["characteristic", "--geometry", str(stator), "--voltage", str(volts),
+                 "--preload", "14", "--frequency", "auto", "--loads", "0:0.1:0.1",
+                 "--json"]) == 0
     cli = json.loads(capsys.readouterr().out)
     assert float(ds["f_drive"].item()) == cli["frequency_Hz"]
     assert float(ds["no_load_velocity"].item()) == cli["no_load_velocity_m_s"]
     assert float(ds["stall_force"].item()) == cli["stall_force_N"]
-    assert main(["modes", "--geometry", str(TUNED), "--json"]) == 0
+    assert main(["modes", "--geometry", str(stator), "--json"]) == 0
     modes = json.loads(capsys.readouterr().out)
     assert float(ds["f_B2_short"].item()) == modes["B2"]["f_short_Hz"]
-    assert "Q_m = 60" in ds.attrs["parameter_set_source"]
-    assert ds.attrs["stator_file"] == str(TUNED)
+    assert ds.attrs["stator_file"] == str(stator)
 
 
 def test_a_varied_dimension_is_the_stator_file_with_that_dimension(tmp_path):
@@ -93,7 +98,10 @@ def test_resume_sees_a_changed_stator_file_not_a_moved_one(tmp_path):
     ({"study": {"stator": str(MESHED)}, "axes": {"width": "7 mm"}},
      "axes.width cannot vary study.stator"),
     ({"study": {"stator": str(TUNED)}, "axes": {"length": ["11 mm", "26 mm"]}},
-     "the 11 x 6.6025 mm plate with a 0.4 mm gap no longer holds the features"),
+     "axes.length 11 mm: the 11 x 6.6025 mm plate no longer holds the features"),
+    ({"study": {"stator": str(TUNED)}, "axes": {"gap": "5.5 mm"}},
+     "axes.gap 5.5 mm: the 25.6938 x 6.6025 mm plate no longer holds the features of "
+     f"study.stator {TUNED} ([chamfers] size_mm 0.8 mm must be below"),
     ({"study": {"stator": "no/such/stator.toml"}}, "study.stator stator file not found"),
     ({"study": {"stator": ""}}, "study.stator must name a stator TOML file"),
     ({"study": {"stator": str(EXAMPLES)}}, "study.stator stator file"),
@@ -113,3 +121,72 @@ def test_the_cli_refuses_a_bad_stator_study_with_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "axes.length cannot vary study.stator" in err and "Traceback" not in err
     assert not (tmp_path / "s.nc").exists() and not (tmp_path / "s.nc.parts").exists()
+
+
+@pytest.mark.filterwarnings("ignore::fem.model.GapValidityWarning")  # 0.5 mm gap, 2.5 mm
+def test_a_stator_with_its_own_mesh_varies_in_thickness_only(tmp_path):
+    """Its 2D mesh is not rescaled, but the plane-stress thickness is a number: the plate at
+    another thickness is the file with that ``thickness_mm``, and its gap is no number (the
+    mesh's tagged electrodes)."""
+    import math
+
+    from fem.stator_file import load_stator
+
+    s = study_from_dict({"study": {"stator": str(MESHED)}, "outputs": ["f_L1_short"],
+                         "axes": {"thickness": ["2.5 mm", "3 mm"]}})
+    assert math.isnan(s.axes["gap"][0])
+    for name in ("stator.toml", "chamfered.msh"):
+        shutil.copy(MESHED.parent / name, tmp_path / name)
+    edited = tmp_path / "stator.toml"
+    edited.write_text(edited.read_text().replace("thickness_mm = 3.0", "thickness_mm = 2.5"))
+    assert float(compute_geometry(s, 0)["f_L1_short"]) == load_stator(edited).modes().L1.f_short_Hz
+    assert float(compute_geometry(s, 1)["f_L1_short"]) == load_stator(MESHED).modes().L1.f_short_Hz
+
+
+def _stator_with(tmp_path, old: str, new: str) -> Path:
+    path = tmp_path / "stator.toml"
+    path.write_text(TUNED.read_text().replace(old, new))
+    return path
+
+
+def test_a_stators_motor_tables_and_gap_are_checked_before_any_fe_solve(tmp_path, monkeypatch):
+    """An invalid set of the file's motor tables with Table 2's other constants, and a gap of
+    0 that would short the drive, are refused when the study is read, in the file's keys (they
+    failed every plate after its FE solve, and the gap's message named axes.gap)."""
+    import fem.modes
+
+    monkeypatch.setattr(fem.modes, "plate_modes", lambda *a, **k: pytest.fail("FE solve"))
+    bad = _stator_with(tmp_path, "[damping]", "[friction]\nmu_s = 0.3\n\n[damping]")
+    with pytest.raises(ValueError, match=r"study.stator .*\[friction\] mu_s"):
+        study_from_dict({"study": {"stator": str(bad)}, "outputs": ["no_load_velocity"]})
+    # FE outputs only: the motor tables play no part
+    study_from_dict({"study": {"stator": str(bad)}, "outputs": ["f_L1_short"]})
+    shorted = _stator_with(tmp_path, "gap_mm = 0.4", "gap_mm = 0")
+    with pytest.raises(ValueError, match=r"its \[electrodes\] gap_mm 0 makes the four"):
+        study_from_dict({"study": {"stator": str(shorted)}, "outputs": ["stall_force"]})
+
+
+def test_a_stators_mesh_bound_is_estimated_before_it_is_meshed(tmp_path, monkeypatch):
+    """A plate whose gmsh mesh is far above the bound is refused from its area and element
+    size, without meshing it (a 1000 mm plate at 0.067 mm was meshed for 29 s and 564 MB
+    first)."""
+    import validation.options
+
+    fine = _stator_with(tmp_path, "[damping]", "[mesh]\nsize_mm = 0.067\n\n[damping]")
+    count = validation.options.fe_cell_count
+
+    def only_small(plate, *args, **kwargs):
+        if plate.length_m > 0.5:
+            pytest.fail("the 1000 mm plate was meshed to count its elements")
+        return count(plate, *args, **kwargs)
+
+    monkeypatch.setattr(validation.options, "fe_cell_count", only_small)
+    with pytest.raises(ValueError, match=r"needs about \d+ 2D elements, above the limit"):
+        study_from_dict({"study": {"stator": str(fine)}, "outputs": ["f_L1_short"],
+                         "axes": {"length": ["25.6938 mm", "1000 mm"]}})
+
+
+def test_fe_refine_is_said_unused_for_a_stator_meshed_by_gmsh():
+    with pytest.warns(UserWarning, match="solver.fe_refine is unused: study.stator"):
+        study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
+                         "solver": {"fe_refine": 1}})

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import re
 import sys
 from pathlib import Path
@@ -139,6 +140,12 @@ def run(args: argparse.Namespace) -> None:
                   file=sys.stderr)
             raise
     summary = result.to_dict()
+    if study.needs_motor:  # every velocity and force depends on it (as characteristic says)
+        from validation.explore import damping_text
+
+        summary["damping"] = damping_text(study)
+    if study.stator is not None:
+        summary["stator_file"] = json.loads(study.text)["stator"]["file"]  # absolute
     if args.json:
         print_json(summary, indent=2)
         return
@@ -151,6 +158,8 @@ def run(args: argparse.Namespace) -> None:
           f"{drive}; {result.computed} "
           f"computed on {result.workers} worker{'' if result.workers == 1 else 's'}, "
           f"{result.reused} from an earlier run; {result.wall_time_s:.3g} s")
+    if "damping" in summary:
+        print(f"damping: {summary['damping']}")
     print(f"wrote {result.path}")
     for f in result.figures:
         print(f"wrote {f}")

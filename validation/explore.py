@@ -306,9 +306,11 @@ def plate_of(study: Study, g: dict[str, Any]):
     if study.stator is None:
         return PlateStator(**dims), g["material"]
     base = study.stator.stator
-    if all(getattr(base, k) == v for k, v in dims.items()):
+    # a stator with its own mesh has no gap (NaN) and varies in thickness only
+    changed = {k: v for k, v in dims.items() if not math.isnan(v) and getattr(base, k) != v}
+    if not changed:
         return base, study.stator.material  # the file's own plate (and its own mesh)
-    return replace(base, **dims), study.stator.material
+    return replace(base, **changed), study.stator.material
 
 
 def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
@@ -318,6 +320,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     g = geometry_of(study, index)
     s = study.solver
     out = _empty_outputs(study)
+    stage = "FE"  # what failed, for the status: the plate's FE solve or its parameter set
     try:
         stator, material = plate_of(study, g)
         modes = plate_modes(stator, material, s.fe_order, s.fe_refine)
@@ -329,6 +332,9 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         out["split"] = np.array(modes.B2.f_short_Hz - modes.L1.f_short_Hz)
         if not study.needs_motor:
             return out
+        # the modal reduction, the file's damping fit and motor tables, the auto frequency
+        # (a fit to Table 2's amplitudes that a varied plate cannot match was an "FE:" failure)
+        stage = "parameter set"
         if study.stator is None:
             params = fem_params(stator, material, order=s.fe_order, refine=s.fe_refine)
         else:  # the file's damping and motor tables too, as the single-point commands
@@ -338,10 +344,10 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
             from contact.drive import auto_frequency
 
             out["f_drive"] = np.array(auto_frequency(params))
-    except (ValueError, RuntimeError, ArithmeticError) as exc:  # FE failure of this plate
+    except (ValueError, RuntimeError, ArithmeticError) as exc:  # failure of this plate
         from validation.errors import short_reason  # a list of 32 frequencies: its range
 
-        out["status"] = np.array(short_reason(f"FE: {type(exc).__name__}: {exc}")[:300])
+        out["status"] = np.array(short_reason(f"{stage}: {type(exc).__name__}: {exc}")[:300])
         if study.needs_motor:  # every drive point of the plate failed with it (it read '')
             out["motion_class"][...] = "failed"
         return out
@@ -668,7 +674,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         "study": study.text,
         "study_fingerprint": study.fingerprint,
         "parameter_set_source": _parameter_set_source(study),
-        "fe_solver": f"fem.modes.plate_modes, order {s.fe_order}, refine {s.fe_refine}, "
+        "fe_solver": f"fem.modes.plate_modes, order {s.fe_order}, {_mesh_text(study)}, "
                      "shift-invert eigsh with a fixed start vector",
         "motor_solver": (
             f"contact.steady.steady_state and contact.characteristic.characteristic, "
@@ -689,6 +695,8 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
                      if s.ultrasonic_friction else "constant mu_d (solver.ultrasonic_friction "
                      "= false)"),
     }
+    if study.needs_motor:
+        attrs["damping"] = damping_text(study)
     if study.stator is not None:
         d = study.stator
         stamp = json.loads(study.text)["stator"]
@@ -706,19 +714,44 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
+def _mesh_text(study: Study) -> str:
+    """The FE mesh of the study's plates, in words: ``refine N``, or a stator file's own."""
+    d = study.stator
+    if d is not None and d.mesh_path is not None:
+        return f"the stator file's mesh {d.mesh_path}"
+    from fem.meshed_stator import has_planform
+
+    if d is not None and has_planform(d.stator):
+        return "gmsh at the stator file's [mesh] size_mm (solver.fe_refine unused)"
+    return f"refine {study.solver.fe_refine}"
+
+
+def damping_text(study: Study) -> str:
+    """The modal damping of the study's parameter sets, in words (every answer with a
+    velocity depends on it): Table 2's ratios, borrowed by the FE reduction, or the stator
+    file's ``[damping]``."""
+    from rom import table2
+
+    t2 = table2()
+    borrowed = (f"Table 2's ratios zeta_L1 = {t2.zeta_L1:.4g}, zeta_B2 = {t2.zeta_B2:.4g} "
+                "(borrowed: the FE reduction has no damping of its own)")
+    d = study.stator
+    if d is None:
+        return borrowed
+    if d.damping_origin:
+        return f"from stator file {d.path} {d.damping_origin}"
+    return f"{borrowed}; stator file {d.path} has no [damping]"
+
+
 def _parameter_set_source(study: Study) -> str:
     """How each geometry's parameter set is built, for the dataset's attributes."""
     s = study.solver
     fe = (f"FE modal reduction per geometry (rom.from_fem.fem_params: scikit-fem plane stress, "
-          f"order {s.fe_order}, refine {s.fe_refine}")
+          f"order {s.fe_order}, {_mesh_text(study)}")
     d = study.stator
     if d is None:
         return (f"{fe}); contact, slider, friction and damping constants from rom.table2 "
                 "(Li, Yao & Wu 2016, Table 2)")
-    from fem.meshed_stator import has_planform
-
-    if has_planform(d.stator):  # its mesh: the file's, or gmsh at its [mesh] size_mm
-        fe = fe.replace(f", refine {s.fe_refine}", ", the stator file's planform mesh")
     damping = (f"damping from {d.damping_origin}" if d.damping_origin
                else "no [damping]: Table 2's damping ratios")
     motor = ("; " + ", ".join(f"{where} from the file" for where in d.motor_keys().values())
@@ -1052,7 +1085,9 @@ def explore(
     # before computing anything (an interrupted `--out new/sub/x.nc` left new/sub/ behind)
     made = [p for p in Path(os.path.abspath(out)).parents if not p.exists()]
     folder, parts, created = _open_parts(study, out, resume)
-    result = ExploreResult(out, study.n_geometries, study.n_drive_points, reused=len(parts))
+    # an FE-only study drives nothing (its --json said one drive point per geometry)
+    result = ExploreResult(out, study.n_geometries,
+                           study.n_drive_points if study.needs_motor else 0, reused=len(parts))
     todo = [i for i in range(study.n_geometries) if i not in parts]
     own = None  # the client (and cluster) made here, closed here
     # after a Ctrl-C, dask's teardown of the cancelled work is not news: keep stderr to our line
@@ -1247,7 +1282,12 @@ def design_maps(ds, folder: str | Path) -> list[Path]:
             ax.set_xlabel(ylabel)
             ax.set_ylabel(label)
             ax.grid(True, alpha=0.3)
-        ax.set_title(f"{name}\nat {where}" if where else name, fontsize=8)
+        title = f"{name}\nat {where}" if where else name
+        if name != "split" and "damping" in ds.attrs:  # a speed or force: say its damping
+            import textwrap
+
+            title += "\n" + textwrap.fill(f"damping {ds.attrs['damping'].split(' (')[0]}", 95)
+        ax.set_title(title, fontsize=8)
         path = folder / f"{name}_{'_'.join(dims)}.png"
         fig.savefig(path, dpi=120)
         written.append(path)
@@ -1258,6 +1298,8 @@ def _coord_text(ds, dim: str) -> str:
     v = ds[dim].values[0]
     if dim == "material":
         return f"material {v}"
+    if dim == "gap" and math.isnan(v):  # a stator file's own mesh: its tagged electrodes
+        return "gap of the stator's mesh"
     unit = ds[dim].attrs.get("units", "")
     if unit == "m":
         return f"{dim} {v * 1e3:g} mm"

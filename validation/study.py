@@ -48,6 +48,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 import re
 import tomllib
 from dataclasses import dataclass, field
@@ -498,6 +499,18 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
             raise ValueError(f"{where}outputs[{i}] {o!r} is listed twice")
     outputs = tuple(o for o in OUTPUTS if o in outputs)
     motor = [o for o in outputs if o not in FE_OUTPUTS]
+    if motor and design is not None and "gap" not in raw_axes and 0.0 in axes["gap"]:
+        raise ValueError(f"{where}study.stator {design.path}: its [electrodes] gap_mm 0 makes "
+                         "the four electrodes one conductor, which the motor outputs "
+                         f"({', '.join(motor)}) would drive as a short circuit; give the file "
+                         "a gap of at least 0.001 mm, or ask for FE outputs only")
+    if motor and design is not None:
+        from rom.from_fem import design_base
+
+        try:  # its motor tables against Table 2's other constants, before any FE solve
+            design_base(design)
+        except ValueError as exc:
+            raise ValueError(f"{where}study.stator {str(exc).splitlines()[0]}") from None
     if motor and 0.0 in axes["gap"]:
         # one conductor cannot be driven at V on 1, 4 and grounded on 2, 3 (fem.model
         # ShortedDriveError): refused here, not once per geometry after its FE solve
@@ -508,6 +521,13 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     if not isinstance(raw_solver, dict):
         raise ValueError(f"{where}solver must be a table")
     solver = _solver(raw_solver, where)
+    if design is not None and "fe_refine" in raw_solver and _planform(design):
+        import warnings
+
+        how = ("its own mesh file" if design.mesh_path is not None
+               else "gmsh at its [mesh] size_mm (default min(length, width) / 8)")
+        warnings.warn(f"{where}solver.fe_refine is unused: study.stator {design.path} is "
+                      f"meshed by {how}", stacklevel=2)
     study = Study(name, axes, outputs, solver, source, stator=design)
     if design is not None:
         _check_stator_plates(study, where)
@@ -534,7 +554,7 @@ def _stator(value: Any, source: str, where: str):
         path = Path(source).parent / path
     try:
         design = load_stator(path)
-        stamp = {"file": str(path), "sha256": _file_sha256(path)}
+        stamp = {"file": os.path.abspath(path), "sha256": _file_sha256(path)}
         if design.mesh_path is not None:
             stamp["mesh_sha256"] = _file_sha256(design.mesh_path)
     except (ValueError, OSError) as exc:
@@ -555,14 +575,20 @@ def _file_sha256(path: Path) -> str:
 
 
 STATOR_AXES = ("length", "width", "thickness", "gap")
-"""Geometry axes that vary a stator file's plate (its features, material and motor kept)."""
+"""Geometry axes that vary a stator file's plate (its features, material and motor kept);
+only ``thickness`` for a stator with its own mesh file (the 2D mesh is not rescaled)."""
 
 
 def _stator_values(design) -> dict[str, tuple]:
-    """The geometry axes' values of a stator file's own plate (SI, material name)."""
+    """The geometry axes' values of a stator file's own plate (SI, material name); the gap of
+    a stator with its own mesh is NaN: its electrodes are the mesh's tagged regions (the
+    plate's nominal gap, 0, had refused every motor output as a short circuit)."""
+    from fem.meshed_stator import MeshedStator
+
     st = design.stator
+    gap = math.nan if isinstance(st, MeshedStator) else st.electrode_gap_m
     return {"length": (st.length_m,), "width": (st.width_m,), "thickness": (st.thickness_m,),
-            "gap": (st.electrode_gap_m,), "material": (design.material.name,)}
+            "gap": (gap,), "material": (design.material.name,)}
 
 
 def _check_stator_axes(design, raw_axes: dict, where: str) -> None:
@@ -572,21 +598,28 @@ def _check_stator_axes(design, raw_axes: dict, where: str) -> None:
     if "material" in raw_axes:
         raise ValueError(f"{where}axes.material cannot be combined with study.stator: the "
                          f"stator file {design.path} sets the material; drop axes.material")
-    given = [a for a in STATOR_AXES if a in raw_axes]
+    given = [a for a in ("length", "width", "gap") if a in raw_axes]
     if given and design.mesh_path is not None:
         raise ValueError(f"{where}axes.{given[0]} cannot vary study.stator {design.path}: it has "
-                         f"its own mesh ({design.mesh_path}), which a study cannot rescale; "
-                         "drop the geometry axes, or give a stator file without [mesh] file")
+                         f"its own mesh ({design.mesh_path}), which a study cannot rescale "
+                         "(axes.thickness can vary); drop those axes, or give a stator file "
+                         "without [mesh] file")
 
 
 def _check_stator_plates(study: Study, where: str) -> None:
     """Refuse, before any FE solve, a study whose plates no longer hold the stator file's
     features (tip, chamfers, holes: kept as the file gives them, as ``lusm sweep --geometry``
-    keeps them), naming the axes of the first plate that does not."""
+    keeps them), naming the axis values of the first plate that does not. (A stator with its
+    own mesh varies in thickness only, which holds every feature.)"""
     from dataclasses import replace
+
+    from fem.meshed_stator import MeshedStator
+    from validation.errors import feature_reason
 
     design, ax = study.stator, study.axes
     base = design.stator
+    if isinstance(base, MeshedStator):
+        return
     for length in ax["length"]:
         for width in ax["width"]:
             for gap in ax["gap"]:
@@ -596,36 +629,66 @@ def _check_stator_plates(study: Study, where: str) -> None:
                 try:
                     replace(base, **dims)
                 except ValueError as exc:
-                    reason = str(exc).splitlines()[0]
+                    # the file's terms (mm, hole numbers), without the library's SI prefix
+                    reason = re.sub(r"^ParametricStator\.[\w\[\]]+ = (\([^)]*\)|\S+) m ",
+                                    "", str(exc).splitlines()[0])
+                    if reason == str(exc).splitlines()[0]:
+                        reason = feature_reason(exc).splitlines()[0]
+                    values = {"length": length, "width": width, "gap": gap}
+                    named = [f"axes.{a} {values[a] * 1e3:g} mm" for a in ("length", "width",
+                                                                           "gap")
+                             if len(ax[a]) > 1 or values[a] != _stator_values(design)[a][0]]
                     raise ValueError(
-                        f"{where}axes: the {length * 1e3:g} x {width * 1e3:g} mm plate with a "
-                        f"{gap * 1e3:g} mm gap no longer holds the features of study.stator "
-                        f"{design.path} ({reason}); the study keeps its tip, chamfers and "
-                        "holes as given: choose axes whose plates keep them") from None
+                        f"{where}{', '.join(named)}: the {length * 1e3:g} x {width * 1e3:g} mm "
+                        f"plate no longer holds the features of study.stator {design.path} "
+                        f"({reason}); the study keeps the file's tip, chamfers and holes as "
+                        "given: choose axes whose plates keep them") from None
 
 
-def _largest_mesh(study: Study) -> tuple[int, float, float]:
-    """Elements of the study's largest 2D mesh and its length and width (m): the mesh grows
-    with the plate's elongation, so one of the four corners of the length x width grid (at
-    the smallest gap, which adds the most grid lines) has it. A stator file's planform mesh
-    (gmsh, at its ``[mesh] size_mm``) grows with the area: the largest corner has it; one of
-    its own mesh file is the file's, whatever the axes."""
+def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
+    """Elements of the study's largest 2D mesh, its length and width (m), and whether the count
+    is an estimate: the mesh grows with the plate's elongation, so one of the four corners of
+    the length x width grid (at the smallest gap, which adds the most grid lines) has it. A
+    stator file's planform mesh (gmsh, at its ``[mesh] size_mm``) grows with the area: the
+    largest corner has it, estimated as area / size^2 (gmsh's quads: 1.0 of it on a fine mesh
+    of a long plate, 2.2 on the tuned 60 kHz stator's default mesh) and meshed to count only
+    where that estimate is within :data:`MESH_ESTIMATE_MARGIN` of the bound (a 1000 mm long
+    plate at 0.067 mm was meshed for 29 s and 564 MB before it was refused). One with its own
+    mesh file is the file's, whatever the axes."""
     from dataclasses import replace
 
     from fem.geometry import PlateStator
+    from fem.meshed_stator import MeshedStator
+    from fem.parametric import ParametricStator
     from validation.options import fe_cell_count
 
     ax = study.axes
-    gap = min(ax["gap"])
     base = PlateStator() if study.stator is None else study.stator.stator
-    best = (0, 0.0, 0.0)
+    if isinstance(base, MeshedStator):  # its own mesh: the file's count
+        return fe_cell_count(base, None), base.length_m, base.width_m, False
+    gap = min(ax["gap"])
+    top = limits.work_bound(limits.MAX_FE_CELLS_2D)
+    best = (0, 0.0, 0.0, False)
     for length in (min(ax["length"]), max(ax["length"])):
         for width in (min(ax["width"]), max(ax["width"])):
+            if isinstance(base, ParametricStator):
+                size = base.mesh_size_m or min(length, width) / 8.0
+                area = length * width + base.tip_length_m * base.tip_width_m
+                estimate = area / size**2
+                if estimate > MESH_ESTIMATE_MARGIN * top:
+                    best = max(best, (int(estimate), length, width, True))
+                    continue
             dims = {"length_m": length, "width_m": width, "electrode_gap_m": gap}
             plate = base if all(getattr(base, k) == v for k, v in dims.items()) \
                 else replace(base, **dims)
-            best = max(best, (fe_cell_count(plate, study.solver.fe_refine), length, width))
+            best = max(best, (fe_cell_count(plate, study.solver.fe_refine), length, width,
+                              False))
     return best
+
+
+MESH_ESTIMATE_MARGIN = 2.0
+"""A parametric stator's plate whose estimated elements (area / size^2) exceed this many times
+the bound is refused without meshing it (:func:`_largest_mesh`)."""
 
 
 def _planform(design) -> bool:
@@ -716,13 +779,14 @@ def _check_work(study: Study, where: str) -> None:
                          f"the limit {top} ({limits.more_work_hint()})")
     # each FE mesh is bounded as lusm modes bounds it (a 30 x 1 mm plate at fe_refine 48 ran
     # for minutes at 2.8 GB where modes refuses at once)
-    cells, length, width = _largest_mesh(study)
+    cells, length, width, estimated = _largest_mesh(study)
     top = limits.work_bound(limits.MAX_FE_CELLS_2D)
     if cells > top and study.stator is not None and _planform(study.stator):
+        about = "about " if estimated else ""
         raise ValueError(f"{where}study.stator {study.stator.path}: the {length * 1e3:g} x "
-                         f"{width * 1e3:g} mm plate of the study needs {cells} 2D elements, "
-                         f"above the limit {top}; coarsen the stator file's mesh "
-                         f"({limits.more_work_hint()})")
+                         f"{width * 1e3:g} mm plate of the study needs {about}{cells} 2D "
+                         f"elements, above the limit {top}; coarsen the stator file's mesh "
+                         f"([mesh] size_mm) or shrink the plates ({limits.more_work_hint()})")
     if cells > top:
         raise ValueError(f"{where}solver.fe_refine {study.solver.fe_refine}: the "
                          f"{length * 1e3:g} x {width * 1e3:g} mm plate of the study needs "
