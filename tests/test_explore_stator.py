@@ -190,3 +190,22 @@ def test_fe_refine_is_said_unused_for_a_stator_meshed_by_gmsh():
     with pytest.warns(UserWarning, match="solver.fe_refine is unused: study.stator"):
         study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
                          "solver": {"fe_refine": 1}})
+
+
+def test_a_stator_file_that_cannot_be_opened_is_one_line_with_the_os_reason(
+        monkeypatch, capsys):
+    """A file the user may not read: the operating system's reason, not Python's
+    ``[Errno 13] Permission denied: '...'`` (only reproducible as root by patching)."""
+    import fem.small_file
+    from validation.cli import main
+
+    def denied(path, max_bytes):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(fem.small_file, "read_small_text", denied)
+    with pytest.raises(ValueError) as err:
+        study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"]})
+    assert str(err.value) == f"study.stator {TUNED}: Permission denied"
+    assert main(["modes", "--geometry", str(TUNED)]) == 2
+    assert capsys.readouterr().err.strip() == (
+        f"lusm modes: error: --geometry {TUNED}: Permission denied")

@@ -598,10 +598,17 @@ def load_design(path: str | Path):
     except LusmError:
         raise
     except (ValueError, OSError) as exc:
+        raise LusmError(f"--geometry {design_error_text(path, exc)}", "--geometry") from None
+
+
+def design_error_text(path: str | Path, exc: BaseException) -> str:
+    """A stator file's refusal on one line that names the file: the operating system's
+    reason for a file it cannot open (it printed ``[Errno 13] Permission denied: '...'``)."""
+    if isinstance(exc, OSError) and exc.strerror:
+        text = exc.strerror
+    else:
         text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        if str(path) not in text:
-            text = f"{path}: {text}"
-        raise LusmError(f"--geometry {text}", "--geometry") from None
+    return text if str(path) in text else f"{path}: {text}"
 
 
 def fem_params_of(args: argparse.Namespace, source: str | None):

@@ -558,10 +558,9 @@ def _stator(value: Any, source: str, where: str):
         if design.mesh_path is not None:
             stamp["mesh_sha256"] = _file_sha256(design.mesh_path)
     except (ValueError, OSError) as exc:
-        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        if str(path) not in text:
-            text = f"{path}: {text}"
-        raise ValueError(f"{where}study.stator {text}") from None
+        from validation.options import design_error_text
+
+        raise ValueError(f"{where}study.stator {design_error_text(path, exc)}") from None
     return design, stamp
 
 
