@@ -209,3 +209,36 @@ def test_a_stator_file_that_cannot_be_opened_is_one_line_with_the_os_reason(
     assert main(["modes", "--geometry", str(TUNED)]) == 2
     assert capsys.readouterr().err.strip() == (
         f"lusm modes: error: --geometry {TUNED}: Permission denied")
+
+
+def test_a_parametric_stators_features_are_axes_of_their_own(tmp_path):
+    """``tip_length``, ``tip_width`` and ``chamfer`` vary the file's ``[tip]`` and
+    ``[chamfers]``: a plate of the study is the file with that value (the same FE frequencies
+    to the bit), and the dataset has the feature's dimension after the plate's."""
+    from fem.stator_file import load_stator
+
+    s = study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short", "split"],
+                         "axes": {"chamfer": ["0.5 mm", "0.8 mm"], "tip_length": "1.2 mm"}})
+    assert s.geometry_axes[-2:] == ("tip_length", "chamfer") and s.n_geometries == 2
+    ds = assemble(s, {i: compute_geometry(s, i) for i in range(2)})
+    assert ds["split"].dims[-2:] == ("tip_length", "chamfer")
+    edited = _stator_with(tmp_path, "size_mm = 0.8", "size_mm = 0.5")
+    edited.write_text(edited.read_text().replace("length_mm = 0.8", "length_mm = 1.2"))
+    modes = load_stator(edited).modes()
+    assert float(ds["f_L1_short"].values.ravel()[0]) == modes.L1.f_short_Hz
+    assert float(ds["split"].values.ravel()[0]) == modes.B2.f_short_Hz - modes.L1.f_short_Hz
+
+
+@pytest.mark.parametrize("doc, words", [
+    ({"axes": {"chamfer": "1 mm"}},
+     "axes.chamfer varies a parametric stator's feature: it needs study.stator"),
+    ({"study": {"stator": str(MESHED)}, "axes": {"tip_length": "1 mm"}},
+     "axes.tip_length varies a parametric stator's feature"),
+    ({"study": {"stator": str(TUNED)}, "axes": {"tip_width": ["1 mm", "7 mm"]}},
+     "axes.tip_width 7 mm: the 25.6938 x 6.6025 mm plate no longer holds the features of "
+     f"study.stator {TUNED} ([tip] width_mm 7 mm must be at most the 5.003 mm end face"),
+])
+def test_a_feature_axis_a_stator_cannot_take_is_one_line(doc, words):
+    with pytest.raises(ValueError) as err:
+        study_from_dict({"outputs": ["f_L1_short"], **doc})
+    assert words in str(err.value) and "\n" not in str(err.value)

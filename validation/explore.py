@@ -45,7 +45,7 @@ import numpy as np
 
 from validation.interrupts import checkpoint, quiet_logs_after_signal
 from validation.output_set import backup_name
-from validation.study import AXIS_KIND, DRIVE_AXES, GEOMETRY_AXES, OUTPUTS, SI_UNIT, Study
+from validation.study import AXIS_KIND, DRIVE_AXES, FEATURE_FIELDS, OUTPUTS, SI_UNIT, Study
 
 FE_SCALARS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff_L1", "k_eff_B2",
               "split", "f_drive")
@@ -167,7 +167,7 @@ class ExploreResult:
 def geometry_of(study: Study, index: int) -> dict[str, Any]:
     """Axis values (SI, material name) of geometry ``index`` (C order over the axes)."""
     idx = np.unravel_index(index, study.geometry_shape)
-    return {a: study.axes[a][int(i)] for a, i in zip(GEOMETRY_AXES, idx, strict=True)}
+    return {a: study.axes[a][int(i)] for a, i in zip(study.geometry_axes, idx, strict=True)}
 
 
 def _motor_shape(study: Study) -> tuple[int, ...]:
@@ -303,6 +303,7 @@ def plate_of(study: Study, g: dict[str, Any]):
 
     dims = {"length_m": g["length"], "width_m": g["width"], "thickness_m": g["thickness"],
             "electrode_gap_m": g["gap"]}
+    dims.update({f: g[a] for a, f in FEATURE_FIELDS.items() if a in g})
     if study.stator is None:
         return PlateStator(**dims), g["material"]
     base = study.stator.stator
@@ -612,7 +613,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
     """
     import xarray as xr
 
-    gdims = list(GEOMETRY_AXES)
+    gdims = list(study.geometry_axes)
     mdims = [a for a in study.drive_dims if a != "load"]
     gshape = study.geometry_shape
     n = study.n_geometries
@@ -625,7 +626,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         return np.stack(arrs).reshape(gshape + arrs[0].shape)
 
     coords = {}
-    for a in GEOMETRY_AXES + DRIVE_AXES:
+    for a in study.geometry_axes + DRIVE_AXES:
         if a not in gdims + list(study.drive_dims) and a != "frequency":
             continue
         if a in DRIVE_AXES and not study.needs_motor:  # an FE-only study drives nothing
@@ -776,6 +777,8 @@ def storable_text(text: str) -> str:
 
 _AXIS_NAMES = {"length": "plate length", "width": "plate width",
                "thickness": "plate thickness", "gap": "electrode gap",
+               "tip_length": "contact tip length", "tip_width": "contact tip width",
+               "chamfer": "corner chamfer leg",
                "frequency": "drive frequency", "voltage": "drive amplitude V0",
                "preload": "preload F_P", "load": "load (braking force) on the slider"}
 
@@ -1217,7 +1220,8 @@ def open_result(path: str | Path):
 MAP_VARIABLES = ("no_load_velocity", "stall_force", "split")
 """Variables drawn by :func:`design_maps`."""
 
-PLOT_DIMS = ("length", "width", "thickness", "gap", "frequency", "voltage", "preload")
+PLOT_DIMS = ("length", "width", "thickness", "gap", "tip_length", "tip_width", "chamfer",
+             "frequency", "voltage", "preload")
 """Numeric dimensions a study's figures are drawn over, in the order they are chosen."""
 
 

@@ -35,7 +35,9 @@ axes (``frequency``, ``voltage``, ``preload``, ``load``) are the drive points of
 (:func:`fem.stator_file.load_stator`, a relative path from the study file's folder): its
 features, material, damping and motor tables; ``length``, ``width``, ``thickness`` and
 ``gap`` vary its plate and default to the file's values; ``material`` is refused with it, and
-every dimension axis with a stator that has its own mesh file.
+``length``, ``width`` and ``gap`` with a stator that has its own mesh file. A parametric
+stator's features are axes too (:data:`FEATURE_AXES`: ``tip_length``, ``tip_width``,
+``chamfer``), dimensions only of the studies that name them.
 
 Every mistake (an unknown axis or output, an empty range, a number without its unit, a unit
 of the wrong kind) raises ``ValueError`` with one line naming the key (``axes.length``).
@@ -46,6 +48,7 @@ the FE modules they need when a study asks for them).
 from __future__ import annotations
 
 import hashlib
+import itertools
 import json
 import math
 import os
@@ -59,6 +62,13 @@ from validation import limits
 
 GEOMETRY_AXES = ("length", "width", "thickness", "gap", "material")
 """Axes that change the stator (one FE solve per combination), in dimension order."""
+FEATURE_AXES = ("tip_length", "tip_width", "chamfer")
+"""Geometry axes of a parametric stator file's features (``[tip] length_mm``, ``width_mm``,
+``[chamfers] size_mm``): dimensions of a study only when it names them, after
+:data:`GEOMETRY_AXES`."""
+FEATURE_FIELDS = {"tip_length": "tip_length_m", "tip_width": "tip_width_m",
+                  "chamfer": "chamfer_m"}
+"""The :class:`fem.parametric.ParametricStator` field each feature axis sets."""
 DRIVE_AXES = ("frequency", "voltage", "preload", "load")
 """Axes of the drive points of one geometry, in dimension order."""
 
@@ -72,6 +82,7 @@ UNITS: dict[str, dict[str, float]] = {
 """Units accepted for each kind of quantity, and their factor to SI."""
 
 AXIS_KIND = {"length": "length", "width": "length", "thickness": "length", "gap": "length",
+             "tip_length": "length", "tip_width": "length", "chamfer": "length",
              "frequency": "frequency", "voltage": "voltage", "preload": "force",
              "load": "force"}
 """Kind of quantity of each numeric axis (``material`` is a name)."""
@@ -228,9 +239,15 @@ class Study:
         return self.axes["frequency"] == ("auto",)
 
     @property
+    def geometry_axes(self) -> tuple[str, ...]:
+        """The geometry dimensions: :data:`GEOMETRY_AXES`, then the :data:`FEATURE_AXES` the
+        study names."""
+        return GEOMETRY_AXES + tuple(a for a in FEATURE_AXES if a in self.axes)
+
+    @property
     def geometry_shape(self) -> tuple[int, ...]:
-        """Sizes of the geometry axes, in :data:`GEOMETRY_AXES` order."""
-        return tuple(len(self.axes[a]) for a in GEOMETRY_AXES)
+        """Sizes of the geometry axes, in :attr:`geometry_axes` order."""
+        return tuple(len(self.axes[a]) for a in self.geometry_axes)
 
     @property
     def drive_dims(self) -> tuple[str, ...]:
@@ -465,7 +482,7 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     raw_axes = doc.get("axes", {})
     if not isinstance(raw_axes, dict):
         raise ValueError(f"{where}axes must be a table of axes")
-    allowed = GEOMETRY_AXES + DRIVE_AXES
+    allowed = GEOMETRY_AXES + DRIVE_AXES + FEATURE_AXES
     for k in raw_axes:
         if k not in allowed:
             hint = ""
@@ -476,13 +493,18 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
                              f"{', '.join(allowed)}{hint}")
     design, stamp = (None, None) if "stator" not in meta else _stator(meta["stator"], source,
                                                                        where)
+    features = [a for a in FEATURE_AXES if a in raw_axes]
+    if features and not _parametric(design):
+        raise ValueError(f"{where}axes.{features[0]} varies a parametric stator's feature: it "
+                         "needs study.stator naming a stator file with [tip], [chamfers] or "
+                         "[[holes]] (docs/designer.md)")
     if design is not None:
         _check_stator_axes(design, raw_axes, where)
     # an axis the study does not name: the stator file's plate, else the paper's
     own = {} if design is None else _stator_values(design)
     axes = {a: own[a] if a in own and a not in raw_axes
-            else _axis_values(a, raw_axes.get(a, DEFAULT_AXES[a]), f"{where}axes.{a}")
-            for a in allowed}
+            else _axis_values(a, raw_axes.get(a, DEFAULT_AXES.get(a)), f"{where}axes.{a}")
+            for a in allowed if a not in FEATURE_AXES or a in raw_axes}
     for g in axes["gap"]:
         smallest = min(min(axes["length"]), min(axes["width"]))
         if g >= smallest:
@@ -564,6 +586,15 @@ def _stator(value: Any, source: str, where: str):
     return design, stamp
 
 
+def _parametric(design) -> bool:
+    """Whether a stator file (None: none) is a parametric stator, meshed by gmsh."""
+    if design is None:
+        return False
+    from fem.parametric import ParametricStator
+
+    return isinstance(design.stator, ParametricStator)
+
+
 def _file_sha256(path: Path) -> str:
     """SHA-256 of a file, read in blocks (a mesh file may be megabytes)."""
     h = hashlib.sha256()
@@ -619,29 +650,29 @@ def _check_stator_plates(study: Study, where: str) -> None:
     base = design.stator
     if isinstance(base, MeshedStator):
         return
-    for length in ax["length"]:
-        for width in ax["width"]:
-            for gap in ax["gap"]:
-                dims = {"length_m": length, "width_m": width, "electrode_gap_m": gap}
-                if all(getattr(base, k) == v for k, v in dims.items()):
-                    continue  # the file's own plate, checked when it was read
-                try:
-                    replace(base, **dims)
-                except ValueError as exc:
-                    # the file's terms (mm, hole numbers), without the library's SI prefix
-                    reason = re.sub(r"^ParametricStator\.[\w\[\]]+ = (\([^)]*\)|\S+) m ",
-                                    "", str(exc).splitlines()[0])
-                    if reason == str(exc).splitlines()[0]:
-                        reason = feature_reason(exc).splitlines()[0]
-                    values = {"length": length, "width": width, "gap": gap}
-                    named = [f"axes.{a} {values[a] * 1e3:g} mm" for a in ("length", "width",
-                                                                           "gap")
-                             if len(ax[a]) > 1 or values[a] != _stator_values(design)[a][0]]
-                    raise ValueError(
-                        f"{where}{', '.join(named)}: the {length * 1e3:g} x {width * 1e3:g} mm "
-                        f"plate no longer holds the features of study.stator {design.path} "
-                        f"({reason}); the study keeps the file's tip, chamfers and holes as "
-                        "given: choose axes whose plates keep them") from None
+    fields = {"length": "length_m", "width": "width_m", "gap": "electrode_gap_m",
+              **{a: f for a, f in FEATURE_FIELDS.items() if a in ax}}
+    names = list(fields)
+    for combo in itertools.product(*(ax[a] for a in names)):
+        dims = {fields[a]: v for a, v in zip(names, combo, strict=True)}
+        if all(getattr(base, k) == v for k, v in dims.items()):
+            continue  # the file's own plate, checked when it was read
+        try:
+            replace(base, **dims)
+        except ValueError as exc:
+            # the file's terms (mm, hole numbers), without the library's SI prefix
+            first = str(exc).splitlines()[0]
+            reason = re.sub(r"^ParametricStator\.[\w\[\]]+ = (\([^)]*\)|\S+) m ", "", first)
+            if reason == first:
+                reason = feature_reason(exc).splitlines()[0]
+            named = [f"axes.{a} {v * 1e3:g} mm" for a, v in zip(names, combo, strict=True)
+                     if len(ax[a]) > 1 or v != getattr(base, fields[a])]
+            length, width = dims["length_m"], dims["width_m"]
+            raise ValueError(
+                f"{where}{', '.join(named)}: the {length * 1e3:g} x {width * 1e3:g} mm plate "
+                f"no longer holds the features of study.stator {design.path} ({reason}); the "
+                "study keeps the file's other features as given: choose axes whose plates "
+                "keep them") from None
 
 
 def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
