@@ -242,3 +242,13 @@ def test_a_feature_axis_a_stator_cannot_take_is_one_line(doc, words):
     with pytest.raises(ValueError) as err:
         study_from_dict({"outputs": ["f_L1_short"], **doc})
     assert words in str(err.value) and "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("name, geometries", [("tuned_60k_length.toml", 5),
+                                              ("tuned_60k_tip.toml", 6)])
+def test_the_example_stator_studies_read_as_documented(name, geometries):
+    """The examples' stator and axes: the file's plate where no axis is named."""
+    s = load_study(EXAMPLES / "studies" / name)
+    assert s.stator.path.resolve() == TUNED.resolve()
+    assert s.axes["width"] == (s.stator.stator.width_m,)
+    assert s.n_geometries == geometries
