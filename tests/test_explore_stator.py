@@ -252,3 +252,48 @@ def test_the_example_stator_studies_read_as_documented(name, geometries):
     assert s.stator.path.resolve() == TUNED.resolve()
     assert s.axes["width"] == (s.stator.stator.width_m,)
     assert s.n_geometries == geometries
+
+
+def test_a_range_gives_the_values_a_user_would_type():
+    """``start + i * step`` put 25.9 mm at 0.025900000000000003 m, one ulp from a stator
+    file's ``length_mm = 25.9``: gmsh meshed that plate anew and its L1 moved by 0.6 Hz
+    against the single-point command's. A range's values are its decimals, as typed."""
+    from validation.study import parse_quantity
+
+    s = study_from_dict({"outputs": ["f_L1_short"], "axes": {
+        "length": {"start": "25.5 mm", "stop": "26.1 mm", "step": "0.2 mm"},
+        "width": {"start": "4100 um", "stop": "8300 um", "num": 3}}})
+    assert s.axes["length"] == tuple(parse_quantity(f"{v} mm", "length", "x")
+                                     for v in ("25.5", "25.7", "25.9", "26.1"))
+    assert s.axes["width"] == tuple(parse_quantity(f"{v} um", "length", "x")
+                                    for v in ("4100", "6200", "8300"))
+
+
+def test_the_mesh_bound_takes_the_feature_axes_at_their_largest(monkeypatch):
+    """The largest tip and the smallest chamfer of the axes make the largest gmsh mesh (a
+    30 mm tip on the axis was meshed at full size where lusm modes refuses that plate)."""
+    import validation.options
+
+    seen = []
+    monkeypatch.setattr(validation.options, "fe_cell_count",
+                        lambda plate, refine: seen.append(plate) or 1)
+    study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
+                     "axes": {"tip_length": ["0.4 mm", "2 mm"], "tip_width": ["1 mm", "2 mm"],
+                              "chamfer": ["0.5 mm", "0.8 mm"]}})
+    assert seen and all((p.tip_length_m, p.tip_width_m, p.chamfer_m) == (2e-3, 2e-3, 0.5e-3)
+                        for p in seen)
+
+
+def test_a_tip_axis_on_a_stator_without_a_tip_needs_both_sizes(tmp_path):
+    no_tip = _stator_with(tmp_path, "[tip]\nlength_mm = 0.8\nwidth_mm = 1.6\n", "")
+    with pytest.raises(ValueError, match=r"axes.tip_width needs a tip length too: the stator "
+                                         r"file .* has no \[tip\]; give axes.tip_length"):
+        study_from_dict({"study": {"stator": str(no_tip)}, "outputs": ["f_L1_short"],
+                         "axes": {"tip_width": "1 mm"}})
+    with pytest.raises(ValueError, match=r"axes.tip_length 30 mm: .* \(\[tip\] length_mm 30 "
+                                         r"mm must be at most the plate's length 25.6938 mm\)"):
+        study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
+                         "axes": {"tip_length": "30 mm"}})
+    with pytest.raises(ValueError, match=r"axes.chamfer values must be > 0 mm"):
+        study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
+                         "axes": {"chamfer": ["0 mm", "0.05 mm"]}})

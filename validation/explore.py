@@ -705,7 +705,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         attrs["stator_name"] = d.name
         attrs["stator_sha256"] = stamp["sha256"]
         if d.mesh_path is not None:
-            attrs["stator_mesh_file"] = str(d.mesh_path)
+            attrs["stator_mesh_file"] = os.path.abspath(d.mesh_path)
     if not study.needs_motor:  # FE outputs only: no contact model ran
         for k in ("motor_solver", "frequency_rule", "coupling", "friction"):
             del attrs[k]
@@ -1257,6 +1257,8 @@ def design_maps(ds, folder: str | Path) -> list[Path]:
     Returns the written files (``{name}_{dim}[_{dim}].png``); a variable that is absent, all
     NaN, or without a numeric axis of at least two values, gives none.
     """
+    import textwrap
+
     from matplotlib.figure import Figure
 
     folder = Path(folder)
@@ -1265,7 +1267,8 @@ def design_maps(ds, folder: str | Path) -> list[Path]:
         dims = plot_dims(ds, name)
         da = ds[name]
         fixed = {d: 0 for d in da.dims if d not in dims}
-        da = da.isel(fixed).transpose(*dims)
+        # ascending coordinates: a list axis may come in any order (a map of 9 cells drew 4)
+        da = da.isel(fixed).transpose(*dims).sortby(list(dims))
         where = ", ".join(_coord_text(ds, d) for d in fixed)
         fig = Figure(figsize=(6.0, 4.5), layout="constrained")
         ax = fig.add_subplot()
@@ -1276,22 +1279,21 @@ def design_maps(ds, folder: str | Path) -> list[Path]:
         ylabel = f"{ds[dims[0]].attrs.get('long_name', dims[0])} ({uy})"
         if len(dims) == 2:
             fx, ux = _axis_scale(ds, dims[1])
-            mesh = ax.pcolormesh(ds[dims[1]].values * fx, ds[dims[0]].values * fy,
+            mesh = ax.pcolormesh(da[dims[1]].values * fx, da[dims[0]].values * fy,
                                  da.values * scale, shading="nearest", cmap="viridis")
             fig.colorbar(mesh, ax=ax, label=label)
             ax.set_xlabel(f"{ds[dims[1]].attrs.get('long_name', dims[1])} ({ux})")
             ax.set_ylabel(ylabel)
         else:  # one axis varies: the answer against it
-            ax.plot(ds[dims[0]].values * fy, da.values * scale, "o-")
+            ax.plot(da[dims[0]].values * fy, da.values * scale, "o-")
             ax.set_xlabel(ylabel)
             ax.set_ylabel(label)
             ax.grid(True, alpha=0.3)
-        title = f"{name}\nat {where}" if where else name
+        lines = [name] + ([textwrap.fill(f"at {where}", 95)] if where else [])
         if name != "split" and "damping" in ds.attrs:  # a speed or force: say its damping
-            import textwrap
-
-            title += "\n" + textwrap.fill(f"damping {ds.attrs['damping'].split(' (')[0]}", 95)
-        ax.set_title(title, fontsize=8)
+            lines.append(textwrap.fill(textwrap.shorten(f"damping {ds.attrs['damping']}",
+                                                        190), 95))
+        ax.set_title("\n".join(lines), fontsize=8)
         path = folder / f"{name}_{'_'.join(dims)}.png"
         fig.savefig(path, dpi=120)
         written.append(path)

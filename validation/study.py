@@ -375,7 +375,8 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
             if start != stop:
                 raise ValueError(f"{key}.num = 1 needs start == stop")
             return (start,)
-        return tuple(start + (stop - start) * i / (num - 1) for i in range(num))
+        values = [start + (stop - start) * i / (num - 1) for i in range(num)]
+        return _snapped(values, raw["start"], kind)
     step = parse_quantity(raw["step"], kind, f"{key}.step")
     if step <= 0:
         raise ValueError(f"{key}.step must be > 0, got {raw['step']!r}")
@@ -383,7 +384,17 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
     top = limits.work_bound(limits.MAX_GRID_POINTS)
     if n > top:
         raise ValueError(f"{key} has {n} points, above the limit {top}; use a larger step")
-    return tuple(start + i * step for i in range(n))
+    return _snapped([start + i * step for i in range(n)], raw["start"], kind)
+
+
+def _snapped(values: list[float], start: str, kind: str) -> tuple[float, ...]:
+    """A range's values (SI) as the decimals a user would write in the unit of its ``start``
+    (12 significant digits), converted as a typed value is: ``start + i * step`` put a
+    length of 25.9 mm at 0.025900000000000003 m, one ulp from the 0.0259 m of a stator
+    file's ``length_mm = 25.9``, and a gmsh-meshed plate 1 ulp longer is meshed anew (its L1
+    moved by 0.6 Hz against the single-point command's)."""
+    factor = UNITS[kind][_QUANTITY.match(start).group(2)]
+    return tuple(float(f"{v / factor:.12g}") * factor for v in values)
 
 
 def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
@@ -402,6 +413,12 @@ def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
         lo, hi = limits.PRELOAD_N
     else:  # load: a braking force, >= 0
         lo, hi = 0.0, limits.PRELOAD_N[1]
+    if name in FEATURE_AXES:  # bounded by the plate: the stator checks each plate's
+        bad = [v for v in values if not v > 0.0]
+        if bad:
+            raise ValueError(f"{key} values must be > 0 mm (a feature's size; the stator "
+                             f"file's plate bounds it from above), got {bad[0] * scale:g} mm")
+        return
     if name == "gap":
         # 0 (touching quadrants) or the CLI's --gap-mm range: below 1 um the gap's
         # cross-section solve cannot be modelled (it failed per geometry, after the FE
@@ -498,6 +515,11 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
         raise ValueError(f"{where}axes.{features[0]} varies a parametric stator's feature: it "
                          "needs study.stator naming a stator file with [tip], [chamfers] or "
                          "[[holes]] (docs/designer.md)")
+    tip = [a for a in ("tip_length", "tip_width") if a in features]
+    if len(tip) == 1 and not design.stator.tip_length_m > 0.0:
+        other = "tip_width" if tip[0] == "tip_length" else "tip_length"
+        raise ValueError(f"{where}axes.{tip[0]} needs a tip {other.split('_')[1]} too: the "
+                         f"stator file {design.path} has no [tip]; give axes.{other} as well")
     if design is not None:
         _check_stator_axes(design, raw_axes, where)
     # an axis the study does not name: the stator file's plate, else the paper's
@@ -554,7 +576,10 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     if design is not None:
         _check_stator_plates(study, where)
     _check_work(study, where)
-    canonical = {"name": name, "axes": axes, "outputs": outputs, "solver": solver.__dict__}
+    # strict JSON: a stator mesh's gap (NaN) as null
+    canonical = {"name": name, "axes": {a: [None if isinstance(v, float) and math.isnan(v)
+                                            else v for v in vs] for a, vs in axes.items()},
+                 "outputs": outputs, "solver": solver.__dict__}
     if stamp is not None:
         canonical["stator"] = stamp
     text = json.dumps(canonical, sort_keys=True)
@@ -658,6 +683,9 @@ def _check_stator_plates(study: Study, where: str) -> None:
         if all(getattr(base, k) == v for k, v in dims.items()):
             continue  # the file's own plate, checked when it was read
         try:
+            if dims.get("tip_length_m", 0.0) > dims["length_m"]:  # the library said it in m
+                raise ValueError(f"[tip] length_mm {dims['tip_length_m'] * 1e3:g} mm must be at "
+                                 f"most the plate's length {dims['length_m'] * 1e3:g} mm")
             replace(base, **dims)
         except ValueError as exc:
             # the file's terms (mm, hole numbers), without the library's SI prefix
@@ -698,17 +726,22 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
         return fe_cell_count(base, None), base.length_m, base.width_m, False
     gap = min(ax["gap"])
     top = limits.work_bound(limits.MAX_FE_CELLS_2D)
+    # the feature axes at their largest area: the longest, widest tip, the smallest chamfer
+    # (a 30 mm tip on the axis had been meshed at full size where lusm modes refuses it)
+    features = {f: (min if a == "chamfer" else max)(ax[a])
+                for a, f in FEATURE_FIELDS.items() if a in ax}
     best = (0, 0.0, 0.0, False)
     for length in (min(ax["length"]), max(ax["length"])):
         for width in (min(ax["width"]), max(ax["width"])):
             if isinstance(base, ParametricStator):
                 size = base.mesh_size_m or min(length, width) / 8.0
-                area = length * width + base.tip_length_m * base.tip_width_m
-                estimate = area / size**2
+                tip = (features.get("tip_length_m", base.tip_length_m)
+                       * features.get("tip_width_m", base.tip_width_m))
+                estimate = (length * width + tip) / size**2
                 if estimate > MESH_ESTIMATE_MARGIN * top:
                     best = max(best, (int(estimate), length, width, True))
                     continue
-            dims = {"length_m": length, "width_m": width, "electrode_gap_m": gap}
+            dims = {"length_m": length, "width_m": width, "electrode_gap_m": gap, **features}
             plate = base if all(getattr(base, k) == v for k, v in dims.items()) \
                 else replace(base, **dims)
             best = max(best, (fe_cell_count(plate, study.solver.fe_refine), length, width,
@@ -813,8 +846,10 @@ def _check_work(study: Study, where: str) -> None:
     top = limits.work_bound(limits.MAX_FE_CELLS_2D)
     if cells > top and study.stator is not None and _planform(study.stator):
         about = "about " if estimated else ""
+        largest = (" (its largest tip, its smallest chamfer)"
+                   if any(a in study.axes for a in FEATURE_AXES) else "")
         raise ValueError(f"{where}study.stator {study.stator.path}: the {length * 1e3:g} x "
-                         f"{width * 1e3:g} mm plate of the study needs {about}{cells} 2D "
+                         f"{width * 1e3:g} mm plate of the study{largest} needs {about}{cells} 2D "
                          f"elements, above the limit {top}; coarsen the stator file's mesh "
                          f"([mesh] size_mm) or shrink the plates ({limits.more_work_hint()})")
     if cells > top:
