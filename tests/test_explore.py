@@ -471,6 +471,22 @@ def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
     assert not out.exists() and not parts_folder(out).exists()
 
 
+def test_workers_without_gmsh_are_refused_for_a_parametric_stator(client, monkeypatch,
+                                                                  tmp_path):
+    """A study of a stator file meshed by gmsh needs gmsh on every worker: refused before any
+    task (each task had failed on its mesh with an internal error)."""
+    import validation.explore as ex
+
+    monkeypatch.setattr(ex, "has_gmsh", lambda: False)  # pickled by value: run on the workers
+    stator = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
+    s = study_from_dict({"study": {"stator": str(stator)}, "outputs": ["f_L1_short"]})
+    out = tmp_path / "g.nc"
+    with pytest.raises(ValueError, match=r"--scheduler: worker .* cannot import gmsh, .* pip "
+                                         r"install \"lusm\[mesh\]\" on every worker"):
+        explore(s, out, scheduler=client.scheduler.address, progress=False)
+    assert not out.exists() and not parts_folder(out).exists()
+
+
 def test_a_failed_fe_solve_is_recorded_not_fatal():
     # a 5 x 40 mm plate has no B2 (bending along the length) near its L1: the mode solver
     # says so, and the study keeps going with NaN and the reason in ``status``

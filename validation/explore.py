@@ -1023,8 +1023,21 @@ def check_scheduler(client, option: str = "--scheduler") -> None:
                          f"{_version()}; install the same version everywhere")
 
 
-def check_workers(client, option: str = "--scheduler") -> None:
-    """Refuse workers that cannot import lusm or run another version than this client."""
+def has_gmsh() -> bool:
+    """Whether gmsh's Python API can be imported here (run on each worker)."""
+    try:
+        from fem.parametric import _import_gmsh
+
+        _import_gmsh()
+    except ImportError:
+        return False
+    return True
+
+
+def check_workers(client, option: str = "--scheduler", gmsh: bool = False) -> None:
+    """Refuse workers that cannot import lusm or run another version than this client, and,
+    with ``gmsh`` (a study of a parametric stator file), workers without gmsh (each task
+    failed on its mesh after the study had started)."""
     try:
         versions = client.run(package_version)
     except Exception as exc:  # ModuleNotFoundError on the worker, travelling back
@@ -1037,6 +1050,21 @@ def check_workers(client, option: str = "--scheduler") -> None:
         w, v = next(iter(other.items()))
         raise ValueError(f"{option}: worker {w} runs lusm {v}, this client {mine}; install "
                          "the same version everywhere")
+    if gmsh:
+        from fem.parametric import MESH_EXTRA
+
+        without = [w for w, ok in client.run(has_gmsh).items() if not ok]
+        if without:
+            raise ValueError(f"{option}: worker {without[0]} cannot import gmsh, which the "
+                             f"study.stator's features are meshed with; {MESH_EXTRA} on every "
+                             "worker")
+
+
+def _meshes_with_gmsh(study: Study) -> bool:
+    """Whether the study's plates are meshed by gmsh (a parametric stator file)."""
+    from fem.parametric import ParametricStator
+
+    return study.stator is not None and isinstance(study.stator.stator, ParametricStator)
 
 
 # --- the study --------------------------------------------------------------------------------
@@ -1103,7 +1131,7 @@ def explore(
                     if cluster is None:  # someone else's cluster: same lusm as ours?
                         option = "--scheduler" if scheduler else "--scheduler-file"
                         check_scheduler(client, option)
-                        check_workers(client, option)
+                        check_workers(client, option, gmsh=_meshes_with_gmsh(study))
                 except BaseException:
                     if own is not None:
                         own[0].close()
