@@ -27,9 +27,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser(
         "explore",
         help="design-space study (geometry x drive) on dask.distributed",
-        description="Run the study of a TOML file (axes, outputs, solver): one task per "
-        "geometry (FE solve, reduction, all its drive points) on a LocalCluster or an existing "
-        "dask scheduler; write a labelled netCDF dataset. See docs/distributed.md.",
+        description="Run the study of a TOML file (axes, outputs, solver; [study] stator = "
+        "FILE.toml starts every plate from a designer's stator file, whose plate and features "
+        "the axes vary): one task per geometry (FE solve, reduction, all its drive points) on a "
+        "LocalCluster or an existing dask scheduler; write a labelled netCDF dataset. See "
+        "docs/distributed.md.",
     )
     p.add_argument("study", metavar="STUDY.toml", help="the study file")
     p.add_argument("--out", required=True, metavar="FILE.nc", help="netCDF file to write")
