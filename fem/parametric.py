@@ -237,6 +237,15 @@ def _import_gmsh():
     return gmsh
 
 
+def gmsh_available() -> bool:
+    """Whether gmsh's Python API imports here (a dask worker is asked before a study)."""
+    try:
+        _import_gmsh()
+    except ImportError:
+        return False
+    return True
+
+
 def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:
     """The all-quad planform mesh of ``stator`` (m) with electrode tags.
 

@@ -1025,13 +1025,9 @@ def check_scheduler(client, option: str = "--scheduler") -> None:
 
 def has_gmsh() -> bool:
     """Whether gmsh's Python API can be imported here (run on each worker)."""
-    try:
-        from fem.parametric import _import_gmsh
+    from fem.parametric import gmsh_available
 
-        _import_gmsh()
-    except ImportError:
-        return False
-    return True
+    return gmsh_available()
 
 
 def check_workers(client, option: str = "--scheduler", gmsh: bool = False) -> None:
