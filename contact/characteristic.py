@@ -20,6 +20,7 @@ from contact.model import OperatingPoint, check_rest, resolve_coupling
 from contact.results import FrozenArrays
 from contact.steady import (
     ACCURACIES,
+    EXACT_ROOT_RTOL,
     HELD_M_S,
     branches_at_load,
     holding_range_N,
@@ -104,9 +105,9 @@ class Characteristic(FrozenArrays):
 MAX_POINTS = 10_000
 """Most default loads of one curve (``points``): 1e9 ran for minutes before anything."""
 
-STALL_RTOL = 1e-6
+STALL_RTOL = EXACT_ROOT_RTOL
 """Relative tolerance (-) of the exact level's stall force, the root ``brentq`` finds of the
-velocity from rest against the load: the exact level's own accuracy target. Near the stall
+velocity from rest against the load: the exact level's own root tolerance (1e-6). Near the stall
 the slider creeps below its velocity ripple and every load tried is a 2 000-period transient
 from rest (a few nm/s within 1e-6 of Table 2's stall at 300 V / 14 N); with the former 1e-9
 the default characteristic there made 53 steady solves, with 1e-6 it makes 34."""

@@ -237,13 +237,14 @@ def _import_gmsh():
     return gmsh
 
 
-def gmsh_available() -> bool:
-    """Whether gmsh's Python API imports here (a dask worker is asked before a study)."""
+def gmsh_problem() -> str | None:
+    """Why gmsh's Python API does not import here (not installed, or its library does not
+    load), or None: a dask worker is asked before a study of a parametric stator."""
     try:
         _import_gmsh()
-    except ImportError:
-        return False
-    return True
+    except ImportError as exc:
+        return str(exc)
+    return None
 
 
 def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:

@@ -359,21 +359,21 @@ def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
         assert ds["split"].values[g] == compute_geometry(s, i)["split"]
 
 
-def test_a_stator_study_runs_on_the_clusters_workers_as_in_process(client, tmp_path, capsys):
+def test_a_stator_study_runs_on_the_clusters_workers_as_in_process(client, tmp_path):
     """``[study] stator``: the loaded stator file travels with the study to the workers (a
-    remote worker need not see the file), and they give the in-process bits."""
-    from validation.cli import main
+    remote worker need not see the file: it is gone before they run), and they give the
+    in-process bits."""
+    import shutil
 
-    stator = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
-    path = tmp_path / "st.toml"
-    path.write_text(f'outputs = ["f_L1_short", "split"]\n[study]\nstator = "{stator}"\n'
-                    '[axes]\nlength = ["25 mm", "26 mm"]\n')
+    example = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
+    stator = tmp_path / "stator.toml"
+    shutil.copy(example, stator)
+    s = study_from_dict({"study": {"stator": str(stator)}, "outputs": ["f_L1_short", "split"],
+                         "axes": {"length": ["25 mm", "26 mm"]}})
+    stator.unlink()  # the workers get the loaded file with the study, not its path
     out = tmp_path / "st.nc"
-    assert main(["explore", str(path), "--out", str(out), "--scheduler",
-                 client.scheduler.address]) == 0
-    capsys.readouterr()
+    explore(s, out, scheduler=client.scheduler.address, progress=False)
     ds = open_result(out)
-    s = load_study(path)
     assert ds.attrs["stator_file"] == str(stator)
     for i in range(2):
         assert ds["split"].values.ravel()[i] == compute_geometry(s, i)["split"]
@@ -477,12 +477,14 @@ def test_workers_without_gmsh_are_refused_for_a_parametric_stator(client, monkey
     task (each task had failed on its mesh with an internal error)."""
     import validation.explore as ex
 
-    monkeypatch.setattr(ex, "has_gmsh", lambda: False)  # pickled by value: run on the workers
+    # pickled by value: run on the workers
+    monkeypatch.setattr(ex, "gmsh_problem", lambda: "gmsh is not installed: pip install it")
     stator = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
     s = study_from_dict({"study": {"stator": str(stator)}, "outputs": ["f_L1_short"]})
     out = tmp_path / "g.nc"
-    with pytest.raises(ValueError, match=r"--scheduler: worker .* cannot import gmsh, .* pip "
-                                         r"install \"lusm\[mesh\]\" on every worker"):
+    with pytest.raises(ValueError, match=r"--scheduler: worker .* cannot mesh the "
+                                         r"study.stator's features: gmsh is not installed: pip "
+                                         r"install it \(on every worker\)"):
         explore(s, out, scheduler=client.scheduler.address, progress=False)
     assert not out.exists() and not parts_folder(out).exists()
 
@@ -1390,11 +1392,22 @@ def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
     matplotlib's non-monotonic warning, and the curve zigzagged."""
     import warnings
 
+    from matplotlib.axes import Axes
+
     from validation.explore import design_maps
 
     ds = _synthetic({"length": 3, "width": 3}).isel(length=[2, 0, 1], width=[1, 2, 0])
     one = _synthetic({"thickness": 3}).isel(thickness=[2, 0, 1])
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
+    curves = []
+    plot = Axes.plot
+
+    def recorded(self, x, *args, **kwargs):
+        curves.append(np.asarray(x))
+        return plot(self, x, *args, **kwargs)
+
+    with warnings.catch_warnings(), pytest.MonkeyPatch.context() as mp:
+        warnings.simplefilter("error")  # matplotlib's warning on a non-monotonic map
+        mp.setattr(Axes, "plot", recorded)
         written = design_maps(ds, tmp_path) + design_maps(one, tmp_path)
-    assert len(written) == 4
+    assert len(written) == 4 and len(curves) == 2
+    assert all(np.all(np.diff(x) > 0) for x in curves)

@@ -297,3 +297,35 @@ def test_a_tip_axis_on_a_stator_without_a_tip_needs_both_sizes(tmp_path):
     with pytest.raises(ValueError, match=r"axes.chamfer values must be > 0 mm"):
         study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
                          "axes": {"chamfer": ["0 mm", "0.05 mm"]}})
+
+
+def test_an_unreadable_mesh_file_is_named_not_its_stator_file(monkeypatch):
+    import fem.mesh_io
+
+    def denied(path, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(fem.mesh_io, "read_stator_mesh", denied)
+    with pytest.raises(ValueError, match=r"chamfered.msh: Permission denied$"):
+        study_from_dict({"study": {"stator": str(MESHED)}, "outputs": ["f_L1_short"]})
+
+
+@pytest.mark.parametrize("doc, words", [
+    ({"axes": {"width": ["0.3 mm", "6.6 mm"]}},
+     f"study.stator {TUNED}'s [electrodes] gap_mm 0.4 mm must be below every length"),
+    ({"axes": {"width": ["6.6025 mm", "100 mm"], "length": ["25.6938 mm", "100 mm"]}},
+     "[mesh] size_mm 0.8 mm must lie in [1, 100] mm on this plate"),
+    ({"axes": {"length": {"start": "25 mm", "stop": "25.0000000001 mm",
+                          "step": "0.00000000001 mm"}}},
+     "axes.length is finer than 12 significant digits of its start '25 mm'"),
+    ({"axes": {"length": {"start": "20 mm", "stop": "40 mm", "num": 1000},
+               "width": {"start": "5 mm", "stop": "8 mm", "num": 1000}}},
+     "1000000 geometries (FE solves) is above the limit"),
+])
+def test_a_stator_studys_refusals_say_what_the_user_wrote(doc, words, tmp_path):
+    stator = TUNED
+    if "size_mm" in words:  # a stator file with its own element size
+        stator = _stator_with(tmp_path, "[damping]", "[mesh]\nsize_mm = 0.8\n\n[damping]")
+    with pytest.raises(ValueError) as err:
+        study_from_dict({"study": {"stator": str(stator)}, "outputs": ["f_L1_short"], **doc})
+    assert words in str(err.value), str(err.value)

@@ -344,6 +344,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         if study.auto_frequency:
             from contact.drive import auto_frequency
 
+            stage = "drive frequency"
             out["f_drive"] = np.array(auto_frequency(params))
     except (ValueError, RuntimeError, ArithmeticError) as exc:  # failure of this plate
         from validation.errors import short_reason  # a list of 32 frequencies: its range
@@ -739,8 +740,9 @@ def damping_text(study: Study) -> str:
     d = study.stator
     if d is None:
         return borrowed
+    # the value first: a figure's title shortens the end, where the path is
     if d.damping_origin:
-        return f"from stator file {d.path} {d.damping_origin}"
+        return f"{d.damping_origin}, from stator file {d.path}"
     return f"{borrowed}; stator file {d.path} has no [damping]"
 
 
@@ -1023,11 +1025,11 @@ def check_scheduler(client, option: str = "--scheduler") -> None:
                          f"{_version()}; install the same version everywhere")
 
 
-def has_gmsh() -> bool:
-    """Whether gmsh's Python API can be imported here (run on each worker)."""
-    from fem.parametric import gmsh_available
+def gmsh_problem() -> str | None:
+    """Why gmsh's Python API cannot be used here (run on each worker), or None."""
+    from fem.parametric import gmsh_problem as problem
 
-    return gmsh_available()
+    return problem()
 
 
 def check_workers(client, option: str = "--scheduler", gmsh: bool = False) -> None:
@@ -1047,20 +1049,11 @@ def check_workers(client, option: str = "--scheduler", gmsh: bool = False) -> No
         raise ValueError(f"{option}: worker {w} runs lusm {v}, this client {mine}; install "
                          "the same version everywhere")
     if gmsh:
-        from fem.parametric import MESH_EXTRA
-
-        without = [w for w, ok in client.run(has_gmsh).items() if not ok]
-        if without:
-            raise ValueError(f"{option}: worker {without[0]} cannot import gmsh, which the "
-                             f"study.stator's features are meshed with; {MESH_EXTRA} on every "
-                             "worker")
-
-
-def _meshes_with_gmsh(study: Study) -> bool:
-    """Whether the study's plates are meshed by gmsh (a parametric stator file)."""
-    from fem.parametric import ParametricStator
-
-    return study.stator is not None and isinstance(study.stator.stator, ParametricStator)
+        problems = {w: p for w, p in client.run(gmsh_problem).items() if p}
+        if problems:
+            w, p = next(iter(problems.items()))
+            raise ValueError(f"{option}: worker {w} cannot mesh the study.stator's features: "
+                             f"{p} (on every worker)")
 
 
 # --- the study --------------------------------------------------------------------------------
@@ -1127,7 +1120,7 @@ def explore(
                     if cluster is None:  # someone else's cluster: same lusm as ours?
                         option = "--scheduler" if scheduler else "--scheduler-file"
                         check_scheduler(client, option)
-                        check_workers(client, option, gmsh=_meshes_with_gmsh(study))
+                        check_workers(client, option, gmsh=study.meshed_by_gmsh)
                 except BaseException:
                     if own is not None:
                         own[0].close()

@@ -604,8 +604,8 @@ def load_design(path: str | Path):
 def design_error_text(path: str | Path, exc: BaseException) -> str:
     """A stator file's refusal on one line that names the file: the operating system's
     reason for a file it cannot open (it printed ``[Errno 13] Permission denied: '...'``)."""
-    if isinstance(exc, OSError) and exc.strerror:
-        text = exc.strerror
+    if isinstance(exc, OSError) and exc.strerror:  # the file it is about: its mesh, maybe
+        text = f"{exc.filename or path}: {exc.strerror}"
     else:
         text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
     return text if str(path) in text else f"{path}: {text}"

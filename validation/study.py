@@ -239,6 +239,12 @@ class Study:
         return self.axes["frequency"] == ("auto",)
 
     @property
+    def meshed_by_gmsh(self) -> bool:
+        """Whether the plates are meshed by gmsh: a parametric stator file (``[tip]``,
+        ``[chamfers]``, ``[[holes]]``)."""
+        return _parametric(self.stator)
+
+    @property
     def geometry_axes(self) -> tuple[str, ...]:
         """The geometry dimensions: :data:`GEOMETRY_AXES`, then the :data:`FEATURE_AXES` the
         study names."""
@@ -376,7 +382,7 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
                 raise ValueError(f"{key}.num = 1 needs start == stop")
             return (start,)
         values = [start + (stop - start) * i / (num - 1) for i in range(num)]
-        return _snapped(values, raw["start"], kind)
+        return _snapped(values, raw["start"], kind, key)
     step = parse_quantity(raw["step"], kind, f"{key}.step")
     if step <= 0:
         raise ValueError(f"{key}.step must be > 0, got {raw['step']!r}")
@@ -384,17 +390,21 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
     top = limits.work_bound(limits.MAX_GRID_POINTS)
     if n > top:
         raise ValueError(f"{key} has {n} points, above the limit {top}; use a larger step")
-    return _snapped([start + i * step for i in range(n)], raw["start"], kind)
+    return _snapped([start + i * step for i in range(n)], raw["start"], kind, key)
 
 
-def _snapped(values: list[float], start: str, kind: str) -> tuple[float, ...]:
+def _snapped(values: list[float], start: str, kind: str, key: str) -> tuple[float, ...]:
     """A range's values (SI) as the decimals a user would write in the unit of its ``start``
     (12 significant digits), converted as a typed value is: ``start + i * step`` put a
     length of 25.9 mm at 0.025900000000000003 m, one ulp from the 0.0259 m of a stator
     file's ``length_mm = 25.9``, and a gmsh-meshed plate 1 ulp longer is meshed anew (its L1
     moved by 0.6 Hz against the single-point command's)."""
     factor = UNITS[kind][_QUANTITY.match(start).group(2)]
-    return tuple(float(f"{v / factor:.12g}") * factor for v in values)
+    out = tuple(float(f"{v / factor:.12g}") * factor for v in values)
+    if len(set(out)) < len(out):  # it said "repeats a value" of a range
+        raise ValueError(f"{key} is finer than 12 significant digits of its start "
+                         f"{start!r}: use a larger step or fewer points")
+    return out
 
 
 def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
@@ -530,7 +540,9 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     for g in axes["gap"]:
         smallest = min(min(axes["length"]), min(axes["width"]))
         if g >= smallest:
-            raise ValueError(f"{where}axes.gap {g * 1e3:g} mm must be below every length and "
+            gap = (f"study.stator {design.path}'s [electrodes] gap_mm"
+                   if design is not None and "gap" not in raw_axes else "axes.gap")
+            raise ValueError(f"{where}{gap} {g * 1e3:g} mm must be below every length and "
                              f"width of the study (smallest {smallest * 1e3:g} mm)")
     outputs = doc.get("outputs", list(OUTPUTS))
     if not isinstance(outputs, list) or not outputs:
@@ -573,6 +585,7 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
         warnings.warn(f"{where}solver.fe_refine is unused: study.stator {design.path} is "
                       f"meshed by {how}", stacklevel=2)
     study = Study(name, axes, outputs, solver, source, stator=design)
+    _check_geometry_count(study, where)  # before building the plates one by one
     if design is not None:
         _check_stator_plates(study, where)
     _check_work(study, where)
@@ -648,8 +661,8 @@ def _stator_values(design) -> dict[str, tuple]:
 
 def _check_stator_axes(design, raw_axes: dict, where: str) -> None:
     """Refuse the geometry axes a stator file cannot take: ``material`` (the file sets it)
-    and, for a stator with a mesh file of its own, every dimension (a study cannot rescale
-    a mesh)."""
+    and, for a stator with a mesh file of its own, ``length``, ``width`` and ``gap`` (a
+    study cannot rescale a mesh; its plane-stress ``thickness`` can vary)."""
     if "material" in raw_axes:
         raise ValueError(f"{where}axes.material cannot be combined with study.stator: the "
                          f"stator file {design.path} sets the material; drop axes.material")
@@ -669,6 +682,7 @@ def _check_stator_plates(study: Study, where: str) -> None:
     from dataclasses import replace
 
     from fem.meshed_stator import MeshedStator
+    from fem.parametric import SIZE_DIVISIONS_RANGE
     from validation.errors import feature_reason
 
     design, ax = study.stator, study.axes
@@ -683,9 +697,16 @@ def _check_stator_plates(study: Study, where: str) -> None:
         if all(getattr(base, k) == v for k, v in dims.items()):
             continue  # the file's own plate, checked when it was read
         try:
-            if dims.get("tip_length_m", 0.0) > dims["length_m"]:  # the library said it in m
+            # said in the file's terms where the library says them in m
+            if dims.get("tip_length_m", 0.0) > dims["length_m"]:
                 raise ValueError(f"[tip] length_mm {dims['tip_length_m'] * 1e3:g} mm must be at "
                                  f"most the plate's length {dims['length_m'] * 1e3:g} mm")
+            small = min(dims["length_m"], dims["width_m"])
+            lo, hi = (small / n for n in reversed(SIZE_DIVISIONS_RANGE))
+            if base.mesh_size_m is not None and not lo <= base.mesh_size_m <= hi:
+                raise ValueError(f"[mesh] size_mm {base.mesh_size_m * 1e3:g} mm must lie in "
+                                 f"[{lo * 1e3:.4g}, {hi * 1e3:.4g}] mm on this plate (1/100 to "
+                                 "1 of its smaller side): edit the stator file's size_mm")
             replace(base, **dims)
         except ValueError as exc:
             # the file's terms (mm, hole numbers), without the library's SI prefix
@@ -717,7 +738,7 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
 
     from fem.geometry import PlateStator
     from fem.meshed_stator import MeshedStator
-    from fem.parametric import ParametricStator
+    from fem.parametric import DEFAULT_SIZE_DIVISIONS, ParametricStator
     from validation.options import fe_cell_count
 
     ax = study.axes
@@ -734,7 +755,7 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     for length in (min(ax["length"]), max(ax["length"])):
         for width in (min(ax["width"]), max(ax["width"])):
             if isinstance(base, ParametricStator):
-                size = base.mesh_size_m or min(length, width) / 8.0
+                size = base.mesh_size_m or min(length, width) / DEFAULT_SIZE_DIVISIONS
                 tip = (features.get("tip_length_m", base.tip_length_m)
                        * features.get("tip_width_m", base.tip_width_m))
                 estimate = (length * width + tip) / size**2
@@ -835,11 +856,17 @@ def _check_contact_work(study: Study, where: str) -> None:
         raise ValueError(f"{where}{reason}")
 
 
-def _check_work(study: Study, where: str) -> None:
+def _check_geometry_count(study: Study, where: str) -> None:
+    """Refuse more FE solves than :data:`MAX_GEOMETRIES` (a 1.8 M-plate stator study had
+    built every plate, 15 s, before it was refused)."""
     top = limits.work_bound(MAX_GEOMETRIES)
     if study.n_geometries > top:
         raise ValueError(f"{where}axes: {study.n_geometries} geometries (FE solves) is above "
                          f"the limit {top} ({limits.more_work_hint()})")
+
+
+def _check_work(study: Study, where: str) -> None:
+    _check_geometry_count(study, where)
     # each FE mesh is bounded as lusm modes bounds it (a 30 x 1 mm plate at fe_refine 48 ran
     # for minutes at 2.8 GB where modes refuses at once)
     cells, length, width, estimated = _largest_mesh(study)
