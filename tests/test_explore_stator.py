@@ -329,3 +329,23 @@ def test_a_stator_studys_refusals_say_what_the_user_wrote(doc, words, tmp_path):
     with pytest.raises(ValueError) as err:
         study_from_dict({"study": {"stator": str(stator)}, "outputs": ["f_L1_short"], **doc})
     assert words in str(err.value), str(err.value)
+
+
+def test_a_stator_with_a_hole_gets_the_2d_hole_warning_once(tmp_path, monkeypatch, capsys):
+    """Said for the study's smallest, thickest plate, before any work (the single-point
+    commands say it for their plate); with feature axes too, whose plates the warning does
+    not need to build."""
+    import validation.explore
+    from validation.cli import main
+
+    def stop(*args, **kwargs):
+        raise ValueError("stopped before the study ran")
+
+    monkeypatch.setattr(validation.explore, "explore", stop)
+    study = tmp_path / "s.toml"
+    study.write_text(f'outputs = ["f_L1_short"]\n[study]\nstator = "{TUNED}"\n[axes]\n'
+                     'tip_length = ["0.4 mm", "1.2 mm"]\nthickness = ["2 mm", "2.5 mm"]\n')
+    assert main(["explore", str(study), "--out", str(tmp_path / "s.nc")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("a through hole of 1.2 mm in a 2.5 mm plate") == 1, err
+    assert "stopped before the study ran" in err

@@ -224,15 +224,16 @@ def _warn_holes(study) -> None:
     """The single-point commands' warning for a through hole of the study's stator file
     (:func:`validation.options.warn_holes`), said for its smallest, thickest plate, where the
     hole weighs most."""
-    if study.stator is None or not getattr(study.stator.stator, "holes_m", ()):
+    holes = () if study.stator is None else getattr(study.stator.stator, "holes_m", ())
+    if not holes:
         return
-    from dataclasses import replace
+    from types import SimpleNamespace
 
     from validation.options import warn_holes
 
-    ax = study.axes
-    plate = replace(study.stator.stator, length_m=min(ax["length"]), width_m=min(ax["width"]),
-                    thickness_m=max(ax["thickness"]), electrode_gap_m=ax["gap"][0])
+    ax = study.axes  # the sizes the warning weighs, not a plate to build (it may not exist)
+    plate = SimpleNamespace(holes_m=holes, length_m=min(ax["length"]),
+                            width_m=min(ax["width"]), thickness_m=max(ax["thickness"]))
     warn_holes(plate, f"study.stator {study.stator.path}")
 
 
