@@ -119,7 +119,10 @@ class ParametricStator(PlateStator):
                                  f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
             if self.tip_length_m > length:
                 raise ValueError(f"ParametricStator.tip_length_m must lie in [0, {length!r}] "
-                                 f"m (the plate length), got {self.tip_length_m!r}")
+                                 f"m (the plate length), got {self.tip_length_m!r}): [tip] "
+                                 f"length_mm {self.tip_length_m * 1e3:g} mm must be at most "
+                                 f"the plate's length, on a {length * 1e3:.6g} x "
+                                 f"{width * 1e3:.4g} mm plate")
         elif self.tip_width_m != 0.0:
             raise ValueError("ParametricStator.tip_width_m needs tip_length_m > 0")
         holes = tuple(tuple(float(v) for v in hole) for hole in self.holes_m)
@@ -132,8 +135,8 @@ class ParametricStator(PlateStator):
                 raise ValueError(
                     f"ParametricStator.holes_m[{i}] = {hole!r} m reaches the plate's outline "
                     f"(it must lie inside the plate body): hole {i + 1}, {hole[2] * 1e3:g} mm "
-                    f"across at [{hole[0] * 1e3:g}, {hole[1] * 1e3:g}] mm, on a "
-                    f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
+                    f"across at [{hole[0] * 1e3:g}, {hole[1] * 1e3:g}] mm, reaches the "
+                    f"outline of a {length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
             for j, other in enumerate(holes[:i]):
                 if math.hypot(hole[0] - other[0], hole[1] - other[1]) <= 0.5 * (
                         hole[2] + other[2]):
@@ -144,7 +147,11 @@ class ParametricStator(PlateStator):
             if not _finite(self.mesh_size_m) or not lo <= self.mesh_size_m <= hi:
                 raise ValueError(f"ParametricStator.mesh_size_m must lie in [{lo:g}, {hi:g}] "
                                  f"m (min(length, width) / 100 .. / 1), got "
-                                 f"{self.mesh_size_m!r}")
+                                 f"{self.mesh_size_m!r}): [mesh] size_mm "
+                                 f"{self.mesh_size_m * 1e3:g} mm must lie in "
+                                 f"[{lo * 1e3:.4g}, {hi * 1e3:.4g}] mm, 1/100 to 1 of the "
+                                 f"plate's smaller side, on a {length * 1e3:.6g} x "
+                                 f"{width * 1e3:.4g} mm plate")
 
     @property
     def element_size_m(self) -> float:

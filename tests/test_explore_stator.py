@@ -291,7 +291,8 @@ def test_a_tip_axis_on_a_stator_without_a_tip_needs_both_sizes(tmp_path):
         study_from_dict({"study": {"stator": str(no_tip)}, "outputs": ["f_L1_short"],
                          "axes": {"tip_width": "1 mm"}})
     with pytest.raises(ValueError, match=r"axes.tip_length 30 mm: .* \(\[tip\] length_mm 30 "
-                                         r"mm must be at most the plate's length 25.6938 mm\)"):
+                                         r"mm must be at most the plate's length, on a "
+                                         r"25.6938 x 6.603 mm plate\)"):
         study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
                          "axes": {"tip_length": "30 mm"}})
     with pytest.raises(ValueError, match=r"axes.chamfer values must be > 0 mm"):
@@ -314,7 +315,8 @@ def test_an_unreadable_mesh_file_is_named_not_its_stator_file(monkeypatch):
     ({"axes": {"width": ["0.3 mm", "6.6 mm"]}},
      f"study.stator {TUNED}'s [electrodes] gap_mm 0.4 mm must be below every length"),
     ({"axes": {"width": ["6.6025 mm", "100 mm"], "length": ["25.6938 mm", "100 mm"]}},
-     "[mesh] size_mm 0.8 mm must lie in [1, 100] mm on this plate"),
+     "([mesh] size_mm 0.8 mm must lie in [1, 100] mm, 1/100 to 1 of the plate's smaller side, "
+     "on a 100 x 100 mm plate)"),
     ({"axes": {"length": {"start": "25 mm", "stop": "25.0000000001 mm",
                           "step": "0.00000000001 mm"}}},
      "axes.length is finer than 12 significant digits of its start '25 mm'"),

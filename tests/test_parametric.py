@@ -213,7 +213,8 @@ def test_a_sweep_that_pushes_a_hole_off_the_plate_blames_its_range(tmp_path, cap
     assert main(["sweep", "--geometry", str(path), "--length-mm", "20:30:5"]) == 2
     err = capsys.readouterr().err.strip().splitlines()[-1]  # after the file's hole warning
     assert err.startswith("lusm sweep: error: --length-mm 20:30:5: a plate of the sweep")
-    assert "hole 1, 1.5 mm across at [2, 22.5] mm, on a 20 x 7.5 mm plate" in err
+    assert ("hole 1, 1.5 mm across at [2, 22.5] mm, reaches the outline of a 20 x 7.5 mm "
+            "plate") in err
     assert "holes_m" not in err
     # a chamfer no longer fitting a narrower plate: "ParametricStator.chamfer_m must lie in
     # [0, 0.00075) m" in metres and library names (found by exploratory testing)

@@ -127,7 +127,7 @@ def feature_reason(exc: BaseException) -> str:
     """A parametric stator's refusal in the stator file's terms (mm, hole numbers) where the
     library gave them after its SI text, as for the holes; else the text as it is."""
     text = str(exc)
-    for mark in ("): hole ", "): [chamfers] ", "): [tip] "):
+    for mark in ("): hole ", "): [chamfers] ", "): [tip] ", "): [mesh] "):
         if mark in text:
             return text.split("): ", 1)[-1]
     return text

@@ -682,7 +682,6 @@ def _check_stator_plates(study: Study, where: str) -> None:
     from dataclasses import replace
 
     from fem.meshed_stator import MeshedStator
-    from fem.parametric import SIZE_DIVISIONS_RANGE
     from validation.errors import feature_reason
 
     design, ax = study.stator, study.axes
@@ -697,23 +696,9 @@ def _check_stator_plates(study: Study, where: str) -> None:
         if all(getattr(base, k) == v for k, v in dims.items()):
             continue  # the file's own plate, checked when it was read
         try:
-            # said in the file's terms where the library says them in m
-            if dims.get("tip_length_m", 0.0) > dims["length_m"]:
-                raise ValueError(f"[tip] length_mm {dims['tip_length_m'] * 1e3:g} mm must be at "
-                                 f"most the plate's length {dims['length_m'] * 1e3:g} mm")
-            small = min(dims["length_m"], dims["width_m"])
-            lo, hi = (small / n for n in reversed(SIZE_DIVISIONS_RANGE))
-            if base.mesh_size_m is not None and not lo <= base.mesh_size_m <= hi:
-                raise ValueError(f"[mesh] size_mm {base.mesh_size_m * 1e3:g} mm must lie in "
-                                 f"[{lo * 1e3:.4g}, {hi * 1e3:.4g}] mm on this plate (1/100 to "
-                                 "1 of its smaller side): edit the stator file's size_mm")
             replace(base, **dims)
         except ValueError as exc:
-            # the file's terms (mm, hole numbers), without the library's SI prefix
-            first = str(exc).splitlines()[0]
-            reason = re.sub(r"^ParametricStator\.[\w\[\]]+ = (\([^)]*\)|\S+) m ", "", first)
-            if reason == first:
-                reason = feature_reason(exc).splitlines()[0]
+            reason = feature_reason(exc).splitlines()[0]  # the file's terms (mm, hole numbers)
             named = [f"axes.{a} {v * 1e3:g} mm" for a, v in zip(names, combo, strict=True)
                      if len(ax[a]) > 1 or v != getattr(base, fields[a])]
             length, width = dims["length_m"], dims["width_m"]
