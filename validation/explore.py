@@ -755,13 +755,11 @@ def _parameter_set_source(study: Study) -> str:
     if d is None:
         return (f"{fe}); contact, slider, friction and damping constants from rom.table2 "
                 "(Li, Yao & Wu 2016, Table 2)")
-    damping = (f"damping from {d.damping_origin}" if d.damping_origin
-               else "no [damping]: Table 2's damping ratios")
     motor = ("; " + ", ".join(f"{where} from the file" for where in d.motor_keys().values())
              if d.motor else "")
     return (f"{fe}) of stator file {d.path} ({d.name}), its plate dimensions from the "
-            f"geometry axes; {damping}{motor}; the other contact, slider and friction "
-            "constants from rom.table2 (Li, Yao & Wu 2016, Table 2)")
+            f"geometry axes; damping {damping_text(study)}{motor}; the other contact, slider "
+            "and friction constants from rom.table2 (Li, Yao & Wu 2016, Table 2)")
 
 
 def storable_text(text: str) -> str:
