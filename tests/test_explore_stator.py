@@ -17,8 +17,9 @@ TUNED = EXAMPLES / "tuned_60k" / "stator.toml"
 MESHED = EXAMPLES / "chamfered" / "stator.toml"
 
 
-@pytest.mark.parametrize("stator, volts, damping", [(TUNED, 140, "Q_m = 60"),
-                                                     (MESHED, 300, "Table 2's ratios")])
+@pytest.mark.parametrize("stator, volts, damping", [
+    (TUNED, 140, "zeta_L1 = 0.008333, zeta_B2 = 0.008333 ([damping] Q_m = 60"),
+    (MESHED, 300, "Table 2's ratios")])
 def test_a_stator_study_is_the_single_point_commands_on_its_file_bit_for_bit(
         stator, volts, damping, capsys):
     """The file's plate, material, holes, tip, chamfers and its own damping (Q_m = 60, not

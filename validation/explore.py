@@ -740,8 +740,15 @@ def damping_text(study: Study) -> str:
     d = study.stator
     if d is None:
         return borrowed
-    # the value first: a figure's title shortens the end, where the path is
-    if d.damping_origin:
+    # the values first: a figure's title shortens the end, where the path is
+    from rom.from_fem import design_damping
+
+    ratios = design_damping(d)  # the file's ratios, Q_m's, or Table 2's by name
+    if ratios is not None:
+        z1, z2 = ratios
+        return (f"zeta_L1 = {z1:.4g}, zeta_B2 = {z2:.4g} ({d.damping_origin}), from stator "
+                f"file {d.path}")
+    if d.damping_origin:  # fitted per plate, or Table 2's by name
         return f"{d.damping_origin}, from stator file {d.path}"
     return f"{borrowed}; stator file {d.path} has no [damping]"
 
