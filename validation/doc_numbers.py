@@ -1717,6 +1717,23 @@ def _tuned_length_claims() -> tuple[Claim, ...]:
                  for k in ("split_short_Hz", "split_long_Hz", "stall_short_N", "stall_long_N"))
 
 
+@cache
+def _mesh_noise() -> dict[str, float]:
+    """``python benchmarks/parametric_mesh_noise.py``: the tuned stator's split against gmsh's
+    element size, over plates a rounding error apart."""
+    return _bench("parametric_mesh_noise").measure()
+
+
+def _mesh_noise_claims() -> tuple[Claim, ...]:
+    """docs/distributed.md: how sure a parametric stator's split is (gmsh mesh noise)."""
+    cmd = ("python benchmarks/parametric_mesh_noise.py (30 s; the column named by the key, "
+           "n = the element size's divisions)")
+    keys = ("split_spread_8_Hz", "split_spread_16_Hz", "split_8_Hz", "split_16_Hz",
+            "split_32_Hz")
+    return tuple(Claim(f"mesh_noise_{k}", "Hz", cmd, lambda k=k: _mesh_noise()[k],
+                       batch="mesh_noise") for k in keys)
+
+
 # --- the claims --------------------------------------------------------------------------
 
 
@@ -1928,6 +1945,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_limits_claims(),
     *_explore_claims(),
     *_tuned_length_claims(),
+    *_mesh_noise_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
