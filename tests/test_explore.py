@@ -475,10 +475,11 @@ def test_workers_without_gmsh_are_refused_for_a_parametric_stator(client, monkey
                                                                   tmp_path):
     """A study of a stator file meshed by gmsh needs gmsh on every worker: refused before any
     task (each task had failed on its mesh with an internal error)."""
-    import validation.explore as ex
+    import fem.parametric
 
     # pickled by value: run on the workers
-    monkeypatch.setattr(ex, "gmsh_problem", lambda: "gmsh is not installed: pip install it")
+    monkeypatch.setattr(fem.parametric, "gmsh_problem",
+                        lambda: "gmsh is not installed: pip install it")
     stator = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
     s = study_from_dict({"study": {"stator": str(stator)}, "outputs": ["f_L1_short"]})
     out = tmp_path / "g.nc"

@@ -45,7 +45,15 @@ import numpy as np
 
 from validation.interrupts import checkpoint, quiet_logs_after_signal
 from validation.output_set import backup_name
-from validation.study import AXIS_KIND, DRIVE_AXES, FEATURE_FIELDS, OUTPUTS, SI_UNIT, Study
+from validation.study import (
+    AXIS_KIND,
+    DRIVE_AXES,
+    FEATURE_FIELDS,
+    OUTPUTS,
+    SI_UNIT,
+    Study,
+    plate_with,
+)
 
 FE_SCALARS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff_L1", "k_eff_B2",
               "split", "f_drive")
@@ -297,8 +305,6 @@ def plate_of(study: Study, g: dict[str, Any]):
     """The stator and material of one geometry's axis values ``g`` (:func:`geometry_of`): the
     paper's plain plate, or the study's stator file with its plate's dimensions replaced
     (tip, chamfers, holes, electrodes and points kept, as ``lusm sweep --geometry``)."""
-    from dataclasses import replace
-
     from fem.geometry import PlateStator
 
     dims = {"length_m": g["length"], "width_m": g["width"], "thickness_m": g["thickness"],
@@ -306,12 +312,8 @@ def plate_of(study: Study, g: dict[str, Any]):
     dims.update({f: g[a] for a, f in FEATURE_FIELDS.items() if a in g})
     if study.stator is None:
         return PlateStator(**dims), g["material"]
-    base = study.stator.stator
-    # a stator with its own mesh has no gap (NaN) and varies in thickness only
-    changed = {k: v for k, v in dims.items() if not math.isnan(v) and getattr(base, k) != v}
-    if not changed:
-        return base, study.stator.material  # the file's own plate (and its own mesh)
-    return replace(base, **changed), study.stator.material
+    # the file's own plate where the axes keep it (and its own mesh: no gap, NaN)
+    return plate_with(study.stator.stator, dims), study.stator.material
 
 
 def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
@@ -1030,13 +1032,6 @@ def check_scheduler(client, option: str = "--scheduler") -> None:
                          f"{_version()}; install the same version everywhere")
 
 
-def gmsh_problem() -> str | None:
-    """Why gmsh's Python API cannot be used here (run on each worker), or None."""
-    from fem.parametric import gmsh_problem as problem
-
-    return problem()
-
-
 def check_workers(client, option: str = "--scheduler", gmsh: bool = False) -> None:
     """Refuse workers that cannot import lusm or run another version than this client, and,
     with ``gmsh`` (a study of a parametric stator file), workers without gmsh (each task
@@ -1054,6 +1049,8 @@ def check_workers(client, option: str = "--scheduler", gmsh: bool = False) -> No
         raise ValueError(f"{option}: worker {w} runs lusm {v}, this client {mine}; install "
                          "the same version everywhere")
     if gmsh:
+        from fem.parametric import gmsh_problem
+
         problems = {w: p for w, p in client.run(gmsh_problem).items() if p}
         if problems:
             w, p = next(iter(problems.items()))

@@ -642,9 +642,14 @@ def _file_sha256(path: Path) -> str:
     return h.hexdigest()
 
 
-STATOR_AXES = ("length", "width", "thickness", "gap")
-"""Geometry axes that vary a stator file's plate (its features, material and motor kept);
-only ``thickness`` for a stator with its own mesh file (the 2D mesh is not rescaled)."""
+def plate_with(base, dims: dict[str, float]):
+    """``base`` (a :class:`fem.geometry.PlateStator` or a subclass) with the fields ``dims``
+    (SI) replaced, checked as the class checks them; ``base`` itself where no value differs.
+    A NaN value is no change: a stator with its own mesh has no gap of its own."""
+    from dataclasses import replace
+
+    changed = {k: v for k, v in dims.items() if not math.isnan(v) and getattr(base, k) != v}
+    return replace(base, **changed) if changed else base
 
 
 def _stator_values(design) -> dict[str, tuple]:
@@ -679,8 +684,6 @@ def _check_stator_plates(study: Study, where: str) -> None:
     features (tip, chamfers, holes: kept as the file gives them, as ``lusm sweep --geometry``
     keeps them), naming the axis values of the first plate that does not. (A stator with its
     own mesh varies in thickness only, which holds every feature.)"""
-    from dataclasses import replace
-
     from fem.meshed_stator import MeshedStator
     from validation.errors import feature_reason
 
@@ -693,10 +696,8 @@ def _check_stator_plates(study: Study, where: str) -> None:
     names = list(fields)
     for combo in itertools.product(*(ax[a] for a in names)):
         dims = {fields[a]: v for a, v in zip(names, combo, strict=True)}
-        if all(getattr(base, k) == v for k, v in dims.items()):
-            continue  # the file's own plate, checked when it was read
-        try:
-            replace(base, **dims)
+        try:  # the file's own plate was checked when it was read
+            plate_with(base, dims)
         except ValueError as exc:
             reason = feature_reason(exc).splitlines()[0]  # the file's terms (mm, hole numbers)
             named = [f"axes.{a} {v * 1e3:g} mm" for a, v in zip(names, combo, strict=True)
@@ -719,8 +720,6 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     where that estimate is within :data:`MESH_ESTIMATE_MARGIN` of the bound (a 1000 mm long
     plate at 0.067 mm was meshed for 29 s and 564 MB before it was refused). One with its own
     mesh file is the file's, whatever the axes."""
-    from dataclasses import replace
-
     from fem.geometry import PlateStator
     from fem.meshed_stator import MeshedStator
     from fem.parametric import DEFAULT_SIZE_DIVISIONS, ParametricStator
@@ -747,9 +746,8 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
                 if estimate > MESH_ESTIMATE_MARGIN * top:
                     best = max(best, (int(estimate), length, width, True))
                     continue
-            dims = {"length_m": length, "width_m": width, "electrode_gap_m": gap, **features}
-            plate = base if all(getattr(base, k) == v for k, v in dims.items()) \
-                else replace(base, **dims)
+            plate = plate_with(base, {"length_m": length, "width_m": width,
+                                      "electrode_gap_m": gap, **features})
             best = max(best, (fe_cell_count(plate, study.solver.fe_refine), length, width,
                               False))
     return best
@@ -851,7 +849,8 @@ def _check_geometry_count(study: Study, where: str) -> None:
 
 
 def _check_work(study: Study, where: str) -> None:
-    _check_geometry_count(study, where)
+    """Refuse a study above the work bounds (its geometry count is checked before, by
+    :func:`_check_geometry_count`): each FE mesh, the drive points, the contact work."""
     # each FE mesh is bounded as lusm modes bounds it (a 30 x 1 mm plate at fe_refine 48 ran
     # for minutes at 2.8 GB where modes refuses at once)
     cells, length, width, estimated = _largest_mesh(study)
