@@ -161,7 +161,8 @@ def gap_validity_message(gap_m: float, thickness_m: float) -> str | None:
         return None
     return (
         f"electrode gap {gap_m * 1e3:g} mm exceeds thickness/6 = "
-        f"{GAP_VALIDITY_RATIO * thickness_m * 1e3:.3g} mm: the 2D model is outside its validity "
+        f"{GAP_VALIDITY_RATIO * thickness_m * 1e3:.3g} mm (a {thickness_m * 1e3:g} mm thick "
+        f"plate): the 2D model is outside its validity "
         f"(the gap strip is no longer shorted by its neighbours); use the 3D model "
         f"(lusm modes --model 3d, fem.solid3d)"
     )

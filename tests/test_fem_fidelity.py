@@ -52,6 +52,16 @@ def test_gap_validity_warning():
         _model(1e-3)
 
 
+def test_gap_validity_warning_names_the_thickness_it_was_measured_against():
+    """A study with a thickness axis said "exceeds thickness/6 = 0.333 mm" without naming
+    which of its plates: the plate's thickness is in the message."""
+    from fem.model import gap_validity_message
+
+    assert "(a 2 mm thick plate)" in gap_validity_message(0.4e-3, 2e-3)
+    assert "(a 1 mm thick plate)" in gap_validity_message(0.4e-3, 1e-3)
+    assert gap_validity_message(0.4e-3, 3e-3) is None  # 0.4 mm < 3 mm / 6
+
+
 def test_cli_says_when_2d_is_outside_its_validity(capsys):
     from validation.cli import main
 
