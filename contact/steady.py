@@ -443,10 +443,18 @@ class RunawayWarning(UserWarning):
 
 
 def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
-                      ultrasonic_friction: bool, mu_d_eff: float) -> str | None:
+                      ultrasonic_friction: bool, mu_d_eff: float, motion: str = "",
+                      velocity_m_s: float = math.nan) -> str | None:
     """Why a run under ``op.load_N`` has no steady state: the load lies beyond
     :func:`holding_range_N` (None when it does not, or when there is no load). A transient
-    at 1000 N had reported -250 m/s, pure slip, as its velocity."""
+    at 1000 N had reported -250 m/s, pure slip, as its velocity.
+
+    Where the tip sticks at the scan's ends (no drive, or a weak one) static friction holds
+    a load that never breaks the tip free, but a run applies its load at once, and the
+    step's overshoot can break it free below that: a transient that ends in pure slip the
+    load's way (``motion``, ``velocity_m_s``: its last window's) under a load beyond the
+    tip's and the guide's sliding friction runs away too (0 V / 14 N on Table 2's set from
+    5.8 N, where static friction holds 7.638 N: it had said only "not settled")."""
     if not op.load_N:
         return None
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
@@ -458,8 +466,19 @@ def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
         # tip's stiction and the guide can hold, static friction on both (0 V / 20 N under
         # 50 N ran away without a word)
         p = params
-        hold = p.mu_s * op.preload_N + p.mu_sd * (op.preload_N + p.M_slider * GRAVITY_M_S2)
+        guide = p.mu_sd * (op.preload_N + p.M_slider * GRAVITY_M_S2)
+        hold = p.mu_s * op.preload_N + guide
         low, high, what = -hold, hold, "the tip's and the guide's static friction"
+        slide = mu_d_eff * op.preload_N + guide
+        slipping_away = motion == "pure-slip" and velocity_m_s * op.load_N < 0.0
+        if slipping_away and slide < abs(op.load_N) <= hold:
+            way = "backward" if op.load_N > 0 else "forward"
+            return (f"load_N = {op.load_N:g} N is beyond the loads the motor holds once its tip "
+                    f"slips at {op.voltage_V:g} V / {op.preload_N:g} N ({-slide:.4g} to "
+                    f"{slide:.4g} N, the tip's and the guide's sliding friction; their static "
+                    f"friction holds up to {hold:.4g} N of a load applied gently, but this "
+                    f"run applies it at once and the tip broke free): the slider runs away "
+                    f"{way} and has no steady state")
     if low <= op.load_N <= high:
         return None
     way = "backward" if op.load_N > high else "forward"

@@ -288,3 +288,32 @@ def test_the_library_transient_says_when_the_slider_runs_away(params):
     with pytest.warns(RunawayWarning, match="static friction"):
         r = simulate(params, 0, 20, load_N=50, duration_s=0.01)
     assert r.steady.velocity_m_s < -1.0
+
+
+def test_an_undriven_tip_broken_free_by_its_load_runs_away_below_static_friction(params):
+    """0 V / 14 N on Table 2's set: static friction of tip and guide holds 7.638 N, but a run
+    applies its load at once, and from about 5.8 N the step breaks the tip free; above the
+    sliding friction (5.538 N) a slipping slider then accelerates as Coulomb says. The
+    transient had said only "not settled" (found by exploratory testing); the steady engine,
+    which starts from rest too, refuses that load."""
+    import warnings
+
+    from contact.steady import RunawayWarning
+
+    p, fp = params, 14.0
+    guide = p.mu_sd * (fp + p.M_slider * GRAVITY_M_S2)
+    slide, hold = p.mu_d * fp + guide, p.mu_s * fp + guide
+    load = 6.0
+    assert slide < load < hold
+    with pytest.warns(RunawayWarning, match="sliding friction"):
+        v = [simulate(p, 0.0, fp, load_N=load, duration_s=d).steady
+             for d in (0.02, 0.03)]
+    assert all(s.motion == "pure-slip" for s in v)
+    a = (v[1].velocity_m_s - v[0].velocity_m_s) / 0.01
+    assert a == pytest.approx(-(load - slide) / p.M_slider, rel=1e-3)
+    s = steady_state(p, 0.0, fp, load_N=load, accuracy="exact", energy=False)
+    assert math.isnan(s.velocity_m_s) and not s.branches  # no steady state from rest
+    with warnings.catch_warnings():  # below the sliding friction a slipped tip sticks again
+        warnings.simplefilter("error", RunawayWarning)
+        r = simulate(p, 0.0, fp, load_N=0.99 * slide, duration_s=0.05)
+    assert abs(r.steady.velocity_m_s) < 1e-9
