@@ -1234,6 +1234,12 @@ def test_a_parts_folder_without_its_study_file_is_not_called_another_studys(tmp_
     with pytest.raises(ValueError, match=r"^--resume: .*r\.nc\.parts has no study\.json, so "
                                          "it is not the parts folder of a lusm explore run"):
         explore(s, out, resume=True, progress=False)
+    # without --resume it had said "holds an unfinished run; pass --resume", which then
+    # refused it as above (found by exploratory testing); the user's file stays
+    (parts_folder(out) / "notes.txt").write_text("mine")
+    with pytest.raises(ValueError, match=r"^--out .*r\.nc: .*r\.nc\.parts has no study\.json"):
+        explore(s, out, progress=False)
+    assert (parts_folder(out) / "notes.txt").read_text() == "mine"
 
 
 @pytest.mark.skipif(not Path("/sys/kernel").is_dir(), reason="needs Linux's sysfs")

@@ -541,13 +541,16 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
     stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text),
              "lusm_version": _version(), "code_sha256": code_digest()}
     if folder.exists():
+        if not (folder / STUDY_FILE).is_file():  # it was said to be "another study's", and
+            # without --resume "an unfinished run" (whose --resume then sent the user back)
+            option = "--resume" if resume else f"--out {out}"
+            raise ValueError(f"{option}: {folder} has no {STUDY_FILE}, so it is not the parts "
+                             "folder of a lusm explore run (a finished run leaves only files "
+                             "that are not its own there); move it away or choose another "
+                             "--out")
         if not resume:
             raise ValueError(f"--out {out}: {folder} holds an unfinished run; pass --resume to "
                              "continue it, or remove that folder to start over")
-        if not (folder / STUDY_FILE).is_file():  # it was said to be "another study's"
-            raise ValueError(f"--resume: {folder} has no {STUDY_FILE}, so it is not the parts "
-                             "folder of a lusm explore run; move it away or choose another "
-                             "--out")
         try:
             old = json.loads((folder / STUDY_FILE).read_text())
         except (OSError, ValueError):
