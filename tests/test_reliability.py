@@ -244,6 +244,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-3d-gap-zero", ["modes", "--model", "3d", "--gap-mm", "0"],
      ["--gap-mm must be at least 0.001 mm with --model 3d, got 0"]),
     ("map-frequency-zero", ["map", "--frequency", "0"], ["--frequency"]),
+    # a steady map's --dt serves an undecided point's transient: 1e-3 s had run without a word
+    ("map-steady-dt-above-20-per-period", ["map", "--method", "steady", "--dt", "1e-3"],
+     ["--dt", "1/(20 f)", "--method steady"]),
     ("map-voltages-1e10-points", ["map", "--voltages", "0:1e10:1"], ["--voltages", "limit"]),
     ("map-voltages-beyond-range", ["map", "--voltages", "0:5000:1000"],
      ["--voltages", "[0, 2000] V"]),
