@@ -241,6 +241,11 @@ def test_characteristic_names_its_operating_point(capsys):
     d = json.loads(capsys.readouterr().out)
     assert d["voltage_V"] == 200 and d["preload_N"] == 14 and d["frequency_from"] == "auto"
     assert d["frequency_Hz"] > 1e3
+    # " AUTO" is the same rule (the parser takes it): it was echoed as typed and untagged
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--source", "beam",
+                 "--frequency", " AUTO", "--loads", "0:0.1:0.1"]) == 0
+    drive = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("drive"))
+    assert drive.endswith(f"{d['frequency_Hz']:.6g} Hz (auto)")
 
 
 def test_an_unsettled_transient_says_so(capsys):

@@ -95,9 +95,11 @@ def run(args: argparse.Namespace) -> None:
     if args.accuracy == "fast":
         _warn_fast_level(params, chars, coupling, not args.no_ultrasonic_friction)
     docs = [c.to_dict() for c in chars]
+    # "AUTO" and " auto" are the auto rule too: said as such, not echoed (they had no tag)
+    frequency_from = "auto" if known_frequency(args.frequency) is None else args.frequency
     for c, d in zip(chars, docs, strict=True):  # the operating point, as simulate gives it
         d.update(voltage_V=c.op.voltage_V, preload_N=c.op.preload_N,
-                 frequency_Hz=c.op.frequency_Hz, frequency_from=args.frequency)
+                 frequency_Hz=c.op.frequency_Hz, frequency_from=frequency_from)
         d["damping"] = damping_summary(params, damping_from)
         d["coupling"], d["coupling_from"] = coupling, coupling_from
         if args.accuracy == "exact":  # how the start from rest was decided (--rest)
@@ -121,7 +123,7 @@ def run(args: argparse.Namespace) -> None:
         if len(voltages) > 1:
             print(f"--- {v:g} V")
         print(f"{'drive':<26} {v:g} V, {args.preload:g} N, {char.op.frequency_Hz:.6g} Hz"
-              + (" (auto)" if args.frequency == "auto" else ""))
+              + (" (auto)" if frequency_from == "auto" else ""))
         print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
         print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
         print(f"{'accuracy':<26} {char.accuracy}" + (

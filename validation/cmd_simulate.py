@@ -42,7 +42,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
     p.add_argument("--load-N", dest="load_N", default=0.0,
                    type=real("--load-N", "N", -limits.PRELOAD_N[1], limits.PRELOAD_N[1]),
-                   help="external load on the slider (N), opposing its motion")
+                   help="external load on the slider (N), a constant force against the "
+                   "forward (+x) direction: it opposes a forward motor and assists one "
+                   "that drives backward; negative pushes forward")
     p.add_argument("--steady", action="store_true",
                    help="the steady state from rest found directly (docs/steady.md) instead "
                    "of a transient; no figures")
