@@ -89,6 +89,9 @@ def test_resume_sees_a_changed_stator_file_not_a_moved_one(tmp_path):
 
     assert fingerprint(a) == fingerprint(b)
     text = (b / "stator.toml").read_text()
+    # nor a comment or a trailing newline (that had made it "another study"), as in the study
+    (b / "stator.toml").write_text("# my notes\n" + text + "\n\n")
+    assert fingerprint(a) == fingerprint(b)
     (b / "stator.toml").write_text(text.replace("Q_m = 60", "Q_m = 80"))
     assert fingerprint(a) != fingerprint(b)
 

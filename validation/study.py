@@ -283,8 +283,10 @@ class Study:
         doc = json.loads(self.text) if self.text else {}
         if isinstance(doc, dict):
             doc.pop("name", None)
-            # the stator file's contents count, not where it lies
+            # the stator file's contents count, not where it lies nor its comments and
+            # layout (a trailing newline had made it "another study")
             doc.get("stator", {}).pop("file", None)
+            doc.get("stator", {}).pop("sha256", None)
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
 
@@ -614,7 +616,8 @@ def _stator(value: Any, source: str, where: str):
         path = Path(source).parent / path
     try:
         design = load_stator(path)
-        stamp = {"file": os.path.abspath(path), "sha256": _file_sha256(path)}
+        stamp = {"file": os.path.abspath(path), "sha256": _file_sha256(path),
+                 "content_sha256": _toml_content_sha256(path)}
         if design.mesh_path is not None:
             stamp["mesh_sha256"] = _file_sha256(design.mesh_path)
     except (ValueError, OSError) as exc:
@@ -631,6 +634,16 @@ def _parametric(design) -> bool:
     from fem.parametric import ParametricStator
 
     return isinstance(design.stator, ParametricStator)
+
+
+def _toml_content_sha256(path: Path) -> str:
+    """SHA-256 of a TOML file's parsed contents as canonical JSON: the same for the same
+    keys and values whatever the comments, spacing and key order."""
+    import tomllib
+
+    with open(path, "rb") as f:
+        doc = tomllib.load(f)
+    return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest()
 
 
 def _file_sha256(path: Path) -> str:
