@@ -1555,7 +1555,8 @@ def _limits_claims() -> tuple[Claim, ...]:
               lambda: len(__import__("tests.test_reliability", fromlist=["x"]).CASES),
               cheap=True, rel_tol=1e-12),
         Claim("limits_dt_bound_time_ratio", "-", sim + " --dt 2.5e-9 (wall_time_s) over " + sim
-              + " (wall_time_s)", _dt_bound_time_ratio),
+              + " (wall_time_s), each the fastest of 3 runs in one process",
+              _dt_bound_time_ratio),
         Claim("limits_dt_bound_peak_MB", "MB", "/usr/bin/time -f %M " + sim + " --dt 2.5e-9",
               lambda: _peak_MB("simulate", "--voltage", "200", "--preload", "14", "--dt",
                                "2.5e-9", "--json")),
