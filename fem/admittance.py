@@ -309,8 +309,8 @@ class TooManyModesError(ValueError):
     """
 
     def __init__(self, f_cut_Hz: float, n_modes: int, max_modes: int) -> None:
-        super().__init__(f"the modes up to {f_cut_Hz:.6g} Hz number {n_modes}, above the "
-                         f"limit of {max_modes}")
+        super().__init__(f"{n_modes} modes lie below {f_cut_Hz:.6g} Hz, above the limit of "
+                         f"{max_modes}")
         self.f_cut_Hz, self.n_modes, self.max_modes = f_cut_Hz, n_modes, max_modes
 
 

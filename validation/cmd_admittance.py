@@ -139,9 +139,9 @@ def run(args: argparse.Namespace) -> None:
                                max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
     except TooManyModesError as exc:
         raise LusmError(
-            f"--f-max {args.f_max:g} Hz: the modes kept up to 6 x --f-max "
-            f"({exc.f_cut_Hz:.4g} Hz) number {exc.n_modes} on this mesh, above the limit "
-            f"{exc.max_modes}; lower --f-max ({limits.more_work_hint()})", "--f-max") from None
+            f"--f-max {args.f_max:g} Hz: this mesh has {exc.n_modes} modes below 6 x --f-max "
+            f"({exc.f_cut_Hz:.4g} Hz), above the limit of {exc.max_modes} kept modes; lower "
+            f"--f-max ({limits.more_work_hint()})", "--f-max") from None
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc, choice.stator) from exc

@@ -853,7 +853,9 @@ def check_steps(duration_s: float, dt_s: float) -> float:
     steps = duration_s / dt_s
     top = limits.work_bound(limits.MAX_STEPS)
     if not steps <= top:
-        raise LusmError(f"--duration {duration_s:g} s / --dt {dt_s:g} s is {steps:.3g} time "
+        # a denormal --dt gives inf: "is inf time steps" read oddly
+        count = f"{steps:.3g}" if math.isfinite(steps) else "more than 1e308"
+        raise LusmError(f"--duration {duration_s:g} s / --dt {dt_s:g} s is {count} time "
                         f"steps, above the limit {top:.3g}; raise --dt or shorten --duration "
                         f"({limits.more_work_hint()})", "--dt")
     return steps
