@@ -266,3 +266,19 @@ def test_a_mode_damping_leaves_without_a_peak_is_told_apart_from_a_coarse_grid(c
     err = capsys.readouterr().err
     assert "no resonance peak through electrode 1 at this damping" in err
     assert "--zeta" in err and "--points" not in err
+
+
+def test_a_grid_too_coarse_for_two_light_peaks_does_not_merge_them(model):
+    """At zeta = 0.001 B2 (54.1 kHz) and L1 (56.2 kHz) make separate peaks; a 5 kHz grid had
+    paired B2's resonance with L1's antiresonance as "B2+L1 (merged)", k_eff 0.306, without a
+    warning (found by exploratory testing). The reference: the same port on a fine grid."""
+    port = modal_port(model, 65e3, None, None, 1e-3, 1e-3, 1e-3)
+    fine = {q.mode: q for q in resonance_pairs(port, np.linspace(50e3, 60e3, 20001))}
+    assert {"B2", "L1"} <= set(fine)
+    coarse = resonance_pairs(port, np.linspace(45767.7, 1e7, 2001))
+    assert not any("merged" in q.mode for q in coarse)
+    assert not any(q.f_resonance_Hz < 60e3 for q in coarse)  # left to the grid warning
+    # a merge of heavy damping is one peak on any grid, and stays
+    heavy = modal_port(model, 65e3, None, None, 0.1169, 0.07095, 0.1)
+    assert [q.mode for q in resonance_pairs(heavy, np.linspace(45e3, 66e3, 2001))
+            if "+" in q.mode] == ["B2+L1 (merged)"]
