@@ -209,7 +209,7 @@ def quadrangulate(
     return np.concatenate(new_pts), np.concatenate(out), np.concatenate(out_tags)
 
 
-def _work_factor() -> float:
+def work_factor() -> float:
     """``LUSM_MAX_WORK`` (>= 1; 1 when unset or invalid - the CLI reports invalid values)."""
     try:
         value = float(os.environ.get("LUSM_MAX_WORK", "") or 1.0)
@@ -710,7 +710,7 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
             f"mesh file {path}: the planform spans only {extent:g} m (unit {unit!r}), below "
             f"the {MIN_EXTENT_M:g} m limit; {hint}"
         )
-    factor = _work_factor()
+    factor = work_factor()
     n_quads = 3 * tri.shape[0] + (4 if tri.shape[0] else 1) * quad.shape[0]
     if n_quads > MAX_CELLS * factor:
         raise ValueError(
