@@ -116,11 +116,13 @@ class PlateStator:
         """Preload point ``(x, y)``: centre of the end ``y = 0`` (m)."""
         return (0.0, 0.0)
 
-    def electrode_of(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
-        """Electrode number (1..4) above points ``(x, y)``, 0 in the gap strips."""
+    def electrode_of(self, x_m: np.ndarray, y_m: np.ndarray, tol_m: float = 0.0) -> np.ndarray:
+        """Electrode number (1..4) above points ``(x, y)``, 0 in the gap strips; a point
+        within ``tol_m`` (m) of an electrode's edge counts as on it (mesh nodes on the
+        edge, a roundoff away)."""
         x = np.asarray(x_m, dtype=float)
         y = np.asarray(y_m, dtype=float)
-        g2 = 0.5 * self.electrode_gap_m
+        g2 = max(0.5 * self.electrode_gap_m - tol_m, 0.0)
         half = 0.5 * self.length_m
         upper = x > g2  # electrodes 1, 2
         lower = x < -g2  # electrodes 3, 4
