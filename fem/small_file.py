@@ -32,7 +32,7 @@ class FileTooLarge(ValueError):
         self.path, self.size, self.max_bytes = path, size, max_bytes
 
 
-def _kind(mode: int) -> str | None:
+def kind_of(mode: int) -> str | None:
     """None for a regular file, else what the mode says the path is."""
     if stat.S_ISREG(mode):
         return None
@@ -59,13 +59,13 @@ def read_small_text(path: str | Path, max_bytes: int) -> str:
         If the file does not exist or cannot be opened (``FileNotFoundError`` for the first).
     """
     path = Path(path)
-    what = _kind(os.stat(path).st_mode)  # before opening: opening a FIFO would block
+    what = kind_of(os.stat(path).st_mode)  # before opening: opening a FIFO would block
     if what is not None:
         raise NotRegularFile(path, what)
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     with os.fdopen(fd, "rb") as fh:
         st = os.fstat(fh.fileno())
-        what = _kind(st.st_mode)  # the path may have been replaced since the stat
+        what = kind_of(st.st_mode)  # the path may have been replaced since the stat
         if what is not None:
             raise NotRegularFile(path, what)
         if st.st_size > max_bytes:

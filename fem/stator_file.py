@@ -762,8 +762,14 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     if mesh_path.is_dir():  # was "not found", which sent the user looking for a path
         raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is a folder ({mesh_path}); "
                          f"name the mesh file, e.g. \"plate.msh\"")
-    if not mesh_path.is_file():
+    if not mesh_path.exists():
         raise FileNotFoundError(f"{src}: [mesh] file {mesh_t['file']!r} not found ({mesh_path})")
+    if not mesh_path.is_file():  # a FIFO or a device had been called "not found"
+        from fem.small_file import kind_of
+
+        what = kind_of(mesh_path.stat().st_mode) or "not a regular file"
+        raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is {what} ({mesh_path}), "
+                         "not a mesh file")
     try:
         imported = read_stator_mesh(mesh_path, unit=unit)
     except ValueError as exc:
@@ -822,6 +828,13 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                 f"plate's end) unless the part is meant to act inside"), stacklevel=3)
         points[group] = pt
     tip, preload = points["tip"], points["preload"]
+    if math.hypot(tip[0] - preload[0], tip[1] - preload[1]) <= 1e-9 * max(x1 - x0, y1 - y0):
+        # refused later as "MotorParams.phi_Ll must differ from phi_L0", naming no key
+        raise ValueError(
+            f"{src}: the tip and the preload point are the same point, [{tip[0] / MM:g}, "
+            f"{tip[1] / MM:g}] mm ([points] tip_mm and preload_mm, or the mesh's vertex "
+            "groups): the tip touches the slider at one end of the stator and the preload "
+            "presses at the other")
     stator = MeshedStator(
         length_m=y1 - y0, width_m=x1 - x0, thickness_m=thickness * MM, electrode_gap_m=0.0,
         drive_electrodes=drive, mesh=mesh, tip_m=tip, preload_m=preload,

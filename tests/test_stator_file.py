@@ -693,3 +693,23 @@ def test_a_msh41_surface_in_two_physical_groups_is_refused(tmp_path):
     with pytest.raises(ValueError, match=r"surface entity 2 belongs to 2 physical groups "
                                          r"\(electrode1, gap\)"):
         read_stator_mesh(path)
+
+
+def test_tip_and_preload_at_one_point_and_a_fifo_mesh_name_the_file_keys(tmp_path):
+    """Both found by exploratory testing: tip_mm = preload_mm had been refused as
+    "MotorParams.phi_Ll must differ from phi_L0", naming no key; a [mesh] file that is a
+    FIFO or a device as "not found"."""
+    import os
+
+    mesh = structured_mesh(PlateStator(), 2)
+    write_stator_msh(tmp_path / "p.msh", mesh.points_m.T, {"quad": mesh.quads.T},
+                     {"quad": mesh.electrode})
+    path = _write(tmp_path, '[plate]\nthickness_mm = 3\n[points]\ntip_mm = [0, 30]\n'
+                            'preload_mm = [0, 30]\n[mesh]\nfile = "p.msh"\n')
+    with pytest.raises(ValueError, match=r"the tip and the preload point are the same point, "
+                                         r"\[0, 30\] mm \(\[points\] tip_mm and preload_mm"):
+        load_stator(path)
+    os.mkfifo(tmp_path / "fifo.msh")
+    path = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "fifo.msh"\n')
+    with pytest.raises(ValueError, match=r"\[mesh\] file 'fifo.msh' is a FIFO \(named pipe\)"):
+        load_stator(path)
