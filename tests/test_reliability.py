@@ -174,6 +174,10 @@ def files(tmp_path_factory) -> dict[str, str]:
     f["user_folder"] = str(d / "user")
     f["folder"] = str(d)
     f["missing"] = str(d / "missing.toml")
+    (d / "loop1").symlink_to(d / "loop2")
+    (d / "loop2").symlink_to(d / "loop1")
+    f["in_loop"] = str(d / "loop1" / "x")
+    f["long_name"] = str(d / ("a" * 300))
     f["export_exists"] = str(d / "a_file")
     (d / "side").mkdir()
     (d / "side" / "modes.h5").write_text("the user's")
@@ -244,6 +248,13 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-3d-gap-zero", ["modes", "--model", "3d", "--gap-mm", "0"],
      ["--gap-mm must be at least 0.001 mm with --model 3d, got 0"]),
     ("map-frequency-zero", ["map", "--frequency", "0"], ["--frequency"]),
+    # paths the system cannot look up: the option is named (they said "cannot use ...")
+    ("render-out-name-too-long", ["render", "--out", "{long_name}"],
+     ["--out", "File name too long"]),
+    ("render-out-in-link-loop", ["render", "--out", "{in_loop}"],
+     ["--out", "Too many levels of symbolic links"]),
+    ("modes-export-name-too-long", ["modes", "--export", "{long_name}.vtu"],
+     ["--export", "File name too long"]),
     # a steady map's --dt serves an undecided point's transient: 1e-3 s had run without a word
     ("map-steady-dt-above-20-per-period", ["map", "--method", "steady", "--dt", "1e-3"],
      ["--dt", "1/(20 f)", "--method steady"]),

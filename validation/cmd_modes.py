@@ -359,6 +359,9 @@ def _export_target(text: str, force: bool):
     if not text.strip():
         raise LusmError("--export must name a file, got ''", "--export")
     path = Path(text)
+    from validation.options import check_path_usable
+
+    check_path_usable(path, "--export")
     if path.is_dir():
         raise LusmError(f"--export {path} is a folder; name a file such as modes.vtu",
                         "--export")

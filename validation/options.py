@@ -941,6 +941,7 @@ def check_output_folder(target: Path, kind: str, option: str, force: bool = Fals
 
     from validation.output_set import OutputError, check_target
 
+    check_path_usable(target, option)
     try:
         check_target(target, kind, option, force)
     except OutputError as exc:
@@ -948,6 +949,22 @@ def check_output_folder(target: Path, kind: str, option: str, force: bool = Fals
     existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
     if not os.access(existing, os.W_OK | os.X_OK):
         raise LusmError(f"{option} {target}: the folder {existing} is not writable", option)
+
+
+def check_path_usable(path: Path, option: str) -> None:
+    """Refuse a path the system cannot look up, naming ``option``: a name too long, a loop of
+    symbolic links, a folder on the way that cannot be searched (``render --out`` with a
+    300-letter name said "cannot use aaa...: File name too long", a link loop "cannot write
+    (File exists)"). A path that does not exist yet, or below a file, is the caller's to
+    judge."""
+    import os
+
+    try:
+        os.stat(path)
+    except (FileNotFoundError, NotADirectoryError):
+        return
+    except OSError as exc:
+        raise LusmError(f"{option} {path}: {exc.strerror or exc}", option) from None
 
 
 @contextmanager
