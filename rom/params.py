@@ -221,7 +221,9 @@ class MotorParams:
 
         The derived keys (``eta_N``, ``eta_T``, ``f_L1_Hz``, ``f_B2_Hz``, ``zeta_L1``,
         ``zeta_B2``) may be present; they must then agree with the stored fields to 1e-9
-        relative, so an edit of a derived value is refused instead of silently ignored.
+        relative, so an edit of a derived value is refused instead of silently ignored. So
+        may ``units`` (each key's unit, as ``lusm params --json`` writes it), which must be
+        :data:`PARAM_UNITS`' own: an edited unit is refused, not converted.
 
         Raises
         ------
@@ -232,6 +234,17 @@ class MotorParams:
             raise ValueError(f"a parameter set must be a JSON object, got {type(d).__name__}")
         stored = [f.name for f in fields(cls)]
         derived = DERIVED_KEYS
+        units = d.get("units")
+        if units is not None:  # lusm params --json says each key's unit; SI, not a choice
+            if not isinstance(units, dict):
+                raise ValueError(f"units must be an object of each key's SI unit, got {units!r}")
+            for key, unit in units.items():
+                if key not in PARAM_UNITS or unit != PARAM_UNITS[key]:
+                    want = (f"{key} is in {PARAM_UNITS[key]}" if key in PARAM_UNITS
+                            else f"a parameter set has no key {key}")
+                    raise ValueError(f"units.{key} = {unit!r}: a parameter set is in SI units "
+                                     f"({want}); convert the value instead")
+            d = {k: v for k, v in d.items() if k != "units"}
         unknown = sorted(set(d) - set(stored) - set(derived))
         if unknown:
             raise ValueError(f"unknown key(s) {', '.join(unknown)}; a parameter set has "

@@ -43,10 +43,14 @@ def test_lower_damping_in_the_file_moves_the_slider_faster(tmp_path, capsys):
     ('{"M_l": 1}', ["--params", "missing key"]),
     # ranges a stator file holds the same quantities to
     ('KC', ["--params", "k_contact must lie in [1000, 1e+10] N/m"]),
+    # the units params --json writes beside the keys are SI, not a choice: an edit is refused
+    ('GRAMS', ["--params", "units.M_l = 'g'", "M_l is in kg", "convert the value"]),
 ])
 def test_bad_parameter_files_are_refused_in_one_line(tmp_path, capsys, content, words):
     if content == "KC":
         content = json.dumps(table2().with_(k_contact=1e15).to_dict())
+    if content == "GRAMS":
+        content = json.dumps({**table2().to_dict(), "units": {"M_l": "g"}})
     path = tmp_path / "bad.json"
     path.write_text(content)
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--params", str(path)]) == 2

@@ -65,8 +65,11 @@ def test_cli_params_and_compare(capsys: pytest.CaptureFixture[str]):
 
     assert main(["params", "--source", "beam", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
+    units = d.pop("units")  # every numeric key's SI unit beside it (found by testing: none)
     assert set(get_params("beam").to_dict()) == set(d)
     assert math.isclose(d["M_l"], get_params("beam").M_l)
+    assert set(units) == {k for k, v in d.items() if isinstance(v, float)}
+    assert units["M_l"] == "kg" and units["K_b"] == "N/m" and units["A_l"] == "N/V"
     assert main(["compare", "--sources", "table2", "beam"]) == 0
     out = capsys.readouterr().out
     assert "f_B2_Hz" in out and "beam" in out

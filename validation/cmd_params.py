@@ -28,11 +28,13 @@ def run(args: argparse.Namespace) -> None:
     from validation.options import motor_params_of
 
     params, damping_from = motor_params_of(args, args.source)
-    d = params.to_dict()
-    if args.json:
-        print_json(d, indent=2)
-        return
     from rom.params import PARAM_UNITS
+
+    d = params.to_dict()
+    if args.json:  # the keys are the set's fields (--params reads them back): units beside
+        print_json({**d, "units": {k: PARAM_UNITS[k] for k in d if k in PARAM_UNITS}},
+                   indent=2)
+        return
 
     width = max(len(k) for k in d)
     for key, value in d.items():
