@@ -58,7 +58,11 @@ def add_fe_options(p: argparse.ArgumentParser, three_d: bool = False) -> None:
     command also has ``--model 3d``, whose default refine the help names too."""
     p.add_argument("--order", type=int, choices=(1, 2), default=2,
                    help="element order (default 2; 1 locks in bending: B2 several %% high)")
-    note = f" (at most {limits.MAX_REFINE_3D} with --model 3d)" if three_d else ""
+    try:  # scaled as the 2D bound is (LUSM_MAX_WORK=2 said 12 where 24 ran)
+        top_3d = limits.work_bound(limits.MAX_REFINE_3D)
+    except ValueError:  # a bad LUSM_MAX_WORK: refused on its own before any command runs
+        top_3d = limits.MAX_REFINE_3D
+    note = f" (at most {top_3d} with --model 3d)" if three_d else ""
     p.add_argument("--refine", type=integer("--refine", 1, limits.MAX_REFINE_2D, work=True,
                                             note=note),
                    default=None, help="elements per plate width (default 4"
