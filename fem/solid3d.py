@@ -1005,7 +1005,7 @@ def identify_sampled(
         if best is None:
             raise ModeSolverError(
                 f"could not identify {name} among the {n} 3D modes computed at "
-                f"{np.round(freqs_Hz, 1).tolist()} Hz"
+                f"{np.round(np.maximum(freqs_Hz, 0.0), 1).tolist()} Hz"
             )
         out[name] = best[:3]
     return out
