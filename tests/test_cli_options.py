@@ -299,3 +299,18 @@ def test_library_warnings_name_the_options_of_their_assignments():
     # the switch of the unsettled-A_N warning's remedy
     assert (assignments_as_options("or set ultrasonic_friction = False for a constant mu_d")
             == "or pass --no-ultrasonic-friction for a constant mu_d")
+
+
+def test_a_diagonal_pair_that_excites_nothing_is_not_told_to_drive_a_diagonal_pair(capsys):
+    """A material without piezoelectric constants, driven through [1, 4]: the warning had
+    advised "drive a diagonal pair ([electrodes] drive = [1, 4] ...)", the drive it had."""
+    from rom import table2
+    from validation.options import warn_unexcited_mode
+
+    p = table2()
+    warn_unexcited_mode(p.with_(A_b=p.A_l * 1e-12), (1, 4))
+    err = capsys.readouterr().err
+    assert "excites no B2" in err and "piezoelectric constants" in err
+    assert "drive a diagonal pair" not in err
+    warn_unexcited_mode(p.with_(A_b=p.A_l * 1e-12), (1, 2, 3, 4))
+    assert "drive a diagonal pair" in capsys.readouterr().err

@@ -1045,10 +1045,15 @@ def warn_unexcited_mode(params, electrodes) -> None:
     wires = ", ".join(map(str, electrodes))
     for name, small, big, other in (("B2", a_b, a_l, "L1"), ("L1", a_l, a_b, "B2")):
         if small <= UNEXCITED_FORCE_RATIO * big:
+            # a diagonal pair that excites nothing (a material without piezoelectric
+            # constants) was told to drive the diagonal pair it drives
+            diagonal = sorted(electrodes) in ([1, 4], [2, 3])
+            fix = ("the material's piezoelectric constants (e_C_m2) are what couple it: check "
+                   "them" if diagonal else
+                   "drive a diagonal pair ([electrodes] drive = [1, 4] or [2, 3])")
             warn(f"the drive through electrodes {wires} excites no {name} (A_"
                  f"{name[0].lower()} = {small:.3g} N/V against {big:.3g} N/V for {other}): the "
-                 f"tip does not trace an ellipse and the motor gives no thrust; drive a "
-                 f"diagonal pair ([electrodes] drive = [1, 4] or [2, 3])")
+                 f"tip does not trace an ellipse and the motor gives no thrust; {fix}")
 
 
 def warn_default_frequency(params, frequency_Hz: float) -> None:
