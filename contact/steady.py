@@ -437,6 +437,17 @@ def holding_range_N(sp: SlowProblem) -> tuple[float, float]:
     return bounds[0], bounds[1]
 
 
+def stiction_hold_N(params: MotorParams, preload_N: float,
+                    mu_d_eff: float) -> tuple[float, float]:
+    """Loads (N, magnitudes) a stuck tip holds by friction: ``(sliding, static)``, the tip's
+    sliding (``mu_d_eff``) or static (``mu_s``) friction at the preload plus the guide's
+    ``mu_sd (F_P + M g)``. Where the tip sticks at the scan's ends (no drive, or a weak one;
+    :func:`holding_range_N` NaN) static friction holds a load applied gently, and a slider
+    that slips under a load beyond the sliding bound runs away."""
+    guide = params.mu_sd * (preload_N + params.M_slider * GRAVITY_M_S2)
+    return mu_d_eff * preload_N + guide, params.mu_s * preload_N + guide
+
+
 class RunawayWarning(UserWarning):
     """A transient under a load beyond what the motor holds: the slider accelerates until
     the run ends, and its velocity is where the run stopped (``simulate`` warns)."""
@@ -465,11 +476,8 @@ def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
         # no full slip at either end (an undriven or weakly driven tip sticks): the most the
         # tip's stiction and the guide can hold, static friction on both (0 V / 20 N under
         # 50 N ran away without a word)
-        p = params
-        guide = p.mu_sd * (op.preload_N + p.M_slider * GRAVITY_M_S2)
-        hold = p.mu_s * op.preload_N + guide
+        slide, hold = stiction_hold_N(params, op.preload_N, mu_d_eff)
         low, high, what = -hold, hold, "the tip's and the guide's static friction"
-        slide = mu_d_eff * op.preload_N + guide
         slipping_away = motion == "pure-slip" and velocity_m_s * op.load_N < 0.0
         if slipping_away and slide < abs(op.load_N) <= hold:
             way = "backward" if op.load_N > 0 else "forward"

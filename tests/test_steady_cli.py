@@ -309,3 +309,20 @@ def test_simulate_steady_names_the_stable_branches_a_start_from_rest_does_not_re
     assert dist / (400 / 40e3) == pytest.approx(k1.velocity_m_s, rel=1e-3)
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady"]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_an_undriven_characteristic_says_why_it_has_no_holding_range(capsys):
+    """0 V / 14 N: holding_range_N is NaN (the tip sticks at the scan's ends) and the text
+    had simply left the line out (found by exploratory testing); the loads beyond the tip's
+    sliding friction run away from rest, as the transient says."""
+    from contact.steady import stiction_hold_N
+    from rom import table2
+
+    assert main(["characteristic", "--voltage", "0", "--preload", "14", "--loads",
+                 "5:6:1"]) == 0
+    out = capsys.readouterr().out
+    assert "holds loads (N)            no full-slip bound" in out
+    slide, static = stiction_hold_N(table2(), 14.0, table2().mu_d)
+    assert slide < 6.0 < static
+    rows = [ln.split() for ln in out.splitlines() if ln.strip().startswith(("5 ", "6 "))]
+    assert rows[0][1] == "0" and rows[1][1:] == ["runs", "away"]

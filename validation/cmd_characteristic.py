@@ -133,6 +133,9 @@ def run(args: argparse.Namespace) -> None:
         low, high = char.holding_range_N
         if math.isfinite(low) and math.isfinite(high):
             print(f"{'holds loads (N)':<26} {low:.4g} to {high:.4g}")
+        else:  # undriven or weakly driven: the line had simply been missing
+            print(f"{'holds loads (N)':<26} no full-slip bound (the tip sticks at the scan's "
+                  "ends): each load's start from rest decides")
         print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} "
               f"{'eff.':>8}")
         for row in d["curve"]:
