@@ -474,7 +474,8 @@ def simulate(
         from contact.steady import RunawayWarning, transient_runaway
 
         reason = transient_runaway(params, op, opts.coupling, opts.ultrasonic_friction,
-                                   mu_d_eff, steady.motion, steady.velocity_m_s)
+                                   mu_d_eff, steady.velocity_m_s,
+                                   steady.previous_velocity_m_s)
         if reason is not None:  # the steady scheme refuses such a load; a transient says so
             warnings.warn(f"{reason}; the velocity is where the run stopped", RunawayWarning,
                           stacklevel=2)

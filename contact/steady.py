@@ -454,18 +454,21 @@ class RunawayWarning(UserWarning):
 
 
 def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
-                      ultrasonic_friction: bool, mu_d_eff: float, motion: str = "",
-                      velocity_m_s: float = math.nan) -> str | None:
+                      ultrasonic_friction: bool, mu_d_eff: float,
+                      velocity_m_s: float = math.nan,
+                      previous_velocity_m_s: float = math.nan) -> str | None:
     """Why a run under ``op.load_N`` has no steady state: the load lies beyond
     :func:`holding_range_N` (None when it does not, or when there is no load). A transient
     at 1000 N had reported -250 m/s, pure slip, as its velocity.
 
     Where the tip sticks at the scan's ends (no drive, or a weak one) static friction holds
     a load that never breaks the tip free, but a run applies its load at once, and the
-    step's overshoot can break it free below that: a transient that ends in pure slip the
-    load's way (``motion``, ``velocity_m_s``: its last window's) under a load beyond the
-    tip's and the guide's sliding friction runs away too (0 V / 14 N on Table 2's set from
-    5.8 N, where static friction holds 7.638 N: it had said only "not settled")."""
+    step's overshoot can break it free below that: a transient whose slider speeds up the
+    load's way (``velocity_m_s`` its last window's mean, ``previous_velocity_m_s`` an
+    earlier one's) under a load beyond the tip's and the guide's sliding friction runs away
+    too (0 V / 14 N on Table 2's set from about 5.75 N, where static friction holds 7.638 N:
+    it had said only "not settled"; its last window can still hold stick phases, so the
+    motion class does not decide)."""
     if not op.load_N:
         return None
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
@@ -478,8 +481,9 @@ def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
         # 50 N ran away without a word)
         slide, hold = stiction_hold_N(params, op.preload_N, mu_d_eff)
         low, high, what = -hold, hold, "the tip's and the guide's static friction"
-        slipping_away = motion == "pure-slip" and velocity_m_s * op.load_N < 0.0
-        if slipping_away and slide < abs(op.load_N) <= hold:
+        speeding_away = (velocity_m_s * op.load_N < 0.0
+                         and abs(velocity_m_s) > abs(previous_velocity_m_s))
+        if speeding_away and slide < abs(op.load_N) <= hold:
             way = "backward" if op.load_N > 0 else "forward"
             return (f"load_N = {op.load_N:g} N is beyond the loads the motor holds once its tip "
                     f"slips at {op.voltage_V:g} V / {op.preload_N:g} N ({-slide:.4g} to "

@@ -313,6 +313,11 @@ def test_an_undriven_tip_broken_free_by_its_load_runs_away_below_static_friction
     assert a == pytest.approx(-(load - slide) / p.M_slider, rel=1e-3)
     s = steady_state(p, 0.0, fp, load_N=load, accuracy="exact", energy=False)
     assert math.isnan(s.velocity_m_s) and not s.branches  # no steady state from rest
+    # just above 5.7 N the slider breaks free and speeds up while its last window still
+    # holds stick phases ("stick-slip"): the warning had waited for pure slip (code review)
+    with pytest.warns(RunawayWarning, match="sliding friction"):
+        r = simulate(p, 0.0, fp, load_N=5.75, duration_s=0.02)
+    assert r.steady.motion == "stick-slip" and r.steady.velocity_m_s < 0.0
     with warnings.catch_warnings():  # below the sliding friction a slipped tip sticks again
         warnings.simplefilter("error", RunawayWarning)
         r = simulate(p, 0.0, fp, load_N=0.99 * slide, duration_s=0.05)
