@@ -279,13 +279,7 @@ def _cached_mesh(stator: ParametricStator) -> PlateMesh:
 
     estimate, top = estimated_elements(stator), int(MAX_CELLS * work_factor())
     if estimate > top:  # refused from the 1D mesh, before the 2D mesh's minutes
-        raise ValueError(
-            f"its planform needs about {estimate:.3g} elements (estimated from the boundary: "
-            f"{len(stator.holes_m)} hole(s), element size {stator.element_size_m * 1e3:g} mm), "
-            f"above the limit {top} of any stator mesh: a hole's rim has at least "
-            f"{HOLE_SEGMENTS // 2} edges however small the hole, and gmsh grades the elements "
-            "from there; use fewer or larger [[holes]], or a coarser [mesh] size_mm (set "
-            "LUSM_MAX_WORK=N to allow N times more)")
+        raise ValueError(_too_many_elements(stator, f"about {estimate:.3g}", top))
     gmsh = _import_gmsh()
     half = is_mirror_symmetric(stator)
     xy, tri, quad = _gmsh_mesh(gmsh, stator, recombine=True, half=half)
@@ -296,6 +290,9 @@ def _cached_mesh(stator: ParametricStator) -> PlateMesh:
                          "[mesh] size_mm slightly or use a mesh file")
     if half:
         xy, tri, quad = _mirror(xy, tri, quad, 1e-9 * max(stator.width_m, stator.length_m))
+    made = 3 * tri.shape[0] + quad.shape[0]  # quads once its triangles are split
+    if made > top:  # the estimate runs low on clusters of holes
+        raise ValueError(_too_many_elements(stator, str(made), top))
     cells = [c for c in (tri, quad) if c.shape[0]]
     used = np.unique(np.concatenate([c.ravel() for c in cells]))
     remap = -np.ones(xy.shape[0], dtype=np.int64)
@@ -317,14 +314,16 @@ def _cached_mesh(stator: ParametricStator) -> PlateMesh:
     return PlateMesh(points_m=p2.T, quads=q2.T, electrode=tags)
 
 
-ELEMENTS_PER_SIZE_AREA = 5.6
+ELEMENTS_PER_SIZE_AREA = 4.0
 """Final quads per ``s^2`` of planform area, where ``s`` is the size gmsh interpolates from
 the boundary mesh (:func:`estimated_elements`): its triangles of edge ``s`` paired into quads,
-each split into four. Measured, the mesh over the estimate: 1.02 on the paper's plate with
-a tip, 1.05 with one hole of 1 um; holes of 0.1 mm 0.48 mm apart, whose sizes gmsh grades
-more slowly than linear: 1.47 and 2.14 for 32 and 64 in columns, 4.3 and 4.6 for 16 and 32
-in a block (``tests/test_parametric.py``). The estimate is close for a plain stator and low,
-not high, for a dense cluster: it refuses only what the mesh would have refused."""
+each split into four. Measured, the mesh over the estimate (``tests/test_parametric.py``):
+1.01-1.04 on fine meshes (element size 0.1 mm on the paper's plate, plain, with a tip, a
+hole or a 1 mm chamfer; 0.05 mm on a 90 x 5 mm plate), 1.05-1.1 at 0.2-0.3 mm and with long
+narrow tips, 1.47 at the default size, 2.3 with holes of 0.3 and 2 mm, and 6.1-6.5 for
+blocks of 16 and 32 holes of 0.1 mm 0.48 mm apart, whose sizes gmsh grades more slowly than
+linearly. The estimate is never high: it refuses only meshes above the bound, and the mesh
+is counted again once made."""
 
 
 def estimated_elements(stator: ParametricStator) -> int:
@@ -338,8 +337,10 @@ def estimated_elements(stator: ParametricStator) -> int:
     the second divided difference of ``-ln s`` at its vertices) and scales it by
     :data:`ELEMENTS_PER_SIZE_AREA`. The 1D mesh takes milliseconds: 64 holes of 0.01 mm in a
     cluster had been meshed in 2D for more than ten minutes and 1.1 GB before the count was
-    known. Close on a plain stator, up to five times low on a dense cluster of holes
-    (:data:`ELEMENTS_PER_SIZE_AREA`).
+    known. Never high: within 4 % on fine meshes, 1.5 times low at the default size, up to
+    6.5 times low on a dense cluster of holes (:data:`ELEMENTS_PER_SIZE_AREA`); triangles of
+    the triangulation off the planform (beside a tip, beyond a chamfer) and inside holes are
+    left out.
     """
     from scipy.spatial import Delaunay
 
@@ -360,7 +361,7 @@ def estimated_elements(stator: ParametricStator) -> int:
     area = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
                         - (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1]))
     centre = p.mean(axis=1)
-    inside = np.ones(tri.shape[0], dtype=bool)
+    inside = _in_planform(stator, centre[:, 0], centre[:, 1])
     for x, y, d in stator.holes_m:  # the holes are not meshed
         inside &= np.hypot(centre[:, 0] - x, centre[:, 1] - y) > 0.5 * d
     s = np.sort(size[tri], axis=1)
@@ -371,6 +372,34 @@ def estimated_elements(stator: ParametricStator) -> int:
     gab, gbc = (g[0] - g[1]) / (a - b), (g[1] - g[2]) / (b - c)
     per_triangle = 2.0 * area * (gab - gbc) / (a - c)
     return int(ELEMENTS_PER_SIZE_AREA * float(np.sum(per_triangle[inside])))
+
+
+def _too_many_elements(stator: ParametricStator, count: str, top: int) -> str:
+    """The refusal of a planform mesh above the bound, with the remedy that helps: holes
+    (each rim has at least :data:`HOLE_SEGMENTS` edges however small the hole, and gmsh
+    grades the elements from there), else the element size."""
+    size = f"element size {stator.element_size_m * 1e3:g} mm"
+    if stator.holes_m:
+        why = (f"{len(stator.holes_m)} hole(s), {size}: a hole's rim has at least "
+               f"{HOLE_SEGMENTS} edges however small the hole, and the elements grade from "
+               "there")
+        fix = "use fewer or larger [[holes]], or a coarser [mesh] size_mm"
+    else:
+        why, fix = size, "use a coarser [mesh] size_mm"
+    return (f"its planform needs {count} elements, above the limit {top} of any stator mesh "
+            f"({why}); {fix} (set LUSM_MAX_WORK=N to allow N times more)")
+
+
+def _in_planform(stator: ParametricStator, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Whether points (m) lie on the planform (holes aside): the plate body without its
+    chamfered corners, or the tip. The boundary's Delaunay triangulation covers its convex
+    hull, beside a long tip too."""
+    w2, length, c = 0.5 * stator.width_m, stator.length_m, stator.chamfer_m
+    body = (np.abs(x) <= w2) & (y >= 0.0) & (y <= length)
+    body &= (w2 - np.abs(x)) + np.minimum(y, length - y) >= c
+    tip = ((np.abs(x) <= 0.5 * stator.tip_width_m) & (y >= length)
+           & (y <= length + stator.tip_length_m))
+    return body | tip
 
 
 def is_mirror_symmetric(stator: ParametricStator) -> bool:
