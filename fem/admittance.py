@@ -175,7 +175,9 @@ class ResonancePair:
         ``sqrt((f_p^2 - f_s^2) / f_p^2)`` (-), unbiased by the damping to first order.
     mode : str
         The identified mode behind the peak (``'L1'``, ``'B2'``), ``'B2+L1 (merged)'`` when
-        both make one peak (heavy damping or coincident modes), or ``''``.
+        both make one peak (heavy damping or coincident modes), ``'B2 (overlaps L1)'`` when
+        they make separate peaks closer than their bandwidths (each ``k_eff`` biased by the
+        other mode), or ``''``.
     f_max_abs_Hz, f_min_abs_Hz : float
         The maximum of ``|Y|`` and the following minimum (``f_m``, ``f_n``; Hz), where the
         peak is found. They part from ``f_s``, ``f_p`` by about ``zeta^2 f^2 / (f_p - f_s)``:
@@ -554,6 +556,15 @@ def resonance_pairs(port: ModalPort, f_Hz: np.ndarray,
     (``--f-max 1e7 --zeta 0.001``: "B2+L1 (merged)", k_eff 0.306, where B2 has 0.092 and L1
     0.155); the modes are then the grid's to find (:meth:`AdmittanceResult.unpaired_modes`).
     """
+    pairs = [q for q in _pairs_on(port, f_Hz)
+             if not (check_merges and q.mode.endswith("(merged)")
+                     and _merged_by_the_grid(port, q.mode))]
+    return _overlapping(port, pairs)
+
+
+def _pairs_on(port: ModalPort, f_Hz: np.ndarray) -> list[ResonancePair]:
+    """The pairs of :func:`resonance_pairs` on the grid ``f_Hz`` as found, each labelled by
+    :func:`_pair_label` alone."""
     f = np.asarray(f_Hz, dtype=float)
     mag = np.abs(port.admittance_S(f))
     maxima = [i for i in range(1, f.size - 1) if mag[i] >= mag[i - 1] and mag[i] > mag[i + 1]]
@@ -571,11 +582,27 @@ def resonance_pairs(port: ModalPort, f_Hz: np.ndarray,
         fs = _refine_extremum(port, f[i - 1], fn, -1.0, _conductance)
         fp = _refine_extremum(port, fs, f[j + 1], -1.0, _resistance)
         k2 = max((fp**2 - fs**2) / fp**2, 0.0)
-        label = _pair_label(port, fs, fp)
-        if check_merges and label.endswith("(merged)") and _merged_by_the_grid(port, label):
-            continue
-        pairs.append(ResonancePair(fs, fp, math.sqrt(k2), label, fm, fn))
-    return tuple(pairs)
+        pairs.append(ResonancePair(fs, fp, math.sqrt(k2), _pair_label(port, fs, fp), fm, fn))
+    return pairs
+
+
+def _overlapping(port: ModalPort, pairs: list[ResonancePair]) -> tuple[ResonancePair, ...]:
+    """Pairs with one ``"B2+L1 (merged)"`` label on several peaks relabelled: the modes make
+    separate peaks closer than their bandwidths, not one. Each is named by its nearer mode,
+    ``"B2 (overlaps L1)"`` (``--zeta 0.022``: two rows "B2+L1 (merged)" under a line saying
+    the modes make one peak; found by code review)."""
+    labels = [q.mode for q in pairs]
+    out = []
+    for q in pairs:
+        if q.mode.endswith("(merged)") and labels.count(q.mode) > 1:
+            names = q.mode.split(" ")[0].split("+")
+            freq = dict(zip(port.mode_names, port.frequencies_Hz, strict=True))
+            near = min(names, key=lambda n: abs(freq[n] - q.f_resonance_Hz))
+            others = "+".join(n for n in names if n != near)
+            q = ResonancePair(q.f_resonance_Hz, q.f_antiresonance_Hz, q.k_eff,
+                              f"{near} (overlaps {others})", q.f_max_abs_Hz, q.f_min_abs_Hz)
+        out.append(q)
+    return tuple(out)
 
 
 def _merged_by_the_grid(port: ModalPort, label: str) -> bool:
@@ -593,7 +620,7 @@ def _merged_by_the_grid(port: ModalPort, label: str) -> bool:
     narrowest = min(z * f for f, z, _ in modes)
     n = int(min(20001, max(4001, 100.0 * (hi - lo) / max(narrowest, 1e-300))))
     fine = np.linspace(max(lo, 0.5 * min(f for f, _, _ in modes)), hi, n)
-    return not any(q.mode == label for q in resonance_pairs(port, fine, check_merges=False))
+    return not any(q.mode == label for q in _pairs_on(port, fine))
 
 
 def _pair_label(port: ModalPort, fr: float, fa: float) -> str:

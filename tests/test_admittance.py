@@ -282,3 +282,15 @@ def test_a_grid_too_coarse_for_two_light_peaks_does_not_merge_them(model):
     heavy = modal_port(model, 65e3, None, None, 0.1169, 0.07095, 0.1)
     assert [q.mode for q in resonance_pairs(heavy, np.linspace(45e3, 66e3, 2001))
             if "+" in q.mode] == ["B2+L1 (merged)"]
+
+
+def test_two_peaks_closer_than_their_bandwidths_are_not_one_merged_peak(model):
+    """At zeta = 0.02 B2 and L1 make two overlapping peaks: both rows had been labelled
+    "B2+L1 (merged)" under a line saying the modes make one peak (code review). Each is now
+    named by its nearer mode; the reference: the modes' own frequencies."""
+    port = modal_port(model, 65e3, None, None, 0.02, 0.02, 0.02)
+    pairs = resonance_pairs(port, np.linspace(45e3, 66e3, 2001))
+    near = [q for q in pairs if 50e3 < q.f_resonance_Hz < 60e3]
+    assert [q.mode for q in near] == ["B2 (overlaps L1)", "L1 (overlaps B2)"]
+    f = dict(zip(port.mode_names, port.frequencies_Hz, strict=True))
+    assert abs(near[1].f_resonance_Hz - f["L1"]) < abs(near[1].f_resonance_Hz - f["B2"])

@@ -194,6 +194,9 @@ def run(args: argparse.Namespace) -> None:
               f"{q.k_eff:>9.4f}")
     if any("merged" in q.mode for q in res.pairs):
         print("merged: L1 and B2 make one peak at this damping; its k_eff is not either mode's")
+    if any("overlaps" in q.mode for q in res.pairs):
+        print("overlaps: L1 and B2 make two peaks closer than their bandwidths at this damping; "
+              "each k_eff is biased by the other mode")
     if png is not None:
         print(f"wrote {png}")
 
