@@ -103,7 +103,8 @@ class Characteristic(FrozenArrays):
 
 
 MAX_POINTS = 10_000
-"""Most default loads of one curve (``points``): 1e9 ran for minutes before anything."""
+"""Most loads of one curve (``points``, or ``loads_N``): 1e9 ran for minutes before
+anything."""
 
 STALL_RTOL = EXACT_ROOT_RTOL
 """Relative tolerance (-) of the exact level's stall force, the root ``brentq`` finds of the
@@ -167,6 +168,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                              f"{loads_arr.shape}")
         if loads_arr.dtype.kind not in "iuf" or not np.all(np.isfinite(loads_arr)):
             raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
+        if loads_arr.size > MAX_POINTS:  # as points: 1e5 loads ran on without a word
+            raise ValueError(f"loads_N has {loads_arr.size} loads, above {MAX_POINTS}")
     require_params(params)
     coupling = resolve_coupling(params, coupling)  # "auto": as the CLI's
     op = OperatingPoint(voltage_V, preload_N,

@@ -80,6 +80,10 @@ MAP_METHODS = ("transient", "steady")
 """How a map point is computed: a run from rest, or the steady engine."""
 
 
+MAX_MAP_POINTS = 1_000_000
+"""Most points of one map a library call computes (hours of steady solves; the CLI allows
+``validation.limits.MAX_STEADY_POINTS``)."""
+
 FALLBACK_DURATION_S = 0.3
 """Transient run (s) standing in for a point the steady engine cannot decide (creep: the
 branch from rest has no periodic tip orbit of period <= 4)."""
@@ -173,6 +177,9 @@ def stick_slip_map(
     f = np.asarray(preloads_N, dtype=float)
     if v.ndim != 1 or f.ndim != 1 or v.size == 0 or f.size == 0:
         raise ValueError("voltages_V and preloads_N must be non-empty 1-D sequences")
+    if v.size * f.size > MAX_MAP_POINTS:  # 1e4 x 1e4 ran on without a word
+        raise ValueError(f"voltages_V x preloads_N give {v.size * f.size} points, above "
+                         f"{MAX_MAP_POINTS}")
     require_params(params)
     if method not in MAP_METHODS:
         raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")

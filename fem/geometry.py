@@ -67,6 +67,14 @@ class PlateStator:
     drive_electrodes: tuple[int, ...] = (1, 4)
 
     def __post_init__(self) -> None:
+        for name in ("length_m", "width_m", "thickness_m", "electrode_gap_m"):
+            value = getattr(self, name)
+            # NumPy scalars are numbers (np.float32(0.03) was refused as not > 0) and are
+            # stored as floats; a bool is not a size (True had made a 1 m plate)
+            if isinstance(value, (np.integer, np.floating)) and not isinstance(value, bool):
+                object.__setattr__(self, name, float(value))
+            elif isinstance(value, (bool, np.bool_)):
+                raise ValueError(f"PlateStator.{name} must be a number (m), got {value!r}")
         for name in ("length_m", "width_m", "thickness_m"):
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or not np.isfinite(value) or value <= 0.0:

@@ -216,6 +216,52 @@ def _segments(breaks: list[float], h_target: float) -> np.ndarray:
     return np.array(nodes)
 
 
+MAX_LIBRARY_CELLS_2D = 200_000
+"""Elements of a generated 2D mesh a library call builds (ten times the CLI's bound,
+``validation.limits.MAX_FE_CELLS_2D``; ``LUSM_MAX_WORK`` multiplies it):
+``plate_modes(refine=10000)`` had been killed for memory."""
+MAX_LIBRARY_BRICKS_3D = 20_000
+"""Bricks of a generated 3D mesh a library call builds (ten times the CLI's bound)."""
+
+
+def require_plate(stator: object, where: str) -> PlateStator:
+    """``stator`` if it is a :class:`PlateStator` (None: the paper's plate), else a TypeError
+    saying how to get one (a loaded stator file, passed whole, had failed as "'StatorDesign'
+    object has no attribute 'width_m'")."""
+    if stator is None:
+        return PlateStator()
+    if isinstance(stator, PlateStator):
+        return stator
+    hint = ("; a loaded stator file carries it and its material: design = load_stator(path), "
+            "then design.stator and design.material" if hasattr(stator, "stator") else
+            "; a file is read by fem.stator_file.load_stator(path)")
+    raise TypeError(f"{where}: stator must be a fem.geometry.PlateStator (or None for the "
+                    f"paper's plate), got {type(stator).__name__}{hint}")
+
+
+def check_generated_size(stator: PlateStator, refine: int, layers: int | None = None,
+                         count=None, named: str | None = None) -> None:
+    """Refuse a generated mesh above :data:`MAX_LIBRARY_CELLS_2D` elements (or, with
+    ``layers``, :data:`MAX_LIBRARY_BRICKS_3D` bricks) before it is built, naming ``refine``.
+    A lower bound, ``refine^2 l W / min(l, W)^2`` elements (times ``layers``), is checked
+    before any line is made, then ``count()`` (the exact count) when given; ``named``: the
+    settings the message names (default ``refine``, and ``layers`` in 3D)."""
+    from fem.mesh_io import work_factor
+
+    top = (MAX_LIBRARY_CELLS_2D if layers is None else MAX_LIBRARY_BRICKS_3D) * work_factor()
+    side = min(stator.length_m, stator.width_m)
+    least = float(refine) ** 2 * stator.length_m * stator.width_m / side**2 * (layers or 1)
+    n = least if least > top or count is None else count()
+    if n > top:
+        what = "elements" if layers is None else "bricks"
+        named = named or (f"refine = {refine}" if layers is None
+                          else f"refine = {refine} with layers = {layers}")
+        raise ValueError(f"{named} make{'s' if layers is None else ''} "
+                         f"{'at least ' if n is least else ''}{n:.3g} {what} on this plate, "
+                         f"above the limit {top:.0f} of a library call (set LUSM_MAX_WORK=N "
+                         "to allow N times more)")
+
+
 def grid_lines_m(stator: PlateStator, refine: int) -> tuple[np.ndarray, np.ndarray]:
     """x and y grid lines (m) of the structured mesh.
 

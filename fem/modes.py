@@ -25,8 +25,8 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.mesh import DEFAULT_REFINE
-from fem.meshed_stator import overall_length_m
+from fem.mesh import DEFAULT_REFINE, check_generated_size, grid_lines_m, require_plate
+from fem.meshed_stator import overall_length_m, planform_mesh
 from fem.model import PiezoPlateModel, plate_model
 
 N_SAMPLE_X = 9
@@ -596,10 +596,16 @@ def plate_modes(
     thickness_inertia : bool
         Include the thickness-motion inertia (default True).
     """
-    stator = PlateStator() if stator is None else stator
+    stator = require_plate(stator, "plate_modes")
     for name, value in (("order", order), ("refine", refine)):  # 2.5 ran as 2
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
             raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+    if not isinstance(thickness_inertia, (bool, np.bool_)):  # "False" ran with it
+        raise TypeError(f"thickness_inertia must be True or False, got {thickness_inertia!r}")
+    if planform_mesh(stator) is None:
+        check_generated_size(stator, int(refine),
+                             count=lambda: math.prod(len(v) - 1
+                                                     for v in grid_lines_m(stator, int(refine))))
     return _cached_modes(stator, get_material(material), int(order), int(refine), gap_model,
                          bool(thickness_inertia))
 

@@ -74,7 +74,13 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material
-from fem.mesh import PlateMesh, grid_lines_m
+from fem.mesh import (
+    MAX_LIBRARY_BRICKS_3D,
+    PlateMesh,
+    check_generated_size,
+    grid_lines_m,
+    require_plate,
+)
 from fem.meshed_stator import overall_length_m, planform_mesh
 from fem.modes import (
     MIN_MAC,
@@ -309,6 +315,26 @@ def affine_probes(basis, pts: np.ndarray, chunk: int = 2_000_000) -> sp.csr_matr
     rows = np.tile(np.arange(n, dtype=np.int32), basis.Nbfun)
     cols = basis.element_dofs[:, cells].flatten()
     return sp.coo_matrix((phis, (rows, cols)), shape=(n, basis.N)).tocsr()
+
+
+def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading: int) -> None:
+    """Refuse a 3D mesh above :data:`fem.mesh.MAX_LIBRARY_BRICKS_3D` bricks before it is built
+    (``solid_modes(refine=200)`` had ended in a MemoryError): the generated plate's bricks,
+    counted from its lines, or a planform's elements times ``layers`` (at least)."""
+    planform = planform_mesh(stator)
+    if planform is None:
+        check_generated_size(stator, refine, layers, count=lambda: math.prod(
+            len(v) - 1 for v in hex_grid_lines(stator, refine, layers, edge_grading)),
+            named=f"refine = {refine}, layers = {layers} and edge_grading = {edge_grading}")
+        return
+    from fem.mesh_io import work_factor
+
+    top = MAX_LIBRARY_BRICKS_3D * work_factor()
+    n = planform.n_elements * layers
+    if n > top:
+        raise ValueError(f"layers = {layers} makes at least {n:.3g} bricks on this planform "
+                         f"({planform.n_elements} elements), above the limit {top:.0f} of a "
+                         "library call (set LUSM_MAX_WORK=N to allow N times more)")
 
 
 def _voigt_B(grads: np.ndarray) -> np.ndarray:
@@ -747,9 +773,10 @@ def solid_model(
     edge_grading: int = 0,
 ) -> SolidPlateModel:
     """Cached :func:`build_solid_model` (default: the paper's plate, PZT-8, default mesh)."""
-    stator = PlateStator() if stator is None else stator
+    stator = require_plate(stator, "solid_model")
     order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
                                                             edge_grading)
+    check_solid_size(stator, refine, layers, grading)
     return _cached_solid_model(stator, get_material(material), order, refine, layers, element,
                                grading)
 
@@ -1100,8 +1127,9 @@ def solid_modes(
     edge_grading : int
         Levels of mesh grading towards the electrode edges (:func:`build_solid_model`).
     """
-    stator = PlateStator() if stator is None else stator
+    stator = require_plate(stator, "solid_modes")
     order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
                                                             edge_grading)
+    check_solid_size(stator, refine, layers, grading)
     return _cached_solid_modes(stator, get_material(material), order, refine, layers, element,
                                grading)

@@ -297,3 +297,43 @@ def test_the_phase_plane_names_the_method_that_stores_its_window():
     with pytest.raises(ValueError, match="only method='event' stores; this run used "
                                          "method='literal'"):
         phase_plane(r)
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    # plate_modes(refine=10000) had been killed for memory, solid_modes(refine=200) ended in
+    # a MemoryError; both are refused from a lower bound of the count, before any line
+    (lambda: __import__("fem.modes", fromlist=["x"]).plate_modes(refine=10_000),
+     "refine = 10000 makes at least 4e+08 elements"),
+    (lambda: __import__("fem.solid3d", fromlist=["x"]).solid_modes(layers=10**5),
+     "layers = 100000 and edge_grading = 0 make at least"),
+    (lambda: __import__("fem.solid3d", fromlist=["x"]).solid_modes(edge_grading=100),
+     "edge_grading = 100 make 3.18e+05 bricks"),
+    (lambda: stick_slip_map(table2(), np.linspace(1, 400, 2000), np.linspace(1, 20, 2000),
+                            method="steady", accuracy="fast"),
+     "give 4000000 points, above 1000000"),
+    (lambda: characteristic(table2(), 400, 14, loads_N=np.linspace(0, 2, 100_000)),
+     "loads_N has 100000 loads, above 10000"),
+])
+def test_library_work_is_bounded_before_it_starts(call, words):
+    with pytest.raises(ValueError, match=words.replace("(", r"\(").replace("+", r"\+")):
+        call()
+
+
+def test_fe_entry_points_say_what_a_stator_is_and_take_numpy_sizes():
+    """A loaded stator file passed whole failed as "'StatorDesign' object has no attribute
+    'width_m'"; thickness_inertia="False" ran with the inertia; PlateStator refused
+    np.float32(0.03) as not > 0 and took True as a 1 m thickness (API testing)."""
+    from fem.geometry import PlateStator
+    from fem.modes import plate_modes
+    from fem.stator_file import load_stator
+
+    design = load_stator("examples/tuned_60k/stator.toml")
+    with pytest.raises(TypeError, match="got StatorDesign; .* design.stator and "
+                                        "design.material"):
+        plate_modes(design)
+    with pytest.raises(TypeError, match="thickness_inertia must be True or False"):
+        plate_modes(thickness_inertia="False")
+    a = PlateStator(length_m=np.float32(0.03), electrode_gap_m=np.int64(0))
+    assert type(a.length_m) is float and a.length_m == float(np.float32(0.03))
+    with pytest.raises(ValueError, match="thickness_m must be a number"):
+        PlateStator(thickness_m=True)
