@@ -77,6 +77,9 @@ class UnsettledAmplitudeWarning(UserWarning):
     """Eq. 11's normal amplitude A_N came from a pre-pass too short for the L1 vibration to
     settle (an almost undamped stator): mu_d,eff carries the start's transient."""
 
+MAX_COUNT_OPTION = 2**31 - 1
+"""Largest value of the options counted in periods, points or events (the kernels' int)."""
+
 METHODS = {
     "event": "contact.simulate:solve_event",
     "reference": "contact.reference:solve_reference",
@@ -169,6 +172,9 @@ class SimulationOptions:
             # TypeError deep in a scheme, and 2.5 or True were kept as typed in r.options
             if isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < 1:
                 raise ValueError(f"{name} must be an integer >= 1, got {v!r}")
+            if v > MAX_COUNT_OPTION:  # 1e30 reached the kernel as an OverflowError
+                raise ValueError(f"{name} must be an integer in [1, {MAX_COUNT_OPTION}], got "
+                                 f"{v!r}")
             object.__setattr__(self, name, int(v))
         for name in ("rtol", "stick_band_m_s"):
             v = getattr(self, name)
@@ -418,7 +424,7 @@ def simulate(
         When the contact chatters beyond ``max_events_per_step`` within a step.
     """
     require_params(params)
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:  # ["event"]: "unhashable"
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if load_N and method in ("reference", "literal"):
         raise ValueError(f"load_N is modelled by the event and steady schemes only, got "

@@ -101,6 +101,7 @@ paper's Eq. 7 does (``--preload``; docs/contact.md 2.5).
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 import warnings
 from dataclasses import dataclass, field, replace
@@ -870,6 +871,8 @@ def load_stator(path: str | Path) -> StatorDesign:
     """
     from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
 
+    if not isinstance(path, (str, os.PathLike)):  # None said "expected str, bytes or ..."
+        raise TypeError(f"path must name a stator TOML file, got {path!r}")
     path = Path(path)
     if path.is_dir():
         raise ValueError(f"stator file {path} is a folder; name its .toml file")

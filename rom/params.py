@@ -234,8 +234,11 @@ class MotorParams:
             raise ValueError(f"a parameter set must be a JSON object, got {type(d).__name__}")
         stored = [f.name for f in fields(cls)]
         derived = DERIVED_KEYS
+        if any(not isinstance(k, str) for k in d):  # an int key had failed in str.join
+            raise ValueError(f"a parameter set's keys are names, got "
+                             f"{[k for k in d if not isinstance(k, str)]!r}")
         units = d.get("units")
-        if units is not None:  # lusm params --json says each key's unit; SI, not a choice
+        if "units" in d:  # lusm params --json says each key's unit; SI, not a choice
             if not isinstance(units, dict):
                 raise ValueError(f"units must be an object of each key's SI unit, got {units!r}")
             for key, unit in units.items():

@@ -337,3 +337,22 @@ def test_fe_entry_points_say_what_a_stator_is_and_take_numpy_sizes():
     assert type(a.length_m) is float and a.length_m == float(np.float32(0.03))
     with pytest.raises(ValueError, match="thickness_m must be a number"):
         PlateStator(thickness_m=True)
+
+
+@pytest.mark.parametrize(("call", "error", "words"), [
+    (lambda: simulate(table2(), 200, 14, method=["event"]), ValueError,
+     r"method must be one of event, .*got \['event'\]"),
+    (lambda: simulate(table2(), 400, 14, max_events_per_step=10**30), ValueError,
+     r"max_events_per_step must be an integer in \[1, 2147483647\]"),
+    (lambda: __import__("rom.params", fromlist=["x"]).MotorParams.from_dict(
+        {**table2().to_dict(), 5: 1}), ValueError, r"keys are names, got \[5\]"),
+    (lambda: __import__("rom.params", fromlist=["x"]).MotorParams.from_dict(
+        {**table2().to_dict(), "units": None}), ValueError, "units must be an object"),
+    (lambda: __import__("fem.stator_file", fromlist=["x"]).load_stator(None), TypeError,
+     "path must name a stator TOML file, got None"),
+])
+def test_obscure_errors_of_the_api_name_their_parameter(call, error, words):
+    """Each had failed as an unhashable list, an OverflowError, a str.join TypeError, an
+    'unknown key units' or os.fspath's message (API testing)."""
+    with pytest.raises(error, match=words):
+        call()
