@@ -546,7 +546,7 @@ def fe_cell_count(stator, refine: int | None, layers: int | None = None,
 
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
                   option: str = "--refine", edge_grading: int = 0, quarter: bool = False,
-                  layers_option: bool = True) -> int:
+                  layers_option: bool = True, has_option: bool = True) -> int:
     """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
 
     The count is exact for the generated plate (``fem.mesh.grid_lines_m``, and
@@ -554,7 +554,9 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     ``fem.solid3d_symmetric.quarter_grid_lines`` with ``quarter``, the quarter-plate model)
     and is the file's for a stator with its own mesh (bounded when it is read). ``layers``
     selects the 3D count; ``layers_option``: whether the command has ``--layers`` to name
-    (``tune --model 3d`` takes three layers and has none).
+    (``tune --model 3d`` takes three layers and has none); ``has_option``: whether it has
+    ``option`` at all (``report``, ``simulate --source fem`` have no ``--refine``, and were
+    told to lower it).
     """
     from fem.meshed_stator import planform_mesh
 
@@ -583,19 +585,22 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
         dims_typed = [o for o in ("--length-mm", "--width-mm") if typed(o)]
         if not typed(option) and dims_typed and not typed("--geometry"):
             # the user gave the plate, not the mesh option: blame what they typed
+            lower = f" or give a lower {option}" if has_option else ""
             raise LusmError(
                 f"{dims_typed[0]}: the {shape} needs {n} {what} at the default mesh, above "
-                f"the limit {top}; make the plate less elongated ({', '.join(dims_typed)}) "
-                f"or give a lower {option} ({limits.more_work_hint()})", dims_typed[0])
+                f"the limit {top}; make the plate less elongated ({', '.join(dims_typed)})"
+                f"{lower} ({limits.more_work_hint()})", dims_typed[0])
         names = [option] + [o for o, used in (("--refine", True), ("--layers", bool(layers)),
                                               ("--edge-grading", bool(edge_grading)))
                             if used and o != option]
-        lower = " or ".join(names)
+        lower = f"lower {' or '.join(names)} or " if has_option else ""
         dims = (" (the stator file's [plate] length_mm, width_mm)" if typed("--geometry")
                 else " (--length-mm, --width-mm)")
-        raise LusmError(f"{option}: the {shape} needs {n} {what} here, above the limit {top}; "
-                        f"lower {lower} or make the plate less elongated{dims} "
-                        f"({limits.more_work_hint()})", option)
+        blamed = option if has_option else ("--geometry" if typed("--geometry")
+                                            else "--length-mm")
+        raise LusmError(f"{blamed}: the {shape} needs {n} {what} here, above the limit {top}; "
+                        f"{lower}make the plate less elongated{dims} "
+                        f"({limits.more_work_hint()})", blamed)
     return n
 
 
@@ -698,7 +703,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
             raise LusmError(f"{what} needs --source fem (or beam, for plate options), got "
                             f"--source {source}", "--source")
         choice = stator_from_args(args)  # checks the options and the file first
-        check_fe_size(choice.stator, None)
+        check_fe_size(choice.stator, None, has_option=False)  # no --refine on these commands
         from rom.from_fem import design_base, fem_params, fem_params_from_file
 
         design = choice.design
