@@ -16,6 +16,15 @@ if str(ROOT) not in sys.path:  # running from a checkout without installing
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 
+@pytest.fixture(autouse=True)
+def _fresh_warnings():
+    """Each test starts with no warning said: the CLI says each warning once per command, and
+    a test that calls a warning function directly is its own command."""
+    from validation.options import forget_warnings
+
+    forget_warnings()
+
+
 @pytest.fixture(scope="session")
 def paper_params():
     from rom import table2

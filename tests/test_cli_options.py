@@ -339,3 +339,19 @@ def test_a_command_without_refine_is_not_told_to_lower_it(tmp_path, capsys):
     assert main(["modes", *plate]) == 2  # modes has it
     assert "give a lower --refine" in capsys.readouterr().err
     assert not (tmp_path / "r").exists()
+
+
+def test_a_warning_is_said_once_per_command(capsys):
+    """lusm report of a stator with a hole said the hole's and the thin plate's warnings
+    twice, once per stage that builds the FE model (API and CLI testing)."""
+    from validation.options import set_command, warn
+
+    set_command("report")
+    warn("a hole")
+    warn("a hole")
+    warn("a thin plate")
+    assert capsys.readouterr().err.splitlines() == [
+        "lusm report: warning: a hole", "lusm report: warning: a thin plate"]
+    set_command("report")  # the next command says it again
+    warn("a hole")
+    assert capsys.readouterr().err == "lusm report: warning: a hole\n"

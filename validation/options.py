@@ -1097,14 +1097,31 @@ def warn_unused(options: Sequence[str], why: str) -> None:
         warn(f"{' and '.join(given)} {'has' if len(given) == 1 else 'have'} no effect: {why}")
 
 
+_SAID: set[str] = set()
+"""The warning lines said by the running command (each is said once)."""
+
+
 def set_command(name: str) -> None:
-    """The command named in warnings (set by :func:`validation.cli.main`)."""
+    """The command named in warnings (set by :func:`validation.cli.main` for each command,
+    which starts a fresh record of the warnings said)."""
     _COMMAND[0] = f"lusm {name}"
+    forget_warnings()
+
+
+def forget_warnings() -> None:
+    """Start a fresh record of the warnings said (:func:`warn` says each once)."""
+    _SAID.clear()
 
 
 def warn(message: str) -> None:
-    """One warning line on stderr: ``lusm <cmd>: warning: ...``."""
-    print(f"{_COMMAND[0]}: warning: {in_file_terms(message)}", file=sys.stderr)
+    """One warning line on stderr: ``lusm <cmd>: warning: ...``, once per command (lusm
+    report of a stator with a hole had said the hole's and the thin plate's warnings twice,
+    once per stage that builds the FE model)."""
+    line = f"{_COMMAND[0]}: warning: {in_file_terms(message)}"
+    if line in _SAID:
+        return
+    _SAID.add(line)
+    print(line, file=sys.stderr)
 
 
 def in_file_terms(message: str) -> str:
