@@ -406,10 +406,13 @@ def build_system(
     if not all(np.isfinite(m).all() for m in (A, ev_h, fn_m, ft_m, ff_m, funcs)):
         # an overflow (phi_Bl = 1e300 in a --params file) failed deep in a NumPy eigensolver,
         # "Array must not contain infs or NaNs", naming nothing
+        # the value farthest from 1 in magnitude, either way (M_l = 1e-300 had been reported
+        # as "its largest value is K_l")
         name, value = max(((f.name, getattr(p, f.name)) for f in dataclasses.fields(p)
-                           if isinstance(getattr(p, f.name), float)), key=lambda nv: abs(nv[1]))
-        raise ValueError(f"the parameter set's mode matrices overflow (not finite); its largest "
-                         f"value is {name} = {value:g}, out of any stator's scale")
+                           if isinstance(getattr(p, f.name), float) and getattr(p, f.name)),
+                          key=lambda nv: abs(math.log10(abs(nv[1]))))
+        raise ValueError(f"the parameter set's mode matrices overflow (not finite); its most "
+                         f"extreme value is {name} = {value:g}, out of any stator's scale")
     return HybridSystem(A, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, scalars, z0, mode0)
 
 

@@ -356,3 +356,12 @@ def test_obscure_errors_of_the_api_name_their_parameter(call, error, words):
     'unknown key units' or os.fspath's message (API testing)."""
     with pytest.raises(error, match=words):
         call()
+
+
+def test_an_overflowing_set_names_its_extreme_value_however_small():
+    """M_l = 1e-300 was reported as "its largest value is K_l" (API testing)."""
+    import warnings
+
+    with warnings.catch_warnings(), pytest.raises(ValueError, match="M_l = 1e-300"):
+        warnings.simplefilter("ignore", RuntimeWarning)
+        simulate(table2().with_(M_l=1e-300), 400, 14)
