@@ -177,6 +177,9 @@ def stick_slip_map(
     f = np.asarray(preloads_N, dtype=float)
     if v.ndim != 1 or f.ndim != 1 or v.size == 0 or f.size == 0:
         raise ValueError("voltages_V and preloads_N must be non-empty 1-D sequences")
+    for name, axis in (("voltages_V", v), ("preloads_N", f)):  # NaN was named voltage_V
+        if not np.all(np.isfinite(axis)):
+            raise ValueError(f"{name} must be finite, got {axis.tolist()!r}")
     if v.size * f.size > MAX_MAP_POINTS:  # 1e4 x 1e4 ran on without a word
         raise ValueError(f"voltages_V x preloads_N give {v.size * f.size} points, above "
                          f"{MAX_MAP_POINTS}")

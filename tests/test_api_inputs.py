@@ -365,3 +365,9 @@ def test_an_overflowing_set_names_its_extreme_value_however_small():
     with warnings.catch_warnings(), pytest.raises(ValueError, match="M_l = 1e-300"):
         warnings.simplefilter("ignore", RuntimeWarning)
         simulate(table2().with_(M_l=1e-300), 400, 14)
+
+
+def test_a_map_names_its_own_axis_when_a_value_is_not_finite():
+    """stick_slip_map(p, [nan], [14]) named simulate's voltage_V (API testing)."""
+    with pytest.raises(ValueError, match=r"voltages_V must be finite, got \[nan\]"):
+        stick_slip_map(table2(), [float("nan")], [14.0])
