@@ -385,8 +385,7 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
         raise ValueError(
             f"frequency_Hz = {op.frequency_Hz:g} Hz is too far below the stator's fastest mode "
             f"for the steady engine: {float(fs.steps_per_period):.3g} steps per drive period, "
-            f"above "
-            f"{MAX_STEPS_PER_PERIOD} (it resolves that mode in every period)")
+            f"above {MAX_STEPS_PER_PERIOD} (it resolves that mode in every period)")
     _, b_amp = free_tip_amplitudes(params, op.frequency_Hz, op.voltage_V)
     v_max = max(1.5 * float(b_amp) * op.omega, 1e-6)
     floor = min(max(SCAN_FLOOR_FACTOR * ripple_scale(params, op, mu), 1e-5 * v_max),
