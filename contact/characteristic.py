@@ -7,6 +7,7 @@ fast problem at fixed velocity does not depend on the load.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import time
@@ -16,7 +17,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.drive import default_drive_Hz
-from contact.model import OperatingPoint, check_rest, resolve_coupling
+from contact.model import OperatingPoint, check_rest, check_scale, resolve_coupling
 from contact.results import FrozenArrays
 from contact.steady import (
     ACCURACIES,
@@ -174,6 +175,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     coupling = resolve_coupling(params, coupling)  # "auto": as the CLI's
     op = OperatingPoint(voltage_V, preload_N,
                         default_drive_Hz(params, frequency_Hz))
+    if loads_N is not None and loads_arr.size:  # both levels refuse it, before any solve
+        # (1e7 N came out NaN at the fast level and was refused at the exact one)
+        check_scale(params, dataclasses.replace(op, load_N=float(np.max(np.abs(loads_arr)))))
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
 
     irregular: dict[float, object] = {}  # load -> branch from rest with no short period

@@ -371,3 +371,11 @@ def test_a_map_names_its_own_axis_when_a_value_is_not_finite():
     """stick_slip_map(p, [nan], [14]) named simulate's voltage_V (API testing)."""
     with pytest.raises(ValueError, match=r"voltages_V must be finite, got \[nan\]"):
         stick_slip_map(table2(), [float("nan")], [14.0])
+
+
+@pytest.mark.parametrize("accuracy", ["fast", "exact"])
+def test_a_load_beyond_the_linear_scale_is_refused_at_both_levels(accuracy):
+    """1e7 N came out as NaN (runs away) at the fast level and was refused at the exact one,
+    after its other loads were solved (API testing)."""
+    with pytest.raises(ValueError, match=r"load_N = 1e\+07 N deflects the stator"):
+        characteristic(table2(), 200, 14, loads_N=[0.0, 1e7], accuracy=accuracy)
