@@ -158,6 +158,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
     check_rest(rest)
+    if not isinstance(progress, (bool, np.bool_)):  # "yes" was taken as True, "" as False
+        raise TypeError(f"progress must be True or False, got {progress!r}")
     if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
             not 2 <= points <= MAX_POINTS:
         raise ValueError(f"points must be an integer in [2, {MAX_POINTS}], got {points!r}")

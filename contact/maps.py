@@ -184,6 +184,8 @@ def stick_slip_map(
         raise ValueError(f"voltages_V x preloads_N give {v.size * f.size} points, above "
                          f"{MAX_MAP_POINTS}")
     require_params(params)
+    if not isinstance(progress, (bool, np.bool_)):  # "yes" was taken as True, "" as False
+        raise TypeError(f"progress must be True or False, got {progress!r}")
     if method not in MAP_METHODS:
         raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")
     from contact.steady import ACCURACIES

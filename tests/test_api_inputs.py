@@ -379,3 +379,10 @@ def test_a_load_beyond_the_linear_scale_is_refused_at_both_levels(accuracy):
     after its other loads were solved (API testing)."""
     with pytest.raises(ValueError, match=r"load_N = 1e\+07 N deflects the stator"):
         characteristic(table2(), 200, 14, loads_N=[0.0, 1e7], accuracy=accuracy)
+
+
+def test_progress_is_a_bool():
+    with pytest.raises(TypeError, match="progress must be True or False, got 'yes'"):
+        characteristic(table2(), 200, 14, points=2, accuracy="fast", progress="yes")
+    with pytest.raises(TypeError, match="progress must be True or False"):
+        stick_slip_map(table2(), [200.0], [14.0], progress="no")
