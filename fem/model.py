@@ -511,53 +511,57 @@ class PiezoPlateModel:
             # inverted exactly instead
             if "Newton" not in str(exc):
                 raise
-            probe = parallelogram_probes(self.basis, pts)
+            probe = affine_probes(self.basis, pts)
             if probe is None:
                 raise
             return probe
 
 
-def parallelogram_probes(basis, pts: np.ndarray, chunk: int = 2_000_000) -> sp.csr_matrix | None:
-    """``basis.probes(pts)`` for a mesh of parallelogram quads, with the exact inverse map.
+def affine_probes(basis, pts: np.ndarray, chunk: int = 2_000_000) -> sp.csr_matrix | None:
+    """``basis.probes(pts)`` for a mesh of quads or hexes whose cells' maps are affine
+    (parallelograms, boxes, parallelepipeds), inverted exactly: no Newton iteration.
 
-    The quad map ``x = p0 + X (p1 - p0) + Y (p3 - p0)`` of a parallelogram is affine, so the
-    reference coordinates of a point follow from a 2x2 solve: no Newton iteration. Returns
-    None when a cell is not a parallelogram (the caller keeps scikit-fem's answer).
+    The map's values at the reference cell's corners give each cell's origin and Jacobian;
+    a point's reference coordinates follow from one small solve. Returns None when the mesh
+    is not of quads or hexes, or a cell's map is not affine (the caller keeps scikit-fem's
+    answer). The 2D model (:meth:`PiezoPlateModel.probe`) and the 3D one
+    (:meth:`fem.solid3d.SolidPlateModel.probe`) fall back on it where scikit-fem's Newton
+    inverse stalls beside a micrometre gap.
 
     Parameters
     ----------
     basis : skfem.CellBasis
-        A basis on a ``MeshQuad1``.
+        A basis on a ``MeshQuad1`` or ``MeshHex1`` (reference cell the unit square or cube).
     pts : numpy.ndarray
-        Points (2, n) in m, inside the mesh.
+        Points (dim, n) in m, inside the mesh.
     chunk : int
         Most point x cell pairs tested at once (memory).
     """
-    mesh = basis.mesh
-    p, t = mesh.p, mesh.t
-    if t.shape[0] != 4:
+    dim, n = pts.shape
+    if basis.mesh.t.shape[0] != 2**dim:
         return None
-    p0, e1, e3 = p[:, t[0]], p[:, t[1]] - p[:, t[0]], p[:, t[3]] - p[:, t[0]]
-    size = np.maximum(np.hypot(*e1), np.hypot(*e3))
-    if np.any(np.abs(p[:, t[2]] - (p0 + e1 + e3)).max(axis=0) > 1e-9 * size):
+    corners = np.hstack([np.zeros((dim, 1)), np.eye(dim), np.ones((dim, 1))])
+    f = basis.mapping.F(corners)  # (dim, cells, dim + 2): F(0), F(e_1), ..., F(1, ..., 1)
+    origin = f[:, :, 0]
+    jac = np.stack([f[:, :, k + 1] - origin for k in range(dim)], axis=-1)  # (dim, cells, dim)
+    size = np.abs(jac).max(axis=(0, 2))
+    if np.any(np.abs(f[:, :, -1] - origin - jac.sum(axis=-1)).max(axis=0) > 1e-9 * size):
         return None
-    det = e1[0] * e3[1] - e1[1] * e3[0]
-    n = pts.shape[1]
+    inv = np.linalg.inv(np.moveaxis(jac, 1, 0))  # (cells, dim, dim)
+    n_cells = origin.shape[1]
     cells = np.full(n, -1)
-    ref = np.zeros((2, n))
-    step = max(1, chunk // t.shape[1])
+    ref = np.zeros((dim, n))
+    step = max(1, chunk // n_cells)
     tol = 1e-10
     for a in range(0, n, step):
-        d = pts[:, a:a + step, None] - p0[:, None, :]  # (2, points, cells)
-        X = (d[0] * e3[1] - d[1] * e3[0]) / det
-        Y = (e1[0] * d[1] - e1[1] * d[0]) / det
-        inside = (X >= -tol) & (X <= 1 + tol) & (Y >= -tol) & (Y <= 1 + tol)
+        d = pts[:, a:a + step, None] - origin[:, None, :]  # (dim, points, cells)
+        x = np.einsum("cij,jpc->ipc", inv, d)
+        inside = np.all((x >= -tol) & (x <= 1 + tol), axis=0)
         found = inside.any(axis=1)
         first = np.argmax(inside, axis=1)
         rows = np.arange(first.size)
         cells[a:a + step] = np.where(found, first, -1)
-        ref[0, a:a + step] = X[rows, first]
-        ref[1, a:a + step] = Y[rows, first]
+        ref[:, a:a + step] = x[:, rows, first]
     if np.any(cells < 0):
         raise ValueError("a probe point lies outside the mesh")
     X = np.clip(ref, 0.0, 1.0)[:, :, None]

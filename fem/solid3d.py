@@ -82,6 +82,7 @@ from fem.mesh import (
     require_plate,
 )
 from fem.meshed_stator import overall_length_m, planform_mesh
+from fem.model import affine_probes
 from fem.modes import (
     MIN_MAC,
     MIN_SYMMETRY,
@@ -243,7 +244,7 @@ class SolidPlateModel:
         except Exception as exc:  # noqa: BLE001 - scikit-fem raises a bare Exception here
             # its Newton inverse of the hex map stalls beside a micrometre gap's layer of
             # bricks 2 000 times wider than thick (--gap-mm 0.0012 --model 3d); a box's map
-            # is affine and inverted exactly instead, as in 2D (fem.model)
+            # is affine and inverted exactly instead (fem.model.affine_probes, as in 2D)
             p = affine_probes(self.basis, pts) if "Newton" in str(exc) else None
             if p is None:
                 raise
@@ -267,54 +268,6 @@ class SolidPlateModel:
         rhs = -(t_free.T @ (self.Kphiphi @ phi_imp))
         phi = phi_imp + t_free @ sla.spsolve(kff, rhs)
         return -(self.Kuphi @ phi)
-
-
-def affine_probes(basis, pts: np.ndarray, chunk: int = 2_000_000) -> sp.csr_matrix | None:
-    """``basis.probes(pts)`` for a mesh whose cells' maps are affine (boxes, parallelepipeds),
-    inverted exactly from the map's values at the reference cell's corners: no Newton
-    iteration. None when a cell's map is not affine (the caller keeps scikit-fem's answer).
-
-    Parameters
-    ----------
-    basis : skfem.CellBasis
-        A basis on a 3D mesh whose reference cell is the unit cube.
-    pts : numpy.ndarray
-        Points (3, n) in m, inside the mesh.
-    chunk : int
-        Most point x cell pairs tested at once (memory).
-    """
-    mapping = basis.mapping
-    corners = np.array([[0.0, 1.0, 0.0, 0.0, 1.0], [0.0, 0.0, 1.0, 0.0, 1.0],
-                        [0.0, 0.0, 0.0, 1.0, 1.0]])
-    f = mapping.F(corners)  # (3, cells, 5): F(0), F(e_x), F(e_y), F(e_z), F(1, 1, 1)
-    origin = f[:, :, 0]
-    jac = np.stack([f[:, :, k] - origin for k in (1, 2, 3)], axis=-1)  # (3, cells, 3)
-    size = np.abs(jac).max(axis=(0, 2))
-    if np.any(np.abs(f[:, :, 4] - origin - jac.sum(axis=-1)).max(axis=0) > 1e-9 * size):
-        return None
-    inv = np.linalg.inv(np.moveaxis(jac, 1, 0))  # (cells, 3, 3)
-    n, n_cells = pts.shape[1], origin.shape[1]
-    cells = np.full(n, -1)
-    ref = np.zeros((3, n))
-    step = max(1, chunk // n_cells)
-    tol = 1e-10
-    for a in range(0, n, step):
-        d = pts[:, a:a + step, None] - origin[:, None, :]  # (3, points, cells)
-        x = np.einsum("cij,jpc->ipc", inv, d)
-        inside = np.all((x >= -tol) & (x <= 1 + tol), axis=0)
-        found = inside.any(axis=1)
-        first = np.argmax(inside, axis=1)
-        rows = np.arange(first.size)
-        cells[a:a + step] = np.where(found, first, -1)
-        ref[:, a:a + step] = x[:, rows, first]
-    if np.any(cells < 0):
-        raise ValueError("a probe point lies outside the mesh")
-    X = np.clip(ref, 0.0, 1.0)[:, :, None]
-    phis = np.array([basis.elem.gbasis(mapping, X, k, tind=cells)[0]
-                     for k in range(basis.Nbfun)]).flatten()
-    rows = np.tile(np.arange(n, dtype=np.int32), basis.Nbfun)
-    cols = basis.element_dofs[:, cells].flatten()
-    return sp.coo_matrix((phis, (rows, cols)), shape=(n, basis.N)).tocsr()
 
 
 def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading: int) -> None:

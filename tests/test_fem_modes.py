@@ -243,13 +243,13 @@ def test_exact_probes_of_parallelograms_match_scikit_fem_and_rescue_a_micrometre
     # iteration didn't converge"); the affine inverse agrees with it wherever it converges
     import warnings
 
-    from fem.model import parallelogram_probes
+    from fem.model import affine_probes
 
     m = plate_model()
     rng = np.random.default_rng(1)
     pts = np.vstack((rng.uniform(-3.75e-3, 3.75e-3, 300), rng.uniform(0.0, 30e-3, 300)))
     ref = m.basis.probes(pts).tocsr()
-    assert abs(parallelogram_probes(m.basis, pts) - ref).max() < 1e-12
+    assert abs(affine_probes(m.basis, pts) - ref).max() < 1e-12
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         a = plate_modes(PlateStator(electrode_gap_m=1e-6))

@@ -183,7 +183,8 @@ def test_affine_probes_match_scikit_fem_and_rescue_a_micrometre_gap_in_3d():
     iteration didn't converge"), and --gap-mm 0.001 was refused with an internal class name
     (found by exploratory testing). The affine inverse agrees with scikit-fem's where that
     converges, and the frequencies run on smoothly from 1.8 um, which scikit-fem solved."""
-    from fem.solid3d import affine_probes, modes_of_solid_model, solid_model
+    from fem.model import affine_probes
+    from fem.solid3d import modes_of_solid_model, solid_model
 
     m = solid_model()
     rng = np.random.default_rng(1)
