@@ -71,7 +71,7 @@ def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
 
 
 def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> None:
-    from validation.options import time_step_s, typed
+    from validation.options import check_dt_per_period, time_step_s, typed
 
     args.dt = time_step_s(args.dt, frequency_Hz)  # a whole number of steps per period
     if args.method == "transient":
@@ -80,12 +80,9 @@ def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> 
         # the steady engine takes its own step; --dt serves only the transient of an
         # undecided point. A typed one gets the transients' range (--dt 1e-3 had run without
         # a word, the undecided points silently at T/20); the default is within it
-        dt_max = 1.0 / (20.0 * frequency_Hz)
-        if typed("--dt") and args.dt > dt_max * (1 + 1e-12):
-            raise LusmError(f"--dt must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at "
-                            f"--frequency {frequency_Hz:g} Hz, got {args.dt:g} (with --method "
-                            "steady it serves the transient of a point the steady engine "
-                            "cannot decide)", "--dt")
+        if typed("--dt"):
+            check_dt_per_period(args.dt, frequency_Hz, " (with --method steady it serves the "
+                                "transient of a point the steady engine cannot decide)")
         check_steps(args.duration, args.dt)
 
 

@@ -876,6 +876,15 @@ def check_steps(duration_s: float, dt_s: float) -> float:
     return steps
 
 
+def check_dt_per_period(dt_s: float, frequency_Hz: float, why: str = "") -> None:
+    """Refuse a ``--dt`` above 1/(20 f): fewer than 20 steps per drive period (``why``: a
+    clause saying what the step serves, for a command where that is not obvious)."""
+    dt_max = 1.0 / (20.0 * frequency_Hz)
+    if dt_s > dt_max * (1 + 1e-12):
+        raise LusmError(f"--dt must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at --frequency "
+                        f"{frequency_Hz:g} Hz, got {dt_s:g}{why}", "--dt")
+
+
 def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
                    runs: int = 1) -> int:
     """Steps of one run; refuse runs beyond the work bounds before anything is allocated.
@@ -887,10 +896,7 @@ def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
         :data:`validation.limits.MAX_STEPS` (per run), :data:`~validation.limits.MAX_MAP_STEPS`
         (all runs) or a full-resolution window above :data:`~validation.limits.MAX_WINDOW_STEPS`.
     """
-    dt_max = 1.0 / (20.0 * frequency_Hz)
-    if dt_s > dt_max * (1 + 1e-12):
-        raise LusmError(f"--dt must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at --frequency "
-                        f"{frequency_Hz:g} Hz, got {dt_s:g}", "--dt")
+    check_dt_per_period(dt_s, frequency_Hz)
     periods = duration_s * frequency_Hz
     if periods < 10 * (1 - 1e-12):
         raise LusmError(f"--duration must be >= 10 drive periods = {10 / frequency_Hz:.4g} s "
