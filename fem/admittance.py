@@ -73,7 +73,7 @@ Sign conventions follow :mod:`fem.model` (``E3 = V/h``); ``Y`` only involves ``g
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -556,10 +556,11 @@ def resonance_pairs(port: ModalPort, f_Hz: np.ndarray,
     (``--f-max 1e7 --zeta 0.001``: "B2+L1 (merged)", k_eff 0.306, where B2 has 0.092 and L1
     0.155); the modes are then the grid's to find (:meth:`AdmittanceResult.unpaired_modes`).
     """
-    pairs = [q for q in _pairs_on(port, f_Hz)
-             if not (check_merges and q.mode.endswith("(merged)")
-                     and _merged_by_the_grid(port, q.mode))]
-    return _overlapping(port, pairs)
+    found = _pairs_on(port, f_Hz)
+    # one fine-grid check per merged label (two peaks can carry the same one)
+    by_grid = {q.mode: _merged_by_the_grid(port, q.mode) for q in found
+               if check_merges and q.mode.endswith("(merged)")}
+    return _overlapping(port, [q for q in found if not by_grid.get(q.mode, False)])
 
 
 def _pairs_on(port: ModalPort, f_Hz: np.ndarray) -> list[ResonancePair]:
@@ -592,15 +593,14 @@ def _overlapping(port: ModalPort, pairs: list[ResonancePair]) -> tuple[Resonance
     ``"B2 (overlaps L1)"`` (``--zeta 0.022``: two rows "B2+L1 (merged)" under a line saying
     the modes make one peak; found by code review)."""
     labels = [q.mode for q in pairs]
+    freq = dict(zip(port.mode_names, port.frequencies_Hz, strict=True))
     out = []
     for q in pairs:
         if q.mode.endswith("(merged)") and labels.count(q.mode) > 1:
             names = q.mode.split(" ")[0].split("+")
-            freq = dict(zip(port.mode_names, port.frequencies_Hz, strict=True))
             near = min(names, key=lambda n: abs(freq[n] - q.f_resonance_Hz))
             others = "+".join(n for n in names if n != near)
-            q = ResonancePair(q.f_resonance_Hz, q.f_antiresonance_Hz, q.k_eff,
-                              f"{near} (overlaps {others})", q.f_max_abs_Hz, q.f_min_abs_Hz)
+            q = replace(q, mode=f"{near} (overlaps {others})")
         out.append(q)
     return tuple(out)
 

@@ -76,7 +76,8 @@ def run(args: argparse.Namespace) -> None:
     plot = output_folder(args, "characteristic", "--plot")
     voltages = args.voltage  # a tuple: --voltage takes A,B,...
     warn_drive(max(voltages), args.preload)
-    known_frequency(args.frequency)  # a bad number refused before any work
+    # a bad number refused before any work; None for the auto rule ("AUTO", " auto" too)
+    frequency_from = "auto" if known_frequency(args.frequency) is None else args.frequency
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
@@ -95,8 +96,6 @@ def run(args: argparse.Namespace) -> None:
     if args.accuracy == "fast":
         _warn_fast_level(params, chars, coupling, not args.no_ultrasonic_friction)
     docs = [c.to_dict() for c in chars]
-    # "AUTO" and " auto" are the auto rule too: said as such, not echoed (they had no tag)
-    frequency_from = "auto" if known_frequency(args.frequency) is None else args.frequency
     for c, d in zip(chars, docs, strict=True):  # the operating point, as simulate gives it
         d.update(voltage_V=c.op.voltage_V, preload_N=c.op.preload_N,
                  frequency_Hz=c.op.frequency_Hz, frequency_from=frequency_from)
