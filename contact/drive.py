@@ -7,22 +7,39 @@ from functools import lru_cache
 
 import numpy as np
 
-from rom.damping import free_tip_amplitudes
+from rom.damping import free_tip_amplitudes, free_tip_phasors
 from rom.params import MotorParams
 from rom.table2 import PAPER_DRIVE_HZ
 
 __all__ = ["auto_frequency", "free_tip_amplitudes", "tip_ellipse_area", "grid_frequency",
            "drive_share", "default_drive_Hz", "WeakDriveWarning"]
 
+IN_PHASE_SHARE = 1e-9
+"""Largest ellipse area, relative to the amplitudes' product, below which the tip is taken to
+move on a line (roundoff of responses in phase)."""
+
 GRID_POINTS = 401
 """Frequencies of :func:`grid_frequency`'s search between the widened resonances."""
 
 
+def _area_over_pi(params: MotorParams, frequency_Hz):
+    """``|Im(conj(n) t)|`` of the free tip phasors (m^2 at unit drive): the area over pi of
+    the ellipse ``(Im(t e^{i w t}), Im(n e^{i w t}))``, ``|n| |t| |sin(phase difference)|``."""
+    n, t = free_tip_phasors(params, frequency_Hz)
+    return np.abs(np.imag(np.conj(n) * t))
+
+
 def tip_ellipse_area(params: MotorParams, frequency_Hz: float) -> float:
-    """The product of the free tip's L1 and B2 amplitudes (m^2 per V^2 at unit drive): the
-    free tip ellipse's area over pi."""
-    a, b = free_tip_amplitudes(params, frequency_Hz)
-    return float(a * b)
+    """The free tip ellipse's area over pi (m^2 per V^2 at unit drive).
+
+    The L1 (normal) and B2 (tangential) tip motions share one drive, so the tip traces an
+    ellipse of area ``pi |n| |t| |sin(dtheta)|``, ``dtheta`` the phase difference of the two
+    modes' responses (:func:`rom.damping.free_tip_phasors`): a line where they are in phase,
+    the amplitudes' product only in quadrature. (Before 2026-11-25 the product of the
+    amplitudes alone was used, which put the operating point of Table 2's set at 39.81 kHz,
+    where the two responses are 7.3 degrees apart.)
+    """
+    return float(_area_over_pi(params, frequency_Hz))
 
 
 def grid_frequency(params: MotorParams) -> tuple[float, float]:
@@ -31,13 +48,16 @@ def grid_frequency(params: MotorParams) -> tuple[float, float]:
     a check that needs only the ellipse's size stays off the optimizer's import."""
     f1, f2 = sorted((params.f_L1_Hz, params.f_B2_Hz))
     grid = np.linspace(0.8 * f1, 1.2 * f2, GRID_POINTS)
-    a, b = free_tip_amplitudes(params, grid)  # one array call: 60 us against 2.2 ms
-    area = a * b
-    if not np.max(area) > 0.0:
-        # one force factor zero: no ellipse anywhere, and the argmax of zeros was the
-        # grid's first point, returned as an operating frequency
+    area = _area_over_pi(params, grid)  # one array call: 60 us against 2.2 ms
+    a, b = free_tip_amplitudes(params, grid)
+    if not np.max(area) > IN_PHASE_SHARE * np.max(a * b):
+        # a force factor zero, or two responses in phase at every frequency (one resonance
+        # and one damping ratio): the tip moves on a line, and the argmax of roundoff had
+        # been returned as an operating frequency
         raise ValueError(f"the set drives no tip ellipse (A_l = {params.A_l:g}, A_b = "
-                         f"{params.A_b:g} N/V): no operating frequency; drive both modes")
+                         f"{params.A_b:g} N/V; L1 {params.f_L1_Hz:.6g} Hz, B2 "
+                         f"{params.f_B2_Hz:.6g} Hz): no operating frequency; drive both "
+                         "modes, at resonances or damping ratios that differ")
     best = grid[int(np.argmax(area))]
     return float(best), float(grid[1] - grid[0])
 
@@ -45,11 +65,11 @@ def grid_frequency(params: MotorParams) -> tuple[float, float]:
 def auto_frequency(params: MotorParams) -> float:
     """Operating frequency of a parameter set (Hz): where the free tip ellipse is largest.
 
-    The tip of the free stator traces an ellipse with semi-axes equal to its L1 (normal) and
-    B2 (tangential) amplitudes; the frequency maximizing their product (the ellipse area) is
-    searched between the two resonances widened by 20 % on both sides
-    (:func:`grid_frequency`), then refined on the grid's neighbours. With well-separated
-    modes this lands between them, close to the one with the larger force factor.
+    The tip of the free stator traces an ellipse from its L1 (normal) and B2 (tangential)
+    motions, driven by one voltage and phase-shifted by the two resonances
+    (:func:`tip_ellipse_area`); the frequency maximizing its area is searched between the two
+    resonances widened by 20 % on both sides (:func:`grid_frequency`), then refined on the
+    grid's neighbours.
     """
     from scipy.optimize import minimize_scalar
 

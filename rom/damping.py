@@ -54,18 +54,34 @@ class IdentifiedDamping:
     target_B2_m_per_V: float
 
 
+def free_tip_phasors(params: MotorParams, frequency_Hz: np.ndarray | float,
+                     voltage_V: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Free (no contact) steady tip displacements of the L1 and B2 modes as phasors (m).
+
+    For the drive ``voltage_V sin(omega t)`` the tip's normal (L1) displacement is
+    ``Im(n exp(i omega t))`` and its tangential (B2) one ``Im(t exp(i omega t))``, with
+    ``n = phi_L(l) A_l V / (K_l - M_l omega^2 + i C_l omega)`` and ``t`` likewise. The two
+    share one drive, so their phase difference is that of the two resonances: the tip's
+    ellipse is as wide as ``|n| |t| |sin(arg t - arg n)|`` allows, a line where they are in
+    phase.
+    """
+    p = params
+    w = 2 * np.pi * np.asarray(frequency_Hz, dtype=float)
+    ul = p.A_l * voltage_V / (p.K_l - p.M_l * w**2 + 1j * p.C_l * w)
+    wb = p.A_b * voltage_V / (p.K_b - p.M_b * w**2 + 1j * p.C_b * w)
+    return p.phi_Ll * ul, p.phi_Bl * wb
+
+
 def free_tip_amplitudes(params: MotorParams, frequency_Hz: np.ndarray | float,
                         voltage_V: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """Free (no contact) steady tip amplitudes (m) of the L1 and B2 modes at a frequency.
 
     Returns ``(|phi_L(l) u_l|, |phi_B(l) w_b|)`` for the drive ``voltage_V sin(omega t)``:
-    the normal (L1) and tangential (B2) semi-axes of the free tip ellipse.
+    the normal (L1) and tangential (B2) amplitudes of the free tip (the magnitudes of
+    :func:`free_tip_phasors`).
     """
-    p = params
-    w = 2 * np.pi * np.asarray(frequency_Hz, dtype=float)
-    ul = p.A_l * voltage_V / np.abs(p.K_l - p.M_l * w**2 + 1j * p.C_l * w)
-    wb = p.A_b * voltage_V / np.abs(p.K_b - p.M_b * w**2 + 1j * p.C_b * w)
-    return np.abs(p.phi_Ll * ul), np.abs(p.phi_Bl * wb)
+    n, t = free_tip_phasors(params, frequency_Hz, voltage_V)
+    return np.abs(n), np.abs(t)
 
 
 def table2_free_amplitudes_m_per_V(frequency_Hz: float = PAPER_DRIVE_HZ) -> tuple[float, float]:
