@@ -11,104 +11,106 @@ from rom.damping import free_tip_amplitudes, free_tip_phasors
 from rom.params import MotorParams
 from rom.table2 import PAPER_DRIVE_HZ
 
-__all__ = ["auto_frequency", "free_tip_amplitudes", "tip_ellipse_area", "grid_frequency",
+__all__ = ["auto_frequency", "free_tip_amplitudes", "tip_amplitude_product",
+           "tip_ellipse_area", "grid_frequency",
            "drive_share", "default_drive_Hz", "WeakDriveWarning"]
-
-IN_PHASE_SHARE = 1e-9
-"""Largest ellipse area, relative to the amplitudes' product, below which the tip is taken to
-move on a line (roundoff of responses in phase)."""
 
 GRID_POINTS = 401
 """Frequencies of :func:`grid_frequency`'s search between the widened resonances."""
 
 
-def _area_over_pi(params: MotorParams, frequency_Hz):
-    """``|Im(conj(n) t)|`` of the free tip phasors (m^2 at unit drive): the area over pi of
-    the ellipse ``(Im(t e^{i w t}), Im(n e^{i w t}))``, ``|n| |t| |sin(phase difference)|``."""
-    n, t = free_tip_phasors(params, frequency_Hz)
-    return np.abs(np.imag(np.conj(n) * t))
+def tip_amplitude_product(params: MotorParams, frequency_Hz: float) -> float:
+    """The product of the free tip's L1 (normal) and B2 (tangential) amplitudes (m^2 per V^2
+    at unit drive): the size :func:`auto_frequency` maximizes."""
+    a, b = free_tip_amplitudes(params, frequency_Hz)
+    return float(a * b)
 
 
 def tip_ellipse_area(params: MotorParams, frequency_Hz: float) -> float:
-    """The free tip ellipse's area over pi (m^2 per V^2 at unit drive).
+    """The area over pi of the free tip's path (m^2 per V^2 at unit drive).
 
     The L1 (normal) and B2 (tangential) tip motions share one drive, so the tip traces an
     ellipse of area ``pi |n| |t| |sin(dtheta)|``, ``dtheta`` the phase difference of the two
-    modes' responses (:func:`rom.damping.free_tip_phasors`): a line where they are in phase,
-    the amplitudes' product only in quadrature. (Before 2026-11-25 the product of the
-    amplitudes alone was used, which put the operating point of Table 2's set at 39.81 kHz,
-    where the two responses are 7.3 degrees apart.)
+    modes' responses (:func:`rom.damping.free_tip_phasors`): a line where they are in phase.
+    (Until 2026-11-25 this function returned the amplitudes' product,
+    :func:`tip_amplitude_product`, under this name.)
     """
-    return float(_area_over_pi(params, frequency_Hz))
+    n, t = free_tip_phasors(params, frequency_Hz)
+    return float(np.abs(np.imag(np.conj(n) * t)))
 
 
 def grid_frequency(params: MotorParams) -> tuple[float, float]:
-    """``(f, step)`` (Hz): the largest free tip ellipse on :data:`GRID_POINTS` frequencies
-    between the two resonances widened by 20 % on both sides, and the grid's step. No SciPy:
-    a check that needs only the ellipse's size stays off the optimizer's import."""
+    """``(f, step)`` (Hz): the largest product of the free tip amplitudes
+    (:func:`tip_amplitude_product`) on :data:`GRID_POINTS` frequencies between the two
+    resonances widened by 20 % on both sides, and the grid's step. No SciPy: a check that
+    needs only the product stays off the optimizer's import."""
     f1, f2 = sorted((params.f_L1_Hz, params.f_B2_Hz))
     grid = np.linspace(0.8 * f1, 1.2 * f2, GRID_POINTS)
-    area = _area_over_pi(params, grid)  # one array call: 60 us against 2.2 ms
-    a, b = free_tip_amplitudes(params, grid)
-    if not np.max(area) > IN_PHASE_SHARE * np.max(a * b):
-        # a force factor zero, or two responses in phase at every frequency (one resonance
-        # and one damping ratio): the tip moves on a line, and the argmax of roundoff had
-        # been returned as an operating frequency
+    a, b = free_tip_amplitudes(params, grid)  # one array call: 60 us against 2.2 ms
+    area = a * b
+    if not np.max(area) > 0.0:
+        # one force factor zero: no ellipse anywhere, and the argmax of zeros was the
+        # grid's first point, returned as an operating frequency
         raise ValueError(f"the set drives no tip ellipse (A_l = {params.A_l:g}, A_b = "
-                         f"{params.A_b:g} N/V; L1 {params.f_L1_Hz:.6g} Hz, B2 "
-                         f"{params.f_B2_Hz:.6g} Hz): no operating frequency; drive both "
-                         "modes, at resonances or damping ratios that differ")
+                         f"{params.A_b:g} N/V): no operating frequency; drive both modes")
     best = grid[int(np.argmax(area))]
     return float(best), float(grid[1] - grid[0])
 
 
 def auto_frequency(params: MotorParams) -> float:
-    """Operating frequency of a parameter set (Hz): where the free tip ellipse is largest.
+    """Operating frequency of a parameter set (Hz): where the product of the free tip's L1
+    (normal) and B2 (tangential) amplitudes is largest.
 
-    The tip of the free stator traces an ellipse from its L1 (normal) and B2 (tangential)
-    motions, driven by one voltage and phase-shifted by the two resonances
-    (:func:`tip_ellipse_area`); the frequency maximizing its area is searched between the two
-    resonances widened by 20 % on both sides (:func:`grid_frequency`), then refined on the
-    grid's neighbours.
+    It is searched between the two resonances widened by 20 % on both sides
+    (:func:`grid_frequency`), then refined on the grid's neighbours. With well-separated
+    modes this lands between them, close to the one with the larger force factor. It is a
+    proxy, not the fastest drive: the product ignores the phase between the two motions,
+    which sets the free tip's ellipse (:func:`tip_ellipse_area`), yet the product's point
+    drove a tuned plate (L1 = B2, nearly in phase there) 13 times faster than the largest
+    ellipse's point did (docs/contact.md section 6); the contact's stiffness shifts the
+    loaded phases away from the free ones.
     """
     from scipy.optimize import minimize_scalar
 
     best, step = grid_frequency(params)
-    res = minimize_scalar(lambda f: -tip_ellipse_area(params, f),
+    res = minimize_scalar(lambda f: -tip_amplitude_product(params, f),
                           bounds=(best - step, best + step), method="bounded",
                           options={"xatol": 1e-3})
     return float(res.x)
 
 
 WEAK_DRIVE_SHARE = 0.5
-"""Share of its own operating point's free tip ellipse (area, :func:`auto_frequency`) below
-which the default drive frequency is said to miss a set's modes."""
+"""Share of the free tip amplitudes' product at its own operating point
+(:func:`auto_frequency`) below which the default drive frequency is said to miss a set's
+modes."""
 
 
 class WeakDriveWarning(UserWarning):
-    """The default 40 kHz drive is far from the set's modes: its free tip ellipse there is
-    below :data:`WEAK_DRIVE_SHARE` of the one at its own operating point."""
+    """The default 40 kHz drive is far from the set's modes: the product of its free tip
+    amplitudes there is below :data:`WEAK_DRIVE_SHARE` of the one at its own operating
+    point."""
 
 
 def drive_share(params: MotorParams, frequency_Hz: float) -> tuple[float, float]:
-    """``(share, best)``: the free tip ellipse's area at ``frequency_Hz`` over the one at the
-    set's operating point ``best`` (Hz, :func:`auto_frequency`); ``(1, frequency_Hz)`` when
-    the set drives no ellipse anywhere (no better frequency exists).
+    """``(share, best)``: the product of the free tip amplitudes at ``frequency_Hz`` over the
+    one at the set's operating point ``best`` (Hz, :func:`auto_frequency`);
+    ``(1, frequency_Hz)`` when the set drives no tip motion anywhere (no better frequency
+    exists).
 
     The grid's best is tried first: a drive at least :data:`WEAK_DRIVE_SHARE` of it needs no
     optimizer (the refined best is at least the grid's, so the share could only fall), and
     SciPy's import is left out of such a call; the share is then against the grid's best.
     """
-    at_drive = tip_ellipse_area(params, frequency_Hz)
+    at_drive = tip_amplitude_product(params, frequency_Hz)
     try:
         best, _ = grid_frequency(params)
-    except ValueError:  # no ellipse at any frequency
+    except ValueError:  # a force factor zero: no product at any frequency
         return 1.0, float(frequency_Hz)
-    top = tip_ellipse_area(params, best)
+    top = tip_amplitude_product(params, best)
     if at_drive >= 1.01 * WEAK_DRIVE_SHARE * top:
         return at_drive / top, best
     best = auto_frequency(params)
-    top = tip_ellipse_area(params, best)
+    top = tip_amplitude_product(params, best)
     return (at_drive / top if top > 0 else 1.0), best
 
 
@@ -123,8 +125,9 @@ def default_drive_Hz(params: MotorParams, frequency_Hz: float | None,
     if share < WEAK_DRIVE_SHARE:
         warnings.warn(WeakDriveWarning(
             f"frequency_Hz: the default {PAPER_DRIVE_HZ:g} Hz misses this set's modes (L1 "
-            f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the free tip ellipse "
-            f"there is {share:.2g} of the one at its own operating point, {best:.0f} Hz "
+            f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the product of the free "
+            f"tip's amplitudes there is {share:.2g} of the one at its own operating point, "
+            f"{best:.0f} Hz "
             f"(contact.drive.auto_frequency)"), stacklevel=stacklevel)
     return PAPER_DRIVE_HZ
 

@@ -882,6 +882,81 @@ def _default_coupling_claims() -> tuple[Claim, ...]:
         for c in ("paper", "consistent") for v in _COUPLING_VOLTS)
 
 
+_PROXY_SETS = (
+    ("table2", "", "lusm simulate --voltage 300 --preload 14 --steady --frequency {f}"),
+    ("fem", "", "lusm simulate --source fem --voltage 300 --preload 14 --steady --frequency {f}"),
+    ("t40", _TUNED, "lusm characteristic --geometry " + _TUNED
+     + " --voltage 400 --preload 14 --frequency {f}"),
+    ("t40fit", _FITTED, "lusm characteristic --geometry " + _FITTED
+     + " --voltage 400 --preload 14 --frequency {f}"),
+)
+"""(tag, stator file or "", command) of docs/contact.md section 6's comparison of the
+operating point's proxy (the amplitudes' product, ``auto``) with the largest free ellipse."""
+
+
+def _largest_ellipse_Hz(p) -> float:
+    """Where the free tip ellipse's true area is largest, searched as ``auto_frequency``
+    searches the amplitudes' product (grid between the widened resonances, then bounded)."""
+    import numpy as np
+    from scipy.optimize import minimize_scalar
+
+    from contact.drive import GRID_POINTS, tip_ellipse_area
+
+    f1, f2 = sorted((p.f_L1_Hz, p.f_B2_Hz))
+    grid = np.linspace(0.8 * f1, 1.2 * f2, GRID_POINTS)
+    best = grid[int(np.argmax([tip_ellipse_area(p, f) for f in grid]))]
+    step = grid[1] - grid[0]
+    res = minimize_scalar(lambda f: -tip_ellipse_area(p, f), bounds=(best - step, best + step),
+                          method="bounded", options={"xatol": 1e-3})
+    return float(res.x)
+
+
+@cache
+def _drive_proxies() -> dict[str, float]:
+    """Frequencies and motor answers at the product's point and at the largest ellipse's."""
+    from contact.characteristic import characteristic
+    from contact.drive import auto_frequency
+    from contact.model import default_coupling
+    from contact.simulate import simulate
+    from rom.from_fem import fem_params_from_file
+    from rom.sources import get_params
+
+    out: dict[str, float] = {}
+    for tag, path, _ in _PROXY_SETS:
+        p = (_table2() if tag == "table2" else get_params("fem") if tag == "fem"
+             else fem_params_from_file(ROOT / path))
+        coupling = default_coupling(p)[0]
+        for which, f in (("product", auto_frequency(p)), ("ellipse", _largest_ellipse_Hz(p))):
+            out[f"{tag}_{which}_Hz"] = f
+            if path:
+                c = characteristic(p, 400.0, 14.0, frequency_Hz=f, coupling=coupling)
+                out[f"{tag}_{which}_v0"] = c.no_load_velocity_m_s
+                out[f"{tag}_{which}_stall"] = c.stall_force_N
+            else:
+                r = simulate(p, 300.0, 14.0, f, coupling=coupling, method="steady")
+                out[f"{tag}_{which}_v"] = r.steady.velocity_m_s
+    return out
+
+
+def _drive_proxy_claims() -> tuple[Claim, ...]:
+    """docs/contact.md section 6: the operating point's proxy against the largest ellipse."""
+    out = []
+    for tag, path, cmd in _PROXY_SETS:
+        quantities = (("v0", "m/s"), ("stall", "N")) if path else (("v", "m/s"),)
+        for which in ("product", "ellipse"):
+            f_cmd = cmd.format(f=f"F (F: drive_proxy_{tag}_{which}_Hz)")
+            out.append(Claim(f"drive_proxy_{tag}_{which}_Hz", "Hz",
+                             "python -m validation.doc_numbers --show "
+                             f"drive_proxy_{tag}_{which}_Hz (auto_frequency for the product; "
+                             "the same search of contact.drive.tip_ellipse_area for the "
+                             "ellipse)",
+                             lambda k=f"{tag}_{which}_Hz": _drive_proxies()[k]))
+            for q, unit in quantities:
+                out.append(Claim(f"drive_proxy_{tag}_{which}_{q}", unit, f_cmd,
+                                 lambda k=f"{tag}_{which}_{q}": _drive_proxies()[k]))
+    return tuple(out)
+
+
 # --- docs/contact.md: the remaining figures of sections 3-6 ------------------------------
 
 
@@ -1940,6 +2015,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_parametric_claims(),
     *_fitted_damping_claims(),
     *_default_coupling_claims(),
+    *_drive_proxy_claims(),
     *_motor_claims(),
     *_contact_claims(),
     *_steady_claims(),

@@ -670,7 +670,8 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
             add(o, gdims + mdims, stack(o), unit, meaning)
     if study.needs_motor and study.auto_frequency:
         add("f_drive", gdims, stack("f_drive"), "Hz",
-            "drive frequency (auto: largest free tip ellipse, contact.drive.auto_frequency)")
+            "drive frequency (auto: largest product of the free tip amplitudes, "
+            "contact.drive.auto_frequency)")
     add("status", gdims, stack("status").astype(object), "",
         "'ok', or why the geometry or some of its drive points failed")
     s = study.solver

@@ -1078,12 +1078,12 @@ def warn_unexcited_mode(params, electrodes) -> None:
 
 
 def warn_default_frequency(params, frequency_Hz: float) -> None:
-    """Warn when ``--frequency`` was left at its default and the set's free tip ellipse
-    there is below :data:`contact.drive.WEAK_DRIVE_SHARE` of the one at its own operating
-    point (:func:`contact.drive.drive_share`): a stator file with modes at 47.7 kHz gave a
-    stall force of 0.26 N and a no-load speed of 5.7e-5 m/s at the default 40 kHz, without a
-    word, where `--frequency auto` gives 1.40 N and 0.041 m/s. A frequency the user typed
-    is theirs."""
+    """Warn when ``--frequency`` was left at its default and the product of the set's free
+    tip amplitudes there is below :data:`contact.drive.WEAK_DRIVE_SHARE` of the one at its
+    own operating point (:func:`contact.drive.drive_share`): a stator file with modes at
+    47.7 kHz gave a stall force of 0.26 N and a no-load speed of 5.7e-5 m/s at the default
+    40 kHz, without a word, where `--frequency auto` gives 1.40 N and 0.041 m/s. A frequency
+    the user typed is theirs."""
     if typed("--frequency"):
         return
     from contact.drive import WEAK_DRIVE_SHARE, drive_share
@@ -1091,8 +1091,9 @@ def warn_default_frequency(params, frequency_Hz: float) -> None:
     share, best = drive_share(params, frequency_Hz)
     if share < WEAK_DRIVE_SHARE:
         warn(f"--frequency: the default {frequency_Hz:g} Hz misses this set's modes (L1 "
-             f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the free tip ellipse "
-             f"there is {share:.2g} of the one at its own operating point, {best:.0f} Hz; "
+             f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the product of the free "
+             f"tip's amplitudes there is {share:.2g} of the one at its own operating point, "
+             f"{best:.0f} Hz; "
              f"--frequency auto drives it there")
 
 
