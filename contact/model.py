@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,13 +71,40 @@ def default_coupling(params: MotorParams) -> tuple[str, str]:
     return "consistent", "auto: work-consistent for a set that is not Table 2's"
 
 
+class CouplingSwitchWarning(UserWarning):
+    """``coupling="auto"`` runs an edited copy of Table 2's set (its ``source`` still Table
+    2's) with the work-consistent coupling, not the paper's that Table 2 itself runs with."""
+
+
+def _edited_table2(params: MotorParams) -> bool:
+    """Whether ``params`` is a copy of Table 2's set with some value changed: its source text
+    is still Table 2's (``dataclasses.replace`` keeps it; a ``--params`` file's edit note is
+    appended after " [edited in ")."""
+    from rom.table2 import table2
+
+    return params.source.split(" [edited in ")[0] == table2().source
+
+
 def resolve_coupling(params: MotorParams, coupling: str) -> str:
     """``coupling`` itself, or for ``"auto"`` (every entry point's default, as the CLI's)
     :func:`default_coupling` of ``params``. The library defaulted to ``"paper"`` for every
     set while the CLI ran non-Table-2 sets with the consistent coupling: the beam set at
-    300 V / 14 N was held in ``simulate`` and moved at 4.1e-5 m/s in ``lusm simulate``."""
+    300 V / 14 N was held in ``simulate`` and moved at 4.1e-5 m/s in ``lusm simulate``.
+
+    An edited copy of Table 2's set gets the consistent coupling under ``"auto"``, with a
+    :class:`CouplingSwitchWarning`: a slider mass changed by 1e-9 had moved 200 V / 14 N from
+    0.0076 to 0.043 m/s without a word (found by a physics audit; the CLI warned for
+    ``--params`` files only)."""
     if coupling == "auto":
-        return default_coupling(params)[0]
+        chosen = default_coupling(params)[0]
+        if chosen != "paper" and _edited_table2(params):
+            warnings.warn(CouplingSwitchWarning(
+                "coupling='auto': this set is an edited copy of Table 2's (its source is "
+                "still Table 2's), so it runs with the work-consistent coupling, not the "
+                "paper's that Table 2's own set runs with; the switch alone changes the "
+                "speed several-fold: pass coupling='paper' to see the effect of the edit "
+                "alone (docs/contact.md 2.3.1)"), stacklevel=3)
+        return chosen
     if coupling not in COUPLINGS:
         raise ValueError(f"coupling must be one of {COUPLING_CHOICES}, got {coupling!r}")
     return coupling
