@@ -606,6 +606,36 @@ def test_a_studys_contact_solves_are_bounded_in_all():
     assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
 
 
+def test_a_studys_fe_work_is_bounded_in_all():
+    """100 000 plates at fe_refine 48 (each mesh within the single-solve bound, the count at
+    the geometry limit) had started, days of work, the client at 3.3 GB after a minute. The
+    study's elements x solves is now bounded before any work, counted at its largest plate:
+    the sum over the plates' own meshes is below that count, and above the limit."""
+    import time
+
+    from fem.mesh import structured_mesh
+    from validation.study import MAX_STUDY_FE_WORK
+
+    axes = {"length": {"start": "20 mm", "stop": "40 mm", "num": 1000},
+            "width": {"start": "5 mm", "stop": "10 mm", "num": 100}}
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=r"100000 geometries \(FE solves\) x 18865 2D "
+                                         r"elements .* above the limit 1e\+07"):
+        study_from_dict({"outputs": ["f_L1_short"], "axes": axes,
+                         "solver": {"fe_refine": 48}})
+    assert time.perf_counter() - t0 < 30  # before any FE work (a bound, not a timing claim)
+    # an independent count: the real meshes of a sample of the plates, scaled to the grid
+    from fem.geometry import PlateStator
+
+    sample = [structured_mesh(PlateStator(length_m=L * 1e-3, width_m=W * 1e-3), 48).quads.shape[1]
+              for L in (20.0, 30.0, 40.0) for W in (5.0, 7.5, 10.0)]
+    assert max(sample) <= 18865 and sum(sample) / len(sample) * 100_000 > MAX_STUDY_FE_WORK
+    # the same grid at the default mesh of a compact plate stays allowed
+    axes["length"] = {"start": "28 mm", "stop": "32 mm", "num": 1000}
+    axes["width"] = {"start": "7 mm", "stop": "8 mm", "num": 10}
+    assert study_from_dict({"outputs": ["f_L1_short"], "axes": axes}).n_geometries == 10_000
+
+
 def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
     """100 voltages x 100 preloads of 2 s event runs (2e11 time steps, hours) were taken where
     lusm map --method transient refuses 4e8; a steady study was allowed 1e6 contact solves

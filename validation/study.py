@@ -130,6 +130,13 @@ period); the study had run 5 ms at exactly 100 ns."""
 
 MAX_GEOMETRIES = 100_000
 """FE solves of one study (multiplied by ``LUSM_MAX_WORK``)."""
+MAX_STUDY_FE_WORK = 10_000_000
+"""2D elements x FE solves of one study, each plate counted at the study's largest mesh
+(multiplied by ``LUSM_MAX_WORK``): a hundred times a sweep's bound
+(:data:`validation.limits.MAX_FE_WORK_2D`), as a study runs on a cluster: 100 000 default
+plates (85 elements each) or 1 000 at ``fe_refine = 48``. The geometry count alone had let
+100 000 plates at ``fe_refine = 48`` start (days of work; the client was at 3.3 GB after a
+minute)."""
 MAX_DRIVE_POINTS = 10_000
 """Drive points of one geometry (multiplied by ``LUSM_MAX_WORK``)."""
 MAX_STUDY_POINTS = 1_000_000
@@ -881,6 +888,15 @@ def _check_work(study: Study, where: str) -> None:
                          f"{length * 1e3:g} x {width * 1e3:g} mm plate of the study needs "
                          f"{cells} 2D elements, above the limit {top}; lower solver.fe_refine "
                          f"or make the plates less elongated ({limits.more_work_hint()})")
+    top = limits.work_bound(MAX_STUDY_FE_WORK)
+    fe_work = cells * study.n_geometries
+    if fe_work > top:
+        about = "about " if estimated else ""
+        raise ValueError(f"{where}axes: {study.n_geometries} geometries (FE solves) x {about}"
+                         f"{cells} 2D elements (the study's largest plate, {length * 1e3:g} x "
+                         f"{width * 1e3:g} mm) = {fe_work:.3g} elements x solves is above the "
+                         f"limit {top:.3g}; fewer geometries, or a coarser mesh (solver.fe_refine"
+                         f" {study.solver.fe_refine}) ({limits.more_work_hint()})")
     top = limits.work_bound(MAX_DRIVE_POINTS)
     if study.n_drive_points > top:
         raise ValueError(f"{where}axes: {study.n_drive_points} drive points per geometry is "
