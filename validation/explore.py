@@ -961,6 +961,18 @@ def _workers_ignoring_sigint():
         multiprocessing.set_executable(before)
 
 
+IN_FLIGHT_PER_WORKER = 4
+"""Geometry tasks kept submitted per worker (at least :data:`MIN_IN_FLIGHT`): enough to keep
+each worker busy while the client writes parts, few enough that the client's memory does not
+grow with the study."""
+MIN_IN_FLIGHT = 16
+
+
+def in_flight(workers: int, tasks: int) -> int:
+    """Tasks to keep submitted on ``workers`` workers out of ``tasks`` left."""
+    return min(tasks, max(MIN_IN_FLIGHT, IN_FLIGHT_PER_WORKER * max(workers, 1)))
+
+
 def connect(scheduler: str | None = None, scheduler_file: str | None = None,
             workers: int = DEFAULT_WORKERS):
     """A client to ``scheduler`` / ``scheduler_file``, or to a new LocalCluster.
@@ -1121,7 +1133,10 @@ def explore(
         if todo:
             if client is None:
                 try:
-                    client, cluster = connect(scheduler, scheduler_file, workers)
+                    # no more local processes than geometries to compute (8 workers for 2
+                    # tasks had started 330 MB of idle processes)
+                    client, cluster = connect(scheduler, scheduler_file,
+                                              max(1, min(workers, len(todo))))
                     own = (client, cluster)
                     if cluster is None:  # someone else's cluster: same lusm as ours?
                         option = "--scheduler" if scheduler else "--scheduler-file"
@@ -1136,15 +1151,33 @@ def explore(
             try:
                 result.workers = len(client.scheduler_info()["workers"])
                 run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
-                futures = [client.submit(compute_geometry, study, i, pure=False,
-                                         key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
-                           for i in todo]
-                index = {f.key: i for f, i in zip(futures, todo, strict=True)}
+                live, index = set(), {}  # submitted and not yet taken in
+                waiting = iter(todo)
+
+                def submit_next():
+                    """Submit the next geometry, if any (returns its future or None)."""
+                    i = next(waiting, None)
+                    if i is None:
+                        return None
+                    fut = client.submit(compute_geometry, study, i, pure=False,
+                                        key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
+                    live.add(fut)
+                    index[fut.key] = i
+                    return fut
+
+                # a bounded window of tasks in flight, topped up as each finishes (dask's
+                # as_completed(...).add pattern): a future per geometry up front had grown
+                # the client by 55 MB/s towards 100 000 of them before any part was written
+                window = [submit_next() for _ in range(in_flight(result.workers, len(todo)))]
                 bar = _bar(len(todo) + len(parts), len(parts), progress)
                 try:
-                    for fut in as_completed(futures):
+                    completed = as_completed(window)
+                    for fut in completed:
+                        nxt = submit_next()
+                        if nxt is not None:
+                            completed.add(nxt)
                         data = fut.result()
-                        i = index[fut.key]
+                        i = index.pop(fut.key)
                         if str(data.get("code_sha256")) != code_digest():
                             # a worker that joined after check_workers, with other code
                             where = ("--scheduler" if scheduler else "--scheduler-file"
@@ -1163,13 +1196,14 @@ def explore(
                         parts[i] = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
                         result.computed += 1
                         bar.update(1)
+                        live.discard(fut)
                         fut.release()
                         checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
                         if on_part is not None:
                             on_part(i)
                 finally:
                     bar.close()
-                    for f in futures:
+                    for f in live:
                         f.cancel()
             except BaseException:
                 if created and result.computed == 0:  # nothing was computed: leave no trace
