@@ -771,6 +771,15 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
     assert not (tmp_path / "b.nc").exists()
     assert len(list(parts_folder(tmp_path / "b.nc").glob("g*.npz"))) == 2
     assert f"kept in {parts_folder(tmp_path / 'b.nc')}" in err
+    # the same command again had said "an unfinished run; pass --resume", whose --resume
+    # gave the first refusal again: a circle. It is a finished run, and says so
+    argv = ["explore", str(path), "--out", str(tmp_path / "b.nc"), "--workers", "1"]
+    assert main(argv) == 2
+    again = capsys.readouterr().err.strip()
+    assert "holds a finished run in which no geometry computed fully" in again
+    assert "remove that folder to run a corrected study" in again and "unfinished" not in again
+    assert main(argv + ["--resume"]) == 2
+    assert "no geometry of the study computed fully (2 of 2" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("argv, words", [

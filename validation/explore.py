@@ -549,6 +549,13 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
                              "that are not its own there); move it away or choose another "
                              "--out")
         if not resume:
+            if all(_part_path(folder, i).exists() for i in range(study.n_geometries)):
+                # every geometry done and none fully: the run ended by refusing to write a
+                # dataset of NaN; "unfinished, pass --resume" sent the user round in a circle
+                raise ValueError(f"--out {out}: {folder} holds a finished run in which no "
+                                 "geometry computed fully (each part's reason in its "
+                                 "'status'; --resume says the first again); remove that "
+                                 "folder to run a corrected study")
             raise ValueError(f"--out {out}: {folder} holds an unfinished run; pass --resume to "
                              "continue it, or remove that folder to start over")
         try:
