@@ -850,8 +850,27 @@ def test_a_transient_point_that_did_not_settle_is_said_so(tmp_path, capsys):
     status = str(ds["status"].item())
     assert status.startswith("1 drive point(s) not settled within solver.duration 0.005 s")
     assert "200 V, 0 N" in status
-    _report_failures(ds, tmp_path / "r.nc")  # a warning, not a refusal
-    assert "did not settle" in capsys.readouterr().err
+    said = _report_failures(ds, tmp_path / "r.nc")  # a warning, not a refusal
+    err = capsys.readouterr().err
+    assert "did not settle" in err and len(said) == 1 and said[0] in err
+
+
+def test_the_json_summary_carries_the_settling_warning(tmp_path, capsys):
+    """--json's "warnings" was [] while stderr said drive points had not settled (found by
+    exploratory testing): a script reading the JSON could not see it."""
+    import json
+
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('outputs = ["no_load_velocity"]\n[axes]\nvoltage = "200 V"\n'
+                    'preload = ["0 N", "14 N"]\n[solver]\nfe_refine = 1\nmethod = "event"\n'
+                    'duration = "5 ms"\n')
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1",
+                 "--json"]) == 0
+    cap = capsys.readouterr()
+    warnings = json.loads(cap.out)["warnings"]
+    assert any("did not settle" in w for w in warnings) and "did not settle" in cap.err
 
 
 def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(

@@ -102,7 +102,9 @@ def run(args: argparse.Namespace) -> None:
                          resume=args.resume, force=args.force, progress=not args.json)
         for text in result.warnings:  # said once each, as every command says a warning
             warn(in_study_terms(text))
-        _report_failures(open_result(result.path), result.path)
+        # the failure and settling warnings go into --json's "warnings" too (a script
+        # reading it saw [] where stderr said drive points had not settled)
+        result.warnings += _report_failures(open_result(result.path), result.path)
     except NothingComputedError:
         raise  # its message says where the parts are kept
     except (KeyboardInterrupt, Terminated):
@@ -237,23 +239,27 @@ def _warn_holes(study) -> None:
     warn_holes(plate, f"study.stator {study.stator.path}")
 
 
-def _report_failures(ds, path) -> None:
+def _report_failures(ds, path) -> list[str]:
     """Say which geometries did not compute fully (their reasons are in the dataset's
-    ``status``). A study where none did has no dataset: :func:`validation.explore.explore`
-    refused it (it exited 0 with a dataset of NaN, then 2 with one)."""
+    ``status``), and return what was said. A study where none did has no dataset:
+    :func:`validation.explore.explore` refused it (it exited 0 with a dataset of NaN, then 2
+    with one)."""
     from validation.explore import computed_fully
 
+    said = []
     status = [str(x) for x in ds["status"].values.ravel()]
     slow = [x for x in status if " not settled within " in x]
     if slow:  # computed, but a transient's end is not a steady state: said, not refused
-        warn(f"{len(slow)} of {len(status)} geometries have drive points that did not settle "
-             f"(in {path}, variable 'status'); first: {slow[0]}")
+        said.append(f"{len(slow)} of {len(status)} geometries have drive points that did not "
+                    f"settle (in {path}, variable 'status'); first: {slow[0]}")
     bad = [x for x in status if not computed_fully(x)]
-    if not bad:
-        return
-    from validation.errors import short_reason
+    if bad:
+        from validation.errors import short_reason
 
-    first = short_reason(bad[0]).replace("dt_s", "solver.dt").replace("frequency_Hz",
-                                                                       "frequency")
-    warn(f"{len(bad)} of {len(status)} geometries did not compute fully (each one's reason is "
-         f"in {path}, variable 'status'); first: {first}")
+        first = short_reason(bad[0]).replace("dt_s", "solver.dt").replace("frequency_Hz",
+                                                                           "frequency")
+        said.append(f"{len(bad)} of {len(status)} geometries did not compute fully (each "
+                    f"one's reason is in {path}, variable 'status'); first: {first}")
+    for text in said:
+        warn(text)
+    return said
