@@ -1511,3 +1511,31 @@ def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
         written = design_maps(ds, tmp_path) + design_maps(one, tmp_path)
     assert len(written) == 4 and len(curves) == 2
     assert all(np.all(np.diff(x) > 0) for x in curves)
+
+
+@pytest.mark.parametrize("solver, outputs, words", [
+    ({"method": "event", "accuracy": "fast"}, ["no_load_velocity"],
+     "solver.accuracy is unused: a setting of the steady engine, and method = 'event'"),
+    ({"method": "literal", "rest": "probe"}, ["no_load_velocity"], "solver.rest is unused"),
+    ({"method": "steady", "dt": "1 ns"}, ["no_load_velocity"],
+     "solver.dt is unused: the steady engine takes its own time step"),
+    ({"accuracy": "fast", "rest": "transient"}, ["no_load_velocity"],
+     'solver.rest is unused: it decides the start from rest at accuracy = "exact" only'),
+    ({"method": "event", "duration": "5 ms"}, ["f_L1_short"],
+     "solver.method and solver.duration are unused: the study asks for FE outputs only"),
+])
+def test_solver_settings_a_study_does_not_use_are_said(solver, outputs, words):
+    """Settings the study's method ignores ran without a word (found by exploratory testing);
+    each is now a warning, as the commands warn of options that do nothing. A study that
+    uses what it sets stays quiet."""
+    import re
+    import warnings
+
+    with pytest.warns(UserWarning, match=re.escape(words)):
+        study_from_dict({"outputs": outputs, "axes": {"voltage": "200 V"}, "solver": solver})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
+                         "solver": {"method": "event", "duration": "5 ms", "dt": "100 ns"}})
+        study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
+                         "solver": {"accuracy": "exact", "rest": "transient"}})

@@ -594,6 +594,7 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
         warnings.warn(f"{where}solver.fe_refine is unused: study.stator {design.path} is "
                       f"meshed by {how}", stacklevel=2)
     study = Study(name, axes, outputs, solver, source, stator=design)
+    _warn_unused_solver(study, raw_solver, where)
     _check_geometry_count(study, where)  # before building the plates one by one
     if design is not None:
         _check_stator_plates(study, where)
@@ -857,6 +858,31 @@ def _check_contact_work(study: Study, where: str) -> None:
     reason = contact_work_problem(study, work, detail)
     if reason is not None:
         raise ValueError(f"{where}{reason}")
+
+
+def _warn_unused_solver(study: Study, raw: dict, where: str) -> None:
+    """Warn of ``[solver]`` keys the study sets that its method does not use, as the commands
+    warn of options that do nothing (``accuracy`` with a transient method, ``dt`` with the
+    steady engine and ``rest`` at the fast level ran without a word; found by exploratory
+    testing)."""
+    import warnings
+
+    contact_keys = ("method", "duration", "dt", "accuracy", "rest", "ultrasonic_friction")
+    s = study.solver
+    if not study.needs_motor:
+        unused = {k: "the study asks for FE outputs only" for k in contact_keys}
+    elif s.method == "steady":
+        unused = {k: "the steady engine takes its own time step" for k in ("duration", "dt")}
+        if s.accuracy == "fast":
+            unused["rest"] = "it decides the start from rest at accuracy = \"exact\" only"
+    else:
+        why = f"a setting of the steady engine, and method = {s.method!r} is a transient"
+        unused = {"accuracy": why, "rest": why}
+    keys = [k for k in unused if k in raw]
+    if keys:
+        names = " and ".join(f"solver.{k}" for k in keys)
+        warnings.warn(f"{where}{names} {'is' if len(keys) == 1 else 'are'} unused: "
+                      f"{unused[keys[0]]}", stacklevel=3)
 
 
 def _check_geometry_count(study: Study, where: str) -> None:
