@@ -60,6 +60,14 @@ def test_design_report_numbers_are_the_commands_numbers(design_report):
     for m in ("L1", "B2"):
         assert lo < modes[m]["f_short_Hz"] < modes[m]["f_open_Hz"] < hi
     assert doc["parameters"]["phi_Bl"] != 0.0
+    # the mesh is described as the command meshes it: the file's, no refine (the report had
+    # said "order 2, refine 4" where lusm modes --json says refine null)
+    md = (design_report[0] / "index.md").read_text()
+    assert modes["refine"] is None
+    assert "2D plane-stress model (order 2, the stator file's own mesh," in md
+    # section 4 names a state as lusm simulate --steady does: a held slider is pure-stick
+    section = md.split("## 4. Speed against voltage")[1].split("## 5.")[0]
+    assert "dead-zone" not in section
 
 
 def test_a_difference_below_the_printed_decimals_keeps_its_size_and_sign():

@@ -54,6 +54,7 @@ from validation.study import (
     Study,
     plate_with,
 )
+from validation.summaries import motion_class
 
 FE_SCALARS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff_L1", "k_eff_B2",
               "split", "f_drive")
@@ -223,7 +224,7 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
             at.update(zip(map(float, loaded.load_N), map(float, loaded.velocity_m_s),
                           strict=True))
         eff = np.asarray(curve.efficiency, dtype=float)
-        motion = _motion_class(res.from_rest, res.velocity_m_s)
+        motion = motion_class(res.from_rest, res.velocity_m_s)
         return {"no_load_velocity": float(res.velocity_m_s),
                 "stall_force": float(curve.stall_force_N),
                 "peak_efficiency": float(np.nanmax(eff)) if np.isfinite(eff).any() else math.nan,
@@ -241,20 +242,6 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     return {"no_load_velocity": v0, "stall_force": math.nan, "peak_efficiency": math.nan,
             "motion_class": r.steady.motion, "velocity": velocity,
             "settled": bool(r.steady.settled)}
-
-
-def _motion_class(branch, velocity_m_s: float) -> str:
-    """The motion class ``lusm simulate --steady`` gives the same steady state: that of
-    :func:`contact.results.steady_metrics` from the phase fractions of the branch reached
-    from rest (``"failed"`` when there is none). The branch's own ``motion`` says
-    ``"dead-zone"`` for a held slider, where simulate says ``"pure-stick"`` (``"separated"``
-    at 0 V and 0 N): a study and the single-point command named one state two ways."""
-    from contact.results import steady_metrics
-
-    if branch is None:
-        return "failed"
-    v = float(velocity_m_s)
-    return steady_metrics(v, v, branch.phase_fraction, math.nan, math.nan, 1.0).motion
 
 
 def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:

@@ -7,6 +7,7 @@ damping ratios in use and where they came from (Table 2, a stator file's ``[damp
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict
 from typing import TYPE_CHECKING
 
@@ -140,3 +141,18 @@ def signed_percent(x: float, decimals: int) -> str:
     if x != 0 and abs(x) * 100 < 0.5 * 10.0 ** -decimals:
         return f"{x * 100:+.1e}%"
     return f"{x:+.{decimals}%}"
+
+
+def motion_class(branch, velocity_m_s: float) -> str:
+    """The motion class ``lusm simulate --steady`` gives the same steady state: that of
+    :func:`contact.results.steady_metrics` from the phase fractions of the branch reached
+    from rest (``"failed"`` when there is none). The branch's own ``motion`` says
+    ``"dead-zone"`` for a held slider, where simulate says ``"pure-stick"`` (``"separated"``
+    at 0 V and 0 N): a study, the report and the single-point command had named one state
+    two ways."""
+    from contact.results import steady_metrics
+
+    if branch is None:
+        return "failed"
+    v = float(velocity_m_s)
+    return steady_metrics(v, v, branch.phase_fraction, math.nan, math.nan, 1.0).motion
