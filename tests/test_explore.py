@@ -1539,3 +1539,17 @@ def test_solver_settings_a_study_does_not_use_are_said(solver, outputs, words):
                          "solver": {"method": "event", "duration": "5 ms", "dt": "100 ns"}})
         study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
                          "solver": {"accuracy": "exact", "rest": "transient"}})
+
+
+def test_the_summary_says_which_axes_make_its_drive_points(tmp_path, capsys):
+    """"1 geometry x 4 drive points" for one voltage, one preload and four loads read as four
+    voltage-preload points, the work bounds' sense of the words (exploratory testing)."""
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('outputs = ["no_load_velocity"]\n[axes]\nvoltage = ["200 V", "300 V"]\n'
+                    'preload = "14 N"\nload = ["0 N", "0.1 N"]\n[solver]\nfe_refine = 1\n'
+                    'method = "event"\nduration = "2 ms"\n')
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "1 geometry x 4 drive points (2 voltages x 1 preload x 2 loads)" in out

@@ -156,7 +156,11 @@ def run(args: argparse.Namespace) -> None:
     def plural(n: int, word: str, many: str) -> str:
         return f"{n} {word if n == 1 else many}"
 
+    # the axes behind the count: a study's drive points include its loads, where the work
+    # bounds' "drive points" (docs/limits.md) are voltage x preload (x frequency)
+    axes = [plural(len(study.axes[a]), a, a + "s") for a in study.drive_dims]
     drive = (f" x {plural(result.drive_points, 'drive point', 'drive points')}"
+             + (f" ({' x '.join(axes)})" if len(axes) > 1 else "")
              if study.needs_motor else " (FE outputs only)")
     print(f"study {study.name!r}: {plural(result.geometries, 'geometry', 'geometries')}"
           f"{drive}; {result.computed} "
