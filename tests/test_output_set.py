@@ -265,8 +265,38 @@ def test_a_users_file_named_like_the_marker_is_kept_under_force(tmp_path):
     assert json.loads((out / MARKER).read_text())["kind"] == "sweep"
     with output_set(out, "render", force=True) as stage:
         _write(stage, {"r.png": "2"})
-    assert json.loads((out / f"{MARKER}.bak-2").read_text())["kind"] == "sweep"
-    assert json.loads((out / MARKER).read_text())["kind"] == "render"
+    marker = json.loads((out / MARKER).read_text())
+    assert marker["kind"] == "render" and set(marker["sets"]) == {"sweep", "render"}
+    assert marker["sets"]["sweep"]["files"] == ["s.png"]
+
+
+def test_another_commands_set_written_beside_keeps_both_lusms(tmp_path, capsys):
+    """--force of one command's set into another's folder (a characteristic's PNG into a
+    report) had kept the report's list aside as a .bak marker: the report's files were then
+    no longer lusm's, and the next report refused the folder, or with --force kept each of
+    its own files aside as .bak. Both sets are now recorded: each command replaces its own
+    unchanged files cleanly and leaves the other's alone."""
+    out = tmp_path / "rep"
+    with output_set(out, "report") as stage:
+        _write(stage, {"index.md": "r1", "figures/a.png": "a1"})
+    with output_set(out, "characteristic", force=True) as stage:
+        _write(stage, {"characteristic.png": "c1"})
+    with output_set(out, "report") as stage:  # no --force needed: its own set is known
+        _write(stage, {"index.md": "r2", "figures/a.png": "a2"})
+    with output_set(out, "characteristic") as stage:
+        _write(stage, {"characteristic.png": "c2"})
+    assert _snapshot(out) == {"index.md": "r2", "figures/a.png": "a2",
+                              "characteristic.png": "c2"}
+    assert ".bak" not in capsys.readouterr().err
+    # another command's file is not replaced without --force; with it, it is kept aside and
+    # leaves the older set's list
+    with pytest.raises(OutputError, match="already holds 'index.md'"):
+        with output_set(out, "characteristic") as stage:
+            _write(stage, {"index.md": "c's index"})
+    with output_set(out, "characteristic", force=True) as stage:
+        _write(stage, {"characteristic.png": "c3", "index.md": "c's index"})
+    assert (out / "index.md.bak-1").read_text() == "r2"
+    assert "index.md" not in json.loads((out / MARKER).read_text())["sets"]["report"]["files"]
 
 
 def test_a_refusal_after_the_work_names_the_option_typed(tmp_path):

@@ -89,26 +89,45 @@ def _digest(path: Path) -> str | None:
         return None
 
 
+def _sets(marker: dict | None) -> dict[str, dict]:
+    """The file sets a marker records, by the command kind that wrote each: ``{kind: {"files":
+    [...], "sha256": {...}}}``. A marker written before several sets were kept (one
+    ``kind``, its ``files`` and ``sha256``) is the set of its kind."""
+    if marker is None:
+        return {}
+    sets = marker.get("sets")
+    if isinstance(sets, dict):
+        return {k: v for k, v in sets.items() if isinstance(k, str) and isinstance(v, dict)
+                and isinstance(v.get("files"), list)}
+    kind = marker.get("kind")
+    return {kind: {"files": marker["files"], "sha256": marker.get("sha256")}} \
+        if isinstance(kind, str) else {}
+
+
 def _ours(folder: Path, kind: str) -> dict[str, str | None]:
-    """Files the marker of ``kind`` in ``folder`` lists, each with its hash as written.
+    """Files the marker in ``folder`` lists for ``kind``, each with its hash as written.
 
     Unsafe entries are dropped; an entry without a recorded hash maps to None (a marker
     written before hashes were kept), so it is never taken as unchanged.
     """
-    marker = _read_marker(folder)
-    if marker is None or marker.get("kind") != kind:
+    entry = _sets(_read_marker(folder)).get(kind)
+    if entry is None:
         return {}
-    hashes = marker.get("sha256")
+    hashes = entry.get("sha256")
     hashes = hashes if isinstance(hashes, dict) else {}
     return {f: (hashes.get(f) if isinstance(hashes.get(f), str) else None)
-            for f in marker["files"] if _safe_name(folder, f)}
+            for f in entry["files"] if _safe_name(folder, f)}
 
 
 def _write_marker(folder: Path, kind: str, hashes: dict[str, str | None]) -> None:
+    """Record ``hashes`` as ``kind``'s files in ``folder``'s marker, keeping the sets other
+    commands wrote there (``--force`` of a characteristic into a report's folder had kept the
+    report's list aside as a ``.bak`` file, and a later report took its own files for the
+    user's)."""
     files = sorted(hashes)
-    doc = {"kind": kind, "files": files,
-           "sha256": {f: hashes[f] for f in files if hashes[f] is not None}}
+    own = {"files": files, "sha256": {f: hashes[f] for f in files if hashes[f] is not None}}
     path = folder / MARKER
+    sets: dict[str, dict] = {}
     if path.is_symlink() or (path.exists() and not path.is_file()):
         # never write through a link (into whatever it points at): keep it aside
         keep_aside(path, "it is not lusm's marker")
@@ -116,8 +135,17 @@ def _write_marker(folder: Path, kind: str, hashes: dict[str, str | None]) -> Non
         earlier = _read_marker(folder)
         if earlier is None:  # a file of the user's by that name (--force into their folder)
             keep_aside(path, "it is not lusm's marker")
-        elif earlier.get("kind") != kind:  # another command's set: its list is kept too
-            keep_aside(path, f"the marker of lusm {earlier.get('kind')}'s files")
+        else:
+            # the other commands' sets stay, less the files this set now owns
+            for k, entry in _sets(earlier).items():
+                if k == kind:
+                    continue
+                rest = [f for f in entry["files"] if f not in hashes]
+                old = entry.get("sha256") if isinstance(entry.get("sha256"), dict) else {}
+                if rest:
+                    sets[k] = {"files": rest, "sha256": {f: old[f] for f in rest if f in old}}
+    sets[kind] = own
+    doc = {"kind": kind, **own, "sets": sets}
     path.write_text(json.dumps(doc, indent=1))
 
 
@@ -172,7 +200,7 @@ def check_target(target: Path, kind: str, option: str = "--out", force: bool = F
     if target.is_dir() and any(target.iterdir()) and not force:
         marker = _read_marker(target)
         others = [p for p in target.iterdir() if p.name != MARKER]
-        if marker is None or marker.get("kind") != kind or (others and not _ours(target, kind)):
+        if marker is None or kind not in _sets(marker) or (others and not _ours(target, kind)):
             # no marker of ours, or one that lists nothing usable (hand-edited, planted)
             other = marker.get("kind") if marker is not None else None
             whose = (f"holds the output of lusm {other}, not of lusm {kind}"
