@@ -26,6 +26,11 @@ def test_characteristic_json_curve_is_consistent(capsys):
     assert curve[0]["velocity_m_s"] == pytest.approx(doc["no_load_velocity_m_s"])
     # all four loads are below the stall force, so the slider moves against each
     assert doc["stall_force_N"] > 1.5 and all(row["velocity_m_s"] > 0 for row in curve)
+    # a comma list in any order (map's --voltages take one; --loads refused it) is the grid
+    assert main(["characteristic", "--voltage", "400", "--preload", "14",
+                 "--loads", "1.5,0,1,0.5", "--json"]) == 0
+    listed = json.loads(capsys.readouterr().out)
+    assert listed["curve"] == curve and listed["stall_force_N"] == doc["stall_force_N"]
 
 
 def test_the_default_characteristic_is_what_a_start_from_rest_reaches(capsys):

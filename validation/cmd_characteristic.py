@@ -39,8 +39,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     add_drive_options(p, time_steps=False, voltage_list=True)  # steady: no time step
     p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
-                   help="load forces (N), e.g. 0:2:0.1; default 21 loads from 0 to the stall "
-                   "force")
+                   help="load forces (N), e.g. 0:2:0.1 or 0,0.5,1 (as map's --voltages); "
+                   "default 21 loads from 0 to the stall force")
     p.add_argument("--accuracy", choices=("fast", "exact"), default="exact",
                    help="exact: the finite-mass motor from rest at every load (default); "
                    "fast: the averaged steady state (slider mass -> infinity), all loads "
@@ -53,14 +53,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def parse_loads(text: str) -> list[float]:
-    """``START:STOP:STEP`` (N) as a list of loads, STOP included when on the grid.
+    """``START:STOP:STEP`` (N, STOP included when on the grid) or a comma list, as a sorted
+    list of loads (a list in any order draws one curve; ``map`` took lists where
+    ``characteristic`` refused them).
 
     At most :data:`validation.limits.MAX_GRID_POINTS` loads (times ``LUSM_MAX_WORK``), each
     within the load range of ``lusm simulate --load-N``.
     """
     from validation.ranges import parse_range
 
-    loads = parse_range(text, "--loads", allow_list=False)
+    loads = sorted(map(float, parse_range(text, "--loads")))  # repeats refused there
     top = limits.PRELOAD_N[1]
     if max(abs(float(x)) for x in loads) > top:
         raise ValueError(f"--loads must lie in [{-top:g}, {top:g}] N (the range of "
