@@ -945,6 +945,16 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
             ex.connect(scheduler=f"tcp://127.0.0.1:{port}")
     bad = tmp_path / "s.json"
     bad.write_text("{}")
+    with pytest.raises(ValueError, match="^--scheduler-file .*is not a dask scheduler file "
+                                         ".*: it has no 'address'"):
+        ex.connect(scheduler_file=str(bad))
+    # a study file given there had said "cannot connect ... (AssertionError)"
+    bad.write_text('outputs = ["f_L1_short"]\n')
+    with pytest.raises(ValueError, match="^--scheduler-file .*is not a dask scheduler file "
+                                         ".*: not JSON$"):
+        ex.connect(scheduler_file=str(bad))
+    # a well-formed file whose scheduler is gone still says it cannot connect
+    bad.write_text('{"address": "tcp://127.0.0.1:9"}')
     with pytest.raises(ValueError, match="^--scheduler-file .*cannot connect"):
         ex.connect(scheduler_file=str(bad))
 

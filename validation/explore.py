@@ -967,6 +967,27 @@ def in_flight(workers: int, tasks: int) -> int:
     return min(tasks, max(MIN_IN_FLIGHT, IN_FLIGHT_PER_WORKER * max(workers, 1)))
 
 
+MAX_SCHEDULER_FILE_BYTES = 1_000_000
+"""Largest ``--scheduler-file`` read (a dask scheduler file is a few hundred bytes)."""
+
+
+def _check_scheduler_file(path: str) -> None:
+    """Refuse a ``--scheduler-file`` that is not the JSON a dask scheduler writes (an object
+    with its ``address``): a study file given there had said "cannot connect to the dask
+    scheduler (AssertionError)"."""
+    what = (f"--scheduler-file {path} is not a dask scheduler file (the JSON object with an "
+            "'address' that `dask scheduler --scheduler-file` writes)")
+    try:
+        if Path(path).stat().st_size > MAX_SCHEDULER_FILE_BYTES:
+            raise ValueError(f"{what}: it is above {MAX_SCHEDULER_FILE_BYTES} bytes")
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "not JSON"
+        raise ValueError(f"{what}: {reason}") from None
+    if not (isinstance(doc, dict) and isinstance(doc.get("address"), str) and doc["address"]):
+        raise ValueError(f"{what}: it has no 'address'")
+
+
 def connect(scheduler: str | None = None, scheduler_file: str | None = None,
             workers: int = DEFAULT_WORKERS):
     """A client to ``scheduler`` / ``scheduler_file``, or to a new LocalCluster.
@@ -980,6 +1001,8 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
         raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
     if scheduler_file and not Path(scheduler_file).is_file():
         raise ValueError(f"--scheduler-file {scheduler_file} does not exist")
+    if scheduler_file:
+        _check_scheduler_file(scheduler_file)
     if scheduler or scheduler_file:
         option, where = ("--scheduler", scheduler) if scheduler else \
             ("--scheduler-file", scheduler_file)
