@@ -35,7 +35,7 @@ TINY = {
         "preload": "6 N",
         "load": ["0 N", "1 N"],
     },
-    "solver": {"fe_order": 2, "fe_refine": 1, "duration": "4 ms", "dt": "100 ns"},
+    "solver": {"fe_order": 2, "fe_refine": 1},
 }
 """3 x 2 geometries x 2 voltages x 2 loads: one FE solve and 2 runs per task."""
 
@@ -1563,3 +1563,25 @@ def test_the_summary_says_which_axes_make_its_drive_points(tmp_path, capsys):
     assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1"]) == 0
     out = capsys.readouterr().out
     assert "1 geometry x 4 drive points (2 voltages x 1 preload x 2 loads)" in out
+
+
+def test_a_second_resume_while_one_runs_is_refused(study, client, tmp_path):
+    """Two --resume runs at once had both computed every geometry left (found by
+    exploratory testing). A run holds its parts folder's lock: a second one, started while
+    the first is between two geometries, is refused before any work, and the first goes on
+    to the same dataset as ever; once it ends, the folder is gone with its lock."""
+    out = tmp_path / "study.nc"
+    with pytest.raises(Interrupt):
+        explore(study, out, client=client, progress=False,
+                on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
+    refusals = []
+
+    def second_run(i):
+        if not refusals:
+            with pytest.raises(ValueError, match="another lusm explore is running on"):
+                explore(study, out, client=client, progress=False, resume=True)
+            refusals.append(i)
+
+    r = explore(study, out, client=client, progress=False, resume=True, on_part=second_run)
+    assert refusals and r.computed == study.n_geometries - 1
+    assert out.exists() and not parts_folder(out).exists()

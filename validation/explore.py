@@ -579,12 +579,36 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
     return folder, done, created
 
 
+LOCK_FILE = ".lock"
+"""The file of a parts folder a running ``explore`` holds an exclusive ``flock`` on."""
+
+
+def _lock_parts(folder: Path, out: Path) -> int | None:
+    """Hold ``folder``'s lock for this run (the file descriptor; None where ``fcntl`` is
+    missing), or refuse: two ``--resume`` runs at once had both computed every geometry left,
+    and the second failed at the end on the first's dataset. The kernel releases the lock
+    when the process ends, however it ends."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        return None
+    fd = os.open(folder / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        raise ValueError(f"--out {out}: another lusm explore is running on {folder}; wait for "
+                         "it to finish (or stop it) before resuming") from None
+    return fd
+
+
 def _remove_parts(folder: Path, n: int, made: list[Path] = ()) -> None:
     """Remove the files this module wrote, then the folder if nothing else is in it, then
     the folders ``made`` above it (deepest first) that are still empty."""
     for i in range(n):
         _part_path(folder, i).unlink(missing_ok=True)
     (folder / STUDY_FILE).unlink(missing_ok=True)
+    (folder / LOCK_FILE).unlink(missing_ok=True)
     for stray in folder.glob(".g*.npz-*"):  # torn temporaries of ours
         stray.unlink(missing_ok=True)
     for f in (folder, *made):
@@ -1140,111 +1164,116 @@ def explore(
     # before computing anything (an interrupted `--out new/sub/x.nc` left new/sub/ behind)
     made = [p for p in Path(os.path.abspath(out)).parents if not p.exists()]
     folder, parts, created = _open_parts(study, out, resume)
-    # an FE-only study drives nothing (its --json said one drive point per geometry)
-    result = ExploreResult(out, study.n_geometries,
-                           study.n_drive_points if study.needs_motor else 0, reused=len(parts))
-    todo = [i for i in range(study.n_geometries) if i not in parts]
-    own = None  # the client (and cluster) made here, closed here
-    # after a Ctrl-C, dask's teardown of the cancelled work is not news: keep stderr to our line
-    with quiet_logs_after_signal("distributed", "tornado", "tornado.application"):
-        if todo:
-            if client is None:
+    lock = _lock_parts(folder, out)
+    try:
+        # an FE-only study drives nothing (its --json said one drive point per geometry)
+        result = ExploreResult(out, study.n_geometries,
+                               study.n_drive_points if study.needs_motor else 0, reused=len(parts))
+        todo = [i for i in range(study.n_geometries) if i not in parts]
+        own = None  # the client (and cluster) made here, closed here
+        # after a Ctrl-C, dask's teardown of the cancelled work is not news: keep stderr to our line
+        with quiet_logs_after_signal("distributed", "tornado", "tornado.application"):
+            if todo:
+                if client is None:
+                    try:
+                        # no more local processes than geometries to compute (8 workers for 2
+                        # tasks had started 330 MB of idle processes)
+                        client, cluster = connect(scheduler, scheduler_file,
+                                                  max(1, min(workers, len(todo))))
+                        own = (client, cluster)
+                        if cluster is None:  # someone else's cluster: same lusm as ours?
+                            option = "--scheduler" if scheduler else "--scheduler-file"
+                            check_scheduler(client, option)
+                            check_workers(client, option, gmsh=study.meshed_by_gmsh)
+                    except BaseException:
+                        if own is not None:
+                            own[0].close()
+                        if created:  # nothing was computed: leave no trace
+                            _remove_parts(folder, study.n_geometries, made)
+                        raise
                 try:
-                    # no more local processes than geometries to compute (8 workers for 2
-                    # tasks had started 330 MB of idle processes)
-                    client, cluster = connect(scheduler, scheduler_file,
-                                              max(1, min(workers, len(todo))))
-                    own = (client, cluster)
-                    if cluster is None:  # someone else's cluster: same lusm as ours?
-                        option = "--scheduler" if scheduler else "--scheduler-file"
-                        check_scheduler(client, option)
-                        check_workers(client, option, gmsh=study.meshed_by_gmsh)
+                    result.workers = len(client.scheduler_info()["workers"])
+                    run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
+                    live, index = set(), {}  # submitted and not yet taken in
+                    waiting = iter(todo)
+
+                    def submit_next():
+                        """Submit the next geometry, if any (returns its future or None)."""
+                        i = next(waiting, None)
+                        if i is None:
+                            return None
+                        fut = client.submit(compute_geometry, study, i, pure=False,
+                                            key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
+                        live.add(fut)
+                        index[fut.key] = i
+                        return fut
+
+                    # a bounded window of tasks in flight, topped up as each finishes (dask's
+                    # as_completed(...).add pattern): a future per geometry up front had grown
+                    # the client by 55 MB/s towards 100 000 of them before any part was written
+                    window = [submit_next() for _ in range(in_flight(result.workers, len(todo)))]
+                    bar = _bar(len(todo) + len(parts), len(parts), progress)
+                    try:
+                        completed = as_completed(window)
+                        for fut in completed:
+                            nxt = submit_next()
+                            if nxt is not None:
+                                completed.add(nxt)
+                            data = fut.result()
+                            i = index.pop(fut.key)
+                            if str(data.get("code_sha256")) != code_digest():
+                                # a worker that joined after check_workers, with other code
+                                where = ("--scheduler" if scheduler else "--scheduler-file"
+                                         if scheduler_file else "the local cluster")
+                                raise ValueError(
+                                    f"{where}: a worker computed geometry {i} with other lusm "
+                                    f"code ({str(data.get('code_sha256'))[:12]}, this client "
+                                    f"{code_digest()[:12]}); install the same lusm everywhere")
+                            result.task_times_s.append(float(data["task_time_s"]))
+                            result.warnings += [w for w in map(str, data.get("warnings", ()))
+                                                if w not in result.warnings]
+                            result.result_bytes += len(pickle.dumps(data, protocol=5))
+                            tw = time.perf_counter()
+                            _write_part(folder, i, data)
+                            result.part_write_time_s += time.perf_counter() - tw
+                            parts[i] = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
+                            result.computed += 1
+                            bar.update(1)
+                            live.discard(fut)
+                            fut.release()
+                            checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
+                            if on_part is not None:
+                                on_part(i)
+                    finally:
+                        bar.close()
+                        for f in live:
+                            f.cancel()
                 except BaseException:
-                    if own is not None:
-                        own[0].close()
-                    if created:  # nothing was computed: leave no trace
+                    if created and result.computed == 0:  # nothing was computed: leave no trace
                         _remove_parts(folder, study.n_geometries, made)
                     raise
-            try:
-                result.workers = len(client.scheduler_info()["workers"])
-                run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
-                live, index = set(), {}  # submitted and not yet taken in
-                waiting = iter(todo)
-
-                def submit_next():
-                    """Submit the next geometry, if any (returns its future or None)."""
-                    i = next(waiting, None)
-                    if i is None:
-                        return None
-                    fut = client.submit(compute_geometry, study, i, pure=False,
-                                        key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
-                    live.add(fut)
-                    index[fut.key] = i
-                    return fut
-
-                # a bounded window of tasks in flight, topped up as each finishes (dask's
-                # as_completed(...).add pattern): a future per geometry up front had grown
-                # the client by 55 MB/s towards 100 000 of them before any part was written
-                window = [submit_next() for _ in range(in_flight(result.workers, len(todo)))]
-                bar = _bar(len(todo) + len(parts), len(parts), progress)
-                try:
-                    completed = as_completed(window)
-                    for fut in completed:
-                        nxt = submit_next()
-                        if nxt is not None:
-                            completed.add(nxt)
-                        data = fut.result()
-                        i = index.pop(fut.key)
-                        if str(data.get("code_sha256")) != code_digest():
-                            # a worker that joined after check_workers, with other code
-                            where = ("--scheduler" if scheduler else "--scheduler-file"
-                                     if scheduler_file else "the local cluster")
-                            raise ValueError(
-                                f"{where}: a worker computed geometry {i} with other lusm "
-                                f"code ({str(data.get('code_sha256'))[:12]}, this client "
-                                f"{code_digest()[:12]}); install the same lusm everywhere")
-                        result.task_times_s.append(float(data["task_time_s"]))
-                        result.warnings += [w for w in map(str, data.get("warnings", ()))
-                                            if w not in result.warnings]
-                        result.result_bytes += len(pickle.dumps(data, protocol=5))
-                        tw = time.perf_counter()
-                        _write_part(folder, i, data)
-                        result.part_write_time_s += time.perf_counter() - tw
-                        parts[i] = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
-                        result.computed += 1
-                        bar.update(1)
-                        live.discard(fut)
-                        fut.release()
-                        checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
-                        if on_part is not None:
-                            on_part(i)
                 finally:
-                    bar.close()
-                    for f in live:
-                        f.cancel()
-            except BaseException:
-                if created and result.computed == 0:  # nothing was computed: leave no trace
-                    _remove_parts(folder, study.n_geometries, made)
-                raise
-            finally:
-                if own is not None:
-                    own[0].close()
-                    if own[1] is not None:
-                        own[1].close()
-    _refuse_if_nothing_computed(study, parts, folder)
-    t1 = time.perf_counter()
-    ds = assemble(study, parts)
-    from contact.deferred_signals import deferred_signals
+                    if own is not None:
+                        own[0].close()
+                        if own[1] is not None:
+                            own[1].close()
+        _refuse_if_nothing_computed(study, parts, folder)
+        t1 = time.perf_counter()
+        ds = assemble(study, parts)
+        from contact.deferred_signals import deferred_signals
 
-    # the dataset and the removal of the parts are one step: a Ctrl-C between them left a
-    # complete dataset beside a half-removed parts folder, and --resume and --force each
-    # sent the user to the other; a signal now lands after both
-    with deferred_signals():
-        write_dataset(ds, out, force)
-        _remove_parts(folder, study.n_geometries)
-    result.write_time_s = time.perf_counter() - t1
-    result.wall_time_s = time.perf_counter() - t0
-    return result
+        # the dataset and the removal of the parts are one step: a Ctrl-C between them left a
+        # complete dataset beside a half-removed parts folder, and --resume and --force each
+        # sent the user to the other; a signal now lands after both
+        with deferred_signals():
+            write_dataset(ds, out, force)
+            _remove_parts(folder, study.n_geometries)
+        result.write_time_s = time.perf_counter() - t1
+        result.wall_time_s = time.perf_counter() - t0
+        return result
+    finally:
+        if lock is not None:
+            os.close(lock)  # released (its file went with the folder once the dataset is in)
 
 
 def computed_fully(status: str) -> bool:
