@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 
 import numpy as np
@@ -304,3 +305,60 @@ def test_max_iter_must_allow_an_iteration():
     # max_iter=0 was an UnboundLocalError
     with pytest.raises(ValueError, match="max_iter must be an integer >= 1"):
         tune_plate(4e4, max_iter=0)
+
+
+class _JumpySolver:
+    """A stand-in for the tuning's FE solver whose split f_B2/f_L1 - 1 rises with the width
+    but jumps from -4e-3 to +7e-3 at 7.375 mm, as the 3D order-1 mesh of the paper's plate
+    does where it gains grid lines; or, with ``jump=False``, crosses zero at 7.6 mm."""
+
+    def __init__(self, jump: bool = True):
+        from types import SimpleNamespace
+
+        from fem.geometry import PlateStator
+        from fem.tuning import _Solver
+
+        self.ns = SimpleNamespace
+        self.real = _Solver(PlateStator(), None, "2d", False, 2, None)
+        self.jump = jump
+
+    def __getattr__(self, name):
+        return getattr(self.real, name)
+
+    def modes(self, length_m, width_m):
+        if self.jump:
+            step = -4e-3 if width_m < 7.375e-3 else 7e-3
+            split = step + 0.05 * (width_m - 7.375e-3) / 7.375e-3
+        else:
+            split = 0.5 * (width_m - 7.6e-3) / 7.6e-3
+        res = self.ns(L1=self.ns(f_short_Hz=56e3, f_open_Hz=57e3, k_eff=0.2),
+                      B2=self.ns(f_short_Hz=56e3 * (1 + split), f_open_Hz=57e3, k_eff=0.1))
+        self.real.history.append((length_m, width_m, 56e3, 56e3 * (1 + split)))
+        return res
+
+    def log_ratio(self, length_m, width_m):
+        r = self.modes(length_m, width_m)
+        return math.log(r.B2.f_short_Hz / r.L1.f_short_Hz)
+
+
+def test_a_tuning_onto_a_jump_of_the_split_says_it_is_not_tuned():
+    """`lusm tune --model 3d --order 1 --fix length` printed a 30 x 7.375 mm plate with L1
+    and B2 0.41 % apart as tuned, exit 0: Brent's method converges onto a jump of the split
+    (the mesh gaining grid lines) as onto a root. A split that stays above 10 x rel_tol is
+    now a TuningWarning naming both sides of the jump; a true crossing stays quiet."""
+    import warnings
+
+    from fem.material import get_material
+    from fem.tuning import TuningWarning, _tune
+
+    with pytest.warns(TuningWarning, match=r"the width is not tuned: f_B2/f_L1 - 1 = "
+                                           r"[-+][47]\.00e-03 remains at width 7\.375 mm, "
+                                           r"where it jumps between -4\.00e-03 and \+7\.00e-03"):
+        d = _tune(_JumpySolver(), _JumpySolver().base, get_material("pzt8"), ("length",),
+                  "length", None, "2d", 1e-5, 10)
+    assert d.stator.width_m == pytest.approx(7.375e-3, rel=1e-4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", TuningWarning)
+        d = _tune(_JumpySolver(False), _JumpySolver().base, get_material("pzt8"), ("length",),
+                  "length", None, "2d", 1e-5, 10)
+    assert d.stator.width_m == pytest.approx(7.6e-3, rel=1e-5)
