@@ -362,3 +362,26 @@ def test_a_tuning_onto_a_jump_of_the_split_says_it_is_not_tuned():
         d = _tune(_JumpySolver(False), _JumpySolver().base, get_material("pzt8"), ("length",),
                   "length", None, "2d", 1e-5, 10)
     assert d.stator.width_m == pytest.approx(7.6e-3, rel=1e-5)
+
+
+def test_a_fine_sweeps_rows_are_told_apart(capsys):
+    """25.690:25.700:0.002 printed 25.69 three times and 25.7 three times (exploratory
+    testing); the rows now carry the digits that tell them apart, as typed."""
+    assert main(["sweep", "--length-mm", "25.690:25.700:0.002", "--refine", "1"]) in (0, None)
+    rows = [ln.split()[0] for ln in capsys.readouterr().out.splitlines()[1:7]]
+    assert rows == ["25.69", "25.692", "25.694", "25.696", "25.698", "25.7"]
+
+
+def test_a_swept_stator_file_gets_the_thin_plate_warning_of_the_same_plates_typed(
+        tmp_path, capsys):
+    """`sweep --geometry FILE --width-mm 3:5:1` said nothing where the same plates typed in
+    (--length-mm ... --width-mm 3:5:1) were warned that 3 mm is as thick as they are wide."""
+    path = tmp_path / "plate.toml"
+    path.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n")
+    for argv in (["--geometry", str(path)], ["--length-mm", "30"]):
+        assert main(["sweep", *argv, "--width-mm", "3:5:1", "--refine", "1"]) in (0, None)
+        err = capsys.readouterr().err
+        assert "the 2D plane-stress model assumes a thin plate" in err, argv
+    assert main(["sweep", "--geometry", str(path), "--width-mm", "6:8:1", "--refine", "1"]) in (
+        0, None)
+    assert "thin plate" not in capsys.readouterr().err

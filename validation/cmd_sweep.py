@@ -84,6 +84,7 @@ def run(args: argparse.Namespace) -> None:
         stator_from_args,
         warn_holes,
         warn_refine_unused,
+        warn_thin_plate,
     )
     from validation.ranges import parse_range
 
@@ -119,6 +120,14 @@ def run(args: argparse.Namespace) -> None:
         base, material = design.stator, design.material
         warn_refine_unused(StatorChoice(base, material, design), args.geometry)
         warn_holes(base, f"--geometry {args.geometry}")
+        # at the sweep's smallest plate, as the plain-plate branch checks it (the stator
+        # file's plates had gone unwarned where the same plates typed in were warned)
+        inplane = {"length": base.length_m, "width": base.width_m}
+        inplane[parameter] = float(values_mm.min()) * 1e-3
+        warn_thin_plate(f"--geometry {args.geometry}: thickness {base.thickness_m * 1e3:g} mm",
+                        base.thickness_m * 1e3, min(inplane.values()) * 1e3,
+                        f"the sweep's smallest in-plane dimension ({parameter} "
+                        f"{values_mm.min():g} mm)")
     else:
         from fem.geometry import PlateStator
 
@@ -178,9 +187,14 @@ def run(args: argparse.Namespace) -> None:
         print_json(d)
         return
     print(f"{parameter} (mm){'L1 short (Hz)':>16}{'B2 short (Hz)':>16}")
-    for v, fl, fb in zip(res.values_m, res.f_L1_short_Hz, res.f_B2_short_Hz, strict=True):
+    # the values as typed (as --json's values_mm), to as many digits as tell the rows apart:
+    # 25.690:25.700:0.002 had printed 25.69 three times and 25.7 three times
+    digits = 4
+    while digits < 15 and len({f"{v:.{digits}g}" for v in values_mm}) < values_mm.size:
+        digits += 1
+    for v, fl, fb in zip(values_mm, res.f_L1_short_Hz, res.f_B2_short_Hz, strict=True):
         cells = [f"{x:>16.1f}" if math.isfinite(x) else f"{'-':>16}" for x in (fl, fb)]
-        print(f"{v * 1e3:>10.4g}{''.join(cells)}")
+        print(f"{float(v):>10.{digits}g}{''.join(cells)}")
     for xc, err in res.crossing_estimates_m():
         if not math.isfinite(err):  # two grid points: one line, no error estimate
             print(f"L1/B2 crossing at {parameter} {xc * 1e3:.4g} mm (linear between two "
