@@ -385,3 +385,13 @@ def test_a_swept_stator_file_gets_the_thin_plate_warning_of_the_same_plates_type
     assert main(["sweep", "--geometry", str(path), "--width-mm", "6:8:1", "--refine", "1"]) in (
         0, None)
     assert "thin plate" not in capsys.readouterr().err
+
+
+def test_the_fe_work_refusal_names_what_the_user_can_change(capsys):
+    """A tuning over the FE work bound was told to "solve fewer plates", which a tuning's
+    user cannot choose (exploratory testing); a sweep is told which option's values to thin."""
+    assert main(["tune", "--refine", "48", "--target-frequency", "40e3"]) == 2
+    err = capsys.readouterr().err
+    assert "15 FE solves" in err and "lower --refine (" in err and "fewer" not in err
+    assert main(["sweep", "--width-mm", "6:8:0.02", "--refine", "48"]) == 2
+    assert "lower --refine or sweep fewer values (--width-mm)" in capsys.readouterr().err

@@ -162,7 +162,8 @@ def run(args: argparse.Namespace) -> None:
                         f"of --geometry {args.geometry} ({feature_reason(exc)}); the sweep "
                         "keeps the tip, chamfers and holes as given: sweep a range whose "
                         "plates keep them", option) from None
-    check_fe_work(max(cells), values_mm.size, False, "--refine", base)
+    check_fe_work(max(cells), values_mm.size, False, "--refine", base,
+                  fewer=f"sweep fewer values ({option})")
 
     from fem.sweep import sweep_dimension
     from validation.cmd_modes import fe_failure, is_fe_failure

@@ -491,13 +491,14 @@ def check_steady_work(solves: int, params, frequency_Hz: float, coupling: str,
 
 
 def check_fe_work(cells: int, solves: int, three_d: bool, option: str,
-                  stator=None) -> None:
+                  stator=None, fewer: str = "solve fewer plates") -> None:
     """Refuse a command whose FE solves together exceed the work bound: ``solves`` meshes of
     ``cells`` elements (or bricks) on average. Each mesh is also bounded alone
     (:func:`check_fe_size`); a sweep or a tuning multiplies it. A parametric ``stator`` is
     meshed by gmsh at its ``[mesh] size_mm``, which ``--refine`` does not change: the
     message then names --geometry and that key (it said "lower --refine" beside the
-    warning that --refine has no effect)."""
+    warning that --refine has no effect). ``fewer`` says how to ask for fewer solves, or is
+    empty where the command's solves are not the user's to choose (a tuning)."""
     from fem.parametric import ParametricStator
 
     top = limits.work_bound(limits.MAX_FE_WORK_3D if three_d else limits.MAX_FE_WORK_2D)
@@ -508,7 +509,7 @@ def check_fe_work(cells: int, solves: int, three_d: bool, option: str,
             option, fix = "--geometry", "coarsen its [mesh] size_mm"
         raise LusmError(
             f"{option}: {solves} FE solves of about {cells} {what} each ({cells * solves}) is "
-            f"above the limit {top} for one command; {fix} or solve fewer plates "
+            f"above the limit {top} for one command; {fix}{f' or {fewer}' if fewer else ''} "
             f"({limits.more_work_hint()})", option)
 
 
