@@ -395,3 +395,21 @@ def test_the_fe_work_refusal_names_what_the_user_can_change(capsys):
     assert "15 FE solves" in err and "lower --refine (" in err and "fewer" not in err
     assert main(["sweep", "--width-mm", "6:8:0.02", "--refine", "48"]) == 2
     assert "lower --refine or sweep fewer values (--width-mm)" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--length", "40", "--length-mm", "20", "--width-mm", "6:7:1"],
+     "--length and --length-mm both give the fixed length"),
+    (["--length", "40", "--length-mm", "20:30:5"],
+     "--length fixes the length, which --length-mm 20:30:5 sweeps"),
+    (["--length", "40", "--geometry", "examples/tuned_40k/stator.toml", "--width-mm", "6:7:1"],
+     "--length cannot be combined with --geometry"),
+])
+def test_the_old_spelling_of_a_fixed_dimension_is_not_dropped(argv, words, capsys):
+    """The hidden old --length lost to --length-mm without a word, was ignored when the
+    length was swept, and a refusal named --length-mm, which the user had not typed."""
+    from tests.conftest import ROOT
+
+    argv = [str(ROOT / a) if a.startswith("examples/") else a for a in argv]
+    assert main(["sweep", *argv, "--refine", "1"]) == 2
+    assert words in capsys.readouterr().err

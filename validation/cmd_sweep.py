@@ -102,12 +102,20 @@ def run(args: argparse.Namespace) -> None:
     if values_mm.size > top:
         raise LusmError(f"{option} has {values_mm.size} points, above the limit {top} FE "
                         f"solves ({limits.more_work_hint()})", option)
-    if args.fixed_length_mm is not None:
-        fixed.setdefault("--length-mm", args.fixed_length_mm)
-    if args.fixed_width_mm is not None:
-        fixed.setdefault("--width-mm", args.fixed_width_mm)
+    typed_as = {}  # the fixed dimensions' options as the user spelled them
+    for old, new, value in (("--length", "--length-mm", args.fixed_length_mm),
+                            ("--width", "--width-mm", args.fixed_width_mm)):
+        if value is None:
+            continue
+        if new == option:  # it fixed the dimension swept: dropped without a word
+            raise LusmError(f"{old} fixes the {new[2:-3]}, which {option} {text} sweeps; give "
+                            "one", old)
+        if fixed.get(new) is not None:  # both spellings: one was dropped without a word
+            raise LusmError(f"{old} and {new} both give the fixed {new[2:-3]}; give one ({old} "
+                            f"is the old spelling of {new})", old)
+        fixed[new], typed_as[new] = value, old
     if args.geometry:
-        given = [o for o, v in fixed.items() if v is not None]
+        given = [typed_as.get(o, o) for o, v in fixed.items() if v is not None]
         given += [o for o in ("--thickness-mm", "--gap-mm", "--material")
                   if getattr(args, o[2:].replace("-", "_")) is not None]
         if given:
