@@ -28,7 +28,8 @@ def register(subparsers) -> None:
     g = p.add_argument_group("stator", "the paper's 30 x 7.5 x 3 mm PZT-8 plate unless "
                              "--geometry or a plate option is given")
     g.add_argument("--geometry", metavar="STATOR.toml", default=None,
-                   help="stator file without [mesh] (a plain plate) to sweep")
+                   help="stator file to sweep: a plate, or one meshed by gmsh ([mesh] size_mm, "
+                   "features kept as given); not one with its own mesh file")
     g.add_argument("--width-mm", metavar="MM|A:B:STEP", default=None,
                    help="plate width (mm): a value, or the range to sweep")
     g.add_argument("--length-mm", metavar="MM|A:B:STEP", default=None,
@@ -124,7 +125,7 @@ def run(args: argparse.Namespace) -> None:
         design = load_design(args.geometry)
         if design.mesh_path is not None:
             raise LusmError(f"--geometry {args.geometry} has its own mesh, which sweep cannot "
-                            "rescale; sweep a stator file without [mesh]", "--geometry")
+                            "rescale; sweep a stator file without a [mesh] file", "--geometry")
         base, material = design.stator, design.material
         warn_refine_unused(StatorChoice(base, material, design), args.geometry)
         warn_holes(base, f"--geometry {args.geometry}")
