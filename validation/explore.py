@@ -866,7 +866,7 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
 def check_out(out: Path, force: bool) -> None:
     """Refuse, before any work, an output the dataset could not be written to."""
     if not str(out).strip():
-        raise ValueError(f"--out must name a netCDF file (.nc), got {str(out)!r}")
+        raise ValueError(f"--out must name a netCDF file (.nc, .nc4 or .h5), got {str(out)!r}")
     out = Path(out)
     if out.suffix.lower() not in (".nc", ".nc4", ".h5"):
         zarr = "; zarr stores are not supported yet" if out.suffix.lower() == ".zarr" else ""
