@@ -784,7 +784,8 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
 
 @pytest.mark.parametrize("argv, words", [
     (["explore", "", "--out", "x.nc"], "STUDY.toml must name a study file, got ''"),
-    (["explore", "{study}", "--out", ""], "--out must name a netCDF file (.nc, .nc4 or .h5), got ''"),
+    (["explore", "{study}", "--out", ""],
+     "--out must name a netCDF file (.nc, .nc4 or .h5), got ''"),
     # '' was "no scheduler": the study ran on a LocalCluster, and with --workers it passed
     # the check that forbids --workers with a scheduler
     (["explore", "{study}", "--out", "{tmp}/r.nc", "--scheduler", ""],
