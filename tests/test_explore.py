@@ -608,8 +608,6 @@ load = ["0 N", "1 N"]
 [solver]
 fe_order = 2
 fe_refine = 1
-duration = "4 ms"
-dt = "100 ns"
 """)
     out = tmp_path / "r.nc"
     proc = subprocess.Popen(

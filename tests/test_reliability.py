@@ -502,7 +502,7 @@ CASES: list[tuple[str, list[str], list[str]]] = [
       "coarsen its [mesh] size_mm"]),
     ("tune-3d-file-mesh-too-much-work", ["tune", "--geometry", "{hole_mesh_085}", "--fix",
                                          "length", "--model", "3d"],
-     ["--geometry: 15 FE solves of about 1734 3D bricks", "coarsen its [mesh] size_mm or"]),
+     ["--geometry: 15 FE solves of about 1734 3D bricks", "coarsen its [mesh] size_mm ("]),
     ("explore-workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"],
      ["--workers"]),
 ]
