@@ -1557,11 +1557,13 @@ def test_the_summary_says_which_axes_make_its_drive_points(tmp_path, capsys):
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["no_load_velocity"]\n[axes]\nvoltage = ["200 V", "300 V"]\n'
-                    'preload = "14 N"\nload = ["0 N", "0.1 N"]\n[solver]\nfe_refine = 1\n'
+                    'preload = "14 N"\nload = ["0 N", "0.1 N"]\n'
+                    'frequency = ["54 kHz", "55 kHz"]\n[solver]\nfe_refine = 1\n'
                     'method = "event"\nduration = "2 ms"\n')
     assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1"]) == 0
     out = capsys.readouterr().out
-    assert "1 geometry x 4 drive points (2 voltages x 1 preload x 2 loads)" in out
+    assert ("1 geometry x 8 drive points (2 frequencies x 2 voltages x 1 preload x 2 loads)"
+            in out)
 
 
 def test_a_second_resume_while_one_runs_is_refused(study, client, tmp_path):

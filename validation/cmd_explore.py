@@ -158,7 +158,8 @@ def run(args: argparse.Namespace) -> None:
 
     # the axes behind the count: a study's drive points include its loads, where the work
     # bounds' "drive points" (docs/limits.md) are voltage x preload (x frequency)
-    axes = [plural(len(study.axes[a]), a, a + "s") for a in study.drive_dims]
+    axes = [plural(len(study.axes[a]), a, "frequencies" if a == "frequency" else a + "s")
+            for a in study.drive_dims]
     drive = (f" x {plural(result.drive_points, 'drive point', 'drive points')}"
              + (f" ({' x '.join(axes)})" if len(axes) > 1 else "")
              if study.needs_motor else " (FE outputs only)")
