@@ -52,12 +52,13 @@ def check_rest(rest: str) -> None:
 def default_coupling(params: MotorParams) -> tuple[str, str]:
     """The tangential coupling a parameter set is run with unless one is asked for, and why.
 
-    Table 2's own set keeps the paper's ``eta_T F_T`` (``"paper"``): it exists to reproduce
-    the paper. Every other set (FE, beam, a stator file, an edited set) gets the
-    work-consistent reaction ``-phi_B(l) F_T`` (``"consistent"``): the paper's coefficient
-    doubles the tip reaction on B2, so the interface does work that friction cannot
-    (``EnergyBalance.non_conservative_J``), and on stator-derived sets it makes the speed
-    non-monotone in the voltage (``docs/contact.md`` section 2.3 has the evidence).
+    Table 2's own set (its numbers, whatever its ``source`` text) keeps the paper's
+    ``eta_T F_T`` (``"paper"``): it exists to reproduce the paper. Every other set (FE, beam,
+    a stator file, an edited set) gets the work-consistent reaction ``-phi_B(l) F_T``
+    (``"consistent"``): the paper's coefficient doubles the tip reaction on B2, so the
+    interface does work that friction cannot (``EnergyBalance.non_conservative_J``), and on
+    stator-derived sets it makes the speed non-monotone in the voltage (``docs/contact.md``
+    section 2.3 has the evidence).
 
     Returns
     -------
@@ -66,7 +67,9 @@ def default_coupling(params: MotorParams) -> tuple[str, str]:
     """
     from rom.table2 import table2
 
-    if params == table2():
+    # by the numbers, not the free-text source: a set saved without its label, or relabelled,
+    # had switched coupling and run 5.7 times faster at 200 V / 14 N (found by API testing)
+    if dataclasses.replace(params, source="") == dataclasses.replace(table2(), source=""):
         return "paper", "auto: Table 2's set reproduces the paper"
     return "consistent", "auto: work-consistent for a set that is not Table 2's"
 

@@ -414,3 +414,22 @@ def test_an_edited_table2_set_says_its_coupling_switched():
     # the edit alone moves nothing visible; the switch moves the speed several-fold
     assert paper == pytest.approx(own, rel=1e-6)
     assert moved > 2.0 * own
+
+
+def test_the_default_coupling_follows_the_numbers_not_the_label():
+    """Table 2's numbers saved without their source text (from_dict makes it optional), or
+    relabelled, ran with the consistent coupling: 0.043 m/s at 200 V / 14 N where Table 2
+    gives 0.0076 (API testing). The numbers decide; an edit of a number still switches."""
+    from contact.model import default_coupling
+    from rom.params import MotorParams
+
+    p = table2()
+    d = p.to_dict()
+    d.pop("source")
+    unlabelled = MotorParams.from_dict(d)
+    assert unlabelled.source != p.source
+    own = simulate(p, 200.0, 14.0, duration_s=0.01).steady.velocity_m_s
+    for q in (unlabelled, p.with_(source="my motor")):
+        assert default_coupling(q)[0] == "paper"
+        assert simulate(q, 200.0, 14.0, duration_s=0.01).steady.velocity_m_s == own
+    assert default_coupling(p.with_(k_contact=p.k_contact * (1 + 1e-12)))[0] == "consistent"
