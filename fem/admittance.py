@@ -79,6 +79,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse.linalg as sla
 
+from fem.frozen import freeze_arrays
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial
 from fem.mesh import DEFAULT_REFINE
@@ -222,6 +223,9 @@ class AdmittanceResult:
     Y_S: np.ndarray
     pairs: tuple
     port: ModalPort
+
+    def __post_init__(self) -> None:
+        freeze_arrays(self)  # read-only, as its port's arrays are
 
     def unpaired_modes(self) -> list[tuple[str, float]]:
         """``(name, f_short_Hz)`` of the identified modes (L1, B2) inside the band that no

@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from fem.frozen import freeze_arrays
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial, get_material
 
@@ -57,6 +58,9 @@ class SweepResult:
     material: str
     fe_solves: int
     failures: tuple = ()
+
+    def __post_init__(self) -> None:
+        freeze_arrays(self)  # its own read-only arrays, not the caller's values_m
 
     def crossings_m(self) -> np.ndarray:
         """Values (m) where ``f_B2 - f_L1`` (short circuit) changes sign: the root of the

@@ -305,3 +305,13 @@ def test_an_undamped_admittance_is_refused_naming_its_parameter():
         plate_admittance(zeta=0.0)
     with pytest.raises(ValueError, match=r"^zeta_B2 must lie in \(0, 1\)"):
         plate_admittance(zeta_L1=0.1, zeta_B2=0.0)
+
+
+def test_an_admittance_result_is_read_only():
+    """AdmittanceResult's f_Hz and Y_S were writable where its port's arrays are not."""
+    from fem.admittance import plate_admittance
+
+    r = plate_admittance(f_min_Hz=50e3, f_max_Hz=60e3, n_points=201, zeta=0.01, refine=1)
+    for a in (r.f_Hz, r.Y_S):
+        with pytest.raises(ValueError, match="read-only"):
+            a[0] = 0

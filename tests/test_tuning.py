@@ -413,3 +413,18 @@ def test_the_old_spelling_of_a_fixed_dimension_is_not_dropped(argv, words, capsy
     argv = [str(ROOT / a) if a.startswith("examples/") else a for a in argv]
     assert main(["sweep", *argv, "--refine", "1"]) == 2
     assert words in capsys.readouterr().err
+
+
+def test_a_sweep_result_owns_read_only_arrays():
+    """sweep_dimension kept the caller's values array (editing it relabelled the sweep) and
+    its frequency arrays were writable: an edit made crossings_m() report 0.0808 m (API
+    testing). The result now holds read-only copies, as contact's results do."""
+    vals = np.linspace(6e-3, 9e-3, 3)
+    r = sweep_dimension("width", vals, refine=1)
+    assert r.values_m is not vals
+    vals[0] = 1.0
+    assert r.values_m[0] == 6e-3 and r.to_dict()["values_mm"][0] == pytest.approx(6.0)
+    for name in ("values_m", "f_L1_short_Hz", "f_B2_short_Hz", "f_L1_open_Hz", "f_B2_open_Hz"):
+        with pytest.raises(ValueError, match="read-only"):
+            getattr(r, name)[0] = -1.0
+    assert all(not a.flags.writeable for a in r.spectrum_Hz)
