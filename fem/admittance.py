@@ -73,6 +73,7 @@ Sign conventions follow :mod:`fem.model` (``E3 = V/h``); ``Y`` only involves ``g
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, replace
 from functools import cached_property
 
@@ -86,6 +87,10 @@ from fem.mesh import DEFAULT_REFINE
 
 RIGID_BODY_LIMIT_HZ = 1.0
 """Modes below this frequency (Hz) are rigid-body modes."""
+MAX_FREQUENCY_POINTS = 1_000_000
+"""Frequencies of one :func:`plate_admittance` call, times ``LUSM_MAX_WORK``: its admittance
+is an array of points x retained modes (0.7 GB at 45 modes; ``lusm admittance`` allows
+200 000)."""
 DEFAULT_ZETA_OTHER = 0.01
 """Damping ratio of the retained modes other than L1 and B2 (-)."""
 
@@ -726,9 +731,15 @@ def plate_admittance(
         raise ValueError(f"need 0 < f_min_Hz < f_max_Hz, got {f_min_Hz!r}, {f_max_Hz!r}")
     if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 3:
         raise ValueError(f"n_points must be an integer >= 3, got {n_points!r}")
+    from fem.mesh_io import work_factor
+
+    top = MAX_FREQUENCY_POINTS * work_factor()
+    if n_points > top:  # an array of points x modes: 1e7 had taken 56 s and about 7 GB
+        raise ValueError(f"n_points must be at most {top:.0f} in a library call, got "
+                         f"{n_points} (set LUSM_MAX_WORK=N to allow N times more)")
     model = plate_model(stator, material, order, refine)
-    if zeta is not None and not (isinstance(zeta, (int, float)) and math.isfinite(zeta)
-                                 and 0.0 < zeta < 1.0):
+    if zeta is not None and not (isinstance(zeta, numbers.Real) and not isinstance(zeta, bool)
+                                 and math.isfinite(zeta) and 0.0 < zeta < 1.0):
         raise ValueError(f"zeta must lie in (0, 1) (an undamped admittance is infinite at "
                          f"resonance), got {zeta!r}")
     kw = ({"zeta_L1": zeta_L1, "zeta_B2": zeta_B2} if zeta is None

@@ -30,6 +30,7 @@ Open circuit (floating electrodes, zero charge, the others grounded):
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
 from dataclasses import dataclass
@@ -40,7 +41,14 @@ import scipy.sparse as sp
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.mesh import DEFAULT_REFINE, PlateMesh, boundary_edges, structured_mesh
+from fem.mesh import (
+    DEFAULT_REFINE,
+    PlateMesh,
+    boundary_edges,
+    check_generated_size,
+    grid_lines_m,
+    structured_mesh,
+)
 from fem.meshed_stator import overall_length_m, planform_mesh
 
 ORDERS = (1, 2)
@@ -878,5 +886,8 @@ def plate_model(
         raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
     if gap_model not in GAP_MODELS:
         raise ValueError(f"gap_model must be one of {GAP_MODELS}, got {gap_model!r}")
+    if planform_mesh(stator) is None:  # as plate_modes: refine=1000 had run to a MemoryError
+        check_generated_size(stator, int(refine), count=lambda: math.prod(
+            len(v) - 1 for v in grid_lines_m(stator, int(refine))))
     return _cached_model(stator, get_material(material), int(order), int(refine), gap_model,
                          bool(thickness_inertia))

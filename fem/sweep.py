@@ -20,6 +20,9 @@ from fem.material import PiezoMaterial, get_material
 
 PARAMETERS = ("width", "length")
 """Dimensions that can be swept."""
+MAX_SWEEP_VALUES = 2000
+"""Values (FE solves) of one :func:`sweep_dimension` call, times ``LUSM_MAX_WORK`` (about
+7 minutes of the default plate; ``lusm sweep`` allows 200)."""
 PROGRESS_MIN_POINTS = 20
 """Sweeps with at least this many points show a tqdm progress bar (when ``progress``)."""
 
@@ -164,9 +167,19 @@ def sweep_dimension(
 
     if parameter not in PARAMETERS:
         raise ValueError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
-    values = np.atleast_1d(np.asarray(values_m, dtype=float))
+    from fem.mesh_io import work_factor
+
+    raw = np.atleast_1d(np.asarray(values_m))
+    if raw.dtype.kind not in "iuf":  # "7e-3" had been parsed, True had made a 1 m plate
+        raise ValueError(f"values_m must be numbers (m), got {values_m!r}"[:300])
+    values = raw.astype(float)
     if values.size == 0 or values.ndim != 1:
         raise ValueError("values_m must be a non-empty 1D sequence")
+    top = MAX_SWEEP_VALUES * work_factor()
+    if values.size > top:  # each is an FE solve (200 000 had started: hours)
+        raise ValueError(f"values_m has {values.size} values (FE solves), above the limit "
+                         f"{top:.0f} of a library call (set LUSM_MAX_WORK=N to allow N times "
+                         "more)")
     base = PlateStator() if base is None else base
     mat = get_material(material)
     refine = DEFAULT_REFINE if refine is None else refine

@@ -54,6 +54,7 @@ size is the file's ``[mesh] size_mm`` or ``min(l, W) / 8`` of each plate).
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
 from dataclasses import dataclass, replace
 
@@ -390,11 +391,16 @@ def tune_plate(
     """
     held = normalize_fix(fix)
     fixed_dim = "length" if "length" in held else "width" if "width" in held else None
-    if target_frequency_Hz is not None and not (
-            isinstance(target_frequency_Hz, (int, float))
+    if target_frequency_Hz is not None and not (  # NumPy scalars too (float32 was refused)
+            isinstance(target_frequency_Hz, numbers.Real)
+            and not isinstance(target_frequency_Hz, bool)
             and math.isfinite(target_frequency_Hz) and target_frequency_Hz > 0):
         raise ValueError(f"target_frequency_Hz must be a finite number > 0, got "
                          f"{target_frequency_Hz!r}")
+    if target_frequency_Hz is not None:
+        target_frequency_Hz = float(target_frequency_Hz)
+    if not (isinstance(rel_tol, numbers.Real) and 0.0 < rel_tol < 1e-2):
+        raise ValueError(f"rel_tol must lie in (0, 1e-2), got {rel_tol!r}")
     if fixed_dim is not None and target_frequency_Hz is not None:
         other = "width" if fixed_dim == "length" else "length"
         raise ValueError(
@@ -405,10 +411,9 @@ def tune_plate(
             "only the thickness to tune length and width to a target")
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
-    if not (0.0 < rel_tol < 1e-2):
-        raise ValueError(f"rel_tol must lie in (0, 1e-2), got {rel_tol!r}")
-    if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
-        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    if (isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer))
+            or not 1 <= max_iter <= MAX_ITER):  # each iteration is a crossing's FE solves
+        raise ValueError(f"max_iter must be an integer in [1, {MAX_ITER}], got {max_iter!r}")
     mat = get_material(material)
     base = PlateStator() if start is None else start
     if getattr(base, "mesh", None) is not None:
@@ -432,6 +437,9 @@ class TuningWarning(UserWarning):
     """A tuning that ended with L1 and B2 still apart: the split jumps across a change of the
     mesh (grid lines gained or lost as the plate grows) without crossing zero."""
 
+
+MAX_ITER = 100
+"""Largest ``max_iter`` of :func:`tune_plate` (the paper's plate to 40 kHz takes 3)."""
 
 UNTUNED_FACTOR = 10.0
 """A held-dimension tuning whose final ``|f_B2/f_L1 - 1|`` exceeds this many times ``rel_tol``

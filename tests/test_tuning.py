@@ -303,7 +303,7 @@ def test_a_tuned_plate_with_electrodes_narrower_than_the_rule_is_refused(capsys)
 
 def test_max_iter_must_allow_an_iteration():
     # max_iter=0 was an UnboundLocalError
-    with pytest.raises(ValueError, match="max_iter must be an integer >= 1"):
+    with pytest.raises(ValueError, match=r"max_iter must be an integer in \[1, 100\]"):
         tune_plate(4e4, max_iter=0)
 
 
@@ -428,3 +428,36 @@ def test_a_sweep_result_owns_read_only_arrays():
         with pytest.raises(ValueError, match="read-only"):
             getattr(r, name)[0] = -1.0
     assert all(not a.flags.writeable for a in r.spectrum_Hz)
+
+
+def test_the_fem_library_calls_are_bounded_before_they_start():
+    """sweep_dimension of 200 000 widths had started (hours), strings and bools were taken as
+    widths (True made a 1 m plate), plate_model(refine=1000) and plate_admittance(n_points=
+    1e7) ran to gigabytes, and tune_plate had no bound on max_iter (API testing). Each is now
+    refused at once, naming the parameter; NumPy scalars are numbers."""
+    import time
+
+    from fem.admittance import plate_admittance
+    from fem.model import plate_model
+
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=r"^values_m has 200000 values \(FE solves\), above "
+                                         r"the limit 2000"):
+        sweep_dimension("width", np.linspace(6e-3, 9e-3, 200_000))
+    for bad in (["7e-3"], [True]):
+        with pytest.raises(ValueError, match="^values_m must be numbers"):
+            sweep_dimension("width", bad)
+    with pytest.raises(ValueError, match=r"^refine = 1000 makes at least 4e\+06 elements"):
+        plate_model(refine=1000)
+    with pytest.raises(ValueError, match=r"^n_points must be at most 1000000"):
+        plate_admittance(zeta=0.01, n_points=10**7)
+    with pytest.raises(ValueError, match=r"^max_iter must be an integer in \[1, 100\]"):
+        tune_plate(max_iter=1000)
+    with pytest.raises(ValueError, match="^rel_tol must lie in"):
+        tune_plate(rel_tol="1e-5")
+    assert time.perf_counter() - t0 < 30  # refused before any FE work (a bound, not a timing)
+    # NumPy scalars are numbers (float32 targets and zeta had been refused)
+    with pytest.raises(ValueError, match="cannot be imposed with the length held"):
+        tune_plate(np.float32(40e3), fix="length")
+    with pytest.raises(ValueError, match="^n_points must be at most"):
+        plate_admittance(zeta=np.float32(0.01), n_points=10**7)
