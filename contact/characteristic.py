@@ -69,7 +69,14 @@ class Characteristic(FrozenArrays):
         the averaged slow equation at either level.
     wall_time_s : float
     orbits : int
-        Fast-problem orbits solved.
+        Fast-problem orbits solved, those of each load's exact steady state included.
+    averaged_stall_force_N : float
+        The averaged (fast level's) stall force (N): at the exact level, where the creep
+        band begins. Between it and ``stall_force_N`` the finite slider creeps at a small
+        fraction of its no-load speed, its velocity ripple breaking the guide's ideal
+        Coulomb stiction every period; a real guide's pre-sliding stiffness, which the model
+        does not have, may hold it there (``docs/steady.md``). Equal to ``stall_force_N``
+        at the fast level.
     """
 
     op: OperatingPoint
@@ -84,6 +91,7 @@ class Characteristic(FrozenArrays):
     accuracy: str
     wall_time_s: float
     orbits: int
+    averaged_stall_force_N: float = math.nan
 
     def to_dict(self) -> dict:
         """The fields of ``lusm characteristic --json``, as Python floats: NaN stays NaN
@@ -92,6 +100,7 @@ class Characteristic(FrozenArrays):
         return {
             "no_load_velocity_m_s": float(self.no_load_velocity_m_s),
             "stall_force_N": float(self.stall_force_N),
+            "averaged_stall_force_N": float(self.averaged_stall_force_N),
             "holding_range_N": [float(f) for f in self.holding_range_N],
             "accuracy": self.accuracy,
             "curve": [
@@ -183,6 +192,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
 
     irregular: dict[float, object] = {}  # load -> branch from rest with no short period
+    exact_orbits = [0]  # the orbits of each load's own exact steady state
 
     @functools.cache  # the no-load point is usually one of the loads too
     def from_rest(load: float) -> tuple[float, float]:
@@ -192,6 +202,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                              load_N=load, coupling=coupling,
                              ultrasonic_friction=ultrasonic_friction, accuracy="exact",
                              rest=rest)
+            exact_orbits[0] += r.orbits
             b = r.from_rest
             if b is not None and b.irregular:
                 irregular[load] = b
@@ -203,7 +214,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     from tqdm import tqdm
 
     v0 = from_rest(0.0)[0]
-    stall = _stall_force(sp)
+    stall = averaged = _stall_force(sp)
     if accuracy == "exact":
         stall = _full_model_stall_force(lambda load: from_rest(load)[0], v0, stall,
                                         sp.thrust_at_rest())
@@ -233,7 +244,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     eff = motor_efficiency(p_in_a, p_out_a)  # it came out below 0 under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))
     return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
-                          eff, hold, accuracy, time.perf_counter() - t0, len(sp.cache))
+                          eff, hold, accuracy, time.perf_counter() - t0,
+                          len(sp.cache) + exact_orbits[0], float(averaged))
 
 
 def _stall_force(sp) -> float:

@@ -101,6 +101,9 @@ def test_report_numbers_match_the_cli(report):
     rep = doc["motor_characteristics"]["table2"]["characteristics"]["400"]
     assert rep["stall_force_N"] == char["stall_force_N"] and rep["accuracy"] == "exact"
     assert rep["no_load_velocity_m_s"] == char["no_load_velocity_m_s"]
+    # where the creep begins, as the command says it (the report's table had only the stall)
+    assert rep["averaged_stall_force_N"] == char["averaged_stall_force_N"]
+    assert 0.0 < rep["averaged_stall_force_N"] < rep["stall_force_N"]
     fe_char = lusm("characteristic", "--voltage", "400", "--preload", "14", "--source", "fem",
                    "--frequency", "auto")
     rep = doc["motor_characteristics"]["fem"]["characteristics"]["400"]

@@ -131,3 +131,21 @@ def test_ungraded_3d_run_says_its_k_eff_is_low_and_grading_raises_it(capsys):
     assert "k_eff on an ungraded 3D mesh is low" in plain
     assert "ungraded" not in graded
     assert k_graded > 1.03 * k_plain
+
+
+def test_the_grading_hint_says_when_it_needs_more_work(capsys):
+    """On the tip examples the note's --edge-grading 1 was refused as given (2 140 bricks
+    against 2 000; exploratory testing). The note now names the LUSM_MAX_WORK it takes, with
+    the count the graded run's own refusal gives; the paper's plate needs none."""
+    import re
+
+    from tests.conftest import ROOT
+    from validation.cli import main
+
+    tip = str(ROOT / "examples" / "tip_parametric" / "stator.toml")
+    assert main(["modes", "--model", "3d", "--geometry", tip]) == 0
+    note = next(ln for ln in capsys.readouterr().out.splitlines() if "k_eff on" in ln)
+    bricks = int(re.search(r"the graded mesh needs (\d+) bricks", note).group(1))
+    assert main(["modes", "--model", "3d", "--geometry", tip, "--edge-grading", "1"]) == 2
+    assert f"needs {bricks} 3D bricks" in capsys.readouterr().err
+    assert "LUSM_MAX_WORK=2" in note

@@ -11,7 +11,8 @@ def test_characteristic_json_curve_is_consistent(capsys):
     assert main(["characteristic", "--voltage", "400", "--preload", "14",
                  "--loads", "0:1.5:0.5", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "holding_range_N", "accuracy",
+    assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "averaged_stall_force_N",
+                        "holding_range_N", "accuracy",
                         "curve", "damping", "coupling", "coupling_from", "voltage_V",
                         "preload_N", "frequency_Hz", "frequency_from", "rest"}
     assert doc["accuracy"] == "exact"  # the default: the finite-mass motor from rest
@@ -345,8 +346,35 @@ def test_an_undriven_characteristic_says_why_it_has_no_holding_range(capsys):
     assert main(["characteristic", "--voltage", "0", "--preload", "14", "--loads",
                  "5:6:1"]) == 0
     out = capsys.readouterr().out
-    assert "holds loads (N)            no full-slip bound" in out
+    assert "no runaway within (N)      no full-slip bound" in out
     slide, static = stiction_hold_N(table2(), 14.0, table2().mu_d)
     assert slide < 6.0 < static
     rows = [ln.split() for ln in out.splitlines() if ln.strip().startswith(("5 ", "6 "))]
     assert rows[0][1] == "0" and rows[1][1:] == ["runs", "away"]
+
+
+def test_the_creep_band_below_the_exact_stall_force_is_said(capsys):
+    """A designer read the speed-load curve's knee as the stall force and found half the
+    printed one (0.76 against 1.38 N): between the averaged stall force and the exact one the
+    finite slider only creeps. The command prints where the creep begins (the fast level's
+    stall force, computed here independently) and the JSON carries it; "holds loads" read as
+    a holding force and is now "no runaway within"."""
+    from contact.characteristic import characteristic
+    from rom import table2
+
+    fast = characteristic(table2(), 200.0, 14.0, accuracy="fast")
+    exact = characteristic(table2(), 200.0, 14.0, loads_N=[0.0, 0.6])
+    assert exact.averaged_stall_force_N == pytest.approx(fast.stall_force_N, rel=1e-12)
+    assert exact.stall_force_N > 2.0 * exact.averaged_stall_force_N
+    # the creep: a load in the band moves the slider at under 2 % of its no-load speed
+    assert 0.0 < exact.velocity_m_s[1] < 0.02 * exact.no_load_velocity_m_s
+    # the exact curve's orbits include each load's own steady state
+    assert exact.orbits > fast.orbits
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
+                 "0:0.6:0.6"]) == 0
+    out = capsys.readouterr().out
+    assert f"creeps from (N)            {fast.stall_force_N:.6g} (the averaged stall" in out
+    assert "no runaway within (N)" in out and "holds loads" not in out
+    assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
+                 "0:0.2:0.2", "--accuracy", "fast"]) == 0
+    assert "creeps from" not in capsys.readouterr().out

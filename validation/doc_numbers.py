@@ -1510,7 +1510,7 @@ def _steady_claims() -> tuple[Claim, ...]:
              "transient_reference(table2(), 400, 14, load_N=3.5, duration_s=1.2)")):
         out.append(Claim(f"steady_load_400V_14N_{k}", unit, cmd,
                          lambda k=k: _steady_load_limits()[k]))
-    edge = "lusm characteristic --voltage 100 --preload 14 --loads 5:5.2:0.1 (holds loads)"
+    edge = "lusm characteristic --voltage 100 --preload 14 --loads 5:5.2:0.1 (no runaway within)"
     out += [Claim("steady_load_100V_14N_holding_high", "N", edge,
                   lambda: _steady_load_edge()["high"]),
             Claim("steady_load_100V_14N_beyond_m_s", "m/s",

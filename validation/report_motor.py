@@ -100,7 +100,7 @@ def _row(name: str, c: Characteristic) -> list:
     best = float(eff.max()) if eff.size else float("nan")
     at = float(c.load_N[np.nanargmax(c.efficiency)]) if eff.size else float("nan")
     return [name, c.op.voltage_V, c.no_load_velocity_m_s * 1e3, c.stall_force_N,
-            c.input_power_W[0], best * 100, at]
+            c.averaged_stall_force_N, c.input_power_W[0], best * 100, at]
 
 
 def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, float],
@@ -151,8 +151,10 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
           "F each set's frequency below: the exact level, the finite-mass motor from rest. "
           "The averaged level, `--accuracy fast`, puts the stall force where the averaged "
           "slider stops, while the full model's still creeps forward: up to several times "
-          "lower on these sets, and a held slider where the full model creeps; "
-          "docs/steady.md); settled stick-slip maps over "
+          "lower on these sets, and a held slider where the full model creeps; the column "
+          "'creeps from' gives it, where the creep begins: between it and the stall force "
+          "the slider moves at a small fraction of its no-load speed, its velocity ripple "
+          "breaking the guide's ideal stiction; docs/steady.md); settled stick-slip maps over "
           f"{volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: exact "
           "level, the branch reached from rest). Efficiency is the mechanical output power "
           "over the electrical input power (motional current times voltage). Table 2's set "
@@ -198,7 +200,8 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         }
     md += (table or (lambda h, r: []))(
         ["set", "V0 (V)", "no-load velocity (mm/s)", "stall force (N)",
-         "input power at no load (W)", "peak efficiency (%)", "at load (N)"], rows)
+         "creeps from (N)", "input power at no load (W)", "peak efficiency (%)", "at load (N)"],
+        rows)
     md.append("")
     for name, d in data.items():
         mp = d["map"]
