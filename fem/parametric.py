@@ -110,12 +110,14 @@ class ParametricStator(PlateStator):
                              f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
         if self.tip_length_m > 0.0:
             flat = width - 2.0 * c
+            # a plate without chamfers had been told of "the end face between the chamfers"
+            face = "end face between the chamfers" if c > 0.0 else "plate's end face (its width)"
             if not 0.0 < self.tip_width_m <= flat * (1 + 1e-12):
                 raise ValueError(f"ParametricStator.tip_width_m must lie in (0, {flat!r}] m "
-                                 f"(the end face between the chamfers), got "
+                                 f"(the {face}), got "
                                  f"{self.tip_width_m!r}): [tip] width_mm "
                                  f"{self.tip_width_m * 1e3:g} mm must be at most the "
-                                 f"{flat * 1e3:.4g} mm end face between the chamfers, on a "
+                                 f"{flat * 1e3:.4g} mm {face}, on a "
                                  f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
             if self.tip_length_m > length:
                 raise ValueError(f"ParametricStator.tip_length_m must lie in [0, {length!r}] "

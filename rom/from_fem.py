@@ -266,7 +266,7 @@ def fem_params_from_design(design, stator=None, **kwargs) -> MotorParams:
             fitted = identify_damping(params, design.damping_identify_Hz).params
         except ValueError as exc:
             text = str(exc).replace("identify at a drive frequency nearer to it",
-                                    "set the file's damping.frequency_Hz nearer to it")
+                                    "set the file's [damping] frequency_Hz nearer to it")
             raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {text}") \
                 from None
         # the reduction's description named the ratios it started from (Table 2's), not the

@@ -168,6 +168,8 @@ def test_modes_prints_the_split_and_the_identification(capsys):
     assert main(["modes"]) == 0
     text = capsys.readouterr().out
     assert f"{d['split_rel']:+.3%}" in text and "MAC" in text
+    # and in Hz, which a tuned stator's +0.000% had hidden
+    assert f"({r.B2.f_short_Hz - r.L1.f_short_Hz:+.1f} Hz)" in text
 
 
 def test_version(capsys):

@@ -51,7 +51,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "a run from rest of --duration per point (the paper's way)")
     p.add_argument("--accuracy", choices=("fast", "exact"), default="exact",
                    help="steady engine level: fast (averaging, slider mass -> infinity) or "
-                   "exact (finite slider mass, start from rest decided on the full model)")
+                   "exact (finite slider mass, start from rest decided on the full model; the "
+                   "default)")
     add_rest_option(p)
     add_motor_options(p, friction_note=" (Fig. 19)")
     p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
