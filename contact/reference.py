@@ -20,7 +20,6 @@ event functions, the guards' derivatives among them, not included).
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable
 
 import numpy as np
@@ -30,7 +29,7 @@ from scipy.optimize import brentq
 from contact.model import OperatingPoint, gamma_T, static_deflection_m
 from contact.results import SchemeOutput
 from contact.state import BACKWARD, FORWARD, HELD, SLIP_NEG, SLIP_POS, STICK
-from contact.window import MIN_PERIODS, RunWindow
+from contact.window import MIN_PERIODS, WORK_ENV, RunWindow, work_factor
 from rom.params import GRAVITY_M_S2, MotorParams
 
 Guard = Callable[[float, np.ndarray], float]
@@ -50,19 +49,6 @@ longest run the tests, docs, benchmarks and ``lusm report`` ask of it is the def
 at 40 kHz, 2 000 periods (7-12 s); the bound is ten times that, a minute or two. The default
 50 ms at 10 MHz (500 000 periods, about 1e6 restarts and half an hour) is refused before it
 starts (:func:`check_reference_work`)."""
-
-WORK_ENV = "LUSM_MAX_WORK"
-"""Environment variable multiplying the work bounds of ``lusm`` (docs/limits.md)."""
-
-
-def _work_factor() -> float:
-    """``LUSM_MAX_WORK`` (>= 1; 1 when unset or invalid: the CLI reports invalid values)."""
-    try:
-        value = float(os.environ.get(WORK_ENV, "") or 1.0)
-    except ValueError:
-        return 1.0
-    return value if math.isfinite(value) and value >= 1.0 else 1.0
-
 
 def check_reference_work(op: OperatingPoint, duration_s: float) -> float:
     """Refuse a reference run longer than :data:`MAX_REFERENCE_PERIODS` drive periods.
@@ -86,7 +72,7 @@ def check_reference_work(op: OperatingPoint, duration_s: float) -> float:
         other, when the run exceeds the bound (times ``LUSM_MAX_WORK``).
     """
     periods = duration_s * op.frequency_Hz
-    top = MAX_REFERENCE_PERIODS * _work_factor()
+    top = MAX_REFERENCE_PERIODS * work_factor()
     if not periods <= top:
         f, d = op.frequency_Hz, duration_s
         raise ValueError(

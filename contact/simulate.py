@@ -49,7 +49,14 @@ from contact.model import (
 )
 from contact.results import EnergyBalance, SchemeOutput, SteadyState, Trace, steady_metrics
 from contact.state import ERR_CHATTER, OK
-from contact.window import MIN_PERIODS, RunWindow, period_step_s, run_window
+from contact.window import (
+    MAX_STORED_STEPS,
+    MIN_PERIODS,
+    RunWindow,
+    period_step_s,
+    run_window,
+    work_factor,
+)
 from rom.params import MotorParams, require_params
 
 PRE_PASS_PERIODS = 60
@@ -493,6 +500,19 @@ def simulate(
     )
 
 
+def check_stored_steps(full_steps: int, trace_points: int) -> None:
+    """Refuse, before the kernel runs, a run that would keep more than
+    :data:`contact.window.MAX_STORED_STEPS` steps (times ``LUSM_MAX_WORK``) at full
+    resolution or in its decimated trace, naming the option that asks for them."""
+    top = MAX_STORED_STEPS * work_factor()
+    for name, n in (("full_periods", full_steps), ("max_trace_points", trace_points)):
+        if n > top:
+            raise ValueError(f"{name}: the run would keep {n:.3g} steps, above the limit "
+                             f"{top:.3g} of a library call (about 80 bytes each, held three "
+                             f"times); lower {name} (set LUSM_MAX_WORK=N to allow N times "
+                             "more)")
+
+
 def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
                  window: RunWindow, mu_d_eff: float) -> SchemeOutput:
     """The event-located scheme (:mod:`contact.event_kernel`)."""
@@ -501,6 +521,7 @@ def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions
     n_full = min(n_steps, int(round(min(opts.full_periods, window.window_periods)
                                     * op.period_s / dt)))
     decim = max(1, int(math.ceil(n_steps / opts.max_trace_points)))
+    check_stored_steps(n_full, math.ceil(n_steps / decim))
     system = build_system(params, op, mu_d_eff, opts.coupling, opts.stick_band_m_s)
     check_spectrum(system, dt)
     # an earlier window, at least a fifth of the run before the last one, tells whether the

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 
 from contact.model import OperatingPoint
@@ -97,10 +98,30 @@ def check_time_step(op: OperatingPoint, duration_s: float, dt_s: float) -> int:
     if not steps <= MAX_RUN_STEPS:
         raise ValueError(
             f"duration_s / dt_s = {duration_s!r} s / {dt_s!r} s is {steps:.3g} time steps, "
-            f"above {MAX_RUN_STEPS:.0e}: about a minute of compiled kernel per 1e9 steps, "
+            f"above {MAX_RUN_STEPS:.0e}: about five minutes of compiled kernel per 1e9 steps, "
             "during which Ctrl-C waits for the kernel; shorten duration_s or raise dt_s")
     return int(round(steps))
 
+
+WORK_ENV = "LUSM_MAX_WORK"
+"""Environment variable multiplying the work bounds of ``lusm`` (docs/limits.md)."""
+
+
+def work_factor() -> float:
+    """``LUSM_MAX_WORK`` (>= 1; 1 when unset or invalid: the CLI reports invalid values), the
+    multiplier of the contact stage's library bounds."""
+    try:
+        value = float(os.environ.get(WORK_ENV, "") or 1.0)
+    except ValueError:
+        return 1.0
+    return value if math.isfinite(value) and value >= 1.0 else 1.0
+
+
+MAX_STORED_STEPS = 10_000_000
+"""Most steps a run keeps, at full resolution (``full_periods``) or in its decimated trace
+(``max_trace_points``), times ``LUSM_MAX_WORK``: about 0.8 GB of columns, held three times
+while the results are built. ``full_periods=10**9`` over 5 s had ended in a MemoryError
+after its kernel ran (``lusm simulate`` keeps at most 2e6)."""
 
 MAX_RUN_STEPS = 1_000_000_000
 """Most time steps of one run. A kernel holds Ctrl-C until it returns

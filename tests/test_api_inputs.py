@@ -5,6 +5,8 @@ error before)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -433,3 +435,21 @@ def test_the_default_coupling_follows_the_numbers_not_the_label():
         assert default_coupling(q)[0] == "paper"
         assert simulate(q, 200.0, 14.0, duration_s=0.01).steady.velocity_m_s == own
     assert default_coupling(p.with_(k_contact=p.k_contact * (1 + 1e-12)))[0] == "consistent"
+
+
+def test_a_run_that_would_keep_too_many_steps_is_refused_before_its_kernel():
+    """full_periods=10**9 over a 5 s run kept half the run at full resolution: a MemoryError
+    after the kernel had run (1.3 GB at 1 s; API testing), and max_trace_points=10**9 kept
+    every step. Both are refused before the kernel, naming the option; a run that keeps
+    little stays allowed whatever full_periods says."""
+    import time
+
+    p = table2()
+    t0 = time.perf_counter()
+    for name in ("full_periods", "max_trace_points"):
+        with pytest.raises(ValueError, match=rf"^{name}: the run would keep .* steps, above "
+                                             r"the limit 1e\+07"):
+            simulate(p, 200.0, 14.0, duration_s=5.0, steady_periods=10**9, **{name: 10**9})
+    assert time.perf_counter() - t0 < 10  # no kernel ran (a bound, not a timing claim)
+    r = simulate(p, 200.0, 14.0, duration_s=0.01, full_periods=10**9)
+    assert math.isfinite(r.steady.velocity_m_s)  # its window is at most half of 1e5 steps
