@@ -188,7 +188,11 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                         default_drive_Hz(params, frequency_Hz))
     if loads_N is not None and loads_arr.size:  # both levels refuse it, before any solve
         # (1e7 N came out NaN at the fast level and was refused at the exact one)
-        check_scale(params, dataclasses.replace(op, load_N=float(np.max(np.abs(loads_arr)))))
+        largest = float(loads_arr[np.argmax(np.abs(loads_arr))])
+        try:
+            check_scale(params, dataclasses.replace(op, load_N=largest))
+        except ValueError as exc:  # the parameter is loads_N (it had said "load_N = ...")
+            raise ValueError(str(exc).replace("load_N = ", "loads_N: its load ", 1)) from None
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
 
     irregular: dict[float, object] = {}  # load -> branch from rest with no short period

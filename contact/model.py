@@ -268,7 +268,7 @@ def check_scale(params: MotorParams, op: OperatingPoint) -> None:
         ("voltage_V", "V", op.voltage_V,
          op.voltage_V * max(abs(p.A_l) / p.K_l, abs(p.A_b) / p.K_b)),
         ("preload_N", "N", op.preload_N, p.eta_N * op.preload_N / p.K_l),
-        ("load_N", "N", abs(op.load_N), p.eta_N * abs(op.load_N) / p.K_l),
+        ("load_N", "N", op.load_N, p.eta_N * abs(op.load_N) / p.K_l),  # its sign kept
     ):
         if not deflection <= MAX_STATIC_DEFLECTION_M:
             raise ValueError(

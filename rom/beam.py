@@ -438,9 +438,10 @@ def beam_params(
             ) from None
     for name, z in (("damping_ratios[0] (zeta_L1)", zeta_l), ("damping_ratios[1] (zeta_B2)",
                                                              zeta_b)):
-        zf = _check_positive(name, z)
-        if zf >= 1.0:
-            raise ValueError(f"{name} must lie in (0, 1), got {z!r}")
+        # one message with the range that holds: 0.0 had been told "(0, inf)"
+        if isinstance(z, bool) or not isinstance(z, (int, float, np.floating, np.integer)) \
+                or not (math.isfinite(float(z)) and 0.0 < float(z) < 1.0):
+            raise ValueError(f"{name} must be a number in (0, 1), got {z!r}")
     if b2_stiffness == "euler-bernoulli":
         k_b, a_b = c.K_b_bending, c.A_b
     else:

@@ -378,9 +378,14 @@ def test_a_map_names_its_own_axis_when_a_value_is_not_finite():
 @pytest.mark.parametrize("accuracy", ["fast", "exact"])
 def test_a_load_beyond_the_linear_scale_is_refused_at_both_levels(accuracy):
     """1e7 N came out as NaN (runs away) at the fast level and was refused at the exact one,
-    after its other loads were solved (API testing)."""
-    with pytest.raises(ValueError, match=r"load_N = 1e\+07 N deflects the stator"):
+    after its other loads were solved (API testing). The refusal names loads_N and keeps the
+    load's sign (-1e9 N had read "load_N = 1e+09")."""
+    with pytest.raises(ValueError, match=r"^loads_N: its load 1e\+07 N deflects the stator"):
         characteristic(table2(), 200, 14, loads_N=[0.0, 1e7], accuracy=accuracy)
+    with pytest.raises(ValueError, match=r"^loads_N: its load -1e\+07 N deflects"):
+        characteristic(table2(), 200, 14, loads_N=[0.0, -1e7], accuracy=accuracy)
+    with pytest.raises(ValueError, match=r"^load_N = -1e\+09 N deflects"):
+        simulate(table2(), 200, 14, load_N=-1e9)
 
 
 def test_progress_is_a_bool():
@@ -453,3 +458,13 @@ def test_a_run_that_would_keep_too_many_steps_is_refused_before_its_kernel():
     assert time.perf_counter() - t0 < 10  # no kernel ran (a bound, not a timing claim)
     r = simulate(p, 200.0, 14.0, duration_s=0.01, full_periods=10**9)
     assert math.isfinite(r.steady.velocity_m_s)  # its window is at most half of 1e5 steps
+
+
+def test_beam_damping_ratios_are_refused_with_their_range():
+    """beam_params(damping_ratios=(0.0, 0.1)) said "(0, inf)"; the range is (0, 1)."""
+    from rom.beam import beam_params
+
+    for bad in (0.0, 1.0, "0.1", True):
+        with pytest.raises(ValueError, match=r"^damping_ratios\[0\] \(zeta_L1\) must be a "
+                                             r"number in \(0, 1\)"):
+            beam_params(damping_ratios=(bad, 0.1))
