@@ -28,19 +28,35 @@ def _table2(**kwargs: Any) -> MotorParams:
 
 def _beam(**kwargs: Any) -> MotorParams:
     """Appendix A beam theory; geometry and material keywords build the :class:`BeamStator`."""
+    import inspect
     from dataclasses import fields
 
     from rom.beam import BeamStator, beam_params
 
     names = {f.name for f in fields(BeamStator)}
+    options = set(inspect.signature(beam_params).parameters) - {"beam"}
+    unknown = sorted(set(kwargs) - names - options)
+    if unknown:  # bad input, as get_params says (a TypeError had surfaced from the call)
+        raise ValueError(f"source 'beam' takes no option {', '.join(unknown)}; its options are "
+                         f"{', '.join(sorted(names | options))}")
     beam = BeamStator(**{k: kwargs.pop(k) for k in list(kwargs) if k in names})
     return beam_params(beam, **kwargs)
 
 
 def _fem(**kwargs: Any) -> MotorParams:
     """FE reduction, imported here so that only this source loads the FE stack."""
+    import inspect
+
     from rom.from_fem import fem_params
 
+    # an unknown option is bad input, as the docstring of get_params says (a TypeError had
+    # surfaced from the call)
+    known = set(inspect.signature(fem_params).parameters)
+    unknown = sorted(set(kwargs) - known)
+    if unknown:
+        raise ValueError(f"source 'fem' takes no option {', '.join(unknown)}; its options are "
+                         f"{', '.join(sorted(known))} (a plate's dimensions go in a "
+                         "PlateStator passed as stator=)")
     return fem_params(**kwargs)
 
 

@@ -468,3 +468,17 @@ def test_beam_damping_ratios_are_refused_with_their_range():
         with pytest.raises(ValueError, match=r"^damping_ratios\[0\] \(zeta_L1\) must be a "
                                              r"number in \(0, 1\)"):
             beam_params(damping_ratios=(bad, 0.1))
+
+
+def test_an_unknown_source_option_is_a_value_error_naming_the_options():
+    """get_params("fem", foo=1) raised the builder's TypeError where get_params promises a
+    ValueError for bad options (API testing); "fem" takes no plate dimensions directly."""
+    from rom.sources import get_params
+
+    with pytest.raises(ValueError, match=r"^source 'fem' takes no option length_m; its "
+                                         r"options are .*stator"):
+        get_params("fem", length_m=0.03)
+    with pytest.raises(ValueError, match=r"^source 'beam' takes no option foo; its options "
+                                         r"are .*length_m"):
+        get_params("beam", foo=1)
+    assert get_params("beam", length_m=0.031).f_L1_Hz < get_params("beam").f_L1_Hz
