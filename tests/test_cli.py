@@ -177,3 +177,19 @@ def test_version(capsys):
 
     assert main(["--version"]) == 0
     assert capsys.readouterr().out.startswith("lusm ")
+
+
+def test_map_text_shows_the_velocities_of_its_json(capsys):
+    """The map's text had only motion classes; its velocities were in --json alone."""
+    import numpy as np
+
+    from validation.cli import main
+
+    argv = ["map", "--voltages", "100,300", "--preloads", "10,14"]
+    assert main(argv + ["--json"]) == 0
+    v = np.array(json.loads(capsys.readouterr().out)["steady_velocity_m_s"])
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    at = lines.index(next(ln for ln in lines if ln.startswith("slider velocity (mm/s)")))
+    rows = [[float(x) for x in ln.split()[1:]] for ln in lines[at + 2:at + 4]]
+    np.testing.assert_allclose(rows, v * 1e3, rtol=1e-3)

@@ -169,6 +169,11 @@ def run(args: argparse.Namespace) -> None:
     for i, v in enumerate(m.voltages_V):
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
+    # the speeds too (they had been in --json only): mm/s, 4 significant digits
+    print("slider velocity (mm/s), V0 (V) \\ F_P (N)")
+    print(f"{'':>8}  " + " ".join(f"{f:>9g}" for f in m.preloads_N))
+    for i, v in enumerate(m.voltages_V):
+        print(f"{v:>8g}  " + " ".join(f"{x * 1e3:>9.4g}" for x in m.velocity_m_s[i]))
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
     auto_note = " (auto: the set's own operating point)" if known is None else ""
