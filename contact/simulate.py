@@ -467,6 +467,9 @@ def simulate(
         from contact.reference import check_reference_work
 
         check_reference_work(op, window.end_s)
+    if method == "event":  # what it keeps, before the A_N pre-pass starts too
+        n_full, decim = _full_and_decimation(op, opts, window)
+        check_stored_steps(n_full, math.ceil(window.n_steps / decim))
     module, _, name = METHODS[method].partition(":")
     scheme = getattr(importlib.import_module(module), name)
 
@@ -500,6 +503,15 @@ def simulate(
     )
 
 
+def _full_and_decimation(op: OperatingPoint, opts: SimulationOptions,
+                         window: RunWindow) -> tuple[int, int]:
+    """``(steps kept at full resolution, decimation of the trace)`` of the event scheme."""
+    n_steps = window.n_steps
+    n_full = min(n_steps, int(round(min(opts.full_periods, window.window_periods)
+                                    * op.period_s / window.dt_s)))
+    return n_full, max(1, int(math.ceil(n_steps / opts.max_trace_points)))
+
+
 def check_stored_steps(full_steps: int, trace_points: int) -> None:
     """Refuse, before the kernel runs, a run that would keep more than
     :data:`contact.window.MAX_STORED_STEPS` steps (times ``LUSM_MAX_WORK``) at full
@@ -518,10 +530,7 @@ def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions
     """The event-located scheme (:mod:`contact.event_kernel`)."""
     dt = window.dt_s
     n_steps, win_start = window.n_steps, window.win_start
-    n_full = min(n_steps, int(round(min(opts.full_periods, window.window_periods)
-                                    * op.period_s / dt)))
-    decim = max(1, int(math.ceil(n_steps / opts.max_trace_points)))
-    check_stored_steps(n_full, math.ceil(n_steps / decim))
+    n_full, decim = _full_and_decimation(op, opts, window)
     system = build_system(params, op, mu_d_eff, opts.coupling, opts.stick_band_m_s)
     check_spectrum(system, dt)
     # an earlier window, at least a fifth of the run before the last one, tells whether the

@@ -455,7 +455,7 @@ def test_a_run_that_would_keep_too_many_steps_is_refused_before_its_kernel():
         with pytest.raises(ValueError, match=rf"^{name}: the run would keep .* steps, above "
                                              r"the limit 1e\+07"):
             simulate(p, 200.0, 14.0, duration_s=5.0, steady_periods=10**9, **{name: 10**9})
-    assert time.perf_counter() - t0 < 10  # no kernel ran (a bound, not a timing claim)
+    assert time.perf_counter() - t0 < 60  # no kernel ran, not even the A_N pre-pass
     r = simulate(p, 200.0, 14.0, duration_s=0.01, full_periods=10**9)
     assert math.isfinite(r.steady.velocity_m_s)  # its window is at most half of 1e5 steps
 
