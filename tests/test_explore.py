@@ -1586,3 +1586,31 @@ def test_a_second_resume_while_one_runs_is_refused(study, client, tmp_path):
     r = explore(study, out, client=client, progress=False, resume=True, on_part=second_run)
     assert refusals and r.computed == study.n_geometries - 1
     assert out.exists() and not parts_folder(out).exists()
+
+
+def test_a_run_stopped_after_its_last_part_is_resumed_not_thrown_away(tmp_path):
+    """Every part written, the dataset not (a signal or a failed write at the end): a rerun
+    without --resume had said "no geometry computed fully ... remove that folder", which
+    would have thrown the finished work away (review). It says the work is done and --resume
+    writes the dataset, computing nothing; another study's folder is named as such."""
+    two = study_from_dict({"outputs": ["f_L1_short"], "axes": {"length": ["29 mm", "30 mm"]},
+                           "solver": {"fe_refine": 1}})
+    out = tmp_path / "two.nc"
+    seen = []
+
+    def stop_after_last(i):
+        seen.append(i)
+        if len(seen) == two.n_geometries:
+            raise Interrupt
+
+    with pytest.raises(Interrupt):
+        explore(two, out, workers=1, progress=False, on_part=stop_after_last)
+    with pytest.raises(ValueError, match="holds every geometry of this study, computed .* "
+                                         "pass --resume to write it"):
+        explore(two, out, workers=1, progress=False)
+    other = study_from_dict({"outputs": ["f_L1_short"], "axes": {"length": ["29 mm", "31 mm"]},
+                             "solver": {"fe_refine": 1}})
+    with pytest.raises(ValueError, match="holds the parts of another study"):
+        explore(other, out, workers=1, progress=False)
+    r = explore(two, out, workers=1, progress=False, resume=True)
+    assert (r.computed, r.reused) == (0, 2) and out.exists()

@@ -523,10 +523,15 @@ def _read_part(folder: Path, index: int,
     return part
 
 
-def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, dict], bool]:
+def _open_parts(study: Study, out: Path,
+                resume: bool) -> tuple[Path, dict[int, dict], bool, int | None]:
+    """The parts folder of ``out`` (made, or checked as this study's), its finished parts by
+    geometry, whether this call made it, and the run's lock on it (:func:`_lock_parts`),
+    taken before any part is read."""
     folder = parts_folder(out)
     stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text),
              "lusm_version": _version(), "code_sha256": code_digest()}
+    template = _empty_outputs(study)
     if folder.exists():
         if not (folder / STUDY_FILE).is_file():  # it was said to be "another study's", and
             # without --resume "an unfinished run" (whose --resume then sent the user back)
@@ -535,31 +540,29 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
                              "folder of a lusm explore run (a finished run leaves only files "
                              "that are not its own there); move it away or choose another "
                              "--out")
+        old = _stamp_of(folder)
         if not resume:
-            if all(_part_path(folder, i).exists() for i in range(study.n_geometries)):
-                # every geometry done and none fully: the run ended by refusing to write a
-                # dataset of NaN; "unfinished, pass --resume" sent the user round in a circle
-                raise ValueError(f"--out {out}: {folder} holds a finished run in which no "
-                                 "geometry computed fully (each part's reason in its "
-                                 "'status'; --resume says the first again); remove that "
-                                 "folder to run a corrected study")
-            raise ValueError(f"--out {out}: {folder} holds an unfinished run; pass --resume to "
-                             "continue it, or remove that folder to start over")
+            raise ValueError(_not_resumed(study, out, folder, old, template))
+        lock = _lock_parts(folder, out)
         try:
-            old = json.loads((folder / STUDY_FILE).read_text())
-        except (OSError, ValueError):
-            old = {}
-        if not isinstance(old, dict) or old.get("fingerprint") != study.fingerprint:
-            raise ValueError(f"--resume: {folder} belongs to another study (the study file "
-                             "or its study.stator file changed); remove that folder or restore "
-                             "the study")
-        if old.get("code_sha256") != stamp["code_sha256"]:
-            raise ValueError(
-                f"--resume: {folder} was computed by other lusm code (lusm "
-                f"{old.get('lusm_version', 'unknown')}, code "
-                f"{str(old.get('code_sha256', 'unrecorded'))[:12]}; this is lusm {_version()}, "
-                f"code {stamp['code_sha256'][:12]}): resuming would mix both in one dataset; "
-                "remove that folder to start over")
+            if not (folder / STUDY_FILE).is_file():  # a run finishing meanwhile removed it
+                raise ValueError(f"--resume: the run that held {folder} finished meanwhile; "
+                                 f"its dataset is {out}")
+            old = _stamp_of(folder)
+            if old.get("fingerprint") != study.fingerprint:
+                raise ValueError(f"--resume: {folder} belongs to another study (the study "
+                                 "file or its study.stator file changed); remove that folder "
+                                 "or restore the study")
+            if old.get("code_sha256") != stamp["code_sha256"]:
+                raise ValueError(
+                    f"--resume: {folder} was computed by other lusm code (lusm "
+                    f"{old.get('lusm_version', 'unknown')}, code "
+                    f"{str(old.get('code_sha256', 'unrecorded'))[:12]}; this is lusm "
+                    f"{_version()}, code {stamp['code_sha256'][:12]}): resuming would mix "
+                    "both in one dataset; remove that folder to start over")
+        except BaseException:
+            _unlock(lock)
+            raise
         created = False
     else:
         try:
@@ -568,15 +571,55 @@ def _open_parts(study: Study, out: Path, resume: bool) -> tuple[Path, dict[int, 
         except OSError as exc:  # /sys/x.nc: the message named the path, not the option
             raise ValueError(f"--out {out}: cannot write its parts folder {folder} "
                              f"({exc.strerror or exc})") from None
+        lock = _lock_parts(folder, out)
         created = True
+    return folder, _finished_parts(study, folder, template), created, lock
+
+
+def _stamp_of(folder: Path) -> dict:
+    """The ``study.json`` of a parts folder ({} when unreadable)."""
+    try:
+        old = json.loads((folder / STUDY_FILE).read_text())
+    except (OSError, ValueError):
+        return {}
+    return old if isinstance(old, dict) else {}
+
+
+def _finished_parts(study: Study, folder: Path, template) -> dict[int, dict]:
+    """The readable, well-formed parts in ``folder`` by geometry."""
     done = {}
-    template = _empty_outputs(study)
     for i in range(study.n_geometries):
         if _part_path(folder, i).exists():
             part = _read_part(folder, i, template)
             if part is not None:
                 done[i] = part
-    return folder, done, created
+    return done
+
+
+def _not_resumed(study: Study, out: Path, folder: Path, old: dict, template) -> str:
+    """Why a run without ``--resume`` does not start over an existing parts folder, and what
+    to do: another study's run, every geometry of this one computed (the dataset not
+    written: an interrupt or a failed write at the end), a finished run in which none
+    computed fully, or an unfinished run."""
+    if old.get("fingerprint") != study.fingerprint:
+        return (f"--out {out}: {folder} holds the parts of another study (the study file or "
+                "its study.stator file changed); remove that folder, or restore the study "
+                "and pass --resume")
+    if not all(_part_path(folder, i).exists() for i in range(study.n_geometries)):
+        return (f"--out {out}: {folder} holds an unfinished run; pass --resume to continue "
+                "it, or remove that folder to start over")
+    parts = _finished_parts(study, folder, template)
+    if len(parts) == study.n_geometries and not any(
+            computed_fully(str(p["status"])) for p in parts.values()):
+        # the run ended by refusing to write a dataset of NaN; "unfinished, pass --resume"
+        # had sent the user round in a circle
+        return (f"--out {out}: {folder} holds a finished run in which no geometry computed "
+                "fully (each part's reason in its 'status'; --resume says the first again); "
+                "remove that folder to run a corrected study")
+    # all there, the dataset not written (a signal or a failed write at the end): the work is
+    # done, and "none computed fully, remove that folder" would have thrown it away
+    return (f"--out {out}: {folder} holds every geometry of this study, computed (the dataset "
+            "was not written); pass --resume to write it, or remove that folder to start over")
 
 
 LOCK_FILE = ".lock"
@@ -592,7 +635,11 @@ def _lock_parts(folder: Path, out: Path) -> int | None:
         import fcntl
     except ImportError:  # pragma: no cover - not POSIX
         return None
-    fd = os.open(folder / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fd = os.open(folder / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError as exc:  # a read-only folder, or one a finishing run just removed
+        raise ValueError(f"--out {out}: cannot lock its parts folder {folder} "
+                         f"({exc.strerror or exc})") from None
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except OSError:
@@ -600,6 +647,12 @@ def _lock_parts(folder: Path, out: Path) -> int | None:
         raise ValueError(f"--out {out}: another lusm explore is running on {folder}; wait for "
                          "it to finish (or stop it) before resuming") from None
     return fd
+
+
+def _unlock(fd: int | None) -> None:
+    """Release a lock of :func:`_lock_parts` (closing its descriptor)."""
+    if fd is not None:
+        os.close(fd)
 
 
 def _remove_parts(folder: Path, n: int, made: list[Path] = ()) -> None:
@@ -1163,8 +1216,7 @@ def explore(
     # folders above --out that this run makes: removed again, if still empty, when it stops
     # before computing anything (an interrupted `--out new/sub/x.nc` left new/sub/ behind)
     made = [p for p in Path(os.path.abspath(out)).parents if not p.exists()]
-    folder, parts, created = _open_parts(study, out, resume)
-    lock = _lock_parts(folder, out)
+    folder, parts, created, lock = _open_parts(study, out, resume)
     try:
         # an FE-only study drives nothing (its --json said one drive point per geometry)
         result = ExploreResult(out, study.n_geometries,
@@ -1272,8 +1324,7 @@ def explore(
         result.wall_time_s = time.perf_counter() - t0
         return result
     finally:
-        if lock is not None:
-            os.close(lock)  # released (its file went with the folder once the dataset is in)
+        _unlock(lock)  # released (its file went with the folder once the dataset is in)
 
 
 def computed_fully(status: str) -> bool:
