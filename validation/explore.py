@@ -1037,6 +1037,8 @@ IN_FLIGHT_PER_WORKER = 4
 each worker busy while the client writes parts, few enough that the client's memory does not
 grow with the study."""
 MIN_IN_FLIGHT = 16
+WINDOW_RECHECK = 8
+"""Completed tasks between two counts of the cluster's workers (a scheduler round trip)."""
 
 
 def in_flight(workers: int, tasks: int) -> int:
@@ -1244,7 +1246,9 @@ def explore(
                             _remove_parts(folder, study.n_geometries, made)
                         raise
                 try:
-                    result.workers = len(client.scheduler_info()["workers"])
+                    # nthreads() lists every worker (scheduler_info() gives at most 5 on
+                    # some dask releases: a window sized from it starved a large cluster)
+                    result.workers = len(client.nthreads())
                     run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
                     live, index = set(), {}  # submitted and not yet taken in
                     waiting = iter(todo)
@@ -1267,9 +1271,17 @@ def explore(
                     bar = _bar(len(todo) + len(parts), len(parts), progress)
                     try:
                         completed = as_completed(window)
-                        for fut in completed:
-                            nxt = submit_next()
-                            if nxt is not None:
+                        for n_done, fut in enumerate(completed, start=1):
+                            # topped up to the window of the workers there are now: workers
+                            # that join later (an adaptive cluster) widen it
+                            workers = (len(client.nthreads()) if n_done % WINDOW_RECHECK == 0
+                                       else result.workers)
+                            result.workers = max(result.workers, workers)
+                            want = in_flight(workers, len(todo))
+                            while len(live) - 1 < want:
+                                nxt = submit_next()
+                                if nxt is None:
+                                    break
                                 completed.add(nxt)
                             data = fut.result()
                             i = index.pop(fut.key)
