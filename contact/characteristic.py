@@ -32,6 +32,10 @@ from contact.steady import (
 )
 from rom.params import MotorParams, require_params
 
+CREEP_SHARE = 1e-3
+"""Relative excess of the exact stall force over the averaged one below which no creep band
+is reported (:attr:`Characteristic.creep_from_N`)."""
+
 
 @dataclass(frozen=True, eq=False)
 class Characteristic(FrozenArrays):
@@ -71,12 +75,10 @@ class Characteristic(FrozenArrays):
     orbits : int
         Fast-problem orbits solved, those of each load's exact steady state included.
     averaged_stall_force_N : float
-        The averaged (fast level's) stall force (N): at the exact level, where the creep
-        band begins. Between it and ``stall_force_N`` the finite slider creeps at a small
-        fraction of its no-load speed, its velocity ripple breaking the guide's ideal
-        Coulomb stiction every period; a real guide's pre-sliding stiffness, which the model
-        does not have, may hold it there (``docs/steady.md``). Equal to ``stall_force_N``
-        at the fast level.
+        The averaged (fast level's) stall force (N); equal to ``stall_force_N`` at the fast
+        level. At the exact level it usually lies below the exact one, where a creep band
+        begins (:attr:`creep_from_N`); it can also lie above it (Table 2's set at 450 V /
+        40 N: the full model stalls at 2.73 N, the averaged one at 3.16 N).
     """
 
     op: OperatingPoint
@@ -93,6 +95,23 @@ class Characteristic(FrozenArrays):
     orbits: int
     averaged_stall_force_N: float = math.nan
 
+    @property
+    def creep_from_N(self) -> float:
+        """Where the exact level's creep band begins (N), or NaN where there is none.
+
+        Between the averaged stall force and a larger exact one (same sign) the finite
+        slider creeps at a small fraction of its no-load speed, its velocity ripple breaking
+        the guide's ideal Coulomb stiction every period; a real guide's pre-sliding
+        stiffness, which the model does not have, may hold it there (``docs/steady.md``).
+        NaN at the fast level, where the two coincide, or where the exact stall force is the
+        smaller (the full model stalls first) or of the other sign.
+        """
+        lo, hi = self.averaged_stall_force_N, self.stall_force_N
+        if (self.accuracy != "exact" or not (math.isfinite(lo) and math.isfinite(hi))
+                or lo * hi <= 0.0 or abs(hi) <= abs(lo) * (1.0 + CREEP_SHARE)):
+            return math.nan
+        return float(lo)
+
     def to_dict(self) -> dict:
         """The fields of ``lusm characteristic --json``, as Python floats: NaN stays NaN
         (a load the slider runs away under, an undefined efficiency or holding bound); the
@@ -101,6 +120,7 @@ class Characteristic(FrozenArrays):
             "no_load_velocity_m_s": float(self.no_load_velocity_m_s),
             "stall_force_N": float(self.stall_force_N),
             "averaged_stall_force_N": float(self.averaged_stall_force_N),
+            "creep_from_N": float(self.creep_from_N),
             "holding_range_N": [float(f) for f in self.holding_range_N],
             "accuracy": self.accuracy,
             "curve": [

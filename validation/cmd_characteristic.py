@@ -165,19 +165,12 @@ def run(args: argparse.Namespace) -> None:
     print(coupling_line(coupling, coupling_from))
 
 
-CREEP_SHARE = 1e-3
-"""Relative gap between the averaged and the exact stall force below which no creep band is
-printed."""
-
-
 def _creep_line(char) -> str | None:
-    """The creep band of an exact-level curve, or None: from the averaged stall force to the
-    exact one the finite slider creeps (its ripple breaking the guide's ideal stiction), and
-    a designer reading the curve's knee as the stall force had found it half the printed one
-    (exploratory testing: 0.76 N against 1.38 N)."""
-    lo, hi = char.averaged_stall_force_N, char.stall_force_N
-    if char.accuracy != "exact" or not (math.isfinite(lo) and math.isfinite(hi)) \
-            or abs(hi - lo) <= CREEP_SHARE * max(abs(hi), 1e-300):
+    """The creep band of an exact-level curve (:attr:`contact.characteristic.Characteristic.
+    creep_from_N`), or None: a designer reading the curve's knee as the stall force had
+    found it half the printed one (exploratory testing: 0.76 N against 1.38 N)."""
+    lo, hi = char.creep_from_N, char.stall_force_N
+    if not math.isfinite(lo):
         return None
     inside = [abs(float(v)) for f, v in zip(char.load_N, char.velocity_m_s, strict=True)
               if min(lo, hi) < f < max(lo, hi) and math.isfinite(v)]

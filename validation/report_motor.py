@@ -100,7 +100,7 @@ def _row(name: str, c: Characteristic) -> list:
     best = float(eff.max()) if eff.size else float("nan")
     at = float(c.load_N[np.nanargmax(c.efficiency)]) if eff.size else float("nan")
     return [name, c.op.voltage_V, c.no_load_velocity_m_s * 1e3, c.stall_force_N,
-            c.averaged_stall_force_N, c.input_power_W[0], best * 100, at]
+            c.creep_from_N, c.input_power_W[0], best * 100, at]
 
 
 def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, float],
