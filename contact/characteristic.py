@@ -209,10 +209,14 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     if loads_N is not None and loads_arr.size:  # both levels refuse it, before any solve
         # (1e7 N came out NaN at the fast level and was refused at the exact one)
         largest = float(loads_arr[np.argmax(np.abs(loads_arr))])
+        check_scale(params, op)  # the drive and preload first, named as they are
         try:
             check_scale(params, dataclasses.replace(op, load_N=largest))
         except ValueError as exc:  # the parameter is loads_N (it had said "load_N = ...")
-            raise ValueError(str(exc).replace("load_N = ", "loads_N: its load ", 1)) from None
+            text = str(exc)
+            if text.startswith("load_N = "):
+                text = "loads_N: its load " + text[len("load_N = "):]
+            raise ValueError(text) from None
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
 
     irregular: dict[float, object] = {}  # load -> branch from rest with no short period
