@@ -918,11 +918,17 @@ def _check_work(study: Study, where: str) -> None:
     fe_work = cells * study.n_geometries
     if fe_work > top:
         about = "about " if estimated else ""
+        # the mesh the study's plates are meshed by: a stator file's own (or gmsh's, at its
+        # [mesh] size_mm), where solver.fe_refine does nothing (review)
+        coarser = (f"a coarser mesh of study.stator {study.stator.path} (its [mesh] size_mm "
+                   "or mesh file)"
+                   if study.stator is not None and _planform(study.stator)
+                   else f"a coarser mesh (solver.fe_refine {study.solver.fe_refine})")
         raise ValueError(f"{where}axes: {study.n_geometries} geometries (FE solves) x {about}"
                          f"{cells} 2D elements (the study's largest plate, {length * 1e3:g} x "
                          f"{width * 1e3:g} mm) = {fe_work:.3g} elements x solves is above the "
-                         f"limit {top:.3g}; fewer geometries, or a coarser mesh (solver.fe_refine"
-                         f" {study.solver.fe_refine}) ({limits.more_work_hint()})")
+                         f"limit {top:.3g}; fewer geometries, or {coarser} "
+                         f"({limits.more_work_hint()})")
     top = limits.work_bound(MAX_DRIVE_POINTS)
     if study.n_drive_points > top:
         raise ValueError(f"{where}axes: {study.n_drive_points} drive points per geometry is "
