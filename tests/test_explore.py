@@ -1542,6 +1542,9 @@ def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
      'solver.rest is unused: it decides the start from rest at accuracy = "exact" only'),
     ({"method": "event", "duration": "5 ms"}, ["f_L1_short"],
      "solver.method and solver.duration are unused: the study asks for FE outputs only"),
+    ({"accuracy": "fast", "dt": "1 ns", "rest": "probe"}, ["no_load_velocity"],
+     'solver.dt is unused: the steady engine takes its own time step; solver.rest is unused: '
+     'it decides the start from rest at accuracy = "exact" only'),
 ])
 def test_solver_settings_a_study_does_not_use_are_said(solver, outputs, words):
     """Settings the study's method ignores ran without a word (found by exploratory testing);

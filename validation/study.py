@@ -878,11 +878,15 @@ def _warn_unused_solver(study: Study, raw: dict, where: str) -> None:
     else:
         why = f"a setting of the steady engine, and method = {s.method!r} is a transient"
         unused = {"accuracy": why, "rest": why}
-    keys = [k for k in unused if k in raw]
-    if keys:
-        names = " and ".join(f"solver.{k}" for k in keys)
-        warnings.warn(f"{where}{names} {'is' if len(keys) == 1 else 'are'} unused: "
-                      f"{unused[keys[0]]}", stacklevel=3)
+    by_reason: dict[str, list[str]] = {}  # one clause per reason (review: dt and rest had
+    for k in unused:                       # been given dt's reason together)
+        if k in raw:
+            by_reason.setdefault(unused[k], []).append(k)
+    if by_reason:
+        clauses = [f"{' and '.join(f'solver.{k}' for k in keys)} "
+                   f"{'is' if len(keys) == 1 else 'are'} unused: {why}"
+                   for why, keys in by_reason.items()]
+        warnings.warn(where + "; ".join(clauses), stacklevel=3)
 
 
 def _check_geometry_count(study: Study, where: str) -> None:
