@@ -737,11 +737,12 @@ def plate_admittance(
     if n_points > top:  # an array of points x modes: 1e7 had taken 56 s and about 7 GB
         raise ValueError(f"n_points must be at most {top:.0f} in a library call, got "
                          f"{n_points} (set LUSM_MAX_WORK=N to allow N times more)")
-    model = plate_model(stator, material, order, refine)
+    # before the model is built (review: it had been checked after)
     if zeta is not None and not (isinstance(zeta, numbers.Real) and not isinstance(zeta, bool)
                                  and math.isfinite(zeta) and 0.0 < zeta < 1.0):
         raise ValueError(f"zeta must lie in (0, 1) (an undamped admittance is infinite at "
                          f"resonance), got {zeta!r}")
+    model = plate_model(stator, material, order, refine)
     kw = ({"zeta_L1": zeta_L1, "zeta_B2": zeta_B2} if zeta is None
           else {"zeta_L1": zeta, "zeta_B2": zeta, "zeta_other": zeta})
     port = modal_port(model, f_max_Hz, electrodes, polarity, cutoff_factor=cutoff_factor,

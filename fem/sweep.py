@@ -10,6 +10,7 @@ veering); any asymmetry (electrodes, tip) would turn it into a veering.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -169,8 +170,10 @@ def sweep_dimension(
         raise ValueError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
     from fem.mesh_io import work_factor
 
-    raw = np.atleast_1d(np.asarray(values_m))
-    if raw.dtype.kind not in "iuf":  # "7e-3" had been parsed, True had made a 1 m plate
+    raw = np.atleast_1d(np.asarray(values_m, dtype=object))
+    # "7e-3" had been parsed, True had made a 1 m plate (alone or beside numbers)
+    if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+               for v in raw.ravel()):
         raise ValueError(f"values_m must be numbers (m), got {values_m!r}"[:300])
     values = raw.astype(float)
     if values.size == 0 or values.ndim != 1:

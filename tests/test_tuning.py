@@ -385,6 +385,13 @@ def test_a_swept_stator_file_gets_the_thin_plate_warning_of_the_same_plates_type
     assert main(["sweep", "--geometry", str(path), "--width-mm", "6:8:1", "--refine", "1"]) in (
         0, None)
     assert "thin plate" not in capsys.readouterr().err
+    # the label names the dimension that gives the ratio: the held width of a thick plate
+    # whose length is swept (it had named the swept length; review)
+    path.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 7\n")
+    assert main(["sweep", "--geometry", str(path), "--length-mm", "25:27:1",
+                 "--refine", "1"]) in (0, None)
+    assert "0.933 x the sweep's smallest in-plane dimension (width 7.5 mm)" in \
+        capsys.readouterr().err
 
 
 def test_the_fe_work_refusal_names_what_the_user_can_change(capsys):
@@ -444,7 +451,7 @@ def test_the_fem_library_calls_are_bounded_before_they_start():
     with pytest.raises(ValueError, match=r"^values_m has 200000 values \(FE solves\), above "
                                          r"the limit 2000"):
         sweep_dimension("width", np.linspace(6e-3, 9e-3, 200_000))
-    for bad in (["7e-3"], [True]):
+    for bad in (["7e-3"], [True], [True, 7e-3]):
         with pytest.raises(ValueError, match="^values_m must be numbers"):
             sweep_dimension("width", bad)
     with pytest.raises(ValueError, match=r"^refine = 1000 makes at least 4e\+06 elements"):
@@ -459,5 +466,6 @@ def test_the_fem_library_calls_are_bounded_before_they_start():
     # NumPy scalars are numbers (float32 targets and zeta had been refused)
     with pytest.raises(ValueError, match="cannot be imposed with the length held"):
         tune_plate(np.float32(40e3), fix="length")
-    with pytest.raises(ValueError, match="^n_points must be at most"):
-        plate_admittance(zeta=np.float32(0.01), n_points=10**7)
+    port = plate_admittance(zeta=np.float32(0.01), f_min_Hz=50e3, f_max_Hz=60e3, n_points=11,
+                            refine=1).port
+    assert port.zeta[0] == pytest.approx(0.01)

@@ -133,10 +133,11 @@ def run(args: argparse.Namespace) -> None:
         # file's plates had gone unwarned where the same plates typed in were warned)
         inplane = {"length": base.length_m, "width": base.width_m}
         inplane[parameter] = float(values_mm.min()) * 1e-3
+        least = min(inplane, key=inplane.get)  # the dimension that gives the ratio
         warn_thin_plate(f"--geometry {args.geometry}: thickness {base.thickness_m * 1e3:g} mm",
-                        base.thickness_m * 1e3, min(inplane.values()) * 1e3,
-                        f"the sweep's smallest in-plane dimension ({parameter} "
-                        f"{values_mm.min():g} mm)")
+                        base.thickness_m * 1e3, inplane[least] * 1e3,
+                        f"the sweep's smallest in-plane dimension ({least} "
+                        f"{inplane[least] * 1e3:g} mm)")
     else:
         from fem.geometry import PlateStator
 
