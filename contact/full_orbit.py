@@ -23,7 +23,12 @@ from contact import state as S
 from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.model import HybridSystem, OperatingPoint, build_system
-from contact.periodic_orbit import propagator_ladder, run_whole_periods, steps_for
+from contact.periodic_orbit import (
+    integrating_systems,
+    propagator_ladder,
+    run_whole_periods,
+    steps_for,
+)
 from rom.params import MotorParams
 
 
@@ -31,7 +36,7 @@ from rom.params import MotorParams
 class FullSystem:
     """The full model of one operating point with its one-step propagators (``fine``: cache
     of the propagators at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD`, the step of
-    the work integrals)."""
+    the work integrals, and of the force-integrating twins of :func:`mean_forces`)."""
 
     system: HybridSystem
     phi: np.ndarray
@@ -100,6 +105,9 @@ class FullOrbit:
     multiplier : float
         Largest modulus of the eigenvalues of the last Newton Jacobian of the k-period map
         (Floquet multiplier): < 1 means the orbit is stable.
+    mean_FT_N, mean_FN_N : float
+        Means over the orbit of the tangential force on the slider and of the normal force
+        (N), integrated exactly (:func:`mean_forces`); NaN if shooting did not converge.
     """
 
     velocity_m_s: float
@@ -112,6 +120,8 @@ class FullOrbit:
     work: np.ndarray
     phase_time: np.ndarray
     multiplier: float
+    mean_FT_N: float = np.nan
+    mean_FN_N: float = np.nan
 
 
 def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e-10,
@@ -139,9 +149,35 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
             if free.any() and np.all(np.isfinite(sub)) else np.nan)
     converged = res <= tol
     z = _consistent(fs, z, mode)
+    forces = (np.nan, np.nan)
+    if converged:
+        forces = mean_forces(fs, z, mode, k)
+        periods += 2 * k
     _, _, dist, work, phase_time = run_periods(fs, z, mode, k, energy=energy, window=True)
     if not energy:
         work = np.full(event_kernel.N_WORK, np.nan)
     periods += k
     return FullOrbit(dist / (k * fs.period_s), k if converged else 0, z, mode, res, periods,
-                     it, work, phase_time, mult)
+                     it, work, phase_time, mult, *forces)
+
+
+def mean_forces(fs: FullSystem, z: np.ndarray, mode: int, periods: int) -> tuple[float, float]:
+    """Period means ``(F_T, F_N)`` (N) of the tangential force on the slider and the normal
+    force over ``periods`` drive periods of the full model from ``(z, mode)``.
+
+    The model's integrating twins (:func:`contact.periodic_orbit.integrating_systems`, as the
+    fast problem integrates its forces) run the same trajectory with the position slot
+    integrating each force: exact propagators and located events, at the shooting's step. They
+    are built on first use and cached with the system."""
+    if "forces" not in fs.fine:
+        ft_sys, fn_sys, ft_phi, fn_phi, _ = integrating_systems(
+            fs.system, fs.period_s, fs.steps_per_period, fixed_velocity=False)
+        fs.fine["forces"] = ((ft_sys, ft_phi), (fn_sys, fn_phi))
+    means = []
+    for sys_, (phi, half) in fs.fine["forces"]:
+        # no work integrals: no finer propagators, so no cache key is read
+        x = run_whole_periods(sys_, z, mode, periods, steps=fs.steps_per_period,
+                              period_s=fs.period_s, phi=phi, half=half, fine={}, key="",
+                              what="the full model's force integrals")[2]
+        means.append(x / (periods * fs.period_s))
+    return float(means[0]), float(means[1])

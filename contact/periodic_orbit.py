@@ -97,12 +97,41 @@ class FastSystem:
     fine: dict = field(default_factory=dict, compare=False, repr=False)
 
 
-def _integrating(system: HybridSystem, rows: np.ndarray) -> HybridSystem:
+def _integrating(system: HybridSystem, rows: np.ndarray, fixed_velocity: bool) -> HybridSystem:
     a = system.A.copy()
-    a[:, S.DX, :] = 0.0  # the slider velocity is a parameter of the fast problem
+    if fixed_velocity:
+        a[:, S.DX, :] = 0.0  # the slider velocity is a parameter of the fast problem
     a[:, S.X, :] = rows  # the position slot integrates a force over time
     ev_dh = np.matmul(system.ev_h, a)  # as in build_system
     return dataclasses.replace(system, A=a, ev_dh=ev_dh)
+
+
+def integrating_systems(system: HybridSystem, period_s: float, steps: int, *,
+                        fixed_velocity: bool, fine: bool = True):
+    """The twins of ``system`` whose position slot integrates F_T and F_N (N s), with their
+    propagators at ``steps`` per period from one matrix exponential per mode.
+
+    Nothing in the switch model reads the slider position (its column of every generator is
+    zero), so the twins run the same trajectory as ``system`` and the kernel's exact
+    propagators return the exact time integral of the force over the run in that slot.
+    ``fixed_velocity``: the slider rows are zeroed too (the fast problem, ``dx = v``).
+
+    Returns ``(ft_system, fn_system, (phi_ft, half_ft), (phi_fn, half_fn), fine_ft)``:
+    ``fine_ft`` the F_T twin's propagators at :data:`ENERGY_STEPS_PER_PERIOD` (None as in
+    :func:`propagator_ladder`).
+    """
+    ft_sys = _integrating(system, system.ft_m, fixed_velocity)
+    fn_sys = _integrating(system, system.fn_m, fixed_velocity)
+    # both twins differ only in the x row, which nothing reads: one exponential of the
+    # generator bordered by the F_N row gives both propagator sets
+    bordered = np.zeros((S.N_MODES, S.N_STATE + 1, S.N_STATE + 1))
+    bordered[:, :S.N_STATE, :S.N_STATE] = ft_sys.A
+    bordered[:, S.N_STATE, :S.N_STATE] = fn_sys.A[:, S.X, :]
+    phi_b, half_b, fine_b = _ladder(bordered, period_s, steps, fine)
+    phi_ft, phi_fn = _split(phi_b)
+    half_ft, half_fn = _split(half_b)
+    fine_ft = None if fine_b is None else (_split(fine_b[0])[0], _split(fine_b[1])[0])
+    return ft_sys, fn_sys, (phi_ft, half_ft), (phi_fn, half_fn), fine_ft
 
 
 def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
@@ -117,19 +146,10 @@ def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     p_inf = params.with_(M_slider=1e12, mu_sd=0.0)
     op0 = OperatingPoint(op.voltage_V, op.preload_N, op.frequency_Hz)
     base = build_system(p_inf, op0, mu_d_eff, coupling)
-    ft_sys = _integrating(base, base.ft_m)
-    fn_sys = _integrating(base, base.fn_m)
     n = steps_for(base, op.period_s, steps_per_period)
     dt = op.period_s / n
-    # both systems differ only in the x row, which nothing reads: one exponential of the
-    # generator bordered by the F_N row gives both propagator sets
-    bordered = np.zeros((S.N_MODES, S.N_STATE + 1, S.N_STATE + 1))
-    bordered[:, :S.N_STATE, :S.N_STATE] = ft_sys.A
-    bordered[:, S.N_STATE, :S.N_STATE] = fn_sys.A[:, S.X, :]
-    phi_b, half_b, fine_b = _ladder(bordered, op.period_s, n, True)
-    phi_ft, phi_fn = _split(phi_b)
-    half_ft, half_fn = _split(half_b)
-    fine_ft = None if fine_b is None else (_split(fine_b[0])[0], _split(fine_b[1])[0])
+    ft_sys, fn_sys, (phi_ft, half_ft), (phi_fn, half_fn), fine_ft = integrating_systems(
+        base, op.period_s, n, fixed_velocity=True)
     fs = FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
                     params.phi_Bl, n)
     if fine_ft is not None:

@@ -163,12 +163,12 @@ class SteadyBranch:
         ``"dead-zone"`` (slider held).
     mean_FT_N, mean_FN_N : float
         Period averages of the tangential force on the slider and of the normal force (N),
-        from the averaged (fast) problem's orbit at this velocity, which integrates them
-        exactly; at ``accuracy="exact"`` a full-model orbit that polishes an averaged branch
-        carries that branch's averages (they differ from the finite-mass orbit's by the
-        averaging's O(1/M) error), and one found only on the full model (an orbit from rest
-        of period k >= 2 that the averaging does not see, or a long mean with ``k = 0``) has
-        NaN: the full model's kernel integrates work and phase times, not forces.
+        integrated exactly over the orbit the branch's numbers come from: the averaged
+        (fast) problem's at this velocity, or at ``accuracy="exact"`` the full model's
+        (:func:`contact.full_orbit.mean_forces`; a long mean with ``k = 0`` over the window
+        of its work integrals). On a full-model orbit whose slider never stops the mean
+        tangential force is the guide's kinetic friction plus the load; without separation
+        the mean normal force is the preload.
     input_power_W : float
         Mean electrical input power (W): ``<V(t) (A_l du_l + A_b dw_b)>``, the motional
         current times the voltage (the force factors are the current factors by reciprocity).
@@ -676,11 +676,12 @@ def _steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
 
 def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndarray,
                 phase_time: np.ndarray, stable: bool, from_rest: bool,
-                held: bool) -> SteadyBranch:
+                held: bool, forces: tuple[float, float]) -> SteadyBranch:
     """A branch measured on ``n_periods`` periods of the full model: mean velocity ``v``
-    (m/s), work integrals ``work`` (J) and phase times (s); ``held``: the dead zone, at
-    velocity 0 with no output power (its guide power is the slider's rocking with the stuck
-    tip: 3.4e-5 W at 139 V / 14 N, which had been left out of the energy balance)."""
+    (m/s), work integrals ``work`` (J), phase times (s) and mean forces ``(F_T, F_N)`` (N);
+    ``held``: the dead zone, at velocity 0 with no output power (its guide power is the
+    slider's rocking with the stuck tip: 3.4e-5 W at 139 V / 14 N, which had been left out
+    of the energy balance)."""
     duration = n_periods * sp.op.period_s
     total = float(np.sum(phase_time))
     frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
@@ -693,26 +694,30 @@ def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndar
     output = load * v + 0.0  # + 0.0: 0 W at no load, not -0 W backward
     guide = -(w_g / duration) - load * v if sp.params.mu_sd > 0 else 0.0
     return SteadyBranch(
-        velocity_m_s=v, k=k, stable=stable, motion=motion, mean_FT_N=math.nan,
-        mean_FN_N=math.nan, input_power_W=w_in / duration, output_power_W=output,
+        velocity_m_s=v, k=k, stable=stable, motion=motion, mean_FT_N=float(forces[0]),
+        mean_FN_N=float(forces[1]), input_power_W=w_in / duration, output_power_W=output,
         damping_power_W=w_damp / duration, interface_power_W=-(w_ts + w_tx) / duration,
         guide_power_W=guide, from_rest=from_rest,
         phase_fraction=tuple(float(f) for f in frac))
 
 
 def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBranch:
-    """The branch of a shot full-model orbit; one that holds the slider (``|v| <=
-    HELD_M_S``: by the guide, or by the tip's stiction) is the dead zone."""
+    """The branch of a shot full-model orbit, with its own mean forces; one that holds the
+    slider (``|v| <= HELD_M_S``: by the guide, or by the tip's stiction) is the dead zone."""
     return _run_branch(sp, fo.velocity_m_s, fo.k, fo.k, fo.work, fo.phase_time, stable,
-                       from_rest, held=abs(fo.velocity_m_s) <= HELD_M_S)
+                       from_rest, held=abs(fo.velocity_m_s) <= HELD_M_S,
+                       forces=(fo.mean_FT_N, fo.mean_FN_N))
 
 
 def _mean_branch(sp: SlowProblem, v: float, work: np.ndarray, phase_time: np.ndarray,
-                 n_periods: int, error_m_s: float) -> SteadyBranch:
+                 n_periods: int, error_m_s: float,
+                 forces: tuple[float, float]) -> SteadyBranch:
     """The long mean of the full model's transient from rest, where it repeats with no
     period up to :data:`REST_MAX_K` (k = 0; powers NaN without the work integrals, which
-    cover ``n_periods``; ``error_m_s`` the mean's standard error)."""
-    b = _run_branch(sp, v, 0, n_periods, work, phase_time, True, True, held=False)
+    cover ``n_periods``, as the mean forces ``(F_T, F_N)`` (N) do; ``error_m_s`` the mean
+    velocity's standard error)."""
+    b = _run_branch(sp, v, 0, n_periods, work, phase_time, True, True, held=False,
+                    forces=forces)
     return dataclasses.replace(b, velocity_error_m_s=float(error_m_s))
 
 
@@ -770,12 +775,13 @@ def _held_from(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
 
 
 def _with_powers(b: SteadyBranch, measured: SteadyBranch) -> SteadyBranch:
-    """Branch ``b`` with the input, damping, interface and guide powers of ``measured``: its
-    orbit, period and phases stay those the engine found without work runs (``energy=False``
-    changes the powers only)."""
+    """Branch ``b`` with the input, damping, interface and guide powers and the mean forces
+    of ``measured``: its orbit, period and phases stay those the engine found without work
+    runs (``energy=False`` changes the powers only)."""
     return dataclasses.replace(
         b, input_power_W=measured.input_power_W, damping_power_W=measured.damping_power_W,
-        interface_power_W=measured.interface_power_W, guide_power_W=measured.guide_power_W)
+        interface_power_W=measured.interface_power_W, guide_power_W=measured.guide_power_W,
+        mean_FT_N=measured.mean_FT_N, mean_FN_N=measured.mean_FN_N)
 
 
 def _held_branch(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
@@ -788,7 +794,7 @@ def _held_branch(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
     averaged orbit at 0+ (an infinitely heavy slider) does not have: at 200 V / 14 N driven
     at 1 kHz the guide takes 5.0e-4 W of the 1.07e-3 W put in, and the averaged dead zone had
     said 2.4e-5 W at some loads of one characteristic and 1.07e-3 W at the others."""
-    from contact.full_orbit import run_periods, shoot
+    from contact.full_orbit import mean_forces, run_periods, shoot
 
     try:
         h = shoot(fsys, z, mode, 1, energy=True)
@@ -797,9 +803,10 @@ def _held_branch(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
     if h is not None and h.k and abs(h.velocity_m_s) <= HELD_M_S:
         return _full_branch(sp, h, True, from_rest), h.periods, h.newton_iterations
     _, _, _, work, phase = run_periods(fsys, z, mode, REST_MEAN_PERIODS, energy=True)
-    periods = REST_MEAN_PERIODS + (h.periods if h is not None else 0)
+    forces = mean_forces(fsys, z, mode, REST_MEAN_PERIODS)
+    periods = 3 * REST_MEAN_PERIODS + (h.periods if h is not None else 0)
     branch = _run_branch(sp, 0.0, 0, REST_MEAN_PERIODS, work, phase, True, from_rest,
-                         held=True)
+                         held=True, forces=forces)
     return branch, periods, h.newton_iterations if h is not None else 0
 
 
@@ -882,7 +889,7 @@ def _transient_from_rest(sp: SlowProblem, fsys, z, mode, done: int, energy: bool
 def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
            rest: str = "probe"):
     """Polish the averaged branches on the full model and decide the start from rest."""
-    from contact.full_orbit import full_system, run_periods, shoot
+    from contact.full_orbit import full_system, mean_forces, run_periods, shoot
 
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
     periods = newton = 0
@@ -915,8 +922,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
             # no multiplier when the shot converged before forming a Jacobian: the averaged
             # stability stands
             stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else b.stable
-            full = _full_branch(sp, fo, stable, False)
-            out.append(dataclasses.replace(full, mean_FT_N=b.mean_FT_N, mean_FN_N=b.mean_FN_N))
+            out.append(_full_branch(sp, fo, stable, False))
         else:
             out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
     # the start from rest: the full model out of the ripple zone and the averaged sheet it
@@ -1002,8 +1008,11 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
                         v_rest, held, z_end, m_end = 0.0, True, z_h, m_h
                 if not held:
                     match, from_mean = [], True
+                    # the mean forces over the window of the work integrals
+                    forces = mean_forces(fsys, z_a, m_a, REST_MEAN_PERIODS)
+                    periods += 2 * REST_MEAN_PERIODS
                     out.append(_mean_branch(sp, v_rest, work, phase, REST_MEAN_PERIODS,
-                                            error))
+                                            error, forces))
             else:
                 match = avg
                 v_rest = out[avg[0]].velocity_m_s
@@ -1048,8 +1057,9 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
         keep = dataclasses.replace(dead[0], from_rest=any(b.from_rest for b in dead))
         out = [b for b in out if b.motion != "dead-zone"] + [keep]
     if held and energy:
-        # the dead zone a start from rest stays in, with its powers from the full model: the
-        # averaged orbit at 0+ has no slider rocking against the guide (_held_branch)
+        # the dead zone a start from rest stays in, with its powers and mean forces from the
+        # full model: the averaged orbit at 0+ has no slider rocking against the guide
+        # (_held_branch)
         if fo is not None:  # a held orbit, shot
             measured = _full_branch(sp, fo, True, True)
         else:

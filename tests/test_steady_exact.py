@@ -125,3 +125,33 @@ def test_a_slower_orbit_the_averaging_cannot_see_catches_the_start_from_rest():
     assert r.rest_periods <= PROBE_PERIODS
     faster = [b for b in r.branches if b.stable and not b.from_rest]
     assert [b.motion for b in faster] == ["pure-slip"] and faster[0].velocity_m_s > 2 * ref
+
+
+def test_exact_mean_forces_are_the_full_models(params):
+    """The full model's own period means (they had been the averaged orbit's, or NaN on an
+    orbit found only on the full model). Over an orbit the slider's momentum returns: where
+    it never stops (400 V / 14 N, 0.22 and 0.10 m/s against a ripple of about 1e-3 m/s) the
+    mean tangential force is the guide's kinetic friction plus the load. The tip separates
+    there, so the mean normal force exceeds the preload; a 0.3 s transient's trace gives the
+    same. Without separation it is the preload: the period-2 orbit from rest at 150 V / 14 N,
+    which the averaging does not see."""
+    import numpy as np
+
+    from contact.simulate import simulate
+    from rom.params import GRAVITY_M_S2
+
+    guide = params.mu_sd * params.M_slider * GRAVITY_M_S2
+    for load in (0.0, 1.0):
+        b = steady_state(params, 400, 14, load_N=load, energy=False).from_rest
+        assert b.k == 1 and b.velocity_m_s > 0.05 and b.motion == "slip-separation"
+        assert b.mean_FT_N == pytest.approx(params.mu_sd * b.mean_FN_N + guide + load,
+                                            rel=1e-9)
+        if load == 0.0:
+            w = simulate(params, 400, 14, duration_s=0.3, full_periods=40).window
+            fn = np.trapezoid(w.F_N_N, w.t_s) / (w.t_s[-1] - w.t_s[0])
+            assert b.mean_FN_N == pytest.approx(fn, rel=1e-5)
+            assert b.mean_FN_N > 14.0 * (1 + 1e-3)
+    rest = steady_state(params, 150, 14, energy=False).from_rest
+    assert rest.k == 2
+    assert rest.mean_FN_N == pytest.approx(14.0, rel=1e-9)
+    assert rest.mean_FT_N == pytest.approx(params.mu_sd * 14.0 + guide, rel=1e-9)
