@@ -153,9 +153,14 @@ class SteadyBranch:
     velocity_m_s : float
         Mean slider velocity (m/s); 0 for the dead zone.
     k : int
-        Period multiplicity of the tip orbit (repeats every k drive periods); 0 when no orbit
-        was found (period <= 4 for the averaged fast problem, <= :data:`REST_MAX_K` for the
-        full model's orbit reached from rest) and the averages are long-time means.
+        Period multiplicity of the orbit the branch's numbers come from (it repeats every k
+        drive periods, its least period); 0 when no orbit was found (period <= 4 for the
+        averaged fast problem, <= :data:`REST_MAX_K` for the full model's orbit reached from
+        rest) and the averages are long-time means. A held slider's (the dead zone's) at
+        ``accuracy="exact"``: the least period of the full model's held orbit, shot from the
+        held state a start from rest ends in (0 where that shot fails and a mean stands);
+        the averaged orbit's at 0+ only for a dead zone beside a motion reached from rest
+        with no held orbit shot, and at the fast level.
     stable : bool
         Whether the slow equation is stable there (``dG/dv < 0``; the dead zone is stable).
     motion : str
@@ -175,7 +180,8 @@ class SteadyBranch:
         At ``accuracy="exact"`` the dead zone a start from rest stays in has the powers of
         the full model's held slider, which rocks with its stuck tip against the guide; a
         dead zone coexisting with a motion reached from rest keeps the averaged orbit's at 0+
-        (an infinitely heavy slider, no rocking).
+        (an infinitely heavy slider, no rocking) unless a held orbit of the full model was
+        shot there.
     output_power_W : float
         Mechanical output power ``load_N * velocity_m_s`` (W).
     damping_power_W : float
@@ -617,7 +623,8 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
     energy : bool
         Compute each branch's powers (input, damping, interface, guide), one run per branch
         at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
-        it they are NaN (velocities, periods, stability and phase fractions are the same).
+        it they are NaN (velocities, periods, stability, phase fractions and mean forces are
+        the same).
     rest : {"probe", "transient"}
         How the exact level decides the branch a start from rest reaches: ``"probe"`` (the
         default) by the full model's run out of the slider's ripple zone and the averaged
@@ -702,8 +709,9 @@ def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndar
 
 
 def _full_branch(sp: SlowProblem, fo, stable: bool, from_rest: bool) -> SteadyBranch:
-    """The branch of a shot full-model orbit, with its own mean forces; one that holds the
-    slider (``|v| <= HELD_M_S``: by the guide, or by the tip's stiction) is the dead zone."""
+    """The branch of a shot full-model orbit, with its least period and its own mean forces;
+    one that holds the slider (``|v| <= HELD_M_S``: by the guide, or by the tip's stiction)
+    is the dead zone."""
     return _run_branch(sp, fo.velocity_m_s, fo.k, fo.k, fo.work, fo.phase_time, stable,
                        from_rest, held=abs(fo.velocity_m_s) <= HELD_M_S,
                        forces=(fo.mean_FT_N, fo.mean_FN_N))
@@ -774,21 +782,12 @@ def _held_from(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
     return math.log(v[0] / v[2]) >= HOLD_DECAY_EXPONENT * math.log(t2 / t0), z, mode
 
 
-def _with_powers(b: SteadyBranch, measured: SteadyBranch) -> SteadyBranch:
-    """Branch ``b`` with the input, damping, interface and guide powers and the mean forces
-    of ``measured``: its orbit, period and phases stay those the engine found without work
-    runs (``energy=False`` changes the powers only)."""
-    return dataclasses.replace(
-        b, input_power_W=measured.input_power_W, damping_power_W=measured.damping_power_W,
-        interface_power_W=measured.interface_power_W, guide_power_W=measured.guide_power_W,
-        mean_FT_N=measured.mean_FT_N, mean_FN_N=measured.mean_FN_N)
-
-
-def _held_branch(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
-                 from_rest: bool) -> tuple[SteadyBranch, int, int]:
+def _held_branch(sp: SlowProblem, fsys, z: np.ndarray, mode: int, from_rest: bool,
+                 energy: bool = True) -> tuple[SteadyBranch, int, int]:
     """The dead zone measured on the full model at a held state ``(z, mode)``: its one-period
-    orbit by shooting, else the mean of :data:`REST_MEAN_PERIODS` periods. Returns ``(branch,
-    periods, newton)``.
+    orbit by shooting (period k = 1), else the mean of :data:`REST_MEAN_PERIODS` periods
+    (k = 0). Returns ``(branch, periods, newton)``; without ``energy`` its powers are NaN
+    (its period, phases and mean forces are the same).
 
     Its powers include the slider's rocking with the stuck tip against the guide, which the
     averaged orbit at 0+ (an infinitely heavy slider) does not have: at 200 V / 14 N driven
@@ -797,12 +796,15 @@ def _held_branch(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
     from contact.full_orbit import mean_forces, run_periods, shoot
 
     try:
-        h = shoot(fsys, z, mode, 1, energy=True)
+        h = shoot(fsys, z, mode, 1, energy=energy)
     except ChatteringError:
         h = None
     if h is not None and h.k and abs(h.velocity_m_s) <= HELD_M_S:
         return _full_branch(sp, h, True, from_rest), h.periods, h.newton_iterations
-    _, _, _, work, phase = run_periods(fsys, z, mode, REST_MEAN_PERIODS, energy=True)
+    _, _, _, work, phase = run_periods(fsys, z, mode, REST_MEAN_PERIODS, energy=energy,
+                                       window=True)
+    if not energy:
+        work = np.full(N_WORK, math.nan)
     forces = mean_forces(fsys, z, mode, REST_MEAN_PERIODS)
     periods = 3 * REST_MEAN_PERIODS + (h.periods if h is not None else 0)
     branch = _run_branch(sp, 0.0, 0, REST_MEAN_PERIODS, work, phase, True, from_rest,
@@ -902,13 +904,13 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
         periods += 3 * HOLD_CHECK_PERIODS
         held_now, z_h, m_h = _held_from(sp, fsys, fsys.system.z0, fsys.system.mode0)
         if held_now:
-            b = dataclasses.replace(branches[0], from_rest=True)
-            if not energy:
-                return (b,), 0.0, periods, 0, periods
-            measured, more, more_newton = _held_branch(sp, fsys, z_h, m_h, True)
-            return (_with_powers(b, measured),), 0.0, periods + more, more_newton, periods
+            # the full model's held slider, whatever energy= says: its period, phases and
+            # mean forces are those of every held slider the exact level reports
+            measured, more, more_newton = _held_branch(sp, fsys, z_h, m_h, True, energy)
+            return (measured,), 0.0, periods + more, more_newton, periods
         released = True
     out: list[SteadyBranch] = []
+    shot_held: list[SteadyBranch] = []  # dead zones that are full-model orbits
     for b in branches:
         if b.motion == "dead-zone":
             if not released:  # else not a steady state of the full model
@@ -922,7 +924,10 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
             # no multiplier when the shot converged before forming a Jacobian: the averaged
             # stability stands
             stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else b.stable
-            out.append(_full_branch(sp, fo, stable, False))
+            full = _full_branch(sp, fo, stable, False)
+            out.append(full)
+            if full.motion == "dead-zone":  # the shot converged to a held slider
+                shot_held.append(full)
         else:
             out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
     # the start from rest: the full model out of the ripple zone and the averaged sheet it
@@ -1040,34 +1045,35 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
             if h.k == 1 and abs(h.velocity_m_s) <= HELD_M_S and h.multiplier < 1.0:
                 periods += 3 * HOLD_CHECK_PERIODS
                 if _held_from(sp, fsys, h.z, h.mode)[0]:
-                    out.append(_full_branch(sp, h, True, False))
-    if held and not any(b.from_rest for b in out):
-        # held at the end of the transient from rest, with no held orbit confirmed by
-        # shooting: the dead zone, with the averaged orbit at 0+ for its tip
-        out.append(_dead_zone(sp, sp.op.load_N, energy, from_rest=True))
+                    shot_held.append(_full_branch(sp, h, True, False))
+                    out.append(shot_held[-1])
     if fo is not None or from_mean:
         # averaged roots below the ripple scale that no full-model orbit confirms are not
         # steady states of the finite-mass motor (the averaging does not hold there); the
         # full model's orbit from rest stands for them
         out = [b for b in out if b.from_rest or b.k > 0 or b.motion == "dead-zone"
                or abs(b.velocity_m_s) >= sp.v_floor_m_s]
-    # one dead zone: a held orbit found by shooting is the averaged dead zone's full-model twin
-    dead = [b for b in out if b.motion == "dead-zone"]
-    if len(dead) > 1:
-        keep = dataclasses.replace(dead[0], from_rest=any(b.from_rest for b in dead))
-        out = [b for b in out if b.motion != "dead-zone"] + [keep]
-    if held and energy:
-        # the dead zone a start from rest stays in, with its powers and mean forces from the
-        # full model: the averaged orbit at 0+ has no slider rocking against the guide
-        # (_held_branch)
+    # one dead zone. The one a start from rest stays in is the full model's held slider
+    # (its least period, phases, mean forces and powers, energy= or not): the averaged orbit
+    # at 0+ has no slider rocking against the guide (_held_branch), and the averaged dead
+    # zone and the held orbits shot from other branches are its twins. Its period had
+    # depended on the path that found it: k = 3, 0, 0, 1 under loads 0, 1, 2, 3 N at
+    # 200 V / 14 N driven at 1 kHz, one held orbit of one period.
+    if held:
         if fo is not None:  # a held orbit, shot
             measured = _full_branch(sp, fo, True, True)
         else:
-            measured, more, more_newton = _held_branch(sp, fsys, z_end, m_end, True)
+            measured, more, more_newton = _held_branch(sp, fsys, z_end, m_end, True, energy)
             periods += more
             newton += more_newton
-        out = [_with_powers(b, measured) if b.motion == "dead-zone" and b.from_rest else b
-               for b in out]
+        out = [b for b in out if b.motion != "dead-zone"] + [measured]
+    else:
+        # beside a motion from rest: a held orbit of the full model where one was shot,
+        # else the averaged dead zone (the fast orbit at 0+, an infinitely heavy slider)
+        dead = [b for b in out if b.motion == "dead-zone"]
+        if len(dead) > 1:
+            keep = next((b for b in dead if any(b is s for s in shot_held)), dead[0])
+            out = [b for b in out if b.motion != "dead-zone"] + [keep]
     out.sort(key=lambda b: b.velocity_m_s)
     return tuple(out), (0.0 if held else v_rest), periods, newton, rest_periods
 

@@ -127,6 +127,72 @@ def test_a_slower_orbit_the_averaging_cannot_see_catches_the_start_from_rest():
     assert [b.motion for b in faster] == ["pure-slip"] and faster[0].velocity_m_s > 2 * ref
 
 
+def _least_period_of_transient(window, period_s: float, most: int = 3) -> int:
+    """The smallest d <= ``most`` drive periods after which the trace ``window`` (every step
+    of its last periods) repeats the slider's velocity and the modal coordinates to 1e-6 of
+    their size (0 if none does; an orbit misses a shorter period by its own size)."""
+    import numpy as np
+
+    per = int(round(period_s / (window.t_s[1] - window.t_s[0])))
+    for d in range(1, most + 1):
+        last = slice(len(window.t_s) - 1 - per, len(window.t_s))
+        back = slice(len(window.t_s) - 1 - per - d * per, len(window.t_s) - d * per)
+        if all(np.max(np.abs(a[last] - a[back])) <= 1e-6 * np.max(np.abs(a))
+               for a in (window.v_m_s, window.u_l_m, window.w_b_m)):
+            return d
+    return 0
+
+
+def test_a_held_slider_reports_the_least_period_of_its_orbit_on_every_path(params):
+    """200 V / 14 N driven at 1 kHz holds the slider under 0 to 3 N, each load decided on
+    another path: an averaged creep's three-period shot converging to the held orbit (0 N),
+    the hold check beside the averaged dead zone (1, 2 N), the transient from rest (3 N).
+    The dead zone's k had been 3, 0, 0, 1. The reference: a transient from rest under each
+    load ends held, its state repeating after one drive period; with energy=False (lusm map,
+    simulate --steady) the same. Its mean normal force is the preload (no separation)."""
+    from contact.simulate import simulate
+
+    f = 1000.0
+    for load in (0.0, 1.0, 2.0, 3.0):
+        r = simulate(params, 200, 14, f, duration_s=0.2, full_periods=4, load_N=load)
+        assert r.steady.motion == "pure-stick" and abs(r.steady.velocity_m_s) < 1e-12
+        k_transient = _least_period_of_transient(r.window, 1.0 / f)
+        assert k_transient == 1
+        for energy in (True, False):
+            b = steady_state(params, 200, 14, frequency_Hz=f, load_N=load,
+                             energy=energy).from_rest
+            assert b.motion == "dead-zone" and b.velocity_m_s == 0.0
+            assert b.k == k_transient, (load, energy)
+            assert b.mean_FN_N == pytest.approx(14.0, rel=1e-9)
+
+
+def test_a_shot_reports_the_least_period_of_the_orbit_it_converged_to(params):
+    """A shot over two periods from the averaged one-period orbit at 200 V / 14 N converges
+    to the same orbit as a one-period shot: it is reported with k = 1, the same velocity and
+    means, and the coexisting period-2 orbit at 150 V / 14 N keeps k = 2 (its two periods
+    differ: the transient from rest repeats after two, not one)."""
+    from contact import state as S
+    from contact.full_orbit import full_system, shoot
+    from contact.model import OperatingPoint
+    from contact.simulate import simulate
+    from contact.steady import slow_problem
+
+    sp = slow_problem(params, OperatingPoint(200, 14, 40000.0), accuracy="exact")
+    v = steady_state(params, 200, 14, energy=False).velocity_m_s
+    o = sp.orbit(v)
+    fs = full_system(params, sp.op, sp.mu_d_eff, "paper")
+    z = o.z.copy()
+    z[S.DX] = v
+    one = shoot(fs, z, o.mode - o.mode % 3 + S.FORWARD, 1, energy=False)
+    two = shoot(fs, z, o.mode - o.mode % 3 + S.FORWARD, 2, energy=False)
+    assert one.k == 1 and two.k == 1
+    assert two.velocity_m_s == pytest.approx(one.velocity_m_s, rel=1e-9)
+    assert two.mean_FT_N == pytest.approx(one.mean_FT_N, rel=1e-9)
+    rest = steady_state(params, 150, 14, energy=False).from_rest
+    r = simulate(params, 150, 14, duration_s=0.2, full_periods=6)
+    assert rest.k == _least_period_of_transient(r.window, 1 / 40000.0) == 2
+
+
 def test_exact_mean_forces_are_the_full_models(params):
     """The full model's own period means (they had been the averaged orbit's, or NaN on an
     orbit found only on the full model). Over an orbit the slider's momentum returns: where
