@@ -290,3 +290,16 @@ def test_the_earlier_window_is_the_shorter_runs_window(paper_params):
 
     creep = steady_metrics(1.0e-5, 1.1e-5, [1.0, 0, 0, 0], 0.0, 0.0, 1e-3)
     assert not creep.settled
+
+
+def test_a_pure_stick_window_during_the_ring_up_is_not_settled(paper_params):
+    """A pure-stick window is not a held slider by itself: while the stator's amplitude still
+    builds up from rest the tip can stick throughout a short run's window and break into slip
+    later. Just above the dead-zone edge at 14 N (139.2 V) a 0.25 ms run ends in pure stick,
+    its slider carried along at about 1e-4 m/s by the growing deflection, and a 50 ms run
+    is in stick-slip: the short run must not call itself settled (a rule that took any
+    window without slip or separation as held had said it was, on 2026-11-28)."""
+    short = simulate(paper_params, 139.2, 14, duration_s=0.00025).steady
+    longer = simulate(paper_params, 139.2, 14, duration_s=0.05).steady
+    assert short.motion == "pure-stick" and longer.motion == "stick-slip"
+    assert not short.settled
