@@ -220,8 +220,10 @@ class MotorParams:
         """The parameter set of a :meth:`to_dict` dictionary (``lusm params --json``).
 
         The derived keys (``eta_N``, ``eta_T``, ``f_L1_Hz``, ``f_B2_Hz``, ``zeta_L1``,
-        ``zeta_B2``) may be present; they must then agree with the stored fields to 1e-9
-        relative, so an edit of a derived value is refused instead of silently ignored. So
+        ``zeta_B2``) may be present; they must then agree with the stored fields to the
+        rounding of single precision (:func:`derived_tolerance`: a set written from float32
+        data, as a study's dataset may hold it, had been refused at 1e-9 relative), so an
+        edit of a derived value is refused instead of silently ignored. So
         may ``units`` (each key's unit, as ``lusm params --json`` writes it), which must be
         :data:`PARAM_UNITS`' own: an edited unit is refused, not converted.
 
@@ -260,12 +262,59 @@ class MotorParams:
             if key in d:
                 want = getattr(params, key)
                 got = d[key]
-                if not isinstance(got, (int, float)) or not math.isclose(
-                        float(got), want, rel_tol=1e-9, abs_tol=1e-300):
+                if derived_disagrees(params, key, got):
                     raise ValueError(
                         f"{key} = {got!r} disagrees with the stored fields ({want:.10g}); it is "
                         "derived: edit the modal mass, damping, stiffness or mode shapes instead")
         return params
+
+
+STORAGE_ROUNDOFF = 2.0**-24
+"""Unit roundoff of IEEE single precision (float32), the coarsest format a parameter set is
+written in (a float32 array, a study's dataset): each stored and each derived value of such a
+set carries a relative rounding error of up to this much."""
+
+_ROUNDINGS = 6.0
+"""Worst-case roundings, in :data:`STORAGE_ROUNDOFF`, of a frequency or damping ratio written
+from single-precision data: ``f = sqrt(K / M) / (2 pi)`` takes half of K's and half of M's
+(1), four single-precision operations if it was computed in float32 (the quotient, the square
+root, 2 pi and the division by it) and its own storage (1); ``zeta = C / (2 sqrt(K M))`` takes
+C's and half of K's and M's (2), three operations and its storage. Doubled in
+:func:`derived_tolerance` for the second-order terms and for safety."""
+
+
+def derived_tolerance(params: MotorParams, key: str) -> float:
+    """Largest difference, in the key's SI unit, between a derived key of a written parameter
+    set and its value recomputed from the stored fields of ``params``, that rounding alone can
+    make (:data:`STORAGE_ROUNDOFF`).
+
+    ``f_L1_Hz``, ``f_B2_Hz``, ``zeta_L1`` and ``zeta_B2`` are products and powers of the stored
+    fields: a relative bound, ``2 x 6`` roundings (:data:`_ROUNDINGS`). ``eta_N = phi_L0 -
+    phi_Ll`` and ``eta_T = phi_B0 - phi_Bl`` are differences, whose rounding follows the size
+    of the shapes, not of the difference (cancellation): ``2 u (|a| + |b| + 2 |a - b|)``, the
+    two shapes' roundings, the subtraction's and the storage's.
+    """
+    u = STORAGE_ROUNDOFF
+    if key in ("eta_N", "eta_T"):
+        a, b = ((params.phi_L0, params.phi_Ll) if key == "eta_N"
+                else (params.phi_B0, params.phi_Bl))
+        return 2.0 * u * (abs(a) + abs(b) + 2.0 * abs(a - b))
+    if key not in DERIVED_KEYS:
+        raise ValueError(f"{key!r} is not a derived key ({', '.join(DERIVED_KEYS)})")
+    return 2.0 * _ROUNDINGS * u * abs(getattr(params, key))
+
+
+def derived_disagrees(params: MotorParams, key: str, value: object) -> bool:
+    """Whether ``value``, given for the derived ``key`` of a written set, is not what the
+    stored fields of ``params`` give, beyond rounding (:func:`derived_tolerance`): an edit.
+    Not a real number (text, a bool) disagrees; NumPy scalars are numbers (an ``np.float32``
+    derived value was refused whatever its value)."""
+    # bool is an int, NumPy's bool no number at all
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return True
+    got = float(value)
+    want = getattr(params, key)
+    return not (math.isfinite(got) and abs(got - want) <= derived_tolerance(params, key))
 
 
 def require_params(params: object) -> MotorParams:

@@ -129,3 +129,87 @@ def test_a_set_with_no_stick_force_is_refused_by_every_scheme(tmp_path, capsys):
                  "--preload", "14", "--coupling", "paper", "--duration", "0.002"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err[-1].startswith(f"lusm simulate: error: --params {tmp_path / 'p.json'}: phi_B0")
+
+
+def _single_precision(params, arithmetic: bool, scalars: bool = False) -> dict:
+    """``params.to_dict()`` as a float32 pipeline writes it: every number rounded to single
+    precision, the derived keys rounded from the float64 values or (``arithmetic``) computed
+    in float32 from the rounded fields; ``scalars`` keeps them as ``np.float32``."""
+    import numpy as np
+
+    d = params.to_dict()
+    r = {k: np.float32(v) for k, v in d.items() if k != "source"}
+    if arithmetic:
+        two_pi = np.float32(2.0) * np.float32(np.pi)
+        r["eta_N"] = r["phi_L0"] - r["phi_Ll"]
+        r["eta_T"] = r["phi_B0"] - r["phi_Bl"]
+        for m, k, c, f, z in (("M_l", "K_l", "C_l", "f_L1_Hz", "zeta_L1"),
+                              ("M_b", "K_b", "C_b", "f_B2_Hz", "zeta_B2")):
+            r[f] = np.sqrt(r[k] / r[m]) / two_pi
+            r[z] = r[c] / (np.float32(2.0) * np.sqrt(r[k] * r[m]))
+    out = {k: (v if scalars else float(v)) for k, v in r.items()}
+    return {**out, "source": d["source"]}
+
+
+@pytest.mark.parametrize("source", ["table2", "beam"])
+@pytest.mark.parametrize("arithmetic, scalars", [(False, False), (True, False), (False, True)])
+def test_a_set_written_from_single_precision_data_is_read(source, arithmetic, scalars):
+    """A set written from float32 data (its derived keys rounded too) was refused: the derived
+    keys were compared at 1e-9 relative, where single precision rounds to 6e-8 (eta_T of
+    Table 2, a difference of two shapes near 2, came 3e-8 off), and an ``np.float32`` derived
+    value was refused whatever its value. It reads as the set of its rounded fields."""
+    import numpy as np
+
+    from rom.params import DERIVED_KEYS
+    from rom.sources import get_params
+
+    d = _single_precision(get_params(source), arithmetic, scalars)
+    got = MotorParams.from_dict(d)
+    stored = {k: v for k, v in d.items() if k not in DERIVED_KEYS}
+    assert got == MotorParams.from_dict(stored)
+    assert got.K_l == float(np.float32(get_params(source).K_l))
+
+
+def test_the_derived_tolerance_is_single_precisions_rounding_and_no_more():
+    """Against randomly scaled sets: the float32 pipelines' derived keys stay within
+    :func:`rom.params.derived_tolerance`, which is under 1e-6 of the value (eta: of the
+    shapes' size); an edit of one part in 1e5 (a derived key typed over) is still refused."""
+    import numpy as np
+
+    from rom.params import DERIVED_KEYS, derived_disagrees, derived_tolerance
+
+    rng = np.random.default_rng(7)
+    base = table2()
+    worst = 0.0
+    for _ in range(300):
+        scale = {k: float(10.0 ** rng.uniform(-3, 3)) for k in ("M_l", "K_l", "C_l", "M_b",
+                                                                 "K_b", "C_b")}
+        shapes = {k: float(rng.uniform(-2, 2)) for k in ("phi_L0", "phi_Ll", "phi_B0",
+                                                         "phi_Bl")}
+        p = base.with_(**{k: getattr(base, k) * v for k, v in scale.items()}, **shapes)
+        for arithmetic in (False, True):
+            d = _single_precision(p, arithmetic)
+            q = MotorParams.from_dict({k: v for k, v in d.items() if k not in DERIVED_KEYS})
+            for key in DERIVED_KEYS:
+                tol = derived_tolerance(q, key)
+                worst = max(worst, abs(d[key] - getattr(q, key)) / tol)
+                size = (abs(q.phi_L0) + abs(q.phi_Ll) if key == "eta_N" else
+                        abs(q.phi_B0) + abs(q.phi_Bl) if key == "eta_T" else 0.0)
+                assert tol < 1e-6 * max(abs(getattr(q, key)), size)
+                edited = getattr(q, key) + 1e-5 * max(abs(getattr(q, key)), size)
+                assert derived_disagrees(q, key, edited)
+                with pytest.raises(ValueError, match=f"{key} = .* disagrees"):
+                    MotorParams.from_dict({**d, key: edited})
+    assert 0.05 < worst <= 1.0  # the rounding does reach a part of the bound
+
+
+def test_a_params_file_written_from_single_precision_is_not_called_edited(tmp_path, capsys):
+    """``--params`` compared the derived keys at 1e-9 too: a float32 file was said to have
+    edited eta_T and its source text changed."""
+    from validation.options import params_from_file
+
+    path = tmp_path / "single.json"
+    path.write_text(json.dumps(_single_precision(table2(), arithmetic=True)))
+    params = params_from_file(str(path))
+    assert params.source == table2().source
+    assert capsys.readouterr().err == ""

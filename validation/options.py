@@ -243,6 +243,7 @@ def params_from_file(path_text: str):
             why = f": not a JSON parameter set ({exc})"
         raise LusmError(f"--params {path_text}{why}", "--params") from None
     from rom.params import DERIVED_KEYS as derived
+    from rom.params import derived_disagrees
 
     try:
         stored = {k: v for k, v in data.items() if k not in derived} \
@@ -256,7 +257,9 @@ def params_from_file(path_text: str):
     edited = []
     for key in derived:
         got, want = data.get(key), getattr(params, key)
-        if isinstance(got, (int, float)) and not math.isclose(float(got), want, rel_tol=1e-9):
+        # to single precision's rounding: a file written from float32 data was told its
+        # derived keys were edited, and its source text changed
+        if isinstance(got, (int, float)) and derived_disagrees(params, key, got):
             warn(f"--params {path_text}: {key} = {got:.6g} in the file is derived; recomputed "
                  f"from the stored fields as {want:.6g} (to change it, edit "
                  f"{_SOURCES_OF[key]})")
