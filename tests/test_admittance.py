@@ -315,3 +315,91 @@ def test_an_admittance_result_is_read_only():
     for a in (r.f_Hz, r.Y_S):
         with pytest.raises(ValueError, match="read-only"):
             a[0] = 0
+
+
+def _overlap(a, b) -> bool:
+    """Whether two display boxes share any area (touching edges do not)."""
+    return min(a.x1, b.x1) > max(a.x0, b.x0) and min(a.y1, b.y1) > max(a.y0, b.y0)
+
+
+def _label_geometry(result):
+    """The k_eff labels' boxes, the |Y| panel's box and the curve's highest point (pixels)."""
+    from validation.fem_figures import draw_admittance
+    from validation.plotting import pyplot
+
+    fig, labels = draw_admittance(result)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    boxes = [t.get_window_extent(renderer) for t in labels]
+    line = ax.get_lines()[0]
+    top = ax.transData.transform(np.column_stack(line.get_data()))[:, 1].max()
+    panel = ax.get_window_extent(renderer)
+    pyplot().close(fig)
+    return boxes, panel, top
+
+
+def _synthetic(resonances_Hz, f_min_Hz, f_max_Hz, zeta=0.005):
+    """A port of a 1 nF capacitance and modes at ``resonances_Hz``, each its own pair (k_eff
+    0.1), drawn as :func:`validation.fem_figures.admittance_figure` draws a result."""
+    from types import SimpleNamespace
+
+    from fem.admittance import ResonancePair
+
+    f = np.linspace(f_min_Hz, f_max_Hz, 4001)
+    w = 2 * np.pi * f
+    y = 1j * w * 1e-9
+    for fr in resonances_Hz:
+        wr = 2 * np.pi * fr
+        y = y + 1j * w * 1e-10 * wr**2 / (wr**2 - w**2 + 2j * zeta * wr * w)
+    pairs = tuple(ResonancePair(fr, fr * 1.005, 0.1, ("B2", "L1", "")[k % 3])
+                  for k, fr in enumerate(resonances_Hz))
+    return SimpleNamespace(f_Hz=f, Y_S=y, pairs=pairs, port=SimpleNamespace(electrodes=(1, 4)))
+
+
+def test_the_k_eff_labels_of_close_peaks_do_not_overlap(capsys):
+    """At ``--zeta 0.005`` the B2 and L1 labels, 2 kHz apart, were printed over each other
+    at the top of the panel, on the L1 peak. Measured on the drawn figure: no two labels
+    share a pixel, each lies inside the |Y| panel, and the curve stays below all of them."""
+    res = plate_admittance(zeta=0.005)
+    assert len(res.pairs) >= 2
+    boxes, panel, top = _label_geometry(res)
+    assert not any(_overlap(a, b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    assert all(panel.x0 <= b.x0 and b.x1 <= panel.x1 and panel.y0 <= b.y0 and b.y1 <= panel.y1
+               for b in boxes)
+    assert top < min(b.y0 for b in boxes)
+
+
+@pytest.mark.parametrize("resonances_kHz", [
+    (50.0, 50.05, 50.1, 50.2, 51.0, 55.0),  # a cluster, and one beside it
+    (41.0, 59.5, 59.9),                     # the last two at the band's right end
+    (45.0, 45.0),                           # one frequency, two labels
+])
+def test_labels_of_any_cluster_of_peaks_do_not_overlap(resonances_kHz):
+    boxes, panel, top = _label_geometry(_synthetic([f * 1e3 for f in resonances_kHz],
+                                                   40e3, 60e3))
+    assert not any(_overlap(a, b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    assert all(panel.x0 <= b.x0 and b.x1 <= panel.x1 for b in boxes)
+    assert top < min(b.y0 for b in boxes)
+
+
+def test_rows_are_as_few_as_the_deepest_pile_of_spans():
+    """:func:`validation.plotting.stack_rows`: spans in one row are ``gap`` apart, and the
+    rows are as few as possible, the most spans (widened by the gap) over any one point
+    (interval colouring's lower bound, counted here independently)."""
+    from validation.plotting import stack_rows
+
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        n = int(rng.integers(1, 15))
+        x0 = rng.uniform(0, 100, n)
+        spans = [(a, a + w) for a, w in zip(x0, rng.uniform(0, 30, n), strict=True)]
+        gap = float(rng.uniform(0, 5))
+        rows = stack_rows(spans, gap)
+        for i in range(n):
+            for j in range(i + 1, n):
+                if rows[i] == rows[j]:
+                    (a0, a1), (b0, b1) = spans[i], spans[j]
+                    assert b0 - a1 >= gap or a0 - b1 >= gap
+        depth = max(sum(1 for a, b in spans if a <= x < b + gap) for x, _ in spans)
+        assert max(rows) + 1 == depth

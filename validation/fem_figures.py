@@ -17,16 +17,32 @@ from validation.plotting import pyplot, save
 
 def admittance_figure(result: AdmittanceResult, path: str | Path) -> Path:
     """PNG of ``|Y|`` (log scale) and its phase against frequency, pairs marked."""
+    fig, _ = draw_admittance(result)
+    # laid out already: the k_eff labels are placed on the final axes (a later tight layout
+    # would move the resonances under labels measured on the old ones)
+    return save(fig, path, tight=False)
+
+
+LABEL_PAD_PT = 3.0
+"""Gap between a k_eff label and its resonance line, and between label rows (points)."""
+
+
+def draw_admittance(result: AdmittanceResult):
+    """The figure of :func:`admittance_figure` and its k_eff labels (matplotlib ``Text``).
+
+    Each pair's label sits beside its resonance line at the top of the |Y| panel, in rows
+    (:func:`validation.plotting.stack_rows`): a label goes to the first row where it clears
+    every label already there, so close resonances (L1 and B2 2 kHz apart at ``zeta = 0.005``)
+    no longer print over each other; the panel's top is raised above the curve by the rows'
+    height, so no label sits on a peak either.
+    """
     plt = pyplot()
     f_k = result.f_Hz * 1e-3
     fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
     ax1.semilogy(f_k, np.abs(result.Y_S), color="C0")
     for p in result.pairs:
-        label = f" {p.mode}" if p.mode else ""
         ax1.axvline(p.f_resonance_Hz * 1e-3, color="C3", lw=0.8, ls="--")
         ax1.axvline(p.f_antiresonance_Hz * 1e-3, color="C2", lw=0.8, ls=":")
-        ax1.annotate(f"{label} k={p.k_eff:.3f}", (p.f_resonance_Hz * 1e-3, np.abs(
-            result.Y_S).max()), fontsize=8, va="top")
     ax1.set_ylabel("|Y| (S)")
     ax1.set_title(f"admittance of electrodes {result.port.electrodes} (others grounded)")
     ax1.grid(True, which="both", alpha=0.3)
@@ -34,7 +50,58 @@ def admittance_figure(result: AdmittanceResult, path: str | Path) -> Path:
     ax2.set_ylabel("phase of Y (deg)")
     ax2.set_xlabel("frequency (kHz)")
     ax2.grid(True, alpha=0.3)
-    return save(fig, path)
+    ax1.set_xlim(f_k[0], f_k[-1])
+    fig.tight_layout()
+    texts = [f"{p.mode + ' ' if p.mode else ''}k={p.k_eff:.3f}" for p in result.pairs]
+    labels = _label_lines(ax1, [p.f_resonance_Hz * 1e-3 for p in result.pairs], texts,
+                          float(np.abs(result.Y_S).max()))
+    return fig, labels
+
+
+def _label_lines(ax, x_data, texts, y_top: float) -> list:
+    """Labels ``texts`` beside the vertical lines at ``x_data`` along the top of ``ax`` (log
+    y), stacked so that none overlaps another (:func:`validation.plotting.stack_rows`), and
+    the y range raised so that ``y_top``, the curve's highest point, stays below them."""
+    from validation.plotting import stack_rows
+
+    if not texts:
+        return []
+    fig = ax.figure
+    renderer = fig.canvas.get_renderer()
+    px_per_pt = fig.dpi / 72.0
+    box = ax.get_window_extent(renderer)
+    pad = LABEL_PAD_PT * px_per_pt
+    made, spans = [], []
+    for x, text in zip(x_data, texts, strict=True):
+        t = ax.annotate(text, (x, 1.0), xycoords=("data", "axes fraction"), fontsize=8,
+                        va="top", ha="left", xytext=(LABEL_PAD_PT, -LABEL_PAD_PT),
+                        textcoords="offset points",
+                        # the antiresonance line a label may cross does not strike it out
+                        bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
+                              "alpha": 0.8})
+        width = t.get_window_extent(renderer).width
+        x_px = ax.transData.transform((x, 1.0))[0]
+        if x_px + pad + width > box.x1:  # no room right of the line: left of it
+            t.set_ha("right")
+            t.set_position((-LABEL_PAD_PT, -LABEL_PAD_PT))
+            spans.append((x_px - pad - width, x_px - pad))
+        else:
+            spans.append((x_px + pad, x_px + pad + width))
+        made.append(t)
+    height_pt = max(t.get_window_extent(renderer).height for t in made) / px_per_pt
+    rows = stack_rows(spans, pad)
+    for t, row in zip(made, rows, strict=True):
+        dx, _ = t.get_position()
+        t.set_position((dx, -LABEL_PAD_PT - row * (height_pt + LABEL_PAD_PT)))
+    # the rows' band at the top (a fraction of the panel's height) is kept clear of the curve:
+    # the top of the log axis is raised until y_top sits just below the band
+    band = ((max(rows) + 1) * (height_pt + LABEL_PAD_PT) + LABEL_PAD_PT) * px_per_pt
+    share = min(band / box.height, 0.8)
+    lo, hi = ax.get_ylim()
+    if y_top > 0 and lo > 0:
+        top = np.exp(np.log(lo) + (np.log(y_top) - np.log(lo)) / (1.0 - share))
+        ax.set_ylim(lo, max(hi, float(top)))
+    return made
 
 
 def sweep_figure(result: SweepResult, path: str | Path) -> Path:
