@@ -48,3 +48,23 @@ def phi_B(y: ArrayLike, length_m: float, derivative: int = 0) -> np.ndarray:
     if derivative == 2:
         return b**2 * (ALPHA2 * (-c + ch) + (-s + sh))
     raise ValueError(f"derivative must be 0, 1 or 2, got {derivative!r}")
+
+
+FREE_FREE_ROOTS = (4.730040745, 7.853204624, 10.995607838, 14.137165491, 17.278759657)
+"""The first roots ``beta_n l`` of the free-free beam's ``cos(beta l) cosh(beta l) = 1`` (-);
+beyond them ``(n + 1/2) pi`` is exact to 3e-9 (:func:`free_free_root`)."""
+
+
+def free_free_root(n: int) -> float:
+    """``beta_n l`` of the n-th free-free bending mode (n >= 1; n = 2 is B2, Eq. 3) (-)."""
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n!r}")
+    return FREE_FREE_ROOTS[n - 1] if n <= len(FREE_FREE_ROOTS) else (n + 0.5) * np.pi
+
+
+def bending_over_rod_frequency(n: int, slenderness: float) -> float:
+    """Euler-Bernoulli frequency of the n-th in-plane free-free bending mode of a bar
+    ``slenderness`` = length / width times longer than wide, over its rod L1 frequency
+    ``c / (2 l)`` (-): ``(beta_n l)^2 / (pi sqrt(12) l / w)``, whatever the material (both
+    take the same Young's modulus along the bar; the width is the bending depth)."""
+    return free_free_root(n) ** 2 / (np.pi * np.sqrt(12.0) * slenderness)

@@ -48,6 +48,131 @@ class ModeSolverError(RuntimeError):
     """The eigensolver did not converge or L1/B2 could not be identified."""
 
 
+N_MODES = 8
+"""Modes the 2D solve computes near the shift first (:func:`modes_of_model`)."""
+
+SEARCH_GROWTH = (1, 2, 4)
+"""The multiples of ``n_modes`` :func:`solve_short_open` tries in turn until L1 and B2 are
+among the modes computed: at most ``4 n_modes`` modes are searched."""
+
+
+class SlenderPlateError(ModeSolverError):
+    """B2 lies beyond the modes the solver searches near L1, known before any solve
+    (:func:`check_b2_in_reach`).
+
+    Attributes
+    ----------
+    length_m, width_m : float
+        The plate's overall length (a tip included) and width (m).
+    nearer : int
+        Modes estimated nearer the shift (L1) than B2 (-).
+    searched : int
+        The most modes the solver computes near the shift (-).
+    f_ratio : float
+        Beam theory's L1 / B2 frequency ratio (-).
+    max_slenderness : float
+        The largest length / width whose B2 is estimated within the search (-).
+    """
+
+    def __init__(self, message: str, *, length_m: float, width_m: float, nearer: int,
+                 searched: int, f_ratio: float, max_slenderness: float) -> None:
+        super().__init__(message)
+        self.length_m, self.width_m = length_m, width_m
+        self.nearer, self.searched = nearer, searched
+        self.f_ratio, self.max_slenderness = f_ratio, max_slenderness
+
+
+def modes_nearer_than_b2(slenderness: float) -> int:
+    """In-plane modes of a free-free bar ``slenderness`` = length / width times longer than
+    wide whose eigenvalue lies nearer the solver's shift than B2's, by beam theory (-).
+
+    The shift is the rod L1 estimate ``c / (2 l)`` (:func:`rod_frequency_estimate_Hz`), and
+    shift-invert returns the modes nearest it in ``omega^2``: those whose ``|f^2 - f_rod^2|``
+    is below B2's. The in-plane modes of a bar are its Euler-Bernoulli bending modes
+    (:func:`fem.beam_shapes.bending_over_rod_frequency`) and its longitudinal modes at
+    ``k f_rod`` (L1 among them); its width modes lie ``slenderness`` times higher. Meant for
+    a slender plate, whose B2 lies below the shift (:func:`check_b2_in_reach`).
+    """
+    from fem.beam_shapes import bending_over_rod_frequency
+
+    b2 = bending_over_rod_frequency(2, slenderness)
+    reach = abs(b2 * b2 - 1.0)
+    nearer = 1 if reach > 0.0 else 0  # L1 itself, at the shift
+    n = 1
+    while True:  # the bending modes up to sqrt(1 + reach) times the shift
+        f = bending_over_rod_frequency(n, slenderness)
+        if f * f - 1.0 >= reach:
+            break
+        if n != 2 and abs(f * f - 1.0) < reach:
+            nearer += 1
+        n += 1
+    k = 2  # L2, L3, ...: k^2 - 1 >= 3 > reach unless B2 lies above twice the shift
+    while k * k - 1.0 < reach:
+        nearer += 1
+        k += 1
+    return nearer
+
+
+@lru_cache(maxsize=8)
+def max_slenderness(searched: int) -> float:
+    """The largest length / width whose B2 is among ``searched`` modes near the shift by
+    :func:`modes_nearer_than_b2` (-), to 0.1 % (the count grows with the slenderness)."""
+    lo, hi = 1.0, 2.0
+    while modes_nearer_than_b2(hi) < searched:
+        lo, hi = hi, 2.0 * hi
+    while hi / lo > 1.001:
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if modes_nearer_than_b2(mid) < searched else (lo, mid)
+    return lo
+
+
+def check_b2_in_reach(stator, n_modes: int = N_MODES) -> None:
+    """Refuse, before any assembly or solve, a plate whose B2 lies beyond the modes the 2D
+    solver searches near L1 (``SEARCH_GROWTH[-1] * n_modes``), by beam theory
+    (:func:`modes_nearer_than_b2`): a 1000 x 1 mm plate has 37 modes nearer L1 than its B2,
+    and three solves of up to 32 modes had taken 14 s and 900 MB to find B2 not among them.
+
+    Measured against the 2D FE spectrum (PZT-8, 0.5 mm gap, 3 mm thick unless said; the
+    modes nearer the shift than B2, FE / beam theory): 1 mm wide at length / width 300, 500,
+    700, 800 and 900: 20/20, 26/26, 31/31, 33/33, 36/35; 7.5 mm wide at 10, 30, 100 and 150:
+    2/2, 5/5, 11/10, 13/13; 1 mm wide and thick at 700 and 740: 31/31, 32/32. The 715 x 1 mm
+    plate (31, beam theory's last accepted count) solves; the 725 x 1 mm one (32) failed
+    after 42 s of solves. Beam theory's count is the FE's or one low, so a plate just inside
+    the bound may still miss B2 after its solve (the solver's own message then).
+
+    ``stator``: anything with ``width_m`` and a length (a protruding tip counts, as for the
+    shift). The 3D model searches other modes too (through-thickness bending, torsion) and
+    is not checked here.
+
+    Raises
+    ------
+    SlenderPlateError
+        With the counts and the slenderness that would fit.
+    """
+    from fem.beam_shapes import bending_over_rod_frequency
+
+    length, width = overall_length_m(stator), float(stator.width_m)
+    slender = length / width
+    if bending_over_rod_frequency(2, slender) >= 1.0:
+        # B2 above the shift: a plate wider than about a sixth of its length, which is no
+        # beam (a 5 x 40 mm plate counted 40 longitudinal modes below its beam B2); its
+        # missing B2 is the identification's to tell, on a mesh that is small
+        return
+    searched = SEARCH_GROWTH[-1] * int(n_modes)
+    nearer = modes_nearer_than_b2(slender)
+    if nearer < searched:
+        return
+    ratio = 1.0 / bending_over_rod_frequency(2, slender)
+    top = max_slenderness(searched)
+    raise SlenderPlateError(
+        f"a {length * 1e3:g} x {width * 1e3:g} mm plate is {slender:.4g} times longer than "
+        f"wide: free-free beam theory puts its B2 near 1/{ratio:.3g} of L1's frequency, with "
+        f"{nearer} in-plane modes nearer L1 than B2, beyond the {searched} modes the solver "
+        f"searches near L1; an L1/B2 pair needs length / width below about {top:.0f}",
+        length_m=length, width_m=width, nearer=nearer, searched=searched, f_ratio=ratio,
+        max_slenderness=top)
+
+
 @dataclass(frozen=True, eq=False)
 class IdentifiedMode:
     """One identified mode (L1 or B2).
@@ -411,7 +536,7 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
         """Identify the modes of one circuit, with 2x and 4x as many if they are missing;
         ``by_shape(v)`` gives the identification where :func:`identify` fails (or None)."""
         last: ModeSolverError | None = None
-        for k in (n_modes, 2 * n_modes, 4 * n_modes):
+        for k in (g * n_modes for g in SEARCH_GROWTH):
             f, v = frequencies(model, k, fc, open_circuit, maxiter)
             try:
                 return f, v, identify(model, f, v)
@@ -504,7 +629,7 @@ def pair_short_open(fs, vs, ids, fo, ido, M, names: tuple[str, ...] = ("L1", "B2
 def modes_of_model(
     model: PiezoPlateModel,
     f_center_Hz: float | None = None,
-    n_modes: int = 8,
+    n_modes: int = N_MODES,
     maxiter: int | None = None,
     refine: int = 0,
 ) -> PlateModes:
@@ -525,9 +650,14 @@ def modes_of_model(
 
     Raises
     ------
+    SlenderPlateError
+        At the default shift, before the solve, if beam theory puts B2 beyond the modes
+        searched (:func:`check_b2_in_reach`).
     ModeSolverError
         If eigsh does not converge or L1/B2 cannot be identified.
     """
+    if f_center_Hz is None:  # at the default shift: B2 must be within reach of it
+        check_b2_in_reach(model.stator, n_modes)
     t0 = time.perf_counter()
     fs, fo, modes, t_short = solve_short_open(model, natural_frequencies_Hz, identify_modes,
                                               f_center_Hz, n_modes, maxiter,
@@ -595,6 +725,14 @@ def plate_modes(
         ``'shorted'`` (default) or ``'open'`` (:func:`fem.model.build_model`).
     thickness_inertia : bool
         Include the thickness-motion inertia (default True).
+
+    Raises
+    ------
+    SlenderPlateError
+        Before the mesh is made, if beam theory puts B2 beyond the modes the solver
+        searches near L1 (:func:`check_b2_in_reach`: length / width above about 720).
+    ModeSolverError
+        If eigsh does not converge or L1/B2 cannot be identified.
     """
     stator = require_plate(stator, "plate_modes")
     for name, value in (("order", order), ("refine", refine)):  # 2.5 ran as 2
@@ -602,6 +740,7 @@ def plate_modes(
             raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
     if not isinstance(thickness_inertia, (bool, np.bool_)):  # "False" ran with it
         raise TypeError(f"thickness_inertia must be True or False, got {thickness_inertia!r}")
+    check_b2_in_reach(stator)  # before the mesh: a slender plate's is among the largest
     if planform_mesh(stator) is None:
         check_generated_size(stator, int(refine),
                              count=lambda: math.prod(len(v) - 1

@@ -323,21 +323,119 @@ def test_a_plate_too_wide_for_a_beam_b2_is_told_so(capsys):
     assert "wider than about half its length" in err and "--refine" not in err
 
 
-def test_a_plate_too_slender_for_an_l1_b2_pair_is_told_why(capsys):
-    """A 1000 x 1 mm plate was told it was "wider than about half its length". Its B2 lies
-    far below the modes solved near L1: the message gives beam theory's ratio, and B2 put
-    there (below even the highest mode solved, over the ratio) lies below the lowest one."""
+def _fe_modes_nearer_than_b2(stator, refine: int = 4, k: int = 40) -> int:
+    """Modes of the 2D FE spectrum nearer the solver's shift than B2 (in omega^2), from one
+    solve of ``k`` modes: what :func:`fem.modes.modes_nearer_than_b2` estimates."""
+    from fem.modes import identify_modes, rod_frequency_estimate_Hz
+
+    model = plate_model(stator, "pzt8", 2, refine)
+    fc = rod_frequency_estimate_Hz(stator, "pzt8")
+    f, v = natural_frequencies_Hz(model, k, fc)
+    b2 = identify_modes(model, f, v)["B2"][0]
+    return int(np.sum(np.abs(f**2 - fc**2) < abs(f[b2] ** 2 - fc**2)))
+
+
+@pytest.mark.parametrize("slenderness", [10, 30, 100])
+def test_beam_theory_counts_the_modes_nearer_l1_than_b2(slenderness):
+    """The up-front estimate against the FE spectrum of 7.5 mm wide plates: the count is
+    the FE's or one low (at 100: 10 against 11)."""
+    from fem.modes import modes_nearer_than_b2
+
+    w = 7.5e-3
+    fe = _fe_modes_nearer_than_b2(PlateStator(length_m=slenderness * w, width_m=w))
+    assert fe - 1 <= modes_nearer_than_b2(slenderness) <= fe
+
+
+@pytest.mark.parametrize("argv", [
+    ["modes"], ["modes", "--refine", "1"], ["params"], ["render"], ["admittance"],
+    ["simulate", "--voltage", "200", "--preload", "14"], ["tune", "--target-frequency", "4e4"],
+])
+def test_a_plate_too_slender_for_an_l1_b2_pair_is_refused_before_any_fe_work(
+        argv, capsys, monkeypatch):
+    """A 1000 x 1 mm plate was solved for 14 s and 900 MB before it was refused: its B2 lies
+    37 modes from L1, the solver searches 32. Every FE command now refuses it, and the 725 x
+    1 mm plate (32 by beam theory), before any mesh is made, on one line naming the options
+    and beam theory's reason."""
+    import fem.mesh
+    import fem.model
     from validation.cli import main
 
-    assert main(["modes", "--length-mm", "1000", "--width-mm", "1", "--thickness-mm", "1",
-                 "--refine", "1"]) == 2  # the coarsest mesh: 10 s, the default's 24 s
-    err = capsys.readouterr().err.strip().splitlines()[-1]
-    assert "could not identify B2" in err
-    assert "1000 times longer than wide" in err and "wider than about half" not in err
-    ratio = float(err.split("B2 near 1/")[1].split(" ")[0])
-    assert ratio == pytest.approx(176.5, rel=5e-3)  # pi sqrt(12) L / (7.8532^2 w), 3 figures
-    low, high = (float(x) for x in err.split("computed at [")[1].split("]")[0].split(" ... "))
-    assert high / ratio < low  # L1 is among the modes solved, B2 below all of them
+    for module in (fem.mesh, fem.model):
+        monkeypatch.setattr(module, "structured_mesh",
+                            lambda *a, **k: pytest.fail("a mesh was made"))
+    for length, nearer, ratio in (("1000", 37, 176.5), ("725", 32, 128.0)):
+        assert main([*argv, "--length-mm", length, "--width-mm", "1",
+                     "--thickness-mm", "1"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 + sum("warning" in e for e in err[:-1])  # one error line
+        line = err[-1]
+        assert line.startswith(f"lusm {argv[0]}: error: --length-mm {length} and "
+                               "--width-mm 1: ")
+        assert f"with {nearer} in-plane modes nearer L1 than B2, beyond the 32" in line
+        got = float(line.split("B2 near 1/")[1].split(" ")[0])
+        assert got == pytest.approx(ratio, rel=5e-3)  # pi sqrt(12) L / (7.8532^2 w)
+        assert "at most about 720 times the width" in line
+
+
+def test_a_sweep_of_plates_all_too_slender_is_refused_before_any_fe_work(capsys,
+                                                                         monkeypatch):
+    """The slenderness is monotone along a sweep: when even its least slender plate is too
+    slender, no plate can give L1 and B2, and the sweep is refused naming its range (a
+    sweep with some such plates records them as failed, each before its mesh)."""
+    import fem.model
+    from validation.cli import main
+
+    monkeypatch.setattr(fem.model, "structured_mesh",
+                        lambda *a, **k: pytest.fail("a mesh was made"))
+    assert main(["sweep", "--length-mm", "800:1000:100", "--width-mm", "1"]) == 2
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    assert line.startswith("lusm sweep: error: --length-mm 800:1000:100: no plate of the "
+                           "sweep can have an L1/B2 pair: even the 800 x 1 mm plate")
+    assert "33 in-plane modes nearer L1 than B2" in line
+
+
+def test_an_admittance_over_a_given_band_needs_no_b2():
+    """The refusal is for L1/B2: an admittance whose band the user gives needs neither (its
+    modes are counted, not identified), so its check lets the slender plate through."""
+    from validation.options import check_fe_size
+
+    slender = PlateStator(length_m=1.0, width_m=1e-3, thickness_m=1e-3)
+    assert check_fe_size(slender, None, needs_b2=False) > 0
+    with pytest.raises(ValueError, match="times longer than wide"):
+        check_fe_size(slender, None)
+
+
+def test_the_library_refuses_a_slender_plate_before_its_mesh(monkeypatch):
+    """fem.modes.plate_modes (as a sweep's or a study's plate) refuses it as a
+    ModeSolverError, so a sweep records the point as failed, at no cost."""
+    import fem.modes as fm
+
+    monkeypatch.setattr(fm, "plate_model", lambda *a, **k: pytest.fail("a model was built"))
+    with pytest.raises(fm.SlenderPlateError, match="37 in-plane modes nearer L1") as err:
+        fm.plate_modes(PlateStator(length_m=1.0, width_m=1e-3, thickness_m=1e-3))
+    assert isinstance(err.value, ModeSolverError)
+    assert err.value.max_slenderness == pytest.approx(719.7, rel=1e-3)
+    # a plate far wider than long is no beam: its B2 lies above L1, and its failure is the
+    # identification's (it had been refused as "0.125 times longer than wide")
+    fm.check_b2_in_reach(PlateStator(length_m=5e-3, width_m=40e-3))
+
+
+@pytest.mark.slow
+def test_the_slender_bound_lies_where_the_solver_stops_finding_b2():
+    """Both sides of the bound, on the FE model: the 715 x 1 mm plate (beam theory: 31 modes
+    nearer L1 than B2) is accepted and solved, its B2 found among the 32 modes; the 725 x 1
+    mm plate (32) has B2 beyond them in its FE spectrum too (at the default mesh it failed
+    after 42 s of solves). The coarsest mesh: 48 s for the first, one solve for the second."""
+    from fem.modes import check_b2_in_reach, modes_nearer_than_b2
+
+    inside = PlateStator(length_m=715e-3, width_m=1e-3, thickness_m=1e-3)
+    outside = PlateStator(length_m=725e-3, width_m=1e-3, thickness_m=1e-3)
+    assert (modes_nearer_than_b2(715), modes_nearer_than_b2(725)) == (31, 32)
+    check_b2_in_reach(inside)
+    res = plate_modes(inside, refine=1)
+    assert len(res.frequencies_short_Hz) == 32
+    assert res.B2.f_short_Hz < res.L1.f_short_Hz / 100  # far below, yet found
+    assert _fe_modes_nearer_than_b2(outside, refine=1) >= 32
 
 
 def test_linear_elements_are_said_to_lock_in_bending(capsys):

@@ -291,9 +291,16 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     # an XDMF export's HDF5 side file in the way: it was refused only after the FE solve
     ("modes-export-side-file", ["modes", "--export", "{xdmf_with_side_file}"],
      ["--export", "side file", "already exists"]),
+    # too slender for any mesh to give an L1/B2 pair: it had been told to make the plate less
+    # elongated for the mesh bound, and is refused for its slenderness before that count
     ("modes-elongated-default-mesh", ["modes", "--length-mm", "1000", "--width-mm", "1",
                                       "--gap-mm", "0.1"],
-     ["--length-mm: the plate 1000 x 1 x 3 mm", "at the default mesh"]),
+     ["--length-mm 1000 and --width-mm 1: the 1000 x 1 mm plate is 1000 times longer",
+      "at most about 720 times the width"]),
+    # the mesh bound on a plate slender but within reach of B2: the refine typed is named
+    ("modes-elongated-refined", ["modes", "--length-mm", "700", "--width-mm", "1",
+                                 "--refine", "8"],
+     ["--refine: the plate 700 x 1 x 3 mm needs", "above the limit 20000"]),
     ("modes-layers-100000", ["modes", "--model", "3d", "--layers", "100000"], ["--layers"]),
     ("modes-edge-grading-9", ["modes", "--model", "3d", "--edge-grading", "9"],
      ["--edge-grading", "[0, 6]"]),

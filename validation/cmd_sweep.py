@@ -160,8 +160,14 @@ def run(args: argparse.Namespace) -> None:
     from validation.options import check_fe_size, check_fe_work
 
     try:  # the sweep's two extremes, which also hold the features if any plate does
-        cells = [check_fe_size(replace(base, **{f"{parameter}_m": float(v * 1e-3)}),
-                               args.refine) for v in (values_mm.min(), values_mm.max())]
+        ends = [replace(base, **{f"{parameter}_m": float(v * 1e-3)})
+                for v in (values_mm.min(), values_mm.max())]
+        # a plate of the sweep too slender for the solver to reach B2 fails alone, before
+        # its solve (fem.modes.check_b2_in_reach), and is said; the slenderness is monotone
+        # in the swept dimension, so when the less slender end is too slender every plate is
+        _check_some_b2_in_reach(min(ends, key=lambda st: st.length_m / st.width_m),
+                                option, text)
+        cells = [check_fe_size(st, args.refine, needs_b2=False) for st in ends]
     except ValueError as exc:
         if not str(exc).startswith("ParametricStator."):
             raise
@@ -219,6 +225,21 @@ def run(args: argparse.Namespace) -> None:
               f"interpolation; lusm tune solves for it)")
     if png is not None:
         print(f"wrote {png}")
+
+
+def _check_some_b2_in_reach(stator, option: str, text: str) -> None:
+    """Refuse a sweep whose least slender plate, ``stator``, is too slender for the solver to
+    reach B2 from L1: then no plate of it is (:func:`fem.modes.check_b2_in_reach`)."""
+    from fem.modes import SlenderPlateError, check_b2_in_reach
+    from validation.errors import LusmError
+    from validation.options import slender_reason
+
+    try:
+        check_b2_in_reach(stator)
+    except SlenderPlateError as exc:
+        raise LusmError(f"{option} {text}: no plate of the sweep can have an L1/B2 pair: even "
+                        f"{slender_reason(exc)}; sweep plates at most about "
+                        f"{exc.max_slenderness:.0f} times longer than wide", option) from None
 
 
 def _report_failures(res, parameter: str) -> None:

@@ -548,9 +548,49 @@ def fe_cell_count(stator, refine: int | None, layers: int | None = None,
     return n
 
 
+def slender_reason(exc) -> str:
+    """Why a :class:`fem.modes.SlenderPlateError`'s plate has no L1/B2 pair, in mm."""
+    return (f"the {exc.length_m * 1e3:g} x {exc.width_m * 1e3:g} mm plate is "
+            f"{exc.length_m / exc.width_m:.4g} times longer than wide: free-free beam theory "
+            f"puts its B2 near 1/{exc.f_ratio:.3g} of L1's frequency, with {exc.nearer} "
+            f"in-plane modes nearer L1 than B2, beyond the {exc.searched} the FE solver "
+            "searches near L1, so no L1/B2 pair can be found (an L1/B2 motor needs the two "
+            "close, the paper's 30 x 7.5 mm plate has them about 1 % apart)")
+
+
+def slender_plate_error(exc) -> LusmError:
+    """A :class:`fem.modes.SlenderPlateError` in the options' terms: the plate options typed
+    (or the stator file) with their values, beam theory's reason and the slenderness that
+    fits, on one line."""
+    if typed("--geometry"):
+        named, option = "--geometry: ", "--geometry"
+        fix = "the stator file's [plate] length_mm or width_mm"
+    else:
+        dims = [o for o in ("--length-mm", "--width-mm") if typed(o)] or ["--length-mm"]
+        values = {"--length-mm": exc.length_m, "--width-mm": exc.width_m}
+        named = " and ".join(f"{o} {values[o] * 1e3:g}" for o in dims) + ": "
+        option, fix = dims[0], "--length-mm or --width-mm"
+    return LusmError(f"{named}{slender_reason(exc)}; give {fix} for a length at most about "
+                     f"{exc.max_slenderness:.0f} times the width", option)
+
+
+def check_b2_in_reach(stator) -> None:
+    """Refuse, before any FE work, a plate whose B2 the 2D solver cannot reach from L1
+    (:func:`fem.modes.check_b2_in_reach`): a 1000 x 1 mm plate took 14 s and 900 MB of
+    solves to be refused."""
+    from fem.modes import SlenderPlateError
+    from fem.modes import check_b2_in_reach as check
+
+    try:
+        check(stator)
+    except SlenderPlateError as exc:
+        raise slender_plate_error(exc) from None
+
+
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
                   option: str = "--refine", edge_grading: int = 0, quarter: bool = False,
-                  layers_option: bool = True, has_option: bool = True) -> int:
+                  layers_option: bool = True, has_option: bool = True,
+                  needs_b2: bool = True) -> int:
     """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
 
     The count is exact for the generated plate (``fem.mesh.grid_lines_m``, and
@@ -560,10 +600,15 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     selects the 3D count; ``layers_option``: whether the command has ``--layers`` to name
     (``tune --model 3d`` takes three layers and has none); ``has_option``: whether it has
     ``option`` at all (``report``, ``simulate --source fem`` have no ``--refine``, and were
-    told to lower it).
+    told to lower it); ``needs_b2``: the command solves the 2D model for L1 and B2, so a plate
+    too slender for the solver to reach B2 is refused first (:func:`check_b2_in_reach`; not
+    for the 3D model, whose search holds other modes, nor for an admittance over a band
+    the user gave, which needs no L1/B2).
     """
     from fem.meshed_stator import planform_mesh
 
+    if needs_b2 and layers is None:
+        check_b2_in_reach(stator)
     mesh = planform_mesh(stator)
     n = fe_cell_count(stator, refine, layers, edge_grading, quarter)
     if layers is not None:
