@@ -190,6 +190,58 @@ def test_a_stators_mesh_bound_is_estimated_before_it_is_meshed(tmp_path, monkeyp
                          "axes": {"length": ["25.6938 mm", "1000 mm"]}})
 
 
+def _no_2d_mesh(monkeypatch, own_length_m: float):
+    """Fail the test on a 2D planform mesh of any plate but the stator file's own (which
+    reading the file meshes, to check it) or on an FE solve; the 1D boundary mesh of
+    fem.parametric.estimated_elements is allowed."""
+    import fem.modes
+    import fem.parametric
+
+    made = fem.parametric._cached_mesh
+
+    def only_the_files(stator):
+        if stator.length_m != own_length_m:
+            pytest.fail(f"the {stator.length_m * 1e3:g} mm plate's 2D mesh was made")
+        return made(stator)
+
+    monkeypatch.setattr(fem.parametric, "_cached_mesh", only_the_files)
+    monkeypatch.setattr(fem.modes, "plate_modes", lambda *a, **k: pytest.fail("FE solve"))
+
+
+@pytest.mark.parametrize("over", [0, 1])
+def test_a_stator_studys_fe_work_bound_counts_the_boundary_estimate_without_meshing(
+        over, monkeypatch):
+    """The study's FE work (its largest plate's elements x its plates) of a stator meshed by
+    gmsh was estimated as area / size^2 (2.2 times low on this stator's default mesh), and
+    plates within twice the mesh bound of it were meshed in 2D to count before the study
+    started. It is fem.parametric.estimated_elements' count now, from the boundary alone: a
+    study at the bound is accepted and one element x solve above it refused, neither
+    meshing a plate; the count is the largest plate's real mesh or up to 1.5 times low."""
+    from dataclasses import replace
+
+    import validation.study
+    from fem.parametric import estimated_elements, parametric_mesh
+    from fem.stator_file import load_stator
+
+    base = load_stator(TUNED).stator
+    plates = [replace(base, length_m=v) for v in (20e-3, 30e-3)]
+    counts = [estimated_elements(p) for p in plates]
+    largest = max(counts)
+    monkeypatch.setattr(validation.study, "MAX_STUDY_FE_WORK", 2 * largest - over)
+    doc = {"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
+           "axes": {"length": ["20 mm", "30 mm"]}}
+    with monkeypatch.context() as m:
+        _no_2d_mesh(m, base.length_m)
+        if over:
+            with pytest.raises(ValueError, match=rf"2 geometries \(FE solves\) x about "
+                               rf"{largest} 2D elements \(the study's largest plate, 30 x "):
+                study_from_dict(doc)
+        else:
+            assert study_from_dict(doc).n_geometries == 2
+    real = parametric_mesh(plates[counts.index(largest)]).n_elements
+    assert largest <= real <= 1.5 * largest
+
+
 def test_fe_refine_is_said_unused_for_a_stator_meshed_by_gmsh():
     with pytest.warns(UserWarning, match="solver.fe_refine is unused: study.stator"):
         study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
@@ -276,11 +328,11 @@ def test_a_range_gives_the_values_a_user_would_type():
 def test_the_mesh_bound_takes_the_feature_axes_at_their_largest(monkeypatch):
     """The largest tip and the smallest chamfer of the axes make the largest gmsh mesh (a
     30 mm tip on the axis was meshed at full size where lusm modes refuses that plate)."""
-    import validation.options
+    import fem.parametric
 
-    seen = []
-    monkeypatch.setattr(validation.options, "fe_cell_count",
-                        lambda plate, refine: seen.append(plate) or 1)
+    seen = []  # the plates whose elements are counted (estimated, for a gmsh planform)
+    monkeypatch.setattr(fem.parametric, "estimated_elements",
+                        lambda plate: seen.append(plate) or 1)
     study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
                      "axes": {"tip_length": ["0.4 mm", "2 mm"], "tip_width": ["1 mm", "2 mm"],
                               "chamfer": ["0.5 mm", "0.8 mm"]}})
