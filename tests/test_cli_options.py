@@ -358,3 +358,12 @@ def test_a_warning_is_said_once_per_command(capsys):
     set_command("report")  # the next command says it again
     warn("a hole")
     assert capsys.readouterr().err == "lusm report: warning: a hole\n"
+
+
+def test_a_thick_plate_without_an_l1_b2_pair_names_the_thickness(capsys):
+    """Found by the fuzzed options: a 30 x 7.5 x 39 mm plate has no pair the 2D model can
+    identify, and its refusal told the user to check the length and width only."""
+    assert main(["modes", "--refine", "2", "--thickness-mm", "39"]) == 2
+    errors = [ln for ln in capsys.readouterr().err.splitlines() if ": error: " in ln]
+    assert len(errors) == 1 and "--thickness-mm" in errors[0]
+    assert "39 mm thick plate is 5.2 x its smaller in-plane dimension (7.5 mm)" in errors[0]

@@ -119,6 +119,24 @@ def _slender_clause(stator) -> str | None:
             "quarter of the length")
 
 
+def _thick_clause(stator) -> str | None:
+    """Why a thick plate may have no L1/B2 pair, or None: thickness over the smaller in-plane
+    dimension beyond :data:`validation.limits.PLANE_STRESS_RATIO` (``stator``: anything with
+    ``length_m``, ``width_m`` and ``thickness_m``, or None)."""
+    from validation import limits
+
+    dims = [getattr(stator, k, None) for k in ("length_m", "width_m", "thickness_m")]
+    if not all(dims):
+        return None
+    inplane, thickness = min(dims[0], dims[1]), dims[2]
+    if thickness / inplane <= limits.PLANE_STRESS_RATIO:
+        return None
+    return (f"a {thickness * 1e3:g} mm thick plate is {thickness / inplane:.3g} x its smaller "
+            f"in-plane dimension ({inplane * 1e3:g} mm), beyond the thin plate "
+            f"(below {limits.PLANE_STRESS_RATIO:g} x) whose in-plane L1 and B2 the 2D model "
+            "identifies")
+
+
 def fe_failure(exc: Exception, stator=None) -> ValueError:
     """A mode-solver or sparse-solver failure on an extreme plate, as bad input (``stator``,
     when given, lets a slender plate's message say why B2 is missing)."""
@@ -136,6 +154,12 @@ def fe_failure(exc: Exception, stator=None) -> ValueError:
         # a 1000 x 1 mm plate was told "wider than about half its length"
         return ValueError(f"L1 and B2 were not found for this stator ({reason}): {slender}; "
                           "check the plate (--geometry or --length-mm, --width-mm)")
+    thick = _thick_clause(stator)
+    if thick and ("could not identify" in reason or "could not pair" in reason):
+        # a 30 x 7.5 x 39 mm plate had been told to check its length and width only
+        return ValueError(f"L1 and B2 were not found for this stator ({reason}): {thick}; "
+                          "check the plate (--geometry or --thickness-mm, --length-mm, "
+                          "--width-mm)")
     if "could not identify" in reason or "could not pair" in reason:
         return ValueError(
             f"L1 and B2 were not found for this stator ({reason}): they are identified as the "
