@@ -100,6 +100,10 @@ TARGETS = [
 ] + [
     ("admittance", o, ["--refine", "2", "--points", "50"])
     for o in ("--f-min", "--f-max", "--points", "--zeta")
+] + [
+    ("characteristic", o, ["--voltage", "200", "--preload", "14", "--loads", "0:1:0.5",
+                           "--accuracy", "fast"])
+    for o in ("--voltage", "--preload", "--frequency", "--loads")
 ]
 
 
