@@ -456,3 +456,21 @@ def test_linear_elements_are_said_to_lock_in_bending(capsys):
     assert "warning" not in out.err
     assert linear["B2"]["f_short_Hz"] / fine["B2"]["f_short_Hz"] - 1 > 0.01
     assert abs(linear["L1"]["f_short_Hz"] / fine["L1"]["f_short_Hz"] - 1) < 0.005
+
+
+def test_a_failed_identification_blames_slenderness_only_near_the_search_bound():
+    """After a solve that did not identify L1/B2, the message says B2 lay beyond the modes
+    solved only where beam theory counts the plate at the edge of the search (within one of
+    it: the count is the FE spectrum's or one low). Plates of 30 to 300 x 1 mm solve and give
+    their pair, and a fixed length / width of 17 had told any of them that failed for another
+    reason that its B2 was out of reach."""
+    from fem.modes import N_MODES, SEARCH_GROWTH, ModeSolverError, modes_nearer_than_b2
+    from validation.cmd_modes import fe_failure
+
+    exc = ModeSolverError("could not identify B2 among the modes solved")
+    searched = SEARCH_GROWTH[-1] * N_MODES
+    for length_mm, blamed in ((100, False), (300, False), (715, True)):
+        stator = PlateStator(length_m=length_mm * 1e-3, width_m=1e-3)
+        assert (modes_nearer_than_b2(length_mm) >= searched - 1) is blamed
+        message = str(fe_failure(exc, stator))
+        assert ("beam theory puts its B2" in message) is blamed, message

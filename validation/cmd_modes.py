@@ -99,24 +99,34 @@ def is_fe_failure(exc: BaseException) -> bool:
         type(exc) is Exception and "Newton iteration didn't converge" in str(exc))
 
 
-SLENDER_L_OVER_W = 17.0
-"""Length over width beyond which free-free Euler-Bernoulli beam theory puts B2 below a third
-of L1's frequency (``f_L1 / f_B2 = pi sqrt(12) L / (7.853^2 w) = 0.1765 L / w``, whatever the
-material): the modes solved near L1 do not reach B2."""
-
-
 def _slender_clause(stator) -> str | None:
-    """Why a slender plate has no L1/B2 pair, or None (``stator``: anything with
-    ``length_m`` and ``width_m``, or None)."""
-    length, width = getattr(stator, "length_m", None), getattr(stator, "width_m", None)
-    if not (length and width) or length / width <= SLENDER_L_OVER_W:
+    """Why a slender plate's solve may have missed B2, or None: beam theory's count of the
+    modes nearer L1 than B2 (:func:`fem.modes.modes_nearer_than_b2`) within one of the most
+    the solver searches (the count is the FE spectrum's or one low; a plate beyond the bound is
+    refused before its solve, :func:`fem.modes.check_b2_in_reach`). ``stator``: anything with
+    ``length_m`` and ``width_m``, or None.
+
+    A fixed length / width of 17 had stood for this: plates of 30 to 300 x 1 mm solve and
+    give their pair, and one of them failing for another reason would have been told that
+    its B2 lay beyond the modes solved."""
+    from fem.meshed_stator import overall_length_m
+    from fem.modes import N_MODES, SEARCH_GROWTH, modes_nearer_than_b2
+
+    width = getattr(stator, "width_m", None)
+    if not (getattr(stator, "length_m", None) and width):
+        return None
+    length = overall_length_m(stator)
+    searched = SEARCH_GROWTH[-1] * N_MODES
+    nearer = modes_nearer_than_b2(length / width)
+    if nearer < searched - 1:
         return None
     ratio = math.pi * math.sqrt(12.0) * length / (7.8532**2 * width)
     return (f"a {length * 1e3:g} x {width * 1e3:g} mm plate is {length / width:.4g} times "
             f"longer than wide, and free-free beam theory puts its B2 near 1/{ratio:.3g} of "
-            "L1's frequency, below the modes solved near L1: an L1/B2 motor needs the two "
-            "close (the paper's 30 x 7.5 mm plate has them about 1 % apart), a width of about a "
-            "quarter of the length")
+            f"L1's frequency, with about {nearer} in-plane modes nearer L1 than B2, at the "
+            f"edge of the {searched} modes the solver searches near L1: an L1/B2 motor needs "
+            "the two close (the paper's 30 x 7.5 mm plate has them about 1 % apart), a width "
+            "of about a quarter of the length")
 
 
 def _thick_clause(stator) -> str | None:
