@@ -469,3 +469,15 @@ def test_the_fem_library_calls_are_bounded_before_they_start():
     port = plate_admittance(zeta=np.float32(0.01), f_min_Hz=50e3, f_max_Hz=60e3, n_points=11,
                             refine=1).port
     assert port.zeta[0] == pytest.approx(0.01)
+
+
+def test_a_slender_start_plate_is_tuned_not_refused(capsys):
+    """With --fix width the length is only a starting value: a 750 x 1 mm start, beyond the
+    slenderness whose B2 the solver reaches, tunes to a short plate whose L1 and B2 meet (the
+    up-front slender-plate check had refused the start plate; review of 2026-11-28)."""
+    assert main(["tune", "--length-mm", "750", "--width-mm", "1", "--fix", "width",
+                 "--refine", "2", "--json"]) in (0, None)
+    out = json.loads(capsys.readouterr().out)
+    assert out["width_mm"] == 1.0 and out["tuned"] == ["length"]
+    assert out["length_mm"] < 100  # a plate the solver reaches, tuned
+    assert out["L1"]["f_short_Hz"] == pytest.approx(out["B2"]["f_short_Hz"], rel=1e-5)

@@ -97,7 +97,7 @@ def run(args: argparse.Namespace) -> None:
         check_refine_3d(args.refine)
         cells = check_fe_size(choice.stator, args.refine or 3, 3, layers_option=False)
     else:
-        cells = check_fe_size(choice.stator, args.refine)
+        cells = check_fe_size(choice.stator, args.refine, needs_b2=False)
     # a tuning solves the plate many times over: counted before it starts
     # a tuning's solves are its own: the message names only the mesh
     check_fe_work(cells, limits.TUNE_SOLVES, args.model == "3d", "--refine", choice.stator,
