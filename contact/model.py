@@ -65,13 +65,33 @@ def default_coupling(params: MotorParams) -> tuple[str, str]:
     (str, str)
         The coupling and a short reason for printing.
     """
-    from rom.table2 import table2
-
     # by the numbers, not the free-text source: a set saved without its label, or relabelled,
     # had switched coupling and run 5.7 times faster at 200 V / 14 N (found by API testing)
-    if dataclasses.replace(params, source="") == dataclasses.replace(table2(), source=""):
+    if is_table2(params):
         return "paper", "auto: Table 2's set reproduces the paper"
     return "consistent", "auto: work-consistent for a set that is not Table 2's"
+
+
+def is_table2(params: MotorParams) -> bool:
+    """Whether ``params`` holds Table 2's numbers, whatever its ``source`` text, each to the
+    rounding of single precision (:data:`rom.params.STORAGE_ROUNDOFF`, twice: the value's and
+    the storage's): a Table 2 set written through float32, which ``MotorParams.from_dict``
+    takes as unedited, had been switched to the consistent coupling and run 5.7 times faster
+    (review of 2026-11-28). An edit is a change far above 1e-7."""
+    from rom.params import STORAGE_ROUNDOFF
+    from rom.table2 import table2
+
+    ref = table2()
+    for f in dataclasses.fields(params):
+        if f.name == "source":
+            continue
+        a, b = getattr(params, f.name), getattr(ref, f.name)
+        if isinstance(a, float) and isinstance(b, float) and not isinstance(a, bool):
+            if not abs(a - b) <= 2.0 * STORAGE_ROUNDOFF * abs(b):
+                return False
+        elif a != b:
+            return False
+    return True
 
 
 class CouplingSwitchWarning(UserWarning):
