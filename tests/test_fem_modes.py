@@ -474,3 +474,10 @@ def test_a_failed_identification_blames_slenderness_only_near_the_search_bound()
         assert (modes_nearer_than_b2(length_mm) >= searched - 1) is blamed
         message = str(fe_failure(exc, stator))
         assert ("beam theory puts its B2" in message) is blamed, message
+    # a plate far wider than long is no beam along its length: it is told it is too wide
+    # (2 x 500 mm had been told of 1417 modes 'at the edge of the 32' searched)
+    for length_mm, width_mm in ((2, 500), (30, 30)):
+        stator = PlateStator(length_m=length_mm * 1e-3, width_m=width_mm * 1e-3)
+        message = str(fe_failure(exc, stator))
+        assert "beam theory puts its B2" not in message
+        assert "wider than about half its length" in message

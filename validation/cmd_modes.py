@@ -116,6 +116,8 @@ def _slender_clause(stator) -> str | None:
     if not (getattr(stator, "length_m", None) and width):
         return None
     length = overall_length_m(stator)
+    if length <= width:  # not a beam along its length: the generic message says why
+        return None
     searched = SEARCH_GROWTH[-1] * N_MODES
     nearer = modes_nearer_than_b2(length / width)
     if nearer < searched - 1:
