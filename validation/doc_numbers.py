@@ -1149,6 +1149,15 @@ def _steady_point() -> dict[str, float]:
 
 
 @cache
+@cache
+def _steady_400_loaded():
+    """The branch from rest at 400 V / 14 N under a 1 N load (exact level): its mean forces."""
+    from contact.steady import steady_state
+    from rom import table2
+
+    return steady_state(table2(), 400, 14, load_N=1.0, accuracy="exact").from_rest
+
+
 def _steady_mass_error(voltage_V: float, mass_kg: float) -> float:
     """|fast - exact| / exact at 14 N with slider mass ``mass_kg`` and mu_sd = 0."""
     from contact.steady import steady_state
@@ -1483,6 +1492,12 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("char_30kHz_exact_no_load_m_s", "m/s",
               "lusm characteristic --voltage 200 --preload 14 --frequency 30000",
               lambda: _char_30khz("exact")),
+        Claim("steady_400V_14N_1N_mean_FN_N", "N",
+              'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FN_N',
+              lambda: _steady_400_loaded().mean_FN_N, cheap=True, rel_tol=1e-7),
+        Claim("steady_400V_14N_1N_mean_FT_N", "N",
+              'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FT_N',
+              lambda: _steady_400_loaded().mean_FT_N, cheap=True, rel_tol=1e-7),
         Claim("steady_150V_14N_fast_vs_exact", "-", "steady_150V_14N_fast_m_s / "
               "steady_150V_14N_rest_m_s - 1",
               lambda: _steady_150()["fast"] / _steady_150()["rest"] - 1),
