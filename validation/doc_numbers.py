@@ -1150,6 +1150,37 @@ def _steady_point() -> dict[str, float]:
 
 @cache
 @cache
+def _char_450_40():
+    """The exact characteristic at 450 V / 40 N: its stall force and the averaged one."""
+    from contact.characteristic import characteristic
+    from rom import table2
+
+    return characteristic(table2(), 450, 40)
+
+
+@cache
+def _no_preload():
+    """The branch from rest at 200 V without preload (exact level)."""
+    from contact.steady import steady_state
+    from rom import table2
+
+    return steady_state(table2(), 200, 0, accuracy="exact").from_rest
+
+
+def _no_preload_stall() -> float:
+    from contact.characteristic import characteristic
+    from rom import table2
+
+    return characteristic(table2(), 200, 0).stall_force_N
+
+
+def _max_slenderness() -> float:
+    from fem.modes import N_MODES, SEARCH_GROWTH, max_slenderness
+
+    return max_slenderness(SEARCH_GROWTH[-1] * N_MODES)
+
+
+@cache
 def _steady_400_loaded():
     """The branch from rest at 400 V / 14 N under a 1 N load (exact level): its mean forces."""
     from contact.steady import steady_state
@@ -1498,6 +1529,29 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_400V_14N_1N_mean_FT_N", "N",
               'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FT_N',
               lambda: _steady_400_loaded().mean_FT_N, cheap=True, rel_tol=1e-7),
+        Claim("steady_char_450V_40N_stall_N", "N",
+              "lusm characteristic --voltage 450 --preload 40 --json (stall_force_N)",
+              lambda: _char_450_40().stall_force_N),
+        Claim("steady_char_450V_40N_averaged_stall_N", "N",
+              "lusm characteristic --voltage 450 --preload 40 --json (averaged_stall_force_N)",
+              lambda: _char_450_40().averaged_stall_force_N),
+        Claim("contact_no_preload_200V_m_s", "m/s",
+              "lusm simulate --voltage 200 --preload 0 --steady --json (steady_velocity_m_s)",
+              lambda: _no_preload().velocity_m_s, cheap=True, rel_tol=1e-7),
+        Claim("contact_no_preload_200V_mean_FN_N", "N",
+              'steady_state(table2(), 200, 0, accuracy="exact").from_rest.mean_FN_N',
+              lambda: _no_preload().mean_FN_N, cheap=True, rel_tol=1e-7),
+        Claim("contact_no_preload_200V_separation", "-",
+              "lusm simulate --voltage 200 --preload 0 --steady --json "
+              "(separation_fraction)", lambda: _no_preload().phase_fraction[3], cheap=True,
+              rel_tol=1e-6),
+        Claim("contact_no_preload_200V_stall_N", "N",
+              "lusm characteristic --voltage 200 --preload 0 --json (stall_force_N)",
+              lambda: _no_preload_stall()),
+        Claim("fem_max_slenderness", "-",
+              "python -c 'from fem.modes import max_slenderness; print(max_slenderness(32))' "
+              "(length / width whose B2 beam theory puts within the 32 modes searched)",
+              lambda: _max_slenderness(), cheap=True, rel_tol=1e-9),
         Claim("steady_150V_14N_fast_vs_exact", "-", "steady_150V_14N_fast_m_s / "
               "steady_150V_14N_rest_m_s - 1",
               lambda: _steady_150()["fast"] / _steady_150()["rest"] - 1),
