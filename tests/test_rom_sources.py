@@ -83,8 +83,10 @@ def test_fem_source_dispatches_to_fem_params(monkeypatch: pytest.MonkeyPatch):
 
     calls: list[dict[str, object]] = []
 
-    def fake_fem_params(**kwargs: object) -> MotorParams:
-        calls.append(kwargs)
+    # the stand-in takes the real reduction's option used here: get_params refuses an
+    # option the reduction's signature does not name
+    def fake_fem_params(order: int = 2) -> MotorParams:
+        calls.append({"order": order})
         return table2().with_(source="fake fem")
 
     monkeypatch.setitem(sys.modules, "rom.from_fem", types.SimpleNamespace(
