@@ -371,3 +371,14 @@ def test_a_thick_plate_without_an_l1_b2_pair_names_the_thickness(capsys):
     errors = [ln for ln in capsys.readouterr().err.splitlines() if ": error: " in ln]
     assert len(errors) == 1 and "--thickness-mm" in errors[0]
     assert "39 mm thick plate is 5.2 x its smaller in-plane dimension (7.5 mm)" in errors[0]
+
+
+def test_the_thin_plate_warning_says_when_the_thickness_is_the_default(capsys):
+    """A 30 x 2 mm plate is thick for plane stress at the default 3 mm: the warning says the
+    thickness is the default, not a --thickness-mm 3 the user never typed (review)."""
+    assert main(["modes", "--length-mm", "30", "--width-mm", "2", "--refine", "1"]) in (0, None)
+    assert "warning: the default --thickness-mm 3 is 1.5 x" in capsys.readouterr().err
+    assert main(["modes", "--length-mm", "30", "--width-mm", "2", "--thickness-mm", "3",
+                 "--refine", "1"]) in (0, None)
+    err = capsys.readouterr().err
+    assert "warning: --thickness-mm 3 is 1.5 x" in err and "default" not in err

@@ -367,8 +367,11 @@ def check_plate_mm(length: float, width: float, thickness: float, gap: float,
                         f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
                         f"{gap_name}", option)
     if not three_d and thin_warning:
-        warn_thin_plate(f"{where}{thick} {thickness:g}", thickness, min(length, width),
-                        "the plate's smaller in-plane dimension")
+        # the default thickness is said to be one: a 1000 x 1 mm plate had been warned about
+        # a --thickness-mm 3 the user never typed (review)
+        default = file is None and not typed("--thickness-mm")
+        warn_thin_plate(f"{where}{'the default ' if default else ''}{thick} {thickness:g}",
+                        thickness, min(length, width), "the plate's smaller in-plane dimension")
 
 
 def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, against: str,
