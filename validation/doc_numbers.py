@@ -1879,6 +1879,239 @@ def _mesh_noise_claims() -> tuple[Claim, ...]:
                        batch="mesh_noise") for k in keys)
 
 
+# --- figures the docs had marked as inputs (a review of the <!--input--> markers) ----------
+
+
+def _b2_half_wavelength_m() -> float:
+    """Half-wavelength (m) of the free-free B2 shape of Eq. 3 on the paper's 30 mm plate."""
+    from fem.beam_shapes import BETA2_L
+    from rom.table2 import TABLE1
+
+    return math.pi * TABLE1["length_m"] / BETA2_L
+
+
+def _prepass_settle_periods() -> float:
+    """Drive periods (40 kHz) in which Table 2's L1 start transient decays to
+    ``PRE_PASS_SETTLE`` (``contact.simulate.pre_pass_periods`` takes 1.5 times them)."""
+    from contact.simulate import PRE_PASS_SETTLE, _l1_decay_rate
+
+    return math.log(1.0 / PRE_PASS_SETTLE) / (_l1_decay_rate(_table2()) / 40e3)
+
+
+def _drive_phase_deg() -> float:
+    """Phase (degrees) between Table 2's free L1 and B2 tip responses at its auto frequency."""
+    import numpy as np
+
+    from contact.drive import auto_frequency
+    from rom.damping import free_tip_phasors
+
+    n, t = free_tip_phasors(_table2(), auto_frequency(_table2()))
+    d = float(np.angle(n) - np.angle(t))
+    return abs(math.degrees(math.remainder(d, 2.0 * math.pi)))
+
+
+@cache
+def _fem_set():
+    from rom.sources import get_params
+
+    return get_params("fem")
+
+
+def _fem_speed_300V_14N(frequency_Hz: float) -> float:
+    """Steady speed from rest (m/s) of the FE set at 300 V / 14 N (auto coupling)."""
+    from contact.simulate import simulate
+
+    return simulate(_fem_set(), 300.0, 14.0, frequency_Hz,
+                    method="steady").steady.velocity_m_s
+
+
+@cache
+def _tuned60k_140V_14N():
+    """The exact steady state of examples/tuned_60k at 140 V / 14 N, --frequency auto."""
+    from contact.drive import auto_frequency
+    from contact.steady import steady_state
+    from rom.from_fem import fem_params_from_file
+
+    p = fem_params_from_file(ROOT / "examples" / "tuned_60k" / "stator.toml")
+    return steady_state(p, 140.0, 14.0, frequency_Hz=auto_frequency(p), accuracy="exact",
+                        energy=False)
+
+
+def _tuned60k_slip_m_s() -> float:
+    """The stable pure-slip branch that a start from rest does not reach (m/s)."""
+    return next(b.velocity_m_s for b in _tuned60k_140V_14N().branches
+                if b.stable and b.motion == "pure-slip")
+
+
+def _capacitance_pF() -> dict[str, float]:
+    """The 2D capacitance matrix of the default plate (F): entries, row sum, parallel plate."""
+    from fem.material import get_material, plane_stress
+
+    c = _fe2d_model().capacitance_matrix_F
+    st = _fe2d_model().stator
+    g = st.electrode_gap_m
+    area = 0.25 * (st.length_m - g) * (st.width_m - g)
+    return {"C_ee": float(c[0, 0]), "C_13": float(c[0, 2]), "C_12": float(c[0, 1]),
+            "C_14": float(c[0, 3]), "row_sum": float(c[0].sum()),
+            "parallel_plate": plane_stress(get_material("pzt8")).eps33_F_m * area
+            / st.thickness_m}
+
+
+def _gap_weight_centre() -> float:
+    """Top-face potential fraction of one electrode at the centre of the default 0.5 mm strip."""
+    from fem.capacitance import gap_cross_section, lateral_permittivity_F_m
+    from fem.material import get_material, plane_stress
+
+    mat = get_material("pzt8")
+    w = 0.5 * (7.5e-3 - 0.5e-3)
+    cs = gap_cross_section(0.5e-3, 3e-3, w, w, lateral_permittivity_F_m(mat),
+                           plane_stress(mat).eps33_F_m)
+    return float(cs.weight(0.0))
+
+
+def _bricks(gap_m: float = 0.5e-3, refine: int = 3, layers: int = 3, grading: int = 0) -> int:
+    """Bricks of the generated 3D mesh of the paper's plate (``hex_grid_lines``)."""
+    from fem.geometry import PlateStator
+    from fem.solid3d import hex_grid_lines
+
+    x, y, z = hex_grid_lines(PlateStator(electrode_gap_m=gap_m), refine, layers, grading)
+    return (len(x) - 1) * (len(y) - 1) * (len(z) - 1)
+
+
+def _chamfered_bricks(layers: int = 3) -> int:
+    """Bricks of examples/chamfered extruded in ``layers`` layers (planform cells x layers)."""
+    from fem.meshed_stator import planform_mesh
+    from fem.stator_file import load_stator
+
+    st = load_stator(ROOT / "examples" / "chamfered" / "stator.toml").stator
+    return planform_mesh(st).quads.shape[1] * layers
+
+
+def _b2_port_fa_shift_Hz() -> float:
+    """How far the isolated B2 port's antiresonance f_p moves down (Hz) from zeta = 1e-4 to
+    0.01 (the port of :func:`_isolated_b2_damping_drift`)."""
+    from fem.admittance import plate_admittance
+
+    fa = [plate_admittance(f_min_Hz=50e3, f_max_Hz=60e3, n_points=3001, electrodes=(1, 2, 3, 4),
+                           polarity=(1, -1, -1, 1), zeta=z).pairs[0].f_antiresonance_Hz
+          for z in (1e-4, 1e-2)]
+    return fa[0] - fa[1]
+
+
+def _table2_zetas() -> tuple[float, float]:
+    """Table 2's damping ratios of L1 and B2, which the CLI's admittance borrows."""
+    t = _table2()
+    return (t.C_l / (2 * math.sqrt(t.K_l * t.M_l)), t.C_b / (2 * math.sqrt(t.K_b * t.M_b)))
+
+
+def _one_quadrant_b2_coupling() -> float:
+    """B2's coupling k_r to the port of electrode 1 alone (``ModalPort.coupling``)."""
+    from fem.admittance import design_band_Hz, modal_port
+
+    port = modal_port(_fe2d_model(), design_band_Hz(_fe2d())[1], (1,), None, *_table2_zetas())
+    return float(port.coupling()[list(port.mode_names).index("B2")])
+
+
+def _retained_modes() -> int:
+    """Modes ``lusm admittance`` keeps in its default band (``retained_modes``)."""
+    from fem.admittance import design_band_Hz, plate_admittance
+
+    f_min, f_max = design_band_Hz(_fe2d())
+    z_l, z_b = _table2_zetas()
+    return int(plate_admittance(f_min_Hz=f_min, f_max_Hz=f_max, zeta_L1=z_l,
+                                zeta_B2=z_b).port.frequencies_Hz.size)
+
+
+def _default_elements() -> int:
+    """Elements of the default generated 2D mesh of the paper's plate."""
+    from fem.geometry import PlateStator
+    from fem.mesh import DEFAULT_REFINE, structured_mesh
+
+    return int(structured_mesh(PlateStator(), DEFAULT_REFINE).quads.shape[1])
+
+
+def _steady_steps(params, frequency_Hz: float) -> int:
+    from contact.model import default_coupling
+    from contact.steady import steps_per_period
+
+    return steps_per_period(params, frequency_Hz, default_coupling(params)[0])
+
+
+@cache
+def _study_plate_28mm():
+    """The FE set of a 28 x 7.5 x 3 mm plate at fe_refine 1 (tests/test_explore.py)."""
+    from fem.geometry import PlateStator
+    from rom.from_fem import fem_params
+
+    return fem_params(PlateStator(length_m=28e-3), "pzt8", order=2, refine=1)
+
+
+def _steady_lowest_frequency_Hz(max_steps: int = 20_000) -> float:
+    """Lowest whole-hertz drive frequency at which Table 2's set needs at most ``max_steps``
+    steady-engine steps per drive period."""
+    lo, hi = 1, 1000
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if _steady_steps(_table2(), mid) > max_steps else (lo, mid)
+    return float(hi)
+
+
+def _scale_voltage_V() -> float:
+    """The voltage that deflects Table 2's stator statically by ``MAX_STATIC_DEFLECTION_M``."""
+    from contact.model import MAX_STATIC_DEFLECTION_M
+
+    p = _table2()
+    return MAX_STATIC_DEFLECTION_M / max(abs(p.A_l) / p.K_l, abs(p.A_b) / p.K_b)
+
+
+def _prepass_zeta(which: str) -> float:
+    """zeta_L1 below which the A_N pre-pass (drive at L1's resonance) hits its cap, or warns."""
+    from contact.simulate import MAX_PRE_PASS_PERIODS, PRE_PASS_SETTLE, UNSETTLED_SHARE
+
+    if which == "cap":  # 1.5 ln(1/settle) / (2 pi zeta) = the cap
+        return 1.5 * math.log(1.0 / PRE_PASS_SETTLE) / (2.0 * math.pi * MAX_PRE_PASS_PERIODS)
+    # the window (last third) of the capped pre-pass starts with UNSETTLED_SHARE left
+    return math.log(1.0 / UNSETTLED_SHARE) / (2.0 * math.pi * MAX_PRE_PASS_PERIODS * 2.0 / 3.0)
+
+
+def _undriven_friction_N(which: str) -> float:
+    """Static (hold) or sliding friction of tip and guide at 0 V / 14 N on Table 2's set."""
+    from rom.params import GRAVITY_M_S2
+
+    p, fp = _table2(), 14.0
+    guide = p.mu_sd * (fp + p.M_slider * GRAVITY_M_S2)
+    return (p.mu_s if which == "hold" else p.mu_d) * fp + guide
+
+
+@cache
+def _fem_char_400V_14N(accuracy: str):
+    from contact.characteristic import characteristic
+    from contact.drive import auto_frequency
+
+    return characteristic(_fem_set(), 400, 14, frequency_Hz=auto_frequency(_fem_set()),
+                          accuracy=accuracy)
+
+
+_SHOW = "python -m validation.doc_numbers --show {}"
+_FEM_STEADY = "lusm simulate --source fem --voltage 300 --preload 14 --steady --frequency {}"
+_T60 = ("lusm simulate --geometry examples/tuned_60k/stator.toml --voltage 140 --preload 14 "
+        "--frequency auto --steady --json")
+_CAP = ("python -c 'from fem.model import plate_model; "
+        "print(plate_model().capacitance_matrix_F)' ({})")
+
+
+def _reviewed_input_claims() -> tuple[Claim, ...]:
+    """Computed figures the docs had marked ``<!--input-->`` (review of every input marker)."""
+    return (
+        Claim("beam_B2_half_wavelength_m", "m", _SHOW.format("beam_B2_half_wavelength_m")
+              + " (pi l / (beta_2 l), the free-free B2 shape of Eq. 3)",
+              _b2_half_wavelength_m, cheap=True, rel_tol=1e-9),
+        Claim("beam_B2_half_wavelength_over_width", "-",
+              "beam_B2_half_wavelength_m / b_s (7.5 mm)",
+              lambda: _b2_half_wavelength_m() / 7.5e-3, cheap=True, rel_tol=1e-9),
+    )
+
+
 # --- the claims --------------------------------------------------------------------------
 
 
@@ -2092,6 +2325,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_explore_claims(),
     *_tuned_length_claims(),
     *_mesh_noise_claims(),
+    *_reviewed_input_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
