@@ -2109,6 +2109,25 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("beam_B2_half_wavelength_over_width", "-",
               "beam_B2_half_wavelength_m / b_s (7.5 mm)",
               lambda: _b2_half_wavelength_m() / 7.5e-3, cheap=True, rel_tol=1e-9),
+        Claim("contact_prepass_settle_periods_table2", "-",
+              _SHOW.format("contact_prepass_settle_periods_table2")
+              + " (drive periods in which exp(-C_l t / 2M_l) reaches 1e-9, Table 2, 40 kHz)",
+              _prepass_settle_periods, cheap=True, rel_tol=1e-9),
+        Claim("contact_prepass_needed_table2", "-",
+              "ceil(1.5 contact_prepass_settle_periods_table2) (the rule of "
+              "contact.simulate.pre_pass_periods before its 60-period floor)",
+              lambda: float(math.ceil(1.5 * _prepass_settle_periods())), cheap=True,
+              rel_tol=0.0),
+        Claim("drive_phase_table2_deg", "deg", _SHOW.format("drive_phase_table2_deg")
+              + " (angle between rom.damping.free_tip_phasors at auto_frequency(table2()))",
+              _drive_phase_deg, cheap=True, rel_tol=1e-6),
+        Claim("drive_fem_57500Hz_v_m_s", "m/s", _FEM_STEADY.format(57500),
+              lambda: _fem_speed_300V_14N(57.5e3), cheap=True, rel_tol=1e-6),
+        Claim("drive_share_fem_40kHz", "-",
+              "python -c 'from contact.drive import drive_share; from rom.sources import "
+              "get_params; print(drive_share(get_params(\"fem\"), 40e3))' (the first)",
+              lambda: __import__("contact.drive", fromlist=["x"]).drive_share(
+                  _fem_set(), 40e3)[0], cheap=True, rel_tol=1e-6),
     )
 
 
