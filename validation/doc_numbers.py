@@ -2128,6 +2128,10 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               "get_params; print(drive_share(get_params(\"fem\"), 40e3))' (the first)",
               lambda: __import__("contact.drive", fromlist=["x"]).drive_share(
                   _fem_set(), 40e3)[0], cheap=True, rel_tol=1e-6),
+        Claim("tuned60k_140V_14N_rest_m_s", "m/s", _T60 + " (steady_velocity_m_s)",
+              lambda: _tuned60k_140V_14N().velocity_m_s, cheap=True, rel_tol=1e-6),
+        Claim("tuned60k_140V_14N_slip_m_s", "m/s", _T60 + " (branches: the stable pure-slip one)",
+              _tuned60k_slip_m_s, cheap=True, rel_tol=1e-6),
     )
 
 
