@@ -2132,6 +2132,38 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               lambda: _tuned60k_140V_14N().velocity_m_s, cheap=True, rel_tol=1e-6),
         Claim("tuned60k_140V_14N_slip_m_s", "m/s", _T60 + " (branches: the stable pure-slip one)",
               _tuned60k_slip_m_s, cheap=True, rel_tol=1e-6),
+        Claim("fe2d_C_ee_F", "F", _CAP.format("diagonal"),
+              lambda: _capacitance_pF()["C_ee"], cheap=True, rel_tol=1e-8),
+        Claim("fe2d_C_13_F", "F", _CAP.format("[0, 2]"),
+              lambda: _capacitance_pF()["C_13"], cheap=True, rel_tol=1e-8),
+        Claim("fe2d_C_12_F", "F", _CAP.format("[0, 1]"),
+              lambda: _capacitance_pF()["C_12"], cheap=True, rel_tol=1e-8),
+        Claim("fe2d_C_row_sum_F", "F", _CAP.format("a row's sum"),
+              lambda: _capacitance_pF()["row_sum"], cheap=True, rel_tol=1e-8),
+        Claim("fe2d_C_parallel_plate_F", "F", _SHOW.format("fe2d_C_parallel_plate_F")
+              + " (eps33* of fem.plane_stress times a quadrant's area over h)",
+              lambda: _capacitance_pF()["parallel_plate"], cheap=True, rel_tol=1e-9),
+        Claim("fe2d_gap_weight_centre", "-", _SHOW.format("fe2d_gap_weight_centre")
+              + " (fem.capacitance.gap_cross_section(...).weight(0), g = 0.5 mm)",
+              _gap_weight_centre, cheap=True, rel_tol=1e-8),
+        Claim("fe2d_L1_mac", "-", _MODES + " (mac)", lambda: _fe2d().L1.mac, cheap=True,
+              rel_tol=1e-8),
+        Claim("fe2d_B2_mac", "-", _MODES + " (mac)", lambda: _fe2d().B2.mac, cheap=True,
+              rel_tol=1e-8),
+        Claim("fe3d_bricks_gap002_graded1", "-", _SHOW.format("fe3d_bricks_gap002_graded1")
+              + " (fem.solid3d.hex_grid_lines at g = 0.02 mm, default mesh graded once)",
+              lambda: float(_bricks(0.02e-3, 3, 3, 1)), cheap=True, rel_tol=0.0),
+        Claim("fe3d_chamfered_bricks_3_layers", "-",
+              _SHOW.format("fe3d_chamfered_bricks_3_layers")
+              + " (examples/chamfered's planform cells x 3 layers)",
+              lambda: float(_chamfered_bricks()), cheap=True, rel_tol=0.0),
+        Claim("adm_B2_isolated_fa_damping_shift_Hz", "Hz",
+              _SHOW.format("adm_B2_isolated_fa_damping_shift_Hz")
+              + " (the port of adm_B2_isolated_keff_damping_drift: f_p at zeta = 1e-4 minus "
+              "f_p at 0.01)", _b2_port_fa_shift_Hz, cheap=True, rel_tol=1e-3),
+        Claim("adm_B2_one_quadrant_coupling", "-", _SHOW.format("adm_B2_one_quadrant_coupling")
+              + " (fem.admittance.ModalPort.coupling of electrode 1 alone, B2)",
+              _one_quadrant_b2_coupling, cheap=True, rel_tol=1e-6),
     )
 
 
