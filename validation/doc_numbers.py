@@ -2164,6 +2164,14 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("adm_B2_one_quadrant_coupling", "-", _SHOW.format("adm_B2_one_quadrant_coupling")
               + " (fem.admittance.ModalPort.coupling of electrode 1 alone, B2)",
               _one_quadrant_b2_coupling, cheap=True, rel_tol=1e-6),
+        Claim("study_steps_per_period_28mm_1kHz", "-",
+              "contact.steady.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
+              "1, 1 kHz (tests/test_explore.py)",
+              lambda: float(_steady_steps(_study_plate_28mm(), 1e3)), cheap=True, rel_tol=0.0),
+        Claim("study_steps_per_period_28mm_40kHz", "-",
+              "contact.steady.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
+              "1, 40 kHz", lambda: float(_steady_steps(_study_plate_28mm(), 40e3)),
+              cheap=True, rel_tol=0.0),
     )
 
 
