@@ -2150,6 +2150,12 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               rel_tol=1e-8),
         Claim("fe2d_B2_mac", "-", _MODES + " (mac)", lambda: _fe2d().B2.mac, cheap=True,
               rel_tol=1e-8),
+        Claim("fe2d_default_elements", "-", _SHOW.format("fe2d_default_elements")
+              + " (fem.mesh.structured_mesh of the paper's plate at the default refine)",
+              lambda: float(_default_elements()), cheap=True, rel_tol=0.0),
+        Claim("fe3d_default_bricks", "-", _SHOW.format("fe3d_default_bricks")
+              + " (fem.solid3d.hex_grid_lines, refine 3, layers 3)",
+              lambda: float(_bricks()), cheap=True, rel_tol=0.0),
         Claim("fe3d_bricks_gap002_graded1", "-", _SHOW.format("fe3d_bricks_gap002_graded1")
               + " (fem.solid3d.hex_grid_lines at g = 0.02 mm, default mesh graded once)",
               lambda: float(_bricks(0.02e-3, 3, 3, 1)), cheap=True, rel_tol=0.0),
@@ -2164,6 +2170,8 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("adm_B2_one_quadrant_coupling", "-", _SHOW.format("adm_B2_one_quadrant_coupling")
               + " (fem.admittance.ModalPort.coupling of electrode 1 alone, B2)",
               _one_quadrant_b2_coupling, cheap=True, rel_tol=1e-6),
+        Claim("adm_retained_modes", "-", "lusm admittance --json (retained_modes)",
+              lambda: float(_retained_modes()), cheap=True, rel_tol=0.0),
         Claim("study_steps_per_period_28mm_1kHz", "-",
               "contact.steady.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 1 kHz (tests/test_explore.py)",
@@ -2172,6 +2180,29 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               "contact.steady.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 40 kHz", lambda: float(_steady_steps(_study_plate_28mm(), 40e3)),
               cheap=True, rel_tol=0.0),
+        Claim("steady_steps_per_period_table2_40kHz", "-",
+              "contact.steady.steps_per_period(table2(), 40e3)",
+              lambda: float(_steady_steps(_table2(), 40e3)), cheap=True, rel_tol=0.0),
+        Claim("steady_steps_per_period_table2_20Hz", "-",
+              "contact.steady.steps_per_period(table2(), 20)",
+              lambda: float(_steady_steps(_table2(), 20.0)), cheap=True, rel_tol=0.0),
+        Claim("limits_steady_points_20Hz", "-",
+              "5e5 // steady_steps_per_period_table2_20Hz (limits.MAX_STEADY_WORK)",
+              lambda: float(__import__("validation.limits", fromlist=["x"]).MAX_STEADY_WORK
+                            // _steady_steps(_table2(), 20.0)), cheap=True, rel_tol=0.0),
+        Claim("limits_steady_lowest_frequency_Hz", "Hz",
+              _SHOW.format("limits_steady_lowest_frequency_Hz")
+              + " (lowest whole hertz at which steps_per_period(table2(), f) <= 20 000)",
+              _steady_lowest_frequency_Hz, cheap=True, rel_tol=0.0),
+        Claim("limits_scale_voltage_V", "V", _SHOW.format("limits_scale_voltage_V")
+              + " (contact.model.MAX_STATIC_DEFLECTION_M over Table 2's static deflection "
+              "per volt)", _scale_voltage_V, cheap=True, rel_tol=1e-9),
+        Claim("limits_prepass_cap_zeta", "-", _SHOW.format("limits_prepass_cap_zeta")
+              + " (1.5 ln(1/PRE_PASS_SETTLE) / (2 pi MAX_PRE_PASS_PERIODS))",
+              lambda: _prepass_zeta("cap"), cheap=True, rel_tol=1e-9),
+        Claim("limits_prepass_warn_zeta", "-", _SHOW.format("limits_prepass_warn_zeta")
+              + " (ln(1/UNSETTLED_SHARE) / (2 pi 2/3 MAX_PRE_PASS_PERIODS))",
+              lambda: _prepass_zeta("warn"), cheap=True, rel_tol=1e-9),
     )
 
 
