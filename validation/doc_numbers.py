@@ -2203,6 +2203,20 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("limits_prepass_warn_zeta", "-", _SHOW.format("limits_prepass_warn_zeta")
               + " (ln(1/UNSETTLED_SHARE) / (2 pi 2/3 MAX_PRE_PASS_PERIODS))",
               lambda: _prepass_zeta("warn"), cheap=True, rel_tol=1e-9),
+        Claim("steady_undriven_14N_hold_N", "N", _SHOW.format("steady_undriven_14N_hold_N")
+              + " (mu_s F_P + mu_sd (F_P + M g), Table 2, 14 N)",
+              lambda: _undriven_friction_N("hold"), cheap=True, rel_tol=1e-12),
+        Claim("steady_undriven_14N_slide_N", "N", _SHOW.format("steady_undriven_14N_slide_N")
+              + " (mu_d F_P + mu_sd (F_P + M g), Table 2, 14 N)",
+              lambda: _undriven_friction_N("slide"), cheap=True, rel_tol=1e-12),
+        Claim("steady_char_fem_400V_14N_stall_N", "N",
+              "lusm characteristic --source fem --voltage 400 --preload 14 --frequency auto "
+              "--json (stall_force_N)",
+              lambda: _fem_char_400V_14N("exact").stall_force_N, cheap=True, rel_tol=1e-6),
+        Claim("steady_char_fem_400V_14N_fast_stall_N", "N",
+              "lusm characteristic --source fem --voltage 400 --preload 14 --frequency auto "
+              "--accuracy fast --json (stall_force_N)",
+              lambda: _fem_char_400V_14N("fast").stall_force_N, cheap=True, rel_tol=1e-6),
     )
 
 
