@@ -328,6 +328,12 @@ linearly. The estimate is never high: it refuses only meshes above the bound, an
 is counted again once made."""
 
 
+ESTIMATE_LOW_FACTOR = 6.5
+"""The most the planform mesh has been measured above :func:`estimated_elements` (blocks of
+holes, :data:`ELEMENTS_PER_SIZE_AREA`): a count within this factor below a bound may still
+cross it once meshed."""
+
+
 def estimated_elements(stator: ParametricStator) -> int:
     """The planform mesh's elements, estimated before gmsh meshes it in 2D.
 

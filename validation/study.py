@@ -739,16 +739,18 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
 
     A generated plate's count is exact (its grid lines). A stator file's planform meshed by
     gmsh is estimated from the 1D mesh of its boundary
-    (:func:`fem.parametric.estimated_elements`, milliseconds: within 4 % on fine meshes, 1.4
-    times low at the default size, never high, so a study that fits is not refused; each
-    plate's mesh is counted again when its task makes it). The area over the element size
-    squared had been used, 2.2 times low on the tuned 60 kHz stator's default mesh, and
-    plates within twice the bound of it were meshed to count before the study started (a
-    1000 mm long plate at 0.067 mm had been meshed for 29 s and 564 MB only to be refused).
-    One with its own mesh file is the file's, whatever the axes."""
+    (:func:`fem.parametric.estimated_elements`, milliseconds: within 4 % on fine meshes, 1.5
+    times low at the default size, up to :data:`fem.parametric.ESTIMATE_LOW_FACTOR` low on
+    blocks of holes, never high): an estimate above a bound refuses the study without a
+    mesh, one that far below both bounds (the mesh's, and the study's FE work over its
+    plates) cannot cross them passes, and a plate in between is meshed to count exactly (the
+    estimate alone had let a study up to 6.5 times over its bound start; review). The area
+    over the element size squared had been used, 2.2 times low on the tuned 60 kHz stator's
+    default mesh (a 1000 mm long plate at 0.067 mm had been meshed for 29 s and 564 MB only to
+    be refused). One with its own mesh file is the file's, whatever the axes."""
     from fem.geometry import PlateStator
     from fem.meshed_stator import MeshedStator
-    from fem.parametric import ParametricStator, estimated_elements
+    from fem.parametric import ESTIMATE_LOW_FACTOR, ParametricStator, estimated_elements
     from validation.options import fe_cell_count
 
     ax = study.axes
@@ -756,21 +758,29 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     if isinstance(base, MeshedStator):  # its own mesh: the file's count
         return fe_cell_count(base, None), base.length_m, base.width_m, False
     gap = min(ax["gap"])
+    # the tighter of the two bounds a plate's mesh is held to (per mesh; the study's FE work
+    # shared over its plates)
+    bound = min(limits.work_bound(limits.MAX_FE_CELLS_2D),
+                limits.work_bound(MAX_STUDY_FE_WORK) / max(study.n_geometries, 1))
     # the feature axes at their largest area: the longest, widest tip, the smallest chamfer
     # (a 30 mm tip on the axis had been meshed at full size where lusm modes refuses it)
     features = {f: (min if a == "chamfer" else max)(ax[a])
                 for a, f in FEATURE_FIELDS.items() if a in ax}
-    best = (0, 0.0, 0.0, False)
-    for length in (min(ax["length"]), max(ax["length"])):
-        for width in (min(ax["width"]), max(ax["width"])):
-            plate = plate_with(base, {"length_m": length, "width_m": width,
-                                      "electrode_gap_m": gap, **features})
-            if isinstance(base, ParametricStator):
-                best = max(best, (estimated_elements(plate), length, width, True))
-            else:
-                best = max(best, (fe_cell_count(plate, study.solver.fe_refine), length,
-                                  width, False))
-    return best
+    corners = [(length, width, plate_with(base, {"length_m": length, "width_m": width,
+                                                 "electrode_gap_m": gap, **features}))
+               for length in (min(ax["length"]), max(ax["length"]))
+               for width in (min(ax["width"]), max(ax["width"]))]
+    if not isinstance(base, ParametricStator):
+        return max((fe_cell_count(plate, study.solver.fe_refine), length, width, False)
+                   for length, width, plate in corners)
+    estimates = [(estimated_elements(plate), length, width, True)
+                 for length, width, plate in corners]
+    if max(estimates)[0] > bound:  # refused on the estimate: nothing to mesh
+        return max(estimates)
+    # the estimate's lowness could carry a plate across the bound: count its mesh itself
+    return max((fe_cell_count(plate, None), length, width, False)
+               if bound < ESTIMATE_LOW_FACTOR * est[0] else est
+               for est, (length, width, plate) in zip(estimates, corners, strict=True))
 
 
 def _planform(design) -> bool:
