@@ -78,6 +78,17 @@ MAX_BRACKET_STEPS = 30
 """Give up bracketing after this many steps."""
 MAX_LENGTH_OVER_WIDTH = 20.0
 """Upper end of the length bracket (times the width) when the width is held (-)."""
+CROSSING_ASPECT = 0.27
+"""Width over length of a plate with L1 = B2 (-): 11.43 / 42.13 mm at 40 kHz (PZT-8, 3 mm),
+6.60 / 25.69 mm for the tuned 60 kHz stator (material ``paper``). Where the search starts when
+the starting plate lies outside :data:`START_ASPECT`."""
+START_ASPECT = (0.12, 0.5)
+"""Width over length (-) of a starting plate the search starts from as given. Wider than half
+its length, L1 and B2 are not identified (:mod:`fem.modes`: 30 x 16 mm is the widest plate of
+the paper's length that passes), so a held length of 10 mm at the default 7.5 mm width failed
+on its first solve; below 0.12 the bracket's steps (at most :data:`STEP_FACTOR` each) may not
+reach the crossing in :data:`MAX_BRACKET_STEPS`. Outside, the free dimension starts at
+:data:`CROSSING_ASPECT`: it is a starting value (docs/designer.md), the held one is kept."""
 
 
 def normalize_fix(fix: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
@@ -289,6 +300,10 @@ def _crossing(solver: _Solver, free: str, length_m: float, width_m: float,
         def f(x: float) -> float:
             return solver.log_ratio(x, width_m)
 
+    if not START_ASPECT[0] <= width_m / length_m <= START_ASPECT[1]:
+        # a starting plate whose modes cannot be identified, or too far from the crossing for
+        # the bracket: the free dimension starts where the crossing lies (it is a start only)
+        x0 = CROSSING_ASPECT * length_m if free == "width" else width_m / CROSSING_ASPECT
     x0 = min(max(x0, lo_bound), hi_bound)
     r0 = f(x0)
     if r0 == 0.0:

@@ -481,3 +481,27 @@ def test_a_slender_start_plate_is_tuned_not_refused(capsys):
     assert out["width_mm"] == 1.0 and out["tuned"] == ["length"]
     assert out["length_mm"] < 100  # a plate the solver reaches, tuned
     assert out["L1"]["f_short_Hz"] == pytest.approx(out["B2"]["f_short_Hz"], rel=1e-5)
+
+
+@pytest.mark.parametrize("fix, start", [
+    # the held length at the default 7.5 mm width: a 10 x 7.5 mm plate has no identifiable
+    # L1/B2 pair, and the tuning failed on its first solve ("check the plate")
+    ("length", PlateStator(length_m=10e-3, thickness_m=1e-3, electrode_gap_m=0.15e-3)),
+    # the held width at the default 30 mm length: 30 x 20 mm, the same
+    ("width", PlateStator(width_m=20e-3)),
+])
+def test_a_held_dimension_tunes_from_a_start_plate_too_wide_to_identify(fix, start):
+    d = tune_plate(fix=fix, start=start, refine=REFINE)
+    held = f"{fix}_m"
+    assert getattr(d.stator, held) == getattr(start, held)  # kept exactly, as documented
+    res = _resolve(d.stator)  # an independent solve of the design found
+    assert abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz < 1e-5
+
+
+def test_cli_tune_holds_a_short_length_whatever_the_default_width(capsys):
+    # the width is only a starting value (docs/designer.md): the command tunes it
+    assert main(["tune", "--fix", "length", "--length-mm", "10", "--thickness-mm", "1",
+                 "--gap-mm", "0.15", "--refine", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["length_mm"] == 10.0 and out["relative_mismatch"] < 1e-5
+    assert 0.2 < out["width_mm"] / out["length_mm"] < 0.35  # the crossing's aspect
