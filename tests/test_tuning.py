@@ -372,6 +372,14 @@ def test_a_fine_sweeps_rows_are_told_apart(capsys):
     assert rows == ["25.69", "25.692", "25.694", "25.696", "25.698", "25.7"]
 
 
+def test_a_sweeps_rows_are_the_values_typed(capsys):
+    """25.6938:25.6988:0.001 printed the rows 25.694 ... 25.699: each one 0.0002 mm off the
+    plate solved, and the typed 25.6938 nowhere (exploratory testing)."""
+    assert main(["sweep", "--length-mm", "25.6938:25.6988:0.001", "--refine", "1"]) in (0, None)
+    rows = [ln.split()[0] for ln in capsys.readouterr().out.splitlines()[1:7]]
+    assert rows == ["25.6938", "25.6948", "25.6958", "25.6968", "25.6978", "25.6988"]
+
+
 def test_a_swept_stator_file_gets_the_thin_plate_warning_of_the_same_plates_typed(
         tmp_path, capsys):
     """`sweep --geometry FILE --width-mm 3:5:1` said nothing where the same plates typed in

@@ -204,10 +204,13 @@ def run(args: argparse.Namespace) -> None:
         print_json(d)
         return
     print(f"{parameter} (mm){'L1 short (Hz)':>16}{'B2 short (Hz)':>16}")
-    # the values as typed (as --json's values_mm), to as many digits as tell the rows apart:
-    # 25.690:25.700:0.002 had printed 25.69 three times and 25.7 three times
+    # the values as typed (as --json's values_mm): as many digits as give each value back, so
+    # the rows are told apart too (25.690:25.700:0.002 had printed 25.69 three times and 25.7
+    # three times, and 25.6938:25.6988:0.001 the rows 25.694 ... 25.699, none of them solved)
     digits = 4
-    while digits < 15 and len({f"{v:.{digits}g}" for v in values_mm}) < values_mm.size:
+    while digits < 15 and (  # to the range's rounding (validation.ranges: 12 digits)
+            any(not math.isclose(float(f"{v:.{digits}g}"), v, rel_tol=1e-12) for v in values_mm)
+            or len({f"{v:.{digits}g}" for v in values_mm}) < values_mm.size):
         digits += 1
     for v, fl, fb in zip(values_mm, res.f_L1_short_Hz, res.f_B2_short_Hz, strict=True):
         cells = [f"{x:>16.1f}" if math.isfinite(x) else f"{'-':>16}" for x in (fl, fb)]
