@@ -310,3 +310,39 @@ def test_a_refusal_after_the_work_names_the_option_typed(tmp_path):
         with output_set(out, "figures", "--plot") as stage:
             _write(stage, {"a.png": "1", "b.png": "2"})
     assert (out / "b.png").read_text() == "mine"
+
+
+_NO_FOLDER = Path("/proc/lusm-no-folder-here")  # /proc takes no new folder, even from root
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
+def test_a_plot_folder_that_cannot_be_made_is_refused_before_the_study(tmp_path, capsys):
+    """explore --plot /proc/maps ran the whole study, wrote the dataset and only then said
+    the maps could not be written: the check had asked the permission bits, which root
+    passes everywhere."""
+    from validation.cli import main
+
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["split"]\n[axes]\nlength = ["29 mm", "30 mm"]\n'
+                     '[solver]\nfe_refine = 1\n')  # a curve to draw
+    out = tmp_path / "r.nc"
+    assert main(["explore", str(study), "--out", str(out), "--workers", "1",
+                 "--plot", str(_NO_FOLDER)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"lusm explore: error: --plot {_NO_FOLDER}: cannot write there")
+    assert len(err.splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no dataset, no parts
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
+def test_render_refuses_an_out_that_cannot_be_made_before_any_fe_solve(monkeypatch, capsys):
+    import fem.modes
+    from validation.cli import main
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved before the output folder was checked")
+
+    monkeypatch.setattr(fem.modes, "plate_modes", no_solve)
+    assert main(["render", "--out", str(_NO_FOLDER / "r")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"lusm render: error: --out {_NO_FOLDER / 'r'}: cannot write there")

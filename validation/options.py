@@ -1012,7 +1012,7 @@ def check_output_folder(target: Path, kind: str, option: str, force: bool = Fals
     """
     import os
 
-    from validation.output_set import OutputError, check_target
+    from validation.output_set import OutputError, check_target, check_writable
 
     check_path_usable(target, option)
     try:
@@ -1022,6 +1022,10 @@ def check_output_folder(target: Path, kind: str, option: str, force: bool = Fals
     existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
     if not os.access(existing, os.W_OK | os.X_OK):
         raise LusmError(f"{option} {target}: the folder {existing} is not writable", option)
+    try:  # where the set is staged, by trying it
+        check_writable(target, option)
+    except OutputError as exc:
+        raise LusmError(str(exc), option) from None
 
 
 def check_path_usable(path: Path, option: str) -> None:

@@ -211,6 +211,40 @@ def check_target(target: Path, kind: str, option: str = "--out", force: bool = F
                 "to write beside its files (nothing of yours is deleted)")
 
 
+def _resolved_target(target: Path) -> Path:
+    """The folder a set named ``target`` goes into: a link's folder, the current folder by its
+    absolute name."""
+    if target.is_symlink():  # a link to a folder: the set goes into the folder it names
+        target = target.resolve()
+    if str(target) in ("", "."):
+        # the current folder: stage beside it, not inside it (inside, the staging folder
+        # made it non-empty and the finished set was refused)
+        target = Path(os.path.abspath(target))
+    return target
+
+
+def staging_parent(target: Path) -> Path:
+    """The folder in which :func:`output_set` builds the set for ``target``: the nearest
+    existing ancestor of its parent, so the final move is a rename on one disk."""
+    target = _resolved_target(Path(target))
+    return next(p for p in [target.parent, *target.parent.parents] if p.exists())
+
+
+def check_writable(target: Path, option: str) -> None:
+    """Refuse, before any work, a ``target`` whose set could not be staged: a folder is made
+    and removed where :func:`output_set` stages it. Permission bits do not tell (root passes
+    them everywhere, and ``/proc`` or ``/sys`` take no new folder): ``explore --plot
+    /proc/maps`` ran the whole study before the maps were refused."""
+    import tempfile
+
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=f".{target.name or 'out'}-probe-",
+                                  dir=staging_parent(target)))
+    except OSError as exc:
+        raise OutputError(f"{option} {target}: cannot write there ({exc.strerror or exc})") \
+            from None
+
+
 @contextmanager
 def output_set(target: Path, kind: str, option: str = "--out",
                force: bool = False) -> Iterator[Path]:
@@ -231,21 +265,14 @@ def output_set(target: Path, kind: str, option: str = "--out",
     """
     target = Path(target)
     check_target(target, kind, option, force)
-    if target.is_symlink():  # a link to a folder: the set goes into the folder it names
-        target = target.resolve()
-    if str(target) in ("", "."):
-        # the current folder: stage beside it, not inside it (inside, the staging folder
-        # made it non-empty and the finished set was refused)
-        target = Path(os.path.abspath(target))
+    target = _resolved_target(target)
     created: list[Path] = []  # parent folders this call made, removed again on failure
     for parent in reversed([target, *target.parents]):
         if not parent.exists():
             created.append(parent)
-    stage_parent = next(p for p in [target.parent, *target.parent.parents] if p.exists())
-    # Stage inside the nearest existing ancestor so the final move is a rename on one disk.
     # The name is chosen before the folder exists, so a signal landing anywhere (even inside
     # the mkdir) still finds it in ``finally``.
-    stage = stage_parent / f".{target.name or 'out'}-partial-{uuid.uuid4().hex[:12]}"
+    stage = staging_parent(target) / f".{target.name or 'out'}-partial-{uuid.uuid4().hex[:12]}"
     done = False
     try:
         try:
