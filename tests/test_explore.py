@@ -968,6 +968,19 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
         ex.connect(scheduler_file=str(bad))
 
 
+def test_a_scheduler_file_that_is_a_folder_is_not_said_to_be_missing(tmp_path):
+    """--scheduler-file naming a folder (or a device) was told it "does not exist"."""
+    import validation.explore as ex
+
+    with pytest.raises(ValueError, match=f"^--scheduler-file {tmp_path} is a folder, not a "
+                                         "dask scheduler file$"):
+        ex.connect(scheduler_file=str(tmp_path))
+    with pytest.raises(ValueError, match="^--scheduler-file /dev/null is not a regular file"):
+        ex.connect(scheduler_file="/dev/null")
+    with pytest.raises(ValueError, match="does not exist$"):
+        ex.connect(scheduler_file=str(tmp_path / "gone.json"))
+
+
 def test_a_signal_after_the_dataset_is_written_says_it_is_complete(monkeypatch, tmp_path,
                                                                      capsys):
     """A SIGTERM landing just after the dataset was in place said only "interrupted"

@@ -1079,7 +1079,11 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
     if scheduler and scheduler_file:
         raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
     if scheduler_file and not Path(scheduler_file).is_file():
-        raise ValueError(f"--scheduler-file {scheduler_file} does not exist")
+        # a folder or a device had been told it "does not exist"
+        kind = ("does not exist" if not Path(scheduler_file).exists() else
+                "is a folder, not a dask scheduler file" if Path(scheduler_file).is_dir()
+                else "is not a regular file, not a dask scheduler file")
+        raise ValueError(f"--scheduler-file {scheduler_file} {kind}")
     if scheduler_file:
         _check_scheduler_file(scheduler_file)
     if scheduler or scheduler_file:
