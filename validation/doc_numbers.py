@@ -1149,6 +1149,27 @@ def _steady_point() -> dict[str, float]:
 
 
 @cache
+def _mu_at_twice_an(voltage_V: float, preload_N: float) -> float:
+    """Eq. 11's mu_d,eff with A_N doubled (the tip's peak-to-peak normal displacement, the
+    other reading of "normal vibration amplitude" that docs/contact.md section 4 weighs)."""
+    p = _table2()
+    a_n = _sim(voltage_V, preload_N).normal_amplitude_m
+    return p.a_mu + (p.mu_d - p.a_mu) * math.exp(-p.b_mu * 2.0 * a_n)
+
+
+def _gain_at_twice_an(voltage_V: float, duration_s: float | None) -> float:
+    """Relative change of the speed at ``voltage_V`` / 14 N when Eq. 11 takes twice A_N
+    (``b_mu`` doubled: the same law), Table 2's coupling kept."""
+    from contact.simulate import simulate
+
+    p = _table2()
+    kw = {} if duration_s is None else {"duration_s": duration_s}
+    base = simulate(p, voltage_V, 14.0, coupling="paper", **kw).steady.velocity_m_s
+    twice = simulate(p.with_(b_mu=2.0 * p.b_mu), voltage_V, 14.0, coupling="paper",
+                     **kw).steady.velocity_m_s
+    return twice / base - 1.0
+
+
 @cache
 def _char_450_40():
     """The exact characteristic at 450 V / 40 N: its stall force and the averaged one."""
@@ -2279,6 +2300,19 @@ CLAIMS: tuple[Claim, ...] = (
           lambda: _sim(200.0, 14.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
     Claim("A_N_450V_14N_m", "m", _SIM.format(v=450, f=14) + " (normal_amplitude_m)",
           lambda: _sim(450.0, 14.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
+    Claim("A_N_400V_10N_m", "m", _SIM.format(v=400, f=10) + " (normal_amplitude_m)",
+          lambda: _sim(400.0, 10.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
+    *(Claim(f"mu_d_2AN_{v}V_{f}N", "-", f"python -m validation.doc_numbers --show "
+            f"mu_d_2AN_{v}V_{f}N (Eq. 11 at twice the normal_amplitude_m of "
+            + _SIM.format(v=v, f=f) + ")",
+            lambda v=v, f=f: _mu_at_twice_an(float(v), float(f)), cheap=True, rel_tol=1e-6)
+      for v, f in ((400, 10), (400, 14), (400, 26), (450, 14), (50, 14))),
+    *(Claim(f"v_2AN_{v}V_14N_gain", "-", "python -m validation.doc_numbers --show "
+            f"v_2AN_{v}V_14N_gain (the run of " + _SIM.format(v=v, f=14)
+            + (" --duration 0.2" if d else "") + " with b_mu doubled, Eq. 11 at twice A_N, "
+            "coupling paper, over the same run on Table 2 - 1)",
+            lambda v=v, d=d: _gain_at_twice_an(float(v), d), cheap=True, rel_tol=1e-4)
+      for v, d in ((200, None), (400, 0.2))),
     Claim("free_L1_tip_200V_m", "m", "python -c \"from rom.damping import free_tip_amplitudes; "
           "from rom import table2; print(free_tip_amplitudes(table2(), 40e3, 200.0))\" (L1, "
           "the first)",
