@@ -962,3 +962,14 @@ def test_unreadable_inputs_are_named_as_such(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--params" in err[0] and "not UTF-8 text (byte 0" in err[0]
     assert "codec" not in err[0]
+
+
+def test_an_export_path_ending_in_a_separator_names_a_folder(tmp_path, capsys):
+    """``--export out/dd.vtu/`` names a folder: it had been written as the file dd.vtu (the
+    trailing separator is dropped by pathlib). It is refused before any work, and nothing is
+    made."""
+    target = tmp_path / "out" / "dd.vtu"
+    assert main(["modes", "--refine", "1", "--export", f"{target}/"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--export" in err[0] and "is a folder" in err[0]
+    assert not (tmp_path / "out").exists()

@@ -404,6 +404,7 @@ def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
 
 def _export_target(text: str, force: bool):
     """The ``--export`` file, checked before any work (a file, in an existing folder)."""
+    import os
     from pathlib import Path
 
     from validation.errors import LusmError
@@ -414,8 +415,10 @@ def _export_target(text: str, force: bool):
     from validation.options import check_path_usable
 
     check_path_usable(path, "--export")
-    if path.is_dir():
-        raise LusmError(f"--export {path} is a folder; name a file such as modes.vtu",
+    # a trailing separator names a folder (Path drops it: dd.vtu/ had been written as the
+    # file dd.vtu)
+    if path.is_dir() or text.rstrip().endswith(("/", os.sep)):
+        raise LusmError(f"--export {text.strip()} is a folder; name a file such as modes.vtu",
                         "--export")
     for parent in path.parents:
         if parent.exists() and not parent.is_dir():
@@ -425,7 +428,6 @@ def _export_target(text: str, force: bool):
     if (path.exists() or path.is_symlink()) and not force:
         raise LusmError(f"--export {path} already exists; choose a new name or pass --force",
                         "--export")
-    import os
 
     folder = next((p for p in path.absolute().parents if p.exists()), None)
     if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
