@@ -1914,9 +1914,10 @@ def _b2_half_wavelength_m() -> float:
 def _prepass_settle_periods() -> float:
     """Drive periods (40 kHz) in which Table 2's L1 start transient decays to
     ``PRE_PASS_SETTLE`` (``contact.simulate.pre_pass_periods`` takes 1.5 times them)."""
-    from contact.simulate import PRE_PASS_SETTLE, _l1_decay_rate
+    from contact.simulate import PRE_PASS_SETTLE
 
-    return math.log(1.0 / PRE_PASS_SETTLE) / (_l1_decay_rate(_table2()) / 40e3)
+    p = _table2()  # the L1 free transient decays at C_l / (2 M_l), as pre_pass_periods says
+    return math.log(1.0 / PRE_PASS_SETTLE) / (p.C_l / (2.0 * p.M_l) / 40e3)
 
 
 def _drive_phase_deg() -> float:
