@@ -1673,6 +1673,98 @@ def _steady_claims() -> tuple[Claim, ...]:
     return tuple(out)
 
 
+# --- docs/steady.md: computed figures that had been marked input -------------------------
+
+
+@cache
+def _char_exact(voltage_V: float, preload_N: float):
+    """``lusm characteristic --voltage V --preload F`` (exact level, default loads)."""
+    from contact.characteristic import characteristic
+
+    return characteristic(_table2(), voltage_V, preload_N)
+
+
+def _creep_max_m_s() -> float:
+    """The largest creep speed (m/s) on the exact curve at 200 V / 14 N: its loads strictly
+    between the averaged and the exact stall force (``creeps from`` of the command)."""
+    c = _char_exact(200.0, 14.0)
+    lo, hi = c.averaged_stall_force_N, c.stall_force_N
+    return max(abs(float(v)) for f, v in zip(c.load_N, c.velocity_m_s, strict=True)
+               if lo < f < hi)
+
+
+def _char_30khz_constant_to_N() -> float:
+    """The largest load (N) up to which the fast level's default curve at 200 V / 14 N /
+    30 kHz keeps its no-load velocity (to 1e-6 relative) at every load."""
+    from contact.characteristic import characteristic
+
+    c = characteristic(_table2(), 200, 14, frequency_Hz=30e3, accuracy="fast")
+    top = 0.0
+    for f, v in zip(c.load_N, c.velocity_m_s, strict=True):
+        if abs(v / c.no_load_velocity_m_s - 1.0) > 1e-6:
+            break
+        top = float(f)
+    return top
+
+
+def _threshold_load_N(voltage_V: float, lo: float, hi: float, duration_s: float,
+                      moves: Callable[[object], bool]) -> float:
+    """Smallest load (N, to 1e-4 N) in (lo, hi] at which ``moves`` holds for a transient
+    from rest of Table 2's set at ``voltage_V`` / 14 N (``lo`` does not, ``hi`` does)."""
+    import warnings
+
+    from contact.simulate import simulate
+
+    def run(load: float) -> bool:
+        with warnings.catch_warnings():  # the run-away warning is the point here
+            warnings.simplefilter("ignore")
+            return moves(simulate(_table2(), voltage_V, 14.0, load_N=load,
+                                  duration_s=duration_s).steady)
+
+    assert not run(lo) and run(hi)
+    while hi - lo > 1e-4:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if run(mid) else (mid, hi)
+    return hi
+
+
+def _steady_input_claims() -> tuple[Claim, ...]:
+    """Computed figures of docs/steady.md that had been marked ``<!--input-->``."""
+    c400 = "lusm characteristic --voltage 400 --preload 14 --json"
+    c200 = "lusm characteristic --voltage 200 --preload 14 --json"
+    return (
+        Claim("steady_char_400V_14N_exact_stall_N", "N", c400 + " (stall_force_N)",
+              lambda: _char_exact(400.0, 14.0).stall_force_N, cheap=True, rel_tol=1e-6),
+        Claim("steady_char_200V_14N_exact_stall_N", "N", c200 + " (stall_force_N)",
+              lambda: _char_exact(200.0, 14.0).stall_force_N, cheap=True, rel_tol=1e-6),
+        Claim("steady_char_200V_14N_averaged_stall_N", "N", c200 + " (averaged_stall_force_N)",
+              lambda: _char_exact(200.0, 14.0).averaged_stall_force_N, cheap=True,
+              rel_tol=1e-6),
+        Claim("steady_char_200V_14N_creep_max_m_s", "m/s",
+              "lusm characteristic --voltage 200 --preload 14 (the line 'creeps from': at "
+              "most ... m/s on this curve)", _creep_max_m_s, cheap=True, rel_tol=1e-5),
+        Claim("steady_char_200V_14N_creep_max_share", "-",
+              "steady_char_200V_14N_creep_max_m_s / no_load_velocity_m_s of " + c200,
+              lambda: _creep_max_m_s() / _char_exact(200.0, 14.0).no_load_velocity_m_s,
+              cheap=True, rel_tol=1e-5),
+        Claim("char_30kHz_fast_constant_to_N", "N",
+              "lusm characteristic --voltage 200 --preload 14 --frequency 30000 --accuracy "
+              "fast (the largest load up to which every row keeps the no-load velocity)",
+              _char_30khz_constant_to_N, cheap=True, rel_tol=1e-6),
+        Claim("steady_undriven_14N_break_free_N", "N",
+              _SHOW.format("steady_undriven_14N_break_free_N") + " (the smallest load, to "
+              "1e-4 N, at which lusm simulate --voltage 0 --preload 14 --load-N L --duration "
+              "0.2 ends with the slider moving)",
+              lambda: _threshold_load_N(0.0, 5.7, 5.75, 0.2,
+                                        lambda s: s.velocity_m_s != 0.0)),
+        Claim("steady_load_100V_14N_runaway_N", "N",
+              _SHOW.format("steady_load_100V_14N_runaway_N") + " (the smallest load, to "
+              "1e-4 N, at which lusm simulate --voltage 100 --preload 14 --load-N L "
+              "--duration 2 does not settle)",
+              lambda: _threshold_load_N(100.0, 5.22, 5.24, 2.0, lambda s: not s.settled)),
+    )
+
+
 # --- docs/limits.md: the cost of the work bounds ------------------------------------------
 
 
@@ -2469,6 +2561,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_tuned_length_claims(),
     *_mesh_noise_claims(),
     *_reviewed_input_claims(),
+    *_steady_input_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
