@@ -1728,10 +1728,85 @@ def _threshold_load_N(voltage_V: float, lo: float, hi: float, duration_s: float,
     return hi
 
 
+@cache
+def _probe_point(params, voltage_V: float, preload_N: float, load_N: float):
+    """``contact.from_rest.probe_from_rest`` at 40 kHz, the coupling steady_state's default."""
+    from contact.from_rest import probe_from_rest
+    from contact.full_orbit import full_system
+    from contact.model import OperatingPoint, resolve_coupling
+    from contact.steady import slow_problem
+
+    coupling = resolve_coupling(params, "auto")
+    op = OperatingPoint(voltage_V, preload_N, 40e3, load_N)
+    sp = slow_problem(params, op, coupling=coupling, accuracy="exact")
+    return probe_from_rest(sp, full_system(params, op, sp.mu_d_eff, coupling))
+
+
+@cache
+def _wrong_sheet() -> dict[str, float]:
+    """126.9 V / 14.72 N under -1.57 N (tests/test_from_rest.py): the slider leaves the
+    ripple zone beside a period-1 sheet it does not follow and settles on a period-2 orbit."""
+    from contact.steady import steady_state
+
+    r = steady_state(_table2(), 126.9, 14.72, load_N=-1.57, energy=False)
+    return {"rest_m_s": r.velocity_m_s, "rest_k": r.from_rest.k,
+            "root_m_s": next(b.velocity_m_s for b in r.branches
+                             if b.k == 1 and b.stable and not b.from_rest),
+            "track": _probe_point(_table2(), 126.9, 14.72, -1.57).track_error}
+
+
+@cache
+def _beam_miss() -> dict[str, float]:
+    """The beam set at 1000 V / 10 N under -1 N, 40 kHz: the probe's known miss."""
+    from contact.steady import steady_state
+    from rom.sources import get_params
+
+    p = get_params("beam")
+    kw = {"load_N": -1.0, "frequency_Hz": 40e3, "energy": False}
+    rest = steady_state(p, 1000, 10, rest="transient", **kw).velocity_m_s
+    root = _probe_point(p, 1000.0, 10.0, -1.0).orbit.velocity_m_s
+    return {"rest_m_s": rest, "probe_m_s": steady_state(p, 1000, 10, **kw).velocity_m_s,
+            "below": 1.0 - rest / root}
+
+
+@cache
+def _stiff_contact(load_N: float) -> float:
+    """Table 2's set with a ten times stiffer contact (k_contact = 1.7378e8 N/m) at
+    492.28 V / 13.91 N: how much slower (relative) the period-2 orbit a transient from rest
+    settles on is than the stable period-1 orbit the exact level answers with."""
+    import warnings
+
+    from contact.steady import steady_state
+
+    p = _table2()
+    stiff = p.with_(k_contact=10.0 * p.k_contact)
+    kw = {"load_N": load_N, "energy": False}
+    with warnings.catch_warnings():  # an edited copy of Table 2's: consistent coupling
+        warnings.simplefilter("ignore")
+        probe = steady_state(stiff, 492.28, 13.91, **kw)
+        rest = steady_state(stiff, 492.28, 13.91, rest="transient", **kw)
+    assert probe.from_rest.k == 1 and rest.from_rest.k == 2
+    return 1.0 - rest.velocity_m_s / probe.velocity_m_s
+
+
+def _hold_check_m_s() -> float:
+    """The hold check's bound at 200 V / 14 N: HOLD_CHECK_FACTOR times the ripple scale."""
+    from contact.steady import HOLD_CHECK_FACTOR
+
+    return HOLD_CHECK_FACTOR * _ripple_scale_14N()
+
+
 def _steady_input_claims() -> tuple[Claim, ...]:
     """Computed figures of docs/steady.md that had been marked ``<!--input-->``."""
     c400 = "lusm characteristic --voltage 400 --preload 14 --json"
     c200 = "lusm characteristic --voltage 200 --preload 14 --json"
+    wrong = ("python -m validation.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
+             "14.72 N under -1.57 N: steady_state(table2(), 126.9, 14.72, load_N=-1.57), ")
+    beam = ("steady_state(get_params('beam'), 1000, 10, load_N=-1, frequency_Hz=40e3{})"
+            ".velocity_m_s")
+    stiff = ("python -m validation.doc_numbers --show {} (p = table2().with_(k_contact="
+             "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
+             "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
     return (
         Claim("steady_char_400V_14N_exact_stall_N", "N", c400 + " (stall_force_N)",
               lambda: _char_exact(400.0, 14.0).stall_force_N, cheap=True, rel_tol=1e-6),
@@ -1762,6 +1837,28 @@ def _steady_input_claims() -> tuple[Claim, ...]:
               "1e-4 N, at which lusm simulate --voltage 100 --preload 14 --load-N L "
               "--duration 2 does not settle)",
               lambda: _threshold_load_N(100.0, 5.22, 5.24, 2.0, lambda s: not s.settled)),
+        Claim("steady_hold_check_200V_14N_m_s", "m/s",
+              "contact.steady.HOLD_CHECK_FACTOR x steady_ripple_scale_200V_14N_m_s",
+              _hold_check_m_s, cheap=True, rel_tol=1e-9),
+        Claim("steady_wrong_sheet_root_m_s", "m/s", wrong + "the stable period-1 branch)",
+              lambda: _wrong_sheet()["root_m_s"], cheap=True, rel_tol=1e-6),
+        Claim("steady_wrong_sheet_track", "-", wrong + "contact.from_rest.probe_from_rest's "
+              "track_error)", lambda: _wrong_sheet()["track"], cheap=True, rel_tol=1e-6),
+        Claim("steady_wrong_sheet_rest_m_s", "m/s", wrong + "velocity_m_s)",
+              lambda: _wrong_sheet()["rest_m_s"], cheap=True, rel_tol=1e-6),
+        Claim("steady_beam_miss_rest_m_s", "m/s", beam.format(", rest='transient'"),
+              lambda: _beam_miss()["rest_m_s"], cheap=True, rel_tol=1e-6),
+        Claim("steady_beam_miss_probe_m_s", "m/s", beam.format(""),
+              lambda: _beam_miss()["probe_m_s"], cheap=True, rel_tol=1e-6),
+        Claim("steady_beam_miss_below", "-",
+              "1 - steady_beam_miss_rest_m_s / the sheet's root (contact.from_rest."
+              "probe_from_rest(...).orbit.velocity_m_s)",
+              lambda: _beam_miss()["below"], cheap=True, rel_tol=1e-5),
+        Claim("steady_stiff_slower", "-", stiff.format("steady_stiff_slower", 0, 0),
+              lambda: _stiff_contact(0.0), cheap=True, rel_tol=1e-5),
+        Claim("steady_stiff_loaded_slower", "-", stiff.format("steady_stiff_loaded_slower",
+                                                              0.732, 0.732),
+              lambda: _stiff_contact(0.732), cheap=True, rel_tol=1e-5),
     )
 
 
@@ -2040,15 +2137,60 @@ def _fem_speed_300V_14N(frequency_Hz: float) -> float:
 
 
 @cache
+def _tuned60k():
+    """The FE set of examples/tuned_60k."""
+    from rom.from_fem import fem_params_from_file
+
+    return fem_params_from_file(ROOT / "examples" / "tuned_60k" / "stator.toml")
+
+
+@cache
 def _tuned60k_140V_14N():
     """The exact steady state of examples/tuned_60k at 140 V / 14 N, --frequency auto."""
     from contact.drive import auto_frequency
     from contact.steady import steady_state
-    from rom.from_fem import fem_params_from_file
 
-    p = fem_params_from_file(ROOT / "examples" / "tuned_60k" / "stator.toml")
+    p = _tuned60k()
     return steady_state(p, 140.0, 14.0, frequency_Hz=auto_frequency(p), accuracy="exact",
                         energy=False)
+
+
+def _tuned60k_fold_m_s() -> float:
+    """Where the stick-slip sheet of examples/tuned_60k at 140 V / 14 N ends (m/s): the
+    averaged orbit at the root a start from rest reaches (contact.from_rest) continued
+    upward in v as the probe continues a sheet (steps of SHEET_STEP, halved at a change of
+    the period or a jump of a phase fraction by more than PHASE_JUMP, down to
+    SHEET_MIN_STEP); the last orbit on the sheet."""
+    import numpy as np
+
+    from contact.drive import auto_frequency
+    from contact.from_rest import PHASE_JUMP, SHEET_MIN_STEP, SHEET_STEP, probe_from_rest
+    from contact.full_orbit import full_system
+    from contact.model import OperatingPoint, resolve_coupling
+    from contact.periodic_orbit import find_orbit, orbit_phases
+    from contact.steady import slow_problem
+
+    p = _tuned60k()
+    coupling = resolve_coupling(p, "auto")
+    op = OperatingPoint(140.0, 14.0, auto_frequency(p))
+    sp = slow_problem(p, op, coupling=coupling, accuracy="exact")
+    prev = probe_from_rest(sp, full_system(p, op, sp.mu_d_eff, coupling)).orbit
+
+    def fractions(o):
+        phase = orbit_phases(sp.fs, o, sp.average_periods)
+        return phase / np.sum(phase)
+
+    frac, ratio = fractions(prev), SHEET_STEP
+    while True:
+        o = find_orbit(sp.fs, prev.velocity_m_s * ratio, prev.z, prev.mode, tol=sp.orbit_tol,
+                       max_periods=sp.search_periods, average_periods=sp.average_periods,
+                       jacobian=prev.jacobian)
+        if o.k != prev.k or np.max(np.abs(fractions(o) - frac)) > PHASE_JUMP:
+            if ratio <= SHEET_MIN_STEP:
+                return prev.velocity_m_s
+            ratio = math.sqrt(ratio)
+            continue
+        prev, frac = o, fractions(o)
 
 
 def _tuned60k_slip_m_s() -> float:
@@ -2244,6 +2386,10 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
                   _fem_set(), 40e3)[0], cheap=True, rel_tol=1e-6),
         Claim("tuned60k_140V_14N_rest_m_s", "m/s", _T60 + " (steady_velocity_m_s)",
               lambda: _tuned60k_140V_14N().velocity_m_s, cheap=True, rel_tol=1e-6),
+        Claim("tuned60k_140V_14N_fold_m_s", "m/s", _SHOW.format("tuned60k_140V_14N_fold_m_s")
+              + " (examples/tuned_60k, 140 V / 14 N, auto frequency: the stick-slip sheet "
+              "continued upward from the root a start from rest reaches, to a 1.002 step)",
+              _tuned60k_fold_m_s, cheap=True, rel_tol=3e-3),
         Claim("tuned60k_140V_14N_slip_m_s", "m/s", _T60 + " (branches: the stable pure-slip one)",
               _tuned60k_slip_m_s, cheap=True, rel_tol=1e-6),
         Claim("fe2d_C_ee_F", "F", _CAP.format("diagonal"),
