@@ -1789,11 +1789,61 @@ def _stiff_contact(load_N: float) -> float:
     return 1.0 - rest.velocity_m_s / probe.velocity_m_s
 
 
+@cache
+def _creep_252V() -> dict[str, float]:
+    """252 V / 25.64 N / 40 414 Hz (tests/test_steady_exact.py): the 15-period creep from
+    rest, the held orbit shot from the 2 000-period transient's end, and a 400-period window
+    of the 0.6 s transient against the creep."""
+    from contact.full_orbit import full_system, run_periods, shoot
+    from contact.model import OperatingPoint
+    from contact.steady import (
+        REST_TRANSIENT_PERIODS,
+        slow_problem,
+        steady_state,
+        transient_reference,
+    )
+
+    f = 40414.0
+    creep = steady_state(_table2(), 252, 25.64, frequency_Hz=f, accuracy="exact").from_rest
+    op = OperatingPoint(252, 25.64, f)
+    fs = full_system(_table2(), op, slow_problem(_table2(), op, accuracy="exact").mu_d_eff,
+                     "paper")
+    z, m, _, _, _ = run_periods(fs, fs.system.z0, fs.system.mode0, REST_TRANSIENT_PERIODS)
+    window = transient_reference(_table2(), 252, 25.64, frequency_Hz=f, duration_s=0.6)[0]
+    return {"creep_m_s": creep.velocity_m_s, "creep_k": creep.k,
+            "held_multiplier": shoot(fs, z, m, 1, energy=False).multiplier,
+            "window_error": abs(window / creep.velocity_m_s - 1.0)}
+
+
+def _guide_share_139V() -> float:
+    """Guide power over input power of the held slider at 139 V / 14 N (exact level)."""
+    from contact.steady import steady_state
+
+    b = steady_state(_table2(), 139, 14, accuracy="exact").from_rest
+    return b.guide_power_W / b.input_power_W
+
+
+def _input_1kHz_W() -> float:
+    """A 0.3 s transient's own input power (W) at 200 V / 14 N / 1 kHz under 1.5 N (held)."""
+    from contact.simulate import simulate
+
+    r = simulate(_table2(), 200, 14, 1e3, duration_s=0.3, energy=True, load_N=1.5)
+    return r.energy.input_J / r.steady.window_s
+
+
 def _hold_check_m_s() -> float:
     """The hold check's bound at 200 V / 14 N: HOLD_CHECK_FACTOR times the ripple scale."""
     from contact.steady import HOLD_CHECK_FACTOR
 
     return HOLD_CHECK_FACTOR * _ripple_scale_14N()
+
+
+def _multi_cli_m_s() -> float:
+    """``lusm simulate --voltage 75 --preload 15 --load-N 5 --duration 0.3`` (its last 20
+    periods)."""
+    from contact.simulate import simulate
+
+    return simulate(_table2(), 75, 15, load_N=5.0, duration_s=0.3).steady.velocity_m_s
 
 
 def _steady_input_claims() -> tuple[Claim, ...]:
@@ -1807,6 +1857,8 @@ def _steady_input_claims() -> tuple[Claim, ...]:
     stiff = ("python -m validation.doc_numbers --show {} (p = table2().with_(k_contact="
              "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
              "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
+    s252 = ("python -m validation.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
+            "252, 25.64, frequency_Hz=40414, accuracy='exact'), ")
     return (
         Claim("steady_char_400V_14N_exact_stall_N", "N", c400 + " (stall_force_N)",
               lambda: _char_exact(400.0, 14.0).stall_force_N, cheap=True, rel_tol=1e-6),
@@ -1859,6 +1911,25 @@ def _steady_input_claims() -> tuple[Claim, ...]:
         Claim("steady_stiff_loaded_slower", "-", stiff.format("steady_stiff_loaded_slower",
                                                               0.732, 0.732),
               lambda: _stiff_contact(0.732), cheap=True, rel_tol=1e-5),
+        Claim("steady_139V_14N_guide_share", "-",
+              'steady_state(table2(), 139, 14, accuracy="exact").from_rest: guide_power_W / '
+              "input_power_W", _guide_share_139V, cheap=True, rel_tol=1e-6),
+        Claim("steady_1kHz_200V_14N_transient_input_W", "W",
+              "simulate(table2(), 200, 14, 1e3, duration_s=0.3, energy=True, load_N=1.5): "
+              "energy.input_J / steady.window_s", _input_1kHz_W, cheap=True, rel_tol=1e-6),
+        Claim("steady_252V_creep_m_s", "m/s", s252 + "velocity_m_s)",
+              lambda: _creep_252V()["creep_m_s"], cheap=True, rel_tol=1e-7),
+        Claim("steady_252V_creep_k", "-", s252 + "from_rest.k)",
+              lambda: _creep_252V()["creep_k"], cheap=True, rel_tol=0.0),
+        Claim("steady_252V_held_multiplier", "-", s252 + "and contact.full_orbit.shoot of one "
+              "period from the end of its 2 000-period transient: multiplier)",
+              lambda: _creep_252V()["held_multiplier"], cheap=True, rel_tol=1e-5),
+        Claim("steady_252V_window_error", "-", s252 + "against transient_reference(table2(), "
+              "252, 25.64, frequency_Hz=40414, duration_s=0.6), its last 400 periods)",
+              lambda: _creep_252V()["window_error"], cheap=True, rel_tol=1e-4),
+        Claim("steady_load_hard_multi_cli_m_s", "m/s",
+              "lusm simulate --voltage 75 --preload 15 --load-N 5 --duration 0.3 "
+              "(steady_velocity_m_s)", _multi_cli_m_s, cheap=True, rel_tol=1e-6),
     )
 
 
