@@ -104,11 +104,14 @@ class Characteristic(FrozenArrays):
         the guide's ideal Coulomb stiction every period; a real guide's pre-sliding
         stiffness, which the model does not have, may hold it there (``docs/steady.md``).
         NaN at the fast level, where the two coincide, or where the exact stall force is the
-        smaller (the full model stalls first) or of the other sign.
+        smaller (the full model stalls first) or of the other sign. 0 where the averaged
+        slider is held without load (averaged stall force 0) and the finite one moves: the
+        whole curve is a creep (the beam set at 200 V / 14 N and its own frequency, -5.7e-5
+        m/s at no load; it had been NaN, and no line said so).
         """
         lo, hi = self.averaged_stall_force_N, self.stall_force_N
         if (self.accuracy != "exact" or not (math.isfinite(lo) and math.isfinite(hi))
-                or lo * hi <= 0.0 or abs(hi) <= abs(lo) * (1.0 + CREEP_SHARE)):
+                or lo * hi < 0.0 or abs(hi) <= abs(lo) * (1.0 + CREEP_SHARE)):
             return math.nan
         return float(lo)
 

@@ -388,3 +388,35 @@ def test_the_creep_band_below_the_exact_stall_force_is_said(capsys):
                  "0,3"]) == 0
     assert "creeps from" not in capsys.readouterr().out
     assert exact.creep_from_N == exact.averaged_stall_force_N
+
+
+def test_a_creep_where_the_averaged_slider_is_held_is_said(capsys):
+    """The beam set at 200 V / 14 N, driven at its own frequency: the averaged slider is
+    held without load (fast stall force 0), while the finite slider creeps backward from
+    rest, its velocity ripple crossing zero every period (a transient from rest, the
+    independent reference). The whole curve is a creep band from 0 N; ``creep_from_N`` had
+    been NaN there (``0 * stall <= 0`` read as "the other sign") and the command printed a
+    plain stall force with no word of the creep."""
+    from contact.characteristic import characteristic
+    from contact.drive import auto_frequency
+    from contact.simulate import simulate
+    from rom.sources import get_params
+
+    p = get_params("beam")
+    f = auto_frequency(p)
+    fast = characteristic(p, 200.0, 14.0, loads_N=[0.0], frequency_Hz=f, accuracy="fast")
+    assert fast.stall_force_N == 0.0 and fast.no_load_velocity_m_s == 0.0
+    exact = characteristic(p, 200.0, 14.0, loads_N=[0.0], frequency_Hz=f)
+    r = simulate(p, 200.0, 14.0, f, duration_s=0.1)
+    v = r.window.v_m_s
+    assert v.min() < 0.0 < v.max()  # the slider stops in every period: a creep
+    assert exact.no_load_velocity_m_s == pytest.approx(r.steady.velocity_m_s, rel=1e-3)
+    assert exact.no_load_velocity_m_s < 0.0 and exact.stall_force_N < 0.0
+    assert exact.averaged_stall_force_N == 0.0
+    assert exact.creep_from_N == 0.0
+    assert main(["characteristic", "--source", "beam", "--voltage", "200", "--preload", "14",
+                 "--frequency", "auto", "--loads", "0,-0.2"]) == 0
+    out = capsys.readouterr().out
+    top = abs(exact.no_load_velocity_m_s)
+    assert "creeps from (N)            0 (the averaged stall" in out
+    assert f"at most {top:.3g} m/s on this curve" in out

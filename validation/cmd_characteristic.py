@@ -173,7 +173,8 @@ def _creep_line(char) -> str | None:
     if not math.isfinite(lo):
         return None
     inside = [abs(float(v)) for f, v in zip(char.load_N, char.velocity_m_s, strict=True)
-              if min(lo, hi) < f < max(lo, hi) and math.isfinite(v)]
+              if min(lo, hi) <= f <= max(lo, hi) and math.isfinite(v)]  # ends included:
+    # at an averaged stall of 0 the no-load point is the band's fastest creep
     speed = (f", at most {max(inside):.3g} m/s on this curve" if inside else "")
     return (f"{lo:.6g} (the averaged stall: up to the stall force the slider creeps{speed}, "
             "its velocity ripple breaking the guide's ideal stiction; docs/steady.md)")
