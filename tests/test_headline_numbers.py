@@ -70,6 +70,23 @@ def test_dead_zone_edge_at_14_N(paper_params, coupling, edge_V):
     assert edge == pytest.approx(edge_V, abs=0.1)
 
 
+def test_the_reports_dead_zone_rows_say_their_bisection_tolerance(paper_params):
+    """The quick report printed the edge 139.2 V (section 2, bisected to 0.5 V) and 139.6 V
+    (section 4, bisected to 1 V) with no tolerance beside either. Each row now names its
+    tolerance, and the value lies within it above the edge bisected to 0.05 V."""
+    import re
+
+    from validation.hard_cases import dead_zone_edge, run_hard_cases
+
+    fine = dead_zone_edge(paper_params, 14.0, duration_s=0.01, tol_V=0.05)
+    row = next(r for r in run_hard_cases(paper_params, quick=True)
+               if r.name == "dead-zone edge")
+    m = re.fullmatch(r"([\d.]+) V / 14 N \(bisection to ([\d.]+) V\)", row.setting)
+    assert m, row.setting
+    edge, tol = float(m.group(1)), float(m.group(2))
+    assert tol == 1.0 and fine - 0.05 <= edge <= fine + tol
+
+
 # --- beam theory (Appendix A): lusm params --source beam ----------------------------------------
 def test_beam_theory_frequencies():
     """README: beam theory puts L1 at 67.9 kHz and B2 at 96.1 kHz (far above 40 kHz)."""

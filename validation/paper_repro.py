@@ -265,7 +265,7 @@ def reproduce(
         "Fig. 24", "dead zone: no motion up to about 120 V (simulation; ~100 V measured), 14 N",
         f"no motion up to {float(stuck_below.max()) if stuck_below.size else 0:g} V, moving "
         f"from {edge:g} V on the grid; "
-        + (f"edge {bisected:.1f} V by bisection ({bisected / 120.0 - 1.0:+.0%})"
+        + (f"edge {bisected:.1f} V by bisection to 0.5 V ({bisected / 120.0 - 1.0:+.0%})"
            if np.isfinite(bisected) else "pure stick up to 1000 V"),
         dz_ok, "" if dz_ok else "the dead-zone edge lies elsewhere on this set",
     ))
