@@ -52,3 +52,19 @@ def test_the_dead_zone_verdict_follows_the_edge_not_the_grid(repro):
     assert simulate(table2(), edge + 1.0, 14.0, 40e3, opts).steady.motion != "pure-stick"
     assert row.agrees == (abs(edge / 120.0 - 1.0) <= DEAD_ZONE_REL)
     assert not row.agrees  # 139 V: 16 % above the paper's 120 V
+
+
+def test_a_held_slider_reads_held_not_a_roundoff_speed(tmp_path):
+    """A set that holds the slider in pure stick at 200 V / 14 N (here Table 2 driven three
+    times more weakly): Fig. 9's row had read a window mean of roundoff as a speed
+    ("1.661e-19 m/s (settled)" on a report's beam set). It says held, as the run is."""
+    t = table2()
+    p = t.with_(A_l=0.3 * t.A_l, A_b=0.3 * t.A_b)
+    settings = ReproSettings(map_voltages_V=(400.0,), map_preloads_N=(14.0,),
+                             curve_voltages_V=(400.0,), curve_preloads_N=(14.0,),
+                             low_voltages_V=(50.0,))
+    out = reproduce(p, 40e3, tmp_path, "w_", settings)
+    row = next(r for r in out.rows if r.figure == "Fig. 9")
+    ref = simulate(p, 200.0, 14.0, 40e3, SimulationOptions(duration_s=0.3))
+    assert ref.steady.motion == "pure-stick" and abs(ref.steady.velocity_m_s) < 1e-15
+    assert row.we_get.startswith("0 m/s, held in pure stick") and not row.agrees
