@@ -82,6 +82,29 @@ class SlenderPlateError(ModeSolverError):
         self.f_ratio, self.max_slenderness = f_ratio, max_slenderness
 
 
+class WidePlateError(ModeSolverError):
+    """A plate wider than long, refused before any solve (:func:`check_b2_in_reach`): L1 and
+    B2 are identified along its length as the free-free beam modes of Eq. 3, which it does
+    not have.
+
+    Attributes
+    ----------
+    length_m, width_m : float
+        The plate's overall length (a tip included) and width (m).
+    """
+
+    def __init__(self, message: str, *, length_m: float, width_m: float) -> None:
+        super().__init__(message)
+        self.length_m, self.width_m = length_m, width_m
+
+
+MAX_WIDTH_OVER_LENGTH = 1.0
+"""Width over length above which a plate is refused before any solve: every plate measured
+from 0.57 up (30 x 17, 30 x 20, 30 x 30, 10 x 8, 10 x 10, 60 x 45, 5 x 6 and 3 x 30 mm)
+failed its identification (30 x 16 mm is the widest paper-length plate that passes), and the
+widest took long to fail (1 x 1000 mm: 40 s of solves). A square plate is kept as the margin."""
+
+
 def modes_nearer_than_b2(slenderness: float) -> int:
     """In-plane modes of a free-free bar ``slenderness`` = length / width times longer than
     wide whose eigenvalue lies nearer the solver's shift than B2's, by beam theory (-).
@@ -153,6 +176,12 @@ def check_b2_in_reach(stator, n_modes: int = N_MODES) -> None:
 
     length, width = overall_length_m(stator), float(stator.width_m)
     slender = length / width
+    if width > MAX_WIDTH_OVER_LENGTH * length:
+        raise WidePlateError(
+            f"a {length * 1e3:g} x {width * 1e3:g} mm plate is wider than long: L1 and B2 are "
+            "identified along its length as the free-free beam modes of Eq. 3, which a plate "
+            "wider than about half its length does not have (30 x 16 mm is the widest "
+            "paper-length plate that passes)", length_m=length, width_m=width)
     if bending_over_rod_frequency(2, slender) >= 1.0:
         # B2 above the shift: a plate wider than about a sixth of its length, which is no
         # beam (a 5 x 40 mm plate counted 40 longitudinal modes below its beam B2); its

@@ -527,12 +527,13 @@ def test_workers_without_gmsh_are_refused_for_a_parametric_stator(client, monkey
 
 def test_a_failed_fe_solve_is_recorded_not_fatal():
     # a 5 x 40 mm plate has no B2 (bending along the length) near its L1: the mode solver
-    # says so, and the study keeps going with NaN and the reason in ``status``
+    # says so before any solve (fem.modes.WidePlateError, a ModeSolverError), and the study
+    # keeps going with NaN and the reason in ``status``
     s = study_from_dict({"outputs": ["f_L1_short", "no_load_velocity"],
                          "axes": {"length": "5 mm", "width": "40 mm"},
                          "solver": {"fe_refine": 1, "duration": "1 ms"}})
     ds = assemble(s, {0: compute_geometry(s, 0)})
-    assert str(ds["status"].item()).startswith("FE: ModeSolverError")
+    assert str(ds["status"].item()).startswith("FE: WidePlateError: a 5 x 40 mm plate")
     assert np.isnan(ds["f_L1_short"].item()) and np.isnan(ds["no_load_velocity"]).all()
     # its drive points are "failed", as documented (they read "", which a filter missed)
     s = study_from_dict({"outputs": ["f_L1_short", "motion_class"],

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import subprocess
 import sys
@@ -415,9 +416,12 @@ def test_the_library_refuses_a_slender_plate_before_its_mesh(monkeypatch):
         fm.plate_modes(PlateStator(length_m=1.0, width_m=1e-3, thickness_m=1e-3))
     assert isinstance(err.value, ModeSolverError)
     assert err.value.max_slenderness == pytest.approx(719.7, rel=1e-3)
-    # a plate far wider than long is no beam: its B2 lies above L1, and its failure is the
-    # identification's (it had been refused as "0.125 times longer than wide")
-    fm.check_b2_in_reach(PlateStator(length_m=5e-3, width_m=40e-3))
+    # a plate far wider than long is no beam: it is refused as wider than long (it had been
+    # refused as "0.125 times longer than wide"), and one a little narrower than long, whose
+    # B2 lies above L1, is left to the identification
+    with pytest.raises(fm.WidePlateError, match="wider than long"):
+        fm.check_b2_in_reach(PlateStator(length_m=5e-3, width_m=40e-3))
+    fm.check_b2_in_reach(PlateStator(length_m=30e-3, width_m=25e-3))
 
 
 @pytest.mark.slow
@@ -487,3 +491,36 @@ def test_a_failed_identification_blames_slenderness_only_near_the_search_bound()
     message = str(fe_failure(exc, PlateStator(length_m=30e-3, width_m=7.5e-3,
                                               thickness_m=6e-3)))
     assert "mm thick plate" not in message and "wider than about half" in message
+
+
+def test_a_plate_wider_than_long_is_refused_before_any_fe_work(capsys, monkeypatch):
+    """L1 and B2 are identified along the length: every plate measured from width / length
+    0.57 up failed its identification, and a 1 x 1000 mm plate took 40 s of solves to. A
+    plate wider than long is refused before its mesh, in the library and on one line naming
+    the options typed; a sweep refuses only when even its narrowest plate is too wide, and
+    otherwise solves the rest, its wide plates failing alone."""
+    import fem.mesh
+    import fem.model
+    from fem.modes import WidePlateError
+    from validation.cli import main
+
+    with monkeypatch.context() as m:
+        for module in (fem.mesh, fem.model):
+            m.setattr(module, "structured_mesh", lambda *a, **k: pytest.fail("a mesh was made"))
+        with pytest.raises(WidePlateError, match=r"^a 1 x 1000 mm plate is wider than long"):
+            plate_modes(PlateStator(length_m=1e-3, width_m=1.0))
+        assert main(["modes", "--length-mm", "1", "--width-mm", "1000", "--thickness-mm",
+                     "0.5"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith(
+            "lusm modes: error: --width-mm 1000 and --length-mm 1: a 1 x 1000 mm plate is "
+            "wider than long")
+        assert main(["sweep", "--width-mm", "40:60:10", "--refine", "1"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--width-mm 40:60:10: no plate of the sweep" in err[0]
+    assert main(["sweep", "--width-mm", "20:40:10", "--refine", "1", "--json"]) in (0, None)
+    captured = capsys.readouterr()
+    out = json.loads(captured.out)
+    assert "not identified at 2 of 3 points (30, 40 mm" in captured.err
+    assert out["values_mm"] == [20.0, 30.0, 40.0] and out["f_L1_short_Hz"][0] > 0
+    assert out["f_L1_short_Hz"][1:] == [None, None]

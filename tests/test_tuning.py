@@ -243,10 +243,15 @@ def test_a_sweep_says_where_l1_and_b2_were_not_found(capsys):
     res = sweep_dimension("length", np.array([3e-3, 30e-3]))
     assert res.failures[0] and not res.failures[1]
     assert np.isnan(res.f_L1_short_Hz[0]) and np.isfinite(res.f_L1_short_Hz[1])
-    assert main(["sweep", "--length-mm", "2:4:1", "--width-mm", "7.5"]) == 2
+    assert main(["sweep", "--length-mm", "10:12:1", "--width-mm", "7.5"]) == 2
     err = capsys.readouterr().err.strip().splitlines()  # a thin-plate warning, then this
     assert err[-1].startswith("lusm sweep: error: --length-mm: L1 and B2 were identified at "
                               "no point") and "error" not in " ".join(err[:-1])
+    # plates all wider than long are refused before any solve (fem.modes.WidePlateError)
+    assert main(["sweep", "--length-mm", "2:4:1", "--width-mm", "7.5"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith("lusm sweep: error: --length-mm 2:4:1: no plate of the sweep "
+                              "can have an L1/B2 pair: even a 4 x 7.5 mm plate is wider")
     assert main(["sweep", "--length-mm", "3:30:27", "--width-mm", "7.5", "--json"]) == 0
     cap = capsys.readouterr()
     assert "warning: --length-mm: L1 and B2 were not identified at 1 of 2 points" in cap.err

@@ -155,12 +155,16 @@ def _thick_clause(stator) -> str | None:
 def fe_failure(exc: Exception, stator=None) -> ValueError:
     """A mode-solver or sparse-solver failure on an extreme plate, as bad input (``stator``,
     when given, lets a slender plate's message say why B2 is missing)."""
-    from fem.modes import SlenderPlateError
+    from fem.modes import SlenderPlateError, WidePlateError
 
     if isinstance(exc, SlenderPlateError):  # refused before its solve (a tuning's, a sweep's)
         from validation.options import slender_plate_error
 
         return slender_plate_error(exc)
+    if isinstance(exc, WidePlateError):
+        from validation.options import wide_plate_error
+
+        return wide_plate_error(exc)
     reason = short_reason(exc)
     # mode-shape tests, which no --refine changes (pairing an off-centre hole's open-circuit
     # L1 with its short-circuit shape failed as "check ... and --refine")

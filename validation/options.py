@@ -581,13 +581,28 @@ def check_b2_in_reach(stator) -> None:
     """Refuse, before any FE work, a plate whose B2 the 2D solver cannot reach from L1
     (:func:`fem.modes.check_b2_in_reach`): a 1000 x 1 mm plate took 14 s and 900 MB of
     solves to be refused."""
-    from fem.modes import SlenderPlateError
+    from fem.modes import SlenderPlateError, WidePlateError
     from fem.modes import check_b2_in_reach as check
 
     try:
         check(stator)
     except SlenderPlateError as exc:
         raise slender_plate_error(exc) from None
+    except WidePlateError as exc:
+        raise wide_plate_error(exc) from None
+
+
+def wide_plate_error(exc) -> LusmError:
+    """A :class:`fem.modes.WidePlateError` in the options' terms: the options typed (or the
+    stator file), the reason, on one line."""
+    if typed("--geometry"):
+        return LusmError(f"--geometry: {exc}; make the stator file's [plate] width_mm "
+                         "smaller than its length_mm", "--geometry")
+    dims = [o for o in ("--width-mm", "--length-mm") if typed(o)] or ["--width-mm"]
+    values = {"--length-mm": exc.length_m, "--width-mm": exc.width_m}
+    named = " and ".join(f"{o} {values[o] * 1e3:g}" for o in dims)
+    return LusmError(f"{named}: {exc}; give a width below the length (about a quarter of "
+                     "it for an L1/B2 pair)", dims[0])
 
 
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
