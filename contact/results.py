@@ -115,9 +115,12 @@ class SteadyState:
 class EnergyBalance:
     """Work integrals over the steady-state window (J), for the equations as implemented.
 
-    ``residual = dE - (input - damping + tangential_on_stator + tangential_on_slider + guide)``
-    with E the kinetic, modal-strain and contact-spring energy; the normal force's work on the
-    stator is exchanged with the contact spring and drops out. ``non_conservative`` is the
+    ``residual = dE - (input - damping + tangential_on_stator + tangential_on_slider + guide
+    + load)`` with E the kinetic, modal-strain and contact-spring energy; the normal force's
+    work on the stator is exchanged with the contact spring and drops out. ``guide`` is the
+    linear guide's friction alone and ``load`` the external load's work on the slider
+    (``-load_N`` times its displacement: minus the motor's output work); ``guide`` had held
+    both, so a loaded run's guide loss read the output work too. ``non_conservative`` is the
     part of the tangential work that the paper's coupling ``eta_T F_T`` adds beyond the
     reaction ``-phi_B(l) F_T`` at the tip (zero for the consistent coupling).
     """
@@ -128,6 +131,7 @@ class EnergyBalance:
     tangential_on_stator_J: float
     tangential_on_slider_J: float
     guide_J: float
+    load_J: float
     interface_dissipation_J: float
     non_conservative_J: float
     delta_energy_J: float
@@ -137,15 +141,15 @@ class EnergyBalance:
     def relative_residual(self) -> float:
         """``|residual|`` over the largest work that drives the balance (-), NaN without any.
 
-        Those are the electrical input, the tangential (stator and slider) and guide work and
-        the energy change; the damping is fed by them (at 0 V it holds roundoff alone). In a
+        Those are the electrical input, the tangential (stator and slider), guide and load work
+        and the energy change; the damping is fed by them (at 0 V it holds roundoff alone). In a
         steady window the input is the largest; where a load does the work (a slider running
         away) the input alone made a roundoff-level residual read 5.6e-7 against 5.8e-12 of
         the slider's work.
         """
         scale = max(abs(self.input_J), abs(self.tangential_on_stator_J),
                     abs(self.tangential_on_slider_J), abs(self.guide_J),
-                    abs(self.delta_energy_J))
+                    abs(self.load_J), abs(self.delta_energy_J))
         return abs(self.residual_J) / scale if scale > 0 else float("nan")
 
 

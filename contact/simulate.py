@@ -554,21 +554,28 @@ def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions
         velocity_m_s=float(v), previous_velocity_m_s=v_prev, phase_time=phase_time,
         y_tip_min_m=float(stats[1]), y_tip_max_m=float(stats[2]), trace=trace,
         window=Trace.from_array(full_a),
-        energy=_energy_balance(params, opts, work, stats) if opts.energy else None,
+        energy=(_energy_balance(params, opts, work, stats,
+                                -op.load_N * float(trace.x_m[-1] - stats[0]))
+                if opts.energy else None),
         steps=n_steps, events=int(stats[3]), nfev=n_steps + int(stats[6]),
     )
 
 
 def _energy_balance(params: MotorParams, opts: SimulationOptions, work: np.ndarray,
-                    stats: np.ndarray) -> EnergyBalance:
-    w_in, w_damp, w_ns, w_ts, w_tx, w_g = (float(w) for w in work)
+                    stats: np.ndarray, load_J: float) -> EnergyBalance:
+    """The window's work integrals; ``load_J`` is the load's work on the slider over the
+    window, ``-load_N`` times its displacement."""
+    w_in, w_damp, w_ns, w_ts, w_tx, w_gl = (float(w) for w in work)
+    # the kernel integrates the guide and the load together (both are in the model's ff_m
+    # rows); the load's work is exact from the displacement, the rest is the guide's
+    w_g = w_gl - load_J
     delta = float(stats[5] - stats[4])
     # tangential work split: the reaction -phi_B(l) F_T at the tip is the consistent part
     g_t = gamma_T(params, opts.coupling)
     consistent_ts = w_ts * (-params.phi_Bl / g_t)
     non_conservative = w_ts - consistent_ts
     dissipation = -(consistent_ts + w_tx)
-    residual = delta - (w_in - w_damp + w_ts + w_tx + w_g)
+    residual = delta - (w_in - w_damp + w_ts + w_tx + w_g + load_J)
     return EnergyBalance(
         input_J=w_in,
         damping_J=w_damp,
@@ -576,6 +583,7 @@ def _energy_balance(params: MotorParams, opts: SimulationOptions, work: np.ndarr
         tangential_on_stator_J=w_ts,
         tangential_on_slider_J=w_tx,
         guide_J=w_g,
+        load_J=load_J,
         interface_dissipation_J=dissipation,
         non_conservative_J=non_conservative,
         delta_energy_J=delta,

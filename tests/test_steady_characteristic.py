@@ -101,7 +101,37 @@ def test_transient_energy_balance_closes_with_a_load(params):
     out = solve_event(params, op, opts, run_window(op, 0.01, 1e-7, 20), params.mu_d)
     e = out.energy
     assert abs(e.residual_J) < 1e-6 * e.input_J
-    assert e.guide_J < 0  # guide friction and the load both take energy from the slider
+    assert e.guide_J < 0 and e.load_J < 0  # guide friction and the load take the slider's energy
+
+
+@pytest.mark.parametrize("load_N", [0.3, -0.1])
+def test_transient_energy_balance_splits_the_loads_work_from_the_guides(load_N):
+    """The load's work over the window is -load_N times the slider's travel (the motor's
+    output, with its sign), and the guide's friction is what the steady engine's balance gives
+    (input = output + damping + interface + guide). ``guide_J`` had held the load's work too:
+    on the beam set at its own frequency, 300 V / 14 N, driving backward, a 0.3 N load assists
+    the slider with 7.0e-4 W, which ``guide_J`` read as the guide's (found by exploratory
+    testing of ``lusm simulate --energy``). The reference: the steady engine's own powers
+    (exact level) of the same point."""
+    from contact.drive import auto_frequency
+    from contact.simulate import simulate
+    from rom.sources import get_params
+
+    beam = get_params("beam")
+    f = auto_frequency(beam)
+    r = simulate(beam, 300, 14, f, duration_s=0.05, energy=True, load_N=load_N,
+                 coupling="consistent")
+    e, t = r.energy, r.steady.window_s
+    v = r.steady.velocity_m_s
+    assert v < -1e-4  # the beam set drives backward here: a positive load assists
+    assert e.load_J == pytest.approx(-load_N * v * t, rel=1e-9)
+    b = steady_state(beam, 300, 14, frequency_Hz=f, load_N=load_N, coupling="consistent",
+                     accuracy="exact").from_rest
+    assert b.velocity_m_s == pytest.approx(v, rel=1e-6)
+    assert -e.load_J / t == pytest.approx(b.output_power_W, rel=1e-5)
+    assert -e.guide_J / t == pytest.approx(b.guide_power_W, rel=1e-5)
+    assert b.guide_power_W > 0
+    assert abs(e.residual_J) < 1e-8 * e.input_J
 
 
 def test_exact_characteristic_follows_transients_with_the_load(params):
