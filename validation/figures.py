@@ -34,6 +34,17 @@ def set_label(source: str) -> str:
     return source if len(source) <= 40 else source[:37] + "..."
 
 
+def set_wrapped_title(ax, text: str, fontsize: float = 9.0) -> None:
+    """``ax``'s title, wrapped to the figure's width: a stator file's run (``stick-slip-
+    separation: V0 = ... (stator file examples/tuned_40k/stator.toml ...)``) had run off the
+    PNG's right edge."""
+    import textwrap
+
+    # about 0.6 em per character of the default sans-serif font
+    chars = max(20, int(ax.figure.get_figwidth() * 72.0 / (0.6 * fontsize)))
+    ax.set_title(textwrap.fill(text, chars), fontsize=fontsize)
+
+
 def _title(r: SimulationResult) -> str:
     return (f"V0 = {r.op.voltage_V:g} V, F_P = {r.op.preload_N:g} N, "
             f"f = {r.op.frequency_Hz / 1e3:.4g} kHz ({set_label(r.params.source)})")
@@ -48,7 +59,7 @@ def slider_velocity(r: SimulationResult, path: Path) -> Path:
                label=f"steady mean {r.steady.velocity_m_s:.4g} m/s")
     ax.set_xlabel("time t (ms)")
     ax.set_ylabel("slider velocity dx/dt (m/s)")
-    ax.set_title(_title(r), fontsize=9)
+    set_wrapped_title(ax, _title(r))
     ax.legend(fontsize=8)
     return save(fig, path)
 
@@ -75,7 +86,7 @@ def forces_and_relative_velocity(r: SimulationResult, path: Path, periods: float
     a2.set_xlabel("time t (us)")
     a2.set_ylabel("relative velocity v_rel (m/s)")
     a2.legend(fontsize=7, ncol=2)
-    a1.set_title(_title(r), fontsize=9)
+    set_wrapped_title(a1, _title(r))
     return save(fig, path)
 
 
@@ -91,7 +102,7 @@ def hysteresis_loop(r: SimulationResult, path: Path) -> Path:
             ax.scatter(x_tip[sel] * 1e6, w.F_T_N[sel], s=3, color=color, label=PHASE_LABELS[code])
     ax.set_xlabel("tangential tip displacement x_tip (um)")
     ax.set_ylabel("tangential force F_T (N)")
-    ax.set_title(_title(r), fontsize=9)
+    set_wrapped_title(ax, _title(r))
     ax.legend(fontsize=8)
     return save(fig, path)
 
@@ -112,7 +123,7 @@ def transformed_phase_plane(r: SimulationResult, path: Path) -> Path:
     ax.axhline(0.0, color="k", lw=0.5)
     ax.set_xlabel("normal tip displacement y_tip (um)")
     ax.set_ylabel("relative velocity v_rel (m/s)")
-    ax.set_title(f"{r.steady.motion}: " + _title(r), fontsize=9)
+    set_wrapped_title(ax, f"{r.steady.motion}: " + _title(r))
     ax.legend(fontsize=7)
     return save(fig, path)
 
