@@ -20,7 +20,7 @@ def test_a_long_title_is_wrapped_inside_the_figure(size, overflowed):
             f"({set_label(source)})")
     ax.set_title(text, fontsize=9)  # as it was: past the right edge of the phase plane's
     fig.canvas.draw()
-    assert (ax.title.get_window_extent().x1 > fig.bbox.x1) is overflowed
+    assert bool(ax.title.get_window_extent().x1 > fig.bbox.x1) is overflowed
     set_wrapped_title(ax, text)
     fig.canvas.draw()
     box, page = ax.title.get_window_extent(), fig.bbox
