@@ -554,8 +554,9 @@ def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions
         velocity_m_s=float(v), previous_velocity_m_s=v_prev, phase_time=phase_time,
         y_tip_min_m=float(stats[1]), y_tip_max_m=float(stats[2]), trace=trace,
         window=Trace.from_array(full_a),
+        # + 0.0: no load's work is 0 J, not the -0 J a zero load times a travel gives
         energy=(_energy_balance(params, opts, work, stats,
-                                -op.load_N * float(trace.x_m[-1] - stats[0]))
+                                -op.load_N * float(trace.x_m[-1] - stats[0]) + 0.0)
                 if opts.energy else None),
         steps=n_steps, events=int(stats[3]), nfev=n_steps + int(stats[6]),
     )

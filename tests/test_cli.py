@@ -193,3 +193,28 @@ def test_map_text_shows_the_velocities_of_its_json(capsys):
     at = lines.index(next(ln for ln in lines if ln.startswith("slider velocity (mm/s)")))
     rows = [[float(x) for x in ln.split()[1:]] for ln in lines[at + 2:at + 4]]
     np.testing.assert_allclose(rows, v * 1e3, rtol=1e-3)
+
+
+def test_simulate_energy_prints_every_term_of_the_balance(capsys):
+    """``lusm simulate --energy`` printed only the residual; its text now gives each term
+    --json gives, equal to it, and they close: input - damping + the interface and guide
+    terms + the load's work = the change of stored energy + the residual. Without a load,
+    the load's work is 0 J, not -0."""
+    from validation.cli import main
+
+    argv = ["simulate", "--voltage", "200", "--preload", "14", "--duration", "0.01",
+            "--energy"]
+    assert main(argv) in (0, None)
+    text = {ln[len("energy "):30].strip(): ln[30:].strip()
+            for ln in capsys.readouterr().out.splitlines() if ln.startswith("energy ")}
+    assert main([*argv, "--json"]) in (0, None)
+    e = json.loads(capsys.readouterr().out)["energy"]
+    for key, value in e.items():
+        shown = text["residual (rel.)" if key == "relative_residual" else key]
+        digits = 3 if key == "relative_residual" else 6  # as printed
+        assert float(shown) == pytest.approx(value, rel=10.0 ** (1 - digits), abs=1e-300)
+    assert text["load_J"] == "0"
+    total = (e["input_J"] - e["damping_J"] + e["normal_on_stator_J"]
+             + e["tangential_on_stator_J"] + e["tangential_on_slider_J"] + e["guide_J"]
+             + e["load_J"])
+    assert total - e["delta_energy_J"] == pytest.approx(e["residual_J"], abs=1e-12)

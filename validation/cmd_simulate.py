@@ -119,7 +119,12 @@ def run(args: argparse.Namespace) -> None:
         print(damping_line(params, damping_from))
         print(coupling_line(coupling, coupling_from))
         if "energy" in summary:
+            # every term of the balance, as --json gives them (the text had shown the
+            # residual alone)
             e = summary["energy"]
+            for key, value in e.items():
+                if key != "relative_residual":
+                    print(f"{'energy ' + key:<30} {value:.6g}")
             print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")
         for f in summary.get("figures", []):
             print(f"wrote {f}")
