@@ -515,6 +515,11 @@ def test_a_plate_wider_than_long_is_refused_before_any_fe_work(capsys, monkeypat
         assert len(err) == 1 and err[0].startswith(
             "lusm modes: error: --width-mm 1000 and --length-mm 1: a 1 x 1000 mm plate is "
             "wider than long")
+        # the length typed alone: the fix is worded after it (review)
+        assert main(["params", "--source", "fem", "--length-mm", "5"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err[-1].startswith("lusm params: error: --length-mm 5: a 5 x 7.5 mm plate")
+        assert "give a --length-mm above the width" in err[-1]
         assert main(["sweep", "--width-mm", "40:60:10", "--refine", "1"]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "--width-mm 40:60:10: no plate of the sweep" in err[0]

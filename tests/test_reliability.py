@@ -969,7 +969,8 @@ def test_an_export_path_ending_in_a_separator_names_a_folder(tmp_path, capsys):
     trailing separator is dropped by pathlib). It is refused before any work, and nothing is
     made."""
     target = tmp_path / "out" / "dd.vtu"
-    assert main(["modes", "--refine", "1", "--export", f"{target}/"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "--export" in err[0] and "is a folder" in err[0]
-    assert not (tmp_path / "out").exists()
+    for tail in ("/", "/."):  # pathlib drops a trailing '.' as well (review)
+        assert main(["modes", "--refine", "1", "--export", f"{target}{tail}"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--export" in err[0] and "is a folder" in err[0]
+        assert not (tmp_path / "out").exists()

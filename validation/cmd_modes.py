@@ -421,7 +421,8 @@ def _export_target(text: str, force: bool):
     check_path_usable(path, "--export")
     # a trailing separator names a folder (Path drops it: dd.vtu/ had been written as the
     # file dd.vtu)
-    if path.is_dir() or text.rstrip().endswith(("/", os.sep)):
+    last = text.rstrip().replace(os.sep, "/").rsplit("/", 1)[-1]
+    if path.is_dir() or last in ("", ".", ".."):  # dd.vtu/. too
         raise LusmError(f"--export {text.strip()} is a folder; name a file such as modes.vtu",
                         "--export")
     for parent in path.parents:

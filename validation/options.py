@@ -596,13 +596,17 @@ def wide_plate_error(exc) -> LusmError:
     """A :class:`fem.modes.WidePlateError` in the options' terms: the options typed (or the
     stator file), the reason, on one line."""
     if typed("--geometry"):
-        return LusmError(f"--geometry: {exc}; make the stator file's [plate] width_mm "
-                         "smaller than its length_mm", "--geometry")
+        # the length is the overall one, a protruding tip included (review)
+        return LusmError(f"--geometry: {exc} (its length the plate's and a protruding "
+                         "tip's); make the stator file's [plate] width_mm smaller than that",
+                         "--geometry")
     dims = [o for o in ("--width-mm", "--length-mm") if typed(o)] or ["--width-mm"]
     values = {"--length-mm": exc.length_m, "--width-mm": exc.width_m}
     named = " and ".join(f"{o} {values[o] * 1e3:g}" for o in dims)
-    return LusmError(f"{named}: {exc}; give a width below the length (about a quarter of "
-                     "it for an L1/B2 pair)", dims[0])
+    fix = {"--width-mm": "give a --width-mm below the length",
+           "--length-mm": "give a --length-mm above the width"}[dims[0]]
+    return LusmError(f"{named}: {exc}; {fix} (a width about a quarter of the length for an "
+                     "L1/B2 pair)", dims[0])
 
 
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
