@@ -204,7 +204,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("sim-duration-zero", ["simulate", "--voltage", "200", "--preload", "14", "--duration", "0"],
      ["--duration"]),
     ("sim-duration-short", ["simulate", "--voltage", "200", "--preload", "14", "--duration",
-                            "1e-4"], ["--duration", "10 drive periods", "got 0.0001 s"]),
+                            "0.000123456789"],
+     ["--duration", "10 drive periods", "got 0.000123456789 s"]),  # as typed, every digit
     ("sim-voltage-1e9", ["simulate", "--voltage", "1e9", "--preload", "14"],
      ["--voltage", "[0, 2000] V"]),
     ("sim-voltage-nan", ["simulate", "--voltage", "nan", "--preload", "14"], ["--voltage"]),

@@ -971,7 +971,8 @@ def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
     periods = duration_s * frequency_Hz
     if periods < 10 * (1 - 1e-12):
         raise LusmError(f"--duration must be >= 10 drive periods = {10 / frequency_Hz:.4g} s "
-                        f"at --frequency {frequency_Hz:g} Hz, got {duration_s:g} s", "--duration")
+                        f"at --frequency {frequency_Hz:g} Hz, got {duration_s!r} s",  # as typed
+                        "--duration")
     steps = check_steps(duration_s, dt_s)
     window = min(steps, 5.0 / (frequency_Hz * dt_s))  # the last 5 periods, every step
     wtop = limits.work_bound(limits.MAX_WINDOW_STEPS)
