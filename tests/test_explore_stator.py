@@ -414,3 +414,34 @@ def test_a_stator_with_a_hole_gets_the_2d_hole_warning_once(tmp_path, monkeypatc
     err = capsys.readouterr().err
     assert err.count("a through hole of 1.2 mm in a 2.5 mm plate") == 1, err
     assert "stopped before the study ran" in err
+
+
+def test_the_study_bound_does_not_mesh_a_plate_its_task_refuses_as_too_wide(monkeypatch):
+    """A corner plate wider than long is refused by its task before any mesh
+    (fem.modes.WidePlateError): the study's FE-work bound does not mesh it to count, even
+    where its estimate lies in the band the others are meshed in (review)."""
+    import fem.parametric
+    import validation.study
+    from fem.parametric import estimated_elements
+    from fem.stator_file import load_stator
+
+    base = load_stator(TUNED).stator
+    made = fem.parametric._cached_mesh
+    meshed = []
+
+    def record(stator):
+        meshed.append((stator.length_m, stator.width_m))
+        assert stator.width_m <= stator.overall_length_m, "a plate wider than long was meshed"
+        return made(stator)
+
+    monkeypatch.setattr(fem.parametric, "_cached_mesh", record)
+    from dataclasses import replace
+
+    largest = estimated_elements(replace(base, length_m=30e-3, width_m=28e-3))
+    # the band where every corner is meshed to count: 4 plates x its estimate, below 6.5 x
+    monkeypatch.setattr(validation.study, "MAX_STUDY_FE_WORK", 4 * 2 * largest)
+    doc = {"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
+           "axes": {"length": ["26 mm", "30 mm"], "width": ["6.6025 mm", "28 mm"]}}
+    study_from_dict(doc)
+    assert (30e-3, 28e-3) in meshed  # narrower than long: counted
+    assert not any(w > length for length, w in meshed)
