@@ -105,6 +105,13 @@ failed its identification (30 x 16 mm is the widest paper-length plate that pass
 widest took long to fail (1 x 1000 mm: 40 s of solves). A square plate is kept as the margin."""
 
 
+def wider_than_long(stator) -> bool:
+    """Whether ``stator`` (anything with ``width_m`` and a length, a protruding tip counted)
+    is wider than :data:`MAX_WIDTH_OVER_LENGTH` times its length: refused before any solve
+    (:func:`check_b2_in_reach`)."""
+    return float(stator.width_m) > MAX_WIDTH_OVER_LENGTH * overall_length_m(stator)
+
+
 def modes_nearer_than_b2(slenderness: float) -> int:
     """In-plane modes of a free-free bar ``slenderness`` = length / width times longer than
     wide whose eigenvalue lies nearer the solver's shift than B2's, by beam theory (-).
@@ -176,7 +183,7 @@ def check_b2_in_reach(stator, n_modes: int = N_MODES) -> None:
 
     length, width = overall_length_m(stator), float(stator.width_m)
     slender = length / width
-    if width > MAX_WIDTH_OVER_LENGTH * length:
+    if wider_than_long(stator):
         raise WidePlateError(
             f"a {length * 1e3:g} x {width * 1e3:g} mm plate is wider than long: L1 and B2 are "
             "identified along its length as the free-free beam modes of Eq. 3, which a plate "

@@ -109,6 +109,7 @@ def _slender_clause(stator) -> str | None:
     A fixed length / width of 17 had stood for this: plates of 30 to 300 x 1 mm solve and
     give their pair, and one of them failing for another reason would have been told that
     its B2 lay beyond the modes solved."""
+    from fem.beam_shapes import bending_over_rod_frequency
     from fem.meshed_stator import overall_length_m
     from fem.modes import N_MODES, SEARCH_GROWTH, modes_nearer_than_b2
 
@@ -122,7 +123,7 @@ def _slender_clause(stator) -> str | None:
     nearer = modes_nearer_than_b2(length / width)
     if nearer < searched - 1:
         return None
-    ratio = math.pi * math.sqrt(12.0) * length / (7.8532**2 * width)
+    ratio = 1.0 / bending_over_rod_frequency(2, length / width)
     return (f"a {length * 1e3:g} x {width * 1e3:g} mm plate is {length / width:.4g} times "
             f"longer than wide, and free-free beam theory puts its B2 near 1/{ratio:.3g} of "
             f"L1's frequency, with about {nearer} in-plane modes nearer L1 than B2, at the "
@@ -157,14 +158,10 @@ def fe_failure(exc: Exception, stator=None) -> ValueError:
     when given, lets a slender plate's message say why B2 is missing)."""
     from fem.modes import SlenderPlateError, WidePlateError
 
-    if isinstance(exc, SlenderPlateError):  # refused before its solve (a tuning's, a sweep's)
-        from validation.options import slender_plate_error
+    if isinstance(exc, SlenderPlateError | WidePlateError):  # refused before its solve
+        from validation.options import plate_refusal
 
-        return slender_plate_error(exc)
-    if isinstance(exc, WidePlateError):
-        from validation.options import wide_plate_error
-
-        return wide_plate_error(exc)
+        return plate_refusal(exc)
     reason = short_reason(exc)
     # mode-shape tests, which no --refine changes (pairing an off-centre hole's open-circuit
     # L1 with its short-circuit shape failed as "check ... and --refine")

@@ -586,10 +586,18 @@ def check_b2_in_reach(stator) -> None:
 
     try:
         check(stator)
-    except SlenderPlateError as exc:
-        raise slender_plate_error(exc) from None
-    except WidePlateError as exc:
-        raise wide_plate_error(exc) from None
+    except (SlenderPlateError, WidePlateError) as exc:
+        raise plate_refusal(exc) from None
+
+
+def plate_refusal(exc) -> LusmError:
+    """A plate refused before its solve (:class:`fem.modes.SlenderPlateError` or
+    :class:`fem.modes.WidePlateError`, by :func:`fem.modes.check_b2_in_reach`) in the
+    options' terms, on one line."""
+    from fem.modes import SlenderPlateError
+
+    return slender_plate_error(exc) if isinstance(exc, SlenderPlateError) \
+        else wide_plate_error(exc)
 
 
 def wide_plate_error(exc) -> LusmError:

@@ -749,8 +749,8 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     default mesh (a 1000 mm long plate at 0.067 mm had been meshed for 29 s and 564 MB only to
     be refused). One with its own mesh file is the file's, whatever the axes."""
     from fem.geometry import PlateStator
-    from fem.meshed_stator import MeshedStator, overall_length_m
-    from fem.modes import MAX_WIDTH_OVER_LENGTH
+    from fem.meshed_stator import MeshedStator
+    from fem.modes import wider_than_long
     from fem.parametric import ESTIMATE_LOW_FACTOR, ParametricStator, estimated_elements
     from validation.options import fe_cell_count
 
@@ -782,8 +782,7 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     # unless the plate is wider than long, which its task refuses before any mesh
     # (fem.modes.WidePlateError; review: it had been meshed here only to count)
     return max((fe_cell_count(plate, None), length, width, False)
-               if bound < ESTIMATE_LOW_FACTOR * est[0]
-               and plate.width_m <= MAX_WIDTH_OVER_LENGTH * overall_length_m(plate) else est
+               if bound < ESTIMATE_LOW_FACTOR * est[0] and not wider_than_long(plate) else est
                for est, (length, width, plate) in zip(estimates, corners, strict=True))
 
 
