@@ -1174,28 +1174,12 @@ def _gain_at_twice_an(voltage_V: float, duration_s: float | None) -> float:
 
 
 @cache
-def _char_450_40():
-    """The exact characteristic at 450 V / 40 N: its stall force and the averaged one."""
-    from contact.characteristic import characteristic
-    from rom import table2
-
-    return characteristic(table2(), 450, 40)
-
-
-@cache
 def _no_preload():
     """The branch from rest at 200 V without preload (exact level)."""
     from contact.steady import steady_state
     from rom import table2
 
     return steady_state(table2(), 200, 0, accuracy="exact").from_rest
-
-
-def _no_preload_stall() -> float:
-    from contact.characteristic import characteristic
-    from rom import table2
-
-    return characteristic(table2(), 200, 0).stall_force_N
 
 
 def _max_slenderness() -> float:
@@ -1560,10 +1544,10 @@ def _steady_claims() -> tuple[Claim, ...]:
               lambda: _steady_400_loaded().mean_FT_N, cheap=True, rel_tol=1e-7),
         Claim("steady_char_450V_40N_stall_N", "N",
               "lusm characteristic --voltage 450 --preload 40 --json (stall_force_N)",
-              lambda: _char_450_40().stall_force_N),
+              lambda: _char_exact(450.0, 40.0).stall_force_N),
         Claim("steady_char_450V_40N_averaged_stall_N", "N",
               "lusm characteristic --voltage 450 --preload 40 --json (averaged_stall_force_N)",
-              lambda: _char_450_40().averaged_stall_force_N),
+              lambda: _char_exact(450.0, 40.0).averaged_stall_force_N),
         Claim("contact_no_preload_200V_m_s", "m/s",
               "lusm simulate --voltage 200 --preload 0 --steady --json (steady_velocity_m_s)",
               lambda: _no_preload().velocity_m_s, cheap=True, rel_tol=1e-7),
@@ -1576,7 +1560,7 @@ def _steady_claims() -> tuple[Claim, ...]:
               rel_tol=1e-6),
         Claim("contact_no_preload_200V_stall_N", "N",
               "lusm characteristic --voltage 200 --preload 0 --json (stall_force_N)",
-              lambda: _no_preload_stall()),
+              lambda: _char_exact(200.0, 0.0).stall_force_N),
         Claim("fem_max_slenderness", "-",
               "python -c 'from fem.modes import max_slenderness; print(max_slenderness(32))' "
               "(length / width whose B2 beam theory puts within the 32 modes searched)",
