@@ -36,6 +36,14 @@ CREEP_SHARE = 1e-3
 """Relative excess of the exact stall force over the averaged one below which no creep band
 is reported (:attr:`Characteristic.creep_from_N`)."""
 
+CREEP_RIPPLES = 2.0
+"""A slider creeps (-) where its mean velocity from rest is below this many velocity-ripple
+scales (:func:`contact.steady.ripple_scale`; the orbit's peak-to-peak ripple is about three
+of them at Table 2's 200 V / 14 N): it then stops, or nearly stops, within every drive period.
+The creep band's loads are those (:attr:`Characteristic.creep_from_N`); the largest creep on
+Table 2's curves is 1.3 scales (200 V / 14 N), the slowest thrust beside a creep band 3.7
+(the tuned 60 kHz stator at 140 V / 14 N, ``examples/tuned_60k``)."""
+
 
 @dataclass(frozen=True, eq=False)
 class Characteristic(FrozenArrays):
@@ -79,6 +87,21 @@ class Characteristic(FrozenArrays):
         level. At the exact level it usually lies below the exact one, where a creep band
         begins (:attr:`creep_from_N`); it can also lie above it (Table 2's set at 450 V /
         40 N: the full model stalls at 2.73 N, the averaged one at 3.16 N).
+    creep_from_N : float
+        Where the exact level's creep band begins (N), or NaN where there is none: from it
+        up to the stall force the finite slider creeps, slower than :data:`CREEP_RIPPLES`
+        velocity-ripple scales, its ripple breaking the guide's ideal Coulomb stiction every
+        period; a real guide's pre-sliding stiffness, which the model does not have, may hold
+        it there (``docs/steady.md``). Usually the averaged stall force, beyond which the
+        averaged slider is held (checked: the velocity from rest there and at the curve's
+        loads in the band is a creep). Where the band holds faster thrust, the averaging
+        followed another sheet than the start from rest (the tuned 60 kHz stator at 140 V /
+        14 N: averaged stall 0.469 N, 2.9e-3 m/s at 0.50 N; it had been printed as a creep),
+        and the band begins at the first load of the curve's last run of creeping loads
+        before the stall (grid-dependent: the curve's resolution). 0 where the whole curve
+        creeps (the no-load velocity is a creep, or the averaged slider is held without
+        load). NaN at the fast level, where the exact stall force is the smaller (the full
+        model stalls first) or of the other sign, or where no load before the stall creeps.
     """
 
     op: OperatingPoint
@@ -94,26 +117,7 @@ class Characteristic(FrozenArrays):
     wall_time_s: float
     orbits: int
     averaged_stall_force_N: float = math.nan
-
-    @property
-    def creep_from_N(self) -> float:
-        """Where the exact level's creep band begins (N), or NaN where there is none.
-
-        Between the averaged stall force and a larger exact one (same sign) the finite
-        slider creeps at a small fraction of its no-load speed, its velocity ripple breaking
-        the guide's ideal Coulomb stiction every period; a real guide's pre-sliding
-        stiffness, which the model does not have, may hold it there (``docs/steady.md``).
-        NaN at the fast level, where the two coincide, or where the exact stall force is the
-        smaller (the full model stalls first) or of the other sign. 0 where the averaged
-        slider is held without load (averaged stall force 0) and the finite one moves: the
-        whole curve is a creep (the beam set at 200 V / 14 N and its own frequency, -5.7e-5
-        m/s at no load; it had been NaN, and no line said so).
-        """
-        lo, hi = self.averaged_stall_force_N, self.stall_force_N
-        if (self.accuracy != "exact" or not (math.isfinite(lo) and math.isfinite(hi))
-                or lo * hi < 0.0 or abs(hi) <= abs(lo) * (1.0 + CREEP_SHARE)):
-            return math.nan
-        return float(lo)
+    creep_from_N: float = math.nan
 
     def to_dict(self) -> dict:
         """The fields of ``lusm characteristic --json``, as Python floats: NaN stays NaN
@@ -274,9 +278,19 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
     eff = motor_efficiency(p_in_a, p_out_a)  # it came out below 0 under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))
+    creep_from = math.nan
+    if accuracy == "exact" and abs(v0) > HELD_M_S and math.isfinite(stall):
+        def velocity(load: float) -> float:
+            return from_rest(float(load))[0]
+
+        # the curve's loads are evaluated already: both look-ups cost no solve of their own
+        # but a refined stall's bisection and the velocity at the averaged stall
+        stall = _first_stop(velocity, v0, loads, stall)
+        creep_from = _creep_start(velocity, v0, loads, averaged, stall,
+                                  CREEP_RIPPLES * sp.v_floor_m_s)
     return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0,
-                          len(sp.cache) + exact_orbits[0], float(averaged))
+                          len(sp.cache) + exact_orbits[0], float(averaged), float(creep_from))
 
 
 def _stall_force(sp) -> float:
@@ -310,13 +324,7 @@ def _full_model_stall_force(velocity, v0: float, averaged: float,
     if not abs(v0) > HELD_M_S:
         return 0.0
     s = math.copysign(1.0, v0)
-
-    def moving(load: float) -> float:
-        # > 0 while the slider still moves the way it is driven; held, reversed or run
-        # away: < 0 (held as a small negative, so that the held band's lower end is a root)
-        v = s * velocity(load)
-        return v if v > HELD_M_S else (min(v, -HELD_M_S) if math.isfinite(v) else -1.0)
-
+    moving = _moving(velocity, s)
     lo, hi = 0.0, averaged
     if averaged == 0.0 or moving(averaged) > 0:
         # the averaging stops the slider too early: search up to where its motion reverses
@@ -331,6 +339,66 @@ def _full_model_stall_force(velocity, v0: float, averaged: float,
         else:
             return math.nan
     return float(brentq(moving, lo, hi, xtol=1e-12, rtol=STALL_RTOL))
+
+
+def _moving(velocity, s: float):
+    """``moving(load)``: > 0 while the slider still moves the way (sign ``s``) it is driven
+    without load; held, reversed or run away: < 0 (held as a small negative, so that a held
+    band's lower end is a root)."""
+    def moving(load: float) -> float:
+        v = s * velocity(load)
+        return v if v > HELD_M_S else (min(v, -HELD_M_S) if math.isfinite(v) else -1.0)
+
+    return moving
+
+
+def _before(loads, s: float, stall: float) -> list[float]:
+    """The loads (N) from 0 (included) up to the stall force (excluded) in the direction
+    ``s`` the motor drives the slider, in that order."""
+    return sorted({float(f) for f in loads if 0.0 <= s * f < s * stall}, key=lambda f: s * f)
+
+
+def _first_stop(velocity, v0: float, loads, stall: float) -> float:
+    """The stall force refined to the first load of the curve under which the slider no
+    longer moves the way it is driven, if that comes before ``stall`` (N).
+
+    ``brentq`` finds *a* zero crossing of the velocity from rest in its bracket, not the
+    first: where the velocity is not monotone in the load (branches from rest that change
+    with it) the curve could show the slider stopped or reversed below the stall force it
+    printed (the tuned 40 kHz stator at 100 V / 14 N: -1.1e-5 m/s at 0.299 N, "stall force
+    0.4605 N"; exploratory testing). The first such load and the moving one before it
+    bracket the crossing found here. Crossings between the curve's loads are not seen: the
+    stall force is the first crossing at the curve's resolution."""
+    s = math.copysign(1.0, v0)
+    moving = _moving(velocity, s)
+    previous = 0.0
+    for load in _before(loads, s, stall):
+        if moving(load) <= 0.0:
+            return float(brentq(moving, previous, load, xtol=1e-12, rtol=STALL_RTOL))
+        previous = load
+    return stall
+
+
+def _creep_start(velocity, v0: float, loads, averaged: float, stall: float,
+                 creep_m_s: float) -> float:
+    """:attr:`Characteristic.creep_from_N` (N): where the slider starts to creep below
+    ``creep_m_s`` (m/s) on its way to the stall force, or NaN."""
+    def creeps(load: float) -> bool:
+        return abs(velocity(load)) < creep_m_s  # False for a run-away (NaN)
+
+    if abs(v0) < creep_m_s:  # the whole curve creeps
+        return 0.0
+    s = math.copysign(1.0, v0)
+    before = _before(loads, s, stall)
+    band = averaged * stall >= 0.0 and abs(stall) > abs(averaged) * (1.0 + CREEP_SHARE)
+    if band and creeps(averaged) and all(creeps(f) for f in before if s * f >= s * averaged):
+        return float(averaged)  # the averaged slider is held from here: a grid-free start
+    run = math.nan  # else the curve's last run of creeping loads before the stall
+    for load in reversed(before):
+        if not creeps(load):
+            break
+        run = load
+    return float(run)
 
 
 def averaging_doubt(params: MotorParams, char: Characteristic, *, coupling: str = "auto",

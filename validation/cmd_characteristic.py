@@ -176,7 +176,14 @@ def _creep_line(char) -> str | None:
               if min(lo, hi) <= f <= max(lo, hi) and math.isfinite(v)]  # ends included:
     # at an averaged stall of 0 the no-load point is the band's fastest creep
     speed = (f", at most {max(inside):.3g} m/s on this curve" if inside else "")
-    return (f"{lo:.6g} (the averaged stall: up to the stall force the slider creeps{speed}, "
+    if lo == char.averaged_stall_force_N:
+        where = "the averaged stall: up to the stall force"
+    elif lo == 0.0:
+        where = "the whole curve: up to the stall force"
+    else:  # the averaging followed another sheet: the band is read off the curve's loads
+        where = (f"the curve's first load of it, the averaged stall "
+                 f"{char.averaged_stall_force_N:.4g} N being another branch's: from it on")
+    return (f"{lo:.6g} ({where} the slider creeps{speed}, "
             "its velocity ripple breaking the guide's ideal stiction; docs/steady.md)")
 
 

@@ -1685,6 +1685,18 @@ def _creep_max_m_s() -> float:
                if lo < f < hi)
 
 
+@cache
+def _char_designer(name: str, voltage_V: float):
+    """``lusm characteristic --geometry examples/<name>/stator.toml --voltage V --preload 14
+    --frequency auto`` (exact level, default loads)."""
+    from contact.characteristic import characteristic
+    from contact.drive import auto_frequency
+    from rom.from_fem import fem_params_from_file
+
+    p = fem_params_from_file(ROOT / "examples" / name / "stator.toml")
+    return characteristic(p, voltage_V, 14.0, frequency_Hz=auto_frequency(p))
+
+
 def _char_30khz_constant_to_N() -> float:
     """The largest load (N) up to which the fast level's default curve at 200 V / 14 N /
     30 kHz keeps its no-load velocity (to 1e-6 relative) at every load."""
@@ -1870,6 +1882,21 @@ def _steady_input_claims() -> tuple[Claim, ...]:
               "lusm characteristic --voltage 200 --preload 14 --frequency 30000 --accuracy "
               "fast (the largest load up to which every row keeps the no-load velocity)",
               _char_30khz_constant_to_N, cheap=True, rel_tol=1e-6),
+        Claim("char_tuned60k_140V_14N_creep_from_N", "N", _CHAR_T60 + " (creep_from_N)",
+              lambda: _char_designer("tuned_60k", 140.0).creep_from_N, cheap=True,
+              rel_tol=1e-6),
+        Claim("char_tuned60k_140V_14N_averaged_stall_N", "N",
+              _CHAR_T60 + " (averaged_stall_force_N)",
+              lambda: _char_designer("tuned_60k", 140.0).averaged_stall_force_N, cheap=True,
+              rel_tol=1e-6),
+        Claim("char_tuned60k_140V_14N_stall_N", "N", _CHAR_T60 + " (stall_force_N)",
+              lambda: _char_designer("tuned_60k", 140.0).stall_force_N, cheap=True,
+              rel_tol=1e-6),
+        Claim("char_tuned40k_100V_14N_stall_N", "N",
+              _CHAR_T60.replace("tuned_60k", "tuned_40k").replace("140", "100")
+              + " (stall_force_N)",
+              lambda: _char_designer("tuned_40k", 100.0).stall_force_N, cheap=True,
+              rel_tol=1e-6),
         Claim("steady_undriven_14N_break_free_N", "N",
               _SHOW.format("steady_undriven_14N_break_free_N") + " (the smallest load, to "
               "1e-4 N, at which lusm simulate --voltage 0 --preload 14 --load-N L --duration "
@@ -2413,6 +2440,8 @@ def _fem_char_400V_14N(accuracy: str):
 
 _SHOW = "python -m validation.doc_numbers --show {}"
 _FEM_STEADY = "lusm simulate --source fem --voltage 300 --preload 14 --steady --frequency {}"
+_CHAR_T60 = ("lusm characteristic --geometry examples/tuned_60k/stator.toml --voltage 140 "
+             "--preload 14 --frequency auto --json")
 _T60 = ("lusm simulate --geometry examples/tuned_60k/stator.toml --voltage 140 --preload 14 "
         "--frequency auto --steady --json")
 _CAP = ("python -c 'from fem.model import plate_model; "
