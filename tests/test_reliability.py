@@ -949,6 +949,27 @@ def test_a_ctrl_c_after_the_command_is_done_is_ignored():
     assert run.returncode == 0 and run.stdout.strip().splitlines()[-1] == "True"
 
 
+@pytest.mark.parametrize("argv", [["params", "--json"], ["simulate", "--voltage", "-1"]])
+def test_a_sigterm_after_the_command_has_ended_keeps_its_exit_code(argv):
+    """A SIGTERM landing after the command had moved its output in and printed its last
+    line killed the process with exit 143 and no word (3 of 30 late SIGTERMs to lusm
+    simulate --plot; exploratory testing): the command's end is said, and its exit code
+    (0 done, 2 refused) stays. Here the signal is sent after main() returned, where the
+    interpreter's shutdown would run."""
+    code = ("import os, signal, sys\n"
+            "from validation.cli import main\n"
+            f"sys.argv = ['lusm', *{argv!r}]\n"
+            "rc = main()\n"
+            "os.kill(os.getpid(), signal.SIGTERM)\n"
+            "print('still here')\n"
+            "sys.exit(rc)\n")
+    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, timeout=120)
+    expected = 0 if argv[0] == "params" else 2
+    assert run.returncode == expected, run.stderr
+    assert run.stdout.strip().splitlines()[-1] == "still here"
+
+
 def test_unreadable_inputs_are_named_as_such(tmp_path, capsys):
     # a dangling study link said "cannot use dangling: No such file or directory"; a
     # non-UTF-8 --params file quoted Python's codec message

@@ -120,17 +120,21 @@ def main(argv: Sequence[str] | None = None) -> int:
         # the command is done: a Ctrl-C during the interpreter's shutdown printed a
         # KeyboardInterrupt traceback from threading._shutdown or an atexit hook (lusm
         # modes, lusm render right after their last line) and still exited 0
-        _ignore_further_ctrl_c()
+        _ignore_further_signals()
     return code
 
 
-def _ignore_further_ctrl_c() -> None:
-    """Ignore SIGINT from here to the process's exit. After "interrupted" only the clean-up
-    runs (closing explore's cluster at exit); a second Ctrl-C there printed two tracebacks
-    from ``threading._shutdown`` and the ``close_clusters`` exit hook."""
+def _ignore_further_signals() -> None:
+    """Ignore SIGINT and SIGTERM from here to the process's exit: the command has said how
+    it ended (its last line, its exit code) and only the clean-up runs (closing explore's
+    cluster at exit). A second Ctrl-C there printed two tracebacks from
+    ``threading._shutdown`` and the ``close_clusters`` exit hook; a SIGTERM there, after
+    the output set was moved in and the last line printed, killed the process with exit
+    143 and no word (exploratory testing: 3 of 30 late SIGTERMs)."""
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
 
 
 def _main(argv: Sequence[str] | None) -> int:
@@ -224,8 +228,6 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
             interrupts.checkpoint()  # a signal Python had to swallow still ends the command
     except (KeyboardInterrupt, interrupts.Terminated):
         _say(f"{prog}: interrupted")
-        if argv is None:  # a console-script process: its clean-up is all that is left
-            _ignore_further_ctrl_c()
         return 130
     except BrokenPipeError:  # the reader left (``lusm params | head``): stop quietly, as
         # the Python docs advise, so that flushing stdout at exit does not fail again
@@ -246,7 +248,9 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
              f"(run with {DEBUG_ENV}=1 for the traceback)")
         return 1
     finally:
-        if argv is None:
+        if argv is None:  # a console-script process: its clean-up is all that is left,
+            # from the moment the command's own handlers are gone
+            _ignore_further_signals()
             from validation import fast_start
 
             fast_start.finish_process()
