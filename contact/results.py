@@ -172,7 +172,7 @@ class SchemeOutput:
     window: Trace | None
     energy: EnergyBalance | None
     steps: int
-    events: int
+    events: int | None
     nfev: int
 
 

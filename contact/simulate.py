@@ -235,8 +235,9 @@ class SimulationResult:
     steps : int
         Steps taken: fixed steps (``event``, ``literal``; the pre-pass excluded) or accepted
         adaptive steps (``reference``).
-    events : int
-        Mode switches: located (``event``, ``reference``) or between steps (``literal``).
+    events : int or None
+        Mode switches: located (``event``, ``reference``) or between steps (``literal``);
+        None for ``steady``, which counts none.
     nfev : int
         Flow evaluations: propagator products plus exact-flow evaluations spent locating
         events (``event``), right-hand-side evaluations (``reference``, ``literal``).
@@ -255,7 +256,7 @@ class SimulationResult:
     steady: SteadyState
     energy: EnergyBalance | None
     steps: int
-    events: int
+    events: int | None
     nfev: int
     wall_time_s: float
 

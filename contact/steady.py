@@ -1202,7 +1202,9 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     Returns a :class:`contact.results.SchemeOutput` for the branch reached from rest at the
     ``"exact"`` level (``op.load_N`` applied; ``opts.coupling`` honoured). Traces, tip extrema
     and the energy balance are not produced (None / NaN); ``steps`` and ``nfev`` count the
-    drive periods simulated times the steps per period.
+    drive periods simulated times the steps per period; ``events`` is None: the engine
+    shoots orbits and counts no mode switches (it had read 0, as if a stick-slip orbit
+    switched never).
     """
     from contact.results import SchemeOutput
 
@@ -1226,4 +1228,4 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
         velocity_m_s=float(v_rest), previous_velocity_m_s=previous,
         phase_time=np.asarray(frac, dtype=float) * window.window_s, y_tip_min_m=math.nan,
         y_tip_max_m=math.nan, trace=None, window=None, energy=None, steps=int(steps),
-        events=0, nfev=int(steps))
+        events=None, nfev=int(steps))

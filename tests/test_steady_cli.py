@@ -188,8 +188,10 @@ def test_simulate_steady_reports_no_run_length_it_did_not_use(capsys):
     d = json.loads(capsys.readouterr().out)
     assert d["method"] == "steady" and d["duration_s"] is None and d["dt_s"] is None
     # nor windows or tip extremes it has not: they had read "y_tip_min_m nan" and the
-    # default run's window, 0.000125 s, as if measured
-    unused = ("previous_window_velocity_m_s", "y_tip_min_m", "steady_window_s")
+    # default run's window, 0.000125 s, as if measured; nor a switch count: 200 V / 14 N is
+    # stick-slip, and "events 0" said its orbit never switched
+    assert d["motion"] == "stick-slip"
+    unused = ("previous_window_velocity_m_s", "y_tip_min_m", "steady_window_s", "events")
     assert all(d[k] is None for k in unused) and d["settled"] is True
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady"]) == 0
     out = capsys.readouterr().out

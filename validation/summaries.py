@@ -63,8 +63,8 @@ def coupling_line(coupling: str, why: str) -> str:
 
 def simulation_summary(r: SimulationResult) -> dict:
     """JSON-ready summary of one contact run (SI units in the keys; ``None`` where the
-    method has no such value: the steady engine's run length, step, windows and tip
-    extremes)."""
+    method has no such value: the steady engine's run length, step, windows, tip extremes
+    and mode switches)."""
     from contact.model import normal_force_zero_tip_displacement
 
     s = r.steady
