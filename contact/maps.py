@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.model import OperatingPoint, check_rest
-from contact.results import MOTION_CLASSES, PHASE_THRESHOLD, FrozenArrays, classify_motion
+from contact.results import MOTION_CLASSES, FrozenArrays
 from contact.simulate import SimulationOptions, options_or_default, simulate
 from rom.params import MotorParams, require_params
 
@@ -51,7 +51,8 @@ class StickSlipMap(FrozenArrays):
         ``"transient"`` or ``"steady"``.
     branches : ndarray of object
         ``"steady"``: per point, a tuple of every stable steady state as
-        ``(velocity_m_s, k, motion, from_rest)``; ``"transient"``: empty tuples.
+        ``(velocity_m_s, k, motion, from_rest, held)`` (:func:`branch_row`); ``"transient"``:
+        empty tuples.
     fallback : ndarray of bool
         ``"steady"``: the points the engine could not decide (the branch reached from rest has
         no periodic tip orbit of period <= 4 outside the dead zone: creep), whose values come
@@ -106,8 +107,7 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
                      coupling=opts.coupling, ultrasonic_friction=opts.ultrasonic_friction,
                      accuracy=accuracy, energy=False, rest=rest)  # a map shows no powers
     b = r.from_rest
-    stable = tuple((float(x.velocity_m_s), int(x.k), x.motion, bool(x.from_rest))
-                   for x in r.branches if x.stable)
+    stable = tuple(branch_row(x) for x in r.branches if x.stable)
     decided = bool(np.isfinite(r.velocity_m_s) and (b.k > 0 or b.motion == "dead-zone"))
     if not decided:
         # within the drive period's limits whatever the map's options (the steady map does
@@ -123,9 +123,26 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
     # a dead zone's orbit is the held slider's: the tip stuck to it, or with no preload and
     # no drive never pressing on it (separated, as the transient says)
     frac = b.phase_fraction
-    motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
-    return (motion, float(r.velocity_m_s), float(frac[0]), float(frac[3]), r.mu_d_eff, True,
-            stable, False)
+    return (b.tip_motion, float(r.velocity_m_s), float(frac[0]), float(frac[3]), r.mu_d_eff,
+            True, stable, False)
+
+
+def branch_row(b) -> tuple[float, int, str, bool, bool]:
+    """One steady state as a map point lists it: ``(velocity_m_s, k, motion, from_rest,
+    held)``.
+
+    Parameters
+    ----------
+    b : contact.steady.SteadyBranch
+
+    Returns
+    -------
+    tuple
+        ``motion`` is :attr:`~contact.steady.SteadyBranch.tip_motion`, the point's own
+        vocabulary (a held slider's branch is ``"pure-stick"`` as its point is; it had said
+        ``"dead-zone"``), and ``held`` whether the slider is held (the dead zone).
+    """
+    return (float(b.velocity_m_s), int(b.k), b.tip_motion, bool(b.from_rest), bool(b.held))
 
 
 def stick_slip_map(

@@ -220,6 +220,22 @@ class SteadyBranch:
     velocity_error_m_s: float = 0.0
 
     @property
+    def held(self) -> bool:
+        """Whether the slider is held: the dead zone, velocity 0."""
+        return self.motion == "dead-zone"
+
+    @property
+    def tip_motion(self) -> str:
+        """Motion class of the orbit's phase fractions alone
+        (:data:`contact.results.MOTION_CLASSES`), the vocabulary of transients, of
+        ``lusm map``'s points and of ``lusm simulate``: equal to :attr:`motion` except for
+        the dead zone, whose held slider's tip sticks to it (``"pure-stick"``; ``"separated"``
+        with no preload and no drive). A map's branches had said ``"dead-zone"`` where its
+        point said ``"pure-stick"`` for the same state."""
+        f = self.phase_fraction
+        return classify_motion(f[0], f[1] + f[2], f[3], PHASE_THRESHOLD)
+
+    @property
     def irregular(self) -> bool:
         """A moving motion that repeats with no short period (``k = 0``, not the dead zone):
         its velocity is a long-time mean (:attr:`velocity_error_m_s`), not an orbit's."""

@@ -52,6 +52,27 @@ def test_map_json_keeps_its_keys_and_adds_branches(capsys):
     assert d["branches"][1][0][0]["from_rest"] is True
 
 
+def test_a_held_points_branch_speaks_the_points_vocabulary(steady_map, capsys):
+    """100 V / 14 N holds the slider: the point's motion is pure-stick (as a transient's),
+    and its branch had said "dead-zone" in the same JSON (found by exploratory testing); the
+    branch now says pure-stick too, and ``held`` says the slider is held."""
+    from validation.cli import main
+
+    i, j = 0, 1
+    assert steady_map.motion[i, j] == "pure-stick"
+    (row,) = steady_map.branches[i, j]
+    assert row[2] == "pure-stick" and row[4] is True and row[0] == 0.0
+    moving = steady_map.branches[2, 1]  # 200 V / 14 N: stick-slip, not held
+    assert [(b[2], b[4]) for b in moving] == [("stick-slip", False)]
+    assert main(["map", "--voltages", "100,200", "--preloads", "14", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    held, moves = d["branches"][0][0], d["branches"][1][0]
+    assert d["motion"] == [["pure-stick"], ["stick-slip"]]
+    assert held == [{"velocity_m_s": 0.0, "k": 1, "motion": "pure-stick", "from_rest": True,
+                     "held": True}]
+    assert [(b["motion"], b["held"]) for b in moves] == [("stick-slip", False)]
+
+
 def test_creep_point_is_decided_on_the_full_model(steady_map):
     # 100 V / 10 N: the slider creeps below its velocity ripple, stopping and starting inside
     # every period, on a slider-tip orbit of ten periods; no transient fallback is needed

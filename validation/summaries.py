@@ -127,12 +127,34 @@ def map_summary(m: StickSlipMap) -> dict:
         "method": m.method,
     }
     if m.method == "steady":
-        d["branches"] = [[[{"velocity_m_s": b[0], "k": b[1], "motion": b[2], "from_rest": b[3]}
-                           for b in m.branches[i, j]] for j in range(m.preloads_N.size)]
+        d["branches"] = [[[branch_summary(b) for b in m.branches[i, j]]
+                          for j in range(m.preloads_N.size)]
                          for i in range(m.voltages_V.size)]
         d["undecided"] = [[float(m.voltages_V[i]), float(m.preloads_N[j])]
                           for i, j in zip(*np.nonzero(m.fallback), strict=True)]
     return d
+
+
+def branch_summary(row: tuple) -> dict:
+    """One stable steady state as ``lusm map --json`` and ``lusm simulate --steady --json``
+    write it.
+
+    Parameters
+    ----------
+    row : tuple
+        ``(velocity_m_s, k, motion, from_rest, held)``, :func:`contact.maps.branch_row`.
+
+    Returns
+    -------
+    dict
+        ``velocity_m_s`` (m/s), ``k`` (period multiplicity), ``motion`` (the motion class of
+        the point's own ``motion``: ``"pure-stick"`` for a held slider, whose branch had said
+        ``"dead-zone"``), ``from_rest`` (whether a start from rest reaches it) and ``held``
+        (the slider held: the dead zone).
+    """
+    velocity, k, motion, from_rest, held = row
+    return {"velocity_m_s": velocity, "k": k, "motion": motion, "from_rest": from_rest,
+            "held": held}
 
 
 def signed_percent(x: float, decimals: int) -> str:
