@@ -153,3 +153,21 @@ def test_an_undecided_points_transient_is_said_at_its_length(capsys):
     v = json.loads(capsys.readouterr().out)["steady_velocity_m_s"][0][0]
     ref = simulate(table2(), 20.0, 2.0, duration_s=2.0).steady.velocity_m_s
     assert v == pytest.approx(ref, rel=1e-12)
+
+
+def test_map_json_lists_its_figures_as_the_other_commands_do(tmp_path, capsys):
+    """simulate and characteristic write "figures" (a list); map wrote "figure" (a string)
+    alone. It writes both now, "figure" kept for compatibility, and the text names the file."""
+    from pathlib import Path
+
+    from validation.cli import main
+
+    out = tmp_path / "maps"
+    assert main(["map", "--voltages", "200", "--preloads", "14", "--plot", str(out),
+                 "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["figures"] == [d["figure"]] and Path(d["figure"]).is_file()
+    assert Path(d["figure"]).parent == out
+    assert main(["map", "--voltages", "200", "--preloads", "14", "--plot", str(out),
+                 "--force"]) == 0
+    assert f"wrote {d['figure']}" in capsys.readouterr().out

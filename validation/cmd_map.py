@@ -158,7 +158,10 @@ def run(args: argparse.Namespace) -> None:
                    + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
             png = plot_map(m, stage / name,
                            f"{set_label(params.source)}, {freq / 1e3:.4g} kHz, {how}")
-            summary["figure"] = moved([png], stage, plot)[0]
+            # "figures", a list, as simulate and characteristic write it; "figure", the
+            # map's one path, kept for the scripts that read it
+            summary["figures"] = moved([png], stage, plot)
+            summary["figure"] = summary["figures"][0]
     if args.json:
         print_json(summary, indent=2)
         return
@@ -196,5 +199,5 @@ def run(args: argparse.Namespace) -> None:
             print(f"undecided by the steady engine (creep, no periodic tip orbit): {undecided} "
                   f"point(s), taken from {fallback_duration_s(args.duration, freq):g} s "
                   "transients (see --json)")
-    if "figure" in summary:
-        print(f"wrote {summary['figure']}")
+    for f in summary.get("figures", []):
+        print(f"wrote {f}")
