@@ -160,7 +160,10 @@ class SchemeOutput:
     ``phase_time`` is the time (s, or steps) spent in [stick, slip with v_rel > 0, slip with
     v_rel < 0, separation] over the steady-state window; the other fields are those of
     :class:`contact.simulate.SimulationResult` and :class:`SteadyState`. Schemes that do not
-    track a quantity give NaN (floats) or None.
+    track a quantity give NaN (floats) or None (``events`` of the steady engine, which
+    counts no mode switches). ``branches``: the steady engine's every steady state at the
+    point (:class:`contact.steady.SteadyBranch`, by increasing velocity, unstable ones
+    included); None for the transient schemes.
     """
 
     velocity_m_s: float
@@ -174,6 +177,7 @@ class SchemeOutput:
     steps: int
     events: int | None
     nfev: int
+    branches: tuple | None = None
 
 
 SETTLED_ABS_M_S = 1e-9

@@ -243,6 +243,10 @@ class SimulationResult:
         events (``event``), right-hand-side evaluations (``reference``, ``literal``).
     wall_time_s : float
         Wall time of the integration (s), pre-pass included.
+    branches : tuple of contact.steady.SteadyBranch or None
+        ``steady``: every steady state the engine found at the point (by increasing
+        velocity, unstable ones included; ``steady`` describes the one a start from rest
+        reaches); None for the transients, which follow one.
     """
 
     params: MotorParams
@@ -259,6 +263,7 @@ class SimulationResult:
     events: int | None
     nfev: int
     wall_time_s: float
+    branches: tuple | None = None
 
 
 def check_spectrum(system: HybridSystem, dt_s: float) -> None:
@@ -501,7 +506,7 @@ def simulate(
         params=params, op=op, options=opts, method=method, mu_d_eff=mu_d_eff,
         normal_amplitude_m=a_n, trace=out.trace, window=out.window, steady=steady,
         energy=out.energy, steps=out.steps, events=out.events, nfev=out.nfev,
-        wall_time_s=wall,
+        wall_time_s=wall, branches=out.branches,
     )
 
 

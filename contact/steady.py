@@ -1194,7 +1194,8 @@ class CoexistingBranchesWarning(UserWarning):
 
 def warn_coexisting(branches, v_rest: float, op: OperatingPoint) -> None:
     """Name the stable branches a start from rest does not reach (a one-point answer, such
-    as ``lusm simulate --steady``, reports only the one it does)."""
+    as ``lusm simulate --steady``, describes the one it does and lists the others under
+    ``branches``, which a reader of its velocity alone may miss)."""
     import warnings
 
     others = [b for b in branches if b.stable and not b.from_rest]
@@ -1206,9 +1207,9 @@ def warn_coexisting(branches, v_rest: float, op: OperatingPoint) -> None:
     many = "other stable steady states" if len(others) > 1 else "another stable steady state"
     warnings.warn(f"at {op.voltage_V:g} V / {op.preload_N:g} N{load} the motor has {many}"
                   f" besides the {v_rest:.4g} m/s a start from rest reaches: {what}; a slider "
-                  "brought there stays ("
-                  + ("steady_state(...).branches lists every branch under a load)"
-                     if op.load_N else "lusm map lists every branch)"),
+                  # the result lists them now (SimulationResult.branches, lusm simulate
+                  # --steady's branches); the warning had been their only mention
+                  "brought there stays (every one is listed under branches)",
                   CoexistingBranchesWarning, stacklevel=3)
 
 
@@ -1216,7 +1217,9 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     """Adapter for the scheme table of :func:`contact.simulate.simulate` (``method="steady"``).
 
     Returns a :class:`contact.results.SchemeOutput` for the branch reached from rest at the
-    ``"exact"`` level (``op.load_N`` applied; ``opts.coupling`` honoured). Traces, tip extrema
+    ``"exact"`` level (``op.load_N`` applied; ``opts.coupling`` honoured), with every branch
+    found at the point (``branches``: a single-point answer had hidden the others but for a
+    warning). Traces, tip extrema
     and the energy balance are not produced (None / NaN); ``steps`` and ``nfev`` count the
     drive periods simulated times the steps per period; ``events`` is None: the engine
     shoots orbits and counts no mode switches (it had read 0, as if a stick-slip orbit
@@ -1244,4 +1247,4 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
         velocity_m_s=float(v_rest), previous_velocity_m_s=previous,
         phase_time=np.asarray(frac, dtype=float) * window.window_s, y_tip_min_m=math.nan,
         y_tip_max_m=math.nan, trace=None, window=None, energy=None, steps=int(steps),
-        events=None, nfev=int(steps))
+        events=None, nfev=int(steps), branches=tuple(branches))

@@ -319,12 +319,27 @@ def test_simulate_steady_names_the_stable_branches_a_start_from_rest_does_not_re
     from rom import table2
 
     assert main(["simulate", "--voltage", "150", "--preload", "14", "--steady", "--json"]) == 0
-    err = capsys.readouterr().err.strip().splitlines()
+    out = capsys.readouterr()
+    err = out.err.strip().splitlines()
     assert len(err) == 1 and "another stable steady state" in err[0]
     other = float(err[0].split("reaches: ")[1].split(" m/s")[0])
     r = steady_state(table2(), 150, 14, energy=False)
     k1 = next(b for b in r.branches if b.stable and not b.from_rest)
     assert other == pytest.approx(k1.velocity_m_s, rel=1e-3)  # printed to 4 figures
+    # the JSON lists both, as lusm map writes a point's branches (the other one had been in
+    # the warning alone, to 4 figures)
+    doc = json.loads(out.out)
+    assert [(b["k"], b["motion"], b["from_rest"], b["held"]) for b in doc["branches"]] == [
+        (2, "stick-slip", True, False), (1, "stick-slip", False, False)]
+    assert doc["branches"][0]["velocity_m_s"] == pytest.approx(doc["steady_velocity_m_s"],
+                                                                rel=1e-12)
+    assert doc["branches"][1]["velocity_m_s"] == pytest.approx(k1.velocity_m_s, rel=1e-9)
+    # and the text, one line per branch
+    assert main(["simulate", "--voltage", "150", "--preload", "14", "--steady"]) == 0
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("branch")]
+    assert len(lines) == 2 and lines[0].startswith("branch (from rest)")
+    assert "period 2" in lines[0] and "period 1" in lines[1]
+    assert float(lines[1].split()[1]) == pytest.approx(k1.velocity_m_s, rel=1e-5)
     # a slider put on that orbit stays there: 4 000 periods of the full model (0.1 s) keep it
     op = OperatingPoint(150.0, 14.0, 40e3)
     sp = slow_problem(table2(), op, coupling="paper", accuracy="exact")
@@ -422,3 +437,27 @@ def test_a_creep_where_the_averaged_slider_is_held_is_said(capsys):
     top = abs(exact.no_load_velocity_m_s)
     assert "creeps from (N)            0 (the averaged stall" in out
     assert f"at most {top:.3g} m/s on this curve" in out
+
+
+def test_the_tuned_stators_documented_command_shows_both_branches(capsys):
+    """docs/numbers.json quotes the tuned 60 kHz stator's pure-slip branch at 140 V / 14 N from
+    ``lusm simulate ... --steady --json (branches: ...)``, whose JSON had no branches: the
+    number was in a stderr warning, to 4 figures, alone (found by exploratory testing). The
+    command now shows it, and the branch from rest, to the claims' tolerance."""
+    from tests.conftest import ROOT
+    from validation.doc_numbers import claims_by_key
+
+    numbers = json.loads((ROOT / "docs" / "numbers.json").read_text())["numbers"]
+    slip, rest = (numbers[k] for k in ("tuned60k_140V_14N_slip_m_s",
+                                       "tuned60k_140V_14N_rest_m_s"))
+    assert "--steady --json (branches" in claims_by_key()["tuned60k_140V_14N_slip_m_s"].command
+    assert main(["simulate", "--geometry", str(ROOT / "examples/tuned_60k/stator.toml"),
+                 "--voltage", "140", "--preload", "14", "--frequency", "auto", "--steady",
+                 "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["steady_velocity_m_s"] == pytest.approx(rest["value"], rel=1e-6)
+    (pure_slip,) = [b for b in doc["branches"] if b["motion"] == "pure-slip"]
+    assert pure_slip["velocity_m_s"] == pytest.approx(slip["value"], rel=1e-6)
+    assert not pure_slip["from_rest"]
+    (from_rest,) = [b for b in doc["branches"] if b["from_rest"]]
+    assert from_rest["motion"] == "stick-slip"

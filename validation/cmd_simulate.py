@@ -116,6 +116,11 @@ def run(args: argparse.Namespace) -> None:
                 continue  # nested tables, and what the steady engine has not (run length, ...)
             text = f"{value:.6g}" if isinstance(value, float) else str(value)
             print(f"{key:<30} {text}")
+        for b in summary.get("branches") or ():
+            # every stable steady state, as the JSON has them (the ones a start from rest
+            # does not reach had been in a warning alone)
+            print(f"{'branch (from rest)' if b['from_rest'] else 'branch':<30} "
+                  + branch_text(b))
         print(damping_line(params, damping_from))
         print(coupling_line(coupling, coupling_from))
         if "energy" in summary:
@@ -128,6 +133,14 @@ def run(args: argparse.Namespace) -> None:
             print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")
         for f in summary.get("figures", []):
             print(f"wrote {f}")
+
+
+def branch_text(b: dict) -> str:
+    """One stable steady state of ``--steady`` (a :func:`validation.summaries.branch_summary`)
+    in words: ``'0.00146359 m/s, stick-slip, period 1'``."""
+    period = f"period {b['k']}" if b["k"] else "no short period (a long mean)"
+    return (f"{b['velocity_m_s']:.6g} m/s, {b['motion']}, {period}"
+            + (", slider held" if b["held"] else ""))
 
 
 def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, coupling: str,

@@ -64,7 +64,7 @@ def coupling_line(coupling: str, why: str) -> str:
 def simulation_summary(r: SimulationResult) -> dict:
     """JSON-ready summary of one contact run (SI units in the keys; ``None`` where the
     method has no such value: the steady engine's run length, step, windows, tip extremes
-    and mode switches)."""
+    and mode switches, a transient's ``branches``)."""
     from contact.model import normal_force_zero_tip_displacement
 
     s = r.steady
@@ -101,6 +101,9 @@ def simulation_summary(r: SimulationResult) -> dict:
         "events": r.events,
         "nfev": r.nfev,
         "wall_time_s": r.wall_time_s,
+        # every stable steady state, written as lusm map writes a point's: the one reached
+        # from rest had been the JSON's only answer, the others in a stderr warning
+        "branches": None if r.branches is None else steady_branches(r.branches),
     }
     if r.energy is not None:
         e = asdict(r.energy)
@@ -155,6 +158,15 @@ def branch_summary(row: tuple) -> dict:
     velocity, k, motion, from_rest, held = row
     return {"velocity_m_s": velocity, "k": k, "motion": motion, "from_rest": from_rest,
             "held": held}
+
+
+def steady_branches(branches) -> list[dict]:
+    """The stable ones of the steady engine's ``branches``
+    (:class:`contact.steady.SteadyBranch`) as :func:`branch_summary` writes them, by
+    increasing velocity: a map point's ``branches`` and ``lusm simulate --steady``'s."""
+    from contact.maps import branch_row
+
+    return [branch_summary(branch_row(b)) for b in branches if b.stable]
 
 
 def signed_percent(x: float, decimals: int) -> str:
