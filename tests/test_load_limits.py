@@ -102,9 +102,16 @@ def test_a_list_of_voltages_reports_each_runaway_and_goes_on(params, capsys):
                  "--steady", "--json"])
     runs = json.loads(capsys.readouterr().out)["runs"]
     assert code == 0 and [r["voltage_V"] for r in runs] == [100.0, 400.0]
-    assert math.isfinite(runs[0]["steady_velocity_m_s"]) and "runs_away" not in runs[0]
+    assert math.isfinite(runs[0]["steady_velocity_m_s"]) and runs[0]["runs_away"] is None
     assert runs[1]["steady_velocity_m_s"] is None
     assert "runs away backward" in runs[1]["runs_away"]
+    # every run carries the same keys (the runaway had nine of the others' 30), null where it
+    # has no value, and the operating point's own ones filled
+    assert list(runs[1]) == list(runs[0])
+    for key in ("source", "frequency_Hz", "coupling", "ultrasonic_friction", "y_tip_c_m"):
+        assert runs[1][key] == runs[0][key]
+    assert runs[1]["settled"] is False and runs[1]["motion"] is None
+    assert runs[1]["branches"] is None and runs[1]["events"] is None
 
 
 def test_characteristic_marks_loads_it_cannot_hold(params, capsys):

@@ -110,6 +110,11 @@ def test_simulate_takes_a_list_of_voltages(capsys):
     assert main(["simulate", "--voltage", "200,400", *args]) == 0
     many = json.loads(capsys.readouterr().out)
     assert many["voltages_V"] == [200.0, 400.0]
+    from validation.summaries import SIMULATION_KEYS
+
+    for doc in many["runs"]:  # every run the same keys, a transient's branches null
+        assert list(doc)[:len(SIMULATION_KEYS)] == list(SIMULATION_KEYS)
+        assert doc["branches"] is None and doc["runs_away"] is None
     for v, doc in zip((200, 400), many["runs"], strict=True):
         assert main(["simulate", "--voltage", str(v), *args]) == 0
         one = json.loads(capsys.readouterr().out)
@@ -210,6 +215,8 @@ def test_a_transient_under_a_load_the_motor_cannot_hold_says_so(load, way, capsy
     d = json.loads(cap.out)
     assert not d["settled"] and (d["steady_velocity_m_s"] < 0) == (way == "backward")
     assert f"runs away {way}" in cap.err and len(cap.err.strip().splitlines()) == 1
+    # the JSON says so in the key a --steady list's runaway has
+    assert f"runs away {way}" in d["runs_away"] and "where the run stopped" in d["runs_away"]
     assert main([*args[:-2], "--steady"]) == 2  # the steady engine: no steady state
     assert f"runs away {way}" in capsys.readouterr().err
 
@@ -461,3 +468,18 @@ def test_the_tuned_stators_documented_command_shows_both_branches(capsys):
     assert not pure_slip["from_rest"]
     (from_rest,) = [b for b in doc["branches"] if b["from_rest"]]
     assert from_rest["motion"] == "stick-slip"
+
+
+def test_a_runs_summary_takes_no_key_the_others_lack():
+    """Every run of one lusm simulate carries SIMULATION_KEYS: a key outside them is refused
+    where the summary is built, not found later as one run's odd key."""
+    from rom import table2
+    from validation.summaries import SIMULATION_KEYS, runaway_summary
+
+    d = runaway_summary(table2(), 400.0, 14.0, 40e3, 6.0, "paper", True, "runs away")
+    assert list(d) == list(SIMULATION_KEYS)
+    assert math.isnan(d["steady_velocity_m_s"]) and d["runs_away"] == "runs away"
+    from validation import summaries
+
+    with pytest.raises(KeyError, match="not keys of a run's summary"):
+        summaries._run_summary(source="x", velocity=1.0)

@@ -86,7 +86,12 @@ def run(args: argparse.Namespace) -> None:
         check_run_size(args.duration, args.dt, freq)
 
     from contact.errors import RunawayError
-    from validation.summaries import coupling_line, damping_line, damping_summary
+    from validation.summaries import (
+        coupling_line,
+        damping_line,
+        damping_summary,
+        runaway_summary,
+    )
 
     summaries = []
     for v in voltages:
@@ -96,10 +101,10 @@ def run(args: argparse.Namespace) -> None:
             if len(voltages) == 1:
                 raise
             # a list is a sweep: the voltages the motor cannot hold the load at are answers
-            # too (as the loads of lusm characteristic), not the end of the command
-            summary = {"voltage_V": v, "preload_N": args.preload, "load_N": args.load_N,
-                       "method": "steady", "steady_velocity_m_s": float("nan"),
-                       "runs_away": exc.reason}
+            # too (as the loads of lusm characteristic), not the end of the command; with
+            # every key the other runs carry (null where no steady state has the value)
+            summary = runaway_summary(params, v, args.preload, freq, args.load_N, coupling,
+                                      not args.no_ultrasonic_friction, exc.reason)
         summary["damping"] = damping_summary(params, damping_from)
         summary["coupling"], summary["coupling_from"] = coupling, coupling_from
         summaries.append(summary)
@@ -163,11 +168,13 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
         )
     for w in caught:  # said as every warning is (the one-line form names --load-N)
         warnings.showwarning(w.message, w.category, w.filename, w.lineno)
-    # a runaway is why the run did not settle: its warning replaces the "not settled" one
-    runaway = any(issubclass(w.category, RunawayWarning) for w in caught)
-    summary = simulation_summary(r)
+    # a runaway is why the run did not settle: its warning replaces the "not settled" one,
+    # and its reason is the run's runs_away, as a --steady list's runaway says it
+    runaway = next((str(w.message) for w in caught if issubclass(w.category, RunawayWarning)),
+                   None)
+    summary = simulation_summary(r, runs_away=runaway)
     if not args.steady and not r.steady.settled:
-        if not runaway:
+        if runaway is None:
             st = r.steady
             warn(f"at {voltage_V:g} V the slider has not settled within --duration "
                  f"{args.duration:g} s (the last window's mean velocity {st.velocity_m_s:.4g} "

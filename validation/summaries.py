@@ -61,15 +61,81 @@ def coupling_line(coupling: str, why: str) -> str:
     return f"coupling {coupling} ({why})"
 
 
-def simulation_summary(r: SimulationResult) -> dict:
+SIMULATION_KEYS = (
+    "source", "voltage_V", "preload_N", "frequency_Hz", "load_N", "method", "duration_s",
+    "dt_s", "coupling", "ultrasonic_friction", "steady_velocity_m_s",
+    "previous_window_velocity_m_s", "settled", "motion", "stick_fraction", "slip_fraction",
+    "separation_fraction", "driving_slip_fraction", "braking_slip_fraction", "mu_d_effective",
+    "normal_amplitude_m", "y_tip_min_m", "y_tip_c_m", "steady_window_s", "steps", "events",
+    "nfev", "wall_time_s", "branches", "runs_away",
+)
+"""The keys of every run's summary (:func:`simulation_summary`, :func:`runaway_summary`), in
+their order: every run of one ``lusm simulate`` carries them all, ``None`` where it has no
+such value (a list of voltages had written nine keys for a voltage whose slider runs away
+beside the others' 30)."""
+
+
+def _run_summary(**values) -> dict:
+    """``values`` in the order of :data:`SIMULATION_KEYS`, ``None`` for the keys not given.
+
+    Raises
+    ------
+    KeyError
+        For a key that is not one of :data:`SIMULATION_KEYS` (one run's summary would then
+        carry a key the others lack).
+    """
+    unknown = set(values) - set(SIMULATION_KEYS)
+    if unknown:
+        raise KeyError(f"not keys of a run's summary: {sorted(unknown)}")
+    return {key: values.get(key) for key in SIMULATION_KEYS}
+
+
+def runaway_summary(params: MotorParams, voltage_V: float, preload_N: float,
+                    frequency_Hz: float, load_N: float, coupling: str,
+                    ultrasonic_friction: bool, reason: str) -> dict:
+    """The summary of a ``--steady`` run whose slider runs away under its load: the keys of
+    :func:`simulation_summary`, with the operating point, the velocity NaN (``null`` in the
+    JSON), ``settled`` False and ``runs_away`` the reason (the loads the motor holds), the
+    rest ``None`` (no steady state to describe).
+
+    Parameters
+    ----------
+    params : MotorParams
+    voltage_V, preload_N, frequency_Hz, load_N : float
+        The operating point (V, N, Hz, N).
+    coupling : str
+        The tangential coupling run.
+    ultrasonic_friction : bool
+    reason : str
+        :attr:`contact.errors.RunawayError.reason`.
+    """
+    from contact.model import normal_force_zero_tip_displacement
+
+    return _run_summary(
+        source=params.source, voltage_V=voltage_V, preload_N=preload_N,
+        frequency_Hz=frequency_Hz, load_N=load_N, method="steady", coupling=coupling,
+        ultrasonic_friction=ultrasonic_friction, steady_velocity_m_s=math.nan, settled=False,
+        y_tip_c_m=normal_force_zero_tip_displacement(params, preload_N), runs_away=reason)
+
+
+def simulation_summary(r: SimulationResult, runs_away: str | None = None) -> dict:
     """JSON-ready summary of one contact run (SI units in the keys; ``None`` where the
     method has no such value: the steady engine's run length, step, windows, tip extremes
-    and mode switches, a transient's ``branches``)."""
+    and mode switches, a transient's ``branches``), the keys of :data:`SIMULATION_KEYS`
+    (and ``energy`` with the energy balance).
+
+    Parameters
+    ----------
+    r : SimulationResult
+    runs_away : str, optional
+        Why the slider runs away under the load (a transient's
+        :class:`contact.steady.RunawayWarning`); None when it does not.
+    """
     from contact.model import normal_force_zero_tip_displacement
 
     s = r.steady
     steady = r.method == "steady"
-    d = {
+    d = _run_summary(**{
         "source": r.params.source,
         "voltage_V": r.op.voltage_V,
         "preload_N": r.op.preload_N,
@@ -104,7 +170,8 @@ def simulation_summary(r: SimulationResult) -> dict:
         # every stable steady state, written as lusm map writes a point's: the one reached
         # from rest had been the JSON's only answer, the others in a stderr warning
         "branches": None if r.branches is None else steady_branches(r.branches),
-    }
+        "runs_away": runs_away,
+    })
     if r.energy is not None:
         e = asdict(r.energy)
         e["relative_residual"] = r.energy.relative_residual
