@@ -1223,7 +1223,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     and the energy balance are not produced (None / NaN); ``steps`` and ``nfev`` count the
     drive periods simulated times the steps per period; ``events`` is None: the engine
     shoots orbits and counts no mode switches (it had read 0, as if a stick-slip orbit
-    switched never).
+    never switched).
     """
     from contact.results import SchemeOutput
 
