@@ -346,3 +346,44 @@ def test_render_refuses_an_out_that_cannot_be_made_before_any_fe_solve(monkeypat
     assert main(["render", "--out", str(_NO_FOLDER / "r")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"lusm render: error: --out {_NO_FOLDER / 'r'}: cannot write there")
+
+
+def test_the_current_folder_lusm_wrote_is_written_again(tmp_path, monkeypatch, capsys):
+    """``--plot .`` run twice: the second run was refused ("the current folder, which is not
+    empty") though the folder was lusm's own set and ``--plot "$PWD"`` on it was accepted.
+    '.' now follows the rules of its absolute name; the folder itself (the process's current
+    folder) stays where it is, with the same inode: only files move into it."""
+    import os
+
+    from validation.cli import main
+
+    here = tmp_path / "dot"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    inode = here.stat().st_ino
+    argv = ["characteristic", "--voltage", "400", "--preload", "14", "--accuracy", "fast",
+            "--loads", "0:1:0.5"]
+    for plot in [".", "./", ".", str(here)]:
+        assert main([*argv, "--plot", plot]) == 0, capsys.readouterr().err
+    assert sorted(os.listdir(here)) == [MARKER, "characteristic.png"]
+    assert here.stat().st_ino == inode and Path.cwd() == here
+    assert ".bak" not in capsys.readouterr().err  # lusm's unchanged file simply replaced
+    assert [p.name for p in tmp_path.rglob(".*partial*")] == []
+
+
+@pytest.mark.parametrize("typed", [".", "./", ""])
+def test_the_current_folder_holding_the_users_files_is_refused(tmp_path, monkeypatch, typed):
+    """The current folder that lusm did not write is still refused, saying which folder '.'
+    is, and with --force the set is written beside the user's files, none of them lost."""
+    from validation.output_set import check_target
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "characteristic.png").write_text("mine")
+    (tmp_path / "notes.txt").write_text("notes")
+    with pytest.raises(OutputError, match=r"^--plot \. \(the current folder\) is a non-empty "
+                                          r"folder that lusm characteristic did not write"):
+        check_target(Path(typed), "characteristic", "--plot")
+    with output_set(Path(typed), "characteristic", "--plot", force=True) as stage:
+        _write(stage, {"characteristic.png": "new"})
+    assert _snapshot(tmp_path) == {"characteristic.png": "new",
+                                   "characteristic.png.bak-1": "mine", "notes.txt": "notes"}

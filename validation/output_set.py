@@ -187,10 +187,6 @@ def check_target(target: Path, kind: str, option: str = "--out", force: bool = F
     if target.is_symlink() and not target.exists():
         raise OutputError(f"{option} {target} is a link to {os.readlink(target)}, which does "
                           "not exist; name a folder")
-    if str(target) in ("", "."):
-        if not force and target.resolve().exists() and any(target.resolve().iterdir()):
-            raise OutputError(f"{option} must name a folder, got {str(target)!r} "
-                              "(the current folder, which is not empty)")
     for parent in [target, *target.parents]:
         if parent.exists() and not parent.is_dir():
             what = "is a file" if parent == target else f"sits below the file {parent}"
@@ -206,8 +202,10 @@ def check_target(target: Path, kind: str, option: str = "--out", force: bool = F
             whose = (f"holds the output of lusm {other}, not of lusm {kind}"
                      if isinstance(other, str) and other != kind and other.isidentifier()
                      else f"is a non-empty folder that lusm {kind} did not write")
+            # '.' alone does not say which folder was refused
+            named = f"{target} (the current folder)" if str(target) == "." else str(target)
             raise OutputError(
-                f"{option} {target} {whose}; choose a new or empty folder, or pass --force "
+                f"{option} {named} {whose}; choose a new or empty folder, or pass --force "
                 "to write beside its files (nothing of yours is deleted)")
 
 
