@@ -387,3 +387,72 @@ def test_the_current_folder_holding_the_users_files_is_refused(tmp_path, monkeyp
         _write(stage, {"characteristic.png": "new"})
     assert _snapshot(tmp_path) == {"characteristic.png": "new",
                                    "characteristic.png.bak-1": "mine", "notes.txt": "notes"}
+
+
+# 250, 255 and 254 bytes: all names the file system takes
+_LONG_NAMES = [pytest.param("a" * 250, id="a250"), pytest.param("a" * 255, id="a255"),
+               pytest.param("é" * 127, id="e-acute127")]
+
+
+@pytest.mark.parametrize("name", [pytest.param("r", id="r"), pytest.param("a" * 200, id="a200"),
+                                  *_LONG_NAMES])
+def test_a_staging_name_fits_the_file_systems_limit_and_stays_unique(tmp_path, name):
+    import os
+    import re
+
+    from validation.output_set import staging_name
+
+    a, b = (staging_name(name, "partial", tmp_path) for _ in range(2))
+    assert a != b
+    for s in (a, b):
+        assert len(os.fsencode(s)) <= 255
+        m = re.fullmatch(r"\.(.*)-partial-[0-9a-f]{12}", s)
+        assert m and name.startswith(m.group(1)) and m.group(1)  # a cut of the name, kept
+    if len(os.fsencode(name)) <= 255 - len(".-partial-") - 12:
+        assert a.startswith(f".{name}-partial-")  # a name that fits is not cut
+
+
+def test_a_staging_name_follows_a_smaller_limit(tmp_path, monkeypatch):
+    # eCryptfs takes names of at most 143 bytes
+    import os
+
+    from validation.output_set import staging_name
+
+    monkeypatch.setattr(os, "pathconf", lambda folder, what: 143)
+    assert len(os.fsencode(staging_name("a" * 140, "probe", tmp_path))) == 143
+
+
+@pytest.mark.parametrize("name", _LONG_NAMES)
+@pytest.mark.parametrize("exists", [False, True])
+def test_a_folder_with_a_long_name_is_written(tmp_path, name, exists):
+    """A folder name of about 230 bytes or more, which the file system takes, was refused
+    ("cannot write there (File name too long)"): the staging and probe names beside it,
+    ``.NAME-partial-<12 hex>``, went over 255 bytes."""
+    from validation.output_set import check_target, check_writable
+
+    out = tmp_path / name
+    if exists:
+        out.mkdir()
+    for text in ("1", "2"):  # the second run replaces lusm's own set
+        check_target(out, "figures", "--plot")
+        check_writable(out, "--plot")
+        with output_set(out, "figures", "--plot") as stage:
+            _write(stage, {"a.png": text})
+    assert _snapshot(out) == {"a.png": "2"}
+    assert [p.name for p in tmp_path.iterdir()] == [name]  # no staging or probe folder left
+
+
+def test_lusm_characteristic_plots_into_a_long_folder_name(tmp_path, monkeypatch, capsys):
+    """The reported case: ``--plot`` with a 250-letter folder name exited 2 ("cannot write
+    there (File name too long)"), before any work, on the probe's name."""
+    from validation.cli import main
+
+    name = "a" * 250
+    (tmp_path / name).mkdir()
+    monkeypatch.chdir(tmp_path)
+    argv = ["characteristic", "--voltage", "400", "--preload", "14", "--accuracy", "fast",
+            "--loads", "0:1:0.5", "--plot", name]
+    for _ in range(2):
+        assert main(argv) == 0, capsys.readouterr().err
+    assert sorted(p.name for p in (tmp_path / name).iterdir()) == [MARKER, "characteristic.png"]
+    assert [p.name for p in tmp_path.iterdir()] == [name]

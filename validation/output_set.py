@@ -228,16 +228,56 @@ def staging_parent(target: Path) -> Path:
     return next(p for p in [target.parent, *target.parent.parents] if p.exists())
 
 
+def _name_max(folder: Path) -> int:
+    """The longest file name, in bytes, that ``folder``'s file system takes (255 when it does
+    not say, and never more: the common limit, which a wrong answer must not raise)."""
+    try:
+        limit = os.pathconf(folder, "PC_NAME_MAX")
+    except (OSError, ValueError, AttributeError):  # not POSIX, or no such query here
+        return 255
+    return min(limit, 255) if isinstance(limit, int) and limit > 0 else 255
+
+
+def staging_name(name: str, what: str, folder: Path) -> str:
+    """A fresh hidden name for a ``what`` (``"partial"``, ``"probe"``) entry of ``name`` made
+    in ``folder``: ``.NAME-WHAT-<12 hex>``.
+
+    Parameters
+    ----------
+    name : str
+        The name the user gave (a folder's or a file's); empty gives ``out``.
+    what : str
+        What the entry is for; it stays whole in the name, so ``.*-partial-*`` still finds
+        every staging entry.
+    folder : Path
+        Where the entry is made; its file system's limit on a name bounds the result.
+
+    Returns
+    -------
+    str
+        The name, with ``NAME`` cut short (whole characters, from the end) so that the whole
+        fits the limit: a 250-letter ``--plot`` name, which the file system takes, was refused
+        because its staging name ``.NAME-partial-<hex>`` did not fit. The random suffix is
+        always kept whole, so a cut name is still unique to this run.
+    """
+    limit = _name_max(folder)
+    suffix = f"-{what}-{uuid.uuid4().hex[:12]}"
+    stem = name or "out"
+    while stem and len(os.fsencode(f".{stem}{suffix}")) > limit:
+        stem = stem[:-1]
+    return f".{stem}{suffix}"
+
+
 def check_writable(target: Path, option: str) -> None:
     """Refuse, before any work, a ``target`` whose set could not be staged: a folder is made
-    and removed where :func:`output_set` stages it. Permission bits do not tell (root passes
-    them everywhere, and ``/proc`` or ``/sys`` take no new folder): ``explore --plot
-    /proc/maps`` ran the whole study before the maps were refused."""
-    import tempfile
-
+    and removed where :func:`output_set` stages it, its name bounded the same way. Permission
+    bits do not tell (root passes them everywhere, and ``/proc`` or ``/sys`` take no new
+    folder): ``explore --plot /proc/maps`` ran the whole study before the maps were refused."""
     try:
-        os.rmdir(tempfile.mkdtemp(prefix=f".{target.name or 'out'}-probe-",
-                                  dir=staging_parent(target)))
+        parent = staging_parent(target)
+        probe = parent / staging_name(target.name, "probe", parent)
+        probe.mkdir(mode=0o700)
+        probe.rmdir()  # only reached when the mkdir made it: never an entry that was there
     except OSError as exc:
         raise OutputError(f"{option} {target}: cannot write there ({exc.strerror or exc})") \
             from None
@@ -270,7 +310,8 @@ def output_set(target: Path, kind: str, option: str = "--out",
             created.append(parent)
     # The name is chosen before the folder exists, so a signal landing anywhere (even inside
     # the mkdir) still finds it in ``finally``.
-    stage = staging_parent(target) / f".{target.name or 'out'}-partial-{uuid.uuid4().hex[:12]}"
+    parent = staging_parent(target)
+    stage = parent / staging_name(target.name, "partial", parent)
     done = False
     try:
         try:
