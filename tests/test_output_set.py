@@ -456,3 +456,27 @@ def test_lusm_characteristic_plots_into_a_long_folder_name(tmp_path, monkeypatch
         assert main(argv) == 0, capsys.readouterr().err
     assert sorted(p.name for p in (tmp_path / name).iterdir()) == [MARKER, "characteristic.png"]
     assert [p.name for p in tmp_path.iterdir()] == [name]
+
+
+def test_an_entry_already_named_like_the_staging_folder_is_never_removed(tmp_path,
+                                                                          monkeypatch):
+    """The staging folder is removed in ``finally`` by its name. When its mkdir failed
+    because that name was taken (another entry, not lusm's, by the cut name and the same
+    random suffix), the entry of that name was removed with it, files and all."""
+    import uuid
+
+    from validation.errors import LusmError
+    from validation.output_set import staging_name
+
+    class Fixed:
+        hex = "0123456789ab" * 2
+
+    monkeypatch.setattr(uuid, "uuid4", lambda: Fixed())
+    out = tmp_path / ("a" * 250)
+    theirs = tmp_path / staging_name(out.name, "partial", tmp_path)
+    _write(theirs, {"precious.txt": "not lusm's"})
+    with pytest.raises(LusmError, match="File exists"):
+        with output_set(out, "figures", "--plot") as stage:
+            _write(stage, {"a.png": "1"})
+    assert _snapshot(theirs) == {"precious.txt": "not lusm's"}
+    assert not out.exists()

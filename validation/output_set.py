@@ -313,19 +313,22 @@ def output_set(target: Path, kind: str, option: str = "--out",
     parent = staging_parent(target)
     stage = parent / staging_name(target.name, "partial", parent)
     done = False
+    made = True  # until the mkdir says otherwise: a signal just after it still finds the folder
     try:
         try:
             stage.mkdir()
         except OSError as exc:  # name the user's folder and option, not the staging name
             from validation.errors import LusmError
 
+            made = False  # an entry already there by that name is not ours to remove
             raise LusmError(f"{option} {target}: cannot write there ({exc.strerror or exc})",
                             option) from None
         yield stage
         _commit(stage, target, kind, force, option)
         done = True
     finally:
-        shutil.rmtree(stage, ignore_errors=True)
+        if made:
+            shutil.rmtree(stage, ignore_errors=True)
         if not done:
             for folder in reversed(created):
                 try:
