@@ -738,6 +738,14 @@ def test_an_export_is_moved_in_complete(tmp_path, capsys):
     assert (out.parent / "m.vtu.bak-1").read_bytes() == first  # --force keeps the old file
 
 
+def test_an_export_with_a_long_file_name_is_written(tmp_path):
+    # a 244-byte name, which the file system takes, failed after the solve: its staging
+    # folder ".STEM-partial-XXXXXXXX" went over the 255-byte limit ("File name too long")
+    out = tmp_path / ("f" * 240 + ".vtu")
+    assert main(["modes", "--refine", "2", "--export", str(out)]) == 0
+    assert out.is_file() and [p.name for p in tmp_path.iterdir()] == [out.name]
+
+
 @pytest.mark.parametrize("exc, code, words", [
     (ChatteringError("contact chattering: more switches than allowed within one step",
                      step_remedy=True), 2, ["error: contact chattering", "smaller --dt"]),
@@ -812,12 +820,14 @@ def test_library_warnings_are_one_line_naming_the_command(capsys):
 def test_an_export_into_a_folder_it_cannot_write_names_the_users_file(tmp_path, monkeypatch,
                                                                       capsys):
     # the message named the staging folder's random name (".m-partial-xxxx")
-    import tempfile
+    real_mkdir = os.mkdir
 
-    def denied(*args, dir=None, **kwargs):
-        raise PermissionError(13, "Permission denied", os.path.join(dir, ".m-partial-abc"))
+    def denied(path, *args, **kwargs):  # only the staging folder: its parent is made first
+        if os.path.basename(path).startswith(".m-partial-"):
+            raise PermissionError(13, "Permission denied", path)
+        return real_mkdir(path, *args, **kwargs)
 
-    monkeypatch.setattr(tempfile, "mkdtemp", denied)
+    monkeypatch.setattr(os, "mkdir", denied)
     out = tmp_path / "ro" / "m.vtu"
     assert main(["modes", "--refine", "2", "--export", str(out)]) == 2
     err = capsys.readouterr().err.strip()

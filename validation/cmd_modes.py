@@ -562,15 +562,17 @@ def _write_export(path, model, res, force: bool, writer) -> None:
     in only when all are written."""
     import os
     import shutil
-    import tempfile
 
     from validation.errors import LusmError
     from validation.interrupts import checkpoint
-    from validation.output_set import keep_aside
+    from validation.output_set import keep_aside, staging_name
 
     try:  # a read-only folder: name the user's file, not the staging folder's random name
         path.parent.mkdir(parents=True, exist_ok=True)
-        stage = tempfile.mkdtemp(prefix=f".{path.stem}-partial-", dir=path.parent)
+        # a bounded name: `.STEM-partial-...` of a file name the system takes could exceed
+        # the limit on a name (a 240-letter --export failed after the solve)
+        stage = os.path.join(path.parent, staging_name(path.stem, "partial", path.parent))
+        os.mkdir(stage, 0o700)
     except OSError as exc:
         raise LusmError(f"--export {path}: cannot write into {path.parent} "
                         f"({exc.strerror or exc})", "--export") from None
