@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 
 from validation.interrupts import checkpoint, quiet_logs_after_signal
-from validation.output_set import backup_name
+from validation.output_set import backup_name, staging_name
 from validation.study import (
     AXIS_KIND,
     DRIVE_AXES,
@@ -898,7 +898,10 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
     with dask.config.set(scheduler="synchronous"):
         data = ds.to_netcdf(engine="h5netcdf")
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}-partial-{uuid.uuid4().hex[:12]}")
+    # a bounded name: `.NAME-partial-<hex>` of a 235-letter --out went over the limit on a
+    # file name, and the dataset was refused after all the study's work
+    tmp = out.with_name(staging_name(out.name, "partial", out.parent))
+    made = True  # until the open says the name was taken: a signal just after it still finds it
     try:
         try:
             with open(tmp, "xb") as fh:  # closed (and its error raised) before the unlink
@@ -906,6 +909,8 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
                 fh.flush()
                 os.fsync(fh.fileno())
         except OSError as exc:
+            # "xb" refuses a name already there: that file is not ours to remove
+            made = not isinstance(exc, FileExistsError)
             raise ValueError(f"--out {out}: cannot write the dataset "
                              f"({exc.strerror or exc}; {len(data)} bytes)") from None
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
@@ -913,7 +918,8 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
             os.replace(out, backup_name(out))
         os.replace(tmp, out)
     finally:
-        tmp.unlink(missing_ok=True)
+        if made:
+            tmp.unlink(missing_ok=True)
 
 
 def check_out(out: Path, force: bool) -> None:
