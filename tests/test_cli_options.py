@@ -382,3 +382,16 @@ def test_the_thin_plate_warning_says_when_the_thickness_is_the_default(capsys):
                  "--refine", "1"]) in (0, None)
     err = capsys.readouterr().err
     assert "warning: --thickness-mm 3 is 1.5 x" in err and "default" not in err
+
+
+@pytest.mark.parametrize("typed, why", [
+    ("200,", "an empty item"), (",", "an empty item"), (" , 200", "an empty item"),
+    ("100,nan", "'nan' is not one"), ("100,3000", "'3000' is not one"),
+])
+def test_a_bad_item_of_a_voltage_list_is_refused_quoting_the_text_typed(typed, why, capsys):
+    # '200,' had read "got ''": the empty item alone, which the user never typed
+    assert main(["characteristic", "--preload", "14", "--voltage", typed]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    assert (f"--voltage takes 1 to 8 comma-separated values in [0, 2000] V, got {typed!r} "
+            f"({why})") in err, err

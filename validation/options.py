@@ -826,14 +826,28 @@ def real_list(option: str, unit: str, lo: float, hi: float, most: int):
     """An argparse ``type`` for ``A,B,C``: at most ``most`` finite numbers in ``[lo, hi]``,
     returned as a tuple; messages name ``option``."""
     one = real(option, unit, lo, hi)
+    allowed = _range_text(lo, hi, False, False, unit)
 
     def parse(text: str) -> tuple[float, ...]:
-        items = [t for t in text.split(",")]
+        items = [t.strip() for t in text.split(",")]
         if not 1 <= len(items) <= most:
             raise argparse.ArgumentTypeError(
-                f"{option} takes 1 to {most} comma-separated values in "
-                f"{_range_text(lo, hi, False, False, unit)}, got {text!r}")
-        values = tuple(one(t.strip()) for t in items)
+                f"{option} takes 1 to {most} comma-separated values in {allowed}, "
+                f"got {text!r}")
+        if len(items) == 1:
+            return (one(items[0]),)
+        values = []
+        for item in items:
+            try:
+                values.append(one(item))
+            except argparse.ArgumentTypeError:
+                # the text typed, not the item alone: '200,' had read "got ''", which the
+                # user never typed
+                why = "an empty item" if not item else f"{item!r} is not one"
+                raise argparse.ArgumentTypeError(
+                    f"{option} takes 1 to {most} comma-separated values in {allowed}, "
+                    f"got {text!r} ({why})") from None
+        values = tuple(values)
         twice = sorted({v for v in values if values.count(v) > 1})
         if twice:  # a typo more likely than a wish to compute the same curve twice
             raise argparse.ArgumentTypeError(
