@@ -395,3 +395,22 @@ def test_a_bad_item_of_a_voltage_list_is_refused_quoting_the_text_typed(typed, w
     assert len(err.splitlines()) == 1, err
     assert (f"--voltage takes 1 to 8 comma-separated values in [0, 2000] V, got {typed!r} "
             f"({why})") in err, err
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["map", "--voltages", "nan"], "--voltages must be start:stop:step or a comma list of "
+     "numbers in [0, 2000] V (finite, step > 0, stop >= start), got 'nan'"),
+    (["map", "--preloads", "1:2"], "--preloads must be start:stop:step or a comma list of "
+     "numbers in [0, 1000] N (finite, step > 0, stop >= start), got '1:2'"),
+    (["map", "--voltages", "0:5000:1000"], "--voltages must lie in [0, 2000] V, got "
+     "'0:5000:1000'"),
+    (["sweep", "--length-mm", "1:0:1"], "--length-mm must be start:stop:step in [0.1, 1000] mm "
+     "(finite, step > 0, stop >= start), got '1:0:1'"),
+    # the range, where it had said "must start above 0" and left the 0.1 mm floor unsaid
+    (["sweep", "--length-mm", "0:10:1"], "--length-mm must lie in [0.1, 1000] mm, got "
+     "'0:10:1'"),
+])
+def test_a_malformed_grid_is_refused_with_its_range(argv, words, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and words in err, err

@@ -176,6 +176,11 @@ def test_a_drive_too_slow_for_the_steady_engine_is_refused_in_one_line(capsys):
     ("0:1e9:1", ["--loads", "above the limit 2000", "LUSM_MAX_WORK"]),
     ("0:2000:500", ["--loads must lie in [-1000, 1000] N"]),
     ("2:1:0.1", ["--loads must be start:stop:step"]),
+    # a malformed grid names the range too (it had named the form alone, where --load-N nan
+    # names its range)
+    *[(bad, ["--loads must be start:stop:step or a comma list of numbers in [-1000, 1000] N "
+             "(finite, step > 0, stop >= start; the range of simulate --load-N), "
+             f"got {bad!r}"]) for bad in ("nan", "2:0:0.1", "1e400", "0:1:nan")],
 ])
 def test_characteristic_loads_are_bounded_like_the_other_grids(loads, words, capsys):
     from validation.cli import main

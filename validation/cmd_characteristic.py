@@ -62,12 +62,11 @@ def parse_loads(text: str) -> list[float]:
     """
     from validation.ranges import parse_range
 
-    loads = sorted(map(float, parse_range(text, "--loads")))  # repeats refused there
     top = limits.PRELOAD_N[1]
-    if max(abs(float(x)) for x in loads) > top:
-        raise ValueError(f"--loads must lie in [{-top:g}, {top:g}] N (the range of "
-                         f"simulate --load-N), got {text!r}")
-    return [float(x) for x in loads]
+    # repeats and values outside the range refused there
+    loads = parse_range(text, "--loads", bounds=(-top, top), unit="N",
+                        note="the range of simulate --load-N")
+    return sorted(float(x) for x in loads)
 
 
 def run(args: argparse.Namespace) -> None:

@@ -64,11 +64,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
     from validation.ranges import parse_range
 
-    values = parse_range(text, option)
-    lo, hi = bounds
-    if values.min() < lo or values.max() > hi:
-        raise ValueError(f"{option} must lie in [{lo:g}, {hi:g}] {unit}, got {text!r}")
-    return values
+    return parse_range(text, option, bounds=bounds, unit=unit)
 
 
 def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> None:

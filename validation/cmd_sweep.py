@@ -95,10 +95,11 @@ def run(args: argparse.Namespace) -> None:
         parameter, option, text, fixed = _split(args)
     except _ap.ArgumentTypeError as exc:
         raise LusmError(str(exc)) from None
-    values_mm = parse_range(text, option, allow_list=False, positive=True)
-    lo, hi = limits.PLATE_MM
-    if values_mm.min() < lo or values_mm.max() > hi:
-        raise LusmError(f"{option} must lie in [{lo:g}, {hi:g}] mm, got {text!r}", option)
+    try:  # the plate range (above 0) said with the form, as every grid says it
+        values_mm = parse_range(text, option, allow_list=False, bounds=limits.PLATE_MM,
+                                unit="mm")
+    except ValueError as exc:
+        raise LusmError(str(exc), option) from None
     top = limits.work_bound(limits.MAX_SWEEP_POINTS)
     if values_mm.size > top:
         raise LusmError(f"{option} has {values_mm.size} points, above the limit {top} FE "

@@ -13,7 +13,8 @@ MAX_POINTS = MAX_GRID_POINTS
 
 
 def parse_range(text: str, name: str, *, allow_list: bool = True,
-                positive: bool = False) -> np.ndarray:
+                positive: bool = False, bounds: tuple[float, float] | None = None,
+                unit: str = "", note: str = "") -> np.ndarray:
     """``start:stop:step`` (stop included when on the grid) or, if ``allow_list``, a comma list.
 
     Parameters
@@ -26,13 +27,24 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
         Also accept ``a,b,c``.
     positive : bool
         Require ``start > 0`` (dimensions).
+    bounds : (float, float), optional
+        The closed range every value must lie in, in the option's ``unit``: checked here and
+        said in every refusal of the text's form too (``--loads nan`` had named the form
+        alone, where ``--load-N nan`` names its range).
+    unit : str
+        The option's unit as the user types it (``'N'``, ``'V'``).
+    note : str
+        Where the range comes from, said with it (``'the range of simulate --load-N'``).
 
     Raises
     ------
     ValueError
-        Naming the option and the allowed form.
+        Naming the option, the allowed form and, with ``bounds``, the range.
     """
-    form = "start:stop:step" + (" or a comma list of numbers" if allow_list else "")
+    values_in = ""
+    if bounds is not None:
+        values_in = f" in [{bounds[0]:g}, {bounds[1]:g}]" + (f" {unit}" if unit else "")
+    form = "start:stop:step" + (" or a comma list of numbers" if allow_list else "") + values_in
     top = work_bound(MAX_POINTS)
 
     def too_many(n: float) -> ValueError:
@@ -65,11 +77,15 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
     except ValueError as exc:
         if "above the limit" in str(exc):
             raise
+        also = f"; {note}" if note else ""
         raise ValueError(
-            f"{name} must be {form} (finite, step > 0, stop >= start), got {text!r}"
+            f"{name} must be {form} (finite, step > 0, stop >= start{also}), got {text!r}"
         ) from None
     if positive and values.min() <= 0:
         raise ValueError(f"{name} must start above 0, got {text!r}")
+    if bounds is not None and (values.min() < bounds[0] or values.max() > bounds[1]):
+        raise ValueError(f"{name} must lie{values_in}{f' ({note})' if note else ''}, "
+                         f"got {text!r}")
     uniq, counts = np.unique(values, return_counts=True)
     if np.any(counts > 1):  # a typo more likely than a wish to compute a point twice
         raise ValueError(f"{name} lists {uniq[counts > 1][0]:g} more than once, got {text!r}")
