@@ -414,3 +414,57 @@ def test_a_malformed_grid_is_refused_with_its_range(argv, words, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and words in err, err
+
+
+DT_RANGE_40K = "--dt must be in (0, 1/(20 f)] = (0, 1.25e-06] s at --frequency 40000 Hz, got "
+STEADY_MAP_DT = " (with --method steady it serves the transient of a point"
+
+
+@pytest.mark.parametrize("argv, words", [
+    # one range, the one at the frequency in force: --dt 2e-3 had been told (0, 0.001] s,
+    # and then --dt 1e-4, inside it, was refused with (0, 1.25e-06] s
+    (["simulate", "--voltage", "200", "--preload", "14", "--dt", "2e-3"], DT_RANGE_40K + "'2e-3'"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--dt", "nan"], DT_RANGE_40K + "'nan'"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--dt", "1e-4"], DT_RANGE_40K + "'1e-4'"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--dt", "abc"], DT_RANGE_40K + "'abc'"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--dt=-1e-7"], DT_RANGE_40K + "'-1e-7'"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--frequency", "20000", "--dt",
+      "1e-3"], "--dt must be in (0, 1/(20 f)] = (0, 2.5e-06] s at --frequency 20000 Hz, "
+     "got '1e-3'"),
+    # --steady takes any positive step (it has none of its own to serve), a non-number not
+    (["simulate", "--voltage", "200", "--preload", "14", "--steady", "--dt", "nan"],
+     DT_RANGE_40K + "'nan'"),
+    (["map", "--method", "transient", "--dt", "2e-3"], DT_RANGE_40K + "'2e-3'"),
+    (["map", "--method", "transient", "--dt", "nan"], DT_RANGE_40K + "'nan'"),
+    (["map", "--method", "steady", "--dt", "2e-3"], DT_RANGE_40K + "'2e-3'" + STEADY_MAP_DT),
+    (["map", "--method", "steady", "--dt", "1e-4"], DT_RANGE_40K + "'1e-4'" + STEADY_MAP_DT),
+])
+def test_dt_is_refused_with_the_one_range_in_force(argv, words, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and words in err, err
+
+
+@pytest.mark.parametrize("frequency_Hz", [1.0, 3.0, 30e3, 33333.0, 39810.47, 1e6, 7e6])
+def test_the_dt_bound_said_is_a_step_that_is_taken(frequency_Hz):
+    # the bound is rounded down where it is said: 1/(20 f) at 30 kHz read 1.667e-06 s, a
+    # step above it, refused
+    import re
+
+    from validation.errors import LusmError
+    from validation.options import time_step_of
+
+    with pytest.raises(LusmError) as exc:
+        time_step_of("1", frequency_Hz)
+    shown = re.search(r"= \(0, (\S+)\] s", str(exc.value)).group(1)
+    assert time_step_of(shown, frequency_Hz) == float(shown)
+    assert float(shown) >= 0.999 / (20 * frequency_Hz)  # four digits: close to the bound
+    above = f"{float(shown) * 1.001:.6g}"
+    with pytest.raises(LusmError):
+        time_step_of(above, frequency_Hz)
+
+
+def test_a_steady_run_takes_any_positive_dt_and_says_it_has_no_effect(capsys):
+    assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady", "--dt", "1e-4",
+                 "--json"]) == 0
+    assert "--dt has no effect: --steady takes its own step" in capsys.readouterr().err

@@ -68,18 +68,17 @@ def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
 
 
 def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> None:
-    from validation.options import check_dt_per_period, time_step_s, typed
+    from validation.options import time_step_of
 
-    args.dt = time_step_s(args.dt, frequency_Hz)  # a whole number of steps per period
+    # the steady engine takes its own step; --dt serves only the transient of an undecided
+    # point. A typed one gets the transients' range all the same (--dt 1e-3 had run without
+    # a word, the undecided points silently at T/20); the default is within it
+    why = (" (with --method steady it serves the transient of a point the steady engine "
+           "cannot decide)" if args.method == "steady" else "")
+    args.dt = time_step_of(args.dt, frequency_Hz, why)  # default: whole steps per period
     if args.method == "transient":
         check_run_size(args.duration, args.dt, frequency_Hz, runs=volts.size * loads.size)
     else:
-        # the steady engine takes its own step; --dt serves only the transient of an
-        # undecided point. A typed one gets the transients' range (--dt 1e-3 had run without
-        # a word, the undecided points silently at T/20); the default is within it
-        if typed("--dt"):
-            check_dt_per_period(args.dt, frequency_Hz, " (with --method steady it serves the "
-                                "transient of a point the steady engine cannot decide)")
         check_steps(args.duration, args.dt)
 
 

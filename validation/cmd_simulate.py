@@ -21,7 +21,7 @@ from validation.options import (
     parse_frequency,
     print_json,
     real,
-    time_step_s,
+    time_step_of,
     warn,
     warn_default_frequency,
     warn_drive,
@@ -65,23 +65,24 @@ def run(args: argparse.Namespace) -> None:
     if args.energy and args.steady:
         raise LusmError("--energy needs a transient (use lusm characteristic for the power "
                         "balance of the steady state)", "--energy")
-    if args.steady:
-        warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
-    else:
+    if not args.steady:
         warn_unused(("--rest",), "it sets how --steady decides the start from rest")
     plot = output_folder(args, "simulate", "--plot")  # refused before any work
     for v in voltages:
         warn_drive(v, args.preload, load_N=args.load_N)
     known = known_frequency(args.frequency)  # 'auto' needs the parameter set first
-    typed_dt = args.dt
-    if known is not None and not args.steady:  # --steady uses neither --duration nor --dt
-        args.dt = time_step_s(typed_dt, known)
-        check_run_size(args.duration, args.dt, known)
+    typed_dt = args.dt  # the text typed, checked at the frequency in force
+    if known is not None:  # refused before any work; --steady takes any positive step
+        args.dt = time_step_of(typed_dt, known, used=not args.steady)
+        if not args.steady:  # --steady uses neither --duration nor --dt
+            check_run_size(args.duration, args.dt, known)
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     freq = parse_frequency(args.frequency, params)
     warn_default_frequency(params, freq)
-    args.dt = time_step_s(typed_dt, freq)
+    args.dt = time_step_of(typed_dt, freq, used=not args.steady)
+    if args.steady:  # said once --dt is known to be a number: a refusal is then the one line
+        warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
     if known is None and not args.steady:  # a number was checked above
         check_run_size(args.duration, args.dt, freq)
 

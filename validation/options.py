@@ -888,9 +888,13 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
     g.add_argument("--duration", default=0.05,
                    type=real("--duration", "s", *limits.DURATION_S, lo_open=True),
                    help="simulated time (s)")
-    g.add_argument("--dt", default=None, type=real("--dt", "s", 0.0, 1e-3, lo_open=True),
-                   help="time step (s), <= 1/(20 f); default 1e-7 s, or just below it so "
-                        "that a drive period is a whole number of steps")
+    # kept as typed and checked by time_step_of once the drive frequency is known: its range
+    # (0, 1/(20 f)] depends on it, and a parse-time range of its own, (0, 0.001] s, had been
+    # said to --dt 2e-3 before --dt 1e-4, inside it, was refused at 40 kHz
+    g.add_argument("--dt", default=None,
+                   help="time step (s), in (0, 1/(20 f)] at the drive frequency f; default "
+                        "1e-7 s, or just below it so that a drive period is a whole number of "
+                        "steps")
 
 
 def parse_frequency(text: str | float, params=None) -> float:
@@ -969,13 +973,66 @@ def check_steps(duration_s: float, dt_s: float) -> float:
     return steps
 
 
+def time_step_of(text: str | None, frequency_Hz: float, why: str = "", *,
+                 used: bool = True) -> float:
+    """The time step (s) of ``--dt`` typed as ``text``, checked at the drive frequency in
+    force, or by default :func:`time_step_s`.
+
+    Parameters
+    ----------
+    text : str or None
+        ``--dt`` as typed (None: not given).
+    frequency_Hz : float
+        The drive frequency in force (Hz), which sets the range (0, 1/(20 f)] s.
+    why : str
+        A clause saying what the step serves, for a command where that is not obvious.
+    used : bool
+        False where the step has no effect (``simulate --steady``, said by a warning): a
+        positive number is then all that is required, refused with the same range.
+
+    Raises
+    ------
+    LusmError
+        Naming ``--dt``, the range at ``frequency_Hz`` and the text typed.
+    """
+    if text is None:
+        return time_step_s(None, frequency_Hz)
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        value = math.nan  # refused below, with the range the number would have to be in
+    if not (0.0 < value < math.inf) or (used and value > _dt_max(frequency_Hz)):
+        raise LusmError(_dt_refusal(frequency_Hz, repr(text), why), "--dt")
+    return value
+
+
+def _dt_max(frequency_Hz: float) -> float:
+    """The largest step (s) :func:`check_dt_per_period` takes: 1/(20 f), to roundoff."""
+    return 1.0 / (20.0 * frequency_Hz) * (1 + 1e-12)
+
+
+def _dt_refusal(frequency_Hz: float, got: str, why: str) -> str:
+    # the bound rounded down, so that the figure said is a step the check takes (1/(20 f)
+    # at 30 kHz, 1.6667e-06 s rounded to 1.667e-06, was above it and refused)
+    shown = _down(1.0 / (20.0 * frequency_Hz))
+    return (f"--dt must be in (0, 1/(20 f)] = (0, {shown:g}] s at --frequency "
+            f"{frequency_Hz:g} Hz, got {got}{why}")
+
+
+def _down(x: float, digits: int = 4) -> float:
+    """``x`` > 0 rounded down to ``digits`` significant digits (a float no larger than x)."""
+    from decimal import ROUND_FLOOR, Decimal
+
+    exact = Decimal(x)
+    return float(exact.quantize(Decimal(1).scaleb(exact.adjusted() - digits + 1),
+                                rounding=ROUND_FLOOR))
+
+
 def check_dt_per_period(dt_s: float, frequency_Hz: float, why: str = "") -> None:
     """Refuse a ``--dt`` above 1/(20 f): fewer than 20 steps per drive period (``why``: a
     clause saying what the step serves, for a command where that is not obvious)."""
-    dt_max = 1.0 / (20.0 * frequency_Hz)
-    if dt_s > dt_max * (1 + 1e-12):
-        raise LusmError(f"--dt must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at --frequency "
-                        f"{frequency_Hz:g} Hz, got {dt_s:g}{why}", "--dt")
+    if not 0.0 < dt_s <= _dt_max(frequency_Hz):
+        raise LusmError(_dt_refusal(frequency_Hz, f"{dt_s:g}", why), "--dt")
 
 
 def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
