@@ -141,11 +141,7 @@ def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     ``steps_per_period`` defaults to :data:`STEPS_PER_PERIOD`, raised where the fastest mode
     needs it (:func:`steps_for`).
     """
-    # an effectively infinite slider with a frictionless guide: stick forces take their
-    # M -> infinity form; the slider row is zeroed below anyway
-    p_inf = params.with_(M_slider=1e12, mu_sd=0.0)
-    op0 = OperatingPoint(op.voltage_V, op.preload_N, op.frequency_Hz)
-    base = build_system(p_inf, op0, mu_d_eff, coupling)
+    base = fast_base_system(params, op, mu_d_eff, coupling)
     n = steps_for(base, op.period_s, steps_per_period)
     dt = op.period_s / n
     ft_sys, fn_sys, (phi_ft, half_ft), (phi_fn, half_fn), fine_ft = integrating_systems(
@@ -155,6 +151,32 @@ def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     if fine_ft is not None:
         fs.fine["ft"] = fine_ft
     return fs
+
+
+def fast_base_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
+                     coupling: str = "paper") -> HybridSystem:
+    """The contact model the fast problem starts from (:func:`fast_system`), before its
+    fixed-velocity integrating systems are made: the system whose modes :func:`steps_for`
+    counts the steps per drive period on.
+
+    Parameters
+    ----------
+    params : MotorParams
+    op : OperatingPoint
+        The load is dropped (the fast problem has none).
+    mu_d_eff : float
+        Dynamic friction coefficient in slip (-).
+    coupling : {"paper", "consistent"}
+
+    Returns
+    -------
+    HybridSystem
+    """
+    # an effectively infinite slider with a frictionless guide: stick forces take their
+    # M -> infinity form; the slider row is zeroed in the integrating systems anyway
+    p_inf = params.with_(M_slider=1e12, mu_sd=0.0)
+    op0 = OperatingPoint(op.voltage_V, op.preload_N, op.frequency_Hz)
+    return build_system(p_inf, op0, mu_d_eff, coupling)
 
 
 def _power(stack: np.ndarray, k: int) -> np.ndarray:

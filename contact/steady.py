@@ -47,10 +47,13 @@ from contact.periodic_orbit import (
     SEARCH_PERIODS,
     FastSystem,
     Orbit,
+    fast_base_system,
     fast_system,
     find_orbit,
     orbit_phases,
     orbit_work,
+    spectral_radius,
+    steps_for,
 )
 from contact.results import PHASE_THRESHOLD, classify_motion
 from rom.params import GRAVITY_M_S2, MotorParams, require_params
@@ -404,10 +407,13 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
         mu = params.mu_d
     fs = fast_system(params, op, mu, coupling)
     if fs.steps_per_period > MAX_STEPS_PER_PERIOD:
+        # the lowest frequency taken, counted with this point's friction as fs was
+        low = lowest_frequency_Hz(params, coupling, mu_d_eff=mu)
         raise ValueError(
             f"frequency_Hz = {op.frequency_Hz:g} Hz is too far below the stator's fastest mode "
-            f"for the steady engine: {float(fs.steps_per_period):.3g} steps per drive period, "
-            f"above {MAX_STEPS_PER_PERIOD} (it resolves that mode in every period)")
+            f"for the steady engine: {fs.steps_per_period} steps per drive period, above "
+            f"{MAX_STEPS_PER_PERIOD} (it resolves that mode in every period); it takes "
+            f"frequency_Hz >= {low:g} Hz here")
     _, b_amp = free_tip_amplitudes(params, op.frequency_Hz, op.voltage_V)
     v_max = max(1.5 * float(b_amp) * op.omega, 1e-6)
     floor = min(max(SCAN_FLOOR_FACTOR * ripple_scale(params, op, mu), 1e-5 * v_max),
@@ -417,12 +423,68 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     return SlowProblem(params, op, mu, fs, v_max, floor, orbit_tol=tols[0], root_rtol=tols[1])
 
 
-def steps_per_period(params: MotorParams, frequency_Hz: float, coupling: str = "paper") -> int:
+def steps_per_period(params: MotorParams, frequency_Hz: float, coupling: str = "paper",
+                     mu_d_eff: float | None = None) -> int:
     """Steps per drive period the steady engine takes at ``frequency_Hz`` (Hz): its cost per
     period, and so per point, grows with it (25 at 40 kHz on Table 2's set, 14 923 at 20 Hz,
-    where a point takes 1.5 s). A work estimate for callers that bound a study beforehand."""
+    where a point takes 1.5 s). A work estimate for callers that bound a study beforehand.
+
+    ``mu_d_eff`` (-) is the friction in slip, ``params.mu_d`` by default; the count is the
+    one :func:`fast_system` makes (:func:`contact.periodic_orbit.steps_for`), without its
+    propagators.
+    """
     op = OperatingPoint(0.0, 0.0, float(frequency_Hz))
-    return int(fast_system(params, op, params.mu_d, coupling).steps_per_period)
+    mu = params.mu_d if mu_d_eff is None else float(mu_d_eff)
+    return int(steps_for(fast_base_system(params, op, mu, coupling), op.period_s))
+
+
+LOWEST_FREQUENCY_DIGITS = 4
+"""Significant digits of :func:`lowest_frequency_Hz`."""
+
+
+def lowest_frequency_Hz(params: MotorParams, coupling: str = "paper",
+                        mu_d_eff: float | None = None) -> float:
+    """The lowest drive frequency (Hz) the steady engine takes: the lowest at which
+    :func:`steps_per_period` stays within :data:`MAX_STEPS_PER_PERIOD` (about 14.93 Hz on
+    Table 2's set), rounded up to :data:`LOWEST_FREQUENCY_DIGITS` significant digits, so that
+    the figure said is one that is taken and the one a unit of its last digit below is not.
+
+    Parameters
+    ----------
+    params : MotorParams
+    coupling : {"paper", "consistent"}
+    mu_d_eff : float, optional
+        The friction in slip (-), as for :func:`steps_per_period`.
+
+    Returns
+    -------
+    float
+    """
+    from decimal import ROUND_CEILING, Decimal
+
+    def taken(f: Decimal) -> bool:
+        return steps_per_period(params, float(f), coupling, mu_d_eff) <= MAX_STEPS_PER_PERIOD
+
+    def unit(f: Decimal) -> Decimal:  # one in the last digit kept
+        return Decimal(1).scaleb(f.adjusted() - LOWEST_FREQUENCY_DIGITS + 1)
+
+    # the count is ceil(rho T) (steps_for), rho the fastest rate of the modes (1/s), which the
+    # drive frequency does not change far below them: the bound is near rho / MAX
+    mu = params.mu_d if mu_d_eff is None else float(mu_d_eff)
+    base = fast_base_system(params, OperatingPoint(0.0, 0.0, 1.0), mu, coupling)
+    guess = Decimal(spectral_radius(base.A) / MAX_STEPS_PER_PERIOD)
+    f = guess.quantize(unit(guess), rounding=ROUND_CEILING)
+    # the count decides, on the figures said: roundoff in rho and in T may put the bound a
+    # unit off the guess
+    while not taken(f):
+        f += unit(f)
+    while True:
+        below = f - unit(f)
+        if below.adjusted() < f.adjusted():  # 10.00 -> 9.999, not 9.99
+            below = f - unit(f) / 10
+        if below <= 0 or not taken(below):
+            return float(f)
+        f = below
 
 
 def ripple_scale(params: MotorParams, op: OperatingPoint, mu_d_eff: float) -> float:

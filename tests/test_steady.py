@@ -82,3 +82,49 @@ def test_a_newton_trial_that_chatters_does_not_end_the_search():
     v, motion = transient_reference(p, 50, 12, frequency_Hz=40e3, coupling="consistent",
                                     duration_s=0.1)
     assert abs(v) < 1e-12 and motion == "pure-stick"
+
+
+@pytest.mark.parametrize("source", ["table2", "beam"])
+@pytest.mark.parametrize("coupling", ["paper", "consistent"])
+@pytest.mark.parametrize("mu_d_eff", [None, 0.0, 0.5])
+def test_the_lowest_steady_frequency_is_where_the_step_count_crosses_its_bound(
+        source, coupling, mu_d_eff):
+    """The frequency said is one the engine takes and a unit of its last digit below it is
+    not, on the count the engine refuses by (about 14.93 Hz on Table 2's set)."""
+    from decimal import Decimal
+
+    from contact.steady import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
+    from rom.sources import get_params
+
+    p = get_params(source)
+    low = lowest_frequency_Hz(p, coupling, mu_d_eff)
+    shown = Decimal(f"{low:g}")
+    assert float(shown) == low and len(shown.as_tuple().digits) <= 4  # four digits, as said
+    below = float(shown - Decimal(1).scaleb(shown.adjusted() - 3))
+    assert steps_per_period(p, low, coupling, mu_d_eff) <= MAX_STEPS_PER_PERIOD
+    assert steps_per_period(p, below, coupling, mu_d_eff) > MAX_STEPS_PER_PERIOD
+    if source == "table2":
+        assert low == 14.93
+
+
+def test_steps_per_period_is_the_fast_systems_count(params):
+    # steps_per_period counts without the propagators; the engine counts with them
+    from contact.model import OperatingPoint
+    from contact.periodic_orbit import fast_system
+    from contact.steady import steps_per_period
+
+    for f in (10.0, 14.93, 1e3, 40e3):
+        fs = fast_system(params, OperatingPoint(0.0, 0.0, f), params.mu_d)
+        assert steps_per_period(params, f) == fs.steps_per_period
+
+
+def test_a_drive_below_the_lowest_steady_frequency_is_refused_with_it(params):
+    from contact.model import OperatingPoint
+    from contact.steady import slow_problem
+
+    with pytest.raises(ValueError, match=r"29846 steps per drive period, above 20000 .*; it "
+                       r"takes frequency_Hz >= 14.93 Hz here"):
+        slow_problem(params, OperatingPoint(200.0, 14.0, 10.0))
+    with pytest.raises(ValueError, match=r"frequency_Hz >= 14.93 Hz"):
+        slow_problem(params, OperatingPoint(200.0, 14.0, 14.92))
+    assert slow_problem(params, OperatingPoint(200.0, 14.0, 14.93)).fs.steps_per_period <= 20000

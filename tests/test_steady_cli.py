@@ -172,6 +172,46 @@ def test_a_drive_too_slow_for_the_steady_engine_is_refused_in_one_line(capsys):
     assert len(err) == 1 and "--frequency" in err[0] and "steps per drive period" in err[0]
 
 
+STEADY_COMMANDS = [["characteristic", "--voltage", "200", "--preload", "14"],
+                   ["map", "--voltages", "200", "--preloads", "14"],
+                   ["simulate", "--steady", "--voltage", "200", "--preload", "14"]]
+
+
+@pytest.mark.parametrize("frequency, steps", [("10", 29846), ("14.92", 20004)])
+def test_a_drive_too_slow_for_the_steady_engine_is_given_its_range_in_hz(frequency, steps,
+                                                                         capsys):
+    # it had said only "29846 steps per drive period, above 20000", and simulate --steady
+    # "2.98e+04" in the engine's words; one message with the range for the three commands
+    said = f"--frequency must be in [14.93, 1e+07] Hz for the steady engine on this stator, " \
+           f"got {frequency}: too far below its fastest mode ({steps} steps per drive " \
+           "period, above 20000)"
+    for argv in STEADY_COMMANDS:
+        assert main([*argv, "--frequency", frequency]) == 2
+        err = capsys.readouterr().err.strip()
+        assert err == f"lusm {argv[0]}: error: {said}", err
+
+
+def test_the_lowest_steady_frequency_said_is_taken(capsys):
+    # the bound said, 14.93 Hz, is one the engine runs (14.92 is refused above)
+    assert main(["map", "--voltages", "200", "--preloads", "14", "--accuracy", "fast",
+                 "--frequency", "14.93", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["motion"][0][0]
+
+
+def test_no_drive_frequency_the_option_takes_suits_a_stiff_stator(monkeypatch):
+    # where the lowest frequency is above the option's range, that range is said empty
+    from rom import table2
+    from validation import limits
+    from validation.errors import LusmError
+    from validation.options import check_steady_frequency
+
+    monkeypatch.setattr(limits, "FREQUENCY_HZ", (1.0, 10.0))
+    with pytest.raises(LusmError, match=r"^--frequency: no drive in \[1, 10\] Hz suits the "
+                       r"steady engine on this stator, whose fastest mode needs 14.93 Hz or "
+                       r"more \(29846 steps per drive period, above 20000 at 10 Hz\)$"):
+        check_steady_frequency(table2(), 10.0, "paper")
+
+
 @pytest.mark.parametrize("loads, words", [
     ("0:1e9:1", ["--loads", "above the limit 2000", "LUSM_MAX_WORK"]),
     ("0:2000:500", ["--loads must lie in [-1000, 1000] N"]),

@@ -12,6 +12,7 @@ from validation.options import (
     add_output_options,
     add_rest_option,
     check_run_size,
+    check_steady_frequency,
     coupling_of,
     figure_set,
     known_frequency,
@@ -81,7 +82,10 @@ def run(args: argparse.Namespace) -> None:
     freq = parse_frequency(args.frequency, params)
     warn_default_frequency(params, freq)
     args.dt = time_step_of(typed_dt, freq, used=not args.steady)
-    if args.steady:  # said once --dt is known to be a number: a refusal is then the one line
+    if args.steady:
+        # the range characteristic and map say (the engine's own refusal had no range)
+        check_steady_frequency(params, freq, coupling)
+        # said once --dt is known to be a number: a refusal is then the one line
         warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
     if known is None and not args.steady:  # a number was checked above
         check_run_size(args.duration, args.dt, freq)

@@ -476,18 +476,35 @@ def warn_refine_unused(choice: StatorChoice, geometry: str) -> None:
                        if choice.parametric else "its own mesh file"))
 
 
+def check_steady_frequency(params, frequency_Hz: float, coupling: str) -> int:
+    """Refuse a drive too far below the stator's fastest mode for the steady engine (more
+    than :data:`contact.steady.MAX_STEPS_PER_PERIOD` steps per drive period), with the range
+    of ``--frequency`` it takes (:func:`contact.steady.lowest_frequency_Hz`, from the same
+    count); the steps per drive period at ``frequency_Hz`` otherwise. One message for
+    ``characteristic``, ``map`` and ``simulate --steady``."""
+    from contact.steady import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
+
+    n = steps_per_period(params, frequency_Hz, coupling)
+    if n <= MAX_STEPS_PER_PERIOD:
+        return n
+    lo, hi = lowest_frequency_Hz(params, coupling), limits.FREQUENCY_HZ[1]
+    steps = f"{n} steps per drive period, above {MAX_STEPS_PER_PERIOD}"
+    if lo > hi:  # a stator stiffer than any drive the option takes
+        raise LusmError(f"--frequency: no drive in [{limits.FREQUENCY_HZ[0]:g}, {hi:g}] Hz "
+                        f"suits the steady engine on this stator, whose fastest mode needs "
+                        f"{lo:g} Hz or more ({steps} at {frequency_Hz:g} Hz)", "--frequency")
+    raise LusmError(f"--frequency must be in [{lo:g}, {hi:g}] Hz for the steady engine on "
+                    f"this stator, got {frequency_Hz:g}: too far below its fastest mode "
+                    f"({steps})", "--frequency")
+
+
 def check_steady_work(solves: int, params, frequency_Hz: float, coupling: str,
                       what: str, option: str) -> None:
     """Refuse, before any work, a steady study above :data:`limits.MAX_STEADY_WORK`: ``solves``
-    steady points (or loads) at ``frequency_Hz``, each costing its steps per drive period.
-    ``what`` says what was counted; the message names ``option``."""
-    from contact.steady import MAX_STEPS_PER_PERIOD, steps_per_period
-
-    n = steps_per_period(params, frequency_Hz, coupling)
-    if n > MAX_STEPS_PER_PERIOD:  # no point at all: the drive frequency is to blame
-        raise LusmError(f"--frequency {frequency_Hz:g} Hz is too far below the stator's fastest "
-                        f"mode for the steady engine: {n} steps per drive period, above "
-                        f"{MAX_STEPS_PER_PERIOD}", "--frequency")
+    steady points (or loads) at ``frequency_Hz``, each costing its steps per drive period
+    (:func:`check_steady_frequency` first: no point at all if the drive frequency is too
+    low). ``what`` says what was counted; the message names ``option``."""
+    n = check_steady_frequency(params, frequency_Hz, coupling)
     top = limits.work_bound(limits.MAX_STEADY_WORK)
     if solves * n > top:
         raise LusmError(
