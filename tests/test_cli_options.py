@@ -418,24 +418,25 @@ def test_a_malformed_grid_is_refused_with_its_range(argv, words, capsys):
 
 DT_RANGE_40K = "--dt must be in (0, 1/(20 f)] = (0, 1.25e-06] s at --frequency 40000 Hz, got "
 STEADY_MAP_DT = " (with --method steady it serves the transient of a point"
+DT_FORM = "--dt must be a number in (0, 1/(20 f)] s at the drive frequency f, got "
 
 
 @pytest.mark.parametrize("argv, words", [
     # one range, the one at the frequency in force: --dt 2e-3 had been told (0, 0.001] s,
     # and then --dt 1e-4, inside it, was refused with (0, 1.25e-06] s
     (["simulate", "--voltage", "200", "--preload", "14", "--dt", "2e-3"], DT_RANGE_40K + "'2e-3'"),
-    (["simulate", "--voltage", "200", "--preload", "14", "--dt", "nan"], DT_RANGE_40K + "'nan'"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--dt", "nan"], DT_FORM + "'nan'"),
     (["simulate", "--voltage", "200", "--preload", "14", "--dt", "1e-4"], DT_RANGE_40K + "'1e-4'"),
-    (["simulate", "--voltage", "200", "--preload", "14", "--dt", "abc"], DT_RANGE_40K + "'abc'"),
-    (["simulate", "--voltage", "200", "--preload", "14", "--dt=-1e-7"], DT_RANGE_40K + "'-1e-7'"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--dt", "abc"], DT_FORM + "'abc'"),
+    (["simulate", "--voltage", "200", "--preload", "14", "--dt=-1e-7"], DT_FORM + "'-1e-7'"),
     (["simulate", "--voltage", "200", "--preload", "14", "--frequency", "20000", "--dt",
       "1e-3"], "--dt must be in (0, 1/(20 f)] = (0, 2.5e-06] s at --frequency 20000 Hz, "
      "got '1e-3'"),
     # --steady takes any positive step (it has none of its own to serve), a non-number not
     (["simulate", "--voltage", "200", "--preload", "14", "--steady", "--dt", "nan"],
-     DT_RANGE_40K + "'nan'"),
+     DT_FORM + "'nan'"),
     (["map", "--method", "transient", "--dt", "2e-3"], DT_RANGE_40K + "'2e-3'"),
-    (["map", "--method", "transient", "--dt", "nan"], DT_RANGE_40K + "'nan'"),
+    (["map", "--method", "transient", "--dt", "nan"], DT_FORM + "'nan'"),
     (["map", "--method", "steady", "--dt", "2e-3"], DT_RANGE_40K + "'2e-3'" + STEADY_MAP_DT),
     (["map", "--method", "steady", "--dt", "1e-4"], DT_RANGE_40K + "'1e-4'" + STEADY_MAP_DT),
 ])
@@ -443,6 +444,22 @@ def test_dt_is_refused_with_the_one_range_in_force(argv, words, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and words in err, err
+
+
+def test_a_dt_that_is_no_step_is_refused_before_a_stators_fe_reduction(monkeypatch, capsys):
+    """Its figure at the drive frequency waits for ``--frequency auto``, the FE reduction of
+    a stator file; a non-number or a step <= 0 is no step at any frequency, and had waited
+    for it too (the range form of the refusal is the same)."""
+    import rom.from_fem
+
+    def no_fe(*args, **kwargs):
+        raise AssertionError("the FE reduction ran before --dt was refused")
+
+    monkeypatch.setattr(rom.from_fem, "fem_params_from_file", no_fe)
+    monkeypatch.setattr(rom.from_fem, "fem_params_from_design", no_fe)
+    assert main(["simulate", "--geometry", "examples/tuned_40k/stator.toml", "--frequency",
+                 "auto", "--voltage", "200", "--preload", "14", "--dt", "abc"]) == 2
+    assert capsys.readouterr().err.strip() == f"lusm simulate: error: {DT_FORM}'abc'"
 
 
 @pytest.mark.parametrize("frequency_Hz", [1.0, 3.0, 30e3, 33333.0, 39810.47, 1e6, 7e6])

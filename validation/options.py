@@ -908,10 +908,25 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
     # kept as typed and checked by time_step_of once the drive frequency is known: its range
     # (0, 1/(20 f)] depends on it, and a parse-time range of its own, (0, 0.001] s, had been
     # said to --dt 2e-3 before --dt 1e-4, inside it, was refused at 40 kHz
-    g.add_argument("--dt", default=None,
+    g.add_argument("--dt", default=None, type=_dt_form,
                    help="time step (s), in (0, 1/(20 f)] at the drive frequency f; default "
                         "1e-7 s, or just below it so that a drive period is a whole number of "
                         "steps")
+
+
+def _dt_form(text: str) -> str:
+    """``--dt`` as typed, once it is a positive finite number: a form that is no step at any
+    frequency is refused while the options are read, before a stator file's FE reduction
+    (``--frequency auto``) that its range waits for; the range is the one
+    :func:`time_step_of` then checks, without the frequency's figure."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 < value < math.inf:
+        raise argparse.ArgumentTypeError(
+            f"--dt must be a number in (0, 1/(20 f)] s at the drive frequency f, got {text!r}")
+    return text
 
 
 def parse_frequency(text: str | float, params=None) -> float:
