@@ -1162,7 +1162,8 @@ def test_transient_settings_no_point_could_run_are_refused_before_any_work(solve
      "solver.duration 10 us must cover at least 10 drive periods, "),
     # the steady engine's bound depends on the plate's fastest mode (the FE set)
     ({"method": "steady"}, {"frequency": "10 Hz"},
-     "axes.frequency 10 Hz is too far below this plate's fastest mode for the steady engine"),
+     "axes.frequency 10 Hz is too far below this plate's fastest mode for the steady engine "
+     "(solver.method = \"steady\"), which takes "),
 ])
 def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
         solver, axes, words, client, tmp_path, capsys):

@@ -397,14 +397,17 @@ def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
     if study.solver.method != "steady":
         return transient_problem(study.solver, frequency_Hz, at)
     from contact.model import default_coupling
-    from contact.steady import MAX_STEPS_PER_PERIOD, steps_per_period
+    from contact.steady import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
 
-    n = steps_per_period(params, frequency_Hz, default_coupling(params)[0])
+    coupling = default_coupling(params)[0]
+    n = steps_per_period(params, frequency_Hz, coupling)
     if n > MAX_STEPS_PER_PERIOD:
+        # the bound in Hz, as lusm characteristic / map / simulate --steady say it
+        lowest = lowest_frequency_Hz(params, coupling)
         return (f"{at} is too far below this plate's fastest mode for the "
-                f"steady engine (solver.method = \"steady\"): {n} steps per drive period, "
-                f"above {MAX_STEPS_PER_PERIOD}; give a higher axes.frequency or a transient "
-                "solver.method")
+                f"steady engine (solver.method = \"steady\"), which takes {lowest:g} Hz and "
+                f"up on it ({n} steps per drive period, above {MAX_STEPS_PER_PERIOD}); give a "
+                "higher axes.frequency or a transient solver.method")
     return None
 
 
