@@ -441,7 +441,10 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("sweep-1e9-points", ["sweep", "--width-mm", "1:1e9:1"], ["--width-mm", "limit"]),
     ("sweep-two-ranges", ["sweep", "--width-mm", "6:8:1", "--length-mm", "28:30:1"],
      ["exactly one"]),
-    ("sweep-no-range", ["sweep", "--width-mm", "8"], ["exactly one"]),
+    ("sweep-no-range", ["sweep", "--width-mm", "8"], ["exactly one", "--width-mm 8 (no range)"]),
+    # a malformed 30:40 had been counted as a second range ("got 2 ranges"): as typed now
+    ("sweep-range-and-malformed", ["sweep", "--width-mm", "6:10:1", "--length-mm", "30:40"],
+     ["exactly one", "got --width-mm 6:10:1 and --length-mm 30:40"]),
     ("sweep-beyond-plate-range", ["sweep", "--width-mm", "1:2000:500"],
      ["--width-mm must lie in"]),
     ("sweep-too-many-solves", ["sweep", "--width-mm", "1:500:1"], ["FE solves"]),

@@ -713,3 +713,27 @@ def test_tip_and_preload_at_one_point_and_a_fifo_mesh_name_the_file_keys(tmp_pat
     path = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "fifo.msh"\n')
     with pytest.raises(ValueError, match=r"\[mesh\] file 'fifo.msh' is a FIFO \(named pipe\)"):
         load_stator(path)
+
+
+def test_a_point_on_a_mirrored_meshs_centre_line_is_not_minus_zero(tmp_path, capsys):
+    """The tip example's mesh mirrored in x (electrodes renumbered to the paper's quadrants):
+    its tip and preload vertices lie at x = -0.0 and were printed as "tip (-0, 31) mm" and
+    "tip_mm": [-0.0, 31.0] (exploratory testing)."""
+    from tests.conftest import ROOT
+    from validation.cli import main
+
+    example = ROOT / "examples" / "tip_protrusion"
+    mesh = meshio.read(example / "tip_protrusion.msh")
+    mesh.points[:, 0] *= -1.0
+    swap = {1: 3, 3: 1, 2: 4, 4: 2}  # the mirror image's quadrants
+    for block in mesh.cell_data["gmsh:physical"]:
+        block[:] = [swap.get(int(t), int(t)) for t in block]
+    meshio.write(tmp_path / "mirrored.msh", mesh, file_format="gmsh22", binary=False)
+    toml = (example / "stator.toml").read_text().replace("tip_protrusion.msh", "mirrored.msh")
+    (tmp_path / "stator.toml").write_text(toml)
+    assert main(["modes", "--geometry", str(tmp_path / "stator.toml"), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["tip_mm"] == [0.0, 31.0] and math.copysign(1.0, d["tip_mm"][0]) == 1.0
+    assert math.copysign(1.0, d["preload_mm"][0]) == 1.0
+    assert main(["modes", "--geometry", str(tmp_path / "stator.toml")]) == 0
+    assert "tip (0, 31) mm, preload (0, 0) mm" in capsys.readouterr().out

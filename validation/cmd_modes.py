@@ -323,8 +323,9 @@ def run(args: argparse.Namespace) -> None:
         }
         # where the reduction (lusm params --source fem) normalises L1 and B2; a stator file
         # may move them, and nothing said which points were used
-        out["tip_mm"] = [float(f"{c * 1e3:.12g}") for c in stator.tip_point_m]
-        out["preload_mm"] = [float(f"{c * 1e3:.12g}") for c in stator.preload_point_m]
+        # + 0.0: a point on a mirrored mesh's centre line read -0 mm
+        out["tip_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.tip_point_m]
+        out["preload_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.preload_point_m]
         out["split_rel"] = _split(res)
         out["mac"] = {m.name: m.mac for m in (res.L1, res.B2)}
         out["symmetry"] = {m.name: m.symmetry for m in (res.L1, res.B2)}
@@ -356,8 +357,8 @@ def run(args: argparse.Namespace) -> None:
     )
     if choice.design is not None:
         what = "bounding box above" if choice.meshed else "dimensions above"
-        tip, pre = ((f"{x * 1e3:g}, {y * 1e3:g}") for x, y in (stator.tip_point_m,
-                                                                 stator.preload_point_m))
+        tip, pre = ((f"{x * 1e3 + 0.0:g}, {y * 1e3 + 0.0:g}") for x, y in (
+            stator.tip_point_m, stator.preload_point_m))
         print(f"stator file {args.geometry}: {choice.design.name} ({what}); tip ({tip}) mm, "
               f"preload ({pre}) mm")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}{'MAC':>7}"

@@ -58,8 +58,11 @@ def _split(args: argparse.Namespace):
     ranges = [(o, getattr(args, o[2:].replace("-", "_"))) for o in ("--width-mm", "--length-mm")]
     ranged = [(o, t) for o, t in ranges if t is not None and ":" in t]
     if len(ranged) != 1:
+        # as typed: "got 2 ranges" had counted a malformed 30:40 as a range
+        given = [f"{o} {t}" for o, t in (ranged or ranges) if t is not None]
+        got = " and ".join(given) + ("" if ranged else " (no range)") if given else "neither"
         raise LusmError("give exactly one of --width-mm / --length-mm as a range A:B:STEP (mm), "
-                        f"got {len(ranged)} ranges", "--width-mm")
+                        f"the other a value or nothing; got {got}", "--width-mm")
     option, text = ranged[0]
     fixed = {}
     for o, t in ranges:
