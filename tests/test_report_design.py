@@ -29,6 +29,31 @@ def design_report(tmp_path_factory):
     return out, json.loads((out / "report.json").read_text(), parse_constant=_not_json)
 
 
+PLATE = ("--length-mm", "60", "--material", "paper")
+"""Plate options of the second report: no stator file stands behind them."""
+
+
+@pytest.fixture(scope="module")
+def plate_report(tmp_path_factory):
+    """A quick report on plate options (about 10 s)."""
+    out = tmp_path_factory.mktemp("plate_report") / "r"
+    proc = subprocess.run(
+        [sys.executable, "-m", "validation.cli", "report", "--quick", "--no-progress",
+         *PLATE, "--out", str(out)],
+        cwd=ROOT, capture_output=True, text=True, timeout=900,
+    )
+    assert proc.returncode == 0, proc.stderr
+    return out, json.loads((out / "report.json").read_text(), parse_constant=_not_json)
+
+
+def _cited(md: str, command: str) -> list[str]:
+    """The calls ``lusm COMMAND --...`` the report cites in backticks (a bare `lusm modes`
+    names the command, in a remark on the examples)."""
+    import re
+
+    return re.findall(rf"`(lusm {command} --[^`]*)`", md)
+
+
 def test_every_section_and_figure_is_there(design_report):
     from matplotlib.image import imread
 
@@ -103,12 +128,14 @@ def test_the_3d_column_names_the_call_that_reproduces_it():
     from validation.report_design import _command_3d
 
     tuned = load_stator(ROOT / "examples" / "tuned_40k" / "identified.toml").stator
-    assert _command_3d(tuned, 2).endswith("--layers 3 --refine 2")
-    assert "--refine" not in _command_3d(tuned, 3) and "LUSM" not in _command_3d(tuned, 3)
+    on = "--geometry examples/tuned_40k/identified.toml"
+    assert _command_3d(tuned, 2, on) == f"lusm modes --model 3d {on} --layers 3 --refine 2"
+    assert "--refine" not in _command_3d(tuned, 3, on) and "LUSM" not in _command_3d(tuned, 3, on)
     chamfered = load_stator(ROOT / "examples" / "chamfered" / "stator.toml").stator
     with pytest.raises(LusmError):
         check_fe_size(chamfered, 3, 3)
-    assert _command_3d(chamfered, 3).startswith("LUSM_MAX_WORK=2 lusm modes --model 3d")
+    assert _command_3d(chamfered, 3, "--geometry c.toml").startswith(
+        "LUSM_MAX_WORK=2 lusm modes --model 3d --geometry c.toml")
 
 
 def test_the_mode_pictures_are_drawn_with_the_signals_held(monkeypatch, tmp_path):
@@ -134,7 +161,7 @@ def test_the_mode_pictures_are_drawn_with_the_signals_held(monkeypatch, tmp_path
     monkeypatch.setattr(fem.render, "render_modes", draw)
     with pytest.raises(Drawn) as info:
         _modes_section(StatorChoice(PlateStator(), get_material("pzt8")), tmp_path, True,
-                       lambda text: None)
+                       lambda text: None, "")
     assert info.value.args == (True,)
     assert signal.getsignal(signal.SIGTERM) is not deferred_signals._record  # released
 
@@ -149,8 +176,8 @@ def test_the_admittance_command_the_report_names_gives_its_numbers(design_report
 
     out, doc = design_report
     md = (out / "index.md").read_text()
-    m = re.search(r"lusm admittance --geometry \.\.\. (--f-min \S+ --f-max \S+ --points \d+)",
-                  md)
+    m = re.search(rf"lusm admittance --geometry {re.escape(str(TIP))} "
+                  r"(--f-min \S+ --f-max \S+ --points \d+)", md)
     assert m is not None
     assert main(["admittance", "--geometry", str(TIP), *m.group(1).split(), "--json",
                  "--out", str(out.parent / "adm")]) == 0
@@ -161,3 +188,62 @@ def test_the_admittance_command_the_report_names_gives_its_numbers(design_report
     got = {p["mode"]: tuple(p[k] for k in keys) for p in cmd["pairs"]}
     want = {p["mode"]: tuple(p[k] for k in keys) for p in report_pairs}
     assert got == want
+
+
+def test_a_report_on_plate_options_cites_commands_that_carry_them(plate_report, capsys):
+    """A report on ``--length-mm 60`` cited ``lusm modes --geometry ...``, ``lusm params
+    --geometry ...`` and so on: a stator file the user never gave, so no cited command could
+    be run. They carry the plate options now, and the cited commands give the report's
+    numbers."""
+    import shlex
+
+    from validation.cli import main
+
+    out, doc = plate_report
+    md = (out / "index.md").read_text()
+    assert "--geometry" not in md
+    typed = " ".join(PLATE)
+    for command in ("report --quick", "modes", "modes --model 3d", "params", "admittance",
+                    "simulate --steady"):
+        cites = _cited(md, command)
+        assert cites, command
+        assert all(typed in c for c in cites), cites
+    # the 2D modes command, as cited, gives the table's frequencies
+    (modes,) = [c for c in _cited(md, "modes") if "--model" not in c]
+    assert main([*shlex.split(modes)[1:], "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    for m in ("L1", "B2"):
+        assert got[m]["f_short_Hz"] == doc["modes"]["2d"][m]["f_short_Hz"]
+        assert f"| {m} | {got[m]['f_short_Hz']:.1f} |" in md
+    # and the parameter command the whole reduced set
+    (params,) = _cited(md, "params")
+    assert main([*shlex.split(params)[1:], "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    shown = {k: v for k, v in doc["parameters"].items() if k in got and k != "source"}
+    assert len(shown) > 10 and shown == {k: got[k] for k in shown}
+    assert f"| K_l | {got['K_l']:.6g} |" in md
+
+
+def test_a_report_on_a_stator_file_cites_that_file_as_given(design_report):
+    """With --geometry FILE every cited stator command names FILE, the path as typed."""
+    md = (design_report[0] / "index.md").read_text()
+    assert "--geometry ..." not in md
+    for command in ("modes", "params", "admittance", "simulate --steady"):
+        cites = _cited(md, command)
+        assert cites and all(f"--geometry {TIP} " in c + " " for c in cites), cites
+
+
+def test_the_stator_options_are_written_as_typed():
+    """The text the report cites: the typed options only, numbers as they read back, a
+    stator file's path quoted for the shell."""
+    from validation.cli import build_parser
+    from validation.options import stator_options_text
+
+    parser = build_parser()
+    args = parser.parse_args(["report", "--width-mm", "7.35", "--length-mm", "6e1"])
+    assert stator_options_text(args) == "--length-mm 60 --width-mm 7.35"
+    args = parser.parse_args(["report", "--thickness-mm", "3.0000000001", "--material", "paper"])
+    assert stator_options_text(args) == "--thickness-mm 3.0000000001 --material paper"
+    args = parser.parse_args(["report", "--geometry", "my plates/a.toml"])
+    assert stator_options_text(args) == "--geometry 'my plates/a.toml'"
+    assert stator_options_text(parser.parse_args(["report"])) == ""

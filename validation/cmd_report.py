@@ -53,14 +53,20 @@ def run(args: argparse.Namespace) -> None:
 
 def _write(args: argparse.Namespace, out: Path) -> dict:
     """The plate's design report (a stator named) or the paper's report, into ``out``."""
-    from validation.options import motor_params_of, plate_given, stator_from_args
+    from validation.options import (
+        motor_params_of,
+        plate_given,
+        stator_from_args,
+        stator_options_text,
+    )
 
     if args.geometry or plate_given(args):
         from validation.report_design import write_design_report
 
         choice = stator_from_args(args)
         params, damping_from = motor_params_of(args, "fem")
-        doc = write_design_report(out, choice, params, quick=args.quick,
+        doc = write_design_report(out, choice, params, stator_options_text(args),
+                                  quick=args.quick,
                                   progress=not args.no_progress, force=args.force,
                                   damping_from=damping_from)
     else:

@@ -309,6 +309,29 @@ def plate_given(args: argparse.Namespace) -> list[str]:
     return given
 
 
+def _number_text(value: float) -> str:
+    """``value`` as short as it reads back exactly (``60`` for 60.0, ``7.35`` for 7.35)."""
+    short = f"{value:g}"
+    return short if float(short) == value else repr(float(value))
+
+
+def stator_options_text(args: argparse.Namespace) -> str:
+    """The stator options the user typed, as they go on a ``lusm`` command line:
+    ``--geometry FILE`` (the path as given) or the typed plate options and ``--material``
+    (empty for the paper's plate). A report cites its commands with these, so that each
+    reproduces the report's numbers (they had said ``--geometry ...`` for a report on
+    ``--length-mm 60``, which no file stands behind)."""
+    import shlex
+
+    if getattr(args, "geometry", None):
+        return f"--geometry {shlex.quote(str(args.geometry))}"
+    words = [f"{o} {_number_text(getattr(args, o[2:].replace('-', '_')))}"
+             for o in plate_given(args) if o in PLATE_OPTIONS]
+    if getattr(args, "material", None) is not None:
+        words.append(f"--material {shlex.quote(args.material)}")
+    return " ".join(words)
+
+
 @dataclass(frozen=True)
 class StatorChoice:
     """The stator the options name.

@@ -38,7 +38,13 @@ def _describe(stator, material, label: str) -> str:
     return f"{shape}, {material.name}" if label == "plate" else f"{label}: {shape}, {material.name}"
 
 
-def _modes_section(choice, out: Path, quick: bool, say):
+def _lusm(command: str, stator: str, rest: str = "") -> str:
+    """``lusm COMMAND STATOR REST``, without the empty parts (the paper's plate has no stator
+    options)."""
+    return " ".join(w for w in ("lusm", command, stator, rest) if w)
+
+
+def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     from fem.mesh import DEFAULT_REFINE
     from fem.model import plate_model
     from fem.modes import plate_modes
@@ -79,8 +85,8 @@ def _modes_section(choice, out: Path, quick: bool, say):
                  else f"refine {DEFAULT_REFINE}")
     md = ["## 1. Modes", "",
           f"2D plane-stress model (order 2, {mesh_text}, {m2.dofs} DOFs; "
-          f"`lusm modes --geometry ...`) and 3D piezoelectric solid ({m3.dofs} DOFs; "
-          f"`{_command_3d(st, refine3)}`). Short circuit: all electrodes grounded; "
+          f"`{_lusm('modes', stator)}`) and 3D piezoelectric solid ({m3.dofs} DOFs; "
+          f"`{_command_3d(st, refine3, stator)}`). Short circuit: all electrodes grounded; "
           "open: all four electrodes floating.", ""]
     md += ["| mode | 2D short (Hz) | 3D short (Hz) | 2D/3D - 1 | 2D open (Hz) | 3D open (Hz) | "
            "k_eff 2D | k_eff 3D |", "|---|---|---|---|---|---|---|---|"]
@@ -96,17 +102,19 @@ def _modes_section(choice, out: Path, quick: bool, say):
     return md, data, m2
 
 
-def _command_3d(stator, refine3: int) -> str:
+def _command_3d(stator, refine3: int, options: str) -> str:
     """The ``lusm modes`` call that gives the report's 3D column: its layers, its refine where
     it is not the command's default (``--quick``'s coarser mesh had been called "the same
     call" and gave a split 15 times the command's on a tuned plate) and the work bound it
-    needs where the mesh is above ``lusm modes``' own (a chamfered example: 2 988 bricks)."""
+    needs where the mesh is above ``lusm modes``' own (a chamfered example: 2 988 bricks).
+    ``options`` are the stator options the report was given
+    (:func:`validation.options.stator_options_text`)."""
     from fem.meshed_stator import planform_mesh
     from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D
     from validation import limits
     from validation.options import fe_cell_count
 
-    cmd = f"lusm modes --model 3d --geometry ... --layers {DEFAULT_LAYERS}"
+    cmd = _lusm("modes --model 3d", options, f"--layers {DEFAULT_LAYERS}")
     if planform_mesh(stator) is None and refine3 != DEFAULT_REFINE_3D:
         cmd += f" --refine {refine3}"
     bricks, top = fe_cell_count(stator, refine3, DEFAULT_LAYERS), limits.MAX_FE_CELLS_3D
@@ -131,11 +139,11 @@ def _validity_note(stator) -> tuple[str | None, list[str]]:
                       "reference.", ""]
 
 
-def _params_section(params, label: str, damping_from: str):
+def _params_section(params, label: str, damping_from: str, stator: str):
     rows = [f"| {f.name} | {getattr(params, f.name):.6g} | {PARAM_UNITS.get(f.name, '')} |"
             for f in fields(params) if f.name != "source"]
     md = ["## 2. Reduced parameters", "",
-          f"`lusm params --geometry ...` ({params.source}). Modal frequencies "
+          f"`{_lusm('params', stator)}` ({params.source}). Modal frequencies "
           f"f_L1 = {params.f_L1_Hz:.1f} Hz, f_B2 = {params.f_B2_Hz:.1f} Hz; damping ratios "
           f"zeta_L1 = {params.zeta_L1:.4g}, zeta_B2 = {params.zeta_B2:.4g}, from "
           f"{damping_from} (the damping in use: every speed below depends on it; a stator "
@@ -147,12 +155,13 @@ def _params_section(params, label: str, damping_from: str):
     return md, data
 
 
-def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
+def _admittance_section(choice, params, modes2d, out: Path, quick: bool, stator: str):
     from fem.admittance import design_band_Hz, plate_admittance
     from validation.fem_figures import admittance_figure
 
     f_lo, f_hi = design_band_Hz(modes2d)
     points = 801 if quick else 4001
+    band = f"--f-min {float(f_lo)!r} --f-max {float(f_hi)!r} --points {points}"
     res = plate_admittance(choice.stator, choice.material, f_lo, f_hi, points,
                            zeta_L1=params.zeta_L1, zeta_B2=params.zeta_B2)
     png = admittance_figure(res, out / "figures" / "design_admittance.png")
@@ -160,8 +169,7 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
           f"Driven electrodes {res.port.electrodes}, band {f_lo / 1e3:.2f}-{f_hi / 1e3:.2f} kHz "
           "(the design's modes +/- 15 %), the parameter set's damping "
           # the points too: the command's default 2001 moved f_s/f_p in the 8th digit
-          f"(`lusm admittance --geometry ... --f-min {float(f_lo)!r} --f-max {float(f_hi)!r} "
-          f"--points {points}`).", ""]
+          f"(`{_lusm('admittance', stator, band)}`).", ""]
     if res.pairs:
         md += ["| mode | series resonance f_s (Hz) | parallel resonance f_p (Hz) | k_eff |",
                "|---|---|---|---|"]
@@ -198,7 +206,7 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool):
     return md, data
 
 
-def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say,
+def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, stator: str,
                    damping_from: str = ""):
     from contact.model import default_coupling
     from contact.steady import steady_state
@@ -224,8 +232,11 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say,
     md = ["## 4. Speed against voltage", "",
           f"Steady velocity reached from rest at {SPEED_PRELOAD_N:g} N and "
           f"{frequency_Hz / 1e3:.5g} kHz (the set's operating point, `--frequency auto`), "
-          "exact level of the steady engine (`lusm simulate --steady --geometry ... "
-          f"--frequency auto`). The {damping_line(params, damping_from)}; the "
+          # the voltage and preload too: the command requires both
+          "exact level of the steady engine (`"
+          + _lusm("simulate --steady", stator,
+                  f"--voltage V0 --preload {SPEED_PRELOAD_N:g} --frequency auto")
+          + f"`, V0 each row's). The {damping_line(params, damping_from)}; the "
           f"{coupling_line(coupling, coupling_why)}.", "",
           "| V0 (V) | velocity (mm/s) | motion | stable steady states |", "|---|---|---|---|"]
     md += rows + ["", f"![speed against voltage](figures/{png.name})", ""]
@@ -235,7 +246,8 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say,
                 "figure": f"figures/{png.name}"}
 
 
-def write_design_report(out_dir: Path, choice, params, quick: bool = False,
+def write_design_report(out_dir: Path, choice, params, stator_options: str,
+                        quick: bool = False,
                         progress: bool = True, force: bool = False,
                         damping_from: str = "the parameter set") -> dict:
     """Write the report on one stator (``index.md``, ``index.html``, ``report.json``, figures).
@@ -248,6 +260,10 @@ def write_design_report(out_dir: Path, choice, params, quick: bool = False,
         The stator and material the user named.
     params : rom.params.MotorParams
         The FE reduction of that stator (with the stator file's motor tables, if any).
+    stator_options : str
+        The options that named the stator, as typed (``--geometry FILE``, ``--length-mm 60``;
+        :func:`validation.options.stator_options_text`): every command the report cites
+        carries them, so that it reproduces the report's numbers.
     quick : bool
         Coarser grids, same sections.
     progress : bool
@@ -258,10 +274,10 @@ def write_design_report(out_dir: Path, choice, params, quick: bool = False,
         Where the damping ratios of ``params`` came from, printed beside every speed.
     """
     with output_set(Path(out_dir), "report", "--out", force) as stage:
-        return _build(stage, choice, params, quick, progress, damping_from)
+        return _build(stage, choice, params, stator_options, quick, progress, damping_from)
 
 
-def _build(out: Path, choice, params, quick: bool, progress: bool,
+def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
            damping_from: str) -> dict:
     from tqdm import tqdm
 
@@ -278,19 +294,20 @@ def _build(out: Path, choice, params, quick: bool, progress: bool,
 
     t0 = time.perf_counter()
     label = choice.design.name if getattr(choice, "design", None) is not None else "plate"
-    md1, d1, modes2d = _modes_section(choice, out, quick, say)
-    md2, d2 = _params_section(params, label, damping_from)
-    md3, d3 = _admittance_section(choice, params, modes2d, out, quick)
+    md1, d1, modes2d = _modes_section(choice, out, quick, say, stator)
+    md2, d2 = _params_section(params, label, damping_from, stator)
+    md3, d3 = _admittance_section(choice, params, modes2d, out, quick, stator)
     say("admittance")
     freq = auto_frequency(params)
-    md4, d4 = _speed_section(params, freq, out, quick, say, damping_from)
+    md4, d4 = _speed_section(params, freq, out, quick, say, stator, damping_from)
     md5, d5 = motor_section({"design": params}, {"design": freq}, out, quick, say, markdown_table,
                             damping_from={"design": damping_from})
     md5[0] = "## 5. Motor characteristics"
     bar.close()
     wall = time.perf_counter() - t0
     head = [f"# LUSM report: {_describe(choice.stator, choice.material, label)}", "",
-            f"Generated by `lusm report{' --quick' if quick else ''}` for the stator above on "
+            f"Generated by `{_lusm('report' + (' --quick' if quick else ''), stator)}` for "
+            "the stator above on "
             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} in {wall:.0f} s. Every "
             "number here is also in `report.json`; `lusm report` without a stator reports on "
             "the paper's motor.", ""]
