@@ -480,3 +480,146 @@ def test_an_entry_already_named_like_the_staging_folder_is_never_removed(tmp_pat
             _write(stage, {"a.png": "1"})
     assert _snapshot(theirs) == {"precious.txt": "not lusm's"}
     assert not out.exists()
+
+
+# --- staging folders left by runs killed outright ----------------------------------------------
+
+_KILLED = """
+import os, signal, sys
+from pathlib import Path
+from validation.output_set import output_set
+with output_set(Path(sys.argv[1]), "figures", "--out") as stage:
+    (stage / "L1.png").write_text("half")
+    os.kill(os.getpid(), signal.SIGKILL)  # as SIGKILL or a power cut: no finally runs
+"""
+
+
+def _killed_run(out: Path) -> Path:
+    """Stage ``out`` in a process killed outright; its staging folder, as it left it."""
+    run = subprocess.run([sys.executable, "-c", _KILLED, str(out)], cwd=ROOT, timeout=120)
+    assert run.returncode == -9
+    (left,) = out.parent.glob(f".{out.name}-partial-*")
+    return left
+
+
+def _stale(folder: Path, name: str, record: dict | None, token: str = "0123456789ab") -> Path:
+    """A staging folder as a killed run leaves it, with ``record`` in its lock file (None:
+    no lock file, as lusm left them before it had one)."""
+    import os
+    import socket
+
+    from validation.output_set import STAGING_LOCK, _boot_id
+
+    entry = folder / f".{name}-partial-{token}"
+    (entry / "set").mkdir(parents=True)
+    (entry / "set" / "L1.png").write_text("half")
+    if record is not None:
+        full = {"lusm": "staging", "token": token, "pid": _dead_pid(),
+                "host": socket.gethostname(), "boot": _boot_id(), **record}
+        (entry / STAGING_LOCK).write_text(json.dumps(full))
+        os.chmod(entry, 0o700)
+    return entry
+
+
+def _dead_pid() -> int:
+    """The id of a process that has ended (and been reaped)."""
+    proc = subprocess.Popen([sys.executable, "-c", "pass"])
+    proc.wait()
+    return proc.pid
+
+
+def test_a_killed_runs_staging_folder_is_removed_by_the_next_run(tmp_path, capsys):
+    """`timeout -s KILL 6 lusm render --animate --out kk` left `.kk-partial-<hex>/` with
+    L1.png and a 0-byte L1.gif; later runs neither removed nor named it, and each kill added
+    one more. Its lock is free and its process gone: the next run removes it and says so."""
+    out = tmp_path / "kk"
+    left = _killed_run(out)
+    assert (left / "set" / "L1.png").read_text() == "half"  # what the killed run left
+    mine = tmp_path / "mine.txt"
+    mine.write_text("the user's")
+    with output_set(out, "figures") as stage:
+        _write(stage, {"L1.png": "whole"})
+    err = capsys.readouterr().err
+    assert not left.exists()
+    assert "lusm: removed the staging folder of a lusm run killed before it finished" in err
+    assert str(left) in err
+    assert _snapshot(out) == {"L1.png": "whole"}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kk", "mine.txt"]
+    assert mine.read_text() == "the user's"
+
+
+def test_a_staging_folder_in_use_is_left_unsaid(tmp_path, capsys):
+    """A run still staging holds its folder's lock: a second run writing the same target
+    leaves that folder alone and says nothing of it."""
+    out = tmp_path / "kk"
+    with output_set(out, "figures") as first:
+        with output_set(tmp_path / "kk", "figures") as second:
+            _write(second, {"b.png": "2"})
+        assert first.exists() and capsys.readouterr().err == ""
+        _write(first, {"a.png": "1"})
+    assert _snapshot(out) == {"a.png": "1", "b.png": "2"}
+    assert [p.name for p in tmp_path.rglob(".*partial*")] == []
+
+
+@pytest.mark.parametrize("record, why", [
+    (None, "no lock file: an older lusm's, or not lusm's"),
+    ({"pid": "alive"}, "its process id is taken (a live process)"),
+    ({"host": "another-host"}, "recorded on another host: its process cannot be checked"),
+    ({"token": "ffffffffffff"}, "the record is another folder's (a copy)"),
+    ({"lusm": "other"}, "not lusm's record"),
+])
+def test_a_staging_folder_lusm_cannot_prove_dead_is_named_not_removed(tmp_path, capsys,
+                                                                       record, why):
+    import os
+    import re
+
+    if record == {"pid": "alive"}:
+        record = {"pid": os.getpid()}  # this process: alive, and its lock free
+    entry = _stale(tmp_path, "kk", record)
+    before = _snapshot(entry)
+    with output_set(tmp_path / "kk", "figures", "--plot") as stage:
+        _write(stage, {"a.png": "1"})
+    err = capsys.readouterr().err.strip().splitlines()
+    assert _snapshot(entry) == before, why  # nothing of it removed
+    assert len(err) == 1, err
+    # "lusm" alone here; a command's name once main() has run one in this process
+    assert re.match(r"lusm( \w+)?: warning: ", err[0]), err
+    assert f": warning: --plot {tmp_path / 'kk'}: {entry} is the staging folder of an earlier " \
+           "lusm run" in err[0], err
+    assert "remove it once no lusm run is writing" in err[0]
+
+
+def test_every_stale_entry_is_named_in_one_line_and_links_are_left(tmp_path, capsys):
+    """Two folders without a record, a file of that name: one line names all three; a link
+    of that name (never lusm's) and another target's staging folder are not named."""
+    a = _stale(tmp_path, "kk", None, "aaaaaaaaaaaa")
+    b = _stale(tmp_path, "kk", None, "bbbbbbbbbbbb")
+    f = tmp_path / ".kk-partial-cccccccccccc"
+    f.write_text("a file")
+    link = tmp_path / ".kk-partial-dddddddddddd"
+    link.symlink_to(a)
+    other = _stale(tmp_path, "kkk", {})
+    with output_set(tmp_path / "kk", "figures") as stage:
+        _write(stage, {"a.png": "1"})
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"{a}, {b}, {f} are the staging folders" in err[0], err
+    assert "dddd" not in err[0] and "kkk" not in err[0]
+    assert a.is_dir() and b.is_dir() and f.read_text() == "a file" and link.is_symlink()
+    assert other.is_dir()  # another target's: its own next run deals with it
+
+
+def test_a_staging_folder_of_an_earlier_boot_is_dead_though_its_pid_lives(tmp_path, capsys):
+    """After a power cut and a reboot the recorded process id may be another process's: the
+    boot id recorded beside it tells that the run is gone."""
+    import os
+
+    from validation.output_set import _boot_id
+
+    if _boot_id() is None:
+        pytest.skip("needs Linux's boot id")
+    entry = _stale(tmp_path, "kk", {"pid": os.getpid(), "boot": "an-earlier-boot"})
+    with output_set(tmp_path / "kk", "figures") as stage:
+        _write(stage, {"a.png": "1"})
+    assert not entry.exists()
+    assert "lusm: removed" in capsys.readouterr().err
+
