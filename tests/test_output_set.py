@@ -623,3 +623,25 @@ def test_a_staging_folder_of_an_earlier_boot_is_dead_though_its_pid_lives(tmp_pa
     assert not entry.exists()
     assert "lusm: removed" in capsys.readouterr().err
 
+
+def test_a_dataset_and_an_export_clear_their_own_stale_staging(tmp_path, capsys):
+    """`explore --out r.nc` and `modes --export m.vtu` stage the same way: a killed run's
+    folder is removed by the next write of that target, and one that cannot be proven dead
+    is named."""
+    import numpy as np
+    import xarray as xr
+
+    from validation.cli import main
+    from validation.explore import write_dataset
+
+    dead_nc = _stale(tmp_path, "r.nc", {})
+    unknown_nc = _stale(tmp_path, "r.nc", None, "aaaaaaaaaaaa")
+    write_dataset(xr.Dataset({"v": ("x", np.arange(3.0))}), tmp_path / "r.nc")
+    err = capsys.readouterr().err
+    assert not dead_nc.exists() and "lusm: removed the staging folder" in err
+    assert unknown_nc.is_dir() and f"--out {tmp_path / 'r.nc'}: {unknown_nc} is the" in err
+    dead_vtu = _stale(tmp_path, "m", {})  # an export stages by its stem
+    assert main(["modes", "--refine", "2", "--export", str(tmp_path / "m.vtu")]) == 0
+    err = capsys.readouterr().err
+    assert not dead_vtu.exists() and str(dead_vtu) in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == [unknown_nc.name, "m.vtu", "r.nc"]

@@ -562,22 +562,23 @@ def _write_export(path, model, res, force: bool, writer) -> None:
     of an .xdmf) in a staging folder beside the target under its final name; move the files
     in only when all are written."""
     import os
-    import shutil
 
     from validation.errors import LusmError
     from validation.interrupts import checkpoint
-    from validation.output_set import keep_aside, staging_name
+    from validation.output_set import keep_aside, staging
 
-    try:  # a read-only folder: name the user's file, not the staging folder's random name
-        path.parent.mkdir(parents=True, exist_ok=True)
-        # a bounded name: `.STEM-partial-...` of a file name the system takes could exceed
-        # the limit on a name (a 240-letter --export failed after the solve)
-        stage = os.path.join(path.parent, staging_name(path.stem, "partial", path.parent))
-        os.mkdir(stage, 0o700)
-    except OSError as exc:
-        raise LusmError(f"--export {path}: cannot write into {path.parent} "
-                        f"({exc.strerror or exc})", "--export") from None
+    def refuse(exc: OSError) -> LusmError:
+        # a read-only folder: name the user's file, not the staging folder's random name
+        return LusmError(f"--export {path}: cannot write into {path.parent} "
+                         f"({exc.strerror or exc})", "--export")
+
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise refuse(exc) from None
+    # a bounded name: `.STEM-partial-...` of a file name the system takes could exceed the
+    # limit on a name (a 240-letter --export failed after the solve)
+    with staging(path.stem, path.parent, refuse, "--export", path) as stage:
         staged = os.path.join(stage, path.name)
         try:
             _written_whole(writer, staged, model, res)
@@ -598,5 +599,3 @@ def _write_export(path, model, res, force: bool, writer) -> None:
             os.replace(os.path.join(stage, n), dst)
         if path.suffix.lower() == ".xdmf":
             _relink_kept_xdmf(kept.get(path.name), {n: b.name for n, b in kept.items()})
-    finally:
-        shutil.rmtree(stage, ignore_errors=True)
