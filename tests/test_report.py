@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -108,6 +109,13 @@ def test_report_numbers_match_the_cli(report):
                    "--frequency", "auto")
     rep = doc["motor_characteristics"]["fem"]["characteristics"]["400"]
     assert rep["stall_force_N"] == fe_char["stall_force_N"]
+    # each set's subsection cites the options that name it (the section had cited one
+    # `lusm characteristic --frequency F` for all, which runs Table 2's set)
+    md = (report[0] / "index.md").read_text()
+    cited = re.findall(r"`lusm characteristic([^`]*) --voltage V0 --preload 14`", md)
+    assert cited == ["", " --source beam --frequency auto", " --source fem --frequency auto",
+                     " --geometry examples/tuned_40k/stator.toml --frequency auto",
+                     " --geometry examples/tuned_40k/identified.toml --frequency auto"]
     for name, toml in (("tuned_40k", "stator"), ("tuned_40k_fitted", "identified")):
         tuned = lusm("characteristic", "--voltage", "400", "--preload", "14", "--frequency",
                      "auto", "--geometry", f"examples/tuned_40k/{toml}.toml")

@@ -204,10 +204,18 @@ def test_a_report_on_plate_options_cites_commands_that_carry_them(plate_report, 
     assert "--geometry" not in md
     typed = " ".join(PLATE)
     for command in ("report --quick", "modes", "modes --model 3d", "params", "admittance",
-                    "simulate --steady"):
+                    "simulate --steady", "characteristic", "map"):
         cites = _cited(md, command)
         assert cites, command
         assert all(typed in c for c in cites), cites
+    # the motor section's characteristic, as cited (it had cited `lusm characteristic
+    # --frequency F` alone, which runs Table 2's set), gives its curve at 200 V
+    (char,) = _cited(md, "characteristic")
+    assert main([*shlex.split(char.replace("V0", "200"))[1:], "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    rep = doc["motor_characteristics"]["design"]["characteristics"]["200"]
+    assert got["no_load_velocity_m_s"] == rep["no_load_velocity_m_s"]
+    assert got["stall_force_N"] == rep["stall_force_N"]
     # the 2D modes command, as cited, gives the table's frequencies
     (modes,) = [c for c in _cited(md, "modes") if "--model" not in c]
     assert main([*shlex.split(modes)[1:], "--json"]) == 0
@@ -228,7 +236,8 @@ def test_a_report_on_a_stator_file_cites_that_file_as_given(design_report):
     """With --geometry FILE every cited stator command names FILE, the path as typed."""
     md = (design_report[0] / "index.md").read_text()
     assert "--geometry ..." not in md
-    for command in ("modes", "params", "admittance", "simulate --steady"):
+    for command in ("modes", "params", "admittance", "simulate --steady", "characteristic",
+                    "map"):
         cites = _cited(md, command)
         assert cites and all(f"--geometry {TIP} " in c + " " for c in cites), cites
 

@@ -301,7 +301,8 @@ def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
     freq = auto_frequency(params)
     md4, d4 = _speed_section(params, freq, out, quick, say, stator, damping_from)
     md5, d5 = motor_section({"design": params}, {"design": freq}, out, quick, say, markdown_table,
-                            damping_from={"design": damping_from})
+                            damping_from={"design": damping_from},
+                            cites={"design": f"{stator} --frequency auto".strip()})
     md5[0] = "## 5. Motor characteristics"
     bar.close()
     wall = time.perf_counter() - t0

@@ -103,10 +103,17 @@ def _row(name: str, c: Characteristic) -> list:
             c.creep_from_N, c.input_power_W[0], best * 100, at]
 
 
+def _grid(values: np.ndarray) -> str:
+    """An evenly spaced grid as ``lusm map`` takes it: ``start:stop:step``."""
+    step = float(values[1] - values[0]) if values.size > 1 else 1.0
+    return f"{values[0]:g}:{values[-1]:g}:{step:g}"
+
+
 def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, float],
                   out: Path, quick: bool, say: Callable[[str], None] = lambda _m: None,
                   table: Callable[[list, list], list[str]] | None = None,
-                  damping_from: dict[str, str] | None = None):
+                  damping_from: dict[str, str] | None = None,
+                  cites: dict[str, str] | None = None):
     """Markdown lines and JSON data of "Motor characteristics" for each parameter set.
 
     Parameters
@@ -126,6 +133,13 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
     damping_from : dict, optional
         Where each set's damping ratios came from (default: Table 2 for ``table2``, Table 2's
         ratios borrowed for the others); named beside each set's speeds.
+    cites : dict, optional
+        The ``lusm`` options that name each set and its drive frequency (``"--source fem
+        --frequency auto"``, ``"--geometry FILE --frequency auto"``; ``""`` for Table 2 at
+        40 kHz); each set's subsection cites the ``lusm characteristic`` and ``lusm map``
+        commands that reproduce its numbers with them (the section had cited one
+        ``lusm characteristic --frequency F`` for every set, which runs Table 2's). A set
+        without an entry is cited with no command.
     """
     from contact.characteristic import characteristic
     from contact.maps import stick_slip_map
@@ -147,8 +161,8 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
           "(`docs/steady.md`): no transient is run except where the engine cannot decide. "
           "Speed-thrust and efficiency at "
           + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
-          + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic --frequency F`, "
-          "F each set's frequency below: the exact level, the finite-mass motor from rest. "
+          + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic`, with the options "
+          "each set's subsection cites: the exact level, the finite-mass motor from rest. "
           "The averaged level, `--accuracy fast`, puts the stall force where the averaged "
           "slider stops, while the full model's still creeps forward: up to several times "
           "lower on these sets, and a held slider where the full model creeps; the column "
@@ -207,8 +221,15 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         mp = d["map"]
         md += [f"### {name} at {d['frequency_Hz'] / 1e3:.4g} kHz", "",
                f"The {damping_line(params[name], origins[name])}; the "
-               f"{coupling_line(d['coupling'], d['coupling_from'])}.", "",
-               "Map: " + ", ".join(f"{n} {c}" for c, n in mp["counts"].items() if n)
+               f"{coupling_line(d['coupling'], d['coupling_from'])}.", ""]
+        if cites is not None and name in cites:
+            opts = f" {cites[name]}" if cites[name] else ""
+            md += [f"Reproduce: `lusm characteristic{opts} --voltage V0 --preload "
+                   f"{CHARACTERISTIC_PRELOAD_N:g}` (V0 = "
+                   + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
+                   + f"), `lusm map{opts} --voltages {_grid(volts)} --preloads "
+                   f"{_grid(loads)}`.", ""]
+        md += ["Map: " + ", ".join(f"{n} {c}" for c, n in mp["counts"].items() if n)
                + f" point(s); {mp['several_branches']} point(s) with several stable "
                f"steady states (the map shows the one reached from rest); {mp['undecided']} "
                "point(s) the engine could not decide (creep), taken from 0.3 s transients; "
