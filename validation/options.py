@@ -1067,20 +1067,26 @@ def _dt_max(frequency_Hz: float) -> float:
 
 
 def _dt_refusal(frequency_Hz: float, got: str, why: str) -> str:
-    # the bound rounded down, so that the figure said is a step the check takes (1/(20 f)
-    # at 30 kHz, 1.6667e-06 s rounded to 1.667e-06, was above it and refused)
-    shown = _down(1.0 / (20.0 * frequency_Hz))
+    shown = _dt_shown(frequency_Hz)
     return (f"--dt must be in (0, 1/(20 f)] = (0, {shown:g}] s at --frequency "
             f"{frequency_Hz:g} Hz, got {got}{why}")
 
 
-def _down(x: float, digits: int = 4) -> float:
-    """``x`` > 0 rounded down to ``digits`` significant digits (a float no larger than x)."""
-    from decimal import ROUND_FLOOR, Decimal
+def _dt_shown(frequency_Hz: float, digits: int = 4) -> float:
+    """The bound 1/(20 f) as said in a refusal: ``digits`` significant digits, one unit of
+    the last digit lower only where the rounded figure is a step the check refuses.
 
-    exact = Decimal(x)
-    return float(exact.quantize(Decimal(1).scaleb(exact.adjusted() - digits + 1),
-                                rounding=ROUND_FLOOR))
+    Rounding to nearest keeps round bounds round (1e-06 s at 50 kHz: always rounding down,
+    from the float's binary value just below 1e-06, had said 9.999e-07); the step down keeps
+    the figure a step that is taken (1/(20 f) at 30 kHz, 1.6667e-06 s, read 1.667e-06, which
+    is above it and was refused).
+    """
+    from decimal import Decimal
+
+    shown = Decimal(f"{1.0 / (20.0 * frequency_Hz):.{digits}g}")
+    if float(shown) > _dt_max(frequency_Hz):
+        shown -= Decimal(1).scaleb(shown.adjusted() - digits + 1)
+    return float(shown)
 
 
 def check_dt_per_period(dt_s: float, frequency_Hz: float, why: str = "") -> None:
