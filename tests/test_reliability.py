@@ -963,13 +963,19 @@ def test_a_ctrl_c_after_the_command_is_done_is_ignored():
     assert run.returncode == 0 and run.stdout.strip().splitlines()[-1] == "True"
 
 
-@pytest.mark.parametrize("argv", [["params", "--json"], ["simulate", "--voltage", "-1"]])
+_ENDED = [["params", "--json"], ["simulate", "--voltage", "-1"]]
+"""A command that ends 0 (with its output on stdout) and one refused (2)."""
+
+
+@pytest.mark.parametrize("argv", _ENDED)
 def test_a_sigterm_after_the_command_has_ended_keeps_its_exit_code(argv):
     """A SIGTERM landing after the command had moved its output in and printed its last
     line killed the process with exit 143 and no word (3 of 30 late SIGTERMs to lusm
     simulate --plot; exploratory testing): the command's end is said, and its exit code
-    (0 done, 2 refused) stays. Here the signal is sent after main() returned, where the
-    interpreter's shutdown would run."""
+    (0 done, 2 refused) stays, with what it printed. Here the signal is sent after main()
+    returned, where the interpreter's shutdown would run: it ends the process there."""
+    import json
+
     code = ("import os, signal, sys\n"
             "from validation.cli import main\n"
             f"sys.argv = ['lusm', *{argv!r}]\n"
@@ -981,7 +987,37 @@ def test_a_sigterm_after_the_command_has_ended_keeps_its_exit_code(argv):
                          text=True, timeout=120)
     expected = 0 if argv[0] == "params" else 2
     assert run.returncode == expected, run.stderr
-    assert run.stdout.strip().splitlines()[-1] == "still here"
+    assert "still here" not in run.stdout  # ended by the signal, not by running on
+    if argv[0] == "params":  # its JSON, still in Python's buffer at the signal, is kept
+        assert json.loads(run.stdout)
+    else:
+        assert "lusm simulate: error: " in run.stderr
+
+
+@pytest.mark.parametrize("argv", _ENDED)
+def test_a_sigterm_ends_a_hung_clean_up_with_the_commands_exit_code(argv):
+    """Once the command had ended SIGTERM was ignored to the process's exit, so a clean-up
+    that hung (explore's cluster shutdown, an exit hook) could be stopped by SIGKILL alone
+    (review). Here an exit hook hangs and a child process sends SIGTERM: the process ends
+    at once, with the command's exit code."""
+    code = ("import atexit, os, subprocess, sys, time\n"
+            "from validation.cli import main\n"
+            f"sys.argv = ['lusm', *{argv!r}]\n"
+            "rc = main()\n"
+            "def hang():\n"
+            "    subprocess.Popen([sys.executable, '-c', 'import os, signal, time; '\n"
+            "                      f'time.sleep(0.5); os.kill({os.getpid()}, signal.SIGTERM)'])\n"
+            "    print('clean-up hangs', file=sys.stderr, flush=True)\n"
+            "    time.sleep(600)\n"
+            "    print('clean-up done', file=sys.stderr)\n"
+            "atexit.register(hang)\n"
+            "sys.exit(rc)\n")
+    # the hook sleeps 600 s: a SIGTERM that does not end it fails here, by the timeout
+    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, timeout=120)
+    expected = 0 if argv[0] == "params" else 2
+    assert run.returncode == expected, run.stderr
+    assert "clean-up hangs" in run.stderr and "clean-up done" not in run.stderr
 
 
 def test_unreadable_inputs_are_named_as_such(tmp_path, capsys):

@@ -115,26 +115,47 @@ def main(argv: Sequence[str] | None = None) -> int:
         words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
         name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
         _say(f"{name}: interrupted")
-        return 130
+        code = 130
     if argv is None:
-        # the command is done: a Ctrl-C during the interpreter's shutdown printed a
-        # KeyboardInterrupt traceback from threading._shutdown or an atexit hook (lusm
-        # modes, lusm render right after their last line) and still exited 0
-        _ignore_further_signals()
+        # the command is done: only the interpreter's shutdown is left
+        _after_the_command(code)
     return code
 
 
-def _ignore_further_signals() -> None:
-    """Ignore SIGINT and SIGTERM from here to the process's exit: the command has said how
-    it ended (its last line, its exit code) and only the clean-up runs (closing explore's
-    cluster at exit). A second Ctrl-C there printed two tracebacks from
-    ``threading._shutdown`` and the ``close_clusters`` exit hook; a SIGTERM there, after
-    the output set was moved in and the last line printed, killed the process with exit
-    143 and no word (exploratory testing: 3 of 30 late SIGTERMs)."""
+def _after_the_command(code: int | None) -> None:
+    """Set how signals end the process from here, once the command has said how it ended
+    (its last line; ``code``, its exit code, or None while it is not yet known).
+
+    SIGINT is ignored to the process's exit: a Ctrl-C during the interpreter's shutdown, right
+    after lusm modes or lusm render printed their last line, printed KeyboardInterrupt
+    tracebacks from ``threading._shutdown`` and the ``close_clusters`` exit hook.
+
+    SIGTERM ends the process at once with ``code``: the clean-up left (closing explore's
+    cluster, an exit hook) may hang, and SIGTERM is the usual way to stop it; ignoring it
+    left only SIGKILL. Python's default, exit 143 with no word, had replaced the code of a
+    command that had moved its output in and printed its last line (exploratory testing: 3
+    of 30 late SIGTERMs). While ``code`` is None (the command's own handlers are gone, its
+    exit code not yet returned) SIGTERM is ignored, for those few statements only.
+    """
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    if code is None:
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        return
+
+    def end(signum, frame) -> None:  # pragma: no cover - exercised by signals
+        try:
+            # what the command printed is kept: os._exit does not flush Python's buffers
+            for stream in (sys.stdout, sys.stderr):
+                try:
+                    stream.flush()
+                except Exception:  # noqa: BLE001 - a closed pipe, or a flush the signal
+                    pass  # interrupted (re-entrant): the exit matters more than the bytes
+        finally:
+            os._exit(code)
+
+    signal.signal(signal.SIGTERM, end)
 
 
 def _main(argv: Sequence[str] | None) -> int:
@@ -249,8 +270,9 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
         return 1
     finally:
         if argv is None:  # a console-script process: its clean-up is all that is left,
-            # from the moment the command's own handlers are gone
-            _ignore_further_signals()
+            # from the moment the command's own handlers are gone (main sets the exit code
+            # SIGTERM ends it with, once this returns it)
+            _after_the_command(None)
             from validation import fast_start
 
             fast_start.finish_process()
