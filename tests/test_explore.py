@@ -438,7 +438,7 @@ def test_a_file_already_named_like_the_staging_file_is_never_removed(tmp_path, m
     # failed because that name was another's file (a cut name, the same random suffix)
     import uuid
 
-    from validation.output_set import staging_name
+    from validation.staging import staging_name
 
     class Fixed:
         hex = "0123456789ab" * 2

@@ -400,7 +400,7 @@ def test_a_staging_name_fits_the_file_systems_limit_and_stays_unique(tmp_path, n
     import os
     import re
 
-    from validation.output_set import staging_name
+    from validation.staging import staging_name
 
     a, b = (staging_name(name, "partial", tmp_path) for _ in range(2))
     assert a != b
@@ -416,7 +416,7 @@ def test_a_staging_name_follows_a_smaller_limit(tmp_path, monkeypatch):
     # eCryptfs takes names of at most 143 bytes
     import os
 
-    from validation.output_set import staging_name
+    from validation.staging import staging_name
 
     monkeypatch.setattr(os, "pathconf", lambda folder, what: 143)
     assert len(os.fsencode(staging_name("a" * 140, "probe", tmp_path))) == 143
@@ -466,7 +466,7 @@ def test_an_entry_already_named_like_the_staging_folder_is_never_removed(tmp_pat
     import uuid
 
     from validation.errors import LusmError
-    from validation.output_set import staging_name
+    from validation.staging import staging_name
 
     class Fixed:
         hex = "0123456789ab" * 2
@@ -508,7 +508,7 @@ def _stale(folder: Path, name: str, record: dict | None, token: str = "012345678
     import os
     import socket
 
-    from validation.output_set import STAGING_LOCK, _boot_id
+    from validation.staging import STAGING_LOCK, _boot_id
 
     entry = folder / f".{name}-partial-{token}"
     (entry / "set").mkdir(parents=True)
@@ -613,7 +613,7 @@ def test_a_staging_folder_of_an_earlier_boot_is_dead_though_its_pid_lives(tmp_pa
     boot id recorded beside it tells that the run is gone."""
     import os
 
-    from validation.output_set import _boot_id
+    from validation.staging import _boot_id
 
     if _boot_id() is None:
         pytest.skip("needs Linux's boot id")

@@ -565,7 +565,8 @@ def _write_export(path, model, res, force: bool, writer) -> None:
 
     from validation.errors import LusmError
     from validation.interrupts import checkpoint
-    from validation.output_set import keep_aside, staging
+    from validation.output_set import keep_aside
+    from validation.staging import staging
 
     def refuse(exc: OSError) -> LusmError:
         # a read-only folder: name the user's file, not the staging folder's random name

@@ -44,7 +44,8 @@ from typing import Any
 import numpy as np
 
 from validation.interrupts import checkpoint, quiet_logs_after_signal
-from validation.output_set import backup_name, staging
+from validation.output_set import backup_name
+from validation.staging import staging
 from validation.study import (
     AXIS_KIND,
     DRIVE_AXES,

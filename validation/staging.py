@@ -1,0 +1,287 @@
+"""Staging folders: an output built aside, and what a run killed outright leaves of one.
+
+An output (an output set, :mod:`validation.output_set`; an export; a dataset) is built in a
+fresh hidden folder beside its target, ``.NAME-partial-<12 hex>`` (:func:`staging_name`,
+bounded by the file system's limit on a name), and moved in only when whole; the folder is
+removed on leaving, whatever happened (:func:`staging`).
+
+A run killed outright (``SIGKILL``, a power cut) cannot remove its staging folder. Every
+staging folder therefore holds :data:`STAGING_LOCK`, on which its run holds an exclusive
+``flock`` from the start, and which records that run's process, host, boot and the folder's
+random suffix. The next run writing the same target removes such a folder only when all of
+that says it is lusm's and dead: the record names this folder and this host, the lock is
+free (the kernel released it when the run died) and the recorded process is gone (or ran
+before a reboot). Every other entry of that name (a folder without the record, another
+host's, one whose process id lives again, a file) is left where it is, and named in one
+warning line; a folder whose lock is held is a run at work, left unsaid
+(:func:`clear_stale_staging`).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import socket
+import sys
+import uuid
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+STAGING_LOCK = ".lusm-staging"
+"""The file in every staging folder that its run holds an exclusive ``flock`` on, recording
+``{"lusm": "staging", "token": <the folder's 12 hex>, "pid": ..., "host": ..., "boot": ...}``
+(``boot``: Linux's boot id, or null)."""
+
+_STAGED = "set"
+"""The folder inside a staging folder that the output is built in (the lock file stays out of
+the set: a new target is this folder, renamed)."""
+
+
+def _name_max(folder: Path) -> int:
+    """The longest file name, in bytes, that ``folder``'s file system takes (255 when it does
+    not say, and never more: the common limit, which a wrong answer must not raise)."""
+    try:
+        limit = os.pathconf(folder, "PC_NAME_MAX")
+    except (OSError, ValueError, AttributeError):  # not POSIX, or no such query here
+        return 255
+    return min(limit, 255) if isinstance(limit, int) and limit > 0 else 255
+
+
+def staging_name(name: str, what: str, folder: Path) -> str:
+    """A fresh hidden name for a ``what`` (``"partial"``, ``"probe"``) entry of ``name`` made
+    in ``folder``: ``.NAME-WHAT-<12 hex>``.
+
+    Parameters
+    ----------
+    name : str
+        The name the user gave (a folder's or a file's); empty gives ``out``.
+    what : str
+        What the entry is for; it stays whole in the name, so ``.*-partial-*`` still finds
+        every staging entry.
+    folder : Path
+        Where the entry is made; its file system's limit on a name bounds the result.
+
+    Returns
+    -------
+    str
+        The name, with ``NAME`` cut short (whole characters, from the end) so that the whole
+        fits the limit: a 250-letter ``--plot`` name, which the file system takes, was refused
+        because its staging name ``.NAME-partial-<hex>`` did not fit. The random suffix is
+        always kept whole, so a cut name is still unique to this run.
+    """
+    suffix = f"-{what}-{uuid.uuid4().hex[:12]}"
+    return f".{_staging_stem(name, suffix, folder)}{suffix}"
+
+
+def _staging_stem(name: str, suffix: str, folder: Path) -> str:
+    """The part of ``name`` that :func:`staging_name` keeps before ``suffix``: the suffix is
+    ASCII of a fixed length, so a name's staging entries all share this stem."""
+    limit = _name_max(folder)
+    stem = name or "out"
+    while stem and len(os.fsencode(f".{stem}{suffix}")) > limit:
+        stem = stem[:-1]
+    return stem
+
+
+_STAGING_ENTRY = re.compile(r"\.(?P<stem>.*)-partial-(?P<token>[0-9a-f]{12})", re.DOTALL)
+
+
+def _hold_staging(stage: Path) -> int | None:
+    """Lock ``stage``'s :data:`STAGING_LOCK` for this run and record the run in it; the file
+    descriptor (None where ``fcntl`` or ``flock`` is missing: no record is written then, and
+    a later run only warns about a folder left behind). The kernel releases the lock when the
+    process ends, however it ends; the record is written only once the lock is held, so a
+    later run that finds it and takes the lock knows the run has ended."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        return None
+    fd = os.open(stage / STAGING_LOCK, os.O_RDWR | os.O_CREAT | os.O_EXCL
+                 | getattr(os, "O_NOFOLLOW", 0), 0o600)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # a fresh file: only this run has it
+    except OSError:  # a file system without locks: the folder stays unrecorded
+        os.close(fd)
+        return None
+    record = {"lusm": "staging", "token": stage.name[-12:], "pid": os.getpid(),
+              "host": socket.gethostname(), "boot": _boot_id()}
+    try:
+        os.write(fd, json.dumps(record).encode())
+    except BaseException:
+        os.close(fd)
+        raise
+    return fd
+
+
+def _boot_id() -> str | None:
+    """This boot of the machine (Linux's random boot id; None elsewhere): a staging folder
+    recorded in another boot is certainly dead, though its process id may be taken again
+    (a power cut, then a reboot)."""
+    try:
+        with open("/proc/sys/kernel/random/boot_id") as f:
+            return f.read().strip() or None
+    except OSError:
+        return None
+
+
+def _alive(pid: int, boot: object) -> bool:
+    """Whether the process ``pid`` of the boot ``boot`` may still run: one of another user's
+    counts (it cannot be told apart from a live lusm); one of an earlier boot does not."""
+    now = _boot_id()
+    if isinstance(boot, str) and now is not None and boot != now:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # EPERM: it exists
+        return True
+    return True
+
+
+def _remove_if_dead(entry: Path) -> bool:
+    """Remove the staging folder ``entry`` if it is certainly lusm's and its run is over:
+    a folder of this user's (not a link), holding a :data:`STAGING_LOCK` whose record names
+    this folder's random suffix and this host, whose lock this call takes (no process holds
+    it) and whose recorded process is gone (or ran in an earlier boot). Anything less leaves
+    it untouched (False)."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        return False
+    try:
+        st = os.lstat(entry)
+        if not os.path.isdir(entry) or os.path.islink(entry) or st.st_uid != os.geteuid():
+            return False
+        fd = os.open(entry / STAGING_LOCK, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+    except OSError:  # no lock file: a folder of an older lusm, or not lusm's at all
+        return False
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:  # held: a run still writing (or a file system without locks)
+            return False
+        try:
+            record = json.loads(os.read(fd, 4096).decode())
+        except (OSError, ValueError):  # a run killed before its record was whole
+            return False
+        if not (isinstance(record, dict) and record.get("lusm") == "staging"
+                and record.get("token") == entry.name[-12:]
+                and record.get("host") == socket.gethostname()
+                and isinstance(record.get("pid"), int)
+                and not _alive(record["pid"], record.get("boot"))):
+            return False
+        shutil.rmtree(entry, ignore_errors=True)  # with the lock held: no other run races it
+        return not os.path.lexists(entry)
+    finally:
+        os.close(fd)
+
+
+def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> None:
+    """Deal with the staging entries that runs killed outright left for ``name`` in
+    ``folder`` (:func:`staging_name`'s ``.NAME-partial-<12 hex>``): remove those that are
+    certainly lusm's and dead (:func:`_remove_if_dead`), saying so on stderr, and name the
+    rest in one warning line (``option`` and ``target`` name what the user asked for).
+
+    Each killed run had added one more hidden folder beside the target, which no later run
+    removed or mentioned.
+    """
+    stem = _staging_stem(name, "-partial-" + "0" * 12, folder)
+    try:
+        entries = sorted(e.name for e in os.scandir(folder))
+    except OSError:  # an unreadable folder: the staging mkdir there says why, if it fails
+        return
+    found = [folder / e for e in entries
+             if (m := _STAGING_ENTRY.fullmatch(e)) is not None and m["stem"] == stem
+             and not os.path.islink(folder / e)]  # a link is never lusm's staging entry
+    removed = [e for e in found if _remove_if_dead(e)]
+    if removed:
+        what = ("the staging folder of a lusm run killed before it finished (its lock free, "
+                "its process gone)" if len(removed) == 1 else "the staging folders of lusm "
+                "runs killed before they finished (their locks free, their processes gone)")
+        print(f"lusm: removed {what}: {', '.join(map(str, removed))}", file=sys.stderr)
+    left = [e for e in found if e not in removed and not _held(e)]  # held: a run at work
+    if left:
+        from validation.options import warn
+
+        what = ("is the staging folder of an earlier lusm run that was interrupted (or is "
+                "still running elsewhere); lusm cannot tell that it is unused and leaves it: "
+                "remove it" if len(left) == 1 else "are the staging folders of earlier lusm "
+                "runs that were interrupted (or are still running elsewhere); lusm cannot "
+                "tell that they are unused and leaves them: remove them")
+        warn(f"{option} {target}: {', '.join(map(str, left))} {what} once no lusm run is "
+             f"writing {target}")
+
+
+def _held(entry: Path) -> bool:
+    """Whether a running process holds ``entry``'s :data:`STAGING_LOCK` (a staging folder of
+    a run in progress: not stale, not worth a word)."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        return False
+    try:
+        fd = os.open(entry / STAGING_LOCK, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return True
+    except OSError:
+        return False
+    finally:
+        os.close(fd)  # also releases the shared lock, if this call took it
+    return False
+
+
+@contextmanager
+def staging(name: str, folder: Path, refuse: Callable[[OSError], Exception],
+            option: str, target: Path) -> Iterator[Path]:
+    """Yield a fresh empty folder to build an output named ``name`` in, inside a staging
+    folder ``.NAME-partial-<12 hex>`` made in ``folder``; the staging folder is removed on
+    leaving, whatever happened.
+
+    Parameters
+    ----------
+    name : str
+        The output's name (a folder's or a file's, or its stem).
+    folder : Path
+        Where to stage: on the target's disk, so that moving the output in is a rename.
+    refuse : callable
+        Turns the ``OSError`` of making the staging folder into the exception to raise
+        (naming the user's option and target, not the random name); nothing was made then.
+    option, target : str, Path
+        The option and target named in the warning about stale staging folders
+        (:func:`clear_stale_staging`, run first).
+
+    Notes
+    -----
+    The staging folder holds :data:`STAGING_LOCK`, locked for its whole life, so that a run
+    killed outright (no ``finally`` runs) leaves a folder the next run can tell is dead.
+    """
+    folder = Path(folder)
+    clear_stale_staging(name, folder, option, target)
+    # The name is chosen before the folder exists, so a signal landing anywhere (even inside
+    # the mkdir) still finds it in ``finally``.
+    stage = folder / staging_name(name, "partial", folder)
+    made = True  # until the mkdir says otherwise: a signal just after it still finds the folder
+    fd = None
+    try:
+        try:
+            os.mkdir(stage, 0o700)
+        except OSError as exc:
+            made = False  # an entry already there by that name is not ours to remove
+            raise refuse(exc) from None
+        fd = _hold_staging(stage)
+        built = stage / _STAGED
+        built.mkdir()  # the umask's mode: a new target is this folder, renamed
+        yield built
+    finally:
+        if made:
+            shutil.rmtree(stage, ignore_errors=True)  # the lock is still held meanwhile
+        if fd is not None:
+            os.close(fd)
