@@ -149,21 +149,15 @@ def _remove_if_dead(entry: Path) -> bool:
     it) and whose recorded process is gone (or ran in an earlier boot). Anything less leaves
     it untouched (False)."""
     try:
-        import fcntl
-    except ImportError:  # pragma: no cover - not POSIX
-        return False
-    try:
         st = os.lstat(entry)
-        if not os.path.isdir(entry) or os.path.islink(entry) or st.st_uid != os.geteuid():
-            return False
-        fd = os.open(entry / STAGING_LOCK, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
-    except OSError:  # no lock file: a folder of an older lusm, or not lusm's at all
+    except OSError:
+        return False
+    if not os.path.isdir(entry) or os.path.islink(entry) or st.st_uid != os.geteuid():
+        return False
+    fd = _try_lock(entry, exclusive=True)
+    if not isinstance(fd, int):  # no lock file (not lusm's, or an older lusm's), or held
         return False
     try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:  # held: a run still writing (or a file system without locks)
-            return False
         try:
             record = json.loads(os.read(fd, 4096).decode())
         except (OSError, ValueError):  # a run killed before its record was whole
@@ -219,23 +213,44 @@ def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> N
 def _held(entry: Path) -> bool:
     """Whether a running process holds ``entry``'s :data:`STAGING_LOCK` (a staging folder of
     a run in progress: not stale, not worth a word)."""
+    fd = _try_lock(entry, exclusive=False)
+    if isinstance(fd, int):
+        os.close(fd)  # also releases the shared lock this call took
+    return fd is _HELD
+
+
+_HELD = "held"
+"""What :func:`_try_lock` returns for a lock that another process holds."""
+
+
+def _try_lock(entry: Path, exclusive: bool) -> int | str | None:
+    """Open the staging folder ``entry``'s :data:`STAGING_LOCK` (never through a link) and
+    take its ``flock`` without waiting, exclusive or shared.
+
+    Returns
+    -------
+    int, str or None
+        The file descriptor, holding the lock (the caller closes it); :data:`_HELD` when
+        another process holds the lock; None when there is no lock to take (no such file,
+        one that cannot be opened, no ``fcntl``, or a file system that refuses the lock).
+    """
     try:
         import fcntl
     except ImportError:  # pragma: no cover - not POSIX
-        return False
+        return None
     try:
         fd = os.open(entry / STAGING_LOCK, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
-    except OSError:
-        return False
+    except OSError:  # no lock file: a folder of an older lusm, or not lusm's at all
+        return None
     try:
-        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
-    except BlockingIOError:
-        return True
+        fcntl.flock(fd, (fcntl.LOCK_EX if exclusive else fcntl.LOCK_SH) | fcntl.LOCK_NB)
+    except BlockingIOError:  # a run still writing
+        os.close(fd)
+        return _HELD
     except OSError:
-        return False
-    finally:
-        os.close(fd)  # also releases the shared lock, if this call took it
-    return False
+        os.close(fd)
+        return None
+    return fd
 
 
 @contextmanager
