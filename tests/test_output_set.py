@@ -624,6 +624,94 @@ def test_a_staging_folder_of_an_earlier_boot_is_dead_though_its_pid_lives(tmp_pa
     assert "lusm: removed" in capsys.readouterr().err
 
 
+@pytest.fixture
+def nfs(monkeypatch):
+    """NFS's ways, as far as staging meets them: a file unlinked while this process has it
+    open is renamed to a hidden ``.nfsXXXX`` in its folder (which then cannot be removed),
+    and ``flock``, which NFS emulates with byte-range locks, refuses an exclusive lock on a
+    file open only for reading (EBADF)."""
+    import errno
+    import fcntl
+    import itertools
+    import os
+
+    real_open, real_close, real_flock = os.open, os.close, fcntl.flock
+    open_files: dict[int, tuple[int, int]] = {}
+    silly = itertools.count()
+
+    def nfs_open(path, flags, mode=0o777, *, dir_fd=None):
+        fd = real_open(path, flags, mode, dir_fd=dir_fd)
+        st = os.fstat(fd)
+        open_files[fd] = (st.st_dev, st.st_ino)
+        return fd
+
+    def nfs_close(fd):
+        open_files.pop(fd, None)
+        real_close(fd)
+
+    def nfs_unlink(path, *, dir_fd=None, real_unlink=os.unlink):
+        st = os.lstat(path, dir_fd=dir_fd)
+        if (st.st_dev, st.st_ino) in open_files.values():
+            hidden = os.path.join(os.path.dirname(os.fsdecode(path)), f".nfs{next(silly):020x}")
+            os.rename(path, hidden, src_dir_fd=dir_fd, dst_dir_fd=dir_fd)
+        else:
+            real_unlink(path, dir_fd=dir_fd)
+
+    def nfs_flock(fd, operation):
+        if operation & fcntl.LOCK_EX and fcntl.fcntl(fd, fcntl.F_GETFL) & os.O_ACCMODE \
+                == os.O_RDONLY:
+            raise OSError(errno.EBADF, os.strerror(errno.EBADF))
+        real_flock(fd, operation)
+
+    monkeypatch.setattr(os, "open", nfs_open)
+    monkeypatch.setattr(os, "close", nfs_close)
+    monkeypatch.setattr(os, "unlink", nfs_unlink)
+    monkeypatch.setattr(os, "remove", nfs_unlink)
+    monkeypatch.setattr(fcntl, "flock", nfs_flock)
+
+
+def test_on_nfs_a_run_leaves_no_staging_folder(tmp_path, nfs):
+    """On NFS each run left an empty ``.NAME-partial-<hex>`` behind (review): it removed
+    its lock file while it still had it open, NFS kept that file as ``.nfsXXXX`` and the
+    folder could not be removed; every later run then named it."""
+    out = tmp_path / "kk"
+    with output_set(out, "figures") as stage:
+        _write(stage, {"a.png": "1"})
+    with pytest.raises(RuntimeError, match="failed"):  # a failing run cleans up as well
+        with output_set(out, "figures") as stage:
+            _write(stage, {"a.png": "2"})
+            raise RuntimeError("failed")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kk"]
+    assert _snapshot(out) == {"a.png": "1"}
+
+
+def test_on_nfs_a_killed_runs_staging_folder_is_removed(tmp_path, capsys, nfs):
+    """On NFS the lock of a dead run's folder was asked for on a file open only for
+    reading: NFS refused it (EBADF), that read as a lock still held, and the folder was
+    never removed (review)."""
+    out = tmp_path / "kk"
+    left = _killed_run(out)  # killed on this disk, as a run killed on NFS leaves it
+    with output_set(out, "figures") as stage:
+        _write(stage, {"L1.png": "whole"})
+    assert "lusm: removed the staging folder" in capsys.readouterr().err
+    assert not left.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kk"]
+
+
+def test_a_lock_file_that_is_a_fifo_is_not_waited_on(tmp_path, capsys):
+    """The lock file is opened to test its lock: a FIFO by that name (not lusm's) must not
+    block the run, which would wait for a writer for ever."""
+    import os
+
+    from validation.staging import STAGING_LOCK
+
+    entry = _stale(tmp_path, "kk", None)
+    os.mkfifo(entry / STAGING_LOCK)
+    with output_set(tmp_path / "kk", "figures") as stage:
+        _write(stage, {"a.png": "1"})
+    assert (entry / STAGING_LOCK).exists() and str(entry) in capsys.readouterr().err
+
+
 def test_a_dataset_and_an_export_clear_their_own_stale_staging(tmp_path, capsys):
     """`explore --out r.nc` and `modes --export m.vtu` stage the same way: a killed run's
     folder is removed by the next write of that target, and one that cannot be proven dead

@@ -19,11 +19,13 @@ warning line; a folder whose lock is held is a run at work, left unsaid
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
 import shutil
 import socket
+import stat
 import sys
 import uuid
 from collections.abc import Callable, Iterator
@@ -158,20 +160,35 @@ def _remove_if_dead(entry: Path) -> bool:
     if not isinstance(fd, int):  # no lock file (not lusm's, or an older lusm's), or held
         return False
     try:
-        try:
-            record = json.loads(os.read(fd, 4096).decode())
-        except (OSError, ValueError):  # a run killed before its record was whole
-            return False
-        if not (isinstance(record, dict) and record.get("lusm") == "staging"
-                and record.get("token") == entry.name[-12:]
-                and record.get("host") == socket.gethostname()
-                and isinstance(record.get("pid"), int)
-                and not _alive(record["pid"], record.get("boot"))):
-            return False
-        shutil.rmtree(entry, ignore_errors=True)  # with the lock held: no other run races it
-        return not os.path.lexists(entry)
-    finally:
+        dead = _proves_dead(_record(fd), entry)
+    except BaseException:
         os.close(fd)
+        raise
+    if not dead:
+        os.close(fd)
+        return False
+    _remove_staging_folder(entry, fd)
+    return not os.path.lexists(entry)
+
+
+def _record(fd: int) -> object:
+    """What the lock file open on ``fd`` records (None when it is not whole JSON: a run
+    killed before its record was written whole)."""
+    try:
+        return json.loads(os.read(fd, 4096).decode())
+    except (OSError, ValueError):
+        return None
+
+
+def _proves_dead(record: object, entry: Path) -> bool:
+    """Whether ``record``, read from the free lock of the staging folder ``entry``, shows a
+    run of lusm's that has ended: it names this folder's random suffix and this host, and
+    its process is gone (or ran in an earlier boot)."""
+    return (isinstance(record, dict) and record.get("lusm") == "staging"
+            and record.get("token") == entry.name[-12:]
+            and record.get("host") == socket.gethostname()
+            and isinstance(record.get("pid"), int)
+            and not _alive(record["pid"], record.get("boot")))
 
 
 def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> None:
@@ -239,10 +256,17 @@ def _try_lock(entry: Path, exclusive: bool) -> int | str | None:
     except ImportError:  # pragma: no cover - not POSIX
         return None
     try:
-        fd = os.open(entry / STAGING_LOCK, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+        # open for writing too: NFS emulates flock with byte-range locks, and an exclusive
+        # one on a file open only for reading fails (EBADF), which had read as "held"; a
+        # FIFO of that name must not block the open
+        fd = os.open(entry / STAGING_LOCK, os.O_RDWR | os.O_NONBLOCK
+                     | getattr(os, "O_NOFOLLOW", 0))
     except OSError:  # no lock file: a folder of an older lusm, or not lusm's at all
         return None
     try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):  # lusm's lock is a plain file
+            os.close(fd)
+            return None
         fcntl.flock(fd, (fcntl.LOCK_EX if exclusive else fcntl.LOCK_SH) | fcntl.LOCK_NB)
     except BlockingIOError:  # a run still writing
         os.close(fd)
@@ -297,6 +321,35 @@ def staging(name: str, folder: Path, refuse: Callable[[OSError], Exception],
         yield built
     finally:
         if made:
-            shutil.rmtree(stage, ignore_errors=True)  # the lock is still held meanwhile
+            _remove_staging_folder(stage, fd)
+        elif fd is not None:  # pragma: no cover - the lock is taken only in a folder made
+            os.close(fd)
+
+
+def _remove_staging_folder(stage: Path, fd: int | None) -> None:
+    """Remove the staging folder ``stage``, whose lock this process holds on ``fd`` (None:
+    no lock), and close ``fd``.
+
+    What it holds besides the lock file is removed first, with the lock still held, so that
+    no other run takes the folder for dead meanwhile; the lock file goes only once ``fd`` is
+    closed. NFS keeps a file unlinked while it is open as a hidden ``.nfsXXXX`` in its
+    folder: removing the lock file before closing it left that folder non-empty, and every
+    later run named it.
+    """
+    try:
+        try:
+            with os.scandir(stage) as entries:
+                inside = [e.name for e in entries if e.name != STAGING_LOCK]
+        except OSError:
+            inside = []
+        for name in inside:
+            path = stage / name
+            if path.is_dir() and not path.is_symlink():
+                shutil.rmtree(path, ignore_errors=True)
+            else:
+                with contextlib.suppress(OSError):
+                    os.unlink(path)
+    finally:
         if fd is not None:
             os.close(fd)
+    shutil.rmtree(stage, ignore_errors=True)
