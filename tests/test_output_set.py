@@ -584,28 +584,46 @@ def test_a_staging_folder_lusm_cannot_prove_dead_is_named_not_removed(tmp_path, 
     assert len(err) == 1, err
     # "lusm" alone here; a command's name once main() has run one in this process
     assert re.match(r"lusm( \w+)?: warning: ", err[0]), err
-    assert f": warning: --plot {tmp_path / 'kk'}: {entry} is the staging folder of an earlier " \
-           "lusm run" in err[0], err
-    assert "remove it once no lusm run is writing" in err[0]
+    assert f": warning: --plot {tmp_path / 'kk'}: {entry} has the name and layout of a lusm " \
+           "staging folder; if an interrupted run left it, remove it once no lusm run is " \
+           f"writing {tmp_path / 'kk'}" in err[0], err
 
 
 def test_every_stale_entry_is_named_in_one_line_and_links_are_left(tmp_path, capsys):
-    """Two folders without a record, a file of that name: one line names all three; a link
-    of that name (never lusm's) and another target's staging folder are not named."""
+    """Two folders without a record: one line names both; a link of that name (never
+    lusm's) and another target's staging folder are not named."""
     a = _stale(tmp_path, "kk", None, "aaaaaaaaaaaa")
     b = _stale(tmp_path, "kk", None, "bbbbbbbbbbbb")
-    f = tmp_path / ".kk-partial-cccccccccccc"
-    f.write_text("a file")
     link = tmp_path / ".kk-partial-dddddddddddd"
     link.symlink_to(a)
     other = _stale(tmp_path, "kkk", {})
     with output_set(tmp_path / "kk", "figures") as stage:
         _write(stage, {"a.png": "1"})
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and f"{a}, {b}, {f} are the staging folders" in err[0], err
+    assert len(err) == 1 and f"{a}, {b} have the names and layout of lusm staging folders; " \
+        "if interrupted runs left them, remove them" in err[0], err
     assert "dddd" not in err[0] and "kkk" not in err[0]
-    assert a.is_dir() and b.is_dir() and f.read_text() == "a file" and link.is_symlink()
+    assert a.is_dir() and b.is_dir() and link.is_symlink()
     assert other.is_dir()  # another target's: its own next run deals with it
+
+
+def test_an_entry_that_merely_has_a_staging_name_is_never_named(tmp_path, monkeypatch, capsys):
+    """Any entry named ``.NAME-partial-<12 hex>`` without a lock file, even a file, was
+    named as "the staging folder of an earlier lusm run ...: remove it" (review: a folder of
+    the user's holding data.txt). Only the layout lusm makes, a folder holding its lock file
+    or its ``set`` folder, is named; the rest is left, unsaid."""
+    from validation.cli import main
+
+    mine = tmp_path / "o1" / ".figs-partial-0123456789ab"
+    _write(mine, {"data.txt": "the user's"})
+    file = tmp_path / "o1" / ".figs-partial-cccccccccccc"
+    file.write_text("a file")
+    monkeypatch.chdir(tmp_path)
+    assert main(["characteristic", "--voltage", "400", "--preload", "14", "--accuracy", "fast",
+                 "--loads", "0:1:0.5", "--plot", str(tmp_path / "o1" / "figs")]) == 0
+    assert "partial" not in capsys.readouterr().err
+    assert _snapshot(mine) == {"data.txt": "the user's"} and file.read_text() == "a file"
+    assert sorted(p.name for p in (tmp_path / "o1").iterdir()) == [mine.name, file.name, "figs"]
 
 
 def test_a_staging_folder_of_an_earlier_boot_is_dead_though_its_pid_lives(tmp_path, capsys):
@@ -727,7 +745,7 @@ def test_a_dataset_and_an_export_clear_their_own_stale_staging(tmp_path, capsys)
     write_dataset(xr.Dataset({"v": ("x", np.arange(3.0))}), tmp_path / "r.nc")
     err = capsys.readouterr().err
     assert not dead_nc.exists() and "lusm: removed the staging folder" in err
-    assert unknown_nc.is_dir() and f"--out {tmp_path / 'r.nc'}: {unknown_nc} is the" in err
+    assert unknown_nc.is_dir() and f"--out {tmp_path / 'r.nc'}: {unknown_nc} has the" in err
     dead_vtu = _stale(tmp_path, "m", {})  # an export stages by its stem
     assert main(["modes", "--refine", "2", "--export", str(tmp_path / "m.vtu")]) == 0
     err = capsys.readouterr().err

@@ -11,10 +11,11 @@ staging folder therefore holds :data:`STAGING_LOCK`, on which its run holds an e
 random suffix. The next run writing the same target removes such a folder only when all of
 that says it is lusm's and dead: the record names this folder and this host, the lock is
 free (the kernel released it when the run died) and the recorded process is gone (or ran
-before a reboot). Every other entry of that name (a folder without the record, another
-host's, one whose process id lives again, a file) is left where it is, and named in one
-warning line; a folder whose lock is held is a run at work, left unsaid
-(:func:`clear_stale_staging`).
+before a reboot). Every other folder of that name laid out as lusm makes one (a folder
+without the record, another host's, one whose process id lives again) is left where it is,
+and named in one warning line; a folder whose lock is held is a run at work, and any other
+entry of that name (a file, a folder of other content) may be the user's: both are left
+unsaid (:func:`clear_stale_staging`).
 """
 
 from __future__ import annotations
@@ -195,7 +196,8 @@ def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> N
     """Deal with the staging entries that runs killed outright left for ``name`` in
     ``folder`` (:func:`staging_name`'s ``.NAME-partial-<12 hex>``): remove those that are
     certainly lusm's and dead (:func:`_remove_if_dead`), saying so on stderr, and name the
-    rest in one warning line (``option`` and ``target`` name what the user asked for).
+    rest in one warning line (``option`` and ``target`` name what the user asked for). Only
+    folders laid out as lusm makes them are considered (:func:`_laid_out_as_staging`).
 
     Each killed run had added one more hidden folder beside the target, which no later run
     removed or mentioned.
@@ -207,7 +209,7 @@ def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> N
         return
     found = [folder / e for e in entries
              if (m := _STAGING_ENTRY.fullmatch(e)) is not None and m["stem"] == stem
-             and not os.path.islink(folder / e)]  # a link is never lusm's staging entry
+             and _laid_out_as_staging(folder / e)]
     removed = [e for e in found if _remove_if_dead(e)]
     if removed:
         what = ("the staging folder of a lusm run killed before it finished (its lock free, "
@@ -218,13 +220,22 @@ def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> N
     if left:
         from validation.options import warn
 
-        what = ("is the staging folder of an earlier lusm run that was interrupted (or is "
-                "still running elsewhere); lusm cannot tell that it is unused and leaves it: "
-                "remove it" if len(left) == 1 else "are the staging folders of earlier lusm "
-                "runs that were interrupted (or are still running elsewhere); lusm cannot "
-                "tell that they are unused and leaves them: remove them")
+        what = ("has the name and layout of a lusm staging folder; if an interrupted run left "
+                "it, remove it" if len(left) == 1 else "have the names and layout of lusm "
+                "staging folders; if interrupted runs left them, remove them")
         warn(f"{option} {target}: {', '.join(map(str, left))} {what} once no lusm run is "
              f"writing {target}")
+
+
+def _laid_out_as_staging(entry: Path) -> bool:
+    """Whether ``entry`` is laid out as :func:`staging` makes a staging folder: a folder
+    (not a link) holding :data:`STAGING_LOCK` or the folder the output is built in. Only
+    such an entry is named to the user: any entry of the name had been, even a file of the
+    user's, as an earlier run's staging folder to remove."""
+    if entry.is_symlink() or not entry.is_dir():
+        return False
+    built = entry / _STAGED
+    return os.path.lexists(entry / STAGING_LOCK) or (built.is_dir() and not built.is_symlink())
 
 
 def _held(entry: Path) -> bool:
