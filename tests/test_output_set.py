@@ -514,8 +514,9 @@ def _stale(folder: Path, name: str, record: dict | None, token: str = "012345678
     (entry / "set").mkdir(parents=True)
     (entry / "set" / "L1.png").write_text("half")
     if record is not None:
-        full = {"lusm": "staging", "token": token, "pid": _dead_pid(),
-                "host": socket.gethostname(), "boot": _boot_id(), **record}
+        folder = os.stat(entry)
+        full = {"lusm": "staging", "token": token, "dev": folder.st_dev, "ino": folder.st_ino,
+                "pid": _dead_pid(), "host": socket.gethostname(), "boot": _boot_id(), **record}
         (entry / STAGING_LOCK).write_text(json.dumps(full))
         os.chmod(entry, 0o700)
     return entry
@@ -566,6 +567,9 @@ def test_a_staging_folder_in_use_is_left_unsaid(tmp_path, capsys):
     ({"pid": "alive"}, "its process id is taken (a live process)"),
     ({"host": "another-host"}, "recorded on another host: its process cannot be checked"),
     ({"token": "ffffffffffff"}, "the record is another folder's (a copy)"),
+    ({"ino": 1}, "the record is another folder's (a copy under the same name)"),
+    ({"boot": "another-boot"}, "another boot: an earlier one, or another machine of that "
+                               "name whose locks this host does not see"),
     ({"lusm": "other"}, "not lusm's record"),
 ])
 def test_a_staging_folder_lusm_cannot_prove_dead_is_named_not_removed(tmp_path, capsys,
@@ -626,20 +630,44 @@ def test_an_entry_that_merely_has_a_staging_name_is_never_named(tmp_path, monkey
     assert sorted(p.name for p in (tmp_path / "o1").iterdir()) == [mine.name, file.name, "figs"]
 
 
-def test_a_staging_folder_of_an_earlier_boot_is_dead_though_its_pid_lives(tmp_path, capsys):
-    """After a power cut and a reboot the recorded process id may be another process's: the
-    boot id recorded beside it tells that the run is gone."""
+def test_a_copy_of_a_dead_runs_staging_folder_is_named_not_removed(tmp_path, capsys):
+    """A copy (``cp -a``) keeps the staging folder's name and its record, which named only
+    the folder's random suffix: the copy of a dead run's folder was removed as its own. The
+    record names the folder's device and inode too; only the original is removed."""
+    import shutil
+
+    (tmp_path / "a").mkdir()
+    left = _killed_run(tmp_path / "a" / "kk")
+    shutil.copytree(tmp_path / "a", tmp_path / "b", symlinks=True)  # cp -a
+    copy = tmp_path / "b" / left.name
+    for folder in ("b", "a"):
+        with output_set(tmp_path / folder / "kk", "figures") as stage:
+            _write(stage, {"a.png": "1"})
+    err = capsys.readouterr().err.strip().splitlines()
+    assert (copy / "set" / "L1.png").read_text() == "half"  # left whole
+    assert len(err) == 2 and f"{copy} has the name and layout" in err[0], err
+    assert not left.exists() and err[1].startswith("lusm: removed") and str(left) in err[1]
+
+
+@pytest.mark.parametrize("pid", ["alive", "gone"])
+def test_a_staging_folder_of_another_boot_is_named_not_removed(tmp_path, capsys, pid):
+    """A record of another boot had been taken as proof of death. It may be an earlier boot
+    of this machine, or another machine of this name sharing the folder over NFS, where
+    locks may be each host's own: its lock being free here and its process id, alive or
+    gone here, prove nothing. It is named, not removed."""
     import os
 
     from validation.staging import _boot_id
 
     if _boot_id() is None:
         pytest.skip("needs Linux's boot id")
-    entry = _stale(tmp_path, "kk", {"pid": os.getpid(), "boot": "an-earlier-boot"})
+    record = {"boot": "an-earlier-boot", **({"pid": os.getpid()} if pid == "alive" else {})}
+    entry = _stale(tmp_path, "kk", record)
     with output_set(tmp_path / "kk", "figures") as stage:
         _write(stage, {"a.png": "1"})
-    assert not entry.exists()
-    assert "lusm: removed" in capsys.readouterr().err
+    assert (entry / "set" / "L1.png").read_text() == "half"
+    err = capsys.readouterr().err
+    assert "lusm: removed" not in err and f"{entry} has the name and layout" in err
 
 
 @pytest.fixture

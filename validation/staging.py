@@ -7,12 +7,13 @@ removed on leaving, whatever happened (:func:`staging`).
 
 A run killed outright (``SIGKILL``, a power cut) cannot remove its staging folder. Every
 staging folder therefore holds :data:`STAGING_LOCK`, on which its run holds an exclusive
-``flock`` from the start, and which records that run's process, host, boot and the folder's
-random suffix. The next run writing the same target removes such a folder only when all of
-that says it is lusm's and dead: the record names this folder and this host, the lock is
-free (the kernel released it when the run died) and the recorded process is gone (or ran
-before a reboot). Every other folder of that name laid out as lusm makes one (a folder
-without the record, another host's, one whose process id lives again) is left where it is,
+``flock`` from the start, and which records that run's process, host, boot and the folder
+(its random suffix, device and inode). The next run writing the same target removes such a
+folder only when all of that says it is lusm's and dead: the record names this very folder
+(not a copy), this host and this boot, the lock is free (the kernel released it when the run
+died) and the recorded process is gone. Every other folder of that name laid out as lusm
+makes one (a folder without the record, a copy, another host's or another boot's, one whose
+process id lives again) is left where it is,
 and named in one warning line; a folder whose lock is held is a run at work, and any other
 entry of that name (a file, a folder of other content) may be the user's: both are left
 unsaid (:func:`clear_stale_staging`).
@@ -35,8 +36,9 @@ from pathlib import Path
 
 STAGING_LOCK = ".lusm-staging"
 """The file in every staging folder that its run holds an exclusive ``flock`` on, recording
-``{"lusm": "staging", "token": <the folder's 12 hex>, "pid": ..., "host": ..., "boot": ...}``
-(``boot``: Linux's boot id, or null)."""
+``{"lusm": "staging", "token": <the folder's 12 hex>, "dev": ..., "ino": ..., "pid": ...,
+"host": ..., "boot": ...}`` (``dev``, ``ino``: the folder's ``st_dev`` and ``st_ino``;
+``boot``: Linux's boot id, or null)."""
 
 _STAGED = "set"
 """The folder inside a staging folder that the output is built in (the lock file stays out of
@@ -109,8 +111,10 @@ def _hold_staging(stage: Path) -> int | None:
     except OSError:  # a file system without locks: the folder stays unrecorded
         os.close(fd)
         return None
-    record = {"lusm": "staging", "token": stage.name[-12:], "pid": os.getpid(),
-              "host": socket.gethostname(), "boot": _boot_id()}
+    folder = os.stat(stage)
+    record = {"lusm": "staging", "token": stage.name[-12:], "dev": folder.st_dev,
+              "ino": folder.st_ino, "pid": os.getpid(), "host": socket.gethostname(),
+              "boot": _boot_id()}
     try:
         os.write(fd, json.dumps(record).encode())
     except BaseException:
@@ -120,9 +124,8 @@ def _hold_staging(stage: Path) -> int | None:
 
 
 def _boot_id() -> str | None:
-    """This boot of the machine (Linux's random boot id; None elsewhere): a staging folder
-    recorded in another boot is certainly dead, though its process id may be taken again
-    (a power cut, then a reboot)."""
+    """This boot of the machine (Linux's random boot id; None elsewhere): a process id and a
+    lock mean something only to the kernel of the boot that recorded them."""
     try:
         with open("/proc/sys/kernel/random/boot_id") as f:
             return f.read().strip() or None
@@ -130,27 +133,23 @@ def _boot_id() -> str | None:
         return None
 
 
-def _alive(pid: int, boot: object) -> bool:
-    """Whether the process ``pid`` of the boot ``boot`` may still run: one of another user's
-    counts (it cannot be told apart from a live lusm); one of an earlier boot does not."""
-    now = _boot_id()
-    if isinstance(boot, str) and now is not None and boot != now:
-        return False
+def _gone(pid: int) -> bool:
+    """Whether no process ``pid`` runs (one of another user's counts as running: it cannot
+    be told apart from a live lusm)."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
-        return False
-    except OSError:  # EPERM: it exists
         return True
-    return True
+    except OSError:  # EPERM: it exists
+        return False
+    return False
 
 
 def _remove_if_dead(entry: Path) -> bool:
     """Remove the staging folder ``entry`` if it is certainly lusm's and its run is over:
-    a folder of this user's (not a link), holding a :data:`STAGING_LOCK` whose record names
-    this folder's random suffix and this host, whose lock this call takes (no process holds
-    it) and whose recorded process is gone (or ran in an earlier boot). Anything less leaves
-    it untouched (False)."""
+    a folder of this user's (not a link), holding a :data:`STAGING_LOCK` whose lock this
+    call takes (no process holds it) and whose record shows the run dead
+    (:func:`_proves_dead`). Anything less leaves it untouched (False)."""
     try:
         st = os.lstat(entry)
     except OSError:
@@ -161,7 +160,7 @@ def _remove_if_dead(entry: Path) -> bool:
     if not isinstance(fd, int):  # no lock file (not lusm's, or an older lusm's), or held
         return False
     try:
-        dead = _proves_dead(_record(fd), entry)
+        dead = _proves_dead(_record(fd), entry, st)
     except BaseException:
         os.close(fd)
         raise
@@ -181,15 +180,24 @@ def _record(fd: int) -> object:
         return None
 
 
-def _proves_dead(record: object, entry: Path) -> bool:
-    """Whether ``record``, read from the free lock of the staging folder ``entry``, shows a
-    run of lusm's that has ended: it names this folder's random suffix and this host, and
-    its process is gone (or ran in an earlier boot)."""
+def _proves_dead(record: object, entry: Path, st: os.stat_result) -> bool:
+    """Whether ``record``, read from the free lock of the staging folder ``entry`` (whose
+    ``lstat`` is ``st``), shows a run of lusm's that has ended.
+
+    It must name this very folder: its random suffix, device and inode (a copy, ``cp -a``,
+    keeps the suffix and the record; it had been removed as the run's own). It must name this
+    host and this boot, and its process must be gone here. A record of another boot is not
+    taken as proof of death, though before a reboot every run of it ended: the record cannot
+    tell an earlier boot of this machine from another machine of the same name sharing the
+    folder over NFS, where locks may be local to each host (``local_lock=flock``), so a free
+    lock and a process id unknown here prove nothing. Such a folder is named, not removed.
+    """
     return (isinstance(record, dict) and record.get("lusm") == "staging"
             and record.get("token") == entry.name[-12:]
+            and record.get("dev") == st.st_dev and record.get("ino") == st.st_ino
             and record.get("host") == socket.gethostname()
-            and isinstance(record.get("pid"), int)
-            and not _alive(record["pid"], record.get("boot")))
+            and record.get("boot") == _boot_id()
+            and isinstance(record.get("pid"), int) and _gone(record["pid"]))
 
 
 def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> None:
