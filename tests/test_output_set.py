@@ -774,8 +774,12 @@ def test_a_dataset_and_an_export_clear_their_own_stale_staging(tmp_path, capsys)
     err = capsys.readouterr().err
     assert not dead_nc.exists() and "lusm: removed the staging folder" in err
     assert unknown_nc.is_dir() and f"--out {tmp_path / 'r.nc'}: {unknown_nc} has the" in err
-    dead_vtu = _stale(tmp_path, "m", {})  # an export stages by its stem
+    dead_vtu = _stale(tmp_path, "m.vtu", {})  # an export stages by its whole name
+    # --plot m's staging folder: m.vtu's run had cleared it (or named it) as its own
+    dead_plot = _stale(tmp_path, "m", {}, "cccccccccccc")
     assert main(["modes", "--refine", "2", "--export", str(tmp_path / "m.vtu")]) == 0
     err = capsys.readouterr().err
     assert not dead_vtu.exists() and str(dead_vtu) in err
-    assert sorted(p.name for p in tmp_path.iterdir()) == [unknown_nc.name, "m.vtu", "r.nc"]
+    assert dead_plot.is_dir() and dead_plot.name not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        [dead_plot.name, unknown_nc.name, "m.vtu", "r.nc"])

@@ -744,7 +744,7 @@ def test_an_export_is_moved_in_complete(tmp_path, capsys):
 
 def test_an_export_with_a_long_file_name_is_written(tmp_path):
     # a 244-byte name, which the file system takes, failed after the solve: its staging
-    # folder ".STEM-partial-XXXXXXXX" went over the 255-byte limit ("File name too long")
+    # folder ".NAME-partial-XXXXXXXX" went over the 255-byte limit ("File name too long")
     out = tmp_path / ("f" * 240 + ".vtu")
     assert main(["modes", "--refine", "2", "--export", str(out)]) == 0
     assert out.is_file() and [p.name for p in tmp_path.iterdir()] == [out.name]
@@ -823,11 +823,11 @@ def test_library_warnings_are_one_line_naming_the_command(capsys):
 
 def test_an_export_into_a_folder_it_cannot_write_names_the_users_file(tmp_path, monkeypatch,
                                                                       capsys):
-    # the message named the staging folder's random name (".m-partial-xxxx")
+    # the message named the staging folder's random name (".m.vtu-partial-xxxx")
     real_mkdir = os.mkdir
 
     def denied(path, *args, **kwargs):  # only the staging folder: its parent is made first
-        if os.path.basename(path).startswith(".m-partial-"):
+        if os.path.basename(path).startswith(".m.vtu-partial-"):
             raise PermissionError(13, "Permission denied", path)
         return real_mkdir(path, *args, **kwargs)
 

@@ -577,9 +577,10 @@ def _write_export(path, model, res, force: bool, writer) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise refuse(exc) from None
-    # a bounded name: `.STEM-partial-...` of a file name the system takes could exceed the
-    # limit on a name (a 240-letter --export failed after the solve)
-    with staging(path.stem, path.parent, refuse, "--export", path) as stage:
+    # staged by the file's whole name, bounded by staging_name (a 240-letter --export had
+    # failed after the solve); by its stem, m.vtu's run cleared or named the leftovers of
+    # --plot m or --out m as its own
+    with staging(path.name, path.parent, refuse, "--export", path) as stage:
         staged = os.path.join(stage, path.name)
         try:
             _written_whole(writer, staged, model, res)
