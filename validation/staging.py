@@ -111,11 +111,11 @@ def _hold_staging(stage: Path) -> int | None:
     except OSError:  # a file system without locks: the folder stays unrecorded
         os.close(fd)
         return None
-    folder = os.stat(stage)
-    record = {"lusm": "staging", "token": stage.name[-12:], "dev": folder.st_dev,
-              "ino": folder.st_ino, "pid": os.getpid(), "host": socket.gethostname(),
-              "boot": _boot_id()}
     try:
+        folder = os.stat(stage)
+        record = {"lusm": "staging", "token": stage.name[-12:], "dev": folder.st_dev,
+                  "ino": folder.st_ino, "pid": os.getpid(), "host": socket.gethostname(),
+                  "boot": _boot_id()}
         os.write(fd, json.dumps(record).encode())
     except BaseException:
         os.close(fd)
@@ -306,7 +306,7 @@ def staging(name: str, folder: Path, refuse: Callable[[OSError], Exception],
     Parameters
     ----------
     name : str
-        The output's name (a folder's or a file's, or its stem).
+        The output's name (a folder's or a file's).
     folder : Path
         Where to stage: on the target's disk, so that moving the output in is a rename.
     refuse : callable
@@ -341,8 +341,6 @@ def staging(name: str, folder: Path, refuse: Callable[[OSError], Exception],
     finally:
         if made:
             _remove_staging_folder(stage, fd)
-        elif fd is not None:  # pragma: no cover - the lock is taken only in a folder made
-            os.close(fd)
 
 
 def _remove_staging_folder(stage: Path, fd: int | None) -> None:
