@@ -1645,6 +1645,38 @@ def test_a_second_resume_while_one_runs_is_refused(study, client, tmp_path):
     assert out.exists() and not parts_folder(out).exists()
 
 
+def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(tmp_path, capsys,
+                                                                     monkeypatch):
+    """A second run without --resume, started while one ran, said "holds an unfinished run;
+    pass --resume to continue it, or remove that folder to start over"; removing it ended the
+    running one with all its work (found by exploratory testing). It is refused as a second
+    --resume is, before any work and without a word of the running one's parts as its own,
+    and the running one goes on to its dataset."""
+    from validation import cmd_explore
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["29 mm", "30 mm", "31 mm"]\n'
+                    '[solver]\nfe_refine = 1\n')
+    out = tmp_path / "r.nc"
+    counted = cmd_explore._count_parts
+    calls = iter(range(100))  # as if the live run wrote a part between the second's counts
+    monkeypatch.setattr(cmd_explore, "_count_parts", lambda f: counted(f) + next(calls))
+    seen = []
+
+    def second_run(_i):
+        if not seen:
+            seen.append(main(["explore", str(path), "--out", str(out)]))
+            seen.append(capsys.readouterr().err)
+
+    r = explore(load_study(path), out, workers=1, progress=False, on_part=second_run)
+    assert seen[0] == 2
+    assert seen[1].strip() == (f"lusm explore: error: --out {out}: another lusm explore is "
+                               f"running on {parts_folder(out)}; wait for it to finish, or "
+                               "choose another --out")
+    assert r.computed == 3 and out.exists() and not parts_folder(out).exists()
+
+
 def test_a_run_stopped_after_its_last_part_is_resumed_not_thrown_away(tmp_path):
     """Every part written, the dataset not (a signal or a failed write at the end): a rerun
     without --resume had said "no geometry computed fully ... remove that folder", which

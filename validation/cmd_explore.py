@@ -62,6 +62,7 @@ def run(args: argparse.Namespace) -> None:
     from validation.explore import (
         DEFAULT_WORKERS,
         NothingComputedError,
+        PartsBusyError,
         check_out,
         check_scheduler_names,
         explore,
@@ -107,6 +108,8 @@ def run(args: argparse.Namespace) -> None:
         result.warnings += _report_failures(open_result(result.path), result.path)
     except NothingComputedError:
         raise  # its message says where the parts are kept
+    except PartsBusyError:
+        raise  # the parts there are the running one's: "kept ... --resume" was not this run's
     except (KeyboardInterrupt, Terminated):
         if parts.exists():
             print(f"lusm explore: {_geometries(_count_parts(parts))} kept in {parts}; run the "

@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 
 from validation.interrupts import checkpoint, quiet_logs_after_signal
-from validation.output_set import backup_name, staging
+from validation.output_set import backup_name, lock_held, staging
 from validation.study import (
     AXIS_KIND,
     DRIVE_AXES,
@@ -536,6 +536,11 @@ def _open_parts(study: Study, out: Path,
              "lusm_version": _version(), "code_sha256": code_digest()}
     template = _empty_outputs(study)
     if folder.exists():
+        if not resume and lock_held(folder / LOCK_FILE):
+            # a live run's folder: what is said below of a folder at rest ("remove that
+            # folder to start over") had ended that run and every geometry it had computed
+            raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
+                                 "wait for it to finish, or choose another --out")
         if not (folder / STUDY_FILE).is_file():  # it was said to be "another study's", and
             # without --resume "an unfinished run" (whose --resume then sent the user back)
             option = "--resume" if resume else f"--out {out}"
@@ -629,6 +634,11 @@ LOCK_FILE = ".lock"
 """The file of a parts folder a running ``explore`` holds an exclusive ``flock`` on."""
 
 
+class PartsBusyError(ValueError):
+    """Another ``explore`` holds the lock of the parts folder: this run is refused before any
+    work, and the parts there are that run's, not this one's."""
+
+
 def _lock_parts(folder: Path, out: Path) -> int | None:
     """Hold ``folder``'s lock for this run (the file descriptor; None where ``fcntl`` is
     missing), or refuse: two ``--resume`` runs at once had both computed every geometry left,
@@ -647,8 +657,8 @@ def _lock_parts(folder: Path, out: Path) -> int | None:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except OSError:
         os.close(fd)
-        raise ValueError(f"--out {out}: another lusm explore is running on {folder}; wait for "
-                         "it to finish (or stop it) before resuming") from None
+        raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
+                             "wait for it to finish (or stop it) before resuming") from None
     return fd
 
 

@@ -444,12 +444,29 @@ def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> N
 def _held(entry: Path) -> bool:
     """Whether a running process holds ``entry``'s :data:`STAGING_LOCK` (a staging folder of
     a run in progress: not stale, not worth a word)."""
+    return lock_held(entry / STAGING_LOCK)
+
+
+def lock_held(lock: Path) -> bool:
+    """Whether a running process holds an exclusive ``flock`` on the file ``lock``, tested
+    without creating the file and without blocking (a missing file is held by no one).
+
+    Parameters
+    ----------
+    lock : Path
+        The lock file of a run (a staging folder's :data:`STAGING_LOCK`, an explore parts
+        folder's ``.lock``).
+
+    Returns
+    -------
+    bool
+    """
     try:
         import fcntl
     except ImportError:  # pragma: no cover - not POSIX
         return False
     try:
-        fd = os.open(entry / STAGING_LOCK, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+        fd = os.open(lock, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
     except OSError:
         return False
     try:
