@@ -912,6 +912,35 @@ def test_the_json_summary_carries_the_settling_warning(tmp_path, capsys):
     assert any("did not settle" in w for w in warnings) and "did not settle" in cap.err
 
 
+@pytest.mark.parametrize("toml, words", [
+    ('outputs = ["f_L1_short", "split"]\n[axes]\nthickness = ["3 mm", "50 mm"]\n'
+     '[solver]\nfe_refine = 1\nduration = "5 ms"\n',
+     ["solver.duration is unused", "thickness up to 50 mm is 6.67 x",
+      "1 of 2 geometries did not compute fully"]),
+    ('outputs = ["no_load_velocity"]\n[axes]\nvoltage = "700 V"\npreload = "6 N"\n'
+     '[solver]\nfe_refine = 1\n',
+     ["axes.voltage 700 V is above 600 V"]),
+])
+def test_the_json_summary_lists_every_warning_said(toml, words, tmp_path, capsys):
+    """--json's "warnings" had only the workers' and the failures': the warnings of reading
+    the study (an unused solver key), of its plates (thin plate) and of its drive (700 V)
+    went to stderr alone (found by exploratory testing). It lists each line stderr says."""
+    import json
+
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text(toml)
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1",
+                 "--json"]) == 0
+    cap = capsys.readouterr()
+    said = [line.split(": warning: ", 1)[1] for line in cap.err.splitlines()
+            if line.startswith("lusm explore: warning: ")]
+    listed = json.loads(cap.out)["warnings"]
+    assert listed == said and len(said) == len(words)
+    assert all(w in text for w, text in zip(words, listed, strict=True)), listed
+
+
 def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
         study, reference, client, monkeypatch, tmp_path):
     """Parts computed before an upgrade (or an edit of an editable checkout) were mixed

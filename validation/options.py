@@ -1334,11 +1334,45 @@ def warn(message: str) -> None:
     """One warning line on stderr: ``lusm <cmd>: warning: ...``, once per command (lusm
     report of a stator with a hole had said the hole's and the thin plate's warnings twice,
     once per stage that builds the FE model)."""
-    line = f"{_COMMAND[0]}: warning: {in_file_terms(message)}"
+    text = in_file_terms(message)
+    line = f"{_COMMAND[0]}: warning: {text}"
     if line in _SAID:
         return
     _SAID.add(line)
     print(line, file=sys.stderr)
+    record_said(text)
+
+
+_RECORDS: list[list[str]] = []
+"""The open records of :func:`warnings_said`."""
+
+
+def record_said(text: str) -> None:
+    """Add a warning just said on stderr (its text after ``warning:``) to every open record of
+    :func:`warnings_said`: :func:`warn` calls it, and so does the CLI's one-line printer of
+    Python warnings (:mod:`validation.cli`)."""
+    for said in _RECORDS:
+        if text not in said:
+            said.append(text)
+
+
+@contextmanager
+def warnings_said() -> Iterator[list[str]]:
+    """Record the warnings said within, for a command's ``--json``.
+
+    Yields
+    ------
+    list of str
+        Filled as the warnings are said, in order, once each: the text of each warning line
+        (after ``warning:``) said by :func:`warn` or by the CLI's one-line printer of Python
+        warnings (``LUSM_DEBUG=1`` keeps Python's own form, which is not recorded).
+    """
+    said: list[str] = []
+    _RECORDS.append(said)
+    try:
+        yield said
+    finally:
+        _RECORDS.remove(said)
 
 
 def in_file_terms(message: str) -> str:
