@@ -22,7 +22,7 @@ from validation.explore import (  # noqa: E402
     parts_folder,
     write_dataset,
 )
-from validation.study import load_study, study_from_dict  # noqa: E402
+from validation.study import FE_OUTPUTS, load_study, study_from_dict  # noqa: E402
 
 TINY = {
     "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
@@ -1626,14 +1626,41 @@ def test_solver_settings_a_study_does_not_use_are_said(solver, outputs, words):
     import re
     import warnings
 
+    drives = any(o not in FE_OUTPUTS for o in outputs)  # else the axis is unused, and said
     with pytest.warns(UserWarning, match=re.escape(words)):
-        study_from_dict({"outputs": outputs, "axes": {"voltage": "200 V"}, "solver": solver})
+        study_from_dict({"outputs": outputs, "axes": {"voltage": "200 V"} if drives else {},
+                         "solver": solver})
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
                          "solver": {"method": "event", "duration": "5 ms", "dt": "100 ns"}})
         study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
                          "solver": {"accuracy": "exact", "rest": "transient"}})
+
+
+def test_drive_axes_of_an_fe_only_study_are_said_unused(tmp_path, capsys):
+    """A study of FE outputs only dropped its drive axes without a word (its dataset has the
+    geometry dimensions only), where an unused solver key is said (found by exploratory
+    testing). They are named as the file writes them, in its order; a study that drives its
+    plates, or names no drive axis, says nothing of them."""
+    import warnings
+
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('outputs = ["split", "f_L1_short"]\n[axes]\npreload = "6 N"\n'
+                    'voltage = ["200 V", "300 V"]\nload = "0 N"\n[solver]\nfe_refine = 1\n')
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1"]) == 0
+    err = capsys.readouterr().err
+    assert (f"lusm explore: warning: {path}: axes.preload, axes.voltage and axes.load are "
+            "unused: the study asks for FE outputs only") in err, err
+    assert set(open_result(tmp_path / "r.nc")["split"].dims) == {
+        "length", "width", "thickness", "gap", "material"}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        study_from_dict({"outputs": ["split"], "axes": {"length": "30 mm"}})
+        study_from_dict({"outputs": ["split", "no_load_velocity"],
+                         "axes": {"voltage": "200 V"}})
 
 
 def test_the_summary_says_which_axes_make_its_drive_points(tmp_path, capsys):
