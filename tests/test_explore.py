@@ -1544,7 +1544,8 @@ def _synthetic(sizes: dict[str, int]):
     for d in dims:
         n = sizes.get(d, 1)
         if d == "material":
-            coords[d] = (d, np.array(["pzt8"] * n, dtype=object))
+            coords[d] = (d, np.array(["pzt8", "paper"][:n], dtype=object),
+                         {"long_name": "stator material"})
         else:
             unit = "m" if d in GEOMETRY_AXES else {"voltage": "V", "preload": "N"}[d]
             coords[d] = (d, np.linspace(1.0, 2.0, n) * (1e-3 if unit == "m" else 100.0),
@@ -1564,7 +1565,11 @@ def _synthetic(sizes: dict[str, int]):
     ({"length": 3, "voltage": 2}, ["no_load_velocity_length_voltage.png", "split_length.png"]),
     ({"voltage": 3, "preload": 2}, ["no_load_velocity_voltage_preload.png"]),
     ({"thickness": 4}, ["no_load_velocity_thickness.png", "split_thickness.png"]),
-    ({"material": 2}, []),
+    ({"material": 2}, ["no_load_velocity_material.png", "split_material.png"]),
+    ({"length": 3, "width": 2, "material": 2},
+     ["no_load_velocity_length_width_material.png", "split_length_width_material.png"]),
+    ({"voltage": 3, "material": 2},
+     ["no_load_velocity_voltage_material.png", "split_material.png"]),
 ])
 def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     """Maps over length x width where both vary, else over the first two axes along which
@@ -1577,6 +1582,57 @@ def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     written = design_maps(ds, tmp_path)
     assert sorted(p.name for p in written) == sorted(files)
     assert all(p.stat().st_size > 1000 for p in written)
+
+
+def test_a_studys_figures_draw_every_material(tmp_path):
+    """--plot drew the first material only, and a split that varies with the material alone
+    not at all (found by exploratory testing): a curve has a line per material, a map a panel
+    per material on one colour scale, and a variable along the materials alone its values
+    against their names."""
+    from matplotlib.axes import Axes
+
+    from validation.explore import design_maps
+
+    drawn = {"plot": [], "pcolormesh": [], "xticks": []}
+    real = {k: getattr(Axes, k) for k in ("plot", "pcolormesh", "set_xticks")}
+
+    def recorded(kind):
+        def call(self, *args, **kwargs):
+            key = "xticks" if kind == "set_xticks" else kind
+            drawn[key].append((args, kwargs))
+            return real[kind](self, *args, **kwargs)
+        return call
+
+    curves = _synthetic({"voltage": 3, "material": 2})
+    maps = _synthetic({"length": 3, "width": 2, "material": 2})
+    with pytest.MonkeyPatch.context() as mp:
+        for k in real:
+            mp.setattr(Axes, k, recorded(k))
+        design_maps(curves, tmp_path)
+        lines, ticks = list(drawn["plot"]), list(drawn["xticks"])
+        drawn["plot"].clear()
+        design_maps(maps, tmp_path)
+    v = curves["no_load_velocity"].isel(length=0, width=0, thickness=0, gap=0, preload=0)
+    # the velocity's two curves (mm/s), then the split against the materials
+    assert [kw.get("label") for _a, kw in lines[:2]] == ["pzt8", "paper"]
+    for k in range(2):
+        np.testing.assert_allclose(lines[k][0][1], v.isel(material=k).values * 1e3)
+    np.testing.assert_allclose(lines[2][0][1], curves["split"].values.ravel() * 1e-3)
+    assert [list(kw.get("labels", ())) for _a, kw in ticks] == [["pzt8", "paper"]]
+    # each variable's map: one panel per material, on the same colour limits
+    # (a colour bar draws itself with pcolormesh too)
+    panels = [c for c in drawn["pcolormesh"] if c[1].get("shading") == "nearest"]
+    assert len(panels) == 4
+    for j, name in enumerate(("no_load_velocity", "split")):
+        da = maps[name].isel({d: 0 for d in maps[name].dims
+                              if d not in ("length", "width", "material")})
+        scale = 1e3 if name == "no_load_velocity" else 1e-3
+        for k in range(2):
+            args, kw = panels[2 * j + k]
+            np.testing.assert_allclose(args[2], da.isel(material=k).transpose(
+                "length", "width").values * scale)
+            assert (kw["vmin"], kw["vmax"]) == (np.nanmin(da.values * scale),
+                                                np.nanmax(da.values * scale))
 
 
 def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
