@@ -357,6 +357,61 @@ def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
     assert set(ds.data_vars) == {"f_B2_open", "k_eff_L1", "k_eff_B2", "status"}
 
 
+def test_coordinates_are_the_decimals_the_study_gives():
+    """"6.5 mm" was 6.5 * 1e-3 = 0.006500000000000001 m: the example's width coordinate,
+    which ds.sel(width=0.0065) did not find, the study attribute, and a fingerprint other
+    than the same study's in m; a range summed start + i * step in binary (found by
+    exploratory testing). Each value is the double nearest its decimal, a range's the exact
+    decimals start + i * step, whatever the unit."""
+    from fractions import Fraction
+
+    ex = load_study(Path(__file__).parents[1] / "examples" / "studies" / "length_width.toml")
+    assert ex.axes["width"] == (0.0065, 0.0075, 0.0085)
+    assert '"width": [0.0065, 0.0075, 0.0085]' in ex.text
+    fe = {"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}}
+    same = [study_from_dict({**fe, "axes": {"width": w, "length": {
+        "start": start, "stop": "34 mm", "step": "0.1 mm"}}})
+        for w, start in (("6.5 mm", "26 mm"), ("0.0065 m", "0.026 m"), ("6500 um", "26000 um"))]
+    assert len({s.fingerprint for s in same}) == 1
+    assert same[0].axes["length"] == tuple(float(f"{260 + i}e-4") for i in range(81))
+    thirds = study_from_dict({"axes": {"load": {"start": "0 N", "stop": "1 N", "num": 4},
+                                       "voltage": "200 V"}, "solver": {"fe_refine": 1}})
+    assert thirds.axes["load"] == tuple(float(Fraction(i, 3)) for i in range(4))
+    one = study_from_dict({**fe, "axes": {"width": "6.5 mm", "length": "26 mm"}})
+    ds = assemble(one, {0: compute_geometry(one, 0)})
+    assert ds["f_L1_short"].sel(width=0.0065, length=0.026).size == 1
+
+
+def test_a_plate_in_mm_is_the_same_double_in_a_study_a_stator_file_and_the_commands(
+        tmp_path):
+    """A study's "6.5 mm", a stator file's width_mm = 6.5 and --width-mm 6.5 are one double,
+    so that a study's plate at a stator file's own decimal is that file's plate (a gmsh plate
+    1 ulp off is meshed anew) and the commands' plate is the study's."""
+    import argparse
+
+    from fem.stator_file import load_stator
+    from fem.units import to_si
+    from validation.options import stator_from_args
+    from validation.study import plate_with
+
+    assert (to_si(6.5, 1e-3), to_si("6.5", 1e-3), to_si("-2.6e1", 1e-3)) == (
+        0.0065, 0.0065, -0.026)
+    assert to_si("1e-99999999", 1e-3) == 0.0  # at once, not a 10**99999999 denominator
+    with pytest.raises(ValueError):
+        to_si("1e400", 1.0)
+    path = tmp_path / "stator.toml"
+    path.write_text("[plate]\nlength_mm = 26\nwidth_mm = 6.5\nthickness_mm = 3\n")
+    design = load_stator(path)
+    assert (design.stator.length_m, design.stator.width_m) == (0.026, 0.0065)
+    s = study_from_dict({"study": {"stator": str(path)}, "outputs": ["f_L1_short"],
+                         "axes": {"width": ["6.5 mm", "7 mm"], "length": "26 mm"}})
+    assert plate_with(design.stator, {"length_m": s.axes["length"][0],
+                                      "width_m": s.axes["width"][0]}) is design.stator
+    cli = stator_from_args(argparse.Namespace(length_mm=26.0, width_mm=6.5, thickness_mm=None,
+                                              gap_mm=None, material=None, geometry=None))
+    assert (cli.stator.length_m, cli.stator.width_m) == (0.026, 0.0065)
+
+
 def test_fixed_frequencies_are_a_dimension():
     s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
                          "axes": {"frequency": ["52 kHz", "56 kHz"], "preload": "6 N"},

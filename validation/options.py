@@ -454,6 +454,7 @@ def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> Sta
     """
     from fem.geometry import PlateStator
     from fem.material import get_material
+    from fem.units import to_si
 
     given = plate_given(args)
     three_d = getattr(args, "model", None) == "3d"
@@ -482,9 +483,12 @@ def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> Sta
     check_plate_mm(mm["--length-mm"], mm["--width-mm"], mm["--thickness-mm"], mm["--gap-mm"],
                    gap_given=getattr(args, "gap_mm", None) is not None,
                    three_d=three_d, thin_warning=warn_thin)
-    stator = PlateStator(length_m=mm["--length-mm"] * 1e-3, width_m=mm["--width-mm"] * 1e-3,
-                         thickness_m=mm["--thickness-mm"] * 1e-3,
-                         electrode_gap_m=mm["--gap-mm"] * 1e-3)
+    # the double nearest each decimal typed, as a study's axes and a stator file's give it
+    # (6.5 * 1e-3 is 0.006500000000000001, a plate 1 ulp off the study's "6.5 mm")
+    stator = PlateStator(length_m=to_si(mm["--length-mm"], 1e-3),
+                         width_m=to_si(mm["--width-mm"], 1e-3),
+                         thickness_m=to_si(mm["--thickness-mm"], 1e-3),
+                         electrode_gap_m=to_si(mm["--gap-mm"], 1e-3))
     return StatorChoice(stator, get_material(getattr(args, "material", None) or "pzt8"))
 
 
