@@ -721,7 +721,8 @@ def test_a_studys_contact_solves_are_bounded_in_all():
             "voltage": {"start": "100 V", "stop": "300 V", "num": 2000}}
     with pytest.raises(ValueError, match="2000000 contact solves is above the limit 1000000"):
         study_from_dict({"outputs": ["no_load_velocity"], "axes": axes})
-    assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
+    with pytest.warns(UserWarning, match="axes.voltage is unused: the study asks for FE "):
+        assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
 
 
 def test_a_studys_fe_work_is_bounded_in_all():
@@ -1399,8 +1400,8 @@ def test_a_study_gives_the_clis_drive_warnings_once(tmp_path, capsys):
         "not validated there",
         "axes.voltage 0 and axes.preload 0: no drive and no contact force, nothing moves "
         "(motion class 'separated')"], err
-    _warn_drive(study_from_dict({"outputs": ["f_L1_short"],  # drives nothing
-                                 "axes": {"voltage": "700 V"}}))
+    with pytest.warns(UserWarning, match="axes.voltage is unused"):  # drives nothing
+        _warn_drive(study_from_dict({"outputs": ["f_L1_short"], "axes": {"voltage": "700 V"}}))
     _warn_drive(study_from_dict({"axes": {"voltage": ["0 V", "200 V"], "preload": "14 N"}}))
     assert capsys.readouterr().err == ""
     # said by the command, before it runs (here it then refuses an existing --out)
