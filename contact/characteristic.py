@@ -26,6 +26,7 @@ from contact.steady import (
     branches_at_load,
     holding_range_N,
     motor_efficiency,
+    ripple_scale,
     slow_problem,
     steady_state,
     warn_irregular,
@@ -60,8 +61,9 @@ class Characteristic(FrozenArrays):
         fast level ``F_T(0+) - mu_sd (F_N + M g)`` for a motor that drives the slider
         forward, and ``F_T(0-) + mu_sd (F_N + M g)`` (negative: a load pushing the slider
         forward) for one that drives it backward, as the same motor with ``A_b`` reversed
-        does; 0 in the dead zone. At the exact level the full model's zero crossing beyond
-        it (``accuracy``).
+        does; 0 in the dead zone. At the exact level the full model's first zero crossing
+        (``accuracy``), at the resolution of a scan of ``points`` loads up to it: the same
+        whatever ``loads_N`` the curve is asked at.
     load_N, velocity_m_s, input_power_W, output_power_W, efficiency : ndarray
         The curves: load (N), velocity from rest (m/s), electrical input power (W), mechanical
         output power ``load * v`` (W) and their ratio (-), NaN where the motor takes
@@ -90,18 +92,23 @@ class Characteristic(FrozenArrays):
     creep_from_N : float
         Where the exact level's creep band begins (N), or NaN where there is none: from it
         up to the stall force the finite slider creeps, slower than :data:`CREEP_RIPPLES`
-        velocity-ripple scales, its ripple breaking the guide's ideal Coulomb stiction every
-        period; a real guide's pre-sliding stiffness, which the model does not have, may hold
-        it there (``docs/steady.md``). Usually the averaged stall force, beyond which the
-        averaged slider is held (checked: the velocity from rest there and at the curve's
-        loads in the band is a creep). Where the band holds faster thrust, the averaging
-        followed another sheet than the start from rest (the tuned 60 kHz stator at 140 V /
-        14 N: averaged stall 0.469 N, 2.9e-3 m/s at 0.50 N; it had been printed as a creep),
-        and the band begins at the first load of the curve's last run of creeping loads
-        before the stall (grid-dependent: the curve's resolution). 0 where the whole curve
-        creeps (the no-load velocity is a creep, or the averaged slider is held without
-        load). NaN at the fast level, where the exact stall force is the smaller (the full
-        model stalls first) or of the other sign, or where no load before the stall creeps.
+        velocity-ripple scales (:func:`contact.steady.ripple_scale`), its ripple breaking the
+        guide's ideal Coulomb stiction every period; a real guide's pre-sliding stiffness,
+        which the model does not have, may hold it there (``docs/steady.md``). Which rule
+        gave it is :attr:`creep_rule`. Only where the exact stall force lies beyond the
+        averaged one (same sign, by more than :data:`CREEP_SHARE`); NaN at the fast level,
+        where the full model stalls first (Table 2's set at 450 V / 40 N) or where nothing
+        before the stall creeps.
+    creep_rule : str
+        ``"averaged stall"``: the band begins at the averaged stall force, beyond which the
+        averaged slider is held (checked: the velocity from rest there and at the scan's
+        loads up to the stall creeps). ``"whole curve"``: 0, the no-load velocity already
+        creeps (the beam set at 200 V / 14 N at its own frequency). ``"creep threshold"``:
+        the band holds faster thrust, because the averaging followed another sheet than the
+        start from rest (the tuned 60 kHz stator at 140 V / 14 N: averaged stall 0.469 N,
+        2.9e-3 m/s at 0.50 N; it had been printed as a creep): the band begins where the
+        velocity from rest falls below the creep speed for the last time before the stall,
+        bisected on the scan of ``points`` loads. ``""`` where there is no band.
     """
 
     op: OperatingPoint
@@ -118,6 +125,7 @@ class Characteristic(FrozenArrays):
     orbits: int
     averaged_stall_force_N: float = math.nan
     creep_from_N: float = math.nan
+    creep_rule: str = ""
 
     def to_dict(self) -> dict:
         """The fields of ``lusm characteristic --json``, as Python floats: NaN stays NaN
@@ -128,6 +136,7 @@ class Characteristic(FrozenArrays):
             "stall_force_N": float(self.stall_force_N),
             "averaged_stall_force_N": float(self.averaged_stall_force_N),
             "creep_from_N": float(self.creep_from_N),
+            "creep_from_rule": self.creep_rule,
             "holding_range_N": [float(f) for f in self.holding_range_N],
             "accuracy": self.accuracy,
             "curve": [
@@ -250,9 +259,15 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
 
     v0 = from_rest(0.0)[0]
     stall = averaged = _stall_force(sp)
+
+    def velocity(load: float) -> float:
+        return from_rest(float(load))[0]
+
+    exact_moving = accuracy == "exact" and abs(v0) > HELD_M_S
     if accuracy == "exact":
-        stall = _full_model_stall_force(lambda load: from_rest(load)[0], v0, stall,
-                                        sp.thrust_at_rest())
+        stall = _full_model_stall_force(velocity, v0, stall, sp.thrust_at_rest())
+        if exact_moving and math.isfinite(stall):
+            stall = _first_stop(velocity, v0, stall, points)
     if loads_N is None:  # held without load (dead zone): the one load 0
         loads = np.linspace(0.0, stall, points) if stall != 0.0 else np.zeros(1)
     else:
@@ -278,19 +293,16 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     p_in_a, p_out_a = np.array(p_in), np.array(p_out)
     eff = motor_efficiency(p_in_a, p_out_a)  # it came out below 0 under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))
-    creep_from = math.nan
-    if accuracy == "exact" and abs(v0) > HELD_M_S and math.isfinite(stall):
-        def velocity(load: float) -> float:
-            return from_rest(float(load))[0]
-
-        # the curve's loads are evaluated already: both look-ups cost no solve of their own
-        # but a refined stall's bisection and the velocity at the averaged stall
-        stall = _first_stop(velocity, v0, loads, stall)
-        creep_from = _creep_start(velocity, v0, loads, averaged, stall,
-                                  CREEP_RIPPLES * sp.v_floor_m_s)
+    creep_from, creep_rule = math.nan, ""
+    if exact_moving and math.isfinite(stall):
+        creep_from, creep_rule = _creep_start(
+            velocity, v0, averaged, stall, points,
+            CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff))
+        _warn_beyond_stall(velocity, v0, loads, stall)
     return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0,
-                          len(sp.cache) + exact_orbits[0], float(averaged), float(creep_from))
+                          len(sp.cache) + exact_orbits[0], float(averaged), float(creep_from),
+                          creep_rule)
 
 
 def _stall_force(sp) -> float:
@@ -352,53 +364,98 @@ def _moving(velocity, s: float):
     return moving
 
 
-def _before(loads, s: float, stall: float) -> list[float]:
-    """The loads (N) from 0 (included) up to the stall force (excluded) in the direction
-    ``s`` the motor drives the slider, in that order."""
-    return sorted({float(f) for f in loads if 0.0 <= s * f < s * stall}, key=lambda f: s * f)
+def _scan(stall: float, points: int) -> list[float]:
+    """The scan grid (N) of the exact level's stall and creep band: ``points`` loads from 0 up
+    to the stall force (excluded), as the default curve takes them, so that both answers are
+    the same whatever loads a caller asks the curve at (they had moved with ``loads_N``:
+    0.2823 N by default, 0.4605 N with ``--loads 0,0.2,0.4,0.5``, review)."""
+    return [float(f) for f in np.linspace(0.0, stall, points)[:-1]]
 
 
-def _first_stop(velocity, v0: float, loads, stall: float) -> float:
-    """The stall force refined to the first load of the curve under which the slider no
-    longer moves the way it is driven, if that comes before ``stall`` (N).
+MAX_STALL_REFINEMENTS = 4
+"""Most refinements of the exact stall force by :func:`_first_stop` (each a new scan grid of
+``points`` loads up to the refined stall); one was enough on every curve seen."""
+
+
+def _first_stop(velocity, v0: float, stall: float, points: int) -> float:
+    """The stall force refined to the first load of the scan grid (:func:`_scan`) under which
+    the slider no longer moves the way it is driven, if one comes before ``stall`` (N).
 
     ``brentq`` finds *a* zero crossing of the velocity from rest in its bracket, not the
     first: where the velocity is not monotone in the load (branches from rest that change
-    with it) the curve could show the slider stopped or reversed below the stall force it
+    with it) the curve showed the slider stopped or reversed below the stall force it
     printed (the tuned 40 kHz stator at 100 V / 14 N: -1.1e-5 m/s at 0.299 N, "stall force
     0.4605 N"; exploratory testing). The first such load and the moving one before it
-    bracket the crossing found here. Crossings between the curve's loads are not seen: the
-    stall force is the first crossing at the curve's resolution."""
+    bracket the crossing found here; the grid up to the refined stall is then scanned again
+    (the default curve's loads), until it shows no earlier stop. Crossings between the
+    grid's loads are not seen: the stall force is the first crossing at the resolution of
+    ``points`` loads."""
     s = math.copysign(1.0, v0)
     moving = _moving(velocity, s)
-    previous = 0.0
-    for load in _before(loads, s, stall):
-        if moving(load) <= 0.0:
-            return float(brentq(moving, previous, load, xtol=1e-12, rtol=STALL_RTOL))
-        previous = load
+    for _ in range(MAX_STALL_REFINEMENTS):
+        previous, found = 0.0, None
+        for load in _scan(stall, points):
+            if moving(load) <= 0.0:
+                found = float(brentq(moving, previous, load, xtol=1e-12, rtol=STALL_RTOL))
+                break
+            previous = load
+        if found is None:
+            break
+        stall = found
     return stall
 
 
-def _creep_start(velocity, v0: float, loads, averaged: float, stall: float,
-                 creep_m_s: float) -> float:
-    """:attr:`Characteristic.creep_from_N` (N): where the slider starts to creep below
-    ``creep_m_s`` (m/s) on its way to the stall force, or NaN."""
-    def creeps(load: float) -> bool:
-        return abs(velocity(load)) < creep_m_s  # False for a run-away (NaN)
+def _creep_start(velocity, v0: float, averaged: float, stall: float, points: int,
+                 creep_m_s: float) -> tuple[float, str]:
+    """:attr:`Characteristic.creep_from_N` (N) and :attr:`Characteristic.creep_rule`: where
+    the slider starts to creep, slower than ``creep_m_s`` (m/s), on its way to the stall
+    force; NaN and "" where it does not."""
+    def excess(load: float) -> float:  # > 0 faster than a creep (a run-away too), < 0 creeps
+        v = velocity(load)
+        return abs(v) - creep_m_s if math.isfinite(v) else creep_m_s
 
-    if abs(v0) < creep_m_s:  # the whole curve creeps
-        return 0.0
-    s = math.copysign(1.0, v0)
-    before = _before(loads, s, stall)
+    if excess(0.0) < 0.0:  # the no-load velocity creeps: the whole curve does
+        return 0.0, "whole curve"
     band = averaged * stall >= 0.0 and abs(stall) > abs(averaged) * (1.0 + CREEP_SHARE)
-    if band and creeps(averaged) and all(creeps(f) for f in before if s * f >= s * averaged):
-        return float(averaged)  # the averaged slider is held from here: a grid-free start
-    run = math.nan  # else the curve's last run of creeping loads before the stall
-    for load in reversed(before):
-        if not creeps(load):
-            break
-        run = load
-    return float(run)
+    if not band:  # the full model stalls first (or the other way): no creep band
+        return math.nan, ""
+    s = math.copysign(1.0, v0)
+    grid = _scan(stall, points)
+    if excess(averaged) < 0.0 and all(excess(f) < 0.0 for f in grid if s * f >= s * averaged):
+        return float(averaged), "averaged stall"  # the averaged slider is held from here on
+    # the averaging followed another sheet: the band is where the curve's last run of creeping
+    # loads before the stall begins, its threshold crossing bisected (not the grid's load: it
+    # had moved with the loads asked for, review)
+    last = len(grid)
+    while last > 0 and excess(grid[last - 1]) < 0.0:
+        last -= 1
+    if last == len(grid) or last == 0:  # no creep before the stall, or all of it (v0 not)
+        return math.nan, ""
+    root = brentq(excess, grid[last - 1], grid[last], xtol=1e-12, rtol=STALL_RTOL)
+    return float(root), "creep threshold"
+
+
+class NonMonotoneWarning(UserWarning):
+    """The velocity from rest turns the way the motor drives the slider again beyond the
+    stall force: the speed-thrust curve is not monotone (other branches from rest)."""
+
+
+def _warn_beyond_stall(velocity, v0: float, loads, stall: float) -> None:
+    """Warn where one of the curve's loads beyond the stall force moves the slider the way it
+    is driven (the tuned 40 kHz stator at 100 V / 14 N: forward at 0.35-0.44 N, beyond its
+    0.2823 N stall; nothing had said the curve was not monotone)."""
+    s = math.copysign(1.0, v0)
+    moving = _moving(velocity, s)
+    beyond = [float(f) for f in loads if s * f > s * stall and moving(float(f)) > 0.0]
+    if beyond:
+        import warnings
+
+        f = min(beyond, key=lambda x: s * x)
+        warnings.warn(
+            f"the velocity from rest turns the way the motor drives the slider again beyond "
+            f"the stall force {stall:.6g} N ({velocity(f):.3g} m/s at {f:g} N): the "
+            "speed-thrust curve is not monotone (other branches from rest under those "
+            "loads)", NonMonotoneWarning, stacklevel=3)
 
 
 def averaging_doubt(params: MotorParams, char: Characteristic, *, coupling: str = "auto",

@@ -113,9 +113,18 @@ import numpy as np
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import MATERIAL_NAMES, PiezoMaterial, get_material
 from fem.meshed_stator import MeshedStator, bbox_mm
+from fem.units import to_si
 
 MM = 1e-3
 """One millimetre in metres."""
+
+
+def _m(mm: float) -> float:
+    """A plate dimension the file gives in mm, in m: the double nearest the decimal written
+    (:func:`fem.units.to_si`; ``6.5 * MM`` is 0.006500000000000001), the value a study's
+    ``"6.5 mm"`` and the commands' ``--width-mm 6.5`` get, so that the same plate is the same
+    double, and a gmsh mesh the same mesh, whichever way it is given."""
+    return to_si(mm, MM)
 
 MATERIAL_RANGES = {"cE_Pa": (0.1, 1000.0, 1e9, "GPa"), "e_C_m2": (0.0, 100.0, 1.0, "C/m^2"),
                    "epsS_F_m": (1.0, 1e5, 8.8541878128e-12, "eps0")}
@@ -612,9 +621,9 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
                        "mm (min(length, width) / 100 .. / 1)")
     try:
         stator = ParametricStator(
-            length_m=length * MM, width_m=width * MM, thickness_m=thickness * MM,
-            electrode_gap_m=gap * MM, drive_electrodes=drive, tip_length_m=tip_l * MM,
-            tip_width_m=tip_w * MM, chamfer_m=chamfer * MM, holes_m=tuple(holes),
+            length_m=_m(length), width_m=_m(width), thickness_m=_m(thickness),
+            electrode_gap_m=_m(gap), drive_electrodes=drive, tip_length_m=_m(tip_l),
+            tip_width_m=_m(tip_w), chamfer_m=_m(chamfer), holes_m=tuple(holes),
             mesh_size_m=None if size is None else size * MM,
         )
     except ValueError as exc:
@@ -729,8 +738,8 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     if not mesh_t:
         length, width, gap = _plate_mm(plate, elec, src)
         stator = PlateStator(
-            length_m=length * MM, width_m=width * MM, thickness_m=thickness * MM,
-            electrode_gap_m=gap * MM,
+            length_m=_m(length), width_m=_m(width), thickness_m=_m(thickness),
+            electrode_gap_m=_m(gap),
             drive_electrodes=drive,
         )
         for key, pt, default in (("tip_mm", tip, stator.tip_point_m),
@@ -837,7 +846,7 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
             "groups): the tip touches the slider at one end of the stator and the preload "
             "presses at the other")
     stator = MeshedStator(
-        length_m=y1 - y0, width_m=x1 - x0, thickness_m=thickness * MM, electrode_gap_m=0.0,
+        length_m=y1 - y0, width_m=x1 - x0, thickness_m=_m(thickness), electrode_gap_m=0.0,
         drive_electrodes=drive, mesh=mesh, tip_m=tip, preload_m=preload,
         mesh_file=str(mesh_path),
     )

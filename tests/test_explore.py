@@ -22,7 +22,7 @@ from validation.explore import (  # noqa: E402
     parts_folder,
     write_dataset,
 )
-from validation.study import load_study, study_from_dict  # noqa: E402
+from validation.study import FE_OUTPUTS, load_study, study_from_dict  # noqa: E402
 
 TINY = {
     "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
@@ -357,6 +357,61 @@ def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
     assert set(ds.data_vars) == {"f_B2_open", "k_eff_L1", "k_eff_B2", "status"}
 
 
+def test_coordinates_are_the_decimals_the_study_gives():
+    """"6.5 mm" was 6.5 * 1e-3 = 0.006500000000000001 m: the example's width coordinate,
+    which ds.sel(width=0.0065) did not find, the study attribute, and a fingerprint other
+    than the same study's in m; a range summed start + i * step in binary (found by
+    exploratory testing). Each value is the double nearest its decimal, a range's the exact
+    decimals start + i * step, whatever the unit."""
+    from fractions import Fraction
+
+    ex = load_study(Path(__file__).parents[1] / "examples" / "studies" / "length_width.toml")
+    assert ex.axes["width"] == (0.0065, 0.0075, 0.0085)
+    assert '"width": [0.0065, 0.0075, 0.0085]' in ex.text
+    fe = {"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}}
+    same = [study_from_dict({**fe, "axes": {"width": w, "length": {
+        "start": start, "stop": "34 mm", "step": "0.1 mm"}}})
+        for w, start in (("6.5 mm", "26 mm"), ("0.0065 m", "0.026 m"), ("6500 um", "26000 um"))]
+    assert len({s.fingerprint for s in same}) == 1
+    assert same[0].axes["length"] == tuple(float(f"{260 + i}e-4") for i in range(81))
+    thirds = study_from_dict({"axes": {"load": {"start": "0 N", "stop": "1 N", "num": 4},
+                                       "voltage": "200 V"}, "solver": {"fe_refine": 1}})
+    assert thirds.axes["load"] == tuple(float(Fraction(i, 3)) for i in range(4))
+    one = study_from_dict({**fe, "axes": {"width": "6.5 mm", "length": "26 mm"}})
+    ds = assemble(one, {0: compute_geometry(one, 0)})
+    assert ds["f_L1_short"].sel(width=0.0065, length=0.026).size == 1
+
+
+def test_a_plate_in_mm_is_the_same_double_in_a_study_a_stator_file_and_the_commands(
+        tmp_path):
+    """A study's "6.5 mm", a stator file's width_mm = 6.5 and --width-mm 6.5 are one double,
+    so that a study's plate at a stator file's own decimal is that file's plate (a gmsh plate
+    1 ulp off is meshed anew) and the commands' plate is the study's."""
+    import argparse
+
+    from fem.stator_file import load_stator
+    from fem.units import to_si
+    from validation.options import stator_from_args
+    from validation.study import plate_with
+
+    assert (to_si(6.5, 1e-3), to_si("6.5", 1e-3), to_si("-2.6e1", 1e-3)) == (
+        0.0065, 0.0065, -0.026)
+    assert to_si("1e-99999999", 1e-3) == 0.0  # at once, not a 10**99999999 denominator
+    with pytest.raises(ValueError):
+        to_si("1e400", 1.0)
+    path = tmp_path / "stator.toml"
+    path.write_text("[plate]\nlength_mm = 26\nwidth_mm = 6.5\nthickness_mm = 3\n")
+    design = load_stator(path)
+    assert (design.stator.length_m, design.stator.width_m) == (0.026, 0.0065)
+    s = study_from_dict({"study": {"stator": str(path)}, "outputs": ["f_L1_short"],
+                         "axes": {"width": ["6.5 mm", "7 mm"], "length": "26 mm"}})
+    assert plate_with(design.stator, {"length_m": s.axes["length"][0],
+                                      "width_m": s.axes["width"][0]}) is design.stator
+    cli = stator_from_args(argparse.Namespace(length_mm=26.0, width_mm=6.5, thickness_mm=None,
+                                              gap_mm=None, material=None, geometry=None))
+    assert (cli.stator.length_m, cli.stator.width_m) == (0.026, 0.0065)
+
+
 def test_fixed_frequencies_are_a_dimension():
     s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
                          "axes": {"frequency": ["52 kHz", "56 kHz"], "preload": "6 N"},
@@ -666,7 +721,8 @@ def test_a_studys_contact_solves_are_bounded_in_all():
             "voltage": {"start": "100 V", "stop": "300 V", "num": 2000}}
     with pytest.raises(ValueError, match="2000000 contact solves is above the limit 1000000"):
         study_from_dict({"outputs": ["no_load_velocity"], "axes": axes})
-    assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
+    with pytest.warns(UserWarning, match="axes.voltage is unused: the study asks for FE "):
+        assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
 
 
 def test_a_studys_fe_work_is_bounded_in_all():
@@ -910,6 +966,35 @@ def test_the_json_summary_carries_the_settling_warning(tmp_path, capsys):
     cap = capsys.readouterr()
     warnings = json.loads(cap.out)["warnings"]
     assert any("did not settle" in w for w in warnings) and "did not settle" in cap.err
+
+
+@pytest.mark.parametrize("toml, words", [
+    ('outputs = ["f_L1_short", "split"]\n[axes]\nthickness = ["3 mm", "50 mm"]\n'
+     '[solver]\nfe_refine = 1\nduration = "5 ms"\n',
+     ["solver.duration is unused", "thickness up to 50 mm is 6.67 x",
+      "1 of 2 geometries did not compute fully"]),
+    ('outputs = ["no_load_velocity"]\n[axes]\nvoltage = "700 V"\npreload = "6 N"\n'
+     '[solver]\nfe_refine = 1\n',
+     ["axes.voltage 700 V is above 600 V"]),
+])
+def test_the_json_summary_lists_every_warning_said(toml, words, tmp_path, capsys):
+    """--json's "warnings" had only the workers' and the failures': the warnings of reading
+    the study (an unused solver key), of its plates (thin plate) and of its drive (700 V)
+    went to stderr alone (found by exploratory testing). It lists each line stderr says."""
+    import json
+
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text(toml)
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1",
+                 "--json"]) == 0
+    cap = capsys.readouterr()
+    said = [line.split(": warning: ", 1)[1] for line in cap.err.splitlines()
+            if line.startswith("lusm explore: warning: ")]
+    listed = json.loads(cap.out)["warnings"]
+    assert listed == said and len(said) == len(words)
+    assert all(w in text for w, text in zip(words, listed, strict=True)), listed
 
 
 def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
@@ -1315,8 +1400,8 @@ def test_a_study_gives_the_clis_drive_warnings_once(tmp_path, capsys):
         "not validated there",
         "axes.voltage 0 and axes.preload 0: no drive and no contact force, nothing moves "
         "(motion class 'separated')"], err
-    _warn_drive(study_from_dict({"outputs": ["f_L1_short"],  # drives nothing
-                                 "axes": {"voltage": "700 V"}}))
+    with pytest.warns(UserWarning, match="axes.voltage is unused"):  # drives nothing
+        _warn_drive(study_from_dict({"outputs": ["f_L1_short"], "axes": {"voltage": "700 V"}}))
     _warn_drive(study_from_dict({"axes": {"voltage": ["0 V", "200 V"], "preload": "14 N"}}))
     assert capsys.readouterr().err == ""
     # said by the command, before it runs (here it then refuses an existing --out)
@@ -1515,7 +1600,8 @@ def _synthetic(sizes: dict[str, int]):
     for d in dims:
         n = sizes.get(d, 1)
         if d == "material":
-            coords[d] = (d, np.array(["pzt8"] * n, dtype=object))
+            coords[d] = (d, np.array(["pzt8", "paper"][:n], dtype=object),
+                         {"long_name": "stator material"})
         else:
             unit = "m" if d in GEOMETRY_AXES else {"voltage": "V", "preload": "N"}[d]
             coords[d] = (d, np.linspace(1.0, 2.0, n) * (1e-3 if unit == "m" else 100.0),
@@ -1535,7 +1621,11 @@ def _synthetic(sizes: dict[str, int]):
     ({"length": 3, "voltage": 2}, ["no_load_velocity_length_voltage.png", "split_length.png"]),
     ({"voltage": 3, "preload": 2}, ["no_load_velocity_voltage_preload.png"]),
     ({"thickness": 4}, ["no_load_velocity_thickness.png", "split_thickness.png"]),
-    ({"material": 2}, []),
+    ({"material": 2}, ["no_load_velocity_material.png", "split_material.png"]),
+    ({"length": 3, "width": 2, "material": 2},
+     ["no_load_velocity_length_width_material.png", "split_length_width_material.png"]),
+    ({"voltage": 3, "material": 2},
+     ["no_load_velocity_voltage_material.png", "split_material.png"]),
 ])
 def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     """Maps over length x width where both vary, else over the first two axes along which
@@ -1548,6 +1638,57 @@ def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     written = design_maps(ds, tmp_path)
     assert sorted(p.name for p in written) == sorted(files)
     assert all(p.stat().st_size > 1000 for p in written)
+
+
+def test_a_studys_figures_draw_every_material(tmp_path):
+    """--plot drew the first material only, and a split that varies with the material alone
+    not at all (found by exploratory testing): a curve has a line per material, a map a panel
+    per material on one colour scale, and a variable along the materials alone its values
+    against their names."""
+    from matplotlib.axes import Axes
+
+    from validation.explore import design_maps
+
+    drawn = {"plot": [], "pcolormesh": [], "xticks": []}
+    real = {k: getattr(Axes, k) for k in ("plot", "pcolormesh", "set_xticks")}
+
+    def recorded(kind):
+        def call(self, *args, **kwargs):
+            key = "xticks" if kind == "set_xticks" else kind
+            drawn[key].append((args, kwargs))
+            return real[kind](self, *args, **kwargs)
+        return call
+
+    curves = _synthetic({"voltage": 3, "material": 2})
+    maps = _synthetic({"length": 3, "width": 2, "material": 2})
+    with pytest.MonkeyPatch.context() as mp:
+        for k in real:
+            mp.setattr(Axes, k, recorded(k))
+        design_maps(curves, tmp_path)
+        lines, ticks = list(drawn["plot"]), list(drawn["xticks"])
+        drawn["plot"].clear()
+        design_maps(maps, tmp_path)
+    v = curves["no_load_velocity"].isel(length=0, width=0, thickness=0, gap=0, preload=0)
+    # the velocity's two curves (mm/s), then the split against the materials
+    assert [kw.get("label") for _a, kw in lines[:2]] == ["pzt8", "paper"]
+    for k in range(2):
+        np.testing.assert_allclose(lines[k][0][1], v.isel(material=k).values * 1e3)
+    np.testing.assert_allclose(lines[2][0][1], curves["split"].values.ravel() * 1e-3)
+    assert [list(kw.get("labels", ())) for _a, kw in ticks] == [["pzt8", "paper"]]
+    # each variable's map: one panel per material, on the same colour limits
+    # (a colour bar draws itself with pcolormesh too)
+    panels = [c for c in drawn["pcolormesh"] if c[1].get("shading") == "nearest"]
+    assert len(panels) == 4
+    for j, name in enumerate(("no_load_velocity", "split")):
+        da = maps[name].isel({d: 0 for d in maps[name].dims
+                              if d not in ("length", "width", "material")})
+        scale = 1e3 if name == "no_load_velocity" else 1e-3
+        for k in range(2):
+            args, kw = panels[2 * j + k]
+            np.testing.assert_allclose(args[2], da.isel(material=k).transpose(
+                "length", "width").values * scale)
+            assert (kw["vmin"], kw["vmax"]) == (np.nanmin(da.values * scale),
+                                                np.nanmax(da.values * scale))
 
 
 def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
@@ -1597,14 +1738,41 @@ def test_solver_settings_a_study_does_not_use_are_said(solver, outputs, words):
     import re
     import warnings
 
+    drives = any(o not in FE_OUTPUTS for o in outputs)  # else the axis is unused, and said
     with pytest.warns(UserWarning, match=re.escape(words)):
-        study_from_dict({"outputs": outputs, "axes": {"voltage": "200 V"}, "solver": solver})
+        study_from_dict({"outputs": outputs, "axes": {"voltage": "200 V"} if drives else {},
+                         "solver": solver})
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
                          "solver": {"method": "event", "duration": "5 ms", "dt": "100 ns"}})
         study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
                          "solver": {"accuracy": "exact", "rest": "transient"}})
+
+
+def test_drive_axes_of_an_fe_only_study_are_said_unused(tmp_path, capsys):
+    """A study of FE outputs only dropped its drive axes without a word (its dataset has the
+    geometry dimensions only), where an unused solver key is said (found by exploratory
+    testing). They are named as the file writes them, in its order; a study that drives its
+    plates, or names no drive axis, says nothing of them."""
+    import warnings
+
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('outputs = ["split", "f_L1_short"]\n[axes]\npreload = "6 N"\n'
+                    'voltage = ["200 V", "300 V"]\nload = "0 N"\n[solver]\nfe_refine = 1\n')
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1"]) == 0
+    err = capsys.readouterr().err
+    assert (f"lusm explore: warning: {path}: axes.preload, axes.voltage and axes.load are "
+            "unused: the study asks for FE outputs only") in err, err
+    assert set(open_result(tmp_path / "r.nc")["split"].dims) == {
+        "length", "width", "thickness", "gap", "material"}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        study_from_dict({"outputs": ["split"], "axes": {"length": "30 mm"}})
+        study_from_dict({"outputs": ["split", "no_load_velocity"],
+                         "axes": {"voltage": "200 V"}})
 
 
 def test_the_summary_says_which_axes_make_its_drive_points(tmp_path, capsys):
@@ -1643,6 +1811,38 @@ def test_a_second_resume_while_one_runs_is_refused(study, client, tmp_path):
     r = explore(study, out, client=client, progress=False, resume=True, on_part=second_run)
     assert refusals and r.computed == study.n_geometries - 1
     assert out.exists() and not parts_folder(out).exists()
+
+
+def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(tmp_path, capsys,
+                                                                     monkeypatch):
+    """A second run without --resume, started while one ran, said "holds an unfinished run;
+    pass --resume to continue it, or remove that folder to start over"; removing it ended the
+    running one with all its work (found by exploratory testing). It is refused as a second
+    --resume is, before any work and without a word of the running one's parts as its own,
+    and the running one goes on to its dataset."""
+    from validation import cmd_explore
+    from validation.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["29 mm", "30 mm", "31 mm"]\n'
+                    '[solver]\nfe_refine = 1\n')
+    out = tmp_path / "r.nc"
+    counted = cmd_explore._count_parts
+    calls = iter(range(100))  # as if the live run wrote a part between the second's counts
+    monkeypatch.setattr(cmd_explore, "_count_parts", lambda f: counted(f) + next(calls))
+    seen = []
+
+    def second_run(_i):
+        if not seen:
+            seen.append(main(["explore", str(path), "--out", str(out)]))
+            seen.append(capsys.readouterr().err)
+
+    r = explore(load_study(path), out, workers=1, progress=False, on_part=second_run)
+    assert seen[0] == 2
+    assert seen[1].strip() == (f"lusm explore: error: --out {out}: another lusm explore is "
+                               f"running on {parts_folder(out)}; wait for it to finish, or "
+                               "choose another --out")
+    assert r.computed == 3 and out.exists() and not parts_folder(out).exists()
 
 
 def test_a_run_stopped_after_its_last_part_is_resumed_not_thrown_away(tmp_path):

@@ -13,7 +13,7 @@ def test_characteristic_json_curve_is_consistent(capsys):
                  "--loads", "0:1.5:0.5", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "averaged_stall_force_N",
-                        "creep_from_N", "holding_range_N", "accuracy",
+                        "creep_from_N", "creep_from_rule", "holding_range_N", "accuracy",
                         "curve", "damping", "coupling", "coupling_from", "voltage_V",
                         "preload_N", "frequency_Hz", "frequency_from", "rest"}
     assert doc["accuracy"] == "exact"  # the default: the finite-mass motor from rest
@@ -487,7 +487,8 @@ def test_a_creep_where_the_averaged_slider_is_held_is_said(capsys):
                  "--frequency", "auto", "--loads", "0,-0.2"]) == 0
     out = capsys.readouterr().out
     top = abs(exact.no_load_velocity_m_s)
-    assert "creeps from (N)            0 (the averaged stall" in out
+    assert "creeps from (N)            0 (the whole curve" in out
+    assert exact.creep_rule == "whole curve"
     assert f"at most {top:.3g} m/s on this curve" in out
 
 

@@ -224,12 +224,13 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
         from validation.errors import assignments_as_options
-        from validation.options import in_file_terms
+        from validation.options import in_file_terms, record_said
 
         text = in_file_terms(assignments_as_options(_one_line(str(message))))
         if text not in seen:
             seen.add(text)
             _say(f"{prog}: warning: {text}")
+            record_said(text)  # a --json summary lists it too (lusm explore's)
 
     with warnings.catch_warnings():  # restores showwarning (and the filters) on the way out
         warnings.showwarning = show

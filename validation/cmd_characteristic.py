@@ -168,6 +168,8 @@ def _creep_line(char) -> str | None:
     """The creep band of an exact-level curve (:attr:`contact.characteristic.Characteristic.
     creep_from_N`), or None: a designer reading the curve's knee as the stall force had
     found it half the printed one (exploratory testing: 0.76 N against 1.38 N)."""
+    from contact.characteristic import CREEP_RIPPLES
+
     lo, hi = char.creep_from_N, char.stall_force_N
     if not math.isfinite(lo):
         return None
@@ -175,13 +177,14 @@ def _creep_line(char) -> str | None:
               if min(lo, hi) <= f <= max(lo, hi) and math.isfinite(v)]  # ends included:
     # at an averaged stall of 0 the no-load point is the band's fastest creep
     speed = (f", at most {max(inside):.3g} m/s on this curve" if inside else "")
-    if lo == char.averaged_stall_force_N:
-        where = "the averaged stall: up to the stall force"
-    elif lo == 0.0:
+    if char.creep_rule == "whole curve":
         where = "the whole curve: up to the stall force"
-    else:  # the averaging followed another sheet: the band is read off the curve's loads
-        where = (f"the curve's first load of it, the averaged stall "
-                 f"{char.averaged_stall_force_N:.4g} N being another branch's: from it on")
+    elif char.creep_rule == "averaged stall":
+        where = "the averaged stall: up to the stall force"
+    else:  # the averaging followed another sheet: the band is found on the full model's
+        where = (f"where the velocity falls below {CREEP_RIPPLES:g} ripple scales, the "
+                 f"averaged stall {char.averaged_stall_force_N:.4g} N being another "
+                 "branch's: from it on")
     return (f"{lo:.6g} ({where} the slider creeps{speed}, "
             "its velocity ripple breaking the guide's ideal stiction; docs/steady.md)")
 

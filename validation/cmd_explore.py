@@ -19,6 +19,7 @@ from validation.options import (
     warn,
     warn_drive,
     warn_thin_plate,
+    warnings_said,
 )
 
 
@@ -49,7 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--plot", metavar="DIR",
                    help="write figures (PNG) of the no-load velocity, stall force and L1-B2 split "
                    "into DIR: maps over length x width (or the first two axes that vary), "
-                   "curves over a single varying axis")
+                   "curves over a single varying axis; a panel or line per material")
     p.add_argument("--json", action="store_true", help="print one JSON summary")
     p.add_argument("--force", action="store_true",
                    help="replace an existing FILE.nc (kept as FILE.nc.bak-N) and write into a "
@@ -58,10 +59,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> None:
-    """Check the study and the outputs, run the study, print its summary."""
+    """Check the study and the outputs, run the study, print its summary; ``--json``'s
+    ``"warnings"`` lists every warning the run says (those of reading the study, of its
+    plates and drive points, of the workers, of the figures: it had listed only the
+    workers' and the failures')."""
+    with warnings_said() as said:
+        _run(args, said)
+
+
+def _run(args: argparse.Namespace, said: list[str]) -> None:
+    """:func:`run`, with ``said`` the record of the warnings said so far (filled as they
+    are said)."""
     from validation.explore import (
         DEFAULT_WORKERS,
         NothingComputedError,
+        PartsBusyError,
         check_out,
         check_scheduler_names,
         explore,
@@ -102,11 +114,11 @@ def run(args: argparse.Namespace) -> None:
                          resume=args.resume, force=args.force, progress=not args.json)
         for text in result.warnings:  # said once each, as every command says a warning
             warn(in_study_terms(text))
-        # the failure and settling warnings go into --json's "warnings" too (a script
-        # reading it saw [] where stderr said drive points had not settled)
-        result.warnings += _report_failures(open_result(result.path), result.path)
+        _report_failures(open_result(result.path), result.path)
     except NothingComputedError:
         raise  # its message says where the parts are kept
+    except PartsBusyError:
+        raise  # the parts there are the running one's: "kept ... --resume" was not this run's
     except (KeyboardInterrupt, Terminated):
         if parts.exists():
             print(f"lusm explore: {_geometries(_count_parts(parts))} kept in {parts}; run the "
@@ -144,6 +156,9 @@ def run(args: argparse.Namespace) -> None:
                   file=sys.stderr)
             raise
     summary = result.to_dict()
+    # what stderr said, as it said it (a script reading --json had seen [] where stderr
+    # warned of 700 V, of thick plates or of drive points that had not settled)
+    summary["warnings"] = list(said)
     if study.needs_motor:  # every velocity and force depends on it (as characteristic says)
         from validation.explore import damping_text
 

@@ -45,7 +45,7 @@ import numpy as np
 
 from validation.interrupts import checkpoint, quiet_logs_after_signal
 from validation.output_set import backup_name
-from validation.staging import staging
+from validation.staging import lock_held, staging
 from validation.study import (
     AXIS_KIND,
     DRIVE_AXES,
@@ -537,6 +537,11 @@ def _open_parts(study: Study, out: Path,
              "lusm_version": _version(), "code_sha256": code_digest()}
     template = _empty_outputs(study)
     if folder.exists():
+        if not resume and lock_held(folder / LOCK_FILE):
+            # a live run's folder: what is said below of a folder at rest ("remove that
+            # folder to start over") had ended that run and every geometry it had computed
+            raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
+                                 "wait for it to finish, or choose another --out")
         if not (folder / STUDY_FILE).is_file():  # it was said to be "another study's", and
             # without --resume "an unfinished run" (whose --resume then sent the user back)
             option = "--resume" if resume else f"--out {out}"
@@ -630,6 +635,11 @@ LOCK_FILE = ".lock"
 """The file of a parts folder a running ``explore`` holds an exclusive ``flock`` on."""
 
 
+class PartsBusyError(ValueError):
+    """Another ``explore`` holds the lock of the parts folder: this run is refused before any
+    work, and the parts there are that run's, not this one's."""
+
+
 def _lock_parts(folder: Path, out: Path) -> int | None:
     """Hold ``folder``'s lock for this run (the file descriptor; None where ``fcntl`` is
     missing), or refuse: two ``--resume`` runs at once had both computed every geometry left,
@@ -648,8 +658,8 @@ def _lock_parts(folder: Path, out: Path) -> int | None:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except OSError:
         os.close(fd)
-        raise ValueError(f"--out {out}: another lusm explore is running on {folder}; wait for "
-                         "it to finish (or stop it) before resuming") from None
+        raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
+                             "wait for it to finish (or stop it) before resuming") from None
     return fd
 
 
@@ -1402,24 +1412,35 @@ MAP_VARIABLES = ("no_load_velocity", "stall_force", "split")
 
 PLOT_DIMS = ("length", "width", "thickness", "gap", "tip_length", "tip_width", "chamfer",
              "frequency", "voltage", "preload")
-"""Numeric dimensions a study's figures are drawn over, in the order they are chosen."""
+"""Numeric dimensions a study's figures are drawn over, in the order they are chosen (the
+``material`` axis, a name, is drawn as :func:`drawn_materials` says)."""
 
 
 def plot_dims(ds, name: str) -> tuple[str, ...]:
-    """The dimensions :func:`design_maps` draws variable ``name`` over: length x width where
-    both vary (the design-space map), else the first two of :data:`PLOT_DIMS` along which it
-    has at least two values (a map), else the first one (a curve); empty when none."""
+    """The numeric dimensions :func:`design_maps` draws variable ``name`` over: length x width
+    where both vary (the design-space map), else the first two of :data:`PLOT_DIMS` along which
+    it has at least two values (a map), else the first one (a curve); empty when none."""
     varied = [d for d in PLOT_DIMS if d in ds[name].dims and ds.sizes[d] >= 2]
     if "length" in varied and "width" in varied:
         return ("length", "width")
     return tuple(varied[:2])
 
 
+def drawn_materials(ds, name: str) -> bool:
+    """Whether :func:`design_maps` draws variable ``name`` for each value of the ``material``
+    axis: when it has two or more. A map is then one panel per material, a curve one line per
+    material, and a variable that varies along no numeric axis its values against the
+    materials (figures had shown the first material only, and a study over materials alone
+    drew nothing; found by exploratory testing)."""
+    return "material" in ds[name].dims and ds.sizes["material"] >= 2
+
+
 def drawable_maps(ds) -> list[str]:
     """The :data:`MAP_VARIABLES` :func:`design_maps` can draw: present, along at least one
-    numeric axis of two values or more (:func:`plot_dims`), not all NaN."""
+    numeric axis of two values or more (:func:`plot_dims`) or two materials or more
+    (:func:`drawn_materials`), not all NaN."""
     return [name for name in MAP_VARIABLES
-            if name in ds and plot_dims(ds, name)
+            if name in ds and (plot_dims(ds, name) or drawn_materials(ds, name))
             and np.isfinite(ds[name].values.astype(float)).any()]
 
 
@@ -1431,11 +1452,14 @@ def _axis_scale(ds, dim: str) -> tuple[float, str]:
 
 def design_maps(ds, folder: str | Path) -> list[Path]:
     """PNG figures of :data:`MAP_VARIABLES`, each over its dimensions of :func:`plot_dims`:
-    maps over two (length x width for a design-space study), curves over one; the other
-    dimensions at their first value.
+    maps over two (length x width for a design-space study), curves over one; with two
+    materials or more (:func:`drawn_materials`), one map panel or one curve per material, or
+    the values against the materials where no numeric axis varies; the other dimensions at
+    their first value.
 
-    Returns the written files (``{name}_{dim}[_{dim}].png``); a variable that is absent, all
-    NaN, or without a numeric axis of at least two values, gives none.
+    Returns the written files (``{name}_{dim}[_{dim}][_material].png``); a variable that is
+    absent, all NaN, or without a numeric axis of at least two values or two materials, gives
+    none.
     """
     import textwrap
 
@@ -1445,36 +1469,69 @@ def design_maps(ds, folder: str | Path) -> list[Path]:
     written = []
     for name in drawable_maps(ds):
         dims = plot_dims(ds, name)
+        per_material = drawn_materials(ds, name)
+        drawn = dims + (("material",) if per_material else ())
         da = ds[name]
-        fixed = {d: 0 for d in da.dims if d not in dims}
-        # ascending coordinates: a list axis may come in any order (a map of 9 cells drew 4)
-        da = da.isel(fixed).transpose(*dims).sortby(list(dims))
+        fixed = {d: 0 for d in da.dims if d not in drawn}
+        # ascending coordinates: a list axis may come in any order (a map of 9 cells drew 4);
+        # the materials in the study's order
+        da = da.isel(fixed).transpose(*drawn)
+        if dims:
+            da = da.sortby(list(dims))
+        materials = [str(m) for m in ds["material"].values] if per_material else [None]
         where = ", ".join(_coord_text(ds, d) for d in fixed)
-        fig = Figure(figsize=(6.0, 4.5), layout="constrained")
-        ax = fig.add_subplot()
+        panels = len(materials) if len(dims) == 2 else 1
+        fig = Figure(figsize=(6.0 + 3.5 * (panels - 1), 4.5), layout="constrained")
+        axes = fig.subplots(1, panels, sharex=True, sharey=True, squeeze=False)[0]
+        if panels > 1:  # the panels' end ticks ("8.50" "6.50") had touched
+            fig.get_layout_engine().set(wspace=0.08)
         scale, unit = (1e3, "mm/s") if name == "no_load_velocity" else \
             ((1e-3, "kHz") if name == "split" else (1.0, da.attrs.get("units", "")))
         label = f"{da.attrs.get('long_name', name)} ({unit})"
-        (fy, uy) = _axis_scale(ds, dims[0])
-        ylabel = f"{ds[dims[0]].attrs.get('long_name', dims[0])} ({uy})"
+        # the values (drawn unit) of each material (of the only one)
+        of = [(da if m is None else da.isel(material=k)).values.astype(float) * scale
+              for k, m in enumerate(materials)]
+        if dims:
+            fy, uy = _axis_scale(ds, dims[0])
+            ylabel = f"{ds[dims[0]].attrs.get('long_name', dims[0])} ({uy})"
         if len(dims) == 2:
             fx, ux = _axis_scale(ds, dims[1])
-            mesh = ax.pcolormesh(da[dims[1]].values * fx, da[dims[0]].values * fy,
-                                 da.values * scale, shading="nearest", cmap="viridis")
-            fig.colorbar(mesh, ax=ax, label=label)
-            ax.set_xlabel(f"{ds[dims[1]].attrs.get('long_name', dims[1])} ({ux})")
-            ax.set_ylabel(ylabel)
-        else:  # one axis varies: the answer against it
-            ax.plot(da[dims[0]].values * fy, da.values * scale, "o-")
+            finite = np.asarray(of)[np.isfinite(of)]  # one colour scale for the panels
+            lo, hi = (finite.min(), finite.max()) if finite.size else (None, None)
+            for k, ax in enumerate(axes):
+                mesh = ax.pcolormesh(da[dims[1]].values * fx, da[dims[0]].values * fy, of[k],
+                                     shading="nearest", cmap="viridis", vmin=lo, vmax=hi)
+                ax.set_xlabel(f"{ds[dims[1]].attrs.get('long_name', dims[1])} ({ux})")
+                if materials[k] is not None:
+                    ax.set_title(f"material {materials[k]}", fontsize=8)
+            axes[0].set_ylabel(ylabel)
+            fig.colorbar(mesh, ax=list(axes), label=label)
+        elif dims:  # one axis varies: the answer against it, a line per material
+            ax = axes[0]
+            for k, m in enumerate(materials):
+                ax.plot(da[dims[0]].values * fy, of[k], "o-", label=m)
+            if per_material:
+                ax.legend(title="stator material", fontsize=8)
             ax.set_xlabel(ylabel)
+            ax.set_ylabel(label)
+            ax.grid(True, alpha=0.3)
+        else:  # only the material varies: its values against the materials' names
+            ax = axes[0]
+            ax.plot(range(len(materials)), da.values.astype(float) * scale, "o")
+            ax.set_xticks(range(len(materials)), labels=materials)
+            ax.set_xlim(-0.5, len(materials) - 0.5)
+            ax.set_xlabel(ds["material"].attrs.get("long_name", "material"))
             ax.set_ylabel(label)
             ax.grid(True, alpha=0.3)
         lines = [name] + ([textwrap.fill(f"at {where}", 95)] if where else [])
         if name != "split" and "damping" in ds.attrs:  # a speed or force: say its damping
             lines.append(textwrap.fill(textwrap.shorten(f"damping {ds.attrs['damping']}",
                                                         190), 95))
-        ax.set_title("\n".join(lines), fontsize=8)
-        path = folder / f"{name}_{'_'.join(dims)}.png"
+        if panels > 1:
+            fig.suptitle("\n".join(lines), fontsize=8)
+        else:
+            axes[0].set_title("\n".join(lines), fontsize=8)
+        path = folder / f"{name}_{'_'.join(drawn)}.png"
         fig.savefig(path, dpi=120)
         written.append(path)
     return written

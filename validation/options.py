@@ -454,6 +454,7 @@ def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> Sta
     """
     from fem.geometry import PlateStator
     from fem.material import get_material
+    from fem.units import to_si
 
     given = plate_given(args)
     three_d = getattr(args, "model", None) == "3d"
@@ -482,9 +483,12 @@ def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> Sta
     check_plate_mm(mm["--length-mm"], mm["--width-mm"], mm["--thickness-mm"], mm["--gap-mm"],
                    gap_given=getattr(args, "gap_mm", None) is not None,
                    three_d=three_d, thin_warning=warn_thin)
-    stator = PlateStator(length_m=mm["--length-mm"] * 1e-3, width_m=mm["--width-mm"] * 1e-3,
-                         thickness_m=mm["--thickness-mm"] * 1e-3,
-                         electrode_gap_m=mm["--gap-mm"] * 1e-3)
+    # the double nearest each decimal typed, as a study's axes and a stator file's give it
+    # (6.5 * 1e-3 is 0.006500000000000001, a plate 1 ulp off the study's "6.5 mm")
+    stator = PlateStator(length_m=to_si(mm["--length-mm"], 1e-3),
+                         width_m=to_si(mm["--width-mm"], 1e-3),
+                         thickness_m=to_si(mm["--thickness-mm"], 1e-3),
+                         electrode_gap_m=to_si(mm["--gap-mm"], 1e-3))
     return StatorChoice(stator, get_material(getattr(args, "material", None) or "pzt8"))
 
 
@@ -1340,11 +1344,45 @@ def warn(message: str) -> None:
     """One warning line on stderr: ``lusm <cmd>: warning: ...``, once per command (lusm
     report of a stator with a hole had said the hole's and the thin plate's warnings twice,
     once per stage that builds the FE model)."""
-    line = f"{_COMMAND[0]}: warning: {in_file_terms(message)}"
+    text = in_file_terms(message)
+    line = f"{_COMMAND[0]}: warning: {text}"
     if line in _SAID:
         return
     _SAID.add(line)
     print(line, file=sys.stderr)
+    record_said(text)
+
+
+_RECORDS: list[list[str]] = []
+"""The open records of :func:`warnings_said`."""
+
+
+def record_said(text: str) -> None:
+    """Add a warning just said on stderr (its text after ``warning:``) to every open record of
+    :func:`warnings_said`: :func:`warn` calls it, and so does the CLI's one-line printer of
+    Python warnings (:mod:`validation.cli`)."""
+    for said in _RECORDS:
+        if text not in said:
+            said.append(text)
+
+
+@contextmanager
+def warnings_said() -> Iterator[list[str]]:
+    """Record the warnings said within, for a command's ``--json``.
+
+    Yields
+    ------
+    list of str
+        Filled as the warnings are said, in order, once each: the text of each warning line
+        (after ``warning:``) said by :func:`warn` or by the CLI's one-line printer of Python
+        warnings (``LUSM_DEBUG=1`` keeps Python's own form, which is not recorded).
+    """
+    said: list[str] = []
+    _RECORDS.append(said)
+    try:
+        yield said
+    finally:
+        _RECORDS.remove(said)
 
 
 def in_file_terms(message: str) -> str:

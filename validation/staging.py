@@ -249,19 +249,41 @@ def _laid_out_as_staging(entry: Path) -> bool:
 def _held(entry: Path) -> bool:
     """Whether a running process holds ``entry``'s :data:`STAGING_LOCK` (a staging folder of
     a run in progress: not stale, not worth a word)."""
-    fd = _try_lock(entry, exclusive=False)
-    if isinstance(fd, int):
-        os.close(fd)  # also releases the shared lock this call took
-    return fd is _HELD
+    return lock_held(entry / STAGING_LOCK)
 
 
 _HELD = "held"
 """What :func:`_try_lock` returns for a lock that another process holds."""
 
 
+def lock_held(lock: Path) -> bool:
+    """Whether a running process holds an exclusive ``flock`` on the file ``lock``, tested
+    without creating the file and without blocking (a missing file is held by no one).
+
+    Parameters
+    ----------
+    lock : Path
+        The lock file of a run (a staging folder's :data:`STAGING_LOCK`, an explore parts
+        folder's ``.lock``).
+
+    Returns
+    -------
+    bool
+    """
+    fd = _try_lock_file(lock, exclusive=False)
+    if isinstance(fd, int):
+        os.close(fd)  # also releases the shared lock this call took
+    return fd is _HELD
+
+
 def _try_lock(entry: Path, exclusive: bool) -> int | str | None:
-    """Open the staging folder ``entry``'s :data:`STAGING_LOCK` (never through a link) and
-    take its ``flock`` without waiting, exclusive or shared.
+    """:func:`_try_lock_file` on the staging folder ``entry``'s :data:`STAGING_LOCK`."""
+    return _try_lock_file(entry / STAGING_LOCK, exclusive)
+
+
+def _try_lock_file(lock: Path, exclusive: bool) -> int | str | None:
+    """Open the lock file ``lock`` (never through a link) and take its ``flock`` without
+    waiting, exclusive or shared.
 
     Returns
     -------
@@ -278,7 +300,7 @@ def _try_lock(entry: Path, exclusive: bool) -> int | str | None:
         # open for writing too: NFS emulates flock with byte-range locks, and an exclusive
         # one on a file open only for reading fails (EBADF), which had read as "held"; a
         # FIFO of that name must not block the open
-        fd = os.open(entry / STAGING_LOCK, os.O_RDWR | os.O_NONBLOCK
+        fd = os.open(lock, os.O_RDWR | os.O_NONBLOCK
                      | getattr(os, "O_NOFOLLOW", 0))
     except OSError:  # no lock file: a folder of an older lusm, or not lusm's at all
         return None

@@ -39,10 +39,15 @@ features, material, damping and motor tables; ``length``, ``width``, ``thickness
 stator's features are axes too (:data:`FEATURE_AXES`: ``tip_length``, ``tip_width``,
 ``chamfer``), dimensions only of the studies that name them.
 
+A value is the double nearest the decimal typed in SI (``"6.5 mm"`` is 0.0065 m, as
+``"0.0065 m"`` is), and a range's values the exact decimals ``start + i * step`` each rounded
+once (:mod:`fem.units`), so that a coordinate is found by the number it stands for.
+
 Every mistake (an unknown axis or output, an empty range, a number without its unit, a unit
 of the wrong kind) raises ``ValueError`` with one line naming the key (``axes.length``).
-Only the standard library is imported at module level (a stator file and the mesh bound load
-the FE modules they need when a study asks for them).
+Only the standard library (and :mod:`fem.units`, which imports no more) is imported at
+module level (a stator file and the mesh bound load the FE modules they need when a study
+asks for them).
 """
 
 from __future__ import annotations
@@ -55,9 +60,11 @@ import os
 import re
 import tomllib
 from dataclasses import dataclass, field
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from fem.units import exact_si, nearest_float
 from validation import limits
 
 GEOMETRY_AXES = ("length", "width", "thickness", "gap", "material")
@@ -302,7 +309,18 @@ def _where(source: str) -> str:
 
 
 def parse_quantity(value: Any, kind: str, key: str) -> float:
-    """A quantity string (``"30 mm"``) in SI units; ``key`` names it in the error."""
+    """A quantity string (``"30 mm"``) in SI units; ``key`` names it in the error.
+
+    The value is the double nearest the decimal typed times its unit (:func:`fem.units.
+    to_si`): ``"6.5 mm"`` is 0.0065, as ``"0.0065 m"`` is; ``6.5 * 1e-3`` had made it
+    0.006500000000000001, a coordinate ``sel(width=0.0065)`` did not find and a study of
+    another fingerprint than the same one written in m."""
+    return nearest_float(_exact_quantity(value, kind, key))
+
+
+def _exact_quantity(value: Any, kind: str, key: str) -> Fraction:
+    """:func:`parse_quantity`'s value before it is rounded to a float: exact, for a range's
+    arithmetic, and refused unless that float is finite."""
     if isinstance(value, bool) or not isinstance(value, (str, int, float)):
         raise ValueError(f"{key} must be a quantity such as '1 {_example_unit(kind)}', "
                          f"got {value!r}")
@@ -318,13 +336,15 @@ def parse_quantity(value: Any, kind: str, key: str) -> float:
                              f"(units: {', '.join(UNITS[kind])})")
         raise ValueError(f"{key} must be a number with a unit such as "
                          f"'1 {_example_unit(kind)}', got {value!r}")
-    number, unit = float(m.group(1)), m.group(2)
+    number, unit = m.group(1), m.group(2)
     if unit not in UNITS[kind]:
         raise ValueError(f"{key}: unit {unit!r} is not a {kind}; use one of "
                          f"{', '.join(UNITS[kind])}")
-    out = number * UNITS[kind][unit]
-    if not math.isfinite(out):
-        raise ValueError(f"{key} must be finite, got {value!r}")
+    try:
+        out = exact_si(number, UNITS[kind][unit])
+        nearest_float(out)  # a finite float
+    except ValueError:
+        raise ValueError(f"{key} must be finite, got {value!r}") from None
     return out
 
 
@@ -364,6 +384,13 @@ def _axis_values(name: str, raw: Any, key: str) -> tuple:
 
 
 def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
+    """A range table's values (SI): the decimals ``start + i * step``, or ``num`` points
+    from ``start`` to ``stop`` evenly, computed exactly and each rounded once to the nearest
+    double, so that a range's point is the value the same decimal gets typed alone
+    (:func:`parse_quantity`). Summed in binary arithmetic, 25.9 mm had been
+    0.025900000000000003 m, one ulp from a stator file's ``length_mm = 25.9``, and a
+    gmsh-meshed plate 1 ulp longer is meshed anew (its L1 moved by 0.6 Hz against the
+    single-point command's)."""
     unknown = sorted(set(raw) - {"start", "stop", "num", "step"})
     if unknown:
         raise ValueError(f"{key}.{unknown[0]} is not a range key; use start, stop and num or "
@@ -371,48 +398,38 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
     for k in ("start", "stop"):
         if k not in raw:
             raise ValueError(f"{key}.{k} is missing; a range needs start, stop and num or step")
-    start = parse_quantity(raw["start"], kind, f"{key}.start")
-    stop = parse_quantity(raw["stop"], kind, f"{key}.stop")
+    start = _exact_quantity(raw["start"], kind, f"{key}.start")
+    stop = _exact_quantity(raw["stop"], kind, f"{key}.stop")
     if ("num" in raw) == ("step" in raw):
         raise ValueError(f"{key} needs exactly one of num or step")
     if stop < start:  # with num as with step (num took it silently, in descending order)
         raise ValueError(f"{key} is an empty range: stop {raw['stop']!r} is below start "
                          f"{raw['start']!r}; a range ascends from start to stop (a list takes "
                          "its values in any order)")
+    top = limits.work_bound(limits.MAX_GRID_POINTS)
     if "num" in raw:
         num = raw["num"]
         if isinstance(num, bool) or not isinstance(num, int) or num < 1:
             raise ValueError(f"{key}.num must be an integer >= 1, got {num!r}")
-        top = limits.work_bound(limits.MAX_GRID_POINTS)
         if num > top:
             raise ValueError(f"{key}.num must be <= {top}, got {num}")
         if num == 1:
             if start != stop:
                 raise ValueError(f"{key}.num = 1 needs start == stop")
-            return (start,)
-        values = [start + (stop - start) * i / (num - 1) for i in range(num)]
-        return _snapped(values, raw["start"], kind, key)
-    step = parse_quantity(raw["step"], kind, f"{key}.step")
-    if step <= 0:
-        raise ValueError(f"{key}.step must be > 0, got {raw['step']!r}")
-    n = math.floor((stop - start) / step * (1 + 1e-12)) + 1
-    top = limits.work_bound(limits.MAX_GRID_POINTS)
-    if n > top:
-        raise ValueError(f"{key} has {n} points, above the limit {top}; use a larger step")
-    return _snapped([start + i * step for i in range(n)], raw["start"], kind, key)
-
-
-def _snapped(values: list[float], start: str, kind: str, key: str) -> tuple[float, ...]:
-    """A range's values (SI) as the decimals a user would write in the unit of its ``start``
-    (12 significant digits), converted as a typed value is: ``start + i * step`` put a
-    length of 25.9 mm at 0.025900000000000003 m, one ulp from the 0.0259 m of a stator
-    file's ``length_mm = 25.9``, and a gmsh-meshed plate 1 ulp longer is meshed anew (its L1
-    moved by 0.6 Hz against the single-point command's)."""
-    factor = UNITS[kind][_QUANTITY.match(start).group(2)]
-    out = tuple(float(f"{v / factor:.12g}") * factor for v in values)
+            return (nearest_float(start),)
+        exact = [start + (stop - start) * i / (num - 1) for i in range(num)]
+    else:
+        step = _exact_quantity(raw["step"], kind, f"{key}.step")
+        if step <= 0:
+            raise ValueError(f"{key}.step must be > 0, got {raw['step']!r}")
+        n = math.floor((stop - start) / step) + 1  # exact: stop itself when step divides
+        if n > top:
+            raise ValueError(f"{key} has {n} points, above the limit {top}; use a larger step")
+        exact = [start + i * step for i in range(n)]
+    out = tuple(nearest_float(v) for v in exact)
     if len(set(out)) < len(out):  # it said "repeats a value" of a range
-        raise ValueError(f"{key} is finer than 12 significant digits of its start "
-                         f"{start!r}: use a larger step or fewer points")
+        raise ValueError(f"{key} is finer than a float can tell apart near its start "
+                         f"{raw['start']!r}: use a larger step or fewer points")
     return out
 
 
@@ -595,6 +612,7 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
                       f"meshed by {how}", stacklevel=2)
     study = Study(name, axes, outputs, solver, source, stator=design)
     _warn_unused_solver(study, raw_solver, where)
+    _warn_unused_drive(study, raw_axes, where)
     _check_geometry_count(study, where)  # before building the plates one by one
     if design is not None:
         _check_stator_plates(study, where)
@@ -894,6 +912,23 @@ def _warn_unused_solver(study: Study, raw: dict, where: str) -> None:
                    f"{'is' if len(keys) == 1 else 'are'} unused: {why}"
                    for why, keys in by_reason.items()]
         warnings.warn(where + "; ".join(clauses), stacklevel=3)
+
+
+def _warn_unused_drive(study: Study, raw_axes: dict, where: str) -> None:
+    """Warn of the drive axes a study names when it asks for FE outputs only: they drive
+    nothing and make no dimension of its dataset (``voltage = ["200 V", "300 V"]`` beside
+    ``outputs = ["split"]`` was dropped without a word, where an unused solver key is said;
+    found by exploratory testing)."""
+    import warnings
+
+    given = [f"axes.{a}" for a in raw_axes if a in DRIVE_AXES]  # in the file's order
+    if given and not study.needs_motor:
+        names = " and ".join(given) if len(given) < 3 else \
+            f"{', '.join(given[:-1])} and {given[-1]}"
+        warnings.warn(f"{where}{names} {'is' if len(given) == 1 else 'are'} unused: the study "
+                      "asks for FE outputs only, so its dataset has no drive dimension; ask "
+                      "for a motor output (no_load_velocity, ...) to drive the plates",
+                      stacklevel=3)
 
 
 def _check_geometry_count(study: Study, where: str) -> None:
