@@ -3,6 +3,7 @@ light, and fuzzed option values end in exit 0 or 2 with the option named - never
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 
@@ -467,8 +468,8 @@ def test_a_dt_that_is_no_step_is_refused_before_a_stators_fe_reduction(monkeypat
 _ROUND_DT_BOUNDS = {25e3: "2e-06", 50e3: "1e-06", 1e6: "5e-08"}
 
 
-@pytest.mark.parametrize("frequency_Hz", [1.0, 3.0, 25e3, 30e3, 33333.0, 39810.47, 50e3, 1e6,
-                                          7e6])
+@pytest.mark.parametrize("frequency_Hz", [1.0, 3.0, 25e3, 30e3, 33333.0, 39810.47, 50e3,
+                                          50001.0, 1e6, 7e6])
 def test_the_dt_bound_said_is_a_step_that_is_taken(frequency_Hz):
     # the bound is never said above the steps taken: 1/(20 f) at 30 kHz read 1.667e-06 s,
     # a step above it, refused
@@ -484,6 +485,10 @@ def test_the_dt_bound_said_is_a_step_that_is_taken(frequency_Hz):
         assert shown == _ROUND_DT_BOUNDS[frequency_Hz]
     assert time_step_of(shown, frequency_Hz) == float(shown)
     assert float(shown) >= 0.999 / (20 * frequency_Hz)  # four digits: close to the bound
+    # at most one unit of the bound's fourth digit below it (50001 Hz had said 9.99e-07)
+    bound = 1 / (20 * frequency_Hz)
+    unit = 10.0 ** (math.floor(math.log10(bound)) - 3)
+    assert bound - float(shown) <= unit * 1.000001
     above = f"{float(shown) * 1.001:.6g}"
     with pytest.raises(LusmError):
         time_step_of(above, frequency_Hz)

@@ -783,3 +783,32 @@ def test_a_dataset_and_an_export_clear_their_own_stale_staging(tmp_path, capsys)
     assert dead_plot.is_dir() and dead_plot.name not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
         [dead_plot.name, unknown_nc.name, "m.vtu", "r.nc"])
+
+
+def test_another_users_held_lock_reads_held(tmp_path, monkeypatch):
+    """explore's parts folder's .lock is 0644: another user cannot open it read-write, and
+    the read-write open had said "not held", so a second run was told it could remove a live
+    study's folder (review). A shared lock on a read-only open tells."""
+    import fcntl
+    import os
+
+    from validation import staging
+
+    lock = tmp_path / ".lock"
+    lock.write_text("")
+    holder = os.open(lock, os.O_RDWR)
+    fcntl.flock(holder, fcntl.LOCK_EX | fcntl.LOCK_NB)  # the running study
+    real_open = os.open
+
+    def as_another_user(path, flags, *args):
+        if os.fspath(path) == os.fspath(lock) and flags & os.O_RDWR:
+            raise PermissionError(13, "Permission denied")
+        return real_open(path, flags, *args)
+
+    monkeypatch.setattr(os, "open", as_another_user)
+    monkeypatch.setattr(os, "access", lambda path, mode: False)
+    try:
+        assert staging.lock_held(lock)
+    finally:
+        os.close(holder)
+    assert not staging.lock_held(lock)  # released: nobody holds it

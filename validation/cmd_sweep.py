@@ -77,6 +77,9 @@ def run(args: argparse.Namespace) -> None:
     import argparse as _ap
     from dataclasses import replace
 
+    import numpy as np
+
+    from fem.units import to_si
     from validation.cmd_modes import warn_linear_elements
     from validation.errors import LusmError
     from validation.options import (
@@ -157,15 +160,18 @@ def run(args: argparse.Namespace) -> None:
                            width_mm=dims.get("--width-mm"))
         choice = stator_from_args(ns)
         base, material = choice.stator, choice.material
-    smallest = min(base.length_m, base.width_m, values_mm.min() * 1e-3)
+    # metres as every command takes a length in mm (fem.units: 6.5 mm is 0.0065, one plate
+    # with modes' and explore's; 6.5 * 1e-3 was one ulp above it)
+    values_m = np.array([to_si(float(v), 1e-3) for v in values_mm])
+    smallest = min(base.length_m, base.width_m, float(values_m.min()))
     if base.electrode_gap_m >= smallest:
         raise LusmError(f"{option} {text}: the electrode gap {base.electrode_gap_m * 1e3:g} mm "
                         "must stay below every swept length and width", option)
     from validation.options import check_fe_size, check_fe_work
 
     try:  # the sweep's two extremes, which also hold the features if any plate does
-        ends = [replace(base, **{f"{parameter}_m": float(v * 1e-3)})
-                for v in (values_mm.min(), values_mm.max())]
+        ends = [replace(base, **{f"{parameter}_m": float(v)})
+                for v in (values_m.min(), values_m.max())]
         # a plate of the sweep too slender for the solver to reach B2 fails alone, before
         # its solve (fem.modes.check_b2_in_reach), and is said; the slenderness is monotone
         # in the swept dimension, so when the less slender end is too slender every plate is
@@ -190,7 +196,7 @@ def run(args: argparse.Namespace) -> None:
     from validation.fem_figures import sweep_figure
 
     try:
-        res = sweep_dimension(parameter, values_mm * 1e-3, base, material, order=args.order,
+        res = sweep_dimension(parameter, values_m, base, material, order=args.order,
                               refine=args.refine, progress=not args.json)
     except Exception as exc:
         if is_fe_failure(exc):

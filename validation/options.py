@@ -1087,9 +1087,12 @@ def _dt_shown(frequency_Hz: float, digits: int = 4) -> float:
     """
     from decimal import Decimal
 
-    shown = Decimal(f"{1.0 / (20.0 * frequency_Hz):.{digits}g}")
+    exact = 1.0 / (20.0 * frequency_Hz)
+    shown = Decimal(f"{exact:.{digits}g}")
     if float(shown) > _dt_max(frequency_Hz):
-        shown -= Decimal(1).scaleb(shown.adjusted() - digits + 1)
+        # a unit of the last digit of the bound itself: rounding up to 1e-06 at 50001 Hz
+        # had moved the exponent, and the step down from it said 9.99e-07 (three digits)
+        shown -= Decimal(1).scaleb(Decimal(exact).adjusted() - digits + 1)
     return float(shown)
 
 

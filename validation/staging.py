@@ -271,6 +271,11 @@ def lock_held(lock: Path) -> bool:
     bool
     """
     fd = _try_lock_file(lock, exclusive=False)
+    if fd is None and os.path.isfile(lock) and not os.access(lock, os.W_OK):
+        # another user's lock in a shared folder (explore's .lock is 0644): a shared lock
+        # on a read-only open still tells (NFS too), where the read-write open had said
+        # "not held" and the run was told it could remove a live study's folder (review)
+        fd = _try_lock_file(lock, exclusive=False, flags=os.O_RDONLY)
     if isinstance(fd, int):
         os.close(fd)  # also releases the shared lock this call took
     return fd is _HELD
@@ -281,9 +286,9 @@ def _try_lock(entry: Path, exclusive: bool) -> int | str | None:
     return _try_lock_file(entry / STAGING_LOCK, exclusive)
 
 
-def _try_lock_file(lock: Path, exclusive: bool) -> int | str | None:
-    """Open the lock file ``lock`` (never through a link) and take its ``flock`` without
-    waiting, exclusive or shared.
+def _try_lock_file(lock: Path, exclusive: bool, flags: int = os.O_RDWR) -> int | str | None:
+    """Open the lock file ``lock`` (never through a link; ``flags`` the access, read-write by
+    default) and take its ``flock`` without waiting, exclusive or shared.
 
     Returns
     -------
@@ -300,8 +305,7 @@ def _try_lock_file(lock: Path, exclusive: bool) -> int | str | None:
         # open for writing too: NFS emulates flock with byte-range locks, and an exclusive
         # one on a file open only for reading fails (EBADF), which had read as "held"; a
         # FIFO of that name must not block the open
-        fd = os.open(lock, os.O_RDWR | os.O_NONBLOCK
-                     | getattr(os, "O_NOFOLLOW", 0))
+        fd = os.open(lock, flags | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0))
     except OSError:  # no lock file: a folder of an older lusm, or not lusm's at all
         return None
     try:

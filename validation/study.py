@@ -921,7 +921,12 @@ def _warn_unused_drive(study: Study, raw_axes: dict, where: str) -> None:
     found by exploratory testing)."""
     import warnings
 
-    given = [f"axes.{a}" for a in raw_axes if a in DRIVE_AXES]  # in the file's order
+    def default(axis: str) -> bool:  # frequency = "auto" written out changes nothing
+        raw = raw_axes[axis]
+        return isinstance(raw, str) and raw.strip().lower() == DEFAULT_AXES[axis].lower()
+
+    # in the file's order; an axis written at its default is no request (review)
+    given = [f"axes.{a}" for a in raw_axes if a in DRIVE_AXES and not default(a)]
     if given and not study.needs_motor:
         names = " and ".join(given) if len(given) < 3 else \
             f"{', '.join(given[:-1])} and {given[-1]}"
