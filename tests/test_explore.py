@@ -1014,6 +1014,10 @@ def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
     monkeypatch.setattr(ex, "code_digest", lambda: "f" * 64)
     with pytest.raises(ValueError, match="--resume: .* other lusm code"):
         explore(renamed, out, client=client, progress=False, resume=True)
+    # without --resume the code is blamed too, first: other code may read the same file as
+    # another study, and "restore the study and pass --resume" could not help (review)
+    with pytest.raises(ValueError, match="--out .* other lusm code .* remove that folder"):
+        explore(renamed, out, client=client, progress=False)
     monkeypatch.undo()
     part = next(parts_folder(out).glob("g*.npz"))
     with np.load(part) as z:

@@ -551,24 +551,24 @@ def _open_parts(study: Study, out: Path,
                              "--out")
         old = _stamp_of(folder)
         if not resume:
-            raise ValueError(_not_resumed(study, out, folder, old, template))
+            raise ValueError(_not_resumed(study, out, folder, old, template,
+                                          stamp["code_sha256"]))
         lock = _lock_parts(folder, out)
         try:
             if not (folder / STUDY_FILE).is_file():  # a run finishing meanwhile removed it
                 raise ValueError(f"--resume: the run that held {folder} finished meanwhile; "
                                  f"its dataset is {out}")
             old = _stamp_of(folder)
+            # the code first: other code may also read the same study file as another study
+            # (the exact unit conversion changed the metres of 6.5 mm), and "restore the
+            # study" would not have helped (review)
+            if old.get("code_sha256") != stamp["code_sha256"]:
+                raise ValueError(f"--resume: {folder} {_other_code(old, stamp)}; resuming would "
+                                 "mix both in one dataset; remove that folder to start over")
             if old.get("fingerprint") != study.fingerprint:
                 raise ValueError(f"--resume: {folder} belongs to another study (the study "
                                  "file or its study.stator file changed); remove that folder "
                                  "or restore the study")
-            if old.get("code_sha256") != stamp["code_sha256"]:
-                raise ValueError(
-                    f"--resume: {folder} was computed by other lusm code (lusm "
-                    f"{old.get('lusm_version', 'unknown')}, code "
-                    f"{str(old.get('code_sha256', 'unrecorded'))[:12]}; this is lusm "
-                    f"{_version()}, code {stamp['code_sha256'][:12]}): resuming would mix "
-                    "both in one dataset; remove that folder to start over")
         except BaseException:
             _unlock(lock)
             raise
@@ -605,11 +605,23 @@ def _finished_parts(study: Study, folder: Path, template) -> dict[int, dict]:
     return done
 
 
-def _not_resumed(study: Study, out: Path, folder: Path, old: dict, template) -> str:
+def _other_code(old: dict, stamp: dict) -> str:
+    """"was computed by other lusm code (...)", naming both versions and codes."""
+    return (f"was computed by other lusm code (lusm {old.get('lusm_version', 'unknown')}, code "
+            f"{str(old.get('code_sha256', 'unrecorded'))[:12]}; this is lusm {_version()}, "
+            f"code {stamp['code_sha256'][:12]})")
+
+
+def _not_resumed(study: Study, out: Path, folder: Path, old: dict, template,
+                 code_sha256: str) -> str:
     """Why a run without ``--resume`` does not start over an existing parts folder, and what
-    to do: another study's run, every geometry of this one computed (the dataset not
-    written: an interrupt or a failed write at the end), a finished run in which none
-    computed fully, or an unfinished run."""
+    to do: a run of other lusm code (said first: its study may read as another one), another
+    study's run, every geometry of this one computed (the dataset not written: an interrupt
+    or a failed write at the end), a finished run in which none computed fully, or an
+    unfinished run."""
+    if old.get("code_sha256") != code_sha256:
+        return (f"--out {out}: {folder} {_other_code(old, {'code_sha256': code_sha256})}, "
+                "which --resume cannot continue; remove that folder to start over")
     if old.get("fingerprint") != study.fingerprint:
         return (f"--out {out}: {folder} holds the parts of another study (the study file or "
                 "its study.stator file changed); remove that folder, or restore the study "
