@@ -498,3 +498,19 @@ def test_a_steady_run_takes_any_positive_dt_and_says_it_has_no_effect(capsys):
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady", "--dt", "1e-4",
                  "--json"]) == 0
     assert "--dt has no effect: --steady takes its own step" in capsys.readouterr().err
+
+
+def test_a_warning_said_before_a_json_record_opens_is_listed_in_it(capsys):
+    """lusm says each warning once per command; one said before a --json summary's record
+    opened (reading a study, then the run) was left out of the summary's 'warnings' (it is
+    not said again, and the record only listed what was said within; review)."""
+    from validation.options import forget_warnings, warn, warnings_said
+
+    forget_warnings()
+    warn("the plate is thick")
+    with warnings_said() as said:
+        warn("the plate is thick")  # not said again on stderr...
+        warn("another")
+    assert said == ["the plate is thick", "another"]  # ...but listed
+    assert capsys.readouterr().err.count("the plate is thick") == 1
+    forget_warnings()

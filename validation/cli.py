@@ -227,10 +227,12 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
         from validation.options import in_file_terms, record_said
 
         text = in_file_terms(assignments_as_options(_one_line(str(message))))
+        # a --json summary lists it too (lusm explore's), also when it was said before the
+        # summary's record opened (review)
+        record_said(text)
         if text not in seen:
             seen.add(text)
             _say(f"{prog}: warning: {text}")
-            record_said(text)  # a --json summary lists it too (lusm explore's)
 
     with warnings.catch_warnings():  # restores showwarning (and the filters) on the way out
         warnings.showwarning = show

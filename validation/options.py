@@ -1349,11 +1349,11 @@ def warn(message: str) -> None:
     once per stage that builds the FE model)."""
     text = in_file_terms(message)
     line = f"{_COMMAND[0]}: warning: {text}"
+    record_said(text)  # also when said before the record opened: the --json lists it too
     if line in _SAID:
         return
     _SAID.add(line)
     print(line, file=sys.stderr)
-    record_said(text)
 
 
 _RECORDS: list[list[str]] = []
