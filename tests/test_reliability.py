@@ -967,6 +967,18 @@ _ENDED = [["params", "--json"], ["simulate", "--voltage", "-1"]]
 """A command that ends 0 (with its output on stdout) and one refused (2)."""
 
 
+def _after_main(argv: list[str], then: str) -> subprocess.CompletedProcess:
+    """A Python process that runs ``lusm ARGV`` through ``main()``, then the code ``then``
+    (with ``os``, ``signal``, ``subprocess``, ``sys``, ``time``, ``atexit`` imported), then
+    exits with the command's code."""
+    code = ("import atexit, os, signal, subprocess, sys, time\n"
+            "from validation.cli import main\n"
+            f"sys.argv = ['lusm', *{argv!r}]\n"
+            "rc = main()\n" + then + "sys.exit(rc)\n")
+    return subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                          text=True, timeout=120)
+
+
 @pytest.mark.parametrize("argv", _ENDED)
 def test_a_sigterm_after_the_command_has_ended_keeps_its_exit_code(argv):
     """A SIGTERM landing after the command had moved its output in and printed its last
@@ -976,17 +988,9 @@ def test_a_sigterm_after_the_command_has_ended_keeps_its_exit_code(argv):
     returned, where the interpreter's shutdown would run: it ends the process there."""
     import json
 
-    code = ("import os, signal, sys\n"
-            "from validation.cli import main\n"
-            f"sys.argv = ['lusm', *{argv!r}]\n"
-            "rc = main()\n"
-            "os.kill(os.getpid(), signal.SIGTERM)\n"
-            "print('still here')\n"
-            "sys.exit(rc)\n")
-    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
-                         text=True, timeout=120)
-    expected = 0 if argv[0] == "params" else 2
-    assert run.returncode == expected, run.stderr
+    run = _after_main(argv, "os.kill(os.getpid(), signal.SIGTERM)\n"
+                            "print('still here')\n")
+    assert run.returncode == (0 if argv[0] == "params" else 2), run.stderr
     assert "still here" not in run.stdout  # ended by the signal, not by running on
     if argv[0] == "params":  # its JSON, still in Python's buffer at the signal, is kept
         assert json.loads(run.stdout)
@@ -1000,23 +1004,16 @@ def test_a_sigterm_ends_a_hung_clean_up_with_the_commands_exit_code(argv):
     that hung (explore's cluster shutdown, an exit hook) could be stopped by SIGKILL alone
     (review). Here an exit hook hangs and a child process sends SIGTERM: the process ends
     at once, with the command's exit code."""
-    code = ("import atexit, os, subprocess, sys, time\n"
-            "from validation.cli import main\n"
-            f"sys.argv = ['lusm', *{argv!r}]\n"
-            "rc = main()\n"
-            "def hang():\n"
+    code = ("def hang():\n"
             "    subprocess.Popen([sys.executable, '-c', 'import os, signal, time; '\n"
             "                      f'time.sleep(0.5); os.kill({os.getpid()}, signal.SIGTERM)'])\n"
             "    print('clean-up hangs', file=sys.stderr, flush=True)\n"
             "    time.sleep(600)\n"
             "    print('clean-up done', file=sys.stderr)\n"
-            "atexit.register(hang)\n"
-            "sys.exit(rc)\n")
+            "atexit.register(hang)\n")
     # the hook sleeps 600 s: a SIGTERM that does not end it fails here, by the timeout
-    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
-                         text=True, timeout=120)
-    expected = 0 if argv[0] == "params" else 2
-    assert run.returncode == expected, run.stderr
+    run = _after_main(argv, code)
+    assert run.returncode == (0 if argv[0] == "params" else 2), run.stderr
     assert "clean-up hangs" in run.stderr and "clean-up done" not in run.stderr
 
 
