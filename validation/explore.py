@@ -1529,7 +1529,7 @@ def design_maps(ds, folder: str | Path) -> list[Path]:
             ax.grid(True, alpha=0.3)
         else:  # only the material varies: its values against the materials' names
             ax = axes[0]
-            ax.plot(range(len(materials)), da.values.astype(float) * scale, "o")
+            ax.plot(range(len(materials)), of, "o")
             ax.set_xticks(range(len(materials)), labels=materials)
             ax.set_xlim(-0.5, len(materials) - 0.5)
             ax.set_xlabel(ds["material"].attrs.get("long_name", "material"))

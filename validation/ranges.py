@@ -13,7 +13,7 @@ MAX_POINTS = MAX_GRID_POINTS
 
 
 def parse_range(text: str, name: str, *, allow_list: bool = True,
-                positive: bool = False, bounds: tuple[float, float] | None = None,
+                bounds: tuple[float, float] | None = None,
                 unit: str = "", note: str = "") -> np.ndarray:
     """``start:stop:step`` (stop included when on the grid) or, if ``allow_list``, a comma list.
 
@@ -25,8 +25,6 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
         The option's name, used in the error message.
     allow_list : bool
         Also accept ``a,b,c``.
-    positive : bool
-        Require ``start > 0`` (dimensions).
     bounds : (float, float), optional
         The closed range every value must lie in, in the option's ``unit``: checked here and
         said in every refusal of the text's form too (``--loads nan`` had named the form
@@ -81,8 +79,6 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
         raise ValueError(
             f"{name} must be {form} (finite, step > 0, stop >= start{also}), got {text!r}"
         ) from None
-    if positive and values.min() <= 0:
-        raise ValueError(f"{name} must start above 0, got {text!r}")
     if bounds is not None and (values.min() < bounds[0] or values.max() > bounds[1]):
         raise ValueError(f"{name} must lie{values_in}{f' ({note})' if note else ''}, "
                          f"got {text!r}")

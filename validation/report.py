@@ -419,7 +419,7 @@ def _motor(params: dict, d2: dict, out: Path, quick: bool, progress: bool):
                   for name, rel in TUNED_EXAMPLES.items()})
     st = _Stage("5/5 motor characteristics", 2 * len(sets) + 1, progress)
     md, data = motor_section(sets, freqs, out, quick, st.say, markdown_table, origins,
-                             cites={name: cites[name] for name in sets if name in cites})
+                             cites=cites)
     st.close()
     return md, data
 
