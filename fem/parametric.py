@@ -3,7 +3,7 @@
 :class:`ParametricStator` is a :class:`fem.geometry.PlateStator` with common features
 described by numbers (a stator file's ``[tip]``, ``[chamfers]`` and ``[[holes]]`` tables,
 :mod:`fem.stator_file`); :func:`parametric_mesh` meshes its planform through gmsh's Python
-API (the optional extra ``pip install "lusm[mesh]"``, imported only when a mesh is needed).
+API (a core dependency, imported only when a mesh is needed).
 
 Geometry (m; the frame of :mod:`fem.geometry`: ``x`` across the width, centred, ``y`` along
 the length from the preload end)::
@@ -50,8 +50,8 @@ from fem.geometry import PlateStator
 from fem.mesh import PlateMesh
 from fem.mesh_io import quadrangulate
 
-MESH_EXTRA = 'pip install "lusm[mesh]"'
-"""How to install the optional mesher (gmsh's Python API from PyPI)."""
+GMSH_SYSTEM_LIBRARIES = "libglu1-mesa libxrender1 libxcursor1 libxft2 libxinerama1"
+"""The Debian/Ubuntu packages of the OpenGL/X11 libraries that gmsh's wheel links."""
 
 DEFAULT_SIZE_DIVISIONS = 8
 """Default target element size: ``min(l, W) / 8`` (0.9375 mm on the paper's 7.5 mm width)."""
@@ -236,13 +236,14 @@ def hole_clearance_m(hole: tuple[float, float, float], width_m: float, length_m:
 def _import_gmsh():
     try:
         import gmsh
-    except ImportError:
-        raise ImportError(f"meshing a stator with [tip], [chamfers] or [[holes]] needs gmsh's "
-                          f"Python API: {MESH_EXTRA}") from None
+    except ImportError:  # a broken install: gmsh is a core dependency
+        raise ImportError("meshing a stator with [tip], [chamfers] or [[holes]] needs gmsh's "
+                          "Python API, which lusm depends on: reinstall lusm (pip install "
+                          "-e .) or pip install gmsh") from None
     except OSError as exc:  # the wheel's libgmsh links OpenGL/X11 libraries
         raise ImportError(f"gmsh is installed but its library does not load ({exc}); install "
                           "the OpenGL/X11 libraries it links (Debian/Ubuntu: apt-get install "
-                          "libglu1-mesa libxrender1 libxcursor1 libxft2 libxinerama1)") from None
+                          f"{GMSH_SYSTEM_LIBRARIES})") from None
     return gmsh
 
 
@@ -264,7 +265,7 @@ def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:
     Raises
     ------
     ImportError
-        If gmsh is not installed (the message names ``pip install "lusm[mesh]"``).
+        If gmsh does not import (not installed, or its system libraries missing).
     ValueError
         If the mesh leaves an electrode without elements (e.g. holes covering it).
     """

@@ -33,8 +33,8 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     file = "plate.msh"                  # relative to the TOML file; replaces the rectangle
     unit = "m"                          # unit of the mesh coordinates: "m" or "mm"
 
-    # --- features of a parametric stator (any of these tables: the planform is meshed by
-    # --- gmsh, fem.parametric, pip install "lusm[mesh]"; not with [mesh] file)
+    # --- features of a parametric stator (any of these tables: the planform is then
+    # --- meshed by gmsh, fem.parametric; not with [mesh] file)
     [tip]                               # unelectroded protrusion centred on the end y = l
     length_mm = 1.0                     #   beyond the plate's length, (0, [plate] length_mm]
     width_mm = 2.0                      #   across, (0, width - 2 chamfers]

@@ -320,7 +320,6 @@ def test_a_hole_on_the_centreline_solves(tmp_path):
     # of the mesh" for holes at x = 0 (y = 3, 10, 15, 20 mm); 1 mm off the line it solved
     from fem.modes import plate_modes
 
-    pytest.importorskip("gmsh")
     text = ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[[holes]]\n"
             "center_mm = [{x}, 15]\ndiameter_mm = 1\n")
     on = load_stator(_write(tmp_path, text.format(x=0)))
@@ -334,7 +333,6 @@ def test_a_stator_files_fine_mesh_is_blamed_on_its_size_not_on_refine(tmp_path, 
     # "--refine: ... lower --refine" from commands that have no --refine (lusm report)
     from validation.cli import main
 
-    pytest.importorskip("gmsh")
     path = _write(tmp_path, "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
                   "[mesh]\nsize_mm = 0.075\n[[holes]]\ncenter_mm = [0.0, 15.0]\n"
                   "diameter_mm = 1.0\n")
@@ -547,7 +545,8 @@ def test_a_point_off_the_mesh_names_where_it_came_from(tmp_path):
 def _gmsh_quadrants(path, version, groups, save_all):
     """The paper's plate as four touching quadrants meshed by gmsh (mm), written as MSH
     ``version`` with or without the electrode physical groups and with ``Mesh.SaveAll``."""
-    gmsh = pytest.importorskip("gmsh")
+    import gmsh
+
     from fem.parametric import _initialize_keeping_signals
 
     _initialize_keeping_signals(gmsh)

@@ -238,7 +238,6 @@ TUNED_60K = "examples/tuned_60k/stator.toml"
 
 
 def _designer_set(path):
-    pytest.importorskip("gmsh")
     from contact.drive import auto_frequency
     from rom.from_fem import fem_params_from_file
 

@@ -112,9 +112,8 @@ def test_a_slower_orbit_the_averaging_cannot_see_catches_the_start_from_rest():
     reference is the transient from rest. The scan misses that orbit's sheet of the slow
     equation; the full model's run out of the slider's ripple zone finds it and follows it
     to its root (contact.from_rest), without the transient of REST_TRANSIENT_PERIODS."""
-    from contact.from_rest import PROBE_PERIODS
-    pytest.importorskip("gmsh")
     from contact.drive import auto_frequency
+    from contact.from_rest import PROBE_PERIODS
     from rom.from_fem import fem_params_from_file
 
     p = fem_params_from_file(TUNED_60K)
