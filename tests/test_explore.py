@@ -154,6 +154,9 @@ def test_resume_after_interruption_is_identical(study, reference, client, tmp_pa
     r = explore(study, out, client=client, progress=False, resume=True)
     assert (r.reused, r.computed) == (2, study.n_geometries - 2)
     xr.testing.assert_identical(open_result(out), reference)
+    again = explore(study, out, client=client, progress=False, resume=True)
+    assert again.already_complete and again.computed == 0
+    xr.testing.assert_identical(open_result(out), reference)
 
 
 def test_resume_refuses_another_study(study, client, tmp_path):
@@ -447,6 +450,12 @@ def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
     for i in range(4):
         g = np.unravel_index(i, s.geometry_shape)
         assert ds["split"].values[g] == compute_geometry(s, i)["split"]
+    # resuming the finished study is idempotent: exit 0, the dataset left as it is
+    before = out.stat()
+    assert main(["explore", str(path), "--out", str(out), "--resume"]) == 0
+    assert "is complete" in capsys.readouterr().out
+    after = out.stat()
+    assert (after.st_ino, after.st_mtime_ns) == (before.st_ino, before.st_mtime_ns)
 
 
 def test_a_stator_study_runs_on_the_clusters_workers_as_in_process(client, tmp_path):

@@ -77,6 +77,7 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
         check_out,
         check_scheduler_names,
         explore,
+        is_complete,
         open_result,
         parts_folder,
     )
@@ -98,7 +99,9 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
     _warn_thick(study)
     _warn_holes(study)
     _warn_drive(study)
-    check_out(args.out, args.force)
+    complete = args.resume and is_complete(study, args.out)
+    if not complete:
+        check_out(args.out, args.force)
     plot = output_folder(args, "explore", "--plot")
     if plot is not None and Path(plot).resolve() == Path(args.out).resolve():
         # it ran the whole study, wrote the dataset, then refused --plot as not a folder
@@ -178,6 +181,12 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
     drive = (f" x {plural(result.drive_points, 'drive point', 'drive points')}"
              + (f" ({' x '.join(axes)})" if len(axes) > 1 else "")
              if study.needs_motor else " (FE outputs only)")
+    if result.already_complete:
+        print(f"{result.path} is complete (study {study.name!r}, "
+              f"{plural(result.geometries, 'geometry', 'geometries')}); nothing to resume")
+        for f in result.figures:
+            print(f"wrote {f}")
+        return
     print(f"study {study.name!r}: {plural(result.geometries, 'geometry', 'geometries')}"
           f"{drive}; {result.computed} "
           f"computed on {result.workers} worker{'' if result.workers == 1 else 's'}, "

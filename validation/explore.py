@@ -143,6 +143,8 @@ class ExploreResult:
     warnings : list of str
         The distinct warnings the computed tasks raised on their workers (the caller says
         them; they printed on the workers' stderr as raw Python warnings with a source line).
+    already_complete : bool
+        ``resume=True`` found this study's complete dataset at ``out``; nothing was run.
     """
 
     path: Path
@@ -158,6 +160,7 @@ class ExploreResult:
     part_write_time_s: float = 0.0
     figures: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+    already_complete: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready summary."""
@@ -169,7 +172,7 @@ class ExploreResult:
                 "wall_time_s": self.wall_time_s,
                 "task_time_mean_s": float(np.mean(t)) if t else None,
                 "result_bytes": self.result_bytes, "figures": self.figures,
-                "warnings": self.warnings}
+                "warnings": self.warnings, "already_complete": self.already_complete}
 
 
 # --- one geometry ---------------------------------------------------------------------------
@@ -948,6 +951,19 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
         os.replace(tmp, out)
 
 
+def is_complete(study: Study, out: str | Path) -> bool:
+    """Whether ``out`` holds the finished dataset of ``study``: a dataset carrying its
+    fingerprint and no parts folder beside it (what a run that finished leaves)."""
+    out = Path(out)
+    if not out.is_file() or parts_folder(out).exists():
+        return False
+    try:
+        ds = open_result(out)
+    except (OSError, ValueError):  # not a dataset: check_out refuses it as the user's file
+        return False
+    return ds.attrs.get("study_fingerprint") == study.fingerprint
+
+
 def check_out(out: Path, force: bool) -> None:
     """Refuse, before any work, an output the dataset could not be written to."""
     if not str(out).strip():
@@ -1232,7 +1248,8 @@ def explore(
         Use this client (and its cluster); otherwise :func:`connect` with ``scheduler``,
         ``scheduler_file`` or a LocalCluster of ``workers`` processes, closed at the end.
     resume : bool
-        Continue from the parts of an interrupted run of the same study.
+        Continue from the parts of an interrupted run of the same study; on a study whose
+        dataset ``out`` is already complete, return at once and leave it as it is.
     force : bool
         Replace an existing ``out`` (kept as ``out.bak-N``).
     progress : bool
@@ -1249,6 +1266,10 @@ def explore(
     from distributed import as_completed
 
     out = Path(out)
+    if resume and is_complete(study, out):  # resuming a finished study changes nothing
+        return ExploreResult(out, study.n_geometries,
+                             study.n_drive_points if study.needs_motor else 0,
+                             reused=study.n_geometries, already_complete=True)
     check_out(out, force)
     t0 = time.perf_counter()
     # folders above --out that this run makes: removed again, if still empty, when it stops
