@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import re
+from collections import Counter
 
 import pytest
 
@@ -22,6 +23,18 @@ DOC = json.loads(NUMBERS_JSON.read_text())
 def test_numbers_json_holds_exactly_the_claims():
     assert set(DOC["numbers"]) == {c.key for c in CLAIMS}
     assert DOC["machine"] and DOC["date"]
+
+
+def test_each_claim_is_defined_once(monkeypatch):
+    """Every definition counts, not the set of keys: a second definition of a key would
+    leave the sets equal and shadow the first."""
+    import validation.doc_numbers as dn
+
+    twice = [k for k, n in Counter(c.key for c in CLAIMS).items() if n > 1]
+    assert not twice, f"claims defined more than once: {twice}"
+    monkeypatch.setattr(dn, "CLAIMS", (*CLAIMS, CLAIMS[0]))
+    with pytest.raises(ValueError, match=f"{CLAIMS[0].key!r} is defined twice"):
+        claims_by_key()
 
 
 def test_every_marked_number_equals_numbers_json_at_its_printed_precision():

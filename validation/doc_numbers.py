@@ -2580,8 +2580,6 @@ CLAIMS: tuple[Claim, ...] = (
           lambda: _table2().f_L1_Hz, cheap=True, rel_tol=1e-12),
     Claim("table2_f_B2_Hz", "Hz", "lusm params --source table2",
           lambda: _table2().f_B2_Hz, cheap=True, rel_tol=1e-12),
-    Claim("beam_f_L1_Hz", "Hz", "lusm params --source beam",
-          lambda: _beam().f_L1_Hz, cheap=True, rel_tol=1e-9),
     Claim("beam_f_B2_Hz", "Hz", "lusm params --source beam",
           lambda: _beam().f_B2_Hz, cheap=True, rel_tol=1e-9),
     Claim("fe2d_L1_short_Hz", "Hz", _MODES, lambda: _fe2d().L1.f_short_Hz, cheap=True,
@@ -2805,8 +2803,20 @@ CLAIMS: tuple[Claim, ...] = (
 
 
 def claims_by_key() -> dict[str, Claim]:
-    """The claims indexed by key."""
-    return {c.key: c for c in CLAIMS}
+    """The claims indexed by key.
+
+    Raises
+    ------
+    ValueError
+        If two claims share a key: a marker must name one number, and a dictionary would keep
+        the last definition silently.
+    """
+    table: dict[str, Claim] = {}
+    for c in CLAIMS:
+        if c.key in table:
+            raise ValueError(f"the claim {c.key!r} is defined twice in CLAIMS")
+        table[c.key] = c
+    return table
 
 
 def machine() -> str:
