@@ -1,4 +1,5 @@
-"""Shared fixtures: the published parameter set and a few cached contact runs."""
+"""Shared fixtures: the published parameter set, a few cached contact runs and one dask
+cluster for the session."""
 
 from __future__ import annotations
 
@@ -47,3 +48,23 @@ def cached_run(voltage_V: float, preload_N: float, **kw):
     from rom import table2
 
     return simulate(table2(), voltage_V, preload_N, **kw)
+
+
+@pytest.fixture(scope="session")
+def dask_client():
+    """A client of the session's one LocalCluster: two worker processes of one thread each
+    (sized for a 2-core machine; one BLAS thread per worker, :func:`validation.explore.
+    worker_env`), closed at the end of the session. A worker a test kills is restarted by its
+    nanny; that test waits for it."""
+    pytest.importorskip("distributed")
+    from distributed import Client
+
+    from validation.explore import local_cluster
+
+    cluster = local_cluster(2)
+    client = Client(cluster)
+    try:
+        yield client
+    finally:
+        client.close()
+        cluster.close()

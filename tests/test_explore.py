@@ -35,9 +35,11 @@ TINY = {
         "preload": "6 N",
         "load": ["0 N", "1 N"],
     },
-    "solver": {"fe_order": 2, "fe_refine": 1},
+    "solver": {"fe_order": 2, "fe_refine": 1, "accuracy": "fast"},
 }
-"""3 x 2 geometries x 2 voltages x 2 loads: one FE solve and 2 runs per task."""
+"""3 x 2 geometries x 2 voltages x 2 loads: one FE solve and 2 drive points per task, at the
+steady engine's fast level (a fraction of a second a task: what the cluster tests claim does
+not depend on the contact model's accuracy level)."""
 
 
 @pytest.fixture(scope="module")
@@ -57,21 +59,35 @@ def reference(study, tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def client():
-    from distributed import Client
+def windowed_run(study, dask_client, tmp_path_factory):
+    """TINY on the session's cluster with an in-flight window of 2 tasks, run once for the
+    tests below: the result, the dataset's path, and the geometry tasks the scheduler knew
+    at each part written (counted on the scheduler itself)."""
+    import validation.explore as E
 
-    cluster = local_cluster(2)
-    c = Client(cluster)
-    try:
-        yield c
-    finally:
-        c.close()
-        cluster.close()
+    known = []
+
+    def count(_i):
+        known.append(dask_client.run_on_scheduler(
+            lambda dask_scheduler: sum(k.startswith("lusm-geometry-")
+                                       for k in map(str, dask_scheduler.tasks))))
+
+    out = tmp_path_factory.mktemp("windowed") / "study.nc"
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(E, "MIN_IN_FLIGHT", 2)
+        mp.setattr(E, "IN_FLIGHT_PER_WORKER", 1)
+        r = explore(study, out, client=dask_client, progress=False, on_part=count)
+    return r, out, known
 
 
-def test_cluster_equals_in_process(study, reference, client, tmp_path):
-    out = tmp_path / "study.nc"
-    r = explore(study, out, client=client, progress=False)
+@pytest.fixture(scope="module")
+def scheduler(dask_client):
+    """The address of the session's cluster, for --scheduler."""
+    return dask_client.scheduler.address
+
+
+def test_cluster_equals_in_process(study, reference, windowed_run):
+    r, out, _known = windowed_run
     assert (r.computed, r.reused, r.workers) == (study.n_geometries, 0, 2)
     ds = open_result(out)
     xr.testing.assert_identical(ds, reference)  # bit-identical, NaN == NaN
@@ -92,51 +108,51 @@ def test_cluster_equals_in_process(study, reference, client, tmp_path):
     # the L1 rod frequency falls like 1/length
     f = ds["f_L1_short"].isel(width=0).values.ravel()
     assert np.all(np.diff(f) < 0)
-    # the velocity at zero load is the no-load velocity (and NaN under load until
-    # contact.steady answers it)
+    # the velocity at zero load is the no-load velocity, and the steady engine answers the
+    # loaded points
     np.testing.assert_array_equal(ds["velocity"].sel(load=0.0), ds["no_load_velocity"])
+    assert np.isfinite(ds["velocity"].sel(load=1.0)).all()
 
 
-def test_a_bounded_window_of_tasks_is_in_flight(study, reference, client, tmp_path,
-                                                monkeypatch):
-    """One future per geometry had been submitted up front: a 100 000-plate study grew the
-    client by 55 MB/s before any part was written. At most the window is now known to the
-    scheduler at any time, and one finishing (counted on the scheduler itself at every part),
-    topped up as
-    tasks finish, and the dataset is the same as the one computed in-process."""
-    import validation.explore as E
-
-    monkeypatch.setattr(E, "MIN_IN_FLIGHT", 2)
-    monkeypatch.setattr(E, "IN_FLIGHT_PER_WORKER", 1)
-    known = []
-
-    def count(_i):
-        known.append(client.run_on_scheduler(
-            lambda dask_scheduler: sum(k.startswith("lusm-geometry-")
-                                       for k in map(str, dask_scheduler.tasks))))
-
-    out = tmp_path / "study.nc"
-    r = explore(study, out, client=client, progress=False, on_part=count)
+def test_a_bounded_window_of_tasks_is_in_flight(study, windowed_run):
+    """At most the window of tasks is known to the scheduler at any time, and one finishing,
+    topped up as tasks finish (one future per geometry submitted up front would grow the
+    client of a 100 000-plate study by 55 MB/s before any part is written); the run's dataset
+    is the in-process one (test_cluster_equals_in_process)."""
+    r, _out, known = windowed_run
     assert r.computed == study.n_geometries == len(known) == 6
     # the window, plus the finished task being taken in (its release reaches the scheduler
     # after the count)
     assert max(known) <= 3 < study.n_geometries
-    xr.testing.assert_identical(open_result(out), reference)
 
 
-def test_the_local_cluster_has_no_more_workers_than_geometries(tmp_path):
-    """--workers 8 on a 2-geometry study had started 8 processes (330 MB of idle ones)."""
+def test_the_local_cluster_has_no_more_workers_than_geometries(scheduler, monkeypatch,
+                                                               tmp_path):
+    """--workers 8 on a 2-geometry study asks for a LocalCluster of 2 processes, not 8 (6 of
+    them idle, 330 MB); the session's cluster stands in for the one it would start
+    (test_a_ctrl_c_while_the_cluster_starts_is_not_lost starts a real one of the size asked)."""
+    from distributed import Client
+
+    import validation.explore as E
+
+    asked = []
+
+    def lend(_scheduler, _scheduler_file, workers):
+        asked.append(workers)
+        return Client(scheduler), None
+
+    monkeypatch.setattr(E, "connect", lend)
     two = study_from_dict({"outputs": ["f_L1_short"], "axes": {"length": ["29 mm", "30 mm"]},
                            "solver": {"fe_refine": 1}})
     r = explore(two, tmp_path / "two.nc", workers=8, progress=False)
-    assert (r.computed, r.workers) == (2, 2)
+    assert asked == [2] and r.computed == 2
 
 
 class Interrupt(Exception):
     pass
 
 
-def test_resume_after_interruption_is_identical(study, reference, client, tmp_path):
+def test_resume_after_interruption_is_identical(study, reference, dask_client, tmp_path):
     out = tmp_path / "study.nc"
     seen = []
 
@@ -146,54 +162,52 @@ def test_resume_after_interruption_is_identical(study, reference, client, tmp_pa
             raise Interrupt
 
     with pytest.raises(Interrupt):
-        explore(study, out, client=client, progress=False, on_part=stop_after_two)
+        explore(study, out, client=dask_client, progress=False, on_part=stop_after_two)
     assert not out.exists()
     assert len(list(parts_folder(out).glob("g*.npz"))) == 2
     with pytest.raises(ValueError, match="--resume"):  # no silent restart over the parts
-        explore(study, out, client=client, progress=False)
-    r = explore(study, out, client=client, progress=False, resume=True)
+        explore(study, out, client=dask_client, progress=False)
+    r = explore(study, out, client=dask_client, progress=False, resume=True)
     assert (r.reused, r.computed) == (2, study.n_geometries - 2)
     xr.testing.assert_identical(open_result(out), reference)
-    again = explore(study, out, client=client, progress=False, resume=True)
+    again = explore(study, out, client=dask_client, progress=False, resume=True)
     assert again.already_complete and again.computed == 0
     xr.testing.assert_identical(open_result(out), reference)
 
 
-def test_resume_refuses_another_study(study, client, tmp_path):
+def test_resume_refuses_another_study(study, dask_client, tmp_path):
     out = tmp_path / "study.nc"
     with pytest.raises(Interrupt):
-        explore(study, out, client=client, progress=False,
+        explore(study, out, client=dask_client, progress=False,
                 on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
     other = study_from_dict({**TINY, "axes": {**TINY["axes"], "preload": "7 N"}})
     with pytest.raises(ValueError, match="another study"):
-        explore(other, out, client=client, progress=False, resume=True)
+        explore(other, out, client=dask_client, progress=False, resume=True)
 
 
-def test_killed_worker_loses_nothing(study, reference, tmp_path):
-    from distributed import Client
-
-    cluster = local_cluster(2)
-    c = Client(cluster)
+def test_killed_worker_loses_nothing(study, reference, dask_client, tmp_path):
+    """A worker killed mid-study: its tasks are computed again elsewhere, the dataset is the
+    in-process one. The session's cluster gets its worker back from the nanny before the
+    test ends."""
     killed = []
 
     def kill_a_busy_worker(i):
         if killed:
             return
-        pids = c.run(os.getpid)
-        busy = [w for w, keys in c.processing().items() if keys] or list(pids)
+        pids = dask_client.run(os.getpid)
+        busy = [w for w, keys in dask_client.processing().items() if keys] or list(pids)
         killed.append(pids[busy[0]])
         os.kill(pids[busy[0]], signal.SIGKILL)
 
+    out = tmp_path / "study.nc"
     try:
-        out = tmp_path / "study.nc"
-        r = explore(study, out, client=c, progress=False, on_part=kill_a_busy_worker)
+        r = explore(study, out, client=dask_client, progress=False,
+                    on_part=kill_a_busy_worker)
         assert killed and r.computed == study.n_geometries
         xr.testing.assert_identical(open_result(out), reference)
-        c.wait_for_workers(2, timeout=60)
-        assert killed[0] not in c.run(os.getpid).values()  # it really died
     finally:
-        c.close()
-        cluster.close()
+        dask_client.wait_for_workers(2, timeout=60)
+    assert killed[0] not in dask_client.run(os.getpid).values()  # it really died
 
 
 # --- bad study files ------------------------------------------------------------------------
@@ -428,7 +442,7 @@ def test_fixed_frequencies_are_a_dimension():
     assert np.all(np.isfinite(v)) and v[0] != v[1]
 
 
-def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
+def test_cli_on_an_existing_scheduler(scheduler, tmp_path, capsys):
     import json
 
     from validation.cli import main
@@ -438,8 +452,7 @@ def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
                     'length = ["28 mm", "30 mm"]\nwidth = ["7 mm", "8 mm"]\n'
                     '[solver]\nfe_refine = 1\n')
     out, maps = tmp_path / "fe.nc", tmp_path / "maps"
-    address = client.scheduler.address
-    assert main(["explore", str(path), "--out", str(out), "--scheduler", address, "--json",
+    assert main(["explore", str(path), "--out", str(out), "--scheduler", scheduler, "--json",
                  "--plot", str(maps)]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["computed"] == 4 and summary["workers"] == 2
@@ -458,7 +471,7 @@ def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
     assert (after.st_ino, after.st_mtime_ns) == (before.st_ino, before.st_mtime_ns)
 
 
-def test_a_stator_study_runs_on_the_clusters_workers_as_in_process(client, tmp_path):
+def test_a_stator_study_runs_on_the_clusters_workers_as_in_process(scheduler, tmp_path):
     """``[study] stator``: the loaded stator file travels with the study to the workers (a
     remote worker need not see the file: it is gone before they run), and they give the
     in-process bits."""
@@ -471,7 +484,7 @@ def test_a_stator_study_runs_on_the_clusters_workers_as_in_process(client, tmp_p
                          "axes": {"length": ["25 mm", "26 mm"]}})
     stator.unlink()  # the workers get the loaded file with the study, not its path
     out = tmp_path / "st.nc"
-    explore(s, out, scheduler=client.scheduler.address, progress=False)
+    explore(s, out, scheduler=scheduler, progress=False)
     ds = open_result(out)
     assert ds.attrs["stator_file"] == str(stator)
     for i in range(2):
@@ -588,18 +601,18 @@ def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, ca
     assert not out.is_symlink() and open_result(out)["v"].size == 3
 
 
-def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
+def test_workers_of_another_version_are_refused(scheduler, monkeypatch, tmp_path):
     import validation.explore as ex
 
     monkeypatch.setattr(ex, "_version", lambda: "0.0.0-client")  # the workers say 0.1.0 etc.
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
     out = tmp_path / "r.nc"
     with pytest.raises(ValueError, match="--scheduler: worker .* runs lusm"):
-        explore(s, out, scheduler=client.scheduler.address, progress=False)
+        explore(s, out, scheduler=scheduler, progress=False)
     assert not out.exists() and not parts_folder(out).exists()
 
 
-def test_workers_without_gmsh_are_refused_for_a_parametric_stator(client, monkeypatch,
+def test_workers_without_gmsh_are_refused_for_a_parametric_stator(scheduler, monkeypatch,
                                                                   tmp_path):
     """A study of a stator file meshed by gmsh needs gmsh on every worker: refused before any
     task (each task had failed on its mesh with an internal error)."""
@@ -614,7 +627,7 @@ def test_workers_without_gmsh_are_refused_for_a_parametric_stator(client, monkey
     with pytest.raises(ValueError, match=r"--scheduler: worker .* cannot mesh the "
                                          r"study.stator's features: gmsh is not installed: pip "
                                          r"install it \(on every worker\)"):
-        explore(s, out, scheduler=client.scheduler.address, progress=False)
+        explore(s, out, scheduler=scheduler, progress=False)
     assert not out.exists() and not parts_folder(out).exists()
 
 
@@ -702,6 +715,7 @@ load = ["0 N", "1 N"]
 [solver]
 fe_order = 2
 fe_refine = 1
+accuracy = "fast"
 """)
     out = tmp_path / "r.nc"
     proc = subprocess.Popen(
@@ -855,7 +869,7 @@ def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
     assert study_from_dict({"axes": {"width": ["1 mm", "7 mm"]}}).n_geometries == 2
 
 
-def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path, capsys):
+def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(scheduler, tmp_path, capsys):
     # every failure sat silently in the dataset's 'status' with exit 0
     from validation.cli import main
 
@@ -866,7 +880,8 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
     assert "1 of 2 geometries did not compute fully" in err and "variable 'status'" in err
     assert "computed on 1 worker, " in out  # it said "on 1 workers"
     path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["10 mm", "11 mm"]\n')
-    assert main(["explore", str(path), "--out", str(tmp_path / "b.nc"), "--workers", "1"]) == 2
+    assert main(["explore", str(path), "--out", str(tmp_path / "b.nc"),
+                 "--scheduler", scheduler]) == 2
     err = capsys.readouterr().err.strip()
     assert "no geometry of the study computed fully (2 of 2" in err and "\n" not in err
     # no dataset of NaN at --out (a corrected rerun refused it as existing); the parts, each
@@ -876,7 +891,7 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
     assert f"kept in {parts_folder(tmp_path / 'b.nc')}" in err
     # the same command again had said "an unfinished run; pass --resume", whose --resume
     # gave the first refusal again: a circle. It is a finished run, and says so
-    argv = ["explore", str(path), "--out", str(tmp_path / "b.nc"), "--workers", "1"]
+    argv = ["explore", str(path), "--out", str(tmp_path / "b.nc"), "--scheduler", scheduler]
     assert main(argv) == 2
     again = capsys.readouterr().err.strip()
     assert "holds a finished run in which no geometry computed fully" in again
@@ -959,7 +974,7 @@ def test_a_transient_point_that_did_not_settle_is_said_so(tmp_path, capsys):
     assert "did not settle" in err and len(said) == 1 and said[0] in err
 
 
-def test_the_json_summary_carries_the_settling_warning(tmp_path, capsys):
+def test_the_json_summary_carries_the_settling_warning(scheduler, tmp_path, capsys):
     """--json's "warnings" was [] while stderr said drive points had not settled (found by
     exploratory testing): a script reading the JSON could not see it."""
     import json
@@ -970,7 +985,7 @@ def test_the_json_summary_carries_the_settling_warning(tmp_path, capsys):
     path.write_text('outputs = ["no_load_velocity"]\n[axes]\nvoltage = "200 V"\n'
                     'preload = ["0 N", "14 N"]\n[solver]\nfe_refine = 1\nmethod = "event"\n'
                     'duration = "5 ms"\n')
-    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1",
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--scheduler", scheduler,
                  "--json"]) == 0
     cap = capsys.readouterr()
     warnings = json.loads(cap.out)["warnings"]
@@ -983,10 +998,10 @@ def test_the_json_summary_carries_the_settling_warning(tmp_path, capsys):
      ["solver.duration is unused", "thickness up to 50 mm is 6.67 x",
       "1 of 2 geometries did not compute fully"]),
     ('outputs = ["no_load_velocity"]\n[axes]\nvoltage = "700 V"\npreload = "6 N"\n'
-     '[solver]\nfe_refine = 1\n',
+     '[solver]\nfe_refine = 1\naccuracy = "fast"\n',
      ["axes.voltage 700 V is above 600 V"]),
 ])
-def test_the_json_summary_lists_every_warning_said(toml, words, tmp_path, capsys):
+def test_the_json_summary_lists_every_warning_said(scheduler, toml, words, tmp_path, capsys):
     """--json's "warnings" had only the workers' and the failures': the warnings of reading
     the study (an unused solver key), of its plates (thin plate) and of its drive (700 V)
     went to stderr alone (found by exploratory testing). It lists each line stderr says."""
@@ -996,7 +1011,7 @@ def test_the_json_summary_lists_every_warning_said(toml, words, tmp_path, capsys
 
     path = tmp_path / "s.toml"
     path.write_text(toml)
-    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1",
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--scheduler", scheduler,
                  "--json"]) == 0
     cap = capsys.readouterr()
     said = [line.split(": warning: ", 1)[1] for line in cap.err.splitlines()
@@ -1007,7 +1022,7 @@ def test_the_json_summary_lists_every_warning_said(toml, words, tmp_path, capsys
 
 
 def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
-        study, reference, client, monkeypatch, tmp_path):
+        study, reference, dask_client, monkeypatch, tmp_path):
     """Parts computed before an upgrade (or an edit of an editable checkout) were mixed
     into the resumed dataset, labelled with the new version; a part that loads but lacks
     an array ended the finished study with an internal error (KeyError). The same study
@@ -1016,23 +1031,23 @@ def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
 
     out = tmp_path / "study.nc"
     with pytest.raises(Interrupt):
-        explore(study, out, client=client, progress=False,
+        explore(study, out, client=dask_client, progress=False,
                 on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
     renamed = study_from_dict({**TINY, "study": {"name": "tiny, copied"}})
     assert renamed.fingerprint == study.fingerprint
     monkeypatch.setattr(ex, "code_digest", lambda: "f" * 64)
     with pytest.raises(ValueError, match="--resume: .* other lusm code"):
-        explore(renamed, out, client=client, progress=False, resume=True)
+        explore(renamed, out, client=dask_client, progress=False, resume=True)
     # without --resume the code is blamed too, first: other code may read the same file as
     # another study, and "restore the study and pass --resume" could not help (review)
     with pytest.raises(ValueError, match="--out .* other lusm code .* remove that folder"):
-        explore(renamed, out, client=client, progress=False)
+        explore(renamed, out, client=dask_client, progress=False)
     monkeypatch.undo()
     part = next(parts_folder(out).glob("g*.npz"))
     with np.load(part) as z:
         data = {k: z[k] for k in z.files if k != "velocity"}
     np.savez(part, **data)
-    r = explore(renamed, out, client=client, progress=False, resume=True)
+    r = explore(renamed, out, client=dask_client, progress=False, resume=True)
     assert (r.reused, r.computed) == (0, study.n_geometries)
     got = open_result(out)
     for name in ("velocity", "f_L1_short", "motion_class"):
@@ -1109,7 +1124,7 @@ def test_a_scheduler_file_that_is_a_folder_is_not_said_to_be_missing(tmp_path):
         ex.connect(scheduler_file=str(tmp_path / "gone.json"))
 
 
-def test_a_signal_after_the_dataset_is_written_says_it_is_complete(monkeypatch, tmp_path,
+def test_a_signal_after_the_dataset_is_written_says_it_is_complete(scheduler, monkeypatch, tmp_path,
                                                                      capsys):
     """A SIGTERM landing just after the dataset was in place said only "interrupted"
     (exit 130), and a rerun then refused the complete file."""
@@ -1124,7 +1139,7 @@ def test_a_signal_after_the_dataset_is_written_says_it_is_complete(monkeypatch, 
 
     monkeypatch.setattr(ce, "_report_failures", stop)
     out = tmp_path / "r.nc"
-    assert main(["explore", str(study), "--out", str(out), "--workers", "1"]) == 130
+    assert main(["explore", str(study), "--out", str(out), "--scheduler", scheduler]) == 130
     err = capsys.readouterr().err
     assert f"{out} is complete" in err and open_result(out)["f_L1_short"].size == 1
     assert not parts_folder(out).exists()
@@ -1158,7 +1173,9 @@ def test_a_ctrl_c_while_the_cluster_starts_is_not_lost(monkeypatch):
     cluster = local_cluster(1)
     try:
         with Client(cluster) as c:
-            pid = next(iter(c.run(os.getpid).values()))
+            pids = list(c.run(os.getpid).values())
+        assert len(pids) == 1  # the size asked for
+        pid = pids[0]
         status = Path(f"/proc/{pid}/status").read_text()
         ignored = int(next(ln for ln in status.splitlines()
                            if ln.startswith("SigIgn")).split()[1], 16)
@@ -1168,7 +1185,7 @@ def test_a_ctrl_c_while_the_cluster_starts_is_not_lost(monkeypatch):
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
-def test_a_workers_warning_is_said_once_by_the_client(tmp_path, capsys):
+def test_a_workers_warning_is_said_once_by_the_client(scheduler, tmp_path, capsys):
     """A 1 mm gap on a 3 mm plate is outside the 2D model's validity: the warning printed on
     the worker's stderr as a raw Python warning with its source line, once per geometry."""
     from validation.cli import main
@@ -1176,8 +1193,8 @@ def test_a_workers_warning_is_said_once_by_the_client(tmp_path, capsys):
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n[axes]\ngap = "1 mm"\n'
                      'length = ["29 mm", "30 mm"]\n[solver]\nfe_refine = 1\n')
-    assert main(["explore", str(study), "--out", str(tmp_path / "r.nc"), "--workers",
-                 "1"]) == 0
+    assert main(["explore", str(study), "--out", str(tmp_path / "r.nc"), "--scheduler",
+                 scheduler]) == 0
     err = capsys.readouterr().err
     assert err.count("lusm explore: warning: electrode gap 1 mm exceeds") == 1, err
     assert "GapValidityWarning" not in err
@@ -1264,7 +1281,7 @@ def test_transient_settings_no_point_could_run_are_refused_before_any_work(solve
      "(solver.method = \"steady\"), which takes "),
 ])
 def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
-        solver, axes, words, client, tmp_path, capsys):
+        solver, axes, words, scheduler, tmp_path, capsys):
     from validation.cli import main
 
     path = tmp_path / "s.toml"
@@ -1274,7 +1291,7 @@ def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
                     + "\n".join(f'{k} = "{v}"' for k, v in solver.items()) + "\n")
     out = tmp_path / "r.nc"
     assert main(["explore", str(path), "--out", str(out), "--scheduler",
-                 client.scheduler.address]) == 2
+                 scheduler]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and words in err, err
     assert "no geometry of the study computed fully (2 of 2)" in err
@@ -1302,7 +1319,8 @@ made = []
 rt.register = lambda name, rtype: made.append(rtype)
 from validation.explore import compute_geometry
 from validation.study import study_from_dict
-s = study_from_dict({"outputs": ["stall_force"], "solver": {"fe_refine": 1},
+s = study_from_dict({"outputs": ["stall_force"],
+                     "solver": {"fe_refine": 1, "accuracy": "fast"},
                      "axes": {"voltage": "200 V", "preload": "6 N"}})
 part = compute_geometry(s, 0)
 print(float(part["stall_force"].ravel()[0]) > 0, made)
@@ -1375,7 +1393,7 @@ def test_a_studys_motion_class_is_simulate_steadys(capsys):
 
 
 def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
-        client, monkeypatch, tmp_path, capsys):
+        scheduler, monkeypatch, tmp_path, capsys):
     """--plot /sys/maps failed after the study with only its error: the user was not told
     the dataset at --out had been written."""
     import validation.cmd_explore as ce
@@ -1390,7 +1408,7 @@ def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
     monkeypatch.setattr(ce, "figure_set", refused)  # as a folder the user cannot write
     out = tmp_path / "r.nc"
     assert main(["explore", str(study), "--out", str(out), "--scheduler",
-                 client.scheduler.address, "--plot", str(tmp_path / "maps")]) == 2
+                 scheduler, "--plot", str(tmp_path / "maps")]) == 2
     err = capsys.readouterr().err
     assert f"{out} is complete; the --plot maps were not written" in err
     assert open_result(out)["split"].size == 4
@@ -1433,7 +1451,8 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
     from contact.model import default_coupling
     from validation.explore import Drive, motor_answers
 
-    s = study_from_dict({"outputs": ["velocity"], "solver": {"fe_refine": 1},
+    s = study_from_dict({"outputs": ["velocity"],
+                         "solver": {"fe_refine": 1, "accuracy": "fast"},
                          "axes": {"voltage": "300 V", "preload": "6 N"}})
     from fem.geometry import PlateStator
     from rom.from_fem import fem_params
@@ -1454,7 +1473,7 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
     assert calls == [None, [0.2]]  # the curve, then the load not on it
     monkeypatch.undo()
     direct = cc.characteristic(params, 300.0, 6.0, [0.0, 0.2], frequency_Hz=f,
-                               coupling=default_coupling(params)[0])
+                               coupling=default_coupling(params)[0], accuracy="fast")
     np.testing.assert_array_equal(ans2["velocity"], direct.velocity_m_s)
     assert ans["velocity"][0] == direct.velocity_m_s[0] > 0
 
@@ -1509,7 +1528,7 @@ def test_an_out_whose_parts_cannot_be_written_names_the_option(tmp_path, capsys)
                           "folder /sys/x.nc.parts"), err
 
 
-def test_an_error_after_finished_geometries_says_they_are_kept(client, monkeypatch, tmp_path,
+def test_an_error_after_finished_geometries_says_they_are_kept(scheduler, monkeypatch, tmp_path,
                                                                capsys):
     """An error exit after some geometries were done said only the error; the parts were
     there for --resume, unsaid (an interrupt says it)."""
@@ -1530,7 +1549,7 @@ def test_an_error_after_finished_geometries_says_they_are_kept(client, monkeypat
                      '[solver]\nfe_refine = 1\n')
     out = tmp_path / "r.nc"
     assert main(["explore", str(study), "--out", str(out), "--scheduler",
-                 client.scheduler.address]) == 2
+                 scheduler]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err[0] == (f"lusm explore: 1 finished geometry is kept in {parts_folder(out)}; run "
                       "the same command with --resume to continue once the cause is fixed")
@@ -1565,13 +1584,14 @@ def test_a_study_can_take_the_constant_dynamic_friction():
                          "constant mu_d")
 
 
-def test_a_one_plate_study_says_one_geometry(tmp_path, capsys):
+def test_a_one_plate_study_says_one_geometry(scheduler, tmp_path, capsys):
     # "study 's': 1 geometries (FE outputs only)"
     from validation.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
-    assert main(["explore", str(path), "--out", str(tmp_path / "a.nc"), "--workers", "1"]) == 0
+    assert main(["explore", str(path), "--out", str(tmp_path / "a.nc"),
+                 "--scheduler", scheduler]) == 0
     assert "study 's': 1 geometry (FE outputs only); " in capsys.readouterr().out
 
 
@@ -1763,7 +1783,7 @@ def test_solver_settings_a_study_does_not_use_are_said(solver, outputs, words):
                          "solver": {"accuracy": "exact", "rest": "transient"}})
 
 
-def test_drive_axes_of_an_fe_only_study_are_said_unused(tmp_path, capsys):
+def test_drive_axes_of_an_fe_only_study_are_said_unused(scheduler, tmp_path, capsys):
     """A study of FE outputs only dropped its drive axes without a word (its dataset has the
     geometry dimensions only), where an unused solver key is said (found by exploratory
     testing). They are named as the file writes them, in its order; a study that drives its
@@ -1776,7 +1796,8 @@ def test_drive_axes_of_an_fe_only_study_are_said_unused(tmp_path, capsys):
     path.write_text('outputs = ["split", "f_L1_short"]\n[axes]\npreload = "6 N"\n'
                     'voltage = ["200 V", "300 V"]\nload = "1 N"\nfrequency = "auto"\n'
                     '[solver]\nfe_refine = 1\n')
-    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1"]) == 0
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"),
+                 "--scheduler", scheduler]) == 0
     err = capsys.readouterr().err
     assert (f"lusm explore: warning: {path}: axes.preload, axes.voltage and axes.load are "
             "unused: the study asks for FE outputs only") in err, err
@@ -1791,7 +1812,7 @@ def test_drive_axes_of_an_fe_only_study_are_said_unused(tmp_path, capsys):
                          "axes": {"voltage": "200 V"}})
 
 
-def test_the_summary_says_which_axes_make_its_drive_points(tmp_path, capsys):
+def test_the_summary_says_which_axes_make_its_drive_points(scheduler, tmp_path, capsys):
     """"1 geometry x 4 drive points" for one voltage, one preload and four loads read as four
     voltage-preload points, the work bounds' sense of the words (exploratory testing)."""
     from validation.cli import main
@@ -1801,36 +1822,38 @@ def test_the_summary_says_which_axes_make_its_drive_points(tmp_path, capsys):
                     'preload = "14 N"\nload = ["0 N", "0.1 N"]\n'
                     'frequency = ["54 kHz", "55 kHz"]\n[solver]\nfe_refine = 1\n'
                     'method = "event"\nduration = "2 ms"\n')
-    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"), "--workers", "1"]) == 0
+    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc"),
+                 "--scheduler", scheduler]) == 0
     out = capsys.readouterr().out
     assert ("1 geometry x 8 drive points (2 frequencies x 2 voltages x 1 preload x 2 loads)"
             in out)
 
 
-def test_a_second_resume_while_one_runs_is_refused(study, client, tmp_path):
+def test_a_second_resume_while_one_runs_is_refused(study, dask_client, tmp_path):
     """Two --resume runs at once had both computed every geometry left (found by
     exploratory testing). A run holds its parts folder's lock: a second one, started while
     the first is between two geometries, is refused before any work, and the first goes on
     to the same dataset as ever; once it ends, the folder is gone with its lock."""
     out = tmp_path / "study.nc"
     with pytest.raises(Interrupt):
-        explore(study, out, client=client, progress=False,
+        explore(study, out, client=dask_client, progress=False,
                 on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
     refusals = []
 
     def second_run(i):
         if not refusals:
             with pytest.raises(ValueError, match="another lusm explore is running on"):
-                explore(study, out, client=client, progress=False, resume=True)
+                explore(study, out, client=dask_client, progress=False, resume=True)
             refusals.append(i)
 
-    r = explore(study, out, client=client, progress=False, resume=True, on_part=second_run)
+    r = explore(study, out, client=dask_client, progress=False, resume=True,
+                on_part=second_run)
     assert refusals and r.computed == study.n_geometries - 1
     assert out.exists() and not parts_folder(out).exists()
 
 
-def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(tmp_path, capsys,
-                                                                     monkeypatch):
+def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(dask_client, tmp_path,
+                                                                     capsys, monkeypatch):
     """A second run without --resume, started while one ran, said "holds an unfinished run;
     pass --resume to continue it, or remove that folder to start over"; removing it ended the
     running one with all its work (found by exploratory testing). It is refused as a second
@@ -1853,7 +1876,7 @@ def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(tmp_path,
             seen.append(main(["explore", str(path), "--out", str(out)]))
             seen.append(capsys.readouterr().err)
 
-    r = explore(load_study(path), out, workers=1, progress=False, on_part=second_run)
+    r = explore(load_study(path), out, client=dask_client, progress=False, on_part=second_run)
     assert seen[0] == 2
     assert seen[1].strip() == (f"lusm explore: error: --out {out}: another lusm explore is "
                                f"running on {parts_folder(out)}; wait for it to finish, or "
@@ -1861,7 +1884,7 @@ def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(tmp_path,
     assert r.computed == 3 and out.exists() and not parts_folder(out).exists()
 
 
-def test_a_run_stopped_after_its_last_part_is_resumed_not_thrown_away(tmp_path):
+def test_a_run_stopped_after_its_last_part_is_resumed_not_thrown_away(dask_client, tmp_path):
     """Every part written, the dataset not (a signal or a failed write at the end): a rerun
     without --resume had said "no geometry computed fully ... remove that folder", which
     would have thrown the finished work away (review). It says the work is done and --resume
@@ -1877,13 +1900,13 @@ def test_a_run_stopped_after_its_last_part_is_resumed_not_thrown_away(tmp_path):
             raise Interrupt
 
     with pytest.raises(Interrupt):
-        explore(two, out, workers=1, progress=False, on_part=stop_after_last)
+        explore(two, out, client=dask_client, progress=False, on_part=stop_after_last)
     with pytest.raises(ValueError, match="holds every geometry of this study, computed .* "
                                          "pass --resume to write it"):
-        explore(two, out, workers=1, progress=False)
+        explore(two, out, client=dask_client, progress=False)
     other = study_from_dict({"outputs": ["f_L1_short"], "axes": {"length": ["29 mm", "31 mm"]},
                              "solver": {"fe_refine": 1}})
     with pytest.raises(ValueError, match="holds the parts of another study"):
-        explore(other, out, workers=1, progress=False)
-    r = explore(two, out, workers=1, progress=False, resume=True)
+        explore(other, out, client=dask_client, progress=False)
+    r = explore(two, out, client=dask_client, progress=False, resume=True)
     assert (r.computed, r.reused) == (0, 2) and out.exists()
