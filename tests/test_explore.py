@@ -334,28 +334,61 @@ def test_a_study_path_that_is_not_a_small_regular_file_is_refused_unread(kind, w
     assert len(err.splitlines()) == 1 and not list(tmp_path.glob("r.nc*"))
 
 
-@pytest.mark.parametrize("name", ["unknown axis", "unit-less number", "missing output"])
-def test_cli_bad_study_exit_2(name, tmp_path, capsys):
+EXPLORE_REFUSALS = {
+    # name: (arguments after `lusm explore`, what the one line is about: an option or a study
+    # key). {study} is a valid one-plate study, {bad:NAME} a file of BAD[NAME], {tmp} the
+    # test's folder, which holds the user's file mine.nc
+    "unknown axis": (["{bad:unknown axis}", "--out", "{tmp}/r.nc"], "axes.diameter"),
+    "unit-less number": (["{bad:unit-less number}", "--out", "{tmp}/r.nc"], "axes.length"),
+    "missing output": (["{bad:missing output}", "--out", "{tmp}/r.nc"], "outputs[1]"),
+    "empty study path": (["", "--out", "{tmp}/r.nc"], "STUDY.toml"),
+    "empty --out": (["{study}", "--out", ""], "--out"),
+    # '' is not "no scheduler" (a LocalCluster), and with --workers it is --scheduler's error
+    "empty --scheduler": (["{study}", "--out", "{tmp}/r.nc", "--scheduler", ""], "--scheduler"),
+    "empty --scheduler and --workers": (
+        ["{study}", "--out", "{tmp}/r.nc", "--scheduler", "", "--workers", "1"], "--scheduler"),
+    "empty --scheduler-file": (["{study}", "--out", "{tmp}/r.nc", "--scheduler-file", ""],
+                               "--scheduler-file"),
+    # --workers does nothing on an existing cluster
+    "--workers with --scheduler": (
+        ["{study}", "--out", "{tmp}/r.nc", "--scheduler", "tcp://127.0.0.1:9", "--workers", "4"],
+        "--workers"),
+    # refused before the study runs, not after it
+    "--plot naming the dataset": (["{study}", "--out", "{tmp}/r.nc", "--plot", "{tmp}/r.nc"],
+                                  "--plot"),
+    # never overwritten without --force, which the line names
+    "--out an existing file": (["{study}", "--out", "{tmp}/mine.nc"], "--out"),
+    "--out whose parts cannot be written": (["{study}", "--out", "/sys/x.nc"], "--out"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(EXPLORE_REFUSALS))
+def test_explore_refuses_bad_input_in_one_line(name, tmp_path, capsys):
+    """Exit 2, one line about the option or study key at fault, nothing written, the user's
+    file kept."""
     from validation.cli import main
 
-    text, key = BAD[name]
-    path = tmp_path / "bad.toml"
-    path.write_text(text)
-    assert main(["explore", str(path), "--out", str(tmp_path / "r.nc")]) == 2
+    argv, about = EXPLORE_REFUSALS[name]
+    if "/sys/x.nc" in argv and not Path("/sys/kernel").is_dir():
+        pytest.skip("needs Linux's sysfs")
+    study, mine = tmp_path / "s.toml", tmp_path / "mine.nc"
+    study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
+    mine.write_text("mine")
+    given = []
+    for a in argv:
+        if a.startswith("{bad:"):
+            a = str(tmp_path / "bad.toml")
+            Path(a).write_text(BAD[argv[0][5:-1]][0])
+        given.append(a.replace("{study}", str(study)).replace("{tmp}", str(tmp_path)))
+    inputs = sorted(p.name for p in tmp_path.iterdir())
+    assert main(["explore", *given]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("lusm explore: error:") and key in err and "\n" not in err
-    assert not (tmp_path / "r.nc").exists()
-
-
-def test_cli_never_overwrites_a_file(tmp_path, capsys):
-    from validation.cli import main
-
-    path = tmp_path / "s.toml"
-    path.write_text("outputs = ['f_L1_short']\n")
-    out = tmp_path / "r.nc"
-    out.write_text("mine")
-    assert main(["explore", str(path), "--out", str(out)]) == 2
-    assert "--force" in capsys.readouterr().err and out.read_text() == "mine"
+    assert len(err.splitlines()) == 1 and err.startswith("lusm explore: error: "), err
+    subject = err.removeprefix("lusm explore: error: ").removeprefix(f"{tmp_path}/bad.toml: ")
+    assert subject.startswith(about), err
+    if name == "--out an existing file":
+        assert "--force" in subject
+    assert sorted(p.name for p in tmp_path.iterdir()) == inputs and mine.read_text() == "mine"
 
 
 # --- what a task computes -------------------------------------------------------------------
@@ -900,31 +933,6 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(scheduler
     assert "no geometry of the study computed fully (2 of 2" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["explore", "", "--out", "x.nc"], "STUDY.toml must name a study file, got ''"),
-    (["explore", "{study}", "--out", ""],
-     "--out must name a netCDF file (.nc, .nc4 or .h5), got ''"),
-    # '' was "no scheduler": the study ran on a LocalCluster, and with --workers it passed
-    # the check that forbids --workers with a scheduler
-    (["explore", "{study}", "--out", "{tmp}/r.nc", "--scheduler", ""],
-     "--scheduler must name a dask scheduler address (tcp://HOST:8786), got ''"),
-    (["explore", "{study}", "--out", "{tmp}/r.nc", "--scheduler", "", "--workers", "1"],
-     "--scheduler must name a dask scheduler address (tcp://HOST:8786), got ''"),
-    (["explore", "{study}", "--out", "{tmp}/r.nc", "--scheduler-file", ""],
-     "--scheduler-file must name a dask scheduler file, got ''"),
-])
-def test_explore_names_an_empty_argument(argv, words, tmp_path, capsys):
-    from validation.cli import main
-
-    study = tmp_path / "s.toml"
-    study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
-    argv = [a.replace("{study}", str(study)).replace("{tmp}", str(tmp_path)) for a in argv]
-    assert main(argv) == 2
-    err = capsys.readouterr().err.strip()
-    assert words in err and len(err.splitlines()) == 1
-    assert not list(tmp_path.glob("r.nc*"))
-
-
 def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):
     # a truncated .npz raised zipfile.BadZipFile through --resume: "internal error"
     from validation.explore import _part_path, _read_part, _write_part
@@ -934,18 +942,6 @@ def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):
     path = _part_path(tmp_path, 0)
     path.write_bytes(path.read_bytes()[:40])
     assert _read_part(tmp_path, 0) is None
-
-
-def test_plot_naming_the_dataset_is_refused_before_the_study_runs(tmp_path, capsys):
-    # --out same.nc --plot same.nc ran the whole study, then refused --plot
-    from tests.conftest import ROOT
-    from validation.cli import main
-
-    out = tmp_path / "same.nc"
-    assert main(["explore", str(ROOT / "examples/studies/length_width.toml"), "--out",
-                 str(out), "--plot", str(out)]) == 2
-    assert "--plot" in capsys.readouterr().err and not out.exists()
-    assert not list(tmp_path.iterdir())
 
 
 def test_a_study_of_thick_plates_gets_the_thin_plate_warning(capsys):
@@ -1478,19 +1474,6 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
     assert ans["velocity"][0] == direct.velocity_m_s[0] > 0
 
 
-def test_workers_is_refused_with_an_existing_scheduler(tmp_path, capsys):
-    """--workers was taken and silently ignored with --scheduler / --scheduler-file."""
-    from validation.cli import main
-
-    study = tmp_path / "s.toml"
-    study.write_text('outputs = ["f_L1_short"]\n')
-    assert main(["explore", str(study), "--out", str(tmp_path / "r.nc"), "--scheduler",
-                 "tcp://127.0.0.1:9", "--workers", "4"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert "--workers sets the processes of the LocalCluster; with --scheduler" in err
-    assert len(err.splitlines()) == 1 and not list(tmp_path.glob("r.nc*"))
-
-
 def test_k_eff_long_names_name_their_mode():
     """k_eff_L1's long_name read "L1 effective ... coupling factor of L1 and B2"."""
     s = study_from_dict({"outputs": ["k_eff"], "solver": {"fe_refine": 1}})
@@ -1513,19 +1496,6 @@ def test_a_parts_folder_without_its_study_file_is_not_called_another_studys(tmp_
     with pytest.raises(ValueError, match=r"^--out .*r\.nc: .*r\.nc\.parts has no study\.json"):
         explore(s, out, progress=False)
     assert (parts_folder(out) / "notes.txt").read_text() == "mine"
-
-
-@pytest.mark.skipif(not Path("/sys/kernel").is_dir(), reason="needs Linux's sysfs")
-def test_an_out_whose_parts_cannot_be_written_names_the_option(tmp_path, capsys):
-    """--out /sys/x.nc said "cannot use /sys/x.nc.parts: Operation not permitted"."""
-    from validation.cli import main
-
-    study = tmp_path / "s.toml"
-    study.write_text('outputs = ["f_L1_short"]\n')
-    assert main(["explore", str(study), "--out", "/sys/x.nc"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert err.startswith("lusm explore: error: --out /sys/x.nc: cannot write its parts "
-                          "folder /sys/x.nc.parts"), err
 
 
 def test_an_error_after_finished_geometries_says_they_are_kept(scheduler, monkeypatch, tmp_path,
