@@ -16,6 +16,12 @@ if str(ROOT) not in sys.path:  # running from a checkout without installing
     sys.path.insert(0, str(ROOT))
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# One BLAS thread in this process and in the commands and workers it starts (set before NumPy
+# loads OpenBLAS): the suite's matrices are small, and on a 2-core machine shared with other
+# work, OpenBLAS's waiting threads made the dense eigensolves up to ten times slower. A
+# study's tasks run with one thread anyway (validation.explore). A developer's setting wins.
+for _blas in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_blas, "1")
 
 # CI draws the property tests' examples from a fixed sequence: a fresh random example that
 # fails there would stop a submission for a defect it did not bring (the fuzzed CLI options
