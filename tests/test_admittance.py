@@ -172,6 +172,7 @@ def test_a_band_beyond_the_mesh_is_refused_before_the_eigensolve(capsys):
     assert len(err.splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_a_residual_mode_is_never_below_the_cut(model):
     # with nearly every mode of the mesh retained the two moments of the rest are roundoff:
     # their "residual mode" fell at 1.43 MHz inside a 6 MHz cut (inside a 1.5 MHz band);
@@ -245,6 +246,7 @@ def test_a_pair_cut_by_the_band_asks_for_a_wider_band_not_more_points(capsys):
     assert "B2" in {p["mode"] for p in json.loads(out.out)["pairs"]} and "warning" not in out.err
 
 
+@pytest.mark.slow
 def test_a_mode_damping_leaves_without_a_peak_is_told_apart_from_a_coarse_grid(capsys):
     """One quadrant (electrode 1) with Table 2's damping: B2's coupling (k_r^2 0.0056) is far
     below its damping (0.071), and neither B2 nor L1 has a resonance pair on any grid. The

@@ -49,6 +49,7 @@ def test_a_voltage_is_a_real_number(voltage):
         simulate(table2(), voltage, 14, duration_s=1e-3)
 
 
+@pytest.mark.slow
 def test_numpy_scalars_are_numbers():
     # np.int64(200) and np.float32 were refused as "not a finite number"
     op = OperatingPoint(np.int64(200), np.float32(14.0))
@@ -217,6 +218,7 @@ def test_the_literal_scheme_refuses_a_step_its_fastest_mode_does_not_allow(k_con
 
 
 @pytest.mark.parametrize("method", ["literal", "reference", "steady"])
+@pytest.mark.slow
 def test_energy_is_refused_where_it_is_not_computed(method):
     # energy=True came back as energy=None without a word
     with pytest.raises(ValueError, match="energy=True is computed by method='event' only"):

@@ -58,6 +58,7 @@ def test_bad_input_is_one_line_exit_2(args, needle):
     assert needle in lines[0]
 
 
+@pytest.mark.slow
 def test_plot_writes_valid_non_blank_pngs(tmp_path: Path):
     import numpy as np
     from matplotlib.image import imread
@@ -73,6 +74,7 @@ def test_plot_writes_valid_non_blank_pngs(tmp_path: Path):
         assert float(np.std(img[..., :3])) > 0.01  # not a blank canvas
 
 
+@pytest.mark.slow
 def test_map_json_classifies_every_point():
     out = lusm("map", "--voltages", "0,400", "--preloads", "6,40", "--duration", "0.01",
                "--json")
@@ -99,6 +101,7 @@ def test_contact_and_table2_do_not_import_the_fe_stack():
     assert out.returncode == 0, out.stdout + out.stderr
 
 
+@pytest.mark.slow
 def test_cold_numba_cache_gives_the_same_answer(tmp_path: Path):
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba-cache")}
     out = lusm("simulate", "--voltage", "200", "--preload", "14", "--duration", "0.002",
@@ -111,6 +114,7 @@ def test_cold_numba_cache_gives_the_same_answer(tmp_path: Path):
     assert any((tmp_path / "numba-cache").rglob("*.nbi"))  # the cold run wrote its cache
 
 
+@pytest.mark.slow
 def test_simulate_runs_any_parameter_set_at_its_own_frequency():
     from contact.drive import auto_frequency
     from rom.from_fem import fem_params_from_file

@@ -15,6 +15,7 @@ CASES = [
 
 
 @pytest.mark.parametrize(("voltage", "preload", "motion"), CASES)
+@pytest.mark.slow
 def test_kernel_matches_event_driven_reference(paper_params, voltage, preload, motion):
     fast = cached_run(voltage, preload)
     assert fast.steady.motion == motion
@@ -60,6 +61,7 @@ def test_the_reference_undriven_without_preload_is_separated_at_once(paper_param
 
 
 @pytest.mark.parametrize("rtol", [1e-8, 1e-10])
+@pytest.mark.slow
 def test_the_reference_sees_the_brief_separations_past_the_onset(paper_params, rtol):
     """322 V / 14 N, just past the separation onset (found by an audit): F_N dips below zero
     for ~1e-7 s every period, inside one of solve_ivp's ~1e-6 s steps, and the reference saw

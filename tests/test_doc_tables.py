@@ -86,6 +86,7 @@ def _same_output(a: str, b: str, rel: float = 1e-5, abs_: float = 1e-8) -> bool:
 
 
 @pytest.mark.parametrize("key", [t.key for t in TABLES if t.cheap])
+@pytest.mark.slow
 def test_cheap_tables_rerun_to_the_stored_output(key):
     fresh = run(tables_by_key()[key])["markdown"]
     assert _same_output(fresh, STORED["tables"][key]["markdown"]), fresh

@@ -57,6 +57,7 @@ def test_every_claim_is_quoted_somewhere():
 
 
 @pytest.mark.parametrize("key", [c.key for c in CLAIMS if c.cheap])
+@pytest.mark.slow
 def test_cheap_claims_recompute_to_numbers_json(key):
     claim = claims_by_key()[key]
     stored = DOC["numbers"][key]["value"]

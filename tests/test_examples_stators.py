@@ -144,6 +144,7 @@ def test_triangle_meshes_reproduce_the_quad_plate(tmp_path, plain):
     assert res.L1.f_open_Hz == pytest.approx(ref.L1.f_open_Hz, rel=5e-5)
 
 
+@pytest.mark.slow
 def test_example_parameter_sets(tip, chamfer):
     from rom.from_fem import fem_params_from_file
 

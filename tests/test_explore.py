@@ -86,6 +86,7 @@ def scheduler(dask_client):
     return dask_client.scheduler.address
 
 
+@pytest.mark.slow
 def test_cluster_equals_in_process(study, reference, windowed_run):
     r, out, _known = windowed_run
     assert (r.computed, r.reused, r.workers) == (study.n_geometries, 0, 2)
@@ -114,6 +115,7 @@ def test_cluster_equals_in_process(study, reference, windowed_run):
     assert np.isfinite(ds["velocity"].sel(load=1.0)).all()
 
 
+@pytest.mark.slow
 def test_a_bounded_window_of_tasks_is_in_flight(study, windowed_run):
     """At most the window of tasks is known to the scheduler at any time, and one finishing,
     topped up as tasks finish (one future per geometry submitted up front would grow the
@@ -126,6 +128,7 @@ def test_a_bounded_window_of_tasks_is_in_flight(study, windowed_run):
     assert max(known) <= 3 < study.n_geometries
 
 
+@pytest.mark.slow
 def test_the_local_cluster_has_no_more_workers_than_geometries(scheduler, monkeypatch,
                                                                tmp_path):
     """--workers 8 on a 2-geometry study asks for a LocalCluster of 2 processes, not 8 (6 of
@@ -152,6 +155,7 @@ class Interrupt(Exception):
     pass
 
 
+@pytest.mark.slow
 def test_resume_after_interruption_is_identical(study, reference, dask_client, tmp_path):
     out = tmp_path / "study.nc"
     seen = []
@@ -175,6 +179,7 @@ def test_resume_after_interruption_is_identical(study, reference, dask_client, t
     xr.testing.assert_identical(open_result(out), reference)
 
 
+@pytest.mark.slow
 def test_resume_refuses_another_study(study, dask_client, tmp_path):
     out = tmp_path / "study.nc"
     with pytest.raises(Interrupt):
@@ -185,6 +190,7 @@ def test_resume_refuses_another_study(study, dask_client, tmp_path):
         explore(other, out, client=dask_client, progress=False, resume=True)
 
 
+@pytest.mark.slow
 def test_killed_worker_loses_nothing(study, reference, dask_client, tmp_path):
     """A worker killed mid-study: its tasks are computed again elsewhere, the dataset is the
     in-process one. The session's cluster gets its worker back from the nanny before the
@@ -462,6 +468,7 @@ def test_a_plate_in_mm_is_the_same_double_in_a_study_a_stator_file_and_the_comma
     assert (cli.stator.length_m, cli.stator.width_m) == (0.026, 0.0065)
 
 
+@pytest.mark.slow
 def test_fixed_frequencies_are_a_dimension():
     s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
                          "axes": {"frequency": ["52 kHz", "56 kHz"], "preload": "6 N"},
@@ -475,6 +482,7 @@ def test_fixed_frequencies_are_a_dimension():
     assert np.all(np.isfinite(v)) and v[0] != v[1]
 
 
+@pytest.mark.slow
 def test_cli_on_an_existing_scheduler(scheduler, tmp_path, capsys):
     import json
 
@@ -504,6 +512,7 @@ def test_cli_on_an_existing_scheduler(scheduler, tmp_path, capsys):
     assert (after.st_ino, after.st_mtime_ns) == (before.st_ino, before.st_mtime_ns)
 
 
+@pytest.mark.slow
 def test_a_stator_study_runs_on_the_clusters_workers_as_in_process(scheduler, tmp_path):
     """``[study] stator``: the loaded stator file travels with the study to the workers (a
     remote worker need not see the file: it is gone before they run), and they give the
@@ -563,6 +572,7 @@ def test_a_file_already_named_like_the_staging_file_is_never_removed(tmp_path, m
 
 
 @pytest.mark.skipif(not hasattr(signal, "SIGXFSZ"), reason="needs POSIX file size limits")
+@pytest.mark.slow
 def test_a_dataset_the_disk_refuses_is_one_error_and_leaves_no_staging_file(tmp_path):
     """Under a file size limit (ulimit -f 16) HDF5's own write failed in h5py's close, which
     h5netcdf's __del__ ran again at exit: a segmentation fault (exit 139) after the error
@@ -634,6 +644,7 @@ def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, ca
     assert not out.is_symlink() and open_result(out)["v"].size == 3
 
 
+@pytest.mark.slow
 def test_workers_of_another_version_are_refused(scheduler, monkeypatch, tmp_path):
     import validation.explore as ex
 
@@ -645,6 +656,7 @@ def test_workers_of_another_version_are_refused(scheduler, monkeypatch, tmp_path
     assert not out.exists() and not parts_folder(out).exists()
 
 
+@pytest.mark.slow
 def test_workers_without_gmsh_are_refused_for_a_parametric_stator(scheduler, monkeypatch,
                                                                   tmp_path):
     """A study of a stator file meshed by gmsh needs gmsh on every worker: refused before any
@@ -682,6 +694,7 @@ def test_a_failed_fe_solve_is_recorded_not_fatal():
     assert set(np.asarray(ds["motion_class"]).ravel()) == {"failed"}
 
 
+@pytest.mark.slow
 def test_steady_method_gives_the_loaded_answers():
     """solver.method = "steady": stall force, peak efficiency and velocity under load, from
     the steady engine; the no-load point agrees with the characteristic's own zero load and
@@ -700,6 +713,7 @@ def test_steady_method_gives_the_loaded_answers():
     assert 0 < float(ds["peak_efficiency"].values.ravel()[0]) < 1
 
 
+@pytest.mark.slow
 def test_a_studys_answers_are_the_single_point_commands_bit_for_bit(capsys):
     """A study with the default solver is lusm characteristic --frequency auto and lusm modes
     at the same plate, to the bit: its default mesh was coarser (fe_refine 2 against the
@@ -727,6 +741,7 @@ def test_a_studys_answers_are_the_single_point_commands_bit_for_bit(capsys):
     assert float(ds["f_B2_short"].item()) == modes["B2"]["f_short_Hz"]
 
 
+@pytest.mark.slow
 def test_ctrl_c_to_the_process_group_prints_one_line_per_fact(tmp_path):
     # a terminal's Ctrl-C reaches the client and every worker process: only the client may
     # answer (workers printed their KeyboardInterrupt tracebacks, the scheduler its cancelled
@@ -781,6 +796,7 @@ def test_a_studys_contact_solves_are_bounded_in_all():
         assert study_from_dict({"outputs": ["f_B2_open"], "axes": axes}).n_geometries == 1000
 
 
+@pytest.mark.slow
 def test_a_studys_fe_work_is_bounded_in_all():
     """100 000 plates at fe_refine 48 (each mesh within the single-solve bound, the count at
     the geometry limit) had started, days of work, the client at 3.3 GB after a minute. The
@@ -902,6 +918,7 @@ def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
     assert study_from_dict({"axes": {"width": ["1 mm", "7 mm"]}}).n_geometries == 2
 
 
+@pytest.mark.slow
 def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(scheduler, tmp_path, capsys):
     # every failure sat silently in the dataset's 'status' with exit 0
     from validation.cli import main
@@ -970,6 +987,7 @@ def test_a_transient_point_that_did_not_settle_is_said_so(tmp_path, capsys):
     assert "did not settle" in err and len(said) == 1 and said[0] in err
 
 
+@pytest.mark.slow
 def test_the_json_summary_carries_the_settling_warning(scheduler, tmp_path, capsys):
     """--json's "warnings" was [] while stderr said drive points had not settled (found by
     exploratory testing): a script reading the JSON could not see it."""
@@ -997,6 +1015,7 @@ def test_the_json_summary_carries_the_settling_warning(scheduler, tmp_path, caps
      '[solver]\nfe_refine = 1\naccuracy = "fast"\n',
      ["axes.voltage 700 V is above 600 V"]),
 ])
+@pytest.mark.slow
 def test_the_json_summary_lists_every_warning_said(scheduler, toml, words, tmp_path, capsys):
     """--json's "warnings" had only the workers' and the failures': the warnings of reading
     the study (an unused solver key), of its plates (thin plate) and of its drive (700 V)
@@ -1017,6 +1036,7 @@ def test_the_json_summary_lists_every_warning_said(scheduler, toml, words, tmp_p
     assert all(w in text for w, text in zip(words, listed, strict=True)), listed
 
 
+@pytest.mark.slow
 def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
         study, reference, dask_client, monkeypatch, tmp_path):
     """Parts computed before an upgrade (or an edit of an editable checkout) were mixed
@@ -1077,6 +1097,7 @@ def _real_compute(st, i):
     return {**_compute(st, i), "task_time_s": np.array(0.0)}
 
 
+@pytest.mark.slow
 def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
     """A listener that accepts and never answers hung past dask's 10 s timeout (still
     waiting at 45 s); a scheduler file of '{}' was an internal AssertionError."""
@@ -1120,6 +1141,7 @@ def test_a_scheduler_file_that_is_a_folder_is_not_said_to_be_missing(tmp_path):
         ex.connect(scheduler_file=str(tmp_path / "gone.json"))
 
 
+@pytest.mark.slow
 def test_a_signal_after_the_dataset_is_written_says_it_is_complete(scheduler, monkeypatch, tmp_path,
                                                                      capsys):
     """A SIGTERM landing just after the dataset was in place said only "interrupted"
@@ -1141,6 +1163,7 @@ def test_a_signal_after_the_dataset_is_written_says_it_is_complete(scheduler, mo
     assert not parts_folder(out).exists()
 
 
+@pytest.mark.slow
 def test_a_ctrl_c_while_the_cluster_starts_is_not_lost(monkeypatch):
     """The client ignored SIGINT while the LocalCluster started (so that the workers
     inherited the ignore); a Ctrl-C that the kernel delivered to one of dask's threads in
@@ -1181,6 +1204,7 @@ def test_a_ctrl_c_while_the_cluster_starts_is_not_lost(monkeypatch):
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
+@pytest.mark.slow
 def test_a_workers_warning_is_said_once_by_the_client(scheduler, tmp_path, capsys):
     """A 1 mm gap on a 3 mm plate is outside the 2D model's validity: the warning printed on
     the worker's stderr as a raw Python warning with its source line, once per geometry."""
@@ -1276,6 +1300,7 @@ def test_transient_settings_no_point_could_run_are_refused_before_any_work(solve
      "axes.frequency 10 Hz is too far below this plate's fastest mode for the steady engine "
      "(solver.method = \"steady\"), which takes "),
 ])
+@pytest.mark.slow
 def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
         solver, axes, words, scheduler, tmp_path, capsys):
     from validation.cli import main
@@ -1296,6 +1321,7 @@ def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
     assert len(list(parts_folder(out).glob("g*.npz"))) == 2
 
 
+@pytest.mark.slow
 def test_a_task_makes_no_semaphore_a_terminated_worker_would_leak():
     """The characteristic's tqdm bar (disabled) made a multiprocessing RLock, a named
     semaphore registered with the client's resource_tracker, in every worker; a worker the
@@ -1327,6 +1353,7 @@ print(float(part["stall_force"].ravel()[0]) > 0, made)
     assert run.stdout.split("\n")[0] == "True []", run.stdout
 
 
+@pytest.mark.slow
 def test_a_scheduler_that_cannot_import_lusm_is_refused_in_one_line(tmp_path, capsys):
     """The scheduler unpickles every task: without lusm the first submission ended in
     "internal error: RuntimeError: Error during deserialization of the task graph ... please
@@ -1368,6 +1395,7 @@ def test_a_scheduler_that_cannot_import_lusm_is_refused_in_one_line(tmp_path, ca
         proc.wait(timeout=30)
 
 
+@pytest.mark.slow
 def test_a_studys_motion_class_is_simulate_steadys(capsys):
     """The study took the steady branch's own word, "dead-zone", where lusm simulate --steady
     says "pure-stick" (and "separated" at 0 V and 0 N) for the same held slider."""
@@ -1388,6 +1416,7 @@ def test_a_studys_motion_class_is_simulate_steadys(capsys):
     assert got[0, 0] == "separated" and got[100, 14] == "pure-stick"
 
 
+@pytest.mark.slow
 def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
         scheduler, monkeypatch, tmp_path, capsys):
     """--plot /sys/maps failed after the study with only its error: the user was not told
@@ -1498,6 +1527,7 @@ def test_a_parts_folder_without_its_study_file_is_not_called_another_studys(tmp_
     assert (parts_folder(out) / "notes.txt").read_text() == "mine"
 
 
+@pytest.mark.slow
 def test_an_error_after_finished_geometries_says_they_are_kept(scheduler, monkeypatch, tmp_path,
                                                                capsys):
     """An error exit after some geometries were done said only the error; the parts were
@@ -1554,6 +1584,7 @@ def test_a_study_can_take_the_constant_dynamic_friction():
                          "constant mu_d")
 
 
+@pytest.mark.slow
 def test_a_one_plate_study_says_one_geometry(scheduler, tmp_path, capsys):
     # "study 's': 1 geometries (FE outputs only)"
     from validation.cli import main
@@ -1565,6 +1596,7 @@ def test_a_one_plate_study_says_one_geometry(scheduler, tmp_path, capsys):
     assert "study 's': 1 geometry (FE outputs only); " in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_solver_rest_reaches_every_steady_call(monkeypatch):
     """[solver] rest = "transient" is the commands' --rest transient: the no-load point and
     both characteristics of a drive point take it."""
@@ -1630,6 +1662,7 @@ def _synthetic(sizes: dict[str, int]):
     ({"voltage": 3, "material": 2},
      ["no_load_velocity_voltage_material.png", "split_material.png"]),
 ])
+@pytest.mark.slow
 def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     """Maps over length x width where both vary, else over the first two axes along which
     a variable varies, else its curve over the one axis: a study of one length axis (a
@@ -1643,6 +1676,7 @@ def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     assert all(p.stat().st_size > 1000 for p in written)
 
 
+@pytest.mark.slow
 def test_a_studys_figures_draw_every_material(tmp_path):
     """--plot drew the first material only, and a split that varies with the material alone
     not at all (found by exploratory testing): a curve has a line per material, a map a panel
@@ -1694,6 +1728,7 @@ def test_a_studys_figures_draw_every_material(tmp_path):
                                                 np.nanmax(da.values * scale))
 
 
+@pytest.mark.slow
 def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
     """A list axis may come in any order: the map drew 4 of 9 cells, misplaced, with
     matplotlib's non-monotonic warning, and the curve zigzagged."""
@@ -1753,6 +1788,7 @@ def test_solver_settings_a_study_does_not_use_are_said(solver, outputs, words):
                          "solver": {"accuracy": "exact", "rest": "transient"}})
 
 
+@pytest.mark.slow
 def test_drive_axes_of_an_fe_only_study_are_said_unused(scheduler, tmp_path, capsys):
     """A study of FE outputs only dropped its drive axes without a word (its dataset has the
     geometry dimensions only), where an unused solver key is said (found by exploratory
@@ -1782,6 +1818,7 @@ def test_drive_axes_of_an_fe_only_study_are_said_unused(scheduler, tmp_path, cap
                          "axes": {"voltage": "200 V"}})
 
 
+@pytest.mark.slow
 def test_the_summary_says_which_axes_make_its_drive_points(scheduler, tmp_path, capsys):
     """"1 geometry x 4 drive points" for one voltage, one preload and four loads read as four
     voltage-preload points, the work bounds' sense of the words (exploratory testing)."""
@@ -1799,6 +1836,7 @@ def test_the_summary_says_which_axes_make_its_drive_points(scheduler, tmp_path, 
             in out)
 
 
+@pytest.mark.slow
 def test_a_second_resume_while_one_runs_is_refused(study, dask_client, tmp_path):
     """Two --resume runs at once had both computed every geometry left (found by
     exploratory testing). A run holds its parts folder's lock: a second one, started while
@@ -1822,6 +1860,7 @@ def test_a_second_resume_while_one_runs_is_refused(study, dask_client, tmp_path)
     assert out.exists() and not parts_folder(out).exists()
 
 
+@pytest.mark.slow
 def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(dask_client, tmp_path,
                                                                      capsys, monkeypatch):
     """A second run without --resume, started while one ran, said "holds an unfinished run;
@@ -1854,6 +1893,7 @@ def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(dask_clie
     assert r.computed == 3 and out.exists() and not parts_folder(out).exists()
 
 
+@pytest.mark.slow
 def test_a_run_stopped_after_its_last_part_is_resumed_not_thrown_away(dask_client, tmp_path):
     """Every part written, the dataset not (a signal or a failed write at the end): a rerun
     without --resume had said "no geometry computed fully ... remove that folder", which

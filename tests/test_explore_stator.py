@@ -20,6 +20,7 @@ MESHED = EXAMPLES / "chamfered" / "stator.toml"
 @pytest.mark.parametrize("stator, volts, damping", [
     (TUNED, 140, "zeta_L1 = 0.008333, zeta_B2 = 0.008333 ([damping] Q_m = 60"),
     (MESHED, 300, "Table 2's ratios")])
+@pytest.mark.slow
 def test_a_stator_study_is_the_single_point_commands_on_its_file_bit_for_bit(
         stator, volts, damping, capsys):
     """The file's plate, material, holes, tip, chamfers and its own damping (Q_m = 60, not
@@ -128,6 +129,7 @@ def test_the_cli_refuses_a_bad_stator_study_with_exit_2(tmp_path, capsys):
 
 
 @pytest.mark.filterwarnings("ignore::fem.model.GapValidityWarning")  # 0.5 mm gap, 2.5 mm
+@pytest.mark.slow
 def test_a_stator_with_its_own_mesh_varies_in_thickness_only(tmp_path):
     """Its 2D mesh is not rescaled, but the plane-stress thickness is a number: the plate at
     another thickness is the file with that ``thickness_mm``, and its gap is no number (the
@@ -170,6 +172,7 @@ def test_a_stators_motor_tables_and_gap_are_checked_before_any_fe_solve(tmp_path
         study_from_dict({"study": {"stator": str(shorted)}, "outputs": ["stall_force"]})
 
 
+@pytest.mark.slow
 def test_a_stators_mesh_bound_is_estimated_before_it_is_meshed(tmp_path, monkeypatch):
     """A plate whose gmsh mesh is far above the bound is refused from its area and element
     size, without meshing it (a 1000 mm plate at 0.067 mm was meshed for 29 s and 564 MB
@@ -274,6 +277,7 @@ def test_a_stator_file_that_cannot_be_opened_is_one_line_with_the_os_reason(
         f"lusm modes: error: --geometry {TUNED}: Permission denied")
 
 
+@pytest.mark.slow
 def test_a_parametric_stators_features_are_axes_of_their_own(tmp_path):
     """``tip_length``, ``tip_width`` and ``chamfer`` vary the file's ``[tip]`` and
     ``[chamfers]``: a plate of the study is the file with that value (the same FE frequencies

@@ -23,6 +23,7 @@ def _model(gap_m: float, refine: int = 2, **kw):
     return build_model(structured_mesh(st, refine), st, "pzt8", 2, **kw)
 
 
+@pytest.mark.slow
 def test_2d_agrees_with_3d_on_the_default_plate():
     """2D (refine 3) against the default 3D mesh (hex20, refine 3, 3 layers), gap 0.5 mm.
 
@@ -73,6 +74,7 @@ def test_cli_says_when_2d_is_outside_its_validity(capsys):
     assert "validity" not in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_capacitance_matrix_is_spd_and_mutual_terms_shrink_with_the_gap():
     mutual = []
     for gap in (0.1e-3, 0.25e-3, 0.5e-3):
@@ -147,6 +149,7 @@ def test_earlier_model_is_kept_as_an_option():
     assert res.B2.f_open_Hz == pytest.approx(55314.35, rel=2e-6)
 
 
+@pytest.mark.slow
 def test_cli_edge_grading_moves_3d_b2_coupling_towards_the_2d_model(capsys):
     """``lusm modes --model 3d --edge-grading 1``: one level of lines towards the electrode
     edges, where the potential is singular, raises the 3D B2 k_eff that the uniform mesh
@@ -221,6 +224,7 @@ def test_the_plane_stress_warning_is_the_fe_models_not_the_beams(capsys):
     assert "plane-stress" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_wide_electrodes_on_a_thin_plate_keep_the_cross_section_small():
     # 500 mm electrodes on a 0.1 mm plate: 30 000 lines at the near-gap size took 16 GB and
     # crashed; beyond 5 thicknesses the field is the plate's own and the elements grow

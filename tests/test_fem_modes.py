@@ -239,6 +239,7 @@ def test_cli_modes_json(capsys):
     assert "--thickness-mm" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_exact_probes_of_parallelograms_match_scikit_fem_and_rescue_a_micrometre_gap():
     # scikit-fem's Newton inverse of the quad map stalled at --gap-mm 0.001 ("Newton
     # iteration didn't converge"); the affine inverse agrees with it wherever it converges
@@ -259,6 +260,7 @@ def test_exact_probes_of_parallelograms_match_scikit_fem_and_rescue_a_micrometre
     assert a.B2.f_short_Hz == pytest.approx(b.B2.f_short_Hz, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_json_gives_the_gap_and_the_swept_values_as_typed(capsys):
     """modes --json had no gap (a mesh file's comes from its gap strips), and sweep --json
     gave 26.000000000000004 mm for 26 (mm -> m -> mm)."""
@@ -337,6 +339,7 @@ def _fe_modes_nearer_than_b2(stator, refine: int = 4, k: int = 40) -> int:
 
 
 @pytest.mark.parametrize("slenderness", [10, 30, 100])
+@pytest.mark.slow
 def test_beam_theory_counts_the_modes_nearer_l1_than_b2(slenderness):
     """The up-front estimate against the FE spectrum of 7.5 mm wide plates: the count is
     the FE's or one low (at 100: 10 against 11)."""
@@ -442,6 +445,7 @@ def test_the_slender_bound_lies_where_the_solver_stops_finding_b2():
     assert _fe_modes_nearer_than_b2(outside, refine=1) >= 32
 
 
+@pytest.mark.slow
 def test_linear_elements_are_said_to_lock_in_bending(capsys):
     """``--order 1`` gave B2 several per cent high without a word (and a tuned width 0.5 mm
     off). The warning's claim against a converged order-2 mesh: B2 of the default order-1

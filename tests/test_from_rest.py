@@ -129,6 +129,7 @@ def test_rest_transient_decides_where_the_probe_is_known_to_miss(beam_miss_ref):
         steady_state(p, 1000, 10, rest="shortcut")
 
 
+@pytest.mark.slow
 def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys, beam_miss_ref):
     # the same point from lusm characteristic: --rest transient gives the transient's value
     import json

@@ -74,6 +74,7 @@ def test_a_load_beyond_the_holding_range_runs_away(params):
     assert v[1] - v[0] < -0.5 * 0.5 / params.M_slider * 0.1 and v[0] < 0
 
 
+@pytest.mark.slow
 def test_motor_pushed_back_by_a_load_matches_a_settled_transient(params):
     # between the guide's hold and the holding range: the slider settles moving backward
     r = steady_state(params, 400, 14, load_N=3.5, accuracy="exact", energy=False)
@@ -114,6 +115,7 @@ def test_a_list_of_voltages_reports_each_runaway_and_goes_on(params, capsys):
     assert runs[1]["branches"] is None and runs[1]["events"] is None
 
 
+@pytest.mark.slow
 def test_characteristic_marks_loads_it_cannot_hold(params, capsys):
     code = main(["characteristic", "--voltage", "400", "--preload", "14", "--loads",
                  "4:6:1", "--json"])
@@ -192,6 +194,7 @@ def test_under_a_load_the_start_from_rest_is_decided_on_the_full_model(params):
     assert [b.k for b in others] == [1] and others[0].velocity_m_s < 3 * ref < 0
 
 
+@pytest.mark.slow
 def test_a_motion_without_a_short_period_is_a_long_mean_with_its_error(params, capsys):
     """75.3 V / 14.73 N pushed back by 4.74 N: the averaged root lies below the velocity
     ripple, where the averaging does not hold, and the start from rest creeps backward on

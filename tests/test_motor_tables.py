@@ -167,6 +167,7 @@ def test_guide_friction_from_the_file_acts_as_a_load(tmp_path):
     assert moved == pytest.approx(loaded, rel=1e-9) and 0 < moved < free
 
 
+@pytest.mark.slow
 def test_cli_names_the_damping_beside_every_speed(tmp_path, capsys):
     light = ROOT / "examples" / "light_damping" / "stator.toml"
     base = ["--voltage", "300", "--preload", "14"]

@@ -80,6 +80,7 @@ def test_the_pre_pass_does_not_depend_on_the_coupling():
     assert run.normal_amplitude_m == normal_amplitude(p, op)
 
 
+@pytest.mark.slow
 def test_a_long_pre_pass_is_bounded_and_computed_once():
     """Table 2 with C_l / 1e4 driven at 1 kHz (2000 V / 0.02 N, separating): the settling
     pre-pass at the transient's 1e-7 s would take 1e8 steps (14 s, five times the bound

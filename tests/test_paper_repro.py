@@ -17,6 +17,7 @@ def repro(tmp_path_factory):
     return reproduce(table2(), 40e3, tmp_path_factory.mktemp("repro"), "t_", settings)
 
 
+@pytest.mark.slow
 def test_judged_velocities_are_settled_runs_from_rest(repro):
     """Fig. 24's 400 V velocity: the 50 ms figure run is still accelerating (0.19 m/s), the
     judged value must be where a run from rest ends after 0.3 s (12 000 periods)."""
@@ -54,6 +55,7 @@ def test_the_dead_zone_verdict_follows_the_edge_not_the_grid(repro):
     assert not row.agrees  # 139 V: 16 % above the paper's 120 V
 
 
+@pytest.mark.slow
 def test_a_held_slider_reads_held_not_a_roundoff_speed(tmp_path):
     """A set that holds the slider in pure stick at 200 V / 14 N (here Table 2 driven three
     times more weakly): Fig. 9's row had read a window mean of roundoff as a speed

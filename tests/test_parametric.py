@@ -35,6 +35,7 @@ def plain():
     return np.array([res.L1.f_short_Hz, res.B2.f_short_Hz])
 
 
+@pytest.mark.slow
 def test_parametric_tip_matches_the_mesh_file_example(plain):
     """examples/tip_parametric (gmsh, unstructured) and examples/tip_protrusion (a structured
     .msh written by a script) mesh the same plate + 2 x 1 mm tip: independent meshes, same
@@ -60,6 +61,7 @@ def test_parametric_tip_matches_the_mesh_file_example(plain):
     assert lay.y_hi_m == pytest.approx(30e-3)
 
 
+@pytest.mark.slow
 def test_parametric_chamfers_shift_modes_as_the_chamfered_example(plain):
     """[chamfers] size_mm = 1.5 against examples/chamfered (triangles split into quads)."""
     msh = load_stator(EXAMPLES / "chamfered" / "stator.toml")
@@ -184,6 +186,7 @@ def test_fixed_length_tuning_of_a_parametric_tip_stator():
     assert abs(fine.B2.f_short_Hz / fine.L1.f_short_Hz - 1) < 1e-3
 
 
+@pytest.mark.slow
 def test_tuning_that_pushes_a_hole_off_the_plate_is_refused_in_one_line(tmp_path, capsys):
     """tune keeps features where the file puts them; a plate shrunk past a hole is refused
     naming --geometry (after the FE solves that shrank it, hence not in test_reliability)."""
@@ -276,6 +279,7 @@ def test_a_mount_amplitude_probes_only_its_points(monkeypatch):
     assert probed == [3, 3]  # the points asked for, never the mesh's nodes
 
 
+@pytest.mark.slow
 def test_a_tip_as_wide_as_the_plate_vibrates_with_it():
     """A 10 mm tip as wide as the 30 mm plate makes a 40 mm bar: its L1 and B2 are the 40 mm
     plate's (the 30 mm reference shapes picked a 59 kHz mode as B2, against 34.7 kHz)."""
@@ -314,6 +318,7 @@ def test_refine_with_a_stator_files_mesh_is_said_to_do_nothing(capsys):
     assert "warning" not in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_refine_is_said_to_do_nothing_in_3d_and_in_a_sweep(capsys):
     """The 3D model extrudes a stator file's mesh and sweep re-meshes a parametric stator by
     gmsh: both ran the same mesh whatever --refine said, without a word (the 3D JSON even
@@ -338,6 +343,7 @@ def test_refine_is_said_to_do_nothing_in_3d_and_in_a_sweep(capsys):
     assert "--refine has no effect" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_meshing_keeps_the_sigterm_handler(tmp_path):
     """gmsh.initialize resets SIGTERM to the default in C while Python still reports its
     handler: SIGTERM then killed `lusm render` of a parametric stator without a message,
@@ -407,6 +413,7 @@ def test_holes_over_the_gap_strips_shorten_the_electrodes_shared_edges():
     assert cap[0, 1] == pytest.approx(ref[0, 1], rel=1e-9)
 
 
+@pytest.mark.slow
 def test_holes_that_2d_gets_wrong_are_said_so(tmp_path, capsys):
     """The plane-stress model is softer than 3D along a hole's rim, by far more than its
     0.05 % goal against 3D for a 1 mm hole at the centre of the 3 mm plate; a parametric stator
@@ -434,6 +441,7 @@ def test_holes_that_2d_gets_wrong_are_said_so(tmp_path, capsys):
         assert ("softer than 3D along the hole's rim" in capsys.readouterr().err) == warned
 
 
+@pytest.mark.slow
 def test_tune_says_its_tuned_plates_hole_is_soft_in_2d(tmp_path, capsys):
     """modes, params and render warned of a through hole the 2D model gets wrong, tune did
     not, and its 2D design with a 1.2 mm hole split by 0.1 % in 3D (found by the workflow
@@ -476,6 +484,7 @@ def test_the_mesh_estimate_from_the_boundary_is_close_and_not_high(stator, most)
     assert 1.0 <= ratio <= most
 
 
+@pytest.mark.slow
 def test_a_dense_cluster_of_tiny_holes_is_refused_before_its_2d_mesh(monkeypatch):
     """64 holes of 0.01 mm had been meshed for more than ten minutes (1.1 GB) before the
     element count refused them (found by exploratory testing)."""

@@ -729,6 +729,7 @@ def test_library_errors_are_mapped_to_the_option_that_sets_them():
     assert "UTF-8" in str(e) and "byte 0" in str(e)
 
 
+@pytest.mark.slow
 def test_an_export_is_moved_in_complete(tmp_path, capsys):
     out = tmp_path / "new" / "m.vtu"
     assert main(["modes", "--refine", "2", "--export", str(out)]) == 0
@@ -839,6 +840,7 @@ def test_an_export_into_a_folder_it_cannot_write_names_the_users_file(tmp_path, 
                   "(Permission denied)"
 
 
+@pytest.mark.slow
 def test_an_export_that_cannot_be_written_whole_is_refused_and_leaves_nothing(tmp_path):
     """Under a file-size limit meshio's XDMF writer lost its HDF5 writes in h5py's
     finalizers: tracebacks, "wrote m.xdmf", exit 0, and a truncated m.h5 moved in that meshio

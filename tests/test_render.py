@@ -38,6 +38,7 @@ def images(plate):
     }
 
 
+@pytest.mark.slow
 def test_images_are_not_blank_and_differ(images):
     for img in images.values():
         assert img.shape == (SMALL[1], SMALL[0], 3)
@@ -57,6 +58,7 @@ def test_L1_image_is_symmetric_about_the_long_axis_and_B2_is_not(images):
     assert offsets["B2"] > 6.0, offsets
 
 
+@pytest.mark.slow
 def test_png_and_gif_files(tmp_path, plate):
     from PIL import Image
 
@@ -133,6 +135,7 @@ def test_formats_that_drop_the_shapes_are_refused(tmp_path, suffix, capsys):
     assert not list(tmp_path.iterdir())
 
 
+@pytest.mark.slow
 def test_an_xdmf_kept_by_force_still_reads_its_own_data(tmp_path, capsys):
     """--force keeps m.xdmf and m.h5 as .bak-1; the kept .xdmf must read the kept .h5 (it
     pointed at the new m.h5 and showed the new plate)."""
@@ -149,6 +152,7 @@ def test_an_xdmf_kept_by_force_still_reads_its_own_data(tmp_path, capsys):
     assert width["m.xdmf.bak-1"] == pytest.approx(7.5e-3)
 
 
+@pytest.mark.slow
 def test_headless_render_prints_nothing_on_stderr(tmp_path):
     """With no display, rendering selects EGL itself instead of letting VTK try X first and
     print 'bad X server connection' (issue 13: no VTK warning on stderr)."""
@@ -169,6 +173,7 @@ def test_headless_render_prints_nothing_on_stderr(tmp_path):
     assert (tmp_path / "r" / "L1.png").stat().st_size > 1000
 
 
+@pytest.mark.slow
 def test_exports_skip_rigid_body_modes_and_work_in_3d(tmp_path):
     """``--export``: no rigid-body (0 Hz) mode among the extra 2D modes; with ``--model 3d`` a
     VTU of hexahedra whose L1 is axial (u_y, antisymmetric about mid-length) and whose B2 is

@@ -33,6 +33,7 @@ def report(tmp_path_factory) -> tuple[Path, dict]:
     return out, json.loads((out / "report.json").read_text(), parse_constant=_not_json)
 
 
+@pytest.mark.slow
 def test_every_section_is_present(report):
     out, doc = report
     for s in SECTIONS:
@@ -48,6 +49,7 @@ def test_every_section_is_present(report):
     assert set(doc["paper_reproduction"]) == {"table2", "beam", "fem"}
 
 
+@pytest.mark.slow
 def test_every_figure_is_a_valid_non_blank_png(report):
     from matplotlib.image import imread
 
@@ -62,6 +64,7 @@ def test_every_figure_is_a_valid_non_blank_png(report):
         assert f"figures/{png.name}" in md  # every figure is shown
 
 
+@pytest.mark.slow
 def test_hard_cases_are_stable_or_fail_clearly_and_conserve_energy(report):
     _, doc = report
     rows = doc["hard_cases"]
@@ -76,6 +79,7 @@ def test_hard_cases_are_stable_or_fail_clearly_and_conserve_energy(report):
             assert r["energy_residual"] < 0.01, r["name"]
 
 
+@pytest.mark.slow
 def test_report_numbers_match_the_cli(report):
     _, doc = report
 

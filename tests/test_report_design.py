@@ -54,6 +54,7 @@ def _cited(md: str, command: str) -> list[str]:
     return re.findall(rf"`(lusm {command} --[^`]*)`", md)
 
 
+@pytest.mark.slow
 def test_every_section_and_figure_is_there(design_report):
     from matplotlib.image import imread
 
@@ -72,6 +73,7 @@ def test_every_section_and_figure_is_there(design_report):
         assert f"figures/{png.name}" in md
 
 
+@pytest.mark.slow
 def test_design_report_numbers_are_the_commands_numbers(design_report):
     _, doc = design_report
     p = subprocess.run([sys.executable, "-m", "validation.cli", "modes", "--geometry", str(TIP),
@@ -105,6 +107,7 @@ def test_a_difference_below_the_printed_decimals_keeps_its_size_and_sign():
     assert signed_percent(0.0, 2) == "+0.00%"
 
 
+@pytest.mark.slow
 def test_the_report_repeats_the_2d_validity_warning(design_report):
     """A stator whose gap exceeds thickness/6 got the 2D validity warning on stderr only: the
     report, which outlives the run, showed its 2D rows without a word."""
@@ -138,6 +141,7 @@ def test_the_3d_column_names_the_call_that_reproduces_it():
         "LUSM_MAX_WORK=2 lusm modes --model 3d --geometry c.toml")
 
 
+@pytest.mark.slow
 def test_the_mode_pictures_are_drawn_with_the_signals_held(monkeypatch, tmp_path):
     """A SIGTERM landing in VTK's rendering crashed the design report (exit 139, 2 of about
     90 tries) and left its staging folder: the pictures (about a second) are drawn with
@@ -166,6 +170,7 @@ def test_the_mode_pictures_are_drawn_with_the_signals_held(monkeypatch, tmp_path
     assert signal.getsignal(signal.SIGTERM) is not deferred_signals._record  # released
 
 
+@pytest.mark.slow
 def test_the_admittance_command_the_report_names_gives_its_numbers(design_report, capsys):
     """The report named `lusm admittance ... --f-min 50774 --f-max 74098` but used 801 points
     and the unrounded band: the command's f_s and f_p differed in the 8th digit. It names
@@ -190,6 +195,7 @@ def test_the_admittance_command_the_report_names_gives_its_numbers(design_report
     assert got == want
 
 
+@pytest.mark.slow
 def test_a_report_on_plate_options_cites_commands_that_carry_them(plate_report, capsys):
     """A report on ``--length-mm 60`` cited ``lusm modes --geometry ...``, ``lusm params
     --geometry ...`` and so on: a stator file the user never gave, so no cited command could
@@ -232,6 +238,7 @@ def test_a_report_on_plate_options_cites_commands_that_carry_them(plate_report, 
     assert f"| K_l | {got['K_l']:.6g} |" in md
 
 
+@pytest.mark.slow
 def test_a_report_on_a_stator_file_cites_that_file_as_given(design_report):
     """With --geometry FILE every cited stator command names FILE, the path as typed."""
     md = (design_report[0] / "index.md").read_text()

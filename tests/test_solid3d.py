@@ -64,6 +64,7 @@ def test_default_plate_3d_vs_2d_and_open_above_short():
     assert r3.dofs > 0 and r3.wall_time_s > 0
 
 
+@pytest.mark.slow
 def test_thin_plate_approaches_plane_stress():
     """As h -> 0 plane stress becomes exact: the 3D/2D gap shrinks well below the 3 mm one.
 
@@ -110,6 +111,7 @@ def test_bad_input():
         build_solid_model(PlateStator(electrode_gap_m=0.0))
 
 
+@pytest.mark.slow
 def test_cli_modes_3d_json_keys(capsys):
     assert main(["modes", "--model", "3d", "--refine", "2", "--layers", "2", "--json"]) == 0
     out3 = json.loads(capsys.readouterr().out)
@@ -121,6 +123,7 @@ def test_cli_modes_3d_json_keys(capsys):
     assert main(["modes", "--model", "3d", "--layers", "0"]) == 2
 
 
+@pytest.mark.slow
 def test_edge_grading_refines_at_the_electrode_edges():
     """Grading towards the electrode edges (issue 8): lines at the gap centre and g outside
     each edge, a layer g below the top face; B2's k_eff, underestimated by uniform meshes
@@ -155,6 +158,7 @@ def test_3d_runs_are_bit_identical():
     assert np.array_equal(f1, f2) and np.array_equal(v1, v2)
 
 
+@pytest.mark.slow
 def test_an_ungraded_mesh_across_a_narrow_gap_is_said_so(capsys):
     """At 0.1 mm the default brick mesh keeps one element across the gap beside elements
     25 x wider: its B2 k_eff is far below the 2D model's (which graded 3D meshes approach,
@@ -178,6 +182,7 @@ def test_an_ungraded_mesh_across_a_narrow_gap_is_said_so(capsys):
     assert "wider than it" not in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_affine_probes_match_scikit_fem_and_rescue_a_micrometre_gap_in_3d():
     """--model 3d --gap-mm 0.0012: scikit-fem's Newton inverse of the hex map stalled ("Newton
     iteration didn't converge"), and --gap-mm 0.001 was refused with an internal class name

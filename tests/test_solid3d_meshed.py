@@ -29,6 +29,7 @@ def _meshed(stator: PlateStator, mesh: PlateMesh) -> MeshedStator:
     )
 
 
+@pytest.mark.slow
 def test_extruded_imported_rectangle_matches_box_model(tmp_path):
     """The box mesh and the extrusion of the same (file-imported) planform give one model."""
     st = PlateStator()
@@ -96,6 +97,7 @@ def comparisons():
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.slow
 def test_example_2d_vs_3d_within_plane_stress_error(comparisons, name):
     e, plain = comparisons[name], comparisons["plain"]
     err, err_plain = e.relative_error, plain.relative_error
@@ -112,6 +114,7 @@ def test_example_2d_vs_3d_within_plane_stress_error(comparisons, name):
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.slow
 def test_example_3d_shift_follows_2d(comparisons, name):
     """Protrusion lowers, chamfers raise L1 and B2; 3D shifts match the 2D ones."""
     e, plain = comparisons[name], comparisons["plain"]
@@ -123,6 +126,7 @@ def test_example_3d_shift_follows_2d(comparisons, name):
         assert s3 == pytest.approx(s2, rel=0.15)
 
 
+@pytest.mark.slow
 def test_graded_layers_bring_a_narrow_gap_planform_towards_2d(capsys):
     """A planform mesh across a 0.1 mm gap, extruded in three 1 mm layers: the layers are
     25 x the gap and B2's k_eff came out 0.082 against 0.106 in 2D, without a word, and
@@ -145,6 +149,7 @@ def test_graded_layers_bring_a_narrow_gap_planform_towards_2d(capsys):
     assert abs(k[2] - k[1]) < 1e-3 * k2 * 10 and k[0] < 0.85 * k2 < k[1]
 
 
+@pytest.mark.slow
 def test_holes_on_the_centre_line_keep_the_3d_sampling(tmp_path):
     """Two holes on the centre line (found by exploratory testing): the 3D solve ran 45 s and
     then stopped with "Point is outside of the mesh." -- sampling points on the holes'

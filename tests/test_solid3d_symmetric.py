@@ -33,6 +33,7 @@ def _pair(stator: PlateStator, edge_grading: int = 0, layers: int = SMALL["layer
 
 
 @pytest.mark.parametrize("gap_mm, grading, layers", [(0.5, 0, 2), (1.0, 1, 1)])
+@pytest.mark.slow
 def test_quarter_equals_full_model_on_mirrored_mesh(gap_mm, grading, layers):
     # different unknowns (a quarter with symmetry conditions, one floating electrode) and the
     # same physics: the four frequencies and both k_eff agree to round-off
@@ -47,6 +48,7 @@ def test_quarter_equals_full_model_on_mirrored_mesh(gap_mm, grading, layers):
         assert q.mac == pytest.approx(f.mac, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_full_model_modes_have_the_class_parities():
     # the constraints of each class come from these parities of the full model's shapes
     stator = PlateStator()
@@ -79,6 +81,7 @@ def test_no_gap_b2_has_no_coupling():
     assert res.L1.k_eff > 0.2
 
 
+@pytest.mark.slow
 def test_nested_dissection_is_a_permutation_with_separators_last():
     stator = replace(PlateStator(), electrode_gap_m=0.2e-3)
     model = build_quarter_model(stator, "B2", edge_grading=1, **SMALL)
@@ -93,6 +96,7 @@ def test_nested_dissection_is_a_permutation_with_separators_last():
     assert order[-1] == order.size - 1
 
 
+@pytest.mark.slow
 def test_cli_graded_3d_uses_the_quarter_model_with_the_full_models_results(capsys):
     # a graded mesh of the plain plate already has lines on both symmetry planes, so
     # `lusm modes --model 3d --edge-grading K` solves the quarter and must print the full
@@ -133,6 +137,7 @@ def test_ungraded_3d_run_says_its_k_eff_is_low_and_grading_raises_it(capsys):
     assert k_graded > 1.03 * k_plain
 
 
+@pytest.mark.slow
 def test_the_grading_hint_says_when_it_needs_more_work(capsys):
     """On the tip examples the note's --edge-grading 1 was refused as given (2 140 bricks
     against 2 000; exploratory testing). The note now names the LUSM_MAX_WORK it takes, with

@@ -44,6 +44,7 @@ def _toml_matrix(a):
     return "[" + ", ".join("[" + ", ".join(repr(float(v)) for v in row) + "]" for row in a) + "]"
 
 
+@pytest.mark.slow
 def test_toml_plate_is_the_programmatic_plate(tmp_path):
     design = load_stator(_write(tmp_path, PLATE_TOML))
     st = PlateStator(25e-3, 6e-3, 2e-3, 0.3e-3, (2, 3))
@@ -63,6 +64,7 @@ def test_toml_plate_is_the_programmatic_plate(tmp_path):
         assert a.f_open_Hz == pytest.approx(b.f_open_Hz, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_inline_material_constants(tmp_path):
     m = pzt8()
     inline = (
@@ -270,6 +272,7 @@ def test_cli_geometry(tmp_path, capsys):
     assert "--source fem" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_mixed_triangle_quad_mesh_is_conforming(tmp_path):
     """Half the plate as quads, half as triangles: the converted mesh gives the plate's modes."""
     st = PlateStator()
@@ -314,6 +317,7 @@ def test_unnamed_tags_and_non_planar_meshes(tmp_path):
         read_stator_mesh(p, unit="inch")
 
 
+@pytest.mark.slow
 def test_a_hole_on_the_centreline_solves(tmp_path):
     # the mode identification's sampling points next to the hole's polygonal edge were
     # counted inside by the nominal outline but not located by scikit-fem: "Point is outside
@@ -329,6 +333,7 @@ def test_a_hole_on_the_centreline_solves(tmp_path):
     assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=0.01)  # nearby hole
 
 
+@pytest.mark.slow
 def test_a_stator_files_fine_mesh_is_blamed_on_its_size_not_on_refine(tmp_path, capsys):
     # "--refine: ... lower --refine" from commands that have no --refine (lusm report)
     from validation.cli import main
@@ -430,6 +435,7 @@ def test_a_tip_on_a_node_of_b2_names_the_point(tmp_path):
 
 
 @pytest.mark.filterwarnings("ignore::fem.stator_file.InteriorPointWarning")
+@pytest.mark.slow
 def test_a_preload_point_on_a_node_of_l1_is_refused_not_reduced(tmp_path):
     """L1's centre is a node of its y motion. The FE value there is not exactly 0 (1.3e-8 of
     the largest on a user's gmsh plate), and the reduction normalised L1 by it: M_l came out
@@ -648,6 +654,7 @@ def test_small_mistakes_are_named_for_what_they_are(tmp_path, capsys, text, expe
     assert expected.format(dir=tmp_path) in err, err
 
 
+@pytest.mark.slow
 def test_a_tip_inside_the_planform_is_warned_about_and_the_points_are_printed(tmp_path,
                                                                               capsys):
     """A tip 1 mm inside the plate was taken as given (B2 normalised there, M_b 0.0089 ->
@@ -714,6 +721,7 @@ def test_tip_and_preload_at_one_point_and_a_fifo_mesh_name_the_file_keys(tmp_pat
         load_stator(path)
 
 
+@pytest.mark.slow
 def test_a_point_on_a_mirrored_meshs_centre_line_is_not_minus_zero(tmp_path, capsys):
     """The tip example's mesh mirrored in x (electrodes renumbered to the paper's quadrants):
     its tip and preload vertices lie at x = -0.0 and were printed as "tip (-0, 31) mm" and

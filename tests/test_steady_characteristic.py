@@ -29,6 +29,7 @@ def test_energy_balance_over_the_orbit(params, coupling):
         assert b.interface_power_W > 0
 
 
+@pytest.mark.slow
 def test_energy_balance_of_a_held_slider_rocking_with_the_tip(params):
     """139 V / 14 N lies in the dead zone, on a one-period orbit of the full model: no net
     travel, but the slider rocks with the stuck tip and the guide dissipates. Its guide
@@ -47,6 +48,7 @@ def test_energy_balance_of_a_held_slider_rocking_with_the_tip(params):
 
 
 @pytest.mark.parametrize("load_N", [0.0, 1.5])
+@pytest.mark.slow
 def test_a_held_slider_far_below_resonance_has_the_transients_input_power(params, load_N):
     """200 V / 14 N driven at 1 kHz holds the slider at loads 0-3 N. The exact level gave its
     input power from the full model's held orbit at some loads (1.07e-3 W) and from the
@@ -73,6 +75,7 @@ def test_speed_falls_monotonically_with_load_to_zero_at_stall(char400):
     assert np.all((inner > 0) & (inner < 1))
 
 
+@pytest.mark.slow
 def test_stall_force_matches_transient_runs_with_load(params, char400):
     stall, v0 = char400.stall_force_N, char400.no_load_velocity_m_s
     loads = (0.8 * stall, 0.95 * stall)
@@ -134,6 +137,7 @@ def test_transient_energy_balance_splits_the_loads_work_from_the_guides(load_N):
     assert abs(e.residual_J) < 1e-8 * e.input_J
 
 
+@pytest.mark.slow
 def test_exact_characteristic_follows_transients_with_the_load(params):
     # the finite-mass level against a settled transient with the load; the averaged level
     # differs by its O(1/M) error, which the exact one removes
@@ -146,6 +150,7 @@ def test_exact_characteristic_follows_transients_with_the_load(params):
 
 
 @pytest.mark.parametrize("accuracy", ["fast", "exact"])
+@pytest.mark.slow
 def test_a_motor_driving_backward_has_the_mirrored_characteristic(params, accuracy):
     # A_b -> -A_b reverses the bending drive, and with it the direction the tip pushes the
     # slider: the characteristic is the mirror image (loads and velocities negated, powers
@@ -170,6 +175,7 @@ def test_a_motor_driving_backward_has_the_mirrored_characteristic(params, accura
     np.testing.assert_allclose(back.efficiency, fwd.efficiency, rtol=1e-7, atol=1e-9)
 
 
+@pytest.mark.slow
 def test_the_exact_stall_force_is_where_transients_with_the_load_change_direction(params):
     # finite slider mass: beyond the averaged stall force (0.41 N at 200 V / 14 N) the
     # slider still creeps forward, pulled on in every stick phase; the full model's speed
@@ -217,6 +223,7 @@ def test_the_averaging_doubt_is_the_librarys(params):
     assert averaging_doubt(params, c400, coupling="paper") is None
 
 
+@pytest.mark.slow
 def test_the_library_answers_at_the_clis_level_by_default():
     """characteristic() and steady_state() defaulted to the averaged level while the CLI
     runs the exact one: the FE set's stall force at 400 V / 14 N was 0.476 N from the
@@ -245,6 +252,7 @@ def _designer_set(path):
     return p, auto_frequency(p)
 
 
+@pytest.mark.slow
 def test_the_stall_force_is_the_first_stop_the_curve_shows():
     """The tuned 40 kHz stator at 100 V / 14 N creeps below its velocity ripple, and its
     velocity from rest is not monotone in the load: ``brentq`` had returned a later zero
@@ -270,6 +278,7 @@ def test_the_stall_force_is_the_first_stop_the_curve_shows():
     assert asked.velocity_m_s[2] > 0.0  # forward again at 0.4 N, beyond the stall
 
 
+@pytest.mark.slow
 def test_a_creep_band_is_a_creep_not_thrust_on_another_branch(capsys):
     """The tuned 60 kHz stator at 140 V / 14 N: the averages follow the pure-slip sheet,
     whose stall (0.47 N) the creep band had started from, while the start from rest rides
@@ -300,6 +309,7 @@ def test_a_creep_band_is_a_creep_not_thrust_on_another_branch(capsys):
     assert "another branch's" in line and "the averaged stall:" not in line
 
 
+@pytest.mark.slow
 def test_no_creep_band_where_the_full_model_stalls_first(params):
     """Table 2 at 450 V / 40 N: the full model stalls at 2.73 N, before the averaged 3.16 N.
     The curve's last loads before a stall crawl too, as any velocity falling to zero does;

@@ -8,6 +8,7 @@ import pytest
 from validation.cli import main
 
 
+@pytest.mark.slow
 def test_characteristic_json_curve_is_consistent(capsys):
     assert main(["characteristic", "--voltage", "400", "--preload", "14",
                  "--loads", "0:1.5:0.5", "--json"]) == 0
@@ -35,6 +36,7 @@ def test_characteristic_json_curve_is_consistent(capsys):
     assert listed["curve"] == curve and listed["stall_force_N"] == doc["stall_force_N"]
 
 
+@pytest.mark.slow
 def test_the_default_characteristic_is_what_a_start_from_rest_reaches(capsys):
     """At 30 kHz the averaged (fast) level's only branch runs at 0.0124 m/s while the motor
     started from rest creeps at 1.1e-4 m/s: the default must give the motor's value."""
@@ -92,6 +94,7 @@ def test_simulate_steady_with_a_load_matches_a_settled_transient(capsys):
                                                        method="steady").steady.velocity_m_s
 
 
+@pytest.mark.slow
 def test_characteristic_takes_a_list_of_voltages(capsys):
     """``--voltage 200,400``: one curve per voltage, each the single-voltage answer."""
     assert main(["characteristic", "--voltage", "200,400", "--preload", "14",
@@ -141,6 +144,7 @@ def test_map_takes_the_sets_own_frequency(capsys):
 
 
 @pytest.mark.parametrize("frequency_Hz", [100.0, 1e6])
+@pytest.mark.slow
 def test_steady_commands_do_not_check_the_transients_step(capsys, frequency_Hz):
     # --steady and the steady map take their own step: the default --duration (0.05 s) is
     # under 10 periods at 100 Hz and the default --dt (1e-7 s) over 1/(20 f) at 1 MHz, which
@@ -191,6 +195,7 @@ def test_a_drive_too_slow_for_the_steady_engine_is_given_its_range_in_hz(frequen
         assert err == f"lusm {argv[0]}: error: {said}", err
 
 
+@pytest.mark.slow
 def test_the_lowest_steady_frequency_said_is_taken(capsys):
     # the bound said, 14.93 Hz, is one the engine runs (14.92 is refused above)
     assert main(["map", "--voltages", "200", "--preloads", "14", "--accuracy", "fast",
@@ -281,6 +286,7 @@ def test_a_steady_study_is_bounded_by_its_cost_at_the_drive_frequency(capsys):
     assert "--loads: 2000 loads x voltages at 20 Hz" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_the_fast_level_says_when_the_averaging_does_not_hold(capsys):
     # at 100 Hz the averaged no-load velocity is far below the slider's ripple
     from validation.cli import main
@@ -293,6 +299,7 @@ def test_the_fast_level_says_when_the_averaging_does_not_hold(capsys):
     assert "warning" not in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_characteristic_names_its_operating_point(capsys):
     # with --frequency auto the frequency used was nowhere in the output
     from validation.cli import main
@@ -423,6 +430,7 @@ def test_an_undriven_characteristic_says_why_it_has_no_holding_range(capsys):
     assert rows[0][1] == "0" and rows[1][1:] == ["runs", "away"]
 
 
+@pytest.mark.slow
 def test_the_creep_band_below_the_exact_stall_force_is_said(capsys):
     """A designer read the speed-load curve's knee as the stall force and found half the
     printed one (0.76 against 1.38 N): between the averaged stall force and the exact one the
@@ -459,6 +467,7 @@ def test_the_creep_band_below_the_exact_stall_force_is_said(capsys):
     assert exact.creep_from_N == exact.averaged_stall_force_N
 
 
+@pytest.mark.slow
 def test_a_creep_where_the_averaged_slider_is_held_is_said(capsys):
     """The beam set at 200 V / 14 N, driven at its own frequency: the averaged slider is
     held without load (fast stall force 0), while the finite slider creeps backward from

@@ -142,6 +142,7 @@ def _least_period_of_transient(window, period_s: float, most: int = 3) -> int:
     return 0
 
 
+@pytest.mark.slow
 def test_a_held_slider_reports_the_least_period_of_its_orbit_on_every_path(params):
     """200 V / 14 N driven at 1 kHz holds the slider under 0 to 3 N, each load decided on
     another path: an averaged creep's three-period shot converging to the held orbit (0 N),

@@ -21,6 +21,7 @@ def tuned():
     return tune_plate(40e3)
 
 
+@pytest.mark.slow
 def test_tuned_plate_is_degenerate_at_target(tuned):
     st = tuned.stator
     assert st.thickness_m == pytest.approx(3e-3)
@@ -33,6 +34,7 @@ def test_tuned_plate_is_degenerate_at_target(tuned):
     assert tuned.fe_solves == len(tuned.history) > 0
 
 
+@pytest.mark.slow
 def test_tuning_from_reversed_mode_order(tuned):
     """Start where B2 lies above L1 (wide plate): same design."""
     start = PlateStator(width_m=12e-3)
@@ -43,6 +45,7 @@ def test_tuning_from_reversed_mode_order(tuned):
     assert d.stator.width_m == pytest.approx(tuned.stator.width_m, rel=1e-4)
 
 
+@pytest.mark.slow
 def test_scaling_with_thickness_ratio(tuned):
     d = tune_plate(40e3, fix="thickness_ratio")
     # the 2D frequencies depend on h only through the thickness inertia (~(h/l)^2, 7e-4 of
@@ -60,6 +63,7 @@ def test_bad_tuning_input():
         tune_plate(40e3, model="1d")
 
 
+@pytest.mark.slow
 def test_sweep_crossing_matches_tuning_shape():
     res = sweep_dimension("width", np.arange(7.5, 9.01, 0.5) * 1e-3)
     assert np.all(np.isfinite(res.f_L1_short_Hz)) and np.all(np.isfinite(res.f_B2_short_Hz))
@@ -71,6 +75,7 @@ def test_sweep_crossing_matches_tuning_shape():
         sweep_dimension("thickness", [1e-3])
 
 
+@pytest.mark.slow
 def test_the_sweeps_crossing_is_the_tuned_one_within_its_stated_uncertainty():
     """The crossing was the line through the two bracketing points, printed to 1e-4 mm: on
     a 0.5 mm grid it was 8.151 mm where tuning the width gives 8.136 mm. The cubic through
@@ -92,6 +97,7 @@ def test_the_sweeps_crossing_is_the_tuned_one_within_its_stated_uncertainty():
     assert np.isnan(err2) and two.to_dict()["crossing_uncertainties_mm"] == [None]
 
 
+@pytest.mark.slow
 def test_cli_tune_and_sweep(tmp_path, capsys):
     assert main(["tune", "--target-frequency", "40e3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -123,6 +129,7 @@ def fixed_length():
     return tune_plate(fix="length", start=PlateStator(length_m=35e-3), refine=REFINE)
 
 
+@pytest.mark.slow
 def test_fixed_length_is_kept_and_the_width_makes_l1_meet_b2(fixed_length):
     d = fixed_length
     assert d.stator.length_m == pytest.approx(35e-3, abs=1e-12 * 35e-3)
@@ -141,6 +148,7 @@ def test_fixed_length_is_kept_and_the_width_makes_l1_meet_b2(fixed_length):
     assert d.frequency_Hz == pytest.approx(l1_30 * 30 / 35, rel=0.03)
 
 
+@pytest.mark.slow
 def test_fixed_width_is_kept_and_the_length_makes_l1_meet_b2(fixed_length):
     w = fixed_length.stator.width_m
     d = tune_plate(fix=("width",), start=PlateStator(width_m=w), refine=REFINE)
@@ -152,6 +160,7 @@ def test_fixed_width_is_kept_and_the_length_makes_l1_meet_b2(fixed_length):
     assert d.stator.length_m == pytest.approx(35e-3, rel=1e-5)
 
 
+@pytest.mark.slow
 def test_fixed_width_with_thickness_ratio_scales_h():
     start = PlateStator(width_m=9e-3)
     d = tune_plate(fix=("width", "thickness_ratio"), start=start, refine=REFINE)
@@ -190,6 +199,7 @@ def test_meshed_stator_is_refused():
         tune_plate(fix="length", start=design.stator)
 
 
+@pytest.mark.slow
 def test_fixed_length_3d():
     """3D, coarse mesh: the length is kept and L1 = B2 when re-solved on the same mesh."""
     from fem.solid3d import build_solid_model, modes_of_solid_model
@@ -202,6 +212,7 @@ def test_fixed_length_3d():
     assert abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz < 1e-5
 
 
+@pytest.mark.slow
 def test_cli_fixed_length(tmp_path, capsys):
     assert main(["tune", "--fix", "length", "--length-mm", "35", "--refine", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -234,6 +245,7 @@ def test_a_target_whose_plate_no_command_accepts_is_refused(capsys):
     assert len(err.splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_a_sweep_says_where_l1_and_b2_were_not_found(capsys):
     # plates far shorter than wide have no L1/B2 of the paper's shape: a sweep that found
     # them nowhere exited 0 with rows of nan; one that missed some said nothing
@@ -259,6 +271,7 @@ def test_a_sweep_says_where_l1_and_b2_were_not_found(capsys):
     assert doc["failures"][0] and doc["failures"][1] is None
 
 
+@pytest.mark.slow
 def test_a_sweep_checks_the_thin_plate_rule_on_its_own_plates(capsys):
     # it checked the default 7.5 mm width whatever the widths swept: 1-3 mm wide plates 3 mm
     # thick passed without a word, and 6-9 mm at 10 mm thick quoted 10 / 7.5
@@ -268,6 +281,7 @@ def test_a_sweep_checks_the_thin_plate_rule_on_its_own_plates(capsys):
     assert "--thickness-mm 10 is 1.67 x" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_tune_warns_once_about_the_tuned_plate(capsys):
     # each iteration's plate warned with its own thickness: three near-identical lines
     from validation.cli import main
@@ -277,6 +291,7 @@ def test_tune_warns_once_about_the_tuned_plate(capsys):
     assert len(err) == 1 and err[0].startswith("lusm tune: warning: the tuned plate: "), err
 
 
+@pytest.mark.slow
 def test_a_tuned_thick_plate_gets_the_thin_plate_warning_modes_gives(capsys):
     """At 200 kHz the 3 mm plate is tuned to 8.35 x 2.26 mm: 1.3 x thicker than wide, where
     the 3D model's B2 is 0.6 % off; tune said nothing while modes warned."""
@@ -287,6 +302,7 @@ def test_a_tuned_thick_plate_gets_the_thin_plate_warning_modes_gives(capsys):
     assert "plane-stress model assumes a thin plate" in out.err
 
 
+@pytest.mark.slow
 def test_a_tuned_plate_with_electrodes_narrower_than_the_rule_is_refused(capsys):
     """limits.md asks a tuned plate's electrodes to be 1.5 gaps wide; the check asked it of
     the plate (found by exploratory testing): 6e5 Hz gave a 0.63 mm plate, electrodes 0.13
@@ -369,6 +385,7 @@ def test_a_tuning_onto_a_jump_of_the_split_says_it_is_not_tuned():
     assert d.stator.width_m == pytest.approx(7.6e-3, rel=1e-5)
 
 
+@pytest.mark.slow
 def test_a_fine_sweeps_rows_are_told_apart(capsys):
     """25.690:25.700:0.002 printed 25.69 three times and 25.7 three times (exploratory
     testing); the rows now carry the digits that tell them apart, as typed."""
@@ -377,6 +394,7 @@ def test_a_fine_sweeps_rows_are_told_apart(capsys):
     assert rows == ["25.69", "25.692", "25.694", "25.696", "25.698", "25.7"]
 
 
+@pytest.mark.slow
 def test_a_sweeps_rows_are_the_values_typed(capsys):
     """25.6938:25.6988:0.001 printed the rows 25.694 ... 25.699: each one 0.0002 mm off the
     plate solved, and the typed 25.6938 nowhere (exploratory testing)."""
@@ -385,6 +403,7 @@ def test_a_sweeps_rows_are_the_values_typed(capsys):
     assert rows == ["25.6938", "25.6948", "25.6958", "25.6968", "25.6978", "25.6988"]
 
 
+@pytest.mark.slow
 def test_a_swept_stator_file_gets_the_thin_plate_warning_of_the_same_plates_typed(
         tmp_path, capsys):
     """`sweep --geometry FILE --width-mm 3:5:1` said nothing where the same plates typed in
@@ -484,6 +503,7 @@ def test_the_fem_library_calls_are_bounded_before_they_start():
     assert port.zeta[0] == pytest.approx(0.01)
 
 
+@pytest.mark.slow
 def test_a_slender_start_plate_is_tuned_not_refused(capsys):
     """With --fix width the length is only a starting value: a 750 x 1 mm start, beyond the
     slenderness whose B2 the solver reaches, tunes to a short plate whose L1 and B2 meet (the
@@ -503,6 +523,7 @@ def test_a_slender_start_plate_is_tuned_not_refused(capsys):
     # the held width at the default 30 mm length: 30 x 20 mm, the same
     ("width", PlateStator(width_m=20e-3)),
 ])
+@pytest.mark.slow
 def test_a_held_dimension_tunes_from_a_start_plate_too_wide_to_identify(fix, start):
     d = tune_plate(fix=fix, start=start, refine=REFINE)
     held = f"{fix}_m"
