@@ -79,6 +79,7 @@ def test_default_drive_pairs_and_bad_input(model):
         modal_port(model, 65e3, zeta_L1=-0.1)
 
 
+@pytest.mark.slow
 def test_cli_admittance(tmp_path, capsys):
     assert main(["admittance", "--zeta", "0.002", "--out", str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -149,6 +150,7 @@ def test_default_band_follows_a_40_kHz_design(capsys):
 
 
 @pytest.mark.parametrize("f_Hz", [60e3, 390e3, 1.8e6])
+@pytest.mark.slow
 def test_the_mode_count_from_inertia_matches_the_eigensolve(model, f_Hz):
     # Sylvester's law of inertia (negative pivots of K - w^2 M) against the eigenvalues
     import math
@@ -184,6 +186,7 @@ def test_a_residual_mode_is_never_below_the_cut(model):
     assert np.allclose(port.admittance_S(f), direct_admittance_S(model, port, f), rtol=1e-6)
 
 
+@pytest.mark.slow
 def test_a_band_beyond_what_the_mesh_resolves_is_said_so(capsys):
     assert main(["admittance", "--f-min", "1e4", "--f-max", "1e6", "--json"]) == 0
     assert "frequencies that high are not converged" in capsys.readouterr().err
@@ -209,6 +212,7 @@ def test_k_eff_does_not_move_with_the_damping():
         assert spread > 1.2
 
 
+@pytest.mark.slow
 def test_a_grid_too_coarse_for_the_design_modes_is_said_so(capsys):
     """--f-min 1 --f-max 1e6 --points 101 (a 10 kHz step) finds no pair of L1 or B2 at
     54-56 kHz: it listed the others without a word. The default band says nothing."""

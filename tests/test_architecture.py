@@ -41,6 +41,7 @@ def _sources(package: str) -> list[Path]:
 
 
 @pytest.mark.parametrize("package", PACKAGES)
+@pytest.mark.slow
 def test_data_flows_one_way(package):
     bad = []
     for path in _sources(package):
@@ -51,6 +52,7 @@ def test_data_flows_one_way(package):
     assert not bad, "\n".join(bad)
 
 
+@pytest.mark.slow
 def test_no_module_imports_a_private_name_of_another():
     bad = []
     for package in (*PACKAGES, "benchmarks"):
@@ -66,6 +68,7 @@ def test_no_module_imports_a_private_name_of_another():
 
 
 @pytest.mark.parametrize("package", ("fem", "rom", "contact"))
+@pytest.mark.slow
 def test_only_validation_draws_plots(package):
     """Plots are the presentation layer: matplotlib is imported in ``validation`` only (mode
     pictures in ``fem.render`` use pyvista off screen, not matplotlib)."""
@@ -105,6 +108,7 @@ def test_the_default_frequency_check_imports_no_optimizer():
     _exits_clean(code)
 
 
+@pytest.mark.slow
 def test_the_contact_hot_path_imports_no_scipy_solvers():
     """``lusm simulate``'s import path (event kernel, window, results, Table 2) loads no SciPy
     solver module: the propagators are NumPy (``contact.expm``); ``solve_ivp`` and

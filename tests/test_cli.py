@@ -22,6 +22,7 @@ def lusm(*args: str, env: dict | None = None) -> subprocess.CompletedProcess:
     )
 
 
+@pytest.mark.slow
 def test_simulate_json_matches_the_library():
     out = lusm("simulate", "--voltage", "200", "--preload", "14", "--json")
     assert out.returncode == 0, out.stderr
@@ -37,25 +38,39 @@ def test_simulate_json_matches_the_library():
     assert d["steps"] == 500_000
 
 
-@pytest.mark.parametrize(
-    ("args", "needle"),
-    [
-        (("--voltage", "nan", "--preload", "14"), "--voltage"),
-        (("--voltage", "200", "--preload", "-1"), "--preload"),
-        (("--voltage", "200", "--preload", "14", "--dt", "0"), "--dt"),
-        (("--voltage", "200", "--preload", "14", "--dt", "2e-6"), "--dt"),
-        (("--voltage", "200", "--preload", "14", "--duration", "1e-4"), "--duration"),
-        (("--voltage", "200", "--preload", "14", "--frequency", "fast"), "--frequency"),
-        (("--voltage", "200", "--preload", "14", "--bogus"), "unrecognized"),
-    ],
-)
-def test_bad_input_is_one_line_exit_2(args, needle):
-    out = lusm("simulate", *args)
-    assert out.returncode == 2
-    assert "Traceback" not in out.stderr
-    lines = [ln for ln in out.stderr.splitlines() if ln.strip()]
-    assert len(lines) == 1, out.stderr
+SIMULATE_REFUSALS = [
+    (("--voltage", "nan", "--preload", "14"), "--voltage"),
+    (("--voltage", "200", "--preload", "-1"), "--preload"),
+    (("--voltage", "200", "--preload", "14", "--dt", "0"), "--dt"),
+    (("--voltage", "200", "--preload", "14", "--dt", "2e-6"), "--dt"),
+    (("--voltage", "200", "--preload", "14", "--duration", "1e-4"), "--duration"),
+    (("--voltage", "200", "--preload", "14", "--frequency", "fast"), "--frequency"),
+    (("--voltage", "200", "--preload", "14", "--bogus"), "unrecognized"),
+]
+"""Bad input to lusm simulate, and what its one line names."""
+
+
+@pytest.mark.parametrize(("args", "needle"), SIMULATE_REFUSALS)
+def test_bad_input_is_one_line_exit_2(args, needle, capsys):
+    from validation.cli import main
+
+    assert main(["simulate", *args]) == 2
+    err = capsys.readouterr().err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert "Traceback" not in err and len(lines) == 1, err
     assert needle in lines[0]
+
+
+@pytest.mark.slow
+def test_a_lusm_process_refuses_bad_input_in_one_line_exit_2():
+    """The refusals above, from a process of its own: its exit code and its whole stderr."""
+    for args, needle in (SIMULATE_REFUSALS[0], SIMULATE_REFUSALS[-1]):
+        out = lusm("simulate", *args)
+        assert out.returncode == 2
+        assert "Traceback" not in out.stderr
+        lines = [ln for ln in out.stderr.splitlines() if ln.strip()]
+        assert len(lines) == 1, out.stderr
+        assert needle in lines[0]
 
 
 @pytest.mark.slow
@@ -89,6 +104,7 @@ def test_map_json_classifies_every_point():
     assert v[1][0] > v[1][1] > 0.0
 
 
+@pytest.mark.slow
 def test_contact_and_table2_do_not_import_the_fe_stack():
     code = (
         "import sys, contact.simulate, contact.maps, contact.reference, rom.table2, rom;"

@@ -121,6 +121,7 @@ def small_work(monkeypatch):
 @settings(max_examples=60, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(target=st.sampled_from(TARGETS), value=VALUES)
+@pytest.mark.slow
 def test_fuzzed_options_exit_0_or_2_naming_the_option(target, value, small_work, capsys):
     command, option, rest = target
     rest = [a for i, a in enumerate(rest) if a != option and (i == 0 or rest[i - 1] != option)]
@@ -365,6 +366,7 @@ def test_a_warning_is_said_once_per_command(capsys):
     assert capsys.readouterr().err == "lusm report: warning: a hole\n"
 
 
+@pytest.mark.slow
 def test_a_thick_plate_without_an_l1_b2_pair_names_the_thickness(capsys):
     """Found by the fuzzed options: a 30 x 7.5 x 39 mm plate has no pair the 2D model can
     identify, and its refusal told the user to check the length and width only."""

@@ -54,6 +54,7 @@ def test_an_unreachable_amplitude_is_refused_with_the_reason():
         identify_damping(table2(), 40e3, (0.0, 1e-9))
 
 
+@pytest.mark.slow
 def test_stator_file_fits_the_damping_and_every_command_uses_it(capsys):
     from validation.cli import main
 

@@ -69,6 +69,7 @@ def test_shipped_mesh_is_what_the_script_generates(tmp_path, name):
     assert a.cell_types == (ctype,) and a.converted == (ctype == "triangle")
 
 
+@pytest.mark.slow
 def test_tip_protrusion_loads_with_its_points(tip):
     d, res = tip
     assert isinstance(d.stator, MeshedStator)
@@ -89,6 +90,7 @@ def test_tip_protrusion_loads_with_its_points(tip):
     assert res.L1.mac > 0.95 and res.B2.mac > 0.9
 
 
+@pytest.mark.slow
 def test_tip_mass_lowers_both_modes_as_perturbation_theory_predicts(plain, tip):
     ref, model = plain
     _, res = tip
@@ -104,6 +106,7 @@ def test_tip_mass_lowers_both_modes_as_perturbation_theory_predicts(plain, tip):
         assert shift == pytest.approx(predicted, rel=rtol), (name, shift, predicted)
 
 
+@pytest.mark.slow
 def test_chamfers_raise_both_modes_as_perturbation_theory_predicts(plain, chamfer):
     ref, model = plain
     d, res = chamfer
@@ -129,6 +132,7 @@ def test_chamfers_raise_both_modes_as_perturbation_theory_predicts(plain, chamfe
         assert shift == pytest.approx(predicted, rel=rtol), (name, shift, predicted)
 
 
+@pytest.mark.slow
 def test_triangle_meshes_reproduce_the_quad_plate(tmp_path, plain):
     """Triangles -> 3 quads each: the triangulated plain plate matches the structured one."""
     ref, _ = plain

@@ -48,6 +48,7 @@ def test_a_stator_study_is_the_single_point_commands_on_its_file_bit_for_bit(
     assert ds.attrs["stator_file"] == str(stator)
 
 
+@pytest.mark.slow
 def test_a_varied_dimension_is_the_stator_file_with_that_dimension(tmp_path):
     """A length on the study's axis gives the plate the file would give with that
     ``length_mm``: its tip, chamfers and hole are kept (the same FE frequencies to the bit)."""

@@ -113,6 +113,7 @@ def test_cross_section_is_converged_and_physical():
     assert lateral_permittivity_F_m(pzt8()) == pytest.approx(1290 * 8.8541878128e-12, rel=1e-4)
 
 
+@pytest.mark.slow
 def test_a_thick_blocks_cross_section_stays_small_and_converged():
     # deep below the electrodes the potential is linear through the thickness: elements grow
     # there, so a 1 m block (lusm modes --thickness-mm 1000) is not 50 s and 3 GB of mesh, and
@@ -236,6 +237,7 @@ def test_wide_electrodes_on_a_thin_plate_keep_the_cross_section_small():
     assert a.parallel_plate_F_m[0] < a.c_F_m[0, 0] < 1.01 * a.parallel_plate_F_m[0]
 
 
+@pytest.mark.slow
 def test_electrodes_set_back_from_the_edges_are_said_to_leave_the_2d_model():
     """A planform whose quadrant electrodes stop 0.5 mm short of every edge (found by
     exploratory testing): the 2D model took the border as open-circuit material and put L1

@@ -57,6 +57,7 @@ def test_a_slider_that_leaves_its_sheet_is_left_to_the_transient(params, monkeyp
     assert unchecked.from_rest.k == 1 and unchecked.velocity_m_s > 1.3 * ref
 
 
+@pytest.mark.slow
 def test_a_sheet_that_folds_before_its_root_is_left_to_the_transient():
     # the FE set at 159.48 V / 9.85 N under 2.622 N: the period-1 sheet the slider leaves the
     # ripple zone on ends before its root; a start from rest goes on to another orbit

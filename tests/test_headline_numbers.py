@@ -70,6 +70,7 @@ def test_dead_zone_edge_at_14_N(paper_params, coupling, edge_V):
     assert edge == pytest.approx(edge_V, abs=0.1)
 
 
+@pytest.mark.slow
 def test_the_reports_dead_zone_rows_say_their_bisection_tolerance(paper_params):
     """The quick report printed the edge 139.2 V (section 2, bisected to 0.5 V) and 139.6 V
     (section 4, bisected to 1 V) with no tolerance beside either. Each row now names its

@@ -153,6 +153,7 @@ def test_backward_creep_that_the_averaging_calls_held(params):
     assert all(b.motion != "dead-zone" for b in exact.branches)  # released from rest
 
 
+@pytest.mark.slow
 def test_creep_without_load_where_the_averages_say_held():
     # the beam set (Appendix A) driven at 40 kHz, below its resonances: the averages put
     # 300 V / 14 N in the dead zone, but the guide gives way for part of every period and
@@ -169,6 +170,7 @@ def test_creep_without_load_where_the_averages_say_held():
     assert ref > 0 and exact.velocity_m_s == pytest.approx(ref, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_a_drift_that_dies_out_as_a_power_of_time_is_the_dead_zone(params):
     """10 V / 6.5 N pushed forward by 0.2 N: the start-up drift of the held slider dies out
     about as 1/t^2, not geometrically, and was reported as an irregular creep at 1.6e-9 m/s

@@ -9,6 +9,8 @@ import sys
 import tomllib
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
 
@@ -43,6 +45,7 @@ def _extras_modules() -> set[str]:
     return {_name(req) for reqs in extras for req in reqs}
 
 
+@pytest.mark.slow
 def test_every_module_imports_without_the_extras():
     packages = PYPROJECT["tool"]["setuptools"]["packages"]
     blocked = _extras_modules()

@@ -39,6 +39,7 @@ def test_transient_method_is_refused_unless_named():
     assert ReproSettings.quick().method == "transient"
 
 
+@pytest.mark.slow
 def test_the_dead_zone_verdict_follows_the_edge_not_the_grid(repro):
     """On a grid stuck at 125 V and moving at 400 V (and on the report's 25 V grid, stuck
     at 125 V and moving from 150 V) the edge looked like the paper's 120 V and the report

@@ -78,6 +78,7 @@ def test_parametric_chamfers_shift_modes_as_the_chamfered_example(plain):
     ((1.5e-3, 6e-3, 2e-3), (-1.5e-3, 22e-3, 1.5e-3)),  # gmsh 4.15's quads invert: triangles
     ((0.0, 15e-3, 1e-3), (0.0, 7e-3, 2e-3)),  # one across the gap strip; recombined quads
 ])
+@pytest.mark.slow
 def test_holes_remove_exactly_their_mass(holes):
     """Total FE mass (rigid translation through M) = rho h (plate - hole polygons): the mesh
     puts its hole nodes on the circles, so each hole removes the inscribed polygon of its
@@ -157,6 +158,7 @@ def test_missing_gmsh_says_how_to_reinstall(monkeypatch):
         parse_stator({"plate": PLATE, "chamfers": {"size_mm": 1.2345}}, src="s")
 
 
+@pytest.mark.slow
 def test_modes_header_keeps_plate_and_tip_apart(capsys):
     rc = main(["modes", "--geometry", str(EXAMPLES / "tip_parametric" / "stator.toml")])
     out = capsys.readouterr().out
@@ -371,6 +373,7 @@ def test_meshing_keeps_the_sigterm_handler(tmp_path):
     assert out.stdout.split() == ["True", "True"]
 
 
+@pytest.mark.slow
 def test_a_tip_point_off_the_mesh_by_roundoff_is_probed_on_it():
     """35 mm + a 1 mm tip: tip_point_m is 0.036000000000000004 m beside nodes at 0.036, and
     scikit-fem's probe raised "Point is outside of the mesh." for params, simulate and
@@ -389,6 +392,7 @@ def test_a_tip_point_off_the_mesh_by_roundoff_is_probed_on_it():
         model.probe(np.array([[0.0, 0.0365]]).T)
 
 
+@pytest.mark.slow
 def test_holes_over_the_gap_strips_shorten_the_electrodes_shared_edges():
     """The gap's mutual and fringe capacitances are per unit length of the electrodes'
     shared edge; that length was the bounding box's, so two holes of 3 mm over the strip
@@ -474,6 +478,7 @@ def _cluster(n: int, diameter_m: float) -> ParametricStator:
                       tip_width_m=0.5e-3, mesh_size_m=0.2e-3), 1.2),
     (_cluster(16, 0.1e-3), 7.0),
 ], ids=["tip", "one-micron-hole", "fine", "long-narrow-tip", "16-holes"])
+@pytest.mark.slow
 def test_the_mesh_estimate_from_the_boundary_is_close_and_not_high(stator, most):
     """The estimate that bounds the gmsh mesh before it is made, against the mesh itself:
     never high (it must not refuse a mesh within the bound), close on a fine mesh, low on a

@@ -14,6 +14,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from tests.conftest import ROOT
 
@@ -32,6 +33,7 @@ def test_sfepy_is_imported_inside_functions_only():
     assert not [m for m in top if m.split(".")[0] == "sfepy"]
 
 
+@pytest.mark.slow
 def test_benchmark_imports_and_explains_itself_without_sfepy():
     code = (
         "import sys; sys.modules['sfepy'] = None; sys.path.insert(0, 'benchmarks');"

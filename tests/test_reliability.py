@@ -529,8 +529,13 @@ def test_the_table_is_large_and_covers_every_command():
     assert {argv[0] for _, argv, _ in CASES} == set(sub.choices)
 
 
-@pytest.mark.parametrize(("argv", "fragments"), [c[1:] for c in CASES],
-                         ids=[c[0] for c in CASES])
+SLOW_CASES = {"modes-off-centre-hole-pairing"}
+"""Cases refused only once the stator is meshed and solved (seconds, not milliseconds)."""
+
+
+@pytest.mark.parametrize(("argv", "fragments"), [
+    pytest.param(*c[1:], id=c[0], marks=[pytest.mark.slow] if c[0] in SLOW_CASES else [])
+    for c in CASES])
 def test_bad_input_is_refused_in_one_line(argv, fragments, files, capsys):
     args = [a.format(**files) for a in argv]
     rc = main(args)
@@ -640,6 +645,7 @@ def test_an_unexpected_error_is_one_line_exit_1(monkeypatch, capsys):
     assert "ZeroDivisionError" in err and "please report" in err and "LUSM_DEBUG" in err
 
 
+@pytest.mark.slow
 def test_sigterm_removes_the_staging_folder(tmp_path):
     out = tmp_path / "r"
     proc = subprocess.Popen([sys.executable, "-m", "validation.cli", "report", "--quick",
@@ -950,6 +956,7 @@ def test_the_small_file_reader_checks_what_it_reads_not_only_the_size_reported(t
     assert read_small_text(tmp_path / "ok.toml", 100) == "name = 'x'\n"
 
 
+@pytest.mark.slow
 def test_a_ctrl_c_after_the_command_is_done_is_ignored():
     # a Ctrl-C during the interpreter's shutdown, right after lusm modes or lusm render had
     # printed their last line, printed a KeyboardInterrupt traceback from threading._shutdown
@@ -1001,6 +1008,7 @@ def test_a_sigterm_after_the_command_has_ended_keeps_its_exit_code(argv):
 
 
 @pytest.mark.parametrize("argv", _ENDED)
+@pytest.mark.slow
 def test_a_sigterm_ends_a_hung_clean_up_with_the_commands_exit_code(argv):
     """Once the command had ended SIGTERM was ignored to the process's exit, so a clean-up
     that hung (explore's cluster shutdown, an exit hook) could be stopped by SIGKILL alone

@@ -47,6 +47,7 @@ def test_images_are_not_blank_and_differ(images):
     assert np.mean(np.abs(images["L1"] - images["B2"])) > 10.0
 
 
+@pytest.mark.slow
 def test_L1_image_is_symmetric_about_the_long_axis_and_B2_is_not(images):
     sym_l1 = mirror_difference(images["L1"])
     sym_b2 = mirror_difference(images["B2"])
@@ -82,6 +83,7 @@ def test_png_and_gif_files(tmp_path, plate):
     )
 
 
+@pytest.mark.slow
 def test_cli_render(tmp_path, capsys):
     from validation.cli import main
 
@@ -116,6 +118,7 @@ def test_export_round_trips_the_mode_shapes(tmp_path, plate, suffix):
         assert min(abs(f - mode.f_short_Hz) for f in freqs) < 1.0
 
 
+@pytest.mark.slow
 def test_cli_modes_export(tmp_path):
     from validation.cli import main
 
@@ -204,6 +207,7 @@ def test_exports_skip_rigid_body_modes_and_work_in_3d(tmp_path):
 
 
 @pytest.mark.parametrize("width_mm", [12.0, 16.0])
+@pytest.mark.slow
 def test_a_wide_plates_ruler_and_plate_stay_between_title_and_colour_bar(width_mm):
     """From a width of about 0.4 of the length the mm ruler was drawn through the title and
     the plate over the colour bar's label. Measured on the default picture: the title ends

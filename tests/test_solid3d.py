@@ -52,6 +52,7 @@ def test_electrodes_are_disjoint_and_on_top(coarse_model):
     assert np.allclose(m.basis.doflocs[2, m.ground_dofs], -h / 2)
 
 
+@pytest.mark.slow
 def test_default_plate_3d_vs_2d_and_open_above_short():
     r3 = solid_modes(PlateStator(), "pzt8")  # default 3D mesh
     r2 = plate_modes(PlateStator(), "pzt8")
@@ -85,6 +86,7 @@ def test_thin_plate_approaches_plane_stress():
     assert errs["thin"] < errs["thick"] / 4
 
 
+@pytest.mark.slow
 def test_thin_plate_modal_force_factors_match_2d():
     """Modal force per volt (drive 1 + 4) of a thin plate: 3D vs 2D, up to the sign convention."""
     from fem.model import plate_model

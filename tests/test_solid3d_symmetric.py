@@ -72,6 +72,7 @@ def test_full_model_modes_have_the_class_parities():
             assert np.abs(ui - np.array(signs)[:, None] * u).max() < 1e-8 * scale
 
 
+@pytest.mark.slow
 def test_no_gap_b2_has_no_coupling():
     # touching quadrants are one conductor: the B2 potential pattern (diagonals equal)
     # cannot exist, so open circuit equals short circuit; L1 keeps its coupling
@@ -119,6 +120,7 @@ def test_cli_graded_3d_uses_the_quarter_model_with_the_full_models_results(capsy
         assert out[name]["k_eff"] == pytest.approx(m.k_eff, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_ungraded_3d_run_says_its_k_eff_is_low_and_grading_raises_it(capsys):
     # `lusm modes --model 3d` on its default (ungraded) mesh prints a note that B2's k_eff
     # is low; the note's claim: one grading level raises it by more than 3 %

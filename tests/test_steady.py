@@ -19,6 +19,7 @@ def params():
     ("voltage_V", "preload_N", "motion"),
     [(200, 14, "stick-slip"), (300, 18, "pure-slip"), (400, 14, "slip-separation")],
 )
+@pytest.mark.slow
 def test_steady_velocity_matches_settled_transient(params, voltage_V, preload_N, motion):
     r = steady_state(params, voltage_V, preload_N, accuracy="fast")
     v_t, motion_t = transient_reference(params, voltage_V, preload_N, duration_s=0.3)

@@ -206,6 +206,7 @@ def test_efficiency_is_defined_only_where_the_motor_delivers_work(params):
         assert np.isfinite(b.efficiency) == defined
 
 
+@pytest.mark.slow
 def test_the_averaging_doubt_is_the_librarys(params):
     """The check behind `lusm characteristic --accuracy fast`'s warnings lived in the CLI,
     with the ripple from the static mu_d: at 30 kHz the averaged no-load branch (0.0124 m/s)

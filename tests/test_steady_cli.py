@@ -501,6 +501,7 @@ def test_a_creep_where_the_averaged_slider_is_held_is_said(capsys):
     assert f"at most {top:.3g} m/s on this curve" in out
 
 
+@pytest.mark.slow
 def test_the_tuned_stators_documented_command_shows_both_branches(capsys):
     """docs/numbers.json quotes the tuned 60 kHz stator's pure-slip branch at 140 V / 14 N from
     ``lusm simulate ... --steady --json (branches: ...)``, whose JSON had no branches: the

@@ -532,6 +532,7 @@ def test_a_held_dimension_tunes_from_a_start_plate_too_wide_to_identify(fix, sta
     assert abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz < 1e-5
 
 
+@pytest.mark.slow
 def test_cli_tune_holds_a_short_length_whatever_the_default_width(capsys):
     # the width is only a starting value (docs/designer.md): the command tunes it
     assert main(["tune", "--fix", "length", "--length-mm", "10", "--thickness-mm", "1",
