@@ -180,7 +180,7 @@ def test_a_stators_mesh_bound_is_estimated_before_it_is_meshed(tmp_path, monkeyp
     first)."""
     import validation.options
 
-    fine = _stator_with(tmp_path, "[damping]", "[mesh]\nsize_mm = 0.067\n\n[damping]")
+    fine = _stator_with(tmp_path, "[damping]", "[mesh]\nsize_mm = 0.3\n\n[damping]")
     count = validation.options.fe_cell_count
 
     def only_small(plate, *args, **kwargs):
