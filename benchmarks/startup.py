@@ -35,17 +35,6 @@ CASES = (
     ("lusm simulate ... --json (50 ms)", [PY, "-m", "validation.cli", "simulate", "--voltage",
                                           "200", "--preload", "14", "--json"]),
     ("lusm --help", [PY, "-m", "validation.cli", "--help"]),
-    # the same command with Python's default collector threshold (lusm raises it: cli.main)
-    ("lusm simulate, default gc threshold", [
-        PY, "-c", "import gc, sys; gc.set_threshold = lambda *a: None; "
-        "from validation.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
-        "'--preload', '14', '--json']; sys.exit(main())"]),
-    # the same command letting numba's BLAS probe import scipy.linalg whole (validation.fast_start)
-    ("lusm simulate, whole scipy.linalg", [
-        PY, "-c", "import sys; from validation import fast_start; "
-        "fast_start.load_blas_probe = lambda: False; "
-        "from validation.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
-        "'--preload', '14', '--json']; sys.exit(main())"]),
 )
 
 
@@ -56,7 +45,7 @@ import numpy
 t.append(time.perf_counter())
 import numba
 t.append(time.perf_counter())
-import scipy.linalg  # numba's BLAS probe imports it whole (lusm loads one module instead)
+import scipy.linalg  # numba's BLAS probe imports it whole
 t.append(time.perf_counter())
 from numba.core.registry import cpu_target
 cpu_target.target_context.refresh()  # numba's own registries

@@ -111,7 +111,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         code = _main(argv)
     except KeyboardInterrupt:  # a Ctrl-C before the command's own handlers are in place
-        # (imports, the BLAS probe, parsing): nothing has been written yet
+        # (imports, parsing): nothing has been written yet
         words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
         name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
         _say(f"{name}: interrupted")
@@ -159,10 +159,6 @@ def _after_the_command(code: int | None) -> None:
 
 
 def _main(argv: Sequence[str] | None) -> int:
-    if argv is None:  # a fresh `lusm` process: its start is mostly imports (numba, SciPy)
-        from validation import fast_start
-
-        fast_start.prepare_process()
     from validation.options import set_command, set_typed
 
     # Figures are files: the CLI picks matplotlib's file backend, library code never does.
@@ -192,8 +188,6 @@ def _main(argv: Sequence[str] | None) -> int:
             print(f"lusm {args.command}: error: {option} must name {what}, got {value!r}",
                   file=sys.stderr)
             return 2
-    if argv is None:  # past --help: every command imports NumPy and most run numba
-        fast_start.load_blas_probe()
     return _run(args, argv)
 
 
@@ -276,9 +270,6 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
             # from the moment the command's own handlers are gone (main sets the exit code
             # SIGTERM ends it with, once this returns it)
             _after_the_command(None)
-            from validation import fast_start
-
-            fast_start.finish_process()
     return 0
 
 

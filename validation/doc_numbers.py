@@ -990,7 +990,7 @@ def _fine_map_counts(ultrasonic_friction: bool = True) -> dict[str, int]:
 
 
 _STARTUP_KEYS = ("python", "numba", "arraymath", "contact", "run_1ms", "lusm_simulate",
-                 "lusm_help", "lusm_simulate_default_gc", "lusm_simulate_whole_linalg")
+                 "lusm_help")
 """Names of the rows of benchmarks/startup.py's ``CASES``, in order."""
 
 
