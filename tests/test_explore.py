@@ -1006,12 +1006,11 @@ def test_the_json_summary_lists_every_warning_said(toml, words, tmp_path, capsys
     assert all(w in text for w, text in zip(words, listed, strict=True)), listed
 
 
-def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
+def test_resume_refuses_parts_of_another_version_and_recomputes_a_malformed_part(
         study, reference, client, monkeypatch, tmp_path):
-    """Parts computed before an upgrade (or an edit of an editable checkout) were mixed
-    into the resumed dataset, labelled with the new version; a part that loads but lacks
-    an array ended the finished study with an internal error (KeyError). The same study
-    under another file name (name = the stem) is the same study."""
+    """Parts computed by another lusm version are not mixed into the resumed dataset; a
+    part that loads but lacks an array is computed again. The same study under another file
+    name (name = the stem) is the same study."""
     import validation.explore as ex
 
     out = tmp_path / "study.nc"
@@ -1020,12 +1019,14 @@ def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
                 on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
     renamed = study_from_dict({**TINY, "study": {"name": "tiny, copied"}})
     assert renamed.fingerprint == study.fingerprint
-    monkeypatch.setattr(ex, "code_digest", lambda: "f" * 64)
-    with pytest.raises(ValueError, match="--resume: .* other lusm code"):
+    monkeypatch.setattr(ex, "_version", lambda: "9.9.9")
+    with pytest.raises(ValueError, match="--resume: .* was computed by lusm .*this is lusm "
+                                         "9.9.9"):
         explore(renamed, out, client=client, progress=False, resume=True)
-    # without --resume the code is blamed too, first: other code may read the same file as
-    # another study, and "restore the study and pass --resume" could not help (review)
-    with pytest.raises(ValueError, match="--out .* other lusm code .* remove that folder"):
+    # without --resume the version is blamed too, first: another version may read the same
+    # file as another study, and "restore the study and pass --resume" could not help
+    with pytest.raises(ValueError, match="--out .* was computed by lusm .* remove that "
+                                         "folder"):
         explore(renamed, out, client=client, progress=False)
     monkeypatch.undo()
     part = next(parts_folder(out).glob("g*.npz"))
@@ -1039,23 +1040,23 @@ def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
         xr.testing.assert_identical(got[name], reference[name])
 
 
-def test_a_worker_with_other_code_is_refused_by_its_result(study, monkeypatch, tmp_path):
+def test_a_worker_of_another_version_is_refused_by_its_result(study, monkeypatch, tmp_path):
     """check_workers runs once, before the tasks: a worker joining an external scheduler
-    later computed with its own lusm, silently. Each result now carries its code's digest
-    (here a worker's is made to differ, in process)."""
+    later is checked by the lusm version each result carries (here a worker's is made to
+    differ, in process)."""
     import validation.explore as ex
 
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
     part = compute_geometry(s, 0)
-    assert str(part["code_sha256"]) == ex.code_digest()
+    assert str(part["lusm_version"]) == ex._version()
     from distributed import Client
 
     with Client(processes=False, n_workers=1, threads_per_worker=1,
                 dashboard_address=None) as c:
         # the worker (in process here) returns a result stamped by other code
         monkeypatch.setattr(ex, "compute_geometry",
-                            lambda st, i: {**_real_compute(st, i), "code_sha256": np.array("1")})
-        with pytest.raises(ValueError, match="other lusm code"):
+                            lambda st, i: {**_real_compute(st, i), "lusm_version": np.array("1")})
+        with pytest.raises(ValueError, match="a worker computed geometry 0 with lusm 1, "):
             explore(s, tmp_path / "r.nc", client=c, progress=False)
     assert not (tmp_path / "r.nc").exists()
 

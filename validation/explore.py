@@ -25,7 +25,6 @@ dataset's attrs; it is written to netCDF (h5netcdf engine) beside the target and
 
 from __future__ import annotations
 
-import hashlib
 import json
 import logging
 import math
@@ -37,7 +36,6 @@ import zipfile
 from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -45,7 +43,7 @@ import numpy as np
 
 from validation.interrupts import checkpoint, quiet_logs_after_signal
 from validation.output_set import backup_name
-from validation.staging import lock_held, staging
+from validation.staging import staging
 from validation.study import (
     AXIS_KIND,
     DRIVE_AXES,
@@ -268,7 +266,7 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
     out["task_time_s"] = np.array(time.perf_counter() - t0)
     out["warnings"] = np.array(sorted({" ".join(str(w.message).split()) for w in caught}),
                                dtype=str)
-    out["code_sha256"] = np.array(code_digest())  # the client compares it with its own
+    out["lusm_version"] = np.array(_version())  # the client compares it with its own
     return out
 
 
@@ -470,23 +468,6 @@ def _empty_outputs(study: Study) -> dict[str, np.ndarray]:
     return out
 
 
-@lru_cache(maxsize=1)
-def code_digest() -> str:
-    """SHA-256 of this process's lusm source (the .py files of fem, rom, contact and
-    validation, by relative path): what a resumed run and every worker must share. The
-    version number alone let a resumed run mix parts computed before an upgrade (or an edit
-    of an editable checkout) into a dataset labelled with the new version."""
-    import importlib
-
-    h = hashlib.sha256()
-    for name in ("fem", "rom", "contact", "validation"):
-        root = Path(importlib.import_module(name).__file__).parent
-        for f in sorted(root.rglob("*.py")):
-            h.update(f"{name}/{f.relative_to(root).as_posix()}\0".encode())
-            h.update(f.read_bytes())
-    return h.hexdigest()
-
-
 # --- parts: one file per finished geometry ---------------------------------------------------
 
 def parts_folder(out: Path) -> Path:
@@ -494,7 +475,7 @@ def parts_folder(out: Path) -> Path:
     return out.with_name(out.name + PARTS_SUFFIX)
 
 
-TASK_EXTRAS = ("task_time_s", "code_sha256", "warnings")
+TASK_EXTRAS = ("task_time_s", "lusm_version", "warnings")
 """What a task returns beside the geometry's outputs (not written into its part)."""
 
 
@@ -530,62 +511,43 @@ def _read_part(folder: Path, index: int,
     return part
 
 
-def _open_parts(study: Study, out: Path,
-                resume: bool) -> tuple[Path, dict[int, dict], bool, int | None]:
+def _open_parts(study: Study, out: Path, resume: bool):
     """The parts folder of ``out`` (made, or checked as this study's), its finished parts by
     geometry, whether this call made it, and the run's lock on it (:func:`_lock_parts`),
     taken before any part is read."""
     folder = parts_folder(out)
-    stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text),
-             "lusm_version": _version(), "code_sha256": code_digest()}
     template = _empty_outputs(study)
-    if folder.exists():
-        if not resume and lock_held(folder / LOCK_FILE):
-            # a live run's folder: what is said below of a folder at rest ("remove that
-            # folder to start over") had ended that run and every geometry it had computed
-            raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
-                                 "wait for it to finish, or choose another --out")
-        if not (folder / STUDY_FILE).is_file():  # it was said to be "another study's", and
-            # without --resume "an unfinished run" (whose --resume then sent the user back)
-            option = "--resume" if resume else f"--out {out}"
-            raise ValueError(f"{option}: {folder} has no {STUDY_FILE}, so it is not the parts "
-                             "folder of a lusm explore run (a finished run leaves only files "
-                             "that are not its own there); move it away or choose another "
-                             "--out")
-        old = _stamp_of(folder)
-        if not resume:
-            raise ValueError(_not_resumed(study, out, folder, old, template,
-                                          stamp["code_sha256"]))
-        lock = _lock_parts(folder, out)
-        try:
-            if not (folder / STUDY_FILE).is_file():  # a run finishing meanwhile removed it
-                raise ValueError(f"--resume: the run that held {folder} finished meanwhile; "
-                                 f"its dataset is {out}")
-            old = _stamp_of(folder)
-            # the code first: other code may also read the same study file as another study
-            # (the exact unit conversion changed the metres of 6.5 mm), and "restore the
-            # study" would not have helped (review)
-            if old.get("code_sha256") != stamp["code_sha256"]:
-                raise ValueError(f"--resume: {folder} {_other_code(old, stamp)}; resuming would "
-                                 "mix both in one dataset; remove that folder to start over")
-            if old.get("fingerprint") != study.fingerprint:
-                raise ValueError(f"--resume: {folder} belongs to another study (the study "
-                                 "file or its study.stator file changed); remove that folder "
-                                 "or restore the study")
-        except BaseException:
-            _unlock(lock)
-            raise
-        created = False
-    else:
+    if not folder.exists():
+        stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text),
+                 "lusm_version": _version()}
         try:
             folder.mkdir(parents=True)
             (folder / STUDY_FILE).write_text(json.dumps(stamp, indent=1))
-        except OSError as exc:  # /sys/x.nc: the message named the path, not the option
+        except OSError as exc:  # /sys/x.nc: named by its option, not only by its path
             raise ValueError(f"--out {out}: cannot write its parts folder {folder} "
                              f"({exc.strerror or exc})") from None
-        lock = _lock_parts(folder, out)
-        created = True
-    return folder, _finished_parts(study, folder, template), created, lock
+        return folder, {}, True, _lock_parts(folder, out)
+    if not (folder / STUDY_FILE).is_file():  # not ours: nothing is written into it
+        option = "--resume" if resume else f"--out {out}"
+        raise ValueError(f"{option}: {folder} has no {STUDY_FILE}, so it is not the parts "
+                         "folder of a lusm explore run (a finished run leaves only files "
+                         "that are not its own there); move it away or choose another --out")
+    lock = _lock_parts(folder, out)  # a live run's folder is refused before anything is said
+    try:
+        old = _stamp_of(folder)
+        if not resume:
+            raise ValueError(_not_resumed(study, out, folder, old, template))
+        if old.get("lusm_version") != _version():
+            raise ValueError(f"--resume: {folder} {_other_version(old)}; resuming would mix "
+                             "both in one dataset; remove that folder to start over")
+        if old.get("fingerprint") != study.fingerprint:
+            raise ValueError(f"--resume: {folder} belongs to another study (the study file or "
+                             "its study.stator file changed); remove that folder or restore "
+                             "the study")
+    except BaseException:
+        lock.release()
+        raise
+    return folder, _finished_parts(study, folder, template), False, lock
 
 
 def _stamp_of(folder: Path) -> dict:
@@ -608,23 +570,21 @@ def _finished_parts(study: Study, folder: Path, template) -> dict[int, dict]:
     return done
 
 
-def _other_code(old: dict, stamp: dict) -> str:
-    """"was computed by other lusm code (...)", naming both versions and codes."""
-    return (f"was computed by other lusm code (lusm {old.get('lusm_version', 'unknown')}, code "
-            f"{str(old.get('code_sha256', 'unrecorded'))[:12]}; this is lusm {_version()}, "
-            f"code {stamp['code_sha256'][:12]})")
+def _other_version(old: dict) -> str:
+    """"was computed by lusm X (this is lusm Y)"."""
+    return (f"was computed by lusm {old.get('lusm_version', 'unknown')} (this is lusm "
+            f"{_version()})")
 
 
-def _not_resumed(study: Study, out: Path, folder: Path, old: dict, template,
-                 code_sha256: str) -> str:
+def _not_resumed(study: Study, out: Path, folder: Path, old: dict, template) -> str:
     """Why a run without ``--resume`` does not start over an existing parts folder, and what
-    to do: a run of other lusm code (said first: its study may read as another one), another
-    study's run, every geometry of this one computed (the dataset not written: an interrupt
-    or a failed write at the end), a finished run in which none computed fully, or an
-    unfinished run."""
-    if old.get("code_sha256") != code_sha256:
-        return (f"--out {out}: {folder} {_other_code(old, {'code_sha256': code_sha256})}, "
-                "which --resume cannot continue; remove that folder to start over")
+    to do: a run of another lusm version (said first: its study may read as another one),
+    another study's run, every geometry of this one computed (the dataset not written: an
+    interrupt or a failed write at the end), a finished run in which none computed fully, or
+    an unfinished run."""
+    if old.get("lusm_version") != _version():
+        return (f"--out {out}: {folder} {_other_version(old)}, which --resume cannot "
+                "continue; remove that folder to start over")
     if old.get("fingerprint") != study.fingerprint:
         return (f"--out {out}: {folder} holds the parts of another study (the study file or "
                 "its study.stator file changed); remove that folder, or restore the study "
@@ -635,19 +595,15 @@ def _not_resumed(study: Study, out: Path, folder: Path, old: dict, template,
     parts = _finished_parts(study, folder, template)
     if len(parts) == study.n_geometries and not any(
             computed_fully(str(p["status"])) for p in parts.values()):
-        # the run ended by refusing to write a dataset of NaN; "unfinished, pass --resume"
-        # had sent the user round in a circle
         return (f"--out {out}: {folder} holds a finished run in which no geometry computed "
                 "fully (each part's reason in its 'status'; --resume says the first again); "
                 "remove that folder to run a corrected study")
-    # all there, the dataset not written (a signal or a failed write at the end): the work is
-    # done, and "none computed fully, remove that folder" would have thrown it away
     return (f"--out {out}: {folder} holds every geometry of this study, computed (the dataset "
             "was not written); pass --resume to write it, or remove that folder to start over")
 
 
 LOCK_FILE = ".lock"
-"""The file of a parts folder a running ``explore`` holds an exclusive ``flock`` on."""
+"""The file of a parts folder a running ``explore`` holds locked (:mod:`filelock`)."""
 
 
 class PartsBusyError(ValueError):
@@ -655,33 +611,22 @@ class PartsBusyError(ValueError):
     work, and the parts there are that run's, not this one's."""
 
 
-def _lock_parts(folder: Path, out: Path) -> int | None:
-    """Hold ``folder``'s lock for this run (the file descriptor; None where ``fcntl`` is
-    missing), or refuse: two ``--resume`` runs at once had both computed every geometry left,
-    and the second failed at the end on the first's dataset. The kernel releases the lock
-    when the process ends, however it ends."""
+def _lock_parts(folder: Path, out: Path):
+    """Hold ``folder``'s lock for this run (a :class:`filelock.FileLock`, released by the
+    caller; the system releases it when the process ends, however it ends), or refuse: two
+    runs on one parts folder would both compute every geometry left."""
+    from filelock import FileLock, Timeout
+
+    lock = FileLock(folder / LOCK_FILE)
     try:
-        import fcntl
-    except ImportError:  # pragma: no cover - not POSIX
-        return None
-    try:
-        fd = os.open(folder / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
+        lock.acquire(timeout=0)
+    except Timeout:
+        raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
+                             "wait for it to finish, or choose another --out") from None
     except OSError as exc:  # a read-only folder, or one a finishing run just removed
         raise ValueError(f"--out {out}: cannot lock its parts folder {folder} "
                          f"({exc.strerror or exc})") from None
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        os.close(fd)
-        raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
-                             "wait for it to finish (or stop it) before resuming") from None
-    return fd
-
-
-def _unlock(fd: int | None) -> None:
-    """Release a lock of :func:`_lock_parts` (closing its descriptor)."""
-    if fd is not None:
-        os.close(fd)
+    return lock
 
 
 def _remove_parts(folder: Path, n: int, made: list[Path] = ()) -> None:
@@ -1342,14 +1287,14 @@ def explore(
                                 completed.add(nxt)
                             data = fut.result()
                             i = index.pop(fut.key)
-                            if str(data.get("code_sha256")) != code_digest():
-                                # a worker that joined after check_workers, with other code
+                            if str(data.get("lusm_version")) != _version():
+                                # a worker that joined after check_workers, with other lusm
                                 where = ("--scheduler" if scheduler else "--scheduler-file"
                                          if scheduler_file else "the local cluster")
                                 raise ValueError(
-                                    f"{where}: a worker computed geometry {i} with other lusm "
-                                    f"code ({str(data.get('code_sha256'))[:12]}, this client "
-                                    f"{code_digest()[:12]}); install the same lusm everywhere")
+                                    f"{where}: a worker computed geometry {i} with lusm "
+                                    f"{data.get('lusm_version')}, this client {_version()}; "
+                                    "install the same version everywhere")
                             result.task_times_s.append(float(data["task_time_s"]))
                             result.warnings += [w for w in map(str, data.get("warnings", ()))
                                                 if w not in result.warnings]
@@ -1393,7 +1338,7 @@ def explore(
         result.wall_time_s = time.perf_counter() - t0
         return result
     finally:
-        _unlock(lock)  # released (its file went with the folder once the dataset is in)
+        lock.release()  # its file went with the folder once the dataset is in
 
 
 def computed_fully(status: str) -> bool:
