@@ -497,25 +497,6 @@ def test_a_dataset_with_a_long_file_name_is_written(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == [out.name]  # no staging file left
 
 
-def test_a_file_already_named_like_the_staging_file_is_never_removed(tmp_path, monkeypatch):
-    # the staging file was unlinked by name in `finally`, also when its exclusive open had
-    # failed because that name was another's file (a cut name, the same random suffix)
-    import uuid
-
-    from validation.staging import staging_name
-
-    class Fixed:
-        hex = "0123456789ab" * 2
-
-    monkeypatch.setattr(uuid, "uuid4", lambda: Fixed())
-    out = tmp_path / ("e" * 250 + ".nc")
-    theirs = tmp_path / staging_name(out.name, "partial", tmp_path)
-    theirs.write_text("not lusm's")
-    with pytest.raises(ValueError, match="cannot write the dataset .File exists"):
-        write_dataset(xr.Dataset({"v": ("x", np.arange(3.0))}), out)
-    assert theirs.read_text() == "not lusm's" and not out.exists()
-
-
 @pytest.mark.skipif(not hasattr(signal, "SIGXFSZ"), reason="needs POSIX file size limits")
 def test_a_dataset_the_disk_refuses_is_one_error_and_leaves_no_staging_file(tmp_path):
     """Under a file size limit (ulimit -f 16) HDF5's own write failed in h5py's close, which

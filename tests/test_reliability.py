@@ -669,7 +669,7 @@ def test_a_signal_python_swallows_still_stops_the_command(signum, monkeypatch, t
             signal.raise_signal(signum)
 
     def command(args):
-        with output_set(tmp_path / "out", "figures") as stage:
+        with output_set(tmp_path / "out") as stage:
             (stage / "a.png").write_bytes(b"x")
             obj = SignalOnCollect()
             del obj  # the signal's exception is swallowed here
@@ -696,7 +696,7 @@ def test_an_error_caused_by_a_signal_is_the_interruption(monkeypatch, tmp_path, 
             signal.raise_signal(signal.SIGTERM)
 
     def command(args):
-        with output_set(tmp_path / "out", "figures") as stage:
+        with output_set(tmp_path / "out") as stage:
             (stage / "a.png").write_bytes(b"x")
             obj = SignalOnCollect()
             del obj
@@ -835,8 +835,7 @@ def test_an_export_into_a_folder_it_cannot_write_names_the_users_file(tmp_path, 
     out = tmp_path / "ro" / "m.vtu"
     assert main(["modes", "--refine", "2", "--export", str(out)]) == 2
     err = capsys.readouterr().err.strip()
-    assert err == f"lusm modes: error: --export {out}: cannot write into {out.parent} " \
-                  "(Permission denied)"
+    assert err == f"lusm modes: error: --export {out}: cannot write there (Permission denied)"
 
 
 def test_an_export_that_cannot_be_written_whole_is_refused_and_leaves_nothing(tmp_path):

@@ -132,7 +132,7 @@ def test_a_failed_report_leaves_nothing_half_written(tmp_path, monkeypatch):
     from validation.output_set import output_set
 
     out = tmp_path / "r"
-    with output_set(out, "report") as stage:  # an earlier report, marked as lusm's
+    with output_set(out) as stage:  # an earlier report, marked as lusm's
         (stage / "index.md").write_text("earlier report")
 
     def boom(out_dir, quick, progress):

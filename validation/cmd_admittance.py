@@ -76,7 +76,7 @@ def run(args: argparse.Namespace) -> None:
     )
 
     warn_linear_elements(args)
-    out = output_folder(args, "admittance", "--out")
+    out = output_folder(args, "--out")
     if args.f_min is not None and args.f_max is not None and not args.f_min < args.f_max:
         raise LusmError(f"--f-min must be below --f-max, got {args.f_min:g} and "
                         f"{args.f_max:g} Hz", "--f-min")
@@ -152,7 +152,7 @@ def run(args: argparse.Namespace) -> None:
     _warn_missed(res, args.f_min, args.f_max, args.points)
     png = None
     if out is not None:
-        with figure_set(out, "admittance", "--out", args.force) as stage:
+        with figure_set(out, "--out", args.force) as stage:
             png = moved([admittance_figure(res, stage / "admittance.png")], stage, out)[0]
     damping = {"zeta_L1": zetas[0], "zeta_B2": zetas[1], "from": origin}
     if args.zeta is not None:

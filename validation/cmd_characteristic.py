@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> None:
     if args.accuracy == "fast":
         warn_unused(("--rest",), "it sets how --accuracy exact decides the start from rest")
     loads = parse_loads(args.loads) if args.loads is not None else None
-    plot = output_folder(args, "characteristic", "--plot")
+    plot = output_folder(args, "--plot")
     voltages = args.voltage  # a tuple: --voltage takes A,B,...
     warn_drive(max(voltages), args.preload)
     # a bad number refused before any work; None for the auto rule ("AUTO", " auto" too)
@@ -110,7 +110,7 @@ def run(args: argparse.Namespace) -> None:
     if plot is not None:
         from validation.report_motor import characteristic_figure
 
-        with figure_set(plot, "characteristic", "--plot", args.force) as stage:
+        with figure_set(plot, "--plot", args.force) as stage:
             path = characteristic_figure(chars if len(chars) > 1 else chars[0],
                                          stage / "characteristic.png")
             doc["figures"] = moved([path], stage, plot)

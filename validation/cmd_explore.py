@@ -102,7 +102,7 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
     complete = args.resume and is_complete(study, args.out)
     if not complete:
         check_out(args.out, args.force)
-    plot = output_folder(args, "explore", "--plot")
+    plot = output_folder(args, "--plot")
     if plot is not None and Path(plot).resolve() == Path(args.out).resolve():
         # it ran the whole study, wrote the dataset, then refused --plot as not a folder
         raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
@@ -150,7 +150,7 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
                 warn(f"--plot {plot}: nothing to draw (a figure needs a plate or drive axis "
                      "with at least two values and a finite answer along it); nothing written")
             else:
-                with figure_set(plot, "explore", "--plot", args.force) as stage:
+                with figure_set(plot, "--plot", args.force) as stage:
                     result.figures = moved(design_maps(ds, stage), stage, plot)
         except (KeyboardInterrupt, Terminated, LusmError, ValueError, OSError):
             # the study's result is not lost with its maps (a --plot folder that cannot be

@@ -89,7 +89,7 @@ def run(args: argparse.Namespace) -> None:
                     "rest, without the steady engine")
     elif args.accuracy == "fast":
         warn_unused(("--rest",), "it sets how --accuracy exact decides the start from rest")
-    plot = output_folder(args, "map", "--plot")
+    plot = output_folder(args, "--plot")
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
     # the 0 V / 0 N case only when the map is that single point
@@ -145,7 +145,7 @@ def run(args: argparse.Namespace) -> None:
         from validation.figures import stick_slip_map as plot_map
 
         name = "fig19_map_constant_mu.png" if args.no_ultrasonic_friction else "fig18_map.png"
-        with figure_set(plot, "map", "--plot", args.force) as stage:
+        with figure_set(plot, "--plot", args.force) as stage:
             # the method in the title: a 10 ms transient map with unsettled points was the
             # same picture as the settled steady one
             how = (f"steady engine ({args.accuracy} level)" if m.method == "steady" else

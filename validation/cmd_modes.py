@@ -565,22 +565,14 @@ def _write_export(path, model, res, force: bool, writer) -> None:
 
     from validation.errors import LusmError
     from validation.interrupts import checkpoint
-    from validation.output_set import keep_aside
-    from validation.staging import staging
-
-    def refuse(exc: OSError) -> LusmError:
-        # a read-only folder: name the user's file, not the staging folder's random name
-        return LusmError(f"--export {path}: cannot write into {path.parent} "
-                         f"({exc.strerror or exc})", "--export")
+    from validation.output_set import keep_aside, staging
 
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise refuse(exc) from None
-    # staged by the file's whole name, bounded by staging_name (a 240-letter --export had
-    # failed after the solve); by its stem, m.vtu's run cleared or named the leftovers of
-    # --plot m or --out m as its own
-    with staging(path.name, path.parent, refuse, "--export", path) as stage:
+        raise LusmError(f"--export {path}: cannot write into {path.parent} "
+                        f"({exc.strerror or exc})", "--export") from None
+    with staging(path.parent, path.name, "--export", path) as stage:
         staged = os.path.join(stage, path.name)
         try:
             _written_whole(writer, staged, model, res)

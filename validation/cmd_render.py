@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> None:
     )
 
     warn_linear_elements(args)
-    out = output_folder(args, "render", "--out")  # refused before any work
+    out = output_folder(args, "--out")  # refused before any work
     choice = stator_from_args(args)
 
     from fem.mesh import DEFAULT_REFINE
@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> None:
     from validation.interrupts import import_held
 
     import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
-    with figure_set(out, "render", "--out", args.force) as stage:
+    with figure_set(out, "--out", args.force) as stage:
         # a signal inside VTK's rendering printed VTK errors or crashed it (as the design
         # report's pictures, exit 139): drawn with SIGINT/SIGTERM held, delivered once they
         # are done (about a second, three with --animate), when the staging is discarded

@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> None:
     from validation.errors import LusmError
     from validation.options import output_folder
 
-    out = output_folder(args, "report", "--out")  # refused before any work
+    out = output_folder(args, "--out")  # refused before any work
     try:
         doc = _write(args, out)
     except OSError as exc:

@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> None:
                         "balance of the steady state)", "--energy")
     if not args.steady:
         warn_unused(("--rest",), "it sets how --steady decides the start from rest")
-    plot = output_folder(args, "simulate", "--plot")  # refused before any work
+    plot = output_folder(args, "--plot")  # refused before any work
     for v in voltages:
         warn_drive(v, args.preload, load_N=args.load_N)
     known = known_frequency(args.frequency)  # 'auto' needs the parameter set first
@@ -188,6 +188,6 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     if plot is not None:
         from validation.figures import simulation_figures
 
-        with figure_set(plot, "simulate", "--plot", args.force) as stage:
+        with figure_set(plot, "--plot", args.force) as stage:
             summary["figures"] = moved(simulation_figures(r, stage), stage, plot)
     return summary

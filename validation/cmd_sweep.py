@@ -96,7 +96,7 @@ def run(args: argparse.Namespace) -> None:
     from validation.ranges import parse_range
 
     warn_linear_elements(args)
-    out = output_folder(args, "sweep", "--out")
+    out = output_folder(args, "--out")
     try:
         parameter, option, text, fixed = _split(args)
     except _ap.ArgumentTypeError as exc:
@@ -205,7 +205,7 @@ def run(args: argparse.Namespace) -> None:
     _report_failures(res, parameter)
     png = None
     if out is not None:
-        with figure_set(out, "sweep", "--out", args.force) as stage:
+        with figure_set(out, "--out", args.force) as stage:
             png = moved([sweep_figure(res, stage / f"sweep_{parameter}.png")], stage, out)[0]
     if args.json:
         d = res.to_dict()

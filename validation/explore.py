@@ -42,8 +42,7 @@ from typing import Any
 import numpy as np
 
 from validation.interrupts import checkpoint, quiet_logs_after_signal
-from validation.output_set import backup_name
-from validation.staging import staging
+from validation.output_set import backup_name, staging
 from validation.study import (
     AXIS_KIND,
     DRIVE_AXES,
@@ -872,16 +871,7 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
     with dask.config.set(scheduler="synchronous"):
         data = ds.to_netcdf(engine="h5netcdf")
     out.parent.mkdir(parents=True, exist_ok=True)
-
-    def refuse(exc: OSError) -> ValueError:
-        return ValueError(f"--out {out}: cannot write the dataset "
-                          f"({exc.strerror or exc}; {len(data)} bytes)")
-
-    # a staging folder, as every output set's, so that a run killed outright leaves one the
-    # next run can tell is dead (a bare staging file carries no record of its run); its name
-    # bounded: `.NAME-partial-<hex>` of a 235-letter --out went over the limit on a file name,
-    # and the dataset was refused after all the study's work
-    with staging(out.name, out.parent, refuse, "--out", out) as stage:
+    with staging(out.parent, out.name, "--out", out) as stage:
         tmp = stage / out.name
         try:
             with open(tmp, "xb") as fh:  # closed (and its error raised) before the removal
@@ -889,9 +879,10 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
                 fh.flush()
                 os.fsync(fh.fileno())
         except OSError as exc:
-            raise refuse(exc) from None
+            raise ValueError(f"--out {out}: cannot write the dataset "
+                             f"({exc.strerror or exc}; {len(data)} bytes)") from None
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
-        if out.exists() or out.is_symlink():  # a link (dangling or not) itself, not its file
+        if os.path.lexists(out):  # a link (dangling or not) itself, not its file
             os.replace(out, backup_name(out))
         os.replace(tmp, out)
 

@@ -1162,16 +1162,16 @@ def folder_arg(value: str | None, option: str) -> Path | None:
     return Path(value)
 
 
-def output_folder(args: argparse.Namespace, kind: str, option: str) -> Path | None:
+def output_folder(args: argparse.Namespace, option: str) -> Path | None:
     """The folder the user gave with ``option`` (``--out``, ``--plot``), checked before any
     work by :func:`check_output_folder`; None when the option was not given."""
     target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
     if target is not None:
-        check_output_folder(target, kind, option, bool(getattr(args, "force", False)))
+        check_output_folder(target, option, bool(getattr(args, "force", False)))
     return target
 
 
-def check_output_folder(target: Path, kind: str, option: str, force: bool = False) -> None:
+def check_output_folder(target: Path, option: str, force: bool = False) -> None:
     """Refuse, before any work, an output folder the set could not be moved into or written.
 
     :func:`validation.output_set.check_target` (a file, below a file, a non-empty folder lusm
@@ -1183,7 +1183,7 @@ def check_output_folder(target: Path, kind: str, option: str, force: bool = Fals
 
     check_path_usable(target, option)
     try:
-        check_target(target, kind, option, force)
+        check_target(target, option, force)
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
     existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
@@ -1212,12 +1212,12 @@ def check_path_usable(path: Path, option: str) -> None:
 
 
 @contextmanager
-def figure_set(target: Path, kind: str, option: str, force: bool = False) -> Iterator[Path]:
+def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]:
     """:func:`validation.output_set.output_set` with its failures as :class:`LusmError`."""
     from validation.output_set import OutputError, output_set
 
     try:
-        with output_set(target, kind, option, force) as stage:
+        with output_set(target, option, force) as stage:
             yield stage
     except OutputError as exc:
         raise LusmError(str(exc), option) from None

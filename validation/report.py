@@ -434,7 +434,7 @@ def write_report(out_dir: Path, quick: bool = False, progress: bool = True,
     unless ``force``, and no file the report did not write is ever deleted. Returns the JSON
     document.
     """
-    with output_set(Path(out_dir), "report", "--out", force) as stage:
+    with output_set(Path(out_dir), "--out", force) as stage:
         return _build(stage, quick, progress)
 
 

@@ -273,7 +273,7 @@ def write_design_report(out_dir: Path, choice, params, stator_options: str,
     damping_from : str
         Where the damping ratios of ``params`` came from, printed beside every speed.
     """
-    with output_set(Path(out_dir), "report", "--out", force) as stage:
+    with output_set(Path(out_dir), "--out", force) as stage:
         return _build(stage, choice, params, stator_options, quick, progress, damping_from)
 
 
