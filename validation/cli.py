@@ -9,9 +9,9 @@ Exit codes: 0 success; 2 for every user-facing failure (:class:`validation.error
 and the library's ``ValueError`` / ``OSError`` / :class:`contact.errors.ChatteringError`, the
 kernel's refusal of an operating point, mapped by :func:`validation.errors.user_error`),
 printed as one line ``lusm <cmd>: error: ...``; 130 on Ctrl-C or SIGTERM (staging folders are
-removed by their ``finally`` blocks; a signal Python had to swallow is re-raised before any
-output is moved in, :mod:`validation.interrupts`); 1 for an unexpected exception (a bug): one
-line naming it and asking for a report, the traceback only with ``LUSM_DEBUG=1``.
+removed by their ``finally`` blocks, :mod:`validation.interrupts`); 1 for an unexpected
+exception (a bug): one line naming it and asking for a report, the traceback only with
+``LUSM_DEBUG=1``.
 """
 
 from __future__ import annotations
@@ -122,39 +122,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     return code
 
 
-def _after_the_command(code: int | None) -> None:
-    """Set how signals end the process from here, once the command has said how it ended
-    (its last line; ``code``, its exit code, or None while it is not yet known).
-
-    SIGINT is ignored to the process's exit: a Ctrl-C during the interpreter's shutdown, right
-    after lusm modes or lusm render printed their last line, printed KeyboardInterrupt
-    tracebacks from ``threading._shutdown`` and the ``close_clusters`` exit hook.
-
-    SIGTERM ends the process at once with ``code``: the clean-up left (closing explore's
-    cluster, an exit hook) may hang, and SIGTERM is the usual way to stop it; ignoring it
-    left only SIGKILL. Python's default, exit 143 with no word, had replaced the code of a
-    command that had moved its output in and printed its last line (exploratory testing: 3
-    of 30 late SIGTERMs). While ``code`` is None (the command's own handlers are gone, its
-    exit code not yet returned) SIGTERM is ignored, for those few statements only.
-    """
+def _after_the_command(code: int) -> None:
+    """Once the command has said how it ended, only the interpreter's shutdown is left
+    (closing explore's cluster, exit hooks): a Ctrl-C there is ignored, not a traceback from
+    ``threading._shutdown``, and SIGTERM ends the process at once with the command's exit
+    ``code`` (the shutdown may hang, and Python's default would end it with 143)."""
     import signal
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if code is None:
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        return
-
     def end(signum, frame) -> None:  # pragma: no cover - exercised by signals
-        try:
-            # what the command printed is kept: os._exit does not flush Python's buffers
-            for stream in (sys.stdout, sys.stderr):
-                try:
-                    stream.flush()
-                except Exception:  # noqa: BLE001 - a closed pipe, or a flush the signal
-                    pass  # interrupted (re-entrant): the exit matters more than the bytes
-        finally:
-            os._exit(code)
+        for stream in (sys.stdout, sys.stderr):  # os._exit does not flush Python's buffers
+            with contextlib.suppress(Exception):  # a closed pipe: the exit matters more
+                stream.flush()
+        os._exit(code)
 
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, end)
 
 
@@ -243,7 +224,6 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
     try:
         with interrupts.handlers(), _one_line_warnings(prog):
             args.func(args)
-            interrupts.checkpoint()  # a signal Python had to swallow still ends the command
     except (KeyboardInterrupt, interrupts.Terminated):
         _say(f"{prog}: interrupted")
         return 130
@@ -265,11 +245,6 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
         _say(f"{prog}: internal error: {type(exc).__name__}: {text} - please report it "
              f"(run with {DEBUG_ENV}=1 for the traceback)")
         return 1
-    finally:
-        if argv is None:  # a console-script process: its clean-up is all that is left,
-            # from the moment the command's own handlers are gone (main sets the exit code
-            # SIGTERM ends it with, once this returns it)
-            _after_the_command(None)
     return 0
 
 

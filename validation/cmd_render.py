@@ -62,9 +62,9 @@ def run(args: argparse.Namespace) -> None:
     model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
     from contact.deferred_signals import deferred_signals
-    from validation.interrupts import import_held
 
-    import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
+    with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
+        import pyvista  # noqa: F401
     with figure_set(out, "--out", args.force) as stage:
         # a signal inside VTK's rendering printed VTK errors or crashed it (as the design
         # report's pictures, exit 139): drawn with SIGINT/SIGTERM held, delivered once they

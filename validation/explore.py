@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from validation.interrupts import checkpoint, quiet_logs_after_signal
+from validation.interrupts import checkpoint
 from validation.output_set import backup_name, staging
 from validation.study import (
     AXIS_KIND,
@@ -1218,102 +1218,100 @@ def explore(
                                study.n_drive_points if study.needs_motor else 0, reused=len(parts))
         todo = [i for i in range(study.n_geometries) if i not in parts]
         own = None  # the client (and cluster) made here, closed here
-        # after a Ctrl-C, dask's teardown of the cancelled work is not news: keep stderr to our line
-        with quiet_logs_after_signal("distributed", "tornado", "tornado.application"):
-            if todo:
-                if client is None:
-                    try:
-                        # no more local processes than geometries to compute (8 workers for 2
-                        # tasks had started 330 MB of idle processes)
-                        client, cluster = connect(scheduler, scheduler_file,
-                                                  max(1, min(workers, len(todo))))
-                        own = (client, cluster)
-                        if cluster is None:  # someone else's cluster: same lusm as ours?
-                            option = "--scheduler" if scheduler else "--scheduler-file"
-                            check_scheduler(client, option)
-                            check_workers(client, option, gmsh=study.meshed_by_gmsh)
-                    except BaseException:
-                        if own is not None:
-                            own[0].close()
-                        if created:  # nothing was computed: leave no trace
-                            _remove_parts(folder, study.n_geometries, made)
-                        raise
+        if todo:
+            if client is None:
                 try:
-                    # nthreads() lists every worker (scheduler_info() gives at most 5 on
-                    # some dask releases: a window sized from it starved a large cluster)
-                    result.workers = len(client.nthreads())
-                    run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
-                    live, index = set(), {}  # submitted and not yet taken in
-                    waiting = iter(todo)
-
-                    def submit_next():
-                        """Submit the next geometry, if any (returns its future or None)."""
-                        i = next(waiting, None)
-                        if i is None:
-                            return None
-                        fut = client.submit(compute_geometry, study, i, pure=False,
-                                            key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
-                        live.add(fut)
-                        index[fut.key] = i
-                        return fut
-
-                    # a bounded window of tasks in flight, topped up as each finishes (dask's
-                    # as_completed(...).add pattern): a future per geometry up front had grown
-                    # the client by 55 MB/s towards 100 000 of them before any part was written
-                    window = [submit_next() for _ in range(in_flight(result.workers, len(todo)))]
-                    bar = _bar(len(todo) + len(parts), len(parts), progress)
-                    try:
-                        completed = as_completed(window)
-                        for n_done, fut in enumerate(completed, start=1):
-                            # topped up to the window of the workers there are now: workers
-                            # that join later (an adaptive cluster) widen it
-                            workers = (len(client.nthreads()) if n_done % WINDOW_RECHECK == 0
-                                       else result.workers)
-                            result.workers = max(result.workers, workers)
-                            want = in_flight(workers, len(todo))
-                            while len(live) - 1 < want:
-                                nxt = submit_next()
-                                if nxt is None:
-                                    break
-                                completed.add(nxt)
-                            data = fut.result()
-                            i = index.pop(fut.key)
-                            if str(data.get("lusm_version")) != _version():
-                                # a worker that joined after check_workers, with other lusm
-                                where = ("--scheduler" if scheduler else "--scheduler-file"
-                                         if scheduler_file else "the local cluster")
-                                raise ValueError(
-                                    f"{where}: a worker computed geometry {i} with lusm "
-                                    f"{data.get('lusm_version')}, this client {_version()}; "
-                                    "install the same version everywhere")
-                            result.task_times_s.append(float(data["task_time_s"]))
-                            result.warnings += [w for w in map(str, data.get("warnings", ()))
-                                                if w not in result.warnings]
-                            result.result_bytes += len(pickle.dumps(data, protocol=5))
-                            tw = time.perf_counter()
-                            _write_part(folder, i, data)
-                            result.part_write_time_s += time.perf_counter() - tw
-                            parts[i] = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
-                            result.computed += 1
-                            bar.update(1)
-                            live.discard(fut)
-                            fut.release()
-                            checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
-                            if on_part is not None:
-                                on_part(i)
-                    finally:
-                        bar.close()
-                        for f in live:
-                            f.cancel()
+                    # no more local processes than geometries to compute (8 workers for 2
+                    # tasks had started 330 MB of idle processes)
+                    client, cluster = connect(scheduler, scheduler_file,
+                                              max(1, min(workers, len(todo))))
+                    own = (client, cluster)
+                    if cluster is None:  # someone else's cluster: same lusm as ours?
+                        option = "--scheduler" if scheduler else "--scheduler-file"
+                        check_scheduler(client, option)
+                        check_workers(client, option, gmsh=study.meshed_by_gmsh)
                 except BaseException:
-                    if created and result.computed == 0:  # nothing was computed: leave no trace
-                        _remove_parts(folder, study.n_geometries, made)
-                    raise
-                finally:
                     if own is not None:
                         own[0].close()
-                        if own[1] is not None:
-                            own[1].close()
+                    if created:  # nothing was computed: leave no trace
+                        _remove_parts(folder, study.n_geometries, made)
+                    raise
+            try:
+                # nthreads() lists every worker (scheduler_info() gives at most 5 on
+                # some dask releases: a window sized from it starved a large cluster)
+                result.workers = len(client.nthreads())
+                run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
+                live, index = set(), {}  # submitted and not yet taken in
+                waiting = iter(todo)
+
+                def submit_next():
+                    """Submit the next geometry, if any (returns its future or None)."""
+                    i = next(waiting, None)
+                    if i is None:
+                        return None
+                    fut = client.submit(compute_geometry, study, i, pure=False,
+                                        key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
+                    live.add(fut)
+                    index[fut.key] = i
+                    return fut
+
+                # a bounded window of tasks in flight, topped up as each finishes (dask's
+                # as_completed(...).add pattern): a future per geometry up front had grown
+                # the client by 55 MB/s towards 100 000 of them before any part was written
+                window = [submit_next() for _ in range(in_flight(result.workers, len(todo)))]
+                bar = _bar(len(todo) + len(parts), len(parts), progress)
+                try:
+                    completed = as_completed(window)
+                    for n_done, fut in enumerate(completed, start=1):
+                        # topped up to the window of the workers there are now: workers
+                        # that join later (an adaptive cluster) widen it
+                        workers = (len(client.nthreads()) if n_done % WINDOW_RECHECK == 0
+                                   else result.workers)
+                        result.workers = max(result.workers, workers)
+                        want = in_flight(workers, len(todo))
+                        while len(live) - 1 < want:
+                            nxt = submit_next()
+                            if nxt is None:
+                                break
+                            completed.add(nxt)
+                        data = fut.result()
+                        i = index.pop(fut.key)
+                        if str(data.get("lusm_version")) != _version():
+                            # a worker that joined after check_workers, with other lusm
+                            where = ("--scheduler" if scheduler else "--scheduler-file"
+                                     if scheduler_file else "the local cluster")
+                            raise ValueError(
+                                f"{where}: a worker computed geometry {i} with lusm "
+                                f"{data.get('lusm_version')}, this client {_version()}; "
+                                "install the same version everywhere")
+                        result.task_times_s.append(float(data["task_time_s"]))
+                        result.warnings += [w for w in map(str, data.get("warnings", ()))
+                                            if w not in result.warnings]
+                        result.result_bytes += len(pickle.dumps(data, protocol=5))
+                        tw = time.perf_counter()
+                        _write_part(folder, i, data)
+                        result.part_write_time_s += time.perf_counter() - tw
+                        parts[i] = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
+                        result.computed += 1
+                        bar.update(1)
+                        live.discard(fut)
+                        fut.release()
+                        checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
+                        if on_part is not None:
+                            on_part(i)
+                finally:
+                    bar.close()
+                    for f in live:
+                        f.cancel()
+            except BaseException:
+                if created and result.computed == 0:  # nothing was computed: leave no trace
+                    _remove_parts(folder, study.n_geometries, made)
+                raise
+            finally:
+                if own is not None:
+                    own[0].close()
+                    if own[1] is not None:
+                        own[1].close()
         _refuse_if_nothing_computed(study, parts, folder)
         t1 = time.perf_counter()
         ds = assemble(study, parts)

@@ -58,9 +58,9 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     m3 = solid_modes(st, mat, 2, refine3, DEFAULT_LAYERS)
     say("3D modes")
     from contact.deferred_signals import deferred_signals
-    from validation.interrupts import import_held
 
-    import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
+    with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
+        import pyvista  # noqa: F401
     model = plate_model(st, mat, 2, DEFAULT_REFINE)
     with deferred_signals():  # about a second; a SIGTERM inside VTK's rendering crashed the
         # report (exit 139, 2 of about 90 tries) and left its staging folder
