@@ -1,23 +1,16 @@
 """Outputs built aside and moved in complete, never at the cost of a user's file.
 
-Every output (a folder of figures, a report, an export, a dataset) is written into a fresh
-hidden staging folder beside its target, ``.NAME-partial-XXXXXXXX`` (:func:`staging`), and
-moved in with :func:`os.replace` only once complete. The staging folder is removed on leaving
-whatever happened, so a failure, Ctrl-C or SIGTERM leaves the target as it was. A run killed
-outright (SIGKILL, a power cut) can leave the hidden folder behind; it is safe to remove.
+Every output (a folder of figures, a report, an export, a dataset) is written into a hidden
+staging folder beside its target (:func:`staging`) and moved in with :func:`os.replace` once
+complete; the staging folder is removed whatever happens, so a failure, Ctrl-C or SIGTERM
+leaves the target as it was (SIGKILL or a power cut can leave the hidden folder behind).
 
 A folder lusm wrote carries :data:`MARKER`, the SHA-256 of each file it wrote. An output set
-(:func:`output_set`) goes into a folder ``DIR`` as follows:
-
-* ``DIR`` does not exist: the set is moved in whole. ``DIR`` exists: the set's files are
-  moved into it (the folder, its owner and mode stay the user's).
-* A file the set writes that is already in ``DIR`` is replaced if the marker lists it with its
-  present content (lusm's, unchanged); one the user edited is kept as ``NAME.bak-N``; any other
-  (the user's) is refused, or kept as ``NAME.bak-N`` with ``force``.
-* ``DIR`` is not empty and has no marker: refused before any work, unless ``force``.
-
-Nothing is deleted. Files in ``DIR`` that the set does not write stay, and so do their entries
-in the marker (a second ``lusm sweep`` over another axis keeps the first one's figure).
+(:func:`output_set`) goes into a folder ``DIR``: whole if ``DIR`` does not exist, else file by
+file. A file already there is replaced if the marker lists it with its present content; one
+the user edited is kept as ``NAME.bak-N``; any other is refused, or with ``force`` kept as
+``NAME.bak-N``. A non-empty ``DIR`` without a marker is refused before any work unless
+``force``. Nothing is deleted; files the set does not write stay, and stay listed.
 """
 
 from __future__ import annotations
@@ -53,16 +46,9 @@ def _stem(name: str) -> str:
 
 @contextmanager
 def staging(folder: Path, name: str, option: str, target: Path) -> Iterator[Path]:
-    """Yield a fresh empty folder ``.NAME-partial-XXXXXXXX`` made in ``folder`` (on the
-    target's disk, so that moving the output in is a rename); it is removed with whatever it
-    holds on leaving.
-
-    Raises
-    ------
-    OutputError
-        The folder cannot be made there: one line naming ``option`` and ``target`` (the
-        user's words, not the random name).
-    """
+    """Yield a fresh empty folder ``.NAME-partial-XXXXXXXX`` in ``folder`` (the target's
+    disk: moving out of it is a rename), removed with its content on leaving; an
+    :class:`OutputError` naming ``option`` and ``target`` if it cannot be made."""
     try:
         stage = Path(tempfile.mkdtemp(prefix=f".{_stem(name)}-partial-", dir=folder))
     except OSError as exc:
@@ -95,15 +81,13 @@ def _marker(folder: Path) -> dict[str, str] | None:
     """The files the marker in ``folder`` lists, with the SHA-256 each had as written; None
     when there is no marker (a link or a file that is not one is the user's)."""
     path = folder / MARKER
-    if path.is_symlink() or not path.is_file():
-        return None
     try:
-        hashes = json.loads(path.read_text()).get("sha256")
+        hashes = json.loads(path.read_text()).get("sha256") if path.is_file() \
+            and not path.is_symlink() else None
     except (OSError, ValueError, AttributeError):
-        return None
-    if not isinstance(hashes, dict):
-        return None
-    return {f: h for f, h in hashes.items() if isinstance(h, str)}
+        hashes = None
+    return {f: h for f, h in hashes.items() if isinstance(h, str)} \
+        if isinstance(hashes, dict) else None
 
 
 def _digest(path: Path) -> str | None:
@@ -118,14 +102,9 @@ def _digest(path: Path) -> str | None:
 
 
 def check_target(target: Path, option: str = "--out", force: bool = False) -> None:
-    """Refuse, before any work, a folder the output set could not be moved into.
-
-    Raises
-    ------
-    OutputError
-        ``target`` is a link to nothing, a file, sits below a file, or is a non-empty folder
-        without lusm's marker (and ``force`` is not set). The message names ``option``.
-    """
+    """Refuse (:class:`OutputError`, naming ``option``), before any work, a ``target`` that
+    is a link to nothing, a file, below a file, or a non-empty folder without lusm's marker
+    (unless ``force``)."""
     target = Path(target)
     if target.is_symlink() and not target.exists():
         raise OutputError(f"{option} {target} is a link to {os.readlink(target)}, which does "
@@ -173,21 +152,13 @@ def output_set(target: Path, option: str = "--out", force: bool = False) -> Iter
     target = Path(target)
     check_target(target, option, force)
     real = Path(os.path.realpath(target))
-    made = [p for p in real.parents if not p.exists()]  # removed again if the set fails
-    done = False
-    try:
-        with staging(_staging_parent(real), real.name, option, target) as stage:
-            built = stage / "set"
-            built.mkdir()  # the umask's mode: a new target is this folder, renamed
-            yield built
-            _commit(built, real, option, force)
-            done = True
-    finally:
-        for folder in made if not done else ():
-            try:
-                folder.rmdir()  # only while empty: never what is not ours
-            except OSError:
-                break
+    # staged in the nearest existing folder: the target's missing parents are made only
+    # when the set is complete
+    with staging(_staging_parent(real), real.name, option, target) as stage:
+        built = stage / "set"
+        built.mkdir()  # the umask's mode: a new target is this folder, renamed
+        yield built
+        _commit(built, real, option, force)
 
 
 def _commit(stage: Path, target: Path, option: str, force: bool) -> None:
