@@ -31,18 +31,14 @@ class deferred_signals:  # noqa: N801 - used as a function: ``with deferred_sign
     """Hold SIGINT and SIGTERM for the block; deliver the first one received afterwards."""
 
     def __enter__(self) -> None:
-        self.previous = None
-        if threading.current_thread() is not threading.main_thread():
-            return
-        _depth[0] += 1
-        if _depth[0] == 1:
-            self.previous = [signal.signal(s, _record) for s in HELD]
+        self.main = threading.current_thread() is threading.main_thread()
+        _depth[0] += self.main
+        first = self.main and _depth[0] == 1  # an inner hold: the outermost delivers
+        self.previous = [signal.signal(s, _record) for s in HELD] if first else None
 
     def __exit__(self, *exc) -> None:
-        if threading.current_thread() is not threading.main_thread():
-            return
-        _depth[0] -= 1
-        if self.previous is None:  # an inner hold: the outermost restores and delivers
+        _depth[0] -= self.main
+        if self.previous is None:
             return
         for s, handler in zip(HELD, self.previous, strict=True):
             signal.signal(s, handler)
@@ -53,9 +49,7 @@ class deferred_signals:  # noqa: N801 - used as a function: ``with deferred_sign
             if callable(handler):
                 handler(signum, None)  # Python's default_int_handler, or the caller's own
             elif handler == signal.SIG_DFL:
-                if signum == signal.SIGINT:
-                    raise KeyboardInterrupt
-                signal.raise_signal(signum)  # the default action: SIGTERM ends the process
+                signal.raise_signal(signum)  # the default action: the process ends
 
 
 def call_held(kernel, *args):

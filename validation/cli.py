@@ -116,8 +116,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
         _say(f"{name}: interrupted")
         code = 130
-    if argv is None:
-        # the command is done: only the interpreter's shutdown is left
+    if argv is None:  # the console script: only the interpreter's shutdown is left
         _after_the_command(code)
     return code
 

@@ -1,11 +1,10 @@
 """Ctrl-C and SIGTERM end a command with one line and exit code 130, nothing half-written.
 
 While a command runs, SIGINT raises ``KeyboardInterrupt`` and SIGTERM :class:`Terminated`, so
-that every ``finally`` runs (staging folders are removed) and the CLI prints its one line.
-Each handler also records its signal: a handler that runs inside a ``__del__`` or a weakref
-callback cannot propagate its exception (Python reports it as "Exception ignored" and goes on),
-so :func:`checkpoint` raises it again before an output is moved in, and so does the end of
-the command.
+that every ``finally`` runs (staging folders are removed) and the CLI prints its one line. A
+handler inside a ``__del__`` or a weakref callback cannot propagate its exception (Python
+reports it and goes on), so each signal is recorded too, and :func:`checkpoint` raises it
+again before an output is moved in and at the end of the command.
 """
 
 from __future__ import annotations
@@ -28,11 +27,6 @@ def _on_signal(signum, frame) -> None:  # pragma: no cover - exercised by signal
     stop = KeyboardInterrupt if signum == signal.SIGINT else Terminated
     _received.append(stop)
     raise stop
-
-
-def interrupted() -> bool:
-    """Whether a SIGINT or SIGTERM arrived while the command ran."""
-    return bool(_received)
 
 
 def checkpoint() -> None:
