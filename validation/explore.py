@@ -532,20 +532,13 @@ def _open_parts(study: Study, out: Path, resume: bool):
                          "folder of a lusm explore run (a finished run leaves only files "
                          "that are not its own there); move it away or choose another --out")
     lock = _lock_parts(folder, out)  # a live run's folder is refused before anything is said
-    try:
-        old = _stamp_of(folder)
-        if not resume:
-            raise ValueError(_not_resumed(study, out, folder, old, template))
-        if old.get("lusm_version") != _version():
-            raise ValueError(f"--resume: {folder} {_other_version(old)}; resuming would mix "
-                             "both in one dataset; remove that folder to start over")
-        if old.get("fingerprint") != study.fingerprint:
-            raise ValueError(f"--resume: {folder} belongs to another study (the study file or "
-                             "its study.stator file changed); remove that folder or restore "
-                             "the study")
-    except BaseException:
+    old = _stamp_of(folder)
+    why = _not_this_runs(study, folder, old, "--resume" if resume else f"--out {out}")
+    if why is None and not resume:
+        why = _not_resumed(study, out, folder, template)
+    if why is not None:
         lock.release()
-        raise
+        raise ValueError(why)
     return folder, _finished_parts(study, folder, template), False, lock
 
 
@@ -569,25 +562,24 @@ def _finished_parts(study: Study, folder: Path, template) -> dict[int, dict]:
     return done
 
 
-def _other_version(old: dict) -> str:
-    """"was computed by lusm X (this is lusm Y)"."""
-    return (f"was computed by lusm {old.get('lusm_version', 'unknown')} (this is lusm "
-            f"{_version()})")
-
-
-def _not_resumed(study: Study, out: Path, folder: Path, old: dict, template) -> str:
-    """Why a run without ``--resume`` does not start over an existing parts folder, and what
-    to do: a run of another lusm version (said first: its study may read as another one),
-    another study's run, every geometry of this one computed (the dataset not written: an
-    interrupt or a failed write at the end), a finished run in which none computed fully, or
-    an unfinished run."""
+def _not_this_runs(study: Study, folder: Path, old: dict, option: str) -> str | None:
+    """Why the parts in ``folder`` (whose ``study.json`` is ``old``) cannot go into this run's
+    dataset, naming ``option``: another lusm version's (said first: it may read the same file
+    as another study) or another study's; None when they can."""
     if old.get("lusm_version") != _version():
-        return (f"--out {out}: {folder} {_other_version(old)}, which --resume cannot "
-                "continue; remove that folder to start over")
+        return (f"{option}: {folder} was computed by lusm {old.get('lusm_version', 'unknown')} "
+                f"(this is lusm {_version()}); resuming would mix both in one dataset; remove "
+                "that folder to start over")
     if old.get("fingerprint") != study.fingerprint:
-        return (f"--out {out}: {folder} holds the parts of another study (the study file or "
-                "its study.stator file changed); remove that folder, or restore the study "
-                "and pass --resume")
+        return (f"{option}: {folder} holds the parts of another study (the study file or its "
+                "study.stator file changed); remove that folder, or restore the study")
+    return None
+
+
+def _not_resumed(study: Study, out: Path, folder: Path, template) -> str:
+    """Why a run without ``--resume`` does not start over this study's parts folder, and what
+    to do: every geometry computed (the dataset not written: an interrupt or a failed write
+    at the end), a finished run in which none computed fully, or an unfinished run."""
     if not all(_part_path(folder, i).exists() for i in range(study.n_geometries)):
         return (f"--out {out}: {folder} holds an unfinished run; pass --resume to continue "
                 "it, or remove that folder to start over")
@@ -844,15 +836,10 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
     """Write ``ds`` to netCDF aside and rename it onto ``out``.
 
     A file already at ``out`` is refused unless ``force``; with ``force`` it is kept as
-    ``out.bak-N``, never deleted.
-
-    HDF5 builds the file in memory (``to_netcdf()`` without a path gives its bytes) and this
-    process writes those bytes to the staging file: a disk that refuses them (full, or a file
-    size limit) is then an ``OSError`` of an ordinary write. Written by HDF5 itself, such a
-    failure broke h5py's close half way; h5netcdf's ``__del__`` closed the file again at exit
-    and the process died of a segmentation fault (exit 139, after the error line), with a
-    flood of HDF5 tracebacks and the staging file left beside the target. The bytes are as
-    large as the file (a study at the work bounds writes some tens of MB).
+    ``out.bak-N``, never deleted. HDF5 builds the file in memory and this process writes its
+    bytes (as many as the file has), so a disk that refuses them (full, or a file size limit)
+    is an ``OSError`` of an ordinary write, not a failure inside h5py's close (which crashes
+    the process at exit).
 
     Raises
     ------
@@ -939,44 +926,32 @@ def local_cluster(n_workers: int = DEFAULT_WORKERS):
 
     The worker processes ignore SIGINT: a terminal's Ctrl-C goes to the whole process group,
     and each worker would print its own KeyboardInterrupt traceback while the client is
-    already stopping them (the client closes them on the way out). They are spawned through
-    a wrapper that ignores SIGINT before it executes Python (:func:`_workers_ignoring_sigint`;
-    an ignored signal stays ignored across exec, and Python then installs no
-    KeyboardInterrupt handler). The client
-    itself keeps catching SIGINT while the cluster starts, but only records it: a Ctrl-C in
-    those seconds closes the new cluster and is raised as soon as the start returns. (It
-    used to ignore SIGINT itself meanwhile, with the signal blocked in its main thread: the
-    threads dask starts did not block it, and a Ctrl-C delivered to one of them was lost.)
+    already stopping them. They are spawned through a wrapper that ignores SIGINT before it
+    executes Python (:func:`_workers_ignoring_sigint`). A Ctrl-C while the cluster starts is
+    held, and raised once the start returns and the new cluster is closed.
     """
-    import signal
-    import threading
-
     from distributed import LocalCluster
 
+    from contact.deferred_signals import deferred_signals
+
     def start():
-        # the workers' own logs stay quiet (CRITICAL): a task's failure comes back to the client
-        # as its exception, and at shutdown a worker's heartbeat to the closed scheduler logged
-        # a CommClosedError traceback after "wrote ...". No dashboard; the scheduler's plain
-        # HTTP routes on a free local port, not 8787
-        # (a second cluster on the machine printed "Port 8787 is already in use")
+        # the workers' own logs stay quiet: a task's failure comes back to the client as its
+        # exception, and a heartbeat to the closed scheduler at shutdown is not news. No
+        # dashboard; the scheduler's HTTP routes on a free local port, not the shared 8787
         return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
                             dashboard_address=None, silence_logs=logging.CRITICAL,
                             env=worker_env(),
                             scheduler_kwargs={"dashboard": False,
                                               "dashboard_address": "127.0.0.1:0"})
 
-    with _workers_ignoring_sigint():
-        if threading.current_thread() is not threading.main_thread():
-            return start()  # signal dispositions belong to the main thread
-        pending: list[int] = []
-        handler = signal.signal(signal.SIGINT, lambda signum, frame: pending.append(signum))
-        try:
+    cluster = None
+    try:
+        with _workers_ignoring_sigint(), deferred_signals():
             cluster = start()
-        finally:
-            signal.signal(signal.SIGINT, handler)
-    if pending:
-        cluster.close()
-        raise KeyboardInterrupt
+    except BaseException:
+        if cluster is not None:
+            cluster.close()
+        raise
     return cluster
 
 
