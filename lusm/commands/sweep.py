@@ -1,6 +1,6 @@
 """``lusm sweep``: L1 and B2 against the plate width or length (crossing diagram, PNG).
 
-One of ``--width-mm`` / ``--length-mm`` is an ``a:b:step`` range (mm, :mod:`validation.ranges`),
+One of ``--width-mm`` / ``--length-mm`` is an ``a:b:step`` range (mm, :mod:`lusm.ranges`),
 the other plate options are fixed values as on every stator command. Calls
 :func:`fem.sweep.sweep_dimension` and :func:`validation.fem_figures.sweep_figure`, prints.
 No physics here.
@@ -11,8 +11,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
-from validation.options import GAP_RULE, MATERIALS, add_output_options, print_json, real
+from lusm import limits
+from lusm.options import GAP_RULE, MATERIALS, add_output_options, print_json, real
 
 
 def register(subparsers) -> None:
@@ -43,7 +43,7 @@ def register(subparsers) -> None:
     g.add_argument("--gap-mm", type=real("--gap-mm", "mm", 0.0, hi, rule=GAP_RULE),
                    default=None, help="electrode gap (mm), default 0.5")
     g.add_argument("--material", choices=MATERIALS, default=None, help="default pzt8")
-    from validation.cmd_modes import add_fe_options
+    from lusm.commands.modes import add_fe_options
 
     add_fe_options(p)
     add_output_options(p, folder="--out", folder_help="write the crossing diagram (PNG) "
@@ -53,7 +53,7 @@ def register(subparsers) -> None:
 
 def _split(args: argparse.Namespace):
     """(parameter, option, range text, fixed values in mm) from the two dimension options."""
-    from validation.errors import LusmError
+    from lusm.errors import LusmError
 
     ranges = [(o, getattr(args, o[2:].replace("-", "_"))) for o in ("--width-mm", "--length-mm")]
     ranged = [(o, t) for o, t in ranges if t is not None and ":" in t]
@@ -80,9 +80,9 @@ def run(args: argparse.Namespace) -> None:
     import numpy as np
 
     from fem.units import to_si
-    from validation.cmd_modes import warn_linear_elements
-    from validation.errors import LusmError
-    from validation.options import (
+    from lusm.commands.modes import warn_linear_elements
+    from lusm.errors import LusmError
+    from lusm.options import (
         StatorChoice,
         figure_set,
         load_design,
@@ -93,7 +93,7 @@ def run(args: argparse.Namespace) -> None:
         warn_refine_unused,
         warn_thin_plate,
     )
-    from validation.ranges import parse_range
+    from lusm.ranges import parse_range
 
     warn_linear_elements(args)
     out = output_folder(args, "sweep", "--out")
@@ -167,7 +167,7 @@ def run(args: argparse.Namespace) -> None:
     if base.electrode_gap_m >= smallest:
         raise LusmError(f"{option} {text}: the electrode gap {base.electrode_gap_m * 1e3:g} mm "
                         "must stay below every swept length and width", option)
-    from validation.options import check_fe_size, check_fe_work
+    from lusm.options import check_fe_size, check_fe_work
 
     try:  # the sweep's two extremes, which also hold the features if any plate does
         ends = [replace(base, **{f"{parameter}_m": float(v)})
@@ -182,7 +182,7 @@ def run(args: argparse.Namespace) -> None:
         if not str(exc).startswith("ParametricStator."):
             raise
         # a plate of the sweep no longer holds the file's features: the range is to blame
-        from validation.errors import feature_reason
+        from lusm.errors import feature_reason
 
         raise LusmError(f"{option} {text}: a plate of the sweep no longer holds the features "
                         f"of --geometry {args.geometry} ({feature_reason(exc)}); the sweep "
@@ -192,7 +192,7 @@ def run(args: argparse.Namespace) -> None:
                   fewer=f"sweep fewer values ({option})")
 
     from fem.sweep import sweep_dimension
-    from validation.cmd_modes import fe_failure, is_fe_failure
+    from lusm.fe_errors import fe_failure, is_fe_failure
     from validation.fem_figures import sweep_figure
 
     try:
@@ -218,7 +218,7 @@ def run(args: argparse.Namespace) -> None:
     # the rows are told apart too (25.690:25.700:0.002 had printed 25.69 three times and 25.7
     # three times, and 25.6938:25.6988:0.001 the rows 25.694 ... 25.699, none of them solved)
     digits = 4
-    while digits < 15 and (  # to the range's rounding (validation.ranges: 12 digits)
+    while digits < 15 and (  # to the range's rounding (lusm.ranges: 12 digits)
             any(not math.isclose(float(f"{v:.{digits}g}"), v, rel_tol=1e-12) for v in values_mm)
             or len({f"{v:.{digits}g}" for v in values_mm}) < values_mm.size):
         digits += 1
@@ -246,8 +246,8 @@ def _check_some_b2_in_reach(ends, option: str, text: str) -> None:
     than long: then no plate of it has a pair (:func:`fem.modes.check_b2_in_reach`). A sweep
     only partly too wide keeps its other plates (the wide ones fail alone, before a solve)."""
     from fem.modes import SlenderPlateError, WidePlateError, check_b2_in_reach
-    from validation.errors import LusmError
-    from validation.options import slender_reason
+    from lusm.errors import LusmError
+    from lusm.fe_errors import slender_reason
 
     try:
         check_b2_in_reach(ends[1])
@@ -268,8 +268,8 @@ def _check_some_b2_in_reach(ends, option: str, text: str) -> None:
 
 def _report_failures(res, parameter: str) -> None:
     """Refuse a sweep where no point gave L1 and B2; warn about the points that did not."""
-    from validation.errors import LusmError, short_reason
-    from validation.options import warn
+    from lusm.errors import LusmError, short_reason
+    from lusm.messages import warn
 
     bad = [i for i, f in enumerate(res.failures) if f]
     if not bad:

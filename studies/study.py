@@ -65,7 +65,7 @@ from pathlib import Path
 from typing import Any
 
 from fem.units import exact_si, nearest_float
-from validation import limits
+from lusm import limits
 
 GEOMETRY_AXES = ("length", "width", "thickness", "gap", "material")
 """Axes that change the stator (one FE solve per combination), in dimension order."""
@@ -132,7 +132,7 @@ SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": FE_REFINE_DEFAULT
                                    "rest": "probe"}
 """Solver settings when the study gives none: those of the single-point commands. A
 transient runs ``lusm simulate``'s 50 ms, and without ``dt`` its step is simulate's rule
-(:func:`validation.options.time_step_s`: the largest step up to 100 ns that divides the drive
+(:func:`lusm.options.time_step_s`: the largest step up to 100 ns that divides the drive
 period); the study had run 5 ms at exactly 100 ns."""
 
 MAX_GEOMETRIES = 100_000
@@ -140,7 +140,7 @@ MAX_GEOMETRIES = 100_000
 MAX_STUDY_FE_WORK = 10_000_000
 """2D elements x FE solves of one study, each plate counted at the study's largest mesh
 (multiplied by ``LUSM_MAX_WORK``): a hundred times a sweep's bound
-(:data:`validation.limits.MAX_FE_WORK_2D`), as a study runs on a cluster: 100 000 default
+(:data:`lusm.limits.MAX_FE_WORK_2D`), as a study runs on a cluster: 100 000 default
 plates (85 elements each) or 1 000 at ``fe_refine = 48``. The geometry count alone had let
 100 000 plates at ``fe_refine = 48`` start (days of work; the client was at 3.3 GB after a
 minute)."""
@@ -210,8 +210,8 @@ class Solver:
     def step_s(self, frequency_Hz: float) -> float:
         """The time step (s) of a transient at ``frequency_Hz`` (Hz): ``dt_s`` as the study
         gives it, else the largest step up to 100 ns that makes the drive period a whole
-        number of steps (:func:`validation.options.time_step_s`, as ``lusm simulate``)."""
-        from validation.options import time_step_s
+        number of steps (:func:`lusm.options.time_step_s`, as ``lusm simulate``)."""
+        from lusm.options import time_step_s
 
         return time_step_s(self.dt_s, frequency_Hz)
 
@@ -358,7 +358,7 @@ def _axis_values(name: str, raw: Any, key: str) -> tuple:
         items = raw if isinstance(raw, list) else [raw]
         if not items:
             raise ValueError(f"{key} is an empty list; name at least one material")
-        from validation.options import MATERIALS
+        from lusm.options import MATERIALS
 
         for m in items:
             if not isinstance(m, str) or m.strip().lower().replace("-", "") not in MATERIALS:
@@ -647,7 +647,7 @@ def _stator(value: Any, source: str, where: str):
         if design.mesh_path is not None:
             stamp["mesh_sha256"] = _file_sha256(design.mesh_path)
     except (ValueError, OSError) as exc:
-        from validation.options import design_error_text
+        from lusm.options import design_error_text
 
         raise ValueError(f"{where}study.stator {design_error_text(path, exc)}") from None
     return design, stamp
@@ -724,7 +724,7 @@ def _check_stator_plates(study: Study, where: str) -> None:
     keeps them), naming the axis values of the first plate that does not. (A stator with its
     own mesh varies in thickness only, which holds every feature.)"""
     from fem.meshed_stator import MeshedStator
-    from validation.errors import feature_reason
+    from lusm.errors import feature_reason
 
     design, ax = study.stator, study.axes
     base = design.stator
@@ -770,7 +770,7 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     from fem.meshed_stator import MeshedStator
     from fem.modes import wider_than_long
     from fem.parametric import ESTIMATE_LOW_FACTOR, ParametricStator, estimated_elements
-    from validation.options import fe_cell_count
+    from lusm.options import fe_cell_count
 
     ax = study.axes
     base = PlateStator() if study.stator is None else study.stator.stator
@@ -833,7 +833,7 @@ def contact_work_problem(study: Study, plate_work: float, detail: str) -> str | 
     ``plate_work`` is one plate's work: time steps of all its transient runs, or, with the
     steady method, its steady solves times their steps per drive period. The study is taken
     as :attr:`Study.n_geometries` plates like it and held to the bound of the same work in
-    ``lusm map`` (:data:`validation.limits.MAX_MAP_STEPS`, :data:`~validation.limits.
+    ``lusm map`` (:data:`lusm.limits.MAX_MAP_STEPS`, :data:`~lusm.limits.
     MAX_STEADY_WORK`). ``detail`` says how ``plate_work`` was counted.
     """
     total = study.n_geometries * plate_work
@@ -859,7 +859,7 @@ def _check_contact_work(study: Study, where: str) -> None:
     (counted at the default step's upper end, 100 ns: at least as many); a steady solve's
     steps per drive period depend on the plate's FE set, so they are counted at the fewest
     the engine takes (:data:`STEADY_MIN_STEPS_PER_PERIOD`), and each plate's own figure is
-    checked in its task, before its drive points (``validation.explore``)."""
+    checked in its task, before its drive points (``studies.explore``)."""
     s = study.solver
     n = len(study.axes["voltage"]) * len(study.axes["preload"])
     if s.method == "steady":
@@ -868,7 +868,7 @@ def _check_contact_work(study: Study, where: str) -> None:
                   f"{STEADY_MIN_STEPS_PER_PERIOD} steps per drive period")
         work = drive_triples(study) * k * STEADY_MIN_STEPS_PER_PERIOD
     elif study.auto_frequency:
-        from validation.options import DEFAULT_DT_S
+        from lusm.options import DEFAULT_DT_S
 
         steps = s.duration_s / (s.dt_s if s.dt_s is not None else DEFAULT_DT_S)
         least = "" if s.dt_s is not None else "at least "
@@ -1010,7 +1010,7 @@ def show(value: float, kind: str) -> str:
 
 def transient_problem(solver: Solver, frequency_Hz: float, at: str) -> str | None:
     """Why a transient drive point at ``frequency_Hz`` (Hz) cannot run, in the study's keys and
-    units, or None: the checks of ``lusm simulate`` (:func:`validation.options.check_run_size`):
+    units, or None: the checks of ``lusm simulate`` (:func:`lusm.options.check_run_size`):
     a step of at most 1/(20 f), at least 10 drive periods, and the work bounds on the steps of a
     run and of its full-resolution window. ``at`` names the frequency (``"axes.frequency
     40 kHz"``, ``"the auto drive frequency 54.24 kHz of this plate"``)."""
@@ -1074,7 +1074,7 @@ def _check_transient(study: Study, where: str) -> None:
                 f"{where}solver.duration {show(s.duration_s, 'time')} is shorter than 10 drive "
                 f"periods at every drive frequency up to {show(hi, 'frequency')} "
                 f"(axes.frequency auto): give solver.duration >= {show(10 / hi, 'time')}")
-        from validation.options import DEFAULT_DT_S
+        from lusm.options import DEFAULT_DT_S
 
         steps = s.duration_s / DEFAULT_DT_S  # the default step is at most 100 ns
     top = limits.work_bound(limits.MAX_STEPS)

@@ -11,8 +11,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
-from validation.options import add_output_options, add_plate_options, print_json, real
+from lusm import limits
+from lusm.options import add_output_options, add_plate_options, print_json, real
 
 FIX_CHOICES = ("length", "width", "thickness", "thickness_ratio")
 """``--fix`` entries (:data:`fem.tuning.FIX_OPTIONS`, repeated so the parser needs no numpy)."""
@@ -50,7 +50,7 @@ def register(subparsers) -> None:
                    "'width,thickness_ratio'")
     p.add_argument("--model", choices=("2d", "3d"), default="2d", help="FE model")
     add_plate_options(p, note="; dimensions not held by --fix are starting values")
-    from validation.cmd_modes import add_fe_options
+    from lusm.commands.modes import add_fe_options
 
     add_fe_options(p, three_d=True)
     add_output_options(p, folder=None)
@@ -59,14 +59,10 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm tune`` with parsed ``args``."""
-    from validation.cmd_modes import (
-        check_refine_3d,
-        fe_failure,
-        is_fe_failure,
-        warn_linear_elements,
-    )
-    from validation.errors import LusmError
-    from validation.options import check_fe_size, check_fe_work, stator_from_args
+    from lusm.commands.modes import check_refine_3d, warn_linear_elements
+    from lusm.errors import LusmError
+    from lusm.fe_errors import fe_failure, is_fe_failure
+    from lusm.options import check_fe_size, check_fe_work, stator_from_args
 
     warn_linear_elements(args)
     fix = args.fix
@@ -146,7 +142,7 @@ def run(args: argparse.Namespace) -> None:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc, choice.stator) from exc
         if choice.parametric and isinstance(exc, ValueError) and "ParametricStator" in str(exc):
-            from validation.errors import feature_reason
+            from lusm.errors import feature_reason
 
             raise LusmError(f"--geometry {args.geometry}: a plate tried while tuning no longer "
                             f"holds the file's features ({feature_reason(exc)}); tune "
@@ -156,7 +152,8 @@ def run(args: argparse.Namespace) -> None:
         raise
     _check_tuned_plate(d, args.target_frequency)
     if args.model == "2d":
-        from validation.options import warn, warn_holes, warn_thin_plate
+        from lusm.messages import warn
+        from lusm.options import warn_holes, warn_thin_plate
 
         # the tuned plate's holes, as modes warns of them: 2D tunes them softer than 3D
         warn_holes(d.stator, "the tuned plate")
@@ -227,7 +224,7 @@ def _check_tuned_plate(d, target_Hz: float | None) -> None:
     A plate's frequencies scale as 1 / (its size) at a held thickness, so the message
     estimates the targets whose plate fits from the one found.
     """
-    from validation.errors import LusmError
+    from lusm.errors import LusmError
 
     st = d.stator
     dims = {"length": st.length_m * 1e3, "width": st.width_m * 1e3,

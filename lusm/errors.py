@@ -5,7 +5,7 @@ Library code (``fem``, ``rom``, ``contact``) cannot import :mod:`validation`; it
 (``PlateStator.length_m``, ``voltage_V``). The CLI layer checks what the user typed first, in
 the user's units, and raises :class:`LusmError` naming the option (``--length-mm``); whatever
 still comes up from the library is mapped by :func:`user_error` to one line that names the
-option when one is known. :func:`validation.cli.main` prints ``lusm <cmd>: error: <line>`` and
+option when one is known. :func:`lusm.cli.main` prints ``lusm <cmd>: error: <line>`` and
 exits with code 2 for every :class:`LusmError`.
 """
 
@@ -87,7 +87,7 @@ def user_error(exc: BaseException) -> LusmError:
         return LusmError(f"cannot use{where}: {reason}")
     line = _first_line(exc)
     if type(exc).__name__ == "ShortedDriveError":  # fem.model's, by name: no FE import here
-        from validation.options import typed
+        from lusm.messages import typed
 
         option = next((o for o in ("--gap-mm", "--geometry") if typed(o)), None)
         where, fix = {
@@ -98,7 +98,7 @@ def user_error(exc: BaseException) -> LusmError:
         }.get(option, ("the stator", "give the electrodes a gap of at least 0.001 mm"))
         return LusmError(f"{where}: {line}; {fix}", option)
     if line.startswith("the parameter set's mode matrices overflow"):
-        from validation.options import typed
+        from lusm.messages import typed
 
         if typed("--params"):  # the file's values: it named nothing, from deep in NumPy
             return LusmError(f"--params: {line}", "--params")

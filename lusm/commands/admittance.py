@@ -9,8 +9,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
-from validation.options import add_output_options, add_plate_options, integer, print_json, real
+from lusm import limits
+from lusm.options import add_output_options, add_plate_options, integer, print_json, real
 
 
 def register(subparsers) -> None:
@@ -39,7 +39,7 @@ def register(subparsers) -> None:
     p.add_argument("--electrodes", default=None, metavar="E[,E...]",
                    help="driven electrodes, e.g. 1,4 (default: the stator's drive)")
     add_plate_options(p)
-    from validation.cmd_modes import add_fe_options
+    from lusm.commands.modes import add_fe_options
 
     add_fe_options(p)
     add_output_options(p, folder="--out", folder_help="write the admittance plot (PNG) into "
@@ -48,7 +48,7 @@ def register(subparsers) -> None:
 
 
 def _electrodes(text: str | None) -> tuple[int, ...] | None:
-    from validation.errors import LusmError
+    from lusm.errors import LusmError
 
     if text is None:
         return None
@@ -65,9 +65,10 @@ def _electrodes(text: str | None) -> tuple[int, ...] | None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
-    from validation.cmd_modes import fe_failure, is_fe_failure, warn_linear_elements
-    from validation.errors import LusmError
-    from validation.options import (
+    from lusm.commands.modes import warn_linear_elements
+    from lusm.errors import LusmError
+    from lusm.fe_errors import fe_failure, is_fe_failure
+    from lusm.options import (
         check_fe_size,
         figure_set,
         moved,
@@ -99,8 +100,8 @@ def run(args: argparse.Namespace) -> None:
     zetas = (choice.design and design_damping(choice.design)) or (
         table2().zeta_L1, table2().zeta_B2)
     if choice.design is not None and choice.design.damping_identify_Hz is not None:
+        from lusm.errors import LusmError
         from rom.from_fem import fem_params_from_file
-        from validation.errors import LusmError
 
         try:  # the fit needs the reduced set: the file's masses, stiffnesses, force factors
             fitted = fem_params_from_file(args.geometry)
@@ -212,7 +213,7 @@ def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
     """Warn when L1 or B2 lies in the band but no resonance pair found on the grid is theirs
     (``--f-min 1 --f-max 1e7``: a 5 kHz step listed pairs from 177 kHz up, without a word
     about the design's modes at 54-56 kHz)."""
-    from validation.options import warn
+    from lusm.messages import warn
 
     missed = [f"{name} ({f:.0f} Hz)" for name, f in res.unpaired_modes()]
     if missed:
@@ -246,7 +247,7 @@ def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
 def _warn_unresolved(res, f_max_Hz: float, refine: int) -> None:
     """Warn when the band reaches modes the mesh cannot resolve (a 1 MHz band on the default
     mesh listed resonances up to 0.95 MHz from elements 1.9 mm long)."""
-    from validation.options import warn
+    from lusm.messages import warn
 
     port = res.port
     n = int(port.g_N_V.size)

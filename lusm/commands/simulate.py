@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-from validation import limits
-from validation.errors import LusmError
-from validation.options import (
+from lusm import limits
+from lusm.errors import LusmError
+from lusm.messages import warn, warn_unused
+from lusm.options import (
     add_drive_options,
     add_motor_options,
     add_output_options,
@@ -23,10 +24,8 @@ from validation.options import (
     print_json,
     real,
     time_step_of,
-    warn,
     warn_default_frequency,
     warn_drive,
-    warn_unused,
 )
 
 

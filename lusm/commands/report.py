@@ -7,7 +7,7 @@ import argparse
 import os
 from pathlib import Path
 
-from validation.options import add_plate_options
+from lusm.options import add_plate_options
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -34,8 +34,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Write the report and print where it is."""
-    from validation.errors import LusmError
-    from validation.options import output_folder
+    from lusm.errors import LusmError
+    from lusm.options import output_folder
 
     out = output_folder(args, "report", "--out")  # refused before any work
     try:
@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> None:
 
 def _write(args: argparse.Namespace, out: Path) -> dict:
     """The plate's design report (a stator named) or the paper's report, into ``out``."""
-    from validation.options import (
+    from lusm.options import (
         motor_params_of,
         plate_given,
         stator_from_args,

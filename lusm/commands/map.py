@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-from validation import limits
-from validation.errors import LusmError
-from validation.options import (
+from lusm import limits
+from lusm.errors import LusmError
+from lusm.messages import warn, warn_unused
+from lusm.options import (
     add_drive_options,
     add_motor_options,
     add_output_options,
@@ -23,10 +24,8 @@ from validation.options import (
     output_folder,
     parse_frequency,
     print_json,
-    warn,
     warn_default_frequency,
     warn_drive,
-    warn_unused,
 )
 
 
@@ -62,13 +61,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
-    from validation.ranges import parse_range
+    from lusm.ranges import parse_range
 
     return parse_range(text, option, bounds=bounds, unit=unit)
 
 
 def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> None:
-    from validation.options import time_step_of
+    from lusm.options import time_step_of
 
     # the steady engine takes its own step; --dt serves only the transient of an undecided
     # point. A typed one gets the transients' range all the same (--dt 1e-3 had run without

@@ -5,8 +5,9 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
-from validation.options import (
+from lusm import limits
+from lusm.messages import warn, warn_unused
+from lusm.options import (
     add_drive_options,
     add_motor_options,
     add_output_options,
@@ -20,10 +21,8 @@ from validation.options import (
     output_folder,
     parse_frequency,
     print_json,
-    warn,
     warn_default_frequency,
     warn_drive,
-    warn_unused,
 )
 
 
@@ -57,10 +56,10 @@ def parse_loads(text: str) -> list[float]:
     list of loads (a list in any order draws one curve; ``map`` took lists where
     ``characteristic`` refused them).
 
-    At most :data:`validation.limits.MAX_GRID_POINTS` loads (times ``LUSM_MAX_WORK``), each
+    At most :data:`lusm.limits.MAX_GRID_POINTS` loads (times ``LUSM_MAX_WORK``), each
     within the load range of ``lusm simulate --load-N``.
     """
-    from validation.ranges import parse_range
+    from lusm.ranges import parse_range
 
     top = limits.PRELOAD_N[1]
     # repeats and values outside the range refused there
