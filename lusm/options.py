@@ -1175,28 +1175,10 @@ def moved(paths, stage: Path, target: Path) -> list[str]:
     return [str(target / Path(p).relative_to(stage)) for p in paths]
 
 
-def _finite(obj: Any) -> Any:
-    if isinstance(obj, float):
-        return obj if math.isfinite(obj) else None
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
-    if hasattr(obj, "tolist") and not isinstance(obj, (str, bytes)):  # numpy scalars, arrays
-        return _finite(obj.tolist())
-    if isinstance(obj, Path):
-        return str(obj)
-    return obj
-
-
-def json_text(obj: Any, indent: int | None = None) -> str:
-    """``obj`` as valid JSON text: NaN and infinities become ``null`` (Python's ``json``
-    writes a bare ``NaN``, which no JSON reader accepts)."""
-    return json.dumps(_finite(obj), indent=indent, allow_nan=False)
-
-
 def print_json(obj: Any, indent: int | None = None) -> None:
     """Print ``obj`` as valid JSON: NaN and infinities become ``null``."""
+    from validation.summaries import json_text
+
     print(json_text(obj, indent))
 
 

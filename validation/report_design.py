@@ -15,7 +15,6 @@ from pathlib import Path
 
 import numpy as np
 
-from lusm.output_set import output_set
 from rom.params import PARAM_UNITS
 from validation.summaries import damping_line, damping_summary, plate_text, signed_percent
 
@@ -248,14 +247,15 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, sta
 
 def write_design_report(out_dir: Path, choice, params, stator_options: str,
                         quick: bool = False,
-                        progress: bool = True, force: bool = False,
+                        progress: bool = True,
                         damping_from: str = "the parameter set") -> dict:
     """Write the report on one stator (``index.md``, ``index.html``, ``report.json``, figures).
 
     Parameters
     ----------
     out_dir : Path
-        Output folder (built aside, moved in complete; see :mod:`lusm.output_set`).
+        An existing folder (the command builds it aside and moves it in complete,
+        :mod:`lusm.commands.report`).
     choice : lusm.options.StatorChoice
         The stator and material the user named.
     params : rom.params.MotorParams
@@ -268,13 +268,10 @@ def write_design_report(out_dir: Path, choice, params, stator_options: str,
         Coarser grids, same sections.
     progress : bool
         Show a progress bar on stderr.
-    force : bool
-        Write into a non-empty folder lusm did not write (nothing is deleted).
     damping_from : str
         Where the damping ratios of ``params`` came from, printed beside every speed.
     """
-    with output_set(Path(out_dir), "report", "--out", force) as stage:
-        return _build(stage, choice, params, stator_options, quick, progress, damping_from)
+    return _build(Path(out_dir), choice, params, stator_options, quick, progress, damping_from)
 
 
 def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,

@@ -52,26 +52,27 @@ def run(args: argparse.Namespace) -> None:
 
 
 def _write(args: argparse.Namespace, out: Path) -> dict:
-    """The plate's design report (a stator named) or the paper's report, into ``out``."""
+    """The plate's design report (a stator named) or the paper's report, built aside and
+    moved into ``out`` complete (a failure or Ctrl-C leaves ``out`` as it was)."""
     from lusm.options import (
         motor_params_of,
         plate_given,
         stator_from_args,
         stator_options_text,
     )
+    from lusm.output_set import output_set
 
+    progress = not args.no_progress
     if args.geometry or plate_given(args):
         from validation.report_design import write_design_report
 
         choice = stator_from_args(args)
         params, damping_from = motor_params_of(args, "fem")
-        doc = write_design_report(out, choice, params, stator_options_text(args),
-                                  quick=args.quick,
-                                  progress=not args.no_progress, force=args.force,
-                                  damping_from=damping_from)
-    else:
-        from validation.report import write_report
+        with output_set(out, "report", "--out", args.force) as stage:
+            return write_design_report(stage, choice, params, stator_options_text(args),
+                                       quick=args.quick, progress=progress,
+                                       damping_from=damping_from)
+    from validation.report import write_report
 
-        doc = write_report(out, quick=args.quick, progress=not args.no_progress,
-                           force=args.force)
-    return doc
+    with output_set(out, "report", "--out", args.force) as stage:
+        return write_report(stage, quick=args.quick, progress=progress)
