@@ -12,6 +12,7 @@ exits with code 2 for every :class:`LusmError`.
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 
 class LusmError(ValueError):
@@ -146,3 +147,13 @@ def short_reason(exc: Exception | str) -> str:
         return f"[{min(values) + 0.0:.6g} ... {max(values) + 0.0:.6g}]"  # no "-0"
 
     return re.sub(r"\[[^\]]{60,}\]", shorten, " ".join(str(exc).split()))
+
+
+def design_error_text(path: str | Path, exc: BaseException) -> str:
+    """A stator file's refusal on one line that names the file: the operating system's
+    reason for a file it cannot open (it printed ``[Errno 13] Permission denied: '...'``)."""
+    if isinstance(exc, OSError) and exc.strerror:  # the file it is about: its mesh, maybe
+        text = f"{exc.filename or path}: {exc.strerror}"
+    else:
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    return text if str(path) in text else f"{path}: {text}"

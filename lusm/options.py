@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from lusm import limits
-from lusm.errors import LusmError
+from lusm.errors import LusmError, design_error_text
 from lusm.fe_errors import plate_refusal
 from lusm.limits import MEASURED_THICK_RATIO
 from lusm.messages import typed, warn, warn_unused
@@ -681,16 +681,6 @@ def load_design(path: str | Path):
         raise
     except (ValueError, OSError) as exc:
         raise LusmError(f"--geometry {design_error_text(path, exc)}", "--geometry") from None
-
-
-def design_error_text(path: str | Path, exc: BaseException) -> str:
-    """A stator file's refusal on one line that names the file: the operating system's
-    reason for a file it cannot open (it printed ``[Errno 13] Permission denied: '...'``)."""
-    if isinstance(exc, OSError) and exc.strerror:  # the file it is about: its mesh, maybe
-        text = f"{exc.filename or path}: {exc.strerror}"
-    else:
-        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-    return text if str(path) in text else f"{path}: {text}"
 
 
 def fem_params_of(args: argparse.Namespace, source: str | None):

@@ -358,11 +358,11 @@ def _axis_values(name: str, raw: Any, key: str) -> tuple:
         items = raw if isinstance(raw, list) else [raw]
         if not items:
             raise ValueError(f"{key} is an empty list; name at least one material")
-        from lusm.options import MATERIALS
+        from fem.material import MATERIAL_NAMES
 
         for m in items:
-            if not isinstance(m, str) or m.strip().lower().replace("-", "") not in MATERIALS:
-                raise ValueError(f"{key} must name materials among {', '.join(MATERIALS)}, "
+            if not isinstance(m, str) or m.strip().lower().replace("-", "") not in MATERIAL_NAMES:
+                raise ValueError(f"{key} must name materials among {', '.join(MATERIAL_NAMES)}, "
                                  f"got {m!r}")
         out = tuple(m.strip().lower().replace("-", "") for m in items)
     elif name == "frequency" and isinstance(raw, str) and raw.strip().lower() == "auto":
@@ -647,7 +647,7 @@ def _stator(value: Any, source: str, where: str):
         if design.mesh_path is not None:
             stamp["mesh_sha256"] = _file_sha256(design.mesh_path)
     except (ValueError, OSError) as exc:
-        from lusm.options import design_error_text
+        from lusm.errors import design_error_text
 
         raise ValueError(f"{where}study.stator {design_error_text(path, exc)}") from None
     return design, stamp
