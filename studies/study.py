@@ -522,83 +522,16 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     if unknown:
         raise ValueError(f"{where}{unknown[0]} is not a study section; use study, axes, "
                          "outputs and solver")
-    meta = doc.get("study", {})
-    if not isinstance(meta, dict):  # `study = "x"` said "study.study is not a study key"
-        raise ValueError(f"{where}study must be a table ([study] with name = \"...\"), got "
-                         f"{meta!r}")
-    if sorted(set(meta) - {"name", "stator"}):
-        bad = sorted(set(meta) - {"name", "stator"})
-        raise ValueError(f"{where}study.{bad[0]} is not a study key; use name or stator")
-    if "name" in meta and not (isinstance(meta["name"], str) and meta["name"].strip()):
-        raise ValueError(f"{where}study.name must be a non-empty string, got {meta['name']!r}")
-    name = str(meta.get("name", Path(source).stem if source != "<dict>" else "study"))
+    name, meta = _study_table(doc.get("study", {}), source, where)
     raw_axes = doc.get("axes", {})
     if not isinstance(raw_axes, dict):
         raise ValueError(f"{where}axes must be a table of axes")
-    allowed = GEOMETRY_AXES + DRIVE_AXES + FEATURE_AXES
-    for k in raw_axes:
-        if k not in allowed:
-            hint = ""
-            m = re.match(r"^(\w+?)_(mm|m|um|hz|khz|v|n)$", k, re.IGNORECASE)
-            if m and m.group(1) in allowed:
-                hint = f" (write '{m.group(1)} = \"30 {m.group(2)}\"': units go with values)"
-            raise ValueError(f"{where}axes.{k} is not an axis; use one of "
-                             f"{', '.join(allowed)}{hint}")
+    _check_axis_names(raw_axes, where)
     design, stamp = (None, None) if "stator" not in meta else _stator(meta["stator"], source,
                                                                        where)
-    features = [a for a in FEATURE_AXES if a in raw_axes]
-    if features and not _parametric(design):
-        raise ValueError(f"{where}axes.{features[0]} varies a parametric stator's feature: it "
-                         "needs study.stator naming a stator file with [tip], [chamfers] or "
-                         "[[holes]] (docs/designer.md)")
-    tip = [a for a in ("tip_length", "tip_width") if a in features]
-    if len(tip) == 1 and not design.stator.tip_length_m > 0.0:
-        other = "tip_width" if tip[0] == "tip_length" else "tip_length"
-        raise ValueError(f"{where}axes.{tip[0]} needs a tip {other.split('_')[1]} too: the "
-                         f"stator file {design.path} has no [tip]; give axes.{other} as well")
-    if design is not None:
-        _check_stator_axes(design, raw_axes, where)
-    # an axis the study does not name: the stator file's plate, else the paper's
-    own = {} if design is None else _stator_values(design)
-    axes = {a: own[a] if a in own and a not in raw_axes
-            else _axis_values(a, raw_axes.get(a, DEFAULT_AXES.get(a)), f"{where}axes.{a}")
-            for a in allowed if a not in FEATURE_AXES or a in raw_axes}
-    for g in axes["gap"]:
-        smallest = min(min(axes["length"]), min(axes["width"]))
-        if g >= smallest:
-            gap = (f"study.stator {design.path}'s [electrodes] gap_mm"
-                   if design is not None and "gap" not in raw_axes else "axes.gap")
-            raise ValueError(f"{where}{gap} {g * 1e3:g} mm must be below every length and "
-                             f"width of the study (smallest {smallest * 1e3:g} mm)")
-    outputs = doc.get("outputs", list(OUTPUTS))
-    if not isinstance(outputs, list) or not outputs:
-        raise ValueError(f"{where}outputs must be a non-empty list among {', '.join(OUTPUTS)}")
-    for i, o in enumerate(outputs):
-        if o not in OUTPUTS:
-            raise ValueError(f"{where}outputs[{i}] {o!r} does not exist; use "
-                             f"{', '.join(OUTPUTS)}")
-        if o in outputs[:i]:  # as a repeated axis value is: a typo, most likely
-            raise ValueError(f"{where}outputs[{i}] {o!r} is listed twice")
-    outputs = tuple(o for o in OUTPUTS if o in outputs)
-    motor = [o for o in outputs if o not in FE_OUTPUTS]
-    if motor and design is not None and "gap" not in raw_axes and 0.0 in axes["gap"]:
-        raise ValueError(f"{where}study.stator {design.path}: its [electrodes] gap_mm 0 makes "
-                         "the four electrodes one conductor, which the motor outputs "
-                         f"({', '.join(motor)}) would drive as a short circuit; give the file "
-                         "a gap of at least 0.001 mm, or ask for FE outputs only")
-    if motor and design is not None:
-        from rom.from_fem import design_base
-
-        try:  # its motor tables against Table 2's other constants, before any FE solve
-            design_base(design)
-        except ValueError as exc:
-            raise ValueError(f"{where}study.stator {str(exc).splitlines()[0]}") from None
-    if motor and 0.0 in axes["gap"]:
-        # one conductor cannot be driven at V on 1, 4 and grounded on 2, 3 (fem.model
-        # ShortedDriveError): refused here, not once per geometry after its FE solve
-        raise ValueError(f"{where}axes.gap 0 mm makes the four electrodes one conductor, "
-                         f"which the motor outputs ({', '.join(motor)}) would drive as a short "
-                         "circuit; give a gap of at least 0.001 mm, or ask for FE outputs only")
+    axes = _axes(raw_axes, design, where)
+    outputs = _outputs(doc.get("outputs", list(OUTPUTS)), where)
+    _check_motor_drivable(outputs, axes, raw_axes, design, where)
     raw_solver = doc.get("solver", {})
     if not isinstance(raw_solver, dict):
         raise ValueError(f"{where}solver must be a table")
@@ -625,6 +558,103 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
         canonical["stator"] = stamp
     text = json.dumps(canonical, sort_keys=True)
     return Study(name, axes, outputs, solver, source, text, design)
+
+
+def _study_table(meta: Any, source: str, where: str) -> tuple[str, dict]:
+    """The study's name and its ``[study]`` table, checked."""
+    if not isinstance(meta, dict):  # `study = "x"` is not a table
+        raise ValueError(f"{where}study must be a table ([study] with name = \"...\"), got "
+                         f"{meta!r}")
+    if sorted(set(meta) - {"name", "stator"}):
+        bad = sorted(set(meta) - {"name", "stator"})
+        raise ValueError(f"{where}study.{bad[0]} is not a study key; use name or stator")
+    if "name" in meta and not (isinstance(meta["name"], str) and meta["name"].strip()):
+        raise ValueError(f"{where}study.name must be a non-empty string, got {meta['name']!r}")
+    return str(meta.get("name", Path(source).stem if source != "<dict>" else "study")), meta
+
+
+def _check_axis_names(raw_axes: dict, where: str) -> None:
+    """Refuse an axis that does not exist, with the unit-free name where one was meant."""
+    allowed = GEOMETRY_AXES + DRIVE_AXES + FEATURE_AXES
+    for k in raw_axes:
+        if k not in allowed:
+            hint = ""
+            m = re.match(r"^(\w+?)_(mm|m|um|hz|khz|v|n)$", k, re.IGNORECASE)
+            if m and m.group(1) in allowed:
+                hint = f" (write '{m.group(1)} = \"30 {m.group(2)}\"': units go with values)"
+            raise ValueError(f"{where}axes.{k} is not an axis; use one of "
+                             f"{', '.join(allowed)}{hint}")
+
+
+def _axes(raw_axes: dict, design, where: str) -> dict[str, tuple]:
+    """Every axis's values (SI): as the study gives them, else the stator file's plate, else
+    the paper's; features only where the study varies them."""
+    features = [a for a in FEATURE_AXES if a in raw_axes]
+    if features and not _parametric(design):
+        raise ValueError(f"{where}axes.{features[0]} varies a parametric stator's feature: it "
+                         "needs study.stator naming a stator file with [tip], [chamfers] or "
+                         "[[holes]] (docs/designer.md)")
+    tip = [a for a in ("tip_length", "tip_width") if a in features]
+    if len(tip) == 1 and not design.stator.tip_length_m > 0.0:
+        other = "tip_width" if tip[0] == "tip_length" else "tip_length"
+        raise ValueError(f"{where}axes.{tip[0]} needs a tip {other.split('_')[1]} too: the "
+                         f"stator file {design.path} has no [tip]; give axes.{other} as well")
+    if design is not None:
+        _check_stator_axes(design, raw_axes, where)
+    own = {} if design is None else _stator_values(design)
+    axes = {a: own[a] if a in own and a not in raw_axes
+            else _axis_values(a, raw_axes.get(a, DEFAULT_AXES.get(a)), f"{where}axes.{a}")
+            for a in GEOMETRY_AXES + DRIVE_AXES + FEATURE_AXES
+            if a not in FEATURE_AXES or a in raw_axes}
+    for g in axes["gap"]:
+        smallest = min(min(axes["length"]), min(axes["width"]))
+        if g >= smallest:
+            gap = (f"study.stator {design.path}'s [electrodes] gap_mm"
+                   if design is not None and "gap" not in raw_axes else "axes.gap")
+            raise ValueError(f"{where}{gap} {g * 1e3:g} mm must be below every length and "
+                             f"width of the study (smallest {smallest * 1e3:g} mm)")
+    return axes
+
+
+def _outputs(outputs: Any, where: str) -> tuple[str, ...]:
+    """The outputs asked for, each once, in :data:`OUTPUTS` order."""
+    if not isinstance(outputs, list) or not outputs:
+        raise ValueError(f"{where}outputs must be a non-empty list among {', '.join(OUTPUTS)}")
+    for i, o in enumerate(outputs):
+        if o not in OUTPUTS:
+            raise ValueError(f"{where}outputs[{i}] {o!r} does not exist; use "
+                             f"{', '.join(OUTPUTS)}")
+        if o in outputs[:i]:  # as a repeated axis value is: a typo, most likely
+            raise ValueError(f"{where}outputs[{i}] {o!r} is listed twice")
+    return tuple(o for o in OUTPUTS if o in outputs)
+
+
+def _check_motor_drivable(outputs: tuple[str, ...], axes: dict, raw_axes: dict, design,
+                          where: str) -> None:
+    """Refuse, before any FE solve, motor outputs that no plate of the study can give: a
+    gap of 0 (one conductor, driven as a short circuit), or a stator file whose motor
+    tables do not fit Table 2's other constants."""
+    motor = [o for o in outputs if o not in FE_OUTPUTS]
+    if not motor:
+        return
+    if design is not None and "gap" not in raw_axes and 0.0 in axes["gap"]:
+        raise ValueError(f"{where}study.stator {design.path}: its [electrodes] gap_mm 0 makes "
+                         "the four electrodes one conductor, which the motor outputs "
+                         f"({', '.join(motor)}) would drive as a short circuit; give the file "
+                         "a gap of at least 0.001 mm, or ask for FE outputs only")
+    if design is not None:
+        from rom.from_fem import design_base
+
+        try:
+            design_base(design)
+        except ValueError as exc:
+            raise ValueError(f"{where}study.stator {str(exc).splitlines()[0]}") from None
+    if 0.0 in axes["gap"]:
+        # one conductor cannot be driven at V on 1, 4 and grounded on 2, 3 (fem.model
+        # ShortedDriveError)
+        raise ValueError(f"{where}axes.gap 0 mm makes the four electrodes one conductor, "
+                         f"which the motor outputs ({', '.join(motor)}) would drive as a short "
+                         "circuit; give a gap of at least 0.001 mm, or ask for FE outputs only")
 
 
 def _stator(value: Any, source: str, where: str):
