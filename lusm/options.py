@@ -733,6 +733,44 @@ def beam_of_plate(args: argparse.Namespace):
                       electrode_layout=plate_layout(st.drive_electrodes))
 
 
+@dataclass(frozen=True)
+class Motor:
+    """The motor a contact command's options name, resolved once.
+
+    Attributes
+    ----------
+    params : rom.params.MotorParams
+        The parameter set (``--source``, a stator, ``--params``).
+    damping_from : str
+        Where its damping ratios come from (:func:`validation.summaries.damping_line`).
+    coupling, coupling_from : str
+        The tangential coupling in use and why (:func:`coupling_of`).
+    frequency_Hz : float
+        The drive frequency (Hz): ``--frequency`` as typed, or the set's own operating point
+        for ``auto``.
+    frequency_auto : bool
+        Whether ``--frequency`` asked for the set's own operating point.
+    """
+
+    params: object
+    damping_from: str
+    coupling: str
+    coupling_from: str
+    frequency_Hz: float
+    frequency_auto: bool
+
+
+def resolve_motor(args: argparse.Namespace) -> Motor:
+    """The parameter set, coupling and drive frequency of ``args`` (with ``--source``,
+    ``--coupling`` and ``--frequency``), with the default frequency's warning said."""
+    params, damping_from = motor_params_of(args, args.source)
+    coupling, coupling_from = coupling_of(args, params)
+    freq = parse_frequency(args.frequency, params)
+    warn_default_frequency(params, freq)
+    return Motor(params, damping_from, coupling, coupling_from, freq,
+                 known_frequency(args.frequency) is None)
+
+
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
     :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a

@@ -13,15 +13,12 @@ from lusm.options import (
     add_output_options,
     add_rest_option,
     check_steady_work,
-    coupling_of,
     figure_set,
     known_frequency,
-    motor_params_of,
     moved,
     output_folder,
-    parse_frequency,
     print_json,
-    warn_default_frequency,
+    resolve_motor,
     warn_drive,
 )
 
@@ -78,10 +75,9 @@ def run(args: argparse.Namespace) -> None:
     warn_drive(max(voltages), args.preload)
     # a bad number refused before any work; None for the auto rule ("AUTO", " auto" too)
     frequency_from = "auto" if known_frequency(args.frequency) is None else args.frequency
-    params, damping_from = motor_params_of(args, args.source)
-    coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
-    warn_default_frequency(params, freq)
+    motor = resolve_motor(args)
+    params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
+    coupling, coupling_from = motor.coupling, motor.coupling_from
     check_steady_work(len(voltages) * (len(loads) if loads else 21), params, freq, coupling,
                       "loads x voltages", "--loads" if loads else "--frequency")
 

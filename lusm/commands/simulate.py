@@ -14,17 +14,14 @@ from lusm.options import (
     add_rest_option,
     check_run_size,
     check_steady_frequency,
-    coupling_of,
     figure_set,
     known_frequency,
-    motor_params_of,
     moved,
     output_folder,
-    parse_frequency,
     print_json,
     real,
+    resolve_motor,
     time_step_of,
-    warn_default_frequency,
     warn_drive,
 )
 
@@ -76,10 +73,9 @@ def run(args: argparse.Namespace) -> None:
         args.dt = time_step_of(typed_dt, known, used=not args.steady)
         if not args.steady:  # --steady uses neither --duration nor --dt
             check_run_size(args.duration, args.dt, known)
-    params, damping_from = motor_params_of(args, args.source)
-    coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
-    warn_default_frequency(params, freq)
+    motor = resolve_motor(args)
+    params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
+    coupling, coupling_from = motor.coupling, motor.coupling_from
     args.dt = time_step_of(typed_dt, freq, used=not args.steady)
     if args.steady:
         # the range characteristic and map say (the engine's own refusal had no range)
