@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
+from lusm.output_set import MARKER, OutputError, output_set
 from tests.conftest import ROOT
-from validation.output_set import MARKER, OutputError, output_set
 
 
 def _write(stage: Path, files: dict[str, str]) -> None:
@@ -131,7 +131,7 @@ def test_lusm_report_refuses_a_users_folder_before_any_work(tmp_path):
     (tmp_path / "figures").mkdir()
     (tmp_path / "figures" / "precious.png").write_bytes(b"mine")
     (tmp_path / "index.md").write_text("my notes")
-    proc = subprocess.run([sys.executable, "-m", "validation.cli", "report", "--quick",
+    proc = subprocess.run([sys.executable, "-m", "lusm.cli", "report", "--quick",
                            "--no-progress", "--out", str(tmp_path)],
                           cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
@@ -158,7 +158,7 @@ def test_a_marker_that_is_a_link_is_never_written_through(tmp_path):
 
 
 def test_a_marker_listing_nothing_usable_is_refused_before_any_work(tmp_path):
-    from validation.output_set import check_target
+    from lusm.output_set import check_target
 
     out = tmp_path / "o"
     _write(out, {"admittance.png": "mine",
@@ -169,7 +169,7 @@ def test_a_marker_listing_nothing_usable_is_refused_before_any_work(tmp_path):
 
 def test_a_link_to_a_folder_is_written_through_and_a_dangling_one_refused(tmp_path):
     # a link to an empty folder failed after the work ("cannot write (Not a directory)")
-    from validation.output_set import check_target
+    from lusm.output_set import check_target
 
     (tmp_path / "real").mkdir()
     (tmp_path / "link").symlink_to(tmp_path / "real", target_is_directory=True)
@@ -289,7 +289,7 @@ def test_a_plot_folder_that_cannot_be_made_is_refused_before_the_study(tmp_path,
     """explore --plot /proc/maps ran the whole study, wrote the dataset and only then said
     the maps could not be written: the check had asked the permission bits, which root
     passes everywhere."""
-    from validation.cli import main
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["split"]\n[axes]\nlength = ["29 mm", "30 mm"]\n'
@@ -306,7 +306,7 @@ def test_a_plot_folder_that_cannot_be_made_is_refused_before_the_study(tmp_path,
 @pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
 def test_render_refuses_an_out_that_cannot_be_made_before_any_fe_solve(monkeypatch, capsys):
     import fem.modes
-    from validation.cli import main
+    from lusm.cli import main
 
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before the output folder was checked")
@@ -324,7 +324,7 @@ def test_the_current_folder_lusm_wrote_is_written_again(tmp_path, monkeypatch, c
     folder) stays where it is, with the same inode: only files move into it."""
     import os
 
-    from validation.cli import main
+    from lusm.cli import main
 
     here = tmp_path / "dot"
     here.mkdir()
@@ -344,7 +344,7 @@ def test_the_current_folder_lusm_wrote_is_written_again(tmp_path, monkeypatch, c
 def test_the_current_folder_holding_the_users_files_is_refused(tmp_path, monkeypatch, typed):
     """The current folder that lusm did not write is still refused, saying which folder '.'
     is, and with --force the set is written beside the user's files, none of them lost."""
-    from validation.output_set import check_target
+    from lusm.output_set import check_target
 
     monkeypatch.chdir(tmp_path)
     (tmp_path / "characteristic.png").write_text("mine")
@@ -365,7 +365,7 @@ def test_the_current_folder_holding_the_users_files_is_refused(tmp_path, monkeyp
 def test_a_folder_with_a_long_name_is_written(tmp_path, name, exists):
     """A folder name the file system takes is written, though its staging folder's name
     ``.NAME-partial-XXXXXXXX`` is cut to fit."""
-    from validation.output_set import check_target, check_writable
+    from lusm.output_set import check_target, check_writable
 
     out = tmp_path / name
     if exists:
@@ -381,7 +381,7 @@ def test_a_folder_with_a_long_name_is_written(tmp_path, name, exists):
 
 def test_lusm_characteristic_plots_into_a_long_folder_name(tmp_path, monkeypatch, capsys):
     """``--plot`` with a 250-letter folder name, before any work and after."""
-    from validation.cli import main
+    from lusm.cli import main
 
     name = "a" * 250
     (tmp_path / name).mkdir()
@@ -397,7 +397,7 @@ def test_lusm_characteristic_plots_into_a_long_folder_name(tmp_path, monkeypatch
 _KILLED = """
 import os, signal, sys
 from pathlib import Path
-from validation.output_set import output_set
+from lusm.output_set import output_set
 with output_set(Path(sys.argv[1])) as stage:
     (stage / "L1.png").write_text("half")
     os.kill(os.getpid(), signal.SIGKILL)  # as SIGKILL or a power cut: no finally runs

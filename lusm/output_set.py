@@ -163,7 +163,7 @@ def output_set(target: Path, option: str = "--out", force: bool = False) -> Iter
 
 def _commit(stage: Path, target: Path, option: str, force: bool) -> None:
     """Move the files of ``stage`` into ``target`` by the rules of the module docstring."""
-    from validation.interrupts import checkpoint
+    from lusm.interrupts import checkpoint
 
     checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
     new = {p.relative_to(stage).as_posix(): _digest(p)
