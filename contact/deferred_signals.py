@@ -1,92 +1,58 @@
-"""Ctrl-C and SIGTERM held back while a compiled kernel runs, and delivered when it returns.
+"""SIGINT and SIGTERM held while a compiled kernel runs, delivered when it returns.
 
-numba hands a kernel's results back by boxing them, and boxing runs a little Python (numba's
-``_numba_unpickle``). A signal that arrived while the kernel ran is handled right there, at the
-first Python bytecode: its ``KeyboardInterrupt`` is raised inside numba's boxing, which does not
-expect one. The call then ends as a ``SystemError`` ("returned a result with an exception
-set") or, with ``lusm simulate --duration 2`` interrupted after 1.2 s, in a segmentation fault
-(8 times out of 8). While a kernel runs, :func:`deferred_signals` replaces the SIGINT and
-SIGTERM handlers by one that only records the signal, then restores them and hands the
-recorded signal to the restored handler once the results are back in Python.
-
-A kernel never looks at signals, so nothing becomes slower to interrupt. Only the main
-thread can set handlers (Python runs them there); elsewhere this is a no-op.
+numba hands a kernel's results back by boxing them, which runs a little Python: a signal's
+exception raised there ends the call as a ``SystemError`` or crashes the process (a
+segmentation fault, 5 times in 6 for ``lusm simulate --duration 2`` interrupted while its
+kernel ran). While held, the signals are only recorded; the outermost hold restores the
+handlers and then delivers the first one. A kernel never looks at signals, so nothing becomes
+slower to interrupt. Only the main thread sets handlers; elsewhere this is a no-op.
 """
 
 from __future__ import annotations
 
 import signal
 import threading
-from collections.abc import Iterator
-from contextlib import contextmanager
 
 HELD = (signal.SIGINT, signal.SIGTERM)
 """The signals held back."""
 
-_MAIN = threading.main_thread()
 _caught: list[int] = []
-"""Signals received while held (shared by nested holds; delivered by the outermost)."""
+"""Signals received while held (delivered by the outermost hold)."""
+_depth = [0]
+"""Holds in force: an inner one (the steady engine holds once per point around its ~20
+kernel calls) costs a counter, not two handler swaps."""
 
 
 def _record(signum, frame) -> None:  # pragma: no cover - exercised by signals
     _caught.append(signum)
 
 
-@contextmanager
-def deferred_signals() -> Iterator[None]:
+class deferred_signals:  # noqa: N801 - used as a function: ``with deferred_signals():``
     """Hold SIGINT and SIGTERM for the block; deliver the first one received afterwards."""
-    if threading.current_thread() is not _MAIN:
-        yield
-        return
-    previous = _hold()
-    try:
-        yield
-    finally:
-        _release(previous)
+
+    def __enter__(self) -> None:
+        self.main = threading.current_thread() is threading.main_thread()
+        _depth[0] += self.main
+        first = self.main and _depth[0] == 1  # an inner hold: the outermost delivers
+        self.previous = [signal.signal(s, _record) for s in HELD] if first else None
+
+    def __exit__(self, *exc) -> None:
+        _depth[0] -= self.main
+        if self.previous is None:
+            return
+        for s, handler in zip(HELD, self.previous, strict=True):
+            signal.signal(s, handler)
+        if _caught:
+            signum = _caught[0]
+            _caught.clear()
+            handler = self.previous[HELD.index(signum)]
+            if callable(handler):
+                handler(signum, None)  # Python's default_int_handler, or the caller's own
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(signum)  # the default action: the process ends
 
 
 def call_held(kernel, *args):
-    """``kernel(*args)`` with SIGINT and SIGTERM held (:func:`deferred_signals` without the
-    generator). Inside an outer hold (the steady engine holds once per point around its ~20
-    kernel calls, 12 us each alone) it costs a counter."""
-    if threading.current_thread() is not _MAIN:
+    """``kernel(*args)`` with SIGINT and SIGTERM held (:class:`deferred_signals`)."""
+    with deferred_signals():
         return kernel(*args)
-    previous = _hold()
-    try:
-        return kernel(*args)
-    finally:
-        _release(previous)
-
-
-_depth = [0]
-"""Holds in force on the main thread: an inner one costs a counter, not two handler swaps."""
-
-
-def _hold() -> tuple | None:
-    _depth[0] += 1
-    if _depth[0] > 1:
-        return None
-    return signal.signal(signal.SIGINT, _record), signal.signal(signal.SIGTERM, _record)
-
-
-def _release(previous: tuple | None) -> None:
-    _depth[0] -= 1
-    if previous is None:  # an inner hold: the outermost restores and delivers
-        return
-    signal.signal(signal.SIGINT, previous[0])
-    signal.signal(signal.SIGTERM, previous[1])
-    if _caught:  # only the outermost hold gets here
-        signum = _caught[0]
-        _caught.clear()
-        _deliver(signum, previous[0] if signum == signal.SIGINT else previous[1])
-
-
-def _deliver(signum: int, handler) -> None:
-    """What ``signum`` would have done under ``handler``, now that Python is in control."""
-    if callable(handler):
-        handler(signum, None)  # Python's default_int_handler, or the caller's own
-    elif handler == signal.SIG_DFL:
-        if signum == signal.SIGINT:
-            raise KeyboardInterrupt
-        signal.raise_signal(signum)  # the default action (SIGTERM ends the process)
-    # SIG_IGN, or a handler not set from Python (None): nothing to do

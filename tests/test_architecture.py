@@ -1,9 +1,11 @@
-"""The README's whiteboard holds: data flows fem -> rom -> contact -> validation.
+"""The README's whiteboard holds: data flows fem -> rom -> contact -> validation, with the
+studies and the ``lusm`` command line above them.
 
 Checked on the source with ``ast`` (every import, at module level or inside functions):
-``contact`` never imports ``fem``; ``fem`` never imports ``rom``, ``contact`` or
-``validation``; ``rom`` never imports ``contact`` or ``validation``; no module imports a private
-name (leading underscore) from another module of the project.
+``contact`` never imports ``fem``; ``fem`` never imports ``rom``, ``contact`` or anything
+above; ``rom`` never imports ``contact`` or above; no library package imports the command
+line; no module imports a private name (leading underscore) from another module of the
+project; and the modules' import graph has no cycle.
 """
 
 from __future__ import annotations
@@ -15,12 +17,15 @@ import pytest
 
 from tests.conftest import ROOT
 
-PACKAGES = ("fem", "rom", "contact", "validation")
+PACKAGES = ("fem", "rom", "contact", "validation", "studies", "lusm")
+ABOVE = {"validation", "studies", "lusm", "tools"}
 FORBIDDEN = {
-    "fem": {"rom", "contact", "validation"},
-    "rom": {"contact", "validation"},
-    "contact": {"fem", "validation"},
-    "validation": set(),
+    "fem": {"rom", "contact", *ABOVE},
+    "rom": {"contact", *ABOVE},
+    "contact": {"fem", *ABOVE},
+    "validation": {"tools"},
+    "studies": {"tools"},
+    "lusm": {"tools"},
 }
 
 
@@ -37,7 +42,64 @@ def _imports(path: Path) -> list[tuple[int, str, list[str]]]:
 
 
 def _sources(package: str) -> list[Path]:
-    return sorted((ROOT / package).glob("*.py"))
+    return sorted((ROOT / package).rglob("*.py"))
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(ROOT).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _import_graph() -> dict[str, set[str]]:
+    """Module -> the project's modules it imports (an imported name that is a module counts
+    as that module, ``from fem import modes``; otherwise the module it comes from)."""
+    files = {_module_name(p): p for pkg in (*PACKAGES, "tools") for p in _sources(pkg)}
+    graph = {}
+    for name, path in files.items():
+        deps = set()
+        for _line, module, names in _imports(path):
+            if module.split(".")[0] not in files:
+                continue
+            subs = [f"{module}.{n}" for n in names if f"{module}.{n}" in files]
+            deps.update(subs or ([module] if module in files else []))
+        graph[name] = deps - {name}
+    return graph
+
+
+def _cycle(graph: dict[str, set[str]]) -> list[str] | None:
+    """One import cycle of ``graph`` (its modules in order), or None (depth-first search)."""
+    state: dict[str, int] = {}  # 1: on the current path, 2: done
+    path: list[str] = []
+
+    def visit(node: str) -> list[str] | None:
+        state[node] = 1
+        path.append(node)
+        for dep in sorted(graph.get(node, ())):
+            if state.get(dep) == 1:
+                return path[path.index(dep):] + [dep]
+            if dep not in state and (found := visit(dep)):
+                return found
+        state[node] = 2
+        path.pop()
+        return None
+
+    for node in sorted(graph):
+        if node not in state and (found := visit(node)):
+            return found
+    return None
+
+
+def test_the_import_graph_has_no_cycle():
+    graph = _import_graph()
+    assert len(graph) > 90 and graph["lusm.cli"]  # the scan sees the modules and imports
+    upper = {m: d for m, d in graph.items() if m.split(".")[0] in ABOVE}
+    cycle = _cycle(upper)
+    assert cycle is None, " -> ".join(cycle)
+
+
+def test_the_cycle_search_finds_a_cycle():
+    assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}) == ["a", "b", "c", "a"]
+    assert _cycle({"a": {"b"}, "b": set()}) is None
 
 
 @pytest.mark.parametrize("package", PACKAGES)
@@ -97,11 +159,11 @@ def _exits_clean(code: str) -> None:
 
 def test_the_default_frequency_check_imports_no_optimizer():
     """`lusm simulate` at the default 40 kHz checks how far that is from the set's modes
-    (validation.options.warn_default_frequency); asking contact.drive.auto_frequency for it
+    (lusm.options.warn_default_frequency); asking contact.drive.auto_frequency for it
     imported scipy.optimize (0.36 s) into every default run. On Table 2's set, whose own
     point is 39.8 kHz, the grid's best decides without the optimizer."""
     code = (
-        "import sys, validation.options as o; from rom import table2;"
+        "import sys, lusm.options as o; from rom import table2;"
         "o.warn_default_frequency(table2(), 40e3);"
         "sys.exit(1 if 'scipy.optimize' in sys.modules else 0)"
     )

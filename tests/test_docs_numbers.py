@@ -14,8 +14,8 @@ from collections import Counter
 import pytest
 
 from tests.conftest import ROOT
-from validation.doc_numbers import CLAIMS, DOC_FILES, NUMBERS_JSON, claims_by_key, quotes
-from validation.doc_tables import without_blocks
+from tools.doc_numbers import CLAIMS, DOC_FILES, NUMBERS_JSON, claims_by_key, quotes
+from tools.doc_tables import without_blocks
 
 DOC = json.loads(NUMBERS_JSON.read_text())
 
@@ -28,7 +28,7 @@ def test_numbers_json_holds_exactly_the_claims():
 def test_each_claim_is_defined_once(monkeypatch):
     """Every definition counts, not the set of keys: a second definition of a key would
     leave the sets equal and shadow the first."""
-    import validation.doc_numbers as dn
+    import tools.doc_numbers as dn
 
     twice = [k for k, n in Counter(c.key for c in CLAIMS).items() if n > 1]
     assert not twice, f"claims defined more than once: {twice}"
@@ -47,7 +47,7 @@ def test_every_marked_number_equals_numbers_json_at_its_printed_precision():
             bad.append(f"{q.path}:{q.line}: unknown key {q.key}")
         elif entry["value"] is None or not q.agrees(entry["value"]):
             bad.append(f"{q.path}:{q.line}: {q.text} but {q.key} = {entry['value']!r} "
-                       f"(x{q.factor:g}); run python -m validation.doc_numbers --fill")
+                       f"(x{q.factor:g}); run python -m tools.doc_numbers --fill")
     assert not bad, "\n".join(bad)
 
 
@@ -72,7 +72,7 @@ COVER = re.compile(r"<!--(?:n:\w+(?:\*[0-9.eE+-]+)?|paper|input)-->")
 
 def _unmarked(text: str) -> list[str]:
     """Numbers with a unit in ``text`` that no marker covers (fenced code blocks and the
-    generated tables of :mod:`validation.doc_tables` skipped).
+    generated tables of :mod:`tools.doc_tables` skipped).
 
     A paper/input marker covers every number since the previous marker within its own
     paragraph, table row or list item; an n:key marker only the number right before it (whose

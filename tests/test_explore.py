@@ -13,7 +13,7 @@ import pytest
 xr = pytest.importorskip("xarray")
 pytest.importorskip("distributed")
 
-from validation.explore import (  # noqa: E402
+from studies.explore import (  # noqa: E402
     assemble,
     compute_geometry,
     explore,
@@ -22,7 +22,7 @@ from validation.explore import (  # noqa: E402
     parts_folder,
     write_dataset,
 )
-from validation.study import FE_OUTPUTS, load_study, study_from_dict  # noqa: E402
+from studies.study import FE_OUTPUTS, load_study, study_from_dict  # noqa: E402
 
 TINY = {
     "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
@@ -63,7 +63,7 @@ def windowed_run(study, dask_client, tmp_path_factory):
     """TINY on the session's cluster with an in-flight window of 2 tasks, run once for the
     tests below: the result, the dataset's path, and the geometry tasks the scheduler knew
     at each part written (counted on the scheduler itself)."""
-    import validation.explore as E
+    import studies.explore as E
 
     known = []
 
@@ -136,7 +136,7 @@ def test_the_local_cluster_has_no_more_workers_than_geometries(scheduler, monkey
     (test_a_ctrl_c_while_the_cluster_starts_is_not_lost starts a real one of the size asked)."""
     from distributed import Client
 
-    import validation.explore as E
+    import studies.explore as E
 
     asked = []
 
@@ -244,7 +244,7 @@ BAD = {
     # said in the file's unit: it was "got (2.0,) (SI)"
     "length too long": ("[axes]\nlength = ['30 mm', '2000 mm']\n",
                         "axes.length values must lie in [0.1, 1000] mm, got 2000 mm"),
-    # contact.reference.MAX_REFERENCE_PERIODS: refused by the file, not by every point
+    # contact.transient.reference.MAX_REFERENCE_PERIODS: refused by the file, not by every point
     "reference too long": ("[axes]\nfrequency = '40 kHz'\n[solver]\nmethod = 'reference'\n"
                            "duration = '1 s'\n",
                            "solver.duration 1 s must be at most 500 ms (20000 drive periods) "
@@ -319,7 +319,7 @@ def _release(path):
 ])
 def test_a_study_path_that_is_not_a_small_regular_file_is_refused_unread(kind, words,
                                                                          tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     if kind == "device":
         path = Path("/dev/null")
@@ -372,7 +372,7 @@ EXPLORE_REFUSALS = {
 def test_explore_refuses_bad_input_in_one_line(name, tmp_path, capsys):
     """Exit 2, one line about the option or study key at fault, nothing written, the user's
     file kept."""
-    from validation.cli import main
+    from lusm.cli import main
 
     argv, about = EXPLORE_REFUSALS[name]
     if "/sys/x.nc" in argv and not Path("/sys/kernel").is_dir():
@@ -400,7 +400,7 @@ def test_explore_refuses_bad_input_in_one_line(name, tmp_path, capsys):
 # --- what a task computes -------------------------------------------------------------------
 
 def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
-    import validation.explore as ex
+    import studies.explore as ex
 
     def boom(*a, **k):
         raise AssertionError("the contact model ran for an FE-only study")
@@ -447,8 +447,8 @@ def test_a_plate_in_mm_is_the_same_double_in_a_study_a_stator_file_and_the_comma
 
     from fem.stator_file import load_stator
     from fem.units import to_si
-    from validation.options import stator_from_args
-    from validation.study import plate_with
+    from lusm.options import stator_from_args
+    from studies.study import plate_with
 
     assert (to_si(6.5, 1e-3), to_si("6.5", 1e-3), to_si("-2.6e1", 1e-3)) == (
         0.0065, 0.0065, -0.026)
@@ -486,7 +486,7 @@ def test_fixed_frequencies_are_a_dimension():
 def test_cli_on_an_existing_scheduler(scheduler, tmp_path, capsys):
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "fe.toml"
     path.write_text('outputs = ["f_L1_short", "split"]\n[axes]\n'
@@ -552,25 +552,6 @@ def test_a_dataset_with_a_long_file_name_is_written(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == [out.name]  # no staging file left
 
 
-def test_a_file_already_named_like_the_staging_file_is_never_removed(tmp_path, monkeypatch):
-    # the staging file was unlinked by name in `finally`, also when its exclusive open had
-    # failed because that name was another's file (a cut name, the same random suffix)
-    import uuid
-
-    from validation.staging import staging_name
-
-    class Fixed:
-        hex = "0123456789ab" * 2
-
-    monkeypatch.setattr(uuid, "uuid4", lambda: Fixed())
-    out = tmp_path / ("e" * 250 + ".nc")
-    theirs = tmp_path / staging_name(out.name, "partial", tmp_path)
-    theirs.write_text("not lusm's")
-    with pytest.raises(ValueError, match="cannot write the dataset .File exists"):
-        write_dataset(xr.Dataset({"v": ("x", np.arange(3.0))}), out)
-    assert theirs.read_text() == "not lusm's" and not out.exists()
-
-
 @pytest.mark.skipif(not hasattr(signal, "SIGXFSZ"), reason="needs POSIX file size limits")
 @pytest.mark.slow
 def test_a_dataset_the_disk_refuses_is_one_error_and_leaves_no_staging_file(tmp_path):
@@ -587,7 +568,7 @@ def test_a_dataset_the_disk_refuses_is_one_error_and_leaves_no_staging_file(tmp_
 import resource, sys
 from pathlib import Path
 import numpy as np, xarray as xr
-from validation.explore import write_dataset
+from studies.explore import write_dataset
 ds = xr.Dataset({"v": ("x", np.arange(20_000.0))}, attrs={"title": "160 kB"})
 resource.setrlimit(resource.RLIMIT_FSIZE, (16384, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
 try:
@@ -625,8 +606,8 @@ def test_a_study_path_that_is_not_utf8_is_stored_readably(tmp_path):
 def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, capsys):
     """--out naming a link to nowhere passed check_out (exists() follows the link) and the
     dataset was renamed over the link, silently; lusm modes --export refuses it."""
-    from validation.cli import main
-    from validation.explore import check_out
+    from lusm.cli import main
+    from studies.explore import check_out
 
     out = tmp_path / "d.nc"
     out.symlink_to("nowhere.nc")
@@ -646,7 +627,7 @@ def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, ca
 
 @pytest.mark.slow
 def test_workers_of_another_version_are_refused(scheduler, monkeypatch, tmp_path):
-    import validation.explore as ex
+    import studies.explore as ex
 
     monkeypatch.setattr(ex, "_version", lambda: "0.0.0-client")  # the workers say 0.1.0 etc.
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
@@ -661,10 +642,10 @@ def test_workers_without_gmsh_are_refused_for_a_parametric_stator(scheduler, mon
                                                                   tmp_path):
     """A study of a stator file meshed by gmsh needs gmsh on every worker: refused before any
     task (each task had failed on its mesh with an internal error)."""
-    import fem.parametric
+    import fem.meshing.parametric
 
     # pickled by value: run on the workers
-    monkeypatch.setattr(fem.parametric, "gmsh_problem",
+    monkeypatch.setattr(fem.meshing.parametric, "gmsh_problem",
                         lambda: "gmsh is not installed: pip install it")
     stator = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
     s = study_from_dict({"study": {"stator": str(stator)}, "outputs": ["f_L1_short"]})
@@ -721,9 +702,10 @@ def test_a_studys_answers_are_the_single_point_commands_bit_for_bit(capsys):
     force 11 % low (the test took 5 %). The exact level is the CLI's default too."""
     import json
 
-    from fem.mesh import DEFAULT_REFINE
-    from validation.cli import main
-    from validation.study import SOLVER_DEFAULTS
+    from fem.meshing.mesh import DEFAULT_REFINE
+
+    from lusm.cli import main
+    from studies.study import SOLVER_DEFAULTS
 
     assert SOLVER_DEFAULTS["fe_refine"] == DEFAULT_REFINE
     s = study_from_dict({
@@ -767,7 +749,7 @@ accuracy = "fast"
 """)
     out = tmp_path / "r.nc"
     proc = subprocess.Popen(
-        [sys.executable, "-m", "validation.cli", "explore", str(path), "--out", str(out),
+        [sys.executable, "-m", "lusm.cli", "explore", str(path), "--out", str(out),
          ], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
         text=True, start_new_session=True,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
@@ -804,8 +786,9 @@ def test_a_studys_fe_work_is_bounded_in_all():
     the sum over the plates' own meshes is below that count, and above the limit."""
     import time
 
-    from fem.mesh import structured_mesh
-    from validation.study import MAX_STUDY_FE_WORK
+    from fem.meshing.mesh import structured_mesh
+
+    from studies.study import MAX_STUDY_FE_WORK
 
     axes = {"length": {"start": "20 mm", "stop": "40 mm", "num": 1000},
             "width": {"start": "5 mm", "stop": "10 mm", "num": 100}}
@@ -841,7 +824,7 @@ def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
     """100 voltages x 100 preloads of 2 s event runs (2e11 time steps, hours) were taken where
     lusm map --method transient refuses 4e8; a steady study was allowed 1e6 contact solves
     whatever each cost, where the steady map allows 5e5 solves x steps per drive period."""
-    from validation.study import STEADY_MIN_STEPS_PER_PERIOD
+    from studies.study import STEADY_MIN_STEPS_PER_PERIOD
 
     axes = {"voltage": {"start": "1 V", "stop": "100 V", "num": 100},
             "preload": {"start": "1 N", "stop": "100 N", "num": 100}}
@@ -866,13 +849,13 @@ def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
     monkeypatch.setenv("LUSM_MAX_WORK", "500")
     assert study_from_dict(big).n_drive_points == 10_000
     assert study_from_dict(steady).n_drive_points == 10_000
-    from contact.periodic_orbit import STEPS_PER_PERIOD
+    from contact.steady.periodic_orbit import STEPS_PER_PERIOD
 
     assert STEADY_MIN_STEPS_PER_PERIOD == STEPS_PER_PERIOD  # written out, not imported
     import inspect
 
     from contact.characteristic import characteristic
-    from validation.study import CURVE_LOADS
+    from studies.study import CURVE_LOADS
 
     # the loads a study's steady point counts are characteristic's default curve
     assert inspect.signature(characteristic).parameters["points"].default == CURVE_LOADS
@@ -882,7 +865,7 @@ def test_a_plates_steady_work_is_bounded_before_its_drive_points(monkeypatch):
     """A steady point's steps per drive period depend on the plate's FE set (416 at 1 kHz on
     this plate, against 25 at 40 kHz): the study's reading counts 25, each plate its own
     before its drive points, as the steady map does before its points."""
-    import validation.explore as ex
+    import studies.explore as ex
 
     def no_contact(*args, **kwargs):
         raise AssertionError("a drive point ran")
@@ -906,8 +889,9 @@ def test_a_plates_steady_work_is_bounded_before_its_drive_points(monkeypatch):
 def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
     # a 30 x 1 mm plate at fe_refine 48 (69 120 elements) ran for minutes at 2.8 GB; lusm modes
     # refuses the same plate at once
+    from fem.meshing.mesh import grid_lines_m
+
     from fem.geometry import PlateStator
-    from fem.mesh import grid_lines_m
 
     x, y = grid_lines_m(PlateStator(length_m=30e-3, width_m=1e-3), 48)
     cells = (len(x) - 1) * (len(y) - 1)
@@ -921,7 +905,7 @@ def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
 @pytest.mark.slow
 def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(scheduler, tmp_path, capsys):
     # every failure sat silently in the dataset's 'status' with exit 0
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["10 mm", "30 mm"]\n')
@@ -952,7 +936,7 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(scheduler
 
 def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):
     # a truncated .npz raised zipfile.BadZipFile through --resume: "internal error"
-    from validation.explore import _part_path, _read_part, _write_part
+    from studies.explore import _part_path, _read_part, _write_part
 
     _write_part(tmp_path, 0, {"f_L1_short": np.array(1.0), "task_time_s": np.array(0.1)})
     assert _read_part(tmp_path, 0)["f_L1_short"] == 1.0
@@ -963,7 +947,7 @@ def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):
 
 def test_a_study_of_thick_plates_gets_the_thin_plate_warning(capsys):
     # a 0.6 mm wide, 3 mm thick plate was "ok" without the warning modes gives
-    from validation.cmd_explore import _warn_thick
+    from lusm.commands.explore import _warn_thick
 
     _warn_thick(study_from_dict({"axes": {"width": ["0.6 mm", "7.5 mm"]}}))
     assert "5 x the study's smallest in-plane size" in capsys.readouterr().err
@@ -974,7 +958,7 @@ def test_a_study_of_thick_plates_gets_the_thin_plate_warning(capsys):
 def test_a_transient_point_that_did_not_settle_is_said_so(tmp_path, capsys):
     # 200 V / 0 N accelerates for longer than 5 ms: its velocity was stored as the steady
     # one without a word (simulate warns of the same run)
-    from validation.cmd_explore import _report_failures
+    from lusm.commands.explore import _report_failures
 
     s = study_from_dict({"axes": {"voltage": "200 V", "preload": ["0 N", "14 N"]},
                          "solver": {"method": "event", "duration": "5 ms"}})
@@ -993,7 +977,7 @@ def test_the_json_summary_carries_the_settling_warning(scheduler, tmp_path, caps
     exploratory testing): a script reading the JSON could not see it."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["no_load_velocity"]\n[axes]\nvoltage = "200 V"\n'
@@ -1022,7 +1006,7 @@ def test_the_json_summary_lists_every_warning_said(scheduler, toml, words, tmp_p
     went to stderr alone (found by exploratory testing). It lists each line stderr says."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text(toml)
@@ -1037,13 +1021,12 @@ def test_the_json_summary_lists_every_warning_said(scheduler, toml, words, tmp_p
 
 
 @pytest.mark.slow
-def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
+def test_resume_refuses_parts_of_another_version_and_recomputes_a_malformed_part(
         study, reference, dask_client, monkeypatch, tmp_path):
-    """Parts computed before an upgrade (or an edit of an editable checkout) were mixed
-    into the resumed dataset, labelled with the new version; a part that loads but lacks
-    an array ended the finished study with an internal error (KeyError). The same study
-    under another file name (name = the stem) is the same study."""
-    import validation.explore as ex
+    """Parts computed by another lusm version are not mixed into the resumed dataset; a
+    part that loads but lacks an array is computed again. The same study under another file
+    name (name = the stem) is the same study."""
+    import studies.explore as ex
 
     out = tmp_path / "study.nc"
     with pytest.raises(Interrupt):
@@ -1051,12 +1034,14 @@ def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
                 on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
     renamed = study_from_dict({**TINY, "study": {"name": "tiny, copied"}})
     assert renamed.fingerprint == study.fingerprint
-    monkeypatch.setattr(ex, "code_digest", lambda: "f" * 64)
-    with pytest.raises(ValueError, match="--resume: .* other lusm code"):
+    monkeypatch.setattr(ex, "_version", lambda: "9.9.9")
+    with pytest.raises(ValueError, match="--resume: .* was computed by lusm .*this is lusm "
+                                         "9.9.9"):
         explore(renamed, out, client=dask_client, progress=False, resume=True)
-    # without --resume the code is blamed too, first: other code may read the same file as
-    # another study, and "restore the study and pass --resume" could not help (review)
-    with pytest.raises(ValueError, match="--out .* other lusm code .* remove that folder"):
+    # without --resume the version is blamed too, first: another version may read the same
+    # file as another study, and "restore the study and pass --resume" could not help
+    with pytest.raises(ValueError, match="--out .* was computed by lusm .* remove that "
+                                         "folder"):
         explore(renamed, out, client=dask_client, progress=False)
     monkeypatch.undo()
     part = next(parts_folder(out).glob("g*.npz"))
@@ -1070,29 +1055,29 @@ def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
         xr.testing.assert_identical(got[name], reference[name])
 
 
-def test_a_worker_with_other_code_is_refused_by_its_result(study, monkeypatch, tmp_path):
+def test_a_worker_of_another_version_is_refused_by_its_result(study, monkeypatch, tmp_path):
     """check_workers runs once, before the tasks: a worker joining an external scheduler
-    later computed with its own lusm, silently. Each result now carries its code's digest
-    (here a worker's is made to differ, in process)."""
-    import validation.explore as ex
+    later is checked by the lusm version each result carries (here a worker's is made to
+    differ, in process)."""
+    import studies.explore as ex
 
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
     part = compute_geometry(s, 0)
-    assert str(part["code_sha256"]) == ex.code_digest()
+    assert str(part["lusm_version"]) == ex._version()
     from distributed import Client
 
     with Client(processes=False, n_workers=1, threads_per_worker=1,
                 dashboard_address=None) as c:
         # the worker (in process here) returns a result stamped by other code
         monkeypatch.setattr(ex, "compute_geometry",
-                            lambda st, i: {**_real_compute(st, i), "code_sha256": np.array("1")})
-        with pytest.raises(ValueError, match="other lusm code"):
+                            lambda st, i: {**_real_compute(st, i), "lusm_version": np.array("1")})
+        with pytest.raises(ValueError, match="a worker computed geometry 0 with lusm 1, "):
             explore(s, tmp_path / "r.nc", client=c, progress=False)
     assert not (tmp_path / "r.nc").exists()
 
 
 def _real_compute(st, i):
-    from validation.explore import _compute
+    from studies.explore import _compute
 
     return {**_compute(st, i), "task_time_s": np.array(0.0)}
 
@@ -1103,7 +1088,7 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
     waiting at 45 s); a scheduler file of '{}' was an internal AssertionError."""
     import socket
 
-    import validation.explore as ex
+    import studies.explore as ex
 
     monkeypatch.setattr(ex, "CONNECT_DEADLINE_S", 1.0)
     with socket.socket() as srv:
@@ -1130,7 +1115,7 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
 
 def test_a_scheduler_file_that_is_a_folder_is_not_said_to_be_missing(tmp_path):
     """--scheduler-file naming a folder (or a device) was told it "does not exist"."""
-    import validation.explore as ex
+    import studies.explore as ex
 
     with pytest.raises(ValueError, match=f"^--scheduler-file {tmp_path} is a folder, not a "
                                          "dask scheduler file$"):
@@ -1146,8 +1131,8 @@ def test_a_signal_after_the_dataset_is_written_says_it_is_complete(scheduler, mo
                                                                      capsys):
     """A SIGTERM landing just after the dataset was in place said only "interrupted"
     (exit 130), and a rerun then refused the complete file."""
-    import validation.cmd_explore as ce
-    from validation.cli import main
+    import lusm.commands.explore as ce
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
@@ -1208,7 +1193,7 @@ def test_a_ctrl_c_while_the_cluster_starts_is_not_lost(monkeypatch):
 def test_a_workers_warning_is_said_once_by_the_client(scheduler, tmp_path, capsys):
     """A 1 mm gap on a 3 mm plate is outside the 2D model's validity: the warning printed on
     the worker's stderr as a raw Python warning with its source line, once per geometry."""
-    from validation.cli import main
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n[axes]\ngap = "1 mm"\n'
@@ -1222,7 +1207,7 @@ def test_a_workers_warning_is_said_once_by_the_client(scheduler, tmp_path, capsy
 
 def test_an_interrupt_before_any_geometry_leaves_no_folder_it_made(monkeypatch, tmp_path):
     """`--out new1/sub/x.nc` interrupted while connecting left an empty new1/sub/."""
-    import validation.explore as ex
+    import studies.explore as ex
 
     def interrupted(*_a, **_k):
         raise KeyboardInterrupt
@@ -1249,7 +1234,7 @@ def test_a_transient_study_runs_as_lusm_simulate_by_default(capsys):
     that divides the drive period: the same plate and drive now give simulate's numbers."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
                          "axes": {"voltage": "200 V", "preload": "14 N"},
@@ -1303,7 +1288,7 @@ def test_transient_settings_no_point_could_run_are_refused_before_any_work(solve
 @pytest.mark.slow
 def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
         solver, axes, words, scheduler, tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     lines = [f'{k} = "{v}"' for k, v in axes.items()]
@@ -1339,8 +1324,8 @@ import multiprocessing.resource_tracker as rt
 multiprocessing.set_start_method("spawn")  # a LocalCluster worker's (names its semaphores)
 made = []
 rt.register = lambda name, rtype: made.append(rtype)
-from validation.explore import compute_geometry
-from validation.study import study_from_dict
+from studies.explore import compute_geometry
+from studies.study import study_from_dict
 s = study_from_dict({"outputs": ["stall_force"],
                      "solver": {"fe_refine": 1, "accuracy": "fast"},
                      "axes": {"voltage": "200 V", "preload": "6 N"}})
@@ -1362,7 +1347,7 @@ def test_a_scheduler_that_cannot_import_lusm_is_refused_in_one_line(tmp_path, ca
     import sys
     import time
 
-    from validation.cli import main
+    from lusm.cli import main
 
     file = tmp_path / "sched.json"
     code = ("import sys\n"
@@ -1401,7 +1386,7 @@ def test_a_studys_motion_class_is_simulate_steadys(capsys):
     says "pure-stick" (and "separated" at 0 V and 0 N) for the same held slider."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     s = study_from_dict({"outputs": ["motion_class"],
                          "axes": {"voltage": ["0 V", "100 V"], "preload": ["0 N", "14 N"]}})
@@ -1421,8 +1406,8 @@ def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
         scheduler, monkeypatch, tmp_path, capsys):
     """--plot /sys/maps failed after the study with only its error: the user was not told
     the dataset at --out had been written."""
-    import validation.cmd_explore as ce
-    from validation.cli import main
+    import lusm.commands.explore as ce
+    from lusm.cli import main
 
     def refused(*_a, **_k):
         raise OSError(1, "Operation not permitted")
@@ -1442,8 +1427,8 @@ def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
 def test_a_study_gives_the_clis_drive_warnings_once(tmp_path, capsys):
     """lusm simulate and characteristic warn above 600 V, above 100 N and at 0 V with 0 N; a
     study of such points said nothing."""
-    from validation.cli import main
-    from validation.cmd_explore import _warn_drive
+    from lusm.cli import main
+    from lusm.commands.explore import _warn_drive
 
     _warn_drive(study_from_dict({"axes": {"voltage": ["0 V", "200 V", "700 V"],
                                           "preload": ["0 N", "150 N"]}}))
@@ -1474,7 +1459,7 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
     characteristic at the study's loads either way, to the bit."""
     import contact.characteristic as cc
     from contact.model import default_coupling
-    from validation.explore import Drive, motor_answers
+    from studies.explore import Drive, motor_answers
 
     s = study_from_dict({"outputs": ["velocity"],
                          "solver": {"fe_refine": 1, "accuracy": "fast"},
@@ -1532,8 +1517,8 @@ def test_an_error_after_finished_geometries_says_they_are_kept(scheduler, monkey
                                                                capsys):
     """An error exit after some geometries were done said only the error; the parts were
     there for --resume, unsaid (an interrupt says it)."""
-    import validation.explore as ex
-    from validation.cli import main
+    import studies.explore as ex
+    from lusm.cli import main
 
     real, written = ex._write_part, []
 
@@ -1562,11 +1547,12 @@ def test_a_study_can_take_the_constant_dynamic_friction():
     warning a worker raises named that switch. The answer is the steady engine's with the
     constant mu_d, to the bit, and differs from Eq. 11's (mu_d,eff < mu_d changes the thrust);
     the warning's remedy is said in the study file's terms."""
+    from contact.steady.engine import steady_state
+
     from contact.model import default_coupling
-    from contact.steady import steady_state
+    from lusm.commands.explore import in_study_terms
     from rom import table2
-    from validation.cmd_explore import in_study_terms
-    from validation.explore import Drive, motor_answers
+    from studies.explore import Drive, motor_answers
 
     params = table2()
     coupling = default_coupling(params)[0]
@@ -1587,7 +1573,7 @@ def test_a_study_can_take_the_constant_dynamic_friction():
 @pytest.mark.slow
 def test_a_one_plate_study_says_one_geometry(scheduler, tmp_path, capsys):
     # "study 's': 1 geometries (FE outputs only)"
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
@@ -1600,20 +1586,21 @@ def test_a_one_plate_study_says_one_geometry(scheduler, tmp_path, capsys):
 def test_solver_rest_reaches_every_steady_call(monkeypatch):
     """[solver] rest = "transient" is the commands' --rest transient: the no-load point and
     both characteristics of a drive point take it."""
+    import contact.steady.engine
+
     import contact.characteristic
-    import contact.steady
     from rom import table2
-    from validation.explore import Drive, motor_answers
-    from validation.study import Solver
+    from studies.explore import Drive, motor_answers
+    from studies.study import Solver
 
     seen = []
-    real = contact.steady.steady_state
+    real = contact.steady.engine.steady_state
 
     def spy(*args, **kwargs):
         seen.append(kwargs.get("rest"))
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(contact.steady, "steady_state", spy)
+    monkeypatch.setattr(contact.steady.engine, "steady_state", spy)
     monkeypatch.setattr(contact.characteristic, "steady_state", spy)
     ans = motor_answers(table2(), Drive(200.0, 14.0, 40e3, (0.0, 0.123)),
                         Solver(rest="transient"))
@@ -1628,7 +1615,7 @@ def _synthetic(sizes: dict[str, int]):
     no-load velocity varies with every axis, the split with the geometry only."""
     import xarray as xr
 
-    from validation.study import GEOMETRY_AXES
+    from studies.study import GEOMETRY_AXES
 
     dims = ["length", "width", "thickness", "gap", "material", "voltage", "preload"]
     coords = {}
@@ -1667,7 +1654,7 @@ def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     """Maps over length x width where both vary, else over the first two axes along which
     a variable varies, else its curve over the one axis: a study of one length axis (a
     designer's stator at several lengths) drew nothing."""
-    from validation.explore import design_maps, drawable_maps
+    from studies.explore import design_maps, drawable_maps
 
     ds = _synthetic(sizes)
     assert bool(drawable_maps(ds)) == bool(files)
@@ -1684,7 +1671,7 @@ def test_a_studys_figures_draw_every_material(tmp_path):
     against their names."""
     from matplotlib.axes import Axes
 
-    from validation.explore import design_maps
+    from studies.explore import design_maps
 
     drawn = {"plot": [], "pcolormesh": [], "xticks": []}
     real = {k: getattr(Axes, k) for k in ("plot", "pcolormesh", "set_xticks")}
@@ -1736,7 +1723,7 @@ def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
 
     from matplotlib.axes import Axes
 
-    from validation.explore import design_maps
+    from studies.explore import design_maps
 
     ds = _synthetic({"length": 3, "width": 3}).isel(length=[2, 0, 1], width=[1, 2, 0])
     one = _synthetic({"thickness": 3}).isel(thickness=[2, 0, 1])
@@ -1796,7 +1783,7 @@ def test_drive_axes_of_an_fe_only_study_are_said_unused(scheduler, tmp_path, cap
     plates, or names no drive axis, says nothing of them."""
     import warnings
 
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["split", "f_L1_short"]\n[axes]\npreload = "6 N"\n'
@@ -1822,7 +1809,7 @@ def test_drive_axes_of_an_fe_only_study_are_said_unused(scheduler, tmp_path, cap
 def test_the_summary_says_which_axes_make_its_drive_points(scheduler, tmp_path, capsys):
     """"1 geometry x 4 drive points" for one voltage, one preload and four loads read as four
     voltage-preload points, the work bounds' sense of the words (exploratory testing)."""
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["no_load_velocity"]\n[axes]\nvoltage = ["200 V", "300 V"]\n'
@@ -1868,8 +1855,8 @@ def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(dask_clie
     running one with all its work (found by exploratory testing). It is refused as a second
     --resume is, before any work and without a word of the running one's parts as its own,
     and the running one goes on to its dataset."""
-    from validation import cmd_explore
-    from validation.cli import main
+    from lusm.cli import main
+    from lusm.commands import explore as cmd_explore
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["29 mm", "30 mm", "31 mm"]\n'

@@ -14,8 +14,8 @@ import pytest
 from contact.model import GRAVITY_M_S2, OperatingPoint
 from contact.simulate import simulate
 from contact.steady import holding_range_N, slow_problem, steady_state, transient_reference
+from lusm.cli import main
 from rom import table2
-from validation.cli import main
 
 
 @pytest.fixture(scope="module")

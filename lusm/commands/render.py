@@ -2,15 +2,16 @@
 
 Parse, call :mod:`fem.render`, print the files written. No physics here; ``fem`` and
 pyvista are imported when the command runs. The pictures are built aside and moved into
-``--out`` complete (:mod:`validation.output_set`).
+``--out`` complete (:mod:`lusm.output_set`).
 """
 
 from __future__ import annotations
 
 import argparse
 
-from validation.cmd_modes import add_fe_options, fe_failure, is_fe_failure
-from validation.options import add_output_options, add_plate_options
+from lusm.commands.modes import add_fe_options
+from lusm.fe_errors import fe_failure, is_fe_failure
+from lusm.options import add_output_options, add_plate_options
 
 
 def register(subparsers) -> None:
@@ -33,8 +34,8 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
-    from validation.cmd_modes import warn_linear_elements
-    from validation.options import (
+    from lusm.commands.modes import warn_linear_elements
+    from lusm.options import (
         check_fe_size,
         figure_set,
         moved,
@@ -43,7 +44,7 @@ def run(args: argparse.Namespace) -> None:
     )
 
     warn_linear_elements(args)
-    out = output_folder(args, "render", "--out")  # refused before any work
+    out = output_folder(args, "--out")  # refused before any work
     choice = stator_from_args(args)
 
     from fem.mesh import DEFAULT_REFINE
@@ -62,10 +63,10 @@ def run(args: argparse.Namespace) -> None:
     model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
     from contact.deferred_signals import deferred_signals
-    from validation.interrupts import import_held
 
-    import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
-    with figure_set(out, "render", "--out", args.force) as stage:
+    with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
+        import pyvista  # noqa: F401
+    with figure_set(out, "--out", args.force) as stage:
         # a signal inside VTK's rendering printed VTK errors or crashed it (as the design
         # report's pictures, exit 139): drawn with SIGINT/SIGTERM held, delivered once they
         # are done (about a second, three with --animate), when the staging is discarded

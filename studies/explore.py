@@ -1,6 +1,6 @@
 """Design-space exploration on dask.distributed: one task per geometry, labelled results.
 
-A :class:`validation.study.Study` spans geometry axes (length, width, thickness, gap,
+A :class:`studies.study.Study` spans geometry axes (length, width, thickness, gap,
 material) and drive axes (frequency, voltage, preload, load). :func:`explore` submits one
 task per geometry to a dask cluster (a :class:`distributed.LocalCluster` of processes by
 default, or any running scheduler); each task (:func:`compute_geometry`) runs the 2D FE
@@ -25,7 +25,6 @@ dataset's attrs; it is written to netCDF (h5netcdf engine) beside the target and
 
 from __future__ import annotations
 
-import hashlib
 import json
 import logging
 import math
@@ -37,16 +36,14 @@ import zipfile
 from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from validation.interrupts import checkpoint, quiet_logs_after_signal
-from validation.output_set import backup_name
-from validation.staging import lock_held, staging
-from validation.study import (
+from lusm.interrupts import checkpoint
+from lusm.output_set import backup_name, staging
+from studies.study import (
     AXIS_KIND,
     DRIVE_AXES,
     FEATURE_FIELDS,
@@ -268,7 +265,7 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
     out["task_time_s"] = np.array(time.perf_counter() - t0)
     out["warnings"] = np.array(sorted({" ".join(str(w.message).split()) for w in caught}),
                                dtype=str)
-    out["code_sha256"] = np.array(code_digest())  # the client compares it with its own
+    out["lusm_version"] = np.array(_version())  # the client compares it with its own
     return out
 
 
@@ -340,7 +337,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
             stage = "drive frequency"
             out["f_drive"] = np.array(auto_frequency(params))
     except (ValueError, RuntimeError, ArithmeticError) as exc:  # failure of this plate
-        from validation.errors import short_reason  # a list of 32 frequencies: its range
+        from lusm.errors import short_reason  # a list of 32 frequencies: its range
 
         out["status"] = np.array(short_reason(f"{stage}: {type(exc).__name__}: {exc}")[:300])
         if study.needs_motor:  # every drive point of the plate failed with it (it read '')
@@ -390,11 +387,11 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
 
 def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
     """Why no drive point of this plate can run at ``frequency_Hz`` (Hz), in the study's keys
-    and units, or None: a transient's step and length (:func:`validation.study.
+    and units, or None: a transient's step and length (:func:`studies.study.
     transient_problem`, as ``lusm simulate`` checks them), or a frequency too far below the
     plate's fastest mode for the steady engine (as ``lusm characteristic`` checks it; that
     mode is the FE set's, so it is known only here)."""
-    from validation.study import transient_problem
+    from studies.study import transient_problem
 
     at = _frequency_named(study, frequency_Hz) + (" of this plate" if study.auto_frequency
                                                  else "")
@@ -417,7 +414,7 @@ def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
 
 def _frequency_named(study: Study, frequency_Hz: float) -> str:
     """A drive frequency (Hz) in the study's terms: its axis value, or the auto rule's."""
-    from validation.study import show
+    from studies.study import show
 
     shown = show(frequency_Hz, "frequency")
     return (f"the auto drive frequency {shown}" if study.auto_frequency
@@ -426,12 +423,12 @@ def _frequency_named(study: Study, frequency_Hz: float) -> str:
 
 def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     """Why this plate's drive points at ``freqs`` (Hz) are more contact work than the study
-    may have, or None: the study's bound (:func:`validation.study.contact_work_problem`) with
+    may have, or None: the study's bound (:func:`studies.study.contact_work_problem`) with
     every geometry taken as costly as this one. What the study's reading could not know: the
     steady engine's steps per drive period on this plate's FE set
     (:func:`contact.steady.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
     plate at fe_refine 1), and a transient's default step at an auto frequency."""
-    from validation.study import contact_work_problem, steady_solves
+    from studies.study import contact_work_problem, steady_solves
 
     if not freqs:
         return None
@@ -470,23 +467,6 @@ def _empty_outputs(study: Study) -> dict[str, np.ndarray]:
     return out
 
 
-@lru_cache(maxsize=1)
-def code_digest() -> str:
-    """SHA-256 of this process's lusm source (the .py files of fem, rom, contact and
-    validation, by relative path): what a resumed run and every worker must share. The
-    version number alone let a resumed run mix parts computed before an upgrade (or an edit
-    of an editable checkout) into a dataset labelled with the new version."""
-    import importlib
-
-    h = hashlib.sha256()
-    for name in ("fem", "rom", "contact", "validation"):
-        root = Path(importlib.import_module(name).__file__).parent
-        for f in sorted(root.rglob("*.py")):
-            h.update(f"{name}/{f.relative_to(root).as_posix()}\0".encode())
-            h.update(f.read_bytes())
-    return h.hexdigest()
-
-
 # --- parts: one file per finished geometry ---------------------------------------------------
 
 def parts_folder(out: Path) -> Path:
@@ -494,7 +474,7 @@ def parts_folder(out: Path) -> Path:
     return out.with_name(out.name + PARTS_SUFFIX)
 
 
-TASK_EXTRAS = ("task_time_s", "code_sha256", "warnings")
+TASK_EXTRAS = ("task_time_s", "lusm_version", "warnings")
 """What a task returns beside the geometry's outputs (not written into its part)."""
 
 
@@ -530,62 +510,36 @@ def _read_part(folder: Path, index: int,
     return part
 
 
-def _open_parts(study: Study, out: Path,
-                resume: bool) -> tuple[Path, dict[int, dict], bool, int | None]:
+def _open_parts(study: Study, out: Path, resume: bool):
     """The parts folder of ``out`` (made, or checked as this study's), its finished parts by
     geometry, whether this call made it, and the run's lock on it (:func:`_lock_parts`),
     taken before any part is read."""
     folder = parts_folder(out)
-    stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text),
-             "lusm_version": _version(), "code_sha256": code_digest()}
     template = _empty_outputs(study)
-    if folder.exists():
-        if not resume and lock_held(folder / LOCK_FILE):
-            # a live run's folder: what is said below of a folder at rest ("remove that
-            # folder to start over") had ended that run and every geometry it had computed
-            raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
-                                 "wait for it to finish, or choose another --out")
-        if not (folder / STUDY_FILE).is_file():  # it was said to be "another study's", and
-            # without --resume "an unfinished run" (whose --resume then sent the user back)
-            option = "--resume" if resume else f"--out {out}"
-            raise ValueError(f"{option}: {folder} has no {STUDY_FILE}, so it is not the parts "
-                             "folder of a lusm explore run (a finished run leaves only files "
-                             "that are not its own there); move it away or choose another "
-                             "--out")
-        old = _stamp_of(folder)
-        if not resume:
-            raise ValueError(_not_resumed(study, out, folder, old, template,
-                                          stamp["code_sha256"]))
-        lock = _lock_parts(folder, out)
-        try:
-            if not (folder / STUDY_FILE).is_file():  # a run finishing meanwhile removed it
-                raise ValueError(f"--resume: the run that held {folder} finished meanwhile; "
-                                 f"its dataset is {out}")
-            old = _stamp_of(folder)
-            # the code first: other code may also read the same study file as another study
-            # (the exact unit conversion changed the metres of 6.5 mm), and "restore the
-            # study" would not have helped (review)
-            if old.get("code_sha256") != stamp["code_sha256"]:
-                raise ValueError(f"--resume: {folder} {_other_code(old, stamp)}; resuming would "
-                                 "mix both in one dataset; remove that folder to start over")
-            if old.get("fingerprint") != study.fingerprint:
-                raise ValueError(f"--resume: {folder} belongs to another study (the study "
-                                 "file or its study.stator file changed); remove that folder "
-                                 "or restore the study")
-        except BaseException:
-            _unlock(lock)
-            raise
-        created = False
-    else:
+    if not folder.exists():
+        stamp = {"fingerprint": study.fingerprint, "study": json.loads(study.text),
+                 "lusm_version": _version()}
         try:
             folder.mkdir(parents=True)
             (folder / STUDY_FILE).write_text(json.dumps(stamp, indent=1))
-        except OSError as exc:  # /sys/x.nc: the message named the path, not the option
+        except OSError as exc:  # /sys/x.nc: named by its option, not only by its path
             raise ValueError(f"--out {out}: cannot write its parts folder {folder} "
                              f"({exc.strerror or exc})") from None
-        lock = _lock_parts(folder, out)
-        created = True
-    return folder, _finished_parts(study, folder, template), created, lock
+        return folder, {}, True, _lock_parts(folder, out)
+    if not (folder / STUDY_FILE).is_file():  # not ours: nothing is written into it
+        option = "--resume" if resume else f"--out {out}"
+        raise ValueError(f"{option}: {folder} has no {STUDY_FILE}, so it is not the parts "
+                         "folder of a lusm explore run (a finished run leaves only files "
+                         "that are not its own there); move it away or choose another --out")
+    lock = _lock_parts(folder, out)  # a live run's folder is refused before anything is said
+    old = _stamp_of(folder)
+    why = _not_this_runs(study, folder, old, "--resume" if resume else f"--out {out}")
+    if why is None and not resume:
+        why = _not_resumed(study, out, folder, template)
+    if why is not None:
+        lock.release()
+        raise ValueError(why)
+    return folder, _finished_parts(study, folder, template), False, lock
 
 
 def _stamp_of(folder: Path) -> dict:
@@ -608,46 +562,39 @@ def _finished_parts(study: Study, folder: Path, template) -> dict[int, dict]:
     return done
 
 
-def _other_code(old: dict, stamp: dict) -> str:
-    """"was computed by other lusm code (...)", naming both versions and codes."""
-    return (f"was computed by other lusm code (lusm {old.get('lusm_version', 'unknown')}, code "
-            f"{str(old.get('code_sha256', 'unrecorded'))[:12]}; this is lusm {_version()}, "
-            f"code {stamp['code_sha256'][:12]})")
-
-
-def _not_resumed(study: Study, out: Path, folder: Path, old: dict, template,
-                 code_sha256: str) -> str:
-    """Why a run without ``--resume`` does not start over an existing parts folder, and what
-    to do: a run of other lusm code (said first: its study may read as another one), another
-    study's run, every geometry of this one computed (the dataset not written: an interrupt
-    or a failed write at the end), a finished run in which none computed fully, or an
-    unfinished run."""
-    if old.get("code_sha256") != code_sha256:
-        return (f"--out {out}: {folder} {_other_code(old, {'code_sha256': code_sha256})}, "
-                "which --resume cannot continue; remove that folder to start over")
+def _not_this_runs(study: Study, folder: Path, old: dict, option: str) -> str | None:
+    """Why the parts in ``folder`` (whose ``study.json`` is ``old``) cannot go into this run's
+    dataset, naming ``option``: another lusm version's (said first: it may read the same file
+    as another study) or another study's; None when they can."""
+    if old.get("lusm_version") != _version():
+        return (f"{option}: {folder} was computed by lusm {old.get('lusm_version', 'unknown')} "
+                f"(this is lusm {_version()}); resuming would mix both in one dataset; remove "
+                "that folder to start over")
     if old.get("fingerprint") != study.fingerprint:
-        return (f"--out {out}: {folder} holds the parts of another study (the study file or "
-                "its study.stator file changed); remove that folder, or restore the study "
-                "and pass --resume")
+        return (f"{option}: {folder} holds the parts of another study (the study file or its "
+                "study.stator file changed); remove that folder, or restore the study")
+    return None
+
+
+def _not_resumed(study: Study, out: Path, folder: Path, template) -> str:
+    """Why a run without ``--resume`` does not start over this study's parts folder, and what
+    to do: every geometry computed (the dataset not written: an interrupt or a failed write
+    at the end), a finished run in which none computed fully, or an unfinished run."""
     if not all(_part_path(folder, i).exists() for i in range(study.n_geometries)):
         return (f"--out {out}: {folder} holds an unfinished run; pass --resume to continue "
                 "it, or remove that folder to start over")
     parts = _finished_parts(study, folder, template)
     if len(parts) == study.n_geometries and not any(
             computed_fully(str(p["status"])) for p in parts.values()):
-        # the run ended by refusing to write a dataset of NaN; "unfinished, pass --resume"
-        # had sent the user round in a circle
         return (f"--out {out}: {folder} holds a finished run in which no geometry computed "
                 "fully (each part's reason in its 'status'; --resume says the first again); "
                 "remove that folder to run a corrected study")
-    # all there, the dataset not written (a signal or a failed write at the end): the work is
-    # done, and "none computed fully, remove that folder" would have thrown it away
     return (f"--out {out}: {folder} holds every geometry of this study, computed (the dataset "
             "was not written); pass --resume to write it, or remove that folder to start over")
 
 
 LOCK_FILE = ".lock"
-"""The file of a parts folder a running ``explore`` holds an exclusive ``flock`` on."""
+"""The file of a parts folder a running ``explore`` holds locked (:mod:`filelock`)."""
 
 
 class PartsBusyError(ValueError):
@@ -655,33 +602,22 @@ class PartsBusyError(ValueError):
     work, and the parts there are that run's, not this one's."""
 
 
-def _lock_parts(folder: Path, out: Path) -> int | None:
-    """Hold ``folder``'s lock for this run (the file descriptor; None where ``fcntl`` is
-    missing), or refuse: two ``--resume`` runs at once had both computed every geometry left,
-    and the second failed at the end on the first's dataset. The kernel releases the lock
-    when the process ends, however it ends."""
+def _lock_parts(folder: Path, out: Path):
+    """Hold ``folder``'s lock for this run (a :class:`filelock.FileLock`, released by the
+    caller; the system releases it when the process ends, however it ends), or refuse: two
+    runs on one parts folder would both compute every geometry left."""
+    from filelock import FileLock, Timeout
+
+    lock = FileLock(folder / LOCK_FILE)
     try:
-        import fcntl
-    except ImportError:  # pragma: no cover - not POSIX
-        return None
-    try:
-        fd = os.open(folder / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
+        lock.acquire(timeout=0)
+    except Timeout:
+        raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
+                             "wait for it to finish, or choose another --out") from None
     except OSError as exc:  # a read-only folder, or one a finishing run just removed
         raise ValueError(f"--out {out}: cannot lock its parts folder {folder} "
                          f"({exc.strerror or exc})") from None
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        os.close(fd)
-        raise PartsBusyError(f"--out {out}: another lusm explore is running on {folder}; "
-                             "wait for it to finish (or stop it) before resuming") from None
-    return fd
-
-
-def _unlock(fd: int | None) -> None:
-    """Release a lock of :func:`_lock_parts` (closing its descriptor)."""
-    if fd is not None:
-        os.close(fd)
+    return lock
 
 
 def _remove_parts(folder: Path, n: int, made: list[Path] = ()) -> None:
@@ -792,7 +728,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
             f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
             + (f"dt_s={s.dt_s:g}" if s.dt_s is not None else
                "dt_s=the largest step up to 1e-07 s dividing the drive period "
-               "(validation.options.time_step_s, as lusm simulate)")
+               "(lusm.options.time_step_s, as lusm simulate)")
             + ", from rest (a point that did not settle is named in status); "
             "stall_force, peak_efficiency and loaded velocity need method = \"steady\" (NaN)"),
         "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
@@ -900,15 +836,10 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
     """Write ``ds`` to netCDF aside and rename it onto ``out``.
 
     A file already at ``out`` is refused unless ``force``; with ``force`` it is kept as
-    ``out.bak-N``, never deleted.
-
-    HDF5 builds the file in memory (``to_netcdf()`` without a path gives its bytes) and this
-    process writes those bytes to the staging file: a disk that refuses them (full, or a file
-    size limit) is then an ``OSError`` of an ordinary write. Written by HDF5 itself, such a
-    failure broke h5py's close half way; h5netcdf's ``__del__`` closed the file again at exit
-    and the process died of a segmentation fault (exit 139, after the error line), with a
-    flood of HDF5 tracebacks and the staging file left beside the target. The bytes are as
-    large as the file (a study at the work bounds writes some tens of MB).
+    ``out.bak-N``, never deleted. HDF5 builds the file in memory and this process writes its
+    bytes (as many as the file has), so a disk that refuses them (full, or a file size limit)
+    is an ``OSError`` of an ordinary write, not a failure inside h5py's close (which crashes
+    the process at exit).
 
     Raises
     ------
@@ -927,16 +858,7 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
     with dask.config.set(scheduler="synchronous"):
         data = ds.to_netcdf(engine="h5netcdf")
     out.parent.mkdir(parents=True, exist_ok=True)
-
-    def refuse(exc: OSError) -> ValueError:
-        return ValueError(f"--out {out}: cannot write the dataset "
-                          f"({exc.strerror or exc}; {len(data)} bytes)")
-
-    # a staging folder, as every output set's, so that a run killed outright leaves one the
-    # next run can tell is dead (a bare staging file carries no record of its run); its name
-    # bounded: `.NAME-partial-<hex>` of a 235-letter --out went over the limit on a file name,
-    # and the dataset was refused after all the study's work
-    with staging(out.name, out.parent, refuse, "--out", out) as stage:
+    with staging(out.parent, out.name, "--out", out) as stage:
         tmp = stage / out.name
         try:
             with open(tmp, "xb") as fh:  # closed (and its error raised) before the removal
@@ -944,9 +866,10 @@ def write_dataset(ds, out: Path, force: bool = False) -> None:
                 fh.flush()
                 os.fsync(fh.fileno())
         except OSError as exc:
-            raise refuse(exc) from None
+            raise ValueError(f"--out {out}: cannot write the dataset "
+                             f"({exc.strerror or exc}; {len(data)} bytes)") from None
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
-        if out.exists() or out.is_symlink():  # a link (dangling or not) itself, not its file
+        if os.path.lexists(out):  # a link (dangling or not) itself, not its file
             os.replace(out, backup_name(out))
         os.replace(tmp, out)
 
@@ -1003,44 +926,32 @@ def local_cluster(n_workers: int = DEFAULT_WORKERS):
 
     The worker processes ignore SIGINT: a terminal's Ctrl-C goes to the whole process group,
     and each worker would print its own KeyboardInterrupt traceback while the client is
-    already stopping them (the client closes them on the way out). They are spawned through
-    a wrapper that ignores SIGINT before it executes Python (:func:`_workers_ignoring_sigint`;
-    an ignored signal stays ignored across exec, and Python then installs no
-    KeyboardInterrupt handler). The client
-    itself keeps catching SIGINT while the cluster starts, but only records it: a Ctrl-C in
-    those seconds closes the new cluster and is raised as soon as the start returns. (It
-    used to ignore SIGINT itself meanwhile, with the signal blocked in its main thread: the
-    threads dask starts did not block it, and a Ctrl-C delivered to one of them was lost.)
+    already stopping them. They are spawned through a wrapper that ignores SIGINT before it
+    executes Python (:func:`_workers_ignoring_sigint`). A Ctrl-C while the cluster starts is
+    held, and raised once the start returns and the new cluster is closed.
     """
-    import signal
-    import threading
-
     from distributed import LocalCluster
 
+    from contact.deferred_signals import deferred_signals
+
     def start():
-        # the workers' own logs stay quiet (CRITICAL): a task's failure comes back to the client
-        # as its exception, and at shutdown a worker's heartbeat to the closed scheduler logged
-        # a CommClosedError traceback after "wrote ...". No dashboard; the scheduler's plain
-        # HTTP routes on a free local port, not 8787
-        # (a second cluster on the machine printed "Port 8787 is already in use")
+        # the workers' own logs stay quiet: a task's failure comes back to the client as its
+        # exception, and a heartbeat to the closed scheduler at shutdown is not news. No
+        # dashboard; the scheduler's HTTP routes on a free local port, not the shared 8787
         return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
                             dashboard_address=None, silence_logs=logging.CRITICAL,
                             env=worker_env(),
                             scheduler_kwargs={"dashboard": False,
                                               "dashboard_address": "127.0.0.1:0"})
 
-    with _workers_ignoring_sigint():
-        if threading.current_thread() is not threading.main_thread():
-            return start()  # signal dispositions belong to the main thread
-        pending: list[int] = []
-        handler = signal.signal(signal.SIGINT, lambda signum, frame: pending.append(signum))
-        try:
+    cluster = None
+    try:
+        with _workers_ignoring_sigint(), deferred_signals():
             cluster = start()
-        finally:
-            signal.signal(signal.SIGINT, handler)
-    if pending:
-        cluster.close()
-        raise KeyboardInterrupt
+    except BaseException:
+        if cluster is not None:
+            cluster.close()
+        raise
     return cluster
 
 
@@ -1282,102 +1193,100 @@ def explore(
                                study.n_drive_points if study.needs_motor else 0, reused=len(parts))
         todo = [i for i in range(study.n_geometries) if i not in parts]
         own = None  # the client (and cluster) made here, closed here
-        # after a Ctrl-C, dask's teardown of the cancelled work is not news: keep stderr to our line
-        with quiet_logs_after_signal("distributed", "tornado", "tornado.application"):
-            if todo:
-                if client is None:
-                    try:
-                        # no more local processes than geometries to compute (8 workers for 2
-                        # tasks had started 330 MB of idle processes)
-                        client, cluster = connect(scheduler, scheduler_file,
-                                                  max(1, min(workers, len(todo))))
-                        own = (client, cluster)
-                        if cluster is None:  # someone else's cluster: same lusm as ours?
-                            option = "--scheduler" if scheduler else "--scheduler-file"
-                            check_scheduler(client, option)
-                            check_workers(client, option, gmsh=study.meshed_by_gmsh)
-                    except BaseException:
-                        if own is not None:
-                            own[0].close()
-                        if created:  # nothing was computed: leave no trace
-                            _remove_parts(folder, study.n_geometries, made)
-                        raise
+        if todo:
+            if client is None:
                 try:
-                    # nthreads() lists every worker (scheduler_info() gives at most 5 on
-                    # some dask releases: a window sized from it starved a large cluster)
-                    result.workers = len(client.nthreads())
-                    run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
-                    live, index = set(), {}  # submitted and not yet taken in
-                    waiting = iter(todo)
-
-                    def submit_next():
-                        """Submit the next geometry, if any (returns its future or None)."""
-                        i = next(waiting, None)
-                        if i is None:
-                            return None
-                        fut = client.submit(compute_geometry, study, i, pure=False,
-                                            key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
-                        live.add(fut)
-                        index[fut.key] = i
-                        return fut
-
-                    # a bounded window of tasks in flight, topped up as each finishes (dask's
-                    # as_completed(...).add pattern): a future per geometry up front had grown
-                    # the client by 55 MB/s towards 100 000 of them before any part was written
-                    window = [submit_next() for _ in range(in_flight(result.workers, len(todo)))]
-                    bar = _bar(len(todo) + len(parts), len(parts), progress)
-                    try:
-                        completed = as_completed(window)
-                        for n_done, fut in enumerate(completed, start=1):
-                            # topped up to the window of the workers there are now: workers
-                            # that join later (an adaptive cluster) widen it
-                            workers = (len(client.nthreads()) if n_done % WINDOW_RECHECK == 0
-                                       else result.workers)
-                            result.workers = max(result.workers, workers)
-                            want = in_flight(workers, len(todo))
-                            while len(live) - 1 < want:
-                                nxt = submit_next()
-                                if nxt is None:
-                                    break
-                                completed.add(nxt)
-                            data = fut.result()
-                            i = index.pop(fut.key)
-                            if str(data.get("code_sha256")) != code_digest():
-                                # a worker that joined after check_workers, with other code
-                                where = ("--scheduler" if scheduler else "--scheduler-file"
-                                         if scheduler_file else "the local cluster")
-                                raise ValueError(
-                                    f"{where}: a worker computed geometry {i} with other lusm "
-                                    f"code ({str(data.get('code_sha256'))[:12]}, this client "
-                                    f"{code_digest()[:12]}); install the same lusm everywhere")
-                            result.task_times_s.append(float(data["task_time_s"]))
-                            result.warnings += [w for w in map(str, data.get("warnings", ()))
-                                                if w not in result.warnings]
-                            result.result_bytes += len(pickle.dumps(data, protocol=5))
-                            tw = time.perf_counter()
-                            _write_part(folder, i, data)
-                            result.part_write_time_s += time.perf_counter() - tw
-                            parts[i] = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
-                            result.computed += 1
-                            bar.update(1)
-                            live.discard(fut)
-                            fut.release()
-                            checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
-                            if on_part is not None:
-                                on_part(i)
-                    finally:
-                        bar.close()
-                        for f in live:
-                            f.cancel()
+                    # no more local processes than geometries to compute (8 workers for 2
+                    # tasks had started 330 MB of idle processes)
+                    client, cluster = connect(scheduler, scheduler_file,
+                                              max(1, min(workers, len(todo))))
+                    own = (client, cluster)
+                    if cluster is None:  # someone else's cluster: same lusm as ours?
+                        option = "--scheduler" if scheduler else "--scheduler-file"
+                        check_scheduler(client, option)
+                        check_workers(client, option, gmsh=study.meshed_by_gmsh)
                 except BaseException:
-                    if created and result.computed == 0:  # nothing was computed: leave no trace
-                        _remove_parts(folder, study.n_geometries, made)
-                    raise
-                finally:
                     if own is not None:
                         own[0].close()
-                        if own[1] is not None:
-                            own[1].close()
+                    if created:  # nothing was computed: leave no trace
+                        _remove_parts(folder, study.n_geometries, made)
+                    raise
+            try:
+                # nthreads() lists every worker (scheduler_info() gives at most 5 on
+                # some dask releases: a window sized from it starved a large cluster)
+                result.workers = len(client.nthreads())
+                run = uuid.uuid4().hex[:8]  # keys of a cancelled earlier run may still be live
+                live, index = set(), {}  # submitted and not yet taken in
+                waiting = iter(todo)
+
+                def submit_next():
+                    """Submit the next geometry, if any (returns its future or None)."""
+                    i = next(waiting, None)
+                    if i is None:
+                        return None
+                    fut = client.submit(compute_geometry, study, i, pure=False,
+                                        key=f"lusm-geometry-{study.fingerprint[:8]}-{run}-{i}")
+                    live.add(fut)
+                    index[fut.key] = i
+                    return fut
+
+                # a bounded window of tasks in flight, topped up as each finishes (dask's
+                # as_completed(...).add pattern): a future per geometry up front had grown
+                # the client by 55 MB/s towards 100 000 of them before any part was written
+                window = [submit_next() for _ in range(in_flight(result.workers, len(todo)))]
+                bar = _bar(len(todo) + len(parts), len(parts), progress)
+                try:
+                    completed = as_completed(window)
+                    for n_done, fut in enumerate(completed, start=1):
+                        # topped up to the window of the workers there are now: workers
+                        # that join later (an adaptive cluster) widen it
+                        workers = (len(client.nthreads()) if n_done % WINDOW_RECHECK == 0
+                                   else result.workers)
+                        result.workers = max(result.workers, workers)
+                        want = in_flight(workers, len(todo))
+                        while len(live) - 1 < want:
+                            nxt = submit_next()
+                            if nxt is None:
+                                break
+                            completed.add(nxt)
+                        data = fut.result()
+                        i = index.pop(fut.key)
+                        if str(data.get("lusm_version")) != _version():
+                            # a worker that joined after check_workers, with other lusm
+                            where = ("--scheduler" if scheduler else "--scheduler-file"
+                                     if scheduler_file else "the local cluster")
+                            raise ValueError(
+                                f"{where}: a worker computed geometry {i} with lusm "
+                                f"{data.get('lusm_version')}, this client {_version()}; "
+                                "install the same version everywhere")
+                        result.task_times_s.append(float(data["task_time_s"]))
+                        result.warnings += [w for w in map(str, data.get("warnings", ()))
+                                            if w not in result.warnings]
+                        result.result_bytes += len(pickle.dumps(data, protocol=5))
+                        tw = time.perf_counter()
+                        _write_part(folder, i, data)
+                        result.part_write_time_s += time.perf_counter() - tw
+                        parts[i] = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
+                        result.computed += 1
+                        bar.update(1)
+                        live.discard(fut)
+                        fut.release()
+                        checkpoint()  # a swallowed Ctrl-C / SIGTERM: stop at the next geometry
+                        if on_part is not None:
+                            on_part(i)
+                finally:
+                    bar.close()
+                    for f in live:
+                        f.cancel()
+            except BaseException:
+                if created and result.computed == 0:  # nothing was computed: leave no trace
+                    _remove_parts(folder, study.n_geometries, made)
+                raise
+            finally:
+                if own is not None:
+                    own[0].close()
+                    if own[1] is not None:
+                        own[1].close()
         _refuse_if_nothing_computed(study, parts, folder)
         t1 = time.perf_counter()
         ds = assemble(study, parts)
@@ -1393,7 +1302,7 @@ def explore(
         result.wall_time_s = time.perf_counter() - t0
         return result
     finally:
-        _unlock(lock)  # released (its file went with the folder once the dataset is in)
+        lock.release()  # its file went with the folder once the dataset is in
 
 
 def computed_fully(status: str) -> bool:
@@ -1410,7 +1319,7 @@ def _refuse_if_nothing_computed(study: Study, parts: dict[int, dict], folder: Pa
     """Refuse to write a dataset of NaN: when no geometry computed fully, the parts (each
     with its reason in ``status``) stay in ``folder`` and nothing is written to ``--out`` (a
     dataset of NaN there made the corrected rerun refuse the existing file)."""
-    from validation.errors import short_reason
+    from lusm.errors import short_reason
 
     status = [str(parts[i]["status"]) for i in sorted(parts)]
     if not status or any(computed_fully(x) for x in status):

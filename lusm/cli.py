@@ -1,23 +1,24 @@
 """The ``lusm`` command line: parse, call the library, print. No physics lives here.
 
-Each sub-command sits in its own ``validation/cmd_<name>.py`` module exposing
+Each sub-command sits in its own ``lusm/commands/<name>.py`` module exposing
 ``register(subparsers)``; its library is imported inside its ``run`` so that building the
 parser (``lusm --help``) imports no numpy, scipy, numba or scikit-fem. Shared options live in
-:mod:`validation.options`, limits in :mod:`validation.limits`.
+:mod:`lusm.options`, limits in :mod:`lusm.limits`.
 
-Exit codes: 0 success; 2 for every user-facing failure (:class:`validation.errors.LusmError`,
+Exit codes: 0 success; 2 for every user-facing failure (:class:`lusm.errors.LusmError`,
 and the library's ``ValueError`` / ``OSError`` / :class:`contact.errors.ChatteringError`, the
-kernel's refusal of an operating point, mapped by :func:`validation.errors.user_error`),
+kernel's refusal of an operating point, mapped by :func:`lusm.errors.user_error`),
 printed as one line ``lusm <cmd>: error: ...``; 130 on Ctrl-C or SIGTERM (staging folders are
-removed by their ``finally`` blocks; a signal Python had to swallow is re-raised before any
-output is moved in, :mod:`validation.interrupts`); 1 for an unexpected exception (a bug): one
-line naming it and asking for a report, the traceback only with ``LUSM_DEBUG=1``.
+removed by their ``finally`` blocks, :mod:`lusm.interrupts`); 1 for an unexpected
+exception (a bug): one line naming it and asking for a report, the traceback only with
+``LUSM_DEBUG=1``.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import importlib
 import os
 import re
@@ -26,18 +27,18 @@ import warnings
 from collections.abc import Iterator, Sequence
 
 COMMAND_MODULES = [
-    "validation.cmd_simulate",
-    "validation.cmd_map",
-    "validation.cmd_modes",
-    "validation.cmd_params",
-    "validation.cmd_compare",
-    "validation.cmd_report",
-    "validation.cmd_render",
-    "validation.cmd_tune",
-    "validation.cmd_sweep",
-    "validation.cmd_admittance",
-    "validation.cmd_explore",
-    "validation.cmd_characteristic",
+    "lusm.commands.simulate",
+    "lusm.commands.map",
+    "lusm.commands.modes",
+    "lusm.commands.params",
+    "lusm.commands.compare",
+    "lusm.commands.report",
+    "lusm.commands.render",
+    "lusm.commands.tune",
+    "lusm.commands.sweep",
+    "lusm.commands.admittance",
+    "lusm.commands.explore",
+    "lusm.commands.characteristic",
 ]
 """Sub-command modules, registered in this order (a module that does not exist is skipped)."""
 
@@ -110,64 +111,40 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lusm`` console script; returns the process exit code."""
     try:
         code = _main(argv)
-    except KeyboardInterrupt:  # a Ctrl-C before the command's own handlers are in place
-        # (imports, the BLAS probe, parsing): nothing has been written yet
+    except KeyboardInterrupt:  # before the command's handlers (imports, parsing): nothing written
         words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
         name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
         _say(f"{name}: interrupted")
         code = 130
-    if argv is None:
-        # the command is done: only the interpreter's shutdown is left
+    if argv is None:  # the console script: only the interpreter's shutdown is left
         _after_the_command(code)
+        gc.freeze()  # the exit's last collection skips numba's and SciPy's ~2e5 objects
     return code
 
 
-def _after_the_command(code: int | None) -> None:
-    """Set how signals end the process from here, once the command has said how it ended
-    (its last line; ``code``, its exit code, or None while it is not yet known).
-
-    SIGINT is ignored to the process's exit: a Ctrl-C during the interpreter's shutdown, right
-    after lusm modes or lusm render printed their last line, printed KeyboardInterrupt
-    tracebacks from ``threading._shutdown`` and the ``close_clusters`` exit hook.
-
-    SIGTERM ends the process at once with ``code``: the clean-up left (closing explore's
-    cluster, an exit hook) may hang, and SIGTERM is the usual way to stop it; ignoring it
-    left only SIGKILL. Python's default, exit 143 with no word, had replaced the code of a
-    command that had moved its output in and printed its last line (exploratory testing: 3
-    of 30 late SIGTERMs). While ``code`` is None (the command's own handlers are gone, its
-    exit code not yet returned) SIGTERM is ignored, for those few statements only.
-    """
+def _after_the_command(code: int) -> None:
+    """Once the command has said how it ended, only the interpreter's shutdown is left
+    (closing explore's cluster, exit hooks): a Ctrl-C there is ignored, not a traceback from
+    ``threading._shutdown``, and SIGTERM ends the process at once with the command's exit
+    ``code`` (the shutdown may hang, and Python's default would end it with 143)."""
     import signal
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if code is None:
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        return
-
     def end(signum, frame) -> None:  # pragma: no cover - exercised by signals
-        try:
-            # what the command printed is kept: os._exit does not flush Python's buffers
-            for stream in (sys.stdout, sys.stderr):
-                try:
-                    stream.flush()
-                except Exception:  # noqa: BLE001 - a closed pipe, or a flush the signal
-                    pass  # interrupted (re-entrant): the exit matters more than the bytes
-        finally:
-            os._exit(code)
+        for stream in (sys.stdout, sys.stderr):  # os._exit does not flush Python's buffers
+            with contextlib.suppress(Exception):  # a closed pipe: the exit matters more
+                stream.flush()
+        os._exit(code)
 
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, end)
 
 
 def _main(argv: Sequence[str] | None) -> int:
-    if argv is None:  # a fresh `lusm` process: its start is mostly imports (numba, SciPy)
-        from validation import fast_start
-
-        fast_start.prepare_process()
-    from validation.options import set_command, set_typed
+    from lusm.messages import set_command, set_typed
 
     # Figures are files: the CLI picks matplotlib's file backend, library code never does.
     os.environ.setdefault("MPLBACKEND", "Agg")
-    from validation.limits import work_factor
+    from lusm.limits import work_factor
 
     try:  # before parsing: options' bounds use it, and the fault is not theirs
         work_factor()
@@ -192,8 +169,6 @@ def _main(argv: Sequence[str] | None) -> int:
             print(f"lusm {args.command}: error: {option} must name {what}, got {value!r}",
                   file=sys.stderr)
             return 2
-    if argv is None:  # past --help: every command imports NumPy and most run numba
-        fast_start.load_blas_probe()
     return _run(args, argv)
 
 
@@ -223,8 +198,8 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
     seen: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
-        from validation.errors import assignments_as_options
-        from validation.options import in_file_terms, record_said
+        from lusm.errors import assignments_as_options
+        from lusm.messages import in_file_terms, record_said
 
         text = in_file_terms(assignments_as_options(_one_line(str(message))))
         # a --json summary lists it too (lusm explore's), also when it was said before the
@@ -242,14 +217,13 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
 def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
     """Run the parsed command; map every way it can end to an exit code and one line."""
     from contact.errors import ChatteringError
-    from validation import interrupts
-    from validation.errors import LusmError, user_error
+    from lusm import interrupts
+    from lusm.errors import LusmError, user_error
 
     prog = f"lusm {args.command}"
     try:
         with interrupts.handlers(), _one_line_warnings(prog):
             args.func(args)
-            interrupts.checkpoint()  # a signal Python had to swallow still ends the command
     except (KeyboardInterrupt, interrupts.Terminated):
         _say(f"{prog}: interrupted")
         return 130
@@ -271,14 +245,6 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
         _say(f"{prog}: internal error: {type(exc).__name__}: {text} - please report it "
              f"(run with {DEBUG_ENV}=1 for the traceback)")
         return 1
-    finally:
-        if argv is None:  # a console-script process: its clean-up is all that is left,
-            # from the moment the command's own handlers are gone (main sets the exit code
-            # SIGTERM ends it with, once this returns it)
-            _after_the_command(None)
-            from validation import fast_start
-
-            fast_start.finish_process()
     return 0
 
 
