@@ -5,8 +5,8 @@ scan (not a test).
 
 Former scan: 16 velocities per side from 1e-5 of the top speed, orbits without a short period
 searched for 400 periods and averaged over 200. Now: three velocities per decade from the
-slider's velocity-ripple scale (``contact.steady.ripple_scale``), 200 + 100 periods
-(``contact.periodic_orbit.SEARCH_PERIODS``, ``AVERAGE_PERIODS``). Prints, on the 9 x 9 map
+slider's velocity-ripple scale (``contact.steady.engine.ripple_scale``), 200 + 100 periods
+(``contact.steady.periodic_orbit.SEARCH_PERIODS``, ``AVERAGE_PERIODS``). Prints, on the 9 x 9 map
 (50-450 V x 10-26 N, fast level, load 0):
 
 * orbit searches, how many found no orbit of period <= 4 (k = 0) and their share of the
@@ -25,7 +25,7 @@ import time
 
 import numpy as np
 
-import contact.steady as st
+import contact.steady.engine as st
 from contact.model import OperatingPoint
 from rom import table2
 

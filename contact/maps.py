@@ -2,7 +2,7 @@
 
 Two methods (``method=``): ``"transient"`` runs each point from rest for the options' duration
 (:func:`contact.simulate.simulate`, the paper's way); ``"steady"`` finds each point's steady
-states directly (:func:`contact.steady.steady_state`) and reports the one a start from rest
+states directly (:func:`contact.steady.engine.steady_state`) and reports the one a start from rest
 reaches, every stable branch, and the points it could not decide.
 
 Each point is an independent call; the numba kernel releases
@@ -101,7 +101,7 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
                   rest: str = "probe"):
     """One map point from the steady engine, in the shape of a transient's steady metrics;
     an undecided point falls back to a transient of :data:`FALLBACK_DURATION_S`."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     r = steady_state(params, voltage_V, preload_N, frequency_Hz=frequency_Hz,
                      coupling=opts.coupling, ultrasonic_friction=opts.ultrasonic_friction,
@@ -133,12 +133,12 @@ def branch_row(b) -> tuple[float, int, str, bool, bool]:
 
     Parameters
     ----------
-    b : contact.steady.SteadyBranch
+    b : contact.steady.engine.SteadyBranch
 
     Returns
     -------
     tuple
-        ``motion`` is :attr:`~contact.steady.SteadyBranch.tip_motion`, the point's own
+        ``motion`` is :attr:`~contact.steady.engine.SteadyBranch.tip_motion`, the point's own
         vocabulary (a held slider's branch is ``"pure-stick"`` as its point is; it had said
         ``"dead-zone"``), and ``held`` whether the slider is held (the dead zone).
     """
@@ -177,11 +177,13 @@ def stick_slip_map(
         library call drew one uninvited; ``lusm map`` turns it on).
     method : {"transient", "steady"}
         A run from rest of ``options.duration_s`` per point, or the steady engine
-        (:func:`contact.steady.steady_state`; ``options`` give coupling and friction only).
+        (:func:`contact.steady.engine.steady_state`; ``options`` give coupling and friction only).
     accuracy : {"fast", "exact"}
-        Level of the steady engine (``method="steady"``), see :data:`contact.steady.ACCURACIES`.
+        Level of the steady engine (``method="steady"``), see
+        :data:`contact.steady.engine.ACCURACIES`.
     rest : {"probe", "transient"}
-        How the exact level decides the start from rest (:func:`contact.steady.steady_state`).
+        How the exact level decides the start from rest
+        (:func:`contact.steady.engine.steady_state`).
     """
     from threadpoolctl import threadpool_limits
     from tqdm import tqdm
@@ -205,7 +207,7 @@ def stick_slip_map(
         raise TypeError(f"progress must be True or False, got {progress!r}")
     if method not in MAP_METHODS:
         raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")
-    from contact.steady import ACCURACIES
+    from contact.steady.engine import ACCURACIES
 
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")

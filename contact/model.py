@@ -4,7 +4,7 @@ For a given parameter set and operating point every mode of the switch model (st
 either direction, separation, each with the slider moving or held on its guide) is a linear
 ODE ``dz/dt = A_m z`` on the augmented state of :mod:`contact.state`, and every switching
 condition is the zero of a linear functional. This module builds those matrices and
-functionals once per run; :mod:`contact.event_kernel` integrates them.
+functionals once per run; :mod:`contact.transient.event_kernel` integrates them.
 
 Conventions (see ``docs/contact.md``):
 
@@ -38,9 +38,9 @@ COUPLING_CHOICES = (*COUPLINGS, "auto")
 
 REST_METHODS = ("probe", "transient")
 """How the steady engine's exact level decides the branch a start from rest reaches
-(:func:`contact.steady.steady_state` ``rest=``). Here, not in :mod:`contact.steady`: the
-transient's options check it, and importing the steady engine for that loaded its compiled
-orbit kernels and ``scipy.optimize`` into every transient run."""
+(:func:`contact.steady.engine.steady_state` ``rest=``). Here, not in :mod:`contact.steady.engine`:
+the transient's options check it, and importing the steady engine for that loaded its compiled orbit
+kernels and ``scipy.optimize`` into every transient run."""
 
 
 def check_rest(rest: str) -> None:

@@ -2,17 +2,17 @@
 
 In the manner of ``scipy.integrate.solve_ivp``, ``method=`` picks a scheme from
 :data:`METHODS`; every scheme starts from the same static equilibrium, runs on the same time
-window (:mod:`contact.window`), uses the same dynamic friction coefficient (Eq. 11, from the
-A_N pre-pass) and returns the same :class:`SimulationResult` with its solver counters:
+window (:mod:`contact.transient.window`), uses the same dynamic friction coefficient (Eq. 11,
+from the A_N pre-pass) and returns the same :class:`SimulationResult` with its solver counters:
 
 * ``"event"`` (default): exact per-mode propagators with located switches, numba
-  (:mod:`contact.event_kernel`);
+  (:mod:`contact.transient.event_kernel`);
 * ``"reference"``: the equations written out term by term, ``solve_ivp`` with terminal events
-  (:mod:`contact.reference`), the slow yardstick;
-* ``"literal"``: the paper's fixed-step RK4 with the stick band (:mod:`contact.literal`), for
-  contrast only;
+  (:mod:`contact.transient.reference`), the slow yardstick;
+* ``"literal"``: the paper's fixed-step RK4 with the stick band
+  (:mod:`contact.transient.literal`), for contrast only;
 * ``"steady"``: the steady state from rest found directly (averaging, finite-mass shooting,
-  :mod:`contact.steady`); no trace.
+  :mod:`contact.steady.engine`); no trace.
 
 >>> from rom import table2
 >>> from contact.simulate import simulate
@@ -33,7 +33,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from contact import event_kernel
 from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.friction import dynamic_friction
@@ -49,7 +48,8 @@ from contact.model import (
 )
 from contact.results import EnergyBalance, SchemeOutput, SteadyState, Trace, steady_metrics
 from contact.state import ERR_CHATTER, OK
-from contact.window import (
+from contact.transient import event_kernel
+from contact.transient.window import (
     MAX_STORED_STEPS,
     MIN_PERIODS,
     RunWindow,
@@ -89,9 +89,9 @@ MAX_COUNT_OPTION = 2**31 - 1
 
 METHODS = {
     "event": "contact.simulate:solve_event",
-    "reference": "contact.reference:solve_reference",
-    "literal": "contact.literal:solve_literal",
-    "steady": "contact.steady:solve_steady",
+    "reference": "contact.transient.reference:solve_reference",
+    "literal": "contact.transient.literal:solve_literal",
+    "steady": "contact.steady.engine:solve_steady",
 }
 """Schemes of :func:`simulate`: name -> ``module:function(params, op, options, window,
 mu_d_eff) -> SchemeOutput``, imported on first use (the reference pulls in SciPy)."""
@@ -113,7 +113,8 @@ class SimulationOptions:
     dt_s : float or None
         Fixed time step (s), in (0, 1/(20 f)]. None (the default): :data:`DEFAULT_DT_S`
         rounded to make the drive period a whole number of steps
-        (:func:`contact.window.period_step_s`; 1e-7 s itself at 40 kHz), the CLI's default.
+        (:func:`contact.transient.window.period_step_s`; 1e-7 s itself at 40 kHz), the CLI's
+        default.
         A fixed 1e-7 s cut the averaging windows mid-period off 40 kHz and biased their
         means; :func:`simulate` stores the step it ran in the result's ``options``.
     ultrasonic_friction : bool
@@ -141,7 +142,7 @@ class SimulationOptions:
         state component).
     rest : {"probe", "transient"}
         How the ``steady`` scheme decides the branch a start from rest reaches
-        (:func:`contact.steady.steady_state` ``rest=``); unused by the transient schemes.
+        (:func:`contact.steady.engine.steady_state` ``rest=``); unused by the transient schemes.
     """
 
     duration_s: float = 0.05
@@ -243,7 +244,7 @@ class SimulationResult:
         events (``event``), right-hand-side evaluations (``reference``, ``literal``).
     wall_time_s : float
         Wall time of the integration (s), pre-pass included.
-    branches : tuple of contact.steady.SteadyBranch or None
+    branches : tuple of contact.steady.engine.SteadyBranch or None
         ``steady``: every steady state the engine found at the point (by increasing
         velocity, unstable ones included; ``steady`` describes the one a start from rest
         reaches); None for the transients, which follow one.
@@ -471,7 +472,7 @@ def simulate(
     else:
         window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
     if method == "reference":  # its work bound, before the A_N pre-pass starts
-        from contact.reference import check_reference_work
+        from contact.transient.reference import check_reference_work
 
         check_reference_work(op, window.end_s)
     if method == "event":  # what it keeps, before the A_N pre-pass starts too
@@ -494,7 +495,7 @@ def simulate(
     steady = steady_metrics(out.velocity_m_s, out.previous_velocity_m_s, out.phase_time,
                             out.y_tip_min_m, out.y_tip_max_m, window.window_s)
     if op.load_N and method != "steady" and not steady.settled:
-        from contact.steady import RunawayWarning, transient_runaway
+        from contact.steady.engine import RunawayWarning, transient_runaway
 
         reason = transient_runaway(params, op, opts.coupling, opts.ultrasonic_friction,
                                    mu_d_eff, steady.velocity_m_s,
@@ -521,7 +522,7 @@ def _full_and_decimation(op: OperatingPoint, opts: SimulationOptions,
 
 def check_stored_steps(full_steps: int, trace_points: int) -> None:
     """Refuse, before the kernel runs, a run that would keep more than
-    :data:`contact.window.MAX_STORED_STEPS` steps (times ``LUSM_MAX_WORK``) at full
+    :data:`contact.transient.window.MAX_STORED_STEPS` steps (times ``LUSM_MAX_WORK``) at full
     resolution or in its decimated trace, naming the option that asks for them."""
     top = MAX_STORED_STEPS * work_factor()
     for name, n in (("full_periods", full_steps), ("max_trace_points", trace_points)):
@@ -534,7 +535,7 @@ def check_stored_steps(full_steps: int, trace_points: int) -> None:
 
 def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
                  window: RunWindow, mu_d_eff: float) -> SchemeOutput:
-    """The event-located scheme (:mod:`contact.event_kernel`)."""
+    """The event-located scheme (:mod:`contact.transient.event_kernel`)."""
     dt = window.dt_s
     n_steps, win_start = window.n_steps, window.win_start
     n_full, decim = _full_and_decimation(op, opts, window)

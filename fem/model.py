@@ -41,7 +41,7 @@ import scipy.sparse as sp
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.mesh import (
+from fem.meshing.mesh import (
     DEFAULT_REFINE,
     PlateMesh,
     boundary_edges,
@@ -49,7 +49,7 @@ from fem.mesh import (
     grid_lines_m,
     structured_mesh,
 )
-from fem.meshed_stator import overall_length_m, planform_mesh
+from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 
 ORDERS = (1, 2)
 """Supported element orders (bilinear ``ElementQuad1``, biquadratic ``ElementQuad2``)."""
@@ -172,7 +172,7 @@ def gap_validity_message(gap_m: float, thickness_m: float) -> str | None:
         f"{GAP_VALIDITY_RATIO * thickness_m * 1e3:.3g} mm (a {thickness_m * 1e3:g} mm thick "
         f"plate): the 2D model is outside its validity "
         f"(the gap strip is no longer shorted by its neighbours); use the 3D model "
-        f"(lusm modes --model 3d, fem.solid3d)"
+        f"(lusm modes --model 3d, fem.solid3d.model)"
     )
 
 
@@ -282,7 +282,8 @@ def gap_layout(mesh: PlateMesh) -> GapLayout:
     Raises
     ------
     ValueError
-        If the tags are not the plate's quadrants (:meth:`fem.mesh.PlateMesh.quadrant_problem`).
+        If the tags are not the plate's quadrants
+        (:meth:`fem.meshing.mesh.PlateMesh.quadrant_problem`).
     """
     problem = mesh.quadrant_problem()
     if problem is not None:
@@ -533,7 +534,7 @@ def affine_probes(basis, pts: np.ndarray, chunk: int = 2_000_000) -> sp.csr_matr
     a point's reference coordinates follow from one small solve. Returns None when the mesh
     is not of quads or hexes, or a cell's map is not affine (the caller keeps scikit-fem's
     answer). The 2D model (:meth:`PiezoPlateModel.probe`) and the 3D one
-    (:meth:`fem.solid3d.SolidPlateModel.probe`) fall back on it where scikit-fem's Newton
+    (:meth:`fem.solid3d.model.SolidPlateModel.probe`) fall back on it where scikit-fem's Newton
     inverse stalls beside a micrometre gap.
 
     Parameters
@@ -839,8 +840,8 @@ def _cached_model(
     gap_model: str = "shorted", thickness_inertia: bool = True,
 ) -> PiezoPlateModel:
     t0 = time.perf_counter()
-    # a stator that carries its own mesh (fem.meshed_stator.MeshedStator) or a parametric
-    # one (fem.parametric.ParametricStator, meshed by gmsh) ignores ``refine``
+    # a stator that carries its own mesh (fem.meshing.meshed_stator.MeshedStator) or a parametric
+    # one (fem.meshing.parametric.ParametricStator, meshed by gmsh) ignores ``refine``
     mesh = planform_mesh(stator)
     if mesh is None:
         mesh = structured_mesh(stator, refine)
@@ -874,7 +875,7 @@ def plate_model(
     order : int
         Element order, 1 or 2.
     refine : int
-        Elements per smaller plate dimension (see :func:`fem.mesh.structured_mesh`).
+        Elements per smaller plate dimension (see :func:`fem.meshing.mesh.structured_mesh`).
     gap_model : str
         ``'shorted'`` (default) or ``'open'``: see :func:`build_model`.
     thickness_inertia : bool

@@ -25,8 +25,8 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.mesh import DEFAULT_REFINE, check_generated_size, grid_lines_m, require_plate
-from fem.meshed_stator import overall_length_m, planform_mesh
+from fem.meshing.mesh import DEFAULT_REFINE, check_generated_size, grid_lines_m, require_plate
+from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 from fem.model import PiezoPlateModel, plate_model
 
 N_SAMPLE_X = 9
@@ -542,7 +542,7 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
 
     Parameters
     ----------
-    model : PiezoPlateModel or fem.solid3d.SolidPlateModel
+    model : PiezoPlateModel or fem.solid3d.model.SolidPlateModel
         Needs ``stator``, ``material`` and the mass matrix ``M``.
     frequencies : callable
         ``frequencies(model, k, f_center_Hz, open_circuit, maxiter) -> (f_Hz, shapes)``.

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fem.mesh import boundary_edges
+from fem.meshing.mesh import boundary_edges
 
 WINDOW_SIZE = (1200, 520)
 """Default image size (pixels, width x height)."""

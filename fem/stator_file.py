@@ -34,7 +34,7 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     unit = "m"                          # unit of the mesh coordinates: "m" or "mm"
 
     # --- features of a parametric stator (any of these tables: the planform is then
-    # --- meshed by gmsh, fem.parametric; not with [mesh] file)
+    # --- meshed by gmsh, fem.meshing.parametric; not with [mesh] file)
     [tip]                               # unelectroded protrusion centred on the end y = l
     length_mm = 1.0                     #   beyond the plate's length, (0, [plate] length_mm]
     width_mm = 2.0                      #   across, (0, width - 2 chamfers]
@@ -74,12 +74,12 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     a_mu = 0.15                         # residual at large amplitude, [0, 2], <= mu_d
     b_mu_per_m = 1e6                    # attenuation factor, [0, 1e9] 1/m
 
-With a feature table the stator is a :class:`fem.parametric.ParametricStator`: the plate
+With a feature table the stator is a :class:`fem.meshing.parametric.ParametricStator`: the plate
 keeps its own length and width (the tip is added beyond ``y = l``; the tip point is the
 centre of the tip's end), the electrodes are the plate's quadrants (``[electrodes] gap_mm``
 applies) and gmsh meshes the planform when the file is read (cached per geometry).
 Without ``[mesh]`` or feature tables the stator is the rectangular
-:class:`fem.geometry.PlateStator` (meshed by :func:`fem.mesh.structured_mesh`), so a TOML
+:class:`fem.geometry.PlateStator` (meshed by :func:`fem.meshing.mesh.structured_mesh`), so a TOML
 plate and the same plate built in Python give identical models. With a mesh the stator is a
 :class:`MeshedStator`: a ``PlateStator`` whose length and width are the mesh's bounding box
 and which carries the mesh, the tip and the preload point; :func:`fem.model.plate_model`
@@ -112,7 +112,7 @@ import numpy as np
 
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import MATERIAL_NAMES, PiezoMaterial, get_material
-from fem.meshed_stator import MeshedStator, bbox_mm
+from fem.meshing.meshed_stator import MeshedStator, bbox_mm
 from fem.units import to_si
 
 MM = 1e-3
@@ -156,7 +156,8 @@ IDENTIFY_FREQUENCY_RANGE_HZ = (1e3, 1e7)
 """Allowed ``[damping] frequency_Hz`` of ``source = "paper_amplitudes"`` (Hz)."""
 
 FEATURE_TABLES = ("tip", "chamfers", "holes")
-"""Tables that describe features of a parametric stator (meshed by gmsh, :mod:`fem.parametric`)."""
+"""Tables that describe features of a parametric stator (meshed by gmsh,
+:mod:`fem.meshing.parametric`)."""
 
 MOTOR_KEYS: dict[str, dict[str, tuple[str, float, float, bool, str]]] = {
     "contact": {"k_contact_N_m": ("k_contact", 1e3, 1e10, True, "N/m")},
@@ -254,14 +255,14 @@ class StatorDesign:
 
     def model(self, order: int = 2, refine: int | None = None):
         """The assembled :class:`fem.model.PiezoPlateModel` (cached)."""
-        from fem.mesh import DEFAULT_REFINE
+        from fem.meshing.mesh import DEFAULT_REFINE
         from fem.model import plate_model
 
         return plate_model(self.stator, self.material, order, refine or DEFAULT_REFINE)
 
     def modes(self, order: int = 2, refine: int | None = None):
         """L1 and B2 (:class:`fem.modes.PlateModes`, cached); ``refine`` ignored with a mesh."""
-        from fem.mesh import DEFAULT_REFINE
+        from fem.meshing.mesh import DEFAULT_REFINE
         from fem.modes import plate_modes
 
         return plate_modes(self.stator, self.material, order, refine or DEFAULT_REFINE)
@@ -566,8 +567,8 @@ def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float
 
 def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive, src, name,
                 material, motor) -> StatorDesign:
-    """A :class:`fem.parametric.ParametricStator` design from the feature tables."""
-    from fem.parametric import (
+    """A :class:`fem.meshing.parametric.ParametricStator` design from the feature tables."""
+    from fem.meshing.parametric import (
         DEFAULT_SIZE_DIVISIONS,
         SIZE_DIVISIONS_RANGE,
         ParametricStator,
@@ -648,7 +649,7 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
 
 def _mounts(data: dict[str, Any], design: StatorDesign, src: str):
     """``[points] mounts_mm`` in metres, each checked to lie on the planform."""
-    from fem.meshed_stator import planform_mesh
+    from fem.meshing.meshed_stator import planform_mesh
 
     value = (data.get("points") or {}).get("mounts_mm")
     if value is None:
@@ -754,7 +755,7 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                 )
         return StatorDesign(name=name, stator=stator, material=material, **motor)
 
-    from fem.mesh_io import UNITS, read_stator_mesh
+    from fem.meshing.mesh_io import UNITS, read_stator_mesh
 
     if "file" not in mesh_t or not isinstance(mesh_t["file"], str):
         raise ValueError(f"{src}: [mesh] file must be the path of a mesh file (a string)")

@@ -153,7 +153,7 @@ def sweep_dimension(
         Default: the paper's plate.
     material : PiezoMaterial or str
     order, refine : int
-        2D mesh (default refine: :data:`fem.mesh.DEFAULT_REFINE`).
+        2D mesh (default refine: :data:`fem.meshing.mesh.DEFAULT_REFINE`).
     progress : bool
         Show a tqdm progress bar (on stderr) for sweeps of at least
         :data:`PROGRESS_MIN_POINTS` points.
@@ -163,12 +163,12 @@ def sweep_dimension(
     ValueError
         On an unknown parameter, an empty sweep or a value that makes an invalid plate.
     """
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import ModeSolverError, plate_modes
 
     if parameter not in PARAMETERS:
         raise ValueError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
-    from fem.mesh_io import work_factor
+    from fem.meshing.mesh_io import work_factor
 
     raw = np.atleast_1d(np.asarray(values_m, dtype=object))
     # "7e-3" had been parsed, True had made a 1 m plate (alone or beside numbers)

@@ -40,12 +40,12 @@ where ``ln(f_B2/f_L1)`` changes sign (multiplicative steps of at most ``STEP_FAC
 with Brent's method. With a target, scale ``l`` and ``W`` by ``sqrt(f_L1 f_B2) / f_target``
 and repeat until both frequencies are within ``rel_tol`` of the target; with a held length or
 width one crossing is the answer. L1 and B2 are identified by shape at every FE solve
-(:func:`fem.modes.plate_modes`, or :func:`fem.solid3d.solid_modes` for ``model="3d"``), so
+(:func:`fem.modes.plate_modes`, or :func:`fem.solid3d.model.solid_modes` for ``model="3d"``), so
 the search is indifferent to which of the two is lower at the starting point. Each solve is
 counted.
 
-A stator with its own mesh (:class:`fem.meshed_stator.MeshedStator`, a mesh file) cannot be
-rescaled here and is refused. A parametric stator (:class:`fem.parametric.ParametricStator`:
+A stator with its own mesh (:class:`fem.meshing.meshed_stator.MeshedStator`, a mesh file) cannot be
+rescaled here and is refused. A parametric stator (:class:`fem.meshing.parametric.ParametricStator`:
 a tip, chamfers, holes) is rescaled like a plain plate: its plate length and width change,
 the features keep their size and position, and gmsh remeshes every plate tried (its element
 size is the file's ``[mesh] size_mm`` or ``min(l, W) / 8`` of each plate).
@@ -254,13 +254,13 @@ class _Solver:
         if key not in self.cache:
             st = self.stator(*key)
             if self.model == "2d":
-                from fem.mesh import DEFAULT_REFINE
+                from fem.meshing.mesh import DEFAULT_REFINE
                 from fem.modes import plate_modes
 
                 res = plate_modes(st, self.material, self.order,
                                   DEFAULT_REFINE if self.refine is None else self.refine)
             else:
-                from fem.solid3d import DEFAULT_REFINE_3D, solid_modes
+                from fem.solid3d.model import DEFAULT_REFINE_3D, solid_modes
 
                 res = solid_modes(st, self.material, self.order,
                                   DEFAULT_REFINE_3D if self.refine is None else self.refine)
@@ -381,7 +381,7 @@ def tune_plate(
         Starting design (default: the paper's 30 x 7.5 x 3 mm plate); its held dimensions,
         thickness, gap and drive electrodes are kept. A stator with its own mesh is refused.
     model : str
-        ``'2d'`` (plane stress, default) or ``'3d'`` (:mod:`fem.solid3d`, slower).
+        ``'2d'`` (plane stress, default) or ``'3d'`` (:mod:`fem.solid3d.model`, slower).
     order : int
         Element order.
     refine : int, optional

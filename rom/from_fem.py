@@ -57,7 +57,7 @@ def fem_params(
     order : int
         FE element order, 1 or 2.
     refine : int, optional
-        Mesh refinement; default :data:`fem.mesh.DEFAULT_REFINE`.
+        Mesh refinement; default :data:`fem.meshing.mesh.DEFAULT_REFINE`.
     base : MotorParams, optional
         Source of the contact, slider and friction constants (``k_contact``, ``M_slider``,
         ``mu_s``, ``mu_d``, ``mu_sd``, ``a_mu``, ``b_mu``) and of the default damping ratios;
@@ -71,7 +71,7 @@ def fem_params(
     """
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.model import plate_model
     from fem.modes import plate_modes
 
@@ -127,9 +127,9 @@ def fem_params(
         modes.B2.shape, 1, float(phi_B(length, length)), modes.B2.f_short_Hz, "B2"
     )
     features = stator.features_text() if hasattr(stator, "features_text") else ""
-    if hasattr(stator, "element_size_m"):  # fem.parametric.ParametricStator
+    if hasattr(stator, "element_size_m"):  # fem.meshing.parametric.ParametricStator
         mesh_text = f"gmsh mesh of element size {stator.element_size_m * 1e3:g} mm"
-    elif getattr(stator, "mesh", None) is not None:  # fem.meshed_stator: the file's mesh
+    elif getattr(stator, "mesh", None) is not None:  # fem.meshing.meshed_stator: the file's mesh
         mesh_text = "the stator file's mesh"
     else:
         mesh_text = f"refine {refine}"

@@ -14,7 +14,7 @@ from contact.characteristic import characteristic
 from contact.maps import stick_slip_map
 from contact.model import OperatingPoint
 from contact.simulate import simulate
-from contact.steady import steady_state
+from contact.steady.engine import steady_state
 from rom import table2
 
 
@@ -113,7 +113,7 @@ def test_drives_beyond_any_stator_are_refused_not_run():
     the stator statically by more than a centimetre is refused, naming the input."""
     from contact.model import MAX_STATIC_DEFLECTION_M
     from contact.simulate import simulate
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom import table2
 
     p = table2()
@@ -191,7 +191,7 @@ def test_smaller_api_inputs_are_checked():
 
     from contact.characteristic import characteristic
     from contact.maps import stick_slip_map
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom import table2
     from rom.params import MotorParams
 
@@ -306,9 +306,9 @@ def test_the_phase_plane_names_the_method_that_stores_its_window():
     # a MemoryError; both are refused from a lower bound of the count, before any line
     (lambda: __import__("fem.modes", fromlist=["x"]).plate_modes(refine=10_000),
      "refine = 10000 makes at least 4e+08 elements"),
-    (lambda: __import__("fem.solid3d", fromlist=["x"]).solid_modes(layers=10**5),
+    (lambda: __import__("fem.solid3d.model", fromlist=["x"]).solid_modes(layers=10**5),
      "layers = 100000 and edge_grading = 0 make at least"),
-    (lambda: __import__("fem.solid3d", fromlist=["x"]).solid_modes(edge_grading=100),
+    (lambda: __import__("fem.solid3d.model", fromlist=["x"]).solid_modes(edge_grading=100),
      "edge_grading = 100 make 3.18e+05 bricks"),
     (lambda: stick_slip_map(table2(), np.linspace(1, 400, 2000), np.linspace(1, 20, 2000),
                             method="steady", accuracy="fast"),

@@ -37,7 +37,7 @@ def _imports(path: Path) -> list[tuple[int, str, list[str]]]:
 
 
 def _sources(package: str) -> list[Path]:
-    return sorted((ROOT / package).glob("*.py"))
+    return sorted((ROOT / package).rglob("*.py"))
 
 
 @pytest.mark.parametrize("package", PACKAGES)

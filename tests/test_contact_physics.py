@@ -59,8 +59,8 @@ def test_entering_stick_corrects_the_lighter_body(paper_params, mass_kg):
     # v_rel = 0 is imposed by moving the lighter of tip (M_b / phi_B(l)^2, 1.25 g here) and
     # slider; the heavier keeps its velocity (a 0.2 kg slider, or a 1 g one)
     from contact import state as S
-    from contact.event_kernel import _stick_exact
     from contact.model import build_system
+    from contact.transient.event_kernel import _stick_exact
 
     p = paper_params.with_(M_slider=mass_kg)
     sc = build_system(p, OperatingPoint(200.0, 14.0), p.mu_d).scalars

@@ -1,20 +1,21 @@
 """The branch a start from rest reaches: the full model's run out of the slider's ripple zone
-and the averaged sheet it is on (contact.from_rest), each case against a transient from rest."""
+and the averaged sheet it is on (contact.steady.from_rest), each case against a transient from
+rest."""
 
 import math
 
 import pytest
 
-from contact import from_rest
-from contact.from_rest import PROBE_PERIODS, probe_from_rest
-from contact.full_orbit import full_system
 from contact.model import OperatingPoint, resolve_coupling
-from contact.steady import (
+from contact.steady import from_rest
+from contact.steady.engine import (
     REST_TRANSIENT_PERIODS,
     slow_problem,
     steady_state,
     transient_reference,
 )
+from contact.steady.from_rest import PROBE_PERIODS, probe_from_rest
+from contact.steady.full_orbit import full_system
 from rom import table2
 
 

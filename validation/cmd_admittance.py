@@ -84,7 +84,7 @@ def run(args: argparse.Namespace) -> None:
     choice = stator_from_args(args)
 
     from fem.admittance import TooManyModesError, plate_admittance
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import ModeSolverError
     from rom.from_fem import design_damping
     from rom.table2 import table2

@@ -117,7 +117,7 @@ def _expected_runaway(sim, *args, **kw):
     point, shown in its row, not a warning of the report's own run."""
     import warnings
 
-    from contact.steady import RunawayWarning
+    from contact.steady.engine import RunawayWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RunawayWarning)

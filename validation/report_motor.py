@@ -55,7 +55,7 @@ def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path
     Stable branches are filled, unstable ones open; the branch a start from rest reaches is
     ringed; the period multiplicity k labels multi-period orbits.
     """
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))

@@ -16,9 +16,9 @@ Conventions (SI inside; see ``docs/designer.md``):
 * other formats (vtu, xdmf, ...) carry an integer cell array ``electrode`` (0 = no
   electrode), as written by :func:`write_mesh`.
 
-Writing: :func:`write_mesh` (a :class:`fem.mesh.PlateMesh`, any meshio format) and
+Writing: :func:`write_mesh` (a :class:`fem.meshing.mesh.PlateMesh`, any meshio format) and
 :func:`write_stator_msh` (any cells plus the ``tip``/``preload`` vertices) both name the
-groups ``electrode1`` .. ``electrode4`` and ``gap`` (:func:`fem.mesh.electrode_name`).
+groups ``electrode1`` .. ``electrode4`` and ``gap`` (:func:`fem.meshing.mesh.electrode_name`).
 
 Cells: ``quad`` and ``triangle`` (and the straight-sided ``quad8``, ``quad9``,
 ``triangle6``, whose mid-side nodes are dropped). The FE stage assembles on bilinear quads
@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from fem.geometry import ELECTRODES
-from fem.mesh import GAP_NAME, GAP_PHYSICAL_TAG, PlateMesh, electrode_name
+from fem.meshing.mesh import GAP_NAME, GAP_PHYSICAL_TAG, PlateMesh, electrode_name
 
 UNITS = {"m": 1.0, "mm": 1e-3}
 """Mesh coordinate units accepted by :func:`read_stator_mesh` and their size in metres."""

@@ -31,7 +31,7 @@ quads (Blossom) and split once (``Mesh.SubdivisionAlgorithm = 1``), which gives 
 mesh with edges of about ``mesh_size_m``. Blossom can leave an inverted element next to a
 finely divided hole rim; the mesh is then checked (every element's signed area against its
 surface's orientation) and, if one is inverted, remeshed with triangles (Frontal-Delaunay),
-each split into three quads (:func:`fem.mesh_io.quadrangulate`, as for triangle mesh files).
+each split into three quads (:func:`fem.meshing.mesh_io.quadrangulate`, as for triangle mesh files).
 Hole rims get at least :data:`HOLE_SEGMENTS` edges. Every element lies under one electrode
 or in unelectroded material; its tag is read at its centroid. The mesh is cached per stator
 (the dataclass is hashable), so repeated commands and tuning steps do not remesh the same
@@ -47,8 +47,8 @@ from functools import lru_cache
 import numpy as np
 
 from fem.geometry import PlateStator
-from fem.mesh import PlateMesh
-from fem.mesh_io import quadrangulate
+from fem.meshing.mesh import PlateMesh
+from fem.meshing.mesh_io import quadrangulate
 
 GMSH_SYSTEM_LIBRARIES = "libglu1-mesa libxrender1 libxcursor1 libxft2 libxinerama1"
 """The Debian/Ubuntu packages of the OpenGL/X11 libraries that gmsh's wheel links."""
@@ -278,7 +278,7 @@ def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:
 
 @lru_cache(maxsize=32)
 def _cached_mesh(stator: ParametricStator) -> PlateMesh:
-    from fem.mesh_io import MAX_CELLS, work_factor
+    from fem.meshing.mesh_io import MAX_CELLS, work_factor
 
     estimate, top = estimated_elements(stator), int(MAX_CELLS * work_factor())
     if estimate > top:  # refused from the 1D mesh, before the 2D mesh's minutes

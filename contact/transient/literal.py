@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from contact import literal_kernel as lk
 from contact.deferred_signals import call_held
 from contact.model import OperatingPoint, gamma_T, static_deflection_m
 from contact.results import SchemeOutput
-from contact.window import RunWindow
+from contact.transient import literal_kernel as lk
+from contact.transient.window import RunWindow
 from rom.params import GRAVITY_M_S2, MotorParams
 
 

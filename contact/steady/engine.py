@@ -2,14 +2,14 @@
 
 The slider (0.2 kg) is slow against the 40 kHz vibration, so the steady state separates into
 
-* the **fast problem** (:mod:`contact.periodic_orbit`): at a fixed slider velocity v the
+* the **fast problem** (:mod:`contact.steady.periodic_orbit`): at a fixed slider velocity v the
   stator-tip contact settles on a periodic orbit; its exact period averages F_T(v), F_N(v);
 * the **slow equation**: the mean slider acceleration vanishes,
   ``G(v) = F_T(v) - sign(v) mu_sd (F_N + M g) - F_load = 0``. Every root is a branch; a root
   is stable where ``G`` falls through zero; ``v = 0`` is a steady state (the dead zone, slider
   held by the guide) when ``G(0-) >= 0 >= G(0+)``. At the fast level a start from rest follows
   ``M dv/dt = G(v)`` from 0 to the first stable root on the side ``G(0)`` points to; the
-  exact level decides it on the full model (:mod:`contact.from_rest`): ``G`` can be
+  exact level decides it on the full model (:mod:`contact.steady.from_rest`): ``G`` can be
   many-valued, and which sheet a start from rest takes is decided below the slider's
   velocity ripple, where the averaging does not hold.
 
@@ -20,7 +20,7 @@ error scales as 1/M (see ``docs/steady.md``).
 The load ``load_N`` is a constant force on the slider in -x: it opposes positive velocity.
 
 >>> from rom import table2
->>> from contact.steady import steady_state
+>>> from contact.steady.engine import steady_state
 >>> r = steady_state(table2(), 200, 14)          # doctest: +SKIP
 >>> r.velocity_m_s, r.branches                    # doctest: +SKIP
 """
@@ -38,11 +38,11 @@ from scipy.optimize import brentq
 from contact.deferred_signals import deferred_signals
 from contact.drive import default_drive_Hz, free_tip_amplitudes
 from contact.errors import ChatteringError, RunawayError
-from contact.event_kernel import N_WORK
 from contact.friction import dynamic_friction
-from contact.from_rest import probe_from_rest
 from contact.model import OperatingPoint, check_rest, resolve_coupling
-from contact.periodic_orbit import (
+from contact.results import PHASE_THRESHOLD, classify_motion
+from contact.steady.from_rest import probe_from_rest
+from contact.steady.periodic_orbit import (
     AVERAGE_PERIODS,
     SEARCH_PERIODS,
     FastSystem,
@@ -55,7 +55,7 @@ from contact.periodic_orbit import (
     spectral_radius,
     steps_for,
 )
-from contact.results import PHASE_THRESHOLD, classify_motion
+from contact.transient.event_kernel import N_WORK
 from rom.params import GRAVITY_M_S2, MotorParams, require_params
 
 ACCURACIES = ("fast", "exact")
@@ -94,13 +94,13 @@ rest) hold the slider: they are reported as the dead zone, with velocity 0."""
 """Accuracy levels. ``"fast"``: averaging (M -> infinity), error O(1/M). ``"exact"``: every
 averaged branch polished by shooting the full model (finite M) and the start from rest decided
 on the full model: its run out of the slider's ripple zone and the averaged sheet it is on
-(:mod:`contact.from_rest`), or else a transient of :data:`REST_TRANSIENT_PERIODS` periods
+(:mod:`contact.steady.from_rest`), or else a transient of :data:`REST_TRANSIENT_PERIODS` periods
 polished by shooting, which also finds branches the averaging cannot see (multi-period
 slider-tip orbits at low speed)."""
 
 REST_TRANSIENT_PERIODS = 2000
 """Drive periods of the transient from rest that decides the branch reached (accuracy
-"exact") where the run out of the ripple zone cannot (:mod:`contact.from_rest`; the
+"exact") where the run out of the ripple zone cannot (:mod:`contact.steady.from_rest`; the
 transient goes on from that run); shooting then removes what is left of the transient."""
 
 REST_MAX_K = 16
@@ -173,7 +173,7 @@ class SteadyBranch:
         Period averages of the tangential force on the slider and of the normal force (N),
         integrated exactly over the orbit the branch's numbers come from: the averaged
         (fast) problem's at this velocity, or at ``accuracy="exact"`` the full model's
-        (:func:`contact.full_orbit.mean_forces`; a long mean with ``k = 0`` over the window
+        (:func:`contact.steady.full_orbit.mean_forces`; a long mean with ``k = 0`` over the window
         of its work integrals). On a full-model orbit whose slider never stops the mean
         tangential force is the guide's kinetic friction plus the load; without separation
         the mean normal force is the preload.
@@ -288,7 +288,7 @@ class SteadyResult:
     rest_periods : int
         Drive periods of the full model run from rest to decide the branch a start from rest
         reaches (included in ``periods``): the run out of the slider's ripple zone
-        (:mod:`contact.from_rest`), or the transient from rest of
+        (:mod:`contact.steady.from_rest`), or the transient from rest of
         :data:`REST_TRANSIENT_PERIODS` where that run leaves the decision to it, or the hold
         check of a slider the averages hold. 0 at the fast level, which decides on the
         averages.
@@ -318,7 +318,7 @@ class SlowProblem:
     ``thrust(v)`` is ``F_T(v) - sign(v) mu_sd (F_N + M g)`` (N), the thrust the motor
     delivers against a load at slider velocity v. The scan runs from ``v_floor_m_s`` to
     ``v_max_m_s`` (m/s, :func:`scan_grid`); ``search_periods`` and ``average_periods`` are
-    the budget of each orbit (:func:`contact.periodic_orbit.find_orbit`).
+    the budget of each orbit (:func:`contact.steady.periodic_orbit.find_orbit`).
     """
 
     params: MotorParams
@@ -430,7 +430,7 @@ def steps_per_period(params: MotorParams, frequency_Hz: float, coupling: str = "
     where a point takes 1.5 s). A work estimate for callers that bound a study beforehand.
 
     ``mu_d_eff`` (-) is the friction in slip, ``params.mu_d`` by default; the count is the
-    one :func:`fast_system` makes (:func:`contact.periodic_orbit.steps_for`), without its
+    one :func:`fast_system` makes (:func:`contact.steady.periodic_orbit.steps_for`), without its
     propagators.
     """
     op = OperatingPoint(0.0, 0.0, float(frequency_Hz))
@@ -605,7 +605,7 @@ def scan_grid(v_floor: float, v_max: float) -> np.ndarray:
 def _branch(sp: SlowProblem, v: float, load: float, stable: bool,
             energy: bool = True) -> SteadyBranch:
     """The averaged branch at the root ``v``; without ``energy`` its powers (which take a
-    run at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD`) are NaN."""
+    run at :data:`contact.steady.periodic_orbit.ENERGY_STEPS_PER_PERIOD`) are NaN."""
     o = sp.orbit(v)
     span = max(o.k, 1) if o.k else None
     phase_time = orbit_phases(sp.fs, o, sp.average_periods)
@@ -700,14 +700,14 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
         the CLI gave the motor's 1.014 N.
     energy : bool
         Compute each branch's powers (input, damping, interface, guide), one run per branch
-        at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
+        at :data:`contact.steady.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
         it they are NaN (velocities, periods, stability, phase fractions and mean forces are
         the same).
     rest : {"probe", "transient"}
         How the exact level decides the branch a start from rest reaches: ``"probe"`` (the
         default) by the full model's run out of the slider's ripple zone and the averaged
         sheet it is on, with the transient where that run cannot decide
-        (:mod:`contact.from_rest`; several times faster, a heuristic with known failures,
+        (:mod:`contact.steady.from_rest`; several times faster, a heuristic with known failures,
         docs/steady.md); ``"transient"`` by a transient from rest of
         :data:`REST_TRANSIENT_PERIODS` periods at every point (the reference the probe is
         measured against). Ignored at the fast level.
@@ -841,7 +841,7 @@ def _held_from(sp: SlowProblem, fsys, z: np.ndarray, mode: int,
     than 1/t, so that the distance still to go is finite (at most ``v t / (exponent - 1)``)
     and the position converges.
     """
-    from contact.full_orbit import run_periods
+    from contact.steady.full_orbit import run_periods
 
     v = []
     for _ in range(3):
@@ -871,7 +871,7 @@ def _held_branch(sp: SlowProblem, fsys, z: np.ndarray, mode: int, from_rest: boo
     averaged orbit at 0+ (an infinitely heavy slider) does not have: at 200 V / 14 N driven
     at 1 kHz the guide takes 5.0e-4 W of the 1.07e-3 W put in, and the averaged dead zone had
     said 2.4e-5 W at some loads of one characteristic and 1.07e-3 W at the others."""
-    from contact.full_orbit import mean_forces, run_periods, shoot
+    from contact.steady.full_orbit import mean_forces, run_periods, shoot
 
     try:
         h = shoot(fsys, z, mode, 1, energy=energy)
@@ -894,7 +894,7 @@ def _shoot_averaged(fsys, o: Orbit, energy: bool):
     """The full model shot from the averaged orbit ``o`` (its state with the slider moving
     at ``o``'s velocity, over ``o``'s period), or None where the kernel chatters."""
     from contact import state as S
-    from contact.full_orbit import shoot
+    from contact.steady.full_orbit import shoot
 
     v = o.velocity_m_s
     z = o.z.copy()
@@ -908,7 +908,7 @@ def _shoot_averaged(fsys, o: Orbit, energy: bool):
 
 def _shoot_probe(fsys, probe, energy: bool):
     """The full model's orbit at the root the run from rest found on its sheet
-    (:func:`contact.from_rest.probe_from_rest`), or None where there is none or the shot
+    (:func:`contact.steady.from_rest.probe_from_rest`), or None where there is none or the shot
     does not confirm it: no convergence, an unstable orbit, or a mean velocity more than
     5 % from the averaged root (another orbit). Returns ``(orbit, periods, newton)``."""
     o = probe.orbit
@@ -930,7 +930,7 @@ def _transient_from_rest(sp: SlowProblem, fsys, z, mode, done: int, energy: bool
     Returns ``(z_end, mode_end, v_rest, orbit, periods, newton)``: the state at the end of
     the transient, the velocity (m/s) of the shot orbit where shooting confirms the
     transient's recent mean to 5 %, else that mean, with the orbit or None, and the work."""
-    from contact.full_orbit import run_periods, shoot
+    from contact.steady.full_orbit import run_periods, shoot
 
     periods = newton = 0
     z_end, m_end, _, _, _ = run_periods(fsys, z, mode, REST_TRANSIENT_PERIODS - done)
@@ -969,7 +969,7 @@ def _transient_from_rest(sp: SlowProblem, fsys, z, mode, done: int, energy: bool
 def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
            rest: str = "probe"):
     """Polish the averaged branches on the full model and decide the start from rest."""
-    from contact.full_orbit import full_system, mean_forces, run_periods, shoot
+    from contact.steady.full_orbit import full_system, mean_forces, run_periods, shoot
 
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
     periods = newton = 0
@@ -1009,7 +1009,7 @@ def _exact(sp: SlowProblem, branches, coupling: str, energy: bool = True,
         else:
             out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
     # the start from rest: the full model out of the ripple zone and the averaged sheet it
-    # is on (contact.from_rest), else a transient from rest and shooting for the orbit it
+    # is on (contact.steady.from_rest), else a transient from rest and shooting for the orbit it
     # approaches. Not the scan's own first root: the full model from rest can take another
     # sheet of the slow equation (a tuned 60 kHz stator at 140 V / 14 N: stick-slip at
     # 6.23e-3 m/s from rest, where the scan's only branch, pure slip at 1.36e-2 m/s, had been
@@ -1167,7 +1167,7 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
 
     The slow reference of :func:`steady_state`: the event scheme of
     :func:`contact.simulate.simulate` run with the load in the operating point, at the
-    step ``dt_s`` (s). By default, :func:`contact.window.period_step_s` of the step of
+    step ``dt_s`` (s). By default, :func:`contact.transient.window.period_step_s` of the step of
     :class:`contact.simulate.SimulationOptions` (1e-7 s): the largest step up to it that
     makes the drive period a whole number of steps (250 at 40 kHz, where it is that step),
     the rule of the CLI's default ``--dt``. A window of whole periods then starts at the
@@ -1181,7 +1181,7 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
         normal_amplitude,
         solve_event,
     )
-    from contact.window import period_step_s, run_window
+    from contact.transient.window import period_step_s, run_window
 
     coupling = resolve_coupling(params, coupling)
     op = OperatingPoint(voltage_V, preload_N, default_drive_Hz(params, frequency_Hz), load_N)

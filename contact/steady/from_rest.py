@@ -1,11 +1,12 @@
 """The branch a start from rest reaches: the full model out of the ripple zone, then the sheet.
 
-The averaged slow equation of :mod:`contact.steady` can be many-valued: at one slider velocity
-the fixed-velocity fast problem can have several stable orbits (a stick-slip and a pure-slip
-orbit, say), each a *sheet* ``G(v)`` of its own, and the scan follows one of them. Which sheet a
-start from rest is on is decided while the slider is slower than its velocity ripple, where the
-averaging does not hold (a tuned 60 kHz stator at 140 V / 14 N: the full model from rest takes
-the stick-slip sheet, the fixed-velocity problem from rest the pure-slip one).
+The averaged slow equation of :mod:`contact.steady.engine` can be many-valued: at one slider
+velocity the fixed-velocity fast problem can have several stable orbits (a stick-slip and a
+pure-slip orbit, say), each a *sheet* ``G(v)`` of its own, and the scan follows one of them.
+Which sheet a start from rest is on is decided while the slider is slower than its velocity
+ripple, where the averaging does not hold (a tuned 60 kHz stator at 140 V / 14 N: the full
+model from rest takes the stick-slip sheet, the fixed-velocity problem from rest the pure-slip
+one).
 
 So the full model itself is run from rest, in blocks of :data:`PROBE_BLOCK_PERIODS`, until the
 slider is :data:`PROBE_FACTOR` times faster than the ripple scale. There the fast orbit the
@@ -17,8 +18,8 @@ followed by continuation in the direction ``G`` pushes the slider (steps of
 first root, the stable steady state a slider moving along it stops at. A fold on the way
 (the sheet ends and the slider falls to another one, which only the full model can choose), a
 slider that stays in the ripple zone for :data:`PROBE_PERIODS` periods, or a failed check
-leaves the decision to the transient from rest (:mod:`contact.steady`), which continues this
-run. The caller shoots the full model from the root (:func:`contact.full_orbit.shoot`).
+leaves the decision to the transient from rest (:mod:`contact.steady.engine`), which continues this
+run. The caller shoots the full model from the root (:func:`contact.steady.full_orbit.shoot`).
 """
 
 from __future__ import annotations
@@ -32,15 +33,15 @@ from scipy.optimize import brentq
 
 from contact import state as S
 from contact.errors import ChatteringError
-from contact.full_orbit import FullSystem, run_periods
-from contact.periodic_orbit import Orbit, find_orbit, orbit_phases
+from contact.steady.full_orbit import FullSystem, run_periods
+from contact.steady.periodic_orbit import Orbit, find_orbit, orbit_phases
 
-if TYPE_CHECKING:  # the slow problem lives in contact.steady, which imports this module
-    from contact.steady import SlowProblem
+if TYPE_CHECKING:  # the slow problem lives in contact.steady.engine, which imports this module
+    from contact.steady.engine import SlowProblem
 
 PROBE_FACTOR = 20.0
 """The probe leaves the full model once the slider is this many times faster than the scan's
-floor (the ripple scale ``mu_d_eff F_P / (M omega)``, :func:`contact.steady.ripple_scale`):
+floor (the ripple scale ``mu_d_eff F_P / (M omega)``, :func:`contact.steady.engine.ripple_scale`):
 the slider's velocity then swings by about 5 % of its value in a period."""
 
 PROBE_BLOCK_PERIODS = 10

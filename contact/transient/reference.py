@@ -29,7 +29,7 @@ from scipy.optimize import brentq
 from contact.model import OperatingPoint, gamma_T, static_deflection_m
 from contact.results import SchemeOutput
 from contact.state import BACKWARD, FORWARD, HELD, SLIP_NEG, SLIP_POS, STICK
-from contact.window import MIN_PERIODS, WORK_ENV, RunWindow, work_factor
+from contact.transient.window import MIN_PERIODS, WORK_ENV, RunWindow, work_factor
 from rom.params import GRAVITY_M_S2, MotorParams
 
 Guard = Callable[[float, np.ndarray], float]

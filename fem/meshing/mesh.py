@@ -5,7 +5,7 @@ each element lies entirely under one electrode (tag 1..4) or in an unelectroded 
 (tag 0). The geometry is always bilinear (rectangles are represented exactly); the element
 order (1: ``ElementQuad1``, 2: ``ElementQuad2``) is chosen when the model is assembled.
 
-Files: :mod:`fem.mesh_io` reads and writes meshes (meshio; electrode groups ``electrode1``
+Files: :mod:`fem.meshing.mesh_io` reads and writes meshes (meshio; electrode groups ``electrode1``
 .. ``electrode4`` and ``gap``).
 """
 
@@ -246,7 +246,7 @@ def check_generated_size(stator: PlateStator, refine: int, layers: int | None = 
     A lower bound, ``refine^2 l W / min(l, W)^2`` elements (times ``layers``), is checked
     before any line is made, then ``count()`` (the exact count) when given; ``named``: the
     settings the message names (default ``refine``, and ``layers`` in 3D)."""
-    from fem.mesh_io import work_factor
+    from fem.meshing.mesh_io import work_factor
 
     top = (MAX_LIBRARY_CELLS_2D if layers is None else MAX_LIBRARY_BRICKS_3D) * work_factor()
     side = min(stator.length_m, stator.width_m)

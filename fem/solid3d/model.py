@@ -42,7 +42,7 @@ K_uphi^T``. Sign convention: ``V_e`` is the potential of the top electrode; a po
 makes ``E3 = -V/h``, the opposite of the 2D model's convention ``E3 = +V/h`` (frequencies and
 ``k_eff`` do not depend on it).
 
-Stators that carry their own planform mesh (:class:`fem.meshed_stator.MeshedStator`: a
+Stators that carry their own planform mesh (:class:`fem.meshing.meshed_stator.MeshedStator`: a
 protruding tip, chamfered corners, any imported quad mesh) are meshed by extruding that 2D
 mesh through the thickness in ``layers`` element layers (:func:`extruded_hex_mesh`); the top
 face of a top-layer brick belongs to electrode ``k`` when its 2D element is tagged ``k``
@@ -52,7 +52,7 @@ structured box mesh.
 
 :func:`saddle_point_frequencies_Hz` (the shift-invert driver), :func:`assemble_solid` and
 :func:`identify_sampled` are shared with the quarter-plate model of
-:mod:`fem.solid3d_symmetric`.
+:mod:`fem.solid3d.symmetric`.
 
 Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z = 0``
 (symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
@@ -74,14 +74,14 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material
-from fem.mesh import (
+from fem.meshing.mesh import (
     MAX_LIBRARY_BRICKS_3D,
     PlateMesh,
     check_generated_size,
     grid_lines_m,
     require_plate,
 )
-from fem.meshed_stator import overall_length_m, planform_mesh
+from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 from fem.model import affine_probes
 from fem.modes import (
     MIN_MAC,
@@ -103,7 +103,8 @@ ELEMENTS = ("hex20", "hex27")
 DEFAULT_ELEMENT = "hex20"
 """Default quadratic brick (see the module docstring and ``docs/fem3d.md``)."""
 DEFAULT_REFINE_3D = 3
-"""Default in-plane refinement: elements per plate width, as in :func:`fem.mesh.grid_lines_m`."""
+"""Default in-plane refinement: elements per plate width, as in
+:func:`fem.meshing.mesh.grid_lines_m`."""
 DEFAULT_LAYERS = 3
 """Default number of element layers through the thickness."""
 MIN_THICKNESS_SYMMETRY = 0.5
@@ -271,8 +272,8 @@ class SolidPlateModel:
 
 
 def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading: int) -> None:
-    """Refuse a 3D mesh above :data:`fem.mesh.MAX_LIBRARY_BRICKS_3D` bricks before it is built
-    (``solid_modes(refine=200)`` had ended in a MemoryError): the generated plate's bricks,
+    """Refuse a 3D mesh above :data:`fem.meshing.mesh.MAX_LIBRARY_BRICKS_3D` bricks before it is
+    built (``solid_modes(refine=200)`` had ended in a MemoryError): the generated plate's bricks,
     counted from its lines, or a planform's elements times ``layers`` (at least)."""
     planform = planform_mesh(stator)
     if planform is None:
@@ -280,7 +281,7 @@ def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading
             len(v) - 1 for v in hex_grid_lines(stator, refine, layers, edge_grading)),
             named=f"refine = {refine}, layers = {layers} and edge_grading = {edge_grading}")
         return
-    from fem.mesh_io import work_factor
+    from fem.meshing.mesh_io import work_factor
 
     top = MAX_LIBRARY_BRICKS_3D * work_factor()
     n = planform.n_elements * layers
@@ -560,7 +561,7 @@ def build_solid_model(
 ) -> SolidPlateModel:
     """Assemble the 3D model of ``stator`` on a quadratic brick mesh.
 
-    A stator carrying a planform mesh (:class:`fem.meshed_stator.MeshedStator`) is meshed by
+    A stator carrying a planform mesh (:class:`fem.meshing.meshed_stator.MeshedStator`) is meshed by
     :func:`extruded_hex_mesh` (``refine`` is then ignored) with the electrodes of its element
     tags; a plain :class:`fem.geometry.PlateStator` by the structured box mesh.
 
@@ -575,7 +576,7 @@ def build_solid_model(
         2 (quadratic, default) or 1 (trilinear).
     refine : int
         In-plane elements per plate width; the grid lines follow the electrode edges
-        (:func:`fem.mesh.grid_lines_m`).
+        (:func:`fem.meshing.mesh.grid_lines_m`).
     layers : int
         Element layers through the thickness.
     element : str
@@ -590,7 +591,7 @@ def build_solid_model(
         Explicit tensor lines ``(x, y, z)`` (m) of the structured mesh of a plain plate,
         replacing those of ``refine``, ``layers`` and ``edge_grading`` (which are then only
         recorded); they must span the plate and contain the electrode edges
-        (:func:`fem.solid3d_symmetric.quarter_grid_lines` mirrored gives such lines).
+        (:func:`fem.solid3d.symmetric.quarter_grid_lines` mirrored gives such lines).
 
     Raises
     ------
@@ -804,7 +805,7 @@ def saddle_point_frequencies_Hz(
     ``f_center_Hz = 0`` uses a small negative shift (rigid-body modes at 0 Hz); negative
     eigenvalues from round-off come back as negative frequencies. ``row_order``, a
     fill-reducing permutation of the saddle-point unknowns (displacements, then potentials),
-    replaces SuperLU's own column ordering (e.g. :mod:`fem.grid_ordering`).
+    replaces SuperLU's own column ordering (e.g. :mod:`fem.solid3d.grid_ordering`).
 
     Raises
     ------
