@@ -82,6 +82,7 @@ import scipy.sparse.linalg as sla
 
 from fem.frozen import freeze_arrays
 from fem.geometry import ELECTRODES, PlateStator
+from fem.limits import work_factor
 from fem.material import PiezoMaterial
 from fem.meshing.mesh import DEFAULT_REFINE
 
@@ -731,7 +732,6 @@ def plate_admittance(
         raise ValueError(f"need 0 < f_min_Hz < f_max_Hz, got {f_min_Hz!r}, {f_max_Hz!r}")
     if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 3:
         raise ValueError(f"n_points must be an integer >= 3, got {n_points!r}")
-    from fem.meshing.mesh_io import work_factor
 
     top = MAX_FREQUENCY_POINTS * work_factor()
     if n_points > top:  # an array of points x modes: 1e7 had taken 56 s and about 7 GB

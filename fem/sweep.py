@@ -17,6 +17,7 @@ import numpy as np
 
 from fem.frozen import freeze_arrays
 from fem.geometry import PlateStator
+from fem.limits import work_factor
 from fem.material import PiezoMaterial, get_material
 
 PARAMETERS = ("width", "length")
@@ -168,7 +169,6 @@ def sweep_dimension(
 
     if parameter not in PARAMETERS:
         raise ValueError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
-    from fem.meshing.mesh_io import work_factor
 
     raw = np.atleast_1d(np.asarray(values_m, dtype=object))
     # "7e-3" had been parsed, True had made a 1 m plate (alone or beside numbers)

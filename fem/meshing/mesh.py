@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fem.geometry import ELECTRODES, PlateStator
+from fem.limits import work_factor
 
 GAP_PHYSICAL_TAG = 10
 """gmsh physical tag of the unelectroded gap strips."""
@@ -246,8 +247,6 @@ def check_generated_size(stator: PlateStator, refine: int, layers: int | None = 
     A lower bound, ``refine^2 l W / min(l, W)^2`` elements (times ``layers``), is checked
     before any line is made, then ``count()`` (the exact count) when given; ``named``: the
     settings the message names (default ``refine``, and ``layers`` in 3D)."""
-    from fem.meshing.mesh_io import work_factor
-
     top = (MAX_LIBRARY_CELLS_2D if layers is None else MAX_LIBRARY_BRICKS_3D) * work_factor()
     side = min(stator.length_m, stator.width_m)
     least = float(refine) ** 2 * stator.length_m * stator.width_m / side**2 * (layers or 1)

@@ -32,8 +32,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import math
-import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,6 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from fem.geometry import ELECTRODES
+from fem.limits import work_factor
 from fem.meshing.mesh import GAP_NAME, GAP_PHYSICAL_TAG, PlateMesh, electrode_name
 
 UNITS = {"m": 1.0, "mm": 1e-3}
@@ -207,15 +206,6 @@ def quadrangulate(
             out.append(np.column_stack((c[:, j], emid[:, j], centre, emid[:, (j - 1) % k])))
             out_tags.append(t)
     return np.concatenate(new_pts), np.concatenate(out), np.concatenate(out_tags)
-
-
-def work_factor() -> float:
-    """``LUSM_MAX_WORK`` (>= 1; 1 when unset or invalid - the CLI reports invalid values)."""
-    try:
-        value = float(os.environ.get("LUSM_MAX_WORK", "") or 1.0)
-    except ValueError:
-        return 1.0
-    return value if math.isfinite(value) and value >= 1.0 else 1.0
 
 
 def _cells_text(ids: np.ndarray, limit: int = 6) -> str:

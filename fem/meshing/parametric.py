@@ -47,6 +47,7 @@ from functools import lru_cache
 import numpy as np
 
 from fem.geometry import PlateStator
+from fem.limits import work_factor
 from fem.meshing.mesh import PlateMesh
 from fem.meshing.mesh_io import quadrangulate
 
@@ -278,7 +279,7 @@ def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:
 
 @lru_cache(maxsize=32)
 def _cached_mesh(stator: ParametricStator) -> PlateMesh:
-    from fem.meshing.mesh_io import MAX_CELLS, work_factor
+    from fem.meshing.mesh_io import MAX_CELLS
 
     estimate, top = estimated_elements(stator), int(MAX_CELLS * work_factor())
     if estimate > top:  # refused from the 1D mesh, before the 2D mesh's minutes

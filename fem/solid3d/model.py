@@ -73,6 +73,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
+from fem.limits import work_factor
 from fem.material import PiezoMaterial, get_material
 from fem.meshing.mesh import (
     MAX_LIBRARY_BRICKS_3D,
@@ -281,7 +282,6 @@ def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading
             len(v) - 1 for v in hex_grid_lines(stator, refine, layers, edge_grading)),
             named=f"refine = {refine}, layers = {layers} and edge_grading = {edge_grading}")
         return
-    from fem.meshing.mesh_io import work_factor
 
     top = MAX_LIBRARY_BRICKS_3D * work_factor()
     n = planform.n_elements * layers
