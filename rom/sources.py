@@ -31,7 +31,8 @@ def _beam(**kwargs: Any) -> MotorParams:
     import inspect
     from dataclasses import fields
 
-    from rom.beam import BeamStator, beam_params
+    from rom.beam import beam_params
+    from rom.beam_stator import BeamStator
 
     names = {f.name for f in fields(BeamStator)}
     options = set(inspect.signature(beam_params).parameters) - {"beam"}

@@ -171,7 +171,7 @@ def test_map_workers_are_a_positive_integer(workers):
         stick_slip_map(table2(), [200.0], [14.0], workers=workers)
 
 
-@pytest.mark.parametrize("cls", ["fem.geometry:PlateStator", "rom.beam:BeamStator"])
+@pytest.mark.parametrize("cls", ["fem.geometry:PlateStator", "rom.beam_stator:BeamStator"])
 def test_millimetres_typed_as_metres_are_refused(cls):
     """PlateStator(length_m=30) was a 30 m plate: sweep_dimension ran 29 s of FE into NaN."""
     import importlib
