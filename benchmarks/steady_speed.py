@@ -111,13 +111,13 @@ def main() -> None:
 
 
 def _fixed_costs(params, row, repeats: int) -> None:
-    """What one steady point costs before any orbit is searched: the Eq. 11 normal amplitude
-    A_N that fixes mu_d,eff as the transient scheme does (closed form where the tip does not
-    separate, else a 60-period pre-pass; :func:`contact.simulate.normal_amplitude`) and the fast and
-    full systems with their matrix exponentials; the speed-up cannot exceed the transient's
-    time over their sum."""
+    """What one steady point costs before any orbit is searched: the Eq. 11 normal amplitude A_N
+    that fixes mu_d,eff as the transient scheme does (closed form where the tip does not
+    separate, else a 60-period pre-pass; :func:`contact.transient.pre_pass.normal_amplitude`)
+    and the fast and full systems with their matrix exponentials; the speed-up cannot exceed the
+    transient's time over their sum."""
     from contact.model import OperatingPoint
-    from contact.simulate import normal_amplitude
+    from contact.transient.pre_pass import normal_amplitude
 
     op = OperatingPoint(row["voltage_V"], row["preload_N"], 40e3)
     _, t_pre = _timed(lambda: normal_amplitude(params, op), max(repeats, 5))

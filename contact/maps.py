@@ -23,8 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.model import OperatingPoint, check_rest
+from contact.options import SimulationOptions, options_or_default
 from contact.results import MOTION_CLASSES, FrozenArrays
-from contact.simulate import SimulationOptions, options_or_default, simulate
+from contact.simulate import simulate
 from rom.params import MotorParams, require_params
 
 

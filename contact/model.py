@@ -490,7 +490,7 @@ def linear_normal_amplitude(params: MotorParams, op: OperatingPoint) -> float | 
     ``A_N = |phi_L(l)|`` times that. The mean normal force of that orbit is ``F_P`` and its
     swing ``k |eta_N| U``; when the swing reaches the mean the tip separates, the orbit is
     not harmonic and None is returned (the caller then simulates the pre-pass of
-    :func:`contact.simulate.normal_amplitude`, its reference).
+    :func:`contact.transient.pre_pass.normal_amplitude`, its reference).
     """
     p = params
     k_eff = p.K_l + p.eta_N ** 2 * p.k_contact

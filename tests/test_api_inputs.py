@@ -136,7 +136,7 @@ def test_drives_beyond_any_stator_are_refused_not_run():
 def test_simulation_options_integers_are_integers(kw):
     """NaN was numpy's "cannot convert float NaN to integer", inf an OverflowError, '100' a
     TypeError deep in a scheme, and 2.5 or True were stored as typed (found by API testing)."""
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     with pytest.raises(ValueError, match=f"{next(iter(kw))} must be an integer >= 1"):
         SimulationOptions(**kw)
@@ -145,7 +145,7 @@ def test_simulation_options_integers_are_integers(kw):
 def test_simulation_options_numbers_are_numbers():
     import numpy as np
 
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     with pytest.raises(TypeError, match="stick_band_m_s must be a number"):
         SimulationOptions(stick_band_m_s="0")
@@ -222,7 +222,7 @@ def test_energy_is_refused_where_it_is_not_computed(method):
     with pytest.raises(ValueError, match="energy=True is computed by method='event' only"):
         simulate(table2(), 200.0, 14.0, method=method, energy=True, duration_s=0.005)
     # the keyword wins over the options, as for every other option
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     r = simulate(table2(), 200.0, 14.0, None, SimulationOptions(energy=True), method=method,
                  energy=False, duration_s=0.005)

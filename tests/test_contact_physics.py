@@ -9,7 +9,8 @@ import pytest
 
 from contact.model import OperatingPoint, normal_force_zero_tip_displacement
 from contact.phase_plane import phase_plane
-from contact.simulate import normal_amplitude, simulate
+from contact.simulate import simulate
+from contact.transient.pre_pass import normal_amplitude
 from tests.conftest import cached_run
 
 
@@ -47,7 +48,7 @@ def test_the_settled_speed_does_not_depend_on_the_step(paper_params):
     # acceleration times the landing delay every period, which the slider integrates over its
     # slow settling, 3.4e-8 of the speed at dt = 1e-7 s against 1e-6 s. The tip's velocity is
     # now set to the slider's
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     v = [simulate(paper_params, 200.0, 14.0, options=SimulationOptions(
         duration_s=0.3, dt_s=dt, steady_periods=400)).steady.velocity_m_s for dt in (1e-6, 1e-7)]

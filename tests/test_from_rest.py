@@ -158,7 +158,7 @@ def test_simulate_steady_takes_rest_too(capsys, beam_miss_ref):
     # transient's value, as lusm map and lusm characteristic do
     import json
 
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
     from validation.cli import main
 
     argv = ["simulate", "--source", "beam", "--voltage", "1000", "--preload", "10",

@@ -93,7 +93,8 @@ def test_transient_energy_balance_closes_with_a_load(params):
     # the load enters the slider's guide/load force rows, so the work-energy balance of the
     # transient must still close
     from contact.model import OperatingPoint
-    from contact.simulate import SimulationOptions, solve_event
+    from contact.options import SimulationOptions
+    from contact.transient.event import solve_event
     from contact.transient.window import run_window
 
     op = OperatingPoint(400, 14, 40e3, 1.0)

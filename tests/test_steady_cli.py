@@ -146,7 +146,8 @@ def test_steady_commands_do_not_check_the_transients_step(capsys, frequency_Hz):
     # under 10 periods at 100 Hz and the default --dt (1e-7 s) over 1/(20 f) at 1 MHz, which
     # refused these drives though nobody typed either option. The answer is a transient's
     # at a step and length valid there (far from resonance the slider stays held)
-    from contact.simulate import SimulationOptions, simulate
+    from contact.options import SimulationOptions
+    from contact.simulate import simulate
     from rom import table2
 
     freq = f"{frequency_Hz:g}"

@@ -115,7 +115,7 @@ def run(args: argparse.Namespace) -> None:
                           "--voltages")
 
     from contact.maps import stick_slip_map
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
     from validation.summaries import coupling_line, damping_line, damping_summary, map_summary
 
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,

@@ -445,7 +445,7 @@ def _map_counts(ultrasonic_friction: bool = True, coupling: str = "paper") -> di
     import numpy as np
 
     from contact.maps import stick_slip_map
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     m = stick_slip_map(_table2(), np.arange(50.0, 451.0, 50.0), np.arange(10.0, 27.0, 2.0),
                        options=SimulationOptions(ultrasonic_friction=ultrasonic_friction,
@@ -981,7 +981,7 @@ def _fine_map_counts(ultrasonic_friction: bool = True) -> dict[str, int]:
     import numpy as np
 
     from contact.maps import stick_slip_map
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     m = stick_slip_map(_table2(), np.arange(50.0, 651.0, 25.0), np.arange(2.0, 31.0, 1.0),
                        options=SimulationOptions(ultrasonic_friction=ultrasonic_friction),
@@ -2193,8 +2193,8 @@ def _b2_half_wavelength_m() -> float:
 
 def _prepass_settle_periods() -> float:
     """Drive periods (40 kHz) in which Table 2's L1 start transient decays to
-    ``PRE_PASS_SETTLE`` (``contact.simulate.pre_pass_periods`` takes 1.5 times them)."""
-    from contact.simulate import PRE_PASS_SETTLE
+    ``PRE_PASS_SETTLE`` (``contact.transient.pre_pass.pre_pass_periods`` takes 1.5 times them)."""
+    from contact.transient.pre_pass import PRE_PASS_SETTLE
 
     p = _table2()  # the L1 free transient decays at C_l / (2 M_l), as pre_pass_periods says
     return math.log(1.0 / PRE_PASS_SETTLE) / (p.C_l / (2.0 * p.M_l) / 40e3)
@@ -2413,7 +2413,7 @@ def _scale_voltage_V() -> float:
 
 def _prepass_zeta(which: str) -> float:
     """zeta_L1 below which the A_N pre-pass (drive at L1's resonance) hits its cap, or warns."""
-    from contact.simulate import MAX_PRE_PASS_PERIODS, PRE_PASS_SETTLE, UNSETTLED_SHARE
+    from contact.transient.pre_pass import MAX_PRE_PASS_PERIODS, PRE_PASS_SETTLE, UNSETTLED_SHARE
 
     if which == "cap":  # 1.5 ln(1/settle) / (2 pi zeta) = the cap
         return 1.5 * math.log(1.0 / PRE_PASS_SETTLE) / (2.0 * math.pi * MAX_PRE_PASS_PERIODS)
@@ -2464,7 +2464,7 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               _prepass_settle_periods, cheap=True, rel_tol=1e-9),
         Claim("contact_prepass_needed_table2", "-",
               "ceil(1.5 contact_prepass_settle_periods_table2) (the rule of "
-              "contact.simulate.pre_pass_periods before its 60-period floor)",
+              "contact.transient.pre_pass.pre_pass_periods before its 60-period floor)",
               lambda: float(math.ceil(1.5 * _prepass_settle_periods())), cheap=True,
               rel_tol=0.0),
         Claim("drive_phase_table2_deg", "deg", _SHOW.format("drive_phase_table2_deg")

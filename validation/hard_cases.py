@@ -14,7 +14,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from contact.model import OperatingPoint
-from contact.simulate import SimulationResult, normal_amplitude, simulate
+from contact.simulate import SimulationResult, simulate
+from contact.transient.pre_pass import normal_amplitude
 from rom.params import MotorParams
 from rom.table2 import PAPER_DRIVE_HZ
 

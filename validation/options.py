@@ -1003,7 +1003,7 @@ def warn_drive(voltage_V: float | None, preload_N: float | None, *,
 
 DEFAULT_DT_S = 1e-7
 """The transients' default time step (s): 250 steps per period at 40 kHz; the library's
-``contact.simulate.DEFAULT_DT_S``, written out so that parsing imports no kernel module."""
+``contact.options.DEFAULT_DT_S``, written out so that parsing imports no kernel module."""
 
 
 def time_step_s(dt_s: float | None, frequency_Hz: float) -> float:

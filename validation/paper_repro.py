@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from contact.maps import StickSlipMap, stick_slip_map
-from contact.simulate import SimulationOptions, SimulationResult, simulate
+from contact.options import SimulationOptions
+from contact.simulate import SimulationResult, simulate
 from rom.params import MotorParams
 from validation import figures
 

@@ -144,7 +144,7 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
     from contact.characteristic import characteristic
     from contact.maps import stick_slip_map
     from contact.model import default_coupling
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
     from validation.figures import stick_slip_map as map_figure
     from validation.summaries import (
         borrowed_damping,

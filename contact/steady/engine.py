@@ -40,6 +40,7 @@ from contact.drive import default_drive_Hz, free_tip_amplitudes
 from contact.errors import ChatteringError, RunawayError
 from contact.friction import dynamic_friction
 from contact.model import OperatingPoint, check_rest, resolve_coupling
+from contact.options import DEFAULT_DT_S, SimulationOptions
 from contact.results import PHASE_THRESHOLD, classify_motion
 from contact.steady.from_rest import probe_from_rest
 from contact.steady.periodic_orbit import (
@@ -55,7 +56,10 @@ from contact.steady.periodic_orbit import (
     spectral_radius,
     steps_for,
 )
+from contact.transient.event import solve_event
 from contact.transient.event_kernel import N_WORK
+from contact.transient.pre_pass import normal_amplitude
+from contact.transient.window import period_step_s, run_window
 from rom.params import GRAVITY_M_S2, MotorParams, require_params
 
 ACCURACIES = ("fast", "exact")
@@ -400,9 +404,7 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     if mu_d_eff is not None:
         mu = float(mu_d_eff)
     elif ultrasonic_friction:
-        from contact.simulate import normal_amplitude  # the same A_N as transients
-
-        mu = dynamic_friction(params, normal_amplitude(params, op))
+        mu = dynamic_friction(params, normal_amplitude(params, op))  # the transients' A_N
     else:
         mu = params.mu_d
     fs = fast_system(params, op, mu, coupling)
@@ -1168,21 +1170,13 @@ def transient_reference(params: MotorParams, voltage_V: float, preload_N: float,
     The slow reference of :func:`steady_state`: the event scheme of
     :func:`contact.simulate.simulate` run with the load in the operating point, at the
     step ``dt_s`` (s). By default, :func:`contact.transient.window.period_step_s` of the step of
-    :class:`contact.simulate.SimulationOptions` (1e-7 s): the largest step up to it that
+    :class:`contact.options.SimulationOptions` (1e-7 s): the largest step up to it that
     makes the drive period a whole number of steps (250 at 40 kHz, where it is that step),
     the rule of the CLI's default ``--dt``. A window of whole periods then starts at the
     orbit's own phase. With 283.66 steps per period (35 254 Hz) it cut up to half a step off
     the window, and the slider's ripple biased the mean by 3e-6 (1.6e-5 at a creep under a
     load, found at 44 066 Hz).
     """
-    from contact.simulate import (
-        DEFAULT_DT_S,
-        SimulationOptions,
-        normal_amplitude,
-        solve_event,
-    )
-    from contact.transient.window import period_step_s, run_window
-
     coupling = resolve_coupling(params, coupling)
     op = OperatingPoint(voltage_V, preload_N, default_drive_Hz(params, frequency_Hz), load_N)
     if dt_s is None:
