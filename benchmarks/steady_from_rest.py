@@ -36,8 +36,9 @@ import numpy as np
 from contact.errors import RunawayError
 from contact.model import OperatingPoint, resolve_coupling
 from contact.steady import from_rest
-from contact.steady.engine import slow_problem, steady_state
+from contact.steady.engine import steady_state
 from contact.steady.full_orbit import full_system
+from contact.steady.slow import slow_problem
 from rom.sources import get_params
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -24,7 +24,8 @@ import time
 
 import numpy as np
 
-from contact.steady.engine import settled_duration, steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.settled import settled_duration, transient_reference
 from rom import table2
 
 COARSE_STEPS = 20
@@ -157,8 +158,9 @@ def kernel_seconds_per_period(params, voltage_V: float, preload_N: float,
     on the orbit at the operating point's steady velocity (median of 5 runs of ``periods``
     periods, window closed): the unit of work of every orbit search."""
     from contact.model import OperatingPoint
-    from contact.steady.engine import slow_problem, steady_state
+    from contact.steady.engine import steady_state
     from contact.steady.periodic_orbit import period_map
+    from contact.steady.slow import slow_problem
 
     v = steady_state(params, voltage_V, preload_N, accuracy="fast").velocity_m_s
     sp = slow_problem(params, OperatingPoint(voltage_V, preload_N, 40e3, 0.0))

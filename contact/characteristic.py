@@ -1,7 +1,7 @@
 """The motor's speed-thrust characteristic, output power and efficiency from the steady engine.
 
 For each load the slider velocity is the steady branch a start from rest reaches
-(:func:`contact.steady.engine.branches_at_load`); all loads share one cache of fast orbits,
+(:func:`contact.steady.branches.branches_at_load`); all loads share one cache of fast orbits,
 since the fast problem at fixed velocity does not depend on the load.
 """
 
@@ -19,18 +19,11 @@ from scipy.optimize import brentq
 from contact.drive import default_drive_Hz
 from contact.model import OperatingPoint, check_rest, check_scale, resolve_coupling
 from contact.results import FrozenArrays
-from contact.steady.engine import (
-    ACCURACIES,
-    EXACT_ROOT_RTOL,
-    HELD_M_S,
-    branches_at_load,
-    holding_range_N,
-    motor_efficiency,
-    ripple_scale,
-    slow_problem,
-    steady_state,
-    warn_irregular,
-)
+from contact.steady.branches import branches_at_load, motor_efficiency
+from contact.steady.engine import steady_state, warn_irregular
+from contact.steady.exact import HELD_M_S
+from contact.steady.runaway import holding_range_N
+from contact.steady.slow import ACCURACIES, EXACT_ROOT_RTOL, ripple_scale, slow_problem
 from rom.params import MotorParams, require_params
 
 CREEP_SHARE = 1e-3
@@ -39,7 +32,7 @@ is reported (:attr:`Characteristic.creep_from_N`)."""
 
 CREEP_RIPPLES = 2.0
 """A slider creeps (-) where its mean velocity from rest is below this many velocity-ripple
-scales (:func:`contact.steady.engine.ripple_scale`; the orbit's peak-to-peak ripple is about three
+scales (:func:`contact.steady.slow.ripple_scale`; the orbit's peak-to-peak ripple is about three
 of them at Table 2's 200 V / 14 N): it then stops, or nearly stops, within every drive period.
 The creep band's loads are those (:attr:`Characteristic.creep_from_N`); the largest creep on
 Table 2's curves is 1.3 scales (200 V / 14 N), the slowest thrust beside a creep band 3.7
@@ -72,12 +65,12 @@ class Characteristic(FrozenArrays):
         reaches no steady state).
     holding_range_N : tuple of float
         Loads (N) the driven motor holds at the tip's full slip
-        (:func:`contact.steady.engine.holding_range_N`): beyond the upper one it is pushed backward
+        (:func:`contact.steady.runaway.holding_range_N`): beyond the upper one it is pushed backward
         without bound, below the lower one (a load pushing it forward) forward. NaN where
         the tip does not slide throughout at the scan's end (e.g. no drive).
     accuracy : str
         Level of the velocities, powers, stall force and default loads
-        (:data:`contact.steady.engine.ACCURACIES`). At ``"exact"`` the stall force is where the full
+        (:data:`contact.steady.slow.ACCURACIES`). At ``"exact"`` the stall force is where the full
         model's velocity from rest crosses zero, beyond the averaged one: the finite slider
         creeps on through the band the averaging calls held. The holding range comes from
         the averaged slow equation at either level.
@@ -92,7 +85,7 @@ class Characteristic(FrozenArrays):
     creep_from_N : float
         Where the exact level's creep band begins (N), or NaN where there is none: from it
         up to the stall force the finite slider creeps, slower than :data:`CREEP_RIPPLES`
-        velocity-ripple scales (:func:`contact.steady.engine.ripple_scale`), its ripple breaking the
+        velocity-ripple scales (:func:`contact.steady.slow.ripple_scale`), its ripple breaking the
         guide's ideal Coulomb stiction every period; a real guide's pre-sliding stiffness,
         which the model does not have, may hold it there (``docs/steady.md``). Which rule
         gave it is :attr:`creep_rule`. Only where the exact stall force lies beyond the
@@ -310,7 +303,7 @@ def _stall_force(sp) -> float:
     slider from rest: the averaged thrust at 0+ where that is positive, at 0- where that is
     negative (a motor driving backward, e.g. one with ``A_b`` reversed), else 0 (the guide
     and the tip hold the slider: the dead zone)."""
-    # as contact.steady.engine.branches_at_load takes them, so that the stall load is exactly
+    # as contact.steady.branches.branches_at_load takes them, so that the stall load is exactly
     # where that function's dead zone begins on either side
     forward, backward = sp.thrust_at_rest()
     if forward > 0.0:
@@ -330,7 +323,7 @@ def _full_model_stall_force(velocity, v0: float, averaged: float,
     (``averaged`` to ``G(0-)``). The full model's stall force lies inside that band (Table
     2's set at 14 N: 2.16 N against the averaged 1.735 N at 400 V, 0.945 N against 0.408 N
     at 200 V; ``lusm characteristic --accuracy exact``). A held band (velocity within
-    :data:`contact.steady.engine.HELD_M_S` of 0) counts as stopped, so its lower end is found; a
+    :data:`contact.steady.exact.HELD_M_S` of 0) counts as stopped, so its lower end is found; a
     creep crossing 0 is found by ``brentq`` to :data:`STALL_RTOL` relative.
     """
     if not abs(v0) > HELD_M_S:
@@ -464,7 +457,7 @@ def averaging_doubt(params: MotorParams, char: Characteristic, *, coupling: str 
     trusted, or None.
 
     Two reasons: its no-load velocity lies below the slider's velocity ripple (the ripple
-    scale with Eq. 11's friction, :attr:`contact.steady.engine.SlowProblem.v_floor_m_s`: the
+    scale with Eq. 11's friction, :attr:`contact.steady.slow.SlowProblem.v_floor_m_s`: the
     slider is not slow against the drive period; at 20 Hz the fast level gave 1.8e-6 m/s and
     a 1.18 N stall force where the finite-mass motor is held), or the finite-mass motor
     reaches another steady state from rest (the exact level's no-load point, compared beyond

@@ -134,12 +134,12 @@ def branch_row(b) -> tuple[float, int, str, bool, bool]:
 
     Parameters
     ----------
-    b : contact.steady.engine.SteadyBranch
+    b : contact.steady.branches.SteadyBranch
 
     Returns
     -------
     tuple
-        ``motion`` is :attr:`~contact.steady.engine.SteadyBranch.tip_motion`, the point's own
+        ``motion`` is :attr:`~contact.steady.branches.SteadyBranch.tip_motion`, the point's own
         vocabulary (a held slider's branch is ``"pure-stick"`` as its point is; it had said
         ``"dead-zone"``), and ``held`` whether the slider is held (the dead zone).
     """
@@ -181,7 +181,7 @@ def stick_slip_map(
         (:func:`contact.steady.engine.steady_state`; ``options`` give coupling and friction only).
     accuracy : {"fast", "exact"}
         Level of the steady engine (``method="steady"``), see
-        :data:`contact.steady.engine.ACCURACIES`.
+        :data:`contact.steady.slow.ACCURACIES`.
     rest : {"probe", "transient"}
         How the exact level decides the start from rest
         (:func:`contact.steady.engine.steady_state`).
@@ -208,7 +208,7 @@ def stick_slip_map(
         raise TypeError(f"progress must be True or False, got {progress!r}")
     if method not in MAP_METHODS:
         raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")
-    from contact.steady.engine import ACCURACIES
+    from contact.steady.slow import ACCURACIES
 
     if accuracy not in ACCURACIES:
         raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")

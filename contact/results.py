@@ -162,7 +162,7 @@ class SchemeOutput:
     :class:`contact.simulate.SimulationResult` and :class:`SteadyState`. Schemes that do not
     track a quantity give NaN (floats) or None (``events`` of the steady engine, which
     counts no mode switches). ``branches``: the steady engine's every steady state at the
-    point (:class:`contact.steady.engine.SteadyBranch`, by increasing velocity, unstable ones
+    point (:class:`contact.steady.branches.SteadyBranch`, by increasing velocity, unstable ones
     included); None for the transient schemes.
     """
 

@@ -88,7 +88,7 @@ class SimulationResult:
         events (``event``), right-hand-side evaluations (``reference``, ``literal``).
     wall_time_s : float
         Wall time of the integration (s), pre-pass included.
-    branches : tuple of contact.steady.engine.SteadyBranch or None
+    branches : tuple of contact.steady.branches.SteadyBranch or None
         ``steady``: every steady state the engine found at the point (by increasing
         velocity, unstable ones included; ``steady`` describes the one a start from rest
         reaches); None for the transients, which follow one.
@@ -213,7 +213,7 @@ def simulate(
     steady = steady_metrics(out.velocity_m_s, out.previous_velocity_m_s, out.phase_time,
                             out.y_tip_min_m, out.y_tip_max_m, window.window_s)
     if op.load_N and method != "steady" and not steady.settled:
-        from contact.steady.engine import RunawayWarning, transient_runaway
+        from contact.steady.runaway import RunawayWarning, transient_runaway
 
         reason = transient_runaway(params, op, opts.coupling, opts.ultrasonic_friction,
                                    mu_d_eff, steady.velocity_m_s,

@@ -8,14 +8,12 @@ import pytest
 
 from contact.model import OperatingPoint, resolve_coupling
 from contact.steady import from_rest
-from contact.steady.engine import (
-    REST_TRANSIENT_PERIODS,
-    slow_problem,
-    steady_state,
-    transient_reference,
-)
+from contact.steady.engine import steady_state
+from contact.steady.exact import REST_TRANSIENT_PERIODS
 from contact.steady.from_rest import PROBE_PERIODS, probe_from_rest
 from contact.steady.full_orbit import full_system
+from contact.steady.settled import transient_reference
+from contact.steady.slow import slow_problem
 from rom import table2
 
 

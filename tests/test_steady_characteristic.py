@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from contact.characteristic import characteristic
-from contact.steady.engine import steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.settled import transient_reference
 from rom import table2
 
 
@@ -164,7 +165,7 @@ def test_a_motor_driving_backward_has_the_mirrored_characteristic(params, accura
     assert back.no_load_velocity_m_s == pytest.approx(-fwd.no_load_velocity_m_s, rel=1e-8)
     np.testing.assert_allclose(back.load_N, -fwd.load_N, rtol=rel, atol=1e-12)
     # the curve itself at the mirrored loads exactly: the mirrored motor's orbit at 0+ is the
-    # original's at 0-, 2e-9 m/s of drift away (contact.steady.engine.branches_at_load), which the
+    # original's at 0-, 2e-9 m/s of drift away (contact.steady.branches.branches_at_load), which the
     # steep curve near stall turns into about 2e-9 m/s
     back = characteristic(mirrored, 400, 14, -fwd.load_N, accuracy=accuracy, coupling="paper")
     np.testing.assert_allclose(back.velocity_m_s, -fwd.velocity_m_s, rtol=1e-7, atol=5e-9)
@@ -281,7 +282,7 @@ def test_a_creep_band_is_a_creep_not_thrust_on_another_branch(capsys):
     from contact.characteristic import CREEP_RIPPLES
     from contact.model import OperatingPoint, resolve_coupling
     from contact.simulate import simulate
-    from contact.steady.engine import ripple_scale, slow_problem
+    from contact.steady.slow import ripple_scale, slow_problem
     from validation.cli import main
 
     p, f = _designer_set(TUNED_60K)

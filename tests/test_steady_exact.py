@@ -4,7 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from contact.steady.engine import steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.settled import transient_reference
 from rom import table2
 
 
@@ -80,8 +81,9 @@ def test_a_held_orbit_beside_a_creep_from_rest_is_a_branch(params):
     at the reported speed, and the full model started on the held orbit stays held over
     10 000 periods of plain integration."""
     from contact.model import OperatingPoint
-    from contact.steady.engine import REST_TRANSIENT_PERIODS, slow_problem
+    from contact.steady.exact import REST_TRANSIENT_PERIODS
     from contact.steady.full_orbit import full_system, run_periods, shoot
+    from contact.steady.slow import slow_problem
 
     f = 40414.0
     r = steady_state(params, 252, 25.64, frequency_Hz=f, accuracy="exact")
@@ -173,8 +175,8 @@ def test_a_shot_reports_the_least_period_of_the_orbit_it_converged_to(params):
     from contact import state as S
     from contact.model import OperatingPoint
     from contact.simulate import simulate
-    from contact.steady.engine import slow_problem
     from contact.steady.full_orbit import full_system, shoot
+    from contact.steady.slow import slow_problem
 
     sp = slow_problem(params, OperatingPoint(200, 14, 40000.0), accuracy="exact")
     v = steady_state(params, 200, 14, energy=False).velocity_m_s

@@ -1109,7 +1109,8 @@ def _contact_claims() -> tuple[Claim, ...]:
 def _steady_point() -> dict[str, float]:
     """The 200 V / 14 N row of ``python benchmarks/steady_speed.py``: velocities and the
     transient's wall time over each steady level's (median of 3, numba warmed first)."""
-    from contact.steady.engine import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     p = _table2()
     steady_state(p, 200, 14, accuracy="exact")
@@ -1211,7 +1212,8 @@ def _steady_mass_error(voltage_V: float, mass_kg: float) -> float:
 @cache
 def _steady_150() -> dict[str, float]:
     """The coexisting branches at 150 V / 14 N (tests/test_steady_exact.py)."""
-    from contact.steady.engine import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     r = steady_state(_table2(), 150, 14, accuracy="exact")
     stable = [b for b in r.branches if b.stable]
@@ -1250,7 +1252,8 @@ def _steady_load_edge() -> dict[str, float]:
     """Just past the averaged holding range at 100 V / 14 N: the finite-mass motor settles."""
     from contact.model import OperatingPoint
     from contact.simulate import simulate
-    from contact.steady.engine import holding_range_N, slow_problem
+    from contact.steady.runaway import holding_range_N
+    from contact.steady.slow import slow_problem
 
     high = holding_range_N(slow_problem(_table2(), OperatingPoint(100.0, 14.0, 40e3)))[1]
     r = simulate(_table2(), 100.0, 14.0, load_N=5.22, duration_s=2.0)
@@ -1262,7 +1265,9 @@ def _steady_load_limits() -> dict[str, float]:
     """Loads at 400 V / 14 N (docs/steady.md "Loads the motor cannot carry")."""
     from contact.characteristic import characteristic
     from contact.model import OperatingPoint
-    from contact.steady.engine import slow_problem, steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
+    from contact.steady.slow import slow_problem
 
     c = characteristic(_table2(), 400, 14, [3.5], accuracy="fast")
     r = steady_state(_table2(), 400, 14, load_N=3.5, accuracy="exact", energy=False)
@@ -1278,7 +1283,8 @@ def _steady_load_limits() -> dict[str, float]:
 def _steady_load_hard() -> dict[str, float]:
     """Close stable orbits, an irregular creep and a slow orbit far from the averaged root,
     under a load (docs/steady.md)."""
-    from contact.steady.engine import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     p = _table2()
     multi = steady_state(p, 75, 15, load_N=5.0, accuracy="exact", energy=False)
@@ -1334,7 +1340,8 @@ def _steady_hidden_creep() -> dict[str, float]:
 def _steady_branch_diagram() -> dict[str, float]:
     """From-rest branch of the exact level at 14 N, 50-450 V in steps of 25 V; the last
     held voltage, the first voltage of each moving class and a few velocities."""
-    from contact.steady.engine import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     rows = {v: steady_state(_table2(), v, 14, accuracy="exact") for v in range(50, 451, 25)}
     motion = {v: r.from_rest.motion if r.velocity_m_s else "dead-zone" for v, r in rows.items()}
@@ -1389,9 +1396,9 @@ def _rest_periods_200V_14N() -> float:
 
 @cache
 def _ripple_scale_14N() -> float:
-    """``contact.steady.engine.ripple_scale`` of Table 2's set at 200 V / 14 N (m/s)."""
+    """``contact.steady.slow.ripple_scale`` of Table 2's set at 200 V / 14 N (m/s)."""
     from contact.model import OperatingPoint
-    from contact.steady.engine import ripple_scale, slow_problem
+    from contact.steady.slow import ripple_scale, slow_problem
 
     op = OperatingPoint(200.0, 14.0, 40e3)
     return ripple_scale(_table2(), op, slow_problem(_table2(), op).mu_d_eff)
@@ -1404,7 +1411,8 @@ def _steady_map() -> dict[str, float]:
     summed over the map."""
     import numpy as np
 
-    from contact.steady.engine import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     bench = _bench("steady_speed")
     p = _table2()
@@ -1459,7 +1467,8 @@ def _steady_map() -> dict[str, float]:
 @cache
 def _steady_creep(voltage_V: float, preload_N: float) -> dict[str, float]:
     """A creep point of the map: 0.3 s transient and exact level."""
-    from contact.steady.engine import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     return {"transient": transient_reference(_table2(), voltage_V, preload_N,
                                              duration_s=0.3)[0],
@@ -1653,7 +1662,7 @@ def _steady_claims() -> tuple[Claim, ...]:
                      "steady_state(table2(), 200, 14).rest_periods",
                      _rest_periods_200V_14N, cheap=True, rel_tol=0.0))
     out.append(Claim("steady_ripple_scale_200V_14N_m_s", "m/s",
-                     "contact.steady.engine.ripple_scale(table2(), OperatingPoint(200, 14, 40e3), "
+                     "contact.steady.slow.ripple_scale(table2(), OperatingPoint(200, 14, 40e3), "
                      "mu_d_eff of slow_problem)", _ripple_scale_14N, cheap=True,
                      rel_tol=1e-9))
     for v, f in ((100, 10), (200, 20)):
@@ -1737,9 +1746,9 @@ def _probe_point(params, voltage_V: float, preload_N: float, load_N: float):
     """``contact.steady.from_rest.probe_from_rest`` at 40 kHz, the coupling steady_state's
     default."""
     from contact.model import OperatingPoint, resolve_coupling
-    from contact.steady.engine import slow_problem
     from contact.steady.from_rest import probe_from_rest
     from contact.steady.full_orbit import full_system
+    from contact.steady.slow import slow_problem
 
     coupling = resolve_coupling(params, "auto")
     op = OperatingPoint(voltage_V, preload_N, 40e3, load_N)
@@ -1800,13 +1809,11 @@ def _creep_252V() -> dict[str, float]:
     rest, the held orbit shot from the 2 000-period transient's end, and a 400-period window
     of the 0.6 s transient against the creep."""
     from contact.model import OperatingPoint
-    from contact.steady.engine import (
-        REST_TRANSIENT_PERIODS,
-        slow_problem,
-        steady_state,
-        transient_reference,
-    )
+    from contact.steady.engine import steady_state
+    from contact.steady.exact import REST_TRANSIENT_PERIODS
     from contact.steady.full_orbit import full_system, run_periods, shoot
+    from contact.steady.settled import transient_reference
+    from contact.steady.slow import slow_problem
 
     f = 40414.0
     creep = steady_state(_table2(), 252, 25.64, frequency_Hz=f, accuracy="exact").from_rest
@@ -1838,7 +1845,7 @@ def _input_1kHz_W() -> float:
 
 def _hold_check_m_s() -> float:
     """The hold check's bound at 200 V / 14 N: HOLD_CHECK_FACTOR times the ripple scale."""
-    from contact.steady.engine import HOLD_CHECK_FACTOR
+    from contact.steady.exact import HOLD_CHECK_FACTOR
 
     return HOLD_CHECK_FACTOR * _ripple_scale_14N()
 
@@ -1910,7 +1917,7 @@ def _steady_input_claims() -> tuple[Claim, ...]:
               "--duration 2 does not settle)",
               lambda: _threshold_load_N(100.0, 5.22, 5.24, 2.0, lambda s: not s.settled)),
         Claim("steady_hold_check_200V_14N_m_s", "m/s",
-              "contact.steady.engine.HOLD_CHECK_FACTOR x steady_ripple_scale_200V_14N_m_s",
+              "contact.steady.exact.HOLD_CHECK_FACTOR x steady_ripple_scale_200V_14N_m_s",
               _hold_check_m_s, cheap=True, rel_tol=1e-9),
         Claim("steady_wrong_sheet_root_m_s", "m/s", wrong + "the stable period-1 branch)",
               lambda: _wrong_sheet()["root_m_s"], cheap=True, rel_tol=1e-6),
@@ -2256,10 +2263,10 @@ def _tuned60k_fold_m_s() -> float:
 
     from contact.drive import auto_frequency
     from contact.model import OperatingPoint, resolve_coupling
-    from contact.steady.engine import slow_problem
     from contact.steady.from_rest import PHASE_JUMP, SHEET_MIN_STEP, SHEET_STEP, probe_from_rest
     from contact.steady.full_orbit import full_system
     from contact.steady.periodic_orbit import find_orbit, orbit_phases
+    from contact.steady.slow import slow_problem
 
     p = _tuned60k()
     coupling = resolve_coupling(p, "auto")
@@ -2379,7 +2386,7 @@ def _default_elements() -> int:
 
 def _steady_steps(params, frequency_Hz: float) -> int:
     from contact.model import default_coupling
-    from contact.steady.engine import steps_per_period
+    from contact.steady.slow import steps_per_period
 
     return steps_per_period(params, frequency_Hz, default_coupling(params)[0])
 
@@ -2526,18 +2533,18 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("adm_retained_modes", "-", "lusm admittance --json (retained_modes)",
               lambda: float(_retained_modes()), cheap=True, rel_tol=0.0),
         Claim("study_steps_per_period_28mm_1kHz", "-",
-              "contact.steady.engine.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
+              "contact.steady.slow.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 1 kHz (tests/test_explore.py)",
               lambda: float(_steady_steps(_study_plate_28mm(), 1e3)), cheap=True, rel_tol=0.0),
         Claim("study_steps_per_period_28mm_40kHz", "-",
-              "contact.steady.engine.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
+              "contact.steady.slow.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 40 kHz", lambda: float(_steady_steps(_study_plate_28mm(), 40e3)),
               cheap=True, rel_tol=0.0),
         Claim("steady_steps_per_period_table2_40kHz", "-",
-              "contact.steady.engine.steps_per_period(table2(), 40e3)",
+              "contact.steady.slow.steps_per_period(table2(), 40e3)",
               lambda: float(_steady_steps(_table2(), 40e3)), cheap=True, rel_tol=0.0),
         Claim("steady_steps_per_period_table2_20Hz", "-",
-              "contact.steady.engine.steps_per_period(table2(), 20)",
+              "contact.steady.slow.steps_per_period(table2(), 20)",
               lambda: float(_steady_steps(_table2(), 20.0)), cheap=True, rel_tol=0.0),
         Claim("limits_steady_points_20Hz", "-",
               "5e5 // steady_steps_per_period_table2_20Hz (limits.MAX_STEADY_WORK)",

@@ -401,7 +401,7 @@ def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
     if study.solver.method != "steady":
         return transient_problem(study.solver, frequency_Hz, at)
     from contact.model import default_coupling
-    from contact.steady.engine import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
+    from contact.steady.slow import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
 
     coupling = default_coupling(params)[0]
     n = steps_per_period(params, frequency_Hz, coupling)
@@ -429,7 +429,7 @@ def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     may have, or None: the study's bound (:func:`validation.study.contact_work_problem`) with
     every geometry taken as costly as this one. What the study's reading could not know: the
     steady engine's steps per drive period on this plate's FE set
-    (:func:`contact.steady.engine.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
+    (:func:`contact.steady.slow.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
     plate at fe_refine 1), and a transient's default step at an auto frequency."""
     from validation.study import contact_work_problem, steady_solves
 
@@ -439,7 +439,7 @@ def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     per_f = len(study.axes["voltage"]) * len(study.axes["preload"])  # runs per frequency
     if s.method == "steady":
         from contact.model import default_coupling
-        from contact.steady.engine import steps_per_period
+        from contact.steady.slow import steps_per_period
 
         coupling = default_coupling(params)[0]
         n = [steps_per_period(params, f, coupling) for f in freqs]

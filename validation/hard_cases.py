@@ -118,7 +118,7 @@ def _expected_runaway(sim, *args, **kw):
     point, shown in its row, not a warning of the report's own run."""
     import warnings
 
-    from contact.steady.engine import RunawayWarning
+    from contact.steady.runaway import RunawayWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RunawayWarning)

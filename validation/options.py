@@ -505,11 +505,11 @@ def warn_refine_unused(choice: StatorChoice, geometry: str) -> None:
 
 def check_steady_frequency(params, frequency_Hz: float, coupling: str) -> int:
     """Refuse a drive too far below the stator's fastest mode for the steady engine (more
-    than :data:`contact.steady.engine.MAX_STEPS_PER_PERIOD` steps per drive period), with the range
-    of ``--frequency`` it takes (:func:`contact.steady.engine.lowest_frequency_Hz`, from the same
+    than :data:`contact.steady.slow.MAX_STEPS_PER_PERIOD` steps per drive period), with the range
+    of ``--frequency`` it takes (:func:`contact.steady.slow.lowest_frequency_Hz`, from the same
     count); the steps per drive period at ``frequency_Hz`` otherwise. One message for
     ``characteristic``, ``map`` and ``simulate --steady``."""
-    from contact.steady.engine import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
+    from contact.steady.slow import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
 
     n = steps_per_period(params, frequency_Hz, coupling)
     if n <= MAX_STEPS_PER_PERIOD:

@@ -158,7 +158,7 @@ STEADY_MIN_STEPS_PER_PERIOD = 25
 """The fewest steps per drive period the steady engine takes on any set
 (``contact.steady.periodic_orbit.STEPS_PER_PERIOD``, written out so that reading a study imports no
 kernel module): a study's steady work is at least its solves times this, before any plate's
-own figure (:func:`contact.steady.engine.steps_per_period`) is known."""
+own figure (:func:`contact.steady.slow.steps_per_period`) is known."""
 
 _QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z]+)\s*$")
 

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.optimize import brentq
@@ -35,13 +34,11 @@ from contact import state as S
 from contact.errors import ChatteringError
 from contact.steady.full_orbit import FullSystem, run_periods
 from contact.steady.periodic_orbit import Orbit, find_orbit, orbit_phases
-
-if TYPE_CHECKING:  # the slow problem lives in contact.steady.engine, which imports this module
-    from contact.steady.engine import SlowProblem
+from contact.steady.slow import SlowProblem
 
 PROBE_FACTOR = 20.0
 """The probe leaves the full model once the slider is this many times faster than the scan's
-floor (the ripple scale ``mu_d_eff F_P / (M omega)``, :func:`contact.steady.engine.ripple_scale`):
+floor (the ripple scale ``mu_d_eff F_P / (M omega)``, :func:`contact.steady.slow.ripple_scale`):
 the slider's velocity then swings by about 5 % of its value in a period."""
 
 PROBE_BLOCK_PERIODS = 10

@@ -16,8 +16,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from contact import state
 from contact.numba_cache import depend_on
 from contact.state import CONTACT, COS, DU, DW, DX, HELD, ONE, SIN, STICK, U, W, X
+from contact.transient import event_kernel
 from contact.transient.event_kernel import integrate_switch_model
 
 N_Y = 4
@@ -470,11 +472,4 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
             jac_mode)
 
 
-def _dependencies():
-    from contact import state
-    from contact.transient import event_kernel
-
-    return event_kernel, state
-
-
-depend_on(globals(), *_dependencies())
+depend_on(globals(), event_kernel, state)
