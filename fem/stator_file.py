@@ -704,14 +704,15 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
 
 def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                   src: str = "stator") -> StatorDesign:
-    """:func:`parse_stator` without the mounting points."""
+    """:func:`parse_stator` without the mounting points: the tables every stator has, then
+    the planform by its kind (parametric features, a generated plate, a mesh file)."""
     _check_keys(data, "", src)
     plate = _table(data, "plate", src, required=True)
     elec = _table(data, "electrodes", src)
     mat_t = _table(data, "material", src)
     pts_t = _table(data, "points", src)
     mesh_t = _table(data, "mesh", src)
-    if "mesh" in data and not mesh_t:  # was read as no mesh: "missing [plate] length_mm"
+    if "mesh" in data and not mesh_t:  # say so, not "missing [plate] length_mm"
         raise ValueError(f"{src}: [mesh] is empty; give it file = \"plate.msh\" (a mesh file, "
                          f"with unit = \"m\" or \"mm\"), or size_mm (the element size of a "
                          f"parametric stator: [tip], [chamfers], [[holes]]), or remove the table")
@@ -737,25 +738,43 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                          f"([tip], [chamfers] or [[holes]]); a plain plate is meshed by "
                          f"--refine, a mesh file by itself")
     if not mesh_t:
-        length, width, gap = _plate_mm(plate, elec, src)
-        stator = PlateStator(
-            length_m=_m(length), width_m=_m(width), thickness_m=_m(thickness),
-            electrode_gap_m=_m(gap),
-            drive_electrodes=drive,
-        )
-        for key, pt, default in (("tip_mm", tip, stator.tip_point_m),
-                                 ("preload_mm", preload, stator.preload_point_m)):
-            if pt is None:
-                continue
-            if not np.allclose(pt, default, rtol=0.0, atol=1e-9 * length * MM):
-                raise ValueError(
-                    f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the "
-                    f"generated plate puts it at [{default[0] / MM:g}, {default[1] / MM:g}] "
-                    f"mm; give a mesh file ([mesh] file) for other points"
-                )
+        stator = _generated_plate(plate, elec, thickness, drive, tip, preload, src)
         return StatorDesign(name=name, stator=stator, material=material, **motor)
+    mesh_path, unit = _mesh_file(mesh_t, elec, base_dir, src)
+    stator, notes = _meshed_stator(mesh_path, unit, plate, thickness, drive, tip, preload, src)
+    return StatorDesign(
+        name=name, stator=stator, material=material, mesh_path=mesh_path, notes=notes, **motor
+    )
 
-    from fem.meshing.mesh_io import UNITS, read_stator_mesh
+
+def _generated_plate(plate: dict, elec: dict, thickness: float, drive: tuple[int, ...],
+                     tip: tuple[float, float] | None, preload: tuple[float, float] | None,
+                     src: str) -> PlateStator:
+    """The rectangular plate of ``[plate]`` and ``[electrodes]``; points given in
+    ``[points]`` must be the ones it puts them at."""
+    length, width, gap = _plate_mm(plate, elec, src)
+    stator = PlateStator(
+        length_m=_m(length), width_m=_m(width), thickness_m=_m(thickness),
+        electrode_gap_m=_m(gap),
+        drive_electrodes=drive,
+    )
+    for key, pt, default in (("tip_mm", tip, stator.tip_point_m),
+                             ("preload_mm", preload, stator.preload_point_m)):
+        if pt is None:
+            continue
+        if not np.allclose(pt, default, rtol=0.0, atol=1e-9 * length * MM):
+            raise ValueError(
+                f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the "
+                f"generated plate puts it at [{default[0] / MM:g}, {default[1] / MM:g}] "
+                f"mm; give a mesh file ([mesh] file) for other points"
+            )
+    return stator
+
+
+def _mesh_file(mesh_t: dict, elec: dict, base_dir: Path | None, src: str) -> tuple[Path, str]:
+    """The mesh file ``[mesh] file`` names (relative to ``base_dir``) and its unit, checked
+    to be a regular file before it is read."""
+    from fem.meshing.mesh_io import UNITS
 
     if "file" not in mesh_t or not isinstance(mesh_t["file"], str):
         raise ValueError(f"{src}: [mesh] file must be the path of a mesh file (a string)")
@@ -770,17 +789,30 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     mesh_path = Path(mesh_t["file"])
     if not mesh_path.is_absolute():
         mesh_path = (base_dir or Path.cwd()) / mesh_path
-    if mesh_path.is_dir():  # was "not found", which sent the user looking for a path
+    if mesh_path.is_dir():  # say so: "not found" sends the user looking for a path
         raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is a folder ({mesh_path}); "
                          f"name the mesh file, e.g. \"plate.msh\"")
     if not mesh_path.exists():
         raise FileNotFoundError(f"{src}: [mesh] file {mesh_t['file']!r} not found ({mesh_path})")
-    if not mesh_path.is_file():  # a FIFO or a device had been called "not found"
+    if not mesh_path.is_file():  # a FIFO or a device: say what it is, not "not found"
         from fem.small_file import kind_of
 
         what = kind_of(mesh_path.stat().st_mode) or "not a regular file"
         raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is {what} ({mesh_path}), "
                          "not a mesh file")
+    return mesh_path, unit
+
+
+def _meshed_stator(mesh_path: Path, unit: str, plate: dict, thickness: float,
+                   drive: tuple[int, ...], tip: tuple[float, float] | None,
+                   preload: tuple[float, float] | None,
+                   src: str) -> tuple[MeshedStator, tuple[str, ...]]:
+    """The stator of a mesh file and the notes on its reading: the plate's lengths, if
+    given, must be the mesh's extent, the driven electrodes must have cells, and the tip and
+    the preload point (``[points]``, the mesh's vertex groups, or the plate's ends) must lie
+    on the mesh, apart."""
+    from fem.meshing.mesh_io import read_stator_mesh
+
     try:
         imported = read_stator_mesh(mesh_path, unit=unit)
     except ValueError as exc:
@@ -801,46 +833,10 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                 f"{src}: [electrodes] drive names electrode {e}, which has no cells in "
                 f"{mesh_path.name} (electrodes present: {sorted(present)})"
             )
-    points: dict[str, tuple[float, float]] = {}
-    for group, key, given, default in (("tip", "tip_mm", tip, (0.0, y1)),
-                                       ("preload", "preload_mm", preload, (0.0, 0.0))):
-        pt = given if given is not None else imported.points_m.get(group, default)
-        slack = 1e-9 * max(x1 - x0, y1 - y0)
-        in_box = x0 - slack <= pt[0] <= x1 + slack and y0 - slack <= pt[1] <= y1 + slack
-        if not in_box or not bool(mesh.contains(np.array(pt)[:, None])[0]):
-            at = f"[{pt[0] / MM:g}, {pt[1] / MM:g}] mm"
-            # say where the point came from: a mesh's vertex group off its cells was
-            # reported as a [points] key the file did not have
-            if given is not None:
-                raise ValueError(f"{src}: [points] {key} = {at} lies off the mesh "
-                                 f"({bbox_mm(mesh)})")
-            if group in imported.points_m:
-                raise ValueError(
-                    f"{src}: the {group!r} vertex group of the mesh file {mesh_path.name} is "
-                    f"at {at}, off the mesh's cells ({bbox_mm(mesh)}); put its node on the "
-                    f"planform or set [points] {key}")
-            raise ValueError(
-                f"{src}: the default {group} point {at} (no [points] {key}, no {group!r} vertex "
-                f"group in {mesh_path.name}) lies off the mesh's cells ({bbox_mm(mesh)}); set "
-                f"[points] {key} or add a {group!r} vertex group to the mesh")
-        inside = mesh.outline_distance_m(pt)
-        if inside > OUTLINE_TOLERANCE * max(x1 - x0, y1 - y0):
-            # a tip 1 mm inside the plate was taken as given: B2 was normalised there and M_b
-            # went from 0.0089 to 0.0155 kg without a word
-            origin = (f"[points] {key}" if given is not None else
-                      f"the {group!r} vertex group" if group in imported.points_m else
-                      f"the default {group} point")
-            what = ("the contact tip touches the slider" if group == "tip" else
-                    "the preload presses")
-            warnings.warn(InteriorPointWarning(
-                f"{src}: {origin} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies "
-                f"{inside / MM:.3g} mm inside the planform, off its outline, where {what}; "
-                f"the reduction normalises its mode there: move it onto the outline (the "
-                f"plate's end) unless the part is meant to act inside"), stacklevel=3)
-        points[group] = pt
-    tip, preload = points["tip"], points["preload"]
+    tip = _mesh_point(imported, "tip", "tip_mm", tip, (0.0, y1), src)
+    preload = _mesh_point(imported, "preload", "preload_mm", preload, (0.0, 0.0), src)
     if math.hypot(tip[0] - preload[0], tip[1] - preload[1]) <= 1e-9 * max(x1 - x0, y1 - y0):
-        # refused later as "MotorParams.phi_Ll must differ from phi_L0", naming no key
+        # else refused later as "MotorParams.phi_Ll must differ from phi_L0", naming no key
         raise ValueError(
             f"{src}: the tip and the preload point are the same point, [{tip[0] / MM:g}, "
             f"{tip[1] / MM:g}] mm ([points] tip_mm and preload_mm, or the mesh's vertex "
@@ -854,9 +850,51 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     notes = (f"triangles split into quads ({', '.join(imported.cell_types)})",) if (
         imported.converted
     ) else ()
-    return StatorDesign(
-        name=name, stator=stator, material=material, mesh_path=mesh_path, notes=notes, **motor
-    )
+    return stator, notes
+
+
+def _mesh_point(imported, group: str, key: str, given: tuple[float, float] | None,
+                default: tuple[float, float], src: str) -> tuple[float, float]:
+    """The ``group`` point (m) of a mesh file's stator: ``[points] key`` if ``given``, else
+    the mesh's vertex group, else ``default``. Refused off the mesh's cells, naming where it
+    came from; a point inside the planform, off its outline, is warned about
+    (:class:`InteriorPointWarning`)."""
+    mesh, name = imported.mesh, imported.path.name
+    x0, x1, y0, y1 = mesh.bounding_box_m()
+    pt = given if given is not None else imported.points_m.get(group, default)
+    slack = 1e-9 * max(x1 - x0, y1 - y0)
+    in_box = x0 - slack <= pt[0] <= x1 + slack and y0 - slack <= pt[1] <= y1 + slack
+    if not in_box or not bool(mesh.contains(np.array(pt)[:, None])[0]):
+        at = f"[{pt[0] / MM:g}, {pt[1] / MM:g}] mm"
+        # say where the point came from: a vertex group off the cells is no [points] key
+        if given is not None:
+            raise ValueError(f"{src}: [points] {key} = {at} lies off the mesh "
+                             f"({bbox_mm(mesh)})")
+        if group in imported.points_m:
+            raise ValueError(
+                f"{src}: the {group!r} vertex group of the mesh file {name} is "
+                f"at {at}, off the mesh's cells ({bbox_mm(mesh)}); put its node on the "
+                f"planform or set [points] {key}")
+        raise ValueError(
+            f"{src}: the default {group} point {at} (no [points] {key}, no {group!r} vertex "
+            f"group in {name}) lies off the mesh's cells ({bbox_mm(mesh)}); set "
+            f"[points] {key} or add a {group!r} vertex group to the mesh")
+    inside = mesh.outline_distance_m(pt)
+    if inside > OUTLINE_TOLERANCE * max(x1 - x0, y1 - y0):
+        # the reduction normalises the mode at the point: a tip 1 mm inside the plate moves
+        # M_b from 0.0089 to 0.0155 kg
+        origin = (f"[points] {key}" if given is not None else
+                  f"the {group!r} vertex group" if group in imported.points_m else
+                  f"the default {group} point")
+        what = ("the contact tip touches the slider" if group == "tip" else
+                "the preload presses")
+        # stacklevel: the caller of parse_stator, past _meshed_stator and _parse_design
+        warnings.warn(InteriorPointWarning(
+            f"{src}: {origin} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies "
+            f"{inside / MM:.3g} mm inside the planform, off its outline, where {what}; "
+            f"the reduction normalises its mode there: move it onto the outline (the "
+            f"plate's end) unless the part is meant to act inside"), stacklevel=5)
+    return pt
 
 
 def load_stator(path: str | Path) -> StatorDesign:
