@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -14,9 +15,7 @@ from contact.results import PHASE_THRESHOLD, classify_motion
 from contact.steady.branches import SteadyBranch, averaged_branch
 from contact.steady.from_rest import probe_from_rest
 from contact.steady.full_orbit import full_system, mean_forces, run_periods, shoot
-from contact.steady.periodic_orbit import (
-    Orbit,
-)
+from contact.steady.periodic_orbit import Orbit
 from contact.steady.slow import V_ZERO_M_S, SlowProblem
 from contact.transient.event_kernel import N_WORK
 
@@ -262,36 +261,108 @@ def _transient_from_rest(sp: SlowProblem, fsys, z, mode, done: int, energy: bool
     return z_end, m_end, v_rest, fo, periods, newton
 
 
+@dataclass
+class _Cost:
+    """Drive periods simulated and Newton iterations spent by the exact level (a tally)."""
+
+    periods: int = 0
+    newton: int = 0
+
+    def add(self, periods: int, newton: int = 0) -> None:
+        self.periods += periods
+        self.newton += newton
+
+
+@dataclass
+class _RestRun:
+    """Where the full model started from rest ends, as the exact level decides it.
+
+    ``v`` is the velocity (m/s): a shot orbit's, a long mean's, 0 for a held slider, NaN for
+    one that runs away; ``orbit`` the shot full-model orbit or None; ``(z, mode)`` the state
+    at the end of the run from rest; ``periods`` that run's length (``rest_periods``);
+    ``from_mean``: the answer is a long mean (a ``k = 0`` branch).
+    """
+
+    v: float
+    orbit: object
+    z: np.ndarray
+    mode: int
+    periods: int
+    held: bool = False
+    from_mean: bool = False
+
+
 def exact_branches(sp: SlowProblem, branches, coupling: str, energy: bool = True,
-           rest: str = "probe"):
-    """Polish the averaged branches on the full model and decide the start from rest."""
+                   rest: str = "probe"):
+    """Polish the averaged branches on the full model and decide the start from rest.
+
+    Returns ``(branches, v_rest, periods, newton, rest_periods)``: the full model's steady
+    branches by increasing velocity, the velocity (m/s) a start from rest reaches (NaN: the
+    slider runs away), the drive periods simulated and Newton iterations spent, and the
+    periods of the run from rest.
+    """
     fsys = full_system(sp.params, sp.op, sp.mu_d_eff, coupling)
-    periods = newton = 0
+    cost = _Cost()
     # the dead zone is the only steady state of the slow equation: a start from rest stays
     # held if the full model says so. The averages can hide a creep: under a load the
     # guide's hold can give way for part of every period, and the slider then walks
     # backward below its velocity ripple, where the averaging does not hold.
     released = False  # the full model's slider left the averaged dead zone from rest
     if len(branches) == 1 and branches[0].motion == "dead-zone":
-        periods += 3 * HOLD_CHECK_PERIODS
+        cost.periods += 3 * HOLD_CHECK_PERIODS
         held_now, z_h, m_h = _held_from(sp, fsys, fsys.system.z0, fsys.system.mode0)
         if held_now:
             # the full model's held slider, whatever energy= says: its period, phases and
             # mean forces are those of every held slider the exact level reports
             measured, more, more_newton = _held_branch(sp, fsys, z_h, m_h, True, energy)
-            return (measured,), 0.0, periods + more, more_newton, periods
+            return (measured,), 0.0, cost.periods + more, more_newton, cost.periods
         released = True
+    out, shot_held = _shot_branches(sp, fsys, branches, released, energy, cost)
+    run = _run_from_rest(sp, fsys, rest, energy, cost)
+    run.held = abs(run.v) <= HELD_M_S
+    match = [i for i, b in enumerate(out)
+             if abs(b.velocity_m_s - run.v) <= 1e-6 * abs(run.v) + 1e-12
+             or (run.held and b.motion == "dead-zone")]
+    if run.orbit is None and not run.held:
+        match = _mean_from_rest(sp, fsys, branches, out, run, match, energy, cost)
+    if match:
+        out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
+    elif run.orbit is not None:
+        # a transient from rest settled on it: stable unless its multiplier says otherwise
+        # (none when the shot from the transient's end converged at once)
+        fo = run.orbit
+        stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else True
+        out.append(_full_branch(sp, fo, stable, True))
+    if (not run.held and math.isfinite(run.v) and abs(run.v) < sp.v_floor_m_s
+            and not any(b.motion == "dead-zone" for b in out)):
+        _add_held_beside_creep(sp, fsys, run, out, shot_held, energy, cost)
+    if run.orbit is not None or run.from_mean:
+        # averaged roots below the ripple scale that no full-model orbit confirms are not
+        # steady states of the finite-mass motor (the averaging does not hold there); the
+        # full model's orbit from rest stands for them
+        out = [b for b in out if b.from_rest or b.k > 0 or b.motion == "dead-zone"
+               or abs(b.velocity_m_s) >= sp.v_floor_m_s]
+    out = _one_dead_zone(sp, fsys, run, out, shot_held, energy, cost)
+    out.sort(key=lambda b: b.velocity_m_s)
+    return tuple(out), (0.0 if run.held else run.v), cost.periods, cost.newton, run.periods
+
+
+def _shot_branches(sp: SlowProblem, fsys, branches, released: bool, energy: bool,
+                   cost: _Cost) -> tuple[list[SteadyBranch], list[SteadyBranch]]:
+    """Every averaged branch shot on the full model (kept averaged, with its powers, where
+    the shot fails), and the dead zones among the shots (held full-model orbits). The
+    averaged dead zone is dropped where the full model's slider left it from rest
+    (``released``): there it is no steady state of the full model."""
     out: list[SteadyBranch] = []
-    shot_held: list[SteadyBranch] = []  # dead zones that are full-model orbits
+    shot_held: list[SteadyBranch] = []
     for b in branches:
         if b.motion == "dead-zone":
-            if not released:  # else not a steady state of the full model
+            if not released:
                 out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
             continue
         fo = _shoot_averaged(fsys, sp.orbit(b.velocity_m_s), energy)
         if fo is not None:
-            periods += fo.periods
-            newton += fo.newton_iterations
+            cost.add(fo.periods, fo.newton_iterations)
         if fo is not None and fo.k:
             # no multiplier when the shot converged before forming a Jacobian: the averaged
             # stability stands
@@ -302,149 +373,163 @@ def exact_branches(sp: SlowProblem, branches, coupling: str, energy: bool = True
                 shot_held.append(full)
         else:
             out.append(dataclasses.replace(_powered(sp, b, energy), from_rest=False))
-    # the start from rest: the full model out of the ripple zone and the averaged sheet it
-    # is on (contact.steady.from_rest), else a transient from rest and shooting for the orbit it
-    # approaches. Not the scan's own first root: the full model from rest can take another
-    # sheet of the slow equation (a tuned 60 kHz stator at 140 V / 14 N: stick-slip at
-    # 6.23e-3 m/s from rest, where the scan's only branch, pure slip at 1.36e-2 m/s, had been
-    # reported as reached from rest without a transient)
+    return out, shot_held
+
+
+def _run_from_rest(sp: SlowProblem, fsys, rest: str, energy: bool, cost: _Cost) -> _RestRun:
+    """The full model started from rest: out of the ripple zone and along the averaged sheet
+    it is on (:mod:`contact.steady.from_rest`, ``rest="probe"``), else a transient from rest
+    and shooting for the orbit it approaches.
+
+    Not the scan's own first root: the full model from rest can take another sheet of the
+    slow equation (a tuned 60 kHz stator at 140 V / 14 N reaches stick-slip at 6.23e-3 m/s
+    from rest, where the scan's only branch is pure slip at 1.36e-2 m/s).
+    """
     if rest == "probe":
         probe = probe_from_rest(sp, fsys)
-        periods += probe.periods
-        newton += probe.newton_iterations
+        cost.add(probe.periods, probe.newton_iterations)
         fo, more, more_newton = _shoot_probe(fsys, probe, energy)
-        periods += more
-        newton += more_newton
+        cost.add(more, more_newton)
         z0, m0, done = probe.z, probe.mode, probe.full_periods
     else:  # rest == "transient": the transient from rest decides at every point
         fo, z0, m0, done = None, fsys.system.z0, fsys.system.mode0, 0
     if fo is not None:
-        v_rest, z_end, m_end = fo.velocity_m_s, z0, m0
-        rest_periods = done
+        return _RestRun(fo.velocity_m_s, fo, z0, m0, done)
+    z_end, m_end, v_rest, fo, more, more_newton = _transient_from_rest(
+        sp, fsys, z0, m0, done, energy)
+    cost.add(more, more_newton)
+    return _RestRun(v_rest, fo, z_end, m_end, REST_TRANSIENT_PERIODS)
+
+
+def _mean_from_rest(sp: SlowProblem, fsys, branches, out: list[SteadyBranch], run: _RestRun,
+                    match: list[int], energy: bool, cost: _Cost) -> list[int]:
+    """Decide a start from rest whose transient settled on no orbit of ``k <=``
+    :data:`REST_MAX_K` periods that shooting could confirm: a quasi-periodic or irregular
+    motion, or a fast slider that 2 000 periods have not settled.
+
+    Two more windows tell which: where their mean velocities agree
+    (:data:`REST_SETTLED_RTOL`), or below the ripple scale (where the averaging does not
+    hold), the transient's mean is the answer, a ``k = 0`` branch appended to ``out`` (or the
+    dead zone, where that mean is a drift that dies out); otherwise the averaged choice
+    stands. With no averaged choice (no root a start from rest stops at) the slider runs
+    away. Updates ``run`` and returns the indices of ``out`` reached from rest.
+    """
+    avg = [i for i, b in enumerate(branches) if b.from_rest]
+    if not avg:
+        run.v = math.nan
+        return match
+    # below the ripple scale the averaging does not hold: the full model's mean stands even
+    # unsettled (an irregular creep)
+    creep = abs(branches[avg[0]].velocity_m_s) < sp.v_floor_m_s
+    v_mean, error, settled, phase, work, z_a, m_a = _window_means(
+        sp, fsys, run.z, run.mode, creep, energy, cost)
+    if not (settled or creep):
+        run.v = out[avg[0]].velocity_m_s
+        return avg
+    run.v = v_mean
+    if abs(run.v) <= 1e-3 * sp.v_floor_m_s:
+        # a slow drift, not yet a creep: held if it dies out (the dead zone)
+        cost.periods += 3 * HOLD_CHECK_PERIODS
+        held_now, z_h, m_h = _held_from(sp, fsys, run.z, run.mode, REST_TRANSIENT_PERIODS)
+        if held_now:
+            run.v, run.held, run.z, run.mode = 0.0, True, z_h, m_h
+    if run.held:
+        return match
+    run.from_mean = True
+    # the mean forces over the window of the work integrals
+    forces = mean_forces(fsys, z_a, m_a, REST_MEAN_PERIODS)
+    cost.periods += 2 * REST_MEAN_PERIODS
+    out.append(_mean_branch(sp, run.v, work, phase, REST_MEAN_PERIODS, error, forces))
+    return []
+
+
+def _window_means(sp: SlowProblem, fsys, z: np.ndarray, mode: int, creep: bool,
+                  energy: bool, cost: _Cost):
+    """The mean velocity of the full model over windows of :data:`REST_MEAN_PERIODS` after
+    ``(z, mode)``: two, and :data:`REST_MEAN_BLOCKS` for an unsettled ``creep``.
+
+    Returns ``(v_mean, error, settled, phase, work, z_a, m_a)``: the mean velocity (m/s) and
+    its standard error (0 from two windows), whether the two windows agree to
+    :data:`REST_SETTLED_RTOL`, the phase times (s) and work integrals (J; NaN without
+    ``energy``) of the windows, and the state the first window ends in, where the work
+    integrals start.
+    """
+    window_s = REST_MEAN_PERIODS * sp.op.period_s
+    # the velocities always at the engine's own step, the work integrals on a run of their
+    # own: a run at the energy step is another trajectory, whose mean of a chaotic creep
+    # differs by 4 %, and energy= must not move the answer
+    z_a, m_a, dist_a, _, _ = run_periods(fsys, z, mode, REST_MEAN_PERIODS)
+    z_b, m_b, dist, _, phase = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS, window=True)
+    cost.periods += 2 * REST_MEAN_PERIODS
+    means = [dist_a / window_s, dist / window_s]
+    v_a, v_mean = means
+    settled = abs(v_mean - v_a) <= REST_SETTLED_RTOL * abs(v_mean)
+    error = 0.0
+    if not settled and creep:
+        # an irregular creep: the mean of more windows, with its standard error
+        for _ in range(REST_MEAN_BLOCKS - 2):
+            z_b, m_b, dist, _, ph = run_periods(fsys, z_b, m_b, REST_MEAN_PERIODS,
+                                                window=True)
+            means.append(dist / window_s)
+            phase = phase + ph
+        cost.periods += (REST_MEAN_BLOCKS - 2) * REST_MEAN_PERIODS
+        v_mean = float(np.mean(means))
+        error = float(np.std(means, ddof=1) / math.sqrt(len(means)))
+    if energy:
+        work = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS, energy=True)[3]
+        cost.periods += REST_MEAN_PERIODS
     else:
-        z_end, m_end, v_rest, fo, more, more_newton = _transient_from_rest(
-            sp, fsys, z0, m0, done, energy)
-        periods += more
-        newton += more_newton
-        rest_periods = REST_TRANSIENT_PERIODS
-    held = abs(v_rest) <= HELD_M_S
-    match = [i for i, b in enumerate(out)
-             if abs(b.velocity_m_s - v_rest) <= 1e-6 * abs(v_rest) + 1e-12
-             or (held and b.motion == "dead-zone")]
-    from_mean = False
-    if fo is None and not held:
-        # the transient settled on no orbit of k <= REST_MAX_K periods that shooting could
-        # confirm: a quasi-periodic or irregular motion, or a fast slider that 2 000 periods
-        # have not settled. Two more windows tell which: where their mean velocities agree
-        # (REST_SETTLED_RTOL), or below the ripple scale (where the averaging does not hold),
-        # the transient's mean is the answer, as a k = 0 branch; otherwise the averaged
-        # choice stands. With no averaged choice (no root a start from rest stops at) the
-        # slider runs away.
-        avg = [i for i, b in enumerate(branches) if b.from_rest]
-        if not avg:
-            v_rest = math.nan
+        work = np.full(N_WORK, math.nan)
+    return v_mean, error, settled, phase, work, z_a, m_a
+
+
+def _add_held_beside_creep(sp: SlowProblem, fsys, run: _RestRun, out: list[SteadyBranch],
+                           shot_held: list[SteadyBranch], energy: bool, cost: _Cost) -> None:
+    """Look for a held orbit beside a creep from rest below the slider's velocity ripple.
+
+    A held orbit (the slider rocking with no net travel) can coexist with the creep where
+    the averaged ``G(0+) > 0`` and the start from rest creeps, so neither search sees it
+    (252 V / 25.64 N / 40 414 Hz: a 15-period creep from rest beside a held orbit with
+    Floquet multiplier 0.75). One period shot from the run's end finds it; the hold check
+    confirms it, and it joins ``out`` and ``shot_held``.
+    """
+    try:
+        h = shoot(fsys, run.z, run.mode, 1, energy=energy)
+    except ChatteringError:
+        h = None
+    if h is None:
+        return
+    cost.add(h.periods, h.newton_iterations)
+    if h.k == 1 and abs(h.velocity_m_s) <= HELD_M_S and h.multiplier < 1.0:
+        cost.periods += 3 * HOLD_CHECK_PERIODS
+        if _held_from(sp, fsys, h.z, h.mode)[0]:
+            shot_held.append(_full_branch(sp, h, True, False))
+            out.append(shot_held[-1])
+
+
+def _one_dead_zone(sp: SlowProblem, fsys, run: _RestRun, out: list[SteadyBranch],
+                   shot_held: list[SteadyBranch], energy: bool,
+                   cost: _Cost) -> list[SteadyBranch]:
+    """``out`` with one dead zone at most.
+
+    The one a start from rest stays in is the full model's held slider (its least period,
+    phases, mean forces and powers, energy= or not): the averaged orbit at 0+ has no slider
+    rocking against the guide (:func:`_held_branch`), and the averaged dead zone and the held
+    orbits shot from other branches are its twins, so its period does not depend on the path
+    that found it (one held orbit of one period at 200 V / 14 N driven at 1 kHz, under loads
+    of 0 to 3 N). Beside a motion from rest: a held orbit of the full model where one was
+    shot, else the averaged dead zone (the fast orbit at 0+, an infinitely heavy slider).
+    """
+    if run.held:
+        if run.orbit is not None:  # a held orbit, shot
+            measured = _full_branch(sp, run.orbit, True, True)
         else:
-            window_s = REST_MEAN_PERIODS * sp.op.period_s
-            # the velocities always at the engine's own step, the work integrals on a run of
-            # their own: with energy=True the mean of a chaotic creep had come from a run at
-            # the energy step, another trajectory, and moved by 4 % with the flag
-            z_a, m_a, dist_a, _, _ = run_periods(fsys, z_end, m_end, REST_MEAN_PERIODS)
-            z_b, m_b, dist, _, phase = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS,
-                                                   window=True)
-            periods += 2 * REST_MEAN_PERIODS
-            means = [dist_a / window_s, dist / window_s]
-            v_a, v_mean = means
-            settled = abs(v_mean - v_a) <= REST_SETTLED_RTOL * abs(v_mean)
-            # below the ripple scale the averaging does not hold: the full model's mean
-            # stands even unsettled (an irregular creep)
-            creep = abs(branches[avg[0]].velocity_m_s) < sp.v_floor_m_s
-            error = 0.0
-            if not settled and creep:
-                # an irregular creep: the mean of more windows, with its standard error
-                for _ in range(REST_MEAN_BLOCKS - 2):
-                    z_b, m_b, dist, _, ph = run_periods(fsys, z_b, m_b, REST_MEAN_PERIODS,
-                                                        window=True)
-                    means.append(dist / window_s)
-                    phase = phase + ph
-                periods += (REST_MEAN_BLOCKS - 2) * REST_MEAN_PERIODS
-                v_mean = float(np.mean(means))
-                error = float(np.std(means, ddof=1) / math.sqrt(len(means)))
-            if energy:
-                work = run_periods(fsys, z_a, m_a, REST_MEAN_PERIODS, energy=True)[3]
-                periods += REST_MEAN_PERIODS
-            else:
-                work = np.full(N_WORK, math.nan)
-            if settled or creep:
-                v_rest = v_mean
-                if abs(v_rest) <= 1e-3 * sp.v_floor_m_s:
-                    # a slow drift, not yet a creep: held if it dies out (the dead zone)
-                    periods += 3 * HOLD_CHECK_PERIODS
-                    held_now, z_h, m_h = _held_from(sp, fsys, z_end, m_end,
-                                                    REST_TRANSIENT_PERIODS)
-                    if held_now:
-                        v_rest, held, z_end, m_end = 0.0, True, z_h, m_h
-                if not held:
-                    match, from_mean = [], True
-                    # the mean forces over the window of the work integrals
-                    forces = mean_forces(fsys, z_a, m_a, REST_MEAN_PERIODS)
-                    periods += 2 * REST_MEAN_PERIODS
-                    out.append(_mean_branch(sp, v_rest, work, phase, REST_MEAN_PERIODS,
-                                            error, forces))
-            else:
-                match = avg
-                v_rest = out[avg[0]].velocity_m_s
-    if match:
-        out[match[0]] = dataclasses.replace(out[match[0]], from_rest=True)
-    elif fo is not None:
-        # a transient from rest settled on it: stable unless its multiplier says otherwise
-        # (none when the shot from the transient's end converged at once)
-        stable = bool(fo.multiplier < 1.0) if math.isfinite(fo.multiplier) else True
-        out.append(_full_branch(sp, fo, stable, True))
-    if (not held and math.isfinite(v_rest) and abs(v_rest) < sp.v_floor_m_s
-            and not any(b.motion == "dead-zone" for b in out)):
-        # a creep below the slider's velocity ripple: a held orbit (the slider rocking with
-        # no net travel) can coexist with it where the averaged G(0+) > 0 and the start from
-        # rest creeps, so neither search sees it (252 V / 25.64 N / 40 414 Hz: a 15-period
-        # creep from rest beside a held orbit with Floquet multiplier 0.75). One period shot
-        # from the transient's end finds it; the hold check confirms it.
-        try:
-            h = shoot(fsys, z_end, m_end, 1, energy=energy)
-        except ChatteringError:
-            h = None
-        if h is not None:
-            periods += h.periods
-            newton += h.newton_iterations
-            if h.k == 1 and abs(h.velocity_m_s) <= HELD_M_S and h.multiplier < 1.0:
-                periods += 3 * HOLD_CHECK_PERIODS
-                if _held_from(sp, fsys, h.z, h.mode)[0]:
-                    shot_held.append(_full_branch(sp, h, True, False))
-                    out.append(shot_held[-1])
-    if fo is not None or from_mean:
-        # averaged roots below the ripple scale that no full-model orbit confirms are not
-        # steady states of the finite-mass motor (the averaging does not hold there); the
-        # full model's orbit from rest stands for them
-        out = [b for b in out if b.from_rest or b.k > 0 or b.motion == "dead-zone"
-               or abs(b.velocity_m_s) >= sp.v_floor_m_s]
-    # one dead zone. The one a start from rest stays in is the full model's held slider
-    # (its least period, phases, mean forces and powers, energy= or not): the averaged orbit
-    # at 0+ has no slider rocking against the guide (_held_branch), and the averaged dead
-    # zone and the held orbits shot from other branches are its twins. Its period had
-    # depended on the path that found it: k = 3, 0, 0, 1 under loads 0, 1, 2, 3 N at
-    # 200 V / 14 N driven at 1 kHz, one held orbit of one period.
-    if held:
-        if fo is not None:  # a held orbit, shot
-            measured = _full_branch(sp, fo, True, True)
-        else:
-            measured, more, more_newton = _held_branch(sp, fsys, z_end, m_end, True, energy)
-            periods += more
-            newton += more_newton
-        out = [b for b in out if b.motion != "dead-zone"] + [measured]
-    else:
-        # beside a motion from rest: a held orbit of the full model where one was shot,
-        # else the averaged dead zone (the fast orbit at 0+, an infinitely heavy slider)
-        dead = [b for b in out if b.motion == "dead-zone"]
-        if len(dead) > 1:
-            keep = next((b for b in dead if any(b is s for s in shot_held)), dead[0])
-            out = [b for b in out if b.motion != "dead-zone"] + [keep]
-    out.sort(key=lambda b: b.velocity_m_s)
-    return tuple(out), (0.0 if held else v_rest), periods, newton, rest_periods
+            measured, more, more_newton = _held_branch(sp, fsys, run.z, run.mode, True,
+                                                       energy)
+            cost.add(more, more_newton)
+        return [b for b in out if b.motion != "dead-zone"] + [measured]
+    dead = [b for b in out if b.motion == "dead-zone"]
+    if len(dead) > 1:
+        keep = next((b for b in dead if any(b is s for s in shot_held)), dead[0])
+        return [b for b in out if b.motion != "dead-zone"] + [keep]
+    return out

@@ -8,9 +8,7 @@ import numpy as np
 
 from contact.errors import RunawayError
 from contact.model import OperatingPoint
-from contact.steady.periodic_orbit import (
-    orbit_phases,
-)
+from contact.steady.periodic_orbit import orbit_phases
 from contact.steady.slow import SlowProblem, slow_problem
 from rom.params import GRAVITY_M_S2, MotorParams
 
