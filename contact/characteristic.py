@@ -8,7 +8,6 @@ since the fast problem at fixed velocity does not depend on the load.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 import time
 from dataclasses import dataclass
@@ -174,8 +173,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     coupling, ultrasonic_friction
         As in :func:`contact.steady.engine.steady_state`.
     accuracy : {"exact", "fast"}
-        ``"exact"`` (the default, as ``lusm characteristic``'s; it was ``"fast"``, whose
-        stall force on the FE set at 400 V / 14 N is 0.476 N against the motor's 1.014 N):
+        ``"exact"`` (the default, as ``lusm characteristic``'s; the fast level's stall force
+        on the FE set at 400 V / 14 N is 0.476 N against the motor's 1.014 N):
         :func:`contact.steady.engine.steady_state` at the exact level per
         load (finite slider mass, the start from rest on the full model: creeps, holds by
         the tip's stiction and multi-period starts under a load that the averaging cannot
@@ -193,63 +192,15 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     Characteristic
     """
     t0 = time.perf_counter()
-    if accuracy not in ACCURACIES:
-        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
-    check_rest(rest)
-    if not isinstance(progress, (bool, np.bool_)):  # "yes" was taken as True, "" as False
-        raise TypeError(f"progress must be True or False, got {progress!r}")
-    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
-            not 2 <= points <= MAX_POINTS:
-        raise ValueError(f"points must be an integer in [2, {MAX_POINTS}], got {points!r}")
-    if loads_N is not None:
-        # a NaN load fell into the dead zone of the fast level and came out as 0 m/s
-        loads_arr = np.asarray(loads_N)
-        if loads_arr.ndim > 1:  # a nested list was flattened without a word
-            raise ValueError(f"loads_N must be a sequence of loads (N), got shape "
-                             f"{loads_arr.shape}")
-        if loads_arr.dtype.kind not in "iuf" or not np.all(np.isfinite(loads_arr)):
-            raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
-        if loads_arr.size > MAX_POINTS:  # as points: 1e5 loads ran on without a word
-            raise ValueError(f"loads_N has {loads_arr.size} loads, above {MAX_POINTS}")
+    loads_arr = _checked_options(accuracy, rest, progress, points, loads_N)
     require_params(params)
     coupling = resolve_coupling(params, coupling)  # "auto": as the CLI's
     op = OperatingPoint(voltage_V, preload_N,
                         default_drive_Hz(params, frequency_Hz))
-    if loads_N is not None and loads_arr.size:  # both levels refuse it, before any solve
-        # (1e7 N came out NaN at the fast level and was refused at the exact one)
-        largest = float(loads_arr[np.argmax(np.abs(loads_arr))])
-        check_scale(params, op)  # the drive and preload first, named as they are
-        try:
-            check_scale(params, dataclasses.replace(op, load_N=largest))
-        except ValueError as exc:  # the parameter is loads_N (it had said "load_N = ...")
-            text = str(exc)
-            if text.startswith("load_N = "):
-                text = "loads_N: its load " + text[len("load_N = "):]
-            raise ValueError(text) from None
+    if loads_arr is not None and loads_arr.size:  # both levels refuse it, before any solve
+        _check_load_scale(params, op, loads_arr)
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
-
-    irregular: dict[float, object] = {}  # load -> branch from rest with no short period
-    exact_orbits = [0]  # the orbits of each load's own exact steady state
-
-    @functools.cache  # the no-load point is usually one of the loads too
-    def from_rest(load: float) -> tuple[float, float]:
-        """Velocity (m/s) and input power (W) of the start from rest under ``load``."""
-        if accuracy == "exact":
-            r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
-                             load_N=load, coupling=coupling,
-                             ultrasonic_friction=ultrasonic_friction, accuracy="exact",
-                             rest=rest)
-            exact_orbits[0] += r.orbits
-            b = r.from_rest
-            if b is not None and b.irregular:
-                irregular[load] = b
-            return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
-        branches, v = branches_at_load(sp, load)
-        b = next((b for b in branches if b.from_rest), None)
-        return v, (b.input_power_W if b is not None else np.nan)
-
-    from tqdm import tqdm
-
+    from_rest = _FromRest(params, op, sp, coupling, ultrasonic_friction, accuracy, rest)
     v0 = from_rest(0.0)[0]
     stall = averaged = _stall_force(sp)
 
@@ -265,26 +216,11 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         loads = np.linspace(0.0, stall, points) if stall != 0.0 else np.zeros(1)
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
-    vel, p_in, p_out = [], [], []
-    for load in tqdm(loads, desc=f"characteristic {op.voltage_V:g} V", unit="load",
-                     disable=not progress, delay=1.0, leave=False):
-        v, p = from_rest(float(load))
-        vel.append(v)
-        p_in.append(p)
-        p_out.append(float(load) * v + 0.0)  # + 0.0: 0 W at no load, not -0 W backward
-    shown = {float(f): irregular[float(f)] for f in loads if float(f) in irregular}
-    if shown:  # one word for the curve: the rows that are long-time means, not orbits
-        worst = max(shown.values(), key=lambda b: b.velocity_error_m_s
-                    / max(abs(b.velocity_m_s), 1e-300))
-        if len(shown) == 1:
-            where = f"under the load {next(iter(shown)):g} N"
-        else:
-            least = next(f for f, b in shown.items() if b is worst)
-            where = (f"under the loads {', '.join(f'{f:g}' for f in shown)} N (the least "
-                     f"certain, {least:g} N, shown)")
-        warn_irregular(worst, where)
-    p_in_a, p_out_a = np.array(p_in), np.array(p_out)
-    eff = motor_efficiency(p_in_a, p_out_a)  # it came out below 0 under a pushing load
+    vel, p_in_a, p_out_a = _curve(from_rest, loads, op, progress)
+    irregular = _least_certain_irregular(loads, from_rest.irregular)
+    if irregular is not None:  # one word for the curve: rows that are means, not orbits
+        warn_irregular(*irregular)
+    eff = motor_efficiency(p_in_a, p_out_a)  # NaN, not below 0, under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))
     creep_from, creep_rule = math.nan, ""
     if exact_moving and math.isfinite(stall):
@@ -292,10 +228,120 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
             velocity, v0, averaged, stall, points,
             CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff))
         _warn_beyond_stall(velocity, v0, loads, stall)
-    return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
+    return Characteristic(op, float(v0), float(stall), loads, vel, p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0,
-                          len(sp.cache) + exact_orbits[0], float(averaged), float(creep_from),
-                          creep_rule)
+                          len(sp.cache) + from_rest.exact_orbits, float(averaged),
+                          float(creep_from), creep_rule)
+
+
+def _curve(from_rest: _FromRest, loads: np.ndarray, op: OperatingPoint,
+           progress: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Velocity (m/s) from rest, input and output power (W) at each load, with a progress
+    bar on stderr once the curve takes more than a second."""
+    from tqdm import tqdm
+
+    vel, p_in, p_out = [], [], []
+    for load in tqdm(loads, desc=f"characteristic {op.voltage_V:g} V", unit="load",
+                     disable=not progress, delay=1.0, leave=False):
+        v, p = from_rest(float(load))
+        vel.append(v)
+        p_in.append(p)
+        p_out.append(float(load) * v + 0.0)  # + 0.0: 0 W at no load, not -0 W backward
+    return np.array(vel), np.array(p_in), np.array(p_out)
+
+
+def _checked_options(accuracy: str, rest: str, progress: bool, points: int,
+                     loads_N) -> np.ndarray | None:
+    """Refuse options out of their range, naming them; ``loads_N`` as an array (None for
+    the default loads)."""
+    if accuracy not in ACCURACIES:
+        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
+    check_rest(rest)
+    if not isinstance(progress, (bool, np.bool_)):  # "yes" is a true string, "" a false one
+        raise TypeError(f"progress must be True or False, got {progress!r}")
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
+            not 2 <= points <= MAX_POINTS:
+        raise ValueError(f"points must be an integer in [2, {MAX_POINTS}], got {points!r}")
+    if loads_N is None:
+        return None
+    # a NaN load would fall into the fast level's dead zone and come out as 0 m/s
+    loads_arr = np.asarray(loads_N)
+    if loads_arr.ndim > 1:  # a nested list is no sequence of loads, not flattened
+        raise ValueError(f"loads_N must be a sequence of loads (N), got shape "
+                         f"{loads_arr.shape}")
+    if loads_arr.dtype.kind not in "iuf" or not np.all(np.isfinite(loads_arr)):
+        raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
+    if loads_arr.size > MAX_POINTS:  # bounded as points is
+        raise ValueError(f"loads_N has {loads_arr.size} loads, above {MAX_POINTS}")
+    return loads_arr
+
+
+def _check_load_scale(params: MotorParams, op: OperatingPoint, loads_arr: np.ndarray) -> None:
+    """Refuse loads out of the model's scale (:func:`contact.model.check_scale`) at either
+    level before any solve (the fast level would answer NaN), naming ``loads_N``."""
+    largest = float(loads_arr[np.argmax(np.abs(loads_arr))])
+    check_scale(params, op)  # the drive and preload first, named as they are
+    try:
+        check_scale(params, dataclasses.replace(op, load_N=largest))
+    except ValueError as exc:  # the parameter is loads_N, not load_N
+        text = str(exc)
+        if text.startswith("load_N = "):
+            text = "loads_N: its load " + text[len("load_N = "):]
+        raise ValueError(text) from None
+
+
+class _FromRest:
+    """Velocity (m/s) and input power (W) of the start from rest under a load, once per load
+    (the no-load point is usually one of the loads too): the exact level's steady state, or
+    the fast level's branches from the shared slow problem ``sp``. Keeps the branches from
+    rest with no short period (``irregular``, by load) and the orbits the exact steady
+    states solved (``exact_orbits``)."""
+
+    def __init__(self, params: MotorParams, op: OperatingPoint, sp, coupling: str,
+                 ultrasonic_friction: bool, accuracy: str, rest: str) -> None:
+        self.params, self.op, self.sp = params, op, sp
+        self.coupling, self.ultrasonic_friction = coupling, ultrasonic_friction
+        self.accuracy, self.rest = accuracy, rest
+        self.irregular: dict[float, object] = {}
+        self.exact_orbits = 0
+        self._done: dict[float, tuple[float, float]] = {}
+
+    def __call__(self, load: float) -> tuple[float, float]:
+        if load not in self._done:
+            self._done[load] = self._solve(load)
+        return self._done[load]
+
+    def _solve(self, load: float) -> tuple[float, float]:
+        if self.accuracy == "exact":
+            op = self.op
+            r = steady_state(self.params, op.voltage_V, op.preload_N,
+                             frequency_Hz=op.frequency_Hz, load_N=load, coupling=self.coupling,
+                             ultrasonic_friction=self.ultrasonic_friction, accuracy="exact",
+                             rest=self.rest)
+            self.exact_orbits += r.orbits
+            b = r.from_rest
+            if b is not None and b.irregular:
+                self.irregular[load] = b
+            return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
+        branches, v = branches_at_load(self.sp, load)
+        b = next((b for b in branches if b.from_rest), None)
+        return v, (b.input_power_W if b is not None else np.nan)
+
+
+def _least_certain_irregular(loads: np.ndarray, irregular: dict) -> tuple | None:
+    """``(branch, where)`` for :func:`contact.steady.engine.warn_irregular`: the irregular
+    branch from rest of least relative certainty among the curve's loads and the loads it
+    names; None where every row is an orbit."""
+    shown = {float(f): irregular[float(f)] for f in loads if float(f) in irregular}
+    if not shown:
+        return None
+    worst = max(shown.values(), key=lambda b: b.velocity_error_m_s
+                / max(abs(b.velocity_m_s), 1e-300))
+    if len(shown) == 1:
+        return worst, f"under the load {next(iter(shown)):g} N"
+    least = next(f for f, b in shown.items() if b is worst)
+    return worst, (f"under the loads {', '.join(f'{f:g}' for f in shown)} N (the least "
+                   f"certain, {least:g} N, shown)")
 
 
 def _stall_force(sp) -> float:
