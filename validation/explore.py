@@ -785,7 +785,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
         "fe_solver": f"fem.modes.plate_modes, order {s.fe_order}, {_mesh_text(study)}, "
                      "shift-invert eigsh with a fixed start vector",
         "motor_solver": (
-            f"contact.steady.engine.steady_state and contact.characteristic.characteristic, "
+            f"contact.steady.steady_state and contact.characteristic.characteristic, "
             f"accuracy={s.accuracy}" + (f", rest={s.rest}" if s.accuracy == "exact" else "")
             + " (solver.duration and solver.dt unused)"
             if s.method == "steady" else

@@ -225,7 +225,7 @@ def _reproduction(params: dict, out: Path, quick: bool, progress: bool):
           "`contact.drive.auto_frequency`). "
           + ("The judged numbers (velocities, motion classes, mu_d, the maps) are settled "
              "values: the steady state a start from rest reaches, found by the steady engine "
-             "(`contact.steady.engine`, exact level; section 5). The time traces and phase planes "
+             "(`contact.steady`, exact level; section 5). The time traces and phase planes "
              f"are runs of {settings.duration_s * 1e3:g} ms from rest at dt = 1e-7 s."
              if settings.method == "steady" else
              f"Every number comes from runs of {settings.duration_s * 1e3:g} ms from rest at "
