@@ -30,19 +30,12 @@ import warnings
 from dataclasses import dataclass, replace
 
 from contact.friction import dynamic_friction
-from contact.model import (
-    OperatingPoint,
-    resolve_coupling,
-)
+from contact.model import OperatingPoint, resolve_coupling
 from contact.options import DEFAULT_DT_S, SimulationOptions, options_or_default
 from contact.results import EnergyBalance, SchemeOutput, SteadyState, Trace, steady_metrics
 from contact.transient.event import check_stored_steps, full_and_decimation
 from contact.transient.pre_pass import normal_amplitude
-from contact.transient.window import (
-    MIN_PERIODS,
-    period_step_s,
-    run_window,
-)
+from contact.transient.window import MIN_PERIODS, RunWindow, period_step_s, run_window
 from rom.params import MotorParams, require_params
 
 METHODS = {
@@ -166,46 +159,13 @@ def simulate(
     from contact.drive import default_drive_Hz
 
     op = OperatingPoint(voltage_V, preload_N, default_drive_Hz(params, frequency_Hz), load_N)
-    opts = options_or_default(options)
-    if option_overrides:
-        opts = SimulationOptions(**{**opts.__dict__, **option_overrides})
-    if method != "event" and opts.energy:  # the override wins, and its type is checked
-        # it came back as energy=None without a word (steady: SteadyResult's powers)
-        raise ValueError(f"energy=True is computed by method='event' only, got "
-                         f"method={method!r}")
-    if opts.dt_s is None:
-        opts = replace(opts, dt_s=period_step_s(op.period_s, DEFAULT_DT_S))
-    if opts.coupling == "auto":  # the result's options say which coupling ran
-        opts = replace(opts, coupling=resolve_coupling(params, "auto"))
-    dt_a_n = opts.dt_s
-    if method == "steady":
-        # the steady engine takes its own step and length: duration_s and dt_s are not
-        # used (checked against the frequency, the defaults would refuse a drive below
-        # 200 Hz or above 500 kHz); the window only carries the phase fractions, and Eq. 11's
-        # pre-pass (separating points) takes 250 steps per period (1e-7 s at 40 kHz, the
-        # transients' default)
-        window = run_window(op, MIN_PERIODS * op.period_s, op.period_s / 20.0,
-                            opts.steady_periods)
-        dt_a_n = op.period_s / 250.0
-    else:
-        window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
-    if method == "reference":  # its work bound, before the A_N pre-pass starts
-        from contact.transient.reference import check_reference_work
-
-        check_reference_work(op, window.end_s)
-    if method == "event":  # what it keeps, before the A_N pre-pass starts too
-        n_full, decim = full_and_decimation(op, opts, window)
-        check_stored_steps(n_full, math.ceil(window.n_steps / decim))
+    opts = _resolved_options(params, op, method, options, option_overrides)
+    window, dt_a_n = _scheme_window(op, opts, method)
     module, _, name = METHODS[method].partition(":")
     scheme = getattr(importlib.import_module(module), name)
 
     t0 = time.perf_counter()
-    if opts.ultrasonic_friction:
-        a_n = normal_amplitude(params, op, dt_a_n)
-        mu_d_eff = dynamic_friction(params, a_n)
-    else:
-        a_n = float("nan")
-        mu_d_eff = params.mu_d
+    a_n, mu_d_eff = _slip_friction(params, op, opts, dt_a_n)
     out: SchemeOutput = scheme(params, op, opts, window, mu_d_eff)
     wall = time.perf_counter() - t0
     if not opts.ultrasonic_friction and math.isfinite(out.y_tip_max_m):
@@ -213,14 +173,7 @@ def simulate(
     steady = steady_metrics(out.velocity_m_s, out.previous_velocity_m_s, out.phase_time,
                             out.y_tip_min_m, out.y_tip_max_m, window.window_s)
     if op.load_N and method != "steady" and not steady.settled:
-        from contact.steady.runaway import RunawayWarning, transient_runaway
-
-        reason = transient_runaway(params, op, opts.coupling, opts.ultrasonic_friction,
-                                   mu_d_eff, steady.velocity_m_s,
-                                   steady.previous_velocity_m_s)
-        if reason is not None:  # the steady scheme refuses such a load; a transient says so
-            warnings.warn(f"{reason}; the velocity is where the run stopped", RunawayWarning,
-                          stacklevel=2)
+        _warn_if_runaway(params, op, opts, mu_d_eff, steady)
     return SimulationResult(
         params=params, op=op, options=opts, method=method, mu_d_eff=mu_d_eff,
         normal_amplitude_m=a_n, trace=out.trace, window=out.window, steady=steady,
@@ -229,3 +182,74 @@ def simulate(
     )
 
 
+def _resolved_options(params: MotorParams, op: OperatingPoint, method: str,
+                      options: SimulationOptions | None,
+                      overrides: dict) -> SimulationOptions:
+    """The run's options: ``options`` (or the defaults) with the keyword overrides, the
+    step resolved for the drive frequency and ``"auto"`` coupling resolved for the set, so
+    that the result's options say what ran."""
+    opts = options_or_default(options)
+    if overrides:
+        opts = SimulationOptions(**{**opts.__dict__, **overrides})
+    if method != "event" and opts.energy:  # the override wins, and its type is checked
+        # the other schemes compute no energy balance (steady: SteadyResult's powers)
+        raise ValueError(f"energy=True is computed by method='event' only, got "
+                         f"method={method!r}")
+    if opts.dt_s is None:
+        opts = replace(opts, dt_s=period_step_s(op.period_s, DEFAULT_DT_S))
+    if opts.coupling == "auto":
+        opts = replace(opts, coupling=resolve_coupling(params, "auto"))
+    return opts
+
+
+def _scheme_window(op: OperatingPoint, opts: SimulationOptions,
+                   method: str) -> tuple[RunWindow, float]:
+    """The run's window and the step (s) of Eq. 11's pre-pass; the scheme's own work bounds
+    are checked here, before the pre-pass starts.
+
+    The steady engine takes its own step and length: ``duration_s`` and ``dt_s`` are not
+    used (checked against the frequency, the defaults would refuse a drive below 200 Hz or
+    above 500 kHz); its window only carries the phase fractions, and the pre-pass
+    (separating points) takes 250 steps per period (1e-7 s at 40 kHz, the transients'
+    default).
+    """
+    if method == "steady":
+        window = run_window(op, MIN_PERIODS * op.period_s, op.period_s / 20.0,
+                            opts.steady_periods)
+        return window, op.period_s / 250.0
+    window = run_window(op, opts.duration_s, opts.dt_s, opts.steady_periods)
+    if method == "reference":
+        from contact.transient.reference import check_reference_work
+
+        check_reference_work(op, window.end_s)
+    if method == "event":  # what it keeps
+        n_full, decim = full_and_decimation(op, opts, window)
+        check_stored_steps(n_full, math.ceil(window.n_steps / decim))
+    return window, opts.dt_s
+
+
+def _slip_friction(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
+                   dt_a_n: float) -> tuple[float, float]:
+    """``(A_N, mu_d_eff)``: Eq. 11's normal amplitude (m) from the pre-pass at the step
+    ``dt_a_n`` (s) and the friction in slip it gives, or NaN and ``mu_d`` without Eq. 11."""
+    if opts.ultrasonic_friction:
+        a_n = normal_amplitude(params, op, dt_a_n)
+        return a_n, dynamic_friction(params, a_n)
+    return float("nan"), params.mu_d
+
+
+def _warn_if_runaway(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
+                     mu_d_eff: float, steady: SteadyState) -> None:
+    """Warn where an unsettled transient's load lies beyond what the motor holds
+    (:func:`contact.steady.runaway.transient_runaway`): its velocity is where the run
+    stopped. The steady scheme refuses such a load instead. The steady engine is imported
+    here, for loaded runs that do not settle: ``import contact.simulate`` loads no SciPy
+    solver."""
+    from contact.steady.runaway import RunawayWarning, transient_runaway
+
+    reason = transient_runaway(params, op, opts.coupling, opts.ultrasonic_friction,
+                               mu_d_eff, steady.velocity_m_s,
+                               steady.previous_velocity_m_s)
+    if reason is not None:  # stacklevel: the caller of simulate
+        warnings.warn(f"{reason}; the velocity is where the run stopped", RunawayWarning,
+                      stacklevel=3)

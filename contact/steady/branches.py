@@ -11,10 +11,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.results import PHASE_THRESHOLD, classify_motion
-from contact.steady.periodic_orbit import (
-    orbit_phases,
-    orbit_work,
-)
+from contact.steady.periodic_orbit import orbit_phases, orbit_work
 from contact.steady.slow import V_ZERO_M_S, SlowProblem, scan_grid
 from contact.transient.event_kernel import N_WORK
 
