@@ -659,10 +659,8 @@ def build_model(
         for k in ELECTRODES:
             G[:, k - 1] += asm(_weighted_coupling_form(ps.e_C_m2, weights[k]), sub)
         C = np.diag(cap).copy()
-    if thickness_inertia:
-        m_uv, m_vv = _thickness_inertia_coupling(basis, mesh, mat, h, sub, weights)
-    else:
-        m_uv, m_vv = np.zeros_like(G), np.zeros_like(cap)
+    m_uv, m_vv = (_thickness_inertia_coupling(basis, mesh, mat, h, sub, weights)
+                  if thickness_inertia else (np.zeros_like(G), np.zeros_like(cap)))
     K = (0.5 * (K + K.T)).tocsr()
     M = (0.5 * (M + M.T)).tocsr()
     for arr in (G, C, cap, m_uv, m_vv):
