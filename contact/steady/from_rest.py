@@ -116,20 +116,31 @@ def _fractions(sp: SlowProblem, o: Orbit) -> np.ndarray:
     return phase / total if total > 0 else phase
 
 
-def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
-    """Run the full model from rest out of the ripple zone and follow the sheet it is on.
+class _GiveUp(Exception):
+    """The probe leaves the decision to the transient from rest (args: why)."""
 
-    ``sp`` is the operating point's slow problem (its tolerances and load), ``fsys`` its full
-    model. See the module's docstring for the method and the cases it leaves to the
-    transient from rest. A chattering fast problem leaves the decision to the transient too
-    (a chattering full model raises, as the transient would).
-    """
-    work = {"periods": 0, "newton": 0}
-    load = sp.op.load_N
 
-    def orbit(v: float, near: Orbit | None, z=None, mode=None) -> Orbit | None:
+class _Probe:
+    """The run from rest in progress: the full model's state ``(z, mode)`` after ``n``
+    periods, the fast problem's work (periods, Newton iterations) and the tracking check's
+    largest relative error (``worst``, NaN until it runs)."""
+
+    def __init__(self, sp: SlowProblem, fsys: FullSystem) -> None:
+        self.sp, self.fsys = sp, fsys
+        self.z, self.mode, self.n = fsys.system.z0, fsys.system.mode0, 0
+        self.periods = self.newton = 0
+        self.worst = math.nan
+
+    def run_block(self) -> None:
+        """Run the full model :data:`PROBE_BLOCK_PERIODS` periods on."""
+        self.z, self.mode, _, _, _ = run_periods(self.fsys, self.z, self.mode,
+                                                 PROBE_BLOCK_PERIODS)
+        self.n += PROBE_BLOCK_PERIODS
+
+    def orbit(self, v: float, near: Orbit | None, z=None, mode=None) -> Orbit | None:
         """The fast orbit at ``v`` continued from ``near`` (or from a full-model state);
         None where the fast problem chatters."""
+        sp = self.sp
         if near is not None:
             z, mode = near.z, near.mode
         try:
@@ -138,91 +149,127 @@ def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
                            jacobian=None if near is None else near.jacobian)
         except ChatteringError:
             return None
-        work["periods"] += o.periods
-        work["newton"] += o.newton_iterations
+        self.periods += o.periods
+        self.newton += o.newton_iterations
         return o
 
-    def thrust(o: Orbit) -> float:  # G(v) - F_load (N) on the sheet
-        return o.mean_FT_N - math.copysign(1.0, o.velocity_m_s) * sp.guide_N(o) - load
+    def thrust(self, o: Orbit) -> float:
+        """``G(v) - F_load`` (N) on the sheet at the orbit's velocity."""
+        sp = self.sp
+        return (o.mean_FT_N - math.copysign(1.0, o.velocity_m_s) * sp.guide_N(o)
+                - sp.op.load_N)
 
-    s = fsys.system
-    z, mode, n = s.z0, s.mode0, 0
+    def result(self, orbit: Orbit | None, reason: str) -> RestProbe:
+        return RestProbe(orbit, self.z, self.mode, self.n, self.n + self.periods, self.newton,
+                         reason, self.worst)
+
+
+def probe_from_rest(sp: SlowProblem, fsys: FullSystem) -> RestProbe:
+    """Run the full model from rest out of the ripple zone and follow the sheet it is on.
+
+    ``sp`` is the operating point's slow problem (its tolerances and load), ``fsys`` its full
+    model. See the module's docstring for the method and the cases it leaves to the
+    transient from rest. A chattering fast problem leaves the decision to the transient too
+    (a chattering full model raises, as the transient would).
+    """
+    probe = _Probe(sp, fsys)
+    try:
+        found = _sheet_root(probe, _tracked_sheet(probe))
+    except _GiveUp as exc:
+        return probe.result(None, exc.args[0])
+    return probe.result(found, f"the sheet's root, slow flow followed to {probe.worst:.2g}")
+
+
+def _tracked_sheet(probe: _Probe) -> Orbit:
+    """The fast orbit of the sheet the full model is on once out of the ripple zone, after
+    :data:`TRACK_BLOCKS` blocks in which the slider's velocity changes as the sheet's slow
+    flow ``M dv/dt = G(v)`` says (to :data:`TRACK_RTOL`)."""
+    sp = probe.sp
     threshold = PROBE_FACTOR * sp.v_floor_m_s
-
-    worst = math.nan
-
-    def give_up(reason: str) -> RestProbe:
-        return RestProbe(None, z, mode, n, n + work["periods"], work["newton"], reason, worst)
-
-    while abs(z[S.DX]) <= threshold:
-        if n >= PROBE_PERIODS:
-            return give_up(f"the slider stays below {PROBE_FACTOR:g} x the ripple scale")
-        z, mode, _, _, _ = run_periods(fsys, z, mode, PROBE_BLOCK_PERIODS)
-        n += PROBE_BLOCK_PERIODS
-    # the sheet the full model is on, and whether the slider moves as its slow flow says
-    sheet = orbit(float(z[S.DX]), None, z, mode)
+    while abs(probe.z[S.DX]) <= threshold:
+        if probe.n >= PROBE_PERIODS:
+            raise _GiveUp(f"the slider stays below {PROBE_FACTOR:g} x the ripple scale")
+        probe.run_block()
+    sheet = probe.orbit(float(probe.z[S.DX]), None, probe.z, probe.mode)
     if sheet is None or not sheet.k:
-        return give_up("no periodic fast orbit where the slider left the ripple zone")
+        raise _GiveUp("no periodic fast orbit where the slider left the ripple zone")
+    changed = "the fast orbit changed its period while the slider left the ripple zone"
     mass, period = sp.params.M_slider, sp.op.period_s
-    worst = 0.0
+    probe.worst = 0.0
     for _ in range(TRACK_BLOCKS):
-        v0 = float(z[S.DX])
-        z, mode, _, _, _ = run_periods(fsys, z, mode, PROBE_BLOCK_PERIODS)
-        n += PROBE_BLOCK_PERIODS
-        v1 = float(z[S.DX])
-        mid = orbit(0.5 * (v0 + v1), sheet)
+        v0 = float(probe.z[S.DX])
+        probe.run_block()
+        v1 = float(probe.z[S.DX])
+        mid = probe.orbit(0.5 * (v0 + v1), sheet)
         if mid is None or mid.k != sheet.k:
-            return give_up("the fast orbit changed its period while the slider left the "
-                           "ripple zone")
+            raise _GiveUp(changed)
         sheet = mid
-        predicted = thrust(mid) / mass * PROBE_BLOCK_PERIODS * period
-        worst = max(worst, abs((v1 - v0) - predicted) / max(abs(predicted), 1e-300))
-    if worst > TRACK_RTOL:
-        return give_up(f"the slider does not follow the sheet's slow flow (off by "
-                       f"{worst:.2g})")
-    prev = orbit(float(z[S.DX]), sheet)
-    if prev is None or prev.k != sheet.k:
-        return give_up("the fast orbit changed its period while the slider left the "
-                       "ripple zone")
-    g = thrust(prev)
+        predicted = probe.thrust(mid) / mass * PROBE_BLOCK_PERIODS * period
+        probe.worst = max(probe.worst,
+                          abs((v1 - v0) - predicted) / max(abs(predicted), 1e-300))
+    if probe.worst > TRACK_RTOL:
+        raise _GiveUp(f"the slider does not follow the sheet's slow flow (off by "
+                      f"{probe.worst:.2g})")
+    here = probe.orbit(float(probe.z[S.DX]), sheet)
+    if here is None or here.k != sheet.k:
+        raise _GiveUp(changed)
+    return here
+
+
+def _sheet_root(probe: _Probe, prev: Orbit) -> Orbit:
+    """The first root of ``G(v) = F_load`` along the sheet from ``prev`` in the direction
+    ``G`` pushes the slider: continuation in steps of :data:`SHEET_STEP` in v, halved in
+    log v at a jump of the orbit's period or phase fractions (a fold where they reach
+    :data:`SHEET_MIN_STEP`), then Brent's method inside the last step."""
+    sp = probe.sp
+    threshold = PROBE_FACTOR * sp.v_floor_m_s
+    g = probe.thrust(prev)
     frac = _fractions(sp, prev)
     base = SHEET_STEP if g * prev.velocity_m_s > 0 else 1.0 / SHEET_STEP
     ratio = base
     for _ in range(SHEET_MAX_STEPS):
         v = prev.velocity_m_s * ratio
         if abs(v) < 0.5 * threshold or abs(v) > sp.v_max_m_s:
-            return give_up("the sheet leaves the scanned velocities")
-        nxt = orbit(v, prev)
+            raise _GiveUp("the sheet leaves the scanned velocities")
+        nxt = probe.orbit(v, prev)
         if nxt is None:
-            return give_up(f"the fast problem chatters at {v:.4g} m/s on the sheet")
+            raise _GiveUp(f"the fast problem chatters at {v:.4g} m/s on the sheet")
         frac_n = _fractions(sp, nxt) if nxt.k else frac
         if nxt.k != prev.k or np.max(np.abs(frac_n - frac)) > PHASE_JUMP:
             if abs(math.log(ratio)) <= math.log(SHEET_MIN_STEP):
-                return give_up(f"the sheet folds at {v:.4g} m/s")
+                raise _GiveUp(f"the sheet folds at {v:.4g} m/s")
             ratio = math.sqrt(ratio)
             continue
-        g_n = thrust(nxt)
+        g_n = probe.thrust(nxt)
         if g_n * g <= 0.0:
-            def g_at(w: float, a: Orbit = prev) -> float:
-                o = orbit(w, a)
-                if o is None:
-                    raise _Chatter(w)
-                return thrust(o)
-
-            try:
-                root = brentq(g_at, prev.velocity_m_s, v, xtol=1e-12, rtol=sp.root_rtol)
-            except _Chatter as exc:
-                return give_up(f"the fast problem chatters at {exc.args[0]:.4g} m/s on the "
-                               f"sheet")
-            found = orbit(root, prev)
-            if (found is None or found.k != prev.k
-                    or np.max(np.abs(_fractions(sp, found) - frac)) > PHASE_JUMP):
-                # Brent's iterates continue from one end; one that jumped to another sheet
-                # leaves a root that is not this sheet's
-                return give_up(f"the root search left the sheet at {root:.4g} m/s")
-            return RestProbe(found, z, mode, n, n + work["periods"], work["newton"],
-                             f"the sheet's root, slow flow followed to {worst:.2g}", worst)
+            return _root_between(probe, prev, v, frac)
         prev, frac, g = nxt, frac_n, g_n
         if abs(math.log(ratio)) < abs(math.log(base)):
             ratio *= ratio  # back towards the full step after a halving
-    return give_up(f"no root within {SHEET_MAX_STEPS} continuation steps along the sheet")
+    raise _GiveUp(f"no root within {SHEET_MAX_STEPS} continuation steps along the sheet")
+
+
+def _root_between(probe: _Probe, prev: Orbit, v: float, frac: np.ndarray) -> Orbit:
+    """The sheet's orbit at the root of ``G(v) = F_load`` between ``prev``'s velocity and
+    ``v`` (m/s), each iterate continued from ``prev``; ``frac`` is ``prev``'s phase
+    fractions."""
+    sp = probe.sp
+
+    def g_at(w: float) -> float:
+        o = probe.orbit(w, prev)
+        if o is None:
+            raise _Chatter(w)
+        return probe.thrust(o)
+
+    try:
+        root = brentq(g_at, prev.velocity_m_s, v, xtol=1e-12, rtol=sp.root_rtol)
+    except _Chatter as exc:
+        raise _GiveUp(f"the fast problem chatters at {exc.args[0]:.4g} m/s on the "
+                      f"sheet") from None
+    found = probe.orbit(root, prev)
+    if (found is None or found.k != prev.k
+            or np.max(np.abs(_fractions(sp, found) - frac)) > PHASE_JUMP):
+        # Brent's iterates continue from one end; one that jumped to another sheet
+        # leaves a root that is not this sheet's
+        raise _GiveUp(f"the root search left the sheet at {root:.4g} m/s")
+    return found
