@@ -610,35 +610,9 @@ def build_solid_model(
             "PlateStator.electrode_gap_m must be > 0 in the 3D model: with no gap the four "
             "quadrants touch and form one conductor"
         )
-    if planform is None and grid_lines is not None:
-        from skfem import MeshHex
-
-        mesh = MeshHex.init_tensor(*(np.asarray(v, dtype=float) for v in grid_lines))
-    elif planform is None:
-        mesh = _hex_mesh(stator, refine, layers, _check_int("edge_grading", edge_grading, 0))
-    else:
-        levels = planform_layer_lines(planform, stator.thickness_m, layers,
-                                      _check_int("edge_grading", edge_grading, 0))
-        mesh = extruded_hex_mesh(planform, stator.thickness_m, layers, levels)
+    mesh, levels = _solid_mesh(stator, planform, refine, layers, edge_grading, grid_lines)
     basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element)
-    # electrodes: top-face dofs in the closed quadrant regions; bottom face grounded
-    h = stator.thickness_m
-    xyz = basis.doflocs
-    tol = 1e-9 * max(stator.length_m, stator.width_m, h)
-    top = np.flatnonzero(np.abs(xyz[2] - h / 2) < tol)
-    bottom = np.flatnonzero(np.abs(xyz[2] + h / 2) < tol)
-    if planform is None:
-        # nodes on an electrode's edge belong to it (a copy of the stator with the gap
-        # shrunk by 2 tol was refused for a 1 um gap: below the 1 um a gap may have)
-        tags = stator.electrode_of(xyz[0, top], xyz[1, top], tol_m=tol)
-        electrode_dofs = tuple(top[tags == k] for k in ELECTRODES)
-    else:
-        electrode_dofs = _planform_electrodes(planform, basis, h, levels.size - 1, tol)
-    for k, d in zip(ELECTRODES, electrode_dofs, strict=True):
-        if d.size == 0:
-            raise ValueError(f"the mesh has no node under electrode {k}")
-        d.setflags(write=False)
-    bottom.setflags(write=False)
+    electrode_dofs, bottom = _electrode_dofs(stator, planform, basis, levels)
     return SolidPlateModel(
         stator=stator,
         material=mat,
@@ -655,6 +629,48 @@ def build_solid_model(
         ground_dofs=bottom,
         assembly_time_s=time.perf_counter() - t0,
     )
+
+
+def _solid_mesh(stator: PlateStator, planform, refine: int, layers: int, edge_grading: int,
+                grid_lines):
+    """The brick mesh of :func:`build_solid_model` and the layer levels of an extruded
+    planform (None for the box mesh): the tensor mesh of ``grid_lines``, else the
+    structured box mesh of a plain plate, else the planform extruded."""
+    if planform is None and grid_lines is not None:
+        from skfem import MeshHex
+
+        return MeshHex.init_tensor(*(np.asarray(v, dtype=float) for v in grid_lines)), None
+    if planform is None:
+        return _hex_mesh(stator, refine, layers,
+                         _check_int("edge_grading", edge_grading, 0)), None
+    levels = planform_layer_lines(planform, stator.thickness_m, layers,
+                                  _check_int("edge_grading", edge_grading, 0))
+    return extruded_hex_mesh(planform, stator.thickness_m, layers, levels), levels
+
+
+def _electrode_dofs(stator: PlateStator, planform, basis,
+                    levels) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+    """Potential dofs of each electrode (top face, in the closed quadrant regions or the
+    planform's tagged elements) and of the grounded bottom face, read-only; refuses an
+    electrode without a node."""
+    h = stator.thickness_m
+    xyz = basis.doflocs
+    tol = 1e-9 * max(stator.length_m, stator.width_m, h)
+    top = np.flatnonzero(np.abs(xyz[2] - h / 2) < tol)
+    bottom = np.flatnonzero(np.abs(xyz[2] + h / 2) < tol)
+    if planform is None:
+        # nodes on an electrode's edge belong to it (shrinking a copy of the stator's gap by
+        # 2 tol instead would refuse a 1 um gap, the smallest a gap may have)
+        tags = stator.electrode_of(xyz[0, top], xyz[1, top], tol_m=tol)
+        electrode_dofs = tuple(top[tags == k] for k in ELECTRODES)
+    else:
+        electrode_dofs = _planform_electrodes(planform, basis, h, levels.size - 1, tol)
+    for k, d in zip(ELECTRODES, electrode_dofs, strict=True):
+        if d.size == 0:
+            raise ValueError(f"the mesh has no node under electrode {k}")
+        d.setflags(write=False)
+    bottom.setflags(write=False)
+    return electrode_dofs, bottom
 
 
 def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
