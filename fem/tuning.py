@@ -406,7 +406,32 @@ def tune_plate(
     """
     held = normalize_fix(fix)
     fixed_dim = "length" if "length" in held else "width" if "width" in held else None
-    if target_frequency_Hz is not None and not (  # NumPy scalars too (float32 was refused)
+    target_frequency_Hz = _checked_target(target_frequency_Hz, fix, fixed_dim, model, rel_tol,
+                                          max_iter)
+    mat = get_material(material)
+    base = PlateStator() if start is None else start
+    if getattr(base, "mesh", None) is not None:
+        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
+                         "tune_plate cannot rescale; start from a plain PlateStator")
+    solver = _Solver(base, mat, model, "thickness_ratio" in held, order, refine)
+    if progress:
+        from tqdm import tqdm
+
+        # disable=None: on a terminal only (a log or a pipe gets no carriage-return lines)
+        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
+    try:
+        return _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, model, rel_tol,
+                     max_iter)
+    finally:
+        if solver.bar is not None:
+            solver.bar.close()
+
+
+def _checked_target(target_frequency_Hz: float | None, fix, fixed_dim: str | None, model: str,
+                    rel_tol: float, max_iter: int) -> float | None:
+    """The target (Hz) as a float, None where left out; refuses options out of range and a
+    target next to a held length or width, naming them."""
+    if target_frequency_Hz is not None and not (  # NumPy scalars too (float32 included)
             isinstance(target_frequency_Hz, numbers.Real)
             and not isinstance(target_frequency_Hz, bool)
             and math.isfinite(target_frequency_Hz) and target_frequency_Hz > 0):
@@ -429,23 +454,7 @@ def tune_plate(
     if (isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer))
             or not 1 <= max_iter <= MAX_ITER):  # each iteration is a crossing's FE solves
         raise ValueError(f"max_iter must be an integer in [1, {MAX_ITER}], got {max_iter!r}")
-    mat = get_material(material)
-    base = PlateStator() if start is None else start
-    if getattr(base, "mesh", None) is not None:
-        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
-                         "tune_plate cannot rescale; start from a plain PlateStator")
-    solver = _Solver(base, mat, model, "thickness_ratio" in held, order, refine)
-    if progress:
-        from tqdm import tqdm
-
-        # disable=None: on a terminal only (a log or a pipe gets no carriage-return lines)
-        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
-    try:
-        return _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, model, rel_tol,
-                     max_iter)
-    finally:
-        if solver.bar is not None:
-            solver.bar.close()
+    return target_frequency_Hz
 
 
 class TuningWarning(UserWarning):
