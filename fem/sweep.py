@@ -133,6 +133,25 @@ def _nan_to_none(a: np.ndarray) -> list:
     return [None if not np.isfinite(v) else float(v) for v in a]
 
 
+def _sweep_values(values_m) -> np.ndarray:
+    """The swept values (m) as a 1D float array: numbers, at least one, at most
+    :data:`MAX_SWEEP_VALUES` times ``LUSM_MAX_WORK``."""
+    raw = np.atleast_1d(np.asarray(values_m, dtype=object))
+    # numbers only: "7e-3" is text, and True would make a 1 m plate (alone or beside numbers)
+    if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+               for v in raw.ravel()):
+        raise ValueError(f"values_m must be numbers (m), got {values_m!r}"[:300])
+    values = raw.astype(float)
+    if values.size == 0 or values.ndim != 1:
+        raise ValueError("values_m must be a non-empty 1D sequence")
+    top = MAX_SWEEP_VALUES * work_factor()
+    if values.size > top:  # each is an FE solve (200 000 would take hours)
+        raise ValueError(f"values_m has {values.size} values (FE solves), above the limit "
+                         f"{top:.0f} of a library call (set LUSM_MAX_WORK=N to allow N times "
+                         "more)")
+    return values
+
+
 def sweep_dimension(
     parameter: str,
     values_m: np.ndarray,
@@ -170,19 +189,7 @@ def sweep_dimension(
     if parameter not in PARAMETERS:
         raise ValueError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
 
-    raw = np.atleast_1d(np.asarray(values_m, dtype=object))
-    # "7e-3" had been parsed, True had made a 1 m plate (alone or beside numbers)
-    if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
-               for v in raw.ravel()):
-        raise ValueError(f"values_m must be numbers (m), got {values_m!r}"[:300])
-    values = raw.astype(float)
-    if values.size == 0 or values.ndim != 1:
-        raise ValueError("values_m must be a non-empty 1D sequence")
-    top = MAX_SWEEP_VALUES * work_factor()
-    if values.size > top:  # each is an FE solve (200 000 had started: hours)
-        raise ValueError(f"values_m has {values.size} values (FE solves), above the limit "
-                         f"{top:.0f} of a library call (set LUSM_MAX_WORK=N to allow N times "
-                         "more)")
+    values = _sweep_values(values_m)
     base = PlateStator() if base is None else base
     mat = get_material(material)
     refine = DEFAULT_REFINE if refine is None else refine
