@@ -98,7 +98,7 @@ class Characteristic(FrozenArrays):
         creeps (the beam set at 200 V / 14 N at its own frequency). ``"creep threshold"``:
         the band holds faster thrust, because the averaging followed another sheet than the
         start from rest (the tuned 60 kHz stator at 140 V / 14 N: averaged stall 0.469 N,
-        2.9e-3 m/s at 0.50 N; it had been printed as a creep): the band begins where the
+        2.9e-3 m/s at 0.50 N, no creep): the band begins where the
         velocity from rest falls below the creep speed for the last time before the stall,
         bisected on the scan of ``points`` loads. ``""`` where there is no band.
     """
@@ -148,8 +148,8 @@ STALL_RTOL = EXACT_ROOT_RTOL
 """Relative tolerance (-) of the exact level's stall force, the root ``brentq`` finds of the
 velocity from rest against the load: the exact level's own root tolerance (1e-6). Near the stall
 the slider creeps below its velocity ripple and every load tried is a 2 000-period transient
-from rest (a few nm/s within 1e-6 of Table 2's stall at 300 V / 14 N); with the former 1e-9
-the default characteristic there made 53 steady solves, with 1e-6 it makes 34."""
+from rest (a few nm/s within 1e-6 of Table 2's stall at 300 V / 14 N); the default
+characteristic there makes 34 steady solves with 1e-6, 53 with 1e-9."""
 
 
 def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
@@ -406,8 +406,8 @@ def _moving(velocity, s: float):
 def _scan(stall: float, points: int) -> list[float]:
     """The scan grid (N) of the exact level's stall and creep band: ``points`` loads from 0 up
     to the stall force (excluded), as the default curve takes them, so that both answers are
-    the same whatever loads a caller asks the curve at (they had moved with ``loads_N``:
-    0.2823 N by default, 0.4605 N with ``--loads 0,0.2,0.4,0.5``, review)."""
+    the same whatever loads a caller asks the curve at (a grid of ``loads_N`` would give
+    0.2823 N by default and 0.4605 N with ``--loads 0,0.2,0.4,0.5``)."""
     return [float(f) for f in np.linspace(0.0, stall, points)[:-1]]
 
 
@@ -422,9 +422,9 @@ def _first_stop(velocity, v0: float, stall: float, points: int) -> float:
 
     ``brentq`` finds *a* zero crossing of the velocity from rest in its bracket, not the
     first: where the velocity is not monotone in the load (branches from rest that change
-    with it) the curve showed the slider stopped or reversed below the stall force it
-    printed (the tuned 40 kHz stator at 100 V / 14 N: -1.1e-5 m/s at 0.299 N, "stall force
-    0.4605 N"; exploratory testing). The first such load and the moving one before it
+    with it) the curve can show the slider stopped or reversed below a stall force found
+    by the first crossing alone (the tuned 40 kHz stator at 100 V / 14 N: -1.1e-5 m/s at
+    0.299 N below a crossing at 0.4605 N). The first such load and the moving one before it
     bracket the crossing found here; the grid up to the refined stall is then scanned again
     (the default curve's loads), until it shows no earlier stop. Crossings between the
     grid's loads are not seen: the stall force is the first crossing at the resolution of
@@ -463,8 +463,8 @@ def _creep_start(velocity, v0: float, averaged: float, stall: float, points: int
     if excess(averaged) < 0.0 and all(excess(f) < 0.0 for f in grid if s * f >= s * averaged):
         return float(averaged), "averaged stall"  # the averaged slider is held from here on
     # the averaging followed another sheet: the band is where the curve's last run of creeping
-    # loads before the stall begins, its threshold crossing bisected (not the grid's load: it
-    # had moved with the loads asked for, review)
+    # loads before the stall begins, its threshold crossing bisected (not the grid's load,
+    # which would move with the loads asked for)
     last = len(grid)
     while last > 0 and excess(grid[last - 1]) < 0.0:
         last -= 1
@@ -482,7 +482,7 @@ class NonMonotoneWarning(UserWarning):
 def _warn_beyond_stall(velocity, v0: float, loads, stall: float) -> None:
     """Warn where one of the curve's loads beyond the stall force moves the slider the way it
     is driven (the tuned 40 kHz stator at 100 V / 14 N: forward at 0.35-0.44 N, beyond its
-    0.2823 N stall; nothing had said the curve was not monotone)."""
+    0.2823 N stall): the curve is not monotone there."""
     s = math.copysign(1.0, v0)
     moving = _moving(velocity, s)
     beyond = [float(f) for f in loads if s * f > s * stall and moving(float(f)) > 0.0]
@@ -504,12 +504,11 @@ def averaging_doubt(params: MotorParams, char: Characteristic, *, coupling: str 
 
     Two reasons: its no-load velocity lies below the slider's velocity ripple (the ripple
     scale with Eq. 11's friction, :attr:`contact.steady.slow.SlowProblem.v_floor_m_s`: the
-    slider is not slow against the drive period; at 20 Hz the fast level gave 1.8e-6 m/s and
+    slider is not slow against the drive period; at 20 Hz the fast level gives 1.8e-6 m/s and
     a 1.18 N stall force where the finite-mass motor is held), or the finite-mass motor
     reaches another steady state from rest (the exact level's no-load point, compared beyond
-    the averaging's O(1/M) error: at 30 kHz the fast level found one branch at 0.0124 m/s
-    where a start from rest creeps at 1.1e-4 m/s). Formerly the CLI's own check, with the
-    ripple from the static mu_d.
+    the averaging's O(1/M) error: at 30 kHz the fast level finds one branch at 0.0124 m/s
+    where a start from rest creeps at 1.1e-4 m/s).
     """
     op = char.op
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)

@@ -140,7 +140,7 @@ def branch_row(b) -> tuple[float, int, str, bool, bool]:
     -------
     tuple
         ``motion`` is :attr:`~contact.steady.branches.SteadyBranch.tip_motion`, the point's own
-        vocabulary (a held slider's branch is ``"pure-stick"`` as its point is; it had said
+        vocabulary (a held slider's branch is ``"pure-stick"`` as its point is, not
         ``"dead-zone"``), and ``held`` whether the slider is held (the dead zone).
     """
     return (float(b.velocity_m_s), int(b.k), b.tip_motion, bool(b.from_rest), bool(b.held))

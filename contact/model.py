@@ -66,7 +66,7 @@ def default_coupling(params: MotorParams) -> tuple[str, str]:
         The coupling and a short reason for printing.
     """
     # by the numbers, not the free-text source: a set saved without its label, or relabelled,
-    # had switched coupling and run 5.7 times faster at 200 V / 14 N (found by API testing)
+    # keeps its coupling (the other one runs 5.7 times faster at 200 V / 14 N)
     if is_table2(params):
         return "paper", "auto: Table 2's set reproduces the paper"
     return "consistent", "auto: work-consistent for a set that is not Table 2's"
@@ -76,8 +76,8 @@ def is_table2(params: MotorParams) -> bool:
     """Whether ``params`` holds Table 2's numbers, whatever its ``source`` text, each to the
     rounding of single precision (:data:`rom.params.STORAGE_ROUNDOFF`, twice: the value's and
     the storage's): a Table 2 set written through float32, which ``MotorParams.from_dict``
-    takes as unedited, had been switched to the consistent coupling and run 5.7 times faster
-    (review of 2026-11-28). An edit is a change far above 1e-7."""
+    takes as unedited, keeps the paper's coupling (the consistent one runs 5.7 times
+    faster). An edit is a change far above 1e-7."""
     from rom.params import STORAGE_ROUNDOFF
     from rom.table2 import table2
 
@@ -110,14 +110,13 @@ def _edited_table2(params: MotorParams) -> bool:
 
 def resolve_coupling(params: MotorParams, coupling: str) -> str:
     """``coupling`` itself, or for ``"auto"`` (every entry point's default, as the CLI's)
-    :func:`default_coupling` of ``params``. The library defaulted to ``"paper"`` for every
-    set while the CLI ran non-Table-2 sets with the consistent coupling: the beam set at
-    300 V / 14 N was held in ``simulate`` and moved at 4.1e-5 m/s in ``lusm simulate``.
+    :func:`default_coupling` of ``params``: the library and the CLI run a set with the same
+    coupling (the beam set at 300 V / 14 N is held with the paper's and moves at
+    4.1e-5 m/s with the consistent one).
 
     An edited copy of Table 2's set gets the consistent coupling under ``"auto"``, with a
-    :class:`CouplingSwitchWarning`: a slider mass changed by 1e-9 had moved 200 V / 14 N from
-    0.0076 to 0.043 m/s without a word (found by a physics audit; the CLI warned for
-    ``--params`` files only)."""
+    :class:`CouplingSwitchWarning`: a slider mass changed by 1e-9 moves 200 V / 14 N from
+    0.0076 to 0.043 m/s, which the caller should hear of."""
     if coupling == "auto":
         chosen = default_coupling(params)[0]
         if chosen != "paper" and _edited_table2(params):
@@ -164,7 +163,7 @@ class OperatingPoint:
         ):
             value = getattr(self, name)
             allowed = f"{'> 0' if strict else '>= 0'} {unit}"
-            # NumPy scalars are numbers (np.int64(200) was refused); True is not 1 V
+            # NumPy scalars are numbers (np.int64(200) too); True is not 1 V
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise ValueError(f"{name} must be a finite number {allowed}, got {value!r}")
             value = float(value)

@@ -92,8 +92,8 @@ class SimulationOptions:
                              f"{self.coupling!r}")
         for name in ("steady_periods", "full_periods", "max_trace_points", "max_events_per_step"):
             v = getattr(self, name)
-            # an integer, stored as one: NaN had been a numpy conversion error, '100' a
-            # TypeError deep in a scheme, and 2.5 or True were kept as typed in r.options
+            # an integer, stored as one: not NaN (a numpy conversion error), '100' (a
+            # TypeError deep in a scheme), 2.5 or True (kept as typed in r.options)
             if isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < 1:
                 raise ValueError(f"{name} must be an integer >= 1, got {v!r}")
             if v > MAX_COUNT_OPTION:  # 1e30 reached the kernel as an OverflowError
@@ -114,10 +114,10 @@ class SimulationOptions:
 
 def options_or_default(options: SimulationOptions | None,
                        overrides: bool = True) -> SimulationOptions:
-    """``options``, or the defaults for None; anything else is a TypeError naming it (a dict
-    was "has no attribute 'dt_s'" deep in a scheme). ``overrides``: whether the caller also
-    takes keyword overrides (``simulate`` does, ``stick_slip_map`` not), which the message
-    then suggests."""
+    """``options``, or the defaults for None; anything else is a TypeError naming it (a dict would
+    fail as "has no attribute 'dt_s'" deep in a scheme). ``overrides``: whether the caller also
+    takes keyword overrides (``simulate`` does, ``stick_slip_map`` not), which the message then
+    suggests."""
     if options is None:
         return SimulationOptions()
     if not isinstance(options, SimulationOptions):

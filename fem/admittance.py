@@ -349,9 +349,9 @@ def modes_below(K, M, f_Hz: float) -> int | None:
 
     Sylvester's law of inertia: the count is the number of negative pivots of an
     ``L D L^T`` factorization of ``K - (2 pi f)^2 M``. SuperLU gives one when it keeps the
-    symmetric ordering and does not pivot (``SymmetricMode``, no diagonal threshold); if it
-    had to pivot anyway, None (the caller falls back to growing the eigensolve). One sparse
-    factorization: milliseconds where the eigensolve it replaces took a minute.
+    symmetric ordering and does not pivot (``SymmetricMode``, no diagonal threshold); where it
+    pivots anyway, None (the caller falls back to growing the eigensolve). One sparse
+    factorization: milliseconds where the eigensolve it replaces takes a minute.
     """
     shift = (2.0 * math.pi * float(f_Hz)) ** 2
     try:
@@ -593,7 +593,7 @@ def resonance_pairs(port: ModalPort, f_Hz: np.ndarray,
 
     A peak whose named modes make one peak on this grid but not on a fine grid across them
     (``check_merges``, :func:`_merged_by_the_grid`) is left out: a grid step wider than
-    their peaks had paired one mode's resonance with the other's antiresonance
+    their peaks pairs one mode's resonance with the other's antiresonance
     (``--f-max 1e7 --zeta 0.001``: "B2+L1 (merged)", k_eff 0.306, where B2 has 0.092 and L1
     0.155); the modes are then the grid's to find (:meth:`AdmittanceResult.unpaired_modes`).
     """
@@ -631,8 +631,8 @@ def _pairs_on(port: ModalPort, f_Hz: np.ndarray) -> list[ResonancePair]:
 def _overlapping(port: ModalPort, pairs: list[ResonancePair]) -> tuple[ResonancePair, ...]:
     """Pairs with one ``"B2+L1 (merged)"`` label on several peaks relabelled: the modes make
     separate peaks closer than their bandwidths, not one. Each is named by its nearer mode,
-    ``"B2 (overlaps L1)"`` (``--zeta 0.022``: two rows "B2+L1 (merged)" under a line saying
-    the modes make one peak; found by code review)."""
+    ``"B2 (overlaps L1)"`` (``--zeta 0.022`` would show two rows "B2+L1 (merged)" under a
+    line saying the modes make one peak)."""
     labels = [q.mode for q in pairs]
     freq = dict(zip(port.mode_names, port.frequencies_Hz, strict=True))
     out = []
@@ -761,10 +761,10 @@ def plate_admittance(
         raise ValueError(f"n_points must be an integer >= 3, got {n_points!r}")
 
     top = MAX_FREQUENCY_POINTS * work_factor()
-    if n_points > top:  # an array of points x modes: 1e7 had taken 56 s and about 7 GB
+    if n_points > top:  # an array of points x modes: 1e7 take 56 s and about 7 GB
         raise ValueError(f"n_points must be at most {top:.0f} in a library call, got "
                          f"{n_points} (set LUSM_MAX_WORK=N to allow N times more)")
-    # before the model is built (review: it had been checked after)
+    # before the model is built
     if zeta is not None and not (isinstance(zeta, numbers.Real) and not isinstance(zeta, bool)
                                  and math.isfinite(zeta) and 0.0 < zeta < 1.0):
         raise ValueError(f"zeta must lie in (0, 1) (an undamped admittance is infinite at "

@@ -114,8 +114,8 @@ def _electrode_side(width: float, h_min: float, h_far: float, near: float) -> np
     """Points from the gap's edge (0) across an electrode of ``width``: graded from
     ``h_min`` to ``h_far`` within ``near`` of the edge; beyond it the field is uniform
     through the thickness (linear potential, exact for quadratic elements), so the
-    elements grow on to ``width / 6``. A 500 mm electrode on a 0.1 mm plate took 30 000
-    lines at ``h_far`` (16 GB); the paper's plate is within ``near`` and unchanged."""
+    elements grow on to ``width / 6``: a 500 mm electrode on a 0.1 mm plate would take
+    30 000 lines at ``h_far`` (16 GB); the paper's plate lies within ``near``."""
     pts = _graded(0.0, min(width, near), h_min, h_max=h_far)
     if width <= near:
         return pts

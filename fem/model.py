@@ -934,7 +934,7 @@ def plate_model(
         raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
     if gap_model not in GAP_MODELS:
         raise ValueError(f"gap_model must be one of {GAP_MODELS}, got {gap_model!r}")
-    if planform_mesh(stator) is None:  # as plate_modes: refine=1000 had run to a MemoryError
+    if planform_mesh(stator) is None:  # as plate_modes: refine=1000 runs out of memory
         check_generated_size(stator, int(refine), count=lambda: math.prod(
             len(v) - 1 for v in grid_lines_m(stator, int(refine))))
     return _cached_model(stator, get_material(material), int(order), int(refine), gap_model,

@@ -130,13 +130,13 @@ MATERIAL_RANGES = {"cE_Pa": (0.1, 1000.0, 1e9, "GPa"), "e_C_m2": (0.0, 100.0, 1.
                    "epsS_F_m": (1.0, 1e5, 8.8541878128e-12, "eps0")}
 """Accepted size of inline ``[material]`` constants (lower, upper, unit scale, unit): the largest
 diagonal stiffness in GPa, the largest piezoelectric constant in C/m^2, the largest diagonal
-permittivity in units of eps0. e = 1e6 C/m^2 (1e5 times PZT-8's) gave a clamped capacitance of
+permittivity in units of eps0. e = 1e6 C/m^2 (1e5 times PZT-8's) gives a clamped capacitance of
 0.78 F."""
 PZT8_SIZE = {"cE_Pa": "147 GPa", "e_C_m2": "13.9 C/m^2", "epsS_F_m": "904 eps0"}
 """PZT-8's values of the quantities :data:`MATERIAL_RANGES` bounds, for messages."""
 DENSITY_RANGE_KG_M3 = (100.0, 50_000.0)
 """``[material] rho_kg_m3`` accepted: from foams to beyond osmium (22 590). Outside it the
-frequencies leave every range the solvers are set for (1e-30 gave 5e21 Hz; 1e30 left ARPACK
+frequencies leave every range the solvers are set for (1e-30 gives 5e21 Hz; 1e30 leaves ARPACK
 printing to the terminal)."""
 PLATE_RANGE_MM = (0.1, 1000.0)
 """Allowed plate length, width and thickness (mm), the same as the ``lusm`` plate options
@@ -369,7 +369,7 @@ def _material(table: dict, src: str) -> PiezoMaterial:
         if "base" in table:
             raise ValueError(f"{src}: [material] base needs at least one inline constant")
         name = table.get("name", "pzt8")
-        if "source" in table:  # was dropped without a word: a named material has its own
+        if "source" in table:  # refused, not dropped: a named material has its own
             raise ValueError(
                 f"{src}: [material] source describes inline constants (cE_Pa, e_C_m2, "
                 f"epsS_F_m, rho_kg_m3) and cannot be combined with name = {name!r} alone, "
@@ -654,7 +654,7 @@ def _mounts(data: dict[str, Any], design: StatorDesign, src: str):
     value = (data.get("points") or {}).get("mounts_mm")
     if value is None:
         return ()
-    # a flat [0, 15] (one point without its list) was refused as "must be [x, y] in mm, got 0"
+    # a flat [0, 15] (one point without its list) is told how to write one point
     if not isinstance(value, list) or not value or not all(isinstance(pt, list) for pt in value):
         raise ValueError(f"{src}: [points] mounts_mm must be a list of [x, y] pairs in mm, "
                          f"e.g. [[0, 15]] for one point, got {value!r}")
@@ -919,7 +919,7 @@ def load_stator(path: str | Path) -> StatorDesign:
     """
     from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
 
-    if not isinstance(path, (str, os.PathLike)):  # None said "expected str, bytes or ..."
+    if not isinstance(path, (str, os.PathLike)):  # None: named, not "expected str, bytes..."
         raise TypeError(f"path must name a stator TOML file, got {path!r}")
     path = Path(path)
     if path.is_dir():
@@ -927,7 +927,7 @@ def load_stator(path: str | Path) -> StatorDesign:
     if not path.exists():
         raise FileNotFoundError(f"stator file not found: {path}")
     try:
-        # bounded: a 512 MB file was read whole (1.1 GB of memory), a FIFO would block
+        # bounded: a 512 MB file read whole takes 1.1 GB of memory, a FIFO would block
         data = tomllib.loads(read_small_text(path, MAX_STATOR_FILE_BYTES))
     except NotRegularFile as exc:
         raise ValueError(f"stator file {path} is {exc.what}, not a TOML file") from None

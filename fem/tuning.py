@@ -472,9 +472,9 @@ is said not to be tuned (Brent's method converges onto a jump of the split as on
 
 def _warn_untuned(solver: _Solver, free: str, x: float, res, rel_tol: float) -> None:
     """Warn when the crossing ``x`` (m) of the ``free`` dimension left the modes apart: the
-    3D order-1 tuning of the paper's plate at fixed length ended at a width of 7.375 mm with
+    3D order-1 tuning of the paper's plate at fixed length ends at a width of 7.375 mm with
     the split 4.1e-3, where the mesh gains two grid lines and the split jumps from -229 Hz
-    to +393 Hz, and said "tuned" (found by exploratory testing)."""
+    to +393 Hz, which Brent's method takes for the crossing."""
     split = res.B2.f_short_Hz / res.L1.f_short_Hz - 1.0
     if abs(split) <= UNTUNED_FACTOR * rel_tol:
         return

@@ -367,7 +367,7 @@ def beam_params(
             ) from None
     for name, z in (("damping_ratios[0] (zeta_L1)", zeta_l), ("damping_ratios[1] (zeta_B2)",
                                                              zeta_b)):
-        # one message with the range that holds: 0.0 had been told "(0, inf)"
+        # one message with the range that holds, (0, 1), for 0.0 too
         if isinstance(z, bool) or not isinstance(z, (int, float, np.floating, np.integer)) \
                 or not (math.isfinite(float(z)) and 0.0 < float(z) < 1.0):
             raise ValueError(f"{name} must be a number in (0, 1), got {z!r}")

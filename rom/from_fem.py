@@ -126,10 +126,10 @@ def _damping_ratios(base: MotorParams,
 
 def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndarray, row: int,
                  target: float, f_hz: float, name: str):
-    """One mode reduced to ``(mass (kg), stiffness (N/m), force factor (N/V), probe
-    values)``: ``shape`` scaled so that probe ``row`` of ``P`` reads ``target`` (the beam
-    shape's value), the probes being ``u_x`` at the preload point and the tip, then ``u_y``
-    at both; ``drive`` is the driven electrodes' coupling vector.
+    """One mode reduced to ``(mass, stiffness, force, values)``: its modal mass (kg), stiffness
+    (N/m), force factor (N/V) and probe values, ``shape`` scaled so that probe ``row`` of ``P``
+    reads ``target`` (the beam shape's value), the probes being ``u_x`` at the preload point and the
+    tip, then ``u_y`` at both; ``drive`` is the driven electrodes' coupling vector.
 
     Row 2 is L1's ``u_y`` at the preload point, row 1 B2's ``u_x`` at the tip; each must be
     at least :data:`NODE_SHARE` of the mode's largest vertex displacement in that direction

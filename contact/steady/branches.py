@@ -103,8 +103,7 @@ class SteadyBranch:
         (:data:`contact.results.MOTION_CLASSES`), the vocabulary of transients, of
         ``lusm map``'s points and of ``lusm simulate``: equal to :attr:`motion` except for
         the dead zone, whose held slider's tip sticks to it (``"pure-stick"``; ``"separated"``
-        with no preload and no drive). A map's branches had said ``"dead-zone"`` where its
-        point said ``"pure-stick"`` for the same state."""
+        with no preload and no drive), so that a map's branches say what its point says."""
         f = self.phase_fraction
         return classify_motion(f[0], f[1] + f[2], f[3], PHASE_THRESHOLD)
 
@@ -117,7 +116,7 @@ class SteadyBranch:
     @property
     def efficiency(self) -> float:
         """Output over input power (-), :func:`motor_efficiency` (NaN where the motor does
-        not work as a motor; it came out at -0.54 under a load pushing the slider)."""
+        not work as a motor, e.g. under a load pushing the slider)."""
         return float(motor_efficiency(self.input_power_W, self.output_power_W))
 
 

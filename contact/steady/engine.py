@@ -122,9 +122,9 @@ def steady_state(params: MotorParams, voltage_V: float, preload_N: float, *,
         ``"exact"`` (the default, as the CLI's): every branch shot on the full model
         (finite M) and the branch reached from rest decided on it; ``"fast"``: the
         M -> infinity averaging (error ~ 1/M, see ``docs/steady.md``), which can answer
-        for a steady state the motor does not reach from rest. The default was ``"fast"``:
-        ``characteristic`` of the FE set at 400 V / 14 N gave a 0.476 N stall force where
-        the CLI gave the motor's 1.014 N.
+        for a steady state the motor does not reach from rest (at the fast level
+        ``characteristic`` of the FE set at 400 V / 14 N gives a 0.476 N stall force, where
+        the motor's is 1.014 N).
     energy : bool
         Compute each branch's powers (input, damping, interface, guide), one run per branch
         at :data:`contact.steady.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
@@ -227,8 +227,8 @@ def warn_coexisting(branches, v_rest: float, op: OperatingPoint) -> None:
     many = "other stable steady states" if len(others) > 1 else "another stable steady state"
     warnings.warn(f"at {op.voltage_V:g} V / {op.preload_N:g} N{load} the motor has {many}"
                   f" besides the {v_rest:.4g} m/s a start from rest reaches: {what}; a slider "
-                  # the result lists them now (SimulationResult.branches, lusm simulate
-                  # --steady's branches); the warning had been their only mention
+                  # the result lists them too (SimulationResult.branches, lusm simulate
+                  # --steady's branches)
                   "brought there stays (every one is listed under branches)",
                   CoexistingBranchesWarning, stacklevel=3)
 
@@ -238,12 +238,11 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
 
     Returns a :class:`contact.results.SchemeOutput` for the branch reached from rest at the
     ``"exact"`` level (``op.load_N`` applied; ``opts.coupling`` honoured), with every branch
-    found at the point (``branches``: a single-point answer had hidden the others but for a
-    warning). Traces, tip extrema
-    and the energy balance are not produced (None / NaN); ``steps`` and ``nfev`` count the
+    found at the point (``branches``, which a single-point answer would hide). Traces, tip
+    extrema and the energy balance are not produced (None / NaN); ``steps`` and ``nfev`` count the
     drive periods simulated times the steps per period; ``events`` is None: the engine
-    shoots orbits and counts no mode switches (it had read 0, as if a stick-slip orbit
-    never switched).
+    shoots orbits and counts no mode switches (0 would say that a stick-slip orbit never
+    switches).
     """
     sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff, accuracy="exact")
     branches, v_rest = branches_at_load(sp, op.load_N, energy=False)

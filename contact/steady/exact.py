@@ -26,9 +26,8 @@ start from rest that settles on no orbit of period <= :data:`REST_MAX_K`."""
 REST_MEAN_BLOCKS = 10
 """Windows of :data:`REST_MEAN_PERIODS` periods whose mean velocities give an irregular creep's
 velocity and its standard error (:attr:`contact.steady.branches.SteadyBranch.velocity_error_m_s`): a
-motion that repeats with no period up to :data:`REST_MAX_K` and whose windows do not agree. One
-window's mean had stood for it, 10 % off a long transient's on a chaotic creep whose windows scatter
-by 20 %."""
+motion that repeats with no period up to :data:`REST_MAX_K` and whose windows do not agree (one
+window's mean is 10 % off a long transient's on a chaotic creep whose windows scatter by 20 %)."""
 
 REST_SETTLED_RTOL = 1e-6
 """Two consecutive :data:`REST_MEAN_PERIODS` windows after the transient from rest whose mean
@@ -69,8 +68,8 @@ def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndar
     """A branch measured on ``n_periods`` periods of the full model: mean velocity ``v``
     (m/s), work integrals ``work`` (J), phase times (s) and mean forces ``(F_T, F_N)`` (N);
     ``held``: the dead zone, at velocity 0 with no output power (its guide power is the
-    slider's rocking with the stuck tip: 3.4e-5 W at 139 V / 14 N, which had been left out
-    of the energy balance)."""
+    slider's rocking with the stuck tip: 3.4e-5 W at 139 V / 14 N, part of the energy
+    balance)."""
     duration = n_periods * sp.op.period_s
     total = float(np.sum(phase_time))
     frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
@@ -171,8 +170,8 @@ def _held_branch(sp: SlowProblem, fsys, z: np.ndarray, mode: int, from_rest: boo
 
     Its powers include the slider's rocking with the stuck tip against the guide, which the
     averaged orbit at 0+ (an infinitely heavy slider) does not have: at 200 V / 14 N driven
-    at 1 kHz the guide takes 5.0e-4 W of the 1.07e-3 W put in, and the averaged dead zone had
-    said 2.4e-5 W at some loads of one characteristic and 1.07e-3 W at the others."""
+    at 1 kHz the guide takes 5.0e-4 W of the 1.07e-3 W put in, which the averaged dead zone
+    misses."""
     try:
         h = shoot(fsys, z, mode, 1, energy=energy)
     except ChatteringError:

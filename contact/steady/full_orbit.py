@@ -191,8 +191,8 @@ def least_period(fs: FullSystem, z: np.ndarray, mode: int, k: int) -> tuple[int,
     Returns ``(d, periods run)``.
 
     A k-period shot converges to any orbit whose period divides k: from the averaged orbit
-    of period 3 at 200 V / 14 N driven at 1 kHz it converged to the held slider's orbit of
-    one period, which was then reported with k = 3 at one load and k = 1 at the next."""
+    of period 3 at 200 V / 14 N driven at 1 kHz it converges to the held slider's orbit of
+    one period, which must not be reported with k = 3 at one load and k = 1 at the next."""
     amp = _scale(fs, z)
     y0 = z[_Y]
     spent = 0

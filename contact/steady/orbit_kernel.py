@@ -442,7 +442,7 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
     steps = n * kk
     phase_time = np.zeros(4)
     if k != 1:
-        # the search's last period gave the F_T integral of a one-period orbit only
+        # the search's last period gives the F_T integral of a one-period orbit only
         zs = z.copy()
         zs[X] = 0.0
         out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,

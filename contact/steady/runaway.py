@@ -56,17 +56,16 @@ def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
                       velocity_m_s: float = math.nan,
                       previous_velocity_m_s: float = math.nan) -> str | None:
     """Why a run under ``op.load_N`` has no steady state: the load lies beyond
-    :func:`holding_range_N` (None when it does not, or when there is no load). A transient
-    at 1000 N had reported -250 m/s, pure slip, as its velocity.
+    :func:`holding_range_N` (None when it does not, or when there is no load): a transient
+    at 1000 N ends at -250 m/s, pure slip, which is no velocity of the motor.
 
     Where the tip sticks at the scan's ends (no drive, or a weak one) static friction holds
     a load that never breaks the tip free, but a run applies its load at once, and the
     step's overshoot can break it free below that: a transient whose slider speeds up the
     load's way (``velocity_m_s`` its last window's mean, ``previous_velocity_m_s`` an
     earlier one's) under a load beyond the tip's and the guide's sliding friction runs away
-    too (0 V / 14 N on Table 2's set from about 5.75 N, where static friction holds 7.638 N:
-    it had said only "not settled"; its last window can still hold stick phases, so the
-    motion class does not decide)."""
+    too (0 V / 14 N on Table 2's set from about 5.75 N, where static friction holds 7.638 N;
+    its last window can still hold stick phases, so the motion class does not decide)."""
     if not op.load_N:
         return None
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction,
@@ -76,7 +75,7 @@ def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
     if not (math.isfinite(low) and math.isfinite(high)):
         # no full slip at either end (an undriven or weakly driven tip sticks): the most the
         # tip's stiction and the guide can hold, static friction on both (0 V / 20 N under
-        # 50 N ran away without a word)
+        # 50 N runs away)
         slide, hold = stiction_hold_N(params, op.preload_N, mu_d_eff)
         low, high, what = -hold, hold, "the tip's and the guide's static friction"
         speeding_away = (velocity_m_s * op.load_N < 0.0

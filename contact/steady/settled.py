@@ -60,9 +60,9 @@ def settled_duration(params: MotorParams, voltage_V: float, preload_N: float, *,
     Runs :func:`transient_reference` for ``start_s``, ``2 start_s``, ... and returns the first
     length D whose velocity agrees with the run of length 2D to ``rel_tol`` (or ``abs_tol_m_s`` m/s,
     for held points: :data:`contact.steady.exact.HELD_M_S`), with ``True``; ``(start_s, False)``
-    when no length up to ``max_s`` / 2 settles (a point still drifting; none on the 9 x 9 map). The
-    floor was 1e-9 m/s, which let a creep near 1e-5 m/s pass at 1e-4 relative; on the 9 x 9 map no
-    length changed with the lower floor. ``kwargs`` go to :func:`transient_reference`. The settled
+    when no length up to ``max_s`` / 2 settles (a point still drifting; none on the 9 x 9 map). A
+    floor of 1e-9 m/s would let a creep near 1e-5 m/s pass at 1e-4 relative; on the 9 x 9 map no
+    length changes with the lower floor. ``kwargs`` go to :func:`transient_reference`. The settled
     reference of the steady engine's benchmarks (``benchmarks/steady_speed.py``).
     """
     d = float(start_s)

@@ -40,7 +40,7 @@ degenerate there)."""
 
 SCAN_PER_DECADE = 3
 """Velocities sampled per decade of slider speed to bracket the roots of the slow equation
-(the former 16 points over five decades, 10**(1/3) apart)."""
+(10**(1/3) apart)."""
 
 SCAN_FLOOR_FACTOR = 1.0
 """The scan's lowest sampled speed, in units of the slider's velocity-ripple scale

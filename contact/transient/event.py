@@ -88,8 +88,8 @@ def solve_event(params: MotorParams, op: OperatingPoint, opts: SimulationOptions
     check_spectrum(system, dt)
     # an earlier window, at least a fifth of the run before the last one, tells whether the
     # slider is still accelerating: its ends are marked in the kernel (interpolating the
-    # decimated trace put them 0.5-2 % off at creep speeds, and at 10-18 % the flag said
-    # settled)
+    # decimated trace puts them 0.5-2 % off at creep speeds, enough to call a creep whose
+    # windows differ by 10-18 % settled)
     has_prev = window.previous_start_s >= 0.0
     marks = (np.array([int(round(window.previous_start_s / dt)),
                        int(round(window.previous_end_s / dt))], dtype=np.int64)

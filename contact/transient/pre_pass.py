@@ -58,8 +58,8 @@ def pre_pass_periods(params: MotorParams, op: OperatingPoint) -> int:
     The transient decays as ``exp(-C_l t / (2 M_l))`` in contact and in separation alike
     (the contact adds stiffness, not damping). Table 2 (zeta_L1 = 0.12) needs 42 periods
     (1.5 x the 27.8 in which it decays), so 60 stay; at zeta_L1 = 0.01 it decays in about
-    330, and a fixed 60-period pre-pass put A_N 7 % above the settled amplitude (84 % at
-    zeta_L1 = 0.001).
+    330, and a fixed 60-period pre-pass would put A_N 7 % above the settled amplitude (84 %
+    at zeta_L1 = 0.001).
     """
     rate = _l1_decay_rate(params)
     if not rate > 0.0:

@@ -220,15 +220,15 @@ def _segments(breaks: list[float], h_target: float) -> np.ndarray:
 MAX_LIBRARY_CELLS_2D = 200_000
 """Elements of a generated 2D mesh a library call builds (ten times the CLI's bound,
 ``validation.limits.MAX_FE_CELLS_2D``; ``LUSM_MAX_WORK`` multiplies it):
-``plate_modes(refine=10000)`` had been killed for memory."""
+``plate_modes(refine=10000)`` would run out of memory."""
 MAX_LIBRARY_BRICKS_3D = 20_000
 """Bricks of a generated 3D mesh a library call builds (ten times the CLI's bound)."""
 
 
 def require_plate(stator: object, where: str) -> PlateStator:
     """``stator`` if it is a :class:`PlateStator` (None: the paper's plate), else a TypeError
-    saying how to get one (a loaded stator file, passed whole, had failed as "'StatorDesign'
-    object has no attribute 'width_m'")."""
+    saying how to get one (a loaded stator file passed whole is a common slip, which would
+    fail as "'StatorDesign' object has no attribute 'width_m'")."""
     if stator is None:
         return PlateStator()
     if isinstance(stator, PlateStator):

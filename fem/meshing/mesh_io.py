@@ -430,7 +430,7 @@ def _check_msh41_groups(path: Path) -> None:
     """Refuse an ASCII MSH 4.1 surface entity in more than one physical group.
 
     MSH 4.1 ties physical tags to entities, and meshio keeps one tag per entity: a surface in
-    both ``electrode1`` and ``gap`` was read as one of them without a word (MSH 2.2 writes such
+    both ``electrode1`` and ``gap`` would be read as one of them without a word (MSH 2.2 writes such
     elements twice, which the duplicated-cell check refuses). Binary files and other formats
     are left to the reader.
     """

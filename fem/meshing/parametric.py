@@ -111,7 +111,7 @@ class ParametricStator(PlateStator):
                              f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
         if self.tip_length_m > 0.0:
             flat = width - 2.0 * c
-            # a plate without chamfers had been told of "the end face between the chamfers"
+            # a plate without chamfers has no "end face between the chamfers"
             face = "end face between the chamfers" if c > 0.0 else "plate's end face (its width)"
             if not 0.0 < self.tip_width_m <= flat * (1 + 1e-12):
                 raise ValueError(f"ParametricStator.tip_width_m must lie in (0, {flat!r}] m "
@@ -339,18 +339,16 @@ cross it once meshed."""
 def estimated_elements(stator: ParametricStator) -> int:
     """The planform mesh's elements, estimated before gmsh meshes it in 2D.
 
-    gmsh's 2D mesh takes its element size from the boundary: each boundary node carries the
-    length of its edges (a hole's rim has at least :data:`HOLE_SEGMENTS` of them, however
-    small the hole), interpolated linearly over the Delaunay triangulation of the boundary
-    nodes. The estimate integrates ``1 / s^2`` over that triangulation exactly (the
-    Hermite-Genocchi formula: over a triangle of area ``A`` with linear ``s``, ``2 A`` times
-    the second divided difference of ``-ln s`` at its vertices) and scales it by
-    :data:`ELEMENTS_PER_SIZE_AREA`. The 1D mesh takes milliseconds: 64 holes of 0.01 mm in a
-    cluster had been meshed in 2D for more than ten minutes and 1.1 GB before the count was
-    known. Never high: within 4 % on fine meshes, 1.5 times low at the default size, up to
-    6.5 times low on a dense cluster of holes (:data:`ELEMENTS_PER_SIZE_AREA`); triangles of
-    the triangulation off the planform (beside a tip, beyond a chamfer) and inside holes are
-    left out.
+    gmsh's 2D mesh takes its element size from the boundary: each boundary node carries the length
+    of its edges (a hole's rim has at least :data:`HOLE_SEGMENTS` of them, however small the hole),
+    interpolated linearly over the Delaunay triangulation of the boundary nodes. The estimate
+    integrates ``1 / s^2`` over that triangulation exactly (the Hermite-Genocchi formula: over a
+    triangle of area ``A`` with linear ``s``, ``2 A`` times the second divided difference of
+    ``-ln s`` at its vertices) and scales it by :data:`ELEMENTS_PER_SIZE_AREA`. The 1D mesh takes
+    milliseconds, where 64 holes of 0.01 mm in a cluster take more than ten minutes and 1.1 GB to
+    mesh in 2D. Never high: within 4 % on fine meshes, 1.5 times low at the default size, up to 6.5
+    times low on a dense cluster of holes (:data:`ELEMENTS_PER_SIZE_AREA`); triangles of the
+    triangulation off the planform (beside a tip, beyond a chamfer) and inside holes are left out.
     """
     from scipy.spatial import Delaunay
 

@@ -274,7 +274,7 @@ class SolidPlateModel:
 
 def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading: int) -> None:
     """Refuse a 3D mesh above :data:`fem.meshing.mesh.MAX_LIBRARY_BRICKS_3D` bricks before it is
-    built (``solid_modes(refine=200)`` had ended in a MemoryError): the generated plate's bricks,
+    built (``solid_modes(refine=200)`` runs out of memory): the generated plate's bricks,
     counted from its lines, or a planform's elements times ``layers`` (at least)."""
     planform = planform_mesh(stator)
     if planform is None:
@@ -386,7 +386,7 @@ def gap_element_ratio(stator: PlateStator, refine: int, layers: int,
     thickness, over the gap width. The singular potential at the electrode edges lives on
     the gap's scale; at 30 x 7.5 x 3 mm with the 0.5 mm gap the default mesh has a ratio of
     4.9 and B2's k_eff 5 % low (docs/fem3d.md, mesh study), and narrow gaps with ratios of
-    tens gave 6-29 % and open-circuit B2 modes mixed with out-of-plane ones. A stator with a
+    tens give 6-29 % and open-circuit B2 modes mixed with out-of-plane ones. A stator with a
     planform mesh is measured on that mesh (its elements touching a gap strip's edges, the
     narrower strip) and its layers (:func:`planform_layer_lines`): the parametric tip's plate
     at a 0.05 mm gap has 20 from its 1 mm layers, and B2's k_eff 0.067 against 0.101 in 2D.
