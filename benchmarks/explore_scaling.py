@@ -49,8 +49,8 @@ def _noop(i):
 def _warm(study):
     """Import the stack and load the numba cache in this process, on a plate outside the
     study (so that no FE solve of the study is cached before the clock starts)."""
-    from validation.explore import compute_geometry
-    from validation.study import study_from_dict
+    from studies.explore import compute_geometry
+    from studies.study import study_from_dict
 
     warm = {**STUDY, "axes": {**STUDY["axes"], "length": "25 mm", "width": "6 mm"}}
     compute_geometry(study_from_dict(warm), 0)
@@ -58,14 +58,14 @@ def _warm(study):
 
 
 def _timed(study, i):
-    from validation.explore import compute_geometry
+    from studies.explore import compute_geometry
 
     return float(compute_geometry(study, i)["task_time_s"])
 
 
 def _drive_point_times(study, indices) -> list[float]:
     """Wall time (s) of each drive point of the geometries ``indices``, timed directly: the
-    one call a task makes per point (:func:`validation.explore.motor_answers`), on the
+    one call a task makes per point (:func:`studies.explore.motor_answers`), on the
     plate's parameter set at its auto frequency, in this process. (The figure had been the
     median full task minus the median FE-only task of other plates, over the points: two
     medians of different plates, whose difference is not a point's cost.)"""
@@ -74,7 +74,7 @@ def _drive_point_times(study, indices) -> list[float]:
     from contact.drive import auto_frequency
     from fem.geometry import PlateStator
     from rom.from_fem import fem_params
-    from validation.explore import Drive, geometry_of, motor_answers
+    from studies.explore import Drive, geometry_of, motor_answers
 
     s = study.solver
     times = []
@@ -100,8 +100,8 @@ def main() -> None:
 
     from distributed import Client
 
-    from validation.explore import explore, local_cluster, open_result
-    from validation.study import study_from_dict
+    from studies.explore import explore, local_cluster, open_result
+    from studies.study import study_from_dict
 
     study = study_from_dict(STUDY)
     n_tasks, n_points = study.n_geometries, study.n_geometries * study.n_drive_points

@@ -18,7 +18,7 @@ error, not the in-plane error of the base mesh (about 4e-4 on B2 short for 3x3,
 measured in the same run.
 
 Run: ``python benchmarks/fem3d_narrow_gap.py [--gaps-mm 0.02 0.05 0.1 0.2 0.5]
-[--mesh 3x3] [--gradings 1 2 3]`` (the docs' table: ``python -m validation.doc_tables
+[--mesh 3x3] [--gradings 1 2 3]`` (the docs' table: ``python -m tools.doc_tables
 --list``). The graded 0.02 mm quarter needs about 5 000 bricks at three gradings.
 """
 

@@ -12,7 +12,7 @@ extrusion (3 layers), with 2D/3D - 1 and each stator's shift from the plain plat
 
 Wall times are multiples of the default 2D model's, measured in the same run. Run:
 ``python benchmarks/fem_2d_vs_3d.py [--part plate|stators]``; ``python -m
-validation.doc_tables --update 'fe_2d_vs_3d*'`` stores both for the docs.
+tools.doc_tables --update 'fe_2d_vs_3d*'`` stores both for the docs.
 """
 
 from __future__ import annotations

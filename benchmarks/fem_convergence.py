@@ -13,7 +13,7 @@ smaller meshes); this script runs it on the full sequences and prints the table.
 
 Run: ``python benchmarks/fem_convergence.py [--material pzt8|paper] [--repeat N] [--markdown]``
 (``--markdown``: the table of ``docs/fem.md`` section 6, with each wall time as a multiple of
-the default mesh's measured in the same run; ``python -m validation.doc_tables --update
+the default mesh's measured in the same run; ``python -m tools.doc_tables --update
 fe2d_convergence`` stores it for the docs).
 """
 

@@ -18,7 +18,7 @@ model's validity (it warns; the row is printed anyway). Each wall time is printe
 multiple of the new 2D model's at the same gap, measured in the same run.
 
 Run: ``python benchmarks/fem_fidelity.py [--gaps-mm 0.1 0.5 2] [--refine-2d 4]
-[--meshes 3x3 4x4] [--graded 1 2 3]`` (the docs' tables: ``python -m validation.doc_tables
+[--meshes 3x3 4x4] [--graded 1 2 3]`` (the docs' tables: ``python -m tools.doc_tables
 --list``).
 """
 

@@ -6,7 +6,7 @@ node L1 and B2 share, or one off the axis at (1.8, 5) mm, at two thicknesses; ea
 its extrusion (:func:`fem.plane_stress_error.plane_stress_error`, 3 layers). The plain plate
 meshed the same way is the baseline: "extra" is a case's 2D/3D - 1 minus the plain plate's
 at the same thickness, the error the hole adds. The last column is ``d h / (L W)``, which
-:data:`validation.options.HOLE_AREA_SHARE` bounds for the CLI's warning. Run:
+:data:`lusm.options.HOLE_AREA_SHARE` bounds for the CLI's warning. Run:
 ``python benchmarks/fem_holes_2d_3d.py`` (about 3 minutes on two cores).
 """
 

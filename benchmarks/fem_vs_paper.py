@@ -7,7 +7,7 @@ implied ``sqrt(K/M)/2 pi``; the rod estimates ``c/(2l)`` that explain the gap; a
 reduced parameters beside Table 2's. Nothing is fitted.
 
 Run: ``python benchmarks/fem_vs_paper.py`` (Markdown on stdout; ``python -m
-validation.doc_tables --update fe_vs_paper`` stores it for the docs).
+tools.doc_tables --update fe_vs_paper`` stores it for the docs).
 """
 
 from __future__ import annotations

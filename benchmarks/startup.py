@@ -32,19 +32,19 @@ CASES = (
     ("import contact.simulate", [PY, "-c", "import contact.simulate"]),
     ("simulate 1 ms (cache load)", [PY, "-c", "import contact.simulate as c; from rom import "
                                     "table2; c.simulate(table2(), 200, 14, duration_s=0.001)"]),
-    ("lusm simulate ... --json (50 ms)", [PY, "-m", "validation.cli", "simulate", "--voltage",
+    ("lusm simulate ... --json (50 ms)", [PY, "-m", "lusm.cli", "simulate", "--voltage",
                                           "200", "--preload", "14", "--json"]),
-    ("lusm --help", [PY, "-m", "validation.cli", "--help"]),
+    ("lusm --help", [PY, "-m", "lusm.cli", "--help"]),
     # the same command with Python's default collector threshold (lusm raises it: cli.main)
     ("lusm simulate, default gc threshold", [
         PY, "-c", "import gc, sys; gc.set_threshold = lambda *a: None; "
-        "from validation.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
+        "from lusm.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
         "'--preload', '14', '--json']; sys.exit(main())"]),
-    # the same command letting numba's BLAS probe import scipy.linalg whole (validation.fast_start)
+    # the same command letting numba's BLAS probe import scipy.linalg whole (lusm.fast_start)
     ("lusm simulate, whole scipy.linalg", [
         PY, "-c", "import sys; from validation import fast_start; "
         "fast_start.load_blas_probe = lambda: False; "
-        "from validation.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
+        "from lusm.cli import main; sys.argv[1:] = ['simulate', '--voltage', '200', "
         "'--preload', '14', '--json']; sys.exit(main())"]),
 )
 
@@ -149,7 +149,7 @@ def main() -> None:
     for name, cmd in CASES:
         t = wall(cmd, args.repeats)
         print(f"{name:<42}{t:>8.3f}{t / integration:>15.1f}")
-    print("(the lusm rows run the console-script path, validation.cli.main() with argv None)")
+    print("(the lusm rows run the console-script path, lusm.cli.main() with argv None)")
     print(f"\n{'stages of one fresh process':<42}{'s':>8}")
     for name, t in zip(STAGE_NAMES, stages(args.repeats), strict=True):
         print(f"{name:<42}{t:>8.3f}")

@@ -81,7 +81,7 @@ def _g_change(params) -> tuple[int, float, int]:
 
 
 def measure() -> dict:
-    """Everything :func:`main` prints, as numbers (``validation.doc_numbers`` quotes them)."""
+    """Everything :func:`main` prints, as numbers (``tools.doc_numbers`` quotes them)."""
     params = table2()
     volts, loads = np.linspace(50, 450, 9), np.linspace(10, 26, 9)
     steady_state(params, 200, 14, accuracy="fast")  # numba cache loaded before timing

@@ -13,7 +13,7 @@ the median steady ``exact`` time (same run) and the median and worst relative ve
 ``--plot FILE`` draws the work-precision diagram (error against time, log-log).
 
 Run: ``python benchmarks/steady_work_precision.py [--plot steady_wp.png]``; ``python -m
-validation.doc_tables --update steady_work_precision`` pastes the table into docs/steady.md.
+tools.doc_tables --update steady_work_precision`` pastes the table into docs/steady.md.
 """
 
 from __future__ import annotations

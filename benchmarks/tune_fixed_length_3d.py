@@ -11,7 +11,7 @@ window of targets that a free thickness could reach at that length.
 
 Run: ``python benchmarks/tune_fixed_length_3d.py [--length-mm 35] [--thickness-mm 1 2 3 4 5]
 [--no-2d] [--json]`` (``--json``: the spans as a last line of JSON, for
-``python -m validation.doc_numbers --update 'tune_fixlen35_h_*'``)
+``python -m tools.doc_numbers --update 'tune_fixlen35_h_*'``)
 """
 
 from __future__ import annotations

@@ -84,7 +84,7 @@ MAP_METHODS = ("transient", "steady")
 
 MAX_MAP_POINTS = 1_000_000
 """Most points of one map a library call computes (hours of steady solves; the CLI allows
-``validation.limits.MAX_STEADY_POINTS``)."""
+``lusm.limits.MAX_STEADY_POINTS``)."""
 
 FALLBACK_DURATION_S = 0.3
 """Transient run (s) standing in for a point the steady engine cannot decide (creep: the

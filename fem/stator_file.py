@@ -140,7 +140,7 @@ frequencies leave every range the solvers are set for (1e-30 gives 5e21 Hz; 1e30
 printing to the terminal)."""
 PLATE_RANGE_MM = (0.1, 1000.0)
 """Allowed plate length, width and thickness (mm), the same as the ``lusm`` plate options
-(``validation.limits.PLATE_MM``): a plate of 0.1 mm to 1 m."""
+(``lusm.limits.PLATE_MM``): a plate of 0.1 mm to 1 m."""
 
 MAX_STATOR_FILE_BYTES = 1_000_000
 """Largest stator file (bytes) read: a TOML description is a few kB."""

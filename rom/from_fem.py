@@ -257,7 +257,7 @@ def fem_params_from_design(design, stator=None, **kwargs) -> MotorParams:
     design : fem.stator_file.StatorDesign
     stator : fem.geometry.PlateStator, optional
         The plate to reduce instead of ``design.stator``: the file's plate with other
-        dimensions (a design-space study varies them, ``validation.explore``), its features,
+        dimensions (a design-space study varies them, ``studies.explore``), its features,
         material and motor tables kept.
     **kwargs
         As :func:`fem_params_from_file`.

@@ -28,7 +28,7 @@ if os.environ.get("CI"):
 def _fresh_warnings():
     """Each test starts with no warning said: the CLI says each warning once per command, and
     a test that calls a warning function directly is its own command."""
-    from validation.options import forget_warnings
+    from lusm.messages import forget_warnings
 
     forget_warnings()
 

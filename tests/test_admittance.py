@@ -15,7 +15,7 @@ from fem.admittance import (
 )
 from fem.model import plate_model
 from fem.modes import plate_modes
-from validation.cli import main
+from lusm.cli import main
 
 F_CHECK = np.array([1e3, 20e3, 50e3, 54.5e3, 56.9e3, 62e3])
 
@@ -135,7 +135,7 @@ def test_default_band_follows_a_40_kHz_design(capsys):
 
     from fem.geometry import PlateStator
     from fem.modes import plate_modes
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["admittance", "--length-mm", "42", "--zeta", "0.005", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -211,7 +211,7 @@ def test_k_eff_does_not_move_with_the_damping():
 def test_a_grid_too_coarse_for_the_design_modes_is_said_so(capsys):
     """--f-min 1 --f-max 1e6 --points 101 (a 10 kHz step) finds no pair of L1 or B2 at
     54-56 kHz: it listed the others without a word. The default band says nothing."""
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["admittance", "--f-min", "1", "--f-max", "1e6", "--points", "101",
                  "--json"]) == 0
@@ -228,7 +228,7 @@ def test_a_pair_cut_by_the_band_asks_for_a_wider_band_not_more_points(capsys):
     while the text said "widen it", and 20 001 points found nothing either. Now the warning
     names --f-max; the reference: the band widened to 54 500 Hz finds B2's pair on the same
     grid step."""
-    from validation.cli import main
+    from lusm.cli import main
 
     base = ["admittance", "--f-min", "54000", "--zeta", "0.001"]
     for points in ("11", "20001"):

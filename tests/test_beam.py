@@ -215,7 +215,7 @@ def test_a_plate_drive_maps_onto_the_same_beam_regions():
 def test_compare_drives_the_beam_through_the_plates_electrodes(tmp_path, capsys):
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     f = tmp_path / "plate.toml"
     f.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
@@ -236,7 +236,7 @@ def test_the_beams_gap_is_said_not_to_enter_its_force_factors(capsys):
     does see the gap (a wider gap, less electrode, smaller A_l)."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     a_l = {}
     for src in ("beam", "fem"):

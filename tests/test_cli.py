@@ -17,7 +17,7 @@ MOTIONS = {"slip-separation", "stick-slip", "stick-slip-separation", "pure-stick
 
 def lusm(*args: str, env: dict | None = None) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [sys.executable, "-m", "validation.cli", *args],
+        [sys.executable, "-m", "lusm.cli", *args],
         cwd=ROOT, capture_output=True, text=True, env=env, timeout=600,
     )
 
@@ -142,7 +142,7 @@ def test_compare_takes_the_designers_stator(capsys):
     """``lusm compare --length-mm 36``: the fem column is the longer plate's (L1 ~ 1/l)."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["compare", "--sources", "fem", "--json"]) == 0
     base = json.loads(capsys.readouterr().out)["values"]["fem"]
@@ -156,7 +156,7 @@ def test_modes_prints_the_split_and_the_identification(capsys):
     (issue 13), in text and JSON, consistent with the library's result."""
     from fem.geometry import PlateStator
     from fem.modes import plate_modes
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["modes", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -173,7 +173,7 @@ def test_modes_prints_the_split_and_the_identification(capsys):
 
 
 def test_version(capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["--version"]) == 0
     assert capsys.readouterr().out.startswith("lusm ")
@@ -183,7 +183,7 @@ def test_map_text_shows_the_velocities_of_its_json(capsys):
     """The map's text had only motion classes; its velocities were in --json alone."""
     import numpy as np
 
-    from validation.cli import main
+    from lusm.cli import main
 
     argv = ["map", "--voltages", "100,300", "--preloads", "10,14"]
     assert main(argv + ["--json"]) == 0
@@ -200,7 +200,7 @@ def test_simulate_energy_prints_every_term_of_the_balance(capsys):
     --json gives, equal to it, and they close: input - damping + the interface and guide
     terms + the load's work = the change of stored energy + the residual. Without a load,
     the load's work is 0 J, not -0."""
-    from validation.cli import main
+    from lusm.cli import main
 
     argv = ["simulate", "--voltage", "200", "--preload", "14", "--duration", "0.01",
             "--energy"]

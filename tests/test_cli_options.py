@@ -12,9 +12,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from lusm import limits
+from lusm.cli import build_parser, main
 from tests.conftest import ROOT
-from validation import limits
-from validation.cli import build_parser, main
 
 STATOR_COMMANDS = ("simulate", "map", "modes", "params", "render", "tune", "sweep",
                    "admittance", "report", "compare", "characteristic")
@@ -56,7 +56,7 @@ def test_output_and_json_options_are_shared():
 
 
 def test_building_the_parser_imports_no_heavy_module():
-    code = ("import sys, validation.cli as c; c.build_parser();"
+    code = ("import sys, lusm.cli as c; c.build_parser();"
             "heavy=[m for m in ('numpy','scipy','numba','skfem','pyvista','matplotlib',"
             "'meshio','rom','fem','contact') if m in sys.modules]; print(heavy);"
             "sys.exit(1 if heavy else 0)")
@@ -68,9 +68,9 @@ def test_building_the_parser_imports_no_heavy_module():
 def test_the_parser_constants_match_the_library():
     from fem.material import MATERIAL_NAMES
     from fem.stator_file import PLATE_RANGE_MM
+    from lusm.options import MATERIALS
+    from lusm.options import SOURCES as CLI_SOURCES
     from rom.sources import SOURCES
-    from validation.options import MATERIALS
-    from validation.options import SOURCES as CLI_SOURCES
 
     assert CLI_SOURCES == SOURCES and MATERIALS == MATERIAL_NAMES
     assert PLATE_RANGE_MM == limits.PLATE_MM
@@ -140,7 +140,7 @@ def test_fuzzed_options_exit_0_or_2_naming_the_option(target, value, small_work,
     (["map", "--voltages", "100,100", "--preloads", "14"], "--voltages lists 100 more than once"),
 ])
 def test_a_value_listed_twice_is_refused_not_computed_twice(argv, words, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
@@ -149,7 +149,7 @@ def test_a_value_listed_twice_is_refused_not_computed_twice(argv, words, capsys)
 
 def test_options_that_do_nothing_here_are_said_so(capsys):
     # accepted and silently ignored before
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady", "--dt",
                  "1e-12", "--json"]) == 0
@@ -165,7 +165,7 @@ def test_options_that_do_nothing_here_are_said_so(capsys):
 
 def test_grid_values_carry_no_float_leftovers():
     # "-0.3:0.3:0.1" printed a load of 5.551e-17 and "0:0.9:0.3" gave 0.8999999999999999
-    from validation.ranges import parse_range
+    from lusm.ranges import parse_range
 
     assert list(parse_range("-0.3:0.3:0.1", "--loads", allow_list=False))[3] == 0.0
     assert list(parse_range("0:0.9:0.3", "--voltages")) == [0.0, 0.3, 0.6, 0.9]
@@ -178,7 +178,7 @@ def test_a_range_with_a_tiny_step_stays_finite():
     (with its warnings printed) and the error blamed a NaN the user never typed."""
     import warnings
 
-    from validation.ranges import parse_range
+    from lusm.ranges import parse_range
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -198,8 +198,8 @@ def test_the_default_step_divides_the_drive_period(capsys):
     from contact.options import DEFAULT_DT_S as LIBRARY_DT_S
     from contact.options import SimulationOptions
     from contact.simulate import simulate
+    from lusm.options import DEFAULT_DT_S, time_step_s
     from rom import table2
-    from validation.options import DEFAULT_DT_S, time_step_s
 
     assert time_step_s(None, 40e3) == DEFAULT_DT_S and time_step_s(2e-7, 39e3) == 2e-7
     # the library runs the same rule by default (it kept 1e-7 s at every frequency, and a
@@ -296,7 +296,7 @@ def test_library_warnings_name_the_options_of_their_assignments():
     """The one-line warning printer says a library message's ``load_N = 50 N`` as
     ``--load-N 50 N`` (cmd_simulate had rewritten the runaway warning by hand); a word like
     "refine" in a sentence is not an assignment and stays as it is."""
-    from validation.errors import assignments_as_options
+    from lusm.errors import assignments_as_options
 
     assert assignments_as_options("load_N = 50 N is beyond") == "--load-N 50 N is beyond"
     assert assignments_as_options("at frequency_Hz=3e4 Hz") == "at --frequency 3e4 Hz"
@@ -310,8 +310,8 @@ def test_library_warnings_name_the_options_of_their_assignments():
 def test_a_diagonal_pair_that_excites_nothing_is_not_told_to_drive_a_diagonal_pair(capsys):
     """A material without piezoelectric constants, driven through [1, 4]: the warning had
     advised "drive a diagonal pair ([electrodes] drive = [1, 4] ...)", the drive it had."""
+    from lusm.options import warn_unexcited_mode
     from rom import table2
-    from validation.options import warn_unexcited_mode
 
     p = table2()
     warn_unexcited_mode(p.with_(A_b=p.A_l * 1e-12), (1, 4))
@@ -325,7 +325,7 @@ def test_a_diagonal_pair_that_excites_nothing_is_not_told_to_drive_a_diagonal_pa
 def test_a_plate_far_thicker_than_measured_is_not_quoted_the_measured_error(capsys):
     """--thickness-mm 1000 (133 x the width) was told the 2D model is "0.6 % off at 1.3"
     (found by exploratory testing), as if that bounded its error there."""
-    from validation.options import warn_thin_plate
+    from lusm.options import warn_thin_plate
 
     warn_thin_plate("--thickness-mm 1000", 1000.0, 7.5, "the plate's width")
     assert "error is not measured" in capsys.readouterr().err
@@ -353,7 +353,7 @@ def test_a_command_without_refine_is_not_told_to_lower_it(tmp_path, capsys):
 def test_a_warning_is_said_once_per_command(capsys):
     """lusm report of a stator with a hole said the hole's and the thin plate's warnings
     twice, once per stage that builds the FE model (API and CLI testing)."""
-    from validation.options import set_command, warn
+    from lusm.messages import set_command, warn
 
     set_command("report")
     warn("a hole")
@@ -476,8 +476,8 @@ def test_the_dt_bound_said_is_a_step_that_is_taken(frequency_Hz):
     # a step above it, refused
     import re
 
-    from validation.errors import LusmError
-    from validation.options import time_step_of
+    from lusm.errors import LusmError
+    from lusm.options import time_step_of
 
     with pytest.raises(LusmError) as exc:
         time_step_of("1", frequency_Hz)
@@ -505,7 +505,7 @@ def test_a_warning_said_before_a_json_record_opens_is_listed_in_it(capsys):
     """lusm says each warning once per command; one said before a --json summary's record
     opened (reading a study, then the run) was left out of the summary's 'warnings' (it is
     not said again, and the record only listed what was said within; review)."""
-    from validation.options import forget_warnings, warn, warnings_said
+    from lusm.messages import forget_warnings, warn, warnings_said
 
     forget_warnings()
     warn("the plate is thick")

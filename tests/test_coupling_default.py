@@ -9,9 +9,9 @@ import pytest
 
 from contact.model import default_coupling
 from contact.simulate import simulate
+from lusm.cli import main
 from rom.sources import get_params
 from rom.table2 import table2
-from validation.cli import main
 
 
 def test_rule():

@@ -55,7 +55,7 @@ def test_an_unreachable_amplitude_is_refused_with_the_reason():
 
 
 def test_stator_file_fits_the_damping_and_every_command_uses_it(capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     expected = identify_damping(fem_params_from_file(TUNED), 40e3).params
     p = fem_params_from_file(FITTED)

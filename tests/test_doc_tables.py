@@ -1,7 +1,7 @@
 """The generated tables of the docs are the stored output of their commands.
 
 Each ``<!--table:key-->`` block must be byte for byte the output stored in
-``docs/tables.json`` by ``python -m validation.doc_tables --update key``, every stored table
+``docs/tables.json`` by ``python -m tools.doc_tables --update key``, every stored table
 must be quoted, and each stored entry must name the command of :data:`TABLES`.
 """
 
@@ -14,8 +14,8 @@ import re
 import pytest
 
 from tests.conftest import ROOT
-from validation.doc_numbers import DOC_FILES
-from validation.doc_tables import (
+from tools.doc_numbers import DOC_FILES
+from tools.doc_tables import (
     TABLES,
     TABLES_JSON,
     blocks,
@@ -42,7 +42,7 @@ def test_every_block_is_the_stored_output_of_a_known_table():
             bad.append(f"{rel}: unknown table {key}")
         elif text != body(entry["markdown"]):
             bad.append(f"{rel}: block {key} differs from docs/tables.json; run "
-                       "python -m validation.doc_tables --fill")
+                       "python -m tools.doc_tables --fill")
     assert not bad, "\n".join(bad)
 
 

@@ -13,8 +13,8 @@ import re
 import pytest
 
 from tests.conftest import ROOT
-from validation.doc_numbers import CLAIMS, DOC_FILES, NUMBERS_JSON, claims_by_key, quotes
-from validation.doc_tables import without_blocks
+from tools.doc_numbers import CLAIMS, DOC_FILES, NUMBERS_JSON, claims_by_key, quotes
+from tools.doc_tables import without_blocks
 
 DOC = json.loads(NUMBERS_JSON.read_text())
 
@@ -34,7 +34,7 @@ def test_every_marked_number_equals_numbers_json_at_its_printed_precision():
             bad.append(f"{q.path}:{q.line}: unknown key {q.key}")
         elif entry["value"] is None or not q.agrees(entry["value"]):
             bad.append(f"{q.path}:{q.line}: {q.text} but {q.key} = {entry['value']!r} "
-                       f"(x{q.factor:g}); run python -m validation.doc_numbers --fill")
+                       f"(x{q.factor:g}); run python -m tools.doc_numbers --fill")
     assert not bad, "\n".join(bad)
 
 
@@ -58,7 +58,7 @@ COVER = re.compile(r"<!--(?:n:\w+(?:\*[0-9.eE+-]+)?|paper|input)-->")
 
 def _unmarked(text: str) -> list[str]:
     """Numbers with a unit in ``text`` that no marker covers (fenced code blocks and the
-    generated tables of :mod:`validation.doc_tables` skipped).
+    generated tables of :mod:`tools.doc_tables` skipped).
 
     A paper/input marker covers every number since the previous marker within its own
     paragraph, table row or list item; an n:key marker only the number right before it (whose

@@ -160,7 +160,7 @@ def test_the_beam_column_is_the_electroded_body_for_either_description(capsys):
     (67.9 kHz)."""
     import argparse
 
-    from validation.options import beam_of_plate
+    from lusm.options import beam_of_plate
 
     def beam(path):
         return beam_of_plate(argparse.Namespace(geometry=str(path), model=None))

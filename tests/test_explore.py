@@ -13,7 +13,7 @@ import pytest
 xr = pytest.importorskip("xarray")
 pytest.importorskip("distributed")
 
-from validation.explore import (  # noqa: E402
+from studies.explore import (  # noqa: E402
     assemble,
     compute_geometry,
     explore,
@@ -22,7 +22,7 @@ from validation.explore import (  # noqa: E402
     parts_folder,
     write_dataset,
 )
-from validation.study import FE_OUTPUTS, load_study, study_from_dict  # noqa: E402
+from studies.study import FE_OUTPUTS, load_study, study_from_dict  # noqa: E402
 
 TINY = {
     "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
@@ -104,7 +104,7 @@ def test_a_bounded_window_of_tasks_is_in_flight(study, reference, client, tmp_pa
     scheduler at any time, and one finishing (counted on the scheduler itself at every part),
     topped up as
     tasks finish, and the dataset is the same as the one computed in-process."""
-    import validation.explore as E
+    import studies.explore as E
 
     monkeypatch.setattr(E, "MIN_IN_FLIGHT", 2)
     monkeypatch.setattr(E, "IN_FLIGHT_PER_WORKER", 1)
@@ -299,7 +299,7 @@ def _release(path):
 ])
 def test_a_study_path_that_is_not_a_small_regular_file_is_refused_unread(kind, words,
                                                                          tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     if kind == "device":
         path = Path("/dev/null")
@@ -322,7 +322,7 @@ def test_a_study_path_that_is_not_a_small_regular_file_is_refused_unread(kind, w
 
 @pytest.mark.parametrize("name", ["unknown axis", "unit-less number", "missing output"])
 def test_cli_bad_study_exit_2(name, tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     text, key = BAD[name]
     path = tmp_path / "bad.toml"
@@ -334,7 +334,7 @@ def test_cli_bad_study_exit_2(name, tmp_path, capsys):
 
 
 def test_cli_never_overwrites_a_file(tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text("outputs = ['f_L1_short']\n")
@@ -347,7 +347,7 @@ def test_cli_never_overwrites_a_file(tmp_path, capsys):
 # --- what a task computes -------------------------------------------------------------------
 
 def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
-    import validation.explore as ex
+    import studies.explore as ex
 
     def boom(*a, **k):
         raise AssertionError("the contact model ran for an FE-only study")
@@ -394,8 +394,8 @@ def test_a_plate_in_mm_is_the_same_double_in_a_study_a_stator_file_and_the_comma
 
     from fem.stator_file import load_stator
     from fem.units import to_si
-    from validation.options import stator_from_args
-    from validation.study import plate_with
+    from lusm.options import stator_from_args
+    from studies.study import plate_with
 
     assert (to_si(6.5, 1e-3), to_si("6.5", 1e-3), to_si("-2.6e1", 1e-3)) == (
         0.0065, 0.0065, -0.026)
@@ -431,7 +431,7 @@ def test_fixed_frequencies_are_a_dimension():
 def test_cli_on_an_existing_scheduler(client, tmp_path, capsys):
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "fe.toml"
     path.write_text('outputs = ["f_L1_short", "split"]\n[axes]\n'
@@ -502,7 +502,7 @@ def test_a_file_already_named_like_the_staging_file_is_never_removed(tmp_path, m
     # failed because that name was another's file (a cut name, the same random suffix)
     import uuid
 
-    from validation.staging import staging_name
+    from lusm.staging import staging_name
 
     class Fixed:
         hex = "0123456789ab" * 2
@@ -531,7 +531,7 @@ def test_a_dataset_the_disk_refuses_is_one_error_and_leaves_no_staging_file(tmp_
 import resource, sys
 from pathlib import Path
 import numpy as np, xarray as xr
-from validation.explore import write_dataset
+from studies.explore import write_dataset
 ds = xr.Dataset({"v": ("x", np.arange(20_000.0))}, attrs={"title": "160 kB"})
 resource.setrlimit(resource.RLIMIT_FSIZE, (16384, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
 try:
@@ -569,8 +569,8 @@ def test_a_study_path_that_is_not_utf8_is_stored_readably(tmp_path):
 def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, capsys):
     """--out naming a link to nowhere passed check_out (exists() follows the link) and the
     dataset was renamed over the link, silently; lusm modes --export refuses it."""
-    from validation.cli import main
-    from validation.explore import check_out
+    from lusm.cli import main
+    from studies.explore import check_out
 
     out = tmp_path / "d.nc"
     out.symlink_to("nowhere.nc")
@@ -589,7 +589,7 @@ def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, ca
 
 
 def test_workers_of_another_version_are_refused(client, monkeypatch, tmp_path):
-    import validation.explore as ex
+    import studies.explore as ex
 
     monkeypatch.setattr(ex, "_version", lambda: "0.0.0-client")  # the workers say 0.1.0 etc.
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
@@ -662,8 +662,8 @@ def test_a_studys_answers_are_the_single_point_commands_bit_for_bit(capsys):
     import json
 
     from fem.meshing.mesh import DEFAULT_REFINE
-    from validation.cli import main
-    from validation.study import SOLVER_DEFAULTS
+    from lusm.cli import main
+    from studies.study import SOLVER_DEFAULTS
 
     assert SOLVER_DEFAULTS["fe_refine"] == DEFAULT_REFINE
     s = study_from_dict({
@@ -705,7 +705,7 @@ fe_refine = 1
 """)
     out = tmp_path / "r.nc"
     proc = subprocess.Popen(
-        [sys.executable, "-m", "validation.cli", "explore", str(path), "--out", str(out),
+        [sys.executable, "-m", "lusm.cli", "explore", str(path), "--out", str(out),
          ], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
         text=True, start_new_session=True,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
@@ -742,7 +742,7 @@ def test_a_studys_fe_work_is_bounded_in_all():
     import time
 
     from fem.meshing.mesh import structured_mesh
-    from validation.study import MAX_STUDY_FE_WORK
+    from studies.study import MAX_STUDY_FE_WORK
 
     axes = {"length": {"start": "20 mm", "stop": "40 mm", "num": 1000},
             "width": {"start": "5 mm", "stop": "10 mm", "num": 100}}
@@ -778,7 +778,7 @@ def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
     """100 voltages x 100 preloads of 2 s event runs (2e11 time steps, hours) were taken where
     lusm map --method transient refuses 4e8; a steady study was allowed 1e6 contact solves
     whatever each cost, where the steady map allows 5e5 solves x steps per drive period."""
-    from validation.study import STEADY_MIN_STEPS_PER_PERIOD
+    from studies.study import STEADY_MIN_STEPS_PER_PERIOD
 
     axes = {"voltage": {"start": "1 V", "stop": "100 V", "num": 100},
             "preload": {"start": "1 N", "stop": "100 N", "num": 100}}
@@ -809,7 +809,7 @@ def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
     import inspect
 
     from contact.characteristic import characteristic
-    from validation.study import CURVE_LOADS
+    from studies.study import CURVE_LOADS
 
     # the loads a study's steady point counts are characteristic's default curve
     assert inspect.signature(characteristic).parameters["points"].default == CURVE_LOADS
@@ -819,7 +819,7 @@ def test_a_plates_steady_work_is_bounded_before_its_drive_points(monkeypatch):
     """A steady point's steps per drive period depend on the plate's FE set (416 at 1 kHz on
     this plate, against 25 at 40 kHz): the study's reading counts 25, each plate its own
     before its drive points, as the steady map does before its points."""
-    import validation.explore as ex
+    import studies.explore as ex
 
     def no_contact(*args, **kwargs):
         raise AssertionError("a drive point ran")
@@ -857,7 +857,7 @@ def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
 
 def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path, capsys):
     # every failure sat silently in the dataset's 'status' with exit 0
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["10 mm", "30 mm"]\n')
@@ -899,7 +899,7 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(tmp_path,
      "--scheduler-file must name a dask scheduler file, got ''"),
 ])
 def test_explore_names_an_empty_argument(argv, words, tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
@@ -912,7 +912,7 @@ def test_explore_names_an_empty_argument(argv, words, tmp_path, capsys):
 
 def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):
     # a truncated .npz raised zipfile.BadZipFile through --resume: "internal error"
-    from validation.explore import _part_path, _read_part, _write_part
+    from studies.explore import _part_path, _read_part, _write_part
 
     _write_part(tmp_path, 0, {"f_L1_short": np.array(1.0), "task_time_s": np.array(0.1)})
     assert _read_part(tmp_path, 0)["f_L1_short"] == 1.0
@@ -923,8 +923,8 @@ def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):
 
 def test_plot_naming_the_dataset_is_refused_before_the_study_runs(tmp_path, capsys):
     # --out same.nc --plot same.nc ran the whole study, then refused --plot
+    from lusm.cli import main
     from tests.conftest import ROOT
-    from validation.cli import main
 
     out = tmp_path / "same.nc"
     assert main(["explore", str(ROOT / "examples/studies/length_width.toml"), "--out",
@@ -935,7 +935,7 @@ def test_plot_naming_the_dataset_is_refused_before_the_study_runs(tmp_path, caps
 
 def test_a_study_of_thick_plates_gets_the_thin_plate_warning(capsys):
     # a 0.6 mm wide, 3 mm thick plate was "ok" without the warning modes gives
-    from validation.cmd_explore import _warn_thick
+    from lusm.commands.explore import _warn_thick
 
     _warn_thick(study_from_dict({"axes": {"width": ["0.6 mm", "7.5 mm"]}}))
     assert "5 x the study's smallest in-plane size" in capsys.readouterr().err
@@ -946,7 +946,7 @@ def test_a_study_of_thick_plates_gets_the_thin_plate_warning(capsys):
 def test_a_transient_point_that_did_not_settle_is_said_so(tmp_path, capsys):
     # 200 V / 0 N accelerates for longer than 5 ms: its velocity was stored as the steady
     # one without a word (simulate warns of the same run)
-    from validation.cmd_explore import _report_failures
+    from lusm.commands.explore import _report_failures
 
     s = study_from_dict({"axes": {"voltage": "200 V", "preload": ["0 N", "14 N"]},
                          "solver": {"method": "event", "duration": "5 ms"}})
@@ -964,7 +964,7 @@ def test_the_json_summary_carries_the_settling_warning(tmp_path, capsys):
     exploratory testing): a script reading the JSON could not see it."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["no_load_velocity"]\n[axes]\nvoltage = "200 V"\n'
@@ -992,7 +992,7 @@ def test_the_json_summary_lists_every_warning_said(toml, words, tmp_path, capsys
     went to stderr alone (found by exploratory testing). It lists each line stderr says."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text(toml)
@@ -1012,7 +1012,7 @@ def test_resume_refuses_parts_of_other_code_and_recomputes_a_malformed_part(
     into the resumed dataset, labelled with the new version; a part that loads but lacks
     an array ended the finished study with an internal error (KeyError). The same study
     under another file name (name = the stem) is the same study."""
-    import validation.explore as ex
+    import studies.explore as ex
 
     out = tmp_path / "study.nc"
     with pytest.raises(Interrupt):
@@ -1043,7 +1043,7 @@ def test_a_worker_with_other_code_is_refused_by_its_result(study, monkeypatch, t
     """check_workers runs once, before the tasks: a worker joining an external scheduler
     later computed with its own lusm, silently. Each result now carries its code's digest
     (here a worker's is made to differ, in process)."""
-    import validation.explore as ex
+    import studies.explore as ex
 
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
     part = compute_geometry(s, 0)
@@ -1061,7 +1061,7 @@ def test_a_worker_with_other_code_is_refused_by_its_result(study, monkeypatch, t
 
 
 def _real_compute(st, i):
-    from validation.explore import _compute
+    from studies.explore import _compute
 
     return {**_compute(st, i), "task_time_s": np.array(0.0)}
 
@@ -1071,7 +1071,7 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
     waiting at 45 s); a scheduler file of '{}' was an internal AssertionError."""
     import socket
 
-    import validation.explore as ex
+    import studies.explore as ex
 
     monkeypatch.setattr(ex, "CONNECT_DEADLINE_S", 1.0)
     with socket.socket() as srv:
@@ -1098,7 +1098,7 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
 
 def test_a_scheduler_file_that_is_a_folder_is_not_said_to_be_missing(tmp_path):
     """--scheduler-file naming a folder (or a device) was told it "does not exist"."""
-    import validation.explore as ex
+    import studies.explore as ex
 
     with pytest.raises(ValueError, match=f"^--scheduler-file {tmp_path} is a folder, not a "
                                          "dask scheduler file$"):
@@ -1113,8 +1113,8 @@ def test_a_signal_after_the_dataset_is_written_says_it_is_complete(monkeypatch, 
                                                                      capsys):
     """A SIGTERM landing just after the dataset was in place said only "interrupted"
     (exit 130), and a rerun then refused the complete file."""
-    import validation.cmd_explore as ce
-    from validation.cli import main
+    import lusm.commands.explore as ce
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
@@ -1171,7 +1171,7 @@ def test_a_ctrl_c_while_the_cluster_starts_is_not_lost(monkeypatch):
 def test_a_workers_warning_is_said_once_by_the_client(tmp_path, capsys):
     """A 1 mm gap on a 3 mm plate is outside the 2D model's validity: the warning printed on
     the worker's stderr as a raw Python warning with its source line, once per geometry."""
-    from validation.cli import main
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n[axes]\ngap = "1 mm"\n'
@@ -1185,7 +1185,7 @@ def test_a_workers_warning_is_said_once_by_the_client(tmp_path, capsys):
 
 def test_an_interrupt_before_any_geometry_leaves_no_folder_it_made(monkeypatch, tmp_path):
     """`--out new1/sub/x.nc` interrupted while connecting left an empty new1/sub/."""
-    import validation.explore as ex
+    import studies.explore as ex
 
     def interrupted(*_a, **_k):
         raise KeyboardInterrupt
@@ -1212,7 +1212,7 @@ def test_a_transient_study_runs_as_lusm_simulate_by_default(capsys):
     that divides the drive period: the same plate and drive now give simulate's numbers."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
                          "axes": {"voltage": "200 V", "preload": "14 N"},
@@ -1265,7 +1265,7 @@ def test_transient_settings_no_point_could_run_are_refused_before_any_work(solve
 ])
 def test_a_study_no_plate_could_run_writes_no_dataset_and_keeps_the_parts(
         solver, axes, words, client, tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     lines = [f'{k} = "{v}"' for k, v in axes.items()]
@@ -1300,8 +1300,8 @@ import multiprocessing.resource_tracker as rt
 multiprocessing.set_start_method("spawn")  # a LocalCluster worker's (names its semaphores)
 made = []
 rt.register = lambda name, rtype: made.append(rtype)
-from validation.explore import compute_geometry
-from validation.study import study_from_dict
+from studies.explore import compute_geometry
+from studies.study import study_from_dict
 s = study_from_dict({"outputs": ["stall_force"], "solver": {"fe_refine": 1},
                      "axes": {"voltage": "200 V", "preload": "6 N"}})
 part = compute_geometry(s, 0)
@@ -1321,7 +1321,7 @@ def test_a_scheduler_that_cannot_import_lusm_is_refused_in_one_line(tmp_path, ca
     import sys
     import time
 
-    from validation.cli import main
+    from lusm.cli import main
 
     file = tmp_path / "sched.json"
     code = ("import sys\n"
@@ -1359,7 +1359,7 @@ def test_a_studys_motion_class_is_simulate_steadys(capsys):
     says "pure-stick" (and "separated" at 0 V and 0 N) for the same held slider."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     s = study_from_dict({"outputs": ["motion_class"],
                          "axes": {"voltage": ["0 V", "100 V"], "preload": ["0 N", "14 N"]}})
@@ -1378,8 +1378,8 @@ def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
         client, monkeypatch, tmp_path, capsys):
     """--plot /sys/maps failed after the study with only its error: the user was not told
     the dataset at --out had been written."""
-    import validation.cmd_explore as ce
-    from validation.cli import main
+    import lusm.commands.explore as ce
+    from lusm.cli import main
 
     def refused(*_a, **_k):
         raise OSError(1, "Operation not permitted")
@@ -1399,8 +1399,8 @@ def test_a_plot_folder_that_cannot_be_written_says_the_dataset_is_complete(
 def test_a_study_gives_the_clis_drive_warnings_once(tmp_path, capsys):
     """lusm simulate and characteristic warn above 600 V, above 100 N and at 0 V with 0 N; a
     study of such points said nothing."""
-    from validation.cli import main
-    from validation.cmd_explore import _warn_drive
+    from lusm.cli import main
+    from lusm.commands.explore import _warn_drive
 
     _warn_drive(study_from_dict({"axes": {"voltage": ["0 V", "200 V", "700 V"],
                                           "preload": ["0 N", "150 N"]}}))
@@ -1431,7 +1431,7 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
     characteristic at the study's loads either way, to the bit."""
     import contact.characteristic as cc
     from contact.model import default_coupling
-    from validation.explore import Drive, motor_answers
+    from studies.explore import Drive, motor_answers
 
     s = study_from_dict({"outputs": ["velocity"], "solver": {"fe_refine": 1},
                          "axes": {"voltage": "300 V", "preload": "6 N"}})
@@ -1461,7 +1461,7 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
 
 def test_workers_is_refused_with_an_existing_scheduler(tmp_path, capsys):
     """--workers was taken and silently ignored with --scheduler / --scheduler-file."""
-    from validation.cli import main
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n')
@@ -1499,7 +1499,7 @@ def test_a_parts_folder_without_its_study_file_is_not_called_another_studys(tmp_
 @pytest.mark.skipif(not Path("/sys/kernel").is_dir(), reason="needs Linux's sysfs")
 def test_an_out_whose_parts_cannot_be_written_names_the_option(tmp_path, capsys):
     """--out /sys/x.nc said "cannot use /sys/x.nc.parts: Operation not permitted"."""
-    from validation.cli import main
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n')
@@ -1513,8 +1513,8 @@ def test_an_error_after_finished_geometries_says_they_are_kept(client, monkeypat
                                                                capsys):
     """An error exit after some geometries were done said only the error; the parts were
     there for --resume, unsaid (an interrupt says it)."""
-    import validation.explore as ex
-    from validation.cli import main
+    import studies.explore as ex
+    from lusm.cli import main
 
     real, written = ex._write_part, []
 
@@ -1545,9 +1545,9 @@ def test_a_study_can_take_the_constant_dynamic_friction():
     the warning's remedy is said in the study file's terms."""
     from contact.model import default_coupling
     from contact.steady.engine import steady_state
+    from lusm.commands.explore import in_study_terms
     from rom import table2
-    from validation.cmd_explore import in_study_terms
-    from validation.explore import Drive, motor_answers
+    from studies.explore import Drive, motor_answers
 
     params = table2()
     coupling = default_coupling(params)[0]
@@ -1567,7 +1567,7 @@ def test_a_study_can_take_the_constant_dynamic_friction():
 
 def test_a_one_plate_study_says_one_geometry(tmp_path, capsys):
     # "study 's': 1 geometries (FE outputs only)"
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["f_L1_short"]\n[solver]\nfe_refine = 1\n')
@@ -1581,8 +1581,8 @@ def test_solver_rest_reaches_every_steady_call(monkeypatch):
     import contact.characteristic
     import contact.steady.engine
     from rom import table2
-    from validation.explore import Drive, motor_answers
-    from validation.study import Solver
+    from studies.explore import Drive, motor_answers
+    from studies.study import Solver
 
     seen = []
     real = contact.steady.engine.steady_state
@@ -1606,7 +1606,7 @@ def _synthetic(sizes: dict[str, int]):
     no-load velocity varies with every axis, the split with the geometry only."""
     import xarray as xr
 
-    from validation.study import GEOMETRY_AXES
+    from studies.study import GEOMETRY_AXES
 
     dims = ["length", "width", "thickness", "gap", "material", "voltage", "preload"]
     coords = {}
@@ -1644,7 +1644,7 @@ def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     """Maps over length x width where both vary, else over the first two axes along which
     a variable varies, else its curve over the one axis: a study of one length axis (a
     designer's stator at several lengths) drew nothing."""
-    from validation.explore import design_maps, drawable_maps
+    from studies.explore import design_maps, drawable_maps
 
     ds = _synthetic(sizes)
     assert bool(drawable_maps(ds)) == bool(files)
@@ -1660,7 +1660,7 @@ def test_a_studys_figures_draw_every_material(tmp_path):
     against their names."""
     from matplotlib.axes import Axes
 
-    from validation.explore import design_maps
+    from studies.explore import design_maps
 
     drawn = {"plot": [], "pcolormesh": [], "xticks": []}
     real = {k: getattr(Axes, k) for k in ("plot", "pcolormesh", "set_xticks")}
@@ -1711,7 +1711,7 @@ def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
 
     from matplotlib.axes import Axes
 
-    from validation.explore import design_maps
+    from studies.explore import design_maps
 
     ds = _synthetic({"length": 3, "width": 3}).isel(length=[2, 0, 1], width=[1, 2, 0])
     one = _synthetic({"thickness": 3}).isel(thickness=[2, 0, 1])
@@ -1770,7 +1770,7 @@ def test_drive_axes_of_an_fe_only_study_are_said_unused(tmp_path, capsys):
     plates, or names no drive axis, says nothing of them."""
     import warnings
 
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["split", "f_L1_short"]\n[axes]\npreload = "6 N"\n'
@@ -1794,7 +1794,7 @@ def test_drive_axes_of_an_fe_only_study_are_said_unused(tmp_path, capsys):
 def test_the_summary_says_which_axes_make_its_drive_points(tmp_path, capsys):
     """"1 geometry x 4 drive points" for one voltage, one preload and four loads read as four
     voltage-preload points, the work bounds' sense of the words (exploratory testing)."""
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["no_load_velocity"]\n[axes]\nvoltage = ["200 V", "300 V"]\n'
@@ -1836,8 +1836,8 @@ def test_a_run_without_resume_never_advises_removing_a_live_runs_parts(tmp_path,
     running one with all its work (found by exploratory testing). It is refused as a second
     --resume is, before any work and without a word of the running one's parts as its own,
     and the running one goes on to its dataset."""
-    from validation import cmd_explore
-    from validation.cli import main
+    from lusm.cli import main
+    from lusm.commands import explore as cmd_explore
 
     path = tmp_path / "s.toml"
     path.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["29 mm", "30 mm", "31 mm"]\n'

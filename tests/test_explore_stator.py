@@ -1,5 +1,5 @@
-"""``[study] stator``: a design-space study of a designer's stator file (validation.study,
-validation.explore), checked against the single-point commands on the same file."""
+"""``[study] stator``: a design-space study of a designer's stator file (studies.study,
+studies.explore), checked against the single-point commands on the same file."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from validation.explore import assemble, compute_geometry
-from validation.study import load_study, study_from_dict
+from studies.explore import assemble, compute_geometry
+from studies.study import load_study, study_from_dict
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 TUNED = EXAMPLES / "tuned_60k" / "stator.toml"
@@ -26,7 +26,7 @@ def test_a_stator_study_is_the_single_point_commands_on_its_file_bit_for_bit(
     Table 2's ratios, which move the no-load velocity) reach the study: its answers are lusm
     characteristic's and lusm modes' on the same file. A file with its own mesh too: its
     plate's nominal gap (0) had refused every motor output as a short circuit."""
-    from validation.cli import main
+    from lusm.cli import main
 
     s = study_from_dict({"study": {"stator": str(stator)},
                          "outputs": ["f_B2_short", "no_load_velocity", "stall_force"],
@@ -117,7 +117,7 @@ def test_what_a_stator_study_cannot_do_is_one_line_naming_the_key(doc, words):
 
 
 def test_the_cli_refuses_a_bad_stator_study_with_exit_2(tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text(f'[study]\nstator = "{MESHED}"\n[axes]\nlength = "31 mm"\n')
@@ -174,17 +174,17 @@ def test_a_stators_mesh_bound_is_estimated_before_it_is_meshed(tmp_path, monkeyp
     """A plate whose gmsh mesh is far above the bound is refused from its area and element
     size, without meshing it (a 1000 mm plate at 0.067 mm was meshed for 29 s and 564 MB
     first)."""
-    import validation.options
+    import lusm.options
 
     fine = _stator_with(tmp_path, "[damping]", "[mesh]\nsize_mm = 0.067\n\n[damping]")
-    count = validation.options.fe_cell_count
+    count = lusm.options.fe_cell_count
 
     def only_small(plate, *args, **kwargs):
         if plate.length_m > 0.5:
             pytest.fail("the 1000 mm plate was meshed to count its elements")
         return count(plate, *args, **kwargs)
 
-    monkeypatch.setattr(validation.options, "fe_cell_count", only_small)
+    monkeypatch.setattr(lusm.options, "fe_cell_count", only_small)
     with pytest.raises(ValueError, match=r"needs about \d+ 2D elements, above the limit"):
         study_from_dict({"study": {"stator": str(fine)}, "outputs": ["f_L1_short"],
                          "axes": {"length": ["25.6938 mm", "1000 mm"]}})
@@ -219,7 +219,7 @@ def test_a_stator_studys_fe_work_bound_meshes_only_where_the_estimate_cannot_dec
     estimate alone had let a study up to 6.5 times over its bound start; review)."""
     from dataclasses import replace
 
-    import validation.study
+    import studies.study
     from fem.meshing.parametric import ESTIMATE_LOW_FACTOR, estimated_elements, parametric_mesh
     from fem.stator_file import load_stator
 
@@ -231,7 +231,7 @@ def test_a_stator_studys_fe_work_bound_meshes_only_where_the_estimate_cannot_dec
     assert largest <= real <= 1.5 * largest  # never high; 1.5 low at the default size
     bound = {"above": 2 * largest - 1, "far_below": 2 * ESTIMATE_LOW_FACTOR * largest,
              "meshed_over": 2 * real - 1, "meshed_at": 2 * real}[case]
-    monkeypatch.setattr(validation.study, "MAX_STUDY_FE_WORK", bound)
+    monkeypatch.setattr(studies.study, "MAX_STUDY_FE_WORK", bound)
     doc = {"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
            "axes": {"length": ["20 mm", "30 mm"]}}
     with monkeypatch.context() as m:
@@ -260,7 +260,7 @@ def test_a_stator_file_that_cannot_be_opened_is_one_line_with_the_os_reason(
     """A file the user may not read: the operating system's reason, not Python's
     ``[Errno 13] Permission denied: '...'`` (only reproducible as root by patching)."""
     import fem.small_file
-    from validation.cli import main
+    from lusm.cli import main
 
     def denied(path, max_bytes):
         raise PermissionError(13, "Permission denied", str(path))
@@ -321,7 +321,7 @@ def test_a_range_gives_the_values_a_user_would_type():
     """``start + i * step`` put 25.9 mm at 0.025900000000000003 m, one ulp from a stator
     file's ``length_mm = 25.9``: gmsh meshed that plate anew and its L1 moved by 0.6 Hz
     against the single-point command's. A range's values are its decimals, as typed."""
-    from validation.study import parse_quantity
+    from studies.study import parse_quantity
 
     s = study_from_dict({"outputs": ["f_L1_short"], "axes": {
         "length": {"start": "25.5 mm", "stop": "26.1 mm", "step": "0.2 mm"},
@@ -400,13 +400,13 @@ def test_a_stator_with_a_hole_gets_the_2d_hole_warning_once(tmp_path, monkeypatc
     """Said for the study's smallest, thickest plate, before any work (the single-point
     commands say it for their plate); with feature axes too, whose plates the warning does
     not need to build."""
-    import validation.explore
-    from validation.cli import main
+    import studies.explore
+    from lusm.cli import main
 
     def stop(*args, **kwargs):
         raise ValueError("stopped before the study ran")
 
-    monkeypatch.setattr(validation.explore, "explore", stop)
+    monkeypatch.setattr(studies.explore, "explore", stop)
     study = tmp_path / "s.toml"
     study.write_text(f'outputs = ["f_L1_short"]\n[study]\nstator = "{TUNED}"\n[axes]\n'
                      'tip_length = ["0.4 mm", "1.2 mm"]\nthickness = ["2 mm", "2.5 mm"]\n')
@@ -421,7 +421,7 @@ def test_the_study_bound_does_not_mesh_a_plate_its_task_refuses_as_too_wide(monk
     (fem.modes.WidePlateError): the study's FE-work bound does not mesh it to count, even
     where its estimate lies in the band the others are meshed in (review)."""
     import fem.meshing.parametric
-    import validation.study
+    import studies.study
     from fem.meshing.parametric import estimated_elements
     from fem.stator_file import load_stator
 
@@ -439,7 +439,7 @@ def test_the_study_bound_does_not_mesh_a_plate_its_task_refuses_as_too_wide(monk
 
     largest = estimated_elements(replace(base, length_m=30e-3, width_m=28e-3))
     # the band where every corner is meshed to count: 4 plates x its estimate, below 6.5 x
-    monkeypatch.setattr(validation.study, "MAX_STUDY_FE_WORK", 4 * 2 * largest)
+    monkeypatch.setattr(studies.study, "MAX_STUDY_FE_WORK", 4 * 2 * largest)
     doc = {"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
            "axes": {"length": ["26 mm", "30 mm"], "width": ["6.6025 mm", "28 mm"]}}
     study_from_dict(doc)

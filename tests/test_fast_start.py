@@ -1,4 +1,4 @@
-"""The console script's start-up trims (validation.fast_start) change no result.
+"""The console script's start-up trims (lusm.fast_start) change no result.
 
 Each check runs in a fresh interpreter, the only place the trims apply.
 """
@@ -13,7 +13,7 @@ import textwrap
 PROBE = textwrap.dedent("""
     import importlib, json, sys
     import numpy as np
-    from validation import fast_start
+    from lusm import fast_start
     loaded = fast_start.load_blas_probe()
     parent_before = "scipy.linalg" in sys.modules
     from numba.core.registry import cpu_target
@@ -55,7 +55,7 @@ def test_blas_probe_module_loaded_alone_serves_numba_and_scipy():
 
 CLI = textwrap.dedent("""
     import sys
-    from validation.cli import main
+    from lusm.cli import main
     how = sys.argv.pop(1)
     sys.exit(main() if how == "script" else main(sys.argv[1:]))
 """)

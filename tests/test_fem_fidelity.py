@@ -63,7 +63,7 @@ def test_gap_validity_warning_names_the_thickness_it_was_measured_against():
 
 
 def test_cli_says_when_2d_is_outside_its_validity(capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["modes", "--gap-mm", "1"]) == 0
     err = capsys.readouterr().err
@@ -153,7 +153,7 @@ def test_cli_edge_grading_moves_3d_b2_coupling_towards_the_2d_model(capsys):
     underestimates, towards the 2D model (docs/fem3d.md section 1)."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     out = {}
     for args in ([], ["--model", "3d"], ["--model", "3d", "--edge-grading", "1"]):
@@ -192,7 +192,7 @@ def test_a_drive_across_touching_electrodes_is_refused(capsys):
     that exists."""
     from fem.admittance import modal_port
     from fem.model import ShortedDriveError
-    from validation.cli import main
+    from lusm.cli import main
 
     model = plate_model(PlateStator(electrode_gap_m=0.0), "pzt8", 2, 2)
     with pytest.raises(ShortedDriveError, match=r"1 driven, 2 grounded, 3 grounded, 4 driven"):
@@ -213,7 +213,7 @@ def test_a_drive_across_touching_electrodes_is_refused(capsys):
 def test_the_plane_stress_warning_is_the_fe_models_not_the_beams(capsys):
     """A 5 mm plate is 0.67 x its width: the 2D model warns, the beam (not plane stress) did
     too."""
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["params", "--source", "beam", "--thickness-mm", "5"]) == 0
     assert "plane-stress" not in capsys.readouterr().err

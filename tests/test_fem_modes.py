@@ -224,7 +224,7 @@ def test_importing_rom_does_not_import_scikit_fem():
 def test_cli_modes_json(capsys):
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["modes", "--json", "--refine", "3"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -264,8 +264,8 @@ def test_json_gives_the_gap_and_the_swept_values_as_typed(capsys):
     gave 26.000000000000004 mm for 26 (mm -> m -> mm)."""
     import json
 
+    from lusm.cli import main
     from tests.conftest import ROOT
-    from validation.cli import main
 
     assert main(["modes", "--geometry", str(ROOT / "examples/chamfered/stator.toml"),
                  "--json"]) == 0
@@ -316,7 +316,7 @@ def test_a_wide_plates_open_b2_is_paired_by_its_shape(monkeypatch):
 def test_a_plate_too_wide_for_a_beam_b2_is_told_so(capsys):
     """At 30 x 17 mm no mode has B2's beam shape: the error said to check --refine, which
     changes nothing there."""
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["modes", "--width-mm", "17"]) == 2
     err = capsys.readouterr().err
@@ -359,7 +359,7 @@ def test_a_plate_too_slender_for_an_l1_b2_pair_is_refused_before_any_fe_work(
     and beam theory's reason."""
     import fem.meshing.mesh
     import fem.model
-    from validation.cli import main
+    from lusm.cli import main
 
     for module in (fem.meshing.mesh, fem.model):
         monkeypatch.setattr(module, "structured_mesh",
@@ -384,7 +384,7 @@ def test_a_sweep_of_plates_all_too_slender_is_refused_before_any_fe_work(capsys,
     slender, no plate can give L1 and B2, and the sweep is refused naming its range (a
     sweep with some such plates records them as failed, each before its mesh)."""
     import fem.model
-    from validation.cli import main
+    from lusm.cli import main
 
     monkeypatch.setattr(fem.model, "structured_mesh",
                         lambda *a, **k: pytest.fail("a mesh was made"))
@@ -398,7 +398,7 @@ def test_a_sweep_of_plates_all_too_slender_is_refused_before_any_fe_work(capsys,
 def test_an_admittance_over_a_given_band_needs_no_b2():
     """The refusal is for L1/B2: an admittance whose band the user gives needs neither (its
     modes are counted, not identified), so its check lets the slender plate through."""
-    from validation.options import check_fe_size
+    from lusm.options import check_fe_size
 
     slender = PlateStator(length_m=1.0, width_m=1e-3, thickness_m=1e-3)
     assert check_fe_size(slender, None, needs_b2=False) > 0
@@ -448,7 +448,7 @@ def test_linear_elements_are_said_to_lock_in_bending(capsys):
     mesh is more than 1 % too stiff, L1 (extension, no locking) within 0.5 %."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["modes", "--order", "1", "--json"]) == 0
     out = capsys.readouterr()
@@ -469,7 +469,7 @@ def test_a_failed_identification_blames_slenderness_only_near_the_search_bound()
     their pair, and a fixed length / width of 17 had told any of them that failed for another
     reason that its B2 was out of reach."""
     from fem.modes import N_MODES, SEARCH_GROWTH, ModeSolverError, modes_nearer_than_b2
-    from validation.cmd_modes import fe_failure
+    from lusm.fe_errors import fe_failure
 
     exc = ModeSolverError("could not identify B2 among the modes solved")
     searched = SEARCH_GROWTH[-1] * N_MODES
@@ -502,7 +502,7 @@ def test_a_plate_wider_than_long_is_refused_before_any_fe_work(capsys, monkeypat
     import fem.meshing.mesh
     import fem.model
     from fem.modes import WidePlateError
-    from validation.cli import main
+    from lusm.cli import main
 
     with monkeypatch.context() as m:
         for module in (fem.meshing.mesh, fem.model):

@@ -132,7 +132,7 @@ def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys, b
     # the same point from lusm characteristic: --rest transient gives the transient's value
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     argv = ["characteristic", "--source", "beam", "--voltage", "1000", "--preload", "10",
             "--loads=-1:-1:1", "--json"]
@@ -157,7 +157,7 @@ def test_simulate_steady_takes_rest_too(capsys, beam_miss_ref):
     import json
 
     from contact.options import SimulationOptions
-    from validation.cli import main
+    from lusm.cli import main
 
     argv = ["simulate", "--source", "beam", "--voltage", "1000", "--preload", "10",
             "--load-N=-1", "--frequency", "40000", "--steady", "--json"]

@@ -3,7 +3,7 @@
 Each value below was computed by this code when the figure was written into the README; the
 tolerances are loose enough for another BLAS or CPU and tight enough that a real change of the
 model or the solver breaks them. A change that moves one on purpose updates the pin, the
-README (``python -m validation.doc_numbers && python -m validation.doc_numbers --fill``) and
+README (``python -m tools.doc_numbers && python -m tools.doc_numbers --fill``) and
 says why in its commit.
 """
 

@@ -17,8 +17,8 @@ from contact.steady.engine import steady_state
 from contact.steady.runaway import holding_range_N
 from contact.steady.settled import transient_reference
 from contact.steady.slow import slow_problem
+from lusm.cli import main
 from rom import table2
-from validation.cli import main
 
 
 @pytest.fixture(scope="module")

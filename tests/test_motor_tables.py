@@ -14,9 +14,9 @@ import pytest
 from contact.drive import free_tip_amplitudes
 from contact.steady.engine import steady_state
 from fem.stator_file import load_stator
+from lusm.cli import main
 from rom.from_fem import design_base, fem_params, fem_params_from_file
 from rom.table2 import table2
-from validation.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 PLATE = "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"

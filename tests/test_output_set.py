@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from lusm.output_set import MARKER, OutputError, output_set
 from tests.conftest import ROOT
-from validation.output_set import MARKER, OutputError, output_set
 
 
 def _write(stage: Path, files: dict[str, str]) -> None:
@@ -138,7 +138,7 @@ def test_lusm_report_refuses_a_users_folder_before_any_work(tmp_path):
     (tmp_path / "figures").mkdir()
     (tmp_path / "figures" / "precious.png").write_bytes(b"mine")
     (tmp_path / "index.md").write_text("my notes")
-    proc = subprocess.run([sys.executable, "-m", "validation.cli", "report", "--quick",
+    proc = subprocess.run([sys.executable, "-m", "lusm.cli", "report", "--quick",
                            "--no-progress", "--out", str(tmp_path)],
                           cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
@@ -165,7 +165,7 @@ def test_a_marker_that_is_a_link_is_never_written_through(tmp_path):
 
 
 def test_a_marker_listing_nothing_usable_is_refused_before_any_work(tmp_path):
-    from validation.output_set import check_target
+    from lusm.output_set import check_target
 
     out = tmp_path / "o"
     _write(out, {"admittance.png": "mine",
@@ -176,7 +176,7 @@ def test_a_marker_listing_nothing_usable_is_refused_before_any_work(tmp_path):
 
 def test_a_link_to_a_folder_is_written_through_and_a_dangling_one_refused(tmp_path):
     # a link to an empty folder failed after the work ("cannot write (Not a directory)")
-    from validation.output_set import check_target
+    from lusm.output_set import check_target
 
     (tmp_path / "real").mkdir()
     (tmp_path / "link").symlink_to(tmp_path / "real", target_is_directory=True)
@@ -191,7 +191,7 @@ def test_a_link_to_a_folder_is_written_through_and_a_dangling_one_refused(tmp_pa
 
 def test_another_commands_folder_is_named_as_such(tmp_path):
     # "a folder that lusm characteristic did not write" read as if lusm had not written it
-    from validation.output_set import check_target
+    from lusm.output_set import check_target
 
     out = tmp_path / "figs"
     with output_set(out, "simulate") as stage:
@@ -320,7 +320,7 @@ def test_a_plot_folder_that_cannot_be_made_is_refused_before_the_study(tmp_path,
     """explore --plot /proc/maps ran the whole study, wrote the dataset and only then said
     the maps could not be written: the check had asked the permission bits, which root
     passes everywhere."""
-    from validation.cli import main
+    from lusm.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["split"]\n[axes]\nlength = ["29 mm", "30 mm"]\n'
@@ -337,7 +337,7 @@ def test_a_plot_folder_that_cannot_be_made_is_refused_before_the_study(tmp_path,
 @pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
 def test_render_refuses_an_out_that_cannot_be_made_before_any_fe_solve(monkeypatch, capsys):
     import fem.modes
-    from validation.cli import main
+    from lusm.cli import main
 
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before the output folder was checked")
@@ -355,7 +355,7 @@ def test_the_current_folder_lusm_wrote_is_written_again(tmp_path, monkeypatch, c
     folder) stays where it is, with the same inode: only files move into it."""
     import os
 
-    from validation.cli import main
+    from lusm.cli import main
 
     here = tmp_path / "dot"
     here.mkdir()
@@ -375,7 +375,7 @@ def test_the_current_folder_lusm_wrote_is_written_again(tmp_path, monkeypatch, c
 def test_the_current_folder_holding_the_users_files_is_refused(tmp_path, monkeypatch, typed):
     """The current folder that lusm did not write is still refused, saying which folder '.'
     is, and with --force the set is written beside the user's files, none of them lost."""
-    from validation.output_set import check_target
+    from lusm.output_set import check_target
 
     monkeypatch.chdir(tmp_path)
     (tmp_path / "characteristic.png").write_text("mine")
@@ -400,7 +400,7 @@ def test_a_staging_name_fits_the_file_systems_limit_and_stays_unique(tmp_path, n
     import os
     import re
 
-    from validation.staging import staging_name
+    from lusm.staging import staging_name
 
     a, b = (staging_name(name, "partial", tmp_path) for _ in range(2))
     assert a != b
@@ -416,7 +416,7 @@ def test_a_staging_name_follows_a_smaller_limit(tmp_path, monkeypatch):
     # eCryptfs takes names of at most 143 bytes
     import os
 
-    from validation.staging import staging_name
+    from lusm.staging import staging_name
 
     monkeypatch.setattr(os, "pathconf", lambda folder, what: 143)
     assert len(os.fsencode(staging_name("a" * 140, "probe", tmp_path))) == 143
@@ -428,7 +428,7 @@ def test_a_folder_with_a_long_name_is_written(tmp_path, name, exists):
     """A folder name of about 230 bytes or more, which the file system takes, was refused
     ("cannot write there (File name too long)"): the staging and probe names beside it,
     ``.NAME-partial-<12 hex>``, went over 255 bytes."""
-    from validation.output_set import check_target, check_writable
+    from lusm.output_set import check_target, check_writable
 
     out = tmp_path / name
     if exists:
@@ -445,7 +445,7 @@ def test_a_folder_with_a_long_name_is_written(tmp_path, name, exists):
 def test_lusm_characteristic_plots_into_a_long_folder_name(tmp_path, monkeypatch, capsys):
     """The reported case: ``--plot`` with a 250-letter folder name exited 2 ("cannot write
     there (File name too long)"), before any work, on the probe's name."""
-    from validation.cli import main
+    from lusm.cli import main
 
     name = "a" * 250
     (tmp_path / name).mkdir()
@@ -465,8 +465,8 @@ def test_an_entry_already_named_like_the_staging_folder_is_never_removed(tmp_pat
     random suffix), the entry of that name was removed with it, files and all."""
     import uuid
 
-    from validation.errors import LusmError
-    from validation.staging import staging_name
+    from lusm.errors import LusmError
+    from lusm.staging import staging_name
 
     class Fixed:
         hex = "0123456789ab" * 2
@@ -487,7 +487,7 @@ def test_an_entry_already_named_like_the_staging_folder_is_never_removed(tmp_pat
 _KILLED = """
 import os, signal, sys
 from pathlib import Path
-from validation.output_set import output_set
+from lusm.output_set import output_set
 with output_set(Path(sys.argv[1]), "figures", "--out") as stage:
     (stage / "L1.png").write_text("half")
     os.kill(os.getpid(), signal.SIGKILL)  # as SIGKILL or a power cut: no finally runs
@@ -508,7 +508,7 @@ def _stale(folder: Path, name: str, record: dict | None, token: str = "012345678
     import os
     import socket
 
-    from validation.staging import STAGING_LOCK, _boot_id
+    from lusm.staging import STAGING_LOCK, _boot_id
 
     entry = folder / f".{name}-partial-{token}"
     (entry / "set").mkdir(parents=True)
@@ -616,7 +616,7 @@ def test_an_entry_that_merely_has_a_staging_name_is_never_named(tmp_path, monkey
     named as "the staging folder of an earlier lusm run ...: remove it" (review: a folder of
     the user's holding data.txt). Only the layout lusm makes, a folder holding its lock file
     or its ``set`` folder, is named; the rest is left, unsaid."""
-    from validation.cli import main
+    from lusm.cli import main
 
     mine = tmp_path / "o1" / ".figs-partial-0123456789ab"
     _write(mine, {"data.txt": "the user's"})
@@ -657,7 +657,7 @@ def test_a_staging_folder_of_another_boot_is_named_not_removed(tmp_path, capsys,
     gone here, prove nothing. It is named, not removed."""
     import os
 
-    from validation.staging import _boot_id
+    from lusm.staging import _boot_id
 
     if _boot_id() is None:
         pytest.skip("needs Linux's boot id")
@@ -749,7 +749,7 @@ def test_a_lock_file_that_is_a_fifo_is_not_waited_on(tmp_path, capsys):
     block the run, which would wait for a writer for ever."""
     import os
 
-    from validation.staging import STAGING_LOCK
+    from lusm.staging import STAGING_LOCK
 
     entry = _stale(tmp_path, "kk", None)
     os.mkfifo(entry / STAGING_LOCK)
@@ -765,8 +765,8 @@ def test_a_dataset_and_an_export_clear_their_own_stale_staging(tmp_path, capsys)
     import numpy as np
     import xarray as xr
 
-    from validation.cli import main
-    from validation.explore import write_dataset
+    from lusm.cli import main
+    from studies.explore import write_dataset
 
     dead_nc = _stale(tmp_path, "r.nc", {})
     unknown_nc = _stale(tmp_path, "r.nc", None, "aaaaaaaaaaaa")
@@ -792,7 +792,7 @@ def test_another_users_held_lock_reads_held(tmp_path, monkeypatch):
     import fcntl
     import os
 
-    from validation import staging
+    from lusm import staging
 
     lock = tmp_path / ".lock"
     lock.write_text("")

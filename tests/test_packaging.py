@@ -26,6 +26,8 @@ count = 0
 for package in sys.argv[2].split(","):
     importlib.import_module(package)
     for info in pkgutil.walk_packages(sys.modules[package].__path__, package + "."):
+        if info.name.endswith(".__main__"):  # runs the command when imported
+            continue
         importlib.import_module(info.name)
         count += 1
 print(count)

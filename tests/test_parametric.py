@@ -16,7 +16,7 @@ from fem.meshing.parametric import ParametricStator, parametric_mesh
 from fem.model import gap_layout, plate_model
 from fem.modes import plate_modes
 from fem.stator_file import load_stator, parse_stator
-from validation.cli import main
+from lusm.cli import main
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 RHO_H = 7600.0 * 3e-3  # PZT-8 density times thickness (kg/m^2)

@@ -4,9 +4,9 @@ import json
 
 import pytest
 
+from lusm.cli import main
 from rom import table2
 from rom.params import MotorParams
-from validation.cli import main
 
 
 def _run(capsys, *argv):
@@ -86,7 +86,7 @@ def test_an_edit_of_a_stored_field_carries_its_derived_keys_along(tmp_path, caps
                    coupling="paper")  # as --coupling paper above
     assert v_file == ref.steady.velocity_m_s
     # the source line says the set was edited (it still described the set before the edit)
-    from validation.options import params_from_file
+    from lusm.options import params_from_file
 
     assert params_from_file(str(path)).source.endswith(
         f"[edited in {path}: zeta_L1 {table2().with_(C_l=100.0).zeta_L1:.4g}]")
@@ -96,8 +96,8 @@ def test_a_bad_value_names_the_files_key(tmp_path, capsys):
     # "MotorParams.K_l must be finite" named the dataclass; the file's key is K_l
     import json
 
+    from lusm.cli import main
     from rom import table2
-    from validation.cli import main
 
     d = table2().to_dict()
     d["K_l"] = "nan"
@@ -206,7 +206,7 @@ def test_the_derived_tolerance_is_single_precisions_rounding_and_no_more():
 def test_a_params_file_written_from_single_precision_is_not_called_edited(tmp_path, capsys):
     """``--params`` compared the derived keys at 1e-9 too: a float32 file was said to have
     edited eta_T and its source text changed."""
-    from validation.options import params_from_file
+    from lusm.options import params_from_file
 
     path = tmp_path / "single.json"
     path.write_text(json.dumps(_single_precision(table2(), arithmetic=True)))

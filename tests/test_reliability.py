@@ -1,8 +1,8 @@
 """Bad input across every ``lusm`` command: one line naming the option, exit 2, no work done.
 
-A table of named bad inputs (issue 12), each run in-process through ``validation.cli.main``;
+A table of named bad inputs (issue 12), each run in-process through ``lusm.cli.main``;
 the stator files and meshes they need are written into ``tmp_path``. Every case is refused
-before any FE solve or time integration starts (the work bounds of ``validation.limits``), so
+before any FE solve or time integration starts (the work bounds of ``lusm.limits``), so
 the table runs in seconds.
 """
 
@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from contact.errors import ChatteringError
+from lusm.cli import main
 from tests.conftest import ROOT
-from validation.cli import main
 
 PLATE = "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
 MESHED = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "{mesh}"\n'
@@ -521,7 +521,7 @@ CASES: list[tuple[str, list[str], list[str]]] = [
 
 
 def test_the_table_is_large_and_covers_every_command():
-    from validation.cli import build_parser
+    from lusm.cli import build_parser
 
     assert len(CASES) >= 60
     assert len({name for name, _, _ in CASES}) == len(CASES)
@@ -584,7 +584,7 @@ def test_a_valid_mesh_is_still_accepted(files):
 
 def test_work_bounds_can_be_raised_on_purpose(monkeypatch, capsys):
     # 2.5e7 steps: above the default bound, allowed with LUSM_MAX_WORK=2 (checked, not run)
-    from validation.options import check_run_size
+    from lusm.options import check_run_size
 
     with pytest.raises(ValueError, match="LUSM_MAX_WORK"):
         check_run_size(0.05, 2e-9, 40e3)
@@ -603,7 +603,7 @@ def test_work_bounds_can_be_raised_on_purpose(monkeypatch, capsys):
 
 
 def test_warnings_where_the_model_stops_meaning_anything(capsys):
-    from validation.options import check_plate_mm, warn_drive
+    from lusm.options import check_plate_mm, warn_drive
 
     check_plate_mm(30.0, 7.5, 20.0, 0.5, three_d=True)  # the 3D model has no such limit
     warn_drive(0.0, 0.0, load_N=0.1)  # the load pushes the slider: it moves
@@ -620,7 +620,7 @@ def test_warnings_where_the_model_stops_meaning_anything(capsys):
 def test_json_is_valid_without_infinity(capsys):
     import json
 
-    from validation.options import print_json
+    from lusm.options import print_json
 
     print_json({"a": float("inf"), "b": [float("nan"), 1.0], "c": np.float64(2.0)})
     text = capsys.readouterr().out
@@ -628,7 +628,7 @@ def test_json_is_valid_without_infinity(capsys):
 
 
 def test_an_unexpected_error_is_one_line_exit_1(monkeypatch, capsys):
-    import validation.cmd_params as cmd
+    import lusm.commands.params as cmd
 
     def boom(args):
         raise ZeroDivisionError("division by zero")
@@ -642,7 +642,7 @@ def test_an_unexpected_error_is_one_line_exit_1(monkeypatch, capsys):
 
 def test_sigterm_removes_the_staging_folder(tmp_path):
     out = tmp_path / "r"
-    proc = subprocess.Popen([sys.executable, "-m", "validation.cli", "report", "--quick",
+    proc = subprocess.Popen([sys.executable, "-m", "lusm.cli", "report", "--quick",
                              "--no-progress", "--out", str(out)], cwd=ROOT,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
@@ -661,8 +661,8 @@ def test_a_signal_python_swallows_still_stops_the_command(signum, monkeypatch, t
                                                            capsys):
     # A handler that runs inside a __del__ or weakref callback (importlib's module locks have
     # one) cannot propagate its exception: Python prints "Exception ignored" and carries on.
-    import validation.cmd_params as cmd
-    from validation.output_set import output_set
+    import lusm.commands.params as cmd
+    from lusm.output_set import output_set
 
     class SignalOnCollect:
         def __del__(self):
@@ -688,8 +688,8 @@ def test_an_error_caused_by_a_signal_is_the_interruption(monkeypatch, tmp_path, 
     # a signal landing inside a numba call comes back from the dispatcher as "SystemError:
     # ... returned a result with an exception set" (seen with Ctrl-C in lusm characteristic):
     # the command must end as interrupted (130), not as an internal error (1)
-    import validation.cmd_params as cmd
-    from validation.output_set import output_set
+    import lusm.commands.params as cmd
+    from lusm.output_set import output_set
 
     class SignalOnCollect:
         def __del__(self):
@@ -710,14 +710,14 @@ def test_an_error_caused_by_a_signal_is_the_interruption(monkeypatch, tmp_path, 
 
 def test_debug_env_shows_the_traceback():
     env = {**os.environ, "LUSM_DEBUG": "1"}
-    proc = subprocess.run([sys.executable, "-m", "validation.cli", "simulate", "--voltage",
+    proc = subprocess.run([sys.executable, "-m", "lusm.cli", "simulate", "--voltage",
                            "200", "--preload", "14", "--dt", "1e-13"], cwd=ROOT,
                           capture_output=True, text=True, env=env, timeout=120)
     assert proc.returncode != 0 and "Traceback" in proc.stderr
 
 
 def test_library_errors_are_mapped_to_the_option_that_sets_them():
-    from validation.errors import LusmError, user_error
+    from lusm.errors import LusmError, user_error
 
     e = user_error(ValueError("PlateStator.length_m must be a finite number > 0, got -1"))
     assert isinstance(e, LusmError) and str(e).startswith("--length-mm: ")
@@ -785,7 +785,7 @@ def test_the_last_line_is_its_own_after_an_open_progress_bar(exc, code, last, mo
     # printed after its text (seen with Ctrl-C during lusm map)
     from tqdm import tqdm
 
-    import validation.cmd_params as cmd
+    import lusm.commands.params as cmd
 
     def command(args):
         bar = tqdm(total=10, desc="work", file=sys.stderr)
@@ -801,7 +801,7 @@ def test_the_last_line_is_its_own_after_an_open_progress_bar(exc, code, last, mo
 def test_a_ctrl_c_before_the_command_starts_is_one_line(monkeypatch, capsys):
     # Ctrl-C during the first fraction of a second (imports, the BLAS probe, parsing) printed
     # a KeyboardInterrupt traceback: it is the same interruption as later on
-    import validation.cli as cli
+    import lusm.cli as cli
 
     def interrupted():
         raise KeyboardInterrupt
@@ -845,7 +845,7 @@ def test_an_export_that_cannot_be_written_whole_is_refused_and_leaves_nothing(tm
     cannot read. The limit is set in the child (Python ignores SIGXFSZ: writes fail EFBIG)."""
     out = tmp_path / "x" / "m.xdmf"
     code = ("import resource; resource.setrlimit(resource.RLIMIT_FSIZE, (30720, 30720)); "
-            "from validation.cli import main; raise SystemExit(main(['modes', '--refine', '2', "
+            "from lusm.cli import main; raise SystemExit(main(['modes', '--refine', '2', "
             f"'--export', {str(out)!r}]))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        cwd=ROOT, timeout=300)
@@ -891,7 +891,7 @@ def test_a_report_that_cannot_be_written_names_its_folder(tmp_path, monkeypatch,
 
 def test_library_names_become_the_options_the_user_typed():
     # "--frequency: frequency_Hz = 1 Hz ..." and "use dt_s <= ..." named internals
-    from validation.errors import user_error
+    from lusm.errors import user_error
 
     e = user_error(ValueError("frequency_Hz = 1 Hz is too far below the fastest mode"))
     assert str(e) == "--frequency 1 Hz is too far below the fastest mode"
@@ -953,7 +953,7 @@ def test_a_ctrl_c_after_the_command_is_done_is_ignored():
     # printed their last line, printed a KeyboardInterrupt traceback from threading._shutdown
     # and exited 0: once the command is done, SIGINT is ignored to the end of the process
     code = ("import signal, sys\n"
-            "from validation.cli import main\n"
+            "from lusm.cli import main\n"
             "sys.argv = ['lusm', 'params', '--json']\n"
             "rc = main()\n"
             "print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)\n"
@@ -972,7 +972,7 @@ def _after_main(argv: list[str], then: str) -> subprocess.CompletedProcess:
     (with ``os``, ``signal``, ``subprocess``, ``sys``, ``time``, ``atexit`` imported), then
     exits with the command's code."""
     code = ("import atexit, os, signal, subprocess, sys, time\n"
-            "from validation.cli import main\n"
+            "from lusm.cli import main\n"
             f"sys.argv = ['lusm', *{argv!r}]\n"
             "rc = main()\n" + then + "sys.exit(rc)\n")
     return subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,

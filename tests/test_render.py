@@ -81,7 +81,7 @@ def test_png_and_gif_files(tmp_path, plate):
 
 
 def test_cli_render(tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["render", "--mode", "L1", "--out", str(tmp_path), "--refine", "3"]) == 0
     assert (tmp_path / "L1.png").is_file() and not (tmp_path / "B2.png").exists()
@@ -115,7 +115,7 @@ def test_export_round_trips_the_mode_shapes(tmp_path, plate, suffix):
 
 
 def test_cli_modes_export(tmp_path):
-    from validation.cli import main
+    from lusm.cli import main
 
     out = tmp_path / "m.vtu"
     assert main(["modes", "--refine", "3", "--export", str(out)]) == 0
@@ -126,7 +126,7 @@ def test_cli_modes_export(tmp_path):
 @pytest.mark.parametrize("suffix", [".stl", ".ply"])
 def test_formats_that_drop_the_shapes_are_refused(tmp_path, suffix, capsys):
     # .stl wrote a 15-byte file (triangles only) and .ply dropped the vectors, both "wrote"
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["modes", "--refine", "3", "--export", str(tmp_path / f"m{suffix}")]) == 2
     assert "cannot carry the mode shapes" in capsys.readouterr().err
@@ -137,7 +137,7 @@ def test_an_xdmf_kept_by_force_still_reads_its_own_data(tmp_path, capsys):
     """--force keeps m.xdmf and m.h5 as .bak-1; the kept .xdmf must read the kept .h5 (it
     pointed at the new m.h5 and showed the new plate)."""
     pytest.importorskip("h5py")
-    from validation.cli import main
+    from lusm.cli import main
 
     out = tmp_path / "m.xdmf"
     assert main(["modes", "--refine", "3", "--export", str(out)]) == 0
@@ -161,7 +161,7 @@ def test_headless_render_prints_nothing_on_stderr(tmp_path):
         pytest.skip("no libEGL: VTK's own fallback order applies")
     env = {k: v for k, v in os.environ.items()
            if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")}
-    p = subprocess.run([sys.executable, "-m", "validation.cli", "render", "--out",
+    p = subprocess.run([sys.executable, "-m", "lusm.cli", "render", "--out",
                         str(tmp_path / "r"), "--mode", "L1"], capture_output=True, text=True,
                        env=env, cwd=tmp_path, timeout=300)
     assert p.returncode == 0, p.stderr
@@ -175,7 +175,7 @@ def test_exports_skip_rigid_body_modes_and_work_in_3d(tmp_path):
     transverse on the long axis (u_x there), as the modes are (issue 13)."""
     import re
 
-    from validation.cli import main
+    from lusm.cli import main
 
     out2 = tmp_path / "m2.vtu"
     assert main(["modes", "--refine", "2", "--export", str(out2)]) == 0
@@ -230,7 +230,7 @@ def test_lusm_render_draws_with_the_signals_held(monkeypatch, tmp_path):
 
     import fem.render
     from contact import deferred_signals
-    from validation.cli import main
+    from lusm.cli import main
 
     seen = []
 

@@ -20,7 +20,7 @@ def _not_json(name: str):
 def design_report(tmp_path_factory):
     out = tmp_path_factory.mktemp("design_report")
     proc = subprocess.run(
-        [sys.executable, "-m", "validation.cli", "report", "--quick", "--no-progress",
+        [sys.executable, "-m", "lusm.cli", "report", "--quick", "--no-progress",
          "--geometry", str(TIP), "--out", str(out)],
         cwd=ROOT, capture_output=True, text=True, timeout=900,
     )
@@ -38,7 +38,7 @@ def plate_report(tmp_path_factory):
     """A quick report on plate options (about 10 s)."""
     out = tmp_path_factory.mktemp("plate_report") / "r"
     proc = subprocess.run(
-        [sys.executable, "-m", "validation.cli", "report", "--quick", "--no-progress",
+        [sys.executable, "-m", "lusm.cli", "report", "--quick", "--no-progress",
          *PLATE, "--out", str(out)],
         cwd=ROOT, capture_output=True, text=True, timeout=900,
     )
@@ -74,7 +74,7 @@ def test_every_section_and_figure_is_there(design_report):
 
 def test_design_report_numbers_are_the_commands_numbers(design_report):
     _, doc = design_report
-    p = subprocess.run([sys.executable, "-m", "validation.cli", "modes", "--geometry", str(TIP),
+    p = subprocess.run([sys.executable, "-m", "lusm.cli", "modes", "--geometry", str(TIP),
                         "--json"], cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     modes = json.loads(p.stdout)
@@ -123,8 +123,8 @@ def test_the_3d_column_names_the_call_that_reproduces_it():
     chamfered example's 3D mesh lay above `lusm modes`' own work bound, so the quoted call was
     refused. The command now carries the refine and the work bound it needs."""
     from fem.stator_file import load_stator
-    from validation.errors import LusmError
-    from validation.options import check_fe_size
+    from lusm.errors import LusmError
+    from lusm.options import check_fe_size
     from validation.report_design import _command_3d
 
     tuned = load_stator(ROOT / "examples" / "tuned_40k" / "identified.toml").stator
@@ -148,7 +148,7 @@ def test_the_mode_pictures_are_drawn_with_the_signals_held(monkeypatch, tmp_path
     from contact import deferred_signals
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from validation.options import StatorChoice
+    from lusm.options import StatorChoice
     from validation.report_design import _modes_section
 
     class Drawn(Exception):
@@ -172,7 +172,7 @@ def test_the_admittance_command_the_report_names_gives_its_numbers(design_report
     the points and the band as it used them, and that command gives the report's pairs."""
     import re
 
-    from validation.cli import main
+    from lusm.cli import main
 
     out, doc = design_report
     md = (out / "index.md").read_text()
@@ -197,7 +197,7 @@ def test_a_report_on_plate_options_cites_commands_that_carry_them(plate_report, 
     numbers."""
     import shlex
 
-    from validation.cli import main
+    from lusm.cli import main
 
     out, doc = plate_report
     md = (out / "index.md").read_text()
@@ -245,8 +245,8 @@ def test_a_report_on_a_stator_file_cites_that_file_as_given(design_report):
 def test_the_stator_options_are_written_as_typed():
     """The text the report cites: the typed options only, numbers as they read back, a
     stator file's path quoted for the shell."""
-    from validation.cli import build_parser
-    from validation.options import stator_options_text
+    from lusm.cli import build_parser
+    from lusm.options import stator_options_text
 
     parser = build_parser()
     args = parser.parse_args(["report", "--width-mm", "7.35", "--length-mm", "6e1"])

@@ -61,7 +61,7 @@ def test_compare_all_reports_every_source():
 
 
 def test_cli_params_and_compare(capsys: pytest.CaptureFixture[str]):
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["params", "--source", "beam", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -107,8 +107,8 @@ def test_compare_puts_both_stator_columns_on_the_plate_given(capsys):
     # --length-mm changed the fem column only; the beam column stayed the paper's plate
     import json
 
+    from lusm.cli import main
     from rom.sources import get_params
-    from validation.cli import main
 
     assert main(["compare", "--length-mm", "40", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -122,7 +122,7 @@ def test_params_and_compare_agree_on_a_beam_of_the_plate_given(capsys):
     # showed that beam
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["params", "--source", "beam", "--length-mm", "40", "--json"]) == 0
     params = json.loads(capsys.readouterr().out)

@@ -10,7 +10,7 @@ import pytest
 from fem.geometry import PlateStator
 from fem.modes import plate_modes
 from fem.solid3d.model import build_solid_model, solid_frequencies_Hz, solid_model, solid_modes
-from validation.cli import main
+from lusm.cli import main
 
 COARSE = {"refine": 2, "layers": 2}
 
@@ -163,7 +163,7 @@ def test_an_ungraded_mesh_across_a_narrow_gap_is_said_so(capsys):
     import json
 
     from fem.solid3d.model import gap_element_ratio
-    from validation.cli import main
+    from lusm.cli import main
 
     assert gap_element_ratio(PlateStator(), 3, 3) < 10 < gap_element_ratio(
         PlateStator(electrode_gap_m=0.1e-3), 3, 3)

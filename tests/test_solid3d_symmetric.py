@@ -98,7 +98,7 @@ def test_cli_graded_3d_uses_the_quarter_model_with_the_full_models_results(capsy
     # `lusm modes --model 3d --edge-grading K` solves the quarter and must print the full
     # model's numbers
     from fem.solid3d.model import solid_modes
-    from validation.cli import main
+    from lusm.cli import main
 
     args = ["modes", "--model", "3d", "--refine", "2", "--layers", "1", "--edge-grading", "1",
             "--gap-mm", "1", "--json"]
@@ -118,7 +118,7 @@ def test_cli_graded_3d_uses_the_quarter_model_with_the_full_models_results(capsy
 def test_ungraded_3d_run_says_its_k_eff_is_low_and_grading_raises_it(capsys):
     # `lusm modes --model 3d` on its default (ungraded) mesh prints a note that B2's k_eff
     # is low; the note's claim: one grading level raises it by more than 3 %
-    from validation.cli import main
+    from lusm.cli import main
 
     def run(*extra):
         assert main(["modes", "--model", "3d", *extra]) == 0
@@ -139,8 +139,8 @@ def test_the_grading_hint_says_when_it_needs_more_work(capsys):
     the count the graded run's own refusal gives; the paper's plate needs none."""
     import re
 
+    from lusm.cli import main
     from tests.conftest import ROOT
-    from validation.cli import main
 
     tip = str(ROOT / "examples" / "tip_parametric" / "stator.toml")
     assert main(["modes", "--model", "3d", "--geometry", tip]) == 0

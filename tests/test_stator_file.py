@@ -252,7 +252,7 @@ def test_bad_meshes(tmp_path):
 
 
 def test_cli_geometry(tmp_path, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     path = _write(tmp_path, PLATE_TOML)
     assert main(["modes", "--geometry", str(path), "--refine", "3", "--json"]) == 0
@@ -331,7 +331,7 @@ def test_a_hole_on_the_centreline_solves(tmp_path):
 
 def test_a_stator_files_fine_mesh_is_blamed_on_its_size_not_on_refine(tmp_path, capsys):
     # "--refine: ... lower --refine" from commands that have no --refine (lusm report)
-    from validation.cli import main
+    from lusm.cli import main
 
     path = _write(tmp_path, "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
                   "[mesh]\nsize_mm = 0.075\n[[holes]]\ncenter_mm = [0.0, 15.0]\n"
@@ -406,7 +406,7 @@ def test_unreadable_and_fractional_meshes_say_why_in_one_message(tmp_path, capsy
 ])
 def test_stator_file_plates_are_refused_in_the_files_terms(tmp_path, capsys, text, extra,
                                                            expected):
-    from validation.cli import main
+    from lusm.cli import main
 
     path = _write(tmp_path, "[plate]\n" + text)
     assert main(["modes", "--geometry", str(path), *extra]) == 2
@@ -456,7 +456,7 @@ def test_the_gap_validity_warning_is_in_the_files_terms(tmp_path, capsys):
     """A stator file's gap above thickness/6 was warned about as "electrode gap 0.8 mm
     exceeds thickness/6", while the file's keys are [electrodes] gap_mm and [plate]
     thickness_mm; the plate options keep the library's words."""
-    from validation.cli import main
+    from lusm.cli import main
 
     path = tmp_path / "wg.toml"
     path.write_text("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 1.5\n"
@@ -579,7 +579,7 @@ def test_elements_without_a_physical_group_say_so_in_both_formats(tmp_path, caps
     """gmsh's Mesh.SaveAll read as "malformed or truncated (Incompatible cell data
     'gmsh:physical' ...)" in MSH 4.1 and as "physical tag 0 (dimension 0) has no name" in
     MSH 2.2, as did a 2.2 mesh without groups (exploratory testing)."""
-    from validation.cli import main
+    from lusm.cli import main
 
     mesh = _gmsh_quadrants(tmp_path / "q.msh", version, groups=kind == "save_all",
                            save_all=kind == "save_all")
@@ -635,7 +635,7 @@ MESHED_PLATE = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "{mesh}"\n'
 ])
 def test_small_mistakes_are_named_for_what_they_are(tmp_path, capsys, text, expected):
     """Each of these was refused with a message about something else (exploratory testing)."""
-    from validation.cli import main
+    from lusm.cli import main
 
     _, _, msh = _plate_msh(tmp_path)
     for name in ("plate", "plate.mymesh"):  # a good gmsh mesh under a name meshio cannot place
@@ -656,7 +656,7 @@ def test_a_tip_inside_the_planform_is_warned_about_and_the_points_are_printed(tm
     import warnings
 
     from fem.stator_file import InteriorPointWarning, load_stator
-    from validation.cli import main
+    from lusm.cli import main
 
     _plate_msh(tmp_path)
     inside = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\n'
@@ -718,8 +718,8 @@ def test_a_point_on_a_mirrored_meshs_centre_line_is_not_minus_zero(tmp_path, cap
     """The tip example's mesh mirrored in x (electrodes renumbered to the paper's quadrants):
     its tip and preload vertices lie at x = -0.0 and were printed as "tip (-0, 31) mm" and
     "tip_mm": [-0.0, 31.0] (exploratory testing)."""
+    from lusm.cli import main
     from tests.conftest import ROOT
-    from validation.cli import main
 
     example = ROOT / "examples" / "tip_protrusion"
     mesh = meshio.read(example / "tip_protrusion.msh")

@@ -283,7 +283,7 @@ def test_a_creep_band_is_a_creep_not_thrust_on_another_branch(capsys):
     from contact.model import OperatingPoint, resolve_coupling
     from contact.simulate import simulate
     from contact.steady.slow import ripple_scale, slow_problem
-    from validation.cli import main
+    from lusm.cli import main
 
     p, f = _designer_set(TUNED_60K)
     c = characteristic(p, 140.0, 14.0, frequency_Hz=f)

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from validation.cli import main
+from lusm.cli import main
 
 
 def test_characteristic_json_curve_is_consistent(capsys):
@@ -77,8 +77,8 @@ def test_simulate_steady_with_a_load_matches_a_settled_transient(capsys):
     import json
 
     from contact.simulate import simulate
+    from lusm.cli import main
     from rom import table2
-    from validation.cli import main
 
     assert main(["simulate", "--voltage", "400", "--preload", "14", "--load-N", "1",
                  "--steady", "--json"]) == 0
@@ -201,10 +201,10 @@ def test_the_lowest_steady_frequency_said_is_taken(capsys):
 
 def test_no_drive_frequency_the_option_takes_suits_a_stiff_stator(monkeypatch):
     # where the lowest frequency is above the option's range, that range is said empty
+    from lusm import limits
+    from lusm.errors import LusmError
+    from lusm.options import check_steady_frequency
     from rom import table2
-    from validation import limits
-    from validation.errors import LusmError
-    from validation.options import check_steady_frequency
 
     monkeypatch.setattr(limits, "FREQUENCY_HZ", (1.0, 10.0))
     with pytest.raises(LusmError, match=r"^--frequency: no drive in \[1, 10\] Hz suits the "
@@ -224,7 +224,7 @@ def test_no_drive_frequency_the_option_takes_suits_a_stiff_stator(monkeypatch):
              f"got {bad!r}"]) for bad in ("nan", "2:0:0.1", "1e400", "0:1:nan")],
 ])
 def test_characteristic_loads_are_bounded_like_the_other_grids(loads, words, capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
                  loads]) == 2
@@ -233,7 +233,7 @@ def test_characteristic_loads_are_bounded_like_the_other_grids(loads, words, cap
 
 
 def test_simulate_steady_reports_no_run_length_it_did_not_use(capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--steady", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -252,7 +252,7 @@ def test_simulate_steady_reports_no_run_length_it_did_not_use(capsys):
 @pytest.mark.parametrize("load, way", [("1000", "backward"), ("-1000", "forward")])
 def test_a_transient_under_a_load_the_motor_cannot_hold_says_so(load, way, capsys):
     # it printed -250 m/s as the "steady velocity" without a word; the steady engine refuses
-    from validation.cli import main
+    from lusm.cli import main
 
     args = ["simulate", "--voltage", "200", "--preload", "14", "--load-N", load,
             "--duration", "0.01"]
@@ -270,7 +270,7 @@ def test_a_transient_under_a_load_the_motor_cannot_hold_says_so(load, way, capsy
 def test_a_steady_study_is_bounded_by_its_cost_at_the_drive_frequency(capsys):
     # a point costs in proportion to its steps per period: 10 000 points at 20 Hz were
     # accepted (hours); the refusal names the option and how many would fit
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["map", "--frequency", "20", "--voltages", "50:446:4",
                  "--preloads", "10:25.84:0.16"]) == 2
@@ -284,7 +284,7 @@ def test_a_steady_study_is_bounded_by_its_cost_at_the_drive_frequency(capsys):
 
 def test_the_fast_level_says_when_the_averaging_does_not_hold(capsys):
     # at 100 Hz the averaged no-load velocity is far below the slider's ripple
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--frequency",
                  "100", "--loads", "0:0.1:0.1", "--json", "--accuracy", "fast"]) == 0
@@ -296,7 +296,7 @@ def test_the_fast_level_says_when_the_averaging_does_not_hold(capsys):
 
 def test_characteristic_names_its_operating_point(capsys):
     # with --frequency auto the frequency used was nowhere in the output
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--source", "beam",
                  "--frequency", "auto", "--loads", "0:0.1:0.1", "--json"]) == 0
@@ -312,7 +312,7 @@ def test_characteristic_names_its_operating_point(capsys):
 
 def test_an_unsettled_transient_says_so(capsys):
     # 300 V / 14 N at the default 50 ms: settled False in the table and nothing on stderr
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["simulate", "--voltage", "300", "--preload", "14", "--json"]) == 0
     cap = capsys.readouterr()
@@ -328,7 +328,7 @@ def test_a_held_slider_ringing_about_rest_is_settled(capsys):
     window means are the decaying ring about rest (-2.5e-8 after -4.5e-8 m/s), which the 1 %
     rule had called "not settled, give a longer --duration". A four times longer run agrees
     that the held velocity is zero to far below the motor's speeds."""
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["simulate", "--voltage", "200", "--preload", "150", "--json"]) == 0
     cap = capsys.readouterr()
@@ -345,7 +345,7 @@ def test_a_held_slider_ringing_about_rest_is_settled(capsys):
 def test_a_nan_efficiency_is_explained(capsys):
     """A load that assists the motion (-0.2 N) has negative output power and efficiency
     NaN (contact.steady.branches.motor_efficiency); the table printed 'nan' without a word."""
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
                  "-0.2:0.2:0.2", "--accuracy", "fast"]) == 0
@@ -500,7 +500,7 @@ def test_the_tuned_stators_documented_command_shows_both_branches(capsys):
     number was in a stderr warning, to 4 figures, alone (found by exploratory testing). The
     command now shows it, and the branch from rest, to the claims' tolerance."""
     from tests.conftest import ROOT
-    from validation.doc_numbers import claims_by_key
+    from tools.doc_numbers import claims_by_key
 
     numbers = json.loads((ROOT / "docs" / "numbers.json").read_text())["numbers"]
     slip, rest = (numbers[k] for k in ("tuned60k_140V_14N_slip_m_s",

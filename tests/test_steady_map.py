@@ -40,7 +40,7 @@ def test_steady_map_reports_both_branches_at_150_V_14_N(steady_map):
 
 
 def test_map_json_keeps_its_keys_and_adds_branches(capsys):
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["map", "--voltages", "150,300", "--preloads", "14", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -56,7 +56,7 @@ def test_a_held_points_branch_speaks_the_points_vocabulary(steady_map, capsys):
     """100 V / 14 N holds the slider: the point's motion is pure-stick (as a transient's),
     and its branch had said "dead-zone" in the same JSON (found by exploratory testing); the
     branch now says pure-stick too, and ``held`` says the slider is held."""
-    from validation.cli import main
+    from lusm.cli import main
 
     i, j = 0, 1
     assert steady_map.motion[i, j] == "pure-stick"
@@ -129,7 +129,7 @@ def test_a_transient_map_says_which_points_did_not_settle(capsys):
     steady 0.116 m/s): the map flagged it only in its JSON, simulate warns of the same run."""
     import json
 
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["map", "--voltages", "0,200", "--preloads", "0,14", "--method", "transient",
                  "--json"]) == 0
@@ -144,7 +144,7 @@ def test_an_undecided_points_transient_is_said_at_its_length(capsys):
     --duration when that is longer than 0.3 s, and said "taken from 0.3 s transients"
     whatever ran. The reference: the JSON's velocity equals a 2 s transient's."""
     from contact.simulate import simulate
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["map", "--voltages", "20", "--preloads", "2", "--duration", "2"]) == 0
     assert "taken from 2 s transients" in capsys.readouterr().out
@@ -160,7 +160,7 @@ def test_map_json_lists_its_figures_as_the_other_commands_do(tmp_path, capsys):
     alone. It writes both now, "figure" kept for compatibility, and the text names the file."""
     from pathlib import Path
 
-    from validation.cli import main
+    from lusm.cli import main
 
     out = tmp_path / "maps"
     assert main(["map", "--voltages", "200", "--preloads", "14", "--plot", str(out),

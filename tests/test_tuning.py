@@ -13,7 +13,7 @@ from fem.geometry import PlateStator
 from fem.modes import plate_modes
 from fem.sweep import sweep_dimension
 from fem.tuning import tune_plate
-from validation.cli import main
+from lusm.cli import main
 
 
 @pytest.fixture(scope="module")
@@ -176,7 +176,7 @@ def test_a_held_dimension_refuses_a_target_and_bad_fixes():
 
 def test_the_parser_offers_what_the_library_holds():
     from fem.tuning import FIX_OPTIONS
-    from validation.cmd_tune import FIX_CHOICES
+    from lusm.commands.tune import FIX_CHOICES
 
     assert FIX_CHOICES == FIX_OPTIONS
 
@@ -225,7 +225,7 @@ def test_cli_fixed_length(tmp_path, capsys):
 def test_a_target_whose_plate_no_command_accepts_is_refused(capsys):
     # 1 kHz asks for a plate about 1.7 m long: tune printed it, every other command refused it
     from fem.tuning import bar_length_m
-    from validation.cli import main
+    from lusm.cli import main
 
     assert bar_length_m("pzt8", 56.18e3) == pytest.approx(0.030, rel=0.01)  # the paper's L1
     assert main(["tune", "--target-frequency", "1000"]) == 2
@@ -238,7 +238,7 @@ def test_a_sweep_says_where_l1_and_b2_were_not_found(capsys):
     # plates far shorter than wide have no L1/B2 of the paper's shape: a sweep that found
     # them nowhere exited 0 with rows of nan; one that missed some said nothing
     from fem.sweep import sweep_dimension
-    from validation.cli import main
+    from lusm.cli import main
 
     res = sweep_dimension("length", np.array([3e-3, 30e-3]))
     assert res.failures[0] and not res.failures[1]
@@ -262,7 +262,7 @@ def test_a_sweep_says_where_l1_and_b2_were_not_found(capsys):
 def test_a_sweep_checks_the_thin_plate_rule_on_its_own_plates(capsys):
     # it checked the default 7.5 mm width whatever the widths swept: 1-3 mm wide plates 3 mm
     # thick passed without a word, and 6-9 mm at 10 mm thick quoted 10 / 7.5
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["sweep", "--width-mm", "6:9:1", "--thickness-mm", "10", "--json"]) == 0
     assert "--thickness-mm 10 is 1.67 x" in capsys.readouterr().err
@@ -270,7 +270,7 @@ def test_a_sweep_checks_the_thin_plate_rule_on_its_own_plates(capsys):
 
 def test_tune_warns_once_about_the_tuned_plate(capsys):
     # each iteration's plate warned with its own thickness: three near-identical lines
-    from validation.cli import main
+    from lusm.cli import main
 
     assert main(["tune", "--fix", "width,thickness_ratio", "--json"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
@@ -526,7 +526,7 @@ def test_a_sweeps_plates_are_the_decimals_typed_as_every_command_takes_them(monk
     one ulp off is another mesh; review)."""
     import fem.sweep
     from fem.units import to_si
-    from validation.cli import main
+    from lusm.cli import main
 
     seen = {}
 

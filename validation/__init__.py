@@ -1,1 +1,1 @@
-"""Validation, reports and the ``lusm`` command line: the only package that sees all others."""
+"""Validation: the model against the paper, the side-by-side comparisons and the reports."""

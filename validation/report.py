@@ -22,7 +22,6 @@ from pathlib import Path
 import numpy as np
 
 from validation import figures
-from validation.output_set import output_set
 from validation.report_html import to_html
 from validation.summaries import signed_percent
 
@@ -63,7 +62,7 @@ class _Stage:
         self.bar = tqdm(total=total, desc=name, unit="step", disable=not enabled, leave=True)
 
     def say(self, msg: str) -> None:
-        from validation.interrupts import checkpoint
+        from lusm.interrupts import checkpoint
 
         checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: stop at the next step
         self.bar.set_postfix_str(msg[:40])
@@ -424,18 +423,11 @@ def _motor(params: dict, d2: dict, out: Path, quick: bool, progress: bool):
     return md, data
 
 
-def write_report(out_dir: Path, quick: bool = False, progress: bool = True,
-                 force: bool = False) -> dict:
-    """Write ``index.md``, ``index.html``, ``report.json`` and the figures into ``out_dir``.
-
-    The report is built aside and moved in only when complete (:mod:`validation.output_set`):
-    a failed or interrupted run leaves ``out_dir`` as it was. An earlier report in
-    ``out_dir`` is replaced file by file; a non-empty folder that is not a report is refused
-    unless ``force``, and no file the report did not write is ever deleted. Returns the JSON
-    document.
-    """
-    with output_set(Path(out_dir), "report", "--out", force) as stage:
-        return _build(stage, quick, progress)
+def write_report(out_dir: Path, quick: bool = False, progress: bool = True) -> dict:
+    """Write ``index.md``, ``index.html``, ``report.json`` and the figures into ``out_dir``,
+    an existing folder (the command builds it aside and moves it in complete,
+    :mod:`lusm.commands.report`). Returns the JSON document."""
+    return _build(Path(out_dir), quick, progress)
 
 
 def _build(out: Path, quick: bool, progress: bool) -> dict:
@@ -466,7 +458,7 @@ def write_report_files(out: Path, md: str, doc: dict, title: str) -> dict:
     text = {"encoding": "utf-8", "errors": "backslashreplace"}
     (out / "index.md").write_text(md, **text)
     (out / "index.html").write_text(to_html(md, title), **text)
-    from validation.options import json_text
+    from validation.summaries import json_text
 
     (out / "report.json").write_text(json_text(doc, indent=1), **text)  # NaN as null
     return doc

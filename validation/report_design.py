@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 
 from rom.params import PARAM_UNITS
-from validation.output_set import output_set
 from validation.summaries import damping_line, damping_summary, plate_text, signed_percent
 
 SPEED_PRELOAD_N = 14.0
@@ -58,7 +57,7 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     m3 = solid_modes(st, mat, 2, refine3, DEFAULT_LAYERS)
     say("3D modes")
     from contact.deferred_signals import deferred_signals
-    from validation.interrupts import import_held
+    from lusm.interrupts import import_held
 
     import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
     model = plate_model(st, mat, 2, DEFAULT_REFINE)
@@ -108,11 +107,11 @@ def _command_3d(stator, refine3: int, options: str) -> str:
     call" and gave a split 15 times the command's on a tuned plate) and the work bound it
     needs where the mesh is above ``lusm modes``' own (a chamfered example: 2 988 bricks).
     ``options`` are the stator options the report was given
-    (:func:`validation.options.stator_options_text`)."""
+    (:func:`lusm.options.stator_options_text`)."""
     from fem.meshing.meshed_stator import planform_mesh
     from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D
-    from validation import limits
-    from validation.options import fe_cell_count
+    from lusm import limits
+    from lusm.options import fe_cell_count
 
     cmd = _lusm("modes --model 3d", options, f"--layers {DEFAULT_LAYERS}")
     if planform_mesh(stator) is None and refine3 != DEFAULT_REFINE_3D:
@@ -128,7 +127,7 @@ def _validity_note(stator) -> tuple[str | None, list[str]]:
     its paragraph for section 1: said on stderr during the run, but the report outlives the
     run, and a designer reading it had no sign that its 2D rows were out of range."""
     from fem.model import stator_gap_validity_message
-    from validation.options import in_file_terms
+    from lusm.messages import in_file_terms
 
     validity = stator_gap_validity_message(stator)
     if validity is None:
@@ -248,33 +247,31 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, sta
 
 def write_design_report(out_dir: Path, choice, params, stator_options: str,
                         quick: bool = False,
-                        progress: bool = True, force: bool = False,
+                        progress: bool = True,
                         damping_from: str = "the parameter set") -> dict:
     """Write the report on one stator (``index.md``, ``index.html``, ``report.json``, figures).
 
     Parameters
     ----------
     out_dir : Path
-        Output folder (built aside, moved in complete; see :mod:`validation.output_set`).
-    choice : validation.options.StatorChoice
+        An existing folder (the command builds it aside and moves it in complete,
+        :mod:`lusm.commands.report`).
+    choice : lusm.options.StatorChoice
         The stator and material the user named.
     params : rom.params.MotorParams
         The FE reduction of that stator (with the stator file's motor tables, if any).
     stator_options : str
         The options that named the stator, as typed (``--geometry FILE``, ``--length-mm 60``;
-        :func:`validation.options.stator_options_text`): every command the report cites
+        :func:`lusm.options.stator_options_text`): every command the report cites
         carries them, so that it reproduces the report's numbers.
     quick : bool
         Coarser grids, same sections.
     progress : bool
         Show a progress bar on stderr.
-    force : bool
-        Write into a non-empty folder lusm did not write (nothing is deleted).
     damping_from : str
         Where the damping ratios of ``params`` came from, printed beside every speed.
     """
-    with output_set(Path(out_dir), "report", "--out", force) as stage:
-        return _build(stage, choice, params, stator_options, quick, progress, damping_from)
+    return _build(Path(out_dir), choice, params, stator_options, quick, progress, damping_from)
 
 
 def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,

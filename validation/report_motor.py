@@ -141,101 +141,27 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         ``lusm characteristic --frequency F`` for every set, which runs Table 2's). A set
         without an entry is cited with no command.
     """
-    from contact.characteristic import characteristic
-    from contact.maps import stick_slip_map
-    from contact.model import default_coupling
-    from contact.options import SimulationOptions
-    from validation.figures import stick_slip_map as map_figure
-    from validation.summaries import (
-        borrowed_damping,
-        coupling_line,
-        damping_line,
-        damping_summary,
-        table2_damping,
-    )
+    from validation.summaries import borrowed_damping, table2_damping
 
     volts = np.arange(50.0, 451.0, 200.0 if quick else 50.0)
     loads = np.arange(10.0, 27.0, 8.0 if quick else 2.0)
-    md = ["## 5. Motor characteristics", "",
-          "What each parameter set does as a motor, from the steady-state engine "
-          "(`docs/steady.md`): no transient is run except where the engine cannot decide. "
-          "Speed-thrust and efficiency at "
-          + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
-          + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic`, with the options "
-          "each set's subsection cites: the exact level, the finite-mass motor from rest. "
-          "The averaged level, `--accuracy fast`, puts the stall force where the averaged "
-          "slider stops, while the full model's still creeps forward: up to several times "
-          "lower on these sets, and a held slider where the full model creeps; the column "
-          "'creeps from' gives it, where the creep begins: between it and the stall force "
-          "the slider moves at a small fraction of its no-load speed, its velocity ripple "
-          "breaking the guide's ideal stiction; docs/steady.md); settled stick-slip maps over "
-          f"{volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: exact "
-          "level, the branch reached from rest). Efficiency is the mechanical output power "
-          "over the electrical input power (motional current times voltage). Table 2's set "
-          "runs with the paper's coupling (eta_T F_T), every other set with the "
-          "work-consistent one (-phi_B(l) F_T; `docs/contact.md` 2.3); each set's damping "
-          "and coupling are named below (the damping sets the scale of every speed).", ""]
+    md = _intro(volts, loads)
     origins = {name: (damping_from or {}).get(name) or (
         table2_damping() if name == "table2" else borrowed_damping(name)) for name in params}
     data: dict = {}
     rows = []
     for name, p in params.items():
-        f = frequencies_Hz[name]
-        t0 = time.perf_counter()
-        coupling, coupling_why = default_coupling(p)
-        # the exact level, as the command's default: the averaged one had put the FE set's
-        # stall force at 400 V at 0.476 N where the finite-mass motor holds 1.014 N, and its
-        # 200 V point held where the motor creeps
-        chars = [characteristic(p, v, CHARACTERISTIC_PRELOAD_N, frequency_Hz=f,
-                                coupling=coupling, accuracy="exact")
-                 for v in CHARACTERISTIC_VOLTAGES_V]
-        say(f"{name} characteristics")
-        fig_c = characteristic_figure(chars, out / "figures" / f"{name}_characteristic.png",
-                                      title=name)
-        m = stick_slip_map(p, volts, loads, f, SimulationOptions(coupling=coupling),
-                           progress=False, method="steady")
-        say(f"{name} map")
-        fig_m = map_figure(m, out / "figures" / f"{name}_steady_map.png",
-                           f"{name}, steady engine, {f / 1e3:.4g} kHz")
-        rows += [_row(name, c) for c in chars]
-        data[name] = {
-            "frequency_Hz": f,
-            "characteristics": {f"{c.op.voltage_V:g}": c.to_dict() for c in chars},
-            "map": {"voltages_V": volts.tolist(), "preloads_N": loads.tolist(),
-                    "motion": m.motion.tolist(), "velocity_m_s": m.velocity_m_s.tolist(),
-                    "counts": m.counts(), "undecided": int(m.fallback.sum()),
-                    "several_branches": int(sum(len(b) > 1 for b in m.branches.flat)),
-                    "wall_time_s": m.wall_time_s},
-            "figures": {"characteristic": f"figures/{fig_c.name}",
-                        "map": f"figures/{fig_m.name}"},
-            "wall_time_s": time.perf_counter() - t0,
-            "damping": damping_summary(p, origins[name]),
-            "coupling": coupling, "coupling_from": coupling_why,
-        }
+        data[name], set_rows = _set_data(name, p, frequencies_Hz[name], volts, loads, out, say,
+                                         origins[name])
+        rows += set_rows
     md += (table or (lambda h, r: []))(
         ["set", "V0 (V)", "no-load velocity (mm/s)", "stall force (N)",
          "creeps from (N)", "input power at no load (W)", "peak efficiency (%)", "at load (N)"],
         rows)
     md.append("")
     for name, d in data.items():
-        mp = d["map"]
-        md += [f"### {name} at {d['frequency_Hz'] / 1e3:.4g} kHz", "",
-               f"The {damping_line(params[name], origins[name])}; the "
-               f"{coupling_line(d['coupling'], d['coupling_from'])}.", ""]
-        if cites is not None and name in cites:
-            opts = f" {cites[name]}" if cites[name] else ""
-            md += [f"Reproduce: `lusm characteristic{opts} --voltage V0 --preload "
-                   f"{CHARACTERISTIC_PRELOAD_N:g}` (V0 = "
-                   + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
-                   + f"), `lusm map{opts} --voltages {_grid(volts)} --preloads "
-                   f"{_grid(loads)}`.", ""]
-        md += ["Map: " + ", ".join(f"{n} {c}" for c, n in mp["counts"].items() if n)
-               + f" point(s); {mp['several_branches']} point(s) with several stable "
-               f"steady states (the map shows the one reached from rest); {mp['undecided']} "
-               "point(s) the engine could not decide (creep), taken from 0.3 s transients; "
-               f"computed in {mp['wall_time_s']:.1f} s.", "",
-               f"![{name} characteristic]({d['figures']['characteristic']})",
-               f"![{name} steady map]({d['figures']['map']})", ""]
+        cite = cites.get(name) if cites is not None else None
+        md += _set_markdown(name, d, params[name], origins[name], cite, volts, loads)
     if "table2" in params:
         grid = np.arange(50.0, 451.0, 50.0 if quick else 25.0)
         fig_b = branch_diagram(params["table2"], grid, CHARACTERISTIC_PRELOAD_N,
@@ -249,3 +175,95 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         data["branch_diagram"] = {"voltages_V": grid.tolist(),
                                   "figure": f"figures/{fig_b.name}"}
     return md, data
+
+
+def _intro(volts: np.ndarray, loads: np.ndarray) -> list[str]:
+    """The section's heading and its paragraph on what is computed and how."""
+    return ["## 5. Motor characteristics", "",
+            "What each parameter set does as a motor, from the steady-state engine "
+            "(`docs/steady.md`): no transient is run except where the engine cannot decide. "
+            "Speed-thrust and efficiency at "
+            + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
+            + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic`, with the options "
+            "each set's subsection cites: the exact level, the finite-mass motor from rest. "
+            "The averaged level, `--accuracy fast`, puts the stall force where the averaged "
+            "slider stops, while the full model's still creeps forward: up to several times "
+            "lower on these sets, and a held slider where the full model creeps; the column "
+            "'creeps from' gives it, where the creep begins: between it and the stall force "
+            "the slider moves at a small fraction of its no-load speed, its velocity ripple "
+            "breaking the guide's ideal stiction; docs/steady.md); settled stick-slip maps "
+            f"over {volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: "
+            "exact level, the branch reached from rest). Efficiency is the mechanical output "
+            "power over the electrical input power (motional current times voltage). Table "
+            "2's set runs with the paper's coupling (eta_T F_T), every other set with the "
+            "work-consistent one (-phi_B(l) F_T; `docs/contact.md` 2.3); each set's damping "
+            "and coupling are named below (the damping sets the scale of every speed).", ""]
+
+
+def _set_data(name: str, p: MotorParams, f: float, volts: np.ndarray, loads: np.ndarray,
+              out: Path, say: Callable[[str], None], origin: str) -> tuple[dict, list]:
+    """One set's characteristics (exact level) and steady map, their figures, its JSON data
+    and its rows of the section's table."""
+    from contact.characteristic import characteristic
+    from contact.maps import stick_slip_map
+    from contact.model import default_coupling
+    from contact.options import SimulationOptions
+    from validation.figures import stick_slip_map as map_figure
+    from validation.summaries import damping_summary
+
+    t0 = time.perf_counter()
+    coupling, coupling_why = default_coupling(p)
+    # the exact level, as the command's default: the averaged one puts the stall force where
+    # the averaged slider stops, well below the finite-mass motor's
+    chars = [characteristic(p, v, CHARACTERISTIC_PRELOAD_N, frequency_Hz=f,
+                            coupling=coupling, accuracy="exact")
+             for v in CHARACTERISTIC_VOLTAGES_V]
+    say(f"{name} characteristics")
+    fig_c = characteristic_figure(chars, out / "figures" / f"{name}_characteristic.png",
+                                  title=name)
+    m = stick_slip_map(p, volts, loads, f, SimulationOptions(coupling=coupling),
+                       progress=False, method="steady")
+    say(f"{name} map")
+    fig_m = map_figure(m, out / "figures" / f"{name}_steady_map.png",
+                       f"{name}, steady engine, {f / 1e3:.4g} kHz")
+    data = {
+        "frequency_Hz": f,
+        "characteristics": {f"{c.op.voltage_V:g}": c.to_dict() for c in chars},
+        "map": {"voltages_V": volts.tolist(), "preloads_N": loads.tolist(),
+                "motion": m.motion.tolist(), "velocity_m_s": m.velocity_m_s.tolist(),
+                "counts": m.counts(), "undecided": int(m.fallback.sum()),
+                "several_branches": int(sum(len(b) > 1 for b in m.branches.flat)),
+                "wall_time_s": m.wall_time_s},
+        "figures": {"characteristic": f"figures/{fig_c.name}",
+                    "map": f"figures/{fig_m.name}"},
+        "wall_time_s": time.perf_counter() - t0,
+        "damping": damping_summary(p, origin),
+        "coupling": coupling, "coupling_from": coupling_why,
+    }
+    return data, [_row(name, c) for c in chars]
+
+
+def _set_markdown(name: str, d: dict, p: MotorParams, origin: str, cite: str | None,
+                  volts: np.ndarray, loads: np.ndarray) -> list[str]:
+    """One set's subsection: its damping and coupling, the commands that reproduce it
+    (``cite``: the options naming the set, None for no command), its map and figures."""
+    from validation.summaries import coupling_line, damping_line
+
+    mp = d["map"]
+    md = [f"### {name} at {d['frequency_Hz'] / 1e3:.4g} kHz", "",
+          f"The {damping_line(p, origin)}; the "
+          f"{coupling_line(d['coupling'], d['coupling_from'])}.", ""]
+    if cite is not None:
+        opts = f" {cite}" if cite else ""
+        md += [f"Reproduce: `lusm characteristic{opts} --voltage V0 --preload "
+               f"{CHARACTERISTIC_PRELOAD_N:g}` (V0 = "
+               + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
+               + f"), `lusm map{opts} --voltages {_grid(volts)} --preloads "
+               f"{_grid(loads)}`.", ""]
+    return md + ["Map: " + ", ".join(f"{n} {c}" for c, n in mp["counts"].items() if n)
+                 + f" point(s); {mp['several_branches']} point(s) with several stable "
+                 f"steady states (the map shows the one reached from rest); {mp['undecided']} "
+                 "point(s) the engine could not decide (creep), taken from 0.3 s transients; "
+                 f"computed in {mp['wall_time_s']:.1f} s.", "",
+                 f"![{name} characteristic]({d['figures']['characteristic']})",
+                 f"![{name} steady map]({d['figures']['map']})", ""]

@@ -7,9 +7,11 @@ damping ratios in use and where they came from (Table 2, a stator file's ``[damp
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import asdict
-from typing import TYPE_CHECKING
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -257,3 +259,23 @@ def motion_class(branch, velocity_m_s: float) -> str:
         return "failed"
     v = float(velocity_m_s)
     return steady_metrics(v, v, branch.phase_fraction, math.nan, math.nan, 1.0).motion
+
+
+def _finite(obj: Any) -> Any:
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v) for v in obj]
+    if hasattr(obj, "tolist") and not isinstance(obj, (str, bytes)):  # numpy scalars, arrays
+        return _finite(obj.tolist())
+    if isinstance(obj, Path):
+        return str(obj)
+    return obj
+
+
+def json_text(obj: Any, indent: int | None = None) -> str:
+    """``obj`` as valid JSON text: NaN and infinities become ``null`` (Python's ``json``
+    writes a bare ``NaN``, which no JSON reader accepts)."""
+    return json.dumps(_finite(obj), indent=indent, allow_nan=False)

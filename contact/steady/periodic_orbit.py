@@ -38,7 +38,7 @@ STEPS_PER_PERIOD = 25
 """Fixed steps per drive period (dt = T / 25 = 1e-6 s at 40 kHz; the transient default is
 1e-7 s). The kernel's propagators are exact and its events located inside a step, so the
 step only sets the error of the event location: the steady velocity at 25 steps agrees with
-the 250-step one to a few 1e-8 (``python -m validation.doc_tables --update
+the 250-step one to a few 1e-8 (``python -m tools.doc_tables --update
 steady_work_precision``, docs/steady.md)."""
 
 ENERGY_STEPS_PER_PERIOD = 250

@@ -32,7 +32,7 @@ said to be unsettled."""
 
 MAX_PRE_PASS_STEPS = 20_000_000
 """Most steps of a pre-pass at the caller's step (the CLI's bound on a run,
-``validation.limits.MAX_STEPS``); beyond, it takes :data:`PRE_PASS_STEPS_PER_PERIOD`."""
+``lusm.limits.MAX_STEPS``); beyond, it takes :data:`PRE_PASS_STEPS_PER_PERIOD`."""
 
 PRE_PASS_STEPS_PER_PERIOD = 250
 """Steps per drive period of a pre-pass too long at the caller's step (the default step's

@@ -219,7 +219,7 @@ def _segments(breaks: list[float], h_target: float) -> np.ndarray:
 
 MAX_LIBRARY_CELLS_2D = 200_000
 """Elements of a generated 2D mesh a library call builds (ten times the CLI's bound,
-``validation.limits.MAX_FE_CELLS_2D``; ``LUSM_MAX_WORK`` multiplies it):
+``lusm.limits.MAX_FE_CELLS_2D``; ``LUSM_MAX_WORK`` multiplies it):
 ``plate_modes(refine=10000)`` would run out of memory."""
 MAX_LIBRARY_BRICKS_3D = 20_000
 """Bricks of a generated 3D mesh a library call builds (ten times the CLI's bound)."""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from validation.options import SOURCES, add_output_options, add_plate_options, print_json
+from lusm.options import SOURCES, add_output_options, add_plate_options, print_json
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -25,7 +25,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Build the parameter set of ``args.source`` and print it."""
-    from validation.options import motor_params_of
+    from lusm.options import motor_params_of
 
     params, damping_from = motor_params_of(args, args.source)
     from rom.params import PARAM_UNITS

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation.errors import LusmError
-from validation.options import SOURCES, add_plate_options, motor_params_of, plate_given, print_json
+from lusm.errors import LusmError
+from lusm.options import SOURCES, add_plate_options, motor_params_of, plate_given, print_json
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> None:
         if "beam" in args.sources:
             # the beam column follows the plate too (it stayed the paper's 30 x 7.5 x 3 mm,
             # so --length-mm changed one column of two)
-            from validation.options import beam_of_plate
+            from lusm.options import beam_of_plate
 
             given["beam"] = beam_of_plate(args)
     cmp = compare_sources(args.sources, reference=args.reference, given=given)

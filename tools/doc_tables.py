@@ -11,14 +11,14 @@ invisible markers::
 
     <!--/table-->
 
-:data:`TABLES` names the command of each block. ``python -m validation.doc_tables --update
+:data:`TABLES` names the command of each block. ``python -m tools.doc_tables --update
 KEY`` runs it (in a fresh interpreter, from the project root) and stores its output, the date,
 the machine and the command in ``docs/tables.json``; ``--fill`` pastes the stored output into
 the blocks. ``tests/test_doc_tables.py`` checks that every block is byte for byte the stored
 output of a known table and that every table is quoted; the number lint of
 ``tests/test_docs_numbers.py`` skips the blocks, whose numbers are the command's. Timings in
 a generated table are ratios measured in the same run (never bare seconds), as for the
-claims of :mod:`validation.doc_numbers`. Most commands are benchmarks (minutes), which the
+claims of :mod:`tools.doc_numbers`. Most commands are benchmarks (minutes), which the
 tests do not rerun; the ``cheap`` ones (seconds, no timings) are rerun and compared. A reader
 reruns the command printed above each block.
 """
@@ -36,7 +36,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from validation.doc_numbers import DOC_FILES, ROOT, machine
+from tools.doc_numbers import DOC_FILES, ROOT, machine
 
 TABLES_JSON = ROOT / "docs" / "tables.json"
 """Where the stored outputs live (in a source checkout)."""
@@ -72,7 +72,7 @@ class Table:
     @property
     def command(self) -> str:
         """The command a reader runs to see the table (``lusm ...`` for the CLI)."""
-        if self.argv[:2] == ("-m", "validation.cli"):
+        if self.argv[:2] == ("-m", "lusm.cli"):
             return "lusm " + " ".join(self.argv[2:])
         return "python " + " ".join(self.argv)
 
@@ -80,18 +80,18 @@ class Table:
 TABLES: tuple[Table, ...] = (
     Table("fe2d_convergence", ("benchmarks/fem_convergence.py", "--markdown")),
     Table("fe_vs_paper", ("benchmarks/fem_vs_paper.py",), cheap=True),
-    Table("tune_40k_2d", ("-m", "validation.cli", "tune", "--target-frequency", "40e3"),
+    Table("tune_40k_2d", ("-m", "lusm.cli", "tune", "--target-frequency", "40e3"),
           cheap=True, fence=True),
-    Table("tune_40k_3d", ("-m", "validation.cli", "tune", "--target-frequency", "40e3",
+    Table("tune_40k_3d", ("-m", "lusm.cli", "tune", "--target-frequency", "40e3",
                           "--model", "3d"), fence=True),
-    Table("tune_tip_3d", ("-m", "validation.cli", "tune", "--geometry",
+    Table("tune_tip_3d", ("-m", "lusm.cli", "tune", "--geometry",
                           "examples/tip_parametric/stator.toml", "--fix", "length", "--model",
                           "3d"), fence=True),
-    Table("sweep_width", ("-m", "validation.cli", "sweep", "--width-mm", "6:10:0.25", "--out",
+    Table("sweep_width", ("-m", "lusm.cli", "sweep", "--width-mm", "6:10:0.25", "--out",
                           "out"), cheap=True, fence=True),
-    Table("admittance_light", ("-m", "validation.cli", "admittance", "--zeta", "0.002",
+    Table("admittance_light", ("-m", "lusm.cli", "admittance", "--zeta", "0.002",
                                "--out", "out"), cheap=True, fence=True),
-    Table("admittance_paper", ("-m", "validation.cli", "admittance", "--out", "out"),
+    Table("admittance_paper", ("-m", "lusm.cli", "admittance", "--out", "out"),
           cheap=True, fence=True),
     Table("fe_fidelity_uniform", ("benchmarks/fem_fidelity.py", "--gaps-mm", "0.02", "0.1",
                                   "0.25", "0.5", "1", "2", "--meshes", "3x3", "4x4")),
@@ -176,8 +176,8 @@ def fill(stored: dict, root: Path = ROOT) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m validation.doc_tables [--update PATTERN ...] [--fill] [--list]``."""
-    ap = argparse.ArgumentParser(prog="python -m validation.doc_tables",
+    """``python -m tools.doc_tables [--update PATTERN ...] [--fill] [--list]``."""
+    ap = argparse.ArgumentParser(prog="python -m tools.doc_tables",
                                  description=__doc__.splitlines()[0])
     ap.add_argument("--update", nargs="+", metavar="PATTERN",
                     help="rerun the tables matching these keys or glob patterns and store "
@@ -187,7 +187,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--list", action="store_true", help="print each table and its command")
     args = ap.parse_args(argv)
     stored = (json.loads(TABLES_JSON.read_text()) if TABLES_JSON.exists()
-              else {"generated_by": "python -m validation.doc_tables", "tables": {}})
+              else {"generated_by": "python -m tools.doc_tables", "tables": {}})
     if args.list:
         for t in TABLES:
             entry = stored["tables"].get(t.key, {})

@@ -1,6 +1,6 @@
 """Design-space exploration on dask.distributed: one task per geometry, labelled results.
 
-A :class:`validation.study.Study` spans geometry axes (length, width, thickness, gap,
+A :class:`studies.study.Study` spans geometry axes (length, width, thickness, gap,
 material) and drive axes (frequency, voltage, preload, load). :func:`explore` submits one
 task per geometry to a dask cluster (a :class:`distributed.LocalCluster` of processes by
 default, or any running scheduler); each task (:func:`compute_geometry`) runs the 2D FE
@@ -43,10 +43,10 @@ from typing import Any
 
 import numpy as np
 
-from validation.interrupts import checkpoint, quiet_logs_after_signal
-from validation.output_set import backup_name
-from validation.staging import lock_held, staging
-from validation.study import (
+from lusm.interrupts import checkpoint, quiet_logs_after_signal
+from lusm.output_set import backup_name
+from lusm.staging import lock_held, staging
+from studies.study import (
     AXIS_KIND,
     DRIVE_AXES,
     FEATURE_FIELDS,
@@ -340,7 +340,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
             stage = "drive frequency"
             out["f_drive"] = np.array(auto_frequency(params))
     except (ValueError, RuntimeError, ArithmeticError) as exc:  # failure of this plate
-        from validation.errors import short_reason  # a list of 32 frequencies: its range
+        from lusm.errors import short_reason  # a list of 32 frequencies: its range
 
         out["status"] = np.array(short_reason(f"{stage}: {type(exc).__name__}: {exc}")[:300])
         if study.needs_motor:  # every drive point of the plate failed with it (it read '')
@@ -390,11 +390,11 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
 
 def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
     """Why no drive point of this plate can run at ``frequency_Hz`` (Hz), in the study's keys
-    and units, or None: a transient's step and length (:func:`validation.study.
+    and units, or None: a transient's step and length (:func:`studies.study.
     transient_problem`, as ``lusm simulate`` checks them), or a frequency too far below the
     plate's fastest mode for the steady engine (as ``lusm characteristic`` checks it; that
     mode is the FE set's, so it is known only here)."""
-    from validation.study import transient_problem
+    from studies.study import transient_problem
 
     at = _frequency_named(study, frequency_Hz) + (" of this plate" if study.auto_frequency
                                                  else "")
@@ -417,7 +417,7 @@ def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
 
 def _frequency_named(study: Study, frequency_Hz: float) -> str:
     """A drive frequency (Hz) in the study's terms: its axis value, or the auto rule's."""
-    from validation.study import show
+    from studies.study import show
 
     shown = show(frequency_Hz, "frequency")
     return (f"the auto drive frequency {shown}" if study.auto_frequency
@@ -426,12 +426,12 @@ def _frequency_named(study: Study, frequency_Hz: float) -> str:
 
 def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     """Why this plate's drive points at ``freqs`` (Hz) are more contact work than the study
-    may have, or None: the study's bound (:func:`validation.study.contact_work_problem`) with
+    may have, or None: the study's bound (:func:`studies.study.contact_work_problem`) with
     every geometry taken as costly as this one. What the study's reading could not know: the
     steady engine's steps per drive period on this plate's FE set
     (:func:`contact.steady.slow.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
     plate at fe_refine 1), and a transient's default step at an auto frequency."""
-    from validation.study import contact_work_problem, steady_solves
+    from studies.study import contact_work_problem, steady_solves
 
     if not freqs:
         return None
@@ -472,14 +472,14 @@ def _empty_outputs(study: Study) -> dict[str, np.ndarray]:
 
 @lru_cache(maxsize=1)
 def code_digest() -> str:
-    """SHA-256 of this process's lusm source (the .py files of fem, rom, contact and
-    validation, by relative path): what a resumed run and every worker must share. The
+    """SHA-256 of this process's lusm source (the .py files of its packages,
+    by relative path): what a resumed run and every worker must share. The
     version number alone let a resumed run mix parts computed before an upgrade (or an edit
     of an editable checkout) into a dataset labelled with the new version."""
     import importlib
 
     h = hashlib.sha256()
-    for name in ("fem", "rom", "contact", "validation"):
+    for name in ("fem", "rom", "contact", "validation", "studies", "lusm"):
         root = Path(importlib.import_module(name).__file__).parent
         for f in sorted(root.rglob("*.py")):
             h.update(f"{name}/{f.relative_to(root).as_posix()}\0".encode())
@@ -792,7 +792,7 @@ def assemble(study: Study, parts: dict[int, dict[str, np.ndarray]]):
             f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
             + (f"dt_s={s.dt_s:g}" if s.dt_s is not None else
                "dt_s=the largest step up to 1e-07 s dividing the drive period "
-               "(validation.options.time_step_s, as lusm simulate)")
+               "(lusm.options.time_step_s, as lusm simulate)")
             + ", from rest (a point that did not settle is named in status); "
             "stall_force, peak_efficiency and loaded velocity need method = \"steady\" (NaN)"),
         "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
@@ -1410,7 +1410,7 @@ def _refuse_if_nothing_computed(study: Study, parts: dict[int, dict], folder: Pa
     """Refuse to write a dataset of NaN: when no geometry computed fully, the parts (each
     with its reason in ``status``) stay in ``folder`` and nothing is written to ``--out`` (a
     dataset of NaN there made the corrected rerun refuse the existing file)."""
-    from validation.errors import short_reason
+    from lusm.errors import short_reason
 
     status = [str(parts[i]["status"]) for i in sorted(parts)]
     if not status or any(computed_fully(x) for x in status):

@@ -7,7 +7,7 @@ import argparse
 import os
 from pathlib import Path
 
-from validation.options import add_plate_options
+from lusm.options import add_plate_options
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -34,8 +34,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Write the report and print where it is."""
-    from validation.errors import LusmError
-    from validation.options import output_folder
+    from lusm.errors import LusmError
+    from lusm.options import output_folder
 
     out = output_folder(args, "report", "--out")  # refused before any work
     try:
@@ -52,26 +52,27 @@ def run(args: argparse.Namespace) -> None:
 
 
 def _write(args: argparse.Namespace, out: Path) -> dict:
-    """The plate's design report (a stator named) or the paper's report, into ``out``."""
-    from validation.options import (
+    """The plate's design report (a stator named) or the paper's report, built aside and
+    moved into ``out`` complete (a failure or Ctrl-C leaves ``out`` as it was)."""
+    from lusm.options import (
         motor_params_of,
         plate_given,
         stator_from_args,
         stator_options_text,
     )
+    from lusm.output_set import output_set
 
+    progress = not args.no_progress
     if args.geometry or plate_given(args):
         from validation.report_design import write_design_report
 
         choice = stator_from_args(args)
         params, damping_from = motor_params_of(args, "fem")
-        doc = write_design_report(out, choice, params, stator_options_text(args),
-                                  quick=args.quick,
-                                  progress=not args.no_progress, force=args.force,
-                                  damping_from=damping_from)
-    else:
-        from validation.report import write_report
+        with output_set(out, "report", "--out", args.force) as stage:
+            return write_design_report(stage, choice, params, stator_options_text(args),
+                                       quick=args.quick, progress=progress,
+                                       damping_from=damping_from)
+    from validation.report import write_report
 
-        doc = write_report(out, quick=args.quick, progress=not args.no_progress,
-                           force=args.force)
-    return doc
+    with output_set(out, "report", "--out", args.force) as stage:
+        return write_report(stage, quick=args.quick, progress=progress)

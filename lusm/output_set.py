@@ -29,7 +29,7 @@ A failure or interruption at any point before the move leaves ``DIR`` exactly as
 the staging folder is removed.
 
 A run killed outright (``SIGKILL``, a power cut) cannot remove its staging folder; the next
-run writing the same target deals with it (:mod:`validation.staging`).
+run writing the same target deals with it (:mod:`lusm.staging`).
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from validation.staging import staging, staging_name
+from lusm.staging import staging, staging_name
 
 MARKER = ".lusm-output.json"
 """File name of the marker that lists what lusm wrote into a folder."""
@@ -272,7 +272,7 @@ def output_set(target: Path, kind: str, option: str = "--out",
         if not parent.exists():
             created.append(parent)
     def refuse(exc: OSError) -> Exception:  # the user's folder and option, not the stage's
-        from validation.errors import LusmError
+        from lusm.errors import LusmError
 
         return LusmError(f"{option} {target}: cannot write there ({exc.strerror or exc})",
                          option)
@@ -293,7 +293,7 @@ def output_set(target: Path, kind: str, option: str = "--out",
 
 
 def _commit(stage: Path, target: Path, kind: str, force: bool, option: str = "--out") -> None:
-    from validation.interrupts import checkpoint
+    from lusm.interrupts import checkpoint
 
     checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
     new_files = _files_below(stage)

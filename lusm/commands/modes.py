@@ -10,9 +10,10 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
-from validation.errors import short_reason
-from validation.options import add_output_options, add_plate_options, integer, print_json
+from lusm import limits
+from lusm.errors import short_reason
+from lusm.fe_errors import fe_failure, is_fe_failure
+from lusm.options import add_output_options, add_plate_options, integer, print_json
 
 
 def register(subparsers) -> None:
@@ -54,7 +55,7 @@ def _split(res) -> float:
 
 
 def add_fe_options(p: argparse.ArgumentParser, three_d: bool = False) -> None:
-    """``--order`` and ``--refine`` (bounded, see :mod:`validation.limits`); ``three_d``: the
+    """``--order`` and ``--refine`` (bounded, see :mod:`lusm.limits`); ``three_d``: the
     command also has ``--model 3d``, whose default refine the help names too."""
     p.add_argument("--order", type=int, choices=(1, 2), default=2,
                    help="element order (default 2; 1 locks in bending: B2 several %% high)")
@@ -75,7 +76,7 @@ def warn_linear_elements(args: argparse.Namespace) -> None:
     more in 3D, where L1 and B2 can swap), and a tuned plate with it; the command said
     nothing (``--help`` only said "element order")."""
     if getattr(args, "order", None) == 1:
-        from validation.options import warn
+        from lusm.messages import warn
 
         warn("--order 1: linear elements lock in bending, so B2 comes out several per cent "
              "too stiff on the default mesh (3.3 % on the paper's plate, docs/fem.md §6) and "
@@ -84,7 +85,7 @@ def warn_linear_elements(args: argparse.Namespace) -> None:
 
 def check_refine_3d(refine: int | None) -> None:
     """The 3D model's tighter bound on ``--refine``."""
-    from validation.errors import LusmError
+    from lusm.errors import LusmError
 
     top = limits.work_bound(limits.MAX_REFINE_3D)
     if refine is not None and refine > top:
@@ -92,107 +93,10 @@ def check_refine_3d(refine: int | None) -> None:
                         f"{refine} ({limits.more_work_hint()})", "--refine")
 
 
-def is_fe_failure(exc: BaseException) -> bool:
-    """A solver failure an extreme stator can cause (not a bug): the mode solver's or SuperLU's
-    ``RuntimeError``, or scikit-fem's point search giving up (a bare ``Exception``)."""
-    return isinstance(exc, RuntimeError) or (
-        type(exc) is Exception and "Newton iteration didn't converge" in str(exc))
-
-
-def _slender_clause(stator) -> str | None:
-    """Why a slender plate's solve may have missed B2, or None: beam theory's count of the
-    modes nearer L1 than B2 (:func:`fem.modes.modes_nearer_than_b2`) within one of the most
-    the solver searches (the count is the FE spectrum's or one low; a plate beyond the bound is
-    refused before its solve, :func:`fem.modes.check_b2_in_reach`). ``stator``: anything with
-    ``length_m`` and ``width_m``, or None.
-
-    A fixed length / width of 17 had stood for this: plates of 30 to 300 x 1 mm solve and
-    give their pair, and one of them failing for another reason would have been told that
-    its B2 lay beyond the modes solved."""
-    from fem.beam_shapes import bending_over_rod_frequency
-    from fem.meshing.meshed_stator import overall_length_m
-    from fem.modes import N_MODES, SEARCH_GROWTH, modes_nearer_than_b2
-
-    width = getattr(stator, "width_m", None)
-    if not (getattr(stator, "length_m", None) and width):
-        return None
-    length = overall_length_m(stator)
-    if length <= width:  # not a beam along its length: the generic message says why
-        return None
-    searched = SEARCH_GROWTH[-1] * N_MODES
-    nearer = modes_nearer_than_b2(length / width)
-    if nearer < searched - 1:
-        return None
-    ratio = 1.0 / bending_over_rod_frequency(2, length / width)
-    return (f"a {length * 1e3:g} x {width * 1e3:g} mm plate is {length / width:.4g} times "
-            f"longer than wide, and free-free beam theory puts its B2 near 1/{ratio:.3g} of "
-            f"L1's frequency, with about {nearer} in-plane modes nearer L1 than B2, at the "
-            f"edge of the {searched} modes the solver searches near L1: an L1/B2 motor needs "
-            "the two close (the paper's 30 x 7.5 mm plate has them about 1 % apart), a width "
-            "of about a quarter of the length")
-
-
-def _thick_clause(stator) -> str | None:
-    """Why a thick plate may have no L1/B2 pair, or None: thickness over the smaller in-plane
-    dimension beyond :data:`validation.options.MEASURED_THICK_RATIO`, the largest at which the
-    2D model was measured against 3D (below it, 0.6 % off at most: a failure there has another
-    cause, and the thin-plate warning has said the rest). ``stator``: anything with
-    ``length_m``, ``width_m`` and ``thickness_m``, or None."""
-    from validation import limits
-    from validation.options import MEASURED_THICK_RATIO
-
-    dims = [getattr(stator, k, None) for k in ("length_m", "width_m", "thickness_m")]
-    if not all(dims):
-        return None
-    inplane, thickness = min(dims[0], dims[1]), dims[2]
-    if thickness / inplane <= MEASURED_THICK_RATIO:
-        return None
-    return (f"a {thickness * 1e3:g} mm thick plate is {thickness / inplane:.3g} x its smaller "
-            f"in-plane dimension ({inplane * 1e3:g} mm), beyond the thin plate "
-            f"(below {limits.PLANE_STRESS_RATIO:g} x) whose in-plane L1 and B2 the 2D model "
-            "identifies")
-
-
-def fe_failure(exc: Exception, stator=None) -> ValueError:
-    """A mode-solver or sparse-solver failure on an extreme plate, as bad input (``stator``,
-    when given, lets a slender plate's message say why B2 is missing)."""
-    from fem.modes import SlenderPlateError, WidePlateError
-
-    if isinstance(exc, SlenderPlateError | WidePlateError):  # refused before its solve
-        from validation.options import plate_refusal
-
-        return plate_refusal(exc)
-    reason = short_reason(exc)
-    # mode-shape tests, which no --refine changes (pairing an off-centre hole's open-circuit
-    # L1 with its short-circuit shape failed as "check ... and --refine")
-    slender = _slender_clause(stator)
-    if slender and ("could not identify" in reason or "could not pair" in reason):
-        # a 1000 x 1 mm plate was told "wider than about half its length"
-        return ValueError(f"L1 and B2 were not found for this stator ({reason}): {slender}; "
-                          "check the plate (--geometry or --length-mm, --width-mm)")
-    thick = _thick_clause(stator)
-    if thick and ("could not identify" in reason or "could not pair" in reason):
-        # a 30 x 7.5 x 39 mm plate had been told to check its length and width only
-        return ValueError(f"L1 and B2 were not found for this stator ({reason}): {thick}; "
-                          "check the plate (--geometry or --thickness-mm, --length-mm, "
-                          "--width-mm)")
-    if "could not identify" in reason or "could not pair" in reason:
-        return ValueError(
-            f"L1 and B2 were not found for this stator ({reason}): they are identified as the "
-            "free-free beam modes of Eq. 3, which a plate wider than about half its length "
-            "(30 x 16 mm is the widest paper-length plate that passes) or with a large "
-            "feature does not have, and which a feature off the centre line (a hole, a tip) "
-            "mixes into one another where their frequencies cross; check the plate "
-            "(--geometry or --length-mm, --width-mm), or keep such features symmetric")
-    return ValueError(f"the FE solve failed for this stator ({reason}); check the "
-                      "plate (--geometry or --length-mm, --width-mm, --thickness-mm, --gap-mm) "
-                      "and --refine")
-
-
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm modes`` with parsed ``args``."""
-    from validation.errors import LusmError
-    from validation.options import check_fe_size, stator_from_args
+    from lusm.errors import LusmError
+    from lusm.options import check_fe_size, stator_from_args
 
     warn_linear_elements(args)
     choice = stator_from_args(args)
@@ -216,7 +120,7 @@ def run(args: argparse.Namespace) -> None:
         # the quarter-plate model gives the full model's results at about a quarter of the
         # size; the export writes the full model's mesh
         quarter = export is None and quarter_model_applies(stator, args.edge_grading)
-        from validation.options import typed
+        from lusm.messages import typed
 
         # blame what the user typed: "--refine: ... needs 2106 bricks" after --layers 8 read
         # as if --refine had been given
@@ -244,7 +148,7 @@ def run(args: argparse.Namespace) -> None:
         if ratio > NARROW_GAP_RATIO:
             from fem.meshing.meshed_stator import planform_mesh
             from fem.solid3d.model import planform_gap_m, planform_gap_ratios
-            from validation.options import warn
+            from lusm.messages import warn
 
             pf = planform_mesh(stator)
             gap_mm = (stator.electrode_gap_m if pf is None else planform_gap_m(pf)) * 1e3
@@ -298,7 +202,7 @@ def run(args: argparse.Namespace) -> None:
     L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
     mounts = _mount_amplitudes(choice, material, args, refine, res)
     if validity is not None:
-        from validation.options import warn
+        from lusm.messages import warn
 
         warn(validity)  # "lusm modes: warning: ...", as every command's
     if args.json:
@@ -409,12 +313,12 @@ def _export_target(text: str, force: bool):
     import os
     from pathlib import Path
 
-    from validation.errors import LusmError
+    from lusm.errors import LusmError
 
     if not text.strip():
         raise LusmError("--export must name a file, got ''", "--export")
     path = Path(text)
-    from validation.options import check_path_usable
+    from lusm.options import check_path_usable
 
     check_path_usable(path, "--export")
     # a trailing separator names a folder (Path drops it: dd.vtu/ had been written as the
@@ -486,8 +390,8 @@ def _graded_work_clause(stator, refine, layers, quarter_allowed: bool) -> str:
     testing). Counted on the model the graded run would use (the quarter plate where it
     applies, as :func:`run` decides)."""
     from fem.solid3d.symmetric import quarter_model_applies
-    from validation import limits
-    from validation.options import fe_cell_count
+    from lusm import limits
+    from lusm.options import fe_cell_count
 
     quarter = quarter_allowed and quarter_model_applies(stator, 1)
     try:
@@ -563,10 +467,10 @@ def _write_export(path, model, res, force: bool, writer) -> None:
     in only when all are written."""
     import os
 
-    from validation.errors import LusmError
-    from validation.interrupts import checkpoint
-    from validation.output_set import keep_aside
-    from validation.staging import staging
+    from lusm.errors import LusmError
+    from lusm.interrupts import checkpoint
+    from lusm.output_set import keep_aside
+    from lusm.staging import staging
 
     def refuse(exc: OSError) -> LusmError:
         # a read-only folder: name the user's file, not the staging folder's random name

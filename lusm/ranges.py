@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from validation.limits import MAX_GRID_POINTS, more_work_hint, work_bound
+from lusm.limits import MAX_GRID_POINTS, more_work_hint, work_bound
 
 MAX_POINTS = MAX_GRID_POINTS
 """Largest grid a command accepts (times ``LUSM_MAX_WORK``)."""

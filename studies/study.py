@@ -65,7 +65,7 @@ from pathlib import Path
 from typing import Any
 
 from fem.units import exact_si, nearest_float
-from validation import limits
+from lusm import limits
 
 GEOMETRY_AXES = ("length", "width", "thickness", "gap", "material")
 """Axes that change the stator (one FE solve per combination), in dimension order."""
@@ -132,7 +132,7 @@ SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": FE_REFINE_DEFAULT
                                    "rest": "probe"}
 """Solver settings when the study gives none: those of the single-point commands. A
 transient runs ``lusm simulate``'s 50 ms, and without ``dt`` its step is simulate's rule
-(:func:`validation.options.time_step_s`: the largest step up to 100 ns that divides the drive
+(:func:`lusm.options.time_step_s`: the largest step up to 100 ns that divides the drive
 period); the study had run 5 ms at exactly 100 ns."""
 
 MAX_GEOMETRIES = 100_000
@@ -140,7 +140,7 @@ MAX_GEOMETRIES = 100_000
 MAX_STUDY_FE_WORK = 10_000_000
 """2D elements x FE solves of one study, each plate counted at the study's largest mesh
 (multiplied by ``LUSM_MAX_WORK``): a hundred times a sweep's bound
-(:data:`validation.limits.MAX_FE_WORK_2D`), as a study runs on a cluster: 100 000 default
+(:data:`lusm.limits.MAX_FE_WORK_2D`), as a study runs on a cluster: 100 000 default
 plates (85 elements each) or 1 000 at ``fe_refine = 48``. The geometry count alone had let
 100 000 plates at ``fe_refine = 48`` start (days of work; the client was at 3.3 GB after a
 minute)."""
@@ -210,8 +210,8 @@ class Solver:
     def step_s(self, frequency_Hz: float) -> float:
         """The time step (s) of a transient at ``frequency_Hz`` (Hz): ``dt_s`` as the study
         gives it, else the largest step up to 100 ns that makes the drive period a whole
-        number of steps (:func:`validation.options.time_step_s`, as ``lusm simulate``)."""
-        from validation.options import time_step_s
+        number of steps (:func:`lusm.options.time_step_s`, as ``lusm simulate``)."""
+        from lusm.options import time_step_s
 
         return time_step_s(self.dt_s, frequency_Hz)
 
@@ -358,11 +358,11 @@ def _axis_values(name: str, raw: Any, key: str) -> tuple:
         items = raw if isinstance(raw, list) else [raw]
         if not items:
             raise ValueError(f"{key} is an empty list; name at least one material")
-        from validation.options import MATERIALS
+        from fem.material import MATERIAL_NAMES
 
         for m in items:
-            if not isinstance(m, str) or m.strip().lower().replace("-", "") not in MATERIALS:
-                raise ValueError(f"{key} must name materials among {', '.join(MATERIALS)}, "
+            if not isinstance(m, str) or m.strip().lower().replace("-", "") not in MATERIAL_NAMES:
+                raise ValueError(f"{key} must name materials among {', '.join(MATERIAL_NAMES)}, "
                                  f"got {m!r}")
         out = tuple(m.strip().lower().replace("-", "") for m in items)
     elif name == "frequency" and isinstance(raw, str) and raw.strip().lower() == "auto":
@@ -522,83 +522,16 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     if unknown:
         raise ValueError(f"{where}{unknown[0]} is not a study section; use study, axes, "
                          "outputs and solver")
-    meta = doc.get("study", {})
-    if not isinstance(meta, dict):  # `study = "x"` said "study.study is not a study key"
-        raise ValueError(f"{where}study must be a table ([study] with name = \"...\"), got "
-                         f"{meta!r}")
-    if sorted(set(meta) - {"name", "stator"}):
-        bad = sorted(set(meta) - {"name", "stator"})
-        raise ValueError(f"{where}study.{bad[0]} is not a study key; use name or stator")
-    if "name" in meta and not (isinstance(meta["name"], str) and meta["name"].strip()):
-        raise ValueError(f"{where}study.name must be a non-empty string, got {meta['name']!r}")
-    name = str(meta.get("name", Path(source).stem if source != "<dict>" else "study"))
+    name, meta = _study_table(doc.get("study", {}), source, where)
     raw_axes = doc.get("axes", {})
     if not isinstance(raw_axes, dict):
         raise ValueError(f"{where}axes must be a table of axes")
-    allowed = GEOMETRY_AXES + DRIVE_AXES + FEATURE_AXES
-    for k in raw_axes:
-        if k not in allowed:
-            hint = ""
-            m = re.match(r"^(\w+?)_(mm|m|um|hz|khz|v|n)$", k, re.IGNORECASE)
-            if m and m.group(1) in allowed:
-                hint = f" (write '{m.group(1)} = \"30 {m.group(2)}\"': units go with values)"
-            raise ValueError(f"{where}axes.{k} is not an axis; use one of "
-                             f"{', '.join(allowed)}{hint}")
+    _check_axis_names(raw_axes, where)
     design, stamp = (None, None) if "stator" not in meta else _stator(meta["stator"], source,
                                                                        where)
-    features = [a for a in FEATURE_AXES if a in raw_axes]
-    if features and not _parametric(design):
-        raise ValueError(f"{where}axes.{features[0]} varies a parametric stator's feature: it "
-                         "needs study.stator naming a stator file with [tip], [chamfers] or "
-                         "[[holes]] (docs/designer.md)")
-    tip = [a for a in ("tip_length", "tip_width") if a in features]
-    if len(tip) == 1 and not design.stator.tip_length_m > 0.0:
-        other = "tip_width" if tip[0] == "tip_length" else "tip_length"
-        raise ValueError(f"{where}axes.{tip[0]} needs a tip {other.split('_')[1]} too: the "
-                         f"stator file {design.path} has no [tip]; give axes.{other} as well")
-    if design is not None:
-        _check_stator_axes(design, raw_axes, where)
-    # an axis the study does not name: the stator file's plate, else the paper's
-    own = {} if design is None else _stator_values(design)
-    axes = {a: own[a] if a in own and a not in raw_axes
-            else _axis_values(a, raw_axes.get(a, DEFAULT_AXES.get(a)), f"{where}axes.{a}")
-            for a in allowed if a not in FEATURE_AXES or a in raw_axes}
-    for g in axes["gap"]:
-        smallest = min(min(axes["length"]), min(axes["width"]))
-        if g >= smallest:
-            gap = (f"study.stator {design.path}'s [electrodes] gap_mm"
-                   if design is not None and "gap" not in raw_axes else "axes.gap")
-            raise ValueError(f"{where}{gap} {g * 1e3:g} mm must be below every length and "
-                             f"width of the study (smallest {smallest * 1e3:g} mm)")
-    outputs = doc.get("outputs", list(OUTPUTS))
-    if not isinstance(outputs, list) or not outputs:
-        raise ValueError(f"{where}outputs must be a non-empty list among {', '.join(OUTPUTS)}")
-    for i, o in enumerate(outputs):
-        if o not in OUTPUTS:
-            raise ValueError(f"{where}outputs[{i}] {o!r} does not exist; use "
-                             f"{', '.join(OUTPUTS)}")
-        if o in outputs[:i]:  # as a repeated axis value is: a typo, most likely
-            raise ValueError(f"{where}outputs[{i}] {o!r} is listed twice")
-    outputs = tuple(o for o in OUTPUTS if o in outputs)
-    motor = [o for o in outputs if o not in FE_OUTPUTS]
-    if motor and design is not None and "gap" not in raw_axes and 0.0 in axes["gap"]:
-        raise ValueError(f"{where}study.stator {design.path}: its [electrodes] gap_mm 0 makes "
-                         "the four electrodes one conductor, which the motor outputs "
-                         f"({', '.join(motor)}) would drive as a short circuit; give the file "
-                         "a gap of at least 0.001 mm, or ask for FE outputs only")
-    if motor and design is not None:
-        from rom.from_fem import design_base
-
-        try:  # its motor tables against Table 2's other constants, before any FE solve
-            design_base(design)
-        except ValueError as exc:
-            raise ValueError(f"{where}study.stator {str(exc).splitlines()[0]}") from None
-    if motor and 0.0 in axes["gap"]:
-        # one conductor cannot be driven at V on 1, 4 and grounded on 2, 3 (fem.model
-        # ShortedDriveError): refused here, not once per geometry after its FE solve
-        raise ValueError(f"{where}axes.gap 0 mm makes the four electrodes one conductor, "
-                         f"which the motor outputs ({', '.join(motor)}) would drive as a short "
-                         "circuit; give a gap of at least 0.001 mm, or ask for FE outputs only")
+    axes = _axes(raw_axes, design, where)
+    outputs = _outputs(doc.get("outputs", list(OUTPUTS)), where)
+    _check_motor_drivable(outputs, axes, raw_axes, design, where)
     raw_solver = doc.get("solver", {})
     if not isinstance(raw_solver, dict):
         raise ValueError(f"{where}solver must be a table")
@@ -627,6 +560,103 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     return Study(name, axes, outputs, solver, source, text, design)
 
 
+def _study_table(meta: Any, source: str, where: str) -> tuple[str, dict]:
+    """The study's name and its ``[study]`` table, checked."""
+    if not isinstance(meta, dict):  # `study = "x"` is not a table
+        raise ValueError(f"{where}study must be a table ([study] with name = \"...\"), got "
+                         f"{meta!r}")
+    if sorted(set(meta) - {"name", "stator"}):
+        bad = sorted(set(meta) - {"name", "stator"})
+        raise ValueError(f"{where}study.{bad[0]} is not a study key; use name or stator")
+    if "name" in meta and not (isinstance(meta["name"], str) and meta["name"].strip()):
+        raise ValueError(f"{where}study.name must be a non-empty string, got {meta['name']!r}")
+    return str(meta.get("name", Path(source).stem if source != "<dict>" else "study")), meta
+
+
+def _check_axis_names(raw_axes: dict, where: str) -> None:
+    """Refuse an axis that does not exist, with the unit-free name where one was meant."""
+    allowed = GEOMETRY_AXES + DRIVE_AXES + FEATURE_AXES
+    for k in raw_axes:
+        if k not in allowed:
+            hint = ""
+            m = re.match(r"^(\w+?)_(mm|m|um|hz|khz|v|n)$", k, re.IGNORECASE)
+            if m and m.group(1) in allowed:
+                hint = f" (write '{m.group(1)} = \"30 {m.group(2)}\"': units go with values)"
+            raise ValueError(f"{where}axes.{k} is not an axis; use one of "
+                             f"{', '.join(allowed)}{hint}")
+
+
+def _axes(raw_axes: dict, design, where: str) -> dict[str, tuple]:
+    """Every axis's values (SI): as the study gives them, else the stator file's plate, else
+    the paper's; features only where the study varies them."""
+    features = [a for a in FEATURE_AXES if a in raw_axes]
+    if features and not _parametric(design):
+        raise ValueError(f"{where}axes.{features[0]} varies a parametric stator's feature: it "
+                         "needs study.stator naming a stator file with [tip], [chamfers] or "
+                         "[[holes]] (docs/designer.md)")
+    tip = [a for a in ("tip_length", "tip_width") if a in features]
+    if len(tip) == 1 and not design.stator.tip_length_m > 0.0:
+        other = "tip_width" if tip[0] == "tip_length" else "tip_length"
+        raise ValueError(f"{where}axes.{tip[0]} needs a tip {other.split('_')[1]} too: the "
+                         f"stator file {design.path} has no [tip]; give axes.{other} as well")
+    if design is not None:
+        _check_stator_axes(design, raw_axes, where)
+    own = {} if design is None else _stator_values(design)
+    axes = {a: own[a] if a in own and a not in raw_axes
+            else _axis_values(a, raw_axes.get(a, DEFAULT_AXES.get(a)), f"{where}axes.{a}")
+            for a in GEOMETRY_AXES + DRIVE_AXES + FEATURE_AXES
+            if a not in FEATURE_AXES or a in raw_axes}
+    for g in axes["gap"]:
+        smallest = min(min(axes["length"]), min(axes["width"]))
+        if g >= smallest:
+            gap = (f"study.stator {design.path}'s [electrodes] gap_mm"
+                   if design is not None and "gap" not in raw_axes else "axes.gap")
+            raise ValueError(f"{where}{gap} {g * 1e3:g} mm must be below every length and "
+                             f"width of the study (smallest {smallest * 1e3:g} mm)")
+    return axes
+
+
+def _outputs(outputs: Any, where: str) -> tuple[str, ...]:
+    """The outputs asked for, each once, in :data:`OUTPUTS` order."""
+    if not isinstance(outputs, list) or not outputs:
+        raise ValueError(f"{where}outputs must be a non-empty list among {', '.join(OUTPUTS)}")
+    for i, o in enumerate(outputs):
+        if o not in OUTPUTS:
+            raise ValueError(f"{where}outputs[{i}] {o!r} does not exist; use "
+                             f"{', '.join(OUTPUTS)}")
+        if o in outputs[:i]:  # as a repeated axis value is: a typo, most likely
+            raise ValueError(f"{where}outputs[{i}] {o!r} is listed twice")
+    return tuple(o for o in OUTPUTS if o in outputs)
+
+
+def _check_motor_drivable(outputs: tuple[str, ...], axes: dict, raw_axes: dict, design,
+                          where: str) -> None:
+    """Refuse, before any FE solve, motor outputs that no plate of the study can give: a
+    gap of 0 (one conductor, driven as a short circuit), or a stator file whose motor
+    tables do not fit Table 2's other constants."""
+    motor = [o for o in outputs if o not in FE_OUTPUTS]
+    if not motor:
+        return
+    if design is not None and "gap" not in raw_axes and 0.0 in axes["gap"]:
+        raise ValueError(f"{where}study.stator {design.path}: its [electrodes] gap_mm 0 makes "
+                         "the four electrodes one conductor, which the motor outputs "
+                         f"({', '.join(motor)}) would drive as a short circuit; give the file "
+                         "a gap of at least 0.001 mm, or ask for FE outputs only")
+    if design is not None:
+        from rom.from_fem import design_base
+
+        try:
+            design_base(design)
+        except ValueError as exc:
+            raise ValueError(f"{where}study.stator {str(exc).splitlines()[0]}") from None
+    if 0.0 in axes["gap"]:
+        # one conductor cannot be driven at V on 1, 4 and grounded on 2, 3 (fem.model
+        # ShortedDriveError)
+        raise ValueError(f"{where}axes.gap 0 mm makes the four electrodes one conductor, "
+                         f"which the motor outputs ({', '.join(motor)}) would drive as a short "
+                         "circuit; give a gap of at least 0.001 mm, or ask for FE outputs only")
+
+
 def _stator(value: Any, source: str, where: str):
     """``[study] stator``: the loaded :class:`fem.stator_file.StatorDesign` and its stamp
     (the file's path and the SHA-256 of the file and of its mesh file, what resume compares).
@@ -647,7 +677,7 @@ def _stator(value: Any, source: str, where: str):
         if design.mesh_path is not None:
             stamp["mesh_sha256"] = _file_sha256(design.mesh_path)
     except (ValueError, OSError) as exc:
-        from validation.options import design_error_text
+        from lusm.errors import design_error_text
 
         raise ValueError(f"{where}study.stator {design_error_text(path, exc)}") from None
     return design, stamp
@@ -724,7 +754,7 @@ def _check_stator_plates(study: Study, where: str) -> None:
     keeps them), naming the axis values of the first plate that does not. (A stator with its
     own mesh varies in thickness only, which holds every feature.)"""
     from fem.meshing.meshed_stator import MeshedStator
-    from validation.errors import feature_reason
+    from lusm.errors import feature_reason
 
     design, ax = study.stator, study.axes
     base = design.stator
@@ -770,7 +800,7 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     from fem.meshing.meshed_stator import MeshedStator
     from fem.meshing.parametric import ESTIMATE_LOW_FACTOR, ParametricStator, estimated_elements
     from fem.modes import wider_than_long
-    from validation.options import fe_cell_count
+    from lusm.options import fe_cell_count
 
     ax = study.axes
     base = PlateStator() if study.stator is None else study.stator.stator
@@ -833,7 +863,7 @@ def contact_work_problem(study: Study, plate_work: float, detail: str) -> str | 
     ``plate_work`` is one plate's work: time steps of all its transient runs, or, with the
     steady method, its steady solves times their steps per drive period. The study is taken
     as :attr:`Study.n_geometries` plates like it and held to the bound of the same work in
-    ``lusm map`` (:data:`validation.limits.MAX_MAP_STEPS`, :data:`~validation.limits.
+    ``lusm map`` (:data:`lusm.limits.MAX_MAP_STEPS`, :data:`~lusm.limits.
     MAX_STEADY_WORK`). ``detail`` says how ``plate_work`` was counted.
     """
     total = study.n_geometries * plate_work
@@ -859,7 +889,7 @@ def _check_contact_work(study: Study, where: str) -> None:
     (counted at the default step's upper end, 100 ns: at least as many); a steady solve's
     steps per drive period depend on the plate's FE set, so they are counted at the fewest
     the engine takes (:data:`STEADY_MIN_STEPS_PER_PERIOD`), and each plate's own figure is
-    checked in its task, before its drive points (``validation.explore``)."""
+    checked in its task, before its drive points (``studies.explore``)."""
     s = study.solver
     n = len(study.axes["voltage"]) * len(study.axes["preload"])
     if s.method == "steady":
@@ -868,7 +898,7 @@ def _check_contact_work(study: Study, where: str) -> None:
                   f"{STEADY_MIN_STEPS_PER_PERIOD} steps per drive period")
         work = drive_triples(study) * k * STEADY_MIN_STEPS_PER_PERIOD
     elif study.auto_frequency:
-        from validation.options import DEFAULT_DT_S
+        from lusm.options import DEFAULT_DT_S
 
         steps = s.duration_s / (s.dt_s if s.dt_s is not None else DEFAULT_DT_S)
         least = "" if s.dt_s is not None else "at least "
@@ -1010,7 +1040,7 @@ def show(value: float, kind: str) -> str:
 
 def transient_problem(solver: Solver, frequency_Hz: float, at: str) -> str | None:
     """Why a transient drive point at ``frequency_Hz`` (Hz) cannot run, in the study's keys and
-    units, or None: the checks of ``lusm simulate`` (:func:`validation.options.check_run_size`):
+    units, or None: the checks of ``lusm simulate`` (:func:`lusm.options.check_run_size`):
     a step of at most 1/(20 f), at least 10 drive periods, and the work bounds on the steps of a
     run and of its full-resolution window. ``at`` names the frequency (``"axes.frequency
     40 kHz"``, ``"the auto drive frequency 54.24 kHz of this plate"``)."""
@@ -1074,7 +1104,7 @@ def _check_transient(study: Study, where: str) -> None:
                 f"{where}solver.duration {show(s.duration_s, 'time')} is shorter than 10 drive "
                 f"periods at every drive frequency up to {show(hi, 'frequency')} "
                 f"(axes.frequency auto): give solver.duration >= {show(10 / hi, 'time')}")
-        from validation.options import DEFAULT_DT_S
+        from lusm.options import DEFAULT_DT_S
 
         steps = s.duration_s / DEFAULT_DT_S  # the default step is at most 100 ns
     top = limits.work_bound(limits.MAX_STEPS)

@@ -1,6 +1,6 @@
 """Staging folders: an output built aside, and what a run killed outright leaves of one.
 
-An output (an output set, :mod:`validation.output_set`; an export; a dataset) is built in a
+An output (an output set, :mod:`lusm.output_set`; an export; a dataset) is built in a
 fresh hidden folder beside its target, ``.NAME-partial-<12 hex>`` (:func:`staging_name`,
 bounded by the file system's limit on a name), and moved in only when whole; the folder is
 removed on leaving, whatever happened (:func:`staging`).
@@ -226,7 +226,7 @@ def clear_stale_staging(name: str, folder: Path, option: str, target: Path) -> N
         print(f"lusm: removed {what}: {', '.join(map(str, removed))}", file=sys.stderr)
     left = [e for e in found if e not in removed and not _held(e)]  # held: a run at work
     if left:
-        from validation.options import warn
+        from lusm.messages import warn
 
         what = ("has the name and layout of a lusm staging folder; if an interrupted run left "
                 "it, remove it" if len(left) == 1 else "have the names and layout of lusm "

@@ -5,13 +5,14 @@ Library code (``fem``, ``rom``, ``contact``) cannot import :mod:`validation`; it
 (``PlateStator.length_m``, ``voltage_V``). The CLI layer checks what the user typed first, in
 the user's units, and raises :class:`LusmError` naming the option (``--length-mm``); whatever
 still comes up from the library is mapped by :func:`user_error` to one line that names the
-option when one is known. :func:`validation.cli.main` prints ``lusm <cmd>: error: <line>`` and
+option when one is known. :func:`lusm.cli.main` prints ``lusm <cmd>: error: <line>`` and
 exits with code 2 for every :class:`LusmError`.
 """
 
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 
 class LusmError(ValueError):
@@ -87,7 +88,7 @@ def user_error(exc: BaseException) -> LusmError:
         return LusmError(f"cannot use{where}: {reason}")
     line = _first_line(exc)
     if type(exc).__name__ == "ShortedDriveError":  # fem.model's, by name: no FE import here
-        from validation.options import typed
+        from lusm.messages import typed
 
         option = next((o for o in ("--gap-mm", "--geometry") if typed(o)), None)
         where, fix = {
@@ -98,7 +99,7 @@ def user_error(exc: BaseException) -> LusmError:
         }.get(option, ("the stator", "give the electrodes a gap of at least 0.001 mm"))
         return LusmError(f"{where}: {line}; {fix}", option)
     if line.startswith("the parameter set's mode matrices overflow"):
-        from validation.options import typed
+        from lusm.messages import typed
 
         if typed("--params"):  # the file's values: it named nothing, from deep in NumPy
             return LusmError(f"--params: {line}", "--params")
@@ -146,3 +147,13 @@ def short_reason(exc: Exception | str) -> str:
         return f"[{min(values) + 0.0:.6g} ... {max(values) + 0.0:.6g}]"  # no "-0"
 
     return re.sub(r"\[[^\]]{60,}\]", shorten, " ".join(str(exc).split()))
+
+
+def design_error_text(path: str | Path, exc: BaseException) -> str:
+    """A stator file's refusal on one line that names the file: the operating system's
+    reason for a file it cannot open (it printed ``[Errno 13] Permission denied: '...'``)."""
+    if isinstance(exc, OSError) and exc.strerror:  # the file it is about: its mesh, maybe
+        text = f"{exc.filename or path}: {exc.strerror}"
+    else:
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    return text if str(path) in text else f"{path}: {text}"

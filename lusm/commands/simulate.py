@@ -4,29 +4,26 @@ from __future__ import annotations
 
 import argparse
 
-from validation import limits
-from validation.errors import LusmError
-from validation.options import (
+from lusm import limits
+from lusm.errors import LusmError
+from lusm.messages import warn, warn_unused
+from lusm.options import (
+    Motor,
     add_drive_options,
     add_motor_options,
     add_output_options,
     add_rest_option,
     check_run_size,
     check_steady_frequency,
-    coupling_of,
     figure_set,
     known_frequency,
-    motor_params_of,
     moved,
     output_folder,
-    parse_frequency,
     print_json,
     real,
+    resolve_motor,
     time_step_of,
-    warn,
-    warn_default_frequency,
     warn_drive,
-    warn_unused,
 )
 
 
@@ -77,10 +74,9 @@ def run(args: argparse.Namespace) -> None:
         args.dt = time_step_of(typed_dt, known, used=not args.steady)
         if not args.steady:  # --steady uses neither --duration nor --dt
             check_run_size(args.duration, args.dt, known)
-    params, damping_from = motor_params_of(args, args.source)
-    coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
-    warn_default_frequency(params, freq)
+    motor = resolve_motor(args)
+    params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
+    coupling, coupling_from = motor.coupling, motor.coupling_from
     args.dt = time_step_of(typed_dt, freq, used=not args.steady)
     if args.steady:
         # the range characteristic and map say (the engine's own refusal had no range)
@@ -92,8 +88,6 @@ def run(args: argparse.Namespace) -> None:
 
     from contact.errors import RunawayError
     from validation.summaries import (
-        coupling_line,
-        damping_line,
         damping_summary,
         runaway_summary,
     )
@@ -121,28 +115,35 @@ def run(args: argparse.Namespace) -> None:
     for v, summary in zip(voltages, summaries, strict=True):
         if len(voltages) > 1:
             print(f"--- {v:g} V")
-        for key, value in summary.items():
-            if isinstance(value, dict | list) or value is None:
-                continue  # nested tables, and what the steady engine has not (run length, ...)
-            text = f"{value:.6g}" if isinstance(value, float) else str(value)
-            print(f"{key:<30} {text}")
-        for b in summary.get("branches") or ():
-            # every stable steady state, as the JSON has them (the ones a start from rest
-            # does not reach had been in a warning alone)
-            print(f"{'branch (from rest)' if b['from_rest'] else 'branch':<30} "
-                  + branch_text(b))
-        print(damping_line(params, damping_from))
-        print(coupling_line(coupling, coupling_from))
-        if "energy" in summary:
-            # every term of the balance, as --json gives them (the text had shown the
-            # residual alone)
-            e = summary["energy"]
-            for key, value in e.items():
-                if key != "relative_residual":
-                    print(f"{'energy ' + key:<30} {value:.6g}")
-            print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")
-        for f in summary.get("figures", []):
-            print(f"wrote {f}")
+        _print_one(summary, motor)
+
+def _print_one(summary: dict, motor: Motor) -> None:
+    """One run's summary as ``key value`` lines, its branches, damping, coupling, energy
+    balance and figures."""
+    from validation.summaries import coupling_line, damping_line
+
+    for key, value in summary.items():
+        if isinstance(value, dict | list) or value is None:
+            continue  # nested tables, and what the steady engine has not (run length, ...)
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+        print(f"{key:<30} {text}")
+    for b in summary.get("branches") or ():
+        # every stable steady state, as the JSON has them (the ones a start from rest
+        # does not reach had been in a warning alone)
+        print(f"{'branch (from rest)' if b['from_rest'] else 'branch':<30} "
+              + branch_text(b))
+    print(damping_line(motor.params, motor.damping_from))
+    print(coupling_line(motor.coupling, motor.coupling_from))
+    if "energy" in summary:
+        # every term of the balance, as --json gives them (the text had shown the
+        # residual alone)
+        e = summary["energy"]
+        for key, value in e.items():
+            if key != "relative_residual":
+                print(f"{'energy ' + key:<30} {value:.6g}")
+        print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")
+    for f in summary.get("figures", []):
+        print(f"wrote {f}")
 
 
 def branch_text(b: dict) -> str:

@@ -11,8 +11,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
-from validation.options import add_output_options, add_plate_options, print_json, real
+from lusm import limits
+from lusm.options import add_output_options, add_plate_options, print_json, real
 
 FIX_CHOICES = ("length", "width", "thickness", "thickness_ratio")
 """``--fix`` entries (:data:`fem.tuning.FIX_OPTIONS`, repeated so the parser needs no numpy)."""
@@ -50,7 +50,7 @@ def register(subparsers) -> None:
                    "'width,thickness_ratio'")
     p.add_argument("--model", choices=("2d", "3d"), default="2d", help="FE model")
     add_plate_options(p, note="; dimensions not held by --fix are starting values")
-    from validation.cmd_modes import add_fe_options
+    from lusm.commands.modes import add_fe_options
 
     add_fe_options(p, three_d=True)
     add_output_options(p, folder=None)
@@ -59,16 +59,27 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm tune`` with parsed ``args``."""
-    from validation.cmd_modes import (
-        check_refine_3d,
-        fe_failure,
-        is_fe_failure,
-        warn_linear_elements,
-    )
-    from validation.errors import LusmError
-    from validation.options import check_fe_size, check_fe_work, stator_from_args
+    from lusm.commands.modes import warn_linear_elements
 
     warn_linear_elements(args)
+    _check_fix(args)
+    choice = _start_plate(args)
+    if args.target_frequency is not None:  # length and width tuned (held ones refused)
+        _check_target_reachable(args, choice)
+    d = _tune(args, choice)
+    _check_tuned_plate(d, args.target_frequency)
+    if args.model == "2d":
+        _warn_tuned_plate(d.stator)
+    if args.json:
+        print_json(d.to_dict())
+        return
+    _print(d)
+
+
+def _check_fix(args: argparse.Namespace) -> None:
+    """Refuse ``--fix`` combinations that leave nothing to tune or contradict the target."""
+    from lusm.errors import LusmError
+
     fix = args.fix
     held = [f for f in ("length", "width") if f in fix]
     if len(held) == 2:
@@ -84,7 +95,15 @@ def run(args: argparse.Namespace) -> None:
                         f"{other} is tuned until L1 = B2 and their common frequency follows "
                         f"from the {held[0]}; leave out --target-frequency, or use --fix "
                         "thickness to tune length and width to a target", "--target-frequency")
-    # the start plate's thickness ratio is not the tuned plate's: that one is checked below
+
+
+def _start_plate(args: argparse.Namespace):
+    """The start plate, bounded with the tuning's solves before any of them."""
+    from lusm.commands.modes import check_refine_3d
+    from lusm.errors import LusmError
+    from lusm.options import check_fe_size, check_fe_work, stator_from_args
+
+    # the start plate's thickness ratio is not the tuned plate's: that one is checked after
     choice = stator_from_args(args, warn_thin=False)
     if choice.meshed:
         raise LusmError(f"--geometry {args.geometry} has its own mesh, which tune cannot "
@@ -98,79 +117,90 @@ def run(args: argparse.Namespace) -> None:
         cells = check_fe_size(choice.stator, args.refine or 3, 3, layers_option=False)
     else:
         cells = check_fe_size(choice.stator, args.refine, needs_b2=False)
-    # a tuning solves the plate many times over: counted before it starts
     # a tuning's solves are its own: the message names only the mesh
     check_fe_work(cells, limits.TUNE_SOLVES, args.model == "3d", "--refine", choice.stator,
                   fewer="")
+    return choice
 
-    from fem.modes import ModeSolverError
-    from fem.tuning import bar_length_m, tune_plate
 
-    if args.target_frequency is not None:  # length and width tuned (held ones refused above)
-        # before any FE solve: a target whose plate is far outside the accepted sizes (the
-        # bar estimate is within a few % of the tuned length; the margin leaves the edge
-        # cases to the check after tuning)
-        est_mm = bar_length_m(choice.material, args.target_frequency) * 1e3
-        near_top_mm = est_mm * TUNED_LENGTH_OVER_BAR  # the estimate where the rule binds
-        lo, hi = limits.PLATE_MM
-        # the shortest plate: within the range, and wide enough for electrodes of at least
-        # ELECTRODE_GAP_RATIO gaps beside the gap (a tuned plate is about 0.27 times as wide
-        # as long: 11.4 x 42.1 mm at 40 kHz). Narrower electrodes: the 2D model leaves the
-        # 3D one (6e5 Hz gave a 0.63 mm wide plate, electrodes 0.13 gaps wide, L1 5 % off
-        # 3D; 7e5 Hz and above failed after 10-50 FE solves)
-        shortest = max(lo, _least_width_mm(choice.stator.electrode_gap_m) / TUNED_ASPECT)
-        if not (shortest <= near_top_mm and est_mm <= hi):
-            asked_mm = near_top_mm if near_top_mm < shortest else est_mm
-            raise LusmError(
-                f"--target-frequency {args.target_frequency:g} Hz: asks for a plate about "
-                f"{asked_mm:.4g} mm long, outside the [{shortest:.3g}, {hi:g}] mm that the "
-                f"plate range and the electrode-width rule (electrodes at least "
-                f"{ELECTRODE_GAP_RATIO:g} gaps wide) allow; targets from about "
-                f"{_inward(args.target_frequency * est_mm / hi, up=True):.4g} to "
-                f"{_inward(args.target_frequency * near_top_mm / shortest):.4g} Hz fit (the "
-                f"upper end set by the {choice.stator.electrode_gap_m * 1e3:g} mm electrode "
-                f"gap)",
-                "--target-frequency")
+def _check_target_reachable(args: argparse.Namespace, choice) -> None:
+    """Refuse, before any FE solve, a target whose plate is far outside the accepted sizes
+    (the bar estimate is within a few % of the tuned length; the margin leaves the edge
+    cases to the check after tuning)."""
+    from fem.tuning import bar_length_m
+    from lusm.errors import LusmError
 
+    est_mm = bar_length_m(choice.material, args.target_frequency) * 1e3
+    near_top_mm = est_mm * TUNED_LENGTH_OVER_BAR  # the estimate where the rule binds
+    lo, hi = limits.PLATE_MM
+    # the shortest plate: within the range, and wide enough for electrodes of at least
+    # ELECTRODE_GAP_RATIO gaps beside the gap (a tuned plate is about 0.27 times as wide
+    # as long: 11.4 x 42.1 mm at 40 kHz). Narrower electrodes: the 2D model leaves the
+    # 3D one (6e5 Hz gave a 0.63 mm wide plate, electrodes 0.13 gaps wide, L1 5 % off
+    # 3D; 7e5 Hz and above failed after 10-50 FE solves)
+    shortest = max(lo, _least_width_mm(choice.stator.electrode_gap_m) / TUNED_ASPECT)
+    if not (shortest <= near_top_mm and est_mm <= hi):
+        asked_mm = near_top_mm if near_top_mm < shortest else est_mm
+        raise LusmError(
+            f"--target-frequency {args.target_frequency:g} Hz: asks for a plate about "
+            f"{asked_mm:.4g} mm long, outside the [{shortest:.3g}, {hi:g}] mm that the "
+            f"plate range and the electrode-width rule (electrodes at least "
+            f"{ELECTRODE_GAP_RATIO:g} gaps wide) allow; targets from about "
+            f"{_inward(args.target_frequency * est_mm / hi, up=True):.4g} to "
+            f"{_inward(args.target_frequency * near_top_mm / shortest):.4g} Hz fit (the "
+            f"upper end set by the {choice.stator.electrode_gap_m * 1e3:g} mm electrode "
+            f"gap)",
+            "--target-frequency")
+
+
+def _tune(args: argparse.Namespace, choice):
+    """:func:`fem.tuning.tune_plate`, its solver failures said as bad input."""
     import warnings
 
-    from fem.model import GapValidityWarning, stator_gap_validity_message
+    from fem.model import GapValidityWarning
+    from fem.modes import ModeSolverError
+    from fem.tuning import tune_plate
+    from lusm.errors import LusmError, feature_reason
+    from lusm.fe_errors import fe_failure, is_fe_failure
 
     try:
         with warnings.catch_warnings():  # said once, of the tuned plate, not per iteration
             warnings.simplefilter("ignore", GapValidityWarning)
-            d = tune_plate(args.target_frequency, fix=fix, material=choice.material,
-                           start=choice.stator, model=args.model, order=args.order,
-                           refine=args.refine, progress=True)
+            return tune_plate(args.target_frequency, fix=args.fix, material=choice.material,
+                              start=choice.stator, model=args.model, order=args.order,
+                              refine=args.refine, progress=True)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc, choice.stator) from exc
         if choice.parametric and isinstance(exc, ValueError) and "ParametricStator" in str(exc):
-            from validation.errors import feature_reason
-
             raise LusmError(f"--geometry {args.geometry}: a plate tried while tuning no longer "
                             f"holds the file's features ({feature_reason(exc)}); tune "
                             "rescales the plate but keeps the tip, chamfers and holes as "
                             "given: move them inwards or hold a dimension with --fix length",
                             "--geometry") from None
         raise
-    _check_tuned_plate(d, args.target_frequency)
-    if args.model == "2d":
-        from validation.options import warn, warn_holes, warn_thin_plate
 
-        # the tuned plate's holes, as modes warns of them: 2D tunes them softer than 3D
-        warn_holes(d.stator, "the tuned plate")
 
-        validity = stator_gap_validity_message(d.stator)
-        if validity is not None:
-            warn(f"the tuned plate: {validity}")
-        st = d.stator  # what modes says of the same plate
-        warn_thin_plate(f"the tuned plate: thickness {st.thickness_m * 1e3:g} mm",
-                        st.thickness_m * 1e3, min(st.length_m, st.width_m) * 1e3,
-                        "its smaller in-plane dimension")
-    if args.json:
-        print_json(d.to_dict())
-        return
+def _warn_tuned_plate(st) -> None:
+    """What ``lusm modes`` says of the tuned plate: its holes, the gap's validity, its
+    thickness."""
+    from fem.model import stator_gap_validity_message
+    from lusm.messages import warn
+    from lusm.options import warn_holes, warn_thin_plate
+
+    warn_holes(st, "the tuned plate")  # 2D tunes holes softer than 3D
+    validity = stator_gap_validity_message(st)
+    if validity is not None:
+        warn(f"the tuned plate: {validity}")
+    warn_thin_plate(f"the tuned plate: thickness {st.thickness_m * 1e3:g} mm",
+                    st.thickness_m * 1e3, min(st.length_m, st.width_m) * 1e3,
+                    "its smaller in-plane dimension")
+
+
+def _print(d) -> None:
+    """The tuned plate, its L1 and B2, and how close they came."""
+    from validation.summaries import plate_text
+
     st = d.stator
     if d.target_frequency_Hz is None:
         print(f"no target: the {d.tuned[0]} is tuned until L1 = B2, the frequency follows; "
@@ -178,8 +208,6 @@ def run(args: argparse.Namespace) -> None:
     else:
         print(f"target {d.target_frequency_Hz:g} Hz, material {d.material}, model {d.model}, "
               f"fixed {d.fix.replace('+', ', ')}")
-    from validation.summaries import plate_text
-
     print(f"{plate_text(st, '.4f')} (gap {st.electrode_gap_m * 1e3:g} mm)")
     print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}")
     for name, m in (("L1", d.L1), ("B2", d.B2)):
@@ -227,7 +255,7 @@ def _check_tuned_plate(d, target_Hz: float | None) -> None:
     A plate's frequencies scale as 1 / (its size) at a held thickness, so the message
     estimates the targets whose plate fits from the one found.
     """
-    from validation.errors import LusmError
+    from lusm.errors import LusmError
 
     st = d.stator
     dims = {"length": st.length_m * 1e3, "width": st.width_m * 1e3,

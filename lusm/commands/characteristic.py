@@ -5,25 +5,21 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
-from validation.options import (
+from lusm import limits
+from lusm.messages import warn, warn_unused
+from lusm.options import (
     add_drive_options,
     add_motor_options,
     add_output_options,
     add_rest_option,
     check_steady_work,
-    coupling_of,
     figure_set,
     known_frequency,
-    motor_params_of,
     moved,
     output_folder,
-    parse_frequency,
     print_json,
-    warn,
-    warn_default_frequency,
+    resolve_motor,
     warn_drive,
-    warn_unused,
 )
 
 
@@ -57,10 +53,10 @@ def parse_loads(text: str) -> list[float]:
     list of loads (a list in any order draws one curve; ``map`` took lists where
     ``characteristic`` refused them).
 
-    At most :data:`validation.limits.MAX_GRID_POINTS` loads (times ``LUSM_MAX_WORK``), each
+    At most :data:`lusm.limits.MAX_GRID_POINTS` loads (times ``LUSM_MAX_WORK``), each
     within the load range of ``lusm simulate --load-N``.
     """
-    from validation.ranges import parse_range
+    from lusm.ranges import parse_range
 
     top = limits.PRELOAD_N[1]
     # repeats and values outside the range refused there
@@ -79,10 +75,9 @@ def run(args: argparse.Namespace) -> None:
     warn_drive(max(voltages), args.preload)
     # a bad number refused before any work; None for the auto rule ("AUTO", " auto" too)
     frequency_from = "auto" if known_frequency(args.frequency) is None else args.frequency
-    params, damping_from = motor_params_of(args, args.source)
-    coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
-    warn_default_frequency(params, freq)
+    motor = resolve_motor(args)
+    params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
+    coupling, coupling_from = motor.coupling, motor.coupling_from
     check_steady_work(len(voltages) * (len(loads) if loads else 21), params, freq, coupling,
                       "loads x voltages", "--loads" if loads else "--frequency")
 
@@ -122,46 +117,52 @@ def run(args: argparse.Namespace) -> None:
     for v, char, d in zip(voltages, chars, docs, strict=True):
         if len(voltages) > 1:
             print(f"--- {v:g} V")
-        print(f"{'drive':<26} {v:g} V, {args.preload:g} N, {char.op.frequency_Hz:.6g} Hz"
-              + (" (auto)" if frequency_from == "auto" else ""))
-        print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
-        print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
-        creep = _creep_line(char)
-        if creep:
-            print(f"{'creeps from (N)':<26} {creep}")
-        print(f"{'accuracy':<26} {char.accuracy}" + (
-            " (averaged, slider mass -> infinity: which steady state a start from rest "
-            "reaches on the real slider, --accuracy exact decides)"
-            if char.accuracy == "fast" else ""))
-        low, high = char.holding_range_N
-        # loads the slider is not run away under (beyond them it is back-driven without
-        # bound): "holds loads" had read as a holding force beside a smaller stall force
-        if math.isfinite(low) and math.isfinite(high):
-            print(f"{'no runaway within (N)':<26} {low:.4g} to {high:.4g}")
-        else:  # undriven or weakly driven: the line had simply been missing
-            print(f"{'no runaway within (N)':<26} no full-slip bound (the tip sticks at the "
-                  "scan's ends): each load's start from rest decides")
-        print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} "
-              f"{'eff.':>8}")
-        for row in d["curve"]:
-            if math.isnan(row["velocity_m_s"]):  # no steady state from rest
-                print(f"{row['load_N']:10.4g} {'runs away':>12}")
-                continue
-            print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} "
-                  f"{row['input_power_W']:11.4g} {row['output_power_W']:11.4g} "
-                  f"{row['efficiency']:8.4g}")
-        undefined = [r for r in d["curve"]
-                     if math.isnan(r["efficiency"]) and not math.isnan(r["velocity_m_s"])]
-        why = []  # one reason per kind of row (at 0 V it is the input, not the output)
-        if any(r["output_power_W"] < 0 for r in undefined):
-            why.append("negative mechanical output (P_out < 0: the load assists the "
-                       "motion, or the slider runs backward against it)")
-        if any(not r["input_power_W"] > 0 for r in undefined):
-            why.append("no electrical input (P_in <= 0: an undriven motor)")
-        if why:
-            print("eff. nan: " + "; or ".join(why))
+        _print_one(args, v, char, d, frequency_from == "auto")
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
+
+
+def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) -> None:
+    """One voltage's characteristic: its drive, no-load speed, stall force, creep band,
+    runaway bounds and the speed-thrust table with powers and efficiency."""
+    print(f"{'drive':<26} {v:g} V, {args.preload:g} N, {char.op.frequency_Hz:.6g} Hz"
+          + (" (auto)" if auto else ""))
+    print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
+    print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
+    creep = _creep_line(char)
+    if creep:
+        print(f"{'creeps from (N)':<26} {creep}")
+    print(f"{'accuracy':<26} {char.accuracy}" + (
+        " (averaged, slider mass -> infinity: which steady state a start from rest "
+        "reaches on the real slider, --accuracy exact decides)"
+        if char.accuracy == "fast" else ""))
+    low, high = char.holding_range_N
+    # loads the slider is not run away under (beyond them it is back-driven without
+    # bound): "holds loads" had read as a holding force beside a smaller stall force
+    if math.isfinite(low) and math.isfinite(high):
+        print(f"{'no runaway within (N)':<26} {low:.4g} to {high:.4g}")
+    else:  # undriven or weakly driven: the line had simply been missing
+        print(f"{'no runaway within (N)':<26} no full-slip bound (the tip sticks at the "
+              "scan's ends): each load's start from rest decides")
+    print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} "
+          f"{'eff.':>8}")
+    for row in d["curve"]:
+        if math.isnan(row["velocity_m_s"]):  # no steady state from rest
+            print(f"{row['load_N']:10.4g} {'runs away':>12}")
+            continue
+        print(f"{row['load_N']:10.4g} {row['velocity_m_s']:12.5g} "
+              f"{row['input_power_W']:11.4g} {row['output_power_W']:11.4g} "
+              f"{row['efficiency']:8.4g}")
+    undefined = [r for r in d["curve"]
+                 if math.isnan(r["efficiency"]) and not math.isnan(r["velocity_m_s"])]
+    why = []  # one reason per kind of row (at 0 V it is the input, not the output)
+    if any(r["output_power_W"] < 0 for r in undefined):
+        why.append("negative mechanical output (P_out < 0: the load assists the "
+                   "motion, or the slider runs backward against it)")
+    if any(not r["input_power_W"] > 0 for r in undefined):
+        why.append("no electrical input (P_in <= 0: an undriven motor)")
+    if why:
+        print("eff. nan: " + "; or ".join(why))
 
 
 def _creep_line(char) -> str | None:

@@ -7,7 +7,7 @@
   :func:`check_run_size` bounds the steps of a run before it starts.
 * :func:`add_output_options` - ``--json``, ``--plot DIR`` / ``--out DIR``, ``--force``;
   :func:`print_json` writes valid JSON (no ``Infinity``), :func:`figure_set` builds an output
-  set aside and moves it in complete (:mod:`validation.output_set`).
+  set aside and moves it in complete (:mod:`lusm.output_set`).
 
 Argument types (:func:`real`, :func:`integer`) check the value where it is typed, so the
 message names the option and its range in the user's units. Only the standard library is
@@ -19,15 +19,17 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from validation import limits
-from validation.errors import LusmError
+from lusm import limits
+from lusm.errors import LusmError, design_error_text
+from lusm.fe_errors import plate_refusal
+from lusm.limits import MEASURED_THICK_RATIO
+from lusm.messages import typed, warn, warn_unused
 
 SOURCES = ("table2", "beam", "fem")
 """Parameter sources (:data:`rom.sources.SOURCES`, repeated so the parser needs no numpy)."""
@@ -415,11 +417,6 @@ def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, agains
              f"Hz{beyond}); {remedy}")
 
 
-MEASURED_THICK_RATIO = 1.3
-"""The largest thickness over in-plane size at which the 2D model was measured against 3D
-(:func:`warn_thin_plate`)."""
-
-
 HOLE_AREA_SHARE = 0.005
 """A through hole of diameter d in a plate of thickness h, length L and width W makes the 2D
 model miss the 0.05 % goal against 3D where ``d h > HOLE_AREA_SHARE L W`` (exploratory
@@ -595,32 +592,6 @@ def fe_cell_count(stator, refine: int | None, layers: int | None = None,
     return n
 
 
-def slender_reason(exc) -> str:
-    """Why a :class:`fem.modes.SlenderPlateError`'s plate has no L1/B2 pair, in mm."""
-    return (f"the {exc.length_m * 1e3:g} x {exc.width_m * 1e3:g} mm plate is "
-            f"{exc.length_m / exc.width_m:.4g} times longer than wide: free-free beam theory "
-            f"puts its B2 near 1/{exc.f_ratio:.3g} of L1's frequency, with {exc.nearer} "
-            f"in-plane modes nearer L1 than B2, beyond the {exc.searched} the FE solver "
-            "searches near L1, so no L1/B2 pair can be found (an L1/B2 motor needs the two "
-            "close, the paper's 30 x 7.5 mm plate has them about 1 % apart)")
-
-
-def slender_plate_error(exc) -> LusmError:
-    """A :class:`fem.modes.SlenderPlateError` in the options' terms: the plate options typed
-    (or the stator file) with their values, beam theory's reason and the slenderness that
-    fits, on one line."""
-    if typed("--geometry"):
-        named, option = "--geometry: ", "--geometry"
-        fix = "the stator file's [plate] length_mm or width_mm"
-    else:
-        dims = [o for o in ("--length-mm", "--width-mm") if typed(o)] or ["--length-mm"]
-        values = {"--length-mm": exc.length_m, "--width-mm": exc.width_m}
-        named = " and ".join(f"{o} {values[o] * 1e3:g}" for o in dims) + ": "
-        option, fix = dims[0], "--length-mm or --width-mm"
-    return LusmError(f"{named}{slender_reason(exc)}; give {fix} for a length at most about "
-                     f"{exc.max_slenderness:.0f} times the width", option)
-
-
 def check_b2_in_reach(stator) -> None:
     """Refuse, before any FE work, a plate whose B2 the 2D solver cannot reach from L1
     (:func:`fem.modes.check_b2_in_reach`): a 1000 x 1 mm plate took 14 s and 900 MB of
@@ -632,33 +603,6 @@ def check_b2_in_reach(stator) -> None:
         check(stator)
     except (SlenderPlateError, WidePlateError) as exc:
         raise plate_refusal(exc) from None
-
-
-def plate_refusal(exc) -> LusmError:
-    """A plate refused before its solve (:class:`fem.modes.SlenderPlateError` or
-    :class:`fem.modes.WidePlateError`, by :func:`fem.modes.check_b2_in_reach`) in the
-    options' terms, on one line."""
-    from fem.modes import SlenderPlateError
-
-    return slender_plate_error(exc) if isinstance(exc, SlenderPlateError) \
-        else wide_plate_error(exc)
-
-
-def wide_plate_error(exc) -> LusmError:
-    """A :class:`fem.modes.WidePlateError` in the options' terms: the options typed (or the
-    stator file), the reason, on one line."""
-    if typed("--geometry"):
-        # the length is the overall one, a protruding tip included (review)
-        return LusmError(f"--geometry: {exc} (its length the plate's and a protruding "
-                         "tip's); make the stator file's [plate] width_mm smaller than that",
-                         "--geometry")
-    dims = [o for o in ("--width-mm", "--length-mm") if typed(o)] or ["--width-mm"]
-    values = {"--length-mm": exc.length_m, "--width-mm": exc.width_m}
-    named = " and ".join(f"{o} {values[o] * 1e3:g}" for o in dims)
-    fix = {"--width-mm": "give a --width-mm below the length",
-           "--length-mm": "give a --length-mm above the width"}[dims[0]]
-    return LusmError(f"{named}: {exc}; {fix} (a width about a quarter of the length for an "
-                     "L1/B2 pair)", dims[0])
 
 
 def check_fe_size(stator, refine: int | None, layers: int | None = None,
@@ -739,16 +683,6 @@ def load_design(path: str | Path):
         raise LusmError(f"--geometry {design_error_text(path, exc)}", "--geometry") from None
 
 
-def design_error_text(path: str | Path, exc: BaseException) -> str:
-    """A stator file's refusal on one line that names the file: the operating system's
-    reason for a file it cannot open (it printed ``[Errno 13] Permission denied: '...'``)."""
-    if isinstance(exc, OSError) and exc.strerror:  # the file it is about: its mesh, maybe
-        text = f"{exc.filename or path}: {exc.strerror}"
-    else:
-        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-    return text if str(path) in text else f"{path}: {text}"
-
-
 def fem_params_of(args: argparse.Namespace, source: str | None):
     """The parameter set of ``--source`` and the stator options (``fem`` when a stator is named).
 
@@ -776,7 +710,7 @@ def beam_of_plate(args: argparse.Namespace):
 
         layout = gap_layout(planform_mesh(st))
         gaps = (layout.gap_x_m, layout.gap_y_m)
-    if min(gaps) <= 0.0:  # the FE set's refusal: validation.errors.user_error words it
+    if min(gaps) <= 0.0:  # the FE set's refusal: lusm.errors.user_error words it
         from fem.model import ShortedDriveError
 
         raise ShortedDriveError(
@@ -797,6 +731,44 @@ def beam_of_plate(args: argparse.Namespace):
     # the plate's own drive: a stator file driving 2, 3 had the beam driven through 1, 4
     return get_params("beam", length_m=length, width_m=width, thickness_m=st.thickness_m,
                       electrode_layout=plate_layout(st.drive_electrodes))
+
+
+@dataclass(frozen=True)
+class Motor:
+    """The motor a contact command's options name, resolved once.
+
+    Attributes
+    ----------
+    params : rom.params.MotorParams
+        The parameter set (``--source``, a stator, ``--params``).
+    damping_from : str
+        Where its damping ratios come from (:func:`validation.summaries.damping_line`).
+    coupling, coupling_from : str
+        The tangential coupling in use and why (:func:`coupling_of`).
+    frequency_Hz : float
+        The drive frequency (Hz): ``--frequency`` as typed, or the set's own operating point
+        for ``auto``.
+    frequency_auto : bool
+        Whether ``--frequency`` asked for the set's own operating point.
+    """
+
+    params: object
+    damping_from: str
+    coupling: str
+    coupling_from: str
+    frequency_Hz: float
+    frequency_auto: bool
+
+
+def resolve_motor(args: argparse.Namespace) -> Motor:
+    """The parameter set, coupling and drive frequency of ``args`` (with ``--source``,
+    ``--coupling`` and ``--frequency``), with the default frequency's warning said."""
+    params, damping_from = motor_params_of(args, args.source)
+    coupling, coupling_from = coupling_of(args, params)
+    freq = parse_frequency(args.frequency, params)
+    warn_default_frequency(params, freq)
+    return Motor(params, damping_from, coupling, coupling_from, freq,
+                 known_frequency(args.frequency) is None)
 
 
 def motor_params_of(args: argparse.Namespace, source: str | None):
@@ -845,7 +817,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
             params = (fem_params_from_file(args.geometry) if design is not None
                       else fem_params(choice.stator, choice.material))
         except Exception as exc:  # mode solver, factorisation, point search on extreme plates
-            from validation.cmd_modes import fe_failure, is_fe_failure
+            from lusm.fe_errors import fe_failure, is_fe_failure
 
             if is_fe_failure(exc):
                 raise fe_failure(exc, choice.stator) from exc
@@ -1020,7 +992,7 @@ def time_step_s(dt_s: float | None, frequency_Hz: float) -> float:
 
 def check_steps(duration_s: float, dt_s: float) -> float:
     """Time steps of one run of ``duration_s`` at ``dt_s`` (a float: inf or 1e300 are
-    compared, never allocated); refused above :data:`validation.limits.MAX_STEPS`."""
+    compared, never allocated); refused above :data:`lusm.limits.MAX_STEPS`."""
     steps = duration_s / dt_s
     top = limits.work_bound(limits.MAX_STEPS)
     if not steps <= top:
@@ -1111,8 +1083,8 @@ def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
     ------
     LusmError
         ``--dt`` above 1/(20 f), ``--duration`` below 10 periods, or more steps than
-        :data:`validation.limits.MAX_STEPS` (per run), :data:`~validation.limits.MAX_MAP_STEPS`
-        (all runs) or a full-resolution window above :data:`~validation.limits.MAX_WINDOW_STEPS`.
+        :data:`lusm.limits.MAX_STEPS` (per run), :data:`~lusm.limits.MAX_MAP_STEPS`
+        (all runs) or a full-resolution window above :data:`~lusm.limits.MAX_WINDOW_STEPS`.
     """
     check_dt_per_period(dt_s, frequency_Hz)
     periods = duration_s * frequency_Hz
@@ -1174,12 +1146,12 @@ def output_folder(args: argparse.Namespace, kind: str, option: str) -> Path | No
 def check_output_folder(target: Path, kind: str, option: str, force: bool = False) -> None:
     """Refuse, before any work, an output folder the set could not be moved into or written.
 
-    :func:`validation.output_set.check_target` (a file, below a file, a non-empty folder lusm
+    :func:`lusm.output_set.check_target` (a file, below a file, a non-empty folder lusm
     did not write) plus: the nearest existing folder must be writable.
     """
     import os
 
-    from validation.output_set import OutputError, check_target, check_writable
+    from lusm.output_set import OutputError, check_target, check_writable
 
     check_path_usable(target, option)
     try:
@@ -1213,8 +1185,8 @@ def check_path_usable(path: Path, option: str) -> None:
 
 @contextmanager
 def figure_set(target: Path, kind: str, option: str, force: bool = False) -> Iterator[Path]:
-    """:func:`validation.output_set.output_set` with its failures as :class:`LusmError`."""
-    from validation.output_set import OutputError, output_set
+    """:func:`lusm.output_set.output_set` with its failures as :class:`LusmError`."""
+    from lusm.output_set import OutputError, output_set
 
     try:
         with output_set(target, kind, option, force) as stage:
@@ -1231,49 +1203,14 @@ def moved(paths, stage: Path, target: Path) -> list[str]:
     return [str(target / Path(p).relative_to(stage)) for p in paths]
 
 
-def _finite(obj: Any) -> Any:
-    if isinstance(obj, float):
-        return obj if math.isfinite(obj) else None
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
-    if hasattr(obj, "tolist") and not isinstance(obj, (str, bytes)):  # numpy scalars, arrays
-        return _finite(obj.tolist())
-    if isinstance(obj, Path):
-        return str(obj)
-    return obj
-
-
-def json_text(obj: Any, indent: int | None = None) -> str:
-    """``obj`` as valid JSON text: NaN and infinities become ``null`` (Python's ``json``
-    writes a bare ``NaN``, which no JSON reader accepts)."""
-    return json.dumps(_finite(obj), indent=indent, allow_nan=False)
-
-
 def print_json(obj: Any, indent: int | None = None) -> None:
     """Print ``obj`` as valid JSON: NaN and infinities become ``null``."""
+    from validation.summaries import json_text
+
     print(json_text(obj, indent))
 
 
 # --- messages ---------------------------------------------------------------------------------
-
-_COMMAND = ["lusm"]
-
-
-_TYPED: set[str] = set()
-
-
-def set_typed(argv: Sequence[str]) -> None:
-    """Record the options the user typed (``--dt``, ``--dt=1e-7``), so that a command can tell
-    an option given on purpose from its default (set by :func:`validation.cli.main`)."""
-    _TYPED.clear()
-    _TYPED.update(a.split("=", 1)[0] for a in argv if a.startswith("--"))
-
-
-def typed(option: str) -> bool:
-    """Whether the user typed ``option`` on the command line."""
-    return option in _TYPED
 
 
 UNEXCITED_FORCE_RATIO = 1e-6
@@ -1320,84 +1257,3 @@ def warn_default_frequency(params, frequency_Hz: float) -> None:
              f"--frequency auto drives it there")
 
 
-def warn_unused(options: Sequence[str], why: str) -> None:
-    """Warn that the typed ones among ``options`` have no effect, and why."""
-    given = [o for o in options if typed(o)]
-    if given:
-        warn(f"{' and '.join(given)} {'has' if len(given) == 1 else 'have'} no effect: {why}")
-
-
-_SAID: set[str] = set()
-"""The warning lines said by the running command (each is said once)."""
-
-
-def set_command(name: str) -> None:
-    """The command named in warnings (set by :func:`validation.cli.main` for each command,
-    which starts a fresh record of the warnings said)."""
-    _COMMAND[0] = f"lusm {name}"
-    forget_warnings()
-
-
-def forget_warnings() -> None:
-    """Start a fresh record of the warnings said (:func:`warn` says each once)."""
-    _SAID.clear()
-
-
-def warn(message: str) -> None:
-    """One warning line on stderr: ``lusm <cmd>: warning: ...``, once per command (lusm
-    report of a stator with a hole had said the hole's and the thin plate's warnings twice,
-    once per stage that builds the FE model)."""
-    text = in_file_terms(message)
-    line = f"{_COMMAND[0]}: warning: {text}"
-    record_said(text)  # also when said before the record opened: the --json lists it too
-    if line in _SAID:
-        return
-    _SAID.add(line)
-    print(line, file=sys.stderr)
-
-
-_RECORDS: list[list[str]] = []
-"""The open records of :func:`warnings_said`."""
-
-
-def record_said(text: str) -> None:
-    """Add a warning just said on stderr (its text after ``warning:``) to every open record of
-    :func:`warnings_said`: :func:`warn` calls it, and so does the CLI's one-line printer of
-    Python warnings (:mod:`validation.cli`)."""
-    for said in _RECORDS:
-        if text not in said:
-            said.append(text)
-
-
-@contextmanager
-def warnings_said() -> Iterator[list[str]]:
-    """Record the warnings said within, for a command's ``--json``.
-
-    Yields
-    ------
-    list of str
-        Filled as the warnings are said, in order, once each: the text of each warning line
-        (after ``warning:``) said by :func:`warn` or by the CLI's one-line printer of Python
-        warnings (``LUSM_DEBUG=1`` keeps Python's own form, which is not recorded).
-    """
-    said: list[str] = []
-    _RECORDS.append(said)
-    try:
-        yield said
-    finally:
-        _RECORDS.remove(said)
-
-
-def in_file_terms(message: str) -> str:
-    """A library warning in a stator file's terms when the user gave ``--geometry``: the 2D
-    model's gap-validity warning spoke of "electrode gap 0.8 mm exceeds thickness/6" where
-    the file's keys are ``[electrodes] gap_mm`` (or its mesh's gap strips) and
-    ``[plate] thickness_mm``."""
-    if not typed("--geometry"):
-        return message
-    import re
-
-    return re.sub(r"^electrode gap (\S+) mm exceeds thickness/6 = (\S+) mm",
-                  r"the stator file's electrode gap (\1 mm: [electrodes] gap_mm, or its "
-                  r"mesh's gap strips) exceeds its [plate] thickness_mm / 6 = \2 mm",
-                  message)

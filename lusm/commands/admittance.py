@@ -9,8 +9,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from validation import limits
-from validation.options import add_output_options, add_plate_options, integer, print_json, real
+from lusm import limits
+from lusm.options import add_output_options, add_plate_options, integer, print_json, real
 
 
 def register(subparsers) -> None:
@@ -39,7 +39,7 @@ def register(subparsers) -> None:
     p.add_argument("--electrodes", default=None, metavar="E[,E...]",
                    help="driven electrodes, e.g. 1,4 (default: the stator's drive)")
     add_plate_options(p)
-    from validation.cmd_modes import add_fe_options
+    from lusm.commands.modes import add_fe_options
 
     add_fe_options(p)
     add_output_options(p, folder="--out", folder_help="write the admittance plot (PNG) into "
@@ -48,7 +48,7 @@ def register(subparsers) -> None:
 
 
 def _electrodes(text: str | None) -> tuple[int, ...] | None:
-    from validation.errors import LusmError
+    from lusm.errors import LusmError
 
     if text is None:
         return None
@@ -65,15 +65,10 @@ def _electrodes(text: str | None) -> tuple[int, ...] | None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
-    from validation.cmd_modes import fe_failure, is_fe_failure, warn_linear_elements
-    from validation.errors import LusmError
-    from validation.options import (
-        check_fe_size,
-        figure_set,
-        moved,
-        output_folder,
-        stator_from_args,
-    )
+    from fem.meshing.mesh import DEFAULT_REFINE
+    from lusm.commands.modes import warn_linear_elements
+    from lusm.errors import LusmError
+    from lusm.options import check_fe_size, figure_set, moved, output_folder, stator_from_args
 
     warn_linear_elements(args)
     out = output_folder(args, "admittance", "--out")
@@ -82,79 +77,20 @@ def run(args: argparse.Namespace) -> None:
                         f"{args.f_max:g} Hz", "--f-min")
     electrodes = _electrodes(args.electrodes)
     choice = stator_from_args(args)
-
-    from fem.admittance import TooManyModesError, plate_admittance
-    from fem.meshing.mesh import DEFAULT_REFINE
-    from fem.modes import ModeSolverError
-    from rom.from_fem import design_damping
-    from rom.table2 import table2
-    from validation.fem_figures import admittance_figure
-    from validation.summaries import borrowed_damping
-
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     # the default band is the design's L1 and B2: a plate whose B2 the solver cannot reach is
     # refused before any work; a band the user gives needs neither
     check_fe_size(choice.stator, refine, needs_b2=args.f_min is None or args.f_max is None)
-    # the motor's damping comes from the stator file's [damping] or from Table 2, not from fem
-    zetas = (choice.design and design_damping(choice.design)) or (
-        table2().zeta_L1, table2().zeta_B2)
-    if choice.design is not None and choice.design.damping_identify_Hz is not None:
-        from rom.from_fem import fem_params_from_file
-        from validation.errors import LusmError
-
-        try:  # the fit needs the reduced set: the file's masses, stiffnesses, force factors
-            fitted = fem_params_from_file(args.geometry)
-        except ValueError as exc:
-            raise LusmError(f"--geometry {exc}", "--geometry") from None
-        zetas = (fitted.zeta_L1, fitted.zeta_B2)
-    origin = (f"stator file {args.geometry} {choice.design.damping_origin}"
-              if choice.design is not None and choice.design.damping_origin
-              else borrowed_damping("fem"))  # the plate's modes with Table 2's ratios
-    try:
-        if args.f_max is not None and args.f_min is None:
-            # bounded before the design's modes are solved for --f-min's default (with both
-            # bounds typed, plate_admittance counts them first itself)
-            from fem.admittance import check_mode_count
-            from fem.model import plate_model
-
-            check_mode_count(plate_model(choice.stator, choice.material, args.order, refine),
-                             args.f_max,
-                             max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
-        if args.f_min is None or args.f_max is None:  # centre the band on the design
-            from fem.admittance import design_band_Hz
-            from fem.modes import plate_modes
-
-            lo, hi = design_band_Hz(plate_modes(choice.stator, choice.material, args.order,
-                                                refine))
-            given = "--f-min" if args.f_max is None else "--f-max"
-            args.f_min = lo if args.f_min is None else args.f_min
-            args.f_max = hi if args.f_max is None else args.f_max
-            if not args.f_min < args.f_max:
-                raise LusmError(
-                    f"{given} {args.f_min if given == '--f-min' else args.f_max:g} Hz leaves "
-                    f"no band: the design's band is {lo:.0f}-{hi:.0f} Hz; give --f-min below "
-                    "--f-max", given)
-        res = plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
-                               args.points, electrodes=electrodes, zeta=args.zeta,
-                               zeta_L1=zetas[0], zeta_B2=zetas[1],
-                               order=args.order, refine=refine,
-                               max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
-    except TooManyModesError as exc:
-        raise LusmError(
-            f"--f-max {args.f_max:g} Hz: this mesh has {exc.n_modes} modes below 6 x --f-max "
-            f"({exc.f_cut_Hz:.4g} Hz), above the limit of {exc.max_modes} kept modes; lower "
-            f"--f-max ({limits.more_work_hint()})", "--f-max") from None
-    except Exception as exc:
-        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
-            raise fe_failure(exc, choice.stator) from exc
-        raise
+    damping = _damping(args, choice)
+    res = _solve(args, choice, refine, electrodes, damping)
     _warn_unresolved(res, args.f_max, refine)
     _warn_missed(res, args.f_min, args.f_max, args.points)
     png = None
     if out is not None:
+        from validation.fem_figures import admittance_figure
+
         with figure_set(out, "admittance", "--out", args.force) as stage:
             png = moved([admittance_figure(res, stage / "admittance.png")], stage, out)[0]
-    damping = {"zeta_L1": zetas[0], "zeta_B2": zetas[1], "from": origin}
     if args.zeta is not None:
         damping = {"zeta_L1": args.zeta, "zeta_B2": args.zeta, "from": "--zeta (all modes)"}
     if args.json:
@@ -171,6 +107,85 @@ def run(args: argparse.Namespace) -> None:
                for n, f in res.peakless_modes()])
         print_json(d)
         return
+    _print(res, args, damping)
+    if png is not None:
+        print(f"wrote {png}")
+
+
+def _damping(args: argparse.Namespace, choice) -> dict:
+    """The modal damping ratios of L1 and B2 and where they come from: the stator file's
+    ``[damping]`` (identified from its reduced set where it asks), else Table 2's."""
+    from lusm.errors import LusmError
+    from rom.from_fem import design_damping
+    from rom.table2 import table2
+    from validation.summaries import borrowed_damping
+
+    zetas = (choice.design and design_damping(choice.design)) or (
+        table2().zeta_L1, table2().zeta_B2)
+    if choice.design is not None and choice.design.damping_identify_Hz is not None:
+        from rom.from_fem import fem_params_from_file
+
+        try:  # the fit needs the reduced set: the file's masses, stiffnesses, force factors
+            fitted = fem_params_from_file(args.geometry)
+        except ValueError as exc:
+            raise LusmError(f"--geometry {exc}", "--geometry") from None
+        zetas = (fitted.zeta_L1, fitted.zeta_B2)
+    origin = (f"stator file {args.geometry} {choice.design.damping_origin}"
+              if choice.design is not None and choice.design.damping_origin
+              else borrowed_damping("fem"))  # the plate's modes with Table 2's ratios
+    return {"zeta_L1": zetas[0], "zeta_B2": zetas[1], "from": origin}
+
+
+def _default_band(args: argparse.Namespace, choice, refine: int) -> None:
+    """Fill a missing ``--f-min`` / ``--f-max`` from the design's L1 and B2, bounding the
+    modes below ``--f-max`` before the design's modes are solved."""
+    from fem.admittance import check_mode_count, design_band_Hz
+    from fem.model import plate_model
+    from fem.modes import plate_modes
+    from lusm.errors import LusmError
+
+    if args.f_max is not None and args.f_min is None:
+        check_mode_count(plate_model(choice.stator, choice.material, args.order, refine),
+                         args.f_max, max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
+    lo, hi = design_band_Hz(plate_modes(choice.stator, choice.material, args.order, refine))
+    given = "--f-min" if args.f_max is None else "--f-max"
+    args.f_min = lo if args.f_min is None else args.f_min
+    args.f_max = hi if args.f_max is None else args.f_max
+    if not args.f_min < args.f_max:
+        raise LusmError(
+            f"{given} {args.f_min if given == '--f-min' else args.f_max:g} Hz leaves "
+            f"no band: the design's band is {lo:.0f}-{hi:.0f} Hz; give --f-min below "
+            "--f-max", given)
+
+
+def _solve(args: argparse.Namespace, choice, refine: int, electrodes, damping: dict):
+    """:func:`fem.admittance.plate_admittance` over the band, its failures as bad input."""
+    from fem.admittance import TooManyModesError, plate_admittance
+    from fem.modes import ModeSolverError
+    from lusm.errors import LusmError
+    from lusm.fe_errors import fe_failure, is_fe_failure
+
+    try:
+        if args.f_min is None or args.f_max is None:  # centre the band on the design
+            _default_band(args, choice, refine)
+        return plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
+                                args.points, electrodes=electrodes, zeta=args.zeta,
+                                zeta_L1=damping["zeta_L1"], zeta_B2=damping["zeta_B2"],
+                                order=args.order, refine=refine,
+                                max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
+    except TooManyModesError as exc:
+        raise LusmError(
+            f"--f-max {args.f_max:g} Hz: this mesh has {exc.n_modes} modes below 6 x --f-max "
+            f"({exc.f_cut_Hz:.4g} Hz), above the limit of {exc.max_modes} kept modes; lower "
+            f"--f-max ({limits.more_work_hint()})", "--f-max") from None
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc, choice.stator) from exc
+        raise
+
+
+def _print(res, args: argparse.Namespace, damping: dict) -> None:
+    """The port's capacitances, the damping and the table of resonance pairs."""
     p = res.port
     rest = (f" + residual mode at {p.f_res_Hz:.0f} Hz" if math.isfinite(p.f_res_Hz)
             else "" if p.C_res_F == 0.0 else " + a static remainder")
@@ -199,8 +214,6 @@ def run(args: argparse.Namespace) -> None:
     if any("overlaps" in q.mode for q in res.pairs):
         print("overlaps: L1 and B2 make two peaks closer than their bandwidths at this damping; "
               "each k_eff is biased by the other mode")
-    if png is not None:
-        print(f"wrote {png}")
 
 
 UNRESOLVED_SHARE = 0.25
@@ -212,7 +225,7 @@ def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
     """Warn when L1 or B2 lies in the band but no resonance pair found on the grid is theirs
     (``--f-min 1 --f-max 1e7``: a 5 kHz step listed pairs from 177 kHz up, without a word
     about the design's modes at 54-56 kHz)."""
-    from validation.options import warn
+    from lusm.messages import warn
 
     missed = [f"{name} ({f:.0f} Hz)" for name, f in res.unpaired_modes()]
     if missed:
@@ -246,7 +259,7 @@ def _warn_missed(res, f_min_Hz: float, f_max_Hz: float, points: int) -> None:
 def _warn_unresolved(res, f_max_Hz: float, refine: int) -> None:
     """Warn when the band reaches modes the mesh cannot resolve (a 1 MHz band on the default
     mesh listed resonances up to 0.95 MHz from elements 1.9 mm long)."""
-    from validation.options import warn
+    from lusm.messages import warn
 
     port = res.port
     n = int(port.g_N_V.size)

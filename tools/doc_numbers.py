@@ -2,7 +2,7 @@
 
 Every result quoted in the documentation is a *claim* here: a key, the function that computes
 it, its unit, the command a reader runs to see it, and whether a test may recompute it
-(``cheap``: well under a second or two). ``python -m validation.doc_numbers`` computes them
+(``cheap``: well under a second or two). ``python -m tools.doc_numbers`` computes them
 all and writes ``docs/numbers.json`` (with the machine and date); in the Markdown each quoted
 number carries an invisible marker right after it::
 
@@ -13,7 +13,7 @@ number carries an invisible marker right after it::
 that every marked number equals ``numbers.json`` to the precision it is printed with, that
 every key exists, and recomputes the cheap claims against ``numbers.json``. To add a claim:
 add a :class:`Claim` to :data:`CLAIMS`, mark the number in the Markdown, run
-``python -m validation.doc_numbers --update KEY`` (only that claim; or no option for all of
+``python -m tools.doc_numbers --update KEY`` (only that claim; or no option for all of
 them) and then ``--fill``. A document joins the check by being listed in :data:`DOC_FILES`.
 Numbers that are not results (the plate's
 ``30 × 7.5 × 3 mm``, the paper's published values, test tolerances) end with
@@ -21,7 +21,7 @@ Numbers that are not results (the plate's
 within its paragraph, table row or list item; ``LINTED`` in the test lists the documents in
 which every number with a unit must be covered (every file of :data:`DOC_FILES`). Whole
 tables printed by a benchmark are not claims but generated blocks
-(:mod:`validation.doc_tables`), which the lint skips. A marker never goes inside backticks
+(:mod:`tools.doc_tables`), which the lint skips. A marker never goes inside backticks
 (it would show on GitHub).
 
 Timings are claims only as ratios measured in the same run (``*_ratio``, or the ratios of one
@@ -206,7 +206,7 @@ def _in_fresh_process(keys: list[str]) -> list[float]:
     import subprocess
     import sys
 
-    code = ("from validation.doc_numbers import claims_by_key; t = claims_by_key(); "
+    code = ("from tools.doc_numbers import claims_by_key; t = claims_by_key(); "
             f"[print(repr(float(t[k].compute()))) for k in {keys!r}]")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
@@ -217,7 +217,7 @@ def _in_fresh_process(keys: list[str]) -> list[float]:
     return [float(v) for v in out.stdout.split()[-len(keys):]]
 
 
-_ISOLATED = ("python -m validation.doc_numbers --show 'adm_*_isolated_*' (isolated {}; "
+_ISOLATED = ("python -m tools.doc_numbers --show 'adm_*_isolated_*' (isolated {}; "
              "tests/test_admittance.py)")
 _MODES = "lusm modes --json"
 _SIM = "lusm simulate --voltage {v} --preload {f} --json"
@@ -572,7 +572,7 @@ _BEAM_KEYS = ("I_m4", "phi_B_end", "eta_T", "dphi_B_0_per_m", "dphi_B_mid_per_m"
 def _beam_claims() -> tuple[Claim, ...]:
     """The docs/beam.md claims: cheap, recomputed by the tests to 1e-9."""
     return tuple(Claim(f"beam_{k}", _BEAM_UNITS.get(k, "Hz" if k.endswith("_Hz") else "-"),
-                       f"python -m validation.doc_numbers --show beam_{k} "
+                       f"python -m tools.doc_numbers --show beam_{k} "
                        "(rom.beam; lusm compare, lusm params --source beam)",
                        lambda k=k: _beam_numbers()[k], cheap=True, rel_tol=1e-9)
                  for k in _BEAM_KEYS)
@@ -676,10 +676,10 @@ def _designer_claims() -> tuple[Claim, ...]:
             if k.startswith(name) and k.endswith(("Hz", "mac", "dofs")):
                 return f"lusm modes --geometry examples/{name}/stator.toml --json"
             if k.startswith(name) and k.endswith("shift"):  # against the refine-8 plain plate
-                return (f"python -m validation.doc_numbers --show designer_{k} (f_short of "
+                return (f"python -m tools.doc_numbers --show designer_{k} (f_short of "
                         f"lusm modes --geometry examples/{name}/stator.toml over that of "
                         f"lusm modes --refine 8, minus 1)")
-        return f"python -m validation.doc_numbers --show designer_{k}"
+        return f"python -m tools.doc_numbers --show designer_{k}"
 
     return tuple(Claim(f"designer_{k}", "Hz" if k.endswith("Hz") else "-", cmd(k),
                        lambda k=k: _designer_numbers()[k]) for k in _DESIGNER_KEYS)
@@ -766,7 +766,7 @@ def _parametric_claims() -> tuple[Claim, ...]:
             return "lusm modes --geometry examples/tip_parametric/stator.toml --json"
         if k.startswith("fixlen_") and k != "fixlen_split_fine" and k != "fixlen_split_3d":
             return "lusm tune --geometry examples/tip_parametric/stator.toml --fix length --json"
-        return f"python -m validation.doc_numbers --show param_{k}"
+        return f"python -m tools.doc_numbers --show param_{k}"
 
     def unit(k: str) -> str:
         return "Hz" if k.endswith("Hz") else "m" if k.endswith("_m") else "-"
@@ -946,7 +946,7 @@ def _drive_proxy_claims() -> tuple[Claim, ...]:
         for which in ("product", "ellipse"):
             f_cmd = cmd.format(f=f"F (F: drive_proxy_{tag}_{which}_Hz)")
             out.append(Claim(f"drive_proxy_{tag}_{which}_Hz", "Hz",
-                             "python -m validation.doc_numbers --show "
+                             "python -m tools.doc_numbers --show "
                              f"drive_proxy_{tag}_{which}_Hz (auto_frequency for the product; "
                              "the same search of contact.drive.tip_ellipse_area for the "
                              "ellipse)",
@@ -1049,14 +1049,14 @@ def _contact_claims() -> tuple[Claim, ...]:
               lambda: 0.03 / _sim(200.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
         Claim("v_175V_14N_m_s", "m/s", _SIM.format(v=175, f=14),
               lambda: _sim(175.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-4),
-        Claim("y_min_200V_14N_m", "m", "python -m validation.doc_numbers --show y_min_200V_14N_m "
+        Claim("y_min_200V_14N_m", "m", "python -m tools.doc_numbers --show y_min_200V_14N_m "
               "(lowest tip normal displacement of the steady window)",
               lambda: float(_sim(200.0, 14.0).window.y_tip_m.min()), cheap=True, rel_tol=1e-5),
         Claim("y_c_14N_m", "m", "contact.model.normal_force_zero_tip_displacement(table2(), 14)",
               lambda: __import__("contact.model", fromlist=["x"])
               .normal_force_zero_tip_displacement(_table2(), 14.0), cheap=True, rel_tol=1e-9),
         Claim("separation_voltage_14N_V", "V",
-              "python -m validation.doc_numbers --show separation_voltage_14N_V",
+              "python -m tools.doc_numbers --show separation_voltage_14N_V",
               lambda: _separation_voltage(14.0), cheap=True, rel_tol=1e-4),
         Claim("dead_zone_14N_vs_experiment", "-", "dead_zone_14N_V / 100 V - 1 (paper, Fig. 24)",
               lambda: _dead_zone_edge(14.0) / 100.0 - 1.0, cheap=True, rel_tol=1e-2),
@@ -1238,7 +1238,7 @@ def _steady_characteristic() -> dict[str, float]:
     import numpy as np
 
     from contact.characteristic import characteristic
-    from validation.cmd_characteristic import parse_loads
+    from lusm.commands.characteristic import parse_loads
 
     c = characteristic(_table2(), 400, 14, parse_loads("0:2:0.5"), accuracy="fast")
     i = int(np.nanargmax(c.efficiency))
@@ -1502,7 +1502,7 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_200V_14N_period_floor_ratio", "-", bench + " (last line: the settled "
               "transient over the exact level's periods at the kernel's cost per period)",
               lambda: _steady_point()["period_floor_ratio"], batch="steady_point"),
-        Claim("steady_200V_14N_rest_floor_ratio", "-", "python -m validation.doc_numbers "
+        Claim("steady_200V_14N_rest_floor_ratio", "-", "python -m tools.doc_numbers "
               "--show steady_200V_14N_rest_floor_ratio (the settled transient of " + bench
               + " over the exact level's run from rest alone, steady_200V_14N_rest_periods "
               "periods, at the kernel's cost per period)",
@@ -1581,7 +1581,7 @@ def _steady_claims() -> tuple[Claim, ...]:
     for v, mass in ((200, 0.2), (200, 0.4), (200, 0.8), (400, 0.2), (400, 0.4), (400, 0.8)):
         out.append(Claim(
             f"steady_mass_error_{v}V_{int(mass * 10)}", "-",
-            f"python -m validation.doc_numbers --show steady_mass_error_{v}V_{int(mass * 10)} "
+            f"python -m tools.doc_numbers --show steady_mass_error_{v}V_{int(mass * 10)} "
             f"(|fast - exact| / exact, {v} V / 14 N, M_slider = {mass} kg, mu_sd = 0)",
             lambda v=v, mass=mass: _steady_mass_error(float(v), mass)))
     char = "lusm characteristic --voltage 400 --preload 14 --loads 0:2:0.5 --accuracy fast --json"
@@ -1593,7 +1593,7 @@ def _steady_claims() -> tuple[Claim, ...]:
     for k, unit, cmd in (
             ("holding_low", "N", limits + " (holding_range_N)"),
             ("holding_high", "N", limits + " (holding_range_N)"),
-            ("guide_hold", "N", "python -m validation.doc_numbers --show steady_load_400V_14N_"
+            ("guide_hold", "N", "python -m tools.doc_numbers --show steady_load_400V_14N_"
              "guide_hold (F_T(0+) + mu_sd (F_N + M g), the load a held slider resists)"),
             ("back_m_s", "m/s", 'steady_state(table2(), 400, 14, load_N=3.5, accuracy="exact")'
              ".velocity_m_s"),
@@ -1607,13 +1607,13 @@ def _steady_claims() -> tuple[Claim, ...]:
             Claim("steady_load_100V_14N_beyond_m_s", "m/s",
                   "lusm simulate --voltage 100 --preload 14 --load-N 5.22 --duration 2 --json",
                   lambda: _steady_load_edge()["beyond"])]
-    creep = ("python -m validation.doc_numbers --show 'steady_hidden_creep_*' (beam and FE "
+    creep = ("python -m tools.doc_numbers --show 'steady_hidden_creep_*' (beam and FE "
              "sets, 9 x 9 grid 50-450 V x 10-26 N at 40 kHz, consistent coupling: held by the "
              "fast level, moving at the exact level)")
     for k, unit in (("points", "-"), ("min_m_s", "m/s"), ("max_m_s", "m/s")):
         out.append(Claim(f"steady_hidden_creep_{k}", unit, creep,
                          lambda k=k: _steady_hidden_creep()[k]))
-    hard = "python -m validation.doc_numbers --show 'steady_load_hard_*'"
+    hard = "python -m tools.doc_numbers --show 'steady_load_hard_*'"
     for k, unit in (("multi_exact", "m/s"), ("multi_k", "-"), ("multi_transient", "m/s"),
                     ("multi_gap", "-"), ("creep_exact", "m/s"), ("creep_error", "-"),
                     ("creep_transient", "m/s"),
@@ -1623,7 +1623,7 @@ def _steady_claims() -> tuple[Claim, ...]:
                          "75.3 V / 14.73 N / 4.74 N, 61.6 V / 6.78 N / 2.2 N and the FE set at "
                          "293.6 V / 24.12 N / -1.15 N, exact level and transients)",
                          lambda k=k: _steady_load_hard()[k]))
-    diag = ("python -m validation.doc_numbers --show steady_branch_* (" + ex.format(v="V", f=14)
+    diag = ("python -m tools.doc_numbers --show steady_branch_* (" + ex.format(v="V", f=14)
             + " for V = 50, 75, ..., 450)")
     for k, unit in (("dead_zone_last_V", "V"), ("stick-slip_first_V", "V"),
                     ("stick-slip_last_V", "V"), ("pure-slip_first_V", "V"),
@@ -1862,14 +1862,14 @@ def _steady_input_claims() -> tuple[Claim, ...]:
     """Computed figures of docs/steady.md that had been marked ``<!--input-->``."""
     c400 = "lusm characteristic --voltage 400 --preload 14 --json"
     c200 = "lusm characteristic --voltage 200 --preload 14 --json"
-    wrong = ("python -m validation.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
+    wrong = ("python -m tools.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
              "14.72 N under -1.57 N: steady_state(table2(), 126.9, 14.72, load_N=-1.57), ")
     beam = ("steady_state(get_params('beam'), 1000, 10, load_N=-1, frequency_Hz=40e3{})"
             ".velocity_m_s")
-    stiff = ("python -m validation.doc_numbers --show {} (p = table2().with_(k_contact="
+    stiff = ("python -m tools.doc_numbers --show {} (p = table2().with_(k_contact="
              "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
              "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
-    s252 = ("python -m validation.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
+    s252 = ("python -m tools.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
             "252, 25.64, frequency_Hz=40414, accuracy='exact'), ")
     return (
         Claim("steady_char_400V_14N_exact_stall_N", "N", c400 + " (stall_force_N)",
@@ -1964,11 +1964,11 @@ def _steady_input_claims() -> tuple[Claim, ...]:
 
 
 def _peak_MB(*args: str) -> float:
-    """Peak resident memory (MB) of ``python -m validation.cli ARGS`` (``/usr/bin/time -f %M``)."""
+    """Peak resident memory (MB) of ``python -m lusm.cli ARGS`` (``/usr/bin/time -f %M``)."""
     import subprocess
     import sys
 
-    run = subprocess.run(["/usr/bin/time", "-f", "%M", sys.executable, "-m", "validation.cli",
+    run = subprocess.run(["/usr/bin/time", "-f", "%M", sys.executable, "-m", "lusm.cli",
                           *args], capture_output=True, text=True, check=True, cwd=ROOT,
                          env={**os.environ, "PYTHONPATH": str(ROOT)})
     return int(run.stderr.split()[-1]) / 1024.0
@@ -2031,7 +2031,7 @@ t = time.perf_counter()
 import sys
 sys.path.insert(0, "benchmarks")
 from explore_scaling import STUDY, _warm
-from validation.study import study_from_dict
+from studies.study import study_from_dict
 _warm(study_from_dict(STUDY))
 print(time.perf_counter() - t)
 """
@@ -2110,8 +2110,8 @@ def _explore_result_bytes_100() -> int:
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from explore_scaling import STUDY
 
-    from validation.explore import compute_geometry
-    from validation.study import study_from_dict
+    from studies.explore import compute_geometry
+    from studies.study import study_from_dict
 
     axes = {**STUDY["axes"], "length": "30 mm", "width": "7.5 mm",
             "voltage": {"start": "100 V", "stop": "400 V", "num": 10},
@@ -2127,7 +2127,7 @@ _EXPLORE_UNITS = {"study_bytes": "B", "result_bytes": "B", "result_kB_100": "kB"
 def _explore_claims() -> tuple[Claim, ...]:
     """Figures of docs/distributed.md: one run of the scaling benchmark, in one process."""
     cmd = ("python benchmarks/explore_scaling.py --json (benchmark, minutes; not run by the "
-           "tests), as ratios; python -m validation.doc_numbers --update 'explore_*'")
+           "tests), as ratios; python -m tools.doc_numbers --update 'explore_*'")
     keys = ("fe_over_task", "point5_over_task", "geometry_over_task", "point50_over_point5",
             "point50_worst_over_best",
             "w1_rate_over_in_process", "speedup_2_over_1", "w1_task_over_in_process",
@@ -2149,8 +2149,8 @@ def _tuned_length_study() -> dict[str, float]:
     """``lusm explore examples/studies/tuned_60k_length.toml``'s answers, each geometry computed
     in this process (``compute_geometry``, as a worker computes it): the L1-B2 split and the
     stall force at the shortest and the longest plate."""
-    from validation.explore import compute_geometry
-    from validation.study import load_study
+    from studies.explore import compute_geometry
+    from studies.study import load_study
 
     study = load_study(ROOT / "examples" / "studies" / "tuned_60k_length.toml")
     parts = [compute_geometry(study, i) for i in range(study.n_geometries)]
@@ -2446,7 +2446,7 @@ def _fem_char_400V_14N(accuracy: str):
                           accuracy=accuracy)
 
 
-_SHOW = "python -m validation.doc_numbers --show {}"
+_SHOW = "python -m tools.doc_numbers --show {}"
 _FEM_STEADY = "lusm simulate --source fem --voltage 300 --preload 14 --steady --frequency {}"
 _CHAR_T60 = ("lusm characteristic --geometry examples/tuned_60k/stator.toml --voltage 140 "
              "--preload 14 --frequency auto --json")
@@ -2548,7 +2548,7 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               lambda: float(_steady_steps(_table2(), 20.0)), cheap=True, rel_tol=0.0),
         Claim("limits_steady_points_20Hz", "-",
               "5e5 // steady_steps_per_period_table2_20Hz (limits.MAX_STEADY_WORK)",
-              lambda: float(__import__("validation.limits", fromlist=["x"]).MAX_STEADY_WORK
+              lambda: float(__import__("lusm.limits", fromlist=["x"]).MAX_STEADY_WORK
                             // _steady_steps(_table2(), 20.0)), cheap=True, rel_tol=0.0),
         Claim("limits_steady_lowest_frequency_Hz", "Hz",
               _SHOW.format("limits_steady_lowest_frequency_Hz")
@@ -2611,17 +2611,17 @@ CLAIMS: tuple[Claim, ...] = (
     Claim("fe2d_default_error", "-", "lusm report (section 3b, order 2 at the default refine)",
           lambda: _fe_precision()[0]),
     Claim("fe2d_default_time_ratio", "-",
-          "python -m validation.doc_numbers --show fe2d_default_time_ratio (order 2, wall "
+          "python -m tools.doc_numbers --show fe2d_default_time_ratio (order 2, wall "
           "time of refine 16 over the default refine, validation.work_precision."
           "fe_work_precision({2: (4, 16)}); the report's section 3b stops at refine 6)",
           lambda: _fe_precision()[1]),
     Claim("dead_zone_14N_V", "V", "lusm report (section 4, dead-zone edge); "
-          "python -m validation.doc_numbers --show dead_zone_14N_V",
+          "python -m tools.doc_numbers --show dead_zone_14N_V",
           lambda: _dead_zone_edge(14.0), cheap=True, rel_tol=1e-3),
     Claim("dead_zone_14N_vs_paper", "-", "dead_zone_14N_V / 120 V - 1 (paper, Fig. 24)",
           lambda: _dead_zone_edge(14.0) / 120.0 - 1.0, cheap=True, rel_tol=1e-2),
     Claim("dead_zone_14N_consistent_V", "V",
-          "python -m validation.doc_numbers --show dead_zone_14N_consistent_V",
+          "python -m tools.doc_numbers --show dead_zone_14N_consistent_V",
           lambda: _dead_zone_edge(14.0, "consistent"), cheap=True, rel_tol=1e-3),
     Claim("v_200V_14N_m_s", "m/s", _SIM.format(v=200, f=14),
           lambda: _sim(200.0, 14.0).steady.velocity_m_s, cheap=True, rel_tol=1e-5),
@@ -2641,12 +2641,12 @@ CLAIMS: tuple[Claim, ...] = (
           lambda: _sim(450.0, 14.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
     Claim("A_N_400V_10N_m", "m", _SIM.format(v=400, f=10) + " (normal_amplitude_m)",
           lambda: _sim(400.0, 10.0).normal_amplitude_m, cheap=True, rel_tol=1e-6),
-    *(Claim(f"mu_d_2AN_{v}V_{f}N", "-", f"python -m validation.doc_numbers --show "
+    *(Claim(f"mu_d_2AN_{v}V_{f}N", "-", f"python -m tools.doc_numbers --show "
             f"mu_d_2AN_{v}V_{f}N (Eq. 11 at twice the normal_amplitude_m of "
             + _SIM.format(v=v, f=f) + ")",
             lambda v=v, f=f: _mu_at_twice_an(float(v), float(f)), cheap=True, rel_tol=1e-6)
       for v, f in ((400, 10), (400, 14), (400, 26), (450, 14), (50, 14))),
-    *(Claim(f"v_2AN_{v}V_14N_gain", "-", "python -m validation.doc_numbers --show "
+    *(Claim(f"v_2AN_{v}V_14N_gain", "-", "python -m tools.doc_numbers --show "
             f"v_2AN_{v}V_14N_gain (the run of " + _SIM.format(v=v, f=14)
             + (" --duration 0.2" if d else "") + " with b_mu doubled, Eq. 11 at twice A_N, "
             "coupling paper, over the same run on Table 2 - 1)",
@@ -2696,16 +2696,16 @@ CLAIMS: tuple[Claim, ...] = (
           lambda: _wp("literal RK4, eps = 0.0001", agg=min)),
     Claim("wp_literal_eps_wide_max", "-", "lusm report (section 3a, literal RK4, eps = 0.0001)",
           lambda: _wp("literal RK4, eps = 0.0001", agg=max)),
-    Claim("render_mirror_L1", "-", "python -m validation.doc_numbers --show render_mirror_L1",
+    Claim("render_mirror_L1", "-", "python -m tools.doc_numbers --show render_mirror_L1",
           lambda: _render_measures()["L1_mirror"]),
-    Claim("render_mirror_B2", "-", "python -m validation.doc_numbers --show render_mirror_B2",
+    Claim("render_mirror_B2", "-", "python -m tools.doc_numbers --show render_mirror_B2",
           lambda: _render_measures()["B2_mirror"]),
-    Claim("render_offset_L1_px", "px", "python -m validation.doc_numbers --show "
+    Claim("render_offset_L1_px", "px", "python -m tools.doc_numbers --show "
           "render_offset_L1_px", lambda: _render_measures()["L1_offset"]),
-    Claim("render_offset_B2_px", "px", "python -m validation.doc_numbers --show "
+    Claim("render_offset_B2_px", "px", "python -m tools.doc_numbers --show "
           "render_offset_B2_px", lambda: _render_measures()["B2_offset"]),
     Claim("fe_order1_refine_target", "-",
-          "python -m validation.doc_numbers --show fe_order1_refine_target (order-1 refines "
+          "python -m tools.doc_numbers --show fe_order1_refine_target (order-1 refines "
           "28-40 against the Richardson reference)", _order1_refine_for_target),
     Claim("tune_length_m", "m", "lusm tune --target-frequency 40e3 --json",
           lambda: _tuned().stator.length_m),
@@ -2717,35 +2717,35 @@ CLAIMS: tuple[Claim, ...] = (
           "lusm tune --target-frequency 40e3 --json (outer_iterations)",
           lambda: _tuned().outer_iterations),
     Claim("tune_fixlen35_width_m", "m",
-          "python -m validation.cli tune --fix length --length-mm 35 --json (width_mm)",
+          "python -m lusm.cli tune --fix length --length-mm 35 --json (width_mm)",
           lambda: _tuned_fixed_length().stator.width_m),
     Claim("tune_fixlen35_frequency_Hz", "Hz",
-          "python -m validation.cli tune --fix length --length-mm 35 --json (frequency_Hz)",
+          "python -m lusm.cli tune --fix length --length-mm 35 --json (frequency_Hz)",
           lambda: _tuned_fixed_length().frequency_Hz),
     Claim("tune_fixlen35_split", "-",
-          "python -m validation.cli tune --fix length --length-mm 35 --json "
+          "python -m lusm.cli tune --fix length --length-mm 35 --json "
           "(relative_mismatch)", lambda: _tuned_fixed_length().relative_mismatch),
     Claim("tune_fixlen35_fe_solves", "-",
-          "python -m validation.cli tune --fix length --length-mm 35 --json (fe_solves)",
+          "python -m lusm.cli tune --fix length --length-mm 35 --json (fe_solves)",
           lambda: _tuned_fixed_length().fe_solves),
     Claim("tune_fixlen35_3d_width_m", "m",
-          "python -m validation.cli tune --fix length --length-mm 35 --model 3d --json "
+          "python -m lusm.cli tune --fix length --length-mm 35 --model 3d --json "
           "(width_mm)", lambda: _tuned_fixed_length("3d").stator.width_m),
     Claim("tune_fixlen35_3d_frequency_Hz", "Hz",
-          "python -m validation.cli tune --fix length --length-mm 35 --model 3d --json "
+          "python -m lusm.cli tune --fix length --length-mm 35 --model 3d --json "
           "(frequency_Hz)", lambda: _tuned_fixed_length("3d").frequency_Hz),
     Claim("tune_fixlen35_3d_split", "-",
-          "python -m validation.cli tune --fix length --length-mm 35 --model 3d --json "
+          "python -m lusm.cli tune --fix length --length-mm 35 --model 3d --json "
           "(relative_mismatch)", lambda: _tuned_fixed_length("3d").relative_mismatch),
     Claim("tune_fixlen35_3d_fe_solves", "-",
-          "python -m validation.cli tune --fix length --length-mm 35 --model 3d --json "
+          "python -m lusm.cli tune --fix length --length-mm 35 --model 3d --json "
           "(fe_solves)", lambda: _tuned_fixed_length("3d").fe_solves),
     Claim("tune_fixlen35_split_refine8", "-",
-          "python -m validation.doc_numbers --show tune_fixlen35_split_refine8 ((f_B2 - f_L1) "
+          "python -m tools.doc_numbers --show tune_fixlen35_split_refine8 ((f_B2 - f_L1) "
           "/ f_L1 of the 2D design on a refine-8 2D mesh)",
           lambda: _fixed_length_checks()["split_refine8"]),
     Claim("tune_fixlen35_split_3d", "-",
-          "python -m validation.doc_numbers --show tune_fixlen35_split_3d ((f_B2 - f_L1) / "
+          "python -m tools.doc_numbers --show tune_fixlen35_split_3d ((f_B2 - f_L1) / "
           "f_L1 of the 2D design on the default 3D mesh)",
           lambda: _fixed_length_checks()["split_3d"]),
     *(Claim(f"tune_fixlen35_h_{k}_{m}", "-",
@@ -2768,19 +2768,19 @@ CLAIMS: tuple[Claim, ...] = (
     Claim("adm_L1_isolated_fa_Hz", "Hz", _ISOLATED.format("L1"),
           lambda: _isolated_pairs()["L1"].f_antiresonance_Hz, cheap=True, rel_tol=1e-6),
     Claim("adm_L1_fa_below_modal_Hz", "Hz",
-          "python -m validation.doc_numbers --show adm_L1_fa_below_modal_Hz (modal L1 f_open "
+          "python -m tools.doc_numbers --show adm_L1_fa_below_modal_Hz (modal L1 f_open "
           "minus the isolated-L1 antiresonance of the admittance)",
           lambda: _fe2d().L1.f_open_Hz - _isolated_pairs()["L1"].f_antiresonance_Hz,
           cheap=True, rel_tol=1e-4),
     Claim("fe2d_inertia_L1_short_shift_Hz", "Hz",
-          "python -m validation.doc_numbers --show fe2d_inertia_L1_short_shift_Hz (L1 short "
+          "python -m tools.doc_numbers --show fe2d_inertia_L1_short_shift_Hz (L1 short "
           "with minus without the thickness inertia, docs/fem.md 1.3)",
           lambda: _fe2d().L1.f_short_Hz - _fe2d_no_inertia().L1.f_short_Hz,
           cheap=True, rel_tol=1e-5),
     Claim("adm_L1_isolated_keff", "-", _ISOLATED.format("L1"),
           lambda: _isolated_pairs()["L1"].k_eff, cheap=True, rel_tol=1e-5),
     Claim("adm_B2_isolated_keff_damping_drift", "-",
-          "python -m validation.doc_numbers --show adm_B2_isolated_keff_damping_drift "
+          "python -m tools.doc_numbers --show adm_B2_isolated_keff_damping_drift "
           "(plate_admittance(f_min_Hz=50e3, f_max_Hz=60e3, n_points=3001, electrodes=(1, 2, 3, "
           "4), polarity=(1, -1, -1, 1), zeta=Z), k_eff at Z = 0.01 over Z = 1e-4, minus 1)",
           _isolated_b2_damping_drift, cheap=True, rel_tol=1e-3),
@@ -2846,14 +2846,14 @@ def compute(keys: list[str] | None = None) -> dict:
             value = _in_fresh_process([key])[0] if c.timing else float(c.compute())
         numbers[key] = {"value": value if math.isfinite(value) else None, "unit": c.unit,
                         "command": c.command}
-    return {"generated_by": "python -m validation.doc_numbers",
+    return {"generated_by": "python -m tools.doc_numbers",
             "date": time.strftime("%Y-%m-%d", time.gmtime()), "machine": machine(),
             "numbers": numbers}
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m validation.doc_numbers [--out docs/numbers.json] [--show KEY ...]``."""
-    ap = argparse.ArgumentParser(prog="python -m validation.doc_numbers",
+    """``python -m tools.doc_numbers [--out docs/numbers.json] [--show KEY ...]``."""
+    ap = argparse.ArgumentParser(prog="python -m tools.doc_numbers",
                                  description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=NUMBERS_JSON, help="where to write the JSON")
     ap.add_argument("--show", nargs="+", metavar="KEY",

@@ -8,18 +8,17 @@ import re
 import sys
 from pathlib import Path
 
-from validation import limits
-from validation.errors import LusmError
-from validation.options import (
+from lusm import limits
+from lusm.errors import LusmError
+from lusm.messages import warn, warnings_said
+from lusm.options import (
     figure_set,
     integer,
     moved,
     output_folder,
     print_json,
-    warn,
     warn_drive,
     warn_thin_plate,
-    warnings_said,
 )
 
 
@@ -70,7 +69,8 @@ def run(args: argparse.Namespace) -> None:
 def _run(args: argparse.Namespace, said: list[str]) -> None:
     """:func:`run`, with ``said`` the record of the warnings said so far (filled as they
     are said)."""
-    from validation.explore import (
+    from lusm.interrupts import Terminated
+    from studies.explore import (
         DEFAULT_WORKERS,
         NothingComputedError,
         PartsBusyError,
@@ -81,8 +81,7 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
         open_result,
         parts_folder,
     )
-    from validation.interrupts import Terminated
-    from validation.study import load_study
+    from studies.study import load_study
 
     try:  # before anything else: '' passed the --workers check below
         check_scheduler_names(args.scheduler, args.scheduler_file)
@@ -142,7 +141,7 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
                   "with --resume to continue once the cause is fixed", file=sys.stderr)
         raise
     if plot is not None:
-        from validation.explore import design_maps, drawable_maps
+        from studies.explore import design_maps, drawable_maps
 
         try:
             ds = open_result(result.path)
@@ -163,7 +162,7 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
     # warned of 700 V, of thick plates or of drive points that had not settled)
     summary["warnings"] = list(said)
     if study.needs_motor:  # every velocity and force depends on it (as characteristic says)
-        from validation.explore import damping_text
+        from studies.explore import damping_text
 
         summary["damping"] = damping_text(study)
     if study.stator is not None:
@@ -226,7 +225,7 @@ def in_study_terms(text: str) -> str:
 
 
 def _warn_drive(study) -> None:
-    """The drive warnings of the single-point commands (:func:`validation.options.warn_drive`),
+    """The drive warnings of the single-point commands (:func:`lusm.options.warn_drive`),
     once per study, for the axis values that trigger them: the largest voltage above 600 V,
     the largest preload above 100 N, and 0 V with 0 N. A study that drives nothing (FE
     outputs only) gets none. A study of 700 V and 0 V / 0 N points said nothing."""
@@ -253,14 +252,14 @@ def _warn_thick(study) -> None:
 
 def _warn_holes(study) -> None:
     """The single-point commands' warning for a through hole of the study's stator file
-    (:func:`validation.options.warn_holes`), said for its smallest, thickest plate, where the
+    (:func:`lusm.options.warn_holes`), said for its smallest, thickest plate, where the
     hole weighs most."""
     holes = () if study.stator is None else getattr(study.stator.stator, "holes_m", ())
     if not holes:
         return
     from types import SimpleNamespace
 
-    from validation.options import warn_holes
+    from lusm.options import warn_holes
 
     ax = study.axes  # the sizes the warning weighs, not a plate to build (it may not exist)
     plate = SimpleNamespace(holes_m=holes, length_m=min(ax["length"]),
@@ -271,9 +270,9 @@ def _warn_holes(study) -> None:
 def _report_failures(ds, path) -> list[str]:
     """Say which geometries did not compute fully (their reasons are in the dataset's
     ``status``), and return what was said. A study where none did has no dataset:
-    :func:`validation.explore.explore` refused it (it exited 0 with a dataset of NaN, then 2
+    :func:`studies.explore.explore` refused it (it exited 0 with a dataset of NaN, then 2
     with one)."""
-    from validation.explore import computed_fully
+    from studies.explore import computed_fully
 
     said = []
     status = [str(x) for x in ds["status"].values.ravel()]
@@ -283,7 +282,7 @@ def _report_failures(ds, path) -> list[str]:
                     f"settle (in {path}, variable 'status'); first: {slow[0]}")
     bad = [x for x in status if not computed_fully(x)]
     if bad:
-        from validation.errors import short_reason
+        from lusm.errors import short_reason
 
         first = short_reason(bad[0]).replace("dt_s", "solver.dt").replace("frequency_Hz",
                                                                            "frequency")

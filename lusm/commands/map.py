@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import argparse
 
-from validation import limits
-from validation.errors import LusmError
-from validation.options import (
+from lusm import limits
+from lusm.errors import LusmError
+from lusm.messages import warn, warn_unused
+from lusm.options import (
+    Motor,
     add_drive_options,
     add_motor_options,
     add_output_options,
@@ -14,19 +16,14 @@ from validation.options import (
     check_run_size,
     check_steady_work,
     check_steps,
-    coupling_of,
     figure_set,
     integer,
     known_frequency,
-    motor_params_of,
     moved,
     output_folder,
-    parse_frequency,
     print_json,
-    warn,
-    warn_default_frequency,
+    resolve_motor,
     warn_drive,
-    warn_unused,
 )
 
 
@@ -62,13 +59,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
-    from validation.ranges import parse_range
+    from lusm.ranges import parse_range
 
     return parse_range(text, option, bounds=bounds, unit=unit)
 
 
 def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> None:
-    from validation.options import time_step_of
+    from lusm.options import time_step_of
 
     # the steady engine takes its own step; --dt serves only the transient of an undecided
     # point. A typed one gets the transients' range all the same (--dt 1e-3 had run without
@@ -104,26 +101,37 @@ def run(args: argparse.Namespace) -> None:
             f"--voltages x --preloads give {volts.size * loads.size} points; a steady map "
             f"takes at most {limits.work_bound(limits.MAX_STEADY_POINTS)} "
             f"({limits.more_work_hint()})", "--voltages")
-    params, damping_from = motor_params_of(args, args.source)
-    coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
-    warn_default_frequency(params, freq)
+    motor = resolve_motor(args)
     if known is None:
-        _check_size(args, volts, loads, freq)
+        _check_size(args, volts, loads, motor.frequency_Hz)
     if args.method == "steady":  # a point's cost grows as the drive frequency falls
-        check_steady_work(volts.size * loads.size, params, freq, coupling, "points",
-                          "--voltages")
+        check_steady_work(volts.size * loads.size, motor.params, motor.frequency_Hz,
+                          motor.coupling, "points", "--voltages")
+    m = _solve(args, motor, volts, loads)
+    summary = _summary(args, motor, m)
+    if plot is not None:
+        summary["figures"] = _plot(args, motor, m, plot)
+        # "figure", the map's one path, kept for the scripts that read it
+        summary["figure"] = summary["figures"][0]
+    if args.json:
+        print_json(summary, indent=2)
+        return
+    _print(args, motor, m)
+    for f in summary.get("figures", []):
+        print(f"wrote {f}")
 
+
+def _solve(args: argparse.Namespace, motor: Motor, volts, loads):
+    """The map (:func:`contact.maps.stick_slip_map`), its unsettled points said."""
     from contact.maps import stick_slip_map
     from contact.options import SimulationOptions
-    from validation.summaries import coupling_line, damping_line, damping_summary, map_summary
 
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
                              ultrasonic_friction=not args.no_ultrasonic_friction,
-                             coupling=coupling)
-    m = stick_slip_map(params, volts, loads, freq, opts, workers=args.workers, progress=True,
-                       method=args.method, accuracy=args.accuracy, rest=args.rest)
-    summary = map_summary(m)
+                             coupling=motor.coupling)
+    m = stick_slip_map(motor.params, volts, loads, motor.frequency_Hz, opts,
+                       workers=args.workers, progress=True, method=args.method,
+                       accuracy=args.accuracy, rest=args.rest)
     if m.method == "transient" and not m.settled.all():  # as simulate warns of one run
         import numpy as np  # here: lusm map --help loads no NumPy
 
@@ -133,33 +141,47 @@ def run(args: argparse.Namespace) -> None:
              + ", ".join(pts[:5]) + (", ..." if len(pts) > 5 else "") + "): their velocity "
              "is not the steady one (JSON 'settled'); give a longer --duration, or --method "
              "steady")
-    summary["damping"] = damping_summary(params, damping_from)
-    summary["coupling"], summary["coupling_from"] = coupling, coupling_from
-    summary["frequency_Hz"] = freq
+    return m
+
+
+def _summary(args: argparse.Namespace, motor: Motor, m) -> dict:
+    """The map's JSON: the points, the damping, coupling and frequency, the engine's level."""
+    from validation.summaries import damping_summary, map_summary
+
+    summary = map_summary(m)
+    summary["damping"] = damping_summary(motor.params, motor.damping_from)
+    summary["coupling"], summary["coupling_from"] = motor.coupling, motor.coupling_from
+    summary["frequency_Hz"] = motor.frequency_Hz
     if m.method == "steady":  # the engine's level, and how the start from rest was decided
         summary["accuracy"] = args.accuracy
         if args.accuracy == "exact":
             summary["rest"] = args.rest
-    if plot is not None:
-        from validation.figures import set_label
-        from validation.figures import stick_slip_map as plot_map
+    return summary
 
-        name = "fig19_map_constant_mu.png" if args.no_ultrasonic_friction else "fig18_map.png"
-        with figure_set(plot, "map", "--plot", args.force) as stage:
-            # the method in the title: a 10 ms transient map with unsettled points was the
-            # same picture as the settled steady one
-            how = (f"steady engine ({args.accuracy} level)" if m.method == "steady" else
-                   f"transients of {args.duration:g} s from rest"
-                   + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
-            png = plot_map(m, stage / name,
-                           f"{set_label(params.source)}, {freq / 1e3:.4g} kHz, {how}")
-            # "figures", a list, as simulate and characteristic write it; "figure", the
-            # map's one path, kept for the scripts that read it
-            summary["figures"] = moved([png], stage, plot)
-            summary["figure"] = summary["figures"][0]
-    if args.json:
-        print_json(summary, indent=2)
-        return
+
+def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
+    """Draw the map into the ``--plot`` folder; returns the figures' paths."""
+    from validation.figures import set_label
+    from validation.figures import stick_slip_map as plot_map
+
+    name = "fig19_map_constant_mu.png" if args.no_ultrasonic_friction else "fig18_map.png"
+    with figure_set(plot, "map", "--plot", args.force) as stage:
+        # the method in the title: a transient map with unsettled points is not the settled
+        # steady one
+        how = (f"steady engine ({args.accuracy} level)" if m.method == "steady" else
+               f"transients of {args.duration:g} s from rest"
+               + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
+        png = plot_map(m, stage / name, f"{set_label(motor.params.source)}, "
+                       f"{motor.frequency_Hz / 1e3:.4g} kHz, {how}")
+        return moved([png], stage, plot)
+
+
+def _print(args: argparse.Namespace, motor: Motor, m) -> None:
+    """The motion classes and the speeds as tables, and what the map rests on."""
+    from validation.summaries import coupling_line, damping_line
+
+    params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
+    coupling, coupling_from = motor.coupling, motor.coupling_from
     short = {"slip-separation": "o", "stick-slip": "*", "stick-slip-separation": "S",
              "pure-stick": "#", "pure-slip": "-", "separated": "."}
     print("V0 (V) \\ F_P (N)")
@@ -174,7 +196,7 @@ def run(args: argparse.Namespace) -> None:
         print(f"{v:>8g}  " + " ".join(f"{x * 1e3:>9.4g}" for x in m.velocity_m_s[i]))
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
-    auto_note = " (auto: the set's own operating point)" if known is None else ""
+    auto_note = " (auto: the set's own operating point)" if motor.frequency_auto else ""
     print(f"frequency {freq:.6g} Hz{auto_note}")
     counts = ", ".join(f"{c} {n}" for c, n in m.counts().items() if n)
     print(f"points: {counts}; wall time {m.wall_time_s:.2f} s ({m.method}"
@@ -194,5 +216,3 @@ def run(args: argparse.Namespace) -> None:
             print(f"undecided by the steady engine (creep, no periodic tip orbit): {undecided} "
                   f"point(s), taken from {fallback_duration_s(args.duration, freq):g} s "
                   "transients (see --json)")
-    for f in summary.get("figures", []):
-        print(f"wrote {f}")

@@ -1,16 +1,16 @@
 """The ``lusm`` command line: parse, call the library, print. No physics lives here.
 
-Each sub-command sits in its own ``validation/cmd_<name>.py`` module exposing
+Each sub-command sits in its own ``lusm/commands/<name>.py`` module exposing
 ``register(subparsers)``; its library is imported inside its ``run`` so that building the
 parser (``lusm --help``) imports no numpy, scipy, numba or scikit-fem. Shared options live in
-:mod:`validation.options`, limits in :mod:`validation.limits`.
+:mod:`lusm.options`, limits in :mod:`lusm.limits`.
 
-Exit codes: 0 success; 2 for every user-facing failure (:class:`validation.errors.LusmError`,
+Exit codes: 0 success; 2 for every user-facing failure (:class:`lusm.errors.LusmError`,
 and the library's ``ValueError`` / ``OSError`` / :class:`contact.errors.ChatteringError`, the
-kernel's refusal of an operating point, mapped by :func:`validation.errors.user_error`),
+kernel's refusal of an operating point, mapped by :func:`lusm.errors.user_error`),
 printed as one line ``lusm <cmd>: error: ...``; 130 on Ctrl-C or SIGTERM (staging folders are
 removed by their ``finally`` blocks; a signal Python had to swallow is re-raised before any
-output is moved in, :mod:`validation.interrupts`); 1 for an unexpected exception (a bug): one
+output is moved in, :mod:`lusm.interrupts`); 1 for an unexpected exception (a bug): one
 line naming it and asking for a report, the traceback only with ``LUSM_DEBUG=1``.
 """
 
@@ -26,18 +26,18 @@ import warnings
 from collections.abc import Iterator, Sequence
 
 COMMAND_MODULES = [
-    "validation.cmd_simulate",
-    "validation.cmd_map",
-    "validation.cmd_modes",
-    "validation.cmd_params",
-    "validation.cmd_compare",
-    "validation.cmd_report",
-    "validation.cmd_render",
-    "validation.cmd_tune",
-    "validation.cmd_sweep",
-    "validation.cmd_admittance",
-    "validation.cmd_explore",
-    "validation.cmd_characteristic",
+    "lusm.commands.simulate",
+    "lusm.commands.map",
+    "lusm.commands.modes",
+    "lusm.commands.params",
+    "lusm.commands.compare",
+    "lusm.commands.report",
+    "lusm.commands.render",
+    "lusm.commands.tune",
+    "lusm.commands.sweep",
+    "lusm.commands.admittance",
+    "lusm.commands.explore",
+    "lusm.commands.characteristic",
 ]
 """Sub-command modules, registered in this order (a module that does not exist is skipped)."""
 
@@ -160,14 +160,14 @@ def _after_the_command(code: int | None) -> None:
 
 def _main(argv: Sequence[str] | None) -> int:
     if argv is None:  # a fresh `lusm` process: its start is mostly imports (numba, SciPy)
-        from validation import fast_start
+        from lusm import fast_start
 
         fast_start.prepare_process()
-    from validation.options import set_command, set_typed
+    from lusm.messages import set_command, set_typed
 
     # Figures are files: the CLI picks matplotlib's file backend, library code never does.
     os.environ.setdefault("MPLBACKEND", "Agg")
-    from validation.limits import work_factor
+    from lusm.limits import work_factor
 
     try:  # before parsing: options' bounds use it, and the fault is not theirs
         work_factor()
@@ -223,8 +223,8 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
     seen: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
-        from validation.errors import assignments_as_options
-        from validation.options import in_file_terms, record_said
+        from lusm.errors import assignments_as_options
+        from lusm.messages import in_file_terms, record_said
 
         text = in_file_terms(assignments_as_options(_one_line(str(message))))
         # a --json summary lists it too (lusm explore's), also when it was said before the
@@ -242,8 +242,8 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
 def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
     """Run the parsed command; map every way it can end to an exit code and one line."""
     from contact.errors import ChatteringError
-    from validation import interrupts
-    from validation.errors import LusmError, user_error
+    from lusm import interrupts
+    from lusm.errors import LusmError, user_error
 
     prog = f"lusm {args.command}"
     try:
@@ -276,7 +276,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
             # from the moment the command's own handlers are gone (main sets the exit code
             # SIGTERM ends it with, once this returns it)
             _after_the_command(None)
-            from validation import fast_start
+            from lusm import fast_start
 
             fast_start.finish_process()
     return 0

@@ -2,15 +2,16 @@
 
 Parse, call :mod:`fem.render`, print the files written. No physics here; ``fem`` and
 pyvista are imported when the command runs. The pictures are built aside and moved into
-``--out`` complete (:mod:`validation.output_set`).
+``--out`` complete (:mod:`lusm.output_set`).
 """
 
 from __future__ import annotations
 
 import argparse
 
-from validation.cmd_modes import add_fe_options, fe_failure, is_fe_failure
-from validation.options import add_output_options, add_plate_options
+from lusm.commands.modes import add_fe_options
+from lusm.fe_errors import fe_failure, is_fe_failure
+from lusm.options import add_output_options, add_plate_options
 
 
 def register(subparsers) -> None:
@@ -33,8 +34,8 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
-    from validation.cmd_modes import warn_linear_elements
-    from validation.options import (
+    from lusm.commands.modes import warn_linear_elements
+    from lusm.options import (
         check_fe_size,
         figure_set,
         moved,
@@ -62,7 +63,7 @@ def run(args: argparse.Namespace) -> None:
     model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
     from contact.deferred_signals import deferred_signals
-    from validation.interrupts import import_held
+    from lusm.interrupts import import_held
 
     import_held("pyvista")  # not interrupted half-way (a signal there crashed VTK)
     with figure_set(out, "render", "--out", args.force) as stage:

@@ -66,7 +66,7 @@ default 9 x 9 map has 81)."""
 MAX_STEADY_WORK = 500_000
 """Steady solves x steps per drive period of one command (a steady map's points, a
 characteristic's loads x voltages, a steady ``lusm explore`` study's geometries x drive points
-x their solves, :func:`validation.study.steady_solves`): a point costs in proportion to its
+x their solves, :func:`studies.study.steady_solves`): a point costs in proportion to its
 steps per period (25 at 40 kHz, 10 000 points allowed; 14 923 at 20 Hz, where a point takes
 1.5 s: 33 allowed)."""
 MAX_GRID_POINTS = 2000
@@ -139,3 +139,8 @@ def work_bound(limit: float) -> int:
 def more_work_hint() -> str:
     """The sentence telling the user how to raise a work bound on purpose."""
     return f"set {WORK_ENV}=N to allow N times more"
+
+
+MEASURED_THICK_RATIO = 1.3
+"""The largest thickness over in-plane size at which the 2D model was measured against 3D
+(:func:`lusm.options.warn_thin_plate`)."""

@@ -1,0 +1,7 @@
+"""``python -m lusm``: the ``lusm`` command."""
+
+import sys
+
+from lusm.cli import main
+
+sys.exit(main())

@@ -1,0 +1,1 @@
+"""The ``lusm`` commands, one module each: ``add_parser(subparsers)`` and ``run(args)``."""

@@ -1,0 +1,1 @@
+"""Documentation tooling (not installed): the numbers and tables quoted in the docs."""
