@@ -150,22 +150,24 @@ def simulate(
         When the contact chatters beyond ``max_events_per_step`` within a step.
     """
     require_params(params)
-    if not isinstance(method, str) or method not in METHODS:  # ["event"]: "unhashable"
-        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    if load_N and method in ("reference", "literal"):
-        raise ValueError(f"load_N is modelled by the event and steady schemes only, got "
-                         f"load_N={load_N!r} with method={method!r}")
-
+    _check_method(method, load_N)
     from contact.drive import default_drive_Hz
 
     op = OperatingPoint(voltage_V, preload_N, default_drive_Hz(params, frequency_Hz), load_N)
-    opts = _resolved_options(params, op, method, options, option_overrides)
+    opts = _resolved_options(op, method, options, option_overrides)
+    if opts.coupling == "auto":  # here: CouplingSwitchWarning names simulate's caller
+        opts = replace(opts, coupling=resolve_coupling(params, "auto"))
     window, dt_a_n = _scheme_window(op, opts, method)
     module, _, name = METHODS[method].partition(":")
     scheme = getattr(importlib.import_module(module), name)
 
     t0 = time.perf_counter()
-    a_n, mu_d_eff = _slip_friction(params, op, opts, dt_a_n)
+    # here, not in a helper: UnsettledAmplitudeWarning names simulate's caller
+    if opts.ultrasonic_friction:
+        a_n = normal_amplitude(params, op, dt_a_n)
+        mu_d_eff = dynamic_friction(params, a_n)
+    else:
+        a_n, mu_d_eff = float("nan"), params.mu_d
     out: SchemeOutput = scheme(params, op, opts, window, mu_d_eff)
     wall = time.perf_counter() - t0
     if not opts.ultrasonic_friction and math.isfinite(out.y_tip_max_m):
@@ -182,12 +184,20 @@ def simulate(
     )
 
 
-def _resolved_options(params: MotorParams, op: OperatingPoint, method: str,
-                      options: SimulationOptions | None,
+def _check_method(method: str, load_N: float) -> None:
+    """Refuse a scheme that is not one of :data:`METHODS`, or a load it does not model."""
+    if not isinstance(method, str) or method not in METHODS:  # ["event"]: "unhashable"
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if load_N and method in ("reference", "literal"):
+        raise ValueError(f"load_N is modelled by the event and steady schemes only, got "
+                         f"load_N={load_N!r} with method={method!r}")
+
+
+def _resolved_options(op: OperatingPoint, method: str, options: SimulationOptions | None,
                       overrides: dict) -> SimulationOptions:
-    """The run's options: ``options`` (or the defaults) with the keyword overrides, the
-    step resolved for the drive frequency and ``"auto"`` coupling resolved for the set, so
-    that the result's options say what ran."""
+    """The run's options: ``options`` (or the defaults) with the keyword overrides and the
+    step resolved for the drive frequency, so that the result's options say what ran
+    (:func:`simulate` resolves ``"auto"`` coupling for the set)."""
     opts = options_or_default(options)
     if overrides:
         opts = SimulationOptions(**{**opts.__dict__, **overrides})
@@ -197,8 +207,6 @@ def _resolved_options(params: MotorParams, op: OperatingPoint, method: str,
                          f"method={method!r}")
     if opts.dt_s is None:
         opts = replace(opts, dt_s=period_step_s(op.period_s, DEFAULT_DT_S))
-    if opts.coupling == "auto":
-        opts = replace(opts, coupling=resolve_coupling(params, "auto"))
     return opts
 
 
@@ -226,16 +234,6 @@ def _scheme_window(op: OperatingPoint, opts: SimulationOptions,
         n_full, decim = full_and_decimation(op, opts, window)
         check_stored_steps(n_full, math.ceil(window.n_steps / decim))
     return window, opts.dt_s
-
-
-def _slip_friction(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
-                   dt_a_n: float) -> tuple[float, float]:
-    """``(A_N, mu_d_eff)``: Eq. 11's normal amplitude (m) from the pre-pass at the step
-    ``dt_a_n`` (s) and the friction in slip it gives, or NaN and ``mu_d`` without Eq. 11."""
-    if opts.ultrasonic_friction:
-        a_n = normal_amplitude(params, op, dt_a_n)
-        return a_n, dynamic_friction(params, a_n)
-    return float("nan"), params.mu_d
 
 
 def _warn_if_runaway(params: MotorParams, op: OperatingPoint, opts: SimulationOptions,
