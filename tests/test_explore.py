@@ -93,7 +93,7 @@ def test_cluster_equals_in_process(study, reference, client, tmp_path):
     f = ds["f_L1_short"].isel(width=0).values.ravel()
     assert np.all(np.diff(f) < 0)
     # the velocity at zero load is the no-load velocity (and NaN under load until
-    # contact.steady answers it)
+    # contact.steady.engine answers it)
     np.testing.assert_array_equal(ds["velocity"].sel(load=0.0), ds["no_load_velocity"])
 
 
@@ -224,7 +224,7 @@ BAD = {
     # said in the file's unit: it was "got (2.0,) (SI)"
     "length too long": ("[axes]\nlength = ['30 mm', '2000 mm']\n",
                         "axes.length values must lie in [0.1, 1000] mm, got 2000 mm"),
-    # contact.reference.MAX_REFERENCE_PERIODS: refused by the file, not by every point
+    # contact.transient.reference.MAX_REFERENCE_PERIODS: refused by the file, not by every point
     "reference too long": ("[axes]\nfrequency = '40 kHz'\n[solver]\nmethod = 'reference'\n"
                            "duration = '1 s'\n",
                            "solver.duration 1 s must be at most 500 ms (20000 drive periods) "
@@ -584,10 +584,10 @@ def test_workers_without_gmsh_are_refused_for_a_parametric_stator(client, monkey
                                                                   tmp_path):
     """A study of a stator file meshed by gmsh needs gmsh on every worker: refused before any
     task (each task had failed on its mesh with an internal error)."""
-    import fem.parametric
+    import fem.meshing.parametric
 
     # pickled by value: run on the workers
-    monkeypatch.setattr(fem.parametric, "gmsh_problem",
+    monkeypatch.setattr(fem.meshing.parametric, "gmsh_problem",
                         lambda: "gmsh is not installed: pip install it")
     stator = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
     s = study_from_dict({"study": {"stator": str(stator)}, "outputs": ["f_L1_short"]})
@@ -642,7 +642,7 @@ def test_a_studys_answers_are_the_single_point_commands_bit_for_bit(capsys):
     force 11 % low (the test took 5 %). The exact level is the CLI's default too."""
     import json
 
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.cli import main
     from studies.study import SOLVER_DEFAULTS
 
@@ -722,7 +722,7 @@ def test_a_studys_fe_work_is_bounded_in_all():
     the sum over the plates' own meshes is below that count, and above the limit."""
     import time
 
-    from fem.mesh import structured_mesh
+    from fem.meshing.mesh import structured_mesh
     from studies.study import MAX_STUDY_FE_WORK
 
     axes = {"length": {"start": "20 mm", "stop": "40 mm", "num": 1000},
@@ -784,7 +784,7 @@ def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
     monkeypatch.setenv("LUSM_MAX_WORK", "500")
     assert study_from_dict(big).n_drive_points == 10_000
     assert study_from_dict(steady).n_drive_points == 10_000
-    from contact.periodic_orbit import STEPS_PER_PERIOD
+    from contact.steady.periodic_orbit import STEPS_PER_PERIOD
 
     assert STEADY_MIN_STEPS_PER_PERIOD == STEPS_PER_PERIOD  # written out, not imported
     import inspect
@@ -825,7 +825,7 @@ def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
     # a 30 x 1 mm plate at fe_refine 48 (69 120 elements) ran for minutes at 2.8 GB; lusm modes
     # refuses the same plate at once
     from fem.geometry import PlateStator
-    from fem.mesh import grid_lines_m
+    from fem.meshing.mesh import grid_lines_m
 
     x, y = grid_lines_m(PlateStator(length_m=30e-3, width_m=1e-3), 48)
     cells = (len(x) - 1) * (len(y) - 1)
@@ -1526,7 +1526,7 @@ def test_a_study_can_take_the_constant_dynamic_friction():
     constant mu_d, to the bit, and differs from Eq. 11's (mu_d,eff < mu_d changes the thrust);
     the warning's remedy is said in the study file's terms."""
     from contact.model import default_coupling
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from lusm.commands.explore import in_study_terms
     from rom import table2
     from studies.explore import Drive, motor_answers
@@ -1561,19 +1561,19 @@ def test_solver_rest_reaches_every_steady_call(monkeypatch):
     """[solver] rest = "transient" is the commands' --rest transient: the no-load point and
     both characteristics of a drive point take it."""
     import contact.characteristic
-    import contact.steady
+    import contact.steady.engine
     from rom import table2
     from studies.explore import Drive, motor_answers
     from studies.study import Solver
 
     seen = []
-    real = contact.steady.steady_state
+    real = contact.steady.engine.steady_state
 
     def spy(*args, **kwargs):
         seen.append(kwargs.get("rest"))
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(contact.steady, "steady_state", spy)
+    monkeypatch.setattr(contact.steady.engine, "steady_state", spy)
     monkeypatch.setattr(contact.characteristic, "steady_state", spy)
     ans = motor_answers(table2(), Drive(200.0, 14.0, 40e3, (0.0, 0.123)),
                         Solver(rest="transient"))

@@ -1,6 +1,6 @@
 """``lusm modes``: L1/B2 short- and open-circuit frequencies and k_eff of the FE plate.
 
-Parse, call :func:`fem.modes.plate_modes` (or :func:`fem.solid3d.solid_modes`), print. No
+Parse, call :func:`fem.modes.plate_modes` (or :func:`fem.solid3d.model.solid_modes`), print. No
 physics here; ``fem`` is imported when the command runs so that building the ``lusm`` parser
 never imports scikit-fem.
 """
@@ -104,18 +104,18 @@ def run(args: argparse.Namespace) -> None:
     export = _export_target(args.export, args.force) if args.export is not None else None
 
     from fem.material import plane_stress
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import ModeSolverError, plate_modes
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     quarter = False
     if args.model == "3d":
-        from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+        from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
         check_refine_3d(args.refine)
         refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
         layers = DEFAULT_LAYERS if args.layers is None else args.layers
-        from fem.solid3d_symmetric import quarter_model_applies
+        from fem.solid3d.symmetric import quarter_model_applies
 
         # the quarter-plate model gives the full model's results at about a quarter of the
         # size; the export writes the full model's mesh
@@ -142,12 +142,12 @@ def run(args: argparse.Namespace) -> None:
     # planform meshes whose layers are thick against a narrow gap)
     coarse_gap = None
     if args.model == "3d":
-        from fem.solid3d import gap_element_ratio
+        from fem.solid3d.model import gap_element_ratio
 
         ratio = gap_element_ratio(stator, refine, layers, args.edge_grading)
         if ratio > NARROW_GAP_RATIO:
-            from fem.meshed_stator import planform_mesh
-            from fem.solid3d import planform_gap_m, planform_gap_ratios
+            from fem.meshing.meshed_stator import planform_mesh
+            from fem.solid3d.model import planform_gap_m, planform_gap_ratios
             from lusm.messages import warn
 
             pf = planform_mesh(stator)
@@ -161,7 +161,7 @@ def run(args: argparse.Namespace) -> None:
                  f"too low (docs/fem3d.md); {coarse_gap}")
     try:
         if quarter:
-            from fem.solid3d_symmetric import symmetric_solid_modes
+            from fem.solid3d.symmetric import symmetric_solid_modes
 
             res = symmetric_solid_modes(stator, material, args.order, refine, layers,
                                         edge_grading=args.edge_grading)
@@ -188,7 +188,7 @@ def run(args: argparse.Namespace) -> None:
     if export is not None:
         if args.model == "3d":
             from fem.export import export_solid_modes
-            from fem.solid3d import build_solid_model
+            from fem.solid3d.model import build_solid_model
 
             model = build_solid_model(stator, material, args.order, refine, layers,
                                       edge_grading=args.edge_grading)
@@ -380,7 +380,7 @@ and .ply (the vectors dropped), which said "wrote" and exited 0."""
 NARROW_GAP_RATIO = 10.0
 """``lusm modes --model 3d`` warns when the elements beside the electrode gap (in-plane
 neighbours and the top layer) are more than this many times wider than the gap
-(:func:`fem.solid3d.gap_element_ratio`; 4.9 on the paper's plate, whose default mesh is
+(:func:`fem.solid3d.model.gap_element_ratio`; 4.9 on the paper's plate, whose default mesh is
 documented in docs/fem3d.md)."""
 
 
@@ -389,7 +389,7 @@ def _graded_work_clause(stator, refine, layers, quarter_allowed: bool) -> str:
     been refused as given on the tip examples (2 140 bricks against 2 000; exploratory
     testing). Counted on the model the graded run would use (the quarter plate where it
     applies, as :func:`run` decides)."""
-    from fem.solid3d_symmetric import quarter_model_applies
+    from fem.solid3d.symmetric import quarter_model_applies
     from lusm import limits
     from lusm.options import fe_cell_count
 
@@ -408,7 +408,7 @@ def _graded_work_clause(stator, refine, layers, quarter_allowed: bool) -> str:
 def _coarse_gap_remedy(choice, edge_grading: int,
                        planform_ratios: tuple[float, float] | None) -> str:
     """What refines the 3D mesh at the electrode gap: more ``--edge-grading`` levels; for a
-    planform mesh (``planform_ratios``, :func:`fem.solid3d.planform_gap_ratios`) they grade
+    planform mesh (``planform_ratios``, :func:`fem.solid3d.model.planform_gap_ratios`) they grade
     only its layers, and its in-plane elements are the file's to refine."""
     more = (f"raise --edge-grading above {edge_grading}" if edge_grading
             else "add --edge-grading 1 or more")
