@@ -560,38 +560,6 @@ def check_fe_work(cells: int, solves: int, three_d: bool, option: str,
             f"({limits.more_work_hint()})", option)
 
 
-def fe_cell_count(stator, refine: int | None, layers: int | None = None,
-                  edge_grading: int = 0, quarter: bool = False) -> int:
-    """Elements (``layers`` None) or 3D bricks of the FE mesh ``stator`` and ``refine`` make,
-    as :func:`check_fe_size` counts them against the bounds (the report states them too)."""
-    from fem.meshing.meshed_stator import planform_mesh
-
-    mesh = planform_mesh(stator)
-    if mesh is not None and layers is not None and edge_grading:
-        from fem.solid3d.model import planform_layer_lines  # graded layers (the 3D model's)
-
-        n = int(mesh.quads.shape[1]) * (planform_layer_lines(mesh, stator.thickness_m, layers,
-                                                             edge_grading).size - 1)
-    elif mesh is not None:
-        n = int(mesh.quads.shape[1]) * (layers or 1)
-    elif layers is not None and quarter:
-        from fem.solid3d.symmetric import quarter_grid_lines
-
-        lines = quarter_grid_lines(stator, refine, layers, edge_grading)
-        n = math.prod(len(v) - 1 for v in lines)
-    elif layers is not None and edge_grading:
-        from fem.solid3d.model import hex_grid_lines
-
-        lines = hex_grid_lines(stator, refine, layers, edge_grading)
-        n = math.prod(len(v) - 1 for v in lines)
-    else:
-        from fem.meshing.mesh import DEFAULT_REFINE, grid_lines_m
-
-        x, y = grid_lines_m(stator, DEFAULT_REFINE if refine is None else refine)
-        n = (len(x) - 1) * (len(y) - 1) * (layers or 1)
-    return n
-
-
 def check_b2_in_reach(stator) -> None:
     """Refuse, before any FE work, a plate whose B2 the 2D solver cannot reach from L1
     (:func:`fem.modes.check_b2_in_reach`): a 1000 x 1 mm plate took 14 s and 900 MB of
@@ -628,6 +596,8 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     if needs_b2 and layers is None:
         check_b2_in_reach(stator)
     mesh = planform_mesh(stator)
+    from fem.cell_count import fe_cell_count
+
     n = fe_cell_count(stator, refine, layers, edge_grading, quarter)
     if layers is not None:
         top, what = limits.work_bound(limits.MAX_FE_CELLS_3D), "3D bricks"

@@ -210,10 +210,13 @@ class Solver:
     def step_s(self, frequency_Hz: float) -> float:
         """The time step (s) of a transient at ``frequency_Hz`` (Hz): ``dt_s`` as the study
         gives it, else the largest step up to 100 ns that makes the drive period a whole
-        number of steps (:func:`lusm.options.time_step_s`, as ``lusm simulate``)."""
-        from lusm.options import time_step_s
+        number of steps (as ``lusm simulate``)."""
+        if self.dt_s is not None:
+            return float(self.dt_s)
+        from contact.options import DEFAULT_DT_S
+        from contact.transient.window import period_step_s
 
-        return time_step_s(self.dt_s, frequency_Hz)
+        return period_step_s(1.0 / float(frequency_Hz), DEFAULT_DT_S)
 
 
 @dataclass(frozen=True)
@@ -796,11 +799,11 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     over the element size squared had been used, 2.2 times low on the tuned 60 kHz stator's
     default mesh (a 1000 mm long plate at 0.067 mm had been meshed for 29 s and 564 MB only to
     be refused). One with its own mesh file is the file's, whatever the axes."""
+    from fem.cell_count import fe_cell_count
     from fem.geometry import PlateStator
     from fem.meshing.meshed_stator import MeshedStator
     from fem.meshing.parametric import ESTIMATE_LOW_FACTOR, ParametricStator, estimated_elements
     from fem.modes import wider_than_long
-    from lusm.options import fe_cell_count
 
     ax = study.axes
     base = PlateStator() if study.stator is None else study.stator.stator
@@ -898,7 +901,7 @@ def _check_contact_work(study: Study, where: str) -> None:
                   f"{STEADY_MIN_STEPS_PER_PERIOD} steps per drive period")
         work = drive_triples(study) * k * STEADY_MIN_STEPS_PER_PERIOD
     elif study.auto_frequency:
-        from lusm.options import DEFAULT_DT_S
+        from contact.options import DEFAULT_DT_S
 
         steps = s.duration_s / (s.dt_s if s.dt_s is not None else DEFAULT_DT_S)
         least = "" if s.dt_s is not None else "at least "
@@ -1104,7 +1107,7 @@ def _check_transient(study: Study, where: str) -> None:
                 f"{where}solver.duration {show(s.duration_s, 'time')} is shorter than 10 drive "
                 f"periods at every drive frequency up to {show(hi, 'frequency')} "
                 f"(axes.frequency auto): give solver.duration >= {show(10 / hi, 'time')}")
-        from lusm.options import DEFAULT_DT_S
+        from contact.options import DEFAULT_DT_S
 
         steps = s.duration_s / DEFAULT_DT_S  # the default step is at most 100 ns
     top = limits.work_bound(limits.MAX_STEPS)

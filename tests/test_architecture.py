@@ -125,6 +125,20 @@ def test_data_flows_one_way(package):
     assert not bad, "\n".join(bad)
 
 
+CLI_ONLY = ("lusm.cli", "lusm.commands", "lusm.options", "lusm.fe_errors", "lusm.ranges")
+"""The command line proper: parsing and resolving options, the commands. The rest of
+``lusm`` (its limits, errors, messages, output sets, interrupts) is the base every upper
+package may use."""
+
+
+@pytest.mark.parametrize("package", ("validation", "studies"))
+def test_the_library_above_contact_never_imports_the_command_line(package):
+    bad = [f"{path.relative_to(ROOT)}:{line} imports {module}"
+           for path in _sources(package) for line, module, _n in _imports(path)
+           if any(_within(module, cli) for cli in CLI_ONLY)]
+    assert not bad, "\n".join(bad)
+
+
 def _within(module: str, prefix: str) -> bool:
     return module == prefix or module.startswith(prefix + ".")
 

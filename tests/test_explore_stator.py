@@ -174,17 +174,17 @@ def test_a_stators_mesh_bound_is_estimated_before_it_is_meshed(tmp_path, monkeyp
     """A plate whose gmsh mesh is far above the bound is refused from its area and element
     size, without meshing it (a 1000 mm plate at 0.067 mm was meshed for 29 s and 564 MB
     first)."""
-    import lusm.options
+    import fem.cell_count
 
     fine = _stator_with(tmp_path, "[damping]", "[mesh]\nsize_mm = 0.067\n\n[damping]")
-    count = lusm.options.fe_cell_count
+    count = fem.cell_count.fe_cell_count
 
     def only_small(plate, *args, **kwargs):
         if plate.length_m > 0.5:
             pytest.fail("the 1000 mm plate was meshed to count its elements")
         return count(plate, *args, **kwargs)
 
-    monkeypatch.setattr(lusm.options, "fe_cell_count", only_small)
+    monkeypatch.setattr(fem.cell_count, "fe_cell_count", only_small)
     with pytest.raises(ValueError, match=r"needs about \d+ 2D elements, above the limit"):
         study_from_dict({"study": {"stator": str(fine)}, "outputs": ["f_L1_short"],
                          "axes": {"length": ["25.6938 mm", "1000 mm"]}})

@@ -108,10 +108,10 @@ def _command_3d(stator, refine3: int, options: str) -> str:
     needs where the mesh is above ``lusm modes``' own (a chamfered example: 2 988 bricks).
     ``options`` are the stator options the report was given
     (:func:`lusm.options.stator_options_text`)."""
+    from fem.cell_count import fe_cell_count
     from fem.meshing.meshed_stator import planform_mesh
     from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D
     from lusm import limits
-    from lusm.options import fe_cell_count
 
     cmd = _lusm("modes --model 3d", options, f"--layers {DEFAULT_LAYERS}")
     if planform_mesh(stator) is None and refine3 != DEFAULT_REFINE_3D:

@@ -389,9 +389,9 @@ def _graded_work_clause(stator, refine, layers, quarter_allowed: bool) -> str:
     been refused as given on the tip examples (2 140 bricks against 2 000; exploratory
     testing). Counted on the model the graded run would use (the quarter plate where it
     applies, as :func:`run` decides)."""
+    from fem.cell_count import fe_cell_count
     from fem.solid3d.symmetric import quarter_model_applies
     from lusm import limits
-    from lusm.options import fe_cell_count
 
     quarter = quarter_allowed and quarter_model_applies(stator, 1)
     try:
