@@ -20,7 +20,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from contact.maps import stick_slip_map  # noqa: E402
-from contact.simulate import SimulationOptions, simulate  # noqa: E402
+from contact.options import SimulationOptions  # noqa: E402
+from contact.simulate import simulate
 from rom import table2  # noqa: E402
 
 

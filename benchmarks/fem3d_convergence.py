@@ -1,7 +1,7 @@
 """Mesh convergence of the 3D piezoelastic plate model (not a test).
 
 For the paper's plate (30 x 7.5 x 3 mm, PZT-8, 0.5 mm gap) prints the short- and
-open-circuit L1 and B2 frequencies of :mod:`fem.solid3d` on a sequence of structured brick
+open-circuit L1 and B2 frequencies of :mod:`fem.solid3d.model` on a sequence of structured brick
 meshes, their relative error against a Richardson-extrapolated reference, the dof count and
 the wall time of one uncached run (mesh, assembly, short- and open-circuit shift-invert
 eigensolutions).
@@ -10,13 +10,13 @@ The sequence refines the plane and the thickness together (``refine = layers = s
 reference extrapolates the two finest 20-node meshes with the eigenvalue rate of quadratic
 elements, ``h^4``: ``f_ref = f_2 + (f_2 - f_1) / ((h_1/h_2)^4 - 1)``, ``h`` being the largest
 element edge. Other meshes (the default ``refine = DEFAULT_REFINE_3D, layers =
-DEFAULT_LAYERS`` of :mod:`fem.solid3d`, anisotropic ones, the 27-node brick) are then
+DEFAULT_LAYERS`` of :mod:`fem.solid3d.model`, anisotropic ones, the 27-node brick) are then
 compared with that reference.
 
 The coupling factors need more: k_eff rests on a split of a few hundred Hz, and the
 potential is singular at the electrode edges, which uniform meshes resolve with one element
 across the gap. A second study grades the mesh towards the edges (``edge_grading`` levels of
-:func:`fem.solid3d.build_solid_model` on the default mesh, ``--graded-refine``); the
+:func:`fem.solid3d.model.build_solid_model` on the default mesh, ``--graded-refine``); the
 k_eff reference is the Aitken extrapolation of the last three grading levels (the error
 shrinks geometrically with the level). The criterion then asks for all four frequencies
 within 1e-4 *and* both k_eff within 2 %.
@@ -35,8 +35,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
-from fem.mesh import grid_lines_m  # noqa: E402
-from fem.solid3d import build_solid_model, modes_of_solid_model  # noqa: E402
+from fem.meshing.mesh import grid_lines_m  # noqa: E402
+from fem.solid3d.model import build_solid_model, modes_of_solid_model  # noqa: E402
 from validation.work_precision import aitken, richardson  # noqa: E402
 
 KEYS = ("L1 short", "L1 open", "B2 short", "B2 open")

@@ -5,7 +5,7 @@ open-circuit L1 and B2 frequencies and both k_eff of
 
 * ``2D``: the default plate model (``fem.modes.plate_modes``, what ``lusm modes --gap-mm g``
   prints);
-* ``3D quarter graded K``: the quarter-plate 3D model (:mod:`fem.solid3d_symmetric`, equal to
+* ``3D quarter graded K``: the quarter-plate 3D model (:mod:`fem.solid3d.symmetric`, equal to
   the full 3D model on the mirrored mesh) on the ``--mesh`` (``refine x layers``) graded
   ``K`` times towards the electrode edges;
 * ``3D graded extrapolated``: the geometric (Aitken) extrapolation of the last three
@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from fem.geometry import PlateStator  # noqa: E402
 from fem.model import GapValidityWarning, plate_model  # noqa: E402
 from fem.modes import modes_of_model  # noqa: E402
-from fem.solid3d_symmetric import (  # noqa: E402
+from fem.solid3d.symmetric import (  # noqa: E402
     MODE_CLASSES,
     build_quarter_model,
     modes_of_quarter_models,

@@ -25,10 +25,10 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
-from fem.mesh import DEFAULT_REFINE  # noqa: E402
+from fem.meshing.mesh import DEFAULT_REFINE  # noqa: E402
 from fem.model import plate_model  # noqa: E402
 from fem.modes import modes_of_model  # noqa: E402
-from fem.solid3d import build_solid_model, modes_of_solid_model  # noqa: E402
+from fem.solid3d.model import build_solid_model, modes_of_solid_model  # noqa: E402
 from fem.stator_file import load_stator  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

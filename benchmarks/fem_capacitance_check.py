@@ -4,7 +4,7 @@
 
 With the fully clamped permittivities of the 3D model (eps11^S, eps33^S) the cross-sections
 of ``fem.capacitance.gap_cross_section`` give the clamped capacitance matrix of the paper's
-plate; the 3D model's (``fem.solid3d.build_solid_model``: K_phiphi condensed onto the four
+plate; the 3D model's (``fem.solid3d.model.build_solid_model``: K_phiphi condensed onto the four
 electrodes, the bottom face grounded) is printed beside it on the default brick mesh graded
 0, 1 and 2 times towards the electrode edges (docs/fem.md, "Check against 3D").
 """
@@ -17,7 +17,7 @@ import scipy.sparse.linalg as sla
 from fem.capacitance import gap_cross_section
 from fem.geometry import PlateStator
 from fem.material import get_material
-from fem.solid3d import build_solid_model
+from fem.solid3d.model import build_solid_model
 
 
 def cross_section_pF(stator: PlateStator) -> tuple[float, float, float]:

@@ -26,7 +26,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
-from fem.mesh import (
+from fem.meshing.mesh import (
     DEFAULT_REFINE,  # noqa: E402
     max_element_size_m,  # noqa: E402
 )

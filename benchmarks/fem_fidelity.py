@@ -7,7 +7,7 @@ open-circuit L1 and B2 frequencies and both k_eff of
   capacitance, no thickness inertia);
 * ``2D new``: the default plate model (shorted gap strips with the cross-section
   capacitances and gap coupling, thickness inertia);
-* ``3D``: :mod:`fem.solid3d` on the meshes given by ``--meshes`` (``refine x layers``),
+* ``3D``: :mod:`fem.solid3d.model` on the meshes given by ``--meshes`` (``refine x layers``),
   and, with ``--graded K ...``, on the first of them graded ``K`` times towards the electrode
   edges (``edge_grading``); with three or more gradings also their geometric (Aitken)
   extrapolation, ``3D graded extrapolated``,
@@ -35,7 +35,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from fem.geometry import PlateStator  # noqa: E402
 from fem.model import GapValidityWarning, plate_model  # noqa: E402
 from fem.modes import modes_of_model  # noqa: E402
-from fem.solid3d import build_solid_model, modes_of_solid_model  # noqa: E402
+from fem.solid3d.model import build_solid_model, modes_of_solid_model  # noqa: E402
 from validation.work_precision import aitken  # noqa: E402
 
 

@@ -2,7 +2,7 @@
 
 The paper's 30 x 7.5 mm PZT-8 plate (gap 0.5 mm) with one hole at its centre (0, 15) mm, the
 node L1 and B2 share, or one off the axis at (1.8, 5) mm, at two thicknesses; each case is a
-:class:`fem.parametric.ParametricStator` meshed by gmsh, 2D on the planform mesh and 3D on
+:class:`fem.meshing.parametric.ParametricStator` meshed by gmsh, 2D on the planform mesh and 3D on
 its extrusion (:func:`fem.plane_stress_error.plane_stress_error`, 3 layers). The plain plate
 meshed the same way is the baseline: "extra" is a case's 2D/3D - 1 minus the plain plate's
 at the same thickness, the error the hole adds. The last column is ``d h / (L W)``, which
@@ -17,7 +17,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from fem.parametric import ParametricStator  # noqa: E402
+from fem.meshing.parametric import ParametricStator  # noqa: E402
 from fem.plane_stress_error import plane_stress_error  # noqa: E402
 
 LENGTH_MM, WIDTH_MM = 30.0, 7.5

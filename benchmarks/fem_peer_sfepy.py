@@ -7,7 +7,7 @@ plate (30 x 7.5 x 3 mm, PZT-8 of :func:`fem.material.pzt8`) at electrode gaps 0,
 
 * the 2D model (:func:`fem.model.build_model` on the structured mesh, order 2, refine 4:
   what :func:`fem.model.plate_model` caches);
-* the project's 3D model (:mod:`fem.solid3d`, hex20, default mesh and edge-graded meshes);
+* the project's 3D model (:mod:`fem.solid3d.model`, hex20, default mesh and edge-graded meshes);
 * SfePy: its own assembly (terms ``dw_lin_elastic``, ``dw_dot``, ``dw_piezo_coupling``,
   ``dw_diffusion``) of the same 3D problem on tensor-product hexahedral meshes generated here,
   with SfePy's 27-node Lagrange brick (``approx_order=2``, ``poly_space_basis='lagrange'``).
@@ -15,7 +15,7 @@ plate (30 x 7.5 x 3 mm, PZT-8 of :func:`fem.material.pzt8`) at electrode gaps 0,
   ``Field.evaluate_at`` returns inf/NaN inside serendipity cells (seen here), so their mode
   shapes cannot be sampled for identification.
 
-Problem (as in ``fem.solid3d``): IEEE e-form, poling along z; the bottom face is grounded;
+Problem (as in ``fem.solid3d.model``): IEEE e-form, poling along z; the bottom face is grounded;
 the top face carries the four quadrant electrodes (closed regions, mesh lines on their
 edges); gap strips and side faces are free. Short circuit: all electrodes at 0 V. Open
 circuit: each electrode is one floating potential with zero net charge. At gap 0 the four
@@ -31,8 +31,8 @@ potential weakly, with a Nitsche penalty; its ``multi_node_combination`` linear-
 condition might tie the nodes, not tried), so the free potentials are condensed exactly
 inside a shift-invert operator (LU of the saddle-point matrix ``[[K_uu - sigma M, K_uphi],
 [K_uphi^T, -K_phiphi]]``, ARPACK ``eigsh`` on the displacements with a fixed start vector),
-the same algebra as ``fem.solid3d`` but written separately below. L1 and B2 are identified by
-shape with the rules of ``fem.modes`` / ``fem.solid3d`` (mid-plane symmetry about x = 0,
+the same algebra as ``fem.solid3d.model`` but written separately below. L1 and B2 are identified by
+shape with the rules of ``fem.modes`` / ``fem.solid3d.model`` (mid-plane symmetry about x = 0,
 three nodes for B2, MAC with the Eq. 3 shapes, thickness symmetry >= 0.5), sampling SfePy's
 own field interpolation. k_eff = sqrt(1 - (f_short / f_open)^2).
 
@@ -48,7 +48,7 @@ hex20 reference favours the hex20 rows that converge to it, so the time ratios m
 reference (see ``docs/fem3d.md``, "Peer check with SfePy").
 
 A first block checks the assembly: on the same mesh and element (default 3D mesh, hex20 and
-hex27) SfePy and ``fem.solid3d`` must give the same spectrum to round-off.
+hex27) SfePy and ``fem.solid3d.model`` must give the same spectrum to round-off.
 
 Run: ``python benchmarks/fem_peer_sfepy.py [--grading G] [--sfepy-grading S] [--quick]``
 (default: about 6 minutes on 2 shared cores, more under load; ``--grading 3 --sfepy-grading 2``,
@@ -72,7 +72,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import ELECTRODES, PlateStator  # noqa: E402
 from fem.material import PiezoMaterial, get_material  # noqa: E402
-from fem.mesh import grid_lines_m  # noqa: E402
+from fem.meshing.mesh import grid_lines_m  # noqa: E402
 from fem.modes import (  # noqa: E402
     MIN_MAC,
     MIN_SYMMETRY,
@@ -83,7 +83,7 @@ from fem.modes import (  # noqa: E402
     sign_changes,
     symmetric_fraction,
 )
-from fem.solid3d import MIN_THICKNESS_SYMMETRY  # noqa: E402
+from fem.solid3d.model import MIN_THICKNESS_SYMMETRY  # noqa: E402
 
 GAPS_M = (0.0, 0.5e-3, 2e-3)
 """Electrode gaps of the study (m)."""
@@ -209,7 +209,7 @@ def sfepy_plate(stator: PlateStator, material: PiezoMaterial, x, y, z,
     terms = {
         "K": Term.new("dw_lin_elastic(m.C, v, u)", integral, omega, m=m, v=v, u=u),
         "M": Term.new("dw_dot(m.rho, v, u)", integral, omega, m=m, v=v, u=u),
-        # int S(v)^T e^T grad(p): the K_uphi of fem.solid3d with p = phi (E = -grad phi)
+        # int S(v)^T e^T grad(p): the K_uphi of fem.solid3d.model with p = phi (E = -grad phi)
         "G": Term.new("dw_piezo_coupling(m.e, v, p)", integral, omega, m=m, v=v, p=p),
         "P": Term.new("dw_diffusion(m.kappa, q, p)", integral, omega, m=m, q=q, p=p),
     }
@@ -303,7 +303,7 @@ def _thickness_symmetry(top: np.ndarray, bottom: np.ndarray) -> float:
 
 
 def identify(pl: SfepyPlate, freqs: np.ndarray, shapes: np.ndarray) -> dict[str, int]:
-    """Index of L1 and B2 among ``shapes`` (rules of ``fem.solid3d``; SfePy interpolation)."""
+    """Index of L1 and B2 among ``shapes`` (rules of ``fem.solid3d.model``; SfePy interpolation)."""
     st = pl.stator
     inset = 1e-9
     xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
@@ -375,7 +375,7 @@ def row_2d(stator: PlateStator, material: PiezoMaterial, refine: int = 4) -> Row
     """The 2D model (order 2), one uncached run (the gap-validity warning is silenced)."""
     import warnings
 
-    from fem.mesh import structured_mesh
+    from fem.meshing.mesh import structured_mesh
     from fem.model import build_model
     from fem.modes import modes_of_model
 
@@ -393,7 +393,7 @@ def row_2d(stator: PlateStator, material: PiezoMaterial, refine: int = 4) -> Row
 def row_3d(stator: PlateStator, material: PiezoMaterial, refine: int = 3, layers: int = 3,
            grading: int = 0, element: str = "hex20") -> Row:
     """The project's 3D model, one uncached run."""
-    from fem.solid3d import build_solid_model, modes_of_solid_model
+    from fem.solid3d.model import build_solid_model, modes_of_solid_model
 
     t0, c0 = time.perf_counter(), time.process_time()
     model = build_solid_model(stator, material, 2, refine, layers, element, grading)
@@ -406,8 +406,8 @@ def row_3d(stator: PlateStator, material: PiezoMaterial, refine: int = 3, layers
 
 
 def same_mesh_check(material: PiezoMaterial) -> list[str]:
-    """Spectra of SfePy and fem.solid3d on the same mesh and element (gap 0.5 mm)."""
-    from fem.solid3d import build_solid_model, solid_frequencies_Hz
+    """Spectra of SfePy and fem.solid3d.model on the same mesh and element (gap 0.5 mm)."""
+    from fem.solid3d.model import build_solid_model, solid_frequencies_Hz
 
     stator = PlateStator()
     x, y = grid_lines_m(stator, 3)

@@ -20,7 +20,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
 from fem.material import get_material, plane_stress  # noqa: E402
-from fem.mesh import DEFAULT_REFINE  # noqa: E402
+from fem.meshing.mesh import DEFAULT_REFINE  # noqa: E402
 from fem.modes import plate_modes  # noqa: E402
 from rom.from_fem import fem_params  # noqa: E402
 from rom.table2 import PAPER_ANSYS_HZ, TABLE1, table2  # noqa: E402

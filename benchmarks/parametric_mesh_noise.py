@@ -27,7 +27,7 @@ from fem.stator_file import load_stator
 
 STATOR = Path(__file__).resolve().parents[1] / "examples" / "tuned_60k" / "stator.toml"
 DIVISIONS = (8, 16, 32)
-"""Element sizes min(length, width) / n: the default (fem.parametric.DEFAULT_SIZE_DIVISIONS)
+"""Element sizes min(length, width) / n: the default (fem.meshing.parametric.DEFAULT_SIZE_DIVISIONS)
 and two refinements."""
 PLATES = 6
 """Plates per size, lengths (1 + i 1e-9) times the file's."""

@@ -3,8 +3,8 @@
 
     python benchmarks/steady_from_rest.py [--json]
 
-The exact level decides the branch a start from rest reaches by running the full model out of
-the slider's ripple zone and following the averaged sheet it is on (:mod:`contact.from_rest`),
+The exact level decides the branch a start from rest reaches by running the full model out of the
+slider's ripple zone and following the averaged sheet it is on (:mod:`contact.steady.from_rest`),
 and leaves the decision to the transient from rest where that run cannot decide. Here every
 point is solved twice, with the probe and with ``rest="transient"`` (the transient from rest
 decides, as before the probe), on
@@ -33,11 +33,12 @@ from pathlib import Path
 
 import numpy as np
 
-from contact import from_rest
 from contact.errors import RunawayError
-from contact.full_orbit import full_system
 from contact.model import OperatingPoint, resolve_coupling
-from contact.steady import slow_problem, steady_state
+from contact.steady import from_rest
+from contact.steady.engine import steady_state
+from contact.steady.full_orbit import full_system
+from contact.steady.slow import slow_problem
 from rom.sources import get_params
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -5,8 +5,8 @@ scan (not a test).
 
 Former scan: 16 velocities per side from 1e-5 of the top speed, orbits without a short period
 searched for 400 periods and averaged over 200. Now: three velocities per decade from the
-slider's velocity-ripple scale (``contact.steady.ripple_scale``), 200 + 100 periods
-(``contact.periodic_orbit.SEARCH_PERIODS``, ``AVERAGE_PERIODS``). Prints, on the 9 x 9 map
+slider's velocity-ripple scale (``contact.steady.slow.ripple_scale``), 200 + 100 periods
+(``contact.steady.periodic_orbit.SEARCH_PERIODS``, ``AVERAGE_PERIODS``). Prints, on the 9 x 9 map
 (50-450 V x 10-26 N, fast level, load 0):
 
 * orbit searches, how many found no orbit of period <= 4 (k = 0) and their share of the
@@ -25,15 +25,17 @@ import time
 
 import numpy as np
 
-import contact.steady as st
 from contact.model import OperatingPoint
+from contact.steady.branches import branches_at_load
+from contact.steady.engine import steady_state
+from contact.steady.slow import SlowProblem, scan_grid, slow_problem
 from rom import table2
 
 LOW_SPEED_POINTS = ((50, 14), (50, 22), (50, 26), (100, 10), (100, 18), (150, 14), (200, 20),
                     (250, 26))
 
 
-def _former(sp: st.SlowProblem) -> st.SlowProblem:
+def _former(sp: SlowProblem) -> SlowProblem:
     """The former scan of the same slow problem: floor 1e-5 of the top speed (16 velocities
     over five decades, the same density) and 400 + 200 periods per orbit, empty cache."""
     return dataclasses.replace(sp, v_floor_m_s=1e-5 * sp.v_max_m_s, search_periods=400,
@@ -46,10 +48,10 @@ def _solve(params, volts, loads, former: bool):
     t0 = time.perf_counter()
     for v in volts:
         for f in loads:
-            sp = st.slow_problem(params, OperatingPoint(float(v), float(f), 40e3, 0.0))
+            sp = slow_problem(params, OperatingPoint(float(v), float(f), 40e3, 0.0))
             if former:
                 sp = _former(sp)
-            branches, v_rest = st.branches_at_load(sp, 0.0)
+            branches, v_rest = branches_at_load(sp, 0.0)
             rows[(v, f)] = (v_rest, [b.velocity_m_s for b in branches if b.stable])
             for o in sp.cache.values():
                 stats["orbits"] += 1
@@ -66,9 +68,9 @@ def _g_change(params) -> tuple[int, float, int]:
     now on the present scan's velocities."""
     n, worst, flips = 0, 0.0, 0
     for v0, f in LOW_SPEED_POINTS:
-        now = st.slow_problem(params, OperatingPoint(float(v0), float(f), 40e3, 0.0))
+        now = slow_problem(params, OperatingPoint(float(v0), float(f), 40e3, 0.0))
         old = dataclasses.replace(_former(now), v_floor_m_s=now.v_floor_m_s)
-        vs = st.scan_grid(now.v_floor_m_s, now.v_max_m_s)
+        vs = scan_grid(now.v_floor_m_s, now.v_max_m_s)
         for v in vs:
             a, b = old.thrust(v), now.thrust(v)
             if now.cache[v].k == 0 or old.cache[v].k == 0:
@@ -82,7 +84,7 @@ def measure() -> dict:
     """Everything :func:`main` prints, as numbers (``tools.doc_numbers`` quotes them)."""
     params = table2()
     volts, loads = np.linspace(50, 450, 9), np.linspace(10, 26, 9)
-    st.steady_state(params, 200, 14, accuracy="fast")  # numba cache loaded before timing
+    steady_state(params, 200, 14, accuracy="fast")  # numba cache loaded before timing
     old_rows, old = _solve(params, volts, loads, former=True)
     new_rows, new = _solve(params, volts, loads, former=False)
     differ = []

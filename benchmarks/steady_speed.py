@@ -4,9 +4,9 @@
     python benchmarks/steady_speed.py --map      # the 9 x 9 map, 50-450 V x 10-26 N
 
 The reference is the event scheme run from rest and averaged over its last 400 periods, for
-the shortest length on the ladder ``--duration`` (default 0.3 s, 12 000 periods), 2x, 4x, ...
-up to 2.4 s whose velocity the next rung confirms to 1e-6 (``contact.steady.settled_duration``):
-the settled transient. Only the run of that length is timed (finding the length is not
+the shortest length on the ladder ``--duration`` (default 0.3 s, 12 000 periods), 2x, 4x, ... up to
+2.4 s whose velocity the next rung confirms to 1e-6 (``contact.steady.settled_duration``): the
+settled transient. Only the run of that length is timed (finding the length is not
 counted); a point that does not settle (creep below the slider's velocity ripple) keeps the
 first length and is marked ``settled: false``. Times are wall
 times measured in the same run, medians of ``--repeats`` calls (5 for the single point, 1 on
@@ -24,7 +24,8 @@ import time
 
 import numpy as np
 
-from contact.steady import settled_duration, steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.settled import settled_duration, transient_reference
 from rom import table2
 
 COARSE_STEPS = 20
@@ -111,13 +112,13 @@ def main() -> None:
 
 
 def _fixed_costs(params, row, repeats: int) -> None:
-    """What one steady point costs before any orbit is searched: the Eq. 11 normal amplitude
-    A_N that fixes mu_d,eff as the transient scheme does (closed form where the tip does not
-    separate, else a 60-period pre-pass; :func:`contact.simulate.normal_amplitude`) and the fast and
-    full systems with their matrix exponentials; the speed-up cannot exceed the transient's
-    time over their sum."""
+    """What one steady point costs before any orbit is searched: the Eq. 11 normal amplitude A_N
+    that fixes mu_d,eff as the transient scheme does (closed form where the tip does not
+    separate, else a 60-period pre-pass; :func:`contact.transient.pre_pass.normal_amplitude`)
+    and the fast and full systems with their matrix exponentials; the speed-up cannot exceed the
+    transient's time over their sum."""
     from contact.model import OperatingPoint
-    from contact.simulate import normal_amplitude
+    from contact.transient.pre_pass import normal_amplitude
 
     op = OperatingPoint(row["voltage_V"], row["preload_N"], 40e3)
     _, t_pre = _timed(lambda: normal_amplitude(params, op), max(repeats, 5))
@@ -126,7 +127,7 @@ def _fixed_costs(params, row, repeats: int) -> None:
     print(f"fixed costs: Eq. 11 A_N = transient / {t_ref / t_pre:.3g}, systems and "
           f"propagators = transient / {t_ref / t_sys:.3g} -> speed-up bound "
           f"{t_ref / (t_pre + t_sys):.3g}x")
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     periods = steady_state(params, row["voltage_V"], row["preload_N"], accuracy="exact").periods
     per_period = kernel_seconds_per_period(params, row["voltage_V"], row["preload_N"])
@@ -141,9 +142,9 @@ def setup_seconds(params, voltage_V: float, preload_N: float, repeats: int = 5) 
     """Wall time (s, median of ``repeats``) of the fast and the full system of one operating
     point with their matrix exponentials: what every steady point pays before its first
     orbit (``steady_state(..., accuracy="exact")`` builds both)."""
-    from contact.full_orbit import full_system
     from contact.model import OperatingPoint
-    from contact.periodic_orbit import fast_system
+    from contact.steady.full_orbit import full_system
+    from contact.steady.periodic_orbit import fast_system
 
     op = OperatingPoint(voltage_V, preload_N, 40e3)
     _, t = _timed(lambda: (fast_system(params, op, params.mu_d),
@@ -157,8 +158,9 @@ def kernel_seconds_per_period(params, voltage_V: float, preload_N: float,
     on the orbit at the operating point's steady velocity (median of 5 runs of ``periods``
     periods, window closed): the unit of work of every orbit search."""
     from contact.model import OperatingPoint
-    from contact.periodic_orbit import period_map
-    from contact.steady import slow_problem, steady_state
+    from contact.steady.engine import steady_state
+    from contact.steady.periodic_orbit import period_map
+    from contact.steady.slow import slow_problem
 
     v = steady_state(params, voltage_V, preload_N, accuracy="fast").velocity_m_s
     sp = slow_problem(params, OperatingPoint(voltage_V, preload_N, 40e3, 0.0))

@@ -26,7 +26,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from contact.steady import steady_state, transient_reference  # noqa: E402
+from contact.steady.engine import steady_state  # noqa: E402
+from contact.steady.settled import transient_reference
 from rom import table2  # noqa: E402
 
 POINTS = ((200.0, 14.0), (250.0, 14.0), (400.0, 14.0), (300.0, 10.0))

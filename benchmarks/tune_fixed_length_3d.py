@@ -3,7 +3,7 @@
 With the length held, :func:`fem.tuning.tune_plate` tunes the width until L1 = B2 and reports
 the common frequency instead of meeting a target, because the thickness is the only other
 dimension and it hardly moves the modes. This study measures how much, on the 3D model
-(:mod:`fem.solid3d`, default mesh), where the thickness is a real dimension: for each
+(:mod:`fem.solid3d.model`, default mesh), where the thickness is a real dimension: for each
 thickness it runs ``tune_plate(fix="length", model="3d")`` at the given length and prints the
 degenerate width, the common frequency, the L1/B2 split and the FE solves; the same on the
 2D model for comparison. The spread of the common frequency over the thicknesses is the

@@ -1,14 +1,13 @@
 """The motor's speed-thrust characteristic, output power and efficiency from the steady engine.
 
 For each load the slider velocity is the steady branch a start from rest reaches
-(:func:`contact.steady.branches_at_load`); all loads share one cache of fast orbits, since the
-fast problem at fixed velocity does not depend on the load.
+(:func:`contact.steady.branches.branches_at_load`); all loads share one cache of fast orbits,
+since the fast problem at fixed velocity does not depend on the load.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 import time
 from dataclasses import dataclass
@@ -19,18 +18,11 @@ from scipy.optimize import brentq
 from contact.drive import default_drive_Hz
 from contact.model import OperatingPoint, check_rest, check_scale, resolve_coupling
 from contact.results import FrozenArrays
-from contact.steady import (
-    ACCURACIES,
-    EXACT_ROOT_RTOL,
-    HELD_M_S,
-    branches_at_load,
-    holding_range_N,
-    motor_efficiency,
-    ripple_scale,
-    slow_problem,
-    steady_state,
-    warn_irregular,
-)
+from contact.steady.branches import branches_at_load, motor_efficiency
+from contact.steady.engine import steady_state, warn_irregular
+from contact.steady.exact import HELD_M_S
+from contact.steady.runaway import holding_range_N
+from contact.steady.slow import ACCURACIES, EXACT_ROOT_RTOL, ripple_scale, slow_problem
 from rom.params import MotorParams, require_params
 
 CREEP_SHARE = 1e-3
@@ -39,7 +31,7 @@ is reported (:attr:`Characteristic.creep_from_N`)."""
 
 CREEP_RIPPLES = 2.0
 """A slider creeps (-) where its mean velocity from rest is below this many velocity-ripple
-scales (:func:`contact.steady.ripple_scale`; the orbit's peak-to-peak ripple is about three
+scales (:func:`contact.steady.slow.ripple_scale`; the orbit's peak-to-peak ripple is about three
 of them at Table 2's 200 V / 14 N): it then stops, or nearly stops, within every drive period.
 The creep band's loads are those (:attr:`Characteristic.creep_from_N`); the largest creep on
 Table 2's curves is 1.3 scales (200 V / 14 N), the slowest thrust beside a creep band 3.7
@@ -72,12 +64,12 @@ class Characteristic(FrozenArrays):
         reaches no steady state).
     holding_range_N : tuple of float
         Loads (N) the driven motor holds at the tip's full slip
-        (:func:`contact.steady.holding_range_N`): beyond the upper one it is pushed backward
+        (:func:`contact.steady.runaway.holding_range_N`): beyond the upper one it is pushed backward
         without bound, below the lower one (a load pushing it forward) forward. NaN where
         the tip does not slide throughout at the scan's end (e.g. no drive).
     accuracy : str
         Level of the velocities, powers, stall force and default loads
-        (:data:`contact.steady.ACCURACIES`). At ``"exact"`` the stall force is where the full
+        (:data:`contact.steady.slow.ACCURACIES`). At ``"exact"`` the stall force is where the full
         model's velocity from rest crosses zero, beyond the averaged one: the finite slider
         creeps on through the band the averaging calls held. The holding range comes from
         the averaged slow equation at either level.
@@ -92,7 +84,7 @@ class Characteristic(FrozenArrays):
     creep_from_N : float
         Where the exact level's creep band begins (N), or NaN where there is none: from it
         up to the stall force the finite slider creeps, slower than :data:`CREEP_RIPPLES`
-        velocity-ripple scales (:func:`contact.steady.ripple_scale`), its ripple breaking the
+        velocity-ripple scales (:func:`contact.steady.slow.ripple_scale`), its ripple breaking the
         guide's ideal Coulomb stiction every period; a real guide's pre-sliding stiffness,
         which the model does not have, may hold it there (``docs/steady.md``). Which rule
         gave it is :attr:`creep_rule`. Only where the exact stall force lies beyond the
@@ -106,7 +98,7 @@ class Characteristic(FrozenArrays):
         creeps (the beam set at 200 V / 14 N at its own frequency). ``"creep threshold"``:
         the band holds faster thrust, because the averaging followed another sheet than the
         start from rest (the tuned 60 kHz stator at 140 V / 14 N: averaged stall 0.469 N,
-        2.9e-3 m/s at 0.50 N; it had been printed as a creep): the band begins where the
+        2.9e-3 m/s at 0.50 N, no creep): the band begins where the
         velocity from rest falls below the creep speed for the last time before the stall,
         bisected on the scan of ``points`` loads. ``""`` where there is no band.
     """
@@ -156,8 +148,8 @@ STALL_RTOL = EXACT_ROOT_RTOL
 """Relative tolerance (-) of the exact level's stall force, the root ``brentq`` finds of the
 velocity from rest against the load: the exact level's own root tolerance (1e-6). Near the stall
 the slider creeps below its velocity ripple and every load tried is a 2 000-period transient
-from rest (a few nm/s within 1e-6 of Table 2's stall at 300 V / 14 N); with the former 1e-9
-the default characteristic there made 53 steady solves, with 1e-6 it makes 34."""
+from rest (a few nm/s within 1e-6 of Table 2's stall at 300 V / 14 N); the default
+characteristic there makes 34 steady solves with 1e-6, 53 with 1e-9."""
 
 
 def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
@@ -179,11 +171,11 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     frequency_Hz : float, optional
         Drive frequency (Hz), 40 kHz when None.
     coupling, ultrasonic_friction
-        As in :func:`contact.steady.steady_state`.
+        As in :func:`contact.steady.engine.steady_state`.
     accuracy : {"exact", "fast"}
-        ``"exact"`` (the default, as ``lusm characteristic``'s; it was ``"fast"``, whose
-        stall force on the FE set at 400 V / 14 N is 0.476 N against the motor's 1.014 N):
-        :func:`contact.steady.steady_state` at the exact level per
+        ``"exact"`` (the default, as ``lusm characteristic``'s; the fast level's stall force
+        on the FE set at 400 V / 14 N is 0.476 N against the motor's 1.014 N):
+        :func:`contact.steady.engine.steady_state` at the exact level per
         load (finite slider mass, the start from rest on the full model: creeps, holds by
         the tip's stiction and multi-period starts under a load that the averaging cannot
         see; about a 2 000-period transient per loaded point); ``"fast"``: every load from
@@ -193,70 +185,22 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         second (the exact level's curves do).
     rest : {"probe", "transient"}
         How the exact level decides the start from rest under each load
-        (:func:`contact.steady.steady_state`).
+        (:func:`contact.steady.engine.steady_state`).
 
     Returns
     -------
     Characteristic
     """
     t0 = time.perf_counter()
-    if accuracy not in ACCURACIES:
-        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
-    check_rest(rest)
-    if not isinstance(progress, (bool, np.bool_)):  # "yes" was taken as True, "" as False
-        raise TypeError(f"progress must be True or False, got {progress!r}")
-    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
-            not 2 <= points <= MAX_POINTS:
-        raise ValueError(f"points must be an integer in [2, {MAX_POINTS}], got {points!r}")
-    if loads_N is not None:
-        # a NaN load fell into the dead zone of the fast level and came out as 0 m/s
-        loads_arr = np.asarray(loads_N)
-        if loads_arr.ndim > 1:  # a nested list was flattened without a word
-            raise ValueError(f"loads_N must be a sequence of loads (N), got shape "
-                             f"{loads_arr.shape}")
-        if loads_arr.dtype.kind not in "iuf" or not np.all(np.isfinite(loads_arr)):
-            raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
-        if loads_arr.size > MAX_POINTS:  # as points: 1e5 loads ran on without a word
-            raise ValueError(f"loads_N has {loads_arr.size} loads, above {MAX_POINTS}")
+    loads_arr = _checked_options(accuracy, rest, progress, points, loads_N)
     require_params(params)
     coupling = resolve_coupling(params, coupling)  # "auto": as the CLI's
     op = OperatingPoint(voltage_V, preload_N,
                         default_drive_Hz(params, frequency_Hz))
-    if loads_N is not None and loads_arr.size:  # both levels refuse it, before any solve
-        # (1e7 N came out NaN at the fast level and was refused at the exact one)
-        largest = float(loads_arr[np.argmax(np.abs(loads_arr))])
-        check_scale(params, op)  # the drive and preload first, named as they are
-        try:
-            check_scale(params, dataclasses.replace(op, load_N=largest))
-        except ValueError as exc:  # the parameter is loads_N (it had said "load_N = ...")
-            text = str(exc)
-            if text.startswith("load_N = "):
-                text = "loads_N: its load " + text[len("load_N = "):]
-            raise ValueError(text) from None
+    if loads_arr is not None and loads_arr.size:  # both levels refuse it, before any solve
+        _check_load_scale(params, op, loads_arr)
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)
-
-    irregular: dict[float, object] = {}  # load -> branch from rest with no short period
-    exact_orbits = [0]  # the orbits of each load's own exact steady state
-
-    @functools.cache  # the no-load point is usually one of the loads too
-    def from_rest(load: float) -> tuple[float, float]:
-        """Velocity (m/s) and input power (W) of the start from rest under ``load``."""
-        if accuracy == "exact":
-            r = steady_state(params, op.voltage_V, op.preload_N, frequency_Hz=op.frequency_Hz,
-                             load_N=load, coupling=coupling,
-                             ultrasonic_friction=ultrasonic_friction, accuracy="exact",
-                             rest=rest)
-            exact_orbits[0] += r.orbits
-            b = r.from_rest
-            if b is not None and b.irregular:
-                irregular[load] = b
-            return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
-        branches, v = branches_at_load(sp, load)
-        b = next((b for b in branches if b.from_rest), None)
-        return v, (b.input_power_W if b is not None else np.nan)
-
-    from tqdm import tqdm
-
+    from_rest = _FromRest(params, op, sp, coupling, ultrasonic_friction, accuracy, rest)
     v0 = from_rest(0.0)[0]
     stall = averaged = _stall_force(sp)
 
@@ -272,26 +216,11 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         loads = np.linspace(0.0, stall, points) if stall != 0.0 else np.zeros(1)
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
-    vel, p_in, p_out = [], [], []
-    for load in tqdm(loads, desc=f"characteristic {op.voltage_V:g} V", unit="load",
-                     disable=not progress, delay=1.0, leave=False):
-        v, p = from_rest(float(load))
-        vel.append(v)
-        p_in.append(p)
-        p_out.append(float(load) * v + 0.0)  # + 0.0: 0 W at no load, not -0 W backward
-    shown = {float(f): irregular[float(f)] for f in loads if float(f) in irregular}
-    if shown:  # one word for the curve: the rows that are long-time means, not orbits
-        worst = max(shown.values(), key=lambda b: b.velocity_error_m_s
-                    / max(abs(b.velocity_m_s), 1e-300))
-        if len(shown) == 1:
-            where = f"under the load {next(iter(shown)):g} N"
-        else:
-            least = next(f for f, b in shown.items() if b is worst)
-            where = (f"under the loads {', '.join(f'{f:g}' for f in shown)} N (the least "
-                     f"certain, {least:g} N, shown)")
-        warn_irregular(worst, where)
-    p_in_a, p_out_a = np.array(p_in), np.array(p_out)
-    eff = motor_efficiency(p_in_a, p_out_a)  # it came out below 0 under a pushing load
+    vel, p_in_a, p_out_a = _curve(from_rest, loads, op, progress)
+    irregular = _least_certain_irregular(loads, from_rest.irregular)
+    if irregular is not None:  # one word for the curve: rows that are means, not orbits
+        warn_irregular(*irregular)
+    eff = motor_efficiency(p_in_a, p_out_a)  # NaN, not below 0, under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))
     creep_from, creep_rule = math.nan, ""
     if exact_moving and math.isfinite(stall):
@@ -299,10 +228,120 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
             velocity, v0, averaged, stall, points,
             CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff))
         _warn_beyond_stall(velocity, v0, loads, stall)
-    return Characteristic(op, float(v0), float(stall), loads, np.array(vel), p_in_a, p_out_a,
+    return Characteristic(op, float(v0), float(stall), loads, vel, p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0,
-                          len(sp.cache) + exact_orbits[0], float(averaged), float(creep_from),
-                          creep_rule)
+                          len(sp.cache) + from_rest.exact_orbits, float(averaged),
+                          float(creep_from), creep_rule)
+
+
+def _curve(from_rest: _FromRest, loads: np.ndarray, op: OperatingPoint,
+           progress: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Velocity (m/s) from rest, input and output power (W) at each load, with a progress
+    bar on stderr once the curve takes more than a second."""
+    from tqdm import tqdm
+
+    vel, p_in, p_out = [], [], []
+    for load in tqdm(loads, desc=f"characteristic {op.voltage_V:g} V", unit="load",
+                     disable=not progress, delay=1.0, leave=False):
+        v, p = from_rest(float(load))
+        vel.append(v)
+        p_in.append(p)
+        p_out.append(float(load) * v + 0.0)  # + 0.0: 0 W at no load, not -0 W backward
+    return np.array(vel), np.array(p_in), np.array(p_out)
+
+
+def _checked_options(accuracy: str, rest: str, progress: bool, points: int,
+                     loads_N) -> np.ndarray | None:
+    """Refuse options out of their range, naming them; ``loads_N`` as an array (None for
+    the default loads)."""
+    if accuracy not in ACCURACIES:
+        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
+    check_rest(rest)
+    if not isinstance(progress, (bool, np.bool_)):  # "yes" is a true string, "" a false one
+        raise TypeError(f"progress must be True or False, got {progress!r}")
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or \
+            not 2 <= points <= MAX_POINTS:
+        raise ValueError(f"points must be an integer in [2, {MAX_POINTS}], got {points!r}")
+    if loads_N is None:
+        return None
+    # a NaN load would fall into the fast level's dead zone and come out as 0 m/s
+    loads_arr = np.asarray(loads_N)
+    if loads_arr.ndim > 1:  # a nested list is no sequence of loads, not flattened
+        raise ValueError(f"loads_N must be a sequence of loads (N), got shape "
+                         f"{loads_arr.shape}")
+    if loads_arr.dtype.kind not in "iuf" or not np.all(np.isfinite(loads_arr)):
+        raise ValueError(f"loads_N must be finite numbers (N), got {loads_N!r}")
+    if loads_arr.size > MAX_POINTS:  # bounded as points is
+        raise ValueError(f"loads_N has {loads_arr.size} loads, above {MAX_POINTS}")
+    return loads_arr
+
+
+def _check_load_scale(params: MotorParams, op: OperatingPoint, loads_arr: np.ndarray) -> None:
+    """Refuse loads out of the model's scale (:func:`contact.model.check_scale`) at either
+    level before any solve (the fast level would answer NaN), naming ``loads_N``."""
+    largest = float(loads_arr[np.argmax(np.abs(loads_arr))])
+    check_scale(params, op)  # the drive and preload first, named as they are
+    try:
+        check_scale(params, dataclasses.replace(op, load_N=largest))
+    except ValueError as exc:  # the parameter is loads_N, not load_N
+        text = str(exc)
+        if text.startswith("load_N = "):
+            text = "loads_N: its load " + text[len("load_N = "):]
+        raise ValueError(text) from None
+
+
+class _FromRest:
+    """Velocity (m/s) and input power (W) of the start from rest under a load, once per load
+    (the no-load point is usually one of the loads too): the exact level's steady state, or
+    the fast level's branches from the shared slow problem ``sp``. Keeps the branches from
+    rest with no short period (``irregular``, by load) and the orbits the exact steady
+    states solved (``exact_orbits``)."""
+
+    def __init__(self, params: MotorParams, op: OperatingPoint, sp, coupling: str,
+                 ultrasonic_friction: bool, accuracy: str, rest: str) -> None:
+        self.params, self.op, self.sp = params, op, sp
+        self.coupling, self.ultrasonic_friction = coupling, ultrasonic_friction
+        self.accuracy, self.rest = accuracy, rest
+        self.irregular: dict[float, object] = {}
+        self.exact_orbits = 0
+        self._done: dict[float, tuple[float, float]] = {}
+
+    def __call__(self, load: float) -> tuple[float, float]:
+        if load not in self._done:
+            self._done[load] = self._solve(load)
+        return self._done[load]
+
+    def _solve(self, load: float) -> tuple[float, float]:
+        if self.accuracy == "exact":
+            op = self.op
+            r = steady_state(self.params, op.voltage_V, op.preload_N,
+                             frequency_Hz=op.frequency_Hz, load_N=load, coupling=self.coupling,
+                             ultrasonic_friction=self.ultrasonic_friction, accuracy="exact",
+                             rest=self.rest)
+            self.exact_orbits += r.orbits
+            b = r.from_rest
+            if b is not None and b.irregular:
+                self.irregular[load] = b
+            return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
+        branches, v = branches_at_load(self.sp, load)
+        b = next((b for b in branches if b.from_rest), None)
+        return v, (b.input_power_W if b is not None else np.nan)
+
+
+def _least_certain_irregular(loads: np.ndarray, irregular: dict) -> tuple | None:
+    """``(branch, where)`` for :func:`contact.steady.engine.warn_irregular`: the irregular
+    branch from rest of least relative certainty among the curve's loads and the loads it
+    names; None where every row is an orbit."""
+    shown = {float(f): irregular[float(f)] for f in loads if float(f) in irregular}
+    if not shown:
+        return None
+    worst = max(shown.values(), key=lambda b: b.velocity_error_m_s
+                / max(abs(b.velocity_m_s), 1e-300))
+    if len(shown) == 1:
+        return worst, f"under the load {next(iter(shown)):g} N"
+    least = next(f for f, b in shown.items() if b is worst)
+    return worst, (f"under the loads {', '.join(f'{f:g}' for f in shown)} N (the least "
+                   f"certain, {least:g} N, shown)")
 
 
 def _stall_force(sp) -> float:
@@ -310,7 +349,7 @@ def _stall_force(sp) -> float:
     slider from rest: the averaged thrust at 0+ where that is positive, at 0- where that is
     negative (a motor driving backward, e.g. one with ``A_b`` reversed), else 0 (the guide
     and the tip hold the slider: the dead zone)."""
-    # as contact.steady.branches_at_load takes them, so that the stall load is exactly
+    # as contact.steady.branches.branches_at_load takes them, so that the stall load is exactly
     # where that function's dead zone begins on either side
     forward, backward = sp.thrust_at_rest()
     if forward > 0.0:
@@ -330,7 +369,7 @@ def _full_model_stall_force(velocity, v0: float, averaged: float,
     (``averaged`` to ``G(0-)``). The full model's stall force lies inside that band (Table
     2's set at 14 N: 2.16 N against the averaged 1.735 N at 400 V, 0.945 N against 0.408 N
     at 200 V; ``lusm characteristic --accuracy exact``). A held band (velocity within
-    :data:`contact.steady.HELD_M_S` of 0) counts as stopped, so its lower end is found; a
+    :data:`contact.steady.exact.HELD_M_S` of 0) counts as stopped, so its lower end is found; a
     creep crossing 0 is found by ``brentq`` to :data:`STALL_RTOL` relative.
     """
     if not abs(v0) > HELD_M_S:
@@ -367,8 +406,8 @@ def _moving(velocity, s: float):
 def _scan(stall: float, points: int) -> list[float]:
     """The scan grid (N) of the exact level's stall and creep band: ``points`` loads from 0 up
     to the stall force (excluded), as the default curve takes them, so that both answers are
-    the same whatever loads a caller asks the curve at (they had moved with ``loads_N``:
-    0.2823 N by default, 0.4605 N with ``--loads 0,0.2,0.4,0.5``, review)."""
+    the same whatever loads a caller asks the curve at (a grid of ``loads_N`` would give
+    0.2823 N by default and 0.4605 N with ``--loads 0,0.2,0.4,0.5``)."""
     return [float(f) for f in np.linspace(0.0, stall, points)[:-1]]
 
 
@@ -383,9 +422,9 @@ def _first_stop(velocity, v0: float, stall: float, points: int) -> float:
 
     ``brentq`` finds *a* zero crossing of the velocity from rest in its bracket, not the
     first: where the velocity is not monotone in the load (branches from rest that change
-    with it) the curve showed the slider stopped or reversed below the stall force it
-    printed (the tuned 40 kHz stator at 100 V / 14 N: -1.1e-5 m/s at 0.299 N, "stall force
-    0.4605 N"; exploratory testing). The first such load and the moving one before it
+    with it) the curve can show the slider stopped or reversed below a stall force found
+    by the first crossing alone (the tuned 40 kHz stator at 100 V / 14 N: -1.1e-5 m/s at
+    0.299 N below a crossing at 0.4605 N). The first such load and the moving one before it
     bracket the crossing found here; the grid up to the refined stall is then scanned again
     (the default curve's loads), until it shows no earlier stop. Crossings between the
     grid's loads are not seen: the stall force is the first crossing at the resolution of
@@ -424,8 +463,8 @@ def _creep_start(velocity, v0: float, averaged: float, stall: float, points: int
     if excess(averaged) < 0.0 and all(excess(f) < 0.0 for f in grid if s * f >= s * averaged):
         return float(averaged), "averaged stall"  # the averaged slider is held from here on
     # the averaging followed another sheet: the band is where the curve's last run of creeping
-    # loads before the stall begins, its threshold crossing bisected (not the grid's load: it
-    # had moved with the loads asked for, review)
+    # loads before the stall begins, its threshold crossing bisected (not the grid's load,
+    # which would move with the loads asked for)
     last = len(grid)
     while last > 0 and excess(grid[last - 1]) < 0.0:
         last -= 1
@@ -443,7 +482,7 @@ class NonMonotoneWarning(UserWarning):
 def _warn_beyond_stall(velocity, v0: float, loads, stall: float) -> None:
     """Warn where one of the curve's loads beyond the stall force moves the slider the way it
     is driven (the tuned 40 kHz stator at 100 V / 14 N: forward at 0.35-0.44 N, beyond its
-    0.2823 N stall; nothing had said the curve was not monotone)."""
+    0.2823 N stall): the curve is not monotone there."""
     s = math.copysign(1.0, v0)
     moving = _moving(velocity, s)
     beyond = [float(f) for f in loads if s * f > s * stall and moving(float(f)) > 0.0]
@@ -464,13 +503,12 @@ def averaging_doubt(params: MotorParams, char: Characteristic, *, coupling: str 
     trusted, or None.
 
     Two reasons: its no-load velocity lies below the slider's velocity ripple (the ripple
-    scale with Eq. 11's friction, :attr:`contact.steady.SlowProblem.v_floor_m_s`: the
-    slider is not slow against the drive period; at 20 Hz the fast level gave 1.8e-6 m/s and
+    scale with Eq. 11's friction, :attr:`contact.steady.slow.SlowProblem.v_floor_m_s`: the
+    slider is not slow against the drive period; at 20 Hz the fast level gives 1.8e-6 m/s and
     a 1.18 N stall force where the finite-mass motor is held), or the finite-mass motor
     reaches another steady state from rest (the exact level's no-load point, compared beyond
-    the averaging's O(1/M) error: at 30 kHz the fast level found one branch at 0.0124 m/s
-    where a start from rest creeps at 1.1e-4 m/s). Formerly the CLI's own check, with the
-    ripple from the static mu_d.
+    the averaging's O(1/M) error: at 30 kHz the fast level finds one branch at 0.0124 m/s
+    where a start from rest creeps at 1.1e-4 m/s).
     """
     op = char.op
     sp = slow_problem(params, op, coupling=coupling, ultrasonic_friction=ultrasonic_friction)

@@ -49,8 +49,8 @@ def grid_frequency(params: MotorParams) -> tuple[float, float]:
     a, b = free_tip_amplitudes(params, grid)  # one array call: 60 us against 2.2 ms
     area = a * b
     if not np.max(area) > 0.0:
-        # one force factor zero: no ellipse anywhere, and the argmax of zeros was the
-        # grid's first point, returned as an operating frequency
+        # one force factor zero: no ellipse anywhere, and the argmax of zeros would be the
+        # grid's first point, taken for an operating frequency
         raise ValueError(f"the set drives no tip ellipse (A_l = {params.A_l:g}, A_b = "
                          f"{params.A_b:g} N/V): no operating frequency; drive both modes")
     best = grid[int(np.argmax(area))]

@@ -5,8 +5,7 @@ A kernel run refuses to go on when more mode switches than allowed fall within o
 property of the operating point and the step, not a bug, so the command line reports it as
 bad input (one line, exit 2). Making it a class of its own lets the CLI map exactly this
 failure, while any other ``RuntimeError`` (a SciPy solver giving up, a bug) keeps its own
-report. It subclasses ``RuntimeError`` so callers that caught the former bare
-``RuntimeError`` still catch it.
+report. It subclasses ``RuntimeError``, which callers may catch for any solver failure.
 """
 
 from __future__ import annotations

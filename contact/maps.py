@@ -2,7 +2,7 @@
 
 Two methods (``method=``): ``"transient"`` runs each point from rest for the options' duration
 (:func:`contact.simulate.simulate`, the paper's way); ``"steady"`` finds each point's steady
-states directly (:func:`contact.steady.steady_state`) and reports the one a start from rest
+states directly (:func:`contact.steady.engine.steady_state`) and reports the one a start from rest
 reaches, every stable branch, and the points it could not decide.
 
 Each point is an independent call; the numba kernel releases
@@ -23,8 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.model import OperatingPoint, check_rest
+from contact.options import SimulationOptions, options_or_default
 from contact.results import MOTION_CLASSES, FrozenArrays
-from contact.simulate import SimulationOptions, options_or_default, simulate
+from contact.simulate import simulate
 from rom.params import MotorParams, require_params
 
 
@@ -101,7 +102,7 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
                   rest: str = "probe"):
     """One map point from the steady engine, in the shape of a transient's steady metrics;
     an undecided point falls back to a transient of :data:`FALLBACK_DURATION_S`."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     r = steady_state(params, voltage_V, preload_N, frequency_Hz=frequency_Hz,
                      coupling=opts.coupling, ultrasonic_friction=opts.ultrasonic_friction,
@@ -133,13 +134,13 @@ def branch_row(b) -> tuple[float, int, str, bool, bool]:
 
     Parameters
     ----------
-    b : contact.steady.SteadyBranch
+    b : contact.steady.branches.SteadyBranch
 
     Returns
     -------
     tuple
-        ``motion`` is :attr:`~contact.steady.SteadyBranch.tip_motion`, the point's own
-        vocabulary (a held slider's branch is ``"pure-stick"`` as its point is; it had said
+        ``motion`` is :attr:`~contact.steady.branches.SteadyBranch.tip_motion`, the point's own
+        vocabulary (a held slider's branch is ``"pure-stick"`` as its point is, not
         ``"dead-zone"``), and ``held`` whether the slider is held (the dead zone).
     """
     return (float(b.velocity_m_s), int(b.k), b.tip_motion, bool(b.from_rest), bool(b.held))
@@ -174,57 +175,28 @@ def stick_slip_map(
         Threads; defaults to the number of CPUs.
     progress : bool
         Show a tqdm progress bar on stderr (off by default, as the other entry points: a
-        library call drew one uninvited; ``lusm map`` turns it on).
+        library call draws none uninvited; ``lusm map`` turns it on).
     method : {"transient", "steady"}
         A run from rest of ``options.duration_s`` per point, or the steady engine
-        (:func:`contact.steady.steady_state`; ``options`` give coupling and friction only).
+        (:func:`contact.steady.engine.steady_state`; ``options`` give coupling and friction only).
     accuracy : {"fast", "exact"}
-        Level of the steady engine (``method="steady"``), see :data:`contact.steady.ACCURACIES`.
+        Level of the steady engine (``method="steady"``), see
+        :data:`contact.steady.slow.ACCURACIES`.
     rest : {"probe", "transient"}
-        How the exact level decides the start from rest (:func:`contact.steady.steady_state`).
+        How the exact level decides the start from rest
+        (:func:`contact.steady.engine.steady_state`).
     """
-    from threadpoolctl import threadpool_limits
-    from tqdm import tqdm
-
-    for name, axis in (("voltages_V", voltages_V), ("preloads_N", preloads_N)):
-        # as simulate's voltage_V: [True] ran at 1 V and ["200"] at 200 V
-        if np.asarray(axis).dtype.kind not in "iuf":
-            raise ValueError(f"{name} must be real numbers, got {axis!r}")
-    v = np.asarray(voltages_V, dtype=float)
-    f = np.asarray(preloads_N, dtype=float)
-    if v.ndim != 1 or f.ndim != 1 or v.size == 0 or f.size == 0:
-        raise ValueError("voltages_V and preloads_N must be non-empty 1-D sequences")
-    for name, axis in (("voltages_V", v), ("preloads_N", f)):  # NaN was named voltage_V
-        if not np.all(np.isfinite(axis)):
-            raise ValueError(f"{name} must be finite, got {axis.tolist()!r}")
-    if v.size * f.size > MAX_MAP_POINTS:  # 1e4 x 1e4 ran on without a word
-        raise ValueError(f"voltages_V x preloads_N give {v.size * f.size} points, above "
-                         f"{MAX_MAP_POINTS}")
-    require_params(params)
-    if not isinstance(progress, (bool, np.bool_)):  # "yes" was taken as True, "" as False
-        raise TypeError(f"progress must be True or False, got {progress!r}")
-    if method not in MAP_METHODS:
-        raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")
-    from contact.steady import ACCURACIES
-
-    if accuracy not in ACCURACIES:
-        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
-    check_rest(rest)
     from contact.drive import default_drive_Hz
 
+    v, f = _map_axes(voltages_V, preloads_N)
+    require_params(params)
+    _check_map_options(progress, method, accuracy, rest)
     # once for the map, not per point; the frequency checked before it is used
     frequency_Hz = OperatingPoint(0.0, 0.0, default_drive_Hz(params, frequency_Hz)).frequency_Hz
     opts = options_or_default(options, overrides=False)
-    shape = (v.size, f.size)
-    motion = np.empty(shape, dtype=object)
-    vel, stick, sep, mud = (np.empty(shape) for _ in range(4))
-    settled = np.zeros(shape, dtype=bool)
-    branches = np.empty(shape, dtype=object)
-    branches.fill(())
-    fallback = np.zeros(shape, dtype=bool)
     if workers is not None and (isinstance(workers, bool)
                                 or not isinstance(workers, numbers.Integral) or workers < 1):
-        # 0 used every CPU and -1 gave the thread pool's own message
+        # 0 is no number of threads, and -1 is named here, not by the thread pool
         raise ValueError(f"workers must be an integer >= 1 or None (every CPU), got "
                          f"{workers!r}")
     n_workers = workers or os.cpu_count() or 1
@@ -247,6 +219,68 @@ def stick_slip_map(
     else:
         simulate(params, float(v[0]), float(f[0]), frequency_Hz,
                  SimulationOptions(**{**opts.__dict__, "duration_s": 10 / frequency_Hz}))
+    cols = _map_points(task, v, f, first, n_workers,
+                       f"stick-slip map ({method})" if progress else None)
+    motion, vel, stick, sep, mud, settled, branches, fallback = cols
+    return StickSlipMap(v, f, motion.astype(str), vel, stick, sep, mud, settled,
+                        time.perf_counter() - t0, method, branches, fallback)
+
+
+def _map_axes(voltages_V, preloads_N) -> tuple[np.ndarray, np.ndarray]:
+    """The map's axes as float arrays: real, finite, non-empty, 1-D, and at most
+    :data:`MAX_MAP_POINTS` points together."""
+    for name, axis in (("voltages_V", voltages_V), ("preloads_N", preloads_N)):
+        # as simulate's voltage_V: neither [True] nor ["200"] is a voltage
+        if np.asarray(axis).dtype.kind not in "iuf":
+            raise ValueError(f"{name} must be real numbers, got {axis!r}")
+    v = np.asarray(voltages_V, dtype=float)
+    f = np.asarray(preloads_N, dtype=float)
+    if v.ndim != 1 or f.ndim != 1 or v.size == 0 or f.size == 0:
+        raise ValueError("voltages_V and preloads_N must be non-empty 1-D sequences")
+    for name, axis in (("voltages_V", v), ("preloads_N", f)):  # named as the axis
+        if not np.all(np.isfinite(axis)):
+            raise ValueError(f"{name} must be finite, got {axis.tolist()!r}")
+    if v.size * f.size > MAX_MAP_POINTS:
+        raise ValueError(f"voltages_V x preloads_N give {v.size * f.size} points, above "
+                         f"{MAX_MAP_POINTS}")
+    return v, f
+
+
+def _check_map_options(progress: bool, method: str, accuracy: str, rest: str) -> None:
+    """Refuse a map option out of its choices, naming it."""
+    from contact.steady.slow import ACCURACIES
+
+    if not isinstance(progress, (bool, np.bool_)):  # "yes" is a true string, "" a false one
+        raise TypeError(f"progress must be True or False, got {progress!r}")
+    if method not in MAP_METHODS:
+        raise ValueError(f"method must be one of {MAP_METHODS}, got {method!r}")
+    if accuracy not in ACCURACIES:
+        raise ValueError(f"accuracy must be one of {ACCURACIES}, got {accuracy!r}")
+    check_rest(rest)
+
+
+def _map_points(task, v: np.ndarray, f: np.ndarray, first, n_workers: int,
+                bar_title: str | None) -> tuple[np.ndarray, ...]:
+    """Every point's ``task(v_i, f_j)`` on ``n_workers`` threads (BLAS on one thread each),
+    ``first`` standing for point (0, 0) where given, gathered into the map's columns
+    (motion, velocity, stick and separation fractions, mu_d_eff, settled, branches,
+    fallback). A progress bar titled ``bar_title`` on stderr (none for None)."""
+    from threadpoolctl import threadpool_limits
+    from tqdm import tqdm
+
+    shape = (v.size, f.size)
+    motion = np.empty(shape, dtype=object)
+    vel, stick, sep, mud = (np.empty(shape) for _ in range(4))
+    settled = np.zeros(shape, dtype=bool)
+    branches = np.empty(shape, dtype=object)
+    branches.fill(())
+    fallback = np.zeros(shape, dtype=bool)
+    cols = (motion, vel, stick, sep, mud, settled, branches, fallback)
+
+    def store(i: int, j: int, point) -> None:
+        for col, value in zip(cols, point, strict=True):
+            col[i, j] = value
+
     with threadpool_limits(limits=1, user_api="blas"), ThreadPoolExecutor(
         max_workers=n_workers
     ) as pool:
@@ -256,17 +290,14 @@ def stick_slip_map(
             for j in range(f.size)
             if first is None or (i, j) != (0, 0)
         }
-        bar = tqdm(total=v.size * f.size, desc=f"stick-slip map ({method})", unit="point",
-                   disable=not progress)
+        bar = tqdm(total=v.size * f.size, desc=bar_title, unit="point",
+                   disable=bar_title is None)
         if first is not None:
-            (motion[0, 0], vel[0, 0], stick[0, 0], sep[0, 0], mud[0, 0], settled[0, 0],
-             branches[0, 0], fallback[0, 0]) = first
+            store(0, 0, first)
             bar.update()
         try:
             for fut in as_completed(futures):
-                i, j = futures[fut]
-                (motion[i, j], vel[i, j], stick[i, j], sep[i, j], mud[i, j], settled[i, j],
-                 branches[i, j], fallback[i, j]) = fut.result()
+                store(*futures[fut], fut.result())
                 bar.update()
         except BaseException:
             # an interrupt or a failed point: drop the points not started, or leaving the
@@ -275,5 +306,4 @@ def stick_slip_map(
             raise
         finally:
             bar.close()
-    return StickSlipMap(v, f, motion.astype(str), vel, stick, sep, mud, settled,
-                        time.perf_counter() - t0, method, branches, fallback)
+    return cols

@@ -4,7 +4,7 @@ For a given parameter set and operating point every mode of the switch model (st
 either direction, separation, each with the slider moving or held on its guide) is a linear
 ODE ``dz/dt = A_m z`` on the augmented state of :mod:`contact.state`, and every switching
 condition is the zero of a linear functional. This module builds those matrices and
-functionals once per run; :mod:`contact.event_kernel` integrates them.
+functionals once per run; :mod:`contact.transient.event_kernel` integrates them.
 
 Conventions (see ``docs/contact.md``):
 
@@ -38,9 +38,9 @@ COUPLING_CHOICES = (*COUPLINGS, "auto")
 
 REST_METHODS = ("probe", "transient")
 """How the steady engine's exact level decides the branch a start from rest reaches
-(:func:`contact.steady.steady_state` ``rest=``). Here, not in :mod:`contact.steady`: the
-transient's options check it, and importing the steady engine for that loaded its compiled
-orbit kernels and ``scipy.optimize`` into every transient run."""
+(:func:`contact.steady.engine.steady_state` ``rest=``). Here, not in :mod:`contact.steady.engine`:
+the transient's options check it, and importing the steady engine for that loaded its compiled orbit
+kernels and ``scipy.optimize`` into every transient run."""
 
 
 def check_rest(rest: str) -> None:
@@ -66,7 +66,7 @@ def default_coupling(params: MotorParams) -> tuple[str, str]:
         The coupling and a short reason for printing.
     """
     # by the numbers, not the free-text source: a set saved without its label, or relabelled,
-    # had switched coupling and run 5.7 times faster at 200 V / 14 N (found by API testing)
+    # keeps its coupling (the other one runs 5.7 times faster at 200 V / 14 N)
     if is_table2(params):
         return "paper", "auto: Table 2's set reproduces the paper"
     return "consistent", "auto: work-consistent for a set that is not Table 2's"
@@ -76,8 +76,8 @@ def is_table2(params: MotorParams) -> bool:
     """Whether ``params`` holds Table 2's numbers, whatever its ``source`` text, each to the
     rounding of single precision (:data:`rom.params.STORAGE_ROUNDOFF`, twice: the value's and
     the storage's): a Table 2 set written through float32, which ``MotorParams.from_dict``
-    takes as unedited, had been switched to the consistent coupling and run 5.7 times faster
-    (review of 2026-11-28). An edit is a change far above 1e-7."""
+    takes as unedited, keeps the paper's coupling (the consistent one runs 5.7 times
+    faster). An edit is a change far above 1e-7."""
     from rom.params import STORAGE_ROUNDOFF
     from rom.table2 import table2
 
@@ -110,14 +110,13 @@ def _edited_table2(params: MotorParams) -> bool:
 
 def resolve_coupling(params: MotorParams, coupling: str) -> str:
     """``coupling`` itself, or for ``"auto"`` (every entry point's default, as the CLI's)
-    :func:`default_coupling` of ``params``. The library defaulted to ``"paper"`` for every
-    set while the CLI ran non-Table-2 sets with the consistent coupling: the beam set at
-    300 V / 14 N was held in ``simulate`` and moved at 4.1e-5 m/s in ``lusm simulate``.
+    :func:`default_coupling` of ``params``: the library and the CLI run a set with the same
+    coupling (the beam set at 300 V / 14 N is held with the paper's and moves at
+    4.1e-5 m/s with the consistent one).
 
     An edited copy of Table 2's set gets the consistent coupling under ``"auto"``, with a
-    :class:`CouplingSwitchWarning`: a slider mass changed by 1e-9 had moved 200 V / 14 N from
-    0.0076 to 0.043 m/s without a word (found by a physics audit; the CLI warned for
-    ``--params`` files only)."""
+    :class:`CouplingSwitchWarning`: a slider mass changed by 1e-9 moves 200 V / 14 N from
+    0.0076 to 0.043 m/s, which the caller should hear of."""
     if coupling == "auto":
         chosen = default_coupling(params)[0]
         if chosen != "paper" and _edited_table2(params):
@@ -164,7 +163,7 @@ class OperatingPoint:
         ):
             value = getattr(self, name)
             allowed = f"{'> 0' if strict else '>= 0'} {unit}"
-            # NumPy scalars are numbers (np.int64(200) was refused); True is not 1 V
+            # NumPy scalars are numbers (np.int64(200) too); True is not 1 V
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise ValueError(f"{name} must be a finite number {allowed}, got {value!r}")
             value = float(value)
@@ -297,6 +296,177 @@ def check_scale(params: MotorParams, op: OperatingPoint) -> None:
                 f"there (Table 2's motor runs at 50-450 V and 6-40 N)")
 
 
+@dataclass(frozen=True, eq=False)
+class _Forces:
+    """The forces the modes are made of, each a row over the state vector (N, or m/s for
+    ``vrel``): the contact's normal force ``fn``, the slider's normal load on the guide in
+    contact and separated, the tip's velocity relative to the slider, the external load, the
+    tangential force that keeps the tip stuck (slider held, moving forward, moving
+    backward: :data:`contact.state.HELD` ...) and the sliding friction by the sign of
+    ``v_rel``."""
+
+    fn: np.ndarray
+    ng_contact: np.ndarray
+    ng_sep: np.ndarray
+    vrel: np.ndarray
+    load: np.ndarray
+    stuck: tuple[np.ndarray, np.ndarray, np.ndarray]
+    slip: dict[float, np.ndarray]
+
+    def of_mode(self, contact: int, tip: int, guide: int,
+                zero: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(normal force, tangential force on the slider, guide's normal load)`` of a mode
+        (``zero`` for the forces a separated tip does not feel)."""
+        if contact == S.SEPARATED:
+            return zero, zero, self.ng_sep
+        if tip == S.STICK:
+            return self.fn, self.stuck[guide], self.ng_contact
+        return self.fn, self.slip[1.0 if tip == S.SLIP_POS else -1.0], self.ng_contact
+
+
+_GUIDE_SIGNS = (0.0, 1.0, -1.0)
+"""Sign of the slider's velocity per guide state (held, forward, backward)."""
+
+
+def _contact_forces(p: MotorParams, op: OperatingPoint, mu_d_eff: float,
+                    g_T: float) -> _Forces:
+    """The rows of Eqs. 6-10 for one set and operating point (see :class:`_Forces`)."""
+    e = [_unit(i) for i in range(S.N_STATE)]
+    dphi = p.phi_Ll - p.phi_L0
+    u_st = p.eta_N * op.preload_N * dphi / p.K_l
+    Mg = p.M_slider * GRAVITY_M_S2
+    phi = p.phi_Bl
+
+    fn = p.k_contact * dphi * e[S.U] + (op.preload_N - p.k_contact * u_st) * e[S.ONE]
+    ng_contact = fn + Mg * e[S.ONE]
+    ng_sep = Mg * e[S.ONE]
+    vrel = phi * e[S.DW] - e[S.DX]
+    denom = phi * g_T / p.M_b - 1.0 / p.M_slider  # < 0 for both couplings, on sane sets
+
+    # the external load acts on the slider like the guide does: both enter ff_m ("guide
+    # and load"), so the energy balance's guide work includes the load's work
+    load = op.load_N * e[S.ONE]
+
+    def stick_force(gsign: float) -> np.ndarray:
+        # Eq. 10 generalized: the force keeping v_rel = 0, from phi*ddw_b = ddx.
+        ff = -gsign * p.mu_sd * ng_contact - load
+        b_part = (p.C_b * e[S.DW] + p.K_b * e[S.W] - p.A_b * op.voltage_V * e[S.SIN]) * (
+            phi / p.M_b
+        )
+        return (b_part + ff / p.M_slider) / denom
+
+    # tip and slider both at rest: B2 frozen, so 0 = -K_b w_b + A_b V sin + gamma_T F_T
+    hold = (p.K_b * e[S.W] - p.A_b * op.voltage_V * e[S.SIN]) / g_T
+    slip = {1.0: 1.0 * mu_d_eff * fn, -1.0: -1.0 * mu_d_eff * fn}
+    return _Forces(fn, ng_contact, ng_sep, vrel, load,
+                   (hold, stick_force(1.0), stick_force(-1.0)), slip)
+
+
+def _modes():
+    """``(mode index, contact, tip, guide)`` of every mode."""
+    for contact in (S.SEPARATED, S.CONTACT):
+        for tip in (S.STICK, S.SLIP_POS, S.SLIP_NEG):
+            for guide in (S.HELD, S.FORWARD, S.BACKWARD):
+                yield S.mode_index(contact, tip, guide), contact, tip, guide
+
+
+def _mode_generators(p: MotorParams, op: OperatingPoint, f: _Forces, zero: np.ndarray,
+                     g_N: float, g_T: float):
+    """Generator ``A`` of every mode and its normal, tangential and guide force rows."""
+    e = [_unit(i) for i in range(S.N_STATE)]
+    A = np.zeros((S.N_MODES, S.N_STATE, S.N_STATE))
+    fn_m = np.zeros((S.N_MODES, S.N_STATE))
+    ft_m = np.zeros((S.N_MODES, S.N_STATE))
+    ff_m = np.zeros((S.N_MODES, S.N_STATE))
+    # Each mode's rows depend on its normal force (2 kinds) and tangential force (6 kinds):
+    # they are computed once per kind (the same expressions, so the same bits) and shared.
+    l_row = {id(fk): (-p.K_l * e[S.U] - p.C_l * e[S.DU] + p.A_l * op.voltage_V * e[S.SIN]
+                      + g_N * fk) / p.M_l for fk in (zero, f.fn)}
+    b_row = {id(fk): (-p.K_b * e[S.W] - p.C_b * e[S.DW] + p.A_b * op.voltage_V * e[S.SIN]
+                      + g_T * fk) / p.M_b for fk in (zero, *f.stuck, *f.slip.values())}
+    sin_row, cos_row = op.omega * e[S.COS], -op.omega * e[S.SIN]
+    for m, contact, tip, guide in _modes():
+        fn_mode, ft, ng = f.of_mode(contact, tip, guide, zero)
+        tip_stuck = contact == S.CONTACT and tip == S.STICK
+        held = guide == S.HELD
+        # a held slider is balanced by static guide friction (and the load)
+        ff = -ft if held else -_GUIDE_SIGNS[guide] * p.mu_sd * ng - f.load
+        a = A[m]
+        a[S.U] = e[S.DU]
+        a[S.DU] = l_row[id(fn_mode)]
+        if not (tip_stuck and held):
+            a[S.W] = e[S.DW]
+            a[S.DW] = b_row[id(ft)]
+        if not held:
+            a[S.X] = e[S.DX]
+            a[S.DX] = (ft + ff) / p.M_slider
+        a[S.SIN] = sin_row
+        a[S.COS] = cos_row
+        fn_m[m], ft_m[m], ff_m[m] = fn_mode, ft, ff
+    return A, fn_m, ft_m, ff_m
+
+
+def _mode_events(p: MotorParams, f: _Forces, zero: np.ndarray):
+    """Event functionals ``ev_h`` (an event fires where ``ev_h . z`` becomes > 0) and their
+    types, per mode: separation or contact, stick break or a zero of ``v_rel``, the guide's
+    release or the slider's stop."""
+    dx = _unit(S.DX)
+    ev_h = np.zeros((S.N_MODES, S.MAX_EVENTS, S.N_STATE))
+    ev_type = np.full((S.N_MODES, S.MAX_EVENTS), S.EV_NONE, dtype=np.int64)
+    for m, contact, tip, guide in _modes():
+        _, ft, ng = f.of_mode(contact, tip, guide, zero)
+        events: list[tuple[int, np.ndarray]] = []
+        if contact == S.CONTACT:
+            events.append((S.EV_SEPARATE, -f.fn))
+            if tip == S.STICK:
+                events.append((S.EV_STICK_BREAK, f.stuck[guide] - p.mu_s * f.fn))
+                events.append((S.EV_STICK_BREAK, -f.stuck[guide] - p.mu_s * f.fn))
+            else:
+                sigma = 1.0 if tip == S.SLIP_POS else -1.0
+                events.append((S.EV_VREL_ZERO, -sigma * f.vrel))
+        else:
+            events.append((S.EV_CONTACT, f.fn))
+        if guide == S.HELD:
+            events.append((S.EV_GUIDE_RELEASE, ft - f.load - p.mu_sd * ng))
+            events.append((S.EV_GUIDE_RELEASE, -ft + f.load - p.mu_sd * ng))
+        else:
+            events.append((S.EV_XDOT_ZERO, -_GUIDE_SIGNS[guide] * dx))
+        for j, (etype, h) in enumerate(events):
+            ev_type[m, j] = etype
+            ev_h[m, j] = h
+    return ev_h, ev_type
+
+
+def _initial_state(p: MotorParams, op: OperatingPoint, fn: np.ndarray) -> tuple[np.ndarray, int]:
+    """Static equilibrium under the preload, slider at rest, and its mode (the tip stuck in
+    contact, or separated with no preload)."""
+    z0 = np.zeros(S.N_STATE)
+    z0[S.U] = static_deflection_m(p, op.preload_N)
+    z0[S.COS] = 1.0
+    z0[S.ONE] = 1.0
+    in_contact = float(fn @ z0) > 0.0
+    mode0 = (
+        S.mode_index(S.CONTACT, S.STICK, S.HELD)
+        if in_contact
+        else S.mode_index(S.SEPARATED, S.SLIP_POS, S.HELD)
+    )
+    return z0, mode0
+
+
+def _check_finite_system(p: MotorParams, arrays) -> None:
+    """Refuse a set whose mode matrices overflow, naming its most extreme value (the one
+    farthest from 1 in magnitude, either way): NumPy's eigensolver would fail later with
+    "Array must not contain infs or NaNs", naming nothing (phi_Bl = 1e300 in a --params
+    file)."""
+    if all(np.isfinite(m).all() for m in arrays):
+        return
+    name, value = max(((f.name, getattr(p, f.name)) for f in dataclasses.fields(p)
+                       if isinstance(getattr(p, f.name), float) and getattr(p, f.name)),
+                      key=lambda nv: abs(math.log10(abs(nv[1]))))
+    raise ValueError(f"the parameter set's mode matrices overflow (not finite); its most "
+                     f"extreme value is {name} = {value:g}, out of any stator's scale")
+
+
 def build_system(
     params: MotorParams,
     op: OperatingPoint,
@@ -332,107 +502,18 @@ def build_system(
         raise ValueError(f"stick_band_m_s must be finite and >= 0, got {stick_band_m_s!r}")
     if not (0.0 <= mu_d_eff <= p.mu_s):
         raise ValueError(f"mu_d_eff must lie in [0, mu_s={p.mu_s}], got {mu_d_eff!r}")
-    e = [_unit(i) for i in range(S.N_STATE)]
-    dphi = p.phi_Ll - p.phi_L0
-    u_st = p.eta_N * op.preload_N * dphi / p.K_l
-    Mg = p.M_slider * GRAVITY_M_S2
-    phi = p.phi_Bl
-
-    fn = p.k_contact * dphi * e[S.U] + (op.preload_N - p.k_contact * u_st) * e[S.ONE]
-    ng_contact = fn + Mg * e[S.ONE]
-    ng_sep = Mg * e[S.ONE]
-    vrel = phi * e[S.DW] - e[S.DX]
-    denom = phi * g_T / p.M_b - 1.0 / p.M_slider  # < 0 for both couplings, on sane sets
-
-    # the external load acts on the slider like the guide does: both enter ff_m ("guide
-    # and load"), so the energy balance's guide work includes the load's work
-    load = op.load_N * e[S.ONE]
-
-    def stick_force(gsign: float) -> np.ndarray:
-        # Eq. 10 generalized: the force keeping v_rel = 0, from phi*ddw_b = ddx.
-        ff = -gsign * p.mu_sd * ng_contact - load
-        b_part = (p.C_b * e[S.DW] + p.K_b * e[S.W] - p.A_b * op.voltage_V * e[S.SIN]) * (
-            phi / p.M_b
-        )
-        return (b_part + ff / p.M_slider) / denom
-
-    # tip and slider both at rest: B2 frozen, so 0 = -K_b w_b + A_b V sin + gamma_T F_T
-    hold = (p.K_b * e[S.W] - p.A_b * op.voltage_V * e[S.SIN]) / g_T
-    fs = [hold, stick_force(1.0), stick_force(-1.0)]
-    gsigns = (0.0, 1.0, -1.0)
-
-    A = np.zeros((S.N_MODES, S.N_STATE, S.N_STATE))
-    ev_h = np.zeros((S.N_MODES, S.MAX_EVENTS, S.N_STATE))
-    ev_type = np.full((S.N_MODES, S.MAX_EVENTS), S.EV_NONE, dtype=np.int64)
-    fn_m = np.zeros((S.N_MODES, S.N_STATE))
-    ft_m = np.zeros((S.N_MODES, S.N_STATE))
-    ff_m = np.zeros((S.N_MODES, S.N_STATE))
+    f = _contact_forces(p, op, mu_d_eff, g_T)
     zero = np.zeros(S.N_STATE)
-
-    # Each mode's rows depend on its normal force (2 kinds) and tangential force (6 kinds):
-    # they are computed once per kind (the same expressions, so the same bits) and shared.
-    slip = {1.0: 1.0 * mu_d_eff * fn, -1.0: -1.0 * mu_d_eff * fn}
-    l_row = {id(f): (-p.K_l * e[S.U] - p.C_l * e[S.DU] + p.A_l * op.voltage_V * e[S.SIN]
-                     + g_N * f) / p.M_l for f in (zero, fn)}
-    b_row = {id(f): (-p.K_b * e[S.W] - p.C_b * e[S.DW] + p.A_b * op.voltage_V * e[S.SIN]
-                     + g_T * f) / p.M_b for f in (zero, *fs, *slip.values())}
-    sin_row, cos_row = op.omega * e[S.COS], -op.omega * e[S.SIN]
-    for contact in (S.SEPARATED, S.CONTACT):
-        for tip in (S.STICK, S.SLIP_POS, S.SLIP_NEG):
-            for guide in (S.HELD, S.FORWARD, S.BACKWARD):
-                m = S.mode_index(contact, tip, guide)
-                gs = gsigns[guide]
-                tip_stuck = contact == S.CONTACT and tip == S.STICK
-                held = guide == S.HELD
-                if contact == S.SEPARATED:
-                    fn_mode, ft, ng = zero, zero, ng_sep
-                elif tip == S.STICK:
-                    fn_mode, ft, ng = fn, fs[guide], ng_contact
-                else:
-                    fn_mode, ft, ng = fn, slip[1.0 if tip == S.SLIP_POS else -1.0], ng_contact
-                # a held slider is balanced by static guide friction (and the load)
-                ff = -ft if held else -gs * p.mu_sd * ng - load
-                a = A[m]
-                a[S.U] = e[S.DU]
-                a[S.DU] = l_row[id(fn_mode)]
-                if not (tip_stuck and held):
-                    a[S.W] = e[S.DW]
-                    a[S.DW] = b_row[id(ft)]
-                if not held:
-                    a[S.X] = e[S.DX]
-                    a[S.DX] = (ft + ff) / p.M_slider
-                a[S.SIN] = sin_row
-                a[S.COS] = cos_row
-                fn_m[m], ft_m[m], ff_m[m] = fn_mode, ft, ff
-
-                events: list[tuple[int, np.ndarray]] = []
-                if contact == S.CONTACT:
-                    events.append((S.EV_SEPARATE, -fn))
-                    if tip == S.STICK:
-                        events.append((S.EV_STICK_BREAK, fs[guide] - p.mu_s * fn))
-                        events.append((S.EV_STICK_BREAK, -fs[guide] - p.mu_s * fn))
-                    else:
-                        sigma = 1.0 if tip == S.SLIP_POS else -1.0
-                        events.append((S.EV_VREL_ZERO, -sigma * vrel))
-                else:
-                    events.append((S.EV_CONTACT, fn))
-                if held:
-                    events.append((S.EV_GUIDE_RELEASE, ft - load - p.mu_sd * ng))
-                    events.append((S.EV_GUIDE_RELEASE, -ft + load - p.mu_sd * ng))
-                else:
-                    events.append((S.EV_XDOT_ZERO, -gs * e[S.DX]))
-                for j, (etype, h) in enumerate(events):
-                    ev_type[m, j] = etype
-                    ev_h[m, j] = h
-
+    A, fn_m, ft_m, ff_m = _mode_generators(p, op, f, zero, g_N, g_T)
+    ev_h, ev_type = _mode_events(p, f, zero)
     ev_dh = np.matmul(ev_h, A)  # d/dt (h . z) = h . A z = (A^T h) . z
 
     funcs = np.zeros((S.N_FUNCS, S.N_STATE))
-    funcs[S.F_FN] = fn
-    funcs[S.F_NG_CONTACT] = ng_contact
-    funcs[S.F_VREL] = vrel
-    funcs[S.F_HOLD], funcs[S.F_FS1], funcs[S.F_FS2] = fs
-    funcs[S.F_NG_SEP] = ng_sep
+    funcs[S.F_FN] = f.fn
+    funcs[S.F_NG_CONTACT] = f.ng_contact
+    funcs[S.F_VREL] = f.vrel
+    funcs[S.F_HOLD], funcs[S.F_FS1], funcs[S.F_FS2] = f.stuck
+    funcs[S.F_NG_SEP] = f.ng_sep
 
     scalars = np.array(  # order: the SC_* indices of contact.state
         [
@@ -442,28 +523,9 @@ def build_system(
             stick_band_m_s, p.phi_Bl, op.load_N,
         ]
     )
-
-    z0 = np.zeros(S.N_STATE)
-    z0[S.U] = static_deflection_m(p, op.preload_N)
-    z0[S.COS] = 1.0
-    z0[S.ONE] = 1.0
-    in_contact = float(fn @ z0) > 0.0
-    mode0 = (
-        S.mode_index(S.CONTACT, S.STICK, S.HELD)
-        if in_contact
-        else S.mode_index(S.SEPARATED, S.SLIP_POS, S.HELD)
-    )
     assert scalars.shape == (S.N_SCALARS,)
-    if not all(np.isfinite(m).all() for m in (A, ev_h, fn_m, ft_m, ff_m, funcs)):
-        # an overflow (phi_Bl = 1e300 in a --params file) failed deep in a NumPy eigensolver,
-        # "Array must not contain infs or NaNs", naming nothing
-        # the value farthest from 1 in magnitude, either way (M_l = 1e-300 had been reported
-        # as "its largest value is K_l")
-        name, value = max(((f.name, getattr(p, f.name)) for f in dataclasses.fields(p)
-                           if isinstance(getattr(p, f.name), float) and getattr(p, f.name)),
-                          key=lambda nv: abs(math.log10(abs(nv[1]))))
-        raise ValueError(f"the parameter set's mode matrices overflow (not finite); its most "
-                         f"extreme value is {name} = {value:g}, out of any stator's scale")
+    z0, mode0 = _initial_state(p, op, f.fn)
+    _check_finite_system(p, (A, ev_h, fn_m, ft_m, ff_m, funcs))
     return HybridSystem(A, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, scalars, z0, mode0)
 
 
@@ -490,7 +552,7 @@ def linear_normal_amplitude(params: MotorParams, op: OperatingPoint) -> float | 
     ``A_N = |phi_L(l)|`` times that. The mean normal force of that orbit is ``F_P`` and its
     swing ``k |eta_N| U``; when the swing reaches the mean the tip separates, the orbit is
     not harmonic and None is returned (the caller then simulates the pre-pass of
-    :func:`contact.simulate.normal_amplitude`, its reference).
+    :func:`contact.transient.pre_pass.normal_amplitude`, its reference).
     """
     p = params
     k_eff = p.K_l + p.eta_N ** 2 * p.k_contact

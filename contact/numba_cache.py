@@ -13,9 +13,9 @@ def depend_on(namespace: dict, *modules: ModuleType) -> None:
     numba keys a cached function on its own source file only, while the code it caches
     contains the functions it calls from other modules and the constants it imports (the
     state layout of :mod:`contact.state`): an edit of those would otherwise keep serving
-    the old machine code (numba documents this limitation; swapping two ``SC_*`` indices in
-    ``contact.state`` left ``lusm simulate`` printing the old velocity until the cache was
-    removed). The source stamp each cache index is checked against is extended by the
+    stale machine code (numba documents this limitation; swapping two ``SC_*`` indices in
+    ``contact.state`` would leave ``lusm simulate`` printing the old layout's velocity until
+    the cache is removed). The source stamp each cache index is checked against is extended by the
     stamps (mtime, size) of ``modules``. Relies on numba's cache internals; where they
     differ the cache behaves as numba's own.
     """

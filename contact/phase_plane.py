@@ -55,7 +55,7 @@ def phase_plane(result: SimulationResult) -> PhasePlane:
         The run stored no window at every step: only ``method="event"`` does.
     """
     w = result.window
-    if w is None:  # it was an AttributeError on None
+    if w is None:  # say why, not an AttributeError on None
         raise ValueError(f"phase_plane needs the steady-state window at every step, which "
                          f"only method='event' stores; this run used method="
                          f"{result.method!r}")

@@ -119,8 +119,8 @@ class EnergyBalance:
     + load)`` with E the kinetic, modal-strain and contact-spring energy; the normal force's
     work on the stator is exchanged with the contact spring and drops out. ``guide`` is the
     linear guide's friction alone and ``load`` the external load's work on the slider
-    (``-load_N`` times its displacement: minus the motor's output work); ``guide`` had held
-    both, so a loaded run's guide loss read the output work too. ``non_conservative`` is the
+    (``-load_N`` times its displacement: minus the motor's output work), kept apart so that
+    a loaded run's guide loss does not hold the output work. ``non_conservative`` is the
     part of the tangential work that the paper's coupling ``eta_T F_T`` adds beyond the
     reaction ``-phi_B(l) F_T`` at the tip (zero for the consistent coupling).
     """
@@ -162,7 +162,7 @@ class SchemeOutput:
     :class:`contact.simulate.SimulationResult` and :class:`SteadyState`. Schemes that do not
     track a quantity give NaN (floats) or None (``events`` of the steady engine, which
     counts no mode switches). ``branches``: the steady engine's every steady state at the
-    point (:class:`contact.steady.SteadyBranch`, by increasing velocity, unstable ones
+    point (:class:`contact.steady.branches.SteadyBranch`, by increasing velocity, unstable ones
     included); None for the transient schemes.
     """
 
@@ -182,8 +182,8 @@ class SchemeOutput:
 
 SETTLED_ABS_M_S = 1e-9
 """Absolute floor (m/s) of the ``settled`` test, for a held slider whose window means are
-roundoff. It was 1e-6 m/s, which passed creeps of a few um/s whose two windows differed by
-10-18 %; a creep is now judged by the 1 % like any other speed."""
+roundoff. A creep is judged by the 1 % like any other speed: a floor of 1e-6 m/s would pass
+creeps of a few um/s whose two windows differ by 10-18 %."""
 
 HELD_ABS_M_S = 1e-6
 """Window means (m/s) below which a pure-stick window counts as settled at rest: with no slip

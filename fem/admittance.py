@@ -82,8 +82,9 @@ import scipy.sparse.linalg as sla
 
 from fem.frozen import freeze_arrays
 from fem.geometry import ELECTRODES, PlateStator
+from fem.limits import work_factor
 from fem.material import PiezoMaterial
-from fem.mesh import DEFAULT_REFINE
+from fem.meshing.mesh import DEFAULT_REFINE
 
 RIGID_BODY_LIMIT_HZ = 1.0
 """Modes below this frequency (Hz) are rigid-body modes."""
@@ -348,9 +349,9 @@ def modes_below(K, M, f_Hz: float) -> int | None:
 
     Sylvester's law of inertia: the count is the number of negative pivots of an
     ``L D L^T`` factorization of ``K - (2 pi f)^2 M``. SuperLU gives one when it keeps the
-    symmetric ordering and does not pivot (``SymmetricMode``, no diagonal threshold); if it
-    had to pivot anyway, None (the caller falls back to growing the eigensolve). One sparse
-    factorization: milliseconds where the eigensolve it replaces took a minute.
+    symmetric ordering and does not pivot (``SymmetricMode``, no diagonal threshold); where it
+    pivots anyway, None (the caller falls back to growing the eigensolve). One sparse
+    factorization: milliseconds where the eigensolve it replaces takes a minute.
     """
     shift = (2.0 * math.pi * float(f_Hz)) ** 2
     try:
@@ -428,59 +429,16 @@ def modal_port(
     """
     from fem.modes import identify_modes
 
-    if not (math.isfinite(f_max_Hz) and f_max_Hz > 0):
-        raise ValueError(f"f_max_Hz must be > 0, got {f_max_Hz!r}")
-    if not cutoff_factor >= 1.0:
-        raise ValueError(f"cutoff_factor must be >= 1, got {cutoff_factor!r}")
-    if zeta_L1 is None or zeta_B2 is None:
-        raise ValueError("zeta_L1 and zeta_B2 are required (damping ratios of L1 and B2)")
-    for name, z in (("zeta_L1", zeta_L1), ("zeta_B2", zeta_B2), ("zeta_other", zeta_other)):
-        # 0 is refused as the CLI's --zeta refuses it: undamped, the admittance is infinite
-        # at each resonance and the grid's peaks (plate_admittance(zeta=0) paired B2's
-        # antiresonance as its resonance, k_eff 0.020 against 0.092) are not the modes'
-        if not (math.isfinite(z) and 0.0 < z < 1.0):
-            raise ValueError(f"{name} must lie in (0, 1) (an undamped admittance is infinite "
-                             f"at resonance), got {z!r}")
+    _check_port_options(f_max_Hz, cutoff_factor, zeta_L1, zeta_B2, zeta_other)
     electrodes = model.stator.drive_electrodes if electrodes is None else electrodes
     g, c0, electrodes, pol = _port_vectors(model, electrodes, polarity)
-    K, M = model.K, model.M
-    n = K.shape[0]
     f_cut = cutoff_factor * f_max_Hz
     count = check_mode_count(model, f_max_Hz, cutoff_factor, max_modes)
-    sigma = -((2.0 * math.pi * 100.0) ** 2)
-    lu = sla.splu((K - sigma * M).tocsc())
-    opinv = sla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
-    top = n - 2 if max_modes is None else min(n - 2, max(int(max_modes), 1))
-    # one mode above the cut shows the band is complete; without a count, grow from 24
-    k = min(count + 1, n - 2) if count is not None else min(24, top)
-    v0 = np.random.default_rng(0).standard_normal(n)  # fixed start: bit-identical runs
-    while True:
-        w, v = sla.eigsh(K, k=max(k, 1), M=M, sigma=sigma, OPinv=opinv, which="LM", v0=v0)
-        order = np.argsort(w)
-        w, v = w[order], v[:, order]
-        f = np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi)
-        if f[-1] > f_cut or k >= n - 2:
-            break
-        if k >= top:
-            raise TooManyModesError(f_cut, k + 1, top)
-        k = min(2 * k, top)
-    v = v / np.sqrt(np.einsum("ir,ir->r", v, M @ v))
+    w, v, f, lu, sigma = _band_modes(model, f_cut, count, max_modes)
+    v = v / np.sqrt(np.einsum("ir,ir->r", v, model.M @ v))
     a_all = v.T @ g
-    x = lu.solve(g)
-    low = f <= f_cut
-    moment1 = float(g @ x) - float(np.sum(a_all[low] ** 2 / (w[low] - sigma)))
-    moment2 = float(x @ (M @ x)) - float(np.sum(a_all[low] ** 2 / (w[low] - sigma) ** 2))
-    keep = (f >= RIGID_BODY_LIMIT_HZ) & low
-    w_res2 = sigma + moment1 / moment2 if moment1 > 0.0 and moment2 > 0.0 else -math.inf
-    if w_res2 >= (2.0 * math.pi * f_cut) ** 2:
-        c_res = moment1 * (w_res2 - sigma) / w_res2  # A_res / W_res^2 with A_res = m1^2/m2
-        f_res = math.sqrt(w_res2) / (2.0 * math.pi)
-    else:
-        # every mode retained (nothing left over), or the moments are the roundoff of two
-        # nearly equal sums: the truncated modes all lie above the cut, so a residual mode
-        # below it is not theirs (it appeared inside a wide band as a spurious resonance);
-        # what is left is at most a static capacitance
-        c_res, f_res = max(moment1, 0.0), math.inf
+    c_res, f_res = _residual_mode(model.M, lu, sigma, g, a_all, w, f <= f_cut, f_cut)
+    keep = (f >= RIGID_BODY_LIMIT_HZ) & (f <= f_cut)
     fr, vr, ar = f[keep], v[:, keep], a_all[keep]
     names = [""] * fr.size
     try:
@@ -498,6 +456,76 @@ def modal_port(
         electrodes=electrodes, polarity=pol, frequencies_Hz=fr, shapes=vr, a_N_V=ar, zeta=zeta,
         C0_F=c0, C_res_F=c_res, f_res_Hz=f_res, C_free_F=c_free, g_N_V=g, mode_names=tuple(names),
     )
+
+
+def _check_port_options(f_max_Hz: float, cutoff_factor: float, zeta_L1: float | None,
+                        zeta_B2: float | None, zeta_other: float) -> None:
+    """Refuse a band or damping ratio :func:`modal_port` cannot use, naming it."""
+    if not (math.isfinite(f_max_Hz) and f_max_Hz > 0):
+        raise ValueError(f"f_max_Hz must be > 0, got {f_max_Hz!r}")
+    if not cutoff_factor >= 1.0:
+        raise ValueError(f"cutoff_factor must be >= 1, got {cutoff_factor!r}")
+    if zeta_L1 is None or zeta_B2 is None:
+        raise ValueError("zeta_L1 and zeta_B2 are required (damping ratios of L1 and B2)")
+    for name, z in (("zeta_L1", zeta_L1), ("zeta_B2", zeta_B2), ("zeta_other", zeta_other)):
+        # 0 is refused as the CLI's --zeta refuses it: undamped, the admittance is infinite
+        # at each resonance and the grid's peaks (plate_admittance(zeta=0) pairs B2's
+        # antiresonance as its resonance, k_eff 0.020 against 0.092) are not the modes'
+        if not (math.isfinite(z) and 0.0 < z < 1.0):
+            raise ValueError(f"{name} must lie in (0, 1) (an undamped admittance is infinite "
+                             f"at resonance), got {z!r}")
+
+
+def _band_modes(model, f_cut: float, count: int | None, max_modes: int | None):
+    """Eigenpairs of ``(K, M)`` up to one mode above ``f_cut`` (Hz), by shift-invert below
+    the rigid-body modes; ``count`` modes below the cut when known, else from 24 doubling.
+
+    Returns ``(w, v, f, lu, sigma)``: eigenvalues (rad^2/s^2) by increasing value, their
+    vectors, frequencies (Hz, signed), the factorization of ``K - sigma M`` and the shift.
+
+    Raises
+    ------
+    TooManyModesError
+        The band holds more than ``max_modes`` modes.
+    """
+    K, M = model.K, model.M
+    n = K.shape[0]
+    sigma = -((2.0 * math.pi * 100.0) ** 2)
+    lu = sla.splu((K - sigma * M).tocsc())
+    opinv = sla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
+    top = n - 2 if max_modes is None else min(n - 2, max(int(max_modes), 1))
+    # one mode above the cut shows the band is complete; without a count, grow from 24
+    k = min(count + 1, n - 2) if count is not None else min(24, top)
+    v0 = np.random.default_rng(0).standard_normal(n)  # fixed start: bit-identical runs
+    while True:
+        w, v = sla.eigsh(K, k=max(k, 1), M=M, sigma=sigma, OPinv=opinv, which="LM", v0=v0)
+        order = np.argsort(w)
+        w, v = w[order], v[:, order]
+        f = np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi)
+        if f[-1] > f_cut or k >= n - 2:
+            return w, v, f, lu, sigma
+        if k >= top:
+            raise TooManyModesError(f_cut, k + 1, top)
+        k = min(2 * k, top)
+
+
+def _residual_mode(M, lu, sigma: float, g: np.ndarray, a_all: np.ndarray, w: np.ndarray,
+                   low: np.ndarray, f_cut: float) -> tuple[float, float]:
+    """The modes above the cut as one residual mode: ``(C_res, f_res)`` (F, Hz), from the
+    first two moments of the port's static response left by the modes below the cut
+    (``low``; ``a_all`` the port's modal force factors of mass-normalized modes)."""
+    x = lu.solve(g)
+    moment1 = float(g @ x) - float(np.sum(a_all[low] ** 2 / (w[low] - sigma)))
+    moment2 = float(x @ (M @ x)) - float(np.sum(a_all[low] ** 2 / (w[low] - sigma) ** 2))
+    w_res2 = sigma + moment1 / moment2 if moment1 > 0.0 and moment2 > 0.0 else -math.inf
+    if w_res2 >= (2.0 * math.pi * f_cut) ** 2:
+        c_res = moment1 * (w_res2 - sigma) / w_res2  # A_res / W_res^2 with A_res = m1^2/m2
+        return c_res, math.sqrt(w_res2) / (2.0 * math.pi)
+    # every mode retained (nothing left over), or the moments are the roundoff of two nearly
+    # equal sums: the truncated modes all lie above the cut, so a residual mode below it is
+    # not theirs (it would be a spurious resonance inside a wide band); what is left is at
+    # most a static capacitance
+    return max(moment1, 0.0), math.inf
 
 
 def direct_admittance_S(model, port: ModalPort, f_Hz: np.ndarray) -> np.ndarray:
@@ -565,7 +593,7 @@ def resonance_pairs(port: ModalPort, f_Hz: np.ndarray,
 
     A peak whose named modes make one peak on this grid but not on a fine grid across them
     (``check_merges``, :func:`_merged_by_the_grid`) is left out: a grid step wider than
-    their peaks had paired one mode's resonance with the other's antiresonance
+    their peaks pairs one mode's resonance with the other's antiresonance
     (``--f-max 1e7 --zeta 0.001``: "B2+L1 (merged)", k_eff 0.306, where B2 has 0.092 and L1
     0.155); the modes are then the grid's to find (:meth:`AdmittanceResult.unpaired_modes`).
     """
@@ -603,8 +631,8 @@ def _pairs_on(port: ModalPort, f_Hz: np.ndarray) -> list[ResonancePair]:
 def _overlapping(port: ModalPort, pairs: list[ResonancePair]) -> tuple[ResonancePair, ...]:
     """Pairs with one ``"B2+L1 (merged)"`` label on several peaks relabelled: the modes make
     separate peaks closer than their bandwidths, not one. Each is named by its nearer mode,
-    ``"B2 (overlaps L1)"`` (``--zeta 0.022``: two rows "B2+L1 (merged)" under a line saying
-    the modes make one peak; found by code review)."""
+    ``"B2 (overlaps L1)"`` (``--zeta 0.022`` would show two rows "B2+L1 (merged)" under a
+    line saying the modes make one peak)."""
     labels = [q.mode for q in pairs]
     freq = dict(zip(port.mode_names, port.frequencies_Hz, strict=True))
     out = []
@@ -731,13 +759,12 @@ def plate_admittance(
         raise ValueError(f"need 0 < f_min_Hz < f_max_Hz, got {f_min_Hz!r}, {f_max_Hz!r}")
     if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 3:
         raise ValueError(f"n_points must be an integer >= 3, got {n_points!r}")
-    from fem.mesh_io import work_factor
 
     top = MAX_FREQUENCY_POINTS * work_factor()
-    if n_points > top:  # an array of points x modes: 1e7 had taken 56 s and about 7 GB
+    if n_points > top:  # an array of points x modes: 1e7 take 56 s and about 7 GB
         raise ValueError(f"n_points must be at most {top:.0f} in a library call, got "
                          f"{n_points} (set LUSM_MAX_WORK=N to allow N times more)")
-    # before the model is built (review: it had been checked after)
+    # before the model is built
     if zeta is not None and not (isinstance(zeta, numbers.Real) and not isinstance(zeta, bool)
                                  and math.isfinite(zeta) and 0.0 < zeta < 1.0):
         raise ValueError(f"zeta must lie in (0, 1) (an undamped admittance is infinite at "

@@ -114,8 +114,8 @@ def _electrode_side(width: float, h_min: float, h_far: float, near: float) -> np
     """Points from the gap's edge (0) across an electrode of ``width``: graded from
     ``h_min`` to ``h_far`` within ``near`` of the edge; beyond it the field is uniform
     through the thickness (linear potential, exact for quadratic elements), so the
-    elements grow on to ``width / 6``. A 500 mm electrode on a 0.1 mm plate took 30 000
-    lines at ``h_far`` (16 GB); the paper's plate is within ``near`` and unchanged."""
+    elements grow on to ``width / 6``: a 500 mm electrode on a 0.1 mm plate would take
+    30 000 lines at ``h_far`` (16 GB); the paper's plate lies within ``near``."""
     pts = _graded(0.0, min(width, near), h_min, h_max=h_far)
     if width <= near:
         return pts
@@ -132,6 +132,28 @@ def _two_sided(a: float, b: float, h_min: float, h_max: float) -> np.ndarray:
 
 
 @lru_cache(maxsize=64)
+def _cross_section_mesh(g: float, h: float, width_a_m: float, width_b_m: float, r: int):
+    """The cross-section's tensor mesh (m): graded towards the two electrode edges, where the
+    potential is singular, and towards the top face; ``r`` the resolution factor."""
+    from skfem import MeshQuad1
+
+    # the singular corners need elements much smaller than the gap; far away, a tenth of the
+    # thickness is enough (the field becomes uniform within ~h of the gap)
+    h_min = min(g, h) / (40.0 * r)
+    h_far = min(h, max(width_a_m, width_b_m)) / (6.0 * r)
+    gap_pts = _two_sided(-g / 2, g / 2, h_min, g / (8.0 * r))
+    near = 5.0 * max(h, g)  # beyond it, under an electrode, the field is the plate's own
+    right = g / 2 + _electrode_side(width_a_m, h_min, h_far, near)
+    left = -g / 2 - _electrode_side(width_b_m, h_min, h_far, near)[::-1]
+    s = np.unique(np.concatenate((left, gap_pts, right)))
+    # through the thickness the potential becomes linear a few electrode widths below the
+    # top, which quadratic elements represent exactly: the elements may grow to h / 6 there
+    # (a 1 m thick block at h_far would take 50 s and 3 GB; at the default plate
+    # h / 6 = h_far)
+    z = h - _graded(0.0, h, h_min, h_max=max(h_far, h / (6.0 * r)))[::-1]
+    return MeshQuad1.init_tensor(s, z)
+
+
 def gap_cross_section(
     gap_m: float,
     thickness_m: float,
@@ -161,32 +183,18 @@ def gap_cross_section(
     -------
     GapCrossSection
     """
-    from skfem import Basis, BilinearForm, ElementQuad2, MeshQuad1, condense, solve
+    from skfem import Basis, BilinearForm, ElementQuad2, condense, solve
 
     g, h = float(gap_m), float(thickness_m)
     if not (g > 0.0 and h > 0.0 and width_a_m > 0.0 and width_b_m > 0.0):
         raise ValueError("gap, thickness and electrode widths must be > 0")
     # the graded mesh would need thousands of lines per micrometre decade; the tolerance
-    # takes a gap measured off mesh lines (1 um came back as 0.99999...e-6 and was refused)
+    # takes a gap measured off mesh lines (1 um can come back as 0.99999...e-6)
     if g < MIN_GAP_M * (1.0 - 1e-9):
         raise ValueError(f"electrode gap {g:g} m is below {MIN_GAP_M:g} m: too narrow to model "
                          "(make it 0 for touching quadrants)")
-    r = int(resolution)
-    # the singular corners need elements much smaller than the gap; far away, a tenth of the
-    # thickness is enough (the field becomes uniform within ~h of the gap)
-    h_min = min(g, h) / (40.0 * r)
-    h_far = min(h, max(width_a_m, width_b_m)) / (6.0 * r)
-    gap_pts = _two_sided(-g / 2, g / 2, h_min, g / (8.0 * r))
-    near = 5.0 * max(h, g)  # beyond it, under an electrode, the field is the plate's own
-    right = g / 2 + _electrode_side(width_a_m, h_min, h_far, near)
-    left = -g / 2 - _electrode_side(width_b_m, h_min, h_far, near)[::-1]
-    s = np.unique(np.concatenate((left, gap_pts, right)))
-    # through the thickness the potential becomes linear a few electrode widths below the
-    # top, which quadratic elements represent exactly: the elements may grow to h / 6 there
-    # (a 1 m thick block at h_far took 50 s and 3 GB; at the default plate h / 6 = h_far)
-    z = h - _graded(0.0, h, h_min, h_max=max(h_far, h / (6.0 * r)))[::-1]
-    mesh = MeshQuad1.init_tensor(s, z)
-    basis = Basis(mesh, ElementQuad2())
+    basis = Basis(_cross_section_mesh(g, h, width_a_m, width_b_m, int(resolution)),
+                  ElementQuad2())
     eps_l, eps_t = float(eps_lateral_F_m), float(eps_thickness_F_m)
 
     @BilinearForm

@@ -117,7 +117,7 @@ def export_modes(
 def export_solid_modes(path: str | Path, model, modes, file_format: str | None = None) -> Path:
     """Write the 3D brick mesh with the L1 and B2 shapes as point data through meshio.
 
-    The shapes (mass-normalized short-circuit modes of :mod:`fem.solid3d`, m per sqrt(kg))
+    The shapes (mass-normalized short-circuit modes of :mod:`fem.solid3d.model`, m per sqrt(kg))
     are written at the brick vertices as ``L1``, ``B2`` (vectors) and ``magnitude_L1``,
     ``magnitude_B2``; the vertex order follows scikit-fem's own meshio converter
     (:func:`skfem.io.meshio.to_meshio`), so ParaView reads ``.vtu`` hexahedra directly.
@@ -126,8 +126,8 @@ def export_solid_modes(path: str | Path, model, modes, file_format: str | None =
     ----------
     path : str or Path
         Output file (format by extension unless ``file_format`` is given).
-    model : fem.solid3d.SolidPlateModel
-    modes : fem.solid3d.SolidModes
+    model : fem.solid3d.model.SolidPlateModel
+    modes : fem.solid3d.model.SolidModes
     file_format : str, optional
         meshio format name.
 

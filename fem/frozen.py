@@ -9,9 +9,9 @@ import numpy as np
 def own_read_only(value):
     """A read-only copy of an array (each array of a tuple likewise); other values as given.
 
-    A result that kept the caller's array changed when the caller edited it
-    (``sweep_dimension``'s ``values_m``), and one whose arrays were writable could be edited
-    into answers its own methods then reported (a sweep's crossings).
+    A result that kept the caller's array would change when the caller edits it
+    (``sweep_dimension``'s ``values_m``), and one with writable arrays could be edited into
+    answers its own methods then report (a sweep's crossings).
     """
     if isinstance(value, np.ndarray):
         own = np.array(value)

@@ -39,7 +39,7 @@ MIN_GAP_M = 1e-6
 MAX_SIZE_M = 10.0
 """Largest plate dimension (m) the stator classes accept: ten times the CLI's 1000 mm, room
 for a tuning's trial plates; millimetres typed as metres (``length_m=30``) are refused (a
-30 m plate had run 29 s of FE into NaN)."""
+30 m plate runs 29 s of FE into NaN)."""
 
 
 @dataclass(frozen=True)
@@ -69,8 +69,8 @@ class PlateStator:
     def __post_init__(self) -> None:
         for name in ("length_m", "width_m", "thickness_m", "electrode_gap_m"):
             value = getattr(self, name)
-            # NumPy scalars are numbers (np.float32(0.03) was refused as not > 0) and are
-            # stored as floats; a bool is not a size (True had made a 1 m plate)
+            # NumPy scalars are numbers (np.float32(0.03) too) and are stored as floats; a
+            # bool is not a size (True would make a 1 m plate)
             if isinstance(value, (np.integer, np.floating)) and not isinstance(value, bool):
                 object.__setattr__(self, name, float(value))
             elif isinstance(value, (bool, np.bool_)):
@@ -98,7 +98,7 @@ class PlateStator:
             )
         try:  # any sequence of numbers (a NumPy array too); an int is refused below
             drive = tuple(self.drive_electrodes)
-        except TypeError:  # it was "'int' object is not iterable"
+        except TypeError:  # refused below, with the choices, not as "'int' object ..."
             drive = ()
         if len(drive) == 0 or any(
             isinstance(e, bool) or not isinstance(e, (int, np.integer)) or e not in ELECTRODES

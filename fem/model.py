@@ -41,7 +41,7 @@ import scipy.sparse as sp
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.mesh import (
+from fem.meshing.mesh import (
     DEFAULT_REFINE,
     PlateMesh,
     boundary_edges,
@@ -49,7 +49,7 @@ from fem.mesh import (
     grid_lines_m,
     structured_mesh,
 )
-from fem.meshed_stator import overall_length_m, planform_mesh
+from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 
 ORDERS = (1, 2)
 """Supported element orders (bilinear ``ElementQuad1``, biquadratic ``ElementQuad2``)."""
@@ -282,7 +282,8 @@ def gap_layout(mesh: PlateMesh) -> GapLayout:
     Raises
     ------
     ValueError
-        If the tags are not the plate's quadrants (:meth:`fem.mesh.PlateMesh.quadrant_problem`).
+        If the tags are not the plate's quadrants
+        (:meth:`fem.meshing.mesh.PlateMesh.quadrant_problem`).
     """
     problem = mesh.quadrant_problem()
     if problem is not None:
@@ -533,7 +534,7 @@ def affine_probes(basis, pts: np.ndarray, chunk: int = 2_000_000) -> sp.csr_matr
     a point's reference coordinates follow from one small solve. Returns None when the mesh
     is not of quads or hexes, or a cell's map is not affine (the caller keeps scikit-fem's
     answer). The 2D model (:meth:`PiezoPlateModel.probe`) and the 3D one
-    (:meth:`fem.solid3d.SolidPlateModel.probe`) fall back on it where scikit-fem's Newton
+    (:meth:`fem.solid3d.model.SolidPlateModel.probe`) fall back on it where scikit-fem's Newton
     inverse stalls beside a micrometre gap.
 
     Parameters
@@ -623,8 +624,8 @@ def build_model(
     order : int
         Element order, 1 or 2.
     gap_model : str
-        ``'shorted'`` (default) or ``'open'`` (the earlier ``D3 = 0`` strips); see
-        :data:`GAP_MODELS` and ``docs/fem.md``.
+        ``'shorted'`` (default) or ``'open'`` (``D3 = 0`` strips); see :data:`GAP_MODELS` and
+        ``docs/fem.md``.
     thickness_inertia : bool
         Add the inertia of the thickness motion ``u_z = z S3`` to ``M`` (default True).
 
@@ -643,78 +644,23 @@ def build_model(
     _check_mesh_fits(mesh, stator)
     ps = plane_stress(mat)
     h = stator.thickness_m
-    skmesh = mesh.to_skfem()
-    basis = Basis(skmesh, elem)
-    electroded = np.flatnonzero(mesh.electrode > 0)
-    untagged = mesh.elements_of(0)
+    basis = Basis(mesh.to_skfem(), elem)
     layout = gap_layout(mesh)
     shorted = gap_model == "shorted" and layout.gap_m > 0.0
-    if shorted:
-        message = gap_validity_message(layout.gap_m, h)
-        if message is not None:
-            warnings.warn(message, GapValidityWarning, stacklevel=2)
-        share = unelectroded_outline_share(mesh, layout, GAP_VALIDITY_RATIO * h)
-        if share > BORDER_SHARE:
-            warnings.warn(border_message(share), UnelectrodedBorderWarning, stacklevel=2)
-        centres = mesh.points_m[:, mesh.quads[:, untagged]].mean(axis=1)
-        in_strip = layout.in_strip(centres[0], centres[1])
-        strips, other = untagged[in_strip], untagged[~in_strip]
-    else:
-        strips, other = untagged[:0], untagged
-    # electrodes and shorted strips: E3 = 0 in short circuit; unelectroded material away from
-    # the electrodes (a protruding tip) and the strips of the 'open' model: D3 = 0
-    K = asm(_stiffness_form(ps.c_Pa, h), basis.with_elements(np.concatenate((electroded,
-                                                                             strips))))
-    if other.size:
-        K = K + asm(_stiffness_form(ps.c_open_Pa, h), basis.with_elements(other))
-    M = asm(_mass_form(mat.rho_kg_m3 * h), basis)
-    if thickness_inertia:
-        c = mat.cE_Pa
-        a = np.array([c[2, 0], c[2, 1], c[2, 5]]) / c[2, 2]  # S3 = -a . [S1, S2, S6]
-        M = M + asm(_thickness_inertia_form(mat.rho_kg_m3 * h**3 / 12.0, a), basis)
-    G = np.zeros((basis.N, len(ELECTRODES)))
-    C = np.zeros(len(ELECTRODES))
-    for k in ELECTRODES:
-        idx = mesh.elements_of(k)
-        if idx.size == 0:
-            continue
-        sub = basis.with_elements(idx)
-        G[:, k - 1] = asm(_coupling_form(ps.e_C_m2), sub)
-        area = float(sub.dx.sum())
-        C[k - 1] = ps.eps33_F_m * area / h
-    if np.any(C <= 0.0):
-        missing = [k for k in ELECTRODES if C[k - 1] <= 0.0]
-        raise ValueError(f"mesh has no elements under electrode(s) {missing}")
+    strips, other, strip_centres = _strip_elements(mesh, layout, shorted, h)
+    K, M = _stiffness_and_mass(basis, mesh, mat, ps, h, strips, other, thickness_inertia)
+    G, C = _electrode_coupling(basis, mesh, ps, h)
     cap = np.diag(C)
     weights = {k: (lambda x, y: np.zeros_like(x)) for k in ELECTRODES}
     sub = basis.with_elements(strips) if strips.size else None
     if shorted and sub is not None:
         strip_areas = np.asarray(sub.dx).sum(axis=1)  # m^2 per strip element
-        weights, cap = _gap_terms(layout, mat, h, C, centres[:, in_strip], strip_areas)
+        weights, cap = _gap_terms(layout, mat, h, C, strip_centres, strip_areas)
         for k in ELECTRODES:
             G[:, k - 1] += asm(_weighted_coupling_form(ps.e_C_m2, weights[k]), sub)
         C = np.diag(cap).copy()
-    m_uv = np.zeros_like(G)
-    m_vv = np.zeros_like(cap)
-    if thickness_inertia:
-        # S3 = -a . S + b E3 with b = e33/c33 and E3 = sum_e w_e V_e / h: the kinetic energy
-        # rho h^3/12 (S3')^2 couples u' and V' (docs/fem.md, section 1)
-        c = mat.cE_Pa
-        b_h = float(mat.e_C_m2[2, 2] / c[2, 2]) / h
-        scale = mat.rho_kg_m3 * h**3 / 12.0
-        for k in ELECTRODES:
-            el = basis.with_elements(mesh.elements_of(k))
-            m_uv[:, k - 1] = -scale * b_h * asm(_coupling_form(a), el)
-            if sub is not None:
-                m_uv[:, k - 1] -= scale * b_h * asm(_weighted_coupling_form(a, weights[k]), sub)
-        xq = np.asarray(sub.global_coordinates()) if sub is not None else None
-        for i in ELECTRODES:
-            for j in ELECTRODES:
-                val = float(basis.with_elements(mesh.elements_of(i)).dx.sum()) if i == j else 0.0
-                if xq is not None:
-                    val += float(np.sum(weights[i](xq[0], xq[1]) * weights[j](xq[0], xq[1])
-                                        * sub.dx))
-                m_vv[i - 1, j - 1] = scale * b_h**2 * val
+    m_uv, m_vv = (_thickness_inertia_coupling(basis, mesh, mat, h, sub, weights)
+                  if thickness_inertia else (np.zeros_like(G), np.zeros_like(cap)))
     K = (0.5 * (K + K.T)).tocsr()
     M = (0.5 * (M + M.T)).tocsr()
     for arr in (G, C, cap, m_uv, m_vv):
@@ -736,6 +682,108 @@ def build_model(
         M_uV=m_uv,
         M_VV=m_vv,
     )
+
+
+def _strip_elements(mesh: PlateMesh, layout: GapLayout, shorted: bool,
+                    h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """The unelectroded elements split into the gap strips the shorted model takes
+    (``E3 = 0`` with the gap terms) and the others (``D3 = 0``: a protruding tip, or every
+    strip of the open model), and the strips' centres (m; None unless ``shorted``). Warns
+    where the shorted model's assumptions are stretched (a wide gap, an unelectroded
+    border)."""
+    untagged = mesh.elements_of(0)
+    if not shorted:
+        return untagged[:0], untagged, None
+    message = gap_validity_message(layout.gap_m, h)
+    if message is not None:  # stacklevel: the caller of build_model
+        warnings.warn(message, GapValidityWarning, stacklevel=3)
+    share = unelectroded_outline_share(mesh, layout, GAP_VALIDITY_RATIO * h)
+    if share > BORDER_SHARE:
+        warnings.warn(border_message(share), UnelectrodedBorderWarning, stacklevel=3)
+    centres = mesh.points_m[:, mesh.quads[:, untagged]].mean(axis=1)
+    in_strip = layout.in_strip(centres[0], centres[1])
+    return untagged[in_strip], untagged[~in_strip], centres[:, in_strip]
+
+
+def _thickness_ratio(mat: PiezoMaterial) -> np.ndarray:
+    """``a`` of the plane-stress thickness strain ``S3 = -a . [S1, S2, S6]`` (-)."""
+    c = mat.cE_Pa
+    return np.array([c[2, 0], c[2, 1], c[2, 5]]) / c[2, 2]
+
+
+def _stiffness_and_mass(basis, mesh: PlateMesh, mat: PiezoMaterial, ps, h: float,
+                        strips: np.ndarray, other: np.ndarray, thickness_inertia: bool):
+    """Stiffness ``K`` and mass ``M`` (scikit-fem sparse matrices, not yet symmetrized).
+
+    Electrodes and shorted strips take the short-circuit stiffness (``E3 = 0``); the
+    unelectroded material away from the electrodes and the strips of the 'open' model the
+    open-circuit one (``D3 = 0``)."""
+    from skfem import asm
+
+    electroded = np.flatnonzero(mesh.electrode > 0)
+    K = asm(_stiffness_form(ps.c_Pa, h), basis.with_elements(np.concatenate((electroded,
+                                                                             strips))))
+    if other.size:
+        K = K + asm(_stiffness_form(ps.c_open_Pa, h), basis.with_elements(other))
+    M = asm(_mass_form(mat.rho_kg_m3 * h), basis)
+    if thickness_inertia:
+        a = _thickness_ratio(mat)
+        M = M + asm(_thickness_inertia_form(mat.rho_kg_m3 * h**3 / 12.0, a), basis)
+    return K, M
+
+
+def _electrode_coupling(basis, mesh: PlateMesh, ps, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """Coupling ``G`` (C/m per dof and electrode) and the capacitance ``C`` (F) of each
+    electrode's own area; refuses a mesh with no element under an electrode."""
+    from skfem import asm
+
+    G = np.zeros((basis.N, len(ELECTRODES)))
+    C = np.zeros(len(ELECTRODES))
+    for k in ELECTRODES:
+        idx = mesh.elements_of(k)
+        if idx.size == 0:
+            continue
+        sub = basis.with_elements(idx)
+        G[:, k - 1] = asm(_coupling_form(ps.e_C_m2), sub)
+        area = float(sub.dx.sum())
+        C[k - 1] = ps.eps33_F_m * area / h
+    if np.any(C <= 0.0):
+        missing = [k for k in ELECTRODES if C[k - 1] <= 0.0]
+        raise ValueError(f"mesh has no elements under electrode(s) {missing}")
+    return G, C
+
+
+def _thickness_inertia_coupling(basis, mesh: PlateMesh, mat: PiezoMaterial, h: float, sub,
+                                weights: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The inertia of the thickness motion between displacements and potentials, ``M_uV``,
+    and between potentials, ``M_VV``.
+
+    ``S3 = -a . S + b E3`` with ``b = e33/c33`` and ``E3 = sum_e w_e V_e / h``: the kinetic
+    energy ``rho h^3/12 (S3')^2`` couples ``u'`` and ``V'`` (docs/fem.md, section 1); ``sub``
+    is the basis on the shorted gap strips (None without), where ``weights`` spread each
+    electrode's field."""
+    from skfem import asm
+
+    a = _thickness_ratio(mat)
+    c = mat.cE_Pa
+    b_h = float(mat.e_C_m2[2, 2] / c[2, 2]) / h
+    scale = mat.rho_kg_m3 * h**3 / 12.0
+    m_uv = np.zeros((basis.N, len(ELECTRODES)))
+    m_vv = np.zeros((len(ELECTRODES), len(ELECTRODES)))
+    for k in ELECTRODES:
+        el = basis.with_elements(mesh.elements_of(k))
+        m_uv[:, k - 1] = -scale * b_h * asm(_coupling_form(a), el)
+        if sub is not None:
+            m_uv[:, k - 1] -= scale * b_h * asm(_weighted_coupling_form(a, weights[k]), sub)
+    xq = np.asarray(sub.global_coordinates()) if sub is not None else None
+    for i in ELECTRODES:
+        for j in ELECTRODES:
+            val = float(basis.with_elements(mesh.elements_of(i)).dx.sum()) if i == j else 0.0
+            if xq is not None:
+                val += float(np.sum(weights[i](xq[0], xq[1]) * weights[j](xq[0], xq[1])
+                                    * sub.dx))
+            m_vv[i - 1, j - 1] = scale * b_h**2 * val
+    return m_uv, m_vv
 
 
 def _edge_lengths(layout: GapLayout, centres_m: np.ndarray | None,
@@ -839,8 +887,8 @@ def _cached_model(
     gap_model: str = "shorted", thickness_inertia: bool = True,
 ) -> PiezoPlateModel:
     t0 = time.perf_counter()
-    # a stator that carries its own mesh (fem.meshed_stator.MeshedStator) or a parametric
-    # one (fem.parametric.ParametricStator, meshed by gmsh) ignores ``refine``
+    # a stator that carries its own mesh (fem.meshing.meshed_stator.MeshedStator) or a parametric
+    # one (fem.meshing.parametric.ParametricStator, meshed by gmsh) ignores ``refine``
     mesh = planform_mesh(stator)
     if mesh is None:
         mesh = structured_mesh(stator, refine)
@@ -874,7 +922,7 @@ def plate_model(
     order : int
         Element order, 1 or 2.
     refine : int
-        Elements per smaller plate dimension (see :func:`fem.mesh.structured_mesh`).
+        Elements per smaller plate dimension (see :func:`fem.meshing.mesh.structured_mesh`).
     gap_model : str
         ``'shorted'`` (default) or ``'open'``: see :func:`build_model`.
     thickness_inertia : bool
@@ -886,7 +934,7 @@ def plate_model(
         raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
     if gap_model not in GAP_MODELS:
         raise ValueError(f"gap_model must be one of {GAP_MODELS}, got {gap_model!r}")
-    if planform_mesh(stator) is None:  # as plate_modes: refine=1000 had run to a MemoryError
+    if planform_mesh(stator) is None:  # as plate_modes: refine=1000 runs out of memory
         check_generated_size(stator, int(refine), count=lambda: math.prod(
             len(v) - 1 for v in grid_lines_m(stator, int(refine))))
     return _cached_model(stator, get_material(material), int(order), int(refine), gap_model,

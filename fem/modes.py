@@ -25,8 +25,8 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.mesh import DEFAULT_REFINE, check_generated_size, grid_lines_m, require_plate
-from fem.meshed_stator import overall_length_m, planform_mesh
+from fem.meshing.mesh import DEFAULT_REFINE, check_generated_size, grid_lines_m, require_plate
+from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 from fem.model import PiezoPlateModel, plate_model
 
 N_SAMPLE_X = 9
@@ -102,7 +102,7 @@ MAX_WIDTH_OVER_LENGTH = 1.0
 """Width over length above which a plate is refused before any solve: every plate measured
 from 0.57 up (30 x 17, 30 x 20, 30 x 30, 10 x 8, 10 x 10, 60 x 45, 5 x 6 and 3 x 30 mm)
 failed its identification (30 x 16 mm is the widest paper-length plate that passes), and the
-widest took long to fail (1 x 1000 mm: 40 s of solves). A square plate is kept as the margin."""
+widest take long to fail (1 x 1000 mm: 40 s of solves). A square plate is kept as the margin."""
 
 
 def wider_than_long(stator) -> bool:
@@ -160,7 +160,7 @@ def check_b2_in_reach(stator, n_modes: int = N_MODES) -> None:
     """Refuse, before any assembly or solve, a plate whose B2 lies beyond the modes the 2D
     solver searches near L1 (``SEARCH_GROWTH[-1] * n_modes``), by beam theory
     (:func:`modes_nearer_than_b2`): a 1000 x 1 mm plate has 37 modes nearer L1 than its B2,
-    and three solves of up to 32 modes had taken 14 s and 900 MB to find B2 not among them.
+    and three solves of up to 32 modes take 14 s and 900 MB to find B2 not among them.
 
     Measured against the 2D FE spectrum (PZT-8, 0.5 mm gap, 3 mm thick unless said; the
     modes nearer the shift than B2, FE / beam theory): 1 mm wide at length / width 300, 500,
@@ -542,7 +542,7 @@ def solve_short_open(model, frequencies, identify, f_center_Hz: float | None, n_
 
     Parameters
     ----------
-    model : PiezoPlateModel or fem.solid3d.SolidPlateModel
+    model : PiezoPlateModel or fem.solid3d.model.SolidPlateModel
         Needs ``stator``, ``material`` and the mass matrix ``M``.
     frequencies : callable
         ``frequencies(model, k, f_center_Hz, open_circuit, maxiter) -> (f_Hz, shapes)``.
@@ -807,7 +807,7 @@ def amplitude_ratio(model, shape: np.ndarray, points_m: np.ndarray) -> np.ndarra
         return np.hypot(u[0], u[1])
 
     # the peak over the nodes read from their dofs (Lagrange: the nodal values); probing
-    # every node had built a points x cells search, 18 GB for a 16 800-element gmsh mesh
+    # every node builds a points x cells search, 18 GB for a 16 800-element gmsh mesh
     nodal = np.asarray(shape)[model.basis.nodal_dofs]
     peak = float(np.hypot(nodal[0], nodal[1]).max())
     return magnitude(np.asarray(points_m, dtype=float)) / peak

@@ -2,9 +2,9 @@
 
 Works for the rectangular :class:`fem.geometry.PlateStator` (2D structured quads, 3D
 structured bricks) and for stators with their own planform mesh
-(:class:`fem.meshed_stator.MeshedStator`, e.g. ``load_stator(path).stator``): the 2D model
+(:class:`fem.meshing.meshed_stator.MeshedStator`, e.g. ``load_stator(path).stator``): the 2D model
 assembles on the planform mesh and the 3D model on its extrusion through the thickness
-(:func:`fem.solid3d.extruded_hex_mesh`); the refinements are then ignored, ``layers`` is not.
+(:func:`fem.solid3d.model.extruded_hex_mesh`); the refinements are then ignored, ``layers`` is not.
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ def plane_stress_error(
     refine_3d: int | None = None,
     layers: int | None = None,
 ) -> PlaneStressError:
-    """Compare :func:`fem.modes.plate_modes` (2D) with :func:`fem.solid3d.solid_modes` (3D).
+    """Compare :func:`fem.modes.plate_modes` (2D) with :func:`fem.solid3d.model.solid_modes` (3D).
 
     Parameters
     ----------
@@ -80,9 +80,9 @@ def plane_stress_error(
     refine_2d, refine_3d, layers : int, optional
         Meshes (defaults of each model); the refinements do not apply to a planform mesh.
     """
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import plate_modes
-    from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+    from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
     stator = PlateStator() if stator is None else stator
     r2 = plate_modes(stator, material, 2, refine_2d or DEFAULT_REFINE)

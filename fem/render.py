@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fem.mesh import boundary_edges
+from fem.meshing.mesh import boundary_edges
 
 WINDOW_SIZE = (1200, 520)
 """Default image size (pixels, width x height)."""
@@ -163,9 +163,9 @@ class _Scene:
         if decorations:
             # the title takes about the top quarter of the half-height and the colour bar the
             # bottom third: the ruler (and its labels) and the deformed plate stay between
-            # them. A plate wider than about 0.4 of its length had the ruler drawn through
-            # the title and the plate over the bar's label; narrower plates are bound by
-            # their length and keep their view.
+            # them: a plate wider than about 0.4 of its length would have the ruler drawn
+            # through the title and the plate over the bar's label; narrower plates are
+            # bound by their length and keep their view.
             scale = max(scale, above / DECORATED_BAND, half_h / DECORATED_BAND)
         cam.parallel_scale = scale
         cam.clipping_range = (length, 20.0 * length)

@@ -1,7 +1,7 @@
 """Bounded reading of the small text files a user names: stator files, parameter sets, studies.
 
-Each is a few kB of TOML or JSON, yet the path can name anything: ``/dev/zero`` was read until
-memory ran out, a FIFO waited for ever, a 512 MB sparse file took 1.1 GB. Here the path must be
+Each is a few kB of TOML or JSON, yet the path can name anything: ``/dev/zero`` read whole
+exhausts memory, a FIFO waits for ever, a 512 MB sparse file takes 1.1 GB. Here the path must be
 a regular file, it is opened without blocking (a FIFO swapped in after the check opens at
 once) and checked again on its descriptor, and at most one byte more than the cap is read, so
 no path can make the read unbounded. The callers word the refusals in their own terms (the

@@ -34,7 +34,7 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     unit = "m"                          # unit of the mesh coordinates: "m" or "mm"
 
     # --- features of a parametric stator (any of these tables: the planform is then
-    # --- meshed by gmsh, fem.parametric; not with [mesh] file)
+    # --- meshed by gmsh, fem.meshing.parametric; not with [mesh] file)
     [tip]                               # unelectroded protrusion centred on the end y = l
     length_mm = 1.0                     #   beyond the plate's length, (0, [plate] length_mm]
     width_mm = 2.0                      #   across, (0, width - 2 chamfers]
@@ -74,12 +74,12 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     a_mu = 0.15                         # residual at large amplitude, [0, 2], <= mu_d
     b_mu_per_m = 1e6                    # attenuation factor, [0, 1e9] 1/m
 
-With a feature table the stator is a :class:`fem.parametric.ParametricStator`: the plate
+With a feature table the stator is a :class:`fem.meshing.parametric.ParametricStator`: the plate
 keeps its own length and width (the tip is added beyond ``y = l``; the tip point is the
 centre of the tip's end), the electrodes are the plate's quadrants (``[electrodes] gap_mm``
 applies) and gmsh meshes the planform when the file is read (cached per geometry).
 Without ``[mesh]`` or feature tables the stator is the rectangular
-:class:`fem.geometry.PlateStator` (meshed by :func:`fem.mesh.structured_mesh`), so a TOML
+:class:`fem.geometry.PlateStator` (meshed by :func:`fem.meshing.mesh.structured_mesh`), so a TOML
 plate and the same plate built in Python give identical models. With a mesh the stator is a
 :class:`MeshedStator`: a ``PlateStator`` whose length and width are the mesh's bounding box
 and which carries the mesh, the tip and the preload point; :func:`fem.model.plate_model`
@@ -112,7 +112,7 @@ import numpy as np
 
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import MATERIAL_NAMES, PiezoMaterial, get_material
-from fem.meshed_stator import MeshedStator, bbox_mm
+from fem.meshing.meshed_stator import MeshedStator, bbox_mm
 from fem.units import to_si
 
 MM = 1e-3
@@ -130,13 +130,13 @@ MATERIAL_RANGES = {"cE_Pa": (0.1, 1000.0, 1e9, "GPa"), "e_C_m2": (0.0, 100.0, 1.
                    "epsS_F_m": (1.0, 1e5, 8.8541878128e-12, "eps0")}
 """Accepted size of inline ``[material]`` constants (lower, upper, unit scale, unit): the largest
 diagonal stiffness in GPa, the largest piezoelectric constant in C/m^2, the largest diagonal
-permittivity in units of eps0. e = 1e6 C/m^2 (1e5 times PZT-8's) gave a clamped capacitance of
+permittivity in units of eps0. e = 1e6 C/m^2 (1e5 times PZT-8's) gives a clamped capacitance of
 0.78 F."""
 PZT8_SIZE = {"cE_Pa": "147 GPa", "e_C_m2": "13.9 C/m^2", "epsS_F_m": "904 eps0"}
 """PZT-8's values of the quantities :data:`MATERIAL_RANGES` bounds, for messages."""
 DENSITY_RANGE_KG_M3 = (100.0, 50_000.0)
 """``[material] rho_kg_m3`` accepted: from foams to beyond osmium (22 590). Outside it the
-frequencies leave every range the solvers are set for (1e-30 gave 5e21 Hz; 1e30 left ARPACK
+frequencies leave every range the solvers are set for (1e-30 gives 5e21 Hz; 1e30 leaves ARPACK
 printing to the terminal)."""
 PLATE_RANGE_MM = (0.1, 1000.0)
 """Allowed plate length, width and thickness (mm), the same as the ``lusm`` plate options
@@ -156,7 +156,8 @@ IDENTIFY_FREQUENCY_RANGE_HZ = (1e3, 1e7)
 """Allowed ``[damping] frequency_Hz`` of ``source = "paper_amplitudes"`` (Hz)."""
 
 FEATURE_TABLES = ("tip", "chamfers", "holes")
-"""Tables that describe features of a parametric stator (meshed by gmsh, :mod:`fem.parametric`)."""
+"""Tables that describe features of a parametric stator (meshed by gmsh,
+:mod:`fem.meshing.parametric`)."""
 
 MOTOR_KEYS: dict[str, dict[str, tuple[str, float, float, bool, str]]] = {
     "contact": {"k_contact_N_m": ("k_contact", 1e3, 1e10, True, "N/m")},
@@ -254,14 +255,14 @@ class StatorDesign:
 
     def model(self, order: int = 2, refine: int | None = None):
         """The assembled :class:`fem.model.PiezoPlateModel` (cached)."""
-        from fem.mesh import DEFAULT_REFINE
+        from fem.meshing.mesh import DEFAULT_REFINE
         from fem.model import plate_model
 
         return plate_model(self.stator, self.material, order, refine or DEFAULT_REFINE)
 
     def modes(self, order: int = 2, refine: int | None = None):
         """L1 and B2 (:class:`fem.modes.PlateModes`, cached); ``refine`` ignored with a mesh."""
-        from fem.mesh import DEFAULT_REFINE
+        from fem.meshing.mesh import DEFAULT_REFINE
         from fem.modes import plate_modes
 
         return plate_modes(self.stator, self.material, order, refine or DEFAULT_REFINE)
@@ -368,7 +369,7 @@ def _material(table: dict, src: str) -> PiezoMaterial:
         if "base" in table:
             raise ValueError(f"{src}: [material] base needs at least one inline constant")
         name = table.get("name", "pzt8")
-        if "source" in table:  # was dropped without a word: a named material has its own
+        if "source" in table:  # refused, not dropped: a named material has its own
             raise ValueError(
                 f"{src}: [material] source describes inline constants (cE_Pa, e_C_m2, "
                 f"epsS_F_m, rho_kg_m3) and cannot be combined with name = {name!r} alone, "
@@ -566,8 +567,8 @@ def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float
 
 def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive, src, name,
                 material, motor) -> StatorDesign:
-    """A :class:`fem.parametric.ParametricStator` design from the feature tables."""
-    from fem.parametric import (
+    """A :class:`fem.meshing.parametric.ParametricStator` design from the feature tables."""
+    from fem.meshing.parametric import (
         DEFAULT_SIZE_DIVISIONS,
         SIZE_DIVISIONS_RANGE,
         ParametricStator,
@@ -648,12 +649,12 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
 
 def _mounts(data: dict[str, Any], design: StatorDesign, src: str):
     """``[points] mounts_mm`` in metres, each checked to lie on the planform."""
-    from fem.meshed_stator import planform_mesh
+    from fem.meshing.meshed_stator import planform_mesh
 
     value = (data.get("points") or {}).get("mounts_mm")
     if value is None:
         return ()
-    # a flat [0, 15] (one point without its list) was refused as "must be [x, y] in mm, got 0"
+    # a flat [0, 15] (one point without its list) is told how to write one point
     if not isinstance(value, list) or not value or not all(isinstance(pt, list) for pt in value):
         raise ValueError(f"{src}: [points] mounts_mm must be a list of [x, y] pairs in mm, "
                          f"e.g. [[0, 15]] for one point, got {value!r}")
@@ -703,14 +704,15 @@ def parse_stator(data: dict[str, Any], base_dir: Path | None = None,
 
 def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                   src: str = "stator") -> StatorDesign:
-    """:func:`parse_stator` without the mounting points."""
+    """:func:`parse_stator` without the mounting points: the tables every stator has, then
+    the planform by its kind (parametric features, a generated plate, a mesh file)."""
     _check_keys(data, "", src)
     plate = _table(data, "plate", src, required=True)
     elec = _table(data, "electrodes", src)
     mat_t = _table(data, "material", src)
     pts_t = _table(data, "points", src)
     mesh_t = _table(data, "mesh", src)
-    if "mesh" in data and not mesh_t:  # was read as no mesh: "missing [plate] length_mm"
+    if "mesh" in data and not mesh_t:  # say so, not "missing [plate] length_mm"
         raise ValueError(f"{src}: [mesh] is empty; give it file = \"plate.msh\" (a mesh file, "
                          f"with unit = \"m\" or \"mm\"), or size_mm (the element size of a "
                          f"parametric stator: [tip], [chamfers], [[holes]]), or remove the table")
@@ -736,25 +738,43 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                          f"([tip], [chamfers] or [[holes]]); a plain plate is meshed by "
                          f"--refine, a mesh file by itself")
     if not mesh_t:
-        length, width, gap = _plate_mm(plate, elec, src)
-        stator = PlateStator(
-            length_m=_m(length), width_m=_m(width), thickness_m=_m(thickness),
-            electrode_gap_m=_m(gap),
-            drive_electrodes=drive,
-        )
-        for key, pt, default in (("tip_mm", tip, stator.tip_point_m),
-                                 ("preload_mm", preload, stator.preload_point_m)):
-            if pt is None:
-                continue
-            if not np.allclose(pt, default, rtol=0.0, atol=1e-9 * length * MM):
-                raise ValueError(
-                    f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the "
-                    f"generated plate puts it at [{default[0] / MM:g}, {default[1] / MM:g}] "
-                    f"mm; give a mesh file ([mesh] file) for other points"
-                )
+        stator = _generated_plate(plate, elec, thickness, drive, tip, preload, src)
         return StatorDesign(name=name, stator=stator, material=material, **motor)
+    mesh_path, unit = _mesh_file(mesh_t, elec, base_dir, src)
+    stator, notes = _meshed_stator(mesh_path, unit, plate, thickness, drive, tip, preload, src)
+    return StatorDesign(
+        name=name, stator=stator, material=material, mesh_path=mesh_path, notes=notes, **motor
+    )
 
-    from fem.mesh_io import UNITS, read_stator_mesh
+
+def _generated_plate(plate: dict, elec: dict, thickness: float, drive: tuple[int, ...],
+                     tip: tuple[float, float] | None, preload: tuple[float, float] | None,
+                     src: str) -> PlateStator:
+    """The rectangular plate of ``[plate]`` and ``[electrodes]``; points given in
+    ``[points]`` must be the ones it puts them at."""
+    length, width, gap = _plate_mm(plate, elec, src)
+    stator = PlateStator(
+        length_m=_m(length), width_m=_m(width), thickness_m=_m(thickness),
+        electrode_gap_m=_m(gap),
+        drive_electrodes=drive,
+    )
+    for key, pt, default in (("tip_mm", tip, stator.tip_point_m),
+                             ("preload_mm", preload, stator.preload_point_m)):
+        if pt is None:
+            continue
+        if not np.allclose(pt, default, rtol=0.0, atol=1e-9 * length * MM):
+            raise ValueError(
+                f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the "
+                f"generated plate puts it at [{default[0] / MM:g}, {default[1] / MM:g}] "
+                f"mm; give a mesh file ([mesh] file) for other points"
+            )
+    return stator
+
+
+def _mesh_file(mesh_t: dict, elec: dict, base_dir: Path | None, src: str) -> tuple[Path, str]:
+    """The mesh file ``[mesh] file`` names (relative to ``base_dir``) and its unit, checked
+    to be a regular file before it is read."""
+    from fem.meshing.mesh_io import UNITS
 
     if "file" not in mesh_t or not isinstance(mesh_t["file"], str):
         raise ValueError(f"{src}: [mesh] file must be the path of a mesh file (a string)")
@@ -769,17 +789,30 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     mesh_path = Path(mesh_t["file"])
     if not mesh_path.is_absolute():
         mesh_path = (base_dir or Path.cwd()) / mesh_path
-    if mesh_path.is_dir():  # was "not found", which sent the user looking for a path
+    if mesh_path.is_dir():  # say so: "not found" sends the user looking for a path
         raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is a folder ({mesh_path}); "
                          f"name the mesh file, e.g. \"plate.msh\"")
     if not mesh_path.exists():
         raise FileNotFoundError(f"{src}: [mesh] file {mesh_t['file']!r} not found ({mesh_path})")
-    if not mesh_path.is_file():  # a FIFO or a device had been called "not found"
+    if not mesh_path.is_file():  # a FIFO or a device: say what it is, not "not found"
         from fem.small_file import kind_of
 
         what = kind_of(mesh_path.stat().st_mode) or "not a regular file"
         raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is {what} ({mesh_path}), "
                          "not a mesh file")
+    return mesh_path, unit
+
+
+def _meshed_stator(mesh_path: Path, unit: str, plate: dict, thickness: float,
+                   drive: tuple[int, ...], tip: tuple[float, float] | None,
+                   preload: tuple[float, float] | None,
+                   src: str) -> tuple[MeshedStator, tuple[str, ...]]:
+    """The stator of a mesh file and the notes on its reading: the plate's lengths, if
+    given, must be the mesh's extent, the driven electrodes must have cells, and the tip and
+    the preload point (``[points]``, the mesh's vertex groups, or the plate's ends) must lie
+    on the mesh, apart."""
+    from fem.meshing.mesh_io import read_stator_mesh
+
     try:
         imported = read_stator_mesh(mesh_path, unit=unit)
     except ValueError as exc:
@@ -800,46 +833,10 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
                 f"{src}: [electrodes] drive names electrode {e}, which has no cells in "
                 f"{mesh_path.name} (electrodes present: {sorted(present)})"
             )
-    points: dict[str, tuple[float, float]] = {}
-    for group, key, given, default in (("tip", "tip_mm", tip, (0.0, y1)),
-                                       ("preload", "preload_mm", preload, (0.0, 0.0))):
-        pt = given if given is not None else imported.points_m.get(group, default)
-        slack = 1e-9 * max(x1 - x0, y1 - y0)
-        in_box = x0 - slack <= pt[0] <= x1 + slack and y0 - slack <= pt[1] <= y1 + slack
-        if not in_box or not bool(mesh.contains(np.array(pt)[:, None])[0]):
-            at = f"[{pt[0] / MM:g}, {pt[1] / MM:g}] mm"
-            # say where the point came from: a mesh's vertex group off its cells was
-            # reported as a [points] key the file did not have
-            if given is not None:
-                raise ValueError(f"{src}: [points] {key} = {at} lies off the mesh "
-                                 f"({bbox_mm(mesh)})")
-            if group in imported.points_m:
-                raise ValueError(
-                    f"{src}: the {group!r} vertex group of the mesh file {mesh_path.name} is "
-                    f"at {at}, off the mesh's cells ({bbox_mm(mesh)}); put its node on the "
-                    f"planform or set [points] {key}")
-            raise ValueError(
-                f"{src}: the default {group} point {at} (no [points] {key}, no {group!r} vertex "
-                f"group in {mesh_path.name}) lies off the mesh's cells ({bbox_mm(mesh)}); set "
-                f"[points] {key} or add a {group!r} vertex group to the mesh")
-        inside = mesh.outline_distance_m(pt)
-        if inside > OUTLINE_TOLERANCE * max(x1 - x0, y1 - y0):
-            # a tip 1 mm inside the plate was taken as given: B2 was normalised there and M_b
-            # went from 0.0089 to 0.0155 kg without a word
-            origin = (f"[points] {key}" if given is not None else
-                      f"the {group!r} vertex group" if group in imported.points_m else
-                      f"the default {group} point")
-            what = ("the contact tip touches the slider" if group == "tip" else
-                    "the preload presses")
-            warnings.warn(InteriorPointWarning(
-                f"{src}: {origin} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies "
-                f"{inside / MM:.3g} mm inside the planform, off its outline, where {what}; "
-                f"the reduction normalises its mode there: move it onto the outline (the "
-                f"plate's end) unless the part is meant to act inside"), stacklevel=3)
-        points[group] = pt
-    tip, preload = points["tip"], points["preload"]
+    tip = _mesh_point(imported, "tip", "tip_mm", tip, (0.0, y1), src)
+    preload = _mesh_point(imported, "preload", "preload_mm", preload, (0.0, 0.0), src)
     if math.hypot(tip[0] - preload[0], tip[1] - preload[1]) <= 1e-9 * max(x1 - x0, y1 - y0):
-        # refused later as "MotorParams.phi_Ll must differ from phi_L0", naming no key
+        # else refused later as "MotorParams.phi_Ll must differ from phi_L0", naming no key
         raise ValueError(
             f"{src}: the tip and the preload point are the same point, [{tip[0] / MM:g}, "
             f"{tip[1] / MM:g}] mm ([points] tip_mm and preload_mm, or the mesh's vertex "
@@ -853,9 +850,51 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     notes = (f"triangles split into quads ({', '.join(imported.cell_types)})",) if (
         imported.converted
     ) else ()
-    return StatorDesign(
-        name=name, stator=stator, material=material, mesh_path=mesh_path, notes=notes, **motor
-    )
+    return stator, notes
+
+
+def _mesh_point(imported, group: str, key: str, given: tuple[float, float] | None,
+                default: tuple[float, float], src: str) -> tuple[float, float]:
+    """The ``group`` point (m) of a mesh file's stator: ``[points] key`` if ``given``, else
+    the mesh's vertex group, else ``default``. Refused off the mesh's cells, naming where it
+    came from; a point inside the planform, off its outline, is warned about
+    (:class:`InteriorPointWarning`)."""
+    mesh, name = imported.mesh, imported.path.name
+    x0, x1, y0, y1 = mesh.bounding_box_m()
+    pt = given if given is not None else imported.points_m.get(group, default)
+    slack = 1e-9 * max(x1 - x0, y1 - y0)
+    in_box = x0 - slack <= pt[0] <= x1 + slack and y0 - slack <= pt[1] <= y1 + slack
+    if not in_box or not bool(mesh.contains(np.array(pt)[:, None])[0]):
+        at = f"[{pt[0] / MM:g}, {pt[1] / MM:g}] mm"
+        # say where the point came from: a vertex group off the cells is no [points] key
+        if given is not None:
+            raise ValueError(f"{src}: [points] {key} = {at} lies off the mesh "
+                             f"({bbox_mm(mesh)})")
+        if group in imported.points_m:
+            raise ValueError(
+                f"{src}: the {group!r} vertex group of the mesh file {name} is "
+                f"at {at}, off the mesh's cells ({bbox_mm(mesh)}); put its node on the "
+                f"planform or set [points] {key}")
+        raise ValueError(
+            f"{src}: the default {group} point {at} (no [points] {key}, no {group!r} vertex "
+            f"group in {name}) lies off the mesh's cells ({bbox_mm(mesh)}); set "
+            f"[points] {key} or add a {group!r} vertex group to the mesh")
+    inside = mesh.outline_distance_m(pt)
+    if inside > OUTLINE_TOLERANCE * max(x1 - x0, y1 - y0):
+        # the reduction normalises the mode at the point: a tip 1 mm inside the plate moves
+        # M_b from 0.0089 to 0.0155 kg
+        origin = (f"[points] {key}" if given is not None else
+                  f"the {group!r} vertex group" if group in imported.points_m else
+                  f"the default {group} point")
+        what = ("the contact tip touches the slider" if group == "tip" else
+                "the preload presses")
+        # stacklevel: the caller of parse_stator, past _meshed_stator and _parse_design
+        warnings.warn(InteriorPointWarning(
+            f"{src}: {origin} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm lies "
+            f"{inside / MM:.3g} mm inside the planform, off its outline, where {what}; "
+            f"the reduction normalises its mode there: move it onto the outline (the "
+            f"plate's end) unless the part is meant to act inside"), stacklevel=5)
+    return pt
 
 
 def load_stator(path: str | Path) -> StatorDesign:
@@ -880,7 +919,7 @@ def load_stator(path: str | Path) -> StatorDesign:
     """
     from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
 
-    if not isinstance(path, (str, os.PathLike)):  # None said "expected str, bytes or ..."
+    if not isinstance(path, (str, os.PathLike)):  # None: named, not "expected str, bytes..."
         raise TypeError(f"path must name a stator TOML file, got {path!r}")
     path = Path(path)
     if path.is_dir():
@@ -888,7 +927,7 @@ def load_stator(path: str | Path) -> StatorDesign:
     if not path.exists():
         raise FileNotFoundError(f"stator file not found: {path}")
     try:
-        # bounded: a 512 MB file was read whole (1.1 GB of memory), a FIFO would block
+        # bounded: a 512 MB file read whole takes 1.1 GB of memory, a FIFO would block
         data = tomllib.loads(read_small_text(path, MAX_STATOR_FILE_BYTES))
     except NotRegularFile as exc:
         raise ValueError(f"stator file {path} is {exc.what}, not a TOML file") from None

@@ -17,6 +17,7 @@ import numpy as np
 
 from fem.frozen import freeze_arrays
 from fem.geometry import PlateStator
+from fem.limits import work_factor
 from fem.material import PiezoMaterial, get_material
 
 PARAMETERS = ("width", "length")
@@ -132,6 +133,25 @@ def _nan_to_none(a: np.ndarray) -> list:
     return [None if not np.isfinite(v) else float(v) for v in a]
 
 
+def _sweep_values(values_m) -> np.ndarray:
+    """The swept values (m) as a 1D float array: numbers, at least one, at most
+    :data:`MAX_SWEEP_VALUES` times ``LUSM_MAX_WORK``."""
+    raw = np.atleast_1d(np.asarray(values_m, dtype=object))
+    # numbers only: "7e-3" is text, and True would make a 1 m plate (alone or beside numbers)
+    if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+               for v in raw.ravel()):
+        raise ValueError(f"values_m must be numbers (m), got {values_m!r}"[:300])
+    values = raw.astype(float)
+    if values.size == 0 or values.ndim != 1:
+        raise ValueError("values_m must be a non-empty 1D sequence")
+    top = MAX_SWEEP_VALUES * work_factor()
+    if values.size > top:  # each is an FE solve (200 000 would take hours)
+        raise ValueError(f"values_m has {values.size} values (FE solves), above the limit "
+                         f"{top:.0f} of a library call (set LUSM_MAX_WORK=N to allow N times "
+                         "more)")
+    return values
+
+
 def sweep_dimension(
     parameter: str,
     values_m: np.ndarray,
@@ -153,7 +173,7 @@ def sweep_dimension(
         Default: the paper's plate.
     material : PiezoMaterial or str
     order, refine : int
-        2D mesh (default refine: :data:`fem.mesh.DEFAULT_REFINE`).
+        2D mesh (default refine: :data:`fem.meshing.mesh.DEFAULT_REFINE`).
     progress : bool
         Show a tqdm progress bar (on stderr) for sweeps of at least
         :data:`PROGRESS_MIN_POINTS` points.
@@ -163,26 +183,13 @@ def sweep_dimension(
     ValueError
         On an unknown parameter, an empty sweep or a value that makes an invalid plate.
     """
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import ModeSolverError, plate_modes
 
     if parameter not in PARAMETERS:
         raise ValueError(f"parameter must be one of {', '.join(PARAMETERS)}, got {parameter!r}")
-    from fem.mesh_io import work_factor
 
-    raw = np.atleast_1d(np.asarray(values_m, dtype=object))
-    # "7e-3" had been parsed, True had made a 1 m plate (alone or beside numbers)
-    if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
-               for v in raw.ravel()):
-        raise ValueError(f"values_m must be numbers (m), got {values_m!r}"[:300])
-    values = raw.astype(float)
-    if values.size == 0 or values.ndim != 1:
-        raise ValueError("values_m must be a non-empty 1D sequence")
-    top = MAX_SWEEP_VALUES * work_factor()
-    if values.size > top:  # each is an FE solve (200 000 had started: hours)
-        raise ValueError(f"values_m has {values.size} values (FE solves), above the limit "
-                         f"{top:.0f} of a library call (set LUSM_MAX_WORK=N to allow N times "
-                         "more)")
+    values = _sweep_values(values_m)
     base = PlateStator() if base is None else base
     mat = get_material(material)
     refine = DEFAULT_REFINE if refine is None else refine

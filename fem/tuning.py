@@ -40,12 +40,12 @@ where ``ln(f_B2/f_L1)`` changes sign (multiplicative steps of at most ``STEP_FAC
 with Brent's method. With a target, scale ``l`` and ``W`` by ``sqrt(f_L1 f_B2) / f_target``
 and repeat until both frequencies are within ``rel_tol`` of the target; with a held length or
 width one crossing is the answer. L1 and B2 are identified by shape at every FE solve
-(:func:`fem.modes.plate_modes`, or :func:`fem.solid3d.solid_modes` for ``model="3d"``), so
+(:func:`fem.modes.plate_modes`, or :func:`fem.solid3d.model.solid_modes` for ``model="3d"``), so
 the search is indifferent to which of the two is lower at the starting point. Each solve is
 counted.
 
-A stator with its own mesh (:class:`fem.meshed_stator.MeshedStator`, a mesh file) cannot be
-rescaled here and is refused. A parametric stator (:class:`fem.parametric.ParametricStator`:
+A stator with its own mesh (:class:`fem.meshing.meshed_stator.MeshedStator`, a mesh file) cannot be
+rescaled here and is refused. A parametric stator (:class:`fem.meshing.parametric.ParametricStator`:
 a tip, chamfers, holes) is rescaled like a plain plate: its plate length and width change,
 the features keep their size and position, and gmsh remeshes every plate tried (its element
 size is the file's ``[mesh] size_mm`` or ``min(l, W) / 8`` of each plate).
@@ -254,13 +254,13 @@ class _Solver:
         if key not in self.cache:
             st = self.stator(*key)
             if self.model == "2d":
-                from fem.mesh import DEFAULT_REFINE
+                from fem.meshing.mesh import DEFAULT_REFINE
                 from fem.modes import plate_modes
 
                 res = plate_modes(st, self.material, self.order,
                                   DEFAULT_REFINE if self.refine is None else self.refine)
             else:
-                from fem.solid3d import DEFAULT_REFINE_3D, solid_modes
+                from fem.solid3d.model import DEFAULT_REFINE_3D, solid_modes
 
                 res = solid_modes(st, self.material, self.order,
                                   DEFAULT_REFINE_3D if self.refine is None else self.refine)
@@ -381,7 +381,7 @@ def tune_plate(
         Starting design (default: the paper's 30 x 7.5 x 3 mm plate); its held dimensions,
         thickness, gap and drive electrodes are kept. A stator with its own mesh is refused.
     model : str
-        ``'2d'`` (plane stress, default) or ``'3d'`` (:mod:`fem.solid3d`, slower).
+        ``'2d'`` (plane stress, default) or ``'3d'`` (:mod:`fem.solid3d.model`, slower).
     order : int
         Element order.
     refine : int, optional
@@ -406,7 +406,32 @@ def tune_plate(
     """
     held = normalize_fix(fix)
     fixed_dim = "length" if "length" in held else "width" if "width" in held else None
-    if target_frequency_Hz is not None and not (  # NumPy scalars too (float32 was refused)
+    target_frequency_Hz = _checked_target(target_frequency_Hz, fix, fixed_dim, model, rel_tol,
+                                          max_iter)
+    mat = get_material(material)
+    base = PlateStator() if start is None else start
+    if getattr(base, "mesh", None) is not None:
+        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
+                         "tune_plate cannot rescale; start from a plain PlateStator")
+    solver = _Solver(base, mat, model, "thickness_ratio" in held, order, refine)
+    if progress:
+        from tqdm import tqdm
+
+        # disable=None: on a terminal only (a log or a pipe gets no carriage-return lines)
+        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
+    try:
+        return _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, model, rel_tol,
+                     max_iter)
+    finally:
+        if solver.bar is not None:
+            solver.bar.close()
+
+
+def _checked_target(target_frequency_Hz: float | None, fix, fixed_dim: str | None, model: str,
+                    rel_tol: float, max_iter: int) -> float | None:
+    """The target (Hz) as a float, None where left out; refuses options out of range and a
+    target next to a held length or width, naming them."""
+    if target_frequency_Hz is not None and not (  # NumPy scalars too (float32 included)
             isinstance(target_frequency_Hz, numbers.Real)
             and not isinstance(target_frequency_Hz, bool)
             and math.isfinite(target_frequency_Hz) and target_frequency_Hz > 0):
@@ -429,23 +454,7 @@ def tune_plate(
     if (isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer))
             or not 1 <= max_iter <= MAX_ITER):  # each iteration is a crossing's FE solves
         raise ValueError(f"max_iter must be an integer in [1, {MAX_ITER}], got {max_iter!r}")
-    mat = get_material(material)
-    base = PlateStator() if start is None else start
-    if getattr(base, "mesh", None) is not None:
-        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
-                         "tune_plate cannot rescale; start from a plain PlateStator")
-    solver = _Solver(base, mat, model, "thickness_ratio" in held, order, refine)
-    if progress:
-        from tqdm import tqdm
-
-        # disable=None: on a terminal only (a log or a pipe gets no carriage-return lines)
-        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
-    try:
-        return _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, model, rel_tol,
-                     max_iter)
-    finally:
-        if solver.bar is not None:
-            solver.bar.close()
+    return target_frequency_Hz
 
 
 class TuningWarning(UserWarning):
@@ -463,9 +472,9 @@ is said not to be tuned (Brent's method converges onto a jump of the split as on
 
 def _warn_untuned(solver: _Solver, free: str, x: float, res, rel_tol: float) -> None:
     """Warn when the crossing ``x`` (m) of the ``free`` dimension left the modes apart: the
-    3D order-1 tuning of the paper's plate at fixed length ended at a width of 7.375 mm with
+    3D order-1 tuning of the paper's plate at fixed length ends at a width of 7.375 mm with
     the split 4.1e-3, where the mesh gains two grid lines and the split jumps from -229 Hz
-    to +393 Hz, and said "tuned" (found by exploratory testing)."""
+    to +393 Hz, which Brent's method takes for the crossing."""
     split = res.B2.f_short_Hz / res.L1.f_short_Hz - 1.0
     if abs(split) <= UNTUNED_FACTOR * rel_tol:
         return

@@ -79,7 +79,7 @@ def _slender_clause(stator) -> str | None:
     give their pair, and one of them failing for another reason would have been told that
     its B2 lay beyond the modes solved."""
     from fem.beam_shapes import bending_over_rod_frequency
-    from fem.meshed_stator import overall_length_m
+    from fem.meshing.meshed_stator import overall_length_m
     from fem.modes import N_MODES, SEARCH_GROWTH, modes_nearer_than_b2
 
     width = getattr(stator, "width_m", None)

@@ -24,7 +24,7 @@ WORK_ENV = "LUSM_MAX_WORK"
 # --- validity ranges (user units) -------------------------------------------------------------
 PLATE_MM = (0.1, 1000.0)
 """Plate length, width and thickness (mm): refused outside (and meshes outside it are taken
-as a wrong unit, see ``fem.mesh_io``)."""
+as a wrong unit, see ``fem.meshing.mesh_io``)."""
 PLANE_STRESS_RATIO = 0.6
 """Warn when thickness / min(length, width) exceeds this (plane stress needs a thin plate).
 B2's 2D frequency falls below the 3D model's as the plate thickens: on a 25 x 5 mm plate

@@ -152,7 +152,7 @@ def add_plate_options(p: argparse.ArgumentParser, *, material: bool = True,
 
 def add_rest_option(p: argparse.ArgumentParser) -> None:
     """``--rest probe|transient``: how the steady engine's exact level decides the branch a
-    start from rest reaches (:func:`contact.steady.steady_state` ``rest=``)."""
+    start from rest reaches (:func:`contact.steady.engine.steady_state` ``rest=``)."""
     p.add_argument("--rest", choices=("probe", "transient"), default="probe",
                    help="how the exact steady engine decides the branch a start from rest "
                    "reaches: probe (default) runs the full model out of the slider's ripple "
@@ -502,11 +502,11 @@ def warn_refine_unused(choice: StatorChoice, geometry: str) -> None:
 
 def check_steady_frequency(params, frequency_Hz: float, coupling: str) -> int:
     """Refuse a drive too far below the stator's fastest mode for the steady engine (more
-    than :data:`contact.steady.MAX_STEPS_PER_PERIOD` steps per drive period), with the range
-    of ``--frequency`` it takes (:func:`contact.steady.lowest_frequency_Hz`, from the same
+    than :data:`contact.steady.slow.MAX_STEPS_PER_PERIOD` steps per drive period), with the range
+    of ``--frequency`` it takes (:func:`contact.steady.slow.lowest_frequency_Hz`, from the same
     count); the steps per drive period at ``frequency_Hz`` otherwise. One message for
     ``characteristic``, ``map`` and ``simulate --steady``."""
-    from contact.steady import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
+    from contact.steady.slow import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
 
     n = steps_per_period(params, frequency_Hz, coupling)
     if n <= MAX_STEPS_PER_PERIOD:
@@ -546,7 +546,7 @@ def check_fe_work(cells: int, solves: int, three_d: bool, option: str,
     message then names --geometry and that key (it said "lower --refine" beside the
     warning that --refine has no effect). ``fewer`` says how to ask for fewer solves, or is
     empty where the command's solves are not the user's to choose (a tuning)."""
-    from fem.parametric import ParametricStator
+    from fem.meshing.parametric import ParametricStator
 
     top = limits.work_bound(limits.MAX_FE_WORK_3D if three_d else limits.MAX_FE_WORK_2D)
     if cells * solves > top:
@@ -558,38 +558,6 @@ def check_fe_work(cells: int, solves: int, three_d: bool, option: str,
             f"{option}: {solves} FE solves of about {cells} {what} each ({cells * solves}) is "
             f"above the limit {top} for one command; {fix}{f' or {fewer}' if fewer else ''} "
             f"({limits.more_work_hint()})", option)
-
-
-def fe_cell_count(stator, refine: int | None, layers: int | None = None,
-                  edge_grading: int = 0, quarter: bool = False) -> int:
-    """Elements (``layers`` None) or 3D bricks of the FE mesh ``stator`` and ``refine`` make,
-    as :func:`check_fe_size` counts them against the bounds (the report states them too)."""
-    from fem.meshed_stator import planform_mesh
-
-    mesh = planform_mesh(stator)
-    if mesh is not None and layers is not None and edge_grading:
-        from fem.solid3d import planform_layer_lines  # graded layers (the 3D model's)
-
-        n = int(mesh.quads.shape[1]) * (planform_layer_lines(mesh, stator.thickness_m, layers,
-                                                             edge_grading).size - 1)
-    elif mesh is not None:
-        n = int(mesh.quads.shape[1]) * (layers or 1)
-    elif layers is not None and quarter:
-        from fem.solid3d_symmetric import quarter_grid_lines
-
-        lines = quarter_grid_lines(stator, refine, layers, edge_grading)
-        n = math.prod(len(v) - 1 for v in lines)
-    elif layers is not None and edge_grading:
-        from fem.solid3d import hex_grid_lines
-
-        lines = hex_grid_lines(stator, refine, layers, edge_grading)
-        n = math.prod(len(v) - 1 for v in lines)
-    else:
-        from fem.mesh import DEFAULT_REFINE, grid_lines_m
-
-        x, y = grid_lines_m(stator, DEFAULT_REFINE if refine is None else refine)
-        n = (len(x) - 1) * (len(y) - 1) * (layers or 1)
-    return n
 
 
 def check_b2_in_reach(stator) -> None:
@@ -611,9 +579,9 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
                   needs_b2: bool = True) -> int:
     """Elements of the FE mesh ``stator`` and ``refine`` make; refuse a mesh above the bounds.
 
-    The count is exact for the generated plate (``fem.mesh.grid_lines_m``, and
-    ``fem.solid3d.hex_grid_lines`` for a 3D mesh graded ``edge_grading`` times, or
-    ``fem.solid3d_symmetric.quarter_grid_lines`` with ``quarter``, the quarter-plate model)
+    The count is exact for the generated plate (``fem.meshing.mesh.grid_lines_m``, and
+    ``fem.solid3d.model.hex_grid_lines`` for a 3D mesh graded ``edge_grading`` times, or
+    ``fem.solid3d.symmetric.quarter_grid_lines`` with ``quarter``, the quarter-plate model)
     and is the file's for a stator with its own mesh (bounded when it is read). ``layers``
     selects the 3D count; ``layers_option``: whether the command has ``--layers`` to name
     (``tune --model 3d`` takes three layers and has none); ``has_option``: whether it has
@@ -623,18 +591,20 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     for the 3D model, whose search holds other modes, nor for an admittance over a band
     the user gave, which needs no L1/B2).
     """
-    from fem.meshed_stator import planform_mesh
+    from fem.meshing.meshed_stator import planform_mesh
 
     if needs_b2 and layers is None:
         check_b2_in_reach(stator)
     mesh = planform_mesh(stator)
+    from fem.cell_count import fe_cell_count
+
     n = fe_cell_count(stator, refine, layers, edge_grading, quarter)
     if layers is not None:
         top, what = limits.work_bound(limits.MAX_FE_CELLS_3D), "3D bricks"
     else:
         top, what = limits.work_bound(limits.MAX_FE_CELLS_2D), "2D elements"
     if n > top and mesh is not None:  # the stator file's mesh: --refine plays no part
-        from fem.parametric import ParametricStator
+        from fem.meshing.parametric import ParametricStator
 
         fix = ("coarsen its [mesh] size_mm" if isinstance(stator, ParametricStator)
                else "use a coarser mesh file")
@@ -698,7 +668,7 @@ def beam_of_plate(args: argparse.Namespace):
     name, with Table 1's constants: ``--source beam`` with plate options, and compare's beam
     column. A stator file with a planform of its own gives the extent of its electrodes (the
     body, without a bare contact tip)."""
-    from fem.meshed_stator import has_planform, planform_mesh
+    from fem.meshing.meshed_stator import has_planform, planform_mesh
     from rom.beam import plate_layout
     from rom.sources import get_params
 
@@ -975,17 +945,17 @@ def warn_drive(voltage_V: float | None, preload_N: float | None, *,
 
 DEFAULT_DT_S = 1e-7
 """The transients' default time step (s): 250 steps per period at 40 kHz; the library's
-``contact.simulate.DEFAULT_DT_S``, written out so that parsing imports no kernel module."""
+``contact.options.DEFAULT_DT_S``, written out so that parsing imports no kernel module."""
 
 
 def time_step_s(dt_s: float | None, frequency_Hz: float) -> float:
-    """``--dt`` as typed (s), or by default :func:`contact.window.period_step_s` of
+    """``--dt`` as typed (s), or by default :func:`contact.transient.window.period_step_s` of
     :data:`DEFAULT_DT_S`: the largest step up to 1e-7 s that makes the drive period a whole
     number of steps, at least 20 (40 kHz: 250 steps of 1e-7 s, bit for bit the former
     default)."""
     if dt_s is not None:
         return float(dt_s)
-    from contact.window import period_step_s
+    from contact.transient.window import period_step_s
 
     return period_step_s(1.0 / float(frequency_Hz), DEFAULT_DT_S)
 

@@ -45,65 +45,14 @@ from typing import Literal
 import numpy as np
 
 from fem.beam_shapes import BETA2_L, phi_B, phi_L
-from fem.geometry import MAX_SIZE_M
+from rom.beam_stator import SHEAR_FACTOR, BeamStator
 from rom.params import MotorParams
-from rom.table2 import TABLE1, table2
-
-SHEAR_FACTOR = 5.0 / 6.0
-"""Timoshenko shear correction factor of a rectangular section (-)."""
+from rom.table2 import table2
 
 _QUAD_POINTS = 64
 """Gauss-Legendre points for the B2 integrals (converged to machine precision)."""
 
 B2Stiffness = Literal["euler-bernoulli", "timoshenko"]
-
-
-@dataclass(frozen=True)
-class BeamStator:
-    """The stator as a beam: geometry and the material constants beam theory uses.
-
-    Attributes
-    ----------
-    length_m, width_m, thickness_m : float
-        Length ``l``, width ``b_s`` (in-plane bending direction) and thickness ``h_s`` (m),
-        finite and > 0.
-    rho_kg_m3 : float
-        Density (kg/m^3), > 0.
-    cE11_Pa, cE66_Pa : float
-        Short-circuit axial and shear stiffness constants (Pa), > 0.
-    e31_C_m2 : float
-        Piezoelectric stress constant (C/m^2), finite.
-
-    Defaults are the paper's Table 1.
-    """
-
-    length_m: float = TABLE1["length_m"]
-    width_m: float = TABLE1["width_m"]
-    thickness_m: float = TABLE1["thickness_m"]
-    rho_kg_m3: float = TABLE1["rho_kg_m3"]
-    cE11_Pa: float = TABLE1["cE11_Pa"]
-    cE66_Pa: float = TABLE1["cE66_Pa"]
-    e31_C_m2: float = TABLE1["e31_C_m2"]
-
-    def __post_init__(self) -> None:
-        for name in ("length_m", "width_m", "thickness_m", "rho_kg_m3", "cE11_Pa", "cE66_Pa"):
-            object.__setattr__(self, name, _check_positive(name, getattr(self, name)))
-        for name in ("length_m", "width_m", "thickness_m"):
-            if getattr(self, name) > MAX_SIZE_M:  # millimetres typed as metres
-                raise ValueError(f"BeamStator.{name} must lie in (0, {MAX_SIZE_M:g}] m, got "
-                                 f"{getattr(self, name)!r} (sizes are in metres: 30 mm is "
-                                 "0.03)")
-        object.__setattr__(self, "e31_C_m2", _check_finite("e31_C_m2", self.e31_C_m2))
-
-    @property
-    def area_m2(self) -> float:
-        """Cross-section ``b_s h_s`` (m^2)."""
-        return self.width_m * self.thickness_m
-
-    @property
-    def inertia_m4(self) -> float:
-        """Second moment of area for in-plane bending, ``h_s b_s^3 / 12`` (m^4)."""
-        return self.thickness_m * self.width_m**3 / 12.0
 
 
 @dataclass(frozen=True)
@@ -247,26 +196,6 @@ class BeamFrequencies:
     f_B2_timoshenko_Hz: float
     f_B2_params_Hz: float
     b2_stiffness: str
-
-
-def _check_positive(name: str, value: float) -> float:
-    """Return ``value`` as float if it is finite and > 0, else raise a ValueError naming it."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise ValueError(f"{name} must be a finite number in (0, inf), got {value!r}")
-    v = float(value)
-    if not (math.isfinite(v) and v > 0.0):
-        raise ValueError(f"{name} must be a finite number in (0, inf), got {value!r}")
-    return v
-
-
-def _check_finite(name: str, value: float) -> float:
-    """Return ``value`` as float if it is finite, else raise a ValueError naming it."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise ValueError(f"{name} must be a finite number in (-inf, inf), got {value!r}")
-    v = float(value)
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be a finite number in (-inf, inf), got {value!r}")
-    return v
 
 
 def _resolve_layout(electrode_layout: str | Sequence[Electrode]) -> tuple[Electrode, ...]:
@@ -438,7 +367,7 @@ def beam_params(
             ) from None
     for name, z in (("damping_ratios[0] (zeta_L1)", zeta_l), ("damping_ratios[1] (zeta_B2)",
                                                              zeta_b)):
-        # one message with the range that holds: 0.0 had been told "(0, inf)"
+        # one message with the range that holds, (0, 1), for 0.0 too
         if isinstance(z, bool) or not isinstance(z, (int, float, np.floating, np.integer)) \
                 or not (math.isfinite(float(z)) and 0.0 < float(z) < 1.0):
             raise ValueError(f"{name} must be a number in (0, 1), got {z!r}")
@@ -479,6 +408,8 @@ def beam_frequencies(
         raise ValueError(
             f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}"
         )
+    # imported here: the full Timoshenko figure, kept for the record, is the one use of
+    # scipy.linalg in the beam set (0.35 s at start-up)
     from rom.timoshenko import timoshenko_b2_frequency
 
     beam = BeamStator() if beam is None else beam

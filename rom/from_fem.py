@@ -57,7 +57,7 @@ def fem_params(
     order : int
         FE element order, 1 or 2.
     refine : int, optional
-        Mesh refinement; default :data:`fem.mesh.DEFAULT_REFINE`.
+        Mesh refinement; default :data:`fem.meshing.mesh.DEFAULT_REFINE`.
     base : MotorParams, optional
         Source of the contact, slider and friction constants (``k_contact``, ``M_slider``,
         ``mu_s``, ``mu_d``, ``mu_sd``, ``a_mu``, ``b_mu``) and of the default damping ratios;
@@ -71,23 +71,14 @@ def fem_params(
     """
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.model import plate_model
     from fem.modes import plate_modes
 
     stator = PlateStator() if stator is None else stator
     refine = DEFAULT_REFINE if refine is None else refine
     base = table2() if base is None else base
-    if damping_ratios is None:
-        zeta_l, zeta_b = base.zeta_L1, base.zeta_B2
-    else:
-        if np.ndim(damping_ratios) != 1 or len(damping_ratios) != 2:
-            raise ValueError(f"damping_ratios must be (zeta_L1, zeta_B2), two numbers in "
-                             f"(0, 1), got {damping_ratios!r}")
-        zeta_l, zeta_b = (float(z) for z in damping_ratios)
-        for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
-            if not (math.isfinite(z) and 0.0 < z < 1.0):  # under-damped, as beam_params
-                raise ValueError(f"damping_ratios {name} must lie in (0, 1), got {z!r}")
+    zeta_l, zeta_b = _damping_ratios(base, damping_ratios)
     mat = get_material(material)
     modes = plate_modes(stator, mat, order, refine)
     model = plate_model(stator, mat, order, refine)
@@ -96,43 +87,12 @@ def fem_params(
     points = np.array([stator.preload_point_m, stator.tip_point_m]).T  # (2, 2)
     P = model.probe(points)  # rows: ux(preload), ux(tip), uy(preload), uy(tip)
     drive = model.coupling(stator.drive_electrodes)
-
-    def reduce(shape: np.ndarray, row: int, target: float, f_hz: float, name: str):
-        vals = P @ shape
-        # row 2: L1's u_y at the preload point; row 1: B2's u_x at the tip; against the
-        # mode's largest vertex displacement in that direction (an FE node of the mode is
-        # not exactly 0: 1.3e-8 of it at the plate's centre gave M_l = 1.5e13 kg)
-        comp = 1 if row == 2 else 0
-        peak = float(np.max(np.abs(shape[model.basis.nodal_dofs[comp]])))
-        share = abs(float(vals[row])) / peak if peak > 0.0 else 0.0
-        if not share >= NODE_SHARE:
-            point, where, xy = (("preload", stator.preload_point_m, "y") if row == 2
-                                else ("tip", stator.tip_point_m, "x"))
-            raise ValueError(
-                f"the {name} mode's {xy} displacement at the {point} point "
-                f"({where[0] * 1e3:g}, {where[1] * 1e3:g}) mm is {share:.2g} of its largest "
-                f"(a node of the mode; at least {NODE_SHARE:g} needed), where the reduction "
-                f"normalises it; the {point} point ([points] {point}_mm in a stator file) "
-                f"must lie where {name} moves in {xy}, e.g. on the plate's end")
-        phi = shape * (target / vals[row])
-        vals = P @ phi
-        mass = float(phi @ (model.M @ phi))
-        stiff = (2.0 * math.pi * f_hz) ** 2 * mass
-        force = float(phi @ drive)
-        return mass, stiff, force, vals
-
-    m_l, k_l, a_l, v_l = reduce(modes.L1.shape, 2, float(phi_L(0.0, length)),
-                                modes.L1.f_short_Hz, "L1")
-    m_b, k_b, a_b, v_b = reduce(
-        modes.B2.shape, 1, float(phi_B(length, length)), modes.B2.f_short_Hz, "B2"
-    )
+    m_l, k_l, a_l, v_l = _reduce_mode(model, stator, P, drive, modes.L1.shape, 2,
+                                      float(phi_L(0.0, length)), modes.L1.f_short_Hz, "L1")
+    m_b, k_b, a_b, v_b = _reduce_mode(model, stator, P, drive, modes.B2.shape, 1,
+                                      float(phi_B(length, length)), modes.B2.f_short_Hz, "B2")
     features = stator.features_text() if hasattr(stator, "features_text") else ""
-    if hasattr(stator, "element_size_m"):  # fem.parametric.ParametricStator
-        mesh_text = f"gmsh mesh of element size {stator.element_size_m * 1e3:g} mm"
-    elif getattr(stator, "mesh", None) is not None:  # fem.meshed_stator: the file's mesh
-        mesh_text = "the stator file's mesh"
-    else:
-        mesh_text = f"refine {refine}"
+    mesh_text = _mesh_text(stator, refine)
     return MotorParams.from_modal(
         M_l=m_l, K_l=k_l, A_l=a_l, phi_L0=float(v_l[2]), phi_Ll=float(v_l[3]),
         M_b=m_b, K_b=k_b, A_b=a_b, phi_B0=float(v_b[0]), phi_Bl=float(v_b[1]),
@@ -146,6 +106,63 @@ def fem_params(
             f"and friction constants from: {base.source}"
         ),
     )
+
+
+def _damping_ratios(base: MotorParams,
+                    damping_ratios: tuple[float, float] | None) -> tuple[float, float]:
+    """``(zeta_L1, zeta_B2)``: the ones given, each in (0, 1) (under-damped, as
+    :func:`rom.beam.beam_params` takes them), else ``base``'s."""
+    if damping_ratios is None:
+        return base.zeta_L1, base.zeta_B2
+    if np.ndim(damping_ratios) != 1 or len(damping_ratios) != 2:
+        raise ValueError(f"damping_ratios must be (zeta_L1, zeta_B2), two numbers in "
+                         f"(0, 1), got {damping_ratios!r}")
+    zeta_l, zeta_b = (float(z) for z in damping_ratios)
+    for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
+        if not (math.isfinite(z) and 0.0 < z < 1.0):
+            raise ValueError(f"damping_ratios {name} must lie in (0, 1), got {z!r}")
+    return zeta_l, zeta_b
+
+
+def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndarray, row: int,
+                 target: float, f_hz: float, name: str):
+    """One mode reduced to ``(mass, stiffness, force, values)``: its modal mass (kg), stiffness
+    (N/m), force factor (N/V) and probe values, ``shape`` scaled so that probe ``row`` of ``P``
+    reads ``target`` (the beam shape's value), the probes being ``u_x`` at the preload point and the
+    tip, then ``u_y`` at both; ``drive`` is the driven electrodes' coupling vector.
+
+    Row 2 is L1's ``u_y`` at the preload point, row 1 B2's ``u_x`` at the tip; each must be
+    at least :data:`NODE_SHARE` of the mode's largest vertex displacement in that direction
+    (an FE node of the mode is not exactly 0: 1.3e-8 of it at the plate's centre would give
+    M_l = 1.5e13 kg)."""
+    vals = P @ shape
+    comp = 1 if row == 2 else 0
+    peak = float(np.max(np.abs(shape[model.basis.nodal_dofs[comp]])))
+    share = abs(float(vals[row])) / peak if peak > 0.0 else 0.0
+    if not share >= NODE_SHARE:
+        point, where, xy = (("preload", stator.preload_point_m, "y") if row == 2
+                            else ("tip", stator.tip_point_m, "x"))
+        raise ValueError(
+            f"the {name} mode's {xy} displacement at the {point} point "
+            f"({where[0] * 1e3:g}, {where[1] * 1e3:g}) mm is {share:.2g} of its largest "
+            f"(a node of the mode; at least {NODE_SHARE:g} needed), where the reduction "
+            f"normalises it; the {point} point ([points] {point}_mm in a stator file) "
+            f"must lie where {name} moves in {xy}, e.g. on the plate's end")
+    phi = shape * (target / vals[row])
+    vals = P @ phi
+    mass = float(phi @ (model.M @ phi))
+    stiff = (2.0 * math.pi * f_hz) ** 2 * mass
+    force = float(phi @ drive)
+    return mass, stiff, force, vals
+
+
+def _mesh_text(stator, refine: int) -> str:
+    """How the reduced set's plate was meshed, for its source line."""
+    if hasattr(stator, "element_size_m"):  # fem.meshing.parametric.ParametricStator
+        return f"gmsh mesh of element size {stator.element_size_m * 1e3:g} mm"
+    if getattr(stator, "mesh", None) is not None:  # fem.meshing.meshed_stator: the file's mesh
+        return "the stator file's mesh"
+    return f"refine {refine}"
 
 
 def design_base(design, base: MotorParams | None = None) -> MotorParams:

@@ -99,11 +99,11 @@ class MotorParams:
     def __post_init__(self) -> None:
         for f in fields(self):
             if f.name == "source":
-                if not isinstance(self.source, str):  # 5 or None were kept as given
+                if not isinstance(self.source, str):  # not 5 or None
                     raise TypeError(f"MotorParams.source must be text, got {self.source!r}")
                 continue
             value = getattr(self, f.name)
-            # NumPy scalars are real numbers too (np.float32(0.2) was refused); bool is not
+            # NumPy scalars are real numbers too (np.float32(0.2)); bool is not
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise TypeError(f"MotorParams.{f.name} must be a real number, got {value!r}")
             value = float(value)
@@ -222,7 +222,7 @@ class MotorParams:
         The derived keys (``eta_N``, ``eta_T``, ``f_L1_Hz``, ``f_B2_Hz``, ``zeta_L1``,
         ``zeta_B2``) may be present; they must then agree with the stored fields to the
         rounding of single precision (:func:`derived_tolerance`: a set written from float32
-        data, as a study's dataset may hold it, had been refused at 1e-9 relative), so an
+        data, as a study's dataset may hold it, misses 1e-9 relative), so an
         edit of a derived value is refused instead of silently ignored. So
         may ``units`` (each key's unit, as ``lusm params --json`` writes it), which must be
         :data:`PARAM_UNITS`' own: an edited unit is refused, not converted.
@@ -236,7 +236,7 @@ class MotorParams:
             raise ValueError(f"a parameter set must be a JSON object, got {type(d).__name__}")
         stored = [f.name for f in fields(cls)]
         derived = DERIVED_KEYS
-        if any(not isinstance(k, str) for k in d):  # an int key had failed in str.join
+        if any(not isinstance(k, str) for k in d):  # named here, not failing in str.join
             raise ValueError(f"a parameter set's keys are names, got "
                              f"{[k for k in d if not isinstance(k, str)]!r}")
         units = d.get("units")
@@ -308,7 +308,7 @@ def derived_disagrees(params: MotorParams, key: str, value: object) -> bool:
     """Whether ``value``, given for the derived ``key`` of a written set, is not what the
     stored fields of ``params`` give, beyond rounding (:func:`derived_tolerance`): an edit.
     Not a real number (text, a bool) disagrees; NumPy scalars are numbers (an ``np.float32``
-    derived value was refused whatever its value)."""
+    derived value is compared like any other)."""
     # bool is an int, NumPy's bool no number at all
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         return True

@@ -31,12 +31,13 @@ def _beam(**kwargs: Any) -> MotorParams:
     import inspect
     from dataclasses import fields
 
-    from rom.beam import BeamStator, beam_params
+    from rom.beam import beam_params
+    from rom.beam_stator import BeamStator
 
     names = {f.name for f in fields(BeamStator)}
     options = set(inspect.signature(beam_params).parameters) - {"beam"}
     unknown = sorted(set(kwargs) - names - options)
-    if unknown:  # bad input, as get_params says (a TypeError had surfaced from the call)
+    if unknown:  # bad input, as get_params says (not a TypeError from the call)
         raise ValueError(f"source 'beam' takes no option {', '.join(unknown)}; its options are "
                          f"{', '.join(sorted(names | options))}")
     beam = BeamStator(**{k: kwargs.pop(k) for k in list(kwargs) if k in names})
@@ -49,8 +50,8 @@ def _fem(**kwargs: Any) -> MotorParams:
 
     from rom.from_fem import fem_params
 
-    # an unknown option is bad input, as the docstring of get_params says (a TypeError had
-    # surfaced from the call)
+    # an unknown option is bad input, as the docstring of get_params says (not a TypeError
+    # from the call)
     known = set(inspect.signature(fem_params).parameters)
     unknown = sorted(set(kwargs) - known)
     if unknown:

@@ -12,7 +12,7 @@ import math
 import numpy as np
 import scipy.linalg
 
-from rom.beam import SHEAR_FACTOR, BeamStator
+from rom.beam_stator import SHEAR_FACTOR, BeamStator
 
 
 def timoshenko_b2_frequency(

@@ -191,7 +191,7 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     ``motion_class`` (str) and ``velocity`` (m/s, one per load of ``drive.loads_N``). The
     coupling is :func:`contact.model.default_coupling`'s: work-consistent for these FE sets.
 
-    ``solver.method == "steady"``: the steady state from rest (:func:`contact.steady.
+    ``solver.method == "steady"``: the steady state from rest (:func:`contact.steady.engine.
     steady_state`, at ``solver.accuracy``) and the speed-thrust characteristic (21 loads from 0 to
     the stall force for the peak efficiency; a second one only for the study's loads that are
     not among those 21). A transient method
@@ -203,7 +203,7 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     coupling = default_coupling(params)[0]  # consistent: a study's sets are FE sets
     if solver.method == "steady":
         from contact.characteristic import characteristic
-        from contact.steady import steady_state
+        from contact.steady.engine import steady_state
 
         acc = solver.accuracy  # the CLI's default level, exact, unless the study says fast
         uf, rest = solver.ultrasonic_friction, solver.rest
@@ -398,7 +398,7 @@ def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
     if study.solver.method != "steady":
         return transient_problem(study.solver, frequency_Hz, at)
     from contact.model import default_coupling
-    from contact.steady import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
+    from contact.steady.slow import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
 
     coupling = default_coupling(params)[0]
     n = steps_per_period(params, frequency_Hz, coupling)
@@ -426,7 +426,7 @@ def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     may have, or None: the study's bound (:func:`studies.study.contact_work_problem`) with
     every geometry taken as costly as this one. What the study's reading could not know: the
     steady engine's steps per drive period on this plate's FE set
-    (:func:`contact.steady.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
+    (:func:`contact.steady.slow.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
     plate at fe_refine 1), and a transient's default step at an auto frequency."""
     from studies.study import contact_work_problem, steady_solves
 
@@ -436,7 +436,7 @@ def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     per_f = len(study.axes["voltage"]) * len(study.axes["preload"])  # runs per frequency
     if s.method == "steady":
         from contact.model import default_coupling
-        from contact.steady import steps_per_period
+        from contact.steady.slow import steps_per_period
 
         coupling = default_coupling(params)[0]
         n = [steps_per_period(params, f, coupling) for f in freqs]
@@ -763,7 +763,7 @@ def _mesh_text(study: Study) -> str:
     d = study.stator
     if d is not None and d.mesh_path is not None:
         return f"the stator file's mesh {d.mesh_path}"
-    from fem.meshed_stator import has_planform
+    from fem.meshing.meshed_stator import has_planform
 
     if d is not None and has_planform(d.stator):
         return "gmsh at the stator file's [mesh] size_mm (solver.fe_refine unused)"
@@ -1124,7 +1124,7 @@ def check_workers(client, option: str = "--scheduler", gmsh: bool = False) -> No
         raise ValueError(f"{option}: worker {w} runs lusm {v}, this client {mine}; install "
                          "the same version everywhere")
     if gmsh:
-        from fem.parametric import gmsh_problem
+        from fem.meshing.parametric import gmsh_problem
 
         problems = {w: p for w, p in client.run(gmsh_problem).items() if p}
         if problems:

@@ -75,7 +75,7 @@ FEATURE_AXES = ("tip_length", "tip_width", "chamfer")
 :data:`GEOMETRY_AXES`."""
 FEATURE_FIELDS = {"tip_length": "tip_length_m", "tip_width": "tip_width_m",
                   "chamfer": "chamfer_m"}
-"""The :class:`fem.parametric.ParametricStator` field each feature axis sets."""
+"""The :class:`fem.meshing.parametric.ParametricStator` field each feature axis sets."""
 DRIVE_AXES = ("frequency", "voltage", "preload", "load")
 """Axes of the drive points of one geometry, in dimension order."""
 
@@ -121,9 +121,9 @@ FE_OUTPUTS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "sp
 """Outputs that need only the FE solve (no contact model)."""
 
 FE_REFINE_DEFAULT = 4
-"""The study's default mesh refinement: :data:`fem.mesh.DEFAULT_REFINE`, that of ``lusm modes``,
-``simulate`` and ``characteristic`` (written out so that parsing imports no FE module; a test
-holds them equal). A default of 2 put the paper's plate's auto drive frequency 113 Hz and B2
+"""The study's default mesh refinement: :data:`fem.meshing.mesh.DEFAULT_REFINE`, that of ``lusm
+modes``, ``simulate`` and ``characteristic`` (written out so that parsing imports no FE module; a
+test holds them equal). A default of 2 put the paper's plate's auto drive frequency 113 Hz and B2
 145 Hz above the single-point commands' and a stall force 11 % low."""
 
 SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": FE_REFINE_DEFAULT,
@@ -156,9 +156,9 @@ CURVE_LOADS = 21
 characteristic`'s default), for its stall force and peak efficiency."""
 STEADY_MIN_STEPS_PER_PERIOD = 25
 """The fewest steps per drive period the steady engine takes on any set
-(``contact.periodic_orbit.STEPS_PER_PERIOD``, written out so that reading a study imports no
+(``contact.steady.periodic_orbit.STEPS_PER_PERIOD``, written out so that reading a study imports no
 kernel module): a study's steady work is at least its solves times this, before any plate's
-own figure (:func:`contact.steady.steps_per_period`) is known."""
+own figure (:func:`contact.steady.slow.steps_per_period`) is known."""
 
 _QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z]+)\s*$")
 
@@ -177,7 +177,7 @@ class Solver:
         Time step of each transient drive point (s); None: ``lusm simulate``'s default rule
         at the point's frequency (:meth:`step_s`).
     method : str
-        ``"steady"``: the motor answers from :mod:`contact.steady` and
+        ``"steady"``: the motor answers from :mod:`contact.steady.engine` and
         :func:`contact.characteristic.characteristic` (stall force, peak efficiency, velocity
         under load; ``duration``/``dt`` unused); otherwise a transient scheme of
         :func:`contact.simulate.simulate`, which gives the no-load velocity and motion class
@@ -195,7 +195,7 @@ class Solver:
     rest : str
         How the exact level decides the branch a start from rest reaches: ``"probe"`` (the
         default, as the commands') or ``"transient"`` (their ``--rest transient``;
-        :func:`contact.steady.steady_state`).
+        :func:`contact.steady.engine.steady_state`).
     """
 
     fe_order: int = 2
@@ -210,10 +210,13 @@ class Solver:
     def step_s(self, frequency_Hz: float) -> float:
         """The time step (s) of a transient at ``frequency_Hz`` (Hz): ``dt_s`` as the study
         gives it, else the largest step up to 100 ns that makes the drive period a whole
-        number of steps (:func:`lusm.options.time_step_s`, as ``lusm simulate``)."""
-        from lusm.options import time_step_s
+        number of steps (as ``lusm simulate``)."""
+        if self.dt_s is not None:
+            return float(self.dt_s)
+        from contact.options import DEFAULT_DT_S
+        from contact.transient.window import period_step_s
 
-        return time_step_s(self.dt_s, frequency_Hz)
+        return period_step_s(1.0 / float(frequency_Hz), DEFAULT_DT_S)
 
 
 @dataclass(frozen=True)
@@ -687,7 +690,7 @@ def _parametric(design) -> bool:
     """Whether a stator file (None: none) is a parametric stator, meshed by gmsh."""
     if design is None:
         return False
-    from fem.parametric import ParametricStator
+    from fem.meshing.parametric import ParametricStator
 
     return isinstance(design.stator, ParametricStator)
 
@@ -725,7 +728,7 @@ def _stator_values(design) -> dict[str, tuple]:
     """The geometry axes' values of a stator file's own plate (SI, material name); the gap of
     a stator with its own mesh is NaN: its electrodes are the mesh's tagged regions (the
     plate's nominal gap, 0, had refused every motor output as a short circuit)."""
-    from fem.meshed_stator import MeshedStator
+    from fem.meshing.meshed_stator import MeshedStator
 
     st = design.stator
     gap = math.nan if isinstance(st, MeshedStator) else st.electrode_gap_m
@@ -753,7 +756,7 @@ def _check_stator_plates(study: Study, where: str) -> None:
     features (tip, chamfers, holes: kept as the file gives them, as ``lusm sweep --geometry``
     keeps them), naming the axis values of the first plate that does not. (A stator with its
     own mesh varies in thickness only, which holds every feature.)"""
-    from fem.meshed_stator import MeshedStator
+    from fem.meshing.meshed_stator import MeshedStator
     from lusm.errors import feature_reason
 
     design, ax = study.stator, study.axes
@@ -787,8 +790,8 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
 
     A generated plate's count is exact (its grid lines). A stator file's planform meshed by
     gmsh is estimated from the 1D mesh of its boundary
-    (:func:`fem.parametric.estimated_elements`, milliseconds: within 4 % on fine meshes, 1.5
-    times low at the default size, up to :data:`fem.parametric.ESTIMATE_LOW_FACTOR` low on
+    (:func:`fem.meshing.parametric.estimated_elements`, milliseconds: within 4 % on fine meshes, 1.5
+    times low at the default size, up to :data:`fem.meshing.parametric.ESTIMATE_LOW_FACTOR` low on
     blocks of holes, never high): an estimate above a bound refuses the study without a
     mesh, one that far below both bounds (the mesh's, and the study's FE work over its
     plates) cannot cross them passes, and a plate in between is meshed to count exactly (the
@@ -796,11 +799,11 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     over the element size squared had been used, 2.2 times low on the tuned 60 kHz stator's
     default mesh (a 1000 mm long plate at 0.067 mm had been meshed for 29 s and 564 MB only to
     be refused). One with its own mesh file is the file's, whatever the axes."""
+    from fem.cell_count import fe_cell_count
     from fem.geometry import PlateStator
-    from fem.meshed_stator import MeshedStator
+    from fem.meshing.meshed_stator import MeshedStator
+    from fem.meshing.parametric import ESTIMATE_LOW_FACTOR, ParametricStator, estimated_elements
     from fem.modes import wider_than_long
-    from fem.parametric import ESTIMATE_LOW_FACTOR, ParametricStator, estimated_elements
-    from lusm.options import fe_cell_count
 
     ax = study.axes
     base = PlateStator() if study.stator is None else study.stator.stator
@@ -837,7 +840,7 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
 def _planform(design) -> bool:
     """Whether a stator file's plate is meshed from its planform (a mesh file, or gmsh for
     its features), where ``solver.fe_refine`` plays no part."""
-    from fem.meshed_stator import has_planform
+    from fem.meshing.meshed_stator import has_planform
 
     return has_planform(design.stator)
 
@@ -898,7 +901,7 @@ def _check_contact_work(study: Study, where: str) -> None:
                   f"{STEADY_MIN_STEPS_PER_PERIOD} steps per drive period")
         work = drive_triples(study) * k * STEADY_MIN_STEPS_PER_PERIOD
     elif study.auto_frequency:
-        from lusm.options import DEFAULT_DT_S
+        from contact.options import DEFAULT_DT_S
 
         steps = s.duration_s / (s.dt_s if s.dt_s is not None else DEFAULT_DT_S)
         least = "" if s.dt_s is not None else "at least "
@@ -1059,7 +1062,7 @@ def transient_problem(solver: Solver, frequency_Hz: float, at: str) -> str | Non
                 f"above the limit {top:.3g}; shorten solver.duration or raise solver.dt "
                 f"({limits.more_work_hint()})")
     if solver.method == "reference":  # refused by every point otherwise, after the FE
-        from contact.reference import MAX_REFERENCE_PERIODS
+        from contact.transient.reference import MAX_REFERENCE_PERIODS
 
         rtop = limits.work_bound(MAX_REFERENCE_PERIODS)
         if solver.duration_s * f > rtop:
@@ -1104,7 +1107,7 @@ def _check_transient(study: Study, where: str) -> None:
                 f"{where}solver.duration {show(s.duration_s, 'time')} is shorter than 10 drive "
                 f"periods at every drive frequency up to {show(hi, 'frequency')} "
                 f"(axes.frequency auto): give solver.duration >= {show(10 / hi, 'time')}")
-        from lusm.options import DEFAULT_DT_S
+        from contact.options import DEFAULT_DT_S
 
         steps = s.duration_s / DEFAULT_DT_S  # the default step is at most 100 ns
     top = limits.work_bound(limits.MAX_STEPS)

@@ -14,7 +14,7 @@ from contact.characteristic import characteristic
 from contact.maps import stick_slip_map
 from contact.model import OperatingPoint
 from contact.simulate import simulate
-from contact.steady import steady_state
+from contact.steady.engine import steady_state
 from rom import table2
 
 
@@ -114,7 +114,7 @@ def test_drives_beyond_any_stator_are_refused_not_run():
     the stator statically by more than a centimetre is refused, naming the input."""
     from contact.model import MAX_STATIC_DEFLECTION_M
     from contact.simulate import simulate
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom import table2
 
     p = table2()
@@ -137,7 +137,7 @@ def test_drives_beyond_any_stator_are_refused_not_run():
 def test_simulation_options_integers_are_integers(kw):
     """NaN was numpy's "cannot convert float NaN to integer", inf an OverflowError, '100' a
     TypeError deep in a scheme, and 2.5 or True were stored as typed (found by API testing)."""
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     with pytest.raises(ValueError, match=f"{next(iter(kw))} must be an integer >= 1"):
         SimulationOptions(**kw)
@@ -146,7 +146,7 @@ def test_simulation_options_integers_are_integers(kw):
 def test_simulation_options_numbers_are_numbers():
     import numpy as np
 
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     with pytest.raises(TypeError, match="stick_band_m_s must be a number"):
         SimulationOptions(stick_band_m_s="0")
@@ -172,7 +172,7 @@ def test_map_workers_are_a_positive_integer(workers):
         stick_slip_map(table2(), [200.0], [14.0], workers=workers)
 
 
-@pytest.mark.parametrize("cls", ["fem.geometry:PlateStator", "rom.beam:BeamStator"])
+@pytest.mark.parametrize("cls", ["fem.geometry:PlateStator", "rom.beam_stator:BeamStator"])
 def test_millimetres_typed_as_metres_are_refused(cls):
     """PlateStator(length_m=30) was a 30 m plate: sweep_dimension ran 29 s of FE into NaN."""
     import importlib
@@ -192,7 +192,7 @@ def test_smaller_api_inputs_are_checked():
 
     from contact.characteristic import characteristic
     from contact.maps import stick_slip_map
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom import table2
     from rom.params import MotorParams
 
@@ -225,7 +225,7 @@ def test_energy_is_refused_where_it_is_not_computed(method):
         simulate(table2(), 200.0, 14.0, method=method, energy=True, duration_s=0.005)
     # the keyword wins over the options, as for every other option (at a held slider, which
     # the steady engine answers at once)
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     r = simulate(table2(), 100.0, 14.0, None, SimulationOptions(energy=True), method=method,
                  energy=False, duration_s=0.005)
@@ -309,9 +309,9 @@ def test_the_phase_plane_names_the_method_that_stores_its_window():
     # a MemoryError; both are refused from a lower bound of the count, before any line
     (lambda: __import__("fem.modes", fromlist=["x"]).plate_modes(refine=10_000),
      "refine = 10000 makes at least 4e+08 elements"),
-    (lambda: __import__("fem.solid3d", fromlist=["x"]).solid_modes(layers=10**5),
+    (lambda: __import__("fem.solid3d.model", fromlist=["x"]).solid_modes(layers=10**5),
      "layers = 100000 and edge_grading = 0 make at least"),
-    (lambda: __import__("fem.solid3d", fromlist=["x"]).solid_modes(edge_grading=100),
+    (lambda: __import__("fem.solid3d.model", fromlist=["x"]).solid_modes(edge_grading=100),
      "edge_grading = 100 make 3.18e+05 bricks"),
     (lambda: stick_slip_map(table2(), np.linspace(1, 400, 2000), np.linspace(1, 20, 2000),
                             method="steady", accuracy="fast"),

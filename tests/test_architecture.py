@@ -5,7 +5,10 @@ Checked on the source with ``ast`` (every import, at module level or inside func
 ``contact`` never imports ``fem``; ``fem`` never imports ``rom``, ``contact`` or anything
 above; ``rom`` never imports ``contact`` or above; no library package imports the command
 line; no module imports a private name (leading underscore) from another module of the
-project; and the modules' import graph has no cycle.
+project; and the modules' import graph has no cycle. Inside the library the subpackages are
+layers: the transient schemes never import the steady engine, neither imports the entry
+points built on them (``contact.simulate``, ``characteristic``, ``maps``), and the meshing
+never imports the FE models meshed with it.
 """
 
 from __future__ import annotations
@@ -27,6 +30,15 @@ FORBIDDEN = {
     "studies": {"tools"},
     "lusm": {"tools"},
 }
+
+LAYERS = {
+    "contact.transient": ("contact.steady", "contact.simulate", "contact.characteristic",
+                          "contact.maps", "contact.phase_plane"),
+    "contact.steady": ("contact.simulate", "contact.characteristic", "contact.maps",
+                       "contact.phase_plane"),
+    "fem.meshing": ("fem.model", "fem.modes", "fem.solid3d"),
+}
+"""Subpackage -> the modules (or packages) its modules never import: the layer above it."""
 
 
 def _imports(path: Path) -> list[tuple[int, str, list[str]]]:
@@ -92,8 +104,8 @@ def _cycle(graph: dict[str, set[str]]) -> list[str] | None:
 def test_the_import_graph_has_no_cycle():
     graph = _import_graph()
     assert len(graph) > 90 and graph["lusm.cli"]  # the scan sees the modules and imports
-    upper = {m: d for m, d in graph.items() if m.split(".")[0] in ABOVE}
-    cycle = _cycle(upper)
+    assert graph["contact.steady.engine"] >= {"contact.steady.exact", "contact.steady.slow"}
+    cycle = _cycle(graph)
     assert cycle is None, " -> ".join(cycle)
 
 
@@ -111,6 +123,34 @@ def test_data_flows_one_way(package):
             top = module.split(".")[0]
             if top in FORBIDDEN[package]:
                 bad.append(f"{path.relative_to(ROOT)}:{line} imports {module}")
+    assert not bad, "\n".join(bad)
+
+
+CLI_ONLY = ("lusm.cli", "lusm.commands", "lusm.options", "lusm.fe_errors", "lusm.ranges")
+"""The command line proper: parsing and resolving options, the commands. The rest of
+``lusm`` (its limits, errors, messages, output sets, interrupts) is the base every upper
+package may use."""
+
+
+@pytest.mark.parametrize("package", ("validation", "studies"))
+def test_the_library_above_contact_never_imports_the_command_line(package):
+    bad = [f"{path.relative_to(ROOT)}:{line} imports {module}"
+           for path in _sources(package) for line, module, _n in _imports(path)
+           if any(_within(module, cli) for cli in CLI_ONLY)]
+    assert not bad, "\n".join(bad)
+
+
+def _within(module: str, prefix: str) -> bool:
+    return module == prefix or module.startswith(prefix + ".")
+
+
+@pytest.mark.parametrize("layer", list(LAYERS))
+def test_subpackages_are_layers(layer):
+    package = layer.split(".")[0]
+    bad = [f"{path.relative_to(ROOT)}:{line} imports {module}"
+           for path in _sources(package) if _within(_module_name(path), layer)
+           for line, module, _n in _imports(path)
+           if any(_within(module, above) for above in LAYERS[layer])]
     assert not bad, "\n".join(bad)
 
 

@@ -12,7 +12,6 @@ from hypothesis import strategies as st
 from fem.beam_shapes import BETA2_L
 from rom.beam import (
     ELECTRODE_LAYOUTS,
-    BeamStator,
     Electrode,
     b2_stiffness_readings,
     beam_constants,
@@ -20,6 +19,7 @@ from rom.beam import (
     beam_params,
     euler_bernoulli_b2_frequency,
 )
+from rom.beam_stator import BeamStator
 from rom.params import MotorParams
 from rom.table2 import TABLE1, table2
 from rom.timoshenko import timoshenko_b2_frequency

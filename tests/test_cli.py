@@ -107,7 +107,7 @@ def test_map_json_classifies_every_point():
 @pytest.mark.slow
 def test_contact_and_table2_do_not_import_the_fe_stack():
     code = (
-        "import sys, contact.simulate, contact.maps, contact.reference, rom.table2, rom;"
+        "import sys, contact.simulate, contact.maps, contact.transient.reference, rom.table2, rom;"
         "bad=[m for m in ('skfem','pyvista','vtk','meshio','fem.model','fem.modes') "
         "if m in sys.modules];"
         "print(bad); sys.exit(1 if bad else 0)"

@@ -196,8 +196,9 @@ def test_the_default_step_divides_the_drive_period(capsys):
     import json
     import math
 
-    from contact.simulate import DEFAULT_DT_S as LIBRARY_DT_S
-    from contact.simulate import SimulationOptions, simulate
+    from contact.options import DEFAULT_DT_S as LIBRARY_DT_S
+    from contact.options import SimulationOptions
+    from contact.simulate import simulate
     from lusm.options import DEFAULT_DT_S, time_step_s
     from rom import table2
 

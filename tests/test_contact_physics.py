@@ -9,7 +9,8 @@ import pytest
 
 from contact.model import OperatingPoint, normal_force_zero_tip_displacement
 from contact.phase_plane import phase_plane
-from contact.simulate import normal_amplitude, simulate
+from contact.simulate import simulate
+from contact.transient.pre_pass import normal_amplitude
 from tests.conftest import cached_run
 
 
@@ -47,7 +48,7 @@ def test_the_settled_speed_does_not_depend_on_the_step(paper_params):
     # acceleration times the landing delay every period, which the slider integrates over its
     # slow settling, 3.4e-8 of the speed at dt = 1e-7 s against 1e-6 s. The tip's velocity is
     # now set to the slider's
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     v = [simulate(paper_params, 200.0, 14.0, options=SimulationOptions(
         duration_s=0.3, dt_s=dt, steady_periods=400)).steady.velocity_m_s for dt in (1e-6, 1e-7)]
@@ -59,8 +60,8 @@ def test_entering_stick_corrects_the_lighter_body(paper_params, mass_kg):
     # v_rel = 0 is imposed by moving the lighter of tip (M_b / phi_B(l)^2, 1.25 g here) and
     # slider; the heavier keeps its velocity (a 0.2 kg slider, or a 1 g one)
     from contact import state as S
-    from contact.event_kernel import _stick_exact
     from contact.model import build_system
+    from contact.transient.event_kernel import _stick_exact
 
     p = paper_params.with_(M_slider=mass_kg)
     sc = build_system(p, OperatingPoint(200.0, 14.0), p.mu_d).scalars

@@ -87,7 +87,7 @@ def test_a_reference_run_beyond_its_work_bound_is_refused_before_it_starts(
     import time
 
     from contact.model import OperatingPoint
-    from contact.reference import MAX_REFERENCE_PERIODS, check_reference_work
+    from contact.transient.reference import MAX_REFERENCE_PERIODS, check_reference_work
 
     monkeypatch.delenv("LUSM_MAX_WORK", raising=False)
     t0 = time.perf_counter()

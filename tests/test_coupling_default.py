@@ -65,8 +65,9 @@ def test_the_library_runs_the_clis_coupling_by_default():
     """The library's entry points defaulted to the paper's coupling for every set while the
     CLI ran non-Table-2 sets with the consistent one: the same input gave a held slider in
     simulate and 4.1e-5 m/s in lusm simulate (found by API testing). Now both say "auto"."""
-    from contact.simulate import SimulationOptions, simulate
-    from contact.steady import steady_state
+    from contact.options import SimulationOptions
+    from contact.simulate import simulate
+    from contact.steady.engine import steady_state
     from rom import table2
     from rom.sources import get_params
 

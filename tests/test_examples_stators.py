@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
-from fem.mesh_io import read_stator_mesh, write_stator_msh
-from fem.meshed_stator import MeshedStator
+from fem.meshing.mesh_io import read_stator_mesh, write_stator_msh
+from fem.meshing.meshed_stator import MeshedStator
 from fem.model import build_model, plate_model
 from fem.modes import modes_of_model, plate_modes
 from fem.stator_file import load_stator

@@ -703,7 +703,6 @@ def test_a_studys_answers_are_the_single_point_commands_bit_for_bit(capsys):
     import json
 
     from fem.meshing.mesh import DEFAULT_REFINE
-
     from lusm.cli import main
     from studies.study import SOLVER_DEFAULTS
 
@@ -787,7 +786,6 @@ def test_a_studys_fe_work_is_bounded_in_all():
     import time
 
     from fem.meshing.mesh import structured_mesh
-
     from studies.study import MAX_STUDY_FE_WORK
 
     axes = {"length": {"start": "20 mm", "stop": "40 mm", "num": 1000},
@@ -889,9 +887,8 @@ def test_a_plates_steady_work_is_bounded_before_its_drive_points(monkeypatch):
 def test_each_fe_mesh_of_a_study_is_bounded_as_modes_bounds_it():
     # a 30 x 1 mm plate at fe_refine 48 (69 120 elements) ran for minutes at 2.8 GB; lusm modes
     # refuses the same plate at once
-    from fem.meshing.mesh import grid_lines_m
-
     from fem.geometry import PlateStator
+    from fem.meshing.mesh import grid_lines_m
 
     x, y = grid_lines_m(PlateStator(length_m=30e-3, width_m=1e-3), 48)
     cells = (len(x) - 1) * (len(y) - 1)
@@ -1547,9 +1544,8 @@ def test_a_study_can_take_the_constant_dynamic_friction():
     warning a worker raises named that switch. The answer is the steady engine's with the
     constant mu_d, to the bit, and differs from Eq. 11's (mu_d,eff < mu_d changes the thrust);
     the warning's remedy is said in the study file's terms."""
-    from contact.steady.engine import steady_state
-
     from contact.model import default_coupling
+    from contact.steady.engine import steady_state
     from lusm.commands.explore import in_study_terms
     from rom import table2
     from studies.explore import Drive, motor_answers
@@ -1586,9 +1582,8 @@ def test_a_one_plate_study_says_one_geometry(scheduler, tmp_path, capsys):
 def test_solver_rest_reaches_every_steady_call(monkeypatch):
     """[solver] rest = "transient" is the commands' --rest transient: the no-load point and
     both characteristics of a drive point take it."""
-    import contact.steady.engine
-
     import contact.characteristic
+    import contact.steady.engine
     from rom import table2
     from studies.explore import Drive, motor_answers
     from studies.study import Solver

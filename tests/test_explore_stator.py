@@ -178,17 +178,17 @@ def test_a_stators_mesh_bound_is_estimated_before_it_is_meshed(tmp_path, monkeyp
     """A plate whose gmsh mesh is far above the bound is refused from its area and element
     size, without meshing it (a 1000 mm plate at 0.067 mm was meshed for 29 s and 564 MB
     first)."""
-    import lusm.options
+    import fem.cell_count
 
     fine = _stator_with(tmp_path, "[damping]", "[mesh]\nsize_mm = 0.3\n\n[damping]")
-    count = lusm.options.fe_cell_count
+    count = fem.cell_count.fe_cell_count
 
     def only_small(plate, *args, **kwargs):
         if plate.length_m > 0.5:
             pytest.fail("the 1000 mm plate was meshed to count its elements")
         return count(plate, *args, **kwargs)
 
-    monkeypatch.setattr(lusm.options, "fe_cell_count", only_small)
+    monkeypatch.setattr(fem.cell_count, "fe_cell_count", only_small)
     with pytest.raises(ValueError, match=r"needs about \d+ 2D elements, above the limit"):
         study_from_dict({"study": {"stator": str(fine)}, "outputs": ["f_L1_short"],
                          "axes": {"length": ["25.6938 mm", "1000 mm"]}})
@@ -197,18 +197,18 @@ def test_a_stators_mesh_bound_is_estimated_before_it_is_meshed(tmp_path, monkeyp
 def _no_2d_mesh(monkeypatch, own_length_m: float):
     """Fail the test on a 2D planform mesh of any plate but the stator file's own (which
     reading the file meshes, to check it) or on an FE solve; the 1D boundary mesh of
-    fem.parametric.estimated_elements is allowed."""
+    fem.meshing.parametric.estimated_elements is allowed."""
+    import fem.meshing.parametric
     import fem.modes
-    import fem.parametric
 
-    made = fem.parametric._cached_mesh
+    made = fem.meshing.parametric._cached_mesh
 
     def only_the_files(stator):
         if stator.length_m != own_length_m:
             pytest.fail(f"the {stator.length_m * 1e3:g} mm plate's 2D mesh was made")
         return made(stator)
 
-    monkeypatch.setattr(fem.parametric, "_cached_mesh", only_the_files)
+    monkeypatch.setattr(fem.meshing.parametric, "_cached_mesh", only_the_files)
     monkeypatch.setattr(fem.modes, "plate_modes", lambda *a, **k: pytest.fail("FE solve"))
 
 
@@ -216,7 +216,7 @@ def _no_2d_mesh(monkeypatch, own_length_m: float):
 def test_a_stator_studys_fe_work_bound_meshes_only_where_the_estimate_cannot_decide(
         case, monkeypatch):
     """The study's FE work (its largest plate's elements x its plates) of a stator meshed by
-    gmsh is bounded from fem.parametric.estimated_elements' count, from the boundary alone,
+    gmsh is bounded from fem.meshing.parametric.estimated_elements' count, from the boundary alone,
     which is never high but up to ESTIMATE_LOW_FACTOR low: a study whose estimate is above
     the bound is refused, one that far below it accepted, neither meshing a plate; in between
     the largest plate is meshed and its real count decides, to the element x solve (the
@@ -224,7 +224,7 @@ def test_a_stator_studys_fe_work_bound_meshes_only_where_the_estimate_cannot_dec
     from dataclasses import replace
 
     import studies.study
-    from fem.parametric import ESTIMATE_LOW_FACTOR, estimated_elements, parametric_mesh
+    from fem.meshing.parametric import ESTIMATE_LOW_FACTOR, estimated_elements, parametric_mesh
     from fem.stator_file import load_stator
 
     base = load_stator(TUNED).stator
@@ -340,10 +340,10 @@ def test_a_range_gives_the_values_a_user_would_type():
 def test_the_mesh_bound_takes_the_feature_axes_at_their_largest(monkeypatch):
     """The largest tip and the smallest chamfer of the axes make the largest gmsh mesh (a
     30 mm tip on the axis was meshed at full size where lusm modes refuses that plate)."""
-    import fem.parametric
+    import fem.meshing.parametric
 
     seen = []  # the plates whose elements are counted (estimated, for a gmsh planform)
-    monkeypatch.setattr(fem.parametric, "estimated_elements",
+    monkeypatch.setattr(fem.meshing.parametric, "estimated_elements",
                         lambda plate: seen.append(plate) or 1)
     study_from_dict({"study": {"stator": str(TUNED)}, "outputs": ["f_L1_short"],
                      "axes": {"tip_length": ["0.4 mm", "2 mm"], "tip_width": ["1 mm", "2 mm"],
@@ -369,12 +369,12 @@ def test_a_tip_axis_on_a_stator_without_a_tip_needs_both_sizes(tmp_path):
 
 
 def test_an_unreadable_mesh_file_is_named_not_its_stator_file(monkeypatch):
-    import fem.mesh_io
+    import fem.meshing.mesh_io
 
     def denied(path, *args, **kwargs):
         raise PermissionError(13, "Permission denied", str(path))
 
-    monkeypatch.setattr(fem.mesh_io, "read_stator_mesh", denied)
+    monkeypatch.setattr(fem.meshing.mesh_io, "read_stator_mesh", denied)
     with pytest.raises(ValueError, match=r"chamfered.msh: Permission denied$"):
         study_from_dict({"study": {"stator": str(MESHED)}, "outputs": ["f_L1_short"]})
 
@@ -425,13 +425,13 @@ def test_the_study_bound_does_not_mesh_a_plate_its_task_refuses_as_too_wide(monk
     """A corner plate wider than long is refused by its task before any mesh
     (fem.modes.WidePlateError): the study's FE-work bound does not mesh it to count, even
     where its estimate lies in the band the others are meshed in (review)."""
-    import fem.parametric
+    import fem.meshing.parametric
     import studies.study
-    from fem.parametric import estimated_elements
+    from fem.meshing.parametric import estimated_elements
     from fem.stator_file import load_stator
 
     base = load_stator(TUNED).stator
-    made = fem.parametric._cached_mesh
+    made = fem.meshing.parametric._cached_mesh
     meshed = []
 
     def record(stator):
@@ -439,7 +439,7 @@ def test_the_study_bound_does_not_mesh_a_plate_its_task_refuses_as_too_wide(monk
         assert stator.width_m <= stator.overall_length_m, "a plate wider than long was meshed"
         return made(stator)
 
-    monkeypatch.setattr(fem.parametric, "_cached_mesh", record)
+    monkeypatch.setattr(fem.meshing.parametric, "_cached_mesh", record)
     from dataclasses import replace
 
     largest = estimated_elements(replace(base, length_m=30e-3, width_m=28e-3))

@@ -13,7 +13,7 @@ import scipy.linalg as sla
 from fem.capacitance import gap_cross_section, lateral_permittivity_F_m
 from fem.geometry import PlateStator
 from fem.material import plane_stress, pzt8
-from fem.mesh import structured_mesh
+from fem.meshing.mesh import structured_mesh
 from fem.model import GapValidityWarning, build_model, plate_model
 from fem.modes import modes_of_model, natural_frequencies_Hz, plate_modes
 
@@ -32,7 +32,7 @@ def test_2d_agrees_with_3d_on_the_default_plate():
     gives 0.118 against 0.122 converged). The earlier 2D model was 1.4 % off on B2 open and
     71 % on B2's k_eff.
     """
-    from fem.solid3d import solid_modes
+    from fem.solid3d.model import solid_modes
 
     r3 = solid_modes(PlateStator())
     r2 = plate_modes(PlateStator(), "pzt8", 2, 3)
@@ -244,8 +244,8 @@ def test_electrodes_set_back_from_the_edges_are_said_to_leave_the_2d_model():
     0.59 % and B2 1.23 % above the 3D model, B2 k_eff 18 % below, without a word. The share
     of the outline along such material decides: every edge here, 5 % for a protruding tip
     (examples/tip_protrusion), none on the generated plate."""
-    from fem.mesh import PlateMesh
-    from fem.meshed_stator import planform_mesh
+    from fem.meshing.mesh import PlateMesh
+    from fem.meshing.meshed_stator import planform_mesh
     from fem.model import (
         BORDER_SHARE,
         UnelectrodedBorderWarning,

@@ -1,4 +1,4 @@
-"""Stator geometry validation, structured meshes and mesh I/O (fem.geometry, fem.mesh)."""
+"""Stator geometry validation, structured meshes and mesh I/O (fem.geometry, fem.meshing.mesh)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator, reverse_drive
-from fem.mesh import PlateMesh, structured_mesh
-from fem.mesh_io import read_stator_mesh, write_mesh
+from fem.meshing.mesh import PlateMesh, structured_mesh
+from fem.meshing.mesh_io import read_stator_mesh, write_mesh
 
 
 @pytest.mark.parametrize("name", ["length_m", "width_m", "thickness_m"])
@@ -128,8 +128,8 @@ def test_broken_mesh_files_are_named_for_what_is_wrong(tmp_path):
     concatenate", and a NaN coordinate as the tip lying "off the mesh (x in [nan, nan])"
     or an infinite one as "this looks like millimetres" (exploratory testing)."""
     from fem.geometry import PlateStator
-    from fem.mesh import structured_mesh
-    from fem.mesh_io import write_mesh
+    from fem.meshing.mesh import structured_mesh
+    from fem.meshing.mesh_io import write_mesh
 
     (tmp_path / "adir").mkdir()
     with pytest.raises(ValueError, match="is a folder, not a file"):

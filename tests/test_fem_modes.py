@@ -15,7 +15,7 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import PlateStator
 from fem.material import get_material, plane_stress, pzt8
-from fem.mesh import structured_mesh
+from fem.meshing.mesh import structured_mesh
 from fem.model import build_model, plate_model
 from fem.modes import ModeSolverError, modes_of_model, natural_frequencies_Hz, plate_modes
 
@@ -143,7 +143,7 @@ def test_non_convergence_is_a_clear_error():
 
 
 def test_mesh_from_file_gives_the_same_modes(tmp_path):
-    from fem.mesh_io import read_stator_mesh, write_mesh
+    from fem.meshing.mesh_io import read_stator_mesh, write_mesh
 
     st = PlateStator()
     path = write_mesh(structured_mesh(st, 3), tmp_path / "plate.msh")
@@ -360,11 +360,11 @@ def test_a_plate_too_slender_for_an_l1_b2_pair_is_refused_before_any_fe_work(
     37 modes from L1, the solver searches 32. Every FE command now refuses it, and the 725 x
     1 mm plate (32 by beam theory), before any mesh is made, on one line naming the options
     and beam theory's reason."""
-    import fem.mesh
+    import fem.meshing.mesh
     import fem.model
     from lusm.cli import main
 
-    for module in (fem.mesh, fem.model):
+    for module in (fem.meshing.mesh, fem.model):
         monkeypatch.setattr(module, "structured_mesh",
                             lambda *a, **k: pytest.fail("a mesh was made"))
     for length, nearer, ratio in (("1000", 37, 176.5), ("725", 32, 128.0)):
@@ -503,13 +503,13 @@ def test_a_plate_wider_than_long_is_refused_before_any_fe_work(capsys, monkeypat
     plate wider than long is refused before its mesh, in the library and on one line naming
     the options typed; a sweep refuses only when even its narrowest plate is too wide, and
     otherwise solves the rest, its wide plates failing alone."""
-    import fem.mesh
+    import fem.meshing.mesh
     import fem.model
     from fem.modes import WidePlateError
     from lusm.cli import main
 
     with monkeypatch.context() as m:
-        for module in (fem.mesh, fem.model):
+        for module in (fem.meshing.mesh, fem.model):
             m.setattr(module, "structured_mesh", lambda *a, **k: pytest.fail("a mesh was made"))
         with pytest.raises(WidePlateError, match=r"^a 1 x 1000 mm plate is wider than long"):
             plate_modes(PlateStator(length_m=1e-3, width_m=1.0))

@@ -1,20 +1,19 @@
 """The branch a start from rest reaches: the full model's run out of the slider's ripple zone
-and the averaged sheet it is on (contact.from_rest), each case against a transient from rest."""
+and the averaged sheet it is on (contact.steady.from_rest), each case against a transient from
+rest."""
 
 import math
 
 import pytest
 
-from contact import from_rest
-from contact.from_rest import PROBE_PERIODS, probe_from_rest
-from contact.full_orbit import full_system
 from contact.model import OperatingPoint, resolve_coupling
-from contact.steady import (
-    REST_TRANSIENT_PERIODS,
-    slow_problem,
-    steady_state,
-    transient_reference,
-)
+from contact.steady import from_rest
+from contact.steady.engine import steady_state
+from contact.steady.exact import REST_TRANSIENT_PERIODS
+from contact.steady.from_rest import PROBE_PERIODS, probe_from_rest
+from contact.steady.full_orbit import full_system
+from contact.steady.settled import transient_reference
+from contact.steady.slow import slow_problem
 from rom import table2
 
 
@@ -159,7 +158,7 @@ def test_simulate_steady_takes_rest_too(capsys, beam_miss_ref):
     # transient's value, as lusm map and lusm characteristic do
     import json
 
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
     from lusm.cli import main
 
     argv = ["simulate", "--source", "beam", "--voltage", "1000", "--preload", "10",

@@ -28,7 +28,7 @@ FE_PINS_HZ = {
 @pytest.fixture(scope="module")
 def fe_modes():
     from fem.geometry import PlateStator
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import plate_modes
 
     return plate_modes(PlateStator(), "pzt8", 2, DEFAULT_REFINE)

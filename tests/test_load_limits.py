@@ -13,7 +13,10 @@ import pytest
 
 from contact.model import GRAVITY_M_S2, OperatingPoint
 from contact.simulate import simulate
-from contact.steady import holding_range_N, slow_problem, steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.runaway import holding_range_N
+from contact.steady.settled import transient_reference
+from contact.steady.slow import slow_problem
 from lusm.cli import main
 from rom import table2
 
@@ -39,7 +42,7 @@ def test_undriven_slider_dragged_past_static_friction_accelerates_as_coulomb_say
     # (F - mu_d F_P - mu_sd (F_P + M g)) / M (Eq. 11 leaves mu_d as it is without vibration)
     p, fp, load = params, 14.0, 10.0
     assert load > p.mu_s * fp + p.mu_sd * (fp + p.M_slider * GRAVITY_M_S2)
-    from contact.steady import RunawayWarning
+    from contact.steady.runaway import RunawayWarning
 
     with pytest.warns(RunawayWarning, match="static friction"):  # and it says so
         v = [simulate(p, 0.0, fp, load_N=load, duration_s=d).steady.velocity_m_s
@@ -231,7 +234,7 @@ def test_a_motion_without_a_short_period_is_a_long_mean_with_its_error(params, c
 def test_a_slow_orbit_far_from_the_averaged_root_is_found_on_the_full_model():
     # FE set at 293.6 V / 24.12 N, helped forward by 1.15 N: the averaged root is 8 % faster
     # than the full model's period-1 orbit, which a start from rest reaches. Until the event
-    # landing stepped past roundoff-level zeros (contact.event_kernel._land) the orbit's
+    # landing stepped past roundoff-level zeros (contact.transient.event_kernel._land) the orbit's
     # period map was noisy and shooting failed: the point read as "no short period" beside
     # an unconfirmed averaged branch
     from rom.sources import get_params
@@ -286,7 +289,7 @@ def test_the_library_transient_says_when_the_slider_runs_away(params):
     with the holding range the steady engine refuses beyond; a load inside it is quiet."""
     import warnings
 
-    from contact.steady import RunawayWarning
+    from contact.steady.runaway import RunawayWarning
 
     with pytest.warns(RunawayWarning, match=r"load_N = 1000 N is beyond .* runs away backward"):
         r = simulate(params, 200, 14, load_N=1000, duration_s=0.01)
@@ -310,7 +313,7 @@ def test_an_undriven_tip_broken_free_by_its_load_runs_away_below_static_friction
     which starts from rest too, refuses that load."""
     import warnings
 
-    from contact.steady import RunawayWarning
+    from contact.steady.runaway import RunawayWarning
 
     p, fp = params, 14.0
     guide = p.mu_sd * (fp + p.M_slider * GRAVITY_M_S2)

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from contact.drive import free_tip_amplitudes
-from contact.steady import steady_state
+from contact.steady.engine import steady_state
 from fem.stator_file import load_stator
 from lusm.cli import main
 from rom.from_fem import design_base, fem_params, fem_params_from_file

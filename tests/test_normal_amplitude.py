@@ -7,7 +7,7 @@ import pytest
 
 from contact.drive import auto_frequency
 from contact.model import OperatingPoint, linear_normal_amplitude
-from contact.simulate import normal_amplitude
+from contact.transient.pre_pass import normal_amplitude
 from rom import table2
 from rom.sources import get_params
 
@@ -88,19 +88,19 @@ def test_a_long_pre_pass_is_bounded_and_computed_once():
     A characteristic asks for A_N at every load: the pre-pass runs once per point."""
     from dataclasses import replace
 
-    from contact import simulate as sim
     from contact.characteristic import characteristic
+    from contact.transient import pre_pass
 
     p = table2()
     light = replace(p, C_l=p.C_l * 1e-4)
     op = OperatingPoint(2000.0, 0.02, 1000.0)
     assert linear_normal_amplitude(light, op) is None
-    periods = sim.pre_pass_periods(light, op)
-    assert periods * op.period_s / 1e-7 > sim.MAX_PRE_PASS_STEPS
+    periods = pre_pass.pre_pass_periods(light, op)
+    assert periods * op.period_s / 1e-7 > pre_pass.MAX_PRE_PASS_STEPS
     a = normal_amplitude(light, op, 1e-7)
-    assert a == normal_amplitude(light, op, op.period_s / sim.PRE_PASS_STEPS_PER_PERIOD)
-    sim._pre_pass.cache_clear()
+    assert a == normal_amplitude(light, op, op.period_s / pre_pass.PRE_PASS_STEPS_PER_PERIOD)
+    pre_pass._pre_pass.cache_clear()
     characteristic(p, 400.0, 14.0, loads_N=[0.0, 0.1, 0.2], frequency_Hz=40e3,
                    coupling="paper")  # the exact level: 49 asks at this separating point
-    info = sim._pre_pass.cache_info()
+    info = pre_pass._pre_pass.cache_info()
     assert info.misses == 1 and info.hits >= 3

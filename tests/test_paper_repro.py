@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from contact.simulate import SimulationOptions, simulate
+from contact.options import SimulationOptions
+from contact.simulate import simulate
 from rom import table2
 from validation.paper_repro import ReproSettings, reproduce
 

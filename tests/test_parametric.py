@@ -1,4 +1,4 @@
-"""Parametric stators (fem.parametric, meshed by gmsh): the same geometry as the mesh-file
+"""Parametric stators (fem.meshing.parametric, meshed by gmsh): the same geometry as the mesh-file
 examples gives the same modes, holes remove exactly their mass, bad feature values are
 refused in one line naming the key, and headers keep the plate and the tip apart."""
 
@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
+from fem.meshing.parametric import ParametricStator, parametric_mesh
 from fem.model import gap_layout, plate_model
 from fem.modes import plate_modes
-from fem.parametric import ParametricStator, parametric_mesh
 from fem.stator_file import load_stator, parse_stator
 from lusm.cli import main
 
@@ -363,7 +363,7 @@ def test_meshing_keeps_the_sigterm_handler(tmp_path):
             for line in open("/proc/self/status"):
                 if line.startswith("SigCgt"):
                     return bool(int(line.split()[1], 16) & (1 << (signal.SIGTERM - 1)))
-        from fem.parametric import ParametricStator, parametric_mesh
+        from fem.meshing.parametric import ParametricStator, parametric_mesh
         before = caught()
         parametric_mesh(ParametricStator(tip_length_m=1e-3, tip_width_m=2e-3))
         print(before, caught())
@@ -379,7 +379,7 @@ def test_a_tip_point_off_the_mesh_by_roundoff_is_probed_on_it():
     scikit-fem's probe raised "Point is outside of the mesh." for params, simulate and
     characteristic (72 such length/tip pairs between 20-45 mm and 0.5-2 mm). The probe
     there equals the one at the mesh's own edge."""
-    from fem.parametric import ParametricStator
+    from fem.meshing.parametric import ParametricStator
 
     st = ParametricStator(length_m=35e-3, width_m=9.4928e-3, thickness_m=2.5e-3,
                           electrode_gap_m=0.3e-3, tip_length_m=1e-3, tip_width_m=2.5e-3)
@@ -425,7 +425,7 @@ def test_holes_that_2d_gets_wrong_are_said_so(tmp_path, capsys):
     of the hole over the plain plate's own is what the warning is about), and a hole the rule
     lets pass (0.5 mm in a 1.5 mm plate: extra 0.02-0.03 % with three layers,
     benchmarks/fem_holes_2d_3d.py) gets no warning."""
-    from fem.parametric import ParametricStator
+    from fem.meshing.parametric import ParametricStator
     from fem.plane_stress_error import plane_stress_error
 
     def extra(h_m, d_m):
@@ -483,7 +483,7 @@ def test_the_mesh_estimate_from_the_boundary_is_close_and_not_high(stator, most)
     """The estimate that bounds the gmsh mesh before it is made, against the mesh itself:
     never high (it must not refuse a mesh within the bound), close on a fine mesh, low on a
     dense cluster of holes (gmsh grades their sizes more slowly than linearly)."""
-    from fem.parametric import estimated_elements
+    from fem.meshing.parametric import estimated_elements
 
     ratio = parametric_mesh(stator, cached=False).n_elements / estimated_elements(stator)
     assert 1.0 <= ratio <= most
@@ -493,7 +493,7 @@ def test_the_mesh_estimate_from_the_boundary_is_close_and_not_high(stator, most)
 def test_a_dense_cluster_of_tiny_holes_is_refused_before_its_2d_mesh(monkeypatch):
     """64 holes of 0.01 mm had been meshed for more than ten minutes (1.1 GB) before the
     element count refused them (found by exploratory testing)."""
-    import fem.parametric as fp
+    import fem.meshing.parametric as fp
 
     made = []
     real = fp._gmsh_mesh

@@ -28,14 +28,14 @@ MESHED = '[plate]\nthickness_mm = 3\n[mesh]\nfile = "{mesh}"\n'
 
 def _plate_mesh():
     from fem.geometry import PlateStator
-    from fem.mesh import structured_mesh
+    from fem.meshing.mesh import structured_mesh
 
     m = structured_mesh(PlateStator(), 2)
     return m.points_m.T.copy(), m.quads.T.copy(), m.electrode.copy()
 
 
 def _msh(folder: Path, name: str, pts, quads, tags) -> str:
-    from fem.mesh_io import write_stator_msh
+    from fem.meshing.mesh_io import write_stator_msh
 
     write_stator_msh(folder / name, pts, {"quad": quads}, {"quad": tags})
     return name
@@ -101,7 +101,7 @@ def _meshes(folder: Path) -> dict[str, str]:
     out["tip_far_mesh"] = str(folder / "tip_far.toml")
     # the mesh's own 'tip' vertex on a node no cell uses: named as "[points] tip_mm" in a
     # file without [points]
-    from fem.mesh_io import write_stator_msh
+    from fem.meshing.mesh_io import write_stator_msh
 
     write_stator_msh(folder / "tip_vertex_far.msh", np.vstack((pts, [[0.0, 0.04]])),
                      {"quad": quads}, {"quad": tags}, {"tip": len(pts)})
@@ -478,7 +478,7 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("explore-missing-study", ["explore", "{missing}", "--out", "r.nc"], ["missing.toml"]),
     ("explore-stator-as-study", ["explore", "{plate}", "--out", "r.nc"],
      ["plate is not a study section"]),
-    # parametric stator files (fem.parametric, meshed by gmsh)
+    # parametric stator files (fem.meshing.parametric, meshed by gmsh)
     ("modes-tip-too-long", ["modes", "--geometry", "{tip_too_long}"],
      ["--geometry", "[tip] length_mm", "(0, 30]"]),
     ("modes-tip-no-width", ["modes", "--geometry", "{tip_no_width}"],

@@ -1,4 +1,4 @@
-"""3D piezoelastic reference model (fem.solid3d): matrices, rigid modes, 2D vs 3D limits."""
+"""3D piezoelastic reference model (fem.solid3d.model): matrices, rigid modes, 2D vs 3D limits."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 from fem.geometry import PlateStator
 from fem.modes import plate_modes
-from fem.solid3d import build_solid_model, solid_frequencies_Hz, solid_model, solid_modes
+from fem.solid3d.model import build_solid_model, solid_frequencies_Hz, solid_model, solid_modes
 from lusm.cli import main
 
 COARSE = {"refine": 2, "layers": 2}
@@ -131,7 +131,7 @@ def test_edge_grading_refines_at_the_electrode_edges():
     each edge, a layer g below the top face; B2's k_eff, underestimated by uniform meshes
     (one element across the gap, where the potential is singular), rises towards the graded
     value (0.118 on the default mesh, 0.1245 with three grading levels, docs/fem3d.md)."""
-    from fem.solid3d import modes_of_solid_model
+    from fem.solid3d.model import modes_of_solid_model
 
     st = PlateStator()
     m0 = build_solid_model(st, "pzt8", 2, 2, 1)
@@ -168,7 +168,7 @@ def test_an_ungraded_mesh_across_a_narrow_gap_is_said_so(capsys):
     silent. A narrower gap failed with an open-circuit pairing error blaming the plate."""
     import json
 
-    from fem.solid3d import gap_element_ratio
+    from fem.solid3d.model import gap_element_ratio
     from lusm.cli import main
 
     assert gap_element_ratio(PlateStator(), 3, 3) < 10 < gap_element_ratio(
@@ -191,7 +191,7 @@ def test_affine_probes_match_scikit_fem_and_rescue_a_micrometre_gap_in_3d():
     (found by exploratory testing). The affine inverse agrees with scikit-fem's where that
     converges, and the frequencies run on smoothly from 1.8 um, which scikit-fem solved."""
     from fem.model import affine_probes
-    from fem.solid3d import modes_of_solid_model, solid_model
+    from fem.solid3d.model import modes_of_solid_model, solid_model
 
     m = solid_model()
     rng = np.random.default_rng(1)

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
-from fem.mesh import PlateMesh, structured_mesh
-from fem.mesh_io import read_stator_mesh, write_mesh
-from fem.meshed_stator import MeshedStator
+from fem.meshing.mesh import PlateMesh, structured_mesh
+from fem.meshing.mesh_io import read_stator_mesh, write_mesh
+from fem.meshing.meshed_stator import MeshedStator
 from fem.plane_stress_error import plane_stress_error
-from fem.solid3d import build_solid_model, extruded_hex_mesh, modes_of_solid_model
+from fem.solid3d.model import build_solid_model, extruded_hex_mesh, modes_of_solid_model
 from fem.stator_file import load_stator
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -134,7 +134,7 @@ def test_graded_layers_bring_a_narrow_gap_planform_towards_2d(capsys):
     second level changes it by less than 1e-3 (converged in the layers), the warning says
     so before and the ratio counts the grading."""
     from fem.modes import plate_modes
-    from fem.solid3d import gap_element_ratio, planform_layer_lines, solid_modes
+    from fem.solid3d.model import gap_element_ratio, planform_layer_lines, solid_modes
 
     base = PlateStator(electrode_gap_m=0.1e-3)
     st = _meshed(base, structured_mesh(base, 3))
@@ -156,7 +156,7 @@ def test_holes_on_the_centre_line_keep_the_3d_sampling(tmp_path):
     outline, inside the nominal circle test but outside the mesh's polygonal edges. They are
     dropped as in 2D; every kept point is one scikit-fem locates at all three levels."""
     from fem.modes import locatable
-    from fem.solid3d import _sampling3d
+    from fem.solid3d.model import _sampling3d
 
     (tmp_path / "hc.toml").write_text(
         'name = "holes on the centre line"\n[plate]\nlength_mm = 30.0\nwidth_mm = 7.5\n'

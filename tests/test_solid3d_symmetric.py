@@ -1,4 +1,4 @@
-"""Quarter-plate 3D model (fem.solid3d_symmetric) against the full 3D model."""
+"""Quarter-plate 3D model (fem.solid3d.symmetric) against the full 3D model."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
-from fem.grid_ordering import nested_dissection_rank
-from fem.solid3d import build_solid_model, modes_of_solid_model
-from fem.solid3d_symmetric import (
+from fem.solid3d.grid_ordering import nested_dissection_rank
+from fem.solid3d.model import build_solid_model, modes_of_solid_model
+from fem.solid3d.symmetric import (
     MODE_CLASSES,
     build_quarter_model,
     mirrored_grid_lines,
@@ -102,7 +102,7 @@ def test_cli_graded_3d_uses_the_quarter_model_with_the_full_models_results(capsy
     # a graded mesh of the plain plate already has lines on both symmetry planes, so
     # `lusm modes --model 3d --edge-grading K` solves the quarter and must print the full
     # model's numbers
-    from fem.solid3d import solid_modes
+    from fem.solid3d.model import solid_modes
     from lusm.cli import main
 
     args = ["modes", "--model", "3d", "--refine", "2", "--layers", "1", "--edge-grading", "1",

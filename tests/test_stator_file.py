@@ -1,4 +1,4 @@
-"""Stator TOML files and planform mesh import (fem.stator_file, fem.mesh_io)."""
+"""Stator TOML files and planform mesh import (fem.stator_file, fem.meshing.mesh_io)."""
 
 from __future__ import annotations
 
@@ -13,9 +13,9 @@ import pytest
 
 from fem.geometry import PlateStator
 from fem.material import pzt8
-from fem.mesh import structured_mesh
-from fem.mesh_io import read_stator_mesh, write_mesh, write_stator_msh
-from fem.meshed_stator import MeshedStator
+from fem.meshing.mesh import structured_mesh
+from fem.meshing.mesh_io import read_stator_mesh, write_mesh, write_stator_msh
+from fem.meshing.meshed_stator import MeshedStator
 from fem.model import build_model
 from fem.modes import modes_of_model, plate_modes
 from fem.stator_file import load_stator
@@ -368,7 +368,7 @@ def test_electrode_tags_must_be_the_quadrants_of_fig1(tmp_path, relabel, match):
                          {"quad": tags})
     with pytest.raises(ValueError, match=match):
         read_stator_mesh(p)
-    from fem.mesh import PlateMesh
+    from fem.meshing.mesh import PlateMesh
     from fem.model import gap_layout
 
     with pytest.raises(ValueError, match=match):
@@ -553,7 +553,7 @@ def _gmsh_quadrants(path, version, groups, save_all):
     ``version`` with or without the electrode physical groups and with ``Mesh.SaveAll``."""
     import gmsh
 
-    from fem.parametric import _initialize_keeping_signals
+    from fem.meshing.parametric import _initialize_keeping_signals
 
     _initialize_keeping_signals(gmsh)
     try:
@@ -688,7 +688,7 @@ def test_a_msh41_surface_in_two_physical_groups_is_refused(tmp_path):
     """MSH 4.1 ties physical tags to entities and meshio keeps one per entity: a surface in
     both electrode1 and gap ran as one of them without a word (MSH 2.2 writes its cells
     twice, which the duplicated-cell check refuses)."""
-    from fem.mesh_io import read_stator_mesh
+    from fem.meshing.mesh_io import read_stator_mesh
 
     _, _, path = _plate_msh(tmp_path)
     text = path.read_text()

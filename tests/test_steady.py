@@ -2,7 +2,8 @@
 
 import pytest
 
-from contact.steady import steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.settled import transient_reference
 from rom import table2
 
 # the averaged (M -> infinity) velocity differs from the 0.2 kg slider's by O(1/M): measured
@@ -61,7 +62,7 @@ def test_spectral_radius_of_the_mechanical_block_is_the_whole_generators(params,
     import numpy as np
 
     from contact.model import OperatingPoint, build_system
-    from contact.periodic_orbit import fast_system, spectral_radius
+    from contact.steady.periodic_orbit import fast_system, spectral_radius
 
     op = OperatingPoint(400.0, 14.0, 40e3, load_N)
     for a in (build_system(params, op, params.mu_d).A,
@@ -94,7 +95,7 @@ def test_the_lowest_steady_frequency_is_where_the_step_count_crosses_its_bound(
     not, on the count the engine refuses by (about 14.93 Hz on Table 2's set)."""
     from decimal import Decimal
 
-    from contact.steady import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
+    from contact.steady.slow import MAX_STEPS_PER_PERIOD, lowest_frequency_Hz, steps_per_period
     from rom.sources import get_params
 
     p = get_params(source)
@@ -111,8 +112,8 @@ def test_the_lowest_steady_frequency_is_where_the_step_count_crosses_its_bound(
 def test_steps_per_period_is_the_fast_systems_count(params):
     # steps_per_period counts without the propagators; the engine counts with them
     from contact.model import OperatingPoint
-    from contact.periodic_orbit import fast_system
-    from contact.steady import steps_per_period
+    from contact.steady.periodic_orbit import fast_system
+    from contact.steady.slow import steps_per_period
 
     for f in (10.0, 14.93, 1e3, 40e3):
         fs = fast_system(params, OperatingPoint(0.0, 0.0, f), params.mu_d)
@@ -121,7 +122,7 @@ def test_steps_per_period_is_the_fast_systems_count(params):
 
 def test_a_drive_below_the_lowest_steady_frequency_is_refused_with_it(params):
     from contact.model import OperatingPoint
-    from contact.steady import slow_problem
+    from contact.steady.slow import slow_problem
 
     with pytest.raises(ValueError, match=r"29846 steps per drive period, above 20000 .*; it "
                        r"takes frequency_Hz >= 14.93 Hz here"):

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from contact.characteristic import characteristic
-from contact.steady import steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.settled import transient_reference
 from rom import table2
 
 
@@ -96,8 +97,9 @@ def test_transient_energy_balance_closes_with_a_load(params):
     # the load enters the slider's guide/load force rows, so the work-energy balance of the
     # transient must still close
     from contact.model import OperatingPoint
-    from contact.simulate import SimulationOptions, solve_event
-    from contact.window import run_window
+    from contact.options import SimulationOptions
+    from contact.transient.event import solve_event
+    from contact.transient.window import run_window
 
     op = OperatingPoint(400, 14, 40e3, 1.0)
     opts = SimulationOptions(duration_s=0.01, energy=True)
@@ -168,7 +170,7 @@ def test_a_motor_driving_backward_has_the_mirrored_characteristic(params, accura
     assert back.no_load_velocity_m_s == pytest.approx(-fwd.no_load_velocity_m_s, rel=1e-8)
     np.testing.assert_allclose(back.load_N, -fwd.load_N, rtol=rel, atol=1e-12)
     # the curve itself at the mirrored loads exactly: the mirrored motor's orbit at 0+ is the
-    # original's at 0-, 2e-9 m/s of drift away (contact.steady.branches_at_load), which the
+    # original's at 0-, 2e-9 m/s of drift away (contact.steady.branches.branches_at_load), which the
     # steep curve near stall turns into about 2e-9 m/s
     back = characteristic(mirrored, 400, 14, -fwd.load_N, accuracy=accuracy, coupling="paper")
     np.testing.assert_allclose(back.velocity_m_s, -fwd.velocity_m_s, rtol=1e-7, atol=5e-9)
@@ -198,7 +200,7 @@ def test_efficiency_is_defined_only_where_the_motor_delivers_work(params):
     assert c.output_power_W[0] < 0 and c.output_power_W[2] < 0
     assert 0 < c.efficiency[1] < 1
     # a steady branch says the same (SteadyBranch.efficiency was -0.057 at 3.5 N)
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     for load, defined in ((3.5, False), (0.5, True)):
         b = steady_state(params, 400, 14, load_N=load, accuracy="fast").from_rest
@@ -231,7 +233,7 @@ def test_the_library_answers_at_the_clis_level_by_default():
     library and 1.014 N from `lusm characteristic` (found by review)."""
     import inspect
 
-    from contact.steady import steady_state as ss
+    from contact.steady.engine import steady_state as ss
 
     assert inspect.signature(ss).parameters["accuracy"].default == "exact"
     assert inspect.signature(characteristic).parameters["accuracy"].default == "exact"
@@ -290,7 +292,7 @@ def test_a_creep_band_is_a_creep_not_thrust_on_another_branch(capsys):
     from contact.characteristic import CREEP_RIPPLES
     from contact.model import OperatingPoint, resolve_coupling
     from contact.simulate import simulate
-    from contact.steady import ripple_scale, slow_problem
+    from contact.steady.slow import ripple_scale, slow_problem
     from lusm.cli import main
 
     p, f = _designer_set(TUNED_60K)

@@ -40,7 +40,7 @@ def test_characteristic_json_curve_is_consistent(capsys):
 def test_the_default_characteristic_is_what_a_start_from_rest_reaches(capsys):
     """At 30 kHz the averaged (fast) level's only branch runs at 0.0124 m/s while the motor
     started from rest creeps at 1.1e-4 m/s: the default must give the motor's value."""
-    from contact.steady import transient_reference
+    from contact.steady.settled import transient_reference
     from rom import table2
 
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--frequency",
@@ -135,7 +135,7 @@ def test_map_takes_the_sets_own_frequency(capsys):
     # --frequency auto, as simulate and characteristic take it: the beam set's resonances lie
     # far above 40 kHz; the map's point equals the steady state at that frequency
     from contact.drive import auto_frequency
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom.sources import get_params
 
     assert main(["map", "--source", "beam", "--frequency", "auto", "--voltages", "200",
@@ -156,7 +156,8 @@ def test_steady_commands_do_not_check_the_transients_step(capsys, frequency_Hz):
     # under 10 periods at 100 Hz and the default --dt (1e-7 s) over 1/(20 f) at 1 MHz, which
     # refused these drives though nobody typed either option. The answer is a transient's
     # at a step and length valid there (far from resonance the slider stays held)
-    from contact.simulate import SimulationOptions, simulate
+    from contact.options import SimulationOptions
+    from contact.simulate import simulate
     from rom import table2
 
     freq = f"{frequency_Hz:g}"
@@ -337,7 +338,7 @@ def test_a_held_slider_ringing_about_rest_is_settled(capsys):
 
 def test_a_nan_efficiency_is_explained(capsys):
     """A load that assists the motion (-0.2 N) has negative output power and efficiency
-    NaN (contact.steady.motor_efficiency); the table printed 'nan' without a word."""
+    NaN (contact.steady.branches.motor_efficiency); the table printed 'nan' without a word."""
     from lusm.cli import main
 
     assert main(["characteristic", "--voltage", "200", "--preload", "14", "--loads",
@@ -359,9 +360,10 @@ def test_simulate_steady_names_the_stable_branches_a_start_from_rest_does_not_re
     (docs/steady.md): a one-point answer names it, with the velocity a settled transient
     started on that branch keeps; at 200 V / 14 N there is one branch and no word."""
     from contact import state as S
-    from contact.full_orbit import full_system, run_periods
     from contact.model import OperatingPoint
-    from contact.steady import slow_problem, steady_state
+    from contact.steady.engine import steady_state
+    from contact.steady.full_orbit import full_system, run_periods
+    from contact.steady.slow import slow_problem
     from rom import table2
 
     assert main(["simulate", "--voltage", "150", "--preload", "14", "--steady", "--json"]) == 0
@@ -404,7 +406,7 @@ def test_an_undriven_characteristic_says_why_it_has_no_holding_range(capsys):
     """0 V / 14 N: holding_range_N is NaN (the tip sticks at the scan's ends) and the text
     had simply left the line out (found by exploratory testing); the loads beyond the tip's
     sliding friction run away from rest, as the transient says."""
-    from contact.steady import stiction_hold_N
+    from contact.steady.runaway import stiction_hold_N
     from rom import table2
 
     assert main(["characteristic", "--voltage", "0", "--preload", "14", "--loads",

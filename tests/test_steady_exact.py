@@ -4,7 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from contact.steady import steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.settled import transient_reference
 from rom import table2
 
 
@@ -48,7 +49,7 @@ def test_coexisting_branches_at_150_V_14_N(params):
 def test_adapter_for_the_simulate_method_table(params, monkeypatch):
     import contact.simulate as cs
 
-    monkeypatch.setitem(cs.METHODS, "steady", "contact.steady:solve_steady")
+    monkeypatch.setitem(cs.METHODS, "steady", "contact.steady.engine:solve_steady")
     r = cs.simulate(params, 400, 14, method="steady")
     v_t, motion_t = transient_reference(params, 400, 14, duration_s=0.3)
     assert r.steady.velocity_m_s == pytest.approx(v_t, rel=1e-5)
@@ -79,9 +80,10 @@ def test_a_held_orbit_beside_a_creep_from_rest_is_a_branch(params):
     the engine reported the creep alone. Independent checks: the transient from rest creeps
     at the reported speed, and the full model started on the held orbit stays held over
     10 000 periods of plain integration."""
-    from contact.full_orbit import full_system, run_periods, shoot
     from contact.model import OperatingPoint
-    from contact.steady import REST_TRANSIENT_PERIODS, slow_problem
+    from contact.steady.exact import REST_TRANSIENT_PERIODS
+    from contact.steady.full_orbit import full_system, run_periods, shoot
+    from contact.steady.slow import slow_problem
 
     f = 40414.0
     r = steady_state(params, 252, 25.64, frequency_Hz=f, accuracy="exact")
@@ -111,9 +113,9 @@ def test_a_slower_orbit_the_averaging_cannot_see_catches_the_start_from_rest():
     a start from rest settles on a stick-slip orbit at less than half that speed. The
     reference is the transient from rest. The scan misses that orbit's sheet of the slow
     equation; the full model's run out of the slider's ripple zone finds it and follows it
-    to its root (contact.from_rest), without the transient of REST_TRANSIENT_PERIODS."""
+    to its root (contact.steady.from_rest), without the transient of REST_TRANSIENT_PERIODS."""
     from contact.drive import auto_frequency
-    from contact.from_rest import PROBE_PERIODS
+    from contact.steady.from_rest import PROBE_PERIODS
     from rom.from_fem import fem_params_from_file
 
     p = fem_params_from_file(TUNED_60K)
@@ -172,10 +174,10 @@ def test_a_shot_reports_the_least_period_of_the_orbit_it_converged_to(params):
     means, and the coexisting period-2 orbit at 150 V / 14 N keeps k = 2 (its two periods
     differ: the transient from rest repeats after two, not one)."""
     from contact import state as S
-    from contact.full_orbit import full_system, shoot
     from contact.model import OperatingPoint
     from contact.simulate import simulate
-    from contact.steady import slow_problem
+    from contact.steady.full_orbit import full_system, shoot
+    from contact.steady.slow import slow_problem
 
     sp = slow_problem(params, OperatingPoint(200, 14, 40000.0), accuracy="exact")
     v = steady_state(params, 200, 14, energy=False).velocity_m_s

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from contact.maps import stick_slip_map
-from contact.steady import transient_reference
+from contact.steady.settled import transient_reference
 from rom import table2
 
 

@@ -10,12 +10,15 @@ chosen again from the unchanged state, at the same instant, until the switch lim
 import numpy as np
 import pytest
 
-from contact import event_kernel as ek
 from contact import state as S
 from contact.errors import ChatteringError
-from contact.full_orbit import full_system, run_periods
 from contact.model import OperatingPoint
-from contact.steady import REST_TRANSIENT_PERIODS, slow_problem, steady_state, transient_reference
+from contact.steady.engine import steady_state
+from contact.steady.exact import REST_TRANSIENT_PERIODS
+from contact.steady.full_orbit import full_system, run_periods
+from contact.steady.settled import transient_reference
+from contact.steady.slow import slow_problem
+from contact.transient import event_kernel as ek
 from rom.from_fem import fem_params_from_file
 from tests.conftest import ROOT
 

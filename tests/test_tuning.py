@@ -202,7 +202,7 @@ def test_meshed_stator_is_refused():
 @pytest.mark.slow
 def test_fixed_length_3d():
     """3D, coarse mesh: the length is kept and L1 = B2 when re-solved on the same mesh."""
-    from fem.solid3d import build_solid_model, modes_of_solid_model
+    from fem.solid3d.model import build_solid_model, modes_of_solid_model
 
     # start at the 2D crossing width (as a designer would): fewer 3D solves
     d = tune_plate(fix="length", start=PlateStator(length_m=35e-3, width_m=9.5e-3), model="3d",

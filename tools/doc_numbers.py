@@ -196,7 +196,7 @@ class Claim:
 
 def _mean_normal_force(voltage_V: float, preload_N: float) -> float:
     """The period mean of F_N (N) on the orbit a start from rest reaches (Table 2's set)."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     return steady_state(_table2(), voltage_V, preload_N, energy=False).from_rest.mean_FN_N
 
@@ -279,7 +279,7 @@ def _coupling_claims() -> tuple[Claim, ...]:
 def _fe2d():
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import plate_modes
 
     return plate_modes(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
@@ -301,7 +301,7 @@ def _beam():
 
 @cache
 def _fe_precision():
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from validation.work_precision import fe_work_precision
 
     # best of 5: one timing of the default mesh (tens of ms) moved the ratio from 4 to 10
@@ -328,7 +328,7 @@ def _render_measures() -> dict[str, float]:
 def _fe2d_model():
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.model import plate_model
 
     return plate_model(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
@@ -364,7 +364,7 @@ def _tuned_fixed_length(model: str = "2d"):
 def _fixed_length_checks() -> dict[str, float]:
     """The 2D fixed-length design re-solved on a finer 2D mesh and on the default 3D mesh."""
     from fem.modes import plate_modes
-    from fem.solid3d import solid_modes
+    from fem.solid3d.model import solid_modes
 
     st = _tuned_fixed_length("2d").stator
     fine, solid = plate_modes(st, refine=8), solid_modes(st)
@@ -393,11 +393,11 @@ def _gap_keff(model: str, gap_mm: float, refine: int | None = None,
 
     stator = PlateStator(electrode_gap_m=gap_mm * 1e-3)
     if model == "2d":
-        from fem.mesh import DEFAULT_REFINE
+        from fem.meshing.mesh import DEFAULT_REFINE
         from fem.modes import plate_modes
 
         return plate_modes(stator, get_material("pzt8"), 2, DEFAULT_REFINE).B2.k_eff
-    from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+    from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
     return solid_modes(stator, get_material("pzt8"), 2, refine or DEFAULT_REFINE_3D,
                        layers or DEFAULT_LAYERS).B2.k_eff
@@ -408,7 +408,7 @@ def _gap_keff(model: str, gap_mm: float, refine: int | None = None,
 def _fe2d_no_inertia():
     """The default 2D plate without the thickness inertia of docs/fem.md 1.3."""
     from fem.geometry import PlateStator
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import plate_modes
 
     return plate_modes(PlateStator(), "pzt8", 2, DEFAULT_REFINE, thickness_inertia=False)
@@ -445,7 +445,7 @@ def _map_counts(ultrasonic_friction: bool = True, coupling: str = "paper") -> di
     import numpy as np
 
     from contact.maps import stick_slip_map
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     m = stick_slip_map(_table2(), np.arange(50.0, 451.0, 50.0), np.arange(10.0, 27.0, 2.0),
                        options=SimulationOptions(ultrasonic_friction=ultrasonic_friction,
@@ -594,8 +594,8 @@ def _designer_numbers() -> dict[str, float]:
     import numpy as np
 
     from fem.geometry import PlateStator
-    from fem.mesh_io import read_stator_mesh, write_stator_msh
-    from fem.meshed_stator import MeshedStator
+    from fem.meshing.mesh_io import read_stator_mesh, write_stator_msh
+    from fem.meshing.meshed_stator import MeshedStator
     from fem.model import build_model, plate_model
     from fem.modes import modes_of_model, plate_modes
     from fem.stator_file import load_stator
@@ -685,7 +685,7 @@ def _designer_claims() -> tuple[Claim, ...]:
                        lambda k=k: _designer_numbers()[k]) for k in _DESIGNER_KEYS)
 
 
-# --- docs/designer.md: parametric stators (fem.parametric, gmsh) ---------------------------
+# --- docs/designer.md: parametric stators (fem.meshing.parametric, gmsh) -------------------
 
 
 @cache
@@ -695,10 +695,10 @@ def _parametric_numbers() -> dict[str, float]:
     tuned plate re-solved on a mesh twice as fine and in 3D)."""
     from dataclasses import replace
 
+    from fem.meshing.parametric import parametric_mesh
     from fem.model import build_model
     from fem.modes import modes_of_model, plate_modes
-    from fem.parametric import parametric_mesh
-    from fem.solid3d import solid_modes
+    from fem.solid3d.model import solid_modes
     from fem.stator_file import load_stator, parse_stator
     from fem.tuning import tune_plate
 
@@ -981,7 +981,7 @@ def _fine_map_counts(ultrasonic_friction: bool = True) -> dict[str, int]:
     import numpy as np
 
     from contact.maps import stick_slip_map
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     m = stick_slip_map(_table2(), np.arange(50.0, 651.0, 25.0), np.arange(2.0, 31.0, 1.0),
                        options=SimulationOptions(ultrasonic_friction=ultrasonic_friction),
@@ -1109,7 +1109,8 @@ def _contact_claims() -> tuple[Claim, ...]:
 def _steady_point() -> dict[str, float]:
     """The 200 V / 14 N row of ``python benchmarks/steady_speed.py``: velocities and the
     transient's wall time over each steady level's (median of 3, numba warmed first)."""
-    from contact.steady import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     p = _table2()
     steady_state(p, 200, 14, accuracy="exact")
@@ -1176,7 +1177,7 @@ def _gain_at_twice_an(voltage_V: float, duration_s: float | None) -> float:
 @cache
 def _no_preload():
     """The branch from rest at 200 V without preload (exact level)."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom import table2
 
     return steady_state(table2(), 200, 0, accuracy="exact").from_rest
@@ -1191,7 +1192,7 @@ def _max_slenderness() -> float:
 @cache
 def _steady_400_loaded():
     """The branch from rest at 400 V / 14 N under a 1 N load (exact level): its mean forces."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom import table2
 
     return steady_state(table2(), 400, 14, load_N=1.0, accuracy="exact").from_rest
@@ -1199,7 +1200,7 @@ def _steady_400_loaded():
 
 def _steady_mass_error(voltage_V: float, mass_kg: float) -> float:
     """|fast - exact| / exact at 14 N with slider mass ``mass_kg`` and mu_sd = 0."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     p = _table2().with_(M_slider=mass_kg, mu_sd=0.0)
     kw = {"coupling": "paper"}  # Table 2's, which "auto" gives only the unedited set
@@ -1211,7 +1212,8 @@ def _steady_mass_error(voltage_V: float, mass_kg: float) -> float:
 @cache
 def _steady_150() -> dict[str, float]:
     """The coexisting branches at 150 V / 14 N (tests/test_steady_exact.py)."""
-    from contact.steady import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     r = steady_state(_table2(), 150, 14, accuracy="exact")
     stable = [b for b in r.branches if b.stable]
@@ -1250,7 +1252,8 @@ def _steady_load_edge() -> dict[str, float]:
     """Just past the averaged holding range at 100 V / 14 N: the finite-mass motor settles."""
     from contact.model import OperatingPoint
     from contact.simulate import simulate
-    from contact.steady import holding_range_N, slow_problem
+    from contact.steady.runaway import holding_range_N
+    from contact.steady.slow import slow_problem
 
     high = holding_range_N(slow_problem(_table2(), OperatingPoint(100.0, 14.0, 40e3)))[1]
     r = simulate(_table2(), 100.0, 14.0, load_N=5.22, duration_s=2.0)
@@ -1262,7 +1265,9 @@ def _steady_load_limits() -> dict[str, float]:
     """Loads at 400 V / 14 N (docs/steady.md "Loads the motor cannot carry")."""
     from contact.characteristic import characteristic
     from contact.model import OperatingPoint
-    from contact.steady import slow_problem, steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
+    from contact.steady.slow import slow_problem
 
     c = characteristic(_table2(), 400, 14, [3.5], accuracy="fast")
     r = steady_state(_table2(), 400, 14, load_N=3.5, accuracy="exact", energy=False)
@@ -1278,7 +1283,8 @@ def _steady_load_limits() -> dict[str, float]:
 def _steady_load_hard() -> dict[str, float]:
     """Close stable orbits, an irregular creep and a slow orbit far from the averaged root,
     under a load (docs/steady.md)."""
-    from contact.steady import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     p = _table2()
     multi = steady_state(p, 75, 15, load_N=5.0, accuracy="exact", energy=False)
@@ -1313,7 +1319,7 @@ def _steady_hidden_creep() -> dict[str, float]:
     averages hold (fast level, velocity 0) where the exact level's full model creeps."""
     import numpy as np
 
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom.sources import get_params
 
     speeds = []
@@ -1334,7 +1340,8 @@ def _steady_hidden_creep() -> dict[str, float]:
 def _steady_branch_diagram() -> dict[str, float]:
     """From-rest branch of the exact level at 14 N, 50-450 V in steps of 25 V; the last
     held voltage, the first voltage of each moving class and a few velocities."""
-    from contact.steady import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     rows = {v: steady_state(_table2(), v, 14, accuracy="exact") for v in range(50, 451, 25)}
     motion = {v: r.from_rest.motion if r.velocity_m_s else "dead-zone" for v, r in rows.items()}
@@ -1382,16 +1389,16 @@ def _steady_from_rest() -> dict[str, float]:
 
 def _rest_periods_200V_14N() -> float:
     """Periods of the full model from rest that decide the branch reached at 200 V / 14 N."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     return float(steady_state(_table2(), 200, 14, energy=False).rest_periods)
 
 
 @cache
 def _ripple_scale_14N() -> float:
-    """``contact.steady.ripple_scale`` of Table 2's set at 200 V / 14 N (m/s)."""
+    """``contact.steady.slow.ripple_scale`` of Table 2's set at 200 V / 14 N (m/s)."""
     from contact.model import OperatingPoint
-    from contact.steady import ripple_scale, slow_problem
+    from contact.steady.slow import ripple_scale, slow_problem
 
     op = OperatingPoint(200.0, 14.0, 40e3)
     return ripple_scale(_table2(), op, slow_problem(_table2(), op).mu_d_eff)
@@ -1404,7 +1411,8 @@ def _steady_map() -> dict[str, float]:
     summed over the map."""
     import numpy as np
 
-    from contact.steady import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     bench = _bench("steady_speed")
     p = _table2()
@@ -1459,7 +1467,8 @@ def _steady_map() -> dict[str, float]:
 @cache
 def _steady_creep(voltage_V: float, preload_N: float) -> dict[str, float]:
     """A creep point of the map: 0.3 s transient and exact level."""
-    from contact.steady import steady_state, transient_reference
+    from contact.steady.engine import steady_state
+    from contact.steady.settled import transient_reference
 
     return {"transient": transient_reference(_table2(), voltage_V, preload_N,
                                              duration_s=0.3)[0],
@@ -1653,7 +1662,7 @@ def _steady_claims() -> tuple[Claim, ...]:
                      "steady_state(table2(), 200, 14).rest_periods",
                      _rest_periods_200V_14N, cheap=True, rel_tol=0.0))
     out.append(Claim("steady_ripple_scale_200V_14N_m_s", "m/s",
-                     "contact.steady.ripple_scale(table2(), OperatingPoint(200, 14, 40e3), "
+                     "contact.steady.slow.ripple_scale(table2(), OperatingPoint(200, 14, 40e3), "
                      "mu_d_eff of slow_problem)", _ripple_scale_14N, cheap=True,
                      rel_tol=1e-9))
     for v, f in ((100, 10), (200, 20)):
@@ -1734,11 +1743,12 @@ def _threshold_load_N(voltage_V: float, lo: float, hi: float, duration_s: float,
 
 @cache
 def _probe_point(params, voltage_V: float, preload_N: float, load_N: float):
-    """``contact.from_rest.probe_from_rest`` at 40 kHz, the coupling steady_state's default."""
-    from contact.from_rest import probe_from_rest
-    from contact.full_orbit import full_system
+    """``contact.steady.from_rest.probe_from_rest`` at 40 kHz, the coupling steady_state's
+    default."""
     from contact.model import OperatingPoint, resolve_coupling
-    from contact.steady import slow_problem
+    from contact.steady.from_rest import probe_from_rest
+    from contact.steady.full_orbit import full_system
+    from contact.steady.slow import slow_problem
 
     coupling = resolve_coupling(params, "auto")
     op = OperatingPoint(voltage_V, preload_N, 40e3, load_N)
@@ -1750,7 +1760,7 @@ def _probe_point(params, voltage_V: float, preload_N: float, load_N: float):
 def _wrong_sheet() -> dict[str, float]:
     """126.9 V / 14.72 N under -1.57 N (tests/test_from_rest.py): the slider leaves the
     ripple zone beside a period-1 sheet it does not follow and settles on a period-2 orbit."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     r = steady_state(_table2(), 126.9, 14.72, load_N=-1.57, energy=False)
     return {"rest_m_s": r.velocity_m_s, "rest_k": r.from_rest.k,
@@ -1762,7 +1772,7 @@ def _wrong_sheet() -> dict[str, float]:
 @cache
 def _beam_miss() -> dict[str, float]:
     """The beam set at 1000 V / 10 N under -1 N, 40 kHz: the probe's known miss."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from rom.sources import get_params
 
     p = get_params("beam")
@@ -1780,7 +1790,7 @@ def _stiff_contact(load_N: float) -> float:
     settles on is than the stable period-1 orbit the exact level answers with."""
     import warnings
 
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     p = _table2()
     stiff = p.with_(k_contact=10.0 * p.k_contact)
@@ -1798,14 +1808,12 @@ def _creep_252V() -> dict[str, float]:
     """252 V / 25.64 N / 40 414 Hz (tests/test_steady_exact.py): the 15-period creep from
     rest, the held orbit shot from the 2 000-period transient's end, and a 400-period window
     of the 0.6 s transient against the creep."""
-    from contact.full_orbit import full_system, run_periods, shoot
     from contact.model import OperatingPoint
-    from contact.steady import (
-        REST_TRANSIENT_PERIODS,
-        slow_problem,
-        steady_state,
-        transient_reference,
-    )
+    from contact.steady.engine import steady_state
+    from contact.steady.exact import REST_TRANSIENT_PERIODS
+    from contact.steady.full_orbit import full_system, run_periods, shoot
+    from contact.steady.settled import transient_reference
+    from contact.steady.slow import slow_problem
 
     f = 40414.0
     creep = steady_state(_table2(), 252, 25.64, frequency_Hz=f, accuracy="exact").from_rest
@@ -1821,7 +1829,7 @@ def _creep_252V() -> dict[str, float]:
 
 def _guide_share_139V() -> float:
     """Guide power over input power of the held slider at 139 V / 14 N (exact level)."""
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     b = steady_state(_table2(), 139, 14, accuracy="exact").from_rest
     return b.guide_power_W / b.input_power_W
@@ -1837,7 +1845,7 @@ def _input_1kHz_W() -> float:
 
 def _hold_check_m_s() -> float:
     """The hold check's bound at 200 V / 14 N: HOLD_CHECK_FACTOR times the ripple scale."""
-    from contact.steady import HOLD_CHECK_FACTOR
+    from contact.steady.exact import HOLD_CHECK_FACTOR
 
     return HOLD_CHECK_FACTOR * _ripple_scale_14N()
 
@@ -1909,11 +1917,11 @@ def _steady_input_claims() -> tuple[Claim, ...]:
               "--duration 2 does not settle)",
               lambda: _threshold_load_N(100.0, 5.22, 5.24, 2.0, lambda s: not s.settled)),
         Claim("steady_hold_check_200V_14N_m_s", "m/s",
-              "contact.steady.HOLD_CHECK_FACTOR x steady_ripple_scale_200V_14N_m_s",
+              "contact.steady.exact.HOLD_CHECK_FACTOR x steady_ripple_scale_200V_14N_m_s",
               _hold_check_m_s, cheap=True, rel_tol=1e-9),
         Claim("steady_wrong_sheet_root_m_s", "m/s", wrong + "the stable period-1 branch)",
               lambda: _wrong_sheet()["root_m_s"], cheap=True, rel_tol=1e-6),
-        Claim("steady_wrong_sheet_track", "-", wrong + "contact.from_rest.probe_from_rest's "
+        Claim("steady_wrong_sheet_track", "-", wrong + "contact.steady.from_rest.probe_from_rest's "
               "track_error)", lambda: _wrong_sheet()["track"], cheap=True, rel_tol=1e-6),
         Claim("steady_wrong_sheet_rest_m_s", "m/s", wrong + "velocity_m_s)",
               lambda: _wrong_sheet()["rest_m_s"], cheap=True, rel_tol=1e-6),
@@ -1922,7 +1930,7 @@ def _steady_input_claims() -> tuple[Claim, ...]:
         Claim("steady_beam_miss_probe_m_s", "m/s", beam.format(""),
               lambda: _beam_miss()["probe_m_s"], cheap=True, rel_tol=1e-6),
         Claim("steady_beam_miss_below", "-",
-              "1 - steady_beam_miss_rest_m_s / the sheet's root (contact.from_rest."
+              "1 - steady_beam_miss_rest_m_s / the sheet's root (contact.steady.from_rest."
               "probe_from_rest(...).orbit.velocity_m_s)",
               lambda: _beam_miss()["below"], cheap=True, rel_tol=1e-5),
         Claim("steady_stiff_slower", "-", stiff.format("steady_stiff_slower", 0, 0),
@@ -1940,8 +1948,8 @@ def _steady_input_claims() -> tuple[Claim, ...]:
               lambda: _creep_252V()["creep_m_s"], cheap=True, rel_tol=1e-7),
         Claim("steady_252V_creep_k", "-", s252 + "from_rest.k)",
               lambda: _creep_252V()["creep_k"], cheap=True, rel_tol=0.0),
-        Claim("steady_252V_held_multiplier", "-", s252 + "and contact.full_orbit.shoot of one "
-              "period from the end of its 2 000-period transient: multiplier)",
+        Claim("steady_252V_held_multiplier", "-", s252 + "and contact.steady.full_orbit.shoot "
+              "of one period from the end of its 2 000-period transient: multiplier)",
               lambda: _creep_252V()["held_multiplier"], cheap=True, rel_tol=1e-5),
         Claim("steady_252V_window_error", "-", s252 + "against transient_reference(table2(), "
               "252, 25.64, frequency_Hz=40414, duration_s=0.6), its last 400 periods)",
@@ -2192,8 +2200,8 @@ def _b2_half_wavelength_m() -> float:
 
 def _prepass_settle_periods() -> float:
     """Drive periods (40 kHz) in which Table 2's L1 start transient decays to
-    ``PRE_PASS_SETTLE`` (``contact.simulate.pre_pass_periods`` takes 1.5 times them)."""
-    from contact.simulate import PRE_PASS_SETTLE
+    ``PRE_PASS_SETTLE`` (``contact.transient.pre_pass.pre_pass_periods`` takes 1.5 times them)."""
+    from contact.transient.pre_pass import PRE_PASS_SETTLE
 
     p = _table2()  # the L1 free transient decays at C_l / (2 M_l), as pre_pass_periods says
     return math.log(1.0 / PRE_PASS_SETTLE) / (p.C_l / (2.0 * p.M_l) / 40e3)
@@ -2238,7 +2246,7 @@ def _tuned60k():
 def _tuned60k_140V_14N():
     """The exact steady state of examples/tuned_60k at 140 V / 14 N, --frequency auto."""
     from contact.drive import auto_frequency
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     p = _tuned60k()
     return steady_state(p, 140.0, 14.0, frequency_Hz=auto_frequency(p), accuracy="exact",
@@ -2247,18 +2255,18 @@ def _tuned60k_140V_14N():
 
 def _tuned60k_fold_m_s() -> float:
     """Where the stick-slip sheet of examples/tuned_60k at 140 V / 14 N ends (m/s): the
-    averaged orbit at the root a start from rest reaches (contact.from_rest) continued
+    averaged orbit at the root a start from rest reaches (contact.steady.from_rest) continued
     upward in v as the probe continues a sheet (steps of SHEET_STEP, halved at a change of
     the period or a jump of a phase fraction by more than PHASE_JUMP, down to
     SHEET_MIN_STEP); the last orbit on the sheet."""
     import numpy as np
 
     from contact.drive import auto_frequency
-    from contact.from_rest import PHASE_JUMP, SHEET_MIN_STEP, SHEET_STEP, probe_from_rest
-    from contact.full_orbit import full_system
     from contact.model import OperatingPoint, resolve_coupling
-    from contact.periodic_orbit import find_orbit, orbit_phases
-    from contact.steady import slow_problem
+    from contact.steady.from_rest import PHASE_JUMP, SHEET_MIN_STEP, SHEET_STEP, probe_from_rest
+    from contact.steady.full_orbit import full_system
+    from contact.steady.periodic_orbit import find_orbit, orbit_phases
+    from contact.steady.slow import slow_problem
 
     p = _tuned60k()
     coupling = resolve_coupling(p, "auto")
@@ -2318,7 +2326,7 @@ def _gap_weight_centre() -> float:
 def _bricks(gap_m: float = 0.5e-3, refine: int = 3, layers: int = 3, grading: int = 0) -> int:
     """Bricks of the generated 3D mesh of the paper's plate (``hex_grid_lines``)."""
     from fem.geometry import PlateStator
-    from fem.solid3d import hex_grid_lines
+    from fem.solid3d.model import hex_grid_lines
 
     x, y, z = hex_grid_lines(PlateStator(electrode_gap_m=gap_m), refine, layers, grading)
     return (len(x) - 1) * (len(y) - 1) * (len(z) - 1)
@@ -2326,7 +2334,7 @@ def _bricks(gap_m: float = 0.5e-3, refine: int = 3, layers: int = 3, grading: in
 
 def _chamfered_bricks(layers: int = 3) -> int:
     """Bricks of examples/chamfered extruded in ``layers`` layers (planform cells x layers)."""
-    from fem.meshed_stator import planform_mesh
+    from fem.meshing.meshed_stator import planform_mesh
     from fem.stator_file import load_stator
 
     st = load_stator(ROOT / "examples" / "chamfered" / "stator.toml").stator
@@ -2371,14 +2379,14 @@ def _retained_modes() -> int:
 def _default_elements() -> int:
     """Elements of the default generated 2D mesh of the paper's plate."""
     from fem.geometry import PlateStator
-    from fem.mesh import DEFAULT_REFINE, structured_mesh
+    from fem.meshing.mesh import DEFAULT_REFINE, structured_mesh
 
     return int(structured_mesh(PlateStator(), DEFAULT_REFINE).quads.shape[1])
 
 
 def _steady_steps(params, frequency_Hz: float) -> int:
     from contact.model import default_coupling
-    from contact.steady import steps_per_period
+    from contact.steady.slow import steps_per_period
 
     return steps_per_period(params, frequency_Hz, default_coupling(params)[0])
 
@@ -2412,7 +2420,7 @@ def _scale_voltage_V() -> float:
 
 def _prepass_zeta(which: str) -> float:
     """zeta_L1 below which the A_N pre-pass (drive at L1's resonance) hits its cap, or warns."""
-    from contact.simulate import MAX_PRE_PASS_PERIODS, PRE_PASS_SETTLE, UNSETTLED_SHARE
+    from contact.transient.pre_pass import MAX_PRE_PASS_PERIODS, PRE_PASS_SETTLE, UNSETTLED_SHARE
 
     if which == "cap":  # 1.5 ln(1/settle) / (2 pi zeta) = the cap
         return 1.5 * math.log(1.0 / PRE_PASS_SETTLE) / (2.0 * math.pi * MAX_PRE_PASS_PERIODS)
@@ -2463,7 +2471,7 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               _prepass_settle_periods, cheap=True, rel_tol=1e-9),
         Claim("contact_prepass_needed_table2", "-",
               "ceil(1.5 contact_prepass_settle_periods_table2) (the rule of "
-              "contact.simulate.pre_pass_periods before its 60-period floor)",
+              "contact.transient.pre_pass.pre_pass_periods before its 60-period floor)",
               lambda: float(math.ceil(1.5 * _prepass_settle_periods())), cheap=True,
               rel_tol=0.0),
         Claim("drive_phase_table2_deg", "deg", _SHOW.format("drive_phase_table2_deg")
@@ -2503,13 +2511,13 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("fe2d_B2_mac", "-", _MODES + " (mac)", lambda: _fe2d().B2.mac, cheap=True,
               rel_tol=1e-8),
         Claim("fe2d_default_elements", "-", _SHOW.format("fe2d_default_elements")
-              + " (fem.mesh.structured_mesh of the paper's plate at the default refine)",
+              + " (fem.meshing.mesh.structured_mesh of the paper's plate at the default refine)",
               lambda: float(_default_elements()), cheap=True, rel_tol=0.0),
         Claim("fe3d_default_bricks", "-", _SHOW.format("fe3d_default_bricks")
-              + " (fem.solid3d.hex_grid_lines, refine 3, layers 3)",
+              + " (fem.solid3d.model.hex_grid_lines, refine 3, layers 3)",
               lambda: float(_bricks()), cheap=True, rel_tol=0.0),
         Claim("fe3d_bricks_gap002_graded1", "-", _SHOW.format("fe3d_bricks_gap002_graded1")
-              + " (fem.solid3d.hex_grid_lines at g = 0.02 mm, default mesh graded once)",
+              + " (fem.solid3d.model.hex_grid_lines at g = 0.02 mm, default mesh graded once)",
               lambda: float(_bricks(0.02e-3, 3, 3, 1)), cheap=True, rel_tol=0.0),
         Claim("fe3d_chamfered_bricks_3_layers", "-",
               _SHOW.format("fe3d_chamfered_bricks_3_layers")
@@ -2525,18 +2533,18 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("adm_retained_modes", "-", "lusm admittance --json (retained_modes)",
               lambda: float(_retained_modes()), cheap=True, rel_tol=0.0),
         Claim("study_steps_per_period_28mm_1kHz", "-",
-              "contact.steady.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
+              "contact.steady.slow.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 1 kHz (tests/test_explore.py)",
               lambda: float(_steady_steps(_study_plate_28mm(), 1e3)), cheap=True, rel_tol=0.0),
         Claim("study_steps_per_period_28mm_40kHz", "-",
-              "contact.steady.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
+              "contact.steady.slow.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 40 kHz", lambda: float(_steady_steps(_study_plate_28mm(), 40e3)),
               cheap=True, rel_tol=0.0),
         Claim("steady_steps_per_period_table2_40kHz", "-",
-              "contact.steady.steps_per_period(table2(), 40e3)",
+              "contact.steady.slow.steps_per_period(table2(), 40e3)",
               lambda: float(_steady_steps(_table2(), 40e3)), cheap=True, rel_tol=0.0),
         Claim("steady_steps_per_period_table2_20Hz", "-",
-              "contact.steady.steps_per_period(table2(), 20)",
+              "contact.steady.slow.steps_per_period(table2(), 20)",
               lambda: float(_steady_steps(_table2(), 20.0)), cheap=True, rel_tol=0.0),
         Claim("limits_steady_points_20Hz", "-",
               "5e5 // steady_steps_per_period_table2_20Hz (limits.MAX_STEADY_WORK)",

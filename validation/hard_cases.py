@@ -14,7 +14,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from contact.model import OperatingPoint
-from contact.simulate import SimulationResult, normal_amplitude, simulate
+from contact.simulate import SimulationResult, simulate
+from contact.transient.pre_pass import normal_amplitude
 from rom.params import MotorParams
 from rom.table2 import PAPER_DRIVE_HZ
 
@@ -117,7 +118,7 @@ def _expected_runaway(sim, *args, **kw):
     point, shown in its row, not a warning of the report's own run."""
     import warnings
 
-    from contact.steady import RunawayWarning
+    from contact.steady.runaway import RunawayWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RunawayWarning)

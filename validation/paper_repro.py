@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from contact.maps import StickSlipMap, stick_slip_map
-from contact.simulate import SimulationOptions, SimulationResult, simulate
+from contact.options import SimulationOptions
+from contact.simulate import SimulationResult, simulate
 from rom.params import MotorParams
 from validation import figures
 
@@ -39,7 +40,7 @@ class ReproSettings:
         Start of the transient window A of Fig. 10 (s).
     method : {"steady", "transient"}
         Where the judged numbers (velocities, motion classes, mu_d, maps) come from: the
-        steady engine (:func:`contact.steady.steady_state`, the branch a start from rest
+        steady engine (:func:`contact.steady.engine.steady_state`, the branch a start from rest
         reaches, settled by construction) or the runs of ``duration_s`` from rest. The
         figures of time traces and phase planes always come from those runs.
     """

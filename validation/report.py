@@ -78,7 +78,7 @@ class _Stage:
 def _parameter_sets(out: Path, quick: bool, progress: bool) -> tuple[list[str], dict, dict]:
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import plate_modes
     from rom.compare import compare_sources
     from rom.sources import get_params

@@ -44,11 +44,11 @@ def _lusm(command: str, stator: str, rest: str = "") -> str:
 
 
 def _modes_section(choice, out: Path, quick: bool, say, stator: str):
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.model import plate_model
     from fem.modes import plate_modes
     from fem.render import render_modes
-    from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
+    from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
     st, mat = choice.stator, choice.material
     m2 = plate_modes(st, mat, 2, DEFAULT_REFINE)
@@ -75,8 +75,8 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     split3 = m3.B2.f_short_Hz / m3.L1.f_short_Hz - 1
     data.update(split_2d=split2, split_3d=split3, dofs_2d=m2.dofs, dofs_3d=m3.dofs,
                 pictures=[f"figures/{p.name}" for p in pictures])
-    from fem.meshed_stator import MeshedStator
-    from fem.parametric import ParametricStator
+    from fem.meshing.meshed_stator import MeshedStator
+    from fem.meshing.parametric import ParametricStator
 
     # a stator meshed by gmsh or by its own file has no refine (lusm modes --json says null)
     mesh_text = ("the stator file's own mesh" if isinstance(st, MeshedStator) else
@@ -108,10 +108,10 @@ def _command_3d(stator, refine3: int, options: str) -> str:
     needs where the mesh is above ``lusm modes``' own (a chamfered example: 2 988 bricks).
     ``options`` are the stator options the report was given
     (:func:`lusm.options.stator_options_text`)."""
-    from fem.meshed_stator import planform_mesh
-    from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D
+    from fem.cell_count import fe_cell_count
+    from fem.meshing.meshed_stator import planform_mesh
+    from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D
     from lusm import limits
-    from lusm.options import fe_cell_count
 
     cmd = _lusm("modes --model 3d", options, f"--layers {DEFAULT_LAYERS}")
     if planform_mesh(stator) is None and refine3 != DEFAULT_REFINE_3D:
@@ -208,7 +208,7 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool, stator:
 def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, stator: str,
                    damping_from: str = ""):
     from contact.model import default_coupling
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
     from validation.figures import curve
     from validation.summaries import coupling_line, motion_class
 

@@ -55,7 +55,7 @@ def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path
     Stable branches are filled, unstable ones open; the branch a start from rest reaches is
     ringed; the period multiplicity k labels multi-period orbits.
     """
-    from contact.steady import steady_state
+    from contact.steady.engine import steady_state
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
@@ -207,7 +207,7 @@ def _set_data(name: str, p: MotorParams, f: float, volts: np.ndarray, loads: np.
     from contact.characteristic import characteristic
     from contact.maps import stick_slip_map
     from contact.model import default_coupling
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
     from validation.figures import stick_slip_map as map_figure
     from validation.summaries import damping_summary
 

@@ -131,7 +131,7 @@ def simulation_summary(r: SimulationResult, runs_away: str | None = None) -> dic
     r : SimulationResult
     runs_away : str, optional
         Why the slider runs away under the load (a transient's
-        :class:`contact.steady.RunawayWarning`); None when it does not.
+        :class:`contact.steady.runaway.RunawayWarning`); None when it does not.
     """
     from contact.model import normal_force_zero_tip_displacement
 
@@ -231,7 +231,7 @@ def branch_summary(row: tuple) -> dict:
 
 def steady_branches(branches) -> list[dict]:
     """The stable ones of the steady engine's ``branches``
-    (:class:`contact.steady.SteadyBranch`) as :func:`branch_summary` writes them, by
+    (:class:`contact.steady.branches.SteadyBranch`) as :func:`branch_summary` writes them, by
     increasing velocity: a map point's ``branches`` and ``lusm simulate --steady``'s."""
     from contact.maps import branch_row
 

@@ -147,7 +147,7 @@ def fe_work_precision(
     the best of ``repeat`` uncached runs.
     """
     from fem.geometry import PlateStator
-    from fem.mesh import max_element_size_m, structured_mesh
+    from fem.meshing.mesh import max_element_size_m, structured_mesh
     from fem.model import build_model
     from fem.modes import modes_of_model
 

@@ -19,7 +19,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1]))  # run from anywhere inside the repository
 
-from fem.mesh_io import write_stator_msh  # noqa: E402
+from fem.meshing.mesh_io import write_stator_msh  # noqa: E402
 
 LENGTH_MM = 30.0
 WIDTH_MM = 7.5

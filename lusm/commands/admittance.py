@@ -65,7 +65,7 @@ def _electrodes(text: str | None) -> tuple[int, ...] | None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.commands.modes import warn_linear_elements
     from lusm.errors import LusmError
     from lusm.options import check_fe_size, figure_set, moved, output_folder, stator_from_args

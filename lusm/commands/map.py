@@ -124,7 +124,7 @@ def run(args: argparse.Namespace) -> None:
 def _solve(args: argparse.Namespace, motor: Motor, volts, loads):
     """The map (:func:`contact.maps.stick_slip_map`), its unsettled points said."""
     from contact.maps import stick_slip_map
-    from contact.simulate import SimulationOptions
+    from contact.options import SimulationOptions
 
     opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
                              ultrasonic_friction=not args.no_ultrasonic_friction,

@@ -1,6 +1,6 @@
 """``lusm modes``: L1/B2 short- and open-circuit frequencies and k_eff of the FE plate.
 
-Parse, call :func:`fem.modes.plate_modes` (or :func:`fem.solid3d.solid_modes`), print. No
+Parse, call :func:`fem.modes.plate_modes` (or :func:`fem.solid3d.model.solid_modes`), print. No
 physics here; ``fem`` is imported when the command runs so that building the ``lusm`` parser
 never imports scikit-fem.
 """
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from dataclasses import dataclass
 
 from lusm import limits
 from lusm.errors import short_reason
@@ -95,40 +96,45 @@ def check_refine_3d(refine: int | None) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm modes`` with parsed ``args``."""
-    from lusm.errors import LusmError
-    from lusm.options import check_fe_size, stator_from_args
+    from lusm.options import stator_from_args
 
     warn_linear_elements(args)
     choice = stator_from_args(args)
-    stator, material = choice.stator, choice.material
     export = _export_target(args.export, args.force) if args.export is not None else None
+    mesh = _mesh_settings(args, choice.stator, export is None)
+    coarse_gap = _warn_coarse_gap(args, choice, mesh) if args.model == "3d" else None
+    res, validity = _solve(args, choice, mesh, coarse_gap)
+    if export is not None:
+        _export(args, choice, mesh, res, export)
+    mounts = _mount_amplitudes(choice, choice.material, args, mesh.refine, res)
+    if validity is not None:
+        from lusm.messages import warn
 
-    from fem.material import plane_stress
-    from fem.mesh import DEFAULT_REFINE
-    from fem.modes import ModeSolverError, plate_modes
+        warn(validity)  # "lusm modes: warning: ...", as every command's
+    if args.json:
+        _print_json(args, choice, mesh, res, mounts, export)
+        return
+    _print(args, choice, mesh, res, mounts, export, coarse_gap)
 
-    refine = DEFAULT_REFINE if args.refine is None else args.refine
-    quarter = False
-    if args.model == "3d":
-        from fem.solid3d import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
-        check_refine_3d(args.refine)
-        refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
-        layers = DEFAULT_LAYERS if args.layers is None else args.layers
-        from fem.solid3d_symmetric import quarter_model_applies
+@dataclass(frozen=True)
+class _Mesh:
+    """The FE mesh settings of one ``lusm modes`` run: ``refine``; for the 3D model its
+    ``layers`` and whether the quarter-plate model gives the full model's results."""
 
-        # the quarter-plate model gives the full model's results at about a quarter of the
-        # size; the export writes the full model's mesh
-        quarter = export is None and quarter_model_applies(stator, args.edge_grading)
-        from lusm.messages import typed
+    refine: int
+    layers: int | None = None
+    quarter: bool = False
 
-        # blame what the user typed: "--refine: ... needs 2106 bricks" after --layers 8 read
-        # as if --refine had been given
-        blamed = next((o for o in ("--edge-grading", "--layers", "--refine") if typed(o)),
-                      "--edge-grading" if args.edge_grading else "--refine")
-        check_fe_size(stator, refine, layers, blamed, edge_grading=args.edge_grading,
-                      quarter=quarter)
-    else:
+
+def _mesh_settings(args: argparse.Namespace, stator, quarter_allowed: bool) -> _Mesh:
+    """The mesh of ``--model``, ``--refine``, ``--layers``, ``--edge-grading``, bounded
+    before any work (the bound blames the option the user typed)."""
+    from fem.meshing.mesh import DEFAULT_REFINE
+    from lusm.errors import LusmError
+    from lusm.options import check_fe_size
+
+    if args.model != "3d":
         if args.layers is not None:
             raise LusmError("--layers applies to --model 3d only (the 2D model has no mesh "
                             "through the thickness)", "--layers")
@@ -136,37 +142,69 @@ def run(args: argparse.Namespace) -> None:
             raise LusmError("--edge-grading applies to --model 3d only (the 2D model has "
                             "no mesh across the electrode edges' singularity)",
                             "--edge-grading")
+        refine = DEFAULT_REFINE if args.refine is None else args.refine
         check_fe_size(stator, refine)
+        return _Mesh(refine)
+    from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D
+    from fem.solid3d.symmetric import quarter_model_applies
+    from lusm.messages import typed
+
+    check_refine_3d(args.refine)
+    refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
+    layers = DEFAULT_LAYERS if args.layers is None else args.layers
+    # the quarter-plate model gives the full model's results at about a quarter of the
+    # size; the export writes the full model's mesh
+    quarter = quarter_allowed and quarter_model_applies(stator, args.edge_grading)
+    blamed = next((o for o in ("--edge-grading", "--layers", "--refine") if typed(o)),
+                  "--edge-grading" if args.edge_grading else "--refine")
+    check_fe_size(stator, refine, layers, blamed, edge_grading=args.edge_grading,
+                  quarter=quarter)
+    return _Mesh(refine, layers, quarter)
+
+
+def _warn_coarse_gap(args: argparse.Namespace, choice, mesh: _Mesh) -> str | None:
+    """Warn where the 3D mesh's elements beside the electrode gap are much wider than it
+    (ungraded generated plates, planform meshes whose layers are thick against a narrow
+    gap); returns the remedy, or None."""
+    from fem.solid3d.model import gap_element_ratio
+
+    stator = choice.stator
+    ratio = gap_element_ratio(stator, mesh.refine, mesh.layers, args.edge_grading)
+    if ratio <= NARROW_GAP_RATIO:
+        return None
+    from fem.meshing.meshed_stator import planform_mesh
+    from fem.solid3d.model import planform_gap_m, planform_gap_ratios
+    from lusm.messages import warn
+
+    pf = planform_mesh(stator)
+    gap_mm = (stator.electrode_gap_m if pf is None else planform_gap_m(pf)) * 1e3
+    coarse_gap = _coarse_gap_remedy(
+        choice, args.edge_grading,
+        None if pf is None else planform_gap_ratios(pf, stator.thickness_m, mesh.layers,
+                                                    args.edge_grading))
+    warn(f"--model 3d: the mesh's elements beside the {gap_mm:g} mm electrode gap "
+         f"are {ratio:.0f} x wider than it: open-circuit B2 and its k_eff come out "
+         f"too low (docs/fem3d.md); {coarse_gap}")
+    return coarse_gap
+
+
+def _solve(args: argparse.Namespace, choice, mesh: _Mesh, coarse_gap: str | None):
+    """L1 and B2 of the chosen model, and the 2D model's gap-validity message (or None);
+    a solver failure said as bad input."""
+    from fem.modes import ModeSolverError, plate_modes
+
+    stator, material = choice.stator, choice.material
     validity = None
-    # elements much wider than the electrode gap beside it (ungraded generated plates,
-    # planform meshes whose layers are thick against a narrow gap)
-    coarse_gap = None
-    if args.model == "3d":
-        from fem.solid3d import gap_element_ratio
-
-        ratio = gap_element_ratio(stator, refine, layers, args.edge_grading)
-        if ratio > NARROW_GAP_RATIO:
-            from fem.meshed_stator import planform_mesh
-            from fem.solid3d import planform_gap_m, planform_gap_ratios
-            from lusm.messages import warn
-
-            pf = planform_mesh(stator)
-            gap_mm = (stator.electrode_gap_m if pf is None else planform_gap_m(pf)) * 1e3
-            coarse_gap = _coarse_gap_remedy(
-                choice, args.edge_grading,
-                None if pf is None else planform_gap_ratios(pf, stator.thickness_m, layers,
-                                                            args.edge_grading))
-            warn(f"--model 3d: the mesh's elements beside the {gap_mm:g} mm electrode gap "
-                 f"are {ratio:.0f} x wider than it: open-circuit B2 and its k_eff come out "
-                 f"too low (docs/fem3d.md); {coarse_gap}")
     try:
-        if quarter:
-            from fem.solid3d_symmetric import symmetric_solid_modes
+        if mesh.quarter:
+            from fem.solid3d.symmetric import symmetric_solid_modes
 
-            res = symmetric_solid_modes(stator, material, args.order, refine, layers,
-                                        edge_grading=args.edge_grading)
+            res = symmetric_solid_modes(stator, material, args.order, mesh.refine,
+                                        mesh.layers, edge_grading=args.edge_grading)
         elif args.model == "3d":
-            res = solid_modes(stator, material, args.order, refine, layers,
+            from fem.solid3d.model import solid_modes
+
+            res = solid_modes(stator, material, args.order, mesh.refine, mesh.layers,
                               edge_grading=args.edge_grading)
         else:
             import warnings
@@ -174,9 +212,9 @@ def run(args: argparse.Namespace) -> None:
             from fem.model import GapValidityWarning, stator_gap_validity_message
 
             validity = stator_gap_validity_message(stator)
-            with warnings.catch_warnings():  # reported once, below, on one line
+            with warnings.catch_warnings():  # reported once, after, on one line
                 warnings.simplefilter("ignore", GapValidityWarning)
-                res = plate_modes(stator, material, args.order, refine)
+                res = plate_modes(stator, material, args.order, mesh.refine)
     except Exception as exc:
         if coarse_gap is not None and "could not pair" in str(exc):
             # an open mode mixed with an out-of-plane one across an unresolved gap
@@ -185,67 +223,79 @@ def run(args: argparse.Namespace) -> None:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc, stator) from exc
         raise
-    if export is not None:
-        if args.model == "3d":
-            from fem.export import export_solid_modes
-            from fem.solid3d import build_solid_model
+    return res, validity
 
-            model = build_solid_model(stator, material, args.order, refine, layers,
-                                      edge_grading=args.edge_grading)
-            _write_export(export, model, res, args.force, export_solid_modes)
-        else:
-            from fem.export import export_modes
-            from fem.model import plate_model
 
-            _write_export(export, plate_model(stator, material, args.order, refine), res,
-                          args.force, export_modes)
+def _export(args: argparse.Namespace, choice, mesh: _Mesh, res, export) -> None:
+    """Write the mode shapes on the full model's mesh to ``export``."""
+    stator, material, refine, layers = choice.stator, choice.material, mesh.refine, mesh.layers
+    if args.model == "3d":
+        from fem.export import export_solid_modes
+        from fem.solid3d.model import build_solid_model
+
+        model = build_solid_model(stator, material, args.order, refine, layers,
+                                  edge_grading=args.edge_grading)
+        _write_export(export, model, res, args.force, export_solid_modes)
+    else:
+        from fem.export import export_modes
+        from fem.model import plate_model
+
+        _write_export(export, plate_model(stator, material, args.order, refine), res,
+                      args.force, export_modes)
+
+
+def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export) -> None:
+    """The modes, the mesh, the material and the plate as JSON."""
+    from fem.material import plane_stress
+    from fem.model import stator_gap_m
+
+    stator, material, refine, quarter = choice.stator, choice.material, mesh.refine, mesh.quarter
     L_mm, W_mm, H_mm = (v * 1e3 for v in (stator.length_m, stator.width_m, stator.thickness_m))
-    mounts = _mount_amplitudes(choice, material, args, refine, res)
-    if validity is not None:
-        from lusm.messages import warn
 
-        warn(validity)  # "lusm modes: warning: ...", as every command's
-    if args.json:
-        from fem.model import stator_gap_m
+    mat = material.to_dict()
+    mat["plane_stress"] = plane_stress(material).to_dict()
+    out = {
+        "L1": res.L1.to_dict(),
+        "B2": res.B2.to_dict(),
+        "dofs": res.dofs,
+        "wall_time_s": res.wall_time_s,
+        "order": args.order,
+        # a stator file's own mesh (or gmsh's) is not refined: the 2D model solves it,
+        # the 3D model extrudes it
+        "refine": None if choice.meshed or choice.parametric else refine,
+        "material": mat,
+        "geometry": args.geometry,
+        "model": args.model,
+        "length_mm": L_mm, "width_mm": W_mm, "thickness_mm": H_mm,
+        "gap_mm": float(f"{stator_gap_m(stator) * 1e3:.12g}"),  # mesh roundoff off
+    }
+    # where the reduction (lusm params --source fem) normalises L1 and B2; a stator file
+    # may move them, and nothing said which points were used
+    # + 0.0: a point on a mirrored mesh's centre line read -0 mm
+    out["tip_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.tip_point_m]
+    out["preload_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.preload_point_m]
+    out["split_rel"] = _split(res)
+    out["mac"] = {m.name: m.mac for m in (res.L1, res.B2)}
+    out["symmetry"] = {m.name: m.symmetry for m in (res.L1, res.B2)}
+    if choice.parametric:
+        out.update(stator.features_mm())
+    if mounts:
+        out["mounts"] = mounts
+    if args.model == "3d":
+        out["layers"], out["element"] = res.layers, res.element
+        out["edge_grading"] = args.edge_grading
+        out["quarter_model"] = quarter
+    if export is not None:
+        out["export"] = str(export)
+    print_json(out)
 
-        mat = material.to_dict()
-        mat["plane_stress"] = plane_stress(material).to_dict()
-        out = {
-            "L1": res.L1.to_dict(),
-            "B2": res.B2.to_dict(),
-            "dofs": res.dofs,
-            "wall_time_s": res.wall_time_s,
-            "order": args.order,
-            # a stator file's own mesh (or gmsh's) is not refined: the 2D model solves it,
-            # the 3D model extrudes it
-            "refine": None if choice.meshed or choice.parametric else refine,
-            "material": mat,
-            "geometry": args.geometry,
-            "model": args.model,
-            "length_mm": L_mm, "width_mm": W_mm, "thickness_mm": H_mm,
-            "gap_mm": float(f"{stator_gap_m(stator) * 1e3:.12g}"),  # mesh roundoff off
-        }
-        # where the reduction (lusm params --source fem) normalises L1 and B2; a stator file
-        # may move them, and nothing said which points were used
-        # + 0.0: a point on a mirrored mesh's centre line read -0 mm
-        out["tip_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.tip_point_m]
-        out["preload_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.preload_point_m]
-        out["split_rel"] = _split(res)
-        out["mac"] = {m.name: m.mac for m in (res.L1, res.B2)}
-        out["symmetry"] = {m.name: m.symmetry for m in (res.L1, res.B2)}
-        if choice.parametric:
-            out.update(stator.features_mm())
-        if mounts:
-            out["mounts"] = mounts
-        if args.model == "3d":
-            out["layers"], out["element"] = res.layers, res.element
-            out["edge_grading"] = args.edge_grading
-            out["quarter_model"] = quarter
-        if export is not None:
-            out["export"] = str(export)
-        print_json(out)
-        return
+
+def _print(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
+           coarse_gap: str | None) -> None:
+    """The modes as a table, with the plate, the mesh and the mounts."""
     from validation.summaries import plate_text
+
+    stator, material, refine, quarter = choice.stator, choice.material, mesh.refine, mesh.quarter
 
     if choice.meshed:
         mesh_text = "mesh from the stator file"
@@ -288,6 +338,7 @@ def run(args: argparse.Namespace) -> None:
               f"B2 {m['B2']:.3g} (0 at a node)")
     if export is not None:
         print(f"wrote {export}")
+
 
 
 def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
@@ -380,7 +431,7 @@ and .ply (the vectors dropped), which said "wrote" and exited 0."""
 NARROW_GAP_RATIO = 10.0
 """``lusm modes --model 3d`` warns when the elements beside the electrode gap (in-plane
 neighbours and the top layer) are more than this many times wider than the gap
-(:func:`fem.solid3d.gap_element_ratio`; 4.9 on the paper's plate, whose default mesh is
+(:func:`fem.solid3d.model.gap_element_ratio`; 4.9 on the paper's plate, whose default mesh is
 documented in docs/fem3d.md)."""
 
 
@@ -389,9 +440,9 @@ def _graded_work_clause(stator, refine, layers, quarter_allowed: bool) -> str:
     been refused as given on the tip examples (2 140 bricks against 2 000; exploratory
     testing). Counted on the model the graded run would use (the quarter plate where it
     applies, as :func:`run` decides)."""
-    from fem.solid3d_symmetric import quarter_model_applies
+    from fem.cell_count import fe_cell_count
+    from fem.solid3d.symmetric import quarter_model_applies
     from lusm import limits
-    from lusm.options import fe_cell_count
 
     quarter = quarter_allowed and quarter_model_applies(stator, 1)
     try:
@@ -408,7 +459,7 @@ def _graded_work_clause(stator, refine, layers, quarter_allowed: bool) -> str:
 def _coarse_gap_remedy(choice, edge_grading: int,
                        planform_ratios: tuple[float, float] | None) -> str:
     """What refines the 3D mesh at the electrode gap: more ``--edge-grading`` levels; for a
-    planform mesh (``planform_ratios``, :func:`fem.solid3d.planform_gap_ratios`) they grade
+    planform mesh (``planform_ratios``, :func:`fem.solid3d.model.planform_gap_ratios`) they grade
     only its layers, and its in-plane elements are the file's to refine."""
     more = (f"raise --edge-grading above {edge_grading}" if edge_grading
             else "add --edge-grading 1 or more")

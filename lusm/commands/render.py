@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> None:
     out = output_folder(args, "--out")  # refused before any work
     choice = stator_from_args(args)
 
-    from fem.mesh import DEFAULT_REFINE
+    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.model import plate_model
     from fem.modes import ModeSolverError, plate_modes
     from fem.render import render_modes

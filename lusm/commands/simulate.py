@@ -160,7 +160,7 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     import warnings
 
     from contact.simulate import simulate
-    from contact.steady import RunawayWarning
+    from contact.steady.runaway import RunawayWarning
     from validation.summaries import simulation_summary
 
     with warnings.catch_warnings(record=True) as caught:

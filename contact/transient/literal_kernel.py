@@ -3,8 +3,8 @@
 Stick when ``|v_rel| <= eps`` and ``|F_s| <= mu_s F_N``, transition when ``|v_rel| <= eps``
 and ``|F_s| > mu_s F_N``, slip otherwise, separation when F_N <= 0 (Section 3.2). Parameters
 arrive as one float array whose layout the ``P_*`` indices name; :func:`pack_parameters` in
-:mod:`contact.literal` fills it. The thin typed wrapper is :func:`contact.simulate.simulate`
-with ``method="literal"``.
+:mod:`contact.transient.literal` fills it. The thin typed wrapper is
+:func:`contact.simulate.simulate` with ``method="literal"``.
 """
 
 from __future__ import annotations

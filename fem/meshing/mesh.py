@@ -5,7 +5,7 @@ each element lies entirely under one electrode (tag 1..4) or in an unelectroded 
 (tag 0). The geometry is always bilinear (rectangles are represented exactly); the element
 order (1: ``ElementQuad1``, 2: ``ElementQuad2``) is chosen when the model is assembled.
 
-Files: :mod:`fem.mesh_io` reads and writes meshes (meshio; electrode groups ``electrode1``
+Files: :mod:`fem.meshing.mesh_io` reads and writes meshes (meshio; electrode groups ``electrode1``
 .. ``electrode4`` and ``gap``).
 """
 
@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fem.geometry import ELECTRODES, PlateStator
+from fem.limits import work_factor
 
 GAP_PHYSICAL_TAG = 10
 """gmsh physical tag of the unelectroded gap strips."""
@@ -219,15 +220,15 @@ def _segments(breaks: list[float], h_target: float) -> np.ndarray:
 MAX_LIBRARY_CELLS_2D = 200_000
 """Elements of a generated 2D mesh a library call builds (ten times the CLI's bound,
 ``lusm.limits.MAX_FE_CELLS_2D``; ``LUSM_MAX_WORK`` multiplies it):
-``plate_modes(refine=10000)`` had been killed for memory."""
+``plate_modes(refine=10000)`` would run out of memory."""
 MAX_LIBRARY_BRICKS_3D = 20_000
 """Bricks of a generated 3D mesh a library call builds (ten times the CLI's bound)."""
 
 
 def require_plate(stator: object, where: str) -> PlateStator:
     """``stator`` if it is a :class:`PlateStator` (None: the paper's plate), else a TypeError
-    saying how to get one (a loaded stator file, passed whole, had failed as "'StatorDesign'
-    object has no attribute 'width_m'")."""
+    saying how to get one (a loaded stator file passed whole is a common slip, which would
+    fail as "'StatorDesign' object has no attribute 'width_m'")."""
     if stator is None:
         return PlateStator()
     if isinstance(stator, PlateStator):
@@ -246,8 +247,6 @@ def check_generated_size(stator: PlateStator, refine: int, layers: int | None = 
     A lower bound, ``refine^2 l W / min(l, W)^2`` elements (times ``layers``), is checked
     before any line is made, then ``count()`` (the exact count) when given; ``named``: the
     settings the message names (default ``refine``, and ``layers`` in 3D)."""
-    from fem.mesh_io import work_factor
-
     top = (MAX_LIBRARY_CELLS_2D if layers is None else MAX_LIBRARY_BRICKS_3D) * work_factor()
     side = min(stator.length_m, stator.width_m)
     least = float(refine) ** 2 * stator.length_m * stator.width_m / side**2 * (layers or 1)

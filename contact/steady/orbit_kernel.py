@@ -1,12 +1,12 @@
-"""Compiled shooting loop of the fixed-velocity fast problem (:mod:`contact.periodic_orbit`).
+"""Compiled shooting loop of the fixed-velocity fast problem (:mod:`contact.steady.periodic_orbit`).
 
 One call runs the whole search for a periodic orbit of the one-period map at slider velocity
 ``v``: chord Newton on ``P(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b)`` with a
 finite-difference Jacobian corrected by Broyden's secant updates, the period-by-period
 fallback that watches for period-k repetition, and the multi-period jumps once Newton has
-given up. It began as the Python loop of :func:`contact.periodic_orbit.find_orbit` moved into
+given up. It began as the Python loop of :func:`contact.steady.periodic_orbit.find_orbit` moved into
 numba, so that the dozens of one-period kernel calls of a search cost no Python dispatch;
-each period is one call of :func:`contact.event_kernel.integrate_switch_model` with its
+each period is one call of :func:`contact.transient.event_kernel.integrate_switch_model` with its
 window closed. Like that kernel,
 every function here releases the GIL (``nogil``): ``lusm map`` runs points on a thread pool.
 """
@@ -16,9 +16,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from contact.event_kernel import integrate_switch_model
+from contact import state
 from contact.numba_cache import depend_on
 from contact.state import CONTACT, COS, DU, DW, DX, HELD, ONE, SIN, STICK, U, W, X
+from contact.transient import event_kernel
+from contact.transient.event_kernel import integrate_switch_model
 
 N_Y = 4
 """Shooting variables (u_l, du_l, w_b, dw_b)."""
@@ -295,7 +297,7 @@ def _full_y(i):
 def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
                ft_m, ff_m, funcs, sc, tol, max_newton):
     """Newton on the k-period map of the full model, ``y = (u_l, du_l, w_b, dw_b, dx)``:
-    the loop of :func:`contact.full_orbit.shoot` compiled.
+    the loop of :func:`contact.steady.full_orbit.shoot` compiled.
 
     Returns ``(code, z, mode, residual, periods, iterations, jac, free)``: ``code`` is
     :data:`FOUND` when converged, :data:`SEARCH_OVER` when not, :data:`CHATTER` on kernel
@@ -440,7 +442,7 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
     steps = n * kk
     phase_time = np.zeros(4)
     if k != 1:
-        # the search's last period gave the F_T integral of a one-period orbit only
+        # the search's last period gives the F_T integral of a one-period orbit only
         zs = z.copy()
         zs[X] = 0.0
         out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
@@ -470,10 +472,4 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
             jac_mode)
 
 
-def _dependencies():
-    from contact import event_kernel, state
-
-    return event_kernel, state
-
-
-depend_on(globals(), *_dependencies())
+depend_on(globals(), event_kernel, state)

@@ -506,7 +506,7 @@ def integrate_switch_model(
         Steps, ascending, at whose end the slider position is wanted (0: the start).
     mark_x : (m,) float64 array
         Filled with the slider position x (m) at each of ``marks`` (left as it is for a step
-        beyond the run). The earlier window of :func:`contact.simulate.solve_event` is read
+        beyond the run). The earlier window of :func:`contact.transient.event.solve_event` is read
         there exactly, not interpolated from the decimated trace.
 
     Returns

@@ -24,8 +24,8 @@ def period_step_s(period_s: float, nominal_dt_s: float) -> float:
     the slider's ripple then biases their means (3e-6 at 35 254 Hz; a held slider read
     +-1e-9 m/s and never "settled"). Rounding up, never down, keeps the step at or below the
     nominal one; the floor of 20 steps keeps a default step inside :func:`check_time_step`'s
-    range at drive frequencies above 1/(20 ``nominal_dt_s``) (500 kHz at 1e-7 s), where the
-    default had been refused as if the user had typed it.
+    range at drive frequencies above 1/(20 ``nominal_dt_s``) (500 kHz at 1e-7 s), so that
+    the default is not refused as if the user had typed it.
     """
     n = max(MIN_STEPS_PER_PERIOD, math.ceil(period_s / nominal_dt_s * (1.0 - 1e-12)))
     if abs(n * nominal_dt_s - period_s) <= 1e-12 * period_s:
@@ -120,8 +120,8 @@ def work_factor() -> float:
 MAX_STORED_STEPS = 10_000_000
 """Most steps a run keeps, at full resolution (``full_periods``) or in its decimated trace
 (``max_trace_points``), times ``LUSM_MAX_WORK``: about 0.8 GB of columns, held three times
-while the results are built. ``full_periods=10**9`` over 5 s had ended in a MemoryError
-after its kernel ran (``lusm simulate`` keeps at most 2e6)."""
+while the results are built (``full_periods=10**9`` over 5 s would run out of memory after
+its kernel ran; ``lusm simulate`` keeps at most 2e6)."""
 
 MAX_RUN_STEPS = 1_000_000_000
 """Most time steps of one run. A kernel holds Ctrl-C until it returns

@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from contact import literal_kernel as lk
 from contact.deferred_signals import call_held
-from contact.model import OperatingPoint, gamma_T, static_deflection_m
+from contact.model import OperatingPoint, build_system, gamma_T, static_deflection_m
 from contact.results import SchemeOutput
-from contact.window import RunWindow
+from contact.transient import literal_kernel as lk
+from contact.transient.event import check_spectrum
+from contact.transient.window import RunWindow
 from rom.params import GRAVITY_M_S2, MotorParams
 
 
@@ -43,9 +44,6 @@ def pack_parameters(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
 def solve_literal(params: MotorParams, op: OperatingPoint, opts, window: RunWindow,
                   mu_d_eff: float) -> SchemeOutput:
     """Run the literal fixed-step, fixed-band switch model from the static equilibrium."""
-    from contact.model import build_system
-    from contact.simulate import check_spectrum
-
     dt = window.dt_s
     # the event scheme's step bound: RK4 above it returned NaN labelled "pure-slip" (a contact
     # stiffness of 1e12 N/m at 1e-7 s)

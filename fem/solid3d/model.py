@@ -42,7 +42,7 @@ K_uphi^T``. Sign convention: ``V_e`` is the potential of the top electrode; a po
 makes ``E3 = -V/h``, the opposite of the 2D model's convention ``E3 = +V/h`` (frequencies and
 ``k_eff`` do not depend on it).
 
-Stators that carry their own planform mesh (:class:`fem.meshed_stator.MeshedStator`: a
+Stators that carry their own planform mesh (:class:`fem.meshing.meshed_stator.MeshedStator`: a
 protruding tip, chamfered corners, any imported quad mesh) are meshed by extruding that 2D
 mesh through the thickness in ``layers`` element layers (:func:`extruded_hex_mesh`); the top
 face of a top-layer brick belongs to electrode ``k`` when its 2D element is tagged ``k``
@@ -52,7 +52,7 @@ structured box mesh.
 
 :func:`saddle_point_frequencies_Hz` (the shift-invert driver), :func:`assemble_solid` and
 :func:`identify_sampled` are shared with the quarter-plate model of
-:mod:`fem.solid3d_symmetric`.
+:mod:`fem.solid3d.symmetric`.
 
 Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z = 0``
 (symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
@@ -73,15 +73,16 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
+from fem.limits import work_factor
 from fem.material import PiezoMaterial, get_material
-from fem.mesh import (
+from fem.meshing.mesh import (
     MAX_LIBRARY_BRICKS_3D,
     PlateMesh,
     check_generated_size,
     grid_lines_m,
     require_plate,
 )
-from fem.meshed_stator import overall_length_m, planform_mesh
+from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 from fem.model import affine_probes
 from fem.modes import (
     MIN_MAC,
@@ -103,7 +104,8 @@ ELEMENTS = ("hex20", "hex27")
 DEFAULT_ELEMENT = "hex20"
 """Default quadratic brick (see the module docstring and ``docs/fem3d.md``)."""
 DEFAULT_REFINE_3D = 3
-"""Default in-plane refinement: elements per plate width, as in :func:`fem.mesh.grid_lines_m`."""
+"""Default in-plane refinement: elements per plate width, as in
+:func:`fem.meshing.mesh.grid_lines_m`."""
 DEFAULT_LAYERS = 3
 """Default number of element layers through the thickness."""
 MIN_THICKNESS_SYMMETRY = 0.5
@@ -271,8 +273,8 @@ class SolidPlateModel:
 
 
 def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading: int) -> None:
-    """Refuse a 3D mesh above :data:`fem.mesh.MAX_LIBRARY_BRICKS_3D` bricks before it is built
-    (``solid_modes(refine=200)`` had ended in a MemoryError): the generated plate's bricks,
+    """Refuse a 3D mesh above :data:`fem.meshing.mesh.MAX_LIBRARY_BRICKS_3D` bricks before it is
+    built (``solid_modes(refine=200)`` runs out of memory): the generated plate's bricks,
     counted from its lines, or a planform's elements times ``layers`` (at least)."""
     planform = planform_mesh(stator)
     if planform is None:
@@ -280,7 +282,6 @@ def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading
             len(v) - 1 for v in hex_grid_lines(stator, refine, layers, edge_grading)),
             named=f"refine = {refine}, layers = {layers} and edge_grading = {edge_grading}")
         return
-    from fem.mesh_io import work_factor
 
     top = MAX_LIBRARY_BRICKS_3D * work_factor()
     n = planform.n_elements * layers
@@ -385,7 +386,7 @@ def gap_element_ratio(stator: PlateStator, refine: int, layers: int,
     thickness, over the gap width. The singular potential at the electrode edges lives on
     the gap's scale; at 30 x 7.5 x 3 mm with the 0.5 mm gap the default mesh has a ratio of
     4.9 and B2's k_eff 5 % low (docs/fem3d.md, mesh study), and narrow gaps with ratios of
-    tens gave 6-29 % and open-circuit B2 modes mixed with out-of-plane ones. A stator with a
+    tens give 6-29 % and open-circuit B2 modes mixed with out-of-plane ones. A stator with a
     planform mesh is measured on that mesh (its elements touching a gap strip's edges, the
     narrower strip) and its layers (:func:`planform_layer_lines`): the parametric tip's plate
     at a 0.05 mm gap has 20 from its 1 mm layers, and B2's k_eff 0.067 against 0.101 in 2D.
@@ -560,7 +561,7 @@ def build_solid_model(
 ) -> SolidPlateModel:
     """Assemble the 3D model of ``stator`` on a quadratic brick mesh.
 
-    A stator carrying a planform mesh (:class:`fem.meshed_stator.MeshedStator`) is meshed by
+    A stator carrying a planform mesh (:class:`fem.meshing.meshed_stator.MeshedStator`) is meshed by
     :func:`extruded_hex_mesh` (``refine`` is then ignored) with the electrodes of its element
     tags; a plain :class:`fem.geometry.PlateStator` by the structured box mesh.
 
@@ -575,7 +576,7 @@ def build_solid_model(
         2 (quadratic, default) or 1 (trilinear).
     refine : int
         In-plane elements per plate width; the grid lines follow the electrode edges
-        (:func:`fem.mesh.grid_lines_m`).
+        (:func:`fem.meshing.mesh.grid_lines_m`).
     layers : int
         Element layers through the thickness.
     element : str
@@ -590,7 +591,7 @@ def build_solid_model(
         Explicit tensor lines ``(x, y, z)`` (m) of the structured mesh of a plain plate,
         replacing those of ``refine``, ``layers`` and ``edge_grading`` (which are then only
         recorded); they must span the plate and contain the electrode edges
-        (:func:`fem.solid3d_symmetric.quarter_grid_lines` mirrored gives such lines).
+        (:func:`fem.solid3d.symmetric.quarter_grid_lines` mirrored gives such lines).
 
     Raises
     ------
@@ -609,35 +610,9 @@ def build_solid_model(
             "PlateStator.electrode_gap_m must be > 0 in the 3D model: with no gap the four "
             "quadrants touch and form one conductor"
         )
-    if planform is None and grid_lines is not None:
-        from skfem import MeshHex
-
-        mesh = MeshHex.init_tensor(*(np.asarray(v, dtype=float) for v in grid_lines))
-    elif planform is None:
-        mesh = _hex_mesh(stator, refine, layers, _check_int("edge_grading", edge_grading, 0))
-    else:
-        levels = planform_layer_lines(planform, stator.thickness_m, layers,
-                                      _check_int("edge_grading", edge_grading, 0))
-        mesh = extruded_hex_mesh(planform, stator.thickness_m, layers, levels)
+    mesh, levels = _solid_mesh(stator, planform, refine, layers, edge_grading, grid_lines)
     basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element)
-    # electrodes: top-face dofs in the closed quadrant regions; bottom face grounded
-    h = stator.thickness_m
-    xyz = basis.doflocs
-    tol = 1e-9 * max(stator.length_m, stator.width_m, h)
-    top = np.flatnonzero(np.abs(xyz[2] - h / 2) < tol)
-    bottom = np.flatnonzero(np.abs(xyz[2] + h / 2) < tol)
-    if planform is None:
-        # nodes on an electrode's edge belong to it (a copy of the stator with the gap
-        # shrunk by 2 tol was refused for a 1 um gap: below the 1 um a gap may have)
-        tags = stator.electrode_of(xyz[0, top], xyz[1, top], tol_m=tol)
-        electrode_dofs = tuple(top[tags == k] for k in ELECTRODES)
-    else:
-        electrode_dofs = _planform_electrodes(planform, basis, h, levels.size - 1, tol)
-    for k, d in zip(ELECTRODES, electrode_dofs, strict=True):
-        if d.size == 0:
-            raise ValueError(f"the mesh has no node under electrode {k}")
-        d.setflags(write=False)
-    bottom.setflags(write=False)
+    electrode_dofs, bottom = _electrode_dofs(stator, planform, basis, levels)
     return SolidPlateModel(
         stator=stator,
         material=mat,
@@ -654,6 +629,48 @@ def build_solid_model(
         ground_dofs=bottom,
         assembly_time_s=time.perf_counter() - t0,
     )
+
+
+def _solid_mesh(stator: PlateStator, planform, refine: int, layers: int, edge_grading: int,
+                grid_lines):
+    """The brick mesh of :func:`build_solid_model` and the layer levels of an extruded
+    planform (None for the box mesh): the tensor mesh of ``grid_lines``, else the
+    structured box mesh of a plain plate, else the planform extruded."""
+    if planform is None and grid_lines is not None:
+        from skfem import MeshHex
+
+        return MeshHex.init_tensor(*(np.asarray(v, dtype=float) for v in grid_lines)), None
+    if planform is None:
+        return _hex_mesh(stator, refine, layers,
+                         _check_int("edge_grading", edge_grading, 0)), None
+    levels = planform_layer_lines(planform, stator.thickness_m, layers,
+                                  _check_int("edge_grading", edge_grading, 0))
+    return extruded_hex_mesh(planform, stator.thickness_m, layers, levels), levels
+
+
+def _electrode_dofs(stator: PlateStator, planform, basis,
+                    levels) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+    """Potential dofs of each electrode (top face, in the closed quadrant regions or the
+    planform's tagged elements) and of the grounded bottom face, read-only; refuses an
+    electrode without a node."""
+    h = stator.thickness_m
+    xyz = basis.doflocs
+    tol = 1e-9 * max(stator.length_m, stator.width_m, h)
+    top = np.flatnonzero(np.abs(xyz[2] - h / 2) < tol)
+    bottom = np.flatnonzero(np.abs(xyz[2] + h / 2) < tol)
+    if planform is None:
+        # nodes on an electrode's edge belong to it (shrinking a copy of the stator's gap by
+        # 2 tol instead would refuse a 1 um gap, the smallest a gap may have)
+        tags = stator.electrode_of(xyz[0, top], xyz[1, top], tol_m=tol)
+        electrode_dofs = tuple(top[tags == k] for k in ELECTRODES)
+    else:
+        electrode_dofs = _planform_electrodes(planform, basis, h, levels.size - 1, tol)
+    for k, d in zip(ELECTRODES, electrode_dofs, strict=True):
+        if d.size == 0:
+            raise ValueError(f"the mesh has no node under electrode {k}")
+        d.setflags(write=False)
+    bottom.setflags(write=False)
+    return electrode_dofs, bottom
 
 
 def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
@@ -804,7 +821,7 @@ def saddle_point_frequencies_Hz(
     ``f_center_Hz = 0`` uses a small negative shift (rigid-body modes at 0 Hz); negative
     eigenvalues from round-off come back as negative frequencies. ``row_order``, a
     fill-reducing permutation of the saddle-point unknowns (displacements, then potentials),
-    replaces SuperLU's own column ordering (e.g. :mod:`fem.grid_ordering`).
+    replaces SuperLU's own column ordering (e.g. :mod:`fem.solid3d.grid_ordering`).
 
     Raises
     ------

@@ -9,9 +9,9 @@ search continues from a neighbouring orbit), then Newton on ``P(y) - y = 0`` for
 differences (exact inside one mode sequence), reused and corrected by Broyden's updates,
 falling back to period-by-period iteration when Newton does not contract; period-k orbits are
 detected from the iterates. The search loop runs compiled
-(:func:`contact.orbit_kernel.search_orbit`).
+(:func:`contact.steady.orbit_kernel.search_orbit`).
 
-The one-period map reuses the event-located kernel :func:`contact.event_kernel.
+The one-period map reuses the event-located kernel :func:`contact.transient.event_kernel.
 integrate_switch_model` on a modified system: the slider row of every generator is zeroed
 (``dx = v`` exactly) and the slider-position row integrates a force (``dx_state/dt = F``), so
 the kernel's exact propagators return the exact period integral of F_T (or F_N) in the
@@ -25,12 +25,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact import event_kernel, orbit_kernel
 from contact import state as S
 from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.expm import expm_stack
 from contact.model import HybridSystem, OperatingPoint, build_system
+from contact.steady import orbit_kernel
+from contact.transient import event_kernel
 from rom.params import MotorParams
 
 STEPS_PER_PERIOD = 25
@@ -333,7 +334,7 @@ class Orbit:
         Time in stick, slip+, slip-, separation over the k periods (s); zero for ``k = 0``
         (:func:`orbit_phases` computes them over the averaging periods).
     work : ndarray, shape (6,)
-        Work integrals of :mod:`contact.event_kernel` over the k periods (J); zero unless
+        Work integrals of :mod:`contact.transient.event_kernel` over the k periods (J); zero unless
         asked for (:func:`find_orbit` ``energy=True``, or :func:`orbit_work`).
     jacobian : tuple or None
         ``(J, mode)``: the last finite-difference Jacobian of the one-period map in
@@ -431,7 +432,7 @@ def orbit_phases(fs: FastSystem, orbit: Orbit,
 
 
 def orbit_work(fs: FastSystem, orbit: Orbit, average_periods: int = AVERAGE_PERIODS) -> np.ndarray:
-    """Work integrals (J) of :mod:`contact.event_kernel` over the orbit's k periods, at
+    """Work integrals (J) of :mod:`contact.transient.event_kernel` over the orbit's k periods, at
     :data:`ENERGY_STEPS_PER_PERIOD` steps per period (for ``k = 0`` over the
     ``average_periods`` periods the averages were taken on, at the orbit's own step)."""
     if orbit.k:

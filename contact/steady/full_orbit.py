@@ -1,6 +1,6 @@
 """Periodic orbits of the full switch model (finite slider mass) by shooting.
 
-The averaged steady state of :mod:`contact.steady` is exact only as the slider mass tends to
+The averaged steady state of :mod:`contact.steady.engine` is exact only as the slider mass tends to
 infinity. Here the slider velocity joins the shooting variables: Newton on
 ``P^k(y) - y = 0`` for ``y = (u_l, du_l, w_b, dw_b, dx)`` over k drive periods of the full
 model (finite M, guide friction, load), with the finite-difference Jacobian of the
@@ -8,8 +8,8 @@ piecewise-affine map, started on an averaged orbit or on the end of a transient.
 slider velocity of the orbit is its distance over kT. Components fixed by the mode (``dx = 0``
 while the guide holds, ``dx = phi_B(l) dw_b`` in stick) are dropped from the unknowns.
 
-The one-period map reuses :func:`contact.event_kernel.integrate_switch_model`; the Newton loop
-runs compiled (:func:`contact.orbit_kernel.shoot_full`).
+The one-period map reuses :func:`contact.transient.event_kernel.integrate_switch_model`; the
+Newton loop runs compiled (:func:`contact.steady.orbit_kernel.shoot_full`).
 """
 
 from __future__ import annotations
@@ -18,24 +18,25 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact import event_kernel, orbit_kernel
 from contact import state as S
 from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.model import HybridSystem, OperatingPoint, build_system
-from contact.periodic_orbit import (
+from contact.steady import orbit_kernel
+from contact.steady.periodic_orbit import (
     integrating_systems,
     propagator_ladder,
     run_whole_periods,
     steps_for,
 )
+from contact.transient import event_kernel
 from rom.params import MotorParams
 
 
 @dataclass(frozen=True)
 class FullSystem:
     """The full model of one operating point with its one-step propagators (``fine``: cache
-    of the propagators at :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD`, the step of
+    of the propagators at :data:`contact.steady.periodic_orbit.ENERGY_STEPS_PER_PERIOD`, the step of
     the work integrals, and of the force-integrating twins of :func:`mean_forces`)."""
 
     system: HybridSystem
@@ -51,7 +52,7 @@ class FullSystem:
 def full_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
                 coupling: str = "paper", steps_per_period: int | None = None) -> FullSystem:
     """Build the full model (load included) for shooting (steps per period as
-    :func:`contact.periodic_orbit.steps_for`)."""
+    :func:`contact.steady.periodic_orbit.steps_for`)."""
     sys_ = build_system(params, op, mu_d_eff, coupling)
     n = steps_for(sys_, op.period_s, steps_per_period)
     dt = op.period_s / n
@@ -68,7 +69,7 @@ def run_periods(fs: FullSystem, z: np.ndarray, mode: int, periods: int, energy: 
     phase_time)`` with the position slot reset to 0 at the start (work is accumulated, and
     non-zero, only when ``energy``, at a step of at most ``T / ENERGY_STEPS_PER_PERIOD``;
     phase time only with ``window``, default ``energy``;
-    :func:`contact.periodic_orbit.run_whole_periods`)."""
+    :func:`contact.steady.periodic_orbit.run_whole_periods`)."""
     return run_whole_periods(fs.system, z, mode, periods, steps=fs.steps_per_period,
                              period_s=fs.period_s, phi=fs.phi, half=fs.phi_half, fine=fs.fine,
                              key="phi", energy=energy,
@@ -100,7 +101,7 @@ class FullOrbit:
     periods, newton_iterations : int
         Work spent.
     work : ndarray
-        Work integrals over the orbit (J), see :mod:`contact.event_kernel`.
+        Work integrals over the orbit (J), see :mod:`contact.transient.event_kernel`.
     phase_time : ndarray
         Time in stick, slip+, slip-, separation over the orbit (s).
     multiplier : float
@@ -143,7 +144,7 @@ def shoot(fs: FullSystem, z0: np.ndarray, mode0: int, k: int, *, tol: float = 1e
     """Newton on the k-period map of the full model from ``(z0, mode0)``.
 
     The orbit's work integrals take a run at
-    :data:`contact.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
+    :data:`contact.steady.periodic_orbit.ENERGY_STEPS_PER_PERIOD` steps per period; without
     ``energy`` they are NaN (the phase times are kept). A converged orbit reports its least
     period (:func:`least_period`), over which its velocity, work, phase times and mean forces
     are taken: a shot over ``k`` periods converges to any orbit whose period divides ``k``."""
@@ -190,8 +191,8 @@ def least_period(fs: FullSystem, z: np.ndarray, mode: int, k: int) -> tuple[int,
     Returns ``(d, periods run)``.
 
     A k-period shot converges to any orbit whose period divides k: from the averaged orbit
-    of period 3 at 200 V / 14 N driven at 1 kHz it converged to the held slider's orbit of
-    one period, which was then reported with k = 3 at one load and k = 1 at the next."""
+    of period 3 at 200 V / 14 N driven at 1 kHz it converges to the held slider's orbit of
+    one period, which must not be reported with k = 3 at one load and k = 1 at the next."""
     amp = _scale(fs, z)
     y0 = z[_Y]
     spent = 0
@@ -210,7 +211,7 @@ def mean_forces(fs: FullSystem, z: np.ndarray, mode: int, periods: int) -> tuple
     """Period means ``(F_T, F_N)`` (N) of the tangential force on the slider and the normal
     force over ``periods`` drive periods of the full model from ``(z, mode)``.
 
-    The model's integrating twins (:func:`contact.periodic_orbit.integrating_systems`, as the
+    The model's integrating twins (:func:`contact.steady.periodic_orbit.integrating_systems`, as the
     fast problem integrates its forces) run the same trajectory with the position slot
     integrating each force: exact propagators and located events, at the shooting's step. They
     are built on first use and cached with the system."""

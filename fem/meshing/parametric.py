@@ -31,7 +31,7 @@ quads (Blossom) and split once (``Mesh.SubdivisionAlgorithm = 1``), which gives 
 mesh with edges of about ``mesh_size_m``. Blossom can leave an inverted element next to a
 finely divided hole rim; the mesh is then checked (every element's signed area against its
 surface's orientation) and, if one is inverted, remeshed with triangles (Frontal-Delaunay),
-each split into three quads (:func:`fem.mesh_io.quadrangulate`, as for triangle mesh files).
+each split into three quads (:func:`fem.meshing.mesh_io.quadrangulate`, as for triangle mesh files).
 Hole rims get at least :data:`HOLE_SEGMENTS` edges. Every element lies under one electrode
 or in unelectroded material; its tag is read at its centroid. The mesh is cached per stator
 (the dataclass is hashable), so repeated commands and tuning steps do not remesh the same
@@ -47,8 +47,9 @@ from functools import lru_cache
 import numpy as np
 
 from fem.geometry import PlateStator
-from fem.mesh import PlateMesh
-from fem.mesh_io import quadrangulate
+from fem.limits import work_factor
+from fem.meshing.mesh import PlateMesh
+from fem.meshing.mesh_io import quadrangulate
 
 GMSH_SYSTEM_LIBRARIES = "libglu1-mesa libxrender1 libxcursor1 libxft2 libxinerama1"
 """The Debian/Ubuntu packages of the OpenGL/X11 libraries that gmsh's wheel links."""
@@ -110,7 +111,7 @@ class ParametricStator(PlateStator):
                              f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
         if self.tip_length_m > 0.0:
             flat = width - 2.0 * c
-            # a plate without chamfers had been told of "the end face between the chamfers"
+            # a plate without chamfers has no "end face between the chamfers"
             face = "end face between the chamfers" if c > 0.0 else "plate's end face (its width)"
             if not 0.0 < self.tip_width_m <= flat * (1 + 1e-12):
                 raise ValueError(f"ParametricStator.tip_width_m must lie in (0, {flat!r}] m "
@@ -278,7 +279,7 @@ def parametric_mesh(stator: ParametricStator, cached: bool = True) -> PlateMesh:
 
 @lru_cache(maxsize=32)
 def _cached_mesh(stator: ParametricStator) -> PlateMesh:
-    from fem.mesh_io import MAX_CELLS, work_factor
+    from fem.meshing.mesh_io import MAX_CELLS
 
     estimate, top = estimated_elements(stator), int(MAX_CELLS * work_factor())
     if estimate > top:  # refused from the 1D mesh, before the 2D mesh's minutes
@@ -338,18 +339,16 @@ cross it once meshed."""
 def estimated_elements(stator: ParametricStator) -> int:
     """The planform mesh's elements, estimated before gmsh meshes it in 2D.
 
-    gmsh's 2D mesh takes its element size from the boundary: each boundary node carries the
-    length of its edges (a hole's rim has at least :data:`HOLE_SEGMENTS` of them, however
-    small the hole), interpolated linearly over the Delaunay triangulation of the boundary
-    nodes. The estimate integrates ``1 / s^2`` over that triangulation exactly (the
-    Hermite-Genocchi formula: over a triangle of area ``A`` with linear ``s``, ``2 A`` times
-    the second divided difference of ``-ln s`` at its vertices) and scales it by
-    :data:`ELEMENTS_PER_SIZE_AREA`. The 1D mesh takes milliseconds: 64 holes of 0.01 mm in a
-    cluster had been meshed in 2D for more than ten minutes and 1.1 GB before the count was
-    known. Never high: within 4 % on fine meshes, 1.5 times low at the default size, up to
-    6.5 times low on a dense cluster of holes (:data:`ELEMENTS_PER_SIZE_AREA`); triangles of
-    the triangulation off the planform (beside a tip, beyond a chamfer) and inside holes are
-    left out.
+    gmsh's 2D mesh takes its element size from the boundary: each boundary node carries the length
+    of its edges (a hole's rim has at least :data:`HOLE_SEGMENTS` of them, however small the hole),
+    interpolated linearly over the Delaunay triangulation of the boundary nodes. The estimate
+    integrates ``1 / s^2`` over that triangulation exactly (the Hermite-Genocchi formula: over a
+    triangle of area ``A`` with linear ``s``, ``2 A`` times the second divided difference of
+    ``-ln s`` at its vertices) and scales it by :data:`ELEMENTS_PER_SIZE_AREA`. The 1D mesh takes
+    milliseconds, where 64 holes of 0.01 mm in a cluster take more than ten minutes and 1.1 GB to
+    mesh in 2D. Never high: within 4 % on fine meshes, 1.5 times low at the default size, up to 6.5
+    times low on a dense cluster of holes (:data:`ELEMENTS_PER_SIZE_AREA`); triangles of the
+    triangulation off the planform (beside a tip, beyond a chamfer) and inside holes are left out.
     """
     from scipy.spatial import Delaunay
 
@@ -462,107 +461,36 @@ def _initialize_keeping_signals(gmsh) -> None:
             signal.signal(sig, handler)
 
 
+_GMSH_MM = 1e3
+"""gmsh works in millimetres (its tolerances are absolute): metres times this."""
+
+
 def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool, half: bool = False,
                boundary_only: bool = False):
     """Nodes (n, 2) (m), counter-clockwise triangles (k, 3) and quads (m, 4) of the planform
     (with ``half``: of its part ``x >= 0``); ``(None, None, None)`` if an element came out
     inverted. With ``boundary_only``: the boundary's 1D mesh alone, ``(nodes (n, 2) (m),
     edges (k, 2))``, in milliseconds where the 2D mesh can take minutes."""
-    mm = 1e3  # gmsh works in millimetres (its tolerances are absolute)
-    length, width = stator.length_m * mm, stator.width_m * mm
-    gap, c = stator.electrode_gap_m * mm, stator.chamfer_m * mm
-    tl, tw = stator.tip_length_m * mm, stator.tip_width_m * mm
-    h = stator.element_size_m * mm
-    w2 = 0.5 * width
     ours = not gmsh.isInitialized()  # leave a caller's own gmsh session running
     if ours:
         _initialize_keeping_signals(gmsh)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("lusm_stator")
-        occ = gmsh.model.occ
-        if c > 0.0:
-            corners = [(-w2 + c, 0.0), (w2 - c, 0.0), (w2, c), (w2, length - c),
-                       (w2 - c, length), (-w2 + c, length), (-w2, length - c), (-w2, c)]
-        else:
-            corners = [(-w2, 0.0), (w2, 0.0), (w2, length), (-w2, length)]
-        pts = [occ.addPoint(x, y, 0.0) for x, y in corners]
-        lines = [occ.addLine(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
-        parts = [(2, occ.addPlaneSurface([occ.addCurveLoop(lines)]))]
-        if tl > 0.0:
-            parts.append((2, occ.addRectangle(-0.5 * tw, length, 0.0, tw, tl)))
-        if gap > 0.0:
-            tools = [(2, occ.addRectangle(-0.5 * gap, 0.0, 0.0, gap, length)),
-                     (2, occ.addRectangle(-w2, 0.5 * (length - gap), 0.0, width, gap))]
-        else:  # zero gap: the quadrant boundaries are still mesh lines
-            tools = [(1, occ.addLine(occ.addPoint(0.0, 0.0, 0.0),
-                                     occ.addPoint(0.0, length, 0.0))),
-                     (1, occ.addLine(occ.addPoint(-w2, 0.5 * length, 0.0),
-                                     occ.addPoint(w2, 0.5 * length, 0.0)))]
-        pieces, _ = occ.fragment(parts, tools)
-        pieces = [p for p in pieces if p[0] == 2]
-        if stator.holes_m:
-            disks = [(2, occ.addDisk(x * mm, y * mm, 0.0, 0.5 * d * mm, 0.5 * d * mm))
-                     for x, y, d in stator.holes_m]
-            pieces, _ = occ.cut(pieces, disks)
-        if half:
-            box = occ.addRectangle(0.0, -1.0, 0.0, w2 + 1.0, length + tl + 2.0)
-            pieces, _ = occ.intersect(pieces, [(2, box)])
-        occ.synchronize()
-        # hole rims: a fixed number of edges (the split below halves them once more)
-        per_turn = HOLE_SEGMENTS // 2 if recombine else HOLE_SEGMENTS
-        for x, y, d in stator.holes_m:
-            r, e = 0.5 * d * mm, 1e-6 * max(length, width)
-            for _, curve in gmsh.model.getEntitiesInBoundingBox(
-                    x * mm - r - e, y * mm - r - e, -e, x * mm + r + e, y * mm + r + e, e, 1):
-                lo, hi = gmsh.model.getParametrizationBounds(1, curve)
-                turn = abs(hi[0] - lo[0]) / (2.0 * math.pi)
-                n = max(1, math.ceil(turn * per_turn - 1e-9),
-                        math.ceil(turn * 2.0 * math.pi * r / (2.0 * h) - 1e-9))
-                gmsh.model.mesh.setTransfiniteCurve(curve, n + 1)
-        opt = gmsh.option.setNumber
-        opt("Mesh.MeshSizeMax", 2.0 * h)  # split once below: edges of about h
-        opt("Mesh.MeshSizeMin", 0.0)
-        opt("Mesh.Algorithm", 8 if recombine else 6)  # Frontal-Delaunay (for quads)
-        if recombine:
-            opt("Mesh.RecombineAll", 1)
-            opt("Mesh.RecombinationAlgorithm", 1)  # Blossom
-            opt("Mesh.SubdivisionAlgorithm", 1)  # every element into quads
+        _planform_geometry(gmsh, stator, half)
+        _mesh_settings(gmsh, stator, recombine)
         if boundary_only:
             gmsh.model.mesh.generate(1)
-            node_tags, coords, _ = gmsh.model.mesh.getNodes()
-            index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
-            index[np.asarray(node_tags, dtype=np.int64)] = np.arange(node_tags.size)
-            xy = np.asarray(coords, dtype=float).reshape(-1, 3)[:, :2] / mm
+            index, xy = _gmsh_nodes(gmsh)
             edges = [index[np.asarray(n, dtype=np.int64).reshape(-1, 2)]
                      for t, n in zip(*gmsh.model.mesh.getElements(1)[::2], strict=True)
                      if int(t) == 1]
             return xy, np.concatenate(edges) if edges else np.zeros((0, 2), dtype=np.int64)
         gmsh.model.mesh.generate(2)
-        node_tags, coords, _ = gmsh.model.mesh.getNodes()
-        index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
-        index[np.asarray(node_tags, dtype=np.int64)] = np.arange(node_tags.size)
-        xy = np.asarray(coords, dtype=float).reshape(-1, 3)[:, :2] / mm
-        cells: dict[int, list[np.ndarray]] = {3: [], 4: []}
-        for _, surface in gmsh.model.getEntities(2):
-            types, _, enodes = gmsh.model.mesh.getElements(2, surface)
-            blocks = []
-            for t, nodes in zip(types, enodes, strict=True):
-                k = {2: 3, 3: 4}.get(int(t))
-                if k is None:
-                    raise ValueError(f"gmsh returned element type {t}; expected triangles "
-                                     "or quads")
-                blocks.append((k, index[np.asarray(nodes, dtype=np.int64).reshape(-1, k)]))
-            if not blocks:
-                continue
-            # one orientation per surface (its normal): flip a -z surface as a whole; an
-            # element of the other sign is inverted
-            areas = [_signed_area(xy, b) for _, b in blocks]
-            sign = np.sign(sum(float(a.sum()) for a in areas))
-            for (k, b), a in zip(blocks, areas, strict=True):
-                if np.any(a * sign <= 0.0):
-                    return None, None, None
-                cells[k].append(b if sign > 0 else b[:, ::-1])
+        index, xy = _gmsh_nodes(gmsh)
+        cells = _oriented_cells(gmsh, index, xy)
+        if cells is None:
+            return None, None, None
     finally:
         if ours:
             gmsh.finalize()
@@ -571,3 +499,103 @@ def _gmsh_mesh(gmsh, stator: ParametricStator, recombine: bool, half: bool = Fal
     tri = np.concatenate(cells[3]) if cells[3] else np.zeros((0, 3), dtype=np.int64)
     quad = np.concatenate(cells[4]) if cells[4] else np.zeros((0, 4), dtype=np.int64)
     return xy, tri, quad
+
+
+def _planform_geometry(gmsh, stator: ParametricStator, half: bool) -> None:
+    """The planform in gmsh's OpenCASCADE kernel: the plate (chamfered), its tip, cut by
+    the electrode gaps (lines where the gap is zero) and the holes; with ``half`` its part
+    ``x >= 0`` alone."""
+    mm = _GMSH_MM
+    length, width = stator.length_m * mm, stator.width_m * mm
+    gap, c = stator.electrode_gap_m * mm, stator.chamfer_m * mm
+    tl, tw = stator.tip_length_m * mm, stator.tip_width_m * mm
+    w2 = 0.5 * width
+    occ = gmsh.model.occ
+    if c > 0.0:
+        corners = [(-w2 + c, 0.0), (w2 - c, 0.0), (w2, c), (w2, length - c),
+                   (w2 - c, length), (-w2 + c, length), (-w2, length - c), (-w2, c)]
+    else:
+        corners = [(-w2, 0.0), (w2, 0.0), (w2, length), (-w2, length)]
+    pts = [occ.addPoint(x, y, 0.0) for x, y in corners]
+    lines = [occ.addLine(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+    parts = [(2, occ.addPlaneSurface([occ.addCurveLoop(lines)]))]
+    if tl > 0.0:
+        parts.append((2, occ.addRectangle(-0.5 * tw, length, 0.0, tw, tl)))
+    if gap > 0.0:
+        tools = [(2, occ.addRectangle(-0.5 * gap, 0.0, 0.0, gap, length)),
+                 (2, occ.addRectangle(-w2, 0.5 * (length - gap), 0.0, width, gap))]
+    else:  # zero gap: the quadrant boundaries are still mesh lines
+        tools = [(1, occ.addLine(occ.addPoint(0.0, 0.0, 0.0),
+                                 occ.addPoint(0.0, length, 0.0))),
+                 (1, occ.addLine(occ.addPoint(-w2, 0.5 * length, 0.0),
+                                 occ.addPoint(w2, 0.5 * length, 0.0)))]
+    pieces, _ = occ.fragment(parts, tools)
+    pieces = [p for p in pieces if p[0] == 2]
+    if stator.holes_m:
+        disks = [(2, occ.addDisk(x * mm, y * mm, 0.0, 0.5 * d * mm, 0.5 * d * mm))
+                 for x, y, d in stator.holes_m]
+        pieces, _ = occ.cut(pieces, disks)
+    if half:
+        box = occ.addRectangle(0.0, -1.0, 0.0, w2 + 1.0, length + tl + 2.0)
+        pieces, _ = occ.intersect(pieces, [(2, box)])
+    occ.synchronize()
+
+
+def _mesh_settings(gmsh, stator: ParametricStator, recombine: bool) -> None:
+    """Element size and algorithm (quads by recombination and one subdivision where
+    ``recombine``), and a fixed number of edges on each hole's rim."""
+    mm = _GMSH_MM
+    length, width = stator.length_m * mm, stator.width_m * mm
+    h = stator.element_size_m * mm
+    # hole rims: a fixed number of edges (the split below halves them once more)
+    per_turn = HOLE_SEGMENTS // 2 if recombine else HOLE_SEGMENTS
+    for x, y, d in stator.holes_m:
+        r, e = 0.5 * d * mm, 1e-6 * max(length, width)
+        for _, curve in gmsh.model.getEntitiesInBoundingBox(
+                x * mm - r - e, y * mm - r - e, -e, x * mm + r + e, y * mm + r + e, e, 1):
+            lo, hi = gmsh.model.getParametrizationBounds(1, curve)
+            turn = abs(hi[0] - lo[0]) / (2.0 * math.pi)
+            n = max(1, math.ceil(turn * per_turn - 1e-9),
+                    math.ceil(turn * 2.0 * math.pi * r / (2.0 * h) - 1e-9))
+            gmsh.model.mesh.setTransfiniteCurve(curve, n + 1)
+    opt = gmsh.option.setNumber
+    opt("Mesh.MeshSizeMax", 2.0 * h)  # split once below: edges of about h
+    opt("Mesh.MeshSizeMin", 0.0)
+    opt("Mesh.Algorithm", 8 if recombine else 6)  # Frontal-Delaunay (for quads)
+    if recombine:
+        opt("Mesh.RecombineAll", 1)
+        opt("Mesh.RecombinationAlgorithm", 1)  # Blossom
+        opt("Mesh.SubdivisionAlgorithm", 1)  # every element into quads
+
+
+def _gmsh_nodes(gmsh) -> tuple[np.ndarray, np.ndarray]:
+    """``(index, xy)``: row of each gmsh node tag, and the nodes' coordinates (n, 2) (m)."""
+    node_tags, coords, _ = gmsh.model.mesh.getNodes()
+    index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
+    index[np.asarray(node_tags, dtype=np.int64)] = np.arange(node_tags.size)
+    return index, np.asarray(coords, dtype=float).reshape(-1, 3)[:, :2] / _GMSH_MM
+
+
+def _oriented_cells(gmsh, index: np.ndarray, xy: np.ndarray) -> dict | None:
+    """Triangles (3) and quads (4) of every surface, counter-clockwise; None if an element
+    came out inverted. One orientation per surface (its normal): a -z surface is flipped as
+    a whole; an element of the other sign is inverted."""
+    cells: dict[int, list[np.ndarray]] = {3: [], 4: []}
+    for _, surface in gmsh.model.getEntities(2):
+        types, _, enodes = gmsh.model.mesh.getElements(2, surface)
+        blocks = []
+        for t, nodes in zip(types, enodes, strict=True):
+            k = {2: 3, 3: 4}.get(int(t))
+            if k is None:
+                raise ValueError(f"gmsh returned element type {t}; expected triangles "
+                                 "or quads")
+            blocks.append((k, index[np.asarray(nodes, dtype=np.int64).reshape(-1, k)]))
+        if not blocks:
+            continue
+        areas = [_signed_area(xy, b) for _, b in blocks]
+        sign = np.sign(sum(float(a.sum()) for a in areas))
+        for (k, b), a in zip(blocks, areas, strict=True):
+            if np.any(a * sign <= 0.0):
+                return None
+            cells[k].append(b if sign > 0 else b[:, ::-1])
+    return cells

@@ -29,7 +29,7 @@ from scipy.optimize import brentq
 from contact.model import OperatingPoint, gamma_T, static_deflection_m
 from contact.results import SchemeOutput
 from contact.state import BACKWARD, FORWARD, HELD, SLIP_NEG, SLIP_POS, STICK
-from contact.window import MIN_PERIODS, WORK_ENV, RunWindow, work_factor
+from contact.transient.window import MIN_PERIODS, WORK_ENV, RunWindow, work_factor
 from rom.params import GRAVITY_M_S2, MotorParams
 
 Guard = Callable[[float, np.ndarray], float]
@@ -296,31 +296,17 @@ def solve_reference(params: MotorParams, op: OperatingPoint, opts, window: RunWi
     """Event-driven solution from rest with ``solve_ivp`` (DOP853 at ``opts.rtol``).
 
     The scheme ``"reference"`` of :func:`contact.simulate.simulate`; it measures on the same
-    windows as the other schemes, exactly at their start and end times. :func:`simulate`
-    refuses a run of more than :data:`MAX_REFERENCE_PERIODS` drive periods before its A_N
-    pre-pass (:func:`check_reference_work`).
+    windows as the other schemes, exactly at their start and end times.
+    :func:`contact.simulate.simulate` refuses a run of more than
+    :data:`MAX_REFERENCE_PERIODS` drive periods before its A_N pre-pass
+    (:func:`check_reference_work`).
     """
     rtol = opts.rtol
     motor = _Motor(params, op, mu_d_eff, opts.coupling)
-    p = params
     y = np.zeros(6)
-    y[0] = static_deflection_m(p, op.preload_N)
+    y[0] = static_deflection_m(params, op.preload_N)
     mode = (1, STICK, HELD) if motor.fn_arg(y) > 0 else (0, SLIP_POS, HELD)
-    # amplitude scales of each component for the absolute tolerance
-    u_scale = max(abs(p.A_l) * op.voltage_V / p.K_l, abs(y[0]), 1e-12) * 10
-    w_scale = max(abs(p.A_b) * op.voltage_V / p.K_b, 1e-12) * 10
-    atol = rtol * np.array(
-        [u_scale, u_scale * op.omega, w_scale, w_scale * op.omega, 1e-6, 1e-3]
-    )
-    # an event fires once its function exceeds roundoff of its own scale, not at zero:
-    # solve_ivp counts g = 0 -> 0 as a crossing, and with no drive and no preload (0 V /
-    # 0 N) the normal force is exactly 0, so "contact" and "separate" fired in turn at the
-    # same instant, forever (the event kernel's landing past the zero, docs/contact.md §3,
-    # is the same rule)
-    force_tol = 1e-12 * (op.preload_N + motor.Mg + (abs(p.A_l) + abs(p.A_b)) * op.voltage_V)
-    speed_tol = 1e-12 * op.omega * (u_scale + w_scale)
-    tol = {"separate": force_tol, "contact": force_tol, "break": force_tol,
-           "release": force_tol, "vrel": speed_tol, "xdot": speed_tol}
+    atol, tol = _tolerances(motor, y, rtol)
     t_end, t_win = window.end_s, window.window_start_s
     marks = sorted({m for m in (window.previous_start_s, window.previous_end_s, t_win)
                     if 0.0 < m < t_end})
@@ -330,42 +316,9 @@ def solve_reference(params: MotorParams, op: OperatingPoint, opts, window: RunWi
     n_steps = nfev = n_events = 0
     while t < t_end:
         t_stop = next((m for m in marks if m > t), t_end)
-        evs = motor.events(mode)
-        crossings, maxima = [], []
-        for kind, g in evs:
-            def ev(tt, yy, _mode, g=g, tol=tol[kind]):
-                return g(motor.drive(tt), yy) - tol
-            ev.terminal = True
-            ev.direction = 1.0
-            crossings.append(ev)
-
-            # the guard's time derivative falling through zero: a maximum of the guard, where
-            # a pair of crossings inside one step shows (both step ends negative)
-            rate = motor.guard_rate(g, mode)
-
-            def peak(tt, yy, _mode, rate=rate):
-                return rate(tt, yy)
-            peak.direction = -1.0
-            maxima.append(peak)
-        sol = solve_ivp(
-            motor.rhs, (t, t_stop), y, method="DOP853", rtol=rtol, atol=atol,
-            events=crossings + maxima, args=(mode,), first_step=min(1e-8, (t_stop - t) / 2),
-        )
-        if sol.status < 0:
-            raise RuntimeError(f"reference integration failed at t = {t:.6g} s: {sol.message}")
-        n_steps += len(sol.t) - 1
-        nfev += sol.nfev
-        t_new = float(sol.t[-1])
-        y_new = sol.y[:, -1].copy()
-        kind = None
-        if sol.status == 1:  # a crossing ended the segment
-            kind = evs[next(i for i, te in enumerate(sol.t_events[:len(evs)]) if len(te))][0]
-        graze = _stepped_over(motor, sol, evs, crossings, mode, rtol, atol)
-        if graze is not None:
-            t_new, y_new, i, extra = graze
-            kind = evs[i][0]
-            n_steps += len(extra.t) - 1
-            nfev += extra.nfev
+        t_new, y_new, kind, steps, evals = _segment(motor, t, t_stop, y, mode, rtol, atol, tol)
+        n_steps += steps
+        nfev += evals
         lo = max(t, t_win)
         if t_new > lo:  # phase time inside the window
             phase = 3 if not mode[0] else (0 if mode[1] == STICK else
@@ -391,6 +344,75 @@ def solve_reference(params: MotorParams, op: OperatingPoint, opts, window: RunWi
         phase_time=phase_time, y_tip_min_m=nan, y_tip_max_m=nan, trace=None, window=None,
         energy=None, steps=n_steps, events=n_events, nfev=nfev,
     )
+
+
+def _tolerances(motor: _Motor, y0: np.ndarray, rtol: float) -> tuple[np.ndarray, dict]:
+    """The integration's absolute tolerances (per state component, from its amplitude
+    scale) and each event kind's threshold.
+
+    An event fires once its function exceeds roundoff of its own scale, not at zero:
+    ``solve_ivp`` counts ``g = 0 -> 0`` as a crossing, and with no drive and no preload
+    (0 V / 0 N) the normal force is exactly 0, so that "contact" and "separate" would fire
+    in turn at the same instant, forever (the event kernel's landing past the zero,
+    docs/contact.md §3, is the same rule).
+    """
+    p, op = motor.p, motor.op
+    u_scale = max(abs(p.A_l) * op.voltage_V / p.K_l, abs(y0[0]), 1e-12) * 10
+    w_scale = max(abs(p.A_b) * op.voltage_V / p.K_b, 1e-12) * 10
+    atol = rtol * np.array(
+        [u_scale, u_scale * op.omega, w_scale, w_scale * op.omega, 1e-6, 1e-3]
+    )
+    force_tol = 1e-12 * (op.preload_N + motor.Mg + (abs(p.A_l) + abs(p.A_b)) * op.voltage_V)
+    speed_tol = 1e-12 * op.omega * (u_scale + w_scale)
+    tol = {"separate": force_tol, "contact": force_tol, "break": force_tol,
+           "release": force_tol, "vrel": speed_tol, "xdot": speed_tol}
+    return atol, tol
+
+
+def _segment(motor: _Motor, t: float, t_stop: float, y: np.ndarray, mode, rtol: float,
+             atol: np.ndarray, tol: dict):
+    """Integrate one mode from ``t`` to the first switch or ``t_stop`` (s).
+
+    Returns ``(t_new, y_new, kind, steps, nfev)``: where the segment ends, the event kind
+    that ended it (None at ``t_stop``), and the accepted steps and right-hand-side
+    evaluations spent, a pair of crossings stepped over included (:func:`_stepped_over`).
+    """
+    evs = motor.events(mode)
+    crossings, maxima = [], []
+    for kind, g in evs:
+        def ev(tt, yy, _mode, g=g, tol=tol[kind]):
+            return g(motor.drive(tt), yy) - tol
+        ev.terminal = True
+        ev.direction = 1.0
+        crossings.append(ev)
+
+        # the guard's time derivative falling through zero: a maximum of the guard, where
+        # a pair of crossings inside one step shows (both step ends negative)
+        rate = motor.guard_rate(g, mode)
+
+        def peak(tt, yy, _mode, rate=rate):
+            return rate(tt, yy)
+        peak.direction = -1.0
+        maxima.append(peak)
+    sol = solve_ivp(
+        motor.rhs, (t, t_stop), y, method="DOP853", rtol=rtol, atol=atol,
+        events=crossings + maxima, args=(mode,), first_step=min(1e-8, (t_stop - t) / 2),
+    )
+    if sol.status < 0:
+        raise RuntimeError(f"reference integration failed at t = {t:.6g} s: {sol.message}")
+    steps, nfev = len(sol.t) - 1, sol.nfev
+    t_new = float(sol.t[-1])
+    y_new = sol.y[:, -1].copy()
+    kind = None
+    if sol.status == 1:  # a crossing ended the segment
+        kind = evs[next(i for i, te in enumerate(sol.t_events[:len(evs)]) if len(te))][0]
+    graze = _stepped_over(motor, sol, evs, crossings, mode, rtol, atol)
+    if graze is not None:
+        t_new, y_new, i, extra = graze
+        kind = evs[i][0]
+        steps += len(extra.t) - 1
+        nfev += extra.nfev
+    return t_new, y_new, kind, steps, nfev
 
 
 def _stepped_over(motor: _Motor, sol, evs: list[tuple[str, Guard]],

@@ -16,9 +16,9 @@ Conventions (SI inside; see ``docs/designer.md``):
 * other formats (vtu, xdmf, ...) carry an integer cell array ``electrode`` (0 = no
   electrode), as written by :func:`write_mesh`.
 
-Writing: :func:`write_mesh` (a :class:`fem.mesh.PlateMesh`, any meshio format) and
+Writing: :func:`write_mesh` (a :class:`fem.meshing.mesh.PlateMesh`, any meshio format) and
 :func:`write_stator_msh` (any cells plus the ``tip``/``preload`` vertices) both name the
-groups ``electrode1`` .. ``electrode4`` and ``gap`` (:func:`fem.mesh.electrode_name`).
+groups ``electrode1`` .. ``electrode4`` and ``gap`` (:func:`fem.meshing.mesh.electrode_name`).
 
 Cells: ``quad`` and ``triangle`` (and the straight-sided ``quad8``, ``quad9``,
 ``triangle6``, whose mid-side nodes are dropped). The FE stage assembles on bilinear quads
@@ -32,8 +32,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import math
-import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,7 +39,8 @@ from pathlib import Path
 import numpy as np
 
 from fem.geometry import ELECTRODES
-from fem.mesh import GAP_NAME, GAP_PHYSICAL_TAG, PlateMesh, electrode_name
+from fem.limits import work_factor
+from fem.meshing.mesh import GAP_NAME, GAP_PHYSICAL_TAG, PlateMesh, electrode_name
 
 UNITS = {"m": 1.0, "mm": 1e-3}
 """Mesh coordinate units accepted by :func:`read_stator_mesh` and their size in metres."""
@@ -207,15 +206,6 @@ def quadrangulate(
             out.append(np.column_stack((c[:, j], emid[:, j], centre, emid[:, (j - 1) % k])))
             out_tags.append(t)
     return np.concatenate(new_pts), np.concatenate(out), np.concatenate(out_tags)
-
-
-def work_factor() -> float:
-    """``LUSM_MAX_WORK`` (>= 1; 1 when unset or invalid - the CLI reports invalid values)."""
-    try:
-        value = float(os.environ.get("LUSM_MAX_WORK", "") or 1.0)
-    except ValueError:
-        return 1.0
-    return value if math.isfinite(value) and value >= 1.0 else 1.0
 
 
 def _cells_text(ids: np.ndarray, limit: int = 6) -> str:
@@ -440,7 +430,7 @@ def _check_msh41_groups(path: Path) -> None:
     """Refuse an ASCII MSH 4.1 surface entity in more than one physical group.
 
     MSH 4.1 ties physical tags to entities, and meshio keeps one tag per entity: a surface in
-    both ``electrode1`` and ``gap`` was read as one of them without a word (MSH 2.2 writes such
+    both ``electrode1`` and ``gap`` would be read as one of them without a word (MSH 2.2 writes such
     elements twice, which the duplicated-cell check refuses). Binary files and other formats
     are left to the reader.
     """
@@ -515,6 +505,240 @@ def read_meshio(path: Path):
         raise ValueError(f"could not read mesh file {path}: {reason}") from exc
 
 
+def _file_points(m, path: Path, unit: str) -> tuple[np.ndarray, np.ndarray]:
+    """The file's nodes as read (``(n, 2 or 3)``) and their planform coordinates in metres."""
+    pts3 = np.asarray(m.points, dtype=float)
+    if pts3.ndim != 2 or pts3.shape[0] == 0:
+        raise ValueError(f"mesh file {path} holds no points")
+    bad = np.flatnonzero(~np.all(np.isfinite(pts3), axis=1))
+    if bad.size:  # it read as a tip "off the mesh (x in [nan, nan] mm)", or as millimetres
+        raise ValueError(f"mesh file {path}: node {int(bad[0])} has a non-finite coordinate "
+                         f"({', '.join(f'{v:g}' for v in pts3[bad[0]])}); "
+                         f"{bad.size} node(s) in all")
+    return pts3, pts3[:, :2] * UNITS[unit]
+
+
+def _physical_names(m) -> dict[tuple[int, int], str]:
+    """``(physical tag, dimension) -> name`` of the file's physical groups."""
+    names: dict[tuple[int, int], str] = {}
+    for name, value in (m.field_data or {}).items():
+        v = np.atleast_1d(np.asarray(value)).astype(int)
+        names[(int(v[0]), int(v[1]) if v.size > 1 else 2)] = str(name)
+    return names
+
+
+def _check_untagged(m, path: Path, physical) -> None:
+    """Refuse elements with physical tag 0, outside every physical group, once for the file.
+
+    MSH 2.2 writes tag 0 for such an element (with Mesh.SaveAll = 1 gmsh writes all elements
+    so, even those of named groups); the message says so rather than "physical tag 0
+    (dimension 0) has no name".
+    """
+    counts = {kind: sum(int(np.count_nonzero(np.asarray(physical[i]) == 0))
+                        for i, blk in enumerate(m.cells) if blk.type in types)
+              for kind, types in (("surface cells", SURFACE_TYPES), ("vertices", ("vertex",)))}
+    total = sum(len(blk.data) for blk in m.cells if blk.type in SURFACE_TYPES)
+    if counts["surface cells"]:
+        n = counts["surface cells"]
+        raise ValueError(_no_group_message(
+            path, f"all {n} of its surface cells belong to" if n == total else
+            f"{n} of its {total} surface cells belong to"))
+    if counts["vertices"]:
+        raise ValueError(_no_group_message(
+            path, f"{counts['vertices']} of its vertex elements belong to"))
+
+
+def _physical_groups(m, i: int, dim: int, names: dict, path: Path) -> list:
+    """``(mask, group)`` of the cells of block ``i`` per physical tag (gmsh files); a tag with
+    no name in the file is looked up in meshio's cell sets, else refused."""
+    tags = np.asarray(m.cell_data["gmsh:physical"][i], dtype=int)
+    sets = getattr(m, "cell_sets", None) or {}
+    groups = []
+    for tag in np.unique(tags):
+        name = names.get((int(tag), dim))
+        if name is None and not names:  # MSH without names: try cell_sets
+            name = next(
+                (n for n, s in sets.items()
+                 if not n.startswith("gmsh:") and i < len(s) and s[i] is not None
+                 and len(s[i]) and np.all(tags[np.asarray(s[i])] == tag)),
+                None,
+            )
+        if name is None:
+            raise ValueError(
+                f"mesh file {path}: physical tag {int(tag)} (dimension {dim}) has no "
+                f"name; name the physical groups {_ALLOWED}"
+            )
+        groups.append((tags == tag, _group_of(name, path)))
+    return groups
+
+
+def _electrode_array_groups(raw, path: Path) -> list:
+    """``(mask, electrode)`` of a block from the integer cell array ``electrode`` (0..4)."""
+    raw = np.asarray(raw)
+    if raw.ndim != 1 or not np.issubdtype(raw.dtype, np.number) \
+            or not np.all(np.isfinite(raw)) or np.any(raw != np.round(raw)):
+        bad = raw.ravel()[:3].tolist() if raw.size else []
+        raise ValueError(
+            f"mesh file {path}: cell array 'electrode' must hold one integer 0..4 per "
+            f"cell, found {raw.dtype} values such as {bad}")
+    values = raw.astype(int)
+    if np.any((values < 0) | (values > 4)):
+        raise ValueError(
+            f"mesh file {path}: cell array 'electrode' must hold 0..4, found "
+            f"{sorted(set(values.tolist()) - set(range(5)))}"
+        )
+    return [(values == v, int(v)) for v in np.unique(values)]
+
+
+def _block_groups(m, i: int, names: dict, path: Path) -> list | None:
+    """``(mask, group)`` of block ``i``'s cells (group: electrode number, 0 for the gap, or a
+    point name); None for a block the reader skips (lines; vertices of a file without
+    physical groups)."""
+    ctype = m.cells[i].type
+    if ctype not in SURFACE_TYPES and ctype not in IGNORED_TYPES:
+        raise ValueError(
+            f"mesh file {path}: unsupported cell type {ctype!r}; supported: "
+            f"{', '.join(SURFACE_TYPES)} (plus ignored {', '.join(IGNORED_TYPES)})"
+        )
+    if ctype in ("line", "line3"):
+        return None
+    if m.cell_data.get("gmsh:physical") is not None:
+        return _physical_groups(m, i, 0 if ctype == "vertex" else 2, names, path)
+    if ctype == "vertex":
+        return None
+    plain = m.cell_data.get("electrode")
+    if plain is not None:
+        return _electrode_array_groups(plain[i], path)
+    if path.suffix.lower() == ".msh" or any(k.startswith("gmsh:") for k in m.cell_data):
+        # MSH 4.1 without any physical group: meshio gives no tags at all
+        raise ValueError(_no_group_message(path, "its elements belong to"))
+    raise ValueError(
+        f"mesh file {path} has no electrode tags: expected gmsh physical groups "
+        f"{_ALLOWED} or an integer cell-data array 'electrode'"
+    )
+
+
+def _add_named_points(data: np.ndarray, groups: list, pts: np.ndarray, path: Path,
+                      named_points: dict[str, tuple[float, float]]) -> None:
+    """Record the one node (m) of each vertex group (``tip``, ``preload``) of a block."""
+    for mask, group in groups:
+        if not isinstance(group, str):
+            raise ValueError(
+                f"mesh file {path}: vertex group {group!r} is not a point; vertex "
+                f"groups must be named {' or '.join(POINT_GROUPS)}"
+            )
+        nodes = np.unique(data[mask].ravel())
+        if nodes.size != 1 or group in named_points:
+            raise ValueError(
+                f"mesh file {path}: point group {group!r} must hold exactly one node"
+            )
+        x, y = pts[nodes[0]]
+        named_points[group] = (float(x), float(y))
+
+
+class _SurfaceCells:
+    """Triangles and quads gathered block by block, with their electrode tags and their
+    surface cell numbers (file order, for messages)."""
+
+    def __init__(self) -> None:
+        self.polys: dict[int, list[np.ndarray]] = {3: [], 4: []}
+        self.tags: dict[int, list[np.ndarray]] = {3: [], 4: []}
+        self.ids: dict[int, list[np.ndarray]] = {3: [], 4: []}
+        self.count = 0
+        self.types: list[str] = []
+
+    def add(self, ctype: str, data: np.ndarray, groups: list, path: Path) -> None:
+        self.types.append(ctype)
+        k = data.shape[1]
+        tag_arr = np.zeros(data.shape[0], dtype=np.int64)
+        for mask, group in groups:
+            if isinstance(group, str):
+                raise ValueError(
+                    f"mesh file {path}: surface cells in group {group!r}; {group!r} must be "
+                    f"a vertex group"
+                )
+            tag_arr[mask] = group
+        self.polys[k].append(data)
+        self.tags[k].append(tag_arr)
+        self.ids[k].append(np.arange(self.count, self.count + data.shape[0]))
+        self.count += data.shape[0]
+
+    def arrays(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Connectivity ``(n, k)``, tags and cell numbers of the ``k``-node cells."""
+        if not self.polys[k]:
+            return (np.zeros((0, k), dtype=np.int64), np.zeros(0, dtype=np.int64),
+                    np.zeros(0, dtype=np.int64))
+        return (np.concatenate(self.polys[k]), np.concatenate(self.tags[k]),
+                np.concatenate(self.ids[k]))
+
+
+def _check_planform(pts3: np.ndarray, pts: np.ndarray, used: np.ndarray, n_tri: int,
+                    n_quad: int, path: Path, unit: str) -> float:
+    """Refuse a mesh that is not planar, not in metres or millimetres as said, too large for a
+    library call or not in the stator frame (x centred, preload end at y = 0); checked on the
+    nodes ``used`` by surface cells. Returns the area of the planform's bounding box (m^2)."""
+    up = pts[used]
+    size = float(np.max(np.abs(up)))
+    if pts3.shape[1] > 2 and np.max(np.abs(pts3[used, 2])) * UNITS[unit] > 1e-9 * size:
+        raise ValueError(f"mesh file {path} is not planar: z != 0 (a 2D mesh in z = 0 is needed)")
+    if size > MAX_COORDINATE_M:
+        hint = ('this looks like millimetres; set unit = "mm" in the [mesh] table or scale the '
+                'mesh to metres') if unit == "m" else "a stator is at most 1 m"
+        raise ValueError(
+            f"mesh file {path}: coordinates up to {size:g} m (unit {unit!r}), above the "
+            f"{MAX_COORDINATE_M:g} m limit; {hint}"
+        )
+    extent = float(np.max(np.ptp(up, axis=0)))
+    if extent < MIN_EXTENT_M:
+        hint = ('this looks like metres; set unit = "m" in the [mesh] table'
+                if unit == "mm" else "a stator is at least 0.1 mm")
+        raise ValueError(
+            f"mesh file {path}: the planform spans only {extent:g} m (unit {unit!r}), below "
+            f"the {MIN_EXTENT_M:g} m limit; {hint}"
+        )
+    factor = work_factor()
+    n_quads = 3 * n_tri + (4 if n_tri else 1) * n_quad
+    if n_quads > MAX_CELLS * factor:
+        raise ValueError(
+            f"mesh file {path}: {n_quads} quads (after splitting triangles), above the limit "
+            f"{int(MAX_CELLS * factor)}; coarsen the mesh or set LUSM_MAX_WORK=N to allow N "
+            f"times more"
+        )
+    x0, x1 = float(up[:, 0].min()), float(up[:, 0].max())
+    y0, y1 = float(up[:, 1].min()), float(up[:, 1].max())
+    tol = 1e-6 * max(x1 - x0, y1 - y0)
+    if abs(x0 + x1) > tol or abs(y0) > tol:
+        raise ValueError(
+            f"mesh file {path}: the mesh spans x = [{x0 / UNITS[unit]:g}, {x1 / UNITS[unit]:g}] "
+            f"{unit}, y = [{y0 / UNITS[unit]:g}, {y1 / UNITS[unit]:g}] {unit}; "
+            f"the stator frame needs x centred on 0 (width) and the preload end at y = 0"
+        )
+    return (x1 - x0) * (y1 - y0)
+
+
+def _gathered_cells(m, path: Path, pts3: np.ndarray, pts: np.ndarray,
+                    named_points: dict[str, tuple[float, float]]) -> _SurfaceCells:
+    """The surface cells of every block with their tags; vertex groups go to
+    ``named_points``."""
+    names = _physical_names(m)
+    if m.cell_data.get("gmsh:physical") is not None and (0, 2) not in names \
+            and (0, 0) not in names:
+        _check_untagged(m, path, m.cell_data["gmsh:physical"])
+    cells = _SurfaceCells()
+    for i, blk in enumerate(m.cells):
+        groups = _block_groups(m, i, names, path)
+        if groups is None:
+            continue
+        ctype, data = blk.type, np.asarray(blk.data, dtype=np.int64)
+        if ctype == "vertex":
+            _add_named_points(data, groups, pts, path, named_points)
+            continue
+        if ctype in ("quad8", "quad9", "triangle6"):
+            data = _straight_corners(ctype, data, pts3[:, :2], path)
+        cells.add(ctype, data, groups, path)
+    return cells
+
+
 def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     """Read a planform mesh with electrode groups (and tip/preload vertices) through meshio.
 
@@ -545,138 +769,11 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
         raise ValueError(f"mesh unit must be one of {', '.join(UNITS)}, got {unit!r}")
     m = read_meshio(path)
     _check_msh41_groups(path)
-    pts3 = np.asarray(m.points, dtype=float)
-    if pts3.ndim != 2 or pts3.shape[0] == 0:
-        raise ValueError(f"mesh file {path} holds no points")
-    bad = np.flatnonzero(~np.all(np.isfinite(pts3), axis=1))
-    if bad.size:  # it read as a tip "off the mesh (x in [nan, nan] mm)", or as millimetres
-        raise ValueError(f"mesh file {path}: node {int(bad[0])} has a non-finite coordinate "
-                         f"({', '.join(f'{v:g}' for v in pts3[bad[0]])}); "
-                         f"{bad.size} node(s) in all")
-    pts = pts3[:, :2] * UNITS[unit]
-
-    names: dict[tuple[int, int], str] = {}
-    for name, value in (m.field_data or {}).items():
-        v = np.atleast_1d(np.asarray(value)).astype(int)
-        names[(int(v[0]), int(v[1]) if v.size > 1 else 2)] = str(name)
-    physical = m.cell_data.get("gmsh:physical")
-    plain = m.cell_data.get("electrode")
-    sets = getattr(m, "cell_sets", None) or {}
-    is_gmsh = path.suffix.lower() == ".msh" or any(k.startswith("gmsh:") for k in m.cell_data)
-    if physical is not None and (0, 2) not in names and (0, 0) not in names:
-        # MSH 2.2 writes physical tag 0 for an element outside every physical group (with
-        # Mesh.SaveAll = 1 gmsh writes all elements so, even those of named groups): said
-        # once for the file, not as "physical tag 0 (dimension 0) has no name"
-        counts = {kind: sum(int(np.count_nonzero(np.asarray(physical[i]) == 0))
-                            for i, blk in enumerate(m.cells) if blk.type in types)
-                  for kind, types in (("surface cells", SURFACE_TYPES), ("vertices", ("vertex",)))}
-        total = sum(len(blk.data) for blk in m.cells if blk.type in SURFACE_TYPES)
-        if counts["surface cells"]:
-            n = counts["surface cells"]
-            raise ValueError(_no_group_message(
-                path, f"all {n} of its surface cells belong to" if n == total else
-                f"{n} of its {total} surface cells belong to"))
-        if counts["vertices"]:
-            raise ValueError(_no_group_message(
-                path, f"{counts['vertices']} of its vertex elements belong to"))
-
-    polys: dict[int, list[np.ndarray]] = {3: [], 4: []}
-    poly_tags: dict[int, list[np.ndarray]] = {3: [], 4: []}
-    poly_ids: dict[int, list[np.ndarray]] = {3: [], 4: []}  # surface cell numbers, file order
-    n_surface = 0
+    pts3, pts = _file_points(m, path, unit)
     named_points: dict[str, tuple[float, float]] = {}
-    types_found: list[str] = []
-    for i, blk in enumerate(m.cells):
-        ctype, data = blk.type, np.asarray(blk.data, dtype=np.int64)
-        if ctype not in SURFACE_TYPES and ctype not in IGNORED_TYPES:
-            raise ValueError(
-                f"mesh file {path}: unsupported cell type {ctype!r}; supported: "
-                f"{', '.join(SURFACE_TYPES)} (plus ignored {', '.join(IGNORED_TYPES)})"
-            )
-        if ctype in ("line", "line3"):
-            continue
-        # group of every cell in the block
-        if physical is not None:
-            dim = 0 if ctype == "vertex" else 2
-            tags = np.asarray(physical[i], dtype=int)
-            groups = []
-            for tag in np.unique(tags):
-                name = names.get((int(tag), dim))
-                if name is None and not names:  # MSH without names: try cell_sets
-                    name = next(
-                        (n for n, s in sets.items()
-                         if not n.startswith("gmsh:") and i < len(s) and s[i] is not None
-                         and len(s[i]) and np.all(tags[np.asarray(s[i])] == tag)),
-                        None,
-                    )
-                if name is None:
-                    raise ValueError(
-                        f"mesh file {path}: physical tag {int(tag)} (dimension {dim}) has no "
-                        f"name; name the physical groups {_ALLOWED}"
-                    )
-                groups.append((tags == tag, _group_of(name, path)))
-        elif ctype == "vertex":
-            continue
-        elif plain is not None:
-            raw = np.asarray(plain[i])
-            if raw.ndim != 1 or not np.issubdtype(raw.dtype, np.number) \
-                    or not np.all(np.isfinite(raw)) or np.any(raw != np.round(raw)):
-                bad = raw.ravel()[:3].tolist() if raw.size else []
-                raise ValueError(
-                    f"mesh file {path}: cell array 'electrode' must hold one integer 0..4 per "
-                    f"cell, found {raw.dtype} values such as {bad}")
-            values = raw.astype(int)
-            if np.any((values < 0) | (values > 4)):
-                raise ValueError(
-                    f"mesh file {path}: cell array 'electrode' must hold 0..4, found "
-                    f"{sorted(set(values.tolist()) - set(range(5)))}"
-                )
-            groups = [(values == v, int(v)) for v in np.unique(values)]
-        elif is_gmsh:  # MSH 4.1 without any physical group: meshio gives no tags at all
-            raise ValueError(_no_group_message(path, "its elements belong to"))
-        else:
-            raise ValueError(
-                f"mesh file {path} has no electrode tags: expected gmsh physical groups "
-                f"{_ALLOWED} or an integer cell-data array 'electrode'"
-            )
-        if ctype == "vertex":
-            for mask, group in groups:
-                if not isinstance(group, str):
-                    raise ValueError(
-                        f"mesh file {path}: vertex group {group!r} is not a point; vertex "
-                        f"groups must be named {' or '.join(POINT_GROUPS)}"
-                    )
-                nodes = np.unique(data[mask].ravel())
-                if nodes.size != 1 or group in named_points:
-                    raise ValueError(
-                        f"mesh file {path}: point group {group!r} must hold exactly one node"
-                    )
-                x, y = pts[nodes[0]]
-                named_points[group] = (float(x), float(y))
-            continue
-        if ctype in ("quad8", "quad9", "triangle6"):
-            data = _straight_corners(ctype, data, pts3[:, :2], path)
-        types_found.append(ctype)
-        k = data.shape[1]
-        tag_arr = np.zeros(data.shape[0], dtype=np.int64)
-        for mask, group in groups:
-            if isinstance(group, str):
-                raise ValueError(
-                    f"mesh file {path}: surface cells in group {group!r}; {group!r} must be "
-                    f"a vertex group"
-                )
-            tag_arr[mask] = group
-        polys[k].append(data)
-        poly_tags[k].append(tag_arr)
-        poly_ids[k].append(np.arange(n_surface, n_surface + data.shape[0]))
-        n_surface += data.shape[0]
-
-    tri = np.concatenate(polys[3]) if polys[3] else np.zeros((0, 3), dtype=np.int64)
-    quad = np.concatenate(polys[4]) if polys[4] else np.zeros((0, 4), dtype=np.int64)
-    t_tri = np.concatenate(poly_tags[3]) if poly_tags[3] else np.zeros(0, dtype=np.int64)
-    t_quad = np.concatenate(poly_tags[4]) if poly_tags[4] else np.zeros(0, dtype=np.int64)
-    id_tri = np.concatenate(poly_ids[3]) if poly_ids[3] else np.zeros(0, dtype=np.int64)
-    id_quad = np.concatenate(poly_ids[4]) if poly_ids[4] else np.zeros(0, dtype=np.int64)
+    cells = _gathered_cells(m, path, pts3, pts, named_points)
+    tri, t_tri, id_tri = cells.arrays(3)
+    quad, t_quad, id_quad = cells.arrays(4)
     if tri.shape[0] + quad.shape[0] == 0:
         found = sorted({blk.type for blk in m.cells})
         raise ValueError(
@@ -688,48 +785,21 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
             f"mesh file {path} has no electrode: every surface cell is in the gap; put cells "
             f"in the physical groups electrode1..electrode4"
         )
-
-    # planar, stator frame and units (on the nodes of surface cells only)
     used = np.unique(np.concatenate((tri.ravel(), quad.ravel())))
-    up = pts[used]
-    size = float(np.max(np.abs(up)))
-    if pts3.shape[1] > 2 and np.max(np.abs(pts3[used, 2])) * UNITS[unit] > 1e-9 * size:
-        raise ValueError(f"mesh file {path} is not planar: z != 0 (a 2D mesh in z = 0 is needed)")
-    if size > MAX_COORDINATE_M:
-        hint = ('this looks like millimetres; set unit = "mm" in the [mesh] table or scale the '
-                'mesh to metres') if unit == "m" else "a stator is at most 1 m"
-        raise ValueError(
-            f"mesh file {path}: coordinates up to {size:g} m (unit {unit!r}), above the "
-            f"{MAX_COORDINATE_M:g} m limit; {hint}"
-        )
-    extent = float(np.max(np.ptp(up, axis=0)))
-    if extent < MIN_EXTENT_M:
-        hint = ('this looks like metres; set unit = "m" in the [mesh] table'
-                if unit == "mm" else "a stator is at least 0.1 mm")
-        raise ValueError(
-            f"mesh file {path}: the planform spans only {extent:g} m (unit {unit!r}), below "
-            f"the {MIN_EXTENT_M:g} m limit; {hint}"
-        )
-    factor = work_factor()
-    n_quads = 3 * tri.shape[0] + (4 if tri.shape[0] else 1) * quad.shape[0]
-    if n_quads > MAX_CELLS * factor:
-        raise ValueError(
-            f"mesh file {path}: {n_quads} quads (after splitting triangles), above the limit "
-            f"{int(MAX_CELLS * factor)}; coarsen the mesh or set LUSM_MAX_WORK=N to allow N "
-            f"times more"
-        )
-    x0, x1 = float(up[:, 0].min()), float(up[:, 0].max())
-    y0, y1 = float(up[:, 1].min()), float(up[:, 1].max())
-    tol = 1e-6 * max(x1 - x0, y1 - y0)
-    if abs(x0 + x1) > tol or abs(y0) > tol:
-        raise ValueError(
-            f"mesh file {path}: the mesh spans x = [{x0 / UNITS[unit]:g}, {x1 / UNITS[unit]:g}] "
-            f"{unit}, y = [{y0 / UNITS[unit]:g}, {y1 / UNITS[unit]:g}] {unit}; "
-            f"the stator frame needs x centred on 0 (width) and the preload end at y = 0"
-        )
+    area = _check_planform(pts3, pts, used, tri.shape[0], quad.shape[0], path, unit)
+    _check_cells(pts, tri, quad, id_tri, id_quad, path, area)
+    return ImportedMesh(
+        mesh=_plate_mesh(pts, tri, quad, t_tri, t_quad, path),
+        points_m=named_points,
+        path=path,
+        cell_types=tuple(dict.fromkeys(cells.types)),
+        converted=bool(tri.shape[0]),
+    )
 
-    _check_cells(pts, tri, quad, id_tri, id_quad, path, (x1 - x0) * (y1 - y0))
 
+def _plate_mesh(pts: np.ndarray, tri: np.ndarray, quad: np.ndarray, t_tri: np.ndarray,
+                t_quad: np.ndarray, path: Path) -> PlateMesh:
+    """The all-quad plate mesh of the cells (triangles split), on the nodes it uses."""
     p2, q2, tags = quadrangulate(pts, tri, quad, t_tri, t_quad)
     used = np.unique(q2)
     remap = -np.ones(p2.shape[0], dtype=np.int64)
@@ -738,13 +808,27 @@ def read_stator_mesh(path: str | Path, unit: str = "m") -> ImportedMesh:
     problem = mesh.quadrant_problem()
     if problem is not None:
         raise ValueError(f"mesh file {path}: {problem}")
-    return ImportedMesh(
-        mesh=mesh,
-        points_m=named_points,
-        path=path,
-        cell_types=tuple(dict.fromkeys(types_found)),
-        converted=bool(tri.shape[0]),
-    )
+    return mesh
+
+
+def _classify_a_node_on_each(blocks: list, node_entity: np.ndarray) -> None:
+    """Classify at least one node on every surface entity (cell block ``i`` is entity
+    ``i + 1``; ``node_entity`` holds ``(dimension, entity)`` per node): an entity with none
+    takes one of its nodes from an entity that keeps another. MSH 4.1 ties physical tags to
+    entities, and meshio lists an entity only if some node is classified on it."""
+    n_surface = len(blocks)
+    for i in range(n_surface):
+        entity = i + 1
+        nodes = np.unique(blocks[i].data)
+        surface = node_entity[:, 0] == 2
+        if np.any(node_entity[nodes, 1][surface[nodes]] == entity):
+            continue
+        counts = np.bincount(node_entity[surface, 1], minlength=n_surface + 1)
+        owner = np.where(surface[nodes], node_entity[nodes, 1], 0)
+        free = nodes[surface[nodes] & (counts[owner] > 1)]
+        if free.size == 0:
+            raise ValueError(f"cannot classify a node on cell block {i} ({blocks[i].type})")
+        node_entity[free[0]] = (2, entity)
 
 
 def write_stator_msh(
@@ -800,19 +884,7 @@ def write_stator_msh(
     point_tags = {"tip": TIP_PHYSICAL_TAG, "preload": PRELOAD_PHYSICAL_TAG}
     for name, node in (point_nodes or {}).items():
         node_entity[int(node)] = (0, point_tags[name])
-    n_surface = len(blocks)
-    for i in range(n_surface):  # give every surface entity at least one node of its own
-        entity = i + 1
-        nodes = np.unique(blocks[i].data)
-        surface = node_entity[:, 0] == 2
-        if np.any(node_entity[nodes, 1][surface[nodes]] == entity):
-            continue
-        counts = np.bincount(node_entity[surface, 1], minlength=n_surface + 1)
-        owner = np.where(surface[nodes], node_entity[nodes, 1], 0)
-        free = nodes[surface[nodes] & (counts[owner] > 1)]
-        if free.size == 0:
-            raise ValueError(f"cannot classify a node on cell block {i} ({blocks[i].type})")
-        node_entity[free[0]] = (2, entity)
+    _classify_a_node_on_each(blocks, node_entity)
     for name, node in (point_nodes or {}).items():
         tag = point_tags[name]
         blocks.append(meshio.CellBlock("vertex", np.array([[int(node)]], dtype=np.int64)))

@@ -2,9 +2,9 @@
 
 :class:`MeshedStator` is a :class:`fem.geometry.PlateStator` that carries its own planform
 mesh (read from a stator file's ``[mesh]`` table, :mod:`fem.stator_file`). The 2D model
-(:func:`fem.model.plate_model`) and the 3D model (:func:`fem.solid3d.build_solid_model`)
+(:func:`fem.model.plate_model`) and the 3D model (:func:`fem.solid3d.model.build_solid_model`)
 ask :func:`planform_mesh` for it instead of generating the structured rectangle; a
-:class:`fem.parametric.ParametricStator` (a plate with a tip, chamfers, holes) gets its mesh
+:class:`fem.meshing.parametric.ParametricStator` (a plate with a tip, chamfers, holes) gets its mesh
 there too, from gmsh.
 """
 
@@ -16,8 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from fem.geometry import PlateStator
-from fem.mesh import PlateMesh
-from fem.parametric import ParametricStator, parametric_mesh
+from fem.meshing.mesh import PlateMesh
+from fem.meshing.parametric import ParametricStator, parametric_mesh
 
 
 def bbox_mm(mesh: PlateMesh) -> str:
@@ -52,7 +52,7 @@ class MeshedStator(PlateStator):
     def __post_init__(self) -> None:
         super().__post_init__()
         if not isinstance(self.mesh, PlateMesh):
-            raise ValueError("MeshedStator.mesh must be a fem.mesh.PlateMesh")
+            raise ValueError("MeshedStator.mesh must be a fem.meshing.mesh.PlateMesh")
         for name in ("tip_m", "preload_m"):
             pt = tuple(float(v) for v in getattr(self, name))
             if len(pt) != 2 or not all(math.isfinite(v) for v in pt):
@@ -99,7 +99,7 @@ def has_planform(stator: PlateStator) -> bool:
 
 def planform_mesh(stator: PlateStator) -> PlateMesh | None:
     """The planform mesh of a :class:`MeshedStator` or of a
-    :class:`fem.parametric.ParametricStator` (meshed by gmsh, cached); None for a plain
+    :class:`fem.meshing.parametric.ParametricStator` (meshed by gmsh, cached); None for a plain
     (generated) plate."""
     if isinstance(stator, MeshedStator):
         return stator.mesh

@@ -3,7 +3,7 @@
 The rectangular plate, its four quadrant electrodes (bottom face grounded) and the
 transversely isotropic, z-poled material are symmetric about the two mid-planes normal to
 the plate: ``x = 0`` (across the width) and ``y = l/2`` (along the length), in the
-coordinates of :mod:`fem.solid3d`. Every mode of the full 3D model therefore lies in one of
+coordinates of :mod:`fem.solid3d.model`. Every mode of the full 3D model therefore lies in one of
 four classes, and L1 and B2 lie in two of them. With ``R`` the mirror, a field is symmetric
 when ``u(R p) = R u(p)``, ``phi(R p) = phi(p)`` and antisymmetric when
 ``u(R p) = -R u(p)``, ``phi(R p) = -phi(p)``:
@@ -22,10 +22,10 @@ The quarter carries one quadrant electrode: grounded in short circuit, floating 
 charge in open circuit (by symmetry the four charges are equal in size, so zero on one is
 zero on all). Each class is a 3D eigenproblem of about a quarter of the full size with only
 the modes of its class competing; both use the shift-invert driver of
-:func:`fem.solid3d.saddle_point_frequencies_Hz`, :func:`fem.modes.solve_short_open` and the
-3D identification :func:`fem.solid3d.identify_sampled` on the full-plate sampling grid
+:func:`fem.solid3d.model.saddle_point_frequencies_Hz`, :func:`fem.modes.solve_short_open` and the
+3D identification :func:`fem.solid3d.model.identify_sampled` on the full-plate sampling grid
 (the quarter's field unfolded with the class parities), so the results are those of
-:func:`fem.solid3d.solid_modes` on the mirrored mesh (a test checks it to round-off).
+:func:`fem.solid3d.model.solid_modes` on the mirrored mesh (a test checks it to round-off).
 
 With no gap (``electrode_gap_m = 0``) the electrode reaches both planes: in the L1 class it
 is the one conductor covering the top face, in the B2 class it touches ``phi = 0`` and is
@@ -42,11 +42,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from fem.geometry import PlateStator
-from fem.grid_ordering import nested_dissection_rank
 from fem.material import PiezoMaterial, get_material
-from fem.meshed_stator import has_planform
+from fem.meshing.meshed_stator import has_planform
 from fem.modes import SAMPLE_INSET, sampling_grid, solve_short_open
-from fem.solid3d import (
+from fem.solid3d.grid_ordering import nested_dissection_rank
+from fem.solid3d.model import (
     DEFAULT_ELEMENT,
     DEFAULT_LAYERS,
     DEFAULT_REFINE_3D,
@@ -74,7 +74,7 @@ def quarter_grid_lines(stator: PlateStator, refine: int = DEFAULT_REFINE_3D,
                        layers: int = DEFAULT_LAYERS, edge_grading: int = 0):
     """Tensor lines ``(x, y, z)`` (m) of the quarter ``x >= 0``, ``y >= l/2``.
 
-    The lines of :func:`fem.solid3d.hex_grid_lines` on the quarter, plus the planes ``x = 0``
+    The lines of :func:`fem.solid3d.model.hex_grid_lines` on the quarter, plus the planes ``x = 0``
     and ``y = l/2``. Mirrored (:func:`mirrored_grid_lines`) they give the full mesh the
     quarter model equals.
     """
@@ -220,7 +220,7 @@ def build_quarter_model(
     mode : str
         ``'L1'`` or ``'B2'`` (module docstring: the constraints of each class).
     material, order, refine, layers, element, edge_grading
-        As :func:`fem.solid3d.build_solid_model`; the mesh is :func:`quarter_grid_lines`.
+        As :func:`fem.solid3d.model.build_solid_model`; the mesh is :func:`quarter_grid_lines`.
     grid_lines : tuple of numpy.ndarray, optional
         Explicit quarter lines ``(x, y, z)`` (m), from ``x = 0`` and ``y = l/2``.
 
@@ -236,7 +236,7 @@ def build_quarter_model(
         raise ValueError(f"mode must be one of {', '.join(MODE_CLASSES)}, got {mode!r}")
     if has_planform(stator):
         raise ValueError("the quarter model needs a plain rectangular plate (its planform mesh "
-                         "need not be symmetric); use fem.solid3d.build_solid_model")
+                         "need not be symmetric); use fem.solid3d.model.build_solid_model")
     mat = get_material(material)
     lines = quarter_grid_lines(stator, refine, layers, edge_grading) if grid_lines is None \
         else grid_lines
@@ -303,7 +303,7 @@ def _identify_quarter(model: QuarterPlateModel, freqs_Hz: np.ndarray, shapes: np
 
 @dataclass(frozen=True, eq=False)
 class SymmetricSolidModes(SolidModes):
-    """:class:`fem.solid3d.SolidModes` from the two quarter models.
+    """:class:`fem.solid3d.model.SolidModes` from the two quarter models.
 
     ``L1.shape`` and ``B2.shape`` are vectors of their own class's free displacements
     (:attr:`QuarterPlateModel.free_u`); the spectra are both classes' frequencies, merged
@@ -359,7 +359,7 @@ def modes_of_quarter_models(l1: QuarterPlateModel, b2: QuarterPlateModel, order:
 
 
 def quarter_model_applies(stator: PlateStator, edge_grading: int) -> bool:
-    """Whether :func:`symmetric_solid_modes` gives :func:`fem.solid3d.solid_modes`' results:
+    """Whether :func:`symmetric_solid_modes` gives :func:`fem.solid3d.model.solid_modes`' results:
     a plain plate (no planform mesh) on a graded mesh, whose first grading level puts lines
     on both symmetry planes ``x = 0`` and ``y = l/2`` (the uniform default mesh has none)."""
     return edge_grading > 0 and not has_planform(stator)
@@ -385,7 +385,7 @@ def symmetric_solid_modes(
 ) -> SymmetricSolidModes:
     """L1 and B2 (short/open circuit, k_eff) of a plain plate from its quarter (cached).
 
-    The same fields as :func:`fem.solid3d.solid_modes` with the same arguments; the mesh is
+    The same fields as :func:`fem.solid3d.model.solid_modes` with the same arguments; the mesh is
     the quarter of that model's lines plus the two symmetry planes (equal to the full model
     on the mirrored lines, :func:`mirrored_grid_lines`). Unlike the full model it accepts a
     zero gap.

@@ -7,7 +7,7 @@ on one side of it, so nodes strictly on opposite sides share no element and no m
 (also for quadratic elements, whose mid-side nodes lie inside the element's box). The cut is
 the mesh plane that best balances the halves against the size of the separator.
 
-On the graded quarter-plate saddle-point matrices of :mod:`fem.solid3d_symmetric` it gave
+On the graded quarter-plate saddle-point matrices of :mod:`fem.solid3d.symmetric` it gave
 about a third less fill and a 3x faster factorization than SuperLU's own minimum-degree
 ordering (``MMD_AT_PLUS_A``) on the 0.1 mm gap graded once (measured once while writing
 this module, not a benchmark).
