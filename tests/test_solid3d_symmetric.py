@@ -141,18 +141,22 @@ def test_ungraded_3d_run_says_its_k_eff_is_low_and_grading_raises_it(capsys):
 
 @pytest.mark.slow
 def test_the_grading_hint_says_when_it_needs_more_work(capsys):
-    """On the tip examples the note's --edge-grading 1 was refused as given (2 140 bricks
-    against 2 000; exploratory testing). The note now names the LUSM_MAX_WORK it takes, with
-    the count the graded run's own refusal gives; the paper's plate needs none."""
+    """On the tip examples the note's --edge-grading 1 needs more than the bound (2 140
+    bricks against 2 000): the note names the LUSM_MAX_WORK it takes, with the count the
+    graded run's own refusal gives (before any solve); the paper's plate needs none."""
     import re
 
+    from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D
+    from fem.stator_file import load_stator
     from lusm.cli import main
+    from lusm.commands.modes import _graded_work_clause
     from tests.conftest import ROOT
 
     tip = str(ROOT / "examples" / "tip_parametric" / "stator.toml")
-    assert main(["modes", "--model", "3d", "--geometry", tip]) == 0
-    note = next(ln for ln in capsys.readouterr().out.splitlines() if "k_eff on" in ln)
+    stator = load_stator(tip).stator
+    note = _graded_work_clause(stator, DEFAULT_REFINE_3D, DEFAULT_LAYERS, True)
     bricks = int(re.search(r"the graded mesh needs (\d+) bricks", note).group(1))
     assert main(["modes", "--model", "3d", "--geometry", tip, "--edge-grading", "1"]) == 2
     assert f"needs {bricks} 3D bricks" in capsys.readouterr().err
     assert "LUSM_MAX_WORK=2" in note
+    assert _graded_work_clause(PlateStator(), DEFAULT_REFINE_3D, DEFAULT_LAYERS, True) == ""
