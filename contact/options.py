@@ -19,6 +19,15 @@ DEFAULT_DT_S = 1e-7
 traces and the paper reproduction run; off 40 kHz rounded to divide the drive period."""
 
 
+
+def default_time_step_s(frequency_Hz: float) -> float:
+    """The transients' default time step (s) at ``frequency_Hz`` (Hz): the largest step up
+    to :data:`DEFAULT_DT_S` that makes the drive period a whole number of steps, at least 20
+    (:func:`contact.transient.window.period_step_s`; 1e-7 s itself at 40 kHz)."""
+    from contact.transient.window import period_step_s
+
+    return period_step_s(1.0 / float(frequency_Hz), DEFAULT_DT_S)
+
 @dataclass(frozen=True)
 class SimulationOptions:
     """Numerical and modelling options of a run.

@@ -949,15 +949,14 @@ DEFAULT_DT_S = 1e-7
 
 
 def time_step_s(dt_s: float | None, frequency_Hz: float) -> float:
-    """``--dt`` as typed (s), or by default :func:`contact.transient.window.period_step_s` of
-    :data:`DEFAULT_DT_S`: the largest step up to 1e-7 s that makes the drive period a whole
-    number of steps, at least 20 (40 kHz: 250 steps of 1e-7 s, bit for bit the former
-    default)."""
+    """``--dt`` as typed (s), or by default :func:`contact.options.default_time_step_s`: the
+    largest step up to 1e-7 s that makes the drive period a whole number of steps, at least
+    20 (40 kHz: 250 steps of 1e-7 s)."""
     if dt_s is not None:
         return float(dt_s)
-    from contact.transient.window import period_step_s
+    from contact.options import default_time_step_s
 
-    return period_step_s(1.0 / float(frequency_Hz), DEFAULT_DT_S)
+    return default_time_step_s(frequency_Hz)
 
 
 def check_steps(duration_s: float, dt_s: float) -> float:

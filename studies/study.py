@@ -213,10 +213,9 @@ class Solver:
         number of steps (as ``lusm simulate``)."""
         if self.dt_s is not None:
             return float(self.dt_s)
-        from contact.options import DEFAULT_DT_S
-        from contact.transient.window import period_step_s
+        from contact.options import default_time_step_s
 
-        return period_step_s(1.0 / float(frequency_Hz), DEFAULT_DT_S)
+        return default_time_step_s(frequency_Hz)
 
 
 @dataclass(frozen=True)
