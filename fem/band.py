@@ -51,6 +51,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from fem.beam_shapes import free_free_root
+from fem.limits import work_factor
 from fem.modes import (
     MIN_MAC,
     PAIR_MAC,
@@ -78,8 +79,9 @@ SPARE_MODES = 4
 """Modes asked for beyond those the band is known (or guessed) to hold."""
 
 MAX_BAND_MODES = 400
-"""Most modes one band solve computes: a band reaching the top of a fine mesh's spectrum
-holds thousands, and ARPACK's work grows as the square of their number."""
+"""Most modes one band solve computes, times ``LUSM_MAX_WORK``: a band reaching the top of a
+fine mesh's spectrum holds thousands, and ARPACK's work grows as the square of their
+number."""
 
 FAMILIES = {"L": "longitudinal", "B": "in-plane bending", "OB": "out-of-plane bending",
             "T": "torsion"}
@@ -87,17 +89,22 @@ FAMILIES = {"L": "longitudinal", "B": "in-plane bending", "OB": "out-of-plane be
 
 
 class BandTooWideError(ModeSolverError):
-    """The band holds more modes than :data:`MAX_BAND_MODES`.
+    """The band holds more modes than one band solve computes (:data:`MAX_BAND_MODES`).
 
     Attributes
     ----------
-    n_modes : int
-        Modes found or counted in the band so far (-).
+    n_modes : int or None
+        Modes in the band by the inertia count, None where it is not available (-).
+    limit : int
+        The most modes one band solve computes (-).
     """
 
-    def __init__(self, message: str, n_modes: int) -> None:
-        super().__init__(message)
-        self.n_modes = n_modes
+    def __init__(self, f_min_Hz: float, f_max_Hz: float, n_modes: int | None,
+                 limit: int) -> None:
+        held = f"{n_modes} modes" if n_modes is not None else "more modes"
+        super().__init__(f"the band {f_min_Hz:.6g}-{f_max_Hz:.6g} Hz holds {held}, above the "
+                         f"{limit} one band solve computes; narrow it")
+        self.n_modes, self.limit = n_modes, limit
 
 
 @dataclass(frozen=True)
@@ -371,7 +378,9 @@ def solve_band(model, f_min_Hz: float, f_max_Hz: float, open_circuit: bool = Fal
     lam = (2.0 * math.pi * np.array([f_min_Hz, f_max_Hz])) ** 2
     sigma, half = 0.5 * (lam[0] + lam[1]), 0.5 * (lam[1] - lam[0])
     f_centre = math.sqrt(sigma) / (2.0 * math.pi)
-    top = min(MAX_BAND_MODES, n_dofs - 2)
+    top = min(int(MAX_BAND_MODES * work_factor()), n_dofs - 2)
+    if expected is not None and expected > top:
+        raise BandTooWideError(f_min_Hz, f_max_Hz, expected, top)
     k = min(top, (12 if expected is None else expected + SPARE_MODES))
     while True:
         f, v = solve(model, k, f_centre, open_circuit, None)
@@ -382,9 +391,7 @@ def solve_band(model, f_min_Hz: float, f_max_Hz: float, open_circuit: bool = Fal
             return f[inside], v[:, inside]
         if k >= top:
             if not reached:
-                raise BandTooWideError(
-                    f"the band {f_min_Hz:.6g}-{f_max_Hz:.6g} Hz holds more than the {k} modes "
-                    "a band solve computes; narrow it", int(inside.sum()))
+                raise BandTooWideError(f_min_Hz, f_max_Hz, expected, top)
             raise ModeSolverError(
                 f"the band {f_min_Hz:.6g}-{f_max_Hz:.6g} Hz: {int(inside.sum())} modes found "
                 f"where the inertia count says {expected}")
@@ -439,7 +446,7 @@ def _open_partners(model, f_min_Hz: float, f_max_Hz: float, shapes: np.ndarray) 
         return out
     solve = _frequencies(model)
     f_centre = math.sqrt(0.5 * (f_min_Hz**2 + (OPEN_REACH * f_max_Hz) ** 2))
-    top = min(MAX_BAND_MODES, model.M.shape[0] - 2)
+    top = min(int(MAX_BAND_MODES * work_factor()), model.M.shape[0] - 2)
     k = min(top, n + 2 * SPARE_MODES)
     while True:
         fo, vo = solve(model, k, f_centre, True, None)

@@ -135,3 +135,36 @@ def test_designer_stator_3d_neighbours(tmp_path):
     got = [(m.name, round(m.f_short_Hz / 100.0) / 10.0) for m in band.modes]
     assert got == [("OB3", 42.8), ("B2", 47.8), ("L1", 47.8), ("T3", 51.2)]
     assert not band.risks
+
+
+def test_cli_band_table_json_and_risk_warning(capsys):
+    """``lusm modes --band``: the table, ``band_modes`` in JSON, risks warned of."""
+    import json
+
+    from lusm.cli import main
+
+    assert main(["modes", "--refine", "2", "--band", "10:150", "--risk-pct", "60"]) == 0
+    cap = capsys.readouterr()
+    assert "every mode of the 2D model in 10000-150000 Hz: 8" in cap.out
+    lines = {ln.split()[0]: ln for ln in cap.out.splitlines() if ln[:2] in ("B1", "L1", "B3")}
+    assert lines["L1"].endswith("operating") and lines["B1"].endswith("RISK")
+    assert "--band: B1 (in-plane bending) at 24350 Hz lies -55.1% from B2" in cap.err
+    assert main(["modes", "--refine", "2", "--band", "0.02MHz:100000Hz", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)["band_modes"]
+    assert (d["f_min_Hz"], d["f_max_Hz"]) == (20e3, 100e3)
+    assert [m["name"] for m in d["modes"]] == ["B1", "B2", "L1", "B3"] and d["counted"] == 4
+    assert main(["modes", "--refine", "2", "--band", "--json"]) == 0  # the pair +- 20 %
+    d = json.loads(capsys.readouterr().out)["band_modes"]
+    assert d["f_min_Hz"] == pytest.approx(0.8 * d["operating_Hz"]["B2"])
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["--band", "50:40"], "--band"), (["--band", "40kHz:x"], "--band"),
+    (["--band", "1:2:3"], "--band"), (["--band", "0:10"], "--band"),
+    (["--band", "10:20", "--risk-pct", "0"], "--risk-pct"), (["--risk-pct", "3"], "--risk-pct")])
+def test_cli_band_refuses_bad_input(capsys, argv, option):
+    from lusm.cli import main
+
+    assert main(["modes", *argv]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and option in err
