@@ -279,23 +279,20 @@ def _band(args: argparse.Namespace, choice, mesh: _Mesh, res):
                             "B2 in which other modes of the band are flagged)", "--risk-pct")
         return None
     from fem.band import RISK_PCT, BandTooWideError, band_modes, default_band_Hz
-    from fem.modes import ModeSolverError
+    from lusm.fe_errors import fe_failures_as_input
     from lusm.messages import warn
 
     ops = {"L1": res.L1.f_short_Hz, "B2": res.B2.f_short_Hz}
     lo, hi = default_band_Hz(ops) if args.band == "auto" else args.band
     risk = RISK_PCT if args.risk_pct is None else args.risk_pct
-    try:
-        band = band_modes(_band_model(args, choice, mesh), lo, hi, ops, risk)
-    except BandTooWideError as exc:
-        held = "more modes" if exc.n_modes is None else f"{exc.n_modes} modes"
-        raise LusmError(f"--band {lo:g}:{hi:g} Hz: the band holds {held}, above the limit of "
-                        f"{exc.limit} one band solve computes; narrow it "
-                        f"({limits.more_work_hint()})", "--band") from None
-    except Exception as exc:
-        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
-            raise fe_failure(exc, choice.stator) from exc
-        raise
+    with fe_failures_as_input(choice.stator):
+        try:
+            band = band_modes(_band_model(args, choice, mesh), lo, hi, ops, risk)
+        except BandTooWideError as exc:
+            held = "more modes" if exc.n_modes is None else f"{exc.n_modes} modes"
+            raise LusmError(f"--band {lo:g}:{hi:g} Hz: the band holds {held}, above the "
+                            f"limit of {exc.limit} one band solve computes; narrow it "
+                            f"({limits.more_work_hint()})", "--band") from None
     for m in band.risks:
         op = min(ops, key=lambda n: abs(m.f_short_Hz / ops[n] - 1.0))
         warn(f"--band: {m.name} ({m.family}) at {m.f_short_Hz:.0f} Hz lies "
