@@ -15,21 +15,8 @@ from fem.model import plate_model
 from fem.modes import modal_assurance, modes_of_model, sign_changes
 from fem.solid3d.model import modes_of_solid_model, solid_model
 
-DESIGNER_TOML = """
-name = "designer's 35 x 8 x 3 mm PZT-8 plate, width tuned by lusm tune --fix length"
-[plate]
-length_mm = 35.0
-width_mm = 9.531995236379645   # lusm tune --fix length from 8 mm: L1 = B2 = 47 840 Hz
-thickness_mm = 3.0
-[electrodes]
-gap_mm = 0.5
-drive = [1, 4]
-[material]
-name = "pzt8"
-[tip]
-length_mm = 1.0
-width_mm = 2.0
-"""
+TUNED_WIDTH_MM = 9.531995236379645
+"""The width ``lusm tune --fix length`` gives issue 38's stator (L1 = B2 = 47 840 Hz in 2D)."""
 
 
 def _dense_Hz(K, M) -> np.ndarray:
@@ -126,7 +113,11 @@ def test_designer_stator_3d_neighbours(tmp_path):
     from fem.stator_file import load_stator
 
     path = tmp_path / "designer.toml"
-    path.write_text(DESIGNER_TOML, encoding="utf-8")
+    from tools.doc_numbers import BAND_DESIGNER_TOML
+
+    path.write_text(BAND_DESIGNER_TOML.replace("width_mm = 8.0",
+                                               f"width_mm = {TUNED_WIDTH_MM!r}"),
+                    encoding="utf-8")
     design = load_stator(path)
     model = solid_model(design.stator, design.material, 2, 3, 3)
     ops = _ops(modes_of_solid_model(model))
