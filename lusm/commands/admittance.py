@@ -12,16 +12,16 @@ import math
 from lusm import limits
 from lusm.options import add_output_options, add_plate_options, integer, print_json, real
 
+HELP = "admittance Y(f) of the driven electrodes: resonance/antiresonance, k_eff, PNG"
+DESCRIPTION = """\
+Admittance of the driven electrodes (others grounded) of the 2D FE plate by modal superposition
+with a residual mode; resonance/antiresonance pairs and the k_eff they imply; |Y| and phase
+plot.
+"""
 
-def register(subparsers) -> None:
-    """Add the ``admittance`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "admittance",
-        help="admittance Y(f) of the driven electrodes: resonance/antiresonance, k_eff, PNG",
-        description="Admittance of the driven electrodes (others grounded) of the 2D FE plate "
-        "by modal superposition with a residual mode; resonance/antiresonance pairs and the "
-        "k_eff they imply; |Y| and phase plot.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm admittance``."""
     f_lo, f_hi = limits.FREQUENCY_HZ
     p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
                    metavar="HZ", help="band start (Hz); default: the design's L1 and B2 "
@@ -44,7 +44,6 @@ def register(subparsers) -> None:
     add_fe_options(p)
     add_output_options(p, folder="--out", folder_help="write the admittance plot (PNG) into "
                        "DIR (default: no file)")
-    p.set_defaults(func=run)
 
 
 def _electrodes(text: str | None) -> tuple[int, ...] | None:

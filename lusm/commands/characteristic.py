@@ -22,17 +22,16 @@ from lusm.options import (
     warn_drive,
 )
 
+HELP = "speed-thrust, output power and efficiency curves (steady engine)"
+DESCRIPTION = """\
+Steady slider velocity against load force, mechanical output power, electrical input power and
+efficiency, the no-load velocity and the stall force, from the steady engine, averaged
+(--accuracy fast) or on the finite-mass motor (--accuracy exact) (docs/steady.md).
+"""
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``characteristic`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "characteristic",
-        help="speed-thrust, output power and efficiency curves (steady engine)",
-        description="Steady slider velocity against load force, mechanical output power, "
-        "electrical input power and efficiency, the no-load velocity and the stall force, "
-        "from the steady engine, averaged (--accuracy fast) or on the finite-mass motor "
-        "(--accuracy exact) (docs/steady.md).",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm characteristic``."""
     add_drive_options(p, time_steps=False, voltage_list=True)  # steady: no time step
     p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
                    help="load forces (N), e.g. 0:2:0.1 or 0,0.5,1 (as map's --voltages); "
@@ -45,7 +44,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_rest_option(p)
     add_motor_options(p)
     add_output_options(p, folder="--plot", folder_help="write characteristic.png into DIR")
-    p.set_defaults(func=run)
 
 
 def parse_loads(text: str) -> list[float]:

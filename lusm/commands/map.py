@@ -26,14 +26,12 @@ from lusm.options import (
     warn_drive,
 )
 
+HELP = "stick-slip map over voltage x preload (Figs. 18-19)"
+DESCRIPTION = "Classify the steady motion on a voltage x preload grid, in parallel."
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``map`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "map",
-        help="stick-slip map over voltage x preload (Figs. 18-19)",
-        description="Classify the steady motion on a voltage x preload grid, in parallel.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm map``."""
     p.add_argument("--voltages", default="50:450:50",
                    help=f"V0 grid (V), start:stop:step or a comma list, in "
                    f"[0, {limits.VOLTAGE_V[1]:g}]")
@@ -55,7 +53,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
                    help="threads (default: all cores)")
     add_output_options(p, folder="--plot", folder_help="write the map PNG into DIR")
-    p.set_defaults(func=run)
 
 
 def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):

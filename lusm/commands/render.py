@@ -13,23 +13,22 @@ from lusm.commands.modes import add_fe_options
 from lusm.fe_errors import fe_failure, is_fe_failure
 from lusm.options import add_output_options, add_plate_options
 
+HELP = "PNG pictures (and GIF animations) of the L1/B2 mode shapes, offscreen"
+DESCRIPTION = """\
+Render the FE mode shapes offscreen with pyvista: deformed planform coloured by displacement
+magnitude over the undeformed outline, electrodes outlined (driven in red), mode name and
+frequency in the title.
+"""
 
-def register(subparsers) -> None:
-    """Add the ``render`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "render",
-        help="PNG pictures (and GIF animations) of the L1/B2 mode shapes, offscreen",
-        description="Render the FE mode shapes offscreen with pyvista: deformed planform "
-        "coloured by displacement magnitude over the undeformed outline, electrodes "
-        "outlined (driven in red), mode name and frequency in the title.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm render``."""
     p.add_argument("--mode", choices=("L1", "B2", "all"), default="all", help="which mode")
     p.add_argument("--animate", action="store_true", help="also write one period as a GIF")
     add_plate_options(p)
     add_fe_options(p)
     add_output_options(p, folder="--out", default="renders", json_flag=False,
                        folder_help="output folder (default renders)")
-    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:

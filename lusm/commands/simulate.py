@@ -26,15 +26,15 @@ from lusm.options import (
     warn_drive,
 )
 
+HELP = "run the contact model (paper Eqs. 4-19) from rest"
+DESCRIPTION = """\
+Simulate the slider driven by the stator tip: velocity, forces, stick/slip/separation phases,
+steady-state metrics.
+"""
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``simulate`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "simulate",
-        help="run the contact model (paper Eqs. 4-19) from rest",
-        description="Simulate the slider driven by the stator tip: velocity, forces, "
-        "stick/slip/separation phases, steady-state metrics.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm simulate``."""
     add_drive_options(p, voltage_list=True)
     add_motor_options(p)
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
@@ -49,7 +49,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_rest_option(p)
     add_output_options(p, folder="--plot",
                        folder_help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
-    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:

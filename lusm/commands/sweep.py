@@ -14,16 +14,16 @@ import math
 from lusm import limits
 from lusm.options import GAP_RULE, MATERIALS, add_output_options, print_json, real
 
+HELP = "L1/B2 frequencies against the plate width or length (crossing diagram PNG)"
+DESCRIPTION = """\
+Sweep one plate dimension, identify L1 and B2 by shape at each point and plot their
+short-circuit frequencies (the crossing/veering diagram). Give one of --width-mm / --length-mm
+as a range A:B:STEP; the other is a fixed value.
+"""
 
-def register(subparsers) -> None:
-    """Add the ``sweep`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "sweep",
-        help="L1/B2 frequencies against the plate width or length (crossing diagram PNG)",
-        description="Sweep one plate dimension, identify L1 and B2 by shape at each point and "
-        "plot their short-circuit frequencies (the crossing/veering diagram). Give one of "
-        "--width-mm / --length-mm as a range A:B:STEP; the other is a fixed value.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm sweep``."""
     lo, hi = limits.PLATE_MM
     g = p.add_argument_group("stator", "the paper's 30 x 7.5 x 3 mm PZT-8 plate unless "
                              "--geometry or a plate option is given")
@@ -48,7 +48,6 @@ def register(subparsers) -> None:
     add_fe_options(p)
     add_output_options(p, folder="--out", folder_help="write the crossing diagram (PNG) "
                        "into DIR (default: no file)")
-    p.set_defaults(func=run)
 
 
 def _split(args: argparse.Namespace):
