@@ -19,7 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -1165,6 +1165,15 @@ def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]
     except OSError as exc:  # a full disk, a folder made read-only meanwhile
         raise LusmError(f"{option} {target}: cannot write ({exc.strerror or exc})",
                         option) from None
+
+
+def write_figures(target: Path, option: str, force: bool,
+                  draw: Callable[[Path], Sequence[str | Path]]) -> list[str]:
+    """Draw a figure set into a staging folder (``draw(stage)`` returns the files it wrote)
+    and move it into ``target`` complete (:func:`figure_set`); returns the files' paths in
+    ``target``."""
+    with figure_set(target, option, force) as stage:
+        return moved(draw(stage), stage, target)
 
 
 def moved(paths, stage: Path, target: Path) -> list[str]:

@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> None:
     from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.commands.modes import warn_linear_elements
     from lusm.errors import LusmError
-    from lusm.options import check_fe_size, figure_set, moved, output_folder, stator_from_args
+    from lusm.options import check_fe_size, output_folder, stator_from_args, write_figures
 
     warn_linear_elements(args)
     out = output_folder(args, "--out")
@@ -88,8 +88,8 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         from validation.fem_figures import admittance_figure
 
-        with figure_set(out, "--out", args.force) as stage:
-            png = moved([admittance_figure(res, stage / "admittance.png")], stage, out)[0]
+        png = write_figures(out, "--out", args.force, lambda stage: [
+            admittance_figure(res, stage / "admittance.png")])[0]
     if args.zeta is not None:
         damping = {"zeta_L1": args.zeta, "zeta_B2": args.zeta, "from": "--zeta (all modes)"}
     if args.json:

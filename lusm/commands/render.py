@@ -34,13 +34,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
     from lusm.commands.modes import warn_linear_elements
-    from lusm.options import (
-        check_fe_size,
-        figure_set,
-        moved,
-        output_folder,
-        stator_from_args,
-    )
+    from lusm.options import check_fe_size, output_folder, stator_from_args, write_figures
 
     warn_linear_elements(args)
     out = output_folder(args, "--out")  # refused before any work
@@ -65,12 +59,14 @@ def run(args: argparse.Namespace) -> None:
 
     with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
         import pyvista  # noqa: F401
-    with figure_set(out, "--out", args.force) as stage:
+
+    def draw(stage):
         # a signal inside VTK's rendering printed VTK errors or crashed it (as the design
         # report's pictures, exit 139): drawn with SIGINT/SIGTERM held, delivered once they
         # are done (about a second, three with --animate), when the staging is discarded
         with deferred_signals():
-            pictures = render_modes(model, modes, stage, which, args.animate)
-        written = moved(pictures, stage, out)
+            return render_modes(model, modes, stage, which, args.animate)
+
+    written = write_figures(out, "--out", args.force, draw)
     for path in written:
         print(path)

@@ -77,7 +77,7 @@ def run(args: argparse.Namespace) -> None:
 
     from fem.units import to_si
     from lusm.commands.modes import warn_linear_elements
-    from lusm.options import figure_set, moved, output_folder
+    from lusm.options import output_folder, write_figures
 
     warn_linear_elements(args)
     out = output_folder(args, "--out")
@@ -96,8 +96,8 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         from validation.fem_figures import sweep_figure
 
-        with figure_set(out, "--out", args.force) as stage:
-            png = moved([sweep_figure(res, stage / f"sweep_{parameter}.png")], stage, out)[0]
+        png = write_figures(out, "--out", args.force, lambda stage: [
+            sweep_figure(res, stage / f"sweep_{parameter}.png")])[0]
     if args.json:
         d = res.to_dict()
         d["values_mm"] = [float(v) for v in values_mm]  # as typed: no 26.000000000000004
