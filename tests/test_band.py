@@ -159,3 +159,25 @@ def test_cli_band_refuses_bad_input(capsys, argv, option):
     assert main(["modes", *argv]) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and option in err
+
+
+@pytest.mark.parametrize("name", ["tuned_40k", "tuned_60k", "tip_parametric", "chamfered",
+                                  "tip_protrusion"])
+def test_the_examples_pair_is_named_l1_and_b2(name):
+    """On every example stator (2D, default mesh) the band's modes named L1 and B2 are the
+    identified pair, and every mode of the default band is there."""
+    from pathlib import Path
+
+    from fem.modes import plate_modes
+    from fem.stator_file import load_stator
+
+    design = load_stator(Path(__file__).resolve().parents[1] / "examples" / name
+                         / "stator.toml")
+    pair = plate_modes(design.stator, design.material)
+    model = plate_model(design.stator, design.material)
+    band = band_modes(model, *default_band_Hz(_ops(pair)), _ops(pair))
+    by = {m.name: m for m in band.modes}
+    assert by["L1"].f_short_Hz == pytest.approx(pair.L1.f_short_Hz, rel=1e-9)
+    assert by["B2"].f_short_Hz == pytest.approx(pair.B2.f_short_Hz, rel=1e-9)
+    assert by["L1"].operating and by["B2"].operating
+    assert band.counted == len(band.modes)
