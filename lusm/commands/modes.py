@@ -34,11 +34,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--layers", type=integer("--layers", 1, limits.MAX_LAYERS, work=True),
                    default=None, help="3d: element layers through h (default 3)")
     p.add_argument("--edge-grading", type=integer("--edge-grading", 0, limits.MAX_EDGE_GRADING),
-                   default=0, metavar="LEVELS",
+                   default=None, metavar="LEVELS",
                    help="3d: grade the mesh LEVELS times towards the electrode edges, where "
-                   "the potential is singular (default 0; 3 converges B2's k_eff to about "
+                   "the potential is singular (3 converges B2's k_eff to about "
                    "1 %%, docs/fem3d.md section 1); the generated plate is then solved "
                    "on a quarter by its mirror symmetry (same results, faster)")
+    p.add_argument("--quick", action="store_true",
+                   help="3d: one solve on the uniform mesh (refine 3, layers 3, no grading) "
+                   "instead of the default pair of graded meshes: several times faster, "
+                   "B2's k_eff some %% low and no error estimate. Without --quick, --refine, "
+                   "--layers or --edge-grading the 3D model solves two graded meshes and "
+                   "prints the finer one's numbers, each with its estimated discretisation "
+                   "error (docs/fem3d.md section 1.1)")
     add_output_options(p, folder=None)
     p.add_argument(
         "--export", metavar="FILE", default=None,
@@ -142,6 +149,9 @@ def run(args: argparse.Namespace) -> None:
     mesh = _mesh_settings(args, choice.stator, export is None)
     coarse_gap = _warn_coarse_gap(args, choice, mesh) if args.model == "3d" else None
     res, validity = _solve(args, choice, mesh, coarse_gap)
+    estimate = None
+    if mesh.coarse is not None:  # the default 3D meshes: the finer one's modes, estimated
+        estimate, res = res, res.fine
     if export is not None:
         _export(args, choice, mesh, res, export)
     mounts = _mount_amplitudes(choice, choice.material, args, mesh.refine, res)
@@ -151,9 +161,9 @@ def run(args: argparse.Namespace) -> None:
 
         warn(validity)  # "lusm modes: warning: ...", as every command's
     if args.json:
-        _print_json(args, choice, mesh, res, mounts, export, band)
+        _print_json(args, choice, mesh, res, mounts, export, band, estimate)
         return
-    _print(args, choice, mesh, res, mounts, export, coarse_gap)
+    _print(args, choice, mesh, res, mounts, export, coarse_gap, estimate)
     if band is not None:
         print_band(band)
 
@@ -161,46 +171,58 @@ def run(args: argparse.Namespace) -> None:
 @dataclass(frozen=True)
 class _Mesh:
     """The FE mesh settings of one ``lusm modes`` run: ``refine``; for the 3D model its
-    ``layers`` and whether the quarter-plate model gives the full model's results."""
+    ``layers``, ``edge_grading``, whether the quarter-plate model gives the full model's
+    results, and the coarse mesh of the error estimate (None: one mesh, no estimate)."""
 
     refine: int
     layers: int | None = None
     quarter: bool = False
+    edge_grading: int = 0
+    coarse: object = None
 
 
 def _mesh_settings(args: argparse.Namespace, stator, quarter_allowed: bool) -> _Mesh:
-    """The mesh of ``--model``, ``--refine``, ``--layers``, ``--edge-grading``, bounded
-    before any work (the bound blames the option the user typed)."""
+    """The mesh of ``--model``, ``--refine``, ``--layers``, ``--edge-grading``, ``--quick``,
+    bounded before any work (the bound blames the option the user typed)."""
     from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.errors import LusmError
     from lusm.options import check_fe_size
 
     if args.model != "3d":
-        if args.layers is not None:
-            raise LusmError("--layers applies to --model 3d only (the 2D model has no mesh "
-                            "through the thickness)", "--layers")
-        if args.edge_grading:
-            raise LusmError("--edge-grading applies to --model 3d only (the 2D model has "
-                            "no mesh across the electrode edges' singularity)",
-                            "--edge-grading")
+        for option, given, why in (
+                ("--layers", args.layers is not None, "the 2D model has no mesh through the "
+                 "thickness"),
+                ("--edge-grading", bool(args.edge_grading), "the 2D model has no mesh across "
+                 "the electrode edges' singularity"),
+                ("--quick", args.quick, "it chooses between the 3D model's meshes")):
+            if given:
+                raise LusmError(f"{option} applies to --model 3d only ({why})", option)
         refine = DEFAULT_REFINE if args.refine is None else args.refine
         check_fe_size(stator, refine)
         return _Mesh(refine)
-    from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D
+    from fem.solid3d.estimate import QUICK_MESH, default_meshes
     from fem.solid3d.symmetric import quarter_model_applies
     from lusm.messages import typed
 
+    if args.quick and args.edge_grading:
+        raise LusmError("--quick is the uniform mesh: leave out --edge-grading, or --quick "
+                        "to grade the mesh", "--quick")
     check_refine_3d(args.refine)
-    refine = DEFAULT_REFINE_3D if args.refine is None else args.refine
-    layers = DEFAULT_LAYERS if args.layers is None else args.layers
+    coarse = None
+    if args.quick or any(v is not None for v in (args.refine, args.layers, args.edge_grading)):
+        refine = QUICK_MESH.refine if args.refine is None else args.refine
+        layers = QUICK_MESH.layers if args.layers is None else args.layers
+        grading = args.edge_grading or 0
+    else:  # the default: two graded meshes, the error estimate from their difference
+        coarse, fine = default_meshes(stator)
+        refine, layers, grading = fine.refine, fine.layers, fine.edge_grading
     # the quarter-plate model gives the full model's results at about a quarter of the
     # size; the export writes the full model's mesh
-    quarter = quarter_allowed and quarter_model_applies(stator, args.edge_grading)
+    quarter = quarter_allowed and quarter_model_applies(stator, grading)
     blamed = next((o for o in ("--edge-grading", "--layers", "--refine") if typed(o)),
-                  "--edge-grading" if args.edge_grading else "--refine")
-    check_fe_size(stator, refine, layers, blamed, edge_grading=args.edge_grading,
-                  quarter=quarter)
-    return _Mesh(refine, layers, quarter)
+                  "--edge-grading" if grading else "--refine")
+    check_fe_size(stator, refine, layers, blamed, edge_grading=grading, quarter=quarter)
+    return _Mesh(refine, layers, quarter, grading, coarse)
 
 
 def _warn_coarse_gap(args: argparse.Namespace, choice, mesh: _Mesh) -> str | None:
@@ -210,7 +232,7 @@ def _warn_coarse_gap(args: argparse.Namespace, choice, mesh: _Mesh) -> str | Non
     from fem.solid3d.model import gap_element_ratio
 
     stator = choice.stator
-    ratio = gap_element_ratio(stator, mesh.refine, mesh.layers, args.edge_grading)
+    ratio = gap_element_ratio(stator, mesh.refine, mesh.layers, mesh.edge_grading)
     if ratio <= NARROW_GAP_RATIO:
         return None
     from fem.meshing.meshed_stator import planform_mesh
@@ -220,9 +242,9 @@ def _warn_coarse_gap(args: argparse.Namespace, choice, mesh: _Mesh) -> str | Non
     pf = planform_mesh(stator)
     gap_mm = (stator.electrode_gap_m if pf is None else planform_gap_m(pf)) * 1e3
     coarse_gap = _coarse_gap_remedy(
-        choice, args.edge_grading,
+        choice, mesh.edge_grading,
         None if pf is None else planform_gap_ratios(pf, stator.thickness_m, mesh.layers,
-                                                    args.edge_grading))
+                                                    mesh.edge_grading))
     warn(f"--model 3d: the mesh's elements beside the {gap_mm:g} mm electrode gap "
          f"are {ratio:.0f} x wider than it: open-circuit B2 and its k_eff come out "
          f"too low (docs/fem3d.md); {coarse_gap}")
@@ -230,23 +252,30 @@ def _warn_coarse_gap(args: argparse.Namespace, choice, mesh: _Mesh) -> str | Non
 
 
 def _solve(args: argparse.Namespace, choice, mesh: _Mesh, coarse_gap: str | None):
-    """L1 and B2 of the chosen model, and the 2D model's gap-validity message (or None);
-    a solver failure said as bad input."""
+    """L1 and B2 of the chosen model (with the default 3D meshes an
+    :class:`fem.solid3d.estimate.EstimatedSolidModes`, whose ``fine`` are the modes), and
+    the 2D model's gap-validity message (or None); a solver failure said as bad input."""
     from fem.modes import ModeSolverError, plate_modes
 
     stator, material = choice.stator, choice.material
     validity = None
     try:
-        if mesh.quarter:
+        if mesh.coarse is not None:
+            from fem.solid3d.estimate import MeshLevel, estimated_solid_modes
+
+            fine = MeshLevel(mesh.refine, mesh.layers, mesh.edge_grading)
+            res = estimated_solid_modes(stator, material, args.order, (mesh.coarse, fine),
+                                        quarter=mesh.quarter)
+        elif mesh.quarter:
             from fem.solid3d.symmetric import symmetric_solid_modes
 
             res = symmetric_solid_modes(stator, material, args.order, mesh.refine,
-                                        mesh.layers, edge_grading=args.edge_grading)
+                                        mesh.layers, edge_grading=mesh.edge_grading)
         elif args.model == "3d":
             from fem.solid3d.model import solid_modes
 
             res = solid_modes(stator, material, args.order, mesh.refine, mesh.layers,
-                              edge_grading=args.edge_grading)
+                              edge_grading=mesh.edge_grading)
         else:
             import warnings
 
@@ -314,9 +343,9 @@ def _band_model(args: argparse.Namespace, choice, mesh: _Mesh):
         from lusm.options import check_fe_size
 
         check_fe_size(stator, mesh.refine, mesh.layers, "--band",
-                      edge_grading=args.edge_grading)
+                      edge_grading=mesh.edge_grading)
     return solid_model(stator, material, args.order, mesh.refine, mesh.layers,
-                       edge_grading=args.edge_grading)
+                       edge_grading=mesh.edge_grading)
 
 
 def print_band(band) -> None:
@@ -347,7 +376,7 @@ def _export(args: argparse.Namespace, choice, mesh: _Mesh, res, export) -> None:
         from fem.solid3d.model import build_solid_model
 
         model = build_solid_model(stator, material, args.order, refine, layers,
-                                  edge_grading=args.edge_grading)
+                                  edge_grading=mesh.edge_grading)
         _write_export(export, model, res, args.force, export_solid_modes)
     else:
         from fem.export import export_modes
@@ -358,8 +387,9 @@ def _export(args: argparse.Namespace, choice, mesh: _Mesh, res, export) -> None:
 
 
 def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
-                band=None) -> None:
-    """The modes, the mesh, the material and the plate as JSON (and ``band_modes``)."""
+                band=None, estimate=None) -> None:
+    """The modes, the mesh, the material and the plate as JSON (and ``band_modes``; with
+    the default 3D meshes ``error_estimate``)."""
     from fem.material import plane_stress
     from fem.model import stator_gap_m
 
@@ -397,8 +427,17 @@ def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, expo
         out["mounts"] = mounts
     if args.model == "3d":
         out["layers"], out["element"] = res.layers, res.element
-        out["edge_grading"] = args.edge_grading
+        out["edge_grading"] = mesh.edge_grading
         out["quarter_model"] = quarter
+    if estimate is not None:
+        c = estimate.meshes[0]
+        out["error_estimate"] = {
+            **estimate.errors(),
+            "coarse_mesh": {"refine": None if choice.meshed or choice.parametric
+                            else c.refine, "layers": c.layers, "edge_grading": c.edge_grading},
+            "method": "the change from the coarse mesh (docs/fem3d.md section 1.1)",
+            "wall_time_s": estimate.wall_time_s,
+        }
     if export is not None:
         out["export"] = str(export)
     if band is not None:
@@ -407,8 +446,9 @@ def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, expo
 
 
 def _print(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
-           coarse_gap: str | None) -> None:
-    """The modes as a table, with the plate, the mesh and the mounts."""
+           coarse_gap: str | None, estimate=None) -> None:
+    """The modes as a table (with the default 3D meshes each number with its estimated
+    error), with the plate, the mesh and the mounts."""
     from validation.summaries import plate_text
 
     stator, material, refine, quarter = choice.stator, choice.material, mesh.refine, mesh.quarter
@@ -422,7 +462,7 @@ def _print(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
     print(
         f"{plate_text(stator)}, material {material.name}, order {args.order}, {mesh_text}"
         + (f", 3D layers {res.layers} ({res.element})" if hasattr(res, "layers") else "")
-        + (f", edge grading {args.edge_grading}" if args.edge_grading else "")
+        + (f", edge grading {mesh.edge_grading}" if mesh.edge_grading else "")
         + (" (quarter-plate model, mirror symmetry)" if quarter else "")
     )
     if choice.design is not None:
@@ -431,18 +471,25 @@ def _print(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
             stator.tip_point_m, stator.preload_point_m))
         print(f"stator file {args.geometry}: {choice.design.name} ({what}); tip ({tip}) mm, "
               f"preload ({pre}) mm")
-    print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}{'MAC':>7}"
-          f"{'symmetry':>10}")
-    for m in (res.L1, res.B2):
-        print(f"{m.name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}"
-              f"{m.mac:>7.3f}{m.symmetry:>10.3f}")
+    if estimate is None:
+        print(f"{'mode':<5}{'f_short (Hz)':>14}{'f_open (Hz)':>14}{'k_eff':>9}{'MAC':>7}"
+              f"{'symmetry':>10}")
+        for m in (res.L1, res.B2):
+            print(f"{m.name:<5}{m.f_short_Hz:>14.1f}{m.f_open_Hz:>14.1f}{m.k_eff:>9.4f}"
+                  f"{m.mac:>7.3f}{m.symmetry:>10.3f}")
+    else:
+        _print_estimated(res, estimate, choice.meshed or choice.parametric)
     # in Hz too: a tuned stator's split read "+0.000%" (where the report said +1.3e-04 %)
     print(f"L1-B2 split (f_B2 - f_L1) / f_L1, short circuit: {_split(res):+.3%} "
           f"({res.B2.f_short_Hz - res.L1.f_short_Hz:+.1f} Hz) "
           "(MAC: correlation with the Eq. 3 shape; symmetry: energy share in the mode's "
           "mirror class; both 1 for a clean identification)")
-    print(f"dofs {res.dofs}, wall time {res.wall_time_s:.3f} s")
-    if args.model == "3d" and not args.edge_grading and coarse_gap is None:
+    if estimate is None:
+        print(f"dofs {res.dofs}, wall time {res.wall_time_s:.3f} s")
+    else:
+        print(f"dofs {res.dofs} (fine mesh), wall time {estimate.wall_time_s:.3f} s (both "
+              f"meshes)")
+    if args.model == "3d" and not mesh.edge_grading and coarse_gap is None:
         # the default 3D mesh is the cheap frequency check: its k_eff rests on a split
         # that the singular potential at the electrode edges controls (docs/fem3d.md §1)
         print("k_eff on an ungraded 3D mesh is low (B2's by about 5 % on the paper's plate, "
@@ -455,6 +502,21 @@ def _print(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
     if export is not None:
         print(f"wrote {export}")
 
+
+
+def _print_estimated(res, estimate, planform: bool) -> None:
+    """The modes of the default 3D meshes, each number with its estimated error (the mesh
+    named without its refine on a stator file's ``planform``)."""
+    print(f"{'mode':<5}{'f_short (Hz)':>20}{'f_open (Hz)':>20}{'k_eff':>18}{'MAC':>7}"
+          f"{'symmetry':>10}")
+    for m in (res.L1, res.B2):
+        e = estimate.errors()[m.name]
+        print(f"{m.name:<5}{m.f_short_Hz:>11.1f} +- {e['f_short_Hz']:<5.1f}"
+              f"{m.f_open_Hz:>11.1f} +- {e['f_open_Hz']:<5.1f}"
+              f"{m.k_eff:>9.4f} +- {e['k_eff']:<6.4f}{m.mac:>7.3f}{m.symmetry:>10.3f}")
+    print(f"+-: estimated discretisation error of each number, its change from the coarse "
+          f"mesh ({estimate.meshes[0].text(planform)}); docs/fem3d.md section 1.1. --quick: one "
+          f"uniform mesh, faster, no estimate")
 
 
 def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
