@@ -163,7 +163,7 @@ class TunedDesign:
     L1, B2 : ModeSummary
         Both modes of the tuned plate.
     fe_solves : int
-        Number of FE modal solutions (short + open circuit counted as one).
+        Number of FE modal solutions (short + open circuit counted as one), 2D and 3D.
     fix : str
         What was held: entries of :data:`FIX_OPTIONS` joined by ``'+'`` (e.g.
         ``'thickness'``, ``'length+thickness'``; see :func:`normalize_fix`).
@@ -179,6 +179,8 @@ class TunedDesign:
     tuned : tuple of str
         The dimensions the search changed: ``('length', 'width')``, ``('width',)`` or
         ``('length',)`` (the thickness follows the length with ``'thickness_ratio'``).
+    solves_3d : int
+        How many of the solves were 3D (a 3D tuning starts from the 2D one).
     """
 
     stator: PlateStator
@@ -192,6 +194,7 @@ class TunedDesign:
     history: tuple
     outer_iterations: int = 0
     tuned: tuple = ("length", "width")
+    solves_3d: int = 0
 
     @property
     def frequency_Hz(self) -> float:
@@ -216,6 +219,7 @@ class TunedDesign:
             "target_frequency_Hz": self.target_frequency_Hz,
             "frequency_Hz": self.frequency_Hz,
             "fe_solves": self.fe_solves,
+            "fe_solves_3d": self.solves_3d,
             "outer_iterations": self.outer_iterations,
             "relative_mismatch": self.relative_mismatch,
             "fix": self.fix,
@@ -260,10 +264,7 @@ class _Solver:
                 res = plate_modes(st, self.material, self.order,
                                   DEFAULT_REFINE if self.refine is None else self.refine)
             else:
-                from fem.solid3d.model import DEFAULT_REFINE_3D, solid_modes
-
-                res = solid_modes(st, self.material, self.order,
-                                  DEFAULT_REFINE_3D if self.refine is None else self.refine)
+                res = _solve_3d(st, self.material, self.order, self.refine)
             self.cache[key] = res
             self.history.append((key[0], key[1], res.L1.f_short_Hz, res.B2.f_short_Hz))
             if self.bar is not None:
@@ -275,6 +276,25 @@ class _Solver:
     def log_ratio(self, length_m: float, width_m: float) -> float:
         res = self.modes(length_m, width_m)
         return math.log(res.B2.f_short_Hz / res.L1.f_short_Hz)
+
+
+def _solve_3d(stator: PlateStator, material: PiezoMaterial, order: int, refine: int | None):
+    """The 3D modes a tuning solves: with ``refine`` None the fine mesh of ``lusm modes
+    --model 3d``'s default pair (:func:`fem.solid3d.estimate.default_meshes`, on the quarter
+    plate where it applies), so that the tuned plate re-solved by ``lusm modes --model 3d``
+    gives the tuning's numbers; else the uniform mesh of ``refine`` and three layers."""
+    from fem.solid3d.model import DEFAULT_LAYERS, solid_modes
+
+    if refine is not None:
+        return solid_modes(stator, material, order, refine, DEFAULT_LAYERS)
+    from fem.solid3d.estimate import default_meshes
+    from fem.solid3d.symmetric import quarter_model_applies, symmetric_solid_modes
+
+    fine = default_meshes(stator)[1]
+    solve = (symmetric_solid_modes if quarter_model_applies(stator, fine.edge_grading)
+             else solid_modes)
+    return solve(stator, material, order, fine.refine, fine.layers,
+                 edge_grading=fine.edge_grading)
 
 
 def _crossing(solver: _Solver, free: str, length_m: float, width_m: float,
@@ -413,15 +433,21 @@ def tune_plate(
     if getattr(base, "mesh", None) is not None:
         raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
                          "tune_plate cannot rescale; start from a plain PlateStator")
-    solver = _Solver(base, mat, model, "thickness_ratio" in held, order, refine)
+    solver = _Solver(base, mat, "2d", "thickness_ratio" in held, order,
+                     refine if model == "2d" else None)
     if progress:
         from tqdm import tqdm
 
         # disable=None: on a terminal only (a log or a pipe gets no carriage-return lines)
         solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
     try:
-        return _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, model, rel_tol,
-                     max_iter)
+        d2 = _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, "2d", rel_tol,
+                   max_iter)
+        if model == "2d":
+            return d2
+        solver3 = _Solver(base, mat, "3d", "thickness_ratio" in held, order, refine)
+        solver3.bar = solver.bar
+        return _tune_3d(solver3, solver, d2, rel_tol)
     finally:
         if solver.bar is not None:
             solver.bar.close()
@@ -455,6 +481,90 @@ def _checked_target(target_frequency_Hz: float | None, fix, fixed_dim: str | Non
             or not 1 <= max_iter <= MAX_ITER):  # each iteration is a crossing's FE solves
         raise ValueError(f"max_iter must be an integer in [1, {MAX_ITER}], got {max_iter!r}")
     return target_frequency_Hz
+
+
+MAX_3D_SOLVES = 8
+"""3D solves a 3D tuning may take after its 2D start (:func:`_tune_3d`; the designer's
+35 mm stator with a tip and the paper's plate take 2-4)."""
+
+JACOBIAN_STEP = 1e-3
+"""Relative step of the 2D finite differences that give a 3D tuning its first Jacobian (-)."""
+
+
+def _residual(res, target_Hz: float | None) -> np.ndarray:
+    """``[ln(f_B2/f_L1)]``, and with a target ``ln(sqrt(f_L1 f_B2) / target)``: zero at a
+    tuned plate."""
+    f_l, f_b = res.L1.f_short_Hz, res.B2.f_short_Hz
+    r = [math.log(f_b / f_l)]
+    if target_Hz is not None:
+        r.append(0.5 * math.log(f_l * f_b) - math.log(target_Hz))
+    return np.array(r)
+
+
+def _tuned(res, target_Hz: float | None, rel_tol: float) -> bool:
+    """Both frequencies within ``rel_tol`` of the target, or of each other without one."""
+    f_l, f_b = res.L1.f_short_Hz, res.B2.f_short_Hz
+    if target_Hz is None:
+        return abs(f_b / f_l - 1.0) < rel_tol
+    return abs(f_l / target_Hz - 1.0) < rel_tol and abs(f_b / target_Hz - 1.0) < rel_tol
+
+
+def _tune_3d(solver3: _Solver, solver2: _Solver, d2: TunedDesign, rel_tol: float
+             ) -> TunedDesign:
+    """The 3D tuning from the 2D one ``d2``: Newton steps on the logarithms of the tuned
+    dimensions, one 3D solve each, the first with the 2D model's Jacobian (finite
+    differences, :data:`JACOBIAN_STEP`) and then Broyden's update of it from the 3D solves.
+    The 2D and 3D models differ by a few 1e-4 in frequency, so the 2D plate starts within
+    reach and 2-4 3D solves tune it, where bracketing took about 15.
+
+    Raises
+    ------
+    ValueError
+        If the plate is not tuned after :data:`MAX_3D_SOLVES` 3D solves.
+    """
+    target = d2.target_frequency_Hz
+    dims = d2.tuned  # ('width',), ('length',) or ('length', 'width')
+    st = d2.stator
+    u = np.log([st.length_m if d == "length" else st.width_m for d in dims])
+
+    def dims_of(v: np.ndarray) -> tuple[float, float]:
+        x = dict(zip(dims, np.exp(v), strict=True))
+        return float(x.get("length", st.length_m)), float(x.get("width", st.width_m))
+
+    f0 = _residual(solver2.modes(*dims_of(u)), target)
+    jac = np.empty((f0.size, u.size))
+    for j in range(u.size):
+        du = np.zeros(u.size)
+        du[j] = JACOBIAN_STEP
+        jac[:, j] = (_residual(solver2.modes(*dims_of(u + du)), target) - f0) / JACOBIAN_STEP
+    solves_2d = len(solver2.history)
+    prev = None
+    for _ in range(MAX_3D_SOLVES):
+        res = solver3.modes(*dims_of(u))
+        f = _residual(res, target)
+        if _tuned(res, target, rel_tol):
+            break
+        if prev is not None:  # Broyden's update from the last step
+            du, df = u - prev[0], f - prev[1]
+            jac = jac + np.outer(df - jac @ du, du) / float(du @ du)
+        prev = (u, f)
+        u = u - np.linalg.lstsq(jac, f, rcond=None)[0]
+    else:
+        length, width = dims_of(u)
+        raise ValueError(f"the 3D tuning did not converge in {MAX_3D_SOLVES} 3D solves from "
+                         f"the 2D tuning (last plate {length * 1e3:.5g} x {width * 1e3:.5g} mm: "
+                         f"L1 {res.L1.f_short_Hz:.2f} Hz, B2 {res.B2.f_short_Hz:.2f} Hz)")
+    length, width = dims_of(u)
+    return replace(
+        d2,
+        stator=solver3.stator(length, width),
+        L1=ModeSummary(res.L1.f_short_Hz, res.L1.f_open_Hz, res.L1.k_eff),
+        B2=ModeSummary(res.B2.f_short_Hz, res.B2.f_open_Hz, res.B2.k_eff),
+        fe_solves=solves_2d + len(solver3.history),
+        model="3d",
+        history=tuple(solver2.history) + tuple(solver3.history),
+        solves_3d=len(solver3.history),
+    )
 
 
 class TuningWarning(UserWarning):
