@@ -84,3 +84,65 @@ def _best_cut(pts: np.ndarray, planes_m: tuple[np.ndarray, ...], tol: float):
         if best is None or score < best[0]:
             best = (score, axis, value)
     return None if best is None else best[1:]
+
+
+def element_dissection_rank(points_m: np.ndarray, elements: np.ndarray,
+                            leaf: int = LEAF_NODES) -> np.ndarray:
+    """Elimination rank of every node by geometric nested dissection on any mesh.
+
+    Where the mesh planes are not separators (an extruded unstructured planform, whose
+    elements straddle every plane across it), a cut at the median of the longest side
+    separates by elements: the nodes at or beyond the cut that share an element with a node
+    before it form the separator, so the remaining nodes on the two sides share no element
+    (no matrix entry). Halves first, separator last, as :func:`nested_dissection_rank`.
+
+    Parameters
+    ----------
+    points_m : numpy.ndarray
+        Node coordinates (3, n) (m).
+    elements : numpy.ndarray
+        Node indices of every element (n_nodes_per_element, n_elements), e.g.
+        ``basis.element_dofs`` of a scalar basis.
+    leaf : int
+        Largest node set numbered without splitting.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``rank[i]``: the position of node ``i`` (a permutation of ``0..n-1``).
+    """
+    pts = np.asarray(points_m, dtype=float)
+    elements = np.asarray(elements)
+    n = pts.shape[1]
+    rank = np.full(n, -1, dtype=np.int64)
+    inside = np.zeros(n, dtype=bool)
+    nxt = 0
+    stack: list[tuple[np.ndarray, np.ndarray | None]] = [(np.arange(n), elements)]
+    while stack:
+        idx, els = stack.pop()
+        if els is None or idx.size <= leaf:
+            rank[idx] = np.arange(nxt, nxt + idx.size)
+            nxt += idx.size
+            continue
+        c = pts[:, idx]
+        axis = int(np.argmax(np.ptp(c, axis=1)))
+        value = float(np.median(c[axis]))
+        inside[idx] = True
+        before = np.zeros(n, dtype=bool)
+        before[idx[c[axis] < value]] = True
+        after = inside & ~before
+        cut = np.any(before[els], axis=0) & np.any(after[els], axis=0)
+        sep = np.zeros(n, dtype=bool)
+        sep[els[:, cut].ravel()] = True
+        sep &= after
+        inside[idx] = False
+        halves = [idx[before[idx]], idx[after[idx] & ~sep[idx]]]
+        if min(h.size for h in halves) == 0:  # no cut separates: number them as they are
+            stack.append((idx, None))
+            continue
+        stack.append((idx[sep[idx]], None))
+        for half in halves[::-1]:  # popped in order: before, after, then the separator
+            mask = np.zeros(n, dtype=bool)
+            mask[half] = True
+            stack.append((half, els[:, np.any(mask[els], axis=0)]))
+    return rank
