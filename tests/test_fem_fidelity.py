@@ -160,7 +160,7 @@ def test_cli_edge_grading_moves_3d_b2_coupling_towards_the_2d_model(capsys):
     from lusm.cli import main
 
     out = {}
-    for args in ([], ["--model", "3d"], ["--model", "3d", "--edge-grading", "1"]):
+    for args in ([], ["--model", "3d", "--quick"], ["--model", "3d", "--edge-grading", "1"]):
         assert main(["modes", "--json", *args]) in (0, None)
         d = json.loads(capsys.readouterr().out)
         out[(d["model"], d.get("edge_grading", 0))] = d["B2"]["k_eff"]

@@ -127,7 +127,7 @@ def test_report_numbers_match_the_cli(report, capsys, monkeypatch):
         rep = doc["motor_characteristics"][name]["characteristics"]["400"]
         assert rep["stall_force_N"] == tuned["stall_force_N"]
         assert rep["no_load_velocity_m_s"] == tuned["no_load_velocity_m_s"]
-    modes3d = lusm("modes", "--model", "3d")
+    modes3d = lusm("modes", "--model", "3d", "--quick")
     f3d = doc["parameter_sets"]["plane_stress_vs_3d"]["f3d_Hz"]
     assert f3d["B2_open"] == pytest.approx(modes3d["B2"]["f_open_Hz"], rel=1e-9)
 

@@ -132,7 +132,7 @@ def test_ungraded_3d_run_says_its_k_eff_is_low_and_grading_raises_it(capsys):
         row = next(line for line in out.splitlines() if line.startswith("B2 "))
         return out, float(row.split()[3])
 
-    plain, k_plain = run()
+    plain, k_plain = run("--quick")
     graded, k_graded = run("--edge-grading", "1")
     assert "k_eff on an ungraded 3D mesh is low" in plain
     assert "ungraded" not in graded

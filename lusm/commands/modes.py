@@ -221,7 +221,14 @@ def _mesh_settings(args: argparse.Namespace, stator, quarter_allowed: bool) -> _
     quarter = quarter_allowed and quarter_model_applies(stator, grading)
     blamed = next((o for o in ("--edge-grading", "--layers", "--refine") if typed(o)),
                   "--edge-grading" if grading else "--refine")
-    check_fe_size(stator, refine, layers, blamed, edge_grading=grading, quarter=quarter)
+    try:
+        check_fe_size(stator, refine, layers, blamed, edge_grading=grading, quarter=quarter)
+    except LusmError as exc:
+        if coarse is None:
+            raise
+        # the default's fine mesh is above the bound: the uniform mesh may fit
+        raise LusmError(f"{exc}; or --quick for one uniform mesh (no error estimate)",
+                        exc.option) from None
     return _Mesh(refine, layers, quarter, grading, coarse)
 
 
@@ -430,12 +437,15 @@ def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, expo
         out["edge_grading"] = mesh.edge_grading
         out["quarter_model"] = quarter
     if estimate is not None:
+        from fem.solid3d.estimate import SAFETY
+
         c = estimate.meshes[0]
         out["error_estimate"] = {
             **estimate.errors(),
             "coarse_mesh": {"refine": None if choice.meshed or choice.parametric
                             else c.refine, "layers": c.layers, "edge_grading": c.edge_grading},
-            "method": "the change from the coarse mesh (docs/fem3d.md section 1.1)",
+            "method": "SAFETY x the change from the coarse mesh (docs/fem3d.md section 1.1)",
+            "safety": SAFETY,
             "wall_time_s": estimate.wall_time_s,
         }
     if export is not None:
@@ -493,7 +503,8 @@ def _print(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
         # the default 3D mesh is the cheap frequency check: its k_eff rests on a split
         # that the singular potential at the electrode edges controls (docs/fem3d.md §1)
         print("k_eff on an ungraded 3D mesh is low (B2's by about 5 % on the paper's plate, "
-              "docs/fem3d.md section 1); --edge-grading 1 or more when the coupling matters"
+              "docs/fem3d.md section 1); the default graded meshes (no --quick, --refine, "
+              "--layers) or --edge-grading 1 or more when the coupling matters"
               + _graded_work_clause(stator, refine, res.layers, export is None))
     for i, m in enumerate(mounts, start=1):
         x, y = m["point_mm"]
@@ -507,6 +518,8 @@ def _print(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
 def _print_estimated(res, estimate, planform: bool) -> None:
     """The modes of the default 3D meshes, each number with its estimated error (the mesh
     named without its refine on a stator file's ``planform``)."""
+    from fem.solid3d.estimate import SAFETY
+
     print(f"{'mode':<5}{'f_short (Hz)':>20}{'f_open (Hz)':>20}{'k_eff':>18}{'MAC':>7}"
           f"{'symmetry':>10}")
     for m in (res.L1, res.B2):
@@ -514,9 +527,9 @@ def _print_estimated(res, estimate, planform: bool) -> None:
         print(f"{m.name:<5}{m.f_short_Hz:>11.1f} +- {e['f_short_Hz']:<5.1f}"
               f"{m.f_open_Hz:>11.1f} +- {e['f_open_Hz']:<5.1f}"
               f"{m.k_eff:>9.4f} +- {e['k_eff']:<6.4f}{m.mac:>7.3f}{m.symmetry:>10.3f}")
-    print(f"+-: estimated discretisation error of each number, its change from the coarse "
-          f"mesh ({estimate.meshes[0].text(planform)}); docs/fem3d.md section 1.1. --quick: one "
-          f"uniform mesh, faster, no estimate")
+    print(f"+-: estimated discretisation error of each number, {SAFETY:g} x its change from "
+          f"the coarse mesh ({estimate.meshes[0].text(planform)}); docs/fem3d.md section 1.1. "
+          f"--quick: one uniform mesh, faster, no estimate")
 
 
 def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
