@@ -80,15 +80,18 @@ MAX_REFINE_3D = 12
 MAX_FE_CELLS_2D = 20_000
 """Elements of a generated 2D plate mesh (the default plate at --refine 48 has 9 700); long,
 narrow plates need many elements at a given --refine."""
-MAX_FE_CELLS_3D = 2_000
-"""Bricks of a generated 3D mesh (planform elements x layers; the default has 195). The solve
-grows about as the square of the bricks (1 050: 19 s; 3 000 with --edge-grading 6: over
-150 s), so 2 000 keeps one 3D solve near a minute, as --refine 48 keeps a 2D one."""
+MAX_FE_CELLS_3D = 3_000
+"""Bricks of a generated 3D mesh (planform elements x layers; the uniform ``--quick`` mesh has
+195, the default pair's fine mesh 720 on the paper's plate's quarter). The solve grows about
+as the square of the bricks (1 050: 19 s; 3 000 with --edge-grading 6: over 150 s); 3 000
+admits the default graded meshes of a 35-45 mm stator with a tip (2 140 bricks, its planform
+extruded in graded layers), whose solve stays within a minute or two of CPU."""
 MAX_FE_WORK_2D = 100_000
 """Elements x FE solves of one command that solves many plates (a sweep, a tuning): ten
 solves at --refine 48 (about 3 minutes), 1 100 of the default plate."""
 MAX_FE_WORK_3D = 20_000
-"""Bricks x FE solves of a 3D tuning (ten solves at the 2 000-brick bound)."""
+"""Bricks x FE solves of a 3D tuning (its 3D solves after the 2D start,
+:data:`fem.tuning.MAX_3D_SOLVES`, of a 35-45 mm stator with a tip fit)."""
 TUNE_SOLVES = 15
 """FE solves a tuning is counted as before it starts (the paper's plate to 40 kHz takes 14)."""
 MAX_LAYERS = 16

@@ -309,8 +309,9 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("modes-edge-grading-2d", ["modes", "--edge-grading", "1"], ["--edge-grading", "3d"]),
     ("modes-layers-2d", ["modes", "--layers", "5"], ["--layers", "3d"]),  # was ignored
     # work of many solves together, and of one graded 3D mesh (each ran for minutes)
-    ("modes-3d-edge-grading-6", ["modes", "--model", "3d", "--edge-grading", "6"],
-     ["--edge-grading", "3000 3D bricks", "limit 2000"]),
+    ("modes-3d-edge-grading-6", ["modes", "--model", "3d", "--edge-grading", "6",
+                                 "--layers", "4"],
+     ["--edge-grading", "3600 3D bricks", "limit 3000"]),
     ("tune-refine-48", ["tune", "--refine", "48"], ["--refine", "15 FE solves", "100000"]),
     ("sweep-refine-48", ["sweep", "--width-mm", "6:9:0.1", "--refine", "48"],
      ["--refine", "31 FE solves", "100000"]),
@@ -502,7 +503,7 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     # docs' own `lusm modes --model 3d --geometry examples/chamfered/stator.toml`)
     ("modes-3d-file-mesh-too-many-bricks", ["modes", "--model", "3d", "--geometry",
                                             "{chamfered_example}"],
-     ["--geometry", "2988 3D bricks", "lower --layers (3) or use a coarser mesh file"]),
+     ["--geometry", "4980 3D bricks", "or use a coarser mesh file", "or --quick"]),
     # an off-centre hole mixes L1 into B2 in open circuit: a shape test, which the message
     # blamed on --refine (which does nothing to a gmsh-meshed stator)
     ("modes-off-centre-hole-pairing", ["modes", "--geometry", "{off_centre_hole}"],
@@ -510,11 +511,11 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     # tune has no --layers and does not refine a gmsh-meshed stator: its remedies named both
     ("tune-3d-file-mesh-too-many-bricks", ["tune", "--geometry", "{hole_mesh_07}", "--fix",
                                            "length", "--model", "3d"],
-     ["--geometry: the stator's mesh needs 2670 3D bricks here, above the limit 2000; "
+     ["--geometry: the stator's mesh needs 4450 3D bricks here, above the limit 3000; "
       "coarsen its [mesh] size_mm"]),
     ("tune-3d-file-mesh-too-much-work", ["tune", "--geometry", "{hole_mesh_085}", "--fix",
                                          "length", "--model", "3d"],
-     ["--geometry: 15 FE solves of about 1734 3D bricks", "coarsen its [mesh] size_mm ("]),
+     ["--geometry: 8 FE solves of about 2890 3D bricks", "coarsen its [mesh] size_mm ("]),
     ("explore-workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"],
      ["--workers"]),
 ]
