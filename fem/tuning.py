@@ -39,7 +39,11 @@ Algorithm (:func:`tune_plate`): at the current length (width), bracket the width
 where ``ln(f_B2/f_L1)`` changes sign (multiplicative steps of at most ``STEP_FACTOR``), solve
 with Brent's method. With a target, scale ``l`` and ``W`` by ``sqrt(f_L1 f_B2) / f_target``
 and repeat until both frequencies are within ``rel_tol`` of the target; with a held length or
-width one crossing is the answer. L1 and B2 are identified by shape at every FE solve
+width one crossing is the answer. With ``model="3d"`` that search runs on the 2D model, and
+Newton steps on the logarithms of the tuned dimensions then tune the 3D model from the 2D
+design (:func:`_tune_3d`: the 2D Jacobian first, Broyden's update from each 3D solve; 2-4 3D
+solves on the fine mesh of ``lusm modes --model 3d``'s default, where bracketing on the 3D
+model took about 15). L1 and B2 are identified by shape at every FE solve
 (:func:`fem.modes.plate_modes`, or :func:`fem.solid3d.model.solid_modes` for ``model="3d"``), so
 the search is indifferent to which of the two is lower at the starting point. Each solve is
 counted.

@@ -20,7 +20,7 @@ full extruded mesh, where only the layers are graded (``refine`` plays no part).
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial, get_material
@@ -32,16 +32,22 @@ from fem.solid3d.symmetric import quarter_model_applies
 class MeshLevel:
     """One 3D mesh of the family: in-plane ``refine`` (elements per width, generated plates
     only), equal ``layers`` through the thickness and ``edge_grading`` levels of geometric
-    lines towards the electrode edges (``fem.solid3d.model.hex_grid_lines``)."""
+    lines towards the electrode edges (``fem.solid3d.model.hex_grid_lines``); a parametric
+    stator's gmsh planform is meshed at ``size_factor`` times its element size."""
 
     refine: int
     layers: int
     edge_grading: int
+    size_factor: float = 1.0
 
     def text(self, planform: bool = False) -> str:
-        """``refine R, layers N, edge grading K`` (without the refine on a ``planform``)."""
-        refine = "" if planform else f"refine {self.refine}, "
-        return f"{refine}layers {self.layers}, edge grading {self.edge_grading}"
+        """``refine R, layers N, edge grading K`` (on a ``planform`` its size factor in place
+        of the refine)."""
+        if planform:
+            size = (f"planform element size x {self.size_factor:g}, "
+                    if self.size_factor != 1.0 else "")
+            return f"{size}layers {self.layers}, edge grading {self.edge_grading}"
+        return f"refine {self.refine}, layers {self.layers}, edge grading {self.edge_grading}"
 
 
 DEFAULT_MESHES = (MeshLevel(3, 3, 1), MeshLevel(5, 3, 2))
@@ -49,9 +55,11 @@ DEFAULT_MESHES = (MeshLevel(3, 3, 1), MeshLevel(5, 3, 2))
 answer": the cheapest pair whose fine mesh is within 1e-4 in frequency and 1 % in k_eff of
 converged meshes on the measured stators, and whose difference bounds that error)."""
 
-PLANFORM_MESHES = (MeshLevel(3, 3, 0), MeshLevel(3, 3, 1))
-"""The coarse and the fine mesh for a stator with its own planform mesh (the planform is
-the stator file's or gmsh's; the layers are graded towards the top face)."""
+PLANFORM_MESHES = (MeshLevel(3, 3, 0, 1.5), MeshLevel(3, 3, 1))
+"""The coarse and the fine mesh for a stator with its own planform mesh: the layers graded
+towards the top face in the fine one, and a parametric stator's gmsh planform 1.5 times
+coarser in the coarse one (a mesh file's planform is the file's: its estimate sees the
+layers only)."""
 
 SAFETY = 2.0
 """The estimated error over the change from the coarse to the fine mesh (module docstring)."""
@@ -104,6 +112,10 @@ class EstimatedSolidModes:
 
 def _solve(stator: PlateStator, material: PiezoMaterial, order: int, level: MeshLevel,
            quarter: bool):
+    from fem.meshing.parametric import ParametricStator
+
+    if isinstance(stator, ParametricStator) and level.size_factor != 1.0:
+        stator = replace(stator, mesh_size_m=stator.element_size_m * level.size_factor)
     if not quarter:
         from fem.solid3d.model import solid_modes
 
