@@ -487,9 +487,10 @@ def _checked_target(target_frequency_Hz: float | None, fix, fixed_dim: str | Non
     return target_frequency_Hz
 
 
-MAX_3D_SOLVES = 8
+MAX_3D_SOLVES = 6
 """3D solves a 3D tuning may take after its 2D start (:func:`_tune_3d`; the designer's
-35 mm stator with a tip and the paper's plate take 2-4)."""
+35 mm stator with a tip and the paper's plate take 2-4). The work bound of ``lusm tune
+--model 3d`` counts this many."""
 
 JACOBIAN_STEP = 1e-3
 """Relative step of the 2D finite differences that give a 3D tuning its first Jacobian (-)."""

@@ -126,11 +126,12 @@ def test_the_designers_stator_runs_in_3d_at_the_default_bound(tmp_path, capsys):
     from lusm.options import stator_from_args
 
     path = tmp_path / "stator.toml"
-    path.write_text(DESIGNER.format(width=9.532, mesh=""))
+    path.write_text(DESIGNER.format(width=8.0, mesh=""))
     parser = build_parser()
     args = parser.parse_args(["tune", "--geometry", str(path), "--fix", "length", "--model",
                               "3d"])
     tune._start_plate(args)  # the bounds pass
+    path.write_text(DESIGNER.format(width=9.532, mesh=""))
     args = parser.parse_args(["modes", "--geometry", str(path), "--model", "3d"])
     mesh = _mesh_settings(args, stator_from_args(args).stator, True)
     assert mesh.coarse is not None and mesh.edge_grading == 1
