@@ -76,22 +76,13 @@ def test_modes_3d_prints_each_number_with_its_estimate(monkeypatch, capsys):
     assert "--quick" in capsys.readouterr().err
 
 
-DESIGNER = """name = "designer's stator"
-[plate]
-length_mm = 35.0
-width_mm = {width}
-thickness_mm = 3.0
-[electrodes]
-gap_mm = 0.5
-drive = [1, 4]
-[material]
-name = "pzt8"
-[tip]
-length_mm = 1.0
-width_mm = 2.0
-{mesh}"""
-"""The designer's stator of issue 38: 35 x 8 x 3 mm PZT-8 with a 2 x 1 mm tip (9.532 mm wide
-once tuned with `lusm tune --fix length`)."""
+def designer_toml(width_mm: float, mesh: str = "") -> str:
+    """The designer's stator of issue 38 (35 x 8 x 3 mm PZT-8 with a 2 x 1 mm tip,
+    ``tools.doc_numbers.BAND_DESIGNER_TOML``) at ``width_mm`` (9.532 mm once tuned with
+    `lusm tune --fix length`), with ``mesh`` appended."""
+    from tools.doc_numbers import BAND_DESIGNER_TOML
+
+    return BAND_DESIGNER_TOML.replace("width_mm = 8.0", f"width_mm = {width_mm}", 1) + mesh
 
 
 @pytest.mark.slow
@@ -126,18 +117,18 @@ def test_the_designers_stator_runs_in_3d_at_the_default_bound(tmp_path, capsys):
     from lusm.options import stator_from_args
 
     path = tmp_path / "stator.toml"
-    path.write_text(DESIGNER.format(width=8.0, mesh=""))
+    path.write_text(designer_toml(8.0))
     parser = build_parser()
     args = parser.parse_args(["tune", "--geometry", str(path), "--fix", "length", "--model",
                               "3d"])
     tune._start_plate(args)  # the bounds pass
-    path.write_text(DESIGNER.format(width=9.532, mesh=""))
+    path.write_text(designer_toml(9.532))
     args = parser.parse_args(["modes", "--geometry", str(path), "--model", "3d"])
     mesh = _mesh_settings(args, stator_from_args(args).stator, True)
     assert mesh.coarse is not None and mesh.edge_grading == 1
     from lusm.cli import main
 
-    path.write_text(DESIGNER.format(width=9.532, mesh="[mesh]\nsize_mm = 0.3\n"))
+    path.write_text(designer_toml(9.532, "[mesh]\nsize_mm = 0.3\n"))
     for command in (["tune", "--fix", "length"], ["modes"]):
         assert main([*command, "--geometry", str(path), "--model", "3d"]) == 2
         err = capsys.readouterr().err.strip()
