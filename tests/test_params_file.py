@@ -138,7 +138,7 @@ def _single_precision(params, arithmetic: bool, scalars: bool = False) -> dict:
     import numpy as np
 
     d = params.to_dict()
-    r = {k: np.float32(v) for k, v in d.items() if k != "source"}
+    r = {k: np.float32(v) for k, v in d.items() if k not in ("source", "shape")}
     if arithmetic:
         two_pi = np.float32(2.0) * np.float32(np.pi)
         r["eta_N"] = r["phi_L0"] - r["phi_Ll"]
