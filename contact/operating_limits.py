@@ -164,3 +164,22 @@ def operating_limits(params: MotorParams, voltage_V: float, frequency_Hz: float,
                                       power_W=float(branch.damping_power_W))
     return limits_from_amplitudes(params, voltage_V, omega,
                                   free_amplitudes_m(params, voltage_V, omega), "free response")
+
+
+def simulation_limits(result) -> OperatingLimits | None:
+    """The limits of a :func:`contact.simulate.simulate` run: its steady branch from rest
+    (``method="steady"``), else the modal amplitudes of its last window (half the swing of
+    ``u_l`` and ``w_b``, with the dissipated power of harmonic modes). None without shape
+    data or a branch from rest."""
+    p, op = result.params, result.op
+    omega = 2.0 * math.pi * op.frequency_Hz
+    if result.branches is not None:
+        branch = next((b for b in result.branches if b.from_rest), None)
+        return None if branch is None else operating_limits(p, op.voltage_V, op.frequency_Hz,
+                                                            branch)
+    w = result.window
+    if w is None or len(w.t_s) < 2:
+        return None
+    amps = (0.5 * float(w.u_l_m.max() - w.u_l_m.min()),
+            0.5 * float(w.w_b_m.max() - w.w_b_m.min()))
+    return limits_from_amplitudes(p, op.voltage_V, omega, amps, "transient window")

@@ -730,15 +730,26 @@ class Motor:
     frequency_auto: bool
 
 
+def default_frequency_text(params) -> str:
+    """The drive frequency without ``--frequency``: the paper's 40 kHz for Table 2's set
+    (the paper's drive), ``'auto'`` (the set's own operating point) for any other: a
+    designer's stator is driven where its modes are, not at the paper's frequency."""
+    from contact.model import is_table2
+
+    return "40e3" if is_table2(params) else "auto"
+
+
 def resolve_motor(args: argparse.Namespace) -> Motor:
     """The parameter set, coupling and drive frequency of ``args`` (with ``--source``,
-    ``--coupling`` and ``--frequency``), with the default frequency's warning said."""
+    ``--coupling`` and ``--frequency``: :func:`default_frequency_text` when not given), with
+    the default frequency's warning said."""
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
+    text = args.frequency if args.frequency is not None else default_frequency_text(params)
+    freq = parse_frequency(text, params)
     warn_default_frequency(params, freq)
     return Motor(params, damping_from, coupling, coupling_from, freq,
-                 known_frequency(args.frequency) is None)
+                 known_frequency(text) is None)
 
 
 def motor_params_of(args: argparse.Namespace, source: str | None):
@@ -864,8 +875,10 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
         g.add_argument("--preload", type=real("--preload", "N", *limits.PRELOAD_N),
                        required=True, help=f"preload F_P (N), in [0, {limits.PRELOAD_N[1]:g}]")
     if auto_frequency:
-        g.add_argument("--frequency", default="40e3",
-                       help="drive frequency (Hz), or 'auto' for the set's own operating point")
+        g.add_argument("--frequency", default=None,
+                       help="drive frequency (Hz), or 'auto' for the set's own operating point; "
+                       "default: the paper's 40 kHz for Table 2's set, auto for any other "
+                       "(docs/designer.md)")
     else:
         g.add_argument("--frequency", type=real("--frequency", "Hz", *limits.FREQUENCY_HZ),
                        default=40e3, help="drive frequency (Hz)")
@@ -918,10 +931,11 @@ def parse_frequency(text: str | float, params=None) -> float:
     return value
 
 
-def known_frequency(text: str | float) -> float | None:
-    """``--frequency`` in Hz before the parameter set is known: None for 'auto' (which needs
-    the set), else the number, a bad one refused at once (before any work)."""
-    if isinstance(text, str) and text.strip().lower() == "auto":
+def known_frequency(text: str | float | None) -> float | None:
+    """``--frequency`` in Hz before the parameter set is known: None for 'auto' and for no
+    ``--frequency`` (both need the set: :func:`default_frequency_text`), else the number, a
+    bad one refused at once (before any work)."""
+    if text is None or isinstance(text, str) and text.strip().lower() == "auto":
         return None
     return parse_frequency(text)
 

@@ -73,9 +73,10 @@ def run(args: argparse.Namespace) -> None:
     plot = output_folder(args, "--plot")
     voltages = args.voltage  # a tuple: --voltage takes A,B,...
     warn_drive(max(voltages), args.preload)
-    # a bad number refused before any work; None for the auto rule ("AUTO", " auto" too)
-    frequency_from = "auto" if known_frequency(args.frequency) is None else args.frequency
+    known_frequency(args.frequency)  # a bad number refused before any work
     motor = resolve_motor(args)
+    frequency_from = ("auto" if motor.frequency_auto else
+                      args.frequency if args.frequency is not None else "40e3")
     params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
     coupling, coupling_from = motor.coupling, motor.coupling_from
     check_steady_work(len(voltages) * (len(loads) if loads else 21), params, freq, coupling,
