@@ -92,6 +92,11 @@ def run(args: argparse.Namespace) -> None:
              for v in voltages]
     if args.accuracy == "fast":
         _warn_fast_level(params, chars, coupling, not args.no_ultrasonic_friction)
+    from lusm.physical_limits import warn_beyond
+
+    for c in chars:  # before the results: the curve's load farthest beyond a limit
+        warn_beyond(c.worst_limits(), f"at {c.op.voltage_V:g} V, {c.op.preload_N:g} N, "
+                    f"{c.op.frequency_Hz:.6g} Hz (the curve's worst load)")
     docs = [c.to_dict() for c in chars]
     for c, d in zip(chars, docs, strict=True):  # the operating point, as simulate gives it
         d.update(voltage_V=c.op.voltage_V, preload_N=c.op.preload_N,
@@ -164,6 +169,9 @@ def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) ->
         why.append("no electrical input (P_in <= 0: an undriven motor)")
     if why:
         print("eff. nan: " + "; or ".join(why))
+    from lusm.physical_limits import print_limits
+
+    print_limits(d.get("limits"))  # the curve's worst load (each load's: --json)
 
 
 def _creep_line(char) -> str | None:
