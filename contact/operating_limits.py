@@ -11,7 +11,10 @@ modal amplitude) turn it into what a ceramic survives or not:
   times its amplitude, added as if both peaked at one point and in phase (an upper bound);
 * **drive field**: ``V0 / h``, the voltage amplitude over the electrode spacing;
 * **dissipated power**: the mean power in the modal dampers ``C_l``, ``C_b`` (the paper's
-  model of the stator's loss), and **power density**, that over the ceramic's volume.
+  model of the stator's loss; no limit of its own: it heats the ceramic, the mount and
+  the contact), and **power density**: the heat generated in the ceramic over its volume,
+  the ceramic's own loss's share of each mode's damper power, ``1 / (2 Q_m zeta)`` (at most
+  1) with the ceramic's ``Q_m`` (:attr:`fem.material.MaterialLimits.mechanical_Q`).
 
 The modal amplitudes of a steady branch come from its damper powers: ``<C_l du_l^2>`` is
 L1's share (:attr:`contact.steady.branches.SteadyBranch.damping_power_B2_W` is B2's), so the
@@ -38,8 +41,8 @@ QUANTITIES = {
     "power_density": ("W/m^3", "power_density_W_m3", 1e-6, "W/cm^3"),
 }
 """Each checked quantity: its SI unit (the JSON's), the :class:`fem.material.MaterialLimits`
-field that bounds it (the dissipated power's bound is the power density's times the volume),
-and the factor and unit it is printed in."""
+field that bounds it (None: no limit, the dissipated power), and the factor and unit it is
+printed in."""
 
 
 @dataclass(frozen=True)
@@ -68,9 +71,8 @@ class OperatingLimits:
         return self.values[quantity] / lim if lim > 0 else math.nan
 
     def exceeded(self) -> list[str]:
-        """The quantities beyond their limit, in :data:`QUANTITIES` order (the dissipated
-        power is said through the power density, its ratio being the same)."""
-        return [q for q in QUANTITIES if q != "dissipated_power" and self.ratio(q) > 1.0]
+        """The quantities beyond their limit, in :data:`QUANTITIES` order."""
+        return [q for q in QUANTITIES if self.ratio(q) > 1.0]
 
     def to_dict(self) -> dict:
         """``{quantity: {value, limit, ratio, unit}}`` (SI) and ``basis``, for ``--json``."""
@@ -123,25 +125,38 @@ def free_amplitudes_m(params: MotorParams, voltage_V: float, omega: float) -> tu
     return u, w
 
 
+def ceramic_heat_W(params: MotorParams, powers_W: tuple[float, float]) -> float:
+    """The heat generated in the ceramic (W) of the L1 and B2 damper powers ``powers_W``: the
+    ceramic's own loss's share of each, ``min(1, 1 / (2 Q_m zeta))``; all of it without a
+    known ``Q_m``."""
+    lim = params.shape.limits if params.shape is not None else None
+    if lim is None:
+        return float(sum(powers_W))
+    zeta_ceramic = 0.5 / lim.mechanical_Q
+    return (powers_W[0] * min(1.0, zeta_ceramic / params.zeta_L1)
+            + powers_W[1] * min(1.0, zeta_ceramic / params.zeta_B2))
+
+
 def limits_from_amplitudes(params: MotorParams, voltage_V: float, omega: float,
                            amplitudes_m: tuple[float, float], basis: str,
-                           power_W: float | None = None) -> OperatingLimits | None:
+                           powers_W: tuple[float, float] | None = None
+                           ) -> OperatingLimits | None:
     """:class:`OperatingLimits` of the modal amplitudes ``(U, W)`` (m) at the angular drive
-    frequency ``omega`` (rad/s) and voltage amplitude ``voltage_V`` (V); ``power_W`` the
-    dissipated power (W), default that of harmonic modes, ``omega^2 (C_l U^2 + C_b W^2) / 2``.
+    frequency ``omega`` (rad/s) and voltage amplitude ``voltage_V`` (V); ``powers_W`` the L1
+    and B2 damper powers (W), default those of harmonic modes, ``omega^2 C U^2 / 2``.
     None when the set carries no shape data."""
     s = params.shape
     if s is None:
         return None
     u, w = amplitudes_m
-    if power_W is None:
-        power_W = 0.5 * omega**2 * (params.C_l * u**2 + params.C_b * w**2)
+    if powers_W is None:
+        powers_W = (0.5 * omega**2 * params.C_l * u**2, 0.5 * omega**2 * params.C_b * w**2)
     values = {
         "vibration_velocity": omega * max(u * s.velocity_L1, w * s.velocity_B2),
         "stress": u * s.stress_L1_Pa_m + w * s.stress_B2_Pa_m,
         "drive_field": voltage_V / s.thickness_m,
-        "dissipated_power": power_W,
-        "power_density": power_W / s.volume_m3,
+        "dissipated_power": float(sum(powers_W)),
+        "power_density": ceramic_heat_W(params, powers_W) / s.volume_m3,
     }
     lim = s.limits
     limits = {q: math.nan for q in QUANTITIES}
@@ -149,7 +164,6 @@ def limits_from_amplitudes(params: MotorParams, voltage_V: float, omega: float,
         for q, (_, field, _, _) in QUANTITIES.items():
             if field is not None:
                 limits[q] = float(getattr(lim, field))
-        limits["dissipated_power"] = lim.power_density_W_m3 * s.volume_m3
     return OperatingLimits(values, limits, (u, w), basis)
 
 
@@ -160,8 +174,9 @@ def operating_limits(params: MotorParams, voltage_V: float, frequency_Hz: float,
     omega = 2.0 * math.pi * frequency_Hz
     amps = None if branch is None else branch_amplitudes_m(params, branch, omega)
     if amps is not None:
+        p_b = float(branch.damping_power_B2_W)
         return limits_from_amplitudes(params, voltage_V, omega, amps, "steady state",
-                                      power_W=float(branch.damping_power_W))
+                                      (max(float(branch.damping_power_W) - p_b, 0.0), p_b))
     return limits_from_amplitudes(params, voltage_V, omega,
                                   free_amplitudes_m(params, voltage_V, omega), "free response")
 

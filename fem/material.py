@@ -83,8 +83,12 @@ class MaterialLimits:
     drive_field_V_m : float
         Largest AC drive field amplitude (V/m) before loss and depoling rise.
     power_density_W_m3 : float
-        Dissipated power per ceramic volume (W/m^3) that heats a plate of about 1 cm^3 by
+        Heat generated per ceramic volume (W/m^3) that warms a plate of about 1 cm^3 by
         about 20 K in still air.
+    mechanical_Q : float
+        The ceramic's own mechanical Q (-): its loss's share of a mode's damping ratio
+        ``zeta`` is ``1 / (2 Q zeta)``, the share of the modal dampers' power that heats the
+        ceramic (the rest heats the mount and the contact).
     source : str
         Where the numbers come from (:data:`LIMITS_SOURCE`).
     """
@@ -93,17 +97,18 @@ class MaterialLimits:
     dynamic_tensile_stress_Pa: float
     drive_field_V_m: float
     power_density_W_m3: float
+    mechanical_Q: float
     source: str = LIMITS_SOURCE
 
 
-HARD_PZT_LIMITS = MaterialLimits(0.5, 24e6, 400e3, 0.5e6)
-"""PZT-8 (Navy III): 0.5 m/s, 24 MPa, 400 V/mm, 0.5 W/cm^3 (:data:`LIMITS_SOURCE`)."""
+HARD_PZT_LIMITS = MaterialLimits(0.5, 24e6, 400e3, 0.5e6, 1000.0)
+"""PZT-8 (Navy III): 0.5 m/s, 24 MPa, 400 V/mm, 0.5 W/cm^3, Q_m 1000 (:data:`LIMITS_SOURCE`)."""
 
 MATERIAL_LIMITS = {
     "pzt8": HARD_PZT_LIMITS,
     "paper": HARD_PZT_LIMITS,  # the paper's stator is PZT-8
-    "pzt4": MaterialLimits(0.4, 24e6, 300e3, 0.5e6),
-    "pzt5a": MaterialLimits(0.1, 28e6, 100e3, 0.5e6),
+    "pzt4": MaterialLimits(0.4, 24e6, 300e3, 0.5e6, 500.0),
+    "pzt5a": MaterialLimits(0.1, 28e6, 100e3, 0.5e6, 75.0),
 }
 """Operating limits of the named materials (:data:`LIMITS_SOURCE`)."""
 

@@ -55,11 +55,18 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     zeta_B2 = 0.01
     # Q_m = 500                         #   ... or the material's mechanical quality factor,
                                         #   zeta_L1 = zeta_B2 = 1 / (2 Q_m), Q_m in (0.5, 5e4]
-    # source = "table2"                 #   ... or Table 2's ratios (the default: no table)
+    # source = "table2"                 #   ... or Table 2's ratios
     # source = "paper_amplitudes"       #   ... or fitted, as the paper fitted Table 2's, so
     # frequency_Hz = 40e3               #   that the free tip amplitudes at this drive
                                         #   frequency (default 40 kHz) equal Table 2's at
                                         #   the paper's 40 kHz (rom.damping)
+    # Q_mount = 300                     #   ... or only the other losses, combined with the
+    # Q_contact = 500                   #   material's data-sheet Q_m: 1/Q = 1/Q_m +
+                                        #   1/Q_mount + 1/Q_contact, zeta = 1/(2 Q); each in
+                                        #   (0.5, 5e4]; Q_mount default DEFAULT_Q_MOUNT,
+                                        #   Q_contact none. No [damping] table: the same
+                                        #   with the defaults (a material without Q_m, as
+                                        #   "paper": Table 2's ratios)
 
     [contact]
     k_contact_N_m = 1.7378e7            # normal contact stiffness k, Eq. 7, [1e3, 1e10] N/m
@@ -89,7 +96,9 @@ The four motor tables are carried as plain data (``fem`` knows nothing of the re
 model): :attr:`StatorDesign.motor` maps ``rom.params.MotorParams`` field names (``k_contact``,
 ``M_slider``, ``mu_sd``, ``mu_s``, ``mu_d``, ``a_mu``, ``b_mu``) to SI values, and
 :attr:`StatorDesign.damping_ratios` holds ``(zeta_L1, zeta_B2)`` (None: the parameter source's
-default, Table 2's ratios). :func:`rom.from_fem.fem_params_from_file` applies them; every
+default, Table 2's ratios; without damping ratios in the file, the material's ``Q_m``
+combined with the mount's, :func:`_material_damping`).
+:func:`rom.from_fem.fem_params_from_file` applies them; every
 constant not given stays Table 2's (Li, Yao & Wu 2016, Tables 1-2 and Section 4.1). A
 ``Q_m`` is turned into one viscous ratio for both modes, ``zeta = 1 / (2 Q_m)``: this assumes
 the stator's modal loss is the material's mechanical loss alone (no mounting or radiation

@@ -34,7 +34,7 @@ from lusm.messages import typed, warn, warn_unused
 SOURCES = ("table2", "beam", "fem")
 """Parameter sources (:data:`rom.sources.SOURCES`, repeated so the parser needs no numpy)."""
 
-MATERIALS = ("pzt8", "paper")
+MATERIALS = ("pzt8", "paper", "pzt4", "pzt5a")
 """Named materials (:data:`fem.material.MATERIAL_NAMES`)."""
 
 PLATE_DEFAULTS_MM = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3.0,
@@ -746,8 +746,15 @@ def resolve_motor(args: argparse.Namespace) -> Motor:
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     text = args.frequency if args.frequency is not None else default_frequency_text(params)
-    freq = parse_frequency(text, params)
-    warn_default_frequency(params, freq)
+    try:
+        freq = parse_frequency(text, params)
+    except LusmError:
+        if args.frequency is not None:
+            raise
+        # the default asked for no operating point it cannot find: the paper's drive
+        warn("--frequency: this set drives no tip ellipse, so it has no operating point; "
+             "driving it at the paper's 40 kHz (give --frequency)")
+        text, freq = "40e3", 40e3
     return Motor(params, damping_from, coupling, coupling_from, freq,
                  known_frequency(text) is None)
 
@@ -1218,25 +1225,3 @@ def warn_unexcited_mode(params, electrodes) -> None:
             warn(f"the drive through electrodes {wires} excites no {name} (A_"
                  f"{name[0].lower()} = {small:.3g} N/V against {big:.3g} N/V for {other}): the "
                  f"tip does not trace an ellipse and the motor gives no thrust; {fix}")
-
-
-def warn_default_frequency(params, frequency_Hz: float) -> None:
-    """Warn when ``--frequency`` was left at its default and the product of the set's free
-    tip amplitudes there is below :data:`contact.drive.WEAK_DRIVE_SHARE` of the one at its
-    own operating point (:func:`contact.drive.drive_share`): a stator file with modes at
-    47.7 kHz gave a stall force of 0.26 N and a no-load speed of 5.7e-5 m/s at the default
-    40 kHz, without a word, where `--frequency auto` gives 1.40 N and 0.041 m/s. A frequency
-    the user typed is theirs."""
-    if typed("--frequency"):
-        return
-    from contact.drive import WEAK_DRIVE_SHARE, drive_share
-
-    share, best = drive_share(params, frequency_Hz)
-    if share < WEAK_DRIVE_SHARE:
-        warn(f"--frequency: the default {frequency_Hz:g} Hz misses this set's modes (L1 "
-             f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the product of the free "
-             f"tip's amplitudes there is {share:.2g} of the one at its own operating point, "
-             f"{best:.0f} Hz; "
-             f"--frequency auto drives it there")
-
-

@@ -31,6 +31,6 @@ def print_limits(doc: dict | None) -> None:
         d = doc[q]
         limit = d["limit"]
         bound = (f"limit {limit * factor:.3g} {unit}, ratio {d['ratio']:.3g}"
-                 if limit == limit else "no limit known")  # NaN: no limit
+                 if limit == limit else "no limit of its own")  # NaN: the dampers' total
         print(f"{'limit ' + q.replace('_', ' '):<30} {d['value'] * factor:.4g} {unit} "
               f"({bound}; {doc['basis']})")

@@ -261,6 +261,9 @@ def limits_table(limits_by_voltage: dict) -> list[str]:
         cells = [v]
         for q, (_, _, factor, _) in QUANTITIES.items():
             r = d[q]["ratio"]
+            if not r == r:  # NaN: no limit of its own (the dampers' total power)
+                cells.append(f"{d[q]['value'] * factor:.3g}")
+                continue
             text = f"{d[q]['value'] * factor:.3g} ({r:.2g} of {d[q]['limit'] * factor:.3g})"
             cells.append(f"**{text}**" if r > 1 else text)
         md.append("| " + " | ".join(cells) + " |")

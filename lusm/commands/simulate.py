@@ -184,7 +184,8 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     from contact.operating_limits import simulation_limits
     from lusm.physical_limits import limits_json, warn_beyond
 
-    lims = simulation_limits(r)
+    # a slider that runs away is at no steady operating point: no limits to say
+    lims = None if runaway is not None else simulation_limits(r)
     warn_beyond(lims, f"at {voltage_V:g} V, {args.preload:g} N, {freq:.6g} Hz")
     summary["limits"] = limits_json(lims)
     if not args.steady and not r.steady.settled:
