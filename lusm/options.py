@@ -753,7 +753,7 @@ def default_frequency_text(params) -> str:
 def resolve_motor(args: argparse.Namespace) -> Motor:
     """The parameter set, coupling and drive frequency of ``args`` (with ``--source``,
     ``--coupling`` and ``--frequency``: :func:`default_frequency_text` when not given), with
-    the default frequency's warning said."""
+    the fallback's warning said where the default finds no operating point."""
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
     text = args.frequency if args.frequency is not None else default_frequency_text(params)
