@@ -90,6 +90,7 @@ def run(args: argparse.Namespace) -> None:
             # every key the other runs carry (null where no steady state has the value)
             summary = runaway_summary(params, v, args.preload, freq, args.load_N, coupling,
                                       not args.no_ultrasonic_friction, exc.reason)
+            summary["limits"] = None  # no steady operating point, as the others' key says
         summary["damping"] = damping_summary(params, damping_from)
         summary["coupling"], summary["coupling_from"] = coupling, coupling_from
         summaries.append(summary)
