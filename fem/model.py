@@ -39,6 +39,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse as sp
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
 from fem.meshing.mesh import (
@@ -931,7 +932,8 @@ def plate_model(
     stator = PlateStator() if stator is None else stator
     _element(order)  # validate before caching
     if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
-        raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
+        raise ParameterError("refine", refine, 1, None,
+                             message=f"refine must be an integer >= 1, got {refine!r}")
     if gap_model not in GAP_MODELS:
         raise ValueError(f"gap_model must be one of {GAP_MODELS}, got {gap_model!r}")
     if planform_mesh(stator) is None:  # as plate_modes: refine=1000 runs out of memory
