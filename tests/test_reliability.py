@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from bounds import ParameterError
 from contact.errors import ChatteringError
 from lusm.cli import main
 from tests.conftest import ROOT
@@ -725,12 +726,14 @@ def test_debug_env_shows_the_traceback():
 
 
 def test_library_errors_are_mapped_to_the_option_that_sets_them():
+    from fem.geometry import PlateStator
     from lusm.errors import LusmError, user_error
 
-    e = user_error(ValueError("PlateStator.length_m must be a finite number > 0, got -1"))
-    assert isinstance(e, LusmError) and str(e).startswith("--length-mm: ")
-    assert user_error(ValueError("dt_s must be in (0, 1e-6] s")).option == "--dt"
-    assert user_error(ValueError("--voltage must be ...")).option is None  # already named
+    with pytest.raises(ParameterError) as info:  # a ValueError still, for library callers
+        PlateStator(length_m=-1.0)
+    e = user_error(info.value)
+    assert isinstance(e, LusmError) and e.option == "--length-mm"
+    assert str(e) == "--length-mm must be in (0, 10000] mm, got -1000"  # the option's mm
     e = user_error(FileNotFoundError(2, "No such file or directory", "/x/y.png"))
     assert str(e) == "cannot use /x/y.png: No such file or directory"
     e = user_error(UnicodeDecodeError("utf-8", b"\xff", 0, 1, "invalid start byte"))
@@ -785,7 +788,7 @@ def test_the_kernels_refusal_is_bad_input_but_other_runtime_errors_are_bugs(
 
 @pytest.mark.parametrize("exc, code, last", [
     (KeyboardInterrupt(), 130, "lusm params: interrupted"),
-    (ValueError("voltage_V must be a finite number >= 0 V, got nan"), 2,
+    (ParameterError("voltage_V", float("nan"), 0.0, None, "V"), 2,
      "lusm params: error: --voltage must be a finite number >= 0 V, got nan"),
 ])
 def test_the_last_line_is_its_own_after_an_open_progress_bar(exc, code, last, monkeypatch,
@@ -898,20 +901,30 @@ def test_a_report_that_cannot_be_written_names_its_folder(tmp_path, monkeypatch,
         f"lusm report: error: --out {out}: cannot write (File too large)")
 
 
-def test_library_names_become_the_options_the_user_typed():
-    # "--frequency: frequency_Hz = 1 Hz ..." and "use dt_s <= ..." named internals
+@pytest.mark.parametrize("exc, said", [
+    # the range in the option's units, the library's reason after it
+    (ParameterError("frequency_Hz", 1.0, 2e4, None, "Hz", reason="the fastest mode"),
+     "--frequency must be >= 20000 Hz, got 1 (the fastest mode)"),
+    (ParameterError("dt_s", 1e-7, 0.0, 8.5e-10, "s", low_open=True),
+     "--dt must be in (0, 8.5e-10] s, got 1e-07"),
+    (ParameterError("electrode_gap_m", 0.01, 0.0, 0.0075, "m", high_open=True),
+     "--gap-mm must be in [0, 7.5) mm, got 10"),
+    (ParameterError("voltage_V", float("nan"), 0.0, None, "V"),
+     "--voltage must be a finite number >= 0 V, got nan"),
+    # no range (a work bound): the library's words after the option, its assignment named
+    (ParameterError("refine", 8, message="refine = 8 makes 3e+04 elements"),
+     "--refine 8 makes 3e+04 elements"),
+    (ParameterError("layers", 9, message="too many bricks"), "--layers: too many bricks"),
+    # a parameter no option sets, and a plain ValueError: the library's line
+    (ParameterError("mu_d", 2.0, 0.0, 1.0), "mu_d must be in [0, 1], got 2.0"),
+    (ValueError("load_N = 50 N: no steady state from rest"),
+     "--load-N 50 N: no steady state from rest"),
+    (ValueError("check the plate and --refine"), "check the plate and --refine"),
+])
+def test_library_refusals_are_said_with_the_options_the_user_typed(exc, said):
     from lusm.errors import user_error
 
-    e = user_error(ValueError("frequency_Hz = 1 Hz is too far below the fastest mode"))
-    assert str(e) == "--frequency 1 Hz is too far below the fastest mode"
-    assert e.option == "--frequency"
-    e = user_error(ValueError("dt_s = 1e-07 s is too coarse; use dt_s <= 8.5e-10 s"))
-    assert str(e) == "--dt 1e-07 s is too coarse; use --dt <= 8.5e-10 s"
-    e = user_error(ValueError("PlateStator.length_m must be > 0, got -1"))  # m, not mm
-    assert str(e) == "--length-mm: PlateStator.length_m must be > 0, got -1"
-    # a message that already names the option is left alone ("----refine" before)
-    e = user_error(ValueError("check the plate and --refine"))
-    assert str(e) == "check the plate and --refine"
+    assert str(user_error(exc)) == said
 
 
 @pytest.mark.parametrize("argv, option", [
