@@ -1149,15 +1149,18 @@ def output_folder(args: argparse.Namespace, option: str) -> Path | None:
     work by :func:`check_output_folder`; None when the option was not given."""
     target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
     if target is not None:
-        check_output_folder(target, option, bool(getattr(args, "force", False)))
+        check_output_folder(target, option, bool(getattr(args, "force", False)),
+                            getattr(args, "command", None))
     return target
 
 
-def check_output_folder(target: Path, option: str, force: bool = False) -> None:
+def check_output_folder(target: Path, option: str, force: bool = False,
+                        command: str | None = None) -> None:
     """Refuse, before any work, an output folder the set could not be moved into or written.
 
     :func:`lusm.output_set.check_target` (a file, below a file, a non-empty folder lusm
-    did not write) plus: the nearest existing folder must be writable.
+    did not write, a folder of another command than ``command``) plus: the nearest existing
+    folder must be writable.
     """
     import os
 
@@ -1165,7 +1168,7 @@ def check_output_folder(target: Path, option: str, force: bool = False) -> None:
 
     check_path_usable(target, option)
     try:
-        check_target(target, option, force)
+        check_target(target, option, force, command)
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
     existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
@@ -1194,12 +1197,13 @@ def check_path_usable(path: Path, option: str) -> None:
 
 
 @contextmanager
-def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]:
+def figure_set(target: Path, option: str, force: bool = False,
+               command: str | None = None) -> Iterator[Path]:
     """:func:`lusm.output_set.output_set` with its failures as :class:`LusmError`."""
     from lusm.output_set import OutputError, output_set
 
     try:
-        with output_set(target, option, force) as stage:
+        with output_set(target, option, force, command) as stage:
             yield stage
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
@@ -1208,12 +1212,13 @@ def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]
                         option) from None
 
 
-def write_figures(target: Path, option: str, force: bool,
+def write_figures(args: argparse.Namespace, option: str,
                   draw: Callable[[Path], Sequence[str | Path]]) -> list[str]:
     """Draw a figure set into a staging folder (``draw(stage)`` returns the files it wrote)
-    and move it into ``target`` complete (:func:`figure_set`); returns the files' paths in
-    ``target``."""
-    with figure_set(target, option, force) as stage:
+    and move it into the folder of ``option`` complete (:func:`figure_set`, with ``--force``
+    and the command of ``args``); returns the files' paths in that folder."""
+    target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
+    with figure_set(target, option, args.force, args.command) as stage:
         return moved(draw(stage), stage, target)
 
 

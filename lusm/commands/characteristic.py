@@ -92,7 +92,7 @@ def run(args: argparse.Namespace) -> None:
     if plot is not None:
         from validation.report_motor import characteristic_figure
 
-        doc["figures"] = write_figures(plot, "--plot", args.force, lambda stage: [
+        doc["figures"] = write_figures(args, "--plot", lambda stage: [
             characteristic_figure(chars if len(chars) > 1 else chars[0],
                                   stage / "characteristic.png")])
     if args.json:

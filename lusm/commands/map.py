@@ -93,7 +93,7 @@ def run(args: argparse.Namespace) -> None:
     m = _solve(args, motor, volts, loads)
     summary = _summary(args, motor, m)
     if plot is not None:
-        summary["figures"] = _plot(args, motor, m, plot)
+        summary["figures"] = _plot(args, motor, m)
         # "figure", the map's one path, kept for the scripts that read it
         summary["figure"] = summary["figures"][0]
     if args.json:
@@ -142,7 +142,7 @@ def _summary(args: argparse.Namespace, motor: Motor, m) -> dict:
     return summary
 
 
-def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
+def _plot(args: argparse.Namespace, motor: Motor, m) -> list[str]:
     """Draw the map into the ``--plot`` folder; returns the figures' paths."""
     from validation.figures import set_label
     from validation.figures import stick_slip_map as plot_map
@@ -154,7 +154,7 @@ def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
            f"transients of {args.duration:g} s from rest"
            + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
     title = f"{set_label(motor.params.source)}, {motor.frequency_Hz / 1e3:.4g} kHz, {how}"
-    return write_figures(plot, "--plot", args.force,
+    return write_figures(args, "--plot",
                          lambda stage: [plot_map(m, stage / name, title)])
 
 

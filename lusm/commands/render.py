@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> None:
     from lusm.options import check_fe_size, output_folder, stator_from_args, write_figures
 
     warn_linear_elements(args)
-    out = output_folder(args, "--out")  # refused before any work
+    output_folder(args, "--out")  # refused before any work
     choice = stator_from_args(args)
 
     from fem.meshing.mesh import DEFAULT_REFINE
@@ -67,6 +67,6 @@ def run(args: argparse.Namespace) -> None:
         with deferred_signals():
             return render_modes(model, modes, stage, which, args.animate)
 
-    written = write_figures(out, "--out", args.force, draw)
+    written = write_figures(args, "--out", draw)
     for path in written:
         print(path)

@@ -175,6 +175,6 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     if plot is not None:
         from validation.figures import simulation_figures
 
-        summary["figures"] = write_figures(plot, "--plot", args.force,
+        summary["figures"] = write_figures(args, "--plot",
                                            lambda stage: simulation_figures(r, stage))
     return summary
