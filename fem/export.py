@@ -122,24 +122,9 @@ def export_solid_modes(path: str | Path, model, modes, file_format: str | None =
     ``magnitude_B2``; the vertex order follows scikit-fem's own meshio converter
     (:func:`skfem.io.meshio.to_meshio`), so ParaView reads ``.vtu`` hexahedra directly.
 
-    Parameters
-    ----------
-    path : str or Path
-        Output file (format by extension unless ``file_format`` is given).
-    model : fem.solid3d.model.SolidPlateModel
-    modes : fem.solid3d.model.SolidModes
-    file_format : str, optional
-        meshio format name.
-
-    Returns
-    -------
-    Path
-        The file written.
-
-    Raises
-    ------
-    ValueError
-        If meshio cannot write that format.
+    ``path``, ``file_format``, the file returned and the ``ValueError`` raised are those of
+    :func:`export_modes`; ``model`` is a :class:`fem.solid3d.model.SolidPlateModel` and
+    ``modes`` its :class:`fem.solid3d.model.SolidModes`.
     """
     from skfem.io.meshio import to_meshio
 

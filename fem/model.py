@@ -930,14 +930,35 @@ def plate_model(
         Include the thickness-motion inertia (default True).
     """
     stator = PlateStator() if stator is None else stator
-    _element(order)  # validate before caching
-    if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
-        raise ParameterError("refine", refine, 1, None,
-                             message=f"refine must be an integer >= 1, got {refine!r}")
+    return _cached_model(stator, get_material(material),
+                         *plate_arguments(stator, order, refine, gap_model, thickness_inertia))
+
+
+def plate_arguments(stator: PlateStator, order: object, refine: object,
+                    gap_model: object = "shorted",
+                    thickness_inertia: object = True) -> tuple[int, int, str, bool]:
+    """Validated, normalized ``(order, refine, gap_model, thickness_inertia)`` of a 2D plate
+    model, the key of the cached models and modes (:func:`plate_model`,
+    :func:`fem.modes.plate_modes`), checked before anything is cached or meshed.
+
+    Raises
+    ------
+    ValueError
+        Naming the first bad argument and its allowed values, or if the generated mesh of
+        ``stator`` would be too large for memory (``refine=1000``).
+    TypeError
+        If ``thickness_inertia`` is not a bool (the string ``"False"`` is true).
+    """
+    for name, value in (("order", order), ("refine", refine)):  # 2.5 would run as 2
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ParameterError(name, value, 1, None,
+                                 message=f"{name} must be an integer >= 1, got {value!r}")
+    _element(order)
+    if not isinstance(thickness_inertia, (bool, np.bool_)):
+        raise TypeError(f"thickness_inertia must be True or False, got {thickness_inertia!r}")
     if gap_model not in GAP_MODELS:
         raise ValueError(f"gap_model must be one of {GAP_MODELS}, got {gap_model!r}")
-    if planform_mesh(stator) is None:  # as plate_modes: refine=1000 runs out of memory
+    if planform_mesh(stator) is None:
         check_generated_size(stator, int(refine), count=lambda: math.prod(
             len(v) - 1 for v in grid_lines_m(stator, int(refine))))
-    return _cached_model(stator, get_material(material), int(order), int(refine), gap_model,
-                         bool(thickness_inertia))
+    return int(order), int(refine), str(gap_model), bool(thickness_inertia)

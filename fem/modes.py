@@ -25,9 +25,9 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.meshing.mesh import DEFAULT_REFINE, check_generated_size, grid_lines_m, require_plate
-from fem.meshing.meshed_stator import overall_length_m, planform_mesh
-from fem.model import PiezoPlateModel, plate_model
+from fem.meshing.mesh import DEFAULT_REFINE, require_plate
+from fem.meshing.meshed_stator import overall_length_m
+from fem.model import PiezoPlateModel, plate_arguments, plate_model
 
 N_SAMPLE_X = 9
 """Sampling points across the width used for symmetry and correlation (odd: includes x=0)."""
@@ -747,20 +747,7 @@ def plate_modes(
 ) -> PlateModes:
     """L1 and B2 (short/open circuit, k_eff) of a plate on a structured mesh (cached).
 
-    Parameters
-    ----------
-    stator : PlateStator, optional
-        Default: the paper's 30 x 7.5 x 3 mm plate.
-    material : PiezoMaterial or str
-        ``'pzt8'`` or ``'paper'`` or a material.
-    order : int
-        Element order, 1 or 2.
-    refine : int
-        Elements per smaller plate dimension.
-    gap_model : str
-        ``'shorted'`` (default) or ``'open'`` (:func:`fem.model.build_model`).
-    thickness_inertia : bool
-        Include the thickness-motion inertia (default True).
+    The parameters are those of the model solved, :func:`fem.model.plate_model`.
 
     Raises
     ------
@@ -771,18 +758,9 @@ def plate_modes(
         If eigsh does not converge or L1/B2 cannot be identified.
     """
     stator = require_plate(stator, "plate_modes")
-    for name, value in (("order", order), ("refine", refine)):  # 2.5 ran as 2
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
-    if not isinstance(thickness_inertia, (bool, np.bool_)):  # "False" ran with it
-        raise TypeError(f"thickness_inertia must be True or False, got {thickness_inertia!r}")
     check_b2_in_reach(stator)  # before the mesh: a slender plate's is among the largest
-    if planform_mesh(stator) is None:
-        check_generated_size(stator, int(refine),
-                             count=lambda: math.prod(len(v) - 1
-                                                     for v in grid_lines_m(stator, int(refine))))
-    return _cached_modes(stator, get_material(material), int(order), int(refine), gap_model,
-                         bool(thickness_inertia))
+    return _cached_modes(stator, get_material(material),
+                         *plate_arguments(stator, order, refine, gap_model, thickness_inertia))
 
 
 def amplitude_ratio(model, shape: np.ndarray, points_m: np.ndarray) -> np.ndarray:

@@ -174,11 +174,6 @@ class ParametricStator(PlateStator):
         return (0.0, float(self.overall_length_m))
 
     @property
-    def preload_point_m(self) -> tuple[float, float]:
-        """Preload point ``(x, y)``: centre of the end ``y = 0`` (m)."""
-        return (0.0, 0.0)
-
-    @property
     def area_m2(self) -> float:
         """Exact planform area (m^2): plate minus chamfers and holes, plus the tip."""
         holes = sum(math.pi * d * d / 4.0 for _, _, d in self.holes_m)

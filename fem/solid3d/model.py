@@ -213,6 +213,11 @@ class SolidPlateModel:
         """Displacement dofs ``3 N``."""
         return 3 * self.n_nodes
 
+    def saddle_point_order(self, open_circuit: bool) -> None:
+        """No row order of its own: SuperLU orders the full plate's saddle-point matrix
+        (:func:`saddle_point_frequencies_Hz`; the quarter model gives one)."""
+        return None
+
     def potential_map(self, open_circuit: bool) -> sp.csr_matrix:
         """Matrix ``T`` (N x n_free): full nodal potentials ``phi = T phi_free``.
 
@@ -746,12 +751,21 @@ def solid_model(
     edge_grading: int = 0,
 ) -> SolidPlateModel:
     """Cached :func:`build_solid_model` (default: the paper's plate, PZT-8, default mesh)."""
-    stator = require_plate(stator, "solid_model")
+    return _cached_solid_model(*_solid_key("solid_model", stator, material, order, refine,
+                                           layers, element, edge_grading))
+
+
+def _solid_key(caller: str, stator: PlateStator | None, material: PiezoMaterial | str,
+               order: object, refine: object, layers: object, element: str,
+               edge_grading: object) -> tuple:
+    """The cache key ``(stator, material, order, refine, layers, element, edge_grading)`` of
+    :func:`solid_model` and :func:`solid_modes`, checked (plate, mesh arguments, mesh size)
+    before anything is cached or meshed."""
+    stator = require_plate(stator, caller)
     order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
                                                             edge_grading)
     check_solid_size(stator, refine, layers, grading)
-    return _cached_solid_model(stator, get_material(material), order, refine, layers, element,
-                               grading)
+    return stator, get_material(material), order, refine, layers, element, grading
 
 
 _SPLU_OPTIONS = {
@@ -862,6 +876,9 @@ def solid_frequencies_Hz(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ``n_modes`` natural frequencies (Hz) nearest ``f_center_Hz`` and their shapes.
 
+    ``model`` is the full plate or one symmetry class of its quarter
+    (:class:`fem.solid3d.symmetric.QuarterPlateModel`, shapes on its free displacements),
+    solved in the row order the model gives (:meth:`SolidPlateModel.saddle_point_order`).
     Shapes are displacement vectors (3N). ``f_center_Hz = 0`` uses a small negative shift so
     that the six rigid-body modes (short circuit) come out at 0 Hz. Negative eigenvalues from
     round-off are returned as negative frequencies (:func:`saddle_point_frequencies_Hz`).
@@ -870,7 +887,7 @@ def solid_frequencies_Hz(
     kup = (model.Kuphi @ t).tocsr()
     kpp = (t.T @ model.Kphiphi @ t).tocsr()
     return saddle_point_frequencies_Hz(model.Kuu, model.M, kup, kpp, n_modes, f_center_Hz,
-                                       maxiter)
+                                       maxiter, model.saddle_point_order(open_circuit))
 
 
 def _sampling3d(model: SolidPlateModel):
@@ -1100,9 +1117,5 @@ def solid_modes(
     edge_grading : int
         Levels of mesh grading towards the electrode edges (:func:`build_solid_model`).
     """
-    stator = require_plate(stator, "solid_modes")
-    order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
-                                                            edge_grading)
-    check_solid_size(stator, refine, layers, grading)
-    return _cached_solid_modes(stator, get_material(material), order, refine, layers, element,
-                               grading)
+    return _cached_solid_modes(*_solid_key("solid_modes", stator, material, order, refine,
+                                           layers, element, edge_grading))

@@ -55,7 +55,7 @@ from fem.solid3d.model import (
     hex_grid_lines,
     identify_sampled,
     mesh_settings,
-    saddle_point_frequencies_Hz,
+    solid_frequencies_Hz,
 )
 
 MODE_CLASSES = ("L1", "B2")
@@ -276,21 +276,6 @@ def build_quarter_model(
     )
 
 
-def quarter_frequencies_Hz(
-    model: QuarterPlateModel,
-    n_modes: int = 8,
-    f_center_Hz: float = 0.0,
-    open_circuit: bool = False,
-    maxiter: int | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies (Hz) and free-displacement shapes of one class nearest ``f_center_Hz``."""
-    t = model.potential_map(open_circuit)
-    kup = (model.Kuphi @ t).tocsr()
-    kpp = (t.T @ model.Kphiphi @ t).tocsr()
-    return saddle_point_frequencies_Hz(model.Kuu, model.M, kup, kpp, n_modes, f_center_Hz,
-                                       maxiter, model.saddle_point_order(open_circuit))
-
-
 def _identify_quarter(model: QuarterPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
     st = model.stator
     X, Y = sampling_grid(st)  # a plain plate: its length is its whole extent
@@ -333,7 +318,7 @@ def modes_of_quarter_models(l1: QuarterPlateModel, b2: QuarterPlateModel, order:
     t0 = time.perf_counter()
     modes, f_short, f_open, dofs, t_short = {}, [], [], 0, 0.0
     for model in (l1, b2):
-        fs, fo, found, ts = solve_short_open(model, quarter_frequencies_Hz, _identify_quarter,
+        fs, fo, found, ts = solve_short_open(model, solid_frequencies_Hz, _identify_quarter,
                                              f_center_Hz, n_modes, None,
                                              max_modes=model.n_displacement_dofs - 2,
                                              names=(model.mode,))
