@@ -2002,9 +2002,10 @@ def _limits_claims() -> tuple[Claim, ...]:
     """Figures of docs/limits.md (the step bound and the largest 2D refine)."""
     sim = "lusm simulate --voltage 200 --preload 14 --json"
     return (
-        Claim("limits_reliability_cases", "-", "len(tests.test_reliability.CASES) (the named "
-              "bad inputs of python -m pytest tests/test_reliability.py)",
-              lambda: len(__import__("tests.test_reliability", fromlist=["x"]).CASES),
+        Claim("limits_bad_input_rows", "-", "sum(len(t) for t in tests.test_bad_input.TABLES"
+              ".values()) (the rows of python -m pytest tests/test_bad_input.py)",
+              lambda: sum(len(t) for t in __import__(
+                  "tests.test_bad_input", fromlist=["x"]).TABLES.values()),
               cheap=True, rel_tol=1e-12),
         Claim("limits_dt_bound_time_ratio", "-", sim + " --dt 2.5e-9 (wall_time_s) over " + sim
               + " (wall_time_s), each the fastest of 3 runs in one process",
