@@ -117,7 +117,7 @@ def user_error(exc: BaseException) -> LusmError:
 
 def parameter_error(exc: ParameterError) -> LusmError:
     """A library's :class:`bounds.ParameterError` said with the option that sets the
-    parameter, in the option's units: ``--length-mm must be in (0, 1000] mm, got 1e+06``.
+    parameter, in the option's units: ``--length-mm must be in (0, 10000] mm, got -1000``.
 
     Without a range (a work bound, a value of the wrong kind) the library's words follow the
     option; a parameter no option sets keeps the library's words alone."""
