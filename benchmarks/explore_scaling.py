@@ -49,8 +49,8 @@ def _noop(i):
 def _warm(study):
     """Import the stack and load the numba cache in this process, on a plate outside the
     study (so that no FE solve of the study is cached before the clock starts)."""
-    from studies.explore import compute_geometry
     from studies.study import study_from_dict
+    from studies.task import compute_geometry
 
     warm = {**STUDY, "axes": {**STUDY["axes"], "length": "25 mm", "width": "6 mm"}}
     compute_geometry(study_from_dict(warm), 0)
@@ -58,14 +58,14 @@ def _warm(study):
 
 
 def _timed(study, i):
-    from studies.explore import compute_geometry
+    from studies.task import compute_geometry
 
     return float(compute_geometry(study, i)["task_time_s"])
 
 
 def _drive_point_times(study, indices) -> list[float]:
     """Wall time (s) of each drive point of the geometries ``indices``, timed directly: the
-    one call a task makes per point (:func:`studies.explore.motor_answers`), on the
+    one call a task makes per point (:func:`studies.task.motor_answers`), on the
     plate's parameter set at its auto frequency, in this process. (The figure had been the
     median full task minus the median FE-only task of other plates, over the points: two
     medians of different plates, whose difference is not a point's cost.)"""
@@ -74,7 +74,7 @@ def _drive_point_times(study, indices) -> list[float]:
     from contact.drive import auto_frequency
     from fem.geometry import PlateStator
     from rom.from_fem import fem_params
-    from studies.explore import Drive, geometry_of, motor_answers
+    from studies.task import Drive, geometry_of, motor_answers
 
     s = study.solver
     times = []
@@ -100,7 +100,9 @@ def main() -> None:
 
     from distributed import Client
 
-    from studies.explore import explore, local_cluster, open_result
+    from studies.cluster import local_cluster
+    from studies.dataset import open_result
+    from studies.explore import explore
     from studies.study import study_from_dict
 
     study = study_from_dict(STUDY)

@@ -2110,8 +2110,8 @@ def _explore_result_bytes_100() -> int:
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from explore_scaling import STUDY
 
-    from studies.explore import compute_geometry
     from studies.study import study_from_dict
+    from studies.task import compute_geometry
 
     axes = {**STUDY["axes"], "length": "30 mm", "width": "7.5 mm",
             "voltage": {"start": "100 V", "stop": "400 V", "num": 10},
@@ -2149,8 +2149,8 @@ def _tuned_length_study() -> dict[str, float]:
     """``lusm explore examples/studies/tuned_60k_length.toml``'s answers, each geometry computed
     in this process (``compute_geometry``, as a worker computes it): the L1-B2 split and the
     stall force at the shortest and the longest plate."""
-    from studies.explore import compute_geometry
     from studies.study import load_study
+    from studies.task import compute_geometry
 
     study = load_study(ROOT / "examples" / "studies" / "tuned_60k_length.toml")
     parts = [compute_geometry(study, i) for i in range(study.n_geometries)]

@@ -70,17 +70,10 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
     """:func:`run`, with ``said`` the record of the warnings said so far (filled as they
     are said)."""
     from lusm.interrupts import Terminated
-    from studies.explore import (
-        DEFAULT_WORKERS,
-        NothingComputedError,
-        PartsBusyError,
-        check_out,
-        check_scheduler_names,
-        explore,
-        is_complete,
-        open_result,
-        parts_folder,
-    )
+    from studies.cluster import DEFAULT_WORKERS, check_scheduler_names
+    from studies.dataset import check_out, is_complete, open_result
+    from studies.explore import NothingComputedError, explore
+    from studies.parts import PartsBusyError, parts_folder
     from studies.study import load_study
 
     try:  # before anything else: '' passed the --workers check below
@@ -141,7 +134,7 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
                   "with --resume to continue once the cause is fixed", file=sys.stderr)
         raise
     if plot is not None:
-        from studies.explore import design_maps, drawable_maps
+        from studies.maps import design_maps, drawable_maps
 
         try:
             ds = open_result(result.path)
@@ -162,7 +155,7 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
     # warned of 700 V, of thick plates or of drive points that had not settled)
     summary["warnings"] = list(said)
     if study.needs_motor:  # every velocity and force depends on it (as characteristic says)
-        from studies.explore import damping_text
+        from studies.dataset import damping_text
 
         summary["damping"] = damping_text(study)
     if study.stator is not None:
@@ -272,7 +265,7 @@ def _report_failures(ds, path) -> list[str]:
     ``status``), and return what was said. A study where none did has no dataset:
     :func:`studies.explore.explore` refused it (it exited 0 with a dataset of NaN, then 2
     with one)."""
-    from studies.explore import computed_fully
+    from studies.task import computed_fully
 
     said = []
     status = [str(x) for x in ds["status"].values.ravel()]
