@@ -1478,10 +1478,15 @@ def _steady_creep(voltage_V: float, preload_N: float) -> dict[str, float]:
 
 def _steady_claims() -> tuple[Claim, ...]:
     """Figures of docs/steady.md."""
+    return (*_steady_200V_claims(), *_steady_point_claims(), *_steady_sweep_claims(),
+            *_steady_benchmark_claims())
+
+
+def _steady_200V_claims() -> list[Claim]:
+    """docs/steady.md's figures of 200 V / 14 N: its velocity at each level and their costs
+    (benchmarks/steady_speed.py)."""
     bench = "python benchmarks/steady_speed.py"
-    mapc = bench + " --map"
-    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
-    out = [
+    return [
         Claim("steady_200V_14N_transient_m_s", "m/s", bench + " (transient_m_s)",
               lambda: _steady_point()["transient"], cheap=True, rel_tol=1e-6),
         Claim("steady_200V_14N_fast_m_s", "m/s", bench + " (fast_m_s)",
@@ -1527,6 +1532,14 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_200V_14N_exact_vs_coarse_ratio", "-", bench + " (coarse_s / exact_s; "
               "here medians of 3)", lambda: _steady_point()["exact_vs_coarse_ratio"],
               batch="steady_point"),
+    ]
+
+
+def _steady_point_claims() -> list[Claim]:
+    """docs/steady.md's figures of single drive points: 150 V / 14 N, the characteristic at
+    30 kHz, loaded, no preload."""
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    return [
         Claim("steady_150V_14N_rest_m_s", "m/s", ex.format(v=150, f=14) + ".velocity_m_s",
               lambda: _steady_150()["rest"]),
         Claim("steady_150V_14N_rest_k", "-", ex.format(v=150, f=14) + ".from_rest.k",
@@ -1545,18 +1558,14 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("char_30kHz_exact_no_load_m_s", "m/s",
               "lusm characteristic --voltage 200 --preload 14 --frequency 30000",
               lambda: _char_30khz("exact")),
-        Claim("steady_400V_14N_1N_mean_FN_N", "N",
-              'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FN_N',
-              lambda: _steady_400_loaded().mean_FN_N, cheap=True, rel_tol=1e-7),
-        Claim("steady_400V_14N_1N_mean_FT_N", "N",
-              'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FT_N',
-              lambda: _steady_400_loaded().mean_FT_N, cheap=True, rel_tol=1e-7),
-        Claim("steady_char_450V_40N_stall_N", "N",
-              "lusm characteristic --voltage 450 --preload 40 --json (stall_force_N)",
-              lambda: _char_exact(450.0, 40.0).stall_force_N),
-        Claim("steady_char_450V_40N_averaged_stall_N", "N",
-              "lusm characteristic --voltage 450 --preload 40 --json (averaged_stall_force_N)",
-              lambda: _char_exact(450.0, 40.0).averaged_stall_force_N),
+        *(Claim(f"steady_400V_14N_1N_{k}", "N",
+                'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.' + k,
+                lambda k=k: getattr(_steady_400_loaded(), k), cheap=True, rel_tol=1e-7)
+          for k in ("mean_FN_N", "mean_FT_N")),
+        *(Claim(f"steady_char_450V_40N_{k}_N", "N",
+                f"lusm characteristic --voltage 450 --preload 40 --json ({k}_force_N)",
+                lambda k=k: getattr(_char_exact(450.0, 40.0), f"{k}_force_N"))
+          for k in ("stall", "averaged_stall")),
         Claim("contact_no_preload_200V_m_s", "m/s",
               "lusm simulate --voltage 200 --preload 0 --steady --json (steady_velocity_m_s)",
               lambda: _no_preload().velocity_m_s, cheap=True, rel_tol=1e-7),
@@ -1578,6 +1587,12 @@ def _steady_claims() -> tuple[Claim, ...]:
               "steady_150V_14N_rest_m_s - 1",
               lambda: _steady_150()["fast"] / _steady_150()["rest"] - 1),
     ]
+
+
+def _steady_sweep_claims() -> list[Claim]:
+    """docs/steady.md's figures over masses, loads and voltages."""
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    out = []
     for v, mass in ((200, 0.2), (200, 0.4), (200, 0.8), (400, 0.2), (400, 0.4), (400, 0.8)):
         out.append(Claim(
             f"steady_mass_error_{v}V_{int(mass * 10)}", "-",
@@ -1632,6 +1647,14 @@ def _steady_claims() -> tuple[Claim, ...]:
                     ("transient_175V", "m/s")):
         out.append(Claim(f"steady_branch_{k.replace('-', '_')}", unit, diag,
                          lambda k=k: _steady_branch_diagram()[k]))
+    return out
+
+
+def _steady_benchmark_claims() -> list[Claim]:
+    """docs/steady.md's figures of the map, scan and from-rest benchmarks and of creep."""
+    mapc = "python benchmarks/steady_speed.py --map"
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    out = []
     for k, unit in (("moving", "-"), ("held", "-"), ("fast_median", "-"), ("fast_p90", "-"),
                     ("fast_max", "-"), ("fast_held_max_m_s", "m/s"), ("exact_median", "-"),
                     ("exact_p90", "-"), ("exact_max", "-"), ("exact_held_max_m_s", "m/s"),
@@ -1671,7 +1694,7 @@ def _steady_claims() -> tuple[Claim, ...]:
                    if k == "transient" else ex.format(v=v, f=f))
             out.append(Claim(f"steady_creep_{v}V_{f}N_{k}_m_s", "m/s", cmd,
                              lambda v=v, f=f, k=k: _steady_creep(float(v), float(f))[k]))
-    return tuple(out)
+    return out
 
 
 # --- docs/steady.md: computed figures that had been marked input -------------------------
@@ -1859,18 +1882,15 @@ def _multi_cli_m_s() -> float:
 
 
 def _steady_input_claims() -> tuple[Claim, ...]:
-    """Computed figures of docs/steady.md that had been marked ``<!--input-->``."""
+    """Figures of docs/steady.md the tests check: the characteristics' stall forces and
+    creep, and the steady engine's hard cases."""
+    return (*_characteristic_input_claims(), *_steady_case_input_claims())
+
+
+def _characteristic_input_claims() -> tuple[Claim, ...]:
+    """docs/steady.md's stall forces and creep of speed-thrust characteristics."""
     c400 = "lusm characteristic --voltage 400 --preload 14 --json"
     c200 = "lusm characteristic --voltage 200 --preload 14 --json"
-    wrong = ("python -m tools.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
-             "14.72 N under -1.57 N: steady_state(table2(), 126.9, 14.72, load_N=-1.57), ")
-    beam = ("steady_state(get_params('beam'), 1000, 10, load_N=-1, frequency_Hz=40e3{})"
-            ".velocity_m_s")
-    stiff = ("python -m tools.doc_numbers --show {} (p = table2().with_(k_contact="
-             "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
-             "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
-    s252 = ("python -m tools.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
-            "252, 25.64, frequency_Hz=40414, accuracy='exact'), ")
     return (
         Claim("steady_char_400V_14N_exact_stall_N", "N", c400 + " (stall_force_N)",
               lambda: _char_exact(400.0, 14.0).stall_force_N, cheap=True, rel_tol=1e-6),
@@ -1916,6 +1936,22 @@ def _steady_input_claims() -> tuple[Claim, ...]:
               "1e-4 N, at which lusm simulate --voltage 100 --preload 14 --load-N L "
               "--duration 2 does not settle)",
               lambda: _threshold_load_N(100.0, 5.22, 5.24, 2.0, lambda s: not s.settled)),
+    )
+
+
+def _steady_case_input_claims() -> tuple[Claim, ...]:
+    """docs/steady.md's hard cases of the steady engine: thresholds, the wrong sheet, the
+    beam set's miss, a stiff contact, creep at 252 V."""
+    wrong = ("python -m tools.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
+             "14.72 N under -1.57 N: steady_state(table2(), 126.9, 14.72, load_N=-1.57), ")
+    beam = ("steady_state(get_params('beam'), 1000, 10, load_N=-1, frequency_Hz=40e3{})"
+            ".velocity_m_s")
+    stiff = ("python -m tools.doc_numbers --show {} (p = table2().with_(k_contact="
+             "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
+             "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
+    s252 = ("python -m tools.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
+            "252, 25.64, frequency_Hz=40414, accuracy='exact'), ")
+    return (
         Claim("steady_hold_check_200V_14N_m_s", "m/s",
               "contact.steady.exact.HOLD_CHECK_FACTOR x steady_ripple_scale_200V_14N_m_s",
               _hold_check_m_s, cheap=True, rel_tol=1e-9),
@@ -2457,7 +2493,13 @@ _CAP = ("python -c 'from fem.model import plate_model; "
 
 
 def _reviewed_input_claims() -> tuple[Claim, ...]:
-    """Computed figures the docs had marked ``<!--input-->`` (review of every input marker)."""
+    """Figures the docs quote in prose, computed here so that the tests check them."""
+    return (*_design_input_claims(), *_fe_input_claims(), *_limits_input_claims())
+
+
+def _design_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures of the beam's B2, the contact pre-pass, the drive and the tuned
+    60 kHz design."""
     return (
         Claim("beam_B2_half_wavelength_m", "m", _SHOW.format("beam_B2_half_wavelength_m")
               + " (pi l / (beta_2 l), the free-free B2 shape of Eq. 3)",
@@ -2492,6 +2534,13 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               _tuned60k_fold_m_s, cheap=True, rel_tol=3e-3),
         Claim("tuned60k_140V_14N_slip_m_s", "m/s", _T60 + " (branches: the stable pure-slip one)",
               _tuned60k_slip_m_s, cheap=True, rel_tol=1e-6),
+    )
+
+
+def _fe_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures of the 2D and 3D FE models: capacitances, gap weights, MAC, element
+    counts, admittance."""
+    return (
         Claim("fe2d_C_ee_F", "F", _CAP.format("diagonal"),
               lambda: _capacitance_pF()["C_ee"], cheap=True, rel_tol=1e-8),
         Claim("fe2d_C_13_F", "F", _CAP.format("[0, 2]"),
@@ -2532,6 +2581,13 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               _one_quadrant_b2_coupling, cheap=True, rel_tol=1e-6),
         Claim("adm_retained_modes", "-", "lusm admittance --json (retained_modes)",
               lambda: float(_retained_modes()), cheap=True, rel_tol=0.0),
+    )
+
+
+def _limits_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures behind the work bounds: steady steps per period, the lowest
+    frequency, scales of the pre-pass and of the undriven slider, stall forces of the FE set."""
+    return (
         Claim("study_steps_per_period_28mm_1kHz", "-",
               "contact.steady.slow.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 1 kHz (tests/test_explore.py)",
