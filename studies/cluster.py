@@ -30,7 +30,7 @@ CONNECT_TIMEOUT = "10s"
 
 CONNECT_DEADLINE_S = 15.0
 """Wall-clock bound (s) on connecting to it: dask's own timeout does not cover a listener
-that accepts and never answers (it waited past 45 s)."""
+that accepts and never answers (it would wait past 45 s)."""
 
 
 MAX_SCHEDULER_FILE_BYTES = 1_000_000
@@ -141,8 +141,8 @@ def _workers_ignoring_sigint():
 
 def _check_scheduler_file(path: str) -> None:
     """Refuse a ``--scheduler-file`` that is not the JSON a dask scheduler writes (an object
-    with its ``address``): a study file given there had said "cannot connect to the dask
-    scheduler (AssertionError)"."""
+    with its ``address``), naming the option, before dask reads it as one (a study file
+    given there would fail inside dask with an AssertionError)."""
     what = (f"--scheduler-file {path} is not a dask scheduler file (the JSON object with an "
             "'address' that `dask scheduler --scheduler-file` writes)")
     try:
@@ -168,7 +168,7 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
     if scheduler and scheduler_file:
         raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
     if scheduler_file and not Path(scheduler_file).is_file():
-        # a folder or a device had been told it "does not exist"
+        # a folder or a device exists: say what it is instead
         kind = ("does not exist" if not Path(scheduler_file).exists() else
                 "is a folder, not a dask scheduler file" if Path(scheduler_file).is_dir()
                 else "is not a regular file, not a dask scheduler file")
@@ -224,8 +224,8 @@ def check_scheduler(client, option: str = "--scheduler") -> None:
     """Refuse a scheduler that cannot import lusm or runs another version than this client.
 
     The scheduler unpickles every task (its function is :func:`compute_geometry`, pickled
-    by reference), so without lusm it failed the first submission with dask's "Error during
-    deserialization of the task graph", an internal error here. Asked once before any task
+    by reference), so without lusm the first submission fails with dask's "Error during
+    deserialization of the task graph". Asked once before any task
     (``client.run_on_scheduler`` of the package version), it is one line naming ``option``.
     """
     try:
@@ -244,7 +244,7 @@ def check_scheduler(client, option: str = "--scheduler") -> None:
 def check_workers(client, option: str = "--scheduler", gmsh: bool = False) -> None:
     """Refuse workers that cannot import lusm or run another version than this client, and,
     with ``gmsh`` (a study of a parametric stator file), workers without gmsh (each task
-    failed on its mesh after the study had started)."""
+    would fail on its mesh after the study started)."""
     try:
         versions = client.run(process_version)
     except Exception as exc:  # ModuleNotFoundError on the worker, travelling back

@@ -219,9 +219,9 @@ def _parameter_set_source(study: Study) -> str:
 def storable_text(text: str) -> str:
     """``text`` as a netCDF attribute can hold it (UTF-8): a file name's bytes that are not
     UTF-8, which Python keeps as lone surrogates (``'st\\udcfe.toml'``), written as
-    ``\\xNN`` (``'st\\xfe.toml'``), so the path stays readable and exact. The write failed
-    on them with "'utf-8' codec can't encode character '\\udcfe'" after every geometry of the
-    study had been computed (and again under --resume)."""
+    ``\\xNN`` (``'st\\xfe.toml'``), so the path stays readable and exact, and the write,
+    after every geometry is computed, does not fail on them ("'utf-8' codec can't encode
+    character '\\udcfe'")."""
     try:
         raw = os.fsencode(text)  # a path's undecodable bytes back as they were
     except UnicodeEncodeError:  # a lone surrogate no file name decodes to
@@ -298,7 +298,7 @@ def check_out(out: Path, force: bool) -> None:
         raise ValueError(f"--out {out} exists; choose a new name or pass --force (the old "
                          "file is kept as a .bak file)")
     if out.is_symlink() and not out.exists() and not force:
-        # a link to nowhere is the user's too: the dataset was renamed over it, silently
+        # a link to nowhere is the user's too: not renamed over without --force
         raise ValueError(f"--out {out} exists, a symbolic link to {os.readlink(out)}, which "
                          "does not exist; choose a new name or pass --force (the link is kept "
                          "as a .bak file)")

@@ -67,7 +67,7 @@ class ExploreResult:
     figures : list of str
     warnings : list of str
         The distinct warnings the computed tasks raised on their workers (the caller says
-        them; they printed on the workers' stderr as raw Python warnings with a source line).
+        them; on the workers they print as raw Python warnings with a source line).
     already_complete : bool
         ``resume=True`` found this study's complete dataset at ``out``; nothing was run.
     """

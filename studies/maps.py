@@ -32,8 +32,7 @@ def drawn_materials(ds, name: str) -> bool:
     """Whether :func:`design_maps` draws variable ``name`` for each value of the ``material``
     axis: when it has two or more. A map is then one panel per material, a curve one line per
     material, and a variable that varies along no numeric axis its values against the
-    materials (figures had shown the first material only, and a study over materials alone
-    drew nothing; found by exploratory testing)."""
+    materials (so that a study over materials alone has figures too)."""
     return "material" in ds[name].dims and ds.sizes["material"] >= 2
 
 

@@ -55,12 +55,12 @@ def read_part(folder: Path, index: int,
                template: dict[str, np.ndarray] | None = None) -> dict[str, np.ndarray] | None:
     """A part as written, or None (computed again) when it is missing, torn, or its arrays
     are not those of ``template`` (:func:`empty_outputs`: the same names, shapes and
-    kinds; a part without ``velocity`` ended a finished study with an internal error)."""
+    kinds: a part without ``velocity`` cannot go into the dataset)."""
     try:
         with np.load(part_path(folder, index), allow_pickle=False) as z:
             part = {k: z[k] for k in z.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # missing or torn: computed
-        return None  # again (a truncated part was an internal error of --resume)
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # missing or torn (a
+        return None  # truncated .npz): computed again
     if template is not None and (
             set(part) != set(template)
             or any(part[k].shape != v.shape or part[k].dtype.kind != v.dtype.kind

@@ -200,7 +200,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         if not study.needs_motor:
             return out
         # the modal reduction, the file's damping fit and motor tables, the auto frequency
-        # (a fit to Table 2's amplitudes that a varied plate cannot match was an "FE:" failure)
+        # (a fit to Table 2's amplitudes that a varied plate cannot match is not an FE failure)
         stage = "parameter set"
         if study.stator is None:
             params = fem_params(stator, material, order=s.fe_order, refine=s.fe_refine)
@@ -216,13 +216,13 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         from lusm.errors import short_reason  # a list of 32 frequencies: its range
 
         out["status"] = np.array(short_reason(f"{stage}: {type(exc).__name__}: {exc}")[:300])
-        if study.needs_motor:  # every drive point of the plate failed with it (it read '')
+        if study.needs_motor:  # every drive point of the plate fails with it
             out["motion_class"][...] = "failed"
         return out
     freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
     failures, unsettled = [], []
-    # what the single-point commands refuse before they run, said in the study's keys
-    # (it was the library's 'duration_s ... 9.999999999999999e-06', once per point)
+    # what the single-point commands refuse before they run, said once per plate in the
+    # study's keys (not in the library's, 'duration_s ... 9.999999999999999e-06')
     reasons = [_drive_problem(study, params, f) for f in freqs]
     # the work of the plate's runs, known only now: refused before any of them
     work = _plate_work_problem(study, params, [f for f, r in zip(freqs, reasons, strict=True)
