@@ -33,7 +33,7 @@ def _describe(stator, material, label: str) -> str:
                   f"size {stator.element_size_m * mm:g} mm")
     else:
         shape += f", electrode gap {stator.electrode_gap_m * mm:g} mm"
-    # a stator without a name is its plate: "plate: plate 30 x ..." had said it twice
+    # a stator without a name is its plate: said once, not "plate: plate 30 x ..."
     return f"{shape}, {material.name}" if label == "plate" else f"{label}: {shape}, {material.name}"
 
 
@@ -58,11 +58,11 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     say("3D modes")
     from contact.deferred_signals import deferred_signals
 
-    with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
+    with deferred_signals():  # not interrupted half-way: a signal there crashes VTK
         import pyvista  # noqa: F401
     model = plate_model(st, mat, 2, DEFAULT_REFINE)
-    with deferred_signals():  # about a second; a SIGTERM inside VTK's rendering crashed the
-        # report (exit 139, 2 of about 90 tries) and left its staging folder
+    with deferred_signals():  # about a second; a SIGTERM inside VTK's rendering crashes the
+        # report (exit 139, 2 of about 90 tries) and leaves its staging folder
         pictures = render_modes(model, m2, out / "figures", prefix="design_")
     say("mode pictures")
     rows, data = [], {"2d": {}, "3d": {}}
@@ -103,8 +103,8 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
 
 def _command_3d(stator, refine3: int, options: str) -> str:
     """The ``lusm modes`` call that gives the report's 3D column: its layers, its refine where
-    it is not the command's default (``--quick``'s coarser mesh had been called "the same
-    call" and gave a split 15 times the command's on a tuned plate) and the work bound it
+    it is not the command's default (``--quick``'s coarser mesh is another call: its split
+    can be 15 times the command's on a tuned plate) and the work bound it
     needs where the mesh is above ``lusm modes``' own (a chamfered example: 2 988 bricks).
     ``options`` are the stator options the report was given
     (:func:`lusm.options.stator_options_text`)."""
@@ -124,8 +124,8 @@ def _command_3d(stator, refine3: int, options: str) -> str:
 
 def _validity_note(stator) -> tuple[str | None, list[str]]:
     """The 2D model's gap-validity warning (:func:`fem.model.stator_gap_validity_message`) and
-    its paragraph for section 1: said on stderr during the run, but the report outlives the
-    run, and a designer reading it had no sign that its 2D rows were out of range."""
+    its paragraph for section 1: said on stderr during the run, and in the report, which
+    outlives the run, so that its reader sees when its 2D rows are out of range."""
     from fem.model import stator_gap_validity_message
     from lusm.messages import in_file_terms
 
