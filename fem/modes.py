@@ -522,7 +522,7 @@ def identify_modes(
                 best = (i, mac, klass)
         if best is None:
             raise ModeSolverError(
-                # rigid-body modes come out at +-roundoff: "-0.4 Hz" read as a bug
+                # rigid-body modes come out at +-roundoff: "-0.4 Hz" would read as a bug
                 f"could not identify {name} among the {shapes.shape[1]} modes computed at "
                 f"{np.round(np.maximum(freqs_Hz, 0.0), 1).tolist()} Hz (no mode with the "
                 f"{name} symmetry and a correlation >= {MIN_MAC} with the Eq. 3 shape)"

@@ -511,7 +511,7 @@ def _file_points(m, path: Path, unit: str) -> tuple[np.ndarray, np.ndarray]:
     if pts3.ndim != 2 or pts3.shape[0] == 0:
         raise ValueError(f"mesh file {path} holds no points")
     bad = np.flatnonzero(~np.all(np.isfinite(pts3), axis=1))
-    if bad.size:  # it read as a tip "off the mesh (x in [nan, nan] mm)", or as millimetres
+    if bad.size:  # said as such, not as a tip "off the mesh (x in [nan, nan] mm)"
         raise ValueError(f"mesh file {path}: node {int(bad[0])} has a non-finite coordinate "
                          f"({', '.join(f'{v:g}' for v in pts3[bad[0]])}); "
                          f"{bad.size} node(s) in all")
