@@ -1,8 +1,9 @@
 """The ``lusm`` command line: parse, call the library, print. No physics lives here.
 
-Each sub-command sits in its own ``lusm/commands/<name>.py`` module exposing
-``register(subparsers)``; its library is imported inside its ``run`` so that building the
-parser (``lusm --help``) imports no numpy, scipy, numba or scikit-fem. Shared options live in
+Each sub-command sits in its own ``lusm/commands/<name>.py`` module exposing ``HELP`` (its
+line in ``lusm --help``), ``DESCRIPTION``, ``add_arguments(parser)`` and ``run(args)``; its
+library is imported inside its ``run`` so that building the parser (``lusm --help``) imports
+no numpy, scipy, numba or scikit-fem. Shared options live in
 :mod:`lusm.options`, limits in :mod:`lusm.limits`.
 
 Exit codes: 0 success; 2 for every user-facing failure (:class:`lusm.errors.LusmError`,
@@ -99,7 +100,10 @@ def build_parser() -> argparse.ArgumentParser:
             if exc.name == name:  # a command of another branch, not merged here
                 continue
             raise
-        module.register(sub)
+        p = sub.add_parser(name.rpartition(".")[2], help=module.HELP,
+                           description=module.DESCRIPTION)
+        module.add_arguments(p)
+        p.set_defaults(func=module.run)
     return parser
 
 

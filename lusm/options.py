@@ -19,7 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -177,6 +177,17 @@ def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") ->
                    help="a parameter set saved with 'lusm params --json' (edit its stored "
                    "fields, e.g. C_l for the damping); replaces --source and the stator")
     add_plate_options(p, note="; any of them selects --source fem")
+
+
+def add_contact_options(p: argparse.ArgumentParser, *, folder_help: str,
+                        friction_note: str = "") -> None:
+    """The options of every command that runs the contact model, after its own and the
+    drive's (:func:`add_drive_options`): ``--rest`` (:func:`add_rest_option`), the motor
+    model (:func:`add_motor_options`) and the output (``--json``, ``--plot DIR``, ``--force``;
+    ``folder_help`` says what goes into DIR)."""
+    add_rest_option(p)
+    add_motor_options(p, friction_note=friction_note)
+    add_output_options(p, folder="--plot", folder_help=folder_help)
 
 
 def coupling_of(args: argparse.Namespace, params) -> tuple[str, str]:
@@ -741,6 +752,36 @@ def resolve_motor(args: argparse.Namespace) -> Motor:
                  known_frequency(args.frequency) is None)
 
 
+def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload_N: float,
+                  check_size: Callable[[float], None] | None = None, *,
+                  load_N: float = 0.0, voltage_option: str = "--voltage",
+                  preload_option: str = "--preload") -> tuple[Path | None, Motor]:
+    """The start of every contact command, in the order its refusals are said: the ``--plot``
+    folder checked (:func:`output_folder`), each of ``voltages_V`` at ``preload_N`` warned of
+    (:func:`warn_drive`, the options named as the command spells them), ``check_size`` at a
+    typed ``--frequency`` (Hz) before any work, the motor resolved (:func:`resolve_motor`),
+    then ``check_size`` at an ``auto`` frequency, which needs the parameter set.
+
+    Returns
+    -------
+    plot : pathlib.Path or None
+        The ``--plot`` folder, None when not given.
+    motor : Motor
+        The resolved parameter set, coupling and drive frequency.
+    """
+    plot = output_folder(args, "--plot")
+    for v in voltages_V:
+        warn_drive(v, preload_N, voltage_option=voltage_option, preload_option=preload_option,
+                   load_N=load_N)
+    known = known_frequency(args.frequency)
+    if known is not None and check_size is not None:
+        check_size(known)
+    motor = resolve_motor(args)
+    if known is None and check_size is not None:
+        check_size(motor.frequency_Hz)
+    return plot, motor
+
+
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
     :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a
@@ -1165,6 +1206,15 @@ def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]
     except OSError as exc:  # a full disk, a folder made read-only meanwhile
         raise LusmError(f"{option} {target}: cannot write ({exc.strerror or exc})",
                         option) from None
+
+
+def write_figures(target: Path, option: str, force: bool,
+                  draw: Callable[[Path], Sequence[str | Path]]) -> list[str]:
+    """Draw a figure set into a staging folder (``draw(stage)`` returns the files it wrote)
+    and move it into ``target`` complete (:func:`figure_set`); returns the files' paths in
+    ``target``."""
+    with figure_set(target, option, force) as stage:
+        return moved(draw(stage), stage, target)
 
 
 def moved(paths, stage: Path, target: Path) -> list[str]:

@@ -12,16 +12,16 @@ import math
 from lusm import limits
 from lusm.options import add_output_options, add_plate_options, integer, print_json, real
 
+HELP = "admittance Y(f) of the driven electrodes: resonance/antiresonance, k_eff, PNG"
+DESCRIPTION = """\
+Admittance of the driven electrodes (others grounded) of the 2D FE plate by modal superposition
+with a residual mode; resonance/antiresonance pairs and the k_eff they imply; |Y| and phase
+plot.
+"""
 
-def register(subparsers) -> None:
-    """Add the ``admittance`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "admittance",
-        help="admittance Y(f) of the driven electrodes: resonance/antiresonance, k_eff, PNG",
-        description="Admittance of the driven electrodes (others grounded) of the 2D FE plate "
-        "by modal superposition with a residual mode; resonance/antiresonance pairs and the "
-        "k_eff they imply; |Y| and phase plot.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm admittance``."""
     f_lo, f_hi = limits.FREQUENCY_HZ
     p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
                    metavar="HZ", help="band start (Hz); default: the design's L1 and B2 "
@@ -44,7 +44,6 @@ def register(subparsers) -> None:
     add_fe_options(p)
     add_output_options(p, folder="--out", folder_help="write the admittance plot (PNG) into "
                        "DIR (default: no file)")
-    p.set_defaults(func=run)
 
 
 def _electrodes(text: str | None) -> tuple[int, ...] | None:
@@ -68,7 +67,7 @@ def run(args: argparse.Namespace) -> None:
     from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.commands.modes import warn_linear_elements
     from lusm.errors import LusmError
-    from lusm.options import check_fe_size, figure_set, moved, output_folder, stator_from_args
+    from lusm.options import check_fe_size, output_folder, stator_from_args, write_figures
 
     warn_linear_elements(args)
     out = output_folder(args, "--out")
@@ -89,8 +88,8 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         from validation.fem_figures import admittance_figure
 
-        with figure_set(out, "--out", args.force) as stage:
-            png = moved([admittance_figure(res, stage / "admittance.png")], stage, out)[0]
+        png = write_figures(out, "--out", args.force, lambda stage: [
+            admittance_figure(res, stage / "admittance.png")])[0]
     if args.zeta is not None:
         damping = {"zeta_L1": args.zeta, "zeta_B2": args.zeta, "from": "--zeta (all modes)"}
     if args.json:

@@ -8,31 +8,24 @@ import math
 from lusm import limits
 from lusm.messages import warn, warn_unused
 from lusm.options import (
+    add_contact_options,
     add_drive_options,
-    add_motor_options,
-    add_output_options,
-    add_rest_option,
     check_steady_work,
-    figure_set,
-    known_frequency,
-    moved,
-    output_folder,
     print_json,
-    resolve_motor,
-    warn_drive,
+    resolve_drive,
+    write_figures,
 )
 
+HELP = "speed-thrust, output power and efficiency curves (steady engine)"
+DESCRIPTION = """\
+Steady slider velocity against load force, mechanical output power, electrical input power and
+efficiency, the no-load velocity and the stall force, from the steady engine, averaged
+(--accuracy fast) or on the finite-mass motor (--accuracy exact) (docs/steady.md).
+"""
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``characteristic`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "characteristic",
-        help="speed-thrust, output power and efficiency curves (steady engine)",
-        description="Steady slider velocity against load force, mechanical output power, "
-        "electrical input power and efficiency, the no-load velocity and the stall force, "
-        "from the steady engine, averaged (--accuracy fast) or on the finite-mass motor "
-        "(--accuracy exact) (docs/steady.md).",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm characteristic``."""
     add_drive_options(p, time_steps=False, voltage_list=True)  # steady: no time step
     p.add_argument("--loads", default=None, metavar="START:STOP:STEP",
                    help="load forces (N), e.g. 0:2:0.1 or 0,0.5,1 (as map's --voltages); "
@@ -42,10 +35,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "fast: the averaged steady state (slider mass -> infinity), all loads "
                    "from one set of orbits, about half the time, but blind to the creeps "
                    "and holds a start from rest can end in (docs/steady.md)")
-    add_rest_option(p)
-    add_motor_options(p)
-    add_output_options(p, folder="--plot", folder_help="write characteristic.png into DIR")
-    p.set_defaults(func=run)
+    add_contact_options(p, folder_help="write characteristic.png into DIR")
 
 
 def parse_loads(text: str) -> list[float]:
@@ -70,12 +60,9 @@ def run(args: argparse.Namespace) -> None:
     if args.accuracy == "fast":
         warn_unused(("--rest",), "it sets how --accuracy exact decides the start from rest")
     loads = parse_loads(args.loads) if args.loads is not None else None
-    plot = output_folder(args, "--plot")
     voltages = args.voltage  # a tuple: --voltage takes A,B,...
-    warn_drive(max(voltages), args.preload)
-    # a bad number refused before any work; None for the auto rule ("AUTO", " auto" too)
-    frequency_from = "auto" if known_frequency(args.frequency) is None else args.frequency
-    motor = resolve_motor(args)
+    plot, motor = resolve_drive(args, [max(voltages)], args.preload)
+    frequency_from = "auto" if motor.frequency_auto else args.frequency
     params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
     coupling, coupling_from = motor.coupling, motor.coupling_from
     check_steady_work(len(voltages) * (len(loads) if loads else 21), params, freq, coupling,
@@ -105,10 +92,9 @@ def run(args: argparse.Namespace) -> None:
     if plot is not None:
         from validation.report_motor import characteristic_figure
 
-        with figure_set(plot, "--plot", args.force) as stage:
-            path = characteristic_figure(chars if len(chars) > 1 else chars[0],
-                                         stage / "characteristic.png")
-            doc["figures"] = moved([path], stage, plot)
+        doc["figures"] = write_figures(plot, "--plot", args.force, lambda stage: [
+            characteristic_figure(chars if len(chars) > 1 else chars[0],
+                                  stage / "characteristic.png")])
     if args.json:
         print_json(doc, indent=2)
         return

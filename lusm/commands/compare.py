@@ -8,27 +8,26 @@ import math
 from lusm.errors import LusmError
 from lusm.options import SOURCES, add_plate_options, motor_params_of, plate_given, print_json
 
+HELP = "compare the parameter sources side by side"
+DESCRIPTION = """\
+Frequencies, modal masses, stiffnesses, force factors, load coefficients and damping of each
+source, with relative differences to the reference.
+"""
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``compare`` sub-command to the ``lusm`` parser."""
-    parser = subparsers.add_parser(
-        "compare",
-        help="compare the parameter sources side by side",
-        description="Frequencies, modal masses, stiffnesses, force factors, load "
-        "coefficients and damping of each source, with relative differences to the reference.",
-    )
-    parser.add_argument(
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm compare``."""
+    p.add_argument(
         "--sources", nargs="+", choices=SOURCES, default=list(SOURCES),
         help="sources to compare (default: all)",
     )
-    parser.add_argument(
+    p.add_argument(
         "--reference", choices=SOURCES, default="table2", help="reference source (default table2)"
     )
-    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
-    add_plate_options(parser, note="; any of them makes the fem column that stator's and "
+    p.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    add_plate_options(p, note="; any of them makes the fem column that stator's and "
                       "the beam column a beam of its length, width and thickness (a stator file "
                       "with a mesh or features: its electroded body)")
-    parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:

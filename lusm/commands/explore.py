@@ -21,18 +21,17 @@ from lusm.options import (
     warn_thin_plate,
 )
 
+HELP = "design-space study (geometry x drive) on dask.distributed"
+DESCRIPTION = """\
+Run the study of a TOML file (axes, outputs, solver; [study] stator = FILE.toml starts every
+plate from a designer's stator file, whose plate and features the axes vary): one task per
+geometry (FE solve, reduction, all its drive points) on a LocalCluster or an existing dask
+scheduler; write a labelled netCDF dataset. See docs/distributed.md.
+"""
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``explore`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "explore",
-        help="design-space study (geometry x drive) on dask.distributed",
-        description="Run the study of a TOML file (axes, outputs, solver; [study] stator = "
-        "FILE.toml starts every plate from a designer's stator file, whose plate and features "
-        "the axes vary): one task per geometry (FE solve, reduction, all its drive points) on a "
-        "LocalCluster or an existing dask scheduler; write a labelled netCDF dataset. See "
-        "docs/distributed.md.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm explore``."""
     p.add_argument("study", metavar="STUDY.toml", help="the study file")
     p.add_argument("--out", required=True, metavar="FILE.nc", help="netCDF file to write")
     p.add_argument("--resume", action="store_true",
@@ -54,7 +53,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--force", action="store_true",
                    help="replace an existing FILE.nc (kept as FILE.nc.bak-N) and write into a "
                    "non-empty --plot folder")
-    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:

@@ -9,31 +9,23 @@ from lusm.errors import LusmError
 from lusm.messages import warn, warn_unused
 from lusm.options import (
     Motor,
+    add_contact_options,
     add_drive_options,
-    add_motor_options,
-    add_output_options,
-    add_rest_option,
     check_run_size,
     check_steady_work,
     check_steps,
-    figure_set,
     integer,
-    known_frequency,
-    moved,
-    output_folder,
     print_json,
-    resolve_motor,
-    warn_drive,
+    resolve_drive,
+    write_figures,
 )
 
+HELP = "stick-slip map over voltage x preload (Figs. 18-19)"
+DESCRIPTION = "Classify the steady motion on a voltage x preload grid, in parallel."
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``map`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "map",
-        help="stick-slip map over voltage x preload (Figs. 18-19)",
-        description="Classify the steady motion on a voltage x preload grid, in parallel.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm map``."""
     p.add_argument("--voltages", default="50:450:50",
                    help=f"V0 grid (V), start:stop:step or a comma list, in "
                    f"[0, {limits.VOLTAGE_V[1]:g}]")
@@ -50,12 +42,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="steady engine level: fast (averaging, slider mass -> infinity) or "
                    "exact (finite slider mass, start from rest decided on the full model; the "
                    "default)")
-    add_rest_option(p)
-    add_motor_options(p, friction_note=" (Fig. 19)")
     p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
                    help="threads (default: all cores)")
-    add_output_options(p, folder="--plot", folder_help="write the map PNG into DIR")
-    p.set_defaults(func=run)
+    add_contact_options(p, folder_help="write the map PNG into DIR", friction_note=" (Fig. 19)")
 
 
 def _grid(text: str, option: str, bounds: tuple[float, float], unit: str):
@@ -86,24 +75,18 @@ def run(args: argparse.Namespace) -> None:
                     "rest, without the steady engine")
     elif args.accuracy == "fast":
         warn_unused(("--rest",), "it sets how --accuracy exact decides the start from rest")
-    plot = output_folder(args, "--plot")
     volts = _grid(args.voltages, "--voltages", limits.VOLTAGE_V, "V")
     loads = _grid(args.preloads, "--preloads", limits.PRELOAD_N, "N")
-    # the 0 V / 0 N case only when the map is that single point
-    warn_drive(float(volts.max()), float(loads.max()), voltage_option="--voltages",
-               preload_option="--preloads")
-    known = known_frequency(args.frequency)
-    if known is not None:  # refused before any work; 'auto' needs the parameter set first
-        _check_size(args, volts, loads, known)
     if args.method == "steady" and volts.size * loads.size > limits.work_bound(
             limits.MAX_STEADY_POINTS):
         raise LusmError(
             f"--voltages x --preloads give {volts.size * loads.size} points; a steady map "
             f"takes at most {limits.work_bound(limits.MAX_STEADY_POINTS)} "
             f"({limits.more_work_hint()})", "--voltages")
-    motor = resolve_motor(args)
-    if known is None:
-        _check_size(args, volts, loads, motor.frequency_Hz)
+    # the 0 V / 0 N case only when the map is that single point
+    plot, motor = resolve_drive(args, [float(volts.max())], float(loads.max()),
+                                lambda f: _check_size(args, volts, loads, f),
+                                voltage_option="--voltages", preload_option="--preloads")
     if args.method == "steady":  # a point's cost grows as the drive frequency falls
         check_steady_work(volts.size * loads.size, motor.params, motor.frequency_Hz,
                           motor.coupling, "points", "--voltages")
@@ -165,15 +148,14 @@ def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
     from validation.figures import stick_slip_map as plot_map
 
     name = "fig19_map_constant_mu.png" if args.no_ultrasonic_friction else "fig18_map.png"
-    with figure_set(plot, "--plot", args.force) as stage:
-        # the method in the title: a transient map with unsettled points is not the settled
-        # steady one
-        how = (f"steady engine ({args.accuracy} level)" if m.method == "steady" else
-               f"transients of {args.duration:g} s from rest"
-               + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
-        png = plot_map(m, stage / name, f"{set_label(motor.params.source)}, "
-                       f"{motor.frequency_Hz / 1e3:.4g} kHz, {how}")
-        return moved([png], stage, plot)
+    # the method in the title: a transient map with unsettled points is not the settled
+    # steady one
+    how = (f"steady engine ({args.accuracy} level)" if m.method == "steady" else
+           f"transients of {args.duration:g} s from rest"
+           + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
+    title = f"{set_label(motor.params.source)}, {motor.frequency_Hz / 1e3:.4g} kHz, {how}"
+    return write_figures(plot, "--plot", args.force,
+                         lambda stage: [plot_map(m, stage / name, title)])
 
 
 def _print(args: argparse.Namespace, motor: Motor, m) -> None:

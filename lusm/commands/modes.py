@@ -16,15 +16,15 @@ from lusm.errors import short_reason
 from lusm.fe_errors import fe_failure, is_fe_failure
 from lusm.options import add_output_options, add_plate_options, integer, print_json
 
+HELP = "FE natural frequencies (short/open circuit) and k_eff of L1 and B2"
+DESCRIPTION = """\
+Plane-stress piezoelectric FE model of the stator plate: L1 and B2 frequencies with all
+electrodes grounded (short) and floating (open), and k_eff.
+"""
 
-def register(subparsers) -> None:
-    """Add the ``modes`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "modes",
-        help="FE natural frequencies (short/open circuit) and k_eff of L1 and B2",
-        description="Plane-stress piezoelectric FE model of the stator plate: L1 and B2 "
-        "frequencies with all electrodes grounded (short) and floating (open), and k_eff.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm modes``."""
     add_plate_options(p)
     add_fe_options(p, three_d=True)
     p.add_argument(
@@ -47,7 +47,6 @@ def register(subparsers) -> None:
     )
     p.add_argument("--force", action="store_true",
                    help="write --export over an existing file (the old one is kept as .bak-N)")
-    p.set_defaults(func=run)
 
 
 def _split(res) -> float:

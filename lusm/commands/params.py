@@ -6,21 +6,18 @@ import argparse
 
 from lusm.options import SOURCES, add_output_options, add_plate_options, print_json
 
+HELP = "print one parameter set (table2, beam or fem)"
+DESCRIPTION = "Print every field of one reduced-order parameter set, SI units."
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``params`` sub-command to the ``lusm`` parser."""
-    parser = subparsers.add_parser(
-        "params",
-        help="print one parameter set (table2, beam or fem)",
-        description="Print every field of one reduced-order parameter set, SI units.",
-    )
-    parser.add_argument(
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm params``."""
+    p.add_argument(
         "--source", choices=SOURCES, default=None,
         help="parameter source (default table2; fem with --geometry or a plate option)",
     )
-    add_plate_options(parser, note="; any of them selects --source fem")
-    add_output_options(parser, folder=None)
-    parser.set_defaults(func=run)
+    add_plate_options(p, note="; any of them selects --source fem")
+    add_output_options(p, folder=None)
 
 
 def run(args: argparse.Namespace) -> None:

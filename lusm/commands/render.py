@@ -13,35 +13,28 @@ from lusm.commands.modes import add_fe_options
 from lusm.fe_errors import fe_failure, is_fe_failure
 from lusm.options import add_output_options, add_plate_options
 
+HELP = "PNG pictures (and GIF animations) of the L1/B2 mode shapes, offscreen"
+DESCRIPTION = """\
+Render the FE mode shapes offscreen with pyvista: deformed planform coloured by displacement
+magnitude over the undeformed outline, electrodes outlined (driven in red), mode name and
+frequency in the title.
+"""
 
-def register(subparsers) -> None:
-    """Add the ``render`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "render",
-        help="PNG pictures (and GIF animations) of the L1/B2 mode shapes, offscreen",
-        description="Render the FE mode shapes offscreen with pyvista: deformed planform "
-        "coloured by displacement magnitude over the undeformed outline, electrodes "
-        "outlined (driven in red), mode name and frequency in the title.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm render``."""
     p.add_argument("--mode", choices=("L1", "B2", "all"), default="all", help="which mode")
     p.add_argument("--animate", action="store_true", help="also write one period as a GIF")
     add_plate_options(p)
     add_fe_options(p)
     add_output_options(p, folder="--out", default="renders", json_flag=False,
                        folder_help="output folder (default renders)")
-    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
     from lusm.commands.modes import warn_linear_elements
-    from lusm.options import (
-        check_fe_size,
-        figure_set,
-        moved,
-        output_folder,
-        stator_from_args,
-    )
+    from lusm.options import check_fe_size, output_folder, stator_from_args, write_figures
 
     warn_linear_elements(args)
     out = output_folder(args, "--out")  # refused before any work
@@ -66,12 +59,14 @@ def run(args: argparse.Namespace) -> None:
 
     with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
         import pyvista  # noqa: F401
-    with figure_set(out, "--out", args.force) as stage:
+
+    def draw(stage):
         # a signal inside VTK's rendering printed VTK errors or crashed it (as the design
         # report's pictures, exit 139): drawn with SIGINT/SIGTERM held, delivered once they
         # are done (about a second, three with --animate), when the staging is discarded
         with deferred_signals():
-            pictures = render_modes(model, modes, stage, which, args.animate)
-        written = moved(pictures, stage, out)
+            return render_modes(model, modes, stage, which, args.animate)
+
+    written = write_figures(out, "--out", args.force, draw)
     for path in written:
         print(path)

@@ -9,18 +9,19 @@ from pathlib import Path
 
 from lusm.options import add_plate_options
 
+HELP = (
+    "write the full report (parameter sets, paper reproduction, speed vs error, "
+    "hard cases)"
+)
+DESCRIPTION = """\
+Run the default motor end to end (or, with --geometry or a plate option, your stator: modes in
+2D and 3D with pictures, reduced parameters, admittance, speed against voltage, motor
+characteristics) and write index.md, index.html, report.json and PNG figures.
+"""
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``report`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "report",
-        help="write the full report (parameter sets, paper reproduction, speed vs error, "
-        "hard cases)",
-        description="Run the default motor end to end (or, with --geometry or a plate "
-        "option, your stator: modes in 2D and 3D with pictures, reduced parameters, "
-        "admittance, speed against voltage, motor characteristics) and write index.md, "
-        "index.html, report.json and PNG figures.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm report``."""
     p.add_argument("--out", default="report", metavar="DIR", help="output folder")
     p.add_argument("--quick", action="store_true",
                    help="coarser grids and shorter runs, same sections (~30 s)")
@@ -29,7 +30,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "way are kept as NAME.bak-N; nothing is deleted)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     add_plate_options(p, note="; any of them reports on that stator instead")
-    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:

@@ -9,34 +9,27 @@ from lusm.errors import LusmError
 from lusm.messages import warn, warn_unused
 from lusm.options import (
     Motor,
+    add_contact_options,
     add_drive_options,
-    add_motor_options,
-    add_output_options,
-    add_rest_option,
     check_run_size,
     check_steady_frequency,
-    figure_set,
-    known_frequency,
-    moved,
-    output_folder,
     print_json,
     real,
-    resolve_motor,
+    resolve_drive,
     time_step_of,
-    warn_drive,
+    write_figures,
 )
 
+HELP = "run the contact model (paper Eqs. 4-19) from rest"
+DESCRIPTION = """\
+Simulate the slider driven by the stator tip: velocity, forces, stick/slip/separation phases,
+steady-state metrics.
+"""
 
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``simulate`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "simulate",
-        help="run the contact model (paper Eqs. 4-19) from rest",
-        description="Simulate the slider driven by the stator tip: velocity, forces, "
-        "stick/slip/separation phases, steady-state metrics.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm simulate``."""
     add_drive_options(p, voltage_list=True)
-    add_motor_options(p)
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
     p.add_argument("--load-N", dest="load_N", default=0.0,
                    type=real("--load-N", "N", -limits.PRELOAD_N[1], limits.PRELOAD_N[1]),
@@ -46,10 +39,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--steady", action="store_true",
                    help="the steady state from rest found directly (docs/steady.md) instead "
                    "of a transient; no figures")
-    add_rest_option(p)
-    add_output_options(p, folder="--plot",
-                       folder_help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
-    p.set_defaults(func=run)
+    add_contact_options(p, folder_help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
 
 
 def run(args: argparse.Namespace) -> None:
@@ -65,26 +55,22 @@ def run(args: argparse.Namespace) -> None:
                         "balance of the steady state)", "--energy")
     if not args.steady:
         warn_unused(("--rest",), "it sets how --steady decides the start from rest")
-    plot = output_folder(args, "--plot")  # refused before any work
-    for v in voltages:
-        warn_drive(v, args.preload, load_N=args.load_N)
-    known = known_frequency(args.frequency)  # 'auto' needs the parameter set first
     typed_dt = args.dt  # the text typed, checked at the frequency in force
-    if known is not None:  # refused before any work; --steady takes any positive step
-        args.dt = time_step_of(typed_dt, known, used=not args.steady)
-        if not args.steady:  # --steady uses neither --duration nor --dt
-            check_run_size(args.duration, args.dt, known)
-    motor = resolve_motor(args)
+
+    def check_size(frequency_Hz: float) -> None:
+        # --steady takes any positive step and uses neither --duration nor --dt
+        args.dt = time_step_of(typed_dt, frequency_Hz, used=not args.steady)
+        if not args.steady:
+            check_run_size(args.duration, args.dt, frequency_Hz)
+
+    plot, motor = resolve_drive(args, voltages, args.preload, check_size, load_N=args.load_N)
     params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
     coupling, coupling_from = motor.coupling, motor.coupling_from
-    args.dt = time_step_of(typed_dt, freq, used=not args.steady)
     if args.steady:
         # the range characteristic and map say (the engine's own refusal had no range)
         check_steady_frequency(params, freq, coupling)
         # said once --dt is known to be a number: a refusal is then the one line
         warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
-    if known is None and not args.steady:  # a number was checked above
-        check_run_size(args.duration, args.dt, freq)
 
     from contact.errors import RunawayError
     from validation.summaries import (
@@ -189,6 +175,6 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     if plot is not None:
         from validation.figures import simulation_figures
 
-        with figure_set(plot, "--plot", args.force) as stage:
-            summary["figures"] = moved(simulation_figures(r, stage), stage, plot)
+        summary["figures"] = write_figures(plot, "--plot", args.force,
+                                           lambda stage: simulation_figures(r, stage))
     return summary

@@ -14,16 +14,16 @@ import math
 from lusm import limits
 from lusm.options import GAP_RULE, MATERIALS, add_output_options, print_json, real
 
+HELP = "L1/B2 frequencies against the plate width or length (crossing diagram PNG)"
+DESCRIPTION = """\
+Sweep one plate dimension, identify L1 and B2 by shape at each point and plot their
+short-circuit frequencies (the crossing/veering diagram). Give one of --width-mm / --length-mm
+as a range A:B:STEP; the other is a fixed value.
+"""
 
-def register(subparsers) -> None:
-    """Add the ``sweep`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "sweep",
-        help="L1/B2 frequencies against the plate width or length (crossing diagram PNG)",
-        description="Sweep one plate dimension, identify L1 and B2 by shape at each point and "
-        "plot their short-circuit frequencies (the crossing/veering diagram). Give one of "
-        "--width-mm / --length-mm as a range A:B:STEP; the other is a fixed value.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm sweep``."""
     lo, hi = limits.PLATE_MM
     g = p.add_argument_group("stator", "the paper's 30 x 7.5 x 3 mm PZT-8 plate unless "
                              "--geometry or a plate option is given")
@@ -48,7 +48,6 @@ def register(subparsers) -> None:
     add_fe_options(p)
     add_output_options(p, folder="--out", folder_help="write the crossing diagram (PNG) "
                        "into DIR (default: no file)")
-    p.set_defaults(func=run)
 
 
 def _split(args: argparse.Namespace):
@@ -78,7 +77,7 @@ def run(args: argparse.Namespace) -> None:
 
     from fem.units import to_si
     from lusm.commands.modes import warn_linear_elements
-    from lusm.options import figure_set, moved, output_folder
+    from lusm.options import output_folder, write_figures
 
     warn_linear_elements(args)
     out = output_folder(args, "--out")
@@ -97,8 +96,8 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         from validation.fem_figures import sweep_figure
 
-        with figure_set(out, "--out", args.force) as stage:
-            png = moved([sweep_figure(res, stage / f"sweep_{parameter}.png")], stage, out)[0]
+        png = write_figures(out, "--out", args.force, lambda stage: [
+            sweep_figure(res, stage / f"sweep_{parameter}.png")])[0]
     if args.json:
         d = res.to_dict()
         d["values_mm"] = [float(v) for v in values_mm]  # as typed: no 26.000000000000004

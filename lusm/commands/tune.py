@@ -28,17 +28,18 @@ def fix_list(text: str) -> tuple[str, ...]:
     return items
 
 
-def register(subparsers) -> None:
-    """Add the ``tune`` sub-command to the ``lusm`` parser."""
-    p = subparsers.add_parser(
-        "tune",
-        help="design for degeneracy: dimensions with f_L1 = f_B2 (= target)",
-        description="Find the plate dimensions at which the L1 and B2 modes coincide (short "
-        "circuit), starting from the given plate (its gap, electrodes and material are "
-        "kept). By default the length and width are tuned to the target frequency at the "
-        "given thickness; --fix length (or width) keeps that dimension exactly and tunes the "
-        "other one, and the common frequency then follows from the held dimension.",
-    )
+HELP = "design for degeneracy: dimensions with f_L1 = f_B2 (= target)"
+DESCRIPTION = """\
+Find the plate dimensions at which the L1 and B2 modes coincide (short circuit), starting from
+the given plate (its gap, electrodes and material are kept). By default the length and width are
+tuned to the target frequency at the given thickness; --fix length (or width) keeps that
+dimension exactly and tunes the other one, and the common frequency then follows from the held
+dimension.
+"""
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``lusm tune``."""
     p.add_argument("--target-frequency", default=None, metavar="HZ",
                    type=real("--target-frequency", "Hz", *limits.TARGET_FREQUENCY_HZ),
                    help="common L1/B2 frequency wanted (Hz), default 40e3; not with --fix "
@@ -54,7 +55,6 @@ def register(subparsers) -> None:
 
     add_fe_options(p, three_d=True)
     add_output_options(p, folder=None)
-    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> None:
