@@ -58,8 +58,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> None:
     """Check the study and the outputs, run the study, print its summary; ``--json``'s
     ``"warnings"`` lists every warning the run says (those of reading the study, of its
-    plates and drive points, of the workers, of the figures: it had listed only the
-    workers' and the failures')."""
+    plates and drive points, of the workers, of the figures)."""
     with warnings_said() as said:
         _run(args, said)
 
@@ -244,7 +243,7 @@ def _warn_drive(study) -> None:
     """The drive warnings of the single-point commands (:func:`lusm.options.warn_drive`),
     once per study, for the axis values that trigger them: the largest voltage above 600 V,
     the largest preload above 100 N, and 0 V with 0 N. A study that drives nothing (FE
-    outputs only) gets none. A study of 700 V and 0 V / 0 N points said nothing."""
+    outputs only) gets none."""
     if not study.needs_motor:
         return
     ax = study.axes
@@ -257,7 +256,7 @@ def _warn_drive(study) -> None:
 
 def _warn_thick(study) -> None:
     """The thin-plate warning modes gives, for the study's thickest plate against its
-    narrowest (a 0.6 mm wide, 3 mm thick plate was "ok" without a word)."""
+    narrowest (a 0.6 mm wide, 3 mm thick plate is outside the 2D model's range)."""
     ax = study.axes
     thick = max(ax["thickness"]) * 1e3
     warn_thin_plate(f"{study.source}: thickness up to {thick:g} mm", thick,
@@ -286,8 +285,7 @@ def _warn_holes(study) -> None:
 def _report_failures(ds, path) -> list[str]:
     """Say which geometries did not compute fully (their reasons are in the dataset's
     ``status``), and return what was said. A study where none did has no dataset:
-    :func:`studies.explore.explore` refused it (it exited 0 with a dataset of NaN, then 2
-    with one)."""
+    :func:`studies.explore.explore` refuses to write one of NaN."""
     from studies.task import computed_fully
 
     said = []
