@@ -831,6 +831,17 @@ def _classify_a_node_on_each(blocks: list, node_entity: np.ndarray) -> None:
         node_entity[free[0]] = (2, entity)
 
 
+def keep_used_nodes(points: np.ndarray, cells: np.ndarray,
+                    point_nodes: dict[str, int]) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+    """Drop the nodes no cell uses (a structured grid cut to a planform): the nodes kept, in
+    their order, the cells and the named nodes (``'tip'``, ``'preload'``) on the new numbering,
+    as :func:`write_stator_msh` takes them."""
+    used = np.unique(cells)
+    remap = -np.ones(len(points), dtype=int)
+    remap[used] = np.arange(used.size)
+    return points[used], remap[cells], {k: int(remap[v]) for k, v in point_nodes.items()}
+
+
 def write_stator_msh(
     path: str | Path,
     points: np.ndarray,
