@@ -85,18 +85,14 @@ from fem.meshing.mesh import (
 from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 from fem.model import affine_probes
 from fem.modes import (
-    MIN_MAC,
-    MIN_SYMMETRY,
     SAMPLE_INSET,
     ModeSolverError,
     PlateModes,
     locatable,
-    modal_assurance,
+    match_modes,
     reference_shapes,
     sampling_grid,
-    sign_changes,
     solve_short_open,
-    symmetric_fraction,
 )
 
 ELEMENTS = ("hex20", "hex27")
@@ -994,35 +990,12 @@ def identify_sampled(
     refs = reference_shapes(X, Y, length_m)
     if not inside.all():
         refs = {k: v * inside for k, v in refs.items()}
-    n = sampled["mid"].shape[-1]
-    centre = X.shape[1] // 2
-    f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
-    out: dict[str, tuple[int, float, float]] = {}
-    for name in names:
-        best = None
-        for i in range(n):
-            if abs(freqs_Hz[i]) < f_floor:
-                continue
-            zsym = _thickness_symmetric_fraction(sampled["top"][..., i], sampled["bottom"][..., i])
-            if zsym < MIN_THICKNESS_SYMMETRY:
-                continue
-            u = sampled["mid"][:2, ..., i]
-            sym = symmetric_fraction(u)
-            klass = sym if name == "L1" else 1.0 - sym
-            if klass < MIN_SYMMETRY:
-                continue
-            if name == "B2" and sign_changes(u[0][:, centre]) != 3:
-                continue
-            mac = modal_assurance(u, refs[name])
-            if mac >= MIN_MAC and (best is None or mac * zsym > best[1] * best[3]):
-                best = (i, mac, klass, zsym)
-        if best is None:
-            raise ModeSolverError(
-                f"could not identify {name} among the {n} 3D modes computed at "
-                f"{np.round(np.maximum(freqs_Hz, 0.0), 1).tolist()} Hz"
-            )
-        out[name] = best[:3]
-    return out
+    zsym = np.array([_thickness_symmetric_fraction(sampled["top"][..., i],
+                                                   sampled["bottom"][..., i])
+                     for i in range(sampled["mid"].shape[-1])])
+    return match_modes(sampled["mid"][:2], freqs_Hz, refs, names,
+                       weights=np.where(zsym < MIN_THICKNESS_SYMMETRY, np.nan, zsym),
+                       what="3D modes")
 
 
 @dataclass(frozen=True, eq=False)
