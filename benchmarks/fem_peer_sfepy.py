@@ -73,17 +73,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from fem.geometry import ELECTRODES, PlateStator  # noqa: E402
 from fem.material import PiezoMaterial, get_material  # noqa: E402
 from fem.meshing.mesh import grid_lines_m  # noqa: E402
-from fem.modes import (  # noqa: E402
-    MIN_MAC,
-    MIN_SYMMETRY,
-    N_SAMPLE_X,
-    N_SAMPLE_Y,
-    modal_assurance,
-    reference_shapes,
-    sign_changes,
-    symmetric_fraction,
-)
-from fem.solid3d.model import MIN_THICKNESS_SYMMETRY  # noqa: E402
+from fem.modes import N_SAMPLE_X, N_SAMPLE_Y, ModeSolverError  # noqa: E402
+from fem.solid3d.model import identify_sampled  # noqa: E402
 
 GAPS_M = (0.0, 0.5e-3, 2e-3)
 """Electrode gaps of the study (m)."""
@@ -295,21 +286,14 @@ def condensed_eigs(pl: SfepyPlate, f_center_Hz: float, n_modes: int, open_circui
     return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), vec
 
 
-def _thickness_symmetry(top: np.ndarray, bottom: np.ndarray) -> float:
-    even = 0.5 * (top[:2] + bottom[:2])
-    odd = 0.5 * (top[2] - bottom[2])
-    total = 0.5 * float(np.sum(top**2) + np.sum(bottom**2))
-    return (float(np.sum(even**2)) + float(np.sum(odd**2))) / total if total > 0 else 0.0
-
-
 def identify(pl: SfepyPlate, freqs: np.ndarray, shapes: np.ndarray) -> dict[str, int]:
-    """Index of L1 and B2 among ``shapes`` (rules of ``fem.solid3d.model``; SfePy interpolation)."""
+    """Index of L1 and B2 among ``shapes``: the rules of :func:`fem.solid3d.model.
+    identify_sampled` on the modes sampled by SfePy's own interpolation."""
     st = pl.stator
     inset = 1e-9
     xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
     ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
     X, Y = np.meshgrid(xs, ys)
-    refs = reference_shapes(X, Y, st.length_m)
     n_nod, k = pl.coor.shape[0], shapes.shape[1]
     vals = shapes.reshape(n_nod, 3 * k)  # interleaved dofs: columns (component, mode) per node
     sampled = {}
@@ -318,30 +302,12 @@ def identify(pl: SfepyPlate, freqs: np.ndarray, shapes: np.ndarray) -> dict[str,
         pts = np.column_stack((X.ravel(), Y.ravel(), np.full(X.size, zz)))
         s = pl.field.evaluate_at(pts, vals)[:, :, 0]  # (points, 3k)
         sampled[key] = s.reshape(X.shape + (3, k)).transpose(2, 0, 1, 3)  # (3, ny, nx, k)
-    centre = X.shape[1] // 2
-    floor = 1e-3 * max(float(np.max(np.abs(freqs))), 1.0)
-    out = {}
-    for name in ("L1", "B2"):
-        best = None
-        for i in range(k):
-            if abs(freqs[i]) < floor:
-                continue
-            zsym = _thickness_symmetry(sampled["top"][..., i], sampled["bottom"][..., i])
-            if zsym < MIN_THICKNESS_SYMMETRY:
-                continue
-            u = sampled["mid"][:2, ..., i]
-            sym = symmetric_fraction(u)
-            if (sym if name == "L1" else 1.0 - sym) < MIN_SYMMETRY:
-                continue
-            if name == "B2" and sign_changes(u[0][:, centre]) != 3:
-                continue
-            score = modal_assurance(u, refs[name])
-            if score >= MIN_MAC and (best is None or score * zsym > best[1]):
-                best = (i, score * zsym)
-        if best is None:
-            raise RuntimeError(f"SfePy: {name} not found among {np.round(freqs, 1).tolist()} Hz")
-        out[name] = best[0]
-    return out
+    try:
+        found = identify_sampled(X, Y, sampled, np.ones(X.shape, dtype=bool), st.length_m,
+                                 freqs)
+    except ModeSolverError as exc:
+        raise RuntimeError(f"SfePy: {exc}") from None
+    return {name: int(v[0]) for name, v in found.items()}
 
 
 def sfepy_row(stator: PlateStator, material: PiezoMaterial, per_width: int, layers: int,
