@@ -2613,18 +2613,14 @@ def _limits_input_claims() -> tuple[Claim, ...]:
         Claim("limits_scale_voltage_V", "V", _SHOW.format("limits_scale_voltage_V")
               + " (contact.model.MAX_STATIC_DEFLECTION_M over Table 2's static deflection "
               "per volt)", _scale_voltage_V, cheap=True, rel_tol=1e-9),
-        Claim("limits_prepass_cap_zeta", "-", _SHOW.format("limits_prepass_cap_zeta")
-              + " (1.5 ln(1/PRE_PASS_SETTLE) / (2 pi MAX_PRE_PASS_PERIODS))",
-              lambda: _prepass_zeta("cap"), cheap=True, rel_tol=1e-9),
-        Claim("limits_prepass_warn_zeta", "-", _SHOW.format("limits_prepass_warn_zeta")
-              + " (ln(1/UNSETTLED_SHARE) / (2 pi 2/3 MAX_PRE_PASS_PERIODS))",
-              lambda: _prepass_zeta("warn"), cheap=True, rel_tol=1e-9),
-        Claim("steady_undriven_14N_hold_N", "N", _SHOW.format("steady_undriven_14N_hold_N")
-              + " (mu_s F_P + mu_sd (F_P + M g), Table 2, 14 N)",
-              lambda: _undriven_friction_N("hold"), cheap=True, rel_tol=1e-12),
-        Claim("steady_undriven_14N_slide_N", "N", _SHOW.format("steady_undriven_14N_slide_N")
-              + " (mu_d F_P + mu_sd (F_P + M g), Table 2, 14 N)",
-              lambda: _undriven_friction_N("slide"), cheap=True, rel_tol=1e-12),
+        *(Claim(f"limits_prepass_{k}_zeta", "-", _SHOW.format(f"limits_prepass_{k}_zeta")
+                + f" ({formula})", lambda k=k: _prepass_zeta(k), cheap=True, rel_tol=1e-9)
+          for k, formula in (("cap", "1.5 ln(1/PRE_PASS_SETTLE) / (2 pi MAX_PRE_PASS_PERIODS)"),
+                             ("warn", "ln(1/UNSETTLED_SHARE) / (2 pi 2/3 MAX_PRE_PASS_PERIODS)"))),
+        *(Claim(f"steady_undriven_14N_{k}_N", "N", _SHOW.format(f"steady_undriven_14N_{k}_N")
+                + f" ({mu} F_P + mu_sd (F_P + M g), Table 2, 14 N)",
+                lambda k=k: _undriven_friction_N(k), cheap=True, rel_tol=1e-12)
+          for k, mu in (("hold", "mu_s"), ("slide", "mu_d"))),
         Claim("steady_char_fem_400V_14N_stall_N", "N",
               "lusm characteristic --source fem --voltage 400 --preload 14 --frequency auto "
               "--json (stall_force_N)",
