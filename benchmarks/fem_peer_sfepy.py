@@ -457,6 +457,14 @@ def main(argv: list[str] | None = None) -> None:
                 add(sfepy_row(st, mat, 4, 4))
                 refs[gap] = add(sfepy_row(st, mat, 6, 6))
 
+    _print_table(rows, refs)
+    for gap in GAPS_M:
+        _print_tiers(rows, refs[gap], gap)
+
+
+def _print_table(rows: list[Row], refs: dict[float, Row]) -> None:
+    """Every row of the study as a Markdown table, with its errors against its gap's
+    reference and its CPU time over the 2D model's."""
     print("| gap (mm) | model | mesh | dofs | L1 f_short (Hz) | L1 f_open (Hz) | B2 f_short (Hz) "
           "| B2 f_open (Hz) | k L1 | k B2 | max freq err | max k err | CPU / 2D |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -472,33 +480,37 @@ def main(argv: list[str] | None = None) -> None:
     print("\nmax freq err / max k err: largest relative difference from the reference (ref) of "
           "the four frequencies / of the two k_eff (k_B2 = 0 at gap 0: absolute there); "
           "CPU / 2D: CPU time as a multiple of the 2D model's at the same gap, same run\n")
-    for gap in GAPS_M:
-        ref = refs[gap]
-        for tol_f, tol_k in TIERS:
-            print(f"gap {_fmt_gap(gap)} mm, reference {ref.model} {ref.mesh}: fastest row (CPU) "
-                  f"within {tol_f:.0e} on the four frequencies and {tol_k:.0%} on both k_eff")
-            best = {}
-            for r in rows:
-                if r.gap_m != gap or r is ref:
-                    continue
-                e = _err(r, ref)
-                if max(e[:4]) <= tol_f and max(e[4:]) <= tol_k and (
-                        r.model not in best or r.cpu_s < best[r.model].cpu_s):
-                    best[r.model] = r
-            for model in ("2D", "3D", "SfePy"):
+
+
+def _print_tiers(rows: list[Row], ref: Row, gap: float) -> None:
+    """At one gap, the fastest row of each model within each accuracy tier of the
+    reference ``ref``, and SfePy's time over the project models'."""
+    cpu_2d = {r.gap_m: r.cpu_s for r in rows if r.model == "2D"}
+    for tol_f, tol_k in TIERS:
+        print(f"gap {_fmt_gap(gap)} mm, reference {ref.model} {ref.mesh}: fastest row (CPU) "
+              f"within {tol_f:.0e} on the four frequencies and {tol_k:.0%} on both k_eff")
+        best = {}
+        for r in rows:
+            if r.gap_m != gap or r is ref:
+                continue
+            e = _err(r, ref)
+            if max(e[:4]) <= tol_f and max(e[4:]) <= tol_k and (
+                    r.model not in best or r.cpu_s < best[r.model].cpu_s):
+                best[r.model] = r
+        for model in ("2D", "3D", "SfePy"):
+            if model in best:
+                r = best[model]
+                print(f"  {model}: {r.mesh}, {r.dofs} dofs, CPU "
+                      f"{r.cpu_s / cpu_2d[gap]:.3g} x the 2D model's")
+            else:
+                print(f"  {model}: none (besides the reference)")
+        if "SfePy" in best:
+            for model in ("2D", "3D"):
                 if model in best:
-                    r = best[model]
-                    print(f"  {model}: {r.mesh}, {r.dofs} dofs, CPU "
-                          f"{r.cpu_s / cpu_2d[gap]:.3g} x the 2D model's")
-                else:
-                    print(f"  {model}: none (besides the reference)")
-            if "SfePy" in best:
-                for model in ("2D", "3D"):
-                    if model in best:
-                        a, b = best["SfePy"], best[model]
-                        print(f"  SfePy / {model}: wall {a.wall_s / b.wall_s:.1f}x, "
-                              f"CPU {a.cpu_s / b.cpu_s:.1f}x")
-            print()
+                    a, b = best["SfePy"], best[model]
+                    print(f"  SfePy / {model}: wall {a.wall_s / b.wall_s:.1f}x, "
+                          f"CPU {a.cpu_s / b.cpu_s:.1f}x")
+        print()
 
 
 if __name__ == "__main__":
