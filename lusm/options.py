@@ -430,8 +430,8 @@ def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, agains
 
 HOLE_AREA_SHARE = 0.005
 """A through hole of diameter d in a plate of thickness h, length L and width W makes the 2D
-model miss the 0.05 % goal against 3D where ``d h > HOLE_AREA_SHARE L W`` (exploratory
-measurements, docs/fem3d.md): plane stress misses the 3D boundary layer, about h wide, along
+model miss the 0.05 % goal against 3D where ``d h > HOLE_AREA_SHARE L W`` (measured,
+docs/fem3d.md): plane stress misses the 3D boundary layer, about h wide, along
 the hole's rim."""
 
 

@@ -953,7 +953,7 @@ def _warn_unused_drive(study: Study, raw_axes: dict, where: str) -> None:
         raw = raw_axes[axis]
         return isinstance(raw, str) and raw.strip().lower() == DEFAULT_AXES[axis].lower()
 
-    # in the file's order; an axis written at its default is no request (review)
+    # in the file's order; an axis written at its default is no request
     given = [f"axes.{a}" for a in raw_axes if a in DRIVE_AXES and not default(a)]
     if given and not study.needs_motor:
         names = " and ".join(given) if len(given) < 3 else \
@@ -998,7 +998,7 @@ def _check_work(study: Study, where: str) -> None:
     if fe_work > top:
         about = "about " if estimated else ""
         # the mesh the study's plates are meshed by: a stator file's own (or gmsh's, at its
-        # [mesh] size_mm), where solver.fe_refine does nothing (review)
+        # [mesh] size_mm), where solver.fe_refine does nothing
         coarser = (f"a coarser mesh of study.stator {study.stator.path} (its [mesh] size_mm "
                    "or mesh file)"
                    if study.stator is not None and _planform(study.stator)
