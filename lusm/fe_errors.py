@@ -3,6 +3,9 @@ the stator file) that chose the plate, and why no L1/B2 pair exists there."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 from lusm import limits
 from lusm.errors import LusmError, short_reason
 from lusm.messages import typed
@@ -151,3 +154,17 @@ def fe_failure(exc: Exception, stator=None) -> ValueError:
     return ValueError(f"the FE solve failed for this stator ({reason}); check the "
                       "plate (--geometry or --length-mm, --width-mm, --thickness-mm, --gap-mm) "
                       "and --refine")
+
+
+@contextmanager
+def fe_failures_as_input(stator=None) -> Iterator[None]:
+    """Inside it, a mode-solver or sparse-solver failure is raised as :func:`fe_failure` (bad
+    input, one line); any other exception passes unchanged."""
+    from fem.modes import ModeSolverError
+
+    try:
+        yield
+    except Exception as exc:
+        if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
+            raise fe_failure(exc, stator) from exc
+        raise

@@ -2635,6 +2635,86 @@ def _limits_input_claims() -> tuple[Claim, ...]:
 # --- the claims --------------------------------------------------------------------------
 
 
+# --- docs/fem.md: every mode in a band (fem.band), issue 38's designer stator ---------------
+
+BAND_DESIGNER_TOML = """name = "issue 38: 35 x 8 x 3 mm PZT-8 plate with a 2 x 1 mm tip"
+[plate]
+length_mm = 35.0
+width_mm = 8.0
+thickness_mm = 3.0
+[electrodes]
+gap_mm = 0.5
+drive = [1, 4]
+[material]
+name = "pzt8"
+[tip]
+length_mm = 1.0
+width_mm = 2.0
+"""
+"""Issue 38's stator before tuning (``lusm tune --geometry FILE --fix length`` tunes it)."""
+
+_BAND_KEYS = ("width_mm", "f2d_Hz", "OB3_Hz", "B2_Hz", "L1_Hz", "T3_Hz", "OB3_offset",
+              "T3_offset", "count")
+"""Keys of :func:`_band_designer`."""
+
+
+@cache
+def _band_designer() -> dict[str, float]:
+    """Issue 38's stator tuned with ``--fix length``, then the default 3D model's band
+    (``lusm modes --geometry TUNED --model 3d --band``)."""
+    import tempfile
+    from pathlib import Path
+
+    from fem.band import band_modes, default_band_Hz
+    from fem.solid3d.model import modes_of_solid_model, solid_model
+    from fem.stator_file import load_stator
+    from fem.tuning import tune_plate
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "designer.toml"
+        path.write_text(BAND_DESIGNER_TOML, encoding="utf-8")
+        design = load_stator(path)
+    tuned = tune_plate(fix="length", start=design.stator, material=design.material)
+    model = solid_model(tuned.stator, design.material)
+    pair = modes_of_solid_model(model)
+    ops = {"L1": pair.L1.f_short_Hz, "B2": pair.B2.f_short_Hz}
+    band = band_modes(model, *default_band_Hz(ops), ops)
+    by = {m.name: m for m in band.modes}
+    return {"width_mm": tuned.stator.width_m * 1e3, "f2d_Hz": tuned.L1.f_short_Hz,
+            **{f"{n}_Hz": by[n].f_short_Hz for n in ("OB3", "B2", "L1", "T3")},
+            "OB3_offset": by["OB3"].offset, "T3_offset": by["T3"].offset,
+            "count": float(len(band.modes))}
+
+
+def _band_claims() -> tuple[Claim, ...]:
+    """docs/fem.md's band table of issue 38's stator (a tune and a 3D band: not cheap)."""
+    cmd = ("lusm tune --geometry FILE --fix length, then lusm modes --geometry TUNED "
+           "--model 3d --band (FILE: tools.doc_numbers.BAND_DESIGNER_TOML)")
+    units = {"width_mm": "mm", "count": "-"}
+    return tuple(Claim(f"band_designer_{k}", units.get(k, "Hz" if k.endswith("Hz") else "-"),
+                       cmd, lambda k=k: _band_designer()[k]) for k in _BAND_KEYS)
+
+
+@cache
+def _bvd_default() -> dict[str, float]:
+    """``lusm admittance --zeta 0.002``'s fitted circuit and port on the paper's plate."""
+    from fem.admittance import design_band_Hz, plate_admittance
+    from fem.equivalent_circuit import equivalent_circuit
+    from fem.modes import plate_modes
+
+    res = plate_admittance(None, "pzt8", *design_band_Hz(plate_modes()), 2001, zeta=0.002)
+    circuit = equivalent_circuit(res)
+    return {"C0_F": circuit.C0_F, "C0_clamped_F": res.port.C0_F, "max_rel": circuit.max_rel}
+
+
+def _bvd_claims() -> tuple[Claim, ...]:
+    """docs/fem3d.md's equivalent-circuit figures (one admittance: cheap)."""
+    return tuple(Claim(f"bvd_{k}", "F" if k.endswith("_F") else "-",
+                       "lusm admittance --zeta 0.002 --json (equivalent_circuit, C0_F)",
+                       lambda k=k: _bvd_default()[k], cheap=True, rel_tol=1e-3)
+                 for k in ("C0_F", "C0_clamped_F", "max_rel"))
+
+
 CLAIMS: tuple[Claim, ...] = (
     Claim("table2_f_L1_Hz", "Hz", "lusm params --source table2",
           lambda: _table2().f_L1_Hz, cheap=True, rel_tol=1e-12),
@@ -2858,6 +2938,8 @@ CLAIMS: tuple[Claim, ...] = (
     *_mesh_noise_claims(),
     *_reviewed_input_claims(),
     *_steady_input_claims(),
+    *_band_claims(),
+    *_bvd_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 
