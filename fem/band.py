@@ -272,9 +272,9 @@ def classify(X: np.ndarray, Y: np.ndarray, inside: np.ndarray, mid: np.ndarray,
     """
     in_plane = 1.0
     if top is not None and bottom is not None:
-        from fem.solid3d.model import _thickness_symmetric_fraction
+        from fem.solid3d.model import thickness_symmetric_fraction
 
-        in_plane = _thickness_symmetric_fraction(top, bottom)
+        in_plane = thickness_symmetric_fraction(top, bottom)
     mask = inside.astype(float)
     centre = X.shape[1] // 2
     if in_plane >= MIN_CLASS:
@@ -401,14 +401,14 @@ def solve_band(model, f_min_Hz: float, f_max_Hz: float, open_circuit: bool = Fal
 def _samples(model, shapes: np.ndarray):
     """``(X, Y, inside, {'mid', 'top', 'bottom'}: (c, ny, nx, n))`` of the shapes."""
     if _is_solid(model):
-        from fem.solid3d.model import _sampling3d
+        from fem.solid3d.model import sampling_points_3d
 
-        X, Y, probes, inside = _sampling3d(model)
+        X, Y, probes, inside = sampling_points_3d(model)
         return X, Y, inside, {k: (p @ shapes).reshape(3, *X.shape, -1)
                               for k, p in probes.items()}
-    from fem.modes import _sampling
+    from fem.modes import sampling_points
 
-    X, Y, P, inside = _sampling(model)
+    X, Y, P, inside = sampling_points(model)
     return X, Y, inside, {"mid": (P @ shapes).reshape(2, *X.shape, -1)}
 
 

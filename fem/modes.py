@@ -428,7 +428,7 @@ def sampling_grid(stator: PlateStator) -> tuple[np.ndarray, np.ndarray]:
     return np.meshgrid(xs, ys)
 
 
-def _sampling(
+def sampling_points(
     model: PiezoPlateModel,
 ) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, np.ndarray]:
     """Sampling grid over the bounding box, probe matrix and mask of the points used.
@@ -498,7 +498,7 @@ def identify_modes(
     model: PiezoPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray
 ) -> dict[str, tuple[int, float, float]]:
     """Index, MAC and symmetry fraction of L1 and B2 among the computed modes."""
-    X, Y, P, inside = _sampling(model)
+    X, Y, P, inside = sampling_points(model)
     refs = {k: v * inside
             for k, v in reference_shapes(X, Y, overall_length_m(model.stator)).items()}
     sampled = (P @ shapes).reshape(2, *X.shape, -1)

@@ -58,7 +58,7 @@ Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z
 (symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
 modes that are not symmetric through the thickness (out-of-plane bending, torsion). On a
 non-rectangular planform the sampling points outside the mesh (and their mirror images about
-``x = 0``) are dropped, as in :func:`fem.modes._sampling`.
+``x = 0``) are dropped, as in :func:`fem.modes.sampling_points`.
 """
 
 from __future__ import annotations
@@ -883,7 +883,7 @@ def solid_frequencies_Hz(
                                        maxiter, model.saddle_point_order(open_circuit))
 
 
-def _sampling3d(model: SolidPlateModel):
+def sampling_points_3d(model: SolidPlateModel):
     """Sampling grid (ny, nx), probe matrices at mid-plane/top/bottom, mask of points used.
 
     On a planform mesh, grid points outside it (and their mirror images about ``x = 0``) are
@@ -904,7 +904,7 @@ def _sampling3d(model: SolidPlateModel):
         # scikit-fem locates points on the mesh's own (polygonal) edges, which can miss a
         # grid point the nominal outline counts inside (beside a hole on the centre line:
         # "Point is outside of the mesh" after the whole 3D solve); such points are dropped
-        # like those outside, as in 2D (fem.modes._sampling)
+        # like those outside, as in 2D (fem.modes.sampling_points)
         flat = inside.ravel()
         for _, z in levels:
             pts = np.vstack((X.ravel(), Y.ravel(), np.full(X.size, z)))
@@ -932,7 +932,7 @@ def _probes3d(model: SolidPlateModel, X: np.ndarray, Y: np.ndarray, inside: np.n
     return probes
 
 
-def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
+def thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
     """Energy fraction of (top, bottom) samples (3, ...) in the in-plane (z-symmetric) class."""
     even = 0.5 * (top[:2] + bottom[:2])
     odd = 0.5 * (top[2] - bottom[2])
@@ -942,7 +942,7 @@ def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
 
 
 def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
-    X, Y, probes, inside = _sampling3d(model)
+    X, Y, probes, inside = sampling_points_3d(model)
     sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
     return identify_sampled(X, Y, sampled, inside, overall_length_m(model.stator), freqs_Hz)
 
@@ -990,7 +990,7 @@ def identify_sampled(
     refs = reference_shapes(X, Y, length_m)
     if not inside.all():
         refs = {k: v * inside for k, v in refs.items()}
-    zsym = np.array([_thickness_symmetric_fraction(sampled["top"][..., i],
+    zsym = np.array([thickness_symmetric_fraction(sampled["top"][..., i],
                                                    sampled["bottom"][..., i])
                      for i in range(sampled["mid"].shape[-1])])
     return match_modes(sampled["mid"][:2], freqs_Hz, refs, names,
