@@ -110,7 +110,7 @@ def user_error(exc: BaseException) -> LusmError:
     if line.startswith("the parameter set's mode matrices overflow"):
         from lusm.messages import typed
 
-        if typed("--params"):  # the file's values: it named nothing, from deep in NumPy
+        if typed("--params"):  # the file's values: named, not a bare NumPy message
             return LusmError(f"--params: {line}", "--params")
     return LusmError(assignments_as_options(line))
 
@@ -175,7 +175,7 @@ def short_reason(exc: Exception | str) -> str:
 
 def design_error_text(path: str | Path, exc: BaseException) -> str:
     """A stator file's refusal on one line that names the file: the operating system's
-    reason for a file it cannot open (it printed ``[Errno 13] Permission denied: '...'``)."""
+    reason for a file it cannot open, not ``[Errno 13] Permission denied: '...'``."""
     if isinstance(exc, OSError) and exc.strerror:  # the file it is about: its mesh, maybe
         text = f"{exc.filename or path}: {exc.strerror}"
     else:

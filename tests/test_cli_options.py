@@ -99,6 +99,9 @@ TARGETS = [
     ("modes", o, ["--refine", "2"])
     for o in ("--length-mm", "--width-mm", "--thickness-mm", "--gap-mm", "--refine")
 ] + [
+    ("modes", o, ["--refine", "2", "--band", "40:60", "--risk-pct", "5"])
+    for o in ("--band", "--risk-pct")
+] + [
     ("admittance", o, ["--refine", "2", "--points", "50"])
     for o in ("--f-min", "--f-max", "--points", "--zeta")
 ] + [

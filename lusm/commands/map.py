@@ -57,8 +57,8 @@ def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> 
     from lusm.options import time_step_of
 
     # the steady engine takes its own step; --dt serves only the transient of an undecided
-    # point. A typed one gets the transients' range all the same (--dt 1e-3 had run without
-    # a word, the undecided points silently at T/20); the default is within it
+    # point. A typed one gets the transients' range all the same (--dt 1e-3 is refused, not
+    # replaced by T/20 without a word); the default is within it
     why = (" (with --method steady it serves the transient of a point the steady engine "
            "cannot decide)" if args.method == "steady" else "")
     args.dt = time_step_of(args.dt, frequency_Hz, why)  # default: whole steps per period
@@ -171,7 +171,7 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
     for i, v in enumerate(m.voltages_V):
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
-    # the speeds too (they had been in --json only): mm/s, 4 significant digits
+    # the speeds too, as --json gives them: mm/s, 4 significant digits
     print("slider velocity (mm/s), V0 (V) \\ F_P (N)")
     print(f"{'':>8}  " + " ".join(f"{f:>9g}" for f in m.preloads_N))
     for i, v in enumerate(m.voltages_V):
@@ -194,7 +194,7 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
         if undecided:
             from contact.maps import fallback_duration_s
 
-            # it said 0.3 s where a longer --duration ran
+            # the duration the fallback transients ran, --duration's where longer than 0.3 s
             print(f"undecided by the steady engine (creep, no periodic tip orbit): {undecided} "
                   f"point(s), taken from {fallback_duration_s(args.duration, freq):g} s "
                   "transients (see --json)")

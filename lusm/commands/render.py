@@ -57,11 +57,11 @@ def run(args: argparse.Namespace) -> None:
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
     from contact.deferred_signals import deferred_signals
 
-    with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
+    with deferred_signals():  # not interrupted half-way: a signal there crashes VTK
         import pyvista  # noqa: F401
 
     def draw(stage):
-        # a signal inside VTK's rendering printed VTK errors or crashed it (as the design
+        # a signal inside VTK's rendering prints VTK errors or crashes it (as the design
         # report's pictures, exit 139): drawn with SIGINT/SIGTERM held, delivered once they
         # are done (about a second, three with --animate), when the staging is discarded
         with deferred_signals():

@@ -41,8 +41,8 @@ def run(args: argparse.Namespace) -> None:
     try:
         doc = _write(args, out)
     except OSError as exc:
-        # a full disk or a file-size limit while the set is written: it said "cannot use:
-        # File too large", naming neither --out nor the folder
+        # a full disk or a file-size limit while the set is written: said naming --out and
+        # the folder, not as the bare "File too large"
         where = Path(os.fsdecode(exc.filename)).absolute() if exc.filename else None
         if where is not None and out.absolute().parent not in (where, *where.parents):
             raise  # not the report's own files
