@@ -160,7 +160,7 @@ class Characteristic(FrozenArrays):
 
 
 MAX_POINTS = 10_000
-"""Most loads of one curve (``points``, or ``loads_N``): 1e9 ran for minutes before
+"""Most loads of one curve (``points``, or ``loads_N``): 1e9 would run for minutes before
 anything."""
 
 STALL_RTOL = EXACT_ROOT_RTOL

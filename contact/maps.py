@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bounds import ParameterError
 from contact.model import OperatingPoint, check_rest
 from contact.operating_limits import operating_limits, simulation_limits
 from contact.options import SimulationOptions, options_or_default
@@ -202,8 +203,9 @@ def stick_slip_map(
     if workers is not None and (isinstance(workers, bool)
                                 or not isinstance(workers, numbers.Integral) or workers < 1):
         # 0 is no number of threads, and -1 is named here, not by the thread pool
-        raise ValueError(f"workers must be an integer >= 1 or None (every CPU), got "
-                         f"{workers!r}")
+        raise ParameterError("workers", workers, 1, None,
+                             message=f"workers must be an integer >= 1 or None (every CPU), "
+                             f"got {workers!r}")
     n_workers = workers or os.cpu_count() or 1
     t0 = time.perf_counter()
     if method == "steady":

@@ -169,7 +169,7 @@ def _main(argv: Sequence[str] | None) -> int:
     for attr, option, what in (("geometry", "--geometry", "a stator file"),
                                ("params", "--params", "a parameter file")):
         value = getattr(args, attr, None)
-        if value is not None and not str(value).strip():  # "" read as "not given" before
+        if value is not None and not str(value).strip():  # "" is not "not given"
             print(f"lusm {args.command}: error: {option} must name {what}, got {value!r}",
                   file=sys.stderr)
             return 2
@@ -206,8 +206,8 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
         from lusm.messages import in_file_terms, record_said
 
         text = in_file_terms(assignments_as_options(_one_line(str(message))))
-        # a --json summary lists it too (lusm explore's), also when it was said before the
-        # summary's record opened (review)
+        # a --json summary lists it too (lusm explore's), also when it is said before the
+        # summary's record opens
         record_said(text)
         if text not in seen:
             seen.add(text)

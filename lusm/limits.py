@@ -30,8 +30,7 @@ PLANE_STRESS_RATIO = 0.6
 B2's 2D frequency falls below the 3D model's as the plate thickens: on a 25 x 5 mm plate
 with a 0.3 mm gap, -0.024 % at 3 mm thickness (0.6) and -0.081 % at 4 mm (0.8) against the
 3D model at refine 5, layers 5 (``lusm modes --length-mm 25 --width-mm 5 --gap-mm 0.3
---thickness-mm H [--model 3d --refine 5 --layers 5]``); at 1.0, the former threshold,
-exploratory tests measured -0.19 %."""
+--thickness-mm H [--model 3d --refine 5 --layers 5]``); at 1.0 it is -0.19 %."""
 VOLTAGE_V = (0.0, 2000.0)
 """Drive amplitude V0 (V): refused outside. The linear piezoelectric model and PZT-8's
 polarisation do not survive fields of ~1 kV/mm; Table 2's motor runs at 50-450 V."""

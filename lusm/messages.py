@@ -51,8 +51,7 @@ def forget_warnings() -> None:
 
 def warn(message: str) -> None:
     """One warning line on stderr: ``lusm <cmd>: warning: ...``, once per command (lusm
-    report of a stator with a hole had said the hole's and the thin plate's warnings twice,
-    once per stage that builds the FE model)."""
+    report builds the FE model in several stages, each of which warns)."""
     text = in_file_terms(message)
     line = f"{_COMMAND[0]}: warning: {text}"
     record_said(text)  # also when said before the record opened: the --json lists it too

@@ -239,16 +239,16 @@ def params_from_file(path_text: str):
     if not path.exists():
         raise LusmError(f"--params {path_text}: no such file", "--params")
     try:
-        # bounded: a 512 MB file was read whole (1.1 GB of memory), a FIFO would block
+        # bounded: a 512 MB file is not read whole (1.1 GB of memory), nor a FIFO waited on
         data = json.loads(read_small_text(path, MAX_PARAMS_FILE_BYTES))
     except (OSError, ValueError) as exc:  # NotRegularFile, FileTooLarge, decoding: ValueError
-        if isinstance(exc, NotRegularFile):  # /dev/zero was "no such file"
+        if isinstance(exc, NotRegularFile):  # /dev/zero: not "no such file"
             why = f": not a regular file ({exc.what})"
         elif isinstance(exc, FileTooLarge):
             why = (f" has {exc.size} bytes, above {MAX_PARAMS_FILE_BYTES} for a parameter set "
                    "(about 1 kB)")
-        elif isinstance(exc, OSError):  # it said "not a JSON parameter set" of a file it
-            why = f": cannot read it ({exc.strerror or exc})"  # could not read
+        elif isinstance(exc, OSError):  # unreadable, not "not a JSON parameter set"
+            why = f": cannot read it ({exc.strerror or exc})"
         elif isinstance(exc, UnicodeDecodeError):
             why = (f": not UTF-8 text (byte {exc.start}: {exc.reason}); save it with "
                    "'lusm params --json'")
@@ -266,12 +266,12 @@ def params_from_file(path_text: str):
         text = str(exc).replace("MotorParams.", "key ")
         raise LusmError(f"--params {path_text}: {text}", "--params") from None
     # the derived keys follow the stored fields: an edit of C_l leaves a stale zeta_L1, which
-    # was refused although the help says to edit C_l; recomputed, and said so
+    # is recomputed, and said so (the help says to edit C_l)
     edited = []
     for key in derived:
         got, want = data.get(key), getattr(params, key)
-        # to single precision's rounding: a file written from float32 data was told its
-        # derived keys were edited, and its source text changed
+        # to single precision's rounding: a file written from float32 data keeps its
+        # derived keys and its source text
         if isinstance(got, (int, float)) and derived_disagrees(params, key, got):
             warn(f"--params {path_text}: {key} = {got:.6g} in the file is derived; recomputed "
                  f"from the stored fields as {want:.6g} (to change it, edit "
@@ -294,8 +294,8 @@ _SOURCES_OF = {"eta_N": "phi_L0, phi_Ll", "eta_T": "phi_B0, phi_Bl",
 
 def _check_params_ranges(params, path_text: str) -> None:
     """The ranges a stator file holds the same quantities to (``[contact]``, ``[slider]``,
-    ``[friction]``, ``[damping]``): a --params file skipped them (k_contact = 1e15 N/m,
-    damping ratios of 7e-7 were run)."""
+    ``[friction]``, ``[damping]``), so that a --params file cannot run k_contact = 1e15 N/m
+    or damping ratios of 7e-7."""
     from fem.stator_file import DAMPING_RATIO_RANGE, MOTOR_KEYS
 
     for table in MOTOR_KEYS.values():
@@ -332,8 +332,8 @@ def stator_options_text(args: argparse.Namespace) -> str:
     """The stator options the user typed, as they go on a ``lusm`` command line:
     ``--geometry FILE`` (the path as given) or the typed plate options and ``--material``
     (empty for the paper's plate). A report cites its commands with these, so that each
-    reproduces the report's numbers (they had said ``--geometry ...`` for a report on
-    ``--length-mm 60``, which no file stands behind)."""
+    reproduces the report's numbers (``--length-mm 60``, not a ``--geometry ...`` that no
+    file stands behind)."""
     import shlex
 
     if getattr(args, "geometry", None):
@@ -403,8 +403,8 @@ def check_plate_mm(length: float, width: float, thickness: float, gap: float,
                         f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
                         f"{gap_name}", option)
     if not three_d and thin_warning:
-        # the default thickness is said to be one: a 1000 x 1 mm plate had been warned about
-        # a --thickness-mm 3 the user never typed (review)
+        # the default thickness is said to be one: a 1000 x 1 mm plate is warned about a
+        # thickness the user did not type
         default = file is None and not typed("--thickness-mm")
         warn_thin_plate(f"{where}{'the default ' if default else ''}{thick} {thickness:g}",
                         thickness, min(length, width), "the plate's smaller in-plane dimension")
@@ -417,7 +417,7 @@ def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, agains
     :data:`limits.PLANE_STRESS_RATIO`."""
     ratio = thickness_mm / inplane_mm
     if ratio > limits.PLANE_STRESS_RATIO:
-        # at 133 x (--thickness-mm 1000) the measured 0.6 % read as the error to expect
+        # at 133 x (--thickness-mm 1000) the measured 0.6 % is not the error to expect
         beyond = (f"; beyond {MEASURED_THICK_RATIO:g} x its error is not measured, and its "
                   "frequencies and force factors need not be a plate's at all"
                   if ratio > MEASURED_THICK_RATIO * 1.5 else "")
@@ -430,8 +430,8 @@ def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, agains
 
 HOLE_AREA_SHARE = 0.005
 """A through hole of diameter d in a plate of thickness h, length L and width W makes the 2D
-model miss the 0.05 % goal against 3D where ``d h > HOLE_AREA_SHARE L W`` (exploratory
-measurements, docs/fem3d.md): plane stress misses the 3D boundary layer, about h wide, along
+model miss the 0.05 % goal against 3D where ``d h > HOLE_AREA_SHARE L W`` (measured,
+docs/fem3d.md): plane stress misses the 3D boundary layer, about h wide, along
 the hole's rim."""
 
 
@@ -439,7 +439,7 @@ def warn_holes(stator, subject: str) -> None:
     """The 2D model's warning for through holes: 2D is softer than 3D around a hole's rim
     (the 3D boundary layer there is about a thickness wide), by 0.08-0.11 % on L1 and B2 for
     a 1 mm hole at the centre of the paper's 3 mm plate and 0.2-0.4 % for a 3 mm one
-    (``benchmarks/fem_holes_2d_3d.py``); a parametric stator with holes said nothing."""
+    (``benchmarks/fem_holes_2d_3d.py``); a parametric stator with holes is warned too."""
     holes = getattr(stator, "holes_m", ())
     h = stator.thickness_m
     bound = HOLE_AREA_SHARE * stator.length_m * stator.width_m
@@ -503,8 +503,8 @@ def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> Sta
 def warn_refine_unused(choice: StatorChoice, geometry: str) -> None:
     """Warn that ``--refine`` has no effect on a stator file that carries its mesh or is
     meshed by gmsh: the 2D model solves on that mesh and the 3D model extrudes it (modes,
-    render, admittance and sweep ran the same mesh whatever --refine said; a convergence
-    study over --refine looked converged)."""
+    render, admittance and sweep run the same mesh whatever --refine says, and a
+    convergence study over --refine would look converged)."""
     if choice.meshed or choice.parametric:
         warn_unused(("--refine",), f"--geometry {geometry} is meshed by "
                     + ("gmsh at its [mesh] size_mm (default min(length, width) / 8)"
@@ -554,8 +554,8 @@ def check_fe_work(cells: int, solves: int, three_d: bool, option: str,
     ``cells`` elements (or bricks) on average. Each mesh is also bounded alone
     (:func:`check_fe_size`); a sweep or a tuning multiplies it. A parametric ``stator`` is
     meshed by gmsh at its ``[mesh] size_mm``, which ``--refine`` does not change: the
-    message then names --geometry and that key (it said "lower --refine" beside the
-    warning that --refine has no effect). ``fewer`` says how to ask for fewer solves, or is
+    message then names --geometry and that key (not "lower --refine", which has no effect
+    there). ``fewer`` says how to ask for fewer solves, or is
     empty where the command's solves are not the user's to choose (a tuning)."""
     from fem.meshing.parametric import ParametricStator
 
@@ -596,8 +596,8 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     and is the file's for a stator with its own mesh (bounded when it is read). ``layers``
     selects the 3D count; ``layers_option``: whether the command has ``--layers`` to name
     (``tune --model 3d`` takes three layers and has none); ``has_option``: whether it has
-    ``option`` at all (``report``, ``simulate --source fem`` have no ``--refine``, and were
-    told to lower it); ``needs_b2``: the command solves the 2D model for L1 and B2, so a plate
+    ``option`` at all (``report``, ``simulate --source fem`` have no ``--refine`` to lower);
+    ``needs_b2``: the command solves the 2D model for L1 and B2, so a plate
     too slender for the solver to reach B2 is refused first (:func:`check_b2_in_reach`; not
     for the 3D model, whose search holds other modes, nor for an admittance over a band
     the user gave, which needs no L1/B2).
@@ -698,18 +698,18 @@ def beam_of_plate(args: argparse.Namespace):
             f"electrodes {', '.join(map(str, st.drive_electrodes))} driven touch the grounded "
             "ones (no gap strip between them) and are one conductor, which cannot hold two "
             "voltages: the beam's drive would short")
-    if typed("--gap-mm"):  # 0.5 and 2 mm gave the same A_l without a word
+    if typed("--gap-mm"):  # 0.5 and 2 mm give the same A_l: said
         warn("--gap-mm: Appendix A's beam drives whole quadrants, so the gap's width does not "
              "enter its force factors (a gap of 0, one conductor, is refused); the FE set "
              "models the gap")
     length, width = st.length_m, st.width_m
     if has_planform(st):
         # the electroded body, as a parametric stator's length is: a mesh file's bounding
-        # box counted a 1 mm tip in (31 mm: L1 65.7 kHz against 67.9 kHz for the same stator
-        # described by its [tip] table)
+        # box would count a 1 mm tip in (31 mm: L1 65.7 kHz against 67.9 kHz for the same
+        # stator described by its [tip] table)
         x0, x1, y0, y1 = planform_mesh(st).electroded_box_m()
         length, width = y1 - y0, x1 - x0
-    # the plate's own drive: a stator file driving 2, 3 had the beam driven through 1, 4
+    # the plate's own drive: a stator file driving 2, 3 drives the beam through 2, 3
     return get_params("beam", length_m=length, width_m=width, thickness_m=st.thickness_m,
                       electrode_layout=plate_layout(st.drive_electrodes))
 
@@ -886,7 +886,7 @@ def real_list(option: str, unit: str, lo: float, hi: float, most: int):
             try:
                 values.append(one(item))
             except argparse.ArgumentTypeError:
-                # the text typed, not the item alone: '200,' had read "got ''", which the
+                # the text typed, not the item alone: '200,' is said, not "got ''", which the
                 # user never typed
                 why = "an empty item" if not item else f"{item!r} is not one"
                 raise argparse.ArgumentTypeError(
@@ -936,8 +936,8 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
                    type=real("--duration", "s", *limits.DURATION_S, lo_open=True),
                    help="simulated time (s)")
     # kept as typed and checked by time_step_of once the drive frequency is known: its range
-    # (0, 1/(20 f)] depends on it, and a parse-time range of its own, (0, 0.001] s, had been
-    # said to --dt 2e-3 before --dt 1e-4, inside it, was refused at 40 kHz
+    # (0, 1/(20 f)] depends on it; a parse-time range of its own, (0, 0.001] s, would accept
+    # a --dt that the drive frequency then refuses
     g.add_argument("--dt", default=None, type=_dt_form,
                    help="time step (s), in (0, 1/(20 f)] at the drive frequency f; default "
                         "1e-7 s, or just below it so that a drive period is a whole number of "
@@ -1084,9 +1084,9 @@ def _dt_shown(frequency_Hz: float, digits: int = 4) -> float:
     the last digit lower only where the rounded figure is a step the check refuses.
 
     Rounding to nearest keeps round bounds round (1e-06 s at 50 kHz: always rounding down,
-    from the float's binary value just below 1e-06, had said 9.999e-07); the step down keeps
-    the figure a step that is taken (1/(20 f) at 30 kHz, 1.6667e-06 s, read 1.667e-06, which
-    is above it and was refused).
+    from the float's binary value just below 1e-06, would say 9.999e-07); the step down keeps
+    the figure a step that is taken (1/(20 f) at 30 kHz, 1.6667e-06 s, not 1.667e-06, which
+    is above it and refused).
     """
     from decimal import Decimal
 
@@ -1094,7 +1094,7 @@ def _dt_shown(frequency_Hz: float, digits: int = 4) -> float:
     shown = Decimal(f"{exact:.{digits}g}")
     if float(shown) > _dt_max(frequency_Hz):
         # a unit of the last digit of the bound itself: rounding up to 1e-06 at 50001 Hz
-        # had moved the exponent, and the step down from it said 9.99e-07 (three digits)
+        # moves the exponent, and a step down from it would say 9.99e-07 (three digits)
         shown -= Decimal(1).scaleb(Decimal(exact).adjusted() - digits + 1)
     return float(shown)
 
@@ -1170,15 +1170,18 @@ def output_folder(args: argparse.Namespace, option: str) -> Path | None:
     work by :func:`check_output_folder`; None when the option was not given."""
     target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
     if target is not None:
-        check_output_folder(target, option, bool(getattr(args, "force", False)))
+        check_output_folder(target, option, bool(getattr(args, "force", False)),
+                            getattr(args, "command", None))
     return target
 
 
-def check_output_folder(target: Path, option: str, force: bool = False) -> None:
+def check_output_folder(target: Path, option: str, force: bool = False,
+                        command: str | None = None) -> None:
     """Refuse, before any work, an output folder the set could not be moved into or written.
 
     :func:`lusm.output_set.check_target` (a file, below a file, a non-empty folder lusm
-    did not write) plus: the nearest existing folder must be writable.
+    did not write, a folder of another command than ``command``) plus: the nearest existing
+    folder must be writable.
     """
     import os
 
@@ -1186,7 +1189,7 @@ def check_output_folder(target: Path, option: str, force: bool = False) -> None:
 
     check_path_usable(target, option)
     try:
-        check_target(target, option, force)
+        check_target(target, option, force, command)
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
     existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
@@ -1215,12 +1218,13 @@ def check_path_usable(path: Path, option: str) -> None:
 
 
 @contextmanager
-def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]:
+def figure_set(target: Path, option: str, force: bool = False,
+               command: str | None = None) -> Iterator[Path]:
     """:func:`lusm.output_set.output_set` with its failures as :class:`LusmError`."""
     from lusm.output_set import OutputError, output_set
 
     try:
-        with output_set(target, option, force) as stage:
+        with output_set(target, option, force, command) as stage:
             yield stage
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
@@ -1229,12 +1233,13 @@ def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]
                         option) from None
 
 
-def write_figures(target: Path, option: str, force: bool,
+def write_figures(args: argparse.Namespace, option: str,
                   draw: Callable[[Path], Sequence[str | Path]]) -> list[str]:
     """Draw a figure set into a staging folder (``draw(stage)`` returns the files it wrote)
-    and move it into ``target`` complete (:func:`figure_set`); returns the files' paths in
-    ``target``."""
-    with figure_set(target, option, force) as stage:
+    and move it into the folder of ``option`` complete (:func:`figure_set`, with ``--force``
+    and the command of ``args``); returns the files' paths in that folder."""
+    target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
+    with figure_set(target, option, args.force, args.command) as stage:
         return moved(draw(stage), stage, target)
 
 
@@ -1259,15 +1264,14 @@ UNEXCITED_FORCE_RATIO = 1e-6
 
 def warn_unexcited_mode(params, electrodes) -> None:
     """Warn when the drive's force factor of one mode is roundoff beside the other's: four
-    electrodes in phase gave A_b = 1.6e-15 N/V, a motor at 0 m/s with 0.54 W of input and a
-    'stall force' of 0 N, and --frequency auto picked the maximum of a noise ellipse, all
-    without a word."""
+    electrodes in phase give A_b = 1.6e-15 N/V, a motor at 0 m/s with 0.54 W of input and a
+    'stall force' of 0 N, and --frequency auto the maximum of a noise ellipse."""
     a_l, a_b = abs(params.A_l), abs(params.A_b)
     wires = ", ".join(map(str, electrodes))
     for name, small, big, other in (("B2", a_b, a_l, "L1"), ("L1", a_l, a_b, "B2")):
         if small <= UNEXCITED_FORCE_RATIO * big:
             # a diagonal pair that excites nothing (a material without piezoelectric
-            # constants) was told to drive the diagonal pair it drives
+            # constants) is pointed at the material, not at the pair it drives
             diagonal = sorted(electrodes) in ([1, 4], [2, 3])
             fix = ("the material's piezoelectric constants (e_C_m2) are what couple it: check "
                    "them" if diagonal else

@@ -307,8 +307,8 @@ def fem_params_from_design(design, stator=None, **kwargs) -> MotorParams:
                                     "set the file's [damping] frequency_Hz nearer to it")
             raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {text}") \
                 from None
-        # the reduction's description named the ratios it started from (Table 2's), not the
-        # fitted ones the set carries
+        # the set's description names the fitted ratios it carries, not the ones the
+        # reduction started from (Table 2's)
         before = f"damping ratios ({params.zeta_L1:.4g}, {params.zeta_B2:.4g})"
         after = f"damping ratios ({fitted.zeta_L1:.4g}, {fitted.zeta_B2:.4g}), fitted"
         params = replace(fitted, source=fitted.source.replace(before, after))

@@ -9,8 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from studies.explore import assemble, compute_geometry
+from studies.dataset import assemble
 from studies.study import load_study, study_from_dict
+from studies.task import compute_geometry
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 TUNED = EXAMPLES / "tuned_60k" / "stator.toml"

@@ -59,28 +59,6 @@ def test_the_default_characteristic_is_what_a_start_from_rest_reaches(capsys):
     assert "is not the one the finite-mass motor reaches from rest" in out.err
 
 
-_AT = ["--voltage", "400", "--preload", "14"]
-CHARACTERISTIC_REFUSALS = [
-    # (arguments after `lusm characteristic`, the option at fault, the range or bound the line
-    # gives); a malformed grid names the range too, as --load-N nan does
-    *[([*_AT, "--loads", bad], "--loads", "[-1000, 1000] N")
-      for bad in ("0:2:0", "a:b", "2:1:0.1", "nan", "2:0:0.1", "1e400", "0:1:nan")],
-    ([*_AT, "--loads", "0:2000:500"], "--loads", "[-1000, 1000] N"),
-    ([*_AT, "--loads", "0:1e9:1e-3"], "--loads", "above the limit 2000"),
-    ([*_AT, "--loads", "0:1e9:1"], "--loads", "LUSM_MAX_WORK"),
-    (["--voltage", "-1", "--preload", "14"], "--voltage", "[0, 2000] V"),
-]
-
-
-@pytest.mark.parametrize(("argv", "option", "allowed"), CHARACTERISTIC_REFUSALS)
-def test_characteristic_refuses_bad_input_in_one_line(argv, option, allowed, capsys):
-    assert main(["characteristic", *argv]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and err.startswith("lusm characteristic: error: "), err
-    subject = err.removeprefix("lusm characteristic: error: ")
-    assert subject.startswith(option) and allowed in subject, err
-
-
 def test_simulate_steady_with_a_load_matches_a_settled_transient(capsys):
     """lusm simulate --steady --load-N against the transient with the same load, settled."""
     import json

@@ -1522,10 +1522,15 @@ def _steady_creep(voltage_V: float, preload_N: float) -> dict[str, float]:
 
 def _steady_claims() -> tuple[Claim, ...]:
     """Figures of docs/steady.md."""
+    return (*_steady_200V_claims(), *_steady_point_claims(), *_steady_sweep_claims(),
+            *_steady_benchmark_claims())
+
+
+def _steady_200V_claims() -> list[Claim]:
+    """docs/steady.md's figures of 200 V / 14 N: its velocity at each level and their costs
+    (benchmarks/steady_speed.py)."""
     bench = "python benchmarks/steady_speed.py"
-    mapc = bench + " --map"
-    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
-    out = [
+    return [
         Claim("steady_200V_14N_transient_m_s", "m/s", bench + " (transient_m_s)",
               lambda: _steady_point()["transient"], cheap=True, rel_tol=1e-6),
         Claim("steady_200V_14N_fast_m_s", "m/s", bench + " (fast_m_s)",
@@ -1571,6 +1576,14 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_200V_14N_exact_vs_coarse_ratio", "-", bench + " (coarse_s / exact_s; "
               "here medians of 3)", lambda: _steady_point()["exact_vs_coarse_ratio"],
               batch="steady_point"),
+    ]
+
+
+def _steady_point_claims() -> list[Claim]:
+    """docs/steady.md's figures of single drive points: 150 V / 14 N, the characteristic at
+    30 kHz, loaded, no preload."""
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    return [
         Claim("steady_150V_14N_rest_m_s", "m/s", ex.format(v=150, f=14) + ".velocity_m_s",
               lambda: _steady_150()["rest"]),
         Claim("steady_150V_14N_rest_k", "-", ex.format(v=150, f=14) + ".from_rest.k",
@@ -1589,18 +1602,14 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("char_30kHz_exact_no_load_m_s", "m/s",
               "lusm characteristic --voltage 200 --preload 14 --frequency 30000",
               lambda: _char_30khz("exact")),
-        Claim("steady_400V_14N_1N_mean_FN_N", "N",
-              'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FN_N',
-              lambda: _steady_400_loaded().mean_FN_N, cheap=True, rel_tol=1e-7),
-        Claim("steady_400V_14N_1N_mean_FT_N", "N",
-              'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FT_N',
-              lambda: _steady_400_loaded().mean_FT_N, cheap=True, rel_tol=1e-7),
-        Claim("steady_char_450V_40N_stall_N", "N",
-              "lusm characteristic --voltage 450 --preload 40 --json (stall_force_N)",
-              lambda: _char_exact(450.0, 40.0).stall_force_N),
-        Claim("steady_char_450V_40N_averaged_stall_N", "N",
-              "lusm characteristic --voltage 450 --preload 40 --json (averaged_stall_force_N)",
-              lambda: _char_exact(450.0, 40.0).averaged_stall_force_N),
+        *(Claim(f"steady_400V_14N_1N_{k}", "N",
+                'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.' + k,
+                lambda k=k: getattr(_steady_400_loaded(), k), cheap=True, rel_tol=1e-7)
+          for k in ("mean_FN_N", "mean_FT_N")),
+        *(Claim(f"steady_char_450V_40N_{k}_N", "N",
+                f"lusm characteristic --voltage 450 --preload 40 --json ({k}_force_N)",
+                lambda k=k: getattr(_char_exact(450.0, 40.0), f"{k}_force_N"))
+          for k in ("stall", "averaged_stall")),
         Claim("contact_no_preload_200V_m_s", "m/s",
               "lusm simulate --voltage 200 --preload 0 --steady --json (steady_velocity_m_s)",
               lambda: _no_preload().velocity_m_s, cheap=True, rel_tol=1e-7),
@@ -1622,6 +1631,12 @@ def _steady_claims() -> tuple[Claim, ...]:
               "steady_150V_14N_rest_m_s - 1",
               lambda: _steady_150()["fast"] / _steady_150()["rest"] - 1),
     ]
+
+
+def _steady_sweep_claims() -> list[Claim]:
+    """docs/steady.md's figures over masses, loads and voltages."""
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    out = []
     for v, mass in ((200, 0.2), (200, 0.4), (200, 0.8), (400, 0.2), (400, 0.4), (400, 0.8)):
         out.append(Claim(
             f"steady_mass_error_{v}V_{int(mass * 10)}", "-",
@@ -1676,6 +1691,14 @@ def _steady_claims() -> tuple[Claim, ...]:
                     ("transient_175V", "m/s")):
         out.append(Claim(f"steady_branch_{k.replace('-', '_')}", unit, diag,
                          lambda k=k: _steady_branch_diagram()[k]))
+    return out
+
+
+def _steady_benchmark_claims() -> list[Claim]:
+    """docs/steady.md's figures of the map, scan and from-rest benchmarks and of creep."""
+    mapc = "python benchmarks/steady_speed.py --map"
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    out = []
     for k, unit in (("moving", "-"), ("held", "-"), ("fast_median", "-"), ("fast_p90", "-"),
                     ("fast_max", "-"), ("fast_held_max_m_s", "m/s"), ("exact_median", "-"),
                     ("exact_p90", "-"), ("exact_max", "-"), ("exact_held_max_m_s", "m/s"),
@@ -1715,7 +1738,7 @@ def _steady_claims() -> tuple[Claim, ...]:
                    if k == "transient" else ex.format(v=v, f=f))
             out.append(Claim(f"steady_creep_{v}V_{f}N_{k}_m_s", "m/s", cmd,
                              lambda v=v, f=f, k=k: _steady_creep(float(v), float(f))[k]))
-    return tuple(out)
+    return out
 
 
 # --- docs/steady.md: computed figures that had been marked input -------------------------
@@ -1903,18 +1926,15 @@ def _multi_cli_m_s() -> float:
 
 
 def _steady_input_claims() -> tuple[Claim, ...]:
-    """Computed figures of docs/steady.md that had been marked ``<!--input-->``."""
+    """Figures of docs/steady.md the tests check: the characteristics' stall forces and
+    creep, and the steady engine's hard cases."""
+    return (*_characteristic_input_claims(), *_steady_case_input_claims())
+
+
+def _characteristic_input_claims() -> tuple[Claim, ...]:
+    """docs/steady.md's stall forces and creep of speed-thrust characteristics."""
     c400 = "lusm characteristic --voltage 400 --preload 14 --json"
     c200 = "lusm characteristic --voltage 200 --preload 14 --json"
-    wrong = ("python -m tools.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
-             "14.72 N under -1.57 N: steady_state(table2(), 126.9, 14.72, load_N=-1.57), ")
-    beam = ("steady_state(get_params('beam'), 1000, 10, load_N=-1, frequency_Hz=40e3{})"
-            ".velocity_m_s")
-    stiff = ("python -m tools.doc_numbers --show {} (p = table2().with_(k_contact="
-             "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
-             "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
-    s252 = ("python -m tools.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
-            "252, 25.64, frequency_Hz=40414, accuracy='exact'), ")
     return (
         Claim("steady_char_400V_14N_exact_stall_N", "N", c400 + " (stall_force_N)",
               lambda: _char_exact(400.0, 14.0).stall_force_N, cheap=True, rel_tol=1e-6),
@@ -1960,6 +1980,22 @@ def _steady_input_claims() -> tuple[Claim, ...]:
               "1e-4 N, at which lusm simulate --voltage 100 --preload 14 --load-N L "
               "--duration 2 does not settle)",
               lambda: _threshold_load_N(100.0, 5.22, 5.24, 2.0, lambda s: not s.settled)),
+    )
+
+
+def _steady_case_input_claims() -> tuple[Claim, ...]:
+    """docs/steady.md's hard cases of the steady engine: thresholds, the wrong sheet, the
+    beam set's miss, a stiff contact, creep at 252 V."""
+    wrong = ("python -m tools.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
+             "14.72 N under -1.57 N: steady_state(table2(), 126.9, 14.72, load_N=-1.57), ")
+    beam = ("steady_state(get_params('beam'), 1000, 10, load_N=-1, frequency_Hz=40e3{})"
+            ".velocity_m_s")
+    stiff = ("python -m tools.doc_numbers --show {} (p = table2().with_(k_contact="
+             "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
+             "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
+    s252 = ("python -m tools.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
+            "252, 25.64, frequency_Hz=40414, accuracy='exact'), ")
+    return (
         Claim("steady_hold_check_200V_14N_m_s", "m/s",
               "contact.steady.exact.HOLD_CHECK_FACTOR x steady_ripple_scale_200V_14N_m_s",
               _hold_check_m_s, cheap=True, rel_tol=1e-9),
@@ -2046,9 +2082,10 @@ def _limits_claims() -> tuple[Claim, ...]:
     """Figures of docs/limits.md (the step bound and the largest 2D refine)."""
     sim = "lusm simulate --voltage 200 --preload 14 --json"
     return (
-        Claim("limits_reliability_cases", "-", "len(tests.test_reliability.CASES) (the named "
-              "bad inputs of python -m pytest tests/test_reliability.py)",
-              lambda: len(__import__("tests.test_reliability", fromlist=["x"]).CASES),
+        Claim("limits_bad_input_rows", "-", "sum(len(t) for t in tests.test_bad_input.TABLES"
+              ".values()) (the rows of python -m pytest tests/test_bad_input.py)",
+              lambda: sum(len(t) for t in __import__(
+                  "tests.test_bad_input", fromlist=["x"]).TABLES.values()),
               cheap=True, rel_tol=1e-12),
         Claim("limits_dt_bound_time_ratio", "-", sim + " --dt 2.5e-9 (wall_time_s) over " + sim
               + " (wall_time_s), each the fastest of 3 runs in one process",
@@ -2154,8 +2191,8 @@ def _explore_result_bytes_100() -> int:
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from explore_scaling import STUDY
 
-    from studies.explore import compute_geometry
     from studies.study import study_from_dict
+    from studies.task import compute_geometry
 
     axes = {**STUDY["axes"], "length": "30 mm", "width": "7.5 mm",
             "voltage": {"start": "100 V", "stop": "400 V", "num": 10},
@@ -2193,8 +2230,8 @@ def _tuned_length_study() -> dict[str, float]:
     """``lusm explore examples/studies/tuned_60k_length.toml``'s answers, each geometry computed
     in this process (``compute_geometry``, as a worker computes it): the L1-B2 split and the
     stall force at the shortest and the longest plate."""
-    from studies.explore import compute_geometry
     from studies.study import load_study
+    from studies.task import compute_geometry
 
     study = load_study(ROOT / "examples" / "studies" / "tuned_60k_length.toml")
     parts = [compute_geometry(study, i) for i in range(study.n_geometries)]
@@ -2501,7 +2538,13 @@ _CAP = ("python -c 'from fem.model import plate_model; "
 
 
 def _reviewed_input_claims() -> tuple[Claim, ...]:
-    """Computed figures the docs had marked ``<!--input-->`` (review of every input marker)."""
+    """Figures the docs quote in prose, computed here so that the tests check them."""
+    return (*_design_input_claims(), *_fe_input_claims(), *_limits_input_claims())
+
+
+def _design_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures of the beam's B2, the contact pre-pass, the drive and the tuned
+    60 kHz design."""
     return (
         Claim("beam_B2_half_wavelength_m", "m", _SHOW.format("beam_B2_half_wavelength_m")
               + " (pi l / (beta_2 l), the free-free B2 shape of Eq. 3)",
@@ -2536,6 +2579,13 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               _tuned60k_fold_m_s, cheap=True, rel_tol=3e-3),
         Claim("tuned60k_140V_14N_slip_m_s", "m/s", _T60 + " (branches: the stable pure-slip one)",
               _tuned60k_slip_m_s, cheap=True, rel_tol=1e-6),
+    )
+
+
+def _fe_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures of the 2D and 3D FE models: capacitances, gap weights, MAC, element
+    counts, admittance."""
+    return (
         Claim("fe2d_C_ee_F", "F", _CAP.format("diagonal"),
               lambda: _capacitance_pF()["C_ee"], cheap=True, rel_tol=1e-8),
         Claim("fe2d_C_13_F", "F", _CAP.format("[0, 2]"),
@@ -2576,6 +2626,13 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               _one_quadrant_b2_coupling, cheap=True, rel_tol=1e-6),
         Claim("adm_retained_modes", "-", "lusm admittance --json (retained_modes)",
               lambda: float(_retained_modes()), cheap=True, rel_tol=0.0),
+    )
+
+
+def _limits_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures behind the work bounds: steady steps per period, the lowest
+    frequency, scales of the pre-pass and of the undriven slider, stall forces of the FE set."""
+    return (
         Claim("study_steps_per_period_28mm_1kHz", "-",
               "contact.steady.slow.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 1 kHz (tests/test_explore.py)",
@@ -2601,18 +2658,14 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("limits_scale_voltage_V", "V", _SHOW.format("limits_scale_voltage_V")
               + " (contact.model.MAX_STATIC_DEFLECTION_M over Table 2's static deflection "
               "per volt)", _scale_voltage_V, cheap=True, rel_tol=1e-9),
-        Claim("limits_prepass_cap_zeta", "-", _SHOW.format("limits_prepass_cap_zeta")
-              + " (1.5 ln(1/PRE_PASS_SETTLE) / (2 pi MAX_PRE_PASS_PERIODS))",
-              lambda: _prepass_zeta("cap"), cheap=True, rel_tol=1e-9),
-        Claim("limits_prepass_warn_zeta", "-", _SHOW.format("limits_prepass_warn_zeta")
-              + " (ln(1/UNSETTLED_SHARE) / (2 pi 2/3 MAX_PRE_PASS_PERIODS))",
-              lambda: _prepass_zeta("warn"), cheap=True, rel_tol=1e-9),
-        Claim("steady_undriven_14N_hold_N", "N", _SHOW.format("steady_undriven_14N_hold_N")
-              + " (mu_s F_P + mu_sd (F_P + M g), Table 2, 14 N)",
-              lambda: _undriven_friction_N("hold"), cheap=True, rel_tol=1e-12),
-        Claim("steady_undriven_14N_slide_N", "N", _SHOW.format("steady_undriven_14N_slide_N")
-              + " (mu_d F_P + mu_sd (F_P + M g), Table 2, 14 N)",
-              lambda: _undriven_friction_N("slide"), cheap=True, rel_tol=1e-12),
+        *(Claim(f"limits_prepass_{k}_zeta", "-", _SHOW.format(f"limits_prepass_{k}_zeta")
+                + f" ({formula})", lambda k=k: _prepass_zeta(k), cheap=True, rel_tol=1e-9)
+          for k, formula in (("cap", "1.5 ln(1/PRE_PASS_SETTLE) / (2 pi MAX_PRE_PASS_PERIODS)"),
+                             ("warn", "ln(1/UNSETTLED_SHARE) / (2 pi 2/3 MAX_PRE_PASS_PERIODS)"))),
+        *(Claim(f"steady_undriven_14N_{k}_N", "N", _SHOW.format(f"steady_undriven_14N_{k}_N")
+                + f" ({mu} F_P + mu_sd (F_P + M g), Table 2, 14 N)",
+                lambda k=k: _undriven_friction_N(k), cheap=True, rel_tol=1e-12)
+          for k, mu in (("hold", "mu_s"), ("slide", "mu_d"))),
         Claim("steady_char_fem_400V_14N_stall_N", "N",
               "lusm characteristic --source fem --voltage 400 --preload 14 --frequency auto "
               "--json (stall_force_N)",
@@ -2625,6 +2678,86 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
 
 
 # --- the claims --------------------------------------------------------------------------
+
+
+# --- docs/fem.md: every mode in a band (fem.band), issue 38's designer stator ---------------
+
+BAND_DESIGNER_TOML = """name = "issue 38: 35 x 8 x 3 mm PZT-8 plate with a 2 x 1 mm tip"
+[plate]
+length_mm = 35.0
+width_mm = 8.0
+thickness_mm = 3.0
+[electrodes]
+gap_mm = 0.5
+drive = [1, 4]
+[material]
+name = "pzt8"
+[tip]
+length_mm = 1.0
+width_mm = 2.0
+"""
+"""Issue 38's stator before tuning (``lusm tune --geometry FILE --fix length`` tunes it)."""
+
+_BAND_KEYS = ("width_mm", "f2d_Hz", "OB3_Hz", "B2_Hz", "L1_Hz", "T3_Hz", "OB3_offset",
+              "T3_offset", "count")
+"""Keys of :func:`_band_designer`."""
+
+
+@cache
+def _band_designer() -> dict[str, float]:
+    """Issue 38's stator tuned with ``--fix length``, then the default 3D model's band
+    (``lusm modes --geometry TUNED --model 3d --band``)."""
+    import tempfile
+    from pathlib import Path
+
+    from fem.band import band_modes, default_band_Hz
+    from fem.solid3d.model import modes_of_solid_model, solid_model
+    from fem.stator_file import load_stator
+    from fem.tuning import tune_plate
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "designer.toml"
+        path.write_text(BAND_DESIGNER_TOML, encoding="utf-8")
+        design = load_stator(path)
+    tuned = tune_plate(fix="length", start=design.stator, material=design.material)
+    model = solid_model(tuned.stator, design.material)
+    pair = modes_of_solid_model(model)
+    ops = {"L1": pair.L1.f_short_Hz, "B2": pair.B2.f_short_Hz}
+    band = band_modes(model, *default_band_Hz(ops), ops)
+    by = {m.name: m for m in band.modes}
+    return {"width_mm": tuned.stator.width_m * 1e3, "f2d_Hz": tuned.L1.f_short_Hz,
+            **{f"{n}_Hz": by[n].f_short_Hz for n in ("OB3", "B2", "L1", "T3")},
+            "OB3_offset": by["OB3"].offset, "T3_offset": by["T3"].offset,
+            "count": float(len(band.modes))}
+
+
+def _band_claims() -> tuple[Claim, ...]:
+    """docs/fem.md's band table of issue 38's stator (a tune and a 3D band: not cheap)."""
+    cmd = ("lusm tune --geometry FILE --fix length, then lusm modes --geometry TUNED "
+           "--model 3d --band (FILE: tools.doc_numbers.BAND_DESIGNER_TOML)")
+    units = {"width_mm": "mm", "count": "-"}
+    return tuple(Claim(f"band_designer_{k}", units.get(k, "Hz" if k.endswith("Hz") else "-"),
+                       cmd, lambda k=k: _band_designer()[k]) for k in _BAND_KEYS)
+
+
+@cache
+def _bvd_default() -> dict[str, float]:
+    """``lusm admittance --zeta 0.002``'s fitted circuit and port on the paper's plate."""
+    from fem.admittance import design_band_Hz, plate_admittance
+    from fem.equivalent_circuit import equivalent_circuit
+    from fem.modes import plate_modes
+
+    res = plate_admittance(None, "pzt8", *design_band_Hz(plate_modes()), 2001, zeta=0.002)
+    circuit = equivalent_circuit(res)
+    return {"C0_F": circuit.C0_F, "C0_clamped_F": res.port.C0_F, "max_rel": circuit.max_rel}
+
+
+def _bvd_claims() -> tuple[Claim, ...]:
+    """docs/fem3d.md's equivalent-circuit figures (one admittance: cheap)."""
+    return tuple(Claim(f"bvd_{k}", "F" if k.endswith("_F") else "-",
+                       "lusm admittance --zeta 0.002 --json (equivalent_circuit, C0_F)",
+                       lambda k=k: _bvd_default()[k], cheap=True, rel_tol=1e-3)
+                 for k in ("C0_F", "C0_clamped_F", "max_rel"))
 
 
 CLAIMS: tuple[Claim, ...] = (
@@ -2851,6 +2984,8 @@ CLAIMS: tuple[Claim, ...] = (
     *_mesh_noise_claims(),
     *_reviewed_input_claims(),
     *_steady_input_claims(),
+    *_band_claims(),
+    *_bvd_claims(),
 )
 """Every quoted result, in the order the generator computes them."""
 

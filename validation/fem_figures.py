@@ -11,13 +11,16 @@ from pathlib import Path
 import numpy as np
 
 from fem.admittance import AdmittanceResult
+from fem.equivalent_circuit import EquivalentCircuit
 from fem.sweep import SweepResult
 from validation.plotting import pyplot, save
 
 
-def admittance_figure(result: AdmittanceResult, path: str | Path) -> Path:
-    """PNG of ``|Y|`` (log scale) and its phase against frequency, pairs marked."""
-    fig, _ = draw_admittance(result)
+def admittance_figure(result: AdmittanceResult, path: str | Path,
+                      circuit: EquivalentCircuit | None = None) -> Path:
+    """PNG of ``|Z|`` (ohm, log scale) and its phase against frequency, pairs marked, and the
+    fitted equivalent ``circuit`` over the computed curve where one is given."""
+    fig, _ = draw_admittance(result, circuit)
     # laid out already: the k_eff labels are placed on the final axes (a later tight layout
     # would move the resonances under labels measured on the old ones)
     return save(fig, path, tight=False)
@@ -27,10 +30,13 @@ LABEL_PAD_PT = 3.0
 """Gap between a k_eff label and its resonance line, and between label rows (points)."""
 
 
-def draw_admittance(result: AdmittanceResult):
+def draw_admittance(result: AdmittanceResult, circuit: EquivalentCircuit | None = None):
     """The figure of :func:`admittance_figure` and its k_eff labels (matplotlib ``Text``).
 
-    Each pair's label sits beside its resonance line at the top of the |Y| panel, in rows
+    The top panel is the impedance ``|Z| = 1 / |Y|`` in ohm, as an impedance analyser shows
+    it (the series resonance a minimum, the parallel one a maximum), with the fitted
+    Butterworth-Van Dyke ``circuit`` dashed over it; the bottom panel its phase.
+    Each pair's label sits beside its resonance line at the top of the |Z| panel, in rows
     (:func:`validation.plotting.stack_rows`): a label goes to the first row where it clears
     every label already there, so close resonances (L1 and B2 2 kHz apart at ``zeta = 0.005``)
     no longer print over each other; the panel's top is raised above the curve by the rows'
@@ -38,23 +44,32 @@ def draw_admittance(result: AdmittanceResult):
     """
     plt = pyplot()
     f_k = result.f_Hz * 1e-3
+    z = 1.0 / np.asarray(result.Y_S)
     fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
-    ax1.semilogy(f_k, np.abs(result.Y_S), color="C0")
+    ax1.semilogy(f_k, np.abs(z), color="C0", label="computed (FE, modal superposition)")
+    ax2.plot(f_k, np.degrees(np.angle(z)), color="C1")
+    top = float(np.abs(z).max())
+    if circuit is not None:
+        z_fit = 1.0 / circuit.admittance_S(result.f_Hz)
+        ax1.semilogy(f_k, np.abs(z_fit), color="k", lw=0.9, ls="--",
+                     label=f"fitted BVD circuit ({len(circuit.branches)} branch"
+                     f"{'es' if len(circuit.branches) != 1 else ''})")
+        ax2.plot(f_k, np.degrees(np.angle(z_fit)), color="k", lw=0.9, ls="--")
+        ax1.legend(loc="lower left", fontsize=8)
+        top = max(top, float(np.abs(z_fit).max()))
     for p in result.pairs:
         ax1.axvline(p.f_resonance_Hz * 1e-3, color="C3", lw=0.8, ls="--")
         ax1.axvline(p.f_antiresonance_Hz * 1e-3, color="C2", lw=0.8, ls=":")
-    ax1.set_ylabel("|Y| (S)")
-    ax1.set_title(f"admittance of electrodes {result.port.electrodes} (others grounded)")
+    ax1.set_ylabel("|Z| (ohm)")
+    ax1.set_title(f"impedance of electrodes {result.port.electrodes} (others grounded)")
     ax1.grid(True, which="both", alpha=0.3)
-    ax2.plot(f_k, np.degrees(np.angle(result.Y_S)), color="C1")
-    ax2.set_ylabel("phase of Y (deg)")
+    ax2.set_ylabel("phase of Z (deg)")
     ax2.set_xlabel("frequency (kHz)")
     ax2.grid(True, alpha=0.3)
     ax1.set_xlim(f_k[0], f_k[-1])
     fig.tight_layout()
     texts = [f"{p.mode + ' ' if p.mode else ''}k={p.k_eff:.3f}" for p in result.pairs]
-    labels = _label_lines(ax1, [p.f_resonance_Hz * 1e-3 for p in result.pairs], texts,
-                          float(np.abs(result.Y_S).max()))
+    labels = _label_lines(ax1, [p.f_resonance_Hz * 1e-3 for p in result.pairs], texts, top)
     return fig, labels
 
 

@@ -35,9 +35,9 @@ def set_label(source: str) -> str:
 
 
 def set_wrapped_title(ax, text: str, fontsize: float = 9.0) -> None:
-    """``ax``'s title, wrapped to the figure's width: a stator file's run (``stick-slip-
-    separation: V0 = ... (stator file examples/tuned_40k/stator.toml ...)``) had run off the
-    PNG's right edge."""
+    """``ax``'s title, wrapped to the figure's width, so that a long one (a stator file's run,
+    ``stick-slip-separation: V0 = ... (stator file examples/tuned_40k/stator.toml ...)``)
+    stays inside the PNG."""
     import textwrap
 
     # about 0.6 em per character of the default sans-serif font

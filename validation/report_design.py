@@ -33,7 +33,7 @@ def _describe(stator, material, label: str) -> str:
                   f"size {stator.element_size_m * mm:g} mm")
     else:
         shape += f", electrode gap {stator.electrode_gap_m * mm:g} mm"
-    # a stator without a name is its plate: "plate: plate 30 x ..." had said it twice
+    # a stator without a name is its plate: said once, not "plate: plate 30 x ..."
     return f"{shape}, {material.name}" if label == "plate" else f"{label}: {shape}, {material.name}"
 
 
@@ -58,11 +58,11 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     say("3D modes")
     from contact.deferred_signals import deferred_signals
 
-    with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
+    with deferred_signals():  # not interrupted half-way: a signal there crashes VTK
         import pyvista  # noqa: F401
     model = plate_model(st, mat, 2, DEFAULT_REFINE)
-    with deferred_signals():  # about a second; a SIGTERM inside VTK's rendering crashed the
-        # report (exit 139, 2 of about 90 tries) and left its staging folder
+    with deferred_signals():  # about a second; a SIGTERM inside VTK's rendering crashes the
+        # report (exit 139, 2 of about 90 tries) and leaves its staging folder
         pictures = render_modes(model, m2, out / "figures", prefix="design_")
     say("mode pictures")
     rows, data = [], {"2d": {}, "3d": {}}
@@ -98,13 +98,45 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     data["gap_validity"], note = _validity_note(st)
     md += note
     md += [f"![{p.stem}](figures/{p.name})" for p in pictures] + [""]
-    return md, data, m2
+    band_md, data["band_modes"] = _band_section(choice, m3, refine3, stator)
+    say("band modes")
+    return md + band_md, data, m2
+
+
+def _band_section(choice, m3, refine3: int, stator: str) -> tuple[list[str], dict]:
+    """Every mode of the 3D model within the L1/B2 pair +- 20 % (:func:`fem.band.band_modes`
+    on the full 3D model of the modes table), as ``lusm modes --model 3d --band`` lists it:
+    the out-of-plane and torsion modes beside the pair, which the 2D model does not have."""
+    from fem.band import band_modes, default_band_Hz
+    from fem.solid3d.model import DEFAULT_LAYERS, solid_model
+
+    ops = {"L1": m3.L1.f_short_Hz, "B2": m3.B2.f_short_Hz}
+    band = band_modes(solid_model(choice.stator, choice.material, 2, refine3, DEFAULT_LAYERS),
+                      *default_band_Hz(ops), ops)
+    md = [f"Every mode of the 3D model within the L1/B2 pair +/- 20 % "
+          f"({band.f_min_Hz:.0f}-{band.f_max_Hz:.0f} Hz; "
+          f"`{_command_3d(choice.stator, refine3, stator)} --band`), named by its shape "
+          "(Ln longitudinal, Bn in-plane bending, OBn out-of-plane bending, Tn torsion; n from "
+          f"the nodes along the length). A mode within {band.risk_pct:g} % of L1 or B2 is a "
+          "risk to the drive.", "",
+          "| mode | family | f_short (Hz) | f_open (Hz) | k_eff | from the pair | drive |",
+          "|---|---|---|---|---|---|---|"]
+    for m in band.modes:
+        f_open = f"{m.f_open_Hz:.1f}" if math.isfinite(m.f_open_Hz) else "-"
+        k_eff = f"{m.k_eff:.4f}" if math.isfinite(m.k_eff) else "-"
+        flag = "operating" if m.operating else "**risk**" if m.risk else ""
+        md.append(f"| {m.name} | {m.family} | {m.f_short_Hz:.1f} | {f_open} | {k_eff} | "
+                  f"{'-' if m.operating else signed_percent(m.offset, 1)} | {flag} |")
+    risks = ", ".join(f"{m.name} at {m.f_short_Hz:.0f} Hz" for m in band.risks)
+    md += ["", f"Risks to the drive: {risks}." if risks else
+           f"No other mode within {band.risk_pct:g} % of the pair.", ""]
+    return md, band.to_dict()
 
 
 def _command_3d(stator, refine3: int, options: str) -> str:
     """The ``lusm modes`` call that gives the report's 3D column: its layers, its refine where
-    it is not the command's default (``--quick``'s coarser mesh had been called "the same
-    call" and gave a split 15 times the command's on a tuned plate) and the work bound it
+    it is not the command's default (``--quick``'s coarser mesh is another call: its split
+    can be 15 times the command's on a tuned plate) and the work bound it
     needs where the mesh is above ``lusm modes``' own (a chamfered example: 2 988 bricks).
     ``options`` are the stator options the report was given
     (:func:`lusm.options.stator_options_text`)."""
@@ -124,8 +156,8 @@ def _command_3d(stator, refine3: int, options: str) -> str:
 
 def _validity_note(stator) -> tuple[str | None, list[str]]:
     """The 2D model's gap-validity warning (:func:`fem.model.stator_gap_validity_message`) and
-    its paragraph for section 1: said on stderr during the run, but the report outlives the
-    run, and a designer reading it had no sign that its 2D rows were out of range."""
+    its paragraph for section 1: said on stderr during the run, and in the report, which
+    outlives the run, so that its reader sees when its 2D rows are out of range."""
     from fem.model import stator_gap_validity_message
     from lusm.messages import in_file_terms
 
@@ -157,6 +189,7 @@ def _params_section(params, label: str, damping_from: str, stator: str):
 
 def _admittance_section(choice, params, modes2d, out: Path, quick: bool, stator: str):
     from fem.admittance import design_band_Hz, plate_admittance
+    from fem.equivalent_circuit import equivalent_circuit
     from validation.fem_figures import admittance_figure
 
     f_lo, f_hi = design_band_Hz(modes2d)
@@ -164,7 +197,11 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool, stator:
     band = f"--f-min {float(f_lo)!r} --f-max {float(f_hi)!r} --points {points}"
     res = plate_admittance(choice.stator, choice.material, f_lo, f_hi, points,
                            zeta_L1=params.zeta_L1, zeta_B2=params.zeta_B2)
-    png = admittance_figure(res, out / "figures" / "design_admittance.png")
+    try:
+        circuit = equivalent_circuit(res)
+    except ValueError:  # no mode the port drives in the band
+        circuit = None
+    png = admittance_figure(res, out / "figures" / "design_admittance.png", circuit)
     md = ["## 3. Admittance", "",
           f"Driven electrodes {res.port.electrodes}, band {f_lo / 1e3:.2f}-{f_hi / 1e3:.2f} kHz "
           "(the design's modes +/- 15 %), the parameter set's damping "
@@ -198,12 +235,30 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool, stator:
                + (" has" if len(flat) == 1 else " have") + " no resonance peak through this "
                "port at this damping, on any grid: the coupling is too weak against the "
                "damping (`lusm admittance --zeta` with lighter damping resolves it)."]
+    md += _circuit_lines(circuit)
     md += ["", f"![admittance](figures/{png.name})", ""]
     data = {"band_Hz": [f_lo, f_hi], "pairs": [
         {"mode": p.mode, "f_resonance_Hz": p.f_resonance_Hz,
          "f_antiresonance_Hz": p.f_antiresonance_Hz, "k_eff": p.k_eff} for p in res.pairs],
-        "figure": f"figures/{png.name}"}
+        "figure": f"figures/{png.name}",
+        "equivalent_circuit": None if circuit is None else circuit.to_dict()}
     return md, data
+
+
+def _circuit_lines(circuit) -> list[str]:
+    """The fitted Butterworth-Van Dyke circuit as a table (``lusm admittance`` prints it)."""
+    if circuit is None:
+        return ["", "No mode the port drives lies in the band: no equivalent circuit."]
+    md = ["", f"Butterworth-Van Dyke equivalent circuit fitted to this admittance: C0 = "
+          f"{circuit.C0_F:.4e} F in parallel with one R1-L1-C1 branch per driven mode "
+          f"(the circuit reproduces the computed admittance to {circuit.rms_rel:.1e} rms of "
+          "|Y|); Q_m, f_s, f_p and k_eff as IEEE Std 176 / IEC 60483 define them.", "",
+          "| mode | R1 (ohm) | L1 (H) | C1 (F) | f_s (Hz) | f_p (Hz) | Q_m | k_eff |",
+          "|---|---|---|---|---|---|---|---|"]
+    md += [f"| {b.mode or 'unidentified'} | {b.R_ohm:.4g} | {b.L_H:.4g} | {b.C_F:.4e} | "
+           f"{b.f_s_Hz:.1f} | {b.f_p_Hz(circuit.C0_F):.1f} | {b.Q_m:.4g} | "
+           f"{b.k_eff(circuit.C0_F):.4f} |" for b in circuit.branches]
+    return md
 
 
 def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, stator: str,
@@ -284,7 +339,7 @@ def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
     from validation.report_motor import motor_section
 
     (out / "figures").mkdir(parents=True, exist_ok=True)
-    bar = tqdm(total=10, desc="design report", unit="step", disable=not progress)
+    bar = tqdm(total=11, desc="design report", unit="step", disable=not progress)
 
     def say(msg: str) -> None:
         bar.set_postfix_str(msg[:40])

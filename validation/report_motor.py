@@ -59,8 +59,8 @@ def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    # one colour per class of orbit, in the legend only where drawn (it had listed period-3
-    # and period-4 orbits that no point had, and drawn k = 0 means as period-1 orbits)
+    # one colour per class of orbit, in the legend only where drawn; k = 0 (averaged) means
+    # are a class of their own, not period-1 orbits
     classes = {1: ("C0", "period-1 orbit"), 2: ("C1", "period-2 orbit"),
                3: ("C2", "period-3 orbit"), 4: ("C3", "period-4 or longer orbit"),
                0: ("C4", "no period up to 16 (long mean)")}
@@ -137,9 +137,9 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         The ``lusm`` options that name each set and its drive frequency (``"--source fem
         --frequency auto"``, ``"--geometry FILE --frequency auto"``; ``""`` for Table 2 at
         40 kHz); each set's subsection cites the ``lusm characteristic`` and ``lusm map``
-        commands that reproduce its numbers with them (the section had cited one
-        ``lusm characteristic --frequency F`` for every set, which runs Table 2's). A set
-        without an entry is cited with no command.
+        commands that reproduce its numbers with them (one ``lusm characteristic --frequency
+        F`` for every set would run Table 2's). A set without an entry is cited with no
+        command.
     """
     from validation.summaries import borrowed_damping, table2_damping
 

@@ -73,8 +73,7 @@ SIMULATION_KEYS = (
 )
 """The keys of every run's summary (:func:`simulation_summary`, :func:`runaway_summary`), in
 their order: every run of one ``lusm simulate`` carries them all, ``None`` where it has no
-such value (a list of voltages had written nine keys for a voltage whose slider runs away
-beside the others' 30)."""
+such value (a voltage whose slider runs away has the keys of the others)."""
 
 
 def _run_summary(**values) -> dict:
@@ -151,7 +150,7 @@ def simulation_summary(r: SimulationResult, runs_away: str | None = None) -> dic
         "ultrasonic_friction": r.options.ultrasonic_friction,
         "steady_velocity_m_s": s.velocity_m_s,
         # the steady engine shoots an orbit: no windows to compare and no tip trace to take
-        # the extremes of (it had printed the run's default window and y_tip_min_m nan)
+        # the extremes of: None, not the run's default window and y_tip_min_m nan
         "previous_window_velocity_m_s": None if steady else s.previous_velocity_m_s,
         "settled": s.settled,
         "motion": s.motion,
@@ -169,8 +168,8 @@ def simulation_summary(r: SimulationResult, runs_away: str | None = None) -> dic
         "events": r.events,
         "nfev": r.nfev,
         "wall_time_s": r.wall_time_s,
-        # every stable steady state, written as lusm map writes a point's: the one reached
-        # from rest had been the JSON's only answer, the others in a stderr warning
+        # every stable steady state, written as lusm map writes a point's, not only the one
+        # reached from rest
         "branches": None if r.branches is None else steady_branches(r.branches),
         "runs_away": runs_away,
     })
@@ -224,7 +223,7 @@ def branch_summary(row: tuple) -> dict:
     -------
     dict
         ``velocity_m_s`` (m/s), ``k`` (period multiplicity), ``motion`` (the motion class of
-        the point's own ``motion``: ``"pure-stick"`` for a held slider, whose branch had said
+        the point's own ``motion``: ``"pure-stick"`` for a held slider, whose branch says
         ``"dead-zone"``), ``from_rest`` (whether a start from rest reaches it) and ``held``
         (the slider held: the dead zone).
     """
@@ -244,7 +243,8 @@ def steady_branches(branches) -> list[dict]:
 
 def signed_percent(x: float, decimals: int) -> str:
     """``x`` (a ratio) in per cent with its sign, in two significant figures where
-    ``decimals`` would round it to zero: a 2D/3D difference of -3e-5 had read "-0.00%"."""
+    ``decimals`` would round it to zero: a 2D/3D difference of -3e-5 reads "-3.0e-03%", not
+    "-0.00%"."""
     if x != 0 and abs(x) * 100 < 0.5 * 10.0 ** -decimals:
         return f"{x * 100:+.1e}%"
     return f"{x:+.{decimals}%}"
@@ -255,8 +255,8 @@ def motion_class(branch, velocity_m_s: float) -> str:
     :func:`contact.results.steady_metrics` from the phase fractions of the branch reached
     from rest (``"failed"`` when there is none). The branch's own ``motion`` says
     ``"dead-zone"`` for a held slider, where simulate says ``"pure-stick"`` (``"separated"``
-    at 0 V and 0 N): a study, the report and the single-point command had named one state
-    two ways."""
+    at 0 V and 0 N), so that a study, the report and the single-point command name one state
+    one way."""
     from contact.results import steady_metrics
 
     if branch is None:

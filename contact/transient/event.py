@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from bounds import ParameterError
 from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.model import HybridSystem, OperatingPoint, build_system, gamma_T
@@ -28,10 +29,11 @@ def check_spectrum(system: HybridSystem, dt_s: float) -> None:
     """
     rho = max(float(np.max(np.abs(np.linalg.eigvals(a)))) for a in system.A)
     if rho * dt_s > 1.0:  # the Taylor flow of partial steps is exact to roundoff below 1
-        raise ValueError(
-            f"dt_s = {dt_s:g} s is too large for the fastest mode of this parameter set "
-            f"({rho / (2 * math.pi):.4g} Hz): use dt_s <= {1.0 / rho:.3g} s"
-        )
+        raise ParameterError(
+            "dt_s", dt_s, 0.0, 1.0 / rho, "s", low_open=True,
+            reason=f"the fastest mode of this parameter set, {rho / (2 * math.pi):.4g} Hz",
+            message=f"dt_s = {dt_s:g} s is too large for the fastest mode of this parameter "
+            f"set ({rho / (2 * math.pi):.4g} Hz): use dt_s <= {1.0 / rho:.3g} s")
 
 
 def run_kernel(system: HybridSystem, n_steps: int, dt: float, win_start: int, decim: int,

@@ -58,7 +58,7 @@ Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z
 (symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
 modes that are not symmetric through the thickness (out-of-plane bending, torsion). On a
 non-rectangular planform the sampling points outside the mesh (and their mirror images about
-``x = 0``) are dropped, as in :func:`fem.modes._sampling`.
+``x = 0``) are dropped, as in :func:`fem.modes.sampling_points`.
 """
 
 from __future__ import annotations
@@ -72,6 +72,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
 from fem.material import PiezoMaterial, get_material
@@ -85,18 +86,14 @@ from fem.meshing.mesh import (
 from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 from fem.model import affine_probes
 from fem.modes import (
-    MIN_MAC,
-    MIN_SYMMETRY,
     SAMPLE_INSET,
     ModeSolverError,
     PlateModes,
     locatable,
-    modal_assurance,
+    match_modes,
     reference_shapes,
     sampling_grid,
-    sign_changes,
     solve_short_open,
-    symmetric_fraction,
 )
 
 ELEMENTS = ("hex20", "hex27")
@@ -291,9 +288,11 @@ def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading
     top = MAX_LIBRARY_BRICKS_3D * work_factor()
     n = planform.n_elements * layers
     if n > top:
-        raise ValueError(f"layers = {layers} makes at least {n:.3g} bricks on this planform "
-                         f"({planform.n_elements} elements), above the limit {top:.0f} of a "
-                         "library call (set LUSM_MAX_WORK=N to allow N times more)")
+        raise ParameterError(
+            "layers", layers,
+            message=f"layers = {layers} makes at least {n:.3g} bricks on this planform "
+            f"({planform.n_elements} elements), above the limit {top:.0f} of a library call "
+            "(set LUSM_MAX_WORK=N to allow N times more)")
 
 
 def _voigt_B(grads: np.ndarray) -> np.ndarray:
@@ -887,7 +886,7 @@ def solid_frequencies_Hz(
                                        maxiter, model.saddle_point_order(open_circuit))
 
 
-def _sampling3d(model: SolidPlateModel):
+def sampling_points_3d(model: SolidPlateModel):
     """Sampling grid (ny, nx), probe matrices at mid-plane/top/bottom, mask of points used.
 
     On a planform mesh, grid points outside it (and their mirror images about ``x = 0``) are
@@ -908,7 +907,7 @@ def _sampling3d(model: SolidPlateModel):
         # scikit-fem locates points on the mesh's own (polygonal) edges, which can miss a
         # grid point the nominal outline counts inside (beside a hole on the centre line:
         # "Point is outside of the mesh" after the whole 3D solve); such points are dropped
-        # like those outside, as in 2D (fem.modes._sampling)
+        # like those outside, as in 2D (fem.modes.sampling_points)
         flat = inside.ravel()
         for _, z in levels:
             pts = np.vstack((X.ravel(), Y.ravel(), np.full(X.size, z)))
@@ -936,7 +935,7 @@ def _probes3d(model: SolidPlateModel, X: np.ndarray, Y: np.ndarray, inside: np.n
     return probes
 
 
-def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
+def thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
     """Energy fraction of (top, bottom) samples (3, ...) in the in-plane (z-symmetric) class."""
     even = 0.5 * (top[:2] + bottom[:2])
     odd = 0.5 * (top[2] - bottom[2])
@@ -946,7 +945,7 @@ def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
 
 
 def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
-    X, Y, probes, inside = _sampling3d(model)
+    X, Y, probes, inside = sampling_points_3d(model)
     sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
     return identify_sampled(X, Y, sampled, inside, overall_length_m(model.stator), freqs_Hz)
 
@@ -994,35 +993,12 @@ def identify_sampled(
     refs = reference_shapes(X, Y, length_m)
     if not inside.all():
         refs = {k: v * inside for k, v in refs.items()}
-    n = sampled["mid"].shape[-1]
-    centre = X.shape[1] // 2
-    f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
-    out: dict[str, tuple[int, float, float]] = {}
-    for name in names:
-        best = None
-        for i in range(n):
-            if abs(freqs_Hz[i]) < f_floor:
-                continue
-            zsym = _thickness_symmetric_fraction(sampled["top"][..., i], sampled["bottom"][..., i])
-            if zsym < MIN_THICKNESS_SYMMETRY:
-                continue
-            u = sampled["mid"][:2, ..., i]
-            sym = symmetric_fraction(u)
-            klass = sym if name == "L1" else 1.0 - sym
-            if klass < MIN_SYMMETRY:
-                continue
-            if name == "B2" and sign_changes(u[0][:, centre]) != 3:
-                continue
-            mac = modal_assurance(u, refs[name])
-            if mac >= MIN_MAC and (best is None or mac * zsym > best[1] * best[3]):
-                best = (i, mac, klass, zsym)
-        if best is None:
-            raise ModeSolverError(
-                f"could not identify {name} among the {n} 3D modes computed at "
-                f"{np.round(np.maximum(freqs_Hz, 0.0), 1).tolist()} Hz"
-            )
-        out[name] = best[:3]
-    return out
+    zsym = np.array([thickness_symmetric_fraction(sampled["top"][..., i],
+                                                   sampled["bottom"][..., i])
+                     for i in range(sampled["mid"].shape[-1])])
+    return match_modes(sampled["mid"][:2], freqs_Hz, refs, names,
+                       weights=np.where(zsym < MIN_THICKNESS_SYMMETRY, np.nan, zsym),
+                       what="3D modes")
 
 
 @dataclass(frozen=True, eq=False)

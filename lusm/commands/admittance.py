@@ -84,18 +84,20 @@ def run(args: argparse.Namespace) -> None:
     res = _solve(args, choice, refine, electrodes, damping)
     _warn_unresolved(res, args.f_max, refine)
     _warn_missed(res, args.f_min, args.f_max, args.points)
+    circuit = _circuit(res)
     png = None
     if out is not None:
         from validation.fem_figures import admittance_figure
 
-        png = write_figures(out, "--out", args.force, lambda stage: [
-            admittance_figure(res, stage / "admittance.png")])[0]
+        png = write_figures(args, "--out", lambda stage: [
+            admittance_figure(res, stage / "admittance.png", circuit)])[0]
     if args.zeta is not None:
         damping = {"zeta_L1": args.zeta, "zeta_B2": args.zeta, "from": "--zeta (all modes)"}
     if args.json:
         d = res.to_dict()
         d["png"] = png
         d["damping"] = damping
+        d["equivalent_circuit"] = None if circuit is None else circuit.to_dict()
         # the design's modes in the band without a pair, and why (the warnings' content):
         # "grid" (too coarse), "band" (the pair reaches beyond it), "peakless" (the damping)
         d["missed_modes"] = (
@@ -107,8 +109,41 @@ def run(args: argparse.Namespace) -> None:
         print_json(d)
         return
     _print(res, args, damping)
+    _print_circuit(circuit)
     if png is not None:
         print(f"wrote {png}")
+
+
+def _circuit(res):
+    """The Butterworth-Van Dyke circuit fitted to the admittance
+    (:func:`fem.equivalent_circuit.equivalent_circuit`), None where no mode the port drives
+    lies in the band."""
+    from fem.equivalent_circuit import equivalent_circuit
+
+    try:
+        return equivalent_circuit(res)
+    except ValueError:
+        return None
+
+
+def _print_circuit(circuit) -> None:
+    """The fitted circuit per mode, as IEEE Std 176 / IEC 60483 report a resonator."""
+    if circuit is None:
+        print("equivalent circuit: no mode the port drives lies in the band")
+        return
+    print(f"Butterworth-Van Dyke circuit fitted over the band: C0 {circuit.C0_F:.4e} F in "
+          f"parallel with one R1-L1-C1 branch per driven mode (fit: rms "
+          f"{circuit.rms_rel:.1e}, max {circuit.max_rel:.1e} of |Y|)")
+    print(f"{'mode':<6}{'R1 (ohm)':>11}{'L1 (H)':>11}{'C1 (F)':>12}{'f_s (Hz)':>11}"
+          f"{'f_p (Hz)':>11}{'Q_m':>8}{'k_eff':>8}{'C0/C1':>10}{'f_s/f_FE-1':>12}")
+    for b in circuit.branches:
+        print(f"{b.mode or '-':<6}{b.R_ohm:>11.4g}{b.L_H:>11.4g}{b.C_F:>12.4e}"
+              f"{b.f_s_Hz:>11.1f}{b.f_p_Hz(circuit.C0_F):>11.1f}{b.Q_m:>8.4g}"
+              f"{b.k_eff(circuit.C0_F):>8.4f}{circuit.C0_F / b.C_F:>10.4g}"
+              f"{b.f_s_Hz / b.f_mode_Hz - 1.0:>+12.1e}")
+    print("f_s = 1/(2 pi sqrt(L1 C1)), f_p = f_s sqrt(1 + C1/C0), Q_m = sqrt(L1/C1)/R1, "
+          "k_eff^2 = 1 - (f_s/f_p)^2 (IEEE Std 176, IEC 60483); f_FE: the mode's FE "
+          "frequency")
 
 
 def _damping(args: argparse.Namespace, choice) -> dict:

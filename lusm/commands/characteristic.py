@@ -98,7 +98,7 @@ def run(args: argparse.Namespace) -> None:
     if plot is not None:
         from validation.report_motor import characteristic_figure
 
-        doc["figures"] = write_figures(plot, "--plot", args.force, lambda stage: [
+        doc["figures"] = write_figures(args, "--plot", lambda stage: [
             characteristic_figure(chars if len(chars) > 1 else chars[0],
                                   stage / "characteristic.png")])
     if args.json:
@@ -130,10 +130,11 @@ def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) ->
         if char.accuracy == "fast" else ""))
     low, high = char.holding_range_N
     # loads the slider is not run away under (beyond them it is back-driven without
-    # bound): "holds loads" had read as a holding force beside a smaller stall force
+    # bound): not "holds loads", which would read as a holding force beside a smaller
+    # stall force
     if math.isfinite(low) and math.isfinite(high):
         print(f"{'no runaway within (N)':<26} {low:.4g} to {high:.4g}")
-    else:  # undriven or weakly driven: the line had simply been missing
+    else:  # undriven or weakly driven: the line says why there is no bound
         print(f"{'no runaway within (N)':<26} no full-slip bound (the tip sticks at the "
               "scan's ends): each load's start from rest decides")
     print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} "
@@ -162,8 +163,8 @@ def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) ->
 
 def _creep_line(char) -> str | None:
     """The creep band of an exact-level curve (:attr:`contact.characteristic.Characteristic.
-    creep_from_N`), or None: a designer reading the curve's knee as the stall force had
-    found it half the printed one (exploratory testing: 0.76 N against 1.38 N)."""
+    creep_from_N`), or None: said so that the curve's knee is not read as the stall force
+    (it can be half the stall force: 0.76 N against 1.38 N)."""
     from contact.characteristic import CREEP_RIPPLES
 
     lo, hi = char.creep_from_N, char.stall_force_N

@@ -57,8 +57,8 @@ def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> 
     from lusm.options import time_step_of
 
     # the steady engine takes its own step; --dt serves only the transient of an undecided
-    # point. A typed one gets the transients' range all the same (--dt 1e-3 had run without
-    # a word, the undecided points silently at T/20); the default is within it
+    # point. A typed one gets the transients' range all the same (--dt 1e-3 is refused, not
+    # replaced by T/20 without a word); the default is within it
     why = (" (with --method steady it serves the transient of a point the steady engine "
            "cannot decide)" if args.method == "steady" else "")
     args.dt = time_step_of(args.dt, frequency_Hz, why)  # default: whole steps per period
@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> None:
     _warn_limits(m)
     summary = _summary(args, motor, m)
     if plot is not None:
-        summary["figures"] = _plot(args, motor, m, plot)
+        summary["figures"] = _plot(args, motor, m)
         # "figure", the map's one path, kept for the scripts that read it
         summary["figure"] = summary["figures"][0]
     if args.json:
@@ -159,7 +159,7 @@ def _summary(args: argparse.Namespace, motor: Motor, m) -> dict:
     return summary
 
 
-def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
+def _plot(args: argparse.Namespace, motor: Motor, m) -> list[str]:
     """Draw the map into the ``--plot`` folder; returns the figures' paths."""
     from validation.figures import set_label
     from validation.figures import stick_slip_map as plot_map
@@ -171,7 +171,7 @@ def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
            f"transients of {args.duration:g} s from rest"
            + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
     title = f"{set_label(motor.params.source)}, {motor.frequency_Hz / 1e3:.4g} kHz, {how}"
-    return write_figures(plot, "--plot", args.force,
+    return write_figures(args, "--plot",
                          lambda stage: [plot_map(m, stage / name, title)])
 
 
@@ -188,7 +188,7 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
     for i, v in enumerate(m.voltages_V):
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
-    # the speeds too (they had been in --json only): mm/s, 4 significant digits
+    # the speeds too, as --json gives them: mm/s, 4 significant digits
     print("slider velocity (mm/s), V0 (V) \\ F_P (N)")
     print(f"{'':>8}  " + " ".join(f"{f:>9g}" for f in m.preloads_N))
     for i, v in enumerate(m.voltages_V):
@@ -211,7 +211,7 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
         if undecided:
             from contact.maps import fallback_duration_s
 
-            # it said 0.3 s where a longer --duration ran
+            # the duration the fallback transients ran, --duration's where longer than 0.3 s
             print(f"undecided by the steady engine (creep, no periodic tip orbit): {undecided} "
                   f"point(s), taken from {fallback_duration_s(args.duration, freq):g} s "
                   "transients (see --json)")

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from lusm import limits
 from lusm.errors import short_reason
 from lusm.fe_errors import fe_failure, is_fe_failure
-from lusm.options import add_output_options, add_plate_options, integer, print_json
+from lusm.options import add_output_options, add_plate_options, integer, print_json, real
 
 HELP = "FE natural frequencies (short/open circuit) and k_eff of L1 and B2"
 DESCRIPTION = """\
@@ -47,6 +47,45 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--force", action="store_true",
                    help="write --export over an existing file (the old one is kept as .bak-N)")
+    p.add_argument("--band", nargs="?", const="auto", default=None, type=band_option,
+                   metavar="F1:F2",
+                   help="also list every mode of the model in the band F1:F2 (kHz, or with a "
+                   "unit: 40:56, 40kHz:56kHz, 4e4Hz:5.6e4Hz), named by its shape, with "
+                   "k_eff; without F1:F2 the L1/B2 pair +- 20 %%")
+    p.add_argument("--risk-pct", type=real("--risk-pct", "%", 0.0, 100.0, lo_open=True),
+                   default=None, metavar="PCT",
+                   help="with --band: flag every other mode within PCT %% of L1's or B2's "
+                   "frequency as a risk to the drive (default 5)")
+
+
+BAND_UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6}
+"""The units ``--band`` takes, lower case (a number without one is in kHz)."""
+
+
+def band_option(text: str) -> str | tuple[float, float]:
+    """The ``--band`` value: ``'auto'`` or ``(f1_Hz, f2_Hz)`` from ``F1:F2`` (kHz unless a
+    unit follows a number), each in :data:`lusm.limits.FREQUENCY_HZ`, ``f1 < f2``."""
+    from fem.units import to_si
+
+    if text == "auto":
+        return text
+    lo, hi = limits.FREQUENCY_HZ
+    rule = (f"--band must be F1:F2 with F1 < F2 in [{lo:g}, {hi:g}] Hz, in kHz or with a "
+            f"unit (Hz, kHz, MHz), e.g. 40:56 or 40kHz:56kHz, got {text!r}")
+    parts = text.split(":")
+    values = []
+    for part in parts if len(parts) == 2 else ():
+        t = part.strip().lower().replace(" ", "")
+        unit = next((u for u in sorted(BAND_UNITS, key=len, reverse=True) if t.endswith(u)),
+                    None)
+        try:
+            values.append(to_si(t[: len(t) - len(unit)] if unit else t,
+                                BAND_UNITS[unit] if unit else 1e3))
+        except ValueError:
+            break
+    if len(values) != 2 or not lo <= values[0] < values[1] <= hi:
+        raise argparse.ArgumentTypeError(rule)
+    return values[0], values[1]
 
 
 def _split(res) -> float:
@@ -59,7 +98,7 @@ def add_fe_options(p: argparse.ArgumentParser, three_d: bool = False) -> None:
     command also has ``--model 3d``, whose default refine the help names too."""
     p.add_argument("--order", type=int, choices=(1, 2), default=2,
                    help="element order (default 2; 1 locks in bending: B2 several %% high)")
-    try:  # scaled as the 2D bound is (LUSM_MAX_WORK=2 said 12 where 24 ran)
+    try:  # scaled as the 2D bound is, so that the help says the bound that runs
         top_3d = limits.work_bound(limits.MAX_REFINE_3D)
     except ValueError:  # a bad LUSM_MAX_WORK: refused on its own before any command runs
         top_3d = limits.MAX_REFINE_3D
@@ -106,14 +145,17 @@ def run(args: argparse.Namespace) -> None:
     if export is not None:
         _export(args, choice, mesh, res, export)
     mounts = _mount_amplitudes(choice, choice.material, args, mesh.refine, res)
+    band = _band(args, choice, mesh, res)
     if validity is not None:
         from lusm.messages import warn
 
         warn(validity)  # "lusm modes: warning: ...", as every command's
     if args.json:
-        _print_json(args, choice, mesh, res, mounts, export)
+        _print_json(args, choice, mesh, res, mounts, export, band)
         return
     _print(args, choice, mesh, res, mounts, export, coarse_gap)
+    if band is not None:
+        print_band(band)
 
 
 @dataclass(frozen=True)
@@ -225,6 +267,78 @@ def _solve(args: argparse.Namespace, choice, mesh: _Mesh, coarse_gap: str | None
     return res, validity
 
 
+def _band(args: argparse.Namespace, choice, mesh: _Mesh, res):
+    """``--band``: every mode of the model in the band (:func:`fem.band.band_modes`), the
+    risks warned of before the results; None without ``--band``."""
+    from lusm.errors import LusmError
+
+    if args.band is None:
+        if args.risk_pct is not None:
+            raise LusmError("--risk-pct applies with --band only (the window around L1 and "
+                            "B2 in which other modes of the band are flagged)", "--risk-pct")
+        return None
+    from fem.band import RISK_PCT, BandTooWideError, band_modes, default_band_Hz
+    from lusm.fe_errors import fe_failures_as_input
+    from lusm.messages import warn
+
+    ops = {"L1": res.L1.f_short_Hz, "B2": res.B2.f_short_Hz}
+    lo, hi = default_band_Hz(ops) if args.band == "auto" else args.band
+    risk = RISK_PCT if args.risk_pct is None else args.risk_pct
+    with fe_failures_as_input(choice.stator):
+        try:
+            band = band_modes(_band_model(args, choice, mesh), lo, hi, ops, risk)
+        except BandTooWideError as exc:
+            held = "more modes" if exc.n_modes is None else f"{exc.n_modes} modes"
+            raise LusmError(f"--band {lo:g}:{hi:g} Hz: the band holds {held}, above the "
+                            f"limit of {exc.limit} one band solve computes; narrow it "
+                            f"({limits.more_work_hint()})", "--band") from None
+    for m in band.risks:
+        op = min(ops, key=lambda n: abs(m.f_short_Hz / ops[n] - 1.0))
+        warn(f"--band: {m.name} ({m.family}) at {m.f_short_Hz:.0f} Hz lies "
+             f"{m.f_short_Hz / ops[op] - 1.0:+.1%} from {op} ({ops[op]:.0f} Hz), within the "
+             f"--risk-pct {risk:g} % window: the drive may excite it")
+    return band
+
+
+def _band_model(args: argparse.Namespace, choice, mesh: _Mesh):
+    """The assembled model whose band ``--band`` lists: the 2D plate, or the full 3D solid
+    (the quarter-plate model holds L1's and B2's symmetry classes only)."""
+    stator, material = choice.stator, choice.material
+    if args.model != "3d":
+        from fem.model import plate_model
+
+        return plate_model(stator, material, args.order, mesh.refine)
+    from fem.solid3d.model import solid_model
+
+    if mesh.quarter:
+        from lusm.options import check_fe_size
+
+        check_fe_size(stator, mesh.refine, mesh.layers, "--band",
+                      edge_grading=args.edge_grading)
+    return solid_model(stator, material, args.order, mesh.refine, mesh.layers,
+                       edge_grading=args.edge_grading)
+
+
+def print_band(band) -> None:
+    """The table of every mode in the band (``lusm modes --band``, ``lusm report``)."""
+    ops = ", ".join(f"{n} {f:.1f} Hz" for n, f in band.operating_Hz)
+    counted = ("" if band.counted is None else
+               f"; inertia count of K - (2 pi f)^2 M at the band's ends: {band.counted}")
+    print(f"every mode of the {band.model.upper()} model in {band.f_min_Hz:.0f}-"
+          f"{band.f_max_Hz:.0f} Hz: {len(band.modes)}{counted} ({band.wall_time_s:.1f} s)")
+    print(f"{'mode':<7}{'family':<22}{'f_short (Hz)':>13}{'f_open (Hz)':>13}{'k_eff':>8}"
+          f"{'from pair':>11}  drive")
+    for m in band.modes:
+        f_open = f"{m.f_open_Hz:>13.1f}" if math.isfinite(m.f_open_Hz) else f"{'-':>13}"
+        k_eff = f"{m.k_eff:>8.4f}" if math.isfinite(m.k_eff) else f"{'-':>8}"
+        flag = "operating" if m.operating else "RISK" if m.risk else ""
+        print(f"{m.name:<7}{m.family:<22}{m.f_short_Hz:>13.1f}{f_open}{k_eff}"
+              f"{m.offset:>+11.1%}  {flag}".rstrip())
+    print(f"names from the shape: Ln longitudinal, Bn in-plane bending, OBn out-of-plane "
+          f"bending, Tn torsion (n from the nodes along the length); from pair: to the "
+          f"nearer of {ops}; RISK: within {band.risk_pct:g} % of it")
+
+
 def _export(args: argparse.Namespace, choice, mesh: _Mesh, res, export) -> None:
     """Write the mode shapes on the full model's mesh to ``export``."""
     stator, material, refine, layers = choice.stator, choice.material, mesh.refine, mesh.layers
@@ -243,8 +357,9 @@ def _export(args: argparse.Namespace, choice, mesh: _Mesh, res, export) -> None:
                       args.force, export_modes)
 
 
-def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export) -> None:
-    """The modes, the mesh, the material and the plate as JSON."""
+def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
+                band=None) -> None:
+    """The modes, the mesh, the material and the plate as JSON (and ``band_modes``)."""
     from fem.material import plane_stress
     from fem.model import stator_gap_m
 
@@ -269,7 +384,7 @@ def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, expo
         "gap_mm": float(f"{stator_gap_m(stator) * 1e3:.12g}"),  # mesh roundoff off
     }
     # where the reduction (lusm params --source fem) normalises L1 and B2; a stator file
-    # may move them, and nothing said which points were used
+    # may move them, so the points used are said
     # + 0.0: a point on a mirrored mesh's centre line read -0 mm
     out["tip_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.tip_point_m]
     out["preload_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.preload_point_m]
@@ -286,6 +401,8 @@ def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, expo
         out["quarter_model"] = quarter
     if export is not None:
         out["export"] = str(export)
+    if band is not None:
+        out["band_modes"] = band.to_dict()
     print_json(out)
 
 
@@ -371,7 +488,7 @@ def _export_target(text: str, force: bool):
     from lusm.options import check_path_usable
 
     check_path_usable(path, "--export")
-    # a trailing separator names a folder (Path drops it: dd.vtu/ had been written as the
+    # a trailing separator names a folder (Path drops it: dd.vtu/ would be written as the
     # file dd.vtu)
     last = text.rstrip().replace(os.sep, "/").rsplit("/", 1)[-1]
     if path.is_dir() or last in ("", ".", ".."):  # dd.vtu/. too
@@ -388,12 +505,12 @@ def _export_target(text: str, force: bool):
 
     folder = next((p for p in path.absolute().parents if p.exists()), None)
     if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
-        # it was refused only after the FE solve (30 s of a 3D model)
+        # refused before the FE solve (30 s of a 3D model), not after
         raise LusmError(f"--export {path}: cannot write into {folder} (permission denied)",
                         "--export")
     side = path.with_suffix(".h5")  # meshio's XDMF writer puts the arrays beside it
     if path.suffix.lower() == ".xdmf" and (side.exists() or side.is_symlink()) and not force:
-        # it was refused only after the FE solve
+        # refused before the FE solve, not after
         raise LusmError(f"--export {path}: its side file {side} already exists; choose a new "
                         "name or pass --force", "--export")
     suffix = path.suffix.lower()
@@ -411,8 +528,8 @@ def _export_target(text: str, force: bool):
 
 def _relink_kept_xdmf(xdmf, renamed: dict[str, str]) -> None:
     """Point a kept-aside .xdmf at its own kept-aside HDF5 file: ``renamed`` maps the side
-    files' names to their backups'. Without it ``modes.xdmf.bak-1`` read the new run's
-    ``modes.h5`` (the old export was unreadable although both files were kept)."""
+    files' names to their backups'. Without it ``modes.xdmf.bak-1`` would read the new run's
+    ``modes.h5`` (the old export unreadable although both files are kept)."""
     if xdmf is None:
         return
     text = xdmf.read_text(encoding="utf-8")
@@ -435,10 +552,10 @@ documented in docs/fem3d.md)."""
 
 
 def _graded_work_clause(stator, refine, layers, quarter_allowed: bool) -> str:
-    """Where ``--edge-grading 1`` needs more bricks than the bound, what it takes: the hint had
-    been refused as given on the tip examples (2 140 bricks against 2 000; exploratory
-    testing). Counted on the model the graded run would use (the quarter plate where it
-    applies, as :func:`run` decides)."""
+    """Where ``--edge-grading 1`` needs more bricks than the bound, what it takes, so that the
+    hint runs as given (the tip examples need 2 140 bricks against 2 000). Counted on the
+    model the graded run would use (the quarter plate where it applies, as :func:`run`
+    decides)."""
     from fem.cell_count import fe_cell_count
     from fem.solid3d.symmetric import quarter_model_applies
     from lusm import limits

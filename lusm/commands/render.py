@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> None:
     from lusm.options import check_fe_size, output_folder, stator_from_args, write_figures
 
     warn_linear_elements(args)
-    out = output_folder(args, "--out")  # refused before any work
+    output_folder(args, "--out")  # refused before any work
     choice = stator_from_args(args)
 
     from fem.meshing.mesh import DEFAULT_REFINE
@@ -57,16 +57,16 @@ def run(args: argparse.Namespace) -> None:
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
     from contact.deferred_signals import deferred_signals
 
-    with deferred_signals():  # not interrupted half-way: a signal there crashed VTK
+    with deferred_signals():  # not interrupted half-way: a signal there crashes VTK
         import pyvista  # noqa: F401
 
     def draw(stage):
-        # a signal inside VTK's rendering printed VTK errors or crashed it (as the design
+        # a signal inside VTK's rendering prints VTK errors or crashes it (as the design
         # report's pictures, exit 139): drawn with SIGINT/SIGTERM held, delivered once they
         # are done (about a second, three with --animate), when the staging is discarded
         with deferred_signals():
             return render_modes(model, modes, stage, which, args.animate)
 
-    written = write_figures(out, "--out", args.force, draw)
+    written = write_figures(args, "--out", draw)
     for path in written:
         print(path)

@@ -41,8 +41,8 @@ def run(args: argparse.Namespace) -> None:
     try:
         doc = _write(args, out)
     except OSError as exc:
-        # a full disk or a file-size limit while the set is written: it said "cannot use:
-        # File too large", naming neither --out nor the folder
+        # a full disk or a file-size limit while the set is written: said naming --out and
+        # the folder, not as the bare "File too large"
         where = Path(os.fsdecode(exc.filename)).absolute() if exc.filename else None
         if where is not None and out.absolute().parent not in (where, *where.parents):
             raise  # not the report's own files
@@ -68,11 +68,11 @@ def _write(args: argparse.Namespace, out: Path) -> dict:
 
         choice = stator_from_args(args)
         params, damping_from = motor_params_of(args, "fem")
-        with output_set(out, "--out", args.force) as stage:
+        with output_set(out, "--out", args.force, "report") as stage:
             return write_design_report(stage, choice, params, stator_options_text(args),
                                        quick=args.quick, progress=progress,
                                        damping_from=damping_from)
     from validation.report import write_report
 
-    with output_set(out, "--out", args.force) as stage:
+    with output_set(out, "--out", args.force, "report") as stage:
         return write_report(stage, quick=args.quick, progress=progress)

@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> None:
     params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
     coupling, coupling_from = motor.coupling, motor.coupling_from
     if args.steady:
-        # the range characteristic and map say (the engine's own refusal had no range)
+        # the range characteristic and map say (the engine's own refusal has no range)
         check_steady_frequency(params, freq, coupling)
         # said once --dt is known to be a number: a refusal is then the one line
         warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
@@ -116,16 +116,15 @@ def _print_one(summary: dict, motor: Motor) -> None:
         text = f"{value:.6g}" if isinstance(value, float) else str(value)
         print(f"{key:<30} {text}")
     for b in summary.get("branches") or ():
-        # every stable steady state, as the JSON has them (the ones a start from rest
-        # does not reach had been in a warning alone)
+        # every stable steady state, as the JSON has them, also the ones a start from rest
+        # does not reach
         print(f"{'branch (from rest)' if b['from_rest'] else 'branch':<30} "
               + branch_text(b))
     print_limits(summary.get("limits"))
     print(damping_line(motor.params, motor.damping_from))
     print(coupling_line(motor.coupling, motor.coupling_from))
     if "energy" in summary:
-        # every term of the balance, as --json gives them (the text had shown the
-        # residual alone)
+        # every term of the balance, as --json gives them, not the residual alone
         e = summary["energy"]
         for key, value in e.items():
             if key != "relative_residual":
@@ -185,6 +184,6 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     if plot is not None:
         from validation.figures import simulation_figures
 
-        summary["figures"] = write_figures(plot, "--plot", args.force,
+        summary["figures"] = write_figures(args, "--plot",
                                            lambda stage: simulation_figures(r, stage))
     return summary

@@ -136,8 +136,8 @@ def _check_target_reachable(args: argparse.Namespace, choice) -> None:
     # the shortest plate: within the range, and wide enough for electrodes of at least
     # ELECTRODE_GAP_RATIO gaps beside the gap (a tuned plate is about 0.27 times as wide
     # as long: 11.4 x 42.1 mm at 40 kHz). Narrower electrodes: the 2D model leaves the
-    # 3D one (6e5 Hz gave a 0.63 mm wide plate, electrodes 0.13 gaps wide, L1 5 % off
-    # 3D; 7e5 Hz and above failed after 10-50 FE solves)
+    # 3D one (6e5 Hz gives a 0.63 mm wide plate, electrodes 0.13 gaps wide, L1 5 % off
+    # 3D; 7e5 Hz and above fail after 10-50 FE solves)
     shortest = max(lo, _least_width_mm(choice.stator.electrode_gap_m) / TUNED_ASPECT)
     if not (shortest <= near_top_mm and est_mm <= hi):
         asked_mm = near_top_mm if near_top_mm < shortest else est_mm
@@ -239,7 +239,7 @@ to 3e5 Hz (0.97 gaps) 0.46 % and 0.44 %, its B2 k_eff 15 % high; to 4e5 Hz (0.57
 
 def _inward(value: float, up: bool = False) -> float:
     """``value`` rounded to 4 significant digits towards the inside of a quoted range (``up``
-    for its lower end): '.4g' rounded outwards, and both ends quoted were refused."""
+    for its lower end), so that both ends quoted are accepted ('.4g' rounds outwards)."""
     q = 10.0 ** (math.floor(math.log10(abs(value))) - 3)
     return (math.ceil if up else math.floor)(value / q * (1 - 1e-12 if up else 1 + 1e-12)) * q
 
