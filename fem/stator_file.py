@@ -15,7 +15,7 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     drive = [1, 4]                      # electrodes at +V (others grounded), numbers 1..4
 
     [material]
-    name = "pzt8"                       # "pzt8" or "paper", or inline constants:
+    name = "pzt8"                       # a name of fem.material.MATERIAL_NAMES, or inline:
     # base = "pzt8"                     # start from a named material and override
     # cE_Pa = [[...6 rows of 6...]]     # stiffness at constant E (Pa), Voigt 11,22,33,23,13,12
     # e_C_m2 = [[...3 rows of 6...]]    # piezoelectric stress constants (C/m^2)

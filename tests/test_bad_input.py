@@ -482,6 +482,9 @@ REPORT = [
     ("length-tiny", ["report", "--length-mm", "1e-6"], "--length-mm", "[0.1, 1000] mm"),
 ]
 
+MATERIALS = [
+    ("unknown-option", ["materials", "--material", "pzt9"], "--material", None),
+]
 EXPLORE = [  # more in tests/test_explore.py
     ("missing-study", ["explore", "{missing}", "--out", "r.nc"], "{missing}", None),
     ("stator-as-study", ["explore", "{plate}", "--out", "r.nc"], "{plate}", None),
@@ -542,7 +545,7 @@ STATOR_FILES = [
 TABLES = {"simulate": SIMULATE, "map": MAP, "characteristic": CHARACTERISTIC, "modes": MODES,
           "render": RENDER, "tune": TUNE, "sweep": SWEEP, "admittance": ADMITTANCE,
           "compare": COMPARE, "params": PARAMS, "report": REPORT, "explore": EXPLORE,
-          "stator_files": STATOR_FILES}
+          "materials": MATERIALS, "stator_files": STATOR_FILES}
 
 SLOW_ROWS = {"off-centre-hole-pairing"}
 """Rows refused only once the stator is meshed and solved (seconds, not milliseconds)."""
