@@ -14,7 +14,8 @@ def test_characteristic_json_curve_is_consistent(capsys):
                  "--loads", "0:1.5:0.5", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"no_load_velocity_m_s", "stall_force_N", "averaged_stall_force_N",
-                        "creep_from_N", "creep_from_rule", "holding_range_N", "accuracy",
+                        "creep_from_N", "creep_from_rule", "creep_speed_m_s",
+                        "holding_range_N", "accuracy",
                         "limits",
                         "curve", "damping", "coupling", "coupling_from", "voltage_V",
                         "preload_N", "frequency_Hz", "frequency_from", "rest"}

@@ -26,26 +26,70 @@ CHARACTERISTIC_PRELOAD_N = 14.0
 
 def characteristic_figure(char: Characteristic | Sequence[Characteristic], path: Path,
                           title: str = "") -> Path:
-    """Speed against load and efficiency against load, one line per voltage (PNG)."""
+    """Speed against load and efficiency against load, one line per voltage (PNG).
+
+    Each curve's stall force is marked on the zero-speed axis and its creep band (from
+    :attr:`~contact.characteristic.Characteristic.creep_from_N` to the stall force, where
+    the slider creeps slower than its creep speed) is shaded: the curve's knee, where it
+    meets the axis on a linear scale, is not the stall force.
+    """
     chars = [char] if isinstance(char, Characteristic) else list(char)
     plt = pyplot()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    speed_thrust_axes(ax1, chars, title)
     for i, c in enumerate(chars):
-        label = f"{c.op.voltage_V:g} V"
-        ax1.plot(c.load_N, c.velocity_m_s * 1e3, "o-", ms=3, color=f"C{i}", label=label)
-        ax2.plot(c.load_N, c.efficiency * 100, "s-", ms=3, color=f"C{i}", label=label)
-    ax1.set_xlabel("load force (N)")
-    ax1.set_ylabel("steady slider velocity (mm/s)")
-    level = {"exact": "exact level", "fast": "averaged level"}.get(chars[0].accuracy, "")
-    ax1.set_title("speed-thrust" + (f", {title}" if title else "")
-                  + f", F_P = {chars[0].op.preload_N:g} N, {level}")
+        ax2.plot(c.load_N, c.efficiency * 100, "s-", ms=3, color=f"C{i}",
+                 label=f"{c.op.voltage_V:g} V")
     ax2.set_xlabel("load force (N)")
     ax2.set_ylabel("efficiency, output / electrical input (%)")
     ax2.set_title("efficiency")
-    for ax in (ax1, ax2):
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
+    ax2.grid(True, alpha=0.3)
+    ax2.legend(fontsize=8)
     return save(fig, path)
+
+
+def speed_thrust_axes(ax, chars: Sequence[Characteristic], title: str = "") -> dict:
+    """Draw the speed-thrust curves of ``chars`` on ``ax`` with their stall forces and creep
+    bands.
+
+    Returns
+    -------
+    dict
+        The drawn artists by kind: ``"curves"`` (one line per voltage), ``"stall"`` (one
+        marker per finite stall force, its x data the stall force in N), ``"creep"`` (one
+        shaded span per creep band, from ``creep_from_N`` to the stall force) and
+        ``"creep_speed"`` (one dashed line per finite creep speed, in mm/s).
+    """
+    drawn: dict[str, list] = {"curves": [], "stall": [], "creep": [], "creep_speed": []}
+    for i, c in enumerate(chars):
+        colour = f"C{i}"
+        drawn["curves"] += ax.plot(c.load_N, c.velocity_m_s * 1e3, "o-", ms=3, color=colour,
+                                   label=f"{c.op.voltage_V:g} V")
+        stall = float(c.stall_force_N)
+        if np.isfinite(stall):
+            drawn["stall"] += ax.plot([stall], [0.0], "X", ms=10, color=colour, mec="k",
+                                      label=f"stall {stall:.3g} N", zorder=5)
+        lo = float(c.creep_from_N)
+        if np.isfinite(lo) and np.isfinite(stall):
+            drawn["creep"].append(ax.axvspan(
+                min(lo, stall), max(lo, stall), color=colour, alpha=0.15,
+                label=f"creep band {min(lo, stall):.3g} to {max(lo, stall):.3g} N"))
+        creep = float(c.creep_speed_m_s)
+        if np.isfinite(creep) and np.isfinite(lo):
+            drawn["creep_speed"].append(ax.axhline(
+                creep * 1e3, color=colour, ls=":", lw=1,
+                label=f"creep speed {creep * 1e3:.2g} mm/s"))
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.set_xlabel("load force (N)")
+    ax.set_ylabel("steady slider velocity (mm/s)")
+    level = {"exact": "exact level", "fast": "averaged level"}.get(chars[0].accuracy, "")
+    ax.set_title("speed-thrust" + (f", {title}" if title else "")
+                 + f", F_P = {chars[0].op.preload_N:g} N, {level}", fontsize=10)
+    note = ("shaded: the slider creeps, slower than\nthe creep speed, up to the stall (X)"
+            if drawn["creep"] else None)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7, title=note, title_fontsize=7)
+    return drawn
 
 
 def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path, *,
