@@ -73,3 +73,50 @@ def test_speed_thrust_marks_the_stall_force_and_shades_the_creep_band():
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert "stall 0.985 N" in labels and "creep band 0.5 to 0.985 N" in labels
     plt.close(fig)
+
+
+def _map():
+    """A hand-made 3 x 3 steady map: speeds rise with voltage and fall with preload, except
+    150 V / 10 N (slower than 100 V / 10 N by 5.7 times, the issue's creep-level case); the
+    point 200 V / 12 N has two stable states."""
+    import numpy as np
+
+    from contact.maps import StickSlipMap
+
+    v = np.array([[0.372, 0.2, 0.1], [0.065, 0.5, 0.3], [3.0, 2.0, 1.0]]) * 1e-3
+    branches = np.empty((3, 3), dtype=object)
+    for i in range(3):
+        for j in range(3):
+            branches[i, j] = ((v[i, j], 1, "stick-slip", True, False),)
+    branches[2, 1] = (*branches[2, 1], (0.0, 1, "pure-stick", False, True))
+    shape = (3, 3)
+    return StickSlipMap(np.array([100.0, 150.0, 200.0]), np.array([10.0, 12.0, 14.0]),
+                        np.full(shape, "stick-slip"), v, np.full(shape, 0.5),
+                        np.zeros(shape), np.full(shape, 0.2), np.ones(shape, bool), 0.0,
+                        "steady", branches, np.zeros(shape, bool))
+
+
+def test_map_names_the_points_with_several_states_and_against_the_trend():
+    m = _map()
+    assert m.several_branches() == [(2, 1)]
+    assert m.non_monotone_pairs() == [((0, 0), (1, 0)), ((1, 0), (1, 1))]
+
+
+def test_map_figure_draws_log_speed_contours_and_marks_them():
+    """The map's figure: filled contours of |v| on a log scale spanning the speeds, a diamond
+    at the point with two stable states, a dashed segment per non-monotone pair."""
+    from matplotlib.colors import LogNorm
+
+    from validation.figures import map_axes
+    from validation.plotting import pyplot
+
+    plt = pyplot()
+    fig, ax = plt.subplots()
+    drawn = map_axes(ax, _map())
+    cs = drawn["contours"]
+    assert isinstance(cs.norm, LogNorm)
+    assert cs.levels[0] <= 0.065 and cs.levels[-1] >= 3.0  # mm/s
+    assert drawn["several"] == [(12.0, 200.0)]
+    assert drawn["non_monotone"] == [((10.0, 10.0), (100.0, 150.0)),
+                                     ((10.0, 12.0), (150.0, 150.0))]
+    plt.close(fig)
