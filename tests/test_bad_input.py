@@ -480,6 +480,20 @@ REPORT = [
      None),
     ("geometry-missing", ["report", "--geometry", "no_such_stator.toml"], "--geometry", None),
     ("length-tiny", ["report", "--length-mm", "1e-6"], "--length-mm", "[0.1, 1000] mm"),
+    ("voltages-without-stator", ["report", "--voltages", "200"], "--voltages", "--geometry"),
+    ("preload-without-stator", ["report", "--preload", "10"], "--preload", "--geometry"),
+    ("frequency-without-stator", ["report", "--frequency", "auto"], "--frequency",
+     "--geometry"),
+    ("voltages-item", ["report", "--geometry", "{plate}", "--voltages", "200,x"], "--voltages",
+     "[0, 2000] V"),
+    ("voltages-twice", ["report", "--geometry", "{plate}", "--voltages", "200,200"],
+     "--voltages", None),
+    ("voltages-too-many", ["report", "--geometry", "{plate}", "--voltages",
+                           "1,2,3,4,5,6,7,8,9"], "--voltages", "1 to 8"),
+    ("preload-negative", ["report", "--geometry", "{plate}", "--preload", "-1"], "--preload",
+     "[0, 1000] N"),
+    ("frequency-word", ["report", "--geometry", "{plate}", "--frequency", "fast"],
+     "--frequency", "'auto'"),
 ]
 
 MATERIALS = [
