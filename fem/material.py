@@ -438,6 +438,91 @@ def transverse_coupling(material: PiezoMaterial) -> dict[str, float]:
             "N31_Hz_m": 1.0 / (2.0 * float(np.sqrt(material.rho_kg_m3 * s11)))}
 
 
+@dataclass(frozen=True)
+class ElasticMaterial:
+    """An isotropic, non-piezoelectric material a stator's contact tip may be made of.
+
+    Attributes
+    ----------
+    name : str
+        Short identifier (:data:`TIP_MATERIALS`).
+    young_Pa : float
+        Young's modulus (Pa).
+    poisson : float
+        Poisson's ratio (-), in (-1, 0.5).
+    rho_kg_m3 : float
+        Mass density (kg/m^3).
+    relative_permittivity : float
+        eps_r (-) of the 3D model's potential in the tip (no piezoelectric coupling there).
+    source : str
+        Where the numbers come from.
+    """
+
+    name: str
+    young_Pa: float
+    poisson: float
+    rho_kg_m3: float
+    relative_permittivity: float
+    source: str
+
+    def stiffness_Pa(self) -> np.ndarray:
+        """The 6x6 isotropic stiffness (Pa), Voigt order 11,22,33,23,13,12."""
+        e, nu = self.young_Pa, self.poisson
+        lam, mu = e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
+        c = np.zeros((6, 6))
+        c[:3, :3] = lam
+        c[range(3), range(3)] = lam + 2 * mu
+        c[range(3, 6), range(3, 6)] = mu
+        return c
+
+    def plane_stress_Pa(self) -> np.ndarray:
+        """The 3x3 plane-stress stiffness (Pa), order (11, 22, 12), engineering shear."""
+        e, nu = self.young_Pa, self.poisson
+        return e / (1 - nu**2) * np.array([[1, nu, 0], [nu, 1, 0], [0, 0, (1 - nu) / 2]])
+
+    def thickness_ratio(self) -> np.ndarray:
+        """``a`` of the plane-stress thickness strain ``S3 = -a . [S1, S2, S6]`` (-)."""
+        r = self.poisson / (1 - self.poisson)
+        return np.array([r, r, 0.0])
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready dictionary."""
+        return asdict(self)
+
+
+TIP_MATERIALS = {
+    "alumina": ElasticMaterial(
+        "alumina", 310e9, 0.22, 3800.0, 9.0,
+        "97-99 % alumina, ASTM D2442 Type III / IEC 60672 C-795 (MakeItFrom.com material "
+        "card): Young's modulus 310 GPa, Poisson's ratio 0.22, density 3.8 g/cm^3, relative "
+        "permittivity 9.0 at 1 Hz. Purer grades are stiffer (99.9 %: about 380 GPa, "
+        "3.97 g/cm^3, Kientec's data): give inline constants for them."),
+    "steel": ElasticMaterial(
+        "steel", 193e9, 0.29, 8000.0, 1.0,
+        "AISI 304 stainless steel (UNS S30400; the MatWeb-style data sheet Elgin Fasteners and "
+        "Alloys International reprint): modulus of elasticity 193 GPa, Poisson's ratio 0.29, "
+        "density 8.0 g/cm^3. A metal tip's own potential is not modelled: the 3D model "
+        "treats it as a dielectric of eps_r 1 without piezoelectric coupling (its field is "
+        "the fringe beyond the unelectroded end)."),
+}
+"""Materials a parametric stator's tip may be made of (``[tip] material``)."""
+
+
+def tip_material(name: str) -> ElasticMaterial:
+    """The tip material ``name`` (:data:`TIP_MATERIALS`, case ignored).
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not one of :data:`TIP_MATERIALS`.
+    """
+    key = str(name).strip().lower()
+    if key not in TIP_MATERIALS:
+        raise ValueError(f"a tip material must be one of {', '.join(TIP_MATERIALS)}; got "
+                         f"{name!r}")
+    return TIP_MATERIALS[key]
+
+
 @dataclass(frozen=True, eq=False)
 class PlaneStressConstants:
     """Effective 2D constants of a thin plate poled through its thickness (plane stress).

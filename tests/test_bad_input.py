@@ -122,6 +122,7 @@ def files(tmp_path_factory) -> dict[str, str]:
         f[name] = str(d / f"{name}.toml")
 
     toml("plate", PLATE)
+    toml("tip_brass", PLATE + '[tip]\nlength_mm = 1\nwidth_mm = 2\nmaterial = "brass"\n')
     toml("off_centre_hole", "[plate]\nlength_mm = 25.6938\nwidth_mm = 7.2\n"
          "thickness_mm = 2.5\n[electrodes]\ngap_mm = 0.4\n[material]\nname = \"paper\"\n"
          "[tip]\nlength_mm = 0.8\nwidth_mm = 1.6\n[chamfers]\nsize_mm = 0.8\n"
@@ -508,6 +509,8 @@ EXPLORE = [  # more in tests/test_explore.py
 
 # a stator file's own defects: the file is named with --geometry, the line names its key
 STATOR_FILES = [
+    ("tip-material-unknown", ["modes", "--geometry", "{tip_brass}"], "[tip] material",
+     "alumina, steel"),
     ("unit-list", ["modes", "--geometry", "{unit_list}"], "[mesh] unit", None),
     ("tip-far", ["modes", "--geometry", "{tip_far}"], "[points] tip_mm", None),
     ("length-string", ["modes", "--geometry", "{length_str}"], "[plate] length_mm",

@@ -232,6 +232,9 @@ def test_materials_lists_every_named_material(capsys):
         assert {"rho_kg_m3", "s11E_m2_N", "d31_C_N", "k31", "N31_Hz_m", "mechanical_Q",
                 "limits", "source", "cE_Pa"} <= set(r)
         assert r["limits"]["drive_field_V_m"] > 0 and r["source"]
+    assert main(["materials", "--json"]) == 0
+    tips = json.loads(capsys.readouterr().out)["tip_materials"]
+    assert [t["name"] for t in tips] == ["alumina", "steel"]
     assert main(["materials"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert all(any(line.startswith(n + " ") for line in out) for n in MATERIAL_NAMES)

@@ -165,3 +165,81 @@ def test_k31_bar_resonates_at_its_frequency_constant(name):
     f_s = transverse_coupling(get_material(name))["N31_Hz_m"] / bar.length_m
     assert f_fe == pytest.approx(f_s, rel=5e-4)
     assert f_fe < f_s
+
+
+def _two_segment_rod_Hz(e1: float, rho1: float, a: float, e2: float, rho2: float, b: float,
+                        near_Hz: float) -> float:
+    """The free-free two-segment rod's first extensional frequency near ``near_Hz``:
+    ``Z1 tan(k1 a) + Z2 tan(k2 b) = 0``, ``Z = sqrt(E rho)``, ``k = omega sqrt(rho / E)``."""
+    import math
+
+    from scipy.optimize import brentq
+
+    def f(w: float) -> float:
+        return (math.sqrt(e1 * rho1) * math.tan(w * math.sqrt(rho1 / e1) * a)
+                + math.sqrt(e2 * rho2) * math.tan(w * math.sqrt(rho2 / e2) * b))
+
+    ws = np.linspace(0.9, 1.1, 2001) * 2 * math.pi * near_Hz
+    vals = np.array([f(w) for w in ws])
+    # a sign change through zero, not through a pole of tan
+    i = next(i for i in range(len(ws) - 1) if vals[i] * vals[i + 1] < 0
+             and max(abs(vals[i]), abs(vals[i + 1])) < 1e3 * abs(vals).min() + 1e9)
+    return brentq(f, ws[i], ws[i + 1]) / (2 * math.pi)
+
+
+@pytest.mark.parametrize("tip", ["alumina", "steel"])
+def test_a_tip_of_its_own_material_is_a_two_segment_rod(tip):
+    """A 30 x 1.5 x 0.5 mm electroded strip with a 6 mm tip of alumina or steel across its
+    whole width: its L1 in the 2D FE is the two-segment rod's, PZT-8 (1/s11E, short
+    circuit) then the tip's Young's modulus and density, within 0.03 % (lateral inertia)."""
+    from fem.material import tip_material
+    from fem.meshing.parametric import ParametricStator
+    from fem.modes import plate_modes
+
+    length, width, tip_len = 30e-3, 1.5e-3, 6e-3
+    st = ParametricStator(length_m=length, width_m=width, thickness_m=0.5e-3,
+                          electrode_gap_m=0.0, tip_length_m=tip_len, tip_width_m=width,
+                          tip_material=tip)
+    f_fe = plate_modes(st, "pzt8", order=2, refine=2).L1.f_short_Hz
+    t = tip_material(tip)
+    f_rod = _two_segment_rod_Hz(plane_stress(pzt8()).young_modulus_Pa(1), 7600.0, length,
+                                t.young_Pa, t.rho_kg_m3, tip_len, f_fe)
+    assert f_fe == pytest.approx(f_rod, rel=3e-4)
+
+
+def test_the_3d_tip_bricks_take_the_tip_material():
+    """assemble_solid with every brick in the tip is the assembly of an isotropic material of
+    the tip's constants with no piezoelectric coupling: the per-brick constants are the
+    tip's, to round-off."""
+    from skfem import MeshHex
+
+    from fem.material import EPS0_F_M, PiezoMaterial, tip_material
+    from fem.solid3d.model import assemble_solid
+
+    mesh = MeshHex.init_tensor(np.linspace(0, 2e-3, 3), np.linspace(0, 4e-3, 4),
+                               np.linspace(0, 1e-3, 2))
+    t = tip_material("alumina")
+    iso = PiezoMaterial("iso", t.stiffness_Pa(), np.zeros((3, 6)),
+                        EPS0_F_M * t.relative_permittivity * np.eye(3), t.rho_kg_m3)
+    cells = np.arange(mesh.t.shape[1])
+    got = assemble_solid(mesh, pzt8(), 2, "hex20", (t, cells))[1:]
+    want = assemble_solid(mesh, iso, 2, "hex20")[1:]
+    for a, b in zip(got, want, strict=True):
+        assert abs(a - b).max() <= 1e-12 * max(abs(b).max(), 1e-30)
+    # and no tip is the ceramic everywhere (the one-material path)
+    half = assemble_solid(mesh, pzt8(), 2, "hex20", (t, cells[:0]))[1:]
+    for a, b in zip(half, assemble_solid(mesh, pzt8(), 2, "hex20")[1:], strict=True):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()
+
+
+def test_isotropic_tip_constants():
+    from fem.material import TIP_MATERIALS, tip_material
+
+    for t in TIP_MATERIALS.values():
+        s = np.linalg.inv(t.stiffness_Pa())
+        assert 1.0 / s[0, 0] == pytest.approx(t.young_Pa, rel=1e-12)
+        assert -s[0, 1] / s[0, 0] == pytest.approx(t.poisson, rel=1e-12)
+        assert 1.0 / np.linalg.inv(t.plane_stress_Pa())[1, 1] == pytest.approx(t.young_Pa)
+        assert t.source
+    with pytest.raises(ValueError, match="alumina, steel"):
+        tip_material("brass")

@@ -11,7 +11,8 @@ HELP = "list the named materials (constants, Q_m, limits, sources)"
 DESCRIPTION = """\
 List the named piezoceramics a stator file's [material] name or --material takes: density,
 s11E, d31, eps33T, k31, the k31 bar's frequency constant, the data-sheet Q_m and the operating
-limits (vibration velocity, tensile stress, AC field, heating). --json adds the full e-form
+limits (vibration velocity, tensile stress, AC field, heating); then the materials a stator
+file's [tip] material takes (isotropic, not piezoelectric). --json adds the full e-form
 constants and each material's source.
 """
 
@@ -34,9 +35,12 @@ def material_rows() -> list[dict]:
 
 def run(args: argparse.Namespace) -> None:
     """Print the table (or one JSON object ``{"materials": [...]}``)."""
+    from fem.material import TIP_MATERIALS
+
     rows = material_rows()
+    tips = [t.to_dict() for t in TIP_MATERIALS.values()]
     if args.json:
-        print_json({"materials": rows}, indent=2)
+        print_json({"materials": rows, "tip_materials": tips}, indent=2)
         return
     head = ("name", "rho kg/m3", "s11E pm2/N", "d31 pC/N", "eps33T/eps0", "k31", "N31 Hz m",
             "Q_m", "v m/s", "T MPa", "E V/mm", "P W/cm3")
@@ -58,3 +62,6 @@ def run(args: argparse.Namespace) -> None:
                         for i, (c, w) in enumerate(zip(line, widths, strict=True))).rstrip())
     print("v: peak vibration velocity, T: dynamic tensile strength, E: AC drive field, P: heat "
           "per volume; sources: lusm materials --json, fem/material.py, docs/designer.md")
+    print("tip materials ([tip] material): " + "; ".join(
+        f"{t['name']} E {t['young_Pa'] / 1e9:g} GPa, nu {t['poisson']:g}, rho "
+        f"{t['rho_kg_m3']:g} kg/m3" for t in tips))
