@@ -1,0 +1,430 @@
+"""Weighted least squares of a parameter set against measurements, with its uncertainty.
+
+The fit runs :func:`scipy.optimize.least_squares` (trust-region reflective, bounded) on the
+residuals ``(model - measured) / sigma`` of every measured value, in parameters scaled to
+their box (``u = (value - min) / (max - min)`` in [0, 1]), from the file's start and from
+further starts drawn in the box (log-uniform for a positive range of more than a decade);
+the lowest chi-square wins. SciPy is a core dependency already, and the fit needs its own
+covariance and profiles anyway (a slow model wants bounded work, not lmfit's open-ended
+``conf_interval``), so no fitting library is added.
+
+Uncertainty, with the measurement file's standard deviations taken as absolute:
+
+* covariance ``(J^T J)^-1`` from the Jacobian at the optimum (SVD; a direction the data do
+  not see has no finite variance), standard errors and correlations;
+* profile likelihood: each parameter stepped away from its optimum (1, 2, 4, 8 standard
+  errors, then its bound), the others fitted again at every step, until chi-square rises by
+  :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter); bounded work;
+* a parameter is *not identifiable* when the data see no direction of it, when its profile
+  stays below 3.84 up to both bounds, or when it correlates with another above
+  :data:`MAX_CORRELATION` in magnitude: the report names it and gives no number.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from calibration.measurements import MeasurementError, Measurements
+from calibration.model import predict
+from calibration.parameters import ORDER, FitParameter, apply, base_value
+from rom.params import MotorParams
+
+DELTA_CHI2_95 = 3.841458820694124
+"""Rise of chi-square that bounds a 95 % profile-likelihood interval of one parameter
+(the 95 % quantile of chi-square with one degree of freedom)."""
+MAX_CORRELATION = 0.95
+"""|Correlation| above which two parameters are not identifiable apart."""
+DIFF_STEP = 3e-5
+"""Finite-difference step of the Jacobian, as a share of each parameter's box."""
+SINGULAR_RTOL = 1e-8
+"""Singular values of the scaled Jacobian below this share of the largest: no information."""
+MAX_NFEV = 200
+"""Most residual evaluations of one start (the Jacobian's not counted)."""
+PROFILE_NFEV = 30
+"""Most residual evaluations of each re-fit along a profile."""
+PROFILE_STEPS = (1.0, 2.0, 4.0, 8.0)
+"""Steps along a profile, in standard errors (then the bound)."""
+
+
+@dataclass(frozen=True)
+class Profile:
+    """The profile likelihood of one parameter.
+
+    Attributes
+    ----------
+    values : ndarray
+        Parameter values visited (SI), sorted.
+    delta_chi2 : ndarray
+        Chi-square of the best fit with the parameter held there, minus the optimum's.
+    lower, upper : float
+        Ends of the 95 % interval (SI); a bound where the profile stays below
+        :data:`DELTA_CHI2_95` up to it (``lower_open``, ``upper_open``).
+    """
+
+    values: np.ndarray
+    delta_chi2: np.ndarray
+    lower: float
+    upper: float
+    lower_open: bool
+    upper_open: bool
+
+    @property
+    def flat(self) -> bool:
+        """Whether the data leave the parameter anywhere between its bounds."""
+        return self.lower_open and self.upper_open
+
+
+@dataclass(frozen=True)
+class CalibrationResult:
+    """A calibration: fitted values, their uncertainty and the fit's figures.
+
+    Attributes
+    ----------
+    parameters : tuple of FitParameter
+    values : ndarray
+        Best-fit values (SI), in the order of ``parameters``.
+    stderr : ndarray
+        Standard errors (SI); inf where the data see no direction of the parameter.
+    correlation : ndarray
+        Correlation matrix (NaN rows for such parameters).
+    covariance : ndarray
+        Covariance (SI).
+    identifiable : tuple of bool
+    reasons : tuple of str
+        Why a parameter is not identifiable ('' if it is).
+    profiles : dict of str to Profile
+    chi2 : float
+        Weighted sum of squared residuals at the optimum.
+    points : int
+        Measured values fitted.
+    starts : tuple of (ndarray, ndarray, float)
+        Each start's (start values, end values, chi-square), SI.
+    params : MotorParams
+        The fitted set.
+    c0_F : float or None
+        Fitted clamped capacitance (F), if fitted.
+    predictions : tuple of dict
+        The model's values at the optimum, per data set (measured quantity -> SI array).
+    coupling, accuracy : str
+        How the steady engine ran.
+    evaluations : int
+        Residual evaluations in all (fits, Jacobians, profiles).
+    wall_time_s, profile_time_s : float
+        Time of the whole calibration and of its profiles (s).
+    """
+
+    parameters: tuple[FitParameter, ...]
+    values: np.ndarray
+    stderr: np.ndarray
+    correlation: np.ndarray
+    covariance: np.ndarray
+    identifiable: tuple[bool, ...]
+    reasons: tuple[str, ...]
+    profiles: dict[str, Profile]
+    chi2: float
+    points: int
+    starts: tuple
+    params: MotorParams
+    c0_F: float | None
+    predictions: tuple[dict[str, np.ndarray], ...]
+    coupling: str
+    accuracy: str
+    evaluations: int = 0
+    wall_time_s: float = 0.0
+    profile_time_s: float = 0.0
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom: measured values less fitted parameters."""
+        return self.points - len(self.parameters)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Parameter names, in order."""
+        return tuple(p.name for p in self.parameters)
+
+
+class _Problem:
+    """Residuals of the measurements as a function of the scaled parameters ``u``."""
+
+    def __init__(self, meas: Measurements, base: MotorParams, coupling: str, accuracy: str,
+                 c0_F: float | None) -> None:
+        self.meas, self.base, self.coupling, self.accuracy = meas, base, coupling, accuracy
+        self.c0_F = c0_F
+        self.lower = np.array([p.lower for p in meas.parameters])
+        self.span = np.array([p.upper - p.lower for p in meas.parameters])
+        self.evaluations = 0
+
+    def values(self, u: np.ndarray) -> np.ndarray:
+        """SI values of scaled parameters."""
+        return self.lower + self.span * np.asarray(u, dtype=float)
+
+    def scaled(self, values: np.ndarray) -> np.ndarray:
+        """Scaled parameters of SI values."""
+        return (np.asarray(values, dtype=float) - self.lower) / self.span
+
+    def model(self, u: np.ndarray) -> tuple[MotorParams, float | None]:
+        """The parameter set and clamped capacitance of ``u``."""
+        given = dict(zip((p.name for p in self.meas.parameters), self.values(u), strict=True))
+        return apply(self.base, given), given.get("C0_F", self.c0_F)
+
+    def predictions(self, u: np.ndarray) -> list[dict[str, np.ndarray]]:
+        """Model values of every data set at ``u``."""
+        params, c0 = self.model(u)
+        self.evaluations += 1
+        return [predict(s, params, c0, self.coupling, self.accuracy) for s in self.meas.sets]
+
+    def residuals(self, u: np.ndarray) -> np.ndarray:
+        """``(model - measured) / sigma`` of every measured value."""
+        out = []
+        for s, pred in zip(self.meas.sets, self.predictions(u), strict=True):
+            for q, y in s.observed.items():
+                ok = np.isfinite(y)
+                out.append((pred[q][ok] - y[ok]) / s.sigma[q][ok])
+        return np.concatenate(out)
+
+
+def check_box(meas: Measurements, base: MotorParams) -> None:
+    """Refuse bounds that leave the set invalid somewhere in the box, naming the key: the
+    friction law's order ``a_mu <= mu_d <= mu_s`` must hold for every value allowed, and the
+    set must be valid at both corners.
+
+    Raises
+    ------
+    MeasurementError
+    """
+    src = f"{meas.path}: [parameters]"
+    fitted = {p.name: p for p in meas.parameters}
+    for low, high in ORDER:
+        if low not in fitted and high not in fitted:
+            continue
+        top = fitted[low].upper if low in fitted else getattr(base, low)
+        bottom = fitted[high].lower if high in fitted else getattr(base, high)
+        if top > bottom:
+            lo_txt = f"{low} max = {top:g}" if low in fitted else f"{low} = {top:g} (fixed)"
+            hi_txt = (f"{high} min = {bottom:g}" if high in fitted
+                      else f"{high} = {bottom:g} (fixed)")
+            raise MeasurementError(f"{src} {low if low in fitted else high}: {lo_txt} must "
+                                   f"not exceed {hi_txt}: the friction law needs a_mu <= mu_d "
+                                   f"<= mu_s everywhere in the box")
+    for corner in ("lower", "upper"):
+        values = {p.name: getattr(p, corner) for p in meas.parameters}
+        bad = [n for n, v in values.items() if v <= 0 and n not in ("a_mu", "b_mu", "mu_sd")]
+        if bad:
+            raise MeasurementError(f"{src} {bad[0]}: min must be > 0, got {values[bad[0]]:g}")
+        try:
+            apply(base, values)
+        except ValueError as exc:
+            text = str(exc).replace("MotorParams.", "")
+            raise MeasurementError(f"{src}: the set is invalid at every parameter's "
+                                   f"{'min' if corner == 'lower' else 'max'}: {text}") from None
+
+
+def _covariance(jac: np.ndarray, span: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Covariance (SI) from the Jacobian of the scaled parameters, and which parameters have
+    a direction the data do not see (their variance is infinite)."""
+    n = jac.shape[1]
+    _, s, vt = np.linalg.svd(jac, full_matrices=False)
+    keep = s > SINGULAR_RTOL * (s[0] if s.size and s[0] > 0 else 1.0)
+    blind = np.zeros(n, dtype=bool)
+    for k in np.flatnonzero(~keep):
+        blind |= np.abs(vt[k]) > 0.1
+    cov_u = (vt[keep].T / s[keep] ** 2) @ vt[keep]
+    cov = cov_u * np.outer(span, span)
+    cov[blind, :] = np.nan
+    cov[:, blind] = np.nan
+    return cov, blind
+
+
+def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
+    """The file's start, then ``count - 1`` starts drawn in the box (log-uniform for a
+    positive range of more than a decade), scaled."""
+    rng = np.random.default_rng(seed)
+    first = problem.scaled([p.start for p in problem.meas.parameters])
+    out = [first]
+    for _ in range(count - 1):
+        v = []
+        for p in problem.meas.parameters:
+            r = rng.uniform()
+            if p.lower > 0 and p.upper / p.lower > 10:
+                v.append(p.lower * (p.upper / p.lower) ** r)
+            else:
+                v.append(p.lower + r * (p.upper - p.lower))
+        out.append(problem.scaled(v))
+    return out
+
+
+def _solve(fun: Callable, u0: np.ndarray, nfev: int):
+    """:func:`scipy.optimize.least_squares` on [0, 1] with the module's settings."""
+    return least_squares(fun, np.clip(u0, 0.0, 1.0), bounds=(0.0, 1.0), method="trf",
+                         diff_step=DIFF_STEP, x_scale=1.0, max_nfev=nfev)
+
+
+def _profile_chi2(problem: _Problem, i: int, ui: float, guess: np.ndarray) -> tuple[float,
+                                                                                     np.ndarray]:
+    """Least chi-square with scaled parameter ``i`` held at ``ui``, the others fitted from
+    ``guess``; returns it and the full scaled optimum."""
+    n = guess.size
+    others = [k for k in range(n) if k != i]
+
+    def full(v: np.ndarray) -> np.ndarray:
+        u = np.empty(n)
+        u[i], u[others] = ui, v
+        return u
+
+    if not others:
+        r = problem.residuals(full(np.empty(0)))
+        return float(r @ r), full(np.empty(0))
+    sol = _solve(lambda v: problem.residuals(full(v)), guess[others], PROFILE_NFEV)
+    return 2.0 * float(sol.cost), full(sol.x)
+
+
+def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, chi2: float, step: float,
+                  sign: int) -> tuple[list[tuple[float, float]], float, bool]:
+    """One side of a profile: points ``(u_i, delta chi2)`` at :data:`PROFILE_STEPS` times
+    ``step`` and then the bound, stopping past :data:`DELTA_CHI2_95`; returns the points, the
+    scaled interval end and whether the profile reached the bound below 3.84."""
+    bound = 1.0 if sign > 0 else 0.0
+    points = [(float(u_best[i]), 0.0)]
+    guess = u_best
+    targets = [u_best[i] + sign * step * k for k in PROFILE_STEPS] + [bound]
+    for t in targets:
+        t = min(t, 1.0) if sign > 0 else max(t, 0.0)
+        if abs(t - points[-1][0]) < 1e-12:
+            continue
+        c, guess = _profile_chi2(problem, i, t, guess)
+        points.append((float(t), c - chi2))
+        if c - chi2 >= DELTA_CHI2_95:
+            (u0, d0), (u1, d1) = points[-2], points[-1]
+            end = u0 + (DELTA_CHI2_95 - d0) * (u1 - u0) / (d1 - d0) if d1 != d0 else u1
+            return points, float(end), False
+        if t == bound:
+            break
+    return points, bound, True
+
+
+def _profile(problem: _Problem, i: int, u_best: np.ndarray, chi2: float,
+             se_u: float) -> Profile:
+    """The profile likelihood of parameter ``i`` (module docstring)."""
+    step = se_u if math.isfinite(se_u) and se_u > 1e-6 else 0.05
+    step = min(step, 0.25)
+    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, chi2, step, -1)
+    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, chi2, step, +1)
+    pts = sorted(set(lo_pts) | set(hi_pts))
+    u = np.array([p[0] for p in pts])
+    span, lower = problem.span[i], problem.lower[i]
+    return Profile(lower + span * u, np.array([p[1] for p in pts]), lower + span * lo_end,
+                   lower + span * hi_end, lo_open, hi_open)
+
+
+def _identifiability(names: tuple[str, ...], blind: np.ndarray, corr: np.ndarray,
+                     profiles: dict[str, Profile]) -> tuple[tuple[bool, ...], tuple[str, ...]]:
+    """Whether each parameter is identifiable and, if not, why (module docstring)."""
+    ok, why = [], []
+    for i, name in enumerate(names):
+        reason = ""
+        if blind[i]:
+            reason = "the data do not depend on it"
+        elif name in profiles and profiles[name].flat:
+            reason = "its profile stays within 3.84 of the optimum between its bounds"
+        else:
+            row = np.where(np.arange(len(names)) == i, 0.0, np.abs(corr[i]))
+            j = int(np.nanargmax(row)) if np.any(np.isfinite(row)) and row.size > 1 else -1
+            if j >= 0 and row[j] > MAX_CORRELATION:
+                reason = f"correlation {corr[i, j]:+.3f} with {names[j]}"
+        ok.append(not reason)
+        why.append(reason)
+    return tuple(ok), tuple(why)
+
+
+def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consistent",
+              accuracy: str = "exact", starts: int = 3, seed: int = 0,
+              profile: tuple[str, ...] | None = None,
+              progress: Callable[[str], None] | None = None) -> CalibrationResult:
+    """Fit the measurement file's parameters to its data (module docstring).
+
+    Parameters
+    ----------
+    meas : Measurements
+        The data and the parameters to fit (:func:`calibration.load_measurements`).
+    base : MotorParams
+        The start set: every constant not fitted keeps its value; ``A_l_scale`` and
+        ``A_b_scale`` multiply its force factors.
+    coupling : {"paper", "consistent"}
+        Tangential coupling of the steady engine (the one the calibrated set is to be run
+        with afterwards).
+    accuracy : {"exact", "fast"}
+        Level of the steady engine.
+    starts : int
+        Number of starts (the file's, then ``starts - 1`` drawn with ``seed``), >= 1.
+    profile : tuple of str, optional
+        Parameters whose profile likelihood is traced; default all.
+    progress : callable, optional
+        Called with a short line as each stage starts.
+
+    Returns
+    -------
+    CalibrationResult
+    """
+    t0 = time.perf_counter()
+    say = progress or (lambda _text: None)
+    check_box(meas, base)
+    problem = _Problem(meas, base, coupling, accuracy, None)
+    names = tuple(p.name for p in meas.parameters)
+    fits = []
+    for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
+        say(f"start {k} of {max(1, starts)}")
+        fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
+    best = min(fits, key=lambda f: f[1].cost)[1]
+    chi2 = 2.0 * float(best.cost)
+    cov, blind = _covariance(best.jac, problem.span)
+    se = np.sqrt(np.where(blind, np.inf, np.diag(cov)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se, se)
+    t_prof = time.perf_counter()
+    profiles = {}
+    for i, name in enumerate(names):
+        if profile is None or name in profile:
+            say(f"profile of {name}")
+            profiles[name] = _profile(problem, i, best.x, chi2, se[i] / problem.span[i])
+    profile_time = time.perf_counter() - t_prof
+    ok, why = _identifiability(names, blind, corr, profiles)
+    notes = _notes(profiles, problem, fits, best)
+    params, c0 = problem.model(best.x)
+    return CalibrationResult(
+        parameters=meas.parameters, values=problem.values(best.x), stderr=se,
+        correlation=corr, covariance=cov, identifiable=ok, reasons=why, profiles=profiles,
+        chi2=chi2, points=sum(s.points for s in meas.sets),
+        starts=tuple((problem.values(u0), problem.values(f.x), 2.0 * float(f.cost))
+                     for u0, f in fits),
+        params=params, c0_F=c0, predictions=tuple(problem.predictions(best.x)),
+        coupling=coupling, accuracy=accuracy, evaluations=problem.evaluations,
+        wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes)
+
+
+def _notes(profiles: dict[str, Profile], problem: _Problem, fits, best) -> tuple[str, ...]:
+    """Remarks on the fit: a profile that found a lower chi-square than the optimum (a fit
+    that stopped short), starts that ended elsewhere."""
+    out = []
+    for name, prof in profiles.items():
+        if prof.delta_chi2.min() < -0.1:
+            out.append(f"the profile of {name} found a chi-square {-prof.delta_chi2.min():.3g} "
+                       "below the optimum: the fit stopped short of the least chi-square; "
+                       "more starts or a start nearer the data may help")
+    others = [2.0 * f.cost for _, f in fits if 2.0 * (f.cost - best.cost) > 1.0]
+    if others:
+        out.append(f"{len(others)} of {len(fits)} starts ended at a higher chi-square "
+                   f"(least {min(others):.4g} against {2.0 * best.cost:.4g}): local minima")
+    return tuple(out)
+
+
+def base_values(meas: Measurements, base: MotorParams) -> dict[str, float | None]:
+    """The start set's value of every fitted parameter (SI), for comparison."""
+    return {p.name: base_value(base, p.name) for p in meas.parameters}
