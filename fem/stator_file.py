@@ -81,6 +81,11 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     a_mu = 0.15                         # residual at large amplitude, [0, 2], <= mu_d
     b_mu_per_m = 1e6                    # attenuation factor, [0, 1e9] 1/m
 
+    [force_factor]                      # scales on the reduced force factors A_l, A_b
+    scale_L1 = 1.0                      #   (a prototype's electrodes, bond and poling give
+    scale_B2 = 1.0                      #   less than the model's), each in
+                                        #   FORCE_FACTOR_SCALE_RANGE (lusm calibrate fits them)
+
 With a feature table the stator is a :class:`fem.meshing.parametric.ParametricStator`: the plate
 keeps its own length and width (the tip is added beyond ``y = l``; the tip point is the
 centre of the tip's end), the electrodes are the plate's quadrants (``[electrodes] gap_mm``
@@ -170,6 +175,9 @@ damping", for the sources); 300 is the middle of that range on a logarithmic sca
 measured Q of the mounted stator (impedance analyser: ``f_s / (f_2 - f_1)`` at -3 dB)
 replaces it."""
 
+FORCE_FACTOR_SCALE_RANGE = (0.01, 100.0)
+"""Allowed ``[force_factor] scale_L1, scale_B2`` (-): ``(0.01, 100]``."""
+
 IDENTIFY_FREQUENCY_RANGE_HZ = (1e3, 1e7)
 """Allowed ``[damping] frequency_Hz`` of ``source = "paper_amplitudes"`` (Hz)."""
 
@@ -192,7 +200,7 @@ lower bound of 0 that is not allowed means "> 0"."""
 
 _KEYS: dict[str, tuple[str, ...]] = {
     "": ("name", "plate", "electrodes", "material", "points", "mesh", "tip", "chamfers",
-         "holes", "damping", "contact", "slider", "friction"),
+         "holes", "damping", "contact", "slider", "friction", "force_factor"),
     "plate": ("length_mm", "width_mm", "thickness_mm"),
     "electrodes": ("gap_mm", "drive"),
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
@@ -203,6 +211,7 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "holes": ("center_mm", "diameter_mm"),
     "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz", "Q_mount", "Q_contact"),
     **{table: tuple(keys) for table, keys in MOTOR_KEYS.items()},
+    "force_factor": ("scale_L1", "scale_B2"),
 }
 
 
@@ -251,6 +260,9 @@ class StatorDesign:
     motor : dict
         ``MotorParams`` field name -> SI value from ``[contact]``, ``[slider]`` and
         ``[friction]`` (empty: Table 2's constants).
+    force_factor_scales : (float, float) or None
+        ``[force_factor] (scale_L1, scale_B2)``: factors on the reduced ``A_l``, ``A_b``
+        (None: no table, the reduction's own).
     """
 
     name: str
@@ -264,6 +276,7 @@ class StatorDesign:
     motor: dict[str, float] = field(default_factory=dict)
     damping_identify_Hz: float | None = None
     mounts_m: tuple[tuple[float, float], ...] = ()
+    force_factor_scales: tuple[float, float] | None = None
 
     def motor_keys(self) -> dict[str, str]:
         """``MotorParams`` field -> the ``[table] key`` of the file that set it."""
@@ -592,6 +605,16 @@ def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
     return out
 
 
+def _force_factor(data: dict[str, Any], src: str) -> tuple[float, float] | None:
+    """``[force_factor] (scale_L1, scale_B2)`` (each 1 when not given), None without it."""
+    table = _table(data, "force_factor", src)
+    if "force_factor" not in data:
+        return None
+    lo, hi = FORCE_FACTOR_SCALE_RANGE
+    return tuple(_number(table, "force_factor", k, src, lo, hi, False, True)  # type: ignore
+                 if k in table else 1.0 for k in ("scale_L1", "scale_B2"))
+
+
 def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float], float]]:
     """``[[holes]]`` entries: ``(number, centre (mm), diameter (mm))``."""
     value = data.get("holes")
@@ -779,7 +802,8 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src,
                                                     material)
     motor = {"damping_ratios": damping, "damping_origin": damping_origin,
-             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src)}
+             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src),
+             "force_factor_scales": _force_factor(data, src)}
     drive = _drive(elec, src)
     thickness = _length_mm(plate, "plate", "thickness_mm", src, required=True)
     tip = _point_mm(pts_t, "tip_mm", src)
