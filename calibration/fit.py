@@ -17,7 +17,8 @@ Uncertainty, with the measurement file's standard deviations taken as absolute:
   :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter); bounded work;
 * a parameter is *not identifiable* when the data see no direction of it, when its profile
   stays below 3.84 up to both bounds, or when it correlates with another above
-  :data:`MAX_CORRELATION` in magnitude: the report names it and gives no number.
+  :data:`MAX_CORRELATION` in magnitude: the report names it and gives no number. One the
+  data do not depend on at all keeps its start value in the calibrated set.
 """
 
 from __future__ import annotations
@@ -397,14 +398,16 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     profile_time = time.perf_counter() - t_prof
     ok, why = _identifiability(names, blind, corr, profiles)
     notes = _notes(profiles, problem, fits, best)
-    params, c0 = problem.model(best.x)
+    # a parameter the data do not depend on keeps its start: the fit has no say in it
+    u_best = np.where(blind, problem.scaled([p.start for p in meas.parameters]), best.x)
+    params, c0 = problem.model(u_best)
     return CalibrationResult(
-        parameters=meas.parameters, values=problem.values(best.x), stderr=se,
+        parameters=meas.parameters, values=problem.values(u_best), stderr=se,
         correlation=corr, covariance=cov, identifiable=ok, reasons=why, profiles=profiles,
         chi2=chi2, points=sum(s.points for s in meas.sets),
         starts=tuple((problem.values(u0), problem.values(f.x), 2.0 * float(f.cost))
                      for u0, f in fits),
-        params=params, c0_F=c0, predictions=tuple(problem.predictions(best.x)),
+        params=params, c0_F=c0, predictions=tuple(problem.predictions(u_best)),
         coupling=coupling, accuracy=accuracy, evaluations=problem.evaluations,
         wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes)
 

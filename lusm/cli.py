@@ -40,6 +40,7 @@ COMMAND_MODULES = [
     "lusm.commands.admittance",
     "lusm.commands.explore",
     "lusm.commands.characteristic",
+    "lusm.commands.calibrate",
 ]
 """Sub-command modules, registered in this order (a module that does not exist is skipped)."""
 
