@@ -3,8 +3,8 @@
 The fit runs :func:`scipy.optimize.least_squares` (trust-region reflective, bounded) on the
 residuals ``(model - measured) / sigma`` of every measured value, in parameters scaled to
 their box (``u = (value - min) / (max - min)`` in [0, 1]), from the file's start and from
-further starts drawn in the box (log-uniform for a positive range of more than a decade);
-the lowest chi-square wins. SciPy is a core dependency already, and the fit needs its own
+the best of points drawn in the box (log-uniform for a positive range of more than a
+decade); the lowest chi-square wins. SciPy is a core dependency already, and the fit needs its own
 covariance and profiles anyway (a slow model wants bounded work, not lmfit's open-ended
 ``conf_interval``), so no fitting library is added.
 
@@ -12,9 +12,10 @@ Uncertainty, with the measurement file's standard deviations taken as absolute:
 
 * covariance ``(J^T J)^-1`` from the Jacobian at the optimum (SVD; a direction the data do
   not see has no finite variance), standard errors and correlations;
-* profile likelihood: each parameter stepped away from its optimum (1, 2, 4, 8 standard
-  errors, then its bound), the others fitted again at every step, until chi-square rises by
-  :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter); bounded work;
+* profile likelihood: each parameter stepped away from its optimum (1, 2, 4 standard
+  errors, then its bound), the others fitted again at every step (a few Gauss-Newton steps
+  on the optimum's Jacobian, one model evaluation each: bounded work), until chi-square
+  rises by :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter);
 * a parameter is *not identifiable* when the data see no direction of it, when its profile
   stays below 3.84 up to both bounds, or when it correlates with another above
   :data:`MAX_CORRELATION` in magnitude: the report names it and gives no number. One the
@@ -47,9 +48,13 @@ SINGULAR_RTOL = 1e-8
 """Singular values of the scaled Jacobian below this share of the largest: no information."""
 MAX_NFEV = 200
 """Most residual evaluations of one start (the Jacobian's not counted)."""
-PROFILE_NFEV = 30
-"""Most residual evaluations of each re-fit along a profile."""
-PROFILE_STEPS = (1.0, 2.0, 4.0, 8.0)
+CHORD_STEPS = 3
+"""Gauss-Newton steps of each re-fit along a profile (one model evaluation each)."""
+TOLERANCE = 1e-6
+"""Relative change of chi-square and of the scaled parameters that ends a start."""
+SCREEN_PER_PARAMETER = 8
+"""Points per fitted parameter drawn in the box to choose the starts after the file's."""
+PROFILE_STEPS = (1.0, 2.0, 4.0)
 """Steps along a profile, in standard errors (then the bound)."""
 
 
@@ -228,29 +233,34 @@ def check_box(meas: Measurements, base: MotorParams) -> None:
                                    f"{'min' if corner == 'lower' else 'max'}: {text}") from None
 
 
-def _covariance(jac: np.ndarray, span: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Covariance (SI) from the Jacobian of the scaled parameters, and which parameters have
-    a direction the data do not see (their variance is infinite)."""
+def _covariance(jac: np.ndarray, span: np.ndarray) -> tuple[np.ndarray, list[list[int]]]:
+    """Covariance (SI) from the Jacobian of the scaled parameters, and for each parameter
+    the parameters of a direction the data do not see that it takes part in (empty: none;
+    itself alone: the data do not depend on it). Such parameters have infinite variance."""
     n = jac.shape[1]
     _, s, vt = np.linalg.svd(jac, full_matrices=False)
     keep = s > SINGULAR_RTOL * (s[0] if s.size and s[0] > 0 else 1.0)
-    blind = np.zeros(n, dtype=bool)
-    for k in np.flatnonzero(~keep):
-        blind |= np.abs(vt[k]) > 0.1
+    blind: list[list[int]] = [[] for _ in range(n)]
+    for k in range(n):
+        if k < s.size and keep[k]:
+            continue
+        row = vt[k] if k < vt.shape[0] else np.eye(n)[k]
+        members = [int(j) for j in np.flatnonzero(np.abs(row) > 0.1)]
+        for j in members:
+            blind[j] = sorted(set(blind[j]) | set(members))
     cov_u = (vt[keep].T / s[keep] ** 2) @ vt[keep]
     cov = cov_u * np.outer(span, span)
-    cov[blind, :] = np.nan
-    cov[:, blind] = np.nan
+    lost = [j for j in range(n) if blind[j]]
+    cov[lost, :] = np.nan
+    cov[:, lost] = np.nan
     return cov, blind
 
 
-def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
-    """The file's start, then ``count - 1`` starts drawn in the box (log-uniform for a
-    positive range of more than a decade), scaled."""
-    rng = np.random.default_rng(seed)
-    first = problem.scaled([p.start for p in problem.meas.parameters])
-    out = [first]
-    for _ in range(count - 1):
+def _draw(problem: _Problem, count: int, rng: np.random.Generator) -> list[np.ndarray]:
+    """``count`` scaled points drawn in the box, log-uniform for a positive range of more
+    than a decade."""
+    out = []
+    for _ in range(count):
         v = []
         for p in problem.meas.parameters:
             r = rng.uniform()
@@ -262,45 +272,70 @@ def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
     return out
 
 
+def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
+    """The file's start, then the ``count - 1`` points of least chi-square among
+    :data:`SCREEN_PER_PARAMETER` per parameter drawn in the box (a model with a dead zone
+    has plateaus and steps that hold a start far from the data), scaled."""
+    first = problem.scaled([p.start for p in problem.meas.parameters])
+    if count <= 1:
+        return [first]
+    rng = np.random.default_rng(seed)
+    drawn = _draw(problem, SCREEN_PER_PARAMETER * len(problem.meas.parameters), rng)
+    chi2 = [float(r @ r) for r in map(problem.residuals, drawn)]
+    return [first, *(drawn[k] for k in np.argsort(chi2)[:count - 1])]
+
+
 def _solve(fun: Callable, u0: np.ndarray, nfev: int):
     """:func:`scipy.optimize.least_squares` on [0, 1] with the module's settings."""
     return least_squares(fun, np.clip(u0, 0.0, 1.0), bounds=(0.0, 1.0), method="trf",
-                         diff_step=DIFF_STEP, x_scale=1.0, max_nfev=nfev)
+                         diff_step=DIFF_STEP, x_scale=1.0, max_nfev=nfev, ftol=TOLERANCE,
+                         xtol=TOLERANCE)
 
 
-def _profile_chi2(problem: _Problem, i: int, ui: float, guess: np.ndarray) -> tuple[float,
-                                                                                     np.ndarray]:
-    """Least chi-square with scaled parameter ``i`` held at ``ui``, the others fitted from
-    ``guess``; returns it and the full scaled optimum."""
-    n = guess.size
+def _profile_chi2(problem: _Problem, i: int, ui: float, u_best: np.ndarray,
+                  jac: np.ndarray) -> float:
+    """Chi-square with scaled parameter ``i`` held at ``ui`` and the others re-fitted: their
+    linear response from the optimum's Jacobian, then up to :data:`CHORD_STEPS` Gauss-Newton
+    steps on that Jacobian (one model evaluation each, the least chi-square kept). Exact for
+    a model linear in its parameters; otherwise at most the true profile's value."""
+    n = u_best.size
     others = [k for k in range(n) if k != i]
 
     def full(v: np.ndarray) -> np.ndarray:
         u = np.empty(n)
-        u[i], u[others] = ui, v
+        u[i], u[others] = ui, np.clip(v, 0.0, 1.0)
         return u
 
     if not others:
         r = problem.residuals(full(np.empty(0)))
-        return float(r @ r), full(np.empty(0))
-    sol = _solve(lambda v: problem.residuals(full(v)), guess[others], PROFILE_NFEV)
-    return 2.0 * float(sol.cost), full(sol.x)
+        return float(r @ r)
+    pinv = np.linalg.pinv(jac[:, others])
+    v = u_best[others] - pinv @ (jac[:, i] * (ui - u_best[i]))
+    least = math.inf
+    for _ in range(CHORD_STEPS + 1):
+        r = problem.residuals(full(v))
+        c = float(r @ r)
+        if c >= least:
+            break
+        least = c
+        v = np.clip(v, 0.0, 1.0) - pinv @ r
+    return least
 
 
-def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, chi2: float, step: float,
+def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray,
+                  chi2: float, step: float,
                   sign: int) -> tuple[list[tuple[float, float]], float, bool]:
     """One side of a profile: points ``(u_i, delta chi2)`` at :data:`PROFILE_STEPS` times
     ``step`` and then the bound, stopping past :data:`DELTA_CHI2_95`; returns the points, the
     scaled interval end and whether the profile reached the bound below 3.84."""
     bound = 1.0 if sign > 0 else 0.0
     points = [(float(u_best[i]), 0.0)]
-    guess = u_best
     targets = [u_best[i] + sign * step * k for k in PROFILE_STEPS] + [bound]
     for t in targets:
         t = min(t, 1.0) if sign > 0 else max(t, 0.0)
         if abs(t - points[-1][0]) < 1e-12:
             continue
-        c, guess = _profile_chi2(problem, i, t, guess)
+        c = _profile_chi2(problem, i, t, u_best, jac)
         points.append((float(t), c - chi2))
         if c - chi2 >= DELTA_CHI2_95:
             (u0, d0), (u1, d1) = points[-2], points[-1]
@@ -311,13 +346,13 @@ def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, chi2: float, st
     return points, bound, True
 
 
-def _profile(problem: _Problem, i: int, u_best: np.ndarray, chi2: float,
+def _profile(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray, chi2: float,
              se_u: float) -> Profile:
     """The profile likelihood of parameter ``i`` (module docstring)."""
     step = se_u if math.isfinite(se_u) and se_u > 1e-6 else 0.05
     step = min(step, 0.25)
-    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, chi2, step, -1)
-    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, chi2, step, +1)
+    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, jac, chi2, step, -1)
+    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, jac, chi2, step, +1)
     pts = sorted(set(lo_pts) | set(hi_pts))
     u = np.array([p[0] for p in pts])
     span, lower = problem.span[i], problem.lower[i]
@@ -325,14 +360,17 @@ def _profile(problem: _Problem, i: int, u_best: np.ndarray, chi2: float,
                    lower + span * hi_end, lo_open, hi_open)
 
 
-def _identifiability(names: tuple[str, ...], blind: np.ndarray, corr: np.ndarray,
+def _identifiability(names: tuple[str, ...], blind: list[list[int]], corr: np.ndarray,
                      profiles: dict[str, Profile]) -> tuple[tuple[bool, ...], tuple[str, ...]]:
     """Whether each parameter is identifiable and, if not, why (module docstring)."""
     ok, why = [], []
     for i, name in enumerate(names):
         reason = ""
-        if blind[i]:
+        if blind[i] == [i]:
             reason = "the data do not depend on it"
+        elif blind[i]:
+            reason = ("the data fix only a combination of "
+                      f"{', '.join(names[j] for j in blind[i])}")
         elif name in profiles and profiles[name].flat:
             reason = "its profile stays within 3.84 of the optimum between its bounds"
         else:
@@ -386,7 +424,8 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     best = min(fits, key=lambda f: f[1].cost)[1]
     chi2 = 2.0 * float(best.cost)
     cov, blind = _covariance(best.jac, problem.span)
-    se = np.sqrt(np.where(blind, np.inf, np.diag(cov)))
+    alone = np.array([b == [i] for i, b in enumerate(blind)], dtype=bool)
+    se = np.sqrt(np.where([bool(b) for b in blind], np.inf, np.diag(cov)))
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(se, se)
     t_prof = time.perf_counter()
@@ -394,12 +433,13 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     for i, name in enumerate(names):
         if profile is None or name in profile:
             say(f"profile of {name}")
-            profiles[name] = _profile(problem, i, best.x, chi2, se[i] / problem.span[i])
+            profiles[name] = _profile(problem, i, best.x, best.jac, chi2,
+                                      se[i] / problem.span[i])
     profile_time = time.perf_counter() - t_prof
     ok, why = _identifiability(names, blind, corr, profiles)
     notes = _notes(profiles, problem, fits, best)
     # a parameter the data do not depend on keeps its start: the fit has no say in it
-    u_best = np.where(blind, problem.scaled([p.start for p in meas.parameters]), best.x)
+    u_best = np.where(alone, problem.scaled([p.start for p in meas.parameters]), best.x)
     params, c0 = problem.model(u_best)
     return CalibrationResult(
         parameters=meas.parameters, values=problem.values(u_best), stderr=se,
@@ -425,6 +465,13 @@ def _notes(profiles: dict[str, Profile], problem: _Problem, fits, best) -> tuple
     if others:
         out.append(f"{len(others)} of {len(fits)} starts ended at a higher chi-square "
                    f"(least {min(others):.4g} against {2.0 * best.cost:.4g}): local minima")
+    points = best.fun.size
+    dof = points - best.x.size
+    if dof > 0 and 2.0 * best.cost > 2.0 * dof + 4.0 * math.sqrt(2.0 * dof):
+        out.append(f"chi-square {2.0 * best.cost:.4g} is far above its {dof} degrees of "
+                   "freedom: the fit does not follow the data within their standard "
+                   "deviations (a local minimum: more starts; a model that cannot follow "
+                   "them; or deviations given too small), so the uncertainties are too small")
     return tuple(out)
 
 

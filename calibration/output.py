@@ -47,7 +47,7 @@ def fitted_text(result: CalibrationResult, i: int) -> str:
     p = result.parameters[i]
     unit = f" {p.unit}" if p.unit != "-" else ""
     if not result.identifiable[i]:
-        kept = ("kept at its start" if not np.isfinite(result.stderr[i])
+        kept = ("kept at its start" if "do not depend" in result.reasons[i]
                 else "one of many values that fit as well")
         return (f"{p.name} NOT IDENTIFIABLE from these data ({result.reasons[i]}); "
                 f"{_g(result.values[i])}{unit}: {kept}")
@@ -149,8 +149,9 @@ def relative_mesh(mesh_path: Path | None, out: Path) -> str | None:
 
 
 def summary(result: CalibrationResult, base_values: dict[str, float | None],
-            out: str | None) -> dict:
-    """The calibration as a JSON-ready dictionary (``lusm calibrate --json``)."""
+            out: str | None, meas=None) -> dict:
+    """The calibration as a JSON-ready dictionary (``lusm calibrate --json``); with the
+    measurements ``meas``, each data set's measured and fitted values (SI)."""
     params = []
     for i, p in enumerate(result.parameters):
         prof = result.profiles.get(p.name)
@@ -175,4 +176,10 @@ def summary(result: CalibrationResult, base_values: dict[str, float | None],
         "coupling": result.coupling, "accuracy": result.accuracy,
         "evaluations": result.evaluations, "wall_time_s": result.wall_time_s,
         "profile_time_s": result.profile_time_s, "notes": list(result.notes), "out": out,
+        "sets": [] if meas is None else [
+            {"kind": d.kind, "file": str(d.path),
+             "inputs": {q: v.tolist() for q, v in d.inputs.items()},
+             "measured": {q: v.tolist() for q, v in d.observed.items()},
+             "model": {q: pred[q].tolist() for q in d.observed}}
+            for d, pred in zip(meas.sets, result.predictions, strict=True)],
     }

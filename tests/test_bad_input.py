@@ -189,7 +189,33 @@ def files(tmp_path_factory) -> dict[str, str]:
         (d / f"{name}.json").write_text(text)
         f[name] = str(d / f"{name}.json")
     f.update(_meshes(d))
+    _calibration_files(d, f)
     return f
+
+
+def _calibration_files(d: Path, f: dict[str, str]) -> None:
+    """Measurement files of ``lusm calibrate``, one defect each (``cal_<defect>``)."""
+    cal = d / "cal"
+    cal.mkdir()
+    (cal / "free.csv").write_text("voltage_V,tangential_um,normal_um\n100,1.2,0.8\n"
+                                  "200,2.4,1.6\n")
+    (cal / "no_volt.csv").write_text("tangential_um,normal_um\n1.2,0.8\n")
+    (cal / "furlong.csv").write_text("voltage_V,tangential_furlong\n100,1.2\n")
+    head = '[free]\nfile = "{csv}"\nfrequency_Hz = 40e3\nsigma_relative = 0.03\n'
+    good = "[parameters]\nC_l = { start = 150, min = 50, max = 500 }\n"
+    for name, csv, params in [
+            ("ok", "free.csv", good), ("missing_column", "no_volt.csv", good),
+            ("bad_unit", "furlong.csv", good), ("csv_missing", "nowhere.csv", good),
+            ("inverted", "free.csv", "[parameters]\nC_l = { start = 150, min = 500, "
+             "max = 50 }\n"),
+            ("unknown_parameter", "free.csv", "[parameters]\nC_x = { start = 1, min = 0, "
+             "max = 2 }\n"),
+            ("friction_box", "free.csv", "[parameters]\na_mu = { start = 0.2, min = 0.1, "
+             "max = 0.5 }\n")]:
+        (cal / f"{name}.toml").write_text(head.format(csv=csv) + params)
+        f[f"cal_{name}"] = str(cal / f"{name}.toml")
+    (cal / "mine.json").write_text("{}")
+    f["cal_out_exists"] = str(cal / "mine.json")
 
 
 _SIM = ["simulate", "--voltage", "200", "--preload", "14"]
@@ -489,6 +515,33 @@ EXPLORE = [  # more in tests/test_explore.py
      "[1, 256]"),
 ]
 
+_CAL = ["calibrate", "{cal_ok}", "--source", "table2", "--out"]
+
+CALIBRATE = [
+    ("missing-column", ["calibrate", "{cal_missing_column}", "--source", "table2", "--out",
+                        "x.json"], "voltage_<unit>", None),
+    ("bad-unit", ["calibrate", "{cal_bad_unit}", "--source", "table2", "--out", "x.json"],
+     "tangential_furlong", "m, mm, um, nm"),
+    ("csv-not-found", ["calibrate", "{cal_csv_missing}", "--source", "table2", "--out",
+                       "x.json"], "nowhere.csv", None),
+    ("bound-inverted", ["calibrate", "{cal_inverted}", "--source", "table2", "--out",
+                        "x.json"], "[parameters] C_l", "min = 500 must be below max = 50"),
+    ("unknown-parameter", ["calibrate", "{cal_unknown_parameter}", "--source", "table2",
+                           "--out", "x.json"], "[parameters] C_x", None),
+    # a_mu up to 0.5 above Table 2's mu_d = 0.35: the friction law breaks inside the box
+    ("friction-box", ["calibrate", "{cal_friction_box}", "--source", "table2", "--out",
+                      "x.json"], "a_mu", "mu_d = 0.35"),
+    ("measurements-missing", ["calibrate", "{missing}", "--source", "table2", "--out",
+                              "x.json"], "{missing}", None),
+    ("out-exists", [*_CAL, "{cal_out_exists}"], "--out", "--force"),
+    ("out-suffix", [*_CAL, "x.toml"], "--out", ".json"),
+    ("out-folder", ["calibrate", "{cal_ok}", "--geometry", "{plate}", "--out", "{folder}"],
+     "--out", ".toml"),
+    ("starts-0", [*_CAL, "x.json", "--starts", "0"], "--starts", "[1, 20]"),
+    ("profile-unknown", [*_CAL, "x.json", "--profile", "mu_s"], "--profile", None),
+    ("no-start-set", ["calibrate", "{cal_ok}", "--out", "x.json"], "--geometry", None),
+]
+
 # a stator file's own defects: the file is named with --geometry, the line names its key
 STATOR_FILES = [
     ("unit-list", ["modes", "--geometry", "{unit_list}"], "[mesh] unit", None),
@@ -542,6 +595,7 @@ STATOR_FILES = [
 TABLES = {"simulate": SIMULATE, "map": MAP, "characteristic": CHARACTERISTIC, "modes": MODES,
           "render": RENDER, "tune": TUNE, "sweep": SWEEP, "admittance": ADMITTANCE,
           "compare": COMPARE, "params": PARAMS, "report": REPORT, "explore": EXPLORE,
+          "calibrate": CALIBRATE,
           "stator_files": STATOR_FILES}
 
 SLOW_ROWS = {"off-centre-hole-pairing"}

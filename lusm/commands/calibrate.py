@@ -166,7 +166,7 @@ def run(args: argparse.Namespace) -> None:
     if args.json:
         from lusm.options import print_json
 
-        print_json({**summary(result, base_values(meas, base), str(out)),
+        print_json({**summary(result, base_values(meas, base), str(out), meas),
                     "figures": figures}, indent=2)
         return
     _print(result, out, figures)
