@@ -279,12 +279,29 @@ def study_client(client=None, scheduler: str | None = None, scheduler_file: str 
         return
     client, cluster = connect(scheduler, scheduler_file, workers)
     try:
-        if cluster is None:  # someone else's cluster: same lusm as ours?
-            option = "--scheduler" if scheduler else "--scheduler-file"
-            check_scheduler(client, option)
-            check_workers(client, option, gmsh=gmsh)
-        yield client
+        with _quiet_client_logs():
+            if cluster is None:  # someone else's cluster: same lusm as ours?
+                option = "--scheduler" if scheduler else "--scheduler-file"
+                check_scheduler(client, option)
+                check_workers(client, option, gmsh=gmsh)
+            yield client
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        with _quiet_client_logs():
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+@contextmanager
+def _quiet_client_logs() -> Iterator[None]:
+    """Meanwhile, the ``distributed`` loggers of this process say nothing below CRITICAL: a
+    scheduler that goes away makes the client log its failed reconnections with their
+    tracebacks, where the study says the loss in one line
+    (:class:`studies.explore.ClusterLostError`)."""
+    log = logging.getLogger("distributed")
+    before = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        log.setLevel(before)

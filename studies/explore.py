@@ -112,6 +112,36 @@ MIN_IN_FLIGHT = 16
 WINDOW_RECHECK = 8
 """Completed tasks between two counts of the cluster's workers (a scheduler round trip)."""
 
+WORKER_TIMEOUT_S = 300.0
+"""Default of how long (s) a study waits for a cluster that has no worker left (an external
+scheduler whose workers died) before it stops with its parts kept."""
+
+WORKER_NOTICE_S = 30.0
+"""Seconds without a worker after which the wait is said (half the bound when that is
+shorter)."""
+
+POLL_S = 0.25
+"""Seconds between two looks at the cluster while no task has finished."""
+
+
+class ClusterLostError(ValueError):
+    """The cluster went away mid-study: its scheduler, or every worker for longer than the
+    bound. The finished geometries' parts are kept for ``--resume``.
+
+    Attributes
+    ----------
+    where : str
+        The option that named the cluster (``--scheduler``), or "the local cluster".
+    """
+
+    def __init__(self, message: str, where: str) -> None:
+        super().__init__(message)
+        self.where = where
+
+
+class ClusterWaitWarning(UserWarning):
+    """The cluster has had no worker for a while; the study waits for one."""
+
 
 def in_flight(workers: int, tasks: int) -> int:
     """Tasks to keep submitted on ``workers`` workers out of ``tasks`` left."""
@@ -130,6 +160,7 @@ def explore(
     force: bool = False,
     progress: bool = True,
     on_part: Callable[[int], None] | None = None,
+    worker_timeout_s: float = WORKER_TIMEOUT_S,
 ) -> ExploreResult:
     """Run a study on dask.distributed and write its dataset to ``out`` (netCDF).
 
@@ -151,6 +182,15 @@ def explore(
         Show a tqdm progress bar on stderr (geometries done).
     on_part : callable, optional
         Called with the geometry index after each part is written (tests interrupt here).
+    worker_timeout_s : float
+        How long (s) to wait for a cluster with no worker left; the wait is said
+        (:class:`ClusterWaitWarning`) after :data:`WORKER_NOTICE_S`.
+
+    Raises
+    ------
+    ClusterLostError
+        The scheduler went away, or no worker came back within ``worker_timeout_s``; the
+        finished geometries stay in the parts folder for ``resume=True``.
 
     Returns
     -------
@@ -172,15 +212,16 @@ def explore(
         result = ExploreResult(out, study.n_geometries, points, reused=len(parts))
         todo = [i for i in range(study.n_geometries) if i not in parts]
         if todo:
-            where = ("--scheduler" if scheduler else "--scheduler-file" if scheduler_file
+            where = (f"--scheduler {scheduler}" if scheduler else
+                     f"--scheduler-file {scheduler_file}" if scheduler_file
                      else "the local cluster")
             try:
                 # no more local processes than geometries to compute (idle ones cost memory)
                 with study_client(client, scheduler, scheduler_file,
                                   max(1, min(workers, len(todo))),
                                   gmsh=study.meshed_by_gmsh) as running:
-                    _compute_all(running, study, todo, folder, parts, result, where,
-                                 progress, on_part)
+                    _compute_all(running, study, todo, folder, parts, result,
+                                 _Watch(where, worker_timeout_s), progress, on_part)
             except BaseException:
                 if created and result.computed == 0:  # nothing was computed: leave no trace
                     remove_parts(folder, study.n_geometries, made)
@@ -194,12 +235,14 @@ def explore(
 
 
 def _compute_all(client, study: Study, todo: list[int], folder: Path,
-                 parts: dict[int, dict], result: ExploreResult, where: str, progress: bool,
+                 parts: dict[int, dict], result: ExploreResult, watch: _Watch, progress: bool,
                  on_part: Callable[[int], None] | None) -> None:
     """Compute the geometries ``todo`` on ``client``, taking each part in as it arrives
     (:func:`_take_part`) with a bounded window of tasks in flight, topped up as each
     finishes (dask's ``as_completed(...).add`` pattern): a future per geometry up front
     would grow the client by 55 MB/s towards 100 000 of them before any part is written.
+    While no task finishes, ``watch`` looks at the cluster (:meth:`_Watch.wait`): a lost
+    scheduler or a cluster without workers for too long ends the study, its parts kept.
     Tasks still in flight when this stops (an error, an interrupt) are cancelled."""
     from distributed import as_completed
 
@@ -225,10 +268,14 @@ def _compute_all(client, study: Study, todo: list[int], folder: Path,
     bar = _bar(len(todo) + len(parts), len(parts), progress)
     try:
         completed = as_completed(window)
-        for n_done, fut in enumerate(completed, start=1):
+        n_done = 0
+        while not completed.is_empty():
+            watch.wait(client, completed)
+            fut = next(completed)
+            n_done += 1
             # topped up to the window of the workers there are now: workers that join later
             # (an adaptive cluster) widen it
-            workers = (len(client.nthreads()) if n_done % WINDOW_RECHECK == 0
+            workers = (watch.workers(client) if n_done % WINDOW_RECHECK == 0
                        else result.workers)
             result.workers = max(result.workers, workers)
             want = in_flight(workers, len(todo))
@@ -237,9 +284,9 @@ def _compute_all(client, study: Study, todo: list[int], folder: Path,
                 if nxt is None:
                     break
                 completed.add(nxt)
-            data = fut.result()
+            data = watch.result(client, fut)
             i = index.pop(fut.key)
-            _take_part(data, i, folder, parts, result, where)
+            _take_part(data, i, folder, parts, result, watch.where)
             bar.update(1)
             live.discard(fut)
             fut.release()
@@ -248,8 +295,81 @@ def _compute_all(client, study: Study, todo: list[int], folder: Path,
                 on_part(i)
     finally:
         bar.close()
-        for f in live:
-            f.cancel()
+        if client.status == "running":  # a lost scheduler has nothing left to cancel
+            for f in live:
+                f.cancel()
+
+
+class _Watch:
+    """The study's look at its cluster while it waits for a task: the scheduler still
+    connected, and a worker there (or back within ``timeout_s``).
+
+    Parameters
+    ----------
+    where : str
+        The option naming the cluster and its value (``--scheduler tcp://...``), or
+        "the local cluster": what the errors name.
+    timeout_s : float
+        The longest time (s) without a worker.
+    """
+
+    def __init__(self, where: str, timeout_s: float) -> None:
+        self.where = where
+        self.timeout_s = float(timeout_s)
+        self.notice_s = min(WORKER_NOTICE_S, self.timeout_s / 2)
+
+    def lost(self) -> ClusterLostError:
+        """The error of a scheduler that went away."""
+        return ClusterLostError(f"{self.where}: lost the connection to the dask scheduler "
+                                "mid-study", self.where)
+
+    def workers(self, client) -> int:
+        """The cluster's workers now (a scheduler round trip)."""
+        if client.status != "running":
+            raise self.lost()
+        try:
+            return len(client.nthreads())
+        except Exception as exc:  # noqa: BLE001 - the connection went while asking
+            if client.status != "running":
+                raise self.lost() from None
+            raise exc
+
+    def result(self, client, fut) -> Any:
+        """``fut``'s result; a future cancelled because the scheduler went away is
+        :meth:`lost`."""
+        try:
+            return fut.result()
+        except Exception as exc:  # noqa: BLE001 - CancelledError, CommClosedError, ...
+            if client.status != "running" or "connection-lost" in str(exc):
+                raise self.lost() from None
+            raise
+
+    def wait(self, client, completed) -> None:
+        """Return once ``completed`` has a finished task; meanwhile look at the cluster
+        every second: a lost scheduler raises :meth:`lost`, no worker for
+        :attr:`notice_s` is said once (:class:`ClusterWaitWarning`) and for
+        :attr:`timeout_s` raises :class:`ClusterLostError`."""
+        import warnings
+
+        since, said, looked = None, False, 0.0
+        while not completed.has_ready():
+            now = time.monotonic()
+            if now - looked >= 1.0 or client.status != "running":
+                looked = now
+                if self.workers(client) > 0:
+                    since, said = None, False
+                elif since is None:
+                    since = now
+            if since is not None and not said and now - since >= self.notice_s:
+                said = True
+                warnings.warn(ClusterWaitWarning(
+                    f"no worker for {self.notice_s:g} s; waiting for the cluster to recover "
+                    f"(Ctrl-C keeps the parts for --resume)"), stacklevel=2)
+            if since is not None and now - since >= self.timeout_s:
+                raise ClusterLostError(
+                    f"{self.where}: no worker for {self.timeout_s:g} s (--worker-timeout-s); "
+                    "the cluster did not recover", self.where)
+            time.sleep(POLL_S)
 
 
 def _take_part(data: dict[str, np.ndarray], index: int, folder: Path,
