@@ -1237,27 +1237,13 @@ def print_json(obj: Any, indent: int | None = None) -> None:
 # --- messages ---------------------------------------------------------------------------------
 
 
-UNEXCITED_FORCE_RATIO = 1e-6
-"""|A_b| / |A_l| (or the inverse) below which the drive is said to excite no B2 (no L1)."""
-
-
 def warn_unexcited_mode(params, electrodes) -> None:
-    """Warn when the drive's force factor of one mode is roundoff beside the other's: four
-    electrodes in phase give A_b = 1.6e-15 N/V, a motor at 0 m/s with 0.54 W of input and a
-    'stall force' of 0 N, and --frequency auto the maximum of a noise ellipse."""
-    a_l, a_b = abs(params.A_l), abs(params.A_b)
-    wires = ", ".join(map(str, electrodes))
-    for name, small, big, other in (("B2", a_b, a_l, "L1"), ("L1", a_l, a_b, "B2")):
-        if small <= UNEXCITED_FORCE_RATIO * big:
-            # a diagonal pair that excites nothing (a material without piezoelectric
-            # constants) is pointed at the material, not at the pair it drives
-            diagonal = sorted(electrodes) in ([1, 4], [2, 3])
-            fix = ("the material's piezoelectric constants (e_C_m2) are what couple it: check "
-                   "them" if diagonal else
-                   "drive a diagonal pair ([electrodes] drive = [1, 4] or [2, 3])")
-            warn(f"the drive through electrodes {wires} excites no {name} (A_"
-                 f"{name[0].lower()} = {small:.3g} N/V against {big:.3g} N/V for {other}): the "
-                 f"tip does not trace an ellipse and the motor gives no thrust; {fix}")
+    """Warn when the drive's force factor of one mode is roundoff beside the other's
+    (:func:`validation.summaries.unexcited_modes`)."""
+    from validation.summaries import unexcited_modes
+
+    for text in unexcited_modes(params, electrodes):
+        warn(text)
 
 
 def warn_default_frequency(params, frequency_Hz: float) -> None:

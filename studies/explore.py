@@ -38,7 +38,13 @@ from studies.cluster import DEFAULT_WORKERS, study_client
 from studies.dataset import assemble, check_out, is_complete, write_dataset
 from studies.parts import open_parts, remove_parts, write_part
 from studies.study import Study
-from studies.task import TASK_EXTRAS, compute_geometry, computed_fully, package_version
+from studies.task import (
+    TASK_EXTRAS,
+    WARNING_SEPARATOR,
+    compute_geometry,
+    has_results,
+    package_version,
+)
 
 
 @dataclass
@@ -66,8 +72,9 @@ class ExploreResult:
         The client's time writing part files, all parts together (s).
     figures : list of str
     warnings : list of str
-        The distinct warnings the computed tasks raised on their workers (the caller says
-        them; on the workers they print as raw Python warnings with a source line).
+        The distinct warnings of the dataset's geometries (each geometry's ``warnings``,
+        raised on the workers, in geometry order; the caller says them: on the workers they
+        print as raw Python warnings with a source line).
     already_complete : bool
         ``resume=True`` found this study's complete dataset at ``out``; nothing was run.
     """
@@ -226,7 +233,8 @@ def explore(
                 if created and result.computed == 0:  # nothing was computed: leave no trace
                     remove_parts(folder, study.n_geometries, made)
                 raise
-        _refuse_if_nothing_computed(study, parts, folder)
+        _refuse_if_nothing_computed(study, parts, folder, created)
+        result.warnings = geometry_warnings(parts)
         _write_result(study, parts, out, folder, force, result)
         result.wall_time_s = time.perf_counter() - t0
         return result
@@ -384,8 +392,6 @@ def _take_part(data: dict[str, np.ndarray], index: int, folder: Path,
                          f"{data.get('lusm_version')}, this client {package_version()}; "
                          "install the same version everywhere")
     result.task_times_s.append(float(data["task_time_s"]))
-    result.warnings += [w for w in map(str, data.get("warnings", ()))
-                        if w not in result.warnings]
     result.result_bytes += len(pickle.dumps(data, protocol=5))
     tw = time.perf_counter()
     write_part(folder, index, data)
@@ -414,21 +420,72 @@ class NothingComputedError(ValueError):
     """No geometry of a study computed fully: no dataset is written, the parts are kept."""
 
 
-def _refuse_if_nothing_computed(study: Study, parts: dict[int, dict], folder: Path) -> None:
-    """Refuse to write a dataset of NaN: when no geometry computed fully, the parts (each
-    with its reason in ``status``) stay in ``folder`` and nothing is written to ``--out`` (a
-    dataset of NaN there made the corrected rerun refuse the existing file)."""
+def geometry_warnings(parts: dict[int, dict]) -> list[str]:
+    """The warnings of the geometries ``parts`` (their ``warnings``), once per kind, in
+    geometry order: warnings that differ only in their numbers (a force factor per plate)
+    are one kind, said by its first with the count of geometries that gave it."""
+    first: dict[str, str] = {}
+    count: dict[str, int] = {}
+    for i in sorted(parts):
+        kinds = set()
+        for w in str(parts[i]["warnings"]).split(WARNING_SEPARATOR):
+            kind = _kind(w)
+            if w and kind not in kinds:
+                kinds.add(kind)
+                first.setdefault(kind, w)
+                count[kind] = count.get(kind, 0) + 1
+    return [first[k] + (f" ({count[k]} of {len(parts)} geometries; each one's in the "
+                        "dataset's 'warnings')" if count[k] > 1 else "")
+            for k in first]
+
+
+def _kind(text: str) -> str:
+    """``text`` with its numbers replaced by ``#``: one kind of message, whatever the plate."""
+    import re
+
+    return re.sub(r"[-+]?\d[\d.eE+-]*", "#", text)
+
+
+def _refuse_if_nothing_computed(study: Study, parts: dict[int, dict], folder: Path,
+                                created: bool) -> None:
+    """Refuse to write a dataset of NaN: when no geometry has any answer (:func:`studies.
+    task.has_results`), nothing is written to ``--out`` (a dataset of NaN there made the
+    corrected rerun refuse the existing file). The parts (each with its reason in
+    ``status``) stay in ``folder``, except where every plate failed for one reason of the
+    study's stator file, said whole: those parts hold nothing more, and a folder made by this
+    run (``created``) goes (:func:`_stator_failure`)."""
     from lusm.errors import short_reason
 
     status = [str(parts[i]["status"]) for i in sorted(parts)]
-    if not status or any(computed_fully(x) for x in status):
+    if not status or any(has_results(p) for p in parts.values()):
         return
+    stator = _stator_failure(study, status)
+    if stator is not None and created:
+        remove_parts(folder, study.n_geometries)
+        raise NothingComputedError(f"{stator}; no dataset was written")
     raise NothingComputedError(
         f"no geometry of the study computed fully ({len(status)} of {study.n_geometries}); "
         f"first: {short_reason(status[0])}; no dataset was written, and "
         + ("the part (its reason in its 'status') is" if len(status) == 1 else
            f"the {len(status)} parts (each one's reason in its 'status') are")
         + f" kept in {folder}; remove that folder to run a corrected study")
+
+
+def _stator_failure(study: Study, status: list[str]) -> str | None:
+    """The one line of a study whose every plate failed at its FE solve or parameter set
+    for the same reason, with a stator file: its fault (electrodes that touch, a tip on a
+    node of a mode), named as ``study.stator FILE``; None otherwise."""
+    from lusm.errors import short_reason
+
+    if (study.stator is None or len(set(map(_kind, status))) != 1
+            or len(status) != study.n_geometries):
+        return None
+    stage, _, reason = status[0].partition(": ")
+    if stage not in ("FE", "parameter set"):
+        return None
+    kind, _, text = reason.partition(": ")
+    return (f"study.stator {study.stator.path}: {short_reason(text or kind)} (every plate of "
+            f"the study, {len(status)} of {len(status)}, at its {stage})")
 
 
 def _bar(total: int, initial: int, enabled: bool):
