@@ -189,7 +189,31 @@ def files(tmp_path_factory) -> dict[str, str]:
         (d / f"{name}.json").write_text(text)
         f[name] = str(d / f"{name}.json")
     f.update(_meshes(d))
+    f.update(_studies(d))
     return f
+
+
+def _studies(folder: Path) -> dict[str, str]:
+    """Study files of the explore rows: a valid one, and one whose stator file's mesh has
+    touching electrodes (refused before any FE work, as --geometry refuses it)."""
+    from fem.geometry import PlateStator
+    from fem.meshing.mesh import structured_mesh
+
+    m = structured_mesh(PlateStator(electrode_gap_m=0.0), 2)
+    _msh(folder, "touching.msh", m.points_m.T.copy(), m.quads.T.copy(), m.electrode.copy())
+    (folder / "touching.toml").write_text(MESHED.format(mesh="touching.msh"))
+    studies = {
+        "study_ok": 'outputs = ["f_L1_short"]\n[axes]\nlength = "30 mm"\n',
+        "study_touching": 'outputs = ["no_load_velocity"]\n[study]\nstator = '
+                          '"touching.toml"\n[axes]\nthickness = ["2.5 mm", "3 mm"]\n',
+    }
+    out = {}
+    for name, text in studies.items():
+        (folder / f"{name}.toml").write_text(text)
+        out[name] = str(folder / f"{name}.toml")
+    out["study_out"] = str(folder / "study.nc")
+    out["study_parts"] = str(folder / "study.nc.parts")
+    return out
 
 
 _SIM = ["simulate", "--voltage", "200", "--preload", "14"]
@@ -487,6 +511,18 @@ EXPLORE = [  # more in tests/test_explore.py
     ("stator-as-study", ["explore", "{plate}", "--out", "r.nc"], "{plate}", None),
     ("workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"], "--workers",
      "[1, 256]"),
+    # issue 42: the run's own parts folder as the figure folder made every later run at that
+    # --out refuse it
+    ("plot-into-its-parts-folder", ["explore", "{study_ok}", "--out", "{study_out}",
+                                    "--plot", "{study_parts}"], "--plot", "parts folder"),
+    ("plot-below-its-parts-folder", ["explore", "{study_ok}", "--out", "{study_out}",
+                                     "--plot", "{study_parts}/maps"], "--plot", None),
+    # a stator whose mesh's electrodes touch: refused before any FE work, in --geometry's
+    # words, with no parts folder left
+    ("stator-electrodes-touch", ["explore", "{study_touching}", "--out", "{study_out}"],
+     "study.stator", "touch (no gap strip between them)"),
+    ("worker-timeout-0", ["explore", "{study_ok}", "--out", "{study_out}",
+                          "--worker-timeout-s", "0"], "--worker-timeout-s", "[1, 86400] s"),
 ]
 
 # a stator file's own defects: the file is named with --geometry, the line names its key
@@ -598,6 +634,7 @@ def test_nothing_was_written_or_deleted_by_the_refusals(files):
     user = Path(files["user_folder"])
     assert sorted(p.name for p in user.iterdir()) == ["notes.txt"]
     assert not list(Path(files["folder"]).glob(".*partial*"))
+    assert not Path(files["study_parts"]).exists() and not Path(files["study_out"]).exists()
 
 
 @pytest.mark.parametrize("name", ["duplicated", "overlap"])

@@ -126,7 +126,24 @@ def _checked_study(args: argparse.Namespace):
         # refused before the study runs, not after its dataset is written
         raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
                         "their own", "--plot")
+    _refuse_plot_in_parts(plot, args.out)
     return study, plot
+
+
+def _refuse_plot_in_parts(plot: str | None, out: str) -> None:
+    """Refuse a ``--plot`` folder that is the run's own parts folder (or inside it): the
+    run would make it as a figure folder, and every later run at that ``--out``, even with
+    --force, would refuse a parts folder without its study file."""
+    from studies.parts import parts_folder
+
+    if plot is None:
+        return
+    parts = parts_folder(Path(out)).resolve()
+    target = Path(plot).resolve()
+    if target == parts or parts in target.parents:
+        raise LusmError(f"--plot {plot} is inside {parts_folder(Path(out))}, the parts folder "
+                        "this run keeps its finished geometries in; give the maps a folder of "
+                        "their own", "--plot")
 
 
 def _run_study(args: argparse.Namespace, study, plot: str | None):
