@@ -165,6 +165,8 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
     from distributed import Client
 
     check_scheduler_names(scheduler, scheduler_file)
+    if scheduler:
+        check_port(scheduler)
     if scheduler and scheduler_file:
         raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
     if scheduler_file and not Path(scheduler_file).is_file():
@@ -209,6 +211,23 @@ def check_scheduler_names(scheduler: str | None, scheduler_file: str | None) -> 
                                 ("--scheduler-file", scheduler_file, "a dask scheduler file")):
         if value is not None and not str(value).strip():
             raise ValueError(f"{option} must name {what}, got {value!r}")
+
+
+def check_port(address: str) -> None:
+    """Refuse at once a ``--scheduler`` address whose port no TCP connection can have
+    (``tcp://127.0.0.1:99999`` waited :data:`CONNECT_TIMEOUT` and said it timed out).
+
+    Raises
+    ------
+    ValueError
+        Naming ``--scheduler`` and the range of ports.
+    """
+    import re
+
+    m = re.search(r":(\d+)/?$", address.strip())
+    if m and not 1 <= int(m.group(1)) <= 65535:
+        raise ValueError(f"--scheduler {address}: port {m.group(1)} is not a TCP port; give "
+                         "one in [1, 65535] (a dask scheduler listens on 8786 by default)")
 
 
 def process_version() -> str:

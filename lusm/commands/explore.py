@@ -100,12 +100,14 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
 def _checked_study(args: argparse.Namespace):
     """The study of ``args`` and its ``--plot`` folder (or None), with the options checked
     and the study's warnings said, before any work."""
-    from studies.cluster import check_scheduler_names
+    from studies.cluster import check_port, check_scheduler_names
     from studies.dataset import check_out, is_complete
     from studies.study import load_study
 
     try:  # before anything else: '' would pass the --workers check below
         check_scheduler_names(args.scheduler, args.scheduler_file)
+        if args.scheduler:  # a port no connection can have: at once, not after 10 s
+            check_port(args.scheduler)
     except ValueError as exc:
         raise LusmError(str(exc), str(exc).split()[0]) from None
     if args.workers is not None and (args.scheduler or args.scheduler_file):
