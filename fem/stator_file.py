@@ -917,7 +917,12 @@ def load_stator(path: str | Path) -> StatorDesign:
     ValueError
         For bad TOML or bad values; the message names the key and the allowed range.
     """
-    from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
+    from fem.small_file import (
+        FileTooLarge,
+        NotRegularFile,
+        link_loop,
+        read_small_text,
+    )
 
     if not isinstance(path, (str, os.PathLike)):  # None: named, not "expected str, bytes..."
         raise TypeError(f"path must name a stator TOML file, got {path!r}")
@@ -925,6 +930,10 @@ def load_stator(path: str | Path) -> StatorDesign:
     if path.is_dir():
         raise ValueError(f"stator file {path} is a folder; name its .toml file")
     if not path.exists():
+        loop = link_loop(path)
+        if loop:
+            raise ValueError(f"stator file {path}: a loop of symbolic links ({loop}); point "
+                             "the link at a file")
         raise FileNotFoundError(f"stator file not found: {path}")
     try:
         # bounded: a 512 MB file read whole takes 1.1 GB of memory, a FIFO would block

@@ -237,12 +237,20 @@ def params_from_file(path_text: str):
         raise LusmError(f"--params {path_text} is a folder; name a file saved with "
                         "'lusm params --json'", "--params")
     if not path.exists():
-        raise LusmError(f"--params {path_text}: no such file", "--params")
+        from fem.small_file import link_loop
+
+        loop = link_loop(path)
+        raise LusmError(f"--params {path_text}: "
+                        + (f"a loop of symbolic links ({loop})" if loop else "no such file"),
+                        "--params")
     try:
         # bounded: a 512 MB file is not read whole (1.1 GB of memory), nor a FIFO waited on
         data = json.loads(read_small_text(path, MAX_PARAMS_FILE_BYTES))
-    except (OSError, ValueError) as exc:  # NotRegularFile, FileTooLarge, decoding: ValueError
-        if isinstance(exc, NotRegularFile):  # /dev/zero: not "no such file"
+    except (OSError, ValueError, RecursionError) as exc:  # NotRegularFile, FileTooLarge,
+        # decoding: ValueError; arrays nested 100 000 deep: RecursionError
+        if isinstance(exc, RecursionError):
+            why = ": not a JSON parameter set (nested too deeply)"
+        elif isinstance(exc, NotRegularFile):  # /dev/zero: not "no such file"
             why = f": not a regular file ({exc.what})"
         elif isinstance(exc, FileTooLarge):
             why = (f" has {exc.size} bytes, above {MAX_PARAMS_FILE_BYTES} for a parameter set "
@@ -799,8 +807,9 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
         if clash:
             raise LusmError(f"--params cannot be combined with {clash[0]}: the file is the "
                             "whole parameter set", "--params")
-        return (params_from_file(args.params),
-                f"params file {args.params} (its C_l, C_b)")
+        params = params_from_file(args.params)
+        warn_unexcited_mode(params, None)  # as a stator file's drive is warned of
+        return params, f"params file {args.params} (its C_l, C_b)"
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source == "beam" and not getattr(args, "geometry", None):

@@ -174,6 +174,9 @@ def files(tmp_path_factory) -> dict[str, str]:
     (d / "loop1").symlink_to(d / "loop2")
     (d / "loop2").symlink_to(d / "loop1")
     f["in_loop"] = str(d / "loop1" / "x")
+    f["loop"] = str(d / "loop1")
+    (d / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    f["params_deep"] = str(d / "deep.json")
     f["long_name"] = str(d / ("a" * 300))
     f["export_exists"] = str(d / "a_file")
     (d / "side").mkdir()
@@ -223,6 +226,10 @@ DT_ANY = "(0, 1/(20 f)] s at the drive frequency f"
 
 # (id, argv, the option named, the range or bound shown or None)
 SIMULATE = [
+    # issue 42: a --params file nested 100 000 deep was "internal error: RecursionError"
+    ("params-nested-deep", [*_SIM, "--params", "{params_deep}"], "--params",
+     "nested too deeply"),
+    ("params-link-loop", [*_SIM, "--params", "{loop}"], "--params", "loop of symbolic links"),
     ("dt-negative-separate", [*_SIM, "--dt", "-1e-7"], "--dt", DT_ANY),
     ("dt-negative-equals", [*_SIM, "--dt=-1e-7"], "--dt", DT_ANY),
     ("dt-zero", [*_SIM, "--dt", "0"], "--dt", DT_ANY),
@@ -347,6 +354,11 @@ CHARACTERISTIC = [
 ]
 
 MODES = [
+    # issue 42: a loop of symbolic links was "stator file not found"
+    ("geometry-link-loop", ["modes", "--geometry", "{loop}"], "--geometry",
+     "loop of symbolic links"),
+    ("geometry-below-link-loop", ["modes", "--geometry", "{in_loop}"], "--geometry",
+     "loop of symbolic links"),
     ("length-1e-6", ["modes", "--length-mm", "1e-6"], "--length-mm", "[0.1, 1000] mm"),
     ("thickness-zero", ["modes", "--thickness-mm", "0"], "--thickness-mm", "[0.1, 1000] mm"),
     ("width-nan", ["modes", "--width-mm", "nan"], "--width-mm", "[0.1, 1000] mm"),
@@ -521,6 +533,9 @@ EXPLORE = [  # more in tests/test_explore.py
     # words, with no parts folder left
     ("stator-electrodes-touch", ["explore", "{study_touching}", "--out", "{study_out}"],
      "study.stator", "touch (no gap strip between them)"),
+    # issue 42: waited 10 s and said it timed out
+    ("scheduler-port-99999", ["explore", "{study_ok}", "--out", "{study_out}", "--scheduler",
+                              "tcp://127.0.0.1:99999"], "--scheduler", "[1, 65535]"),
     ("worker-timeout-0", ["explore", "{study_ok}", "--out", "{study_out}",
                           "--worker-timeout-s", "0"], "--worker-timeout-s", "[1, 86400] s"),
 ]

@@ -47,13 +47,23 @@ UNEXCITED_FORCE_RATIO = 1e-6
 """|A_b| / |A_l| (or the inverse) below which the drive is said to excite no B2 (no L1)."""
 
 
-def unexcited_modes(params: MotorParams, electrodes) -> list[str]:
+def unexcited_modes(params: MotorParams, electrodes=None) -> list[str]:
     """What to say of a drive whose force factor of one mode is roundoff beside the other's
     (none: ``[]``): four electrodes in phase give A_b = 1.6e-15 N/V, a motor at 0 m/s with
     0.54 W of input and a 'stall force' of 0 N, and --frequency auto the maximum of a noise
     ellipse. The single-point commands warn it; a study keeps it in each geometry's
-    ``warnings``."""
+    ``warnings``. ``electrodes`` None: a parameter set of its own (``--params``), whose
+    force factors are its A_l and A_b."""
     a_l, a_b = abs(params.A_l), abs(params.A_b)
+    if electrodes is None and a_l == 0.0 and a_b == 0.0:
+        return ["the parameter set's force factors are A_l = A_b = 0 N/V: the drive excites "
+                "neither L1 nor B2, the tip does not move and the motor gives no thrust"]
+    if electrodes is None:
+        return [f"the parameter set's drive excites no {name} ({'A_b' if name == 'B2' else 'A_l'}"
+                f" = {small:.3g} N/V against {big:.3g} N/V): the tip does not trace an "
+                "ellipse and the motor gives no thrust"
+                for name, small, big in (("B2", a_b, a_l), ("L1", a_l, a_b))
+                if small <= UNEXCITED_FORCE_RATIO * big]
     wires = ", ".join(map(str, electrodes))
     said = []
     for name, small, big, other in (("B2", a_b, a_l, "L1"), ("L1", a_l, a_b, "B2")):
