@@ -14,7 +14,8 @@ def test_characteristic_json_curve_is_consistent(capsys):
                  "--loads", "0:1.5:0.5", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"no_load_velocity_m_s", "direction", "stall_force_N",
-                        "averaged_stall_force_N", "creep_from_N", "creep_from_rule", "holding_range_N", "accuracy",
+                        "averaged_stall_force_N", "creep_from_N", "creep_from_rule",
+                        "holding_range_N", "accuracy",
                         "curve", "damping", "coupling", "coupling_from", "voltage_V",
                         "preload_N", "frequency_Hz", "frequency_from", "rest"}
     assert doc["accuracy"] == "exact"  # the default: the finite-mass motor from rest
