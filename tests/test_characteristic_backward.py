@@ -66,4 +66,5 @@ def test_a_backward_motor_has_a_stall_force_against_its_own_direction(params_fil
     assert main([*argv, "--loads", "0,0.1", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     char = doc if "stall_force_N" in doc else doc["characteristics"][0]
-    assert char["direction"] == "backward" and char["stall_force_N"] == pytest.approx(stall, rel=1e-5)
+    assert char["direction"] == "backward"
+    assert char["stall_force_N"] == pytest.approx(stall, rel=1e-5)
