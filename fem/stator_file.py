@@ -942,3 +942,49 @@ def load_stator(path: str | Path) -> StatorDesign:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     design = parse_stator(data, base_dir=path.parent, src=str(path))
     return replace(design, path=path, name=design.name if "name" in data else path.stem)
+
+
+def tuned_stator_text(dimensions_mm: dict[str, float], comment: str,
+                      source_text: str | None = None,
+                      plate_tables: dict[str, dict[str, object]] | None = None) -> str:
+    """A stator file (TOML text) with the ``[plate]`` dimensions of ``dimensions_mm`` set.
+
+    The user's file is edited with tomlkit, which keeps its comments, order and layout: only
+    the keys named change, each with a trailing comment saying its former value; every other
+    table (electrodes, material, features, motor tables) stays as written. Without a file
+    the text is built from ``plate_tables`` (``{"electrodes": {...}, "material": {...}}``).
+
+    Parameters
+    ----------
+    dimensions_mm : dict
+        ``{"length_mm": .., "width_mm": .., "thickness_mm": ..}`` (mm), written to 12
+        significant digits (below a picometre on a 1 m plate: the frequencies do not move).
+    comment : str
+        Lines put as comments at the top of the file (how the dimensions were found).
+    source_text : str, optional
+        The user's stator file.
+    plate_tables : dict, optional
+        Tables written after ``[plate]`` when there is no ``source_text``.
+    """
+    import tomlkit
+
+    doc = tomlkit.parse(source_text) if source_text is not None else tomlkit.document()
+    if source_text is None:
+        doc["name"] = "tuned plate"
+    if "plate" not in doc:
+        doc["plate"] = tomlkit.table()
+    plate = doc["plate"]
+    for key, value in dimensions_mm.items():
+        new = float(f"{value:.12g}")
+        old = plate.get(key)
+        item = tomlkit.item(new)
+        if old is not None and float(old) != new:
+            item.comment(f"tuned (was {float(old):g})")
+        plate[key] = item
+    for name, table in (plate_tables or {}).items() if source_text is None else ():
+        t = tomlkit.table()
+        for k, v in table.items():
+            t[k] = v
+        doc[name] = t
+    head = "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
+    return head + "\n" + tomlkit.dumps(doc)

@@ -1217,6 +1217,62 @@ def write_figures(target: Path, option: str, force: bool,
         return moved(draw(stage), stage, target)
 
 
+def file_target(text: str, option: str, force: bool, example: str) -> Path:
+    """The file ``option`` names, checked before any work: a name (not a folder, ``example``
+    says what to name instead), not below a file, not an existing file without ``force``,
+    in a folder that can be written."""
+    import os
+
+    if not text.strip():
+        raise LusmError(f"{option} must name a file, got ''", option)
+    path = Path(text)
+    check_path_usable(path, option)
+    # a trailing separator names a folder (Path drops it: dd.vtu/ would be written as the
+    # file dd.vtu)
+    last = text.rstrip().replace(os.sep, "/").rsplit("/", 1)[-1]
+    if path.is_dir() or last in ("", ".", ".."):  # dd.vtu/. too
+        raise LusmError(f"{option} {text.strip()} is a folder; name a file such as {example}",
+                        option)
+    for parent in path.parents:
+        if parent.exists() and not parent.is_dir():
+            raise LusmError(f"{option} {path} sits below the file {parent}", option)
+        if parent.exists():
+            break
+    if (path.exists() or path.is_symlink()) and not force:
+        raise LusmError(f"{option} {path} already exists; choose a new name or pass --force",
+                        option)
+    folder = next((p for p in path.absolute().parents if p.exists()), None)
+    if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
+        raise LusmError(f"{option} {path}: cannot write into {folder} (permission denied)",
+                        option)
+    return path
+
+
+def write_text_file(path: Path, option: str, text: str) -> None:
+    """Write ``text`` to ``path`` (checked by :func:`file_target`): built in a staging folder
+    beside it and moved in whole; a file already there (``--force``) is kept as
+    ``NAME.bak-N``, never lost."""
+    import os
+
+    from lusm.interrupts import checkpoint
+    from lusm.output_set import OutputError, keep_aside, staging
+
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with staging(path.parent, path.name, option, path) as stage:
+            staged = stage / path.name
+            staged.write_text(text, encoding="utf-8")
+            checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
+            if path.exists() or path.is_symlink():
+                keep_aside(path, "--force")
+            os.replace(staged, path)
+    except OutputError as exc:
+        raise LusmError(str(exc), option) from None
+    except OSError as exc:  # a full disk, a folder made read-only meanwhile
+        raise LusmError(f"{option} {path}: cannot write ({exc.strerror or exc})",
+                        option) from None
+
+
 def moved(paths, stage: Path, target: Path) -> list[str]:
     """Where files written into ``stage`` live once the set is moved into ``target``."""
     return [str(target / Path(p).relative_to(stage)) for p in paths]
