@@ -782,6 +782,19 @@ def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload
     return plot, motor
 
 
+def fem_damping_origin(geometry: str | None, design) -> str:
+    """Where an FE set's damping ratios come from (text for
+    :func:`validation.summaries.damping_line`): the stator file's ``[damping]``, or Table 2's
+    ratios borrowed."""
+    from validation.summaries import borrowed_damping
+
+    if design is None:
+        return borrowed_damping("fem")
+    if design.damping_origin:
+        return f"stator file {geometry} {design.damping_origin}"
+    return f"{borrowed_damping('fem')}; stator file {geometry} has no [damping]"
+
+
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
     :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a
@@ -813,12 +826,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
         from rom.from_fem import design_base, fem_params, fem_params_from_file
 
         design = choice.design
-        if design is None:
-            origin = borrowed_damping("fem")
-        elif design.damping_origin:
-            origin = f"stator file {args.geometry} {design.damping_origin}"
-        else:
-            origin = f"{borrowed_damping('fem')}; stator file {args.geometry} has no [damping]"
+        origin = fem_damping_origin(args.geometry, design)
         if design is not None:
             try:  # the motor tables against Table 2's other constants, before any FE work
                 design_base(design)
