@@ -782,6 +782,28 @@ def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload
     return plot, motor
 
 
+def add_band_options(p: argparse.ArgumentParser, points: int) -> None:
+    """``--f-min``, ``--f-max`` (default: the design's L1 and B2 -+ 15 % of their mean) and
+    ``--points`` (default ``points``) of a frequency sweep."""
+    f_lo, f_hi = limits.FREQUENCY_HZ
+    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band start (Hz); default: the design's L1 and B2 "
+                   "minus 15 %% of their mean")
+    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band end (Hz); default: the design's L1 and B2 plus "
+                   "15 %% of their mean")
+    p.add_argument("--points", default=points, metavar="N",
+                   type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
+                   help=f"frequency points (default {points})")
+
+
+def check_band_order(f_min_Hz: float | None, f_max_Hz: float | None) -> None:
+    """Refuse ``--f-min`` not below ``--f-max`` where both are given."""
+    if f_min_Hz is not None and f_max_Hz is not None and not f_min_Hz < f_max_Hz:
+        raise LusmError(f"--f-min must be below --f-max, got {f_min_Hz:g} and "
+                        f"{f_max_Hz:g} Hz", "--f-min")
+
+
 def fem_damping_origin(geometry: str | None, design) -> str:
     """Where an FE set's damping ratios come from (text for
     :func:`validation.summaries.damping_line`): the stator file's ``[damping]``, or Table 2's

@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 
 from lusm import limits
-from lusm.options import add_output_options, add_plate_options, integer, print_json, real
+from lusm.options import add_band_options, add_output_options, add_plate_options, print_json, real
 
 HELP = "free tip amplitudes (tangential, normal, µm) and phase against frequency; tip ellipse"
 DESCRIPTION = """\
@@ -32,16 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     v_lo, v_hi = limits.VOLTAGE_V
     p.add_argument("--voltage", type=real("--voltage", "V", v_lo, v_hi), default=100.0,
                    help=f"drive amplitude V0 (V), in [{v_lo:g}, {v_hi:g}], default 100")
-    f_lo, f_hi = limits.FREQUENCY_HZ
-    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
-                   metavar="HZ", help="band start (Hz); default: L1 and B2 minus 15 %% of "
-                   "their mean")
-    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=None,
-                   metavar="HZ", help="band end (Hz); default: L1 and B2 plus 15 %% of their "
-                   "mean")
-    p.add_argument("--points", default=801, metavar="N",
-                   type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
-                   help="frequency points (default 801)")
+    add_band_options(p, points=801)
     p.add_argument("--frequency", default="auto", metavar="HZ|auto",
                    help="drive frequency of the tip ellipse (Hz), default auto: the set's "
                    "operating point, as the contact commands take it")
@@ -60,14 +51,17 @@ def run(args: argparse.Namespace) -> None:
     """Run ``lusm harmonic`` with parsed ``args``."""
     from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.commands.modes import warn_linear_elements
-    from lusm.errors import LusmError
-    from lusm.options import check_fe_size, output_folder, parse_frequency, stator_from_args
+    from lusm.options import (
+        check_band_order,
+        check_fe_size,
+        output_folder,
+        parse_frequency,
+        stator_from_args,
+    )
 
     warn_linear_elements(args)
     plot = output_folder(args, "--plot")
-    if args.f_min is not None and args.f_max is not None and not args.f_min < args.f_max:
-        raise LusmError(f"--f-min must be below --f-max, got {args.f_min:g} and "
-                        f"{args.f_max:g} Hz", "--f-min")
+    check_band_order(args.f_min, args.f_max)
     if args.frequency.strip().lower() != "auto":
         parse_frequency(args.frequency)  # refused before any work
     choice = stator_from_args(args)
