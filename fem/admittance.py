@@ -80,6 +80,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse.linalg as sla
 
+from bounds import ParameterError
 from fem.frozen import freeze_arrays
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
@@ -748,19 +749,27 @@ def plate_admittance(
     from fem.model import plate_model
 
     if not (math.isfinite(f_min_Hz) and math.isfinite(f_max_Hz) and 0 < f_min_Hz < f_max_Hz):
-        raise ValueError(f"need 0 < f_min_Hz < f_max_Hz, got {f_min_Hz!r}, {f_max_Hz!r}")
+        raise ParameterError("f_min_Hz", f_min_Hz, 0.0, f_max_Hz, "Hz", low_open=True,
+                             high_open=True, message=f"need 0 < f_min_Hz < f_max_Hz, got "
+                             f"{f_min_Hz!r}, {f_max_Hz!r}")
     if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 3:
-        raise ValueError(f"n_points must be an integer >= 3, got {n_points!r}")
+        raise ParameterError("n_points", n_points, 3, None,
+                             message=f"n_points must be an integer >= 3, got {n_points!r}")
 
     top = MAX_FREQUENCY_POINTS * work_factor()
     if n_points > top:  # an array of points x modes: 1e7 take 56 s and about 7 GB
-        raise ValueError(f"n_points must be at most {top:.0f} in a library call, got "
+        raise ParameterError("n_points", n_points, 3, top,
+                             reason="the work bound of a library call (LUSM_MAX_WORK=N allows N "
+                             "times more)",
+                             message=f"n_points must be at most {top:.0f} in a library call, got "
                          f"{n_points} (set LUSM_MAX_WORK=N to allow N times more)")
     # before the model is built
     if zeta is not None and not (isinstance(zeta, numbers.Real) and not isinstance(zeta, bool)
                                  and math.isfinite(zeta) and 0.0 < zeta < 1.0):
-        raise ValueError(f"zeta must lie in (0, 1) (an undamped admittance is infinite at "
-                         f"resonance), got {zeta!r}")
+        raise ParameterError("zeta", zeta, 0.0, 1.0, low_open=True, high_open=True,
+                             reason="an undamped admittance is infinite at resonance",
+                             message=f"zeta must lie in (0, 1) (an undamped admittance is "
+                             f"infinite at resonance), got {zeta!r}")
     model = plate_model(stator, material, order, refine)
     kw = ({"zeta_L1": zeta_L1, "zeta_B2": zeta_B2} if zeta is None
           else {"zeta_L1": zeta, "zeta_B2": zeta, "zeta_other": zeta})

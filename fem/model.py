@@ -39,6 +39,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse as sp
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
 from fem.meshing.mesh import (
@@ -950,7 +951,8 @@ def plate_arguments(stator: PlateStator, order: object, refine: object,
     """
     for name, value in (("order", order), ("refine", refine)):  # 2.5 would run as 2
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+            raise ParameterError(name, value, 1, None,
+                                 message=f"{name} must be an integer >= 1, got {value!r}")
     _element(order)
     if not isinstance(thickness_inertia, (bool, np.bool_)):
         raise TypeError(f"thickness_inertia must be True or False, got {thickness_inertia!r}")

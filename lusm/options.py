@@ -34,7 +34,7 @@ from lusm.messages import typed, warn, warn_unused
 SOURCES = ("table2", "beam", "fem")
 """Parameter sources (:data:`rom.sources.SOURCES`, repeated so the parser needs no numpy)."""
 
-MATERIALS = ("pzt8", "paper")
+MATERIALS = ("pzt8", "paper", "pzt4", "pzt5a")
 """Named materials (:data:`fem.material.MATERIAL_NAMES`)."""
 
 PLATE_DEFAULTS_MM = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3.0,
@@ -741,15 +741,33 @@ class Motor:
     frequency_auto: bool
 
 
+def default_frequency_text(params) -> str:
+    """The drive frequency without ``--frequency``: the paper's 40 kHz for Table 2's set
+    (the paper's drive), ``'auto'`` (the set's own operating point) for any other: a
+    designer's stator is driven where its modes are, not at the paper's frequency."""
+    from contact.model import is_table2
+
+    return "40e3" if is_table2(params) else "auto"
+
+
 def resolve_motor(args: argparse.Namespace) -> Motor:
     """The parameter set, coupling and drive frequency of ``args`` (with ``--source``,
-    ``--coupling`` and ``--frequency``), with the default frequency's warning said."""
+    ``--coupling`` and ``--frequency``: :func:`default_frequency_text` when not given), with
+    the fallback's warning said where the default finds no operating point."""
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
-    warn_default_frequency(params, freq)
+    text = args.frequency if args.frequency is not None else default_frequency_text(params)
+    try:
+        freq = parse_frequency(text, params)
+    except LusmError:
+        if args.frequency is not None:
+            raise
+        # the default asked for no operating point it cannot find: the paper's drive
+        warn("--frequency: this set drives no tip ellipse, so it has no operating point; "
+             "driving it at the paper's 40 kHz (give --frequency)")
+        text, freq = "40e3", 40e3
     return Motor(params, damping_from, coupling, coupling_from, freq,
-                 known_frequency(args.frequency) is None)
+                 known_frequency(text) is None)
 
 
 def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload_N: float,
@@ -935,8 +953,10 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
         g.add_argument("--preload", type=real("--preload", "N", *limits.PRELOAD_N),
                        required=True, help=f"preload F_P (N), in [0, {limits.PRELOAD_N[1]:g}]")
     if auto_frequency:
-        g.add_argument("--frequency", default="40e3",
-                       help="drive frequency (Hz), or 'auto' for the set's own operating point")
+        g.add_argument("--frequency", default=None,
+                       help="drive frequency (Hz), or 'auto' for the set's own operating point; "
+                       "default: the paper's 40 kHz for Table 2's set, auto for any other "
+                       "(docs/designer.md)")
     else:
         g.add_argument("--frequency", type=real("--frequency", "Hz", *limits.FREQUENCY_HZ),
                        default=40e3, help="drive frequency (Hz)")
@@ -989,10 +1009,11 @@ def parse_frequency(text: str | float, params=None) -> float:
     return value
 
 
-def known_frequency(text: str | float) -> float | None:
-    """``--frequency`` in Hz before the parameter set is known: None for 'auto' (which needs
-    the set), else the number, a bad one refused at once (before any work)."""
-    if isinstance(text, str) and text.strip().lower() == "auto":
+def known_frequency(text: str | float | None) -> float | None:
+    """``--frequency`` in Hz before the parameter set is known: None for 'auto' and for no
+    ``--frequency`` (both need the set: :func:`default_frequency_text`), else the number, a
+    bad one refused at once (before any work)."""
+    if text is None or isinstance(text, str) and text.strip().lower() == "auto":
         return None
     return parse_frequency(text)
 
@@ -1179,15 +1200,18 @@ def output_folder(args: argparse.Namespace, option: str) -> Path | None:
     work by :func:`check_output_folder`; None when the option was not given."""
     target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
     if target is not None:
-        check_output_folder(target, option, bool(getattr(args, "force", False)))
+        check_output_folder(target, option, bool(getattr(args, "force", False)),
+                            getattr(args, "command", None))
     return target
 
 
-def check_output_folder(target: Path, option: str, force: bool = False) -> None:
+def check_output_folder(target: Path, option: str, force: bool = False,
+                        command: str | None = None) -> None:
     """Refuse, before any work, an output folder the set could not be moved into or written.
 
     :func:`lusm.output_set.check_target` (a file, below a file, a non-empty folder lusm
-    did not write) plus: the nearest existing folder must be writable.
+    did not write, a folder of another command than ``command``) plus: the nearest existing
+    folder must be writable.
     """
     import os
 
@@ -1195,7 +1219,7 @@ def check_output_folder(target: Path, option: str, force: bool = False) -> None:
 
     check_path_usable(target, option)
     try:
-        check_target(target, option, force)
+        check_target(target, option, force, command)
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
     existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
@@ -1224,12 +1248,13 @@ def check_path_usable(path: Path, option: str) -> None:
 
 
 @contextmanager
-def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]:
+def figure_set(target: Path, option: str, force: bool = False,
+               command: str | None = None) -> Iterator[Path]:
     """:func:`lusm.output_set.output_set` with its failures as :class:`LusmError`."""
     from lusm.output_set import OutputError, output_set
 
     try:
-        with output_set(target, option, force) as stage:
+        with output_set(target, option, force, command) as stage:
             yield stage
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
@@ -1238,12 +1263,13 @@ def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]
                         option) from None
 
 
-def write_figures(target: Path, option: str, force: bool,
+def write_figures(args: argparse.Namespace, option: str,
                   draw: Callable[[Path], Sequence[str | Path]]) -> list[str]:
     """Draw a figure set into a staging folder (``draw(stage)`` returns the files it wrote)
-    and move it into ``target`` complete (:func:`figure_set`); returns the files' paths in
-    ``target``."""
-    with figure_set(target, option, force) as stage:
+    and move it into the folder of ``option`` complete (:func:`figure_set`, with ``--force``
+    and the command of ``args``); returns the files' paths in that folder."""
+    target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
+    with figure_set(target, option, args.force, args.command) as stage:
         return moved(draw(stage), stage, target)
 
 
@@ -1339,25 +1365,3 @@ def warn_unexcited_mode(params, electrodes) -> None:
             warn(f"the drive through electrodes {wires} excites no {name} (A_"
                  f"{name[0].lower()} = {small:.3g} N/V against {big:.3g} N/V for {other}): the "
                  f"tip does not trace an ellipse and the motor gives no thrust; {fix}")
-
-
-def warn_default_frequency(params, frequency_Hz: float) -> None:
-    """Warn when ``--frequency`` was left at its default and the product of the set's free
-    tip amplitudes there is below :data:`contact.drive.WEAK_DRIVE_SHARE` of the one at its
-    own operating point (:func:`contact.drive.drive_share`): a stator file with modes at
-    47.7 kHz gives a stall force of 0.26 N and a no-load speed of 5.7e-5 m/s at the default
-    40 kHz, where `--frequency auto` gives 1.40 N and 0.041 m/s. A frequency
-    the user typed is theirs."""
-    if typed("--frequency"):
-        return
-    from contact.drive import WEAK_DRIVE_SHARE, drive_share
-
-    share, best = drive_share(params, frequency_Hz)
-    if share < WEAK_DRIVE_SHARE:
-        warn(f"--frequency: the default {frequency_Hz:g} Hz misses this set's modes (L1 "
-             f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the product of the free "
-             f"tip's amplitudes there is {share:.2g} of the one at its own operating point, "
-             f"{best:.0f} Hz; "
-             f"--frequency auto drives it there")
-
-

@@ -38,33 +38,12 @@ def test_simulate_json_matches_the_library():
     assert d["steps"] == 500_000
 
 
-SIMULATE_REFUSALS = [
-    (("--voltage", "nan", "--preload", "14"), "--voltage"),
-    (("--voltage", "200", "--preload", "-1"), "--preload"),
-    (("--voltage", "200", "--preload", "14", "--dt", "0"), "--dt"),
-    (("--voltage", "200", "--preload", "14", "--dt", "2e-6"), "--dt"),
-    (("--voltage", "200", "--preload", "14", "--duration", "1e-4"), "--duration"),
-    (("--voltage", "200", "--preload", "14", "--frequency", "fast"), "--frequency"),
-    (("--voltage", "200", "--preload", "14", "--bogus"), "unrecognized"),
-]
-"""Bad input to lusm simulate, and what its one line names."""
-
-
-@pytest.mark.parametrize(("args", "needle"), SIMULATE_REFUSALS)
-def test_bad_input_is_one_line_exit_2(args, needle, capsys):
-    from lusm.cli import main
-
-    assert main(["simulate", *args]) == 2
-    err = capsys.readouterr().err
-    lines = [ln for ln in err.splitlines() if ln.strip()]
-    assert "Traceback" not in err and len(lines) == 1, err
-    assert needle in lines[0]
-
-
 @pytest.mark.slow
 def test_a_lusm_process_refuses_bad_input_in_one_line_exit_2():
-    """The refusals above, from a process of its own: its exit code and its whole stderr."""
-    for args, needle in (SIMULATE_REFUSALS[0], SIMULATE_REFUSALS[-1]):
+    """Bad input (tests/test_bad_input.py) from a process of its own: its exit code and its
+    whole stderr."""
+    for args, needle in ((("--voltage", "nan", "--preload", "14"), "--voltage"),
+                         (("--voltage", "200", "--preload", "14", "--bogus"), "--bogus")):
         out = lusm("simulate", *args)
         assert out.returncode == 2
         assert "Traceback" not in out.stderr

@@ -188,7 +188,7 @@ def _validity_note(stator) -> tuple[str | None, list[str]]:
 
 def _params_section(params, label: str, damping_from: str, stator: str):
     rows = [f"| {f.name} | {getattr(params, f.name):.6g} | {PARAM_UNITS.get(f.name, '')} |"
-            for f in fields(params) if f.name != "source"]
+            for f in fields(params) if f.name not in ("source", "shape")]
     md = ["## 2. Reduced parameters", "",
           f"`{_lusm('params', stator)}` ({params.source}). Modal frequencies "
           f"f_L1 = {params.f_L1_Hz:.1f} Hz, f_B2 = {params.f_B2_Hz:.1f} Hz; damping ratios "
@@ -197,7 +197,8 @@ def _params_section(params, label: str, damping_from: str, stator: str):
           "file's `[damping]` table sets it, `docs/designer.md`).", "",
           "| parameter | value | unit |", "|---|---|---|"]
     md += rows + [""]
-    data = {f.name: getattr(params, f.name) for f in fields(params)}
+    data = {f.name: getattr(params, f.name) for f in fields(params) if f.name != "shape"}
+    data["shape"] = None if params.shape is None else params.shape.to_dict()
     data["damping"] = damping_summary(params, damping_from)
     return md, data
 

@@ -72,6 +72,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
 from fem.material import PiezoMaterial, get_material
@@ -287,9 +288,11 @@ def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading
     top = MAX_LIBRARY_BRICKS_3D * work_factor()
     n = planform.n_elements * layers
     if n > top:
-        raise ValueError(f"layers = {layers} makes at least {n:.3g} bricks on this planform "
-                         f"({planform.n_elements} elements), above the limit {top:.0f} of a "
-                         "library call (set LUSM_MAX_WORK=N to allow N times more)")
+        raise ParameterError(
+            "layers", layers,
+            message=f"layers = {layers} makes at least {n:.3g} bricks on this planform "
+            f"({planform.n_elements} elements), above the limit {top:.0f} of a library call "
+            "(set LUSM_MAX_WORK=N to allow N times more)")
 
 
 def _voigt_B(grads: np.ndarray) -> np.ndarray:

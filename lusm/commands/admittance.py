@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         from validation.fem_figures import admittance_figure
 
-        png = write_figures(out, "--out", args.force, lambda stage: [
+        png = write_figures(args, "--out", lambda stage: [
             admittance_figure(res, stage / "admittance.png", circuit)])[0]
     if args.zeta is not None:
         damping = {"zeta_L1": args.zeta, "zeta_B2": args.zeta, "from": "--zeta (all modes)"}

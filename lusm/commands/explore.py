@@ -176,7 +176,7 @@ def _write_maps(result, plot: str, force: bool) -> None:
             warn(f"--plot {plot}: nothing to draw (a figure needs a plate or drive axis "
                  "with at least two values and a finite answer along it); nothing written")
         else:
-            with figure_set(plot, "--plot", force) as stage:
+            with figure_set(plot, "--plot", force, "explore") as stage:
                 result.figures = moved(design_maps(ds, stage), stage, plot)
     except (KeyboardInterrupt, Terminated, LusmError, ValueError, OSError):
         # the study's result is not lost with its maps

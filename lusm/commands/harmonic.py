@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> None:
     drive_Hz = parse_frequency(args.frequency, params)
     result = _responses(args, params, model, modes, band, drive_Hz)
     if plot is not None:
-        result["png"] = _figures(plot, args, choice, result, modes)
+        result["png"] = _figures(args, choice, result, modes)
     if args.json:
         _print_json(result, params, origin, modes, args.voltage)
         return
@@ -150,7 +150,7 @@ def _responses(args: argparse.Namespace, params, model, modes, band, drive_Hz: f
     return {"rom": rom, "fe": fe, "check": check, "ellipse": ellipse, "png": None}
 
 
-def _figures(plot, args: argparse.Namespace, choice, result: dict, modes) -> list[str]:
+def _figures(args: argparse.Namespace, choice, result: dict, modes) -> list[str]:
     """harmonic.png and tip_ellipse.png, built aside and moved into ``--plot`` complete."""
     from lusm.options import write_figures
     from validation.harmonic_figures import ellipse_figure, harmonic_figure
@@ -167,7 +167,7 @@ def _figures(plot, args: argparse.Namespace, choice, result: dict, modes) -> lis
                                f"free tip over one period at {e.frequency_Hz:.0f} Hz, "
                                f"{args.voltage:g} V\n{plate}")]
 
-    return write_figures(plot, "--plot", args.force, draw)
+    return write_figures(args, "--plot", draw)
 
 
 def _print_json(result: dict, params, origin: str, modes, voltage_V: float) -> None:

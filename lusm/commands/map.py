@@ -91,9 +91,10 @@ def run(args: argparse.Namespace) -> None:
         check_steady_work(volts.size * loads.size, motor.params, motor.frequency_Hz,
                           motor.coupling, "points", "--voltages")
     m = _solve(args, motor, volts, loads)
+    _warn_limits(m)
     summary = _summary(args, motor, m)
     if plot is not None:
-        summary["figures"] = _plot(args, motor, m, plot)
+        summary["figures"] = _plot(args, motor, m)
         # "figure", the map's one path, kept for the scripts that read it
         summary["figure"] = summary["figures"][0]
     if args.json:
@@ -127,6 +128,22 @@ def _solve(args: argparse.Namespace, motor: Motor, volts, loads):
     return m
 
 
+def _warn_limits(m) -> None:
+    """One line, before the results, naming the points beyond a limit of the ceramic and the
+    worst of them (each point's limits are in --json, the points marked on --plot)."""
+    if m.limits is None:
+        return
+    over = [(float(m.voltages_V[i]), float(m.preloads_N[j]), m.limits[i, j])
+            for i in range(m.voltages_V.size) for j in range(m.preloads_N.size)
+            if m.limits[i, j] is not None and m.limits[i, j].exceeded()]
+    if not over:
+        return
+    v, f, worst = max(over, key=lambda p: max(p[2].ratio(q) for q in p[2].exceeded()))
+    line = worst.warning(f"at {len(over)} of {m.limits.size} points (JSON 'limits'); the "
+                         f"worst, {v:g} V/{f:g} N")
+    warn(line)
+
+
 def _summary(args: argparse.Namespace, motor: Motor, m) -> dict:
     """The map's JSON: the points, the damping, coupling and frequency, the engine's level."""
     from validation.summaries import damping_summary, map_summary
@@ -142,7 +159,7 @@ def _summary(args: argparse.Namespace, motor: Motor, m) -> dict:
     return summary
 
 
-def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
+def _plot(args: argparse.Namespace, motor: Motor, m) -> list[str]:
     """Draw the map into the ``--plot`` folder; returns the figures' paths."""
     from validation.figures import set_label
     from validation.figures import stick_slip_map as plot_map
@@ -154,7 +171,7 @@ def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
            f"transients of {args.duration:g} s from rest"
            + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
     title = f"{set_label(motor.params.source)}, {motor.frequency_Hz / 1e3:.4g} kHz, {how}"
-    return write_figures(plot, "--plot", args.force,
+    return write_figures(args, "--plot",
                          lambda stage: [plot_map(m, stage / name, title)])
 
 

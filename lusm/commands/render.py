@@ -74,10 +74,10 @@ def run(args: argparse.Namespace) -> None:
 
     warn_linear_elements(args)
     _check_model_options(args)
-    out = output_folder(args, "--out")  # refused before any work
+    output_folder(args, "--out")  # refused before any work
     choice = stator_from_args(args)
     if args.model == "3d":
-        _run_3d(args, choice, out)
+        _run_3d(args, choice)
         return
 
     from fem.meshing.mesh import DEFAULT_REFINE
@@ -95,12 +95,12 @@ def run(args: argparse.Namespace) -> None:
         raise
     model = plate_model(choice.stator, choice.material, args.order, refine)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
-    _draw(out, args.force, lambda stage: render_modes(model, modes, stage, which,
+    _draw(args, lambda stage: render_modes(model, modes, stage, which,
                                                      args.animate))
 
 
-def _draw(out, force: bool, render) -> None:
-    """Run ``render(stage)`` with the signals held, move the set into ``out``, print it."""
+def _draw(args: argparse.Namespace, render) -> None:
+    """Run ``render(stage)`` with the signals held, move the set into ``--out``, print it."""
     from contact.deferred_signals import deferred_signals
     from lusm.options import write_figures
 
@@ -114,7 +114,7 @@ def _draw(out, force: bool, render) -> None:
         with deferred_signals():
             return render(stage)
 
-    for path in write_figures(out, "--out", force, draw):
+    for path in write_figures(args, "--out", draw):
         print(path)
 
 
@@ -135,7 +135,7 @@ def _check_model_options(args: argparse.Namespace) -> None:
                         "and rows of the band table need --model 3d", "--mode")
 
 
-def _run_3d(args: argparse.Namespace, choice, out) -> None:
+def _run_3d(args: argparse.Namespace, choice) -> None:
     """``--model 3d``: the chosen modes of the 3D band, drawn by :mod:`fem.render3d`."""
     from fem.band import BandTooWideError, band_shapes, default_band_Hz
     from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_model
@@ -165,7 +165,7 @@ def _run_3d(args: argparse.Namespace, choice, out) -> None:
     chosen = _chosen(args.mode, band, lo, hi)
     from fem.render3d import render_modes3d
 
-    _draw(out, args.force, lambda stage: render_modes3d(model, chosen, stage, args.animate,
+    _draw(args, lambda stage: render_modes3d(model, chosen, stage, args.animate,
                                                          color=args.color))
 
 

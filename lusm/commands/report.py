@@ -68,11 +68,11 @@ def _write(args: argparse.Namespace, out: Path) -> dict:
 
         choice = stator_from_args(args)
         params, damping_from = motor_params_of(args, "fem")
-        with output_set(out, "--out", args.force) as stage:
+        with output_set(out, "--out", args.force, "report") as stage:
             return write_design_report(stage, choice, params, stator_options_text(args),
                                        quick=args.quick, progress=progress,
                                        damping_from=damping_from)
     from validation.report import write_report
 
-    with output_set(out, "--out", args.force) as stage:
+    with output_set(out, "--out", args.force, "report") as stage:
         return write_report(stage, quick=args.quick, progress=progress)

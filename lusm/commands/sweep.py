@@ -96,7 +96,7 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         from validation.fem_figures import sweep_figure
 
-        png = write_figures(out, "--out", args.force, lambda stage: [
+        png = write_figures(args, "--out", lambda stage: [
             sweep_figure(res, stage / f"sweep_{parameter}.png")])[0]
     if args.json:
         d = res.to_dict()
