@@ -75,6 +75,7 @@ def test_the_ellipse_is_the_phasors_path(plate):
     assert e.width_m == abs(r.tangential_m[0])
 
 
+@pytest.mark.slow
 def test_cli_harmonic_json_and_figures(tmp_path, capsys):
     out = tmp_path / "h"
     assert main(["harmonic", "--refine", str(REFINE), "--points", "21", "--zeta", str(ZETA),

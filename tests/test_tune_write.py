@@ -18,6 +18,7 @@ def _json(capsys) -> dict:
     return json.loads(capsys.readouterr().out)
 
 
+@pytest.mark.slow
 def test_the_written_file_has_l1_on_b2_and_tunes_to_the_same_plate(tmp_path, capsys):
     out = tmp_path / "tuned.toml"
     assert main(["tune", "--fix", "length", "--length-mm", "35", "--refine", "2", "--json",
@@ -41,6 +42,7 @@ def test_the_written_file_has_l1_on_b2_and_tunes_to_the_same_plate(tmp_path, cap
     assert again["width_mm"] == pytest.approx(tuned["width_mm"], rel=1e-6)
 
 
+@pytest.mark.slow
 def test_write_refuses_an_existing_file_and_keeps_it_with_force(tmp_path, capsys):
     out = tmp_path / "tuned.toml"
     out.write_text("mine")
