@@ -17,6 +17,7 @@ from scipy.optimize import brentq
 
 from contact.drive import default_drive_Hz
 from contact.model import OperatingPoint, check_rest, check_scale, resolve_coupling
+from contact.operating_limits import operating_limits
 from contact.results import FrozenArrays
 from contact.steady.branches import branches_at_load, motor_efficiency
 from contact.steady.engine import steady_state, warn_irregular
@@ -118,6 +119,16 @@ class Characteristic(FrozenArrays):
     averaged_stall_force_N: float = math.nan
     creep_from_N: float = math.nan
     creep_rule: str = ""
+    limits: tuple = ()
+
+    def worst_limits(self):
+        """The :class:`contact.operating_limits.OperatingLimits` of the curve's load whose
+        largest ratio to a limit is largest; None without limits."""
+        known = [lim for lim in self.limits if lim is not None]
+        if not known:
+            return None
+        return max(known, key=lambda lim: max(
+            (r for r in (lim.ratio(q) for q in lim.values) if r == r), default=0.0))
 
     @property
     def direction(self) -> str:
@@ -143,11 +154,19 @@ class Characteristic(FrozenArrays):
             "accuracy": self.accuracy,
             "curve": [
                 {"load_N": float(f), "velocity_m_s": float(v), "input_power_W": float(pi),
-                 "output_power_W": float(po), "efficiency": float(e)}
-                for f, v, pi, po, e in zip(self.load_N, self.velocity_m_s, self.input_power_W,
-                                           self.output_power_W, self.efficiency, strict=True)
+                 "output_power_W": float(po), "efficiency": float(e),
+                 "limits": None if lim is None else lim.to_dict()}
+                for f, v, pi, po, e, lim in zip(self.load_N, self.velocity_m_s,
+                                                self.input_power_W, self.output_power_W,
+                                                self.efficiency, self._row_limits(),
+                                                strict=True)
             ],
+            "limits": None if self.worst_limits() is None else self.worst_limits().to_dict(),
         }
+
+    def _row_limits(self) -> tuple:
+        return self.limits if len(self.limits) == len(self.load_N) else (None,) * len(
+            self.load_N)
 
 
 MAX_POINTS = 10_000
@@ -240,10 +259,14 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
             velocity, v0, averaged, stall, points,
             CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff))
         _warn_beyond_stall(velocity, v0, loads, stall)
+    lims = tuple(None if not math.isfinite(v) else
+                 operating_limits(params, op.voltage_V, op.frequency_Hz,
+                                  from_rest.branches.get(float(f)))
+                 for f, v in zip(loads, vel, strict=True))
     return Characteristic(op, float(v0), float(stall), loads, vel, p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0,
                           len(sp.cache) + from_rest.exact_orbits, float(averaged),
-                          float(creep_from), creep_rule)
+                          float(creep_from), creep_rule, lims)
 
 
 def _curve(from_rest: _FromRest, loads: np.ndarray, op: OperatingPoint,
@@ -315,6 +338,7 @@ class _FromRest:
         self.coupling, self.ultrasonic_friction = coupling, ultrasonic_friction
         self.accuracy, self.rest = accuracy, rest
         self.irregular: dict[float, object] = {}
+        self.branches: dict[float, object] = {}  # the branch from rest at each load
         self.exact_orbits = 0
         self._done: dict[float, tuple[float, float]] = {}
 
@@ -334,9 +358,11 @@ class _FromRest:
             b = r.from_rest
             if b is not None and b.irregular:
                 self.irregular[load] = b
+            self.branches[load] = b
             return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
         branches, v = branches_at_load(self.sp, load)
         b = next((b for b in branches if b.from_rest), None)
+        self.branches[load] = b
         return v, (b.input_power_W if b is not None else np.nan)
 
 

@@ -55,11 +55,18 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     zeta_B2 = 0.01
     # Q_m = 500                         #   ... or the material's mechanical quality factor,
                                         #   zeta_L1 = zeta_B2 = 1 / (2 Q_m), Q_m in (0.5, 5e4]
-    # source = "table2"                 #   ... or Table 2's ratios (the default: no table)
+    # source = "table2"                 #   ... or Table 2's ratios
     # source = "paper_amplitudes"       #   ... or fitted, as the paper fitted Table 2's, so
     # frequency_Hz = 40e3               #   that the free tip amplitudes at this drive
                                         #   frequency (default 40 kHz) equal Table 2's at
                                         #   the paper's 40 kHz (rom.damping)
+    # Q_mount = 300                     #   ... or only the other losses, combined with the
+    # Q_contact = 500                   #   material's data-sheet Q_m: 1/Q = 1/Q_m +
+                                        #   1/Q_mount + 1/Q_contact, zeta = 1/(2 Q); each in
+                                        #   (0.5, 5e4]; Q_mount default DEFAULT_Q_MOUNT,
+                                        #   Q_contact none. No [damping] table: the same
+                                        #   with the defaults (a material without Q_m, as
+                                        #   "paper": Table 2's ratios)
 
     [contact]
     k_contact_N_m = 1.7378e7            # normal contact stiffness k, Eq. 7, [1e3, 1e10] N/m
@@ -89,7 +96,9 @@ The four motor tables are carried as plain data (``fem`` knows nothing of the re
 model): :attr:`StatorDesign.motor` maps ``rom.params.MotorParams`` field names (``k_contact``,
 ``M_slider``, ``mu_sd``, ``mu_s``, ``mu_d``, ``a_mu``, ``b_mu``) to SI values, and
 :attr:`StatorDesign.damping_ratios` holds ``(zeta_L1, zeta_B2)`` (None: the parameter source's
-default, Table 2's ratios). :func:`rom.from_fem.fem_params_from_file` applies them; every
+default, Table 2's ratios; without damping ratios in the file, the material's ``Q_m``
+combined with the mount's, :func:`_material_damping`).
+:func:`rom.from_fem.fem_params_from_file` applies them; every
 constant not given stays Table 2's (Li, Yao & Wu 2016, Tables 1-2 and Section 4.1). A
 ``Q_m`` is turned into one viscous ratio for both modes, ``zeta = 1 / (2 Q_m)``: this assumes
 the stator's modal loss is the material's mechanical loss alone (no mounting or radiation
@@ -111,7 +120,7 @@ from typing import Any
 import numpy as np
 
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
-from fem.material import MATERIAL_NAMES, PiezoMaterial, get_material
+from fem.material import MATERIAL_NAMES, PiezoMaterial, combined_quality_factor, get_material
 from fem.meshing.meshed_stator import MeshedStator, bbox_mm
 from fem.units import to_si
 
@@ -152,6 +161,15 @@ Q_M_RANGE = (0.5, 5e4)
 """Allowed ``[damping] Q_m`` (-): ``(0.5, 5e4]``, i.e. ``zeta = 1/(2 Q_m)`` in
 :data:`DAMPING_RATIO_RANGE`."""
 
+DEFAULT_Q_MOUNT = 300.0
+"""Default ``[damping] Q_mount`` (-): the loss of the stator's mount (holder, bond, preload
+spring) as a quality factor, combined with the material's ``Q_m`` when the file gives no
+damping ratios. Assembled ultrasonic-motor stators are quoted at mechanical Q of about
+100-1000 free, against 1000-2000 for hard PZT itself (docs/designer.md, "The default
+damping", for the sources); 300 is the middle of that range on a logarithmic scale. A
+measured Q of the mounted stator (impedance analyser: ``f_s / (f_2 - f_1)`` at -3 dB)
+replaces it."""
+
 IDENTIFY_FREQUENCY_RANGE_HZ = (1e3, 1e7)
 """Allowed ``[damping] frequency_Hz`` of ``source = "paper_amplitudes"`` (Hz)."""
 
@@ -183,7 +201,7 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "tip": ("length_mm", "width_mm"),
     "chamfers": ("size_mm",),
     "holes": ("center_mm", "diameter_mm"),
-    "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz"),
+    "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz", "Q_mount", "Q_contact"),
     **{table: tuple(keys) for table, keys in MOTOR_KEYS.items()},
 }
 
@@ -433,9 +451,11 @@ def _material(table: dict, src: str) -> PiezoMaterial:
     name = str(table.get("name", "inline" if base is None else f"{base.name}-modified"))
     source = str(table.get("source", f"inline constants in {src}"))
     try:
-        return PiezoMaterial(
+        return PiezoMaterial(  # a base's Q_m and limits carry over to its modification
             name=name, cE_Pa=values["cE_Pa"], e_C_m2=values["e_C_m2"],
             epsS_F_m=values["epsS_F_m"], rho_kg_m3=float(rho), source=source,
+            mechanical_Q=None if base is None else base.mechanical_Q,
+            limits=None if base is None else base.limits,
         )
     except ValueError as exc:  # the file's key, not the class's attribute name
         raise ValueError(f"{src}: [material] {str(exc).replace('PiezoMaterial.', '')}") from None
@@ -474,13 +494,49 @@ def _plate_mm(plate: dict, elec: dict, src: str) -> tuple[float, float, float]:
     return length, width, gap
 
 
-def _damping(table: dict, src: str) -> tuple[tuple[float, float] | None, str, float | None]:
-    """``(zeta_L1, zeta_B2)`` or None, the origin text, and the identification frequency
-    (Hz, or None) of a ``[damping]`` table."""
-    if not table:
+def _material_damping(table: dict, src: str, material: PiezoMaterial
+                      ) -> tuple[tuple[float, float] | None, str, None]:
+    """The default damping of a stator without ``[damping]`` ratios: the material's data-sheet
+    ``Q_m`` combined with the mount's and the contact's losses (``[damping] Q_mount``,
+    ``Q_contact``; :func:`fem.material.combined_quality_factor`), the same ratio in both
+    modes. A material without ``Q_m`` (the paper's, inline constants without a base) keeps
+    the parameter source's default (Table 2's ratios) unless the table asks for a mount."""
+    given = [k for k in ("Q_mount", "Q_contact") if k in table]
+    if material.mechanical_Q is None:
+        if given:
+            raise ValueError(f"{src}: [damping] {given[0]} combines with the material's "
+                             f"mechanical Q_m, and material {material.name!r} has none; give "
+                             f"[damping] Q_m (the stator's total) instead")
         return None, "", None
+    q_mount = (_number(table, "damping", "Q_mount", src, *Q_M_RANGE, False, True)
+               if "Q_mount" in table else DEFAULT_Q_MOUNT)
+    q_contact = (_number(table, "damping", "Q_contact", src, *Q_M_RANGE, False, True)
+                 if "Q_contact" in table else math.inf)
+    q = combined_quality_factor(material.mechanical_Q, q_mount, q_contact)
+    z = 1.0 / (2.0 * q)
+    mount = (f"[damping] Q_mount = {q_mount:g}" if "Q_mount" in table
+             else f"the default Q_mount = {q_mount:g}")
+    contact = (f" and [damping] Q_contact = {q_contact:g}" if "Q_contact" in table else "")
+    tail = "" if table else "; the file has no [damping]"
+    return (z, z), (f"material {material.name}'s Q_m = {material.mechanical_Q:g} (data sheet) "
+                    f"combined with {mount}{contact}: Q = {q:.4g}, zeta = 1/(2 Q){tail}"), None
+
+
+def _damping(table: dict, src: str, material: PiezoMaterial
+             ) -> tuple[tuple[float, float] | None, str, float | None]:
+    """``(zeta_L1, zeta_B2)`` or None, the origin text, and the identification frequency
+    (Hz, or None) of a ``[damping]`` table (absent, or with ``Q_mount``/``Q_contact`` only:
+    :func:`_material_damping`)."""
+    if not table or set(table) <= {"Q_mount", "Q_contact"}:
+        return _material_damping(table, src, material)
+    loss_keys = [k for k in ("Q_mount", "Q_contact") if k in table]
     choices = ('give zeta_L1 and zeta_B2, or Q_m, or source = "table2" or '
-               '"paper_amplitudes"')
+               '"paper_amplitudes", or only Q_mount and Q_contact (combined with the '
+               "material's Q_m)")
+    if loss_keys:
+        others = ", ".join(k for k in table if k not in ("Q_mount", "Q_contact"))
+        raise ValueError(f"{src}: [damping] {loss_keys[0]} combines with the material's Q_m "
+                         f"and cannot be combined with {others}; {choices}")
     if "source" in table:
         if table["source"] not in ("table2", "paper_amplitudes"):
             raise ValueError(f"{src}: [damping] source must be \"table2\" (Table 2's ratios) "
@@ -716,13 +772,14 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
         raise ValueError(f"{src}: [mesh] is empty; give it file = \"plate.msh\" (a mesh file, "
                          f"with unit = \"m\" or \"mm\"), or size_mm (the element size of a "
                          f"parametric stator: [tip], [chamfers], [[holes]]), or remove the table")
-    damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src)
-    motor = {"damping_ratios": damping, "damping_origin": damping_origin,
-             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src)}
     name = data.get("name", src)
     if not isinstance(name, str):
         raise ValueError(f"{src}: name must be a string, got {name!r}")
     material = _material(mat_t, src)
+    damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src,
+                                                    material)
+    motor = {"damping_ratios": damping, "damping_origin": damping_origin,
+             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src)}
     drive = _drive(elec, src)
     thickness = _length_mm(plate, "plate", "thickness_mm", src, required=True)
     tip = _point_mm(pts_t, "tip_mm", src)
@@ -951,3 +1008,49 @@ def load_stator(path: str | Path) -> StatorDesign:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     design = parse_stator(data, base_dir=path.parent, src=str(path))
     return replace(design, path=path, name=design.name if "name" in data else path.stem)
+
+
+def tuned_stator_text(dimensions_mm: dict[str, float], comment: str,
+                      source_text: str | None = None,
+                      plate_tables: dict[str, dict[str, object]] | None = None) -> str:
+    """A stator file (TOML text) with the ``[plate]`` dimensions of ``dimensions_mm`` set.
+
+    The user's file is edited with tomlkit, which keeps its comments, order and layout: only
+    the keys named change, each with a trailing comment saying its former value; every other
+    table (electrodes, material, features, motor tables) stays as written. Without a file
+    the text is built from ``plate_tables`` (``{"electrodes": {...}, "material": {...}}``).
+
+    Parameters
+    ----------
+    dimensions_mm : dict
+        ``{"length_mm": .., "width_mm": .., "thickness_mm": ..}`` (mm), written to 12
+        significant digits (below a picometre on a 1 m plate: the frequencies do not move).
+    comment : str
+        Lines put as comments at the top of the file (how the dimensions were found).
+    source_text : str, optional
+        The user's stator file.
+    plate_tables : dict, optional
+        Tables written after ``[plate]`` when there is no ``source_text``.
+    """
+    import tomlkit
+
+    doc = tomlkit.parse(source_text) if source_text is not None else tomlkit.document()
+    if source_text is None:
+        doc["name"] = "tuned plate"
+    if "plate" not in doc:
+        doc["plate"] = tomlkit.table()
+    plate = doc["plate"]
+    for key, value in dimensions_mm.items():
+        new = float(f"{value:.12g}")
+        old = plate.get(key)
+        item = tomlkit.item(new)
+        if old is not None and float(old) != new:
+            item.comment(f"tuned (was {float(old):g})")
+        plate[key] = item
+    for name, table in (plate_tables or {}).items() if source_text is None else ():
+        t = tomlkit.table()
+        for k, v in table.items():
+            t[k] = v
+        doc[name] = t
+    head = "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
+    return head + "\n" + tomlkit.dumps(doc)

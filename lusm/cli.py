@@ -38,6 +38,7 @@ COMMAND_MODULES = [
     "lusm.commands.tune",
     "lusm.commands.sweep",
     "lusm.commands.admittance",
+    "lusm.commands.harmonic",
     "lusm.commands.explore",
     "lusm.commands.characteristic",
 ]

@@ -34,7 +34,7 @@ from lusm.messages import typed, warn, warn_unused
 SOURCES = ("table2", "beam", "fem")
 """Parameter sources (:data:`rom.sources.SOURCES`, repeated so the parser needs no numpy)."""
 
-MATERIALS = ("pzt8", "paper")
+MATERIALS = ("pzt8", "paper", "pzt4", "pzt5a")
 """Named materials (:data:`fem.material.MATERIAL_NAMES`)."""
 
 PLATE_DEFAULTS_MM = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3.0,
@@ -749,15 +749,33 @@ class Motor:
     frequency_auto: bool
 
 
+def default_frequency_text(params) -> str:
+    """The drive frequency without ``--frequency``: the paper's 40 kHz for Table 2's set
+    (the paper's drive), ``'auto'`` (the set's own operating point) for any other: a
+    designer's stator is driven where its modes are, not at the paper's frequency."""
+    from contact.model import is_table2
+
+    return "40e3" if is_table2(params) else "auto"
+
+
 def resolve_motor(args: argparse.Namespace) -> Motor:
     """The parameter set, coupling and drive frequency of ``args`` (with ``--source``,
-    ``--coupling`` and ``--frequency``), with the default frequency's warning said."""
+    ``--coupling`` and ``--frequency``: :func:`default_frequency_text` when not given), with
+    the fallback's warning said where the default finds no operating point."""
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
-    warn_default_frequency(params, freq)
+    text = args.frequency if args.frequency is not None else default_frequency_text(params)
+    try:
+        freq = parse_frequency(text, params)
+    except LusmError:
+        if args.frequency is not None:
+            raise
+        # the default asked for no operating point it cannot find: the paper's drive
+        warn("--frequency: this set drives no tip ellipse, so it has no operating point; "
+             "driving it at the paper's 40 kHz (give --frequency)")
+        text, freq = "40e3", 40e3
     return Motor(params, damping_from, coupling, coupling_from, freq,
-                 known_frequency(args.frequency) is None)
+                 known_frequency(text) is None)
 
 
 def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload_N: float,
@@ -788,6 +806,41 @@ def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload
     if known is None and check_size is not None:
         check_size(motor.frequency_Hz)
     return plot, motor
+
+
+def add_band_options(p: argparse.ArgumentParser, points: int) -> None:
+    """``--f-min``, ``--f-max`` (default: the design's L1 and B2 -+ 15 % of their mean) and
+    ``--points`` (default ``points``) of a frequency sweep."""
+    f_lo, f_hi = limits.FREQUENCY_HZ
+    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band start (Hz); default: the design's L1 and B2 "
+                   "minus 15 %% of their mean")
+    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band end (Hz); default: the design's L1 and B2 plus "
+                   "15 %% of their mean")
+    p.add_argument("--points", default=points, metavar="N",
+                   type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
+                   help=f"frequency points (default {points})")
+
+
+def check_band_order(f_min_Hz: float | None, f_max_Hz: float | None) -> None:
+    """Refuse ``--f-min`` not below ``--f-max`` where both are given."""
+    if f_min_Hz is not None and f_max_Hz is not None and not f_min_Hz < f_max_Hz:
+        raise LusmError(f"--f-min must be below --f-max, got {f_min_Hz:g} and "
+                        f"{f_max_Hz:g} Hz", "--f-min")
+
+
+def fem_damping_origin(geometry: str | None, design) -> str:
+    """Where an FE set's damping ratios come from (text for
+    :func:`validation.summaries.damping_line`): the stator file's ``[damping]``, or Table 2's
+    ratios borrowed."""
+    from validation.summaries import borrowed_damping
+
+    if design is None:
+        return borrowed_damping("fem")
+    if design.damping_origin:
+        return f"stator file {geometry} {design.damping_origin}"
+    return f"{borrowed_damping('fem')}; stator file {geometry} has no [damping]"
 
 
 def motor_params_of(args: argparse.Namespace, source: str | None):
@@ -822,12 +875,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
         from rom.from_fem import design_base, fem_params, fem_params_from_file
 
         design = choice.design
-        if design is None:
-            origin = borrowed_damping("fem")
-        elif design.damping_origin:
-            origin = f"stator file {args.geometry} {design.damping_origin}"
-        else:
-            origin = f"{borrowed_damping('fem')}; stator file {args.geometry} has no [damping]"
+        origin = fem_damping_origin(args.geometry, design)
         if design is not None:
             try:  # the motor tables against Table 2's other constants, before any FE work
                 design_base(design)
@@ -914,8 +962,10 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
         g.add_argument("--preload", type=real("--preload", "N", *limits.PRELOAD_N),
                        required=True, help=f"preload F_P (N), in [0, {limits.PRELOAD_N[1]:g}]")
     if auto_frequency:
-        g.add_argument("--frequency", default="40e3",
-                       help="drive frequency (Hz), or 'auto' for the set's own operating point")
+        g.add_argument("--frequency", default=None,
+                       help="drive frequency (Hz), or 'auto' for the set's own operating point; "
+                       "default: the paper's 40 kHz for Table 2's set, auto for any other "
+                       "(docs/designer.md)")
     else:
         g.add_argument("--frequency", type=real("--frequency", "Hz", *limits.FREQUENCY_HZ),
                        default=40e3, help="drive frequency (Hz)")
@@ -968,10 +1018,11 @@ def parse_frequency(text: str | float, params=None) -> float:
     return value
 
 
-def known_frequency(text: str | float) -> float | None:
-    """``--frequency`` in Hz before the parameter set is known: None for 'auto' (which needs
-    the set), else the number, a bad one refused at once (before any work)."""
-    if isinstance(text, str) and text.strip().lower() == "auto":
+def known_frequency(text: str | float | None) -> float | None:
+    """``--frequency`` in Hz before the parameter set is known: None for 'auto' and for no
+    ``--frequency`` (both need the set: :func:`default_frequency_text`), else the number, a
+    bad one refused at once (before any work)."""
+    if text is None or isinstance(text, str) and text.strip().lower() == "auto":
         return None
     return parse_frequency(text)
 
@@ -1231,6 +1282,62 @@ def write_figures(args: argparse.Namespace, option: str,
         return moved(draw(stage), stage, target)
 
 
+def file_target(text: str, option: str, force: bool, example: str) -> Path:
+    """The file ``option`` names, checked before any work: a name (not a folder, ``example``
+    says what to name instead), not below a file, not an existing file without ``force``,
+    in a folder that can be written."""
+    import os
+
+    if not text.strip():
+        raise LusmError(f"{option} must name a file, got ''", option)
+    path = Path(text)
+    check_path_usable(path, option)
+    # a trailing separator names a folder (Path drops it: dd.vtu/ would be written as the
+    # file dd.vtu)
+    last = text.rstrip().replace(os.sep, "/").rsplit("/", 1)[-1]
+    if path.is_dir() or last in ("", ".", ".."):  # dd.vtu/. too
+        raise LusmError(f"{option} {text.strip()} is a folder; name a file such as {example}",
+                        option)
+    for parent in path.parents:
+        if parent.exists() and not parent.is_dir():
+            raise LusmError(f"{option} {path} sits below the file {parent}", option)
+        if parent.exists():
+            break
+    if (path.exists() or path.is_symlink()) and not force:
+        raise LusmError(f"{option} {path} already exists; choose a new name or pass --force",
+                        option)
+    folder = next((p for p in path.absolute().parents if p.exists()), None)
+    if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
+        raise LusmError(f"{option} {path}: cannot write into {folder} (permission denied)",
+                        option)
+    return path
+
+
+def write_text_file(path: Path, option: str, text: str) -> None:
+    """Write ``text`` to ``path`` (checked by :func:`file_target`): built in a staging folder
+    beside it and moved in whole; a file already there (``--force``) is kept as
+    ``NAME.bak-N``, never lost."""
+    import os
+
+    from lusm.interrupts import checkpoint
+    from lusm.output_set import OutputError, keep_aside, staging
+
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with staging(path.parent, path.name, option, path) as stage:
+            staged = stage / path.name
+            staged.write_text(text, encoding="utf-8")
+            checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
+            if path.exists() or path.is_symlink():
+                keep_aside(path, "--force")
+            os.replace(staged, path)
+    except OutputError as exc:
+        raise LusmError(str(exc), option) from None
+    except OSError as exc:  # a full disk, a folder made read-only meanwhile
+        raise LusmError(f"{option} {path}: cannot write ({exc.strerror or exc})",
+                        option) from None
+
+
 def moved(paths, stage: Path, target: Path) -> list[str]:
     """Where files written into ``stage`` live once the set is moved into ``target``."""
     return [str(target / Path(p).relative_to(stage)) for p in paths]
@@ -1253,25 +1360,5 @@ def warn_unexcited_mode(params, electrodes) -> None:
 
     for text in unexcited_modes(params, electrodes):
         warn(text)
-
-
-def warn_default_frequency(params, frequency_Hz: float) -> None:
-    """Warn when ``--frequency`` was left at its default and the product of the set's free
-    tip amplitudes there is below :data:`contact.drive.WEAK_DRIVE_SHARE` of the one at its
-    own operating point (:func:`contact.drive.drive_share`): a stator file with modes at
-    47.7 kHz gives a stall force of 0.26 N and a no-load speed of 5.7e-5 m/s at the default
-    40 kHz, where `--frequency auto` gives 1.40 N and 0.041 m/s. A frequency
-    the user typed is theirs."""
-    if typed("--frequency"):
-        return
-    from contact.drive import WEAK_DRIVE_SHARE, drive_share
-
-    share, best = drive_share(params, frequency_Hz)
-    if share < WEAK_DRIVE_SHARE:
-        warn(f"--frequency: the default {frequency_Hz:g} Hz misses this set's modes (L1 "
-             f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the product of the free "
-             f"tip's amplitudes there is {share:.2g} of the one at its own operating point, "
-             f"{best:.0f} Hz; "
-             f"--frequency auto drives it there")
 
 

@@ -423,9 +423,25 @@ RENDER = [
     ("geometry-missing", ["render", "--geometry", "{missing}"], "--geometry", None),
     ("thickness-huge", ["render", "--thickness-mm", "1e6"], "--thickness-mm",
      "[0.1, 1000] mm"),
+    ("mode-zero", ["render", "--mode", "0"], "--mode", None),
+    ("mode-unknown", ["render", "--mode", "X2"], "--mode", None),
+    # the 2D pictures are L1 and B2: other modes and rows of the band table need 3D
+    ("mode-name-2d", ["render", "--mode", "OB3"], "--mode", "--model 3d"),
+    ("mode-index-2d", ["render", "--mode", "3"], "--mode", "--model 3d"),
+    ("color-2d", ["render", "--color", "potential"], "--color", "--model 3d"),
+    ("color-unknown", ["render", "--model", "3d", "--color", "speed"], "--color", None),
+    ("band-2d", ["render", "--band", "40:60"], "--band", "--model 3d"),
+    ("band-backwards", ["render", "--model", "3d", "--band", "50:40"], "--band", None),
+    ("layers-2d", ["render", "--layers", "2"], "--layers", "--model 3d"),
+    ("refine-3d", ["render", "--model", "3d", "--refine", "40"], "--refine", None),
 ]
 
 TUNE = [
+    ("write-empty", ["tune", "--fix", "length", "--write", ""], "--write", None),
+    ("write-folder", ["tune", "--fix", "length", "--write", "{folder}"], "--write", None),
+    ("write-exists", ["tune", "--fix", "length", "--write", "{file}"], "--write", "--force"),
+    ("write-below-file", ["tune", "--fix", "length", "--write", "{below_file}/t.toml"],
+     "--write", None),
     ("refine-48", ["tune", "--refine", "48"], "--refine", "above the limit 100000"),
     # 7e5 Hz passed the check and lost L1 after 10 FE solves (the tuned plate's electrodes
     # narrower than 1.5 x the gap); 1e6 Hz was above the quoted range and still accepted
@@ -492,6 +508,16 @@ ADMITTANCE = [
     ("zeta-zero", ["admittance", "--zeta", "0"], "--zeta", "(0, 1)"),
     ("electrodes-5", ["admittance", "--electrodes", "1,5"], "--electrodes", None),
     ("out-below-file", ["admittance", "--out", "{below_file}"], "--out", None),
+]
+
+HARMONIC = [
+    ("voltage-negative", ["harmonic", "--voltage", "-1"], "--voltage", "[0, 2000] V"),
+    ("points-2", ["harmonic", "--points", "2"], "--points", None),
+    ("fmin-above-fmax", ["harmonic", "--f-min", "5e4", "--f-max", "4e4"], "--f-min", None),
+    ("fmin-zero", ["harmonic", "--f-min", "0"], "--f-min", None),
+    ("frequency-word", ["harmonic", "--frequency", "fast"], "--frequency", None),
+    ("zeta-zero", ["harmonic", "--zeta", "0"], "--zeta", None),
+    ("plot-is-file", ["harmonic", "--plot", "{file}"], "--plot", None),
 ]
 
 COMPARE = [
@@ -592,8 +618,8 @@ STATOR_FILES = [
 
 TABLES = {"simulate": SIMULATE, "map": MAP, "characteristic": CHARACTERISTIC, "modes": MODES,
           "render": RENDER, "tune": TUNE, "sweep": SWEEP, "admittance": ADMITTANCE,
-          "compare": COMPARE, "params": PARAMS, "report": REPORT, "explore": EXPLORE,
-          "stator_files": STATOR_FILES}
+          "harmonic": HARMONIC, "compare": COMPARE, "params": PARAMS, "report": REPORT,
+          "explore": EXPLORE, "stator_files": STATOR_FILES}
 
 SLOW_ROWS = {"off-centre-hole-pairing"}
 """Rows refused only once the stator is meshed and solved (seconds, not milliseconds)."""

@@ -17,7 +17,7 @@ from lusm.cli import build_parser, main
 from tests.conftest import ROOT
 
 STATOR_COMMANDS = ("simulate", "map", "modes", "params", "render", "tune", "sweep",
-                   "admittance", "report", "compare", "characteristic")
+                   "admittance", "harmonic", "report", "compare", "characteristic")
 """Commands that use a stator (``explore`` takes its stators from the study file)."""
 
 STATOR_OPTIONS = ("--geometry", "--length-mm", "--width-mm", "--thickness-mm", "--gap-mm",
@@ -47,10 +47,11 @@ def test_every_stator_command_takes_the_stator_options(capsys):
 def test_output_and_json_options_are_shared():
     subs = _subparsers()
     for name in ("simulate", "map", "modes", "params", "compare", "tune", "sweep",
-                 "admittance"):
+                 "admittance", "harmonic"):
         assert "--json" in {o for a in subs[name]._actions for o in a.option_strings}, name
     for name, folder in (("simulate", "--plot"), ("map", "--plot"), ("render", "--out"),
-                         ("sweep", "--out"), ("admittance", "--out"), ("report", "--out")):
+                         ("sweep", "--out"), ("admittance", "--out"), ("report", "--out"),
+                         ("harmonic", "--plot")):
         options = {o for a in subs[name]._actions for o in a.option_strings}
         assert {folder, "--force"} <= options, name
 
@@ -218,11 +219,14 @@ def test_the_default_step_divides_the_drive_period(capsys):
     assert "not settled" not in out.err
 
 
-def test_the_default_frequency_far_from_a_sets_modes_is_said(capsys):
-    """The FE set's modes lie near 55 kHz: at the default 40 kHz its free tip ellipse is
+def test_the_default_frequency_is_the_sets_own_operating_point(capsys):
+    """The FE set's modes lie near 55 kHz: at the paper's 40 kHz its free tip ellipse is
     0.14 of the one at its own operating point (contact.drive.auto_frequency), and a stator
-    file at 47.7 kHz gave 0.3 % of its no-load speed there, without a word. Table 2 at
-    40 kHz (its own point is 39.8 kHz) and a typed frequency stay silent."""
+    file at 47.7 kHz gave 0.3 % of its no-load speed there. Without --frequency a set other
+    than Table 2's is driven at its own point; Table 2's at the paper's 40 kHz; a typed
+    frequency is kept."""
+    import json
+
     from contact.drive import WEAK_DRIVE_SHARE, auto_frequency, free_tip_amplitudes
     from rom.sources import get_params
 
@@ -231,12 +235,11 @@ def test_the_default_frequency_far_from_a_sets_modes_is_said(capsys):
     a, b = free_tip_amplitudes(p, 40e3)
     assert a * b < WEAK_DRIVE_SHARE * a0 * b0
     argv = ["simulate", "--voltage", "200", "--preload", "14", "--steady", "--json"]
-    assert main(argv + ["--source", "fem"]) == 0
-    assert "--frequency: the default 40000 Hz misses this set's modes" in \
-        capsys.readouterr().err
-    for extra in ([], ["--source", "fem", "--frequency", "40000"]):
+    for extra, want in ((["--source", "fem"], auto_frequency(p)), ([], 40e3),
+                        (["--source", "fem", "--frequency", "40000"], 40e3)):
         assert main(argv + extra) == 0
-        assert "misses this set's modes" not in capsys.readouterr().err
+        assert json.loads(capsys.readouterr().out)["frequency_Hz"] == pytest.approx(want,
+                                                                                  rel=1e-12)
 
 
 def test_a_drive_that_excites_no_b2_is_said(tmp_path, capsys):
@@ -278,9 +281,13 @@ def test_a_set_that_drives_no_ellipse_has_no_operating_frequency(tmp_path, capsy
     assert main(["simulate", *args, "--frequency", "auto", "--duration", "0.002"]) == 2
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert err.startswith("lusm simulate: error: --frequency auto: the set drives no tip")
-    # at a given frequency it is a motor that does not move: answered, not refused
+    # at a given frequency it is a motor that does not move: answered, not refused; without
+    # --frequency the default, which has no operating point to find, falls back to 40 kHz
     assert main(["characteristic", *args, "--loads", "0:0.1:0.1", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["no_load_velocity_m_s"] == 0.0
+    out = capsys.readouterr()
+    assert json.loads(out.out)["no_load_velocity_m_s"] == 0.0
+    assert json.loads(out.out)["frequency_Hz"] == 40e3
+    assert "drives no tip ellipse" in out.err
 
 
 def test_library_warnings_name_the_options_of_their_assignments():

@@ -76,9 +76,33 @@ def test_get_material_and_hashing():
     assert get_material("pzt8") == pzt8()
     assert hash(get_material("PZT-8")) == hash(pzt8())
     assert get_material("paper") != pzt8()
-    with pytest.raises(ValueError, match="pzt8, paper"):
-        get_material("pzt4")
-    assert MATERIAL_NAMES == ("pzt8", "paper")
+    with pytest.raises(ValueError, match="pzt8, paper, pzt4, pzt5a"):
+        get_material("pzt2")
+    assert MATERIAL_NAMES == ("pzt8", "paper", "pzt4", "pzt5a")
+
+
+def test_named_materials_carry_q_and_limits():
+    """The data-sheet Q_m of the hard and soft ceramics, and the paper's material without
+    one (its set keeps Table 2's damping); every named material has limits."""
+    assert [get_material(n).mechanical_Q for n in MATERIAL_NAMES] == [1000.0, None, 500.0,
+                                                                       75.0]
+    for name in MATERIAL_NAMES:
+        lim = get_material(name).limits
+        assert lim is not None and lim.vibration_velocity_m_s > 0 and lim.drive_field_V_m > 0
+    assert get_material("pzt4") != get_material("pzt8")
+    assert get_material("pzt5a").rho_kg_m3 == 7750.0
+
+
+def test_combined_quality_factor_adds_inverse_q():
+    from fem.material import combined_quality_factor
+
+    assert combined_quality_factor(1000.0, 300.0) == pytest.approx(300000.0 / 1300.0,
+                                                                    rel=1e-15)
+    assert combined_quality_factor(1000.0, 300.0, np.inf) == combined_quality_factor(1000.0,
+                                                                                      300.0)
+    assert combined_quality_factor(200.0, 200.0, 200.0) == pytest.approx(200.0 / 3.0)
+    with pytest.raises(ValueError):
+        combined_quality_factor(1000.0, 0.0)
 
 
 def test_material_rejects_bad_arrays():

@@ -15,7 +15,7 @@ def test_characteristic_json_curve_is_consistent(capsys):
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"no_load_velocity_m_s", "direction", "stall_force_N",
                         "averaged_stall_force_N", "creep_from_N", "creep_from_rule",
-                        "holding_range_N", "accuracy",
+                        "holding_range_N", "accuracy", "limits",
                         "curve", "damping", "coupling", "coupling_from", "voltage_V",
                         "preload_N", "frequency_Hz", "frequency_from", "rest"}
     assert doc["accuracy"] == "exact"  # the default: the finite-mass motor from rest
@@ -25,7 +25,7 @@ def test_characteristic_json_curve_is_consistent(capsys):
     assert [row["load_N"] for row in curve] == pytest.approx([0.0, 0.5, 1.0, 1.5])
     for row in curve:
         assert set(row) == {"load_N", "velocity_m_s", "input_power_W", "output_power_W",
-                            "efficiency"}
+                            "efficiency", "limits"}
         assert row["output_power_W"] == pytest.approx(row["load_N"] * row["velocity_m_s"])
     assert curve[0]["velocity_m_s"] == pytest.approx(doc["no_load_velocity_m_s"])
     # all four loads are below the stall force, so the slider moves against each

@@ -844,6 +844,50 @@ def _fitted_damping() -> dict[str, float]:
     return out
 
 
+@cache
+def _paper_operating_limits(voltage_V: float = 400.0):
+    """The operating limits of Table 2's set at ``voltage_V`` / 14 N / 40 kHz (the paper's
+    400 V by default), steady state from rest (:mod:`contact.operating_limits`)."""
+    from contact.operating_limits import operating_limits
+    from contact.steady.engine import steady_state
+
+    p = _table2()
+    r = steady_state(p, voltage_V, 14.0, frequency_Hz=40e3)
+    return operating_limits(p, voltage_V, 40e3, r.from_rest)
+
+
+def _default_q() -> float:
+    """The default damping's Q of a PZT-8 stator file: 1/Q = 1/Q_m + 1/Q_mount."""
+    from fem.material import combined_quality_factor, pzt8
+    from fem.stator_file import DEFAULT_Q_MOUNT
+
+    return combined_quality_factor(pzt8().mechanical_Q, DEFAULT_Q_MOUNT)
+
+
+def _operating_limit_claims() -> tuple[Claim, ...]:
+    """docs/designer.md, 'Physical limits' and 'The default damping'."""
+    cmd = "lusm simulate --voltage 400 --preload 14 --steady --json (limits.{q}.value)"
+    out = [Claim("default_damping_Q", "-", "lusm params --geometry examples/tip_parametric/"
+                 "stator.toml (the damping line)", _default_q, cheap=True, rel_tol=1e-12),
+           Claim("default_damping_zeta", "-", "lusm params --geometry examples/tip_parametric/"
+                 "stator.toml (zeta_L1)", lambda: 0.5 / _default_q(), cheap=True,
+                 rel_tol=1e-12)]
+    for q, unit in (("vibration_velocity", "m/s"), ("stress", "Pa"),
+                    ("dissipated_power", "W"), ("power_density", "W/m^3")):
+        out.append(Claim(f"oplim_paper_400V_{q}", unit, cmd.format(q=q),
+                         lambda q=q: _paper_operating_limits().values[q], cheap=True,
+                         rel_tol=1e-4))
+    out.append(Claim("oplim_paper_400V_stress_B2", "Pa", "python -m tools.doc_numbers --show "
+                     "oplim_paper_400V_stress_B2 (B2's share: stress_B2_Pa_m x W)",
+                     lambda: (_paper_operating_limits().amplitudes_m[1]
+                              * _table2().shape.stress_B2_Pa_m), cheap=True, rel_tol=1e-4))
+    out.append(Claim("oplim_paper_300V_stress", "Pa", "lusm simulate --voltage 300 --preload 14 "
+                     "--steady --json (limits.stress.value)",
+                     lambda: _paper_operating_limits(300.0).values["stress"], cheap=True,
+                     rel_tol=1e-4))
+    return tuple(out)
+
+
 def _fitted_damping_claims() -> tuple[Claim, ...]:
     """docs/designer.md: what fitting the damping to the paper's amplitudes changes."""
     cmd = ("lusm characteristic --voltage 400 --preload 14 --frequency auto --geometry {f} "
@@ -2928,6 +2972,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_designer_claims(),
     *_parametric_claims(),
     *_fitted_damping_claims(),
+    *_operating_limit_claims(),
     *_default_coupling_claims(),
     *_drive_proxy_claims(),
     *_motor_claims(),

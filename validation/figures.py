@@ -137,6 +137,12 @@ def stick_slip_map(m: StickSlipMap, path: Path, title: str = "") -> Path:
         sel = m.motion == cls
         if np.any(sel):
             ax.scatter(ff[sel], vv[sel], s=40, label=cls, **style)
+    if m.limits is not None:  # a ring around every point beyond a limit of the ceramic
+        over = np.array([[lim is not None and bool(lim.exceeded()) for lim in row]
+                         for row in m.limits], dtype=bool)
+        if np.any(over):
+            ax.scatter(ff[over], vv[over], s=110, facecolors="none", edgecolors="red",
+                       linewidths=1.2, label="beyond a limit")
     ax.set_xlabel("preload F_P (N)")
     ax.set_ylabel("voltage amplitude V0 (V)")
     ax.set_title(title or "stick-slip map", fontsize=9)

@@ -239,8 +239,35 @@ def _set_data(name: str, p: MotorParams, f: float, volts: np.ndarray, loads: np.
         "wall_time_s": time.perf_counter() - t0,
         "damping": damping_summary(p, origin),
         "coupling": coupling, "coupling_from": coupling_why,
+        "limits": {f"{c.op.voltage_V:g}": (None if not c.limits or c.limits[0] is None
+                                          else c.limits[0].to_dict()) for c in chars},
     }
     return data, [_row(name, c) for c in chars]
+
+
+def limits_table(limits_by_voltage: dict) -> list[str]:
+    """Markdown table of the no-load operating points' limits
+    (:mod:`contact.operating_limits`): each quantity's value and its ratio to the limit,
+    bold beyond it; empty without shape data."""
+    from contact.operating_limits import QUANTITIES
+
+    rows = {v: d for v, d in limits_by_voltage.items() if d is not None}
+    if not rows:
+        return []
+    head = ["V0 (V)"] + [f"{q.replace('_', ' ')} ({unit})"
+                         for q, (_, _, _, unit) in QUANTITIES.items()]
+    md = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for v, d in rows.items():
+        cells = [v]
+        for q, (_, _, factor, _) in QUANTITIES.items():
+            r = d[q]["ratio"]
+            if not r == r:  # NaN: no limit of its own (the dampers' total power)
+                cells.append(f"{d[q]['value'] * factor:.3g}")
+                continue
+            text = f"{d[q]['value'] * factor:.3g} ({r:.2g} of {d[q]['limit'] * factor:.3g})"
+            cells.append(f"**{text}**" if r > 1 else text)
+        md.append("| " + " | ".join(cells) + " |")
+    return md + [""]
 
 
 def _set_markdown(name: str, d: dict, p: MotorParams, origin: str, cite: str | None,
@@ -260,6 +287,11 @@ def _set_markdown(name: str, d: dict, p: MotorParams, origin: str, cite: str | N
                + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
                + f"), `lusm map{opts} --voltages {_grid(volts)} --preloads "
                f"{_grid(loads)}`.", ""]
+    lim = limits_table(d.get("limits") or {})
+    if lim:
+        md += [f"Physical limits at no load, {CHARACTERISTIC_PRELOAD_N:g} N (value, and its "
+               "share of the ceramic's limit; bold beyond it; `lusm simulate --steady` gives "
+               "them with `limits`; docs/designer.md, 'Physical limits'):", ""] + lim
     return md + ["Map: " + ", ".join(f"{n} {c}" for c, n in mp["counts"].items() if n)
                  + f" point(s); {mp['several_branches']} point(s) with several stable "
                  f"steady states (the map shows the one reached from rest); {mp['undecided']} "

@@ -241,6 +241,10 @@ def map_summary(m: StickSlipMap) -> dict:
                          for i in range(m.voltages_V.size)]
         d["undecided"] = [[float(m.voltages_V[i]), float(m.preloads_N[j])]
                           for i, j in zip(*np.nonzero(m.fallback), strict=True)]
+    if m.limits is not None:  # each point's {quantity: {value, limit, ratio, unit}}
+        d["limits"] = [[None if m.limits[i, j] is None else m.limits[i, j].to_dict()
+                        for j in range(m.preloads_N.size)]
+                       for i in range(m.voltages_V.size)]
     return d
 
 

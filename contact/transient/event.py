@@ -120,7 +120,7 @@ def _energy_balance(params: MotorParams, opts: SimulationOptions, work: np.ndarr
                     stats: np.ndarray, load_J: float) -> EnergyBalance:
     """The window's work integrals; ``load_J`` is the load's work on the slider over the
     window, ``-load_N`` times its displacement."""
-    w_in, w_damp, w_ns, w_ts, w_tx, w_gl = (float(w) for w in work)
+    w_in, w_damp, w_ns, w_ts, w_tx, w_gl = (float(w) for w in work[:6])
     # the kernel integrates the guide and the load together (both are in the model's ff_m
     # rows); the load's work is exact from the displacement, the rest is the guide's
     w_g = w_gl - load_J

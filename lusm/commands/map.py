@@ -91,6 +91,7 @@ def run(args: argparse.Namespace) -> None:
         check_steady_work(volts.size * loads.size, motor.params, motor.frequency_Hz,
                           motor.coupling, "points", "--voltages")
     m = _solve(args, motor, volts, loads)
+    _warn_limits(m)
     summary = _summary(args, motor, m)
     if plot is not None:
         summary["figures"] = _plot(args, motor, m)
@@ -125,6 +126,22 @@ def _solve(args: argparse.Namespace, motor: Motor, volts, loads):
              "is not the steady one (JSON 'settled'); give a longer --duration, or --method "
              "steady")
     return m
+
+
+def _warn_limits(m) -> None:
+    """One line, before the results, naming the points beyond a limit of the ceramic and the
+    worst of them (each point's limits are in --json, the points marked on --plot)."""
+    if m.limits is None:
+        return
+    over = [(float(m.voltages_V[i]), float(m.preloads_N[j]), m.limits[i, j])
+            for i in range(m.voltages_V.size) for j in range(m.preloads_N.size)
+            if m.limits[i, j] is not None and m.limits[i, j].exceeded()]
+    if not over:
+        return
+    v, f, worst = max(over, key=lambda p: max(p[2].ratio(q) for q in p[2].exceeded()))
+    line = worst.warning(f"at {len(over)} of {m.limits.size} points (JSON 'limits'); the "
+                         f"worst, {v:g} V/{f:g} N")
+    warn(line)
 
 
 def _summary(args: argparse.Namespace, motor: Motor, m) -> dict:

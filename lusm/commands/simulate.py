@@ -90,6 +90,7 @@ def run(args: argparse.Namespace) -> None:
             # every key the other runs carry (null where no steady state has the value)
             summary = runaway_summary(params, v, args.preload, freq, args.load_N, coupling,
                                       not args.no_ultrasonic_friction, exc.reason)
+            summary["limits"] = None  # no steady operating point, as the others' key says
         summary["damping"] = damping_summary(params, damping_from)
         summary["coupling"], summary["coupling_from"] = coupling, coupling_from
         summaries.append(summary)
@@ -106,6 +107,7 @@ def run(args: argparse.Namespace) -> None:
 def _print_one(summary: dict, motor: Motor) -> None:
     """One run's summary as ``key value`` lines, its branches, damping, coupling, energy
     balance and figures."""
+    from lusm.physical_limits import print_limits
     from validation.summaries import coupling_line, damping_line
 
     for key, value in summary.items():
@@ -118,6 +120,7 @@ def _print_one(summary: dict, motor: Motor) -> None:
         # does not reach
         print(f"{'branch (from rest)' if b['from_rest'] else 'branch':<30} "
               + branch_text(b))
+    print_limits(summary.get("limits"))
     print(damping_line(motor.params, motor.damping_from))
     print(coupling_line(motor.coupling, motor.coupling_from))
     if "energy" in summary:
@@ -164,6 +167,13 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     runaway = next((str(w.message) for w in caught if issubclass(w.category, RunawayWarning)),
                    None)
     summary = simulation_summary(r, runs_away=runaway)
+    from contact.operating_limits import simulation_limits
+    from lusm.physical_limits import limits_json, warn_beyond
+
+    # a slider that runs away is at no steady operating point: no limits to say
+    lims = None if runaway is not None else simulation_limits(r)
+    warn_beyond(lims, f"at {voltage_V:g} V, {args.preload:g} N, {freq:.6g} Hz")
+    summary["limits"] = limits_json(lims)
     if not args.steady and not r.steady.settled:
         if runaway is None:
             st = r.steady
