@@ -998,7 +998,12 @@ def load_stator(path: str | Path) -> StatorDesign:
     ValueError
         For bad TOML or bad values; the message names the key and the allowed range.
     """
-    from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
+    from fem.small_file import (
+        FileTooLarge,
+        NotRegularFile,
+        link_loop,
+        read_small_text,
+    )
 
     if not isinstance(path, (str, os.PathLike)):  # None: named, not "expected str, bytes..."
         raise TypeError(f"path must name a stator TOML file, got {path!r}")
@@ -1006,6 +1011,10 @@ def load_stator(path: str | Path) -> StatorDesign:
     if path.is_dir():
         raise ValueError(f"stator file {path} is a folder; name its .toml file")
     if not path.exists():
+        loop = link_loop(path)
+        if loop:
+            raise ValueError(f"stator file {path}: a loop of symbolic links ({loop}); point "
+                             "the link at a file")
         raise FileNotFoundError(f"stator file not found: {path}")
     try:
         # bounded: a 512 MB file read whole takes 1.1 GB of memory, a FIFO would block
@@ -1023,3 +1032,49 @@ def load_stator(path: str | Path) -> StatorDesign:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     design = parse_stator(data, base_dir=path.parent, src=str(path))
     return replace(design, path=path, name=design.name if "name" in data else path.stem)
+
+
+def tuned_stator_text(dimensions_mm: dict[str, float], comment: str,
+                      source_text: str | None = None,
+                      plate_tables: dict[str, dict[str, object]] | None = None) -> str:
+    """A stator file (TOML text) with the ``[plate]`` dimensions of ``dimensions_mm`` set.
+
+    The user's file is edited with tomlkit, which keeps its comments, order and layout: only
+    the keys named change, each with a trailing comment saying its former value; every other
+    table (electrodes, material, features, motor tables) stays as written. Without a file
+    the text is built from ``plate_tables`` (``{"electrodes": {...}, "material": {...}}``).
+
+    Parameters
+    ----------
+    dimensions_mm : dict
+        ``{"length_mm": .., "width_mm": .., "thickness_mm": ..}`` (mm), written to 12
+        significant digits (below a picometre on a 1 m plate: the frequencies do not move).
+    comment : str
+        Lines put as comments at the top of the file (how the dimensions were found).
+    source_text : str, optional
+        The user's stator file.
+    plate_tables : dict, optional
+        Tables written after ``[plate]`` when there is no ``source_text``.
+    """
+    import tomlkit
+
+    doc = tomlkit.parse(source_text) if source_text is not None else tomlkit.document()
+    if source_text is None:
+        doc["name"] = "tuned plate"
+    if "plate" not in doc:
+        doc["plate"] = tomlkit.table()
+    plate = doc["plate"]
+    for key, value in dimensions_mm.items():
+        new = float(f"{value:.12g}")
+        old = plate.get(key)
+        item = tomlkit.item(new)
+        if old is not None and float(old) != new:
+            item.comment(f"tuned (was {float(old):g})")
+        plate[key] = item
+    for name, table in (plate_tables or {}).items() if source_text is None else ():
+        t = tomlkit.table()
+        for k, v in table.items():
+            t[k] = v
+        doc[name] = t
+    head = "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
+    return head + "\n" + tomlkit.dumps(doc)

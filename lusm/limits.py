@@ -46,6 +46,9 @@ DURATION_S = (0.0, 10.0)
 """Simulated time (s), exclusive lower bound: refused outside (and bounded by the steps)."""
 WORKERS = (1, 256)
 """Threads of ``lusm map``; processes of ``lusm explore``'s LocalCluster."""
+WORKER_TIMEOUT_S = (1.0, 86400.0)
+"""``lusm explore --worker-timeout-s`` (s): how long a study waits for a cluster with no
+worker."""
 TARGET_FREQUENCY_HZ = (1e3, 10e6)
 """``lusm tune --target-frequency`` (Hz)."""
 ZETA = (0.0, 1.0)
