@@ -137,12 +137,22 @@ class Characteristic(FrozenArrays):
         return max(known, key=lambda lim: max(
             (r for r in (lim.ratio(q) for q in lim.values) if r == r), default=0.0))
 
+    @property
+    def direction(self) -> str:
+        """Which way the motor drives the slider from rest without load: ``"forward"``
+        (+y, positive velocity), ``"backward"`` (its stall force and default loads are then
+        negative: against that motion) or ``"held"`` (within
+        :data:`contact.steady.exact.HELD_M_S` of 0)."""
+        v = self.no_load_velocity_m_s
+        return "forward" if v > HELD_M_S else "backward" if v < -HELD_M_S else "held"
+
     def to_dict(self) -> dict:
         """The fields of ``lusm characteristic --json``, as Python floats: NaN stays NaN
         (a load the slider runs away under, an undefined efficiency or holding bound); the
         CLI writes it as ``null``, ``json.dumps(..., allow_nan=False)`` refuses it."""
         return {
             "no_load_velocity_m_s": float(self.no_load_velocity_m_s),
+            "direction": self.direction,
             "stall_force_N": float(self.stall_force_N),
             "averaged_stall_force_N": float(self.averaged_stall_force_N),
             "creep_from_N": float(self.creep_from_N),
@@ -240,7 +250,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         if exact_moving and math.isfinite(stall):
             stall = _first_stop(velocity, v0, stall, points)
     if loads_N is None:  # held without load (dead zone): the one load 0
-        loads = np.linspace(0.0, stall, points) if stall != 0.0 else np.zeros(1)
+        # no stall found (NaN): the no-load point alone, not a NaN load
+        loads = (np.linspace(0.0, stall, points) if math.isfinite(stall) and stall != 0.0
+                 else np.zeros(1))
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
     vel, p_in_a, p_out_a = _curve(from_rest, loads, op, progress)
@@ -417,13 +429,24 @@ def _full_model_stall_force(velocity, v0: float, averaged: float,
         lo = averaged
         hi = thrust_at_rest[1] if s > 0 else thrust_at_rest[0]
         step = abs(hi - lo) or abs(averaged) or 1.0
-        for _ in range(20):
+        if s * (hi - lo) <= 0.0:
+            # the averaged band lies against the motor's own direction (a dead zone the full
+            # model runs backward out of: its stall is a load against that motion)
+            hi = lo + s * step
+        for _ in range(MAX_STALL_STEPS):
             if moving(hi) <= 0:
                 break
-            lo, hi = hi, hi + s * step
+            # doubling: a stall many bands away (a 1 m plate running backward at 3 N
+            # beyond a 0.08 N band) is reached in a few steps
+            lo, hi, step = hi, hi + s * step, 2.0 * step
         else:
             return math.nan
     return float(brentq(moving, lo, hi, xtol=1e-12, rtol=STALL_RTOL))
+
+
+MAX_STALL_STEPS = 40
+"""Most steps of the full model's stall search beyond the averaged band (each twice the
+last): 2**40 bands, beyond any load the engine takes."""
 
 
 def _moving(velocity, s: float):

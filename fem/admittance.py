@@ -537,6 +537,8 @@ def direct_admittance_S(model, port: ModalPort, f_Hz: np.ndarray) -> np.ndarray:
     of ``port``: ``D = (M Phi) diag(2 zeta_r w_r) (M Phi)^T`` over the retained modes (the
     unretained modes are undamped), applied through the Woodbury identity.
     """
+    from fem.harmonic import modally_damped_solve
+
     K, M = model.K.tocsc(), model.M.tocsc()
     MPhi = M @ port.shapes
     d = 2.0 * port.zeta * 2.0 * math.pi * port.frequencies_Hz
@@ -544,17 +546,7 @@ def direct_admittance_S(model, port: ModalPort, f_Hz: np.ndarray) -> np.ndarray:
     out = []
     for f in np.atleast_1d(np.asarray(f_Hz, dtype=float)):
         w = 2.0 * math.pi * f
-        lu = sla.splu((K - w**2 * M).astype(complex).tocsc())
-        Ag = lu.solve(g.astype(complex))
-        AU = lu.solve(MPhi.astype(complex))
-        # (A + U (j w d) U^T)^-1 g = Ag - AU (diag(1/(j w d)) + U^T AU)^-1 U^T Ag
-        mask = d > 0
-        if np.any(mask):
-            U, AUm = MPhi[:, mask], AU[:, mask]
-            cap = np.diag(1.0 / (1j * w * d[mask])) + U.T @ AUm
-            u = Ag - AUm @ np.linalg.solve(cap, U.T @ Ag)
-        else:
-            u = Ag
+        u = modally_damped_solve(K, M, MPhi, d, g, w)
         out.append(1j * w * (g @ u + port.C0_F))
     return np.array(out)
 

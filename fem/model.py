@@ -309,6 +309,59 @@ def gap_layout(mesh: PlateMesh) -> GapLayout:
     )
 
 
+def check_mesh_wiring(mesh: PlateMesh, voltages: dict[int, float]) -> None:
+    """Refuse a drive that puts two voltages on one conductor of ``mesh``, from its
+    electrode tags alone (no FE work).
+
+    ``voltages`` maps driven electrodes to their (relative) voltage; the others are
+    grounded. Quadrants with no gap strip between them are one conductor
+    (:func:`mesh_conductors`): driving 1 and 4 against grounded 2 and 3 on a plate without
+    gaps shorts the source, and the force factors of such a drive mean nothing.
+
+    Raises
+    ------
+    ShortedDriveError
+        A ``ValueError`` naming the touching electrodes and their voltages.
+    """
+    for group in mesh_conductors(mesh):
+        levels = {float(voltages.get(e, 0.0)) for e in group}
+        if len(levels) > 1:
+            wired = ", ".join(
+                f"{e} {'grounded' if voltages.get(e, 0.0) == 0 else 'driven'}"
+                + ("" if voltages.get(e, 0.0) in (0.0, 1.0) else " (-V)")
+                for e in group)
+            raise ShortedDriveError(
+                f"electrodes {wired} touch (no gap strip between them) and are one "
+                f"conductor, which cannot hold two voltages: the drive would short")
+
+
+def mesh_conductors(mesh: PlateMesh,
+                    open_electrodes: tuple[int, ...] = ELECTRODES) -> list[list[int]]:
+    """The open electrodes of ``mesh`` grouped into conductors: quadrants with no gap strip
+    between them touch and float as one conductor (one potential, one net charge).
+
+    With a gap every quadrant is its own conductor. With no gap (``electrode_gap_m = 0``,
+    or a mesh whose electrode tags meet) the four quadrants are one electrode, so in open
+    circuit B2, whose charges cancel over the four, is not stiffened at all
+    (``k_eff = 0``), as in the 3D model and SfePy (``docs/fem3d.md`` section 5).
+    """
+    _check_electrodes(open_electrodes)
+    layout = gap_layout(mesh)
+    touching = []
+    if layout.gap_x_m <= 0.0:  # across x = 0: 1-3 and 2-4 meet
+        touching += [(1, 3), (2, 4)]
+    if layout.gap_y_m <= 0.0:  # across y = l/2: 1-2 and 3-4 meet
+        touching += [(1, 2), (3, 4)]
+    groups = [[e] for e in open_electrodes]
+    for a, b in touching:
+        ga = next((g for g in groups if a in g), None)
+        gb = next((g for g in groups if b in g), None)
+        if ga is not None and gb is not None and ga is not gb:
+            ga += gb
+            groups.remove(gb)
+    return [sorted(g) for g in groups]
+
+
 @dataclass(frozen=True, eq=False)
 class PiezoPlateModel:
     """Assembled matrices of the plate (treat them as read-only; results may be cached).
@@ -391,53 +444,20 @@ class PiezoPlateModel:
         return self.G[:, [e - 1 for e in electrodes]].sum(axis=1)
 
     def check_wiring(self, voltages: dict[int, float]) -> None:
-        """Refuse a drive that puts two voltages on one conductor.
-
-        ``voltages`` maps driven electrodes to their (relative) voltage; the others are
-        grounded. Quadrants with no gap strip between them are one conductor
-        (:meth:`conductors`): driving 1 and 4 against grounded 2 and 3 on a plate without
-        gaps shorts the source, and the force factors of such a drive mean nothing.
+        """Refuse a drive that puts two voltages on one conductor
+        (:func:`check_mesh_wiring` on this model's mesh).
 
         Raises
         ------
         ShortedDriveError
             A ``ValueError`` naming the touching electrodes and their voltages.
         """
-        for group in self.conductors():
-            levels = {float(voltages.get(e, 0.0)) for e in group}
-            if len(levels) > 1:
-                wired = ", ".join(
-                    f"{e} {'grounded' if voltages.get(e, 0.0) == 0 else 'driven'}"
-                    + ("" if voltages.get(e, 0.0) in (0.0, 1.0) else " (-V)")
-                    for e in group)
-                raise ShortedDriveError(
-                    f"electrodes {wired} touch (no gap strip between them) and are one "
-                    f"conductor, which cannot hold two voltages: the drive would short")
+        check_mesh_wiring(self.mesh, voltages)
 
     def conductors(self, open_electrodes: tuple[int, ...] = ELECTRODES) -> list[list[int]]:
-        """The open electrodes grouped into conductors: quadrants with no gap strip between
-        them touch and float as one conductor (one potential, one net charge).
-
-        With a gap every quadrant is its own conductor. With no gap (``electrode_gap_m = 0``,
-        or a mesh whose electrode tags meet) the four quadrants are one electrode, so in open
-        circuit B2, whose charges cancel over the four, is not stiffened at all
-        (``k_eff = 0``), as in the 3D model and SfePy (``docs/fem3d.md`` section 5).
-        """
-        _check_electrodes(open_electrodes)
-        layout = gap_layout(self.mesh)
-        touching = []
-        if layout.gap_x_m <= 0.0:  # across x = 0: 1-3 and 2-4 meet
-            touching += [(1, 3), (2, 4)]
-        if layout.gap_y_m <= 0.0:  # across y = l/2: 1-2 and 3-4 meet
-            touching += [(1, 2), (3, 4)]
-        groups = [[e] for e in open_electrodes]
-        for a, b in touching:
-            ga = next((g for g in groups if a in g), None)
-            gb = next((g for g in groups if b in g), None)
-            if ga is not None and gb is not None and ga is not gb:
-                ga += gb
-                groups.remove(gb)
-        return [sorted(g) for g in groups]
+        """The open electrodes grouped into conductors (:func:`mesh_conductors` of this
+        model's mesh)."""
+        return mesh_conductors(self.mesh, open_electrodes)
 
     def _ports(self, open_electrodes: tuple[int, ...]) -> tuple[list[int], np.ndarray]:
         """Electrode columns of the open set and the incidence ``T`` (electrodes x

@@ -84,6 +84,11 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     a_mu = 0.15                         # residual at large amplitude, [0, 2], <= mu_d
     b_mu_per_m = 1e6                    # attenuation factor, [0, 1e9] 1/m
 
+    [force_factor]                      # scales on the reduced force factors A_l, A_b
+    scale_L1 = 1.0                      #   (a prototype's electrodes, bond and poling give
+    scale_B2 = 1.0                      #   less than the model's), each in
+                                        #   FORCE_FACTOR_SCALE_RANGE (lusm calibrate fits them)
+
 With a feature table the stator is a :class:`fem.meshing.parametric.ParametricStator`: the plate
 keeps its own length and width (the tip is added beyond ``y = l``; the tip point is the
 centre of the tip's end), the electrodes are the plate's quadrants (``[electrodes] gap_mm``
@@ -173,6 +178,9 @@ damping", for the sources); 300 is the middle of that range on a logarithmic sca
 measured Q of the mounted stator (impedance analyser: ``f_s / (f_2 - f_1)`` at -3 dB)
 replaces it."""
 
+FORCE_FACTOR_SCALE_RANGE = (0.01, 100.0)
+"""Allowed ``[force_factor] scale_L1, scale_B2`` (-): ``(0.01, 100]``."""
+
 IDENTIFY_FREQUENCY_RANGE_HZ = (1e3, 1e7)
 """Allowed ``[damping] frequency_Hz`` of ``source = "paper_amplitudes"`` (Hz)."""
 
@@ -195,7 +203,7 @@ lower bound of 0 that is not allowed means "> 0"."""
 
 _KEYS: dict[str, tuple[str, ...]] = {
     "": ("name", "plate", "electrodes", "material", "points", "mesh", "tip", "chamfers",
-         "holes", "damping", "contact", "slider", "friction"),
+         "holes", "damping", "contact", "slider", "friction", "force_factor"),
     "plate": ("length_mm", "width_mm", "thickness_mm"),
     "electrodes": ("gap_mm", "drive"),
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
@@ -206,6 +214,7 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "holes": ("center_mm", "diameter_mm"),
     "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz", "Q_mount", "Q_contact"),
     **{table: tuple(keys) for table, keys in MOTOR_KEYS.items()},
+    "force_factor": ("scale_L1", "scale_B2"),
 }
 
 
@@ -254,6 +263,9 @@ class StatorDesign:
     motor : dict
         ``MotorParams`` field name -> SI value from ``[contact]``, ``[slider]`` and
         ``[friction]`` (empty: Table 2's constants).
+    force_factor_scales : (float, float) or None
+        ``[force_factor] (scale_L1, scale_B2)``: factors on the reduced ``A_l``, ``A_b``
+        (None: no table, the reduction's own).
     """
 
     name: str
@@ -267,6 +279,7 @@ class StatorDesign:
     motor: dict[str, float] = field(default_factory=dict)
     damping_identify_Hz: float | None = None
     mounts_m: tuple[tuple[float, float], ...] = ()
+    force_factor_scales: tuple[float, float] | None = None
 
     def motor_keys(self) -> dict[str, str]:
         """``MotorParams`` field -> the ``[table] key`` of the file that set it."""
@@ -595,6 +608,16 @@ def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
     return out
 
 
+def _force_factor(data: dict[str, Any], src: str) -> tuple[float, float] | None:
+    """``[force_factor] (scale_L1, scale_B2)`` (each 1 when not given), None without it."""
+    table = _table(data, "force_factor", src)
+    if "force_factor" not in data:
+        return None
+    lo, hi = FORCE_FACTOR_SCALE_RANGE
+    return tuple(_number(table, "force_factor", k, src, lo, hi, False, True)  # type: ignore
+                 if k in table else 1.0 for k in ("scale_L1", "scale_B2"))
+
+
 def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float], float]]:
     """``[[holes]]`` entries: ``(number, centre (mm), diameter (mm))``."""
     value = data.get("holes")
@@ -798,7 +821,8 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src,
                                                     material)
     motor = {"damping_ratios": damping, "damping_origin": damping_origin,
-             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src)}
+             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src),
+             "force_factor_scales": _force_factor(data, src)}
     drive = _drive(elec, src)
     thickness = _length_mm(plate, "plate", "thickness_mm", src, required=True)
     tip = _point_mm(pts_t, "tip_mm", src)
@@ -993,7 +1017,12 @@ def load_stator(path: str | Path) -> StatorDesign:
     ValueError
         For bad TOML or bad values; the message names the key and the allowed range.
     """
-    from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
+    from fem.small_file import (
+        FileTooLarge,
+        NotRegularFile,
+        link_loop,
+        read_small_text,
+    )
 
     if not isinstance(path, (str, os.PathLike)):  # None: named, not "expected str, bytes..."
         raise TypeError(f"path must name a stator TOML file, got {path!r}")
@@ -1001,6 +1030,10 @@ def load_stator(path: str | Path) -> StatorDesign:
     if path.is_dir():
         raise ValueError(f"stator file {path} is a folder; name its .toml file")
     if not path.exists():
+        loop = link_loop(path)
+        if loop:
+            raise ValueError(f"stator file {path}: a loop of symbolic links ({loop}); point "
+                             "the link at a file")
         raise FileNotFoundError(f"stator file not found: {path}")
     try:
         # bounded: a 512 MB file read whole takes 1.1 GB of memory, a FIFO would block
@@ -1018,3 +1051,49 @@ def load_stator(path: str | Path) -> StatorDesign:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     design = parse_stator(data, base_dir=path.parent, src=str(path))
     return replace(design, path=path, name=design.name if "name" in data else path.stem)
+
+
+def tuned_stator_text(dimensions_mm: dict[str, float], comment: str,
+                      source_text: str | None = None,
+                      plate_tables: dict[str, dict[str, object]] | None = None) -> str:
+    """A stator file (TOML text) with the ``[plate]`` dimensions of ``dimensions_mm`` set.
+
+    The user's file is edited with tomlkit, which keeps its comments, order and layout: only
+    the keys named change, each with a trailing comment saying its former value; every other
+    table (electrodes, material, features, motor tables) stays as written. Without a file
+    the text is built from ``plate_tables`` (``{"electrodes": {...}, "material": {...}}``).
+
+    Parameters
+    ----------
+    dimensions_mm : dict
+        ``{"length_mm": .., "width_mm": .., "thickness_mm": ..}`` (mm), written to 12
+        significant digits (below a picometre on a 1 m plate: the frequencies do not move).
+    comment : str
+        Lines put as comments at the top of the file (how the dimensions were found).
+    source_text : str, optional
+        The user's stator file.
+    plate_tables : dict, optional
+        Tables written after ``[plate]`` when there is no ``source_text``.
+    """
+    import tomlkit
+
+    doc = tomlkit.parse(source_text) if source_text is not None else tomlkit.document()
+    if source_text is None:
+        doc["name"] = "tuned plate"
+    if "plate" not in doc:
+        doc["plate"] = tomlkit.table()
+    plate = doc["plate"]
+    for key, value in dimensions_mm.items():
+        new = float(f"{value:.12g}")
+        old = plate.get(key)
+        item = tomlkit.item(new)
+        if old is not None and float(old) != new:
+            item.comment(f"tuned (was {float(old):g})")
+        plate[key] = item
+    for name, table in (plate_tables or {}).items() if source_text is None else ():
+        t = tomlkit.table()
+        for k, v in table.items():
+            t[k] = v
+        doc[name] = t
+    head = "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
+    return head + "\n" + tomlkit.dumps(doc)

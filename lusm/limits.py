@@ -46,6 +46,9 @@ DURATION_S = (0.0, 10.0)
 """Simulated time (s), exclusive lower bound: refused outside (and bounded by the steps)."""
 WORKERS = (1, 256)
 """Threads of ``lusm map``; processes of ``lusm explore``'s LocalCluster."""
+WORKER_TIMEOUT_S = (1.0, 86400.0)
+"""``lusm explore --worker-timeout-s`` (s): how long a study waits for a cluster with no
+worker."""
 TARGET_FREQUENCY_HZ = (1e3, 10e6)
 """``lusm tune --target-frequency`` (Hz)."""
 ZETA = (0.0, 1.0)
@@ -68,6 +71,9 @@ characteristic's loads x voltages, a steady ``lusm explore`` study's geometries 
 x their solves, :func:`studies.study.steady_solves`): a point costs in proportion to its
 steps per period (25 at 40 kHz, 10 000 points allowed; 14 923 at 20 Hz, where a point takes
 1.5 s: 33 allowed)."""
+MAX_CALIBRATION_SPEEDS = 500
+"""Speed rows of one ``lusm calibrate`` (each a steady solve per model evaluation, about a
+hundred evaluations a start: 30 rows take about a minute with three starts and profiles)."""
 MAX_GRID_POINTS = 2000
 """Points of a ``start:stop:step`` grid (``--voltages``, ``--preloads``, sweep ranges)."""
 MAX_SWEEP_POINTS = 200

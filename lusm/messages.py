@@ -12,6 +12,7 @@ _COMMAND = ["lusm"]
 
 
 _TYPED: set[str] = set()
+_ARGV: list[str] = []
 
 
 def set_typed(argv: Sequence[str]) -> None:
@@ -19,6 +20,14 @@ def set_typed(argv: Sequence[str]) -> None:
     an option given on purpose from its default (set by :func:`lusm.cli.main`)."""
     _TYPED.clear()
     _TYPED.update(a.split("=", 1)[0] for a in argv if a.startswith("--"))
+    _ARGV[:] = list(argv)
+
+
+def command_line() -> str:
+    """The running command as the user typed it, shell-quoted (``lusm tune --fix ...``)."""
+    import shlex
+
+    return shlex.join(["lusm", *_ARGV])
 
 
 def typed(option: str) -> bool:

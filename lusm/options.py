@@ -237,12 +237,20 @@ def params_from_file(path_text: str):
         raise LusmError(f"--params {path_text} is a folder; name a file saved with "
                         "'lusm params --json'", "--params")
     if not path.exists():
-        raise LusmError(f"--params {path_text}: no such file", "--params")
+        from fem.small_file import link_loop
+
+        loop = link_loop(path)
+        raise LusmError(f"--params {path_text}: "
+                        + (f"a loop of symbolic links ({loop})" if loop else "no such file"),
+                        "--params")
     try:
         # bounded: a 512 MB file is not read whole (1.1 GB of memory), nor a FIFO waited on
         data = json.loads(read_small_text(path, MAX_PARAMS_FILE_BYTES))
-    except (OSError, ValueError) as exc:  # NotRegularFile, FileTooLarge, decoding: ValueError
-        if isinstance(exc, NotRegularFile):  # /dev/zero: not "no such file"
+    except (OSError, ValueError, RecursionError) as exc:  # NotRegularFile, FileTooLarge,
+        # decoding: ValueError; arrays nested 100 000 deep: RecursionError
+        if isinstance(exc, RecursionError):
+            why = ": not a JSON parameter set (nested too deeply)"
+        elif isinstance(exc, NotRegularFile):  # /dev/zero: not "no such file"
             why = f": not a regular file ({exc.what})"
         elif isinstance(exc, FileTooLarge):
             why = (f" has {exc.size} bytes, above {MAX_PARAMS_FILE_BYTES} for a parameter set "
@@ -800,6 +808,41 @@ def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload
     return plot, motor
 
 
+def add_band_options(p: argparse.ArgumentParser, points: int) -> None:
+    """``--f-min``, ``--f-max`` (default: the design's L1 and B2 -+ 15 % of their mean) and
+    ``--points`` (default ``points``) of a frequency sweep."""
+    f_lo, f_hi = limits.FREQUENCY_HZ
+    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band start (Hz); default: the design's L1 and B2 "
+                   "minus 15 %% of their mean")
+    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band end (Hz); default: the design's L1 and B2 plus "
+                   "15 %% of their mean")
+    p.add_argument("--points", default=points, metavar="N",
+                   type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
+                   help=f"frequency points (default {points})")
+
+
+def check_band_order(f_min_Hz: float | None, f_max_Hz: float | None) -> None:
+    """Refuse ``--f-min`` not below ``--f-max`` where both are given."""
+    if f_min_Hz is not None and f_max_Hz is not None and not f_min_Hz < f_max_Hz:
+        raise LusmError(f"--f-min must be below --f-max, got {f_min_Hz:g} and "
+                        f"{f_max_Hz:g} Hz", "--f-min")
+
+
+def fem_damping_origin(geometry: str | None, design) -> str:
+    """Where an FE set's damping ratios come from (text for
+    :func:`validation.summaries.damping_line`): the stator file's ``[damping]``, or Table 2's
+    ratios borrowed."""
+    from validation.summaries import borrowed_damping
+
+    if design is None:
+        return borrowed_damping("fem")
+    if design.damping_origin:
+        return f"stator file {geometry} {design.damping_origin}"
+    return f"{borrowed_damping('fem')}; stator file {geometry} has no [damping]"
+
+
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
     :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a
@@ -817,8 +860,9 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
         if clash:
             raise LusmError(f"--params cannot be combined with {clash[0]}: the file is the "
                             "whole parameter set", "--params")
-        return (params_from_file(args.params),
-                f"params file {args.params} (its C_l, C_b)")
+        params = params_from_file(args.params)
+        warn_unexcited_mode(params, None)  # as a stator file's drive is warned of
+        return params, f"params file {args.params} (its C_l, C_b)"
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source == "beam" and not getattr(args, "geometry", None):
@@ -831,12 +875,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
         from rom.from_fem import design_base, fem_params, fem_params_from_file
 
         design = choice.design
-        if design is None:
-            origin = borrowed_damping("fem")
-        elif design.damping_origin:
-            origin = f"stator file {args.geometry} {design.damping_origin}"
-        else:
-            origin = f"{borrowed_damping('fem')}; stator file {args.geometry} has no [damping]"
+        origin = fem_damping_origin(args.geometry, design)
         if design is not None:
             try:  # the motor tables against Table 2's other constants, before any FE work
                 design_base(design)
@@ -1243,6 +1282,62 @@ def write_figures(args: argparse.Namespace, option: str,
         return moved(draw(stage), stage, target)
 
 
+def file_target(text: str, option: str, force: bool, example: str) -> Path:
+    """The file ``option`` names, checked before any work: a name (not a folder, ``example``
+    says what to name instead), not below a file, not an existing file without ``force``,
+    in a folder that can be written."""
+    import os
+
+    if not text.strip():
+        raise LusmError(f"{option} must name a file, got ''", option)
+    path = Path(text)
+    check_path_usable(path, option)
+    # a trailing separator names a folder (Path drops it: dd.vtu/ would be written as the
+    # file dd.vtu)
+    last = text.rstrip().replace(os.sep, "/").rsplit("/", 1)[-1]
+    if path.is_dir() or last in ("", ".", ".."):  # dd.vtu/. too
+        raise LusmError(f"{option} {text.strip()} is a folder; name a file such as {example}",
+                        option)
+    for parent in path.parents:
+        if parent.exists() and not parent.is_dir():
+            raise LusmError(f"{option} {path} sits below the file {parent}", option)
+        if parent.exists():
+            break
+    if (path.exists() or path.is_symlink()) and not force:
+        raise LusmError(f"{option} {path} already exists; choose a new name or pass --force",
+                        option)
+    folder = next((p for p in path.absolute().parents if p.exists()), None)
+    if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
+        raise LusmError(f"{option} {path}: cannot write into {folder} (permission denied)",
+                        option)
+    return path
+
+
+def write_text_file(path: Path, option: str, text: str) -> None:
+    """Write ``text`` to ``path`` (checked by :func:`file_target`): built in a staging folder
+    beside it and moved in whole; a file already there (``--force``) is kept as
+    ``NAME.bak-N``, never lost."""
+    import os
+
+    from lusm.interrupts import checkpoint
+    from lusm.output_set import OutputError, keep_aside, staging
+
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with staging(path.parent, path.name, option, path) as stage:
+            staged = stage / path.name
+            staged.write_text(text, encoding="utf-8")
+            checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
+            if path.exists() or path.is_symlink():
+                keep_aside(path, "--force")
+            os.replace(staged, path)
+    except OutputError as exc:
+        raise LusmError(str(exc), option) from None
+    except OSError as exc:  # a full disk, a folder made read-only meanwhile
+        raise LusmError(f"{option} {path}: cannot write ({exc.strerror or exc})",
+                        option) from None
+
+
 def moved(paths, stage: Path, target: Path) -> list[str]:
     """Where files written into ``stage`` live once the set is moved into ``target``."""
     return [str(target / Path(p).relative_to(stage)) for p in paths]
@@ -1258,24 +1353,12 @@ def print_json(obj: Any, indent: int | None = None) -> None:
 # --- messages ---------------------------------------------------------------------------------
 
 
-UNEXCITED_FORCE_RATIO = 1e-6
-"""|A_b| / |A_l| (or the inverse) below which the drive is said to excite no B2 (no L1)."""
-
-
 def warn_unexcited_mode(params, electrodes) -> None:
-    """Warn when the drive's force factor of one mode is roundoff beside the other's: four
-    electrodes in phase give A_b = 1.6e-15 N/V, a motor at 0 m/s with 0.54 W of input and a
-    'stall force' of 0 N, and --frequency auto the maximum of a noise ellipse."""
-    a_l, a_b = abs(params.A_l), abs(params.A_b)
-    wires = ", ".join(map(str, electrodes))
-    for name, small, big, other in (("B2", a_b, a_l, "L1"), ("L1", a_l, a_b, "B2")):
-        if small <= UNEXCITED_FORCE_RATIO * big:
-            # a diagonal pair that excites nothing (a material without piezoelectric
-            # constants) is pointed at the material, not at the pair it drives
-            diagonal = sorted(electrodes) in ([1, 4], [2, 3])
-            fix = ("the material's piezoelectric constants (e_C_m2) are what couple it: check "
-                   "them" if diagonal else
-                   "drive a diagonal pair ([electrodes] drive = [1, 4] or [2, 3])")
-            warn(f"the drive through electrodes {wires} excites no {name} (A_"
-                 f"{name[0].lower()} = {small:.3g} N/V against {big:.3g} N/V for {other}): the "
-                 f"tip does not trace an ellipse and the motor gives no thrust; {fix}")
+    """Warn when the drive's force factor of one mode is roundoff beside the other's
+    (:func:`validation.summaries.unexcited_modes`)."""
+    from validation.summaries import unexcited_modes
+
+    for text in unexcited_modes(params, electrodes):
+        warn(text)
+
+

@@ -313,6 +313,11 @@ def fem_params_from_design(design, stator=None, **kwargs) -> MotorParams:
         after = f"damping ratios ({fitted.zeta_L1:.4g}, {fitted.zeta_B2:.4g}), fitted"
         params = replace(fitted, source=fitted.source.replace(before, after))
         damping = f"damping from {design.damping_origin}"
+    if design.force_factor_scales is not None:
+        s_l, s_b = design.force_factor_scales
+        params = replace(params, A_l=params.A_l * s_l, A_b=params.A_b * s_b,
+                         source=f"{params.source}; force factors scaled by [force_factor] "
+                         f"({s_l:g}, {s_b:g})")
     mesh = f", mesh {design.mesh_path}" if design.mesh_path is not None else ""
     return replace(params, source=f"stator file {path} ({design.name}{mesh}; {damping}): "
                    f"{params.source}")

@@ -165,6 +165,8 @@ def connect(scheduler: str | None = None, scheduler_file: str | None = None,
     from distributed import Client
 
     check_scheduler_names(scheduler, scheduler_file)
+    if scheduler:
+        check_port(scheduler)
     if scheduler and scheduler_file:
         raise ValueError("--scheduler and --scheduler-file exclude each other; give one")
     if scheduler_file and not Path(scheduler_file).is_file():
@@ -209,6 +211,23 @@ def check_scheduler_names(scheduler: str | None, scheduler_file: str | None) -> 
                                 ("--scheduler-file", scheduler_file, "a dask scheduler file")):
         if value is not None and not str(value).strip():
             raise ValueError(f"{option} must name {what}, got {value!r}")
+
+
+def check_port(address: str) -> None:
+    """Refuse at once a ``--scheduler`` address whose port no TCP connection can have
+    (``tcp://127.0.0.1:99999`` waited :data:`CONNECT_TIMEOUT` and said it timed out).
+
+    Raises
+    ------
+    ValueError
+        Naming ``--scheduler`` and the range of ports.
+    """
+    import re
+
+    m = re.search(r":(\d+)/?$", address.strip())
+    if m and not 1 <= int(m.group(1)) <= 65535:
+        raise ValueError(f"--scheduler {address}: port {m.group(1)} is not a TCP port; give "
+                         "one in [1, 65535] (a dask scheduler listens on 8786 by default)")
 
 
 def process_version() -> str:
@@ -279,12 +298,29 @@ def study_client(client=None, scheduler: str | None = None, scheduler_file: str 
         return
     client, cluster = connect(scheduler, scheduler_file, workers)
     try:
-        if cluster is None:  # someone else's cluster: same lusm as ours?
-            option = "--scheduler" if scheduler else "--scheduler-file"
-            check_scheduler(client, option)
-            check_workers(client, option, gmsh=gmsh)
-        yield client
+        with _quiet_client_logs():
+            if cluster is None:  # someone else's cluster: same lusm as ours?
+                option = "--scheduler" if scheduler else "--scheduler-file"
+                check_scheduler(client, option)
+                check_workers(client, option, gmsh=gmsh)
+            yield client
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        with _quiet_client_logs():
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+@contextmanager
+def _quiet_client_logs() -> Iterator[None]:
+    """Meanwhile, the ``distributed`` loggers of this process say nothing below CRITICAL: a
+    scheduler that goes away makes the client log its failed reconnections with their
+    tracebacks, where the study says the loss in one line
+    (:class:`studies.explore.ClusterLostError`)."""
+    log = logging.getLogger("distributed")
+    before = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        log.setLevel(before)

@@ -103,6 +103,13 @@ def _variables(study: Study, parts: dict[int, dict[str, np.ndarray]]) -> dict[st
             "contact.drive.auto_frequency)")
     add("status", gdims, stack("status").astype(object), "",
         "'ok', or why the geometry or some of its drive points failed")
+    if study.needs_motor:
+        add("point_status", gdims + mdims, stack("point_status").astype(object), "",
+            "'ok', or why the drive point failed or did not settle (its answers are NaN, "
+            "or where a transient stopped)")
+    add("warnings", gdims, stack("warnings").astype(object), "",
+        "what the geometry's computation warned (one line each), '' for nothing: e.g. a "
+        "drive that excites no B2, where the motor gives no thrust")
     return data_vars
 
 

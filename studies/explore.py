@@ -38,7 +38,13 @@ from studies.cluster import DEFAULT_WORKERS, study_client
 from studies.dataset import assemble, check_out, is_complete, write_dataset
 from studies.parts import open_parts, remove_parts, write_part
 from studies.study import Study
-from studies.task import TASK_EXTRAS, compute_geometry, computed_fully, package_version
+from studies.task import (
+    TASK_EXTRAS,
+    WARNING_SEPARATOR,
+    compute_geometry,
+    has_results,
+    package_version,
+)
 
 
 @dataclass
@@ -66,8 +72,9 @@ class ExploreResult:
         The client's time writing part files, all parts together (s).
     figures : list of str
     warnings : list of str
-        The distinct warnings the computed tasks raised on their workers (the caller says
-        them; on the workers they print as raw Python warnings with a source line).
+        The distinct warnings of the dataset's geometries (each geometry's ``warnings``,
+        raised on the workers, in geometry order; the caller says them: on the workers they
+        print as raw Python warnings with a source line).
     already_complete : bool
         ``resume=True`` found this study's complete dataset at ``out``; nothing was run.
     """
@@ -112,6 +119,36 @@ MIN_IN_FLIGHT = 16
 WINDOW_RECHECK = 8
 """Completed tasks between two counts of the cluster's workers (a scheduler round trip)."""
 
+WORKER_TIMEOUT_S = 300.0
+"""Default of how long (s) a study waits for a cluster that has no worker left (an external
+scheduler whose workers died) before it stops with its parts kept."""
+
+WORKER_NOTICE_S = 30.0
+"""Seconds without a worker after which the wait is said (half the bound when that is
+shorter)."""
+
+POLL_S = 0.25
+"""Seconds between two looks at the cluster while no task has finished."""
+
+
+class ClusterLostError(ValueError):
+    """The cluster went away mid-study: its scheduler, or every worker for longer than the
+    bound. The finished geometries' parts are kept for ``--resume``.
+
+    Attributes
+    ----------
+    where : str
+        The option that named the cluster (``--scheduler``), or "the local cluster".
+    """
+
+    def __init__(self, message: str, where: str) -> None:
+        super().__init__(message)
+        self.where = where
+
+
+class ClusterWaitWarning(UserWarning):
+    """The cluster has had no worker for a while; the study waits for one."""
+
 
 def in_flight(workers: int, tasks: int) -> int:
     """Tasks to keep submitted on ``workers`` workers out of ``tasks`` left."""
@@ -130,6 +167,7 @@ def explore(
     force: bool = False,
     progress: bool = True,
     on_part: Callable[[int], None] | None = None,
+    worker_timeout_s: float = WORKER_TIMEOUT_S,
 ) -> ExploreResult:
     """Run a study on dask.distributed and write its dataset to ``out`` (netCDF).
 
@@ -151,6 +189,15 @@ def explore(
         Show a tqdm progress bar on stderr (geometries done).
     on_part : callable, optional
         Called with the geometry index after each part is written (tests interrupt here).
+    worker_timeout_s : float
+        How long (s) to wait for a cluster with no worker left; the wait is said
+        (:class:`ClusterWaitWarning`) after :data:`WORKER_NOTICE_S`.
+
+    Raises
+    ------
+    ClusterLostError
+        The scheduler went away, or no worker came back within ``worker_timeout_s``; the
+        finished geometries stay in the parts folder for ``resume=True``.
 
     Returns
     -------
@@ -172,20 +219,22 @@ def explore(
         result = ExploreResult(out, study.n_geometries, points, reused=len(parts))
         todo = [i for i in range(study.n_geometries) if i not in parts]
         if todo:
-            where = ("--scheduler" if scheduler else "--scheduler-file" if scheduler_file
+            where = (f"--scheduler {scheduler}" if scheduler else
+                     f"--scheduler-file {scheduler_file}" if scheduler_file
                      else "the local cluster")
             try:
                 # no more local processes than geometries to compute (idle ones cost memory)
                 with study_client(client, scheduler, scheduler_file,
                                   max(1, min(workers, len(todo))),
                                   gmsh=study.meshed_by_gmsh) as running:
-                    _compute_all(running, study, todo, folder, parts, result, where,
-                                 progress, on_part)
+                    _compute_all(running, study, todo, folder, parts, result,
+                                 _Watch(where, worker_timeout_s), progress, on_part)
             except BaseException:
                 if created and result.computed == 0:  # nothing was computed: leave no trace
                     remove_parts(folder, study.n_geometries, made)
                 raise
-        _refuse_if_nothing_computed(study, parts, folder)
+        _refuse_if_nothing_computed(study, parts, folder, created)
+        result.warnings = geometry_warnings(parts)
         _write_result(study, parts, out, folder, force, result)
         result.wall_time_s = time.perf_counter() - t0
         return result
@@ -194,12 +243,14 @@ def explore(
 
 
 def _compute_all(client, study: Study, todo: list[int], folder: Path,
-                 parts: dict[int, dict], result: ExploreResult, where: str, progress: bool,
+                 parts: dict[int, dict], result: ExploreResult, watch: _Watch, progress: bool,
                  on_part: Callable[[int], None] | None) -> None:
     """Compute the geometries ``todo`` on ``client``, taking each part in as it arrives
     (:func:`_take_part`) with a bounded window of tasks in flight, topped up as each
     finishes (dask's ``as_completed(...).add`` pattern): a future per geometry up front
     would grow the client by 55 MB/s towards 100 000 of them before any part is written.
+    While no task finishes, ``watch`` looks at the cluster (:meth:`_Watch.wait`): a lost
+    scheduler or a cluster without workers for too long ends the study, its parts kept.
     Tasks still in flight when this stops (an error, an interrupt) are cancelled."""
     from distributed import as_completed
 
@@ -225,10 +276,14 @@ def _compute_all(client, study: Study, todo: list[int], folder: Path,
     bar = _bar(len(todo) + len(parts), len(parts), progress)
     try:
         completed = as_completed(window)
-        for n_done, fut in enumerate(completed, start=1):
+        n_done = 0
+        while not completed.is_empty():
+            watch.wait(client, completed)
+            fut = next(completed)
+            n_done += 1
             # topped up to the window of the workers there are now: workers that join later
             # (an adaptive cluster) widen it
-            workers = (len(client.nthreads()) if n_done % WINDOW_RECHECK == 0
+            workers = (watch.workers(client) if n_done % WINDOW_RECHECK == 0
                        else result.workers)
             result.workers = max(result.workers, workers)
             want = in_flight(workers, len(todo))
@@ -237,9 +292,9 @@ def _compute_all(client, study: Study, todo: list[int], folder: Path,
                 if nxt is None:
                     break
                 completed.add(nxt)
-            data = fut.result()
+            data = watch.result(client, fut)
             i = index.pop(fut.key)
-            _take_part(data, i, folder, parts, result, where)
+            _take_part(data, i, folder, parts, result, watch.where)
             bar.update(1)
             live.discard(fut)
             fut.release()
@@ -248,8 +303,81 @@ def _compute_all(client, study: Study, todo: list[int], folder: Path,
                 on_part(i)
     finally:
         bar.close()
-        for f in live:
-            f.cancel()
+        if client.status == "running":  # a lost scheduler has nothing left to cancel
+            for f in live:
+                f.cancel()
+
+
+class _Watch:
+    """The study's look at its cluster while it waits for a task: the scheduler still
+    connected, and a worker there (or back within ``timeout_s``).
+
+    Parameters
+    ----------
+    where : str
+        The option naming the cluster and its value (``--scheduler tcp://...``), or
+        "the local cluster": what the errors name.
+    timeout_s : float
+        The longest time (s) without a worker.
+    """
+
+    def __init__(self, where: str, timeout_s: float) -> None:
+        self.where = where
+        self.timeout_s = float(timeout_s)
+        self.notice_s = min(WORKER_NOTICE_S, self.timeout_s / 2)
+
+    def lost(self) -> ClusterLostError:
+        """The error of a scheduler that went away."""
+        return ClusterLostError(f"{self.where}: lost the connection to the dask scheduler "
+                                "mid-study", self.where)
+
+    def workers(self, client) -> int:
+        """The cluster's workers now (a scheduler round trip)."""
+        if client.status != "running":
+            raise self.lost()
+        try:
+            return len(client.nthreads())
+        except Exception as exc:  # noqa: BLE001 - the connection went while asking
+            if client.status != "running":
+                raise self.lost() from None
+            raise exc
+
+    def result(self, client, fut) -> Any:
+        """``fut``'s result; a future cancelled because the scheduler went away is
+        :meth:`lost`."""
+        try:
+            return fut.result()
+        except Exception as exc:  # noqa: BLE001 - CancelledError, CommClosedError, ...
+            if client.status != "running" or "connection-lost" in str(exc):
+                raise self.lost() from None
+            raise
+
+    def wait(self, client, completed) -> None:
+        """Return once ``completed`` has a finished task; meanwhile look at the cluster
+        every second: a lost scheduler raises :meth:`lost`, no worker for
+        :attr:`notice_s` is said once (:class:`ClusterWaitWarning`) and for
+        :attr:`timeout_s` raises :class:`ClusterLostError`."""
+        import warnings
+
+        since, said, looked = None, False, 0.0
+        while not completed.has_ready():
+            now = time.monotonic()
+            if now - looked >= 1.0 or client.status != "running":
+                looked = now
+                if self.workers(client) > 0:
+                    since, said = None, False
+                elif since is None:
+                    since = now
+            if since is not None and not said and now - since >= self.notice_s:
+                said = True
+                warnings.warn(ClusterWaitWarning(
+                    f"no worker for {self.notice_s:g} s; waiting for the cluster to recover "
+                    f"(Ctrl-C keeps the parts for --resume)"), stacklevel=2)
+            if since is not None and now - since >= self.timeout_s:
+                raise ClusterLostError(
+                    f"{self.where}: no worker for {self.timeout_s:g} s (--worker-timeout-s); "
+                    "the cluster did not recover", self.where)
+            time.sleep(POLL_S)
 
 
 def _take_part(data: dict[str, np.ndarray], index: int, folder: Path,
@@ -264,8 +392,6 @@ def _take_part(data: dict[str, np.ndarray], index: int, folder: Path,
                          f"{data.get('lusm_version')}, this client {package_version()}; "
                          "install the same version everywhere")
     result.task_times_s.append(float(data["task_time_s"]))
-    result.warnings += [w for w in map(str, data.get("warnings", ()))
-                        if w not in result.warnings]
     result.result_bytes += len(pickle.dumps(data, protocol=5))
     tw = time.perf_counter()
     write_part(folder, index, data)
@@ -294,21 +420,72 @@ class NothingComputedError(ValueError):
     """No geometry of a study computed fully: no dataset is written, the parts are kept."""
 
 
-def _refuse_if_nothing_computed(study: Study, parts: dict[int, dict], folder: Path) -> None:
-    """Refuse to write a dataset of NaN: when no geometry computed fully, the parts (each
-    with its reason in ``status``) stay in ``folder`` and nothing is written to ``--out`` (a
-    dataset of NaN there made the corrected rerun refuse the existing file)."""
+def geometry_warnings(parts: dict[int, dict]) -> list[str]:
+    """The warnings of the geometries ``parts`` (their ``warnings``), once per kind, in
+    geometry order: warnings that differ only in their numbers (a force factor per plate)
+    are one kind, said by its first with the count of geometries that gave it."""
+    first: dict[str, str] = {}
+    count: dict[str, int] = {}
+    for i in sorted(parts):
+        kinds = set()
+        for w in str(parts[i]["warnings"]).split(WARNING_SEPARATOR):
+            kind = _kind(w)
+            if w and kind not in kinds:
+                kinds.add(kind)
+                first.setdefault(kind, w)
+                count[kind] = count.get(kind, 0) + 1
+    return [first[k] + (f" ({count[k]} of {len(parts)} geometries; each one's in the "
+                        "dataset's 'warnings')" if count[k] > 1 else "")
+            for k in first]
+
+
+def _kind(text: str) -> str:
+    """``text`` with its numbers replaced by ``#``: one kind of message, whatever the plate."""
+    import re
+
+    return re.sub(r"[-+]?\d[\d.eE+-]*", "#", text)
+
+
+def _refuse_if_nothing_computed(study: Study, parts: dict[int, dict], folder: Path,
+                                created: bool) -> None:
+    """Refuse to write a dataset of NaN: when no geometry has any answer (:func:`studies.
+    task.has_results`), nothing is written to ``--out`` (a dataset of NaN there made the
+    corrected rerun refuse the existing file). The parts (each with its reason in
+    ``status``) stay in ``folder``, except where every plate failed for one reason of the
+    study's stator file, said whole: those parts hold nothing more, and a folder made by this
+    run (``created``) goes (:func:`_stator_failure`)."""
     from lusm.errors import short_reason
 
     status = [str(parts[i]["status"]) for i in sorted(parts)]
-    if not status or any(computed_fully(x) for x in status):
+    if not status or any(has_results(p) for p in parts.values()):
         return
+    stator = _stator_failure(study, status)
+    if stator is not None and created:
+        remove_parts(folder, study.n_geometries)
+        raise NothingComputedError(f"{stator}; no dataset was written")
     raise NothingComputedError(
         f"no geometry of the study computed fully ({len(status)} of {study.n_geometries}); "
         f"first: {short_reason(status[0])}; no dataset was written, and "
         + ("the part (its reason in its 'status') is" if len(status) == 1 else
            f"the {len(status)} parts (each one's reason in its 'status') are")
         + f" kept in {folder}; remove that folder to run a corrected study")
+
+
+def _stator_failure(study: Study, status: list[str]) -> str | None:
+    """The one line of a study whose every plate failed at its FE solve or parameter set
+    for the same reason, with a stator file: its fault (electrodes that touch, a tip on a
+    node of a mode), named as ``study.stator FILE``; None otherwise."""
+    from lusm.errors import short_reason
+
+    if (study.stator is None or len(set(map(_kind, status))) != 1
+            or len(status) != study.n_geometries):
+        return None
+    stage, _, reason = status[0].partition(": ")
+    if stage not in ("FE", "parameter set"):
+        return None
+    kind, _, text = reason.partition(": ")
+    return (f"study.stator {study.stator.path}: {short_reason(text or kind)} (every plate of "
+            f"the study, {len(status)} of {len(status)}, at its {stage})")
 
 
 def _bar(total: int, initial: int, enabled: bool):

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from studies.study import Study
-from studies.task import TASK_EXTRAS, computed_fully, empty_outputs, package_version
+from studies.task import TASK_EXTRAS, empty_outputs, has_results, package_version
 
 PARTS_SUFFIX = ".parts"
 """Folder ``<out>.parts`` next to the output holds one file per finished geometry."""
@@ -143,8 +143,7 @@ def _not_resumed(study: Study, out: Path, folder: Path, template) -> str:
         return (f"--out {out}: {folder} holds an unfinished run; pass --resume to continue "
                 "it, or remove that folder to start over")
     parts = _finished_parts(study, folder, template)
-    if len(parts) == study.n_geometries and not any(
-            computed_fully(str(p["status"])) for p in parts.values()):
+    if len(parts) == study.n_geometries and not any(has_results(p) for p in parts.values()):
         return (f"--out {out}: {folder} holds a finished run in which no geometry computed "
                 "fully (each part's reason in its 'status'; --resume says the first again); "
                 "remove that folder to run a corrected study")

@@ -650,12 +650,31 @@ def _check_motor_drivable(outputs: tuple[str, ...], axes: dict, raw_axes: dict, 
             design_base(design)
         except ValueError as exc:
             raise ValueError(f"{where}study.stator {str(exc).splitlines()[0]}") from None
+        _check_stator_wiring(design, where)
     if 0.0 in axes["gap"]:
         # one conductor cannot be driven at V on 1, 4 and grounded on 2, 3 (fem.model
         # ShortedDriveError)
         raise ValueError(f"{where}axes.gap 0 mm makes the four electrodes one conductor, "
                          f"which the motor outputs ({', '.join(motor)}) would drive as a short "
                          "circuit; give a gap of at least 0.001 mm, or ask for FE outputs only")
+
+
+def _check_stator_wiring(design, where: str) -> None:
+    """Refuse, before any FE work, a stator file with its own mesh whose drive puts two
+    voltages on electrodes that touch (one conductor), in the words the single-point
+    commands say it (:func:`fem.model.check_mesh_wiring`): every plate of the study would
+    fail at its parameter set."""
+    if design.mesh_path is None:  # a generated plate's gap is checked with the axes
+        return
+    from fem.meshing.meshed_stator import planform_mesh
+    from fem.model import check_mesh_wiring
+
+    try:
+        check_mesh_wiring(planform_mesh(design.stator),
+                          {e: 1.0 for e in design.stator.drive_electrodes})
+    except ValueError as exc:
+        raise ValueError(f"{where}study.stator {design.path} (a mesh whose electrode tags "
+                         f"touch): {exc}; give a mesh with gap strips") from None
 
 
 def _stator(value: Any, source: str, where: str):

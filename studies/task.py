@@ -29,8 +29,14 @@ MOTOR_ARRAYS = ("no_load_velocity", "stall_force", "peak_efficiency", "motion_cl
 """Per-drive-point answers without the load dimension."""
 
 
-TASK_EXTRAS = ("task_time_s", "lusm_version", "warnings")
+TASK_EXTRAS = ("task_time_s", "lusm_version")
 """What a task returns beside the geometry's outputs (not written into its part)."""
+
+WARNING_SEPARATOR = "\n"
+"""Between two warnings in a geometry's ``warnings`` (each is one line)."""
+
+POINT_OK = "ok"
+"""The ``point_status`` of a drive point that computed."""
 
 
 @dataclass(frozen=True)
@@ -126,7 +132,9 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
 
     A pure function of its arguments (BLAS held to one thread), so the same on any worker.
     A geometry whose FE solve or reduction fails gets NaN and its message in ``status``;
-    a drive point whose run fails gets NaN and the motion class ``"failed"``.
+    a drive point whose run fails gets NaN, the motion class ``"failed"`` and its reason in
+    ``point_status`` (the others compute). The warnings raised meanwhile (one line each,
+    :data:`WARNING_SEPARATOR` between them) are the geometry's ``warnings``.
     """
     import warnings
 
@@ -139,8 +147,8 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
     with threadpool_limits(limits=1), warnings.catch_warnings(record=True) as caught:
         out = _compute(study, index)
     out["task_time_s"] = np.array(time.perf_counter() - t0)
-    out["warnings"] = np.array(sorted({" ".join(str(w.message).split()) for w in caught}),
-                               dtype=str)
+    out["warnings"] = np.array(WARNING_SEPARATOR.join(
+        sorted({" ".join(str(w.message).split()) for w in caught})))
     out["lusm_version"] = np.array(package_version())  # the client compares it with its own
     return out
 
@@ -215,10 +223,12 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     except (ValueError, RuntimeError, ArithmeticError) as exc:  # failure of this plate
         from lusm.errors import short_reason  # a list of 32 frequencies: its range
 
-        out["status"] = np.array(short_reason(f"{stage}: {type(exc).__name__}: {exc}")[:300])
+        out["status"] = np.array(short_reason(f"{stage}: {type(exc).__name__}: {exc}")[:400])
         if study.needs_motor:  # every drive point of the plate fails with it
             out["motion_class"][...] = "failed"
+            out["point_status"][...] = f"failed: the plate's {stage} failed (see status)"
         return out
+    _warn_unexcited(study, stator, params)
     freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
     failures, unsettled = [], []
     # what the single-point commands refuse before they run, said once per plate in the
@@ -233,19 +243,22 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
             for j, p in enumerate(study.axes["preload"]):
                 at = (i, j) if study.auto_frequency else (k, i, j)
                 if reason is not None:
-                    out["motion_class"][at] = "failed"
+                    _point_failed(out, at, reason)
                     failures.append(reason)
                     continue
                 try:
                     ans = motor_answers(params, Drive(v, p, f, study.axes["load"]), s)
                 except (ValueError, RuntimeError) as exc:  # chattering, too large a step
-                    out["motion_class"][at] = "failed"
+                    _point_failed(out, at, str(exc).splitlines()[0])
                     failures.append(f"{v:g} V, {p:g} N, {f:.6g} Hz: {exc}".splitlines()[0])
                     continue
                 for name in MOTOR_ARRAYS:
                     out[name][at] = ans[name]
                 out["velocity"][at] = ans["velocity"]
+                out["point_status"][at] = POINT_OK
                 if not ans.get("settled", True):
+                    out["point_status"][at] = (f"not settled within solver.duration "
+                                               f"{s.duration_s:g} s")
                     unsettled.append(f"{v:g} V, {p:g} N, {f:.6g} Hz")
     if failures:
         # one reason for all (the plate's: _drive_problem, _plate_work_problem), whole: the
@@ -259,6 +272,30 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
             f"{s.duration_s:g} s (their velocity is where the run stopped; a longer duration "
             f"or method = \"steady\"); first: {unsettled[0]}"[:300])
     return out
+
+
+def _point_failed(out: dict[str, np.ndarray], at: tuple, reason: str) -> None:
+    """Mark the drive point ``at`` failed, with ``reason`` in its ``point_status``."""
+    from lusm.errors import short_reason
+
+    out["motion_class"][at] = "failed"
+    out["point_status"][at] = short_reason(f"failed: {reason}")[:POINT_STATUS_CHARS]
+
+
+POINT_STATUS_CHARS = 300
+"""Longest ``point_status`` kept (characters; the work reason with its remedies is ~280)."""
+
+
+def _warn_unexcited(study: Study, stator, params) -> None:
+    """Warn, as the single-point commands do, when the plate's drive excites no B2 (or no
+    L1): the motor then gives no thrust, which a status "ok" with zero velocity hid."""
+    import warnings
+
+    from validation.summaries import unexcited_modes
+
+    where = (f"study.stator {study.stator.path}: " if study.stator is not None else "")
+    for text in unexcited_modes(params, stator.drive_electrodes):
+        warnings.warn(where + text, stacklevel=2)
 
 
 def _drive_problem(study: Study, params, frequency_Hz: float) -> str | None:
@@ -339,8 +376,19 @@ def empty_outputs(study: Study) -> dict[str, np.ndarray]:
         out[k] = np.full(mshape, math.nan)
     out["motion_class"] = np.full(mshape, "", dtype="<U32")
     out["velocity"] = np.full((*mshape, n_load), math.nan)
+    out["point_status"] = np.full(mshape, "", dtype=f"<U{POINT_STATUS_CHARS}")
     out["status"] = np.array("ok")
+    out["warnings"] = np.array("")
     return out
+
+
+def has_results(part: dict[str, np.ndarray]) -> bool:
+    """Whether a geometry's part holds any answer: it computed fully
+    (:func:`computed_fully`), or some of its drive points did (``point_status``)."""
+    if computed_fully(str(part["status"])):
+        return True
+    ps = np.asarray(part.get("point_status", ""), dtype=str)
+    return bool(((ps == POINT_OK) | np.char.startswith(ps, "not settled")).any())
 
 
 def computed_fully(status: str) -> bool:

@@ -175,6 +175,9 @@ def files(tmp_path_factory) -> dict[str, str]:
     (d / "loop1").symlink_to(d / "loop2")
     (d / "loop2").symlink_to(d / "loop1")
     f["in_loop"] = str(d / "loop1" / "x")
+    f["loop"] = str(d / "loop1")
+    (d / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    f["params_deep"] = str(d / "deep.json")
     f["long_name"] = str(d / ("a" * 300))
     f["export_exists"] = str(d / "a_file")
     (d / "side").mkdir()
@@ -190,7 +193,57 @@ def files(tmp_path_factory) -> dict[str, str]:
         (d / f"{name}.json").write_text(text)
         f[name] = str(d / f"{name}.json")
     f.update(_meshes(d))
+    _calibration_files(d, f)
+    f.update(_studies(d))
     return f
+
+
+def _calibration_files(d: Path, f: dict[str, str]) -> None:
+    """Measurement files of ``lusm calibrate``, one defect each (``cal_<defect>``)."""
+    cal = d / "cal"
+    cal.mkdir()
+    (cal / "free.csv").write_text("voltage_V,tangential_um,normal_um\n100,1.2,0.8\n"
+                                  "200,2.4,1.6\n")
+    (cal / "no_volt.csv").write_text("tangential_um,normal_um\n1.2,0.8\n")
+    (cal / "furlong.csv").write_text("voltage_V,tangential_furlong\n100,1.2\n")
+    head = '[free]\nfile = "{csv}"\nfrequency_Hz = 40e3\nsigma_relative = 0.03\n'
+    good = "[parameters]\nC_l = { start = 150, min = 50, max = 500 }\n"
+    for name, csv, params in [
+            ("ok", "free.csv", good), ("missing_column", "no_volt.csv", good),
+            ("bad_unit", "furlong.csv", good), ("csv_missing", "nowhere.csv", good),
+            ("inverted", "free.csv", "[parameters]\nC_l = { start = 150, min = 500, "
+             "max = 50 }\n"),
+            ("unknown_parameter", "free.csv", "[parameters]\nC_x = { start = 1, min = 0, "
+             "max = 2 }\n"),
+            ("friction_box", "free.csv", "[parameters]\na_mu = { start = 0.2, min = 0.1, "
+             "max = 0.5 }\n")]:
+        (cal / f"{name}.toml").write_text(head.format(csv=csv) + params)
+        f[f"cal_{name}"] = str(cal / f"{name}.toml")
+    (cal / "mine.json").write_text("{}")
+    f["cal_out_exists"] = str(cal / "mine.json")
+
+
+def _studies(folder: Path) -> dict[str, str]:
+    """Study files of the explore rows: a valid one, and one whose stator file's mesh has
+    touching electrodes (refused before any FE work, as --geometry refuses it)."""
+    from fem.geometry import PlateStator
+    from fem.meshing.mesh import structured_mesh
+
+    m = structured_mesh(PlateStator(electrode_gap_m=0.0), 2)
+    _msh(folder, "touching.msh", m.points_m.T.copy(), m.quads.T.copy(), m.electrode.copy())
+    (folder / "touching.toml").write_text(MESHED.format(mesh="touching.msh"))
+    studies = {
+        "study_ok": 'outputs = ["f_L1_short"]\n[axes]\nlength = "30 mm"\n',
+        "study_touching": 'outputs = ["no_load_velocity"]\n[study]\nstator = '
+                          '"touching.toml"\n[axes]\nthickness = ["2.5 mm", "3 mm"]\n',
+    }
+    out = {}
+    for name, text in studies.items():
+        (folder / f"{name}.toml").write_text(text)
+        out[name] = str(folder / f"{name}.toml")
+    out["study_out"] = str(folder / "study.nc")
+    out["study_parts"] = str(folder / "study.nc.parts")
+    return out
 
 
 _SIM = ["simulate", "--voltage", "200", "--preload", "14"]
@@ -200,6 +253,10 @@ DT_ANY = "(0, 1/(20 f)] s at the drive frequency f"
 
 # (id, argv, the option named, the range or bound shown or None)
 SIMULATE = [
+    # issue 42: a --params file nested 100 000 deep was "internal error: RecursionError"
+    ("params-nested-deep", [*_SIM, "--params", "{params_deep}"], "--params",
+     "nested too deeply"),
+    ("params-link-loop", [*_SIM, "--params", "{loop}"], "--params", "loop of symbolic links"),
     ("dt-negative-separate", [*_SIM, "--dt", "-1e-7"], "--dt", DT_ANY),
     ("dt-negative-equals", [*_SIM, "--dt=-1e-7"], "--dt", DT_ANY),
     ("dt-zero", [*_SIM, "--dt", "0"], "--dt", DT_ANY),
@@ -324,6 +381,11 @@ CHARACTERISTIC = [
 ]
 
 MODES = [
+    # issue 42: a loop of symbolic links was "stator file not found"
+    ("geometry-link-loop", ["modes", "--geometry", "{loop}"], "--geometry",
+     "loop of symbolic links"),
+    ("geometry-below-link-loop", ["modes", "--geometry", "{in_loop}"], "--geometry",
+     "loop of symbolic links"),
     ("length-1e-6", ["modes", "--length-mm", "1e-6"], "--length-mm", "[0.1, 1000] mm"),
     ("thickness-zero", ["modes", "--thickness-mm", "0"], "--thickness-mm", "[0.1, 1000] mm"),
     ("width-nan", ["modes", "--width-mm", "nan"], "--width-mm", "[0.1, 1000] mm"),
@@ -388,9 +450,25 @@ RENDER = [
     ("geometry-missing", ["render", "--geometry", "{missing}"], "--geometry", None),
     ("thickness-huge", ["render", "--thickness-mm", "1e6"], "--thickness-mm",
      "[0.1, 1000] mm"),
+    ("mode-zero", ["render", "--mode", "0"], "--mode", None),
+    ("mode-unknown", ["render", "--mode", "X2"], "--mode", None),
+    # the 2D pictures are L1 and B2: other modes and rows of the band table need 3D
+    ("mode-name-2d", ["render", "--mode", "OB3"], "--mode", "--model 3d"),
+    ("mode-index-2d", ["render", "--mode", "3"], "--mode", "--model 3d"),
+    ("color-2d", ["render", "--color", "potential"], "--color", "--model 3d"),
+    ("color-unknown", ["render", "--model", "3d", "--color", "speed"], "--color", None),
+    ("band-2d", ["render", "--band", "40:60"], "--band", "--model 3d"),
+    ("band-backwards", ["render", "--model", "3d", "--band", "50:40"], "--band", None),
+    ("layers-2d", ["render", "--layers", "2"], "--layers", "--model 3d"),
+    ("refine-3d", ["render", "--model", "3d", "--refine", "40"], "--refine", None),
 ]
 
 TUNE = [
+    ("write-empty", ["tune", "--fix", "length", "--write", ""], "--write", None),
+    ("write-folder", ["tune", "--fix", "length", "--write", "{folder}"], "--write", None),
+    ("write-exists", ["tune", "--fix", "length", "--write", "{file}"], "--write", "--force"),
+    ("write-below-file", ["tune", "--fix", "length", "--write", "{below_file}/t.toml"],
+     "--write", None),
     ("refine-48", ["tune", "--refine", "48"], "--refine", "above the limit 100000"),
     # 7e5 Hz passed the check and lost L1 after 10 FE solves (the tuned plate's electrodes
     # narrower than 1.5 x the gap); 1e6 Hz was above the quoted range and still accepted
@@ -459,6 +537,16 @@ ADMITTANCE = [
     ("out-below-file", ["admittance", "--out", "{below_file}"], "--out", None),
 ]
 
+HARMONIC = [
+    ("voltage-negative", ["harmonic", "--voltage", "-1"], "--voltage", "[0, 2000] V"),
+    ("points-2", ["harmonic", "--points", "2"], "--points", None),
+    ("fmin-above-fmax", ["harmonic", "--f-min", "5e4", "--f-max", "4e4"], "--f-min", None),
+    ("fmin-zero", ["harmonic", "--f-min", "0"], "--f-min", None),
+    ("frequency-word", ["harmonic", "--frequency", "fast"], "--frequency", None),
+    ("zeta-zero", ["harmonic", "--zeta", "0"], "--zeta", None),
+    ("plot-is-file", ["harmonic", "--plot", "{file}"], "--plot", None),
+]
+
 COMPARE = [
     ("unknown-source", ["compare", "--sources", "abc"], "--sources", None),
     ("geometry-missing", ["compare", "--geometry", "no_such_stator.toml"], "--geometry",
@@ -505,6 +593,48 @@ EXPLORE = [  # more in tests/test_explore.py
     ("stator-as-study", ["explore", "{plate}", "--out", "r.nc"], "{plate}", None),
     ("workers-0", ["explore", "{plate}", "--out", "r.nc", "--workers", "0"], "--workers",
      "[1, 256]"),
+    # issue 42: the run's own parts folder as the figure folder made every later run at that
+    # --out refuse it
+    ("plot-into-its-parts-folder", ["explore", "{study_ok}", "--out", "{study_out}",
+                                    "--plot", "{study_parts}"], "--plot", "parts folder"),
+    ("plot-below-its-parts-folder", ["explore", "{study_ok}", "--out", "{study_out}",
+                                     "--plot", "{study_parts}/maps"], "--plot", None),
+    # a stator whose mesh's electrodes touch: refused before any FE work, in --geometry's
+    # words, with no parts folder left
+    ("stator-electrodes-touch", ["explore", "{study_touching}", "--out", "{study_out}"],
+     "study.stator", "touch (no gap strip between them)"),
+    # issue 42: waited 10 s and said it timed out
+    ("scheduler-port-99999", ["explore", "{study_ok}", "--out", "{study_out}", "--scheduler",
+                              "tcp://127.0.0.1:99999"], "--scheduler", "[1, 65535]"),
+    ("worker-timeout-0", ["explore", "{study_ok}", "--out", "{study_out}",
+                          "--worker-timeout-s", "0"], "--worker-timeout-s", "[1, 86400] s"),
+]
+
+_CAL = ["calibrate", "{cal_ok}", "--source", "table2", "--out"]
+
+CALIBRATE = [
+    ("missing-column", ["calibrate", "{cal_missing_column}", "--source", "table2", "--out",
+                        "x.json"], "voltage_<unit>", None),
+    ("bad-unit", ["calibrate", "{cal_bad_unit}", "--source", "table2", "--out", "x.json"],
+     "tangential_furlong", "m, mm, um, nm"),
+    ("csv-not-found", ["calibrate", "{cal_csv_missing}", "--source", "table2", "--out",
+                       "x.json"], "nowhere.csv", None),
+    ("bound-inverted", ["calibrate", "{cal_inverted}", "--source", "table2", "--out",
+                        "x.json"], "[parameters] C_l", "min = 500 must be below max = 50"),
+    ("unknown-parameter", ["calibrate", "{cal_unknown_parameter}", "--source", "table2",
+                           "--out", "x.json"], "[parameters] C_x", None),
+    # a_mu up to 0.5 above Table 2's mu_d = 0.35: the friction law breaks inside the box
+    ("friction-box", ["calibrate", "{cal_friction_box}", "--source", "table2", "--out",
+                      "x.json"], "a_mu", "mu_d = 0.35"),
+    ("measurements-missing", ["calibrate", "{missing}", "--source", "table2", "--out",
+                              "x.json"], "{missing}", None),
+    ("out-exists", [*_CAL, "{cal_out_exists}"], "--out", "--force"),
+    ("out-suffix", [*_CAL, "x.toml"], "--out", ".json"),
+    ("out-folder", ["calibrate", "{cal_ok}", "--geometry", "{plate}", "--out", "{folder}"],
+     "--out", ".toml"),
+    ("starts-0", [*_CAL, "x.json", "--starts", "0"], "--starts", "[1, 20]"),
+    ("profile-unknown", [*_CAL, "x.json", "--profile", "mu_s"], "--profile", None),
+    ("no-start-set", ["calibrate", "{cal_ok}", "--out", "x.json"], "--geometry", None),
 ]
 
 # a stator file's own defects: the file is named with --geometry, the line names its key
@@ -561,8 +691,9 @@ STATOR_FILES = [
 
 TABLES = {"simulate": SIMULATE, "map": MAP, "characteristic": CHARACTERISTIC, "modes": MODES,
           "render": RENDER, "tune": TUNE, "sweep": SWEEP, "admittance": ADMITTANCE,
-          "compare": COMPARE, "params": PARAMS, "report": REPORT, "explore": EXPLORE,
-          "materials": MATERIALS, "stator_files": STATOR_FILES}
+          "harmonic": HARMONIC, "compare": COMPARE, "params": PARAMS, "report": REPORT,
+          "explore": EXPLORE, "calibrate": CALIBRATE, "materials": MATERIALS,
+          "stator_files": STATOR_FILES}
 
 SLOW_ROWS = {"off-centre-hole-pairing"}
 """Rows refused only once the stator is meshed and solved (seconds, not milliseconds)."""
@@ -618,6 +749,7 @@ def test_nothing_was_written_or_deleted_by_the_refusals(files):
     user = Path(files["user_folder"])
     assert sorted(p.name for p in user.iterdir()) == ["notes.txt"]
     assert not list(Path(files["folder"]).glob(".*partial*"))
+    assert not Path(files["study_parts"]).exists() and not Path(files["study_out"]).exists()
 
 
 @pytest.mark.parametrize("name", ["duplicated", "overlap"])

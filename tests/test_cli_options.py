@@ -17,7 +17,7 @@ from lusm.cli import build_parser, main
 from tests.conftest import ROOT
 
 STATOR_COMMANDS = ("simulate", "map", "modes", "params", "render", "tune", "sweep",
-                   "admittance", "report", "compare", "characteristic")
+                   "admittance", "harmonic", "report", "compare", "characteristic")
 """Commands that use a stator (``explore`` takes its stators from the study file)."""
 
 STATOR_OPTIONS = ("--geometry", "--length-mm", "--width-mm", "--thickness-mm", "--gap-mm",
@@ -47,10 +47,11 @@ def test_every_stator_command_takes_the_stator_options(capsys):
 def test_output_and_json_options_are_shared():
     subs = _subparsers()
     for name in ("simulate", "map", "modes", "params", "compare", "tune", "sweep",
-                 "admittance"):
+                 "admittance", "harmonic"):
         assert "--json" in {o for a in subs[name]._actions for o in a.option_strings}, name
     for name, folder in (("simulate", "--plot"), ("map", "--plot"), ("render", "--out"),
-                         ("sweep", "--out"), ("admittance", "--out"), ("report", "--out")):
+                         ("sweep", "--out"), ("admittance", "--out"), ("report", "--out"),
+                         ("harmonic", "--plot")):
         options = {o for a in subs[name]._actions for o in a.option_strings}
         assert {folder, "--force"} <= options, name
 

@@ -406,7 +406,7 @@ def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
     part = compute_geometry(s, 0)
     assert str(part["status"]) == "ok" and np.isfinite(part["f_B2_open"])
     ds = assemble(s, {0: part})
-    assert set(ds.data_vars) == {"f_B2_open", "k_eff_L1", "k_eff_B2", "status"}
+    assert set(ds.data_vars) == {"f_B2_open", "k_eff_L1", "k_eff_B2", "status", "warnings"}
 
 
 def test_coordinates_are_the_decimals_the_study_gives():

@@ -68,8 +68,9 @@ def test_every_section_and_figure_is_there(design_report):
     assert "plate 31 x 7.5 x 3 mm" in md  # the design's own plate, not the paper's
     pngs = sorted((out / "figures").glob("*.png"))
     names = {p.name for p in pngs}
-    assert {"design_L1.png", "design_B2.png", "design_admittance.png",
-            "design_characteristic.png", "design_steady_map.png"} <= names
+    assert {"design_L1.png", "design_B2.png", "design_3d_L1.png", "design_3d_B2.png",
+            "design_admittance.png", "design_characteristic.png",
+            "design_steady_map.png"} <= names
     for png in pngs:
         assert float(np.std(imread(png)[..., :3])) > 0.01, png.name
         assert f"figures/{png.name}" in md

@@ -112,6 +112,7 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     with deferred_signals():  # about a second; a SIGTERM inside VTK's rendering crashes the
         # report (exit 139, 2 of about 90 tries) and leaves its staging folder
         pictures = render_modes(model, m2, out / "figures", prefix="design_")
+        pictures_3d = _pictures_3d(choice, m3, refine3, out)
     say("mode pictures")
     rows, data = [], {"2d": {}, "3d": {}}
     for name in ("L1", "B2"):
@@ -122,7 +123,8 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     split2 = m2.B2.f_short_Hz / m2.L1.f_short_Hz - 1
     split3 = m3.B2.f_short_Hz / m3.L1.f_short_Hz - 1
     data.update(split_2d=split2, split_3d=split3, dofs_2d=m2.dofs, dofs_3d=m3.dofs,
-                pictures=[f"figures/{p.name}" for p in pictures])
+                pictures=[f"figures/{p.name}" for p in pictures],
+                pictures_3d=[f"figures/{p.name}" for p in pictures_3d])
     from fem.meshing.meshed_stator import MeshedStator
     from fem.meshing.parametric import ParametricStator
 
@@ -146,9 +148,23 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     data["gap_validity"], note = _validity_note(st)
     md += note
     md += [f"![{p.stem}](figures/{p.name})" for p in pictures] + [""]
+    md += ["The same modes in the 3D solid (deformed surface coloured by the displacement "
+           "magnitude; `lusm render --model 3d` draws any mode of the band table below, and "
+           "`--color potential` the electric potential):", ""]
+    md += [f"![{p.stem}](figures/{p.name})" for p in pictures_3d] + [""]
     band_md, data["band_modes"] = _band_section(choice, m3, refine3, stator)
     say("band modes")
     return md + band_md, data, m2
+
+
+def _pictures_3d(choice, m3, refine3: int, out: Path) -> list[Path]:
+    """The 3D pictures of L1 and B2 (:func:`fem.render3d.render_modes3d`) on the model of
+    the modes table's 3D column."""
+    from fem.render3d import render_modes3d
+    from fem.solid3d.model import DEFAULT_LAYERS, solid_model
+
+    model = solid_model(choice.stator, choice.material, 2, refine3, DEFAULT_LAYERS)
+    return render_modes3d(model, (m3.L1, m3.B2), out / "figures", prefix="design_3d_")
 
 
 def _band_section(choice, m3, refine3: int, stator: str) -> tuple[list[str], dict]:

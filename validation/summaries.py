@@ -43,6 +43,44 @@ def borrowed_damping(source: str) -> str:
     return f"Table 2's ratios, borrowed by the {source} set"
 
 
+UNEXCITED_FORCE_RATIO = 1e-6
+"""|A_b| / |A_l| (or the inverse) below which the drive is said to excite no B2 (no L1)."""
+
+
+def unexcited_modes(params: MotorParams, electrodes=None) -> list[str]:
+    """What to say of a drive whose force factor of one mode is roundoff beside the other's
+    (none: ``[]``): four electrodes in phase give A_b = 1.6e-15 N/V, a motor at 0 m/s with
+    0.54 W of input and a 'stall force' of 0 N, and --frequency auto the maximum of a noise
+    ellipse. The single-point commands warn it; a study keeps it in each geometry's
+    ``warnings``. ``electrodes`` None: a parameter set of its own (``--params``), whose
+    force factors are its A_l and A_b."""
+    a_l, a_b = abs(params.A_l), abs(params.A_b)
+    if electrodes is None and a_l == 0.0 and a_b == 0.0:
+        return ["the parameter set's force factors are A_l = A_b = 0 N/V: the drive excites "
+                "neither L1 nor B2, the tip does not move and the motor gives no thrust"]
+    if electrodes is None:
+        return [f"the parameter set's drive excites no {name} ({'A_b' if name == 'B2' else 'A_l'}"
+                f" = {small:.3g} N/V against {big:.3g} N/V): the tip does not trace an "
+                "ellipse and the motor gives no thrust"
+                for name, small, big in (("B2", a_b, a_l), ("L1", a_l, a_b))
+                if small <= UNEXCITED_FORCE_RATIO * big]
+    wires = ", ".join(map(str, electrodes))
+    said = []
+    for name, small, big, other in (("B2", a_b, a_l, "L1"), ("L1", a_l, a_b, "B2")):
+        if small <= UNEXCITED_FORCE_RATIO * big:
+            # a diagonal pair that excites nothing (a material without piezoelectric
+            # constants) is pointed at the material, not at the pair it drives
+            diagonal = sorted(electrodes) in ([1, 4], [2, 3])
+            fix = ("the material's piezoelectric constants (e_C_m2) are what couple it: check "
+                   "them" if diagonal else
+                   "drive a diagonal pair ([electrodes] drive = [1, 4] or [2, 3])")
+            said.append(f"the drive through electrodes {wires} excites no {name} (A_"
+                        f"{name[0].lower()} = {small:.3g} N/V against {big:.3g} N/V for "
+                        f"{other}): the tip does not trace an ellipse and the motor gives no "
+                        f"thrust; {fix}")
+    return said
+
+
 def damping_summary(params: MotorParams, origin: str) -> dict:
     """The damping in use: ``{"zeta_L1", "zeta_B2", "from"}`` (ratios, -)."""
     return {"zeta_L1": params.zeta_L1, "zeta_B2": params.zeta_B2, "from": origin}

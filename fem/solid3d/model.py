@@ -820,7 +820,10 @@ def _condensed_operators(Kuu, M, kup, kpp, sigma: float, row_order=None):
     nu = Kuu.shape[0]
     # potentials scaled so that both blocks have diagonals of similar size (|K_uu| ~ 1e10,
     # |K_phiphi| ~ 1e-9): without it the LU residual is ~1e-3, with it ~1e-11
-    alpha = math.sqrt(float(Kuu.diagonal().mean()) / float(kpp.diagonal().mean()))
+    # (no potential left to condense, one layer at order 1: no scaling, and no mean of an
+    # empty diagonal, whose NumPy warnings reached the user)
+    alpha = (math.sqrt(float(Kuu.diagonal().mean()) / float(kpp.diagonal().mean()))
+             if kpp.shape[0] else 1.0)
     kup = kup * alpha
     kpp = kpp * alpha**2
     A = sp.bmat([[Kuu - sigma * M, kup], [kup.T, -kpp]], format="csc")

@@ -119,7 +119,10 @@ def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) ->
     runaway bounds and the speed-thrust table with powers and efficiency."""
     print(f"{'drive':<26} {v:g} V, {args.preload:g} N, {char.op.frequency_Hz:.6g} Hz"
           + (" (auto)" if auto else ""))
-    print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
+    backward = (" (backward: the slider runs toward -y; the stall force and the default "
+                "loads are negative, braking that motion)" if char.direction == "backward"
+                else "")
+    print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}{backward}")
     print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
     creep = _creep_line(char)
     if creep:

@@ -17,9 +17,14 @@ from lusm.options import (
     moved,
     output_folder,
     print_json,
+    real,
     warn_drive,
     warn_thin_plate,
 )
+
+WORKER_TIMEOUT_DEFAULT_S = 300.0
+"""Default of ``--worker-timeout-s`` (s): :data:`studies.explore.WORKER_TIMEOUT_S` (not
+imported here: building the parser imports no dask)."""
 
 HELP = "design-space study (geometry x drive) on dask.distributed"
 DESCRIPTION = """\
@@ -45,6 +50,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"processes of the LocalCluster (default 2), in "
                    f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]; not with --scheduler or "
                    "--scheduler-file (that cluster has its own workers)")
+    p.add_argument("--worker-timeout-s", default=None, metavar="S",
+                   type=real("--worker-timeout-s", "s", *limits.WORKER_TIMEOUT_S),
+                   help="how long to wait when the cluster has no worker left (an external "
+                   "scheduler whose workers died) before stopping with the finished parts "
+                   f"kept for --resume (default {WORKER_TIMEOUT_DEFAULT_S:g} s), in "
+                   f"[{limits.WORKER_TIMEOUT_S[0]:g}, {limits.WORKER_TIMEOUT_S[1]:g}] s")
     p.add_argument("--plot", metavar="DIR",
                    help="write figures (PNG) of the no-load velocity, stall force, L1-B2 split "
                    "(diverging scale, zero contour), peak efficiency and auto drive frequency "
@@ -91,12 +102,14 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
 def _checked_study(args: argparse.Namespace):
     """The study of ``args`` and its ``--plot`` folder (or None), with the options checked
     and the study's warnings said, before any work."""
-    from studies.cluster import check_scheduler_names
+    from studies.cluster import check_port, check_scheduler_names
     from studies.dataset import check_out, is_complete
     from studies.study import load_study
 
     try:  # before anything else: '' would pass the --workers check below
         check_scheduler_names(args.scheduler, args.scheduler_file)
+        if args.scheduler:  # a port no connection can have: at once, not after 10 s
+            check_port(args.scheduler)
     except ValueError as exc:
         raise LusmError(str(exc), str(exc).split()[0]) from None
     if args.workers is not None and (args.scheduler or args.scheduler_file):
@@ -117,7 +130,24 @@ def _checked_study(args: argparse.Namespace):
         # refused before the study runs, not after its dataset is written
         raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
                         "their own", "--plot")
+    _refuse_plot_in_parts(plot, args.out)
     return study, plot
+
+
+def _refuse_plot_in_parts(plot: str | None, out: str) -> None:
+    """Refuse a ``--plot`` folder that is the run's own parts folder (or inside it): the
+    run would make it as a figure folder, and every later run at that ``--out``, even with
+    --force, would refuse a parts folder without its study file."""
+    from studies.parts import parts_folder
+
+    if plot is None:
+        return
+    parts = parts_folder(Path(out)).resolve()
+    target = Path(plot).resolve()
+    if target == parts or parts in target.parents:
+        raise LusmError(f"--plot {plot} is inside {parts_folder(Path(out))}, the parts folder "
+                        "this run keeps its finished geometries in; give the maps a folder of "
+                        "their own", "--plot")
 
 
 def _run_study(args: argparse.Namespace, study, plot: str | None):
@@ -126,7 +156,7 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
     from lusm.interrupts import Terminated
     from studies.cluster import DEFAULT_WORKERS
     from studies.dataset import open_result
-    from studies.explore import NothingComputedError, explore
+    from studies.explore import ClusterLostError, NothingComputedError, explore
     from studies.parts import PartsBusyError, parts_folder
 
     before = _file_stamp(Path(args.out))
@@ -136,7 +166,10 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
         result = explore(study, args.out, scheduler=args.scheduler,
                          scheduler_file=args.scheduler_file,
                          workers=DEFAULT_WORKERS if args.workers is None else args.workers,
-                         resume=args.resume, force=args.force, progress=not args.json)
+                         resume=args.resume, force=args.force, progress=not args.json,
+                         worker_timeout_s=(WORKER_TIMEOUT_DEFAULT_S
+                                           if args.worker_timeout_s is None
+                                           else args.worker_timeout_s))
         for text in result.warnings:  # said once each, as every command says a warning
             warn(in_study_terms(text))
         _report_failures(open_result(result.path), result.path)
@@ -144,6 +177,8 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
         raise  # its message says where the parts are kept
     except PartsBusyError:
         raise  # the parts there are the running one's, not this run's to offer
+    except ClusterLostError as exc:  # the environment, not a bug: one line, exit 2
+        raise LusmError(_cluster_lost(exc, args, parts), exc.where.split()[0]) from None
     except (KeyboardInterrupt, Terminated):
         if parts.exists():
             print(f"lusm explore: {_geometries(_count_parts(parts))} kept in {parts}; run the "
@@ -163,6 +198,24 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
                   "with --resume to continue once the cause is fixed", file=sys.stderr)
         raise
     return result
+
+
+def _cluster_lost(exc, args: argparse.Namespace, parts: Path) -> str:
+    """The one line of a cluster lost mid-study: what went, what is kept, and the command
+    that resumes."""
+    import shlex
+
+    done = _count_parts(parts)
+    kept = (f"{_geometries(done)} kept in {parts}" if done else "no geometry had finished")
+    where = (["--scheduler", args.scheduler] if args.scheduler else
+             ["--scheduler-file", args.scheduler_file] if args.scheduler_file else [])
+    again = ["lusm", "explore", args.study, "--out", args.out, *where]
+    if args.worker_timeout_s is not None:
+        again += ["--worker-timeout-s", f"{args.worker_timeout_s:g}"]
+    if done:
+        return (f"{exc}; {kept}; once the cluster is back, resume with: "
+                f"{shlex.join([*again, '--resume'])}")
+    return f"{exc}; {kept}; once the cluster is back, run: {shlex.join(again)}"
 
 
 def _write_maps(result, plot: str, force: bool) -> None:

@@ -477,37 +477,11 @@ def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
 
 def _export_target(text: str, force: bool):
     """The ``--export`` file, checked before any work (a file, in an existing folder)."""
-    import os
-    from pathlib import Path
-
     from lusm.errors import LusmError
+    from lusm.options import file_target
 
-    if not text.strip():
-        raise LusmError("--export must name a file, got ''", "--export")
-    path = Path(text)
-    from lusm.options import check_path_usable
-
-    check_path_usable(path, "--export")
-    # a trailing separator names a folder (Path drops it: dd.vtu/ would be written as the
-    # file dd.vtu)
-    last = text.rstrip().replace(os.sep, "/").rsplit("/", 1)[-1]
-    if path.is_dir() or last in ("", ".", ".."):  # dd.vtu/. too
-        raise LusmError(f"--export {text.strip()} is a folder; name a file such as modes.vtu",
-                        "--export")
-    for parent in path.parents:
-        if parent.exists() and not parent.is_dir():
-            raise LusmError(f"--export {path} sits below the file {parent}", "--export")
-        if parent.exists():
-            break
-    if (path.exists() or path.is_symlink()) and not force:
-        raise LusmError(f"--export {path} already exists; choose a new name or pass --force",
-                        "--export")
-
-    folder = next((p for p in path.absolute().parents if p.exists()), None)
-    if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
-        # refused before the FE solve (30 s of a 3D model), not after
-        raise LusmError(f"--export {path}: cannot write into {folder} (permission denied)",
-                        "--export")
+    # refused before the FE solve (30 s of a 3D model), not after
+    path = file_target(text, "--export", force, "modes.vtu")
     side = path.with_suffix(".h5")  # meshio's XDMF writer puts the arrays beside it
     if path.suffix.lower() == ".xdmf" and (side.exists() or side.is_symlink()) and not force:
         # refused before the FE solve, not after
