@@ -58,7 +58,8 @@ def speed_thrust_axes(ax, chars: Sequence[Characteristic], title: str = "") -> d
         The drawn artists by kind: ``"curves"`` (one line per voltage), ``"stall"`` (one
         marker per finite stall force, its x data the stall force in N), ``"creep"`` (one
         shaded span per creep band, from ``creep_from_N`` to the stall force) and
-        ``"creep_speed"`` (one dashed line per finite creep speed, in mm/s).
+        ``"creep_speed"`` (one dotted line per finite creep speed, in mm/s, on the side of
+        the motor's own direction).
     """
     drawn: dict[str, list] = {"curves": [], "stall": [], "creep": [], "creep_speed": []}
     for i, c in enumerate(chars):
@@ -76,8 +77,9 @@ def speed_thrust_axes(ax, chars: Sequence[Characteristic], title: str = "") -> d
                 label=f"creep band {min(lo, stall):.3g} to {max(lo, stall):.3g} N"))
         creep = float(c.creep_speed_m_s)
         if np.isfinite(creep) and np.isfinite(lo):
+            sign = -1.0 if c.no_load_velocity_m_s < 0 else 1.0  # a motor driving backward
             drawn["creep_speed"].append(ax.axhline(
-                creep * 1e3, color=colour, ls=":", lw=1,
+                sign * creep * 1e3, color=colour, ls=":", lw=1,
                 label=f"creep speed {creep * 1e3:.2g} mm/s"))
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xlabel("load force (N)")
