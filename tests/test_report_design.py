@@ -289,3 +289,19 @@ def test_the_report_computes_at_the_voltages_and_preload_it_is_given(plate_repor
     assert own.endswith("--voltages 200,350 --preload 10")
     assert "the paper's plate" not in md and "Table 2's set runs" not in md
     assert "What this stator does as a motor" in section
+
+
+@pytest.mark.parametrize("drive, named", [((1, 2), "B2"), ((1, 4), None)])
+def test_a_drive_that_excites_no_B2_is_said_in_the_report(drive, named):
+    """Electrodes 1 and 2 in phase give A_b at roundoff: the report's zero speeds come with a
+    paragraph at its top (stderr is gone when the report is read); a diagonal pair gets none."""
+    from fem.geometry import PlateStator
+    from rom.table2 import table2
+    from validation.report_design import _unexcited_note
+
+    params = table2().with_(A_b=1e-15 if named else table2().A_b)
+    note = _unexcited_note(params, PlateStator(drive_electrodes=drive))
+    if named is None:
+        assert note == []
+    else:
+        assert len(note) == 2 and f"excites no {named}" in note[0] and "zero" in note[0]

@@ -16,7 +16,13 @@ from pathlib import Path
 import numpy as np
 
 from rom.params import PARAM_UNITS
-from validation.summaries import damping_line, damping_summary, plate_text, signed_percent
+from validation.summaries import (
+    damping_line,
+    damping_summary,
+    plate_text,
+    signed_percent,
+    unexcited_modes,
+)
 
 SPEED_PRELOAD_N = 14.0
 """Default preload of the speed-against-voltage table and the speed-thrust curves (N), the
@@ -444,11 +450,22 @@ def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} in {wall:.0f} s. Every "
             "number here is also in `report.json`; `lusm report` without a stator reports on "
             "the paper's motor.", ""]
+    head += _unexcited_note(params, choice.stator)
     md = "\n".join(head + md1 + md2 + md3 + md4 + md5)
     doc = {"quick": quick, "wall_time_s": wall, "stator": _describe(choice.stator,
                                                                      choice.material, label),
            "drive": {"voltages_V": list(drive.voltages_V), "preload_N": drive.preload_N,
                      "frequency_Hz": freq, "frequency_from": drive.frequency},
            "modes": d1, "parameters": d2, "admittance": d3, "speed_vs_voltage": d4,
-           "motor_characteristics": d5}
+           "motor_characteristics": d5,
+           "warnings": unexcited_modes(params, choice.stator.drive_electrodes)}
     return write_report_files(out, md, doc, "LUSM design report")
+
+
+def _unexcited_note(params, stator) -> list[str]:
+    """A bold paragraph at the top of the report when the drive excites no L1 or no B2
+    (:func:`validation.summaries.unexcited_modes`): the speed tables below are then zeros,
+    and the report, which outlives the run's stderr, says why."""
+    said = unexcited_modes(params, stator.drive_electrodes)
+    return [f"**Warning: {text}.** The speeds and forces below are zero for that reason."
+            for text in said] + ([""] if said else [])
