@@ -49,8 +49,8 @@ def _noop(i):
 def _warm(study):
     """Import the stack and load the numba cache in this process, on a plate outside the
     study (so that no FE solve of the study is cached before the clock starts)."""
-    from studies.explore import compute_geometry
     from studies.study import study_from_dict
+    from studies.task import compute_geometry
 
     warm = {**STUDY, "axes": {**STUDY["axes"], "length": "25 mm", "width": "6 mm"}}
     compute_geometry(study_from_dict(warm), 0)
@@ -58,14 +58,14 @@ def _warm(study):
 
 
 def _timed(study, i):
-    from studies.explore import compute_geometry
+    from studies.task import compute_geometry
 
     return float(compute_geometry(study, i)["task_time_s"])
 
 
 def _drive_point_times(study, indices) -> list[float]:
     """Wall time (s) of each drive point of the geometries ``indices``, timed directly: the
-    one call a task makes per point (:func:`studies.explore.motor_answers`), on the
+    one call a task makes per point (:func:`studies.task.motor_answers`), on the
     plate's parameter set at its auto frequency, in this process. (The figure had been the
     median full task minus the median FE-only task of other plates, over the points: two
     medians of different plates, whose difference is not a point's cost.)"""
@@ -74,7 +74,7 @@ def _drive_point_times(study, indices) -> list[float]:
     from contact.drive import auto_frequency
     from fem.geometry import PlateStator
     from rom.from_fem import fem_params
-    from studies.explore import Drive, geometry_of, motor_answers
+    from studies.task import Drive, geometry_of, motor_answers
 
     s = study.solver
     times = []
@@ -98,93 +98,18 @@ def main() -> None:
     p.add_argument("--json", action="store_true")
     args = p.parse_args()
 
-    from distributed import Client
-
-    from studies.explore import explore, local_cluster, open_result
     from studies.study import study_from_dict
 
     study = study_from_dict(STUDY)
-    n_tasks, n_points = study.n_geometries, study.n_geometries * study.n_drive_points
-
     import h5netcdf  # noqa: F401 - the client's imports are not part of the study's time
-    import xarray  # noqa: F401
+    import xarray as xr
 
     _warm(study)
-    # a task and the FE part of it alone (an FE-only study), on the same plates, one after
-    # the other so that the shared machine's load drifts little between them; the FE
-    # caches (the model, the modes, the gap's cross-section) are emptied before each, so
-    # that both solve everything (other plates for the FE part had put it at half the task
-    # on one run and at 0.9 of it on the next)
-    from fem.modes import clear_caches
-
-    fe_only = study_from_dict({**STUDY, "outputs": ["f_L1_short", "split"]})
-    t, t_fe = [], []
-    for i in range(1, 5):
-        for which, times in ((fe_only, t_fe), (study, t)):
-            clear_caches()
-            times.append(_timed(which, i))
-    in_process_task_s = statistics.median(t)
-
-    # one drive point of the study (5 ms), timed directly on the plates of the tasks above
-    point_5ms = statistics.median(_drive_point_times(study, range(1, 5)))
-
-    # one drive point as the default `lusm simulate` runs it (50 ms, its default step), for
-    # the estimate
-    from contact.drive import auto_frequency
-    from contact.simulate import simulate
-    from fem.geometry import PlateStator
-    from rom.from_fem import fem_params
-
-    params = fem_params(PlateStator(), "pzt8")  # lusm simulate --source fem's set
-    f = auto_frequency(params)
-    simulate(params, 200, 6, f, duration_s=5e-3)
-    reps = []
-    for _ in range(5):  # the shared machine makes single runs vary by up to 10x: best of 5
-        t0 = time.perf_counter()
-        simulate(params, 200, 6, f, duration_s=0.05)
-        reps.append(time.perf_counter() - t0)
-    point_50ms = min(reps)
-
-    figures = {"tasks": n_tasks, "points": n_points,
-               "drive_point_5ms_s": point_5ms,
-               "drive_point_50ms_s": point_50ms,
-               "drive_point_50ms_worst_of_5_s": max(reps),
-               "drive_points_per_task": study.n_drive_points,
-               "task_time_in_process_s": in_process_task_s,
-               "fe_part_of_task_s": statistics.median(t_fe),
-               "study_argument_bytes": len(pickle.dumps(study, protocol=5))}
+    figures = _in_process_figures(study)
     datasets = {}
     with tempfile.TemporaryDirectory() as tmp:
         for n in (1, 2):
-            cluster = local_cluster(n)
-            client = Client(cluster)
-            try:
-                client.run(_warm, study)
-                t0 = time.perf_counter()
-                client.gather(client.map(_noop, range(1000), pure=False))
-                noop_per_task = (time.perf_counter() - t0) / 1000
-                out = Path(tmp) / f"w{n}.nc"
-                r = explore(study, out, client=client, progress=False)
-                datasets[n] = open_result(out)
-            finally:
-                client.close()
-                cluster.close()
-            busy = sum(r.task_times_s)
-            figures[f"workers_{n}"] = {
-                "wall_s": r.wall_time_s,
-                "points_per_s": n_points / r.wall_time_s,
-                "tasks_per_s": n_tasks / r.wall_time_s,
-                "task_time_mean_s": busy / n_tasks,
-                # wall time the workers were not running a task, per task (includes the
-                # client's part writes and the final dataset write)
-                "overhead_per_task_s": max(0.0, (r.wall_time_s * n - busy) / n_tasks),
-                "final_write_s": r.write_time_s,
-                "part_write_per_task_s": r.part_write_time_s / n_tasks,
-                "noop_round_trip_per_task_s": noop_per_task,
-                "result_bytes_per_task": r.result_bytes / n_tasks,
-            }
-    import xarray as xr
-
+            figures[f"workers_{n}"], datasets[n] = _cluster_figures(study, n, Path(tmp))
     try:
         xr.testing.assert_identical(datasets[1], datasets[2])
         figures["bit_identical_1_vs_2_workers"] = True
@@ -195,8 +120,95 @@ def main() -> None:
     if args.json:
         print(json.dumps(figures, indent=2))
         return
-    print(f"study: {n_tasks} tasks (geometries) x {study.n_drive_points} drive points")
-    print(f"one task in-process: {in_process_task_s * 1e3:.1f} ms "
+    _print_figures(figures, study)
+
+
+def _in_process_figures(study) -> dict:
+    """The study's size, one task and its FE part timed in this process, and one drive point
+    of the study (5 ms) and of ``lusm simulate`` (50 ms)."""
+    from contact.drive import auto_frequency
+    from contact.simulate import simulate
+    from fem.geometry import PlateStator
+    from fem.modes import clear_caches
+    from rom.from_fem import fem_params
+    from studies.study import study_from_dict
+
+    # a task and the FE part of it alone (an FE-only study), on the same plates, one after
+    # the other so that the shared machine's load drifts little between them; the FE
+    # caches (the model, the modes, the gap's cross-section) are emptied before each, so
+    # that both solve everything (on other plates the FE part can be half the task on one
+    # run and 0.9 of it on the next)
+    fe_only = study_from_dict({**STUDY, "outputs": ["f_L1_short", "split"]})
+    t, t_fe = [], []
+    for i in range(1, 5):
+        for which, times in ((fe_only, t_fe), (study, t)):
+            clear_caches()
+            times.append(_timed(which, i))
+    # one drive point of the study (5 ms), timed directly on the plates of the tasks above
+    point_5ms = statistics.median(_drive_point_times(study, range(1, 5)))
+    # one drive point as the default `lusm simulate` runs it (50 ms, its default step), for
+    # the estimate
+    params = fem_params(PlateStator(), "pzt8")  # lusm simulate --source fem's set
+    f = auto_frequency(params)
+    simulate(params, 200, 6, f, duration_s=5e-3)
+    reps = []
+    for _ in range(5):  # the shared machine makes single runs vary by up to 10x: best of 5
+        t0 = time.perf_counter()
+        simulate(params, 200, 6, f, duration_s=0.05)
+        reps.append(time.perf_counter() - t0)
+    return {"tasks": study.n_geometries, "points": study.n_geometries * study.n_drive_points,
+            "drive_point_5ms_s": point_5ms,
+            "drive_point_50ms_s": min(reps),
+            "drive_point_50ms_worst_of_5_s": max(reps),
+            "drive_points_per_task": study.n_drive_points,
+            "task_time_in_process_s": statistics.median(t),
+            "fe_part_of_task_s": statistics.median(t_fe),
+            "study_argument_bytes": len(pickle.dumps(study, protocol=5))}
+
+
+def _cluster_figures(study, n: int, tmp: Path) -> tuple[dict, object]:
+    """The study run on a LocalCluster of ``n`` workers: its throughput and overheads, and
+    its dataset."""
+    from distributed import Client
+
+    from studies.cluster import local_cluster
+    from studies.dataset import open_result
+    from studies.explore import explore
+
+    n_tasks, n_points = study.n_geometries, study.n_geometries * study.n_drive_points
+    cluster = local_cluster(n)
+    client = Client(cluster)
+    try:
+        client.run(_warm, study)
+        t0 = time.perf_counter()
+        client.gather(client.map(_noop, range(1000), pure=False))
+        noop_per_task = (time.perf_counter() - t0) / 1000
+        out = tmp / f"w{n}.nc"
+        r = explore(study, out, client=client, progress=False)
+        dataset = open_result(out)
+    finally:
+        client.close()
+        cluster.close()
+    busy = sum(r.task_times_s)
+    return {
+        "wall_s": r.wall_time_s,
+        "points_per_s": n_points / r.wall_time_s,
+        "tasks_per_s": n_tasks / r.wall_time_s,
+        "task_time_mean_s": busy / n_tasks,
+        # wall time the workers were not running a task, per task (includes the client's
+        # part writes and the final dataset write)
+        "overhead_per_task_s": max(0.0, (r.wall_time_s * n - busy) / n_tasks),
+        "final_write_s": r.write_time_s,
+        "part_write_per_task_s": r.part_write_time_s / n_tasks,
+        "noop_round_trip_per_task_s": noop_per_task,
+        "result_bytes_per_task": r.result_bytes / n_tasks,
+    }, dataset
+
+
+def _print_figures(figures: dict, study) -> None:
+    """The figures of :func:`main` for a reader."""
+    print(f"study: {figures['tasks']} tasks (geometries) x {study.n_drive_points} drive points")
+    print(f"one task in-process: {figures['task_time_in_process_s'] * 1e3:.1f} ms "
           f"(FE solve alone {figures['fe_part_of_task_s'] * 1e3:.1f} ms; a 5 ms drive point "
           f"{figures['drive_point_5ms_s'] * 1e3:.1f} ms; a 50 ms drive point as lusm simulate "
           f"runs it {figures['drive_point_50ms_s'] * 1e3:.1f} ms, best of 5; worst "
@@ -213,7 +225,6 @@ def main() -> None:
               f"{w['final_write_s'] * 1e3:.0f} ms")
     print(f"speed-up 2 over 1 worker: {figures['speedup_2_over_1']:.2f}; datasets bit-identical: "
           f"{figures['bit_identical_1_vs_2_workers']}")
-
 
 if __name__ == "__main__":
     main()

@@ -73,17 +73,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from fem.geometry import ELECTRODES, PlateStator  # noqa: E402
 from fem.material import PiezoMaterial, get_material  # noqa: E402
 from fem.meshing.mesh import grid_lines_m  # noqa: E402
-from fem.modes import (  # noqa: E402
-    MIN_MAC,
-    MIN_SYMMETRY,
-    N_SAMPLE_X,
-    N_SAMPLE_Y,
-    modal_assurance,
-    reference_shapes,
-    sign_changes,
-    symmetric_fraction,
-)
-from fem.solid3d.model import MIN_THICKNESS_SYMMETRY  # noqa: E402
+from fem.modes import N_SAMPLE_X, N_SAMPLE_Y, ModeSolverError  # noqa: E402
+from fem.solid3d.model import identify_sampled  # noqa: E402
 
 GAPS_M = (0.0, 0.5e-3, 2e-3)
 """Electrode gaps of the study (m)."""
@@ -295,21 +286,14 @@ def condensed_eigs(pl: SfepyPlate, f_center_Hz: float, n_modes: int, open_circui
     return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), vec
 
 
-def _thickness_symmetry(top: np.ndarray, bottom: np.ndarray) -> float:
-    even = 0.5 * (top[:2] + bottom[:2])
-    odd = 0.5 * (top[2] - bottom[2])
-    total = 0.5 * float(np.sum(top**2) + np.sum(bottom**2))
-    return (float(np.sum(even**2)) + float(np.sum(odd**2))) / total if total > 0 else 0.0
-
-
 def identify(pl: SfepyPlate, freqs: np.ndarray, shapes: np.ndarray) -> dict[str, int]:
-    """Index of L1 and B2 among ``shapes`` (rules of ``fem.solid3d.model``; SfePy interpolation)."""
+    """Index of L1 and B2 among ``shapes``: the rules of :func:`fem.solid3d.model.
+    identify_sampled` on the modes sampled by SfePy's own interpolation."""
     st = pl.stator
     inset = 1e-9
     xs = np.linspace(-0.5, 0.5, N_SAMPLE_X) * st.width_m * (1.0 - inset)
     ys = (np.linspace(0.0, 1.0, N_SAMPLE_Y) * (1.0 - 2 * inset) + inset) * st.length_m
     X, Y = np.meshgrid(xs, ys)
-    refs = reference_shapes(X, Y, st.length_m)
     n_nod, k = pl.coor.shape[0], shapes.shape[1]
     vals = shapes.reshape(n_nod, 3 * k)  # interleaved dofs: columns (component, mode) per node
     sampled = {}
@@ -318,30 +302,12 @@ def identify(pl: SfepyPlate, freqs: np.ndarray, shapes: np.ndarray) -> dict[str,
         pts = np.column_stack((X.ravel(), Y.ravel(), np.full(X.size, zz)))
         s = pl.field.evaluate_at(pts, vals)[:, :, 0]  # (points, 3k)
         sampled[key] = s.reshape(X.shape + (3, k)).transpose(2, 0, 1, 3)  # (3, ny, nx, k)
-    centre = X.shape[1] // 2
-    floor = 1e-3 * max(float(np.max(np.abs(freqs))), 1.0)
-    out = {}
-    for name in ("L1", "B2"):
-        best = None
-        for i in range(k):
-            if abs(freqs[i]) < floor:
-                continue
-            zsym = _thickness_symmetry(sampled["top"][..., i], sampled["bottom"][..., i])
-            if zsym < MIN_THICKNESS_SYMMETRY:
-                continue
-            u = sampled["mid"][:2, ..., i]
-            sym = symmetric_fraction(u)
-            if (sym if name == "L1" else 1.0 - sym) < MIN_SYMMETRY:
-                continue
-            if name == "B2" and sign_changes(u[0][:, centre]) != 3:
-                continue
-            score = modal_assurance(u, refs[name])
-            if score >= MIN_MAC and (best is None or score * zsym > best[1]):
-                best = (i, score * zsym)
-        if best is None:
-            raise RuntimeError(f"SfePy: {name} not found among {np.round(freqs, 1).tolist()} Hz")
-        out[name] = best[0]
-    return out
+    try:
+        found = identify_sampled(X, Y, sampled, np.ones(X.shape, dtype=bool), st.length_m,
+                                 freqs)
+    except ModeSolverError as exc:
+        raise RuntimeError(f"SfePy: {exc}") from None
+    return {name: int(v[0]) for name, v in found.items()}
 
 
 def sfepy_row(stator: PlateStator, material: PiezoMaterial, per_width: int, layers: int,
@@ -491,6 +457,14 @@ def main(argv: list[str] | None = None) -> None:
                 add(sfepy_row(st, mat, 4, 4))
                 refs[gap] = add(sfepy_row(st, mat, 6, 6))
 
+    _print_table(rows, refs)
+    for gap in GAPS_M:
+        _print_tiers(rows, refs[gap], gap)
+
+
+def _print_table(rows: list[Row], refs: dict[float, Row]) -> None:
+    """Every row of the study as a Markdown table, with its errors against its gap's
+    reference and its CPU time over the 2D model's."""
     print("| gap (mm) | model | mesh | dofs | L1 f_short (Hz) | L1 f_open (Hz) | B2 f_short (Hz) "
           "| B2 f_open (Hz) | k L1 | k B2 | max freq err | max k err | CPU / 2D |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -506,33 +480,37 @@ def main(argv: list[str] | None = None) -> None:
     print("\nmax freq err / max k err: largest relative difference from the reference (ref) of "
           "the four frequencies / of the two k_eff (k_B2 = 0 at gap 0: absolute there); "
           "CPU / 2D: CPU time as a multiple of the 2D model's at the same gap, same run\n")
-    for gap in GAPS_M:
-        ref = refs[gap]
-        for tol_f, tol_k in TIERS:
-            print(f"gap {_fmt_gap(gap)} mm, reference {ref.model} {ref.mesh}: fastest row (CPU) "
-                  f"within {tol_f:.0e} on the four frequencies and {tol_k:.0%} on both k_eff")
-            best = {}
-            for r in rows:
-                if r.gap_m != gap or r is ref:
-                    continue
-                e = _err(r, ref)
-                if max(e[:4]) <= tol_f and max(e[4:]) <= tol_k and (
-                        r.model not in best or r.cpu_s < best[r.model].cpu_s):
-                    best[r.model] = r
-            for model in ("2D", "3D", "SfePy"):
+
+
+def _print_tiers(rows: list[Row], ref: Row, gap: float) -> None:
+    """At one gap, the fastest row of each model within each accuracy tier of the
+    reference ``ref``, and SfePy's time over the project models'."""
+    cpu_2d = {r.gap_m: r.cpu_s for r in rows if r.model == "2D"}
+    for tol_f, tol_k in TIERS:
+        print(f"gap {_fmt_gap(gap)} mm, reference {ref.model} {ref.mesh}: fastest row (CPU) "
+              f"within {tol_f:.0e} on the four frequencies and {tol_k:.0%} on both k_eff")
+        best = {}
+        for r in rows:
+            if r.gap_m != gap or r is ref:
+                continue
+            e = _err(r, ref)
+            if max(e[:4]) <= tol_f and max(e[4:]) <= tol_k and (
+                    r.model not in best or r.cpu_s < best[r.model].cpu_s):
+                best[r.model] = r
+        for model in ("2D", "3D", "SfePy"):
+            if model in best:
+                r = best[model]
+                print(f"  {model}: {r.mesh}, {r.dofs} dofs, CPU "
+                      f"{r.cpu_s / cpu_2d[gap]:.3g} x the 2D model's")
+            else:
+                print(f"  {model}: none (besides the reference)")
+        if "SfePy" in best:
+            for model in ("2D", "3D"):
                 if model in best:
-                    r = best[model]
-                    print(f"  {model}: {r.mesh}, {r.dofs} dofs, CPU "
-                          f"{r.cpu_s / cpu_2d[gap]:.3g} x the 2D model's")
-                else:
-                    print(f"  {model}: none (besides the reference)")
-            if "SfePy" in best:
-                for model in ("2D", "3D"):
-                    if model in best:
-                        a, b = best["SfePy"], best[model]
-                        print(f"  SfePy / {model}: wall {a.wall_s / b.wall_s:.1f}x, "
-                              f"CPU {a.cpu_s / b.cpu_s:.1f}x")
-            print()
+                    a, b = best["SfePy"], best[model]
+                    print(f"  SfePy / {model}: wall {a.wall_s / b.wall_s:.1f}x, "
+                          f"CPU {a.cpu_s / b.cpu_s:.1f}x")
+        print()
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ from scipy.optimize import brentq
 
 from contact.drive import default_drive_Hz
 from contact.model import OperatingPoint, check_rest, check_scale, resolve_coupling
+from contact.operating_limits import operating_limits
 from contact.results import FrozenArrays
 from contact.steady.branches import branches_at_load, motor_efficiency
 from contact.steady.engine import steady_state, warn_irregular
@@ -101,6 +102,12 @@ class Characteristic(FrozenArrays):
         2.9e-3 m/s at 0.50 N, no creep): the band begins where the
         velocity from rest falls below the creep speed for the last time before the stall,
         bisected on the scan of ``points`` loads. ``""`` where there is no band.
+    creep_speed_m_s : float
+        The creep speed (m/s), :data:`CREEP_RIPPLES` velocity-ripple scales: slower than it
+        the slider creeps. NaN at the fast level, where no band is looked for.
+    limits : tuple
+        Each load's :class:`contact.operating_limits.OperatingLimits` (None where the slider
+        runs away).
     """
 
     op: OperatingPoint
@@ -118,6 +125,26 @@ class Characteristic(FrozenArrays):
     averaged_stall_force_N: float = math.nan
     creep_from_N: float = math.nan
     creep_rule: str = ""
+    limits: tuple = ()
+    creep_speed_m_s: float = math.nan
+
+    def worst_limits(self):
+        """The :class:`contact.operating_limits.OperatingLimits` of the curve's load whose
+        largest ratio to a limit is largest; None without limits."""
+        known = [lim for lim in self.limits if lim is not None]
+        if not known:
+            return None
+        return max(known, key=lambda lim: max(
+            (r for r in (lim.ratio(q) for q in lim.values) if r == r), default=0.0))
+
+    @property
+    def direction(self) -> str:
+        """Which way the motor drives the slider from rest without load: ``"forward"``
+        (+y, positive velocity), ``"backward"`` (its stall force and default loads are then
+        negative: against that motion) or ``"held"`` (within
+        :data:`contact.steady.exact.HELD_M_S` of 0)."""
+        v = self.no_load_velocity_m_s
+        return "forward" if v > HELD_M_S else "backward" if v < -HELD_M_S else "held"
 
     def to_dict(self) -> dict:
         """The fields of ``lusm characteristic --json``, as Python floats: NaN stays NaN
@@ -125,23 +152,33 @@ class Characteristic(FrozenArrays):
         CLI writes it as ``null``, ``json.dumps(..., allow_nan=False)`` refuses it."""
         return {
             "no_load_velocity_m_s": float(self.no_load_velocity_m_s),
+            "direction": self.direction,
             "stall_force_N": float(self.stall_force_N),
             "averaged_stall_force_N": float(self.averaged_stall_force_N),
             "creep_from_N": float(self.creep_from_N),
             "creep_from_rule": self.creep_rule,
+            "creep_speed_m_s": float(self.creep_speed_m_s),
             "holding_range_N": [float(f) for f in self.holding_range_N],
             "accuracy": self.accuracy,
             "curve": [
                 {"load_N": float(f), "velocity_m_s": float(v), "input_power_W": float(pi),
-                 "output_power_W": float(po), "efficiency": float(e)}
-                for f, v, pi, po, e in zip(self.load_N, self.velocity_m_s, self.input_power_W,
-                                           self.output_power_W, self.efficiency, strict=True)
+                 "output_power_W": float(po), "efficiency": float(e),
+                 "limits": None if lim is None else lim.to_dict()}
+                for f, v, pi, po, e, lim in zip(self.load_N, self.velocity_m_s,
+                                                self.input_power_W, self.output_power_W,
+                                                self.efficiency, self._row_limits(),
+                                                strict=True)
             ],
+            "limits": None if self.worst_limits() is None else self.worst_limits().to_dict(),
         }
+
+    def _row_limits(self) -> tuple:
+        return self.limits if len(self.limits) == len(self.load_N) else (None,) * len(
+            self.load_N)
 
 
 MAX_POINTS = 10_000
-"""Most loads of one curve (``points``, or ``loads_N``): 1e9 ran for minutes before
+"""Most loads of one curve (``points``, or ``loads_N``): 1e9 would run for minutes before
 anything."""
 
 STALL_RTOL = EXACT_ROOT_RTOL
@@ -213,7 +250,9 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         if exact_moving and math.isfinite(stall):
             stall = _first_stop(velocity, v0, stall, points)
     if loads_N is None:  # held without load (dead zone): the one load 0
-        loads = np.linspace(0.0, stall, points) if stall != 0.0 else np.zeros(1)
+        # no stall found (NaN): the no-load point alone, not a NaN load
+        loads = (np.linspace(0.0, stall, points) if math.isfinite(stall) and stall != 0.0
+                 else np.zeros(1))
     else:
         loads = np.asarray(loads_N, dtype=float).ravel()
     vel, p_in_a, p_out_a = _curve(from_rest, loads, op, progress)
@@ -222,16 +261,20 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         warn_irregular(*irregular)
     eff = motor_efficiency(p_in_a, p_out_a)  # NaN, not below 0, under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))
-    creep_from, creep_rule = math.nan, ""
+    creep_from, creep_rule, creep_speed = math.nan, "", math.nan
     if exact_moving and math.isfinite(stall):
-        creep_from, creep_rule = _creep_start(
-            velocity, v0, averaged, stall, points,
-            CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff))
+        creep_speed = CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff)
+        creep_from, creep_rule = _creep_start(velocity, v0, averaged, stall, points,
+                                              creep_speed)
         _warn_beyond_stall(velocity, v0, loads, stall)
+    lims = tuple(None if not math.isfinite(v) else
+                 operating_limits(params, op.voltage_V, op.frequency_Hz,
+                                  from_rest.branches.get(float(f)))
+                 for f, v in zip(loads, vel, strict=True))
     return Characteristic(op, float(v0), float(stall), loads, vel, p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0,
                           len(sp.cache) + from_rest.exact_orbits, float(averaged),
-                          float(creep_from), creep_rule)
+                          float(creep_from), creep_rule, lims, float(creep_speed))
 
 
 def _curve(from_rest: _FromRest, loads: np.ndarray, op: OperatingPoint,
@@ -303,6 +346,7 @@ class _FromRest:
         self.coupling, self.ultrasonic_friction = coupling, ultrasonic_friction
         self.accuracy, self.rest = accuracy, rest
         self.irregular: dict[float, object] = {}
+        self.branches: dict[float, object] = {}  # the branch from rest at each load
         self.exact_orbits = 0
         self._done: dict[float, tuple[float, float]] = {}
 
@@ -322,9 +366,11 @@ class _FromRest:
             b = r.from_rest
             if b is not None and b.irregular:
                 self.irregular[load] = b
+            self.branches[load] = b
             return r.velocity_m_s, (b.input_power_W if b is not None else np.nan)
         branches, v = branches_at_load(self.sp, load)
         b = next((b for b in branches if b.from_rest), None)
+        self.branches[load] = b
         return v, (b.input_power_W if b is not None else np.nan)
 
 
@@ -383,13 +429,24 @@ def _full_model_stall_force(velocity, v0: float, averaged: float,
         lo = averaged
         hi = thrust_at_rest[1] if s > 0 else thrust_at_rest[0]
         step = abs(hi - lo) or abs(averaged) or 1.0
-        for _ in range(20):
+        if s * (hi - lo) <= 0.0:
+            # the averaged band lies against the motor's own direction (a dead zone the full
+            # model runs backward out of: its stall is a load against that motion)
+            hi = lo + s * step
+        for _ in range(MAX_STALL_STEPS):
             if moving(hi) <= 0:
                 break
-            lo, hi = hi, hi + s * step
+            # doubling: a stall many bands away (a 1 m plate running backward at 3 N
+            # beyond a 0.08 N band) is reached in a few steps
+            lo, hi, step = hi, hi + s * step, 2.0 * step
         else:
             return math.nan
     return float(brentq(moving, lo, hi, xtol=1e-12, rtol=STALL_RTOL))
+
+
+MAX_STALL_STEPS = 40
+"""Most steps of the full model's stall search beyond the averaged band (each twice the
+last): 2**40 bands, beyond any load the engine takes."""
 
 
 def _moving(velocity, s: float):

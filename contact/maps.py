@@ -22,11 +22,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bounds import ParameterError
 from contact.model import OperatingPoint, check_rest
+from contact.operating_limits import operating_limits, simulation_limits
 from contact.options import SimulationOptions, options_or_default
 from contact.results import MOTION_CLASSES, FrozenArrays
 from contact.simulate import simulate
 from rom.params import MotorParams, require_params
+
+NON_MONOTONE_FACTOR = 2.0
+"""Ratio of neighbouring speeds (-) beyond which a map calls a pair that runs against the
+trend (faster at lower voltage or higher preload) non-monotone
+(:meth:`StickSlipMap.non_monotone_pairs`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,6 +65,9 @@ class StickSlipMap(FrozenArrays):
         ``"steady"``: the points the engine could not decide (the branch reached from rest has
         no periodic tip orbit of period <= 4 outside the dead zone: creep), whose values come
         from a transient of :data:`FALLBACK_DURATION_S` instead.
+    limits : ndarray of object or None
+        Per point, its :class:`contact.operating_limits.OperatingLimits` (None without shape
+        data).
     """
 
     voltages_V: np.ndarray
@@ -72,10 +82,40 @@ class StickSlipMap(FrozenArrays):
     method: str = "transient"
     branches: np.ndarray | None = None
     fallback: np.ndarray | None = None
+    limits: np.ndarray | None = None
 
     def counts(self) -> dict[str, int]:
         """Number of grid points of each motion class."""
         return {m: int(np.sum(self.motion == m)) for m in MOTION_CLASSES}
+
+    def several_branches(self) -> list[tuple[int, int]]:
+        """Grid indices ``(i_voltage, j_preload)`` of the points with more than one stable
+        steady state (a steady map's; none for a transient map)."""
+        if self.branches is None:
+            return []
+        return [(i, j) for i in range(self.voltages_V.size) for j in range(self.preloads_N.size)
+                if len(self.branches[i, j]) > 1]
+
+    def non_monotone_pairs(self, factor: float = NON_MONOTONE_FACTOR
+                           ) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+        """Neighbouring grid points whose speeds run against the motor's trend by more than
+        ``factor``: the higher voltage (same preload) slower, or the higher preload (same
+        voltage) faster, ``|v|`` differing by more than ``factor`` times. Each pair is
+        ``((i, j), (i2, j2))``, the lower voltage or preload first; points without a finite
+        speed are skipped. Such pairs lie at creep level or across branches: their speeds are
+        not a trend to read off the map."""
+        speed = np.abs(np.asarray(self.velocity_m_s, dtype=float))
+        pairs = []
+        for (di, dj), against in (((1, 0), np.less), ((0, 1), np.greater)):
+            for i in range(speed.shape[0] - di):
+                for j in range(speed.shape[1] - dj):
+                    a, b = speed[i, j], speed[i + di, j + dj]
+                    if not (np.isfinite(a) and np.isfinite(b)):
+                        continue
+                    lo, hi = min(a, b), max(a, b)
+                    if against(b, a) and hi > factor * lo:
+                        pairs.append(((i, j), (i + di, j + dj)))
+        return pairs
 
 
 MAP_METHODS = ("transient", "steady")
@@ -106,7 +146,7 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
 
     r = steady_state(params, voltage_V, preload_N, frequency_Hz=frequency_Hz,
                      coupling=opts.coupling, ultrasonic_friction=opts.ultrasonic_friction,
-                     accuracy=accuracy, energy=False, rest=rest)  # a map shows no powers
+                     accuracy=accuracy, energy=True, rest=rest)  # powers: the limits
     b = r.from_rest
     stable = tuple(branch_row(x) for x in r.branches if x.stable)
     decided = bool(np.isfinite(r.velocity_m_s) and (b.k > 0 or b.motion == "dead-zone"))
@@ -120,12 +160,12 @@ def _steady_point(params: MotorParams, voltage_V: float, preload_N: float,
         t = simulate(params, voltage_V, preload_N, frequency_Hz, long)
         st = t.steady
         return (st.motion, st.velocity_m_s, st.stick_fraction, st.separation_fraction,
-                t.mu_d_eff, st.settled, stable, True)
+                t.mu_d_eff, st.settled, stable, True, simulation_limits(t))
     # a dead zone's orbit is the held slider's: the tip stuck to it, or with no preload and
     # no drive never pressing on it (separated, as the transient says)
     frac = b.phase_fraction
     return (b.tip_motion, float(r.velocity_m_s), float(frac[0]), float(frac[3]), r.mu_d_eff,
-            True, stable, False)
+            True, stable, False, operating_limits(params, voltage_V, frequency_Hz, b))
 
 
 def branch_row(b) -> tuple[float, int, str, bool, bool]:
@@ -197,8 +237,9 @@ def stick_slip_map(
     if workers is not None and (isinstance(workers, bool)
                                 or not isinstance(workers, numbers.Integral) or workers < 1):
         # 0 is no number of threads, and -1 is named here, not by the thread pool
-        raise ValueError(f"workers must be an integer >= 1 or None (every CPU), got "
-                         f"{workers!r}")
+        raise ParameterError("workers", workers, 1, None,
+                             message=f"workers must be an integer >= 1 or None (every CPU), "
+                             f"got {workers!r}")
     n_workers = workers or os.cpu_count() or 1
     t0 = time.perf_counter()
     if method == "steady":
@@ -209,7 +250,7 @@ def stick_slip_map(
             r = simulate(params, vi, fj, frequency_Hz, opts)
             s = r.steady
             return (s.motion, s.velocity_m_s, s.stick_fraction, s.separation_fraction,
-                    r.mu_d_eff, s.settled, (), False)
+                    r.mu_d_eff, s.settled, (), False, simulation_limits(r))
     # compile (or load from cache) once before the threads start. Steady: the first point
     # itself, kept (at the engine's own step; a warm-up transient at T/250 fails the step
     # check far below 40 kHz). Transient: a 10-period run at the map's step
@@ -221,9 +262,9 @@ def stick_slip_map(
                  SimulationOptions(**{**opts.__dict__, "duration_s": 10 / frequency_Hz}))
     cols = _map_points(task, v, f, first, n_workers,
                        f"stick-slip map ({method})" if progress else None)
-    motion, vel, stick, sep, mud, settled, branches, fallback = cols
+    motion, vel, stick, sep, mud, settled, branches, fallback, lims = cols
     return StickSlipMap(v, f, motion.astype(str), vel, stick, sep, mud, settled,
-                        time.perf_counter() - t0, method, branches, fallback)
+                        time.perf_counter() - t0, method, branches, fallback, lims)
 
 
 def _map_axes(voltages_V, preloads_N) -> tuple[np.ndarray, np.ndarray]:
@@ -264,7 +305,7 @@ def _map_points(task, v: np.ndarray, f: np.ndarray, first, n_workers: int,
     """Every point's ``task(v_i, f_j)`` on ``n_workers`` threads (BLAS on one thread each),
     ``first`` standing for point (0, 0) where given, gathered into the map's columns
     (motion, velocity, stick and separation fractions, mu_d_eff, settled, branches,
-    fallback). A progress bar titled ``bar_title`` on stderr (none for None)."""
+    fallback, limits). A progress bar titled ``bar_title`` on stderr (none for None)."""
     from threadpoolctl import threadpool_limits
     from tqdm import tqdm
 
@@ -275,7 +316,8 @@ def _map_points(task, v: np.ndarray, f: np.ndarray, first, n_workers: int,
     branches = np.empty(shape, dtype=object)
     branches.fill(())
     fallback = np.zeros(shape, dtype=bool)
-    cols = (motion, vel, stick, sep, mud, settled, branches, fallback)
+    lims = np.empty(shape, dtype=object)
+    cols = (motion, vel, stick, sep, mud, settled, branches, fallback, lims)
 
     def store(i: int, j: int, point) -> None:
         for col, value in zip(cols, point, strict=True):

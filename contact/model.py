@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bounds import ParameterError
 from contact import state as S
 from contact.expm import expm_stack
 from rom.params import GRAVITY_M_S2, MotorParams
@@ -83,7 +84,7 @@ def is_table2(params: MotorParams) -> bool:
 
     ref = table2()
     for f in dataclasses.fields(params):
-        if f.name == "source":
+        if f.name in ("source", "shape"):  # text, and the limits' data: not the dynamics
             continue
         a, b = getattr(params, f.name), getattr(ref, f.name)
         if isinstance(a, float) and isinstance(b, float) and not isinstance(a, bool):
@@ -165,7 +166,9 @@ class OperatingPoint:
             allowed = f"{'> 0' if strict else '>= 0'} {unit}"
             # NumPy scalars are numbers (np.int64(200) too); True is not 1 V
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
-                raise ValueError(f"{name} must be a finite number {allowed}, got {value!r}")
+                raise ParameterError(name, value, 0.0, None, unit, low_open=strict,
+                                     message=f"{name} must be a finite number {allowed}, got "
+                                     f"{value!r}")
             value = float(value)
             object.__setattr__(self, name, value)
             if (
@@ -173,10 +176,14 @@ class OperatingPoint:
                 or value < 0.0
                 or (strict and value == 0.0)
             ):
-                raise ValueError(f"{name} must be a finite number {allowed}, got {value!r}")
+                raise ParameterError(name, value, 0.0, None, unit, low_open=strict,
+                                     message=f"{name} must be a finite number {allowed}, got "
+                                     f"{value!r}")
         if isinstance(self.load_N, bool) or not isinstance(self.load_N, numbers.Real) \
                 or not math.isfinite(self.load_N):
-            raise ValueError(f"load_N must be a finite number (N), got {self.load_N!r}")
+            raise ParameterError("load_N", self.load_N, unit="N",
+                                 message=f"load_N must be a finite number (N), got "
+                                 f"{self.load_N!r}")
         object.__setattr__(self, "load_N", float(self.load_N))
 
     @property

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bounds import ParameterError
 from contact.model import COUPLING_CHOICES, check_rest
 
 MAX_COUNT_OPTION = 2**31 - 1
@@ -90,7 +91,8 @@ class SimulationOptions:
                 continue  # resolved per drive frequency by simulate()
             if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) \
                     or v <= 0:
-                raise ValueError(f"{name} must be a finite number > 0 (s), got {v!r}")
+                raise ParameterError(name, v, 0.0, None, "s", low_open=True,
+                                     message=f"{name} must be a finite number > 0 (s), got {v!r}")
             object.__setattr__(self, name, float(v))
         for name in ("ultrasonic_friction", "energy"):  # 'False' is a true string
             if not isinstance(getattr(self, name), (bool, np.bool_)):

@@ -80,6 +80,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse.linalg as sla
 
+from bounds import ParameterError
 from fem.frozen import freeze_arrays
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
@@ -536,6 +537,8 @@ def direct_admittance_S(model, port: ModalPort, f_Hz: np.ndarray) -> np.ndarray:
     of ``port``: ``D = (M Phi) diag(2 zeta_r w_r) (M Phi)^T`` over the retained modes (the
     unretained modes are undamped), applied through the Woodbury identity.
     """
+    from fem.harmonic import modally_damped_solve
+
     K, M = model.K.tocsc(), model.M.tocsc()
     MPhi = M @ port.shapes
     d = 2.0 * port.zeta * 2.0 * math.pi * port.frequencies_Hz
@@ -543,17 +546,7 @@ def direct_admittance_S(model, port: ModalPort, f_Hz: np.ndarray) -> np.ndarray:
     out = []
     for f in np.atleast_1d(np.asarray(f_Hz, dtype=float)):
         w = 2.0 * math.pi * f
-        lu = sla.splu((K - w**2 * M).astype(complex).tocsc())
-        Ag = lu.solve(g.astype(complex))
-        AU = lu.solve(MPhi.astype(complex))
-        # (A + U (j w d) U^T)^-1 g = Ag - AU (diag(1/(j w d)) + U^T AU)^-1 U^T Ag
-        mask = d > 0
-        if np.any(mask):
-            U, AUm = MPhi[:, mask], AU[:, mask]
-            cap = np.diag(1.0 / (1j * w * d[mask])) + U.T @ AUm
-            u = Ag - AUm @ np.linalg.solve(cap, U.T @ Ag)
-        else:
-            u = Ag
+        u = modally_damped_solve(K, M, MPhi, d, g, w)
         out.append(1j * w * (g @ u + port.C0_F))
     return np.array(out)
 
@@ -756,19 +749,27 @@ def plate_admittance(
     from fem.model import plate_model
 
     if not (math.isfinite(f_min_Hz) and math.isfinite(f_max_Hz) and 0 < f_min_Hz < f_max_Hz):
-        raise ValueError(f"need 0 < f_min_Hz < f_max_Hz, got {f_min_Hz!r}, {f_max_Hz!r}")
+        raise ParameterError("f_min_Hz", f_min_Hz, 0.0, f_max_Hz, "Hz", low_open=True,
+                             high_open=True, message=f"need 0 < f_min_Hz < f_max_Hz, got "
+                             f"{f_min_Hz!r}, {f_max_Hz!r}")
     if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 3:
-        raise ValueError(f"n_points must be an integer >= 3, got {n_points!r}")
+        raise ParameterError("n_points", n_points, 3, None,
+                             message=f"n_points must be an integer >= 3, got {n_points!r}")
 
     top = MAX_FREQUENCY_POINTS * work_factor()
     if n_points > top:  # an array of points x modes: 1e7 take 56 s and about 7 GB
-        raise ValueError(f"n_points must be at most {top:.0f} in a library call, got "
+        raise ParameterError("n_points", n_points, 3, top,
+                             reason="the work bound of a library call (LUSM_MAX_WORK=N allows N "
+                             "times more)",
+                             message=f"n_points must be at most {top:.0f} in a library call, got "
                          f"{n_points} (set LUSM_MAX_WORK=N to allow N times more)")
     # before the model is built
     if zeta is not None and not (isinstance(zeta, numbers.Real) and not isinstance(zeta, bool)
                                  and math.isfinite(zeta) and 0.0 < zeta < 1.0):
-        raise ValueError(f"zeta must lie in (0, 1) (an undamped admittance is infinite at "
-                         f"resonance), got {zeta!r}")
+        raise ParameterError("zeta", zeta, 0.0, 1.0, low_open=True, high_open=True,
+                             reason="an undamped admittance is infinite at resonance",
+                             message=f"zeta must lie in (0, 1) (an undamped admittance is "
+                             f"infinite at resonance), got {zeta!r}")
     model = plate_model(stator, material, order, refine)
     kw = ({"zeta_L1": zeta_L1, "zeta_B2": zeta_B2} if zeta is None
           else {"zeta_L1": zeta, "zeta_B2": zeta, "zeta_other": zeta})

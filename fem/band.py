@@ -272,9 +272,9 @@ def classify(X: np.ndarray, Y: np.ndarray, inside: np.ndarray, mid: np.ndarray,
     """
     in_plane = 1.0
     if top is not None and bottom is not None:
-        from fem.solid3d.model import _thickness_symmetric_fraction
+        from fem.solid3d.model import thickness_symmetric_fraction
 
-        in_plane = _thickness_symmetric_fraction(top, bottom)
+        in_plane = thickness_symmetric_fraction(top, bottom)
     mask = inside.astype(float)
     centre = X.shape[1] // 2
     if in_plane >= MIN_CLASS:
@@ -401,14 +401,14 @@ def solve_band(model, f_min_Hz: float, f_max_Hz: float, open_circuit: bool = Fal
 def _samples(model, shapes: np.ndarray):
     """``(X, Y, inside, {'mid', 'top', 'bottom'}: (c, ny, nx, n))`` of the shapes."""
     if _is_solid(model):
-        from fem.solid3d.model import _sampling3d
+        from fem.solid3d.model import sampling_points_3d
 
-        X, Y, probes, inside = _sampling3d(model)
+        X, Y, probes, inside = sampling_points_3d(model)
         return X, Y, inside, {k: (p @ shapes).reshape(3, *X.shape, -1)
                               for k, p in probes.items()}
-    from fem.modes import _sampling
+    from fem.modes import sampling_points
 
-    X, Y, P, inside = _sampling(model)
+    X, Y, P, inside = sampling_points(model)
     return X, Y, inside, {"mid": (P @ shapes).reshape(2, *X.shape, -1)}
 
 
@@ -458,6 +458,54 @@ def _open_partners(model, f_min_Hz: float, f_max_Hz: float, shapes: np.ndarray) 
         k = min(2 * k, top)
 
 
+def _solved(model, f_min_Hz: float, f_max_Hz: float):
+    """``(counted, f_short_Hz, shapes, classes)`` of the band: the inertia count (or None),
+    the short-circuit modes of :func:`solve_band` and their :func:`_classified` names."""
+    if not (0.0 < f_min_Hz < f_max_Hz and math.isfinite(f_max_Hz)):
+        raise ValueError(f"the band needs 0 < f_min_Hz < f_max_Hz, got {f_min_Hz!r}, "
+                         f"{f_max_Hz!r}")
+    lo, hi = count_below(model, f_min_Hz), count_below(model, f_max_Hz)
+    counted = None if lo is None or hi is None else hi - lo
+    fs, vs = solve_band(model, f_min_Hz, f_max_Hz, expected=counted)
+    return counted, fs, vs, _classified(model, vs)
+
+
+@dataclass(frozen=True, eq=False)
+class BandShape:
+    """One short-circuit mode of the band with its shape (for pictures).
+
+    Attributes
+    ----------
+    index : int
+        Its row in the band table (:func:`band_modes`' order, counted from 1).
+    name : str
+        As in :class:`BandMode`.
+    f_short_Hz : float
+        Short-circuit frequency (Hz).
+    shape : numpy.ndarray
+        The displacement shape (the model's displacement dofs), mass-normalized.
+    """
+
+    index: int
+    name: str
+    f_short_Hz: float
+    shape: np.ndarray
+
+
+def band_shapes(model, f_min_Hz: float, f_max_Hz: float) -> tuple[BandShape, ...]:
+    """The short-circuit modes of :func:`band_modes` (same order, same names) with their
+    shapes, without the open-circuit solve.
+
+    Raises
+    ------
+    BandTooWideError, ModeSolverError
+        :func:`solve_band`.
+    """
+    _, fs, vs, classes = _solved(model, f_min_Hz, f_max_Hz)
+    return tuple(BandShape(i + 1, c.name, float(fs[i]), vs[:, i])
+                 for i, c in enumerate(classes))
+
+
 def band_modes(model, f_min_Hz: float, f_max_Hz: float, operating_Hz: Mapping[str, float],
                risk_pct: float = RISK_PCT) -> BandModes:
     """Every mode of ``model`` in ``[f_min_Hz, f_max_Hz]``: frequencies, k_eff, names, risks.
@@ -480,15 +528,9 @@ def band_modes(model, f_min_Hz: float, f_max_Hz: float, operating_Hz: Mapping[st
     BandTooWideError, ModeSolverError
         :func:`solve_band`.
     """
-    if not (0.0 < f_min_Hz < f_max_Hz and math.isfinite(f_max_Hz)):
-        raise ValueError(f"the band needs 0 < f_min_Hz < f_max_Hz, got {f_min_Hz!r}, "
-                         f"{f_max_Hz!r}")
     t0 = time.perf_counter()
-    lo, hi = count_below(model, f_min_Hz), count_below(model, f_max_Hz)
-    counted = None if lo is None or hi is None else hi - lo
-    fs, vs = solve_band(model, f_min_Hz, f_max_Hz, expected=counted)
+    counted, fs, vs, shapes = _solved(model, f_min_Hz, f_max_Hz)
     f_open = _open_partners(model, f_min_Hz, f_max_Hz, vs)
-    shapes = _classified(model, vs)
     ops = {str(k): float(v) for k, v in operating_Hz.items()}
     modes = []
     for i, c in enumerate(shapes):

@@ -27,6 +27,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from bounds import ParameterError
+
 ELECTRODES = (1, 2, 3, 4)
 """Electrode numbers of the top face."""
 
@@ -74,26 +76,37 @@ class PlateStator:
             if isinstance(value, (np.integer, np.floating)) and not isinstance(value, bool):
                 object.__setattr__(self, name, float(value))
             elif isinstance(value, (bool, np.bool_)):
-                raise ValueError(f"PlateStator.{name} must be a number (m), got {value!r}")
+                raise ParameterError(name, value, unit="m",
+                                     message=f"PlateStator.{name} must be a number (m), got "
+                                     f"{value!r}")
         for name in ("length_m", "width_m", "thickness_m"):
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or not np.isfinite(value) or value <= 0.0:
-                raise ValueError(f"PlateStator.{name} must be a finite number > 0, got {value!r}")
+                raise ParameterError(name, value, 0.0, MAX_SIZE_M, "m", low_open=True,
+                                     message=f"PlateStator.{name} must be a finite number > 0, "
+                                     f"got {value!r}")
             if value > MAX_SIZE_M:  # millimetres typed as metres: a 30 m plate
-                raise ValueError(f"PlateStator.{name} must lie in (0, {MAX_SIZE_M:g}] m, got "
-                                 f"{value!r} (sizes are in metres: 30 mm is 0.03)")
+                raise ParameterError(name, value, 0.0, MAX_SIZE_M, "m", low_open=True,
+                                     message=f"PlateStator.{name} must lie in (0, "
+                                     f"{MAX_SIZE_M:g}] m, got {value!r} (sizes are in metres: "
+                                     "30 mm is 0.03)")
         gap = self.electrode_gap_m
         if not isinstance(gap, (int, float)) or not np.isfinite(gap) or gap < 0.0:
-            raise ValueError(f"PlateStator.electrode_gap_m must be >= 0, got {gap!r}")
+            raise ParameterError("electrode_gap_m", gap, 0.0, None, "m",
+                                 message=f"PlateStator.electrode_gap_m must be >= 0, got {gap!r}")
         if 0.0 < gap < MIN_GAP_M:
-            raise ValueError(
-                f"PlateStator.electrode_gap_m must be 0 (touching quadrants) or at least "
+            raise ParameterError(
+                "electrode_gap_m", gap, MIN_GAP_M, None, "m",
+                reason="or 0, touching quadrants",
+                message=f"PlateStator.electrode_gap_m must be 0 (touching quadrants) or at least "
                 f"{MIN_GAP_M:g} m, got {gap!r}: the gap's cross-section solve grades its mesh "
                 "from a fraction of the gap to the plate's size")
         limit = min(self.width_m, self.length_m)
         if gap >= limit:
-            raise ValueError(
-                f"PlateStator.electrode_gap_m must lie in [0, {limit!r}) m "
+            raise ParameterError(
+                "electrode_gap_m", gap, 0.0, limit, "m", high_open=True,
+                reason="below the plate's width and length",
+                message=f"PlateStator.electrode_gap_m must lie in [0, {limit!r}) m "
                 f"(min of width and length), got {gap!r}: the gap leaves no electrode"
             )
         try:  # any sequence of numbers (a NumPy array too); an int is refused below

@@ -39,6 +39,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse as sp
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
 from fem.meshing.mesh import (
@@ -50,6 +51,7 @@ from fem.meshing.mesh import (
     structured_mesh,
 )
 from fem.meshing.meshed_stator import overall_length_m, planform_mesh
+from fem.meshing.parametric import tip_elements
 
 ORDERS = (1, 2)
 """Supported element orders (bilinear ``ElementQuad1``, biquadratic ``ElementQuad2``)."""
@@ -307,6 +309,59 @@ def gap_layout(mesh: PlateMesh) -> GapLayout:
     )
 
 
+def check_mesh_wiring(mesh: PlateMesh, voltages: dict[int, float]) -> None:
+    """Refuse a drive that puts two voltages on one conductor of ``mesh``, from its
+    electrode tags alone (no FE work).
+
+    ``voltages`` maps driven electrodes to their (relative) voltage; the others are
+    grounded. Quadrants with no gap strip between them are one conductor
+    (:func:`mesh_conductors`): driving 1 and 4 against grounded 2 and 3 on a plate without
+    gaps shorts the source, and the force factors of such a drive mean nothing.
+
+    Raises
+    ------
+    ShortedDriveError
+        A ``ValueError`` naming the touching electrodes and their voltages.
+    """
+    for group in mesh_conductors(mesh):
+        levels = {float(voltages.get(e, 0.0)) for e in group}
+        if len(levels) > 1:
+            wired = ", ".join(
+                f"{e} {'grounded' if voltages.get(e, 0.0) == 0 else 'driven'}"
+                + ("" if voltages.get(e, 0.0) in (0.0, 1.0) else " (-V)")
+                for e in group)
+            raise ShortedDriveError(
+                f"electrodes {wired} touch (no gap strip between them) and are one "
+                f"conductor, which cannot hold two voltages: the drive would short")
+
+
+def mesh_conductors(mesh: PlateMesh,
+                    open_electrodes: tuple[int, ...] = ELECTRODES) -> list[list[int]]:
+    """The open electrodes of ``mesh`` grouped into conductors: quadrants with no gap strip
+    between them touch and float as one conductor (one potential, one net charge).
+
+    With a gap every quadrant is its own conductor. With no gap (``electrode_gap_m = 0``,
+    or a mesh whose electrode tags meet) the four quadrants are one electrode, so in open
+    circuit B2, whose charges cancel over the four, is not stiffened at all
+    (``k_eff = 0``), as in the 3D model and SfePy (``docs/fem3d.md`` section 5).
+    """
+    _check_electrodes(open_electrodes)
+    layout = gap_layout(mesh)
+    touching = []
+    if layout.gap_x_m <= 0.0:  # across x = 0: 1-3 and 2-4 meet
+        touching += [(1, 3), (2, 4)]
+    if layout.gap_y_m <= 0.0:  # across y = l/2: 1-2 and 3-4 meet
+        touching += [(1, 2), (3, 4)]
+    groups = [[e] for e in open_electrodes]
+    for a, b in touching:
+        ga = next((g for g in groups if a in g), None)
+        gb = next((g for g in groups if b in g), None)
+        if ga is not None and gb is not None and ga is not gb:
+            ga += gb
+            groups.remove(gb)
+    return [sorted(g) for g in groups]
+
+
 @dataclass(frozen=True, eq=False)
 class PiezoPlateModel:
     """Assembled matrices of the plate (treat them as read-only; results may be cached).
@@ -389,53 +444,20 @@ class PiezoPlateModel:
         return self.G[:, [e - 1 for e in electrodes]].sum(axis=1)
 
     def check_wiring(self, voltages: dict[int, float]) -> None:
-        """Refuse a drive that puts two voltages on one conductor.
-
-        ``voltages`` maps driven electrodes to their (relative) voltage; the others are
-        grounded. Quadrants with no gap strip between them are one conductor
-        (:meth:`conductors`): driving 1 and 4 against grounded 2 and 3 on a plate without
-        gaps shorts the source, and the force factors of such a drive mean nothing.
+        """Refuse a drive that puts two voltages on one conductor
+        (:func:`check_mesh_wiring` on this model's mesh).
 
         Raises
         ------
         ShortedDriveError
             A ``ValueError`` naming the touching electrodes and their voltages.
         """
-        for group in self.conductors():
-            levels = {float(voltages.get(e, 0.0)) for e in group}
-            if len(levels) > 1:
-                wired = ", ".join(
-                    f"{e} {'grounded' if voltages.get(e, 0.0) == 0 else 'driven'}"
-                    + ("" if voltages.get(e, 0.0) in (0.0, 1.0) else " (-V)")
-                    for e in group)
-                raise ShortedDriveError(
-                    f"electrodes {wired} touch (no gap strip between them) and are one "
-                    f"conductor, which cannot hold two voltages: the drive would short")
+        check_mesh_wiring(self.mesh, voltages)
 
     def conductors(self, open_electrodes: tuple[int, ...] = ELECTRODES) -> list[list[int]]:
-        """The open electrodes grouped into conductors: quadrants with no gap strip between
-        them touch and float as one conductor (one potential, one net charge).
-
-        With a gap every quadrant is its own conductor. With no gap (``electrode_gap_m = 0``,
-        or a mesh whose electrode tags meet) the four quadrants are one electrode, so in open
-        circuit B2, whose charges cancel over the four, is not stiffened at all
-        (``k_eff = 0``), as in the 3D model and SfePy (``docs/fem3d.md`` section 5).
-        """
-        _check_electrodes(open_electrodes)
-        layout = gap_layout(self.mesh)
-        touching = []
-        if layout.gap_x_m <= 0.0:  # across x = 0: 1-3 and 2-4 meet
-            touching += [(1, 3), (2, 4)]
-        if layout.gap_y_m <= 0.0:  # across y = l/2: 1-2 and 3-4 meet
-            touching += [(1, 2), (3, 4)]
-        groups = [[e] for e in open_electrodes]
-        for a, b in touching:
-            ga = next((g for g in groups if a in g), None)
-            gb = next((g for g in groups if b in g), None)
-            if ga is not None and gb is not None and ga is not gb:
-                ga += gb
-                groups.remove(gb)
-        return [sorted(g) for g in groups]
+        """The open electrodes grouped into conductors (:func:`mesh_conductors` of this
+        model's mesh)."""
+        return mesh_conductors(self.mesh, open_electrodes)
 
     def _ports(self, open_electrodes: tuple[int, ...]) -> tuple[list[int], np.ndarray]:
         """Electrode columns of the open set and the incidence ``T`` (electrodes x
@@ -648,7 +670,8 @@ def build_model(
     layout = gap_layout(mesh)
     shorted = gap_model == "shorted" and layout.gap_m > 0.0
     strips, other, strip_centres = _strip_elements(mesh, layout, shorted, h)
-    K, M = _stiffness_and_mass(basis, mesh, mat, ps, h, strips, other, thickness_inertia)
+    tip = tip_elements(mesh, stator)
+    K, M = _stiffness_and_mass(basis, mesh, mat, ps, h, strips, other, thickness_inertia, tip)
     G, C = _electrode_coupling(basis, mesh, ps, h)
     cap = np.diag(C)
     weights = {k: (lambda x, y: np.zeros_like(x)) for k in ELECTRODES}
@@ -712,23 +735,38 @@ def _thickness_ratio(mat: PiezoMaterial) -> np.ndarray:
 
 
 def _stiffness_and_mass(basis, mesh: PlateMesh, mat: PiezoMaterial, ps, h: float,
-                        strips: np.ndarray, other: np.ndarray, thickness_inertia: bool):
+                        strips: np.ndarray, other: np.ndarray, thickness_inertia: bool,
+                        tip: tuple[object, np.ndarray] | None = None):
     """Stiffness ``K`` and mass ``M`` (scikit-fem sparse matrices, not yet symmetrized).
 
     Electrodes and shorted strips take the short-circuit stiffness (``E3 = 0``); the
     unelectroded material away from the electrodes and the strips of the 'open' model the
-    open-circuit one (``D3 = 0``)."""
+    open-circuit one (``D3 = 0``); a ``tip`` of its own material
+    (:class:`fem.material.ElasticMaterial`, its elements) its isotropic plane-stress
+    stiffness, density and thickness strain."""
     from skfem import asm
 
     electroded = np.flatnonzero(mesh.electrode > 0)
+    tip_el = tip[1] if tip is not None else other[:0]
+    # the whole basis where the tip is the ceramic's (the same sums as ever)
+    ceramic = np.setdiff1d(np.arange(mesh.n_elements), tip_el) if tip_el.size else None
+    if tip_el.size:
+        other = np.setdiff1d(other, tip_el)
     K = asm(_stiffness_form(ps.c_Pa, h), basis.with_elements(np.concatenate((electroded,
                                                                              strips))))
     if other.size:
         K = K + asm(_stiffness_form(ps.c_open_Pa, h), basis.with_elements(other))
-    M = asm(_mass_form(mat.rho_kg_m3 * h), basis)
-    if thickness_inertia:
-        a = _thickness_ratio(mat)
-        M = M + asm(_thickness_inertia_form(mat.rho_kg_m3 * h**3 / 12.0, a), basis)
+    parts = [(ceramic, mat.rho_kg_m3, _thickness_ratio(mat))]
+    if tip_el.size:
+        K = K + asm(_stiffness_form(tip[0].plane_stress_Pa(), h), basis.with_elements(tip_el))
+        parts.append((tip_el, tip[0].rho_kg_m3, tip[0].thickness_ratio()))
+    M = None
+    for elements, rho, a in parts:
+        sub = basis if elements is None else basis.with_elements(elements)
+        m = asm(_mass_form(rho * h), sub)
+        if thickness_inertia:
+            m = m + asm(_thickness_inertia_form(rho * h**3 / 12.0, a), sub)
+        M = m if M is None else M + m
     return K, M
 
 
@@ -950,7 +988,8 @@ def plate_arguments(stator: PlateStator, order: object, refine: object,
     """
     for name, value in (("order", order), ("refine", refine)):  # 2.5 would run as 2
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+            raise ParameterError(name, value, 1, None,
+                                 message=f"{name} must be an integer >= 1, got {value!r}")
     _element(order)
     if not isinstance(thickness_inertia, (bool, np.bool_)):
         raise TypeError(f"thickness_inertia must be True or False, got {thickness_inertia!r}")

@@ -428,7 +428,7 @@ def sampling_grid(stator: PlateStator) -> tuple[np.ndarray, np.ndarray]:
     return np.meshgrid(xs, ys)
 
 
-def _sampling(
+def sampling_points(
     model: PiezoPlateModel,
 ) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, np.ndarray]:
     """Sampling grid over the bounding box, probe matrix and mask of the points used.
@@ -498,17 +498,60 @@ def identify_modes(
     model: PiezoPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray
 ) -> dict[str, tuple[int, float, float]]:
     """Index, MAC and symmetry fraction of L1 and B2 among the computed modes."""
-    X, Y, P, inside = _sampling(model)
+    X, Y, P, inside = sampling_points(model)
     refs = {k: v * inside
             for k, v in reference_shapes(X, Y, overall_length_m(model.stator)).items()}
     sampled = (P @ shapes).reshape(2, *X.shape, -1)
-    centre = X.shape[1] // 2
+    return match_modes(sampled, freqs_Hz, refs)
+
+
+def match_modes(
+    sampled: np.ndarray,
+    freqs_Hz: np.ndarray,
+    refs: dict[str, np.ndarray],
+    names: tuple[str, ...] = ("L1", "B2"),
+    weights: np.ndarray | None = None,
+    what: str = "modes",
+) -> dict[str, tuple[int, float, float]]:
+    """The identification rules of the 2D and 3D models: index, MAC and symmetry fraction of
+    each of ``names`` among modes sampled in the plate's plane.
+
+    A mode is a candidate for a name if it is not a rigid-body mode (its frequency at least
+    1e-3 of the largest), lies in the name's mirror class about ``x = 0``
+    (:data:`MIN_SYMMETRY`), has three nodes along the centre line for B2, and correlates
+    ``MAC >= MIN_MAC`` with the Eq. 3 shape ``refs[name]``; the one of largest MAC times its
+    weight is taken.
+
+    Parameters
+    ----------
+    sampled : numpy.ndarray
+        In-plane displacements (2, ny, nx, n_modes) on the sampling grid (m).
+    freqs_Hz : numpy.ndarray
+        The modes' frequencies (Hz).
+    refs : dict
+        Reference shape (2, ny, nx) of each name (:func:`reference_shapes`).
+    names : tuple of str
+        The modes to identify.
+    weights : numpy.ndarray, optional
+        A weight per mode (default 1; the 3D model's thickness symmetry); a mode of NaN
+        weight is no candidate.
+    what : str
+        The modes as the error names them (``'3D modes'``).
+
+    Raises
+    ------
+    ModeSolverError
+        If a mode is missing.
+    """
+    n = sampled.shape[-1]
+    weights = np.ones(n) if weights is None else weights
+    centre = sampled.shape[2] // 2
     f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
     out: dict[str, tuple[int, float, float]] = {}
-    for name in ("L1", "B2"):
+    for name in names:
         best: tuple[int, float, float] | None = None
-        for i in range(shapes.shape[1]):
-            if abs(freqs_Hz[i]) < f_floor:  # rigid-body mode
+        for i in range(n):
+            if abs(freqs_Hz[i]) < f_floor or np.isnan(weights[i]):  # rigid-body mode
                 continue
             u = sampled[..., i]
             sym = symmetric_fraction(u)
@@ -518,12 +561,12 @@ def identify_modes(
             if name == "B2" and sign_changes(u[0][:, centre]) != 3:
                 continue
             mac = modal_assurance(u, refs[name])
-            if mac >= MIN_MAC and (best is None or mac > best[1]):
+            if mac >= MIN_MAC and (best is None or mac * weights[i] > best[1] * weights[best[0]]):
                 best = (i, mac, klass)
         if best is None:
             raise ModeSolverError(
-                # rigid-body modes come out at +-roundoff: "-0.4 Hz" read as a bug
-                f"could not identify {name} among the {shapes.shape[1]} modes computed at "
+                # rigid-body modes come out at +-roundoff: "-0.4 Hz" would read as a bug
+                f"could not identify {name} among the {n} {what} computed at "
                 f"{np.round(np.maximum(freqs_Hz, 0.0), 1).tolist()} Hz (no mode with the "
                 f"{name} symmetry and a correlation >= {MIN_MAC} with the Eq. 3 shape)"
             )

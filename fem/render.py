@@ -246,14 +246,20 @@ def render_mode_gif(
     decorations: bool = True, nrefs: int = 2,
 ) -> Path:
     """Write one period of ``mode`` (``n_frames`` phases, looping) as an animated GIF."""
-    from PIL import Image
-
     if n_frames < 2:
         raise ValueError(f"n_frames must be >= 2, got {n_frames!r}")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     scene = _Scene(model, mode.shape, _title(mode, model.stator), window_size,
                    scale_fraction, decorations, nrefs)
+    return scene_gif(path, scene, n_frames, frame_ms)
+
+
+def scene_gif(path: Path, scene, n_frames: int, frame_ms: int) -> Path:
+    """Write one period of ``scene`` (``frame(phase)``, ``image()``, ``close()``; closed
+    here) as a looping GIF of ``n_frames`` phases, ``frame_ms`` each; returns the path."""
+    from PIL import Image
+
     try:
         frames = []
         for phase in np.linspace(0.0, 2.0 * np.pi, n_frames, endpoint=False):

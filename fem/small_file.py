@@ -74,3 +74,16 @@ def read_small_text(path: str | Path, max_bytes: int) -> str:
     if len(data) > max_bytes:
         raise FileTooLarge(path, max(st.st_size, len(data)), max_bytes)
     return data.decode("utf-8-sig")
+
+
+def link_loop(path) -> str | None:
+    """The system's words when ``path`` does not resolve because of a loop of symbolic
+    links (``Path.exists`` says False for it, which read as "not found"), else None."""
+    import errno
+
+    try:
+        os.stat(path)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            return exc.strerror or "Too many levels of symbolic links"
+    return None

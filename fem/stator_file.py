@@ -15,7 +15,7 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     drive = [1, 4]                      # electrodes at +V (others grounded), numbers 1..4
 
     [material]
-    name = "pzt8"                       # "pzt8" or "paper", or inline constants:
+    name = "pzt8"                       # a name of fem.material.MATERIAL_NAMES, or inline:
     # base = "pzt8"                     # start from a named material and override
     # cE_Pa = [[...6 rows of 6...]]     # stiffness at constant E (Pa), Voigt 11,22,33,23,13,12
     # e_C_m2 = [[...3 rows of 6...]]    # piezoelectric stress constants (C/m^2)
@@ -38,6 +38,9 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     [tip]                               # unelectroded protrusion centred on the end y = l
     length_mm = 1.0                     #   beyond the plate's length, (0, [plate] length_mm]
     width_mm = 2.0                      #   across, (0, width - 2 chamfers]
+    # material = "alumina"              #   its own material: "alumina" or "steel"
+                                        #   (fem.material.TIP_MATERIALS); default: the
+                                        #   plate's ceramic, unelectroded
     [chamfers]
     size_mm = 1.5                       # 45-degree leg at all four corners,
                                         #   (0, (min(length, width) - gap) / 2)
@@ -55,11 +58,18 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     zeta_B2 = 0.01
     # Q_m = 500                         #   ... or the material's mechanical quality factor,
                                         #   zeta_L1 = zeta_B2 = 1 / (2 Q_m), Q_m in (0.5, 5e4]
-    # source = "table2"                 #   ... or Table 2's ratios (the default: no table)
+    # source = "table2"                 #   ... or Table 2's ratios
     # source = "paper_amplitudes"       #   ... or fitted, as the paper fitted Table 2's, so
     # frequency_Hz = 40e3               #   that the free tip amplitudes at this drive
                                         #   frequency (default 40 kHz) equal Table 2's at
                                         #   the paper's 40 kHz (rom.damping)
+    # Q_mount = 300                     #   ... or only the other losses, combined with the
+    # Q_contact = 500                   #   material's data-sheet Q_m: 1/Q = 1/Q_m +
+                                        #   1/Q_mount + 1/Q_contact, zeta = 1/(2 Q); each in
+                                        #   (0.5, 5e4]; Q_mount default DEFAULT_Q_MOUNT,
+                                        #   Q_contact none. No [damping] table: the same
+                                        #   with the defaults (a material without Q_m, as
+                                        #   "paper": Table 2's ratios)
 
     [contact]
     k_contact_N_m = 1.7378e7            # normal contact stiffness k, Eq. 7, [1e3, 1e10] N/m
@@ -73,6 +83,11 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     mu_d = 0.35                         # dynamic, without vibration, (0, 2], <= mu_s
     a_mu = 0.15                         # residual at large amplitude, [0, 2], <= mu_d
     b_mu_per_m = 1e6                    # attenuation factor, [0, 1e9] 1/m
+
+    [force_factor]                      # scales on the reduced force factors A_l, A_b
+    scale_L1 = 1.0                      #   (a prototype's electrodes, bond and poling give
+    scale_B2 = 1.0                      #   less than the model's), each in
+                                        #   FORCE_FACTOR_SCALE_RANGE (lusm calibrate fits them)
 
 With a feature table the stator is a :class:`fem.meshing.parametric.ParametricStator`: the plate
 keeps its own length and width (the tip is added beyond ``y = l``; the tip point is the
@@ -89,7 +104,9 @@ The four motor tables are carried as plain data (``fem`` knows nothing of the re
 model): :attr:`StatorDesign.motor` maps ``rom.params.MotorParams`` field names (``k_contact``,
 ``M_slider``, ``mu_sd``, ``mu_s``, ``mu_d``, ``a_mu``, ``b_mu``) to SI values, and
 :attr:`StatorDesign.damping_ratios` holds ``(zeta_L1, zeta_B2)`` (None: the parameter source's
-default, Table 2's ratios). :func:`rom.from_fem.fem_params_from_file` applies them; every
+default, Table 2's ratios; without damping ratios in the file, the material's ``Q_m``
+combined with the mount's, :func:`_material_damping`).
+:func:`rom.from_fem.fem_params_from_file` applies them; every
 constant not given stays Table 2's (Li, Yao & Wu 2016, Tables 1-2 and Section 4.1). A
 ``Q_m`` is turned into one viscous ratio for both modes, ``zeta = 1 / (2 Q_m)``: this assumes
 the stator's modal loss is the material's mechanical loss alone (no mounting or radiation
@@ -111,7 +128,7 @@ from typing import Any
 import numpy as np
 
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
-from fem.material import MATERIAL_NAMES, PiezoMaterial, get_material
+from fem.material import MATERIAL_NAMES, PiezoMaterial, combined_quality_factor, get_material
 from fem.meshing.meshed_stator import MeshedStator, bbox_mm
 from fem.units import to_si
 
@@ -152,6 +169,18 @@ Q_M_RANGE = (0.5, 5e4)
 """Allowed ``[damping] Q_m`` (-): ``(0.5, 5e4]``, i.e. ``zeta = 1/(2 Q_m)`` in
 :data:`DAMPING_RATIO_RANGE`."""
 
+DEFAULT_Q_MOUNT = 300.0
+"""Default ``[damping] Q_mount`` (-): the loss of the stator's mount (holder, bond, preload
+spring) as a quality factor, combined with the material's ``Q_m`` when the file gives no
+damping ratios. Assembled ultrasonic-motor stators are quoted at mechanical Q of about
+100-1000 free, against 1000-2000 for hard PZT itself (docs/designer.md, "The default
+damping", for the sources); 300 is the middle of that range on a logarithmic scale. A
+measured Q of the mounted stator (impedance analyser: ``f_s / (f_2 - f_1)`` at -3 dB)
+replaces it."""
+
+FORCE_FACTOR_SCALE_RANGE = (0.01, 100.0)
+"""Allowed ``[force_factor] scale_L1, scale_B2`` (-): ``(0.01, 100]``."""
+
 IDENTIFY_FREQUENCY_RANGE_HZ = (1e3, 1e7)
 """Allowed ``[damping] frequency_Hz`` of ``source = "paper_amplitudes"`` (Hz)."""
 
@@ -174,17 +203,18 @@ lower bound of 0 that is not allowed means "> 0"."""
 
 _KEYS: dict[str, tuple[str, ...]] = {
     "": ("name", "plate", "electrodes", "material", "points", "mesh", "tip", "chamfers",
-         "holes", "damping", "contact", "slider", "friction"),
+         "holes", "damping", "contact", "slider", "friction", "force_factor"),
     "plate": ("length_mm", "width_mm", "thickness_mm"),
     "electrodes": ("gap_mm", "drive"),
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
     "points": ("tip_mm", "preload_mm", "mounts_mm"),
     "mesh": ("file", "unit", "size_mm"),
-    "tip": ("length_mm", "width_mm"),
+    "tip": ("length_mm", "width_mm", "material"),
     "chamfers": ("size_mm",),
     "holes": ("center_mm", "diameter_mm"),
-    "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz"),
+    "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz", "Q_mount", "Q_contact"),
     **{table: tuple(keys) for table, keys in MOTOR_KEYS.items()},
+    "force_factor": ("scale_L1", "scale_B2"),
 }
 
 
@@ -233,6 +263,9 @@ class StatorDesign:
     motor : dict
         ``MotorParams`` field name -> SI value from ``[contact]``, ``[slider]`` and
         ``[friction]`` (empty: Table 2's constants).
+    force_factor_scales : (float, float) or None
+        ``[force_factor] (scale_L1, scale_B2)``: factors on the reduced ``A_l``, ``A_b``
+        (None: no table, the reduction's own).
     """
 
     name: str
@@ -246,6 +279,7 @@ class StatorDesign:
     motor: dict[str, float] = field(default_factory=dict)
     damping_identify_Hz: float | None = None
     mounts_m: tuple[tuple[float, float], ...] = ()
+    force_factor_scales: tuple[float, float] | None = None
 
     def motor_keys(self) -> dict[str, str]:
         """``MotorParams`` field -> the ``[table] key`` of the file that set it."""
@@ -433,9 +467,11 @@ def _material(table: dict, src: str) -> PiezoMaterial:
     name = str(table.get("name", "inline" if base is None else f"{base.name}-modified"))
     source = str(table.get("source", f"inline constants in {src}"))
     try:
-        return PiezoMaterial(
+        return PiezoMaterial(  # a base's Q_m and limits carry over to its modification
             name=name, cE_Pa=values["cE_Pa"], e_C_m2=values["e_C_m2"],
             epsS_F_m=values["epsS_F_m"], rho_kg_m3=float(rho), source=source,
+            mechanical_Q=None if base is None else base.mechanical_Q,
+            limits=None if base is None else base.limits,
         )
     except ValueError as exc:  # the file's key, not the class's attribute name
         raise ValueError(f"{src}: [material] {str(exc).replace('PiezoMaterial.', '')}") from None
@@ -474,13 +510,49 @@ def _plate_mm(plate: dict, elec: dict, src: str) -> tuple[float, float, float]:
     return length, width, gap
 
 
-def _damping(table: dict, src: str) -> tuple[tuple[float, float] | None, str, float | None]:
-    """``(zeta_L1, zeta_B2)`` or None, the origin text, and the identification frequency
-    (Hz, or None) of a ``[damping]`` table."""
-    if not table:
+def _material_damping(table: dict, src: str, material: PiezoMaterial
+                      ) -> tuple[tuple[float, float] | None, str, None]:
+    """The default damping of a stator without ``[damping]`` ratios: the material's data-sheet
+    ``Q_m`` combined with the mount's and the contact's losses (``[damping] Q_mount``,
+    ``Q_contact``; :func:`fem.material.combined_quality_factor`), the same ratio in both
+    modes. A material without ``Q_m`` (the paper's, inline constants without a base) keeps
+    the parameter source's default (Table 2's ratios) unless the table asks for a mount."""
+    given = [k for k in ("Q_mount", "Q_contact") if k in table]
+    if material.mechanical_Q is None:
+        if given:
+            raise ValueError(f"{src}: [damping] {given[0]} combines with the material's "
+                             f"mechanical Q_m, and material {material.name!r} has none; give "
+                             f"[damping] Q_m (the stator's total) instead")
         return None, "", None
+    q_mount = (_number(table, "damping", "Q_mount", src, *Q_M_RANGE, False, True)
+               if "Q_mount" in table else DEFAULT_Q_MOUNT)
+    q_contact = (_number(table, "damping", "Q_contact", src, *Q_M_RANGE, False, True)
+                 if "Q_contact" in table else math.inf)
+    q = combined_quality_factor(material.mechanical_Q, q_mount, q_contact)
+    z = 1.0 / (2.0 * q)
+    mount = (f"[damping] Q_mount = {q_mount:g}" if "Q_mount" in table
+             else f"the default Q_mount = {q_mount:g}")
+    contact = (f" and [damping] Q_contact = {q_contact:g}" if "Q_contact" in table else "")
+    tail = "" if table else "; the file has no [damping]"
+    return (z, z), (f"material {material.name}'s Q_m = {material.mechanical_Q:g} (data sheet) "
+                    f"combined with {mount}{contact}: Q = {q:.4g}, zeta = 1/(2 Q){tail}"), None
+
+
+def _damping(table: dict, src: str, material: PiezoMaterial
+             ) -> tuple[tuple[float, float] | None, str, float | None]:
+    """``(zeta_L1, zeta_B2)`` or None, the origin text, and the identification frequency
+    (Hz, or None) of a ``[damping]`` table (absent, or with ``Q_mount``/``Q_contact`` only:
+    :func:`_material_damping`)."""
+    if not table or set(table) <= {"Q_mount", "Q_contact"}:
+        return _material_damping(table, src, material)
+    loss_keys = [k for k in ("Q_mount", "Q_contact") if k in table]
     choices = ('give zeta_L1 and zeta_B2, or Q_m, or source = "table2" or '
-               '"paper_amplitudes"')
+               '"paper_amplitudes", or only Q_mount and Q_contact (combined with the '
+               "material's Q_m)")
+    if loss_keys:
+        others = ", ".join(k for k in table if k not in ("Q_mount", "Q_contact"))
+        raise ValueError(f"{src}: [damping] {loss_keys[0]} combines with the material's Q_m "
+                         f"and cannot be combined with {others}; {choices}")
     if "source" in table:
         if table["source"] not in ("table2", "paper_amplitudes"):
             raise ValueError(f"{src}: [damping] source must be \"table2\" (Table 2's ratios) "
@@ -536,6 +608,16 @@ def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
     return out
 
 
+def _force_factor(data: dict[str, Any], src: str) -> tuple[float, float] | None:
+    """``[force_factor] (scale_L1, scale_B2)`` (each 1 when not given), None without it."""
+    table = _table(data, "force_factor", src)
+    if "force_factor" not in data:
+        return None
+    lo, hi = FORCE_FACTOR_SCALE_RANGE
+    return tuple(_number(table, "force_factor", k, src, lo, hi, False, True)  # type: ignore
+                 if k in table else 1.0 for k in ("scale_L1", "scale_B2"))
+
+
 def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float], float]]:
     """``[[holes]]`` entries: ``(number, centre (mm), diameter (mm))``."""
     value = data.get("holes")
@@ -563,6 +645,21 @@ def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float
         assert c is not None
         out.append((i, (c[0] / MM, c[1] / MM), float(d)))
     return out
+
+
+def _tip_material(tip_t: dict, src: str) -> str:
+    """``[tip] material``: a name of :data:`fem.material.TIP_MATERIALS`, or ``""`` (the plate's
+    ceramic) when absent."""
+    from fem.material import TIP_MATERIALS
+
+    if "material" not in tip_t:
+        return ""
+    name = tip_t["material"]
+    if not isinstance(name, str) or name.strip().lower() not in TIP_MATERIALS:
+        raise ValueError(f"{src}: [tip] material {name!r} is unknown; allowed: "
+                         f"{', '.join(TIP_MATERIALS)} (leave it out for a tip of the plate's "
+                         "ceramic)")
+    return name.strip().lower()
 
 
 def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive, src, name,
@@ -593,6 +690,7 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
         chamfer = _number(cham_t, "chamfers", "size_mm", src, 0.0, c_max, False, False, "mm "
                           "((min(length, width) - gap) / 2)")
     tip_l = tip_w = 0.0
+    tip_mat = _tip_material(tip_t, src) if "tip" in data else ""
     if "tip" in data:
         for key in ("length_mm", "width_mm"):
             if key not in tip_t:
@@ -625,7 +723,7 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
             length_m=_m(length), width_m=_m(width), thickness_m=_m(thickness),
             electrode_gap_m=_m(gap), drive_electrodes=drive, tip_length_m=_m(tip_l),
             tip_width_m=_m(tip_w), chamfer_m=_m(chamfer), holes_m=tuple(holes),
-            mesh_size_m=None if size is None else size * MM,
+            mesh_size_m=None if size is None else size * MM, tip_material=tip_mat,
         )
     except ValueError as exc:
         raise ValueError(f"{src}: {exc}") from None
@@ -716,13 +814,15 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
         raise ValueError(f"{src}: [mesh] is empty; give it file = \"plate.msh\" (a mesh file, "
                          f"with unit = \"m\" or \"mm\"), or size_mm (the element size of a "
                          f"parametric stator: [tip], [chamfers], [[holes]]), or remove the table")
-    damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src)
-    motor = {"damping_ratios": damping, "damping_origin": damping_origin,
-             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src)}
     name = data.get("name", src)
     if not isinstance(name, str):
         raise ValueError(f"{src}: name must be a string, got {name!r}")
     material = _material(mat_t, src)
+    damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src,
+                                                    material)
+    motor = {"damping_ratios": damping, "damping_origin": damping_origin,
+             "damping_identify_Hz": identify_Hz, "motor": _motor(data, src),
+             "force_factor_scales": _force_factor(data, src)}
     drive = _drive(elec, src)
     thickness = _length_mm(plate, "plate", "thickness_mm", src, required=True)
     tip = _point_mm(pts_t, "tip_mm", src)
@@ -917,7 +1017,12 @@ def load_stator(path: str | Path) -> StatorDesign:
     ValueError
         For bad TOML or bad values; the message names the key and the allowed range.
     """
-    from fem.small_file import FileTooLarge, NotRegularFile, read_small_text
+    from fem.small_file import (
+        FileTooLarge,
+        NotRegularFile,
+        link_loop,
+        read_small_text,
+    )
 
     if not isinstance(path, (str, os.PathLike)):  # None: named, not "expected str, bytes..."
         raise TypeError(f"path must name a stator TOML file, got {path!r}")
@@ -925,6 +1030,10 @@ def load_stator(path: str | Path) -> StatorDesign:
     if path.is_dir():
         raise ValueError(f"stator file {path} is a folder; name its .toml file")
     if not path.exists():
+        loop = link_loop(path)
+        if loop:
+            raise ValueError(f"stator file {path}: a loop of symbolic links ({loop}); point "
+                             "the link at a file")
         raise FileNotFoundError(f"stator file not found: {path}")
     try:
         # bounded: a 512 MB file read whole takes 1.1 GB of memory, a FIFO would block
@@ -942,3 +1051,49 @@ def load_stator(path: str | Path) -> StatorDesign:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     design = parse_stator(data, base_dir=path.parent, src=str(path))
     return replace(design, path=path, name=design.name if "name" in data else path.stem)
+
+
+def tuned_stator_text(dimensions_mm: dict[str, float], comment: str,
+                      source_text: str | None = None,
+                      plate_tables: dict[str, dict[str, object]] | None = None) -> str:
+    """A stator file (TOML text) with the ``[plate]`` dimensions of ``dimensions_mm`` set.
+
+    The user's file is edited with tomlkit, which keeps its comments, order and layout: only
+    the keys named change, each with a trailing comment saying its former value; every other
+    table (electrodes, material, features, motor tables) stays as written. Without a file
+    the text is built from ``plate_tables`` (``{"electrodes": {...}, "material": {...}}``).
+
+    Parameters
+    ----------
+    dimensions_mm : dict
+        ``{"length_mm": .., "width_mm": .., "thickness_mm": ..}`` (mm), written to 12
+        significant digits (below a picometre on a 1 m plate: the frequencies do not move).
+    comment : str
+        Lines put as comments at the top of the file (how the dimensions were found).
+    source_text : str, optional
+        The user's stator file.
+    plate_tables : dict, optional
+        Tables written after ``[plate]`` when there is no ``source_text``.
+    """
+    import tomlkit
+
+    doc = tomlkit.parse(source_text) if source_text is not None else tomlkit.document()
+    if source_text is None:
+        doc["name"] = "tuned plate"
+    if "plate" not in doc:
+        doc["plate"] = tomlkit.table()
+    plate = doc["plate"]
+    for key, value in dimensions_mm.items():
+        new = float(f"{value:.12g}")
+        old = plate.get(key)
+        item = tomlkit.item(new)
+        if old is not None and float(old) != new:
+            item.comment(f"tuned (was {float(old):g})")
+        plate[key] = item
+    for name, table in (plate_tables or {}).items() if source_text is None else ():
+        t = tomlkit.table()
+        for k, v in table.items():
+            t[k] = v
+        doc[name] = t
+    head = "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
+    return head + "\n" + tomlkit.dumps(doc)

@@ -64,6 +64,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial, get_material
 
@@ -465,8 +466,9 @@ def _checked_target(target_frequency_Hz: float | None, fix, fixed_dim: str | Non
             isinstance(target_frequency_Hz, numbers.Real)
             and not isinstance(target_frequency_Hz, bool)
             and math.isfinite(target_frequency_Hz) and target_frequency_Hz > 0):
-        raise ValueError(f"target_frequency_Hz must be a finite number > 0, got "
-                         f"{target_frequency_Hz!r}")
+        raise ParameterError("target_frequency_Hz", target_frequency_Hz, 0.0, None, "Hz",
+                             low_open=True, message=f"target_frequency_Hz must be a finite "
+                             f"number > 0, got {target_frequency_Hz!r}")
     if target_frequency_Hz is not None:
         target_frequency_Hz = float(target_frequency_Hz)
     if not (isinstance(rel_tol, numbers.Real) and 0.0 < rel_tol < 1e-2):

@@ -38,8 +38,11 @@ COMMAND_MODULES = [
     "lusm.commands.tune",
     "lusm.commands.sweep",
     "lusm.commands.admittance",
+    "lusm.commands.harmonic",
     "lusm.commands.explore",
     "lusm.commands.characteristic",
+    "lusm.commands.materials",
+    "lusm.commands.calibrate",
 ]
 """Sub-command modules, registered in this order (a module that does not exist is skipped)."""
 
@@ -113,17 +116,120 @@ def _one_line(text: str) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lusm`` console script; returns the process exit code."""
-    try:
-        code = _main(argv)
-    except KeyboardInterrupt:  # before the command's handlers (imports, parsing): nothing written
-        words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
-        name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
-        _say(f"{name}: interrupted")
-        code = 130
+    with _standard_streams() as closed:
+        code = _main_or_interrupted(argv, closed)
     if argv is None:  # the console script: only the interpreter's shutdown is left
         _after_the_command(code)
         gc.freeze()  # the exit's last collection skips numba's and SciPy's ~2e5 objects
     return code
+
+
+class StandardOutputError(OSError):
+    """Standard output refused a write (full, an I/O error; not a closed pipe, which stops
+    the command quietly)."""
+
+
+class _Output:
+    """Standard output whose failed writes are :class:`StandardOutputError`: said as
+    standard output's, not as "cannot use: No space left on device" of no file. After one,
+    its descriptor goes to /dev/null, so that the exit's flush does not fail again."""
+
+    def __init__(self, stream) -> None:
+        self._stream = stream
+
+    def _call(self, fn, *args):
+        try:
+            return fn(*args)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            with contextlib.suppress(OSError, ValueError, AttributeError):
+                devnull = os.open(os.devnull, os.O_WRONLY)
+                os.dup2(devnull, self._stream.fileno())
+                os.close(devnull)
+            raise StandardOutputError(exc.errno, exc.strerror or str(exc)) from None
+
+    def write(self, text: str) -> int:
+        return self._call(self._stream.write, text)
+
+    def flush(self) -> None:
+        self._call(self._stream.flush)
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
+
+
+class _Unfailing:
+    """A text stream (standard error) whose writes never raise: a full or closed one
+    (``2>/dev/full``) loses the line, and the exit code still says how the command ended
+    (a warning's failed write had ended it with an OSError, whose line failed again)."""
+
+    def __init__(self, stream) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        with contextlib.suppress(OSError, ValueError):
+            return self._stream.write(text)
+        return len(text)
+
+    def flush(self) -> None:
+        with contextlib.suppress(OSError, ValueError):
+            self._stream.flush()
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
+
+
+@contextlib.contextmanager
+def _standard_streams() -> Iterator[list[str]]:
+    """Meanwhile, standard error never raises (:class:`_Unfailing`), and a standard stream
+    the shell closed (``>&-``, ``2>&-``; Python then has None for it) is /dev/null at its
+    descriptor, so that no file the command opens takes its number. Yields the names of the
+    closed output streams: a closed standard error had made ``print(file=sys.stderr)``
+    write the warnings into standard output, into the middle of ``--json``."""
+    closed = []
+    for fd, name in ((0, "stdin"), (1, "stdout"), (2, "stderr")):
+        try:
+            os.fstat(fd)
+        except OSError:
+            opened = os.open(os.devnull, os.O_RDWR)  # the lowest free number: ``fd``
+            if opened != fd:
+                os.dup2(opened, fd)
+                os.close(opened)
+            if fd:
+                closed.append(name)
+    before = sys.stdout, sys.stderr
+    if sys.stderr is None or "stderr" in closed:
+        sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - for the whole command
+    if sys.stdout is None:
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - for the whole command
+        if "stdout" not in closed:
+            closed.append("stdout")
+    sys.stderr = _Unfailing(sys.stderr)
+    sys.stdout = _Output(sys.stdout)
+    try:
+        yield closed
+    finally:
+        sys.stdout, sys.stderr = before
+
+
+def _main_or_interrupted(argv: Sequence[str] | None, closed: list[str]) -> int:
+    """:func:`_main`, and a Ctrl-C before the command's own handlers; a closed standard
+    output is refused before any work (the command's results would go nowhere)."""
+    try:
+        if "stdout" in closed:
+            words = [a for a in (sys.argv[1:] if argv is None else argv)
+                     if not a.startswith("-")]
+            name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
+            _say(f"{name}: error: standard output is closed (>&-), so the results would "
+                 "go nowhere; redirect it to a file or to /dev/null")
+            return 2
+        return _main(argv)
+    except KeyboardInterrupt:  # before the command's handlers (imports, parsing): nothing written
+        words = [a for a in (sys.argv[1:] if argv is None else argv) if not a.startswith("-")]
+        name = f"lusm {words[0]}" if words and words[0].isidentifier() else "lusm"
+        _say(f"{name}: interrupted")
+        return 130
 
 
 def _after_the_command(code: int) -> None:
@@ -169,7 +275,7 @@ def _main(argv: Sequence[str] | None) -> int:
     for attr, option, what in (("geometry", "--geometry", "a stator file"),
                                ("params", "--params", "a parameter file")):
         value = getattr(args, attr, None)
-        if value is not None and not str(value).strip():  # "" read as "not given" before
+        if value is not None and not str(value).strip():  # "" is not "not given"
             print(f"lusm {args.command}: error: {option} must name {what}, got {value!r}",
                   file=sys.stderr)
             return 2
@@ -206,8 +312,8 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
         from lusm.messages import in_file_terms, record_said
 
         text = in_file_terms(assignments_as_options(_one_line(str(message))))
-        # a --json summary lists it too (lusm explore's), also when it was said before the
-        # summary's record opened (review)
+        # a --json summary lists it too (lusm explore's), also when it is said before the
+        # summary's record opens
         record_said(text)
         if text not in seen:
             seen.add(text)
@@ -228,6 +334,7 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
     try:
         with interrupts.handlers(), _one_line_warnings(prog):
             args.func(args)
+            sys.stdout.flush()  # a full standard output is said here, not at the exit
     except (KeyboardInterrupt, interrupts.Terminated):
         _say(f"{prog}: interrupted")
         return 130
@@ -236,6 +343,9 @@ def _run(args: argparse.Namespace, argv: Sequence[str] | None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 1
+    except StandardOutputError as exc:  # full (>/dev/full) or failing: said on stderr
+        _say(f"{prog}: error: cannot write standard output: {exc.strerror or exc}")
+        return 2
     except (LusmError, ValueError, OSError, ChatteringError) as exc:
         err = exc if isinstance(exc, LusmError) else user_error(exc)
         _say(f"{prog}: error: {_one_line(str(err))}")

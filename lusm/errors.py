@@ -1,18 +1,23 @@
 """The one error type of the ``lusm`` command line, and how library errors become it.
 
-Library code (``fem``, ``rom``, ``contact``) cannot import :mod:`validation`; it raises
-``ValueError`` (or ``OSError`` for files) with a message naming its parameter in SI units
-(``PlateStator.length_m``, ``voltage_V``). The CLI layer checks what the user typed first, in
-the user's units, and raises :class:`LusmError` naming the option (``--length-mm``); whatever
-still comes up from the library is mapped by :func:`user_error` to one line that names the
-option when one is known. :func:`lusm.cli.main` prints ``lusm <cmd>: error: <line>`` and
-exits with code 2 for every :class:`LusmError`.
+Library code (``fem``, ``rom``, ``contact``) refuses an input out of range with a
+:class:`bounds.ParameterError`: the parameter's SI name, the value and the allowed range as
+fields. The CLI layer checks what the user typed first, in the user's units, and raises
+:class:`LusmError` naming the option (``--length-mm``); a ``ParameterError`` that still comes
+up from the library is said by :func:`user_error` with the option and units of
+:data:`PARAMETER_OPTIONS`, any other ``ValueError`` or ``OSError`` as its one line.
+:func:`lusm.cli.main` prints ``lusm <cmd>: error: <line>`` and exits with code 2 for every
+:class:`LusmError`.
 """
 
 from __future__ import annotations
 
+import math
+import numbers
 import re
 from pathlib import Path
+
+from bounds import ParameterError
 
 
 class LusmError(ValueError):
@@ -31,31 +36,32 @@ class LusmError(ValueError):
         self.option = option
 
 
-LIBRARY_NAMES: dict[str, str] = {
-    "voltage_V": "--voltage",
-    "preload_N": "--preload",
-    "load_N": "--load-N",
-    "frequency_Hz": "--frequency",
-    "dt_s": "--dt",
-    "duration_s": "--duration",
-    "max_workers": "--workers",
-    "PlateStator.length_m": "--length-mm",
-    "PlateStator.width_m": "--width-mm",
-    "PlateStator.thickness_m": "--thickness-mm",
-    "PlateStator.electrode_gap_m": "--gap-mm",
-    "target_frequency_Hz": "--target-frequency",
-    "n_points": "--points",
-    "f_min_Hz": "--f-min",
-    "refine": "--refine",
-    "layers": "--layers",
+PARAMETER_OPTIONS: dict[str, tuple[str, str, float]] = {
+    "voltage_V": ("--voltage", "V", 1.0),
+    "preload_N": ("--preload", "N", 1.0),
+    "load_N": ("--load-N", "N", 1.0),
+    "frequency_Hz": ("--frequency", "Hz", 1.0),
+    "dt_s": ("--dt", "s", 1.0),
+    "duration_s": ("--duration", "s", 1.0),
+    "workers": ("--workers", "", 1.0),
+    "length_m": ("--length-mm", "mm", 1e3),
+    "width_m": ("--width-mm", "mm", 1e3),
+    "thickness_m": ("--thickness-mm", "mm", 1e3),
+    "electrode_gap_m": ("--gap-mm", "mm", 1e3),
+    "target_frequency_Hz": ("--target-frequency", "Hz", 1.0),
+    "n_points": ("--points", "", 1.0),
+    "f_min_Hz": ("--f-min", "Hz", 1.0),
+    "zeta": ("--zeta", "", 1.0),
+    "refine": ("--refine", "", 1.0),
+    "layers": ("--layers", "", 1.0),
 }
-"""Library parameter names and the ``lusm`` option that sets them (first match wins)."""
+"""A library parameter (:attr:`bounds.ParameterError.name`) -> the ``lusm`` option that sets
+it, the option's unit and the option's value per SI value (1e3: metres to millimetres)."""
 
-SAME_UNITS = frozenset({"voltage_V", "preload_N", "load_N", "frequency_Hz", "dt_s",
-                        "duration_s", "max_workers", "target_frequency_Hz", "n_points",
-                        "f_min_Hz", "refine", "layers"})
-"""Library names whose option takes the same unit: a message's ``frequency_Hz = 1 Hz`` reads
-``--frequency 1 Hz`` (lengths stay as they are: the library's are in m, the options in mm)."""
+ASSIGNED_NAMES = ("voltage_V", "preload_N", "load_N", "frequency_Hz", "dt_s", "duration_s",
+                  "target_frequency_Hz", "n_points", "f_min_Hz", "refine", "layers")
+"""Parameters whose option takes the same unit, so that a message's ``frequency_Hz = 1 Hz``
+reads ``--frequency 1 Hz`` (:func:`assignments_as_options`)."""
 
 
 def _first_line(exc: BaseException) -> str:
@@ -67,9 +73,10 @@ def _first_line(exc: BaseException) -> str:
 def user_error(exc: BaseException) -> LusmError:
     """A :class:`LusmError` for an exception that reached the CLI from the library.
 
-    ``OSError`` names the path and the operating system's reason; a ``ValueError`` that names a
-    library parameter gets the option that sets it prepended (``--voltage: voltage_V must
-    ...``) so the user sees what to change.
+    ``OSError`` names the path and the operating system's reason; a
+    :class:`bounds.ParameterError` names the option that sets the parameter and its range in
+    the option's units (:func:`parameter_error`), so the user sees what to change; another
+    ``ValueError`` is its first line, its ``name = value`` assignments in the options' terms.
     """
     if isinstance(exc, LusmError):
         return exc
@@ -86,6 +93,8 @@ def user_error(exc: BaseException) -> LusmError:
         where = f" {exc.filename}" if exc.filename else ""
         reason = exc.strerror or _first_line(exc)
         return LusmError(f"cannot use{where}: {reason}")
+    if isinstance(exc, ParameterError):
+        return parameter_error(exc)
     line = _first_line(exc)
     if type(exc).__name__ == "ShortedDriveError":  # fem.model's, by name: no FE import here
         from lusm.messages import typed
@@ -101,25 +110,40 @@ def user_error(exc: BaseException) -> LusmError:
     if line.startswith("the parameter set's mode matrices overflow"):
         from lusm.messages import typed
 
-        if typed("--params"):  # the file's values: it named nothing, from deep in NumPy
+        if typed("--params"):  # the file's values: named, not a bare NumPy message
             return LusmError(f"--params: {line}", "--params")
-    blamed = None
-    for name, option in LIBRARY_NAMES.items():
-        if re.search(rf"(?<![\w.-]){re.escape(name)}\b", line):
-            blamed = blamed or option
-            if name in SAME_UNITS:  # say it as the user typed it: "--frequency 1 Hz"
-                line = re.sub(rf"(?<![\w.-]){re.escape(name)}\b(\s*=)?", option, line)
-    if blamed is None:
+    return LusmError(assignments_as_options(line))
+
+
+def parameter_error(exc: ParameterError) -> LusmError:
+    """A library's :class:`bounds.ParameterError` said with the option that sets the
+    parameter, in the option's units: ``--length-mm must be in (0, 10000] mm, got -1000``.
+
+    Without a range (a work bound, a value of the wrong kind) the library's words follow the
+    option; a parameter no option sets keeps the library's words alone."""
+    known = PARAMETER_OPTIONS.get(exc.name)
+    line = assignments_as_options(_first_line(exc))
+    if known is None:
         return LusmError(line)
-    return LusmError(line if blamed in line else f"{blamed}: {line}", blamed)
+    option, unit, scale = known
+    finite = (isinstance(exc.value, numbers.Real) and not isinstance(exc.value, bool)
+              and math.isfinite(exc.value))
+    if exc.low is None and exc.high is None and finite:
+        return LusmError(line if option in line else f"{option}: {line}", option)
+    must = exc.range_text(scale, unit)
+    if not finite and (exc.low is not None or exc.high is not None):
+        must = f"a finite number {must}"
+    return LusmError(f"{option} must be {must}, got {exc.value_text(scale)}"
+                     + (f" ({exc.reason})" if exc.reason else ""), option)
 
 
 def assignments_as_options(text: str) -> str:
     """A library message's ``name = value`` in the options' terms, for the names whose option
     takes the same unit: ``load_N = 50 N`` reads ``--load-N 50 N`` (the one-line warnings;
     only the assignment form, so that a word like "refine" in a sentence stays a word)."""
-    for name in SAME_UNITS:
-        text = re.sub(rf"(?<![\w.-]){re.escape(name)}\s*=\s*", f"{LIBRARY_NAMES[name]} ", text)
+    for name in ASSIGNED_NAMES:
+        text = re.sub(rf"(?<![\w.-]){re.escape(name)}\s*=\s*", f"{PARAMETER_OPTIONS[name][0]} ",
+                      text)
     # a switch: the unsettled-A_N warning's remedy
     return re.sub(r"set ultrasonic_friction\s*=\s*False", "pass --no-ultrasonic-friction", text)
 
@@ -151,7 +175,7 @@ def short_reason(exc: Exception | str) -> str:
 
 def design_error_text(path: str | Path, exc: BaseException) -> str:
     """A stator file's refusal on one line that names the file: the operating system's
-    reason for a file it cannot open (it printed ``[Errno 13] Permission denied: '...'``)."""
+    reason for a file it cannot open, not ``[Errno 13] Permission denied: '...'``."""
     if isinstance(exc, OSError) and exc.strerror:  # the file it is about: its mesh, maybe
         text = f"{exc.filename or path}: {exc.strerror}"
     else:

@@ -51,7 +51,7 @@ def wide_plate_error(exc) -> LusmError:
     """A :class:`fem.modes.WidePlateError` in the options' terms: the options typed (or the
     stator file), the reason, on one line."""
     if typed("--geometry"):
-        # the length is the overall one, a protruding tip included (review)
+        # the length is the overall one, a protruding tip included
         return LusmError(f"--geometry: {exc} (its length the plate's and a protruding "
                          "tip's); make the stator file's [plate] width_mm smaller than that",
                          "--geometry")
@@ -78,9 +78,9 @@ def _slender_clause(stator) -> str | None:
     refused before its solve, :func:`fem.modes.check_b2_in_reach`). ``stator``: anything with
     ``length_m`` and ``width_m``, or None.
 
-    A fixed length / width of 17 had stood for this: plates of 30 to 300 x 1 mm solve and
-    give their pair, and one of them failing for another reason would have been told that
-    its B2 lay beyond the modes solved."""
+    Not a fixed length / width (such as 17): plates of 30 to 300 x 1 mm solve and give
+    their pair, and one of them failing for another reason is not told that its B2 lies
+    beyond the modes solved."""
     from fem.beam_shapes import bending_over_rod_frequency
     from fem.meshing.meshed_stator import overall_length_m
     from fem.modes import N_MODES, SEARCH_GROWTH, modes_nearer_than_b2
@@ -134,12 +134,12 @@ def fe_failure(exc: Exception, stator=None) -> ValueError:
     # L1 with its short-circuit shape failed as "check ... and --refine")
     slender = _slender_clause(stator)
     if slender and ("could not identify" in reason or "could not pair" in reason):
-        # a 1000 x 1 mm plate was told "wider than about half its length"
+        # a 1000 x 1 mm plate: too slender, not "wider than about half its length"
         return ValueError(f"L1 and B2 were not found for this stator ({reason}): {slender}; "
                           "check the plate (--geometry or --length-mm, --width-mm)")
     thick = _thick_clause(stator)
     if thick and ("could not identify" in reason or "could not pair" in reason):
-        # a 30 x 7.5 x 39 mm plate had been told to check its length and width only
+        # a 30 x 7.5 x 39 mm plate: its thickness is named too
         return ValueError(f"L1 and B2 were not found for this stator ({reason}): {thick}; "
                           "check the plate (--geometry or --thickness-mm, --length-mm, "
                           "--width-mm)")

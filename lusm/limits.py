@@ -30,8 +30,7 @@ PLANE_STRESS_RATIO = 0.6
 B2's 2D frequency falls below the 3D model's as the plate thickens: on a 25 x 5 mm plate
 with a 0.3 mm gap, -0.024 % at 3 mm thickness (0.6) and -0.081 % at 4 mm (0.8) against the
 3D model at refine 5, layers 5 (``lusm modes --length-mm 25 --width-mm 5 --gap-mm 0.3
---thickness-mm H [--model 3d --refine 5 --layers 5]``); at 1.0, the former threshold,
-exploratory tests measured -0.19 %."""
+--thickness-mm H [--model 3d --refine 5 --layers 5]``); at 1.0 it is -0.19 %."""
 VOLTAGE_V = (0.0, 2000.0)
 """Drive amplitude V0 (V): refused outside. The linear piezoelectric model and PZT-8's
 polarisation do not survive fields of ~1 kV/mm; Table 2's motor runs at 50-450 V."""
@@ -47,6 +46,9 @@ DURATION_S = (0.0, 10.0)
 """Simulated time (s), exclusive lower bound: refused outside (and bounded by the steps)."""
 WORKERS = (1, 256)
 """Threads of ``lusm map``; processes of ``lusm explore``'s LocalCluster."""
+WORKER_TIMEOUT_S = (1.0, 86400.0)
+"""``lusm explore --worker-timeout-s`` (s): how long a study waits for a cluster with no
+worker."""
 TARGET_FREQUENCY_HZ = (1e3, 10e6)
 """``lusm tune --target-frequency`` (Hz)."""
 ZETA = (0.0, 1.0)
@@ -69,6 +71,9 @@ characteristic's loads x voltages, a steady ``lusm explore`` study's geometries 
 x their solves, :func:`studies.study.steady_solves`): a point costs in proportion to its
 steps per period (25 at 40 kHz, 10 000 points allowed; 14 923 at 20 Hz, where a point takes
 1.5 s: 33 allowed)."""
+MAX_CALIBRATION_SPEEDS = 500
+"""Speed rows of one ``lusm calibrate`` (each a steady solve per model evaluation, about a
+hundred evaluations a start: 30 rows take about a minute with three starts and profiles)."""
 MAX_GRID_POINTS = 2000
 """Points of a ``start:stop:step`` grid (``--voltages``, ``--preloads``, sweep ranges)."""
 MAX_SWEEP_POINTS = 200

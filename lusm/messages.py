@@ -12,6 +12,7 @@ _COMMAND = ["lusm"]
 
 
 _TYPED: set[str] = set()
+_ARGV: list[str] = []
 
 
 def set_typed(argv: Sequence[str]) -> None:
@@ -19,6 +20,14 @@ def set_typed(argv: Sequence[str]) -> None:
     an option given on purpose from its default (set by :func:`lusm.cli.main`)."""
     _TYPED.clear()
     _TYPED.update(a.split("=", 1)[0] for a in argv if a.startswith("--"))
+    _ARGV[:] = list(argv)
+
+
+def command_line() -> str:
+    """The running command as the user typed it, shell-quoted (``lusm tune --fix ...``)."""
+    import shlex
+
+    return shlex.join(["lusm", *_ARGV])
 
 
 def typed(option: str) -> bool:
@@ -51,8 +60,7 @@ def forget_warnings() -> None:
 
 def warn(message: str) -> None:
     """One warning line on stderr: ``lusm <cmd>: warning: ...``, once per command (lusm
-    report of a stator with a hole had said the hole's and the thin plate's warnings twice,
-    once per stage that builds the FE model)."""
+    report builds the FE model in several stages, each of which warns)."""
     text = in_file_terms(message)
     line = f"{_COMMAND[0]}: warning: {text}"
     record_said(text)  # also when said before the record opened: the --json lists it too

@@ -34,7 +34,7 @@ from lusm.messages import typed, warn, warn_unused
 SOURCES = ("table2", "beam", "fem")
 """Parameter sources (:data:`rom.sources.SOURCES`, repeated so the parser needs no numpy)."""
 
-MATERIALS = ("pzt8", "paper")
+MATERIALS = ("pzt8", "paper", "pzt4", "pzt5a", "pzt5h", "apc880")
 """Named materials (:data:`fem.material.MATERIAL_NAMES`)."""
 
 PLATE_DEFAULTS_MM = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3.0,
@@ -237,18 +237,26 @@ def params_from_file(path_text: str):
         raise LusmError(f"--params {path_text} is a folder; name a file saved with "
                         "'lusm params --json'", "--params")
     if not path.exists():
-        raise LusmError(f"--params {path_text}: no such file", "--params")
+        from fem.small_file import link_loop
+
+        loop = link_loop(path)
+        raise LusmError(f"--params {path_text}: "
+                        + (f"a loop of symbolic links ({loop})" if loop else "no such file"),
+                        "--params")
     try:
-        # bounded: a 512 MB file was read whole (1.1 GB of memory), a FIFO would block
+        # bounded: a 512 MB file is not read whole (1.1 GB of memory), nor a FIFO waited on
         data = json.loads(read_small_text(path, MAX_PARAMS_FILE_BYTES))
-    except (OSError, ValueError) as exc:  # NotRegularFile, FileTooLarge, decoding: ValueError
-        if isinstance(exc, NotRegularFile):  # /dev/zero was "no such file"
+    except (OSError, ValueError, RecursionError) as exc:  # NotRegularFile, FileTooLarge,
+        # decoding: ValueError; arrays nested 100 000 deep: RecursionError
+        if isinstance(exc, RecursionError):
+            why = ": not a JSON parameter set (nested too deeply)"
+        elif isinstance(exc, NotRegularFile):  # /dev/zero: not "no such file"
             why = f": not a regular file ({exc.what})"
         elif isinstance(exc, FileTooLarge):
             why = (f" has {exc.size} bytes, above {MAX_PARAMS_FILE_BYTES} for a parameter set "
                    "(about 1 kB)")
-        elif isinstance(exc, OSError):  # it said "not a JSON parameter set" of a file it
-            why = f": cannot read it ({exc.strerror or exc})"  # could not read
+        elif isinstance(exc, OSError):  # unreadable, not "not a JSON parameter set"
+            why = f": cannot read it ({exc.strerror or exc})"
         elif isinstance(exc, UnicodeDecodeError):
             why = (f": not UTF-8 text (byte {exc.start}: {exc.reason}); save it with "
                    "'lusm params --json'")
@@ -266,12 +274,12 @@ def params_from_file(path_text: str):
         text = str(exc).replace("MotorParams.", "key ")
         raise LusmError(f"--params {path_text}: {text}", "--params") from None
     # the derived keys follow the stored fields: an edit of C_l leaves a stale zeta_L1, which
-    # was refused although the help says to edit C_l; recomputed, and said so
+    # is recomputed, and said so (the help says to edit C_l)
     edited = []
     for key in derived:
         got, want = data.get(key), getattr(params, key)
-        # to single precision's rounding: a file written from float32 data was told its
-        # derived keys were edited, and its source text changed
+        # to single precision's rounding: a file written from float32 data keeps its
+        # derived keys and its source text
         if isinstance(got, (int, float)) and derived_disagrees(params, key, got):
             warn(f"--params {path_text}: {key} = {got:.6g} in the file is derived; recomputed "
                  f"from the stored fields as {want:.6g} (to change it, edit "
@@ -294,8 +302,8 @@ _SOURCES_OF = {"eta_N": "phi_L0, phi_Ll", "eta_T": "phi_B0, phi_Bl",
 
 def _check_params_ranges(params, path_text: str) -> None:
     """The ranges a stator file holds the same quantities to (``[contact]``, ``[slider]``,
-    ``[friction]``, ``[damping]``): a --params file skipped them (k_contact = 1e15 N/m,
-    damping ratios of 7e-7 were run)."""
+    ``[friction]``, ``[damping]``), so that a --params file cannot run k_contact = 1e15 N/m
+    or damping ratios of 7e-7."""
     from fem.stator_file import DAMPING_RATIO_RANGE, MOTOR_KEYS
 
     for table in MOTOR_KEYS.values():
@@ -332,8 +340,8 @@ def stator_options_text(args: argparse.Namespace) -> str:
     """The stator options the user typed, as they go on a ``lusm`` command line:
     ``--geometry FILE`` (the path as given) or the typed plate options and ``--material``
     (empty for the paper's plate). A report cites its commands with these, so that each
-    reproduces the report's numbers (they had said ``--geometry ...`` for a report on
-    ``--length-mm 60``, which no file stands behind)."""
+    reproduces the report's numbers (``--length-mm 60``, not a ``--geometry ...`` that no
+    file stands behind)."""
     import shlex
 
     if getattr(args, "geometry", None):
@@ -403,8 +411,8 @@ def check_plate_mm(length: float, width: float, thickness: float, gap: float,
                         f"(min {min(length, width):g} mm), got {gap:g}; give a smaller "
                         f"{gap_name}", option)
     if not three_d and thin_warning:
-        # the default thickness is said to be one: a 1000 x 1 mm plate had been warned about
-        # a --thickness-mm 3 the user never typed (review)
+        # the default thickness is said to be one: a 1000 x 1 mm plate is warned about a
+        # thickness the user did not type
         default = file is None and not typed("--thickness-mm")
         warn_thin_plate(f"{where}{'the default ' if default else ''}{thick} {thickness:g}",
                         thickness, min(length, width), "the plate's smaller in-plane dimension")
@@ -417,7 +425,7 @@ def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, agains
     :data:`limits.PLANE_STRESS_RATIO`."""
     ratio = thickness_mm / inplane_mm
     if ratio > limits.PLANE_STRESS_RATIO:
-        # at 133 x (--thickness-mm 1000) the measured 0.6 % read as the error to expect
+        # at 133 x (--thickness-mm 1000) the measured 0.6 % is not the error to expect
         beyond = (f"; beyond {MEASURED_THICK_RATIO:g} x its error is not measured, and its "
                   "frequencies and force factors need not be a plate's at all"
                   if ratio > MEASURED_THICK_RATIO * 1.5 else "")
@@ -430,8 +438,8 @@ def warn_thin_plate(subject: str, thickness_mm: float, inplane_mm: float, agains
 
 HOLE_AREA_SHARE = 0.005
 """A through hole of diameter d in a plate of thickness h, length L and width W makes the 2D
-model miss the 0.05 % goal against 3D where ``d h > HOLE_AREA_SHARE L W`` (exploratory
-measurements, docs/fem3d.md): plane stress misses the 3D boundary layer, about h wide, along
+model miss the 0.05 % goal against 3D where ``d h > HOLE_AREA_SHARE L W`` (measured,
+docs/fem3d.md): plane stress misses the 3D boundary layer, about h wide, along
 the hole's rim."""
 
 
@@ -439,7 +447,7 @@ def warn_holes(stator, subject: str) -> None:
     """The 2D model's warning for through holes: 2D is softer than 3D around a hole's rim
     (the 3D boundary layer there is about a thickness wide), by 0.08-0.11 % on L1 and B2 for
     a 1 mm hole at the centre of the paper's 3 mm plate and 0.2-0.4 % for a 3 mm one
-    (``benchmarks/fem_holes_2d_3d.py``); a parametric stator with holes said nothing."""
+    (``benchmarks/fem_holes_2d_3d.py``); a parametric stator with holes is warned too."""
     holes = getattr(stator, "holes_m", ())
     h = stator.thickness_m
     bound = HOLE_AREA_SHARE * stator.length_m * stator.width_m
@@ -503,8 +511,8 @@ def stator_from_args(args: argparse.Namespace, *, warn_thin: bool = True) -> Sta
 def warn_refine_unused(choice: StatorChoice, geometry: str) -> None:
     """Warn that ``--refine`` has no effect on a stator file that carries its mesh or is
     meshed by gmsh: the 2D model solves on that mesh and the 3D model extrudes it (modes,
-    render, admittance and sweep ran the same mesh whatever --refine said; a convergence
-    study over --refine looked converged)."""
+    render, admittance and sweep run the same mesh whatever --refine says, and a
+    convergence study over --refine would look converged)."""
     if choice.meshed or choice.parametric:
         warn_unused(("--refine",), f"--geometry {geometry} is meshed by "
                     + ("gmsh at its [mesh] size_mm (default min(length, width) / 8)"
@@ -554,8 +562,8 @@ def check_fe_work(cells: int, solves: int, three_d: bool, option: str,
     ``cells`` elements (or bricks) on average. Each mesh is also bounded alone
     (:func:`check_fe_size`); a sweep or a tuning multiplies it. A parametric ``stator`` is
     meshed by gmsh at its ``[mesh] size_mm``, which ``--refine`` does not change: the
-    message then names --geometry and that key (it said "lower --refine" beside the
-    warning that --refine has no effect). ``fewer`` says how to ask for fewer solves, or is
+    message then names --geometry and that key (not "lower --refine", which has no effect
+    there). ``fewer`` says how to ask for fewer solves, or is
     empty where the command's solves are not the user's to choose (a tuning)."""
     from fem.meshing.parametric import ParametricStator
 
@@ -596,8 +604,8 @@ def check_fe_size(stator, refine: int | None, layers: int | None = None,
     and is the file's for a stator with its own mesh (bounded when it is read). ``layers``
     selects the 3D count; ``layers_option``: whether the command has ``--layers`` to name
     (``tune --model 3d`` takes three layers and has none); ``has_option``: whether it has
-    ``option`` at all (``report``, ``simulate --source fem`` have no ``--refine``, and were
-    told to lower it); ``needs_b2``: the command solves the 2D model for L1 and B2, so a plate
+    ``option`` at all (``report``, ``simulate --source fem`` have no ``--refine`` to lower);
+    ``needs_b2``: the command solves the 2D model for L1 and B2, so a plate
     too slender for the solver to reach B2 is refused first (:func:`check_b2_in_reach`; not
     for the 3D model, whose search holds other modes, nor for an admittance over a band
     the user gave, which needs no L1/B2).
@@ -698,18 +706,18 @@ def beam_of_plate(args: argparse.Namespace):
             f"electrodes {', '.join(map(str, st.drive_electrodes))} driven touch the grounded "
             "ones (no gap strip between them) and are one conductor, which cannot hold two "
             "voltages: the beam's drive would short")
-    if typed("--gap-mm"):  # 0.5 and 2 mm gave the same A_l without a word
+    if typed("--gap-mm"):  # 0.5 and 2 mm give the same A_l: said
         warn("--gap-mm: Appendix A's beam drives whole quadrants, so the gap's width does not "
              "enter its force factors (a gap of 0, one conductor, is refused); the FE set "
              "models the gap")
     length, width = st.length_m, st.width_m
     if has_planform(st):
         # the electroded body, as a parametric stator's length is: a mesh file's bounding
-        # box counted a 1 mm tip in (31 mm: L1 65.7 kHz against 67.9 kHz for the same stator
-        # described by its [tip] table)
+        # box would count a 1 mm tip in (31 mm: L1 65.7 kHz against 67.9 kHz for the same
+        # stator described by its [tip] table)
         x0, x1, y0, y1 = planform_mesh(st).electroded_box_m()
         length, width = y1 - y0, x1 - x0
-    # the plate's own drive: a stator file driving 2, 3 had the beam driven through 1, 4
+    # the plate's own drive: a stator file driving 2, 3 drives the beam through 2, 3
     return get_params("beam", length_m=length, width_m=width, thickness_m=st.thickness_m,
                       electrode_layout=plate_layout(st.drive_electrodes))
 
@@ -741,15 +749,33 @@ class Motor:
     frequency_auto: bool
 
 
+def default_frequency_text(params) -> str:
+    """The drive frequency without ``--frequency``: the paper's 40 kHz for Table 2's set
+    (the paper's drive), ``'auto'`` (the set's own operating point) for any other: a
+    designer's stator is driven where its modes are, not at the paper's frequency."""
+    from contact.model import is_table2
+
+    return "40e3" if is_table2(params) else "auto"
+
+
 def resolve_motor(args: argparse.Namespace) -> Motor:
     """The parameter set, coupling and drive frequency of ``args`` (with ``--source``,
-    ``--coupling`` and ``--frequency``), with the default frequency's warning said."""
+    ``--coupling`` and ``--frequency``: :func:`default_frequency_text` when not given), with
+    the fallback's warning said where the default finds no operating point."""
     params, damping_from = motor_params_of(args, args.source)
     coupling, coupling_from = coupling_of(args, params)
-    freq = parse_frequency(args.frequency, params)
-    warn_default_frequency(params, freq)
+    text = args.frequency if args.frequency is not None else default_frequency_text(params)
+    try:
+        freq = parse_frequency(text, params)
+    except LusmError:
+        if args.frequency is not None:
+            raise
+        # the default asked for no operating point it cannot find: the paper's drive
+        warn("--frequency: this set drives no tip ellipse, so it has no operating point; "
+             "driving it at the paper's 40 kHz (give --frequency)")
+        text, freq = "40e3", 40e3
     return Motor(params, damping_from, coupling, coupling_from, freq,
-                 known_frequency(args.frequency) is None)
+                 known_frequency(text) is None)
 
 
 def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload_N: float,
@@ -782,6 +808,41 @@ def resolve_drive(args: argparse.Namespace, voltages_V: Sequence[float], preload
     return plot, motor
 
 
+def add_band_options(p: argparse.ArgumentParser, points: int) -> None:
+    """``--f-min``, ``--f-max`` (default: the design's L1 and B2 -+ 15 % of their mean) and
+    ``--points`` (default ``points``) of a frequency sweep."""
+    f_lo, f_hi = limits.FREQUENCY_HZ
+    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band start (Hz); default: the design's L1 and B2 "
+                   "minus 15 %% of their mean")
+    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=None,
+                   metavar="HZ", help="band end (Hz); default: the design's L1 and B2 plus "
+                   "15 %% of their mean")
+    p.add_argument("--points", default=points, metavar="N",
+                   type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
+                   help=f"frequency points (default {points})")
+
+
+def check_band_order(f_min_Hz: float | None, f_max_Hz: float | None) -> None:
+    """Refuse ``--f-min`` not below ``--f-max`` where both are given."""
+    if f_min_Hz is not None and f_max_Hz is not None and not f_min_Hz < f_max_Hz:
+        raise LusmError(f"--f-min must be below --f-max, got {f_min_Hz:g} and "
+                        f"{f_max_Hz:g} Hz", "--f-min")
+
+
+def fem_damping_origin(geometry: str | None, design) -> str:
+    """Where an FE set's damping ratios come from (text for
+    :func:`validation.summaries.damping_line`): the stator file's ``[damping]``, or Table 2's
+    ratios borrowed."""
+    from validation.summaries import borrowed_damping
+
+    if design is None:
+        return borrowed_damping("fem")
+    if design.damping_origin:
+        return f"stator file {geometry} {design.damping_origin}"
+    return f"{borrowed_damping('fem')}; stator file {geometry} has no [damping]"
+
+
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
     :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a
@@ -799,8 +860,9 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
         if clash:
             raise LusmError(f"--params cannot be combined with {clash[0]}: the file is the "
                             "whole parameter set", "--params")
-        return (params_from_file(args.params),
-                f"params file {args.params} (its C_l, C_b)")
+        params = params_from_file(args.params)
+        warn_unexcited_mode(params, None)  # as a stator file's drive is warned of
+        return params, f"params file {args.params} (its C_l, C_b)"
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source == "beam" and not getattr(args, "geometry", None):
@@ -813,12 +875,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
         from rom.from_fem import design_base, fem_params, fem_params_from_file
 
         design = choice.design
-        if design is None:
-            origin = borrowed_damping("fem")
-        elif design.damping_origin:
-            origin = f"stator file {args.geometry} {design.damping_origin}"
-        else:
-            origin = f"{borrowed_damping('fem')}; stator file {args.geometry} has no [damping]"
+        origin = fem_damping_origin(args.geometry, design)
         if design is not None:
             try:  # the motor tables against Table 2's other constants, before any FE work
                 design_base(design)
@@ -868,7 +925,7 @@ def real_list(option: str, unit: str, lo: float, hi: float, most: int):
             try:
                 values.append(one(item))
             except argparse.ArgumentTypeError:
-                # the text typed, not the item alone: '200,' had read "got ''", which the
+                # the text typed, not the item alone: '200,' is said, not "got ''", which the
                 # user never typed
                 why = "an empty item" if not item else f"{item!r} is not one"
                 raise argparse.ArgumentTypeError(
@@ -905,8 +962,10 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
         g.add_argument("--preload", type=real("--preload", "N", *limits.PRELOAD_N),
                        required=True, help=f"preload F_P (N), in [0, {limits.PRELOAD_N[1]:g}]")
     if auto_frequency:
-        g.add_argument("--frequency", default="40e3",
-                       help="drive frequency (Hz), or 'auto' for the set's own operating point")
+        g.add_argument("--frequency", default=None,
+                       help="drive frequency (Hz), or 'auto' for the set's own operating point; "
+                       "default: the paper's 40 kHz for Table 2's set, auto for any other "
+                       "(docs/designer.md)")
     else:
         g.add_argument("--frequency", type=real("--frequency", "Hz", *limits.FREQUENCY_HZ),
                        default=40e3, help="drive frequency (Hz)")
@@ -916,8 +975,8 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
                    type=real("--duration", "s", *limits.DURATION_S, lo_open=True),
                    help="simulated time (s)")
     # kept as typed and checked by time_step_of once the drive frequency is known: its range
-    # (0, 1/(20 f)] depends on it, and a parse-time range of its own, (0, 0.001] s, had been
-    # said to --dt 2e-3 before --dt 1e-4, inside it, was refused at 40 kHz
+    # (0, 1/(20 f)] depends on it; a parse-time range of its own, (0, 0.001] s, would accept
+    # a --dt that the drive frequency then refuses
     g.add_argument("--dt", default=None, type=_dt_form,
                    help="time step (s), in (0, 1/(20 f)] at the drive frequency f; default "
                         "1e-7 s, or just below it so that a drive period is a whole number of "
@@ -959,10 +1018,11 @@ def parse_frequency(text: str | float, params=None) -> float:
     return value
 
 
-def known_frequency(text: str | float) -> float | None:
-    """``--frequency`` in Hz before the parameter set is known: None for 'auto' (which needs
-    the set), else the number, a bad one refused at once (before any work)."""
-    if isinstance(text, str) and text.strip().lower() == "auto":
+def known_frequency(text: str | float | None) -> float | None:
+    """``--frequency`` in Hz before the parameter set is known: None for 'auto' and for no
+    ``--frequency`` (both need the set: :func:`default_frequency_text`), else the number, a
+    bad one refused at once (before any work)."""
+    if text is None or isinstance(text, str) and text.strip().lower() == "auto":
         return None
     return parse_frequency(text)
 
@@ -1063,9 +1123,9 @@ def _dt_shown(frequency_Hz: float, digits: int = 4) -> float:
     the last digit lower only where the rounded figure is a step the check refuses.
 
     Rounding to nearest keeps round bounds round (1e-06 s at 50 kHz: always rounding down,
-    from the float's binary value just below 1e-06, had said 9.999e-07); the step down keeps
-    the figure a step that is taken (1/(20 f) at 30 kHz, 1.6667e-06 s, read 1.667e-06, which
-    is above it and was refused).
+    from the float's binary value just below 1e-06, would say 9.999e-07); the step down keeps
+    the figure a step that is taken (1/(20 f) at 30 kHz, 1.6667e-06 s, not 1.667e-06, which
+    is above it and refused).
     """
     from decimal import Decimal
 
@@ -1073,7 +1133,7 @@ def _dt_shown(frequency_Hz: float, digits: int = 4) -> float:
     shown = Decimal(f"{exact:.{digits}g}")
     if float(shown) > _dt_max(frequency_Hz):
         # a unit of the last digit of the bound itself: rounding up to 1e-06 at 50001 Hz
-        # had moved the exponent, and the step down from it said 9.99e-07 (three digits)
+        # moves the exponent, and a step down from it would say 9.99e-07 (three digits)
         shown -= Decimal(1).scaleb(Decimal(exact).adjusted() - digits + 1)
     return float(shown)
 
@@ -1149,15 +1209,18 @@ def output_folder(args: argparse.Namespace, option: str) -> Path | None:
     work by :func:`check_output_folder`; None when the option was not given."""
     target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
     if target is not None:
-        check_output_folder(target, option, bool(getattr(args, "force", False)))
+        check_output_folder(target, option, bool(getattr(args, "force", False)),
+                            getattr(args, "command", None))
     return target
 
 
-def check_output_folder(target: Path, option: str, force: bool = False) -> None:
+def check_output_folder(target: Path, option: str, force: bool = False,
+                        command: str | None = None) -> None:
     """Refuse, before any work, an output folder the set could not be moved into or written.
 
     :func:`lusm.output_set.check_target` (a file, below a file, a non-empty folder lusm
-    did not write) plus: the nearest existing folder must be writable.
+    did not write, a folder of another command than ``command``) plus: the nearest existing
+    folder must be writable.
     """
     import os
 
@@ -1165,7 +1228,7 @@ def check_output_folder(target: Path, option: str, force: bool = False) -> None:
 
     check_path_usable(target, option)
     try:
-        check_target(target, option, force)
+        check_target(target, option, force, command)
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
     existing = next((p for p in [target, *target.parents] if p.exists()), Path.cwd())
@@ -1194,12 +1257,13 @@ def check_path_usable(path: Path, option: str) -> None:
 
 
 @contextmanager
-def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]:
+def figure_set(target: Path, option: str, force: bool = False,
+               command: str | None = None) -> Iterator[Path]:
     """:func:`lusm.output_set.output_set` with its failures as :class:`LusmError`."""
     from lusm.output_set import OutputError, output_set
 
     try:
-        with output_set(target, option, force) as stage:
+        with output_set(target, option, force, command) as stage:
             yield stage
     except OutputError as exc:
         raise LusmError(str(exc), option) from None
@@ -1208,13 +1272,70 @@ def figure_set(target: Path, option: str, force: bool = False) -> Iterator[Path]
                         option) from None
 
 
-def write_figures(target: Path, option: str, force: bool,
+def write_figures(args: argparse.Namespace, option: str,
                   draw: Callable[[Path], Sequence[str | Path]]) -> list[str]:
     """Draw a figure set into a staging folder (``draw(stage)`` returns the files it wrote)
-    and move it into ``target`` complete (:func:`figure_set`); returns the files' paths in
-    ``target``."""
-    with figure_set(target, option, force) as stage:
+    and move it into the folder of ``option`` complete (:func:`figure_set`, with ``--force``
+    and the command of ``args``); returns the files' paths in that folder."""
+    target = folder_arg(getattr(args, option[2:].replace("-", "_")), option)
+    with figure_set(target, option, args.force, args.command) as stage:
         return moved(draw(stage), stage, target)
+
+
+def file_target(text: str, option: str, force: bool, example: str) -> Path:
+    """The file ``option`` names, checked before any work: a name (not a folder, ``example``
+    says what to name instead), not below a file, not an existing file without ``force``,
+    in a folder that can be written."""
+    import os
+
+    if not text.strip():
+        raise LusmError(f"{option} must name a file, got ''", option)
+    path = Path(text)
+    check_path_usable(path, option)
+    # a trailing separator names a folder (Path drops it: dd.vtu/ would be written as the
+    # file dd.vtu)
+    last = text.rstrip().replace(os.sep, "/").rsplit("/", 1)[-1]
+    if path.is_dir() or last in ("", ".", ".."):  # dd.vtu/. too
+        raise LusmError(f"{option} {text.strip()} is a folder; name a file such as {example}",
+                        option)
+    for parent in path.parents:
+        if parent.exists() and not parent.is_dir():
+            raise LusmError(f"{option} {path} sits below the file {parent}", option)
+        if parent.exists():
+            break
+    if (path.exists() or path.is_symlink()) and not force:
+        raise LusmError(f"{option} {path} already exists; choose a new name or pass --force",
+                        option)
+    folder = next((p for p in path.absolute().parents if p.exists()), None)
+    if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
+        raise LusmError(f"{option} {path}: cannot write into {folder} (permission denied)",
+                        option)
+    return path
+
+
+def write_text_file(path: Path, option: str, text: str) -> None:
+    """Write ``text`` to ``path`` (checked by :func:`file_target`): built in a staging folder
+    beside it and moved in whole; a file already there (``--force``) is kept as
+    ``NAME.bak-N``, never lost."""
+    import os
+
+    from lusm.interrupts import checkpoint
+    from lusm.output_set import OutputError, keep_aside, staging
+
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with staging(path.parent, path.name, option, path) as stage:
+            staged = stage / path.name
+            staged.write_text(text, encoding="utf-8")
+            checkpoint()  # a Ctrl-C / SIGTERM that Python swallowed: nothing is moved in
+            if path.exists() or path.is_symlink():
+                keep_aside(path, "--force")
+            os.replace(staged, path)
+    except OutputError as exc:
+        raise LusmError(str(exc), option) from None
+    except OSError as exc:  # a full disk, a folder made read-only meanwhile
+        raise LusmError(f"{option} {path}: cannot write ({exc.strerror or exc})",
+                        option) from None
 
 
 def moved(paths, stage: Path, target: Path) -> list[str]:
@@ -1232,47 +1353,12 @@ def print_json(obj: Any, indent: int | None = None) -> None:
 # --- messages ---------------------------------------------------------------------------------
 
 
-UNEXCITED_FORCE_RATIO = 1e-6
-"""|A_b| / |A_l| (or the inverse) below which the drive is said to excite no B2 (no L1)."""
-
-
 def warn_unexcited_mode(params, electrodes) -> None:
-    """Warn when the drive's force factor of one mode is roundoff beside the other's: four
-    electrodes in phase gave A_b = 1.6e-15 N/V, a motor at 0 m/s with 0.54 W of input and a
-    'stall force' of 0 N, and --frequency auto picked the maximum of a noise ellipse, all
-    without a word."""
-    a_l, a_b = abs(params.A_l), abs(params.A_b)
-    wires = ", ".join(map(str, electrodes))
-    for name, small, big, other in (("B2", a_b, a_l, "L1"), ("L1", a_l, a_b, "B2")):
-        if small <= UNEXCITED_FORCE_RATIO * big:
-            # a diagonal pair that excites nothing (a material without piezoelectric
-            # constants) was told to drive the diagonal pair it drives
-            diagonal = sorted(electrodes) in ([1, 4], [2, 3])
-            fix = ("the material's piezoelectric constants (e_C_m2) are what couple it: check "
-                   "them" if diagonal else
-                   "drive a diagonal pair ([electrodes] drive = [1, 4] or [2, 3])")
-            warn(f"the drive through electrodes {wires} excites no {name} (A_"
-                 f"{name[0].lower()} = {small:.3g} N/V against {big:.3g} N/V for {other}): the "
-                 f"tip does not trace an ellipse and the motor gives no thrust; {fix}")
+    """Warn when the drive's force factor of one mode is roundoff beside the other's
+    (:func:`validation.summaries.unexcited_modes`)."""
+    from validation.summaries import unexcited_modes
 
-
-def warn_default_frequency(params, frequency_Hz: float) -> None:
-    """Warn when ``--frequency`` was left at its default and the product of the set's free
-    tip amplitudes there is below :data:`contact.drive.WEAK_DRIVE_SHARE` of the one at its
-    own operating point (:func:`contact.drive.drive_share`): a stator file with modes at
-    47.7 kHz gave a stall force of 0.26 N and a no-load speed of 5.7e-5 m/s at the default
-    40 kHz, without a word, where `--frequency auto` gives 1.40 N and 0.041 m/s. A frequency
-    the user typed is theirs."""
-    if typed("--frequency"):
-        return
-    from contact.drive import WEAK_DRIVE_SHARE, drive_share
-
-    share, best = drive_share(params, frequency_Hz)
-    if share < WEAK_DRIVE_SHARE:
-        warn(f"--frequency: the default {frequency_Hz:g} Hz misses this set's modes (L1 "
-             f"{params.f_L1_Hz:.0f} Hz, B2 {params.f_B2_Hz:.0f} Hz): the product of the free "
-             f"tip's amplitudes there is {share:.2g} of the one at its own operating point, "
-             f"{best:.0f} Hz; "
-             f"--frequency auto drives it there")
+    for text in unexcited_modes(params, electrodes):
+        warn(text)
 
 

@@ -10,7 +10,10 @@ A folder lusm wrote carries :data:`MARKER`, the SHA-256 of each file it wrote. A
 file. A file already there is replaced if the marker lists it with its present content; one
 the user edited is kept as ``NAME.bak-N``; any other is refused, or with ``force`` kept as
 ``NAME.bak-N``. A non-empty ``DIR`` without a marker is refused before any work unless
-``force``. Nothing is deleted; files the set does not write stay, and stay listed.
+``force``, and so is a folder whose marker names other commands than the one writing (the
+marker lists the commands that wrote there): ``lusm map --plot figs`` does not write into
+``lusm simulate``'s ``figs`` unless ``force``. Nothing is deleted; files the set does not
+write stay, and stay listed.
 """
 
 from __future__ import annotations
@@ -90,6 +93,17 @@ def _marker(folder: Path) -> dict[str, str] | None:
         if isinstance(hashes, dict) else None
 
 
+def _commands(folder: Path) -> set[str]:
+    """The ``lusm`` commands the marker in ``folder`` says wrote there (empty: none named)."""
+    path = folder / MARKER
+    try:
+        doc = json.loads(path.read_text()) if path.is_file() and not path.is_symlink() else None
+    except (OSError, ValueError):
+        doc = None
+    names = doc.get("commands") if isinstance(doc, dict) else None
+    return {n for n in names if isinstance(n, str)} if isinstance(names, list) else set()
+
+
 def _digest(path: Path) -> str | None:
     """SHA-256 of a regular file's content; None for a link, a folder or an unreadable file."""
     if path.is_symlink() or not path.is_file():
@@ -101,10 +115,11 @@ def _digest(path: Path) -> str | None:
         return None
 
 
-def check_target(target: Path, option: str = "--out", force: bool = False) -> None:
+def check_target(target: Path, option: str = "--out", force: bool = False,
+                 command: str | None = None) -> None:
     """Refuse (:class:`OutputError`, naming ``option``), before any work, a ``target`` that
-    is a link to nothing, a file, below a file, or a non-empty folder without lusm's marker
-    (unless ``force``)."""
+    is a link to nothing, a file, below a file, or (unless ``force``) a non-empty folder
+    without lusm's marker or one whose marker names other commands than ``command``."""
     target = Path(target)
     if target.is_symlink() and not target.exists():
         raise OutputError(f"{option} {target} is a link to {os.readlink(target)}, which does "
@@ -118,6 +133,13 @@ def check_target(target: Path, option: str = "--out", force: bool = False) -> No
         raise OutputError(f"{option} {named} is a non-empty folder that lusm did not write; "
                           "choose a new or empty folder, or pass --force to write beside its "
                           "files (nothing of yours is deleted)")
+    others = _commands(target) if command is not None and not force and target.is_dir() \
+        else set()
+    if others and command not in others:
+        raise OutputError(f"{option} {target} holds the output of lusm "
+                          f"{' and lusm '.join(sorted(others))}; choose another folder, or pass "
+                          f"--force to write lusm {command}'s files beside it (nothing is "
+                          "deleted)")
 
 
 def _staging_parent(real: Path) -> Path:
@@ -136,7 +158,8 @@ def check_writable(target: Path, option: str) -> None:
 
 
 @contextmanager
-def output_set(target: Path, option: str = "--out", force: bool = False) -> Iterator[Path]:
+def output_set(target: Path, option: str = "--out", force: bool = False,
+               command: str | None = None) -> Iterator[Path]:
     """Yield a staging folder; on a clean exit move its files into ``target``.
 
     Parameters
@@ -147,10 +170,13 @@ def output_set(target: Path, option: str = "--out", force: bool = False) -> Iter
         The command-line option that named ``target``, for messages.
     force : bool
         Write into a non-empty folder lusm did not write, keeping the user's files that the
-        set would replace as ``NAME.bak-N``.
+        set would replace as ``NAME.bak-N``, or a folder of other commands.
+    command : str, optional
+        The ``lusm`` command writing the set, recorded in the marker; a folder another
+        command wrote is refused unless ``force``.
     """
     target = Path(target)
-    check_target(target, option, force)
+    check_target(target, option, force, command)
     real = Path(os.path.realpath(target))
     # staged in the nearest existing folder: the target's missing parents are made only
     # when the set is complete
@@ -158,10 +184,11 @@ def output_set(target: Path, option: str = "--out", force: bool = False) -> Iter
         built = stage / "set"
         built.mkdir()  # the umask's mode: a new target is this folder, renamed
         yield built
-        _commit(built, real, option, force)
+        _commit(built, real, option, force, command)
 
 
-def _commit(stage: Path, target: Path, option: str, force: bool) -> None:
+def _commit(stage: Path, target: Path, option: str, force: bool,
+            command: str | None = None) -> None:
     """Move the files of ``stage`` into ``target`` by the rules of the module docstring."""
     from lusm.interrupts import checkpoint
 
@@ -170,12 +197,12 @@ def _commit(stage: Path, target: Path, option: str, force: bool) -> None:
            for p in sorted(stage.rglob("*")) if p.is_file() or p.is_symlink()}
     if not target.exists():
         target.parent.mkdir(parents=True, exist_ok=True)
-        _write_marker(stage, new)
+        _write_marker(stage, new, {command} - {None})
         os.replace(stage, target)
         return
     ours = _marker(target) or {}
-    if not ours and not force:  # checked again: the folder may have changed meanwhile
-        check_target(target, option)
+    if not force:  # checked again: the folder may have changed meanwhile
+        check_target(target, option, command=command)
     in_way = {f for f in new if os.path.lexists(target / f)}
     for f in new:  # a file or link where the set needs a folder
         in_way |= {p.as_posix() for p in PurePosixPath(f).parents if str(p) != "."
@@ -194,14 +221,16 @@ def _commit(stage: Path, target: Path, option: str, force: bool) -> None:
         (target / f).parent.mkdir(parents=True, exist_ok=True)
         os.replace(stage / f, target / f)
     kept = {f: h for f, h in ours.items() if (target / f).is_file()}
-    _write_marker(target, {**kept, **new})
+    _write_marker(target, {**kept, **new}, _commands(target) | ({command} - {None}))
 
 
-def _write_marker(folder: Path, hashes: dict[str, str | None]) -> None:
-    """Write ``folder``'s marker listing ``hashes``; a link or a file of the user's by that
-    name is kept aside first, never written through or over."""
+def _write_marker(folder: Path, hashes: dict[str, str | None], commands: set[str]) -> None:
+    """Write ``folder``'s marker listing ``hashes`` and the ``commands`` that wrote them; a
+    link or a file of the user's by that name is kept aside first, never written through or
+    over."""
     path = folder / MARKER
     if path.is_symlink() or (os.path.lexists(path) and _marker(folder) is None):
         keep_aside(path, "it is not lusm's marker")
-    doc = {"sha256": {f: h for f, h in sorted(hashes.items()) if h is not None}}
+    doc = {"sha256": {f: h for f, h in sorted(hashes.items()) if h is not None},
+           "commands": sorted(commands)}
     path.write_text(json.dumps(doc, indent=1))

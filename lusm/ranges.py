@@ -27,8 +27,8 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
         Also accept ``a,b,c``.
     bounds : (float, float), optional
         The closed range every value must lie in, in the option's ``unit``: checked here and
-        said in every refusal of the text's form too (``--loads nan`` had named the form
-        alone, where ``--load-N nan`` names its range).
+        said in every refusal of the text's form too (``--loads nan`` names its range, as
+        ``--load-N nan`` does).
     unit : str
         The option's unit as the user types it (``'N'``, ``'V'``).
     note : str

@@ -381,7 +381,19 @@ def beam_params(
         M_b=c.M_b, K_b=k_b, A_b=a_b, phi_B0=c.phi_B0, phi_Bl=c.phi_Bl,
         damping_ratios=(float(zeta_l), float(zeta_b)), base=base,
         source=f"beam theory (Appendix A, K_b {b2_stiffness}, {layout_name})",
+        shape=_beam_shape(beam),
     )
+
+
+def _beam_shape(beam: BeamStator | None):
+    """Appendix A's shapes on the beam (:func:`rom.shape_data.beam_shape_data`), with PZT-8's
+    limits: beam theory takes Table 1's constants, the paper's PZT-8."""
+    from fem.material import MATERIAL_LIMITS
+    from rom.shape_data import beam_shape_data
+
+    b = BeamStator() if beam is None else beam
+    return beam_shape_data(b.length_m, b.width_m, b.thickness_m, b.cE11_Pa, "paper",
+                           MATERIAL_LIMITS["paper"], "Appendix A beam shapes (Eq. 3)")
 
 
 def beam_frequencies(

@@ -29,6 +29,7 @@ import numpy as np
 
 from fem.beam_shapes import phi_B, phi_L
 from rom.params import MotorParams
+from rom.shape_data import ShapeData
 from rom.table2 import table2
 
 NODE_SHARE = 1e-2
@@ -87,16 +88,19 @@ def fem_params(
     points = np.array([stator.preload_point_m, stator.tip_point_m]).T  # (2, 2)
     P = model.probe(points)  # rows: ux(preload), ux(tip), uy(preload), uy(tip)
     drive = model.coupling(stator.drive_electrodes)
-    m_l, k_l, a_l, v_l = _reduce_mode(model, stator, P, drive, modes.L1.shape, 2,
-                                      float(phi_L(0.0, length)), modes.L1.f_short_Hz, "L1")
-    m_b, k_b, a_b, v_b = _reduce_mode(model, stator, P, drive, modes.B2.shape, 1,
-                                      float(phi_B(length, length)), modes.B2.f_short_Hz, "B2")
+    m_l, k_l, a_l, v_l, peaks_l = _reduce_mode(model, stator, P, drive, modes.L1.shape, 2,
+                                               float(phi_L(0.0, length)), modes.L1.f_short_Hz,
+                                               "L1")
+    m_b, k_b, a_b, v_b, peaks_b = _reduce_mode(model, stator, P, drive, modes.B2.shape, 1,
+                                               float(phi_B(length, length)),
+                                               modes.B2.f_short_Hz, "B2")
     features = stator.features_text() if hasattr(stator, "features_text") else ""
     mesh_text = _mesh_text(stator, refine)
     return MotorParams.from_modal(
         M_l=m_l, K_l=k_l, A_l=a_l, phi_L0=float(v_l[2]), phi_Ll=float(v_l[3]),
         M_b=m_b, K_b=k_b, A_b=a_b, phi_B0=float(v_b[0]), phi_Bl=float(v_b[1]),
         damping_ratios=(zeta_l, zeta_b), base=base,
+        shape=_fe_shape_data(model, mat, peaks_l, peaks_b, order),
         source=(
             f"FE modal reduction (scikit-fem, plane stress, order {order}, {mesh_text}, "
             f"{modes.dofs} dofs) of a {stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} x "
@@ -124,10 +128,25 @@ def _damping_ratios(base: MotorParams,
     return zeta_l, zeta_b
 
 
+def _fe_shape_data(model, material, peaks_l: tuple[float, float],
+                   peaks_b: tuple[float, float], order: int) -> ShapeData:
+    """The reduced shapes' peaks (:func:`fem.mode_peaks.shape_peaks`, per unit modal
+    amplitude) with the plate's thickness, volume and the material's limits."""
+    from fem.mode_peaks import plate_volume_m3
+
+    return ShapeData(
+        velocity_L1=peaks_l[0], velocity_B2=peaks_b[0], stress_L1_Pa_m=peaks_l[1],
+        stress_B2_Pa_m=peaks_b[1], thickness_m=model.stator.thickness_m,
+        volume_m3=plate_volume_m3(model), material=material.name, limits=material.limits,
+        source=f"FE mode shapes (plane stress, order {order}): the largest nodal "
+               "displacement and the largest principal stress at the quadrature points")
+
+
 def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndarray, row: int,
                  target: float, f_hz: float, name: str):
-    """One mode reduced to ``(mass, stiffness, force, values)``: its modal mass (kg), stiffness
-    (N/m), force factor (N/V) and probe values, ``shape`` scaled so that probe ``row`` of ``P``
+    """One mode reduced to ``(mass, stiffness, force, values, peaks)``: its modal mass (kg),
+    stiffness (N/m), force factor (N/V), probe values and the scaled shape's
+    :func:`fem.mode_peaks.shape_peaks`, ``shape`` scaled so that probe ``row`` of ``P``
     reads ``target`` (the beam shape's value), the probes being ``u_x`` at the preload point and the
     tip, then ``u_y`` at both; ``drive`` is the driven electrodes' coupling vector.
 
@@ -153,7 +172,9 @@ def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndar
     mass = float(phi @ (model.M @ phi))
     stiff = (2.0 * math.pi * f_hz) ** 2 * mass
     force = float(phi @ drive)
-    return mass, stiff, force, vals
+    from fem.mode_peaks import shape_peaks
+
+    return mass, stiff, force, vals, shape_peaks(model, phi)
 
 
 def _mesh_text(stator, refine: int) -> str:
@@ -286,12 +307,17 @@ def fem_params_from_design(design, stator=None, **kwargs) -> MotorParams:
                                     "set the file's [damping] frequency_Hz nearer to it")
             raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {text}") \
                 from None
-        # the reduction's description named the ratios it started from (Table 2's), not the
-        # fitted ones the set carries
+        # the set's description names the fitted ratios it carries, not the ones the
+        # reduction started from (Table 2's)
         before = f"damping ratios ({params.zeta_L1:.4g}, {params.zeta_B2:.4g})"
         after = f"damping ratios ({fitted.zeta_L1:.4g}, {fitted.zeta_B2:.4g}), fitted"
         params = replace(fitted, source=fitted.source.replace(before, after))
         damping = f"damping from {design.damping_origin}"
+    if design.force_factor_scales is not None:
+        s_l, s_b = design.force_factor_scales
+        params = replace(params, A_l=params.A_l * s_l, A_b=params.A_b * s_b,
+                         source=f"{params.source}; force factors scaled by [force_factor] "
+                         f"({s_l:g}, {s_b:g})")
     mesh = f", mesh {design.mesh_path}" if design.mesh_path is not None else ""
     return replace(params, source=f"stator file {path} ({design.name}{mesh}; {damping}): "
                    f"{params.source}")

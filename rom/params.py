@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import dataclass, fields, replace
+
+from rom.shape_data import ShapeData
 
 GRAVITY_M_S2 = 9.81
 """Gravitational acceleration used for the slider weight on the linear guide (m/s^2)."""
@@ -68,6 +70,10 @@ class MotorParams:
         Attenuation factor of Eq. 11 (1/m).
     source : str
         Where the numbers came from (free text, shown in reports).
+    shape : rom.shape_data.ShapeData or None
+        Per-unit-amplitude velocity and stress of the two shapes, the ceramic's thickness,
+        volume and limits (:mod:`contact.operating_limits`); None when unknown (a set
+        written without it). Not a model constant: it does not enter the dynamics.
 
     Notes
     -----
@@ -95,9 +101,15 @@ class MotorParams:
     a_mu: float
     b_mu: float
     source: str = "unspecified"
+    shape: ShapeData | None = None
 
     def __post_init__(self) -> None:
+        if self.shape is not None and not isinstance(self.shape, ShapeData):
+            raise TypeError(f"MotorParams.shape must be a rom.shape_data.ShapeData or None, "
+                            f"got {type(self.shape).__name__}")
         for f in fields(self):
+            if f.name == "shape":
+                continue
             if f.name == "source":
                 if not isinstance(self.source, str):  # not 5 or None
                     raise TypeError(f"MotorParams.source must be text, got {self.source!r}")
@@ -183,6 +195,7 @@ class MotorParams:
         damping_ratios: tuple[float, float],
         base: MotorParams,
         source: str,
+        shape: ShapeData | None = None,
     ) -> MotorParams:
         """A stator's modal constants with viscous damping ``C = 2 zeta sqrt(K M)`` from
         ``damping_ratios = (zeta_L1, zeta_B2)`` and the contact, slider and friction
@@ -195,7 +208,7 @@ class MotorParams:
             phi_B0=phi_B0, phi_Bl=phi_Bl,
             k_contact=base.k_contact, M_slider=base.M_slider, mu_s=base.mu_s,
             mu_d=base.mu_d, mu_sd=base.mu_sd, a_mu=base.a_mu, b_mu=base.b_mu,
-            source=source,
+            source=source, shape=shape,
         )
 
     def with_(self, **changes: float | str) -> MotorParams:
@@ -203,8 +216,10 @@ class MotorParams:
         return replace(self, **changes)
 
     def to_dict(self) -> dict[str, float | str]:
-        """All stored fields plus the derived ``eta_N``, ``eta_T``, frequencies and ratios."""
-        d: dict[str, float | str] = asdict(self)
+        """All stored fields plus the derived ``eta_N``, ``eta_T``, frequencies and ratios;
+        ``shape`` as an object (:meth:`rom.shape_data.ShapeData.to_dict`) or None."""
+        d: dict = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "shape"}
+        d["shape"] = None if self.shape is None else self.shape.to_dict()
         d.update(
             eta_N=self.eta_N,
             eta_T=self.eta_T,
@@ -254,10 +269,12 @@ class MotorParams:
         if unknown:
             raise ValueError(f"unknown key(s) {', '.join(unknown)}; a parameter set has "
                              f"{', '.join(stored)}")
-        missing = [k for k in stored if k not in d and k != "source"]
+        missing = [k for k in stored if k not in d and k not in ("source", "shape")]
         if missing:
             raise ValueError(f"missing key(s) {', '.join(missing)}")
-        params = cls(**{k: d[k] for k in stored if k in d})
+        shape = d.get("shape")
+        params = cls(**{k: d[k] for k in stored if k in d and k != "shape"},
+                     shape=None if shape is None else ShapeData.from_dict(shape))
         for key in derived:
             if key in d:
                 want = getattr(params, key)

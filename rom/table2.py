@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from fem.beam_shapes import phi_B, phi_L
 from rom.params import MotorParams
+from rom.shape_data import ShapeData, beam_shape_data
 
 TABLE1 = {
     "length_m": 30e-3,
@@ -49,6 +50,16 @@ PAPER_DRIVE_HZ = 40e3
 """Excitation frequency used throughout the paper's simulations (Hz)."""
 
 
+def table1_shape_data() -> ShapeData:
+    """Appendix A's beam shapes on Table 1's plate (30 x 7.5 x 3 mm, ``cE11`` = 12.6e10 Pa,
+    PZT-8 limits): the velocity and stress per unit modal amplitude of Table 2's set."""
+    from fem.material import MATERIAL_LIMITS
+
+    return beam_shape_data(TABLE1["length_m"], TABLE1["width_m"], TABLE1["thickness_m"],
+                           TABLE1["cE11_Pa"], "paper", MATERIAL_LIMITS["paper"],
+                           "Appendix A beam shapes (Eq. 3) on Table 1's plate")
+
+
 def table2() -> MotorParams:
     """The paper's published parameter set as a :class:`MotorParams`.
 
@@ -77,4 +88,5 @@ def table2() -> MotorParams:
         a_mu=FRICTION_LAW["a_mu"],
         b_mu=FRICTION_LAW["b_mu_per_m"],
         source="Li, Yao & Wu (2016), Tables 1-2 and Eq. 3",
+        shape=table1_shape_data(),
     )

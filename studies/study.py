@@ -133,7 +133,7 @@ SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": FE_REFINE_DEFAULT
 """Solver settings when the study gives none: those of the single-point commands. A
 transient runs ``lusm simulate``'s 50 ms, and without ``dt`` its step is simulate's rule
 (:func:`lusm.options.time_step_s`: the largest step up to 100 ns that divides the drive
-period); the study had run 5 ms at exactly 100 ns."""
+period), so that a study's point and the command's are the same run."""
 
 MAX_GEOMETRIES = 100_000
 """FE solves of one study (multiplied by ``LUSM_MAX_WORK``)."""
@@ -141,9 +141,8 @@ MAX_STUDY_FE_WORK = 10_000_000
 """2D elements x FE solves of one study, each plate counted at the study's largest mesh
 (multiplied by ``LUSM_MAX_WORK``): a hundred times a sweep's bound
 (:data:`lusm.limits.MAX_FE_WORK_2D`), as a study runs on a cluster: 100 000 default
-plates (85 elements each) or 1 000 at ``fe_refine = 48``. The geometry count alone had let
-100 000 plates at ``fe_refine = 48`` start (days of work; the client was at 3.3 GB after a
-minute)."""
+plates (85 elements each) or 1 000 at ``fe_refine = 48``. The geometry count alone would
+let 100 000 plates at ``fe_refine = 48`` start (days of work, gigabytes in the client)."""
 MAX_DRIVE_POINTS = 10_000
 """Drive points of one geometry (multiplied by ``LUSM_MAX_WORK``)."""
 MAX_STUDY_POINTS = 1_000_000
@@ -187,7 +186,7 @@ class Solver:
         motor from rest, as ``lusm characteristic`` and ``lusm map`` by default) or
         ``"fast"`` (averaged, slider mass -> infinity: about half the time, blind to creeps
         and holds below the slider's velocity ripple; at 400 V its stall force on the paper's
-        plate was half the exact one).
+        plate is half the exact one).
     ultrasonic_friction : bool
         Eq. 11's ultrasonic reduction of the dynamic friction coefficient (True, as every
         single-point command by default); False takes the constant ``mu_d``, as their
@@ -295,12 +294,12 @@ class Study:
     def fingerprint(self) -> str:
         """SHA-256 of the canonical study without its name (what resume compares): the name
         defaults to the file's stem, and a copy of the same study under another file name
-        was refused as "the study file changed"."""
+        is the same study."""
         doc = json.loads(self.text) if self.text else {}
         if isinstance(doc, dict):
             doc.pop("name", None)
             # the stator file's contents count, not where it lies nor its comments and
-            # layout (a trailing newline had made it "another study")
+            # layout (a trailing newline does not make it another study)
             doc.get("stator", {}).pop("file", None)
             doc.get("stator", {}).pop("sha256", None)
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
@@ -314,9 +313,9 @@ def parse_quantity(value: Any, kind: str, key: str) -> float:
     """A quantity string (``"30 mm"``) in SI units; ``key`` names it in the error.
 
     The value is the double nearest the decimal typed times its unit (:func:`fem.units.
-    to_si`): ``"6.5 mm"`` is 0.0065, as ``"0.0065 m"`` is; ``6.5 * 1e-3`` had made it
-    0.006500000000000001, a coordinate ``sel(width=0.0065)`` did not find and a study of
-    another fingerprint than the same one written in m."""
+    to_si`): ``"6.5 mm"`` is 0.0065, as ``"0.0065 m"`` is (``6.5 * 1e-3`` is
+    0.006500000000000001, a coordinate ``sel(width=0.0065)`` does not find, and the same
+    study written in m would have another fingerprint)."""
     return nearest_float(_exact_quantity(value, kind, key))
 
 
@@ -389,10 +388,10 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
     """A range table's values (SI): the decimals ``start + i * step``, or ``num`` points
     from ``start`` to ``stop`` evenly, computed exactly and each rounded once to the nearest
     double, so that a range's point is the value the same decimal gets typed alone
-    (:func:`parse_quantity`). Summed in binary arithmetic, 25.9 mm had been
+    (:func:`parse_quantity`). Summed in binary arithmetic, 25.9 mm is
     0.025900000000000003 m, one ulp from a stator file's ``length_mm = 25.9``, and a
-    gmsh-meshed plate 1 ulp longer is meshed anew (its L1 moved by 0.6 Hz against the
-    single-point command's)."""
+    gmsh-meshed plate 1 ulp longer is meshed anew (its L1 0.6 Hz off the single-point
+    command's)."""
     unknown = sorted(set(raw) - {"start", "stop", "num", "step"})
     if unknown:
         raise ValueError(f"{key}.{unknown[0]} is not a range key; use start, stop and num or "
@@ -429,7 +428,7 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
             raise ValueError(f"{key} has {n} points, above the limit {top}; use a larger step")
         exact = [start + i * step for i in range(n)]
     out = tuple(nearest_float(v) for v in exact)
-    if len(set(out)) < len(out):  # it said "repeats a value" of a range
+    if len(set(out)) < len(out):  # a range too fine, not a list that repeats a value
         raise ValueError(f"{key} is finer than a float can tell apart near its start "
                          f"{raw['start']!r}: use a larger step or fewer points")
     return out
@@ -459,8 +458,8 @@ def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
         return
     if name == "gap":
         # 0 (touching quadrants) or the CLI's --gap-mm range: below 1 um the gap's
-        # cross-section solve cannot be modelled (it failed per geometry, after the FE
-        # setup, as '--gap-mm: PlateStator.electrode_gap_m must be 0 ... 1e-06 m')
+        # cross-section solve cannot be modelled: refused here, in the study's terms, not
+        # per geometry after the FE setup
         from fem.geometry import MIN_GAP_M
 
         lo = MIN_GAP_M * 1e3
@@ -651,12 +650,31 @@ def _check_motor_drivable(outputs: tuple[str, ...], axes: dict, raw_axes: dict, 
             design_base(design)
         except ValueError as exc:
             raise ValueError(f"{where}study.stator {str(exc).splitlines()[0]}") from None
+        _check_stator_wiring(design, where)
     if 0.0 in axes["gap"]:
         # one conductor cannot be driven at V on 1, 4 and grounded on 2, 3 (fem.model
         # ShortedDriveError)
         raise ValueError(f"{where}axes.gap 0 mm makes the four electrodes one conductor, "
                          f"which the motor outputs ({', '.join(motor)}) would drive as a short "
                          "circuit; give a gap of at least 0.001 mm, or ask for FE outputs only")
+
+
+def _check_stator_wiring(design, where: str) -> None:
+    """Refuse, before any FE work, a stator file with its own mesh whose drive puts two
+    voltages on electrodes that touch (one conductor), in the words the single-point
+    commands say it (:func:`fem.model.check_mesh_wiring`): every plate of the study would
+    fail at its parameter set."""
+    if design.mesh_path is None:  # a generated plate's gap is checked with the axes
+        return
+    from fem.meshing.meshed_stator import planform_mesh
+    from fem.model import check_mesh_wiring
+
+    try:
+        check_mesh_wiring(planform_mesh(design.stator),
+                          {e: 1.0 for e in design.stator.drive_electrodes})
+    except ValueError as exc:
+        raise ValueError(f"{where}study.stator {design.path} (a mesh whose electrode tags "
+                         f"touch): {exc}; give a mesh with gap strips") from None
 
 
 def _stator(value: Any, source: str, where: str):
@@ -726,7 +744,7 @@ def plate_with(base, dims: dict[str, float]):
 def _stator_values(design) -> dict[str, tuple]:
     """The geometry axes' values of a stator file's own plate (SI, material name); the gap of
     a stator with its own mesh is NaN: its electrodes are the mesh's tagged regions (the
-    plate's nominal gap, 0, had refused every motor output as a short circuit)."""
+    plate's nominal gap, 0, would be a short circuit for every motor output)."""
     from fem.meshing.meshed_stator import MeshedStator
 
     st = design.stator
@@ -794,10 +812,9 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     blocks of holes, never high): an estimate above a bound refuses the study without a
     mesh, one that far below both bounds (the mesh's, and the study's FE work over its
     plates) cannot cross them passes, and a plate in between is meshed to count exactly (the
-    estimate alone had let a study up to 6.5 times over its bound start; review). The area
-    over the element size squared had been used, 2.2 times low on the tuned 60 kHz stator's
-    default mesh (a 1000 mm long plate at 0.067 mm had been meshed for 29 s and 564 MB only to
-    be refused). One with its own mesh file is the file's, whatever the axes."""
+    estimate alone can be up to 6.5 times low against the study's bound). The area over the
+    element size squared is 2.2 times low on the tuned 60 kHz stator's default mesh, so it is
+    not used. One with its own mesh file is the file's, whatever the axes."""
     from fem.cell_count import fe_cell_count
     from fem.geometry import PlateStator
     from fem.meshing.meshed_stator import MeshedStator
@@ -814,7 +831,7 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
     bound = min(limits.work_bound(limits.MAX_FE_CELLS_2D),
                 limits.work_bound(MAX_STUDY_FE_WORK) / max(study.n_geometries, 1))
     # the feature axes at their largest area: the longest, widest tip, the smallest chamfer
-    # (a 30 mm tip on the axis had been meshed at full size where lusm modes refuses it)
+    # (a 30 mm tip on the axis is refused as lusm modes refuses it, not meshed)
     features = {f: (min if a == "chamfer" else max)(ax[a])
                 for a, f in FEATURE_FIELDS.items() if a in ax}
     corners = [(length, width, plate_with(base, {"length_m": length, "width_m": width,
@@ -830,7 +847,7 @@ def _largest_mesh(study: Study) -> tuple[int, float, float, bool]:
         return max(estimates)
     # the estimate's lowness could carry a plate across the bound: count its mesh itself,
     # unless the plate is wider than long, which its task refuses before any mesh
-    # (fem.modes.WidePlateError; review: it had been meshed here only to count)
+    # (fem.modes.WidePlateError): not meshed here only to count
     return max((fe_cell_count(plate, None), length, width, False)
                if bound < ESTIMATE_LOW_FACTOR * est[0] and not wider_than_long(plate) else est
                for est, (length, width, plate) in zip(estimates, corners, strict=True))
@@ -886,7 +903,7 @@ def contact_work_problem(study: Study, plate_work: float, detail: str) -> str | 
 def _check_contact_work(study: Study, where: str) -> None:
     """Refuse, before any FE solve, a study whose contact runs together are above the bound
     ``lusm map`` has for the same work: a 100 x 100 voltage x preload study of 2 s event
-    runs (2e11 time steps, hours) was taken where ``lusm map --method transient`` refuses
+    runs (2e11 time steps, hours) is refused as ``lusm map --method transient`` refuses
     4e8. Transient steps are known here except for an auto frequency without solver.dt
     (counted at the default step's upper end, 100 ns: at least as many); a steady solve's
     steps per drive period depend on the plate's FE set, so they are counted at the fewest
@@ -920,8 +937,7 @@ def _check_contact_work(study: Study, where: str) -> None:
 def _warn_unused_solver(study: Study, raw: dict, where: str) -> None:
     """Warn of ``[solver]`` keys the study sets that its method does not use, as the commands
     warn of options that do nothing (``accuracy`` with a transient method, ``dt`` with the
-    steady engine and ``rest`` at the fast level ran without a word; found by exploratory
-    testing)."""
+    steady engine and ``rest`` at the fast level)."""
     import warnings
 
     contact_keys = ("method", "duration", "dt", "accuracy", "rest", "ultrasonic_friction")
@@ -935,8 +951,8 @@ def _warn_unused_solver(study: Study, raw: dict, where: str) -> None:
     else:
         why = f"a setting of the steady engine, and method = {s.method!r} is a transient"
         unused = {"accuracy": why, "rest": why}
-    by_reason: dict[str, list[str]] = {}  # one clause per reason (review: dt and rest had
-    for k in unused:                       # been given dt's reason together)
+    by_reason: dict[str, list[str]] = {}  # one clause per reason, each key with its own
+    for k in unused:
         if k in raw:
             by_reason.setdefault(unused[k], []).append(k)
     if by_reason:
@@ -949,15 +965,14 @@ def _warn_unused_solver(study: Study, raw: dict, where: str) -> None:
 def _warn_unused_drive(study: Study, raw_axes: dict, where: str) -> None:
     """Warn of the drive axes a study names when it asks for FE outputs only: they drive
     nothing and make no dimension of its dataset (``voltage = ["200 V", "300 V"]`` beside
-    ``outputs = ["split"]`` was dropped without a word, where an unused solver key is said;
-    found by exploratory testing)."""
+    ``outputs = ["split"]``), as an unused solver key is said."""
     import warnings
 
     def default(axis: str) -> bool:  # frequency = "auto" written out changes nothing
         raw = raw_axes[axis]
         return isinstance(raw, str) and raw.strip().lower() == DEFAULT_AXES[axis].lower()
 
-    # in the file's order; an axis written at its default is no request (review)
+    # in the file's order; an axis written at its default is no request
     given = [f"axes.{a}" for a in raw_axes if a in DRIVE_AXES and not default(a)]
     if given and not study.needs_motor:
         names = " and ".join(given) if len(given) < 3 else \
@@ -969,8 +984,8 @@ def _warn_unused_drive(study: Study, raw_axes: dict, where: str) -> None:
 
 
 def _check_geometry_count(study: Study, where: str) -> None:
-    """Refuse more FE solves than :data:`MAX_GEOMETRIES` (a 1.8 M-plate stator study had
-    built every plate, 15 s, before it was refused)."""
+    """Refuse more FE solves than :data:`MAX_GEOMETRIES` by counting them, before any plate
+    is built (a 1.8 M-plate stator study takes 15 s to build)."""
     top = limits.work_bound(MAX_GEOMETRIES)
     if study.n_geometries > top:
         raise ValueError(f"{where}axes: {study.n_geometries} geometries (FE solves) is above "
@@ -1002,7 +1017,7 @@ def _check_work(study: Study, where: str) -> None:
     if fe_work > top:
         about = "about " if estimated else ""
         # the mesh the study's plates are meshed by: a stator file's own (or gmsh's, at its
-        # [mesh] size_mm), where solver.fe_refine does nothing (review)
+        # [mesh] size_mm), where solver.fe_refine does nothing
         coarser = (f"a coarser mesh of study.stator {study.stator.path} (its [mesh] size_mm "
                    "or mesh file)"
                    if study.stator is not None and _planform(study.stator)
@@ -1117,8 +1132,8 @@ def _check_transient(study: Study, where: str) -> None:
 
 
 MAX_STUDY_BYTES = 1_000_000
-"""Largest study file (bytes). A study is a few kB of TOML; ``/dev/zero`` given as the study
-was read until memory ran out (24 GB, killed) and a FIFO waited for ever."""
+"""Largest study file (bytes). A study is a few kB of TOML; the bound keeps ``/dev/zero``
+given as the study from being read until memory runs out."""
 
 
 def _read_study_text(path: Path) -> str:

@@ -19,7 +19,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 # One BLAS thread in this process and in the commands and workers it starts (set before NumPy
 # loads OpenBLAS): the suite's matrices are small, and on a 2-core machine shared with other
 # work, OpenBLAS's waiting threads made the dense eigensolves up to ten times slower. A
-# study's tasks run with one thread anyway (studies.explore). A developer's setting wins.
+# study's tasks run with one thread anyway (studies.task). A developer's setting wins.
 for _blas in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_blas, "1")
 
@@ -59,13 +59,13 @@ def cached_run(voltage_V: float, preload_N: float, **kw):
 @pytest.fixture(scope="session")
 def dask_client():
     """A client of the session's one LocalCluster: two worker processes of one thread each
-    (sized for a 2-core machine; one BLAS thread per worker, :func:`studies.explore.
+    (sized for a 2-core machine; one BLAS thread per worker, :func:`studies.cluster.
     worker_env`), closed at the end of the session. A worker a test kills is restarted by its
     nanny; that test waits for it."""
     pytest.importorskip("distributed")
     from distributed import Client
 
-    from studies.explore import local_cluster
+    from studies.cluster import local_cluster
 
     cluster = local_cluster(2)
     client = Client(cluster)

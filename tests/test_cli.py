@@ -38,33 +38,12 @@ def test_simulate_json_matches_the_library():
     assert d["steps"] == 500_000
 
 
-SIMULATE_REFUSALS = [
-    (("--voltage", "nan", "--preload", "14"), "--voltage"),
-    (("--voltage", "200", "--preload", "-1"), "--preload"),
-    (("--voltage", "200", "--preload", "14", "--dt", "0"), "--dt"),
-    (("--voltage", "200", "--preload", "14", "--dt", "2e-6"), "--dt"),
-    (("--voltage", "200", "--preload", "14", "--duration", "1e-4"), "--duration"),
-    (("--voltage", "200", "--preload", "14", "--frequency", "fast"), "--frequency"),
-    (("--voltage", "200", "--preload", "14", "--bogus"), "unrecognized"),
-]
-"""Bad input to lusm simulate, and what its one line names."""
-
-
-@pytest.mark.parametrize(("args", "needle"), SIMULATE_REFUSALS)
-def test_bad_input_is_one_line_exit_2(args, needle, capsys):
-    from lusm.cli import main
-
-    assert main(["simulate", *args]) == 2
-    err = capsys.readouterr().err
-    lines = [ln for ln in err.splitlines() if ln.strip()]
-    assert "Traceback" not in err and len(lines) == 1, err
-    assert needle in lines[0]
-
-
 @pytest.mark.slow
 def test_a_lusm_process_refuses_bad_input_in_one_line_exit_2():
-    """The refusals above, from a process of its own: its exit code and its whole stderr."""
-    for args, needle in (SIMULATE_REFUSALS[0], SIMULATE_REFUSALS[-1]):
+    """Bad input (tests/test_bad_input.py) from a process of its own: its exit code and its
+    whole stderr."""
+    for args, needle in ((("--voltage", "nan", "--preload", "14"), "--voltage"),
+                         (("--voltage", "200", "--preload", "14", "--bogus"), "--bogus")):
         out = lusm("simulate", *args)
         assert out.returncode == 2
         assert "Traceback" not in out.stderr
@@ -238,3 +217,24 @@ def test_simulate_energy_prints_every_term_of_the_balance(capsys):
              + e["tangential_on_stator_J"] + e["tangential_on_slider_J"] + e["guide_J"]
              + e["load_J"])
     assert total - e["delta_energy_J"] == pytest.approx(e["residual_J"], abs=1e-12)
+
+
+def test_materials_lists_every_named_material(capsys):
+    """``lusm materials --json`` has a row per name of ``fem.material.MATERIAL_NAMES`` with
+    its key constants, Q_m and limits; the text table has a line per material."""
+    from fem.material import MATERIAL_NAMES
+    from lusm.cli import main
+
+    assert main(["materials", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["materials"]
+    assert [r["name"] for r in rows] == list(MATERIAL_NAMES)
+    for r in rows:
+        assert {"rho_kg_m3", "s11E_m2_N", "d31_C_N", "k31", "N31_Hz_m", "mechanical_Q",
+                "limits", "source", "cE_Pa"} <= set(r)
+        assert r["limits"]["drive_field_V_m"] > 0 and r["source"]
+    assert main(["materials", "--json"]) == 0
+    tips = json.loads(capsys.readouterr().out)["tip_materials"]
+    assert [t["name"] for t in tips] == ["alumina", "steel"]
+    assert main(["materials"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert all(any(line.startswith(n + " ") for line in out) for n in MATERIAL_NAMES)

@@ -13,16 +13,12 @@ import pytest
 xr = pytest.importorskip("xarray")
 pytest.importorskip("distributed")
 
-from studies.explore import (  # noqa: E402
-    assemble,
-    compute_geometry,
-    explore,
-    local_cluster,
-    open_result,
-    parts_folder,
-    write_dataset,
-)
+from studies.cluster import local_cluster  # noqa: E402
+from studies.dataset import assemble, open_result, write_dataset  # noqa: E402
+from studies.explore import explore  # noqa: E402
+from studies.parts import parts_folder  # noqa: E402
 from studies.study import FE_OUTPUTS, load_study, study_from_dict  # noqa: E402
+from studies.task import compute_geometry, package_version  # noqa: E402
 
 TINY = {
     "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
@@ -136,7 +132,7 @@ def test_the_local_cluster_has_no_more_workers_than_geometries(scheduler, monkey
     (test_a_ctrl_c_while_the_cluster_starts_is_not_lost starts a real one of the size asked)."""
     from distributed import Client
 
-    import studies.explore as E
+    import studies.cluster
 
     asked = []
 
@@ -144,7 +140,7 @@ def test_the_local_cluster_has_no_more_workers_than_geometries(scheduler, monkey
         asked.append(workers)
         return Client(scheduler), None
 
-    monkeypatch.setattr(E, "connect", lend)
+    monkeypatch.setattr(studies.cluster, "connect", lend)
     two = study_from_dict({"outputs": ["f_L1_short"], "axes": {"length": ["29 mm", "30 mm"]},
                            "solver": {"fe_refine": 1}})
     r = explore(two, tmp_path / "two.nc", workers=8, progress=False)
@@ -400,7 +396,7 @@ def test_explore_refuses_bad_input_in_one_line(name, tmp_path, capsys):
 # --- what a task computes -------------------------------------------------------------------
 
 def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
-    import studies.explore as ex
+    import studies.task as ex
 
     def boom(*a, **k):
         raise AssertionError("the contact model ran for an FE-only study")
@@ -410,7 +406,7 @@ def test_fe_only_study_never_runs_the_contact_model(monkeypatch):
     part = compute_geometry(s, 0)
     assert str(part["status"]) == "ok" and np.isfinite(part["f_B2_open"])
     ds = assemble(s, {0: part})
-    assert set(ds.data_vars) == {"f_B2_open", "k_eff_L1", "k_eff_B2", "status"}
+    assert set(ds.data_vars) == {"f_B2_open", "k_eff_L1", "k_eff_B2", "status", "warnings"}
 
 
 def test_coordinates_are_the_decimals_the_study_gives():
@@ -568,7 +564,7 @@ def test_a_dataset_the_disk_refuses_is_one_error_and_leaves_no_staging_file(tmp_
 import resource, sys
 from pathlib import Path
 import numpy as np, xarray as xr
-from studies.explore import write_dataset
+from studies.dataset import write_dataset
 ds = xr.Dataset({"v": ("x", np.arange(20_000.0))}, attrs={"title": "160 kB"})
 resource.setrlimit(resource.RLIMIT_FSIZE, (16384, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
 try:
@@ -607,7 +603,7 @@ def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, ca
     """--out naming a link to nowhere passed check_out (exists() follows the link) and the
     dataset was renamed over the link, silently; lusm modes --export refuses it."""
     from lusm.cli import main
-    from studies.explore import check_out
+    from studies.dataset import check_out
 
     out = tmp_path / "d.nc"
     out.symlink_to("nowhere.nc")
@@ -627,9 +623,10 @@ def test_an_out_that_is_a_dangling_link_is_kept_as_an_existing_file(tmp_path, ca
 
 @pytest.mark.slow
 def test_workers_of_another_version_are_refused(scheduler, monkeypatch, tmp_path):
-    import studies.explore as ex
+    import studies.task
 
-    monkeypatch.setattr(ex, "_version", lambda: "0.0.0-client")  # the workers say 0.1.0 etc.
+    # the client (and the scheduler, in this process) says so; the workers 0.1.0 etc.
+    monkeypatch.setattr(studies.task, "package_version", lambda: "0.0.0-client")
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
     out = tmp_path / "r.nc"
     with pytest.raises(ValueError, match="--scheduler: worker .* runs lusm"):
@@ -863,7 +860,7 @@ def test_a_plates_steady_work_is_bounded_before_its_drive_points(monkeypatch):
     """A steady point's steps per drive period depend on the plate's FE set (416 at 1 kHz on
     this plate, against 25 at 40 kHz): the study's reading counts 25, each plate its own
     before its drive points, as the steady map does before its points."""
-    import studies.explore as ex
+    import studies.task as ex
 
     def no_contact(*args, **kwargs):
         raise AssertionError("a drive point ran")
@@ -933,13 +930,13 @@ def test_a_study_says_which_geometries_failed_and_refuses_when_all_did(scheduler
 
 def test_a_torn_part_is_computed_again_not_an_internal_error(tmp_path):
     # a truncated .npz raised zipfile.BadZipFile through --resume: "internal error"
-    from studies.explore import _part_path, _read_part, _write_part
+    from studies.parts import part_path, read_part, write_part
 
-    _write_part(tmp_path, 0, {"f_L1_short": np.array(1.0), "task_time_s": np.array(0.1)})
-    assert _read_part(tmp_path, 0)["f_L1_short"] == 1.0
-    path = _part_path(tmp_path, 0)
+    write_part(tmp_path, 0, {"f_L1_short": np.array(1.0), "task_time_s": np.array(0.1)})
+    assert read_part(tmp_path, 0)["f_L1_short"] == 1.0
+    path = part_path(tmp_path, 0)
     path.write_bytes(path.read_bytes()[:40])
-    assert _read_part(tmp_path, 0) is None
+    assert read_part(tmp_path, 0) is None
 
 
 def test_a_study_of_thick_plates_gets_the_thin_plate_warning(capsys):
@@ -1023,7 +1020,7 @@ def test_resume_refuses_parts_of_another_version_and_recomputes_a_malformed_part
     """Parts computed by another lusm version are not mixed into the resumed dataset; a
     part that loads but lacks an array is computed again. The same study under another file
     name (name = the stem) is the same study."""
-    import studies.explore as ex
+    import studies.parts
 
     out = tmp_path / "study.nc"
     with pytest.raises(Interrupt):
@@ -1031,7 +1028,7 @@ def test_resume_refuses_parts_of_another_version_and_recomputes_a_malformed_part
                 on_part=lambda i: (_ for _ in ()).throw(Interrupt()))
     renamed = study_from_dict({**TINY, "study": {"name": "tiny, copied"}})
     assert renamed.fingerprint == study.fingerprint
-    monkeypatch.setattr(ex, "_version", lambda: "9.9.9")
+    monkeypatch.setattr(studies.parts, "package_version", lambda: "9.9.9")
     with pytest.raises(ValueError, match="--resume: .* was computed by lusm .*this is lusm "
                                          "9.9.9"):
         explore(renamed, out, client=dask_client, progress=False, resume=True)
@@ -1060,7 +1057,7 @@ def test_a_worker_of_another_version_is_refused_by_its_result(study, monkeypatch
 
     s = study_from_dict({"outputs": ["f_L1_short"], "solver": {"fe_refine": 1}})
     part = compute_geometry(s, 0)
-    assert str(part["lusm_version"]) == ex._version()
+    assert str(part["lusm_version"]) == package_version()
     from distributed import Client
 
     with Client(processes=False, n_workers=1, threads_per_worker=1,
@@ -1074,7 +1071,7 @@ def test_a_worker_of_another_version_is_refused_by_its_result(study, monkeypatch
 
 
 def _real_compute(st, i):
-    from studies.explore import _compute
+    from studies.task import _compute
 
     return {**_compute(st, i), "task_time_s": np.array(0.0)}
 
@@ -1085,7 +1082,7 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
     waiting at 45 s); a scheduler file of '{}' was an internal AssertionError."""
     import socket
 
-    import studies.explore as ex
+    import studies.cluster as ex
 
     monkeypatch.setattr(ex, "CONNECT_DEADLINE_S", 1.0)
     with socket.socket() as srv:
@@ -1112,7 +1109,7 @@ def test_a_scheduler_that_is_not_dask_gets_one_line(monkeypatch, tmp_path):
 
 def test_a_scheduler_file_that_is_a_folder_is_not_said_to_be_missing(tmp_path):
     """--scheduler-file naming a folder (or a device) was told it "does not exist"."""
-    import studies.explore as ex
+    import studies.cluster as ex
 
     with pytest.raises(ValueError, match=f"^--scheduler-file {tmp_path} is a folder, not a "
                                          "dask scheduler file$"):
@@ -1204,7 +1201,7 @@ def test_a_workers_warning_is_said_once_by_the_client(scheduler, tmp_path, capsy
 
 def test_an_interrupt_before_any_geometry_leaves_no_folder_it_made(monkeypatch, tmp_path):
     """`--out new1/sub/x.nc` interrupted while connecting left an empty new1/sub/."""
-    import studies.explore as ex
+    import studies.cluster as ex
 
     def interrupted(*_a, **_k):
         raise KeyboardInterrupt
@@ -1321,7 +1318,7 @@ import multiprocessing.resource_tracker as rt
 multiprocessing.set_start_method("spawn")  # a LocalCluster worker's (names its semaphores)
 made = []
 rt.register = lambda name, rtype: made.append(rtype)
-from studies.explore import compute_geometry
+from studies.task import compute_geometry
 from studies.study import study_from_dict
 s = study_from_dict({"outputs": ["stall_force"],
                      "solver": {"fe_refine": 1, "accuracy": "fast"},
@@ -1456,7 +1453,7 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
     characteristic at the study's loads either way, to the bit."""
     import contact.characteristic as cc
     from contact.model import default_coupling
-    from studies.explore import Drive, motor_answers
+    from studies.task import Drive, motor_answers
 
     s = study_from_dict({"outputs": ["velocity"],
                          "solver": {"fe_refine": 1, "accuracy": "fast"},
@@ -1517,7 +1514,7 @@ def test_an_error_after_finished_geometries_says_they_are_kept(scheduler, monkey
     import studies.explore as ex
     from lusm.cli import main
 
-    real, written = ex._write_part, []
+    real, written = ex.write_part, []
 
     def full_after_one(folder, i, data):
         if written:
@@ -1525,7 +1522,7 @@ def test_an_error_after_finished_geometries_says_they_are_kept(scheduler, monkey
         written.append(i)
         real(folder, i, data)
 
-    monkeypatch.setattr(ex, "_write_part", full_after_one)
+    monkeypatch.setattr(ex, "write_part", full_after_one)
     study = tmp_path / "s.toml"
     study.write_text('outputs = ["f_L1_short"]\n[axes]\nlength = ["29 mm", "30 mm"]\n'
                      '[solver]\nfe_refine = 1\n')
@@ -1548,7 +1545,7 @@ def test_a_study_can_take_the_constant_dynamic_friction():
     from contact.steady.engine import steady_state
     from lusm.commands.explore import in_study_terms
     from rom import table2
-    from studies.explore import Drive, motor_answers
+    from studies.task import Drive, motor_answers
 
     params = table2()
     coupling = default_coupling(params)[0]
@@ -1585,8 +1582,8 @@ def test_solver_rest_reaches_every_steady_call(monkeypatch):
     import contact.characteristic
     import contact.steady.engine
     from rom import table2
-    from studies.explore import Drive, motor_answers
     from studies.study import Solver
+    from studies.task import Drive, motor_answers
 
     seen = []
     real = contact.steady.engine.steady_state
@@ -1649,7 +1646,7 @@ def test_a_studys_figures_follow_the_axes_that_vary(sizes, files, tmp_path):
     """Maps over length x width where both vary, else over the first two axes along which
     a variable varies, else its curve over the one axis: a study of one length axis (a
     designer's stator at several lengths) drew nothing."""
-    from studies.explore import design_maps, drawable_maps
+    from studies.maps import design_maps, drawable_maps
 
     ds = _synthetic(sizes)
     assert bool(drawable_maps(ds)) == bool(files)
@@ -1666,7 +1663,7 @@ def test_a_studys_figures_draw_every_material(tmp_path):
     against their names."""
     from matplotlib.axes import Axes
 
-    from studies.explore import design_maps
+    from studies.maps import design_maps
 
     drawn = {"plot": [], "pcolormesh": [], "xticks": []}
     real = {k: getattr(Axes, k) for k in ("plot", "pcolormesh", "set_xticks")}
@@ -1706,8 +1703,54 @@ def test_a_studys_figures_draw_every_material(tmp_path):
             args, kw = panels[2 * j + k]
             np.testing.assert_allclose(args[2], da.isel(material=k).transpose(
                 "length", "width").values * scale)
-            assert (kw["vmin"], kw["vmax"]) == (np.nanmin(da.values * scale),
-                                                np.nanmax(da.values * scale))
+            if name == "split":  # signed: a diverging scale centred on zero
+                top = np.nanmax(np.abs(da.values * scale))
+                assert (kw["vmin"], kw["vmax"], kw["cmap"]) == (-top, top, "RdBu_r")
+            else:
+                assert (kw["vmin"], kw["vmax"]) == (np.nanmin(da.values * scale),
+                                                    np.nanmax(da.values * scale))
+
+
+def test_a_studys_maps_centre_the_split_on_zero_with_units_and_the_extra_maps(tmp_path):
+    """A split that changes sign: a diverging scale centred on zero and the zero contour;
+    titles name the variable, its meaning and its unit; the peak efficiency and the auto
+    drive frequency get maps of their own; the stall force's says it includes the creep
+    band."""
+    from matplotlib.axes import Axes
+
+    from studies.maps import design_maps
+
+    ds = _synthetic({"length": 3, "width": 3})
+    g = ds["split"].dims
+    ds["split"] = (g, np.array([[-900.0, -100.0, 400.0], [-500.0, 200.0, 800.0],
+                                [-50.0, 600.0, 1200.0]]).reshape(ds["split"].shape),
+                   {"units": "Hz", "long_name": "L1-B2 split"})
+    ds["f_drive"] = (g, np.full(ds["split"].shape, 40e3), {"units": "Hz", "long_name": "f"})
+    ds["peak_efficiency"] = ds["no_load_velocity"].copy().assign_attrs(units="1")
+    ds["stall_force"] = ds["no_load_velocity"].copy().assign_attrs(units="N")
+    contours, titles = [], []
+    real_contour, real_title = Axes.contour, Axes.set_title
+
+    def contour(self, *args, **kwargs):
+        contours.append(kwargs.get("levels"))
+        return real_contour(self, *args, **kwargs)
+
+    def title(self, text, *args, **kwargs):
+        titles.append(text)
+        return real_title(self, text, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Axes, "contour", contour)
+        mp.setattr(Axes, "set_title", title)
+        written = design_maps(ds, tmp_path)
+    assert sorted(p.name for p in written) == sorted(
+        f"{n}_length_width.png" for n in ("no_load_velocity", "stall_force", "split",
+                                          "peak_efficiency", "f_drive"))
+    assert contours == [[0.0]]  # the split's zero contour only
+    by_name = {t.split(":")[0]: t for t in titles}
+    assert by_name["split"].startswith("split: L1-B2 split (kHz)")
+    assert "(%)" in by_name["peak_efficiency"] and "(kHz)" in by_name["f_drive"]
+    assert "creep band" in by_name["stall_force"]
 
 
 @pytest.mark.slow
@@ -1718,7 +1761,7 @@ def test_a_studys_figures_draw_list_axes_in_ascending_order(tmp_path):
 
     from matplotlib.axes import Axes
 
-    from studies.explore import design_maps
+    from studies.maps import design_maps
 
     ds = _synthetic({"length": 3, "width": 3}).isel(length=[2, 0, 1], width=[1, 2, 0])
     one = _synthetic({"thickness": 3}).isel(thickness=[2, 0, 1])

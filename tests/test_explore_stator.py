@@ -9,8 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from studies.explore import assemble, compute_geometry
+from studies.dataset import assemble
 from studies.study import load_study, study_from_dict
+from studies.task import compute_geometry
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 TUNED = EXAMPLES / "tuned_60k" / "stator.toml"
@@ -19,12 +20,13 @@ MESHED = EXAMPLES / "chamfered" / "stator.toml"
 
 @pytest.mark.parametrize("stator, volts, damping", [
     (TUNED, 140, "zeta_L1 = 0.008333, zeta_B2 = 0.008333 ([damping] Q_m = 60"),
-    (MESHED, 300, "Table 2's ratios")])
+    (MESHED, 300, "zeta_L1 = 0.002167, zeta_B2 = 0.002167 (material pzt8's Q_m = 1000")])
 @pytest.mark.slow
 def test_a_stator_study_is_the_single_point_commands_on_its_file_bit_for_bit(
         stator, volts, damping, capsys):
-    """The file's plate, material, holes, tip, chamfers and its own damping (Q_m = 60, not
-    Table 2's ratios, which move the no-load velocity) reach the study: its answers are lusm
+    """The file's plate, material, holes, tip, chamfers and its own damping (Q_m = 60, or
+    without [damping] its material's with the default mount's, not Table 2's ratios, which
+    move the no-load velocity) reach the study: its answers are lusm
     characteristic's and lusm modes' on the same file. A file with its own mesh too: its
     plate's nominal gap (0) had refused every motor output as a short circuit."""
     from lusm.cli import main

@@ -277,7 +277,7 @@ def test_a_chaotic_creep_is_not_called_settled(capsys):
     stator = Path(__file__).resolve().parents[1] / "examples" / "light_damping" / "stator.toml"
     assert main(["simulate", "--geometry", str(stator), "--voltage", "229", "--preload",
                  "24.44", "--load-N", "-1.23", "--coupling", "consistent", "--steady",
-                 "--json"]) == 0
+                 "--json", "--frequency", "40e3"]) == 0
     cap = capsys.readouterr()
     assert json.loads(cap.out)["settled"] is False
     assert "no period up to 16" in cap.err and "standard error" in cap.err

@@ -57,8 +57,35 @@ def test_quality_factor_and_table2_source(tmp_path):
     assert "Q_m = 80" in d.damping_origin
     d = load_stator(_write(tmp_path, '[damping]\nsource = "table2"\n'))
     assert d.damping_ratios is None and "table2" in d.damping_origin
-    d = load_stator(_write(tmp_path, ""))
+    d = load_stator(_write(tmp_path, '[material]\nname = "paper"\n'))
     assert d.damping_ratios is None and d.damping_origin == "" and d.motor == {}
+
+
+def test_default_damping_combines_material_and_mount_q(tmp_path):
+    """No [damping]: the material's data-sheet Q_m (PZT-8: 1000) and the default mount's
+    (300) in series, 1/Q = 1/1000 + 1/300, zeta = 1/(2 Q) in both modes; Q_mount and
+    Q_contact in the file take part; a material without Q_m keeps the source's default and
+    refuses a mount loss it cannot combine."""
+    from fem.stator_file import DEFAULT_Q_MOUNT
+
+    d = load_stator(_write(tmp_path, ""))
+    assert DEFAULT_Q_MOUNT == 300.0
+    z = 0.5 * (1 / 1000 + 1 / 300)
+    assert d.damping_ratios == pytest.approx((z, z), rel=1e-14)
+    assert "Q_m = 1000 (data sheet)" in d.damping_origin and "Q = 230.8" in d.damping_origin
+    d = load_stator(_write(tmp_path, "[damping]\nQ_mount = 100\nQ_contact = 500\n"))
+    z = 0.5 * (1 / 1000 + 1 / 100 + 1 / 500)
+    assert d.damping_ratios == pytest.approx((z, z), rel=1e-14)
+    assert "[damping] Q_mount = 100" in d.damping_origin
+    d = load_stator(_write(tmp_path, '[material]\nname = "pzt5a"\n'))
+    z = 0.5 * (1 / 75 + 1 / 300)
+    assert d.damping_ratios == pytest.approx((z, z), rel=1e-14)
+    with pytest.raises(ValueError, match=r"\[damping\] Q_mount combines with the material"):
+        load_stator(_write(tmp_path, '[material]\nname = "paper"\n[damping]\nQ_mount = 100\n'))
+    with pytest.raises(ValueError, match=r"Q_mount .* cannot be combined with Q_m"):
+        load_stator(_write(tmp_path, "[damping]\nQ_mount = 100\nQ_m = 50\n"))
+    with pytest.raises(ValueError, match=r"\[damping\] Q_mount must be a number in"):
+        load_stator(_write(tmp_path, "[damping]\nQ_mount = 0\n"))
 
 
 def test_contact_slider_friction_reach_the_parameter_set(tmp_path):

@@ -246,15 +246,18 @@ def test_a_users_file_named_like_the_marker_is_kept_under_force(tmp_path):
 
 
 def test_sets_of_several_commands_share_a_folder_without_harm(tmp_path, capsys):
-    """A characteristic's PNG written into a report's folder: each command then replaces
-    its own unchanged files without --force; a file the user put where a set writes is
-    refused, or with --force kept aside."""
+    """A characteristic's PNG written into a report's folder takes --force; each command
+    then replaces its own unchanged files without it; a file the user put where a set
+    writes is refused, or with --force kept aside."""
     out = tmp_path / "rep"
-    with output_set(out) as stage:
+    with output_set(out, command="report") as stage:
         _write(stage, {"index.md": "r1", "figures/a.png": "a1"})
-    with output_set(out) as stage:
+    with pytest.raises(OutputError, match="holds the output of lusm report"):
+        with output_set(out, command="characteristic") as stage:
+            _write(stage, {"characteristic.png": "c0"})
+    with output_set(out, force=True, command="characteristic") as stage:
         _write(stage, {"characteristic.png": "c1"})
-    with output_set(out) as stage:
+    with output_set(out, command="report") as stage:
         _write(stage, {"index.md": "r2", "figures/a.png": "a2"})
     assert _snapshot(out) == {"index.md": "r2", "figures/a.png": "a2",
                               "characteristic.png": "c1"}
@@ -301,6 +304,56 @@ def test_a_plot_folder_that_cannot_be_made_is_refused_before_the_study(tmp_path,
     assert err.startswith(f"lusm explore: error: --plot {_NO_FOLDER}: cannot write there")
     assert len(err.splitlines()) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no dataset, no parts
+
+
+@pytest.mark.parametrize("argv", [
+    ["simulate", "--voltage", "200", "--preload", "14", "--plot"],
+    ["map", "--plot"],
+    ["characteristic", "--voltage", "200", "--preload", "14", "--plot"],
+    ["render", "--out"],
+    ["sweep", "--width-mm", "6:8:1", "--out"],
+    ["admittance", "--out"],
+    ["report", "--out"],
+    ["explore", "{study}", "--out", "{nc}", "--plot"],
+], ids=lambda argv: argv[0])
+def test_a_folder_of_another_command_is_refused_before_any_work(argv, tmp_path, capsys):
+    """Each command that writes a folder refuses one another command wrote (one line, exit
+    2, nothing changed), and writes beside it with --force (the first command's files
+    stay); the check runs before any solve or study, so the refusal takes no time."""
+    from lusm.cli import main
+
+    out = tmp_path / "theirs"
+    owner = "report" if argv[0] == "render" else "render"
+    with output_set(out, command=owner) as stage:
+        (stage / "a.png").write_text("a")
+    before = _snapshot(out)
+    study = tmp_path / "s.toml"
+    study.write_text('outputs = ["split"]\n[axes]\nlength = ["29 mm", "30 mm"]\n')
+    names = {"study": str(study), "nc": str(tmp_path / "r.nc")}
+    args = [a.format(**names) for a in argv] + [str(out)]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    option = argv[-1]
+    assert err[-1].startswith(f"lusm {argv[0]}: error: {option} {out} holds the output of "
+                              f"lusm {owner};"), err
+    assert _snapshot(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml", "theirs"]
+
+
+def test_a_command_writes_beside_another_commands_set_with_force(tmp_path, capsys):
+    from lusm.cli import main
+
+    out = tmp_path / "figs"
+    with output_set(out, command="simulate") as stage:
+        (stage / "fig09_slider_velocity.png").write_text("theirs")
+    argv = ["characteristic", "--voltage", "400", "--preload", "14", "--accuracy", "fast",
+            "--loads", "0:1:0.5", "--plot", str(out)]
+    assert main(argv) == 2
+    assert main([*argv, "--force"]) == 0, capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, "characteristic.png",
+                                                     "fig09_slider_velocity.png"]
+    assert json.loads((out / MARKER).read_text())["commands"] == ["characteristic", "simulate"]
+    assert main(argv) == 0  # a command named in the marker writes again without --force
 
 
 @pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")

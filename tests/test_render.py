@@ -251,3 +251,74 @@ def test_lusm_render_draws_with_the_signals_held(monkeypatch, tmp_path):
     assert main(["render", "--animate", "--refine", "4", "--out", str(tmp_path / "r")]) == 0
     assert seen == [True]
     assert signal.getsignal(signal.SIGINT) is not deferred_signals._record  # released
+
+
+# --- 3D pictures (fem.render3d, lusm render --model 3d) --------------------------------------
+
+SOLID = dict(refine=2, layers=2)
+"""A cheap 3D mesh: the pictures' checks need the shapes' classes, not converged frequencies."""
+
+
+@pytest.fixture(scope="module")
+def solid_band():
+    from fem.band import band_shapes
+    from fem.solid3d.model import solid_model
+
+    model = solid_model(PlateStator(), "pzt8", 2, **SOLID)
+    return model, {m.name: m for m in band_shapes(model, 44e3, 60e3)}
+
+
+@pytest.mark.slow
+def test_the_3d_picture_is_not_blank_and_its_box_moves_with_the_mode(solid_band):
+    from fem.render3d import Scene3D
+
+    model, band = solid_band
+    moved = {}
+    for name in ("L1", "B2"):
+        scene = Scene3D(model, band[name], window_size=SMALL, decorations=False)
+        try:
+            scene.frame(0.5 * np.pi)  # cos = 0: the undeformed solid
+            rest = np.array(scene.bounds_m())
+            scene.frame(0.0)
+            img = scene.image().astype(float)
+            moved[name] = np.abs(np.array(scene.bounds_m()) - rest) / 30e-3
+        finally:
+            scene.close()
+        assert img.std() > 20.0 and np.mean(np.all(img > 250, axis=-1)) > 0.2
+        assert np.mean(np.any(img < 200, axis=-1)) > 0.05  # the solid covers part of it
+    # drawn at 6 % of the length: L1 stretches the length (y), B2 bends across (x)
+    assert max(moved["L1"][2:4]) > 0.03 and max(moved["L1"][0:2]) < max(moved["L1"][2:4])
+    assert max(moved["B2"][0:2]) > 0.03 and max(moved["B2"][2:4]) < max(moved["B2"][0:2])
+
+
+@pytest.mark.slow
+def test_the_potential_is_signed_and_zero_on_the_electrodes(solid_band):
+    from fem.render3d import mode_potential
+
+    model, band = solid_band
+    phi = mode_potential(model, band["B2"].shape)
+    assert np.max(phi) > 0.0 > np.min(phi)
+    for dofs in (*model.electrode_dofs, model.ground_dofs):
+        assert np.all(phi[dofs] == 0.0)
+
+
+@pytest.mark.slow
+def test_cli_render_3d_any_mode_png_and_gif(tmp_path, capsys):
+    from lusm.cli import main
+
+    out = tmp_path / "r"
+    base = ["render", "--model", "3d", "--refine", "2", "--layers", "2", "--out", str(out)]
+    assert main([*base, "--band", "44:60", "--mode", "1", "--color", "potential",
+                 "--animate"]) == 0
+    written = capsys.readouterr().out.split()
+    assert [p.rsplit(".", 1)[1] for p in written] == ["png", "gif"]
+    assert all((out / p.rsplit("/", 1)[1]).stat().st_size > 5_000 for p in written)
+    first = sorted(p.name for p in out.glob("*.*"))
+    assert main(base) == 0  # a folder lusm wrote: L1 and B2 go in beside the others
+    assert sorted(p.name for p in out.glob("*.*")) == sorted([*first, "3d_B2.png",
+                                                              "3d_L1.png"])
+    assert main([*base, "--band", "44:60", "--mode", "9"]) == 2  # beyond the band's rows
+    assert "holds" in capsys.readouterr().err
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "x.txt").write_text("x")
+    assert main([*base[:-1], str(tmp_path / "mine")]) == 2  # the user's folder: refused

@@ -156,7 +156,7 @@ def test_holes_on_the_centre_line_keep_the_3d_sampling(tmp_path):
     outline, inside the nominal circle test but outside the mesh's polygonal edges. They are
     dropped as in 2D; every kept point is one scikit-fem locates at all three levels."""
     from fem.modes import locatable
-    from fem.solid3d.model import _sampling3d
+    from fem.solid3d.model import sampling_points_3d
 
     (tmp_path / "hc.toml").write_text(
         'name = "holes on the centre line"\n[plate]\nlength_mm = 30.0\nwidth_mm = 7.5\n'
@@ -165,7 +165,7 @@ def test_holes_on_the_centre_line_keep_the_3d_sampling(tmp_path):
         "[mesh]\nsize_mm = 0.9\n")
     design = load_stator(tmp_path / "hc.toml")
     model = build_solid_model(design.stator, design.material, 2, 1, 2)
-    X, Y, probes, inside = _sampling3d(model)
+    X, Y, probes, inside = sampling_points_3d(model)
     assert 0.8 * inside.size < inside.sum() < inside.size
     zt = 0.5 * design.stator.thickness_m * (1 - 1e-9)
     for z in (0.0, zt, -zt):

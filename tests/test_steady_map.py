@@ -100,7 +100,7 @@ def test_an_interrupted_map_does_not_compute_the_points_left(monkeypatch, worker
         with lock:
             calls.append(args[1:3])
             if len(calls) == 1:  # the first point (computed before the threads start)
-                return ("pure-stick", 0.0, 1.0, 0.0, 0.3, True, (), False)
+                return ("pure-stick", 0.0, 1.0, 0.0, 0.3, True, (), False, None)
         time.sleep(0.02)  # a point takes time: the map sees the failure while others wait
         raise KeyboardInterrupt
 

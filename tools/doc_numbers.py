@@ -844,6 +844,50 @@ def _fitted_damping() -> dict[str, float]:
     return out
 
 
+@cache
+def _paper_operating_limits(voltage_V: float = 400.0):
+    """The operating limits of Table 2's set at ``voltage_V`` / 14 N / 40 kHz (the paper's
+    400 V by default), steady state from rest (:mod:`contact.operating_limits`)."""
+    from contact.operating_limits import operating_limits
+    from contact.steady.engine import steady_state
+
+    p = _table2()
+    r = steady_state(p, voltage_V, 14.0, frequency_Hz=40e3)
+    return operating_limits(p, voltage_V, 40e3, r.from_rest)
+
+
+def _default_q() -> float:
+    """The default damping's Q of a PZT-8 stator file: 1/Q = 1/Q_m + 1/Q_mount."""
+    from fem.material import combined_quality_factor, pzt8
+    from fem.stator_file import DEFAULT_Q_MOUNT
+
+    return combined_quality_factor(pzt8().mechanical_Q, DEFAULT_Q_MOUNT)
+
+
+def _operating_limit_claims() -> tuple[Claim, ...]:
+    """docs/designer.md, 'Physical limits' and 'The default damping'."""
+    cmd = "lusm simulate --voltage 400 --preload 14 --steady --json (limits.{q}.value)"
+    out = [Claim("default_damping_Q", "-", "lusm params --geometry examples/tip_parametric/"
+                 "stator.toml (the damping line)", _default_q, cheap=True, rel_tol=1e-12),
+           Claim("default_damping_zeta", "-", "lusm params --geometry examples/tip_parametric/"
+                 "stator.toml (zeta_L1)", lambda: 0.5 / _default_q(), cheap=True,
+                 rel_tol=1e-12)]
+    for q, unit in (("vibration_velocity", "m/s"), ("stress", "Pa"),
+                    ("dissipated_power", "W"), ("power_density", "W/m^3")):
+        out.append(Claim(f"oplim_paper_400V_{q}", unit, cmd.format(q=q),
+                         lambda q=q: _paper_operating_limits().values[q], cheap=True,
+                         rel_tol=1e-4))
+    out.append(Claim("oplim_paper_400V_stress_B2", "Pa", "python -m tools.doc_numbers --show "
+                     "oplim_paper_400V_stress_B2 (B2's share: stress_B2_Pa_m x W)",
+                     lambda: (_paper_operating_limits().amplitudes_m[1]
+                              * _table2().shape.stress_B2_Pa_m), cheap=True, rel_tol=1e-4))
+    out.append(Claim("oplim_paper_300V_stress", "Pa", "lusm simulate --voltage 300 --preload 14 "
+                     "--steady --json (limits.stress.value)",
+                     lambda: _paper_operating_limits(300.0).values["stress"], cheap=True,
+                     rel_tol=1e-4))
+    return tuple(out)
+
+
 def _fitted_damping_claims() -> tuple[Claim, ...]:
     """docs/designer.md: what fitting the damping to the paper's amplitudes changes."""
     cmd = ("lusm characteristic --voltage 400 --preload 14 --frequency auto --geometry {f} "
@@ -1478,10 +1522,15 @@ def _steady_creep(voltage_V: float, preload_N: float) -> dict[str, float]:
 
 def _steady_claims() -> tuple[Claim, ...]:
     """Figures of docs/steady.md."""
+    return (*_steady_200V_claims(), *_steady_point_claims(), *_steady_sweep_claims(),
+            *_steady_benchmark_claims())
+
+
+def _steady_200V_claims() -> list[Claim]:
+    """docs/steady.md's figures of 200 V / 14 N: its velocity at each level and their costs
+    (benchmarks/steady_speed.py)."""
     bench = "python benchmarks/steady_speed.py"
-    mapc = bench + " --map"
-    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
-    out = [
+    return [
         Claim("steady_200V_14N_transient_m_s", "m/s", bench + " (transient_m_s)",
               lambda: _steady_point()["transient"], cheap=True, rel_tol=1e-6),
         Claim("steady_200V_14N_fast_m_s", "m/s", bench + " (fast_m_s)",
@@ -1527,6 +1576,14 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("steady_200V_14N_exact_vs_coarse_ratio", "-", bench + " (coarse_s / exact_s; "
               "here medians of 3)", lambda: _steady_point()["exact_vs_coarse_ratio"],
               batch="steady_point"),
+    ]
+
+
+def _steady_point_claims() -> list[Claim]:
+    """docs/steady.md's figures of single drive points: 150 V / 14 N, the characteristic at
+    30 kHz, loaded, no preload."""
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    return [
         Claim("steady_150V_14N_rest_m_s", "m/s", ex.format(v=150, f=14) + ".velocity_m_s",
               lambda: _steady_150()["rest"]),
         Claim("steady_150V_14N_rest_k", "-", ex.format(v=150, f=14) + ".from_rest.k",
@@ -1545,18 +1602,14 @@ def _steady_claims() -> tuple[Claim, ...]:
         Claim("char_30kHz_exact_no_load_m_s", "m/s",
               "lusm characteristic --voltage 200 --preload 14 --frequency 30000",
               lambda: _char_30khz("exact")),
-        Claim("steady_400V_14N_1N_mean_FN_N", "N",
-              'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FN_N',
-              lambda: _steady_400_loaded().mean_FN_N, cheap=True, rel_tol=1e-7),
-        Claim("steady_400V_14N_1N_mean_FT_N", "N",
-              'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.mean_FT_N',
-              lambda: _steady_400_loaded().mean_FT_N, cheap=True, rel_tol=1e-7),
-        Claim("steady_char_450V_40N_stall_N", "N",
-              "lusm characteristic --voltage 450 --preload 40 --json (stall_force_N)",
-              lambda: _char_exact(450.0, 40.0).stall_force_N),
-        Claim("steady_char_450V_40N_averaged_stall_N", "N",
-              "lusm characteristic --voltage 450 --preload 40 --json (averaged_stall_force_N)",
-              lambda: _char_exact(450.0, 40.0).averaged_stall_force_N),
+        *(Claim(f"steady_400V_14N_1N_{k}", "N",
+                'steady_state(table2(), 400, 14, load_N=1, accuracy="exact").from_rest.' + k,
+                lambda k=k: getattr(_steady_400_loaded(), k), cheap=True, rel_tol=1e-7)
+          for k in ("mean_FN_N", "mean_FT_N")),
+        *(Claim(f"steady_char_450V_40N_{k}_N", "N",
+                f"lusm characteristic --voltage 450 --preload 40 --json ({k}_force_N)",
+                lambda k=k: getattr(_char_exact(450.0, 40.0), f"{k}_force_N"))
+          for k in ("stall", "averaged_stall")),
         Claim("contact_no_preload_200V_m_s", "m/s",
               "lusm simulate --voltage 200 --preload 0 --steady --json (steady_velocity_m_s)",
               lambda: _no_preload().velocity_m_s, cheap=True, rel_tol=1e-7),
@@ -1578,6 +1631,12 @@ def _steady_claims() -> tuple[Claim, ...]:
               "steady_150V_14N_rest_m_s - 1",
               lambda: _steady_150()["fast"] / _steady_150()["rest"] - 1),
     ]
+
+
+def _steady_sweep_claims() -> list[Claim]:
+    """docs/steady.md's figures over masses, loads and voltages."""
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    out = []
     for v, mass in ((200, 0.2), (200, 0.4), (200, 0.8), (400, 0.2), (400, 0.4), (400, 0.8)):
         out.append(Claim(
             f"steady_mass_error_{v}V_{int(mass * 10)}", "-",
@@ -1632,6 +1691,14 @@ def _steady_claims() -> tuple[Claim, ...]:
                     ("transient_175V", "m/s")):
         out.append(Claim(f"steady_branch_{k.replace('-', '_')}", unit, diag,
                          lambda k=k: _steady_branch_diagram()[k]))
+    return out
+
+
+def _steady_benchmark_claims() -> list[Claim]:
+    """docs/steady.md's figures of the map, scan and from-rest benchmarks and of creep."""
+    mapc = "python benchmarks/steady_speed.py --map"
+    ex = 'steady_state(table2(), {v}, {f}, accuracy="exact")'
+    out = []
     for k, unit in (("moving", "-"), ("held", "-"), ("fast_median", "-"), ("fast_p90", "-"),
                     ("fast_max", "-"), ("fast_held_max_m_s", "m/s"), ("exact_median", "-"),
                     ("exact_p90", "-"), ("exact_max", "-"), ("exact_held_max_m_s", "m/s"),
@@ -1671,7 +1738,7 @@ def _steady_claims() -> tuple[Claim, ...]:
                    if k == "transient" else ex.format(v=v, f=f))
             out.append(Claim(f"steady_creep_{v}V_{f}N_{k}_m_s", "m/s", cmd,
                              lambda v=v, f=f, k=k: _steady_creep(float(v), float(f))[k]))
-    return tuple(out)
+    return out
 
 
 # --- docs/steady.md: computed figures that had been marked input -------------------------
@@ -1859,18 +1926,15 @@ def _multi_cli_m_s() -> float:
 
 
 def _steady_input_claims() -> tuple[Claim, ...]:
-    """Computed figures of docs/steady.md that had been marked ``<!--input-->``."""
+    """Figures of docs/steady.md the tests check: the characteristics' stall forces and
+    creep, and the steady engine's hard cases."""
+    return (*_characteristic_input_claims(), *_steady_case_input_claims())
+
+
+def _characteristic_input_claims() -> tuple[Claim, ...]:
+    """docs/steady.md's stall forces and creep of speed-thrust characteristics."""
     c400 = "lusm characteristic --voltage 400 --preload 14 --json"
     c200 = "lusm characteristic --voltage 200 --preload 14 --json"
-    wrong = ("python -m tools.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
-             "14.72 N under -1.57 N: steady_state(table2(), 126.9, 14.72, load_N=-1.57), ")
-    beam = ("steady_state(get_params('beam'), 1000, 10, load_N=-1, frequency_Hz=40e3{})"
-            ".velocity_m_s")
-    stiff = ("python -m tools.doc_numbers --show {} (p = table2().with_(k_contact="
-             "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
-             "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
-    s252 = ("python -m tools.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
-            "252, 25.64, frequency_Hz=40414, accuracy='exact'), ")
     return (
         Claim("steady_char_400V_14N_exact_stall_N", "N", c400 + " (stall_force_N)",
               lambda: _char_exact(400.0, 14.0).stall_force_N, cheap=True, rel_tol=1e-6),
@@ -1916,6 +1980,22 @@ def _steady_input_claims() -> tuple[Claim, ...]:
               "1e-4 N, at which lusm simulate --voltage 100 --preload 14 --load-N L "
               "--duration 2 does not settle)",
               lambda: _threshold_load_N(100.0, 5.22, 5.24, 2.0, lambda s: not s.settled)),
+    )
+
+
+def _steady_case_input_claims() -> tuple[Claim, ...]:
+    """docs/steady.md's hard cases of the steady engine: thresholds, the wrong sheet, the
+    beam set's miss, a stiff contact, creep at 252 V."""
+    wrong = ("python -m tools.doc_numbers --show 'steady_wrong_sheet_*' (126.9 V / "
+             "14.72 N under -1.57 N: steady_state(table2(), 126.9, 14.72, load_N=-1.57), ")
+    beam = ("steady_state(get_params('beam'), 1000, 10, load_N=-1, frequency_Hz=40e3{})"
+            ".velocity_m_s")
+    stiff = ("python -m tools.doc_numbers --show {} (p = table2().with_(k_contact="
+             "1.7378e8): 1 - steady_state(p, 492.28, 13.91, load_N={}, rest='transient') over "
+             "steady_state(p, 492.28, 13.91, load_N={}), velocity_m_s)")
+    s252 = ("python -m tools.doc_numbers --show 'steady_252V_*' (steady_state(table2(), "
+            "252, 25.64, frequency_Hz=40414, accuracy='exact'), ")
+    return (
         Claim("steady_hold_check_200V_14N_m_s", "m/s",
               "contact.steady.exact.HOLD_CHECK_FACTOR x steady_ripple_scale_200V_14N_m_s",
               _hold_check_m_s, cheap=True, rel_tol=1e-9),
@@ -2002,9 +2082,10 @@ def _limits_claims() -> tuple[Claim, ...]:
     """Figures of docs/limits.md (the step bound and the largest 2D refine)."""
     sim = "lusm simulate --voltage 200 --preload 14 --json"
     return (
-        Claim("limits_reliability_cases", "-", "len(tests.test_reliability.CASES) (the named "
-              "bad inputs of python -m pytest tests/test_reliability.py)",
-              lambda: len(__import__("tests.test_reliability", fromlist=["x"]).CASES),
+        Claim("limits_bad_input_rows", "-", "sum(len(t) for t in tests.test_bad_input.TABLES"
+              ".values()) (the rows of python -m pytest tests/test_bad_input.py)",
+              lambda: sum(len(t) for t in __import__(
+                  "tests.test_bad_input", fromlist=["x"]).TABLES.values()),
               cheap=True, rel_tol=1e-12),
         Claim("limits_dt_bound_time_ratio", "-", sim + " --dt 2.5e-9 (wall_time_s) over " + sim
               + " (wall_time_s), each the fastest of 3 runs in one process",
@@ -2110,8 +2191,8 @@ def _explore_result_bytes_100() -> int:
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from explore_scaling import STUDY
 
-    from studies.explore import compute_geometry
     from studies.study import study_from_dict
+    from studies.task import compute_geometry
 
     axes = {**STUDY["axes"], "length": "30 mm", "width": "7.5 mm",
             "voltage": {"start": "100 V", "stop": "400 V", "num": 10},
@@ -2149,8 +2230,8 @@ def _tuned_length_study() -> dict[str, float]:
     """``lusm explore examples/studies/tuned_60k_length.toml``'s answers, each geometry computed
     in this process (``compute_geometry``, as a worker computes it): the L1-B2 split and the
     stall force at the shortest and the longest plate."""
-    from studies.explore import compute_geometry
     from studies.study import load_study
+    from studies.task import compute_geometry
 
     study = load_study(ROOT / "examples" / "studies" / "tuned_60k_length.toml")
     parts = [compute_geometry(study, i) for i in range(study.n_geometries)]
@@ -2457,7 +2538,13 @@ _CAP = ("python -c 'from fem.model import plate_model; "
 
 
 def _reviewed_input_claims() -> tuple[Claim, ...]:
-    """Computed figures the docs had marked ``<!--input-->`` (review of every input marker)."""
+    """Figures the docs quote in prose, computed here so that the tests check them."""
+    return (*_design_input_claims(), *_fe_input_claims(), *_limits_input_claims())
+
+
+def _design_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures of the beam's B2, the contact pre-pass, the drive and the tuned
+    60 kHz design."""
     return (
         Claim("beam_B2_half_wavelength_m", "m", _SHOW.format("beam_B2_half_wavelength_m")
               + " (pi l / (beta_2 l), the free-free B2 shape of Eq. 3)",
@@ -2492,6 +2579,13 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               _tuned60k_fold_m_s, cheap=True, rel_tol=3e-3),
         Claim("tuned60k_140V_14N_slip_m_s", "m/s", _T60 + " (branches: the stable pure-slip one)",
               _tuned60k_slip_m_s, cheap=True, rel_tol=1e-6),
+    )
+
+
+def _fe_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures of the 2D and 3D FE models: capacitances, gap weights, MAC, element
+    counts, admittance."""
+    return (
         Claim("fe2d_C_ee_F", "F", _CAP.format("diagonal"),
               lambda: _capacitance_pF()["C_ee"], cheap=True, rel_tol=1e-8),
         Claim("fe2d_C_13_F", "F", _CAP.format("[0, 2]"),
@@ -2532,6 +2626,13 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
               _one_quadrant_b2_coupling, cheap=True, rel_tol=1e-6),
         Claim("adm_retained_modes", "-", "lusm admittance --json (retained_modes)",
               lambda: float(_retained_modes()), cheap=True, rel_tol=0.0),
+    )
+
+
+def _limits_input_claims() -> tuple[Claim, ...]:
+    """Reviewed figures behind the work bounds: steady steps per period, the lowest
+    frequency, scales of the pre-pass and of the undriven slider, stall forces of the FE set."""
+    return (
         Claim("study_steps_per_period_28mm_1kHz", "-",
               "contact.steady.slow.steps_per_period of a 28 x 7.5 mm plate's FE set at fe_refine "
               "1, 1 kHz (tests/test_explore.py)",
@@ -2557,18 +2658,14 @@ def _reviewed_input_claims() -> tuple[Claim, ...]:
         Claim("limits_scale_voltage_V", "V", _SHOW.format("limits_scale_voltage_V")
               + " (contact.model.MAX_STATIC_DEFLECTION_M over Table 2's static deflection "
               "per volt)", _scale_voltage_V, cheap=True, rel_tol=1e-9),
-        Claim("limits_prepass_cap_zeta", "-", _SHOW.format("limits_prepass_cap_zeta")
-              + " (1.5 ln(1/PRE_PASS_SETTLE) / (2 pi MAX_PRE_PASS_PERIODS))",
-              lambda: _prepass_zeta("cap"), cheap=True, rel_tol=1e-9),
-        Claim("limits_prepass_warn_zeta", "-", _SHOW.format("limits_prepass_warn_zeta")
-              + " (ln(1/UNSETTLED_SHARE) / (2 pi 2/3 MAX_PRE_PASS_PERIODS))",
-              lambda: _prepass_zeta("warn"), cheap=True, rel_tol=1e-9),
-        Claim("steady_undriven_14N_hold_N", "N", _SHOW.format("steady_undriven_14N_hold_N")
-              + " (mu_s F_P + mu_sd (F_P + M g), Table 2, 14 N)",
-              lambda: _undriven_friction_N("hold"), cheap=True, rel_tol=1e-12),
-        Claim("steady_undriven_14N_slide_N", "N", _SHOW.format("steady_undriven_14N_slide_N")
-              + " (mu_d F_P + mu_sd (F_P + M g), Table 2, 14 N)",
-              lambda: _undriven_friction_N("slide"), cheap=True, rel_tol=1e-12),
+        *(Claim(f"limits_prepass_{k}_zeta", "-", _SHOW.format(f"limits_prepass_{k}_zeta")
+                + f" ({formula})", lambda k=k: _prepass_zeta(k), cheap=True, rel_tol=1e-9)
+          for k, formula in (("cap", "1.5 ln(1/PRE_PASS_SETTLE) / (2 pi MAX_PRE_PASS_PERIODS)"),
+                             ("warn", "ln(1/UNSETTLED_SHARE) / (2 pi 2/3 MAX_PRE_PASS_PERIODS)"))),
+        *(Claim(f"steady_undriven_14N_{k}_N", "N", _SHOW.format(f"steady_undriven_14N_{k}_N")
+                + f" ({mu} F_P + mu_sd (F_P + M g), Table 2, 14 N)",
+                lambda k=k: _undriven_friction_N(k), cheap=True, rel_tol=1e-12)
+          for k, mu in (("hold", "mu_s"), ("slide", "mu_d"))),
         Claim("steady_char_fem_400V_14N_stall_N", "N",
               "lusm characteristic --source fem --voltage 400 --preload 14 --frequency auto "
               "--json (stall_force_N)",
@@ -2875,6 +2972,7 @@ CLAIMS: tuple[Claim, ...] = (
     *_designer_claims(),
     *_parametric_claims(),
     *_fitted_damping_claims(),
+    *_operating_limit_claims(),
     *_default_coupling_claims(),
     *_drive_proxy_claims(),
     *_motor_claims(),

@@ -153,7 +153,7 @@ def run_hard_cases(
     cases: list[tuple] = [
         ("zero voltage", "0 V / 14 N", lambda: sim(0.0, 14.0)),
         # the tolerance is said: section 2 bisects the same edge to 0.5 V, and two edges
-        # printed without theirs read as a disagreement (139.2 against 139.6 V, --quick)
+        # without theirs would read as a disagreement (139.2 against 139.6 V, --quick)
         ("dead-zone edge", f"{v_edge:.{2 if edge_tol_V < 0.1 else 1}f} V / 14 N (bisection "
          f"to {edge_tol_V:g} V)", lambda: sim(v_edge, 14.0)),
         ("pure stick, huge preload", "200 V / 500 N", lambda: sim(200.0, 500.0)),

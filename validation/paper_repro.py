@@ -190,8 +190,8 @@ def _figs_9_to_17(c: _Cases) -> None:
     v9 = base_settled.steady.velocity_m_s
     how = ("steady engine" if c.settings.method == "steady" else
            "settled" if base.steady.settled else "not settled")
-    # a held slider's window mean is its ring about rest, roundoff once settled (the beam
-    # set's row had read "1.661e-19 m/s (settled)")
+    # a held slider's window mean is its ring about rest, roundoff once settled (1.661e-19
+    # m/s on the beam set): the row says it is held instead
     held = base_settled.steady.motion == "pure-stick"
     c.rows.append(ClaimRow(
         "Fig. 9", "200 V / 14 N: steady slider velocity about 0.03 m/s, reached after ~20 ms",
@@ -286,8 +286,8 @@ def _voltage_sweep(c: _Cases) -> None:
     edge = float(moving.min()) if moving.size else float("nan")
     stuck_below = volts[volts < edge] if moving.size else volts
     # judged on the edge itself, bisected to 0.5 V (section 4 bisects it to 0.05 V): on the
-    # 25 V grid "no motion up to 125 V, moving from 150 V" read as the paper's 120 V while
-    # the edge lies at 139 V
+    # 25 V grid "no motion up to 125 V, moving from 150 V" would pass for the paper's 120 V
+    # while the edge lies at 139 V
     from validation.hard_cases import dead_zone_edge
 
     bisected = dead_zone_edge(c.params, 14.0, c.frequency_Hz, 0.01, tol_V=0.5, coupling="paper")
@@ -309,7 +309,7 @@ def _voltage_sweep(c: _Cases) -> None:
             "Fig. 24", "about 0.2 m/s at 400 V, 14 N", f"{v400:.4g} m/s ({how})",
             _within(v400, 0.2, 0.3), "" if _within(v400, 0.2, 0.3) else
             # as for Fig. 9: an unsettled run's velocity is not the model's answer (the quick
-            # report's 10 ms run gave 0.072 m/s where the steady state is 0.217 m/s)
+            # report's 10 ms run gives 0.072 m/s where the steady state is 0.217 m/s)
             "the slider has not settled within this run" if not r400.steady.settled else
             "the equations with these parameters give this velocity",
         ))

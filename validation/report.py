@@ -144,7 +144,7 @@ def peer_check_summary(doc: Path = FEM3D_DOC) -> list[str]:
     i, j = text.find(PEER_START), text.find(PEER_END)
     if i < 0 or j < i:
         return []
-    # without the docs' number markers (<!--input-->, <!--n:key-->), which the HTML showed
+    # without the docs' number markers (<!--input-->, <!--n:key-->), which HTML would show
     block = re.sub(r"<!--.*?-->", "", text[i + len(PEER_START):j]).strip("\n").splitlines()
     return ["", "Peer check against SfePy, an independent FE code: quoted from `docs/fem3d.md` "
             "(\"Peer check with SfePy\"), not re-run by the report; measured by "
@@ -454,7 +454,7 @@ def _build(out: Path, quick: bool, progress: bool) -> dict:
 def write_report_files(out: Path, md: str, doc: dict, title: str) -> dict:
     """Write a report's ``index.md``, its self-contained ``index.html`` and ``report.json``
     (UTF-8; a path that is not, as ``st\udcfe.toml`` from a Latin-1 name, is written with
-    backslash escapes: it failed the whole report at its very end)."""
+    backslash escapes rather than failing the whole report at its end)."""
     text = {"encoding": "utf-8", "errors": "backslashreplace"}
     (out / "index.md").write_text(md, **text)
     (out / "index.html").write_text(to_html(md, title), **text)

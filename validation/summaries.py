@@ -43,6 +43,44 @@ def borrowed_damping(source: str) -> str:
     return f"Table 2's ratios, borrowed by the {source} set"
 
 
+UNEXCITED_FORCE_RATIO = 1e-6
+"""|A_b| / |A_l| (or the inverse) below which the drive is said to excite no B2 (no L1)."""
+
+
+def unexcited_modes(params: MotorParams, electrodes=None) -> list[str]:
+    """What to say of a drive whose force factor of one mode is roundoff beside the other's
+    (none: ``[]``): four electrodes in phase give A_b = 1.6e-15 N/V, a motor at 0 m/s with
+    0.54 W of input and a 'stall force' of 0 N, and --frequency auto the maximum of a noise
+    ellipse. The single-point commands warn it; a study keeps it in each geometry's
+    ``warnings``. ``electrodes`` None: a parameter set of its own (``--params``), whose
+    force factors are its A_l and A_b."""
+    a_l, a_b = abs(params.A_l), abs(params.A_b)
+    if electrodes is None and a_l == 0.0 and a_b == 0.0:
+        return ["the parameter set's force factors are A_l = A_b = 0 N/V: the drive excites "
+                "neither L1 nor B2, the tip does not move and the motor gives no thrust"]
+    if electrodes is None:
+        return [f"the parameter set's drive excites no {name} ({'A_b' if name == 'B2' else 'A_l'}"
+                f" = {small:.3g} N/V against {big:.3g} N/V): the tip does not trace an "
+                "ellipse and the motor gives no thrust"
+                for name, small, big in (("B2", a_b, a_l), ("L1", a_l, a_b))
+                if small <= UNEXCITED_FORCE_RATIO * big]
+    wires = ", ".join(map(str, electrodes))
+    said = []
+    for name, small, big, other in (("B2", a_b, a_l, "L1"), ("L1", a_l, a_b, "B2")):
+        if small <= UNEXCITED_FORCE_RATIO * big:
+            # a diagonal pair that excites nothing (a material without piezoelectric
+            # constants) is pointed at the material, not at the pair it drives
+            diagonal = sorted(electrodes) in ([1, 4], [2, 3])
+            fix = ("the material's piezoelectric constants (e_C_m2) are what couple it: check "
+                   "them" if diagonal else
+                   "drive a diagonal pair ([electrodes] drive = [1, 4] or [2, 3])")
+            said.append(f"the drive through electrodes {wires} excites no {name} (A_"
+                        f"{name[0].lower()} = {small:.3g} N/V against {big:.3g} N/V for "
+                        f"{other}): the tip does not trace an ellipse and the motor gives no "
+                        f"thrust; {fix}")
+    return said
+
+
 def damping_summary(params: MotorParams, origin: str) -> dict:
     """The damping in use: ``{"zeta_L1", "zeta_B2", "from"}`` (ratios, -)."""
     return {"zeta_L1": params.zeta_L1, "zeta_B2": params.zeta_B2, "from": origin}
@@ -73,8 +111,7 @@ SIMULATION_KEYS = (
 )
 """The keys of every run's summary (:func:`simulation_summary`, :func:`runaway_summary`), in
 their order: every run of one ``lusm simulate`` carries them all, ``None`` where it has no
-such value (a list of voltages had written nine keys for a voltage whose slider runs away
-beside the others' 30)."""
+such value (a voltage whose slider runs away has the keys of the others)."""
 
 
 def _run_summary(**values) -> dict:
@@ -151,7 +188,7 @@ def simulation_summary(r: SimulationResult, runs_away: str | None = None) -> dic
         "ultrasonic_friction": r.options.ultrasonic_friction,
         "steady_velocity_m_s": s.velocity_m_s,
         # the steady engine shoots an orbit: no windows to compare and no tip trace to take
-        # the extremes of (it had printed the run's default window and y_tip_min_m nan)
+        # the extremes of: None, not the run's default window and y_tip_min_m nan
         "previous_window_velocity_m_s": None if steady else s.previous_velocity_m_s,
         "settled": s.settled,
         "motion": s.motion,
@@ -169,8 +206,8 @@ def simulation_summary(r: SimulationResult, runs_away: str | None = None) -> dic
         "events": r.events,
         "nfev": r.nfev,
         "wall_time_s": r.wall_time_s,
-        # every stable steady state, written as lusm map writes a point's: the one reached
-        # from rest had been the JSON's only answer, the others in a stderr warning
+        # every stable steady state, written as lusm map writes a point's, not only the one
+        # reached from rest
         "branches": None if r.branches is None else steady_branches(r.branches),
         "runs_away": runs_away,
     })
@@ -204,6 +241,10 @@ def map_summary(m: StickSlipMap) -> dict:
                          for i in range(m.voltages_V.size)]
         d["undecided"] = [[float(m.voltages_V[i]), float(m.preloads_N[j])]
                           for i, j in zip(*np.nonzero(m.fallback), strict=True)]
+    if m.limits is not None:  # each point's {quantity: {value, limit, ratio, unit}}
+        d["limits"] = [[None if m.limits[i, j] is None else m.limits[i, j].to_dict()
+                        for j in range(m.preloads_N.size)]
+                       for i in range(m.voltages_V.size)]
     return d
 
 
@@ -220,7 +261,7 @@ def branch_summary(row: tuple) -> dict:
     -------
     dict
         ``velocity_m_s`` (m/s), ``k`` (period multiplicity), ``motion`` (the motion class of
-        the point's own ``motion``: ``"pure-stick"`` for a held slider, whose branch had said
+        the point's own ``motion``: ``"pure-stick"`` for a held slider, whose branch says
         ``"dead-zone"``), ``from_rest`` (whether a start from rest reaches it) and ``held``
         (the slider held: the dead zone).
     """
@@ -240,7 +281,8 @@ def steady_branches(branches) -> list[dict]:
 
 def signed_percent(x: float, decimals: int) -> str:
     """``x`` (a ratio) in per cent with its sign, in two significant figures where
-    ``decimals`` would round it to zero: a 2D/3D difference of -3e-5 had read "-0.00%"."""
+    ``decimals`` would round it to zero: a 2D/3D difference of -3e-5 reads "-3.0e-03%", not
+    "-0.00%"."""
     if x != 0 and abs(x) * 100 < 0.5 * 10.0 ** -decimals:
         return f"{x * 100:+.1e}%"
     return f"{x:+.{decimals}%}"
@@ -251,8 +293,8 @@ def motion_class(branch, velocity_m_s: float) -> str:
     :func:`contact.results.steady_metrics` from the phase fractions of the branch reached
     from rest (``"failed"`` when there is none). The branch's own ``motion`` says
     ``"dead-zone"`` for a held slider, where simulate says ``"pure-stick"`` (``"separated"``
-    at 0 V and 0 N): a study, the report and the single-point command had named one state
-    two ways."""
+    at 0 V and 0 N), so that a study, the report and the single-point command name one state
+    one way."""
     from contact.results import steady_metrics
 
     if branch is None:

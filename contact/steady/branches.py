@@ -58,6 +58,10 @@ class SteadyBranch:
         Mechanical output power ``load_N * velocity_m_s`` (W).
     damping_power_W : float
         Mean power dissipated by the modal damping C_l, C_b (W).
+    damping_power_B2_W : float
+        B2's share of ``damping_power_W``, ``<C_b dw_b^2>`` (W); L1's is the rest. Each
+        mode's mean square modal velocity is its share over its damping
+        (:mod:`contact.operating_limits`). NaN where the powers are not computed.
     interface_power_W : float
         Mean power lost at the contact interface (W): what leaves the stator through the tip
         minus what reaches the slider; friction ``<F_T v_rel>`` with ``coupling="consistent"``,
@@ -91,6 +95,7 @@ class SteadyBranch:
     from_rest: bool
     phase_fraction: tuple[float, float, float, float] = (math.nan,) * 4
     velocity_error_m_s: float = 0.0
+    damping_power_B2_W: float = math.nan
 
     @property
     def held(self) -> bool:
@@ -143,13 +148,14 @@ def averaged_branch(sp: SlowProblem, v: float, load: float, stable: bool,
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
     duration = total if span is None else span * sp.op.period_s
     work = orbit_work(sp.fs, o, sp.average_periods) if energy else np.full(N_WORK, math.nan)
-    w_in, w_damp, _, w_ts, w_tx, _ = (float(w) for w in work)
+    w_in, w_damp, _, w_ts, w_tx, _, w_damp_b = (float(w) for w in work)
     return SteadyBranch(
         velocity_m_s=float(v), k=o.k, stable=stable, motion=motion, mean_FT_N=o.mean_FT_N,
         mean_FN_N=o.mean_FN_N, input_power_W=w_in / duration,
         output_power_W=load * float(v) + 0.0, damping_power_W=w_damp / duration,
         interface_power_W=-(w_ts + w_tx) / duration,
         guide_power_W=sp.guide_N(o) * abs(float(v)), from_rest=False,
+        damping_power_B2_W=w_damp_b / duration,
         phase_fraction=tuple(float(f) for f in frac),
         velocity_error_m_s=0.0 if o.k else math.nan)
 

@@ -246,7 +246,7 @@ def solve_steady(params: MotorParams, op: OperatingPoint, opts, window, mu_d_eff
     """
     sp = slow_problem(params, op, coupling=opts.coupling, mu_d_eff=mu_d_eff, accuracy="exact")
     branches, v_rest = branches_at_load(sp, op.load_N, energy=False)
-    branches, v_rest, periods, _, _ = exact_branches(sp, branches, opts.coupling, energy=False,
+    branches, v_rest, periods, _, _ = exact_branches(sp, branches, opts.coupling, energy=True,
                                              rest=opts.rest)
     if math.isnan(v_rest):
         raise runaway_error(sp, op.load_N)

@@ -74,7 +74,7 @@ def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndar
     total = float(np.sum(phase_time))
     frac = phase_time / total if total > 0 else np.array([1.0, 0, 0, 0])
     motion = classify_motion(frac[0], frac[1] + frac[2], frac[3], PHASE_THRESHOLD)
-    w_in, w_damp, _, w_ts, w_tx, w_g = (float(w) for w in work)
+    w_in, w_damp, _, w_ts, w_tx, w_g, w_damp_b = (float(w) for w in work)
     load = sp.op.load_N
     v = float(v)
     if held:  # no net travel, but the slider rocks with the stuck tip against the guide
@@ -85,7 +85,7 @@ def _run_branch(sp: SlowProblem, v: float, k: int, n_periods: int, work: np.ndar
         velocity_m_s=v, k=k, stable=stable, motion=motion, mean_FT_N=float(forces[0]),
         mean_FN_N=float(forces[1]), input_power_W=w_in / duration, output_power_W=output,
         damping_power_W=w_damp / duration, interface_power_W=-(w_ts + w_tx) / duration,
-        guide_power_W=guide, from_rest=from_rest,
+        guide_power_W=guide, from_rest=from_rest, damping_power_B2_W=w_damp_b / duration,
         phase_fraction=tuple(float(f) for f in frac))
 
 
@@ -119,6 +119,7 @@ def _powered(sp: SlowProblem, b: SteadyBranch, energy: bool = True) -> SteadyBra
     w = averaged_branch(sp, v, sp.op.load_N, b.stable)
     return dataclasses.replace(b, input_power_W=w.input_power_W,
                                damping_power_W=w.damping_power_W,
+                               damping_power_B2_W=w.damping_power_B2_W,
                                interface_power_W=w.interface_power_W)
 
 

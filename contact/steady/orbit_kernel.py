@@ -83,16 +83,23 @@ def _broyden(jac, za, zb, pa, pb, amp):
 
 
 @njit(cache=True, nogil=True)
+def _run(z, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc):
+    """``steps`` steps from a copy of ``z`` with its x slot reset (the integral starts at 0),
+    no phase times and no trace: the output tuple of :func:`integrate_switch_model`."""
+    zs = z.copy()
+    zs[X] = 0.0
+    return integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
+                                  fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64,
+                                  np.empty(0, np.int64), np.empty(0))
+
+
+@njit(cache=True, nogil=True)
 def _period(z, mode, periods, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
             ft_m, ff_m, funcs, sc):
     """``periods`` drive periods from ``z`` (x slot reset); returns status, the consistent
     end state, its mode and the integral in the x slot."""
-    zs = z.copy()
-    zs[X] = 0.0
-    steps = n * periods
-    out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
-                                 fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64,
-                                 np.empty(0, np.int64), np.empty(0))
+    out = _run(z, mode, n * periods, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m,
+               funcs, sc)
     z_end = out[7].copy()
     integral = z_end[X]
     z_end[X] = 0.0
@@ -163,12 +170,8 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
                     h = 1e-7 * amp[i]
                     zp[_y_index(i)] += h
                     # the perturbed start keeps its perturbation: no consistency reset
-                    zs = zp.copy()
-                    zs[X] = 0.0
-                    out = integrate_switch_model(zs, mode, n, dt, phi, half, a, ev_h, ev_dh,
-                                                 ev_type, fn_m, ft_m, ff_m, funcs, sc, n, n,
-                                                 1, False, 64, np.empty(0, np.int64),
-                                                 np.empty(0))
+                    out = _run(zp, mode, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
+                               ft_m, ff_m, funcs, sc)
                     periods += 1
                     if out[0] != 0:
                         # a perturbed start off the orbit can chatter where the orbit does
@@ -315,11 +318,8 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
     free = np.zeros(N_Y + 1, dtype=np.bool_)
     last_free = np.zeros(N_Y + 1, dtype=np.bool_)
     for it in range(1, max_newton + 1):
-        zs = z.copy()
-        zs[X] = 0.0
-        out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
-                                     fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64,
-                                     np.empty(0, np.int64), np.empty(0))
+        out = _run(z, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m,
+                   funcs, sc)
         if out[0] != 0:
             return CHATTER, z, mode, res, periods, it, jac, last_free
         z1 = out[7].copy()
@@ -354,11 +354,8 @@ def shoot_full(z0, mode0, k, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_t
             h = 1e-7 * amp[i]
             zp[_full_y(i)] += h
             full_consistent(zp, mode, phi_bl)
-            zp[X] = 0.0
-            outp = integrate_switch_model(zp, mode, steps, dt, phi, half, a, ev_h, ev_dh,
-                                          ev_type, fn_m, ft_m, ff_m, funcs, sc, steps, steps,
-                                          1, False, 64, np.empty(0, np.int64),
-                                          np.empty(0))
+            outp = _run(zp, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m, ft_m,
+                        ff_m, funcs, sc)
             if outp[0] != 0:
                 return CHATTER, z, mode, res, periods, it, jac, last_free
             zq = outp[7].copy()
@@ -443,11 +440,8 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
     phase_time = np.zeros(4)
     if k != 1:
         # the search's last period gives the F_T integral of a one-period orbit only
-        zs = z.copy()
-        zs[X] = 0.0
-        out = integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
-                                     fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64,
-                                     np.empty(0, np.int64), np.empty(0))
+        out = _run(z, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m,
+                   funcs, sc)
         if out[0] != 0:
             return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,
                     jac_mode)

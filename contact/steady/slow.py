@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bounds import ParameterError
 from contact.drive import free_tip_amplitudes
 from contact.friction import dynamic_friction
 from contact.model import OperatingPoint, resolve_coupling
@@ -169,8 +170,11 @@ def slow_problem(params: MotorParams, op: OperatingPoint, *, coupling: str = "pa
     if fs.steps_per_period > MAX_STEPS_PER_PERIOD:
         # the lowest frequency taken, counted with this point's friction as fs was
         low = lowest_frequency_Hz(params, coupling, mu_d_eff=mu)
-        raise ValueError(
-            f"frequency_Hz = {op.frequency_Hz:g} Hz is too far below the stator's fastest mode "
+        raise ParameterError(
+            "frequency_Hz", op.frequency_Hz, low, None, "Hz",
+            reason="the steady engine resolves the stator's fastest mode in every period",
+            message=f"frequency_Hz = {op.frequency_Hz:g} Hz is too far below the stator's "
+            "fastest mode "
             f"for the steady engine: {fs.steps_per_period} steps per drive period, above "
             f"{MAX_STEPS_PER_PERIOD} (it resolves that mode in every period); it takes "
             f"frequency_Hz >= {low:g} Hz here")

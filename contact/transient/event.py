@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from bounds import ParameterError
 from contact.deferred_signals import call_held
 from contact.errors import ChatteringError
 from contact.model import HybridSystem, OperatingPoint, build_system, gamma_T
@@ -28,10 +29,11 @@ def check_spectrum(system: HybridSystem, dt_s: float) -> None:
     """
     rho = max(float(np.max(np.abs(np.linalg.eigvals(a)))) for a in system.A)
     if rho * dt_s > 1.0:  # the Taylor flow of partial steps is exact to roundoff below 1
-        raise ValueError(
-            f"dt_s = {dt_s:g} s is too large for the fastest mode of this parameter set "
-            f"({rho / (2 * math.pi):.4g} Hz): use dt_s <= {1.0 / rho:.3g} s"
-        )
+        raise ParameterError(
+            "dt_s", dt_s, 0.0, 1.0 / rho, "s", low_open=True,
+            reason=f"the fastest mode of this parameter set, {rho / (2 * math.pi):.4g} Hz",
+            message=f"dt_s = {dt_s:g} s is too large for the fastest mode of this parameter "
+            f"set ({rho / (2 * math.pi):.4g} Hz): use dt_s <= {1.0 / rho:.3g} s")
 
 
 def run_kernel(system: HybridSystem, n_steps: int, dt: float, win_start: int, decim: int,
@@ -118,7 +120,7 @@ def _energy_balance(params: MotorParams, opts: SimulationOptions, work: np.ndarr
                     stats: np.ndarray, load_J: float) -> EnergyBalance:
     """The window's work integrals; ``load_J`` is the load's work on the slider over the
     window, ``-load_N`` times its displacement."""
-    w_in, w_damp, w_ns, w_ts, w_tx, w_gl = (float(w) for w in work)
+    w_in, w_damp, w_ns, w_ts, w_tx, w_gl = (float(w) for w in work[:6])
     # the kernel integrates the guide and the load together (both are in the model's ff_m
     # rows); the load's work is exact from the displacement, the rest is the guide's
     w_g = w_gl - load_J

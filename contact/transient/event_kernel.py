@@ -85,8 +85,10 @@ N_TAYLOR = 18
 N_TRACE_COLS = 10
 """Trace columns: t, x, dx, u_l, w_b, F_N, F_T, v_rel, y_tip, phase."""
 
-N_WORK = 6
-"""Work integrals: input, damping, normal on stator, tangential on stator, on slider, guide."""
+N_WORK = 7
+"""Work integrals: input, damping, normal on stator, tangential on stator, on slider, guide,
+and B2's share of the damping (``C_b dw_b^2``; L1's is the damping's rest), from which
+:mod:`contact.operating_limits` takes each mode's vibration amplitude."""
 
 
 @njit(cache=True, inline="always")
@@ -448,6 +450,7 @@ def _powers(z, mode, fn_m, ft_m, ff_m, sc, out):
     out[3] = sc[SC_GAMMA_T] * ft * z[DW]
     out[4] = ft * z[DX]
     out[5] = ff * z[DX]
+    out[6] = sc[SC_C_B] * z[DW] * z[DW]
 
 
 @njit(cache=True)

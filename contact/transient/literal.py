@@ -45,8 +45,8 @@ def solve_literal(params: MotorParams, op: OperatingPoint, opts, window: RunWind
                   mu_d_eff: float) -> SchemeOutput:
     """Run the literal fixed-step, fixed-band switch model from the static equilibrium."""
     dt = window.dt_s
-    # the event scheme's step bound: RK4 above it returned NaN labelled "pure-slip" (a contact
-    # stiffness of 1e12 N/m at 1e-7 s)
+    # the event scheme's step bound: RK4 above it is unstable (NaN, for a contact stiffness
+    # of 1e12 N/m at 1e-7 s)
     check_spectrum(build_system(params, op, mu_d_eff, opts.coupling), dt)
     y0 = np.zeros(6)
     y0[0] = static_deflection_m(params, op.preload_N)

@@ -26,6 +26,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from bounds import ParameterError
 from contact.model import OperatingPoint, gamma_T, static_deflection_m
 from contact.results import SchemeOutput
 from contact.state import BACKWARD, FORWARD, HELD, SLIP_NEG, SLIP_POS, STICK
@@ -75,8 +76,11 @@ def check_reference_work(op: OperatingPoint, duration_s: float) -> float:
     top = MAX_REFERENCE_PERIODS * work_factor()
     if not periods <= top:
         f, d = op.frequency_Hz, duration_s
-        raise ValueError(
-            f"method='reference' runs {MIN_PERIODS} to {top:.6g} drive periods: duration_s "
+        raise ParameterError(
+            "duration_s", d, MIN_PERIODS / f, top / f, "s",
+            reason=f"method='reference' runs {MIN_PERIODS} to {top:.6g} drive periods",
+            message=f"method='reference' runs {MIN_PERIODS} to {top:.6g} drive periods: "
+            "duration_s "
             f"must lie in [{MIN_PERIODS / f:.4g}, {top / f:.4g}] s at frequency_Hz = {f:g} Hz, "
             f"or frequency_Hz in [{MIN_PERIODS / d:.4g}, {top / d:.4g}] Hz for duration_s = "
             f"{d:g} s (got {periods:.4g} periods, a few solve_ivp restarts each); use the "

@@ -6,6 +6,7 @@ import math
 import os
 from dataclasses import dataclass
 
+from bounds import ParameterError
 from contact.model import OperatingPoint
 
 MIN_PERIODS = 10
@@ -84,20 +85,25 @@ def check_time_step(op: OperatingPoint, duration_s: float, dt_s: float) -> int:
     """Validate ``dt_s`` and ``duration_s`` for a drive frequency; return the number of steps."""
     dt_max = op.period_s / MIN_STEPS_PER_PERIOD
     if dt_s > dt_max * (1 + 1e-12):
-        raise ValueError(
-            f"dt_s must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at f = {op.frequency_Hz:g} Hz, "
-            f"got {dt_s!r}"
-        )
+        raise ParameterError(
+            "dt_s", dt_s, 0.0, dt_max, "s", low_open=True,
+            reason=f"{MIN_STEPS_PER_PERIOD} steps per period at {op.frequency_Hz:g} Hz",
+            message=f"dt_s must be in (0, 1/(20 f)] = (0, {dt_max:.4g}] s at f = "
+            f"{op.frequency_Hz:g} Hz, got {dt_s!r}")
     min_duration = MIN_PERIODS * op.period_s
     if duration_s < min_duration * (1 - 1e-12):
-        raise ValueError(
-            f"duration_s must be >= {MIN_PERIODS} drive periods = {min_duration:.4g} s, "
-            f"got {duration_s!r}"
-        )
+        raise ParameterError(
+            "duration_s", duration_s, min_duration, None, "s",
+            reason=f"{MIN_PERIODS} drive periods",
+            message=f"duration_s must be >= {MIN_PERIODS} drive periods = {min_duration:.4g} "
+            f"s, got {duration_s!r}")
     steps = duration_s / dt_s
     if not steps <= MAX_RUN_STEPS:
-        raise ValueError(
-            f"duration_s / dt_s = {duration_s!r} s / {dt_s!r} s is {steps:.3g} time steps, "
+        raise ParameterError(
+            "dt_s", dt_s, duration_s / MAX_RUN_STEPS, None, "s",
+            reason=f"at most {MAX_RUN_STEPS:.0e} time steps in {duration_s:g} s",
+            message=f"duration_s / dt_s = {duration_s!r} s / {dt_s!r} s is {steps:.3g} time "
+            "steps, "
             f"above {MAX_RUN_STEPS:.0e}: about five minutes of compiled kernel per 1e9 steps, "
             "during which Ctrl-C waits for the kernel; shorten duration_s or raise dt_s")
     return int(round(steps))

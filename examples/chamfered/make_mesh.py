@@ -19,7 +19,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1]))  # run from anywhere inside the repository
 
-from fem.meshing.mesh_io import write_stator_msh  # noqa: E402
+from fem.geometry import PlateStator  # noqa: E402
+from fem.meshing.mesh_io import keep_used_nodes, write_stator_msh  # noqa: E402
 
 LENGTH_M = 30e-3
 WIDTH_M = 7.5e-3
@@ -68,18 +69,12 @@ def chamfered_mesh(
     dist_end = np.minimum(tc[:, 1], length - tc[:, 1])
     keep = (np.abs(tc[:, 0]) - (w2 - c)) + (c - dist_end) <= c + 1e-12 * length
     tris, tc = tris[keep], tc[keep]
-    tags = np.zeros(len(tris), dtype=int)
-    upper, lower = tc[:, 0] > g2, tc[:, 0] < -g2
-    near, far = tc[:, 1] < length / 2 - g2, tc[:, 1] > length / 2 + g2
-    tags[upper & near], tags[upper & far] = 1, 2
-    tags[lower & near], tags[lower & far] = 3, 4
+    plate = PlateStator(length_m=length, width_m=WIDTH_M, electrode_gap_m=GAP_M)
+    tags = plate.electrode_of(tc[:, 0], tc[:, 1])
     tip = int(np.flatnonzero((nodes[:, 0] == 0.0) & (nodes[:, 1] == length))[0])
     preload = int(np.flatnonzero((nodes[:, 0] == 0.0) & (nodes[:, 1] == 0.0))[0])
-    used = np.unique(tris)
-    remap = -np.ones(len(nodes), dtype=int)
-    remap[used] = np.arange(used.size)
-    points = {"tip": int(remap[tip]), "preload": int(remap[preload])}
-    return nodes[used], remap[tris], tags, points
+    nodes, tris, points = keep_used_nodes(nodes, tris, {"tip": tip, "preload": preload})
+    return nodes, tris, tags, points
 
 
 def main() -> Path:

@@ -19,7 +19,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1]))  # run from anywhere inside the repository
 
-from fem.meshing.mesh_io import write_stator_msh  # noqa: E402
+from fem.geometry import PlateStator  # noqa: E402
+from fem.meshing.mesh_io import keep_used_nodes, write_stator_msh  # noqa: E402
 
 LENGTH_MM = 30.0
 WIDTH_MM = 7.5
@@ -58,19 +59,15 @@ def protrusion_mesh(
     c = nodes[quads].mean(axis=1)
     keep = (c[:, 1] < LENGTH_MM) | (np.abs(c[:, 0]) < t2)
     quads, c = quads[keep], c[keep]
-    tags = np.zeros(len(quads), dtype=int)
-    body = c[:, 1] < LENGTH_MM
-    upper, lower = c[:, 0] > g2, c[:, 0] < -g2
-    near, far = c[:, 1] < LENGTH_MM / 2 - g2, (c[:, 1] > LENGTH_MM / 2 + g2) & body
-    tags[upper & near], tags[upper & far] = 1, 2
-    tags[lower & near], tags[lower & far] = 3, 4
+    # the plate's quadrants (in m); the protrusion beyond the plate's end is bare
+    plate = PlateStator(length_m=LENGTH_MM * 1e-3, width_m=WIDTH_MM * 1e-3,
+                        electrode_gap_m=GAP_MM * 1e-3)
+    tags = np.where(c[:, 1] < LENGTH_MM, plate.electrode_of(c[:, 0] * 1e-3, c[:, 1] * 1e-3), 0)
     tip = int(np.flatnonzero((nodes[:, 0] == 0.0) & (nodes[:, 1] == y[-1]))[0])
     preload = int(np.flatnonzero((nodes[:, 0] == 0.0) & (nodes[:, 1] == 0.0))[0])
-    used = np.unique(quads)  # drop the grid nodes beside the protrusion
-    remap = -np.ones(len(nodes), dtype=int)
-    remap[used] = np.arange(used.size)
-    points = {"tip": int(remap[tip]), "preload": int(remap[preload])}
-    return nodes[used], remap[quads], tags, points
+    # drop the grid nodes beside the protrusion
+    nodes, quads, points = keep_used_nodes(nodes, quads, {"tip": tip, "preload": preload})
+    return nodes, quads, tags, points
 
 
 def main() -> Path:

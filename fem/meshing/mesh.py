@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
 
@@ -255,10 +256,11 @@ def check_generated_size(stator: PlateStator, refine: int, layers: int | None = 
         what = "elements" if layers is None else "bricks"
         named = named or (f"refine = {refine}" if layers is None
                           else f"refine = {refine} with layers = {layers}")
-        raise ValueError(f"{named} make{'s' if layers is None else ''} "
-                         f"{'at least ' if n is least else ''}{n:.3g} {what} on this plate, "
-                         f"above the limit {top:.0f} of a library call (set LUSM_MAX_WORK=N "
-                         "to allow N times more)")
+        raise ParameterError(
+            "refine", refine,
+            message=f"{named} make{'s' if layers is None else ''} "
+            f"{'at least ' if n is least else ''}{n:.3g} {what} on this plate, above the "
+            f"limit {top:.0f} of a library call (set LUSM_MAX_WORK=N to allow N times more)")
 
 
 def grid_lines_m(stator: PlateStator, refine: int) -> tuple[np.ndarray, np.ndarray]:
@@ -268,7 +270,8 @@ def grid_lines_m(stator: PlateStator, refine: int) -> tuple[np.ndarray, np.ndarr
     (including a gap strip) gets ``ceil(length / size)`` equal elements, at least one.
     """
     if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
-        raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
+        raise ParameterError("refine", refine, 1, None,
+                             message=f"refine must be an integer >= 1, got {refine!r}")
     w, length, g = stator.width_m, stator.length_m, stator.electrode_gap_m
     h = min(w, length) / int(refine)
     xb = [-w / 2, -g / 2, g / 2, w / 2] if g > 0 else [-w / 2, 0.0, w / 2]

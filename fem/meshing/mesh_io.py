@@ -511,7 +511,7 @@ def _file_points(m, path: Path, unit: str) -> tuple[np.ndarray, np.ndarray]:
     if pts3.ndim != 2 or pts3.shape[0] == 0:
         raise ValueError(f"mesh file {path} holds no points")
     bad = np.flatnonzero(~np.all(np.isfinite(pts3), axis=1))
-    if bad.size:  # it read as a tip "off the mesh (x in [nan, nan] mm)", or as millimetres
+    if bad.size:  # said as such, not as a tip "off the mesh (x in [nan, nan] mm)"
         raise ValueError(f"mesh file {path}: node {int(bad[0])} has a non-finite coordinate "
                          f"({', '.join(f'{v:g}' for v in pts3[bad[0]])}); "
                          f"{bad.size} node(s) in all")
@@ -829,6 +829,17 @@ def _classify_a_node_on_each(blocks: list, node_entity: np.ndarray) -> None:
         if free.size == 0:
             raise ValueError(f"cannot classify a node on cell block {i} ({blocks[i].type})")
         node_entity[free[0]] = (2, entity)
+
+
+def keep_used_nodes(points: np.ndarray, cells: np.ndarray,
+                    point_nodes: dict[str, int]) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+    """Drop the nodes no cell uses (a structured grid cut to a planform): the nodes kept, in
+    their order, the cells and the named nodes (``'tip'``, ``'preload'``) on the new numbering,
+    as :func:`write_stator_msh` takes them."""
+    used = np.unique(cells)
+    remap = -np.ones(len(points), dtype=int)
+    remap[used] = np.arange(used.size)
+    return points[used], remap[cells], {k: int(remap[v]) for k, v in point_nodes.items()}
 
 
 def write_stator_msh(

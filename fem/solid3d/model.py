@@ -58,7 +58,7 @@ Mode identification reuses the 2D rules of :mod:`fem.modes` on the mid-plane ``z
 (symmetry about ``x = 0``, three nodes for B2, MAC with the Eq. 3 shapes) after rejecting
 modes that are not symmetric through the thickness (out-of-plane bending, torsion). On a
 non-rectangular planform the sampling points outside the mesh (and their mirror images about
-``x = 0``) are dropped, as in :func:`fem.modes._sampling`.
+``x = 0``) are dropped, as in :func:`fem.modes.sampling_points`.
 """
 
 from __future__ import annotations
@@ -72,9 +72,10 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
-from fem.material import PiezoMaterial, get_material
+from fem.material import EPS0_F_M, PiezoMaterial, get_material
 from fem.meshing.mesh import (
     MAX_LIBRARY_BRICKS_3D,
     PlateMesh,
@@ -85,18 +86,14 @@ from fem.meshing.mesh import (
 from fem.meshing.meshed_stator import overall_length_m, planform_mesh
 from fem.model import affine_probes
 from fem.modes import (
-    MIN_MAC,
-    MIN_SYMMETRY,
     SAMPLE_INSET,
     ModeSolverError,
     PlateModes,
     locatable,
-    modal_assurance,
+    match_modes,
     reference_shapes,
     sampling_grid,
-    sign_changes,
     solve_short_open,
-    symmetric_fraction,
 )
 
 ELEMENTS = ("hex20", "hex27")
@@ -304,9 +301,11 @@ def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading
     top = MAX_LIBRARY_BRICKS_3D * work_factor()
     n = planform.n_elements * layers
     if n > top:
-        raise ValueError(f"layers = {layers} makes at least {n:.3g} bricks on this planform "
-                         f"({planform.n_elements} elements), above the limit {top:.0f} of a "
-                         "library call (set LUSM_MAX_WORK=N to allow N times more)")
+        raise ParameterError(
+            "layers", layers,
+            message=f"layers = {layers} makes at least {n:.3g} bricks on this planform "
+            f"({planform.n_elements} elements), above the limit {top:.0f} of a library call "
+            "(set LUSM_MAX_WORK=N to allow N times more)")
 
 
 def _voigt_B(grads: np.ndarray) -> np.ndarray:
@@ -629,7 +628,8 @@ def build_solid_model(
             "quadrants touch and form one conductor"
         )
     mesh, levels = _solid_mesh(stator, planform, refine, layers, edge_grading, grid_lines)
-    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element)
+    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element,
+                                                   _tip_cells(mesh, stator))
     electrode_dofs, bottom = _electrode_dofs(stator, planform, basis, levels)
     return SolidPlateModel(
         stator=stator,
@@ -691,8 +691,37 @@ def _electrode_dofs(stator: PlateStator, planform, basis,
     return electrode_dofs, bottom
 
 
+def _tip_cells(mesh, stator) -> tuple[object, np.ndarray] | None:
+    """``(material, cells)`` of a tip of its own material (:func:`fem.meshing.parametric.
+    tip_of`): the bricks whose centre lies beyond the plate body's end; None otherwise."""
+    from fem.meshing.parametric import tip_of
+
+    found = tip_of(stator)
+    if found is None:
+        return None
+    material, length = found
+    return material, np.flatnonzero(mesh.p[1, mesh.t].mean(axis=0) > length)
+
+
+def _cell_constants(material: PiezoMaterial, n_cells: int, tip) -> tuple[np.ndarray, ...]:
+    """Per-brick ``c^E`` (nel, 6, 6), ``e`` (nel, 3, 6), ``eps^S`` (nel, 3, 3) and ``rho``
+    (nel,): the ceramic's, and in the ``tip`` cells (``(ElasticMaterial, cells)``) the tip
+    material's, without piezoelectric coupling."""
+    c = np.broadcast_to(material.cE_Pa, (n_cells, 6, 6)).copy()
+    e = np.broadcast_to(material.e_C_m2, (n_cells, 3, 6)).copy()
+    eps = np.broadcast_to(material.epsS_F_m, (n_cells, 3, 3)).copy()
+    rho = np.full(n_cells, float(material.rho_kg_m3))
+    if tip is not None:
+        tip_mat, cells = tip
+        c[cells] = tip_mat.stiffness_Pa()
+        e[cells] = 0.0
+        eps[cells] = EPS0_F_M * tip_mat.relative_permittivity * np.eye(3)
+        rho[cells] = tip_mat.rho_kg_m3
+    return c, e, eps, rho
+
+
 def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
-                   element: str = DEFAULT_ELEMENT):
+                   element: str = DEFAULT_ELEMENT, tip=None):
     """Piezoelastic matrices of a brick mesh, before any electrical or mechanical constraint.
 
     Parameters
@@ -704,6 +733,9 @@ def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
         2 (quadratic) or 1 (trilinear).
     element : str
         ``'hex20'`` or ``'hex27'`` (order 2).
+    tip : tuple, optional
+        ``(ElasticMaterial, cells)``: bricks of a tip of its own material
+        (:func:`_tip_cells`), isotropic and without piezoelectric coupling.
 
     Returns
     -------
@@ -724,13 +756,21 @@ def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
     vals = np.stack([np.asarray(basis.basis[i][0]) for i in range(len(basis.basis))])
     dx = basis.dx  # (nel, nqp) quadrature weights times Jacobian
     B = _voigt_B(grads)  # (6, 3nloc, nel, nqp)
-    cB = np.einsum("IJ,Jaeq->Iaeq", mat.cE_Pa, B)
+    if tip is None:  # one material: its constants broadcast over the bricks
+        cB = np.einsum("IJ,Jaeq->Iaeq", mat.cE_Pa, B)
+        eB = np.einsum("kJ,Jaeq->kaeq", mat.e_C_m2, B)  # (3, 3nloc, nel, nqp): e S(v)
+        epsg = np.einsum("kl,bleq->kbeq", mat.epsS_F_m, grads)
+        rho = mat.rho_kg_m3
+    else:  # per-brick constants: the tip's bricks are of their own material
+        c_e, e_e, eps_e, rho_e = _cell_constants(mat, dx.shape[0], tip)
+        cB = np.einsum("eIJ,Jaeq->Iaeq", c_e, B)
+        eB = np.einsum("ekJ,Jaeq->kaeq", e_e, B)
+        epsg = np.einsum("ekl,bleq->kbeq", eps_e, grads)
+        rho = rho_e[None, None, :]
     k_loc = np.einsum("Iaeq,Ibeq,eq->abe", B, cB, dx, optimize=True)
-    eB = np.einsum("kJ,Jaeq->kaeq", mat.e_C_m2, B)  # (3, 3nloc, nel, nqp): e S(v)
     kup_loc = np.einsum("kaeq,kbeq,eq->abe", eB, grads.transpose(1, 0, 2, 3), dx, optimize=True)
-    epsg = np.einsum("kl,bleq->kbeq", mat.epsS_F_m, grads)
     kpp_loc = np.einsum("akeq,kbeq,eq->abe", grads, epsg, dx, optimize=True)
-    m_loc = mat.rho_kg_m3 * np.einsum("aeq,beq,eq->abe", vals, vals, dx, optimize=True)
+    m_loc = rho * np.einsum("aeq,beq,eq->abe", vals, vals, dx, optimize=True)
     edofs = basis.element_dofs  # (nloc, nel)
     udofs = np.concatenate([edofs + c * n for c in range(3)])  # (3nloc, nel)
     Kuu = _coo(k_loc, udofs, udofs, (3 * n, 3 * n))
@@ -793,7 +833,10 @@ def _condensed_operators(Kuu, M, kup, kpp, sigma: float, row_order=None):
     nu = Kuu.shape[0]
     # potentials scaled so that both blocks have diagonals of similar size (|K_uu| ~ 1e10,
     # |K_phiphi| ~ 1e-9): without it the LU residual is ~1e-3, with it ~1e-11
-    alpha = math.sqrt(float(Kuu.diagonal().mean()) / float(kpp.diagonal().mean()))
+    # (no potential left to condense, one layer at order 1: no scaling, and no mean of an
+    # empty diagonal, whose NumPy warnings reached the user)
+    alpha = (math.sqrt(float(Kuu.diagonal().mean()) / float(kpp.diagonal().mean()))
+             if kpp.shape[0] else 1.0)
     kup = kup * alpha
     kpp = kpp * alpha**2
     A = sp.bmat([[Kuu - sigma * M, kup], [kup.T, -kpp]], format="csc")
@@ -900,7 +943,7 @@ def solid_frequencies_Hz(
                                        maxiter, model.saddle_point_order(open_circuit))
 
 
-def _sampling3d(model: SolidPlateModel):
+def sampling_points_3d(model: SolidPlateModel):
     """Sampling grid (ny, nx), probe matrices at mid-plane/top/bottom, mask of points used.
 
     On a planform mesh, grid points outside it (and their mirror images about ``x = 0``) are
@@ -921,7 +964,7 @@ def _sampling3d(model: SolidPlateModel):
         # scikit-fem locates points on the mesh's own (polygonal) edges, which can miss a
         # grid point the nominal outline counts inside (beside a hole on the centre line:
         # "Point is outside of the mesh" after the whole 3D solve); such points are dropped
-        # like those outside, as in 2D (fem.modes._sampling)
+        # like those outside, as in 2D (fem.modes.sampling_points)
         flat = inside.ravel()
         for _, z in levels:
             pts = np.vstack((X.ravel(), Y.ravel(), np.full(X.size, z)))
@@ -949,7 +992,7 @@ def _probes3d(model: SolidPlateModel, X: np.ndarray, Y: np.ndarray, inside: np.n
     return probes
 
 
-def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
+def thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
     """Energy fraction of (top, bottom) samples (3, ...) in the in-plane (z-symmetric) class."""
     even = 0.5 * (top[:2] + bottom[:2])
     odd = 0.5 * (top[2] - bottom[2])
@@ -959,7 +1002,7 @@ def _thickness_symmetric_fraction(top: np.ndarray, bottom: np.ndarray) -> float:
 
 
 def _identify3d(model: SolidPlateModel, freqs_Hz: np.ndarray, shapes: np.ndarray):
-    X, Y, probes, inside = _sampling3d(model)
+    X, Y, probes, inside = sampling_points_3d(model)
     sampled = {k: (p @ shapes).reshape(3, *X.shape, -1) for k, p in probes.items()}
     return identify_sampled(X, Y, sampled, inside, overall_length_m(model.stator), freqs_Hz)
 
@@ -1007,35 +1050,12 @@ def identify_sampled(
     refs = reference_shapes(X, Y, length_m)
     if not inside.all():
         refs = {k: v * inside for k, v in refs.items()}
-    n = sampled["mid"].shape[-1]
-    centre = X.shape[1] // 2
-    f_floor = 1e-3 * max(float(np.max(np.abs(freqs_Hz))), 1.0)
-    out: dict[str, tuple[int, float, float]] = {}
-    for name in names:
-        best = None
-        for i in range(n):
-            if abs(freqs_Hz[i]) < f_floor:
-                continue
-            zsym = _thickness_symmetric_fraction(sampled["top"][..., i], sampled["bottom"][..., i])
-            if zsym < MIN_THICKNESS_SYMMETRY:
-                continue
-            u = sampled["mid"][:2, ..., i]
-            sym = symmetric_fraction(u)
-            klass = sym if name == "L1" else 1.0 - sym
-            if klass < MIN_SYMMETRY:
-                continue
-            if name == "B2" and sign_changes(u[0][:, centre]) != 3:
-                continue
-            mac = modal_assurance(u, refs[name])
-            if mac >= MIN_MAC and (best is None or mac * zsym > best[1] * best[3]):
-                best = (i, mac, klass, zsym)
-        if best is None:
-            raise ModeSolverError(
-                f"could not identify {name} among the {n} 3D modes computed at "
-                f"{np.round(np.maximum(freqs_Hz, 0.0), 1).tolist()} Hz"
-            )
-        out[name] = best[:3]
-    return out
+    zsym = np.array([thickness_symmetric_fraction(sampled["top"][..., i],
+                                                   sampled["bottom"][..., i])
+                     for i in range(sampled["mid"].shape[-1])])
+    return match_modes(sampled["mid"][:2], freqs_Hz, refs, names,
+                       weights=np.where(zsym < MIN_THICKNESS_SYMMETRY, np.nan, zsym),
+                       what="3D modes")
 
 
 @dataclass(frozen=True, eq=False)

@@ -10,7 +10,7 @@ import argparse
 import math
 
 from lusm import limits
-from lusm.options import add_output_options, add_plate_options, integer, print_json, real
+from lusm.options import add_band_options, add_output_options, add_plate_options, print_json, real
 
 HELP = "admittance Y(f) of the driven electrodes: resonance/antiresonance, k_eff, PNG"
 DESCRIPTION = """\
@@ -22,16 +22,7 @@ plot.
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """The options of ``lusm admittance``."""
-    f_lo, f_hi = limits.FREQUENCY_HZ
-    p.add_argument("--f-min", type=real("--f-min", "Hz", f_lo, f_hi), default=None,
-                   metavar="HZ", help="band start (Hz); default: the design's L1 and B2 "
-                   "minus 15 %% of their mean")
-    p.add_argument("--f-max", type=real("--f-max", "Hz", f_lo, f_hi), default=None,
-                   metavar="HZ", help="band end (Hz); default: the design's L1 and B2 plus "
-                   "15 %% of their mean")
-    p.add_argument("--points", default=2001, metavar="N",
-                   type=integer("--points", 3, limits.MAX_FREQUENCY_POINTS, work=True),
-                   help="frequency points")
+    add_band_options(p, points=2001)
     p.add_argument("--zeta", type=real("--zeta", "", *limits.ZETA, lo_open=True, hi_open=True),
                    default=None, help="one damping ratio for all modes (default: the stator "
                    "file's [damping], else the paper's zeta_L1, zeta_B2; 0.01 for other "
@@ -66,14 +57,17 @@ def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
     from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.commands.modes import warn_linear_elements
-    from lusm.errors import LusmError
-    from lusm.options import check_fe_size, output_folder, stator_from_args, write_figures
+    from lusm.options import (
+        check_band_order,
+        check_fe_size,
+        output_folder,
+        stator_from_args,
+        write_figures,
+    )
 
     warn_linear_elements(args)
     out = output_folder(args, "--out")
-    if args.f_min is not None and args.f_max is not None and not args.f_min < args.f_max:
-        raise LusmError(f"--f-min must be below --f-max, got {args.f_min:g} and "
-                        f"{args.f_max:g} Hz", "--f-min")
+    check_band_order(args.f_min, args.f_max)
     electrodes = _electrodes(args.electrodes)
     choice = stator_from_args(args)
     refine = DEFAULT_REFINE if args.refine is None else args.refine
@@ -89,7 +83,7 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         from validation.fem_figures import admittance_figure
 
-        png = write_figures(out, "--out", args.force, lambda stage: [
+        png = write_figures(args, "--out", lambda stage: [
             admittance_figure(res, stage / "admittance.png", circuit)])[0]
     if args.zeta is not None:
         damping = {"zeta_L1": args.zeta, "zeta_B2": args.zeta, "from": "--zeta (all modes)"}

@@ -62,7 +62,8 @@ def run(args: argparse.Namespace) -> None:
     loads = parse_loads(args.loads) if args.loads is not None else None
     voltages = args.voltage  # a tuple: --voltage takes A,B,...
     plot, motor = resolve_drive(args, [max(voltages)], args.preload)
-    frequency_from = "auto" if motor.frequency_auto else args.frequency
+    frequency_from = ("auto" if motor.frequency_auto else
+                      args.frequency if args.frequency is not None else "40e3")
     params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
     coupling, coupling_from = motor.coupling, motor.coupling_from
     check_steady_work(len(voltages) * (len(loads) if loads else 21), params, freq, coupling,
@@ -78,6 +79,11 @@ def run(args: argparse.Namespace) -> None:
              for v in voltages]
     if args.accuracy == "fast":
         _warn_fast_level(params, chars, coupling, not args.no_ultrasonic_friction)
+    from lusm.physical_limits import warn_beyond
+
+    for c in chars:  # before the results: the curve's load farthest beyond a limit
+        warn_beyond(c.worst_limits(), f"at {c.op.voltage_V:g} V, {c.op.preload_N:g} N, "
+                    f"{c.op.frequency_Hz:.6g} Hz (the curve's worst load)")
     docs = [c.to_dict() for c in chars]
     for c, d in zip(chars, docs, strict=True):  # the operating point, as simulate gives it
         d.update(voltage_V=c.op.voltage_V, preload_N=c.op.preload_N,
@@ -92,7 +98,7 @@ def run(args: argparse.Namespace) -> None:
     if plot is not None:
         from validation.report_motor import characteristic_figure
 
-        doc["figures"] = write_figures(plot, "--plot", args.force, lambda stage: [
+        doc["figures"] = write_figures(args, "--plot", lambda stage: [
             characteristic_figure(chars if len(chars) > 1 else chars[0],
                                   stage / "characteristic.png")])
     if args.json:
@@ -113,7 +119,10 @@ def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) ->
     runaway bounds and the speed-thrust table with powers and efficiency."""
     print(f"{'drive':<26} {v:g} V, {args.preload:g} N, {char.op.frequency_Hz:.6g} Hz"
           + (" (auto)" if auto else ""))
-    print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}")
+    backward = (" (backward: the slider runs toward -y; the stall force and the default "
+                "loads are negative, braking that motion)" if char.direction == "backward"
+                else "")
+    print(f"{'no-load velocity (m/s)':<26} {char.no_load_velocity_m_s:.6g}{backward}")
     print(f"{'stall force (N)':<26} {char.stall_force_N:.6g}")
     creep = _creep_line(char)
     if creep:
@@ -124,10 +133,11 @@ def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) ->
         if char.accuracy == "fast" else ""))
     low, high = char.holding_range_N
     # loads the slider is not run away under (beyond them it is back-driven without
-    # bound): "holds loads" had read as a holding force beside a smaller stall force
+    # bound): not "holds loads", which would read as a holding force beside a smaller
+    # stall force
     if math.isfinite(low) and math.isfinite(high):
         print(f"{'no runaway within (N)':<26} {low:.4g} to {high:.4g}")
-    else:  # undriven or weakly driven: the line had simply been missing
+    else:  # undriven or weakly driven: the line says why there is no bound
         print(f"{'no runaway within (N)':<26} no full-slip bound (the tip sticks at the "
               "scan's ends): each load's start from rest decides")
     print(f"{'load (N)':>10} {'v (m/s)':>12} {'P_in (W)':>11} {'P_out (W)':>11} "
@@ -149,12 +159,15 @@ def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) ->
         why.append("no electrical input (P_in <= 0: an undriven motor)")
     if why:
         print("eff. nan: " + "; or ".join(why))
+    from lusm.physical_limits import print_limits
+
+    print_limits(d.get("limits"))  # the curve's worst load (each load's: --json)
 
 
 def _creep_line(char) -> str | None:
     """The creep band of an exact-level curve (:attr:`contact.characteristic.Characteristic.
-    creep_from_N`), or None: a designer reading the curve's knee as the stall force had
-    found it half the printed one (exploratory testing: 0.76 N against 1.38 N)."""
+    creep_from_N`), or None: said so that the curve's knee is not read as the stall force
+    (it can be half the stall force: 0.76 N against 1.38 N)."""
     from contact.characteristic import CREEP_RIPPLES
 
     lo, hi = char.creep_from_N, char.stall_force_N

@@ -17,9 +17,14 @@ from lusm.options import (
     moved,
     output_folder,
     print_json,
+    real,
     warn_drive,
     warn_thin_plate,
 )
+
+WORKER_TIMEOUT_DEFAULT_S = 300.0
+"""Default of ``--worker-timeout-s`` (s): :data:`studies.explore.WORKER_TIMEOUT_S` (not
+imported here: building the parser imports no dask)."""
 
 HELP = "design-space study (geometry x drive) on dask.distributed"
 DESCRIPTION = """\
@@ -45,10 +50,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"processes of the LocalCluster (default 2), in "
                    f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]; not with --scheduler or "
                    "--scheduler-file (that cluster has its own workers)")
+    p.add_argument("--worker-timeout-s", default=None, metavar="S",
+                   type=real("--worker-timeout-s", "s", *limits.WORKER_TIMEOUT_S),
+                   help="how long to wait when the cluster has no worker left (an external "
+                   "scheduler whose workers died) before stopping with the finished parts "
+                   f"kept for --resume (default {WORKER_TIMEOUT_DEFAULT_S:g} s), in "
+                   f"[{limits.WORKER_TIMEOUT_S[0]:g}, {limits.WORKER_TIMEOUT_S[1]:g}] s")
     p.add_argument("--plot", metavar="DIR",
-                   help="write figures (PNG) of the no-load velocity, stall force and L1-B2 split "
-                   "into DIR: maps over length x width (or the first two axes that vary), "
-                   "curves over a single varying axis; a panel or line per material")
+                   help="write figures (PNG) of the no-load velocity, stall force, L1-B2 split "
+                   "(diverging scale, zero contour), peak efficiency and auto drive frequency "
+                   "where the dataset has them into DIR: maps over length x width (or the "
+                   "first two axes that vary), curves over a single varying axis; a panel or "
+                   "line per material")
     p.add_argument("--json", action="store_true", help="print one JSON summary")
     p.add_argument("--force", action="store_true",
                    help="replace an existing FILE.nc (kept as FILE.nc.bak-N) and write into a "
@@ -58,8 +71,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> None:
     """Check the study and the outputs, run the study, print its summary; ``--json``'s
     ``"warnings"`` lists every warning the run says (those of reading the study, of its
-    plates and drive points, of the workers, of the figures: it had listed only the
-    workers' and the failures')."""
+    plates and drive points, of the workers, of the figures)."""
     with warnings_said() as said:
         _run(args, said)
 
@@ -67,26 +79,41 @@ def run(args: argparse.Namespace) -> None:
 def _run(args: argparse.Namespace, said: list[str]) -> None:
     """:func:`run`, with ``said`` the record of the warnings said so far (filled as they
     are said)."""
-    from lusm.interrupts import Terminated
-    from studies.explore import (
-        DEFAULT_WORKERS,
-        NothingComputedError,
-        PartsBusyError,
-        check_out,
-        check_scheduler_names,
-        explore,
-        is_complete,
-        open_result,
-        parts_folder,
-    )
+    study, plot = _checked_study(args)
+    result = _run_study(args, study, plot)
+    if plot is not None:
+        _write_maps(result, plot, args.force)
+    summary = result.to_dict()
+    # what stderr said, as it said it (the warnings of the study, its plates and drive
+    # points, the workers and the figures)
+    summary["warnings"] = list(said)
+    if study.needs_motor:  # every velocity and force depends on it (as characteristic says)
+        from studies.dataset import damping_text
+
+        summary["damping"] = damping_text(study)
+    if study.stator is not None:
+        summary["stator_file"] = json.loads(study.text)["stator"]["file"]  # absolute
+    if args.json:
+        print_json(summary, indent=2)
+        return
+    _print_summary(result, study, summary)
+
+
+def _checked_study(args: argparse.Namespace):
+    """The study of ``args`` and its ``--plot`` folder (or None), with the options checked
+    and the study's warnings said, before any work."""
+    from studies.cluster import check_port, check_scheduler_names
+    from studies.dataset import check_out, is_complete
     from studies.study import load_study
 
-    try:  # before anything else: '' passed the --workers check below
+    try:  # before anything else: '' would pass the --workers check below
         check_scheduler_names(args.scheduler, args.scheduler_file)
+        if args.scheduler:  # a port no connection can have: at once, not after 10 s
+            check_port(args.scheduler)
     except ValueError as exc:
         raise LusmError(str(exc), str(exc).split()[0]) from None
     if args.workers is not None and (args.scheduler or args.scheduler_file):
-        # it was taken and ignored: the existing cluster's workers ran the study
+        # the existing cluster's workers run the study: --workers would be ignored
         option = "--scheduler" if args.scheduler else "--scheduler-file"
         raise LusmError(f"--workers sets the processes of the LocalCluster; with {option} the "
                         "study runs on that cluster's own workers: drop --workers", "--workers")
@@ -96,14 +123,42 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
     _warn_thick(study)
     _warn_holes(study)
     _warn_drive(study)
-    complete = args.resume and is_complete(study, args.out)
-    if not complete:
+    if not (args.resume and is_complete(study, args.out)):
         check_out(args.out, args.force)
     plot = output_folder(args, "--plot")
     if plot is not None and Path(plot).resolve() == Path(args.out).resolve():
-        # it ran the whole study, wrote the dataset, then refused --plot as not a folder
+        # refused before the study runs, not after its dataset is written
         raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
                         "their own", "--plot")
+    _refuse_plot_in_parts(plot, args.out)
+    return study, plot
+
+
+def _refuse_plot_in_parts(plot: str | None, out: str) -> None:
+    """Refuse a ``--plot`` folder that is the run's own parts folder (or inside it): the
+    run would make it as a figure folder, and every later run at that ``--out``, even with
+    --force, would refuse a parts folder without its study file."""
+    from studies.parts import parts_folder
+
+    if plot is None:
+        return
+    parts = parts_folder(Path(out)).resolve()
+    target = Path(plot).resolve()
+    if target == parts or parts in target.parents:
+        raise LusmError(f"--plot {plot} is inside {parts_folder(Path(out))}, the parts folder "
+                        "this run keeps its finished geometries in; give the maps a folder of "
+                        "their own", "--plot")
+
+
+def _run_study(args: argparse.Namespace, study, plot: str | None):
+    """Run the study (:func:`studies.explore.explore`) and say its workers' warnings and
+    failed geometries; on an interrupt or an error, say what is kept and where."""
+    from lusm.interrupts import Terminated
+    from studies.cluster import DEFAULT_WORKERS
+    from studies.dataset import open_result
+    from studies.explore import ClusterLostError, NothingComputedError, explore
+    from studies.parts import PartsBusyError, parts_folder
+
     before = _file_stamp(Path(args.out))
     parts = parts_folder(Path(args.out))
     parts_before = _count_parts(parts)
@@ -111,21 +166,25 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
         result = explore(study, args.out, scheduler=args.scheduler,
                          scheduler_file=args.scheduler_file,
                          workers=DEFAULT_WORKERS if args.workers is None else args.workers,
-                         resume=args.resume, force=args.force, progress=not args.json)
+                         resume=args.resume, force=args.force, progress=not args.json,
+                         worker_timeout_s=(WORKER_TIMEOUT_DEFAULT_S
+                                           if args.worker_timeout_s is None
+                                           else args.worker_timeout_s))
         for text in result.warnings:  # said once each, as every command says a warning
             warn(in_study_terms(text))
         _report_failures(open_result(result.path), result.path)
     except NothingComputedError:
         raise  # its message says where the parts are kept
     except PartsBusyError:
-        raise  # the parts there are the running one's: "kept ... --resume" was not this run's
+        raise  # the parts there are the running one's, not this run's to offer
+    except ClusterLostError as exc:  # the environment, not a bug: one line, exit 2
+        raise LusmError(_cluster_lost(exc, args, parts), exc.where.split()[0]) from None
     except (KeyboardInterrupt, Terminated):
         if parts.exists():
             print(f"lusm explore: {_geometries(_count_parts(parts))} kept in {parts}; run the "
                   "same command with --resume to continue", file=sys.stderr)
         elif _file_stamp(Path(args.out)) not in (None, before):
-            # the dataset and the parts' removal are one step: this run finished it (a
-            # signal just after said only "interrupted", and a rerun refused the file)
+            # the dataset and the parts' removal are one step: this run finished it
             print(f"lusm explore: {args.out} is complete"
                   + ("; the --plot maps were not written" if plot is not None else ""),
                   file=sys.stderr)
@@ -138,36 +197,51 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
             print(f"lusm explore: {_geometries(done)} kept in {parts}; run the same command "
                   "with --resume to continue once the cause is fixed", file=sys.stderr)
         raise
-    if plot is not None:
-        from studies.explore import design_maps, drawable_maps
+    return result
 
-        try:
-            ds = open_result(result.path)
-            if not drawable_maps(ds):  # nothing to draw: no folder made either
-                warn(f"--plot {plot}: nothing to draw (a figure needs a plate or drive axis "
-                     "with at least two values and a finite answer along it); nothing written")
-            else:
-                with figure_set(plot, "--plot", args.force) as stage:
-                    result.figures = moved(design_maps(ds, stage), stage, plot)
-        except (KeyboardInterrupt, Terminated, LusmError, ValueError, OSError):
-            # the study's result is not lost with its maps (a --plot folder that cannot be
-            # written, /sys/maps, said only the error)
-            print(f"lusm explore: {result.path} is complete; the --plot maps were not written",
-                  file=sys.stderr)
-            raise
-    summary = result.to_dict()
-    # what stderr said, as it said it (a script reading --json had seen [] where stderr
-    # warned of 700 V, of thick plates or of drive points that had not settled)
-    summary["warnings"] = list(said)
-    if study.needs_motor:  # every velocity and force depends on it (as characteristic says)
-        from studies.explore import damping_text
 
-        summary["damping"] = damping_text(study)
-    if study.stator is not None:
-        summary["stator_file"] = json.loads(study.text)["stator"]["file"]  # absolute
-    if args.json:
-        print_json(summary, indent=2)
-        return
+def _cluster_lost(exc, args: argparse.Namespace, parts: Path) -> str:
+    """The one line of a cluster lost mid-study: what went, what is kept, and the command
+    that resumes."""
+    import shlex
+
+    done = _count_parts(parts)
+    kept = (f"{_geometries(done)} kept in {parts}" if done else "no geometry had finished")
+    where = (["--scheduler", args.scheduler] if args.scheduler else
+             ["--scheduler-file", args.scheduler_file] if args.scheduler_file else [])
+    again = ["lusm", "explore", args.study, "--out", args.out, *where]
+    if args.worker_timeout_s is not None:
+        again += ["--worker-timeout-s", f"{args.worker_timeout_s:g}"]
+    if done:
+        return (f"{exc}; {kept}; once the cluster is back, resume with: "
+                f"{shlex.join([*again, '--resume'])}")
+    return f"{exc}; {kept}; once the cluster is back, run: {shlex.join(again)}"
+
+
+def _write_maps(result, plot: str, force: bool) -> None:
+    """Write the ``--plot`` figures of the study's dataset into ``plot`` (their paths into
+    ``result.figures``); if they cannot be, say that the dataset is complete all the same."""
+    from lusm.interrupts import Terminated
+    from studies.dataset import open_result
+    from studies.maps import design_maps, drawable_maps
+
+    try:
+        ds = open_result(result.path)
+        if not drawable_maps(ds):  # nothing to draw: no folder made either
+            warn(f"--plot {plot}: nothing to draw (a figure needs a plate or drive axis "
+                 "with at least two values and a finite answer along it); nothing written")
+        else:
+            with figure_set(plot, "--plot", force, "explore") as stage:
+                result.figures = moved(design_maps(ds, stage), stage, plot)
+    except (KeyboardInterrupt, Terminated, LusmError, ValueError, OSError):
+        # the study's result is not lost with its maps
+        print(f"lusm explore: {result.path} is complete; the --plot maps were not written",
+              file=sys.stderr)
+        raise
+
+
+def _print_summary(result, study, summary: dict) -> None:
+    """The study's summary for a reader: its size, where it computed, what it wrote."""
     def plural(n: int, word: str, many: str) -> str:
         return f"{n} {word if n == 1 else many}"
 
@@ -181,16 +255,14 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
     if result.already_complete:
         print(f"{result.path} is complete (study {study.name!r}, "
               f"{plural(result.geometries, 'geometry', 'geometries')}); nothing to resume")
-        for f in result.figures:
-            print(f"wrote {f}")
-        return
-    print(f"study {study.name!r}: {plural(result.geometries, 'geometry', 'geometries')}"
-          f"{drive}; {result.computed} "
-          f"computed on {result.workers} worker{'' if result.workers == 1 else 's'}, "
-          f"{result.reused} from an earlier run; {result.wall_time_s:.3g} s")
-    if "damping" in summary:
-        print(f"damping: {summary['damping']}")
-    print(f"wrote {result.path}")
+    else:
+        print(f"study {study.name!r}: {plural(result.geometries, 'geometry', 'geometries')}"
+              f"{drive}; {result.computed} "
+              f"computed on {result.workers} worker{'' if result.workers == 1 else 's'}, "
+              f"{result.reused} from an earlier run; {result.wall_time_s:.3g} s")
+        if "damping" in summary:
+            print(f"damping: {summary['damping']}")
+        print(f"wrote {result.path}")
     for f in result.figures:
         print(f"wrote {f}")
 
@@ -226,7 +298,7 @@ def _warn_drive(study) -> None:
     """The drive warnings of the single-point commands (:func:`lusm.options.warn_drive`),
     once per study, for the axis values that trigger them: the largest voltage above 600 V,
     the largest preload above 100 N, and 0 V with 0 N. A study that drives nothing (FE
-    outputs only) gets none. A study of 700 V and 0 V / 0 N points said nothing."""
+    outputs only) gets none."""
     if not study.needs_motor:
         return
     ax = study.axes
@@ -239,7 +311,7 @@ def _warn_drive(study) -> None:
 
 def _warn_thick(study) -> None:
     """The thin-plate warning modes gives, for the study's thickest plate against its
-    narrowest (a 0.6 mm wide, 3 mm thick plate was "ok" without a word)."""
+    narrowest (a 0.6 mm wide, 3 mm thick plate is outside the 2D model's range)."""
     ax = study.axes
     thick = max(ax["thickness"]) * 1e3
     warn_thin_plate(f"{study.source}: thickness up to {thick:g} mm", thick,
@@ -268,9 +340,8 @@ def _warn_holes(study) -> None:
 def _report_failures(ds, path) -> list[str]:
     """Say which geometries did not compute fully (their reasons are in the dataset's
     ``status``), and return what was said. A study where none did has no dataset:
-    :func:`studies.explore.explore` refused it (it exited 0 with a dataset of NaN, then 2
-    with one)."""
-    from studies.explore import computed_fully
+    :func:`studies.explore.explore` refuses to write one of NaN."""
+    from studies.task import computed_fully
 
     said = []
     status = [str(x) for x in ds["status"].values.ravel()]

@@ -57,8 +57,8 @@ def _check_size(args: argparse.Namespace, volts, loads, frequency_Hz: float) -> 
     from lusm.options import time_step_of
 
     # the steady engine takes its own step; --dt serves only the transient of an undecided
-    # point. A typed one gets the transients' range all the same (--dt 1e-3 had run without
-    # a word, the undecided points silently at T/20); the default is within it
+    # point. A typed one gets the transients' range all the same (--dt 1e-3 is refused, not
+    # replaced by T/20 without a word); the default is within it
     why = (" (with --method steady it serves the transient of a point the steady engine "
            "cannot decide)" if args.method == "steady" else "")
     args.dt = time_step_of(args.dt, frequency_Hz, why)  # default: whole steps per period
@@ -91,9 +91,10 @@ def run(args: argparse.Namespace) -> None:
         check_steady_work(volts.size * loads.size, motor.params, motor.frequency_Hz,
                           motor.coupling, "points", "--voltages")
     m = _solve(args, motor, volts, loads)
+    _warn_limits(m)
     summary = _summary(args, motor, m)
     if plot is not None:
-        summary["figures"] = _plot(args, motor, m, plot)
+        summary["figures"] = _plot(args, motor, m)
         # "figure", the map's one path, kept for the scripts that read it
         summary["figure"] = summary["figures"][0]
     if args.json:
@@ -127,6 +128,22 @@ def _solve(args: argparse.Namespace, motor: Motor, volts, loads):
     return m
 
 
+def _warn_limits(m) -> None:
+    """One line, before the results, naming the points beyond a limit of the ceramic and the
+    worst of them (each point's limits are in --json, the points marked on --plot)."""
+    if m.limits is None:
+        return
+    over = [(float(m.voltages_V[i]), float(m.preloads_N[j]), m.limits[i, j])
+            for i in range(m.voltages_V.size) for j in range(m.preloads_N.size)
+            if m.limits[i, j] is not None and m.limits[i, j].exceeded()]
+    if not over:
+        return
+    v, f, worst = max(over, key=lambda p: max(p[2].ratio(q) for q in p[2].exceeded()))
+    line = worst.warning(f"at {len(over)} of {m.limits.size} points (JSON 'limits'); the "
+                         f"worst, {v:g} V/{f:g} N")
+    warn(line)
+
+
 def _summary(args: argparse.Namespace, motor: Motor, m) -> dict:
     """The map's JSON: the points, the damping, coupling and frequency, the engine's level."""
     from validation.summaries import damping_summary, map_summary
@@ -142,7 +159,7 @@ def _summary(args: argparse.Namespace, motor: Motor, m) -> dict:
     return summary
 
 
-def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
+def _plot(args: argparse.Namespace, motor: Motor, m) -> list[str]:
     """Draw the map into the ``--plot`` folder; returns the figures' paths."""
     from validation.figures import set_label
     from validation.figures import stick_slip_map as plot_map
@@ -154,7 +171,7 @@ def _plot(args: argparse.Namespace, motor: Motor, m, plot) -> list[str]:
            f"transients of {args.duration:g} s from rest"
            + ("" if m.settled.all() else f", {int((~m.settled).sum())} not settled"))
     title = f"{set_label(motor.params.source)}, {motor.frequency_Hz / 1e3:.4g} kHz, {how}"
-    return write_figures(plot, "--plot", args.force,
+    return write_figures(args, "--plot",
                          lambda stage: [plot_map(m, stage / name, title)])
 
 
@@ -171,7 +188,7 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
     for i, v in enumerate(m.voltages_V):
         print(f"{v:>8g}  " + " ".join(f"{short.get(c, '?'):>5}" for c in m.motion[i]))
     print("legend: " + ", ".join(f"{s} {c}" for c, s in short.items()))
-    # the speeds too (they had been in --json only): mm/s, 4 significant digits
+    # the speeds too, as --json gives them: mm/s, 4 significant digits
     print("slider velocity (mm/s), V0 (V) \\ F_P (N)")
     print(f"{'':>8}  " + " ".join(f"{f:>9g}" for f in m.preloads_N))
     for i, v in enumerate(m.voltages_V):
@@ -183,10 +200,9 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
     counts = ", ".join(f"{c} {n}" for c, n in m.counts().items() if n)
     print(f"points: {counts}; wall time {m.wall_time_s:.2f} s ({m.method}"
           + (f", {args.accuracy})" if m.method == "steady" else f", {args.duration:g} s runs)"))
+    _print_non_monotone(m)
     if m.method == "steady":
-        multi = [(float(m.voltages_V[i]), float(m.preloads_N[j]))
-                 for i in range(m.voltages_V.size) for j in range(m.preloads_N.size)
-                 if len(m.branches[i, j]) > 1]
+        multi = [(float(m.voltages_V[i]), float(m.preloads_N[j])) for i, j in m.several_branches()]
         if multi:
             print("several stable steady states (the table shows the one reached from rest): "
                   + ", ".join(f"{v:g} V/{f:g} N" for v, f in multi))
@@ -194,7 +210,25 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
         if undecided:
             from contact.maps import fallback_duration_s
 
-            # it said 0.3 s where a longer --duration ran
+            # the duration the fallback transients ran, --duration's where longer than 0.3 s
             print(f"undecided by the steady engine (creep, no periodic tip orbit): {undecided} "
                   f"point(s), taken from {fallback_duration_s(args.duration, freq):g} s "
                   "transients (see --json)")
+
+
+def _print_non_monotone(m) -> None:
+    """Say the neighbours whose speeds run against the trend (a higher voltage slower, a
+    higher preload faster, by more than :data:`contact.maps.NON_MONOTONE_FACTOR` times): creep
+    level or another branch, not a trend (``--plot`` joins them with red dashes)."""
+    from contact.maps import NON_MONOTONE_FACTOR
+
+    def point(ij) -> str:
+        i, j = ij
+        return (f"{m.voltages_V[i]:g} V/{m.preloads_N[j]:g} N "
+                f"{abs(m.velocity_m_s[i, j]) * 1e3:.3g} mm/s")
+
+    pairs = m.non_monotone_pairs()
+    if pairs:
+        print(f"speeds against the trend (x{NON_MONOTONE_FACTOR:g} or more between "
+              "neighbours; creep level or another branch): "
+              + "; ".join(f"{point(a)} vs {point(b)}" for a, b in pairs))

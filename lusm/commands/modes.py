@@ -105,7 +105,7 @@ def add_fe_options(p: argparse.ArgumentParser, three_d: bool = False) -> None:
     command also has ``--model 3d``, whose default refine the help names too."""
     p.add_argument("--order", type=int, choices=(1, 2), default=2,
                    help="element order (default 2; 1 locks in bending: B2 several %% high)")
-    try:  # scaled as the 2D bound is (LUSM_MAX_WORK=2 said 12 where 24 ran)
+    try:  # scaled as the 2D bound is, so that the help says the bound that runs
         top_3d = limits.work_bound(limits.MAX_REFINE_3D)
     except ValueError:  # a bad LUSM_MAX_WORK: refused on its own before any command runs
         top_3d = limits.MAX_REFINE_3D
@@ -421,7 +421,7 @@ def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, expo
         "gap_mm": float(f"{stator_gap_m(stator) * 1e3:.12g}"),  # mesh roundoff off
     }
     # where the reduction (lusm params --source fem) normalises L1 and B2; a stator file
-    # may move them, and nothing said which points were used
+    # may move them, so the points used are said
     # + 0.0: a point on a mirrored mesh's centre line read -0 mm
     out["tip_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.tip_point_m]
     out["preload_mm"] = [float(f"{c * 1e3:.12g}") + 0.0 for c in stator.preload_point_m]
@@ -552,40 +552,14 @@ def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
 
 def _export_target(text: str, force: bool):
     """The ``--export`` file, checked before any work (a file, in an existing folder)."""
-    import os
-    from pathlib import Path
-
     from lusm.errors import LusmError
+    from lusm.options import file_target
 
-    if not text.strip():
-        raise LusmError("--export must name a file, got ''", "--export")
-    path = Path(text)
-    from lusm.options import check_path_usable
-
-    check_path_usable(path, "--export")
-    # a trailing separator names a folder (Path drops it: dd.vtu/ had been written as the
-    # file dd.vtu)
-    last = text.rstrip().replace(os.sep, "/").rsplit("/", 1)[-1]
-    if path.is_dir() or last in ("", ".", ".."):  # dd.vtu/. too
-        raise LusmError(f"--export {text.strip()} is a folder; name a file such as modes.vtu",
-                        "--export")
-    for parent in path.parents:
-        if parent.exists() and not parent.is_dir():
-            raise LusmError(f"--export {path} sits below the file {parent}", "--export")
-        if parent.exists():
-            break
-    if (path.exists() or path.is_symlink()) and not force:
-        raise LusmError(f"--export {path} already exists; choose a new name or pass --force",
-                        "--export")
-
-    folder = next((p for p in path.absolute().parents if p.exists()), None)
-    if folder is not None and not os.access(folder, os.W_OK | os.X_OK):
-        # it was refused only after the FE solve (30 s of a 3D model)
-        raise LusmError(f"--export {path}: cannot write into {folder} (permission denied)",
-                        "--export")
+    # refused before the FE solve (30 s of a 3D model), not after
+    path = file_target(text, "--export", force, "modes.vtu")
     side = path.with_suffix(".h5")  # meshio's XDMF writer puts the arrays beside it
     if path.suffix.lower() == ".xdmf" and (side.exists() or side.is_symlink()) and not force:
-        # it was refused only after the FE solve
+        # refused before the FE solve, not after
         raise LusmError(f"--export {path}: its side file {side} already exists; choose a new "
                         "name or pass --force", "--export")
     suffix = path.suffix.lower()
@@ -603,8 +577,8 @@ def _export_target(text: str, force: bool):
 
 def _relink_kept_xdmf(xdmf, renamed: dict[str, str]) -> None:
     """Point a kept-aside .xdmf at its own kept-aside HDF5 file: ``renamed`` maps the side
-    files' names to their backups'. Without it ``modes.xdmf.bak-1`` read the new run's
-    ``modes.h5`` (the old export was unreadable although both files were kept)."""
+    files' names to their backups'. Without it ``modes.xdmf.bak-1`` would read the new run's
+    ``modes.h5`` (the old export unreadable although both files are kept)."""
     if xdmf is None:
         return
     text = xdmf.read_text(encoding="utf-8")
@@ -627,10 +601,10 @@ documented in docs/fem3d.md)."""
 
 
 def _graded_work_clause(stator, refine, layers, quarter_allowed: bool) -> str:
-    """Where ``--edge-grading 1`` needs more bricks than the bound, what it takes: the hint had
-    been refused as given on the tip examples (2 140 bricks against 2 000; exploratory
-    testing). Counted on the model the graded run would use (the quarter plate where it
-    applies, as :func:`run` decides)."""
+    """Where ``--edge-grading 1`` needs more bricks than the bound, what it takes, so that the
+    hint runs as given (the tip examples need 2 140 bricks against 2 000). Counted on the
+    model the graded run would use (the quarter plate where it applies, as :func:`run`
+    decides)."""
     from fem.cell_count import fe_cell_count
     from fem.solid3d.symmetric import quarter_model_applies
     from lusm import limits

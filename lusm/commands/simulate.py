@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> None:
     params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
     coupling, coupling_from = motor.coupling, motor.coupling_from
     if args.steady:
-        # the range characteristic and map say (the engine's own refusal had no range)
+        # the range characteristic and map say (the engine's own refusal has no range)
         check_steady_frequency(params, freq, coupling)
         # said once --dt is known to be a number: a refusal is then the one line
         warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
@@ -90,6 +90,7 @@ def run(args: argparse.Namespace) -> None:
             # every key the other runs carry (null where no steady state has the value)
             summary = runaway_summary(params, v, args.preload, freq, args.load_N, coupling,
                                       not args.no_ultrasonic_friction, exc.reason)
+            summary["limits"] = None  # no steady operating point, as the others' key says
         summary["damping"] = damping_summary(params, damping_from)
         summary["coupling"], summary["coupling_from"] = coupling, coupling_from
         summaries.append(summary)
@@ -106,6 +107,7 @@ def run(args: argparse.Namespace) -> None:
 def _print_one(summary: dict, motor: Motor) -> None:
     """One run's summary as ``key value`` lines, its branches, damping, coupling, energy
     balance and figures."""
+    from lusm.physical_limits import print_limits
     from validation.summaries import coupling_line, damping_line
 
     for key, value in summary.items():
@@ -114,15 +116,15 @@ def _print_one(summary: dict, motor: Motor) -> None:
         text = f"{value:.6g}" if isinstance(value, float) else str(value)
         print(f"{key:<30} {text}")
     for b in summary.get("branches") or ():
-        # every stable steady state, as the JSON has them (the ones a start from rest
-        # does not reach had been in a warning alone)
+        # every stable steady state, as the JSON has them, also the ones a start from rest
+        # does not reach
         print(f"{'branch (from rest)' if b['from_rest'] else 'branch':<30} "
               + branch_text(b))
+    print_limits(summary.get("limits"))
     print(damping_line(motor.params, motor.damping_from))
     print(coupling_line(motor.coupling, motor.coupling_from))
     if "energy" in summary:
-        # every term of the balance, as --json gives them (the text had shown the
-        # residual alone)
+        # every term of the balance, as --json gives them, not the residual alone
         e = summary["energy"]
         for key, value in e.items():
             if key != "relative_residual":
@@ -165,6 +167,13 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     runaway = next((str(w.message) for w in caught if issubclass(w.category, RunawayWarning)),
                    None)
     summary = simulation_summary(r, runs_away=runaway)
+    from contact.operating_limits import simulation_limits
+    from lusm.physical_limits import limits_json, warn_beyond
+
+    # a slider that runs away is at no steady operating point: no limits to say
+    lims = None if runaway is not None else simulation_limits(r)
+    warn_beyond(lims, f"at {voltage_V:g} V, {args.preload:g} N, {freq:.6g} Hz")
+    summary["limits"] = limits_json(lims)
     if not args.steady and not r.steady.settled:
         if runaway is None:
             st = r.steady
@@ -175,6 +184,6 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     if plot is not None:
         from validation.figures import simulation_figures
 
-        summary["figures"] = write_figures(plot, "--plot", args.force,
+        summary["figures"] = write_figures(args, "--plot",
                                            lambda stage: simulation_figures(r, stage))
     return summary

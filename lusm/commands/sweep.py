@@ -57,7 +57,7 @@ def _split(args: argparse.Namespace):
     ranges = [(o, getattr(args, o[2:].replace("-", "_"))) for o in ("--width-mm", "--length-mm")]
     ranged = [(o, t) for o, t in ranges if t is not None and ":" in t]
     if len(ranged) != 1:
-        # as typed: "got 2 ranges" had counted a malformed 30:40 as a range
+        # as typed: a malformed 30:40 is not counted as a range
         given = [f"{o} {t}" for o, t in (ranged or ranges) if t is not None]
         got = " and ".join(given) + ("" if ranged else " (no range)") if given else "neither"
         raise LusmError("give exactly one of --width-mm / --length-mm as a range A:B:STEP (mm), "
@@ -96,7 +96,7 @@ def run(args: argparse.Namespace) -> None:
     if out is not None:
         from validation.fem_figures import sweep_figure
 
-        png = write_figures(out, "--out", args.force, lambda stage: [
+        png = write_figures(args, "--out", lambda stage: [
             sweep_figure(res, stage / f"sweep_{parameter}.png")])[0]
     if args.json:
         d = res.to_dict()
@@ -299,7 +299,7 @@ def _check_some_b2_in_reach(ends, option: str, text: str) -> None:
 
     try:
         check_b2_in_reach(ends[1])
-    except WidePlateError as exc:  # a 30 x 40 mm end had ended in an internal error
+    except WidePlateError as exc:  # a 30 x 40 mm end: refused in the option's terms
         raise LusmError(f"{option} {text}: no plate of the sweep can have an L1/B2 pair: even "
                         f"{exc}; sweep plates narrower than long", option) from None
     except SlenderPlateError:

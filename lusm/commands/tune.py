@@ -55,6 +55,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     add_fe_options(p, three_d=True)
     add_output_options(p, folder=None)
+    p.add_argument("--write", metavar="STATOR.toml", default=None,
+                   help="write the tuned stator file: the --geometry file (or one of the plate "
+                   "options) with the tuned dimensions, and a comment saying how they were "
+                   "found; an existing file is not overwritten unless --force")
+    p.add_argument("--force", action="store_true",
+                   help="write --write over an existing file (the old one is kept as .bak-N)")
 
 
 def run(args: argparse.Namespace) -> None:
@@ -63,6 +69,11 @@ def run(args: argparse.Namespace) -> None:
 
     warn_linear_elements(args)
     _check_fix(args)
+    write = None
+    if args.write is not None:  # refused before the tuning's solves, not after
+        from lusm.options import file_target
+
+        write = file_target(args.write, "--write", args.force, "tuned.toml")
     choice = _start_plate(args)
     if args.target_frequency is not None:  # length and width tuned (held ones refused)
         _check_target_reachable(args, choice)
@@ -70,10 +81,48 @@ def run(args: argparse.Namespace) -> None:
     _check_tuned_plate(d, args.target_frequency)
     if args.model == "2d":
         _warn_tuned_plate(d.stator)
+    if write is not None:
+        _write_stator(args, choice, d, write)
     if args.json:
-        print_json(d.to_dict())
+        out = d.to_dict()
+        if write is not None:
+            out["written"] = str(write)
+        print_json(out)
         return
     _print(d)
+    if write is not None:
+        print(f"wrote {write}")
+
+
+def _write_stator(args: argparse.Namespace, choice, d, path) -> None:
+    """Write the tuned stator file (:func:`fem.stator_file.tuned_stator_text`): the
+    ``--geometry`` file, or one of the plate options, with the tuned dimensions."""
+    from fem.stator_file import tuned_stator_text
+    from lusm.messages import command_line
+    from lusm.options import write_text_file
+
+    st = d.stator
+    dims = {"length_mm": st.length_m * 1e3, "width_mm": st.width_m * 1e3,
+            "thickness_mm": st.thickness_m * 1e3}
+    held = d.fix.replace("+", ", ")
+    reached = (f"common frequency {d.frequency_Hz:.1f} Hz" if d.target_frequency_Hz is None
+               else f"target {d.target_frequency_Hz:g} Hz")
+    import textwrap
+
+    how = (f"{', '.join(d.tuned)} tuned until L1 = B2 (short circuit), {held} held; "
+               f"{reached}; |f_L1 - f_B2| / f = {d.relative_mismatch:.2e} "
+               f"(L1 {d.L1.f_short_Hz:.1f} Hz, B2 {d.B2.f_short_Hz:.1f} Hz), {d.model} model, "
+               f"order {args.order}, {d.fe_solves} FE solves")
+    comment = f"Tuned by: {command_line()}\n" + textwrap.fill(how, 88)
+    if choice.design is not None:
+        source = choice.design.path.read_text(encoding="utf-8")
+        text = tuned_stator_text(dims, comment, source_text=source)
+    else:
+        tables = {"electrodes": {"gap_mm": float(f"{st.electrode_gap_m * 1e3:.12g}"),
+                                 "drive": list(st.drive_electrodes)},
+                  "material": {"name": choice.material.name}}
+        text = tuned_stator_text(dims, comment, plate_tables=tables)
+    write_text_file(path, "--write", text)
 
 
 def _check_fix(args: argparse.Namespace) -> None:
@@ -155,8 +204,8 @@ def _check_target_reachable(args: argparse.Namespace, choice) -> None:
     # the shortest plate: within the range, and wide enough for electrodes of at least
     # ELECTRODE_GAP_RATIO gaps beside the gap (a tuned plate is about 0.27 times as wide
     # as long: 11.4 x 42.1 mm at 40 kHz). Narrower electrodes: the 2D model leaves the
-    # 3D one (6e5 Hz gave a 0.63 mm wide plate, electrodes 0.13 gaps wide, L1 5 % off
-    # 3D; 7e5 Hz and above failed after 10-50 FE solves)
+    # 3D one (6e5 Hz gives a 0.63 mm wide plate, electrodes 0.13 gaps wide, L1 5 % off
+    # 3D; 7e5 Hz and above fail after 10-50 FE solves)
     shortest = max(lo, _least_width_mm(choice.stator.electrode_gap_m) / TUNED_ASPECT)
     if not (shortest <= near_top_mm and est_mm <= hi):
         asked_mm = near_top_mm if near_top_mm < shortest else est_mm
@@ -260,7 +309,7 @@ to 3e5 Hz (0.97 gaps) 0.46 % and 0.44 %, its B2 k_eff 15 % high; to 4e5 Hz (0.57
 
 def _inward(value: float, up: bool = False) -> float:
     """``value`` rounded to 4 significant digits towards the inside of a quoted range (``up``
-    for its lower end): '.4g' rounded outwards, and both ends quoted were refused."""
+    for its lower end), so that both ends quoted are accepted ('.4g' rounds outwards)."""
     q = 10.0 ** (math.floor(math.log10(abs(value))) - 3)
     return (math.ceil if up else math.floor)(value / q * (1 - 1e-12 if up else 1 + 1e-12)) * q
 

@@ -1,0 +1,78 @@
+"""The refusal of an input outside its allowed range, shared by ``fem``, ``rom`` and ``contact``.
+
+The library checks its inputs in SI units and raises :class:`ParameterError` with the
+parameter's name, the value, the allowed range and its unit as fields, so that a caller (the
+``lusm`` command line) names its own option in its own units from the fields, not from the
+wording of the message. It subclasses ``ValueError``: callers that catch that keep working.
+This module imports nothing of the project, so every package can raise it.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+
+class ParameterError(ValueError):
+    """An input parameter outside its allowed range.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name in the library, with its SI unit (``'length_m'``,
+        ``'voltage_V'``, ``'refine'``).
+    value : object
+        The value refused, as given.
+    low, high : float, optional
+        The allowed range's bounds in ``unit``; None where the range is open-ended.
+    unit : str
+        The SI unit of ``value``, ``low`` and ``high`` (``'m'``, ``'Hz'``; ``''`` for a count).
+    low_open, high_open : bool
+        Whether ``low`` (``high``) itself is excluded.
+    reason : str
+        Why the range is what it is, a clause a caller may add to its own words
+        (``'the fastest mode of this parameter set'``); may be empty.
+    message : str, optional
+        The library's full message; by default the range said in SI units.
+    """
+
+    def __init__(self, name: str, value: object, low: float | None = None,
+                 high: float | None = None, unit: str = "", *, low_open: bool = False,
+                 high_open: bool = False, reason: str = "", message: str | None = None) -> None:
+        self.name = name
+        self.value = value
+        self.low, self.high, self.unit = low, high, unit
+        self.low_open, self.high_open = low_open, high_open
+        self.reason = reason
+        if message is None:
+            message = (f"{name} must be {self.range_text()}, got {value!r}"
+                       + (f" ({reason})" if reason else ""))
+        super().__init__(message)
+
+    def range_text(self, scale: float = 1.0, unit: str | None = None) -> str:
+        """The allowed range in words, its bounds times ``scale`` in ``unit`` (default the
+        error's own): ``'in [0.005, 0.2] m'``, ``'> 0 Hz'``, ``'a finite number'``."""
+        unit = self.unit if unit is None else unit
+        tail = f" {unit}" if unit else ""
+        lo = None if self.low is None else _number(self.low * scale)
+        hi = None if self.high is None else _number(self.high * scale)
+        if lo is not None and hi is not None:
+            return (f"in {'(' if self.low_open else '['}{lo}, {hi}"
+                    f"{')' if self.high_open else ']'}{tail}")
+        if lo is not None:
+            return f"{'>' if self.low_open else '>='} {lo}{tail}"
+        if hi is not None:
+            return f"{'<' if self.high_open else '<='} {hi}{tail}"
+        return "a finite number"
+
+    def value_text(self, scale: float = 1.0) -> str:
+        """The value refused, a real number times ``scale`` (``'3'``, ``'nan'``), anything
+        else as its ``repr``."""
+        v = self.value
+        if isinstance(v, numbers.Real) and not isinstance(v, bool):
+            return _number(float(v) * scale)
+        return repr(v)
+
+
+def _number(x: float) -> str:
+    """A bound or value as a short number: ``30``, ``2.5e-06``, ``inf``, ``nan`` (no ``-0``)."""
+    return f"{x + 0.0:g}"

@@ -1,0 +1,480 @@
+"""Weighted least squares of a parameter set against measurements, with its uncertainty.
+
+The fit runs :func:`scipy.optimize.least_squares` (trust-region reflective, bounded) on the
+residuals ``(model - measured) / sigma`` of every measured value, in parameters scaled to
+their box (``u = (value - min) / (max - min)`` in [0, 1]), from the file's start and from
+the best of points drawn in the box (log-uniform for a positive range of more than a
+decade); the lowest chi-square wins. SciPy is a core dependency already, and the fit needs its own
+covariance and profiles anyway (a slow model wants bounded work, not lmfit's open-ended
+``conf_interval``), so no fitting library is added.
+
+Uncertainty, with the measurement file's standard deviations taken as absolute:
+
+* covariance ``(J^T J)^-1`` from the Jacobian at the optimum (SVD; a direction the data do
+  not see has no finite variance), standard errors and correlations;
+* profile likelihood: each parameter stepped away from its optimum (1, 2, 4 standard
+  errors, then its bound), the others fitted again at every step (a few Gauss-Newton steps
+  on the optimum's Jacobian, one model evaluation each: bounded work), until chi-square
+  rises by :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter);
+* a parameter is *not identifiable* when the data see no direction of it, when its profile
+  stays below 3.84 up to both bounds, or when it correlates with another above
+  :data:`MAX_CORRELATION` in magnitude: the report names it and gives no number. One the
+  data do not depend on at all keeps its start value in the calibrated set.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from calibration.measurements import MeasurementError, Measurements
+from calibration.model import predict
+from calibration.parameters import ORDER, FitParameter, apply, base_value
+from rom.params import MotorParams
+
+DELTA_CHI2_95 = 3.841458820694124
+"""Rise of chi-square that bounds a 95 % profile-likelihood interval of one parameter
+(the 95 % quantile of chi-square with one degree of freedom)."""
+MAX_CORRELATION = 0.95
+"""|Correlation| above which two parameters are not identifiable apart."""
+DIFF_STEP = 3e-5
+"""Finite-difference step of the Jacobian, as a share of each parameter's box."""
+SINGULAR_RTOL = 1e-8
+"""Singular values of the scaled Jacobian below this share of the largest: no information."""
+MAX_NFEV = 200
+"""Most residual evaluations of one start (the Jacobian's not counted)."""
+CHORD_STEPS = 3
+"""Gauss-Newton steps of each re-fit along a profile (one model evaluation each)."""
+TOLERANCE = 1e-6
+"""Relative change of chi-square and of the scaled parameters that ends a start."""
+SCREEN_PER_PARAMETER = 8
+"""Points per fitted parameter drawn in the box to choose the starts after the file's."""
+PROFILE_STEPS = (1.0, 2.0, 4.0)
+"""Steps along a profile, in standard errors (then the bound)."""
+
+
+@dataclass(frozen=True)
+class Profile:
+    """The profile likelihood of one parameter.
+
+    Attributes
+    ----------
+    values : ndarray
+        Parameter values visited (SI), sorted.
+    delta_chi2 : ndarray
+        Chi-square of the best fit with the parameter held there, minus the optimum's.
+    lower, upper : float
+        Ends of the 95 % interval (SI); a bound where the profile stays below
+        :data:`DELTA_CHI2_95` up to it (``lower_open``, ``upper_open``).
+    """
+
+    values: np.ndarray
+    delta_chi2: np.ndarray
+    lower: float
+    upper: float
+    lower_open: bool
+    upper_open: bool
+
+    @property
+    def flat(self) -> bool:
+        """Whether the data leave the parameter anywhere between its bounds."""
+        return self.lower_open and self.upper_open
+
+
+@dataclass(frozen=True)
+class CalibrationResult:
+    """A calibration: fitted values, their uncertainty and the fit's figures.
+
+    Attributes
+    ----------
+    parameters : tuple of FitParameter
+    values : ndarray
+        Best-fit values (SI), in the order of ``parameters``.
+    stderr : ndarray
+        Standard errors (SI); inf where the data see no direction of the parameter.
+    correlation : ndarray
+        Correlation matrix (NaN rows for such parameters).
+    covariance : ndarray
+        Covariance (SI).
+    identifiable : tuple of bool
+    reasons : tuple of str
+        Why a parameter is not identifiable ('' if it is).
+    profiles : dict of str to Profile
+    chi2 : float
+        Weighted sum of squared residuals at the optimum.
+    points : int
+        Measured values fitted.
+    starts : tuple of (ndarray, ndarray, float)
+        Each start's (start values, end values, chi-square), SI.
+    params : MotorParams
+        The fitted set.
+    c0_F : float or None
+        Fitted clamped capacitance (F), if fitted.
+    predictions : tuple of dict
+        The model's values at the optimum, per data set (measured quantity -> SI array).
+    coupling, accuracy : str
+        How the steady engine ran.
+    evaluations : int
+        Residual evaluations in all (fits, Jacobians, profiles).
+    wall_time_s, profile_time_s : float
+        Time of the whole calibration and of its profiles (s).
+    """
+
+    parameters: tuple[FitParameter, ...]
+    values: np.ndarray
+    stderr: np.ndarray
+    correlation: np.ndarray
+    covariance: np.ndarray
+    identifiable: tuple[bool, ...]
+    reasons: tuple[str, ...]
+    profiles: dict[str, Profile]
+    chi2: float
+    points: int
+    starts: tuple
+    params: MotorParams
+    c0_F: float | None
+    predictions: tuple[dict[str, np.ndarray], ...]
+    coupling: str
+    accuracy: str
+    evaluations: int = 0
+    wall_time_s: float = 0.0
+    profile_time_s: float = 0.0
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom: measured values less fitted parameters."""
+        return self.points - len(self.parameters)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Parameter names, in order."""
+        return tuple(p.name for p in self.parameters)
+
+
+class _Problem:
+    """Residuals of the measurements as a function of the scaled parameters ``u``."""
+
+    def __init__(self, meas: Measurements, base: MotorParams, coupling: str, accuracy: str,
+                 c0_F: float | None) -> None:
+        self.meas, self.base, self.coupling, self.accuracy = meas, base, coupling, accuracy
+        self.c0_F = c0_F
+        self.lower = np.array([p.lower for p in meas.parameters])
+        self.span = np.array([p.upper - p.lower for p in meas.parameters])
+        self.evaluations = 0
+
+    def values(self, u: np.ndarray) -> np.ndarray:
+        """SI values of scaled parameters."""
+        return self.lower + self.span * np.asarray(u, dtype=float)
+
+    def scaled(self, values: np.ndarray) -> np.ndarray:
+        """Scaled parameters of SI values."""
+        return (np.asarray(values, dtype=float) - self.lower) / self.span
+
+    def model(self, u: np.ndarray) -> tuple[MotorParams, float | None]:
+        """The parameter set and clamped capacitance of ``u``."""
+        given = dict(zip((p.name for p in self.meas.parameters), self.values(u), strict=True))
+        return apply(self.base, given), given.get("C0_F", self.c0_F)
+
+    def predictions(self, u: np.ndarray) -> list[dict[str, np.ndarray]]:
+        """Model values of every data set at ``u``."""
+        params, c0 = self.model(u)
+        self.evaluations += 1
+        return [predict(s, params, c0, self.coupling, self.accuracy) for s in self.meas.sets]
+
+    def residuals(self, u: np.ndarray) -> np.ndarray:
+        """``(model - measured) / sigma`` of every measured value."""
+        out = []
+        for s, pred in zip(self.meas.sets, self.predictions(u), strict=True):
+            for q, y in s.observed.items():
+                ok = np.isfinite(y)
+                out.append((pred[q][ok] - y[ok]) / s.sigma[q][ok])
+        return np.concatenate(out)
+
+
+def check_box(meas: Measurements, base: MotorParams) -> None:
+    """Refuse bounds that leave the set invalid somewhere in the box, naming the key: the
+    friction law's order ``a_mu <= mu_d <= mu_s`` must hold for every value allowed, and the
+    set must be valid at both corners.
+
+    Raises
+    ------
+    MeasurementError
+    """
+    src = f"{meas.path}: [parameters]"
+    fitted = {p.name: p for p in meas.parameters}
+    for low, high in ORDER:
+        if low not in fitted and high not in fitted:
+            continue
+        top = fitted[low].upper if low in fitted else getattr(base, low)
+        bottom = fitted[high].lower if high in fitted else getattr(base, high)
+        if top > bottom:
+            lo_txt = f"{low} max = {top:g}" if low in fitted else f"{low} = {top:g} (fixed)"
+            hi_txt = (f"{high} min = {bottom:g}" if high in fitted
+                      else f"{high} = {bottom:g} (fixed)")
+            raise MeasurementError(f"{src} {low if low in fitted else high}: {lo_txt} must "
+                                   f"not exceed {hi_txt}: the friction law needs a_mu <= mu_d "
+                                   f"<= mu_s everywhere in the box")
+    for corner in ("lower", "upper"):
+        values = {p.name: getattr(p, corner) for p in meas.parameters}
+        bad = [n for n, v in values.items() if v <= 0 and n not in ("a_mu", "b_mu", "mu_sd")]
+        if bad:
+            raise MeasurementError(f"{src} {bad[0]}: min must be > 0, got {values[bad[0]]:g}")
+        try:
+            apply(base, values)
+        except ValueError as exc:
+            text = str(exc).replace("MotorParams.", "")
+            raise MeasurementError(f"{src}: the set is invalid at every parameter's "
+                                   f"{'min' if corner == 'lower' else 'max'}: {text}") from None
+
+
+def _covariance(jac: np.ndarray, span: np.ndarray) -> tuple[np.ndarray, list[list[int]]]:
+    """Covariance (SI) from the Jacobian of the scaled parameters, and for each parameter
+    the parameters of a direction the data do not see that it takes part in (empty: none;
+    itself alone: the data do not depend on it). Such parameters have infinite variance."""
+    n = jac.shape[1]
+    _, s, vt = np.linalg.svd(jac, full_matrices=False)
+    keep = s > SINGULAR_RTOL * (s[0] if s.size and s[0] > 0 else 1.0)
+    blind: list[list[int]] = [[] for _ in range(n)]
+    for k in range(n):
+        if k < s.size and keep[k]:
+            continue
+        row = vt[k] if k < vt.shape[0] else np.eye(n)[k]
+        members = [int(j) for j in np.flatnonzero(np.abs(row) > 0.1)]
+        for j in members:
+            blind[j] = sorted(set(blind[j]) | set(members))
+    cov_u = (vt[keep].T / s[keep] ** 2) @ vt[keep]
+    cov = cov_u * np.outer(span, span)
+    lost = [j for j in range(n) if blind[j]]
+    cov[lost, :] = np.nan
+    cov[:, lost] = np.nan
+    return cov, blind
+
+
+def _draw(problem: _Problem, count: int, rng: np.random.Generator) -> list[np.ndarray]:
+    """``count`` scaled points drawn in the box, log-uniform for a positive range of more
+    than a decade."""
+    out = []
+    for _ in range(count):
+        v = []
+        for p in problem.meas.parameters:
+            r = rng.uniform()
+            if p.lower > 0 and p.upper / p.lower > 10:
+                v.append(p.lower * (p.upper / p.lower) ** r)
+            else:
+                v.append(p.lower + r * (p.upper - p.lower))
+        out.append(problem.scaled(v))
+    return out
+
+
+def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
+    """The file's start, then the ``count - 1`` points of least chi-square among
+    :data:`SCREEN_PER_PARAMETER` per parameter drawn in the box (a model with a dead zone
+    has plateaus and steps that hold a start far from the data), scaled."""
+    first = problem.scaled([p.start for p in problem.meas.parameters])
+    if count <= 1:
+        return [first]
+    rng = np.random.default_rng(seed)
+    drawn = _draw(problem, SCREEN_PER_PARAMETER * len(problem.meas.parameters), rng)
+    chi2 = [float(r @ r) for r in map(problem.residuals, drawn)]
+    return [first, *(drawn[k] for k in np.argsort(chi2)[:count - 1])]
+
+
+def _solve(fun: Callable, u0: np.ndarray, nfev: int):
+    """:func:`scipy.optimize.least_squares` on [0, 1] with the module's settings."""
+    return least_squares(fun, np.clip(u0, 0.0, 1.0), bounds=(0.0, 1.0), method="trf",
+                         diff_step=DIFF_STEP, x_scale=1.0, max_nfev=nfev, ftol=TOLERANCE,
+                         xtol=TOLERANCE)
+
+
+def _profile_chi2(problem: _Problem, i: int, ui: float, u_best: np.ndarray,
+                  jac: np.ndarray) -> float:
+    """Chi-square with scaled parameter ``i`` held at ``ui`` and the others re-fitted: their
+    linear response from the optimum's Jacobian, then up to :data:`CHORD_STEPS` Gauss-Newton
+    steps on that Jacobian (one model evaluation each, the least chi-square kept). Exact for
+    a model linear in its parameters; otherwise at most the true profile's value."""
+    n = u_best.size
+    others = [k for k in range(n) if k != i]
+
+    def full(v: np.ndarray) -> np.ndarray:
+        u = np.empty(n)
+        u[i], u[others] = ui, np.clip(v, 0.0, 1.0)
+        return u
+
+    if not others:
+        r = problem.residuals(full(np.empty(0)))
+        return float(r @ r)
+    pinv = np.linalg.pinv(jac[:, others])
+    v = u_best[others] - pinv @ (jac[:, i] * (ui - u_best[i]))
+    least = math.inf
+    for _ in range(CHORD_STEPS + 1):
+        r = problem.residuals(full(v))
+        c = float(r @ r)
+        if c >= least:
+            break
+        least = c
+        v = np.clip(v, 0.0, 1.0) - pinv @ r
+    return least
+
+
+def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray,
+                  chi2: float, step: float,
+                  sign: int) -> tuple[list[tuple[float, float]], float, bool]:
+    """One side of a profile: points ``(u_i, delta chi2)`` at :data:`PROFILE_STEPS` times
+    ``step`` and then the bound, stopping past :data:`DELTA_CHI2_95`; returns the points, the
+    scaled interval end and whether the profile reached the bound below 3.84."""
+    bound = 1.0 if sign > 0 else 0.0
+    points = [(float(u_best[i]), 0.0)]
+    targets = [u_best[i] + sign * step * k for k in PROFILE_STEPS] + [bound]
+    for t in targets:
+        t = min(t, 1.0) if sign > 0 else max(t, 0.0)
+        if abs(t - points[-1][0]) < 1e-12:
+            continue
+        c = _profile_chi2(problem, i, t, u_best, jac)
+        points.append((float(t), c - chi2))
+        if c - chi2 >= DELTA_CHI2_95:
+            (u0, d0), (u1, d1) = points[-2], points[-1]
+            end = u0 + (DELTA_CHI2_95 - d0) * (u1 - u0) / (d1 - d0) if d1 != d0 else u1
+            return points, float(end), False
+        if t == bound:
+            break
+    return points, bound, True
+
+
+def _profile(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray, chi2: float,
+             se_u: float) -> Profile:
+    """The profile likelihood of parameter ``i`` (module docstring)."""
+    step = se_u if math.isfinite(se_u) and se_u > 1e-6 else 0.05
+    step = min(step, 0.25)
+    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, jac, chi2, step, -1)
+    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, jac, chi2, step, +1)
+    pts = sorted(set(lo_pts) | set(hi_pts))
+    u = np.array([p[0] for p in pts])
+    span, lower = problem.span[i], problem.lower[i]
+    return Profile(lower + span * u, np.array([p[1] for p in pts]), lower + span * lo_end,
+                   lower + span * hi_end, lo_open, hi_open)
+
+
+def _identifiability(names: tuple[str, ...], blind: list[list[int]], corr: np.ndarray,
+                     profiles: dict[str, Profile]) -> tuple[tuple[bool, ...], tuple[str, ...]]:
+    """Whether each parameter is identifiable and, if not, why (module docstring)."""
+    ok, why = [], []
+    for i, name in enumerate(names):
+        reason = ""
+        if blind[i] == [i]:
+            reason = "the data do not depend on it"
+        elif blind[i]:
+            reason = ("the data fix only a combination of "
+                      f"{', '.join(names[j] for j in blind[i])}")
+        elif name in profiles and profiles[name].flat:
+            reason = "its profile stays within 3.84 of the optimum between its bounds"
+        else:
+            row = np.where(np.arange(len(names)) == i, 0.0, np.abs(corr[i]))
+            j = int(np.nanargmax(row)) if np.any(np.isfinite(row)) and row.size > 1 else -1
+            if j >= 0 and row[j] > MAX_CORRELATION:
+                reason = f"correlation {corr[i, j]:+.3f} with {names[j]}"
+        ok.append(not reason)
+        why.append(reason)
+    return tuple(ok), tuple(why)
+
+
+def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consistent",
+              accuracy: str = "exact", starts: int = 3, seed: int = 0,
+              profile: tuple[str, ...] | None = None,
+              progress: Callable[[str], None] | None = None) -> CalibrationResult:
+    """Fit the measurement file's parameters to its data (module docstring).
+
+    Parameters
+    ----------
+    meas : Measurements
+        The data and the parameters to fit (:func:`calibration.load_measurements`).
+    base : MotorParams
+        The start set: every constant not fitted keeps its value; ``A_l_scale`` and
+        ``A_b_scale`` multiply its force factors.
+    coupling : {"paper", "consistent"}
+        Tangential coupling of the steady engine (the one the calibrated set is to be run
+        with afterwards).
+    accuracy : {"exact", "fast"}
+        Level of the steady engine.
+    starts : int
+        Number of starts (the file's, then ``starts - 1`` drawn with ``seed``), >= 1.
+    profile : tuple of str, optional
+        Parameters whose profile likelihood is traced; default all.
+    progress : callable, optional
+        Called with a short line as each stage starts.
+
+    Returns
+    -------
+    CalibrationResult
+    """
+    t0 = time.perf_counter()
+    say = progress or (lambda _text: None)
+    check_box(meas, base)
+    problem = _Problem(meas, base, coupling, accuracy, None)
+    names = tuple(p.name for p in meas.parameters)
+    fits = []
+    for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
+        say(f"start {k} of {max(1, starts)}")
+        fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
+    best = min(fits, key=lambda f: f[1].cost)[1]
+    chi2 = 2.0 * float(best.cost)
+    cov, blind = _covariance(best.jac, problem.span)
+    alone = np.array([b == [i] for i, b in enumerate(blind)], dtype=bool)
+    se = np.sqrt(np.where([bool(b) for b in blind], np.inf, np.diag(cov)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se, se)
+    t_prof = time.perf_counter()
+    profiles = {}
+    for i, name in enumerate(names):
+        if profile is None or name in profile:
+            say(f"profile of {name}")
+            profiles[name] = _profile(problem, i, best.x, best.jac, chi2,
+                                      se[i] / problem.span[i])
+    profile_time = time.perf_counter() - t_prof
+    ok, why = _identifiability(names, blind, corr, profiles)
+    notes = _notes(profiles, problem, fits, best)
+    # a parameter the data do not depend on keeps its start: the fit has no say in it
+    u_best = np.where(alone, problem.scaled([p.start for p in meas.parameters]), best.x)
+    params, c0 = problem.model(u_best)
+    return CalibrationResult(
+        parameters=meas.parameters, values=problem.values(u_best), stderr=se,
+        correlation=corr, covariance=cov, identifiable=ok, reasons=why, profiles=profiles,
+        chi2=chi2, points=sum(s.points for s in meas.sets),
+        starts=tuple((problem.values(u0), problem.values(f.x), 2.0 * float(f.cost))
+                     for u0, f in fits),
+        params=params, c0_F=c0, predictions=tuple(problem.predictions(u_best)),
+        coupling=coupling, accuracy=accuracy, evaluations=problem.evaluations,
+        wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes)
+
+
+def _notes(profiles: dict[str, Profile], problem: _Problem, fits, best) -> tuple[str, ...]:
+    """Remarks on the fit: a profile that found a lower chi-square than the optimum (a fit
+    that stopped short), starts that ended elsewhere."""
+    out = []
+    for name, prof in profiles.items():
+        if prof.delta_chi2.min() < -0.1:
+            out.append(f"the profile of {name} found a chi-square {-prof.delta_chi2.min():.3g} "
+                       "below the optimum: the fit stopped short of the least chi-square; "
+                       "more starts or a start nearer the data may help")
+    others = [2.0 * f.cost for _, f in fits if 2.0 * (f.cost - best.cost) > 1.0]
+    if others:
+        out.append(f"{len(others)} of {len(fits)} starts ended at a higher chi-square "
+                   f"(least {min(others):.4g} against {2.0 * best.cost:.4g}): local minima")
+    points = best.fun.size
+    dof = points - best.x.size
+    if dof > 0 and 2.0 * best.cost > 2.0 * dof + 4.0 * math.sqrt(2.0 * dof):
+        out.append(f"chi-square {2.0 * best.cost:.4g} is far above its {dof} degrees of "
+                   "freedom: the fit does not follow the data within their standard "
+                   "deviations (a local minimum: more starts; a model that cannot follow "
+                   "them; or deviations given too small), so the uncertainties are too small")
+    return tuple(out)
+
+
+def base_values(meas: Measurements, base: MotorParams) -> dict[str, float | None]:
+    """The start set's value of every fitted parameter (SI), for comparison."""
+    return {p.name: base_value(base, p.name) for p in meas.parameters}

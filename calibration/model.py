@@ -1,0 +1,62 @@
+"""What the model predicts for each measured value of a data set.
+
+* free tip amplitudes: the linear free response of L1 and B2 (:func:`rom.damping.free_tip_phasors`),
+  as the paper's Eqs. (4)-(5) fitted to its Figs. 5-6;
+* admittance of the free stator at the driven electrodes: the two-mode
+  Butterworth-Van Dyke form ``Y = i omega (C0 + A_l^2 / D_l + A_b^2 / D_b)`` with
+  ``D = K - M omega^2 + i C omega`` (the modal force ``A V`` and, by reciprocity, the
+  charge ``A u`` of each mode); modes other than L1 and B2 enter only through ``C0``;
+* steady speed: the steady engine's speed from rest (:func:`contact.steady.steady_state`,
+  milliseconds a point); a slider that runs away under its load counts as speed 0.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from calibration.measurements import DataSet
+from rom.damping import free_tip_phasors
+from rom.params import MotorParams
+
+
+def admittance_S(params: MotorParams, frequency_Hz: np.ndarray, c0_F: float) -> np.ndarray:
+    """Two-mode admittance (S) of the free stator at the driven electrodes (module docstring)."""
+    p = params
+    w = 2.0 * np.pi * np.asarray(frequency_Hz, dtype=float)
+    d_l = p.K_l - p.M_l * w**2 + 1j * p.C_l * w
+    d_b = p.K_b - p.M_b * w**2 + 1j * p.C_b * w
+    return 1j * w * (c0_F + p.A_l**2 / d_l + p.A_b**2 / d_b)
+
+
+def speeds_m_s(params: MotorParams, inputs: dict[str, np.ndarray], coupling: str,
+               accuracy: str) -> np.ndarray:
+    """Steady speed from rest (m/s) at each row of a speed set's ``inputs``."""
+    from contact.steady import steady_state
+
+    out = np.empty(len(inputs["voltage"]))
+    with warnings.catch_warnings():  # a fit visits many sets; their remarks are not the user's
+        warnings.simplefilter("ignore")
+        for i, (v, fp, load, f) in enumerate(zip(inputs["voltage"], inputs["preload"],
+                                                 inputs["load"], inputs["frequency"],
+                                                 strict=True)):
+            r = steady_state(params, float(v), float(fp), frequency_Hz=float(f),
+                             load_N=float(load), coupling=coupling, accuracy=accuracy,
+                             energy=False)
+            out[i] = r.velocity_m_s if np.isfinite(r.velocity_m_s) else 0.0
+    return out
+
+
+def predict(data: DataSet, params: MotorParams, c0_F: float | None, coupling: str,
+            accuracy: str) -> dict[str, np.ndarray]:
+    """Measured quantity -> the model's value (SI) at every row of ``data``."""
+    x = data.inputs
+    if data.kind == "free":
+        n, t = free_tip_phasors(params, x["frequency"], 1.0)
+        return {"normal": np.abs(n) * x["voltage"], "tangential": np.abs(t) * x["voltage"]}
+    if data.kind == "admittance":
+        y = admittance_S(params, x["frequency"], float(c0_F or 0.0))
+        return {"conductance": y.real, "susceptance": y.imag, "abs_Y": np.abs(y),
+                "phase": np.angle(y)}
+    return {"velocity": speeds_m_s(params, x, coupling, accuracy)}

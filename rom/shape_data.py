@@ -1,0 +1,124 @@
+"""What turns the modal amplitudes of L1 and B2 into the stator's peak velocity and stress.
+
+The reduced model (Eqs. 4-5) knows each mode by one coordinate: ``u_l`` (m) scaled so that
+``phi_L(0) = 1`` and ``w_b`` (m) so that ``phi_B(l) = 2 |alpha2|`` (Eq. 3). A designer's
+limits are about the stator itself: the vibration velocity at a mode's antinode, the peak
+stress in the ceramic, the drive field, the heat per volume. :class:`ShapeData` holds the
+per-unit-amplitude figures of the two normalised shapes that take one to the other, with the
+ceramic's thickness, volume and material limits. It travels in the parameter set
+(:attr:`rom.params.MotorParams.shape`): an FE set takes it from the FE mode shapes
+(:func:`rom.from_fem.fem_params`), Table 2's and the beam sets from Appendix A's beam
+shapes (:func:`beam_shape_data`); :mod:`contact.operating_limits` uses it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from fem.beam_shapes import phi_B, phi_L
+from fem.material import MaterialLimits
+
+SHAPE_UNITS = {
+    "velocity_L1": "-", "velocity_B2": "-", "stress_L1_Pa_m": "Pa/m",
+    "stress_B2_Pa_m": "Pa/m", "thickness_m": "m", "volume_m3": "m^3",
+}
+"""SI unit of every number of :class:`ShapeData` (``material`` and ``source`` are text)."""
+
+
+@dataclass(frozen=True)
+class ShapeData:
+    """Per-unit-amplitude figures of the normalised L1 and B2 shapes, and the ceramic.
+
+    Attributes
+    ----------
+    velocity_L1, velocity_B2 : float
+        Largest displacement magnitude of the normalised shape over the stator (-): the
+        vibration velocity at the mode's antinode per unit modal velocity.
+    stress_L1_Pa_m, stress_B2_Pa_m : float
+        Largest principal stress magnitude in the ceramic per unit modal amplitude
+        (Pa/m), at the mode's worst point.
+    thickness_m : float
+        Electrode spacing (m): the drive field is the voltage over it.
+    volume_m3 : float
+        Ceramic volume (m^3), for the dissipated power per volume.
+    material : str
+        The material's name.
+    limits : fem.material.MaterialLimits or None
+        The material's operating limits; None when unknown (inline constants without base).
+    source : str
+        Where the figures come from (FE mode shapes or beam theory).
+    """
+
+    velocity_L1: float
+    velocity_B2: float
+    stress_L1_Pa_m: float
+    stress_B2_Pa_m: float
+    thickness_m: float
+    volume_m3: float
+    material: str
+    limits: MaterialLimits | None
+    source: str
+
+    def __post_init__(self) -> None:
+        for key in SHAPE_UNITS:
+            value = getattr(self, key)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
+                raise TypeError(f"ShapeData.{key} must be a real number, got {value!r}")
+            value = float(value)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"ShapeData.{key} must be a finite number > 0, got {value!r}")
+            object.__setattr__(self, key, value)
+
+    def to_dict(self) -> dict:
+        """JSON-ready: the numbers (SI, :data:`SHAPE_UNITS`), ``material``, ``limits`` (each
+        limit in SI, or None) and ``source``."""
+        d = asdict(self)
+        if self.limits is not None:
+            d["limits"] = {k: v for k, v in asdict(self.limits).items() if k != "source"}
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict) -> ShapeData:
+        """The shape data of a :meth:`to_dict` dictionary.
+
+        Raises
+        ------
+        ValueError
+            Unknown or missing keys, or bad values (the message names them).
+        """
+        if not isinstance(d, dict):
+            raise ValueError(f"shape must be an object, got {type(d).__name__}")
+        keys = set(SHAPE_UNITS) | {"material", "limits", "source"}
+        unknown, missing = sorted(set(d) - keys), sorted(keys - set(d))
+        if unknown or missing:
+            raise ValueError(f"shape: unknown key(s) {unknown}, missing key(s) {missing}")
+        lim = d["limits"]
+        try:
+            limits = None if lim is None else MaterialLimits(**lim)
+            return cls(**{**d, "limits": limits})
+        except TypeError as exc:
+            raise ValueError(f"shape: {exc}") from None
+
+
+def beam_shape_data(length_m: float, width_m: float, thickness_m: float, cE11_Pa: float,
+                    material: str, limits: MaterialLimits | None, source: str) -> ShapeData:
+    """Appendix A's Euler-Bernoulli shapes (Eq. 3) of a beam ``l x b x h``.
+
+    L1 is the rod mode ``phi_L = cos(pi y / l)``: its antinode velocity per unit modal
+    velocity is ``max |phi_L| = 1`` (the ends) and its axial stress ``cE11 phi_L'`` peaks at
+    the node ``y = l/2``, ``cE11 pi / l`` per unit amplitude. B2 bends in plane about the
+    thickness axis: its antinode is the free end, ``|phi_B(0)| = 2 |alpha2|``, and its
+    bending stress ``cE11 (b/2) |phi_B''|`` peaks at the largest curvature, on the plate's
+    edge. ``cE11`` is the stiffness the beam's ``K_l`` and ``K_b`` use (Appendix A)."""
+    y = np.linspace(0.0, length_m, 20001)
+    return ShapeData(
+        velocity_L1=float(np.max(np.abs(phi_L(y, length_m)))),
+        velocity_B2=float(np.max(np.abs(phi_B(y, length_m)))),
+        stress_L1_Pa_m=cE11_Pa * math.pi / length_m,
+        stress_B2_Pa_m=cE11_Pa * 0.5 * width_m * float(np.max(np.abs(phi_B(y, length_m, 2)))),
+        thickness_m=thickness_m, volume_m3=length_m * width_m * thickness_m,
+        material=material, limits=limits, source=source,
+    )

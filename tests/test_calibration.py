@@ -1,0 +1,186 @@
+"""``lusm calibrate`` and :mod:`calibration`: synthetic data from known parameters.
+
+The free tip amplitudes are the linear free response (microseconds a fit), so their checks
+run many noise seeds: the fitted dampings' 95 % intervals must cover the truth about 95 %
+of the time (coverage) and the fits must be unbiased. A parameter the data cannot see (the
+friction from free amplitudes) and two the data cannot tell apart (a damping and its force
+factor's scale at one frequency) must be named as not identifiable. The written files must
+read back as the fitted set: ``lusm simulate --steady --params`` reproduces the fitted
+speeds, and a stator file's reduction the fitted dampings and friction.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from calibration import calibrate, load_measurements
+from lusm.cli import main
+from rom.damping import free_tip_amplitudes
+from rom.table2 import table2
+
+REL = 0.03
+VOLTAGES = np.linspace(25.0, 250.0, 10)
+
+
+def _free_csv(path: Path, seed: int, params=None) -> None:
+    """Free tip amplitudes of ``params`` (Table 2) at 40 kHz with 3 % noise."""
+    rng = np.random.default_rng(seed)
+    n, t = free_tip_amplitudes(params or table2(), 40e3, 1.0)
+    rows = ["voltage_V,tangential_um,normal_um"]
+    for v in VOLTAGES:
+        rows.append(f"{v:g},{t * v * 1e6 * (1 + REL * rng.standard_normal()):.8g},"
+                    f"{n * v * 1e6 * (1 + REL * rng.standard_normal()):.8g}")
+    path.write_text("\n".join(rows) + "\n")
+
+
+def _toml(folder: Path, parameters: str, extra: str = "") -> Path:
+    path = folder / "m.toml"
+    path.write_text('[free]\nfile = "free.csv"\nfrequency_Hz = 40e3\nsigma_relative = 0.03\n'
+                    + extra + "[parameters]\n" + parameters)
+    return path
+
+
+DAMPINGS = ("C_l = { start = 100, min = 20, max = 1000 }\n"
+            "C_b = { start = 300, min = 20, max = 1000 }\n")
+
+
+def test_the_dampings_are_recovered_within_their_intervals_over_20_seeds(tmp_path):
+    """Coverage: the 95 % interval (1.96 standard errors) holds Table 2's C_l, C_b in 17-20
+    of 20 noise seeds, each profile interval holds the truth where the standard one does,
+    and the mean error is within the standard error of the mean."""
+    truth = np.array([table2().C_l, table2().C_b])
+    covered, errors = np.zeros(2, dtype=int), []
+    meas_path = _toml(tmp_path, DAMPINGS)
+    for seed in range(20):
+        _free_csv(tmp_path / "free.csv", seed)
+        r = calibrate(load_measurements(meas_path), table2(), starts=1,
+                      profile=("C_l",) if seed < 3 else ())
+        assert all(r.identifiable), r.reasons
+        covered += np.abs(r.values - truth) <= 1.96 * r.stderr
+        errors.append((r.values - truth) / r.stderr)
+        if seed < 3:
+            prof = r.profiles["C_l"]
+            assert prof.lower < r.values[0] < prof.upper
+            # a linear-looking model: the profile interval is the standard one
+            assert prof.upper - prof.lower == pytest.approx(2 * 1.96 * r.stderr[0], rel=0.1)
+    assert np.all(covered >= 17), covered
+    mean = np.mean(errors, axis=0)
+    assert np.all(np.abs(mean) < 3.0 / np.sqrt(20)), mean  # unbiased within 3 SE of the mean
+
+
+def test_a_wrong_standard_error_fails_coverage(tmp_path):
+    """The coverage check can fail: data with 10 % noise told as 3 % cover far less."""
+    meas_path = _toml(tmp_path, DAMPINGS)
+    truth = np.array([table2().C_l, table2().C_b])
+    covered = np.zeros(2, dtype=int)
+    for seed in range(20):
+        rng = np.random.default_rng(seed)
+        n, t = free_tip_amplitudes(table2(), 40e3, 1.0)
+        rows = ["voltage_V,tangential_um,normal_um"] + [
+            f"{v:g},{t * v * 1e6 * (1 + 0.1 * rng.standard_normal()):.8g},"
+            f"{n * v * 1e6 * (1 + 0.1 * rng.standard_normal()):.8g}" for v in VOLTAGES]
+        (tmp_path / "free.csv").write_text("\n".join(rows) + "\n")
+        r = calibrate(load_measurements(meas_path), table2(), starts=1, profile=())
+        covered += np.abs(r.values - truth) <= 1.96 * r.stderr
+    assert np.all(covered < 17), covered
+
+
+def test_friction_from_free_amplitudes_is_not_identifiable(tmp_path):
+    _free_csv(tmp_path / "free.csv", 1)
+    r = calibrate(load_measurements(_toml(
+        tmp_path, DAMPINGS + "mu_d = { start = 0.3, min = 0.2, max = 0.5 }\n")),
+        table2().with_(mu_s=0.6), starts=2)
+    assert r.identifiable == (True, True, False)
+    assert "do not depend" in r.reasons[2]
+    assert r.values[2] == 0.3  # the data have no say: the start is kept
+    assert r.profiles["mu_d"].flat
+
+
+def test_a_damping_and_its_force_factor_at_one_frequency_are_not_identifiable(tmp_path):
+    """At one frequency the amplitude fixes only |A_l| / |K_l - M_l w^2 + i C_l w|."""
+    _free_csv(tmp_path / "free.csv", 2)
+    r = calibrate(load_measurements(_toml(
+        tmp_path, DAMPINGS + "A_l_scale = { start = 1.0, min = 0.5, max = 2.0 }\n")),
+        table2(), starts=1, profile=())
+    i, k = r.names.index("C_l"), r.names.index("A_l_scale")
+    assert not r.identifiable[i] and not r.identifiable[k]
+    assert "combination of C_l, A_l_scale" in r.reasons[i], r.reasons
+    # one amplitude per mode: A_l / |D_l| is all they fix, and the fit still matches it
+    assert r.chi2 < 2 * r.dof
+    assert r.identifiable[r.names.index("C_b")]
+
+
+def _speed_set(tmp_path: Path) -> Path:
+    """Six steady speeds of Table 2 with a_mu = 0.12 (consistent coupling), 2 % noise."""
+    from contact.steady import steady_state
+
+    truth = table2().with_(a_mu=0.12, source="truth")
+    rng = np.random.default_rng(5)
+    rows = ["voltage_V,preload_N,velocity_m_s"]
+    for v in (150.0, 200.0, 250.0, 300.0, 350.0, 400.0):
+        s = steady_state(truth, v, 14.0, frequency_Hz=40e3, coupling="consistent",
+                         energy=False).velocity_m_s
+        rows.append(f"{v:g},14,{s * (1 + 0.02 * rng.standard_normal()):.8g}")
+    (tmp_path / "speed.csv").write_text("\n".join(rows) + "\n")
+    path = tmp_path / "speed.toml"
+    path.write_text('[speed]\nfile = "speed.csv"\nfrequency_Hz = 40e3\nsigma_relative = 0.02\n'
+                    "[parameters]\na_mu = { start = 0.05, min = 0.0, max = 0.3 }\n")
+    return path
+
+
+@pytest.mark.slow
+def test_the_parameter_file_reproduces_the_fitted_speeds(tmp_path, capsys):
+    meas = _speed_set(tmp_path)
+    out = tmp_path / "cal.json"
+    assert main(["calibrate", str(meas), "--source", "table2", "--out", str(out), "--json",
+                 "--starts", "2"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    a = d["parameters"][0]
+    assert a["identifiable"] and abs(a["value"] - 0.12) <= 3 * a["stderr"]
+    speeds = d["sets"][0]
+    for v, model in list(zip(speeds["inputs"]["voltage"], speeds["model"]["velocity"],
+                             strict=True))[::2]:
+        assert main(["simulate", "--steady", "--params", str(out), "--voltage", f"{v:g}",
+                     "--preload", "14", "--frequency", "40e3", "--json"]) == 0
+        sim = json.loads(capsys.readouterr().out)
+        assert sim["coupling"] == "consistent"
+        assert sim["steady_velocity_m_s"] == pytest.approx(model, rel=1e-9, abs=1e-12)
+    # never over the user's file without --force; with it the old one is kept
+    assert main(["calibrate", str(meas), "--source", "table2", "--out", str(out),
+                 "--starts", "1", "--profile", "none"]) == 2
+    assert "--force" in capsys.readouterr().err
+    assert main(["calibrate", str(meas), "--source", "table2", "--out", str(out),
+                 "--starts", "1", "--profile", "none", "--force"]) == 0
+    assert (tmp_path / "cal.json.bak-1").is_file()
+
+
+@pytest.mark.slow
+def test_the_stator_file_reads_back_as_the_fitted_set(tmp_path, capsys):
+    """--geometry: the written stator file's reduction is the calibrated set."""
+    from calibration.output import same_set
+    from rom.from_fem import fem_params_from_file
+
+    stator = tmp_path / "stator.toml"
+    stator.write_text("# my plate\n[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+                      "[damping]\nQ_m = 200\n[friction]\na_mu = 0.1\n")
+    truth = fem_params_from_file(stator).with_(C_l=50.0, C_b=40.0)
+    _free_csv(tmp_path / "free.csv", 3, truth)
+    meas = _toml(tmp_path, "C_l = { start = 20, min = 1, max = 200 }\n"
+                 "C_b = { start = 20, min = 1, max = 200 }\n"
+                 "A_b_scale = { start = 1.0, min = 0.5, max = 2.0 }\n")
+    out = tmp_path / "sub" / "calibrated.toml"
+    assert main(["calibrate", str(meas), "--geometry", str(stator), "--out", str(out),
+                 "--json", "--starts", "1", "--profile", "none"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    text = out.read_text()
+    assert "# my plate" in text and "Q_m" not in text and "a_mu = 0.1\n" in text
+    assert "C_l = " in text and "+/-" in text  # the standard errors in comments
+    back = fem_params_from_file(out)
+    fitted = {p["name"]: p["fit_value"] for p in d["parameters"]}
+    assert back.C_l == pytest.approx(fitted["C_l"], rel=1e-9)
+    assert back.A_b == pytest.approx(truth.A_b * fitted["A_b_scale"], rel=1e-9)
+    assert same_set(back, truth.with_(C_l=back.C_l, C_b=back.C_b, A_b=back.A_b))
