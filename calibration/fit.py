@@ -56,7 +56,8 @@ TOLERANCE = 1e-6
 SCREEN_PER_PARAMETER = 8
 """Points per fitted parameter drawn in the box to choose the starts after the file's."""
 SCREEN_FRICTION_LOG2 = 7
-"""log2 of the quasi-random (Sobol) points of the friction screen (128 points)."""
+"""log2 of the most quasi-random (Sobol) points of the friction screen: 128, reached with
+two friction parameters (one alone gets 32: ``2 ** (3 + 2 k)``)."""
 SCREEN_KEEP = 2
 """Points of least chi-square of the friction screen that start a local fit each."""
 FRICTION = ("mu_s", "mu_d", "a_mu", "b_mu", "mu_sd")
@@ -279,17 +280,18 @@ def _draw(problem: _Problem, count: int, rng: np.random.Generator) -> list[np.nd
 
 
 def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int) -> list[np.ndarray]:
-    """The :data:`SCREEN_KEEP` points of least chi-square among ``2**SCREEN_FRICTION_LOG2``
-    Sobol points over the fitted :data:`FRICTION` parameters' box (:func:`_in_box`), every
-    other parameter held at ``u_best``; none without a speed set or a fitted friction
-    parameter. The speeds' dead-zone steps leave a narrow valley of chi-square in the
+    """The :data:`SCREEN_KEEP` points of least chi-square among (at most
+    ``2 ** SCREEN_FRICTION_LOG2``) Sobol points over the fitted :data:`FRICTION` parameters'
+    box (:func:`_in_box`), every other parameter held at ``u_best``; none without a speed
+    set or a fitted friction parameter. The speeds' dead-zone steps leave a narrow valley of chi-square in the
     friction law (``a_mu`` against ``b_mu``) that random starts in the whole box seldom
     land in, while the smooth parameters are fixed near enough by the local fit."""
     params = problem.meas.parameters
     which = [i for i, p in enumerate(params) if p.name in FRICTION]
     if not which or not any(s.kind == "speed" for s in problem.meas.sets):
         return []
-    points = qmc.Sobol(len(which), seed=seed).random_base2(SCREEN_FRICTION_LOG2)
+    log2 = min(SCREEN_FRICTION_LOG2, 3 + 2 * len(which))
+    points = qmc.Sobol(len(which), seed=seed).random_base2(log2)
     drawn = []
     for row in points:
         v = problem.values(u_best)

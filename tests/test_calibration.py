@@ -184,3 +184,21 @@ def test_the_stator_file_reads_back_as_the_fitted_set(tmp_path, capsys):
     assert back.C_l == pytest.approx(fitted["C_l"], rel=1e-9)
     assert back.A_b == pytest.approx(truth.A_b * fitted["A_b_scale"], rel=1e-9)
     assert same_set(back, truth.with_(C_l=back.C_l, C_b=back.C_b, A_b=back.A_b))
+
+
+@pytest.mark.slow
+def test_the_friction_screen_recovers_a_mu_and_b_mu_from_speeds(tmp_path):
+    """Every other speed of the example (Table 2, 3 % noise, paper's coupling), fitting
+    a_mu and b_mu from a start off the dead-zone valley: the friction screen finds the
+    valley, the truth (0.15, 1e6) lies in the 95 % intervals, chi-square/dof < 2."""
+    rows = (Path(__file__).parents[1] / "examples/calibration/speed.csv").read_text().split()
+    (tmp_path / "speed.csv").write_text("\n".join([rows[0], *rows[1::2]]) + "\n")
+    path = tmp_path / "m.toml"
+    path.write_text('[speed]\nfile = "speed.csv"\nfrequency_Hz = 40e3\n[parameters]\n'
+                    "a_mu = { start = 0.10, min = 0.0, max = 0.35 }\n"
+                    "b_mu = { start = 3e5, min = 1e4, max = 1e7 }\n")
+    res = calibrate(load_measurements(path), table2(), coupling="paper", starts=1)
+    assert res.chi2 / res.dof < 2.0
+    for name, truth in (("a_mu", 0.15), ("b_mu", 1e6)):
+        prof = res.profiles[name]
+        assert prof.lower <= truth <= prof.upper, (name, prof.lower, prof.upper)
