@@ -283,9 +283,10 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int) -> list[n
     """The :data:`SCREEN_KEEP` points of least chi-square among (at most
     ``2 ** SCREEN_FRICTION_LOG2``) Sobol points over the fitted :data:`FRICTION` parameters'
     box (:func:`_in_box`), every other parameter held at ``u_best``; none without a speed
-    set or a fitted friction parameter. The speeds' dead-zone steps leave a narrow valley of chi-square in the
-    friction law (``a_mu`` against ``b_mu``) that random starts in the whole box seldom
-    land in, while the smooth parameters are fixed near enough by the local fit."""
+    set or a fitted friction parameter. The speeds' dead-zone steps leave a narrow valley
+    of chi-square in the friction law (``a_mu`` against ``b_mu``) that random starts in the
+    whole box seldom land in, while the smooth parameters are fixed near enough by the
+    local fit."""
     params = problem.meas.parameters
     which = [i for i, p in enumerate(params) if p.name in FRICTION]
     if not which or not any(s.kind == "speed" for s in problem.meas.sets):
