@@ -102,6 +102,12 @@ class Characteristic(FrozenArrays):
         2.9e-3 m/s at 0.50 N, no creep): the band begins where the
         velocity from rest falls below the creep speed for the last time before the stall,
         bisected on the scan of ``points`` loads. ``""`` where there is no band.
+    creep_speed_m_s : float
+        The creep speed (m/s), :data:`CREEP_RIPPLES` velocity-ripple scales: slower than it
+        the slider creeps. NaN at the fast level, where no band is looked for.
+    limits : tuple
+        Each load's :class:`contact.operating_limits.OperatingLimits` (None where the slider
+        runs away).
     """
 
     op: OperatingPoint
@@ -120,6 +126,7 @@ class Characteristic(FrozenArrays):
     creep_from_N: float = math.nan
     creep_rule: str = ""
     limits: tuple = ()
+    creep_speed_m_s: float = math.nan
 
     def worst_limits(self):
         """The :class:`contact.operating_limits.OperatingLimits` of the curve's load whose
@@ -150,6 +157,7 @@ class Characteristic(FrozenArrays):
             "averaged_stall_force_N": float(self.averaged_stall_force_N),
             "creep_from_N": float(self.creep_from_N),
             "creep_from_rule": self.creep_rule,
+            "creep_speed_m_s": float(self.creep_speed_m_s),
             "holding_range_N": [float(f) for f in self.holding_range_N],
             "accuracy": self.accuracy,
             "curve": [
@@ -253,11 +261,11 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         warn_irregular(*irregular)
     eff = motor_efficiency(p_in_a, p_out_a)  # NaN, not below 0, under a pushing load
     hold = tuple(float(f) for f in holding_range_N(sp))
-    creep_from, creep_rule = math.nan, ""
+    creep_from, creep_rule, creep_speed = math.nan, "", math.nan
     if exact_moving and math.isfinite(stall):
-        creep_from, creep_rule = _creep_start(
-            velocity, v0, averaged, stall, points,
-            CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff))
+        creep_speed = CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff)
+        creep_from, creep_rule = _creep_start(velocity, v0, averaged, stall, points,
+                                              creep_speed)
         _warn_beyond_stall(velocity, v0, loads, stall)
     lims = tuple(None if not math.isfinite(v) else
                  operating_limits(params, op.voltage_V, op.frequency_Hz,
@@ -266,7 +274,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     return Characteristic(op, float(v0), float(stall), loads, vel, p_in_a, p_out_a,
                           eff, hold, accuracy, time.perf_counter() - t0,
                           len(sp.cache) + from_rest.exact_orbits, float(averaged),
-                          float(creep_from), creep_rule, lims)
+                          float(creep_from), creep_rule, lims, float(creep_speed))
 
 
 def _curve(from_rest: _FromRest, loads: np.ndarray, op: OperatingPoint,

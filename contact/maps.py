@@ -30,6 +30,11 @@ from contact.results import MOTION_CLASSES, FrozenArrays
 from contact.simulate import simulate
 from rom.params import MotorParams, require_params
 
+NON_MONOTONE_FACTOR = 2.0
+"""Ratio of neighbouring speeds (-) beyond which a map calls a pair that runs against the
+trend (faster at lower voltage or higher preload) non-monotone
+(:meth:`StickSlipMap.non_monotone_pairs`)."""
+
 
 @dataclass(frozen=True, eq=False)
 class StickSlipMap(FrozenArrays):
@@ -82,6 +87,35 @@ class StickSlipMap(FrozenArrays):
     def counts(self) -> dict[str, int]:
         """Number of grid points of each motion class."""
         return {m: int(np.sum(self.motion == m)) for m in MOTION_CLASSES}
+
+    def several_branches(self) -> list[tuple[int, int]]:
+        """Grid indices ``(i_voltage, j_preload)`` of the points with more than one stable
+        steady state (a steady map's; none for a transient map)."""
+        if self.branches is None:
+            return []
+        return [(i, j) for i in range(self.voltages_V.size) for j in range(self.preloads_N.size)
+                if len(self.branches[i, j]) > 1]
+
+    def non_monotone_pairs(self, factor: float = NON_MONOTONE_FACTOR
+                           ) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+        """Neighbouring grid points whose speeds run against the motor's trend by more than
+        ``factor``: the higher voltage (same preload) slower, or the higher preload (same
+        voltage) faster, ``|v|`` differing by more than ``factor`` times. Each pair is
+        ``((i, j), (i2, j2))``, the lower voltage or preload first; points without a finite
+        speed are skipped. Such pairs lie at creep level or across branches: their speeds are
+        not a trend to read off the map."""
+        speed = np.abs(np.asarray(self.velocity_m_s, dtype=float))
+        pairs = []
+        for (di, dj), against in (((1, 0), np.less), ((0, 1), np.greater)):
+            for i in range(speed.shape[0] - di):
+                for j in range(speed.shape[1] - dj):
+                    a, b = speed[i, j], speed[i + di, j + dj]
+                    if not (np.isfinite(a) and np.isfinite(b)):
+                        continue
+                    lo, hi = min(a, b), max(a, b)
+                    if against(b, a) and hi > factor * lo:
+                        pairs.append(((i, j), (i + di, j + dj)))
+        return pairs
 
 
 MAP_METHODS = ("transient", "steady")

@@ -35,18 +35,45 @@ PZT4_SOURCE = (
     "Electro Ceramics TP-226, as reprinted in Sherman & Butler (2007), Appendix A.5: "
     "s11E=12.3, s12E=-4.05, s13E=-5.31, s33E=15.5, s44E=39.0 (1e-12 m^2/N), "
     "s66E=2(s11E-s12E); d31=-123, d33=289, d15=496 (1e-12 C/N); eps11T/eps0=1475, "
-    "eps33T/eps0=1300; rho=7500 kg/m^3. Stiffness form derived as for pzt8()."
+    "eps33T/eps0=1300; rho=7500 kg/m^3. Stiffness form derived as for pzt8(). Not re-read "
+    "from the appendix here; checked against the APC chart's Navy I equivalent (APC 840: "
+    "k31 0.35, d31 -125, d33 290, d15 480, eps33T/eps0 1275, rho 7600): k31 from these "
+    "constants is 0.327."
 )
 
 PZT5A_SOURCE = (
     "PZT-5A (Navy type II): compliance-form constants of Berlincourt, Krueger & Near, Morgan "
-    "Electro Ceramics TP-226, as reprinted in Sherman & Butler (2007), Appendix A.5: "
-    "s11E=16.4, s12E=-5.74, s13E=-7.22, s33E=18.8, s44E=47.5 (1e-12 m^2/N), "
-    "s66E=2(s11E-s12E); d31=-171, d33=374, d15=584 (1e-12 C/N); eps11T/eps0=1730, "
-    "eps33T/eps0=1700; rho=7750 kg/m^3. Stiffness form derived as for pzt8()."
+    "Electro Ceramics TP-226, as reprinted in Sherman & Butler (2007), Appendix A.5, and "
+    "identical in A. Erturk & D. J. Inman, 'Piezoelectric Energy Harvesting' (Wiley, 2011), "
+    "Appendix E, Table E.1: s11E=16.4, s12E=-5.74, s13E=-7.22, s33E=18.8, s44E=47.5 "
+    "(1e-12 m^2/N), s66E=2(s11E-s12E)=44.3; d31=-171, d33=374, d15=584 (1e-12 C/N); "
+    "eps11T/eps0=1730, eps33T/eps0=1700; rho=7750 kg/m^3. Stiffness form derived as for "
+    "pzt8()."
 )
 
-MATERIAL_NAMES = ("pzt8", "paper", "pzt4", "pzt5a")
+PZT5H_SOURCE = (
+    "PZT-5H (Navy type VI, soft): A. Erturk & D. J. Inman, 'Piezoelectric Energy "
+    "Harvesting' (Wiley, 2011), Appendix E, Table E.1 (after the Morgan/Berlincourt data): "
+    "s11E=16.5, s12E=-4.78, s13E=-8.45, s33E=20.7, s44E=43.5 (1e-12 m^2/N), "
+    "s66E=2(s11E-s12E)=42.6; d31=-274, d33=593, d15=741 (1e-12 C/N); eps11T/eps0=3130, "
+    "eps33T/eps0=3400; rho=7500 kg/m^3. Stiffness form derived as for pzt8()."
+)
+
+APC880_SOURCE = (
+    "APC 880 (APC International, hard, Navy III equivalent): 'Physical and Piezoelectric "
+    "Properties of APC Materials' chart (americanpiezo.com, rev. 2017): YE11=9.0, YE33=7.2 "
+    "(1e10 Pa), so s11E=1/YE11=11.1, s33E=1/YE33=13.9 (1e-12 m^2/N); d31=-95, d33=215, "
+    "d15=330 (1e-12 C/N); KT=eps33T/eps0=1050; k31=0.30, kp=0.50, k15=0.55, g15=28e-3 V m/N; "
+    "rho=7600 kg/m^3; Q_m=1000; N_L=1725 Hz m. The chart has no s12E, s13E, s44E, eps11T; "
+    "they are derived where the chart allows and borrowed where it does not: "
+    "eps11T=d15/g15 (eps11T/eps0=1331); s44E=d15^2/(k15^2 eps11T)=30.5e-12 m^2/N; "
+    "s12E=-sigma s11E with Poisson's ratio sigma=1-2 k31^2/kp^2=0.28 (the planar coupling "
+    "relation kp^2=2 k31^2/(1-sigma)), s12E=-3.11e-12 m^2/N; s13E=-4.8e-12 m^2/N is PZT-8's "
+    "(pzt8(), Navy III: an assumption, not an APC figure). Stiffness form derived as for "
+    "pzt8()."
+)
+
+MATERIAL_NAMES = ("pzt8", "paper", "pzt4", "pzt5a", "pzt5h", "apc880")
 """Names accepted by :func:`get_material`."""
 
 LIMITS_SOURCE = (
@@ -64,7 +91,14 @@ LIMITS_SOURCE = (
     "Heating: 20 K rise (Uchino's criterion) of a plate of about 1 cm^3 with about 8 cm^2 "
     "of surface cooled at about 25 W/(m^2 K) (natural convection and radiation): 0.4 W, "
     "about 0.5 W/cm^3; the figure scales with surface/volume, not with the material. All "
-    "are data-sheet orders of magnitude: a real design checks its supplier's figures."
+    "are data-sheet orders of magnitude: a real design checks its supplier's figures. "
+    "PZT-5H (Navy VI): Q_m 65 (APC 855); AC field 80 V/mm, a tenth of the coercive field "
+    "of about 0.8 kV/mm of the 5H-type CTS 3203HD (CTS 'PZT5A & 5H Materials Technical "
+    "Data'; the 5A-type 3195HD has 1.2 kV/mm, so PZT-5A's 100 V/mm is on the safe side); "
+    "vibration velocity and tensile strength as PZT-5A's (soft PZT; not found for 5H in a "
+    "data sheet read here). APC 880: Q_m 1000 and the maximum AC voltage 9-11 V/mil "
+    "(354-433 V/mm) of the APC chart, hence 400 V/mm; velocity, strength and heating as "
+    "PZT-8's (its Navy type; not APC figures)."
 )
 """Where :data:`MATERIAL_LIMITS` and the materials' ``mechanical_Q`` come from."""
 
@@ -109,10 +143,12 @@ MATERIAL_LIMITS = {
     "paper": HARD_PZT_LIMITS,  # the paper's stator is PZT-8
     "pzt4": MaterialLimits(0.4, 24e6, 300e3, 0.5e6, 500.0),
     "pzt5a": MaterialLimits(0.1, 28e6, 100e3, 0.5e6, 75.0),
+    "pzt5h": MaterialLimits(0.1, 28e6, 80e3, 0.5e6, 65.0),
+    "apc880": HARD_PZT_LIMITS,
 }
 """Operating limits of the named materials (:data:`LIMITS_SOURCE`)."""
 
-MECHANICAL_Q = {"pzt8": 1000.0, "pzt4": 500.0, "pzt5a": 75.0}
+MECHANICAL_Q = {"pzt8": 1000.0, "pzt4": 500.0, "pzt5a": 75.0, "pzt5h": 65.0, "apc880": 1000.0}
 """Data-sheet mechanical quality factor ``Q_m`` (-) of the named materials
 (:data:`LIMITS_SOURCE`); the paper's material has none: its set keeps Table 2's damping."""
 
@@ -339,8 +375,35 @@ def paper_material() -> PiezoMaterial:
     )
 
 
+def pzt5h() -> PiezoMaterial:
+    """PZT-5H (Navy type VI, soft) from :data:`PZT5H_SOURCE`, ``Q_m = 65``."""
+    return _from_compliance("pzt5h", (16.5e-12, -4.78e-12, -8.45e-12, 20.7e-12, 43.5e-12),
+                            (-274e-12, 593e-12, 741e-12), (3130.0, 3400.0), 7500.0,
+                            PZT5H_SOURCE)
+
+
+def apc880() -> PiezoMaterial:
+    """APC 880 (APC International's hard PZT, Navy III) from :data:`APC880_SOURCE`.
+
+    ``s12E``, ``s44E`` and ``eps11T`` are derived from the chart's couplings and voltage
+    constants, ``s13E`` is PZT-8's (the chart has none); ``Q_m = 1000``.
+    """
+    s11, s33 = 1.0 / 9.0e10, 1.0 / 7.2e10
+    eps11_t = 330e-12 / 28e-3  # d15 / g15 (F/m)
+    s44 = (330e-12) ** 2 / (0.55 ** 2 * eps11_t)  # d15^2 / (k15^2 eps11T)
+    poisson = 1.0 - 2.0 * 0.30 ** 2 / 0.50 ** 2  # kp^2 = 2 k31^2 / (1 - sigma)
+    return _from_compliance("apc880", (s11, -poisson * s11, -4.8e-12, s33, s44),
+                            (-95e-12, 215e-12, 330e-12), (eps11_t / EPS0_F_M, 1050.0), 7600.0,
+                            APC880_SOURCE)
+
+
+_FACTORIES = {"pzt8": pzt8, "paper": paper_material, "pzt4": pzt4, "pzt5a": pzt5a,
+              "pzt5h": pzt5h, "apc880": apc880}
+
+
 def get_material(name: str | PiezoMaterial) -> PiezoMaterial:
-    """Material by name (:data:`MATERIAL_NAMES`); a :class:`PiezoMaterial` passes through.
+    """Material by name (:data:`MATERIAL_NAMES`, case and hyphens ignored: ``"PZT-5H"``); a
+    :class:`PiezoMaterial` passes through.
 
     Raises
     ------
@@ -349,16 +412,115 @@ def get_material(name: str | PiezoMaterial) -> PiezoMaterial:
     """
     if isinstance(name, PiezoMaterial):
         return name
-    key = str(name).strip().lower().replace("-", "")
-    if key == "pzt8":
-        return pzt8()
-    if key == "paper":
-        return paper_material()
-    if key == "pzt4":
-        return pzt4()
-    if key == "pzt5a":
-        return pzt5a()
-    raise ValueError(f"material must be one of {', '.join(MATERIAL_NAMES)}; got {name!r}")
+    key = str(name).strip().lower().replace("-", "").replace(" ", "")
+    if key not in _FACTORIES:
+        raise ValueError(f"material must be one of {', '.join(MATERIAL_NAMES)}; got {name!r}")
+    return _FACTORIES[key]()
+
+
+def transverse_coupling(material: PiezoMaterial) -> dict[str, float]:
+    """The compliance-form constants of a k31 bar, recovered from the stored e-form.
+
+    Returns
+    -------
+    dict
+        ``s11E_m2_N`` (``(c^E)^-1``), ``d31_C_N`` (``d = e s^E``), ``eps33T_F_m``
+        (``eps^S + d c^E d^T``), ``k31 = |d31| / sqrt(s11E eps33T)`` (-) and the length
+        mode's frequency constant ``N31_Hz_m = 1 / (2 sqrt(rho s11E))``: a free bar of
+        length L, electroded on its faces and short-circuited, resonates at ``N31 / L``.
+    """
+    s = np.linalg.inv(material.cE_Pa)
+    d = material.e_C_m2 @ s
+    eps_t = material.epsS_F_m + d @ material.cE_Pa @ d.T
+    s11, d31, e33 = float(s[0, 0]), float(d[2, 0]), float(eps_t[2, 2])
+    return {"s11E_m2_N": s11, "d31_C_N": d31, "eps33T_F_m": e33,
+            "k31": abs(d31) / float(np.sqrt(s11 * e33)),
+            "N31_Hz_m": 1.0 / (2.0 * float(np.sqrt(material.rho_kg_m3 * s11)))}
+
+
+@dataclass(frozen=True)
+class ElasticMaterial:
+    """An isotropic, non-piezoelectric material a stator's contact tip may be made of.
+
+    Attributes
+    ----------
+    name : str
+        Short identifier (:data:`TIP_MATERIALS`).
+    young_Pa : float
+        Young's modulus (Pa).
+    poisson : float
+        Poisson's ratio (-), in (-1, 0.5).
+    rho_kg_m3 : float
+        Mass density (kg/m^3).
+    relative_permittivity : float
+        eps_r (-) of the 3D model's potential in the tip (no piezoelectric coupling there).
+    source : str
+        Where the numbers come from.
+    """
+
+    name: str
+    young_Pa: float
+    poisson: float
+    rho_kg_m3: float
+    relative_permittivity: float
+    source: str
+
+    def stiffness_Pa(self) -> np.ndarray:
+        """The 6x6 isotropic stiffness (Pa), Voigt order 11,22,33,23,13,12."""
+        e, nu = self.young_Pa, self.poisson
+        lam, mu = e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
+        c = np.zeros((6, 6))
+        c[:3, :3] = lam
+        c[range(3), range(3)] = lam + 2 * mu
+        c[range(3, 6), range(3, 6)] = mu
+        return c
+
+    def plane_stress_Pa(self) -> np.ndarray:
+        """The 3x3 plane-stress stiffness (Pa), order (11, 22, 12), engineering shear."""
+        e, nu = self.young_Pa, self.poisson
+        return e / (1 - nu**2) * np.array([[1, nu, 0], [nu, 1, 0], [0, 0, (1 - nu) / 2]])
+
+    def thickness_ratio(self) -> np.ndarray:
+        """``a`` of the plane-stress thickness strain ``S3 = -a . [S1, S2, S6]`` (-)."""
+        r = self.poisson / (1 - self.poisson)
+        return np.array([r, r, 0.0])
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready dictionary."""
+        return asdict(self)
+
+
+TIP_MATERIALS = {
+    "alumina": ElasticMaterial(
+        "alumina", 310e9, 0.22, 3800.0, 9.0,
+        "97-99 % alumina, ASTM D2442 Type III / IEC 60672 C-795 (MakeItFrom.com material "
+        "card): Young's modulus 310 GPa, Poisson's ratio 0.22, density 3.8 g/cm^3, relative "
+        "permittivity 9.0 at 1 Hz. Purer grades are stiffer (99.9 %: about 380 GPa, "
+        "3.97 g/cm^3, Kientec's data): give inline constants for them."),
+    "steel": ElasticMaterial(
+        "steel", 193e9, 0.29, 8000.0, 1.0,
+        "AISI 304 stainless steel (UNS S30400; the MatWeb-style data sheet Elgin Fasteners and "
+        "Alloys International reprint): modulus of elasticity 193 GPa, Poisson's ratio 0.29, "
+        "density 8.0 g/cm^3. A metal tip's own potential is not modelled: the 3D model "
+        "treats it as a dielectric of eps_r 1 without piezoelectric coupling (its field is "
+        "the fringe beyond the unelectroded end)."),
+}
+"""Materials a parametric stator's tip may be made of (``[tip] material``)."""
+
+
+def tip_material(name: str) -> ElasticMaterial:
+    """The tip material ``name`` (:data:`TIP_MATERIALS`, case ignored).
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not one of :data:`TIP_MATERIALS`.
+    """
+    key = str(name).strip().lower()
+    if key not in TIP_MATERIALS:
+        raise ValueError(f"a tip material must be one of {', '.join(TIP_MATERIALS)}; got "
+                         f"{name!r}")
+    return TIP_MATERIALS[key]
 
 
 @dataclass(frozen=True, eq=False)

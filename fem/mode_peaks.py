@@ -20,7 +20,8 @@ def shape_peaks(model, shape: np.ndarray) -> tuple[float, float]:
     The stress is the plane-stress ``T = c* S`` at constant field (short circuit, the
     state of the mode shape), ``c*`` of :func:`fem.material.plane_stress`, from the
     in-plane strain of the shape; the principal values of ``[[T1, T6], [T6, T2]]`` are
-    ``(T1 + T2)/2 +- sqrt(((T1 - T2)/2)^2 + T6^2)``.
+    ``(T1 + T2)/2 +- sqrt(((T1 - T2)/2)^2 + T6^2)``. The stress is the ceramic's: a tip of
+    its own material (alumina, steel) is left out, its limits not being the ceramic's.
 
     Parameters
     ----------
@@ -39,11 +40,24 @@ def shape_peaks(model, shape: np.ndarray) -> tuple[float, float]:
     t2 = c[1, 0] * s1 + c[1, 1] * s2 + c[1, 2] * s6
     t6 = c[2, 0] * s1 + c[2, 1] * s2 + c[2, 2] * s6
     mean, radius = 0.5 * (t1 + t2), np.hypot(0.5 * (t1 - t2), t6)
-    stress = float(np.max(np.maximum(np.abs(mean + radius), np.abs(mean - radius))))
+    peak = np.maximum(np.abs(mean + radius), np.abs(mean - radius))
+    stress = float(np.max(peak[_ceramic(model)]))
     return displacement, stress
 
 
+def _ceramic(model) -> np.ndarray:
+    """The elements of the piezoceramic (bool per element): all but a tip of its own
+    material (:func:`fem.meshing.parametric.tip_elements`)."""
+    from fem.meshing.parametric import tip_elements
+
+    keep = np.ones(model.mesh.n_elements, dtype=bool)
+    tip = tip_elements(model.mesh, model.stator)
+    if tip is not None:
+        keep[tip[1]] = False
+    return keep
+
+
 def plate_volume_m3(model) -> float:
-    """The plate's volume (m^3): the planform's area (the quadrature of 1 over the mesh)
-    times the thickness."""
-    return float(np.sum(model.basis.dx)) * model.stator.thickness_m
+    """The ceramic's volume (m^3): the planform's area (the quadrature of 1 over the mesh,
+    a tip of its own material left out) times the thickness."""
+    return float(np.sum(model.basis.dx[_ceramic(model)])) * model.stator.thickness_m

@@ -51,6 +51,7 @@ from fem.meshing.mesh import (
     structured_mesh,
 )
 from fem.meshing.meshed_stator import overall_length_m, planform_mesh
+from fem.meshing.parametric import tip_elements
 
 ORDERS = (1, 2)
 """Supported element orders (bilinear ``ElementQuad1``, biquadratic ``ElementQuad2``)."""
@@ -669,7 +670,8 @@ def build_model(
     layout = gap_layout(mesh)
     shorted = gap_model == "shorted" and layout.gap_m > 0.0
     strips, other, strip_centres = _strip_elements(mesh, layout, shorted, h)
-    K, M = _stiffness_and_mass(basis, mesh, mat, ps, h, strips, other, thickness_inertia)
+    tip = tip_elements(mesh, stator)
+    K, M = _stiffness_and_mass(basis, mesh, mat, ps, h, strips, other, thickness_inertia, tip)
     G, C = _electrode_coupling(basis, mesh, ps, h)
     cap = np.diag(C)
     weights = {k: (lambda x, y: np.zeros_like(x)) for k in ELECTRODES}
@@ -733,23 +735,38 @@ def _thickness_ratio(mat: PiezoMaterial) -> np.ndarray:
 
 
 def _stiffness_and_mass(basis, mesh: PlateMesh, mat: PiezoMaterial, ps, h: float,
-                        strips: np.ndarray, other: np.ndarray, thickness_inertia: bool):
+                        strips: np.ndarray, other: np.ndarray, thickness_inertia: bool,
+                        tip: tuple[object, np.ndarray] | None = None):
     """Stiffness ``K`` and mass ``M`` (scikit-fem sparse matrices, not yet symmetrized).
 
     Electrodes and shorted strips take the short-circuit stiffness (``E3 = 0``); the
     unelectroded material away from the electrodes and the strips of the 'open' model the
-    open-circuit one (``D3 = 0``)."""
+    open-circuit one (``D3 = 0``); a ``tip`` of its own material
+    (:class:`fem.material.ElasticMaterial`, its elements) its isotropic plane-stress
+    stiffness, density and thickness strain."""
     from skfem import asm
 
     electroded = np.flatnonzero(mesh.electrode > 0)
+    tip_el = tip[1] if tip is not None else other[:0]
+    # the whole basis where the tip is the ceramic's (the same sums as ever)
+    ceramic = np.setdiff1d(np.arange(mesh.n_elements), tip_el) if tip_el.size else None
+    if tip_el.size:
+        other = np.setdiff1d(other, tip_el)
     K = asm(_stiffness_form(ps.c_Pa, h), basis.with_elements(np.concatenate((electroded,
                                                                              strips))))
     if other.size:
         K = K + asm(_stiffness_form(ps.c_open_Pa, h), basis.with_elements(other))
-    M = asm(_mass_form(mat.rho_kg_m3 * h), basis)
-    if thickness_inertia:
-        a = _thickness_ratio(mat)
-        M = M + asm(_thickness_inertia_form(mat.rho_kg_m3 * h**3 / 12.0, a), basis)
+    parts = [(ceramic, mat.rho_kg_m3, _thickness_ratio(mat))]
+    if tip_el.size:
+        K = K + asm(_stiffness_form(tip[0].plane_stress_Pa(), h), basis.with_elements(tip_el))
+        parts.append((tip_el, tip[0].rho_kg_m3, tip[0].thickness_ratio()))
+    M = None
+    for elements, rho, a in parts:
+        sub = basis if elements is None else basis.with_elements(elements)
+        m = asm(_mass_form(rho * h), sub)
+        if thickness_inertia:
+            m = m + asm(_thickness_inertia_form(rho * h**3 / 12.0, a), sub)
+        M = m if M is None else M + m
     return K, M
 
 

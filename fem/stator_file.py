@@ -15,7 +15,7 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     drive = [1, 4]                      # electrodes at +V (others grounded), numbers 1..4
 
     [material]
-    name = "pzt8"                       # "pzt8" or "paper", or inline constants:
+    name = "pzt8"                       # a name of fem.material.MATERIAL_NAMES, or inline:
     # base = "pzt8"                     # start from a named material and override
     # cE_Pa = [[...6 rows of 6...]]     # stiffness at constant E (Pa), Voigt 11,22,33,23,13,12
     # e_C_m2 = [[...3 rows of 6...]]    # piezoelectric stress constants (C/m^2)
@@ -38,6 +38,9 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     [tip]                               # unelectroded protrusion centred on the end y = l
     length_mm = 1.0                     #   beyond the plate's length, (0, [plate] length_mm]
     width_mm = 2.0                      #   across, (0, width - 2 chamfers]
+    # material = "alumina"              #   its own material: "alumina" or "steel"
+                                        #   (fem.material.TIP_MATERIALS); default: the
+                                        #   plate's ceramic, unelectroded
     [chamfers]
     size_mm = 1.5                       # 45-degree leg at all four corners,
                                         #   (0, (min(length, width) - gap) / 2)
@@ -206,7 +209,7 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
     "points": ("tip_mm", "preload_mm", "mounts_mm"),
     "mesh": ("file", "unit", "size_mm"),
-    "tip": ("length_mm", "width_mm"),
+    "tip": ("length_mm", "width_mm", "material"),
     "chamfers": ("size_mm",),
     "holes": ("center_mm", "diameter_mm"),
     "damping": ("zeta_L1", "zeta_B2", "Q_m", "source", "frequency_Hz", "Q_mount", "Q_contact"),
@@ -644,6 +647,21 @@ def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float
     return out
 
 
+def _tip_material(tip_t: dict, src: str) -> str:
+    """``[tip] material``: a name of :data:`fem.material.TIP_MATERIALS`, or ``""`` (the plate's
+    ceramic) when absent."""
+    from fem.material import TIP_MATERIALS
+
+    if "material" not in tip_t:
+        return ""
+    name = tip_t["material"]
+    if not isinstance(name, str) or name.strip().lower() not in TIP_MATERIALS:
+        raise ValueError(f"{src}: [tip] material {name!r} is unknown; allowed: "
+                         f"{', '.join(TIP_MATERIALS)} (leave it out for a tip of the plate's "
+                         "ceramic)")
+    return name.strip().lower()
+
+
 def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive, src, name,
                 material, motor) -> StatorDesign:
     """A :class:`fem.meshing.parametric.ParametricStator` design from the feature tables."""
@@ -672,6 +690,7 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
         chamfer = _number(cham_t, "chamfers", "size_mm", src, 0.0, c_max, False, False, "mm "
                           "((min(length, width) - gap) / 2)")
     tip_l = tip_w = 0.0
+    tip_mat = _tip_material(tip_t, src) if "tip" in data else ""
     if "tip" in data:
         for key in ("length_mm", "width_mm"):
             if key not in tip_t:
@@ -704,7 +723,7 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
             length_m=_m(length), width_m=_m(width), thickness_m=_m(thickness),
             electrode_gap_m=_m(gap), drive_electrodes=drive, tip_length_m=_m(tip_l),
             tip_width_m=_m(tip_w), chamfer_m=_m(chamfer), holes_m=tuple(holes),
-            mesh_size_m=None if size is None else size * MM,
+            mesh_size_m=None if size is None else size * MM, tip_material=tip_mat,
         )
     except ValueError as exc:
         raise ValueError(f"{src}: {exc}") from None

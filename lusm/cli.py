@@ -41,6 +41,7 @@ COMMAND_MODULES = [
     "lusm.commands.harmonic",
     "lusm.commands.explore",
     "lusm.commands.characteristic",
+    "lusm.commands.materials",
     "lusm.commands.calibrate",
 ]
 """Sub-command modules, registered in this order (a module that does not exist is skipped)."""

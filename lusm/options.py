@@ -34,7 +34,7 @@ from lusm.messages import typed, warn, warn_unused
 SOURCES = ("table2", "beam", "fem")
 """Parameter sources (:data:`rom.sources.SOURCES`, repeated so the parser needs no numpy)."""
 
-MATERIALS = ("pzt8", "paper", "pzt4", "pzt5a")
+MATERIALS = ("pzt8", "paper", "pzt4", "pzt5a", "pzt5h", "apc880")
 """Named materials (:data:`fem.material.MATERIAL_NAMES`)."""
 
 PLATE_DEFAULTS_MM = {"--length-mm": 30.0, "--width-mm": 7.5, "--thickness-mm": 3.0,

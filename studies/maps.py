@@ -8,8 +8,21 @@ from pathlib import Path
 
 import numpy as np
 
-MAP_VARIABLES = ("no_load_velocity", "stall_force", "split")
-"""Variables drawn by :func:`design_maps`."""
+MAP_VARIABLES = ("no_load_velocity", "stall_force", "split", "peak_efficiency", "f_drive")
+"""Variables drawn by :func:`design_maps` (each where the dataset has it)."""
+
+SIGNED_VARIABLES = ("split",)
+"""Variables whose sign means something (``split > 0``: B2 above L1): drawn on a diverging
+colour scale centred on zero, with the zero contour (a map) or the zero line (a curve)."""
+
+_DRAWN_UNITS = {"no_load_velocity": (1e3, "mm/s"), "split": (1e-3, "kHz"),
+                "f_drive": (1e-3, "kHz"), "peak_efficiency": (100.0, "%")}
+"""Factor and unit each variable is drawn in (the others in their dataset unit)."""
+
+_NOTES = {"stall_force": "at the exact level the stall force includes the creep band "
+                         "(the slider creeps, below two ripple scales, from the averaged "
+                         "stall up to it: lusm characteristic prints both)"}
+"""What a variable's figure says under its title."""
 
 
 PLOT_DIMS = ("length", "width", "thickness", "gap", "tip_length", "tip_width", "chamfer",
@@ -82,23 +95,26 @@ def _figure(ds, name: str, folder: Path) -> Path:
         da = da.sortby(list(dims))
     materials = [str(m) for m in ds["material"].values] if per_material else [None]
     panels = len(materials) if len(dims) == 2 else 1
-    fig = Figure(figsize=(6.0 + 3.5 * (panels - 1), 4.5), layout="constrained")
+    fig = Figure(figsize=(6.5 + 3.5 * (panels - 1), 5.0), layout="constrained")
     axes = fig.subplots(1, panels, sharex=True, sharey=True, squeeze=False)[0]
     if panels > 1:  # room between the panels' end tick labels
         fig.get_layout_engine().set(wspace=0.08)
-    scale, unit = (1e3, "mm/s") if name == "no_load_velocity" else \
-        ((1e-3, "kHz") if name == "split" else (1.0, da.attrs.get("units", "")))
-    label = f"{da.attrs.get('long_name', name)} ({unit})"
+    scale, unit = _DRAWN_UNITS.get(name, (1.0, da.attrs.get("units", "")))
+    label = f"{da.attrs.get('long_name', name)} ({unit})"  # the title's
+    axis_label = f"{name} ({unit})"  # the colour bar's or the y axis's
     # the values (drawn unit) of each material (of the only one)
     of = [(da if m is None else da.isel(material=k)).values.astype(float) * scale
           for k, m in enumerate(materials)]
     if len(dims) == 2:
-        _draw_maps(ds, da, dims, fig, axes, of, materials, label)
+        _draw_maps(ds, da, dims, fig, axes, of, materials, axis_label,
+                   name in SIGNED_VARIABLES)
     elif dims:
-        _draw_curves(ds, da, dims[0], axes[0], of, materials, label, per_material)
+        _draw_curves(ds, da, dims[0], axes[0], of, materials, axis_label, per_material)
     else:
-        _draw_per_material(ds, axes[0], of, materials, label)
-    title = _title(ds, name, ", ".join(_coord_text(ds, d) for d in fixed))
+        _draw_per_material(ds, axes[0], of, materials, axis_label)
+    if name in SIGNED_VARIABLES and len(dims) < 2:
+        axes[0].axhline(0.0, color="k", lw=0.8)
+    title = _title(ds, name, ", ".join(_coord_text(ds, d) for d in fixed), label)
     if panels > 1:
         fig.suptitle(title, fontsize=8)
     else:
@@ -114,20 +130,39 @@ def _axis_label(ds, dim: str) -> tuple[float, str]:
     return factor, f"{ds[dim].attrs.get('long_name', dim)} ({unit})"
 
 
-def _draw_maps(ds, da, dims, fig, axes, of, materials, label: str) -> None:
-    """One map over ``dims`` (y, x) per material panel, on one colour scale."""
+def _draw_maps(ds, da, dims, fig, axes, of, materials, label: str, signed: bool) -> None:
+    """One map over ``dims`` (y, x) per material panel, on one colour scale: a diverging one
+    centred on zero with the zero contour for a ``signed`` variable (:data:`SIGNED_VARIABLES`),
+    viridis over the values' range otherwise."""
     fy, ylabel = _axis_label(ds, dims[0])
     fx, xlabel = _axis_label(ds, dims[1])
     finite = np.asarray(of)[np.isfinite(of)]
     lo, hi = (finite.min(), finite.max()) if finite.size else (None, None)
+    cmap = "viridis"
+    if signed and finite.size:
+        top = float(np.abs(finite).max()) or 1.0
+        lo, hi, cmap = -top, top, "RdBu_r"
+    x, y = da[dims[1]].values * fx, da[dims[0]].values * fy
     for k, ax in enumerate(axes):
-        mesh = ax.pcolormesh(da[dims[1]].values * fx, da[dims[0]].values * fy, of[k],
-                             shading="nearest", cmap="viridis", vmin=lo, vmax=hi)
+        mesh = ax.pcolormesh(x, y, of[k], shading="nearest", cmap=cmap, vmin=lo, vmax=hi)
+        if signed:
+            _zero_contour(ax, x, y, of[k])
         ax.set_xlabel(xlabel)
         if materials[k] is not None:
             ax.set_title(f"material {materials[k]}", fontsize=8)
     axes[0].set_ylabel(ylabel)
     fig.colorbar(mesh, ax=list(axes), label=label)
+
+
+def _zero_contour(ax, x: np.ndarray, y: np.ndarray, values: np.ndarray) -> None:
+    """The zero contour of ``values`` on the grid ``x`` x ``y`` (drawn units), labelled, where
+    the values change sign on a grid of two points or more each way."""
+    v = np.asarray(values, dtype=float)
+    finite = v[np.isfinite(v)]
+    if min(v.shape) < 2 or not (finite.size and finite.min() < 0.0 < finite.max()):
+        return
+    cs = ax.contour(x, y, np.ma.masked_invalid(v), levels=[0.0], colors="k", linewidths=1.5)
+    ax.clabel(cs, fmt={0.0: "0 (L1 = B2)"}, fontsize=7)
 
 
 def _draw_curves(ds, da, dim: str, ax, of, materials, label: str, per_material: bool) -> None:
@@ -152,13 +187,16 @@ def _draw_per_material(ds, ax, of, materials, label: str) -> None:
     ax.grid(True, alpha=0.3)
 
 
-def _title(ds, name: str, where: str) -> str:
-    """A figure's title: the variable, where the other axes stand, and for a speed or a
-    force the damping it depends on."""
+def _title(ds, name: str, where: str, label: str) -> str:
+    """A figure's title: the variable with its meaning and drawn unit (``label``), where the
+    other axes stand, what the variable includes (:data:`_NOTES`), and for a speed or a force
+    the damping it depends on."""
     import textwrap
 
-    lines = [name] + ([textwrap.fill(f"at {where}", 95)] if where else [])
-    if name != "split" and "damping" in ds.attrs:
+    lines = [textwrap.fill(f"{name}: {label}", 95)]
+    lines += [textwrap.fill(f"at {where}", 95)] if where else []
+    lines += [textwrap.fill(_NOTES[name], 95)] if name in _NOTES else []
+    if name not in ("split", "f_drive") and "damping" in ds.attrs:
         lines.append(textwrap.fill(textwrap.shorten(f"damping {ds.attrs['damping']}", 190), 95))
     return "\n".join(lines)
 

@@ -122,6 +122,7 @@ def files(tmp_path_factory) -> dict[str, str]:
         f[name] = str(d / f"{name}.toml")
 
     toml("plate", PLATE)
+    toml("tip_brass", PLATE + '[tip]\nlength_mm = 1\nwidth_mm = 2\nmaterial = "brass"\n')
     toml("off_centre_hole", "[plate]\nlength_mm = 25.6938\nwidth_mm = 7.2\n"
          "thickness_mm = 2.5\n[electrodes]\ngap_mm = 0.4\n[material]\nname = \"paper\"\n"
          "[tip]\nlength_mm = 0.8\nwidth_mm = 1.6\n[chamfers]\nsize_mm = 0.8\n"
@@ -568,8 +569,25 @@ REPORT = [
      None),
     ("geometry-missing", ["report", "--geometry", "no_such_stator.toml"], "--geometry", None),
     ("length-tiny", ["report", "--length-mm", "1e-6"], "--length-mm", "[0.1, 1000] mm"),
+    ("voltages-without-stator", ["report", "--voltages", "200"], "--voltages", "--geometry"),
+    ("preload-without-stator", ["report", "--preload", "10"], "--preload", "--geometry"),
+    ("frequency-without-stator", ["report", "--frequency", "auto"], "--frequency",
+     "--geometry"),
+    ("voltages-item", ["report", "--geometry", "{plate}", "--voltages", "200,x"], "--voltages",
+     "[0, 2000] V"),
+    ("voltages-twice", ["report", "--geometry", "{plate}", "--voltages", "200,200"],
+     "--voltages", None),
+    ("voltages-too-many", ["report", "--geometry", "{plate}", "--voltages",
+                           "1,2,3,4,5,6,7,8,9"], "--voltages", "1 to 8"),
+    ("preload-negative", ["report", "--geometry", "{plate}", "--preload", "-1"], "--preload",
+     "[0, 1000] N"),
+    ("frequency-word", ["report", "--geometry", "{plate}", "--frequency", "fast"],
+     "--frequency", "'auto'"),
 ]
 
+MATERIALS = [
+    ("unknown-option", ["materials", "--material", "pzt9"], "--material", None),
+]
 EXPLORE = [  # more in tests/test_explore.py
     ("missing-study", ["explore", "{missing}", "--out", "r.nc"], "{missing}", None),
     ("stator-as-study", ["explore", "{plate}", "--out", "r.nc"], "{plate}", None),
@@ -621,6 +639,8 @@ CALIBRATE = [
 
 # a stator file's own defects: the file is named with --geometry, the line names its key
 STATOR_FILES = [
+    ("tip-material-unknown", ["modes", "--geometry", "{tip_brass}"], "[tip] material",
+     "alumina, steel"),
     ("unit-list", ["modes", "--geometry", "{unit_list}"], "[mesh] unit", None),
     ("tip-far", ["modes", "--geometry", "{tip_far}"], "[points] tip_mm", None),
     ("length-string", ["modes", "--geometry", "{length_str}"], "[plate] length_mm",
@@ -672,7 +692,8 @@ STATOR_FILES = [
 TABLES = {"simulate": SIMULATE, "map": MAP, "characteristic": CHARACTERISTIC, "modes": MODES,
           "render": RENDER, "tune": TUNE, "sweep": SWEEP, "admittance": ADMITTANCE,
           "harmonic": HARMONIC, "compare": COMPARE, "params": PARAMS, "report": REPORT,
-          "explore": EXPLORE, "calibrate": CALIBRATE, "stator_files": STATOR_FILES}
+          "explore": EXPLORE, "calibrate": CALIBRATE, "materials": MATERIALS,
+          "stator_files": STATOR_FILES}
 
 SLOW_ROWS = {"off-centre-hole-pairing"}
 """Rows refused only once the stator is meshed and solved (seconds, not milliseconds)."""

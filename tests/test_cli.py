@@ -217,3 +217,24 @@ def test_simulate_energy_prints_every_term_of_the_balance(capsys):
              + e["tangential_on_stator_J"] + e["tangential_on_slider_J"] + e["guide_J"]
              + e["load_J"])
     assert total - e["delta_energy_J"] == pytest.approx(e["residual_J"], abs=1e-12)
+
+
+def test_materials_lists_every_named_material(capsys):
+    """``lusm materials --json`` has a row per name of ``fem.material.MATERIAL_NAMES`` with
+    its key constants, Q_m and limits; the text table has a line per material."""
+    from fem.material import MATERIAL_NAMES
+    from lusm.cli import main
+
+    assert main(["materials", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["materials"]
+    assert [r["name"] for r in rows] == list(MATERIAL_NAMES)
+    for r in rows:
+        assert {"rho_kg_m3", "s11E_m2_N", "d31_C_N", "k31", "N31_Hz_m", "mechanical_Q",
+                "limits", "source", "cE_Pa"} <= set(r)
+        assert r["limits"]["drive_field_V_m"] > 0 and r["source"]
+    assert main(["materials", "--json"]) == 0
+    tips = json.loads(capsys.readouterr().out)["tip_materials"]
+    assert [t["name"] for t in tips] == ["alumina", "steel"]
+    assert main(["materials"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert all(any(line.startswith(n + " ") for line in out) for n in MATERIAL_NAMES)

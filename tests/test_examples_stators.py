@@ -176,3 +176,18 @@ def test_the_beam_column_is_the_electroded_body_for_either_description(capsys):
     for p in (mesh, table):
         assert p.K_l / p.M_l == pytest.approx(plain.K_l / plain.M_l, rel=1e-12)
         assert p.K_b / p.M_b == pytest.approx(plain.K_b / plain.M_b, rel=1e-12)
+
+
+def test_an_alumina_tip_lightens_the_tip_end():
+    """examples/tip_alumina is examples/tip_parametric with its tip of alumina (half PZT-8's
+    density, twice its stiffness): the tip end, an antinode of both modes, is lighter, so
+    L1 and B2 rise, by the few hundred hertz a 2 mm^2 tip's mass is worth; the header names
+    the tip's material."""
+    ceramic = load_stator(EXAMPLES / "tip_parametric" / "stator.toml")
+    alumina = load_stator(EXAMPLES / "tip_alumina" / "stator.toml")
+    assert alumina.stator.tip_material == "alumina" and ceramic.stator.tip_material == ""
+    assert "alumina)" in alumina.stator.features_text()
+    a, c = alumina.modes(), ceramic.modes()
+    for m in ("L1", "B2"):
+        shift = getattr(a, m).f_short_Hz / getattr(c, m).f_short_Hz - 1
+        assert 1e-3 < shift < 1e-2, (m, shift)

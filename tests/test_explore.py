@@ -1703,8 +1703,54 @@ def test_a_studys_figures_draw_every_material(tmp_path):
             args, kw = panels[2 * j + k]
             np.testing.assert_allclose(args[2], da.isel(material=k).transpose(
                 "length", "width").values * scale)
-            assert (kw["vmin"], kw["vmax"]) == (np.nanmin(da.values * scale),
-                                                np.nanmax(da.values * scale))
+            if name == "split":  # signed: a diverging scale centred on zero
+                top = np.nanmax(np.abs(da.values * scale))
+                assert (kw["vmin"], kw["vmax"], kw["cmap"]) == (-top, top, "RdBu_r")
+            else:
+                assert (kw["vmin"], kw["vmax"]) == (np.nanmin(da.values * scale),
+                                                    np.nanmax(da.values * scale))
+
+
+def test_a_studys_maps_centre_the_split_on_zero_with_units_and_the_extra_maps(tmp_path):
+    """A split that changes sign: a diverging scale centred on zero and the zero contour;
+    titles name the variable, its meaning and its unit; the peak efficiency and the auto
+    drive frequency get maps of their own; the stall force's says it includes the creep
+    band."""
+    from matplotlib.axes import Axes
+
+    from studies.maps import design_maps
+
+    ds = _synthetic({"length": 3, "width": 3})
+    g = ds["split"].dims
+    ds["split"] = (g, np.array([[-900.0, -100.0, 400.0], [-500.0, 200.0, 800.0],
+                                [-50.0, 600.0, 1200.0]]).reshape(ds["split"].shape),
+                   {"units": "Hz", "long_name": "L1-B2 split"})
+    ds["f_drive"] = (g, np.full(ds["split"].shape, 40e3), {"units": "Hz", "long_name": "f"})
+    ds["peak_efficiency"] = ds["no_load_velocity"].copy().assign_attrs(units="1")
+    ds["stall_force"] = ds["no_load_velocity"].copy().assign_attrs(units="N")
+    contours, titles = [], []
+    real_contour, real_title = Axes.contour, Axes.set_title
+
+    def contour(self, *args, **kwargs):
+        contours.append(kwargs.get("levels"))
+        return real_contour(self, *args, **kwargs)
+
+    def title(self, text, *args, **kwargs):
+        titles.append(text)
+        return real_title(self, text, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Axes, "contour", contour)
+        mp.setattr(Axes, "set_title", title)
+        written = design_maps(ds, tmp_path)
+    assert sorted(p.name for p in written) == sorted(
+        f"{n}_length_width.png" for n in ("no_load_velocity", "stall_force", "split",
+                                          "peak_efficiency", "f_drive"))
+    assert contours == [[0.0]]  # the split's zero contour only
+    by_name = {t.split(":")[0]: t for t in titles}
+    assert by_name["split"].startswith("split: L1-B2 split (kHz)")
+    assert "(%)" in by_name["peak_efficiency"] and "(kHz)" in by_name["f_drive"]
+    assert "creep band" in by_name["stall_force"]
 
 
 @pytest.mark.slow

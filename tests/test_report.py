@@ -166,3 +166,13 @@ def test_a_report_names_a_path_that_is_not_utf8(tmp_path):
     assert "st\\udcfe.toml" in (tmp_path / "index.md").read_text(encoding="utf-8")
     assert json.loads((tmp_path / "report.json").read_text())["geometry"] == name
     assert "st\\udcfe.toml" in (tmp_path / "index.html").read_text(encoding="utf-8")
+
+
+def test_report_figures_take_the_column_width_and_link_to_their_png():
+    """The HTML page drew every figure at under half its column (max-width 48 %), its labels
+    too small to read: a figure takes the column's width and links to its PNG."""
+    from validation.report_html import to_html
+
+    page = to_html("![speed-thrust](figures/a.png)\n", "t")
+    assert '<a href="figures/a.png"><img src="figures/a.png"' in page
+    assert "max-width:100%" in page and "48%" not in page

@@ -36,11 +36,15 @@ PLATE = ("--length-mm", "60", "--material", "paper")
 """Plate options of the second report: no stator file stands behind them."""
 
 
+DRIVE = ("--voltages", "200,350", "--preload", "10")
+"""The second report's operating points (``lusm report --voltages --preload``)."""
+
+
 @pytest.fixture(scope="module")
 def plate_report(tmp_path_factory):
-    """A quick report on plate options."""
+    """A quick report on plate options, at the operating points of :data:`DRIVE`."""
     out = tmp_path_factory.mktemp("plate_report") / "r"
-    _report(out, *PLATE)
+    _report(out, *PLATE, *DRIVE)
     return out, json.loads((out / "report.json").read_text(), parse_constant=_not_json)
 
 
@@ -222,6 +226,7 @@ def test_a_report_on_plate_options_cites_commands_that_carry_them(plate_report, 
     rep = doc["motor_characteristics"]["design"]["characteristics"]["200"]
     assert got["no_load_velocity_m_s"] == rep["no_load_velocity_m_s"]
     assert got["stall_force_N"] == rep["stall_force_N"]
+    assert "--preload 10" in char
     # the 2D modes command, as cited, gives the table's frequencies
     (modes,) = [c for c in _cited(md, "modes") if "--model" not in c]
     assert main([*shlex.split(modes)[1:], "--json"]) == 0
@@ -263,3 +268,40 @@ def test_the_stator_options_are_written_as_typed():
     args = parser.parse_args(["report", "--geometry", "my plates/a.toml"])
     assert stator_options_text(args) == "--geometry 'my plates/a.toml'"
     assert stator_options_text(parser.parse_args(["report"])) == ""
+
+
+@pytest.mark.slow
+def test_the_report_computes_at_the_voltages_and_preload_it_is_given(plate_report):
+    """``lusm report --voltages 200,350 --preload 10``: the motor table has a row per given
+    voltage, the speed table and the curves run at 10 N, the report's own command carries
+    the options, and the words speak of this stator, not of the paper's plate."""
+    out, doc = plate_report
+    md = (out / "index.md").read_text()
+    assert doc["drive"]["voltages_V"] == [200.0, 350.0] and doc["drive"]["preload_N"] == 10.0
+    assert sorted(doc["motor_characteristics"]["design"]["characteristics"]) == ["200", "350"]
+    section = md.split("## 5. Motor characteristics")[1]
+    rows = [line for line in section.splitlines() if line.startswith("| design |")]
+    assert [line.split("|")[2].strip() for line in rows] == ["200", "350"]
+    assert "Speed-thrust and efficiency at 200, 350 V and 10 N" in section
+    assert doc["speed_vs_voltage"]["preload_N"] == 10.0
+    assert "Steady velocity reached from rest at 10 N" in md
+    (own,) = _cited(md, "report --quick")
+    assert own.endswith("--voltages 200,350 --preload 10")
+    assert "the paper's plate" not in md and "Table 2's set runs" not in md
+    assert "What this stator does as a motor" in section
+
+
+@pytest.mark.parametrize("drive, named", [((1, 2), "B2"), ((1, 4), None)])
+def test_a_drive_that_excites_no_B2_is_said_in_the_report(drive, named):
+    """Electrodes 1 and 2 in phase give A_b at roundoff: the report's zero speeds come with a
+    paragraph at its top (stderr is gone when the report is read); a diagonal pair gets none."""
+    from fem.geometry import PlateStator
+    from rom.table2 import table2
+    from validation.report_design import _unexcited_note
+
+    params = table2().with_(A_b=1e-15 if named else table2().A_b)
+    note = _unexcited_note(params, PlateStator(drive_electrodes=drive))
+    if named is None:
+        assert note == []
+    else:
+        assert len(note) == 2 and f"excites no {named}" in note[0] and "zero" in note[0]

@@ -15,7 +15,7 @@ def test_characteristic_json_curve_is_consistent(capsys):
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"no_load_velocity_m_s", "direction", "stall_force_N",
                         "averaged_stall_force_N", "creep_from_N", "creep_from_rule",
-                        "holding_range_N", "accuracy", "limits",
+                        "creep_speed_m_s", "holding_range_N", "accuracy", "limits",
                         "curve", "damping", "coupling", "coupling_from", "voltage_V",
                         "preload_N", "frequency_Hz", "frequency_from", "rest"}
     assert doc["accuracy"] == "exact"  # the default: the finite-mass motor from rest

@@ -129,25 +129,76 @@ def transformed_phase_plane(r: SimulationResult, path: Path) -> Path:
 
 
 def stick_slip_map(m: StickSlipMap, path: Path, title: str = "") -> Path:
-    """Motion class over voltage x preload (paper Figs. 18-19)."""
+    """Motion class over voltage x preload on the slider's speed contours (paper Figs.
+    18-19), the points with several stable states and the non-monotone neighbours marked."""
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(6.5, 5))
+    fig, ax = plt.subplots(figsize=(8, 7))
+    map_axes(ax, m)
+    set_wrapped_title(ax, title or "stick-slip map")
+    return save(fig, path)
+
+
+def map_axes(ax, m: StickSlipMap) -> dict:
+    """Draw the map ``m`` on ``ax``: filled speed contours ``|v|`` (mm/s, log scale; blank
+    where the slider is held), the motion classes, red rings beyond a limit, black diamonds
+    round points with several stable steady states and red dashes joining non-monotone
+    neighbours (:meth:`contact.maps.StickSlipMap.non_monotone_pairs`).
+
+    Returns
+    -------
+    dict
+        ``"contours"`` (the filled contour set or None: a map with fewer than two voltages
+        or preloads, or fewer than two positive speeds, has none), ``"several"`` (the
+        diamonds' ``(preload_N, voltage_V)`` points) and ``"non_monotone"`` (the dashed
+        segments' endpoints).
+    """
+    from matplotlib.colors import LogNorm
+
     ff, vv = np.meshgrid(m.preloads_N, m.voltages_V)
+    speed = np.abs(np.asarray(m.velocity_m_s, dtype=float)) * 1e3
+    positive = np.isfinite(speed) & (speed > 0)
+    drawn: dict = {"contours": None, "several": [], "non_monotone": []}
+    if min(speed.shape) > 1 and np.count_nonzero(positive) > 1:
+        lo, hi = float(speed[positive].min()), float(speed[positive].max())
+        if hi > lo:
+            levels = np.logspace(np.floor(np.log10(lo)), np.ceil(np.log10(hi)),
+                                 4 * int(np.ceil(np.log10(hi)) - np.floor(np.log10(lo))) + 1)
+            cs = ax.contourf(ff, vv, np.ma.masked_where(~positive, speed), levels=levels,
+                             norm=LogNorm(levels[0], levels[-1]), cmap="viridis", alpha=0.55)
+            ax.figure.colorbar(cs, ax=ax, label="slider speed |v| (mm/s, log scale)",
+                               pad=0.02)
+            drawn["contours"] = cs
     for cls, style in MAP_STYLE.items():
         sel = m.motion == cls
         if np.any(sel):
-            ax.scatter(ff[sel], vv[sel], s=40, label=cls, **style)
+            ax.scatter(ff[sel], vv[sel], s=40, label=cls, zorder=3, **style)
     if m.limits is not None:  # a ring around every point beyond a limit of the ceramic
         over = np.array([[lim is not None and bool(lim.exceeded()) for lim in row]
                          for row in m.limits], dtype=bool)
         if np.any(over):
             ax.scatter(ff[over], vv[over], s=110, facecolors="none", edgecolors="red",
-                       linewidths=1.2, label="beyond a limit")
+                       linewidths=1.2, label="beyond a limit", zorder=4)
+    several = [(float(m.preloads_N[j]), float(m.voltages_V[i])) for i, j in m.several_branches()]
+    if several:
+        x, y = zip(*several, strict=True)
+        ax.scatter(x, y, s=180, marker="D", facecolors="none", edgecolors="k",
+                   linewidths=1.2, label="several stable states", zorder=4)
+        drawn["several"] = several
+    for k, (a, b) in enumerate(m.non_monotone_pairs()):
+        seg = ((float(m.preloads_N[a[1]]), float(m.preloads_N[b[1]])),
+               (float(m.voltages_V[a[0]]), float(m.voltages_V[b[0]])))
+        ax.plot(*seg, "--", color="tab:red", lw=1.5, zorder=2,
+                label="non-monotone neighbours (speeds x2 against the trend)" if k == 0
+                else None)
+        drawn["non_monotone"].append(seg)
+    for axis, values in ((ax.set_xlim, m.preloads_N), (ax.set_ylim, m.voltages_V)):
+        lo, hi = float(np.min(values)), float(np.max(values))
+        pad = 0.05 * (hi - lo) if hi > lo else 0.5 * max(abs(lo), 1.0)
+        axis(lo - pad, hi + pad)  # room for the markers of the grid's edge points
     ax.set_xlabel("preload F_P (N)")
     ax.set_ylabel("voltage amplitude V0 (V)")
-    ax.set_title(title or "stick-slip map", fontsize=9)
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
-    return save(fig, path)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=3)
+    return drawn
 
 
 def curve(x: Sequence[float], ys: dict[str, Sequence[float]], xlabel: str, ylabel: str,

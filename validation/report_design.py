@@ -10,16 +10,70 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import fields
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
 
 from rom.params import PARAM_UNITS
-from validation.summaries import damping_line, damping_summary, plate_text, signed_percent
+from validation.summaries import (
+    damping_line,
+    damping_summary,
+    plate_text,
+    signed_percent,
+    unexcited_modes,
+)
 
 SPEED_PRELOAD_N = 14.0
-"""Preload of the speed-against-voltage table (N), the paper's Fig. 20."""
+"""Default preload of the speed-against-voltage table and the speed-thrust curves (N), the
+paper's Fig. 20 (``lusm report --preload``)."""
+
+
+@dataclass(frozen=True)
+class ReportDrive:
+    """The operating points a design report computes at (``lusm report --voltages
+    --preload --frequency``).
+
+    Attributes
+    ----------
+    voltages_V : tuple of float
+        Drive amplitudes of the speed-thrust curves (V).
+    preload_N : float
+        Preload of the speed-against-voltage table and the speed-thrust curves (N).
+    frequency : str
+        ``"auto"`` (the set's own operating point, :func:`contact.drive.auto_frequency`) or
+        a drive frequency in Hz, as typed.
+    """
+
+    voltages_V: tuple[float, ...] = (200.0, 300.0, 400.0)
+    preload_N: float = SPEED_PRELOAD_N
+    frequency: str = "auto"
+
+    @property
+    def auto(self) -> bool:
+        """Whether the drive frequency is the set's own operating point."""
+        return self.frequency.strip().lower() == "auto"
+
+    def frequency_Hz(self, params) -> float:
+        """The drive frequency (Hz) of ``params`` this drive names."""
+        from contact.drive import auto_frequency
+
+        return float(auto_frequency(params)) if self.auto else float(self.frequency)
+
+    def options_text(self) -> str:
+        """The ``lusm report`` options that give this drive, the defaults left out."""
+        words = []
+        if self.voltages_V != ReportDrive.voltages_V:
+            words.append("--voltages " + ",".join(f"{v:g}" for v in self.voltages_V))
+        if self.preload_N != SPEED_PRELOAD_N:
+            words.append(f"--preload {self.preload_N:g}")
+        if not self.auto:
+            words.append(self.frequency_option())
+        return " ".join(words)
+
+    def frequency_option(self) -> str:
+        """``--frequency auto`` or ``--frequency F`` as the cited commands take it."""
+        return "--frequency auto" if self.auto else f"--frequency {float(self.frequency):g}"
 
 
 def _describe(stator, material, label: str) -> str:
@@ -231,11 +285,9 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool, stator:
         md += ["", "These k_eff are the driven port's, from f_s (max Re Y) and f_p (max "
                "Re 1/Y) with the other "
                "electrodes grounded and each mode's damping and its neighbours' in the way; "
-               "the modes table's are the plate's own, from its natural frequencies with all "
-               "four electrodes shorted and all open. The two differ by definition (on the "
-               "paper's plate with light damping: L1 0.155 here against 0.267, B2 0.092 "
-               "against 0.127, `lusm admittance` and `lusm modes` on "
-               "`examples/light_damping/stator.toml`)."]
+               "the modes table's are the stator's own, from its natural frequencies with all "
+               "four electrodes shorted and all open. The two differ by definition"
+               + _k_eff_comparison(res.pairs, modes2d) + "."]
     else:
         md += ["No resonance/antiresonance pair is resolved in this band."]
     missed = res.unpaired_modes()  # as lusm admittance warns
@@ -261,6 +313,14 @@ def _admittance_section(choice, params, modes2d, out: Path, quick: bool, stator:
     return md, data
 
 
+def _k_eff_comparison(pairs, modes2d) -> str:
+    """`` (on this stator: L1 0.155 here against 0.267 in section 1's 2D column, ...)``:
+    each identified pair's port k_eff beside the modes table's 2D one; empty without one."""
+    own = [f"{p.mode} {p.k_eff:.3g} here against {getattr(modes2d, p.mode).k_eff:.3g}"
+           for p in pairs if p.mode in ("L1", "B2")]
+    return f" (on this stator: {', '.join(own)} in section 1's 2D column)" if own else ""
+
+
 def _circuit_lines(circuit) -> list[str]:
     """The fitted Butterworth-Van Dyke circuit as a table (``lusm admittance`` prints it)."""
     if circuit is None:
@@ -278,7 +338,7 @@ def _circuit_lines(circuit) -> list[str]:
 
 
 def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, stator: str,
-                   damping_from: str = ""):
+                   damping_from: str = "", drive: ReportDrive = ReportDrive()):
     from contact.model import default_coupling
     from contact.steady.engine import steady_state
     from validation.figures import curve
@@ -288,7 +348,7 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, sta
     volts = np.arange(100.0, 451.0, 100.0 if quick else 50.0)
     rows, vel = [], []
     for v in volts:
-        r = steady_state(params, float(v), SPEED_PRELOAD_N, frequency_Hz=frequency_Hz,
+        r = steady_state(params, float(v), drive.preload_N, frequency_Hz=frequency_Hz,
                          accuracy="exact", coupling=coupling)
         # simulate --steady's class of the same state (a held slider is "pure-stick"; the
         # steady engine's branch says "dead-zone")
@@ -299,19 +359,22 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, sta
     say("speed vs voltage")
     png = curve(volts, {"steady velocity from rest": vel}, "drive voltage V0 (V)",
                 "slider velocity (mm/s)", out / "figures" / "design_speed_voltage.png",
-                f"F_P = {SPEED_PRELOAD_N:g} N, {frequency_Hz / 1e3:.4g} kHz")
+                f"F_P = {drive.preload_N:g} N, {frequency_Hz / 1e3:.4g} kHz")
     md = ["## 4. Speed against voltage", "",
-          f"Steady velocity reached from rest at {SPEED_PRELOAD_N:g} N and "
-          f"{frequency_Hz / 1e3:.5g} kHz (the set's operating point, `--frequency auto`), "
+          f"Steady velocity reached from rest at {drive.preload_N:g} N and "
+          f"{frequency_Hz / 1e3:.5g} kHz ("
+          + ("the set's operating point, `--frequency auto`" if drive.auto else
+             f"`{drive.frequency_option()}`, as the report was asked") + "), "
           # the voltage and preload too: the command requires both
           "exact level of the steady engine (`"
           + _lusm("simulate --steady", stator,
-                  f"--voltage V0 --preload {SPEED_PRELOAD_N:g} --frequency auto")
+                  f"--voltage V0 --preload {drive.preload_N:g} {drive.frequency_option()}")
           + f"`, V0 each row's). The {damping_line(params, damping_from)}; the "
           f"{coupling_line(coupling, coupling_why)}.", "",
           "| V0 (V) | velocity (mm/s) | motion | stable steady states |", "|---|---|---|---|"]
     md += rows + ["", f"![speed against voltage](figures/{png.name})", ""]
     return md, {"voltages_V": volts.tolist(), "velocity_mm_s": vel,
+                "preload_N": drive.preload_N,
                 "damping": damping_summary(params, damping_from),
                 "coupling": coupling, "coupling_from": coupling_why,
                 "figure": f"figures/{png.name}"}
@@ -320,7 +383,8 @@ def _speed_section(params, frequency_Hz: float, out: Path, quick: bool, say, sta
 def write_design_report(out_dir: Path, choice, params, stator_options: str,
                         quick: bool = False,
                         progress: bool = True,
-                        damping_from: str = "the parameter set") -> dict:
+                        damping_from: str = "the parameter set",
+                        drive: ReportDrive = ReportDrive()) -> dict:
     """Write the report on one stator (``index.md``, ``index.html``, ``report.json``, figures).
 
     Parameters
@@ -342,15 +406,18 @@ def write_design_report(out_dir: Path, choice, params, stator_options: str,
         Show a progress bar on stderr.
     damping_from : str
         Where the damping ratios of ``params`` came from, printed beside every speed.
+    drive : ReportDrive
+        The speed-thrust voltages, the preload and the drive frequency (``lusm report
+        --voltages --preload --frequency``).
     """
-    return _build(Path(out_dir), choice, params, stator_options, quick, progress, damping_from)
+    return _build(Path(out_dir), choice, params, stator_options, quick, progress, damping_from,
+                  drive)
 
 
 def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
-           damping_from: str) -> dict:
+           damping_from: str, drive: ReportDrive) -> dict:
     from tqdm import tqdm
 
-    from contact.drive import auto_frequency
     from validation.report import markdown_table, write_report_files
     from validation.report_motor import motor_section
 
@@ -367,23 +434,38 @@ def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
     md2, d2 = _params_section(params, label, damping_from, stator)
     md3, d3 = _admittance_section(choice, params, modes2d, out, quick, stator)
     say("admittance")
-    freq = auto_frequency(params)
-    md4, d4 = _speed_section(params, freq, out, quick, say, stator, damping_from)
+    freq = drive.frequency_Hz(params)
+    md4, d4 = _speed_section(params, freq, out, quick, say, stator, damping_from, drive)
     md5, d5 = motor_section({"design": params}, {"design": freq}, out, quick, say, markdown_table,
                             damping_from={"design": damping_from},
-                            cites={"design": f"{stator} --frequency auto".strip()})
+                            cites={"design": f"{stator} {drive.frequency_option()}".strip()},
+                            voltages_V=drive.voltages_V, preload_N=drive.preload_N)
     md5[0] = "## 5. Motor characteristics"
     bar.close()
     wall = time.perf_counter() - t0
+    command = _lusm("report" + (" --quick" if quick else ""), stator, drive.options_text())
     head = [f"# LUSM report: {_describe(choice.stator, choice.material, label)}", "",
-            f"Generated by `{_lusm('report' + (' --quick' if quick else ''), stator)}` for "
+            f"Generated by `{command}` for "
             "the stator above on "
             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} in {wall:.0f} s. Every "
             "number here is also in `report.json`; `lusm report` without a stator reports on "
             "the paper's motor.", ""]
+    head += _unexcited_note(params, choice.stator)
     md = "\n".join(head + md1 + md2 + md3 + md4 + md5)
     doc = {"quick": quick, "wall_time_s": wall, "stator": _describe(choice.stator,
                                                                      choice.material, label),
+           "drive": {"voltages_V": list(drive.voltages_V), "preload_N": drive.preload_N,
+                     "frequency_Hz": freq, "frequency_from": drive.frequency},
            "modes": d1, "parameters": d2, "admittance": d3, "speed_vs_voltage": d4,
-           "motor_characteristics": d5}
+           "motor_characteristics": d5,
+           "warnings": unexcited_modes(params, choice.stator.drive_electrodes)}
     return write_report_files(out, md, doc, "LUSM design report")
+
+
+def _unexcited_note(params, stator) -> list[str]:
+    """A bold paragraph at the top of the report when the drive excites no L1 or no B2
+    (:func:`validation.summaries.unexcited_modes`): the speed tables below are then zeros,
+    and the report, which outlives the run's stderr, says why."""
+    said = unexcited_modes(params, stator.drive_electrodes)
+    return [f"**Warning: {text}.** The speeds and forces below are zero for that reason."
+            for text in said] + ([""] if said else [])

@@ -26,26 +26,72 @@ CHARACTERISTIC_PRELOAD_N = 14.0
 
 def characteristic_figure(char: Characteristic | Sequence[Characteristic], path: Path,
                           title: str = "") -> Path:
-    """Speed against load and efficiency against load, one line per voltage (PNG)."""
+    """Speed against load and efficiency against load, one line per voltage (PNG).
+
+    Each curve's stall force is marked on the zero-speed axis and its creep band (from
+    :attr:`~contact.characteristic.Characteristic.creep_from_N` to the stall force, where
+    the slider creeps slower than its creep speed) is shaded: the curve's knee, where it
+    meets the axis on a linear scale, is not the stall force.
+    """
     chars = [char] if isinstance(char, Characteristic) else list(char)
     plt = pyplot()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    speed_thrust_axes(ax1, chars, title)
     for i, c in enumerate(chars):
-        label = f"{c.op.voltage_V:g} V"
-        ax1.plot(c.load_N, c.velocity_m_s * 1e3, "o-", ms=3, color=f"C{i}", label=label)
-        ax2.plot(c.load_N, c.efficiency * 100, "s-", ms=3, color=f"C{i}", label=label)
-    ax1.set_xlabel("load force (N)")
-    ax1.set_ylabel("steady slider velocity (mm/s)")
-    level = {"exact": "exact level", "fast": "averaged level"}.get(chars[0].accuracy, "")
-    ax1.set_title("speed-thrust" + (f", {title}" if title else "")
-                  + f", F_P = {chars[0].op.preload_N:g} N, {level}")
+        ax2.plot(c.load_N, c.efficiency * 100, "s-", ms=3, color=f"C{i}",
+                 label=f"{c.op.voltage_V:g} V")
     ax2.set_xlabel("load force (N)")
     ax2.set_ylabel("efficiency, output / electrical input (%)")
     ax2.set_title("efficiency")
-    for ax in (ax1, ax2):
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
+    ax2.grid(True, alpha=0.3)
+    ax2.legend(fontsize=8)
     return save(fig, path)
+
+
+def speed_thrust_axes(ax, chars: Sequence[Characteristic], title: str = "") -> dict:
+    """Draw the speed-thrust curves of ``chars`` on ``ax`` with their stall forces and creep
+    bands.
+
+    Returns
+    -------
+    dict
+        The drawn artists by kind: ``"curves"`` (one line per voltage), ``"stall"`` (one
+        marker per finite stall force, its x data the stall force in N), ``"creep"`` (one
+        shaded span per creep band, from ``creep_from_N`` to the stall force) and
+        ``"creep_speed"`` (one dotted line per finite creep speed, in mm/s, on the side of
+        the motor's own direction).
+    """
+    drawn: dict[str, list] = {"curves": [], "stall": [], "creep": [], "creep_speed": []}
+    for i, c in enumerate(chars):
+        colour = f"C{i}"
+        drawn["curves"] += ax.plot(c.load_N, c.velocity_m_s * 1e3, "o-", ms=3, color=colour,
+                                   label=f"{c.op.voltage_V:g} V")
+        stall = float(c.stall_force_N)
+        if np.isfinite(stall):
+            drawn["stall"] += ax.plot([stall], [0.0], "X", ms=10, color=colour, mec="k",
+                                      label=f"stall {stall:.3g} N", zorder=5)
+        lo = float(c.creep_from_N)
+        if np.isfinite(lo) and np.isfinite(stall):
+            drawn["creep"].append(ax.axvspan(
+                min(lo, stall), max(lo, stall), color=colour, alpha=0.15,
+                label=f"creep band {min(lo, stall):.3g} to {max(lo, stall):.3g} N"))
+        creep = float(c.creep_speed_m_s)
+        if np.isfinite(creep) and np.isfinite(lo):
+            sign = -1.0 if c.no_load_velocity_m_s < 0 else 1.0  # a motor driving backward
+            drawn["creep_speed"].append(ax.axhline(
+                sign * creep * 1e3, color=colour, ls=":", lw=1,
+                label=f"creep speed {creep * 1e3:.2g} mm/s"))
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.set_xlabel("load force (N)")
+    ax.set_ylabel("steady slider velocity (mm/s)")
+    level = {"exact": "exact level", "fast": "averaged level"}.get(chars[0].accuracy, "")
+    ax.set_title("speed-thrust" + (f", {title}" if title else "")
+                 + f", F_P = {chars[0].op.preload_N:g} N, {level}", fontsize=10)
+    note = ("shaded: the slider creeps, slower than\nthe creep speed, up to the stall (X)"
+            if drawn["creep"] else None)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7, title=note, title_fontsize=7)
+    return drawn
 
 
 def branch_diagram(params: MotorParams, voltages_V, preload_N: float, path: Path, *,
@@ -113,7 +159,9 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
                   out: Path, quick: bool, say: Callable[[str], None] = lambda _m: None,
                   table: Callable[[list, list], list[str]] | None = None,
                   damping_from: dict[str, str] | None = None,
-                  cites: dict[str, str] | None = None):
+                  cites: dict[str, str] | None = None,
+                  voltages_V: Sequence[float] = CHARACTERISTIC_VOLTAGES_V,
+                  preload_N: float = CHARACTERISTIC_PRELOAD_N):
     """Markdown lines and JSON data of "Motor characteristics" for each parameter set.
 
     Parameters
@@ -140,19 +188,24 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
         commands that reproduce its numbers with them (one ``lusm characteristic --frequency
         F`` for every set would run Table 2's). A set without an entry is cited with no
         command.
+    voltages_V : sequence of float
+        Drive amplitudes of the speed-thrust curves (V), one curve each.
+    preload_N : float
+        Preload of the speed-thrust curves (N) and of the branch diagram.
     """
     from validation.summaries import borrowed_damping, table2_damping
 
     volts = np.arange(50.0, 451.0, 200.0 if quick else 50.0)
     loads = np.arange(10.0, 27.0, 8.0 if quick else 2.0)
-    md = _intro(volts, loads)
+    curves = tuple(float(v) for v in voltages_V)
+    md = _intro(volts, loads, curves, preload_N, "table2" in params)
     origins = {name: (damping_from or {}).get(name) or (
         table2_damping() if name == "table2" else borrowed_damping(name)) for name in params}
     data: dict = {}
     rows = []
     for name, p in params.items():
         data[name], set_rows = _set_data(name, p, frequencies_Hz[name], volts, loads, out, say,
-                                         origins[name])
+                                         origins[name], curves, preload_N)
         rows += set_rows
     md += (table or (lambda h, r: []))(
         ["set", "V0 (V)", "no-load velocity (mm/s)", "stall force (N)",
@@ -161,14 +214,15 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
     md.append("")
     for name, d in data.items():
         cite = cites.get(name) if cites is not None else None
-        md += _set_markdown(name, d, params[name], origins[name], cite, volts, loads)
+        md += _set_markdown(name, d, params[name], origins[name], cite, volts, loads, curves,
+                            preload_N)
     if "table2" in params:
         grid = np.arange(50.0, 451.0, 50.0 if quick else 25.0)
-        fig_b = branch_diagram(params["table2"], grid, CHARACTERISTIC_PRELOAD_N,
+        fig_b = branch_diagram(params["table2"], grid, preload_N,
                                out / "figures" / "table2_branches.png",
                                frequency_Hz=frequencies_Hz["table2"])
         say("branch diagram")
-        md += ["### Coexisting steady states (Table 2, 14 N)", "",
+        md += [f"### Coexisting steady states (Table 2, {preload_N:g} N)", "",
                "Every steady state against voltage (exact level): where two stable branches "
                "coexist the motor's speed depends on its history (hysteresis); the ringed one "
                "is reached from rest.", "", f"![branches](figures/{fig_b.name})", ""]
@@ -177,14 +231,22 @@ def motor_section(params: dict[str, MotorParams], frequencies_Hz: dict[str, floa
     return md, data
 
 
-def _intro(volts: np.ndarray, loads: np.ndarray) -> list[str]:
-    """The section's heading and its paragraph on what is computed and how."""
+def _intro(volts: np.ndarray, loads: np.ndarray, curves: Sequence[float], preload_N: float,
+           table2: bool) -> list[str]:
+    """The section's heading and its paragraph on what is computed and how (``table2``: the
+    report has Table 2's set, whose coupling is the paper's)."""
+    coupling = ("Table 2's set runs with the paper's coupling (eta_T F_T), every other set "
+                "with the work-consistent one (-phi_B(l) F_T; `docs/contact.md` 2.3)"
+                if table2 else "The stator's set runs with the work-consistent tangential "
+                "coupling (-phi_B(l) F_T; `docs/contact.md` 2.3)")
     return ["## 5. Motor characteristics", "",
-            "What each parameter set does as a motor, from the steady-state engine "
+            ("What each parameter set does as a motor" if table2 else
+             "What this stator does as a motor")
+            + ", from the steady-state engine "
             "(`docs/steady.md`): no transient is run except where the engine cannot decide. "
             "Speed-thrust and efficiency at "
-            + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
-            + f" V and {CHARACTERISTIC_PRELOAD_N:g} N (`lusm characteristic`, with the options "
+            + ", ".join(f"{v:g}" for v in curves)
+            + f" V and {preload_N:g} N (`lusm characteristic`, with the options "
             "each set's subsection cites: the exact level, the finite-mass motor from rest. "
             "The averaged level, `--accuracy fast`, puts the stall force where the averaged "
             "slider stops, while the full model's still creeps forward: up to several times "
@@ -194,14 +256,14 @@ def _intro(volts: np.ndarray, loads: np.ndarray) -> list[str]:
             "breaking the guide's ideal stiction; docs/steady.md); settled stick-slip maps "
             f"over {volts[0]:g}-{volts[-1]:g} V x {loads[0]:g}-{loads[-1]:g} N (`lusm map`: "
             "exact level, the branch reached from rest). Efficiency is the mechanical output "
-            "power over the electrical input power (motional current times voltage). Table "
-            "2's set runs with the paper's coupling (eta_T F_T), every other set with the "
-            "work-consistent one (-phi_B(l) F_T; `docs/contact.md` 2.3); each set's damping "
+            "power over the electrical input power (motional current times voltage). "
+            + coupling + "; each set's damping "
             "and coupling are named below (the damping sets the scale of every speed).", ""]
 
 
 def _set_data(name: str, p: MotorParams, f: float, volts: np.ndarray, loads: np.ndarray,
-              out: Path, say: Callable[[str], None], origin: str) -> tuple[dict, list]:
+              out: Path, say: Callable[[str], None], origin: str, curves: Sequence[float],
+              preload_N: float) -> tuple[dict, list]:
     """One set's characteristics (exact level) and steady map, their figures, its JSON data
     and its rows of the section's table."""
     from contact.characteristic import characteristic
@@ -215,9 +277,8 @@ def _set_data(name: str, p: MotorParams, f: float, volts: np.ndarray, loads: np.
     coupling, coupling_why = default_coupling(p)
     # the exact level, as the command's default: the averaged one puts the stall force where
     # the averaged slider stops, well below the finite-mass motor's
-    chars = [characteristic(p, v, CHARACTERISTIC_PRELOAD_N, frequency_Hz=f,
-                            coupling=coupling, accuracy="exact")
-             for v in CHARACTERISTIC_VOLTAGES_V]
+    chars = [characteristic(p, v, preload_N, frequency_Hz=f, coupling=coupling,
+                            accuracy="exact") for v in curves]
     say(f"{name} characteristics")
     fig_c = characteristic_figure(chars, out / "figures" / f"{name}_characteristic.png",
                                   title=name)
@@ -271,7 +332,8 @@ def limits_table(limits_by_voltage: dict) -> list[str]:
 
 
 def _set_markdown(name: str, d: dict, p: MotorParams, origin: str, cite: str | None,
-                  volts: np.ndarray, loads: np.ndarray) -> list[str]:
+                  volts: np.ndarray, loads: np.ndarray, curves: Sequence[float],
+                  preload_N: float) -> list[str]:
     """One set's subsection: its damping and coupling, the commands that reproduce it
     (``cite``: the options naming the set, None for no command), its map and figures."""
     from validation.summaries import coupling_line, damping_line
@@ -283,13 +345,13 @@ def _set_markdown(name: str, d: dict, p: MotorParams, origin: str, cite: str | N
     if cite is not None:
         opts = f" {cite}" if cite else ""
         md += [f"Reproduce: `lusm characteristic{opts} --voltage V0 --preload "
-               f"{CHARACTERISTIC_PRELOAD_N:g}` (V0 = "
-               + ", ".join(f"{v:g}" for v in CHARACTERISTIC_VOLTAGES_V)
+               f"{preload_N:g}` (V0 = "
+               + ", ".join(f"{v:g}" for v in curves)
                + f"), `lusm map{opts} --voltages {_grid(volts)} --preloads "
                f"{_grid(loads)}`.", ""]
     lim = limits_table(d.get("limits") or {})
     if lim:
-        md += [f"Physical limits at no load, {CHARACTERISTIC_PRELOAD_N:g} N (value, and its "
+        md += [f"Physical limits at no load, {preload_N:g} N (value, and its "
                "share of the ceramic's limit; bold beyond it; `lusm simulate --steady` gives "
                "them with `limits`; docs/designer.md, 'Physical limits'):", ""] + lim
     return md + ["Map: " + ", ".join(f"{n} {c}" for c, n in mp["counts"].items() if n)

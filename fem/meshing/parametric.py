@@ -85,6 +85,10 @@ class ParametricStator(PlateStator):
         Through holes ``(x, y, diameter)`` (m), each inside the plate body.
     mesh_size_m : float or None
         Target element edge (m); None: ``min(length_m, width_m) / 8``.
+    tip_material : str
+        The tip's own material, a name of :data:`fem.material.TIP_MATERIALS` (isotropic,
+        not piezoelectric: ``"alumina"``, ``"steel"``); ``""``: the plate's ceramic,
+        unelectroded.
     """
 
     tip_length_m: float = 0.0
@@ -92,9 +96,16 @@ class ParametricStator(PlateStator):
     chamfer_m: float = 0.0
     holes_m: tuple[tuple[float, float, float], ...] = ()
     mesh_size_m: float | None = None
+    tip_material: str = ""
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        if self.tip_material:
+            from fem.material import tip_material
+
+            object.__setattr__(self, "tip_material", tip_material(self.tip_material).name)
+            if not self.tip_length_m > 0.0:
+                raise ValueError("ParametricStator.tip_material needs a tip (tip_length_m > 0)")
         length, width, gap = self.length_m, self.width_m, self.electrode_gap_m
         for name in ("tip_length_m", "tip_width_m", "chamfer_m"):
             v = getattr(self, name)
@@ -200,7 +211,8 @@ class ParametricStator(PlateStator):
         return {"tip_length_mm": self.tip_length_m * mm, "tip_width_mm": self.tip_width_m * mm,
                 "chamfer_mm": self.chamfer_m * mm,
                 "holes_mm": [[v * mm for v in hole] for hole in self.holes_m],
-                "mesh_size_mm": self.element_size_m * mm}
+                "mesh_size_mm": self.element_size_m * mm,
+                **({"tip_material": self.tip_material} if self.tip_material else {})}
 
     def features_text(self) -> str:
         """The features in millimetres for headers, e.g. ``' + tip 1 mm (2 mm wide)'``."""
@@ -208,7 +220,8 @@ class ParametricStator(PlateStator):
         parts = []
         if self.tip_length_m > 0.0:
             parts.append(f" + tip {self.tip_length_m * mm:g} mm "
-                         f"({self.tip_width_m * mm:g} mm wide)")
+                         f"({self.tip_width_m * mm:g} mm wide"
+                         + (f", {self.tip_material}" if self.tip_material else "") + ")")
         if self.chamfer_m > 0.0:
             parts.append(f", chamfers {self.chamfer_m * mm:g} mm")
         if self.holes_m:
@@ -594,3 +607,27 @@ def _oriented_cells(gmsh, index: np.ndarray, xy: np.ndarray) -> dict | None:
                 return None
             cells[k].append(b if sign > 0 else b[:, ::-1])
     return cells
+
+
+def tip_of(stator) -> tuple[object, float] | None:
+    """``(material, plate_length_m)`` of a stator whose tip is of its own material
+    (:class:`fem.material.ElasticMaterial`; the tip's cells are those beyond ``y =
+    plate_length_m``), None for any other stator (its tip, if any, is the ceramic)."""
+    name = getattr(stator, "tip_material", "")
+    if not name:
+        return None
+    from fem.material import tip_material
+
+    return tip_material(name), float(stator.length_m)
+
+
+def tip_elements(mesh: PlateMesh, stator) -> tuple[object, np.ndarray] | None:
+    """``(material, elements)`` of a planform mesh's tip of its own material
+    (:func:`tip_of`): the unelectroded elements whose centre lies beyond the plate body's
+    end; None where the tip, if any, is the plate's ceramic."""
+    found = tip_of(stator)
+    if found is None:
+        return None
+    material, length = found
+    centre_y = mesh.points_m[1, mesh.quads].mean(axis=0)
+    return material, np.flatnonzero((centre_y > length) & (mesh.electrode == 0))

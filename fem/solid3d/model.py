@@ -75,7 +75,7 @@ import scipy.sparse.linalg as sla
 from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
-from fem.material import PiezoMaterial, get_material
+from fem.material import EPS0_F_M, PiezoMaterial, get_material
 from fem.meshing.mesh import (
     MAX_LIBRARY_BRICKS_3D,
     PlateMesh,
@@ -615,7 +615,8 @@ def build_solid_model(
             "quadrants touch and form one conductor"
         )
     mesh, levels = _solid_mesh(stator, planform, refine, layers, edge_grading, grid_lines)
-    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element)
+    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element,
+                                                   _tip_cells(mesh, stator))
     electrode_dofs, bottom = _electrode_dofs(stator, planform, basis, levels)
     return SolidPlateModel(
         stator=stator,
@@ -677,8 +678,37 @@ def _electrode_dofs(stator: PlateStator, planform, basis,
     return electrode_dofs, bottom
 
 
+def _tip_cells(mesh, stator) -> tuple[object, np.ndarray] | None:
+    """``(material, cells)`` of a tip of its own material (:func:`fem.meshing.parametric.
+    tip_of`): the bricks whose centre lies beyond the plate body's end; None otherwise."""
+    from fem.meshing.parametric import tip_of
+
+    found = tip_of(stator)
+    if found is None:
+        return None
+    material, length = found
+    return material, np.flatnonzero(mesh.p[1, mesh.t].mean(axis=0) > length)
+
+
+def _cell_constants(material: PiezoMaterial, n_cells: int, tip) -> tuple[np.ndarray, ...]:
+    """Per-brick ``c^E`` (nel, 6, 6), ``e`` (nel, 3, 6), ``eps^S`` (nel, 3, 3) and ``rho``
+    (nel,): the ceramic's, and in the ``tip`` cells (``(ElasticMaterial, cells)``) the tip
+    material's, without piezoelectric coupling."""
+    c = np.broadcast_to(material.cE_Pa, (n_cells, 6, 6)).copy()
+    e = np.broadcast_to(material.e_C_m2, (n_cells, 3, 6)).copy()
+    eps = np.broadcast_to(material.epsS_F_m, (n_cells, 3, 3)).copy()
+    rho = np.full(n_cells, float(material.rho_kg_m3))
+    if tip is not None:
+        tip_mat, cells = tip
+        c[cells] = tip_mat.stiffness_Pa()
+        e[cells] = 0.0
+        eps[cells] = EPS0_F_M * tip_mat.relative_permittivity * np.eye(3)
+        rho[cells] = tip_mat.rho_kg_m3
+    return c, e, eps, rho
+
+
 def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
-                   element: str = DEFAULT_ELEMENT):
+                   element: str = DEFAULT_ELEMENT, tip=None):
     """Piezoelastic matrices of a brick mesh, before any electrical or mechanical constraint.
 
     Parameters
@@ -690,6 +720,9 @@ def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
         2 (quadratic) or 1 (trilinear).
     element : str
         ``'hex20'`` or ``'hex27'`` (order 2).
+    tip : tuple, optional
+        ``(ElasticMaterial, cells)``: bricks of a tip of its own material
+        (:func:`_tip_cells`), isotropic and without piezoelectric coupling.
 
     Returns
     -------
@@ -710,13 +743,21 @@ def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
     vals = np.stack([np.asarray(basis.basis[i][0]) for i in range(len(basis.basis))])
     dx = basis.dx  # (nel, nqp) quadrature weights times Jacobian
     B = _voigt_B(grads)  # (6, 3nloc, nel, nqp)
-    cB = np.einsum("IJ,Jaeq->Iaeq", mat.cE_Pa, B)
+    if tip is None:  # one material: its constants broadcast over the bricks
+        cB = np.einsum("IJ,Jaeq->Iaeq", mat.cE_Pa, B)
+        eB = np.einsum("kJ,Jaeq->kaeq", mat.e_C_m2, B)  # (3, 3nloc, nel, nqp): e S(v)
+        epsg = np.einsum("kl,bleq->kbeq", mat.epsS_F_m, grads)
+        rho = mat.rho_kg_m3
+    else:  # per-brick constants: the tip's bricks are of their own material
+        c_e, e_e, eps_e, rho_e = _cell_constants(mat, dx.shape[0], tip)
+        cB = np.einsum("eIJ,Jaeq->Iaeq", c_e, B)
+        eB = np.einsum("ekJ,Jaeq->kaeq", e_e, B)
+        epsg = np.einsum("ekl,bleq->kbeq", eps_e, grads)
+        rho = rho_e[None, None, :]
     k_loc = np.einsum("Iaeq,Ibeq,eq->abe", B, cB, dx, optimize=True)
-    eB = np.einsum("kJ,Jaeq->kaeq", mat.e_C_m2, B)  # (3, 3nloc, nel, nqp): e S(v)
     kup_loc = np.einsum("kaeq,kbeq,eq->abe", eB, grads.transpose(1, 0, 2, 3), dx, optimize=True)
-    epsg = np.einsum("kl,bleq->kbeq", mat.epsS_F_m, grads)
     kpp_loc = np.einsum("akeq,kbeq,eq->abe", grads, epsg, dx, optimize=True)
-    m_loc = mat.rho_kg_m3 * np.einsum("aeq,beq,eq->abe", vals, vals, dx, optimize=True)
+    m_loc = rho * np.einsum("aeq,beq,eq->abe", vals, vals, dx, optimize=True)
     edofs = basis.element_dofs  # (nloc, nel)
     udofs = np.concatenate([edofs + c * n for c in range(3)])  # (3nloc, nel)
     Kuu = _coo(k_loc, udofs, udofs, (3 * n, 3 * n))

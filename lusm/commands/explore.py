@@ -57,9 +57,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    f"kept for --resume (default {WORKER_TIMEOUT_DEFAULT_S:g} s), in "
                    f"[{limits.WORKER_TIMEOUT_S[0]:g}, {limits.WORKER_TIMEOUT_S[1]:g}] s")
     p.add_argument("--plot", metavar="DIR",
-                   help="write figures (PNG) of the no-load velocity, stall force and L1-B2 split "
-                   "into DIR: maps over length x width (or the first two axes that vary), "
-                   "curves over a single varying axis; a panel or line per material")
+                   help="write figures (PNG) of the no-load velocity, stall force, L1-B2 split "
+                   "(diverging scale, zero contour), peak efficiency and auto drive frequency "
+                   "where the dataset has them into DIR: maps over length x width (or the "
+                   "first two axes that vary), curves over a single varying axis; a panel or "
+                   "line per material")
     p.add_argument("--json", action="store_true", help="print one JSON summary")
     p.add_argument("--force", action="store_true",
                    help="replace an existing FILE.nc (kept as FILE.nc.bak-N) and write into a "

@@ -200,10 +200,9 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
     counts = ", ".join(f"{c} {n}" for c, n in m.counts().items() if n)
     print(f"points: {counts}; wall time {m.wall_time_s:.2f} s ({m.method}"
           + (f", {args.accuracy})" if m.method == "steady" else f", {args.duration:g} s runs)"))
+    _print_non_monotone(m)
     if m.method == "steady":
-        multi = [(float(m.voltages_V[i]), float(m.preloads_N[j]))
-                 for i in range(m.voltages_V.size) for j in range(m.preloads_N.size)
-                 if len(m.branches[i, j]) > 1]
+        multi = [(float(m.voltages_V[i]), float(m.preloads_N[j])) for i, j in m.several_branches()]
         if multi:
             print("several stable steady states (the table shows the one reached from rest): "
                   + ", ".join(f"{v:g} V/{f:g} N" for v, f in multi))
@@ -215,3 +214,21 @@ def _print(args: argparse.Namespace, motor: Motor, m) -> None:
             print(f"undecided by the steady engine (creep, no periodic tip orbit): {undecided} "
                   f"point(s), taken from {fallback_duration_s(args.duration, freq):g} s "
                   "transients (see --json)")
+
+
+def _print_non_monotone(m) -> None:
+    """Say the neighbours whose speeds run against the trend (a higher voltage slower, a
+    higher preload faster, by more than :data:`contact.maps.NON_MONOTONE_FACTOR` times): creep
+    level or another branch, not a trend (``--plot`` joins them with red dashes)."""
+    from contact.maps import NON_MONOTONE_FACTOR
+
+    def point(ij) -> str:
+        i, j = ij
+        return (f"{m.voltages_V[i]:g} V/{m.preloads_N[j]:g} N "
+                f"{abs(m.velocity_m_s[i, j]) * 1e3:.3g} mm/s")
+
+    pairs = m.non_monotone_pairs()
+    if pairs:
+        print(f"speeds against the trend (x{NON_MONOTONE_FACTOR:g} or more between "
+              "neighbours; creep level or another branch): "
+              + "; ".join(f"{point(a)} vs {point(b)}" for a, b in pairs))
