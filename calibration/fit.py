@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
+from scipy.stats import qmc
 
 from calibration.measurements import MeasurementError, Measurements
 from calibration.model import predict
@@ -54,6 +55,14 @@ TOLERANCE = 1e-6
 """Relative change of chi-square and of the scaled parameters that ends a start."""
 SCREEN_PER_PARAMETER = 8
 """Points per fitted parameter drawn in the box to choose the starts after the file's."""
+SCREEN_FRICTION_LOG2 = 7
+"""log2 of the most quasi-random (Sobol) points of the friction screen: 128, reached with
+two friction parameters (one alone gets 32: ``2 ** (3 + 2 k)``)."""
+SCREEN_KEEP = 2
+"""Points of least chi-square of the friction screen that start a local fit each."""
+FRICTION = ("mu_s", "mu_d", "a_mu", "b_mu", "mu_sd")
+"""Parameters that move a steady speed across the dead zone's edge: the speed steps between
+zero and a finite value in them, so a gradient fit stops on those steps."""
 PROFILE_STEPS = (1.0, 2.0, 4.0)
 """Steps along a profile, in standard errors (then the bound)."""
 
@@ -256,20 +265,42 @@ def _covariance(jac: np.ndarray, span: np.ndarray) -> tuple[np.ndarray, list[lis
     return cov, blind
 
 
+def _in_box(p: FitParameter, r: float) -> float:
+    """The value (SI) at share ``r`` of a parameter's box, log-uniform for a positive range
+    of more than a decade."""
+    if p.lower > 0 and p.upper / p.lower > 10:
+        return p.lower * (p.upper / p.lower) ** r
+    return p.lower + r * (p.upper - p.lower)
+
+
 def _draw(problem: _Problem, count: int, rng: np.random.Generator) -> list[np.ndarray]:
-    """``count`` scaled points drawn in the box, log-uniform for a positive range of more
-    than a decade."""
-    out = []
-    for _ in range(count):
-        v = []
-        for p in problem.meas.parameters:
-            r = rng.uniform()
-            if p.lower > 0 and p.upper / p.lower > 10:
-                v.append(p.lower * (p.upper / p.lower) ** r)
-            else:
-                v.append(p.lower + r * (p.upper - p.lower))
-        out.append(problem.scaled(v))
-    return out
+    """``count`` scaled points drawn in the box (:func:`_in_box`)."""
+    return [problem.scaled([_in_box(p, rng.uniform()) for p in problem.meas.parameters])
+            for _ in range(count)]
+
+
+def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int) -> list[np.ndarray]:
+    """The :data:`SCREEN_KEEP` points of least chi-square among (at most
+    ``2 ** SCREEN_FRICTION_LOG2``) Sobol points over the fitted :data:`FRICTION` parameters'
+    box (:func:`_in_box`), every other parameter held at ``u_best``; none without a speed
+    set or a fitted friction parameter. The speeds' dead-zone steps leave a narrow valley
+    of chi-square in the friction law (``a_mu`` against ``b_mu``) that random starts in the
+    whole box seldom land in, while the smooth parameters are fixed near enough by the
+    local fit."""
+    params = problem.meas.parameters
+    which = [i for i, p in enumerate(params) if p.name in FRICTION]
+    if not which or not any(s.kind == "speed" for s in problem.meas.sets):
+        return []
+    log2 = min(SCREEN_FRICTION_LOG2, 3 + 2 * len(which))
+    points = qmc.Sobol(len(which), seed=seed).random_base2(log2)
+    drawn = []
+    for row in points:
+        v = problem.values(u_best)
+        for j, i in enumerate(which):
+            v[i] = _in_box(params[i], float(row[j]))
+        drawn.append(problem.scaled(v))
+    chi2 = [float(r @ r) for r in map(problem.residuals, drawn)]
+    return [drawn[k] for k in np.argsort(chi2)[:SCREEN_KEEP]]
 
 
 def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
@@ -385,7 +416,7 @@ def _identifiability(names: tuple[str, ...], blind: list[list[int]], corr: np.nd
 
 def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consistent",
               accuracy: str = "exact", starts: int = 3, seed: int = 0,
-              profile: tuple[str, ...] | None = None,
+              profile: tuple[str, ...] | None = None, screen: bool = True,
               progress: Callable[[str], None] | None = None) -> CalibrationResult:
     """Fit the measurement file's parameters to its data (module docstring).
 
@@ -405,6 +436,10 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
         Number of starts (the file's, then ``starts - 1`` drawn with ``seed``), >= 1.
     profile : tuple of str, optional
         Parameters whose profile likelihood is traced; default all.
+    screen : bool
+        Whether a Sobol screen of the friction parameters (:func:`_friction_screen`), the
+        others held at the best start's fit, adds :data:`SCREEN_KEEP` starts after the
+        others (only with speed data).
     progress : callable, optional
         Called with a short line as each stage starts.
 
@@ -421,6 +456,10 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
         say(f"start {k} of {max(1, starts)}")
         fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
+    if screen:
+        say("friction screen")
+        for u0 in _friction_screen(problem, min(fits, key=lambda f: f[1].cost)[1].x, seed):
+            fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
     best = min(fits, key=lambda f: f[1].cost)[1]
     chi2 = 2.0 * float(best.cost)
     cov, blind = _covariance(best.jac, problem.span)
