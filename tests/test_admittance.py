@@ -187,6 +187,7 @@ def test_a_residual_mode_is_never_below_the_cut(model):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_a_band_beyond_what_the_mesh_resolves_is_said_so(capsys):
     assert main(["admittance", "--f-min", "1e4", "--f-max", "1e6", "--json"]) == 0
     assert "frequencies that high are not converged" in capsys.readouterr().err

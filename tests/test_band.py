@@ -108,6 +108,7 @@ def test_empty_band_and_bad_band():
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_designer_stator_3d_neighbours(tmp_path):
     """The issue's stator: 3D modes at 42.8 and 51.2 kHz around the 47.84 kHz pair."""
     from fem.stator_file import load_stator

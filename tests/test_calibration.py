@@ -187,6 +187,7 @@ def test_the_stator_file_reads_back_as_the_fitted_set(tmp_path, capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_the_friction_screen_lands_in_the_dead_zone_valley(tmp_path):
     """Every other speed of the example (Table 2, 3 % noise, paper's coupling): the local
     fit from the file's start (0.10, 3e5) stops on the dead zone's steps; the Sobol screen

@@ -15,6 +15,7 @@ from tests.conftest import ROOT
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_an_edit_of_the_state_layout_recompiles_the_event_kernel(tmp_path):
     """Swapping two scalar indices in contact/state.py (a copy of the package) kept serving
     the event kernel's old machine code from the disk cache: the velocity of the old layout

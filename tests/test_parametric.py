@@ -418,6 +418,7 @@ def test_holes_over_the_gap_strips_shorten_the_electrodes_shared_edges():
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_holes_that_2d_gets_wrong_are_said_so(tmp_path, capsys):
     """The plane-stress model is softer than 3D along a hole's rim, by far more than its
     0.05 % goal against 3D for a 1 mm hole at the centre of the 3 mm plate; a parametric stator

@@ -33,6 +33,7 @@ def report(tmp_path_factory) -> tuple[Path, dict]:
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_every_section_is_present(report):
     out, doc = report
     for s in SECTIONS:
@@ -49,6 +50,7 @@ def test_every_section_is_present(report):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_every_figure_is_a_valid_non_blank_png(report):
     from matplotlib.image import imread
 
@@ -64,6 +66,7 @@ def test_every_figure_is_a_valid_non_blank_png(report):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_hard_cases_are_stable_or_fail_clearly_and_conserve_energy(report):
     _, doc = report
     rows = doc["hard_cases"]
@@ -79,6 +82,7 @@ def test_hard_cases_are_stable_or_fail_clearly_and_conserve_energy(report):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_report_numbers_match_the_cli(report, capsys, monkeypatch):
     from lusm.cli import main
 

@@ -57,6 +57,7 @@ def _cited(md: str, command: str) -> list[str]:
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_every_section_and_figure_is_there(design_report):
     from matplotlib.image import imread
 
@@ -77,6 +78,7 @@ def test_every_section_and_figure_is_there(design_report):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_design_report_numbers_are_the_commands_numbers(design_report, capsys):
     from lusm.cli import main
 
@@ -112,6 +114,7 @@ def test_a_difference_below_the_printed_decimals_keeps_its_size_and_sign():
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_the_report_repeats_the_2d_validity_warning(design_report):
     """A stator whose gap exceeds thickness/6 got the 2D validity warning on stderr only: the
     report, which outlives the run, showed its 2D rows without a word."""
@@ -178,6 +181,7 @@ def test_the_mode_pictures_are_drawn_with_the_signals_held(monkeypatch, tmp_path
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_the_admittance_command_the_report_names_gives_its_numbers(design_report, capsys):
     """The report named `lusm admittance ... --f-min 50774 --f-max 74098` but used 801 points
     and the unrounded band: the command's f_s and f_p differed in the 8th digit. It names
@@ -247,6 +251,7 @@ def test_a_report_on_plate_options_cites_commands_that_carry_them(plate_report, 
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_a_report_on_a_stator_file_cites_that_file_as_given(design_report):
     """With --geometry FILE every cited stator command names FILE, the path as typed."""
     md = (design_report[0] / "index.md").read_text()

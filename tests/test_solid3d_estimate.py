@@ -15,6 +15,7 @@ docs."""
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_the_estimate_brackets_the_error_against_a_finer_mesh():
     """On the paper's plate, the pair refine 2 / 3, layers 1, grading 1 / 2 (the default
     family one step coarser) against refine 4, layers 2, grading 3: every estimated error
@@ -86,6 +87,7 @@ def designer_toml(width_mm: float, mesh: str = "") -> str:
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_3d_tune_agrees_with_modes_3d_on_the_tuned_plate(monkeypatch, capsys):
     """`tune_plate(model='3d')` starts from the 2D tuning and takes a few 3D solves on the
     fine mesh of `lusm modes --model 3d`'s default; that command on the tuned plate gives

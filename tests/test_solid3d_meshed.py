@@ -127,6 +127,7 @@ def test_example_3d_shift_follows_2d(comparisons, name):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark
 def test_graded_layers_bring_a_narrow_gap_planform_towards_2d(capsys):
     """A planform mesh across a 0.1 mm gap, extruded in three 1 mm layers: the layers are
     25 x the gap and B2's k_eff came out 0.082 against 0.106 in 2D, without a word, and
