@@ -303,12 +303,12 @@ def test_the_report_computes_at_the_voltages_and_preload_it_is_given(plate_repor
 def test_a_drive_that_excites_no_B2_is_said_in_the_report(drive, named):
     """Electrodes 1 and 2 in phase give A_b at roundoff: the report's zero speeds come with a
     paragraph at its top (stderr is gone when the report is read); a diagonal pair gets none."""
-    from fem.geometry import PlateStator
     from rom.table2 import table2
     from validation.report_design import _unexcited_note
+    from validation.summaries import unexcited_modes
 
     params = table2().with_(A_b=1e-15 if named else table2().A_b)
-    note = _unexcited_note(params, PlateStator(drive_electrodes=drive))
+    note = _unexcited_note(unexcited_modes(params, drive))
     if named is None:
         assert note == []
     else:

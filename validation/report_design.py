@@ -450,7 +450,8 @@ def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} in {wall:.0f} s. Every "
             "number here is also in `report.json`; `lusm report` without a stator reports on "
             "the paper's motor.", ""]
-    head += _unexcited_note(params, choice.stator)
+    unexcited = unexcited_modes(params, choice.stator.drive_electrodes)
+    head += _unexcited_note(unexcited)
     md = "\n".join(head + md1 + md2 + md3 + md4 + md5)
     doc = {"quick": quick, "wall_time_s": wall, "stator": _describe(choice.stator,
                                                                      choice.material, label),
@@ -458,14 +459,13 @@ def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
                      "frequency_Hz": freq, "frequency_from": drive.frequency},
            "modes": d1, "parameters": d2, "admittance": d3, "speed_vs_voltage": d4,
            "motor_characteristics": d5,
-           "warnings": unexcited_modes(params, choice.stator.drive_electrodes)}
+           "warnings": unexcited}
     return write_report_files(out, md, doc, "LUSM design report")
 
 
-def _unexcited_note(params, stator) -> list[str]:
-    """A bold paragraph at the top of the report when the drive excites no L1 or no B2
-    (:func:`validation.summaries.unexcited_modes`): the speed tables below are then zeros,
-    and the report, which outlives the run's stderr, says why."""
-    said = unexcited_modes(params, stator.drive_electrodes)
+def _unexcited_note(said: list[str]) -> list[str]:
+    """A bold paragraph at the top of the report for each of ``said``, the drive's
+    :func:`validation.summaries.unexcited_modes` (it excites no L1 or no B2): the speed
+    tables below are then zeros, and the report, which outlives the run's stderr, says why."""
     return [f"**Warning: {text}.** The speeds and forces below are zero for that reason."
             for text in said] + ([""] if said else [])
