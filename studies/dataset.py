@@ -158,7 +158,8 @@ def _motor_provenance(study: Study) -> dict[str, str]:
                "dt_s=the largest step up to 1e-07 s dividing the drive period "
                "(lusm.options.time_step_s, as lusm simulate)")
             + ", from rest (a point that did not settle is named in status); "
-            "stall_force, peak_efficiency and loaded velocity need method = \"steady\" (NaN)"),
+            "stall_force, peak_efficiency, peak_power and loaded velocity need method = "
+            "\"steady\" (NaN)"),
         "frequency_rule": "auto" if study.auto_frequency else "fixed (coordinate frequency)",
         "coupling": "consistent (auto: the work-consistent tangential coupling of every set "
                     "that is not Table 2's, contact.model.default_coupling; docs/contact.md "

@@ -112,6 +112,7 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "no_load_velocity": ("m/s", "steady slider velocity without load"),
     "stall_force": ("N", "load at which the slider stops"),
     "peak_efficiency": ("1", "largest mechanical/electrical efficiency along the characteristic"),
+    "peak_power": ("W", "largest mechanical power v F along the characteristic"),
     "motion_class": ("", "stick/slip/separation class of the unloaded steady state "
                          "(lusm simulate's)"),
     "velocity": ("m/s", "steady slider velocity at the point's load"),

@@ -25,7 +25,8 @@ FE_SCALARS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff_L1", 
 """Per-geometry numbers of a part file (Hz, or 1 for k_eff)."""
 
 
-MOTOR_ARRAYS = ("no_load_velocity", "stall_force", "peak_efficiency", "motion_class")
+MOTOR_ARRAYS = ("no_load_velocity", "stall_force", "peak_efficiency", "peak_power",
+                "motion_class")
 """Per-drive-point answers without the load dimension."""
 
 
@@ -70,7 +71,8 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     """The motor's answer at one drive triple: the ONE place the contact model is called.
 
     Returns ``no_load_velocity`` (m/s), ``stall_force`` (N), ``peak_efficiency`` (-),
-    ``motion_class`` (str) and ``velocity`` (m/s, one per load of ``drive.loads_N``). The
+    ``peak_power`` (W, the largest v F of the 21-load characteristic), ``motion_class``
+    (str) and ``velocity`` (m/s, one per load of ``drive.loads_N``). The
     coupling is :func:`contact.model.default_coupling`'s: work-consistent for these FE sets.
 
     ``solver.method == "steady"``: the steady state from rest (:func:`contact.steady.engine.
@@ -107,10 +109,13 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
             at.update(zip(map(float, loaded.load_N), map(float, loaded.velocity_m_s),
                           strict=True))
         eff = np.asarray(curve.efficiency, dtype=float)
+        power = np.asarray(curve.load_N, dtype=float) * np.asarray(curve.velocity_m_s,
+                                                                   dtype=float)
         motion = motion_class(res.from_rest, res.velocity_m_s)
         return {"no_load_velocity": float(res.velocity_m_s),
                 "stall_force": float(curve.stall_force_N),
                 "peak_efficiency": float(np.nanmax(eff)) if np.isfinite(eff).any() else math.nan,
+                "peak_power": float(np.nanmax(power)) if np.isfinite(power).any() else math.nan,
                 "motion_class": motion,
                 "velocity": np.array([at[float(f)] for f in drive.loads_N], dtype=float)}
     from contact.simulate import simulate
@@ -123,6 +128,7 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     v0 = float(r.steady.velocity_m_s)
     velocity = np.array([v0 if load == 0.0 else math.nan for load in drive.loads_N])
     return {"no_load_velocity": v0, "stall_force": math.nan, "peak_efficiency": math.nan,
+            "peak_power": math.nan,
             "motion_class": r.steady.motion, "velocity": velocity,
             "settled": bool(r.steady.settled)}
 

@@ -1,0 +1,266 @@
+"""The search: optuna's TPE sampler asked in batches, the designs evaluated on dask.
+
+Each batch is as many designs as the cluster has workers. The sampler of batch ``b`` is a
+fresh :class:`optuna.samplers.TPESampler` seeded with ``(seed, b)``, given every evaluation
+of the batches before it (:func:`ask_batch`): the designs a batch asks for depend only on the
+seed and on what was evaluated before, so a run resumed from its parts asks for the same
+designs as the uninterrupted run, and gives the same result.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import uuid
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from studies.optimize.metrics import evaluation_metrics
+from studies.optimize.problem import Problem, design_values
+from studies.optimize.store import Record, Store
+from studies.task import TASK_EXTRAS
+
+Evaluator = Callable[[Any, int], dict]
+"""``evaluate(study, 0) -> outputs``: :func:`studies.task.compute_geometry` by default; a
+test gives an analytic function of the same arrays."""
+
+
+@dataclass(frozen=True)
+class OptimizeResult:
+    """What an optimisation found.
+
+    Attributes
+    ----------
+    path : Path
+        The result dataset (netCDF), one row per evaluation.
+    evaluations : int
+        Designs evaluated in all (this run and the earlier ones it resumed).
+    computed, reused : int
+        Designs this run evaluated, and those taken from an earlier run's parts.
+    feasible : int
+        Evaluations that met every constraint (and computed).
+    best : tuple of int
+        Trial numbers of the best feasible designs: one for one objective, the Pareto front
+        for several; empty when no design is feasible.
+    objectives : tuple of str
+        The objectives' labels (``peak_power``; units in the dataset).
+    workers, batch : int
+        The cluster's workers and the designs asked at once.
+    wall_time_s : float
+        This run's wall time (s).
+    stopped_by : str
+        ``"evaluations"`` (the budget) or ``"wall_time"``.
+    already_complete : bool
+        ``--resume`` found the finished dataset and changed nothing.
+    warnings : tuple of str
+    """
+
+    path: Path
+    evaluations: int
+    computed: int
+    reused: int
+    feasible: int
+    best: tuple[int, ...]
+    objectives: tuple[str, ...]
+    workers: int = 0
+    batch: int = 0
+    wall_time_s: float = 0.0
+    stopped_by: str = "evaluations"
+    already_complete: bool = False
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def infeasible_everywhere(self) -> bool:
+        """True when no evaluated design met the constraints: there is no optimum."""
+        return not self.best
+
+
+def trial_study(problem: Problem, design: dict[str, Any]):
+    """The one-geometry explore study of ``design`` (its axes the design's values): the same
+    computation as the grid point of ``lusm explore`` at those values."""
+    return replace(problem.study, axes=design_values(problem, design))
+
+
+def _distributions(problem: Problem) -> dict:
+    from optuna.distributions import CategoricalDistribution, FloatDistribution
+
+    out = {}
+    for v in problem.variables:
+        if v.name == "material":
+            out[v.name] = CategoricalDistribution(v.choices)
+        else:
+            out[v.name] = FloatDistribution(v.low, v.high, step=v.step)
+    return out
+
+
+def _frozen(problem: Problem, record: Record, dists: dict):
+    """``record`` as an optuna trial: complete with its objectives and constraint values,
+    failed where an objective could not be computed."""
+    from optuna.trial import TrialState, create_trial
+
+    values, cons = evaluation_metrics(problem, record.outputs, record.design,
+                                      trial_study(problem, record.design))
+    params = {v.name: record.design[v.name] for v in problem.variables}
+    if not all(math.isfinite(x) for x in values + cons):
+        return create_trial(state=TrialState.FAIL, params=params, distributions=dists)
+    return create_trial(values=values, params=params, distributions=dists,
+                        constraints={str(i): c for i, c in enumerate(cons)} if cons else None)
+
+
+def ask_batch(problem: Problem, history: list[Record], index: int, size: int) -> list[dict]:
+    """The ``size`` designs of batch ``index``: a TPE sampler seeded with ``(seed, index)``
+    given the evaluations ``history`` (every batch before this one), asked ``size`` times
+    (constant liar: the designs of one batch spread out)."""
+    import optuna
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    seed = int(np.random.SeedSequence([problem.seed, index]).generate_state(1)[0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        sampler = optuna.samplers.TPESampler(seed=seed, n_startup_trials=problem.startup,
+                                             multivariate=True, constant_liar=True)
+        study = optuna.create_study(
+            sampler=sampler,
+            directions=["maximize" if o.maximize else "minimize" for o in problem.objectives])
+        dists = _distributions(problem)
+        study.add_trials([_frozen(problem, r, dists) for r in history])
+        return [_plain(study.ask(dists).params) for _ in range(size)]
+
+
+def _plain(params: dict) -> dict:
+    """Optuna's values as plain Python (a float, a material's name)."""
+    return {k: (v if isinstance(v, str) else float(v)) for k, v in params.items()}
+
+
+def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, budget: int,
+                wall_time_s: float | None, on_trial: Callable[[int], None] | None,
+                progress: bool) -> tuple[int, str]:
+    """Evaluate batches of designs until ``budget`` designs have been, or ``wall_time_s``
+    (s) has passed; returns the designs this run evaluated and what stopped it."""
+    from distributed import as_completed
+
+    from lusm.interrupts import checkpoint
+
+    t0, computed, batch = time.monotonic(), 0, store.batch
+    run = uuid.uuid4().hex[:8]
+    bar = _bar(budget, len(store.records), progress)
+    submitted: dict[str, tuple] = {}  # in flight: key -> (future, trial, design)
+    try:
+        for b in range((budget + batch - 1) // batch):
+            first, size = b * batch, min(batch, budget - b * batch)
+            have = [t for t in range(first, first + size) if t in store.records]
+            if len(have) == size:
+                continue
+            if wall_time_s is not None and time.monotonic() - t0 > wall_time_s and not have:
+                return computed, "wall_time"
+            history = [store.records[t] for t in sorted(store.records) if t < first]
+            designs = ask_batch(problem, history, b, size)
+            for j, design in enumerate(designs):
+                t = first + j
+                if t in store.records and store.records[t].design == design:
+                    continue
+                fut = client.submit(evaluate, trial_study(problem, design), 0, pure=False,
+                                    key=f"lusm-optimize-{run}-{t}")
+                submitted[fut.key] = (fut, t, design)
+            for fut in as_completed([f for f, _, _ in submitted.values()]):
+                _, t, design = submitted.pop(fut.key)
+                data = fut.result()
+                outputs = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
+                store.add(Record(t, design, outputs))
+                computed += 1
+                bar.update(1)
+                checkpoint()
+                if on_trial is not None:
+                    on_trial(t)
+    finally:
+        bar.close()
+        if client.status == "running":
+            for fut, _, _ in submitted.values():
+                fut.cancel()
+    return computed, "evaluations"
+
+
+def _bar(total: int, initial: int, enabled: bool):
+    import sys
+
+    from tqdm import tqdm
+
+    return tqdm(total=total, initial=initial, unit="design", file=sys.stderr,
+                disable=(not enabled) or None, desc="lusm optimize", leave=False)
+
+
+def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str | None = None,
+             scheduler_file: str | None = None, workers: int = 2, budget: int | None = None,
+             resume: bool = False, force: bool = False, evaluate: Evaluator | None = None,
+             progress: bool = False, on_trial: Callable[[int], None] | None = None
+             ) -> OptimizeResult:
+    """Search the design space of ``problem`` for its best designs; write one dataset row per
+    evaluation to ``out``.
+
+    Parameters
+    ----------
+    problem : Problem
+        The study and its ``[optimize]`` table (:func:`studies.optimize.problem.load_problem`).
+    out : str or Path
+        The netCDF dataset to write (refused if it exists, unless ``force``: then kept as
+        ``out.bak-N``). The evaluations are kept in ``out.parts/`` meanwhile.
+    client, scheduler, scheduler_file, workers
+        The cluster (:func:`studies.cluster.study_client`): the caller's client, an existing
+        scheduler, or a LocalCluster of ``workers`` processes.
+    budget : int, optional
+        Designs to evaluate (default: the study's ``optimize.evaluations``).
+    resume : bool
+        Continue from the parts of an interrupted run (the same designs are asked again, the
+        evaluated ones are not computed again).
+    force : bool
+    evaluate : callable, optional
+        ``evaluate(study, 0) -> outputs`` run on the workers (default
+        :func:`studies.task.compute_geometry`).
+    progress : bool
+        A progress bar on stderr.
+    on_trial : callable, optional
+        Called with the trial number after each evaluation is stored (tests interrupt here).
+
+    Returns
+    -------
+    OptimizeResult
+    """
+    from studies.cluster import study_client
+    from studies.dataset import check_out
+    from studies.optimize.result import is_complete_file, write_result
+    from studies.task import compute_geometry
+
+    out = Path(out)
+    budget = problem.evaluations if budget is None else int(budget)
+    if resume and is_complete_file(out, problem.fingerprint):
+        from studies.optimize.result import result_of_file
+
+        return result_of_file(problem, out)
+    check_out(out, force)
+    t0 = time.perf_counter()
+    store = Store(problem, out, resume)
+    reused, computed = len(store.records), 0
+    try:
+        with study_client(client, scheduler, scheduler_file, workers,
+                          gmsh=problem.study.meshed_by_gmsh) as running:
+            n_workers = max(1, len(running.nthreads()))
+            store.set_batch(n_workers)
+            computed, stopped = run_batches(running, problem, store, evaluate or
+                                            compute_geometry, budget, problem.wall_time_s,
+                                            on_trial, progress)
+        result = write_result(problem, store, out, force)
+    except BaseException:
+        if store.created and not store.records:  # nothing computed: leave no trace
+            store.close()
+            store.remove()
+        raise
+    finally:
+        store.close()
+    return replace(result, computed=computed, reused=reused, workers=n_workers,
+                   batch=store.batch, wall_time_s=time.perf_counter() - t0,
+                   stopped_by=stopped)
