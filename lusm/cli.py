@@ -40,6 +40,7 @@ COMMAND_MODULES = [
     "lusm.commands.admittance",
     "lusm.commands.harmonic",
     "lusm.commands.explore",
+    "lusm.commands.optimize",
     "lusm.commands.characteristic",
     "lusm.commands.materials",
     "lusm.commands.calibrate",

@@ -304,6 +304,10 @@ def _variables(raw: Any, doc: dict, where: str) -> tuple[Variable, ...]:
         if name == "material":
             out.append(_material(spec, k))
             continue
+        study = doc.get("study", {})
+        if name in FEATURE_AXES and not (isinstance(study, dict) and "stator" in study):
+            raise ValueError(f"{k} varies a stator file's feature: it needs study.stator "
+                             "naming a file with [tip], [chamfers] or [[holes]]")
         if not isinstance(spec, dict) or set(spec) - {"min", "max", "step"} or \
                 not {"min", "max"} <= set(spec):
             raise ValueError(f"{k} must be a table {{ min = ..., max = ... }} (and optionally "
@@ -478,3 +482,13 @@ def design_values(problem: Problem, design: dict[str, Any]) -> dict[str, tuple]:
     for v in problem.variables:
         axes[v.name] = (design[v.name],)
     return axes
+
+
+def with_seed(problem: Problem, seed: int) -> Problem:
+    """``problem`` with the sampler's seed ``seed`` (``--seed``): another search, with its
+    own fingerprint."""
+    from dataclasses import replace
+
+    doc = json.loads(problem.text)
+    doc["seed"] = int(seed)
+    return replace(problem, seed=int(seed), text=json.dumps(doc, sort_keys=True))

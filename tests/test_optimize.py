@@ -1,0 +1,155 @@
+"""``lusm optimize`` (studies.optimize): the search through its own machinery (the sampler,
+the batches on dask, the parts, the dataset) with an analytic evaluator in place of the FE
+and motor solve, and one small real run of the command."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from studies.optimize import optimize, problem_from_dict
+from studies.task import empty_outputs, geometry_of
+
+pytestmark = pytest.mark.slow  # a dask client and tens of sampler calls per test
+
+
+def analytic(study, index):
+    """A plate's outputs as a known function of its length x and width y (mm): the no-load
+    velocity 10 - (x - 31)^2 - (y - 8)^2 (m/s), largest at (31, 8), and the stall force
+    x + y (N)."""
+    g = geometry_of(study, index)
+    out = empty_outputs(study)
+    x, y = g["length"] * 1e3, g["width"] * 1e3
+    out["f_L1_short"] = np.array(50e3)
+    out["split"] = np.array(100.0 * (x - 30.0))
+    out["no_load_velocity"][...] = 10.0 - (x - 31.0) ** 2 - (y - 8.0) ** 2
+    out["stall_force"][...] = x + y
+    out["motion_class"][...] = "pure-slip"
+    out["point_status"][...] = "ok"
+    return out
+
+
+def doc(evaluations: int = 40, constraints=None, objectives=None, seed: int = 3) -> dict:
+    """A study of the paper's plate with length and width as design variables."""
+    return {"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
+            "optimize": {"evaluations": evaluations, "seed": seed,
+                         "variables": {"length": {"min": "28 mm", "max": "34 mm"},
+                                       "width": {"min": "6 mm", "max": "10 mm"}},
+                         "objectives": objectives or [{"output": "no_load_velocity",
+                                                       "goal": "maximize"}],
+                         "constraints": constraints or {}}}
+
+
+@pytest.fixture(scope="module")
+def client():
+    """Two worker threads in this process: the analytic evaluator needs no process."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.Client(processes=False, n_workers=2, threads_per_worker=1,
+                            dashboard_address=None) as c:
+        yield c
+
+
+def _table(path):
+    from studies.dataset import open_result
+
+    ds = open_result(path)
+    return ds, {k: ds[k].values for k in ("length", "width", "objective_no_load_velocity",
+                                          "feasible", "best")}
+
+
+def test_a_constrained_optimum_is_found(client, tmp_path):
+    """Maximise 10 - (x - 31)^2 - (y - 8)^2 under x + y <= 38 mm (as a stall force <= 38 N):
+    the optimum is on the constraint, at (30.5, 7.5) with 9.5."""
+    problem = problem_from_dict(doc(60, {"stall_force": {"max": "38 N"}}))
+    result = optimize(problem, tmp_path / "r.nc", client=client, evaluate=analytic)
+    ds, t = _table(result.path)
+    assert result.evaluations == 60 and result.batch == 2 and len(result.best) == 1
+    row = int(np.flatnonzero(t["best"])[0])
+    x, y = t["length"][row] * 1e3, t["width"][row] * 1e3
+    assert x + y <= 38.0 + 1e-9
+    assert t["objective_no_load_velocity"][row] > 9.2  # of 9.5
+    assert abs(x - 30.5) < 0.6 and abs(y - 7.5) < 0.6
+    # labelled as explore's dataset: units, the trial, the constraint's value
+    assert ds["length"].attrs["units"] == "m"
+    assert ds["objective_no_load_velocity"].attrs["units"] == "m/s"
+    assert ds["constraint_stall_force_max"].values[row] <= 0
+    assert json.loads(ds.attrs["best_trials"]) == [int(ds["trial"].values[row])]
+    assert not (tmp_path / "r.nc.parts").exists()
+
+
+def test_resume_after_an_interruption_gives_the_same_result(client, tmp_path):
+    problem = problem_from_dict(doc(14))
+    whole = optimize(problem, tmp_path / "whole.nc", client=client, evaluate=analytic)
+
+    def stop(trial):
+        if trial >= 5:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        optimize(problem, tmp_path / "cut.nc", client=client, evaluate=analytic, on_trial=stop)
+    kept = len(list((tmp_path / "cut.nc.parts").glob("g*.npz")))
+    assert 1 <= kept < 14
+    resumed = optimize(problem, tmp_path / "cut.nc", client=client, evaluate=analytic,
+                       resume=True)
+    assert resumed.reused == kept and resumed.computed == 14 - kept
+    _, a = _table(whole.path)
+    _, b = _table(resumed.path)
+    for k in a:
+        np.testing.assert_array_equal(a[k], b[k], err_msg=k)
+    assert resumed.best == whole.best
+
+
+def test_a_constraint_no_design_meets_is_reported_not_an_optimum(client, tmp_path):
+    problem = problem_from_dict(doc(6, {"stall_force": {"max": "20 N"}}))  # x + y >= 34
+    result = optimize(problem, tmp_path / "r.nc", client=client, evaluate=analytic)
+    ds, t = _table(result.path)
+    assert result.infeasible_everywhere and result.best == () and result.feasible == 0
+    assert not t["feasible"].any() and not t["best"].any()
+    assert (ds["constraint_stall_force_max"].values > 0).all()
+
+
+def test_two_objectives_give_a_pareto_front(client, tmp_path):
+    """Maximise the velocity and minimise the stall force: no design of the front is
+    dominated by any evaluated design."""
+    objectives = [{"output": "no_load_velocity", "goal": "maximize"},
+                  {"output": "stall_force", "goal": "minimize"}]
+    problem = problem_from_dict(doc(20, objectives=objectives))
+    result = optimize(problem, tmp_path / "r.nc", client=client, evaluate=analytic)
+    ds, _ = _table(result.path)
+    v, f = ds["objective_no_load_velocity"].values, ds["objective_stall_force"].values
+    front = np.flatnonzero(ds["best"].values)
+    assert len(front) >= 2 and len(result.best) == len(front)
+    for i in front:
+        assert not np.any((v >= v[i]) & (f <= f[i]) & ((v > v[i]) | (f < f[i])))
+
+
+def test_the_drive_frequency_and_a_ratio_are_objectives():
+    """A ratio's unit, an operating point picked by ``at``, the bounds' units."""
+    problem = problem_from_dict(doc(4, {"split": "0.5 %", "volume": {"max": "800 mm3"}},
+                                    [{"output": "stall_force / volume", "goal": "maximize",
+                                      "at": {"voltage": "200 V"}}]))
+    (o,) = problem.objectives
+    assert o.unit == "N/(m^3)" and o.at == {"voltage": 200.0}
+    split, volume = problem.bounds
+    assert split.relative and split.high == pytest.approx(0.005)
+    assert volume.high == pytest.approx(800e-9)
+
+
+@pytest.mark.parametrize("change, key", [
+    ({"variables": {"lenght": {"min": "28 mm", "max": "34 mm"}}}, "optimize.variables.lenght"),
+    ({"variables": {"length": {"min": "34 mm", "max": "28 mm"}}}, "optimize.variables.length"),
+    ({"evaluations": 0}, "optimize.evaluations"),
+    ({"objectives": [{"output": "speed", "goal": "maximize"}]}, "optimize.objectives[0]"),
+    ({"objectives": [{"output": "stall_force", "goal": "max"}]}, "optimize.objectives[0]"),
+    ({"constraints": {"split": "0.5"}}, "optimize.constraints.split"),
+    ({"constraints": {"heat": {"max": "1 W"}}}, "optimize.constraints.heat"),
+    ({"variables": {"tip_length": {"min": "1 mm", "max": "2 mm"}}},
+     "optimize.variables.tip_length"),
+])
+def test_bad_optimize_tables_name_their_key(change, key):
+    d = doc()
+    d["optimize"].update(change)
+    with pytest.raises(ValueError, match=key.replace("[", r"\[").replace(".", r"\.")):
+        problem_from_dict(d)
