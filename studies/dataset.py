@@ -20,7 +20,7 @@ from studies.parts import parts_folder
 from studies.study import AXIS_KIND, DRIVE_AXES, OUTPUTS, SI_UNIT, Study
 from studies.task import package_version
 
-_AXIS_NAMES = {"length": "plate length", "width": "plate width",
+AXIS_NAMES = {"length": "plate length", "width": "plate width",
                "thickness": "plate thickness", "gap": "electrode gap",
                "tip_length": "contact tip length", "tip_width": "contact tip width",
                "chamfer": "corner chamfer leg",
@@ -61,7 +61,7 @@ def _coordinates(study: Study) -> dict[str, tuple]:
                          {"long_name": "stator material"})
         else:
             coords[a] = (a, np.array(study.axes[a], dtype=float),
-                         {"units": SI_UNIT[AXIS_KIND[a]], "long_name": _AXIS_NAMES[a]})
+                         {"units": SI_UNIT[AXIS_KIND[a]], "long_name": AXIS_NAMES[a]})
     return coords
 
 

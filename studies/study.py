@@ -379,7 +379,7 @@ def _axis_values(name: str, raw: Any, key: str) -> tuple:
             out = _range(raw, kind, key)
         else:
             out = (parse_quantity(raw, kind, key),)
-        _check_range(name, out, key)
+        check_range(name, out, key)
     if len(set(out)) != len(out):
         raise ValueError(f"{key} repeats a value; each value of an axis must be distinct")
     return out
@@ -435,7 +435,7 @@ def _range(raw: dict, kind: str, key: str) -> tuple[float, ...]:
     return out
 
 
-def _check_range(name: str, values: tuple[float, ...], key: str) -> None:
+def check_range(name: str, values: tuple[float, ...], key: str) -> None:
     """Refuse a value outside the CLI's range for the axis, in the range's unit (mm, Hz, V,
     N): lengths are stored in m but written, and reported, in mm."""
     kind = AXIS_KIND[name]
@@ -1137,7 +1137,7 @@ MAX_STUDY_BYTES = 1_000_000
 given as the study from being read until memory runs out."""
 
 
-def _read_study_text(path: Path) -> str:
+def read_study_text(path: Path) -> str:
     """The text of the study file ``path``, refused unless it is a regular file of at most
     :data:`MAX_STUDY_BYTES` (read boundedly: :func:`fem.small_file.read_small_text`).
 
@@ -1180,7 +1180,7 @@ def load_study(path: str | Path) -> Study:
         If the file cannot be read.
     """
     path = Path(path)
-    text = _read_study_text(path)
+    text = read_study_text(path)
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

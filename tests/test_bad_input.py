@@ -240,6 +240,16 @@ def _studies(folder: Path) -> dict[str, str]:
     for name, text in studies.items():
         (folder / f"{name}.toml").write_text(text)
         out[name] = str(folder / f"{name}.toml")
+    opt = ('outputs = ["split"]\n[optimize]\nevaluations = 4\n[[optimize.objectives]]\n'
+           'output = "{objective}"\ngoal = "maximize"\n[optimize.variables]\n{variable}\n')
+    for name, objective, variable in [
+            ("ok", "k_eff_B2", 'length = { min = "29 mm", max = "31 mm" }'),
+            ("unknown_variable", "k_eff_B2", 'lenght = { min = "29 mm", max = "31 mm" }'),
+            ("reversed", "k_eff_B2", 'length = { min = "31 mm", max = "29 mm" }'),
+            ("unknown_objective", "speed", 'length = { min = "29 mm", max = "31 mm" }')]:
+        (folder / f"opt_{name}.toml").write_text(opt.format(objective=objective,
+                                                            variable=variable))
+        out[f"opt_{name}"] = str(folder / f"opt_{name}.toml")
     out["study_out"] = str(folder / "study.nc")
     out["study_parts"] = str(folder / "study.nc.parts")
     return out
@@ -608,6 +618,24 @@ EXPLORE = [  # more in tests/test_explore.py
                           "--worker-timeout-s", "0"], "--worker-timeout-s", "[1, 86400] s"),
 ]
 
+OPTIMIZE = [
+    ("unknown-variable", ["optimize", "{opt_unknown_variable}", "--out", "{study_out}"],
+     "optimize.variables.lenght", "length, width"),
+    ("bounds-reversed", ["optimize", "{opt_reversed}", "--out", "{study_out}"],
+     "optimize.variables.length", "must be below max"),
+    ("unknown-objective", ["optimize", "{opt_unknown_objective}", "--out", "{study_out}"],
+     "optimize.objectives[0].output", "no_load_velocity"),
+    ("budget-0", ["optimize", "{opt_ok}", "--out", "{study_out}", "--budget", "0"],
+     "--budget", "[1, 100000]"),
+    ("seed-negative", ["optimize", "{opt_ok}", "--out", "{study_out}", "--seed", "-1"],
+     "--seed", "[0, 2147483647]"),
+    ("workers-with-scheduler", ["optimize", "{opt_ok}", "--out", "{study_out}", "--workers",
+                                "2", "--scheduler", "tcp://127.0.0.1:8786"], "--workers", None),
+    ("study-without-optimize", ["optimize", "{study_ok}", "--out", "{study_out}"],
+     "optimize", None),
+    ("out-suffix", ["optimize", "{opt_ok}", "--out", "r.toml"], "--out", ".nc"),
+]
+
 _CAL = ["calibrate", "{cal_ok}", "--source", "table2", "--out"]
 
 CALIBRATE = [
@@ -690,7 +718,7 @@ STATOR_FILES = [
 TABLES = {"simulate": SIMULATE, "map": MAP, "characteristic": CHARACTERISTIC, "modes": MODES,
           "render": RENDER, "tune": TUNE, "sweep": SWEEP, "admittance": ADMITTANCE,
           "harmonic": HARMONIC, "compare": COMPARE, "params": PARAMS, "report": REPORT,
-          "explore": EXPLORE, "calibrate": CALIBRATE, "materials": MATERIALS,
+          "explore": EXPLORE, "optimize": OPTIMIZE, "calibrate": CALIBRATE, "materials": MATERIALS,
           "stator_files": STATOR_FILES}
 
 SLOW_ROWS = {"off-centre-hole-pairing"}

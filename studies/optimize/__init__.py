@@ -8,6 +8,7 @@ See docs/optimize.md.
 """
 
 from studies.optimize.problem import Problem, load_problem, problem_from_dict
-from studies.optimize.search import OptimizeResult, optimize
+from studies.optimize.result import OptimizeResult
+from studies.optimize.search import optimize
 
 __all__ = ["OptimizeResult", "Problem", "load_problem", "optimize", "problem_from_dict"]

@@ -8,7 +8,7 @@ def check_3d(problem, ds, row: int) -> dict[str, float]:
     result dataset ``ds``, from the default 3D model (:func:`fem.solid3d.model.solid_model`,
     as ``lusm modes --model 3d``) and from the 2D model of the search."""
     from fem.solid3d.model import modes_of_solid_model, solid_model
-    from studies.optimize.search import trial_study
+    from studies.optimize.problem import trial_study
     from studies.task import geometry_of, plate_of
 
     design = {v.name: (str(ds[v.name].values[row]) if v.name == "material"

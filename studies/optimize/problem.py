@@ -33,6 +33,7 @@ Mistakes raise ``ValueError`` with one line naming the key (``optimize.variables
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import math
@@ -45,7 +46,7 @@ from studies.study import (
     FEATURE_AXES,
     UNITS,
     Study,
-    _check_range,
+    check_range,
     parse_quantity,
     study_from_dict,
 )
@@ -215,11 +216,11 @@ def load_problem(path) -> Problem:
     import tomllib
     from pathlib import Path
 
-    from studies.study import _read_study_text
+    from studies.study import read_study_text
 
     path = Path(path)
     try:
-        doc = tomllib.loads(_read_study_text(path))
+        doc = tomllib.loads(read_study_text(path))
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not valid TOML ({exc})") from None
     return problem_from_dict(doc, str(path))
@@ -317,7 +318,7 @@ def _variables(raw: Any, doc: dict, where: str) -> tuple[Variable, ...]:
         hi = parse_quantity(spec["max"], kind, f"{k}.max")
         if not lo < hi:
             raise ValueError(f"{k}: min {spec['min']!r} must be below max {spec['max']!r}")
-        _check_range(name, (lo, hi), k)
+        check_range(name, (lo, hi), k)
         step = None
         if "step" in spec:
             step = parse_quantity(spec["step"], kind, f"{k}.step")
@@ -474,6 +475,13 @@ def _check_named(study: Study, variables, objectives, bounds, where: str) -> Non
                 raise ValueError(f"{where}optimize.objectives[{i}].at.{a} {value:g} is not "
                                  f"among axes.{a} ({', '.join(f'{x:g}' for x in study.axes[a])}"
                                  ")")
+
+
+def trial_study(problem: Problem, design: dict[str, Any]):
+    """The one-geometry explore study of ``design`` (its axes the design's values): the same
+    computation as the grid point of ``lusm explore`` at those values."""
+    return dataclasses.replace(problem.study, axes=design_values(problem, design))
+
 
 
 def design_values(problem: Problem, design: dict[str, Any]) -> dict[str, tuple]:

@@ -12,13 +12,64 @@ from __future__ import annotations
 
 import json
 import re
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from studies.optimize.metrics import constraint_names, evaluation_metrics
-from studies.optimize.problem import Problem
+from studies.optimize.problem import Problem, trial_study
 from studies.optimize.store import Store
+
+
+@dataclass(frozen=True)
+class OptimizeResult:
+    """What an optimisation found.
+
+    Attributes
+    ----------
+    path : Path
+        The result dataset (netCDF), one row per evaluation.
+    evaluations : int
+        Designs evaluated in all (this run and the earlier ones it resumed).
+    computed, reused : int
+        Designs this run evaluated, and those taken from an earlier run's parts.
+    feasible : int
+        Evaluations that met every constraint (and computed).
+    best : tuple of int
+        Trial numbers of the best feasible designs: one for one objective, the Pareto front
+        for several; empty when no design is feasible.
+    objectives : tuple of str
+        The objectives' labels (``peak_power``; units in the dataset).
+    workers, batch : int
+        The cluster's workers and the designs asked at once.
+    wall_time_s : float
+        This run's wall time (s).
+    stopped_by : str
+        ``"evaluations"`` (the budget) or ``"wall_time"``.
+    already_complete : bool
+        ``--resume`` found the finished dataset and changed nothing.
+    warnings : tuple of str
+    """
+
+    path: Path
+    evaluations: int
+    computed: int
+    reused: int
+    feasible: int
+    best: tuple[int, ...]
+    objectives: tuple[str, ...]
+    workers: int = 0
+    batch: int = 0
+    wall_time_s: float = 0.0
+    stopped_by: str = "evaluations"
+    already_complete: bool = False
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def infeasible_everywhere(self) -> bool:
+        """True when no evaluated design met the constraints: there is no optimum."""
+        return not self.best
 
 
 def objective_variable(label: str) -> str:
@@ -29,8 +80,6 @@ def objective_variable(label: str) -> str:
 
 def metrics_table(problem: Problem, records: list) -> tuple[np.ndarray, np.ndarray]:
     """The objectives ``(n, k)`` and constraint values ``(n, m)`` of ``records`` (SI)."""
-    from studies.optimize.search import trial_study
-
     values, cons = [], []
     for r in records:
         v, c = evaluation_metrics(problem, r.outputs, r.design, trial_study(problem, r.design))
@@ -68,7 +117,7 @@ def assemble(problem: Problem, records: list):
     """The labelled :class:`xarray.Dataset` of the evaluations ``records`` (trial order)."""
     import xarray as xr
 
-    from studies.dataset import _AXIS_NAMES, provenance
+    from studies.dataset import AXIS_NAMES, provenance
 
     study = problem.study
     values, cons = metrics_table(problem, records)
@@ -84,7 +133,7 @@ def assemble(problem: Problem, records: list):
         else:
             unit = "m" if v.name != "frequency" else "Hz"
             data[v.name] = ("trial", np.array(column, dtype=float),
-                            {"units": unit, "long_name": f"{_AXIS_NAMES[v.name]} (design "
+                            {"units": unit, "long_name": f"{AXIS_NAMES[v.name]} (design "
                              f"variable, in [{v.low:g}, {v.high:g}] {unit})"})
     data.update(_outputs(problem, records))
     for k, o in enumerate(problem.objectives):
@@ -107,7 +156,7 @@ def assemble(problem: Problem, records: list):
         if a == "frequency":
             continue
         coords[a] = (a, np.array(study.axes[a], dtype=float),
-                     {"units": {"voltage": "V"}.get(a, "N"), "long_name": _AXIS_NAMES[a]})
+                     {"units": {"voltage": "V"}.get(a, "N"), "long_name": AXIS_NAMES[a]})
     attrs = provenance(study)
     attrs["title"] = f"lusm optimize: {study.name}"
     attrs.update({"optimize": problem.text, "optimize_fingerprint": problem.fingerprint,
@@ -184,8 +233,6 @@ def write_result(problem: Problem, store: Store, out: Path, force: bool):
 
 def result_of_dataset(problem: Problem, ds, out: Path):
     """The :class:`OptimizeResult` a dataset holds."""
-    from studies.optimize.search import OptimizeResult
-
     return OptimizeResult(Path(out), int(ds.sizes["trial"]), 0, 0,
                           int(ds["feasible"].values.sum()),
                           tuple(json.loads(ds.attrs["best_trials"])),

@@ -14,76 +14,21 @@ import time
 import uuid
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from studies.optimize.metrics import evaluation_metrics
-from studies.optimize.problem import Problem, design_values
+from studies.optimize.problem import Problem, trial_study
+from studies.optimize.result import OptimizeResult, is_complete_file, write_result
 from studies.optimize.store import Record, Store
 from studies.task import TASK_EXTRAS
 
 Evaluator = Callable[[Any, int], dict]
 """``evaluate(study, 0) -> outputs``: :func:`studies.task.compute_geometry` by default; a
 test gives an analytic function of the same arrays."""
-
-
-@dataclass(frozen=True)
-class OptimizeResult:
-    """What an optimisation found.
-
-    Attributes
-    ----------
-    path : Path
-        The result dataset (netCDF), one row per evaluation.
-    evaluations : int
-        Designs evaluated in all (this run and the earlier ones it resumed).
-    computed, reused : int
-        Designs this run evaluated, and those taken from an earlier run's parts.
-    feasible : int
-        Evaluations that met every constraint (and computed).
-    best : tuple of int
-        Trial numbers of the best feasible designs: one for one objective, the Pareto front
-        for several; empty when no design is feasible.
-    objectives : tuple of str
-        The objectives' labels (``peak_power``; units in the dataset).
-    workers, batch : int
-        The cluster's workers and the designs asked at once.
-    wall_time_s : float
-        This run's wall time (s).
-    stopped_by : str
-        ``"evaluations"`` (the budget) or ``"wall_time"``.
-    already_complete : bool
-        ``--resume`` found the finished dataset and changed nothing.
-    warnings : tuple of str
-    """
-
-    path: Path
-    evaluations: int
-    computed: int
-    reused: int
-    feasible: int
-    best: tuple[int, ...]
-    objectives: tuple[str, ...]
-    workers: int = 0
-    batch: int = 0
-    wall_time_s: float = 0.0
-    stopped_by: str = "evaluations"
-    already_complete: bool = False
-    warnings: tuple[str, ...] = field(default=())
-
-    @property
-    def infeasible_everywhere(self) -> bool:
-        """True when no evaluated design met the constraints: there is no optimum."""
-        return not self.best
-
-
-def trial_study(problem: Problem, design: dict[str, Any]):
-    """The one-geometry explore study of ``design`` (its axes the design's values): the same
-    computation as the grid point of ``lusm explore`` at those values."""
-    return replace(problem.study, axes=design_values(problem, design))
 
 
 def _distributions(problem: Problem) -> dict:
@@ -232,7 +177,6 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
     """
     from studies.cluster import study_client
     from studies.dataset import check_out
-    from studies.optimize.result import is_complete_file, write_result
     from studies.task import compute_geometry
 
     out = Path(out)
