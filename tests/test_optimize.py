@@ -153,3 +153,28 @@ def test_bad_optimize_tables_name_their_key(change, key):
     d["optimize"].update(change)
     with pytest.raises(ValueError, match=key.replace("[", r"\[").replace(".", r"\.")):
         problem_from_dict(d)
+
+
+def test_the_command_end_to_end(tmp_path, capsys):
+    """A real search, small: two plates by FE (the coupling of B2 under a split bound) on a
+    one-worker LocalCluster, its figure, and its best design as a stator file that loads."""
+    from fem.stator_file import load_stator
+    from lusm.cli import main
+
+    study = tmp_path / "fe.toml"
+    study.write_text('outputs = ["split"]\n[optimize]\nevaluations = 2\n'
+                     '[optimize.variables]\nlength = { min = "29 mm", max = "31 mm" }\n'
+                     '[[optimize.objectives]]\noutput = "k_eff_B2"\ngoal = "maximize"\n'
+                     '[optimize.constraints]\nsplit = "20 %"\n')
+    out, plots, best = tmp_path / "r.nc", tmp_path / "plots", tmp_path / "best.toml"
+    assert main(["optimize", str(study), "--out", str(out), "--workers", "1", "--plot",
+                 str(plots), "--write", str(best), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["evaluations"] == 2 and summary["computed"] == 2
+    (b,) = summary["best"]
+    assert summary["figures"] == [str(plots / "convergence.png")]
+    assert (plots / "convergence.png").stat().st_size > 0
+    design = load_stator(best)
+    assert design.stator.length_m == pytest.approx(b["design"]["length"], rel=1e-9)
+    assert main(["optimize", str(study), "--out", str(out)]) == 2  # not overwritten
+    assert "--force" in capsys.readouterr().err
