@@ -41,15 +41,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", required=True, metavar="FILE.nc", help="netCDF file to write")
     p.add_argument("--resume", action="store_true",
                    help="continue an interrupted run from FILE.nc.parts/")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--scheduler", metavar="tcp://HOST:8786",
-                       help="run on this dask scheduler instead of a LocalCluster")
-    where.add_argument("--scheduler-file", metavar="FILE",
-                       help="run on the dask scheduler described by this file")
-    p.add_argument("--workers", default=None, type=integer("--workers", *limits.WORKERS),
-                   help=f"processes of the LocalCluster (default 2), in "
-                   f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]; not with --scheduler or "
-                   "--scheduler-file (that cluster has its own workers)")
+    add_cluster_options(p)
     p.add_argument("--worker-timeout-s", default=None, metavar="S",
                    type=real("--worker-timeout-s", "s", *limits.WORKER_TIMEOUT_S),
                    help="how long to wait when the cluster has no worker left (an external "
@@ -66,6 +58,19 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--force", action="store_true",
                    help="replace an existing FILE.nc (kept as FILE.nc.bak-N) and write into a "
                    "non-empty --plot folder")
+
+
+def add_cluster_options(p: argparse.ArgumentParser, workers_note: str = "") -> None:
+    """``--scheduler``, ``--scheduler-file`` and ``--workers`` (explore's and optimize's)."""
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="tcp://HOST:8786",
+                       help="run on this dask scheduler instead of a LocalCluster")
+    where.add_argument("--scheduler-file", metavar="FILE",
+                       help="run on the dask scheduler described by this file")
+    p.add_argument("--workers", default=None, type=integer("--workers", *limits.WORKERS),
+                   help=f"processes of the LocalCluster (default 2), in "
+                   f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]; not with --scheduler or "
+                   f"--scheduler-file (that cluster has its own workers){workers_note}")
 
 
 def run(args: argparse.Namespace) -> None:
@@ -102,9 +107,28 @@ def _run(args: argparse.Namespace, said: list[str]) -> None:
 def _checked_study(args: argparse.Namespace):
     """The study of ``args`` and its ``--plot`` folder (or None), with the options checked
     and the study's warnings said, before any work."""
-    from studies.cluster import check_port, check_scheduler_names
     from studies.dataset import check_out, is_complete
     from studies.study import load_study
+
+    check_cluster_options(args)
+    study = load_study(args.study)
+    warn_study(study)
+    if not (args.resume and is_complete(study, args.out)):
+        check_out(args.out, args.force)
+    plot = output_folder(args, "--plot")
+    if plot is not None and Path(plot).resolve() == Path(args.out).resolve():
+        # refused before the study runs, not after its dataset is written
+        raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
+                        "their own", "--plot")
+    _refuse_plot_in_parts(plot, args.out)
+    return study, plot
+
+
+def check_cluster_options(args: argparse.Namespace) -> None:
+    """Refuse, before any work, an empty or impossible ``--scheduler`` /
+    ``--scheduler-file``, ``--workers`` beside them, and an empty STUDY.toml (explore's and
+    optimize's)."""
+    from studies.cluster import check_port, check_scheduler_names
 
     try:  # before anything else: '' would pass the --workers check below
         check_scheduler_names(args.scheduler, args.scheduler_file)
@@ -119,19 +143,14 @@ def _checked_study(args: argparse.Namespace):
                         "study runs on that cluster's own workers: drop --workers", "--workers")
     if not args.study.strip():
         raise LusmError(f"STUDY.toml must name a study file, got {args.study!r}")
-    study = load_study(args.study)
+
+
+def warn_study(study) -> None:
+    """The single-point commands' warnings for the study's plates and drive (a thick plate,
+    a through hole, a high voltage or preload), said once before any work."""
     _warn_thick(study)
     _warn_holes(study)
     _warn_drive(study)
-    if not (args.resume and is_complete(study, args.out)):
-        check_out(args.out, args.force)
-    plot = output_folder(args, "--plot")
-    if plot is not None and Path(plot).resolve() == Path(args.out).resolve():
-        # refused before the study runs, not after its dataset is written
-        raise LusmError(f"--plot {plot} names the --out file; give the maps a folder of "
-                        "their own", "--plot")
-    _refuse_plot_in_parts(plot, args.out)
-    return study, plot
 
 
 def _refuse_plot_in_parts(plot: str | None, out: str) -> None:

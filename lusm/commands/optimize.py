@@ -7,7 +7,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lusm import limits
+from lusm.commands.explore import add_cluster_options
 from lusm.errors import LusmError
 from lusm.messages import warn, warnings_said
 from lusm.options import figure_set, file_target, integer, moved, output_folder, print_json
@@ -37,14 +37,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="the sampler's seed (default: the study's optimize.seed, else 0)")
     p.add_argument("--resume", action="store_true",
                    help="continue an interrupted run from FILE.nc.parts/ (the same designs)")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--scheduler", metavar="tcp://HOST:8786",
-                       help="run on this dask scheduler instead of a LocalCluster")
-    where.add_argument("--scheduler-file", metavar="FILE",
-                       help="run on the dask scheduler described by this file")
-    p.add_argument("--workers", default=None, type=integer("--workers", *limits.WORKERS),
-                   help=f"processes of the LocalCluster (default 2), in [{limits.WORKERS[0]}, "
-                   f"{limits.WORKERS[1]}]; also the designs asked at once")
+    add_cluster_options(p, "; the cluster's workers are the designs asked at once")
     p.add_argument("--plot", metavar="DIR",
                    help="write the convergence figure (best feasible objective against the "
                    "evaluations) and, for several objectives, the Pareto front into DIR")
@@ -90,24 +83,14 @@ def _checked(args: argparse.Namespace):
     checked before any work."""
     from dataclasses import replace
 
-    from studies.cluster import check_port, check_scheduler_names
+    from lusm.commands.explore import check_cluster_options, warn_study
     from studies.dataset import check_out
     from studies.optimize.problem import load_problem, with_seed
     from studies.optimize.result import is_complete_file
 
-    try:
-        check_scheduler_names(args.scheduler, args.scheduler_file)
-        if args.scheduler:
-            check_port(args.scheduler)
-    except ValueError as exc:
-        raise LusmError(str(exc), str(exc).split()[0]) from None
-    if args.workers is not None and (args.scheduler or args.scheduler_file):
-        option = "--scheduler" if args.scheduler else "--scheduler-file"
-        raise LusmError(f"--workers sets the processes of the LocalCluster; with {option} the "
-                        "search runs on that cluster's own workers: drop --workers", "--workers")
-    if not args.study.strip():
-        raise LusmError(f"STUDY.toml must name a study file, got {args.study!r}")
+    check_cluster_options(args)
     problem = load_problem(args.study)
+    warn_study(problem.study)
     if args.seed is not None:
         problem = with_seed(problem, args.seed)
     if args.budget is not None:

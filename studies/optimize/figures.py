@@ -39,13 +39,24 @@ def convergence(ds, folder: Path, labels: list[str], goals: list[bool]) -> Path:
         pick = np.fmax if maximize else np.fmin
         best = pick.accumulate(np.where(ok, y, np.nan))
         ax.step(trial, best, where="post", color="C0", label="best feasible so far")
-        ax.set_xlabel("evaluation (trial number)")
-        ax.set_ylabel(ylabel)
-        ax.legend(fontsize="small")
-        ax.grid(alpha=0.3)
+        _label(ax, "evaluation (trial number)", ylabel)
     fig.suptitle(f"{ds.attrs['title']}: convergence", fontsize="medium")
+    return _save(fig, folder / "convergence.png")
+
+
+def _label(ax, xlabel: str, ylabel: str) -> None:
+    """Axis labels (with units), a legend and a light grid."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize="small")
+    ax.grid(alpha=0.3)
+
+
+def _save(fig, path: Path) -> Path:
+    """Write ``fig`` to ``path`` (PNG) and close it."""
+    import matplotlib.pyplot as plt
+
     fig.tight_layout()
-    path = folder / "convergence.png"
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
@@ -65,16 +76,9 @@ def pareto(ds, folder: Path, labels: list[str]) -> Path:
     ax.plot(x[~feasible], y[~feasible], "x", ms=4, color="C3", label="infeasible design")
     order = np.argsort(x[front])
     ax.plot(x[front][order], y[front][order], "o-", color="C0", label="Pareto front")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
+    _label(ax, xlabel, ylabel)
     ax.set_title(f"{ds.attrs['title']}: Pareto front", fontsize="medium")
-    fig.tight_layout()
-    path = folder / "pareto.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(fig, folder / "pareto.png")
 
 
 def optimize_figures(ds, folder: Path, labels: list[str], goals: list[bool]) -> list[Path]:
