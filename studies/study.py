@@ -113,6 +113,8 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "stall_force": ("N", "load at which the slider stops"),
     "peak_efficiency": ("1", "largest mechanical/electrical efficiency along the characteristic"),
     "peak_power": ("W", "largest mechanical power v F along the characteristic"),
+    "limit_ratio": ("1", "largest of the unloaded steady state's vibration velocity, stress, "
+                         "drive field and heat density over the material's limit"),
     "motion_class": ("", "stick/slip/separation class of the unloaded steady state "
                          "(lusm simulate's)"),
     "velocity": ("m/s", "steady slider velocity at the point's load"),

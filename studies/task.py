@@ -26,7 +26,7 @@ FE_SCALARS = ("f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff_L1", 
 
 
 MOTOR_ARRAYS = ("no_load_velocity", "stall_force", "peak_efficiency", "peak_power",
-                "motion_class")
+                "limit_ratio", "motion_class")
 """Per-drive-point answers without the load dimension."""
 
 
@@ -71,8 +71,9 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     """The motor's answer at one drive triple: the ONE place the contact model is called.
 
     Returns ``no_load_velocity`` (m/s), ``stall_force`` (N), ``peak_efficiency`` (-),
-    ``peak_power`` (W, the largest v F of the 21-load characteristic), ``motion_class``
-    (str) and ``velocity`` (m/s, one per load of ``drive.loads_N``). The
+    ``peak_power`` (W, the largest v F of the 21-load characteristic), ``limit_ratio`` (-,
+    :func:`limit_ratio` of the unloaded steady state), ``motion_class`` (str) and
+    ``velocity`` (m/s, one per load of ``drive.loads_N``). The
     coupling is :func:`contact.model.default_coupling`'s: work-consistent for these FE sets.
 
     ``solver.method == "steady"``: the steady state from rest (:func:`contact.steady.engine.
@@ -116,6 +117,7 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
                 "stall_force": float(curve.stall_force_N),
                 "peak_efficiency": float(np.nanmax(eff)) if np.isfinite(eff).any() else math.nan,
                 "peak_power": float(np.nanmax(power)) if np.isfinite(power).any() else math.nan,
+                "limit_ratio": limit_ratio(params, drive, res.from_rest),
                 "motion_class": motion,
                 "velocity": np.array([at[float(f)] for f in drive.loads_N], dtype=float)}
     from contact.simulate import simulate
@@ -128,9 +130,23 @@ def motor_answers(params, drive: Drive, solver) -> dict[str, Any]:
     v0 = float(r.steady.velocity_m_s)
     velocity = np.array([v0 if load == 0.0 else math.nan for load in drive.loads_N])
     return {"no_load_velocity": v0, "stall_force": math.nan, "peak_efficiency": math.nan,
-            "peak_power": math.nan,
+            "peak_power": math.nan, "limit_ratio": math.nan,
             "motion_class": r.steady.motion, "velocity": velocity,
             "settled": bool(r.steady.settled)}
+
+
+def limit_ratio(params, drive: Drive, branch) -> float:
+    """The largest of the unloaded steady state's vibration velocity, stress, drive field
+    and heat density over the material's limit for it (-; above 1: beyond a limit;
+    :func:`contact.operating_limits.operating_limits`), NaN without shape data or limits."""
+    from contact.operating_limits import QUANTITIES, operating_limits
+
+    lim = operating_limits(params, drive.voltage_V, drive.frequency_Hz, branch)
+    if lim is None:
+        return math.nan
+    ratios = [lim.ratio(q) for q in QUANTITIES]
+    finite = [r for r in ratios if math.isfinite(r)]
+    return max(finite) if finite else math.nan
 
 
 def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:

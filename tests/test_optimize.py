@@ -127,14 +127,17 @@ def test_two_objectives_give_a_pareto_front(client, tmp_path):
 
 def test_the_drive_frequency_and_a_ratio_are_objectives():
     """A ratio's unit, an operating point picked by ``at``, the bounds' units."""
-    problem = problem_from_dict(doc(4, {"split": "0.5 %", "volume": {"max": "800 mm3"}},
+    problem = problem_from_dict(doc(4, {"split": "0.5 %", "volume": {"max": "800 mm3"},
+                                        "limits": True},
                                     [{"output": "stall_force / volume", "goal": "maximize",
                                       "at": {"voltage": "200 V"}}]))
     (o,) = problem.objectives
     assert o.unit == "N/(m^3)" and o.at == {"voltage": 200.0}
-    split, volume = problem.bounds
+    split, volume, limits = problem.bounds
     assert split.relative and split.high == pytest.approx(0.005)
     assert volume.high == pytest.approx(800e-9)
+    assert (limits.name, limits.high) == ("limit_ratio", 1.0)
+    assert "limit_ratio" in problem.study.outputs
 
 
 @pytest.mark.parametrize("change, key", [

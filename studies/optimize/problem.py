@@ -22,6 +22,7 @@ An optimisation study is an explore study (:mod:`studies.study`) with one more t
     frequency = { min = "40 kHz", max = "55 kHz" }   # the drive frequency
     volume = { max = "1100 mm3" }    # the plate's length x width x thickness
     stall_force = { min = "1.5 N" }  # any output of OBJECTIVE_UNITS, its own units
+    limits = true                    # the ceramic's limits: limit_ratio <= 1
 
 Every evaluation is one plate of the study (:func:`studies.task.compute_geometry` of a
 one-geometry study whose axes are the design's values): the same computation as the grid
@@ -61,11 +62,12 @@ OBJECTIVE_UNITS: dict[str, str] = {
     "f_L1_short": "Hz", "f_L1_open": "Hz", "f_B2_short": "Hz", "f_B2_open": "Hz",
     "k_eff_L1": "1", "k_eff_B2": "1", "split": "Hz", "f_drive": "Hz",
     "no_load_velocity": "m/s", "stall_force": "N", "peak_efficiency": "1",
-    "peak_power": "W", "velocity": "m/s", "volume": "m^3",
+    "peak_power": "W", "limit_ratio": "1", "velocity": "m/s", "volume": "m^3",
 }
 """What an objective or a bound may name, with its SI unit: the plate's FE outputs, the
 motor's answers at each operating point, and the plate's volume."""
-MOTOR_NAMES = ("no_load_velocity", "stall_force", "peak_efficiency", "peak_power", "velocity")
+MOTOR_NAMES = ("no_load_velocity", "stall_force", "peak_efficiency", "peak_power",
+               "limit_ratio", "velocity")
 """Names with one value per operating point (the others have one per plate)."""
 
 VALUE_UNITS: dict[str, dict[str, float]] = {
@@ -388,6 +390,12 @@ def _bounds(raw: Any, where: str) -> tuple[Bound, ...]:
     out = []
     for name, spec in raw.items():
         k = f"{key}.{name}"
+        if name == "limits":
+            if spec is not True:
+                raise ValueError(f"{k} must be true (every operating point within the "
+                                 f"ceramic's limits) or left out, got {spec!r}")
+            out.append(Bound("limit_ratio", high=1.0))
+            continue
         if name == "split":
             unit = spec.strip().split()[-1] if isinstance(spec, str) and spec.strip() else ""
             relative = unit == "%"
@@ -399,7 +407,7 @@ def _bounds(raw: Any, where: str) -> tuple[Bound, ...]:
         target = "f_drive" if name == "frequency" else name
         if target not in OBJECTIVE_UNITS:
             raise ValueError(f"{k} is not a constraint; use split, frequency (the drive "
-                             f"frequency), volume or an output among "
+                             f"frequency), volume, limits or an output among "
                              f"{', '.join(OBJECTIVE_UNITS)}")
         if isinstance(spec, str):
             spec = {"max": spec}
@@ -436,6 +444,8 @@ def _study(doc: dict, variables, objectives, bounds, source: str, where: str) ->
     wanted.discard("volume")
     if "peak_power" in wanted or "velocity" in wanted:
         wanted.add("stall_force")
+    if "f_drive" in names:  # the auto drive frequency comes with the motor's answers
+        wanted.add("no_load_velocity")
     own = doc.get("outputs", [])
     own = own if isinstance(own, list) else []
     doc["outputs"] = list(dict.fromkeys([*own, *sorted(wanted), "split", "f_L1_short"]))
@@ -454,7 +464,7 @@ def _check_named(study: Study, variables, objectives, bounds, where: str) -> Non
     names = [o.numerator for o in objectives] + [o.denominator for o in objectives if
                                                 o.denominator] + [b.name for b in bounds]
     loaded = [n for n in names if n in ("stall_force", "peak_efficiency", "peak_power",
-                                         "velocity")]
+                                         "limit_ratio", "velocity")]
     if loaded and study.solver.method != "steady":
         raise ValueError(f"{where}optimize: {loaded[0]} needs solver.method = \"steady\" (a "
                          "transient gives the no-load velocity only)")
