@@ -57,10 +57,12 @@ def _frozen(problem: Problem, record: Record, dists: dict):
                         constraints={str(i): c for i, c in enumerate(cons)} if cons else None)
 
 
-def ask_batch(problem: Problem, history: list[Record], index: int, size: int) -> list[dict]:
+def ask_batch(problem: Problem, history: list[Record], index: int, size: int,
+              frozen: dict[int, Any] | None = None) -> list[dict]:
     """The ``size`` designs of batch ``index``: a TPE sampler seeded with ``(seed, index)``
     given the evaluations ``history`` (every batch before this one), asked ``size`` times
-    (constant liar: the designs of one batch spread out)."""
+    (constant liar: the designs of one batch spread out). ``frozen`` keeps each record's
+    optuna trial by trial number between batches (its metrics computed once)."""
     import optuna
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -73,7 +75,11 @@ def ask_batch(problem: Problem, history: list[Record], index: int, size: int) ->
             sampler=sampler,
             directions=["maximize" if o.maximize else "minimize" for o in problem.objectives])
         dists = _distributions(problem)
-        study.add_trials([_frozen(problem, r, dists) for r in history])
+        frozen = {} if frozen is None else frozen
+        for r in history:
+            if r.trial not in frozen:
+                frozen[r.trial] = _frozen(problem, r, dists)
+        study.add_trials([frozen[r.trial] for r in history])
         return [_plain(study.ask(dists).params) for _ in range(size)]
 
 
@@ -95,6 +101,7 @@ def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, bud
     run = uuid.uuid4().hex[:8]
     bar = _bar(budget, len(store.records), progress)
     submitted: dict[str, tuple] = {}  # in flight: key -> (future, trial, design)
+    frozen: dict[int, Any] = {}  # the optuna trial of each stored evaluation
     try:
         for b in range((budget + batch - 1) // batch):
             first, size = b * batch, min(batch, budget - b * batch)
@@ -104,7 +111,7 @@ def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, bud
             if wall_time_s is not None and time.monotonic() - t0 > wall_time_s and not have:
                 return computed, "wall_time"
             history = [store.records[t] for t in sorted(store.records) if t < first]
-            designs = ask_batch(problem, history, b, size)
+            designs = ask_batch(problem, history, b, size, frozen)
             for j, design in enumerate(designs):
                 t = first + j
                 if t in store.records and store.records[t].design == design:
