@@ -40,6 +40,7 @@ def convergence(ds, folder: Path, labels: list[str], goals: list[bool]) -> Path:
         best = pick.accumulate(np.where(ok, y, np.nan))
         ax.step(trial, best, where="post", color="C0", label="best feasible so far")
         _label(ax, "evaluation (trial number)", ylabel)
+        ax.xaxis.get_major_locator().set_params(integer=True)
     fig.suptitle(f"{ds.attrs['title']}: convergence", fontsize="medium")
     return _save(fig, folder / "convergence.png")
 
