@@ -169,7 +169,9 @@ def _summary(problem, result, ds) -> dict:
             "reused": result.reused, "feasible": result.feasible,
             "infeasible_everywhere": result.infeasible_everywhere,
             "workers": result.workers, "batch": result.batch,
-            "wall_time_s": result.wall_time_s, "stopped_by": result.stopped_by,
+            "wall_time_s": result.wall_time_s,
+            "designs_per_s": result.computed / result.wall_time_s if result.wall_time_s else None,
+            "stopped_by": result.stopped_by,
             "already_complete": result.already_complete,
             "objectives": {o.label: {"goal": "maximize" if o.maximize else "minimize",
                                      "unit": o.unit} for o in problem.objectives},
@@ -224,7 +226,7 @@ def _print(summary: dict) -> None:
         print(f"{summary['out']} is complete ({summary['evaluations']} designs); nothing to "
               "resume")
     else:
-        rate = summary["computed"] / summary["wall_time_s"] if summary["wall_time_s"] else 0
+        rate = summary["designs_per_s"] or 0.0
         print(f"study {summary['study']!r}: {summary['evaluations']} designs evaluated "
               f"({summary['computed']} this run, {summary['reused']} from an earlier run) on "
               f"{summary['workers']} worker{'s' if summary['workers'] != 1 else ''}, batches "
