@@ -17,7 +17,8 @@ Each is scored by its best feasible power over the grid's best, and by the evalu
 took to come within 1 % of the grid's best (None if it never did). Every evaluation is the
 same computation (``studies.task.compute_geometry`` of the one-plate study).
 
-Run: ``python benchmarks/optimize_vs_grid.py [--levels 9,9,3] [--seeds 0,1,2] [--json]``
+Run: ``python benchmarks/optimize_vs_grid.py [--levels 9,9,3] [--seeds 0,1,2] [--budget N]
+[--methods tpe,de] [--json]``
 (the grid of 9 x 9 x 3 plates takes about half an hour on 2 loaded cores).
 """
 
@@ -107,7 +108,7 @@ def run_tpe(folder: Path, budget: int, seed: int, client, grid_best: float) -> d
 
     problem = problem_from_dict(problem_doc(budget, seed), str(folder / "problem.toml"))
     t0 = time.perf_counter()
-    result = optimize(problem, folder / f"tpe-{seed}.nc", client=client, force=True)
+    result = optimize(problem, folder / f"tpe-{seed}-{budget}.nc", client=client, force=True)
     ds = open_result(result.path)
     power = np.where(ds["feasible"].values == 1, ds["objective_peak_power"].values, np.nan)
     return {"seed": seed, **score(list(power), grid_best),
@@ -162,6 +163,7 @@ def main() -> None:
     parser.add_argument("--levels", default="9,9,3", help="grid levels of length,width,tip")
     parser.add_argument("--budget", type=int, default=None, help="default: grid / 10")
     parser.add_argument("--seeds", default="0,1,2")
+    parser.add_argument("--methods", default="tpe,de", help="the searches to run: tpe, de")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
@@ -175,8 +177,11 @@ def main() -> None:
     with study_client(None, None, None, args.workers, gmsh=True) as client:
         grid = run_grid(folder, levels, client)
         budget = args.budget or grid["evaluations"] // 10
-        tpe = [run_tpe(folder, budget, s, client, grid["best_W"]) for s in seeds]
-        de = [run_de(budget, s, client, grid["best_W"], folder) for s in seeds]
+        methods = args.methods.split(",")
+        tpe = [run_tpe(folder, budget, s, client, grid["best_W"]) for s in seeds
+               if "tpe" in methods]
+        de = [run_de(budget, s, client, grid["best_W"], folder) for s in seeds
+              if "de" in methods]
     report = {"grid": grid, "budget": budget, "tpe": tpe, "differential_evolution": de}
     if args.json:
         print(json.dumps(report, indent=2))
