@@ -132,6 +132,11 @@ class CalibrationResult:
         Residual evaluations in all (fits, Jacobians, profiles).
     wall_time_s, profile_time_s : float
         Time of the whole calibration and of its profiles (s).
+    held_covariance : ndarray
+        Covariance (SI) of the identifiable parameters alone, in their order, with the
+        others held at their values: the inverse of the Fisher information restricted to
+        them (what a Monte Carlo that holds the others draws from, :mod:`calibration.
+        uncertainty`).
     """
 
     parameters: tuple[FitParameter, ...]
@@ -154,6 +159,7 @@ class CalibrationResult:
     wall_time_s: float = 0.0
     profile_time_s: float = 0.0
     notes: tuple[str, ...] = field(default=())
+    held_covariance: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     @property
     def dof(self) -> int:
@@ -480,6 +486,9 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     # a parameter the data do not depend on keeps its start: the fit has no say in it
     u_best = np.where(alone, problem.scaled([p.start for p in meas.parameters]), best.x)
     params, c0 = problem.model(u_best)
+    sampled = [i for i in range(len(names)) if ok[i]]
+    held_cov = (_covariance(best.jac[:, sampled], problem.span[sampled])[0] if sampled
+                else np.zeros((0, 0)))
     return CalibrationResult(
         parameters=meas.parameters, values=problem.values(u_best), stderr=se,
         correlation=corr, covariance=cov, identifiable=ok, reasons=why, profiles=profiles,
@@ -488,7 +497,8 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
                      for u0, f in fits),
         params=params, c0_F=c0, predictions=tuple(problem.predictions(u_best)),
         coupling=coupling, accuracy=accuracy, evaluations=problem.evaluations,
-        wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes)
+        wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes,
+        held_covariance=held_cov)
 
 
 def _notes(profiles: dict[str, Profile], problem: _Problem, fits, best) -> tuple[str, ...]:
