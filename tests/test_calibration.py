@@ -184,6 +184,11 @@ def test_the_stator_file_reads_back_as_the_fitted_set(tmp_path, capsys):
     assert back.C_l == pytest.approx(fitted["C_l"], rel=1e-9)
     assert back.A_b == pytest.approx(truth.A_b * fitted["A_b_scale"], rel=1e-9)
     assert same_set(back, truth.with_(C_l=back.C_l, C_b=back.C_b, A_b=back.A_b))
+    from calibration.uncertainty import read_calibration
+
+    cal = read_calibration(out)  # the fit in machine-readable form, for --uncertainty
+    assert cal.names == ("C_l", "C_b", "A_b_scale") and cal.dof == d["dof"]
+    assert cal.values == pytest.approx([fitted[n] for n in cal.names], rel=1e-12)
 
 
 @pytest.mark.slow
