@@ -103,3 +103,20 @@ def test_the_commands_give_bands_on_a_calibrated_file(tmp_path, capsys):
     u = json.loads(capsys.readouterr().out)["uncertainty"]
     assert np.array(u["velocity_m_s"]["std"]).shape == (1, 1)
     assert u["velocity_relative_std"][0][0] > 0
+
+
+def test_the_report_section_names_the_fit():
+    """The design report's "Calibration" section: values, standard errors, what is not
+    identifiable and why, chi-square per degree of freedom."""
+    from dataclasses import replace
+
+    from validation.report_calibration import calibration_section
+
+    cal = replace(_cal(np.diag([4.0, 2.5e-5]), held=("b_mu",)), chi2=46.2, dof=46,
+                  coupling="paper")
+    md, data = calibration_section(cal, "--geometry cal.toml", 6)
+    text = "\n".join(md)
+    assert md[0] == "## 6. Calibration" and "--coupling paper" in text
+    assert "| C_l | 173 | 2 | N s/m | yes |" in text
+    assert "| b_mu | 1e+06 | - | 1/m | no: correlation |" in text
+    assert data["reduced_chi2"] == pytest.approx(46.2 / 46) and data["held"] == ["b_mu"]
