@@ -196,16 +196,19 @@ class _Problem:
         given = dict(zip((p.name for p in self.meas.parameters), self.values(u), strict=True))
         return apply(self.base, given), given.get("C0_F", self.c0_F)
 
-    def predictions(self, u: np.ndarray) -> list[dict[str, np.ndarray]]:
-        """Model values of every data set at ``u``."""
+    def predictions(self, u: np.ndarray, sets=None) -> list[dict[str, np.ndarray]]:
+        """Model values of every data set (or of ``sets``) at ``u``."""
         params, c0 = self.model(u)
         self.evaluations += 1
-        return [predict(s, params, c0, self.coupling, self.accuracy) for s in self.meas.sets]
+        return [predict(s, params, c0, self.coupling, self.accuracy)
+                for s in (self.meas.sets if sets is None else sets)]
 
-    def residuals(self, u: np.ndarray) -> np.ndarray:
-        """``(model - measured) / sigma`` of every measured value."""
+    def residuals(self, u: np.ndarray, sets=None) -> np.ndarray:
+        """``(model - measured) / sigma`` of every measured value (of ``sets``, a part of
+        the measurements' data sets, where given)."""
         out = []
-        for s, pred in zip(self.meas.sets, self.predictions(u), strict=True):
+        sets = self.meas.sets if sets is None else sets
+        for s, pred in zip(sets, self.predictions(u, sets), strict=True):
             for q, y in s.observed.items():
                 ok = np.isfinite(y)
                 out.append((pred[q][ok] - y[ok]) / s.sigma[q][ok])
@@ -285,8 +288,9 @@ def _draw(problem: _Problem, count: int, rng: np.random.Generator) -> list[np.nd
             for _ in range(count)]
 
 
-def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int) -> list[np.ndarray]:
-    """The :data:`SCREEN_KEEP` points of least chi-square among (at most
+def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
+                     keep: int = SCREEN_KEEP) -> list[np.ndarray]:
+    """The ``keep`` points of least chi-square among (at most
     ``2 ** SCREEN_FRICTION_LOG2``) Sobol points over the fitted :data:`FRICTION` parameters'
     box (:func:`_in_box`), every other parameter held at ``u_best``; none without a speed
     set or a fitted friction parameter. The speeds' dead-zone steps leave a narrow valley
@@ -306,7 +310,7 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int) -> list[n
             v[i] = _in_box(params[i], float(row[j]))
         drawn.append(problem.scaled(v))
     chi2 = [float(r @ r) for r in map(problem.residuals, drawn)]
-    return [drawn[k] for k in np.argsort(chi2)[:SCREEN_KEEP]]
+    return [drawn[k] for k in np.argsort(chi2)[:keep]]
 
 
 def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
@@ -320,6 +324,41 @@ def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
     drawn = _draw(problem, SCREEN_PER_PARAMETER * len(problem.meas.parameters), rng)
     chi2 = [float(r @ r) for r in map(problem.residuals, drawn)]
     return [first, *(drawn[k] for k in np.argsort(chi2)[:count - 1])]
+
+
+def _prefit(problem: _Problem, u0: np.ndarray) -> np.ndarray:
+    """``u0`` with the parameters outside :data:`FRICTION` fitted to the data sets other
+    than speeds (free amplitudes, admittance: microseconds an evaluation), the friction
+    parameters held; ``u0`` itself where there are no such parameters or sets."""
+    sets = [s for s in problem.meas.sets if s.kind != "speed"]
+    smooth = [i for i, p in enumerate(problem.meas.parameters) if p.name not in FRICTION]
+    if not sets or not smooth:
+        return u0
+
+    def fun(v: np.ndarray) -> np.ndarray:
+        u = u0.copy()
+        u[smooth] = v
+        return problem.residuals(u, sets)
+
+    u = u0.copy()
+    u[smooth] = _solve(fun, u0[smooth], MAX_NFEV).x
+    return u
+
+
+def _screened_fits(problem: _Problem, count: int, seed: int,
+                   say: Callable[[str], None]) -> list:
+    """Local fits from the ``count`` best points of the friction screen
+    (:func:`_friction_screen`) about the file's start, its smooth parameters first fitted
+    to the data other than speeds (:func:`_prefit`): with speed data a start off the dead
+    zone's valley stops on its steps, so random starts in the whole box spend their
+    evaluations (a few hundred each) on local minima."""
+    u0 = _prefit(problem, problem.scaled([p.start for p in problem.meas.parameters]))
+    say("friction screen")
+    fits = []
+    for k, u in enumerate(_friction_screen(problem, u0, seed, count), start=1):
+        say(f"local fit {k} of {count}, from the screen")
+        fits.append((u, _solve(problem.residuals, u, MAX_NFEV)))
+    return fits
 
 
 def _solve(fun: Callable, u0: np.ndarray, nfev: int):
@@ -439,13 +478,16 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     accuracy : {"exact", "fast"}
         Level of the steady engine.
     starts : int
-        Number of starts (the file's, then ``starts - 1`` drawn with ``seed``), >= 1.
+        Number of starts (the file's, then ``starts - 1`` drawn with ``seed``), >= 1; with
+        the screen, the local fits from its ``max(1, starts - 1)`` best points instead.
     profile : tuple of str, optional
-        Parameters whose profile likelihood is traced; default all.
+        Parameters whose profile likelihood is traced; default all (those the data see and
+        can tell apart: a parameter not identifiable by its Jacobian or its correlations
+        gets none).
     screen : bool
-        Whether a Sobol screen of the friction parameters (:func:`_friction_screen`), the
-        others held at the best start's fit, adds :data:`SCREEN_KEEP` starts after the
-        others (only with speed data).
+        Whether, with speed data and a fitted friction parameter, the local fits start from
+        a Sobol screen of the friction parameters (:func:`_screened_fits`) instead of the
+        file's start and random points.
     progress : callable, optional
         Called with a short line as each stage starts.
 
@@ -458,13 +500,13 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     check_box(meas, base)
     problem = _Problem(meas, base, coupling, accuracy, None)
     names = tuple(p.name for p in meas.parameters)
-    fits = []
-    for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
-        say(f"start {k} of {max(1, starts)}")
-        fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
-    if screen:
-        say("friction screen")
-        for u0 in _friction_screen(problem, min(fits, key=lambda f: f[1].cost)[1].x, seed):
+    friction = any(p.name in FRICTION for p in meas.parameters)
+    if screen and friction and any(s.kind == "speed" for s in meas.sets):
+        fits = _screened_fits(problem, max(1, starts - 1), seed, say)
+    else:
+        fits = []
+        for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
+            say(f"start {k} of {max(1, starts)}")
             fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
     best = min(fits, key=lambda f: f[1].cost)[1]
     chi2 = 2.0 * float(best.cost)
@@ -475,8 +517,11 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
         corr = cov / np.outer(se, se)
     t_prof = time.perf_counter()
     profiles = {}
+    # a parameter the data do not see, or cannot tell from another, gets no interval: its
+    # profile (a dozen evaluations) is not traced
+    seen, _ = _identifiability(names, blind, corr, {})
     for i, name in enumerate(names):
-        if profile is None or name in profile:
+        if seen[i] and (profile is None or name in profile):
             say(f"profile of {name}")
             profiles[name] = _profile(problem, i, best.x, best.jac, chi2,
                                       se[i] / problem.span[i])

@@ -42,10 +42,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--accuracy", choices=("exact", "fast"), default="exact",
                    help="level of the steady engine (default exact, as simulate --steady)")
     p.add_argument("--starts", type=integer("--starts", 1, MAX_STARTS), default=3,
-                   help=f"starts of the fit: the file's and random ones in the box, [1, "
+                   help=f"starts of the fit: the file's and random ones in the box; with "
+                   f"speed data and a fitted friction parameter, local fits from the N-1 "
+                   f"best points of a Sobol screen of the friction law instead; [1, "
                    f"{MAX_STARTS}] (default 3)")
     p.add_argument("--seed", type=integer("--seed", 0, 2**31 - 1), default=0,
-                   help="seed of the random starts (default 0)")
+                   help="seed of the random starts and the screen (default 0)")
     p.add_argument("--profile", default="all", metavar="NAMES",
                    help="parameters whose profile likelihood is traced: all (default), none, "
                    "or names separated by commas")
