@@ -217,3 +217,37 @@ def test_the_friction_screen_lands_in_the_dead_zone_valley(tmp_path):
     assert chi2(problem.scaled([0.15, 1e6])) < 2.0 * dof < 0.05 * start
     best = _friction_screen(problem, problem.scaled([0.10, 3e5]), 0)
     assert chi2(best[0]) < 0.1 * start
+
+
+@pytest.mark.slow
+def test_the_two_mode_admittance_follows_the_fe_port():
+    """The calibration's admittance (L1 and B2 as motional branches, every other mode
+    through C0) against fem.admittance on the paper's plate, same damping (0.01): the
+    force factors are the port's (A^2 / M = a_r^2), and with C0 the clamped capacitance
+    plus the other modes' static share, the two differ by the other modes' dynamic part
+    ``j w sum a_r^2 w^2 / (w_r^2 (w_r^2 - w^2))`` alone (and the residual mode's), under
+    1 % over 0.9 f_B2 to 1.1 f_L1."""
+    from calibration.model import admittance_S
+    from fem.admittance import plate_admittance
+    from rom.from_fem import fem_params
+
+    p = fem_params(damping_ratios=(0.01, 0.01))
+    lo, hi = sorted((p.f_L1_Hz, p.f_B2_Hz))
+    fe = plate_admittance(f_min_Hz=0.9 * lo, f_max_Hz=1.1 * hi, n_points=201, zeta_L1=0.01,
+                          zeta_B2=0.01)
+    port = fe.port
+    w_r = 2 * np.pi * np.asarray(port.frequencies_Hz)
+    named = {n: i for i, n in enumerate(port.mode_names) if n}
+    assert port.a_N_V[named["L1"]] ** 2 == pytest.approx(p.A_l**2 / p.M_l, rel=1e-8)
+    assert port.a_N_V[named["B2"]] ** 2 == pytest.approx(p.A_b**2 / p.M_b, rel=1e-8)
+    others = [i for i, n in enumerate(port.mode_names) if n not in ("L1", "B2")]
+    a2 = np.asarray(port.a_N_V)[others] ** 2
+    c0 = port.C0_F + port.C_res_F + np.sum(a2 / w_r[others] ** 2)
+    y = admittance_S(p, fe.f_Hz, c0)
+    w = 2 * np.pi * fe.f_Hz[:, None]
+    dynamic = np.abs(w[:, 0] * (np.sum(a2 * w**2 / (w_r[others] ** 2 * (w_r[others] ** 2
+                                                                          - w**2)), axis=1)
+                                + port.C_res_F * (w[:, 0] / (2 * np.pi * port.f_res_Hz)) ** 2))
+    err = np.abs(y - fe.Y_S)
+    assert np.all(err <= 1.02 * dynamic + 1e-6 * np.abs(fe.Y_S))
+    assert np.max(err / np.abs(fe.Y_S)) < 0.01
