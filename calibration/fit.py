@@ -33,7 +33,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.stats import qmc
 
-from calibration.measurements import MeasurementError, Measurements
+from calibration.measurements import STEADY_KINDS, MeasurementError, Measurements
 from calibration.model import predict
 from calibration.parameters import ORDER, FitParameter, apply, base_value
 from rom.params import MotorParams
@@ -299,7 +299,7 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
     local fit."""
     params = problem.meas.parameters
     which = [i for i, p in enumerate(params) if p.name in FRICTION]
-    if not which or not any(s.kind == "speed" for s in problem.meas.sets):
+    if not which or not any(s.kind in STEADY_KINDS for s in problem.meas.sets):
         return []
     log2 = min(SCREEN_FRICTION_LOG2, 3 + 2 * len(which))
     points = qmc.Sobol(len(which), seed=seed).random_base2(log2)
@@ -330,7 +330,7 @@ def _prefit(problem: _Problem, u0: np.ndarray) -> np.ndarray:
     """``u0`` with the parameters outside :data:`FRICTION` fitted to the data sets other
     than speeds (free amplitudes, admittance: microseconds an evaluation), the friction
     parameters held; ``u0`` itself where there are no such parameters or sets."""
-    sets = [s for s in problem.meas.sets if s.kind != "speed"]
+    sets = [s for s in problem.meas.sets if s.kind not in STEADY_KINDS]
     smooth = [i for i, p in enumerate(problem.meas.parameters) if p.name not in FRICTION]
     if not sets or not smooth:
         return u0
@@ -501,7 +501,7 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     problem = _Problem(meas, base, coupling, accuracy, None)
     names = tuple(p.name for p in meas.parameters)
     friction = any(p.name in FRICTION for p in meas.parameters)
-    if screen and friction and any(s.kind == "speed" for s in meas.sets):
+    if screen and friction and any(s.kind in STEADY_KINDS for s in meas.sets):
         fits = _screened_fits(problem, max(1, starts - 1), seed, say)
     else:
         fits = []

@@ -7,11 +7,15 @@
   ``D = K - M omega^2 + i C omega`` (the modal force ``A V`` and, by reciprocity, the
   charge ``A u`` of each mode); modes other than L1 and B2 enter only through ``C0``;
 * steady speed: the steady engine's speed from rest (:func:`contact.steady.steady_state`,
-  milliseconds a point); a slider that runs away under its load counts as speed 0.
+  milliseconds a point); a slider that runs away under its load counts as speed 0;
+* input power: the power the drive puts into L1 and B2 on the branch reached from rest
+  (``input_power_W`` of the steady engine, ``<A V (q_l' + q_b')>``-like: the dielectric
+  loss of the ceramic is not in the model), 0 where the slider runs away.
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -31,10 +35,11 @@ def admittance_S(params: MotorParams, frequency_Hz: np.ndarray, c0_F: float) -> 
 
 
 def speeds_m_s(params: MotorParams, inputs: dict[str, np.ndarray], coupling: str,
-               accuracy: str, workers: int | None = None) -> np.ndarray:
-    """Steady speed from rest (m/s) at each row of a speed set's ``inputs``, the rows on
-    ``workers`` threads (default every CPU; the steady engine's kernels release the GIL, as
-    ``lusm map`` runs its points)."""
+               accuracy: str, workers: int | None = None, power: bool = False) -> np.ndarray:
+    """Steady speed from rest (m/s) at each row of a speed set's ``inputs`` (``power``: the
+    input power (W) of that steady state instead), the rows on ``workers`` threads (default
+    every CPU; the steady engine's kernels release the GIL, as ``lusm map`` runs its
+    points)."""
     import os
     from concurrent.futures import ThreadPoolExecutor
 
@@ -45,8 +50,10 @@ def speeds_m_s(params: MotorParams, inputs: dict[str, np.ndarray], coupling: str
     def one(row: tuple[float, float, float, float]) -> float:
         v, fp, load, f = row
         r = steady_state(params, v, fp, frequency_Hz=f, load_N=load, coupling=coupling,
-                         accuracy=accuracy, energy=False)
-        return r.velocity_m_s if np.isfinite(r.velocity_m_s) else 0.0
+                         accuracy=accuracy, energy=power)
+        value = (r.from_rest.input_power_W if r.from_rest is not None else math.nan) \
+            if power else r.velocity_m_s
+        return value if np.isfinite(value) else 0.0
 
     rows = [tuple(float(x) for x in r) for r in zip(
         inputs["voltage"], inputs["preload"], inputs["load"], inputs["frequency"],
@@ -73,4 +80,6 @@ def predict(data: DataSet, params: MotorParams, c0_F: float | None, coupling: st
         y = admittance_S(params, x["frequency"], float(c0_F or 0.0))
         return {"conductance": y.real, "susceptance": y.imag, "abs_Y": np.abs(y),
                 "phase": np.angle(y)}
+    if data.kind == "power":
+        return {"input_power": speeds_m_s(params, x, coupling, accuracy, power=True)}
     return {"velocity": speeds_m_s(params, x, coupling, accuracy)}

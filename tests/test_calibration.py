@@ -251,3 +251,43 @@ def test_the_two_mode_admittance_follows_the_fe_port():
     err = np.abs(y - fe.Y_S)
     assert np.all(err <= 1.02 * dynamic + 1e-6 * np.abs(fe.Y_S))
     assert np.max(err / np.abs(fe.Y_S)) < 0.01
+
+
+def _power_set(tmp_path: Path, noise: float = 0.0) -> Path:
+    """No-load input power of Table 2 (consistent coupling) at 14 N, three voltages."""
+    from contact.steady import steady_state
+
+    rng = np.random.default_rng(7)
+    rows = ["voltage_V,preload_N,input_power_mW"]
+    for v in (200.0, 300.0, 400.0):
+        w = steady_state(table2(), v, 14.0, frequency_Hz=40e3, coupling="consistent",
+                         energy=True).from_rest.input_power_W
+        rows.append(f"{v:g},14,{w * 1e3 * (1 + noise * rng.standard_normal()):.10g}")
+    (tmp_path / "power.csv").write_text("\n".join(rows) + "\n")
+    path = tmp_path / "power.toml"
+    path.write_text('[power]\nfile = "power.csv"\nfrequency_Hz = 40e3\n'
+                    f"sigma_relative = {max(noise, 0.01)}\n"
+                    "[parameters]\nC_l = { start = 120, min = 50, max = 500 }\n")
+    return path
+
+
+@pytest.mark.slow
+def test_the_power_model_is_the_steady_engines_input_power(tmp_path):
+    """A [power] set (mW column) is predicted as the steady engine's input power from rest."""
+    from calibration.model import predict
+
+    meas = load_measurements(_power_set(tmp_path))
+    (data,) = meas.sets
+    assert data.kind == "power"
+    got = predict(data, table2(), None, "consistent", "exact")["input_power"]
+    assert got == pytest.approx(data.observed["input_power"], rel=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark
+def test_the_l1_damping_is_recovered_from_no_load_input_power(tmp_path):
+    """C_l from three no-load input powers with 2 % noise: within three standard errors."""
+    meas = load_measurements(_power_set(tmp_path, 0.02))
+    r = calibrate(meas, table2(), coupling="consistent", starts=1, profile=())
+    assert r.identifiable == (True,)
+    assert abs(r.values[0] - table2().C_l) <= 3 * r.stderr[0]

@@ -100,18 +100,20 @@ def _profile_names(args: argparse.Namespace, meas) -> tuple[str, ...]:
 
 
 def _measurements(args: argparse.Namespace):
-    """The measurement file, its failures as one line naming it; the speed rows bounded."""
-    from calibration.measurements import MeasurementError, load_measurements
+    """The measurement file, its failures as one line naming it; the steady rows (speeds,
+    powers) bounded."""
+    from calibration.measurements import STEADY_KINDS, MeasurementError, load_measurements
 
     try:
         meas = load_measurements(args.measurements)
     except MeasurementError as exc:
         raise LusmError(str(exc), args.measurements) from None
-    rows = sum(len(s.inputs["voltage"]) for s in meas.sets if s.kind == "speed")
+    rows = sum(len(s.inputs["voltage"]) for s in meas.sets if s.kind in STEADY_KINDS)
     top = limits.work_bound(limits.MAX_CALIBRATION_SPEEDS)
     if rows > top:
-        raise LusmError(f"{args.measurements}: {rows} speed rows, above the limit {top} (each "
-                        f"is a steady solve per model evaluation; {limits.more_work_hint()})",
+        raise LusmError(f"{args.measurements}: {rows} speed and power rows, above the limit "
+                        f"{top} (each is a steady solve per model evaluation; "
+                        f"{limits.more_work_hint()})",
                         args.measurements)
     _check_ranges(meas, args.measurements)
     return meas
