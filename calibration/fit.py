@@ -63,6 +63,15 @@ SCREEN_KEEP = 2
 FRICTION = ("mu_s", "mu_d", "a_mu", "b_mu", "mu_sd")
 """Parameters that move a steady speed across the dead zone's edge: the speed steps between
 zero and a finite value in them, so a gradient fit stops on those steps."""
+SCREEN_FTOL = 1e-4
+"""Relative change of chi-square that ends a local fit from the screen: near its degrees of
+freedom (46 on the example) that is a change of chi-square below 0.01, statistically nothing,
+where the flat valley of ``a_mu`` against ``b_mu`` lets a fit to :data:`TOLERANCE` walk along
+it for hundreds of evaluations."""
+ACCEPT_SIGMAS = 2.0
+"""A local fit from the screen whose chi-square is within this many standard deviations
+(``sqrt(2 dof)``) above its degrees of freedom follows the data: the screen's next points
+are not fitted."""
 PROFILE_STEPS = (1.0, 2.0, 4.0)
 """Steps along a profile, in standard errors (then the bound)."""
 
@@ -355,16 +364,20 @@ def _screened_fits(problem: _Problem, count: int, seed: int,
     u0 = _prefit(problem, problem.scaled([p.start for p in problem.meas.parameters]))
     say("friction screen")
     fits = []
+    dof = sum(s.points for s in problem.meas.sets) - u0.size
     for k, u in enumerate(_friction_screen(problem, u0, seed, count), start=1):
         say(f"local fit {k} of {count}, from the screen")
-        fits.append((u, _solve(problem.residuals, u, MAX_NFEV)))
+        fit = _solve(problem.residuals, u, MAX_NFEV, SCREEN_FTOL)
+        fits.append((u, fit))
+        if dof > 0 and 2.0 * fit.cost <= dof + ACCEPT_SIGMAS * math.sqrt(2.0 * dof):
+            break  # the data are followed: the next screen points would end in this valley
     return fits
 
 
-def _solve(fun: Callable, u0: np.ndarray, nfev: int):
+def _solve(fun: Callable, u0: np.ndarray, nfev: int, ftol: float = TOLERANCE):
     """:func:`scipy.optimize.least_squares` on [0, 1] with the module's settings."""
     return least_squares(fun, np.clip(u0, 0.0, 1.0), bounds=(0.0, 1.0), method="trf",
-                         diff_step=DIFF_STEP, x_scale=1.0, max_nfev=nfev, ftol=TOLERANCE,
+                         diff_step=DIFF_STEP, x_scale=1.0, max_nfev=nfev, ftol=ftol,
                          xtol=TOLERANCE)
 
 
