@@ -529,15 +529,7 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(se, se)
     t_prof = time.perf_counter()
-    profiles = {}
-    # a parameter the data do not see, or cannot tell from another, gets no interval: its
-    # profile (a dozen evaluations) is not traced
-    seen, _ = _identifiability(names, blind, corr, {})
-    for i, name in enumerate(names):
-        if seen[i] and (profile is None or name in profile):
-            say(f"profile of {name}")
-            profiles[name] = _profile(problem, i, best.x, best.jac, chi2,
-                                      se[i] / problem.span[i])
+    profiles = _profiles(problem, best, chi2, se, blind, corr, profile, say)
     profile_time = time.perf_counter() - t_prof
     ok, why = _identifiability(names, blind, corr, profiles)
     notes = _notes(profiles, problem, fits, best)
@@ -557,6 +549,22 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
         coupling=coupling, accuracy=accuracy, evaluations=problem.evaluations,
         wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes,
         held_covariance=held_cov)
+
+
+def _profiles(problem: _Problem, best, chi2: float, se: np.ndarray, blind: list[list[int]],
+              corr: np.ndarray, profile: tuple[str, ...] | None,
+              say: Callable[[str], None]) -> dict[str, Profile]:
+    """The profiles of the parameters ``profile`` names (all for None) that the Jacobian and
+    the correlations leave identifiable: one the data do not see, or cannot tell from
+    another, gets no interval, and its profile (a dozen evaluations) is not traced."""
+    names = tuple(p.name for p in problem.meas.parameters)
+    seen, _ = _identifiability(names, blind, corr, {})
+    out = {}
+    for i, name in enumerate(names):
+        if seen[i] and (profile is None or name in profile):
+            say(f"profile of {name}")
+            out[name] = _profile(problem, i, best.x, best.jac, chi2, se[i] / problem.span[i])
+    return out
 
 
 def _notes(profiles: dict[str, Profile], problem: _Problem, fits, best) -> tuple[str, ...]:

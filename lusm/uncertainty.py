@@ -29,10 +29,11 @@ def add_uncertainty_option(p: argparse.ArgumentParser, what: str) -> None:
                    f"of {what}")
 
 
-def calibration_of(args: argparse.Namespace):
+def calibration_of(args: argparse.Namespace, motor=None):
     """The fit stored in the ``--params`` or ``--geometry`` file
     (:func:`calibration.uncertainty.read_calibration`), refused in one line naming
-    ``--uncertainty`` when there is none."""
+    ``--uncertainty`` when there is none; a warning where ``motor`` (a
+    :class:`lusm.options.Motor`) runs another coupling than the fit did."""
     from calibration.uncertainty import CalibrationFileError, read_calibration
 
     path = getattr(args, "params", None) or getattr(args, "geometry", None)
@@ -49,6 +50,12 @@ def calibration_of(args: argparse.Namespace):
     if cal is None:
         raise LusmError(f"--uncertainty: {path} carries no fit's covariance (no [calibration] "
                         "table; lusm calibrate writes one)", "--uncertainty")
+    if motor is not None and cal.coupling and cal.coupling != motor.coupling:
+        from lusm.messages import warn
+
+        warn(f"--uncertainty: the fit in {path} ran the steady engine with --coupling "
+             f"{cal.coupling}, this run with {motor.coupling}: the band carries the fit's "
+             f"uncertainty to another model (pass --coupling {cal.coupling})")
     return cal
 
 

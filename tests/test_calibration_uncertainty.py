@@ -75,7 +75,8 @@ def test_the_spread_of_a_speed_is_the_linearised_one():
 @pytest.mark.slow
 def test_the_commands_give_bands_on_a_calibrated_file(tmp_path, capsys):
     """A free-amplitude calibration of C_l, C_b (mu_d not identifiable) writes its fit into
-    the parameter file; simulate --steady, characteristic and map draw from it."""
+    the parameter file; simulate --steady, characteristic and map draw from it, and a run
+    with another coupling than the fit's is warned of."""
     from tests.test_calibration import DAMPINGS, _free_csv, _toml
 
     _free_csv(tmp_path / "free.csv", 4)
@@ -87,10 +88,12 @@ def test_the_commands_give_bands_on_a_calibrated_file(tmp_path, capsys):
     cal = read_calibration(out)
     assert cal.sampled == ("C_l", "C_b") and cal.held == ("mu_d",)
     assert cal.covariance.shape == (2, 2)
-    drive = ["--params", str(out), "--coupling", "paper", "--frequency", "40e3", "--json"]
+    drive = ["--params", str(out), "--frequency", "40e3", "--json"]
     assert main(["simulate", "--steady", "--voltage", "300", "--preload", "14", *drive,
                  "--uncertainty", "8"]) == 0
-    u = json.loads(capsys.readouterr().out)["uncertainty"]
+    got = capsys.readouterr()
+    assert "ran the steady engine with" not in got.err  # the fit's own coupling
+    u = json.loads(got.out)["uncertainty"]
     assert u["samples"] == 8 and u["held"] == ["mu_d"]
     v = u["velocity_m_s"]
     assert v["q2.5"] <= v["mean"] <= v["q97.5"] and v["std"] > 0
@@ -103,6 +106,10 @@ def test_the_commands_give_bands_on_a_calibrated_file(tmp_path, capsys):
     u = json.loads(capsys.readouterr().out)["uncertainty"]
     assert np.array(u["velocity_m_s"]["std"]).shape == (1, 1)
     assert u["velocity_relative_std"][0][0] > 0
+    # another coupling than the fit's is said
+    assert main(["simulate", "--steady", "--voltage", "300", "--preload", "14", *drive,
+                 "--coupling", "paper", "--uncertainty", "2"]) == 0
+    assert "pass --coupling consistent" in capsys.readouterr().err
 
 
 def test_the_report_section_names_the_fit():

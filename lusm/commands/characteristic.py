@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> None:
     if args.uncertainty is not None:
         from lusm.uncertainty import calibration_of, check_work
 
-        cal = calibration_of(args)
+        cal = calibration_of(args, motor)
         check_work(args, len(voltages) * (len(loads) if loads else 21), motor,
                    "loads x voltages")
 

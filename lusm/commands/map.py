@@ -99,7 +99,7 @@ def run(args: argparse.Namespace) -> None:
     if args.uncertainty is not None:
         from lusm.uncertainty import calibration_of, check_work
 
-        cal = calibration_of(args)
+        cal = calibration_of(args, motor)
         check_work(args, volts.size * loads.size, motor, "points")
     m = _solve(args, motor, volts, loads)
     _warn_limits(m)

@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> None:
     if args.uncertainty is not None:
         from lusm.uncertainty import calibration_of, check_work
 
-        cal = calibration_of(args)
+        cal = calibration_of(args, motor)
         check_work(args, len(voltages), motor, "voltages")
 
     from contact.errors import RunawayError
