@@ -127,3 +127,25 @@ def test_the_report_section_names_the_fit():
     assert "| C_l | 173 | 2 | N s/m | yes |" in text
     assert "| b_mu | 1e+06 | - | 1/m | no: correlation |" in text
     assert data["reduced_chi2"] == pytest.approx(46.2 / 46) and data["held"] == ["b_mu"]
+
+
+def test_the_report_reads_the_fit_of_a_calibrated_stator_file(tmp_path):
+    """lusm report's reading of --geometry: the [calibration] table's fit, None without one,
+    a malformed table refused naming --geometry."""
+    from lusm.commands.report import _calibration
+    from lusm.errors import LusmError
+
+    plate = "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
+    (tmp_path / "plain.toml").write_text(plate)
+    assert _calibration(str(tmp_path / "plain.toml")) is None
+    (tmp_path / "cal.toml").write_text(
+        plate + '[calibration]\nnames = ["C_l", "a_mu"]\nvalues = [173.0, 0.15]\n'
+        "stderr = [2.0, inf]\nidentifiable = [true, false]\n"
+        'reasons = ["", "correlation"]\ncovariance = [[4.0]]\nchi2 = 10.0\ndof = 8\n')
+    cal = _calibration(str(tmp_path / "cal.toml"))
+    assert cal.held == ("a_mu",) and cal.dof == 8
+    (tmp_path / "bad.toml").write_text(plate + '[calibration]\nnames = ["C_l"]\n'
+                                       "values = [1.0]\nidentifiable = [true]\n"
+                                       "covariance = [[-1.0]]\nstderr = [1.0]\n")
+    with pytest.raises(LusmError, match="positive semi-definite"):
+        _calibration(str(tmp_path / "bad.toml"))
