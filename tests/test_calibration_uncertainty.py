@@ -42,6 +42,10 @@ def test_a_linear_prediction_spreads_as_the_covariance_says():
     assert band.std[1] == 0.0 and band.mean[1] == table2().b_mu
     assert band.held == ("b_mu",) and band.sampled == ("C_l", "a_mu")
     assert band.low[0] < band.mean[0] < band.high[0]
+    from calibration.uncertainty import DEFAULT_SAMPLES
+    from lusm.uncertainty import DEFAULT_SAMPLES as CLI_DEFAULT  # repeated: --help lacks NumPy
+
+    assert CLI_DEFAULT == DEFAULT_SAMPLES
     # the table round trip, as the files carry it
     back = from_table(json.loads(json.dumps(cal.to_table(json_ready=True))), "x")
     assert back.held == ("b_mu",) and np.array_equal(back.covariance, cal.covariance)
