@@ -291,3 +291,56 @@ def test_the_l1_damping_is_recovered_from_no_load_input_power(tmp_path):
     r = calibrate(meas, table2(), coupling="consistent", starts=1, profile=())
     assert r.identifiable == (True,)
     assert abs(r.values[0] - table2().C_l) <= 3 * r.stderr[0]
+
+
+def _make_data():
+    """examples/calibration/make_data.py as a module: the truth of its synthetic sets."""
+    import importlib.util
+
+    path = Path(__file__).parents[1] / "examples/calibration/make_data.py"
+    spec = importlib.util.spec_from_file_location("calibration_make_data", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.slow
+def test_the_fig24_example_is_what_make_data_writes():
+    """fig24.csv holds make_data.py's speeds of its truth (24 steady solves)."""
+    md = _make_data()
+    rows = md.speed_rows(np.random.default_rng(md.SEED_FIG24), md.fig24_params(),
+                         [(float(v), 14.0, 0.0) for v in md.FIG24_VOLTAGES_V])
+    text = (Path(__file__).parents[1] / "examples/calibration/fig24.csv").read_text()
+    assert text == "\n".join(rows) + "\n"
+
+
+FIG24_EDGE_TOL_V = 5.0
+"""Half the 10 V step of fig24.csv's voltages through the dead zone."""
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark
+def test_the_fig24_fit_moves_the_dead_zone_to_where_the_data_say():
+    """The paper's Fig. 24 procedure on examples/calibration/fig24.toml (synthetic: Table 2
+    with mu_s = 0.31, mu_d = 0.25, 3 % noise plus 0.2 mm/s; a_mu, b_mu held at the paper's
+    values): fitted from Table 2's mu_s (dead zone's edge 139.1 V at 14 N), each 95 % profile
+    interval covers the truth, and the fitted set's edge lies within FIG24_EDGE_TOL_V of the
+    truth's (102.3 V). About 50 s of CPU."""
+    import dataclasses
+
+    from validation.hard_cases import dead_zone_edge
+
+    md = _make_data()
+    meas = load_measurements(Path(__file__).parents[1] / "examples/calibration/fig24.toml")
+    cal = calibrate(meas, table2(), coupling="paper")
+    for i, name in enumerate(cal.names):
+        prof = cal.profiles[name]
+        assert cal.identifiable[i], (name, cal.reasons[i])
+        assert prof.lower <= md.TRUTH_FIG24[name] <= prof.upper, (name, prof)
+    start = dataclasses.replace(table2(), **{p.name: p.start for p in meas.parameters})
+    before = dead_zone_edge(start, 14.0, tol_V=0.05)
+    truth = dead_zone_edge(md.fig24_params(), 14.0, tol_V=0.05)
+    after = dead_zone_edge(cal.params, 14.0, tol_V=0.05)
+    assert before == pytest.approx(139.07, abs=0.1)
+    assert truth == pytest.approx(102.29, abs=0.1)
+    assert abs(after - truth) < FIG24_EDGE_TOL_V
