@@ -719,7 +719,16 @@ def beam_of_plate(args: argparse.Namespace):
         length, width = y1 - y0, x1 - x0
     # the plate's own drive: a stator file driving 2, 3 drives the beam through 2, 3
     return get_params("beam", length_m=length, width_m=width, thickness_m=st.thickness_m,
-                      electrode_layout=plate_layout(st.drive_electrodes))
+                      electrode_layout=plate_layout(st.drive_electrodes),
+                      damping_ratios=beam_damping()[0])
+
+
+def beam_damping() -> tuple[tuple[float, float] | None, str]:
+    """:func:`plate_damping` of Appendix A's beam: Table 1's constants are the paper's PZT-8,
+    so PZT-8's data-sheet ``Q_m`` with the default mount loss."""
+    from fem.material import pzt8
+
+    return plate_damping(pzt8(), "beam")
 
 
 @dataclass(frozen=True)
@@ -843,11 +852,38 @@ def fem_damping_origin(geometry: str | None, design) -> str:
     return f"{borrowed_damping('fem')}; stator file {geometry} has no [damping]"
 
 
+def plate_damping(material, what: str) -> tuple[tuple[float, float] | None, str]:
+    """The damping of a stator given without damping ratios (plate options, ``--source fem``
+    or ``beam``), as a stator file without ``[damping]`` gets it: the material's data-sheet
+    ``Q_m`` combined with the default mount loss (:func:`fem.material.material_damping`), the
+    same ratio in both modes; a material without ``Q_m`` (the paper's) keeps Table 2's
+    ratios, borrowed. ``what`` names the set in the origin text (``"fem"``, ``"beam"``).
+
+    Returns
+    -------
+    ratios : (float, float) or None
+        ``(zeta_L1, zeta_B2)``; None for Table 2's.
+    origin : str
+        Where they come from (:func:`validation.summaries.damping_line`).
+    """
+    from fem.material import material_damping
+    from validation.summaries import borrowed_damping
+
+    if material.mechanical_Q is None:
+        return None, (f"{borrowed_damping(what)}; material {material.name} has no data-sheet "
+                      "Q_m")
+    z, origin = material_damping(material)
+    return (z, z), f"{origin}; the {what} set has no damping ratios of its own"
+
+
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
-    :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a
-    ``--params`` file."""
-    from validation.summaries import borrowed_damping, table2_damping
+    :func:`validation.summaries.damping_line`): Table 2 for the ``table2`` set, a stator
+    file's ``[damping]``, the material's ``Q_m`` with the mount's for a stator without
+    damping ratios (a stator file without them, the plate options, ``--source fem`` and
+    ``beam``: :func:`plate_damping`), or a ``--params`` file."""
+    from fem.material import pzt8
+    from validation.summaries import table2_damping
 
     named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
     if source == "beam":
@@ -866,7 +902,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source == "beam" and not getattr(args, "geometry", None):
-            return beam_of_plate(args), borrowed_damping("beam")
+            return beam_of_plate(args), beam_damping()[1]
         if source not in (None, "fem"):
             raise LusmError(f"{what} needs --source fem (or beam, for plate options), got "
                             f"--source {source}", "--source")
@@ -881,9 +917,12 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
                 design_base(design)
             except ValueError as exc:
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
+        ratios = None
+        if design is None:
+            ratios, origin = plate_damping(choice.material, "fem")
         try:
             params = (fem_params_from_file(args.geometry) if design is not None
-                      else fem_params(choice.stator, choice.material))
+                      else fem_params(choice.stator, choice.material, damping_ratios=ratios))
         except Exception as exc:  # mode solver, factorisation, point search on extreme plates
             from lusm.fe_errors import fe_failure, is_fe_failure
 
@@ -901,7 +940,11 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     from rom.sources import get_params
 
     name = source or "table2"
-    return get_params(name), table2_damping() if name == "table2" else borrowed_damping(name)
+    if name == "table2":
+        return get_params(name), table2_damping()
+    ratios, origin = (beam_damping() if name == "beam"
+                      else plate_damping(pzt8(), "fem"))  # fem_params' default material
+    return get_params(name, damping_ratios=ratios), origin
 
 
 # --- drive ------------------------------------------------------------------------------------
