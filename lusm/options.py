@@ -727,6 +727,7 @@ def beam_damping() -> tuple[tuple[float, float] | None, str]:
     """:func:`plate_damping` of Appendix A's beam: Table 1's constants are the paper's PZT-8,
     so PZT-8's data-sheet ``Q_m`` with the default mount loss."""
     from fem.material import pzt8
+    from validation.summaries import plate_damping
 
     return plate_damping(pzt8(), "beam")
 
@@ -852,38 +853,14 @@ def fem_damping_origin(geometry: str | None, design) -> str:
     return f"{borrowed_damping('fem')}; stator file {geometry} has no [damping]"
 
 
-def plate_damping(material, what: str) -> tuple[tuple[float, float] | None, str]:
-    """The damping of a stator given without damping ratios (plate options, ``--source fem``
-    or ``beam``), as a stator file without ``[damping]`` gets it: the material's data-sheet
-    ``Q_m`` combined with the default mount loss (:func:`fem.material.material_damping`), the
-    same ratio in both modes; a material without ``Q_m`` (the paper's) keeps Table 2's
-    ratios, borrowed. ``what`` names the set in the origin text (``"fem"``, ``"beam"``).
-
-    Returns
-    -------
-    ratios : (float, float) or None
-        ``(zeta_L1, zeta_B2)``; None for Table 2's.
-    origin : str
-        Where they come from (:func:`validation.summaries.damping_line`).
-    """
-    from fem.material import material_damping
-    from validation.summaries import borrowed_damping
-
-    if material.mechanical_Q is None:
-        return None, (f"{borrowed_damping(what)}; material {material.name} has no data-sheet "
-                      "Q_m")
-    z, origin = material_damping(material)
-    return (z, z), f"{origin}; the {what} set has no damping ratios of its own"
-
-
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
     :func:`validation.summaries.damping_line`): Table 2 for the ``table2`` set, a stator
     file's ``[damping]``, the material's ``Q_m`` with the mount's for a stator without
     damping ratios (a stator file without them, the plate options, ``--source fem`` and
-    ``beam``: :func:`plate_damping`), or a ``--params`` file."""
+    ``beam``: :func:`validation.summaries.plate_damping`), or a ``--params`` file."""
     from fem.material import pzt8
-    from validation.summaries import table2_damping
+    from validation.summaries import plate_damping, table2_damping
 
     named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
     if source == "beam":

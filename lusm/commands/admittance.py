@@ -143,12 +143,12 @@ def _print_circuit(circuit) -> None:
 def _damping(args: argparse.Namespace, choice) -> dict:
     """The modal damping ratios of L1 and B2 and where they come from: the stator file's
     ``[damping]`` (identified from its reduced set where it asks), else the material's
-    ``Q_m`` with the mount's (:func:`lusm.options.plate_damping`; Table 2's ratios for a
+    ``Q_m`` with the mount's (:func:`validation.summaries.plate_damping`; Table 2's for a
     material without ``Q_m``)."""
     from lusm.errors import LusmError
-    from lusm.options import plate_damping
     from rom.from_fem import design_damping
     from rom.table2 import table2
+    from validation.summaries import plate_damping
 
     zetas = choice.design and design_damping(choice.design)
     origin = (f"stator file {args.geometry} {choice.design.damping_origin}"

@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> None:
     from validation.summaries import borrowed_damping, table2_damping
 
     # the paper's plate is compared with the paper on the paper's damping; a stator of the
-    # user's own gets its material's (lusm.options.plate_damping) below
+    # user's own gets its material's (validation.summaries.plate_damping) below
     origins = {"table2": table2_damping(),
                "beam": f"{borrowed_damping('beam')} for the comparison with the paper",
                "fem": f"{borrowed_damping('fem')} for the comparison with the paper"}
