@@ -176,6 +176,11 @@ def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") ->
     g.add_argument("--params", metavar="PARAMS.json", default=None,
                    help="a parameter set saved with 'lusm params --json' (edit its stored "
                    "fields, e.g. C_l for the damping); replaces --source and the stator")
+    g.add_argument("--damping", choices=("material", "table2"), default="material",
+                   help="modal damping of the fem and beam sets and the plate options: "
+                   "material (default), the material's data-sheet Q_m with the mount's "
+                   "(docs/designer.md); table2, Table 2's ratios, as the paper's comparisons "
+                   "take them. A stator file's [damping] sets its own")
     add_plate_options(p, note="; any of them selects --source fem")
 
 
@@ -720,16 +725,28 @@ def beam_of_plate(args: argparse.Namespace):
     # the plate's own drive: a stator file driving 2, 3 drives the beam through 2, 3
     return get_params("beam", length_m=length, width_m=width, thickness_m=st.thickness_m,
                       electrode_layout=plate_layout(st.drive_electrodes),
-                      damping_ratios=beam_damping()[0])
+                      damping_ratios=beam_damping(args)[0])
 
 
-def beam_damping() -> tuple[tuple[float, float] | None, str]:
-    """:func:`plate_damping` of Appendix A's beam: Table 1's constants are the paper's PZT-8,
+def beam_damping(args: argparse.Namespace | None = None
+                 ) -> tuple[tuple[float, float] | None, str]:
+    """:func:`set_damping` of Appendix A's beam: Table 1's constants are the paper's PZT-8,
     so PZT-8's data-sheet ``Q_m`` with the default mount loss."""
     from fem.material import pzt8
-    from validation.summaries import plate_damping
 
-    return plate_damping(pzt8(), "beam")
+    return set_damping(args, pzt8(), "beam")
+
+
+def set_damping(args: argparse.Namespace | None, material, what: str
+                ) -> tuple[tuple[float, float] | None, str]:
+    """The damping ``--damping`` asks of a set without ratios of its own (``what``: ``"fem"``
+    or ``"beam"``): :func:`validation.summaries.plate_damping` of ``material``, or Table 2's
+    ratios (None) for ``--damping table2``."""
+    from validation.summaries import borrowed_damping, plate_damping
+
+    if getattr(args, "damping", None) == "table2":
+        return None, f"{borrowed_damping(what)} (--damping table2)"
+    return plate_damping(material, what)
 
 
 @dataclass(frozen=True)
@@ -860,9 +877,14 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     damping ratios (a stator file without them, the plate options, ``--source fem`` and
     ``beam``: :func:`validation.summaries.plate_damping`), or a ``--params`` file."""
     from fem.material import pzt8
-    from validation.summaries import plate_damping, table2_damping
+    from validation.summaries import table2_damping
 
     named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
+    own = [o for o in ("geometry", "params") if getattr(args, o, None)]
+    if getattr(args, "damping", None) == "table2" and own:
+        raise LusmError(f"--damping cannot be combined with --{own[0]}: the file sets the "
+                        "damping (a stator file's [damping] source = \"table2\" for Table "
+                        "2's ratios)", "--damping")
     if source == "beam":
         warn_unused(("--material",), "Appendix A's beam takes Table 1's constants (density, "
                     "cE11, cE66, e31) whatever the plate's material")
@@ -879,7 +901,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source == "beam" and not getattr(args, "geometry", None):
-            return beam_of_plate(args), beam_damping()[1]
+            return beam_of_plate(args), beam_damping(args)[1]
         if source not in (None, "fem"):
             raise LusmError(f"{what} needs --source fem (or beam, for plate options), got "
                             f"--source {source}", "--source")
@@ -896,7 +918,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
         ratios = None
         if design is None:
-            ratios, origin = plate_damping(choice.material, "fem")
+            ratios, origin = set_damping(args, choice.material, "fem")
         try:
             params = (fem_params_from_file(args.geometry) if design is not None
                       else fem_params(choice.stator, choice.material, damping_ratios=ratios))
@@ -919,8 +941,8 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     name = source or "table2"
     if name == "table2":
         return get_params(name), table2_damping()
-    ratios, origin = (beam_damping() if name == "beam"
-                      else plate_damping(pzt8(), "fem"))  # fem_params' default material
+    ratios, origin = (beam_damping(args) if name == "beam"
+                      else set_damping(args, pzt8(), "fem"))  # fem_params' default material
     return get_params(name, damping_ratios=ratios), origin
 
 

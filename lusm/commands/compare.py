@@ -54,7 +54,7 @@ def run(args: argparse.Namespace) -> None:
             # so --length-mm changed one column of two)
             from lusm.options import beam_damping, beam_of_plate
 
-            given["beam"], origins["beam"] = beam_of_plate(args), beam_damping()[1]
+            given["beam"], origins["beam"] = beam_of_plate(args), beam_damping(args)[1]
     cmp = compare_sources(args.sources, reference=args.reference, given=given)
     if args.json:
         d = cmp.to_dict()
