@@ -989,9 +989,11 @@ MAX_VOLTAGES = 8
 
 def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
                       auto_frequency: bool = True, time_steps: bool = True,
-                      voltage_list: bool = False) -> None:
+                      voltage_list: bool = False, settling_duration: bool = False) -> None:
     """``--voltage --preload --frequency`` and (with ``time_steps``) ``--duration --dt``,
-    with their validity ranges; ``voltage_list``: ``--voltage`` takes ``A,B,...`` (a tuple)."""
+    with their validity ranges; ``voltage_list``: ``--voltage`` takes ``A,B,...`` (a tuple);
+    ``settling_duration``: ``--duration`` defaults to None, the stator's settling time
+    (:func:`default_duration_s`), instead of the paper's 0.05 s."""
     g = p.add_argument_group("drive", "operating point and time stepping")
     if required:
         vtype = (real_list("--voltage", "V", *limits.VOLTAGE_V, MAX_VOLTAGES) if voltage_list
@@ -1013,9 +1015,13 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
                        default=40e3, help="drive frequency (Hz)")
     if not time_steps:
         return
-    g.add_argument("--duration", default=0.05,
+    g.add_argument("--duration", default=None if settling_duration else PAPER_DURATION_S,
                    type=real("--duration", "s", *limits.DURATION_S, lo_open=True),
-                   help="simulated time (s)")
+                   help="simulated time (s)" + (
+                       f"; default: Table 2's set {PAPER_DURATION_S:g} s, any other set its "
+                       "own settling time (five time constants of its modes and its slider, "
+                       f"at least {PAPER_DURATION_S:g} s, docs/designer.md)"
+                       if settling_duration else f", default {PAPER_DURATION_S:g}"))
     # kept as typed and checked by time_step_of once the drive frequency is known: its range
     # (0, 1/(20 f)] depends on it; a parse-time range of its own, (0, 0.001] s, would accept
     # a --dt that the drive frequency then refuses
@@ -1185,6 +1191,35 @@ def check_dt_per_period(dt_s: float, frequency_Hz: float, why: str = "") -> None
     clause saying what the step serves, for a command where that is not obvious)."""
     if not 0.0 < dt_s <= _dt_max(frequency_Hz):
         raise LusmError(_dt_refusal(frequency_Hz, f"{dt_s:g}", why), "--dt")
+
+
+PAPER_DURATION_S = 0.05
+"""Default ``--duration`` (s) of Table 2's set and of ``lusm map``'s transients."""
+
+
+def default_duration_s(params, voltages_V: Sequence[float], preload_N: float,
+                       frequency_Hz: float, dt_s: float, load_N: float = 0.0) -> float:
+    """``lusm simulate``'s run length without ``--duration`` (s): :data:`PAPER_DURATION_S`
+    for Table 2's set (the paper's runs); for any other, the longest
+    :func:`contact.drive.settling_time_s` of ``voltages_V``, at least
+    :data:`PAPER_DURATION_S`, at most the steps the work bound allows (said in one line,
+    with ``--steady`` suggested)."""
+    from contact.drive import settling_time_s
+    from contact.model import is_table2
+
+    if is_table2(params):
+        return PAPER_DURATION_S
+    settle = max(settling_time_s(params, v, preload_N, frequency_Hz, load_N)
+                 for v in voltages_V)
+    duration = max(PAPER_DURATION_S, settle)
+    top = limits.work_bound(limits.MAX_STEPS) * dt_s
+    if duration > top:
+        warn(f"--duration: the slider settles in about {duration:.3g} s, {duration / dt_s:.3g} "
+             f"time steps, above the limit {limits.work_bound(limits.MAX_STEPS):.3g}; running "
+             f"{top:.3g} s, which may not settle: --steady finds the steady state directly "
+             f"({limits.more_work_hint()})")
+        duration = top
+    return duration
 
 
 def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,
