@@ -99,7 +99,13 @@ LIMITS_SOURCE = (
     "vibration velocity and tensile strength as PZT-5A's (soft PZT; not found for 5H in a "
     "data sheet read here). APC 880: Q_m 1000 and the maximum AC voltage 9-11 V/mil "
     "(354-433 V/mm) of the APC chart, hence 400 V/mm; velocity, strength and heating as "
-    "PZT-8's (its Navy type; not APC figures)."
+    "PZT-8's (its Navy type; not APC figures). Read in stored public pages: CTS 'PZT5A & 5H "
+    "Materials Technical Data' (https://dtsheet.com/doc/1396950/3195std---cts-corp.): Q_m 80 "
+    "(5A types 3195STD/HD), 30 (5H types 3203STD/HD), coercive field 12.0 kV/cm (3195HD), "
+    "8.0 kV/cm (3203HD); a supplier's table (https://gnaxel.ru/en/produktsiya/piezoelectric-"
+    "elements-and-crystals/tsirkonato-titanat-svintsa/): Q_m PZT-8 800, PZT-4A 600, PZT-4D "
+    "800, PZT-5A 60, PZT-5H 60. Not found readable: the tensile strength, the vibration "
+    "velocity and the hard types' AC field (cited above from the literature, unread here)."
 )
 """Where :data:`MATERIAL_LIMITS` and the materials' ``mechanical_Q`` come from."""
 
