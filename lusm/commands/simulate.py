@@ -8,6 +8,7 @@ from lusm import limits
 from lusm.errors import LusmError
 from lusm.messages import warn, warn_unused
 from lusm.options import (
+    PAPER_DURATION_S,
     Motor,
     add_contact_options,
     add_drive_options,
@@ -67,7 +68,9 @@ def run(args: argparse.Namespace) -> None:
     typed_duration = args.duration is not None
     plot, motor = resolve_drive(args, voltages, args.preload, check_size, load_N=args.load_N)
     params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
-    if not args.steady and not typed_duration:
+    if args.steady and not typed_duration:
+        args.duration = PAPER_DURATION_S  # unused: the steady engine takes its own run length
+    elif not typed_duration:
         args.duration = default_duration_s(params, voltages, args.preload, freq, args.dt,
                                            args.load_N)
         check_run_size(args.duration, args.dt, freq)
