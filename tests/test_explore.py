@@ -1236,8 +1236,10 @@ def test_a_transient_study_runs_as_lusm_simulate_by_default(capsys):
                          "axes": {"voltage": "200 V", "preload": "14 N"},
                          "solver": {"method": "event"}})
     ds = assemble(s, {0: compute_geometry(s, 0)})
+    # the study's solver.duration (0.05 s) typed: simulate's own default follows the set's
+    # settling time, a study's stays one duration for every plate
     assert main(["simulate", "--source", "fem", "--frequency", "auto", "--voltage", "200",
-                 "--preload", "14", "--json"]) == 0
+                 "--preload", "14", "--duration", f"{s.solver.duration_s!r}", "--json"]) == 0
     cli = json.loads(capsys.readouterr().out)
     assert cli["duration_s"] == s.solver.duration_s and cli["dt_s"] == s.solver.step_s(
         float(ds["f_drive"].item()))

@@ -291,7 +291,7 @@ def test_an_unsettled_transient_says_so(capsys):
     assert main(["simulate", "--voltage", "300", "--preload", "14", "--json"]) == 0
     cap = capsys.readouterr()
     assert json.loads(cap.out)["settled"] is False
-    assert "has not settled within --duration 0.05 s" in cap.err
+    assert "has not settled within the default duration 0.05 s" in cap.err
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--json"]) == 0
     cap = capsys.readouterr()
     assert json.loads(cap.out)["settled"] is True and "warning" not in cap.err
