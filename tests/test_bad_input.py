@@ -316,6 +316,9 @@ SIMULATE = [
     ("geometry-binary", [*_SIM, "--geometry", "{binary}"], "--geometry", None),
     ("plate-option-with-geometry", [*_SIM, "--geometry", "{plate}", "--length-mm", "30"],
      "--length-mm", None),
+    ("damping-with-geometry", [*_SIM, "--damping", "table2", "--geometry", "{plate}"],
+     "--damping", "[damping]"),
+    ("damping-unknown", [*_SIM, "--damping", "light"], "--damping", None),
     ("params-missing", [*_SIM, "--params", "no_such_set.json"], "--params", None),
     # read whole before: a 512 MB file took 1.1 GB of memory
     ("params-huge", [*_SIM, "--params", "{huge_sparse}"], "--params", "above 1000000"),

@@ -8,11 +8,13 @@ from lusm import limits
 from lusm.errors import LusmError
 from lusm.messages import warn, warn_unused
 from lusm.options import (
+    PAPER_DURATION_S,
     Motor,
     add_contact_options,
     add_drive_options,
     check_run_size,
     check_steady_frequency,
+    default_duration_s,
     print_json,
     real,
     resolve_drive,
@@ -29,7 +31,7 @@ steady-state metrics.
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """The options of ``lusm simulate``."""
-    add_drive_options(p, voltage_list=True)
+    add_drive_options(p, voltage_list=True, settling_duration=True)
     p.add_argument("--energy", action="store_true", help="also compute the energy balance")
     p.add_argument("--load-N", dest="load_N", default=0.0,
                    type=real("--load-N", "N", -limits.PRELOAD_N[1], limits.PRELOAD_N[1]),
@@ -66,17 +68,26 @@ def run(args: argparse.Namespace) -> None:
     def check_size(frequency_Hz: float) -> None:
         # --steady takes any positive step and uses neither --duration nor --dt
         args.dt = time_step_of(typed_dt, frequency_Hz, used=not args.steady)
-        if not args.steady:
+        if not args.steady and args.duration is not None:  # a default waits for the set
             check_run_size(args.duration, args.dt, frequency_Hz)
 
+    typed_duration = args.duration is not None
     plot, motor = resolve_drive(args, voltages, args.preload, check_size, load_N=args.load_N)
     params, damping_from, freq = motor.params, motor.damping_from, motor.frequency_Hz
+    if args.steady and not typed_duration:
+        args.duration = PAPER_DURATION_S  # unused: the steady engine takes its own run length
+    elif not typed_duration:
+        args.duration = default_duration_s(params, voltages, args.preload, freq, args.dt,
+                                           args.load_N)
+        check_run_size(args.duration, args.dt, freq)
     coupling, coupling_from = motor.coupling, motor.coupling_from
     if args.steady:
         # the range characteristic and map say (the engine's own refusal has no range)
         check_steady_frequency(params, freq, coupling)
         # said once --dt is known to be a number: a refusal is then the one line
         warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
+    # how the not-settled warning names the run length
+    args.duration_said = "--duration" if typed_duration else "the default duration"
     cal = None
     if args.uncertainty is not None:
         from lusm.uncertainty import calibration_of, check_work
@@ -215,7 +226,7 @@ def _simulate(args: argparse.Namespace, voltage_V: float, params, freq: float, c
     if not args.steady and not r.steady.settled:
         if runaway is None:
             st = r.steady
-            warn(f"at {voltage_V:g} V the slider has not settled within --duration "
+            warn(f"at {voltage_V:g} V the slider has not settled within {args.duration_said} "
                  f"{args.duration:g} s (the last window's mean velocity {st.velocity_m_s:.4g} "
                  f"m/s, an earlier one's {st.previous_velocity_m_s:.4g} m/s): the printed "
                  "velocity is not the steady one; give a longer --duration, or --steady")
