@@ -12,6 +12,7 @@ Constitutive law (IEEE Std 176, e-form)::
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
@@ -98,7 +99,13 @@ LIMITS_SOURCE = (
     "vibration velocity and tensile strength as PZT-5A's (soft PZT; not found for 5H in a "
     "data sheet read here). APC 880: Q_m 1000 and the maximum AC voltage 9-11 V/mil "
     "(354-433 V/mm) of the APC chart, hence 400 V/mm; velocity, strength and heating as "
-    "PZT-8's (its Navy type; not APC figures)."
+    "PZT-8's (its Navy type; not APC figures). Read in stored public pages: CTS 'PZT5A & 5H "
+    "Materials Technical Data' (https://dtsheet.com/doc/1396950/3195std---cts-corp.): Q_m 80 "
+    "(5A types 3195STD/HD), 30 (5H types 3203STD/HD), coercive field 12.0 kV/cm (3195HD), "
+    "8.0 kV/cm (3203HD); a supplier's table (https://gnaxel.ru/en/produktsiya/piezoelectric-"
+    "elements-and-crystals/tsirkonato-titanat-svintsa/): Q_m PZT-8 800, PZT-4A 600, PZT-4D "
+    "800, PZT-5A 60, PZT-5H 60. Not found readable: the tensile strength, the vibration "
+    "velocity and the hard types' AC field (cited above from the literature, unread here)."
 )
 """Where :data:`MATERIAL_LIMITS` and the materials' ``mechanical_Q`` come from."""
 
@@ -176,6 +183,58 @@ def combined_quality_factor(*quality_factors: float) -> float:
         raise ValueError("at least one quality factor must be finite (a lossless mode has no "
                          "resonance width)")
     return 1.0 / inverse
+
+
+DEFAULT_Q_MOUNT = 300.0
+"""Default mount loss ``Q_mount`` (-): the loss of the stator's mount (holder, bond, preload
+spring) as a quality factor, combined with the material's ``Q_m`` in the default damping of
+a stator without damping ratios (:func:`material_damping`; a stator file's ``[damping]
+Q_mount``). Assembled ultrasonic-motor stators are quoted at mechanical Q of about 100-1000
+free, against 1000-2000 for hard PZT itself (docs/designer.md, "The default damping", for
+the sources); 300 is the middle of that range on a logarithmic scale. A measured Q of the
+mounted stator (impedance analyser: ``f_s / (f_2 - f_1)`` at -3 dB) replaces it."""
+
+
+def material_damping(material: PiezoMaterial, q_mount: float | None = None,
+                     q_contact: float | None = None) -> tuple[float, str]:
+    """The default modal damping ratio of a stator of ``material`` and where it comes from.
+
+    The material's data-sheet ``Q_m`` combined with the mount's and the contact's losses
+    (:func:`combined_quality_factor`), ``zeta = 1 / (2 Q)``, the same in both modes.
+
+    Parameters
+    ----------
+    material : PiezoMaterial
+        The ceramic; its ``mechanical_Q`` must be known.
+    q_mount : float, optional
+        The mount's quality factor (-), as a stator file's ``[damping] Q_mount`` gives it;
+        default :data:`DEFAULT_Q_MOUNT`, said as the default.
+    q_contact : float, optional
+        A lossy contact layer's quality factor (-); default none (no such loss).
+
+    Returns
+    -------
+    zeta : float
+        The damping ratio of L1 and of B2 (-).
+    origin : str
+        Where it comes from, for :func:`validation.summaries.damping_line`.
+
+    Raises
+    ------
+    ValueError
+        If the material has no ``Q_m`` (the paper's: its set keeps Table 2's ratios).
+    """
+    if material.mechanical_Q is None:
+        raise ValueError(f"material {material.name!r} has no data-sheet mechanical Q_m")
+    mount = (f"the default Q_mount = {DEFAULT_Q_MOUNT:g}" if q_mount is None
+             else f"[damping] Q_mount = {q_mount:g}")
+    contact = "" if q_contact is None else f" and [damping] Q_contact = {q_contact:g}"
+    q = combined_quality_factor(material.mechanical_Q,
+                                DEFAULT_Q_MOUNT if q_mount is None else q_mount,
+                                math.inf if q_contact is None else q_contact)
+    return 1.0 / (2.0 * q), (f"material {material.name}'s Q_m = {material.mechanical_Q:g} "
+                             f"(data sheet) combined with {mount}{contact}: Q = {q:.4g}, "
+                             "zeta = 1/(2 Q)")
 
 
 def _frozen(a: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:

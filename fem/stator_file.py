@@ -88,6 +88,9 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     scale_L1 = 1.0                      #   (a prototype's electrodes, bond and poling give
     scale_B2 = 1.0                      #   less than the model's), each in
                                         #   FORCE_FACTOR_SCALE_RANGE (lusm calibrate fits them)
+    [calibration]                       # written by lusm calibrate: the fit's values,
+                                        #   standard errors and covariance; read (and
+                                        #   checked) by calibration.uncertainty, not here
 
 With a feature table the stator is a :class:`fem.meshing.parametric.ParametricStator`: the plate
 keeps its own length and width (the tip is added beyond ``y = l``; the tip point is the
@@ -128,7 +131,13 @@ from typing import Any
 import numpy as np
 
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
-from fem.material import MATERIAL_NAMES, PiezoMaterial, combined_quality_factor, get_material
+from fem.material import (  # DEFAULT_Q_MOUNT: the [damping] Q_mount default, named here too
+    DEFAULT_Q_MOUNT,  # noqa: F401
+    MATERIAL_NAMES,
+    PiezoMaterial,
+    get_material,
+    material_damping,
+)
 from fem.meshing.meshed_stator import MeshedStator, bbox_mm
 from fem.units import to_si
 
@@ -169,15 +178,6 @@ Q_M_RANGE = (0.5, 5e4)
 """Allowed ``[damping] Q_m`` (-): ``(0.5, 5e4]``, i.e. ``zeta = 1/(2 Q_m)`` in
 :data:`DAMPING_RATIO_RANGE`."""
 
-DEFAULT_Q_MOUNT = 300.0
-"""Default ``[damping] Q_mount`` (-): the loss of the stator's mount (holder, bond, preload
-spring) as a quality factor, combined with the material's ``Q_m`` when the file gives no
-damping ratios. Assembled ultrasonic-motor stators are quoted at mechanical Q of about
-100-1000 free, against 1000-2000 for hard PZT itself (docs/designer.md, "The default
-damping", for the sources); 300 is the middle of that range on a logarithmic scale. A
-measured Q of the mounted stator (impedance analyser: ``f_s / (f_2 - f_1)`` at -3 dB)
-replaces it."""
-
 FORCE_FACTOR_SCALE_RANGE = (0.01, 100.0)
 """Allowed ``[force_factor] scale_L1, scale_B2`` (-): ``(0.01, 100]``."""
 
@@ -203,7 +203,7 @@ lower bound of 0 that is not allowed means "> 0"."""
 
 _KEYS: dict[str, tuple[str, ...]] = {
     "": ("name", "plate", "electrodes", "material", "points", "mesh", "tip", "chamfers",
-         "holes", "damping", "contact", "slider", "friction", "force_factor"),
+         "holes", "damping", "contact", "slider", "friction", "force_factor", "calibration"),
     "plate": ("length_mm", "width_mm", "thickness_mm"),
     "electrodes": ("gap_mm", "drive"),
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),
@@ -514,7 +514,7 @@ def _material_damping(table: dict, src: str, material: PiezoMaterial
                       ) -> tuple[tuple[float, float] | None, str, None]:
     """The default damping of a stator without ``[damping]`` ratios: the material's data-sheet
     ``Q_m`` combined with the mount's and the contact's losses (``[damping] Q_mount``,
-    ``Q_contact``; :func:`fem.material.combined_quality_factor`), the same ratio in both
+    ``Q_contact``; :func:`fem.material.material_damping`), the same ratio in both
     modes. A material without ``Q_m`` (the paper's, inline constants without a base) keeps
     the parameter source's default (Table 2's ratios) unless the table asks for a mount."""
     given = [k for k in ("Q_mount", "Q_contact") if k in table]
@@ -525,17 +525,12 @@ def _material_damping(table: dict, src: str, material: PiezoMaterial
                              f"[damping] Q_m (the stator's total) instead")
         return None, "", None
     q_mount = (_number(table, "damping", "Q_mount", src, *Q_M_RANGE, False, True)
-               if "Q_mount" in table else DEFAULT_Q_MOUNT)
+               if "Q_mount" in table else None)
     q_contact = (_number(table, "damping", "Q_contact", src, *Q_M_RANGE, False, True)
-                 if "Q_contact" in table else math.inf)
-    q = combined_quality_factor(material.mechanical_Q, q_mount, q_contact)
-    z = 1.0 / (2.0 * q)
-    mount = (f"[damping] Q_mount = {q_mount:g}" if "Q_mount" in table
-             else f"the default Q_mount = {q_mount:g}")
-    contact = (f" and [damping] Q_contact = {q_contact:g}" if "Q_contact" in table else "")
+                 if "Q_contact" in table else None)
+    z, origin = material_damping(material, q_mount, q_contact)
     tail = "" if table else "; the file has no [damping]"
-    return (z, z), (f"material {material.name}'s Q_m = {material.mechanical_Q:g} (data sheet) "
-                    f"combined with {mount}{contact}: Q = {q:.4g}, zeta = 1/(2 Q){tail}"), None
+    return (z, z), origin + tail, None
 
 
 def _damping(table: dict, src: str, material: PiezoMaterial

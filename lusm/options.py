@@ -176,6 +176,11 @@ def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") ->
     g.add_argument("--params", metavar="PARAMS.json", default=None,
                    help="a parameter set saved with 'lusm params --json' (edit its stored "
                    "fields, e.g. C_l for the damping); replaces --source and the stator")
+    g.add_argument("--damping", choices=("material", "table2"), default="material",
+                   help="modal damping of the fem and beam sets and the plate options: "
+                   "material (default), the material's data-sheet Q_m with the mount's "
+                   "(docs/designer.md); table2, Table 2's ratios, as the paper's comparisons "
+                   "take them. A stator file's [damping] sets its own")
     add_plate_options(p, note="; any of them selects --source fem")
 
 
@@ -719,7 +724,29 @@ def beam_of_plate(args: argparse.Namespace):
         length, width = y1 - y0, x1 - x0
     # the plate's own drive: a stator file driving 2, 3 drives the beam through 2, 3
     return get_params("beam", length_m=length, width_m=width, thickness_m=st.thickness_m,
-                      electrode_layout=plate_layout(st.drive_electrodes))
+                      electrode_layout=plate_layout(st.drive_electrodes),
+                      damping_ratios=beam_damping(args)[0])
+
+
+def beam_damping(args: argparse.Namespace | None = None
+                 ) -> tuple[tuple[float, float] | None, str]:
+    """:func:`set_damping` of Appendix A's beam: Table 1's constants are the paper's PZT-8,
+    so PZT-8's data-sheet ``Q_m`` with the default mount loss."""
+    from fem.material import pzt8
+
+    return set_damping(args, pzt8(), "beam")
+
+
+def set_damping(args: argparse.Namespace | None, material, what: str
+                ) -> tuple[tuple[float, float] | None, str]:
+    """The damping ``--damping`` asks of a set without ratios of its own (``what``: ``"fem"``
+    or ``"beam"``): :func:`validation.summaries.plate_damping` of ``material``, or Table 2's
+    ratios (None) for ``--damping table2``."""
+    from validation.summaries import borrowed_damping, plate_damping
+
+    if getattr(args, "damping", None) == "table2":
+        return None, f"{borrowed_damping(what)} (--damping table2)"
+    return plate_damping(material, what)
 
 
 @dataclass(frozen=True)
@@ -845,11 +872,19 @@ def fem_damping_origin(geometry: str | None, design) -> str:
 
 def motor_params_of(args: argparse.Namespace, source: str | None):
     """:func:`fem_params_of` and where its damping ratios come from (text for
-    :func:`validation.summaries.damping_line`): Table 2, a stator file's ``[damping]`` or a
-    ``--params`` file."""
-    from validation.summaries import borrowed_damping, table2_damping
+    :func:`validation.summaries.damping_line`): Table 2 for the ``table2`` set, a stator
+    file's ``[damping]``, the material's ``Q_m`` with the mount's for a stator without
+    damping ratios (a stator file without them, the plate options, ``--source fem`` and
+    ``beam``: :func:`validation.summaries.plate_damping`), or a ``--params`` file."""
+    from fem.material import pzt8
+    from validation.summaries import table2_damping
 
     named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
+    own = [o for o in ("geometry", "params") if getattr(args, o, None)]
+    if getattr(args, "damping", None) == "table2" and own:
+        raise LusmError(f"--damping cannot be combined with --{own[0]}: the file sets the "
+                        "damping (a stator file's [damping] source = \"table2\" for Table "
+                        "2's ratios)", "--damping")
     if source == "beam":
         warn_unused(("--material",), "Appendix A's beam takes Table 1's constants (density, "
                     "cE11, cE66, e31) whatever the plate's material")
@@ -866,7 +901,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     if named:
         what = "--geometry" if getattr(args, "geometry", None) else plate_given(args)[0]
         if source == "beam" and not getattr(args, "geometry", None):
-            return beam_of_plate(args), borrowed_damping("beam")
+            return beam_of_plate(args), beam_damping(args)[1]
         if source not in (None, "fem"):
             raise LusmError(f"{what} needs --source fem (or beam, for plate options), got "
                             f"--source {source}", "--source")
@@ -881,9 +916,12 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
                 design_base(design)
             except ValueError as exc:
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
+        ratios = None
+        if design is None:
+            ratios, origin = set_damping(args, choice.material, "fem")
         try:
             params = (fem_params_from_file(args.geometry) if design is not None
-                      else fem_params(choice.stator, choice.material))
+                      else fem_params(choice.stator, choice.material, damping_ratios=ratios))
         except Exception as exc:  # mode solver, factorisation, point search on extreme plates
             from lusm.fe_errors import fe_failure, is_fe_failure
 
@@ -901,7 +939,11 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     from rom.sources import get_params
 
     name = source or "table2"
-    return get_params(name), table2_damping() if name == "table2" else borrowed_damping(name)
+    if name == "table2":
+        return get_params(name), table2_damping()
+    ratios, origin = (beam_damping(args) if name == "beam"
+                      else set_damping(args, pzt8(), "fem"))  # fem_params' default material
+    return get_params(name, damping_ratios=ratios), origin
 
 
 # --- drive ------------------------------------------------------------------------------------
@@ -947,9 +989,11 @@ MAX_VOLTAGES = 8
 
 def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
                       auto_frequency: bool = True, time_steps: bool = True,
-                      voltage_list: bool = False) -> None:
+                      voltage_list: bool = False, settling_duration: bool = False) -> None:
     """``--voltage --preload --frequency`` and (with ``time_steps``) ``--duration --dt``,
-    with their validity ranges; ``voltage_list``: ``--voltage`` takes ``A,B,...`` (a tuple)."""
+    with their validity ranges; ``voltage_list``: ``--voltage`` takes ``A,B,...`` (a tuple);
+    ``settling_duration``: ``--duration`` defaults to None, the stator's settling time
+    (:func:`default_duration_s`), instead of the paper's 0.05 s."""
     g = p.add_argument_group("drive", "operating point and time stepping")
     if required:
         vtype = (real_list("--voltage", "V", *limits.VOLTAGE_V, MAX_VOLTAGES) if voltage_list
@@ -971,9 +1015,13 @@ def add_drive_options(p: argparse.ArgumentParser, *, required: bool = True,
                        default=40e3, help="drive frequency (Hz)")
     if not time_steps:
         return
-    g.add_argument("--duration", default=0.05,
+    g.add_argument("--duration", default=None if settling_duration else PAPER_DURATION_S,
                    type=real("--duration", "s", *limits.DURATION_S, lo_open=True),
-                   help="simulated time (s)")
+                   help="simulated time (s)" + (
+                       f"; default: Table 2's set {PAPER_DURATION_S:g} s, any other set its "
+                       "own settling time (five time constants of its modes and its slider, "
+                       f"at least {PAPER_DURATION_S:g} s, docs/designer.md)"
+                       if settling_duration else f", default {PAPER_DURATION_S:g}"))
     # kept as typed and checked by time_step_of once the drive frequency is known: its range
     # (0, 1/(20 f)] depends on it; a parse-time range of its own, (0, 0.001] s, would accept
     # a --dt that the drive frequency then refuses
@@ -1143,6 +1191,35 @@ def check_dt_per_period(dt_s: float, frequency_Hz: float, why: str = "") -> None
     clause saying what the step serves, for a command where that is not obvious)."""
     if not 0.0 < dt_s <= _dt_max(frequency_Hz):
         raise LusmError(_dt_refusal(frequency_Hz, f"{dt_s:g}", why), "--dt")
+
+
+PAPER_DURATION_S = 0.05
+"""Default ``--duration`` (s) of Table 2's set and of ``lusm map``'s transients."""
+
+
+def default_duration_s(params, voltages_V: Sequence[float], preload_N: float,
+                       frequency_Hz: float, dt_s: float, load_N: float = 0.0) -> float:
+    """``lusm simulate``'s run length without ``--duration`` (s): :data:`PAPER_DURATION_S`
+    for Table 2's set (the paper's runs); for any other, the longest
+    :func:`contact.drive.settling_time_s` of ``voltages_V``, at least
+    :data:`PAPER_DURATION_S`, at most the steps the work bound allows (said in one line,
+    with ``--steady`` suggested)."""
+    from contact.drive import settling_time_s
+    from contact.model import is_table2
+
+    if is_table2(params):
+        return PAPER_DURATION_S
+    settle = max(settling_time_s(params, v, preload_N, frequency_Hz, load_N)
+                 for v in voltages_V)
+    duration = max(PAPER_DURATION_S, settle)
+    top = limits.work_bound(limits.MAX_STEPS) * dt_s
+    if duration > top:
+        warn(f"--duration: the slider settles in about {duration:.3g} s, {duration / dt_s:.3g} "
+             f"time steps, above the limit {limits.work_bound(limits.MAX_STEPS):.3g}; running "
+             f"{top:.3g} s, which may not settle: --steady finds the steady state directly "
+             f"({limits.more_work_hint()})")
+        duration = top
+    return duration
 
 
 def check_run_size(duration_s: float, dt_s: float, frequency_Hz: float,

@@ -122,3 +122,42 @@ def beam_shape_data(length_m: float, width_m: float, thickness_m: float, cE11_Pa
         thickness_m=thickness_m, volume_m3=length_m * width_m * thickness_m,
         material=material, limits=limits, source=source,
     )
+
+
+def beam_combined_stress_Pa(length_m: float, stress_L1_Pa: float, stress_B2_Pa: float,
+                            phase_rad: float = 0.0, points: int = 20001) -> float:
+    """The peak axial stress of L1 and B2 together over a drive period, on Appendix A's beam.
+
+    Both modes stress the beam along its length: L1 as ``s_L sin(pi y / l)`` (``phi_L'``,
+    uniform over the width), B2 as ``s_B x phi_B''(y) / ((b/2) max|phi_B''|)`` (bending,
+    linear across the width ``x``), each the amplitude of a sinusoid in time, B2's lagging
+    L1's by ``phase_rad``. At each point the sum of two sinusoids has the amplitude
+    ``|a exp(i phase) + c|``; across the width ``c`` takes both signs, so the largest over
+    the width is ``sqrt(a^2 + c^2 + 2 |a c cos(phase)|)`` at the edges. Its maximum over the
+    length is the combined peak: at most ``s_L + s_B`` (the modes' peaks added, the bound
+    :func:`contact.operating_limits.limits_from_amplitudes` reports), less where the peaks
+    lie apart (L1's at the middle, where the antisymmetric B2 does not bend).
+    ``phase_rad = 0`` (the default, the modes in phase) is the largest over every phase.
+
+    Parameters
+    ----------
+    length_m : float
+        Beam length (m).
+    stress_L1_Pa, stress_B2_Pa : float
+        Each mode's peak stress amplitude (Pa): shape data's per-unit stress times the
+        modal amplitude.
+    phase_rad : float
+        Phase of B2's motion against L1's (rad).
+    points : int
+        Points along the length.
+
+    Returns
+    -------
+    float
+        The combined peak stress amplitude (Pa), the peak tensile stress over the period.
+    """
+    y = np.linspace(0.0, length_m, points)
+    a = stress_L1_Pa * np.abs(np.sin(np.pi * y / length_m))
+    curvature = np.abs(phi_B(y, length_m, 2))
+    c = stress_B2_Pa * curvature / np.max(curvature)
+    return float(np.max(np.sqrt(a * a + c * c + 2.0 * np.abs(a * c * math.cos(phase_rad)))))

@@ -185,8 +185,9 @@ def _mesh_text(study: Study) -> str:
 
 def damping_text(study: Study) -> str:
     """The modal damping of the study's parameter sets, in words (every answer with a
-    velocity depends on it): Table 2's ratios, borrowed by the FE reduction, or the stator
-    file's ``[damping]``."""
+    velocity depends on it): each material's ``Q_m`` with the mount's for the plain plates
+    (:func:`validation.summaries.plate_damping`; Table 2's ratios, borrowed, for a material
+    without ``Q_m``), or the stator file's ``[damping]``."""
     from rom import table2
 
     t2 = table2()
@@ -194,7 +195,15 @@ def damping_text(study: Study) -> str:
                 "(borrowed: the FE reduction has no damping of its own)")
     d = study.stator
     if d is None:
-        return borrowed
+        from fem.material import get_material
+        from validation.summaries import plate_damping
+
+        said = []
+        for name in study.axes["material"]:
+            ratios, origin = plate_damping(get_material(name), "fem")
+            said.append(borrowed if ratios is None else
+                        f"zeta_L1 = zeta_B2 = {ratios[0]:.4g} ({origin})")
+        return "; ".join(dict.fromkeys(said))
     # the values first: a figure's title shortens the end, where the path is
     from rom.from_fem import design_damping
 
@@ -215,8 +224,8 @@ def _parameter_set_source(study: Study) -> str:
           f"order {s.fe_order}, {_mesh_text(study)}")
     d = study.stator
     if d is None:
-        return (f"{fe}); contact, slider, friction and damping constants from rom.table2 "
-                "(Li, Yao & Wu 2016, Table 2)")
+        return (f"{fe}); damping {damping_text(study)}; contact, slider and friction "
+                "constants from rom.table2 (Li, Yao & Wu 2016, Table 2)")
     motor = ("; " + ", ".join(f"{where} from the file" for where in d.motor_keys().values())
              if d.motor else "")
     return (f"{fe}) of stator file {d.path} ({d.name}), its plate dimensions from the "

@@ -232,8 +232,13 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         # the modal reduction, the file's damping fit and motor tables, the auto frequency
         # (a fit to Table 2's amplitudes that a varied plate cannot match is not an FE failure)
         stage = "parameter set"
-        if study.stator is None:
-            params = fem_params(stator, material, order=s.fe_order, refine=s.fe_refine)
+        if study.stator is None:  # the material's Q_m with the mount's, as lusm simulate's
+            from fem.material import get_material
+            from validation.summaries import plate_damping
+
+            ratios = plate_damping(get_material(material), "fem")[0]
+            params = fem_params(stator, material, order=s.fe_order, refine=s.fe_refine,
+                                damping_ratios=ratios)
         else:  # the file's damping and motor tables too, as the single-point commands
             params = fem_params_from_design(study.stator, stator, order=s.fe_order,
                                             refine=s.fe_refine)

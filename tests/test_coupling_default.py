@@ -29,7 +29,7 @@ def test_rule():
 def test_cli_runs_and_names_the_coupling(capsys, extra, coupling, why):
     # at 40 kHz by name: without --frequency the beam set is driven at its own point
     args = ["simulate", "--voltage", "300", "--preload", "14", "--duration", "0.005",
-            "--frequency", "40e3", *extra]
+            "--frequency", "40e3", "--damping", "table2", *extra]
     assert main([*args, "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["coupling"] == coupling and d["coupling_from"].startswith(why)

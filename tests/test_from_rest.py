@@ -136,7 +136,8 @@ def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys, b
 
     from lusm.cli import main
 
-    argv = ["characteristic", "--source", "beam", "--voltage", "1000", "--preload", "10",
+    argv = ["characteristic", "--source", "beam", "--damping", "table2", "--voltage", "1000",
+            "--preload", "10",
             "--loads=-1:-1:1", "--json", "--frequency", "40e3"]  # the reference's drive
     assert main([*argv, "--rest", "transient"]) == 0
     strict = json.loads(capsys.readouterr().out)["curve"][0]["velocity_m_s"]
@@ -161,7 +162,8 @@ def test_simulate_steady_takes_rest_too(capsys, beam_miss_ref):
     from contact.options import SimulationOptions
     from lusm.cli import main
 
-    argv = ["simulate", "--source", "beam", "--voltage", "1000", "--preload", "10",
+    argv = ["simulate", "--source", "beam", "--damping", "table2", "--voltage", "1000",
+            "--preload", "10",
             "--load-N=-1", "--frequency", "40000", "--steady", "--json"]
     assert main([*argv, "--rest", "transient"]) == 0
     v = json.loads(capsys.readouterr().out)["steady_velocity_m_s"]

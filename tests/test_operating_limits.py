@@ -148,3 +148,25 @@ def test_table2_default_frequency_is_the_papers(capsys):
     doc = json.loads(capsys.readouterr().out)
     assert doc["frequency_Hz"] == 40e3
     assert doc["limits"]["drive_field"]["value"] == pytest.approx(200 / 3e-3)
+
+
+def test_the_combined_beam_stress_against_hand_calculations():
+    """One mode alone gives its own peak; in phase the two add point by point, below the
+    peaks' sum (L1's peak at mid-length, where B2 does not bend), above either; in
+    quadrature at each point sqrt(a^2 + c^2); no phase exceeds the in-phase figure."""
+    from rom.shape_data import beam_combined_stress_Pa
+
+    length = 30e-3
+    assert beam_combined_stress_Pa(length, 7e6, 0.0) == pytest.approx(7e6, rel=1e-12)
+    assert beam_combined_stress_Pa(length, 0.0, 38e6) == pytest.approx(38e6, rel=1e-12)
+    y = np.linspace(0.0, length, 20001)
+    a = 7e6 * np.abs(np.sin(np.pi * y / length))
+    curv = np.abs(phi_B(y, length, 2))
+    c = 38e6 * curv / curv.max()
+    inphase = beam_combined_stress_Pa(length, 7e6, 38e6)
+    assert inphase == pytest.approx(float(np.max(a + c)), rel=1e-12)
+    assert 38e6 < inphase < 45e6
+    assert beam_combined_stress_Pa(length, 7e6, 38e6, math.pi / 2) == pytest.approx(
+        float(np.max(np.hypot(a, c))), rel=1e-12)
+    assert max(beam_combined_stress_Pa(length, 7e6, 38e6, p)
+               for p in np.linspace(0, 2 * math.pi, 37)) == pytest.approx(inphase, rel=1e-12)

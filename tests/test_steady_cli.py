@@ -117,7 +117,8 @@ def test_map_takes_the_sets_own_frequency(capsys):
     from contact.steady.engine import steady_state
     from rom.sources import get_params
 
-    assert main(["map", "--source", "beam", "--frequency", "auto", "--voltages", "200",
+    assert main(["map", "--source", "beam", "--damping", "table2", "--frequency", "auto",
+                 "--voltages", "200",
                  "--preloads", "14", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     p = get_params("beam")
@@ -290,7 +291,7 @@ def test_an_unsettled_transient_says_so(capsys):
     assert main(["simulate", "--voltage", "300", "--preload", "14", "--json"]) == 0
     cap = capsys.readouterr()
     assert json.loads(cap.out)["settled"] is False
-    assert "has not settled within --duration 0.05 s" in cap.err
+    assert "has not settled within the default duration 0.05 s" in cap.err
     assert main(["simulate", "--voltage", "200", "--preload", "14", "--json"]) == 0
     cap = capsys.readouterr()
     assert json.loads(cap.out)["settled"] is True and "warning" not in cap.err
@@ -460,8 +461,8 @@ def test_a_creep_where_the_averaged_slider_is_held_is_said(capsys):
     assert exact.no_load_velocity_m_s < 0.0 and exact.stall_force_N < 0.0
     assert exact.averaged_stall_force_N == 0.0
     assert exact.creep_from_N == 0.0
-    assert main(["characteristic", "--source", "beam", "--voltage", "200", "--preload", "14",
-                 "--frequency", "auto", "--loads", "0,-0.2"]) == 0
+    assert main(["characteristic", "--source", "beam", "--damping", "table2", "--voltage",
+                 "200", "--preload", "14", "--frequency", "auto", "--loads", "0,-0.2"]) == 0
     out = capsys.readouterr().out
     top = abs(exact.no_load_velocity_m_s)
     assert "creeps from (N)            0 (the whole curve" in out

@@ -573,7 +573,7 @@ def _beam_claims() -> tuple[Claim, ...]:
     """The docs/beam.md claims: cheap, recomputed by the tests to 1e-9."""
     return tuple(Claim(f"beam_{k}", _BEAM_UNITS.get(k, "Hz" if k.endswith("_Hz") else "-"),
                        f"python -m tools.doc_numbers --show beam_{k} "
-                       "(rom.beam; lusm compare, lusm params --source beam)",
+                       "(rom.beam with Table 2's ratios; lusm compare)",
                        lambda k=k: _beam_numbers()[k], cheap=True, rel_tol=1e-9)
                  for k in _BEAM_KEYS)
 
@@ -779,6 +779,10 @@ def _parametric_claims() -> tuple[Claim, ...]:
 
 
 _LIGHT = "examples/light_damping/stator.toml"
+_T2_FEM = "examples/table2_damping/stator.toml"
+"""The paper's plate with Table 2's ratios: the FE set (``get_params('fem')``, Table 2's
+ratios) that the docs compare with the paper, as a command gives it (``--source fem`` and
+the plate options get the material's damping)."""
 _MOTOR_CASES = (("paper", 14.0), ("consistent", 14.0), ("paper", 5.0))
 """(coupling, preload N) of the light-damping comparison, all at 300 V."""
 
@@ -813,7 +817,7 @@ def _motor_claims() -> tuple[Claim, ...]:
                "--frequency auto"
         for name, unit, cmd in (
                 ("light_v", "m/s", f"lusm simulate --geometry {_LIGHT} {opts}"),
-                ("t2_v", "m/s", f"lusm simulate --length-mm 30 {opts}"),
+                ("t2_v", "m/s", f"lusm simulate --geometry {_T2_FEM} {opts}"),
                 ("ratio", "-", "the two velocities above")):
             key = f"{name}_{tag}"
             out.append(Claim(f"motor_{key}", unit, cmd, lambda k=key: _motor_tables()[k]))
@@ -856,6 +860,16 @@ def _paper_operating_limits(voltage_V: float = 400.0):
     return operating_limits(p, voltage_V, 40e3, r.from_rest)
 
 
+def _paper_combined_stress_Pa(voltage_V: float) -> float:
+    """The two modes' stress fields combined over the period on Table 2's beam, at
+    ``voltage_V`` / 14 N / 40 kHz, in phase (the largest over every phase)."""
+    from rom.shape_data import beam_combined_stress_Pa
+
+    lim, shape = _paper_operating_limits(voltage_V), _table2().shape
+    u, w = lim.amplitudes_m
+    return beam_combined_stress_Pa(30e-3, shape.stress_L1_Pa_m * u, shape.stress_B2_Pa_m * w)
+
+
 def _default_q() -> float:
     """The default damping's Q of a PZT-8 stator file: 1/Q = 1/Q_m + 1/Q_mount."""
     from fem.material import combined_quality_factor, pzt8
@@ -881,6 +895,12 @@ def _operating_limit_claims() -> tuple[Claim, ...]:
                      "oplim_paper_400V_stress_B2 (B2's share: stress_B2_Pa_m x W)",
                      lambda: (_paper_operating_limits().amplitudes_m[1]
                               * _table2().shape.stress_B2_Pa_m), cheap=True, rel_tol=1e-4))
+    for v in (400.0, 300.0):
+        out.append(Claim(f"oplim_paper_{v:g}V_stress_combined", "Pa", "python -m tools.doc_numbers "
+                         f"--show oplim_paper_{v:g}V_stress_combined (rom.shape_data."
+                         "beam_combined_stress_Pa: L1 and B2 in phase, the largest over every "
+                         "phase, on Table 1's 30 mm beam)",
+                         lambda v=v: _paper_combined_stress_Pa(v), cheap=True, rel_tol=1e-4))
     out.append(Claim("oplim_paper_300V_stress", "Pa", "lusm simulate --voltage 300 --preload 14 "
                      "--steady --json (limits.stress.value)",
                      lambda: _paper_operating_limits(300.0).values["stress"], cheap=True,
@@ -921,14 +941,15 @@ def _coupling_speeds() -> dict[str, float]:
 def _default_coupling_claims() -> tuple[Claim, ...]:
     return tuple(
         Claim(f"coupling_fem_{c}_{v}V", "m/s",
-              f"lusm simulate --source fem --voltage {v} --preload 14 --steady --frequency auto "
-              f"--coupling {c}", lambda k=f"{c}_{v}": _coupling_speeds()[k])
+              f"lusm simulate --geometry {_T2_FEM} --voltage {v} --preload 14 --steady "
+              f"--frequency auto --coupling {c}", lambda k=f"{c}_{v}": _coupling_speeds()[k])
         for c in ("paper", "consistent") for v in _COUPLING_VOLTS)
 
 
 _PROXY_SETS = (
     ("table2", "", "lusm simulate --voltage 300 --preload 14 --steady --frequency {f}"),
-    ("fem", "", "lusm simulate --source fem --voltage 300 --preload 14 --steady --frequency {f}"),
+    ("fem", "", "lusm simulate --geometry " + _T2_FEM
+     + " --voltage 300 --preload 14 --steady --frequency {f}"),
     ("t40", _TUNED, "lusm characteristic --geometry " + _TUNED
      + " --voltage 400 --preload 14 --frequency {f}"),
     ("t40fit", _FITTED, "lusm characteristic --geometry " + _FITTED
@@ -2528,7 +2549,8 @@ def _fem_char_400V_14N(accuracy: str):
 
 
 _SHOW = "python -m tools.doc_numbers --show {}"
-_FEM_STEADY = "lusm simulate --source fem --voltage 300 --preload 14 --steady --frequency {}"
+_FEM_STEADY = ("lusm simulate --geometry " + _T2_FEM
+               + " --voltage 300 --preload 14 --steady --frequency {}")
 _CHAR_T60 = ("lusm characteristic --geometry examples/tuned_60k/stator.toml --voltage 140 "
              "--preload 14 --frequency auto --json")
 _T60 = ("lusm simulate --geometry examples/tuned_60k/stator.toml --voltage 140 --preload 14 "
@@ -2667,12 +2689,12 @@ def _limits_input_claims() -> tuple[Claim, ...]:
                 lambda k=k: _undriven_friction_N(k), cheap=True, rel_tol=1e-12)
           for k, mu in (("hold", "mu_s"), ("slide", "mu_d"))),
         Claim("steady_char_fem_400V_14N_stall_N", "N",
-              "lusm characteristic --source fem --voltage 400 --preload 14 --frequency auto "
-              "--json (stall_force_N)",
+              "lusm characteristic --geometry " + _T2_FEM + " --voltage 400 --preload 14 "
+              "--frequency auto --json (stall_force_N)",
               lambda: _fem_char_400V_14N("exact").stall_force_N, cheap=True, rel_tol=1e-6),
         Claim("steady_char_fem_400V_14N_fast_stall_N", "N",
-              "lusm characteristic --source fem --voltage 400 --preload 14 --frequency auto "
-              "--accuracy fast --json (stall_force_N)",
+              "lusm characteristic --geometry " + _T2_FEM + " --voltage 400 --preload 14 "
+              "--frequency auto --accuracy fast --json (stall_force_N)",
               lambda: _fem_char_400V_14N("fast").stall_force_N, cheap=True, rel_tol=1e-6),
     )
 

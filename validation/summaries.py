@@ -43,6 +43,29 @@ def borrowed_damping(source: str) -> str:
     return f"Table 2's ratios, borrowed by the {source} set"
 
 
+def plate_damping(material, what: str) -> tuple[tuple[float, float] | None, str]:
+    """The damping of a stator given without damping ratios (plate options, ``--source fem``
+    or ``beam``), as a stator file without ``[damping]`` gets it: the material's data-sheet
+    ``Q_m`` combined with the default mount loss (:func:`fem.material.material_damping`), the
+    same ratio in both modes; a material without ``Q_m`` (the paper's) keeps Table 2's
+    ratios, borrowed. ``what`` names the set in the origin text (``"fem"``, ``"beam"``).
+
+    Returns
+    -------
+    ratios : (float, float) or None
+        ``(zeta_L1, zeta_B2)``; None for Table 2's.
+    origin : str
+        Where they come from (:func:`validation.summaries.damping_line`).
+    """
+    from fem.material import material_damping
+
+    if material.mechanical_Q is None:
+        return None, (f"{borrowed_damping(what)}; material {material.name} has no data-sheet "
+                      "Q_m")
+    z, origin = material_damping(material)
+    return (z, z), f"{origin}; the {what} set has no damping ratios of its own"
+
+
 UNEXCITED_FORCE_RATIO = 1e-6
 """|A_b| / |A_l| (or the inverse) below which the drive is said to excite no B2 (no L1)."""
 

@@ -142,14 +142,20 @@ def _print_circuit(circuit) -> None:
 
 def _damping(args: argparse.Namespace, choice) -> dict:
     """The modal damping ratios of L1 and B2 and where they come from: the stator file's
-    ``[damping]`` (identified from its reduced set where it asks), else Table 2's."""
+    ``[damping]`` (identified from its reduced set where it asks), else the material's
+    ``Q_m`` with the mount's (:func:`validation.summaries.plate_damping`; Table 2's for a
+    material without ``Q_m``)."""
     from lusm.errors import LusmError
     from rom.from_fem import design_damping
     from rom.table2 import table2
-    from validation.summaries import borrowed_damping
+    from validation.summaries import plate_damping
 
-    zetas = (choice.design and design_damping(choice.design)) or (
-        table2().zeta_L1, table2().zeta_B2)
+    zetas = choice.design and design_damping(choice.design)
+    origin = (f"stator file {args.geometry} {choice.design.damping_origin}"
+              if choice.design is not None and choice.design.damping_origin else "")
+    if not zetas and not origin:  # no [damping] (a paper_amplitudes fit is made below)
+        zetas, origin = plate_damping(choice.material, "fem")
+        zetas = zetas or (table2().zeta_L1, table2().zeta_B2)
     if choice.design is not None and choice.design.damping_identify_Hz is not None:
         from rom.from_fem import fem_params_from_file
 
@@ -158,9 +164,6 @@ def _damping(args: argparse.Namespace, choice) -> dict:
         except ValueError as exc:
             raise LusmError(f"--geometry {exc}", "--geometry") from None
         zetas = (fitted.zeta_L1, fitted.zeta_B2)
-    origin = (f"stator file {args.geometry} {choice.design.damping_origin}"
-              if choice.design is not None and choice.design.damping_origin
-              else borrowed_damping("fem"))  # the plate's modes with Table 2's ratios
     return {"zeta_L1": zetas[0], "zeta_B2": zetas[1], "from": origin}
 
 
