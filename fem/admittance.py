@@ -85,6 +85,7 @@ from fem.frozen import freeze_arrays
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
 from fem.material import PiezoMaterial
+from fem.mesh_settings import MeshSettings
 from fem.meshing.mesh import DEFAULT_REFINE
 
 RIGID_BODY_LIMIT_HZ = 1.0
@@ -770,7 +771,7 @@ def plate_admittance(
                              reason="an undamped admittance is infinite at resonance",
                              message=f"zeta must lie in (0, 1) (an undamped admittance is "
                              f"infinite at resonance), got {zeta!r}")
-    model = plate_model(stator, material, order, refine)
+    model = plate_model(stator, material, MeshSettings(order, refine))
     kw = ({"zeta_L1": zeta_L1, "zeta_B2": zeta_B2} if zeta is None
           else {"zeta_L1": zeta, "zeta_B2": zeta, "zeta_other": zeta})
     port = modal_port(model, f_max_Hz, electrodes, polarity, cutoff_factor=cutoff_factor,

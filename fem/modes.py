@@ -25,7 +25,8 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.meshing.mesh import DEFAULT_REFINE, require_plate
+from fem.mesh_settings import MeshSettings
+from fem.meshing.mesh import require_plate
 from fem.meshing.meshed_stator import overall_length_m
 from fem.model import PiezoPlateModel, plate_arguments, plate_model
 
@@ -758,12 +759,9 @@ def modes_of_model(
 
 
 @lru_cache(maxsize=32)
-def _cached_modes(
-    stator: PlateStator, material: PiezoMaterial, order: int, refine: int,
-    gap_model: str = "shorted", thickness_inertia: bool = True,
-) -> PlateModes:
-    model = plate_model(stator, material, order, refine, gap_model, thickness_inertia)
-    return modes_of_model(model, refine=refine)
+def _cached_modes(stator: PlateStator, material: PiezoMaterial,
+                  mesh: MeshSettings) -> PlateModes:
+    return modes_of_model(plate_model(stator, material, mesh), refine=mesh.refine)
 
 
 def clear_caches() -> None:
@@ -783,10 +781,7 @@ def clear_caches() -> None:
 def plate_modes(
     stator: PlateStator | None = None,
     material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int = DEFAULT_REFINE,
-    gap_model: str = "shorted",
-    thickness_inertia: bool = True,
+    mesh: MeshSettings | None = None,
 ) -> PlateModes:
     """L1 and B2 (short/open circuit, k_eff) of a plate on a structured mesh (cached).
 
@@ -802,8 +797,7 @@ def plate_modes(
     """
     stator = require_plate(stator, "plate_modes")
     check_b2_in_reach(stator)  # before the mesh: a slender plate's is among the largest
-    return _cached_modes(stator, get_material(material),
-                         *plate_arguments(stator, order, refine, gap_model, thickness_inertia))
+    return _cached_modes(stator, get_material(material), plate_arguments(stator, mesh))
 
 
 def amplitude_ratio(model, shape: np.ndarray, points_m: np.ndarray) -> np.ndarray:

@@ -129,6 +129,7 @@ import numpy as np
 
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import MATERIAL_NAMES, PiezoMaterial, combined_quality_factor, get_material
+from fem.mesh_settings import MeshSettings
 from fem.meshing.meshed_stator import MeshedStator, bbox_mm
 from fem.units import to_si
 
@@ -292,14 +293,16 @@ class StatorDesign:
         from fem.meshing.mesh import DEFAULT_REFINE
         from fem.model import plate_model
 
-        return plate_model(self.stator, self.material, order, refine or DEFAULT_REFINE)
+        return plate_model(self.stator, self.material,
+                           MeshSettings(order, refine or DEFAULT_REFINE))
 
     def modes(self, order: int = 2, refine: int | None = None):
         """L1 and B2 (:class:`fem.modes.PlateModes`, cached); ``refine`` ignored with a mesh."""
         from fem.meshing.mesh import DEFAULT_REFINE
         from fem.modes import plate_modes
 
-        return plate_modes(self.stator, self.material, order, refine or DEFAULT_REFINE)
+        return plate_modes(self.stator, self.material,
+                           MeshSettings(order, refine or DEFAULT_REFINE))
 
 
 def _where(table: str, key: str) -> str:

@@ -67,6 +67,7 @@ import numpy as np
 from bounds import ParameterError
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial, get_material
+from fem.mesh_settings import MeshSettings
 
 FIX_OPTIONS = ("length", "width", "thickness", "thickness_ratio")
 """What :func:`tune_plate` can hold: ``'length'``, ``'width'`` (keep that dimension exactly),
@@ -263,11 +264,9 @@ class _Solver:
         if key not in self.cache:
             st = self.stator(*key)
             if self.model == "2d":
-                from fem.meshing.mesh import DEFAULT_REFINE
                 from fem.modes import plate_modes
 
-                res = plate_modes(st, self.material, self.order,
-                                  DEFAULT_REFINE if self.refine is None else self.refine)
+                res = plate_modes(st, self.material, MeshSettings(self.order, self.refine))
             else:
                 res = _solve_3d(st, self.material, self.order, self.refine)
             self.cache[key] = res
@@ -291,7 +290,7 @@ def _solve_3d(stator: PlateStator, material: PiezoMaterial, order: int, refine: 
     from fem.solid3d.model import DEFAULT_LAYERS, solid_modes
 
     if refine is not None:
-        return solid_modes(stator, material, order, refine, DEFAULT_LAYERS)
+        return solid_modes(stator, material, MeshSettings(order, refine, DEFAULT_LAYERS))
     from fem.solid3d.estimate import default_meshes
     from fem.solid3d.symmetric import quarter_model_applies, symmetric_solid_modes
 

@@ -28,6 +28,7 @@ import math
 import numpy as np
 
 from fem.beam_shapes import phi_B, phi_L
+from fem.mesh_settings import MeshSettings
 from rom.params import MotorParams
 from rom.shape_data import ShapeData
 from rom.table2 import table2
@@ -81,8 +82,8 @@ def fem_params(
     base = table2() if base is None else base
     zeta_l, zeta_b = _damping_ratios(base, damping_ratios)
     mat = get_material(material)
-    modes = plate_modes(stator, mat, order, refine)
-    model = plate_model(stator, mat, order, refine)
+    modes = plate_modes(stator, mat, MeshSettings(order, refine))
+    model = plate_model(stator, mat, MeshSettings(order, refine))
 
     length = stator.length_m
     points = np.array([stator.preload_point_m, stator.tip_point_m]).T  # (2, 2)

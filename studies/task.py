@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from fem.mesh_settings import MeshSettings
 from studies.study import FEATURE_FIELDS, Study, plate_with
 from validation.summaries import motion_class
 
@@ -198,7 +199,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     stage = "FE"  # what failed, for the status: the plate's FE solve or its parameter set
     try:
         stator, material = plate_of(study, g)
-        modes = plate_modes(stator, material, s.fe_order, s.fe_refine)
+        modes = plate_modes(stator, material, MeshSettings(s.fe_order, s.fe_refine))
         for m in ("L1", "B2"):
             mode = getattr(modes, m)
             out[f"f_{m}_short"] = np.array(mode.f_short_Hz)

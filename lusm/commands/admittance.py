@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from fem.mesh_settings import MeshSettings
 from lusm import limits
 from lusm.options import add_band_options, add_output_options, add_plate_options, print_json, real
 
@@ -172,10 +173,11 @@ def _default_band(args: argparse.Namespace, choice, refine: int) -> None:
     from fem.modes import plate_modes
     from lusm.errors import LusmError
 
+    mesh = MeshSettings(args.order, refine)
     if args.f_max is not None and args.f_min is None:
-        check_mode_count(plate_model(choice.stator, choice.material, args.order, refine),
+        check_mode_count(plate_model(choice.stator, choice.material, mesh),
                          args.f_max, max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
-    lo, hi = design_band_Hz(plate_modes(choice.stator, choice.material, args.order, refine))
+    lo, hi = design_band_Hz(plate_modes(choice.stator, choice.material, mesh))
     given = "--f-min" if args.f_max is None else "--f-max"
     args.f_min = lo if args.f_min is None else args.f_min
     args.f_max = hi if args.f_max is None else args.f_max

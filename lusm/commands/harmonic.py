@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 
+from fem.mesh_settings import MeshSettings
 from lusm import limits
 from lusm.options import add_band_options, add_output_options, add_plate_options, print_json, real
 
@@ -101,8 +102,9 @@ def _reduced(args: argparse.Namespace, choice, refine: int):
             if choice.design is not None:
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
             raise
-        model = plate_model(choice.stator, choice.material, args.order, refine)
-        modes = plate_modes(choice.stator, choice.material, args.order, refine)
+        mesh = MeshSettings(args.order, refine)
+        model = plate_model(choice.stator, choice.material, mesh)
+        modes = plate_modes(choice.stator, choice.material, mesh)
     origin = ("--zeta (L1 and B2)" if ratios is not None
               else fem_damping_origin(args.geometry, choice.design))
     return params, origin, model, modes

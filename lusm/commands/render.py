@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import re
 
+from fem.mesh_settings import MeshSettings
 from lusm import limits
 from lusm.commands.modes import add_fe_options, band_option
 from lusm.fe_errors import fe_failure, is_fe_failure
@@ -87,13 +88,14 @@ def run(args: argparse.Namespace) -> None:
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     check_fe_size(choice.stator, refine)
+    mesh = MeshSettings(args.order, refine)
     try:
-        modes = plate_modes(choice.stator, choice.material, args.order, refine)
+        modes = plate_modes(choice.stator, choice.material, mesh)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc, choice.stator) from exc
         raise
-    model = plate_model(choice.stator, choice.material, args.order, refine)
+    model = plate_model(choice.stator, choice.material, mesh)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
     _draw(args, lambda stage: render_modes(model, modes, stage, which,
                                                      args.animate))
@@ -149,7 +151,8 @@ def _run_3d(args: argparse.Namespace, choice) -> None:
     layers = DEFAULT_LAYERS if args.layers is None else args.layers
     check_fe_size(choice.stator, refine, layers, "--refine")
     with fe_failures_as_input(choice.stator):
-        model = solid_model(choice.stator, choice.material, args.order, refine, layers)
+        model = solid_model(choice.stator, choice.material,
+                            MeshSettings(args.order, refine, layers))
         if args.band in (None, "auto"):
             from fem.solid3d.model import modes_of_solid_model
 
