@@ -369,10 +369,13 @@ class PiezoPlateModel:
     Attributes
     ----------
     stator : PlateStator
+        The plate modelled.
     material : PiezoMaterial
+        Its constants (reduced to plane stress in the assembly).
     order : int
         Element order (1 or 2).
     mesh : PlateMesh
+        The planform mesh (m).
     basis : skfem.CellBasis
         Vector basis on the whole plate (for probing fields).
     K : scipy.sparse.csr_matrix

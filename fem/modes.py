@@ -349,17 +349,32 @@ def _shift_invert(
             m_op = sla.LinearOperator(
                 (n, n), matvec=lambda x: M @ x + W @ (S @ (W.T @ x)), dtype=float
             )
-    k = min(n_modes, n - 2)
-    # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
-    v0 = np.random.default_rng(0).standard_normal(n)
+    return shift_invert_eigsh(a_op, m_op, op, sigma, min(n_modes, n - 2), maxiter,
+                              hint="; try another f_center_Hz or a larger maxiter")
+
+
+def shift_invert_eigsh(a_op, m_op, op, sigma: float, k: int, maxiter: int | None,
+                       label: str = "", hint: str = "") -> tuple[np.ndarray, np.ndarray]:
+    """The ``k`` eigenpairs of ``a_op x = lambda m_op x`` nearest ``sigma`` (rad^2/s^2), in
+    ascending order, by ``eigsh`` in shift-invert mode with ``op`` applying
+    ``(A - sigma M)^-1``; the 2D and the 3D drivers share it.
+
+    A fixed starting vector makes repeated runs bit-identical (ARPACK's default is random).
+
+    Raises
+    ------
+    ModeSolverError
+        If eigsh does not converge (the message starts ``eigsh (`` + ``label`` and ends with
+        ``hint``).
+    """
+    v0 = np.random.default_rng(0).standard_normal(a_op.shape[0])
     try:
         w, v = sla.eigsh(a_op, k=k, M=m_op, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
                          v0=v0)
     except sla.ArpackNoConvergence as exc:
         raise ModeSolverError(
-            f"eigsh (shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
-            f"{len(exc.eigenvalues)} of {k} eigenpairs converged; try another f_center_Hz or "
-            f"a larger maxiter"
+            f"eigsh ({label}shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
+            f"{len(exc.eigenvalues)} of {k} eigenpairs converged{hint}"
         ) from exc
     order = np.argsort(w)
     return w[order], v[:, order]

@@ -500,7 +500,7 @@ def test_the_fem_library_calls_are_bounded_before_they_start():
     with pytest.raises(ValueError, match="cannot be imposed with the length held"):
         tune_plate(np.float32(40e3), fix="length")
     port = plate_admittance(zeta=np.float32(0.01), f_min_Hz=50e3, f_max_Hz=60e3, n_points=11,
-                            refine=1).port
+                            mesh=MeshSettings(refine=1)).port
     assert port.zeta[0] == pytest.approx(0.01)
 
 

@@ -97,6 +97,7 @@ from fem.modes import (
     match_modes,
     reference_shapes,
     sampling_grid,
+    shift_invert_eigsh,
     solve_short_open,
 )
 
@@ -151,7 +152,9 @@ class SolidPlateModel:
     Attributes
     ----------
     stator : PlateStator
+        The plate modelled.
     material : PiezoMaterial
+        Its full 3D constants.
     order : int
         1 (trilinear) or 2 (quadratic).
     element : str
@@ -888,20 +891,8 @@ def saddle_point_frequencies_Hz(
     else:
         sigma = -((2.0 * math.pi * 100.0) ** 2)
     op, kop = _condensed_operators(Kuu, M, Kuphi, Kphiphi, sigma, row_order)
-    nu = Kuu.shape[0]
-    k = min(int(n_modes), nu - 2)
-    # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
-    v0 = np.random.default_rng(0).standard_normal(nu)
-    try:
-        w, v = sla.eigsh(kop, k=k, M=M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
-                         v0=v0)
-    except sla.ArpackNoConvergence as exc:
-        raise ModeSolverError(
-            f"eigsh (3D, shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
-            f"{len(exc.eigenvalues)} of {k} eigenpairs converged"
-        ) from exc
-    idx = np.argsort(w)
-    w, v = w[idx], v[:, idx]
+    w, v = shift_invert_eigsh(kop, M, op, sigma, min(int(n_modes), Kuu.shape[0] - 2), maxiter,
+                              label="3D, ")
     return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
 
 

@@ -99,7 +99,9 @@ class QuarterPlateModel:
     Attributes
     ----------
     stator : PlateStator
+        The whole plate (plain, rectangular); the model is its quarter.
     material : PiezoMaterial
+        Its full 3D constants.
     mode : str
         ``'L1'`` or ``'B2'``: the symmetry class.
     basis : skfem.CellBasis
@@ -117,6 +119,7 @@ class QuarterPlateModel:
     ground_dofs : numpy.ndarray
         Potentials fixed to 0: bottom face (and both symmetry planes in the B2 class).
     assembly_time_s : float
+        Mesh and assembly wall time (s).
     """
 
     stator: PlateStator

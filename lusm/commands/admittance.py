@@ -76,7 +76,7 @@ def run(args: argparse.Namespace) -> None:
     # refused before any work; a band the user gives needs neither
     check_fe_size(choice.stator, refine, needs_b2=args.f_min is None or args.f_max is None)
     damping = _damping(args, choice)
-    res = _solve(args, choice, refine, electrodes, damping)
+    res = _solve(args, choice, MeshSettings(args.order, refine), electrodes, damping)
     _warn_unresolved(res, args.f_max, refine)
     _warn_missed(res, args.f_min, args.f_max, args.points)
     circuit = _circuit(res)
@@ -165,7 +165,7 @@ def _damping(args: argparse.Namespace, choice) -> dict:
     return {"zeta_L1": zetas[0], "zeta_B2": zetas[1], "from": origin}
 
 
-def _default_band(args: argparse.Namespace, choice, refine: int) -> None:
+def _default_band(args: argparse.Namespace, choice, mesh: MeshSettings) -> None:
     """Fill a missing ``--f-min`` / ``--f-max`` from the design's L1 and B2, bounding the
     modes below ``--f-max`` before the design's modes are solved."""
     from fem.admittance import check_mode_count, design_band_Hz
@@ -173,7 +173,6 @@ def _default_band(args: argparse.Namespace, choice, refine: int) -> None:
     from fem.modes import plate_modes
     from lusm.errors import LusmError
 
-    mesh = MeshSettings(args.order, refine)
     if args.f_max is not None and args.f_min is None:
         check_mode_count(plate_model(choice.stator, choice.material, mesh),
                          args.f_max, max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
@@ -188,7 +187,7 @@ def _default_band(args: argparse.Namespace, choice, refine: int) -> None:
             "--f-max", given)
 
 
-def _solve(args: argparse.Namespace, choice, refine: int, electrodes, damping: dict):
+def _solve(args: argparse.Namespace, choice, mesh: MeshSettings, electrodes, damping: dict):
     """:func:`fem.admittance.plate_admittance` over the band, its failures as bad input."""
     from fem.admittance import TooManyModesError, plate_admittance
     from fem.modes import ModeSolverError
@@ -197,11 +196,11 @@ def _solve(args: argparse.Namespace, choice, refine: int, electrodes, damping: d
 
     try:
         if args.f_min is None or args.f_max is None:  # centre the band on the design
-            _default_band(args, choice, refine)
+            _default_band(args, choice, mesh)
         return plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                 args.points, electrodes=electrodes, zeta=args.zeta,
                                 zeta_L1=damping["zeta_L1"], zeta_B2=damping["zeta_B2"],
-                                order=args.order, refine=refine,
+                                mesh=mesh,
                                 max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
     except TooManyModesError as exc:
         raise LusmError(
