@@ -665,6 +665,28 @@ def _tip_material(tip_t: dict, src: str) -> str:
     return name.strip().lower()
 
 
+def _parametric_holes(data, src, length: float, width: float,
+                      chamfer: float) -> list[tuple[float, float, float]]:
+    """The ``[[holes]]`` of a parametric design as ``(x, y, diameter)`` (m), each inside the
+    plate body (``length``, ``width``, ``chamfer`` in mm) and clear of the others."""
+    from fem.meshing.parametric import hole_clearance_m
+
+    holes = []
+    for i, (x, y), d in _holes(data, src):
+        hole = (x * MM, y * MM, d * MM)
+        clear = hole_clearance_m(hole, width * MM, length * MM, chamfer * MM)
+        if clear <= 0.0:
+            raise ValueError(f"{src}: [[holes]] #{i} (diameter {d:g} mm at [{x:g}, {y:g}] "
+                             f"mm) reaches the plate's outline; a hole must lie inside the "
+                             f"plate body (x in [{-width / 2:g}, {width / 2:g}] mm, y in "
+                             f"[0, {length:g}] mm{', inside the chamfers' if chamfer else ''})")
+        for j, (ox, oy, od) in enumerate(holes, start=1):
+            if math.hypot(hole[0] - ox, hole[1] - oy) <= 0.5 * (hole[2] + od):
+                raise ValueError(f"{src}: [[holes]] #{i} overlaps [[holes]] #{j}")
+        holes.append(hole)
+    return holes
+
+
 def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive, src, name,
                 material, motor) -> StatorDesign:
     """A :class:`fem.meshing.parametric.ParametricStator` design from the feature tables."""
@@ -672,7 +694,6 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
         DEFAULT_SIZE_DIVISIONS,
         SIZE_DIVISIONS_RANGE,
         ParametricStator,
-        hole_clearance_m,
         parametric_mesh,
     )
 
@@ -703,19 +724,7 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
                         "mm ([plate] length_mm)")
         tip_w = _number(tip_t, "tip", "width_mm", src, 0.0, width - 2 * chamfer, False, True,
                         "mm ([plate] width_mm" + (" minus the chamfers)" if chamfer else ")"))
-    holes = []
-    for i, (x, y), d in _holes(data, src):
-        hole = (x * MM, y * MM, d * MM)
-        clear = hole_clearance_m(hole, width * MM, length * MM, chamfer * MM)
-        if clear <= 0.0:
-            raise ValueError(f"{src}: [[holes]] #{i} (diameter {d:g} mm at [{x:g}, {y:g}] "
-                             f"mm) reaches the plate's outline; a hole must lie inside the "
-                             f"plate body (x in [{-width / 2:g}, {width / 2:g}] mm, y in "
-                             f"[0, {length:g}] mm{', inside the chamfers' if chamfer else ''})")
-        for j, (ox, oy, od) in enumerate(holes, start=1):
-            if math.hypot(hole[0] - ox, hole[1] - oy) <= 0.5 * (hole[2] + od):
-                raise ValueError(f"{src}: [[holes]] #{i} overlaps [[holes]] #{j}")
-        holes.append(hole)
+    holes = _parametric_holes(data, src, length, width, chamfer)
     size = None
     if "size_mm" in mesh_t:
         lo, hi = (min(length, width) / n for n in SIZE_DIVISIONS_RANGE[::-1])

@@ -433,17 +433,10 @@ def tune_plate(
     target_frequency_Hz = _checked_target(target_frequency_Hz, fix, fixed_dim, model, rel_tol,
                                           max_iter)
     mat = get_material(material)
-    base = PlateStator() if start is None else start
-    if getattr(base, "mesh", None) is not None:
-        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
-                         "tune_plate cannot rescale; start from a plain PlateStator")
+    base = _start_plate(start)
     solver = _Solver(base, mat, "2d", "thickness_ratio" in held, order,
                      refine if model == "2d" else None)
-    if progress:
-        from tqdm import tqdm
-
-        # disable=None: on a terminal only (a log or a pipe gets no carriage-return lines)
-        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
+    solver.bar = _progress_bar(progress)
     try:
         d2 = _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, "2d", rel_tol,
                    max_iter)
@@ -455,6 +448,26 @@ def tune_plate(
     finally:
         if solver.bar is not None:
             solver.bar.close()
+
+
+def _start_plate(start: PlateStator | None) -> PlateStator:
+    """The plate the tuning starts from (default: the paper's); a stator with its own mesh
+    is refused, as its mesh cannot be rescaled."""
+    base = PlateStator() if start is None else start
+    if getattr(base, "mesh", None) is not None:
+        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
+                         "tune_plate cannot rescale; start from a plain PlateStator")
+    return base
+
+
+def _progress_bar(progress: bool):
+    """A tqdm bar of the FE solves on stderr after a second, or None without ``progress``;
+    on a terminal only (``disable=None``: a log or a pipe gets no carriage-return lines)."""
+    if not progress:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
 
 
 def _checked_target(target_frequency_Hz: float | None, fix, fixed_dim: str | None, model: str,
