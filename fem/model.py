@@ -40,6 +40,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from bounds import ParameterError
+from fem.errors import ShortedDriveError as ShortedDriveError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
 from fem.mesh_settings import MeshSettings
@@ -237,10 +238,6 @@ def border_message(share: float) -> str:
             f"(lusm modes --model 3d)")
 
 
-class ShortedDriveError(ValueError):
-    """A drive that puts two voltages on touching electrodes (one conductor)."""
-
-
 @dataclass(frozen=True)
 class GapLayout:
     """The two gap strips of a quadrant-electrode mesh, read from its electrode tags.
@@ -332,7 +329,8 @@ def check_mesh_wiring(mesh: PlateMesh, voltages: dict[int, float]) -> None:
                 for e in group)
             raise ShortedDriveError(
                 f"electrodes {wired} touch (no gap strip between them) and are one "
-                f"conductor, which cannot hold two voltages: the drive would short")
+                f"conductor, which cannot hold two voltages: the drive would short",
+                tuple(group))
 
 
 def mesh_conductors(mesh: PlateMesh,

@@ -127,6 +127,7 @@ from typing import Any
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import MATERIAL_NAMES, PiezoMaterial, combined_quality_factor, get_material
 from fem.mesh_settings import MeshSettings
@@ -347,15 +348,16 @@ def _length_mm(
     if not allow_zero:
         lo, hi = PLATE_RANGE_MM
         if not ok or not lo <= v <= hi:
-            raise ValueError(f"{src}: {_where(tname, key)} must lie in [{lo:g}, {hi:g}] mm, "
+            raise _key_error(tname, key, v, lo, hi, "mm", False, False,
+                             f"{src}: {_where(tname, key)} must lie in [{lo:g}, {hi:g}] mm, "
                              f"got {v!r}")
         return float(v)
     lower = "[0"
     upper = f"{upper_mm:g})" if upper_mm is not None else "inf)"
     if not ok or v < 0 or (upper_mm is not None and v >= upper_mm):
-        raise ValueError(
-            f"{src}: {_where(tname, key)} must lie in {lower}, {upper} mm, got {v!r}"
-        )
+        raise _key_error(tname, key, v, 0.0, upper_mm, "mm", False, upper_mm is not None,
+                         f"{src}: {_where(tname, key)} must lie in {lower}, {upper} mm, "
+                         f"got {v!r}")
     if 0 < v < MIN_GAP_M / MM:  # said here in the file's unit, not by PlateStator in m
         raise ValueError(f"{src}: {_where(tname, key)} must be 0 (touching quadrants) or at "
                          f"least {MIN_GAP_M / MM:g} mm, got {v!r}")
@@ -490,9 +492,20 @@ def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,
     if not ok:
         interval = f"{'[' if lo_closed else '('}{lo:g}, {hi:g}{']' if hi_closed else ')'}"
         got = f"{v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)
-        raise ValueError(f"{src}: {_where(tname, key)} must be a number in {interval}"
+        raise _key_error(tname, key, v, lo, hi, unit, not lo_closed, not hi_closed,
+                         f"{src}: {_where(tname, key)} must be a number in {interval}"
                          f"{' ' + unit if unit else ''}, got {got}")
     return float(v)
+
+
+def _key_error(tname: str, key: str, value: object, low: float | None, high: float | None,
+               unit: str, low_open: bool, high_open: bool, message: str) -> ParameterError:
+    """The refusal of a stator file's ``[tname] key``: a :class:`bounds.ParameterError`
+    named by the file's key (``'[plate] length_mm'``, what the user typed), its range in the
+    key's unit (``unit``'s first word; the rest, a bound's origin, is the ``reason``)."""
+    first, _, rest = unit.partition(" ")
+    return ParameterError(f"[{tname}] {key}", value, low, high, first, low_open=low_open,
+                          high_open=high_open, reason=rest.strip("() "), message=message)
 
 
 def _plate_mm(plate: dict, elec: dict, src: str) -> tuple[float, float, float]:

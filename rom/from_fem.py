@@ -27,6 +27,7 @@ import math
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.beam_shapes import phi_B, phi_L
 from fem.mesh_settings import MeshSettings
 from rom.params import MotorParams
@@ -125,7 +126,8 @@ def _damping_ratios(base: MotorParams,
     zeta_l, zeta_b = (float(z) for z in damping_ratios)
     for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
         if not (math.isfinite(z) and 0.0 < z < 1.0):
-            raise ValueError(f"damping_ratios {name} must lie in (0, 1), got {z!r}")
+            raise ParameterError(name, z, 0.0, 1.0, low_open=True, high_open=True,
+                                 message=f"damping_ratios {name} must lie in (0, 1), got {z!r}")
     return zeta_l, zeta_b
 
 
