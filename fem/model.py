@@ -941,11 +941,8 @@ def clear_model_cache() -> None:
     _cached_model.cache_clear()
 
 
-def plate_model(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    mesh: MeshSettings | None = None,
-) -> PiezoPlateModel:
+def plate_model(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                mesh: MeshSettings | None = None) -> PiezoPlateModel:
     """Structured-mesh model of ``stator`` (cached on its arguments).
 
     Parameters

@@ -380,13 +380,9 @@ def shift_invert_eigsh(a_op, m_op, op, sigma: float, k: int, maxiter: int | None
     return w[order], v[:, order]
 
 
-def natural_frequencies_Hz(
-    model: PiezoPlateModel,
-    n_modes: int = 8,
-    f_center_Hz: float = 0.0,
-    open_circuit: bool = False,
-    maxiter: int | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+def natural_frequencies_Hz(model: PiezoPlateModel, n_modes: int = 8, f_center_Hz: float = 0.0,
+                           open_circuit: bool = False,
+                           maxiter: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The ``n_modes`` natural frequencies (Hz) nearest ``f_center_Hz`` and their shapes.
 
     ``f_center_Hz = 0`` uses a small negative shift so that the three rigid-body modes of the
@@ -793,11 +789,8 @@ def clear_caches() -> None:
     gap_cross_section.cache_clear()
 
 
-def plate_modes(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    mesh: MeshSettings | None = None,
-) -> PlateModes:
+def plate_modes(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                mesh: MeshSettings | None = None) -> PlateModes:
     """L1 and B2 (short/open circuit, k_eff) of a plate on a structured mesh (cached).
 
     The parameters are those of the model solved, :func:`fem.model.plate_model`.

@@ -152,7 +152,7 @@ class SolidPlateModel:
     Attributes
     ----------
     stator : PlateStator
-        The plate modelled.
+        The plate modelled, poled along z.
     material : PiezoMaterial
         Its full 3D constants.
     order : int
@@ -786,11 +786,8 @@ def _cached_solid_model(stator: PlateStator, material: PiezoMaterial,
     return build_solid_model(stator, material, mesh)
 
 
-def solid_model(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    mesh: MeshSettings | None = None,
-) -> SolidPlateModel:
+def solid_model(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                mesh: MeshSettings | None = None) -> SolidPlateModel:
     """Cached :func:`build_solid_model` (default: the paper's plate, PZT-8, default mesh)."""
     return _cached_solid_model(*_solid_key("solid_model", stator, material, mesh))
 
@@ -896,13 +893,9 @@ def saddle_point_frequencies_Hz(
     return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
 
 
-def solid_frequencies_Hz(
-    model: SolidPlateModel,
-    n_modes: int = 10,
-    f_center_Hz: float = 0.0,
-    open_circuit: bool = False,
-    maxiter: int | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+def solid_frequencies_Hz(model: SolidPlateModel, n_modes: int = 10, f_center_Hz: float = 0.0,
+                         open_circuit: bool = False,
+                         maxiter: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The ``n_modes`` natural frequencies (Hz) nearest ``f_center_Hz`` and their shapes.
 
     ``model`` is the full plate or one symmetry class of its quarter
@@ -1092,11 +1085,8 @@ def _cached_solid_modes(stator: PlateStator, material: PiezoMaterial,
     return modes_of_solid_model(build_solid_model(stator, material, mesh))
 
 
-def solid_modes(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    mesh: MeshSettings | None = None,
-) -> SolidModes:
+def solid_modes(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                mesh: MeshSettings | None = None) -> SolidModes:
     """L1 and B2 (short/open circuit, k_eff) of the 3D plate (cached).
 
     Parameters

@@ -358,11 +358,8 @@ def _cached_symmetric_modes(stator: PlateStator, material: PiezoMaterial,
     return modes_of_quarter_models(l1, b2, mesh)
 
 
-def symmetric_solid_modes(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    mesh: MeshSettings | None = None,
-) -> SymmetricSolidModes:
+def symmetric_solid_modes(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                          mesh: MeshSettings | None = None) -> SymmetricSolidModes:
     """L1 and B2 (short/open circuit, k_eff) of a plain plate from its quarter (cached).
 
     The same fields as :func:`fem.solid3d.model.solid_modes` with the same arguments; the mesh is

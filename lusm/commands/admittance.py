@@ -57,18 +57,10 @@ def _electrodes(text: str | None) -> tuple[int, ...] | None:
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
     from fem.meshing.mesh import DEFAULT_REFINE
-    from lusm.commands.modes import warn_linear_elements
-    from lusm.options import (
-        check_band_order,
-        check_fe_size,
-        output_folder,
-        stator_from_args,
-        write_figures,
-    )
+    from lusm.commands.modes import start_band_command
+    from lusm.options import check_fe_size, stator_from_args, write_figures
 
-    warn_linear_elements(args)
-    out = output_folder(args, "--out")
-    check_band_order(args.f_min, args.f_max)
+    out = start_band_command(args, "--out")
     electrodes = _electrodes(args.electrodes)
     choice = stator_from_args(args)
     refine = DEFAULT_REFINE if args.refine is None else args.refine

@@ -51,18 +51,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm harmonic`` with parsed ``args``."""
     from fem.meshing.mesh import DEFAULT_REFINE
-    from lusm.commands.modes import warn_linear_elements
-    from lusm.options import (
-        check_band_order,
-        check_fe_size,
-        output_folder,
-        parse_frequency,
-        stator_from_args,
-    )
+    from lusm.commands.modes import start_band_command
+    from lusm.options import check_fe_size, parse_frequency, stator_from_args
 
-    warn_linear_elements(args)
-    plot = output_folder(args, "--plot")
-    check_band_order(args.f_min, args.f_max)
+    plot = start_band_command(args, "--plot")
     if args.frequency.strip().lower() != "auto":
         parse_frequency(args.frequency)  # refused before any work
     choice = stator_from_args(args)

@@ -130,6 +130,19 @@ def warn_linear_elements(args: argparse.Namespace) -> None:
              "tuned dimensions move with it; use --order 2 (the default) for a design")
 
 
+def start_band_command(args: argparse.Namespace, out_option: str):
+    """The start the FE band commands (``admittance``, ``harmonic``) share, before any work:
+    the ``--order 1`` warning, the output folder of ``out_option`` checked
+    (:func:`lusm.options.output_folder`; returned, None without one) and ``--f-min`` below
+    ``--f-max``."""
+    from lusm.options import check_band_order, output_folder
+
+    warn_linear_elements(args)
+    out = output_folder(args, out_option)
+    check_band_order(args.f_min, args.f_max)
+    return out
+
+
 def check_refine_3d(refine: int | None) -> None:
     """The 3D model's tighter bound on ``--refine``."""
     from lusm.errors import LusmError
