@@ -8,10 +8,13 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import TYPE_CHECKING
 
-from fem.mesh_settings import MeshSettings
 from lusm import limits
 from lusm.options import add_band_options, add_output_options, add_plate_options, print_json, real
+
+if TYPE_CHECKING:
+    from fem.mesh_settings import MeshSettings
 
 HELP = "admittance Y(f) of the driven electrodes: resonance/antiresonance, k_eff, PNG"
 DESCRIPTION = """\
@@ -56,6 +59,7 @@ def _electrodes(text: str | None) -> tuple[int, ...] | None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
+    from fem.mesh_settings import MeshSettings
     from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.commands.modes import start_band_command
     from lusm.options import check_fe_size, stator_from_args, write_figures

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 
-from fem.mesh_settings import MeshSettings
 from lusm import limits
 from lusm.options import add_band_options, add_output_options, add_plate_options, print_json, real
 
@@ -75,6 +74,7 @@ def run(args: argparse.Namespace) -> None:
 def _reduced(args: argparse.Namespace, choice, refine: int):
     """The reduced set of the FE plate (its damping from ``--zeta``, the stator file or Table
     2), where it came from, and the model and modes it was reduced from (the same mesh)."""
+    from fem.mesh_settings import MeshSettings
     from fem.model import plate_model
     from fem.modes import plate_modes
     from lusm.errors import LusmError

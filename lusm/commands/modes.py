@@ -10,12 +10,15 @@ from __future__ import annotations
 import argparse
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from fem.mesh_settings import MeshSettings
 from lusm import limits
 from lusm.errors import short_reason
 from lusm.fe_errors import fe_failure, is_fe_failure
 from lusm.options import add_output_options, add_plate_options, integer, print_json, real
+
+if TYPE_CHECKING:
+    from fem.mesh_settings import MeshSettings
 
 HELP = "FE natural frequencies (short/open circuit) and k_eff of L1 and B2"
 DESCRIPTION = """\
@@ -211,6 +214,7 @@ class _Mesh:
 def _mesh_settings(args: argparse.Namespace, stator, quarter_allowed: bool) -> _Mesh:
     """The mesh of ``--model``, ``--refine``, ``--layers``, ``--edge-grading``, ``--quick``,
     bounded before any work (the bound blames the option the user typed)."""
+    from fem.mesh_settings import MeshSettings
     from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.errors import LusmError
     from lusm.options import check_fe_size

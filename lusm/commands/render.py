@@ -12,7 +12,6 @@ from __future__ import annotations
 import argparse
 import re
 
-from fem.mesh_settings import MeshSettings
 from lusm import limits
 from lusm.commands.modes import add_fe_options, band_option
 from lusm.fe_errors import fe_failure, is_fe_failure
@@ -70,6 +69,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
+    from fem.mesh_settings import MeshSettings
     from lusm.commands.modes import warn_linear_elements
     from lusm.options import check_fe_size, output_folder, stator_from_args
 
@@ -140,6 +140,7 @@ def _check_model_options(args: argparse.Namespace) -> None:
 def _run_3d(args: argparse.Namespace, choice) -> None:
     """``--model 3d``: the chosen modes of the 3D band, drawn by :mod:`fem.render3d`."""
     from fem.band import BandTooWideError, band_shapes, default_band_Hz
+    from fem.mesh_settings import MeshSettings
     from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_model
     from lusm.commands.modes import check_refine_3d
     from lusm.errors import LusmError
