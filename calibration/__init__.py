@@ -7,7 +7,10 @@ and uncertainty, and the parameters to fit with their start values and bounds
 parameter set (the linear free response, the two-mode admittance, the steady engine),
 :mod:`calibration.fit` fits them by weighted least squares from several starts and reports
 the covariance, correlations, profile-likelihood intervals and which parameters the data
-cannot fix, and :mod:`calibration.output` writes the calibrated stator or parameter file.
+cannot fix, and :mod:`calibration.output` writes the calibrated stator or parameter file
+with the fit in machine-readable form. :mod:`calibration.uncertainty` reads that back and
+carries the covariance to any prediction by Monte Carlo (``--uncertainty``;
+:mod:`calibration.bands`: the steady speed, stall force and map).
 The package sits above ``contact`` and below the command line (``docs/calibration.md``).
 """
 

@@ -33,7 +33,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.stats import qmc
 
-from calibration.measurements import MeasurementError, Measurements
+from calibration.measurements import STEADY_KINDS, MeasurementError, Measurements
 from calibration.model import predict
 from calibration.parameters import ORDER, FitParameter, apply, base_value
 from rom.params import MotorParams
@@ -63,6 +63,15 @@ SCREEN_KEEP = 2
 FRICTION = ("mu_s", "mu_d", "a_mu", "b_mu", "mu_sd")
 """Parameters that move a steady speed across the dead zone's edge: the speed steps between
 zero and a finite value in them, so a gradient fit stops on those steps."""
+SCREEN_FTOL = 1e-4
+"""Relative change of chi-square that ends a local fit from the screen: near its degrees of
+freedom (46 on the example) that is a change of chi-square below 0.01, statistically nothing,
+where the flat valley of ``a_mu`` against ``b_mu`` lets a fit to :data:`TOLERANCE` walk along
+it for hundreds of evaluations."""
+ACCEPT_SIGMAS = 2.0
+"""A local fit from the screen whose chi-square is within this many standard deviations
+(``sqrt(2 dof)``) above its degrees of freedom follows the data: the screen's next points
+are not fitted."""
 PROFILE_STEPS = (1.0, 2.0, 4.0)
 """Steps along a profile, in standard errors (then the bound)."""
 
@@ -132,6 +141,11 @@ class CalibrationResult:
         Residual evaluations in all (fits, Jacobians, profiles).
     wall_time_s, profile_time_s : float
         Time of the whole calibration and of its profiles (s).
+    held_covariance : ndarray
+        Covariance (SI) of the identifiable parameters alone, in their order, with the
+        others held at their values: the inverse of the Fisher information restricted to
+        them (what a Monte Carlo that holds the others draws from, :mod:`calibration.
+        uncertainty`).
     """
 
     parameters: tuple[FitParameter, ...]
@@ -154,6 +168,7 @@ class CalibrationResult:
     wall_time_s: float = 0.0
     profile_time_s: float = 0.0
     notes: tuple[str, ...] = field(default=())
+    held_covariance: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     @property
     def dof(self) -> int:
@@ -190,16 +205,19 @@ class _Problem:
         given = dict(zip((p.name for p in self.meas.parameters), self.values(u), strict=True))
         return apply(self.base, given), given.get("C0_F", self.c0_F)
 
-    def predictions(self, u: np.ndarray) -> list[dict[str, np.ndarray]]:
-        """Model values of every data set at ``u``."""
+    def predictions(self, u: np.ndarray, sets=None) -> list[dict[str, np.ndarray]]:
+        """Model values of every data set (or of ``sets``) at ``u``."""
         params, c0 = self.model(u)
         self.evaluations += 1
-        return [predict(s, params, c0, self.coupling, self.accuracy) for s in self.meas.sets]
+        return [predict(s, params, c0, self.coupling, self.accuracy)
+                for s in (self.meas.sets if sets is None else sets)]
 
-    def residuals(self, u: np.ndarray) -> np.ndarray:
-        """``(model - measured) / sigma`` of every measured value."""
+    def residuals(self, u: np.ndarray, sets=None) -> np.ndarray:
+        """``(model - measured) / sigma`` of every measured value (of ``sets``, a part of
+        the measurements' data sets, where given)."""
         out = []
-        for s, pred in zip(self.meas.sets, self.predictions(u), strict=True):
+        sets = self.meas.sets if sets is None else sets
+        for s, pred in zip(sets, self.predictions(u, sets), strict=True):
             for q, y in s.observed.items():
                 ok = np.isfinite(y)
                 out.append((pred[q][ok] - y[ok]) / s.sigma[q][ok])
@@ -279,8 +297,9 @@ def _draw(problem: _Problem, count: int, rng: np.random.Generator) -> list[np.nd
             for _ in range(count)]
 
 
-def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int) -> list[np.ndarray]:
-    """The :data:`SCREEN_KEEP` points of least chi-square among (at most
+def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
+                     keep: int = SCREEN_KEEP) -> list[np.ndarray]:
+    """The ``keep`` points of least chi-square among (at most
     ``2 ** SCREEN_FRICTION_LOG2``) Sobol points over the fitted :data:`FRICTION` parameters'
     box (:func:`_in_box`), every other parameter held at ``u_best``; none without a speed
     set or a fitted friction parameter. The speeds' dead-zone steps leave a narrow valley
@@ -289,7 +308,7 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int) -> list[n
     local fit."""
     params = problem.meas.parameters
     which = [i for i, p in enumerate(params) if p.name in FRICTION]
-    if not which or not any(s.kind == "speed" for s in problem.meas.sets):
+    if not which or not any(s.kind in STEADY_KINDS for s in problem.meas.sets):
         return []
     log2 = min(SCREEN_FRICTION_LOG2, 3 + 2 * len(which))
     points = qmc.Sobol(len(which), seed=seed).random_base2(log2)
@@ -300,7 +319,7 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int) -> list[n
             v[i] = _in_box(params[i], float(row[j]))
         drawn.append(problem.scaled(v))
     chi2 = [float(r @ r) for r in map(problem.residuals, drawn)]
-    return [drawn[k] for k in np.argsort(chi2)[:SCREEN_KEEP]]
+    return [drawn[k] for k in np.argsort(chi2)[:keep]]
 
 
 def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
@@ -316,24 +335,74 @@ def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
     return [first, *(drawn[k] for k in np.argsort(chi2)[:count - 1])]
 
 
-def _solve(fun: Callable, u0: np.ndarray, nfev: int):
+def _prefit(problem: _Problem, u0: np.ndarray) -> np.ndarray:
+    """``u0`` with the parameters outside :data:`FRICTION` fitted to the data sets other
+    than speeds (free amplitudes, admittance: microseconds an evaluation), the friction
+    parameters held; ``u0`` itself where there are no such parameters or sets."""
+    sets = [s for s in problem.meas.sets if s.kind not in STEADY_KINDS]
+    smooth = [i for i, p in enumerate(problem.meas.parameters) if p.name not in FRICTION]
+    if not sets or not smooth:
+        return u0
+
+    def fun(v: np.ndarray) -> np.ndarray:
+        u = u0.copy()
+        u[smooth] = v
+        return problem.residuals(u, sets)
+
+    u = u0.copy()
+    u[smooth] = _solve(fun, u0[smooth], MAX_NFEV).x
+    return u
+
+
+def _screened_fits(problem: _Problem, count: int, seed: int,
+                   say: Callable[[str], None]) -> list:
+    """Local fits from the ``count`` best points of the friction screen
+    (:func:`_friction_screen`) about the file's start, its smooth parameters first fitted
+    to the data other than speeds (:func:`_prefit`): with speed data a start off the dead
+    zone's valley stops on its steps, so random starts in the whole box spend their
+    evaluations (a few hundred each) on local minima."""
+    u0 = _prefit(problem, problem.scaled([p.start for p in problem.meas.parameters]))
+    say("friction screen")
+    fits = []
+    dof = sum(s.points for s in problem.meas.sets) - u0.size
+    for k, u in enumerate(_friction_screen(problem, u0, seed, count), start=1):
+        say(f"local fit {k} of {count}, from the screen")
+        fit = _solve(problem.residuals, u, MAX_NFEV, SCREEN_FTOL)
+        fits.append((u, fit))
+        if dof > 0 and 2.0 * fit.cost <= dof + ACCEPT_SIGMAS * math.sqrt(2.0 * dof):
+            break  # the data are followed: the next screen points would end in this valley
+    return fits
+
+
+def _solve(fun: Callable, u0: np.ndarray, nfev: int, ftol: float = TOLERANCE):
     """:func:`scipy.optimize.least_squares` on [0, 1] with the module's settings."""
     return least_squares(fun, np.clip(u0, 0.0, 1.0), bounds=(0.0, 1.0), method="trf",
-                         diff_step=DIFF_STEP, x_scale=1.0, max_nfev=nfev, ftol=TOLERANCE,
+                         diff_step=DIFF_STEP, x_scale=1.0, max_nfev=nfev, ftol=ftol,
                          xtol=TOLERANCE)
 
 
 def _profile_chi2(problem: _Problem, i: int, ui: float, u_best: np.ndarray,
-                  jac: np.ndarray) -> float:
-    """Chi-square with scaled parameter ``i`` held at ``ui`` and the others re-fitted: their
-    linear response from the optimum's Jacobian, then up to :data:`CHORD_STEPS` Gauss-Newton
-    steps on that Jacobian (one model evaluation each, the least chi-square kept). Exact for
-    a model linear in its parameters; otherwise at most the true profile's value."""
+                  jac: np.ndarray, held: tuple[int, ...] = ()) -> float:
+    """Chi-square with scaled parameter ``i`` held at ``ui`` and the others re-fitted
+    (:func:`_refit`); with ``held``, the lesser of that and the re-fit with ``held`` kept at
+    the optimum. Each is at least the true profile's value (a minimum over fewer
+    parameters, or one not reached), so their least is the nearer."""
+    c = _refit(problem, i, ui, u_best, jac, ())
+    return min(c, _refit(problem, i, ui, u_best, jac, held)) if held else c
+
+
+def _refit(problem: _Problem, i: int, ui: float, u_best: np.ndarray, jac: np.ndarray,
+           held: tuple[int, ...]) -> float:
+    """Chi-square with scaled parameter ``i`` held at ``ui`` and the others (but ``held``,
+    kept at the optimum) re-fitted: their linear response from the optimum's Jacobian, then
+    up to :data:`CHORD_STEPS` Gauss-Newton steps on that Jacobian (one model evaluation
+    each, the least chi-square kept). Exact for a model linear in its parameters; otherwise
+    at most the true profile's value."""
     n = u_best.size
-    others = [k for k in range(n) if k != i]
+    others = [k for k in range(n) if k != i and k not in held]
 
     def full(v: np.ndarray) -> np.ndarray:
-        u = np.empty(n)
+        u = np.array(u_best, dtype=float)
         u[i], u[others] = ui, np.clip(v, 0.0, 1.0)
         return u
 
@@ -354,8 +423,8 @@ def _profile_chi2(problem: _Problem, i: int, ui: float, u_best: np.ndarray,
 
 
 def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray,
-                  chi2: float, step: float,
-                  sign: int) -> tuple[list[tuple[float, float]], float, bool]:
+                  chi2: float, step: float, sign: int,
+                  held: tuple[int, ...] = ()) -> tuple[list[tuple[float, float]], float, bool]:
     """One side of a profile: points ``(u_i, delta chi2)`` at :data:`PROFILE_STEPS` times
     ``step`` and then the bound, stopping past :data:`DELTA_CHI2_95`; returns the points, the
     scaled interval end and whether the profile reached the bound below 3.84."""
@@ -366,7 +435,7 @@ def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray
         t = min(t, 1.0) if sign > 0 else max(t, 0.0)
         if abs(t - points[-1][0]) < 1e-12:
             continue
-        c = _profile_chi2(problem, i, t, u_best, jac)
+        c = _profile_chi2(problem, i, t, u_best, jac, held)
         points.append((float(t), c - chi2))
         if c - chi2 >= DELTA_CHI2_95:
             (u0, d0), (u1, d1) = points[-2], points[-1]
@@ -378,12 +447,13 @@ def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray
 
 
 def _profile(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray, chi2: float,
-             se_u: float) -> Profile:
-    """The profile likelihood of parameter ``i`` (module docstring)."""
+             se_u: float, held: tuple[int, ...] = ()) -> Profile:
+    """The profile likelihood of parameter ``i`` (module docstring), the parameters ``held``
+    kept at the optimum."""
     step = se_u if math.isfinite(se_u) and se_u > 1e-6 else 0.05
     step = min(step, 0.25)
-    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, jac, chi2, step, -1)
-    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, jac, chi2, step, +1)
+    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, jac, chi2, step, -1, held)
+    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, jac, chi2, step, +1, held)
     pts = sorted(set(lo_pts) | set(hi_pts))
     u = np.array([p[0] for p in pts])
     span, lower = problem.span[i], problem.lower[i]
@@ -433,13 +503,16 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     accuracy : {"exact", "fast"}
         Level of the steady engine.
     starts : int
-        Number of starts (the file's, then ``starts - 1`` drawn with ``seed``), >= 1.
+        Number of starts (the file's, then ``starts - 1`` drawn with ``seed``), >= 1; with
+        the screen, the local fits from its ``max(1, starts - 1)`` best points instead.
     profile : tuple of str, optional
-        Parameters whose profile likelihood is traced; default all.
+        Parameters whose profile likelihood is traced; default all (those the data see and
+        can tell apart: a parameter not identifiable by its Jacobian or its correlations
+        gets none).
     screen : bool
-        Whether a Sobol screen of the friction parameters (:func:`_friction_screen`), the
-        others held at the best start's fit, adds :data:`SCREEN_KEEP` starts after the
-        others (only with speed data).
+        Whether, with speed data and a fitted friction parameter, the local fits start from
+        a Sobol screen of the friction parameters (:func:`_screened_fits`) instead of the
+        file's start and random points.
     progress : callable, optional
         Called with a short line as each stage starts.
 
@@ -452,13 +525,13 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     check_box(meas, base)
     problem = _Problem(meas, base, coupling, accuracy, None)
     names = tuple(p.name for p in meas.parameters)
-    fits = []
-    for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
-        say(f"start {k} of {max(1, starts)}")
-        fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
-    if screen:
-        say("friction screen")
-        for u0 in _friction_screen(problem, min(fits, key=lambda f: f[1].cost)[1].x, seed):
+    friction = any(p.name in FRICTION for p in meas.parameters)
+    if screen and friction and any(s.kind in STEADY_KINDS for s in meas.sets):
+        fits = _screened_fits(problem, max(1, starts - 1), seed, say)
+    else:
+        fits = []
+        for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
+            say(f"start {k} of {max(1, starts)}")
             fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
     best = min(fits, key=lambda f: f[1].cost)[1]
     chi2 = 2.0 * float(best.cost)
@@ -468,18 +541,16 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(se, se)
     t_prof = time.perf_counter()
-    profiles = {}
-    for i, name in enumerate(names):
-        if profile is None or name in profile:
-            say(f"profile of {name}")
-            profiles[name] = _profile(problem, i, best.x, best.jac, chi2,
-                                      se[i] / problem.span[i])
+    profiles = _profiles(problem, best, chi2, se, blind, corr, profile, say)
     profile_time = time.perf_counter() - t_prof
     ok, why = _identifiability(names, blind, corr, profiles)
     notes = _notes(profiles, problem, fits, best)
     # a parameter the data do not depend on keeps its start: the fit has no say in it
     u_best = np.where(alone, problem.scaled([p.start for p in meas.parameters]), best.x)
     params, c0 = problem.model(u_best)
+    sampled = [i for i in range(len(names)) if ok[i]]
+    held_cov = (_covariance(best.jac[:, sampled], problem.span[sampled])[0] if sampled
+                else np.zeros((0, 0)))
     return CalibrationResult(
         parameters=meas.parameters, values=problem.values(u_best), stderr=se,
         correlation=corr, covariance=cov, identifiable=ok, reasons=why, profiles=profiles,
@@ -488,7 +559,30 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
                      for u0, f in fits),
         params=params, c0_F=c0, predictions=tuple(problem.predictions(u_best)),
         coupling=coupling, accuracy=accuracy, evaluations=problem.evaluations,
-        wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes)
+        wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes,
+        held_covariance=held_cov)
+
+
+def _profiles(problem: _Problem, best, chi2: float, se: np.ndarray, blind: list[list[int]],
+              corr: np.ndarray, profile: tuple[str, ...] | None,
+              say: Callable[[str], None]) -> dict[str, Profile]:
+    """The profiles of the parameters ``profile`` names (all for None) that the Jacobian and
+    the correlations leave identifiable: one the data do not see, or cannot tell from
+    another, gets no interval, and its profile (a dozen evaluations) is not traced. Along the
+    others' profiles each step is also re-fitted with those held at the optimum
+    (:func:`_profile_chi2`): their re-fit along a valley the data do not see follows the
+    optimum's Jacobian far out of its reach (on the example, a_mu and b_mu made C_l's
+    profile rise by 980 at one standard error; held, by 2.6-3.0)."""
+    names = tuple(p.name for p in problem.meas.parameters)
+    seen, _ = _identifiability(names, blind, corr, {})
+    held = tuple(j for j in range(len(names)) if not seen[j])
+    out = {}
+    for i, name in enumerate(names):
+        if seen[i] and (profile is None or name in profile):
+            say(f"profile of {name}")
+            out[name] = _profile(problem, i, best.x, best.jac, chi2, se[i] / problem.span[i],
+                                 held)
+    return out
 
 
 def _notes(profiles: dict[str, Profile], problem: _Problem, fits, best) -> tuple[str, ...]:

@@ -21,6 +21,9 @@ Schema (paths relative to the TOML file; ``docs/calibration.md`` has an example)
     file = "speed.csv"      #   voltage_V, preload_N, load_N (optional, 0), velocity_m_s,
     frequency_Hz = 40e3     #   frequency_Hz (a column or this key)
 
+    [power]                 # electrical input power at no load (the steady engine's)
+    file = "power.csv"      #   voltage_V, preload_N, input_power_W, frequency_Hz
+
     [parameters]            # what to fit: start value and bounds, SI units
     C_l = { start = 150, min = 50, max = 500 }
     a_mu = { start = 0.1, min = 0.0, max = 0.3 }
@@ -54,6 +57,7 @@ UNITS: dict[str, dict[str, float]] = {
     "velocity": {"m_s": 1.0, "mm_s": 1e-3, "um_s": 1e-6},
     "conductance": SIEMENS, "susceptance": SIEMENS, "abs_Y": SIEMENS,
     "phase": {"deg": math.pi / 180.0, "rad": 1.0},
+    "input_power": {"W": 1.0, "mW": 1e-3},
 }
 """Quantity -> {unit as written in a column name: SI value of one unit}."""
 
@@ -64,8 +68,12 @@ KINDS: dict[str, dict[str, tuple[str, ...]]] = {
                    "measured": ("conductance", "susceptance", "abs_Y", "phase")},
     "speed": {"inputs": ("voltage", "preload", "load", "frequency"),
               "optional": ("load", "frequency"), "measured": ("velocity",)},
+    "power": {"inputs": ("voltage", "preload", "load", "frequency"),
+              "optional": ("load", "frequency"), "measured": ("input_power",)},
 }
 """Measurement kind -> its input columns (``optional``: may be missing) and measured ones."""
+STEADY_KINDS = ("speed", "power")
+"""Kinds the steady engine predicts (a solve per row and model evaluation)."""
 
 TABLE_KEYS = ("file", "frequency_Hz", "sigma", "sigma_relative")
 MAX_CSV_BYTES = 10_000_000
@@ -85,7 +93,7 @@ class DataSet:
 
     Attributes
     ----------
-    kind : {"free", "admittance", "speed"}
+    kind : {"free", "admittance", "speed", "power"}
     path : Path
         The CSV file.
     inputs : dict of str to ndarray

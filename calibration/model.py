@@ -7,11 +7,15 @@
   ``D = K - M omega^2 + i C omega`` (the modal force ``A V`` and, by reciprocity, the
   charge ``A u`` of each mode); modes other than L1 and B2 enter only through ``C0``;
 * steady speed: the steady engine's speed from rest (:func:`contact.steady.steady_state`,
-  milliseconds a point); a slider that runs away under its load counts as speed 0.
+  milliseconds a point); a slider that runs away under its load counts as speed 0;
+* input power: the power the drive puts into L1 and B2 on the branch reached from rest
+  (``input_power_W`` of the steady engine, ``<A V (q_l' + q_b')>``-like: the dielectric
+  loss of the ceramic is not in the model), 0 where the slider runs away.
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -31,21 +35,38 @@ def admittance_S(params: MotorParams, frequency_Hz: np.ndarray, c0_F: float) -> 
 
 
 def speeds_m_s(params: MotorParams, inputs: dict[str, np.ndarray], coupling: str,
-               accuracy: str) -> np.ndarray:
-    """Steady speed from rest (m/s) at each row of a speed set's ``inputs``."""
+               accuracy: str, workers: int | None = None, power: bool = False) -> np.ndarray:
+    """Steady speed from rest (m/s) at each row of a speed set's ``inputs`` (``power``: the
+    input power (W) of that steady state instead), the rows on ``workers`` threads (default
+    every CPU; the steady engine's kernels release the GIL, as ``lusm map`` runs its
+    points)."""
+    import os
+    from concurrent.futures import ThreadPoolExecutor
+
+    from threadpoolctl import threadpool_limits
+
     from contact.steady import steady_state
 
-    out = np.empty(len(inputs["voltage"]))
-    with warnings.catch_warnings():  # a fit visits many sets; their remarks are not the user's
+    def one(row: tuple[float, float, float, float]) -> float:
+        v, fp, load, f = row
+        r = steady_state(params, v, fp, frequency_Hz=f, load_N=load, coupling=coupling,
+                         accuracy=accuracy, energy=power)
+        value = (r.from_rest.input_power_W if r.from_rest is not None else math.nan) \
+            if power else r.velocity_m_s
+        return value if np.isfinite(value) else 0.0
+
+    rows = [tuple(float(x) for x in r) for r in zip(
+        inputs["voltage"], inputs["preload"], inputs["load"], inputs["frequency"],
+        strict=True)]
+    n = min(workers or os.cpu_count() or 1, len(rows))
+    # a fit visits many sets; their remarks are not the user's (the filter is process-wide,
+    # set and restored here, in the calling thread)
+    with warnings.catch_warnings(), threadpool_limits(limits=1, user_api="blas"):
         warnings.simplefilter("ignore")
-        for i, (v, fp, load, f) in enumerate(zip(inputs["voltage"], inputs["preload"],
-                                                 inputs["load"], inputs["frequency"],
-                                                 strict=True)):
-            r = steady_state(params, float(v), float(fp), frequency_Hz=float(f),
-                             load_N=float(load), coupling=coupling, accuracy=accuracy,
-                             energy=False)
-            out[i] = r.velocity_m_s if np.isfinite(r.velocity_m_s) else 0.0
-    return out
+        if n <= 1:
+            return np.array([one(r) for r in rows], dtype=float)
+        with ThreadPoolExecutor(max_workers=n) as pool:
+            return np.array(list(pool.map(one, rows)), dtype=float)
 
 
 def predict(data: DataSet, params: MotorParams, c0_F: float | None, coupling: str,
@@ -59,4 +80,6 @@ def predict(data: DataSet, params: MotorParams, c0_F: float | None, coupling: st
         y = admittance_S(params, x["frequency"], float(c0_F or 0.0))
         return {"conductance": y.real, "susceptance": y.imag, "abs_Y": np.abs(y),
                 "phase": np.angle(y)}
+    if data.kind == "power":
+        return {"input_power": speeds_m_s(params, x, coupling, accuracy, power=True)}
     return {"velocity": speeds_m_s(params, x, coupling, accuracy)}

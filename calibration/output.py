@@ -19,6 +19,7 @@ import numpy as np
 
 from calibration.fit import CalibrationResult
 from calibration.parameters import PARAMETERS
+from calibration.uncertainty import TABLE, of_result
 from rom.params import PARAM_UNITS, MotorParams
 
 MOTOR_TABLES = ("damping", "contact", "slider", "friction", "force_factor")
@@ -102,7 +103,7 @@ def stator_text(original: str, result: CalibrationResult, meas_path: Path, name:
         m = _HEADER.match(line)
         if m:
             table = m.group(1)
-        if table in MOTOR_TABLES:
+        if table in MOTOR_TABLES or table == TABLE:  # written anew below
             continue
         if table == "mesh" and mesh_file is not None and re.match(r"^\s*file\s*=", line):
             line = f"file = {json.dumps(mesh_file)}"
@@ -119,7 +120,32 @@ def stator_text(original: str, result: CalibrationResult, meas_path: Path, name:
             i = where.get((tname, key))
             note = f"  # {fitted_text(result, i)}" if i is not None else ""
             body.append(f"{key} = {float(value)!r}{note}")
-    return "\n".join(head + kept + body) + "\n"
+    return "\n".join(head + kept + body + calibration_table(result)) + "\n"
+
+
+def _toml_value(v) -> str:
+    """A TOML value of a number (``inf`` and ``nan`` as TOML spells them), bool, string,
+    None (as ``nan``: TOML has no null; only ``chi2`` of a fit without data could be one) or
+    list of them."""
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if v is None:
+        return "nan"
+    return repr(v) if isinstance(v, float) else str(v)
+
+
+def calibration_table(result: CalibrationResult) -> list[str]:
+    """The ``[calibration]`` table of a stator file: the fit in machine-readable form
+    (:mod:`calibration.uncertainty`), read by ``--uncertainty`` and the report."""
+    table = of_result(result).to_table()
+    return ["", f"[{TABLE}]  # the fit, read by --uncertainty and lusm report "
+            "(docs/calibration.md)",
+            *(f"{key} = {_toml_value(value)}" for key, value in table.items()
+              if value is not None)]
 
 
 def params_text(result: CalibrationResult, meas_path: Path, name: str) -> str:
@@ -129,7 +155,8 @@ def params_text(result: CalibrationResult, meas_path: Path, name: str) -> str:
                                  f"calibrate from {meas_path} ({name}, coupling "
                                  f"{result.coupling}): {fits}")
     d = params.to_dict()
-    return json.dumps({**d, "units": {k: PARAM_UNITS[k] for k in d if k in PARAM_UNITS}},
+    return json.dumps({**d, "units": {k: PARAM_UNITS[k] for k in d if k in PARAM_UNITS},
+                       TABLE: of_result(result).to_table(json_ready=True)},
                       indent=2) + "\n"
 
 

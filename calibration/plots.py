@@ -13,7 +13,8 @@ from calibration.measurements import DataSet, Measurements
 def _axis(data: DataSet) -> str:
     """The input that varies most across a set's rows: its figure's abscissa."""
     order = {"free": ("voltage", "frequency"), "admittance": ("frequency",),
-             "speed": ("voltage", "load", "preload", "frequency")}[data.kind]
+             "speed": ("voltage", "load", "preload", "frequency"),
+             "power": ("voltage", "load", "preload", "frequency")}[data.kind]
     for q in order:
         x = data.inputs[q]
         if np.ptp(x) > 0:

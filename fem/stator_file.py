@@ -88,6 +88,9 @@ Lengths are millimetres in the file and metres inside. Schema (every table optio
     scale_L1 = 1.0                      #   (a prototype's electrodes, bond and poling give
     scale_B2 = 1.0                      #   less than the model's), each in
                                         #   FORCE_FACTOR_SCALE_RANGE (lusm calibrate fits them)
+    [calibration]                       # written by lusm calibrate: the fit's values,
+                                        #   standard errors and covariance; read (and
+                                        #   checked) by calibration.uncertainty, not here
 
 With a feature table the stator is a :class:`fem.meshing.parametric.ParametricStator`: the plate
 keeps its own length and width (the tip is added beyond ``y = l``; the tip point is the
@@ -205,7 +208,7 @@ lower bound of 0 that is not allowed means "> 0"."""
 
 _KEYS: dict[str, tuple[str, ...]] = {
     "": ("name", "plate", "electrodes", "material", "points", "mesh", "tip", "chamfers",
-         "holes", "damping", "contact", "slider", "friction", "force_factor"),
+         "holes", "damping", "contact", "slider", "friction", "force_factor", "calibration"),
     "plate": ("length_mm", "width_mm", "thickness_mm"),
     "electrodes": ("gap_mm", "drive"),
     "material": ("name", "base", "cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3", "source"),

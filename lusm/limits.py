@@ -74,6 +74,9 @@ steps per period (25 at 40 kHz, 10 000 points allowed; 14 923 at 20 Hz, where a 
 MAX_CALIBRATION_SPEEDS = 500
 """Speed rows of one ``lusm calibrate`` (each a steady solve per model evaluation, about a
 hundred evaluations a start: 30 rows take about a minute with three starts and profiles)."""
+MAX_UNCERTAINTY_SAMPLES = 4096
+"""Monte Carlo draws of ``--uncertainty`` (each a whole prediction; the steady work of all
+draws is bounded by :data:`MAX_STEADY_WORK` too)."""
 MAX_GRID_POINTS = 2000
 """Points of a ``start:stop:step`` grid (``--voltages``, ``--preloads``, sweep ranges)."""
 MAX_SWEEP_POINTS = 200

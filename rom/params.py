@@ -240,7 +240,9 @@ class MotorParams:
         data, as a study's dataset may hold it, misses 1e-9 relative), so an
         edit of a derived value is refused instead of silently ignored. So
         may ``units`` (each key's unit, as ``lusm params --json`` writes it), which must be
-        :data:`PARAM_UNITS`' own: an edited unit is refused, not converted.
+        :data:`PARAM_UNITS`' own: an edited unit is refused, not converted. A
+        ``calibration`` object (the fit of ``lusm calibrate``) is not part of the set and is
+        passed over.
 
         Raises
         ------
@@ -254,6 +256,8 @@ class MotorParams:
         if any(not isinstance(k, str) for k in d):  # named here, not failing in str.join
             raise ValueError(f"a parameter set's keys are names, got "
                              f"{[k for k in d if not isinstance(k, str)]!r}")
+        # a calibrated file's fit (``lusm calibrate``), read by calibration.uncertainty
+        d = {k: v for k, v in d.items() if k != "calibration"}
         units = d.get("units")
         if "units" in d:  # lusm params --json says each key's unit; SI, not a choice
             if not isinstance(units, dict):

@@ -254,6 +254,14 @@ DT_ANY = "(0, 1/(20 f)] s at the drive frequency f"
 
 # (id, argv, the option named, the range or bound shown or None)
 SIMULATE = [
+    # --uncertainty draws from a calibrated file's covariance: a file without one is refused
+    ("uncertainty-no-covariance", [*_SIM, "--steady", "--params", "{params_ok}",
+                                   "--uncertainty"], "--uncertainty", "[calibration]"),
+    ("uncertainty-no-file", [*_SIM, "--steady", "--uncertainty", "8"], "--uncertainty",
+     "calibrated file"),
+    ("uncertainty-transient", [*_SIM, "--uncertainty", "8"], "--uncertainty", "--steady"),
+    ("uncertainty-one-draw", [*_SIM, "--steady", "--uncertainty", "1"], "--uncertainty",
+     "[2, 4096]"),
     # issue 42: a --params file nested 100 000 deep was "internal error: RecursionError"
     ("params-nested-deep", [*_SIM, "--params", "{params_deep}"], "--params",
      "nested too deeply"),
@@ -328,6 +336,11 @@ SIMULATE = [
 ]
 
 MAP = [
+    # the draws times the points within a steady map's bound, before any work
+    ("uncertainty-draws-x-points", ["map", "--params", "{params_ok}", "--uncertainty",
+                                    "200"], "--uncertainty", "10000"),
+    ("uncertainty-transient", ["map", "--method", "transient", "--uncertainty", "4"],
+     "--uncertainty", "--method steady"),
     ("frequency-zero", ["map", "--frequency", "0"], "--frequency", "[1, 1e+07] Hz"),
     # a steady map's --dt serves an undecided point's transient: 1e-3 s had run without a word
     ("steady-dt-1e-3", ["map", "--method", "steady", "--dt", "1e-3"], "--dt", DT_40K),
@@ -360,6 +373,8 @@ MAP = [
 ]
 
 CHARACTERISTIC = [
+    ("uncertainty-no-covariance", [*_CHAR, "--params", "{params_ok}", "--uncertainty"],
+     "--uncertainty", "[calibration]"),
     *[(f"loads-{i}", [*_CHAR, "--loads", bad], "--loads", "[-1000, 1000] N")
       for i, bad in enumerate(("0:2:0", "a:b", "2:1:0.1", "nan", "2:0:0.1", "1e400", "0:1:nan",
                                "0:2000:500"))],

@@ -386,7 +386,7 @@ def write_design_report(out_dir: Path, choice, params, stator_options: str,
                         quick: bool = False,
                         progress: bool = True,
                         damping_from: str = "the parameter set",
-                        drive: ReportDrive = ReportDrive()) -> dict:
+                        drive: ReportDrive = ReportDrive(), calibration=None) -> dict:
     """Write the report on one stator (``index.md``, ``index.html``, ``report.json``, figures).
 
     Parameters
@@ -411,13 +411,16 @@ def write_design_report(out_dir: Path, choice, params, stator_options: str,
     drive : ReportDrive
         The speed-thrust voltages, the preload and the drive frequency (``lusm report
         --voltages --preload --frequency``).
+    calibration : calibration.uncertainty.Calibration, optional
+        The fit a calibrated stator file carries: a "Calibration" section
+        (:func:`validation.report_calibration.calibration_section`).
     """
     return _build(Path(out_dir), choice, params, stator_options, quick, progress, damping_from,
-                  drive)
+                  drive, calibration)
 
 
 def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
-           damping_from: str, drive: ReportDrive) -> dict:
+           damping_from: str, drive: ReportDrive, calibration=None) -> dict:
     from tqdm import tqdm
 
     from validation.report import markdown_table, write_report_files
@@ -443,6 +446,11 @@ def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
                             cites={"design": f"{stator} {drive.frequency_option()}".strip()},
                             voltages_V=drive.voltages_V, preload_N=drive.preload_N)
     md5[0] = "## 5. Motor characteristics"
+    md6, d6 = [], None
+    if calibration is not None:
+        from validation.report_calibration import calibration_section
+
+        md6, d6 = calibration_section(calibration, stator, 6)
     bar.close()
     wall = time.perf_counter() - t0
     command = _lusm("report" + (" --quick" if quick else ""), stator, drive.options_text())
@@ -454,14 +462,14 @@ def _build(out: Path, choice, params, stator: str, quick: bool, progress: bool,
             "the paper's motor.", ""]
     unexcited = unexcited_modes(params, choice.stator.drive_electrodes)
     head += _unexcited_note(unexcited)
-    md = "\n".join(head + md1 + md2 + md3 + md4 + md5)
+    md = "\n".join(head + md1 + md2 + md3 + md4 + md5 + md6)
     doc = {"quick": quick, "wall_time_s": wall, "stator": _describe(choice.stator,
                                                                      choice.material, label),
            "drive": {"voltages_V": list(drive.voltages_V), "preload_N": drive.preload_N,
                      "frequency_Hz": freq, "frequency_from": drive.frequency},
            "modes": d1, "parameters": d2, "admittance": d3, "speed_vs_voltage": d4,
            "motor_characteristics": d5,
-           "warnings": unexcited}
+           "warnings": unexcited, **({"calibration": d6} if d6 is not None else {})}
     return write_report_files(out, md, doc, "LUSM design report")
 
 

@@ -42,10 +42,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--accuracy", choices=("exact", "fast"), default="exact",
                    help="level of the steady engine (default exact, as simulate --steady)")
     p.add_argument("--starts", type=integer("--starts", 1, MAX_STARTS), default=3,
-                   help=f"starts of the fit: the file's and random ones in the box, [1, "
+                   help=f"starts of the fit: the file's and random ones in the box; with "
+                   f"speed data and a fitted friction parameter, local fits from the N-1 "
+                   f"best points of a Sobol screen of the friction law instead; [1, "
                    f"{MAX_STARTS}] (default 3)")
     p.add_argument("--seed", type=integer("--seed", 0, 2**31 - 1), default=0,
-                   help="seed of the random starts (default 0)")
+                   help="seed of the random starts and the screen (default 0)")
     p.add_argument("--profile", default="all", metavar="NAMES",
                    help="parameters whose profile likelihood is traced: all (default), none, "
                    "or names separated by commas")
@@ -98,18 +100,20 @@ def _profile_names(args: argparse.Namespace, meas) -> tuple[str, ...]:
 
 
 def _measurements(args: argparse.Namespace):
-    """The measurement file, its failures as one line naming it; the speed rows bounded."""
-    from calibration.measurements import MeasurementError, load_measurements
+    """The measurement file, its failures as one line naming it; the steady rows (speeds,
+    powers) bounded."""
+    from calibration.measurements import STEADY_KINDS, MeasurementError, load_measurements
 
     try:
         meas = load_measurements(args.measurements)
     except MeasurementError as exc:
         raise LusmError(str(exc), args.measurements) from None
-    rows = sum(len(s.inputs["voltage"]) for s in meas.sets if s.kind == "speed")
+    rows = sum(len(s.inputs["voltage"]) for s in meas.sets if s.kind in STEADY_KINDS)
     top = limits.work_bound(limits.MAX_CALIBRATION_SPEEDS)
     if rows > top:
-        raise LusmError(f"{args.measurements}: {rows} speed rows, above the limit {top} (each "
-                        f"is a steady solve per model evaluation; {limits.more_work_hint()})",
+        raise LusmError(f"{args.measurements}: {rows} speed and power rows, above the limit "
+                        f"{top} (each is a steady solve per model evaluation; "
+                        f"{limits.more_work_hint()})",
                         args.measurements)
     _check_ranges(meas, args.measurements)
     return meas

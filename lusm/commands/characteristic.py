@@ -35,6 +35,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "fast: the averaged steady state (slider mass -> infinity), all loads "
                    "from one set of orbits, about half the time, but blind to the creeps "
                    "and holds a start from rest can end in (docs/steady.md)")
+    from lusm.uncertainty import add_uncertainty_option
+
+    add_uncertainty_option(p, "the stall force and the speed at each load")
     add_contact_options(p, folder_help="write characteristic.png into DIR")
 
 
@@ -68,6 +71,13 @@ def run(args: argparse.Namespace) -> None:
     coupling, coupling_from = motor.coupling, motor.coupling_from
     check_steady_work(len(voltages) * (len(loads) if loads else 21), params, freq, coupling,
                       "loads x voltages", "--loads" if loads else "--frequency")
+    cal = None
+    if args.uncertainty is not None:
+        from lusm.uncertainty import calibration_of, check_work
+
+        cal = calibration_of(args, motor)
+        check_work(args, len(voltages) * (len(loads) if loads else 21), motor,
+                   "loads x voltages")
 
     from contact.characteristic import characteristic
     from validation.summaries import coupling_line, damping_line, damping_summary
@@ -92,6 +102,8 @@ def run(args: argparse.Namespace) -> None:
         d["coupling"], d["coupling_from"] = coupling, coupling_from
         if args.accuracy == "exact":  # how the start from rest was decided (--rest)
             d["rest"] = args.rest
+    if cal is not None:
+        _add_bands(args, cal, motor, chars, docs)
     # one voltage: the characteristic itself; several: {"voltages_V", "characteristics"}
     doc = docs[0] if len(docs) == 1 else {"voltages_V": list(voltages),
                                           "characteristics": docs}
@@ -112,6 +124,42 @@ def run(args: argparse.Namespace) -> None:
         _print_one(args, v, char, d, frequency_from == "auto")
     print(damping_line(params, damping_from))
     print(coupling_line(coupling, coupling_from))
+    if cal is not None:
+        from lusm.uncertainty import drawn_line
+
+        print(drawn_line(docs[0]["uncertainty"]))
+
+
+def _add_bands(args: argparse.Namespace, cal, motor, chars, docs: list[dict]) -> None:
+    """Each curve's ``uncertainty``: the bands of its stall force and of the speed at each
+    of its loads over ``--uncertainty`` parameter sets drawn from the calibration
+    (:func:`calibration.bands.characteristic_band`)."""
+    from calibration.bands import characteristic_band
+    from lusm.uncertainty import band_json, run_band
+
+    for c, d in zip(chars, docs, strict=True):
+        stall, speeds = run_band(args, lambda step, c=c: characteristic_band(
+            cal, motor.params, c.op.voltage_V, args.preload, c.load_N, motor.frequency_Hz,
+            samples=args.uncertainty, progress=step, coupling=motor.coupling,
+            ultrasonic_friction=not args.no_ultrasonic_friction, accuracy=args.accuracy,
+            rest=args.rest))
+        d["uncertainty"] = band_json(stall, stall_force_N=stall, velocity_m_s=speeds)
+
+
+def _print_band(d: dict) -> None:
+    """The stall force's band and the speed's band at each load."""
+    from lusm.uncertainty import band_text
+
+    u = d["uncertainty"]
+    print(f"{'stall force band (N)':<26} {band_text(u['stall_force_N'])}")
+    print(f"{'load (N)':>10} {'v mean (m/s)':>13} {'v std (m/s)':>12} {'v 2.5 %':>11} "
+          f"{'v 97.5 %':>11} {'no speed':>8}")
+    v = u["velocity_m_s"]
+    for k, row in enumerate(d["curve"]):
+        cells = [v[q][k] for q in ("mean", "std", "q2.5", "q97.5")]
+        text = " ".join(f"{'nan':>11}" if x is None else f"{x:11.5g}" for x in cells[1:])
+        mean = "nan" if cells[0] is None else f"{cells[0]:.5g}"
+        print(f"{row['load_N']:10.4g} {mean:>13} {text} {v['missing'][k]:>8}")
 
 
 def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) -> None:
@@ -162,6 +210,8 @@ def _print_one(args: argparse.Namespace, v: float, char, d: dict, auto: bool) ->
     from lusm.physical_limits import print_limits
 
     print_limits(d.get("limits"))  # the curve's worst load (each load's: --json)
+    if "uncertainty" in d:
+        _print_band(d)
 
 
 def _creep_line(char) -> str | None:

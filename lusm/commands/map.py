@@ -44,6 +44,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "default)")
     p.add_argument("--workers", type=integer("--workers", *limits.WORKERS), default=None,
                    help="threads (default: all cores)")
+    from lusm.uncertainty import add_uncertainty_option
+
+    add_uncertainty_option(p, "the speed at each point (with --method steady); the draws "
+                           "times the points must stay within the steady map's bounds")
     add_contact_options(p, folder_help="write the map PNG into DIR", friction_note=" (Fig. 19)")
 
 
@@ -83,6 +87,7 @@ def run(args: argparse.Namespace) -> None:
             f"--voltages x --preloads give {volts.size * loads.size} points; a steady map "
             f"takes at most {limits.work_bound(limits.MAX_STEADY_POINTS)} "
             f"({limits.more_work_hint()})", "--voltages")
+    _check_uncertainty_size(args, volts.size * loads.size)
     # the 0 V / 0 N case only when the map is that single point
     plot, motor = resolve_drive(args, [float(volts.max())], float(loads.max()),
                                 lambda f: _check_size(args, volts, loads, f),
@@ -90,9 +95,17 @@ def run(args: argparse.Namespace) -> None:
     if args.method == "steady":  # a point's cost grows as the drive frequency falls
         check_steady_work(volts.size * loads.size, motor.params, motor.frequency_Hz,
                           motor.coupling, "points", "--voltages")
+    cal = None
+    if args.uncertainty is not None:
+        from lusm.uncertainty import calibration_of, check_work
+
+        cal = calibration_of(args, motor)
+        check_work(args, volts.size * loads.size, motor, "points")
     m = _solve(args, motor, volts, loads)
     _warn_limits(m)
     summary = _summary(args, motor, m)
+    if cal is not None:
+        summary["uncertainty"] = _band(args, cal, motor, volts, loads)
     if plot is not None:
         summary["figures"] = _plot(args, motor, m)
         # "figure", the map's one path, kept for the scripts that read it
@@ -101,8 +114,64 @@ def run(args: argparse.Namespace) -> None:
         print_json(summary, indent=2)
         return
     _print(args, motor, m)
+    if cal is not None:
+        _print_band(m, summary["uncertainty"])
     for f in summary.get("figures", []):
         print(f"wrote {f}")
+
+
+def _check_uncertainty_size(args: argparse.Namespace, points: int) -> None:
+    """Refuse, before any work, ``--uncertainty`` with a transient map or with more draws
+    times points than a steady map may have (:data:`lusm.limits.MAX_STEADY_POINTS`)."""
+    if args.uncertainty is None:
+        return
+    if args.method != "steady":
+        raise LusmError("--uncertainty needs --method steady (a transient map per parameter "
+                        "set drawn is too slow)", "--uncertainty")
+    top = limits.work_bound(limits.MAX_STEADY_POINTS)
+    fewer = (f"at most {top // points} draws here, or fewer points" if top // points >= 2
+             else "fewer --voltages x --preloads points")
+    if args.uncertainty * points > top:
+        raise LusmError(f"--uncertainty {args.uncertainty} draws x {points} points = "
+                        f"{args.uncertainty * points}, above a steady map's {top} points "
+                        f"({fewer}; {limits.more_work_hint()})", "--uncertainty")
+
+
+def _band(args: argparse.Namespace, cal, motor: Motor, volts, loads) -> dict:
+    """The map's ``uncertainty``: the speed's band at every point over ``--uncertainty``
+    parameter sets drawn from the calibration (:func:`calibration.bands.map_band`), with
+    the relative standard deviation (std over |mean|)."""
+    import numpy as np
+
+    from calibration.bands import map_band
+    from contact.options import SimulationOptions
+    from lusm.uncertainty import band_json, run_band
+
+    opts = SimulationOptions(duration_s=args.duration, dt_s=args.dt,
+                             ultrasonic_friction=not args.no_ultrasonic_friction,
+                             coupling=motor.coupling)
+    band = run_band(args, lambda step: map_band(
+        cal, motor.params, volts, loads, motor.frequency_Hz, opts, samples=args.uncertainty,
+        workers=args.workers, progress=step, accuracy=args.accuracy, rest=args.rest))
+    doc = band_json(band, velocity_m_s=band)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = band.std / np.abs(band.mean)
+    doc["velocity_relative_std"] = [[None if not np.isfinite(x) else float(x) for x in row]
+                                    for row in rel]
+    return doc
+
+
+def _print_band(m, u: dict) -> None:
+    """The speed's standard deviation at every point, as the speed table (mm/s)."""
+    from lusm.uncertainty import drawn_line
+
+    print("slider velocity standard deviation (mm/s), V0 (V) \\ F_P (N)")
+    print(f"{'':>8}  " + " ".join(f"{f:>9g}" for f in m.preloads_N))
+    for i, v in enumerate(m.voltages_V):
+        print(f"{v:>8g}  " + " ".join(f"{'nan':>9}" if x is None else f"{x * 1e3:>9.4g}"
+                                      for x in u["velocity_m_s"]["std"][i]))
+    print(drawn_line(u) + " (JSON 'uncertainty': mean, std, 2.5/97.5 % quantiles, "
+          "relative std per point)")
 
 
 def _solve(args: argparse.Namespace, motor: Motor, volts, loads):

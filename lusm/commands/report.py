@@ -113,14 +113,30 @@ def _write(args: argparse.Namespace, out: Path, drive) -> dict:
         choice = stator_from_args(args)
         params, damping_from = motor_params_of(args, "fem")
         _check_frequency(drive, params)
+        cal = _calibration(args.geometry)
         with output_set(out, "--out", args.force, "report") as stage:
             return write_design_report(stage, choice, params, stator_options_text(args),
                                        quick=args.quick, progress=progress,
-                                       damping_from=damping_from, drive=drive)
+                                       damping_from=damping_from, drive=drive,
+                                       calibration=cal)
     from validation.report import write_report
 
     with output_set(out, "--out", args.force, "report") as stage:
         return write_report(stage, quick=args.quick, progress=progress)
+
+
+def _calibration(geometry: str | None):
+    """The fit a calibrated stator file carries (its ``[calibration]`` table), None for
+    another stator; a table that cannot be read refused naming ``--geometry``."""
+    if not geometry:
+        return None
+    from calibration.uncertainty import CalibrationFileError, read_calibration
+    from lusm.errors import LusmError
+
+    try:
+        return read_calibration(geometry)
+    except CalibrationFileError as exc:
+        raise LusmError(f"--geometry {exc}", "--geometry") from None
 
 
 def _check_frequency(drive, params) -> None:

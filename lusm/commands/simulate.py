@@ -39,6 +39,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--steady", action="store_true",
                    help="the steady state from rest found directly (docs/steady.md) instead "
                    "of a transient; no figures")
+    from lusm.uncertainty import add_uncertainty_option
+
+    add_uncertainty_option(p, "the steady speed (with --steady)")
     add_contact_options(p, folder_help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
 
 
@@ -53,6 +56,9 @@ def run(args: argparse.Namespace) -> None:
     if args.energy and args.steady:
         raise LusmError("--energy needs a transient (use lusm characteristic for the power "
                         "balance of the steady state)", "--energy")
+    if args.uncertainty is not None and not args.steady:
+        raise LusmError("--uncertainty needs --steady (a transient per parameter set drawn "
+                        "is too slow)", "--uncertainty")
     if not args.steady:
         warn_unused(("--rest",), "it sets how --steady decides the start from rest")
     typed_dt = args.dt  # the text typed, checked at the frequency in force
@@ -71,6 +77,12 @@ def run(args: argparse.Namespace) -> None:
         check_steady_frequency(params, freq, coupling)
         # said once --dt is known to be a number: a refusal is then the one line
         warn_unused(("--duration", "--dt"), "--steady takes its own step and run length")
+    cal = None
+    if args.uncertainty is not None:
+        from lusm.uncertainty import calibration_of, check_work
+
+        cal = calibration_of(args, motor)
+        check_work(args, len(voltages), motor, "voltages")
 
     from contact.errors import RunawayError
     from validation.summaries import (
@@ -94,6 +106,8 @@ def run(args: argparse.Namespace) -> None:
         summary["damping"] = damping_summary(params, damping_from)
         summary["coupling"], summary["coupling_from"] = coupling, coupling_from
         summaries.append(summary)
+    if cal is not None:
+        _add_band(args, cal, motor, summaries)
     if args.json:
         doc = summaries[0] if len(summaries) == 1 else {"voltages_V": list(voltages),
                                                         "runs": summaries}
@@ -103,6 +117,25 @@ def run(args: argparse.Namespace) -> None:
         if len(voltages) > 1:
             print(f"--- {v:g} V")
         _print_one(summary, motor)
+    if cal is not None:
+        from lusm.uncertainty import drawn_line
+
+        print(drawn_line(summaries[0]["uncertainty"]))
+
+
+def _add_band(args: argparse.Namespace, cal, motor: Motor, summaries: list[dict]) -> None:
+    """Each run's ``uncertainty``: the band of its steady speed over ``--uncertainty``
+    parameter sets drawn from the calibration (:func:`calibration.bands.speed_band`)."""
+    from calibration.bands import speed_band
+    from lusm.uncertainty import band_json, run_band
+
+    band = run_band(args, lambda step: speed_band(
+        cal, motor.params, args.voltage, args.preload, motor.frequency_Hz,
+        samples=args.uncertainty, progress=step, load_N=args.load_N, coupling=motor.coupling,
+        ultrasonic_friction=not args.no_ultrasonic_friction, rest=args.rest))
+    for k, summary in enumerate(summaries):
+        summary["uncertainty"] = band_json(band, velocity_m_s=band.part(k))
+
 
 def _print_one(summary: dict, motor: Motor) -> None:
     """One run's summary as ``key value`` lines, its branches, damping, coupling, energy
@@ -132,6 +165,11 @@ def _print_one(summary: dict, motor: Motor) -> None:
         print(f"{'energy residual (rel.)':<30} {e['relative_residual']:.3g}")
     for f in summary.get("figures", []):
         print(f"wrote {f}")
+    if "uncertainty" in summary:
+        from lusm.uncertainty import band_text
+
+        print(f"{'velocity band (m/s)':<30} "
+              + band_text(summary["uncertainty"]["velocity_m_s"], fmt=".6g"))
 
 
 def branch_text(b: dict) -> str:
