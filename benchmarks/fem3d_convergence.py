@@ -35,6 +35,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
+from fem.mesh_settings import MeshSettings  # noqa: E402
 from fem.meshing.mesh import grid_lines_m  # noqa: E402
 from fem.solid3d.model import build_solid_model, modes_of_solid_model  # noqa: E402
 from validation.work_precision import aitken, richardson  # noqa: E402
@@ -49,7 +50,8 @@ def run_once(stator: PlateStator, element: str, refine: int, layers: int, order:
              edge_grading: int = 0):
     """One uncached solve: (four frequencies in Hz and two k_eff, dofs, wall s)."""
     t0 = time.perf_counter()
-    model = build_solid_model(stator, "pzt8", order, refine, layers, element, edge_grading)
+    model = build_solid_model(stator, "pzt8",
+                              MeshSettings(order, refine, layers, element, edge_grading))
     res = modes_of_solid_model(model)
     wall = time.perf_counter() - t0
     f = (res.L1.f_short_Hz, res.L1.f_open_Hz, res.B2.f_short_Hz, res.B2.f_open_Hz,

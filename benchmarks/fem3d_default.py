@@ -24,6 +24,8 @@ import subprocess
 import sys
 import time
 
+from fem.mesh_settings import MeshSettings
+
 PLATES = {"paper": (30.0, 7.5, 3.0, 0.5), "p36": (36.0, 9.0, 2.5, 0.5),
           "p26": (26.0, 6.5, 3.5, 1.0)}
 """Plain plates: length, width, thickness, gap (mm): the paper's and issue 38's two."""
@@ -82,7 +84,7 @@ def solve_one(plate: str, setting: str) -> dict:
         est = estimated_solid_modes(st)
         return _record(plate, setting, est.fine, est)
     q = QUICK_MESH
-    return _record(plate, setting, solid_modes(st, "pzt8", 2, q.refine, q.layers))
+    return _record(plate, setting, solid_modes(st, "pzt8", MeshSettings(2, q.refine, q.layers)))
 
 
 def _run(plate: str, setting: str) -> dict:

@@ -34,6 +34,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
+from fem.mesh_settings import MeshSettings  # noqa: E402
 from fem.model import GapValidityWarning, plate_model  # noqa: E402
 from fem.modes import modes_of_model  # noqa: E402
 from fem.solid3d.symmetric import (  # noqa: E402
@@ -59,16 +60,16 @@ def run_2d(stator: PlateStator):
     t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", GapValidityWarning)
-        model = plate_model(stator, "pzt8", 2)
+        model = plate_model(stator, "pzt8", MeshSettings(2))
     return _row(modes_of_model(model)), time.perf_counter() - t0
 
 
 def run_quarter(stator: PlateStator, refine: int, layers: int, grading: int):
     """(six values, dofs, wall s) of the quarter-plate 3D model."""
     t0 = time.perf_counter()
-    models = [build_quarter_model(stator, m, "pzt8", 2, refine, layers, edge_grading=grading)
-              for m in MODE_CLASSES]
-    res = modes_of_quarter_models(*models, refine=refine, layers=layers, edge_grading=grading)
+    mesh = MeshSettings(2, refine, layers, edge_grading=grading)
+    models = [build_quarter_model(stator, m, "pzt8", mesh) for m in MODE_CLASSES]
+    res = modes_of_quarter_models(*models, mesh=mesh)
     return _row(res), res.dofs, time.perf_counter() - t0
 
 

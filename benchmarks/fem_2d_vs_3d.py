@@ -25,6 +25,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
+from fem.mesh_settings import MeshSettings  # noqa: E402
 from fem.meshing.mesh import DEFAULT_REFINE  # noqa: E402
 from fem.model import plate_model  # noqa: E402
 from fem.modes import modes_of_model  # noqa: E402
@@ -60,13 +61,16 @@ def plate() -> str:
     """The default plate against the 3D meshes."""
     st = PlateStator()
     runs = {
-        "2D old": _timed(lambda: modes_of_model(plate_model(st, "pzt8", 2, DEFAULT_REFINE, "open",
-                                                            False))),
-        "2D": _timed(lambda: modes_of_model(plate_model(st, "pzt8", 2))),
-        "3D default": _timed(lambda: modes_of_solid_model(build_solid_model(st, "pzt8", 2))),
-        "3D 6×6": _timed(lambda: modes_of_solid_model(build_solid_model(st, "pzt8", 2, 6, 6))),
+        "2D old": _timed(lambda: modes_of_model(plate_model(
+            st, "pzt8", MeshSettings(2, DEFAULT_REFINE, gap_model="open",
+                                     thickness_inertia=False)))),
+        "2D": _timed(lambda: modes_of_model(plate_model(st, "pzt8", MeshSettings(2)))),
+        "3D default": _timed(lambda: modes_of_solid_model(build_solid_model(st, "pzt8",
+                                                                            MeshSettings(2)))),
+        "3D 6×6": _timed(lambda: modes_of_solid_model(build_solid_model(st, "pzt8",
+                                                                        MeshSettings(2, 6, 6)))),
         "3D graded 3": _timed(lambda: modes_of_solid_model(
-            build_solid_model(st, "pzt8", 2, edge_grading=3))),
+            build_solid_model(st, "pzt8", MeshSettings(2, edge_grading=3)))),
     }
     t2d = runs["2D"][1]
     head = list(runs) + ["2D/3D − 1 (default)", "2D/3D − 1 (graded)"]
@@ -91,9 +95,10 @@ def stators() -> str:
     rows, res = [], {}
     t2d = None
     for name, (st, mat) in cases.items():
-        r2, w2 = _timed(lambda st=st, mat=mat: modes_of_model(plate_model(st, mat, 2)))
+        r2, w2 = _timed(lambda st=st, mat=mat: modes_of_model(plate_model(st, mat,
+                                                                          MeshSettings(2))))
         r3, w3 = _timed(lambda st=st, mat=mat: modes_of_solid_model(
-            build_solid_model(st, mat, 2, layers=3)))
+            build_solid_model(st, mat, MeshSettings(2, layers=3))))
         t2d = t2d or w2
         res[name] = (r2, r3)
         for model, r, w in (("2D", r2, w2), ("3D", r3, w3)):

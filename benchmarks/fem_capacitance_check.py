@@ -17,6 +17,7 @@ import scipy.sparse.linalg as sla
 from fem.capacitance import gap_cross_section
 from fem.geometry import PlateStator
 from fem.material import get_material
+from fem.mesh_settings import MeshSettings
 from fem.solid3d.model import build_solid_model
 
 
@@ -34,7 +35,7 @@ def cross_section_pF(stator: PlateStator) -> tuple[float, float, float]:
 
 def solid_pF(stator: PlateStator, edge_grading: int) -> tuple[float, float, float]:
     """``(C_13, C_12, C_ee)`` (pF) of the 3D model's K_phiphi condensed onto the electrodes."""
-    mod = build_solid_model(stator, "pzt8", 2, 3, 3, edge_grading=edge_grading)
+    mod = build_solid_model(stator, "pzt8", MeshSettings(2, 3, 3, edge_grading=edge_grading))
     k = mod.Kphiphi.tocsr()
     n = k.shape[0]
     fixed = np.zeros(n, dtype=bool)

@@ -33,6 +33,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import PlateStator  # noqa: E402
+from fem.mesh_settings import MeshSettings  # noqa: E402
 from fem.model import GapValidityWarning, plate_model  # noqa: E402
 from fem.modes import modes_of_model  # noqa: E402
 from fem.solid3d.model import build_solid_model, modes_of_solid_model  # noqa: E402
@@ -49,15 +50,16 @@ def run_2d(stator: PlateStator, refine: int, gap_model: str, inertia: bool):
     t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", GapValidityWarning)
-        model = plate_model(stator, "pzt8", 2, refine, gap_model, inertia)
+        model = plate_model(stator, "pzt8",
+                            MeshSettings(2, refine, gap_model=gap_model, thickness_inertia=inertia))
     return _row(modes_of_model(model)), time.perf_counter() - t0
 
 
 def run_3d(stator: PlateStator, refine: int, layers: int, grading: int = 0):
     """(six values, wall s) of the 3D model."""
     t0 = time.perf_counter()
-    res = modes_of_solid_model(build_solid_model(stator, "pzt8", 2, refine, layers,
-                                                 edge_grading=grading))
+    res = modes_of_solid_model(build_solid_model(
+        stator, "pzt8", MeshSettings(2, refine, layers, edge_grading=grading)))
     return _row(res), time.perf_counter() - t0
 
 

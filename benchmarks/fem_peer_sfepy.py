@@ -72,6 +72,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.geometry import ELECTRODES, PlateStator  # noqa: E402
 from fem.material import PiezoMaterial, get_material  # noqa: E402
+from fem.mesh_settings import MeshSettings  # noqa: E402
 from fem.meshing.mesh import grid_lines_m  # noqa: E402
 from fem.modes import N_SAMPLE_X, N_SAMPLE_Y, ModeSolverError  # noqa: E402
 from fem.solid3d.model import identify_sampled  # noqa: E402
@@ -362,7 +363,7 @@ def row_3d(stator: PlateStator, material: PiezoMaterial, refine: int = 3, layers
     from fem.solid3d.model import build_solid_model, modes_of_solid_model
 
     t0, c0 = time.perf_counter(), time.process_time()
-    model = build_solid_model(stator, material, 2, refine, layers, element, grading)
+    model = build_solid_model(stator, material, MeshSettings(2, refine, layers, element, grading))
     r = modes_of_solid_model(model)
     label = f"{element} {refine}x{layers}" + (f" graded {grading}" if grading else "")
     return Row(stator.electrode_gap_m, "3D", label,
@@ -381,7 +382,7 @@ def same_mesh_check(material: PiezoMaterial) -> list[str]:
     lines = []
     for basis, element in (("serendipity", "hex20"), ("lagrange", "hex27")):
         pl = sfepy_plate(stator, material, x, y, z, basis)
-        model = build_solid_model(stator, material, 2, 3, 3, element)
+        model = build_solid_model(stator, material, MeshSettings(2, 3, 3, element))
         worst = 0.0
         for oc in (False, True):
             fa, _ = condensed_eigs(pl, 55e3, 10, oc)

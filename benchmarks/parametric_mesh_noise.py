@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fem.mesh_settings import MeshSettings
 from fem.modes import plate_modes
 from fem.stator_file import load_stator
 
@@ -44,7 +45,8 @@ def measure() -> dict[str, float]:
         for i in range(PLATES):
             length = base.length_m * (1.0 + i * 1e-9)
             plate = replace(base, length_m=length, mesh_size_m=min(length, base.width_m) / n)
-            modes = plate_modes(plate, design.material, 2, 4)  # refine unused: gmsh's mesh
+            modes = plate_modes(plate, design.material,
+                                MeshSettings(2, 4))  # refine unused: gmsh's mesh
             rows.append((modes.L1.f_short_Hz, modes.B2.f_short_Hz))
         f = np.array(rows)
         split = f[:, 1] - f[:, 0]

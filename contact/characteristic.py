@@ -249,12 +249,7 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
         stall = _full_model_stall_force(velocity, v0, stall, sp.thrust_at_rest())
         if exact_moving and math.isfinite(stall):
             stall = _first_stop(velocity, v0, stall, points)
-    if loads_N is None:  # held without load (dead zone): the one load 0
-        # no stall found (NaN): the no-load point alone, not a NaN load
-        loads = (np.linspace(0.0, stall, points) if math.isfinite(stall) and stall != 0.0
-                 else np.zeros(1))
-    else:
-        loads = np.asarray(loads_N, dtype=float).ravel()
+    loads = _loads(loads_N, stall, points)
     vel, p_in_a, p_out_a = _curve(from_rest, loads, op, progress)
     irregular = _least_certain_irregular(loads, from_rest.irregular)
     if irregular is not None:  # one word for the curve: rows that are means, not orbits
@@ -263,9 +258,8 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
     hold = tuple(float(f) for f in holding_range_N(sp))
     creep_from, creep_rule, creep_speed = math.nan, "", math.nan
     if exact_moving and math.isfinite(stall):
-        creep_speed = CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff)
-        creep_from, creep_rule = _creep_start(velocity, v0, averaged, stall, points,
-                                              creep_speed)
+        creep_from, creep_rule, creep_speed = _creep(params, op, sp, velocity, v0, averaged,
+                                                     stall, points)
         _warn_beyond_stall(velocity, v0, loads, stall)
     lims = tuple(None if not math.isfinite(v) else
                  operating_limits(params, op.voltage_V, op.frequency_Hz,
@@ -275,6 +269,29 @@ def characteristic(params: MotorParams, voltage_V: float, preload_N: float,
                           eff, hold, accuracy, time.perf_counter() - t0,
                           len(sp.cache) + from_rest.exact_orbits, float(averaged),
                           float(creep_from), creep_rule, lims, float(creep_speed))
+
+
+def _loads(loads_N, stall_N: float, points: int) -> np.ndarray:
+    """The loads (N) of the curve: ``loads_N`` when given, else ``points`` loads from 0 to
+    the stall force; the no-load point alone where the motor is held without load (dead
+    zone: stall 0) or no stall was found (NaN), not a NaN load."""
+    if loads_N is not None:
+        return np.asarray(loads_N, dtype=float).ravel()
+    if math.isfinite(stall_N) and stall_N != 0.0:
+        return np.linspace(0.0, stall_N, points)
+    return np.zeros(1)
+
+
+def _creep(params: MotorParams, op: OperatingPoint, sp, velocity, v0: float,
+           averaged_N: float, stall_N: float, points: int) -> tuple[float, str, float]:
+    """``(creep_from_N, creep_rule, creep_speed_m_s)`` of a moving exact-level curve: the
+    creep speed is :data:`CREEP_RIPPLES` ripples of the orbit's scale
+    (:func:`ripple_scale`), the load where the motor starts creeping from
+    :func:`_creep_start`."""
+    creep_speed = CREEP_RIPPLES * ripple_scale(params, op, sp.mu_d_eff)
+    creep_from, creep_rule = _creep_start(velocity, v0, averaged_N, stall_N, points,
+                                          creep_speed)
+    return creep_from, creep_rule, creep_speed
 
 
 def _curve(from_rest: _FromRest, loads: np.ndarray, op: OperatingPoint,

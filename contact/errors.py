@@ -30,6 +30,25 @@ class ChatteringError(RuntimeError):
         self.step_remedy = step_remedy
 
 
+class OverflowingParametersError(ValueError):
+    """A parameter set whose mode matrices are not finite (they overflow), before NumPy's
+    eigensolver fails on them naming nothing.
+
+    Parameters
+    ----------
+    name : str
+        The set's most extreme value's field (farthest from 1 in magnitude, either way).
+    value : float
+        Its value, in the field's SI unit.
+    """
+
+    def __init__(self, name: str, value: float) -> None:
+        super().__init__(f"the parameter set's mode matrices overflow (not finite); its most "
+                         f"extreme value is {name} = {value:g}, out of any stator's scale")
+        self.name = name
+        self.value = value
+
+
 class RunawayError(ValueError):
     """No steady state from rest: the load (or a load pushing the slider forward) exceeds what
     the motor holds, so the slider keeps accelerating. A ``ValueError`` (the operating point

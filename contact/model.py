@@ -470,8 +470,9 @@ def _check_finite_system(p: MotorParams, arrays) -> None:
     name, value = max(((f.name, getattr(p, f.name)) for f in dataclasses.fields(p)
                        if isinstance(getattr(p, f.name), float) and getattr(p, f.name)),
                       key=lambda nv: abs(math.log10(abs(nv[1]))))
-    raise ValueError(f"the parameter set's mode matrices overflow (not finite); its most "
-                     f"extreme value is {name} = {value:g}, out of any stator's scale")
+    from contact.errors import OverflowingParametersError
+
+    raise OverflowingParametersError(name, value)
 
 
 def build_system(

@@ -55,8 +55,11 @@ class SimulationResult:
     Attributes
     ----------
     params : MotorParams
+        The motor's parameter set.
     op : OperatingPoint
+        Drive and load.
     options : SimulationOptions
+        The solver settings of the run.
     method : str
         The scheme (a key of :data:`METHODS`).
     mu_d_eff : float
@@ -68,6 +71,7 @@ class SimulationResult:
     window : Trace or None
         Every step of the last ``full_periods`` periods (``event`` only).
     steady : SteadyState
+        Metrics over the steady-state window.
     energy : EnergyBalance or None
         With ``options.energy`` (``event`` only).
     steps : int

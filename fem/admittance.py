@@ -85,7 +85,7 @@ from fem.frozen import freeze_arrays
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
 from fem.material import PiezoMaterial
-from fem.meshing.mesh import DEFAULT_REFINE
+from fem.mesh_settings import MeshSettings
 
 RIGID_BODY_LIMIT_HZ = 1.0
 """Modes below this frequency (Hz) are rigid-body modes."""
@@ -716,8 +716,7 @@ def plate_admittance(
     zeta: float | None = None,
     zeta_L1: float | None = None,
     zeta_B2: float | None = None,
-    order: int = 2,
-    refine: int = DEFAULT_REFINE,
+    mesh: MeshSettings | None = None,
     cutoff_factor: float = 6.0,
     max_modes: int | None = None,
 ) -> AdmittanceResult:
@@ -739,8 +738,8 @@ def plate_admittance(
         and :data:`DEFAULT_ZETA_OTHER` for the others.
     zeta_L1, zeta_B2 : float, optional
         Damping ratios of L1 and B2 (-), required unless ``zeta`` is given.
-    order, refine : int
-        2D mesh (see :func:`fem.model.plate_model`).
+    mesh : MeshSettings, optional
+        The 2D model's mesh (see :func:`fem.model.plate_model`).
     cutoff_factor : float
         Modes up to ``cutoff_factor * f_max`` are superposed; the rest enters the residual.
     max_modes : int, optional
@@ -770,7 +769,7 @@ def plate_admittance(
                              reason="an undamped admittance is infinite at resonance",
                              message=f"zeta must lie in (0, 1) (an undamped admittance is "
                              f"infinite at resonance), got {zeta!r}")
-    model = plate_model(stator, material, order, refine)
+    model = plate_model(stator, material, mesh)
     kw = ({"zeta_L1": zeta_L1, "zeta_B2": zeta_B2} if zeta is None
           else {"zeta_L1": zeta, "zeta_B2": zeta, "zeta_other": zeta})
     port = modal_port(model, f_max_Hz, electrodes, polarity, cutoff_factor=cutoff_factor,

@@ -40,10 +40,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from bounds import ParameterError
+from fem.errors import ShortedDriveError as ShortedDriveError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
+from fem.mesh_settings import MeshSettings
 from fem.meshing.mesh import (
-    DEFAULT_REFINE,
     PlateMesh,
     boundary_edges,
     check_generated_size,
@@ -237,10 +238,6 @@ def border_message(share: float) -> str:
             f"(lusm modes --model 3d)")
 
 
-class ShortedDriveError(ValueError):
-    """A drive that puts two voltages on touching electrodes (one conductor)."""
-
-
 @dataclass(frozen=True)
 class GapLayout:
     """The two gap strips of a quadrant-electrode mesh, read from its electrode tags.
@@ -332,7 +329,8 @@ def check_mesh_wiring(mesh: PlateMesh, voltages: dict[int, float]) -> None:
                 for e in group)
             raise ShortedDriveError(
                 f"electrodes {wired} touch (no gap strip between them) and are one "
-                f"conductor, which cannot hold two voltages: the drive would short")
+                f"conductor, which cannot hold two voltages: the drive would short",
+                tuple(group))
 
 
 def mesh_conductors(mesh: PlateMesh,
@@ -369,10 +367,13 @@ class PiezoPlateModel:
     Attributes
     ----------
     stator : PlateStator
+        The plate modelled.
     material : PiezoMaterial
+        Its constants (reduced to plane stress in the assembly).
     order : int
         Element order (1 or 2).
     mesh : PlateMesh
+        The planform mesh (m).
     basis : skfem.CellBasis
         Vector basis on the whole plate (for probing fields).
     K : scipy.sparse.csr_matrix
@@ -920,17 +921,16 @@ def _gap_terms(layout: GapLayout, material: PiezoMaterial, thickness_m: float,
 
 
 @lru_cache(maxsize=16)
-def _cached_model(
-    stator: PlateStator, material: PiezoMaterial, order: int, refine: int,
-    gap_model: str = "shorted", thickness_inertia: bool = True,
-) -> PiezoPlateModel:
+def _cached_model(stator: PlateStator, material: PiezoMaterial,
+                  settings: MeshSettings) -> PiezoPlateModel:
     t0 = time.perf_counter()
     # a stator that carries its own mesh (fem.meshing.meshed_stator.MeshedStator) or a parametric
     # one (fem.meshing.parametric.ParametricStator, meshed by gmsh) ignores ``refine``
     mesh = planform_mesh(stator)
     if mesh is None:
-        mesh = structured_mesh(stator, refine)
-    model = build_model(mesh, stator, material, order, gap_model, thickness_inertia)
+        mesh = structured_mesh(stator, settings.refine)
+    model = build_model(mesh, stator, material, settings.order, settings.gap_model,
+                        settings.thickness_inertia)
     object.__setattr__(model, "assembly_time_s", time.perf_counter() - t0)
     return model
 
@@ -941,14 +941,8 @@ def clear_model_cache() -> None:
     _cached_model.cache_clear()
 
 
-def plate_model(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int = DEFAULT_REFINE,
-    gap_model: str = "shorted",
-    thickness_inertia: bool = True,
-) -> PiezoPlateModel:
+def plate_model(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                mesh: MeshSettings | None = None) -> PiezoPlateModel:
     """Structured-mesh model of ``stator`` (cached on its arguments).
 
     Parameters
@@ -957,25 +951,18 @@ def plate_model(
         Defaults to the paper's 30 x 7.5 x 3 mm plate.
     material : PiezoMaterial or str
         ``'pzt8'`` (default) or ``'paper'``, or a material.
-    order : int
-        Element order, 1 or 2.
-    refine : int
-        Elements per smaller plate dimension (see :func:`fem.meshing.mesh.structured_mesh`).
-    gap_model : str
-        ``'shorted'`` (default) or ``'open'``: see :func:`build_model`.
-    thickness_inertia : bool
-        Include the thickness-motion inertia (default True).
+    mesh : MeshSettings, optional
+        Element order, refinement (elements per smaller plate dimension,
+        :func:`fem.meshing.mesh.structured_mesh`), gap model (:func:`build_model`) and
+        thickness inertia; default :class:`fem.mesh_settings.MeshSettings`.
     """
     stator = PlateStator() if stator is None else stator
-    return _cached_model(stator, get_material(material),
-                         *plate_arguments(stator, order, refine, gap_model, thickness_inertia))
+    return _cached_model(stator, get_material(material), plate_arguments(stator, mesh))
 
 
-def plate_arguments(stator: PlateStator, order: object, refine: object,
-                    gap_model: object = "shorted",
-                    thickness_inertia: object = True) -> tuple[int, int, str, bool]:
-    """Validated, normalized ``(order, refine, gap_model, thickness_inertia)`` of a 2D plate
-    model, the key of the cached models and modes (:func:`plate_model`,
+def plate_arguments(stator: PlateStator, mesh: MeshSettings | None) -> MeshSettings:
+    """Validated, normalized 2D settings (:meth:`fem.mesh_settings.MeshSettings.plate`) of a
+    plate model, the key of the cached models and modes (:func:`plate_model`,
     :func:`fem.modes.plate_modes`), checked before anything is cached or meshed.
 
     Raises
@@ -986,6 +973,9 @@ def plate_arguments(stator: PlateStator, order: object, refine: object,
     TypeError
         If ``thickness_inertia`` is not a bool (the string ``"False"`` is true).
     """
+    mesh = (MeshSettings() if mesh is None else mesh).plate()
+    order, refine = mesh.order, mesh.refine
+    gap_model, thickness_inertia = mesh.gap_model, mesh.thickness_inertia
     for name, value in (("order", order), ("refine", refine)):  # 2.5 would run as 2
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
             raise ParameterError(name, value, 1, None,
@@ -998,4 +988,5 @@ def plate_arguments(stator: PlateStator, order: object, refine: object,
     if planform_mesh(stator) is None:
         check_generated_size(stator, int(refine), count=lambda: math.prod(
             len(v) - 1 for v in grid_lines_m(stator, int(refine))))
-    return int(order), int(refine), str(gap_model), bool(thickness_inertia)
+    return MeshSettings(order=int(order), refine=int(refine), gap_model=str(gap_model),
+                        thickness_inertia=bool(thickness_inertia))

@@ -25,7 +25,8 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
-from fem.meshing.mesh import DEFAULT_REFINE, require_plate
+from fem.mesh_settings import MeshSettings
+from fem.meshing.mesh import require_plate
 from fem.meshing.meshed_stator import overall_length_m
 from fem.model import PiezoPlateModel, plate_arguments, plate_model
 
@@ -348,29 +349,40 @@ def _shift_invert(
             m_op = sla.LinearOperator(
                 (n, n), matvec=lambda x: M @ x + W @ (S @ (W.T @ x)), dtype=float
             )
-    k = min(n_modes, n - 2)
-    # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
-    v0 = np.random.default_rng(0).standard_normal(n)
+    return shift_invert_eigsh(a_op, m_op, op, sigma, min(n_modes, n - 2), maxiter,
+                              hint="; try another f_center_Hz or a larger maxiter")
+
+
+def shift_invert_eigsh(a_op, m_op, op, sigma: float, k: int, maxiter: int | None,
+                       label: str = "", hint: str = "") -> tuple[np.ndarray, np.ndarray]:
+    """The ``k`` eigenpairs of ``a_op x = lambda m_op x`` nearest ``sigma`` (rad^2/s^2), in
+    ascending order, by ``eigsh`` in shift-invert mode with ``op`` applying
+    ``(A - sigma M)^-1``; the 2D and the 3D drivers share it.
+
+    A fixed starting vector makes repeated runs bit-identical (ARPACK's default is random).
+
+    Raises
+    ------
+    ModeSolverError
+        If eigsh does not converge (the message starts ``eigsh (`` + ``label`` and ends with
+        ``hint``).
+    """
+    v0 = np.random.default_rng(0).standard_normal(a_op.shape[0])
     try:
         w, v = sla.eigsh(a_op, k=k, M=m_op, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
                          v0=v0)
     except sla.ArpackNoConvergence as exc:
         raise ModeSolverError(
-            f"eigsh (shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
-            f"{len(exc.eigenvalues)} of {k} eigenpairs converged; try another f_center_Hz or "
-            f"a larger maxiter"
+            f"eigsh ({label}shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
+            f"{len(exc.eigenvalues)} of {k} eigenpairs converged{hint}"
         ) from exc
     order = np.argsort(w)
     return w[order], v[:, order]
 
 
-def natural_frequencies_Hz(
-    model: PiezoPlateModel,
-    n_modes: int = 8,
-    f_center_Hz: float = 0.0,
-    open_circuit: bool = False,
-    maxiter: int | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+def natural_frequencies_Hz(model: PiezoPlateModel, n_modes: int = 8, f_center_Hz: float = 0.0,
+                           open_circuit: bool = False,
+                           maxiter: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The ``n_modes`` natural frequencies (Hz) nearest ``f_center_Hz`` and their shapes.
 
     ``f_center_Hz = 0`` uses a small negative shift so that the three rigid-body modes of the
@@ -758,12 +770,9 @@ def modes_of_model(
 
 
 @lru_cache(maxsize=32)
-def _cached_modes(
-    stator: PlateStator, material: PiezoMaterial, order: int, refine: int,
-    gap_model: str = "shorted", thickness_inertia: bool = True,
-) -> PlateModes:
-    model = plate_model(stator, material, order, refine, gap_model, thickness_inertia)
-    return modes_of_model(model, refine=refine)
+def _cached_modes(stator: PlateStator, material: PiezoMaterial,
+                  mesh: MeshSettings) -> PlateModes:
+    return modes_of_model(plate_model(stator, material, mesh), refine=mesh.refine)
 
 
 def clear_caches() -> None:
@@ -780,14 +789,8 @@ def clear_caches() -> None:
     gap_cross_section.cache_clear()
 
 
-def plate_modes(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int = DEFAULT_REFINE,
-    gap_model: str = "shorted",
-    thickness_inertia: bool = True,
-) -> PlateModes:
+def plate_modes(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                mesh: MeshSettings | None = None) -> PlateModes:
     """L1 and B2 (short/open circuit, k_eff) of a plate on a structured mesh (cached).
 
     The parameters are those of the model solved, :func:`fem.model.plate_model`.
@@ -802,8 +805,7 @@ def plate_modes(
     """
     stator = require_plate(stator, "plate_modes")
     check_b2_in_reach(stator)  # before the mesh: a slender plate's is among the largest
-    return _cached_modes(stator, get_material(material),
-                         *plate_arguments(stator, order, refine, gap_model, thickness_inertia))
+    return _cached_modes(stator, get_material(material), plate_arguments(stator, mesh))
 
 
 def amplitude_ratio(model, shape: np.ndarray, points_m: np.ndarray) -> np.ndarray:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial
+from fem.mesh_settings import MeshSettings
 
 
 @dataclass(frozen=True)
@@ -85,9 +86,9 @@ def plane_stress_error(
     from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
     stator = PlateStator() if stator is None else stator
-    r2 = plate_modes(stator, material, 2, refine_2d or DEFAULT_REFINE)
-    r3 = solid_modes(stator, material, 2, refine_3d or DEFAULT_REFINE_3D,
-                     layers or DEFAULT_LAYERS)
+    r2 = plate_modes(stator, material, MeshSettings(2, refine_2d or DEFAULT_REFINE))
+    r3 = solid_modes(stator, material,
+                     MeshSettings(2, refine_3d or DEFAULT_REFINE_3D, layers or DEFAULT_LAYERS))
     f2, k2 = _table(r2)
     f3, k3 = _table(r3)
     return PlaneStressError(f2, f3, k2, k3, r2.dofs, r3.dofs, r2.wall_time_s, r3.wall_time_s)

@@ -130,6 +130,7 @@ from typing import Any
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import (  # DEFAULT_Q_MOUNT: the [damping] Q_mount default, named here too
     DEFAULT_Q_MOUNT,  # noqa: F401
@@ -138,6 +139,7 @@ from fem.material import (  # DEFAULT_Q_MOUNT: the [damping] Q_mount default, na
     get_material,
     material_damping,
 )
+from fem.mesh_settings import MeshSettings
 from fem.meshing.meshed_stator import MeshedStator, bbox_mm
 from fem.units import to_si
 
@@ -292,14 +294,16 @@ class StatorDesign:
         from fem.meshing.mesh import DEFAULT_REFINE
         from fem.model import plate_model
 
-        return plate_model(self.stator, self.material, order, refine or DEFAULT_REFINE)
+        return plate_model(self.stator, self.material,
+                           MeshSettings(order, refine or DEFAULT_REFINE))
 
     def modes(self, order: int = 2, refine: int | None = None):
         """L1 and B2 (:class:`fem.modes.PlateModes`, cached); ``refine`` ignored with a mesh."""
         from fem.meshing.mesh import DEFAULT_REFINE
         from fem.modes import plate_modes
 
-        return plate_modes(self.stator, self.material, order, refine or DEFAULT_REFINE)
+        return plate_modes(self.stator, self.material,
+                           MeshSettings(order, refine or DEFAULT_REFINE))
 
 
 def _where(table: str, key: str) -> str:
@@ -344,15 +348,16 @@ def _length_mm(
     if not allow_zero:
         lo, hi = PLATE_RANGE_MM
         if not ok or not lo <= v <= hi:
-            raise ValueError(f"{src}: {_where(tname, key)} must lie in [{lo:g}, {hi:g}] mm, "
+            raise _key_error(tname, key, v, lo, hi, "mm", False, False,
+                             f"{src}: {_where(tname, key)} must lie in [{lo:g}, {hi:g}] mm, "
                              f"got {v!r}")
         return float(v)
     lower = "[0"
     upper = f"{upper_mm:g})" if upper_mm is not None else "inf)"
     if not ok or v < 0 or (upper_mm is not None and v >= upper_mm):
-        raise ValueError(
-            f"{src}: {_where(tname, key)} must lie in {lower}, {upper} mm, got {v!r}"
-        )
+        raise _key_error(tname, key, v, 0.0, upper_mm, "mm", False, upper_mm is not None,
+                         f"{src}: {_where(tname, key)} must lie in {lower}, {upper} mm, "
+                         f"got {v!r}")
     if 0 < v < MIN_GAP_M / MM:  # said here in the file's unit, not by PlateStator in m
         raise ValueError(f"{src}: {_where(tname, key)} must be 0 (touching quadrants) or at "
                          f"least {MIN_GAP_M / MM:g} mm, got {v!r}")
@@ -487,9 +492,20 @@ def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,
     if not ok:
         interval = f"{'[' if lo_closed else '('}{lo:g}, {hi:g}{']' if hi_closed else ')'}"
         got = f"{v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)
-        raise ValueError(f"{src}: {_where(tname, key)} must be a number in {interval}"
+        raise _key_error(tname, key, v, lo, hi, unit, not lo_closed, not hi_closed,
+                         f"{src}: {_where(tname, key)} must be a number in {interval}"
                          f"{' ' + unit if unit else ''}, got {got}")
     return float(v)
+
+
+def _key_error(tname: str, key: str, value: object, low: float | None, high: float | None,
+               unit: str, low_open: bool, high_open: bool, message: str) -> ParameterError:
+    """The refusal of a stator file's ``[tname] key``: a :class:`bounds.ParameterError`
+    named by the file's key (``'[plate] length_mm'``, what the user typed), its range in the
+    key's unit (``unit``'s first word; the rest, a bound's origin, is the ``reason``)."""
+    first, _, rest = unit.partition(" ")
+    return ParameterError(f"[{tname}] {key}", value, low, high, first, low_open=low_open,
+                          high_open=high_open, reason=rest.strip("() "), message=message)
 
 
 def _plate_mm(plate: dict, elec: dict, src: str) -> tuple[float, float, float]:
@@ -657,6 +673,28 @@ def _tip_material(tip_t: dict, src: str) -> str:
     return name.strip().lower()
 
 
+def _parametric_holes(data, src, length: float, width: float,
+                      chamfer: float) -> list[tuple[float, float, float]]:
+    """The ``[[holes]]`` of a parametric design as ``(x, y, diameter)`` (m), each inside the
+    plate body (``length``, ``width``, ``chamfer`` in mm) and clear of the others."""
+    from fem.meshing.parametric import hole_clearance_m
+
+    holes = []
+    for i, (x, y), d in _holes(data, src):
+        hole = (x * MM, y * MM, d * MM)
+        clear = hole_clearance_m(hole, width * MM, length * MM, chamfer * MM)
+        if clear <= 0.0:
+            raise ValueError(f"{src}: [[holes]] #{i} (diameter {d:g} mm at [{x:g}, {y:g}] "
+                             f"mm) reaches the plate's outline; a hole must lie inside the "
+                             f"plate body (x in [{-width / 2:g}, {width / 2:g}] mm, y in "
+                             f"[0, {length:g}] mm{', inside the chamfers' if chamfer else ''})")
+        for j, (ox, oy, od) in enumerate(holes, start=1):
+            if math.hypot(hole[0] - ox, hole[1] - oy) <= 0.5 * (hole[2] + od):
+                raise ValueError(f"{src}: [[holes]] #{i} overlaps [[holes]] #{j}")
+        holes.append(hole)
+    return holes
+
+
 def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive, src, name,
                 material, motor) -> StatorDesign:
     """A :class:`fem.meshing.parametric.ParametricStator` design from the feature tables."""
@@ -664,7 +702,6 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
         DEFAULT_SIZE_DIVISIONS,
         SIZE_DIVISIONS_RANGE,
         ParametricStator,
-        hole_clearance_m,
         parametric_mesh,
     )
 
@@ -695,19 +732,7 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
                         "mm ([plate] length_mm)")
         tip_w = _number(tip_t, "tip", "width_mm", src, 0.0, width - 2 * chamfer, False, True,
                         "mm ([plate] width_mm" + (" minus the chamfers)" if chamfer else ")"))
-    holes = []
-    for i, (x, y), d in _holes(data, src):
-        hole = (x * MM, y * MM, d * MM)
-        clear = hole_clearance_m(hole, width * MM, length * MM, chamfer * MM)
-        if clear <= 0.0:
-            raise ValueError(f"{src}: [[holes]] #{i} (diameter {d:g} mm at [{x:g}, {y:g}] "
-                             f"mm) reaches the plate's outline; a hole must lie inside the "
-                             f"plate body (x in [{-width / 2:g}, {width / 2:g}] mm, y in "
-                             f"[0, {length:g}] mm{', inside the chamfers' if chamfer else ''})")
-        for j, (ox, oy, od) in enumerate(holes, start=1):
-            if math.hypot(hole[0] - ox, hole[1] - oy) <= 0.5 * (hole[2] + od):
-                raise ValueError(f"{src}: [[holes]] #{i} overlaps [[holes]] #{j}")
-        holes.append(hole)
+    holes = _parametric_holes(data, src, length, width, chamfer)
     size = None
     if "size_mm" in mesh_t:
         lo, hi = (min(length, width) / n for n in SIZE_DIVISIONS_RANGE[::-1])

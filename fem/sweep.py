@@ -19,6 +19,7 @@ from fem.frozen import freeze_arrays
 from fem.geometry import PlateStator
 from fem.limits import work_factor
 from fem.material import PiezoMaterial, get_material
+from fem.mesh_settings import MeshSettings
 
 PARAMETERS = ("width", "length")
 """Dimensions that can be swept."""
@@ -204,7 +205,7 @@ def sweep_dimension(
     failures = [""] * values.size
     for i, st in enumerate(it):
         try:
-            res = plate_modes(st, mat, order, refine)
+            res = plate_modes(st, mat, MeshSettings(order, refine))
         except ModeSolverError as exc:
             spectra.append(np.array([]))
             failures[i] = str(exc)

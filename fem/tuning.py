@@ -67,6 +67,7 @@ import numpy as np
 from bounds import ParameterError
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial, get_material
+from fem.mesh_settings import MeshSettings
 
 FIX_OPTIONS = ("length", "width", "thickness", "thickness_ratio")
 """What :func:`tune_plate` can hold: ``'length'``, ``'width'`` (keep that dimension exactly),
@@ -263,11 +264,9 @@ class _Solver:
         if key not in self.cache:
             st = self.stator(*key)
             if self.model == "2d":
-                from fem.meshing.mesh import DEFAULT_REFINE
                 from fem.modes import plate_modes
 
-                res = plate_modes(st, self.material, self.order,
-                                  DEFAULT_REFINE if self.refine is None else self.refine)
+                res = plate_modes(st, self.material, MeshSettings(self.order, self.refine))
             else:
                 res = _solve_3d(st, self.material, self.order, self.refine)
             self.cache[key] = res
@@ -291,7 +290,7 @@ def _solve_3d(stator: PlateStator, material: PiezoMaterial, order: int, refine: 
     from fem.solid3d.model import DEFAULT_LAYERS, solid_modes
 
     if refine is not None:
-        return solid_modes(stator, material, order, refine, DEFAULT_LAYERS)
+        return solid_modes(stator, material, MeshSettings(order, refine, DEFAULT_LAYERS))
     from fem.solid3d.estimate import default_meshes
     from fem.solid3d.symmetric import quarter_model_applies, symmetric_solid_modes
 
@@ -434,17 +433,10 @@ def tune_plate(
     target_frequency_Hz = _checked_target(target_frequency_Hz, fix, fixed_dim, model, rel_tol,
                                           max_iter)
     mat = get_material(material)
-    base = PlateStator() if start is None else start
-    if getattr(base, "mesh", None) is not None:
-        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
-                         "tune_plate cannot rescale; start from a plain PlateStator")
+    base = _start_plate(start)
     solver = _Solver(base, mat, "2d", "thickness_ratio" in held, order,
                      refine if model == "2d" else None)
-    if progress:
-        from tqdm import tqdm
-
-        # disable=None: on a terminal only (a log or a pipe gets no carriage-return lines)
-        solver.bar = tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
+    solver.bar = _progress_bar(progress)
     try:
         d2 = _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, "2d", rel_tol,
                    max_iter)
@@ -456,6 +448,26 @@ def tune_plate(
     finally:
         if solver.bar is not None:
             solver.bar.close()
+
+
+def _start_plate(start: PlateStator | None) -> PlateStator:
+    """The plate the tuning starts from (default: the paper's); a stator with its own mesh
+    is refused, as its mesh cannot be rescaled."""
+    base = PlateStator() if start is None else start
+    if getattr(base, "mesh", None) is not None:
+        raise ValueError(f"start is a {type(base).__name__} with its own mesh, which "
+                         "tune_plate cannot rescale; start from a plain PlateStator")
+    return base
+
+
+def _progress_bar(progress: bool):
+    """A tqdm bar of the FE solves on stderr after a second, or None without ``progress``;
+    on a terminal only (``disable=None``: a log or a pipe gets no carriage-return lines)."""
+    if not progress:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(desc="tune", unit="FE solve", delay=1.0, leave=False, disable=None)
 
 
 def _checked_target(target_frequency_Hz: float | None, fix, fixed_dim: str | None, model: str,

@@ -5,7 +5,9 @@ Library code (``fem``, ``rom``, ``contact``) refuses an input out of range with 
 fields. The CLI layer checks what the user typed first, in the user's units, and raises
 :class:`LusmError` naming the option (``--length-mm``); a ``ParameterError`` that still comes
 up from the library is said by :func:`user_error` with the option and units of
-:data:`PARAMETER_OPTIONS`, any other ``ValueError`` or ``OSError`` as its one line.
+:data:`PARAMETER_OPTIONS` (a stator file's key, ``'[plate] length_mm'``, keeps the library's
+words, which name the file and the key), any other ``ValueError`` or ``OSError`` as its one
+line.
 :func:`lusm.cli.main` prints ``lusm <cmd>: error: <line>`` and exits with code 2 for every
 :class:`LusmError`.
 """
@@ -75,12 +77,16 @@ def user_error(exc: BaseException) -> LusmError:
 
     ``OSError`` names the path and the operating system's reason; a
     :class:`bounds.ParameterError` names the option that sets the parameter and its range in
-    the option's units (:func:`parameter_error`), so the user sees what to change; another
-    ``ValueError`` is its first line, its ``name = value`` assignments in the options' terms.
+    the option's units (:func:`parameter_error`), so the user sees what to change; the
+    structured refusals :class:`fem.errors.ShortedDriveError` and
+    :class:`contact.errors.OverflowingParametersError` are recognised by class and said with
+    the option the user typed; another ``ValueError`` is its first line, its ``name = value``
+    assignments in the options' terms.
     """
     if isinstance(exc, LusmError):
         return exc
-    from contact.errors import ChatteringError
+    from contact.errors import ChatteringError, OverflowingParametersError
+    from fem.errors import ShortedDriveError
 
     if isinstance(exc, ChatteringError):  # the remedy in the CLI's words
         if exc.step_remedy:
@@ -96,7 +102,7 @@ def user_error(exc: BaseException) -> LusmError:
     if isinstance(exc, ParameterError):
         return parameter_error(exc)
     line = _first_line(exc)
-    if type(exc).__name__ == "ShortedDriveError":  # fem.model's, by name: no FE import here
+    if isinstance(exc, ShortedDriveError):
         from lusm.messages import typed
 
         option = next((o for o in ("--gap-mm", "--geometry") if typed(o)), None)
@@ -107,7 +113,7 @@ def user_error(exc: BaseException) -> LusmError:
                            "a mesh with gap strips"),
         }.get(option, ("the stator", "give the electrodes a gap of at least 0.001 mm"))
         return LusmError(f"{where}: {line}; {fix}", option)
-    if line.startswith("the parameter set's mode matrices overflow"):
+    if isinstance(exc, OverflowingParametersError):
         from lusm.messages import typed
 
         if typed("--params"):  # the file's values: named, not a bare NumPy message

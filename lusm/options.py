@@ -705,12 +705,12 @@ def beam_of_plate(args: argparse.Namespace):
         layout = gap_layout(planform_mesh(st))
         gaps = (layout.gap_x_m, layout.gap_y_m)
     if min(gaps) <= 0.0:  # the FE set's refusal: lusm.errors.user_error words it
-        from fem.model import ShortedDriveError
+        from fem.errors import ShortedDriveError
 
         raise ShortedDriveError(
             f"electrodes {', '.join(map(str, st.drive_electrodes))} driven touch the grounded "
             "ones (no gap strip between them) and are one conductor, which cannot hold two "
-            "voltages: the beam's drive would short")
+            "voltages: the beam's drive would short", (1, 2, 3, 4))
     if typed("--gap-mm"):  # 0.5 and 2 mm give the same A_l: said
         warn("--gap-mm: Appendix A's beam drives whole quadrants, so the gap's width does not "
              "enter its force factors (a gap of 0, one conductor, is refused); the FE set "

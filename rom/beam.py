@@ -44,6 +44,7 @@ from typing import Literal
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.beam_shapes import BETA2_L, phi_B, phi_L
 from rom.beam_stator import SHEAR_FACTOR, BeamStator
 from rom.params import MotorParams
@@ -365,12 +366,13 @@ def beam_params(
             raise ValueError(
                 f"damping_ratios must be a pair (zeta_L1, zeta_B2), got {damping_ratios!r}"
             ) from None
-    for name, z in (("damping_ratios[0] (zeta_L1)", zeta_l), ("damping_ratios[1] (zeta_B2)",
-                                                             zeta_b)):
+    for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
         # one message with the range that holds, (0, 1), for 0.0 too
         if isinstance(z, bool) or not isinstance(z, (int, float, np.floating, np.integer)) \
                 or not (math.isfinite(float(z)) and 0.0 < float(z) < 1.0):
-            raise ValueError(f"{name} must be a number in (0, 1), got {z!r}")
+            raise ParameterError(name, z, 0.0, 1.0, low_open=True, high_open=True,
+                                 message=f"damping_ratios[{0 if name == 'zeta_L1' else 1}] "
+                                 f"({name}) must be a number in (0, 1), got {z!r}")
     if b2_stiffness == "euler-bernoulli":
         k_b, a_b = c.K_b_bending, c.A_b
     else:

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.geometry import MAX_SIZE_M
 from rom.table2 import TABLE1
 
@@ -21,20 +22,26 @@ SHEAR_FACTOR = 5.0 / 6.0
 def check_positive(name: str, value: float) -> float:
     """Return ``value`` as float if it is finite and > 0, else raise a ValueError naming it."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise ValueError(f"{name} must be a finite number in (0, inf), got {value!r}")
+        raise ParameterError(name, value, 0.0, math.inf, low_open=True, high_open=True,
+                             message=f"{name} must be a finite number in (0, inf), got "
+                             f"{value!r}")
     v = float(value)
     if not (math.isfinite(v) and v > 0.0):
-        raise ValueError(f"{name} must be a finite number in (0, inf), got {value!r}")
+        raise ParameterError(name, value, 0.0, math.inf, low_open=True, high_open=True,
+                             message=f"{name} must be a finite number in (0, inf), got "
+                             f"{value!r}")
     return v
 
 
 def check_finite(name: str, value: float) -> float:
     """Return ``value`` as float if it is finite, else raise a ValueError naming it."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise ValueError(f"{name} must be a finite number in (-inf, inf), got {value!r}")
+        raise ParameterError(name, value, message=f"{name} must be a finite number in "
+                             f"(-inf, inf), got {value!r}")
     v = float(value)
     if not math.isfinite(v):
-        raise ValueError(f"{name} must be a finite number in (-inf, inf), got {value!r}")
+        raise ParameterError(name, value, message=f"{name} must be a finite number in "
+                             f"(-inf, inf), got {value!r}")
     return v
 
 
@@ -70,9 +77,11 @@ class BeamStator:
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
         for name in ("length_m", "width_m", "thickness_m"):
             if getattr(self, name) > MAX_SIZE_M:  # millimetres typed as metres
-                raise ValueError(f"BeamStator.{name} must lie in (0, {MAX_SIZE_M:g}] m, got "
-                                 f"{getattr(self, name)!r} (sizes are in metres: 30 mm is "
-                                 "0.03)")
+                raise ParameterError(
+                    name, getattr(self, name), 0.0, MAX_SIZE_M, "m", low_open=True,
+                    reason="sizes are in metres: 30 mm is 0.03",
+                    message=f"BeamStator.{name} must lie in (0, {MAX_SIZE_M:g}] m, got "
+                    f"{getattr(self, name)!r} (sizes are in metres: 30 mm is 0.03)")
         object.__setattr__(self, "e31_C_m2", check_finite("e31_C_m2", self.e31_C_m2))
 
     @property

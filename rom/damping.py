@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bounds import ParameterError
 from rom.params import MotorParams
 from rom.table2 import PAPER_DRIVE_HZ, table2
 
@@ -138,7 +139,9 @@ def identify_damping(params: MotorParams, frequency_Hz: float = PAPER_DRIVE_HZ,
         undamped mode gets) or is not a positive number.
     """
     if not (math.isfinite(frequency_Hz) and frequency_Hz > 0.0):
-        raise ValueError(f"frequency_Hz must be a finite number > 0, got {frequency_Hz!r}")
+        raise ParameterError("frequency_Hz", frequency_Hz, 0.0, None, "Hz", low_open=True,
+                             message=f"frequency_Hz must be a finite number > 0, got "
+                             f"{frequency_Hz!r}")
     t_l, t_b = targets_m_per_V or table2_free_amplitudes_m_per_V()
     p = params
     omega = 2.0 * math.pi * frequency_Hz

@@ -27,7 +27,9 @@ import math
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.beam_shapes import phi_B, phi_L
+from fem.mesh_settings import MeshSettings
 from rom.params import MotorParams
 from rom.shape_data import ShapeData
 from rom.table2 import table2
@@ -81,8 +83,8 @@ def fem_params(
     base = table2() if base is None else base
     zeta_l, zeta_b = _damping_ratios(base, damping_ratios)
     mat = get_material(material)
-    modes = plate_modes(stator, mat, order, refine)
-    model = plate_model(stator, mat, order, refine)
+    modes = plate_modes(stator, mat, MeshSettings(order, refine))
+    model = plate_model(stator, mat, MeshSettings(order, refine))
 
     length = stator.length_m
     points = np.array([stator.preload_point_m, stator.tip_point_m]).T  # (2, 2)
@@ -124,7 +126,8 @@ def _damping_ratios(base: MotorParams,
     zeta_l, zeta_b = (float(z) for z in damping_ratios)
     for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
         if not (math.isfinite(z) and 0.0 < z < 1.0):
-            raise ValueError(f"damping_ratios {name} must lie in (0, 1), got {z!r}")
+            raise ParameterError(name, z, 0.0, 1.0, low_open=True, high_open=True,
+                                 message=f"damping_ratios {name} must lie in (0, 1), got {z!r}")
     return zeta_l, zeta_b
 
 

@@ -67,17 +67,14 @@ def table2() -> MotorParams:
     Section 4.1, tip mode values from Eq. 3 at ``y = 0`` and ``y = l``.
     """
     length = TABLE1["length_m"]
+    # Table 2's mass, damping, stiffness and force factor of each mode (l: L1, b: B2)
+    modal = {f"{q}_{mode}": TABLE2[f"{q}_{mode}_{unit}"]
+             for mode in ("l", "b") for q, unit in (("M", "kg"), ("C", "Ns_m"), ("K", "N_m"),
+                                                    ("A", "N_V"))}
     return MotorParams(
-        M_l=TABLE2["M_l_kg"],
-        C_l=TABLE2["C_l_Ns_m"],
-        K_l=TABLE2["K_l_N_m"],
-        A_l=TABLE2["A_l_N_V"],
+        **modal,
         phi_L0=float(phi_L(0.0, length)),
         phi_Ll=float(phi_L(length, length)),
-        M_b=TABLE2["M_b_kg"],
-        C_b=TABLE2["C_b_Ns_m"],
-        K_b=TABLE2["K_b_N_m"],
-        A_b=TABLE2["A_b_N_V"],
         phi_B0=float(phi_B(0.0, length)),
         phi_Bl=float(phi_B(length, length)),
         k_contact=TABLE2["k_contact_N_m"],

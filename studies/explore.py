@@ -219,16 +219,10 @@ def explore(
         result = ExploreResult(out, study.n_geometries, points, reused=len(parts))
         todo = [i for i in range(study.n_geometries) if i not in parts]
         if todo:
-            where = (f"--scheduler {scheduler}" if scheduler else
-                     f"--scheduler-file {scheduler_file}" if scheduler_file
-                     else "the local cluster")
+            cluster = (client, scheduler, scheduler_file, workers, worker_timeout_s)
             try:
-                # no more local processes than geometries to compute (idle ones cost memory)
-                with study_client(client, scheduler, scheduler_file,
-                                  max(1, min(workers, len(todo))),
-                                  gmsh=study.meshed_by_gmsh) as running:
-                    _compute_all(running, study, todo, folder, parts, result,
-                                 _Watch(where, worker_timeout_s), progress, on_part)
+                _compute_on_cluster(cluster, study, todo, folder, parts, result, progress,
+                                    on_part)
             except BaseException:
                 if created and result.computed == 0:  # nothing was computed: leave no trace
                     remove_parts(folder, study.n_geometries, made)
@@ -240,6 +234,22 @@ def explore(
         return result
     finally:
         lock.release()  # its file went with the folder once the dataset is in
+
+
+def _compute_on_cluster(cluster: tuple, study: Study, todo: list[int], folder: Path,
+                        parts: dict[int, dict], result: ExploreResult, progress: bool,
+                        on_part: Callable[[int], None] | None) -> None:
+    """Open the study's client from ``cluster`` (``client, scheduler, scheduler_file,
+    workers, worker_timeout_s`` of :func:`explore`) and compute the geometries ``todo``
+    on it (:func:`_compute_all`)."""
+    client, scheduler, scheduler_file, workers, worker_timeout_s = cluster
+    where = (f"--scheduler {scheduler}" if scheduler else
+             f"--scheduler-file {scheduler_file}" if scheduler_file else "the local cluster")
+    # no more local processes than geometries to compute (idle ones cost memory)
+    with study_client(client, scheduler, scheduler_file, max(1, min(workers, len(todo))),
+                      gmsh=study.meshed_by_gmsh) as running:
+        _compute_all(running, study, todo, folder, parts, result,
+                     _Watch(where, worker_timeout_s), progress, on_part)
 
 
 def _compute_all(client, study: Study, todo: list[int], folder: Path,

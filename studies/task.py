@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from fem.mesh_settings import MeshSettings
 from studies.study import FEATURE_FIELDS, Study, plate_with
 from validation.summaries import motion_class
 
@@ -220,7 +221,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     stage = "FE"  # what failed, for the status: the plate's FE solve or its parameter set
     try:
         stator, material = plate_of(study, g)
-        modes = plate_modes(stator, material, s.fe_order, s.fe_refine)
+        modes = plate_modes(stator, material, MeshSettings(s.fe_order, s.fe_refine))
         for m in ("L1", "B2"):
             mode = getattr(modes, m)
             out[f"f_{m}_short"] = np.array(mode.f_short_Hz)
@@ -287,6 +288,13 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
                     out["point_status"][at] = (f"not settled within solver.duration "
                                                f"{s.duration_s:g} s")
                     unsettled.append(f"{v:g} V, {p:g} N, {f:.6g} Hz")
+    _plate_status(out, failures, unsettled, s.duration_s)
+    return out
+
+
+def _plate_status(out: dict[str, np.ndarray], failures: list[str], unsettled: list[str],
+                  duration_s: float) -> None:
+    """Set a plate's ``status`` from its failed and its unsettled drive points."""
     if failures:
         # one reason for all (the plate's: _drive_problem, _plate_work_problem), whole: the
         # work reason with its remedies is some 280 characters
@@ -296,9 +304,8 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     elif unsettled:  # a transient's velocity where it stopped, not the steady one
         out["status"] = np.array(
             f"{len(unsettled)} drive point(s) not settled within solver.duration "
-            f"{s.duration_s:g} s (their velocity is where the run stopped; a longer duration "
+            f"{duration_s:g} s (their velocity is where the run stopped; a longer duration "
             f"or method = \"steady\"); first: {unsettled[0]}"[:300])
-    return out
 
 
 def _point_failed(out: dict[str, np.ndarray], at: tuple, reason: str) -> None:

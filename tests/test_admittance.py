@@ -13,6 +13,7 @@ from fem.admittance import (
     plate_admittance,
     resonance_pairs,
 )
+from fem.mesh_settings import MeshSettings
 from fem.model import plate_model
 from fem.modes import plate_modes
 from lusm.cli import main
@@ -319,7 +320,8 @@ def test_an_admittance_result_is_read_only():
     """AdmittanceResult's f_Hz and Y_S were writable where its port's arrays are not."""
     from fem.admittance import plate_admittance
 
-    r = plate_admittance(f_min_Hz=50e3, f_max_Hz=60e3, n_points=201, zeta=0.01, refine=1)
+    r = plate_admittance(f_min_Hz=50e3, f_max_Hz=60e3, n_points=201, zeta=0.01,
+                         mesh=MeshSettings(refine=1))
     for a in (r.f_Hz, r.Y_S):
         with pytest.raises(ValueError, match="read-only"):
             a[0] = 0

@@ -15,6 +15,7 @@ from contact.maps import stick_slip_map
 from contact.model import OperatingPoint
 from contact.simulate import simulate
 from contact.steady.engine import steady_state
+from fem.mesh_settings import MeshSettings
 from rom import table2
 
 
@@ -307,11 +308,14 @@ def test_the_phase_plane_names_the_method_that_stores_its_window():
 @pytest.mark.parametrize(("call", "words"), [
     # plate_modes(refine=10000) had been killed for memory, solid_modes(refine=200) ended in
     # a MemoryError; both are refused from a lower bound of the count, before any line
-    (lambda: __import__("fem.modes", fromlist=["x"]).plate_modes(refine=10_000),
+    (lambda: __import__("fem.modes", fromlist=["x"]).plate_modes(
+        mesh=MeshSettings(refine=10_000)),
      "refine = 10000 makes at least 4e+08 elements"),
-    (lambda: __import__("fem.solid3d.model", fromlist=["x"]).solid_modes(layers=10**5),
+    (lambda: __import__("fem.solid3d.model", fromlist=["x"]).solid_modes(
+        mesh=MeshSettings(layers=10**5)),
      "layers = 100000 and edge_grading = 0 make at least"),
-    (lambda: __import__("fem.solid3d.model", fromlist=["x"]).solid_modes(edge_grading=100),
+    (lambda: __import__("fem.solid3d.model", fromlist=["x"]).solid_modes(
+        mesh=MeshSettings(edge_grading=100)),
      "edge_grading = 100 make 3.18e+05 bricks"),
     (lambda: stick_slip_map(table2(), np.linspace(1, 400, 2000), np.linspace(1, 20, 2000),
                             method="steady", accuracy="fast"),
@@ -337,7 +341,7 @@ def test_fe_entry_points_say_what_a_stator_is_and_take_numpy_sizes():
                                         "design.material"):
         plate_modes(design)
     with pytest.raises(TypeError, match="thickness_inertia must be True or False"):
-        plate_modes(thickness_inertia="False")
+        plate_modes(mesh=MeshSettings(thickness_inertia="False"))
     a = PlateStator(length_m=np.float32(0.03), electrode_gap_m=np.int64(0))
     assert type(a.length_m) is float and a.length_m == float(np.float32(0.03))
     with pytest.raises(ValueError, match="thickness_m must be a number"):

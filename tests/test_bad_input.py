@@ -111,54 +111,56 @@ def _meshes(folder: Path) -> dict[str, str]:
     return out
 
 
+_STATOR_FILES = {  # name -> text of the stator files the cases refer to as {name}
+    "plate": PLATE,
+    "tip_brass": PLATE + '[tip]\nlength_mm = 1\nwidth_mm = 2\nmaterial = "brass"\n',
+    "off_centre_hole": "[plate]\nlength_mm = 25.6938\nwidth_mm = 7.2\n"
+                       "thickness_mm = 2.5\n[electrodes]\ngap_mm = 0.4\n"
+                       "[material]\nname = \"paper\"\n"
+                       "[tip]\nlength_mm = 0.8\nwidth_mm = 1.6\n[chamfers]\nsize_mm = 0.8\n"
+                       "[[holes]]\ncenter_mm = [1.5, 6.0]\ndiameter_mm = 1.0\n",
+    "hole_mesh_07": PLATE + "[mesh]\nsize_mm = 0.7\n"
+                    "[[holes]]\ncenter_mm = [0, 15]\ndiameter_mm = 1\n",
+    "unit_list": '[plate]\nthickness_mm = 3\n[mesh]\nfile = "x.msh"\nunit = ["m"]\n',
+    "tip_far": PLATE + "[points]\ntip_mm = [0, 1e300]\n",
+    "length_str": '[plate]\nlength_mm = "30"\nwidth_mm = 7.5\nthickness_mm = 3\n',
+    "huge": "[plate]\nlength_mm = 1e6\nwidth_mm = 7.5\nthickness_mm = 3\n",
+    "rho_inf": PLATE + '[material]\nbase = "pzt8"\nrho_kg_m3 = inf\n',
+    "material_list": PLATE + '[material]\nname = ["pzt8"]\n',
+    "drive_str": PLATE + '[electrodes]\ndrive = "1,4"\n',
+    "zeta_zero": PLATE + "[damping]\nzeta_L1 = 0\nzeta_B2 = 0.01\n",
+    "q_and_zeta": PLATE + "[damping]\nQ_m = 100\nzeta_L1 = 0.01\n",
+    "amplitudes_unreachable": PLATE + "[damping]\nsource = \"paper_amplitudes\"\n",
+    "slider_heavy": PLATE + "[slider]\nM_slider_kg = 1e6\n",
+    "mu_d_above_mu_s": PLATE + "[friction]\nmu_d = 0.6\n",
+    "tip_too_long": PLATE + "[tip]\nlength_mm = 40\nwidth_mm = 2\n",
+    "tip_no_width": PLATE + "[tip]\nlength_mm = 1\n",
+    "chamfer_huge": PLATE + "[chamfers]\nsize_mm = 4\n",
+    "hole_on_edge": PLATE + "[[holes]]\ncenter_mm = [3.5, 5]\ndiameter_mm = 1\n",
+    "hole_unknown_key": PLATE + "[[holes]]\ncenter_mm = [0, 5]\nradius_mm = 1\n",
+    "features_and_mesh_file": PLATE + '[chamfers]\nsize_mm = 1\n[mesh]\nfile = "x.msh"\n',
+    "mesh_size_tiny": PLATE + "[chamfers]\nsize_mm = 1\n[mesh]\nsize_mm = 1e-3\n",
+    "chamfered_plate": PLATE + "[chamfers]\nsize_mm = 1\n",
+    "mount_off": PLATE + "[chamfers]\nsize_mm = 1\n[points]\nmounts_mm = [[3.5, 0.2]]\n",
+}
+
+
 @pytest.fixture(scope="module")
 def files(tmp_path_factory) -> dict[str, str]:
     """Stator files, meshes and paths the cases refer to as ``{name}``."""
     d = tmp_path_factory.mktemp("bad")
     f: dict[str, str] = {}
-
-    def toml(name: str, text: str) -> None:
+    for name, text in _STATOR_FILES.items():
         (d / f"{name}.toml").write_text(text)
         f[name] = str(d / f"{name}.toml")
-
-    toml("plate", PLATE)
-    toml("tip_brass", PLATE + '[tip]\nlength_mm = 1\nwidth_mm = 2\nmaterial = "brass"\n')
-    toml("off_centre_hole", "[plate]\nlength_mm = 25.6938\nwidth_mm = 7.2\n"
-         "thickness_mm = 2.5\n[electrodes]\ngap_mm = 0.4\n[material]\nname = \"paper\"\n"
-         "[tip]\nlength_mm = 0.8\nwidth_mm = 1.6\n[chamfers]\nsize_mm = 0.8\n"
-         "[[holes]]\ncenter_mm = [1.5, 6.0]\ndiameter_mm = 1.0\n")
-    toml("hole_mesh_07", PLATE + "[mesh]\nsize_mm = 0.7\n"
-         "[[holes]]\ncenter_mm = [0, 15]\ndiameter_mm = 1\n")
     f["chamfered_example"] = str(ROOT / "examples" / "chamfered" / "stator.toml")
     from dataclasses import asdict, replace
-
 
     (d / "overflow.json").write_text(json.dumps(asdict(replace(table2(), phi_Bl=1e300))))
     f["params_overflow"] = str(d / "overflow.json")
     with open(d / "huge_sparse.toml", "wb") as fh:  # sparse: no disk used
         fh.truncate(2_000_000)
     f["huge_sparse"] = str(d / "huge_sparse.toml")
-    toml("unit_list", '[plate]\nthickness_mm = 3\n[mesh]\nfile = "x.msh"\nunit = ["m"]\n')
-    toml("tip_far", PLATE + "[points]\ntip_mm = [0, 1e300]\n")
-    toml("length_str", '[plate]\nlength_mm = "30"\nwidth_mm = 7.5\nthickness_mm = 3\n')
-    toml("huge", "[plate]\nlength_mm = 1e6\nwidth_mm = 7.5\nthickness_mm = 3\n")
-    toml("rho_inf", PLATE + '[material]\nbase = "pzt8"\nrho_kg_m3 = inf\n')
-    toml("material_list", PLATE + '[material]\nname = ["pzt8"]\n')
-    toml("drive_str", PLATE + '[electrodes]\ndrive = "1,4"\n')
-    toml("zeta_zero", PLATE + "[damping]\nzeta_L1 = 0\nzeta_B2 = 0.01\n")
-    toml("q_and_zeta", PLATE + "[damping]\nQ_m = 100\nzeta_L1 = 0.01\n")
-    toml("amplitudes_unreachable", PLATE + "[damping]\nsource = \"paper_amplitudes\"\n")
-    toml("slider_heavy", PLATE + "[slider]\nM_slider_kg = 1e6\n")
-    toml("mu_d_above_mu_s", PLATE + "[friction]\nmu_d = 0.6\n")
-    toml("tip_too_long", PLATE + "[tip]\nlength_mm = 40\nwidth_mm = 2\n")
-    toml("tip_no_width", PLATE + "[tip]\nlength_mm = 1\n")
-    toml("chamfer_huge", PLATE + "[chamfers]\nsize_mm = 4\n")
-    toml("hole_on_edge", PLATE + "[[holes]]\ncenter_mm = [3.5, 5]\ndiameter_mm = 1\n")
-    toml("hole_unknown_key", PLATE + "[[holes]]\ncenter_mm = [0, 5]\nradius_mm = 1\n")
-    toml("features_and_mesh_file", PLATE + '[chamfers]\nsize_mm = 1\n[mesh]\nfile = "x.msh"\n')
-    toml("mesh_size_tiny", PLATE + "[chamfers]\nsize_mm = 1\n[mesh]\nsize_mm = 1e-3\n")
-    toml("chamfered_plate", PLATE + "[chamfers]\nsize_mm = 1\n")
-    toml("mount_off", PLATE + "[chamfers]\nsize_mm = 1\n[points]\nmounts_mm = [[3.5, 0.2]]\n")
     (d / "utf16.toml").write_text(PLATE, encoding="utf-16")
     f["utf16"] = str(d / "utf16.toml")
     (d / "binary.toml").write_bytes(bytes(range(256)) * 4)

@@ -11,6 +11,7 @@ import scipy.linalg as sl
 from fem.band import band_modes, bending_shape, count_below, default_band_Hz
 from fem.beam_shapes import phi_B
 from fem.geometry import PlateStator
+from fem.mesh_settings import MeshSettings
 from fem.model import plate_model
 from fem.modes import modal_assurance, modes_of_model, sign_changes
 from fem.solid3d.model import modes_of_solid_model, solid_model
@@ -52,7 +53,7 @@ def test_bending_shape_is_the_free_free_beam_mode():
 
 
 def test_2d_band_is_the_dense_spectrum_with_names():
-    model = plate_model(PlateStator(), "pzt8", 2, 2)
+    model = plate_model(PlateStator(), "pzt8", MeshSettings(2, 2))
     band = band_modes(model, 10e3, 150e3, _ops(modes_of_model(model)))
     _check_complete(band, _dense_Hz(model.K.toarray(), model.M.toarray()))
     names = [m.name for m in band.modes]
@@ -65,7 +66,7 @@ def test_2d_band_is_the_dense_spectrum_with_names():
 
 
 def test_3d_band_is_the_dense_spectrum_with_names():
-    model = solid_model(PlateStator(), "pzt8", 2, 1, 2)
+    model = solid_model(PlateStator(), "pzt8", MeshSettings(2, 1, 2))
     t = model.potential_map(False)
     kup = (model.Kuphi @ t).toarray()
     kpp = (t.T @ model.Kphiphi @ t).toarray()
@@ -87,7 +88,7 @@ def test_3d_band_is_the_dense_spectrum_with_names():
 
 
 def test_risk_window_flags_neighbours_not_the_pair():
-    model = plate_model(PlateStator(), "pzt8", 2, 2)
+    model = plate_model(PlateStator(), "pzt8", MeshSettings(2, 2))
     ops = _ops(modes_of_model(model))
     lo, hi = default_band_Hz(ops)
     assert (lo, hi) == pytest.approx((0.8 * ops["B2"], 1.2 * ops["L1"]))
@@ -100,7 +101,7 @@ def test_risk_window_flags_neighbours_not_the_pair():
 
 
 def test_empty_band_and_bad_band():
-    model = plate_model(PlateStator(), "pzt8", 2, 2)
+    model = plate_model(PlateStator(), "pzt8", MeshSettings(2, 2))
     band = band_modes(model, 30e3, 31e3, {"L1": 56e3})
     assert band.modes == () and band.counted == 0
     with pytest.raises(ValueError, match="f_min_Hz < f_max_Hz"):
@@ -120,7 +121,7 @@ def test_designer_stator_3d_neighbours(tmp_path):
                                                f"width_mm = {TUNED_WIDTH_MM!r}"),
                     encoding="utf-8")
     design = load_stator(path)
-    model = solid_model(design.stator, design.material, 2, 3, 3)
+    model = solid_model(design.stator, design.material, MeshSettings(2, 3, 3))
     ops = _ops(modes_of_solid_model(model))
     band = band_modes(model, *default_band_Hz(ops), ops)
     assert band.counted == len(band.modes) == 4

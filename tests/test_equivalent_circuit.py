@@ -10,6 +10,7 @@ import pytest
 
 from fem.admittance import plate_admittance
 from fem.equivalent_circuit import bvd_admittance_S, equivalent_circuit, fit_bvd
+from fem.mesh_settings import MeshSettings
 
 C0 = 2.0e-9
 ONE = [(150.0, 0.12, 8.0e-11)]
@@ -68,7 +69,8 @@ def test_the_fe_admittance_gives_each_modes_branch():
     """On the paper's plate the fitted f_s is each FE mode's frequency to 1e-4 (here far
     closer), Q_m is 1 / (2 zeta), and the circuit lies on the computed curve."""
     zeta = 0.004
-    res = plate_admittance(f_min_Hz=45e3, f_max_Hz=65e3, n_points=1001, zeta=zeta, refine=2)
+    res = plate_admittance(f_min_Hz=45e3, f_max_Hz=65e3, n_points=1001, zeta=zeta,
+                           mesh=MeshSettings(refine=2))
     circuit = equivalent_circuit(res)
     assert [b.mode for b in circuit.branches] == ["B2", "L1"]
     for b in circuit.branches:
@@ -92,7 +94,7 @@ def test_coincident_modes_keep_their_own_branches():
 
     tuned = tune_plate(56e3, start=PlateStator(), refine=2)
     res = plate_admittance(tuned.stator, f_min_Hz=45e3, f_max_Hz=65e3, n_points=801,
-                           zeta=0.004, refine=2)
+                           zeta=0.004, mesh=MeshSettings(refine=2))
     circuit = equivalent_circuit(res)
     modal = {n: b for b, n, _ in modal_branches(res.port, 45e3, 65e3, 1e-3)}
     assert set(modal) == {"L1", "B2"}
@@ -120,7 +122,8 @@ def test_the_figure_draws_impedance_and_the_circuit():
     from validation.fem_figures import draw_admittance
     from validation.plotting import pyplot
 
-    res = plate_admittance(f_min_Hz=45e3, f_max_Hz=65e3, n_points=401, zeta=0.004, refine=2)
+    res = plate_admittance(f_min_Hz=45e3, f_max_Hz=65e3, n_points=401, zeta=0.004,
+                           mesh=MeshSettings(refine=2))
     circuit = equivalent_circuit(res)
     fig, _ = draw_admittance(res, circuit)
     ax = fig.axes[0]

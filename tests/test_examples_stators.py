@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
+from fem.mesh_settings import MeshSettings
 from fem.meshing.mesh_io import read_stator_mesh, write_stator_msh
 from fem.meshing.meshed_stator import MeshedStator
 from fem.model import build_model, plate_model
@@ -32,7 +33,8 @@ def _script(name: str):
 @pytest.fixture(scope="module")
 def plain():
     """The plain 30 x 7.5 x 3 mm plate (converged mesh) and its model."""
-    return plate_modes(PlateStator(), "pzt8", 2, 8), plate_model(PlateStator(), "pzt8", 2, 8)
+    return plate_modes(PlateStator(), "pzt8",
+                       MeshSettings(2, 8)), plate_model(PlateStator(), "pzt8", MeshSettings(2, 8))
 
 
 @pytest.fixture(scope="module")

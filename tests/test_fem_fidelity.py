@@ -13,6 +13,7 @@ import scipy.linalg as sla
 from fem.capacitance import gap_cross_section, lateral_permittivity_F_m
 from fem.geometry import PlateStator
 from fem.material import plane_stress, pzt8
+from fem.mesh_settings import MeshSettings
 from fem.meshing.mesh import structured_mesh
 from fem.model import GapValidityWarning, build_model, plate_model
 from fem.modes import modes_of_model, natural_frequencies_Hz, plate_modes
@@ -35,7 +36,7 @@ def test_2d_agrees_with_3d_on_the_default_plate():
     from fem.solid3d.model import solid_modes
 
     r3 = solid_modes(PlateStator())
-    r2 = plate_modes(PlateStator(), "pzt8", 2, 3)
+    r2 = plate_modes(PlateStator(), "pzt8", MeshSettings(2, 3))
     for name in ("L1", "B2"):
         m2, m3 = getattr(r2, name), getattr(r3, name)
         assert m2.f_short_Hz == pytest.approx(m3.f_short_Hz, rel=1e-3)
@@ -145,7 +146,8 @@ def test_open_circuit_condensation_matches_dense_solution():
 
 def test_earlier_model_is_kept_as_an_option():
     """``gap_model='open', thickness_inertia=False`` reproduces the numbers before issue 8."""
-    res = modes_of_model(plate_model(PlateStator(), "pzt8", 2, 4, "open", False))
+    res = modes_of_model(plate_model(PlateStator(), "pzt8",
+                                     MeshSettings(2, 4, gap_model="open", thickness_inertia=False)))
     assert res.L1.f_short_Hz == pytest.approx(56479.73, rel=2e-6)
     assert res.B2.f_open_Hz == pytest.approx(55314.35, rel=2e-6)
 
@@ -176,9 +178,10 @@ def test_touching_quadrants_float_as_one_conductor(monkeypatch):
     from fem.model import PiezoPlateModel
 
     st = PlateStator(electrode_gap_m=0.0)
-    model = plate_model(st, "pzt8", 2, 3)
+    model = plate_model(st, "pzt8", MeshSettings(2, 3))
     assert model.conductors() == [[1, 2, 3, 4]]
-    assert plate_model(PlateStator(), "pzt8", 2, 3).conductors() == [[1], [2], [3], [4]]
+    assert plate_model(PlateStator(), "pzt8",
+                       MeshSettings(2, 3)).conductors() == [[1], [2], [3], [4]]
     merged = modes_of_model(model)
     assert merged.B2.k_eff < 1e-6
     assert merged.B2.f_open_Hz == pytest.approx(merged.B2.f_short_Hz, rel=1e-10)
@@ -198,7 +201,7 @@ def test_a_drive_across_touching_electrodes_is_refused(capsys):
     from fem.model import ShortedDriveError
     from lusm.cli import main
 
-    model = plate_model(PlateStator(electrode_gap_m=0.0), "pzt8", 2, 2)
+    model = plate_model(PlateStator(electrode_gap_m=0.0), "pzt8", MeshSettings(2, 2))
     with pytest.raises(ShortedDriveError, match=r"1 driven, 2 grounded, 3 grounded, 4 driven"):
         model.coupling((1, 4))
     with pytest.raises(ShortedDriveError, match="cannot hold two voltages"):

@@ -14,6 +14,7 @@ from fem.material import (
     plane_stress,
     pzt8,
 )
+from fem.mesh_settings import MeshSettings
 
 
 def test_pzt8_stiffness_form_reproduces_the_published_compliance_form():
@@ -161,7 +162,7 @@ def test_k31_bar_resonates_at_its_frequency_constant(name):
     from fem.modes import plate_modes
 
     bar = PlateStator(length_m=30e-3, width_m=1.5e-3, thickness_m=0.5e-3, electrode_gap_m=0.0)
-    f_fe = plate_modes(bar, name, order=2, refine=2).L1.f_short_Hz
+    f_fe = plate_modes(bar, name, mesh=MeshSettings(order=2, refine=2)).L1.f_short_Hz
     f_s = transverse_coupling(get_material(name))["N31_Hz_m"] / bar.length_m
     assert f_fe == pytest.approx(f_s, rel=5e-4)
     assert f_fe < f_s
@@ -200,7 +201,7 @@ def test_a_tip_of_its_own_material_is_a_two_segment_rod(tip):
     st = ParametricStator(length_m=length, width_m=width, thickness_m=0.5e-3,
                           electrode_gap_m=0.0, tip_length_m=tip_len, tip_width_m=width,
                           tip_material=tip)
-    f_fe = plate_modes(st, "pzt8", order=2, refine=2).L1.f_short_Hz
+    f_fe = plate_modes(st, "pzt8", mesh=MeshSettings(order=2, refine=2)).L1.f_short_Hz
     t = tip_material(tip)
     f_rod = _two_segment_rod_Hz(plane_stress(pzt8()).young_modulus_Pa(1), 7600.0, length,
                                 t.young_Pa, t.rho_kg_m3, tip_len, f_fe)

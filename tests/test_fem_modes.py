@@ -15,6 +15,7 @@ import scipy.sparse.linalg as sla
 
 from fem.geometry import PlateStator
 from fem.material import get_material, plane_stress, pzt8
+from fem.mesh_settings import MeshSettings
 from fem.meshing.mesh import structured_mesh
 from fem.model import build_model, plate_model
 from fem.modes import ModeSolverError, modes_of_model, natural_frequencies_Hz, plate_modes
@@ -58,11 +59,11 @@ def test_slender_strip_L1_is_the_rod_frequency():
     nu_w, nu_h = -s[0, 1] / s[1, 1], -s[2, 1] / s[1, 1]  # S1/S2 and S3/S2 under T2 alone
     W, h, L = STRIP.width_m, STRIP.thickness_m, STRIP.length_m
     f_love = f_rod / math.sqrt(1 + (math.pi / L) ** 2 * (nu_w**2 * W**2 + nu_h**2 * h**2) / 12)
-    res = plate_modes(STRIP, "pzt8", order=2, refine=2)
+    res = plate_modes(STRIP, "pzt8", mesh=MeshSettings(order=2, refine=2))
     assert res.L1.f_short_Hz == pytest.approx(f_love, rel=5e-5)
     assert 55e3 < f_rod < 57.5e3
     # without the thickness inertia the rod loses only the width term
-    bare = modes_of_model(plate_model(STRIP, "pzt8", 2, 2, thickness_inertia=False))
+    bare = modes_of_model(plate_model(STRIP, "pzt8", MeshSettings(2, 2, thickness_inertia=False)))
     assert bare.L1.f_short_Hz > res.L1.f_short_Hz * (1 + 5e-4)
 
 
@@ -76,7 +77,7 @@ def test_slender_strip_B2_is_the_timoshenko_frequency():
     area, inertia = W * h, h * W**3 / 12
     f_timo = timoshenko_free_free_Hz(L, E, G, kappa, 7600.0, area, inertia)[3]  # 2 rigid, B1
     f_eb = 7.853205**2 / (2 * math.pi * L**2) * math.sqrt(E * inertia / (7600.0 * area))
-    res = plate_modes(STRIP, "pzt8", order=2, refine=2)
+    res = plate_modes(STRIP, "pzt8", mesh=MeshSettings(order=2, refine=2))
     assert res.B2.f_short_Hz == pytest.approx(f_timo, rel=2e-3)
     assert abs(res.B2.f_short_Hz / f_eb - 1) > 1e-2  # shear matters: Euler-Bernoulli is off
 
@@ -85,7 +86,8 @@ def test_order2_converges_at_rate_four():
     """Eigenvalue error of biquadratic elements ~ h^(2p) = h^4 on nested meshes."""
     st = PlateStator(electrode_gap_m=0.0)
     f = np.array(
-        [[(m := plate_modes(st, "pzt8", 2, r)).L1.f_short_Hz, m.B2.f_short_Hz] for r in (2, 4, 8)]
+        [[(m := plate_modes(st, "pzt8",
+                            MeshSettings(2, r))).L1.f_short_Hz, m.B2.f_short_Hz] for r in (2, 4, 8)]
     )
     rate = np.log2(np.abs(f[0] - f[1]) / np.abs(f[1] - f[2]))
     assert np.all(rate > 3.5), rate
@@ -95,7 +97,7 @@ def test_order2_converges_at_rate_four():
 def test_matrices_are_symmetric_and_mass_is_exact():
     st = PlateStator()
     for order in (1, 2):
-        m = plate_model(st, "pzt8", order, 3)
+        m = plate_model(st, "pzt8", MeshSettings(order, 3))
         for A in (m.K, m.M, m.K_open()):
             assert abs(A - A.T).max() <= 1e-12 * abs(A).max()
         # total mass: rigid translation in x
@@ -106,7 +108,7 @@ def test_matrices_are_symmetric_and_mass_is_exact():
 
 
 def test_free_plate_has_three_rigid_body_modes():
-    m = plate_model(PlateStator(), "pzt8", 2, 3)
+    m = plate_model(PlateStator(), "pzt8", MeshSettings(2, 3))
     f, _ = natural_frequencies_Hz(m, n_modes=5, f_center_Hz=0.0)
     assert np.all(np.abs(f[:3]) < 1.0)  # Hz; elastic modes are > 10 kHz
     assert f[3] > 1e4
@@ -114,7 +116,7 @@ def test_free_plate_has_three_rigid_body_modes():
 
 @pytest.mark.parametrize("material", ["pzt8", "paper"])
 def test_open_circuit_is_stiffer_and_coupling_is_plausible(material):
-    res = plate_modes(PlateStator(), material, 2, 4)
+    res = plate_modes(PlateStator(), material, MeshSettings(2, 4))
     for mode in (res.L1, res.B2):
         assert mode.f_open_Hz > mode.f_short_Hz
         assert 0.05 < mode.k_eff < 0.5
@@ -124,8 +126,8 @@ def test_open_circuit_is_stiffer_and_coupling_is_plausible(material):
 
 
 def test_L1_and_B2_are_identified_by_shape_when_their_order_swaps():
-    narrow = plate_modes(PlateStator(width_m=6e-3), "pzt8", 2, 3)
-    wide = plate_modes(PlateStator(width_m=9e-3), "pzt8", 2, 3)
+    narrow = plate_modes(PlateStator(width_m=6e-3), "pzt8", MeshSettings(2, 3))
+    wide = plate_modes(PlateStator(width_m=9e-3), "pzt8", MeshSettings(2, 3))
     assert narrow.B2.f_short_Hz < narrow.L1.f_short_Hz  # order: B2, L1
     assert wide.B2.f_short_Hz > wide.L1.f_short_Hz  # order: L1, B2
     for res in (narrow, wide):
@@ -137,7 +139,7 @@ def test_L1_and_B2_are_identified_by_shape_when_their_order_swaps():
 
 
 def test_non_convergence_is_a_clear_error():
-    m = plate_model(PlateStator(), "pzt8", 2, 3)
+    m = plate_model(PlateStator(), "pzt8", MeshSettings(2, 3))
     with pytest.raises(ModeSolverError, match="did not converge"):
         modes_of_model(m, n_modes=20, maxiter=1)
 
@@ -149,7 +151,7 @@ def test_mesh_from_file_gives_the_same_modes(tmp_path):
     path = write_mesh(structured_mesh(st, 3), tmp_path / "plate.msh")
     m = build_model(read_stator_mesh(path).mesh, st, "pzt8", 2)
     res = modes_of_model(m)
-    ref = plate_modes(st, "pzt8", 2, 3)
+    ref = plate_modes(st, "pzt8", MeshSettings(2, 3))
     assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=1e-10)
     assert res.B2.f_open_Hz == pytest.approx(ref.B2.f_open_Hz, rel=1e-10)
     with pytest.raises(ValueError, match="bounding box"):
@@ -158,11 +160,11 @@ def test_mesh_from_file_gives_the_same_modes(tmp_path):
 
 def test_bad_model_inputs():
     with pytest.raises(ValueError, match="order"):
-        plate_model(PlateStator(), "pzt8", 3, 3)
+        plate_model(PlateStator(), "pzt8", MeshSettings(3, 3))
     with pytest.raises(ValueError, match="material"):
-        plate_model(PlateStator(), "steel", 2, 3)
+        plate_model(PlateStator(), "steel", MeshSettings(2, 3))
     with pytest.raises(ValueError, match="refine"):
-        plate_model(PlateStator(), "pzt8", 2, 0)
+        plate_model(PlateStator(), "pzt8", MeshSettings(2, 0))
 
 
 # --- modal reduction -------------------------------------------------------------------------
@@ -174,7 +176,7 @@ def test_fem_params_normalization_and_drive_direction():
     from rom.table2 import table2
 
     p = fem_params(PlateStator(), "pzt8", order=2, refine=3)
-    res = plate_modes(PlateStator(), "pzt8", 2, 3)
+    res = plate_modes(PlateStator(), "pzt8", MeshSettings(2, 3))
     assert p.phi_L0 == pytest.approx(1.0, rel=1e-12)
     assert p.phi_Bl == pytest.approx(float(phi_B(30e-3, 30e-3)), rel=1e-12)
     assert p.phi_Ll == pytest.approx(-1.0, rel=1e-2)  # L1 is antisymmetric about y = l/2
@@ -294,7 +296,7 @@ def test_refine_is_a_whole_number(refine):
     from fem.modes import plate_modes
 
     with pytest.raises(ValueError, match="refine must be an integer >= 1"):
-        plate_modes(refine=refine)
+        plate_modes(mesh=MeshSettings(refine=refine))
 
 
 def test_a_wide_plates_open_b2_is_paired_by_its_shape(monkeypatch):
@@ -305,7 +307,7 @@ def test_a_wide_plates_open_b2_is_paired_by_its_shape(monkeypatch):
     import fem.modes as fm
     from fem.model import plate_model
 
-    model = plate_model(PlateStator(width_m=16e-3), "pzt8", 2, 4)
+    model = plate_model(PlateStator(width_m=16e-3), "pzt8", MeshSettings(2, 4))
     paired = fm.modes_of_model(model)
     assert 0.5 <= paired.B2.mac < 0.52
     monkeypatch.setattr(fm, "MIN_MAC", 0.45)
@@ -331,7 +333,7 @@ def _fe_modes_nearer_than_b2(stator, refine: int = 4, k: int = 40) -> int:
     solve of ``k`` modes: what :func:`fem.modes.modes_nearer_than_b2` estimates."""
     from fem.modes import identify_modes, rod_frequency_estimate_Hz
 
-    model = plate_model(stator, "pzt8", 2, refine)
+    model = plate_model(stator, "pzt8", MeshSettings(2, refine))
     fc = rod_frequency_estimate_Hz(stator, "pzt8")
     f, v = natural_frequencies_Hz(model, k, fc)
     b2 = identify_modes(model, f, v)["B2"][0]
@@ -439,7 +441,7 @@ def test_the_slender_bound_lies_where_the_solver_stops_finding_b2():
     outside = PlateStator(length_m=725e-3, width_m=1e-3, thickness_m=1e-3)
     assert (modes_nearer_than_b2(715), modes_nearer_than_b2(725)) == (31, 32)
     check_b2_in_reach(inside)
-    res = plate_modes(inside, refine=1)
+    res = plate_modes(inside, mesh=MeshSettings(refine=1))
     assert len(res.frequencies_short_Hz) == 32
     assert res.B2.f_short_Hz < res.L1.f_short_Hz / 100  # far below, yet found
     assert _fe_modes_nearer_than_b2(outside, refine=1) >= 32

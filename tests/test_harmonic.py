@@ -10,6 +10,7 @@ import scipy.sparse as sp
 
 from fem.geometry import PlateStator
 from fem.harmonic import fe_tip_response, modally_damped_solve
+from fem.mesh_settings import MeshSettings
 from fem.model import plate_model
 from fem.modes import plate_modes
 from lusm.cli import main
@@ -23,8 +24,8 @@ ZETA = 0.005
 @pytest.fixture(scope="module")
 def plate():
     st = PlateStator()
-    model = plate_model(st, "pzt8", 2, REFINE)
-    modes = plate_modes(st, "pzt8", 2, REFINE)
+    model = plate_model(st, "pzt8", MeshSettings(2, REFINE))
+    modes = plate_modes(st, "pzt8", MeshSettings(2, REFINE))
     params = fem_params(st, "pzt8", 2, REFINE, damping_ratios=(ZETA, ZETA))
     return model, modes, params
 

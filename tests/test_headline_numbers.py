@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import pytest
 
+from fem.mesh_settings import MeshSettings
 from tests.conftest import cached_run
 
 # --- FE (2D, order 2, default mesh): lusm modes --------------------------------------------
@@ -31,7 +32,7 @@ def fe_modes():
     from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import plate_modes
 
-    return plate_modes(PlateStator(), "pzt8", 2, DEFAULT_REFINE)
+    return plate_modes(PlateStator(), "pzt8", MeshSettings(2, DEFAULT_REFINE))
 
 
 @pytest.mark.parametrize(("mode", "circuit"), list(FE_PINS_HZ))

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
+from fem.mesh_settings import MeshSettings
 from fem.meshing.parametric import ParametricStator, parametric_mesh
 from fem.model import gap_layout, plate_model
 from fem.modes import plate_modes
@@ -24,14 +25,14 @@ PLATE = {"length_mm": 30.0, "width_mm": 7.5, "thickness_mm": 3.0}
 
 
 def _freqs(design_or_stator, material="pzt8"):
-    res = plate_modes(design_or_stator, material, 2, 4)
+    res = plate_modes(design_or_stator, material, MeshSettings(2, 4))
     return np.array([res.L1.f_short_Hz, res.B2.f_short_Hz]), res
 
 
 @pytest.fixture(scope="module")
 def plain():
     """The plain plate on a converged structured mesh."""
-    res = plate_modes(PlateStator(), "pzt8", 2, 8)
+    res = plate_modes(PlateStator(), "pzt8", MeshSettings(2, 8))
     return np.array([res.L1.f_short_Hz, res.B2.f_short_Hz])
 
 
@@ -84,7 +85,7 @@ def test_holes_remove_exactly_their_mass(holes):
     puts its hole nodes on the circles, so each hole removes the inscribed polygon of its
     nodes; that converges to pi r^2 from below."""
     st = ParametricStator(holes_m=holes)
-    model = plate_model(st, "pzt8", 2)
+    model = plate_model(st, "pzt8", MeshSettings(2))
     b = model.basis
     ux = b.project(lambda x: np.stack([np.ones_like(x[0]), np.zeros_like(x[0])]))
     mass = float(ux @ model.M @ ux)
@@ -184,7 +185,8 @@ def test_fixed_length_tuning_of_a_parametric_tip_stator():
     assert st.length_m == par.stator.length_m and st.tip_length_m == 1e-3
     assert st.width_m != pytest.approx(par.stator.width_m, rel=1e-2)  # the width did move
     assert d.relative_mismatch < 1e-4
-    fine = plate_modes(replace(st, mesh_size_m=0.5 * st.element_size_m), par.material, 2, 4)
+    fine = plate_modes(replace(st, mesh_size_m=0.5 * st.element_size_m), par.material,
+                       MeshSettings(2, 4))
     assert abs(fine.B2.f_short_Hz / fine.L1.f_short_Hz - 1) < 1e-3
 
 
@@ -259,7 +261,7 @@ def test_a_mount_amplitude_probes_only_its_points(monkeypatch):
     from fem.modes import amplitude_ratio, plate_modes
 
     st, mat = PlateStator(), get_material("pzt8")
-    model, res = plate_model(st, mat, 2, 2), plate_modes(st, mat, 2, 2)
+    model, res = plate_model(st, mat, MeshSettings(2, 2)), plate_modes(st, mat, MeshSettings(2, 2))
     pts = np.array([[0.0, 1e-3], [15e-3, 30e-3]])
     probed, real = [], type(model).probe
 
@@ -384,7 +386,7 @@ def test_a_tip_point_off_the_mesh_by_roundoff_is_probed_on_it():
     st = ParametricStator(length_m=35e-3, width_m=9.4928e-3, thickness_m=2.5e-3,
                           electrode_gap_m=0.3e-3, tip_length_m=1e-3, tip_width_m=2.5e-3)
     assert st.tip_point_m[1] > 0.036
-    model = plate_model(st, "pzt8", 2, 4)
+    model = plate_model(st, "pzt8", MeshSettings(2, 4))
     at_tip = model.probe(np.array([st.tip_point_m]).T).toarray()
     on_edge = model.probe(np.array([[0.0, 0.036]]).T).toarray()
     assert np.array_equal(at_tip, on_edge) and np.abs(at_tip).sum() > 0
@@ -405,8 +407,8 @@ def test_holes_over_the_gap_strips_shorten_the_electrodes_shared_edges():
              {"center_mm": [0.0, 23.0], "diameter_mm": 3.0}]
     st = parse_stator({"plate": PLATE, "holes": holes}, src="holes").stator
     plain = parse_stator({"plate": PLATE, "chamfers": {"size_mm": 0.5}}, src="plain").stator
-    cap = plate_model(st, "pzt8", 2, 4).capacitance_matrix_F
-    ref = plate_model(plain, "pzt8", 2, 4).capacitance_matrix_F
+    cap = plate_model(st, "pzt8", MeshSettings(2, 4)).capacitance_matrix_F
+    ref = plate_model(plain, "pzt8", MeshSettings(2, 4)).capacitance_matrix_F
     r, g = 1.5, 0.5  # mm
     x = np.linspace(-g / 2, g / 2, 20001)
     chord = np.trapezoid(2 * np.sqrt(r * r - x * x), x) / g

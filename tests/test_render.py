@@ -11,6 +11,7 @@ pv.OFF_SCREEN = True
 
 from fem.export import export_modes, vertex_displacements  # noqa: E402
 from fem.geometry import PlateStator  # noqa: E402
+from fem.mesh_settings import MeshSettings  # noqa: E402
 from fem.model import plate_model  # noqa: E402
 from fem.modes import plate_modes  # noqa: E402
 from fem.render import (  # noqa: E402
@@ -26,7 +27,8 @@ SMALL = (480, 200)
 
 @pytest.fixture(scope="module")
 def plate():
-    return plate_model(PlateStator(), "pzt8", 2, 4), plate_modes(PlateStator(), "pzt8", 2, 4)
+    return plate_model(PlateStator(), "pzt8",
+                       MeshSettings(2, 4)), plate_modes(PlateStator(), "pzt8", MeshSettings(2, 4))
 
 
 @pytest.fixture(scope="module")
@@ -217,7 +219,8 @@ def test_a_wide_plates_ruler_and_plate_stay_between_title_and_colour_bar(width_m
     from fem.render import DECORATED_BAND, SCALE_FRACTION, WINDOW_SIZE, _Scene, _title
 
     st = PlateStator(width_m=width_mm * 1e-3)
-    model, modes = plate_model(st, "pzt8", 2, 4), plate_modes(st, "pzt8", 2, 4)
+    model, modes = plate_model(st, "pzt8", MeshSettings(2, 4)), plate_modes(st, "pzt8",
+                                                                            MeshSettings(2, 4))
     for mode in (modes.L1, modes.B2):
         scene = _Scene(model, mode.shape, _title(mode, st), WINDOW_SIZE, SCALE_FRACTION,
                        True, 1)
@@ -255,7 +258,7 @@ def test_lusm_render_draws_with_the_signals_held(monkeypatch, tmp_path):
 
 # --- 3D pictures (fem.render3d, lusm render --model 3d) --------------------------------------
 
-SOLID = dict(refine=2, layers=2)
+SOLID = MeshSettings(refine=2, layers=2)
 """A cheap 3D mesh: the pictures' checks need the shapes' classes, not converged frequencies."""
 
 
@@ -264,7 +267,7 @@ def solid_band():
     from fem.band import band_shapes
     from fem.solid3d.model import solid_model
 
-    model = solid_model(PlateStator(), "pzt8", 2, **SOLID)
+    model = solid_model(PlateStator(), "pzt8", SOLID)
     return model, {m.name: m for m in band_shapes(model, 44e3, 60e3)}
 
 

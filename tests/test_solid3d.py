@@ -8,16 +8,17 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
+from fem.mesh_settings import MeshSettings
 from fem.modes import plate_modes
 from fem.solid3d.model import build_solid_model, solid_frequencies_Hz, solid_model, solid_modes
 from lusm.cli import main
 
-COARSE = {"refine": 2, "layers": 2}
+COARSE = MeshSettings(refine=2, layers=2)
 
 
 @pytest.fixture(scope="module")
 def coarse_model():
-    return solid_model(PlateStator(), "pzt8", 2, **COARSE)
+    return solid_model(PlateStator(), "pzt8", COARSE)
 
 
 def test_matrices_symmetric_and_mass_total(coarse_model):
@@ -76,8 +77,8 @@ def test_thin_plate_approaches_plane_stress():
     thin = PlateStator(thickness_m=0.1e-3)
     errs = {}
     for key, st in (("thick", thick), ("thin", thin)):
-        r3 = solid_modes(st, "pzt8", 2, 3, 1 if key == "thin" else 2)
-        r2 = plate_modes(st, "pzt8", gap_model="open", thickness_inertia=False)
+        r3 = solid_modes(st, "pzt8", MeshSettings(2, 3, 1 if key == "thin" else 2))
+        r2 = plate_modes(st, "pzt8", mesh=MeshSettings(gap_model="open", thickness_inertia=False))
         errs[key] = max(
             abs(getattr(r3, n).__getattribute__(f) / getattr(r2, n).__getattribute__(f) - 1)
             for n in ("L1", "B2") for f in ("f_short_Hz", "f_open_Hz")
@@ -92,9 +93,10 @@ def test_thin_plate_modal_force_factors_match_2d():
     from fem.model import plate_model
 
     st = PlateStator(thickness_m=0.1e-3)
-    m3, r3 = solid_model(st, "pzt8", 2, 3, 1), solid_modes(st, "pzt8", 2, 3, 1)
-    m2 = plate_model(st, gap_model="open", thickness_inertia=False)  # gap = 5 h: unshorted
-    r2 = plate_modes(st, gap_model="open", thickness_inertia=False)
+    mesh3 = MeshSettings(2, 3, 1)
+    m3, r3 = solid_model(st, "pzt8", mesh3), solid_modes(st, "pzt8", mesh3)
+    mesh2 = MeshSettings(gap_model="open", thickness_inertia=False)  # gap = 5 h: unshorted
+    m2, r2 = plate_model(st, mesh=mesh2), plate_modes(st, mesh=mesh2)
     f3, g2 = m3.voltage_coupling_N_V((1, 4)), m2.coupling((1, 4))
     for name, tol in (("L1", 0.04), ("B2", 0.01)):
         a3 = abs(getattr(r3, name).shape @ f3)
@@ -106,9 +108,9 @@ def test_thin_plate_modal_force_factors_match_2d():
 
 def test_bad_input():
     with pytest.raises(ValueError, match="layers"):
-        solid_model(PlateStator(), layers=0)
+        solid_model(PlateStator(), mesh=MeshSettings(layers=0))
     with pytest.raises(ValueError, match="element"):
-        solid_model(PlateStator(), element="hex64")
+        solid_model(PlateStator(), mesh=MeshSettings(element="hex64"))
     with pytest.raises(ValueError, match="gap"):
         build_solid_model(PlateStator(electrode_gap_m=0.0))
 
@@ -134,8 +136,8 @@ def test_edge_grading_refines_at_the_electrode_edges():
     from fem.solid3d.model import modes_of_solid_model
 
     st = PlateStator()
-    m0 = build_solid_model(st, "pzt8", 2, 2, 1)
-    m1 = build_solid_model(st, "pzt8", 2, 2, 1, edge_grading=1)
+    m0 = build_solid_model(st, "pzt8", MeshSettings(2, 2, 1))
+    m1 = build_solid_model(st, "pzt8", MeshSettings(2, 2, 1, edge_grading=1))
     x, z = m1.basis.mesh.p[0], m1.basis.mesh.p[2]
     g = st.electrode_gap_m
     for xv in (0.0, g / 2 + g, -g / 2 - g):
@@ -149,12 +151,12 @@ def test_edge_grading_refines_at_the_electrode_edges():
     k1 = modes_of_solid_model(m1).B2.k_eff
     assert k1 > k0 * 1.1
     with pytest.raises(ValueError, match="edge_grading"):
-        build_solid_model(st, "pzt8", 2, 2, 1, edge_grading=-1)
+        build_solid_model(st, "pzt8", MeshSettings(2, 2, 1, edge_grading=-1))
 
 
 def test_3d_runs_are_bit_identical():
     """A fixed ARPACK start vector: two solves of the same model agree to the last bit."""
-    m = build_solid_model(PlateStator(), "pzt8", 2, 2, 1)
+    m = build_solid_model(PlateStator(), "pzt8", MeshSettings(2, 2, 1))
     f1, v1 = solid_frequencies_Hz(m, 6, 56e3, open_circuit=True)
     f2, v2 = solid_frequencies_Hz(m, 6, 56e3, open_circuit=True)
     assert np.array_equal(f1, f2) and np.array_equal(v1, v2)

@@ -6,6 +6,7 @@ import json
 import pytest
 
 from fem.geometry import PlateStator
+from fem.mesh_settings import MeshSettings
 from fem.solid3d.estimate import MeshLevel, estimated_solid_modes
 
 QUANTITIES = ("f_short_Hz", "f_open_Hz", "k_eff")
@@ -24,7 +25,7 @@ def test_the_estimate_brackets_the_error_against_a_finer_mesh():
     from fem.solid3d.symmetric import symmetric_solid_modes
 
     est = estimated_solid_modes(PlateStator(), meshes=(MeshLevel(2, 1, 1), MeshLevel(3, 1, 2)))
-    ref = symmetric_solid_modes(PlateStator(), "pzt8", 2, 4, 2, edge_grading=3)
+    ref = symmetric_solid_modes(PlateStator(), "pzt8", MeshSettings(2, 4, 2, edge_grading=3))
     for mode in ("L1", "B2"):
         for q in QUANTITIES:
             fine, truth = (getattr(getattr(r, mode), q) for r in (est.fine, ref))

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
+from fem.mesh_settings import MeshSettings
 from fem.meshing.mesh import PlateMesh, structured_mesh
 from fem.meshing.mesh_io import read_stator_mesh, write_mesh
 from fem.meshing.meshed_stator import MeshedStator
@@ -36,8 +37,8 @@ def test_extruded_imported_rectangle_matches_box_model(tmp_path):
     path = write_mesh(structured_mesh(st, 2), tmp_path / "plate.msh")
     imported = read_stator_mesh(path)
     meshed = _meshed(st, imported.mesh)
-    box = build_solid_model(st, "pzt8", 2, refine=2, layers=2)
-    ext = build_solid_model(meshed, "pzt8", 2, refine=2, layers=2)
+    box = build_solid_model(st, "pzt8", MeshSettings(2, refine=2, layers=2))
+    ext = build_solid_model(meshed, "pzt8", MeshSettings(2, refine=2, layers=2))
     assert ext.n_nodes == box.n_nodes
     # same electrode node sets (as coordinates), same bottom face
     for a, b in zip(box.electrode_dofs, ext.electrode_dofs, strict=True):
@@ -84,7 +85,7 @@ def test_touching_electrodes_rejected():
     st = MeshedStator(length_m=2e-3, width_m=2e-3, thickness_m=1e-3, electrode_gap_m=0.0,
                       mesh=mesh)
     with pytest.raises(ValueError, match="touch"):
-        build_solid_model(st, "pzt8", 2, layers=1)
+        build_solid_model(st, "pzt8", MeshSettings(2, layers=1))
 
 
 @pytest.fixture(scope="module")
@@ -145,7 +146,7 @@ def test_graded_layers_bring_a_narrow_gap_planform_towards_2d(capsys):
     assert np.all(np.diff(z) > 0)
     assert gap_element_ratio(st, 3, 3) > 10
     k2 = plate_modes(st).B2.k_eff
-    k = [solid_modes(st, "pzt8", 2, 3, 3, edge_grading=e).B2.k_eff for e in (0, 1, 2)]
+    k = [solid_modes(st, "pzt8", MeshSettings(2, 3, 3, edge_grading=e)).B2.k_eff for e in (0, 1, 2)]
     assert abs(k[1] - k2) < 0.5 * abs(k[0] - k2)
     assert abs(k[2] - k[1]) < 1e-3 * k2 * 10 and k[0] < 0.85 * k2 < k[1]
 
@@ -165,7 +166,7 @@ def test_holes_on_the_centre_line_keep_the_3d_sampling(tmp_path):
         "diameter_mm = 2.0\n[[holes]]\ncenter_mm = [0.0, 23.0]\ndiameter_mm = 2.0\n"
         "[mesh]\nsize_mm = 0.9\n")
     design = load_stator(tmp_path / "hc.toml")
-    model = build_solid_model(design.stator, design.material, 2, 1, 2)
+    model = build_solid_model(design.stator, design.material, MeshSettings(2, 1, 2))
     X, Y, probes, inside = sampling_points_3d(model)
     assert 0.8 * inside.size < inside.sum() < inside.size
     zt = 0.5 * design.stator.thickness_m * (1 - 1e-9)

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
+from fem.mesh_settings import MeshSettings
 from fem.solid3d.grid_ordering import nested_dissection_rank
 from fem.solid3d.model import build_solid_model, modes_of_solid_model
 from fem.solid3d.symmetric import (
@@ -20,11 +21,11 @@ from fem.solid3d.symmetric import (
     symmetric_solid_modes,
 )
 
-SMALL = {"refine": 2, "layers": 2}
+SMALL = MeshSettings(refine=2, layers=2)
 
 
-def _pair(stator: PlateStator, edge_grading: int = 0, layers: int = SMALL["layers"]):
-    lines = quarter_grid_lines(stator, SMALL["refine"], layers, edge_grading)
+def _pair(stator: PlateStator, edge_grading: int = 0, layers: int = SMALL.layers):
+    lines = quarter_grid_lines(stator, SMALL.refine, layers, edge_grading)
     quarter = modes_of_quarter_models(*(build_quarter_model(stator, m, grid_lines=lines)
                                         for m in MODE_CLASSES))
     full_model = build_solid_model(stator, grid_lines=mirrored_grid_lines(lines,
@@ -76,7 +77,7 @@ def test_full_model_modes_have_the_class_parities():
 def test_no_gap_b2_has_no_coupling():
     # touching quadrants are one conductor: the B2 potential pattern (diagonals equal)
     # cannot exist, so open circuit equals short circuit; L1 keeps its coupling
-    res = symmetric_solid_modes(replace(PlateStator(), electrode_gap_m=0.0), **SMALL)
+    res = symmetric_solid_modes(replace(PlateStator(), electrode_gap_m=0.0), mesh=SMALL)
     assert res.B2.f_open_Hz == pytest.approx(res.B2.f_short_Hz, rel=1e-10)
     assert res.B2.k_eff < 1e-4
     assert res.L1.k_eff > 0.2
@@ -85,7 +86,7 @@ def test_no_gap_b2_has_no_coupling():
 @pytest.mark.slow
 def test_nested_dissection_is_a_permutation_with_separators_last():
     stator = replace(PlateStator(), electrode_gap_m=0.2e-3)
-    model = build_quarter_model(stator, "B2", edge_grading=1, **SMALL)
+    model = build_quarter_model(stator, "B2", mesh=replace(SMALL, edge_grading=1))
     mesh = model.basis.mesh
     planes = tuple(np.unique(mesh.p[a]) for a in range(3))
     rank = nested_dissection_rank(model.basis.doflocs, planes)
@@ -110,8 +111,8 @@ def test_cli_graded_3d_uses_the_quarter_model_with_the_full_models_results(capsy
     assert main(args) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["quarter_model"] is True
-    full = solid_modes(replace(PlateStator(), electrode_gap_m=1e-3), refine=2, layers=1,
-                       edge_grading=1)
+    full = solid_modes(replace(PlateStator(), electrode_gap_m=1e-3),
+                       mesh=MeshSettings(refine=2, layers=1, edge_grading=1))
     assert out["dofs"] < 0.6 * full.dofs
     for name in ("L1", "B2"):
         m = getattr(full, name)

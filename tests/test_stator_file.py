@@ -13,6 +13,7 @@ import pytest
 
 from fem.geometry import PlateStator
 from fem.material import pzt8
+from fem.mesh_settings import MeshSettings
 from fem.meshing.mesh import structured_mesh
 from fem.meshing.mesh_io import read_stator_mesh, write_mesh, write_stator_msh
 from fem.meshing.meshed_stator import MeshedStator
@@ -118,7 +119,7 @@ def test_mesh_file_plate_equals_structured_plate(tmp_path, file_format):
     np.testing.assert_allclose(d.stator.tip_point_m, tip, atol=1e-15)  # the 'tip' vertex
     _assert_same_tags(d.stator.mesh, st)
     res = d.modes()
-    ref = plate_modes(st, "pzt8", 2, 3)
+    ref = plate_modes(st, "pzt8", MeshSettings(2, 3))
     assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=1e-10)
     assert res.B2.f_open_Hz == pytest.approx(ref.B2.f_open_Hz, rel=1e-10)
     # the mesh-based stator's electrode lookup agrees with the quadrant rule
@@ -294,7 +295,7 @@ def test_mixed_triangle_quad_mesh_is_conforming(tmp_path):
     sm = MeshedStator(length_m=30e-3, width_m=7.5e-3, thickness_m=3e-3, electrode_gap_m=0.0,
                       mesh=imp.mesh, tip_m=(0.0, 30e-3), preload_m=(0.0, 0.0))
     res = modes_of_model(build_model(imp.mesh, sm, "pzt8", 2))
-    ref = plate_modes(st, "pzt8", 2, 8)
+    ref = plate_modes(st, "pzt8", MeshSettings(2, 8))
     assert res.L1.f_short_Hz == pytest.approx(ref.L1.f_short_Hz, rel=1e-4)
     assert res.B2.f_short_Hz == pytest.approx(ref.B2.f_short_Hz, rel=1e-3)
 

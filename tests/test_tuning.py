@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from fem.geometry import PlateStator
+from fem.mesh_settings import MeshSettings
 from fem.modes import plate_modes
 from fem.sweep import sweep_dimension
 from fem.tuning import tune_plate
@@ -121,7 +122,7 @@ def _resolve(stator, refine=REFINE):
     from fem.model import plate_model
     from fem.modes import modes_of_model
 
-    return modes_of_model(plate_model(stator, "pzt8", 2, refine), refine=refine)
+    return modes_of_model(plate_model(stator, "pzt8", MeshSettings(2, refine)), refine=refine)
 
 
 @pytest.fixture(scope="module")
@@ -136,15 +137,15 @@ def test_fixed_length_is_kept_and_the_width_makes_l1_meet_b2(fixed_length):
     assert d.stator.thickness_m == 3e-3
     assert d.fix == "length+thickness" and d.tuned == ("width",)
     assert d.target_frequency_Hz is None
-    for res in (_resolve(d.stator), plate_modes(d.stator, refine=REFINE)):
+    for res in (_resolve(d.stator), plate_modes(d.stator, mesh=MeshSettings(refine=REFINE))):
         split = abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz
         assert split < 1e-5  # the crossing tolerance (rel_tol)
     # a finer mesh moves the crossing by its discretization error only
-    fine = plate_modes(d.stator, refine=6)
+    fine = plate_modes(d.stator, mesh=MeshSettings(refine=6))
     assert abs(fine.L1.f_short_Hz - fine.B2.f_short_Hz) / fine.L1.f_short_Hz < 1e-3
     # the reported frequency is that of the held length: L1 ~ c / 2l, about 1/l of the
     # 30 mm plate's (1.7 % lower at the larger width, Poisson)
-    l1_30 = plate_modes(PlateStator(), refine=REFINE).L1.f_short_Hz
+    l1_30 = plate_modes(PlateStator(), mesh=MeshSettings(refine=REFINE)).L1.f_short_Hz
     assert d.frequency_Hz == pytest.approx(l1_30 * 30 / 35, rel=0.03)
 
 
@@ -208,7 +209,7 @@ def test_fixed_length_3d():
     d = tune_plate(fix="length", start=PlateStator(length_m=35e-3, width_m=9.5e-3), model="3d",
                    refine=2)
     assert d.stator.length_m == pytest.approx(35e-3, abs=1e-12 * 35e-3)
-    res = modes_of_solid_model(build_solid_model(d.stator, "pzt8", 2, 2))
+    res = modes_of_solid_model(build_solid_model(d.stator, "pzt8", MeshSettings(2, 2)))
     assert abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz < 1e-5
 
 
@@ -487,7 +488,7 @@ def test_the_fem_library_calls_are_bounded_before_they_start():
         with pytest.raises(ValueError, match="^values_m must be numbers"):
             sweep_dimension("width", bad)
     with pytest.raises(ValueError, match=r"^refine = 1000 makes at least 4e\+06 elements"):
-        plate_model(refine=1000)
+        plate_model(mesh=MeshSettings(refine=1000))
     with pytest.raises(ValueError, match=r"^n_points must be at most 1000000"):
         plate_admittance(zeta=0.01, n_points=10**7)
     with pytest.raises(ValueError, match=r"^max_iter must be an integer in \[1, 100\]"):
@@ -499,7 +500,7 @@ def test_the_fem_library_calls_are_bounded_before_they_start():
     with pytest.raises(ValueError, match="cannot be imposed with the length held"):
         tune_plate(np.float32(40e3), fix="length")
     port = plate_admittance(zeta=np.float32(0.01), f_min_Hz=50e3, f_max_Hz=60e3, n_points=11,
-                            refine=1).port
+                            mesh=MeshSettings(refine=1)).port
     assert port.zeta[0] == pytest.approx(0.01)
 
 

@@ -49,6 +49,8 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
+from fem.mesh_settings import MeshSettings
+
 ROOT = Path(__file__).resolve().parents[1]
 NUMBERS_JSON = ROOT / "docs" / "numbers.json"
 """Where the generator writes (in a source checkout)."""
@@ -282,7 +284,7 @@ def _fe2d():
     from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import plate_modes
 
-    return plate_modes(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
+    return plate_modes(PlateStator(), get_material("pzt8"), MeshSettings(2, DEFAULT_REFINE))
 
 
 @cache
@@ -331,7 +333,7 @@ def _fe2d_model():
     from fem.meshing.mesh import DEFAULT_REFINE
     from fem.model import plate_model
 
-    return plate_model(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
+    return plate_model(PlateStator(), get_material("pzt8"), MeshSettings(2, DEFAULT_REFINE))
 
 
 @cache
@@ -367,7 +369,7 @@ def _fixed_length_checks() -> dict[str, float]:
     from fem.solid3d.model import solid_modes
 
     st = _tuned_fixed_length("2d").stator
-    fine, solid = plate_modes(st, refine=8), solid_modes(st)
+    fine, solid = plate_modes(st, mesh=MeshSettings(refine=8)), solid_modes(st)
     return {"split_refine8": (fine.B2.f_short_Hz - fine.L1.f_short_Hz) / fine.L1.f_short_Hz,
             "split_3d": (solid.B2.f_short_Hz - solid.L1.f_short_Hz) / solid.L1.f_short_Hz}
 
@@ -396,11 +398,11 @@ def _gap_keff(model: str, gap_mm: float, refine: int | None = None,
         from fem.meshing.mesh import DEFAULT_REFINE
         from fem.modes import plate_modes
 
-        return plate_modes(stator, get_material("pzt8"), 2, DEFAULT_REFINE).B2.k_eff
+        return plate_modes(stator, get_material("pzt8"), MeshSettings(2, DEFAULT_REFINE)).B2.k_eff
     from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
-    return solid_modes(stator, get_material("pzt8"), 2, refine or DEFAULT_REFINE_3D,
-                       layers or DEFAULT_LAYERS).B2.k_eff
+    mesh = MeshSettings(2, refine or DEFAULT_REFINE_3D, layers or DEFAULT_LAYERS)
+    return solid_modes(stator, get_material("pzt8"), mesh).B2.k_eff
 
 
 @cache
@@ -411,7 +413,8 @@ def _fe2d_no_inertia():
     from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import plate_modes
 
-    return plate_modes(PlateStator(), "pzt8", 2, DEFAULT_REFINE, thickness_inertia=False)
+    return plate_modes(PlateStator(), "pzt8",
+                       MeshSettings(2, DEFAULT_REFINE, thickness_inertia=False))
 
 
 def _isolated_b2_damping_drift() -> float:
@@ -602,8 +605,8 @@ def _designer_numbers() -> dict[str, float]:
 
     examples = ROOT / "examples"
     rho_h = 7600.0 * 3e-3  # PZT-8 density x thickness (kg/m^2)
-    plain = plate_modes(PlateStator(), "pzt8", 2, 8)
-    model = plate_model(PlateStator(), "pzt8", 2, 8)
+    plain = plate_modes(PlateStator(), "pzt8", MeshSettings(2, 8))
+    model = plate_model(PlateStator(), "pzt8", MeshSettings(2, 8))
     sets = {"plain": plain}
     for name in ("tip_protrusion", "chamfered"):
         sets[name] = load_stator(examples / name / "stator.toml").modes()
@@ -710,8 +713,8 @@ def _parametric_numbers() -> dict[str, float]:
     cham_msh = load_stator(ex / "chamfered" / "stator.toml")
     out: dict[str, float] = {}
     rp, rm = par.modes(), msh.modes()
-    fine = plate_modes(replace(par.stator, mesh_size_m=par.stator.element_size_m / 4),
-                       par.material, 2)
+    fine = plate_modes(replace(par.stator, mesh_size_m=par.stator.element_size_m / 4), par.material,
+                       MeshSettings(2))
     rc, rcm = cham.modes(), cham_msh.modes()
     out["tip_dofs"], out["tip_fine_dofs"], out["chamfer_dofs"] = rp.dofs, fine.dofs, rc.dofs
     for mode in ("L1", "B2"):
@@ -740,9 +743,10 @@ def _parametric_numbers() -> dict[str, float]:
     out["fixlen_frequency_Hz"] = d.frequency_Hz
     out["fixlen_split"] = d.relative_mismatch
     out["fixlen_fe_solves"] = d.fe_solves
-    f2 = plate_modes(replace(d.stator, mesh_size_m=d.stator.element_size_m / 2), par.material, 2)
+    f2 = plate_modes(replace(d.stator, mesh_size_m=d.stator.element_size_m / 2), par.material,
+                     MeshSettings(2))
     out["fixlen_split_fine"] = f2.B2.f_short_Hz / f2.L1.f_short_Hz - 1
-    f3 = solid_modes(d.stator, par.material, 2)
+    f3 = solid_modes(d.stator, par.material, MeshSettings(2))
     out["fixlen_split_3d"] = f3.B2.f_short_Hz / f3.L1.f_short_Hz - 1
     return out
 
@@ -2091,11 +2095,12 @@ def _refine48() -> dict[str, float]:
     """Dofs and wall time of ``lusm modes --refine 48`` over the default refine's (fastest
     of 3 at the default, one run at 48)."""
     from fem.geometry import PlateStator
-    from fem.modes import DEFAULT_REFINE, plate_modes
+    from fem.mesh_settings import DEFAULT_REFINE
+    from fem.modes import plate_modes
 
-    default = min(plate_modes(PlateStator(), "pzt8", 2, DEFAULT_REFINE).wall_time_s
+    default = min(plate_modes(PlateStator(), "pzt8", MeshSettings(2, DEFAULT_REFINE)).wall_time_s
                   for _ in range(3))
-    r = plate_modes(PlateStator(), "pzt8", 2, 48)
+    r = plate_modes(PlateStator(), "pzt8", MeshSettings(2, 48))
     return {"dofs": r.dofs, "time_ratio": r.wall_time_s / default}
 
 

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fem.mesh_settings import MeshSettings
 from validation import figures
 from validation.report_html import to_html
 from validation.summaries import signed_percent
@@ -86,7 +87,7 @@ def _parameter_sets(out: Path, quick: bool, progress: bool) -> tuple[list[str], 
     st = _Stage("1/5 parameter sets", 4, progress)  # the 3D solves take most of it
     comp = compare_sources(("table2", "beam", "fem"))
     st.say("compare")
-    modes = plate_modes(PlateStator(), get_material("pzt8"), 2, DEFAULT_REFINE)
+    modes = plate_modes(PlateStator(), get_material("pzt8"), MeshSettings(2, DEFAULT_REFINE))
     st.say("FE modes")
     params = {s: get_params(s) for s in ("table2", "beam", "fem")}
     st.say("sets")

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fem.mesh_settings import MeshSettings
 from rom.params import PARAM_UNITS
 from validation.summaries import (
     damping_line,
@@ -105,16 +106,16 @@ def _modes_section(choice, out: Path, quick: bool, say, stator: str):
     from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_modes
 
     st, mat = choice.stator, choice.material
-    m2 = plate_modes(st, mat, 2, DEFAULT_REFINE)
+    m2 = plate_modes(st, mat, MeshSettings(2, DEFAULT_REFINE))
     say("2D modes")
     refine3 = max(DEFAULT_REFINE_3D - (1 if quick else 0), 1)
-    m3 = solid_modes(st, mat, 2, refine3, DEFAULT_LAYERS)
+    m3 = solid_modes(st, mat, MeshSettings(2, refine3, DEFAULT_LAYERS))
     say("3D modes")
     from contact.deferred_signals import deferred_signals
 
     with deferred_signals():  # not interrupted half-way: a signal there crashes VTK
         import pyvista  # noqa: F401
-    model = plate_model(st, mat, 2, DEFAULT_REFINE)
+    model = plate_model(st, mat, MeshSettings(2, DEFAULT_REFINE))
     with deferred_signals():  # about a second; a SIGTERM inside VTK's rendering crashes the
         # report (exit 139, 2 of about 90 tries) and leaves its staging folder
         pictures = render_modes(model, m2, out / "figures", prefix="design_")
@@ -169,7 +170,7 @@ def _pictures_3d(choice, m3, refine3: int, out: Path) -> list[Path]:
     from fem.render3d import render_modes3d
     from fem.solid3d.model import DEFAULT_LAYERS, solid_model
 
-    model = solid_model(choice.stator, choice.material, 2, refine3, DEFAULT_LAYERS)
+    model = solid_model(choice.stator, choice.material, MeshSettings(2, refine3, DEFAULT_LAYERS))
     return render_modes3d(model, (m3.L1, m3.B2), out / "figures", prefix="design_3d_")
 
 
@@ -181,7 +182,8 @@ def _band_section(choice, m3, refine3: int, stator: str) -> tuple[list[str], dic
     from fem.solid3d.model import DEFAULT_LAYERS, solid_model
 
     ops = {"L1": m3.L1.f_short_Hz, "B2": m3.B2.f_short_Hz}
-    band = band_modes(solid_model(choice.stator, choice.material, 2, refine3, DEFAULT_LAYERS),
+    band = band_modes(solid_model(choice.stator, choice.material,
+                                  MeshSettings(2, refine3, DEFAULT_LAYERS)),
                       *default_band_Hz(ops), ops)
     md = [f"Every mode of the 3D model within the L1/B2 pair +/- 20 % "
           f"({band.f_min_Hz:.0f}-{band.f_max_Hz:.0f} Hz; "

@@ -19,14 +19,11 @@ import numpy as np
 from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
+from fem.mesh_settings import DEFAULT_REFINE
 
 GAP_PHYSICAL_TAG = 10
 """gmsh physical tag of the unelectroded gap strips."""
 
-DEFAULT_REFINE = 4
-"""Default refinement of the structured mesh (elements per smaller plate dimension): the
-mesh of :func:`structured_mesh`, :func:`fem.model.plate_model` and :func:`fem.modes.plate_modes`
-unless told otherwise (its discretisation error is in ``docs/fem.md`` section 6)."""
 
 GAP_NAME = "gap"
 """Name of the unelectroded region (scikit-fem subdomain, gmsh physical group)."""
@@ -221,7 +218,7 @@ def _segments(breaks: list[float], h_target: float) -> np.ndarray:
 MAX_LIBRARY_CELLS_2D = 200_000
 """Elements of a generated 2D mesh a library call builds (ten times the CLI's bound,
 ``lusm.limits.MAX_FE_CELLS_2D``; ``LUSM_MAX_WORK`` multiplies it):
-``plate_modes(refine=10000)`` would run out of memory."""
+``plate_modes(mesh=MeshSettings(refine=10000))`` would run out of memory."""
 MAX_LIBRARY_BRICKS_3D = 20_000
 """Bricks of a generated 3D mesh a library call builds (ten times the CLI's bound)."""
 

@@ -24,6 +24,7 @@ from dataclasses import dataclass, replace
 
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial, get_material
+from fem.mesh_settings import MeshSettings
 from fem.meshing.meshed_stator import has_planform
 from fem.solid3d.symmetric import quarter_model_applies
 
@@ -48,6 +49,10 @@ class MeshLevel:
                     if self.size_factor != 1.0 else "")
             return f"{size}layers {self.layers}, edge grading {self.edge_grading}"
         return f"refine {self.refine}, layers {self.layers}, edge grading {self.edge_grading}"
+
+    def settings(self, order: int = 2) -> MeshSettings:
+        """The FE entry points' :class:`fem.mesh_settings.MeshSettings` of this mesh."""
+        return MeshSettings(order, self.refine, self.layers, edge_grading=self.edge_grading)
 
 
 DEFAULT_MESHES = (MeshLevel(3, 3, 1), MeshLevel(5, 3, 2))
@@ -119,12 +124,10 @@ def _solve(stator: PlateStator, material: PiezoMaterial, order: int, level: Mesh
     if not quarter:
         from fem.solid3d.model import solid_modes
 
-        return solid_modes(stator, material, order, level.refine, level.layers,
-                           edge_grading=level.edge_grading)
+        return solid_modes(stator, material, level.settings(order))
     from fem.solid3d.symmetric import symmetric_solid_modes
 
-    return symmetric_solid_modes(stator, material, order, level.refine, level.layers,
-                                 edge_grading=level.edge_grading)
+    return symmetric_solid_modes(stator, material, level.settings(order))
 
 
 def estimated_solid_modes(stator: PlateStator | None = None,

@@ -65,7 +65,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -76,6 +76,10 @@ from bounds import ParameterError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
 from fem.material import EPS0_F_M, PiezoMaterial, get_material
+from fem.mesh_settings import DEFAULT_ELEMENT as DEFAULT_ELEMENT
+from fem.mesh_settings import DEFAULT_LAYERS as DEFAULT_LAYERS
+from fem.mesh_settings import DEFAULT_REFINE_3D as DEFAULT_REFINE_3D
+from fem.mesh_settings import MeshSettings
 from fem.meshing.mesh import (
     MAX_LIBRARY_BRICKS_3D,
     PlateMesh,
@@ -93,18 +97,12 @@ from fem.modes import (
     match_modes,
     reference_shapes,
     sampling_grid,
+    shift_invert_eigsh,
     solve_short_open,
 )
 
 ELEMENTS = ("hex20", "hex27")
 """Quadratic bricks: 20-node serendipity (``ElementHexS2``), 27-node (``ElementHex2``)."""
-DEFAULT_ELEMENT = "hex20"
-"""Default quadratic brick (see the module docstring and ``docs/fem3d.md``)."""
-DEFAULT_REFINE_3D = 3
-"""Default in-plane refinement: elements per plate width, as in
-:func:`fem.meshing.mesh.grid_lines_m`."""
-DEFAULT_LAYERS = 3
-"""Default number of element layers through the thickness."""
 MIN_THICKNESS_SYMMETRY = 0.5
 """Smallest energy fraction of a mode's sampled field that is symmetric through the thickness
 (in-plane class: ``u_x, u_y`` even in z, ``u_z`` odd) for it to be a candidate L1/B2. Not
@@ -131,19 +129,20 @@ def _check_int(name: str, value: object, minimum: int = 1) -> int:
     return int(value)
 
 
-def mesh_settings(order: object, element: str, refine: object, layers: object,
-                  edge_grading: object) -> tuple[int, str, int, int, int]:
-    """Validated, normalized 3D mesh arguments ``(order, element, refine, layers,
-    edge_grading)``, the key of the cached 3D models (full and quarter plate).
+def solid_arguments(mesh: MeshSettings | None) -> MeshSettings:
+    """Validated, normalized 3D settings (:meth:`fem.mesh_settings.MeshSettings.solid`), the
+    key of the cached 3D models (full and quarter plate).
 
     Raises
     ------
     ValueError
         Naming the first bad argument and its allowed values.
     """
-    _element(order, element)
-    return (int(order), element, _check_int("refine", refine), _check_int("layers", layers),
-            _check_int("edge_grading", edge_grading, 0))
+    mesh = (MeshSettings() if mesh is None else mesh).solid()
+    _element(mesh.order, mesh.element)
+    return replace(mesh, order=int(mesh.order), refine=_check_int("refine", mesh.refine),
+                   layers=_check_int("layers", mesh.layers),
+                   edge_grading=_check_int("edge_grading", mesh.edge_grading, 0))
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,7 +152,9 @@ class SolidPlateModel:
     Attributes
     ----------
     stator : PlateStator
+        The plate modelled, poled along z.
     material : PiezoMaterial
+        Its full 3D constants.
     order : int
         1 (trilinear) or 2 (quadratic).
     element : str
@@ -289,8 +290,9 @@ class SolidPlateModel:
 
 def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading: int) -> None:
     """Refuse a 3D mesh above :data:`fem.meshing.mesh.MAX_LIBRARY_BRICKS_3D` bricks before it is
-    built (``solid_modes(refine=200)`` runs out of memory): the generated plate's bricks,
-    counted from its lines, or a planform's elements times ``layers`` (at least)."""
+    built (``solid_modes(mesh=MeshSettings(refine=200))`` runs out of memory): the generated
+    plate's bricks, counted from its lines, or a planform's elements times ``layers`` (at
+    least)."""
     planform = planform_mesh(stator)
     if planform is None:
         check_generated_size(stator, refine, layers, count=lambda: math.prod(
@@ -569,11 +571,7 @@ def _planform_electrodes(
 def build_solid_model(
     stator: PlateStator,
     material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int = DEFAULT_REFINE_3D,
-    layers: int = DEFAULT_LAYERS,
-    element: str = DEFAULT_ELEMENT,
-    edge_grading: int = 0,
+    mesh: MeshSettings | None = None,
     grid_lines: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> SolidPlateModel:
     """Assemble the 3D model of ``stator`` on a quadratic brick mesh.
@@ -589,21 +587,17 @@ def build_solid_model(
         with a planform mesh, differently tagged electrodes must not share a node.
     material : PiezoMaterial or str
         Full 3D constants ``c^E``, ``e``, ``eps^S``; poling along z.
-    order : int
-        2 (quadratic, default) or 1 (trilinear).
-    refine : int
-        In-plane elements per plate width; the grid lines follow the electrode edges
-        (:func:`fem.meshing.mesh.grid_lines_m`).
-    layers : int
-        Element layers through the thickness.
-    element : str
-        ``'hex20'`` (default) or ``'hex27'``; ignored for order 1.
-    edge_grading : int
-        Levels of geometric refinement towards the electrode edges (0: uniform mesh): lines
-        at ``g/2, ..., g/2^levels`` from each edge on both sides, and at ``g, 2g, 4g, ...``
-        outside up to half the coarse spacing; layers at the same depths below the top
-        face. For a planform mesh only the layers are graded, on the scale of its narrower
-        gap strip (:func:`planform_layer_lines`); its in-plane mesh is the file's.
+    mesh : MeshSettings, optional
+        ``order`` 2 (quadratic, default) or 1 (trilinear); ``refine``, in-plane elements
+        per plate width, the grid lines following the electrode edges
+        (:func:`fem.meshing.mesh.grid_lines_m`); ``layers`` through the thickness;
+        ``element`` ``'hex20'`` (default) or ``'hex27'``, ignored for order 1;
+        ``edge_grading``, levels of geometric refinement towards the electrode edges (0:
+        uniform mesh): lines at ``g/2, ..., g/2^levels`` from each edge on both sides, and
+        at ``g, 2g, 4g, ...`` outside up to half the coarse spacing; layers at the same
+        depths below the top face. For a planform mesh only the layers are graded, on the
+        scale of its narrower gap strip (:func:`planform_layer_lines`); its in-plane mesh
+        is the file's.
     grid_lines : tuple of numpy.ndarray, optional
         Explicit tensor lines ``(x, y, z)`` (m) of the structured mesh of a plain plate,
         replacing those of ``refine``, ``layers`` and ``edge_grading`` (which are then only
@@ -618,18 +612,21 @@ def build_solid_model(
     """
     t0 = time.perf_counter()
     mat = get_material(material)
+    mesh = (MeshSettings() if mesh is None else mesh).solid()
+    order, element = mesh.order, mesh.element
     _element(order, element)
-    refine = _check_int("refine", refine)
-    layers = _check_int("layers", layers)
+    refine = _check_int("refine", mesh.refine)
+    layers = _check_int("layers", mesh.layers)
     planform = planform_mesh(stator)
     if planform is None and stator.electrode_gap_m <= 0.0:
         raise ValueError(
             "PlateStator.electrode_gap_m must be > 0 in the 3D model: with no gap the four "
             "quadrants touch and form one conductor"
         )
-    mesh, levels = _solid_mesh(stator, planform, refine, layers, edge_grading, grid_lines)
-    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element,
-                                                   _tip_cells(mesh, stator))
+    bricks, levels = _solid_mesh(stator, planform, refine, layers, mesh.edge_grading,
+                                 grid_lines)
+    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(bricks, mat, order, element,
+                                                   _tip_cells(bricks, stator))
     electrode_dofs, bottom = _electrode_dofs(stator, planform, basis, levels)
     return SolidPlateModel(
         stator=stator,
@@ -784,38 +781,26 @@ def assemble_solid(mesh, material: PiezoMaterial | str = "pzt8", order: int = 2,
 
 
 @lru_cache(maxsize=8)
-def _cached_solid_model(
-    stator: PlateStator, material: PiezoMaterial, order: int, refine: int, layers: int,
-    element: str, edge_grading: int = 0,
-) -> SolidPlateModel:
-    return build_solid_model(stator, material, order, refine, layers, element, edge_grading)
+def _cached_solid_model(stator: PlateStator, material: PiezoMaterial,
+                        mesh: MeshSettings) -> SolidPlateModel:
+    return build_solid_model(stator, material, mesh)
 
 
-def solid_model(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int = DEFAULT_REFINE_3D,
-    layers: int = DEFAULT_LAYERS,
-    element: str = DEFAULT_ELEMENT,
-    edge_grading: int = 0,
-) -> SolidPlateModel:
+def solid_model(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                mesh: MeshSettings | None = None) -> SolidPlateModel:
     """Cached :func:`build_solid_model` (default: the paper's plate, PZT-8, default mesh)."""
-    return _cached_solid_model(*_solid_key("solid_model", stator, material, order, refine,
-                                           layers, element, edge_grading))
+    return _cached_solid_model(*_solid_key("solid_model", stator, material, mesh))
 
 
 def _solid_key(caller: str, stator: PlateStator | None, material: PiezoMaterial | str,
-               order: object, refine: object, layers: object, element: str,
-               edge_grading: object) -> tuple:
-    """The cache key ``(stator, material, order, refine, layers, element, edge_grading)`` of
-    :func:`solid_model` and :func:`solid_modes`, checked (plate, mesh arguments, mesh size)
-    before anything is cached or meshed."""
+               mesh: MeshSettings | None) -> tuple[PlateStator, PiezoMaterial, MeshSettings]:
+    """The cache key ``(stator, material, mesh)`` of :func:`solid_model` and
+    :func:`solid_modes`, checked (plate, mesh settings, mesh size) before anything is cached
+    or meshed."""
     stator = require_plate(stator, caller)
-    order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
-                                                            edge_grading)
-    check_solid_size(stator, refine, layers, grading)
-    return stator, get_material(material), order, refine, layers, element, grading
+    mesh = solid_arguments(mesh)
+    check_solid_size(stator, mesh.refine, mesh.layers, mesh.edge_grading)
+    return stator, get_material(material), mesh
 
 
 _SPLU_OPTIONS = {
@@ -903,30 +888,14 @@ def saddle_point_frequencies_Hz(
     else:
         sigma = -((2.0 * math.pi * 100.0) ** 2)
     op, kop = _condensed_operators(Kuu, M, Kuphi, Kphiphi, sigma, row_order)
-    nu = Kuu.shape[0]
-    k = min(int(n_modes), nu - 2)
-    # a fixed starting vector makes repeated runs bit-identical (ARPACK's default is random)
-    v0 = np.random.default_rng(0).standard_normal(nu)
-    try:
-        w, v = sla.eigsh(kop, k=k, M=M, sigma=sigma, OPinv=op, which="LM", maxiter=maxiter,
-                         v0=v0)
-    except sla.ArpackNoConvergence as exc:
-        raise ModeSolverError(
-            f"eigsh (3D, shift-invert, sigma={sigma:.6g} rad^2/s^2, k={k}) did not converge: "
-            f"{len(exc.eigenvalues)} of {k} eigenpairs converged"
-        ) from exc
-    idx = np.argsort(w)
-    w, v = w[idx], v[:, idx]
+    w, v = shift_invert_eigsh(kop, M, op, sigma, min(int(n_modes), Kuu.shape[0] - 2), maxiter,
+                              label="3D, ")
     return np.sign(w) * np.sqrt(np.abs(w)) / (2.0 * math.pi), v
 
 
-def solid_frequencies_Hz(
-    model: SolidPlateModel,
-    n_modes: int = 10,
-    f_center_Hz: float = 0.0,
-    open_circuit: bool = False,
-    maxiter: int | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+def solid_frequencies_Hz(model: SolidPlateModel, n_modes: int = 10, f_center_Hz: float = 0.0,
+                         open_circuit: bool = False,
+                         maxiter: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The ``n_modes`` natural frequencies (Hz) nearest ``f_center_Hz`` and their shapes.
 
     ``model`` is the full plate or one symmetry class of its quarter
@@ -1111,23 +1080,13 @@ def modes_of_solid_model(
 
 
 @lru_cache(maxsize=16)
-def _cached_solid_modes(
-    stator: PlateStator, material: PiezoMaterial, order: int, refine: int, layers: int,
-    element: str, edge_grading: int = 0,
-) -> SolidModes:
-    model = build_solid_model(stator, material, order, refine, layers, element, edge_grading)
-    return modes_of_solid_model(model)
+def _cached_solid_modes(stator: PlateStator, material: PiezoMaterial,
+                        mesh: MeshSettings) -> SolidModes:
+    return modes_of_solid_model(build_solid_model(stator, material, mesh))
 
 
-def solid_modes(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int = DEFAULT_REFINE_3D,
-    layers: int = DEFAULT_LAYERS,
-    element: str = DEFAULT_ELEMENT,
-    edge_grading: int = 0,
-) -> SolidModes:
+def solid_modes(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                mesh: MeshSettings | None = None) -> SolidModes:
     """L1 and B2 (short/open circuit, k_eff) of the 3D plate (cached).
 
     Parameters
@@ -1136,16 +1095,8 @@ def solid_modes(
         Default: the paper's 30 x 7.5 x 3 mm plate.
     material : PiezoMaterial or str
         ``'pzt8'`` or ``'paper'`` or a material.
-    order : int
-        2 (quadratic, default) or 1.
-    refine : int
-        In-plane elements per plate width.
-    layers : int
-        Element layers through the thickness.
-    element : str
-        ``'hex20'`` (default) or ``'hex27'``.
-    edge_grading : int
-        Levels of mesh grading towards the electrode edges (:func:`build_solid_model`).
+    mesh : MeshSettings, optional
+        Order, refinement, layers, element and edge grading (:func:`build_solid_model`);
+        default :class:`fem.mesh_settings.MeshSettings`.
     """
-    return _cached_solid_modes(*_solid_key("solid_modes", stator, material, order, refine,
-                                           layers, element, edge_grading))
+    return _cached_solid_modes(*_solid_key("solid_modes", stator, material, mesh))

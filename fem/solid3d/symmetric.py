@@ -43,18 +43,18 @@ import scipy.sparse as sp
 
 from fem.geometry import PlateStator
 from fem.material import PiezoMaterial, get_material
+from fem.mesh_settings import MeshSettings
 from fem.meshing.meshed_stator import has_planform
 from fem.modes import SAMPLE_INSET, sampling_grid, solve_short_open
 from fem.solid3d.grid_ordering import nested_dissection_rank
 from fem.solid3d.model import (
-    DEFAULT_ELEMENT,
     DEFAULT_LAYERS,
     DEFAULT_REFINE_3D,
     SolidModes,
     assemble_solid,
     hex_grid_lines,
     identify_sampled,
-    mesh_settings,
+    solid_arguments,
     solid_frequencies_Hz,
 )
 
@@ -99,7 +99,9 @@ class QuarterPlateModel:
     Attributes
     ----------
     stator : PlateStator
+        The whole plate (plain, rectangular); the model is its quarter.
     material : PiezoMaterial
+        Its full 3D constants.
     mode : str
         ``'L1'`` or ``'B2'``: the symmetry class.
     basis : skfem.CellBasis
@@ -117,6 +119,7 @@ class QuarterPlateModel:
     ground_dofs : numpy.ndarray
         Potentials fixed to 0: bottom face (and both symmetry planes in the B2 class).
     assembly_time_s : float
+        Mesh and assembly wall time (s).
     """
 
     stator: PlateStator
@@ -204,11 +207,7 @@ def build_quarter_model(
     stator: PlateStator,
     mode: str,
     material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int = DEFAULT_REFINE_3D,
-    layers: int = DEFAULT_LAYERS,
-    element: str = DEFAULT_ELEMENT,
-    edge_grading: int = 0,
+    mesh: MeshSettings | None = None,
     grid_lines: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> QuarterPlateModel:
     """Assemble the quarter ``x >= 0, y >= l/2`` of a plain plate for one symmetry class.
@@ -219,7 +218,7 @@ def build_quarter_model(
         A plain rectangular plate (no planform mesh); any gap >= 0.
     mode : str
         ``'L1'`` or ``'B2'`` (module docstring: the constraints of each class).
-    material, order, refine, layers, element, edge_grading
+    material, mesh
         As :func:`fem.solid3d.model.build_solid_model`; the mesh is :func:`quarter_grid_lines`.
     grid_lines : tuple of numpy.ndarray, optional
         Explicit quarter lines ``(x, y, z)`` (m), from ``x = 0`` and ``y = l/2``.
@@ -238,10 +237,11 @@ def build_quarter_model(
         raise ValueError("the quarter model needs a plain rectangular plate (its planform mesh "
                          "need not be symmetric); use fem.solid3d.model.build_solid_model")
     mat = get_material(material)
-    lines = quarter_grid_lines(stator, refine, layers, edge_grading) if grid_lines is None \
-        else grid_lines
-    mesh = MeshHex.init_tensor(*(np.asarray(v, dtype=float) for v in lines))
-    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(mesh, mat, order, element)
+    mesh = (MeshSettings() if mesh is None else mesh).solid()
+    lines = quarter_grid_lines(stator, mesh.refine, mesh.layers, mesh.edge_grading) \
+        if grid_lines is None else grid_lines
+    bricks = MeshHex.init_tensor(*(np.asarray(v, dtype=float) for v in lines))
+    basis, Kuu, M, Kuphi, Kphiphi = assemble_solid(bricks, mat, mesh.order, mesh.element)
     n = int(basis.N)
     xyz = basis.doflocs
     length, h, g = stator.length_m, stator.thickness_m, stator.electrode_gap_m
@@ -303,12 +303,12 @@ class SymmetricSolidModes(SolidModes):
     edge_grading: int = 0
 
 
-def modes_of_quarter_models(l1: QuarterPlateModel, b2: QuarterPlateModel, order: int = 2,
-                            refine: int = DEFAULT_REFINE_3D, layers: int = DEFAULT_LAYERS,
-                            element: str = DEFAULT_ELEMENT, edge_grading: int = 0,
+def modes_of_quarter_models(l1: QuarterPlateModel, b2: QuarterPlateModel,
+                            mesh: MeshSettings | None = None,
                             f_center_Hz: float | None = None,
                             n_modes: int = 8) -> SymmetricSolidModes:
-    """Short- and open-circuit L1 and B2 from the assembled quarter models of both classes.
+    """Short- and open-circuit L1 and B2 from the assembled quarter models of both classes
+    (``mesh``, the models' settings, is recorded in the result).
 
     Raises
     ------
@@ -316,6 +316,7 @@ def modes_of_quarter_models(l1: QuarterPlateModel, b2: QuarterPlateModel, order:
         If eigsh does not converge or a mode cannot be identified.
     """
     t0 = time.perf_counter()
+    mesh = (MeshSettings() if mesh is None else mesh).solid()
     modes, f_short, f_open, dofs, t_short = {}, [], [], 0, 0.0
     for model in (l1, b2):
         fs, fo, found, ts = solve_short_open(model, solid_frequencies_Hz, _identify_quarter,
@@ -335,11 +336,11 @@ def modes_of_quarter_models(l1: QuarterPlateModel, b2: QuarterPlateModel, order:
         dofs=dofs,
         wall_time_s=time.perf_counter() - t0 + l1.assembly_time_s + b2.assembly_time_s,
         solve_time_s=t_short,
-        order=order,
-        refine=refine,
-        layers=layers,
-        element=element if order == 2 else "hex8",
-        edge_grading=edge_grading,
+        order=mesh.order,
+        refine=mesh.refine,
+        layers=mesh.layers,
+        element=mesh.element if mesh.order == 2 else "hex8",
+        edge_grading=mesh.edge_grading,
     )
 
 
@@ -351,23 +352,14 @@ def quarter_model_applies(stator: PlateStator, edge_grading: int) -> bool:
 
 
 @lru_cache(maxsize=16)
-def _cached_symmetric_modes(stator: PlateStator, material: PiezoMaterial, order: int,
-                            refine: int, layers: int, element: str,
-                            edge_grading: int) -> SymmetricSolidModes:
-    l1, b2 = (build_quarter_model(stator, m, material, order, refine, layers, element,
-                                  edge_grading) for m in MODE_CLASSES)
-    return modes_of_quarter_models(l1, b2, order, refine, layers, element, edge_grading)
+def _cached_symmetric_modes(stator: PlateStator, material: PiezoMaterial,
+                            mesh: MeshSettings) -> SymmetricSolidModes:
+    l1, b2 = (build_quarter_model(stator, m, material, mesh) for m in MODE_CLASSES)
+    return modes_of_quarter_models(l1, b2, mesh)
 
 
-def symmetric_solid_modes(
-    stator: PlateStator | None = None,
-    material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int = DEFAULT_REFINE_3D,
-    layers: int = DEFAULT_LAYERS,
-    element: str = DEFAULT_ELEMENT,
-    edge_grading: int = 0,
-) -> SymmetricSolidModes:
+def symmetric_solid_modes(stator: PlateStator | None = None, material: PiezoMaterial | str = "pzt8",
+                          mesh: MeshSettings | None = None) -> SymmetricSolidModes:
     """L1 and B2 (short/open circuit, k_eff) of a plain plate from its quarter (cached).
 
     The same fields as :func:`fem.solid3d.model.solid_modes` with the same arguments; the mesh is
@@ -383,7 +375,4 @@ def symmetric_solid_modes(
         If a mode cannot be found.
     """
     stator = PlateStator() if stator is None else stator
-    order, element, refine, layers, grading = mesh_settings(order, element, refine, layers,
-                                                            edge_grading)
-    return _cached_symmetric_modes(stator, get_material(material), order, refine, layers,
-                                   element, grading)
+    return _cached_symmetric_modes(stator, get_material(material), solid_arguments(mesh))

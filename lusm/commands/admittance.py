@@ -8,9 +8,13 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import TYPE_CHECKING
 
 from lusm import limits
 from lusm.options import add_band_options, add_output_options, add_plate_options, print_json, real
+
+if TYPE_CHECKING:
+    from fem.mesh_settings import MeshSettings
 
 HELP = "admittance Y(f) of the driven electrodes: resonance/antiresonance, k_eff, PNG"
 DESCRIPTION = """\
@@ -55,19 +59,12 @@ def _electrodes(text: str | None) -> tuple[int, ...] | None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm admittance`` with parsed ``args``."""
+    from fem.mesh_settings import MeshSettings
     from fem.meshing.mesh import DEFAULT_REFINE
-    from lusm.commands.modes import warn_linear_elements
-    from lusm.options import (
-        check_band_order,
-        check_fe_size,
-        output_folder,
-        stator_from_args,
-        write_figures,
-    )
+    from lusm.commands.modes import start_band_command
+    from lusm.options import check_fe_size, stator_from_args, write_figures
 
-    warn_linear_elements(args)
-    out = output_folder(args, "--out")
-    check_band_order(args.f_min, args.f_max)
+    out = start_band_command(args, "--out")
     electrodes = _electrodes(args.electrodes)
     choice = stator_from_args(args)
     refine = DEFAULT_REFINE if args.refine is None else args.refine
@@ -75,7 +72,7 @@ def run(args: argparse.Namespace) -> None:
     # refused before any work; a band the user gives needs neither
     check_fe_size(choice.stator, refine, needs_b2=args.f_min is None or args.f_max is None)
     damping = _damping(args, choice)
-    res = _solve(args, choice, refine, electrodes, damping)
+    res = _solve(args, choice, MeshSettings(args.order, refine), electrodes, damping)
     _warn_unresolved(res, args.f_max, refine)
     _warn_missed(res, args.f_min, args.f_max, args.points)
     circuit = _circuit(res)
@@ -167,7 +164,7 @@ def _damping(args: argparse.Namespace, choice) -> dict:
     return {"zeta_L1": zetas[0], "zeta_B2": zetas[1], "from": origin}
 
 
-def _default_band(args: argparse.Namespace, choice, refine: int) -> None:
+def _default_band(args: argparse.Namespace, choice, mesh: MeshSettings) -> None:
     """Fill a missing ``--f-min`` / ``--f-max`` from the design's L1 and B2, bounding the
     modes below ``--f-max`` before the design's modes are solved."""
     from fem.admittance import check_mode_count, design_band_Hz
@@ -176,9 +173,9 @@ def _default_band(args: argparse.Namespace, choice, refine: int) -> None:
     from lusm.errors import LusmError
 
     if args.f_max is not None and args.f_min is None:
-        check_mode_count(plate_model(choice.stator, choice.material, args.order, refine),
+        check_mode_count(plate_model(choice.stator, choice.material, mesh),
                          args.f_max, max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
-    lo, hi = design_band_Hz(plate_modes(choice.stator, choice.material, args.order, refine))
+    lo, hi = design_band_Hz(plate_modes(choice.stator, choice.material, mesh))
     given = "--f-min" if args.f_max is None else "--f-max"
     args.f_min = lo if args.f_min is None else args.f_min
     args.f_max = hi if args.f_max is None else args.f_max
@@ -189,7 +186,7 @@ def _default_band(args: argparse.Namespace, choice, refine: int) -> None:
             "--f-max", given)
 
 
-def _solve(args: argparse.Namespace, choice, refine: int, electrodes, damping: dict):
+def _solve(args: argparse.Namespace, choice, mesh: MeshSettings, electrodes, damping: dict):
     """:func:`fem.admittance.plate_admittance` over the band, its failures as bad input."""
     from fem.admittance import TooManyModesError, plate_admittance
     from fem.modes import ModeSolverError
@@ -198,11 +195,11 @@ def _solve(args: argparse.Namespace, choice, refine: int, electrodes, damping: d
 
     try:
         if args.f_min is None or args.f_max is None:  # centre the band on the design
-            _default_band(args, choice, refine)
+            _default_band(args, choice, mesh)
         return plate_admittance(choice.stator, choice.material, args.f_min, args.f_max,
                                 args.points, electrodes=electrodes, zeta=args.zeta,
                                 zeta_L1=damping["zeta_L1"], zeta_B2=damping["zeta_B2"],
-                                order=args.order, refine=refine,
+                                mesh=mesh,
                                 max_modes=limits.work_bound(limits.MAX_ADMITTANCE_MODES))
     except TooManyModesError as exc:
         raise LusmError(

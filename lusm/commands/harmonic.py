@@ -50,18 +50,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm harmonic`` with parsed ``args``."""
     from fem.meshing.mesh import DEFAULT_REFINE
-    from lusm.commands.modes import warn_linear_elements
-    from lusm.options import (
-        check_band_order,
-        check_fe_size,
-        output_folder,
-        parse_frequency,
-        stator_from_args,
-    )
+    from lusm.commands.modes import start_band_command
+    from lusm.options import check_fe_size, parse_frequency, stator_from_args
 
-    warn_linear_elements(args)
-    plot = output_folder(args, "--plot")
-    check_band_order(args.f_min, args.f_max)
+    plot = start_band_command(args, "--plot")
     if args.frequency.strip().lower() != "auto":
         parse_frequency(args.frequency)  # refused before any work
     choice = stator_from_args(args)
@@ -82,6 +74,7 @@ def run(args: argparse.Namespace) -> None:
 def _reduced(args: argparse.Namespace, choice, refine: int):
     """The reduced set of the FE plate (its damping from ``--zeta``, the stator file or Table
     2), where it came from, and the model and modes it was reduced from (the same mesh)."""
+    from fem.mesh_settings import MeshSettings
     from fem.model import plate_model
     from fem.modes import plate_modes
     from lusm.errors import LusmError
@@ -101,8 +94,9 @@ def _reduced(args: argparse.Namespace, choice, refine: int):
             if choice.design is not None:
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
             raise
-        model = plate_model(choice.stator, choice.material, args.order, refine)
-        modes = plate_modes(choice.stator, choice.material, args.order, refine)
+        mesh = MeshSettings(args.order, refine)
+        model = plate_model(choice.stator, choice.material, mesh)
+        modes = plate_modes(choice.stator, choice.material, mesh)
     origin = ("--zeta (L1 and B2)" if ratios is not None
               else fem_damping_origin(args.geometry, choice.design))
     return params, origin, model, modes

@@ -10,11 +10,15 @@ from __future__ import annotations
 import argparse
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from lusm import limits
 from lusm.errors import short_reason
 from lusm.fe_errors import fe_failure, is_fe_failure
 from lusm.options import add_output_options, add_plate_options, integer, print_json, real
+
+if TYPE_CHECKING:
+    from fem.mesh_settings import MeshSettings
 
 HELP = "FE natural frequencies (short/open circuit) and k_eff of L1 and B2"
 DESCRIPTION = """\
@@ -129,6 +133,19 @@ def warn_linear_elements(args: argparse.Namespace) -> None:
              "tuned dimensions move with it; use --order 2 (the default) for a design")
 
 
+def start_band_command(args: argparse.Namespace, out_option: str):
+    """The start the FE band commands (``admittance``, ``harmonic``) share, before any work:
+    the ``--order 1`` warning, the output folder of ``out_option`` checked
+    (:func:`lusm.options.output_folder`; returned, None without one) and ``--f-min`` below
+    ``--f-max``."""
+    from lusm.options import check_band_order, output_folder
+
+    warn_linear_elements(args)
+    out = output_folder(args, out_option)
+    check_band_order(args.f_min, args.f_max)
+    return out
+
+
 def check_refine_3d(refine: int | None) -> None:
     """The 3D model's tighter bound on ``--refine``."""
     from lusm.errors import LusmError
@@ -154,7 +171,7 @@ def run(args: argparse.Namespace) -> None:
         estimate, res = res, res.fine
     if export is not None:
         _export(args, choice, mesh, res, export)
-    mounts = _mount_amplitudes(choice, choice.material, args, mesh.refine, res)
+    mounts = _mount_amplitudes(choice, choice.material, args, mesh.fe, res)
     band = _band(args, choice, mesh, res)
     if validity is not None:
         from lusm.messages import warn
@@ -170,20 +187,34 @@ def run(args: argparse.Namespace) -> None:
 
 @dataclass(frozen=True)
 class _Mesh:
-    """The FE mesh settings of one ``lusm modes`` run: ``refine``; for the 3D model its
-    ``layers``, ``edge_grading``, whether the quarter-plate model gives the full model's
-    results, and the coarse mesh of the error estimate (None: one mesh, no estimate)."""
+    """The FE mesh of one ``lusm modes`` run: the settings the FE entry points take
+    (``fe``, built once from ``--order``, ``--refine``, ``--layers``, ``--edge-grading``),
+    whether they are the 3D model's (``solid``), whether the quarter-plate model gives the
+    full model's results, and the coarse mesh of the error estimate (None: one mesh, no
+    estimate)."""
 
-    refine: int
-    layers: int | None = None
+    fe: MeshSettings
+    solid: bool = False
     quarter: bool = False
-    edge_grading: int = 0
     coarse: object = None
+
+    @property
+    def refine(self) -> int:
+        return self.fe.refine
+
+    @property
+    def layers(self) -> int | None:
+        return self.fe.layers if self.solid else None
+
+    @property
+    def edge_grading(self) -> int:
+        return self.fe.edge_grading
 
 
 def _mesh_settings(args: argparse.Namespace, stator, quarter_allowed: bool) -> _Mesh:
     """The mesh of ``--model``, ``--refine``, ``--layers``, ``--edge-grading``, ``--quick``,
     bounded before any work (the bound blames the option the user typed)."""
+    from fem.mesh_settings import MeshSettings
     from fem.meshing.mesh import DEFAULT_REFINE
     from lusm.errors import LusmError
     from lusm.options import check_fe_size
@@ -199,7 +230,7 @@ def _mesh_settings(args: argparse.Namespace, stator, quarter_allowed: bool) -> _
                 raise LusmError(f"{option} applies to --model 3d only ({why})", option)
         refine = DEFAULT_REFINE if args.refine is None else args.refine
         check_fe_size(stator, refine)
-        return _Mesh(refine)
+        return _Mesh(MeshSettings(args.order, refine))
     from fem.solid3d.estimate import QUICK_MESH, default_meshes
     from fem.solid3d.symmetric import quarter_model_applies
     from lusm.messages import typed
@@ -229,7 +260,8 @@ def _mesh_settings(args: argparse.Namespace, stator, quarter_allowed: bool) -> _
         # the default's fine mesh is above the bound: the uniform mesh may fit
         raise LusmError(f"{exc}; or --quick for one uniform mesh (no error estimate)",
                         exc.option) from None
-    return _Mesh(refine, layers, quarter, grading, coarse)
+    return _Mesh(MeshSettings(args.order, refine, layers, edge_grading=grading), True, quarter,
+                 coarse)
 
 
 def _warn_coarse_gap(args: argparse.Namespace, choice, mesh: _Mesh) -> str | None:
@@ -276,13 +308,11 @@ def _solve(args: argparse.Namespace, choice, mesh: _Mesh, coarse_gap: str | None
         elif mesh.quarter:
             from fem.solid3d.symmetric import symmetric_solid_modes
 
-            res = symmetric_solid_modes(stator, material, args.order, mesh.refine,
-                                        mesh.layers, edge_grading=mesh.edge_grading)
+            res = symmetric_solid_modes(stator, material, mesh.fe)
         elif args.model == "3d":
             from fem.solid3d.model import solid_modes
 
-            res = solid_modes(stator, material, args.order, mesh.refine, mesh.layers,
-                              edge_grading=mesh.edge_grading)
+            res = solid_modes(stator, material, mesh.fe)
         else:
             import warnings
 
@@ -291,7 +321,7 @@ def _solve(args: argparse.Namespace, choice, mesh: _Mesh, coarse_gap: str | None
             validity = stator_gap_validity_message(stator)
             with warnings.catch_warnings():  # reported once, after, on one line
                 warnings.simplefilter("ignore", GapValidityWarning)
-                res = plate_modes(stator, material, args.order, mesh.refine)
+                res = plate_modes(stator, material, mesh.fe)
     except Exception as exc:
         if coarse_gap is not None and "could not pair" in str(exc):
             # an open mode mixed with an out-of-plane one across an unresolved gap
@@ -343,7 +373,7 @@ def _band_model(args: argparse.Namespace, choice, mesh: _Mesh):
     if args.model != "3d":
         from fem.model import plate_model
 
-        return plate_model(stator, material, args.order, mesh.refine)
+        return plate_model(stator, material, mesh.fe)
     from fem.solid3d.model import solid_model
 
     if mesh.quarter:
@@ -351,8 +381,7 @@ def _band_model(args: argparse.Namespace, choice, mesh: _Mesh):
 
         check_fe_size(stator, mesh.refine, mesh.layers, "--band",
                       edge_grading=mesh.edge_grading)
-    return solid_model(stator, material, args.order, mesh.refine, mesh.layers,
-                       edge_grading=mesh.edge_grading)
+    return solid_model(stator, material, mesh.fe)
 
 
 def print_band(band) -> None:
@@ -377,20 +406,19 @@ def print_band(band) -> None:
 
 def _export(args: argparse.Namespace, choice, mesh: _Mesh, res, export) -> None:
     """Write the mode shapes on the full model's mesh to ``export``."""
-    stator, material, refine, layers = choice.stator, choice.material, mesh.refine, mesh.layers
+    stator, material = choice.stator, choice.material
     if args.model == "3d":
         from fem.export import export_solid_modes
         from fem.solid3d.model import build_solid_model
 
-        model = build_solid_model(stator, material, args.order, refine, layers,
-                                  edge_grading=mesh.edge_grading)
+        model = build_solid_model(stator, material, mesh.fe)
         _write_export(export, model, res, args.force, export_solid_modes)
     else:
         from fem.export import export_modes
         from fem.model import plate_model
 
-        _write_export(export, plate_model(stator, material, args.order, refine), res,
-                      args.force, export_modes)
+        _write_export(export, plate_model(stator, material, mesh.fe), res, args.force,
+                      export_modes)
 
 
 def _print_json(args: argparse.Namespace, choice, mesh: _Mesh, res, mounts, export,
@@ -532,7 +560,7 @@ def _print_estimated(res, estimate, planform: bool) -> None:
           f"--quick: one uniform mesh, faster, no estimate")
 
 
-def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
+def _mount_amplitudes(choice, material, args, fe: MeshSettings, res) -> list[dict]:
     """``[points] mounts_mm`` of the stator file: L1 and B2 amplitude there (2D model)."""
     design = choice.design
     if design is None or not design.mounts_m or args.model == "3d":
@@ -542,7 +570,7 @@ def _mount_amplitudes(choice, material, args, refine, res) -> list[dict]:
     from fem.model import plate_model
     from fem.modes import amplitude_ratio
 
-    model = plate_model(choice.stator, material, args.order, refine)
+    model = plate_model(choice.stator, material, fe)
     pts = np.array(design.mounts_m).T
     ratios = {name: amplitude_ratio(model, getattr(res, name).shape, pts)
               for name in ("L1", "B2")}

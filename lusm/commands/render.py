@@ -69,6 +69,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Run ``lusm render`` with parsed ``args``."""
+    from fem.mesh_settings import MeshSettings
     from lusm.commands.modes import warn_linear_elements
     from lusm.options import check_fe_size, output_folder, stator_from_args
 
@@ -87,13 +88,14 @@ def run(args: argparse.Namespace) -> None:
 
     refine = DEFAULT_REFINE if args.refine is None else args.refine
     check_fe_size(choice.stator, refine)
+    mesh = MeshSettings(args.order, refine)
     try:
-        modes = plate_modes(choice.stator, choice.material, args.order, refine)
+        modes = plate_modes(choice.stator, choice.material, mesh)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc, choice.stator) from exc
         raise
-    model = plate_model(choice.stator, choice.material, args.order, refine)
+    model = plate_model(choice.stator, choice.material, mesh)
     which = ("L1", "B2") if args.mode == "all" else (args.mode,)
     _draw(args, lambda stage: render_modes(model, modes, stage, which,
                                                      args.animate))
@@ -138,6 +140,7 @@ def _check_model_options(args: argparse.Namespace) -> None:
 def _run_3d(args: argparse.Namespace, choice) -> None:
     """``--model 3d``: the chosen modes of the 3D band, drawn by :mod:`fem.render3d`."""
     from fem.band import BandTooWideError, band_shapes, default_band_Hz
+    from fem.mesh_settings import MeshSettings
     from fem.solid3d.model import DEFAULT_LAYERS, DEFAULT_REFINE_3D, solid_model
     from lusm.commands.modes import check_refine_3d
     from lusm.errors import LusmError
@@ -149,7 +152,8 @@ def _run_3d(args: argparse.Namespace, choice) -> None:
     layers = DEFAULT_LAYERS if args.layers is None else args.layers
     check_fe_size(choice.stator, refine, layers, "--refine")
     with fe_failures_as_input(choice.stator):
-        model = solid_model(choice.stator, choice.material, args.order, refine, layers)
+        model = solid_model(choice.stator, choice.material,
+                            MeshSettings(args.order, refine, layers))
         if args.band in (None, "auto"):
             from fem.solid3d.model import modes_of_solid_model
 
