@@ -160,7 +160,8 @@ def test_bad_optimize_tables_name_their_key(change, key):
 
 def test_the_command_end_to_end(tmp_path, capsys):
     """A real search, small: two plates by FE (the coupling of B2 under a split bound) on a
-    one-worker LocalCluster, its figure, and its best design as a stator file that loads."""
+    one-worker LocalCluster, its figure, its best design as a stator file that loads, and
+    that design's 3D check."""
     from fem.stator_file import load_stator
     from lusm.cli import main
 
@@ -171,12 +172,15 @@ def test_the_command_end_to_end(tmp_path, capsys):
                      '[optimize.constraints]\nsplit = "20 %"\n')
     out, plots, best = tmp_path / "r.nc", tmp_path / "plots", tmp_path / "best.toml"
     assert main(["optimize", str(study), "--out", str(out), "--workers", "1", "--plot",
-                 str(plots), "--write", str(best), "--json"]) == 0
+                 str(plots), "--write", str(best), "--check-3d", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["evaluations"] == 2 and summary["computed"] == 2
     (b,) = summary["best"]
     assert summary["figures"] == [str(plots / "convergence.png")]
     assert (plots / "convergence.png").stat().st_size > 0
+    check = summary["check_3d"]
+    assert check["f_L1_2d_Hz"] == pytest.approx(b["f_L1_short_Hz"])
+    assert check["f_L1_3d_Hz"] == pytest.approx(check["f_L1_2d_Hz"], rel=0.01)
     design = load_stator(best)
     assert design.stator.length_m == pytest.approx(b["design"]["length"], rel=1e-9)
     assert main(["optimize", str(study), "--out", str(out)]) == 2  # not overwritten
