@@ -101,6 +101,62 @@ def test_resume_after_an_interruption_gives_the_same_result(client, tmp_path):
     assert resumed.best == whole.best
 
 
+def analytic_tuner(study, variable):
+    """The width (m) at which an analytic plate of length x (mm) is tuned: x / 4 + 0.5 mm;
+    none below x = 28.5 mm."""
+    x = geometry_of(study, 0)["length"] * 1e3
+    if x < 28.5:
+        raise ValueError(f"no crossing at length {x} mm")
+    return (x / 4.0 + 0.5) * 1e-3
+
+
+def analytic_tuned(study, index):
+    """:func:`analytic` with the split of the analytic tune: 1 kHz per mm off its width."""
+    out = analytic(study, index)
+    g = geometry_of(study, index)
+    out["split"] = np.array(1e6 * (g["width"] - analytic_tuner(study, "width")))
+    return out
+
+
+def test_a_tuned_search_evaluates_tuned_plates_and_resumes_exactly(client, tmp_path):
+    """split = "tuned": every evaluated plate has the tuner's width; a length the tuner finds
+    no crossing for (below 28.5 mm) or tunes outside [7, 8.5] mm (above 32 mm) is infeasible,
+    not evaluated, not a crash; an interrupted run resumed ends as the whole run."""
+    d = doc(16, {"split": "tuned", "tune": {"variable": "width", "min": "7 mm",
+                                            "max": "8.5 mm"}})
+    del d["optimize"]["variables"]["width"]
+    problem = problem_from_dict(d)
+    assert problem.tune.variable == "width" and problem.tune.high == pytest.approx(8.5e-3)
+    run = {"client": client, "evaluate": analytic_tuned, "tuner": analytic_tuner}
+    whole = optimize(problem, tmp_path / "whole.nc", **run)
+    from studies.dataset import open_result
+
+    ds = open_result(whole.path)
+    x, w = ds["length"].values * 1e3, ds["tuned_width"].values * 1e3
+    ok = (x >= 28.5) & (x <= 32.0)
+    np.testing.assert_allclose(w[x >= 28.5], x[x >= 28.5] / 4 + 0.5)
+    assert np.isnan(w[x < 28.5]).all() and ok.any() and (~ok).any()
+    np.testing.assert_array_equal(ds["feasible"].values == 1, ok)
+    assert (ds["constraint_tuned"].values[~ok] > 0).all()
+    assert all(str(s).startswith("tune: ") for s in ds["status"].values[~ok])
+    np.testing.assert_allclose(ds["split"].values[ok], 0.0, atol=1e-6)
+    (best,) = np.flatnonzero(ds["best"].values)
+    assert abs(x[best] - 30.94) < 1.0  # the optimum along the tuned ridge
+
+    def stop(trial):
+        if trial >= 5:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        optimize(problem, tmp_path / "cut.nc", on_trial=stop, **run)
+    resumed = optimize(problem, tmp_path / "cut.nc", resume=True, **run)
+    assert resumed.reused >= 1 and resumed.computed == 16 - resumed.reused
+    again = open_result(resumed.path)
+    for k in ("length", "tuned_width", "objective_no_load_velocity", "constraint_tuned",
+              "feasible", "best"):
+        np.testing.assert_array_equal(ds[k].values, again[k].values, err_msg=k)
+
+
 def test_a_constraint_no_design_meets_is_reported_not_an_optimum(client, tmp_path):
     problem = problem_from_dict(doc(6, {"stall_force": {"max": "20 N"}}))  # x + y >= 34
     result = optimize(problem, tmp_path / "r.nc", client=client, evaluate=analytic)
@@ -150,6 +206,12 @@ def test_the_drive_frequency_and_a_ratio_are_objectives():
     ({"constraints": {"heat": {"max": "1 W"}}}, "optimize.constraints.heat"),
     ({"variables": {"tip_length": {"min": "1 mm", "max": "2 mm"}}},
      "optimize.variables.tip_length"),
+    ({"constraints": {"split": "tuned"}}, "optimize.constraints.tune"),
+    ({"constraints": {"split": "tuned", "tune": "thickness"}}, "optimize.constraints.tune"),
+    ({"constraints": {"tune": "length"}}, "optimize.constraints.tune"),
+    ({"constraints": {"split": "tuned", "tune": {"variable": "length", "min": "9 mm",
+                                                 "max": "8 mm"}}},
+     "optimize.constraints.tune"),
 ])
 def test_bad_optimize_tables_name_their_key(change, key):
     d = doc()

@@ -142,22 +142,24 @@ def _design_text(problem, ds, row: int) -> str:
             items.append(f"frequency {float(value) / 1e3:.4f} kHz")
         else:
             items.append(f"{v.name} {float(value) * 1e3:.4g} mm")
+    if problem.tune is not None:
+        from studies.optimize.tuned import tuned_key
+
+        value = float(ds[tuned_key(problem.tune.variable)].values[row])
+        items.append(f"{problem.tune.variable} {value * 1e3:.5g} mm (tuned)")
     return ", ".join(items)
 
 
 def _summary(problem, result, ds) -> dict:
     """The run's summary: its counts and the best designs with their objectives and 2D
     split (JSON-ready, SI units)."""
-    from studies.optimize.result import objective_variable
+    from studies.optimize.result import objective_variable, row_design
 
     best = []
     trials = [int(t) for t in ds["trial"].values]
     for t in result.best:
         row = trials.index(t)
-        entry = {"trial": t, "design": {v.name: (str(ds[v.name].values[row])
-                                                 if v.name == "material"
-                                                 else float(ds[v.name].values[row]))
-                                        for v in problem.variables},
+        entry = {"trial": t, "design": row_design(problem, ds, row),
                  "objectives": {o.label: float(ds[objective_variable(o.label)].values[row])
                                 for o in problem.objectives},
                  "split_Hz": float(ds["split"].values[row]),
@@ -197,14 +199,13 @@ def _write(args: argparse.Namespace, problem, ds, path: Path) -> str | None:
     from lusm.messages import command_line
     from lusm.options import write_text_file
     from studies.optimize.export import best_stator_text
-    from studies.optimize.result import best_row
+    from studies.optimize.result import best_row, row_design
 
     row = best_row(ds)
     if row is None:
         raise LusmError(f"--write {path}: no design met the constraints, so there is no best "
                         f"design to write ({args.out} holds every evaluation)", "--write")
-    design = {v.name: (str(ds[v.name].values[row]) if v.name == "material"
-                       else float(ds[v.name].values[row])) for v in problem.variables}
+    design = row_design(problem, ds, row)
     split = float(ds["split"].values[row])
     comment = (f"Optimised by: {command_line()}\nbest design, trial {int(ds['trial'][row])}: "
                f"{_design_text(problem, ds, row)}; 2D split f_B2 - f_L1 = {split:.1f} Hz")

@@ -9,10 +9,10 @@ def check_3d(problem, ds, row: int) -> dict[str, float]:
     as ``lusm modes --model 3d``) and from the 2D model of the search."""
     from fem.solid3d.model import modes_of_solid_model, solid_model
     from studies.optimize.problem import trial_study
+    from studies.optimize.result import row_design
     from studies.task import geometry_of, plate_of
 
-    design = {v.name: (str(ds[v.name].values[row]) if v.name == "material"
-                       else float(ds[v.name].values[row])) for v in problem.variables}
+    design = row_design(problem, ds, row)
     study = trial_study(problem, design)
     stator, material = plate_of(study, geometry_of(study, 0))
     modes = modes_of_solid_model(solid_model(stator, material))

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from studies.optimize.problem import MOTOR_NAMES, Bound, Objective, Problem
+from studies.optimize.tuned import tune_constraint, tuned_design
 
 
 def volume_m3(design: dict[str, Any], study) -> float:
@@ -90,13 +91,19 @@ def constraint_names(problem: Problem) -> list[str]:
             names.append(f"{b.name}_min")
         if np.isfinite(b.high):
             names.append(f"{b.name}_max")
+    if problem.tune is not None:
+        names.append("tuned")
     return names
 
 
 def evaluation_metrics(problem: Problem, outputs: dict[str, np.ndarray],
                        design: dict[str, Any], study) -> tuple[list[float], list[float]]:
     """The objectives (SI, as their goals give them) and constraint values (<= 0 feasible) of
-    one evaluation of the one-geometry ``study`` of ``design``."""
+    one evaluation of the one-geometry ``study`` of ``design`` (with ``split = "tuned"``,
+    the design's tuned value taken from its outputs, and its ``tuned`` constraint last)."""
+    design = tuned_design(problem.tune, design, outputs)
     values = [objective_value(o, outputs, design, study) for o in problem.objectives]
     cons = [c for b in problem.bounds for c in constraint_values(b, outputs, design, study)]
+    if problem.tune is not None:
+        cons.append(tune_constraint(problem.tune, outputs))
     return values, cons

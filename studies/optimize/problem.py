@@ -19,6 +19,8 @@ An optimisation study is an explore study (:mod:`studies.study`) with one more t
 
     [optimize.constraints]
     split = "0.5 %"                  # |f_B2 - f_L1| / f_L1 (or "300 Hz": |f_B2 - f_L1|)
+                                     # or "tuned": each design's width tuned to L1 = B2
+    tune = { variable = "width", min = "9 mm", max = "10.5 mm" }   # with "tuned" (optional)
     frequency = { min = "40 kHz", max = "55 kHz" }   # the drive frequency
     volume = { max = "1100 mm3" }    # the plate's length x width x thickness
     stall_force = { min = "1.5 N" }  # any output of OBJECTIVE_UNITS, its own units
@@ -153,6 +155,28 @@ class Bound:
     relative: bool = False
 
 
+TUNE_VARIABLES = ("width", "length")
+"""What ``split = "tuned"`` may tune (the other one is held, as ``lusm tune --fix``)."""
+
+
+@dataclass(frozen=True)
+class Tune:
+    """``split = "tuned"``: each design's ``variable`` solved for L1 = B2 before its evaluation.
+
+    Attributes
+    ----------
+    variable : str
+        ``width`` (the length held, the default) or ``length`` (the width held).
+    low, high : float
+        The tuned value's allowed range (m; NaN: no such side): a design tuned outside it,
+        or not tunable at all, is infeasible.
+    """
+
+    variable: str = "width"
+    low: float = math.nan
+    high: float = math.nan
+
+
 @dataclass(frozen=True)
 class Problem:
     """An optimisation study: the explore study its evaluations are plates of, and the search.
@@ -174,6 +198,8 @@ class Problem:
         Random designs before the sampler models the history.
     text : str
         The canonical optimize table (JSON), part of :attr:`fingerprint`.
+    tune : Tune or None
+        ``split = "tuned"``: the inner tune of each design (:mod:`studies.optimize.tuned`).
     """
 
     study: Study
@@ -185,6 +211,7 @@ class Problem:
     seed: int
     startup: int
     text: str = ""
+    tune: Tune | None = None
 
     @property
     def fingerprint(self) -> str:
@@ -249,7 +276,7 @@ def problem_from_dict(doc: dict, source: str = "<dict>") -> Problem:
                          "objectives, constraints, evaluations, wall_time, seed and startup")
     variables = _variables(raw.get("variables"), doc, where)
     objectives = _objectives(raw.get("objectives"), where)
-    bounds = _bounds(raw.get("constraints", {}), where)
+    bounds, tune = _bounds(raw.get("constraints", {}), where)
     evaluations = _integer(raw.get("evaluations"), f"{where}optimize.evaluations", 1,
                            MAX_EVALUATIONS)
     seed = _integer(raw.get("seed", 0), f"{where}optimize.seed", 0, 2**31 - 1)
@@ -260,12 +287,16 @@ def problem_from_dict(doc: dict, source: str = "<dict>") -> Problem:
         wall = _time(raw["wall_time"], f"{where}optimize.wall_time")
     study = _study(doc, variables, objectives, bounds, source, where)
     _check_named(study, variables, objectives, bounds, where)
+    if tune is not None:
+        _check_tune(tune, study, variables, where)
     canonical = {"variables": [v.__dict__ for v in variables],
                  "objectives": [o.__dict__ for o in objectives],
                  "bounds": [b.__dict__ for b in bounds], "evaluations": evaluations,
                  "wall_time": wall, "seed": seed, "startup": startup}
+    if tune is not None:  # only then: an untuned problem's fingerprint stays as it is
+        canonical["tune"] = tune.__dict__
     return Problem(study, variables, objectives, bounds, evaluations, wall, seed, startup,
-                   json.dumps(canonical, sort_keys=True, default=str))
+                   json.dumps(canonical, sort_keys=True, default=str), tune)
 
 
 def _integer(value: Any, key: str, lo: int, hi: int) -> int:
@@ -383,13 +414,21 @@ def _at(raw: Any, key: str) -> dict[str, float]:
     return {a: parse_quantity(v, kinds[a], f"{key}.{a}") for a, v in raw.items()}
 
 
-def _bounds(raw: Any, where: str) -> tuple[Bound, ...]:
+def _bounds(raw: Any, where: str) -> tuple[tuple[Bound, ...], Tune | None]:
+    """The constraints' bounds, and the inner tune of ``split = "tuned"`` (else None)."""
     key = f"{where}optimize.constraints"
     if not isinstance(raw, dict):
         raise ValueError(f"{key} must be a table")
+    tuned = raw.get("split") == "tuned"
+    if "tune" in raw and not tuned:
+        raise ValueError(f"{key}.tune names the variable an inner tune solves: it needs "
+                         f"{key}.split = \"tuned\"")
+    tune = _tune(raw.get("tune", "width"), f"{key}.tune") if tuned else None
     out = []
     for name, spec in raw.items():
         k = f"{key}.{name}"
+        if name == "tune" or (name == "split" and tuned):
+            continue
         if name == "limits":
             if spec is not True:
                 raise ValueError(f"{k} must be true (every operating point within the "
@@ -397,6 +436,9 @@ def _bounds(raw: Any, where: str) -> tuple[Bound, ...]:
             out.append(Bound("limit_ratio", high=1.0))
             continue
         if name == "split":
+            if not isinstance(spec, str):
+                raise ValueError(f"{k} must be a string: \"0.5 %\", \"300 Hz\" or \"tuned\", "
+                                 f"got {spec!r}")
             unit = spec.strip().split()[-1] if isinstance(spec, str) and spec.strip() else ""
             relative = unit == "%"
             value = parse_value(spec, "1" if relative else "Hz", k)
@@ -420,7 +462,28 @@ def _bounds(raw: Any, where: str) -> tuple[Bound, ...]:
         if lo >= hi:
             raise ValueError(f"{k}: min {spec['min']!r} must be below max {spec['max']!r}")
         out.append(Bound(target, lo, hi))
-    return tuple(out)
+    return tuple(out), tune
+
+
+def _tune(spec: Any, key: str) -> Tune:
+    """``tune = "width"`` or ``tune = { variable = "width", min = ..., max = ... }``."""
+    if isinstance(spec, str):
+        spec = {"variable": spec}
+    if not isinstance(spec, dict) or set(spec) - {"variable", "min", "max"}:
+        raise ValueError(f"{key} must be \"width\" or \"length\", or a table {{ variable = "
+                         "\"width\", min = ..., max = ... }} (min and max optional)")
+    name = spec.get("variable", "width")
+    if name not in TUNE_VARIABLES:
+        raise ValueError(f"{key} must name the tuned variable, width or length (the other "
+                         f"one is held, as lusm tune --fix), got {name!r}")
+    lo = parse_quantity(spec["min"], "length", f"{key}.min") if "min" in spec else math.nan
+    hi = parse_quantity(spec["max"], "length", f"{key}.max") if "max" in spec else math.nan
+    if lo >= hi:
+        raise ValueError(f"{key}: min {spec['min']!r} must be below max {spec['max']!r}")
+    given = tuple(x for x in (lo, hi) if not math.isnan(x))
+    if given:
+        check_range(name, given, key)
+    return Tune(name, lo, hi)
 
 
 def _study(doc: dict, variables, objectives, bounds, source: str, where: str) -> Study:
@@ -487,6 +550,24 @@ def _check_named(study: Study, variables, objectives, bounds, where: str) -> Non
                                  ")")
 
 
+def _check_tune(tune: Tune, study: Study, variables, where: str) -> None:
+    """Refuse an inner tune of a variable the search varies too, that the study's axes fix,
+    or that a stator file with its own mesh cannot take (a study cannot rescale a mesh)."""
+    key = f"{where}optimize.constraints.tune"
+    v = tune.variable
+    if any(x.name == v for x in variables):
+        raise ValueError(f"{key}: {v} is tuned for L1 = B2 in each design, so it cannot also "
+                         f"be a search variable; remove optimize.variables.{v}")
+    if len(study.axes[v]) != 1:
+        raise ValueError(f"{key}: {v} is tuned in each design; it cannot also be "
+                         f"axes.{v} (remove it from [axes])")
+    if study.stator is not None and study.stator.mesh_path is not None:
+        raise ValueError(f"{key}: the {v} of study.stator {study.stator.path} cannot be tuned: "
+                         f"it has its own mesh ({study.stator.mesh_path}), which a study cannot "
+                         "rescale; give split a bound (\"0.5 %\") or a stator file without "
+                         "[mesh] file")
+
+
 def trial_study(problem: Problem, design: dict[str, Any]):
     """The one-geometry explore study of ``design`` (its axes the design's values): the same
     computation as the grid point of ``lusm explore`` at those values."""
@@ -495,10 +576,13 @@ def trial_study(problem: Problem, design: dict[str, Any]):
 
 
 def design_values(problem: Problem, design: dict[str, Any]) -> dict[str, tuple]:
-    """The axes of the one-geometry study of ``design`` (variable -> value, SI)."""
+    """The axes of the one-geometry study of ``design`` (variable -> value, SI; the tuned
+    value too where ``design`` has it, else the tune's start: the study's own)."""
     axes = dict(problem.study.axes)
     for v in problem.variables:
         axes[v.name] = (design[v.name],)
+    if problem.tune is not None and problem.tune.variable in design:
+        axes[problem.tune.variable] = (design[problem.tune.variable],)
     return axes
 
 

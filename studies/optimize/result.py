@@ -20,6 +20,7 @@ import numpy as np
 from studies.optimize.metrics import constraint_names, evaluation_metrics
 from studies.optimize.problem import Problem, trial_study
 from studies.optimize.store import Store
+from studies.optimize.tuned import tuned_key
 
 
 @dataclass(frozen=True)
@@ -135,6 +136,13 @@ def assemble(problem: Problem, records: list):
             data[v.name] = ("trial", np.array(column, dtype=float),
                             {"units": unit, "long_name": f"{AXIS_NAMES[v.name]} (design "
                              f"variable, in [{v.low:g}, {v.high:g}] {unit})"})
+    if problem.tune is not None:
+        v = problem.tune.variable
+        held = "length" if v == "width" else "width"
+        data[tuned_key(v)] = ("trial", np.array([float(r.outputs[tuned_key(v)]) for r in
+                                                 records]), {
+            "units": "m", "long_name": f"{AXIS_NAMES[v]} tuned until L1 = B2 (the {held} "
+            "held; fem.tuning.tune_plate), the plate evaluated; NaN: no crossing"})
     data.update(_outputs(problem, records))
     for k, o in enumerate(problem.objectives):
         data[objective_variable(o.label)] = (
@@ -262,6 +270,16 @@ def result_of_file(problem: Problem, out: Path):
     from studies.dataset import open_result
 
     return replace(result_of_dataset(problem, open_result(out), out), already_complete=True)
+
+
+def row_design(problem: Problem, ds, row: int) -> dict:
+    """The design of row ``row`` (SI, the material's name), its tuned value included (with
+    ``split = "tuned"``): the plate that was evaluated."""
+    design = {v.name: (str(ds[v.name].values[row]) if v.name == "material"
+                       else float(ds[v.name].values[row])) for v in problem.variables}
+    if problem.tune is not None:
+        design[problem.tune.variable] = float(ds[tuned_key(problem.tune.variable)].values[row])
+    return design
 
 
 def best_row(ds) -> int | None:

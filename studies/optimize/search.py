@@ -24,6 +24,7 @@ from studies.optimize.metrics import evaluation_metrics
 from studies.optimize.problem import Problem, trial_study
 from studies.optimize.result import OptimizeResult, is_complete_file, write_result
 from studies.optimize.store import Record, Store
+from studies.optimize.tuned import Tuner, fe_tuner, tuned_evaluation
 from studies.task import TASK_EXTRAS
 
 Evaluator = Callable[[Any, int], dict]
@@ -51,6 +52,11 @@ def _frozen(problem: Problem, record: Record, dists: dict):
     values, cons = evaluation_metrics(problem, record.outputs, record.design,
                                       trial_study(problem, record.design))
     params = {v.name: record.design[v.name] for v in problem.variables}
+    if problem.tune is not None and cons[-1] > 0 and not all(map(math.isfinite, values)):
+        # not tunable (not evaluated): infeasible by its tune alone; TPE ranks an infeasible
+        # trial by its constraint values only, so its objectives are placeholders
+        values = [0.0] * len(values)
+        cons = [c if math.isfinite(c) else 0.0 for c in cons]
     if not all(math.isfinite(x) for x in values + cons):
         return create_trial(state=TrialState.FAIL, params=params, distributions=dists)
     return create_trial(values=values, params=params, distributions=dists,
@@ -88,9 +94,18 @@ def _plain(params: dict) -> dict:
     return {k: (v if isinstance(v, str) else float(v)) for k, v in params.items()}
 
 
+def _task(problem: Problem, evaluate: Evaluator, tuner: Tuner | None) -> tuple:
+    """The function a worker runs on ``(study, 0)``, and its leading arguments: ``evaluate``,
+    or with ``split = "tuned"`` the tune then ``evaluate``
+    (:func:`studies.optimize.tuned.tuned_evaluation`)."""
+    if problem.tune is None:
+        return (evaluate,)
+    return (tuned_evaluation, evaluate, tuner or fe_tuner, problem.tune)
+
+
 def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, budget: int,
                 wall_time_s: float | None, on_trial: Callable[[int], None] | None,
-                progress: bool) -> tuple[int, str]:
+                progress: bool, tuner: Tuner | None = None) -> tuple[int, str]:
     """Evaluate batches of designs until ``budget`` designs have been, or ``wall_time_s``
     (s) has passed; returns the designs this run evaluated and what stopped it."""
     from distributed import as_completed
@@ -102,6 +117,7 @@ def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, bud
     bar = _bar(budget, len(store.records), progress)
     submitted: dict[str, tuple] = {}  # in flight: key -> (future, trial, design)
     frozen: dict[int, Any] = {}  # the optuna trial of each stored evaluation
+    task = _task(problem, evaluate, tuner)
     try:
         for b in range((budget + batch - 1) // batch):
             first, size = b * batch, min(batch, budget - b * batch)
@@ -116,7 +132,7 @@ def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, bud
                 t = first + j
                 if t in store.records and store.records[t].design == design:
                     continue
-                fut = client.submit(evaluate, trial_study(problem, design), 0, pure=False,
+                fut = client.submit(*task, trial_study(problem, design), 0, pure=False,
                                     key=f"lusm-optimize-{run}-{t}")
                 submitted[fut.key] = (fut, t, design)
             for fut in as_completed([f for f, _, _ in submitted.values()]):
@@ -149,8 +165,8 @@ def _bar(total: int, initial: int, enabled: bool):
 def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str | None = None,
              scheduler_file: str | None = None, workers: int = 2, budget: int | None = None,
              resume: bool = False, force: bool = False, evaluate: Evaluator | None = None,
-             progress: bool = False, on_trial: Callable[[int], None] | None = None
-             ) -> OptimizeResult:
+             progress: bool = False, on_trial: Callable[[int], None] | None = None,
+             tuner: Tuner | None = None) -> OptimizeResult:
     """Search the design space of ``problem`` for its best designs; write one dataset row per
     evaluation to ``out``.
 
@@ -177,6 +193,9 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
         A progress bar on stderr.
     on_trial : callable, optional
         Called with the trial number after each evaluation is stored (tests interrupt here).
+    tuner : callable, optional
+        With ``split = "tuned"``: ``tuner(study, variable) -> value`` (m) run on the workers
+        before ``evaluate`` (default :func:`studies.optimize.tuned.fe_tuner`).
 
     Returns
     -------
@@ -203,7 +222,7 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
             store.set_batch(n_workers)
             computed, stopped = run_batches(running, problem, store, evaluate or
                                             compute_geometry, budget, problem.wall_time_s,
-                                            on_trial, progress)
+                                            on_trial, progress, tuner)
         result = write_result(problem, store, out, force)
     except BaseException:
         if store.created and not store.records:  # nothing computed: leave no trace
