@@ -9,6 +9,8 @@ of f_L1. The grid is computed once by ``lusm explore`` (``studies.explore.explor
 grid's evaluations (``--budget``) on the same cluster:
 
 * ``lusm optimize`` (``studies.optimize.optimize``: TPE, batches of the workers), per seed;
+* the same with ``split = "tuned"``: the length and tip length searched, each design's width
+  tuned to L1 = B2 (``fem.tuning.tune_plate``) within the grid's width range, per seed;
 * ``scipy.optimize.differential_evolution`` with a dask map as ``workers`` (deferred
   updating, no polish), the constraint as a penalty (an infeasible design scores its
   excess, above every feasible one's minus power), per seed.
@@ -18,7 +20,7 @@ took to come within 1 % of the grid's best (None if it never did). Every evaluat
 same computation (``studies.task.compute_geometry`` of the one-plate study).
 
 Run: ``python benchmarks/optimize_vs_grid.py [--levels 9,9,3] [--seeds 0,1,2] [--budget N]
-[--methods tpe,de] [--json]``
+[--methods tpe,tuned,de] [--json]``
 (the grid of 9 x 9 x 3 plates takes about half an hour on 2 loaded cores).
 """
 
@@ -55,14 +57,19 @@ def grid_doc(levels: tuple[int, int, int]) -> dict:
     return doc
 
 
-def problem_doc(budget: int, seed: int) -> dict:
+def problem_doc(budget: int, seed: int, tuned: bool = False) -> dict:
+    """The search's study: the three variables with the split bound, or (``tuned``) the
+    length and tip length with each design's width tuned to L1 = B2 within the grid's width
+    range (``split = "tuned"``)."""
     doc = base_doc()
+    bounds = {k: {"min": f"{lo} mm", "max": f"{hi} mm"} for k, (lo, hi) in BOUNDS_MM.items()}
+    constraints = {"split": f"{SPLIT_MAX * 100:g} %"}
+    if tuned:
+        constraints = {"split": "tuned", "tune": {"variable": "width", **bounds.pop("width")}}
     doc["optimize"] = {
-        "evaluations": budget, "seed": seed,
-        "variables": {k: {"min": f"{lo} mm", "max": f"{hi} mm"}
-                      for k, (lo, hi) in BOUNDS_MM.items()},
+        "evaluations": budget, "seed": seed, "variables": bounds,
         "objectives": [{"output": "peak_power", "goal": "maximize"}],
-        "constraints": {"split": f"{SPLIT_MAX * 100:g} %"}}
+        "constraints": constraints}
     return doc
 
 
@@ -102,17 +109,39 @@ def score(history: list[float], grid_best: float) -> dict:
             "evaluations_to_1pct": int(hit[0] + 1) if hit.size else None}
 
 
-def run_tpe(folder: Path, budget: int, seed: int, client, grid_best: float) -> dict:
+def run_tpe(folder: Path, budget: int, seed: int, client, grid_best: float,
+            tuned: bool = False) -> dict:
+    """One ``lusm optimize`` search (``tuned``: ``split = "tuned"``), scored; its best
+    design (mm), its wall time and its CPU time (s, :func:`cpu_s`)."""
     from studies.dataset import open_result
     from studies.optimize import optimize, problem_from_dict
+    from studies.optimize.result import best_row, row_design
 
-    problem = problem_from_dict(problem_doc(budget, seed), str(folder / "problem.toml"))
-    t0 = time.perf_counter()
-    result = optimize(problem, folder / f"tpe-{seed}-{budget}.nc", client=client, force=True)
+    problem = problem_from_dict(problem_doc(budget, seed, tuned), str(folder / "problem.toml"))
+    t0, c0 = time.perf_counter(), cpu_s(client)
+    name = f"tpe{'-tuned' if tuned else ''}-{seed}-{budget}.nc"
+    result = optimize(problem, folder / name, client=client, force=True)
     ds = open_result(result.path)
     power = np.where(ds["feasible"].values == 1, ds["objective_peak_power"].values, np.nan)
-    return {"seed": seed, **score(list(power), grid_best),
-            "wall_s": time.perf_counter() - t0}
+    row = best_row(ds)
+    best = None if row is None else {k: v * 1e3 for k, v in
+                                     row_design(problem, ds, row).items()}
+    return {"seed": seed, **score(list(power), grid_best), "best_mm": best,
+            "feasible": int(ds["feasible"].values.sum()), "wall_s": time.perf_counter() - t0,
+            "cpu_s": cpu_s(client) - c0}
+
+
+def _process_cpu_s() -> float:
+    import psutil
+
+    t = psutil.Process().cpu_times()
+    return t.user + t.system
+
+
+def cpu_s(client) -> float:
+    """The CPU time (s, user + system) of this process and of every worker process so far:
+    on a shared machine the measure of a search's work that the others' load leaves alone."""
+    return _process_cpu_s() + sum(client.run(_process_cpu_s).values())
 
 
 def de_value(x, problem) -> tuple[float, float]:
@@ -163,7 +192,8 @@ def main() -> None:
     parser.add_argument("--levels", default="9,9,3", help="grid levels of length,width,tip")
     parser.add_argument("--budget", type=int, default=None, help="default: grid / 10")
     parser.add_argument("--seeds", default="0,1,2")
-    parser.add_argument("--methods", default="tpe,de", help="the searches to run: tpe, de")
+    parser.add_argument("--methods", default="tpe,tuned,de",
+                        help="the searches to run: tpe, tuned (TPE with split = \"tuned\"), de")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
@@ -180,15 +210,19 @@ def main() -> None:
         methods = args.methods.split(",")
         tpe = [run_tpe(folder, budget, s, client, grid["best_W"]) for s in seeds
                if "tpe" in methods]
+        tuned = [run_tpe(folder, budget, s, client, grid["best_W"], tuned=True) for s in seeds
+                 if "tuned" in methods]
         de = [run_de(budget, s, client, grid["best_W"], folder) for s in seeds
               if "de" in methods]
-    report = {"grid": grid, "budget": budget, "tpe": tpe, "differential_evolution": de}
+    report = {"grid": grid, "budget": budget, "tpe": tpe, "tpe_tuned": tuned,
+              "differential_evolution": de}
     if args.json:
         print(json.dumps(report, indent=2))
         return
     print(f"grid {args.levels}: {grid['evaluations']} plates, {grid['feasible']} feasible, best "
           f"{grid['best_W']:.4g} W at {grid['best_mm']} ({grid['wall_s']:.0f} s)")
-    for name, runs in (("TPE (lusm optimize)", tpe), ("differential evolution", de)):
+    for name, runs in (("TPE (lusm optimize)", tpe), ("TPE, split = tuned", tuned),
+                       ("differential evolution", de)):
         for r in runs:
             print(f"{name}, seed {r['seed']}: {r['evaluations']} evaluations, best "
                   f"{r['best_W']:.4g} W = {r['best_over_grid']:.4f} x grid best, within 1 % "

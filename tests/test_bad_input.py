@@ -252,6 +252,16 @@ def _studies(folder: Path) -> dict[str, str]:
         (folder / f"opt_{name}.toml").write_text(opt.format(objective=objective,
                                                             variable=variable))
         out[f"opt_{name}"] = str(folder / f"opt_{name}.toml")
+    tuned = '[optimize.constraints]\nsplit = "tuned"\n'
+    for name, head, variable, tune in [  # split = "tuned": the inner tune's variable
+            ("tune_searched", "", 'width = { min = "7 mm", max = "8 mm" }', ""),
+            ("tune_unknown", "", 'length = { min = "29 mm", max = "31 mm" }',
+             'tune = "thickness"\n'),
+            ("tune_meshed", '[study]\nstator = "meshed_ok.toml"\n',
+             'thickness = { min = "2.5 mm", max = "3 mm" }', "")]:
+        first, rest = opt.format(objective="k_eff_B2", variable=variable).split("\n", 1)
+        (folder / f"opt_{name}.toml").write_text(f"{first}\n{head}{rest}{tuned}{tune}")
+        out[f"opt_{name}"] = str(folder / f"opt_{name}.toml")
     out["study_out"] = str(folder / "study.nc")
     out["study_parts"] = str(folder / "study.nc.parts")
     return out
@@ -654,6 +664,12 @@ OPTIMIZE = [
     ("study-without-optimize", ["optimize", "{study_ok}", "--out", "{study_out}"],
      "optimize", None),
     ("out-suffix", ["optimize", "{opt_ok}", "--out", "r.toml"], "--out", ".nc"),
+    ("tune-also-searched", ["optimize", "{opt_tune_searched}", "--out", "{study_out}"],
+     "optimize.constraints.tune", "search variable"),
+    ("tune-unknown-variable", ["optimize", "{opt_tune_unknown}", "--out", "{study_out}"],
+     "optimize.constraints.tune", "width or length"),
+    ("tune-meshed-stator", ["optimize", "{opt_tune_meshed}", "--out", "{study_out}"],
+     "optimize.constraints.tune", "own mesh"),
 ]
 
 _CAL = ["calibrate", "{cal_ok}", "--source", "table2", "--out"]
