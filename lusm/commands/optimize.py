@@ -20,7 +20,8 @@ HELP = "search a study's design space for the best stator (optuna on dask.distri
 DESCRIPTION = """\
 Search the design variables of a study file's [optimize] table (explore's axes with bounds)
 for the best design by its objectives (an output or a ratio of two, at the study's operating
-points) under its constraints (split, drive frequency band, volume, bounds on any output):
+points) under its constraints (split, or split = "tuned": each design's width tuned to
+L1 = B2 first; drive frequency band, volume, bounds on any output):
 optuna's TPE sampler, asked in batches of the cluster's workers, each design evaluated as
 lusm explore evaluates a plate. Writes one dataset row per evaluation. See docs/optimize.md.
 """
