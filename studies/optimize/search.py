@@ -24,7 +24,7 @@ from studies.optimize.metrics import evaluation_metrics
 from studies.optimize.problem import Problem, trial_study
 from studies.optimize.result import OptimizeResult, is_complete_file, write_result
 from studies.optimize.store import Record, Store
-from studies.optimize.tuned import Tuner, fe_tuner, tuned_evaluation
+from studies.optimize.tuned import Tuner, fe_tuner, start_aspect, tuned_evaluation
 from studies.task import TASK_EXTRAS
 
 Evaluator = Callable[[Any, int], dict]
@@ -100,7 +100,11 @@ def _task(problem: Problem, evaluate: Evaluator, tuner: Tuner | None) -> tuple:
     (:func:`studies.optimize.tuned.tuned_evaluation`)."""
     if problem.tune is None:
         return (evaluate,)
-    return (tuned_evaluation, evaluate, tuner or fe_tuner, problem.tune)
+    if tuner is None:
+        from functools import partial
+
+        tuner = partial(fe_tuner, start_aspect=start_aspect(problem.study))
+    return (tuned_evaluation, evaluate, tuner, problem.tune)
 
 
 def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, budget: int,
@@ -195,7 +199,8 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
         Called with the trial number after each evaluation is stored (tests interrupt here).
     tuner : callable, optional
         With ``split = "tuned"``: ``tuner(study, variable) -> value`` (m) run on the workers
-        before ``evaluate`` (default :func:`studies.optimize.tuned.fe_tuner`).
+        before ``evaluate`` (default :func:`studies.optimize.tuned.fe_tuner`, from the
+        study's own plate's aspect).
 
     Returns
     -------

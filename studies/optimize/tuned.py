@@ -35,10 +35,11 @@ def tuned_key(variable: str) -> str:
     return f"tuned_{variable}"
 
 
-def fe_tuner(study, variable: str) -> float:
+def fe_tuner(study, variable: str, start_aspect: float | None = None) -> float:
     """The ``variable`` (m) at which L1 = B2 for the plate of ``study`` (its one geometry):
-    :func:`fem.tuning.tune_plate` with the other dimension held, starting from the study's
-    value, at the study's FE order and refinement (the mesh the evaluation solves)."""
+    :func:`fem.tuning.tune_plate` with the other dimension held, starting from the
+    width-over-length ``start_aspect`` (:func:`_start`; None: the study's value), at the
+    study's FE order and refinement (the mesh the evaluation solves)."""
     import warnings
 
     from fem.model import GapValidityWarning
@@ -49,9 +50,31 @@ def fe_tuner(study, variable: str) -> float:
     held = "length" if variable == "width" else "width"
     with warnings.catch_warnings():  # the evaluation of the tuned plate says its own
         warnings.simplefilter("ignore", GapValidityWarning)
-        d = tune_plate(fix=held, material=material, start=stator, order=study.solver.fe_order,
-                       refine=study.solver.fe_refine)
+        d = tune_plate(fix=held, material=material, start=_start(stator, held, start_aspect),
+                       order=study.solver.fe_order, refine=study.solver.fe_refine)
     return float(d.stator.width_m if variable == "width" else d.stator.length_m)
+
+
+def start_aspect(study) -> float | None:
+    """The width over length of the study's own plate (its stator file's, or its single
+    axis values), where the tunes start (:func:`fe_tuner`); None where it has none."""
+    if study.stator is not None:
+        return study.stator.stator.width_m / study.stator.stator.length_m
+    width, length = study.axes["width"], study.axes["length"]
+    return width[0] / length[0] if len(width) == len(length) == 1 else None
+
+
+def _start(stator, held: str, aspect: float | None):
+    """The tune's start: ``stator`` with the tuned dimension at the width-over-length
+    ``aspect`` of the held one (the study's own plate's: a tuned plate's aspect changes little
+    with its size, so the tune starts next to the crossing), or as it is (``aspect`` None)."""
+    from studies.study import plate_with
+
+    if aspect is None:
+        return stator
+    if held == "length":
+        return plate_with(stator, {"width_m": aspect * stator.length_m})
+    return plate_with(stator, {"length_m": stator.width_m / aspect})
 
 
 def tuned_evaluation(evaluate: Callable, tuner: Tuner, tune: Tune, study, index: int) -> dict:
