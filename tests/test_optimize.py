@@ -187,12 +187,12 @@ def test_the_command_end_to_end(tmp_path, capsys):
     assert "--force" in capsys.readouterr().err
 
 
-def test_a_ctrl_c_keeps_the_parts_and_resume_completes_the_same_run(tmp_path, monkeypatch,
-                                                                   capsys):
+def test_a_ctrl_c_keeps_the_parts_and_resume_completes_the_same_run(dask_client, tmp_path,
+                                                                   monkeypatch, capsys):
     """``lusm optimize`` interrupted by SIGINT after its first evaluation: exit 130, the kept
     parts said in one line before the CLI's "interrupted", nothing from dask; ``--resume``
     ends with the dataset of an uninterrupted run (a real FE-only search of four designs on
-    one worker: batches of one)."""
+    the session's two workers: batches of two, the first cut in its middle)."""
     import os
     import signal
 
@@ -207,7 +207,8 @@ def test_a_ctrl_c_keeps_the_parts_and_resume_completes_the_same_run(tmp_path, mo
                      '[optimize.variables]\nlength = { min = "29 mm", max = "31 mm" }\n'
                      '[[optimize.objectives]]\noutput = "k_eff_B2"\ngoal = "maximize"\n')
     whole, cut = tmp_path / "whole.nc", tmp_path / "cut.nc"
-    assert main(["optimize", str(study), "--out", str(whole), "--workers", "1", "--json"]) == 0
+    on = ["--scheduler", dask_client.scheduler.address]
+    assert main(["optimize", str(study), "--out", str(whole), *on, "--json"]) == 0
     capsys.readouterr()
     write_part = S.write_part
 
@@ -216,15 +217,14 @@ def test_a_ctrl_c_keeps_the_parts_and_resume_completes_the_same_run(tmp_path, mo
         os.kill(os.getpid(), signal.SIGINT)
 
     monkeypatch.setattr(S, "write_part", write_then_interrupt)
-    assert main(["optimize", str(study), "--out", str(cut), "--workers", "1"]) == 130
+    assert main(["optimize", str(study), "--out", str(cut), *on]) == 130
     lines = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     assert lines == [f"lusm optimize: 1 evaluated design is kept in {parts_folder(cut)}; run "
                      "the same command with --resume to continue",
                      "lusm optimize: interrupted"], lines
     assert not cut.exists() and len(list(parts_folder(cut).glob("g*.npz"))) == 1
     monkeypatch.setattr(S, "write_part", write_part)
-    assert main(["optimize", str(study), "--out", str(cut), "--workers", "1", "--resume",
-                 "--json"]) == 0
+    assert main(["optimize", str(study), "--out", str(cut), *on, "--resume", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert (summary["reused"], summary["computed"]) == (1, 3)
     a, b = open_result(whole), open_result(cut)
