@@ -90,10 +90,10 @@ def fem_params(
     points = np.array([stator.preload_point_m, stator.tip_point_m]).T  # (2, 2)
     P = model.probe(points)  # rows: ux(preload), ux(tip), uy(preload), uy(tip)
     drive = model.coupling(stator.drive_electrodes)
-    m_l, k_l, a_l, v_l, peaks_l = _reduce_mode(model, stator, P, drive, modes.L1.shape, 2,
+    m_l, k_l, a_l, v_l, phi_l = _reduce_mode(model, stator, P, drive, modes.L1.shape, 2,
                                                float(phi_L(0.0, length)), modes.L1.f_short_Hz,
                                                "L1")
-    m_b, k_b, a_b, v_b, peaks_b = _reduce_mode(model, stator, P, drive, modes.B2.shape, 1,
+    m_b, k_b, a_b, v_b, phi_b = _reduce_mode(model, stator, P, drive, modes.B2.shape, 1,
                                                float(phi_B(length, length)),
                                                modes.B2.f_short_Hz, "B2")
     features = stator.features_text() if hasattr(stator, "features_text") else ""
@@ -102,7 +102,7 @@ def fem_params(
         M_l=m_l, K_l=k_l, A_l=a_l, phi_L0=float(v_l[2]), phi_Ll=float(v_l[3]),
         M_b=m_b, K_b=k_b, A_b=a_b, phi_B0=float(v_b[0]), phi_Bl=float(v_b[1]),
         damping_ratios=(zeta_l, zeta_b), base=base,
-        shape=_fe_shape_data(model, mat, peaks_l, peaks_b, order),
+        shape=_fe_shape_data(model, mat, phi_l, phi_b, order),
         source=(
             f"FE modal reduction (scikit-fem, plane stress, order {order}, {mesh_text}, "
             f"{modes.dofs} dofs) of a {stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} x "
@@ -131,25 +131,30 @@ def _damping_ratios(base: MotorParams,
     return zeta_l, zeta_b
 
 
-def _fe_shape_data(model, material, peaks_l: tuple[float, float],
-                   peaks_b: tuple[float, float], order: int) -> ShapeData:
+def _fe_shape_data(model, material, phi_l: np.ndarray, phi_b: np.ndarray,
+                   order: int) -> ShapeData:
     """The reduced shapes' peaks (:func:`fem.mode_peaks.shape_peaks`, per unit modal
-    amplitude) with the plate's thickness, volume and the material's limits."""
-    from fem.mode_peaks import plate_volume_m3
+    amplitude) and their stress combined over a period
+    (:func:`fem.mode_peaks.combined_stress_factors`), with the plate's thickness, volume
+    and the material's limits."""
+    from fem.mode_peaks import combined_stress_factors, plate_volume_m3, shape_peaks
 
+    peaks_l, peaks_b = shape_peaks(model, phi_l), shape_peaks(model, phi_b)
     return ShapeData(
         velocity_L1=peaks_l[0], velocity_B2=peaks_b[0], stress_L1_Pa_m=peaks_l[1],
         stress_B2_Pa_m=peaks_b[1], thickness_m=model.stator.thickness_m,
         volume_m3=plate_volume_m3(model), material=material.name, limits=material.limits,
         source=f"FE mode shapes (plane stress, order {order}): the largest nodal "
-               "displacement and the largest principal stress at the quadrature points")
+               "displacement and the largest principal stress at the quadrature points",
+        combined_stress=combined_stress_factors(model, phi_l, phi_b),
+    )
 
 
 def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndarray, row: int,
                  target: float, f_hz: float, name: str):
-    """One mode reduced to ``(mass, stiffness, force, values, peaks)``: its modal mass (kg),
-    stiffness (N/m), force factor (N/V), probe values and the scaled shape's
-    :func:`fem.mode_peaks.shape_peaks`, ``shape`` scaled so that probe ``row`` of ``P``
+    """One mode reduced to ``(mass, stiffness, force, values, phi)``: its modal mass (kg),
+    stiffness (N/m), force factor (N/V), probe values and the scaled shape ``phi``,
+    ``shape`` scaled so that probe ``row`` of ``P``
     reads ``target`` (the beam shape's value), the probes being ``u_x`` at the preload point and the
     tip, then ``u_y`` at both; ``drive`` is the driven electrodes' coupling vector.
 
@@ -175,9 +180,7 @@ def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndar
     mass = float(phi @ (model.M @ phi))
     stiff = (2.0 * math.pi * f_hz) ** 2 * mass
     force = float(phi @ drive)
-    from fem.mode_peaks import shape_peaks
-
-    return mass, stiff, force, vals, shape_peaks(model, phi)
+    return mass, stiff, force, vals, phi
 
 
 def _mesh_text(stator, refine: int) -> str:
