@@ -44,8 +44,7 @@ as the inverse square of that share, is meaningless (the plate's ends: about 1).
 def fem_params(
     stator=None,
     material="pzt8",
-    order: int = 2,
-    refine: int | None = None,
+    mesh: MeshSettings | None = None,
     base: MotorParams | None = None,
     damping_ratios: tuple[float, float] | None = None,
 ) -> MotorParams:
@@ -57,10 +56,10 @@ def fem_params(
         Plate geometry and drive electrodes; default: the paper's plate driven through 1 and 4.
     material : str or fem.material.PiezoMaterial
         ``'pzt8'`` (default) or ``'paper'``, or a material.
-    order : int
-        FE element order, 1 or 2.
-    refine : int, optional
-        Mesh refinement; default :data:`fem.meshing.mesh.DEFAULT_REFINE`.
+    mesh : MeshSettings, optional
+        The 2D FE mesh (:func:`fem.model.plate_model`); default
+        :class:`fem.mesh_settings.MeshSettings` (order 2, refine
+        :data:`fem.mesh_settings.DEFAULT_REFINE`).
     base : MotorParams, optional
         Source of the contact, slider and friction constants (``k_contact``, ``M_slider``,
         ``mu_s``, ``mu_d``, ``mu_sd``, ``a_mu``, ``b_mu``) and of the default damping ratios;
@@ -74,17 +73,16 @@ def fem_params(
     """
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.model import plate_model
     from fem.modes import plate_modes
 
     stator = PlateStator() if stator is None else stator
-    refine = DEFAULT_REFINE if refine is None else refine
+    mesh = (MeshSettings() if mesh is None else mesh).plate()
     base = table2() if base is None else base
     zeta_l, zeta_b = _damping_ratios(base, damping_ratios)
     mat = get_material(material)
-    modes = plate_modes(stator, mat, MeshSettings(order, refine))
-    model = plate_model(stator, mat, MeshSettings(order, refine))
+    modes = plate_modes(stator, mat, mesh)
+    model = plate_model(stator, mat, mesh)
 
     length = stator.length_m
     points = np.array([stator.preload_point_m, stator.tip_point_m]).T  # (2, 2)
@@ -97,14 +95,14 @@ def fem_params(
                                                float(phi_B(length, length)),
                                                modes.B2.f_short_Hz, "B2")
     features = stator.features_text() if hasattr(stator, "features_text") else ""
-    mesh_text = _mesh_text(stator, refine)
+    mesh_text = _mesh_text(stator, mesh.refine)
     return MotorParams.from_modal(
         M_l=m_l, K_l=k_l, A_l=a_l, phi_L0=float(v_l[2]), phi_Ll=float(v_l[3]),
         M_b=m_b, K_b=k_b, A_b=a_b, phi_B0=float(v_b[0]), phi_Bl=float(v_b[1]),
         damping_ratios=(zeta_l, zeta_b), base=base,
-        shape=_fe_shape_data(model, mat, peaks_l, peaks_b, order),
+        shape=_fe_shape_data(model, mat, peaks_l, peaks_b, mesh.order),
         source=(
-            f"FE modal reduction (scikit-fem, plane stress, order {order}, {mesh_text}, "
+            f"FE modal reduction (scikit-fem, plane stress, order {mesh.order}, {mesh_text}, "
             f"{modes.dofs} dofs) of a {stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} x "
             f"{stator.thickness_m * 1e3:g} mm plate{features}, material {mat.name}, drive "
             f"electrodes "
@@ -250,9 +248,9 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         Stator file; its geometry, drive electrodes, material, points, mesh and motor
         tables are used.
     **kwargs
-        Further :func:`fem_params` options (``order``, ``refine``, ``base``,
-        ``damping_ratios``; ``material`` overrides the file's). ``refine`` is ignored when
-        the file gives a mesh.
+        Further :func:`fem_params` options (``mesh``, ``base``, ``damping_ratios``;
+        ``material`` overrides the file's). ``mesh.refine`` is ignored when the file gives
+        a mesh.
 
     Returns
     -------

@@ -250,12 +250,13 @@ def _check_sweep(args: argparse.Namespace, base, parameter: str, option: str, te
 
 def _solve(args: argparse.Namespace, parameter: str, values_m, base, material):
     """:func:`fem.sweep.sweep_dimension`, a solver failure said as bad input."""
+    from fem.mesh_settings import MeshSettings
     from fem.sweep import sweep_dimension
     from lusm.fe_errors import fe_failure, is_fe_failure
 
     try:
-        return sweep_dimension(parameter, values_m, base, material, order=args.order,
-                               refine=args.refine, progress=not args.json)
+        return sweep_dimension(parameter, values_m, base, material,
+                               MeshSettings(args.order, args.refine), progress=not args.json)
     except Exception as exc:
         if is_fe_failure(exc):
             raise fe_failure(exc, base) from exc
