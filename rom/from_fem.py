@@ -30,6 +30,7 @@ import numpy as np
 from bounds import ParameterError
 from fem.beam_shapes import phi_B, phi_L
 from fem.mesh_settings import MeshSettings
+from rom.errors import DesignFileError, NodalPointError, UnreachableAmplitudeError
 from rom.params import MotorParams
 from rom.shape_data import ShapeData
 from rom.table2 import table2
@@ -119,8 +120,9 @@ def _damping_ratios(base: MotorParams,
     if damping_ratios is None:
         return base.zeta_L1, base.zeta_B2
     if np.ndim(damping_ratios) != 1 or len(damping_ratios) != 2:
-        raise ValueError(f"damping_ratios must be (zeta_L1, zeta_B2), two numbers in "
-                         f"(0, 1), got {damping_ratios!r}")
+        raise ParameterError("damping_ratios", damping_ratios,
+                             message=f"damping_ratios must be (zeta_L1, zeta_B2), two numbers "
+                             f"in (0, 1), got {damping_ratios!r}")
     zeta_l, zeta_b = (float(z) for z in damping_ratios)
     for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
         if not (math.isfinite(z) and 0.0 < z < 1.0):
@@ -162,12 +164,14 @@ def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndar
     if not share >= NODE_SHARE:
         point, where, xy = (("preload", stator.preload_point_m, "y") if row == 2
                             else ("tip", stator.tip_point_m, "x"))
-        raise ValueError(
+        key = f"[points] {point}_mm"
+        raise NodalPointError(
             f"the {name} mode's {xy} displacement at the {point} point "
             f"({where[0] * 1e3:g}, {where[1] * 1e3:g}) mm is {share:.2g} of its largest "
             f"(a node of the mode; at least {NODE_SHARE:g} needed), where the reduction "
-            f"normalises it; the {point} point ([points] {point}_mm in a stator file) "
-            f"must lie where {name} moves in {xy}, e.g. on the plate's end")
+            f"normalises it; the {point} point ({key} in a stator file) "
+            f"must lie where {name} moves in {xy}, e.g. on the plate's end",
+            name, point, share, key)
     phi = shape * (target / vals[row])
     vals = P @ phi
     mass = float(phi @ (model.M @ phi))
@@ -216,7 +220,7 @@ def design_base(design, base: MotorParams | None = None) -> MotorParams:
             text = re.sub(rf"(?<![\w\[])(MotorParams\.)?{re.escape(name)}\b", where, text)
         # what the file did not set comes from the base set (mu_s alone: Table 2's mu_d)
         text = text.replace("MotorParams.", "the base set's ")
-        raise ValueError(f"{design.path or design.name}: {text}") from None
+        raise DesignFileError(design.path or design.name, "", text) from None
 
 
 def design_damping(design, base: MotorParams | None = None) -> tuple[float, float] | None:
@@ -304,9 +308,11 @@ def fem_params_from_design(design, stator=None, **kwargs) -> MotorParams:
         try:
             fitted = identify_damping(params, design.damping_identify_Hz).params
         except ValueError as exc:
-            text = str(exc).replace("identify at a drive frequency nearer to it",
-                                    "set the file's [damping] frequency_Hz nearer to it")
-            raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {text}") \
+            if isinstance(exc, UnreachableAmplitudeError):  # the remedy in the file's terms
+                exc = UnreachableAmplitudeError(
+                    exc.mode, exc.target_m_per_V, exc.frequency_Hz, exc.undamped_m_per_V,
+                    exc.natural_Hz, "set the file's [damping] frequency_Hz nearer to it")
+            raise DesignFileError(path, '[damping] source = "paper_amplitudes"', str(exc)) \
                 from None
         # the set's description names the fitted ratios it carries, not the ones the
         # reduction started from (Table 2's)
