@@ -221,6 +221,7 @@ def _check_sweep(args: argparse.Namespace, base, parameter: str, option: str, te
     plate of it can take."""
     from dataclasses import replace
 
+    from fem.errors import FeatureError
     from lusm.errors import LusmError, feature_reason
     from lusm.options import check_fe_size, check_fe_work
 
@@ -237,7 +238,7 @@ def _check_sweep(args: argparse.Namespace, base, parameter: str, option: str, te
                                 option, text)
         cells = [check_fe_size(st, args.refine, needs_b2=False) for st in ends]
     except ValueError as exc:
-        if not str(exc).startswith("ParametricStator."):
+        if not isinstance(exc, FeatureError):
             raise
         # a plate of the sweep no longer holds the file's features: the range is to blame
         raise LusmError(f"{option} {text}: a plate of the sweep no longer holds the features "
