@@ -907,6 +907,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
                             f"--source {source}", "--source")
         choice = stator_from_args(args)  # checks the options and the file first
         check_fe_size(choice.stator, None, has_option=False)  # no --refine on these commands
+        from rom.errors import DesignFileError, NodalPointError
         from rom.from_fem import design_base, fem_params, fem_params_from_file
 
         design = choice.design
@@ -927,10 +928,9 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
 
             if is_fe_failure(exc):
                 raise fe_failure(exc, choice.stator) from exc
-            if design is not None and isinstance(exc, ValueError) and str(exc).startswith(
-                    str(args.geometry)):  # the file's own terms (its damping identification)
+            if design is not None and isinstance(exc, DesignFileError):  # the file's terms
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
-            if design is not None and isinstance(exc, ValueError) and "[points]" in str(exc):
+            if design is not None and isinstance(exc, NodalPointError):
                 # a tip or preload point at a node of its mode: the file's [points] key
                 raise LusmError(f"--geometry {args.geometry}: {exc}", "--geometry") from None
             raise

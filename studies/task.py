@@ -221,7 +221,8 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     stage = "FE"  # what failed, for the status: the plate's FE solve or its parameter set
     try:
         stator, material = plate_of(study, g)
-        modes = plate_modes(stator, material, MeshSettings(s.fe_order, s.fe_refine))
+        mesh = MeshSettings(s.fe_order, s.fe_refine)
+        modes = plate_modes(stator, material, mesh)
         for m in ("L1", "B2"):
             mode = getattr(modes, m)
             out[f"f_{m}_short"] = np.array(mode.f_short_Hz)
@@ -238,11 +239,9 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
             from validation.summaries import plate_damping
 
             ratios = plate_damping(get_material(material), "fem")[0]
-            params = fem_params(stator, material, order=s.fe_order, refine=s.fe_refine,
-                                damping_ratios=ratios)
+            params = fem_params(stator, material, mesh, damping_ratios=ratios)
         else:  # the file's damping and motor tables too, as the single-point commands
-            params = fem_params_from_design(study.stator, stator, order=s.fe_order,
-                                            refine=s.fe_refine)
+            params = fem_params_from_design(study.stator, stator, mesh=mesh)
         if study.auto_frequency:
             from contact.drive import auto_frequency
 

@@ -1481,9 +1481,10 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
                          "solver": {"fe_refine": 1, "accuracy": "fast"},
                          "axes": {"voltage": "300 V", "preload": "6 N"}})
     from fem.geometry import PlateStator
+    from fem.mesh_settings import MeshSettings
     from rom.from_fem import fem_params
 
-    params = fem_params(PlateStator(), "pzt8", order=2, refine=1)
+    params = fem_params(PlateStator(), "pzt8", MeshSettings(2, 1))
     f = 54e3
     real, calls = cc.characteristic, []
 

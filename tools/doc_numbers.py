@@ -2494,7 +2494,7 @@ def _study_plate_28mm():
     from fem.geometry import PlateStator
     from rom.from_fem import fem_params
 
-    return fem_params(PlateStator(length_m=28e-3), "pzt8", order=2, refine=1)
+    return fem_params(PlateStator(length_m=28e-3), "pzt8", MeshSettings(2, 1))
 
 
 def _steady_lowest_frequency_Hz(max_steps: int = 20_000) -> float:
