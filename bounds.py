@@ -31,18 +31,23 @@ class ParameterError(ValueError):
     reason : str
         Why the range is what it is, a clause a caller may add to its own words
         (``'the fastest mode of this parameter set'``); may be empty.
+    choices : tuple, optional
+        The values allowed, for a parameter that takes one of a few (a name, a layout)
+        rather than a number in a range.
     message : str, optional
         The library's full message; by default the range said in SI units.
     """
 
     def __init__(self, name: str, value: object, low: float | None = None,
                  high: float | None = None, unit: str = "", *, low_open: bool = False,
-                 high_open: bool = False, reason: str = "", message: str | None = None) -> None:
+                 high_open: bool = False, reason: str = "", choices: tuple = (),
+                 message: str | None = None) -> None:
         self.name = name
         self.value = value
         self.low, self.high, self.unit = low, high, unit
         self.low_open, self.high_open = low_open, high_open
         self.reason = reason
+        self.choices = tuple(choices)
         if message is None:
             message = (f"{name} must be {self.range_text()}, got {value!r}"
                        + (f" ({reason})" if reason else ""))
@@ -51,6 +56,8 @@ class ParameterError(ValueError):
     def range_text(self, scale: float = 1.0, unit: str | None = None) -> str:
         """The allowed range in words, its bounds times ``scale`` in ``unit`` (default the
         error's own): ``'in [0.005, 0.2] m'``, ``'> 0 Hz'``, ``'a finite number'``."""
+        if self.choices:
+            return f"one of {', '.join(map(str, self.choices))}"
         unit = self.unit if unit is None else unit
         tail = f" {unit}" if unit else ""
         lo = None if self.low is None else _number(self.low * scale)

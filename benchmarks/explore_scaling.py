@@ -73,6 +73,7 @@ def _drive_point_times(study, indices) -> list[float]:
 
     from contact.drive import auto_frequency
     from fem.geometry import PlateStator
+    from fem.mesh_settings import MeshSettings
     from rom.from_fem import fem_params
     from studies.task import Drive, geometry_of, motor_answers
 
@@ -83,7 +84,8 @@ def _drive_point_times(study, indices) -> list[float]:
             g = geometry_of(study, i)
             stator = PlateStator(length_m=g["length"], width_m=g["width"],
                                  thickness_m=g["thickness"], electrode_gap_m=g["gap"])
-            params = fem_params(stator, g["material"], order=s.fe_order, refine=s.fe_refine)
+            params = fem_params(stator, g["material"],
+                                MeshSettings(s.fe_order, s.fe_refine))
             f = auto_frequency(params)
             for v in study.axes["voltage"]:
                 for p in study.axes["preload"]:

@@ -13,7 +13,8 @@ from rom.table2 import PAPER_DRIVE_HZ
 
 __all__ = ["auto_frequency", "free_tip_amplitudes", "tip_amplitude_product",
            "tip_ellipse_area", "grid_frequency",
-           "drive_share", "default_drive_Hz", "WeakDriveWarning", "settling_time_s"]
+           "drive_share", "default_drive_Hz", "WeakDriveWarning", "settling_time_s",
+           "default_duration_s", "PAPER_DURATION_S"]
 
 GRID_POINTS = 401
 """Frequencies of :func:`grid_frequency`'s search between the widened resonances."""
@@ -184,3 +185,27 @@ def settling_time_s(params: MotorParams, voltage_V: float, preload_N: float,
              - max(load_N, 0.0))
     tau_slider = p.M_slider * v_tip / force if force > 0.0 else 0.0
     return SETTLING_TIME_CONSTANTS * (tau_modes + tau_slider)
+
+
+PAPER_DURATION_S = 0.05
+"""The paper's run length (s): the default transient of Table 2's set, and the shortest
+default of any other (:func:`default_duration_s`)."""
+
+
+def default_duration_s(params: MotorParams, drives: list[tuple[float, float, float]],
+                       top_s: float, load_N: float = 0.0) -> tuple[float, float]:
+    """A default transient's run length (s) for the drive points ``drives``, each
+    ``(voltage_V, preload_N, frequency_Hz)``, and the settling time it follows.
+
+    :data:`PAPER_DURATION_S` for Table 2's set (the paper's runs); for any other, the longest
+    :func:`settling_time_s` of ``drives``, at least :data:`PAPER_DURATION_S` and at most
+    ``top_s`` (the step bound of the caller's work limit). Returns ``(duration_s,
+    settle_s)``: the run length and the settling time before the bound (the caller says when
+    the bound cuts it, ``settle_s > duration_s``)."""
+    from contact.model import is_table2
+
+    if is_table2(params):
+        return PAPER_DURATION_S, PAPER_DURATION_S
+    settle = max(PAPER_DURATION_S, max(settling_time_s(params, v, p, f, load_N)
+                                       for v, p, f in drives))
+    return min(settle, top_s), settle

@@ -7,8 +7,12 @@ modal amplitude) turn it into what a ceramic survives or not:
 * **vibration velocity**: the larger of the two modes' antinode velocity amplitudes,
   ``omega U max|phi_L|`` and ``omega W max|phi_B|`` (the figure of Uchino's maximum vibration
   velocity, measured on one resonating mode);
-* **stress**: ``s_L U + s_B W``, each mode's largest principal stress per unit amplitude
-  times its amplitude, added as if both peaked at one point and in phase (an upper bound);
+* **stress**: the peak principal stress of L1 and B2 together over the period at the worst
+  phase between them (:meth:`rom.shape_data.ShapeData.stress_Pa`: the FE shapes' stress
+  fields, or the beam shapes', combined point by point), with ``s_L U + s_B W``, each mode's
+  largest principal stress per unit amplitude times its amplitude added as if both peaked
+  at one point in phase, as the upper bound beside it (the sum alone where the shape data
+  carry no combined stress);
 * **drive field**: ``V0 / h``, the voltage amplitude over the electrode spacing;
 * **dissipated power**: the mean power in the modal dampers ``C_l``, ``C_b`` (the paper's
   model of the stator's loss; no limit of its own: it heats the ceramic, the mount and
@@ -45,6 +49,12 @@ field that bounds it (None: no limit, the dissipated power), and the factor and 
 printed in."""
 
 
+STRESS_COMBINED = ("L1 and B2 combined over the period, point by point, at the worst phase "
+                   "between them")
+STRESS_BOUND = "the L1 and B2 peak stresses added (an upper bound)"
+"""What the ``stress`` value is, said in its JSON entry (``basis``)."""
+
+
 @dataclass(frozen=True)
 class OperatingLimits:
     """An operating point's peak quantities against the material's limits.
@@ -58,12 +68,18 @@ class OperatingLimits:
     basis : str
         Where the amplitudes come from: ``"steady state"`` (the damper powers of the steady
         branch) or ``"free response"`` (no powers: the free stator's).
+    stress_bound_Pa : float
+        The modes' peak stresses added (Pa), the upper bound of ``values["stress"]``.
+    stress_basis : str
+        What ``values["stress"]`` is: :data:`STRESS_COMBINED` or :data:`STRESS_BOUND`.
     """
 
     values: dict
     limits: dict
     amplitudes_m: tuple[float, float]
     basis: str
+    stress_bound_Pa: float = math.nan
+    stress_basis: str = STRESS_BOUND
 
     def ratio(self, quantity: str) -> float:
         """Value over limit (-); NaN without a limit."""
@@ -75,9 +91,12 @@ class OperatingLimits:
         return [q for q in QUANTITIES if self.ratio(q) > 1.0]
 
     def to_dict(self) -> dict:
-        """``{quantity: {value, limit, ratio, unit}}`` (SI) and ``basis``, for ``--json``."""
+        """``{quantity: {value, limit, ratio, unit}}`` (SI) and ``basis``, for ``--json``;
+        the ``stress`` entry also says what it is (``basis``) and carries the peaks' sum
+        (``sum_of_peaks``, Pa)."""
         out: dict = {q: {"value": self.values[q], "limit": self.limits[q],
                          "ratio": self.ratio(q), "unit": QUANTITIES[q][0]} for q in QUANTITIES}
+        out["stress"].update(basis=self.stress_basis, sum_of_peaks=self.stress_bound_Pa)
         out["basis"] = self.basis
         return out
 
@@ -153,7 +172,7 @@ def limits_from_amplitudes(params: MotorParams, voltage_V: float, omega: float,
         powers_W = (0.5 * omega**2 * params.C_l * u**2, 0.5 * omega**2 * params.C_b * w**2)
     values = {
         "vibration_velocity": omega * max(u * s.velocity_L1, w * s.velocity_B2),
-        "stress": u * s.stress_L1_Pa_m + w * s.stress_B2_Pa_m,
+        "stress": s.stress_Pa(u, w),
         "drive_field": voltage_V / s.thickness_m,
         "dissipated_power": float(sum(powers_W)),
         "power_density": ceramic_heat_W(params, powers_W) / s.volume_m3,
@@ -164,7 +183,8 @@ def limits_from_amplitudes(params: MotorParams, voltage_V: float, omega: float,
         for q, (_, field, _, _) in QUANTITIES.items():
             if field is not None:
                 limits[q] = float(getattr(lim, field))
-    return OperatingLimits(values, limits, (u, w), basis)
+    return OperatingLimits(values, limits, (u, w), basis, s.stress_bound_Pa(u, w),
+                           STRESS_BOUND if s.combined_stress is None else STRESS_COMBINED)
 
 
 def operating_limits(params: MotorParams, voltage_V: float, frequency_Hz: float,

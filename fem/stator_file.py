@@ -289,21 +289,18 @@ class StatorDesign:
                  for key, spec in keys.items()}
         return {name: where[name] for name in self.motor}
 
-    def model(self, order: int = 2, refine: int | None = None):
-        """The assembled :class:`fem.model.PiezoPlateModel` (cached)."""
-        from fem.meshing.mesh import DEFAULT_REFINE
+    def model(self, mesh: MeshSettings | None = None):
+        """The assembled :class:`fem.model.PiezoPlateModel` on ``mesh`` (cached)."""
         from fem.model import plate_model
 
-        return plate_model(self.stator, self.material,
-                           MeshSettings(order, refine or DEFAULT_REFINE))
+        return plate_model(self.stator, self.material, mesh)
 
-    def modes(self, order: int = 2, refine: int | None = None):
-        """L1 and B2 (:class:`fem.modes.PlateModes`, cached); ``refine`` ignored with a mesh."""
-        from fem.meshing.mesh import DEFAULT_REFINE
+    def modes(self, mesh: MeshSettings | None = None):
+        """L1 and B2 (:class:`fem.modes.PlateModes`, cached) on ``mesh``; its ``refine``
+        ignored with a mesh."""
         from fem.modes import plate_modes
 
-        return plate_modes(self.stator, self.material,
-                           MeshSettings(order, refine or DEFAULT_REFINE))
+        return plate_modes(self.stator, self.material, mesh)
 
 
 def _where(table: str, key: str) -> str:

@@ -158,8 +158,7 @@ def sweep_dimension(
     values_m: np.ndarray,
     base: PlateStator | None = None,
     material: PiezoMaterial | str = "pzt8",
-    order: int = 2,
-    refine: int | None = None,
+    mesh: MeshSettings | None = None,
     progress: bool = False,
 ) -> SweepResult:
     """L1 and B2 frequencies while one dimension of ``base`` varies.
@@ -173,8 +172,9 @@ def sweep_dimension(
     base : PlateStator, optional
         Default: the paper's plate.
     material : PiezoMaterial or str
-    order, refine : int
-        2D mesh (default refine: :data:`fem.meshing.mesh.DEFAULT_REFINE`).
+    mesh : MeshSettings, optional
+        The 2D mesh of every plate (:func:`fem.modes.plate_modes`); default
+        :class:`fem.mesh_settings.MeshSettings`.
     progress : bool
         Show a tqdm progress bar (on stderr) for sweeps of at least
         :data:`PROGRESS_MIN_POINTS` points.
@@ -184,7 +184,6 @@ def sweep_dimension(
     ValueError
         On an unknown parameter, an empty sweep or a value that makes an invalid plate.
     """
-    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.modes import ModeSolverError, plate_modes
 
     if parameter not in PARAMETERS:
@@ -193,7 +192,6 @@ def sweep_dimension(
     values = _sweep_values(values_m)
     base = PlateStator() if base is None else base
     mat = get_material(material)
-    refine = DEFAULT_REFINE if refine is None else refine
     stators = [replace(base, **{f"{parameter}_m": float(v)}) for v in values]  # validates
     it = stators
     if progress and len(stators) >= PROGRESS_MIN_POINTS:
@@ -205,7 +203,7 @@ def sweep_dimension(
     failures = [""] * values.size
     for i, st in enumerate(it):
         try:
-            res = plate_modes(st, mat, MeshSettings(order, refine))
+            res = plate_modes(st, mat, mesh)
         except ModeSolverError as exc:
             spectra.append(np.array([]))
             failures[i] = str(exc)

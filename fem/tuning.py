@@ -241,13 +241,12 @@ class _Solver:
     """Counts and memoizes FE modal solutions of plates that differ in length and width."""
 
     def __init__(self, base: PlateStator, material: PiezoMaterial, model: str,
-                 scale_thickness: bool, order: int, refine: int | None) -> None:
+                 scale_thickness: bool, mesh: MeshSettings) -> None:
         self.base = base
         self.material = material
         self.model = model
         self.scale_thickness = scale_thickness
-        self.order = order
-        self.refine = refine
+        self.mesh = mesh
         self.cache: dict[tuple[float, float], object] = {}
         self.history: list[tuple[float, float, float, float]] = []
         self.bar = None  # a tqdm bar counting the solves, when asked for
@@ -266,9 +265,9 @@ class _Solver:
             if self.model == "2d":
                 from fem.modes import plate_modes
 
-                res = plate_modes(st, self.material, MeshSettings(self.order, self.refine))
+                res = plate_modes(st, self.material, self.mesh)
             else:
-                res = _solve_3d(st, self.material, self.order, self.refine)
+                res = _solve_3d(st, self.material, self.mesh)
             self.cache[key] = res
             self.history.append((key[0], key[1], res.L1.f_short_Hz, res.B2.f_short_Hz))
             if self.bar is not None:
@@ -282,23 +281,22 @@ class _Solver:
         return math.log(res.B2.f_short_Hz / res.L1.f_short_Hz)
 
 
-def _solve_3d(stator: PlateStator, material: PiezoMaterial, order: int, refine: int | None):
-    """The 3D modes a tuning solves: with ``refine`` None the fine mesh of ``lusm modes
+def _solve_3d(stator: PlateStator, material: PiezoMaterial, mesh: MeshSettings):
+    """The 3D modes a tuning solves: with ``mesh.refine`` None the fine mesh of ``lusm modes
     --model 3d``'s default pair (:func:`fem.solid3d.estimate.default_meshes`, on the quarter
-    plate where it applies), so that the tuned plate re-solved by ``lusm modes --model 3d``
-    gives the tuning's numbers; else the uniform mesh of ``refine`` and three layers."""
-    from fem.solid3d.model import DEFAULT_LAYERS, solid_modes
+    plate where it applies) in ``mesh``'s order, so that the tuned plate re-solved by ``lusm
+    modes --model 3d`` gives the tuning's numbers; else the full plate on ``mesh``."""
+    from fem.solid3d.model import solid_modes
 
-    if refine is not None:
-        return solid_modes(stator, material, MeshSettings(order, refine, DEFAULT_LAYERS))
+    if mesh.refine is not None:
+        return solid_modes(stator, material, mesh)
     from fem.solid3d.estimate import default_meshes
     from fem.solid3d.symmetric import quarter_model_applies, symmetric_solid_modes
 
     fine = default_meshes(stator)[1]
     solve = (symmetric_solid_modes if quarter_model_applies(stator, fine.edge_grading)
              else solid_modes)
-    return solve(stator, material, order, fine.refine, fine.layers,
-                 edge_grading=fine.edge_grading)
+    return solve(stator, material, fine.settings(mesh.order))
 
 
 def _crossing(solver: _Solver, free: str, length_m: float, width_m: float,
@@ -379,8 +377,7 @@ def tune_plate(
     material: PiezoMaterial | str = "pzt8",
     start: PlateStator | None = None,
     model: str = "2d",
-    order: int = 2,
-    refine: int | None = None,
+    mesh: MeshSettings | None = None,
     rel_tol: float = 1e-5,
     max_iter: int = 10,
     progress: bool = False,
@@ -406,10 +403,11 @@ def tune_plate(
         thickness, gap and drive electrodes are kept. A stator with its own mesh is refused.
     model : str
         ``'2d'`` (plane stress, default) or ``'3d'`` (:mod:`fem.solid3d.model`, slower).
-    order : int
-        Element order.
-    refine : int, optional
-        Mesh refinement (default: the model's default).
+    mesh : MeshSettings, optional
+        The FE mesh (default :class:`fem.mesh_settings.MeshSettings`). A 2D tuning solves
+        every plate on it. A 3D tuning starts from a 2D tuning on the default 2D mesh of
+        ``mesh.order``, then solves the full plate on ``mesh`` or, with ``mesh.refine``
+        None, on the fine mesh of ``lusm modes --model 3d``'s default pair.
     rel_tol : float
         Stop when both frequencies are within ``rel_tol`` of the target; with a held length
         or width, the tolerance of the crossing (-).
@@ -434,15 +432,16 @@ def tune_plate(
                                           max_iter)
     mat = get_material(material)
     base = _start_plate(start)
-    solver = _Solver(base, mat, "2d", "thickness_ratio" in held, order,
-                     refine if model == "2d" else None)
+    mesh = MeshSettings() if mesh is None else mesh
+    solver = _Solver(base, mat, "2d", "thickness_ratio" in held,
+                     mesh if model == "2d" else MeshSettings(order=mesh.order))
     solver.bar = _progress_bar(progress)
     try:
         d2 = _tune(solver, base, mat, held, fixed_dim, target_frequency_Hz, "2d", rel_tol,
                    max_iter)
         if model == "2d":
             return d2
-        solver3 = _Solver(base, mat, "3d", "thickness_ratio" in held, order, refine)
+        solver3 = _Solver(base, mat, "3d", "thickness_ratio" in held, mesh)
         solver3.bar = solver.bar
         return _tune_3d(solver3, solver, d2, rel_tol)
     finally:

@@ -155,13 +155,14 @@ def assignments_as_options(text: str) -> str:
 
 
 def feature_reason(exc: BaseException) -> str:
-    """A parametric stator's refusal in the stator file's terms (mm, hole numbers) where the
-    library gave them after its SI text, as for the holes; else the text as it is."""
-    text = str(exc)
-    for mark in ("): hole ", "): [chamfers] ", "): [tip] ", "): [mesh] "):
-        if mark in text:
-            return text.split("): ", 1)[-1]
-    return text
+    """A parametric stator's refusal in the stator file's terms (mm, hole numbers,
+    :attr:`fem.errors.FeatureError.file_text`) where the library gave them; else the text
+    as it is."""
+    from fem.errors import FeatureError
+
+    if isinstance(exc, FeatureError) and exc.file_text:
+        return exc.file_text
+    return str(exc)
 
 
 def short_reason(exc: Exception | str) -> str:

@@ -907,6 +907,7 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
                             f"--source {source}", "--source")
         choice = stator_from_args(args)  # checks the options and the file first
         check_fe_size(choice.stator, None, has_option=False)  # no --refine on these commands
+        from rom.errors import DesignFileError, NodalPointError
         from rom.from_fem import design_base, fem_params, fem_params_from_file
 
         design = choice.design
@@ -927,10 +928,9 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
 
             if is_fe_failure(exc):
                 raise fe_failure(exc, choice.stator) from exc
-            if design is not None and isinstance(exc, ValueError) and str(exc).startswith(
-                    str(args.geometry)):  # the file's own terms (its damping identification)
+            if design is not None and isinstance(exc, DesignFileError):  # the file's terms
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
-            if design is not None and isinstance(exc, ValueError) and "[points]" in str(exc):
+            if design is not None and isinstance(exc, NodalPointError):
                 # a tip or preload point at a node of its mode: the file's [points] key
                 raise LusmError(f"--geometry {args.geometry}: {exc}", "--geometry") from None
             raise
@@ -1194,31 +1194,25 @@ def check_dt_per_period(dt_s: float, frequency_Hz: float, why: str = "") -> None
 
 
 PAPER_DURATION_S = 0.05
-"""Default ``--duration`` (s) of Table 2's set and of ``lusm map``'s transients."""
+"""Default ``--duration`` (s) of Table 2's set and of ``lusm map``'s transients
+(:data:`contact.drive.PAPER_DURATION_S`)."""
 
 
 def default_duration_s(params, voltages_V: Sequence[float], preload_N: float,
                        frequency_Hz: float, dt_s: float, load_N: float = 0.0) -> float:
-    """``lusm simulate``'s run length without ``--duration`` (s): :data:`PAPER_DURATION_S`
-    for Table 2's set (the paper's runs); for any other, the longest
-    :func:`contact.drive.settling_time_s` of ``voltages_V``, at least
-    :data:`PAPER_DURATION_S`, at most the steps the work bound allows (said in one line,
-    with ``--steady`` suggested)."""
-    from contact.drive import settling_time_s
-    from contact.model import is_table2
+    """``lusm simulate``'s run length without ``--duration`` (s):
+    :func:`contact.drive.default_duration_s` of ``voltages_V``, at most the steps the work
+    bound allows (said in one line when it cuts the run, with ``--steady`` suggested)."""
+    from contact.drive import default_duration_s as settle_duration
 
-    if is_table2(params):
-        return PAPER_DURATION_S
-    settle = max(settling_time_s(params, v, preload_N, frequency_Hz, load_N)
-                 for v in voltages_V)
-    duration = max(PAPER_DURATION_S, settle)
     top = limits.work_bound(limits.MAX_STEPS) * dt_s
-    if duration > top:
-        warn(f"--duration: the slider settles in about {duration:.3g} s, {duration / dt_s:.3g} "
+    duration, settle = settle_duration(
+        params, [(v, preload_N, frequency_Hz) for v in voltages_V], top, load_N)
+    if settle > duration:
+        warn(f"--duration: the slider settles in about {settle:.3g} s, {settle / dt_s:.3g} "
              f"time steps, above the limit {limits.work_bound(limits.MAX_STEPS):.3g}; running "
              f"{top:.3g} s, which may not settle: --steady finds the steady state directly "
              f"({limits.more_work_hint()})")
-        duration = top
     return duration
 
 

@@ -22,7 +22,8 @@ def limits_json(limits) -> dict | None:
 
 def print_limits(doc: dict | None) -> None:
     """A :func:`limits_json` object as ``limit <quantity>  <value> (limit <limit>, ratio
-    <r>)`` lines, in the printed units of :data:`contact.operating_limits.QUANTITIES`."""
+    <r>)`` lines, in the printed units of :data:`contact.operating_limits.QUANTITIES`; the
+    stress line also says what it is and gives the peaks' sum where that differs."""
     from contact.operating_limits import QUANTITIES
 
     if not doc:
@@ -32,5 +33,9 @@ def print_limits(doc: dict | None) -> None:
         limit = d["limit"]
         bound = (f"limit {limit * factor:.3g} {unit}, ratio {d['ratio']:.3g}"
                  if limit == limit else "no limit of its own")  # NaN: the dampers' total
+        what = ""
+        if "sum_of_peaks" in d:
+            what = (f"; {d['basis']}, the peaks' sum {d['sum_of_peaks'] * factor:.4g} {unit}"
+                    if d["sum_of_peaks"] != d["value"] else f"; {d['basis']}")
         print(f"{'limit ' + q.replace('_', ' '):<30} {d['value'] * factor:.4g} {unit} "
-              f"({bound}; {doc['basis']})")
+              f"({bound}; {doc['basis']}{what})")

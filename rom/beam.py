@@ -94,6 +94,9 @@ class Electrode:
             )
 
 
+B2_STIFFNESSES = ("euler-bernoulli", "timoshenko")
+"""The B2 stiffness models a beam parameter set takes (:func:`beam_params`)."""
+
 ELECTRODE_LAYOUTS: dict[str, tuple[Electrode, ...]] = {
     # Quadrant numbering used here (Fig. 1 of the paper does not fix x): 1 = preload half,
     # x > 0; 2 = preload half, x < 0; 3 = tip half, x > 0; 4 = tip half, x < 0.
@@ -120,8 +123,9 @@ def plate_layout(drive_electrodes: Sequence[int]) -> tuple[Electrode, ...]:
     try:
         return tuple(_PLATE_QUADRANTS[int(e)] for e in drive_electrodes)
     except KeyError:
-        raise ValueError(f"drive_electrodes must be plate electrodes 1..4, got "
-                         f"{tuple(drive_electrodes)!r}") from None
+        raise ParameterError("drive_electrodes", tuple(drive_electrodes), choices=(1, 2, 3, 4),
+                             message=f"drive_electrodes must be plate electrodes 1..4, got "
+                             f"{tuple(drive_electrodes)!r}") from None
 
 
 @dataclass(frozen=True)
@@ -205,16 +209,16 @@ def _resolve_layout(electrode_layout: str | Sequence[Electrode]) -> tuple[Electr
         try:
             return ELECTRODE_LAYOUTS[electrode_layout]
         except KeyError:
-            raise ValueError(
-                f"electrode_layout must be one of {sorted(ELECTRODE_LAYOUTS)} or a sequence of "
-                f"Electrode, got {electrode_layout!r}"
-            ) from None
+            raise ParameterError(
+                "electrode_layout", electrode_layout, choices=tuple(sorted(ELECTRODE_LAYOUTS)),
+                message=f"electrode_layout must be one of {sorted(ELECTRODE_LAYOUTS)} or a "
+                f"sequence of Electrode, got {electrode_layout!r}") from None
     layout = tuple(electrode_layout)
     if not layout or not all(isinstance(e, Electrode) for e in layout):
-        raise ValueError(
-            f"electrode_layout must be one of {sorted(ELECTRODE_LAYOUTS)} or a non-empty "
-            f"sequence of Electrode, got {electrode_layout!r}"
-        )
+        raise ParameterError(
+            "electrode_layout", electrode_layout, choices=tuple(sorted(ELECTRODE_LAYOUTS)),
+            message=f"electrode_layout must be one of {sorted(ELECTRODE_LAYOUTS)} or a "
+            f"non-empty sequence of Electrode, got {electrode_layout!r}")
     return layout
 
 
@@ -349,23 +353,24 @@ def beam_params(
         For non-finite or non-positive geometry/moduli, damping ratios outside (0, 1), an
         unknown layout or ``b2_stiffness``.
     """
-    if b2_stiffness not in ("euler-bernoulli", "timoshenko"):
-        raise ValueError(
-            f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}"
-        )
+    if b2_stiffness not in B2_STIFFNESSES:
+        raise ParameterError(
+            "b2_stiffness", b2_stiffness, choices=B2_STIFFNESSES,
+            message=f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}")
     c = beam_constants(beam, electrode_layout=electrode_layout)
     base = table2() if base is None else base
     if not isinstance(base, MotorParams):
-        raise ValueError(f"base must be a MotorParams or None, got {type(base).__name__}")
+        raise ParameterError("base", base, message=f"base must be a MotorParams or None, got "
+                             f"{type(base).__name__}")
     if damping_ratios is None:
         zeta_l, zeta_b = base.zeta_L1, base.zeta_B2
     else:
         try:
             zeta_l, zeta_b = damping_ratios
         except (TypeError, ValueError):
-            raise ValueError(
-                f"damping_ratios must be a pair (zeta_L1, zeta_B2), got {damping_ratios!r}"
-            ) from None
+            raise ParameterError(
+                "damping_ratios", damping_ratios, message=f"damping_ratios must be a pair "
+                f"(zeta_L1, zeta_B2), got {damping_ratios!r}") from None
     for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
         # one message with the range that holds, (0, 1), for 0.0 too
         if isinstance(z, bool) or not isinstance(z, (int, float, np.floating, np.integer)) \
@@ -418,10 +423,10 @@ def beam_frequencies(
         ``f_L1_Hz``, the Euler-Bernoulli, condensed-Timoshenko and full Timoshenko B2
         frequencies, and the one the parameter set uses.
     """
-    if b2_stiffness not in ("euler-bernoulli", "timoshenko"):
-        raise ValueError(
-            f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}"
-        )
+    if b2_stiffness not in B2_STIFFNESSES:
+        raise ParameterError(
+            "b2_stiffness", b2_stiffness, choices=B2_STIFFNESSES,
+            message=f"b2_stiffness must be 'euler-bernoulli' or 'timoshenko', got {b2_stiffness!r}")
     # imported here: the full Timoshenko figure, kept for the record, is the one use of
     # scipy.linalg in the beam set (0.35 s at start-up)
     from rom.timoshenko import timoshenko_b2_frequency

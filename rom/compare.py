@@ -6,6 +6,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+from bounds import ParameterError
 from rom.params import MotorParams
 from rom.sources import SOURCES, get_params
 
@@ -106,7 +107,9 @@ def compare_sources(
     names = tuple(dict.fromkeys([reference, *sources]))
     for name in names:
         if name not in SOURCES:
-            raise ValueError(f"source must be one of {', '.join(SOURCES)}, got {name!r}")
+            raise ParameterError("source", name, choices=SOURCES,
+                                 message=f"source must be one of {', '.join(SOURCES)}, got "
+                                 f"{name!r}")
     values: dict[str, dict[str, float]] = {}
     unavailable: dict[str, str] = {}
     descriptions: dict[str, str] = {}

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bounds import ParameterError
+from rom.errors import UnreachableAmplitudeError
 from rom.params import MotorParams
 from rom.table2 import PAPER_DRIVE_HZ, table2
 
@@ -96,18 +97,14 @@ def _damping(M: float, K: float, A: float, phi: float, omega: float, target: flo
              mode: str) -> float:
     """``C`` (N s/m) that gives the amplitude per volt ``target`` at ``omega``."""
     if not (math.isfinite(target) and target > 0.0):
-        raise ValueError(f"the {mode} target amplitude must be a finite number > 0 m/V, "
-                         f"got {target!r}")
+        raise ParameterError(f"target_{mode}_m_per_V", target, 0.0, None, "m/V", low_open=True,
+                             message=f"the {mode} target amplitude must be a finite number "
+                             f"> 0 m/V, got {target!r}")
     drive = abs(phi * A) / target  # the dynamic stiffness magnitude the target needs (N/m)
     detuning = K - M * omega**2
     if drive <= abs(detuning):
-        undamped = abs(phi * A) / abs(detuning)
-        raise ValueError(
-            f"no damping gives the {mode} amplitude {target:.4g} m/V at "
-            f"{omega / (2 * math.pi):.6g} Hz: even undamped the mode reaches only "
-            f"{undamped:.4g} m/V there (its natural frequency is "
-            f"{math.sqrt(K / M) / (2 * math.pi):.6g} Hz); identify at a drive frequency nearer "
-            "to it")
+        raise UnreachableAmplitudeError.of_mode(mode, target, omega, M, K,
+                                                abs(phi * A) / abs(detuning))
     return math.sqrt(drive**2 - detuning**2) / omega
 
 
@@ -134,9 +131,11 @@ def identify_damping(params: MotorParams, frequency_Hz: float = PAPER_DRIVE_HZ,
 
     Raises
     ------
-    ValueError
-        When a target cannot be reached at that frequency (the message says how far the
-        undamped mode gets) or is not a positive number.
+    rom.errors.UnreachableAmplitudeError
+        When a target cannot be reached at that frequency (its fields say how far the
+        undamped mode gets and where its natural frequency lies).
+    bounds.ParameterError
+        When the frequency or a target is not a positive number.
     """
     if not (math.isfinite(frequency_Hz) and frequency_Hz > 0.0):
         raise ParameterError("frequency_Hz", frequency_Hz, 0.0, None, "Hz", low_open=True,

@@ -30,6 +30,7 @@ import numpy as np
 from bounds import ParameterError
 from fem.beam_shapes import phi_B, phi_L
 from fem.mesh_settings import MeshSettings
+from rom.errors import DesignFileError, NodalPointError, UnreachableAmplitudeError
 from rom.params import MotorParams
 from rom.shape_data import ShapeData
 from rom.table2 import table2
@@ -44,8 +45,7 @@ as the inverse square of that share, is meaningless (the plate's ends: about 1).
 def fem_params(
     stator=None,
     material="pzt8",
-    order: int = 2,
-    refine: int | None = None,
+    mesh: MeshSettings | None = None,
     base: MotorParams | None = None,
     damping_ratios: tuple[float, float] | None = None,
 ) -> MotorParams:
@@ -57,10 +57,10 @@ def fem_params(
         Plate geometry and drive electrodes; default: the paper's plate driven through 1 and 4.
     material : str or fem.material.PiezoMaterial
         ``'pzt8'`` (default) or ``'paper'``, or a material.
-    order : int
-        FE element order, 1 or 2.
-    refine : int, optional
-        Mesh refinement; default :data:`fem.meshing.mesh.DEFAULT_REFINE`.
+    mesh : MeshSettings, optional
+        The 2D FE mesh (:func:`fem.model.plate_model`); default
+        :class:`fem.mesh_settings.MeshSettings` (order 2, refine
+        :data:`fem.mesh_settings.DEFAULT_REFINE`).
     base : MotorParams, optional
         Source of the contact, slider and friction constants (``k_contact``, ``M_slider``,
         ``mu_s``, ``mu_d``, ``mu_sd``, ``a_mu``, ``b_mu``) and of the default damping ratios;
@@ -74,37 +74,36 @@ def fem_params(
     """
     from fem.geometry import PlateStator
     from fem.material import get_material
-    from fem.meshing.mesh import DEFAULT_REFINE
     from fem.model import plate_model
     from fem.modes import plate_modes
 
     stator = PlateStator() if stator is None else stator
-    refine = DEFAULT_REFINE if refine is None else refine
+    mesh = (MeshSettings() if mesh is None else mesh).plate()
     base = table2() if base is None else base
     zeta_l, zeta_b = _damping_ratios(base, damping_ratios)
     mat = get_material(material)
-    modes = plate_modes(stator, mat, MeshSettings(order, refine))
-    model = plate_model(stator, mat, MeshSettings(order, refine))
+    modes = plate_modes(stator, mat, mesh)
+    model = plate_model(stator, mat, mesh)
 
     length = stator.length_m
     points = np.array([stator.preload_point_m, stator.tip_point_m]).T  # (2, 2)
     P = model.probe(points)  # rows: ux(preload), ux(tip), uy(preload), uy(tip)
     drive = model.coupling(stator.drive_electrodes)
-    m_l, k_l, a_l, v_l, peaks_l = _reduce_mode(model, stator, P, drive, modes.L1.shape, 2,
+    m_l, k_l, a_l, v_l, phi_l = _reduce_mode(model, stator, P, drive, modes.L1.shape, 2,
                                                float(phi_L(0.0, length)), modes.L1.f_short_Hz,
                                                "L1")
-    m_b, k_b, a_b, v_b, peaks_b = _reduce_mode(model, stator, P, drive, modes.B2.shape, 1,
+    m_b, k_b, a_b, v_b, phi_b = _reduce_mode(model, stator, P, drive, modes.B2.shape, 1,
                                                float(phi_B(length, length)),
                                                modes.B2.f_short_Hz, "B2")
     features = stator.features_text() if hasattr(stator, "features_text") else ""
-    mesh_text = _mesh_text(stator, refine)
+    mesh_text = _mesh_text(stator, mesh.refine)
     return MotorParams.from_modal(
         M_l=m_l, K_l=k_l, A_l=a_l, phi_L0=float(v_l[2]), phi_Ll=float(v_l[3]),
         M_b=m_b, K_b=k_b, A_b=a_b, phi_B0=float(v_b[0]), phi_Bl=float(v_b[1]),
         damping_ratios=(zeta_l, zeta_b), base=base,
-        shape=_fe_shape_data(model, mat, peaks_l, peaks_b, order),
+        shape=_fe_shape_data(model, mat, phi_l, phi_b, mesh.order),
         source=(
-            f"FE modal reduction (scikit-fem, plane stress, order {order}, {mesh_text}, "
+            f"FE modal reduction (scikit-fem, plane stress, order {mesh.order}, {mesh_text}, "
             f"{modes.dofs} dofs) of a {stator.length_m * 1e3:g} x {stator.width_m * 1e3:g} x "
             f"{stator.thickness_m * 1e3:g} mm plate{features}, material {mat.name}, drive "
             f"electrodes "
@@ -121,8 +120,9 @@ def _damping_ratios(base: MotorParams,
     if damping_ratios is None:
         return base.zeta_L1, base.zeta_B2
     if np.ndim(damping_ratios) != 1 or len(damping_ratios) != 2:
-        raise ValueError(f"damping_ratios must be (zeta_L1, zeta_B2), two numbers in "
-                         f"(0, 1), got {damping_ratios!r}")
+        raise ParameterError("damping_ratios", damping_ratios,
+                             message=f"damping_ratios must be (zeta_L1, zeta_B2), two numbers "
+                             f"in (0, 1), got {damping_ratios!r}")
     zeta_l, zeta_b = (float(z) for z in damping_ratios)
     for name, z in (("zeta_L1", zeta_l), ("zeta_B2", zeta_b)):
         if not (math.isfinite(z) and 0.0 < z < 1.0):
@@ -131,25 +131,30 @@ def _damping_ratios(base: MotorParams,
     return zeta_l, zeta_b
 
 
-def _fe_shape_data(model, material, peaks_l: tuple[float, float],
-                   peaks_b: tuple[float, float], order: int) -> ShapeData:
+def _fe_shape_data(model, material, phi_l: np.ndarray, phi_b: np.ndarray,
+                   order: int) -> ShapeData:
     """The reduced shapes' peaks (:func:`fem.mode_peaks.shape_peaks`, per unit modal
-    amplitude) with the plate's thickness, volume and the material's limits."""
-    from fem.mode_peaks import plate_volume_m3
+    amplitude) and their stress combined over a period
+    (:func:`fem.mode_peaks.combined_stress_factors`), with the plate's thickness, volume
+    and the material's limits."""
+    from fem.mode_peaks import combined_stress_factors, plate_volume_m3, shape_peaks
 
+    peaks_l, peaks_b = shape_peaks(model, phi_l), shape_peaks(model, phi_b)
     return ShapeData(
         velocity_L1=peaks_l[0], velocity_B2=peaks_b[0], stress_L1_Pa_m=peaks_l[1],
         stress_B2_Pa_m=peaks_b[1], thickness_m=model.stator.thickness_m,
         volume_m3=plate_volume_m3(model), material=material.name, limits=material.limits,
         source=f"FE mode shapes (plane stress, order {order}): the largest nodal "
-               "displacement and the largest principal stress at the quadrature points")
+               "displacement and the largest principal stress at the quadrature points",
+        combined_stress=combined_stress_factors(model, phi_l, phi_b),
+    )
 
 
 def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndarray, row: int,
                  target: float, f_hz: float, name: str):
-    """One mode reduced to ``(mass, stiffness, force, values, peaks)``: its modal mass (kg),
-    stiffness (N/m), force factor (N/V), probe values and the scaled shape's
-    :func:`fem.mode_peaks.shape_peaks`, ``shape`` scaled so that probe ``row`` of ``P``
+    """One mode reduced to ``(mass, stiffness, force, values, phi)``: its modal mass (kg),
+    stiffness (N/m), force factor (N/V), probe values and the scaled shape ``phi``,
+    ``shape`` scaled so that probe ``row`` of ``P``
     reads ``target`` (the beam shape's value), the probes being ``u_x`` at the preload point and the
     tip, then ``u_y`` at both; ``drive`` is the driven electrodes' coupling vector.
 
@@ -164,20 +169,20 @@ def _reduce_mode(model, stator, P: np.ndarray, drive: np.ndarray, shape: np.ndar
     if not share >= NODE_SHARE:
         point, where, xy = (("preload", stator.preload_point_m, "y") if row == 2
                             else ("tip", stator.tip_point_m, "x"))
-        raise ValueError(
+        key = f"[points] {point}_mm"
+        raise NodalPointError(
             f"the {name} mode's {xy} displacement at the {point} point "
             f"({where[0] * 1e3:g}, {where[1] * 1e3:g}) mm is {share:.2g} of its largest "
             f"(a node of the mode; at least {NODE_SHARE:g} needed), where the reduction "
-            f"normalises it; the {point} point ([points] {point}_mm in a stator file) "
-            f"must lie where {name} moves in {xy}, e.g. on the plate's end")
+            f"normalises it; the {point} point ({key} in a stator file) "
+            f"must lie where {name} moves in {xy}, e.g. on the plate's end",
+            name, point, share, key)
     phi = shape * (target / vals[row])
     vals = P @ phi
     mass = float(phi @ (model.M @ phi))
     stiff = (2.0 * math.pi * f_hz) ** 2 * mass
     force = float(phi @ drive)
-    from fem.mode_peaks import shape_peaks
-
-    return mass, stiff, force, vals, shape_peaks(model, phi)
+    return mass, stiff, force, vals, phi
 
 
 def _mesh_text(stator, refine: int) -> str:
@@ -218,7 +223,7 @@ def design_base(design, base: MotorParams | None = None) -> MotorParams:
             text = re.sub(rf"(?<![\w\[])(MotorParams\.)?{re.escape(name)}\b", where, text)
         # what the file did not set comes from the base set (mu_s alone: Table 2's mu_d)
         text = text.replace("MotorParams.", "the base set's ")
-        raise ValueError(f"{design.path or design.name}: {text}") from None
+        raise DesignFileError(design.path or design.name, "", text) from None
 
 
 def design_damping(design, base: MotorParams | None = None) -> tuple[float, float] | None:
@@ -250,9 +255,9 @@ def fem_params_from_file(path, **kwargs) -> MotorParams:
         Stator file; its geometry, drive electrodes, material, points, mesh and motor
         tables are used.
     **kwargs
-        Further :func:`fem_params` options (``order``, ``refine``, ``base``,
-        ``damping_ratios``; ``material`` overrides the file's). ``refine`` is ignored when
-        the file gives a mesh.
+        Further :func:`fem_params` options (``mesh``, ``base``, ``damping_ratios``;
+        ``material`` overrides the file's). ``mesh.refine`` is ignored when the file gives
+        a mesh.
 
     Returns
     -------
@@ -306,9 +311,11 @@ def fem_params_from_design(design, stator=None, **kwargs) -> MotorParams:
         try:
             fitted = identify_damping(params, design.damping_identify_Hz).params
         except ValueError as exc:
-            text = str(exc).replace("identify at a drive frequency nearer to it",
-                                    "set the file's [damping] frequency_Hz nearer to it")
-            raise ValueError(f"{path}: [damping] source = \"paper_amplitudes\": {text}") \
+            if isinstance(exc, UnreachableAmplitudeError):  # the remedy in the file's terms
+                exc = UnreachableAmplitudeError(
+                    exc.mode, exc.target_m_per_V, exc.frequency_Hz, exc.undamped_m_per_V,
+                    exc.natural_Hz, "set the file's [damping] frequency_Hz nearer to it")
+            raise DesignFileError(path, '[damping] source = "paper_amplitudes"', str(exc)) \
                 from None
         # the set's description names the fitted ratios it carries, not the ones the
         # reduction started from (Table 2's)

@@ -20,6 +20,7 @@ import numpy as np
 
 from fem.beam_shapes import phi_B, phi_L
 from fem.material import MaterialLimits
+from fem.mode_peaks import COMBINED_POINTS
 
 SHAPE_UNITS = {
     "velocity_L1": "-", "velocity_B2": "-", "stress_L1_Pa_m": "Pa/m",
@@ -50,6 +51,12 @@ class ShapeData:
         The material's operating limits; None when unknown (inline constants without base).
     source : str
         Where the figures come from (FE mode shapes or beam theory).
+    combined_stress : tuple of float or None
+        The peak stress of L1 and B2 together over a drive period, at the worst phase between
+        them, per unit of their peaks' sum (-), at B2's shares ``t = 0, 1/(n-1), ..., 1`` of
+        that sum (``t = s_B W / (s_L U + s_B W)``): 1 at both ends, at most 1 between, where
+        the two peaks lie apart. None where the shapes are not known point by point (a
+        parameter file written without it): the stress is then the peaks' sum.
     """
 
     velocity_L1: float
@@ -61,6 +68,7 @@ class ShapeData:
     material: str
     limits: MaterialLimits | None
     source: str
+    combined_stress: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         for key in SHAPE_UNITS:
@@ -71,11 +79,37 @@ class ShapeData:
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"ShapeData.{key} must be a finite number > 0, got {value!r}")
             object.__setattr__(self, key, value)
+        if self.combined_stress is not None:
+            k = tuple(float(v) for v in self.combined_stress)
+            if len(k) < 2 or not all(math.isfinite(v) and 0.0 < v <= 1.0 + 1e-12 for v in k):
+                raise ValueError("ShapeData.combined_stress must be at least two numbers in "
+                                 f"(0, 1], got {self.combined_stress!r}")
+            object.__setattr__(self, "combined_stress", k)
+
+    def stress_Pa(self, u_m: float, w_m: float) -> float:
+        """The peak stress (Pa) of L1 and B2 at modal amplitudes ``u_m``, ``w_m`` (m)
+        together over a period: the peaks' sum :meth:`stress_bound_Pa` times
+        :attr:`combined_stress` interpolated at B2's share (linearly: the factor being
+        convex in the share, the interpolation bounds it from above); the sum itself
+        without :attr:`combined_stress`."""
+        bound = self.stress_bound_Pa(u_m, w_m)
+        if self.combined_stress is None or bound <= 0.0:
+            return bound
+        k = self.combined_stress
+        share = abs(w_m) * self.stress_B2_Pa_m / bound
+        return bound * float(np.interp(share, np.linspace(0.0, 1.0, len(k)), k))
+
+    def stress_bound_Pa(self, u_m: float, w_m: float) -> float:
+        """``s_L |U| + s_B |W|`` (Pa): the modes' peak stresses added, as if both peaked at
+        one point in phase (an upper bound of :meth:`stress_Pa`)."""
+        return abs(u_m) * self.stress_L1_Pa_m + abs(w_m) * self.stress_B2_Pa_m
 
     def to_dict(self) -> dict:
         """JSON-ready: the numbers (SI, :data:`SHAPE_UNITS`), ``material``, ``limits`` (each
         limit in SI, or None) and ``source``."""
         d = asdict(self)
+        if self.combined_stress is not None:
+            d["combined_stress"] = list(self.combined_stress)
         if self.limits is not None:
             d["limits"] = {k: v for k, v in asdict(self.limits).items() if k != "source"}
         return d
@@ -87,12 +121,14 @@ class ShapeData:
         Raises
         ------
         ValueError
-            Unknown or missing keys, or bad values (the message names them).
+            Unknown or missing keys, or bad values (the message names them); ``combined_stress``
+        may be missing (None).
         """
         if not isinstance(d, dict):
             raise ValueError(f"shape must be an object, got {type(d).__name__}")
         keys = set(SHAPE_UNITS) | {"material", "limits", "source"}
-        unknown, missing = sorted(set(d) - keys), sorted(keys - set(d))
+        unknown = sorted(set(d) - keys - {"combined_stress"})
+        missing = sorted(keys - set(d))
         if unknown or missing:
             raise ValueError(f"shape: unknown key(s) {unknown}, missing key(s) {missing}")
         lim = d["limits"]
@@ -112,8 +148,10 @@ def beam_shape_data(length_m: float, width_m: float, thickness_m: float, cE11_Pa
     the node ``y = l/2``, ``cE11 pi / l`` per unit amplitude. B2 bends in plane about the
     thickness axis: its antinode is the free end, ``|phi_B(0)| = 2 |alpha2|``, and its
     bending stress ``cE11 (b/2) |phi_B''|`` peaks at the largest curvature, on the plate's
-    edge. ``cE11`` is the stiffness the beam's ``K_l`` and ``K_b`` use (Appendix A)."""
+    edge. ``cE11`` is the stiffness the beam's ``K_l`` and ``K_b`` use (Appendix A). The
+    combined stress over a period is :func:`beam_combined_stress_Pa`'s, in phase."""
     y = np.linspace(0.0, length_m, 20001)
+    shares = np.linspace(0.0, 1.0, COMBINED_POINTS)
     return ShapeData(
         velocity_L1=float(np.max(np.abs(phi_L(y, length_m)))),
         velocity_B2=float(np.max(np.abs(phi_B(y, length_m)))),
@@ -121,6 +159,7 @@ def beam_shape_data(length_m: float, width_m: float, thickness_m: float, cE11_Pa
         stress_B2_Pa_m=cE11_Pa * 0.5 * width_m * float(np.max(np.abs(phi_B(y, length_m, 2)))),
         thickness_m=thickness_m, volume_m3=length_m * width_m * thickness_m,
         material=material, limits=limits, source=source,
+        combined_stress=tuple(beam_combined_stress_Pa(length_m, 1.0 - t, t) for t in shares),
     )
 
 
@@ -135,8 +174,8 @@ def beam_combined_stress_Pa(length_m: float, stress_L1_Pa: float, stress_B2_Pa: 
     ``|a exp(i phase) + c|``; across the width ``c`` takes both signs, so the largest over
     the width is ``sqrt(a^2 + c^2 + 2 |a c cos(phase)|)`` at the edges. Its maximum over the
     length is the combined peak: at most ``s_L + s_B`` (the modes' peaks added, the bound
-    :func:`contact.operating_limits.limits_from_amplitudes` reports), less where the peaks
-    lie apart (L1's at the middle, where the antisymmetric B2 does not bend).
+    :func:`contact.operating_limits.limits_from_amplitudes` reports beside it), less where
+    the peaks lie apart (L1's at the middle, where the antisymmetric B2 does not bend).
     ``phase_rad = 0`` (the default, the modes in phase) is the largest over every phase.
 
     Parameters

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from bounds import ParameterError
 from rom.params import MotorParams
 
 SOURCES = ("table2", "beam", "fem")
@@ -94,7 +95,7 @@ def get_params(source: str, **kwargs: Any) -> MotorParams:
     try:
         builder = _DISPATCH[source]
     except (KeyError, TypeError):
-        raise ValueError(
-            f"source must be one of {', '.join(SOURCES)}, got {source!r}"
-        ) from None
+        raise ParameterError("source", source, choices=SOURCES,
+                             message=f"source must be one of {', '.join(SOURCES)}, got "
+                             f"{source!r}") from None
     return builder(**kwargs)

@@ -12,6 +12,7 @@ import json
 import logging
 import os
 import sys
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -316,7 +317,7 @@ def _quiet_client_logs() -> Iterator[None]:
     """Meanwhile, the ``distributed`` loggers of this process say nothing below CRITICAL: a
     scheduler that goes away makes the client log its failed reconnections with their
     tracebacks, where the study says the loss in one line
-    (:class:`studies.explore.ClusterLostError`)."""
+    (:class:`ClusterLostError`)."""
     log = logging.getLogger("distributed")
     before = log.level
     log.setLevel(logging.CRITICAL)
@@ -324,3 +325,114 @@ def _quiet_client_logs() -> Iterator[None]:
         yield
     finally:
         log.setLevel(before)
+
+
+WORKER_TIMEOUT_S = 300.0
+"""Default of how long (s) a study waits for a cluster that has no worker left (an external
+scheduler whose workers died) before it stops with its parts kept."""
+
+WORKER_NOTICE_S = 30.0
+"""Seconds without a worker after which the wait is said (half the bound when that is
+shorter)."""
+
+POLL_S = 0.25
+"""Seconds between two looks at the cluster while no task has finished."""
+
+
+class ClusterLostError(ValueError):
+    """The cluster went away mid-study: its scheduler, or every worker for longer than the
+    bound. The finished parts (explore's geometries, optimize's designs) are kept for
+    ``--resume``.
+
+    Attributes
+    ----------
+    where : str
+        The option that named the cluster (``--scheduler``), or "the local cluster".
+    """
+
+    def __init__(self, message: str, where: str) -> None:
+        super().__init__(message)
+        self.where = where
+
+
+class ClusterWaitWarning(UserWarning):
+    """The cluster has had no worker for a while; the study waits for one."""
+
+
+def cluster_where(scheduler: str | None, scheduler_file: str | None) -> str:
+    """The option naming a run's cluster with its value (``--scheduler tcp://...``), or
+    "the local cluster": what :class:`ClusterWatch`'s errors name."""
+    return (f"--scheduler {scheduler}" if scheduler else
+            f"--scheduler-file {scheduler_file}" if scheduler_file else "the local cluster")
+
+
+class ClusterWatch:
+    """The study's look at its cluster while it waits for a task: the scheduler still
+    connected, and a worker there (or back within ``timeout_s``).
+
+    Parameters
+    ----------
+    where : str
+        The option naming the cluster and its value (``--scheduler tcp://...``), or
+        "the local cluster": what the errors name.
+    timeout_s : float
+        The longest time (s) without a worker.
+    """
+
+    def __init__(self, where: str, timeout_s: float) -> None:
+        self.where = where
+        self.timeout_s = float(timeout_s)
+        self.notice_s = min(WORKER_NOTICE_S, self.timeout_s / 2)
+
+    def lost(self) -> ClusterLostError:
+        """The error of a scheduler that went away."""
+        return ClusterLostError(f"{self.where}: lost the connection to the dask scheduler "
+                                "mid-study", self.where)
+
+    def workers(self, client) -> int:
+        """The cluster's workers now (a scheduler round trip)."""
+        if client.status != "running":
+            raise self.lost()
+        try:
+            return len(client.nthreads())
+        except Exception as exc:  # noqa: BLE001 - the connection went while asking
+            if client.status != "running":
+                raise self.lost() from None
+            raise exc
+
+    def result(self, client, fut) -> Any:
+        """``fut``'s result; a future cancelled because the scheduler went away is
+        :meth:`lost`."""
+        try:
+            return fut.result()
+        except Exception as exc:  # noqa: BLE001 - CancelledError, CommClosedError, ...
+            if client.status != "running" or "connection-lost" in str(exc):
+                raise self.lost() from None
+            raise
+
+    def wait(self, client, completed) -> None:
+        """Return once ``completed`` has a finished task; meanwhile look at the cluster
+        every second: a lost scheduler raises :meth:`lost`, no worker for
+        :attr:`notice_s` is said once (:class:`ClusterWaitWarning`) and for
+        :attr:`timeout_s` raises :class:`ClusterLostError`."""
+        import warnings
+
+        since, said, looked = None, False, 0.0
+        while not completed.has_ready():
+            now = time.monotonic()
+            if now - looked >= 1.0 or client.status != "running":
+                looked = now
+                if self.workers(client) > 0:
+                    since, said = None, False
+                elif since is None:
+                    since = now
+            if since is not None and not said and now - since >= self.notice_s:
+                said = True
+                warnings.warn(ClusterWaitWarning(
+                    f"no worker for {self.notice_s:g} s; waiting for the cluster to recover "
+                    f"(Ctrl-C keeps the parts for --resume)"), stacklevel=2)
+            if since is not None and now - since >= self.timeout_s:
+                raise ClusterLostError(
+                    f"{self.where}: no worker for {self.timeout_s:g} s (--worker-timeout-s); "
+                    "the cluster did not recover", self.where)
+            time.sleep(POLL_S)

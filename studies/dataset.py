@@ -101,6 +101,11 @@ def _variables(study: Study, parts: dict[int, dict[str, np.ndarray]]) -> dict[st
         add("f_drive", gdims, stack("f_drive"), "Hz",
             "drive frequency (auto: largest product of the free tip amplitudes, "
             "contact.drive.auto_frequency)")
+    if study.needs_motor and study.solver.settle:
+        add("duration", gdims, stack("duration"), "s",
+            "transient run length: the plate's settling time, at least solver.duration's "
+            "default, at most the step bound (contact.drive.default_duration_s, as lusm "
+            "simulate's default)")
     add("status", gdims, stack("status").astype(object), "",
         "'ok', or why the geometry or some of its drive points failed")
     if study.needs_motor:
@@ -153,7 +158,9 @@ def _motor_provenance(study: Study) -> dict[str, str]:
             f"accuracy={s.accuracy}" + (f", rest={s.rest}" if s.accuracy == "exact" else "")
             + " (solver.duration and solver.dt unused)"
             if s.method == "steady" else
-            f"contact.simulate.simulate method={s.method}, duration_s={s.duration_s:g}, "
+            f"contact.simulate.simulate method={s.method}, "
+            + (f"duration_s=each plate's settling time, at least {s.duration_s:g} (duration), "
+               if s.settle else f"duration_s={s.duration_s:g}, ")
             + (f"dt_s={s.dt_s:g}" if s.dt_s is not None else
                "dt_s=the largest step up to 1e-07 s dividing the drive period "
                "(lusm.options.time_step_s, as lusm simulate)")

@@ -34,7 +34,13 @@ from typing import Any
 import numpy as np
 
 from lusm.interrupts import checkpoint
-from studies.cluster import DEFAULT_WORKERS, study_client
+from studies.cluster import (
+    DEFAULT_WORKERS,
+    WORKER_TIMEOUT_S,
+    ClusterWatch,
+    cluster_where,
+    study_client,
+)
 from studies.dataset import assemble, check_out, is_complete, write_dataset
 from studies.parts import open_parts, remove_parts, write_part
 from studies.study import Study
@@ -118,37 +124,6 @@ MIN_IN_FLIGHT = 16
 
 WINDOW_RECHECK = 8
 """Completed tasks between two counts of the cluster's workers (a scheduler round trip)."""
-
-WORKER_TIMEOUT_S = 300.0
-"""Default of how long (s) a study waits for a cluster that has no worker left (an external
-scheduler whose workers died) before it stops with its parts kept."""
-
-WORKER_NOTICE_S = 30.0
-"""Seconds without a worker after which the wait is said (half the bound when that is
-shorter)."""
-
-POLL_S = 0.25
-"""Seconds between two looks at the cluster while no task has finished."""
-
-
-class ClusterLostError(ValueError):
-    """The cluster went away mid-study: its scheduler, or every worker for longer than the
-    bound. The finished geometries' parts are kept for ``--resume``.
-
-    Attributes
-    ----------
-    where : str
-        The option that named the cluster (``--scheduler``), or "the local cluster".
-    """
-
-    def __init__(self, message: str, where: str) -> None:
-        super().__init__(message)
-        self.where = where
-
-
-class ClusterWaitWarning(UserWarning):
-    """The cluster has had no worker for a while; the study waits for one."""
-
 
 def in_flight(workers: int, tasks: int) -> int:
     """Tasks to keep submitted on ``workers`` workers out of ``tasks`` left."""
@@ -243,23 +218,21 @@ def _compute_on_cluster(cluster: tuple, study: Study, todo: list[int], folder: P
     workers, worker_timeout_s`` of :func:`explore`) and compute the geometries ``todo``
     on it (:func:`_compute_all`)."""
     client, scheduler, scheduler_file, workers, worker_timeout_s = cluster
-    where = (f"--scheduler {scheduler}" if scheduler else
-             f"--scheduler-file {scheduler_file}" if scheduler_file else "the local cluster")
     # no more local processes than geometries to compute (idle ones cost memory)
     with study_client(client, scheduler, scheduler_file, max(1, min(workers, len(todo))),
                       gmsh=study.meshed_by_gmsh) as running:
-        _compute_all(running, study, todo, folder, parts, result,
-                     _Watch(where, worker_timeout_s), progress, on_part)
+        watch = ClusterWatch(cluster_where(scheduler, scheduler_file), worker_timeout_s)
+        _compute_all(running, study, todo, folder, parts, result, watch, progress, on_part)
 
 
 def _compute_all(client, study: Study, todo: list[int], folder: Path,
-                 parts: dict[int, dict], result: ExploreResult, watch: _Watch, progress: bool,
+                 parts: dict[int, dict], result: ExploreResult, watch: ClusterWatch, progress: bool,
                  on_part: Callable[[int], None] | None) -> None:
     """Compute the geometries ``todo`` on ``client``, taking each part in as it arrives
     (:func:`_take_part`) with a bounded window of tasks in flight, topped up as each
     finishes (dask's ``as_completed(...).add`` pattern): a future per geometry up front
     would grow the client by 55 MB/s towards 100 000 of them before any part is written.
-    While no task finishes, ``watch`` looks at the cluster (:meth:`_Watch.wait`): a lost
+    While no task finishes, ``watch`` looks at the cluster (:meth:`ClusterWatch.wait`): a lost
     scheduler or a cluster without workers for too long ends the study, its parts kept.
     Tasks still in flight when this stops (an error, an interrupt) are cancelled."""
     from distributed import as_completed
@@ -316,78 +289,6 @@ def _compute_all(client, study: Study, todo: list[int], folder: Path,
         if client.status == "running":  # a lost scheduler has nothing left to cancel
             for f in live:
                 f.cancel()
-
-
-class _Watch:
-    """The study's look at its cluster while it waits for a task: the scheduler still
-    connected, and a worker there (or back within ``timeout_s``).
-
-    Parameters
-    ----------
-    where : str
-        The option naming the cluster and its value (``--scheduler tcp://...``), or
-        "the local cluster": what the errors name.
-    timeout_s : float
-        The longest time (s) without a worker.
-    """
-
-    def __init__(self, where: str, timeout_s: float) -> None:
-        self.where = where
-        self.timeout_s = float(timeout_s)
-        self.notice_s = min(WORKER_NOTICE_S, self.timeout_s / 2)
-
-    def lost(self) -> ClusterLostError:
-        """The error of a scheduler that went away."""
-        return ClusterLostError(f"{self.where}: lost the connection to the dask scheduler "
-                                "mid-study", self.where)
-
-    def workers(self, client) -> int:
-        """The cluster's workers now (a scheduler round trip)."""
-        if client.status != "running":
-            raise self.lost()
-        try:
-            return len(client.nthreads())
-        except Exception as exc:  # noqa: BLE001 - the connection went while asking
-            if client.status != "running":
-                raise self.lost() from None
-            raise exc
-
-    def result(self, client, fut) -> Any:
-        """``fut``'s result; a future cancelled because the scheduler went away is
-        :meth:`lost`."""
-        try:
-            return fut.result()
-        except Exception as exc:  # noqa: BLE001 - CancelledError, CommClosedError, ...
-            if client.status != "running" or "connection-lost" in str(exc):
-                raise self.lost() from None
-            raise
-
-    def wait(self, client, completed) -> None:
-        """Return once ``completed`` has a finished task; meanwhile look at the cluster
-        every second: a lost scheduler raises :meth:`lost`, no worker for
-        :attr:`notice_s` is said once (:class:`ClusterWaitWarning`) and for
-        :attr:`timeout_s` raises :class:`ClusterLostError`."""
-        import warnings
-
-        since, said, looked = None, False, 0.0
-        while not completed.has_ready():
-            now = time.monotonic()
-            if now - looked >= 1.0 or client.status != "running":
-                looked = now
-                if self.workers(client) > 0:
-                    since, said = None, False
-                elif since is None:
-                    since = now
-            if since is not None and not said and now - since >= self.notice_s:
-                said = True
-                warnings.warn(ClusterWaitWarning(
-                    f"no worker for {self.notice_s:g} s; waiting for the cluster to recover "
-                    f"(Ctrl-C keeps the parts for --resume)"), stacklevel=2)
-            if since is not None and now - since >= self.timeout_s:
-                raise ClusterLostError(
-                    f"{self.where}: no worker for {self.timeout_s:g} s (--worker-timeout-s); "
-                    "the cluster did not recover", self.where)
-            time.sleep(POLL_S)
 
 
 def _take_part(data: dict[str, np.ndarray], index: int, folder: Path,

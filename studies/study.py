@@ -20,7 +20,8 @@ A study names its axes and the outputs it wants::
     fe_order = 2
     fe_refine = 4
     method = "steady"                        # or a transient: "event", ...
-    duration = "50 ms"                       # a transient's run (lusm simulate's default)
+    duration = "50 ms"                       # a transient's run; default: each plate's
+                                             # settling time, as lusm simulate's
 
     outputs = ["f_L1_short", "split", "no_load_velocity", "motion_class"]   # before [study]
 
@@ -134,7 +135,8 @@ SOLVER_DEFAULTS: dict[str, Any] = {"fe_order": 2, "fe_refine": FE_REFINE_DEFAULT
                                    "accuracy": "exact", "ultrasonic_friction": True,
                                    "rest": "probe"}
 """Solver settings when the study gives none: those of the single-point commands. A
-transient runs ``lusm simulate``'s 50 ms, and without ``dt`` its step is simulate's rule
+transient without ``duration`` runs ``lusm simulate``'s default, each plate's settling time
+of at least 50 ms (:attr:`Solver.settle`), and without ``dt`` its step is simulate's rule
 (:func:`lusm.options.time_step_s`: the largest step up to 100 ns that divides the drive
 period), so that a study's point and the command's are the same run."""
 
@@ -174,7 +176,7 @@ class Solver:
     fe_order, fe_refine : int
         FE element order (1, 2) and mesh refinement (elements per smaller plate dimension).
     duration_s : float
-        Simulated time of each transient drive point (s).
+        Simulated time of each transient drive point (s); with ``settle`` the shortest.
     dt_s : float or None
         Time step of each transient drive point (s); None: ``lusm simulate``'s default rule
         at the point's frequency (:meth:`step_s`).
@@ -198,6 +200,11 @@ class Solver:
         How the exact level decides the branch a start from rest reaches: ``"probe"`` (the
         default, as the commands') or ``"transient"`` (their ``--rest transient``;
         :func:`contact.steady.engine.steady_state`).
+    settle : bool
+        A transient without a typed ``duration``: each plate runs ``lusm simulate``'s default,
+        its drive points' longest settling time (:func:`contact.drive.default_duration_s`),
+        at least ``duration_s`` and at most the step bound (:func:`transient_top_s`), and the
+        dataset records it per plate (``duration``). False: every plate runs ``duration_s``.
     """
 
     fe_order: int = 2
@@ -208,6 +215,7 @@ class Solver:
     accuracy: str = "exact"
     ultrasonic_friction: bool = True
     rest: str = "probe"
+    settle: bool = False
 
     def step_s(self, frequency_Hz: float) -> float:
         """The time step (s) of a transient at ``frequency_Hz`` (Hz): ``dt_s`` as the study
@@ -306,6 +314,27 @@ class Study:
             doc.get("stator", {}).pop("file", None)
             doc.get("stator", {}).pop("sha256", None)
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
+
+
+def _canonical_solver(solver: Solver) -> dict:
+    """The solver's settings as the study's canonical text holds them: ``settle`` only where
+    it is set (a study that does not follow the settling time keeps its fingerprint)."""
+    d = dict(solver.__dict__)
+    if not d["settle"]:
+        del d["settle"]
+    return d
+
+
+def transient_top_s(solver: Solver, frequency_Hz: float) -> float:
+    """The longest transient (s) a drive point at ``frequency_Hz`` (Hz) may run: the step
+    bound of :func:`transient_problem` (and the reference scheme's period bound)."""
+    f = float(frequency_Hz)
+    top = limits.work_bound(limits.MAX_STEPS) * solver.step_s(f) * (1 - 1e-12)
+    if solver.method == "reference":
+        from contact.transient.reference import MAX_REFERENCE_PERIODS
+
+        top = min(top, limits.work_bound(MAX_REFERENCE_PERIODS) / f * (1 - 1e-12))
+    return top
 
 
 def _where(source: str) -> str:
@@ -510,7 +539,8 @@ def _solver(raw: dict, where: str) -> Solver:
         raise ValueError(f"{where}solver.ultrasonic_friction must be true or false, got "
                          f"{s['ultrasonic_friction']!r}")
     return Solver(s["fe_order"], s["fe_refine"], duration, dt, s["method"], s["accuracy"],
-                  s["ultrasonic_friction"], s["rest"])
+                  s["ultrasonic_friction"], s["rest"],
+                  settle="duration" not in raw and s["method"] != "steady")
 
 
 def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
@@ -557,7 +587,7 @@ def study_from_dict(doc: dict, source: str = "<dict>") -> Study:
     # strict JSON: a stator mesh's gap (NaN) as null
     canonical = {"name": name, "axes": {a: [None if isinstance(v, float) and math.isnan(v)
                                             else v for v in vs] for a, vs in axes.items()},
-                 "outputs": outputs, "solver": solver.__dict__}
+                 "outputs": outputs, "solver": _canonical_solver(solver)}
     if stamp is not None:
         canonical["stator"] = stamp
     text = json.dumps(canonical, sort_keys=True)

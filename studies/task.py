@@ -221,7 +221,8 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     stage = "FE"  # what failed, for the status: the plate's FE solve or its parameter set
     try:
         stator, material = plate_of(study, g)
-        modes = plate_modes(stator, material, MeshSettings(s.fe_order, s.fe_refine))
+        mesh = MeshSettings(s.fe_order, s.fe_refine)
+        modes = plate_modes(stator, material, mesh)
         for m in ("L1", "B2"):
             mode = getattr(modes, m)
             out[f"f_{m}_short"] = np.array(mode.f_short_Hz)
@@ -238,11 +239,9 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
             from validation.summaries import plate_damping
 
             ratios = plate_damping(get_material(material), "fem")[0]
-            params = fem_params(stator, material, order=s.fe_order, refine=s.fe_refine,
-                                damping_ratios=ratios)
+            params = fem_params(stator, material, mesh, damping_ratios=ratios)
         else:  # the file's damping and motor tables too, as the single-point commands
-            params = fem_params_from_design(study.stator, stator, order=s.fe_order,
-                                            refine=s.fe_refine)
+            params = fem_params_from_design(study.stator, stator, mesh=mesh)
         if study.auto_frequency:
             from contact.drive import auto_frequency
 
@@ -258,6 +257,10 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         return out
     _warn_unexcited(study, stator, params)
     freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
+    if s.settle:  # this plate's run length: its settling time, as lusm simulate's default
+        study = _settled_study(study, params, freqs)
+        s = study.solver
+        out["duration"] = np.array(s.duration_s)
     failures, unsettled = [], []
     # what the single-point commands refuse before they run, said once per plate in the
     # study's keys (not in the library's, 'duration_s ... 9.999999999999999e-06')
@@ -290,6 +293,30 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
                     unsettled.append(f"{v:g} V, {p:g} N, {f:.6g} Hz")
     _plate_status(out, failures, unsettled, s.duration_s)
     return out
+
+
+def _settled_study(study: Study, params, freqs: list[float]) -> Study:
+    """``study`` with the plate's own transient length: ``lusm simulate``'s default
+    (:func:`contact.drive.default_duration_s`) over the plate's drive points at ``freqs``
+    (Hz), at least the study's ``duration_s``, cut to the step bound
+    (:func:`studies.study.transient_top_s`) with a warning that suggests the steady engine."""
+    import warnings
+    from dataclasses import replace
+
+    from contact.drive import default_duration_s
+    from studies.study import show, transient_top_s
+
+    s = study.solver
+    drives = [(v, p, f) for f in freqs for v in study.axes["voltage"]
+              for p in study.axes["preload"]]
+    top = min(transient_top_s(s, f) for f in freqs)
+    duration, settle = default_duration_s(params, drives, top)
+    if settle > duration:
+        warnings.warn(f"solver.duration: this plate settles in about {show(settle, 'time')}, "
+                      f"above the {show(duration, 'time')} the step bound allows; it runs "
+                      f"{show(duration, 'time')}, which may not settle: method = \"steady\" "
+                      "finds the steady state directly", stacklevel=2)
+    return replace(study, solver=replace(s, duration_s=duration))
 
 
 def _plate_status(out: dict[str, np.ndarray], failures: list[str], unsettled: list[str],
@@ -413,6 +440,8 @@ def empty_outputs(study: Study) -> dict[str, np.ndarray]:
     out["point_status"] = np.full(mshape, "", dtype=f"<U{POINT_STATUS_CHARS}")
     out["status"] = np.array("ok")
     out["warnings"] = np.array("")
+    if study.solver.settle:
+        out["duration"] = np.array(math.nan)
     return out
 
 

@@ -215,6 +215,7 @@ def test_k_eff_does_not_move_with_the_damping():
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # a message check that costs a fine admittance sweep
 def test_a_grid_too_coarse_for_the_design_modes_is_said_so(capsys):
     """--f-min 1 --f-max 1e6 --points 101 (a 10 kHz step) finds no pair of L1 or B2 at
     54-56 kHz: it listed the others without a word. The default band says nothing."""

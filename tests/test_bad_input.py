@@ -659,6 +659,8 @@ OPTIMIZE = [
      "--budget", "[1, 100000]"),
     ("seed-negative", ["optimize", "{opt_ok}", "--out", "{study_out}", "--seed", "-1"],
      "--seed", "[0, 2147483647]"),
+    ("worker-timeout-0", ["optimize", "{opt_ok}", "--out", "{study_out}",
+                          "--worker-timeout-s", "0"], "--worker-timeout-s", "[1, 86400] s"),
     ("workers-with-scheduler", ["optimize", "{opt_ok}", "--out", "{study_out}", "--workers",
                                 "2", "--scheduler", "tcp://127.0.0.1:8786"], "--workers", None),
     ("study-without-optimize", ["optimize", "{study_ok}", "--out", "{study_out}"],

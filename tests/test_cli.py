@@ -97,6 +97,7 @@ def test_contact_and_table2_do_not_import_the_fe_stack():
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # a full cold compile; CI's first command starts cold anyway
 def test_cold_numba_cache_gives_the_same_answer(tmp_path: Path):
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba-cache")}
     out = lusm("simulate", "--voltage", "200", "--preload", "14", "--duration", "0.002",

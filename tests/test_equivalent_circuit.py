@@ -92,7 +92,7 @@ def test_coincident_modes_keep_their_own_branches():
     from fem.geometry import PlateStator
     from fem.tuning import tune_plate
 
-    tuned = tune_plate(56e3, start=PlateStator(), refine=2)
+    tuned = tune_plate(56e3, start=PlateStator(), mesh=MeshSettings(refine=2))
     res = plate_admittance(tuned.stator, f_min_Hz=45e3, f_max_Hz=65e3, n_points=801,
                            zeta=0.004, mesh=MeshSettings(refine=2))
     circuit = equivalent_circuit(res)

@@ -19,7 +19,7 @@ from studies.dataset import assemble, open_result, write_dataset  # noqa: E402
 from studies.explore import explore  # noqa: E402
 from studies.parts import parts_folder  # noqa: E402
 from studies.study import FE_OUTPUTS, load_study, study_from_dict  # noqa: E402
-from studies.task import compute_geometry, package_version  # noqa: E402
+from studies.task import compute_geometry, empty_outputs, package_version  # noqa: E402
 
 TINY = {
     "outputs": ["f_L1_short", "f_L1_open", "f_B2_short", "f_B2_open", "k_eff", "split",
@@ -1225,9 +1225,12 @@ def test_an_fe_only_dataset_carries_no_drive_coordinates():
     assert "motor_solver" not in ds.attrs
 
 
+@pytest.mark.slow
 def test_a_transient_study_runs_as_lusm_simulate_by_default(capsys):
     """method = "event" ran 5 ms at exactly 100 ns where lusm simulate runs 50 ms with a step
-    that divides the drive period: the same plate and drive now give simulate's numbers."""
+    that divides the drive period, and then one 50 ms for every plate where simulate follows
+    the set's settling time: the same plate and drive now give simulate's numbers, and the
+    dataset records the run length of each plate."""
     import json
 
     from lusm.cli import main
@@ -1235,18 +1238,33 @@ def test_a_transient_study_runs_as_lusm_simulate_by_default(capsys):
     s = study_from_dict({"outputs": ["no_load_velocity", "motion_class"],
                          "axes": {"voltage": "200 V", "preload": "14 N"},
                          "solver": {"method": "event"}})
+    assert s.solver.settle and json.loads(s.text)["solver"]["settle"]
     ds = assemble(s, {0: compute_geometry(s, 0)})
-    # the study's solver.duration (0.05 s) typed: simulate's own default follows the set's
-    # settling time, a study's stays one duration for every plate
     assert main(["simulate", "--source", "fem", "--frequency", "auto", "--voltage", "200",
-                 "--preload", "14", "--duration", f"{s.solver.duration_s!r}", "--json"]) == 0
+                 "--preload", "14", "--json"]) == 0
     cli = json.loads(capsys.readouterr().out)
-    assert cli["duration_s"] == s.solver.duration_s and cli["dt_s"] == s.solver.step_s(
-        float(ds["f_drive"].item()))
+    assert float(ds["duration"].item()) == cli["duration_s"] > 0.05
+    assert cli["dt_s"] == s.solver.step_s(float(ds["f_drive"].item()))
     assert float(ds["f_drive"].item()) == cli["frequency_Hz"]
     assert float(ds["no_load_velocity"].item()) == cli["steady_velocity_m_s"]
     assert ds["motion_class"].item() == cli["motion"]
+    assert ds["status"].item() == "ok"
     assert "dividing the drive period" in ds.attrs["motor_solver"]
+    assert "settling time" in ds.attrs["motor_solver"]
+
+
+def test_a_typed_duration_is_kept_and_a_steady_study_keeps_its_fingerprint():
+    """A typed solver.duration runs every plate for it (no per-plate duration); the
+    steady engine has no run length, and its canonical text has no settle key, so a study
+    written before keeps its fingerprint."""
+    import json
+
+    typed = study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"},
+                             "solver": {"method": "event", "duration": "50 ms"}})
+    assert not typed.solver.settle and "settle" not in json.loads(typed.text)["solver"]
+    steady = study_from_dict({"outputs": ["no_load_velocity"], "axes": {"voltage": "200 V"}})
+    assert not steady.solver.settle and "settle" not in json.loads(steady.text)["solver"]
+    assert "duration" not in empty_outputs(typed) and "duration" not in empty_outputs(steady)
 
 
 @pytest.mark.parametrize("solver, axes, words", [
@@ -1463,9 +1481,10 @@ def test_the_studys_loads_on_the_curve_cost_no_second_characteristic(monkeypatch
                          "solver": {"fe_refine": 1, "accuracy": "fast"},
                          "axes": {"voltage": "300 V", "preload": "6 N"}})
     from fem.geometry import PlateStator
+    from fem.mesh_settings import MeshSettings
     from rom.from_fem import fem_params
 
-    params = fem_params(PlateStator(), "pzt8", order=2, refine=1)
+    params = fem_params(PlateStator(), "pzt8", MeshSettings(2, 1))
     f = 54e3
     real, calls = cc.characteristic, []
 

@@ -175,7 +175,7 @@ def test_fem_params_normalization_and_drive_direction():
     from rom.from_fem import fem_params
     from rom.table2 import table2
 
-    p = fem_params(PlateStator(), "pzt8", order=2, refine=3)
+    p = fem_params(PlateStator(), "pzt8", MeshSettings(2, 3))
     res = plate_modes(PlateStator(), "pzt8", MeshSettings(2, 3))
     assert p.phi_L0 == pytest.approx(1.0, rel=1e-12)
     assert p.phi_Bl == pytest.approx(float(phi_B(30e-3, 30e-3)), rel=1e-12)
@@ -190,11 +190,11 @@ def test_fem_params_normalization_and_drive_direction():
     assert p.M_l == pytest.approx(7600 * 7.5e-3 * 3e-3 * 30e-3 / 2, rel=0.05)
     # same sign pattern as Table 2 (A_l > 0, A_b < 0); the other diagonal reverses B2 only
     assert p.A_l > 0 > p.A_b
-    q = fem_params(PlateStator().reversed(), "pzt8", order=2, refine=3)
+    q = fem_params(PlateStator().reversed(), "pzt8", MeshSettings(2, 3))
     assert q.A_l == pytest.approx(p.A_l, rel=1e-9)
     assert q.A_b == pytest.approx(-p.A_b, rel=1e-9)
     with pytest.raises(ValueError, match="damping_ratios"):
-        fem_params(PlateStator(), "pzt8", refine=3, damping_ratios=(0.0, 0.1))
+        fem_params(PlateStator(), "pzt8", MeshSettings(refine=3), damping_ratios=(0.0, 0.1))
 
 
 def test_force_factor_of_the_L1_mode_matches_the_rod_integral():
@@ -206,7 +206,7 @@ def test_force_factor_of_the_L1_mode_matches_the_rod_integral():
     from rom.from_fem import fem_params
 
     st = PlateStator(width_m=1.5e-3, electrode_gap_m=0.0, drive_electrodes=(1, 2, 3, 4))
-    p = fem_params(st, "pzt8", order=2, refine=2)
+    p = fem_params(st, "pzt8", MeshSettings(2, 2))
     mat = get_material("pzt8")
     s = np.linalg.inv(mat.cE_Pa)
     d31 = float((mat.e_C_m2 @ s)[2, 0])

@@ -26,7 +26,7 @@ def plate():
     st = PlateStator()
     model = plate_model(st, "pzt8", MeshSettings(2, REFINE))
     modes = plate_modes(st, "pzt8", MeshSettings(2, REFINE))
-    params = fem_params(st, "pzt8", 2, REFINE, damping_ratios=(ZETA, ZETA))
+    params = fem_params(st, "pzt8", MeshSettings(2, REFINE), damping_ratios=(ZETA, ZETA))
     return model, modes, params
 
 

@@ -13,6 +13,7 @@ import pytest
 
 from contact.drive import free_tip_amplitudes
 from contact.steady.engine import steady_state
+from fem.mesh_settings import MeshSettings
 from fem.stator_file import load_stator
 from lusm.cli import main
 from rom.from_fem import design_base, fem_params, fem_params_from_file
@@ -21,6 +22,7 @@ from rom.table2 import table2
 ROOT = Path(__file__).resolve().parents[1]
 PLATE = "[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n"
 REFINE = 2  # coarse FE: these tests check the plumbing of the constants, not the FE
+MESH = MeshSettings(refine=REFINE)
 
 
 def _write(tmp_path, text, name="stator.toml"):
@@ -32,12 +34,12 @@ def _write(tmp_path, text, name="stator.toml"):
 @pytest.fixture(scope="module")
 def plain():
     """The plate's FE set with Table 2's constants (the reference for the file's sets)."""
-    return fem_params(refine=REFINE)
+    return fem_params(mesh=MESH)
 
 
 def test_damping_ratios_reach_the_parameter_set(tmp_path, plain):
     p = fem_params_from_file(_write(tmp_path, "[damping]\nzeta_L1 = 0.01\nzeta_B2 = 0.02\n"),
-                             refine=REFINE)
+                             mesh=MESH)
     # C = 2 zeta sqrt(K M), recomputed from the set's own K and M
     assert p.C_l == pytest.approx(2 * 0.01 * math.sqrt(p.K_l * p.M_l), rel=1e-12)
     assert p.C_b == pytest.approx(2 * 0.02 * math.sqrt(p.K_b * p.M_b), rel=1e-12)
@@ -47,7 +49,7 @@ def test_damping_ratios_reach_the_parameter_set(tmp_path, plain):
             assert getattr(p, f.name) == getattr(plain, f.name), f.name
     assert "[damping] zeta_L1, zeta_B2" in p.source
     # an explicit damping_ratios argument wins over the file
-    q = fem_params_from_file(tmp_path / "stator.toml", refine=REFINE, damping_ratios=(0.03, 0.03))
+    q = fem_params_from_file(tmp_path / "stator.toml", mesh=MESH, damping_ratios=(0.03, 0.03))
     assert q.zeta_L1 == pytest.approx(0.03) and "given by the caller" in q.source
 
 
@@ -147,8 +149,8 @@ def test_free_tip_amplitude_at_resonance_goes_as_one_over_zeta(tmp_path):
     """Free stator, no contact: at each mode's resonance its tip amplitude is A V/(C omega),
     so halving zeta doubles it, and Table 2's ratios give zeta_t2/zeta times less."""
     sets = {z: fem_params_from_file(_write(tmp_path, f"[damping]\nzeta_L1 = {z}\nzeta_B2 = {z}\n",
-                                           f"z{z}.toml"), refine=REFINE) for z in (0.005, 0.01)}
-    heavy = fem_params(refine=REFINE)
+                                           f"z{z}.toml"), mesh=MESH) for z in (0.005, 0.01)}
+    heavy = fem_params(mesh=MESH)
     for mode, f_attr, zeta_attr in ((0, "f_L1_Hz", "zeta_L1"), (1, "f_B2_Hz", "zeta_B2")):
         amp = {z: free_tip_amplitudes(p, getattr(p, f_attr) * math.sqrt(1 - 2 * z * z))[mode]
                for z, p in sets.items()}
@@ -166,7 +168,7 @@ def test_lighter_damping_in_the_file_moves_the_slider_faster(tmp_path):
     v = {}
     for z in (0.01, 0.02):
         p = fem_params_from_file(_write(tmp_path, f"[damping]\nQ_m = {1 / (2 * z):g}\n",
-                                        f"q{z}.toml"), refine=REFINE)
+                                        f"q{z}.toml"), mesh=MESH)
         from contact.drive import auto_frequency
 
         v[z] = steady_state(p, 300.0, 5.0, frequency_Hz=auto_frequency(p),
@@ -181,9 +183,9 @@ def test_guide_friction_from_the_file_acts_as_a_load(tmp_path):
     from rom.params import GRAVITY_M_S2
 
     light = "[damping]\nzeta_L1 = 0.01\nzeta_B2 = 0.01\n[slider]\nM_slider_kg = 0.3\n"
-    p = fem_params_from_file(_write(tmp_path, light, "a.toml"), refine=REFINE)
+    p = fem_params_from_file(_write(tmp_path, light, "a.toml"), mesh=MESH)
     q = fem_params_from_file(_write(tmp_path, light + "mu_sd = 0.06\n", "b.toml"),
-                             refine=REFINE)
+                             mesh=MESH)
     assert q.mu_sd == 0.06 and p.mu_sd == table2().mu_sd == 0.04 and p.M_slider == 0.3
     f = auto_frequency(p)
     load = 0.02 * (14.0 + 0.3 * GRAVITY_M_S2)

@@ -8,19 +8,23 @@ import math
 import os
 import subprocess
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from contact.operating_limits import (
+    STRESS_COMBINED,
     branch_amplitudes_m,
     free_amplitudes_m,
     limits_from_amplitudes,
     operating_limits,
 )
 from fem.beam_shapes import phi_B
+from fem.mode_peaks import combined_factors
 from rom.beam import beam_params
 from rom.beam_stator import BeamStator
+from rom.shape_data import ShapeData, beam_combined_stress_Pa
 from rom.table2 import table2
 
 
@@ -44,10 +48,17 @@ def test_beam_limits_equal_a_hand_calculation():
                                                    rel=1e-6)
     ends = max(abs(phi_B(0.0, beam.length_m)), abs(phi_B(beam.length_m, beam.length_m)))
     assert lim_b.values["vibration_velocity"] == pytest.approx(omega * w * ends, rel=1e-9)
-    # both: stresses add (an upper bound), the velocity is the larger mode's
+    # both: the velocity is the larger mode's; the stress is the two combined over the
+    # period (L1's peak at mid-length, B2's where it bends most: apart, so below the peaks'
+    # sum, which stays beside it as the bound), the beam's own combination within the
+    # tabulation's linear interpolation, which bounds it from above
     both = limits_from_amplitudes(p, 250.0, omega, (u, w), "test")
-    assert both.values["stress"] == pytest.approx(lim.values["stress"]
-                                                  + lim_b.values["stress"], rel=1e-12)
+    total = lim.values["stress"] + lim_b.values["stress"]
+    assert both.stress_bound_Pa == pytest.approx(total, rel=1e-12)
+    exact = beam_combined_stress_Pa(beam.length_m, lim.values["stress"], lim_b.values["stress"])
+    assert exact <= both.values["stress"] <= 1.002 * exact
+    assert both.values["stress"] < 0.99 * total
+    assert lim.stress_bound_Pa == lim.values["stress"]
     # harmonic modes dissipate omega^2 C U^2 / 2 each; the ceramic (PZT-8, Q_m = 1000)
     # takes its own loss's share 1/(2 Q_m zeta) of each, over the volume l b h
     p_l, p_b = 0.5 * omega**2 * p.C_l * u**2, 0.5 * omega**2 * p.C_b * w**2
@@ -60,7 +71,58 @@ def test_beam_limits_equal_a_hand_calculation():
     assert both.limits["stress"] == 24e6
     d = both.to_dict()
     assert d["stress"]["ratio"] == pytest.approx(both.values["stress"] / 24e6)
-    assert set(d["stress"]) == {"value", "limit", "ratio", "unit"}
+    assert set(d["stress"]) == {"value", "limit", "ratio", "unit", "basis", "sum_of_peaks"}
+    assert d["stress"]["basis"] == STRESS_COMBINED
+    assert d["stress"]["sum_of_peaks"] == pytest.approx(total, rel=1e-12)
+
+
+def test_combined_stress_against_a_hand_calculation():
+    """Two stress fields at two points: peaks at one point and in phase add (the combined
+    stress is the peaks' sum, factor 1); peaks at different points do not (factor
+    max(1 - t, t)); two perpendicular uniaxial stresses at one point give the principal
+    stresses of diag(1 - t, t); a shear and a normal stress at one point give Mohr's circle,
+    (1 - t)/2 + sqrt((1 - t)^2/4 + t^2)."""
+    t = np.linspace(0.0, 1.0, 21)
+    one, zero = np.array([1.0, 0.0]), np.zeros(2)
+    same = combined_factors((one, zero, zero), (2 * one, zero, zero))
+    assert same == pytest.approx(np.ones(21), abs=1e-15)
+    apart = combined_factors((one, zero, zero), (one[::-1], zero, zero))
+    assert apart == pytest.approx(np.maximum(1 - t, t), abs=1e-15)
+    cross = combined_factors((one, zero, zero), (zero, one, zero))
+    assert cross == pytest.approx(np.maximum(1 - t, t), abs=1e-15)
+    shear = combined_factors((one, zero, zero), (zero, zero, -one))
+    assert shear == pytest.approx((1 - t) / 2 + np.sqrt((1 - t) ** 2 / 4 + t**2), abs=1e-15)
+    # the set's stress: the sum times the factor at B2's share, the sum without factors
+    shape = replace(table2().shape, combined_stress=(1.0, 0.5, 1.0))
+    s_l, s_b = shape.stress_L1_Pa_m, shape.stress_B2_Pa_m
+    u, w = 1e-7, 1e-7 * s_l / s_b  # equal peaks: B2's share 1/2
+    assert shape.stress_Pa(u, w) == pytest.approx(0.5 * 2 * s_l * u, rel=1e-12)
+    assert shape.stress_bound_Pa(u, w) == pytest.approx(2 * s_l * u, rel=1e-12)
+    assert replace(shape, combined_stress=None).stress_Pa(u, w) == shape.stress_bound_Pa(u, w)
+    assert ShapeData.from_dict(shape.to_dict()) == shape
+    old = shape.to_dict()
+    del old["combined_stress"]  # a parameter file written without it
+    assert ShapeData.from_dict(old).combined_stress is None
+
+
+@pytest.mark.slow
+def test_fe_combined_stress_lies_between_the_larger_peak_and_the_sum():
+    """On the FE plate, L1's and B2's stress fields combined: 1 at either mode alone, below
+    the sum between (their peaks lie apart) and never below the larger single peak."""
+    from fem.material import get_material
+    from fem.mesh_settings import MeshSettings
+    from fem.mode_peaks import combined_stress_factors
+    from fem.model import plate_model
+    from fem.modes import plate_modes
+
+    mat = get_material("pzt8")
+    modes = plate_modes(None, mat, MeshSettings(1, 2))
+    model = plate_model(None, mat, MeshSettings(1, 2))
+    k = np.array(combined_stress_factors(model, modes.L1.shape, modes.B2.shape))
+    t = np.linspace(0.0, 1.0, len(k))
+    assert k[0] == pytest.approx(1.0) and k[-1] == pytest.approx(1.0)
+    assert np.all(k <= 1.0) and np.all(k >= np.maximum(1 - t, t) - 1e-12)
+    assert k.min() < 0.95
 
 
 def test_branch_amplitudes_come_from_the_damper_powers():

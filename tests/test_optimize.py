@@ -247,3 +247,50 @@ def test_the_command_end_to_end(tmp_path, capsys):
     assert design.stator.length_m == pytest.approx(b["design"]["length"], rel=1e-9)
     assert main(["optimize", str(study), "--out", str(out)]) == 2  # not overwritten
     assert "--force" in capsys.readouterr().err
+
+
+def test_a_ctrl_c_keeps_the_parts_and_resume_completes_the_same_run(dask_client, tmp_path,
+                                                                   monkeypatch, capsys):
+    """``lusm optimize`` interrupted by SIGINT after its first evaluation: exit 130, the kept
+    parts said in one line before the CLI's "interrupted", nothing from dask; ``--resume``
+    ends with the dataset of an uninterrupted run (a real FE-only search of four designs on
+    the session's two workers: batches of two, the first cut in its middle)."""
+    import os
+    import signal
+
+    import studies.optimize.store as S
+    from lusm.cli import main
+    from studies.dataset import open_result
+    from studies.parts import parts_folder
+
+    study = tmp_path / "fe.toml"
+    study.write_text('outputs = ["split"]\n[solver]\nfe_order = 1\nfe_refine = 1\n'
+                     '[optimize]\nevaluations = 4\nseed = 2\nstartup = 2\n'
+                     '[optimize.variables]\nlength = { min = "29 mm", max = "31 mm" }\n'
+                     '[[optimize.objectives]]\noutput = "k_eff_B2"\ngoal = "maximize"\n')
+    whole, cut = tmp_path / "whole.nc", tmp_path / "cut.nc"
+    on = ["--scheduler", dask_client.scheduler.address]
+    assert main(["optimize", str(study), "--out", str(whole), *on, "--json"]) == 0
+    capsys.readouterr()
+    write_part = S.write_part
+
+    def write_then_interrupt(folder, index, data):
+        write_part(folder, index, data)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(S, "write_part", write_then_interrupt)
+    assert main(["optimize", str(study), "--out", str(cut), *on]) == 130
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert lines == [f"lusm optimize: 1 evaluated design is kept in {parts_folder(cut)}; run "
+                     "the same command with --resume to continue",
+                     "lusm optimize: interrupted"], lines
+    assert not cut.exists() and len(list(parts_folder(cut).glob("g*.npz"))) == 1
+    monkeypatch.setattr(S, "write_part", write_part)
+    assert main(["optimize", str(study), "--out", str(cut), *on, "--resume", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert (summary["reused"], summary["computed"]) == (1, 3)
+    a, b = open_result(whole), open_result(cut)
+    assert sorted(a.data_vars) == sorted(b.data_vars)
+    for k in a.data_vars:
+        np.testing.assert_array_equal(a[k].values, b[k].values, err_msg=k)
+    assert a.attrs["best_trials"] == b.attrs["best_trials"]

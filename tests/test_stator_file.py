@@ -55,11 +55,11 @@ def test_toml_plate_is_the_programmatic_plate(tmp_path):
     # identical matrices, assembled independently of the caches, hence identical frequencies
     # (up to ARPACK's random start vector: 1e-12)
     ref_model = build_model(structured_mesh(st, 3), st, "paper", 2)
-    model = design.model(order=2, refine=3)
+    model = design.model(MeshSettings(2, 3))
     assert (model.K != ref_model.K).nnz == 0 and (model.M != ref_model.M).nnz == 0
     np.testing.assert_array_equal(model.G, ref_model.G)
     ref = modes_of_model(ref_model)
-    res = design.modes(order=2, refine=3)
+    res = design.modes(MeshSettings(2, 3))
     for a, b in ((res.L1, ref.L1), (res.B2, ref.B2)):
         assert a.f_short_Hz == pytest.approx(b.f_short_Hz, rel=1e-12)
         assert a.f_open_Hz == pytest.approx(b.f_open_Hz, rel=1e-12)
@@ -83,8 +83,8 @@ def test_inline_material_constants(tmp_path):
         "[material]\nbase = \"pzt8\"\nrho_kg_m3 = 8000.0\n",
         "heavy.toml",
     ))
-    f0 = d.modes(refine=3).L1.f_short_Hz
-    f1 = heavy.modes(refine=3).L1.f_short_Hz
+    f0 = d.modes(MeshSettings(refine=3)).L1.f_short_Hz
+    f1 = heavy.modes(MeshSettings(refine=3)).L1.f_short_Hz
     assert f1 / f0 == pytest.approx(math.sqrt(7600.0 / 8000.0), rel=1e-9)
 
 
@@ -131,8 +131,9 @@ def test_mesh_file_plate_equals_structured_plate(tmp_path, file_format):
 def test_fem_params_from_file_equals_fem_params(tmp_path):
     from rom.from_fem import fem_params, fem_params_from_file
 
-    p = fem_params_from_file(_write(tmp_path, PLATE_TOML), refine=3)
-    q = fem_params(PlateStator(25e-3, 6e-3, 2e-3, 0.3e-3, (2, 3)), "paper", refine=3)
+    p = fem_params_from_file(_write(tmp_path, PLATE_TOML), mesh=MeshSettings(refine=3))
+    q = fem_params(PlateStator(25e-3, 6e-3, 2e-3, 0.3e-3, (2, 3)), "paper",
+                   mesh=MeshSettings(refine=3))
     for f in fields(p):
         if f.name != "source":
             assert getattr(p, f.name) == getattr(q, f.name), f.name
@@ -260,7 +261,7 @@ def test_cli_geometry(tmp_path, capsys):
     path = _write(tmp_path, PLATE_TOML)
     assert main(["modes", "--geometry", str(path), "--refine", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    ref = load_stator(path).modes(refine=3)
+    ref = load_stator(path).modes(MeshSettings(refine=3))
     assert out["L1"]["f_short_Hz"] == ref.L1.f_short_Hz
     assert out["geometry"] == str(path)
     assert main(["params", "--source", "fem", "--geometry", str(path), "--json"]) == 0
@@ -432,7 +433,7 @@ def test_a_tip_on_a_node_of_b2_names_the_point(tmp_path):
     with pytest.raises(ValueError, match=r"B2 mode's x displacement at the tip point "
                                          r"\(0, 15\) mm is .* of its largest .*\[points\] "
                                          r"tip_mm"):
-        fem_params_from_file(path, refine=2)
+        fem_params_from_file(path, mesh=MeshSettings(refine=2))
 
 
 @pytest.mark.filterwarnings("ignore::fem.stator_file.InteriorPointWarning")
@@ -450,12 +451,13 @@ def test_a_preload_point_on_a_node_of_l1_is_refused_not_reduced(tmp_path):
                   "[points]\npreload_mm = [0.0, 15.0]\n")
     with pytest.raises(ValueError, match=r"L1 mode's y displacement at the preload point "
                                          r"\(0, 15\) mm is .* of its largest"):
-        fem_params_from_file(path, refine=2)
+        fem_params_from_file(path, mesh=MeshSettings(refine=2))
     end = _write(tmp_path, '[plate]\nthickness_mm = 3\n[mesh]\nfile = "p.msh"\n', "end.toml")
     from rom.from_fem import fem_params
 
-    at_end = fem_params_from_file(end, refine=2)
-    assert at_end.M_l == pytest.approx(fem_params(refine=3).M_l, rel=1e-6)  # the same mesh
+    at_end = fem_params_from_file(end, mesh=MeshSettings(refine=2))
+    same_mesh = fem_params(mesh=MeshSettings(refine=3))  # the same mesh
+    assert at_end.M_l == pytest.approx(same_mesh.M_l, rel=1e-6)
     assert NODE_SHARE == 1e-2
 
 

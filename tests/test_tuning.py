@@ -127,7 +127,8 @@ def _resolve(stator, refine=REFINE):
 
 @pytest.fixture(scope="module")
 def fixed_length():
-    return tune_plate(fix="length", start=PlateStator(length_m=35e-3), refine=REFINE)
+    return tune_plate(fix="length", start=PlateStator(length_m=35e-3),
+                      mesh=MeshSettings(refine=REFINE))
 
 
 @pytest.mark.slow
@@ -152,7 +153,7 @@ def test_fixed_length_is_kept_and_the_width_makes_l1_meet_b2(fixed_length):
 @pytest.mark.slow
 def test_fixed_width_is_kept_and_the_length_makes_l1_meet_b2(fixed_length):
     w = fixed_length.stator.width_m
-    d = tune_plate(fix=("width",), start=PlateStator(width_m=w), refine=REFINE)
+    d = tune_plate(fix=("width",), start=PlateStator(width_m=w), mesh=MeshSettings(refine=REFINE))
     assert d.stator.width_m == w and d.tuned == ("length",)
     res = _resolve(d.stator)
     assert abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz < 1e-5
@@ -164,7 +165,7 @@ def test_fixed_width_is_kept_and_the_length_makes_l1_meet_b2(fixed_length):
 @pytest.mark.slow
 def test_fixed_width_with_thickness_ratio_scales_h():
     start = PlateStator(width_m=9e-3)
-    d = tune_plate(fix=("width", "thickness_ratio"), start=start, refine=REFINE)
+    d = tune_plate(fix=("width", "thickness_ratio"), start=start, mesh=MeshSettings(refine=REFINE))
     assert d.fix == "width+thickness_ratio"
     assert d.stator.thickness_m == pytest.approx(3e-3 * d.stator.length_m / 30e-3, rel=1e-12)
 
@@ -207,7 +208,7 @@ def test_fixed_length_3d():
 
     # start at the 2D crossing width (as a designer would): fewer 3D solves
     d = tune_plate(fix="length", start=PlateStator(length_m=35e-3, width_m=9.5e-3), model="3d",
-                   refine=2)
+                   mesh=MeshSettings(refine=2))
     assert d.stator.length_m == pytest.approx(35e-3, abs=1e-12 * 35e-3)
     res = modes_of_solid_model(build_solid_model(d.stator, "pzt8", MeshSettings(2, 2)))
     assert abs(res.L1.f_short_Hz - res.B2.f_short_Hz) / res.L1.f_short_Hz < 1e-5
@@ -341,7 +342,7 @@ class _JumpySolver:
         from fem.tuning import _Solver
 
         self.ns = SimpleNamespace
-        self.real = _Solver(PlateStator(), None, "2d", False, 2, None)
+        self.real = _Solver(PlateStator(), None, "2d", False, MeshSettings())
         self.jump = jump
 
     def __getattr__(self, name):
@@ -460,7 +461,7 @@ def test_a_sweep_result_owns_read_only_arrays():
     its frequency arrays were writable: an edit made crossings_m() report 0.0808 m (API
     testing). The result now holds read-only copies, as contact's results do."""
     vals = np.linspace(6e-3, 9e-3, 3)
-    r = sweep_dimension("width", vals, refine=1)
+    r = sweep_dimension("width", vals, mesh=MeshSettings(refine=1))
     assert r.values_m is not vals
     vals[0] = 1.0
     assert r.values_m[0] == 6e-3 and r.to_dict()["values_mm"][0] == pytest.approx(6.0)
@@ -526,7 +527,7 @@ def test_a_slender_start_plate_is_tuned_not_refused(capsys):
 ])
 @pytest.mark.slow
 def test_a_held_dimension_tunes_from_a_start_plate_too_wide_to_identify(fix, start):
-    d = tune_plate(fix=fix, start=start, refine=REFINE)
+    d = tune_plate(fix=fix, start=start, mesh=MeshSettings(refine=REFINE))
     held = f"{fix}_m"
     assert getattr(d.stator, held) == getattr(start, held)  # kept exactly, as documented
     res = _resolve(d.stator)  # an independent solve of the design found

@@ -328,6 +328,10 @@ def limits_table(limits_by_voltage: dict) -> list[str]:
             text = f"{d[q]['value'] * factor:.3g} ({r:.2g} of {d[q]['limit'] * factor:.3g})"
             cells.append(f"**{text}**" if r > 1 else text)
         md.append("| " + " | ".join(cells) + " |")
+    first = next(iter(rows.values()))["stress"]
+    if "basis" in first:  # what the stress column is, and the bound beside it
+        sums = ", ".join(f"{d['stress']['sum_of_peaks'] * 1e-6:.3g}" for d in rows.values())
+        md += ["", f"Stress: {first['basis']}; the L1 and B2 peaks added give {sums} MPa."]
     return md + [""]
 
 

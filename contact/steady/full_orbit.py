@@ -14,7 +14,7 @@ Newton loop runs compiled (:func:`contact.steady.orbit_kernel.shoot_full`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -24,6 +24,7 @@ from contact.errors import ChatteringError
 from contact.model import HybridSystem, OperatingPoint, build_system
 from contact.steady import orbit_kernel
 from contact.steady.periodic_orbit import (
+    Stepping,
     integrating_systems,
     propagator_ladder,
     run_whole_periods,
@@ -34,19 +35,14 @@ from rom.params import MotorParams
 
 
 @dataclass(frozen=True)
-class FullSystem:
-    """The full model of one operating point with its one-step propagators (``fine``: cache
-    of the propagators at :data:`contact.steady.periodic_orbit.ENERGY_STEPS_PER_PERIOD`, the step of
-    the work integrals, and of the force-integrating twins of :func:`mean_forces`)."""
+class FullSystem(Stepping):
+    """The full model of one operating point with its one-step propagators, stepped as
+    :class:`contact.steady.periodic_orbit.Stepping` says (``fine`` also caches the
+    force-integrating twins of :func:`mean_forces`)."""
 
     system: HybridSystem
     phi: np.ndarray
     phi_half: np.ndarray
-    dt_s: float
-    period_s: float
-    phi_Bl: float
-    steps_per_period: int = 0
-    fine: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 def full_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
@@ -57,7 +53,8 @@ def full_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     n = steps_for(sys_, op.period_s, steps_per_period)
     dt = op.period_s / n
     phi, half, fine = propagator_ladder(sys_, op.period_s, n)
-    fs = FullSystem(sys_, phi, half, dt, op.period_s, params.phi_Bl, n)
+    fs = FullSystem(sys_, phi, half, dt_s=dt, period_s=op.period_s, phi_Bl=params.phi_Bl,
+                    steps_per_period=n)
     if fine is not None:
         fs.fine["phi"] = fine
     return fs

@@ -64,17 +64,14 @@ CHUNK_PERIODS = 80
 """Periods run in one kernel call between the watches for period-k repetition once Newton
 has given up (slowly converging or long-period orbits at low slider speed)."""
 
-@dataclass(frozen=True)
-class FastSystem:
-    """The stator-only hybrid system at fixed slider velocity (built by :func:`fast_system`).
+@dataclass(frozen=True, kw_only=True)
+class Stepping:
+    """How a propagated system of the steady engine steps through a drive period: the part
+    :class:`FastSystem` and :class:`contact.steady.full_orbit.FullSystem` share (keyword
+    arguments, after each one's own).
 
     Attributes
     ----------
-    ft_system, fn_system : HybridSystem
-        Same modes; the position slot integrates F_T (N s) or F_N (N s).
-    phi, phi_half : ndarray
-        One-step propagators ``expm(A dt)`` (same for both: only the X row differs, and that
-        row is read from each system's own propagators).
     dt_s, period_s : float
         Step (s) and drive period (s).
     phi_Bl : float
@@ -85,17 +82,33 @@ class FastSystem:
         Cache of the propagators at :data:`ENERGY_STEPS_PER_PERIOD` (built on first use).
     """
 
+    dt_s: float
+    period_s: float
+    phi_Bl: float
+    steps_per_period: int = 0
+    fine: dict = field(default_factory=dict, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class FastSystem(Stepping):
+    """The stator-only hybrid system at fixed slider velocity (built by :func:`fast_system`),
+    stepped as :class:`Stepping` says.
+
+    Attributes
+    ----------
+    ft_system, fn_system : HybridSystem
+        Same modes; the position slot integrates F_T (N s) or F_N (N s).
+    phi_ft, phi_half_ft, phi_fn, phi_half_fn : ndarray
+        One-step and half-step propagators ``expm(A dt)`` of each system (they differ only
+        in the X row).
+    """
+
     ft_system: HybridSystem
     fn_system: HybridSystem
     phi_ft: np.ndarray
     phi_half_ft: np.ndarray
     phi_fn: np.ndarray
     phi_half_fn: np.ndarray
-    dt_s: float
-    period_s: float
-    phi_Bl: float
-    steps_per_period: int = 0
-    fine: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 def _integrating(system: HybridSystem, rows: np.ndarray, fixed_velocity: bool) -> HybridSystem:
@@ -147,8 +160,8 @@ def fast_system(params: MotorParams, op: OperatingPoint, mu_d_eff: float,
     dt = op.period_s / n
     ft_sys, fn_sys, (phi_ft, half_ft), (phi_fn, half_fn), fine_ft = integrating_systems(
         base, op.period_s, n, fixed_velocity=True)
-    fs = FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt, op.period_s,
-                    params.phi_Bl, n)
+    fs = FastSystem(ft_sys, fn_sys, phi_ft, half_ft, phi_fn, half_fn, dt_s=dt,
+                    period_s=op.period_s, phi_Bl=params.phi_Bl, steps_per_period=n)
     if fine_ft is not None:
         fs.fine["ft"] = fine_ft
     return fs

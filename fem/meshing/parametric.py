@@ -46,6 +46,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from fem.errors import FeatureError
 from fem.geometry import PlateStator
 from fem.limits import work_factor
 from fem.meshing.mesh import PlateMesh
@@ -105,67 +106,71 @@ class ParametricStator(PlateStator):
 
             object.__setattr__(self, "tip_material", tip_material(self.tip_material).name)
             if not self.tip_length_m > 0.0:
-                raise ValueError("ParametricStator.tip_material needs a tip (tip_length_m > 0)")
+                raise FeatureError("ParametricStator.tip_material needs a tip (tip_length_m > 0)")
         length, width, gap = self.length_m, self.width_m, self.electrode_gap_m
         for name in ("tip_length_m", "tip_width_m", "chamfer_m"):
             v = getattr(self, name)
             if not _finite(v) or v < 0.0:
-                raise ValueError(f"ParametricStator.{name} must be a finite number >= 0, "
-                                 f"got {v!r}")
+                raise FeatureError(f"ParametricStator.{name} must be a finite number >= 0, "
+                                   f"got {v!r}")
         c = self.chamfer_m
         c_max = 0.5 * (min(width, length) - gap)
         if c >= c_max:
-            raise ValueError(f"ParametricStator.chamfer_m must lie in [0, {c_max!r}) m "
-                             f"((min(width, length) - gap) / 2), got {c!r}): [chamfers] "
-                             f"size_mm {c * 1e3:g} mm must be below {c_max * 1e3:.4g} mm, "
-                             f"half the plate's smaller side less the gap, on a "
-                             f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
+            raise FeatureError(f"ParametricStator.chamfer_m must lie in [0, {c_max!r}) m "
+                               f"((min(width, length) - gap) / 2), got {c!r})",
+                               f"[chamfers] size_mm {c * 1e3:g} mm must be below "
+                               f"{c_max * 1e3:.4g} mm, half the plate's smaller side less the "
+                               f"gap, on a "
+                               f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
         if self.tip_length_m > 0.0:
             flat = width - 2.0 * c
             # a plate without chamfers has no "end face between the chamfers"
             face = "end face between the chamfers" if c > 0.0 else "plate's end face (its width)"
             if not 0.0 < self.tip_width_m <= flat * (1 + 1e-12):
-                raise ValueError(f"ParametricStator.tip_width_m must lie in (0, {flat!r}] m "
-                                 f"(the {face}), got "
-                                 f"{self.tip_width_m!r}): [tip] width_mm "
-                                 f"{self.tip_width_m * 1e3:g} mm must be at most the "
-                                 f"{flat * 1e3:.4g} mm {face}, on a "
-                                 f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
+                raise FeatureError(f"ParametricStator.tip_width_m must lie in (0, {flat!r}] m "
+                                   f"(the {face}), got "
+                                   f"{self.tip_width_m!r})",
+                                   f"[tip] width_mm "
+                                   f"{self.tip_width_m * 1e3:g} mm must be at most the "
+                                   f"{flat * 1e3:.4g} mm {face}, on a "
+                                   f"{length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
             if self.tip_length_m > length:
-                raise ValueError(f"ParametricStator.tip_length_m must lie in [0, {length!r}] "
-                                 f"m (the plate length), got {self.tip_length_m!r}): [tip] "
-                                 f"length_mm {self.tip_length_m * 1e3:g} mm must be at most "
-                                 f"the plate's length, on a {length * 1e3:.6g} x "
-                                 f"{width * 1e3:.4g} mm plate")
+                raise FeatureError(f"ParametricStator.tip_length_m must lie in [0, {length!r}] "
+                                   f"m (the plate length), got {self.tip_length_m!r})",
+                                   f"[tip] length_mm {self.tip_length_m * 1e3:g} mm must be "
+                                   f"at most the plate's length, on a {length * 1e3:.6g} x "
+                                   f"{width * 1e3:.4g} mm plate")
         elif self.tip_width_m != 0.0:
-            raise ValueError("ParametricStator.tip_width_m needs tip_length_m > 0")
+            raise FeatureError("ParametricStator.tip_width_m needs tip_length_m > 0")
         holes = tuple(tuple(float(v) for v in hole) for hole in self.holes_m)
         for i, hole in enumerate(holes):
             if len(hole) != 3 or not all(math.isfinite(v) for v in hole) or hole[2] <= 0.0:
-                raise ValueError(f"ParametricStator.holes_m[{i}] must be (x, y, diameter) "
-                                 f"with a diameter > 0 (m), got {self.holes_m[i]!r}")
+                raise FeatureError(f"ParametricStator.holes_m[{i}] must be (x, y, diameter) "
+                                   f"with a diameter > 0 (m), got {self.holes_m[i]!r}")
             clear = hole_clearance_m(hole, width, length, c)
             if clear <= 0.0:  # said in mm too: a sweep or a tuning meets it on its own plates
-                raise ValueError(
+                raise FeatureError(
                     f"ParametricStator.holes_m[{i}] = {hole!r} m reaches the plate's outline "
-                    f"(it must lie inside the plate body): hole {i + 1}, {hole[2] * 1e3:g} mm "
+                    f"(it must lie inside the plate body)",
+                    f"hole {i + 1}, {hole[2] * 1e3:g} mm "
                     f"across at [{hole[0] * 1e3:g}, {hole[1] * 1e3:g}] mm, reaches the "
                     f"outline of a {length * 1e3:.4g} x {width * 1e3:.4g} mm plate")
             for j, other in enumerate(holes[:i]):
                 if math.hypot(hole[0] - other[0], hole[1] - other[1]) <= 0.5 * (
                         hole[2] + other[2]):
-                    raise ValueError(f"ParametricStator.holes_m[{i}] overlaps holes_m[{j}]")
+                    raise FeatureError(f"ParametricStator.holes_m[{i}] overlaps holes_m[{j}]")
         object.__setattr__(self, "holes_m", holes)
         if self.mesh_size_m is not None:
             lo, hi = (min(width, length) / d for d in SIZE_DIVISIONS_RANGE[::-1])
             if not _finite(self.mesh_size_m) or not lo <= self.mesh_size_m <= hi:
-                raise ValueError(f"ParametricStator.mesh_size_m must lie in [{lo:g}, {hi:g}] "
-                                 f"m (min(length, width) / 100 .. / 1), got "
-                                 f"{self.mesh_size_m!r}): [mesh] size_mm "
-                                 f"{self.mesh_size_m * 1e3:g} mm must lie in "
-                                 f"[{lo * 1e3:.4g}, {hi * 1e3:.4g}] mm, 1/100 to 1 of the "
-                                 f"plate's smaller side, on a {length * 1e3:.6g} x "
-                                 f"{width * 1e3:.4g} mm plate")
+                raise FeatureError(f"ParametricStator.mesh_size_m must lie in [{lo:g}, {hi:g}] "
+                                   f"m (min(length, width) / 100 .. / 1), got "
+                                   f"{self.mesh_size_m!r})",
+                                   f"[mesh] size_mm "
+                                   f"{self.mesh_size_m * 1e3:g} mm must lie in "
+                                   f"[{lo * 1e3:.4g}, {hi * 1e3:.4g}] mm, 1/100 to 1 of the "
+                                   f"plate's smaller side, on a {length * 1e3:.6g} x "
+                                   f"{width * 1e3:.4g} mm plate")
 
     @property
     def element_size_m(self) -> float:

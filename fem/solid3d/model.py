@@ -146,7 +146,40 @@ def solid_arguments(mesh: MeshSettings | None) -> MeshSettings:
 
 
 @dataclass(frozen=True, eq=False)
-class SolidPlateModel:
+class SolidMatrices:
+    """The assembled matrices of a 3D piezoelastic model and the potential dofs they tie
+    (treat as read-only): the fields :class:`SolidPlateModel` and the quarter plate's
+    :class:`fem.solid3d.symmetric.QuarterPlateModel` share, each with its own dofs.
+
+    Attributes
+    ----------
+    Kuu : scipy.sparse.csr_matrix
+        Elastic stiffness at constant field (N/m) on the model's displacements.
+    M : scipy.sparse.csr_matrix
+        Mass (kg) on the model's displacements.
+    Kuphi : scipy.sparse.csr_matrix
+        Piezoelectric coupling (N/V = C/m), the model's displacements x all N potentials.
+    Kphiphi : scipy.sparse.csr_matrix
+        Dielectric stiffness (F), shape (N, N).
+    electrode_dofs : tuple of numpy.ndarray or numpy.ndarray
+        Scalar dofs tied to the electrodes (top face).
+    ground_dofs : numpy.ndarray
+        Scalar dofs whose potential is 0.
+    assembly_time_s : float
+        Mesh and assembly wall time (s).
+    """
+
+    Kuu: sp.csr_matrix
+    M: sp.csr_matrix
+    Kuphi: sp.csr_matrix
+    Kphiphi: sp.csr_matrix
+    electrode_dofs: object
+    ground_dofs: np.ndarray
+    assembly_time_s: float
+
+
+@dataclass(frozen=True, eq=False)
+class SolidPlateModel(SolidMatrices):
     """Assembled 3D piezoelastic matrices of the plate (treat as read-only).
 
     Attributes
@@ -187,13 +220,6 @@ class SolidPlateModel:
     refine: int
     layers: int
     basis: object
-    Kuu: sp.csr_matrix
-    M: sp.csr_matrix
-    Kuphi: sp.csr_matrix
-    Kphiphi: sp.csr_matrix
-    electrode_dofs: tuple
-    ground_dofs: np.ndarray
-    assembly_time_s: float
 
     @property
     def n_nodes(self) -> int:

@@ -50,6 +50,7 @@ from fem.solid3d.grid_ordering import nested_dissection_rank
 from fem.solid3d.model import (
     DEFAULT_LAYERS,
     DEFAULT_REFINE_3D,
+    SolidMatrices,
     SolidModes,
     assemble_solid,
     hex_grid_lines,
@@ -93,7 +94,7 @@ def mirrored_grid_lines(lines, length_m: float):
 
 
 @dataclass(frozen=True, eq=False)
-class QuarterPlateModel:
+class QuarterPlateModel(SolidMatrices):
     """Assembled quarter-plate matrices of one symmetry class (treat as read-only).
 
     Attributes
@@ -127,13 +128,6 @@ class QuarterPlateModel:
     mode: str
     basis: object
     free_u: np.ndarray
-    Kuu: sp.csr_matrix
-    M: sp.csr_matrix
-    Kuphi: sp.csr_matrix
-    Kphiphi: sp.csr_matrix
-    electrode_dofs: np.ndarray
-    ground_dofs: np.ndarray
-    assembly_time_s: float
 
     @property
     def n_displacement_dofs(self) -> int:

@@ -23,7 +23,7 @@ from lusm.options import (
 )
 
 WORKER_TIMEOUT_DEFAULT_S = 300.0
-"""Default of ``--worker-timeout-s`` (s): :data:`studies.explore.WORKER_TIMEOUT_S` (not
+"""Default of ``--worker-timeout-s`` (s): :data:`studies.cluster.WORKER_TIMEOUT_S` (not
 imported here: building the parser imports no dask)."""
 
 HELP = "design-space study (geometry x drive) on dask.distributed"
@@ -42,12 +42,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--resume", action="store_true",
                    help="continue an interrupted run from FILE.nc.parts/")
     add_cluster_options(p)
-    p.add_argument("--worker-timeout-s", default=None, metavar="S",
-                   type=real("--worker-timeout-s", "s", *limits.WORKER_TIMEOUT_S),
-                   help="how long to wait when the cluster has no worker left (an external "
-                   "scheduler whose workers died) before stopping with the finished parts "
-                   f"kept for --resume (default {WORKER_TIMEOUT_DEFAULT_S:g} s), in "
-                   f"[{limits.WORKER_TIMEOUT_S[0]:g}, {limits.WORKER_TIMEOUT_S[1]:g}] s")
+    add_worker_timeout_option(p)
     p.add_argument("--plot", metavar="DIR",
                    help="write figures (PNG) of the no-load velocity, stall force, L1-B2 split "
                    "(diverging scale, zero contour), peak efficiency and auto drive frequency "
@@ -71,6 +66,22 @@ def add_cluster_options(p: argparse.ArgumentParser, workers_note: str = "") -> N
                    help=f"processes of the LocalCluster (default 2), in "
                    f"[{limits.WORKERS[0]}, {limits.WORKERS[1]}]; not with --scheduler or "
                    f"--scheduler-file (that cluster has its own workers){workers_note}")
+
+
+def add_worker_timeout_option(p: argparse.ArgumentParser) -> None:
+    """``--worker-timeout-s`` (explore's and optimize's): the bound of
+    :class:`studies.cluster.ClusterWatch` on a cluster without workers."""
+    p.add_argument("--worker-timeout-s", default=None, metavar="S",
+                   type=real("--worker-timeout-s", "s", *limits.WORKER_TIMEOUT_S),
+                   help="how long to wait when the cluster has no worker left (an external "
+                   "scheduler whose workers died) before stopping with the finished parts "
+                   f"kept for --resume (default {WORKER_TIMEOUT_DEFAULT_S:g} s), in "
+                   f"[{limits.WORKER_TIMEOUT_S[0]:g}, {limits.WORKER_TIMEOUT_S[1]:g}] s")
+
+
+def worker_timeout_s(args: argparse.Namespace) -> float:
+    """``--worker-timeout-s``, or its default (s)."""
+    return WORKER_TIMEOUT_DEFAULT_S if args.worker_timeout_s is None else args.worker_timeout_s
 
 
 def run(args: argparse.Namespace) -> None:
@@ -173,9 +184,9 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
     """Run the study (:func:`studies.explore.explore`) and say its workers' warnings and
     failed geometries; on an interrupt or an error, say what is kept and where."""
     from lusm.interrupts import Terminated
-    from studies.cluster import DEFAULT_WORKERS
+    from studies.cluster import DEFAULT_WORKERS, ClusterLostError
     from studies.dataset import open_result
-    from studies.explore import ClusterLostError, NothingComputedError, explore
+    from studies.explore import NothingComputedError, explore
     from studies.parts import PartsBusyError, parts_folder
 
     before = _file_stamp(Path(args.out))
@@ -186,9 +197,7 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
                          scheduler_file=args.scheduler_file,
                          workers=DEFAULT_WORKERS if args.workers is None else args.workers,
                          resume=args.resume, force=args.force, progress=not args.json,
-                         worker_timeout_s=(WORKER_TIMEOUT_DEFAULT_S
-                                           if args.worker_timeout_s is None
-                                           else args.worker_timeout_s))
+                         worker_timeout_s=worker_timeout_s(args))
         for text in result.warnings:  # said once each, as every command says a warning
             warn(in_study_terms(text))
         _report_failures(open_result(result.path), result.path)
@@ -197,7 +206,7 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
     except PartsBusyError:
         raise  # the parts there are the running one's, not this run's to offer
     except ClusterLostError as exc:  # the environment, not a bug: one line, exit 2
-        raise LusmError(_cluster_lost(exc, args, parts), exc.where.split()[0]) from None
+        raise LusmError(cluster_lost_line(exc, args, parts), exc.where.split()[0]) from None
     except (KeyboardInterrupt, Terminated):
         if parts.exists():
             print(f"lusm explore: {_geometries(_count_parts(parts))} kept in {parts}; run the "
@@ -219,16 +228,21 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
     return result
 
 
-def _cluster_lost(exc, args: argparse.Namespace, parts: Path) -> str:
-    """The one line of a cluster lost mid-study: what went, what is kept, and the command
-    that resumes."""
+def cluster_lost_line(exc, args: argparse.Namespace, parts: Path, command: str = "explore",
+                      options: tuple[str, ...] = (), what: tuple[str, str, str] = (
+                          "finished geometry is", "finished geometries are",
+                          "no geometry had finished")) -> str:
+    """The one line of a cluster lost mid-study (explore's and optimize's): what went, what
+    is kept, and the command that resumes (``lusm COMMAND``, with ``options`` after the
+    cluster's); ``what`` says one part kept, several, and none."""
     import shlex
 
     done = _count_parts(parts)
-    kept = (f"{_geometries(done)} kept in {parts}" if done else "no geometry had finished")
+    kept = (f"{done} {what[0] if done == 1 else what[1]} kept in {parts}" if done
+            else what[2])
     where = (["--scheduler", args.scheduler] if args.scheduler else
              ["--scheduler-file", args.scheduler_file] if args.scheduler_file else [])
-    again = ["lusm", "explore", args.study, "--out", args.out, *where]
+    again = ["lusm", command, args.study, "--out", args.out, *where, *options]
     if args.worker_timeout_s is not None:
         again += ["--worker-timeout-s", f"{args.worker_timeout_s:g}"]
     if done:

@@ -83,7 +83,8 @@ def _reduced(args: argparse.Namespace, choice, refine: int):
     from rom.from_fem import fem_params, fem_params_from_design
 
     ratios = None if args.zeta is None else (args.zeta, args.zeta)
-    kwargs = {"order": args.order, "refine": refine}
+    mesh = MeshSettings(args.order, refine)
+    kwargs = {"mesh": mesh}
     if ratios is not None:
         kwargs["damping_ratios"] = ratios
     with fe_failures_as_input(choice.stator):
@@ -94,7 +95,6 @@ def _reduced(args: argparse.Namespace, choice, refine: int):
             if choice.design is not None:
                 raise LusmError(f"--geometry {exc}", "--geometry") from None
             raise
-        mesh = MeshSettings(args.order, refine)
         model = plate_model(choice.stator, choice.material, mesh)
         modes = plate_modes(choice.stator, choice.material, mesh)
     origin = ("--zeta (L1 and B2)" if ratios is not None

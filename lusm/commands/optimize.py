@@ -7,7 +7,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lusm.commands.explore import add_cluster_options
+from lusm.commands.explore import add_cluster_options, add_worker_timeout_option
 from lusm.errors import LusmError
 from lusm.messages import warn, warnings_said
 from lusm.options import figure_set, file_target, integer, moved, output_folder, print_json
@@ -39,6 +39,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--resume", action="store_true",
                    help="continue an interrupted run from FILE.nc.parts/ (the same designs)")
     add_cluster_options(p, "; the cluster's workers are the designs asked at once")
+    add_worker_timeout_option(p)
     p.add_argument("--plot", metavar="DIR",
                    help="write the convergence figure (best feasible objective against the "
                    "evaluations) and, for several objectives, the Pareto front into DIR")
@@ -112,8 +113,9 @@ def _checked(args: argparse.Namespace):
 
 def _search(args: argparse.Namespace, problem):
     """Run the search; on an interrupt or an error, say what is kept for ``--resume``."""
+    from lusm.commands.explore import cluster_lost_line, worker_timeout_s
     from lusm.interrupts import Terminated
-    from studies.cluster import DEFAULT_WORKERS
+    from studies.cluster import DEFAULT_WORKERS, ClusterLostError
     from studies.optimize import optimize
     from studies.parts import parts_folder
 
@@ -122,7 +124,14 @@ def _search(args: argparse.Namespace, problem):
         return optimize(problem, args.out, scheduler=args.scheduler,
                         scheduler_file=args.scheduler_file,
                         workers=DEFAULT_WORKERS if args.workers is None else args.workers,
-                        resume=args.resume, force=args.force, progress=not args.json)
+                        resume=args.resume, force=args.force, progress=not args.json,
+                        worker_timeout_s=worker_timeout_s(args))
+    except ClusterLostError as exc:  # the environment, not a bug: one line, exit 2
+        options = [o for name, value in (("--budget", args.budget), ("--seed", args.seed))
+                   if value is not None for o in (name, str(value))]
+        raise LusmError(cluster_lost_line(exc, args, parts, "optimize", tuple(options), (
+            "evaluated design is", "evaluated designs are", "no design had been evaluated")),
+            exc.where.split()[0]) from None
     except (KeyboardInterrupt, Terminated):
         n = len(list(parts.glob("g*.npz"))) if parts.is_dir() else 0
         if n:

@@ -47,9 +47,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_contact_options(p, folder_help="write Figs. 9, 11, 12 and 14 as PNG files into DIR")
 
 
-def run(args: argparse.Namespace) -> None:
-    """Run one simulation per ``--voltage`` (one parameter set for all) and print them."""
-    voltages = args.voltage  # a tuple: --voltage takes A,B,...
+def _refuse_combinations(args: argparse.Namespace) -> None:
+    """Refuse the options that do not go together, before any work."""
+    voltages = args.voltage
     if args.plot is not None and len(voltages) > 1:
         raise LusmError("--plot takes one --voltage (one set of figures per run); got "
                         f"{len(voltages)} voltages", "--plot")
@@ -63,6 +63,12 @@ def run(args: argparse.Namespace) -> None:
                         "is too slow)", "--uncertainty")
     if not args.steady:
         warn_unused(("--rest",), "it sets how --steady decides the start from rest")
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run one simulation per ``--voltage`` (one parameter set for all) and print them."""
+    voltages = args.voltage  # a tuple: --voltage takes A,B,...
+    _refuse_combinations(args)
     typed_dt = args.dt  # the text typed, checked at the frequency in force
 
     def check_size(frequency_Hz: float) -> None:

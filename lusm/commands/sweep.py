@@ -221,6 +221,7 @@ def _check_sweep(args: argparse.Namespace, base, parameter: str, option: str, te
     plate of it can take."""
     from dataclasses import replace
 
+    from fem.errors import FeatureError
     from lusm.errors import LusmError, feature_reason
     from lusm.options import check_fe_size, check_fe_work
 
@@ -237,7 +238,7 @@ def _check_sweep(args: argparse.Namespace, base, parameter: str, option: str, te
                                 option, text)
         cells = [check_fe_size(st, args.refine, needs_b2=False) for st in ends]
     except ValueError as exc:
-        if not str(exc).startswith("ParametricStator."):
+        if not isinstance(exc, FeatureError):
             raise
         # a plate of the sweep no longer holds the file's features: the range is to blame
         raise LusmError(f"{option} {text}: a plate of the sweep no longer holds the features "
@@ -250,12 +251,13 @@ def _check_sweep(args: argparse.Namespace, base, parameter: str, option: str, te
 
 def _solve(args: argparse.Namespace, parameter: str, values_m, base, material):
     """:func:`fem.sweep.sweep_dimension`, a solver failure said as bad input."""
+    from fem.mesh_settings import MeshSettings
     from fem.sweep import sweep_dimension
     from lusm.fe_errors import fe_failure, is_fe_failure
 
     try:
-        return sweep_dimension(parameter, values_m, base, material, order=args.order,
-                               refine=args.refine, progress=not args.json)
+        return sweep_dimension(parameter, values_m, base, material,
+                               MeshSettings(args.order, args.refine), progress=not args.json)
     except Exception as exc:
         if is_fe_failure(exc):
             raise fe_failure(exc, base) from exc

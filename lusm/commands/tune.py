@@ -225,6 +225,8 @@ def _tune(args: argparse.Namespace, choice):
     """:func:`fem.tuning.tune_plate`, its solver failures said as bad input."""
     import warnings
 
+    from fem.errors import FeatureError
+    from fem.mesh_settings import MeshSettings
     from fem.model import GapValidityWarning
     from fem.modes import ModeSolverError
     from fem.tuning import tune_plate
@@ -235,12 +237,12 @@ def _tune(args: argparse.Namespace, choice):
         with warnings.catch_warnings():  # said once, of the tuned plate, not per iteration
             warnings.simplefilter("ignore", GapValidityWarning)
             return tune_plate(args.target_frequency, fix=args.fix, material=choice.material,
-                              start=choice.stator, model=args.model, order=args.order,
-                              refine=args.refine, progress=True)
+                              start=choice.stator, model=args.model,
+                              mesh=MeshSettings(args.order, args.refine), progress=True)
     except Exception as exc:
         if isinstance(exc, ModeSolverError) or is_fe_failure(exc):
             raise fe_failure(exc, choice.stator) from exc
-        if choice.parametric and isinstance(exc, ValueError) and "ParametricStator" in str(exc):
+        if choice.parametric and isinstance(exc, FeatureError):
             raise LusmError(f"--geometry {args.geometry}: a plate tried while tuning no longer "
                             f"holds the file's features ({feature_reason(exc)}); tune "
                             "rescales the plate but keeps the tip, chamfers and holes as "

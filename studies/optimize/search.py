@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from studies.cluster import WORKER_TIMEOUT_S, ClusterWatch, cluster_where
 from studies.optimize.metrics import evaluation_metrics
 from studies.optimize.problem import Problem, trial_study
 from studies.optimize.result import OptimizeResult, is_complete_file, write_result
@@ -109,9 +110,13 @@ def _task(problem: Problem, evaluate: Evaluator, tuner: Tuner | None) -> tuple:
 
 def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, budget: int,
                 wall_time_s: float | None, on_trial: Callable[[int], None] | None,
-                progress: bool, tuner: Tuner | None = None) -> tuple[int, str]:
+                progress: bool, watch: ClusterWatch, tuner: Tuner | None = None
+                ) -> tuple[int, str]:
     """Evaluate batches of designs until ``budget`` designs have been, or ``wall_time_s``
-    (s) has passed; returns the designs this run evaluated and what stopped it."""
+    (s) has passed; returns the designs this run evaluated and what stopped it. While no
+    evaluation finishes, ``watch`` looks at the cluster (explore's
+    :meth:`studies.cluster.ClusterWatch.wait`): a lost scheduler, or no worker for longer
+    than its bound, raises :class:`studies.cluster.ClusterLostError`, the parts kept."""
     from distributed import as_completed
 
     from lusm.interrupts import checkpoint
@@ -139,9 +144,12 @@ def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, bud
                 fut = client.submit(*task, trial_study(problem, design), 0, pure=False,
                                     key=f"lusm-optimize-{run}-{t}")
                 submitted[fut.key] = (fut, t, design)
-            for fut in as_completed([f for f, _, _ in submitted.values()]):
+            completed = as_completed([f for f, _, _ in submitted.values()])
+            while not completed.is_empty():
+                watch.wait(client, completed)
+                fut = next(completed)
                 _, t, design = submitted.pop(fut.key)
-                data = fut.result()
+                data = watch.result(client, fut)
                 outputs = {k: v for k, v in data.items() if k not in TASK_EXTRAS}
                 store.add(Record(t, design, outputs))
                 computed += 1
@@ -170,7 +178,8 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
              scheduler_file: str | None = None, workers: int = 2, budget: int | None = None,
              resume: bool = False, force: bool = False, evaluate: Evaluator | None = None,
              progress: bool = False, on_trial: Callable[[int], None] | None = None,
-             tuner: Tuner | None = None) -> OptimizeResult:
+             worker_timeout_s: float = WORKER_TIMEOUT_S, tuner: Tuner | None = None
+             ) -> OptimizeResult:
     """Search the design space of ``problem`` for its best designs; write one dataset row per
     evaluation to ``out``.
 
@@ -197,10 +206,19 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
         A progress bar on stderr.
     on_trial : callable, optional
         Called with the trial number after each evaluation is stored (tests interrupt here).
+    worker_timeout_s : float
+        How long (s) to wait for a cluster with no worker left, as explore waits
+        (:class:`studies.cluster.ClusterWatch`).
     tuner : callable, optional
         With ``split = "tuned"``: ``tuner(study, variable) -> value`` (m) run on the workers
         before ``evaluate`` (default :func:`studies.optimize.tuned.fe_tuner`, from the
         study's own plate's aspect).
+
+    Raises
+    ------
+    studies.cluster.ClusterLostError
+        The scheduler went away, or no worker came back within ``worker_timeout_s``; the
+        evaluated designs stay in the parts folder for ``resume=True``.
 
     Returns
     -------
@@ -220,6 +238,7 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
     t0 = time.perf_counter()
     store = Store(problem, out, resume)
     reused, computed = len(store.records), 0
+    watch = ClusterWatch(cluster_where(scheduler, scheduler_file), worker_timeout_s)
     try:
         with study_client(client, scheduler, scheduler_file, workers,
                           gmsh=problem.study.meshed_by_gmsh) as running:
@@ -227,7 +246,7 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
             store.set_batch(n_workers)
             computed, stopped = run_batches(running, problem, store, evaluate or
                                             compute_geometry, budget, problem.wall_time_s,
-                                            on_trial, progress, tuner)
+                                            on_trial, progress, watch, tuner)
         result = write_result(problem, store, out, force)
     except BaseException:
         if store.created and not store.records:  # nothing computed: leave no trace

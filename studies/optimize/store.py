@@ -155,9 +155,14 @@ class Store:
         return out
 
     def add(self, record: Record) -> None:
-        """Write ``record``'s part and keep it."""
-        write_part(self.folder, record.trial, part_of(record))
-        self.records[record.trial] = record
+        """Write ``record``'s part and keep it, as one step: a Ctrl-C between the two would
+        leave a part this store does not know of (:meth:`remove` would then leave the folder
+        without its ``study.json``, which ``--resume`` refuses); a signal lands after both."""
+        from contact.deferred_signals import deferred_signals
+
+        with deferred_signals():
+            write_part(self.folder, record.trial, part_of(record))
+            self.records[record.trial] = record
 
     def close(self) -> None:
         """Release the folder's lock."""

@@ -42,6 +42,7 @@ def fe_tuner(study, variable: str, start_aspect: float | None = None) -> float:
     study's FE order and refinement (the mesh the evaluation solves)."""
     import warnings
 
+    from fem.mesh_settings import MeshSettings
     from fem.model import GapValidityWarning
     from fem.tuning import tune_plate
     from studies.task import geometry_of, plate_of
@@ -51,7 +52,7 @@ def fe_tuner(study, variable: str, start_aspect: float | None = None) -> float:
     with warnings.catch_warnings():  # the evaluation of the tuned plate says its own
         warnings.simplefilter("ignore", GapValidityWarning)
         d = tune_plate(fix=held, material=material, start=_start(stator, held, start_aspect),
-                       order=study.solver.fe_order, refine=study.solver.fe_refine)
+                       mesh=MeshSettings(study.solver.fe_order, study.solver.fe_refine))
     return float(d.stator.width_m if variable == "width" else d.stator.length_m)
 
 
