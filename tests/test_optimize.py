@@ -157,6 +157,18 @@ def test_a_tuned_search_evaluates_tuned_plates_and_resumes_exactly(client, tmp_p
         np.testing.assert_array_equal(ds[k].values, again[k].values, err_msg=k)
 
 
+def test_a_two_sided_bound_of_an_uncomputed_output_is_nan():
+    """A design not evaluated (not tunable) has NaN outputs: a bound with both sides gives
+    two NaN values, not a TypeError (numpy's bools add as a logical or)."""
+    from studies.optimize.metrics import constraint_values
+
+    problem = problem_from_dict(doc(4, {"stall_force": {"min": "1 N", "max": "40 N"}}))
+    (bound,) = problem.bounds
+    values = constraint_values(bound, empty_outputs(problem.study),
+                               {"length": 30e-3, "width": 8e-3}, problem.study)
+    assert len(values) == 2 and np.isnan(values).all()
+
+
 def test_a_constraint_no_design_meets_is_reported_not_an_optimum(client, tmp_path):
     problem = problem_from_dict(doc(6, {"stall_force": {"max": "20 N"}}))  # x + y >= 34
     result = optimize(problem, tmp_path / "r.nc", client=client, evaluate=analytic)

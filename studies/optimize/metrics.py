@@ -71,7 +71,7 @@ def constraint_values(bound: Bound, outputs: dict[str, np.ndarray], design: dict
         return [_excess(split, bound.high)]
     values = np.asarray(named_values(bound.name, outputs, design, study, {}), dtype=float)
     if values.size == 0 or not np.isfinite(values).all():
-        return [math.nan] * (np.isfinite(bound.low) + np.isfinite(bound.high))
+        return [math.nan] * (int(np.isfinite(bound.low)) + int(np.isfinite(bound.high)))
     out = []
     if np.isfinite(bound.low):
         out.append(max(-_excess(float(v), bound.low) for v in values.ravel()))
