@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from bounds import ParameterError
 from lusm import limits
 from lusm.errors import LusmError, design_error_text
 from lusm.fe_errors import plate_refusal
@@ -276,7 +277,7 @@ def params_from_file(path_text: str):
             if isinstance(data, dict) else data
         params = MotorParams.from_dict(stored)
     except (TypeError, ValueError) as exc:  # the file's key, not the dataclass's field
-        text = str(exc).replace("MotorParams.", "key ")
+        text = exc.said(f"key {exc.name}") if isinstance(exc, ParameterError) else str(exc)
         raise LusmError(f"--params {path_text}: {text}", "--params") from None
     # the derived keys follow the stored fields: an edit of C_l leaves a stale zeta_L1, which
     # is recomputed, and said so (the help says to edit C_l)
