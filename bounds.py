@@ -10,6 +10,7 @@ This module imports nothing of the project, so every package can raise it.
 from __future__ import annotations
 
 import numbers
+from collections.abc import Mapping
 
 
 class ParameterError(ValueError):
@@ -68,7 +69,7 @@ class ParameterError(ValueError):
         ``'key mu_d must be <= mu_s = 0.5, got 0.6 (kinetic friction cannot exceed
         static)'``."""
         return (f"{label} must be {self.range_text(bound_label=bound_label)}, got "
-                f"{self.value_text()}" + (f" ({self.reason})" if self.reason else ""))
+                f"{self.value!r}" + (f" ({self.reason})" if self.reason else ""))
 
     def range_text(self, scale: float = 1.0, unit: str | None = None,
                    bound_label: str | None = None) -> str:
@@ -110,6 +111,56 @@ class ParameterError(ValueError):
 class ParameterTypeError(ParameterError, TypeError):
     """A parameter of the wrong kind (text for a number), with :attr:`ParameterError.kind`
     saying what it must be; a ``TypeError`` too, for callers that catch that."""
+
+
+class Words(str):
+    """A library message whose parameter settings (``load_N = 50 N``) are kept apart from its
+    text, so that a caller says each in its own terms (the CLI: ``--load-N 50 N``).
+
+    It is the message itself, a ``str``, wherever one is expected (an exception's or a
+    warning's argument); :meth:`said` words it again.
+
+    Parameters
+    ----------
+    template : str
+        The message with a ``{name}`` slot for each setting (other braces doubled).
+    forms : Mapping[str, str], optional
+        How the library says a setting, ``'{name} = {value}'`` by default (``'set {name} =
+        {value}'`` for a remedy).
+    **values : str
+        Each setting's value as the message gives it, with its unit (``load_N='50 N'``).
+    """
+
+    template: str
+    values: dict[str, str]
+    forms: dict[str, str]
+
+    def __new__(cls, template: str, forms: Mapping[str, str] | None = None,
+                **values: str) -> Words:
+        forms = dict(forms or {})
+        words = super().__new__(cls, _fill(template, forms, values))
+        words.template, words.values, words.forms = template, values, forms
+        return words
+
+    def __getnewargs_ex__(self) -> tuple[tuple, dict]:  # pickled (a dask worker's warning)
+        return (self.template, self.forms), self.values
+
+    def said(self, forms: Mapping[str, str]) -> str:
+        """The message with each setting in ``forms[name]`` (a format of ``{name}`` and
+        ``{value}``: ``'--load-N {value}'``), the others in the library's own form."""
+        return _fill(self.template, {**self.forms, **forms}, self.values)
+
+    def __add__(self, text: str) -> Words:
+        """The message followed by ``text`` (plain text: its braces are kept)."""
+        tail = text.template if isinstance(text, Words) else text.replace("{", "{{").replace(
+            "}", "}}")
+        more = text.values if isinstance(text, Words) else {}
+        return Words(self.template + tail, self.forms, **self.values, **more)
+
+
+def _fill(template: str, forms: Mapping[str, str], values: Mapping[str, str]) -> str:
+    return template.format(**{name: forms.get(name, "{name} = {value}").format(
+        name=name, value=value) for name, value in values.items()})
 
 
 def _number(x: float) -> str:
