@@ -10,6 +10,7 @@ This module imports nothing of the project, so every package can raise it.
 from __future__ import annotations
 
 import numbers
+from collections.abc import Mapping
 
 
 class ParameterError(ValueError):
@@ -34,13 +35,23 @@ class ParameterError(ValueError):
     choices : tuple, optional
         The values allowed, for a parameter that takes one of a few (a name, a layout)
         rather than a number in a range.
+    bound_by : str
+        The other parameter whose value is the bound (``'mu_s'`` for ``mu_d <= mu_s``),
+        so that a caller can name it in its own terms; ``''`` for a fixed range.
+    kind : str
+        What the value must be where that is not a range (``'a real number'``,
+        ``'non-zero'``); ``''`` for a range.
+    label : str, optional
+        The parameter as the library's message names it (``'MotorParams.mu_d'``); by
+        default ``name``.
     message : str, optional
-        The library's full message; by default the range said in SI units.
+        The library's full message; by default :meth:`said` with ``label``.
     """
 
     def __init__(self, name: str, value: object, low: float | None = None,
                  high: float | None = None, unit: str = "", *, low_open: bool = False,
                  high_open: bool = False, reason: str = "", choices: tuple = (),
+                 bound_by: str = "", kind: str = "", label: str | None = None,
                  message: str | None = None) -> None:
         self.name = name
         self.value = value
@@ -48,20 +59,37 @@ class ParameterError(ValueError):
         self.low_open, self.high_open = low_open, high_open
         self.reason = reason
         self.choices = tuple(choices)
-        if message is None:
-            message = (f"{name} must be {self.range_text()}, got {value!r}"
-                       + (f" ({reason})" if reason else ""))
-        super().__init__(message)
+        self.bound_by, self.kind = bound_by, kind
+        super().__init__(self.said(name if label is None else label)
+                         if message is None else message)
 
-    def range_text(self, scale: float = 1.0, unit: str | None = None) -> str:
+    def said(self, label: str, bound_label: str | None = None) -> str:
+        """The refusal in words with the parameter called ``label`` and the parameter that
+        bounds it (:attr:`bound_by`) ``bound_label`` (default its name):
+        ``'key mu_d must be <= mu_s = 0.5, got 0.6 (kinetic friction cannot exceed
+        static)'``."""
+        return (f"{label} must be {self.range_text(bound_label=bound_label)}, got "
+                f"{self.value!r}" + (f" ({self.reason})" if self.reason else ""))
+
+    def range_text(self, scale: float = 1.0, unit: str | None = None,
+                   bound_label: str | None = None) -> str:
         """The allowed range in words, its bounds times ``scale`` in ``unit`` (default the
-        error's own): ``'in [0.005, 0.2] m'``, ``'> 0 Hz'``, ``'a finite number'``."""
+        error's own): ``'in [0.005, 0.2] m'``, ``'> 0 Hz'``, ``'a finite number'``; a bound
+        set by another parameter reads ``'<= mu_s = 0.5'`` (``bound_label`` for its name)."""
+        if self.kind:
+            return self.kind
         if self.choices:
             return f"one of {', '.join(map(str, self.choices))}"
         unit = self.unit if unit is None else unit
         tail = f" {unit}" if unit else ""
         lo = None if self.low is None else _number(self.low * scale)
         hi = None if self.high is None else _number(self.high * scale)
+        if self.bound_by:  # the bound that is a parameter: the upper one, where both are
+            other = f"{self.bound_by if bound_label is None else bound_label} = "
+            if hi is not None:
+                hi = other + hi
+            elif lo is not None:
+                lo = other + lo
         if lo is not None and hi is not None:
             return (f"in {'(' if self.low_open else '['}{lo}, {hi}"
                     f"{')' if self.high_open else ']'}{tail}")
@@ -78,6 +106,61 @@ class ParameterError(ValueError):
         if isinstance(v, numbers.Real) and not isinstance(v, bool):
             return _number(float(v) * scale)
         return repr(v)
+
+
+class ParameterTypeError(ParameterError, TypeError):
+    """A parameter of the wrong kind (text for a number), with :attr:`ParameterError.kind`
+    saying what it must be; a ``TypeError`` too, for callers that catch that."""
+
+
+class Words(str):
+    """A library message whose parameter settings (``load_N = 50 N``) are kept apart from its
+    text, so that a caller says each in its own terms (the CLI: ``--load-N 50 N``).
+
+    It is the message itself, a ``str``, wherever one is expected (an exception's or a
+    warning's argument); :meth:`said` words it again.
+
+    Parameters
+    ----------
+    template : str
+        The message with a ``{name}`` slot for each setting (other braces doubled).
+    forms : Mapping[str, str], optional
+        How the library says a setting, ``'{name} = {value}'`` by default (``'set {name} =
+        {value}'`` for a remedy).
+    **values : str
+        Each setting's value as the message gives it, with its unit (``load_N='50 N'``).
+    """
+
+    template: str
+    values: dict[str, str]
+    forms: dict[str, str]
+
+    def __new__(cls, template: str, forms: Mapping[str, str] | None = None,
+                **values: str) -> Words:
+        forms = dict(forms or {})
+        words = super().__new__(cls, _fill(template, forms, values))
+        words.template, words.values, words.forms = template, values, forms
+        return words
+
+    def __getnewargs_ex__(self) -> tuple[tuple, dict]:  # pickled (a dask worker's warning)
+        return (self.template, self.forms), self.values
+
+    def said(self, forms: Mapping[str, str]) -> str:
+        """The message with each setting in ``forms[name]`` (a format of ``{name}`` and
+        ``{value}``: ``'--load-N {value}'``), the others in the library's own form."""
+        return _fill(self.template, {**self.forms, **forms}, self.values)
+
+    def __add__(self, text: str) -> Words:
+        """The message followed by ``text`` (plain text: its braces are kept)."""
+        tail = text.template if isinstance(text, Words) else text.replace("{", "{{").replace(
+            "}", "}}")
+        more = text.values if isinstance(text, Words) else {}
+        return Words(self.template + tail, self.forms, **self.values, **more)
+
+
+def _fill(template: str, forms: Mapping[str, str], values: Mapping[str, str]) -> str:
+    return template.format(**{name: forms.get(name, "{name} = {value}").format(
+        name=name, value=value) for name, value in values.items()})
 
 
 def _number(x: float) -> str:

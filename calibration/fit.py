@@ -33,6 +33,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.stats import qmc
 
+from bounds import ParameterError
 from calibration.measurements import STEADY_KINDS, MeasurementError, Measurements
 from calibration.model import predict
 from calibration.parameters import ORDER, FitParameter, apply, base_value
@@ -255,7 +256,7 @@ def check_box(meas: Measurements, base: MotorParams) -> None:
         try:
             apply(base, values)
         except ValueError as exc:
-            text = str(exc).replace("MotorParams.", "")
+            text = exc.said(exc.name) if isinstance(exc, ParameterError) else str(exc)
             raise MeasurementError(f"{src}: the set is invalid at every parameter's "
                                    f"{'min' if corner == 'lower' else 'max'}: {text}") from None
 

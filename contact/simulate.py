@@ -253,5 +253,5 @@ def _warn_if_runaway(params: MotorParams, op: OperatingPoint, opts: SimulationOp
                                mu_d_eff, steady.velocity_m_s,
                                steady.previous_velocity_m_s)
     if reason is not None:  # stacklevel: the caller of simulate
-        warnings.warn(f"{reason}; the velocity is where the run stopped", RunawayWarning,
+        warnings.warn(reason + "; the velocity is where the run stopped", RunawayWarning,
                       stacklevel=3)

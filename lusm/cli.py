@@ -309,10 +309,10 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
     seen: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
-        from lusm.errors import assignments_as_options
+        from lusm.errors import in_option_terms
         from lusm.messages import in_file_terms, record_said
 
-        text = in_file_terms(assignments_as_options(_one_line(str(message))))
+        text = in_file_terms(_one_line(in_option_terms(message)))
         # a --json summary lists it too (lusm explore's), also when it is said before the
         # summary's record opens
         record_said(text)

@@ -19,7 +19,7 @@ import numbers
 import re
 from pathlib import Path
 
-from bounds import ParameterError
+from bounds import ParameterError, Words
 
 
 class LusmError(ValueError):
@@ -63,11 +63,17 @@ it, the option's unit and the option's value per SI value (1e3: metres to millim
 ASSIGNED_NAMES = ("voltage_V", "preload_N", "load_N", "frequency_Hz", "dt_s", "duration_s",
                   "target_frequency_Hz", "n_points", "f_min_Hz", "refine", "layers")
 """Parameters whose option takes the same unit, so that a message's ``frequency_Hz = 1 Hz``
-reads ``--frequency 1 Hz`` (:func:`assignments_as_options`)."""
+reads ``--frequency 1 Hz`` (:data:`OPTION_FORMS`)."""
+
+OPTION_FORMS: dict[str, str] = {
+    **{name: f"{PARAMETER_OPTIONS[name][0]} {{value}}" for name in ASSIGNED_NAMES},
+    "ultrasonic_friction": "pass --no-ultrasonic-friction",  # the unsettled-A_N remedy
+}
+"""A library message's setting (:class:`bounds.Words`) as the option that makes it."""
 
 
 def _first_line(exc: BaseException) -> str:
-    text = str(exc).strip()
+    text = in_option_terms(exc).strip()
     line = text.splitlines()[0] if text else type(exc).__name__
     return line
 
@@ -118,7 +124,7 @@ def user_error(exc: BaseException) -> LusmError:
 
         if typed("--params"):  # the file's values: named, not a bare NumPy message
             return LusmError(f"--params: {line}", "--params")
-    return LusmError(assignments_as_options(line))
+    return LusmError(line)
 
 
 def parameter_error(exc: ParameterError) -> LusmError:
@@ -128,7 +134,7 @@ def parameter_error(exc: ParameterError) -> LusmError:
     Without a range (a work bound, a value of the wrong kind) the library's words follow the
     option; a parameter no option sets keeps the library's words alone."""
     known = PARAMETER_OPTIONS.get(exc.name)
-    line = assignments_as_options(_first_line(exc))
+    line = _first_line(exc)
     if known is None:
         return LusmError(line)
     option, unit, scale = known
@@ -143,15 +149,13 @@ def parameter_error(exc: ParameterError) -> LusmError:
                      + (f" ({exc.reason})" if exc.reason else ""), option)
 
 
-def assignments_as_options(text: str) -> str:
-    """A library message's ``name = value`` in the options' terms, for the names whose option
-    takes the same unit: ``load_N = 50 N`` reads ``--load-N 50 N`` (the one-line warnings;
-    only the assignment form, so that a word like "refine" in a sentence stays a word)."""
-    for name in ASSIGNED_NAMES:
-        text = re.sub(rf"(?<![\w.-]){re.escape(name)}\s*=\s*", f"{PARAMETER_OPTIONS[name][0]} ",
-                      text)
-    # a switch: the unsettled-A_N warning's remedy
-    return re.sub(r"set ultrasonic_friction\s*=\s*False", "pass --no-ultrasonic-friction", text)
+def in_option_terms(message: object) -> str:
+    """An exception's or a warning's message with the library's settings
+    (:class:`bounds.Words`) said as the options that make them: ``load_N = 50 N`` reads
+    ``--load-N 50 N``, ``set ultrasonic_friction = False`` reads ``pass
+    --no-ultrasonic-friction``; another message as it is."""
+    words = message.args[0] if isinstance(message, BaseException) and message.args else message
+    return words.said(OPTION_FORMS) if isinstance(words, Words) else str(message)
 
 
 def feature_reason(exc: BaseException) -> str:

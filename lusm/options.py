@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from bounds import ParameterError
 from lusm import limits
 from lusm.errors import LusmError, design_error_text
 from lusm.fe_errors import plate_refusal
@@ -176,12 +177,28 @@ def add_motor_options(p: argparse.ArgumentParser, *, friction_note: str = "") ->
     g.add_argument("--params", metavar="PARAMS.json", default=None,
                    help="a parameter set saved with 'lusm params --json' (edit its stored "
                    "fields, e.g. C_l for the damping); replaces --source and the stator")
-    g.add_argument("--damping", choices=("material", "table2"), default="material",
-                   help="modal damping of the fem and beam sets and the plate options: "
-                   "material (default), the material's data-sheet Q_m with the mount's "
-                   "(docs/designer.md); table2, Table 2's ratios, as the paper's comparisons "
-                   "take them. A stator file's [damping] sets its own")
+    add_damping_option(g, "the fem and beam sets and the plate options")
     add_plate_options(p, note="; any of them selects --source fem")
+
+
+def add_damping_option(g, what: str) -> None:
+    """``--damping material|table2``: the modal damping of ``what`` (sets without damping
+    ratios of their own; :func:`set_damping`)."""
+    g.add_argument("--damping", choices=("material", "table2"), default="material",
+                   help=f"modal damping of {what}: material (default), the material's "
+                   "data-sheet Q_m with the mount's (docs/designer.md); table2, Table 2's "
+                   "ratios, as the paper's comparisons take them. A stator file's [damping] "
+                   "sets its own")
+
+
+def check_damping_clash(args: argparse.Namespace, own: list[str]) -> None:
+    """Refuse ``--damping table2`` beside an option that sets the damping itself (``own``:
+    the options given, e.g. ``["--geometry"]``), naming the first."""
+    if getattr(args, "damping", None) == "table2" and own:
+        what = ("--zeta sets both ratios" if own[0] == "--zeta" else "the file sets the "
+                "damping (a stator file's [damping] source = \"table2\" for Table 2's "
+                "ratios)")
+        raise LusmError(f"--damping cannot be combined with {own[0]}: {what}", "--damping")
 
 
 def add_contact_options(p: argparse.ArgumentParser, *, folder_help: str,
@@ -276,7 +293,7 @@ def params_from_file(path_text: str):
             if isinstance(data, dict) else data
         params = MotorParams.from_dict(stored)
     except (TypeError, ValueError) as exc:  # the file's key, not the dataclass's field
-        text = str(exc).replace("MotorParams.", "key ")
+        text = exc.said(f"key {exc.name}") if isinstance(exc, ParameterError) else str(exc)
         raise LusmError(f"--params {path_text}: {text}", "--params") from None
     # the derived keys follow the stored fields: an edit of C_l leaves a stale zeta_L1, which
     # is recomputed, and said so (the help says to edit C_l)
@@ -880,11 +897,8 @@ def motor_params_of(args: argparse.Namespace, source: str | None):
     from validation.summaries import table2_damping
 
     named = bool(getattr(args, "geometry", None)) or bool(plate_given(args))
-    own = [o for o in ("geometry", "params") if getattr(args, o, None)]
-    if getattr(args, "damping", None) == "table2" and own:
-        raise LusmError(f"--damping cannot be combined with --{own[0]}: the file sets the "
-                        "damping (a stator file's [damping] source = \"table2\" for Table "
-                        "2's ratios)", "--damping")
+    check_damping_clash(args, [f"--{o}" for o in ("geometry", "params")
+                               if getattr(args, o, None)])
     if source == "beam":
         warn_unused(("--material",), "Appendix A's beam takes Table 1's constants (density, "
                     "cE11, cE66, e31) whatever the plate's material")

@@ -214,16 +214,10 @@ def design_base(design, base: MotorParams | None = None) -> MotorParams:
     try:
         return replace(base, **design.motor, source=f"{base.source}, with {given} from "
                        f"{design.path or design.name}")
-    except ValueError as exc:
-        import re
-
-        text = str(exc)
-        given_keys = {name: where for name, where in keys.items() if name in design.motor}
-        for name, where in given_keys.items():  # the file's keys, bare or qualified
-            text = re.sub(rf"(?<![\w\[])(MotorParams\.)?{re.escape(name)}\b", where, text)
-        # what the file did not set comes from the base set (mu_s alone: Table 2's mu_d)
-        text = text.replace("MotorParams.", "the base set's ")
-        raise DesignFileError(design.path or design.name, "", text) from None
+    except ParameterError as exc:  # the file's keys; what it did not set is the base set's
+        label = keys.get(exc.name, f"the base set's {exc.name}")
+        reason = exc.said(label, keys.get(exc.bound_by, exc.bound_by))
+        raise DesignFileError(design.path or design.name, "", reason) from None
 
 
 def design_damping(design, base: MotorParams | None = None) -> tuple[float, float] | None:

@@ -13,6 +13,7 @@ import math
 import numbers
 from dataclasses import dataclass, fields, replace
 
+from bounds import ParameterError, ParameterTypeError
 from rom.shape_data import ShapeData
 
 GRAVITY_M_S2 = 9.81
@@ -32,6 +33,15 @@ _POSITIVE = (
     "M_l", "C_l", "K_l", "M_b", "C_b", "K_b", "k_contact", "M_slider", "mu_s", "mu_d",
 )
 _NON_NEGATIVE = ("mu_sd", "a_mu", "b_mu")
+
+
+def _refused(name: str, value: object, cls: type[ParameterError] = ParameterError,
+             **range_: object) -> ParameterError:
+    """The refusal of field ``name`` of :class:`MotorParams` in its :data:`PARAM_UNITS` unit
+    (``'-'``: none), its message naming ``MotorParams.<name>``."""
+    unit = PARAM_UNITS.get(name, "")
+    return cls(name, value, unit="" if unit == "-" else unit, label=f"MotorParams.{name}",
+               **range_)
 
 
 DERIVED_KEYS = ("eta_N", "eta_T", "f_L1_Hz", "f_B2_Hz", "zeta_L1", "zeta_B2")
@@ -104,6 +114,8 @@ class MotorParams:
     shape: ShapeData | None = None
 
     def __post_init__(self) -> None:
+        """Check every field: a :class:`bounds.ParameterError` (``ParameterTypeError`` for a
+        value of the wrong kind) names the field, its value and its allowed range."""
         if self.shape is not None and not isinstance(self.shape, ShapeData):
             raise TypeError(f"MotorParams.shape must be a rom.shape_data.ShapeData or None, "
                             f"got {type(self.shape).__name__}")
@@ -112,41 +124,39 @@ class MotorParams:
                 continue
             if f.name == "source":
                 if not isinstance(self.source, str):  # not 5 or None
-                    raise TypeError(f"MotorParams.source must be text, got {self.source!r}")
+                    raise _refused("source", self.source, ParameterTypeError, kind="text")
                 continue
             value = getattr(self, f.name)
             # NumPy scalars are real numbers too (np.float32(0.2)); bool is not
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
-                raise TypeError(f"MotorParams.{f.name} must be a real number, got {value!r}")
+                raise _refused(f.name, value, ParameterTypeError, kind="a real number")
             value = float(value)
             object.__setattr__(self, f.name, value)
             if not math.isfinite(value):
-                raise ValueError(f"MotorParams.{f.name} must be finite, got {value!r}")
+                raise _refused(f.name, value)
         for name in _POSITIVE:
             if getattr(self, name) <= 0.0:
-                raise ValueError(f"MotorParams.{name} must be > 0, got {getattr(self, name)!r}")
+                raise _refused(name, getattr(self, name), low=0.0, low_open=True)
         for name in _NON_NEGATIVE:
             if getattr(self, name) < 0.0:
-                raise ValueError(f"MotorParams.{name} must be >= 0, got {getattr(self, name)!r}")
+                raise _refused(name, getattr(self, name), low=0.0)
+        self._check_relations()
+
+    def _check_relations(self) -> None:
+        """The checks between fields: the friction law's order and the modes' coupling."""
         if self.mu_d > self.mu_s:
-            raise ValueError(
-                f"MotorParams.mu_d must be <= mu_s (kinetic friction cannot exceed static), "
-                f"got mu_d={self.mu_d!r} > mu_s={self.mu_s!r}"
-            )
+            raise _refused("mu_d", self.mu_d, high=self.mu_s, bound_by="mu_s",
+                           reason="kinetic friction cannot exceed static")
         if self.a_mu > self.mu_d:
-            raise ValueError(
-                f"MotorParams.a_mu must lie in [0, mu_d={self.mu_d!r}] (Eq. 11 decays from mu_d "
-                f"to a_mu), got {self.a_mu!r}"
-            )
+            raise _refused("a_mu", self.a_mu, low=0.0, high=self.mu_d, bound_by="mu_d",
+                           reason="Eq. 11 decays from mu_d to a_mu")
         if self.phi_Ll == self.phi_L0:
-            raise ValueError(
-                "MotorParams.phi_Ll must differ from phi_L0: the L1 mode must stretch the stator "
-                "(eta_N = phi_L0 - phi_Ll = 0 leaves no normal coupling)"
-            )
+            raise _refused("phi_Ll", self.phi_Ll, kind=f"different from phi_L0 = {self.phi_L0:g}",
+                           reason="the L1 mode must stretch the stator: eta_N = phi_L0 - "
+                                  "phi_Ll = 0 leaves no normal coupling")
         if self.phi_Bl == 0.0:
-            raise ValueError(
-                "MotorParams.phi_Bl must be non-zero: the B2 mode must move the contact tip"
-            )
+            raise _refused("phi_Bl", self.phi_Bl, kind="non-zero",
+                           reason="the B2 mode must move the contact tip")
 
     @property
     def eta_N(self) -> float:

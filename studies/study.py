@@ -924,8 +924,12 @@ def contact_work_problem(study: Study, plate_work: float, detail: str) -> str | 
     if total <= top:
         return None
     g = study.n_geometries
-    fix = (("a higher axes.frequency, " if not study.auto_frequency else "") if steady
-           else "a shorter solver.duration or larger solver.dt, ")
+    if steady:
+        fix = "a higher axes.frequency, " if not study.auto_frequency else ""
+    elif study.solver.settle:  # each plate runs its settling time: a typed duration caps it
+        fix = "a solver.duration or method = \"steady\", "
+    else:
+        fix = "a shorter solver.duration or larger solver.dt, "
     # one line short enough for a geometry's status (300 characters) with its prefix
     return (f"axes: {g} geometr{'y' if g == 1 else 'ies'} x {detail} = {total:.3g}"
             f"{'' if steady else ' time steps'}, above the {'steady ' if steady else ''}limit "
@@ -953,18 +957,30 @@ def _check_contact_work(study: Study, where: str) -> None:
         from contact.options import DEFAULT_DT_S
 
         steps = s.duration_s / (s.dt_s if s.dt_s is not None else DEFAULT_DT_S)
-        least = "" if s.dt_s is not None else "at least "
-        detail = (f"{n} drive points x {least}{steps:.3g} steps each (solver.duration / "
+        least = "" if s.dt_s is not None and not s.settle else "at least "
+        detail = (f"{n} drive points x {least}{steps:.3g} steps each ({_run_length(s)} / "
                   "solver.dt)")
         work = n * steps
     else:
         steps = [s.duration_s / s.step_s(f) for f in study.axes["frequency"]]
-        detail = (f"{n} drive points x {sum(steps):.3g} steps over axes.frequency "
-                  "(solver.duration / solver.dt)")
+        least = "at least " if s.settle else ""
+        detail = (f"{n} drive points x {least}{sum(steps):.3g} steps over axes.frequency "
+                  f"({_run_length(s)} / solver.dt)")
         work = n * sum(steps)
     reason = contact_work_problem(study, work, detail)
     if reason is not None:
         raise ValueError(f"{where}{reason}")
+
+
+def _run_length(solver: Solver) -> str:
+    """How a study's transient run length is counted before any FE solve: ``solver.duration``
+    as typed, or, with :attr:`Solver.settle`, its floor (each plate's settling time depends
+    on the plate's modes, known after its FE solve; each plate's own is checked in its task,
+    ``studies.task``)."""
+    if not solver.settle:
+        return "solver.duration"
+    return (f"each plate's settling time, at least {show(solver.duration_s, 'time')} before "
+            "its FE solve,")
 
 
 def _warn_unused_solver(study: Study, raw: dict, where: str) -> None:

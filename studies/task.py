@@ -401,8 +401,10 @@ def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
     every geometry taken as costly as this one. What the study's reading could not know: the
     steady engine's steps per drive period on this plate's FE set
     (:func:`contact.steady.slow.steps_per_period`, 25 at 40 kHz, 416 at 1 kHz on a 28 x 7.5 mm
-    plate at fe_refine 1), and a transient's default step at an auto frequency."""
-    from studies.study import contact_work_problem, steady_solves
+    plate at fe_refine 1), a transient's default step at an auto frequency, and, without a
+    typed ``solver.duration``, a transient's run length: the plate's settling time
+    (:func:`_settled_study` sets it before this check)."""
+    from studies.study import contact_work_problem, show, steady_solves
 
     if not freqs:
         return None
@@ -422,8 +424,9 @@ def _plate_work_problem(study: Study, params, freqs: list[float]) -> str | None:
                      f"{max(n)} at {at})"))
         return contact_work_problem(study, per_f * k * sum(n), detail)
     steps = [s.duration_s / s.step_s(f) for f in freqs]
+    run = f"settling time {show(s.duration_s, 'time')}" if s.settle else ""
     detail = (f"{per_f * len(freqs)} drive points x {sum(steps) / len(steps):.3g} steps each "
-              "(this plate's)")
+              f"(this plate's{' ' if run else ''}{run})")
     return contact_work_problem(study, per_f * sum(steps), detail)
 
 

@@ -583,6 +583,11 @@ HARMONIC = [
     ("frequency-word", ["harmonic", "--frequency", "fast"], "--frequency", None),
     ("zeta-zero", ["harmonic", "--zeta", "0"], "--zeta", None),
     ("plot-is-file", ["harmonic", "--plot", "{file}"], "--plot", None),
+    ("damping-word", ["harmonic", "--damping", "light"], "--damping", None),
+    ("damping-with-zeta", ["harmonic", "--damping", "table2", "--zeta", "0.01"], "--damping",
+     "--zeta"),
+    ("damping-with-geometry", ["harmonic", "--damping", "table2", "--geometry", "{plate}"],
+     "--damping", "--geometry"),
 ]
 
 COMPARE = [

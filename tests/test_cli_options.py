@@ -292,18 +292,29 @@ def test_a_set_that_drives_no_ellipse_has_no_operating_frequency(tmp_path, capsy
     assert "drives no tip ellipse" in out.err
 
 
-def test_library_warnings_name_the_options_of_their_assignments():
-    """The one-line warning printer says a library message's ``load_N = 50 N`` as
-    ``--load-N 50 N`` (cmd_simulate had rewritten the runaway warning by hand); a word like
-    "refine" in a sentence is not an assignment and stays as it is."""
-    from lusm.errors import assignments_as_options
+def test_library_warnings_name_the_options_of_their_settings():
+    """The one-line warning printer says a library message's setting (``bounds.Words``)
+    ``load_N = 50 N`` as ``--load-N 50 N``; a plain message, with a word like "refine" in a
+    sentence, stays as it is."""
+    import warnings
 
-    assert assignments_as_options("load_N = 50 N is beyond") == "--load-N 50 N is beyond"
-    assert assignments_as_options("at frequency_Hz=3e4 Hz") == "at --frequency 3e4 Hz"
-    text = "refine the stator file's mesh; voltage_V of the drive"
-    assert assignments_as_options(text) == text
+    from bounds import Words
+    from lusm.errors import in_option_terms
+
+    words = Words("{load_N} is beyond", load_N="50 N")
+    assert str(words) == "load_N = 50 N is beyond"
+    assert in_option_terms(ValueError(words)) == "--load-N 50 N is beyond"
+    assert in_option_terms(UserWarning(words + "; at {f}")) == "--load-N 50 N is beyond; at {f}"
+    text = "refine the stator file's mesh; voltage_V = 3 of the drive"
+    assert in_option_terms(ValueError(text)) == text
     # the switch of the unsettled-A_N warning's remedy
-    assert (assignments_as_options("or set ultrasonic_friction = False for a constant mu_d")
+    remedy = Words("or {ultrasonic_friction} for a constant mu_d",
+                   {"ultrasonic_friction": "set {name} = {value}"}, ultrasonic_friction="False")
+    assert str(remedy) == "or set ultrasonic_friction = False for a constant mu_d"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        warnings.warn(remedy, UserWarning, stacklevel=1)
+    assert (in_option_terms(caught[0].message)
             == "or pass --no-ultrasonic-friction for a constant mu_d")
 
 

@@ -816,6 +816,39 @@ def test_a_studys_fe_work_is_bounded_in_all():
     assert study_from_dict({"outputs": ["f_L1_short"], "axes": axes}).n_geometries == 10_000
 
 
+def test_a_plates_settling_time_counts_in_its_contact_work():
+    """A transient study without solver.duration runs each plate for its settling time: the
+    study's bound counts 50 ms per point before any FE solve (and says so), the plate's task
+    its own settling time, and the refusal says what to do (a solver.duration or the steady
+    engine), not "a shorter solver.duration" of a duration the study never gave."""
+    from contact.drive import settling_time_s
+    from rom.sources import get_params
+    from studies.task import _plate_work_problem, _settled_study
+
+    axes = {"voltage": {"start": "100 V", "stop": "300 V", "num": 20},
+            "preload": {"start": "5 N", "stop": "20 N", "num": 20}}
+    study = study_from_dict({"outputs": ["no_load_velocity"], "axes": axes,
+                             "solver": {"method": "event"}})  # 400 x 5e5 steps: allowed
+    assert study.solver.settle
+    light = get_params("beam", damping_ratios=(1e-4, 1e-4))  # tau = 1 / (zeta omega): 23 ms
+    settle = max(settling_time_s(light, v, p, 40e3) for v in (100.0, 300.0)
+                 for p in (5.0, 20.0))
+    assert settle > 0.1  # 400 points x over 1e6 steps each: above 4e8, the limit
+    settled = _settled_study(study, light, [40e3])
+    assert settled.solver.duration_s == pytest.approx(settle, rel=0.05)
+    reason = _plate_work_problem(settled, light, [40e3])
+    assert reason is not None and "(this plate's settling time 121" in reason
+    assert 'points, a solver.duration or method = "steady", or ' in reason
+    assert "shorter solver.duration" not in reason
+    assert len("failed: " + reason) <= 300  # whole in a point's status
+    # the same study counted before any FE solve: 50 ms, at least
+    big = {**axes, "voltage": {"start": "100 V", "stop": "300 V", "num": 90}}
+    with pytest.raises(ValueError, match=r"x at least 5e\+05 steps each \(each plate's "
+                       r"settling time, at least 50 ms before its FE solve, / solver\.dt\)"):
+        study_from_dict({"outputs": ["no_load_velocity"], "axes": big,
+                         "solver": {"method": "event"}})
+
+
 def test_a_studys_contact_work_is_bounded_as_lusm_maps_is(monkeypatch):
     """100 voltages x 100 preloads of 2 s event runs (2e11 time steps, hours) were taken where
     lusm map --method transient refuses 4e8; a steady study was allowed 1e6 contact solves

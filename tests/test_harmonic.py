@@ -91,3 +91,28 @@ def test_cli_harmonic_json_and_figures(tmp_path, capsys):
     assert d["damping"]["zeta_L1"] == ZETA
     assert sorted(p.name for p in out.glob("*.png")) == ["harmonic.png", "tip_ellipse.png"]
     assert all(p.stat().st_size > 10_000 for p in out.glob("*.png"))
+
+
+def _harmonic_json(capsys, *extra: str) -> dict:
+    assert main(["harmonic", "--length-mm", "32", "--refine", str(REFINE), "--points", "21",
+                 "--json", *extra]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.slow
+def test_cli_harmonic_plate_options_take_the_material_damping(capsys):
+    """A plate option gets the material's data-sheet Q_m with the mount's, named, and the
+    reduced model's amplitude at each mode's resonance goes as 1/(2 zeta): against Table 2's
+    ratios (``--damping table2``) it grows by their ratio to the material's."""
+    from fem.material import material_damping, pzt8
+
+    light, heavy = _harmonic_json(capsys), _harmonic_json(capsys, "--damping", "table2")
+    zeta, _ = material_damping(pzt8())
+    assert light["damping"]["zeta_L1"] == light["damping"]["zeta_B2"] == zeta
+    assert "pzt8's Q_m" in light["damping"]["from"]
+    assert "Table 2" in heavy["damping"]["from"]
+    for mode, comp, key in (("L1", "normal", "zeta_L1"), ("B2", "tangential", "zeta_B2")):
+        at = [{p["at"]: p for p in d["fe_check"]["points"]}[mode][f"{comp}_rom_um"]
+              for d in (light, heavy)]
+        expected = heavy["damping"][key] / light["damping"][key]  # 53.95 and 32.75
+        assert at[0] / at[1] == pytest.approx(expected, rel=0.005), mode

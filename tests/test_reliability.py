@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bounds import ParameterError
+from bounds import ParameterError, Words
 from contact.errors import ChatteringError
 from lusm.cli import main
 from tests.conftest import ROOT
@@ -347,12 +347,12 @@ def test_a_report_that_cannot_be_written_names_its_folder(tmp_path, monkeypatch,
     (ParameterError("voltage_V", float("nan"), 0.0, None, "V"),
      "--voltage must be a finite number >= 0 V, got nan"),
     # no range (a work bound): the library's words after the option, its assignment named
-    (ParameterError("refine", 8, message="refine = 8 makes 3e+04 elements"),
+    (ParameterError("refine", 8, message=Words("{refine}", refine="8") + " makes 3e+04 elements"),
      "--refine 8 makes 3e+04 elements"),
     (ParameterError("layers", 9, message="too many bricks"), "--layers: too many bricks"),
     # a parameter no option sets, and a plain ValueError: the library's line
     (ParameterError("mu_d", 2.0, 0.0, 1.0), "mu_d must be in [0, 1], got 2.0"),
-    (ValueError("load_N = 50 N: no steady state from rest"),
+    (ValueError(Words("{load_N}: no steady state from rest", load_N="50 N")),
      "--load-N 50 N: no steady state from rest"),
     (ValueError("check the plate and --refine"), "check the plate and --refine"),
 ])

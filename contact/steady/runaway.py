@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from bounds import Words
 from contact.errors import RunawayError
 from contact.model import OperatingPoint
 from contact.steady.periodic_orbit import orbit_phases
@@ -54,7 +55,7 @@ class RunawayWarning(UserWarning):
 def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
                       ultrasonic_friction: bool, mu_d_eff: float,
                       velocity_m_s: float = math.nan,
-                      previous_velocity_m_s: float = math.nan) -> str | None:
+                      previous_velocity_m_s: float = math.nan) -> Words | None:
     """Why a run under ``op.load_N`` has no steady state: the load lies beyond
     :func:`holding_range_N` (None when it does not, or when there is no load): a transient
     at 1000 N ends at -250 m/s, pure slip, which is no velocity of the motor.
@@ -82,18 +83,18 @@ def transient_runaway(params: MotorParams, op: OperatingPoint, coupling: str,
                          and abs(velocity_m_s) > abs(previous_velocity_m_s))
         if speeding_away and slide < abs(op.load_N) <= hold:
             way = "backward" if op.load_N > 0 else "forward"
-            return (f"load_N = {op.load_N:g} N is beyond the loads the motor holds once its tip "
-                    f"slips at {op.voltage_V:g} V / {op.preload_N:g} N ({-slide:.4g} to "
-                    f"{slide:.4g} N, the tip's and the guide's sliding friction; their static "
-                    f"friction holds up to {hold:.4g} N of a load applied gently, but this "
-                    f"run applies it at once and the tip broke free): the slider runs away "
-                    f"{way} and has no steady state")
+            return Words(f"{{load_N}} is beyond the loads the motor holds once its tip "
+                         f"slips at {op.voltage_V:g} V / {op.preload_N:g} N ({-slide:.4g} to "
+                         f"{slide:.4g} N, the tip's and the guide's sliding friction; their "
+                         f"static friction holds up to {hold:.4g} N of a load applied gently, "
+                         f"but this run applies it at once and the tip broke free): the slider "
+                         f"runs away {way} and has no steady state", load_N=f"{op.load_N:g} N")
     if low <= op.load_N <= high:
         return None
     way = "backward" if op.load_N > high else "forward"
-    return (f"load_N = {op.load_N:g} N is beyond the loads the motor holds at "
-            f"{op.voltage_V:g} V / {op.preload_N:g} N ({low:.4g} to {high:.4g} N, {what}): "
-            f"the slider runs away {way} and has no steady state")
+    return Words(f"{{load_N}} is beyond the loads the motor holds at "
+                 f"{op.voltage_V:g} V / {op.preload_N:g} N ({low:.4g} to {high:.4g} N, {what}): "
+                 f"the slider runs away {way} and has no steady state", load_N=f"{op.load_N:g} N")
 
 
 def runaway_error(sp: SlowProblem, load_N: float) -> RunawayError:
@@ -104,5 +105,5 @@ def runaway_error(sp: SlowProblem, load_N: float) -> RunawayError:
     held = (f" (the motor holds loads from {low:.4g} to {high:.4g} N at the tip's full slip)"
             if math.isfinite(low) and math.isfinite(high) else "")
     reason = f"the slider runs away {way}{held}"
-    return RunawayError(f"load_N = {load_N:g} N: no steady state from rest at "
-                        f"{op.voltage_V:g} V / {op.preload_N:g} N, {reason}", reason)
+    return RunawayError(Words(f"{{load_N}}: no steady state from rest at {op.voltage_V:g} V / "
+                              f"{op.preload_N:g} N, {reason}", load_N=f"{load_N:g} N"), reason)

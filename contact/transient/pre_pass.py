@@ -9,6 +9,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from bounds import Words
 from contact.model import OperatingPoint, build_system, linear_normal_amplitude
 from contact.transient.event import raise_status, run_kernel
 from rom.params import MotorParams
@@ -100,12 +101,14 @@ def normal_amplitude(
         rate = _l1_decay_rate(params)
         left = math.exp(-rate * op.period_s * periods * 2.0 / 3.0) if rate > 0.0 else 1.0
         if left > UNSETTLED_SHARE:  # capped far short of settling
-            warnings.warn(UnsettledAmplitudeWarning(
+            warnings.warn(UnsettledAmplitudeWarning(Words(
                 f"Eq. 11's normal amplitude A_N comes from a {periods}-period pre-pass whose "
                 f"window starts with {left:.2g} of the L1 start transient left (zeta_L1 = "
                 f"{params.zeta_L1:.3g}, too light to settle within {MAX_PRE_PASS_PERIODS} "
                 f"periods): A_N and mu_d,eff may be off by about that share; damp L1 more, "
-                f"or set ultrasonic_friction = False for a constant mu_d"), stacklevel=3)
+                f"or {{ultrasonic_friction}} for a constant mu_d",
+                {"ultrasonic_friction": "set {name} = {value}"}, ultrasonic_friction="False")),
+                stacklevel=3)
     if periods * op.period_s / dt_s > MAX_PRE_PASS_STEPS:
         # a light stator at a low drive frequency: 1e8 steps at 1e-7 s and 1 kHz, five times
         # what the run itself may take

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bounds import ParameterError
+from bounds import ParameterError, Words
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
 from fem.mesh_settings import DEFAULT_REFINE
@@ -239,7 +239,7 @@ def require_plate(stator: object, where: str) -> PlateStator:
 
 
 def check_generated_size(stator: PlateStator, refine: int, layers: int | None = None,
-                         count=None, named: str | None = None) -> None:
+                         count=None, named: Words | None = None) -> None:
     """Refuse a generated mesh above :data:`MAX_LIBRARY_CELLS_2D` elements (or, with
     ``layers``, :data:`MAX_LIBRARY_BRICKS_3D` bricks) before it is built, naming ``refine``.
     A lower bound, ``refine^2 l W / min(l, W)^2`` elements (times ``layers``), is checked
@@ -251,13 +251,12 @@ def check_generated_size(stator: PlateStator, refine: int, layers: int | None = 
     n = least if least > top or count is None else count()
     if n > top:
         what = "elements" if layers is None else "bricks"
-        named = named or (f"refine = {refine}" if layers is None
-                          else f"refine = {refine} with layers = {layers}")
-        raise ParameterError(
-            "refine", refine,
-            message=f"{named} make{'s' if layers is None else ''} "
-            f"{'at least ' if n is least else ''}{n:.3g} {what} on this plate, above the "
-            f"limit {top:.0f} of a library call (set LUSM_MAX_WORK=N to allow N times more)")
+        named = named or (Words("{refine}", refine=f"{refine}") if layers is None else
+                          Words("{refine} with {layers}", refine=f"{refine}", layers=f"{layers}"))
+        raise ParameterError("refine", refine, message=named + (
+            f" make{'s' if layers is None else ''} {'at least ' if n is least else ''}{n:.3g} "
+            f"{what} on this plate, above the limit {top:.0f} of a library call (set "
+            "LUSM_MAX_WORK=N to allow N times more)"))
 
 
 def grid_lines_m(stator: PlateStator, refine: int) -> tuple[np.ndarray, np.ndarray]:

@@ -72,7 +72,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from bounds import ParameterError
+from bounds import ParameterError, Words
 from fem.geometry import ELECTRODES, PlateStator
 from fem.limits import work_factor
 from fem.material import EPS0_F_M, PiezoMaterial, get_material
@@ -323,7 +323,8 @@ def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading
     if planform is None:
         check_generated_size(stator, refine, layers, count=lambda: math.prod(
             len(v) - 1 for v in hex_grid_lines(stator, refine, layers, edge_grading)),
-            named=f"refine = {refine}, layers = {layers} and edge_grading = {edge_grading}")
+            named=Words("{refine}, {layers} and {edge_grading}", refine=f"{refine}",
+                        layers=f"{layers}", edge_grading=f"{edge_grading}"))
         return
 
     top = MAX_LIBRARY_BRICKS_3D * work_factor()
@@ -331,7 +332,8 @@ def check_solid_size(stator: PlateStator, refine: int, layers: int, edge_grading
     if n > top:
         raise ParameterError(
             "layers", layers,
-            message=f"layers = {layers} makes at least {n:.3g} bricks on this planform "
+            message=Words("{layers}", layers=f"{layers}")
+            + f" makes at least {n:.3g} bricks on this planform "
             f"({planform.n_elements} elements), above the limit {top:.0f} of a library call "
             "(set LUSM_MAX_WORK=N to allow N times more)")
 

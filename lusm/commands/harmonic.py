@@ -13,7 +13,14 @@ from __future__ import annotations
 import argparse
 
 from lusm import limits
-from lusm.options import add_band_options, add_output_options, add_plate_options, print_json, real
+from lusm.options import (
+    add_band_options,
+    add_damping_option,
+    add_output_options,
+    add_plate_options,
+    print_json,
+    real,
+)
 
 HELP = "free tip amplitudes (tangential, normal, µm) and phase against frequency; tip ellipse"
 DESCRIPTION = """\
@@ -21,6 +28,8 @@ Free (no contact, no preload) steady response of the stator's tip to the drive V
 tangential (B2) and normal (L1) amplitudes and phases against frequency from the reduced model
 of the FE plate, checked against a direct FE harmonic solve with the same modal damping at L1,
 B2, the drive frequency and the band's ends; the tip's ellipse at the drive frequency.
+The damping is --zeta's, the stator file's, or the material's data-sheet Q_m with the mount's
+(--damping table2: Table 2's ratios); the output names it and where it came from.
 """
 
 FE_CHECKS = ("band start", "L1", "B2", "drive", "band end")
@@ -38,8 +47,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "operating point, as the contact commands take it")
     p.add_argument("--zeta", type=real("--zeta", "", *limits.ZETA, lo_open=True, hi_open=True),
                    default=None, help="one damping ratio for L1 and B2 (default: the stator "
-                   "file's [damping], else the paper's Table 2 ratios)")
-    add_plate_options(p)
+                   "file's [damping], else --damping)")
+    g = add_plate_options(p)
+    add_damping_option(g, "the plate options (no --geometry, no --zeta)")
     from lusm.commands.modes import add_fe_options
 
     add_fe_options(p)
@@ -71,18 +81,32 @@ def run(args: argparse.Namespace) -> None:
     _print(result, params, origin, modes, args, choice)
 
 
+def _damping(args: argparse.Namespace, choice) -> tuple[tuple[float, float] | None, str]:
+    """The damping ratios to reduce with (None: the set's own) and where they come from:
+    ``--zeta``, the stator file's ``[damping]`` (or its material's), or for the plate options
+    ``--damping`` (:func:`lusm.options.set_damping`), as the contact commands take them."""
+    from lusm.options import check_damping_clash, fem_damping_origin, set_damping
+
+    check_damping_clash(args, [o for o, v in (("--zeta", args.zeta),
+                                              ("--geometry", args.geometry)) if v is not None])
+    if args.zeta is not None:
+        return (args.zeta, args.zeta), "--zeta (L1 and B2)"
+    if choice.design is not None:
+        return None, fem_damping_origin(args.geometry, choice.design)
+    return set_damping(args, choice.material, "fem")
+
+
 def _reduced(args: argparse.Namespace, choice, refine: int):
-    """The reduced set of the FE plate (its damping from ``--zeta``, the stator file or Table
-    2), where it came from, and the model and modes it was reduced from (the same mesh)."""
+    """The reduced set of the FE plate (its damping from :func:`_damping`), where its damping
+    came from, and the model and modes it was reduced from (the same mesh)."""
     from fem.mesh_settings import MeshSettings
     from fem.model import plate_model
     from fem.modes import plate_modes
     from lusm.errors import LusmError
     from lusm.fe_errors import fe_failures_as_input
-    from lusm.options import fem_damping_origin
     from rom.from_fem import fem_params, fem_params_from_design
 
-    ratios = None if args.zeta is None else (args.zeta, args.zeta)
+    ratios, origin = _damping(args, choice)
     mesh = MeshSettings(args.order, refine)
     kwargs = {"mesh": mesh}
     if ratios is not None:
@@ -97,8 +121,6 @@ def _reduced(args: argparse.Namespace, choice, refine: int):
             raise
         model = plate_model(choice.stator, choice.material, mesh)
         modes = plate_modes(choice.stator, choice.material, mesh)
-    origin = ("--zeta (L1 and B2)" if ratios is not None
-              else fem_damping_origin(args.geometry, choice.design))
     return params, origin, model, modes
 
 
