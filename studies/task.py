@@ -213,7 +213,6 @@ def plate_of(study: Study, g: dict[str, Any]):
 
 def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     from fem.modes import plate_modes
-    from rom.from_fem import fem_params, fem_params_from_design
 
     g = geometry_of(study, index)
     s = study.solver
@@ -234,14 +233,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
         # the modal reduction, the file's damping fit and motor tables, the auto frequency
         # (a fit to Table 2's amplitudes that a varied plate cannot match is not an FE failure)
         stage = "parameter set"
-        if study.stator is None:  # the material's Q_m with the mount's, as lusm simulate's
-            from fem.material import get_material
-            from validation.summaries import plate_damping
-
-            ratios = plate_damping(get_material(material), "fem")[0]
-            params = fem_params(stator, material, mesh, damping_ratios=ratios)
-        else:  # the file's damping and motor tables too, as the single-point commands
-            params = fem_params_from_design(study.stator, stator, mesh=mesh)
+        params = _params_of(study, stator, material, mesh)
         if study.auto_frequency:
             from contact.drive import auto_frequency
 
@@ -293,6 +285,21 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
                     unsettled.append(f"{v:g} V, {p:g} N, {f:.6g} Hz")
     _plate_status(out, failures, unsettled, s.duration_s)
     return out
+
+
+def _params_of(study: Study, stator, material, mesh: MeshSettings):
+    """The plate's reduced parameter set: a plain plate damped by its material's ``Q_m``
+    with the mount's (as ``lusm simulate``'s plate options), a stator file's plate with the
+    file's damping and motor tables (as the single-point commands on the file)."""
+    from rom.from_fem import fem_params, fem_params_from_design
+
+    if study.stator is None:
+        from fem.material import get_material
+        from validation.summaries import plate_damping
+
+        ratios = plate_damping(get_material(material), "fem")[0]
+        return fem_params(stator, material, mesh, damping_ratios=ratios)
+    return fem_params_from_design(study.stator, stator, mesh=mesh)
 
 
 def _settled_study(study: Study, params, freqs: list[float]) -> Study:
