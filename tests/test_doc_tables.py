@@ -85,8 +85,9 @@ def _same_output(a: str, b: str, rel: float = 1e-5, abs_: float = 1e-8) -> bool:
                                rel_tol=rel, abs_tol=abs_) for x, y in zip(na, nb, strict=True))
 
 
-HEAVY_TABLES = {"tune_40k_2d"}
-"""Cheap tables that still take a tune of their own: rerun in the benchmark lane."""
+HEAVY_TABLES = {"tune_40k_2d", "sweep_width"}
+"""Cheap tables that still take a tune or a sweep of their own: rerun in the benchmark
+lane."""
 
 
 @pytest.mark.parametrize("key", [

@@ -130,6 +130,7 @@ def test_rest_transient_decides_where_the_probe_is_known_to_miss(beam_miss_ref):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # what the command says, at a costly run's price
 def test_the_cli_takes_rest_transient_where_the_probe_is_known_to_miss(capsys, beam_miss_ref):
     # the same point from lusm characteristic: --rest transient gives the transient's value
     import json

@@ -183,6 +183,7 @@ def test_a_drive_too_slow_for_the_steady_engine_is_given_its_range_in_hz(frequen
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # what the command says, at a costly run's price
 def test_the_lowest_steady_frequency_said_is_taken(capsys):
     # the bound said, 14.93 Hz, is one the engine runs (14.92 is refused above)
     assert main(["map", "--voltages", "200", "--preloads", "14", "--accuracy", "fast",
@@ -400,6 +401,7 @@ def test_an_undriven_characteristic_says_why_it_has_no_holding_range(capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # what the command says, at a costly run's price
 def test_the_creep_band_below_the_exact_stall_force_is_said(capsys):
     """A designer read the speed-load curve's knee as the stall force and found half the
     printed one (0.76 against 1.38 N): between the averaged stall force and the exact one the
@@ -437,6 +439,7 @@ def test_the_creep_band_below_the_exact_stall_force_is_said(capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # what the command says, at a costly run's price
 def test_a_creep_where_the_averaged_slider_is_held_is_said(capsys):
     """The beam set at 200 V / 14 N, driven at its own frequency: the averaged slider is
     held without load (fast stall force 0), while the finite slider creeps backward from

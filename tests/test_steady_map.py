@@ -140,6 +140,7 @@ def test_a_transient_map_says_which_points_did_not_settle(capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # what the command says, at a costly run's price
 def test_an_undecided_points_transient_is_said_at_its_length(capsys):
     """20 V / 2 N creeps with no short tip orbit: the steady map runs a transient there, of
     --duration when that is longer than 0.3 s, and said "taken from 0.3 s transients"

@@ -294,6 +294,7 @@ def test_tune_warns_once_about_the_tuned_plate(capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # what the command says, at a costly run's price
 def test_a_tuned_thick_plate_gets_the_thin_plate_warning_modes_gives(capsys):
     """At 200 kHz the 3 mm plate is tuned to 8.35 x 2.26 mm: 1.3 x thicker than wide, where
     the 3D model's B2 is 0.6 % off; tune said nothing while modes warned."""
@@ -305,6 +306,7 @@ def test_a_tuned_thick_plate_gets_the_thin_plate_warning_modes_gives(capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # what the command says, at a costly run's price
 def test_a_tuned_plate_with_electrodes_narrower_than_the_rule_is_refused(capsys):
     """limits.md asks a tuned plate's electrodes to be 1.5 gaps wide; the check asked it of
     the plate (found by exploratory testing): 6e5 Hz gave a 0.63 mm plate, electrodes 0.13
