@@ -170,6 +170,7 @@ def test_optimize_waits_for_a_lost_worker_within_the_bound(cluster, tmp_path, mo
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # the watcher explore's scheduler test checks, on its own cluster
 def test_optimize_says_a_lost_scheduler_in_one_line_with_the_resume(cluster, tmp_path,
                                                                     monkeypatch, capsys):
     rc, err, out = _run_killing(cluster, "scheduler", tmp_path, monkeypatch, capsys,

@@ -18,9 +18,9 @@ from fem.stator_file import load_stator
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = (
-    # the protrusion's 3D model is among the suite's heaviest: a benchmark
+    # each example's 3D model is among the suite's heaviest: a benchmark
     pytest.param("tip_protrusion", marks=pytest.mark.benchmark),
-    "chamfered",
+    pytest.param("chamfered", marks=pytest.mark.benchmark),
 )
 LAYERS = 1
 """Coarse through-thickness mesh for the example comparisons (short circuit converged to
