@@ -242,11 +242,8 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
     except (ValueError, RuntimeError, ArithmeticError) as exc:  # failure of this plate
         from lusm.errors import short_reason  # a list of 32 frequencies: its range
 
-        out["status"] = np.array(short_reason(f"{stage}: {type(exc).__name__}: {exc}")[:400])
-        if study.needs_motor:  # every drive point of the plate fails with it
-            out["motion_class"][...] = "failed"
-            out["point_status"][...] = f"failed: the plate's {stage} failed (see status)"
-        return out
+        return plate_failed(study, out, short_reason(f"{stage}: {type(exc).__name__}: {exc}"),
+                            f"the plate's {stage} failed")
     _warn_unexcited(study, stator, params)
     freqs = [float(out["f_drive"])] if study.auto_frequency else study.axes["frequency"]
     if s.settle:  # this plate's run length: its settling time, as lusm simulate's default
@@ -452,6 +449,17 @@ def empty_outputs(study: Study) -> dict[str, np.ndarray]:
     out["warnings"] = np.array("")
     if study.solver.settle:
         out["duration"] = np.array(math.nan)
+    return out
+
+
+def plate_failed(study: Study, out: dict[str, np.ndarray], status: str, why: str
+                 ) -> dict[str, np.ndarray]:
+    """``out`` of a plate that failed before its drive points: its ``status`` (the first
+    line, at most 400 characters), and every drive point failed with it, ``why``."""
+    out["status"] = np.array(status.splitlines()[0][:400])
+    if study.needs_motor:
+        out["motion_class"][...] = "failed"
+        out["point_status"][...] = f"failed: {why} (see status)"
     return out
 
 

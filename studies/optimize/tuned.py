@@ -82,7 +82,7 @@ def tuned_evaluation(evaluate: Callable, tuner: Tuner, tune: Tune, study, index:
     """Tune ``study``'s plate (:class:`Tune`), then ``evaluate(tuned study, index)``; the
     outputs carry the tuned value (:func:`tuned_key`). A plate not tunable within the tune's
     range is not evaluated: NaN outputs, its reason in ``status``."""
-    from studies.task import empty_outputs
+    from studies.task import empty_outputs, plate_failed
 
     v = tune.variable
     try:
@@ -93,11 +93,7 @@ def tuned_evaluation(evaluate: Callable, tuner: Tuner, tune: Tune, study, index:
         reason = (f"tune: the {v} {value * 1e3:.4g} mm tuned to L1 = B2 lies outside "
                   f"[{tune.low * 1e3:g}, {tune.high * 1e3:g}] mm")
     if reason:
-        out = empty_outputs(study)
-        out["status"] = np.array(reason.splitlines()[0][:400])
-        if study.needs_motor:
-            out["motion_class"][...] = "failed"
-            out["point_status"][...] = "failed: the plate could not be tuned (see status)"
+        out = plate_failed(study, empty_outputs(study), reason, "the plate could not be tuned")
     else:
         out = evaluate(replace(study, axes={**study.axes, v: (value,)}), index)
     out[tuned_key(v)] = np.array(value)
