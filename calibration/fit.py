@@ -61,6 +61,10 @@ SCREEN_FRICTION_LOG2 = 7
 two friction parameters (one alone gets 32: ``2 ** (3 + 2 k)``)."""
 SCREEN_KEEP = 2
 """Points of least chi-square of the friction screen that start a local fit each."""
+SCREEN_RERANK = 8
+"""Points of least chi-square by the steady engine's ``fast`` level (2.5 times cheaper)
+that the screen ranks again at the fit's level: on the example's three seeds the exact
+ranking's best two are among the fast ranking's best four."""
 FRICTION = ("mu_s", "mu_d", "a_mu", "b_mu", "mu_sd")
 """Parameters that move a steady speed across the dead zone's edge: the speed steps between
 zero and a finite value in them, so a gradient fit stops on those steps."""
@@ -206,19 +210,22 @@ class _Problem:
         given = dict(zip((p.name for p in self.meas.parameters), self.values(u), strict=True))
         return apply(self.base, given), given.get("C0_F", self.c0_F)
 
-    def predictions(self, u: np.ndarray, sets=None) -> list[dict[str, np.ndarray]]:
-        """Model values of every data set (or of ``sets``) at ``u``."""
+    def predictions(self, u: np.ndarray, sets=None,
+                    accuracy: str | None = None) -> list[dict[str, np.ndarray]]:
+        """Model values of every data set (or of ``sets``) at ``u``, the steady engine at
+        ``accuracy`` (default the problem's)."""
         params, c0 = self.model(u)
         self.evaluations += 1
-        return [predict(s, params, c0, self.coupling, self.accuracy)
+        return [predict(s, params, c0, self.coupling, accuracy or self.accuracy)
                 for s in (self.meas.sets if sets is None else sets)]
 
-    def residuals(self, u: np.ndarray, sets=None) -> np.ndarray:
+    def residuals(self, u: np.ndarray, sets=None, accuracy: str | None = None) -> np.ndarray:
         """``(model - measured) / sigma`` of every measured value (of ``sets``, a part of
-        the measurements' data sets, where given)."""
+        the measurements' data sets, where given), the steady engine at ``accuracy``
+        (default the problem's)."""
         out = []
         sets = self.meas.sets if sets is None else sets
-        for s, pred in zip(sets, self.predictions(u, sets), strict=True):
+        for s, pred in zip(sets, self.predictions(u, sets, accuracy), strict=True):
             for q, y in s.observed.items():
                 ok = np.isfinite(y)
                 out.append((pred[q][ok] - y[ok]) / s.sigma[q][ok])
@@ -303,10 +310,11 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
     """The ``keep`` points of least chi-square among (at most
     ``2 ** SCREEN_FRICTION_LOG2``) Sobol points over the fitted :data:`FRICTION` parameters'
     box (:func:`_in_box`), every other parameter held at ``u_best``; none without a speed
-    set or a fitted friction parameter. The speeds' dead-zone steps leave a narrow valley
-    of chi-square in the friction law (``a_mu`` against ``b_mu``) that random starts in the
-    whole box seldom land in, while the smooth parameters are fixed near enough by the
-    local fit."""
+    set or a fitted friction parameter. The steady engine's ``fast`` level ranks them all
+    and the fit's level the :data:`SCREEN_RERANK` best. The speeds' dead-zone steps leave a
+    narrow valley of chi-square in the friction law (``a_mu`` against ``b_mu``) that random
+    starts in the whole box seldom land in, while the smooth parameters are fixed near
+    enough by the local fit."""
     params = problem.meas.parameters
     which = [i for i, p in enumerate(params) if p.name in FRICTION]
     if not which or not any(s.kind in STEADY_KINDS for s in problem.meas.sets):
@@ -319,8 +327,16 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
         for j, i in enumerate(which):
             v[i] = _in_box(params[i], float(row[j]))
         drawn.append(problem.scaled(v))
-    chi2 = [float(r @ r) for r in map(problem.residuals, drawn)]
-    return [drawn[k] for k in np.argsort(chi2)[:keep]]
+    if len(drawn) > max(keep, SCREEN_RERANK):
+        drawn = _least_chi2(problem, drawn, max(keep, SCREEN_RERANK), "fast")
+    return _least_chi2(problem, drawn, keep)
+
+
+def _least_chi2(problem: _Problem, points: list[np.ndarray], keep: int,
+                accuracy: str | None = None) -> list[np.ndarray]:
+    """The ``keep`` points of least chi-square, the steady engine at ``accuracy``."""
+    chi2 = [float(r @ r) for r in (problem.residuals(u, accuracy=accuracy) for u in points)]
+    return [points[k] for k in np.argsort(chi2)[:keep]]
 
 
 def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
