@@ -59,9 +59,8 @@ def _mean_sq(model, shape, points):
 def test_shipped_mesh_is_what_the_script_generates(tmp_path, name):
     script = _script(name)
     build = script.protrusion_mesh if name == "tip_protrusion" else script.chamfered_mesh
-    nodes, cells, tags, points = build()
     ctype = "quad" if name == "tip_protrusion" else "triangle"
-    fresh = write_stator_msh(tmp_path / "m.msh", nodes, {ctype: cells}, {ctype: tags}, points)
+    fresh = write_stator_msh(tmp_path / "m.msh", *build())
     unit = "mm" if name == "tip_protrusion" else "m"
     a = read_stator_mesh(EXAMPLES / name / f"{name}.msh", unit)
     b = read_stator_mesh(fresh, unit)
@@ -138,9 +137,8 @@ def test_chamfers_raise_both_modes_as_perturbation_theory_predicts(plain, chamfe
 def test_triangle_meshes_reproduce_the_quad_plate(tmp_path, plain):
     """Triangles -> 3 quads each: the triangulated plain plate matches the structured one."""
     ref, _ = plain
-    nodes, tris, tags, points = _script("chamfered").chamfered_mesh(chamfer_m=0.0)
-    path = write_stator_msh(tmp_path / "t.msh", nodes, {"triangle": tris},
-                            {"triangle": tags}, points, file_format="gmsh22")
+    path = write_stator_msh(tmp_path / "t.msh", *_script("chamfered").chamfered_mesh(chamfer_m=0.0),
+                            file_format="gmsh22")
     imp = read_stator_mesh(path)
     st = MeshedStator(length_m=30e-3, width_m=7.5e-3, thickness_m=3e-3, electrode_gap_m=0.0,
                       mesh=imp.mesh, tip_m=imp.points_m["tip"], preload_m=(0.0, 0.0))

@@ -645,10 +645,9 @@ def _designer_numbers() -> dict[str, float]:
     spec = importlib.util.spec_from_file_location("make_mesh_chamfered", path)
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
-    nodes, tris, tags, points = script.chamfered_mesh(chamfer_m=0.0)
     with tempfile.TemporaryDirectory() as tmp:
-        msh = write_stator_msh(Path(tmp) / "t.msh", nodes, {"triangle": tris},
-                               {"triangle": tags}, points, file_format="gmsh22")
+        msh = write_stator_msh(Path(tmp) / "t.msh", *script.chamfered_mesh(chamfer_m=0.0),
+                               file_format="gmsh22")
         imp = read_stator_mesh(msh)
     st = MeshedStator(length_m=30e-3, width_m=7.5e-3, thickness_m=3e-3, electrode_gap_m=0.0,
                       mesh=imp.mesh, tip_m=imp.points_m["tip"], preload_m=(0.0, 0.0))

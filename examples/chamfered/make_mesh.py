@@ -10,7 +10,6 @@ it reads the file. No gmsh binary is needed: ``python examples/chamfered/make_me
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
@@ -20,7 +19,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1]))  # run from anywhere inside the repository
 
 from fem.geometry import PlateStator  # noqa: E402
-from fem.meshing.mesh_io import keep_used_nodes, write_stator_msh  # noqa: E402
+from fem.meshing.mesh import grid_segments  # noqa: E402
+from fem.meshing.mesh_io import keep_used_nodes_at, write_stator_msh  # noqa: E402
 
 LENGTH_M = 30e-3
 WIDTH_M = 7.5e-3
@@ -30,27 +30,18 @@ H_M = 1.5e-3
 """Target element size (m): one square cell per corner block, split along the chamfer."""
 
 
-def _lines(breaks: list[float], h: float) -> np.ndarray:
-    out = [breaks[0]]
-    for a, b in zip(breaks[:-1], breaks[1:], strict=True):
-        if b - a <= 1e-12:
-            continue
-        n = max(1, math.ceil((b - a) / h - 1e-9))
-        out.extend(np.linspace(a, b, n + 1)[1:].tolist())
-    return np.array(out)
-
-
 def chamfered_mesh(
     chamfer_m: float = CHAMFER_M, h_m: float = H_M
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, int]]:
-    """Nodes (n, 2) in m, triangles (m, 3) counter-clockwise, electrode tags, point nodes.
+    """The mesh as :func:`~fem.meshing.mesh_io.write_stator_msh` takes it: nodes (n, 2) in m,
+    ``{"triangle": (m, 3)}`` counter-clockwise, ``{"triangle": tags}``, the point nodes.
 
     ``chamfer_m = 0`` gives the plain plate meshed the same way (a reference for tests).
     """
     w2, g2, c, length = WIDTH_M / 2, GAP_M / 2, chamfer_m, LENGTH_M
     xb = sorted({-w2, -w2 + c, -g2, 0.0, g2, w2 - c, w2})
     yb = sorted({0.0, c, length / 2 - g2, length / 2 + g2, length - c, length})
-    x, y = _lines(xb, h_m), _lines(yb, h_m)
+    x, y = grid_segments(xb, h_m), grid_segments(yb, h_m)
     nx = len(x)
     X, Y = np.meshgrid(x, y)
     nodes = np.column_stack((X.ravel(), Y.ravel()))
@@ -71,19 +62,10 @@ def chamfered_mesh(
     tris, tc = tris[keep], tc[keep]
     plate = PlateStator(length_m=length, width_m=WIDTH_M, electrode_gap_m=GAP_M)
     tags = plate.electrode_of(tc[:, 0], tc[:, 1])
-    tip = int(np.flatnonzero((nodes[:, 0] == 0.0) & (nodes[:, 1] == length))[0])
-    preload = int(np.flatnonzero((nodes[:, 0] == 0.0) & (nodes[:, 1] == 0.0))[0])
-    nodes, tris, points = keep_used_nodes(nodes, tris, {"tip": tip, "preload": preload})
-    return nodes, tris, tags, points
-
-
-def main() -> Path:
-    """Write ``chamfered.msh`` next to this script."""
-    nodes, tris, tags, points = chamfered_mesh()
-    return write_stator_msh(
-        HERE / "chamfered.msh", nodes, {"triangle": tris}, {"triangle": tags}, points
-    )
+    nodes, tris, points = keep_used_nodes_at(
+        nodes, tris, {"tip": (0.0, length), "preload": (0.0, 0.0)})
+    return nodes, {"triangle": tris}, {"triangle": tags}, points
 
 
 if __name__ == "__main__":
-    print(main())
+    print(write_stator_msh(HERE / "chamfered.msh", *chamfered_mesh()))

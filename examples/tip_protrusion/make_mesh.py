@@ -10,7 +10,6 @@ says ``unit = "mm"``) with physical groups ``electrode1..4``, ``gap``, ``tip`` a
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
@@ -20,7 +19,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1]))  # run from anywhere inside the repository
 
 from fem.geometry import PlateStator  # noqa: E402
-from fem.meshing.mesh_io import keep_used_nodes, write_stator_msh  # noqa: E402
+from fem.meshing.mesh import grid_segments  # noqa: E402
+from fem.meshing.mesh_io import keep_used_nodes_at, write_stator_msh  # noqa: E402
 
 LENGTH_MM = 30.0
 WIDTH_MM = 7.5
@@ -31,24 +31,17 @@ H_MM = 0.9375
 """Target element size (mm): 8 elements across the width."""
 
 
-def _lines(breaks: list[float], h: float) -> np.ndarray:
-    out = [breaks[0]]
-    for a, b in zip(breaks[:-1], breaks[1:], strict=True):
-        n = max(1, math.ceil((b - a) / h - 1e-9))
-        out.extend(np.linspace(a, b, n + 1)[1:].tolist())
-    return np.array(out)
-
-
 def protrusion_mesh(
     tip_width_mm: float = TIP_WIDTH_MM, tip_height_mm: float = TIP_HEIGHT_MM, h_mm: float = H_MM
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, int]]:
-    """Nodes (n, 2) in mm, quads (m, 4) counter-clockwise, electrode tags, point nodes."""
+    """The mesh as :func:`~fem.meshing.mesh_io.write_stator_msh` takes it: nodes (n, 2) in mm,
+    ``{"quad": (m, 4)}`` counter-clockwise, ``{"quad": tags}``, the point nodes."""
     w2, g2, t2 = WIDTH_MM / 2, GAP_MM / 2, tip_width_mm / 2
     xb = sorted({-w2, -t2, -g2, 0.0, g2, t2, w2})
     yb = [0.0, LENGTH_MM / 2 - g2, LENGTH_MM / 2 + g2, LENGTH_MM]
     if tip_height_mm > 0:
         yb.append(LENGTH_MM + tip_height_mm)
-    x, y = _lines(xb, h_mm), _lines(yb, h_mm)
+    x, y = grid_segments(xb, h_mm), grid_segments(yb, h_mm)
     nx = len(x)
     X, Y = np.meshgrid(x, y)
     nodes = np.column_stack((X.ravel(), Y.ravel()))
@@ -63,20 +56,11 @@ def protrusion_mesh(
     plate = PlateStator(length_m=LENGTH_MM * 1e-3, width_m=WIDTH_MM * 1e-3,
                         electrode_gap_m=GAP_MM * 1e-3)
     tags = np.where(c[:, 1] < LENGTH_MM, plate.electrode_of(c[:, 0] * 1e-3, c[:, 1] * 1e-3), 0)
-    tip = int(np.flatnonzero((nodes[:, 0] == 0.0) & (nodes[:, 1] == y[-1]))[0])
-    preload = int(np.flatnonzero((nodes[:, 0] == 0.0) & (nodes[:, 1] == 0.0))[0])
     # drop the grid nodes beside the protrusion
-    nodes, quads, points = keep_used_nodes(nodes, quads, {"tip": tip, "preload": preload})
-    return nodes, quads, tags, points
-
-
-def main() -> Path:
-    """Write ``tip_protrusion.msh`` next to this script."""
-    nodes, quads, tags, points = protrusion_mesh()
-    return write_stator_msh(
-        HERE / "tip_protrusion.msh", nodes, {"quad": quads}, {"quad": tags}, points
-    )
+    nodes, quads, points = keep_used_nodes_at(
+        nodes, quads, {"tip": (0.0, y[-1]), "preload": (0.0, 0.0)})
+    return nodes, {"quad": quads}, {"quad": tags}, points
 
 
 if __name__ == "__main__":
-    print(main())
+    print(write_stator_msh(HERE / "tip_protrusion.msh", *protrusion_mesh()))

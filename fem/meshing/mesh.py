@@ -205,7 +205,9 @@ def boundary_edges(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return edges[single], owner[single]
 
 
-def _segments(breaks: list[float], h_target: float) -> np.ndarray:
+def grid_segments(breaks: list[float], h_target: float) -> np.ndarray:
+    """Grid lines through the sorted ``breaks``: each interval split into equal pieces no
+    longer than ``h_target`` (same unit), empty intervals skipped."""
     nodes = [breaks[0]]
     for a, b in zip(breaks[:-1], breaks[1:], strict=True):
         if b - a <= 0.0:
@@ -274,7 +276,7 @@ def grid_lines_m(stator: PlateStator, refine: int) -> tuple[np.ndarray, np.ndarr
     yb = [0.0, length / 2 - g / 2, length / 2 + g / 2, length] if g > 0 else [
         0.0, length / 2, length
     ]
-    return _segments(xb, h), _segments(yb, h)
+    return grid_segments(xb, h), grid_segments(yb, h)
 
 
 def max_element_size_m(stator: PlateStator, refine: int) -> float:

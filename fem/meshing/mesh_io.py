@@ -842,6 +842,20 @@ def keep_used_nodes(points: np.ndarray, cells: np.ndarray,
     return points[used], remap[cells], {k: int(remap[v]) for k, v in point_nodes.items()}
 
 
+def keep_used_nodes_at(points: np.ndarray, cells: np.ndarray,
+                       point_xy: dict[str, tuple[float, float]]
+                       ) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+    """:func:`keep_used_nodes` with the named nodes given by their coordinates.
+
+    ``point_xy`` maps ``'tip'`` / ``'preload'`` to the coordinates of a grid node, in the
+    unit of ``points``; each must be a node to the last bit (a structured grid's line
+    crossing), which is found before the unused nodes are dropped.
+    """
+    nodes = {name: int(np.flatnonzero((points[:, 0] == x) & (points[:, 1] == y))[0])
+             for name, (x, y) in point_xy.items()}
+    return keep_used_nodes(points, cells, nodes)
+
+
 def write_stator_msh(
     path: str | Path,
     points: np.ndarray,
