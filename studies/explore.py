@@ -23,7 +23,6 @@ and the parts folder goes.
 from __future__ import annotations
 
 import os
-import sys
 import time
 import uuid
 from collections.abc import Callable
@@ -43,6 +42,7 @@ from studies.cluster import (
 )
 from studies.dataset import assemble, check_out, is_complete, write_dataset
 from studies.parts import open_parts, remove_parts, write_part
+from studies.progress import progress_bar
 from studies.study import Study
 from studies.task import (
     TASK_EXTRAS,
@@ -256,7 +256,8 @@ def _compute_all(client, study: Study, todo: list[int], folder: Path,
         return fut
 
     window = [submit_next() for _ in range(in_flight(result.workers, len(todo)))]
-    bar = _bar(len(todo) + len(parts), len(parts), progress)
+    bar = progress_bar(len(todo) + len(parts), len(parts), progress, "geometry",
+                       "lusm explore")
     try:
         completed = as_completed(window)
         n_done = 0
@@ -397,10 +398,3 @@ def _stator_failure(study: Study, status: list[str]) -> str | None:
     kind, _, text = reason.partition(": ")
     return (f"study.stator {study.stator.path}: {short_reason(text or kind)} (every plate of "
             f"the study, {len(status)} of {len(status)}, at its {stage})")
-
-
-def _bar(total: int, initial: int, enabled: bool):
-    from tqdm import tqdm
-
-    return tqdm(total=total, initial=initial, unit="geometry", file=sys.stderr,
-                disable=(not enabled) or None, desc="lusm explore", leave=False)

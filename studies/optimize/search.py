@@ -26,6 +26,7 @@ from studies.optimize.problem import Problem, trial_study
 from studies.optimize.result import OptimizeResult, is_complete_file, write_result
 from studies.optimize.store import Record, Store
 from studies.optimize.tuned import Tuner, fe_tuner, start_aspect, tuned_evaluation
+from studies.progress import progress_bar
 from studies.task import TASK_EXTRAS
 
 Evaluator = Callable[[Any, int], dict]
@@ -123,7 +124,7 @@ def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, bud
 
     t0, computed, batch = time.monotonic(), 0, store.batch
     run = uuid.uuid4().hex[:8]
-    bar = _bar(budget, len(store.records), progress)
+    bar = progress_bar(budget, len(store.records), progress, "design", "lusm optimize")
     submitted: dict[str, tuple] = {}  # in flight: key -> (future, trial, design)
     frozen: dict[int, Any] = {}  # the optuna trial of each stored evaluation
     task = _task(problem, evaluate, tuner)
@@ -163,15 +164,6 @@ def run_batches(client, problem: Problem, store: Store, evaluate: Evaluator, bud
             for fut, _, _ in submitted.values():
                 fut.cancel()
     return computed, "evaluations"
-
-
-def _bar(total: int, initial: int, enabled: bool):
-    import sys
-
-    from tqdm import tqdm
-
-    return tqdm(total=total, initial=initial, unit="design", file=sys.stderr,
-                disable=(not enabled) or None, desc="lusm optimize", leave=False)
 
 
 def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str | None = None,
