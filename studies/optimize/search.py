@@ -228,10 +228,9 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
         return result_of_file(problem, out)
     check_out(out, force)
     t0 = time.perf_counter()
-    store = Store(problem, out, resume)
-    reused, computed = len(store.records), 0
-    watch = ClusterWatch(cluster_where(scheduler, scheduler_file), worker_timeout_s)
-    try:
+    with Store(problem, out, resume) as store:
+        reused = len(store.records)
+        watch = ClusterWatch(cluster_where(scheduler, scheduler_file), worker_timeout_s)
         with study_client(client, scheduler, scheduler_file, workers,
                           gmsh=problem.study.meshed_by_gmsh) as running:
             n_workers = max(1, len(running.nthreads()))
@@ -240,13 +239,6 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
                                             compute_geometry, budget, problem.wall_time_s,
                                             on_trial, progress, watch, tuner)
         result = write_result(problem, store, out, force)
-    except BaseException:
-        if store.created and not store.records:  # nothing computed: leave no trace
-            store.close()
-            store.remove()
-        raise
-    finally:
-        store.close()
     return replace(result, computed=computed, reused=reused, workers=n_workers,
                    batch=store.batch, wall_time_s=time.perf_counter() - t0,
                    stopped_by=stopped)

@@ -168,6 +168,16 @@ class Store:
         """Release the folder's lock."""
         self.lock.release()
 
+    def __enter__(self) -> Store:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        """Release the lock; a run stopped before its first record leaves no trace (the
+        folder goes again if this store made it)."""
+        self.close()
+        if exc_type is not None and self.created and not self.records:
+            self.remove()
+
     def remove(self) -> None:
         """Remove the parts this store wrote and the folder (once the dataset is in)."""
         top = max(self.records, default=-1) + 1
