@@ -209,8 +209,9 @@ def optimize(problem: Problem, out: str | Path, *, client=None, scheduler: str |
     Raises
     ------
     studies.cluster.ClusterLostError
-        The scheduler went away, or no worker came back within ``worker_timeout_s``; the
-        evaluated designs stay in the parts folder for ``resume=True``.
+        From :class:`studies.cluster.ClusterWatch` (scheduler gone, or no worker back within
+        ``worker_timeout_s``); the evaluated designs stay in the parts folder for
+        ``resume=True``.
 
     Returns
     -------
