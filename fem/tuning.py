@@ -78,6 +78,9 @@ MODELS = ("2d", "3d")
 """FE models the tuning can use."""
 DEFAULT_TARGET_HZ = 40e3
 """Target frequency (Hz) when the length and width are both free and none is given."""
+DEFAULT_REL_TOL = 1e-5
+"""Default ``rel_tol`` of :func:`tune_plate`: the relative distance (-) of both frequencies
+from the target (or from each other, with no target) at which a tuning stops."""
 STEP_FACTOR = 1.15
 """Multiplicative step used to bracket the crossing."""
 MAX_BRACKET_STEPS = 30
@@ -378,7 +381,7 @@ def tune_plate(
     start: PlateStator | None = None,
     model: str = "2d",
     mesh: MeshSettings | None = None,
-    rel_tol: float = 1e-5,
+    rel_tol: float = DEFAULT_REL_TOL,
     max_iter: int = 10,
     progress: bool = False,
 ) -> TunedDesign:

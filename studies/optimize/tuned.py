@@ -17,11 +17,12 @@ from typing import Any
 
 import numpy as np
 
+from fem.tuning import DEFAULT_REL_TOL, UNTUNED_FACTOR
 from studies.optimize.problem import Tune
 
-TUNED_SPLIT = 1e-4
-"""Largest ``|f_B2 - f_L1| / f_L1`` of a tuned design (-): ten times the tune's tolerance,
-what :func:`fem.tuning.tune_plate` itself calls tuned (``UNTUNED_FACTOR``)."""
+TUNED_SPLIT = UNTUNED_FACTOR * DEFAULT_REL_TOL
+"""Largest ``|f_B2 - f_L1| / f_L1`` of a tuned design (-): what :func:`fem.tuning.tune_plate`
+itself calls tuned at the tolerance :func:`fe_tuner` tunes to (1e-4)."""
 UNTUNABLE = 1.0
 """The ``tuned`` constraint value of a design the tuner found no crossing for (> 0)."""
 
