@@ -4,12 +4,14 @@ The library checks its inputs in SI units and raises :class:`ParameterError` wit
 parameter's name, the value, the allowed range and its unit as fields, so that a caller (the
 ``lusm`` command line) names its own option in its own units from the fields, not from the
 wording of the message. It subclasses ``ValueError``: callers that catch that keep working.
+:func:`short_reason` puts any library message on one line for a caller to show or record.
 This module imports nothing of the project, so every package can raise it.
 """
 
 from __future__ import annotations
 
 import numbers
+import re
 from collections.abc import Mapping
 
 
@@ -166,3 +168,17 @@ def _fill(template: str, forms: Mapping[str, str], values: Mapping[str, str]) ->
 def _number(x: float) -> str:
     """A bound or value as a short number: ``30``, ``2.5e-06``, ``inf``, ``nan`` (no ``-0``)."""
     return f"{x + 0.0:g}"
+
+
+def short_reason(exc: Exception | str) -> str:
+    """The solver's message on one line, a long list of numbers shortened to its range
+    (``[801078.0, ..., 889047.7]`` becomes ``[801078 ... 889048]``)."""
+
+    def shorten(m: re.Match) -> str:
+        try:
+            values = [float(v) for v in m.group(0)[1:-1].split(",")]
+        except ValueError:
+            return "[...]"
+        return f"[{min(values) + 0.0:.6g} ... {max(values) + 0.0:.6g}]"  # no "-0"
+
+    return re.sub(r"\[[^\]]{60,}\]", shorten, " ".join(str(exc).split()))

@@ -16,10 +16,9 @@ from __future__ import annotations
 
 import math
 import numbers
-import re
 from pathlib import Path
 
-from bounds import ParameterError, Words
+from bounds import ParameterError, Words, short_reason  # noqa: F401 (callers import it here)
 
 
 class LusmError(ValueError):
@@ -167,21 +166,6 @@ def feature_reason(exc: BaseException) -> str:
     if isinstance(exc, FeatureError) and exc.file_text:
         return exc.file_text
     return str(exc)
-
-
-def short_reason(exc: Exception | str) -> str:
-    """The solver's message on one line, a long list of numbers shortened to its range
-    (``[801078.0, ..., 889047.7]`` becomes ``[801078 ... 889048]``)."""
-    import re
-
-    def shorten(m: re.Match) -> str:
-        try:
-            values = [float(v) for v in m.group(0)[1:-1].split(",")]
-        except ValueError:
-            return "[...]"
-        return f"[{min(values) + 0.0:.6g} ... {max(values) + 0.0:.6g}]"  # no "-0"
-
-    return re.sub(r"\[[^\]]{60,}\]", shorten, " ".join(str(exc).split()))
 
 
 def design_error_text(path: str | Path, exc: BaseException) -> str:

@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from bounds import short_reason
 from lusm.interrupts import checkpoint
 from studies.cluster import (
     DEFAULT_WORKERS,
@@ -366,8 +367,6 @@ def _refuse_if_nothing_computed(study: Study, parts: dict[int, dict], folder: Pa
     ``status``) stay in ``folder``, except where every plate failed for one reason of the
     study's stator file, said whole: those parts hold nothing more, and a folder made by this
     run (``created``) goes (:func:`_stator_failure`)."""
-    from lusm.errors import short_reason
-
     status = [str(parts[i]["status"]) for i in sorted(parts)]
     if not status or any(has_results(p) for p in parts.values()):
         return
@@ -387,8 +386,6 @@ def _stator_failure(study: Study, status: list[str]) -> str | None:
     """The one line of a study whose every plate failed at its FE solve or parameter set
     for the same reason, with a stator file: its fault (electrodes that touch, a tip on a
     node of a mode), named as ``study.stator FILE``; None otherwise."""
-    from lusm.errors import short_reason
-
     if (study.stator is None or len(set(map(_kind, status))) != 1
             or len(status) != study.n_geometries):
         return None

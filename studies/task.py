@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from bounds import short_reason
 from fem.mesh_settings import MeshSettings
 from studies.study import FEATURE_FIELDS, Study, plate_with
 from validation.summaries import motion_class
@@ -240,8 +241,7 @@ def _compute(study: Study, index: int) -> dict[str, np.ndarray]:
             stage = "drive frequency"
             out["f_drive"] = np.array(auto_frequency(params))
     except (ValueError, RuntimeError, ArithmeticError) as exc:  # failure of this plate
-        from lusm.errors import short_reason  # a list of 32 frequencies: its range
-
+        # short_reason: a list of 32 frequencies is said as its range
         return plate_failed(study, out, short_reason(f"{stage}: {type(exc).__name__}: {exc}"),
                             f"the plate's {stage} failed")
     _warn_unexcited(study, stator, params)
@@ -341,8 +341,6 @@ def _plate_status(out: dict[str, np.ndarray], failures: list[str], unsettled: li
 
 def _point_failed(out: dict[str, np.ndarray], at: tuple, reason: str) -> None:
     """Mark the drive point ``at`` failed, with ``reason`` in its ``point_status``."""
-    from lusm.errors import short_reason
-
     out["motion_class"][at] = "failed"
     out["point_status"][at] = short_reason(f"failed: {reason}")[:POINT_STATUS_CHARS]
 
