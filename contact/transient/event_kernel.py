@@ -615,17 +615,21 @@ def integrate_switch_model(
                     j_min = j_best
                     break
                 s_est[j_best] = 2.0
-            if j_min < 0:
+            # advance to the step's end (z1) or, with an event, to just past it (zt, at tau)
+            h = H if j_min < 0 else tau
+            z_end = z1 if j_min < 0 else zt
+            if h > 0.0:
                 if energy and in_window:
-                    if done == 0.0:
+                    if j_min < 0 and done == 0.0:
                         _matvec(phi_half[mode], z, zm)
                     else:
-                        _flow(a[mode], z, 0.5 * H, zm, term, tmp)
+                        _flow(a[mode], z, 0.5 * h, zm, term, tmp)
                 if in_window:
-                    _accumulate(z, zm, z1, mode, H, phase_time, work, fn_m, ft_m, ff_m,
+                    _accumulate(z, zm, z_end, mode, h, phase_time, work, fn_m, ft_m, ff_m,
                                 scalars, pa, pm, pb, energy)
                 for i in range(N_STATE):
-                    z[i] = z1[i]
+                    z[i] = z_end[i]
+            if j_min < 0:
                 if mode == STICK_FORWARD or mode == STICK_BACKWARD:
                     _stick_exact(z, scalars)  # keep v_rel = 0 free of roundoff
                 # the end values of the switching functionals start the next step
@@ -635,16 +639,7 @@ def integrate_switch_model(
                 cached = True
                 break
             cached = False
-            # zt holds the state just past the switching surface, at tau
-            if tau > 0.0:
-                if energy and in_window:
-                    _flow(a[mode], z, 0.5 * tau, zm, term, tmp)
-                if in_window:
-                    _accumulate(z, zm, zt, mode, tau, phase_time, work, fn_m, ft_m, ff_m,
-                                scalars, pa, pm, pb, energy)
-                for i in range(N_STATE):
-                    z[i] = zt[i]
-                done += tau
+            done += tau
             mode = _switch(mode, ev_type[mode, j_min], z, funcs, scalars)
             n_events += 1
             count += 1
