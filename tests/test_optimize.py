@@ -79,6 +79,20 @@ def test_a_constrained_optimum_is_found(client, tmp_path):
     assert not (tmp_path / "r.nc.parts").exists()
 
 
+def test_a_run_stopped_before_its_first_record_leaves_no_parts_folder(tmp_path):
+    from studies.optimize.store import Store
+    from studies.parts import parts_folder
+
+    problem, out = problem_from_dict(doc(4)), tmp_path / "r.nc"
+    with pytest.raises(KeyboardInterrupt), Store(problem, out, resume=False):
+        assert parts_folder(out).is_dir()
+        raise KeyboardInterrupt
+    assert not parts_folder(out).exists()
+    with Store(problem, out, resume=False) as store:
+        assert store.created and not store.records
+    assert parts_folder(out).is_dir()  # a clean exit keeps it (write_result removes it)
+
+
 def test_resume_after_an_interruption_gives_the_same_result(client, tmp_path):
     problem = problem_from_dict(doc(14))
     whole = optimize(problem, tmp_path / "whole.nc", client=client, evaluate=analytic)
