@@ -37,3 +37,35 @@ class FeatureError(ValueError):
     def __init__(self, message: str, file_text: str = "") -> None:
         super().__init__(f"{message}: {file_text}" if file_text else message)
         self.file_text = file_text
+
+
+class GapValidityWarning(UserWarning):
+    """The electrode gap is too wide for the 2D model; use the 3D model (``--model 3d``).
+
+    The message is built from the fields, so a front end can word the comparison in its own
+    terms (a stator file's keys) and keep the rest (:attr:`detail`).
+
+    Parameters
+    ----------
+    gap_m : float
+        The electrode gap (m): a meshed stator's from its mesh's gap strips.
+    thickness_m : float
+        The plate's thickness (m).
+    limit_m : float
+        The widest gap the 2D model is valid for, thickness / 6 (m).
+    """
+
+    def __init__(self, gap_m: float, thickness_m: float, limit_m: float) -> None:
+        super().__init__(gap_m, thickness_m, limit_m)
+        self.gap_m, self.thickness_m, self.limit_m = gap_m, thickness_m, limit_m
+
+    @property
+    def detail(self) -> str:
+        """The words after the comparison: the plate's thickness, why, the remedy."""
+        return (f" (a {self.thickness_m * 1e3:g} mm thick plate): the 2D model is outside "
+                "its validity (the gap strip is no longer shorted by its neighbours); use "
+                "the 3D model (lusm modes --model 3d, fem.solid3d)")
+
+    def __str__(self) -> str:
+        return (f"electrode gap {self.gap_m * 1e3:g} mm exceeds thickness/6 = "
+                f"{self.limit_m * 1e3:.3g} mm{self.detail}")

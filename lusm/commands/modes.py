@@ -316,9 +316,9 @@ def _solve(args: argparse.Namespace, choice, mesh: _Mesh, coarse_gap: str | None
         else:
             import warnings
 
-            from fem.model import GapValidityWarning, stator_gap_validity_message
+            from fem.model import GapValidityWarning, stator_gap_validity
 
-            validity = stator_gap_validity_message(stator)
+            validity = stator_gap_validity(stator)
             with warnings.catch_warnings():  # reported once, after, on one line
                 warnings.simplefilter("ignore", GapValidityWarning)
                 res = plate_modes(stator, material, mesh.fe)
