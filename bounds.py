@@ -158,6 +158,13 @@ class Words(str):
         return Words(self.template + tail, self.forms, **self.values, **more)
 
 
+def said_in(message: object, forms: Mapping[str, str]) -> str:
+    """An exception's or a warning's message with its settings (:class:`Words`) in a front
+    end's ``forms`` (:meth:`Words.said`); another message as it is."""
+    words = message.args[0] if isinstance(message, BaseException) and message.args else message
+    return words.said(forms) if isinstance(words, Words) else str(message)
+
+
 def _fill(template: str, forms: Mapping[str, str], values: Mapping[str, str]) -> str:
     return template.format(**{name: forms.get(name, "{name} = {value}").format(
         name=name, value=value) for name, value in values.items()})

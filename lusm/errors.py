@@ -19,7 +19,7 @@ import numbers
 import re
 from pathlib import Path
 
-from bounds import ParameterError, Words
+from bounds import ParameterError, said_in
 
 
 class LusmError(ValueError):
@@ -154,8 +154,7 @@ def in_option_terms(message: object) -> str:
     (:class:`bounds.Words`) said as the options that make them: ``load_N = 50 N`` reads
     ``--load-N 50 N``, ``set ultrasonic_friction = False`` reads ``pass
     --no-ultrasonic-friction``; another message as it is."""
-    words = message.args[0] if isinstance(message, BaseException) and message.args else message
-    return words.said(OPTION_FORMS) if isinstance(words, Words) else str(message)
+    return said_in(message, OPTION_FORMS)
 
 
 def feature_reason(exc: BaseException) -> str:
