@@ -63,6 +63,11 @@ class ParameterError(ValueError):
         super().__init__(self.said(name if label is None else label)
                          if message is None else message)
 
+    def __reduce__(self) -> tuple:
+        """Pickle by the fields, not by a call with the message (a dask worker's refusal
+        reaches the client whole)."""
+        return _restore, (type(self), self.args, self.__dict__)
+
     def said(self, label: str, bound_label: str | None = None) -> str:
         """The refusal in words with the parameter called ``label`` and the parameter that
         bounds it (:attr:`bound_by`) ``bound_label`` (default its name):
@@ -106,6 +111,14 @@ class ParameterError(ValueError):
         if isinstance(v, numbers.Real) and not isinstance(v, bool):
             return _number(float(v) * scale)
         return repr(v)
+
+
+def _restore(cls: type[ParameterError], args: tuple, fields: dict) -> ParameterError:
+    """A pickled :class:`ParameterError` (or subclass) from its message and fields."""
+    exc = cls.__new__(cls)
+    exc.args = args
+    exc.__dict__.update(fields)
+    return exc
 
 
 class ParameterTypeError(ParameterError, TypeError):
