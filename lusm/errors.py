@@ -132,8 +132,11 @@ def parameter_error(exc: ParameterError) -> LusmError:
     parameter, in the option's units: ``--length-mm must be in (0, 10000] mm, got -1000``.
 
     Without a range (a work bound, a value of the wrong kind) the library's words follow the
-    option; a parameter no option sets keeps the library's words alone."""
-    known = PARAMETER_OPTIONS.get(exc.name)
+    option; a parameter no option sets (a stator file's key among them) keeps the library's
+    words alone."""
+    from fem.errors import StatorFileError
+
+    known = None if isinstance(exc, StatorFileError) else PARAMETER_OPTIONS.get(exc.name)
     line = _first_line(exc)
     if known is None:
         return LusmError(line)
