@@ -2,11 +2,12 @@
 
 The fit runs :func:`scipy.optimize.least_squares` (trust-region reflective, bounded) on the
 residuals ``(model - measured) / sigma`` of every measured value, in parameters scaled to
-their box (``u = (value - min) / (max - min)`` in [0, 1]), from the file's start and from
-the best of points drawn in the box (log-uniform for a positive range of more than a
-decade); the lowest chi-square wins. SciPy is a core dependency already, and the fit needs its own
-covariance and profiles anyway (a slow model wants bounded work, not lmfit's open-ended
-``conf_interval``), so no fitting library is added.
+their box (``u`` in [0, 1]: ``(value - min) / (max - min)``, or ``log(value / min) /
+log(max / min)`` for a positive range of more than a decade, whose scale is the question, as
+the friction law's ``b_mu``), from the file's start and from the best of points drawn
+uniformly in ``u``; the lowest chi-square wins. SciPy is a core dependency already, and the
+fit needs its own covariance and profiles anyway (a slow model wants bounded work, not
+lmfit's open-ended ``conf_interval``), so no fitting library is added.
 
 Uncertainty, with the measurement file's standard deviations taken as absolute:
 
@@ -46,6 +47,8 @@ MAX_CORRELATION = 0.95
 """|Correlation| above which two parameters are not identifiable apart."""
 DIFF_STEP = 3e-5
 """Finite-difference step of the Jacobian, as a share of each parameter's box."""
+LOG_RANGE = 10.0
+"""A positive parameter whose ``max / min`` exceeds this is scaled logarithmically."""
 SINGULAR_RTOL = 1e-8
 """Singular values of the scaled Jacobian below this share of the largest: no information."""
 MAX_NFEV = 200
@@ -194,16 +197,35 @@ class _Problem:
         self.meas, self.base, self.coupling, self.accuracy = meas, base, coupling, accuracy
         self.c0_F = c0_F
         self.lower = np.array([p.lower for p in meas.parameters])
-        self.span = np.array([p.upper - p.lower for p in meas.parameters])
+        upper = np.array([p.upper for p in meas.parameters])
+        self.log = (self.lower > 0) & (upper > LOG_RANGE * self.lower)
+        # u -> value: lower + span u, or lower exp(span u) on a log scale
+        ratio = np.divide(upper, self.lower, out=np.ones_like(upper), where=self.log)
+        self.span = np.where(self.log, np.log(ratio), upper - self.lower)
         self.evaluations = 0
 
     def values(self, u: np.ndarray) -> np.ndarray:
         """SI values of scaled parameters."""
-        return self.lower + self.span * np.asarray(u, dtype=float)
+        u = np.asarray(u, dtype=float)
+        grow = np.exp(np.where(self.log, self.span * u, 0.0))
+        return np.where(self.log, self.lower * grow, self.lower + self.span * u)
+
+    def value(self, i: int, ui: np.ndarray | float) -> np.ndarray:
+        """SI value(s) of parameter ``i`` at scaled ``ui``."""
+        ui = np.asarray(ui, dtype=float)
+        if self.log[i]:
+            return self.lower[i] * np.exp(self.span[i] * ui)
+        return self.lower[i] + self.span[i] * ui
 
     def scaled(self, values: np.ndarray) -> np.ndarray:
         """Scaled parameters of SI values."""
-        return (np.asarray(values, dtype=float) - self.lower) / self.span
+        v = np.asarray(values, dtype=float)
+        ratio = np.divide(v, self.lower, out=np.ones_like(v), where=self.log)
+        return np.where(self.log, np.log(ratio) / self.span, (v - self.lower) / self.span)
+
+    def slope(self, u: np.ndarray) -> np.ndarray:
+        """``d value / d u`` (SI) of each parameter at ``u``."""
+        return np.where(self.log, self.span * self.values(u), self.span)
 
     def model(self, u: np.ndarray) -> tuple[MotorParams, float | None]:
         """The parameter set and clamped capacitance of ``u``."""
@@ -268,8 +290,9 @@ def check_box(meas: Measurements, base: MotorParams) -> None:
                                    f"{'min' if corner == 'lower' else 'max'}: {text}") from None
 
 
-def _covariance(jac: np.ndarray, span: np.ndarray) -> tuple[np.ndarray, list[list[int]]]:
-    """Covariance (SI) from the Jacobian of the scaled parameters, and for each parameter
+def _covariance(jac: np.ndarray, slope: np.ndarray) -> tuple[np.ndarray, list[list[int]]]:
+    """Covariance (SI) from the Jacobian of the scaled parameters and their ``slope``
+    (``d value / d u`` at the optimum, :meth:`_Problem.slope`), and for each parameter
     the parameters of a direction the data do not see that it takes part in (empty: none;
     itself alone: the data do not depend on it). Such parameters have infinite variance."""
     n = jac.shape[1]
@@ -284,32 +307,23 @@ def _covariance(jac: np.ndarray, span: np.ndarray) -> tuple[np.ndarray, list[lis
         for j in members:
             blind[j] = sorted(set(blind[j]) | set(members))
     cov_u = (vt[keep].T / s[keep] ** 2) @ vt[keep]
-    cov = cov_u * np.outer(span, span)
+    cov = cov_u * np.outer(slope, slope)
     lost = [j for j in range(n) if blind[j]]
     cov[lost, :] = np.nan
     cov[:, lost] = np.nan
     return cov, blind
 
 
-def _in_box(p: FitParameter, r: float) -> float:
-    """The value (SI) at share ``r`` of a parameter's box, log-uniform for a positive range
-    of more than a decade."""
-    if p.lower > 0 and p.upper / p.lower > 10:
-        return p.lower * (p.upper / p.lower) ** r
-    return p.lower + r * (p.upper - p.lower)
-
-
 def _draw(problem: _Problem, count: int, rng: np.random.Generator) -> list[np.ndarray]:
-    """``count`` scaled points drawn in the box (:func:`_in_box`)."""
-    return [problem.scaled([_in_box(p, rng.uniform()) for p in problem.meas.parameters])
-            for _ in range(count)]
+    """``count`` scaled points drawn uniformly in the box."""
+    return [rng.uniform(size=len(problem.meas.parameters)) for _ in range(count)]
 
 
 def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
                      keep: int = SCREEN_KEEP) -> list[np.ndarray]:
     """The ``keep`` points of least chi-square among (at most
     ``2 ** SCREEN_FRICTION_LOG2``) Sobol points over the fitted :data:`FRICTION` parameters'
-    box (:func:`_in_box`), every other parameter held at ``u_best``; none without a speed
+    scaled box, every other parameter held at ``u_best``; none without a speed
     set or a fitted friction parameter. The steady engine's ``fast`` level ranks them all
     and the fit's level the :data:`SCREEN_RERANK` best. The speeds' dead-zone steps leave a
     narrow valley of chi-square in the friction law (``a_mu`` against ``b_mu``) that random
@@ -323,10 +337,9 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
     points = qmc.Sobol(len(which), seed=seed).random_base2(log2)
     drawn = []
     for row in points:
-        v = problem.values(u_best)
-        for j, i in enumerate(which):
-            v[i] = _in_box(params[i], float(row[j]))
-        drawn.append(problem.scaled(v))
+        u = np.array(u_best, dtype=float)
+        u[which] = row
+        drawn.append(u)
     if len(drawn) > max(keep, SCREEN_RERANK):
         drawn = _least_chi2(problem, drawn, max(keep, SCREEN_RERANK), "fast")
     return _least_chi2(problem, drawn, keep)
@@ -473,9 +486,9 @@ def _profile(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray, chi
     hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, jac, chi2, step, +1, held)
     pts = sorted(set(lo_pts) | set(hi_pts))
     u = np.array([p[0] for p in pts])
-    span, lower = problem.span[i], problem.lower[i]
-    return Profile(lower + span * u, np.array([p[1] for p in pts]), lower + span * lo_end,
-                   lower + span * hi_end, lo_open, hi_open)
+    return Profile(problem.value(i, u), np.array([p[1] for p in pts]),
+                   float(problem.value(i, lo_end)), float(problem.value(i, hi_end)),
+                   lo_open, hi_open)
 
 
 def _identifiability(names: tuple[str, ...], blind: list[list[int]], corr: np.ndarray,
@@ -552,7 +565,8 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
             fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
     best = min(fits, key=lambda f: f[1].cost)[1]
     chi2 = 2.0 * float(best.cost)
-    cov, blind = _covariance(best.jac, problem.span)
+    slope = problem.slope(best.x)
+    cov, blind = _covariance(best.jac, slope)
     alone = np.array([b == [i] for i, b in enumerate(blind)], dtype=bool)
     se = np.sqrt(np.where([bool(b) for b in blind], np.inf, np.diag(cov)))
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -566,7 +580,7 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     u_best = np.where(alone, problem.scaled([p.start for p in meas.parameters]), best.x)
     params, c0 = problem.model(u_best)
     sampled = [i for i in range(len(names)) if ok[i]]
-    held_cov = (_covariance(best.jac[:, sampled], problem.span[sampled])[0] if sampled
+    held_cov = (_covariance(best.jac[:, sampled], slope[sampled])[0] if sampled
                 else np.zeros((0, 0)))
     return CalibrationResult(
         parameters=meas.parameters, values=problem.values(u_best), stderr=se,
@@ -593,11 +607,12 @@ def _profiles(problem: _Problem, best, chi2: float, se: np.ndarray, blind: list[
     names = tuple(p.name for p in problem.meas.parameters)
     seen, _ = _identifiability(names, blind, corr, {})
     held = tuple(j for j in range(len(names)) if not seen[j])
+    slope = problem.slope(best.x)
     out = {}
     for i, name in enumerate(names):
         if seen[i] and (profile is None or name in profile):
             say(f"profile of {name}")
-            out[name] = _profile(problem, i, best.x, best.jac, chi2, se[i] / problem.span[i],
+            out[name] = _profile(problem, i, best.x, best.jac, chi2, se[i] / slope[i],
                                  held)
     return out
 
