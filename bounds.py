@@ -65,6 +65,11 @@ class ParameterError(ValueError):
         super().__init__(self.said(name if label is None else label)
                          if message is None else message)
 
+    def __reduce__(self) -> tuple:
+        """Pickle by the fields, not by a call with the message (a dask worker's refusal
+        reaches the client whole)."""
+        return _restore, (type(self), self.args, self.__dict__)
+
     def said(self, label: str, bound_label: str | None = None) -> str:
         """The refusal in words with the parameter called ``label`` and the parameter that
         bounds it (:attr:`bound_by`) ``bound_label`` (default its name):
@@ -108,6 +113,14 @@ class ParameterError(ValueError):
         if isinstance(v, numbers.Real) and not isinstance(v, bool):
             return _number(float(v) * scale)
         return repr(v)
+
+
+def _restore(cls: type[ParameterError], args: tuple, fields: dict) -> ParameterError:
+    """A pickled :class:`ParameterError` (or subclass) from its message and fields."""
+    exc = cls.__new__(cls)
+    exc.args = args
+    exc.__dict__.update(fields)
+    return exc
 
 
 class ParameterTypeError(ParameterError, TypeError):
@@ -158,6 +171,13 @@ class Words(str):
             "}", "}}")
         more = text.values if isinstance(text, Words) else {}
         return Words(self.template + tail, self.forms, **self.values, **more)
+
+
+def said_in(message: object, forms: Mapping[str, str]) -> str:
+    """An exception's or a warning's message with its settings (:class:`Words`) in a front
+    end's ``forms`` (:meth:`Words.said`); another message as it is."""
+    words = message.args[0] if isinstance(message, BaseException) and message.args else message
+    return words.said(forms) if isinstance(words, Words) else str(message)
 
 
 def _fill(template: str, forms: Mapping[str, str], values: Mapping[str, str]) -> str:

@@ -40,6 +40,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from bounds import ParameterError
+from fem.errors import GapValidityWarning as GapValidityWarning
 from fem.errors import ShortedDriveError as ShortedDriveError
 from fem.geometry import ELECTRODES, PlateStator
 from fem.material import PiezoMaterial, get_material, plane_stress
@@ -162,21 +163,17 @@ GAP_VALIDITY_RATIO = 1.0 / 6.0
 """Largest gap / thickness for which the shorted-gap 2D model is valid (``docs/fem.md``)."""
 
 
-class GapValidityWarning(UserWarning):
-    """The electrode gap is too wide for the 2D model; use the 3D model (``--model 3d``)."""
+def gap_validity(gap_m: float, thickness_m: float) -> GapValidityWarning | None:
+    """The warning to give when ``gap_m > thickness_m / 6``, else None."""
+    if gap_m <= GAP_VALIDITY_RATIO * thickness_m * (1.0 + 1e-9):
+        return None
+    return GapValidityWarning(gap_m, thickness_m, GAP_VALIDITY_RATIO * thickness_m)
 
 
 def gap_validity_message(gap_m: float, thickness_m: float) -> str | None:
     """One-line warning text when ``gap_m > thickness_m / 6``, else None."""
-    if gap_m <= GAP_VALIDITY_RATIO * thickness_m * (1.0 + 1e-9):
-        return None
-    return (
-        f"electrode gap {gap_m * 1e3:g} mm exceeds thickness/6 = "
-        f"{GAP_VALIDITY_RATIO * thickness_m * 1e3:.3g} mm (a {thickness_m * 1e3:g} mm thick "
-        f"plate): the 2D model is outside its validity "
-        f"(the gap strip is no longer shorted by its neighbours); use the 3D model "
-        f"(lusm modes --model 3d, fem.solid3d)"
-    )
+    warning = gap_validity(gap_m, thickness_m)
+    return None if warning is None else str(warning)
 
 
 def stator_gap_m(stator: PlateStator) -> float:
@@ -185,9 +182,9 @@ def stator_gap_m(stator: PlateStator) -> float:
     return gap_layout(mesh).gap_m if mesh is not None else stator.electrode_gap_m
 
 
-def stator_gap_validity_message(stator: PlateStator) -> str | None:
-    """:func:`gap_validity_message` for a stator (a meshed stator's gaps come from its mesh)."""
-    return gap_validity_message(stator_gap_m(stator), stator.thickness_m)
+def stator_gap_validity(stator: PlateStator) -> GapValidityWarning | None:
+    """:func:`gap_validity` for a stator (a meshed stator's gaps come from its mesh)."""
+    return gap_validity(stator_gap_m(stator), stator.thickness_m)
 
 
 BORDER_SHARE = 0.2
@@ -718,9 +715,9 @@ def _strip_elements(mesh: PlateMesh, layout: GapLayout, shorted: bool,
     untagged = mesh.elements_of(0)
     if not shorted:
         return untagged[:0], untagged, None
-    message = gap_validity_message(layout.gap_m, h)
-    if message is not None:  # stacklevel: the caller of build_model
-        warnings.warn(message, GapValidityWarning, stacklevel=3)
+    validity = gap_validity(layout.gap_m, h)
+    if validity is not None:  # stacklevel: the caller of build_model
+        warnings.warn(validity, stacklevel=3)
     share = unelectroded_outline_share(mesh, layout, GAP_VALIDITY_RATIO * h)
     if share > BORDER_SHARE:
         warnings.warn(border_message(share), UnelectrodedBorderWarning, stacklevel=3)

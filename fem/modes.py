@@ -49,6 +49,27 @@ class ModeSolverError(RuntimeError):
     """The eigensolver did not converge or L1/B2 could not be identified."""
 
 
+class ModeIdentificationError(ModeSolverError):
+    """The modes solved hold no mode with a named mode's symmetry and Eq. 3 shape: a plate
+    whose shape lacks it (too wide, too thick, a large or off-centre feature), which no
+    finer mesh changes.
+
+    Attributes
+    ----------
+    mode : str
+        The mode not found (``"L1"`` or ``"B2"``), ``""`` where not given.
+    """
+
+    def __init__(self, message: str, mode: str = "") -> None:
+        super().__init__(message)
+        self.mode = mode
+
+
+class ModePairingError(ModeIdentificationError):
+    """No open-circuit mode has the shape of a short-circuit mode (:func:`pair_short_open`):
+    the short-circuit mode's partner is mixed with another mode."""
+
+
 N_MODES = 8
 """Modes the 2D solve computes near the shift first (:func:`modes_of_model`)."""
 
@@ -576,12 +597,12 @@ def match_modes(
             if mac >= MIN_MAC and (best is None or mac * weights[i] > best[1] * weights[best[0]]):
                 best = (i, mac, klass)
         if best is None:
-            raise ModeSolverError(
+            raise ModeIdentificationError(
                 # rigid-body modes come out at +-roundoff: "-0.4 Hz" would read as a bug
                 f"could not identify {name} among the {n} {what} computed at "
                 f"{np.round(np.maximum(freqs_Hz, 0.0), 1).tolist()} Hz (no mode with the "
-                f"{name} symmetry and a correlation >= {MIN_MAC} with the Eq. 3 shape)"
-            )
+                f"{name} symmetry and a correlation >= {MIN_MAC} with the Eq. 3 shape)",
+                name)
         out[name] = best
     return out
 
@@ -697,10 +718,11 @@ def pair_short_open(fs, vs, ids, fo, ido, M, names: tuple[str, ...] = ("L1", "B2
         if vo is not None and mass_mac(vs[:, i], vo[:, j], M) < PAIR_MAC:
             j, mac_open = best_shape_match(vs[:, i], vo, M)
             if mac_open < PAIR_MAC:
-                raise ModeSolverError(
+                raise ModePairingError(
                     f"could not pair {name} in open circuit: no open-circuit mode has the "
                     f"shape of the short-circuit {name} at {f_short:.1f} Hz (best "
-                    f"correlation {mac_open:.2f} < {PAIR_MAC}, at {float(fo[j]):.1f} Hz)")
+                    f"correlation {mac_open:.2f} < {PAIR_MAC}, at {float(fo[j]):.1f} Hz)",
+                    name)
         f_open = float(fo[j])
         k2 = (f_open**2 - f_short**2) / f_open**2
         shape = vs[:, i] / math.sqrt(float(vs[:, i] @ (M @ vs[:, i])))

@@ -130,7 +130,7 @@ from typing import Any
 
 import numpy as np
 
-from bounds import ParameterError
+from fem.errors import StatorFileError
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import (  # DEFAULT_Q_MOUNT: the [damping] Q_mount default, named here too
     DEFAULT_Q_MOUNT,  # noqa: F401
@@ -312,19 +312,19 @@ def _check_keys(data: dict[str, Any], table: str, src: str) -> None:
     for key in data:
         if key not in allowed:
             where = f"[{table}]" if table else "top level"
-            raise ValueError(
-                f"{src}: unknown key {key!r} at {where}; allowed: {', '.join(allowed)}"
-            )
+            raise StatorFileError(
+                src, _where(table, key), data[key],
+                text=f"unknown key {key!r} at {where}; allowed: {', '.join(allowed)}")
 
 
 def _table(data: dict[str, Any], name: str, src: str, required: bool = False) -> dict:
     value = data.get(name)
     if value is None:
         if required:
-            raise ValueError(f"{src}: missing table [{name}]")
+            raise StatorFileError(src, f"[{name}]", text=f"missing table [{name}]")
         return {}
     if not isinstance(value, dict):
-        raise ValueError(f"{src}: {name} must be a table [{name}], got {value!r}")
+        raise StatorFileError(src, name, value, f"a table [{name}]")
     _check_keys(value, name, src)
     return value
 
@@ -337,27 +337,26 @@ def _length_mm(
     if key not in table:
         if required:
             lo, hi = PLATE_RANGE_MM
-            raise ValueError(f"{src}: missing {_where(tname, key)} (mm, a number in "
-                             f"[{lo:g}, {hi:g}])")
+            raise StatorFileError(src, _where(tname, key), None, low=lo, high=hi, unit="mm",
+                                  text=f"missing {_where(tname, key)} (mm, a number in "
+                                       f"[{lo:g}, {hi:g}])")
         return None
     v = table[key]
     ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
     if not allow_zero:
         lo, hi = PLATE_RANGE_MM
         if not ok or not lo <= v <= hi:
-            raise _key_error(tname, key, v, lo, hi, "mm", False, False,
-                             f"{src}: {_where(tname, key)} must lie in [{lo:g}, {hi:g}] mm, "
-                             f"got {v!r}")
+            raise _key_error(src, tname, key, v, lo, hi, "mm", False, False,
+                             f"{_where(tname, key)} must lie in [{lo:g}, {hi:g}] mm, got {v!r}")
         return float(v)
     lower = "[0"
     upper = f"{upper_mm:g})" if upper_mm is not None else "inf)"
     if not ok or v < 0 or (upper_mm is not None and v >= upper_mm):
-        raise _key_error(tname, key, v, 0.0, upper_mm, "mm", False, upper_mm is not None,
-                         f"{src}: {_where(tname, key)} must lie in {lower}, {upper} mm, "
-                         f"got {v!r}")
+        raise _key_error(src, tname, key, v, 0.0, upper_mm, "mm", False, upper_mm is not None,
+                         f"{_where(tname, key)} must lie in {lower}, {upper} mm, got {v!r}")
     if 0 < v < MIN_GAP_M / MM:  # said here in the file's unit, not by PlateStator in m
-        raise ValueError(f"{src}: {_where(tname, key)} must be 0 (touching quadrants) or at "
-                         f"least {MIN_GAP_M / MM:g} mm, got {v!r}")
+        raise StatorFileError(src, _where(tname, key), v,
+                              f"0 (touching quadrants) or at least {MIN_GAP_M / MM:g} mm")
     return float(v)
 
 
@@ -371,7 +370,7 @@ def _point_mm(table: dict, key: str, src: str,
         or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v)
         or not all(math.isfinite(c) for c in v)
     ):
-        raise ValueError(f"{src}: {table_name} {key} must be [x, y] in mm, got {v!r}")
+        raise StatorFileError(src, f"{table_name} {key}", v, "[x, y] in mm")
     return (float(v[0]) * MM, float(v[1]) * MM)
 
 
@@ -382,18 +381,17 @@ def _drive(table: dict, src: str) -> tuple[int, ...]:
     if not isinstance(v, list) or not v or not all(
         isinstance(e, int) and not isinstance(e, bool) for e in v
     ):
-        raise ValueError(
-            f"{src}: [electrodes] drive must be a non-empty list of electrode numbers "
-            f"1..4, got {v!r}"
-        )
+        raise StatorFileError(src, "[electrodes] drive", v,
+                              "a non-empty list of electrode numbers 1..4")
     for e in v:
         if e not in ELECTRODES:
-            raise ValueError(
-                f"{src}: [electrodes] drive names electrode {e}, which is not on the plate; "
-                f"allowed electrode numbers 1..4"
-            )
+            raise StatorFileError(
+                src, "[electrodes] drive", v, choices=ELECTRODES,
+                text=f"[electrodes] drive names electrode {e}, which is not on the plate; "
+                     f"allowed electrode numbers 1..4")
     if len(set(v)) != len(v):
-        raise ValueError(f"{src}: [electrodes] drive repeats an electrode: {v!r}")
+        raise StatorFileError(src, "[electrodes] drive", v,
+                              text=f"[electrodes] drive repeats an electrode: {v!r}")
     return tuple(v)
 
 
@@ -403,32 +401,34 @@ def _material(table: dict, src: str) -> PiezoMaterial:
     inline = [k for k in ("cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3") if k in table]
     if not inline:
         if "base" in table:
-            raise ValueError(f"{src}: [material] base needs at least one inline constant")
+            raise StatorFileError(src, "[material] base", table["base"],
+                                  text="[material] base needs at least one inline constant")
         name = table.get("name", "pzt8")
         if "source" in table:  # refused, not dropped: a named material has its own
-            raise ValueError(
-                f"{src}: [material] source describes inline constants (cE_Pa, e_C_m2, "
-                f"epsS_F_m, rho_kg_m3) and cannot be combined with name = {name!r} alone, "
-                f"whose source is fixed; remove source, or give constants inline (with "
-                f"base = {name!r} to start from it)")
+            raise StatorFileError(
+                src, "[material] source", table["source"],
+                text=f"[material] source describes inline constants (cE_Pa, e_C_m2, "
+                     f"epsS_F_m, rho_kg_m3) and cannot be combined with name = {name!r} "
+                     f"alone, whose source is fixed; remove source, or give constants inline "
+                     f"(with base = {name!r} to start from it)")
         try:
             if not isinstance(name, str):
                 raise ValueError
             return get_material(name)
         except ValueError:
-            raise ValueError(
-                f"{src}: [material] name {name!r} is unknown; allowed: "
-                f"{', '.join(MATERIAL_NAMES)}, or inline constants cE_Pa, e_C_m2, epsS_F_m, "
-                f"rho_kg_m3 (optionally with base = \"pzt8\")"
-            ) from None
+            raise StatorFileError(
+                src, "[material] name", name, choices=MATERIAL_NAMES,
+                text=f"[material] name {name!r} is unknown; allowed: "
+                     f"{', '.join(MATERIAL_NAMES)}, or inline constants cE_Pa, e_C_m2, "
+                     f"epsS_F_m, rho_kg_m3 (optionally with base = \"pzt8\")") from None
     base_name = table.get("base")
     if base_name is None:
         missing = [k for k in ("cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3") if k not in table]
         if missing:
-            raise ValueError(
-                f"{src}: [material] inline constants need {', '.join(missing)} (or base = "
-                f"\"pzt8\" to start from a named material)"
-            )
+            raise StatorFileError(
+                src, f"[material] {missing[0]}",
+                text=f"[material] inline constants need {', '.join(missing)} (or base = "
+                     f"\"pzt8\" to start from a named material)")
         base = None
     else:
         try:
@@ -436,10 +436,9 @@ def _material(table: dict, src: str) -> PiezoMaterial:
                 raise ValueError
             base = get_material(base_name)
         except ValueError:
-            raise ValueError(
-                f"{src}: [material] base {base_name!r} is unknown; allowed: "
-                f"{', '.join(MATERIAL_NAMES)}"
-            ) from None
+            raise StatorFileError(src, "[material] base", base_name, choices=MATERIAL_NAMES,
+                                  text=f"[material] base {base_name!r} is unknown; allowed: "
+                                       f"{', '.join(MATERIAL_NAMES)}") from None
     values: dict[str, Any] = {}
     for key, shape in (("cE_Pa", (6, 6)), ("e_C_m2", (3, 6)), ("epsS_F_m", (3, 3))):
         if key in table:
@@ -448,15 +447,19 @@ def _material(table: dict, src: str) -> PiezoMaterial:
             except (TypeError, ValueError):
                 arr = None
             if arr is None or arr.shape != shape:
-                raise ValueError(f"{src}: [material] {key} must be a {shape[0]}x{shape[1]} "
-                                 f"array of numbers")
+                raise StatorFileError(src, f"[material] {key}", table[key],
+                                      f"a {shape[0]}x{shape[1]} array of numbers",
+                                      text=f"[material] {key} must be a {shape[0]}x{shape[1]} "
+                                           "array of numbers")
             lo, hi, scale, unit = MATERIAL_RANGES[key]
             size = np.max(np.abs(np.diag(arr))) if key != "e_C_m2" else np.max(np.abs(arr))
             if not (np.all(np.isfinite(arr)) and lo <= size / scale <= hi):
-                raise ValueError(f"{src}: [material] {key}'s largest "
-                                 f"{'entry' if key == 'e_C_m2' else 'diagonal entry'} must lie "
-                                 f"in [{lo:g}, {hi:g}] {unit} (solid piezoelectrics; PZT-8: "
-                                 f"{PZT8_SIZE[key]}), got {size / scale:.4g} {unit}")
+                raise StatorFileError(
+                    src, f"[material] {key}", size / scale, low=lo, high=hi, unit=unit,
+                    text=f"[material] {key}'s largest "
+                         f"{'entry' if key == 'e_C_m2' else 'diagonal entry'} must lie in "
+                         f"[{lo:g}, {hi:g}] {unit} (solid piezoelectrics; PZT-8: "
+                         f"{PZT8_SIZE[key]}), got {size / scale:.4g} {unit}")
             values[key] = arr
         else:
             values[key] = getattr(base, key)
@@ -464,8 +467,9 @@ def _material(table: dict, src: str) -> PiezoMaterial:
     lo, hi = DENSITY_RANGE_KG_M3
     if (not isinstance(rho, (int, float)) or isinstance(rho, bool) or not math.isfinite(rho)
             or not lo <= rho <= hi):
-        raise ValueError(f"{src}: [material] rho_kg_m3 must lie in [{lo:g}, {hi:g}] kg/m^3 "
-                         f"(solids; PZT-8 is 7600), got {rho!r}")
+        raise StatorFileError(src, "[material] rho_kg_m3", rho, low=lo, high=hi, unit="kg/m^3",
+                              text=f"[material] rho_kg_m3 must lie in [{lo:g}, {hi:g}] kg/m^3 "
+                                   f"(solids; PZT-8 is 7600), got {rho!r}")
     name = str(table.get("name", "inline" if base is None else f"{base.name}-modified"))
     source = str(table.get("source", f"inline constants in {src}"))
     try:
@@ -476,7 +480,8 @@ def _material(table: dict, src: str) -> PiezoMaterial:
             limits=None if base is None else base.limits,
         )
     except ValueError as exc:  # the file's key, not the class's attribute name
-        raise ValueError(f"{src}: [material] {str(exc).replace('PiezoMaterial.', '')}") from None
+        raise StatorFileError(src, "[material]", text=f"[material] "
+                              f"{str(exc).replace('PiezoMaterial.', '')}") from None
 
 
 def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,
@@ -489,20 +494,22 @@ def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,
     if not ok:
         interval = f"{'[' if lo_closed else '('}{lo:g}, {hi:g}{']' if hi_closed else ')'}"
         got = f"{v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)
-        raise _key_error(tname, key, v, lo, hi, unit, not lo_closed, not hi_closed,
-                         f"{src}: {_where(tname, key)} must be a number in {interval}"
+        raise _key_error(src, tname, key, v, lo, hi, unit, not lo_closed, not hi_closed,
+                         f"{_where(tname, key)} must be a number in {interval}"
                          f"{' ' + unit if unit else ''}, got {got}")
     return float(v)
 
 
-def _key_error(tname: str, key: str, value: object, low: float | None, high: float | None,
-               unit: str, low_open: bool, high_open: bool, message: str) -> ParameterError:
-    """The refusal of a stator file's ``[tname] key``: a :class:`bounds.ParameterError`
+def _key_error(src: str, tname: str, key: str, value: object, low: float | None,
+               high: float | None, unit: str, low_open: bool, high_open: bool,
+               text: str) -> StatorFileError:
+    """The refusal of a stator file's ``[tname] key``: a :class:`fem.errors.StatorFileError`
     named by the file's key (``'[plate] length_mm'``, what the user typed), its range in the
     key's unit (``unit``'s first word; the rest, a bound's origin, is the ``reason``)."""
     first, _, rest = unit.partition(" ")
-    return ParameterError(f"[{tname}] {key}", value, low, high, first, low_open=low_open,
-                          high_open=high_open, reason=rest.strip("() "), message=message)
+    return StatorFileError(src, f"[{tname}] {key}", value, low=low, high=high, unit=first,
+                           low_open=low_open, high_open=high_open, reason=rest.strip("() "),
+                           text=text)
 
 
 def _plate_mm(plate: dict, elec: dict, src: str) -> tuple[float, float, float]:
@@ -516,10 +523,12 @@ def _plate_mm(plate: dict, elec: dict, src: str) -> tuple[float, float, float]:
     if gap is None:
         gap = PlateStator().electrode_gap_m / MM
         if gap >= min(length, width):  # said in the file's terms, not by PlateStator in m
-            raise ValueError(
-                f"{src}: the default {_where('electrodes', 'gap_mm')} {gap:g} mm leaves no "
-                f"electrode on a plate {min(length, width):g} mm wide; set "
-                f"{_where('electrodes', 'gap_mm')} in [0, {min(length, width):g}) mm")
+            raise StatorFileError(
+                src, _where("electrodes", "gap_mm"), None, low=0.0, high=min(length, width),
+                high_open=True, unit="mm",
+                text=f"the default {_where('electrodes', 'gap_mm')} {gap:g} mm leaves no "
+                     f"electrode on a plate {min(length, width):g} mm wide; set "
+                     f"{_where('electrodes', 'gap_mm')} in [0, {min(length, width):g}) mm")
     return length, width, gap
 
 
@@ -533,9 +542,11 @@ def _material_damping(table: dict, src: str, material: PiezoMaterial
     given = [k for k in ("Q_mount", "Q_contact") if k in table]
     if material.mechanical_Q is None:
         if given:
-            raise ValueError(f"{src}: [damping] {given[0]} combines with the material's "
-                             f"mechanical Q_m, and material {material.name!r} has none; give "
-                             f"[damping] Q_m (the stator's total) instead")
+            raise StatorFileError(
+                src, f"[damping] {given[0]}", table[given[0]],
+                text=f"[damping] {given[0]} combines with the material's mechanical Q_m, and "
+                     f"material {material.name!r} has none; give [damping] Q_m (the "
+                     "stator's total) instead")
         return None, "", None
     q_mount = (_number(table, "damping", "Q_mount", src, *Q_M_RANGE, False, True)
                if "Q_mount" in table else None)
@@ -559,19 +570,23 @@ def _damping(table: dict, src: str, material: PiezoMaterial
                "material's Q_m)")
     if loss_keys:
         others = ", ".join(k for k in table if k not in ("Q_mount", "Q_contact"))
-        raise ValueError(f"{src}: [damping] {loss_keys[0]} combines with the material's Q_m "
-                         f"and cannot be combined with {others}; {choices}")
+        raise StatorFileError(src, f"[damping] {loss_keys[0]}", table[loss_keys[0]],
+                              text=f"[damping] {loss_keys[0]} combines with the material's "
+                                   f"Q_m and cannot be combined with {others}; {choices}")
     if "source" in table:
         if table["source"] not in ("table2", "paper_amplitudes"):
-            raise ValueError(f"{src}: [damping] source must be \"table2\" (Table 2's ratios) "
-                             f"or \"paper_amplitudes\" (fitted to Table 2's free tip "
-                             f"amplitudes), got {table['source']!r}; or {choices}")
+            raise StatorFileError(
+                src, "[damping] source", table["source"], choices=("table2", "paper_amplitudes"),
+                text=f"[damping] source must be \"table2\" (Table 2's ratios) or "
+                     f"\"paper_amplitudes\" (fitted to Table 2's free tip amplitudes), got "
+                     f"{table['source']!r}; or {choices}")
         allowed = ("source", "frequency_Hz") if table["source"] == "paper_amplitudes" else (
             "source",)
         others = [k for k in table if k not in allowed]
         if others:
-            raise ValueError(f"{src}: [damping] source = \"{table['source']}\" cannot be "
-                             f"combined with {', '.join(others)}; {choices}")
+            raise StatorFileError(src, f"[damping] {others[0]}", table[others[0]],
+                                  text=f"[damping] source = \"{table['source']}\" cannot be "
+                                       f"combined with {', '.join(others)}; {choices}")
         if table["source"] == "table2":
             return None, '[damping] source = "table2"', None
         f = (_number(table, "damping", "frequency_Hz", src, *IDENTIFY_FREQUENCY_RANGE_HZ,
@@ -579,19 +594,22 @@ def _damping(table: dict, src: str, material: PiezoMaterial
         return None, (f'[damping] source = "paper_amplitudes" (at {f:g} Hz, fitted to '
                       f'Table 2\'s free tip amplitudes at 40 kHz)'), f
     if "frequency_Hz" in table:
-        raise ValueError(f'{src}: [damping] frequency_Hz belongs to source = '
-                         f'"paper_amplitudes"; {choices}')
+        raise StatorFileError(src, "[damping] frequency_Hz", table["frequency_Hz"],
+                              text=f'[damping] frequency_Hz belongs to source = '
+                                   f'"paper_amplitudes"; {choices}')
     if "Q_m" in table:
         if len(table) > 1:
             others = ", ".join(k for k in table if k != "Q_m")
-            raise ValueError(f"{src}: [damping] Q_m sets both modes (zeta = 1/(2 Q_m)) and "
-                             f"cannot be combined with {others}; {choices}")
+            raise StatorFileError(src, "[damping] Q_m", table["Q_m"],
+                                  text=f"[damping] Q_m sets both modes (zeta = 1/(2 Q_m)) and "
+                                       f"cannot be combined with {others}; {choices}")
         q = _number(table, "damping", "Q_m", src, *Q_M_RANGE, False, True)
         z = 1.0 / (2.0 * q)
         return (z, z), f"[damping] Q_m = {q:g} (zeta = 1/(2 Q_m))", None
     missing = [k for k in ("zeta_L1", "zeta_B2") if k not in table]
     if missing:
-        raise ValueError(f"{src}: [damping] {missing[0]} is missing; {choices}")
+        raise StatorFileError(src, f"[damping] {missing[0]}",
+                              text=f"[damping] {missing[0]} is missing; {choices}")
     lo, hi = DAMPING_RATIO_RANGE
     zl = _number(table, "damping", "zeta_L1", src, lo, hi, True, False)
     zb = _number(table, "damping", "zeta_B2", src, lo, hi, True, False)
@@ -608,11 +626,17 @@ def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
                 out[name] = _number(table, tname, key, src, lo, hi, lo_closed, True, unit)
     fric = data.get("friction") or {}
     if "mu_s" in out and "mu_d" in out and out["mu_d"] > out["mu_s"]:
-        raise ValueError(f"{src}: [friction] mu_d = {fric['mu_d']!r} must be <= [friction] "
-                         f"mu_s = {fric['mu_s']!r} (kinetic friction cannot exceed static)")
+        raise StatorFileError(
+            src, "[friction] mu_d", fric["mu_d"], high=out["mu_s"], bound_by="[friction] mu_s",
+            reason="kinetic friction cannot exceed static",
+            text=f"[friction] mu_d = {fric['mu_d']!r} must be <= [friction] mu_s = "
+                 f"{fric['mu_s']!r} (kinetic friction cannot exceed static)")
     if "mu_d" in out and "a_mu" in out and out["a_mu"] > out["mu_d"]:
-        raise ValueError(f"{src}: [friction] a_mu = {fric['a_mu']!r} must be <= [friction] "
-                         f"mu_d = {fric['mu_d']!r} (Eq. 11 decays from mu_d to a_mu)")
+        raise StatorFileError(
+            src, "[friction] a_mu", fric["a_mu"], high=out["mu_d"], bound_by="[friction] mu_d",
+            reason="Eq. 11 decays from mu_d to a_mu",
+            text=f"[friction] a_mu = {fric['a_mu']!r} must be <= [friction] mu_d = "
+                 f"{fric['mu_d']!r} (Eq. 11 decays from mu_d to a_mu)")
     return out
 
 
@@ -632,24 +656,26 @@ def _holes(data: dict[str, Any], src: str) -> list[tuple[int, tuple[float, float
     if value is None:
         return []
     if not isinstance(value, list) or not value or not all(isinstance(v, dict) for v in value):
-        raise ValueError(f"{src}: holes must be an array of tables [[holes]] with center_mm "
-                         f"and diameter_mm, got {value!r}")
+        raise StatorFileError(src, "holes", value, "an array of tables [[holes]] with "
+                              "center_mm and diameter_mm")
     out = []
     for i, hole in enumerate(value, start=1):
         where = f"[[holes]] #{i}"
         for key in hole:
             if key not in _KEYS["holes"]:
-                raise ValueError(f"{src}: unknown key {key!r} in {where}; allowed: "
-                                 f"{', '.join(_KEYS['holes'])}")
+                raise StatorFileError(src, f"{where} {key}", hole[key],
+                                      text=f"unknown key {key!r} in {where}; allowed: "
+                                           f"{', '.join(_KEYS['holes'])}")
         for key in _KEYS["holes"]:
             if key not in hole:
-                raise ValueError(f"{src}: {where} needs {key} (center_mm = [x, y] in mm, "
-                                 f"diameter_mm > 0)")
+                raise StatorFileError(src, f"{where} {key}",
+                                      text=f"{where} needs {key} (center_mm = [x, y] in mm, "
+                                           "diameter_mm > 0)")
         c = _point_mm(hole, "center_mm", src, table_name=where)
         d = hole["diameter_mm"]
         if not (isinstance(d, (int, float)) and not isinstance(d, bool) and math.isfinite(d)
                 and d > 0):
-            raise ValueError(f"{src}: {where} diameter_mm must be a number > 0 mm, got {d!r}")
+            raise StatorFileError(src, f"{where} diameter_mm", d, "a number > 0 mm")
         assert c is not None
         out.append((i, (c[0] / MM, c[1] / MM), float(d)))
     return out
@@ -664,9 +690,10 @@ def _tip_material(tip_t: dict, src: str) -> str:
         return ""
     name = tip_t["material"]
     if not isinstance(name, str) or name.strip().lower() not in TIP_MATERIALS:
-        raise ValueError(f"{src}: [tip] material {name!r} is unknown; allowed: "
-                         f"{', '.join(TIP_MATERIALS)} (leave it out for a tip of the plate's "
-                         "ceramic)")
+        raise StatorFileError(src, "[tip] material", name, choices=TIP_MATERIALS,
+                              text=f"[tip] material {name!r} is unknown; allowed: "
+                                   f"{', '.join(TIP_MATERIALS)} (leave it out for a tip of the "
+                                   "plate's ceramic)")
     return name.strip().lower()
 
 
@@ -681,13 +708,16 @@ def _parametric_holes(data, src, length: float, width: float,
         hole = (x * MM, y * MM, d * MM)
         clear = hole_clearance_m(hole, width * MM, length * MM, chamfer * MM)
         if clear <= 0.0:
-            raise ValueError(f"{src}: [[holes]] #{i} (diameter {d:g} mm at [{x:g}, {y:g}] "
-                             f"mm) reaches the plate's outline; a hole must lie inside the "
-                             f"plate body (x in [{-width / 2:g}, {width / 2:g}] mm, y in "
-                             f"[0, {length:g}] mm{', inside the chamfers' if chamfer else ''})")
+            raise StatorFileError(
+                src, f"[[holes]] #{i}", [x, y],
+                text=f"[[holes]] #{i} (diameter {d:g} mm at [{x:g}, {y:g}] mm) reaches the "
+                     f"plate's outline; a hole must lie inside the plate body (x in "
+                     f"[{-width / 2:g}, {width / 2:g}] mm, y in [0, {length:g}] mm"
+                     f"{', inside the chamfers' if chamfer else ''})")
         for j, (ox, oy, od) in enumerate(holes, start=1):
             if math.hypot(hole[0] - ox, hole[1] - oy) <= 0.5 * (hole[2] + od):
-                raise ValueError(f"{src}: [[holes]] #{i} overlaps [[holes]] #{j}")
+                raise StatorFileError(src, f"[[holes]] #{i}", [x, y],
+                                      text=f"[[holes]] #{i} overlaps [[holes]] #{j}")
         holes.append(hole)
     return holes
 
@@ -705,16 +735,18 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
     tables = ", ".join(f"[{t}]" if t != "holes" else "[[holes]]" for t in FEATURE_TABLES)
     for key in ("file", "unit"):
         if key in mesh_t:
-            raise ValueError(f"{src}: [mesh] {key} cannot be combined with the feature tables "
-                             f"({tables}): those are meshed by gmsh; describe the whole "
-                             f"planform in the mesh file instead")
+            raise StatorFileError(src, f"[mesh] {key}", mesh_t[key],
+                                  text=f"[mesh] {key} cannot be combined with the feature "
+                                       f"tables ({tables}): those are meshed by gmsh; describe "
+                                       "the whole planform in the mesh file instead")
     length, width, gap = _plate_mm(plate, elec, src)
     tip_t = _table(data, "tip", src)
     cham_t = _table(data, "chamfers", src)
     chamfer = 0.0
     if "chamfers" in data:
         if "size_mm" not in cham_t:
-            raise ValueError(f"{src}: [chamfers] needs size_mm (the 45-degree leg, mm)")
+            raise StatorFileError(src, "[chamfers] size_mm",
+                                  text="[chamfers] needs size_mm (the 45-degree leg, mm)")
         c_max = 0.5 * (min(length, width) - gap)
         chamfer = _number(cham_t, "chamfers", "size_mm", src, 0.0, c_max, False, False, "mm "
                           "((min(length, width) - gap) / 2)")
@@ -723,8 +755,10 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
     if "tip" in data:
         for key in ("length_mm", "width_mm"):
             if key not in tip_t:
-                raise ValueError(f"{src}: [tip] needs {key} (the protrusion beyond the plate's "
-                                 f"end: length_mm along the plate, width_mm across, centred)")
+                raise StatorFileError(src, f"[tip] {key}",
+                                      text=f"[tip] needs {key} (the protrusion beyond the "
+                                           "plate's end: length_mm along the plate, width_mm "
+                                           "across, centred)")
         tip_l = _number(tip_t, "tip", "length_mm", src, 0.0, length, False, True,
                         "mm ([plate] length_mm)")
         tip_w = _number(tip_t, "tip", "width_mm", src, 0.0, width - 2 * chamfer, False, True,
@@ -743,19 +777,20 @@ def _parametric(data, plate, elec, mesh_t, tip_pt, preload_pt, thickness, drive,
             mesh_size_m=None if size is None else size * MM, tip_material=tip_mat,
         )
     except ValueError as exc:
-        raise ValueError(f"{src}: {exc}") from None
+        raise StatorFileError(src, "", text=str(exc)) from None
     for key, pt, default in (("tip_mm", tip_pt, stator.tip_point_m),
                              ("preload_mm", preload_pt, stator.preload_point_m)):
         if pt is not None and not np.allclose(pt, default, rtol=0.0,
                                                atol=1e-9 * length * MM):
-            raise ValueError(
-                f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the parametric "
-                f"stator puts it at [{default[0] / MM:g}, {default[1] / MM:g}] mm; give a "
-                f"mesh file ([mesh] file) for other points")
+            raise StatorFileError(
+                src, f"[points] {key}", [pt[0] / MM, pt[1] / MM],
+                text=f"[points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the parametric "
+                     f"stator puts it at [{default[0] / MM:g}, {default[1] / MM:g}] mm; give a "
+                     "mesh file ([mesh] file) for other points")
     try:
         mesh = parametric_mesh(stator)
     except (ImportError, ValueError) as exc:
-        raise ValueError(f"{src}: {exc}") from None
+        raise StatorFileError(src, "", text=str(exc)) from None
     size_text = (f"{stator.element_size_m / MM:g} mm" + ("" if size is not None else
                  f" (min(length, width) / {DEFAULT_SIZE_DIVISIONS})"))
     notes = (f"meshed by gmsh: {mesh.n_elements} quads, element size {size_text}",)
@@ -771,8 +806,8 @@ def _mounts(data: dict[str, Any], design: StatorDesign, src: str):
         return ()
     # a flat [0, 15] (one point without its list) is told how to write one point
     if not isinstance(value, list) or not value or not all(isinstance(pt, list) for pt in value):
-        raise ValueError(f"{src}: [points] mounts_mm must be a list of [x, y] pairs in mm, "
-                         f"e.g. [[0, 15]] for one point, got {value!r}")
+        raise StatorFileError(src, "[points] mounts_mm", value, "a list of [x, y] pairs in mm, "
+                              "e.g. [[0, 15]] for one point")
     st = design.stator
     mesh = planform_mesh(st)
     out = []
@@ -786,8 +821,9 @@ def _mounts(data: dict[str, Any], design: StatorDesign, src: str):
         else:
             on = abs(x) <= st.width_m / 2 + slack and -slack <= y <= st.length_m + slack
         if not on:
-            raise ValueError(f"{src}: [points] mounts_mm point {i} = [{x / MM:g}, {y / MM:g}] "
-                             f"mm lies off the stator's planform")
+            raise StatorFileError(src, "[points] mounts_mm", value,
+                                  text=f"[points] mounts_mm point {i} = [{x / MM:g}, "
+                                       f"{y / MM:g}] mm lies off the stator's planform")
         out.append((x, y))
     return tuple(out)
 
@@ -828,12 +864,14 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
     pts_t = _table(data, "points", src)
     mesh_t = _table(data, "mesh", src)
     if "mesh" in data and not mesh_t:  # say so, not "missing [plate] length_mm"
-        raise ValueError(f"{src}: [mesh] is empty; give it file = \"plate.msh\" (a mesh file, "
-                         f"with unit = \"m\" or \"mm\"), or size_mm (the element size of a "
-                         f"parametric stator: [tip], [chamfers], [[holes]]), or remove the table")
+        raise StatorFileError(src, "[mesh]", mesh_t,
+                              text="[mesh] is empty; give it file = \"plate.msh\" (a mesh file, "
+                                   "with unit = \"m\" or \"mm\"), or size_mm (the element size "
+                                   "of a parametric stator: [tip], [chamfers], [[holes]]), or "
+                                   "remove the table")
     name = data.get("name", src)
     if not isinstance(name, str):
-        raise ValueError(f"{src}: name must be a string, got {name!r}")
+        raise StatorFileError(src, "name", name, "a string")
     material = _material(mat_t, src)
     damping, damping_origin, identify_Hz = _damping(_table(data, "damping", src), src,
                                                     material)
@@ -851,9 +889,10 @@ def _parse_design(data: dict[str, Any], base_dir: Path | None = None,
         return _parametric(data, plate, elec, mesh_t, tip, preload, thickness, drive, src,
                            name, material, motor)
     if "size_mm" in mesh_t:
-        raise ValueError(f"{src}: [mesh] size_mm sets the gmsh mesh of a parametric stator "
-                         f"([tip], [chamfers] or [[holes]]); a plain plate is meshed by "
-                         f"--refine, a mesh file by itself")
+        raise StatorFileError(src, "[mesh] size_mm", mesh_t["size_mm"],
+                              text="[mesh] size_mm sets the gmsh mesh of a parametric stator "
+                                   "([tip], [chamfers] or [[holes]]); a plain plate is meshed "
+                                   "by --refine, a mesh file by itself")
     if not mesh_t:
         stator = _generated_plate(plate, elec, thickness, drive, tip, preload, src)
         return StatorDesign(name=name, stator=stator, material=material, **motor)
@@ -880,11 +919,11 @@ def _generated_plate(plate: dict, elec: dict, thickness: float, drive: tuple[int
         if pt is None:
             continue
         if not np.allclose(pt, default, rtol=0.0, atol=1e-9 * length * MM):
-            raise ValueError(
-                f"{src}: [points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the "
-                f"generated plate puts it at [{default[0] / MM:g}, {default[1] / MM:g}] "
-                f"mm; give a mesh file ([mesh] file) for other points"
-            )
+            raise StatorFileError(
+                src, f"[points] {key}", [pt[0] / MM, pt[1] / MM],
+                text=f"[points] {key} = [{pt[0] / MM:g}, {pt[1] / MM:g}] mm: the generated "
+                     f"plate puts it at [{default[0] / MM:g}, {default[1] / MM:g}] mm; give a "
+                     "mesh file ([mesh] file) for other points")
     return stator
 
 
@@ -894,29 +933,32 @@ def _mesh_file(mesh_t: dict, elec: dict, base_dir: Path | None, src: str) -> tup
     from fem.meshing.mesh_io import UNITS
 
     if "file" not in mesh_t or not isinstance(mesh_t["file"], str):
-        raise ValueError(f"{src}: [mesh] file must be the path of a mesh file (a string)")
+        raise StatorFileError(src, "[mesh] file", mesh_t.get("file"),
+                              text="[mesh] file must be the path of a mesh file (a string)")
     unit = mesh_t.get("unit", "m")
     if not isinstance(unit, str) or unit not in UNITS:
-        raise ValueError(f"{src}: [mesh] unit must be one of {', '.join(UNITS)}, got {unit!r}")
+        raise StatorFileError(src, "[mesh] unit", unit, choices=UNITS)
     if "gap_mm" in elec:
-        raise ValueError(
-            f"{src}: [electrodes] gap_mm applies to the generated plate only; with [mesh] "
-            f"file the mesh's electrode groups define the layout"
-        )
+        raise StatorFileError(src, "[electrodes] gap_mm", elec["gap_mm"],
+                              text="[electrodes] gap_mm applies to the generated plate only; "
+                                   "with [mesh] file the mesh's electrode groups define the "
+                                   "layout")
     mesh_path = Path(mesh_t["file"])
     if not mesh_path.is_absolute():
         mesh_path = (base_dir or Path.cwd()) / mesh_path
     if mesh_path.is_dir():  # say so: "not found" sends the user looking for a path
-        raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is a folder ({mesh_path}); "
-                         f"name the mesh file, e.g. \"plate.msh\"")
+        raise StatorFileError(src, "[mesh] file", mesh_t["file"],
+                              text=f"[mesh] file {mesh_t['file']!r} is a folder ({mesh_path}); "
+                                   "name the mesh file, e.g. \"plate.msh\"")
     if not mesh_path.exists():
         raise FileNotFoundError(f"{src}: [mesh] file {mesh_t['file']!r} not found ({mesh_path})")
     if not mesh_path.is_file():  # a FIFO or a device: say what it is, not "not found"
         from fem.small_file import kind_of
 
         what = kind_of(mesh_path.stat().st_mode) or "not a regular file"
-        raise ValueError(f"{src}: [mesh] file {mesh_t['file']!r} is {what} ({mesh_path}), "
-                         "not a mesh file")
+        raise StatorFileError(src, "[mesh] file", mesh_t["file"],
+                              text=f"[mesh] file {mesh_t['file']!r} is {what} ({mesh_path}), "
+                                   "not a mesh file")
     return mesh_path, unit
 
 
@@ -933,32 +975,34 @@ def _meshed_stator(mesh_path: Path, unit: str, plate: dict, thickness: float,
     try:
         imported = read_stator_mesh(mesh_path, unit=unit)
     except ValueError as exc:
-        raise ValueError(f"{src}: [mesh] file: {exc}") from None
+        raise StatorFileError(src, "[mesh] file", str(mesh_path),
+                              text=f"[mesh] file: {exc}") from None
     mesh = imported.mesh
     x0, x1, y0, y1 = mesh.bounding_box_m()
     for key, value_m in (("length_mm", y1 - y0), ("width_mm", x1 - x0)):
         given = _length_mm(plate, "plate", key, src, required=False)
         if given is not None and abs(given * MM - value_m) > 1e-6 * value_m:
-            raise ValueError(
-                f"{src}: [plate] {key} = {given:g} mm does not match the mesh's bounding box "
-                f"({value_m / MM:g} mm); lengths with a mesh are its overall extent"
-            )
+            raise StatorFileError(
+                src, f"[plate] {key}", given,
+                text=f"[plate] {key} = {given:g} mm does not match the mesh's bounding box "
+                     f"({value_m / MM:g} mm); lengths with a mesh are its overall extent")
     present = {int(k) for k in np.unique(mesh.electrode) if k > 0}
     for e in drive:
         if e not in present:
-            raise ValueError(
-                f"{src}: [electrodes] drive names electrode {e}, which has no cells in "
-                f"{mesh_path.name} (electrodes present: {sorted(present)})"
-            )
+            raise StatorFileError(
+                src, "[electrodes] drive", list(drive), choices=tuple(sorted(present)),
+                text=f"[electrodes] drive names electrode {e}, which has no cells in "
+                     f"{mesh_path.name} (electrodes present: {sorted(present)})")
     tip = _mesh_point(imported, "tip", "tip_mm", tip, (0.0, y1), src)
     preload = _mesh_point(imported, "preload", "preload_mm", preload, (0.0, 0.0), src)
     if math.hypot(tip[0] - preload[0], tip[1] - preload[1]) <= 1e-9 * max(x1 - x0, y1 - y0):
         # else refused later as "MotorParams.phi_Ll must differ from phi_L0", naming no key
-        raise ValueError(
-            f"{src}: the tip and the preload point are the same point, [{tip[0] / MM:g}, "
-            f"{tip[1] / MM:g}] mm ([points] tip_mm and preload_mm, or the mesh's vertex "
-            "groups): the tip touches the slider at one end of the stator and the preload "
-            "presses at the other")
+        raise StatorFileError(
+            src, "[points] preload_mm", [preload[0] / MM, preload[1] / MM],
+            text=f"the tip and the preload point are the same point, [{tip[0] / MM:g}, "
+                 f"{tip[1] / MM:g}] mm ([points] tip_mm and preload_mm, or the mesh's vertex "
+                 "groups): the tip touches the slider at one end of the stator and the "
+                 "preload presses at the other")
     stator = MeshedStator(
         length_m=y1 - y0, width_m=x1 - x0, thickness_m=_m(thickness), electrode_gap_m=0.0,
         drive_electrodes=drive, mesh=mesh, tip_m=tip, preload_m=preload,
@@ -985,17 +1029,20 @@ def _mesh_point(imported, group: str, key: str, given: tuple[float, float] | Non
         at = f"[{pt[0] / MM:g}, {pt[1] / MM:g}] mm"
         # say where the point came from: a vertex group off the cells is no [points] key
         if given is not None:
-            raise ValueError(f"{src}: [points] {key} = {at} lies off the mesh "
-                             f"({bbox_mm(mesh)})")
+            raise StatorFileError(src, f"[points] {key}", [pt[0] / MM, pt[1] / MM],
+                                  text=f"[points] {key} = {at} lies off the mesh "
+                                       f"({bbox_mm(mesh)})")
         if group in imported.points_m:
-            raise ValueError(
-                f"{src}: the {group!r} vertex group of the mesh file {name} is "
-                f"at {at}, off the mesh's cells ({bbox_mm(mesh)}); put its node on the "
-                f"planform or set [points] {key}")
-        raise ValueError(
-            f"{src}: the default {group} point {at} (no [points] {key}, no {group!r} vertex "
-            f"group in {name}) lies off the mesh's cells ({bbox_mm(mesh)}); set "
-            f"[points] {key} or add a {group!r} vertex group to the mesh")
+            raise StatorFileError(
+                src, f"[points] {key}", None,
+                text=f"the {group!r} vertex group of the mesh file {name} is at {at}, off the "
+                     f"mesh's cells ({bbox_mm(mesh)}); put its node on the planform or set "
+                     f"[points] {key}")
+        raise StatorFileError(
+            src, f"[points] {key}", None,
+            text=f"the default {group} point {at} (no [points] {key}, no {group!r} vertex "
+                 f"group in {name}) lies off the mesh's cells ({bbox_mm(mesh)}); set "
+                 f"[points] {key} or add a {group!r} vertex group to the mesh")
     inside = mesh.outline_distance_m(pt)
     if inside > OUTLINE_TOLERANCE * max(x1 - x0, y1 - y0):
         # the reduction normalises the mode at the point: a tip 1 mm inside the plate moves
@@ -1031,8 +1078,13 @@ def load_stator(path: str | Path) -> StatorDesign:
     ------
     FileNotFoundError
         If the TOML file or its mesh file does not exist.
+    fem.errors.StatorFileError
+        For bad TOML or bad values: its ``key`` the file's key (``'[plate] length_mm'``),
+        its ``value`` the value given, its ``allowed`` what the key takes; the message names
+        the key and the allowed range.
     ValueError
-        For bad TOML or bad values; the message names the key and the allowed range.
+        For a path that is no regular file (a folder, a loop of links, a device) or a file
+        too large for a stator description.
     """
     from fem.small_file import (
         FileTooLarge,
@@ -1062,10 +1114,11 @@ def load_stator(path: str | Path) -> StatorDesign:
                          f"{MAX_STATOR_FILE_BYTES} for a TOML description (its mesh goes in "
                          "the file [mesh] file names)") from None
     except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not a UTF-8 text file ({exc.reason} at byte {exc.start}); "
-                         "a stator file is TOML, saved as UTF-8") from None
+        raise StatorFileError(path, "", text=f"not a UTF-8 text file ({exc.reason} at byte "
+                                             f"{exc.start}); a stator file is TOML, saved as "
+                                             "UTF-8") from None
     except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{path}: not valid TOML: {exc}") from None
+        raise StatorFileError(path, "", text=f"not valid TOML: {exc}") from None
     design = parse_stator(data, base_dir=path.parent, src=str(path))
     return replace(design, path=path, name=design.name if "name" in data else path.stem)
 

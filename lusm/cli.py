@@ -309,10 +309,12 @@ def _one_line_warnings(prog: str) -> Iterator[None]:
     seen: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
+        from fem.errors import GapValidityWarning
         from lusm.errors import in_option_terms
         from lusm.messages import in_file_terms, record_said
 
-        text = in_file_terms(_one_line(in_option_terms(message)))
+        text = _one_line(in_file_terms(message) if isinstance(message, GapValidityWarning)
+                         else in_option_terms(message))
         # a --json summary lists it too (lusm explore's), also when it is said before the
         # summary's record opens
         record_said(text)

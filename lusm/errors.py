@@ -18,7 +18,7 @@ import math
 import numbers
 from pathlib import Path
 
-from bounds import ParameterError, Words, short_reason  # noqa: F401 (callers import it here)
+from bounds import ParameterError, said_in, short_reason  # noqa: F401 (callers import short_reason here)
 
 
 class LusmError(ValueError):
@@ -131,8 +131,11 @@ def parameter_error(exc: ParameterError) -> LusmError:
     parameter, in the option's units: ``--length-mm must be in (0, 10000] mm, got -1000``.
 
     Without a range (a work bound, a value of the wrong kind) the library's words follow the
-    option; a parameter no option sets keeps the library's words alone."""
-    known = PARAMETER_OPTIONS.get(exc.name)
+    option; a parameter no option sets (a stator file's key among them) keeps the library's
+    words alone."""
+    from fem.errors import StatorFileError
+
+    known = None if isinstance(exc, StatorFileError) else PARAMETER_OPTIONS.get(exc.name)
     line = _first_line(exc)
     if known is None:
         return LusmError(line)
@@ -153,8 +156,7 @@ def in_option_terms(message: object) -> str:
     (:class:`bounds.Words`) said as the options that make them: ``load_N = 50 N`` reads
     ``--load-N 50 N``, ``set ultrasonic_friction = False`` reads ``pass
     --no-ultrasonic-friction``; another message as it is."""
-    words = message.args[0] if isinstance(message, BaseException) and message.args else message
-    return words.said(OPTION_FORMS) if isinstance(words, Words) else str(message)
+    return said_in(message, OPTION_FORMS)
 
 
 def feature_reason(exc: BaseException) -> str:

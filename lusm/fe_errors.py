@@ -125,25 +125,26 @@ def _thick_clause(stator) -> str | None:
 def fe_failure(exc: Exception, stator=None) -> ValueError:
     """A mode-solver or sparse-solver failure on an extreme plate, as bad input (``stator``,
     when given, lets a slender plate's message say why B2 is missing)."""
-    from fem.modes import SlenderPlateError, WidePlateError
+    from fem.modes import ModeIdentificationError, SlenderPlateError, WidePlateError
 
     if isinstance(exc, SlenderPlateError | WidePlateError):  # refused before its solve
         return plate_refusal(exc)
     reason = short_reason(exc)
-    # mode-shape tests, which no --refine changes (pairing an off-centre hole's open-circuit
-    # L1 with its short-circuit shape failed as "check ... and --refine")
+    unidentified = isinstance(exc, ModeIdentificationError)
+    # identification and pairing test the modes' shapes, which no --refine changes: the
+    # plate is named, not the mesh
     slender = _slender_clause(stator)
-    if slender and ("could not identify" in reason or "could not pair" in reason):
+    if slender and unidentified:
         # a 1000 x 1 mm plate: too slender, not "wider than about half its length"
         return ValueError(f"L1 and B2 were not found for this stator ({reason}): {slender}; "
                           "check the plate (--geometry or --length-mm, --width-mm)")
     thick = _thick_clause(stator)
-    if thick and ("could not identify" in reason or "could not pair" in reason):
+    if thick and unidentified:
         # a 30 x 7.5 x 39 mm plate: its thickness is named too
         return ValueError(f"L1 and B2 were not found for this stator ({reason}): {thick}; "
                           "check the plate (--geometry or --thickness-mm, --length-mm, "
                           "--width-mm)")
-    if "could not identify" in reason or "could not pair" in reason:
+    if unidentified:
         return ValueError(
             f"L1 and B2 were not found for this stator ({reason}): they are identified as the "
             "free-free beam modes of Eq. 3, which a plate wider than about half its length "

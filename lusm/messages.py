@@ -58,9 +58,10 @@ def forget_warnings() -> None:
     _SAID.clear()
 
 
-def warn(message: str) -> None:
+def warn(message: str | Warning) -> None:
     """One warning line on stderr: ``lusm <cmd>: warning: ...``, once per command (lusm
-    report builds the FE model in several stages, each of which warns)."""
+    report builds the FE model in several stages, each of which warns); a library warning
+    in the stator file's terms where it has them (:func:`in_file_terms`)."""
     text = in_file_terms(message)
     line = f"{_COMMAND[0]}: warning: {text}"
     record_said(text)  # also when said before the record opened: the --json lists it too
@@ -102,16 +103,15 @@ def warnings_said() -> Iterator[list[str]]:
         _RECORDS.remove(said)
 
 
-def in_file_terms(message: str) -> str:
+def in_file_terms(message: object) -> str:
     """A library warning in a stator file's terms when the user gave ``--geometry``: the 2D
-    model's gap-validity warning spoke of "electrode gap 0.8 mm exceeds thickness/6" where
-    the file's keys are ``[electrodes] gap_mm`` (or its mesh's gap strips) and
-    ``[plate] thickness_mm``."""
-    if not typed("--geometry"):
-        return message
-    import re
+    model's :class:`fem.errors.GapValidityWarning` compares the file's ``[electrodes] gap_mm``
+    (or its mesh's gap strips) with its ``[plate] thickness_mm``; any other message as it
+    is."""
+    from fem.errors import GapValidityWarning
 
-    return re.sub(r"^electrode gap (\S+) mm exceeds thickness/6 = (\S+) mm",
-                  r"the stator file's electrode gap (\1 mm: [electrodes] gap_mm, or its "
-                  r"mesh's gap strips) exceeds its [plate] thickness_mm / 6 = \2 mm",
-                  message)
+    if not (isinstance(message, GapValidityWarning) and typed("--geometry")):
+        return str(message)
+    return (f"the stator file's electrode gap ({message.gap_m * 1e3:g} mm: [electrodes] "
+            f"gap_mm, or its mesh's gap strips) exceeds its [plate] thickness_mm / 6 = "
+            f"{message.limit_m * 1e3:.3g} mm{message.detail}")

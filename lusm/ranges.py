@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from bounds import ParameterError
 from lusm.limits import MAX_GRID_POINTS, more_work_hint, work_bound
 
 MAX_POINTS = MAX_GRID_POINTS
@@ -36,6 +37,9 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
 
     Raises
     ------
+    bounds.ParameterError
+        More points than :data:`MAX_POINTS` (times ``LUSM_MAX_WORK``): its ``name`` the
+        option, its ``value`` the count, its ``high`` the limit.
     ValueError
         Naming the option, the allowed form and, with ``bounds``, the range.
     """
@@ -45,9 +49,10 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
     form = "start:stop:step" + (" or a comma list of numbers" if allow_list else "") + values_in
     top = work_bound(MAX_POINTS)
 
-    def too_many(n: float) -> ValueError:
-        return ValueError(f"{name} has {n:.6g} points, above the limit {top} "
-                          f"({more_work_hint()}), got {text!r}")
+    def too_many(n: float) -> ParameterError:
+        return ParameterError(name, n, high=top, reason=more_work_hint(),
+                              message=f"{name} has {n:.6g} points, above the limit {top} "
+                                      f"({more_work_hint()}), got {text!r}")
 
     if text.count(",") >= top:
         raise too_many(text.count(",") + 1)
@@ -72,9 +77,9 @@ def parse_range(text: str, name: str, *, allow_list: bool = True,
             values = np.array([float(v) for v in text.split(",")])
             if not np.all(np.isfinite(values)):
                 raise ValueError
-    except ValueError as exc:
-        if "above the limit" in str(exc):
-            raise
+    except ParameterError:
+        raise  # too many points: said as it is
+    except ValueError:
         also = f"; {note}" if note else ""
         raise ValueError(
             f"{name} must be {form} (finite, step > 0, stop >= start{also}), got {text!r}"

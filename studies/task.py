@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from bounds import short_reason
+from bounds import said_in, short_reason
 from fem.mesh_settings import MeshSettings
 from studies.study import FEATURE_FIELDS, Study, plate_with
 from validation.summaries import motion_class
@@ -37,6 +37,11 @@ TASK_EXTRAS = ("task_time_s", "lusm_version")
 
 WARNING_SEPARATOR = "\n"
 """Between two warnings in a geometry's ``warnings`` (each is one line)."""
+
+STUDY_FORMS = {"ultrasonic_friction": "set {name} = false in the study's [solver]"}
+"""A library warning's setting (:class:`bounds.Words`) as the study file's key that makes
+it: the unsettled-A_N warning's remedy is the ``[solver]`` key, not the single-point
+commands' ``--no-ultrasonic-friction``."""
 
 POINT_OK = "ok"
 """The ``point_status`` of a drive point that computed."""
@@ -172,7 +177,7 @@ def compute_geometry(study: Study, index: int) -> dict[str, np.ndarray]:
         out = _compute(study, index)
     out["task_time_s"] = np.array(time.perf_counter() - t0)
     out["warnings"] = np.array(WARNING_SEPARATOR.join(
-        sorted({" ".join(str(w.message).split()) for w in caught})))
+        sorted({" ".join(said_in(w.message, STUDY_FORMS).split()) for w in caught})))
     out["lusm_version"] = np.array(package_version())  # the client compares it with its own
     return out
 

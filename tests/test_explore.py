@@ -1597,11 +1597,11 @@ def test_a_study_can_take_the_constant_dynamic_friction():
     warning a worker raises named that switch. The answer is the steady engine's with the
     constant mu_d, to the bit, and differs from Eq. 11's (mu_d,eff < mu_d changes the thrust);
     the warning's remedy is said in the study file's terms."""
+    from bounds import Words, said_in
     from contact.model import default_coupling
     from contact.steady.engine import steady_state
-    from lusm.commands.explore import in_study_terms
     from rom import table2
-    from studies.task import Drive, motor_answers
+    from studies.task import STUDY_FORMS, Drive, motor_answers
 
     params = table2()
     coupling = default_coupling(params)[0]
@@ -1614,7 +1614,10 @@ def test_a_study_can_take_the_constant_dynamic_friction():
                               accuracy="fast", ultrasonic_friction=uf)
         assert answers[uf]["no_load_velocity"] == direct.velocity_m_s
     assert answers[False]["no_load_velocity"] != answers[True]["no_load_velocity"]
-    text = in_study_terms("damp L1 more, or set ultrasonic_friction = False for a constant mu_d")
+    remedy = UserWarning(Words("damp L1 more, or {ultrasonic_friction} for a constant mu_d",
+                               {"ultrasonic_friction": "set {name} = {value}"},
+                               ultrasonic_friction="False"))
+    text = said_in(remedy, STUDY_FORMS)
     assert text.endswith("set ultrasonic_friction = false in the study's [solver] for a "
                          "constant mu_d")
 

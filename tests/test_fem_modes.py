@@ -474,10 +474,10 @@ def test_a_failed_identification_blames_slenderness_only_near_the_search_bound()
     it: the count is the FE spectrum's or one low). Plates of 30 to 300 x 1 mm solve and give
     their pair, and a fixed length / width of 17 had told any of them that failed for another
     reason that its B2 was out of reach."""
-    from fem.modes import N_MODES, SEARCH_GROWTH, ModeSolverError, modes_nearer_than_b2
+    from fem.modes import N_MODES, SEARCH_GROWTH, ModeIdentificationError, modes_nearer_than_b2
     from lusm.fe_errors import fe_failure
 
-    exc = ModeSolverError("could not identify B2 among the modes solved")
+    exc = ModeIdentificationError("could not identify B2 among the modes solved", "B2")
     searched = SEARCH_GROWTH[-1] * N_MODES
     for length_mm, blamed in ((100, False), (300, False), (715, True)):
         stator = PlateStator(length_m=length_mm * 1e-3, width_m=1e-3)

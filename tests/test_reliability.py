@@ -172,6 +172,16 @@ def test_library_errors_are_mapped_to_the_option_that_sets_them():
     assert "UTF-8" in str(e) and "byte 0" in str(e)
 
 
+def test_a_parameter_error_pickles_with_its_fields():
+    """A dask worker's refusal reaches the client whole: its class, message and fields."""
+    import pickle
+
+    exc = ParameterError("dt_s", 1e-7, 0.0, 8.5e-10, "s", low_open=True, reason="r")
+    back = pickle.loads(pickle.dumps(exc))
+    assert type(back) is ParameterError and str(back) == str(exc)
+    assert (back.name, back.value, back.high, back.low_open) == ("dt_s", 1e-7, 8.5e-10, True)
+
+
 @pytest.mark.slow
 def test_an_export_is_moved_in_complete(tmp_path, capsys):
     out = tmp_path / "new" / "m.vtu"

@@ -747,3 +747,30 @@ def test_a_point_on_a_mirrored_meshs_centre_line_is_not_minus_zero(tmp_path, cap
     assert math.copysign(1.0, d["preload_mm"][0]) == 1.0
     assert main(["modes", "--geometry", str(tmp_path / "stator.toml")]) == 0
     assert "tip (0, 31) mm, preload (0, 0) mm" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("text, key, value, allowed", [
+    ("[plate]\nlength_mm = -1\nwidth_mm = 7.5\nthickness_mm = 3\n", "[plate] length_mm", -1,
+     "in [0.1, 1000] mm"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[points]\ntip_mm = [1]\n",
+     "[points] tip_mm", [1], "[x, y] in mm"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[mesh]\nfile = \"p.msh\"\n"
+     "unit = \"cm\"\n", "[mesh] unit", "cm", "one of m, mm"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[damping]\nzeta_L1 = 0.01\n",
+     "[damping] zeta_B2", None, "a finite number"),
+])
+def test_a_refusal_names_the_files_key_as_a_field(tmp_path, text, key, value, allowed):
+    """A caller tells which key failed, the value and what the key takes from the
+    refusal's fields, not its message; the fields survive a worker's pickling."""
+    import pickle
+
+    from fem.errors import StatorFileError
+    from fem.stator_file import load_stator
+
+    path = _write(tmp_path, text)
+    with pytest.raises(StatorFileError) as info:
+        load_stator(path)
+    for exc in (info.value, pickle.loads(pickle.dumps(info.value))):
+        assert (exc.key, exc.value, exc.allowed, exc.source) == (key, value, allowed,
+                                                                 str(path))
+        assert str(exc).startswith(f"{path}: ") and key in str(exc)

@@ -227,16 +227,16 @@ def _command_3d(stator, refine3: int, options: str) -> str:
 
 
 def _validity_note(stator) -> tuple[str | None, list[str]]:
-    """The 2D model's gap-validity warning (:func:`fem.model.stator_gap_validity_message`) and
+    """The 2D model's gap-validity warning (:func:`fem.model.stator_gap_validity`) and
     its paragraph for section 1: said on stderr during the run, and in the report, which
     outlives the run, so that its reader sees when its 2D rows are out of range."""
-    from fem.model import stator_gap_validity_message
+    from fem.model import stator_gap_validity
     from lusm.messages import in_file_terms
 
-    validity = stator_gap_validity_message(stator)
+    validity = stator_gap_validity(stator)
     if validity is None:
         return None, []
-    return validity, [f"**The 2D model is outside its validity for this stator**: "
+    return str(validity), [f"**The 2D model is outside its validity for this stator**: "
                       f"{in_file_terms(validity)}. The 2D rows, and the reduced set and motor "
                       "sections built on them, carry that error; the 3D columns are the "
                       "reference.", ""]

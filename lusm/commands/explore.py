@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import re
 import sys
 from pathlib import Path
 
@@ -199,7 +198,7 @@ def _run_study(args: argparse.Namespace, study, plot: str | None):
                          resume=args.resume, force=args.force, progress=not args.json,
                          worker_timeout_s=worker_timeout_s(args))
         for text in result.warnings:  # said once each, as every command says a warning
-            warn(in_study_terms(text))
+            warn(text)
         _report_failures(open_result(result.path), result.path)
     except NothingComputedError:
         raise  # its message says where the parts are kept
@@ -317,14 +316,6 @@ def _file_stamp(path: Path) -> tuple[int, int] | None:
     except OSError:
         return None
     return st.st_ino, st.st_mtime_ns
-
-
-def in_study_terms(text: str) -> str:
-    """A worker's warning with its remedy in the study file's terms: the unsettled-A_N
-    warning's ``set ultrasonic_friction = False`` is the ``[solver]`` key, not the single-point
-    commands' ``--no-ultrasonic-friction`` (which the CLI's printer would make of it)."""
-    return re.sub(r"set ultrasonic_friction\s*=\s*False",
-                  "set ultrasonic_friction = false in the study's [solver]", text)
 
 
 def _warn_drive(study) -> None:

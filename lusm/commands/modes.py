@@ -294,7 +294,7 @@ def _solve(args: argparse.Namespace, choice, mesh: _Mesh, coarse_gap: str | None
     """L1 and B2 of the chosen model (with the default 3D meshes an
     :class:`fem.solid3d.estimate.EstimatedSolidModes`, whose ``fine`` are the modes), and
     the 2D model's gap-validity message (or None); a solver failure said as bad input."""
-    from fem.modes import ModeSolverError, plate_modes
+    from fem.modes import ModePairingError, ModeSolverError, plate_modes
 
     stator, material = choice.stator, choice.material
     validity = None
@@ -316,14 +316,14 @@ def _solve(args: argparse.Namespace, choice, mesh: _Mesh, coarse_gap: str | None
         else:
             import warnings
 
-            from fem.model import GapValidityWarning, stator_gap_validity_message
+            from fem.model import GapValidityWarning, stator_gap_validity
 
-            validity = stator_gap_validity_message(stator)
+            validity = stator_gap_validity(stator)
             with warnings.catch_warnings():  # reported once, after, on one line
                 warnings.simplefilter("ignore", GapValidityWarning)
                 res = plate_modes(stator, material, mesh.fe)
     except Exception as exc:
-        if coarse_gap is not None and "could not pair" in str(exc):
+        if coarse_gap is not None and isinstance(exc, ModePairingError):
             # an open mode mixed with an out-of-plane one across an unresolved gap
             raise ValueError(f"{short_reason(exc)}; the 3D mesh does not resolve the "
                              f"electrode gap: {coarse_gap}") from exc

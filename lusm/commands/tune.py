@@ -254,12 +254,12 @@ def _tune(args: argparse.Namespace, choice):
 def _warn_tuned_plate(st) -> None:
     """What ``lusm modes`` says of the tuned plate: its holes, the gap's validity, its
     thickness."""
-    from fem.model import stator_gap_validity_message
+    from fem.model import stator_gap_validity
     from lusm.messages import warn
     from lusm.options import warn_holes, warn_thin_plate
 
     warn_holes(st, "the tuned plate")  # 2D tunes holes softer than 3D
-    validity = stator_gap_validity_message(st)
+    validity = stator_gap_validity(st)
     if validity is not None:
         warn(f"the tuned plate: {validity}")
     warn_thin_plate(f"the tuned plate: thickness {st.thickness_m * 1e3:g} mm",
