@@ -79,6 +79,8 @@ def main(argv: list[str] | None = None) -> None:
         matplotlib.use("Agg")  # a script, not library code
         import matplotlib.pyplot as plt
 
+        from validation.plotting import save
+
         fig, ax = plt.subplots(figsize=(6, 4.2))
         for name, vals in rows.items():
             ts, es = zip(*vals, strict=True)
@@ -88,9 +90,7 @@ def main(argv: list[str] | None = None) -> None:
         ax.set_ylabel("relative velocity error against the settled transient (-)")
         ax.set_title("Work-precision, Table 2's set")
         ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(args.plot, dpi=120)
-        print(f"\nwrote {args.plot}")
+        print(f"\nwrote {save(fig, args.plot)}")
 
 
 if __name__ == "__main__":

@@ -47,6 +47,8 @@ def main(argv: list[str] | None = None) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from validation.plotting import save
+
     fitted = MotorParams.from_dict(json.loads(Path(args.calibrated).read_text()))
     data = np.genfromtxt(HERE / "fig24.csv", delimiter=",", names=True)
     volts = np.arange(50.0, 400.1, 5.0)
@@ -65,9 +67,7 @@ def main(argv: list[str] | None = None) -> None:
     ax.set_ylabel("steady slider speed (mm/s)")
     ax.set_title("Fig. 24 procedure: 14 N, 40 kHz, paper's coupling")
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(args.figure, dpi=110)
-    plt.close(fig)
+    save(fig, args.figure)
 
 
 if __name__ == "__main__":
