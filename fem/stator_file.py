@@ -395,74 +395,19 @@ def _drive(table: dict, src: str) -> tuple[int, ...]:
     return tuple(v)
 
 
+INLINE_KEYS = ("cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3")
+"""The ``[material]`` keys of inline constants."""
+
+
 def _material(table: dict, src: str) -> PiezoMaterial:
+    """The ``[material]`` table's material: PZT-8 without one, a named one, or inline
+    constants (from ``base`` where given)."""
     if not table:
         return get_material("pzt8")
-    inline = [k for k in ("cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3") if k in table]
-    if not inline:
-        if "base" in table:
-            raise StatorFileError(src, "[material] base", table["base"],
-                                  text="[material] base needs at least one inline constant")
-        name = table.get("name", "pzt8")
-        if "source" in table:  # refused, not dropped: a named material has its own
-            raise StatorFileError(
-                src, "[material] source", table["source"],
-                text=f"[material] source describes inline constants (cE_Pa, e_C_m2, "
-                     f"epsS_F_m, rho_kg_m3) and cannot be combined with name = {name!r} "
-                     f"alone, whose source is fixed; remove source, or give constants inline "
-                     f"(with base = {name!r} to start from it)")
-        try:
-            if not isinstance(name, str):
-                raise ValueError
-            return get_material(name)
-        except ValueError:
-            raise StatorFileError(
-                src, "[material] name", name, choices=MATERIAL_NAMES,
-                text=f"[material] name {name!r} is unknown; allowed: "
-                     f"{', '.join(MATERIAL_NAMES)}, or inline constants cE_Pa, e_C_m2, "
-                     f"epsS_F_m, rho_kg_m3 (optionally with base = \"pzt8\")") from None
-    base_name = table.get("base")
-    if base_name is None:
-        missing = [k for k in ("cE_Pa", "e_C_m2", "epsS_F_m", "rho_kg_m3") if k not in table]
-        if missing:
-            raise StatorFileError(
-                src, f"[material] {missing[0]}",
-                text=f"[material] inline constants need {', '.join(missing)} (or base = "
-                     f"\"pzt8\" to start from a named material)")
-        base = None
-    else:
-        try:
-            if not isinstance(base_name, str):
-                raise ValueError
-            base = get_material(base_name)
-        except ValueError:
-            raise StatorFileError(src, "[material] base", base_name, choices=MATERIAL_NAMES,
-                                  text=f"[material] base {base_name!r} is unknown; allowed: "
-                                       f"{', '.join(MATERIAL_NAMES)}") from None
-    values: dict[str, Any] = {}
-    for key, shape in (("cE_Pa", (6, 6)), ("e_C_m2", (3, 6)), ("epsS_F_m", (3, 3))):
-        if key in table:
-            try:
-                arr = np.array(table[key], dtype=float)
-            except (TypeError, ValueError):
-                arr = None
-            if arr is None or arr.shape != shape:
-                raise StatorFileError(src, f"[material] {key}", table[key],
-                                      f"a {shape[0]}x{shape[1]} array of numbers",
-                                      text=f"[material] {key} must be a {shape[0]}x{shape[1]} "
-                                           "array of numbers")
-            lo, hi, scale, unit = MATERIAL_RANGES[key]
-            size = np.max(np.abs(np.diag(arr))) if key != "e_C_m2" else np.max(np.abs(arr))
-            if not (np.all(np.isfinite(arr)) and lo <= size / scale <= hi):
-                raise StatorFileError(
-                    src, f"[material] {key}", size / scale, low=lo, high=hi, unit=unit,
-                    text=f"[material] {key}'s largest "
-                         f"{'entry' if key == 'e_C_m2' else 'diagonal entry'} must lie in "
-                         f"[{lo:g}, {hi:g}] {unit} (solid piezoelectrics; PZT-8: "
-                         f"{PZT8_SIZE[key]}), got {size / scale:.4g} {unit}")
-            values[key] = arr
-        else:
-            values[key] = getattr(base, key)
+    if not any(k in table for k in INLINE_KEYS):
+        return _named_material(table, src)
+    base = _material_base(table, src)
+    values = _material_arrays(table, base, src)
     rho = table.get("rho_kg_m3", base.rho_kg_m3 if base is not None else None)
     lo, hi = DENSITY_RANGE_KG_M3
     if (not isinstance(rho, (int, float)) or isinstance(rho, bool) or not math.isfinite(rho)
@@ -482,6 +427,85 @@ def _material(table: dict, src: str) -> PiezoMaterial:
     except ValueError as exc:  # the file's key, not the class's attribute name
         raise StatorFileError(src, "[material]", text=f"[material] "
                               f"{str(exc).replace('PiezoMaterial.', '')}") from None
+
+
+def _library_material(key: str, name: object, src: str, text: str) -> PiezoMaterial:
+    """The library's material ``name``, or a refusal of ``[material] key`` with ``text``."""
+    try:
+        if not isinstance(name, str):
+            raise ValueError
+        return get_material(name)
+    except ValueError:
+        raise StatorFileError(src, f"[material] {key}", name, choices=MATERIAL_NAMES,
+                              text=text) from None
+
+
+def _named_material(table: dict, src: str) -> PiezoMaterial:
+    """A ``[material]`` table without inline constants: ``name`` (default PZT-8) alone."""
+    if "base" in table:
+        raise StatorFileError(src, "[material] base", table["base"],
+                              text="[material] base needs at least one inline constant")
+    name = table.get("name", "pzt8")
+    if "source" in table:  # refused, not dropped: a named material has its own
+        raise StatorFileError(
+            src, "[material] source", table["source"],
+            text=f"[material] source describes inline constants (cE_Pa, e_C_m2, "
+                 f"epsS_F_m, rho_kg_m3) and cannot be combined with name = {name!r} "
+                 f"alone, whose source is fixed; remove source, or give constants inline "
+                 f"(with base = {name!r} to start from it)")
+    return _library_material(
+        "name", name, src,
+        f"[material] name {name!r} is unknown; allowed: {', '.join(MATERIAL_NAMES)}, or "
+        f"inline constants cE_Pa, e_C_m2, epsS_F_m, rho_kg_m3 (optionally with base = "
+        f"\"pzt8\")")
+
+
+def _material_base(table: dict, src: str) -> PiezoMaterial | None:
+    """The named material inline constants start from (``base``), None without one (then
+    every constant is needed)."""
+    base_name = table.get("base")
+    if base_name is not None:
+        return _library_material("base", base_name, src,
+                                 f"[material] base {base_name!r} is unknown; allowed: "
+                                 f"{', '.join(MATERIAL_NAMES)}")
+    missing = [k for k in INLINE_KEYS if k not in table]
+    if missing:
+        raise StatorFileError(
+            src, f"[material] {missing[0]}",
+            text=f"[material] inline constants need {', '.join(missing)} (or base = "
+                 f"\"pzt8\" to start from a named material)")
+    return None
+
+
+def _material_arrays(table: dict, base: PiezoMaterial | None,
+                     src: str) -> dict[str, np.ndarray]:
+    """The stiffness, piezoelectric and permittivity arrays (SI): the table's, checked for
+    shape and size, or the base's."""
+    values: dict[str, Any] = {}
+    for key, shape in (("cE_Pa", (6, 6)), ("e_C_m2", (3, 6)), ("epsS_F_m", (3, 3))):
+        if key not in table:
+            values[key] = getattr(base, key)
+            continue
+        try:
+            arr = np.array(table[key], dtype=float)
+        except (TypeError, ValueError):
+            arr = None
+        if arr is None or arr.shape != shape:
+            raise StatorFileError(src, f"[material] {key}", table[key],
+                                  f"a {shape[0]}x{shape[1]} array of numbers",
+                                  text=f"[material] {key} must be a {shape[0]}x{shape[1]} "
+                                       "array of numbers")
+        lo, hi, scale, unit = MATERIAL_RANGES[key]
+        size = np.max(np.abs(np.diag(arr))) if key != "e_C_m2" else np.max(np.abs(arr))
+        if not (np.all(np.isfinite(arr)) and lo <= size / scale <= hi):
+            raise StatorFileError(
+                src, f"[material] {key}", size / scale, low=lo, high=hi, unit=unit,
+                text=f"[material] {key}'s largest "
+                     f"{'entry' if key == 'e_C_m2' else 'diagonal entry'} must lie in "
+                     f"[{lo:g}, {hi:g}] {unit} (solid piezoelectrics; PZT-8: "
+                     f"{PZT8_SIZE[key]}), got {size / scale:.4g} {unit}")
+        values[key] = arr
+    return values
 
 
 def _number(table: dict, tname: str, key: str, src: str, lo: float, hi: float,
@@ -625,18 +649,14 @@ def _motor(data: dict[str, Any], src: str) -> dict[str, float]:
             if key in table:
                 out[name] = _number(table, tname, key, src, lo, hi, lo_closed, True, unit)
     fric = data.get("friction") or {}
-    if "mu_s" in out and "mu_d" in out and out["mu_d"] > out["mu_s"]:
-        raise StatorFileError(
-            src, "[friction] mu_d", fric["mu_d"], high=out["mu_s"], bound_by="[friction] mu_s",
-            reason="kinetic friction cannot exceed static",
-            text=f"[friction] mu_d = {fric['mu_d']!r} must be <= [friction] mu_s = "
-                 f"{fric['mu_s']!r} (kinetic friction cannot exceed static)")
-    if "mu_d" in out and "a_mu" in out and out["a_mu"] > out["mu_d"]:
-        raise StatorFileError(
-            src, "[friction] a_mu", fric["a_mu"], high=out["mu_d"], bound_by="[friction] mu_d",
-            reason="Eq. 11 decays from mu_d to a_mu",
-            text=f"[friction] a_mu = {fric['a_mu']!r} must be <= [friction] mu_d = "
-                 f"{fric['mu_d']!r} (Eq. 11 decays from mu_d to a_mu)")
+    for low, high, reason in (("mu_d", "mu_s", "kinetic friction cannot exceed static"),
+                              ("a_mu", "mu_d", "Eq. 11 decays from mu_d to a_mu")):
+        if low in out and high in out and out[low] > out[high]:
+            raise StatorFileError(
+                src, f"[friction] {low}", fric[low], high=out[high],
+                bound_by=f"[friction] {high}", reason=reason,
+                text=f"[friction] {low} = {fric[low]!r} must be <= [friction] {high} = "
+                     f"{fric[high]!r} ({reason})")
     return out
 
 
