@@ -335,8 +335,10 @@ WORKER_NOTICE_S = 30.0
 """Seconds without a worker after which the wait is said (half the bound when that is
 shorter)."""
 
-POLL_S = 0.25
-"""Seconds between two looks at the cluster while no task has finished."""
+POLL_S = 0.01
+"""Seconds between two looks for a finished task (a lock and a length: free at this rate);
+the cluster itself is looked at once a second. A batch of an optimisation waits this long at
+most after its last task ends, so it is short beside a task's fraction of a second."""
 
 
 class ClusterLostError(ValueError):

@@ -31,19 +31,6 @@ if os.environ.get("CI"):
     settings.load_profile("ci")
 
 
-@pytest.fixture(scope="session", autouse=True)
-def _quick_cluster_poll():
-    """A study in this process looks for a finished task every 10 ms, not every 250 ms
-    (:data:`studies.cluster.POLL_S`): the tests' tasks take milliseconds (optimize's analytic
-    evaluator) to a second, and the sleep after each one was most of their run time. What a
-    study computes and writes does not depend on the poll."""
-    import studies.cluster
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(studies.cluster, "POLL_S", 0.01)
-        yield
-
-
 @pytest.fixture(autouse=True)
 def _fresh_warnings():
     """Each test starts with no warning said: the CLI says each warning once per command, and
