@@ -136,20 +136,20 @@ def test_the_cli_refuses_a_bad_stator_study_with_exit_2(tmp_path, capsys):
 def test_a_stator_with_its_own_mesh_varies_in_thickness_only(tmp_path):
     """Its 2D mesh is not rescaled, but the plane-stress thickness is a number: the plate at
     another thickness is the file with that ``thickness_mm``, and its gap is no number (the
-    mesh's tagged electrodes)."""
+    mesh's tagged electrodes). The file's own thickness giving the file's own modes is the
+    bit-for-bit test's case above."""
     import math
 
     from fem.stator_file import load_stator
 
     s = study_from_dict({"study": {"stator": str(MESHED)}, "outputs": ["f_L1_short"],
-                         "axes": {"thickness": ["2.5 mm", "3 mm"]}})
+                         "axes": {"thickness": ["2.5 mm"]}})
     assert math.isnan(s.axes["gap"][0])
     for name in ("stator.toml", "chamfered.msh"):
         shutil.copy(MESHED.parent / name, tmp_path / name)
     edited = tmp_path / "stator.toml"
     edited.write_text(edited.read_text().replace("thickness_mm = 3.0", "thickness_mm = 2.5"))
     assert float(compute_geometry(s, 0)["f_L1_short"]) == load_stator(edited).modes().L1.f_short_Hz
-    assert float(compute_geometry(s, 1)["f_L1_short"]) == load_stator(MESHED).modes().L1.f_short_Hz
 
 
 def _stator_with(tmp_path, old: str, new: str) -> Path:
