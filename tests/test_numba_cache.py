@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import pickle
 import shutil
 import subprocess
 import sys
@@ -53,3 +54,45 @@ def test_an_edit_of_the_state_layout_recompiles_the_event_kernel(tmp_path):
     # the swapped indices change the answer (mu_s and mu_d trade places); a stale cache
     # kept answering the original's
     assert run(tmp_path / "cache") != original
+
+
+def _index_signatures(dispatcher) -> list:
+    """Signatures in the on-disk cache index of a jitted function (numba's internal layout:
+    the numba version pickled, then the pickled ``(stamp, overloads)``)."""
+    cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
+    path = getattr(cache_file, "_index_path", None)
+    if path is None:
+        pytest.skip("numba's cache index layout differs from the one this test reads")
+    with open(path, "rb") as f:
+        pickle.load(f)
+        _, overloads = pickle.loads(f.read())
+    return [key[0] for key in overloads]
+
+
+@pytest.mark.slow
+def test_every_contact_kernel_is_compiled_for_one_signature():
+    """numba types a constant argument of a call between kernels as a literal and compiles
+    the callee once more for it (integrate_switch_model from the orbit kernels costs seconds
+    of every cold start). After the transient schemes and both steady levels, each kernel's
+    cache index (all runs since its source last changed) holds one signature."""
+    from numba.core.registry import CPUDispatcher
+
+    from contact.simulate import simulate
+    from contact.steady import orbit_kernel
+    from contact.steady.engine import steady_state
+    from contact.transient import event_kernel, literal_kernel
+    from rom import table2
+
+    p = table2()
+    simulate(p, 200, 14, duration_s=2e-3, energy=True)
+    simulate(p, 200, 14, duration_s=2e-3, method="literal")
+    steady_state(p, 200, 14, coupling="paper", accuracy="fast", load_N=1.0)
+    steady_state(p, 200, 14, coupling="paper", load_N=1.0)
+    kernels = [obj for mod in (event_kernel, literal_kernel, orbit_kernel)
+               for obj in vars(mod).values()
+               if isinstance(obj, CPUDispatcher) and obj.__module__ == mod.__name__
+               and obj.targetoptions.get("inline") != "always"]  # inlined: no index
+    assert len(kernels) >= 25
+    found = {k.__qualname__: _index_signatures(k) for k in kernels}
+    several = {name: sigs for name, sigs in found.items() if len(sigs) > 1}
+    assert not several

@@ -88,16 +88,20 @@ def _run(z, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_
     no phase times and no trace: the output tuple of :func:`integrate_switch_model`."""
     zs = z.copy()
     zs[X] = 0.0
+    # np.int64 and np.bool_, not constants, which numba types as literals and would compile
+    # the kernel once more for: the kernel keeps the one signature the Python calls use
     return integrate_switch_model(zs, mode, steps, dt, phi, half, a, ev_h, ev_dh, ev_type,
-                                  fn_m, ft_m, ff_m, funcs, sc, steps, steps, 1, False, 64,
-                                  np.empty(0, np.int64), np.empty(0))
+                                  fn_m, ft_m, ff_m, funcs, sc, steps, steps, np.int64(1),
+                                  np.bool_(False), np.int64(64), np.empty(0, np.int64),
+                                  np.empty(0))
 
 
 @njit(cache=True, nogil=True)
 def _period(z, mode, periods, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m,
             ft_m, ff_m, funcs, sc):
     """``periods`` drive periods from ``z`` (x slot reset); returns status, the consistent
-    end state, its mode and the integral in the x slot."""
+    end state, its mode and the integral in the x slot. Callers pass ``periods`` as int64
+    (``np.int64(1)``, not a literal ``1``), so that it is compiled once."""
     out = _run(z, mode, n * periods, dt, phi, half, a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m,
                funcs, sc)
     z_end = out[7].copy()
@@ -141,8 +145,8 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
     slow = 0
     while periods < max_periods:
         if not have_pending:
-            st, z1, m1, i1 = _period(z, mode, 1, v, phi_bl, n, dt, phi, half, a, ev_h, ev_dh,
-                                     ev_type, fn_m, ft_m, ff_m, funcs, sc)
+            st, z1, m1, i1 = _period(z, mode, np.int64(1), v, phi_bl, n, dt, phi, half, a,
+                                     ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc)
             if st != 0:
                 return CHATTER, 0, z, mode, res, periods, newton_it, integral, jac, jac_mode
             periods += 1
@@ -217,8 +221,8 @@ def search_orbit(z0, mode0, v, amp, phi_bl, n, dt, phi, half, a, ev_h, ev_dh, ev
                         zn[_y_index(i)] += step[ri]
                         ri += 1
                 _consistent(zn, mode, v, phi_bl)
-                st, z2, m2, i2 = _period(zn, mode, 1, v, phi_bl, n, dt, phi, half, a, ev_h,
-                                         ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc)
+                st, z2, m2, i2 = _period(zn, mode, np.int64(1), v, phi_bl, n, dt, phi, half,
+                                         a, ev_h, ev_dh, ev_type, fn_m, ft_m, ff_m, funcs, sc)
                 periods += 1
                 # a Newton trial that chatters is a failed step, not a failed search
                 res2 = _defect(z2, zn, amp) if st == 0 else np.inf
@@ -454,7 +458,7 @@ def find_orbit_compiled(z0, mode0, v, phi_bl, period_s, warmup, n, dt, phi, half
     # caller (the window triples the cost of a step)
     out2 = integrate_switch_model(zs, mode, steps, dt, phi_fn, half_fn, a_fn, ev_h, ev_dh_fn,
                                   ev_type, fn_m, ft_m, ff_m, funcs, sc, 0 if k > 0 else steps,
-                                  steps, 1, False, 64,
+                                  steps, np.int64(1), np.bool_(False), np.int64(64),
                                   np.empty(0, np.int64), np.empty(0))
     if out2[0] != 0:
         return (CHATTER, 0, z, mode, res, periods, newton_it, np.nan, np.nan, nan4, jac,

@@ -371,7 +371,8 @@ def _switch(mode, etype, z, funcs, scalars):
         tip = SLIP_POS if fs > 0.0 else SLIP_NEG
     elif etype == EV_XDOT_ZERO:
         if contact == CONTACT and tip == STICK:
-            tip, guide = _tip_zero(z, HELD, funcs, scalars)
+            # int64, not the literal HELD: one compiled _tip_zero for every call
+            tip, guide = _tip_zero(z, np.int64(HELD), funcs, scalars)
         else:
             ft = 0.0
             ng = _dot(funcs[F_NG_SEP], z)
@@ -539,9 +540,12 @@ def integrate_switch_model(
     stats[2] = -np.inf
     phi_ll = scalars[SC_PHI_LL]
     full_start = n_steps - n_full
-    _record(trace, 0, 0.0, z, mode, fn_m, ft_m, funcs, phi_ll)
+    # np.int64(0), not 0: numba types a constant argument as a literal and compiles the
+    # callee once more for it; as int64 every call shares the one signature
+    row0 = np.int64(0)
+    _record(trace, row0, 0.0, z, mode, fn_m, ft_m, funcs, phi_ll)
     if full_start == 0:
-        _record(full, 0, 0.0, z, mode, fn_m, ft_m, funcs, phi_ll)
+        _record(full, row0, 0.0, z, mode, fn_m, ft_m, funcs, phi_ll)
     if win_start == 0:
         stats[0] = z[X]
         stats[4] = stored_energy(z, mode, fn_m, scalars)

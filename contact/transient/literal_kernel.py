@@ -123,7 +123,8 @@ def integrate_literal_switch(y0, n_steps, dt, p, eps, win_start, marks):
         if fn <= 0.0:
             mode = SEPARATION
         elif abs(v_rel) <= eps:
-            fs = _rhs(t, y, STICK, 1.0, p, k1)
+            # int64, not the literal STICK: one compiled _rhs for every call
+            fs = _rhs(t, y, np.int64(STICK), 1.0, p, k1)
             nfev += 1
             if abs(fs) <= p[P_MU_S] * fn:
                 mode = STICK
