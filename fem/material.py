@@ -17,6 +17,8 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
+from bounds import ParameterError
+
 EPS0_F_M = 8.8541878128e-12
 """Vacuum permittivity (F/m)."""
 
@@ -237,12 +239,20 @@ def material_damping(material: PiezoMaterial, q_mount: float | None = None,
                              "zeta = 1/(2 Q)")
 
 
+def _refused(name: str, kind: str, value: object = None) -> ParameterError:
+    """The refusal of ``PiezoMaterial.name``: what it must be (``kind``), with the value
+    where one is worth showing."""
+    got = "" if value is None else f", got {value!r}"
+    return ParameterError(name, value, kind=kind, label=f"PiezoMaterial.{name}",
+                          message=f"PiezoMaterial.{name} must be {kind}{got}")
+
+
 def _frozen(a: np.ndarray, shape: tuple[int, int], name: str) -> np.ndarray:
     arr = np.array(a, dtype=float)
     if arr.shape != shape:
-        raise ValueError(f"PiezoMaterial.{name} must have shape {shape}, got {arr.shape}")
+        raise _refused(name, f"of shape {shape}", arr.shape)
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"PiezoMaterial.{name} must be finite")
+        raise _refused(name, "finite")
     arr.setflags(write=False)
     return arr
 
@@ -292,16 +302,16 @@ class PiezoMaterial:
         object.__setattr__(self, "e_C_m2", _frozen(self.e_C_m2, (3, 6), "e_C_m2"))
         object.__setattr__(self, "epsS_F_m", _frozen(self.epsS_F_m, (3, 3), "epsS_F_m"))
         if not np.allclose(self.cE_Pa, self.cE_Pa.T, rtol=1e-12, atol=0.0):
-            raise ValueError("PiezoMaterial.cE_Pa must be symmetric")
+            raise _refused("cE_Pa", "symmetric")
         if np.any(np.linalg.eigvalsh(self.cE_Pa) <= 0.0):
-            raise ValueError("PiezoMaterial.cE_Pa must be positive definite")
+            raise _refused("cE_Pa", "positive definite")
         if np.any(np.linalg.eigvalsh(self.epsS_F_m) <= 0.0):
-            raise ValueError("PiezoMaterial.epsS_F_m must be positive definite")
+            raise _refused("epsS_F_m", "positive definite")
         if not (np.isfinite(self.rho_kg_m3) and self.rho_kg_m3 > 0.0):
-            raise ValueError(f"PiezoMaterial.rho_kg_m3 must be > 0, got {self.rho_kg_m3!r}")
+            raise _refused("rho_kg_m3", "> 0", self.rho_kg_m3)
         q = self.mechanical_Q
         if q is not None and not (np.isfinite(q) and q > 0.5):
-            raise ValueError(f"PiezoMaterial.mechanical_Q must be > 0.5 or None, got {q!r}")
+            raise _refused("mechanical_Q", "> 0.5 or None", q)
 
     def _key(self) -> tuple:
         return (

@@ -130,6 +130,7 @@ from typing import Any
 
 import numpy as np
 
+from bounds import ParameterError
 from fem.errors import StatorFileError
 from fem.geometry import ELECTRODES, MIN_GAP_M, PlateStator
 from fem.material import (  # DEFAULT_Q_MOUNT: the [damping] Q_mount default, named here too
@@ -424,9 +425,11 @@ def _material(table: dict, src: str) -> PiezoMaterial:
             mechanical_Q=None if base is None else base.mechanical_Q,
             limits=None if base is None else base.limits,
         )
-    except ValueError as exc:  # the file's key, not the class's attribute name
-        raise StatorFileError(src, "[material]", text=f"[material] "
-                              f"{str(exc).replace('PiezoMaterial.', '')}") from None
+    except ParameterError as exc:  # the file's key, not the class's attribute name
+        got = "" if exc.value is None else f", got {exc.value!r}"
+        raise StatorFileError(src, f"[material] {exc.name}", exc.value, exc.range_text(),
+                              text=f"[material] {exc.name} must be {exc.range_text()}"
+                                   f"{got}") from None
 
 
 def _library_material(key: str, name: object, src: str, text: str) -> PiezoMaterial:

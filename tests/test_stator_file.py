@@ -758,6 +758,9 @@ def test_a_point_on_a_mirrored_meshs_centre_line_is_not_minus_zero(tmp_path, cap
      "unit = \"cm\"\n", "[mesh] unit", "cm", "one of m, mm"),
     ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[damping]\nzeta_L1 = 0.01\n",
      "[damping] zeta_B2", None, "a finite number"),
+    ("[plate]\nlength_mm = 30\nwidth_mm = 7.5\nthickness_mm = 3\n[material]\nbase = \"pzt8\"\n"
+     "epsS_F_m = [[-8e-9, 0, 0], [0, 8e-9, 0], [0, 0, 7e-9]]\n", "[material] epsS_F_m", None,
+     "positive definite"),
 ])
 def test_a_refusal_names_the_files_key_as_a_field(tmp_path, text, key, value, allowed):
     """A caller tells which key failed, the value and what the key takes from the
