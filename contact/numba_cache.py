@@ -21,7 +21,14 @@ def depend_on(namespace: dict, *modules: ModuleType) -> None:
     """
     extra = tuple((os.stat(m.__file__).st_mtime, os.stat(m.__file__).st_size)
                   for m in modules)
+    own = namespace.get("__name__")
     for obj in list(namespace.values()):
+        # only the module's own functions: one it imports (the orbit kernel imports the
+        # event kernel's) keeps its own module's stamp, so that every process reads and
+        # writes one cache of it whatever it imported first (two stamps for one cache make
+        # processes that imported different modules recompile and overwrite it in turn)
+        if getattr(getattr(obj, "py_func", None), "__module__", None) != own:
+            continue
         cache_file = getattr(getattr(obj, "_cache", None), "_cache_file", None)
         stamp = getattr(cache_file, "_source_stamp", None)
         if stamp is not None:

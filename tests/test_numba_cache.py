@@ -96,3 +96,20 @@ def test_every_contact_kernel_is_compiled_for_one_signature():
     found = {k.__qualname__: _index_signatures(k) for k in kernels}
     several = {name: sigs for name, sigs in found.items() if len(sigs) > 1}
     assert not several
+
+
+@pytest.mark.slow
+def test_a_kernel_has_one_cache_stamp_whatever_is_imported_after_it():
+    """The event kernel's cache is keyed the same in a process that runs only transients
+    and in one that imports the orbit kernel too (which calls it): one stamp, one cache,
+    not two that processes overwrite in turn."""
+    probe = (
+        "import contact.transient.event_kernel as ek\n"
+        "before = ek.integrate_switch_model._cache._cache_file._source_stamp\n"
+        "import contact.steady.orbit_kernel as ok\n"
+        "after = ek.integrate_switch_model._cache._cache_file._source_stamp\n"
+        "own = ok.find_orbit_compiled._cache._cache_file._source_stamp\n"
+        "print(before == after, own != after)\n")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         timeout=120, check=True)
+    assert out.stdout.split() == ["True", "True"]
