@@ -115,14 +115,15 @@ def test_report_numbers_match_the_cli(report, capsys, monkeypatch):
     assert rep["averaged_stall_force_N"] == char["averaged_stall_force_N"]
     assert 0.0 < rep["averaged_stall_force_N"] < rep["stall_force_N"]
     fe_char = lusm("characteristic", "--voltage", "400", "--preload", "14", "--source", "fem",
-                   "--frequency", "auto")
+                   "--frequency", "auto", "--damping", "table2")
     rep = doc["motor_characteristics"]["fem"]["characteristics"]["400"]
     assert rep["stall_force_N"] == fe_char["stall_force_N"]
     # each set's subsection cites the options that name it (the section had cited one
     # `lusm characteristic --frequency F` for all, which runs Table 2's set)
     md = (report[0] / "index.md").read_text()
     cited = re.findall(r"`lusm characteristic([^`]*) --voltage V0 --preload 14`", md)
-    assert cited == ["", " --source beam --frequency auto", " --source fem --frequency auto",
+    assert cited == ["", " --source beam --frequency auto --damping table2",
+                     " --source fem --frequency auto --damping table2",
                      " --geometry examples/tuned_40k/stator.toml --frequency auto",
                      " --geometry examples/tuned_40k/identified.toml --frequency auto"]
     for name, toml in (("tuned_40k", "stator"), ("tuned_40k_fitted", "identified")):
