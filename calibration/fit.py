@@ -206,16 +206,15 @@ class _Problem:
 
     def values(self, u: np.ndarray) -> np.ndarray:
         """SI values of scaled parameters."""
-        u = np.asarray(u, dtype=float)
-        grow = np.exp(np.where(self.log, self.span * u, 0.0))
-        return np.where(self.log, self.lower * grow, self.lower + self.span * u)
+        return self.value(slice(None), u)
 
-    def value(self, i: int, ui: np.ndarray | float) -> np.ndarray:
-        """SI value(s) of parameter ``i`` at scaled ``ui``."""
+    def value(self, i: int | slice, ui: np.ndarray | float) -> np.ndarray:
+        """SI value(s) of parameter ``i`` (or of the parameters a slice picks) at scaled
+        ``ui``."""
+        log, lower, span = self.log[i], self.lower[i], self.span[i]
         ui = np.asarray(ui, dtype=float)
-        if self.log[i]:
-            return self.lower[i] * np.exp(self.span[i] * ui)
-        return self.lower[i] + self.span[i] * ui
+        grow = np.exp(np.where(log, span * ui, 0.0))  # no overflow on a linear scale
+        return np.where(log, lower * grow, lower + span * ui)
 
     def scaled(self, values: np.ndarray) -> np.ndarray:
         """Scaled parameters of SI values."""
@@ -572,7 +571,7 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(se, se)
     t_prof = time.perf_counter()
-    profiles = _profiles(problem, best, chi2, se, blind, corr, profile, say)
+    profiles = _profiles(problem, best, chi2, se / slope, blind, corr, profile, say)
     profile_time = time.perf_counter() - t_prof
     ok, why = _identifiability(names, blind, corr, profiles)
     notes = _notes(profiles, problem, fits, best)
@@ -594,10 +593,11 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
         held_covariance=held_cov)
 
 
-def _profiles(problem: _Problem, best, chi2: float, se: np.ndarray, blind: list[list[int]],
+def _profiles(problem: _Problem, best, chi2: float, se_u: np.ndarray, blind: list[list[int]],
               corr: np.ndarray, profile: tuple[str, ...] | None,
               say: Callable[[str], None]) -> dict[str, Profile]:
-    """The profiles of the parameters ``profile`` names (all for None) that the Jacobian and
+    """The profiles (``se_u``: the standard errors in scaled units) of the parameters
+    ``profile`` names (all for None) that the Jacobian and
     the correlations leave identifiable: one the data do not see, or cannot tell from
     another, gets no interval, and its profile (a dozen evaluations) is not traced. Along the
     others' profiles each step is also re-fitted with those held at the optimum
@@ -607,13 +607,11 @@ def _profiles(problem: _Problem, best, chi2: float, se: np.ndarray, blind: list[
     names = tuple(p.name for p in problem.meas.parameters)
     seen, _ = _identifiability(names, blind, corr, {})
     held = tuple(j for j in range(len(names)) if not seen[j])
-    slope = problem.slope(best.x)
     out = {}
     for i, name in enumerate(names):
         if seen[i] and (profile is None or name in profile):
             say(f"profile of {name}")
-            out[name] = _profile(problem, i, best.x, best.jac, chi2, se[i] / slope[i],
-                                 held)
+            out[name] = _profile(problem, i, best.x, best.jac, chi2, se_u[i], held)
     return out
 
 
