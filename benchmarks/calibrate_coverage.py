@@ -81,10 +81,13 @@ def main() -> None:
     """Fit every seed and print the coverage."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=20, help="seeds 1..N (default 20)")
-    ap.add_argument("--hold", action="append", default=[],
+    ap.add_argument("--hold", action="append", default=[], choices=("C_l", "C_b", "a_mu",
+                                                                    "b_mu"),
                     help="leave this parameter out of the fit (repeatable)")
     ap.add_argument("--json", action="store_true", help="print JSON")
     args = ap.parse_args()
+    if not 1 <= args.seeds <= 1000:
+        ap.error(f"--seeds must be in [1, 1000], got {args.seeds}")
     make_data = _make_data()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:

@@ -56,8 +56,12 @@ def main() -> None:
     ap.add_argument("--seeds", default="0", help="comma-separated seeds (default 0)")
     ap.add_argument("--json", action="store_true", help="print JSON")
     args = ap.parse_args()
+    try:
+        seeds = [int(s) for s in args.seeds.split(",")]
+    except ValueError:
+        ap.error(f"--seeds must be comma-separated whole numbers, got {args.seeds!r}")
     rows = []
-    for seed in (int(s) for s in args.seeds.split(",")):
+    for seed in seeds:
         fast, exact = run(seed, fit.SCREEN_RERANK), run(seed, 2 ** fit.SCREEN_FRICTION_LOG2)
         same = all(np.isclose(fast["values"][k], exact["values"][k], rtol=1e-6)
                    for k in fast["values"])
