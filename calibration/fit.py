@@ -13,10 +13,12 @@ Uncertainty, with the measurement file's standard deviations taken as absolute:
 
 * covariance ``(J^T J)^-1`` from the Jacobian at the optimum (SVD; a direction the data do
   not see has no finite variance), standard errors and correlations;
-* profile likelihood: each parameter stepped away from its optimum (1, 2, 4 standard
-  errors, then its bound), the others fitted again at every step (a few Gauss-Newton steps
-  on the optimum's Jacobian, one model evaluation each: bounded work), until chi-square
-  rises by :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter);
+* profile likelihood: each parameter stepped away from its optimum by half a standard
+  error at a time (:data:`PROFILE_STEPS`, then its bound), the others fitted again at every
+  step by continuation (a trust-region fit of at most :data:`REFIT_NFEV` evaluations on the
+  Jacobian of the step before, from that step's point or its straight-line extension:
+  bounded work that stays on the side of the speeds' steps the optimum is on), until
+  chi-square rises by :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter);
 * a parameter is *not identifiable* when the data see no direction of it, when its profile
   stays below 3.84 up to both bounds, or when it correlates with another above
   :data:`MAX_CORRELATION` in magnitude: the report names it and gives no number. One the
@@ -53,8 +55,11 @@ SINGULAR_RTOL = 1e-8
 """Singular values of the scaled Jacobian below this share of the largest: no information."""
 MAX_NFEV = 200
 """Most residual evaluations of one start (the Jacobian's not counted)."""
-CHORD_STEPS = 3
-"""Gauss-Newton steps of each re-fit along a profile (one model evaluation each)."""
+REFIT_NFEV = 10
+"""Most model evaluations of each re-fit along a profile (its Jacobian's not counted)."""
+REFIT_FTOL = 1e-4
+"""Relative change of chi-square that ends a re-fit along a profile (0.005 near the
+example's 46 degrees of freedom)."""
 TOLERANCE = 1e-6
 """Relative change of chi-square and of the scaled parameters that ends a start."""
 SCREEN_PER_PARAMETER = 8
@@ -80,8 +85,10 @@ ACCEPT_SIGMAS = 2.0
 """A local fit from the screen whose chi-square is within this many standard deviations
 (``sqrt(2 dof)``) above its degrees of freedom follows the data: the screen's next points
 are not fitted."""
-PROFILE_STEPS = (1.0, 2.0, 4.0)
-"""Steps along a profile, in standard errors (then the bound)."""
+PROFILE_STEPS = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0, 8.0)
+"""Points of a profile, in standard errors from the optimum (then the bound): half a
+standard error apart through the 95 % end (1.96 for a quadratic profile), so that each
+re-fit starts near its minimum and on the same side of the speeds' steps."""
 
 
 @dataclass(frozen=True)
@@ -410,63 +417,76 @@ def _solve(fun: Callable, u0: np.ndarray, nfev: int, ftol: float = TOLERANCE):
                          xtol=TOLERANCE)
 
 
-def _profile_chi2(problem: _Problem, i: int, ui: float, u_best: np.ndarray,
-                  jac: np.ndarray, held: tuple[int, ...] = ()) -> float:
-    """Chi-square with scaled parameter ``i`` held at ``ui`` and the others re-fitted
-    (:func:`_refit`); with ``held``, the lesser of that and the re-fit with ``held`` kept at
-    the optimum. Each is at least the true profile's value (a minimum over fewer
-    parameters, or one not reached), so their least is the nearer."""
-    c = _refit(problem, i, ui, u_best, jac, ())
-    return min(c, _refit(problem, i, ui, u_best, jac, held)) if held else c
+def _jacobian(problem: _Problem, u: np.ndarray, r: np.ndarray, cols: list[int]) -> np.ndarray:
+    """Forward-difference Jacobian of the residuals at ``u`` (where they are ``r``) in the
+    scaled parameters ``cols`` (the others' columns zero): one model evaluation a column,
+    the step :data:`DIFF_STEP`, taken inwards at the box's upper side."""
+    jac = np.zeros((r.size, u.size))
+    for k in cols:
+        h = DIFF_STEP if u[k] + DIFF_STEP <= 1.0 else -DIFF_STEP
+        up = np.array(u, dtype=float)
+        up[k] += h
+        jac[:, k] = (problem.residuals(up) - r) / h
+    return jac
 
 
-def _refit(problem: _Problem, i: int, ui: float, u_best: np.ndarray, jac: np.ndarray,
-           held: tuple[int, ...]) -> float:
-    """Chi-square with scaled parameter ``i`` held at ``ui`` and the others (but ``held``,
-    kept at the optimum) re-fitted: their linear response from the optimum's Jacobian, then
-    up to :data:`CHORD_STEPS` Gauss-Newton steps on that Jacobian (one model evaluation
-    each, the least chi-square kept). Exact for a model linear in its parameters; otherwise
-    at most the true profile's value."""
-    n = u_best.size
-    others = [k for k in range(n) if k != i and k not in held]
+def _refit(problem: _Problem, i: int, ui: float, path: list[tuple[np.ndarray, np.ndarray]],
+           jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The other parameters re-fitted with scaled parameter ``i`` held at ``ui``, from the
+    profile's last re-fitted point (``path``: points ``(u, residuals)`` from the optimum
+    out) or its straight-line extension through the point before, whichever has the lesser
+    chi-square; a bounded trust-region fit of at most :data:`REFIT_NFEV` evaluations on
+    ``jac``, the Jacobian at the last point. Returns the point and its residuals."""
+    others = [k for k in range(path[-1][0].size) if k != i]
+    last, memo = path[-1][0], {}
 
-    def full(v: np.ndarray) -> np.ndarray:
-        u = np.array(u_best, dtype=float)
-        u[i], u[others] = ui, np.clip(v, 0.0, 1.0)
+    def at(v: np.ndarray) -> np.ndarray:
+        u = np.array(last, dtype=float)
+        u[i], u[others] = ui, v
         return u
 
+    def fun(v: np.ndarray) -> np.ndarray:
+        key = np.asarray(v, dtype=float).tobytes()
+        if key not in memo:
+            memo[key] = problem.residuals(at(v))
+        return memo[key]
+
+    starts = [last[others]]
+    if len(path) > 1 and path[-2][0][i] != last[i]:
+        before = path[-2][0]
+        slope = (last[others] - before[others]) / (last[i] - before[i])
+        starts.append(np.clip(last[others] + slope * (ui - last[i]), 0.0, 1.0))
+    start = min(starts, key=lambda v: float(fun(v) @ fun(v)))
     if not others:
-        r = problem.residuals(full(np.empty(0)))
-        return float(r @ r)
-    pinv = np.linalg.pinv(jac[:, others])
-    v = u_best[others] - pinv @ (jac[:, i] * (ui - u_best[i]))
-    least = math.inf
-    for _ in range(CHORD_STEPS + 1):
-        r = problem.residuals(full(v))
-        c = float(r @ r)
-        if c >= least:
-            break
-        least = c
-        v = np.clip(v, 0.0, 1.0) - pinv @ r
-    return least
+        return at(start), fun(start)
+    fixed = jac[:, others]
+    fit = least_squares(fun, start, jac=lambda _v: fixed, bounds=(0.0, 1.0), method="trf",
+                        x_scale=1.0, max_nfev=REFIT_NFEV, ftol=REFIT_FTOL, xtol=TOLERANCE)
+    return at(fit.x), fun(fit.x)
 
 
 def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray,
-                  chi2: float, step: float, sign: int,
-                  held: tuple[int, ...] = ()) -> tuple[list[tuple[float, float]], float, bool]:
-    """One side of a profile: points ``(u_i, delta chi2)`` at :data:`PROFILE_STEPS` times
-    ``step`` and then the bound, stopping past :data:`DELTA_CHI2_95`; returns the points, the
-    scaled interval end and whether the profile reached the bound below 3.84."""
+                  chi2: float, step: float, sign: int
+                  ) -> tuple[list[tuple[float, float]], float, bool]:
+    """One side of a profile, traced by continuation: points ``(u_i, delta chi2)`` at
+    :data:`PROFILE_STEPS` times ``step`` and then the bound, each re-fitted from the last
+    (:func:`_refit`, the Jacobian taken afresh at each point), stopping past
+    :data:`DELTA_CHI2_95`; returns the points, the scaled interval end and whether the
+    profile reached the bound below 3.84."""
     bound = 1.0 if sign > 0 else 0.0
+    others = [k for k in range(u_best.size) if k != i]
+    path = [(np.array(u_best, dtype=float), problem.residuals(u_best))]
     points = [(float(u_best[i]), 0.0)]
-    targets = [u_best[i] + sign * step * k for k in PROFILE_STEPS] + [bound]
-    for t in targets:
+    for t in [u_best[i] + sign * step * k for k in PROFILE_STEPS] + [bound]:
         t = min(t, 1.0) if sign > 0 else max(t, 0.0)
         if abs(t - points[-1][0]) < 1e-12:
             continue
-        c = _profile_chi2(problem, i, t, u_best, jac, held)
-        points.append((float(t), c - chi2))
-        if c - chi2 >= DELTA_CHI2_95:
+        if len(path) > 1:
+            jac = _jacobian(problem, *path[-1], others)
+        u, r = _refit(problem, i, t, path, jac)
+        path.append((u, r))
+        points.append((float(t), float(r @ r) - chi2))
+        if points[-1][1] >= DELTA_CHI2_95:
             (u0, d0), (u1, d1) = points[-2], points[-1]
             end = u0 + (DELTA_CHI2_95 - d0) * (u1 - u0) / (d1 - d0) if d1 != d0 else u1
             return points, float(end), False
@@ -476,13 +496,12 @@ def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray
 
 
 def _profile(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray, chi2: float,
-             se_u: float, held: tuple[int, ...] = ()) -> Profile:
-    """The profile likelihood of parameter ``i`` (module docstring), the parameters ``held``
-    kept at the optimum."""
+             se_u: float) -> Profile:
+    """The profile likelihood of parameter ``i`` (module docstring)."""
     step = se_u if math.isfinite(se_u) and se_u > 1e-6 else 0.05
     step = min(step, 0.25)
-    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, jac, chi2, step, -1, held)
-    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, jac, chi2, step, +1, held)
+    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, jac, chi2, step, -1)
+    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, jac, chi2, step, +1)
     pts = sorted(set(lo_pts) | set(hi_pts))
     u = np.array([p[0] for p in pts])
     return Profile(problem.value(i, u), np.array([p[1] for p in pts]),
@@ -597,21 +616,18 @@ def _profiles(problem: _Problem, best, chi2: float, se_u: np.ndarray, blind: lis
               corr: np.ndarray, profile: tuple[str, ...] | None,
               say: Callable[[str], None]) -> dict[str, Profile]:
     """The profiles (``se_u``: the standard errors in scaled units) of the parameters
-    ``profile`` names (all for None) that the Jacobian and
-    the correlations leave identifiable: one the data do not see, or cannot tell from
-    another, gets no interval, and its profile (a dozen evaluations) is not traced. Along the
-    others' profiles each step is also re-fitted with those held at the optimum
-    (:func:`_profile_chi2`): their re-fit along a valley the data do not see follows the
-    optimum's Jacobian far out of its reach (on the example, a_mu and b_mu made C_l's
-    profile rise by 980 at one standard error; held, by 2.6-3.0)."""
+    ``profile`` names (all for None) that the Jacobian and the correlations leave
+    identifiable: one the data do not see, or cannot tell from another, gets no interval,
+    and its profile is not traced. Along the others' profiles it is re-fitted with the rest
+    (:func:`_refit`): the profile of ``C_l`` on the example walks ``a_mu`` from 0 to 0.2
+    along their valley."""
     names = tuple(p.name for p in problem.meas.parameters)
     seen, _ = _identifiability(names, blind, corr, {})
-    held = tuple(j for j in range(len(names)) if not seen[j])
     out = {}
     for i, name in enumerate(names):
         if seen[i] and (profile is None or name in profile):
             say(f"profile of {name}")
-            out[name] = _profile(problem, i, best.x, best.jac, chi2, se_u[i], held)
+            out[name] = _profile(problem, i, best.x, best.jac, chi2, se_u[i])
     return out
 
 
