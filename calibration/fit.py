@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,7 +39,7 @@ from scipy.stats import qmc
 
 from bounds import ParameterError
 from calibration.measurements import STEADY_KINDS, MeasurementError, Measurements
-from calibration.model import predict
+from calibration.model import predict, row_pool
 from calibration.parameters import ORDER, FitParameter, apply, base_value
 from rom.params import MotorParams
 
@@ -200,9 +201,9 @@ class _Problem:
     """Residuals of the measurements as a function of the scaled parameters ``u``."""
 
     def __init__(self, meas: Measurements, base: MotorParams, coupling: str, accuracy: str,
-                 c0_F: float | None) -> None:
+                 c0_F: float | None, pool: Executor | None = None) -> None:
         self.meas, self.base, self.coupling, self.accuracy = meas, base, coupling, accuracy
-        self.c0_F = c0_F
+        self.c0_F, self.pool = c0_F, pool
         self.lower = np.array([p.lower for p in meas.parameters])
         upper = np.array([p.upper for p in meas.parameters])
         self.log = (self.lower > 0) & (upper > LOG_RANGE * self.lower)
@@ -244,7 +245,7 @@ class _Problem:
         ``accuracy`` (default the problem's)."""
         params, c0 = self.model(u)
         self.evaluations += 1
-        return [predict(s, params, c0, self.coupling, accuracy or self.accuracy)
+        return [predict(s, params, c0, self.coupling, accuracy or self.accuracy, self.pool)
                 for s in (self.meas.sets if sets is None else sets)]
 
     def residuals(self, u: np.ndarray, sets=None, accuracy: str | None = None) -> np.ndarray:
@@ -535,7 +536,8 @@ def _identifiability(names: tuple[str, ...], blind: list[list[int]], corr: np.nd
 def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consistent",
               accuracy: str = "exact", starts: int = 3, seed: int = 0,
               profile: tuple[str, ...] | None = None, screen: bool = True,
-              progress: Callable[[str], None] | None = None) -> CalibrationResult:
+              progress: Callable[[str], None] | None = None,
+              workers: int | None = None) -> CalibrationResult:
     """Fit the measurement file's parameters to its data (module docstring).
 
     Parameters
@@ -563,6 +565,9 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
         file's start and random points.
     progress : callable, optional
         Called with a short line as each stage starts.
+    workers : int, optional
+        Processes for the steady rows of a large speed or power set (default every CPU;
+        1: all in this process). See :func:`calibration.model.row_pool`.
 
     Returns
     -------
@@ -571,16 +576,33 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
     t0 = time.perf_counter()
     say = progress or (lambda _text: None)
     check_box(meas, base)
-    problem = _Problem(meas, base, coupling, accuracy, None)
-    names = tuple(p.name for p in meas.parameters)
+    with row_pool(meas.sets, workers) as pool:
+        problem = _Problem(meas, base, coupling, accuracy, None, pool)
+        fits = _fits(problem, starts, seed, screen, say)
+        return _result(problem, fits, profile, say, t0)
+
+
+def _fits(problem: _Problem, starts: int, seed: int, screen: bool,
+          say: Callable[[str], None]) -> list:
+    """The local fits, ``(start, scipy result)`` each: from the friction screen
+    (:func:`_screened_fits`) with speed data and a fitted friction parameter, else from the
+    file's start and random points (:func:`_starts`)."""
+    meas = problem.meas
     friction = any(p.name in FRICTION for p in meas.parameters)
     if screen and friction and any(s.kind in STEADY_KINDS for s in meas.sets):
-        fits = _screened_fits(problem, max(1, starts - 1), seed, say)
-    else:
-        fits = []
-        for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
-            say(f"start {k} of {max(1, starts)}")
-            fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
+        return _screened_fits(problem, max(1, starts - 1), seed, say)
+    fits = []
+    for k, u0 in enumerate(_starts(problem, max(1, starts), seed), start=1):
+        say(f"start {k} of {max(1, starts)}")
+        fits.append((u0, _solve(problem.residuals, u0, MAX_NFEV)))
+    return fits
+
+
+def _result(problem: _Problem, fits: list, profile: tuple[str, ...] | None,
+            say: Callable[[str], None], t0: float) -> CalibrationResult:
+    """The calibration of the best of ``fits``: covariance, profiles, identifiability."""
+    meas = problem.meas
+    names = tuple(p.name for p in meas.parameters)
     best = min(fits, key=lambda f: f[1].cost)[1]
     chi2 = 2.0 * float(best.cost)
     slope = problem.slope(best.x)
@@ -607,7 +629,8 @@ def calibrate(meas: Measurements, base: MotorParams, *, coupling: str = "consist
         starts=tuple((problem.values(u0), problem.values(f.x), 2.0 * float(f.cost))
                      for u0, f in fits),
         params=params, c0_F=c0, predictions=tuple(problem.predictions(u_best)),
-        coupling=coupling, accuracy=accuracy, evaluations=problem.evaluations,
+        coupling=problem.coupling, accuracy=problem.accuracy,
+        evaluations=problem.evaluations,
         wall_time_s=time.perf_counter() - t0, profile_time_s=profile_time, notes=notes,
         held_covariance=held_cov)
 

@@ -44,6 +44,7 @@ def _toml(folder: Path, parameters: str, extra: str = "") -> Path:
     return path
 
 
+EXAMPLE = Path(__file__).parents[1] / "examples" / "calibration"
 DAMPINGS = ("C_l = { start = 100, min = 20, max = 1000 }\n"
             "C_b = { start = 300, min = 20, max = 1000 }\n")
 
@@ -141,6 +142,25 @@ def test_each_profile_end_is_where_a_full_refit_rises_by_3_84(tmp_path):
     for end in (prof.lower, prof.upper):
         refit = calibrate(load_measurements(held), p.with_(C_l=end), starts=3, profile=())
         assert refit.chi2 - r.chi2 == pytest.approx(3.841, abs=0.05), end
+
+
+@pytest.mark.slow
+def test_the_row_pool_gives_the_in_process_speeds():
+    """The example's 30 speeds on the worker processes are the in-process ones, bit for bit;
+    a set of fewer than POOL_MIN_ROWS rows, or one worker, gets no pool."""
+    from calibration.model import POOL_MIN_ROWS, row_pool, speeds_m_s
+
+    meas = load_measurements(EXAMPLE / "measurements.toml")
+    speeds = next(s for s in meas.sets if s.kind == "speed")
+    assert speeds.points >= POOL_MIN_ROWS
+    here = speeds_m_s(table2(), speeds.inputs, "paper", "exact")
+    with row_pool(meas.sets, 2) as pool:
+        assert pool is not None
+        there = speeds_m_s(table2(), speeds.inputs, "paper", "exact", pool)
+    assert np.array_equal(here, there) and np.count_nonzero(here) > 20
+    with row_pool(meas.sets, 1) as one, row_pool(
+            [s for s in meas.sets if s.kind == "free"], 2) as none:
+        assert one is None and none is None
 
 
 def _speed_set(tmp_path: Path) -> Path:
