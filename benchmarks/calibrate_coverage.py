@@ -8,7 +8,8 @@ For each seed, ``examples/calibration/make_data.py``'s free amplitudes and speed
 ``examples/calibration/measurements.toml`` fits them (``C_l``, ``C_b``, ``a_mu``, ``b_mu``;
 the paper's coupling; ``--hold NAME`` leaves a parameter out of the fit, at Table 2's value,
 which is the truth). Printed: for each identifiable parameter, how many 95 % profile
-intervals cover the truth, the mean error and the mean standard error; how often each
+intervals cover the truth (and how many of the standard intervals, 1.96 standard errors),
+the mean error, the mean standard error and the fitted values' standard deviation; how often each
 parameter was named not identifiable; the chi-square's mean against its degrees of freedom;
 the mean wall time of a fit.
 """
@@ -70,10 +71,13 @@ def summary(rows: list[dict], truth: dict[str, float]) -> dict:
         fits = [r["params"][name] for r in rows]
         ok = [f for f in fits if f["identifiable"] and f["interval"] is not None]
         covered = sum(f["interval"][0] <= true <= f["interval"][1] for f in ok)
+        wald = sum(abs(f["value"] - true) <= 1.96 * f["stderr"] for f in ok)
         out[name] = {
-            "identifiable_in": len(ok), "covered_in": covered,
+            "identifiable_in": len(ok), "covered_in": covered, "wald_covered_in": wald,
             "mean_error": float(np.mean([f["value"] - true for f in ok])) if ok else None,
-            "mean_stderr": float(np.mean([f["stderr"] for f in ok])) if ok else None}
+            "mean_stderr": float(np.mean([f["stderr"] for f in ok])) if ok else None,
+            "sd_of_values": float(np.std([f["value"] for f in ok], ddof=1))
+            if len(ok) > 1 else None}
     return out
 
 
