@@ -466,17 +466,17 @@ def _refit(problem: _Problem, i: int, ui: float, path: list[tuple[np.ndarray, np
     return at(fit.x), fun(fit.x)
 
 
-def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray,
-                  chi2: float, step: float, sign: int
+def _profile_side(problem: _Problem, i: int, best, step: float, sign: int
                   ) -> tuple[list[tuple[float, float]], float, bool]:
     """One side of a profile, traced by continuation: points ``(u_i, delta chi2)`` at
     :data:`PROFILE_STEPS` times ``step`` and then the bound, each re-fitted from the last
     (:func:`_refit`, the Jacobian taken afresh at each point), stopping past
-    :data:`DELTA_CHI2_95`; returns the points, the scaled interval end and whether the
-    profile reached the bound below 3.84."""
+    :data:`DELTA_CHI2_95`, from ``best`` (the optimum's scipy result); returns the points,
+    the scaled interval end and whether the profile reached the bound below 3.84."""
     bound = 1.0 if sign > 0 else 0.0
+    u_best, jac, chi2 = best.x, best.jac, 2.0 * float(best.cost)
     others = [k for k in range(u_best.size) if k != i]
-    path = [(np.array(u_best, dtype=float), problem.residuals(u_best))]
+    path = [(np.array(u_best, dtype=float), best.fun)]
     points = [(float(u_best[i]), 0.0)]
     for t in [u_best[i] + sign * step * k for k in PROFILE_STEPS] + [bound]:
         t = min(t, 1.0) if sign > 0 else max(t, 0.0)
@@ -496,13 +496,13 @@ def _profile_side(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray
     return points, bound, True
 
 
-def _profile(problem: _Problem, i: int, u_best: np.ndarray, jac: np.ndarray, chi2: float,
-             se_u: float) -> Profile:
-    """The profile likelihood of parameter ``i`` (module docstring)."""
+def _profile(problem: _Problem, i: int, best, se_u: float) -> Profile:
+    """The profile likelihood of parameter ``i`` (module docstring) about ``best``, the
+    optimum's scipy result."""
     step = se_u if math.isfinite(se_u) and se_u > 1e-6 else 0.05
     step = min(step, 0.25)
-    lo_pts, lo_end, lo_open = _profile_side(problem, i, u_best, jac, chi2, step, -1)
-    hi_pts, hi_end, hi_open = _profile_side(problem, i, u_best, jac, chi2, step, +1)
+    lo_pts, lo_end, lo_open = _profile_side(problem, i, best, step, -1)
+    hi_pts, hi_end, hi_open = _profile_side(problem, i, best, step, +1)
     pts = sorted(set(lo_pts) | set(hi_pts))
     u = np.array([p[0] for p in pts])
     return Profile(problem.value(i, u), np.array([p[1] for p in pts]),
@@ -612,7 +612,7 @@ def _result(problem: _Problem, fits: list, profile: tuple[str, ...] | None,
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(se, se)
     t_prof = time.perf_counter()
-    profiles = _profiles(problem, best, chi2, se / slope, blind, corr, profile, say)
+    profiles = _profiles(problem, best, se / slope, blind, corr, profile, say)
     profile_time = time.perf_counter() - t_prof
     ok, why = _identifiability(names, blind, corr, profiles)
     notes = _notes(profiles, problem, fits, best)
@@ -635,7 +635,7 @@ def _result(problem: _Problem, fits: list, profile: tuple[str, ...] | None,
         held_covariance=held_cov)
 
 
-def _profiles(problem: _Problem, best, chi2: float, se_u: np.ndarray, blind: list[list[int]],
+def _profiles(problem: _Problem, best, se_u: np.ndarray, blind: list[list[int]],
               corr: np.ndarray, profile: tuple[str, ...] | None,
               say: Callable[[str], None]) -> dict[str, Profile]:
     """The profiles (``se_u``: the standard errors in scaled units) of the parameters
@@ -650,7 +650,7 @@ def _profiles(problem: _Problem, best, chi2: float, se_u: np.ndarray, blind: lis
     for i, name in enumerate(names):
         if seen[i] and (profile is None or name in profile):
             say(f"profile of {name}")
-            out[name] = _profile(problem, i, best.x, best.jac, chi2, se_u[i])
+            out[name] = _profile(problem, i, best, se_u[i])
     return out
 
 
