@@ -1,7 +1,7 @@
 """Coverage of the example calibration's intervals over noise seeds (not a test: about 15
 minutes on an idle 2-core machine).
 
-    python benchmarks/calibrate_coverage.py [--seeds 20] [--hold a_mu] [--json]
+    python benchmarks/calibrate_coverage.py [--seeds 20] [--first 1] [--hold a_mu] [--json]
 
 For each seed, ``examples/calibration/make_data.py``'s free amplitudes and speeds of Table 2
 (3 % noise, the speeds plus 0.2 mm/s) are drawn with that seed and fitted as
@@ -84,7 +84,8 @@ def summary(rows: list[dict], truth: dict[str, float]) -> dict:
 def main() -> None:
     """Fit every seed and print the coverage."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=20, help="seeds 1..N (default 20)")
+    ap.add_argument("--seeds", type=int, default=20, help="how many seeds (default 20)")
+    ap.add_argument("--first", type=int, default=1, help="the first seed (default 1)")
     ap.add_argument("--hold", action="append", default=[], choices=("C_l", "C_b", "a_mu",
                                                                     "b_mu"),
                     help="leave this parameter out of the fit (repeatable)")
@@ -92,10 +93,12 @@ def main() -> None:
     args = ap.parse_args()
     if not 1 <= args.seeds <= 1000:
         ap.error(f"--seeds must be in [1, 1000], got {args.seeds}")
+    if not 0 <= args.first <= 10**6:
+        ap.error(f"--first must be in [0, 1000000], got {args.first}")
     make_data = _make_data()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for seed in range(1, args.seeds + 1):
+        for seed in range(args.first, args.first + args.seeds):
             rows.append(fit_seed(seed, Path(tmp), make_data, tuple(args.hold)))
             if not args.json:
                 p = rows[-1]["params"]
