@@ -86,6 +86,13 @@ ACCEPT_SIGMAS = 2.0
 """A local fit from the screen whose chi-square is within this many standard deviations
 (``sqrt(2 dof)``) above its degrees of freedom follows the data: the screen's next points
 are not fitted."""
+RESCUE_LOG2 = 6
+"""log2 of the friction screen's points (64) at a profile step whose re-fit meets a cliff."""
+RESCUE_RERANK = 4
+"""Points of that screen ranked again at the fit's level."""
+RECENTER_CHI2 = 0.5
+"""Drop of chi-square below the optimum, found along a profile, from which the fit starts
+again there (once) and the profiles are traced anew."""
 PROFILE_STEPS = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0, 8.0)
 """Points of a profile, in standard errors from the optimum (then the bound): half a
 standard error apart through the 95 % end (1.96 for a quadratic profile), so that each
@@ -211,6 +218,8 @@ class _Problem:
         ratio = np.divide(upper, self.lower, out=np.ones_like(upper), where=self.log)
         self.span = np.where(self.log, np.log(ratio), upper - self.lower)
         self.evaluations = 0
+        self.least: tuple[float, np.ndarray | None] = (math.inf, None)
+        """The least chi-square of all the data seen at the problem's level, and where."""
 
     def values(self, u: np.ndarray) -> np.ndarray:
         """SI values of scaled parameters."""
@@ -253,12 +262,16 @@ class _Problem:
         the measurements' data sets, where given), the steady engine at ``accuracy``
         (default the problem's)."""
         out = []
+        every = sets is None
         sets = self.meas.sets if sets is None else sets
         for s, pred in zip(sets, self.predictions(u, sets, accuracy), strict=True):
             for q, y in s.observed.items():
                 ok = np.isfinite(y)
                 out.append((pred[q][ok] - y[ok]) / s.sigma[q][ok])
-        return np.concatenate(out)
+        r = np.concatenate(out)
+        if every and accuracy in (None, self.accuracy) and r @ r < self.least[0]:
+            self.least = (float(r @ r), np.array(u, dtype=float))
+        return r
 
 
 def check_box(meas: Measurements, base: MotorParams) -> None:
@@ -327,28 +340,30 @@ def _draw(problem: _Problem, count: int, rng: np.random.Generator) -> list[np.nd
 
 
 def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
-                     keep: int = SCREEN_KEEP) -> list[np.ndarray]:
-    """The ``keep`` points of least chi-square among (at most
-    ``2 ** SCREEN_FRICTION_LOG2``) Sobol points over the fitted :data:`FRICTION` parameters'
-    scaled box, every other parameter held at ``u_best``; none without a speed
-    set or a fitted friction parameter. The steady engine's ``fast`` level ranks them all
-    and the fit's level the :data:`SCREEN_RERANK` best. The speeds' dead-zone steps leave a
+                     keep: int = SCREEN_KEEP, log2_max: int = SCREEN_FRICTION_LOG2,
+                     rerank: int = SCREEN_RERANK, fixed: int | None = None
+                     ) -> list[np.ndarray]:
+    """The ``keep`` points of least chi-square among (at most ``2 ** log2_max``) Sobol
+    points over the fitted :data:`FRICTION` parameters' scaled box (but ``fixed``), every
+    other parameter held at ``u_best``; none without a speed set or a fitted friction
+    parameter. The steady engine's ``fast`` level ranks them all and the fit's level the
+    ``rerank`` best. The speeds' dead-zone steps leave a
     narrow valley of chi-square in the friction law (``a_mu`` against ``b_mu``) that random
     starts in the whole box seldom land in, while the smooth parameters are fixed near
     enough by the local fit."""
     params = problem.meas.parameters
-    which = [i for i, p in enumerate(params) if p.name in FRICTION]
+    which = [i for i, p in enumerate(params) if p.name in FRICTION and i != fixed]
     if not which or not any(s.kind in STEADY_KINDS for s in problem.meas.sets):
         return []
-    log2 = min(SCREEN_FRICTION_LOG2, 3 + 2 * len(which))
+    log2 = min(log2_max, 3 + 2 * len(which))
     points = qmc.Sobol(len(which), seed=seed).random_base2(log2)
     drawn = []
     for row in points:
         u = np.array(u_best, dtype=float)
         u[which] = row
         drawn.append(u)
-    if len(drawn) > max(keep, SCREEN_RERANK):
-        drawn = _least_chi2(problem, drawn, max(keep, SCREEN_RERANK), "fast")
+    if len(drawn) > max(keep, rerank):
+        drawn = _least_chi2(problem, drawn, max(keep, rerank), "fast")
     return _least_chi2(problem, drawn, keep)
 
 
@@ -418,13 +433,16 @@ def _solve(fun: Callable, u0: np.ndarray, nfev: int, ftol: float = TOLERANCE):
                          xtol=TOLERANCE)
 
 
-def _jacobian(problem: _Problem, u: np.ndarray, r: np.ndarray, cols: list[int]) -> np.ndarray:
-    """Forward-difference Jacobian of the residuals at ``u`` (where they are ``r``) in the
-    scaled parameters ``cols`` (the others' columns zero): one model evaluation a column,
-    the step :data:`DIFF_STEP`, taken inwards at the box's upper side."""
+def _jacobian(problem: _Problem, u: np.ndarray, r: np.ndarray, cols, sign: int = 1
+              ) -> np.ndarray:
+    """One-sided finite-difference Jacobian of the residuals at ``u`` (where they are ``r``)
+    in the scaled parameters ``cols`` (the others' columns zero): one model evaluation a
+    column, the step :data:`DIFF_STEP` towards ``sign``, turned round where it would leave
+    the box."""
     jac = np.zeros((r.size, u.size))
     for k in cols:
-        h = DIFF_STEP if u[k] + DIFF_STEP <= 1.0 else -DIFF_STEP
+        h = sign * DIFF_STEP
+        h = h if 0.0 <= u[k] + h <= 1.0 else -h
         up = np.array(u, dtype=float)
         up[k] += h
         jac[:, k] = (problem.residuals(up) - r) / h
@@ -466,6 +484,31 @@ def _refit(problem: _Problem, i: int, ui: float, path: list[tuple[np.ndarray, np
     return at(fit.x), fun(fit.x)
 
 
+def _rescue(problem: _Problem, i: int, u: np.ndarray, r: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """A profile step whose re-fit rose past a cliff (a speed that reached another steady
+    state from rest): a small friction screen about ``u``, parameter ``i`` kept, and a
+    re-fit of the others from its best point; that, or ``(u, r)`` where it is no lower. The
+    continuation follows one stretch of the friction law's valley, and the cliffs cut it into
+    stretches that another part of the valley can go round."""
+    found = _friction_screen(problem, u, 0, 1, RESCUE_LOG2, RESCUE_RERANK, fixed=i)
+    if not found:
+        return u, r
+    others = [k for k in range(u.size) if k != i]
+
+    def fun(v: np.ndarray) -> np.ndarray:
+        w = np.array(found[0], dtype=float)
+        w[others] = v
+        return problem.residuals(w)
+
+    fit = _solve(fun, found[0][others], REFIT_NFEV, REFIT_FTOL)
+    if 2.0 * float(fit.cost) >= float(r @ r):
+        return u, r
+    w = np.array(found[0], dtype=float)
+    w[others] = fit.x
+    return w, fit.fun
+
+
 def _profile_side(problem: _Problem, i: int, best, step: float, sign: int
                   ) -> tuple[list[tuple[float, float]], float, bool]:
     """One side of a profile, traced by continuation: points ``(u_i, delta chi2)`` at
@@ -485,6 +528,8 @@ def _profile_side(problem: _Problem, i: int, best, step: float, sign: int
         if len(path) > 1:
             jac = _jacobian(problem, *path[-1], others)
         u, r = _refit(problem, i, t, path, jac)
+        if float(r @ r) - chi2 - points[-1][1] > DELTA_CHI2_95:
+            u, r = _rescue(problem, i, u, r)
         path.append((u, r))
         points.append((float(t), float(r @ r) - chi2))
         if points[-1][1] >= DELTA_CHI2_95:
@@ -599,8 +644,12 @@ def _fits(problem: _Problem, starts: int, seed: int, screen: bool,
 
 
 def _result(problem: _Problem, fits: list, profile: tuple[str, ...] | None,
-            say: Callable[[str], None], t0: float) -> CalibrationResult:
-    """The calibration of the best of ``fits``: covariance, profiles, identifiability."""
+            say: Callable[[str], None], t0: float, again: bool = True,
+            spent_s: float = 0.0) -> CalibrationResult:
+    """The calibration of the best of ``fits``: covariance, profiles, identifiability. Where
+    a profile found a chi-square :data:`RECENTER_CHI2` below the optimum (``again``), the
+    fit starts once more from there and the profiles are traced anew (``spent_s``: the
+    profiles' time so far)."""
     meas = problem.meas
     names = tuple(p.name for p in meas.parameters)
     best = min(fits, key=lambda f: f[1].cost)[1]
@@ -613,7 +662,12 @@ def _result(problem: _Problem, fits: list, profile: tuple[str, ...] | None,
         corr = cov / np.outer(se, se)
     t_prof = time.perf_counter()
     profiles = _profiles(problem, best, se / slope, blind, corr, profile, say)
-    profile_time = time.perf_counter() - t_prof
+    profile_time = spent_s + time.perf_counter() - t_prof
+    if again and problem.least[0] < chi2 - RECENTER_CHI2:
+        say("fitting again from a lower chi-square a profile found")
+        start = problem.least[1]
+        fits = [*fits, (start, _solve(problem.residuals, start, MAX_NFEV, SCREEN_FTOL))]
+        return _result(problem, fits, profile, say, t0, False, profile_time)
     ok, why = _identifiability(names, blind, corr, profiles)
     notes = _notes(profiles, problem, fits, best)
     # a parameter the data do not depend on keeps its start: the fit has no say in it
