@@ -145,6 +145,7 @@ def test_each_profile_end_is_where_a_full_refit_rises_by_3_84(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.benchmark  # starting two workers (and, cold, compiling their kernels) is the cost
 def test_the_row_pool_gives_the_in_process_speeds():
     """The example's 30 speeds on the worker processes are the in-process ones, bit for bit;
     a set of fewer than POOL_MIN_ROWS rows, or one worker, gets no pool."""
