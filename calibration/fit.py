@@ -18,7 +18,11 @@ Uncertainty, with the measurement file's standard deviations taken as absolute:
   step by continuation (a trust-region fit of at most :data:`REFIT_NFEV` evaluations on the
   Jacobian of the step before, from that step's point or its straight-line extension:
   bounded work that stays on the side of the speeds' steps the optimum is on), until
-  chi-square rises by :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter);
+  chi-square rises by :data:`DELTA_CHI2_95` (3.84, a 95 % interval of one parameter). A
+  step that meets a cliff (a speed reaching another steady state) is re-fitted from a
+  small friction screen (:func:`_rescue`); a point :data:`RECENTER_CHI2` below the optimum
+  starts the fit again from there, once. The optimum's Jacobian is taken from both sides
+  (:func:`_two_sided_jacobian`), so that a cliff within one step stays out of it;
 * a parameter is *not identifiable* when the data see no direction of it, when its profile
   stays below 3.84 up to both bounds, or when it correlates with another above
   :data:`MAX_CORRELATION` in magnitude: the report names it and gives no number. One the
