@@ -453,14 +453,14 @@ def _jacobian(problem: _Problem, u: np.ndarray, r: np.ndarray, cols, sign: int =
     return jac
 
 
-def _two_sided_jacobian(problem: _Problem, u: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """The Jacobian at the optimum from forward and from backward differences, each column
-    the one of lesser norm. A speed that reaches another steady state within one side's step
-    (a cliff of chi-square beside the optimum, as the example's seeds 27 and 28 have) makes
-    that side's column, and the standard error it gives, meaningless: on seed 27 it put
-    ``C_b``'s at 1.5e-4 N s/m."""
-    cols = range(u.size)
-    ahead, back = _jacobian(problem, u, r, cols, 1), _jacobian(problem, u, r, cols, -1)
+def _two_sided_jacobian(problem: _Problem, u: np.ndarray, r: np.ndarray,
+                        ahead: np.ndarray) -> np.ndarray:
+    """The Jacobian at the optimum from forward differences (``ahead``, the fit's own) and
+    from backward ones, each column the one of lesser norm. A speed that reaches another
+    steady state within one side's step (a cliff of chi-square beside the optimum, as the
+    example's seeds 27 and 28 have) makes that side's column, and the standard error it
+    gives, meaningless: on seed 27 it put ``C_b``'s at 1.5e-4 N s/m."""
+    back = _jacobian(problem, u, r, range(u.size), -1)
     lesser = np.linalg.norm(ahead, axis=0) <= np.linalg.norm(back, axis=0)
     return np.where(lesser, ahead, back)
 
@@ -669,7 +669,7 @@ def _result(problem: _Problem, fits: list, profile: tuple[str, ...] | None,
     meas = problem.meas
     names = tuple(p.name for p in meas.parameters)
     best = min(fits, key=lambda f: f[1].cost)[1]
-    best.jac = _two_sided_jacobian(problem, best.x, best.fun)
+    best.jac = _two_sided_jacobian(problem, best.x, best.fun, best.jac)
     chi2 = 2.0 * float(best.cost)
     slope = problem.slope(best.x)
     cov, blind = _covariance(best.jac, slope)

@@ -168,15 +168,16 @@ def test_a_cliff_beside_the_optimum_stays_out_of_the_jacobian():
     """A residual that jumps (a speed reaching another steady state) just ahead of the
     optimum in one parameter: the forward difference alone gives that column a slope of
     the jump over the step; the two-sided Jacobian keeps the smooth side's slope."""
-    from calibration.fit import DIFF_STEP, _two_sided_jacobian
+    from calibration.fit import DIFF_STEP, _jacobian, _two_sided_jacobian
 
     class Stub:
         def residuals(self, u):
             jump = 30.0 if u[1] > 0.5 + DIFF_STEP / 2 else 0.0
             return np.array([2.0 * u[0] + u[1], 3.0 * u[1] + jump, u[0] - u[1]])
 
-    u = np.array([0.3, 0.5])
-    jac = _two_sided_jacobian(Stub(), u, Stub().residuals(u))
+    u, stub = np.array([0.3, 0.5]), Stub()
+    r = stub.residuals(u)
+    jac = _two_sided_jacobian(stub, u, r, _jacobian(stub, u, r, range(2)))
     assert np.allclose(jac, [[2.0, 1.0], [0.0, 3.0], [1.0, -1.0]], atol=1e-6)
 
 
