@@ -31,6 +31,7 @@ from scipy.optimize import least_squares
 
 import calibration.fit as fit
 from calibration import load_measurements
+from calibration.model import row_pool
 from rom.table2 import table2
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "calibration" / "measurements.toml"
@@ -71,8 +72,6 @@ def main() -> None:
     warnings.simplefilter("ignore")
     meas = load_measurements(EXAMPLE)
     rows = []
-    from calibration.model import row_pool
-
     with row_pool(meas.sets) as pool:
         problem = fit._Problem(meas, table2(), "paper", "exact", None, pool)
         best = min(fit._fits(problem, 3, 0, True, lambda _t: None), key=lambda f: f[1].cost)[1]
