@@ -361,11 +361,7 @@ def _friction_screen(problem: _Problem, u_best: np.ndarray, seed: int,
         return []
     log2 = min(log2_max, 3 + 2 * len(which))
     points = qmc.Sobol(len(which), seed=seed).random_base2(log2)
-    drawn = []
-    for row in points:
-        u = np.array(u_best, dtype=float)
-        u[which] = row
-        drawn.append(u)
+    drawn = [_put(u_best, which, row) for row in points]
     if len(drawn) > max(keep, rerank):
         drawn = _least_chi2(problem, drawn, max(keep, rerank), "fast")
     return _least_chi2(problem, drawn, keep)
@@ -391,6 +387,13 @@ def _starts(problem: _Problem, count: int, seed: int) -> list[np.ndarray]:
     return [first, *(drawn[k] for k in np.argsort(chi2)[:count - 1])]
 
 
+def _put(u: np.ndarray, cols: list[int], v: np.ndarray) -> np.ndarray:
+    """A copy of the scaled parameters ``u`` with those ``cols`` names set to ``v``."""
+    out = np.array(u, dtype=float)
+    out[cols] = v
+    return out
+
+
 def _prefit(problem: _Problem, u0: np.ndarray) -> np.ndarray:
     """``u0`` with the parameters outside :data:`FRICTION` fitted to the data sets other
     than speeds (free amplitudes, admittance: microseconds an evaluation), the friction
@@ -401,13 +404,9 @@ def _prefit(problem: _Problem, u0: np.ndarray) -> np.ndarray:
         return u0
 
     def fun(v: np.ndarray) -> np.ndarray:
-        u = u0.copy()
-        u[smooth] = v
-        return problem.residuals(u, sets)
+        return problem.residuals(_put(u0, smooth, v), sets)
 
-    u = u0.copy()
-    u[smooth] = _solve(fun, u0[smooth], MAX_NFEV).x
-    return u
+    return _put(u0, smooth, _solve(fun, u0[smooth], MAX_NFEV).x)
 
 
 def _screened_fits(problem: _Problem, count: int, seed: int,
@@ -476,9 +475,7 @@ def _refit(problem: _Problem, i: int, ui: float, path: list[tuple[np.ndarray, np
     last, memo = path[-1][0], {}
 
     def at(v: np.ndarray) -> np.ndarray:
-        u = np.array(last, dtype=float)
-        u[i], u[others] = ui, v
-        return u
+        return _put(_put(last, [i], ui), others, v)
 
     def fun(v: np.ndarray) -> np.ndarray:
         key = np.asarray(v, dtype=float).tobytes()
@@ -513,16 +510,12 @@ def _rescue(problem: _Problem, i: int, u: np.ndarray, r: np.ndarray
     others = [k for k in range(u.size) if k != i]
 
     def fun(v: np.ndarray) -> np.ndarray:
-        w = np.array(found[0], dtype=float)
-        w[others] = v
-        return problem.residuals(w)
+        return problem.residuals(_put(found[0], others, v))
 
     fit = _solve(fun, found[0][others], REFIT_NFEV, REFIT_FTOL)
     if 2.0 * float(fit.cost) >= float(r @ r):
         return u, r
-    w = np.array(found[0], dtype=float)
-    w[others] = fit.x
-    return w, fit.fun
+    return _put(found[0], others, fit.x), fit.fun
 
 
 def _profile_side(problem: _Problem, i: int, best, step: float, sign: int
